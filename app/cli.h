@@ -1,0 +1,6 @@
+#ifndef ST_CLI_H
+#define ST_CLI_H
+
+int st_cmd_info(int argc, char **argv);
+
+#endif

@@ -1,0 +1,290 @@
+/* st_map storage, allocation, queries and enumeration (map.h). */
+#include "map.h"
+#include "pool.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void st_map_init(st_map *m)
+{
+    memset(m, 0, sizeof *m);
+    st_pool_init(&m->darts);
+    st_pool_init(&m->verts);
+    st_mla_init(&m->beta0, sizeof(uint32_t));
+    st_mla_init(&m->beta1, sizeof(uint32_t));
+    st_mla_init(&m->vert, sizeof(uint32_t));
+    st_mla_init(&m->pos, 3 * sizeof(double));
+}
+
+void st_map_free(st_map *m)
+{
+    st_pool_free(&m->darts);
+    st_pool_free(&m->verts);
+    st_mla_free(&m->beta0);
+    st_mla_free(&m->beta1);
+    st_mla_free(&m->vert);
+    st_mla_free(&m->pos);
+    free(m->flags);
+    free(m->marks);
+    st_map_init(m);
+}
+
+/* ---- allocation ------------------------------------------------------------ */
+
+static int try_grow_dart_arrays(st_map *m, uint32_t cap)
+{
+    uint8_t *fl = realloc(m->flags, cap);
+    if (!fl) return -1;
+    m->flags = fl;
+    if (st_mla_grow(&m->beta0, cap) || st_mla_grow(&m->beta1, cap) || st_mla_grow(&m->vert, cap)) return -1;
+    if (m->marks) {
+        uint32_t *mk = realloc(m->marks, (size_t)cap * sizeof *mk);
+        if (!mk) return -1;
+        m->marks = mk;
+    }
+    return 0;
+}
+
+static void grow_dart_arrays(st_map *m, uint32_t cap)
+{
+    if (try_grow_dart_arrays(m, cap))
+        abort(); /* out of memory in the middle of an operator: no consistent state to return to */
+}
+
+int st_map_reserve(st_map *m, uint64_t darts, uint64_t verts)
+{
+    uint32_t dc = st_pool_reserve(&m->darts, darts);
+    if (!dc || try_grow_dart_arrays(m, dc)) return -1;
+    uint32_t vc = st_pool_reserve(&m->verts, verts);
+    if (!vc || st_mla_grow(&m->pos, vc)) return -1;
+    return 0;
+}
+
+uint32_t st_dart_new(st_map *m, unsigned l, uint32_t v, uint8_t flags)
+{
+    uint32_t grow;
+    uint32_t d = st_pool_take(&m->darts, l, &grow);
+    if (d == ST_NIL) abort();
+    if (grow) grow_dart_arrays(m, grow);
+    st_mla_insert(&m->beta0, &m->darts, d, &d);
+    st_mla_insert(&m->beta1, &m->darts, d, &d);
+    st_mla_insert(&m->vert, &m->darts, d, &v);
+    m->flags[d] = flags;
+    if (m->marks) m->marks[d] = 0;
+    return d;
+}
+
+void st_dart_delete(st_map *m, uint32_t d)
+{
+    st_pool_release(&m->darts, d);
+}
+
+uint32_t st_vertex_new(st_map *m, unsigned l, const double p[3])
+{
+    uint32_t grow;
+    uint32_t v = st_pool_take(&m->verts, l, &grow);
+    if (v == ST_NIL) abort();
+    if (grow && st_mla_grow(&m->pos, grow)) abort();
+    st_mla_insert(&m->pos, &m->verts, v, p);
+    return v;
+}
+
+void st_vertex_delete(st_map *m, uint32_t v)
+{
+    st_pool_release(&m->verts, v);
+}
+
+void st_set_beta0(st_map *m, uint32_t d, unsigned l, uint32_t e) { st_mla_set(&m->beta0, &m->darts, d, l, &e); }
+void st_set_beta1(st_map *m, uint32_t d, unsigned l, uint32_t e) { st_mla_set(&m->beta1, &m->darts, d, l, &e); }
+void st_set_vert(st_map *m, uint32_t d, unsigned l, uint32_t v) { st_mla_set(&m->vert, &m->darts, d, l, &v); }
+void st_set_pos(st_map *m, uint32_t v, unsigned l, const double p[3]) { st_mla_set(&m->pos, &m->verts, v, l, p); }
+
+void st_sew0(st_map *m, uint32_t d, uint32_t e, unsigned l)
+{
+    st_set_beta0(m, d, l, e);
+    st_set_beta0(m, e, l, d);
+}
+
+void st_embed_vertex(st_map *m, uint32_t d, unsigned l, uint32_t v)
+{
+    uint32_t x = d;
+    do {
+        st_set_vert(m, x, l, v);
+        x = st_beta1(m, x, l);
+    } while (x != d);
+}
+
+/* ---- levels ---------------------------------------------------------------- */
+
+int st_level_add(st_map *m, st_error *err)
+{
+    if (m->top + 1 >= ST_MAX_LEVELS)
+        return st_fail(err, ST_ERR_RANGE, "cannot add level %u: at most %d levels", m->top + 1, ST_MAX_LEVELS);
+    m->top++;
+    return ST_OK;
+}
+
+void st_level_remove_top(st_map *m)
+{
+    if (m->top == 0) return;
+    unsigned l = m->top;
+    st_mla_drop_column(&m->beta0, l);
+    st_mla_drop_column(&m->beta1, l);
+    st_mla_drop_column(&m->vert, l);
+    st_mla_drop_column(&m->pos, l);
+    st_pool_drop_level(&m->darts, l);
+    st_pool_drop_level(&m->verts, l);
+    m->top--;
+}
+
+/* ---- walks ------------------------------------------------------------------ */
+
+uint32_t st_phi_1(const st_map *m, uint32_t d, unsigned l)
+{
+    uint32_t x = d, n;
+    while ((n = st_phi1(m, x, l)) != d) x = n;
+    return x;
+}
+
+uint32_t st_beta1_inv(const st_map *m, uint32_t d, unsigned l)
+{
+    uint32_t x = d, n;
+    while ((n = st_beta1(m, x, l)) != d) x = n;
+    return x;
+}
+
+unsigned st_face_degree(const st_map *m, uint32_t d, unsigned l)
+{
+    unsigned n = 0;
+    uint32_t x = d;
+    do { n++; x = st_phi1(m, x, l); } while (x != d);
+    return n;
+}
+
+unsigned st_vertex_degree(const st_map *m, uint32_t d, unsigned l)
+{
+    unsigned n = 0;
+    uint32_t x = d;
+    do { n++; x = st_beta1(m, x, l); } while (x != d);
+    return n;
+}
+
+unsigned st_edge_level(const st_map *m, uint32_t d, unsigned l)
+{
+    unsigned a = m->darts.ins[d], b = m->darts.ins[st_beta0(m, d, l)];
+    return a > b ? a : b;
+}
+
+/* ---- enumeration ------------------------------------------------------------- */
+
+/* Advances it over the blocks of levels 0..l of pool p; returns the next live
+ * id or ST_NIL.  it->id is the candidate to examine next. */
+static uint32_t pool_scan(const st_pool *p, unsigned l, st_dart_iter *it)
+{
+    l = st_lvl_clamp(l);
+    while (it->level <= l) {
+        if (it->block < p->nblocks[it->level]) {
+            uint32_t first = p->blocks[it->level][it->block] << ST_POOL_BLOCK_SHIFT;
+            if (it->id < first) it->id = first;
+            for (; it->id < first + ST_POOL_BLOCK; it->id++)
+                if (p->ins[it->id] != ST_FREE_LEVEL) return it->id++;
+            it->block++;
+        } else {
+            it->level++;
+            it->block = 0;
+        }
+    }
+    return ST_NIL;
+}
+
+uint32_t st_dart_first(const st_map *m, unsigned l, st_dart_iter *it)
+{
+    memset(it, 0, sizeof *it);
+    return pool_scan(&m->darts, l, it);
+}
+
+uint32_t st_dart_next(const st_map *m, unsigned l, st_dart_iter *it) { return pool_scan(&m->darts, l, it); }
+
+uint32_t st_vertex_first(const st_map *m, unsigned l, st_dart_iter *it)
+{
+    memset(it, 0, sizeof *it);
+    return pool_scan(&m->verts, l, it);
+}
+
+uint32_t st_vertex_next(const st_map *m, unsigned l, st_dart_iter *it) { return pool_scan(&m->verts, l, it); }
+
+void st_foreach_dart(const st_map *m, unsigned l, st_dart_fn fn, void *ctx)
+{
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) fn(d, ctx);
+}
+
+/* ---- markers ------------------------------------------------------------------ */
+
+int st_marker_reserve(st_map *m)
+{
+    if (!m->marks) {
+        m->marks = calloc(m->darts.cap ? m->darts.cap : 1, sizeof *m->marks);
+        if (!m->marks) return -1;
+    }
+    for (int b = 0; b < 32; b++)
+        if (!(m->marks_used & (1u << b))) {
+            m->marks_used |= 1u << b;
+            return b;
+        }
+    return -1;
+}
+
+void st_marker_release(st_map *m, int bit, unsigned l)
+{
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it))
+        st_unmark(m, bit, d);
+    m->marks_used &= ~(1u << bit);
+}
+
+void st_mark_face(st_map *m, int bit, uint32_t d, unsigned l)
+{
+    uint32_t x = d;
+    do { st_mark(m, bit, x); x = st_phi1(m, x, l); } while (x != d);
+}
+
+void st_mark_vertex(st_map *m, int bit, uint32_t d, unsigned l)
+{
+    uint32_t x = d;
+    do { st_mark(m, bit, x); x = st_beta1(m, x, l); } while (x != d);
+}
+
+/* ---- statistics and memory ---------------------------------------------------- */
+
+void st_level_stats_compute(st_map *m, unsigned l, st_level_stats *s)
+{
+    memset(s, 0, sizeof *s);
+    int fbit = st_marker_reserve(m);
+    int vbit = st_marker_reserve(m);
+    if (fbit < 0 || vbit < 0) abort(); /* programmer error: markers leaked */
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        s->darts++;
+        uint32_t e = st_beta0(m, d, l);
+        if (d < e) s->edges++;
+        int bd = st_is_boundary(m, d);
+        if (bd) s->boundary_edges++;
+        if (!st_marked(m, vbit, d)) { s->vertices++; st_mark_vertex(m, vbit, d, l); }
+        if (!st_marked(m, fbit, d)) {
+            if (bd) s->boundary_loops++; else s->faces++;
+            st_mark_face(m, fbit, d, l);
+        }
+    }
+    st_marker_release(m, fbit, l);
+    st_marker_release(m, vbit, l);
+    s->euler = (int64_t)s->vertices - (int64_t)s->edges + (int64_t)s->faces;
+}
+
+void st_map_memory(const st_map *m, st_map_bytes *b)
+{
+    uint32_t dc = m->darts.cap, vc = m->verts.cap;
+    b->topology = st_mla_bytes(&m->beta0, dc) + st_mla_bytes(&m->beta1, dc) + st_mla_bytes(&m->vert, dc)
+                + (size_t)dc * 2; /* ins + flags */
+    b->positions = st_mla_bytes(&m->pos, vc) + vc;
+}

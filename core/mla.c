@@ -1,0 +1,123 @@
+/* Multilevel attributes: a value per id at its insertion level (base) plus
+ * one dense column per level that differs from the level below (map.h,
+ * "Storage").  This replaces the thesis' per-dart truncated arrays (listing
+ * 2.4.6) by per-level columns: no per-dart offset is needed, a lookup is one
+ * comparison and one load, and for quadrisection the columns hold exactly
+ * the values that change. */
+#include "pool.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void st_mla_init(st_mla *a, uint32_t elem)
+{
+    memset(a, 0, sizeof *a);
+    a->elem = elem;
+}
+
+void st_mla_free(st_mla *a)
+{
+    free(a->base);
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(a->col[l]);
+    st_mla_init(a, a->elem);
+}
+
+int st_mla_grow(st_mla *a, uint32_t cap)
+{
+    unsigned char *b = realloc(a->base, (size_t)cap * a->elem);
+    if (!b) return -1;
+    a->base = b;
+    return 0;
+}
+
+static void refresh_eff(st_mla *a)
+{
+    unsigned last = 0;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        if (a->col[l]) last = l;
+        a->eff[l] = (uint8_t)last;
+    }
+    a->maxcol = (uint8_t)last;
+}
+
+/* Makes col[j] hold at least n elements. */
+static int ensure_cap(st_mla *a, unsigned j, uint32_t n)
+{
+    if (n <= a->colcap[j]) return 0;
+    uint32_t cap = a->colcap[j] + a->colcap[j] / 2;
+    if (cap < n) cap = n;
+    unsigned char *c = realloc(a->col[j], (size_t)cap * a->elem);
+    if (!c) return -1;
+    a->col[j] = c;
+    a->colcap[j] = cap;
+    return 0;
+}
+
+/* Creates col[j] as a copy of level j-1 for the ids inserted before j. */
+static int materialize(st_mla *a, const st_pool *p, unsigned j)
+{
+    uint32_t n = st_pool_cover(p, j);
+    unsigned char *c = malloc(n ? (size_t)n * a->elem : 1);
+    if (!c) return -1;
+    for (uint32_t i = 0; i < n; i++)
+        if (p->ins[i] < j)
+            memcpy(c + (size_t)i * a->elem, st_mla_at(a, p->ins, i, j - 1), a->elem);
+    a->col[j] = c;
+    a->colcap[j] = n;
+    refresh_eff(a);
+    return 0;
+}
+
+void *st_mla_column(st_mla *a, const st_pool *p, unsigned l)
+{
+    if (l == 0 || l >= ST_MAX_LEVELS) return NULL;
+    if (!a->col[l] && materialize(a, p, l)) return NULL;
+    if (ensure_cap(a, l, st_pool_cover(p, l))) return NULL;
+    return a->col[l];
+}
+
+void st_mla_insert(st_mla *a, const st_pool *p, uint32_t id, const void *v)
+{
+    unsigned l = p->ins[id];
+    memcpy(a->base + (size_t)id * a->elem, v, a->elem);
+    for (unsigned k = l + 1; k <= a->maxcol; k++) {
+        if (!a->col[k]) continue;
+        if (ensure_cap(a, k, id + 1)) abort(); /* out of memory in a column: cannot keep the map valid */
+        memcpy(a->col[k] + (size_t)id * a->elem, v, a->elem);
+    }
+}
+
+void st_mla_set(st_mla *a, const st_pool *p, uint32_t id, unsigned l, const void *v)
+{
+    unsigned char old[64];
+    memcpy(old, st_mla_at(a, p->ins, id, l), a->elem);
+    if (l == p->ins[id]) {
+        memcpy(a->base + (size_t)id * a->elem, v, a->elem);
+    } else {
+        if (!a->col[l] && materialize(a, p, l)) abort();
+        if (ensure_cap(a, l, id + 1)) abort();
+        memcpy(a->col[l] + (size_t)id * a->elem, v, a->elem);
+    }
+    /* Levels above that had not diverged from the old value follow. */
+    for (unsigned k = l + 1; k <= a->maxcol; k++) {
+        if (!a->col[k]) continue;
+        unsigned char *slot = a->col[k] + (size_t)id * a->elem;
+        if (memcmp(slot, old, a->elem) != 0) break;
+        memcpy(slot, v, a->elem);
+    }
+}
+
+void st_mla_drop_column(st_mla *a, unsigned l)
+{
+    free(a->col[l]);
+    a->col[l] = NULL;
+    a->colcap[l] = 0;
+    refresh_eff(a);
+}
+
+size_t st_mla_bytes(const st_mla *a, uint32_t cap)
+{
+    size_t n = (size_t)cap * a->elem;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) n += (size_t)a->colcap[l] * a->elem;
+    return n;
+}

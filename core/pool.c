@@ -1,0 +1,151 @@
+/* Id pools: ids are handed out in blocks of ST_POOL_BLOCK, each block owned
+ * by one insertion level, so that the ids of levels 0..l can be enumerated in
+ * time proportional to their number (thesis §2.4: one dart list per N^i). */
+#include "pool.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void st_pool_init(st_pool *p)
+{
+    memset(p, 0, sizeof *p);
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        p->fill[l] = ST_NIL;
+        p->freehead[l] = ST_NIL;
+    }
+}
+
+void st_pool_free(st_pool *p)
+{
+    free(p->ins);
+    free(p->next_free);
+    free(p->spare);
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++)
+        free(p->blocks[l]);
+    st_pool_init(p);
+}
+
+static int grow_u32(uint32_t **a, uint32_t *cap, uint32_t need)
+{
+    if (need <= *cap) return 0;
+    uint32_t n = *cap ? *cap : 8;
+    while (n < need) n *= 2;
+    uint32_t *q = realloc(*a, (size_t)n * sizeof **a);
+    if (!q) return -1;
+    *a = q;
+    *cap = n;
+    return 0;
+}
+
+static int set_cap(st_pool *p, uint32_t cap)
+{
+    uint8_t *ins = realloc(p->ins, cap);
+    if (!ins) return -1;
+    p->ins = ins;
+    if (p->next_free) {
+        uint32_t *nf = realloc(p->next_free, (size_t)cap * sizeof *nf);
+        if (!nf) return -1;
+        p->next_free = nf;
+    }
+    p->cap = cap;
+    return 0;
+}
+
+uint32_t st_pool_reserve(st_pool *p, uint64_t more)
+{
+    uint64_t need = (uint64_t)p->end + ((more + 2 * ST_POOL_BLOCK - 1) & ~(uint64_t)(ST_POOL_BLOCK - 1));
+    if (need > UINT32_MAX - ST_POOL_BLOCK) return 0;
+    if (need <= p->cap) return p->cap;
+    return set_cap(p, (uint32_t)need) ? 0 : p->cap;
+}
+
+/* Appends a fresh block to level l; returns its first id or ST_NIL. */
+static uint32_t new_block(st_pool *p, unsigned l, uint32_t *grow)
+{
+    if (p->end > UINT32_MAX - 2 * ST_POOL_BLOCK) return ST_NIL;
+    if (grow_u32(&p->blocks[l], &p->capblocks[l], p->nblocks[l] + 1)) return ST_NIL;
+    if (p->nspare) {
+        /* Reuse a block of a removed level: ids are never renumbered. */
+        uint32_t b = p->spare[--p->nspare];
+        memset(p->ins + ((size_t)b << ST_POOL_BLOCK_SHIFT), ST_FREE_LEVEL, ST_POOL_BLOCK);
+        p->blocks[l][p->nblocks[l]++] = b;
+        return b << ST_POOL_BLOCK_SHIFT;
+    }
+    uint32_t first = p->end;
+    if (first + ST_POOL_BLOCK > p->cap) {
+        uint32_t cap = p->cap ? p->cap : ST_POOL_BLOCK;
+        while (cap < first + ST_POOL_BLOCK) cap = cap > UINT32_MAX / 2 ? UINT32_MAX : cap * 2;
+        if (set_cap(p, cap)) return ST_NIL;
+        *grow = cap;
+    }
+    memset(p->ins + first, ST_FREE_LEVEL, ST_POOL_BLOCK);
+    p->blocks[l][p->nblocks[l]++] = first >> ST_POOL_BLOCK_SHIFT;
+    p->end = first + ST_POOL_BLOCK;
+    return first;
+}
+
+uint32_t st_pool_take(st_pool *p, unsigned l, uint32_t *grow)
+{
+    uint32_t id;
+    *grow = 0;
+    if (p->freehead[l] != ST_NIL) {
+        id = p->freehead[l];
+        p->freehead[l] = p->next_free[id];
+    } else {
+        if (p->fill[l] == ST_NIL) {
+            p->fill[l] = new_block(p, l, grow);
+            if (p->fill[l] == ST_NIL) return ST_NIL;
+        }
+        id = p->fill[l];
+        uint32_t next = id + 1;
+        p->fill[l] = (next & (ST_POOL_BLOCK - 1)) ? next : ST_NIL;
+    }
+    p->ins[id] = (uint8_t)l;
+    p->live[l]++;
+    return id;
+}
+
+void st_pool_release(st_pool *p, uint32_t id)
+{
+    unsigned l = p->ins[id];
+    if (!p->next_free) {
+        p->next_free = malloc((size_t)p->cap * sizeof *p->next_free);
+        if (!p->next_free) { p->ins[id] = ST_FREE_LEVEL; p->live[l]--; return; } /* leaks the id only */
+    }
+    p->ins[id] = ST_FREE_LEVEL;
+    p->next_free[id] = p->freehead[l];
+    p->freehead[l] = id;
+    p->live[l]--;
+}
+
+uint32_t st_pool_cover(const st_pool *p, unsigned j)
+{
+    uint32_t cover = 0;
+    for (unsigned l = 0; l < j && l < ST_MAX_LEVELS; l++)
+        for (uint32_t b = 0; b < p->nblocks[l]; b++) {
+            uint32_t end = (p->blocks[l][b] + 1) << ST_POOL_BLOCK_SHIFT;
+            if (end > cover) cover = end;
+        }
+    return cover;
+}
+
+void st_pool_drop_level(st_pool *p, unsigned l)
+{
+    /* The blocks go to the spare list; a later level reuses them. */
+    if (grow_u32(&p->spare, &p->capspare, p->nspare + p->nblocks[l]) == 0)
+        for (uint32_t b = 0; b < p->nblocks[l]; b++)
+            p->spare[p->nspare++] = p->blocks[l][b];
+    for (uint32_t b = 0; b < p->nblocks[l]; b++)
+        memset(p->ins + ((size_t)p->blocks[l][b] << ST_POOL_BLOCK_SHIFT), ST_FREE_LEVEL, ST_POOL_BLOCK);
+    p->nblocks[l] = 0;
+    p->fill[l] = ST_NIL;
+    p->freehead[l] = ST_NIL;
+    p->live[l] = 0;
+}
+
+uint64_t st_pool_count(const st_pool *p, unsigned l)
+{
+    uint64_t n = 0;
+    for (unsigned k = 0; k <= l && k < ST_MAX_LEVELS; k++) n += p->live[k];
+    return n;
+}

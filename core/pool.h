@@ -1,0 +1,39 @@
+/* Internal: id pools and multilevel attributes behind st_map (see map.h). */
+#ifndef ST_POOL_H
+#define ST_POOL_H
+
+#include "map.h"
+
+void st_pool_init(st_pool *p);
+void st_pool_free(st_pool *p);
+/* Takes an id inserted at level l.  *grow is set to the new capacity the
+ * attached arrays must reach (0 when the capacity did not change); the pool's
+ * own ins[] is already grown.  Returns ST_NIL when memory runs out. */
+uint32_t st_pool_take(st_pool *p, unsigned l, uint32_t *grow);
+/* Makes room for `more` further ids without doubling; returns the new
+ * capacity (attached arrays must follow) or 0 when out of memory. */
+uint32_t st_pool_reserve(st_pool *p, uint64_t more);
+void st_pool_release(st_pool *p, uint32_t id);
+/* 1 + the largest id ever handed out to a level < j (0 if none). */
+uint32_t st_pool_cover(const st_pool *p, unsigned j);
+/* Frees every id of level l and its blocks (level removal). */
+void st_pool_drop_level(st_pool *p, unsigned l);
+/* Live ids of levels 0..l. */
+uint64_t st_pool_count(const st_pool *p, unsigned l);
+
+void st_mla_init(st_mla *a, uint32_t elem);
+void st_mla_free(st_mla *a);
+int st_mla_grow(st_mla *a, uint32_t cap);
+/* New id inserted at level l with value v at every level >= l. */
+void st_mla_insert(st_mla *a, const st_pool *p, uint32_t id, const void *v);
+/* Value at level l := v, and at the levels above that still had the old
+ * level-l value.  l >= ins[id]. */
+void st_mla_set(st_mla *a, const st_pool *p, uint32_t id, unsigned l, const void *v);
+/* Writable column of level l (materialised if needed); NULL when l == 0 or
+ * out of memory.  Only for bulk writers that know no column above l exists. */
+void *st_mla_column(st_mla *a, const st_pool *p, unsigned l);
+/* Removes the column of level l (level removal). */
+void st_mla_drop_column(st_mla *a, unsigned l);
+size_t st_mla_bytes(const st_mla *a, uint32_t cap);
+
+#endif

@@ -1,0 +1,36 @@
+/* Minimal test harness: CHECK records a failure and continues; every test
+ * program ends with TEST_END, which prints "N passed, N failed" and returns
+ * non-zero on any failure. */
+#ifndef ST_TESTLIB_H
+#define ST_TESTLIB_H
+
+#include <stdio.h>
+
+extern int tl_passed, tl_failed;
+
+#define CHECK(cond) do { if (cond) tl_passed++; else { tl_failed++; \
+    fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond); } } while (0)
+#define CHECKF(cond, ...) do { if (cond) tl_passed++; else { tl_failed++; \
+    fprintf(stderr, "%s:%d: CHECK failed: %s: ", __FILE__, __LINE__, #cond); \
+    fprintf(stderr, __VA_ARGS__); fputc('\n', stderr); } } while (0)
+#define TEST_END() tl_report(__FILE__)
+
+int tl_report(const char *file);
+/* Reads a whole file into a malloc'ed NUL-terminated buffer; NULL on error. */
+char *tl_read_file(const char *path, size_t *size);
+/* Writes data to path; returns 0 on success. */
+int tl_write_file(const char *path, const void *data, size_t size);
+
+
+
+/* Literal fixtures (counter-clockwise, outward). */
+#include "mesh.h"
+void tl_mesh_cube(st_mesh *m);              /* 8 v, 6 quads */
+void tl_mesh_tetra(st_mesh *m);             /* 4 v, 4 triangles */
+void tl_mesh_grid(st_mesh *m, unsigned n);  /* open n x n quad grid in z=0 */
+void tl_mesh_torus(st_mesh *m, unsigned nu, unsigned nv); /* closed quad torus */
+/* Builds a soup from literal arrays (copied). */
+void tl_mesh_make(st_mesh *m, const double *pos, uint32_t nv, const uint32_t *off, const uint32_t *idx, uint32_t nf);
+/* Deterministic xorshift generator for randomized tests. */
+uint32_t tl_rand(uint64_t *state);
+#endif
