@@ -178,17 +178,20 @@ unsigned st_edge_level(const st_map *m, uint32_t d, unsigned l)
 /* ---- enumeration ------------------------------------------------------------- */
 
 /* Advances it over the blocks of levels 0..l of pool p; returns the next live
- * id or ST_NIL.  it->id is the candidate to examine next. */
+ * id or ST_NIL.  it->id is the offset inside the current block (blocks of a
+ * level are not in id order once blocks of removed levels are reused). */
 static uint32_t pool_scan(const st_pool *p, unsigned l, st_dart_iter *it)
 {
     l = st_lvl_clamp(l);
     while (it->level <= l) {
         if (it->block < p->nblocks[it->level]) {
             uint32_t first = p->blocks[it->level][it->block] << ST_POOL_BLOCK_SHIFT;
-            if (it->id < first) it->id = first;
-            for (; it->id < first + ST_POOL_BLOCK; it->id++)
-                if (p->ins[it->id] != ST_FREE_LEVEL) return it->id++;
+            while (it->id < ST_POOL_BLOCK) {
+                uint32_t id = first + it->id++;
+                if (p->ins[id] != ST_FREE_LEVEL) return id;
+            }
             it->block++;
+            it->id = 0;
         } else {
             it->level++;
             it->block = 0;

@@ -163,7 +163,7 @@ unsigned st_edge_level(const st_map *m, uint32_t d, unsigned l);
 typedef void (*st_dart_fn)(uint32_t d, void *ctx);
 void st_foreach_dart(const st_map *m, unsigned l, st_dart_fn fn, void *ctx);
 /* Iterator form: d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it) */
-typedef struct st_dart_iter { unsigned level; uint32_t block; uint32_t id; } st_dart_iter;
+typedef struct st_dart_iter { unsigned level; uint32_t block; uint32_t id; } st_dart_iter; /* id: offset in block */
 uint32_t st_dart_first(const st_map *m, unsigned l, st_dart_iter *it);
 uint32_t st_dart_next(const st_map *m, unsigned l, st_dart_iter *it);
 /* Same for vertex ids existing at level l. */

@@ -140,8 +140,49 @@ static void test_memory_per_dart(void)
     st_map_free(&m);
 }
 
+/* The validator must catch each kind of corruption, name it and the level. */
+static void expect_invalid(st_map *m, const char *needle)
+{
+    st_error err;
+    int rc = st_map_validate(m, &err);
+    CHECKF(rc == ST_ERR_INVALID && strstr(err.msg, needle), "expected '%s', got rc %d '%s'", needle, rc, err.msg);
+}
+
+static void test_validator_catches(void)
+{
+    st_map m;
+    st_error err;
+    build(&m, grid3);
+    CHECK(st_refine_uniform(&m, ST_SPLIT_POLY, &err) == ST_OK);
+    uint32_t d = 5, e = st_beta0(&m, d, 1), f = st_beta1(&m, d, 1);
+    /* β0 not an involution at level 1 only. */
+    st_set_beta0(&m, d, 1, st_beta1(&m, e, 1));
+    expect_invalid(&m, "level 1, dart 5: beta0");
+    st_set_beta0(&m, d, 1, e);
+    valid(&m);
+    /* β1 not a permutation. */
+    st_set_beta1(&m, d, 1, st_beta1(&m, f, 1));
+    expect_invalid(&m, "beta1 is not a permutation");
+    st_set_beta1(&m, d, 1, f);
+    valid(&m);
+    /* A vertex orbit carrying two vertices. */
+    uint32_t v = st_vert(&m, d, 1);
+    st_set_vert(&m, d, 1, st_vert(&m, e, 1));
+    expect_invalid(&m, "vertex orbit carries two vertices");
+    st_set_vert(&m, d, 1, v);
+    valid(&m);
+    /* A real face mixed with boundary darts. */
+    uint8_t fl = m.flags[d];
+    m.flags[d] ^= ST_DART_BOUNDARY;
+    expect_invalid(&m, "boundary");
+    m.flags[d] = fl;
+    valid(&m);
+    st_map_free(&m);
+}
+
 int main(void)
 {
+    test_validator_catches();
     test_cube_readings();
     test_open_grid();
     test_refine_levels();
