@@ -37,6 +37,8 @@ static int try_grow_dart_arrays(st_map *m, uint32_t cap)
     if (!fl) return -1;
     m->flags = fl;
     if (st_mla_grow(&m->beta0, cap) || st_mla_grow(&m->beta1, cap) || st_mla_grow(&m->vert, cap)) return -1;
+    for (uint32_t i = 0; i < m->ndart_attrs; i++)
+        if (st_mla_grow(m->dart_attrs[i], cap)) return -1;
     if (m->marks) {
         uint32_t *mk = realloc(m->marks, (size_t)cap * sizeof *mk);
         if (!mk) return -1;
@@ -51,12 +53,20 @@ static void grow_dart_arrays(st_map *m, uint32_t cap)
         abort(); /* out of memory in the middle of an operator: no consistent state to return to */
 }
 
+static int grow_vertex_arrays(st_map *m, uint32_t cap)
+{
+    if (st_mla_grow(&m->pos, cap)) return -1;
+    for (uint32_t i = 0; i < m->nvert_attrs; i++)
+        if (st_mla_grow(m->vert_attrs[i], cap)) return -1;
+    return 0;
+}
+
 int st_map_reserve(st_map *m, uint64_t darts, uint64_t verts)
 {
     uint32_t dc = st_pool_reserve(&m->darts, darts);
     if (!dc || try_grow_dart_arrays(m, dc)) return -1;
     uint32_t vc = st_pool_reserve(&m->verts, verts);
-    if (!vc || st_mla_grow(&m->pos, vc)) return -1;
+    if (!vc || grow_vertex_arrays(m, vc)) return -1;
     return 0;
 }
 
@@ -71,6 +81,8 @@ uint32_t st_dart_new(st_map *m, unsigned l, uint32_t v, uint8_t flags)
     st_mla_insert(&m->vert, &m->darts, d, &v);
     m->flags[d] = flags;
     if (m->marks) m->marks[d] = 0;
+    static const unsigned char zero[64];
+    for (uint32_t i = 0; i < m->ndart_attrs; i++) st_mla_insert(m->dart_attrs[i], &m->darts, d, zero);
     return d;
 }
 
@@ -79,13 +91,28 @@ void st_dart_delete(st_map *m, uint32_t d)
     st_pool_release(&m->darts, d);
 }
 
+static int attach(st_mla *a, st_pool *p, st_mla **list, uint32_t *n)
+{
+    static const unsigned char zero[64];
+    if (*n >= 4 || a->elem > sizeof zero || st_mla_grow(a, p->cap ? p->cap : 1)) return -1;
+    for (uint32_t i = 0; i < p->end; i++)
+        if (p->ins[i] != ST_FREE_LEVEL) st_mla_insert(a, p, i, zero);
+    list[(*n)++] = a;
+    return 0;
+}
+
+int st_map_attach_dart_attr(st_map *m, st_mla *a) { return attach(a, &m->darts, m->dart_attrs, &m->ndart_attrs); }
+int st_map_attach_vertex_attr(st_map *m, st_mla *a) { return attach(a, &m->verts, m->vert_attrs, &m->nvert_attrs); }
+
 uint32_t st_vertex_new(st_map *m, unsigned l, const double p[3])
 {
     uint32_t grow;
     uint32_t v = st_pool_take(&m->verts, l, &grow);
     if (v == ST_NIL) abort();
-    if (grow && st_mla_grow(&m->pos, grow)) abort();
+    if (grow && grow_vertex_arrays(m, grow)) abort();
     st_mla_insert(&m->pos, &m->verts, v, p);
+    static const unsigned char zero[64];
+    for (uint32_t i = 0; i < m->nvert_attrs; i++) st_mla_insert(m->vert_attrs[i], &m->verts, v, zero);
     return v;
 }
 
@@ -132,6 +159,8 @@ void st_level_remove_top(st_map *m)
     st_mla_drop_column(&m->beta1, l);
     st_mla_drop_column(&m->vert, l);
     st_mla_drop_column(&m->pos, l);
+    for (uint32_t i = 0; i < m->ndart_attrs; i++) st_mla_drop_column(m->dart_attrs[i], l);
+    for (uint32_t i = 0; i < m->nvert_attrs; i++) st_mla_drop_column(m->vert_attrs[i], l);
     st_pool_drop_level(&m->darts, l);
     st_pool_drop_level(&m->verts, l);
     m->top--;

@@ -111,6 +111,9 @@ typedef struct st_map {
     uint8_t *flags;                       /* per dart, enum st_dart_flags (level-independent) */
     st_mla pos;                           /* per vertex, double[3] position at each level */
     uint32_t *marks;                      /* per dart, marker bits (scratch; allocated on demand) */
+    st_mla *dart_attrs[4];                /* attached per-dart attributes (st_map_attach) */
+    st_mla *vert_attrs[4];                /* attached per-vertex attributes */
+    uint32_t ndart_attrs, nvert_attrs;
     uint32_t marks_used;                  /* bit mask of reserved marker bits */
 } st_map;
 
@@ -201,6 +204,13 @@ void st_set_vert(st_map *m, uint32_t d, unsigned l, uint32_t v);
 void st_sew0(st_map *m, uint32_t d, uint32_t e, unsigned l);
 /* Vertex embedding of a whole vertex orbit at level l. */
 void st_embed_vertex(st_map *m, uint32_t d, unsigned l, uint32_t v);
+
+/* Attaches an attribute owned by the caller: it is grown with the pool and
+ * every new id gets the value zero (elem bytes of zeros) at all levels.
+ * Existing ids are set to zero too.  Returns -1 when out of memory or when
+ * four attributes are attached already. */
+int st_map_attach_dart_attr(st_map *m, st_mla *a);
+int st_map_attach_vertex_attr(st_map *m, st_mla *a);
 
 /* ---- vertices -------------------------------------------------------------- */
 uint32_t st_vertex_new(st_map *m, unsigned l, const double p[3]);

@@ -1,0 +1,35 @@
+/* Internal helpers shared by hier*.c and the schemes. */
+#ifndef ST_HIER_INTERNAL_H
+#define ST_HIER_INTERNAL_H
+
+#include "hier.h"
+#include "refine.h"
+
+/* Primal refinement with sharpness propagation (OpenSubdiv uniform rule). */
+int st_hier_refine_primal(st_hier *h, enum st_split_mode mode, st_error *err);
+
+/* Writable position slot of v at level l: base when v was inserted at l,
+ * else the level-l column; the column is created only when p differs from
+ * the inherited value ("stored only where it differs"). */
+void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3]);
+
+/* Detail of v at level l (zero vector when none stored). */
+const double *st_hier_detail(const st_hier *h, unsigned l, uint32_t v);
+void st_hier_set_detail(st_hier *h, unsigned l, uint32_t v, const double d[3]);
+
+/* Stencil evaluation: Σ w P_{L-1}(src). */
+void st_stencil_eval(const st_hier *h, unsigned L, const st_stencil *s, double out[3]);
+/* Predicted position plus frame · detail. */
+void st_stencil_apply(const st_hier *h, unsigned L, const st_stencil *s, double out[3]);
+
+/* Faces of level l within `rings` vertex rings of the seed darts' vertices,
+ * one dart per face (real faces only), into a growable list. */
+typedef struct st_dart_list { uint32_t *d; uint32_t n, cap; } st_dart_list;
+void st_dart_list_push(st_dart_list *l, uint32_t d);
+void st_dart_list_free(st_dart_list *l);
+void st_region_faces(st_map *m, unsigned l, const uint32_t *seeds, uint32_t nseeds, unsigned rings, st_dart_list *faces);
+
+/* Per-vertex generation stamps for deduplication within one pass. */
+uint32_t st_hier_stamp_begin(st_hier *h);
+
+#endif
