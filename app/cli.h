@@ -2,5 +2,6 @@
 #define ST_CLI_H
 
 int st_cmd_info(int argc, char **argv);
+int st_cmd_subdivide(int argc, char **argv);
 
 #endif

@@ -33,4 +33,17 @@ void tl_mesh_torus(st_mesh *m, unsigned nu, unsigned nv); /* closed quad torus *
 void tl_mesh_make(st_mesh *m, const double *pos, uint32_t nv, const uint32_t *off, const uint32_t *idx, uint32_t nf);
 /* Deterministic xorshift generator for randomized tests. */
 uint32_t tl_rand(uint64_t *state);
+/* Multiresolution checks, for any scheme (tests/testlib.c):
+ * builds `levels` levels on the fixture, validates the map. */
+#include "hier.h"
+void tl_init_hier(st_hier *h, void (*make)(st_mesh *), st_scheme_id id, unsigned levels);
+/* Random details (uniform in ±scale per component) at every level >= 1. */
+void tl_random_details(st_hier *h, uint64_t *rng, double scale);
+uint32_t tl_random_dart_at(const st_map *m, unsigned l, uint64_t *rng);
+/* Moving vertices at each level: local re-synthesis == full synthesis. */
+void tl_check_local_equals_full(st_scheme_id id, void (*make)(st_mesh *), unsigned levels);
+/* A rigid motion of level 0 moves every level rigidly, details included. */
+void tl_check_rigid_motion(st_scheme_id id, void (*make)(st_mesh *), unsigned levels);
+/* An edit at level 1 keeps the finest level's details bit for bit. */
+void tl_check_details_kept(st_scheme_id id, void (*make)(st_mesh *), unsigned levels);
 #endif

@@ -1,0 +1,69 @@
+/* Shared option parsing and loading for the subcommands. */
+#include "cli_common.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int parse_uint(const char *s, unsigned max, unsigned *out)
+{
+    char *end;
+    unsigned long v = strtoul(s, &end, 10);
+    if (!*s || *end || v > max) return -1;
+    *out = (unsigned)v;
+    return 0;
+}
+
+int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd)
+{
+    memset(o, 0, sizeof *o);
+    o->level = -1;
+    o->boundary = ST_BOUNDARY_UNSET;
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--scheme") && v) { o->scheme = v; i++; }
+        else if (!strcmp(a, "--levels") && v) {
+            if (parse_uint(v, ST_MAX_LEVELS - 1, &o->levels)) { fprintf(stderr, "strata %s: --levels wants 0..%d, got '%s'\n", cmd, ST_MAX_LEVELS - 1, v); return -1; }
+            i++;
+        } else if (!strcmp(a, "--level") && v) {
+            unsigned l;
+            if (parse_uint(v, ST_MAX_LEVELS - 1, &l)) { fprintf(stderr, "strata %s: --level wants a level number, got '%s'\n", cmd, v); return -1; }
+            o->level = (int)l;
+            i++;
+        } else if (!strcmp(a, "--boundary") && v) {
+            if (!strcmp(v, "edge-only")) o->boundary = ST_BOUNDARY_EDGE_ONLY;
+            else if (!strcmp(v, "edge-and-corner")) o->boundary = ST_BOUNDARY_EDGE_AND_CORNER;
+            else { fprintf(stderr, "strata %s: --boundary wants edge-only or edge-and-corner, got '%s'\n", cmd, v); return -1; }
+            i++;
+        } else if (!strcmp(a, "-o") && v) { o->out = v; i++; }
+        else if (a[0] == '-' && a[1]) { fprintf(stderr, "strata %s: unknown or incomplete option '%s'\n", cmd, a); return -1; }
+        else if (!o->in) o->in = a;
+        else { fprintf(stderr, "strata %s: unexpected argument '%s'\n", cmd, a); return -1; }
+    }
+    if (!o->in) { fprintf(stderr, "strata %s: no input file\n", cmd); return -1; }
+    return 0;
+}
+
+int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
+{
+    const char *name = o->scheme ? o->scheme : "catmull-clark";
+    const st_scheme *sc = st_scheme_find(name);
+    if (!sc) { fprintf(stderr, "strata %s: unknown scheme '%s' (catmull-clark, loop, butterfly, quad-triangle, sqrt3, doo-sabin)\n", cmd, name); return 2; }
+    st_mesh mesh;
+    st_error err;
+    st_notes notes = { 0 };
+    st_mesh_init(&mesh);
+    if (st_mesh_load(o->in, &mesh, &err)) { fprintf(stderr, "strata: %s\n", err.msg); return 1; }
+    (void)notes;
+    st_hier_opts ho = { .boundary = o->boundary, .crease_method = ST_CREASE_UNIFORM };
+    int rc = st_hier_init(h, &mesh, sc, &ho, &err);
+    st_mesh_free(&mesh);
+    if (rc) { fprintf(stderr, "strata: %s: %s\n", o->in, err.msg); return 1; }
+    if (st_hier_subdivide_to(h, o->levels, &err)) {
+        fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);
+        st_hier_free(h);
+        return 1;
+    }
+    return 0;
+}

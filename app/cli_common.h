@@ -1,0 +1,18 @@
+#ifndef ST_CLI_COMMON_H
+#define ST_CLI_COMMON_H
+
+#include "hier.h"
+
+typedef struct st_cli_opts {
+    const char *in, *out, *scheme;
+    unsigned levels;
+    int level;          /* -1: not given */
+    int boundary;       /* ST_BOUNDARY_UNSET unless --boundary */
+} st_cli_opts;
+
+/* Parses the common options; prints a message and returns -1 on error. */
+int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd);
+/* Loads o->in and builds the hierarchy to o->levels; prints errors. */
+int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd);
+
+#endif

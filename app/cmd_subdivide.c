@@ -1,0 +1,26 @@
+/* strata subdivide IN --scheme S --levels N [--level L] [--boundary B] -o OUT */
+#include "cli.h"
+#include "cli_common.h"
+
+#include <stdio.h>
+
+int st_cmd_subdivide(int argc, char **argv)
+{
+    st_cli_opts o;
+    if (st_cli_parse(argc, argv, &o, "subdivide")) return 2;
+    if (!o.out) { fprintf(stderr, "strata subdivide: -o OUT is required\n"); return 2; }
+    unsigned level = o.level < 0 ? o.levels : (unsigned)o.level;
+    if (level > o.levels) { fprintf(stderr, "strata subdivide: --level %u is above --levels %u\n", level, o.levels); return 2; }
+    st_hier h;
+    int rc = st_cli_load(&o, &h, "subdivide");
+    if (rc) return rc;
+    st_mesh out;
+    st_error err;
+    st_mesh_init(&out);
+    rc = st_hier_level_mesh(&h, level, &out, &err);
+    if (!rc) rc = st_mesh_save(o.out, &out, &err);
+    if (rc) fprintf(stderr, "strata: %s\n", err.msg);
+    st_mesh_free(&out);
+    st_hier_free(&h);
+    return rc ? 1 : 0;
+}
