@@ -194,6 +194,20 @@ void st_hier_remove_top(st_hier *h)
     st_level_remove_top(&h->map);
 }
 
+void st_hier_remove_bottom(st_hier *h)
+{
+    if (h->map.top == 0) return;
+    /* Level 1's details are now part of the control mesh's positions. */
+    free(h->detail[1]);
+    for (unsigned l = 1; l + 1 < ST_MAX_LEVELS; l++) {
+        h->detail[l] = h->detail[l + 1];
+        h->detail_cap[l] = h->detail_cap[l + 1];
+    }
+    h->detail[ST_MAX_LEVELS - 1] = NULL;
+    h->detail_cap[ST_MAX_LEVELS - 1] = 0;
+    st_level_remove_bottom(&h->map);
+}
+
 int st_hier_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err)
 {
     return st_map_to_mesh(&h->map, l, out, err);

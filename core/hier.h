@@ -61,6 +61,10 @@ int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err);
 /* Deletes the finest level. */
 void st_hier_remove_top(st_hier *h);
 
+/* Deletes the coarsest level: level 1 becomes the control mesh; finer
+ * levels, their details and positions are unchanged. */
+void st_hier_remove_bottom(st_hier *h);
+
 /* Synthesis of levels from+1..top from level `from` (Algorithm 3). */
 void st_hier_synthesize(st_hier *h, unsigned from);
 /* Analysis of levels top-1..to from the finest level (Algorithm 4):

@@ -166,6 +166,20 @@ void st_level_remove_top(st_map *m)
     m->top--;
 }
 
+void st_level_remove_bottom(st_map *m)
+{
+    if (m->top == 0) return;
+    st_mla_drop_bottom(&m->beta0, &m->darts);
+    st_mla_drop_bottom(&m->beta1, &m->darts);
+    st_mla_drop_bottom(&m->vert, &m->darts);
+    for (uint32_t i = 0; i < m->ndart_attrs; i++) st_mla_drop_bottom(m->dart_attrs[i], &m->darts);
+    st_mla_drop_bottom(&m->pos, &m->verts);
+    for (uint32_t i = 0; i < m->nvert_attrs; i++) st_mla_drop_bottom(m->vert_attrs[i], &m->verts);
+    st_pool_drop_bottom(&m->darts);
+    st_pool_drop_bottom(&m->verts);
+    m->top--;
+}
+
 /* ---- walks ------------------------------------------------------------------ */
 
 uint32_t st_phi_1(const st_map *m, uint32_t d, unsigned l)

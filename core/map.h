@@ -232,6 +232,10 @@ int st_level_add(st_map *m, st_error *err);
 /* Deletes the finest level: its darts, vertices and columns. */
 void st_level_remove_top(st_map *m);
 
+/* Deletes the coarsest level: level 1 becomes level 0 with its relations
+ * and positions, every level above moves one down ("delete lower"). */
+void st_level_remove_bottom(st_map *m);
+
 /* ---- higher operators across levels (thesis §2.3.2), at level l ---------- */
 /* Splits the edge of d at level l by a new vertex at position p (variant of
  * fig. 2.4: d and β0(d) keep their vertices).  Returns the new dart that

@@ -121,3 +121,19 @@ size_t st_mla_bytes(const st_mla *a, uint32_t cap)
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) n += (size_t)a->colcap[l] * a->elem;
     return n;
 }
+
+void st_mla_drop_bottom(st_mla *a, const st_pool *p)
+{
+    /* Ids of level 0 take their level-1 value as base; columns move down. */
+    for (uint32_t i = 0; i < p->end; i++)
+        if (p->ins[i] == 0)
+            memmove(a->base + (size_t)i * a->elem, st_mla_at(a, p->ins, i, 1), a->elem);
+    free(a->col[1]);
+    for (unsigned l = 1; l + 1 < ST_MAX_LEVELS; l++) {
+        a->col[l] = a->col[l + 1];
+        a->colcap[l] = a->colcap[l + 1];
+    }
+    a->col[ST_MAX_LEVELS - 1] = NULL;
+    a->colcap[ST_MAX_LEVELS - 1] = 0;
+    refresh_eff(a);
+}

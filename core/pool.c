@@ -149,3 +149,39 @@ uint64_t st_pool_count(const st_pool *p, unsigned l)
     for (unsigned k = 0; k <= l && k < ST_MAX_LEVELS; k++) n += p->live[k];
     return n;
 }
+
+void st_pool_drop_bottom(st_pool *p)
+{
+    for (unsigned l = 1; l < ST_MAX_LEVELS; l++)
+        for (uint32_t b = 0; b < p->nblocks[l]; b++) {
+            uint8_t *ins = p->ins + ((size_t)p->blocks[l][b] << ST_POOL_BLOCK_SHIFT);
+            for (uint32_t i = 0; i < ST_POOL_BLOCK; i++)
+                if (ins[i] != ST_FREE_LEVEL) ins[i]--;
+        }
+    /* Level 1's blocks and free ids join level 0. */
+    if (grow_u32(&p->blocks[0], &p->capblocks[0], p->nblocks[0] + p->nblocks[1]) == 0) {
+        memcpy(p->blocks[0] + p->nblocks[0], p->blocks[1], p->nblocks[1] * sizeof *p->blocks[1]);
+        p->nblocks[0] += p->nblocks[1];
+    }
+    if (p->freehead[1] != ST_NIL) {
+        uint32_t last = p->freehead[1];
+        while (p->next_free[last] != ST_NIL) last = p->next_free[last];
+        p->next_free[last] = p->freehead[0];
+        p->freehead[0] = p->freehead[1];
+    }
+    p->live[0] += p->live[1];
+    if (p->fill[0] == ST_NIL) p->fill[0] = p->fill[1];
+    free(p->blocks[1]);
+    for (unsigned l = 1; l + 1 < ST_MAX_LEVELS; l++) {
+        p->blocks[l] = p->blocks[l + 1];
+        p->nblocks[l] = p->nblocks[l + 1];
+        p->capblocks[l] = p->capblocks[l + 1];
+        p->fill[l] = p->fill[l + 1];
+        p->freehead[l] = p->freehead[l + 1];
+        p->live[l] = p->live[l + 1];
+    }
+    unsigned t = ST_MAX_LEVELS - 1;
+    p->blocks[t] = NULL;
+    p->nblocks[t] = p->capblocks[t] = p->live[t] = 0;
+    p->fill[t] = p->freehead[t] = ST_NIL;
+}

@@ -34,6 +34,11 @@ void st_mla_set(st_mla *a, const st_pool *p, uint32_t id, unsigned l, const void
 void *st_mla_column(st_mla *a, const st_pool *p, unsigned l);
 /* Removes the column of level l (level removal). */
 void st_mla_drop_column(st_mla *a, unsigned l);
+/* Level 1 becomes level 0 (call before st_pool_drop_bottom: it reads the
+ * old insertion levels). */
+void st_mla_drop_bottom(st_mla *a, const st_pool *p);
+/* Merges levels 0 and 1 and renumbers the levels above one down. */
+void st_pool_drop_bottom(st_pool *p);
 size_t st_mla_bytes(const st_mla *a, uint32_t cap);
 
 #endif

@@ -150,6 +150,35 @@ static void report_precision(void)
     st_hier_free(&h);
 }
 
+/* Delete lower: level 1 becomes the control mesh; every finer level keeps
+ * its positions and topology, and re-synthesis changes nothing. */
+static void check_remove_bottom(st_scheme_id id, void (*make)(st_mesh *), unsigned depth)
+{
+    st_hier h;
+    st_error err;
+    uint64_t rng = 5;
+    tl_init_hier(&h, make, id, depth);
+    tl_random_details(&h, &rng, 0.02);
+    double *before[ST_MAX_LEVELS];
+    st_level_stats sb[ST_MAX_LEVELS];
+    for (unsigned l = 1; l <= depth; l++) { before[l] = copy_level(&h, l); st_level_stats_compute(&h.map, l, &sb[l]); }
+    st_hier_remove_bottom(&h);
+    CHECK(h.map.top == depth - 1);
+    CHECKF(st_map_validate(&h.map, &err) == ST_OK, "%s", err.msg);
+    for (unsigned l = 0; l < depth; l++) {
+        st_level_stats s;
+        st_level_stats_compute(&h.map, l, &s);
+        CHECK(memcmp(&s, &sb[l + 1], sizeof s) == 0);
+        CHECK(max_diff_level(&h, l, before[l + 1]) == 0);
+    }
+    st_hier_synthesize(&h, 0);
+    for (unsigned l = 0; l < depth; l++) CHECK(max_diff_level(&h, l, before[l + 1]) < 1e-12);
+    CHECK(st_hier_subdivide_to(&h, depth + 1, &err) == ST_OK);
+    CHECKF(st_map_validate(&h.map, &err) == ST_OK, "%s", err.msg);
+    for (unsigned l = 1; l <= depth; l++) free(before[l]);
+    st_hier_free(&h);
+}
+
 int main(void)
 {
     report_precision();
@@ -161,6 +190,7 @@ int main(void)
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         check_round_trip(cases[i].id, cases[i].make, cases[i].depth);
         check_exact_subdivision(cases[i].id, cases[i].make, cases[i].depth < 4 ? cases[i].depth : 4);
+        check_remove_bottom(cases[i].id, cases[i].make, 3);
         check_level_switch(cases[i].id, cases[i].make, cases[i].depth < 4 ? cases[i].depth : 4);
     }
     return TEST_END();
