@@ -59,7 +59,7 @@ void st_crease_vertex_point(const st_hier *h, unsigned l, uint32_t d, st_vertex_
     const st_map *m = &h->map;
     float vs = st_crease_vertex_sharpness(h, d, l), cvs = st_crease_decay(vs);
     unsigned sharp = 0, csharp = 0, transitions = 0;
-    double tsum = 0;
+    float tsum = 0; /* OpenSubdiv computes the blend weight in float */
     uint32_t ends[2] = { 0, 0 }, cends[2] = { 0, 0 }; /* crease ends for the parent and the child rule */
     uint32_t x = d;
     if (vs > 0 && cvs <= 0) { transitions++; tsum += vs; }
@@ -80,8 +80,8 @@ void st_crease_vertex_point(const st_hier *h, unsigned l, uint32_t d, st_vertex_
         rule_mask(h, l, d, pr, ends, smooth, out);
         return;
     }
-    double w = tsum / transitions;
-    if (w > 1) w = 1;
+    float wf = tsum / (float)transitions;
+    double w = wf > 1.0f ? 1.0 : wf;
     st_stencil_buf_clear(tmp);
     rule_mask(h, l, d, pr, ends, smooth, tmp);
     st_stencil_buf_add_scaled(out, tmp, w);

@@ -1,0 +1,203 @@
+// bench_osd: Strata vs OpenSubdiv 3.5 side by side, in one run, on the same
+// input and depth (issue: schemes benchmark).  C++ only because OpenSubdiv
+// is C++; Strata is called through its C API.
+//
+//   bench_osd [--quick]
+//
+// Prints, per case: topology refinement time (Strata refine vs
+// Far::TopologyRefinerFactory + RefineUniform), synthesis of all levels
+// (st_hier_synthesize vs Far::PrimvarRefiner::Interpolate), peak memory of
+// each (VmHWM growth of a forked child that builds and synthesises), and the
+// ratios.  Medians of 5 runs.  Then a local edit: one vertex moved at level 2
+// of a depth-6 Catmull-Clark hierarchy, local re-synthesis vs full synthesis.
+extern "C" {
+#include "bench_common.h"
+#include "hier.h"
+#include "hier_internal.h"
+#include "pool.h"
+#include "mesh.h"
+}
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
+
+using namespace OpenSubdiv;
+
+namespace {
+
+const int RUNS = 5;
+
+struct Vec3 {
+    double p[3];
+    void Clear(void * = nullptr) { p[0] = p[1] = p[2] = 0; }
+    void AddWithWeight(Vec3 const &s, float w) { p[0] += w * s.p[0]; p[1] += w * s.p[1]; p[2] += w * s.p[2]; }
+};
+
+Far::TopologyRefiner *osd_refine(const st_mesh &m, Sdc::SchemeType type, int levels)
+{
+    std::vector<int> counts(m.nfaces);
+    for (uint32_t f = 0; f < m.nfaces; f++) counts[f] = (int)(m.face_off[f + 1] - m.face_off[f]);
+    Far::TopologyDescriptor desc;
+    desc.numVertices = (int)m.nverts;
+    desc.numFaces = (int)m.nfaces;
+    desc.numVertsPerFace = counts.data();
+    desc.vertIndicesPerFace = (const int *)m.face_idx;
+    Sdc::Options opts;
+    opts.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+    typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
+    Far::TopologyRefiner *r = Factory::Create(desc, Factory::Options(type, opts));
+    r->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+    return r;
+}
+
+// Interpolates every level; returns the buffer of all levels.
+std::vector<Vec3> osd_interpolate(const Far::TopologyRefiner &r, const st_mesh &m)
+{
+    std::vector<Vec3> buf(r.GetNumVerticesTotal());
+    for (uint32_t v = 0; v < m.nverts; v++) memcpy(buf[v].p, m.pos + 3 * v, sizeof buf[v].p);
+    Far::PrimvarRefiner pr(r);
+    Vec3 *src = buf.data();
+    for (int l = 1; l <= r.GetMaxLevel(); l++) {
+        Vec3 *dst = src + r.GetLevel(l - 1).GetNumVertices();
+        pr.Interpolate(l, src, dst);
+        src = dst;
+    }
+    return buf;
+}
+
+int strata_build(st_hier *h, const st_mesh &m, const st_scheme *sc, int levels)
+{
+    st_error err;
+    st_hier_opts o = { ST_BOUNDARY_EDGE_ONLY, ST_CREASE_UNIFORM };
+    if (st_hier_init(h, &m, sc, &o, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return -1; }
+    for (int l = 0; l < levels; l++)
+        if (sc->refine(h, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return -1; }
+    return 0;
+}
+
+long rss_kb(const char *field)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    long v = -1;
+    size_t n = strlen(field);
+    while (f && fgets(line, sizeof line, f))
+        if (!strncmp(line, field, n)) v = atol(line + n + 1);
+    if (f) fclose(f);
+    return v;
+}
+
+// Runs fn in a forked child; returns its peak RSS growth in bytes.
+template <class F> long peak_bytes(F fn)
+{
+    int fd[2];
+    if (pipe(fd)) return -1;
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(fd[0]);
+        long base = rss_kb("VmRSS:");
+        fn();
+        long peak = rss_kb("VmHWM:");
+        long d = (peak - base) * 1024;
+        if (write(fd[1], &d, sizeof d) != (ssize_t)sizeof d) _exit(1);
+        _exit(0);
+    }
+    close(fd[1]);
+    long d = -1;
+    if (read(fd[0], &d, sizeof d) != (ssize_t)sizeof d) d = -1;
+    close(fd[0]);
+    waitpid(pid, nullptr, 0);
+    return d;
+}
+
+template <class F> double median_time(F fn)
+{
+    double t[RUNS];
+    for (int r = 0; r < RUNS; r++) {
+        double t0 = bench_now();
+        fn();
+        t[r] = bench_now() - t0;
+    }
+    return bench_median(t, RUNS);
+}
+
+void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int levels)
+{
+    st_mesh m;
+    st_error err;
+    st_mesh_init(&m);
+    if (st_mesh_load(path, &m, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return; }
+    printf("\n%s, %s, depth %d\n", path, sc->name, levels);
+    double t_osd_topo = median_time([&] { delete osd_refine(m, type, levels); });
+    double t_st_topo = median_time([&] { st_hier h; if (!strata_build(&h, m, sc, levels)) st_hier_free(&h); });
+    Far::TopologyRefiner *r = osd_refine(m, type, levels);
+    double t_osd_interp = median_time([&] { osd_interpolate(*r, m); });
+    st_hier h;
+    if (strata_build(&h, m, sc, levels)) return;
+    double t_st_synth = median_time([&] { st_hier_synthesize(&h, 0); });
+    printf("  finest level: OpenSubdiv %d vertices, Strata %llu vertices\n", r->GetLevel(levels).GetNumVertices(),
+           (unsigned long long)st_pool_count(&h.map.verts, levels));
+    delete r;
+    st_hier_free(&h);
+    long mem_osd = peak_bytes([&] { Far::TopologyRefiner *q = osd_refine(m, type, levels); osd_interpolate(*q, m); delete q; });
+    long mem_st = peak_bytes([&] { st_hier g; if (!strata_build(&g, m, sc, levels)) { st_hier_synthesize(&g, 0); st_hier_free(&g); } });
+    printf("  topology refinement: Strata %.1f ms, OpenSubdiv %.1f ms, ratio %.2f (target <= 1.5)\n",
+           1e3 * t_st_topo, 1e3 * t_osd_topo, t_st_topo / t_osd_topo);
+    printf("  synthesis, all levels, 1 thread: Strata %.1f ms, OpenSubdiv %.1f ms, ratio %.2f (target <= 1.0)\n",
+           1e3 * t_st_synth, 1e3 * t_osd_interp, t_st_synth / t_osd_interp);
+    printf("  peak memory (refine + synthesis): Strata %.1f MB, OpenSubdiv %.1f MB, ratio %.2f (target <= 1.0)\n",
+           mem_st / 1e6, mem_osd / 1e6, (double)mem_st / (double)mem_osd);
+    st_mesh_free(&m);
+}
+
+void local_edit(const char *path)
+{
+    st_mesh m;
+    st_error err;
+    st_mesh_init(&m);
+    if (st_mesh_load(path, &m, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return; }
+    st_hier h;
+    if (strata_build(&h, m, &st_scheme_catmark, 6)) return;
+    st_hier_synthesize(&h, 0);
+    st_dart_iter it;
+    uint32_t d = st_dart_first(&h.map, 2, &it);
+    for (int i = 0; i < 1000; i++) d = st_dart_next(&h.map, 2, &it);
+    double p0[3];
+    memcpy(p0, st_dart_pos(&h.map, d, 2), sizeof p0);
+    int flip = 0;
+    uint64_t count = 0;
+    double t_local = median_time([&] {
+        double p[1][3] = { { p0[0], p0[1], p0[2] + (flip ^= 1) * 0.01 } };
+        count = st_hier_move(&h, 2, &d, p, 1);
+    });
+    double t_full = median_time([&] { st_hier_synthesize(&h, 2); });
+    printf("\nlocal edit: %s, Catmull-Clark depth 6, one vertex moved at level 2\n", path);
+    printf("  local re-synthesis %.3f ms (%llu vertices), full synthesis from level 2 %.1f ms, ratio %.4f (target <= 0.02)\n",
+           1e3 * t_local, (unsigned long long)count, 1e3 * t_full, t_local / t_full);
+    st_hier_free(&h);
+    st_mesh_free(&m);
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    bool quick = argc > 1 && !strcmp(argv[1], "--quick");
+    std::string dir = STRATA_SHARED_DATA;
+    compare((dir + "/catmull_clark/spot_quadrangulated.obj").c_str(), &st_scheme_catmark, Sdc::SCHEME_CATMARK, quick ? 2 : 4);
+    const st_scheme *loop = st_scheme_find("loop");
+    if (loop && loop->check) {
+        st_mesh probe;
+        st_mesh_init(&probe);
+        compare((dir + "/large/koala.obj").c_str(), loop, Sdc::SCHEME_LOOP, quick ? 1 : 3);
+    }
+    local_edit((dir + "/catmull_clark/blub_control_mesh.obj").c_str());
+    return 0;
+}
