@@ -17,6 +17,10 @@ void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3])
         memcpy(a->base + (size_t)v * a->elem, p, a->elem);
         return;
     }
+    if (a->col[l] && v < a->colcap[l]) {
+        memcpy(a->col[l] + (size_t)v * a->elem, p, a->elem);
+        return;
+    }
     if (!a->col[l] && memcmp(st_pos(m, v, l), p, a->elem) == 0) return;
     double *col = st_mla_column(a, &m->verts, l);
     if (!col) abort(); /* out of memory for a level's positions */
@@ -189,6 +193,10 @@ static void synth_sink(void *ctx, const st_stencil *s)
 void st_hier_synthesize(st_hier *h, unsigned from)
 {
     for (unsigned L = from + 1; L <= h->map.top; L++) {
+        if (h->scheme->predict_level && !h->detail[L]) {
+            h->scheme->predict_level(h, L);
+            continue;
+        }
         synth_ctx c = { h, L, 0, 0 };
         h->scheme->emit(h, L, NULL, 0, synth_sink, &c);
     }

@@ -153,6 +153,48 @@ static inline const double *st_pos(const st_map *m, uint32_t v, unsigned l) { re
 /* Position of the vertex of dart d at level l. */
 static inline const double *st_dart_pos(const st_map *m, uint32_t d, unsigned l) { return st_pos(m, st_vert(m, d, l), l); }
 
+/* Level views: the column pointers of one level hoisted out of a hot loop.
+ * Valid until the map changes. */
+typedef struct st_u32_view { const uint32_t *base, *col; unsigned lvl; } st_u32_view;
+typedef struct st_level_view {
+    const uint8_t *ins, *vins;
+    st_u32_view beta0, beta1, vert;
+    const double *pbase, *pcol;
+    unsigned plvl;
+} st_level_view;
+
+static inline st_u32_view st_u32_view_of(const st_mla *a, unsigned l)
+{
+    unsigned j = a->eff[st_lvl_clamp(l)];
+    st_u32_view v = { (const uint32_t *)a->base, (const uint32_t *)a->col[j], j };
+    return v;
+}
+
+static inline void st_level_view_init(const st_map *m, unsigned l, st_level_view *v)
+{
+    v->ins = m->darts.ins;
+    v->vins = m->verts.ins;
+    v->beta0 = st_u32_view_of(&m->beta0, l);
+    v->beta1 = st_u32_view_of(&m->beta1, l);
+    v->vert = st_u32_view_of(&m->vert, l);
+    v->plvl = m->pos.eff[st_lvl_clamp(l)];
+    v->pbase = (const double *)m->pos.base;
+    v->pcol = (const double *)m->pos.col[v->plvl];
+}
+
+static inline uint32_t st_view_get(const st_u32_view *r, const uint8_t *ins, uint32_t d)
+{
+    return ins[d] < r->lvl ? r->col[d] : r->base[d];
+}
+static inline uint32_t st_v_beta0(const st_level_view *v, uint32_t d) { return st_view_get(&v->beta0, v->ins, d); }
+static inline uint32_t st_v_beta1(const st_level_view *v, uint32_t d) { return st_view_get(&v->beta1, v->ins, d); }
+static inline uint32_t st_v_phi1(const st_level_view *v, uint32_t d) { return st_v_beta1(v, st_v_beta0(v, d)); }
+static inline uint32_t st_v_vert(const st_level_view *v, uint32_t d) { return st_view_get(&v->vert, v->ins, d); }
+static inline const double *st_v_pos(const st_level_view *v, uint32_t vid)
+{
+    return (v->vins[vid] < v->plvl ? v->pcol : v->pbase) + 3 * (size_t)vid;
+}
+
 /* φ1⁻¹ and β1⁻¹ are not stored (memory): they walk the face / vertex. */
 uint32_t st_phi_1(const st_map *m, uint32_t d, unsigned l);
 uint32_t st_beta1_inv(const st_map *m, uint32_t d, unsigned l);

@@ -51,13 +51,21 @@ void st_mesh_move(st_mesh *dst, st_mesh *src);
 #define ST_MESH_MAX_FACES   (1u << 27)
 #define ST_MESH_MAX_DEGREE  (1u << 16)
 
-/* Loaders.  On failure *out is untouched, err names file:line: problem.
- * Format chosen by extension (.obj .off .ply), case-insensitive. */
+/* Loaders: read, parse, then st_mesh_repair().  On failure *out is
+ * untouched and err names file:line: problem (binary PLY: "file: byte N:");
+ * on success *out's previous content is freed and replaced.
+ * Format chosen by extension (.obj .off .ply), case-insensitive.
+ * OBJ face indices count from 1 (negative: relative); OFF and PLY from 0;
+ * OBJ `t` tag indices from 0 (OpenSubdiv).  Messages number vertices as
+ * the file does. */
 int st_mesh_load(const char *path, st_mesh *out, st_error *err);
 int st_mesh_load_obj(const char *path, st_mesh *out, st_error *err);
 int st_mesh_load_off(const char *path, st_mesh *out, st_error *err);
 int st_mesh_load_ply(const char *path, st_mesh *out, st_error *err);
-/* In-memory variants (fuzzers); name is used in messages. */
+/* In-memory variants (fuzzers); name is used in messages.  They parse and
+ * reject malformed records (bad numbers, indices out of range, faces of < 3
+ * or repeated vertices, non-finite coordinates, lying counts) but do not
+ * repair: call st_mesh_repair() next. */
 int st_mesh_parse_obj(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
 int st_mesh_parse_off(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
 int st_mesh_parse_ply(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
@@ -69,7 +77,11 @@ int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err);
 
 /* Topological check and repair, run by st_mesh_load() after parsing.
  * Makes the soup an oriented 2-manifold (possibly with boundary) or fails.
- * Repairs it performs are appended to *notes (one line each, may be NULL). */
+ * Repairs it performs are appended to *notes (one line each, may be NULL).
+ * Repaired: inconsistent winding (faces flipped), bow-tie vertices (one copy
+ * per fan), unreferenced vertices (dropped; tags follow their vertices).
+ * Refused: edges with 3+ faces, non-orientable surfaces, degenerate faces.
+ * On failure m is unchanged.  See core/mesh_repair.c for the rules. */
 typedef struct st_notes {
     char **lines;
     uint32_t count;

@@ -79,7 +79,9 @@ void *st_mla_column(st_mla *a, const st_pool *p, unsigned l)
 void st_mla_insert(st_mla *a, const st_pool *p, uint32_t id, const void *v)
 {
     unsigned l = p->ins[id];
-    memcpy(a->base + (size_t)id * a->elem, v, a->elem);
+    if (a->elem == sizeof(uint32_t)) memcpy(a->base + (size_t)id * 4, v, 4);
+    else memcpy(a->base + (size_t)id * a->elem, v, a->elem);
+    if (a->maxcol <= l) return;
     for (unsigned k = l + 1; k <= a->maxcol; k++) {
         if (!a->col[k]) continue;
         if (ensure_cap(a, k, id + 1)) abort(); /* out of memory in a column: cannot keep the map valid */
@@ -87,8 +89,34 @@ void st_mla_insert(st_mla *a, const st_pool *p, uint32_t id, const void *v)
     }
 }
 
+/* 4-byte values (relations): the same as the generic setter below without
+ * memcpy/memcmp per level. */
+static void set_u32(st_mla *a, const st_pool *p, uint32_t id, unsigned l, uint32_t v)
+{
+    uint32_t old = st_mla_u32(a, p->ins, id, l);
+    if (l == p->ins[id]) {
+        ((uint32_t *)a->base)[id] = v;
+    } else {
+        if (!a->col[l] && materialize(a, p, l)) abort();
+        if (id >= a->colcap[l] && ensure_cap(a, l, id + 1)) abort();
+        ((uint32_t *)a->col[l])[id] = v;
+    }
+    for (unsigned k = l + 1; k <= a->maxcol; k++) {
+        if (!a->col[k]) continue;
+        uint32_t *slot = (uint32_t *)a->col[k] + id;
+        if (*slot != old) break;
+        *slot = v;
+    }
+}
+
 void st_mla_set(st_mla *a, const st_pool *p, uint32_t id, unsigned l, const void *v)
 {
+    if (a->elem == sizeof(uint32_t)) {
+        uint32_t x;
+        memcpy(&x, v, sizeof x);
+        set_u32(a, p, id, l, x);
+        return;
+    }
     unsigned char old[64];
     memcpy(old, st_mla_at(a, p->ins, id, l), a->elem);
     if (l == p->ins[id]) {
@@ -136,4 +164,19 @@ void st_mla_drop_bottom(st_mla *a, const st_pool *p)
     a->col[ST_MAX_LEVELS - 1] = NULL;
     a->colcap[ST_MAX_LEVELS - 1] = 0;
     refresh_eff(a);
+}
+
+void *st_mla_column_for_overwrite(st_mla *a, const st_pool *p, unsigned l)
+{
+    if (l == 0 || l >= ST_MAX_LEVELS) return NULL;
+    if (!a->col[l]) {
+        /* The caller overwrites every value: allocate without copying. */
+        uint32_t n = st_pool_cover(p, l);
+        a->col[l] = malloc(n ? (size_t)n * a->elem : 1);
+        if (!a->col[l]) return NULL;
+        a->colcap[l] = n;
+        refresh_eff(a);
+    }
+    if (ensure_cap(a, l, st_pool_cover(p, l))) return NULL;
+    return a->col[l];
 }

@@ -32,6 +32,9 @@ void st_mla_set(st_mla *a, const st_pool *p, uint32_t id, unsigned l, const void
 /* Writable column of level l (materialised if needed); NULL when l == 0 or
  * out of memory.  Only for bulk writers that know no column above l exists. */
 void *st_mla_column(st_mla *a, const st_pool *p, unsigned l);
+/* Same, without copying level l-1 into a new column: every value of ids
+ * inserted before l must then be written by the caller. */
+void *st_mla_column_for_overwrite(st_mla *a, const st_pool *p, unsigned l);
 /* Removes the column of level l (level removal). */
 void st_mla_drop_column(st_mla *a, unsigned l);
 /* Level 1 becomes level 0 (call before st_pool_drop_bottom: it reads the

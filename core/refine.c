@@ -64,10 +64,12 @@ typedef struct cells {
 
 static int collect_cells(st_map *m, unsigned l, cells *c, st_error *err)
 {
-    st_level_stats s;
-    st_level_stats_compute(m, l, &s);
-    c->faces = malloc((s.faces + 1) * sizeof *c->faces);
-    c->edges = malloc((s.edges + 1) * sizeof *c->edges);
+    /* Bounds from the dart count (every face has >= 3 darts, every edge 2):
+     * no counting pass over the level. */
+    uint64_t darts = 0;
+    for (unsigned k = 0; k <= l; k++) darts += m->darts.live[k];
+    c->faces = malloc((darts / 3 + 1) * sizeof *c->faces);
+    c->edges = malloc((darts / 2 + 1) * sizeof *c->edges);
     c->nfaces = c->nedges = 0;
     if (!c->faces || !c->edges) return st_fail(err, ST_ERR_MEMORY, "out of memory refining level %u", l);
     int fbit = st_marker_reserve(m);

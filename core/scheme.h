@@ -71,6 +71,10 @@ typedef struct st_scheme {
      * per face), possibly several times. */
     void (*emit)(struct st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces,
                  st_stencil_sink sink, void *ctx);
+    /* Optional fast path: writes S(P_{L-1}) for every vertex of level L,
+     * with results identical to applying emit()'s stencils.  Used by full
+     * synthesis of a level that carries no details. */
+    void (*predict_level)(struct st_hier *h, unsigned L);
 } st_scheme;
 
 /* Lookup by id or CLI name (NULL if unknown). */
