@@ -1,6 +1,7 @@
 /* strata info FILE [--scheme S --levels N]: the per-level table. */
 #include "cli.h"
 #include "cli_common.h"
+#include "map_memory.h"
 
 #include <stdio.h>
 
@@ -13,19 +14,22 @@ int st_cmd_info(int argc, char **argv)
     if (rc) return rc;
     st_map *m = &h.map;
     printf("%s: scheme %s, %u level%s\n", o.in, h.scheme->name, m->top, m->top == 1 ? "" : "s");
-    printf("%5s %10s %10s %10s %8s %6s\n", "level", "vertices", "edges", "faces", "holes", "euler");
+    printf("%5s %10s %10s %10s %8s %6s %14s %14s\n", "level", "vertices", "edges", "faces", "holes", "euler",
+           "topology B", "positions B");
     for (unsigned l = 0; l <= m->top; l++) {
         st_level_stats s;
         st_level_stats_compute(m, l, &s);
-        printf("%5u %10llu %10llu %10llu %8llu %6lld\n", l, (unsigned long long)s.vertices,
+        st_map_bytes lb;
+        st_map_level_memory(m, l, &lb);
+        printf("%5u %10llu %10llu %10llu %8llu %6lld %14zu %14zu\n", l, (unsigned long long)s.vertices,
                (unsigned long long)s.edges, (unsigned long long)s.faces,
-               (unsigned long long)s.boundary_loops, (long long)s.euler);
+               (unsigned long long)s.boundary_loops, (long long)s.euler, lb.topology, lb.positions);
     }
     st_map_bytes b;
     st_map_memory(m, &b);
     st_level_stats top;
     st_level_stats_compute(m, m->top, &top);
-    printf("memory: topology %zu bytes (%.2f per finest dart), positions %zu bytes\n", b.topology,
+    printf("memory, all levels (allocated): topology %zu bytes (%.2f per finest dart), positions %zu bytes\n", b.topology,
            top.darts ? (double)b.topology / (double)top.darts : 0.0, b.positions);
     st_hier_free(&h);
     return 0;
