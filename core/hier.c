@@ -205,6 +205,13 @@ void st_hier_remove_bottom(st_hier *h)
     }
     h->detail[ST_MAX_LEVELS - 1] = NULL;
     h->detail_cap[ST_MAX_LEVELS - 1] = 0;
+    if (h->map.face_embedded) {
+        /* Dual encoding: the control vertices are not carried by level 1,
+         * whose own vertices become the control mesh. */
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&h->map, 0, &it); v != ST_NIL; v = st_vertex_next(&h->map, 0, &it))
+            st_vertex_delete(&h->map, v);
+    }
     st_level_remove_bottom(&h->map);
 }
 

@@ -116,6 +116,22 @@ void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[
     const st_map *m = &h->map;
     double n[3] = { 0, 0, 0 }, t[3], fn[3];
     uint32_t c;
+    if (cell == ST_CELL_DUAL_FACE) {
+        /* Face of a dual-encoded surface: the vertex orbit of the map,
+         * whose faces carry the surface's vertices (Newell normal). */
+        c = min_in_orbit(m, d, l, 0);
+        uint32_t x = c;
+        do {
+            const double *p = st_pos(m, st_vert(m, x, l), l), *q = st_pos(m, st_vert(m, st_beta1(m, x, l), l), l);
+            n[0] += (p[1] - q[1]) * (p[2] + q[2]);
+            n[1] += (p[2] - q[2]) * (p[0] + q[0]);
+            n[2] += (p[0] - q[0]) * (p[1] + q[1]);
+            x = st_beta1(m, x, l);
+        } while (x != c);
+        sub3(st_pos(m, st_vert(m, st_beta1(m, c, l), l), l), st_pos(m, st_vert(m, c, l), l), t);
+        orthonormal(t, n, f);
+        return;
+    }
     if (cell == ST_CELL_FACE) {
         c = min_in_orbit(m, d, l, 1);
         face_normal(m, c, l, n);

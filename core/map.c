@@ -254,6 +254,8 @@ uint32_t st_dart_next(const st_map *m, unsigned l, st_dart_iter *it) { return po
 uint32_t st_vertex_first(const st_map *m, unsigned l, st_dart_iter *it)
 {
     memset(it, 0, sizeof *it);
+    /* In the dual encoding a surface vertex lives at its own level only. */
+    if (m->face_embedded) it->level = st_lvl_clamp(l);
     return pool_scan(&m->verts, l, it);
 }
 

@@ -115,6 +115,9 @@ typedef struct st_map {
     st_mla *vert_attrs[4];                /* attached per-vertex attributes */
     uint32_t ndart_attrs, nvert_attrs;
     uint32_t marks_used;                  /* bit mask of reserved marker bits */
+    uint8_t face_embedded;                /* dual encoding (Doo-Sabin, thesis §3.2.1): vert holds the
+                                             id of the dart's face, and vertices of the surface are
+                                             the map's faces, its faces the map's vertex orbits */
 } st_map;
 
 /* ---- lifetime -------------------------------------------------------------- */

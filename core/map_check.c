@@ -32,9 +32,12 @@ static int check_dart(check_ctx *c, uint32_t d)
         return st_fail(c->err, ST_ERR_INVALID, "level %u, dart %u: beta1 is not a permutation (%u has two preimages)", l, d, f);
     if (v >= m->verts.end || m->verts.ins[v] == ST_FREE_LEVEL || m->verts.ins[v] > l)
         return st_fail(c->err, ST_ERR_INVALID, "level %u, dart %u: vertex %u does not exist at this level", l, d, v);
-    if (st_vert(m, f, l) != v)
-        return st_fail(c->err, ST_ERR_INVALID, "level %u, dart %u: vertex orbit carries two vertices (%u and %u)", l, d, v, st_vert(m, f, l));
     uint32_t n = st_phi1(m, d, l);
+    /* The embedded cell: vertex orbits, or face orbits in the dual encoding. */
+    uint32_t same = m->face_embedded ? n : f;
+    if (!(m->face_embedded && st_is_boundary(m, d)) && st_vert(m, same, l) != v)
+        return st_fail(c->err, ST_ERR_INVALID, "level %u, dart %u: %s orbit carries two vertices (%u and %u)", l, d,
+                       m->face_embedded ? "face" : "vertex", v, st_vert(m, same, l));
     if (st_is_boundary(m, n) != st_is_boundary(m, d))
         return st_fail(c->err, ST_ERR_INVALID, "level %u, dart %u: face mixes boundary and real darts", l, d);
     if (st_is_boundary(m, d) && st_is_boundary(m, e))
@@ -71,12 +74,16 @@ static int check_level(check_ctx *c)
     int vmark = st_marker_reserve(m);
     int rc = ST_OK;
     for (uint32_t d = st_dart_first(m, c->l, &it); d != ST_NIL && !rc; d = st_dart_next(m, c->l, &it)) {
-        if (st_marked(m, vmark, d)) continue;
-        st_mark_vertex(m, vmark, d, c->l);
+        if (st_marked(m, vmark, d) || (m->face_embedded && st_is_boundary(m, d))) continue;
+        if (m->face_embedded) st_mark_face(m, vmark, d, c->l);
+        else st_mark_vertex(m, vmark, d, c->l);
         rc = check_vertex_owner(c, d);
     }
     st_marker_release(m, vmark, c->l);
     if (rc) return rc;
+    /* In the dual encoding the surface's vertices of a coarser level are not
+     * carried by the finer maps (Doo-Sabin replaces every vertex). */
+    if (m->face_embedded) return ST_OK;
     for (uint32_t v = st_vertex_first(m, c->l, &it); v != ST_NIL; v = st_vertex_next(m, c->l, &it))
         if (c->owner[v] == ST_NIL)
             return st_fail(c->err, ST_ERR_INVALID, "level %u: vertex %u exists but no dart carries it", c->l, v);

@@ -151,8 +151,56 @@ int st_map_from_mesh(st_map *m, const st_mesh *mesh, st_error *err)
     return rc;
 }
 
+/* Dual encoding: the surface's vertices are the ids carried by real darts,
+ * its faces the map's vertex orbits (β1), in orbit order. */
+static int dual_to_mesh(st_map *m, unsigned l, st_mesh *out, st_error *err)
+{
+    st_mesh r;
+    st_mesh_init(&r);
+    st_dart_iter it;
+    uint32_t nv = m->verts.end, ndarts = 0, nfaces = 0;
+    uint32_t *index = malloc((size_t)(nv ? nv : 1) * sizeof *index);
+    if (!index) return st_fail(err, ST_ERR_MEMORY, "out of memory extracting level %u", l);
+    for (uint32_t v = 0; v < nv; v++) index[v] = ST_NIL;
+    int vb = st_marker_reserve(m);
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        uint32_t v = st_vert(m, d, l);
+        if (!st_is_boundary(m, d) && index[v] == ST_NIL) index[v] = r.nverts++;
+        ndarts++;
+        if (!st_marked(m, vb, d)) { st_mark_vertex(m, vb, d, l); nfaces++; }
+    }
+    st_marker_release(m, vb, l);
+    r.pos = malloc((size_t)(r.nverts ? r.nverts : 1) * 3 * sizeof *r.pos);
+    r.face_off = malloc(((size_t)nfaces + 1) * sizeof *r.face_off);
+    r.face_idx = malloc((size_t)(ndarts ? ndarts : 1) * sizeof *r.face_idx);
+    if (!r.pos || !r.face_off || !r.face_idx) { free(index); st_mesh_free(&r); return st_fail(err, ST_ERR_MEMORY, "out of memory extracting level %u", l); }
+    for (uint32_t v = 0; v < nv; v++)
+        if (index[v] != ST_NIL) memcpy(r.pos + 3 * (size_t)index[v], st_pos(m, v, l), 3 * sizeof(double));
+    vb = st_marker_reserve(m);
+    uint32_t k = 0;
+    r.face_off[0] = 0;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_marked(m, vb, d)) continue;
+        st_mark_vertex(m, vb, d, l);
+        uint32_t x = d, start = k;
+        int real = 1;
+        do {
+            if (st_is_boundary(m, x)) real = 0;
+            else r.face_idx[k++] = index[st_vert(m, x, l)];
+            x = st_beta1(m, x, l);
+        } while (x != d);
+        if (!real || k - start < 3) { k = start; continue; } /* faces along a hole are dropped */
+        r.face_off[++r.nfaces] = k;
+    }
+    st_marker_release(m, vb, l);
+    free(index);
+    st_mesh_move(out, &r);
+    return ST_OK;
+}
+
 int st_map_to_mesh(st_map *m, unsigned l, st_mesh *out, st_error *err)
 {
+    if (m->face_embedded) return dual_to_mesh(m, l, out, err);
     st_mesh r;
     st_mesh_init(&r);
     st_dart_iter it;

@@ -27,7 +27,10 @@ typedef enum st_scheme_id {
 } st_scheme_id;
 
 /* Cell that locates a detail vector's local frame at the coarser level. */
-enum st_frame_cell { ST_CELL_VERTEX, ST_CELL_EDGE, ST_CELL_FACE };
+enum st_frame_cell {
+    ST_CELL_VERTEX, ST_CELL_EDGE, ST_CELL_FACE,
+    ST_CELL_DUAL_FACE   /* face embedding: the β1 orbit of the dart, a face of the surface */
+};
 
 typedef struct st_stencil {
     uint32_t fine;          /* vertex id at level L */

@@ -186,6 +186,8 @@ int main(void)
         { ST_SCHEME_CATMARK, torus, 4 },
         { ST_SCHEME_CATMARK, grid, 3 },
         { ST_SCHEME_CATMARK, tl_mesh_cube, 6 },
+        { ST_SCHEME_DOOSABIN, torus, 4 },
+        { ST_SCHEME_DOOSABIN, tl_mesh_cube, 6 },
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         check_round_trip(cases[i].id, cases[i].make, cases[i].depth);

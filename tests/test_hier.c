@@ -40,6 +40,8 @@ int main(void)
         { ST_SCHEME_CATMARK, torus, 4 },
         { ST_SCHEME_CATMARK, grid, 3 },
         { ST_SCHEME_CATMARK, cube_scaled, 4 },
+        { ST_SCHEME_DOOSABIN, torus, 3 },
+        { ST_SCHEME_DOOSABIN, cube_scaled, 3 },
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         tl_check_local_equals_full(cases[i].id, cases[i].make, cases[i].levels);

@@ -243,7 +243,12 @@ void tl_check_rigid_motion(st_scheme_id id, void (*make)(st_mesh *), unsigned le
     int vb = st_marker_reserve(&h.map);
     st_dart_iter it;
     for (uint32_t d = st_dart_first(&h.map, 0, &it); d != ST_NIL; d = st_dart_next(&h.map, 0, &it))
-        if (!st_marked(&h.map, vb, d)) { st_mark_vertex(&h.map, vb, d, 0); st_dart_list_push(&darts, d); }
+        if (!st_marked(&h.map, vb, d)) {
+            /* Surface vertices: vertex orbits, or faces of a dual-encoded map. */
+            if (h.map.face_embedded) st_mark_face(&h.map, vb, d, 0);
+            else st_mark_vertex(&h.map, vb, d, 0);
+            st_dart_list_push(&darts, d);
+        }
     st_marker_release(&h.map, vb, 0);
     double (*pos)[3] = malloc(darts.n * sizeof *pos);
     for (uint32_t i = 0; i < darts.n; i++) {
