@@ -46,10 +46,16 @@
  * corner tags and the --boundary option (boundary vertices of valence 2 are
  * not kept as corners).
  *
- * support_rings = 1: the stencils and frames of level L reach one ring of
- * coarse faces around a vertex; emit() on a face also emits the boundary
- * points and boundary vertices whose boundary stencil reaches its corners
- * (they can lie on the next boundary edge, outside the face).
+ * support_rings = 2.  On closed meshes 1 would do (stencils and frames of
+ * level L reach one ring of coarse faces around a vertex).  Boundary steps
+ * reach further along the boundary: the point (16 p + 10 p' + v) / 27 next
+ * to p on the edge p-p' moves with v although it lies outside v's faces,
+ * so the vertices changed at level L can sit two boundary edges outside the
+ * region, and the next level's region (grown from the region's darts) needs
+ * the second ring (found by moving every vertex of an open grid, one at a
+ * time: tests/test_scheme_sqrt3.c).  emit() on a face also emits every
+ * boundary point and boundary vertex whose stencil reaches one of its
+ * corners.
  */
 #include "hier_internal.h"
 #include "refine_sqrt3.h"
@@ -228,7 +234,7 @@ const st_scheme st_scheme_sqrt3 = {
     .name = "sqrt3",
     .id = ST_SCHEME_SQRT3,
     .interpolating = 0,
-    .support_rings = 1,
+    .support_rings = 2,
     .check = sqrt3_check,
     .refine = sqrt3_refine,
     .emit = sqrt3_emit,
