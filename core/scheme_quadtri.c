@@ -1,6 +1,6 @@
 /* Quad/triangle subdivision (Stam, Loop 2003) on meshes mixing triangles
- * and quads, written as the paper builds it: a linear subdivision step
- * followed by one smoothing (averaging) step.
+ * and quads, in the paper's two-step form (docs/SUBDIVISION-RULES.md §7):
+ * a linear subdivision step followed by one smoothing (averaging) step.
  *
  * Topology (ST_SPLIT_MIXED, digest §4): every edge is split at its
  * midpoint; a triangle becomes 4 triangles; any other face becomes quads
@@ -10,21 +10,24 @@
  * Smoothing: every vertex u of the linearly subdivided mesh (positions:
  * old vertices, edge midpoints, face centroids) moves to
  *     u' = u + ω (c̄ - u),   c̄ = (1/n) Σ_f c_f
- * over its n incident fine faces, with the "centroids" (paper, fig. 2)
+ * over its n incident fine faces, with the per-face "centroids"
  *     quad:     (u + x + y + z) / 4,
- *     triangle: 1/4 u + 3/8 (x + y)   (u's own weight is 1/4),
+ *     triangle: 1/4 u + 3/8 (x + y)   (Loop-weighted, u's own weight 1/4),
  * and ω from the numbers nq of quads and nt of triangles around u:
  *     nt = 0:  ω = 4/n                                   (Catmull-Clark)
  *     nq = 0:  ω = 8/3 (5/8 - (3/8 + cos(2π/n)/4)²)      (Loop's β = 3ω/(8n));
  *              ω = 1 exactly at n = 6
- *     mixed:   ω = 12 / (3 nq + 2 nt).
+ *     mixed:   ω = 12 / (3 nq + 2 nt)                    (our choice, see below).
  * ω = 1 in every regular configuration (4 quads, 6 triangles, or 2 quads
  * and 3 triangles: 3 nq + 2 nt = 12, a full turn of quarter and sixth
  * turns), so regular vertices and the regular quad/triangle seam use plain
- * averaging, as in the paper.  The mixed weight for extraordinary mixed
- * vertices is our choice (the same "regular iff 3nq + 2nt = 12" measure
- * that gives 4/n on quads): the paper's optimised masks for those vertices
- * (its curvature-divergence minimisation) are not reproduced here.
+ * averaging.  The paper tunes the masks of mixed vertices (bounded
+ * curvature at the regular seam, minimal curvature divergence elsewhere);
+ * those tuned values were not available to us (SUBDIVISION-RULES.md §7
+ * lists them as an open item), so mixed vertices use the weight above: the
+ * same "regular iff 3 nq + 2 nt = 12" measure that gives 4/n on quads.
+ * Replacing omega() for mixed vertices is all it takes to adopt the
+ * paper's table.
  *
  * Expanded over the coarse vertices, this gives (l = coarse level):
  *   face point of a non-triangle: its centroid (ω cancels out);

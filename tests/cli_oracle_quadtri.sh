@@ -1,0 +1,147 @@
+#!/usr/bin/env bash
+# Quad/triangle subdivision through the strata CLI.  No library implements
+# Stam & Loop's scheme, so it is checked through its reductions, against
+# OpenSubdiv 3.5 (osd_oracle):
+#   - meshes without triangles (quads and n-gons) == Catmull-Clark,
+#   - meshes of triangles == Loop,
+# with both boundary conventions on open meshes; and on mixed meshes (no
+# oracle) every level is written and has the expected face counts.
+#
+#   cli_oracle_quadtri.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
+#
+# Tolerance: equal vertex and face counts and face-size histograms, max
+# nearest-neighbour distance <= 1e-6 x bounding-box diagonal; the measured
+# error of every case is printed.  Skips (exit 0, with a note) only when
+# osd_oracle or pointset_diff is not built.
+set -u
+EXE=$1 MESHES=$2 ASSETS=$3 BIN=$4
+TOL=1e-6
+
+find_oracle() {
+    for d in "$BIN/oracles" "$BIN/../oracles"; do
+        if [ -x "$d/$1" ]; then echo "$d/$1"; return 0; fi
+    done
+    return 1
+}
+OSD=$(find_oracle osd_oracle) || { echo "note: osd_oracle not built, $0 skipped"; exit 0; }
+DIFF=$(find_oracle pointset_diff) || { echo "note: pointset_diff not built, $0 skipped"; exit 0; }
+
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/strata_cli_quadtri.XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+failures=0
+cases=0
+
+compare() {
+    local out rc err faces
+    out=$("$DIFF" "$2" "$3" --tol "$TOL" 2>&1); rc=$?
+    cases=$((cases + 1))
+    err=$(sed -n 's/.*max_nn_rel=\([^ ]*\).*/\1/p' <<<"$out")
+    faces=$(sed -n 's/.*faces A=\([0-9]*\) B=\([0-9]*\).*/\1\/\2/p' <<<"$out")
+    if [ $rc -eq 0 ]; then
+        printf 'ok    %-62s max_nn_rel=%s faces=%s\n' "$1" "$err" "$faces"
+    else
+        printf 'FAIL  %-62s %s\n' "$1" "$out"
+        failures=$((failures + 1))
+    fi
+}
+
+ours() { # MESH LEVEL BOUNDARY OUT
+    if ! "$EXE" subdivide "$1" --scheme quad-triangle --levels "$2" --boundary "$3" -o "$4" >"$TMP/strata.log" 2>&1; then
+        echo "FAIL  strata subdivide $(basename "$1") level $2: $(cat "$TMP/strata.log")"
+        failures=$((failures + 1))
+        return 1
+    fi
+}
+
+# run_case MESH LEVELS BOUNDARY OSD_SCHEME
+run_case() {
+    local mesh=$1 levels=$2 boundary=$3 ref=$4 name l
+    name=$(basename "$mesh")
+    if [ ! -f "$mesh" ]; then echo "note: $mesh missing, skipped"; return; fi
+    for l in $(seq 1 "$levels"); do ours "$mesh" "$l" "$boundary" "$TMP/s_$l.obj" || return; done
+    if ! "$OSD" "$mesh" --scheme "$ref" --levels "$levels" --boundary "$boundary" --out-prefix "$TMP/osd" >"$TMP/osd.log" 2>&1; then
+        echo "FAIL  osd_oracle on $name: $(tail -3 "$TMP/osd.log")"
+        failures=$((failures + 1))
+        return
+    fi
+    for l in $(seq 1 "$levels"); do compare "$name $boundary L$l vs OpenSubdiv $ref" "$TMP/s_$l.obj" "$TMP/osd_$l.obj"; done
+}
+
+# face_sizes MESH: "tris quads others" of an OBJ or OFF file.
+face_sizes() {
+    case "$1" in
+    *.off) awk 'NR == 1 && $1 ~ /OFF/ { next } !h && NF >= 2 { nv = $1; nf = $2; h = 1; next }
+               h && /^[^#]/ && NF > 0 { if (nv > 0) { nv--; next } if (nf > 0) { nf--; k[$1 == 3 ? 3 : $1 == 4 ? 4 : 5]++ } }
+               END { printf "%d %d %d\n", k[3], k[4], k[5] }' "$1" ;;
+    *) awk '/^f / { n = NF - 1; k[n == 3 ? 3 : n == 4 ? 4 : 5]++ } END { printf "%d %d %d\n", k[3], k[4], k[5] }' "$1" ;;
+    esac
+}
+
+# mixed_case MESH LEVELS: levels 1..LEVELS written; level 1 has 4 triangles
+# per triangle and quads only otherwise (n per n-gon), each next level 4x.
+mixed_case() {
+    local mesh=$1 levels=$2 name l t q o et eq got
+    name=$(basename "$mesh")
+    if [ ! -f "$mesh" ]; then echo "note: $mesh missing, skipped"; return; fi
+    read -r t q o <<<"$(face_sizes "$mesh")"
+    # Σ n over the n-gons (n > 4) from the file.
+    case "$mesh" in
+    *.off) o=$(awk 'NR == 1 && $1 ~ /OFF/ { next } !h && NF >= 2 { nv = $1; nf = $2; h = 1; next }
+                   h && /^[^#]/ && NF > 0 { if (nv > 0) { nv--; next } if (nf > 0) { nf--; if ($1 > 4) s += $1 } }
+                   END { print s + 0 }' "$mesh") ;;
+    *) o=$(awk '/^f / && NF - 1 > 4 { s += NF - 1 } END { print s + 0 }' "$mesh") ;;
+    esac
+    et=$((4 * t)); eq=$((4 * q + o))
+    for l in $(seq 1 "$levels"); do
+        ours "$mesh" "$l" edge-only "$TMP/m_$l.obj" || return
+        got=$(face_sizes "$TMP/m_$l.obj")
+        cases=$((cases + 1))
+        if [ "$got" = "$et $eq 0" ]; then
+            printf 'ok    %-62s tris quads = %s %s\n' "$name L$l mixed (face counts only)" "$et" "$eq"
+        else
+            printf 'FAIL  %-62s got %s, want %s %s 0\n' "$name L$l mixed" "$got" "$et" "$eq"
+            failures=$((failures + 1))
+        fi
+        et=$((4 * et)); eq=$((4 * eq))
+    done
+}
+
+# tri_grid N OUT.obj: open grid of squares cut by one diagonal (two corners
+# with a single face: edge-and-corner makes them corners).
+tri_grid() {
+    awk -v n="$1" 'BEGIN {
+        for (j = 0; j <= n; j++) for (i = 0; i <= n; i++) printf "v %d %d %.2f\n", i, j, 0.1 * ((i * 7 + j * 3) % 5)
+        for (j = 0; j < n; j++) for (i = 0; i < n; i++) {
+            a = j * (n + 1) + i + 1; b = a + 1; c = a + n + 2; d = a + n + 1
+            printf "f %d %d %d\nf %d %d %d\n", a, b, c, a, c, d
+        }
+    }' >"$2"
+}
+
+C=$MESHES/catmull_clark
+T=$MESHES/triangle
+# No triangles: Catmull-Clark (n-gons included).
+run_case "$ASSETS/cube.obj" 3 edge-only catmark
+run_case "$ASSETS/ngon.obj" 3 edge-only catmark
+run_case "$C/dodecahedron_poly.obj" 3 edge-only catmark
+run_case "$C/hexa_sphere.off" 2 edge-only catmark
+for b in edge-only edge-and-corner; do
+    run_case "$ASSETS/open.obj" 3 "$b" catmark
+    run_case "$C/hole_capsule.off" 3 "$b" catmark
+done
+# Triangles only: Loop.
+run_case "$T/sphere_ico.obj" 3 edge-only loop
+tri_grid 5 "$TMP/tri_grid.obj"
+for b in edge-only edge-and-corner; do
+    run_case "$T/cube_no_bottom.obj" 3 "$b" loop
+    run_case "$TMP/tri_grid.obj" 3 "$b" loop
+done
+# Mixed meshes: no oracle (tests/test_scheme_quadtri.c checks values).
+mixed_case "$ASSETS/mixed.obj" 3
+mixed_case "$C/chamfer_cube.off" 3
+mixed_case "$C/blub_control_mesh.obj" 2
+mixed_case "$C/newell_teapot_cage.obj" 2
+mixed_case "$C/mixed_faring.off" 1
+
+echo "$cases comparisons, $failures failures"
+[ "$failures" -eq 0 ]
