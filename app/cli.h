@@ -3,5 +3,6 @@
 
 int st_cmd_info(int argc, char **argv);
 int st_cmd_subdivide(int argc, char **argv);
+int st_cmd_render(int argc, char **argv);
 
 #endif

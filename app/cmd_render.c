@@ -1,0 +1,200 @@
+/* strata render IN [--scheme S --levels N --level L] [--boundary B]
+ *                  [--view front|back|left|right|top|iso | --orbit AZ,EL,DIST]
+ *                  [--mode smooth|flat|wire|cage] [--size WxH] -o OUT.png
+ *
+ * Renders level L (default N) of IN's hierarchy headless (OSMesa: no
+ * display, no GPU) into a PNG.  Same inputs, same machine: same bytes. */
+#include "cli.h"
+#include "cli_common.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "image.h"
+#include "offscreen.h"
+
+#define DEFAULT_W 800
+#define DEFAULT_H 600
+
+typedef struct render_opts {
+    st_render_spec spec;
+    int width, height;
+    int view_given, orbit_given;
+} render_opts;
+
+/* ---- render-only options ---------------------------------------------------- */
+
+static int parse_view(render_opts *r, const char *v)
+{
+    int p = st_view_parse(v);
+    if (p < 0) { fprintf(stderr, "strata render: --view wants front, back, left, right, top or iso, got '%s'\n", v); return -1; }
+    r->spec.view = p;
+    r->view_given = 1;
+    return 0;
+}
+
+static int parse_orbit(render_opts *r, const char *v)
+{
+    char *end;
+    float x[3];
+    const char *s = v;
+    for (int i = 0; i < 3; i++) {
+        x[i] = strtof(s, &end);
+        if (end == s || !isfinite(x[i]) || (i < 2 ? *end != ',' : *end != 0)) {
+            fprintf(stderr, "strata render: --orbit wants AZ,EL,DIST (degrees, degrees, model units; DIST 0 frames the model), got '%s'\n", v);
+            return -1;
+        }
+        s = end + 1;
+    }
+    if (x[2] < 0) { fprintf(stderr, "strata render: --orbit distance must be >= 0, got %g\n", x[2]); return -1; }
+    r->spec.view = -1;
+    r->spec.az = x[0];
+    r->spec.el = x[1];
+    r->spec.dist = x[2];
+    r->orbit_given = 1;
+    return 0;
+}
+
+static int parse_mode(render_opts *r, const char *v)
+{
+    int m = st_render_mode_parse(v);
+    if (m < 0) { fprintf(stderr, "strata render: --mode wants smooth, flat, wire or cage, got '%s'\n", v); return -1; }
+    r->spec.mode = m;
+    return 0;
+}
+
+static int parse_size(render_opts *r, const char *v)
+{
+    char *end;
+    long w = strtol(v, &end, 10), h = 0;
+    if (end != v && (*end == 'x' || *end == 'X')) {
+        const char *s = end + 1;
+        h = strtol(s, &end, 10);
+        if (end == s || *end) h = 0;
+    }
+    if (w < 1 || h < 1 || w > ST_HEADLESS_MAX_SIZE || h > ST_HEADLESS_MAX_SIZE) {
+        fprintf(stderr, "strata render: --size wants WxH with 1..%d pixels each, got '%s'\n", ST_HEADLESS_MAX_SIZE, v);
+        return -1;
+    }
+    r->width = (int)w;
+    r->height = (int)h;
+    return 0;
+}
+
+/* Adaptive display options arrive with interest-box refinement (issue 4):
+ * they slot in here and fill spec.box / base_level / max_level. */
+static int not_yet(render_opts *r, const char *v)
+{
+    (void)r; (void)v;
+    fprintf(stderr, "strata render: adaptive display (--box, --base-level, --max-level) is not built yet\n");
+    return -1;
+}
+
+static const struct {
+    const char *name;
+    int (*parse)(render_opts *, const char *);
+} render_options[] = {
+    { "--view", parse_view },
+    { "--orbit", parse_orbit },
+    { "--mode", parse_mode },
+    { "--size", parse_size },
+    { "--box", not_yet },
+    { "--base-level", not_yet },
+    { "--max-level", not_yet },
+};
+
+/* Options of st_cli_parse that take a value: copied through untouched so
+ * that their values are never read as render options. */
+static int common_takes_value(const char *a)
+{
+    static const char *const names[] = { "--scheme", "--levels", "--level", "--boundary", "-o" };
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (!strcmp(a, names[i])) return 1;
+    return 0;
+}
+
+/* Takes the render-only options out of argv (into r) and leaves the common
+ * ones in rest[] for st_cli_parse. */
+static int split_args(int argc, char **argv, render_opts *r, char **rest, int *nrest)
+{
+    *nrest = 0;
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i];
+        int handled = 0;
+        for (size_t k = 0; k < sizeof render_options / sizeof render_options[0]; k++) {
+            if (strcmp(a, render_options[k].name)) continue;
+            if (i + 1 >= argc) { fprintf(stderr, "strata render: %s needs a value\n", a); return -1; }
+            if (render_options[k].parse(r, argv[++i])) return -1;
+            handled = 1;
+            break;
+        }
+        if (handled) continue;
+        rest[(*nrest)++] = argv[i];
+        if (common_takes_value(a) && i + 1 < argc) rest[(*nrest)++] = argv[++i];
+    }
+    if (r->view_given && r->orbit_given) {
+        fprintf(stderr, "strata render: give either --view or --orbit, not both\n");
+        return -1;
+    }
+    return 0;
+}
+
+static int has_png_ext(const char *path)
+{
+    size_t n = strlen(path);
+    return n > 4 && !strcasecmp(path + n - 4, ".png");
+}
+
+int st_cmd_render(int argc, char **argv)
+{
+    render_opts r;
+    memset(&r, 0, sizeof r);
+    r.spec = st_render_spec_default();
+    r.width = DEFAULT_W;
+    r.height = DEFAULT_H;
+    char **rest = malloc((size_t)(argc > 0 ? argc : 1) * sizeof *rest);
+    if (!rest) { fprintf(stderr, "strata render: out of memory\n"); return 1; }
+    int nrest = 0;
+    st_cli_opts o;
+    if (split_args(argc, argv, &r, rest, &nrest) || st_cli_parse(nrest, rest, &o, "render")) { free(rest); return 2; }
+    free(rest);
+    if (!o.out) { fprintf(stderr, "strata render: -o OUT.png is required\n"); return 2; }
+    if (!has_png_ext(o.out)) { fprintf(stderr, "strata render: the output must be a .png file, got '%s'\n", o.out); return 2; }
+    unsigned level = o.level < 0 ? o.levels : (unsigned)o.level;
+    if (level > o.levels) { fprintf(stderr, "strata render: --level %u is above --levels %u\n", level, o.levels); return 2; }
+    r.spec.level = level;
+    r.spec.cage_level = 0;
+
+    st_hier h;
+    int rc = st_cli_load(&o, &h, "render");
+    if (rc) return rc;
+    st_error err;
+    st_offscreen off;
+    unsigned char *rgba = NULL;
+    rc = st_offscreen_init(&off, r.width, r.height, &err);
+    if (rc) {
+        fprintf(stderr, "strata render: cannot render headless: %s\n", err.msg);
+        st_hier_free(&h);
+        return 1;
+    }
+    rgba = malloc((size_t)r.width * (size_t)r.height * 4);
+    if (!rgba) rc = st_fail(&err, ST_ERR_MEMORY, "out of memory for a %dx%d image", r.width, r.height);
+    if (!rc) rc = st_offscreen_prepare(&off, &h.map, &r.spec, &err);
+    uint32_t faces = off.r.surf.nfaces;
+    if (!rc) rc = st_offscreen_draw(&off, &r.spec, rgba, &err);
+    if (!rc) rc = st_png_write(o.out, r.width, r.height, rgba, &err);
+    st_offscreen_free(&off);
+    free(rgba);
+    st_hier_free(&h);
+    if (rc) { fprintf(stderr, "strata render: %s\n", err.msg); return 1; }
+    if (r.spec.view >= 0)
+        printf("wrote %s (%dx%d, %s, level %u, %u faces, %s view)\n", o.out, r.width, r.height,
+               st_render_mode_name(r.spec.mode), level, faces, st_view_name(r.spec.view));
+    else
+        printf("wrote %s (%dx%d, %s, level %u, %u faces, orbit %g,%g,%g)\n", o.out, r.width, r.height,
+               st_render_mode_name(r.spec.mode), level, faces, r.spec.az, r.spec.el, r.spec.dist);
+    return 0;
+}

@@ -1,0 +1,115 @@
+/* bench_render [MESH] [--levels N] [--edit-level L] [--scheme S] [--reps R]
+ *
+ * Buffer update after a one-vertex edit vs a full rebuild of the buffers
+ * (issue 5): a hierarchy of depth N (default 6) is displayed at its finest
+ * level on a headless (OSMesa) context; one vertex of level L (default 2) is
+ * moved with st_hier_move, then
+ *
+ *   incremental: st_renderer_edit - the vertices of the finest level the
+ *                edit can move (edit region), their positions and the
+ *                normals around them, re-uploaded range by range with
+ *                glBufferSubData;
+ *   full:        st_renderer_set_level - walk and triangulate the level,
+ *                all positions and normals, all buffers uploaded again.
+ *
+ * Both end with glFinish.  Target: incremental <= 0.05 x full.  The time of
+ * st_hier_move itself (geometry, not buffers) is printed apart.  Medians of
+ * R repetitions (default 15). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench_common.h"
+#include "headless.h"
+#include "renderer.h"
+
+#ifndef STRATA_ASSETS
+#define STRATA_ASSETS "assets"
+#endif
+
+int main(int argc, char **argv)
+{
+    const char *path = STRATA_ASSETS "/torus.obj", *scheme = "catmull-clark";
+    unsigned levels = 6, edit_level = 2;
+    int reps = 15;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = (unsigned)atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--edit-level") && i + 1 < argc) edit_level = (unsigned)atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--scheme") && i + 1 < argc) scheme = argv[++i];
+        else if (!strcmp(argv[i], "--reps") && i + 1 < argc) reps = atoi(argv[++i]);
+        else if (argv[i][0] != '-') path = argv[i];
+        else { fprintf(stderr, "usage: bench_render [MESH] [--levels N] [--edit-level L] [--scheme S] [--reps R]\n"); return 2; }
+    }
+    if (reps < 1) reps = 1;
+    if (reps > 200) reps = 200;
+    if (edit_level > levels) edit_level = levels;
+    st_error err;
+    st_mesh mesh;
+    st_mesh_init(&mesh);
+    if (st_mesh_load(path, &mesh, &err)) { fprintf(stderr, "bench_render: %s\n", err.msg); return 1; }
+    const st_scheme *sc = st_scheme_find(scheme);
+    if (!sc) { fprintf(stderr, "bench_render: unknown scheme %s\n", scheme); return 1; }
+    st_hier h;
+    double t0 = bench_now();
+    if (st_hier_init(&h, &mesh, sc, NULL, &err) || st_hier_subdivide_to(&h, levels, &err)) {
+        fprintf(stderr, "bench_render: %s\n", err.msg);
+        return 1;
+    }
+    st_mesh_free(&mesh);
+    double t_build = bench_now() - t0;
+
+    st_headless hl;
+    if (st_headless_init(&hl, 64, 64, 0, &err)) { fprintf(stderr, "bench_render: %s\n", err.msg); return 1; }
+    st_renderer r;
+    if (st_renderer_init(&r, &hl.gl, &err)) { fprintf(stderr, "bench_render: %s\n", err.msg); return 1; }
+    st_headless_begin(&hl);
+    unsigned D = levels;
+
+    /* Full rebuilds. */
+    double *full = malloc((size_t)reps * sizeof *full), *inc = malloc((size_t)reps * sizeof *inc);
+    double *mv = malloc((size_t)reps * sizeof *mv);
+    uint64_t full_bytes = 0;
+    for (int k = 0; k < reps; k++) {
+        t0 = bench_now();
+        if (st_renderer_set_level(&r, &h.map, D, &err)) { fprintf(stderr, "bench_render: %s\n", err.msg); return 1; }
+        hl.gl.Finish();
+        full[k] = bench_now() - t0;
+        full_bytes = r.last.bytes;
+    }
+
+    /* One vertex of the edit level: the first dart of that level. */
+    st_dart_iter it;
+    uint32_t dart = st_dart_first(&h.map, edit_level, &it);
+    const double *p0 = st_dart_pos(&h.map, dart, edit_level);
+    double base[3] = { p0[0], p0[1], p0[2] };
+    uint64_t moved = 0;
+    st_upload_stats last = { 0 };
+    for (int k = 0; k < reps; k++) {
+        double pos[1][3] = { { base[0] + 0.01 * (k + 1), base[1] - 0.005 * (k + 1), base[2] + 0.008 * (k + 1) } };
+        t0 = bench_now();
+        moved = st_hier_move(&h, edit_level, &dart, (const double (*)[3])pos, 1);
+        mv[k] = bench_now() - t0;
+        t0 = bench_now();
+        if (st_renderer_edit(&r, &h, edit_level, &dart, 1)) { fprintf(stderr, "bench_render: out of memory\n"); return 1; }
+        hl.gl.Finish();
+        inc[k] = bench_now() - t0;
+        last = r.last;
+    }
+    double tf = bench_median(full, reps), ti = bench_median(inc, reps), tm = bench_median(mv, reps);
+    printf("mesh %s, %s, depth %u (hierarchy built in %.3f s)\n", path, sc->name, levels, t_build);
+    printf("level %u shown: %u vertices, %u faces, %u triangles, %u polygon edges\n",
+           D, r.surf.nverts, r.surf.nfaces, r.surf.ntris, r.surf.nlines);
+    printf("edit: one vertex of level %u moved; st_hier_move recomputed %llu positions in %.3f ms (median of %d)\n",
+           edit_level, (unsigned long long)moved, 1e3 * tm, reps);
+    printf("full rebuild of the buffers:  %8.3f ms  (%.1f MB uploaded)\n", 1e3 * tf, full_bytes / 1048576.0);
+    printf("incremental buffer update:    %8.3f ms  (%u vertices = %.2f%% of the level, %u glBufferSubData ranges, %.1f KB)\n",
+           1e3 * ti, last.vertices, 100.0 * last.vertices / (r.surf.nverts ? r.surf.nverts : 1), last.ranges, last.bytes / 1024.0);
+    printf("ratio incremental / full:     %8.4f  (target <= 0.05: %s)\n", ti / tf, ti / tf <= 0.05 ? "met" : "NOT met");
+    st_renderer_free(&r);
+    st_headless_free(&hl);
+    st_hier_free(&h);
+    free(full);
+    free(inc);
+    free(mv);
+    return 0;
+}

@@ -1,0 +1,137 @@
+#include "image.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* stb, private to this file (static functions: no clash with another unit
+ * that compiles its own stb implementation, e.g. for tinygltf). */
+#if defined(__GNUC__)
+/* Unused static stb functions are reported at the end of the file: this
+ * one stays off for the whole file. */
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wimplicit-fallthrough"
+#endif
+#define STB_IMAGE_WRITE_STATIC
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STBI_WRITE_NO_STDIO
+#include <stb/stb_image_write.h>
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#define STBI_NO_STDIO
+#define STBI_NO_LINEAR
+#define STBI_NO_HDR
+#include <stb/stb_image.h>
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+
+typedef struct sink { unsigned char *p; size_t n, cap; int oom; } sink;
+
+static void sink_write(void *ctx, void *data, int size)
+{
+    sink *s = ctx;
+    if (s->oom || size <= 0) return;
+    if (s->n + (size_t)size > s->cap) {
+        size_t c = s->cap ? s->cap : 4096;
+        while (c < s->n + (size_t)size) c *= 2;
+        unsigned char *q = realloc(s->p, c);
+        if (!q) { s->oom = 1; return; }
+        s->p = q;
+        s->cap = c;
+    }
+    memcpy(s->p + s->n, data, (size_t)size);
+    s->n += (size_t)size;
+}
+
+int st_png_write(const char *path, int w, int h, const unsigned char *rgba, st_error *err)
+{
+    if (w <= 0 || h <= 0) return st_fail(err, ST_ERR_RANGE, "%s: empty image", path);
+    unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
+    if (!rgb) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path);
+    for (size_t i = 0; i < (size_t)w * (size_t)h; i++) memcpy(rgb + 3 * i, rgba + 4 * i, 3);
+    sink s = { 0 };
+    int ok = stbi_write_png_to_func(sink_write, &s, w, h, 3, rgb, w * 3);
+    free(rgb);
+    if (!ok || s.oom) { free(s.p); return st_fail(err, ST_ERR_MEMORY, "%s: cannot encode the PNG", path); }
+    FILE *f = fopen(path, "wb");
+    if (!f) { int e = errno; free(s.p); return st_fail(err, ST_ERR_IO, "%s: cannot write: %s", path, strerror(e)); }
+    size_t wr = fwrite(s.p, 1, s.n, f);
+    int cl = fclose(f);
+    free(s.p);
+    if (wr != s.n || cl) return st_fail(err, ST_ERR_IO, "%s: write failed", path);
+    return ST_OK;
+}
+
+int st_png_read(const char *path, int *w, int *h, unsigned char **rgba, st_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return st_fail(err, ST_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    unsigned char *buf = NULL;
+    size_t n = 0, cap = 0;
+    for (;;) {
+        if (n == cap) {
+            cap = cap ? 2 * cap : 65536;
+            unsigned char *q = realloc(buf, cap);
+            if (!q) { free(buf); fclose(f); return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path); }
+            buf = q;
+        }
+        size_t r = fread(buf + n, 1, cap - n, f);
+        n += r;
+        if (r == 0) break;
+    }
+    fclose(f);
+    if (n > 0x7fffffff) { free(buf); return st_fail(err, ST_ERR_RANGE, "%s: file too large", path); }
+    int comp = 0;
+    unsigned char *px = stbi_load_from_memory(buf, (int)n, w, h, &comp, 4);
+    free(buf);
+    if (!px) return st_fail(err, ST_ERR_PARSE, "%s: not a PNG this reader understands (%s)", path, stbi_failure_reason());
+    /* Hand back memory from malloc (stb's allocator is malloc too, but the
+     * caller should not need to know). */
+    size_t bytes = (size_t)*w * (size_t)*h * 4;
+    unsigned char *out = malloc(bytes ? bytes : 1);
+    if (!out) { stbi_image_free(px); return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path); }
+    memcpy(out, px, bytes);
+    stbi_image_free(px);
+    *rgba = out;
+    return ST_OK;
+}
+
+void st_image_compare(const unsigned char *a, const unsigned char *b, int w, int h, int tol,
+                      st_image_diff *out, unsigned char *diff)
+{
+    memset(out, 0, sizeof *out);
+    out->pixels = (uint64_t)w * (uint64_t)h;
+    for (size_t i = 0; i < (size_t)out->pixels; i++) {
+        int m = 0;
+        for (int c = 0; c < 3; c++) {
+            int d = abs((int)a[4 * i + c] - (int)b[4 * i + c]);
+            if (d > m) m = d;
+        }
+        if (m > out->max_delta) out->max_delta = m;
+        if (m > tol) out->differing++;
+        if (diff) {
+            unsigned char *o = diff + 4 * i;
+            if (m > tol) {
+                o[0] = (unsigned char)(128 + (m > 127 ? 127 : m));
+                o[1] = 0;
+                o[2] = 0;
+            } else {
+                unsigned g = (b[4 * i] + b[4 * i + 1] + b[4 * i + 2]) / 3;
+                o[0] = o[1] = o[2] = (unsigned char)(191 + g / 4);
+            }
+            o[3] = 255;
+        }
+    }
+    out->fraction = out->pixels ? (double)out->differing / (double)out->pixels : 0;
+}
+
+int st_image_match(const st_image_diff *d, double max_fraction)
+{
+    return d->fraction <= max_fraction;
+}

@@ -1,0 +1,504 @@
+/* The OpenGL 3.3 core renderer; see renderer.h. */
+#include "renderer.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "shaders.h"
+
+/* ---- display modes ------------------------------------------------------------ */
+
+static const char *const mode_names[ST_MODE_COUNT] = { "smooth", "flat", "wire", "cage" };
+
+int st_render_mode_parse(const char *name)
+{
+    for (int i = 0; i < ST_MODE_COUNT; i++)
+        if (!strcmp(name, mode_names[i])) return i;
+    return -1;
+}
+
+const char *st_render_mode_name(int mode) { return mode >= 0 && mode < ST_MODE_COUNT ? mode_names[mode] : "?"; }
+
+void st_render_mode_opts(int mode, st_draw_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->clear = 1;
+    o->box = 1;
+    o->shading = mode == ST_MODE_FLAT ? ST_SHADE_FLAT : ST_SHADE_SMOOTH;
+    o->wire = mode == ST_MODE_WIRE;
+    o->cage = mode == ST_MODE_CAGE;
+}
+
+/* ---- shaders ------------------------------------------------------------------ */
+
+static GLuint compile(const st_gl *gl, GLenum type, const char *name, st_error *err)
+{
+    const char *src = st_shader_source(name);
+    if (!src) { st_fail(err, ST_ERR_INVALID, "render: shader %s.glsl is not embedded", name); return 0; }
+    GLuint s = gl->CreateShader(type);
+    gl->ShaderSource(s, 1, &src, NULL);
+    gl->CompileShader(s);
+    GLint ok = 0;
+    gl->GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[768] = "";
+        gl->GetShaderInfoLog(s, sizeof log, NULL, log);
+        gl->DeleteShader(s);
+        st_fail(err, ST_ERR_INVALID, "render: shaders/%s.glsl does not compile: %s", name, log);
+        return 0;
+    }
+    return s;
+}
+
+static GLuint program(const st_gl *gl, const char *vs, const char *gs, const char *fs, st_error *err)
+{
+    GLuint sh[3] = { 0, 0, 0 };
+    sh[0] = compile(gl, GL_VERTEX_SHADER, vs, err);
+    if (sh[0] && gs) sh[1] = compile(gl, GL_GEOMETRY_SHADER, gs, err);
+    if (sh[0] && (!gs || sh[1])) sh[2] = compile(gl, GL_FRAGMENT_SHADER, fs, err);
+    GLuint p = 0;
+    if (sh[0] && (!gs || sh[1]) && sh[2]) {
+        p = gl->CreateProgram();
+        for (int i = 0; i < 3; i++) if (sh[i]) gl->AttachShader(p, sh[i]);
+        gl->LinkProgram(p);
+        GLint ok = 0;
+        gl->GetProgramiv(p, GL_LINK_STATUS, &ok);
+        if (!ok) {
+            char log[768] = "";
+            gl->GetProgramInfoLog(p, sizeof log, NULL, log);
+            gl->DeleteProgram(p);
+            p = 0;
+            st_fail(err, ST_ERR_INVALID, "render: program %s + %s does not link: %s", vs, fs, log);
+        }
+    }
+    for (int i = 0; i < 3; i++) if (sh[i]) gl->DeleteShader(sh[i]);
+    return p;
+}
+
+int st_renderer_init(st_renderer *r, const st_gl *gl, st_error *err)
+{
+    memset(r, 0, sizeof *r);
+    r->gl = gl;
+    r->hover = ST_NIL;
+    r->background[0] = 0.93f; r->background[1] = 0.94f; r->background[2] = 0.96f;
+    st_rgeom_init(&r->surf);
+    st_rgeom_init(&r->cage);
+    r->prog_surface = program(gl, "surface.vert", NULL, "surface.frag", err);
+    if (r->prog_surface) r->prog_line = program(gl, "line.vert", "line.geom", "line.frag", err);
+    if (r->prog_line) r->prog_point = program(gl, "point.vert", NULL, "point.frag", err);
+    if (!r->prog_point) { st_renderer_free(r); return err ? err->code : ST_ERR_INVALID; }
+    GLuint p = r->prog_surface;
+    r->us.view = gl->GetUniformLocation(p, "u_view");
+    r->us.proj = gl->GetUniformLocation(p, "u_proj");
+    r->us.flat = gl->GetUniformLocation(p, "u_flat");
+    r->us.tri_face = gl->GetUniformLocation(p, "u_tri_face");
+    r->us.face_normal = gl->GetUniformLocation(p, "u_face_normal");
+    r->us.front = gl->GetUniformLocation(p, "u_front");
+    r->us.back = gl->GetUniformLocation(p, "u_back");
+    gl->UseProgram(p);
+    gl->Uniform1i(r->us.tri_face, 0);
+    gl->Uniform1i(r->us.face_normal, 1);
+    p = r->prog_line;
+    r->ul.view = gl->GetUniformLocation(p, "u_view");
+    r->ul.proj = gl->GetUniformLocation(p, "u_proj");
+    r->ul.depth_bias = gl->GetUniformLocation(p, "u_depth_bias");
+    r->ul.viewport = gl->GetUniformLocation(p, "u_viewport");
+    r->ul.width = gl->GetUniformLocation(p, "u_width");
+    r->ul.color = gl->GetUniformLocation(p, "u_color");
+    p = r->prog_point;
+    r->up.view = gl->GetUniformLocation(p, "u_view");
+    r->up.proj = gl->GetUniformLocation(p, "u_proj");
+    r->up.size = gl->GetUniformLocation(p, "u_size");
+    r->up.depth_bias = gl->GetUniformLocation(p, "u_depth_bias");
+    r->up.color = gl->GetUniformLocation(p, "u_color");
+    gl->UseProgram(0);
+    GLenum e = gl->GetError();
+    if (e != GL_NO_ERROR) {
+        st_renderer_free(r);
+        return st_fail(err, ST_ERR_INVALID, "render: OpenGL error %s while setting up", st_gl_error_name(e));
+    }
+    return ST_OK;
+}
+
+/* ---- buffers ------------------------------------------------------------------ */
+
+static void gpu_mesh_free(const st_gl *gl, st_gpu_mesh *g)
+{
+    if (g->vao) gl->DeleteVertexArrays(1, &g->vao);
+    GLuint bufs[5] = { g->vbo, g->ibo_tris, g->ibo_lines, g->tbo_face_normal, g->tbo_tri_face };
+    for (int i = 0; i < 5; i++) if (bufs[i]) gl->DeleteBuffers(1, &bufs[i]);
+    if (g->tex_face_normal) gl->DeleteTextures(1, &g->tex_face_normal);
+    if (g->tex_tri_face) gl->DeleteTextures(1, &g->tex_tri_face);
+    memset(g, 0, sizeof *g);
+}
+
+/* Sizes of zero are rounded up to one element: some drivers dislike empty
+ * texture buffers. */
+static void buffer_data(const st_gl *gl, GLenum target, size_t bytes, const void *data, size_t min)
+{
+    static const unsigned char zeros[16] = { 0 };
+    if (bytes) gl->BufferData(target, (GLsizeiptr)bytes, data, GL_DYNAMIC_DRAW);
+    else gl->BufferData(target, (GLsizeiptr)min, zeros, GL_DYNAMIC_DRAW);
+}
+
+static uint64_t gpu_mesh_upload(const st_gl *gl, st_gpu_mesh *g, const st_rgeom *geo)
+{
+    if (!g->vao) {
+        gl->GenVertexArrays(1, &g->vao);
+        gl->GenBuffers(1, &g->vbo);
+        gl->GenBuffers(1, &g->ibo_tris);
+        gl->GenBuffers(1, &g->ibo_lines);
+        gl->GenBuffers(1, &g->tbo_face_normal);
+        gl->GenBuffers(1, &g->tbo_tri_face);
+        gl->GenTextures(1, &g->tex_face_normal);
+        gl->GenTextures(1, &g->tex_tri_face);
+    }
+    size_t vb = (size_t)geo->nverts * ST_RGEOM_VSTRIDE * sizeof(float);
+    size_t tb = (size_t)geo->ntris * 3 * sizeof(uint32_t);
+    size_t lb = (size_t)geo->nlines * 2 * sizeof(uint32_t);
+    size_t fb = (size_t)geo->nfaces * 4 * sizeof(float);
+    size_t ob = (size_t)geo->ntris * sizeof(uint32_t);
+    gl->BindVertexArray(g->vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, g->vbo);
+    buffer_data(gl, GL_ARRAY_BUFFER, vb, geo->vdata, 16);
+    gl->VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, ST_RGEOM_VSTRIDE * sizeof(float), (const void *)0);
+    gl->VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, ST_RGEOM_VSTRIDE * sizeof(float), (const void *)(3 * sizeof(float)));
+    gl->EnableVertexAttribArray(0);
+    gl->EnableVertexAttribArray(1);
+    gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ibo_lines);
+    buffer_data(gl, GL_ELEMENT_ARRAY_BUFFER, lb, geo->lines, 16);
+    gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ibo_tris);
+    buffer_data(gl, GL_ELEMENT_ARRAY_BUFFER, tb, geo->tris, 16);
+    gl->BindVertexArray(0);
+    gl->BindBuffer(GL_TEXTURE_BUFFER, g->tbo_face_normal);
+    buffer_data(gl, GL_TEXTURE_BUFFER, fb, geo->fnormal, 16);
+    gl->BindBuffer(GL_TEXTURE_BUFFER, g->tbo_tri_face);
+    buffer_data(gl, GL_TEXTURE_BUFFER, ob, geo->tri_face, 16);
+    gl->BindBuffer(GL_TEXTURE_BUFFER, 0);
+    gl->BindTexture(GL_TEXTURE_BUFFER, g->tex_face_normal);
+    gl->TexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, g->tbo_face_normal);
+    gl->BindTexture(GL_TEXTURE_BUFFER, g->tex_tri_face);
+    gl->TexBuffer(GL_TEXTURE_BUFFER, GL_R32UI, g->tbo_tri_face);
+    gl->BindTexture(GL_TEXTURE_BUFFER, 0);
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    g->nverts = geo->nverts;
+    g->ntris = geo->ntris;
+    g->nlines = geo->nlines;
+    g->nfaces = geo->nfaces;
+    return vb + tb + lb + fb + ob;
+}
+
+int st_renderer_set_level(st_renderer *r, const st_map *m, unsigned l, st_error *err)
+{
+    int rc = st_rgeom_build(&r->surf, m, l, err);
+    if (rc) { r->has_surf = 0; return rc; }
+    memset(&r->last, 0, sizeof r->last);
+    r->last.bytes = gpu_mesh_upload(r->gl, &r->gsurf, &r->surf);
+    r->last.ranges = 5;
+    r->last.vertices = r->surf.nverts;
+    r->has_surf = 1;
+    return ST_OK;
+}
+
+int st_renderer_set_cage(st_renderer *r, const st_map *m, unsigned l, st_error *err)
+{
+    int rc = st_rgeom_build(&r->cage, m, l, err);
+    r->nsel = 0;
+    r->hover = ST_NIL;
+    if (rc) { r->has_cage = 0; return rc; }
+    gpu_mesh_upload(r->gl, &r->gcage, &r->cage);
+    r->has_cage = 1;
+    return ST_OK;
+}
+
+void st_renderer_clear_cage(st_renderer *r)
+{
+    r->has_cage = 0;
+    r->nsel = 0;
+    r->hover = ST_NIL;
+}
+
+/* Re-uploads the dirty ranges of one mesh. */
+static void upload_ranges(st_renderer *r, st_gpu_mesh *g, const st_rgeom *geo,
+                          const st_range_list *vr, const st_range_list *fr)
+{
+    const st_gl *gl = r->gl;
+    const size_t vs = ST_RGEOM_VSTRIDE * sizeof(float);
+    if (vr->n) {
+        gl->BindBuffer(GL_ARRAY_BUFFER, g->vbo);
+        for (uint32_t i = 0; i < vr->n; i++) {
+            gl->BufferSubData(GL_ARRAY_BUFFER, (GLintptr)(vr->r[i].first * vs), (GLsizeiptr)(vr->r[i].count * vs),
+                              geo->vdata + (size_t)vr->r[i].first * ST_RGEOM_VSTRIDE);
+            r->last.bytes += vr->r[i].count * vs;
+            r->last.vertices += vr->r[i].count;
+        }
+        gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    }
+    if (fr->n) {
+        gl->BindBuffer(GL_TEXTURE_BUFFER, g->tbo_face_normal);
+        for (uint32_t i = 0; i < fr->n; i++) {
+            gl->BufferSubData(GL_TEXTURE_BUFFER, (GLintptr)(fr->r[i].first * 4 * sizeof(float)),
+                              (GLsizeiptr)(fr->r[i].count * 4 * sizeof(float)),
+                              geo->fnormal + 4 * (size_t)fr->r[i].first);
+            r->last.bytes += fr->r[i].count * 4 * sizeof(float);
+        }
+        gl->BindBuffer(GL_TEXTURE_BUFFER, 0);
+    }
+    r->last.ranges += vr->n + fr->n;
+}
+
+static int refresh_mesh(st_renderer *r, st_rgeom *geo, st_gpu_mesh *g, const st_map *m,
+                        const uint32_t *vids, uint32_t n)
+{
+    st_range_list vr = { 0 }, fr = { 0 };
+    int rc = st_rgeom_refresh(geo, m, vids, n, &vr, &fr);
+    if (!rc) upload_ranges(r, g, geo, &vr, &fr);
+    st_range_list_free(&vr);
+    st_range_list_free(&fr);
+    return rc;
+}
+
+int st_renderer_refresh(st_renderer *r, const st_map *m, const uint32_t *vids, uint32_t n)
+{
+    memset(&r->last, 0, sizeof r->last);
+    int rc = 0;
+    if (r->has_surf) rc |= refresh_mesh(r, &r->surf, &r->gsurf, m, vids, n);
+    if (r->has_cage) rc |= refresh_mesh(r, &r->cage, &r->gcage, m, vids, n);
+    return rc ? -1 : 0;
+}
+
+int st_renderer_edit(st_renderer *r, const st_hier *h, unsigned l, const uint32_t *darts, uint32_t n)
+{
+    memset(&r->last, 0, sizeof r->last);
+    int rc = 0;
+    for (int k = 0; k < 2; k++) {
+        st_rgeom *geo = k ? &r->cage : &r->surf;
+        st_gpu_mesh *g = k ? &r->gcage : &r->gsurf;
+        if (!(k ? r->has_cage : r->has_surf)) continue;
+        r->scratch_n = 0;
+        if (st_rgeom_edit_region(geo, &h->map, h->scheme->support_rings, l, darts, n,
+                                 &r->scratch, &r->scratch_n, &r->scratch_cap)) { rc = -1; continue; }
+        rc |= refresh_mesh(r, geo, g, &h->map, r->scratch, r->scratch_n);
+    }
+    return rc ? -1 : 0;
+}
+
+void st_renderer_refresh_all(st_renderer *r, const st_map *m)
+{
+    const st_gl *gl = r->gl;
+    memset(&r->last, 0, sizeof r->last);
+    for (int k = 0; k < 2; k++) {
+        st_rgeom *geo = k ? &r->cage : &r->surf;
+        st_gpu_mesh *g = k ? &r->gcage : &r->gsurf;
+        if (!(k ? r->has_cage : r->has_surf)) continue;
+        st_rgeom_refresh_all(geo, m);
+        size_t vb = (size_t)geo->nverts * ST_RGEOM_VSTRIDE * sizeof(float);
+        size_t fb = (size_t)geo->nfaces * 4 * sizeof(float);
+        gl->BindBuffer(GL_ARRAY_BUFFER, g->vbo);
+        if (vb) gl->BufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)vb, geo->vdata);
+        gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+        gl->BindBuffer(GL_TEXTURE_BUFFER, g->tbo_face_normal);
+        if (fb) gl->BufferSubData(GL_TEXTURE_BUFFER, 0, (GLsizeiptr)fb, geo->fnormal);
+        gl->BindBuffer(GL_TEXTURE_BUFFER, 0);
+        r->last.bytes += vb + fb;
+        r->last.ranges += 2;
+        r->last.vertices += geo->nverts;
+    }
+}
+
+void st_renderer_reupload(st_renderer *r)
+{
+    if (r->has_surf) gpu_mesh_upload(r->gl, &r->gsurf, &r->surf);
+    if (r->has_cage) gpu_mesh_upload(r->gl, &r->gcage, &r->cage);
+}
+
+int st_renderer_set_selection(st_renderer *r, const uint32_t *vids, uint32_t n)
+{
+    r->nsel = 0;
+    if (!r->has_cage) return 0;
+    uint32_t *idx = malloc((size_t)(n ? n : 1) * sizeof *idx);
+    if (!idx) return -1;
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < n; i++)
+        if (vids[i] < r->cage.nvids && r->cage.slot[vids[i]] != ST_NIL) idx[k++] = r->cage.slot[vids[i]];
+    const st_gl *gl = r->gl;
+    if (!r->ibo_sel) gl->GenBuffers(1, &r->ibo_sel);
+    gl->BindVertexArray(0);
+    gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_sel);
+    buffer_data(gl, GL_ELEMENT_ARRAY_BUFFER, (size_t)k * sizeof *idx, idx, 16);
+    gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+    free(idx);
+    r->nsel = k;
+    return 0;
+}
+
+void st_renderer_set_hover(st_renderer *r, uint32_t vid)
+{
+    r->hover = (r->has_cage && vid < r->cage.nvids) ? r->cage.slot[vid] : ST_NIL;
+}
+
+void st_renderer_set_box(st_renderer *r, const float a[3], const float b[3], int show)
+{
+    const st_gl *gl = r->gl;
+    r->has_box = show != 0;
+    if (!show) return;
+    float lo[3], hi[3];
+    for (int i = 0; i < 3; i++) { lo[i] = a[i] < b[i] ? a[i] : b[i]; hi[i] = a[i] < b[i] ? b[i] : a[i]; }
+    /* 12 edges: corner k has bit i set when its coordinate i is hi[i]; an
+     * edge joins two corners differing in one bit. */
+    float v[24 * 3];
+    int n = 0;
+    for (int k = 0; k < 8; k++)
+        for (int i = 0; i < 3; i++) {
+            if (k & (1 << i)) continue;
+            int k2 = k | (1 << i);
+            for (int c = 0; c < 3; c++) v[3 * n + c] = (k & (1 << c)) ? hi[c] : lo[c];
+            n++;
+            for (int c = 0; c < 3; c++) v[3 * n + c] = (k2 & (1 << c)) ? hi[c] : lo[c];
+            n++;
+        }
+    if (!r->vao_box) {
+        gl->GenVertexArrays(1, &r->vao_box);
+        gl->GenBuffers(1, &r->vbo_box);
+    }
+    gl->BindVertexArray(r->vao_box);
+    gl->BindBuffer(GL_ARRAY_BUFFER, r->vbo_box);
+    gl->BufferData(GL_ARRAY_BUFFER, sizeof v, v, GL_DYNAMIC_DRAW);
+    gl->VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), (const void *)0);
+    gl->EnableVertexAttribArray(0);
+    gl->BindVertexArray(0);
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+/* ---- drawing ------------------------------------------------------------------ */
+
+static void line_pass(st_renderer *r, const float view[16], const float proj[16], int w, int h,
+                      float width, float bias, const float color[4])
+{
+    const st_gl *gl = r->gl;
+    gl->UseProgram(r->prog_line);
+    gl->UniformMatrix4fv(r->ul.view, 1, GL_FALSE, view);
+    gl->UniformMatrix4fv(r->ul.proj, 1, GL_FALSE, proj);
+    gl->Uniform2f(r->ul.viewport, (float)w, (float)h);
+    gl->Uniform1f(r->ul.width, width);
+    gl->Uniform1f(r->ul.depth_bias, bias);
+    gl->Uniform4fv(r->ul.color, 1, color);
+}
+
+static void point_pass(st_renderer *r, const float view[16], const float proj[16], float size, float bias,
+                       const float color[4])
+{
+    const st_gl *gl = r->gl;
+    gl->UseProgram(r->prog_point);
+    gl->UniformMatrix4fv(r->up.view, 1, GL_FALSE, view);
+    gl->UniformMatrix4fv(r->up.proj, 1, GL_FALSE, proj);
+    gl->Uniform1f(r->up.size, size);
+    gl->Uniform1f(r->up.depth_bias, bias);
+    gl->Uniform4fv(r->up.color, 1, color);
+}
+
+void st_renderer_draw(st_renderer *r, const st_camera *cam, int w, int h, const st_draw_opts *o)
+{
+    const st_gl *gl = r->gl;
+    static const float front[3] = { 0.70f, 0.73f, 0.78f }, back[3] = { 0.78f, 0.48f, 0.36f };
+    static const float wire_color[4] = { 0.10f, 0.11f, 0.14f, 1 };
+    static const float cage_color[4] = { 0.85f, 0.42f, 0.05f, 1 };
+    static const float sel_color[4] = { 1.00f, 0.80f, 0.10f, 1 };
+    static const float hover_color[4] = { 0.35f, 0.95f, 1.00f, 1 };
+    static const float box_color[4] = { 0.10f, 0.45f, 0.90f, 1 };
+    float view[16], proj[16];
+    float aspect = h > 0 ? (float)w / (float)h : 1;
+    st_camera_view(cam, view);
+    st_camera_proj(cam, aspect, proj);
+    float lw = o->line_width > 0 ? o->line_width : 1.0f;
+    float ps = o->point_size > 0 ? o->point_size : 6.0f;
+
+    gl->Viewport(0, 0, w, h);
+    gl->Enable(GL_DEPTH_TEST);
+    gl->DepthFunc(GL_LEQUAL);
+    gl->DepthMask(GL_TRUE);
+    gl->Disable(GL_CULL_FACE);
+    gl->Disable(GL_BLEND);
+    gl->Enable(GL_PROGRAM_POINT_SIZE);
+    if (o->clear) {
+        gl->ClearColor(r->background[0], r->background[1], r->background[2], 1);
+        gl->ClearDepth(1);
+        gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
+    if (r->has_surf && o->shading != ST_SHADE_NONE && r->gsurf.ntris) {
+        gl->UseProgram(r->prog_surface);
+        gl->UniformMatrix4fv(r->us.view, 1, GL_FALSE, view);
+        gl->UniformMatrix4fv(r->us.proj, 1, GL_FALSE, proj);
+        gl->Uniform1i(r->us.flat, o->shading == ST_SHADE_FLAT);
+        gl->Uniform3fv(r->us.front, 1, front);
+        gl->Uniform3fv(r->us.back, 1, back);
+        gl->ActiveTexture(GL_TEXTURE0);
+        gl->BindTexture(GL_TEXTURE_BUFFER, r->gsurf.tex_tri_face);
+        gl->ActiveTexture(GL_TEXTURE1);
+        gl->BindTexture(GL_TEXTURE_BUFFER, r->gsurf.tex_face_normal);
+        gl->ActiveTexture(GL_TEXTURE0);
+        /* Push the surface back by a constant (no slope factor: a slope term
+         * pushes steep front faces behind the back faces at silhouettes) so
+         * that edges drawn on it win. */
+        gl->Enable(GL_POLYGON_OFFSET_FILL);
+        gl->PolygonOffset(0.0f, 2.0f);
+        gl->BindVertexArray(r->gsurf.vao);
+        gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->gsurf.ibo_tris);
+        gl->DrawElements(GL_TRIANGLES, (GLsizei)(3 * r->gsurf.ntris), GL_UNSIGNED_INT, (const void *)0);
+        gl->Disable(GL_POLYGON_OFFSET_FILL);
+        gl->BindTexture(GL_TEXTURE_BUFFER, 0);
+        gl->ActiveTexture(GL_TEXTURE1);
+        gl->BindTexture(GL_TEXTURE_BUFFER, 0);
+        gl->ActiveTexture(GL_TEXTURE0);
+    }
+    if (r->has_surf && o->wire && r->gsurf.nlines) {
+        line_pass(r, view, proj, w, h, lw, 5e-4f, wire_color);
+        gl->BindVertexArray(r->gsurf.vao);
+        gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->gsurf.ibo_lines);
+        gl->DrawElements(GL_LINES, (GLsizei)(2 * r->gsurf.nlines), GL_UNSIGNED_INT, (const void *)0);
+    }
+    if (r->has_cage && o->cage) {
+        line_pass(r, view, proj, w, h, lw * 1.5f, 1e-4f, cage_color);
+        gl->BindVertexArray(r->gcage.vao);
+        gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->gcage.ibo_lines);
+        gl->DrawElements(GL_LINES, (GLsizei)(2 * r->gcage.nlines), GL_UNSIGNED_INT, (const void *)0);
+        point_pass(r, view, proj, ps, 2e-4f, cage_color);
+        gl->DrawArrays(GL_POINTS, 0, (GLsizei)r->gcage.nverts);
+        if (r->nsel) {
+            point_pass(r, view, proj, ps * 1.6f, 4e-4f, sel_color);
+            gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_sel);
+            gl->DrawElements(GL_POINTS, (GLsizei)r->nsel, GL_UNSIGNED_INT, (const void *)0);
+        }
+        if (r->hover != ST_NIL) {
+            point_pass(r, view, proj, ps * 2.0f, 6e-4f, hover_color);
+            gl->DrawArrays(GL_POINTS, (GLint)r->hover, 1);
+        }
+    }
+    if (r->has_box && o->box) {
+        line_pass(r, view, proj, w, h, lw * 1.5f, 0, box_color);
+        gl->BindVertexArray(r->vao_box);
+        gl->DrawArrays(GL_LINES, 0, 24);
+    }
+    gl->BindVertexArray(0);
+    gl->UseProgram(0);
+}
+
+void st_renderer_free(st_renderer *r)
+{
+    const st_gl *gl = r->gl;
+    if (gl) {
+        gpu_mesh_free(gl, &r->gsurf);
+        gpu_mesh_free(gl, &r->gcage);
+        if (r->ibo_sel) gl->DeleteBuffers(1, &r->ibo_sel);
+        if (r->vbo_box) gl->DeleteBuffers(1, &r->vbo_box);
+        if (r->vao_box) gl->DeleteVertexArrays(1, &r->vao_box);
+        if (r->prog_surface) gl->DeleteProgram(r->prog_surface);
+        if (r->prog_line) gl->DeleteProgram(r->prog_line);
+        if (r->prog_point) gl->DeleteProgram(r->prog_point);
+    }
+    st_rgeom_free(&r->surf);
+    st_rgeom_free(&r->cage);
+    free(r->scratch);
+    memset(r, 0, sizeof *r);
+}

@@ -1,0 +1,140 @@
+/* st_renderer: the one OpenGL 3.3 core renderer, used by the window (GLFW)
+ * and by headless rendering (OSMesa).  It draws into whatever framebuffer is
+ * bound, with the st_gl table it was given (gl_loader.h).
+ *
+ * What it draws (st_draw_opts):
+ *   - the surface of the displayed level: smooth shading (vertex normals) or
+ *     flat shading (one normal per polygon, not per triangle); faces are the
+ *     map's real faces, so boundary faces are never drawn; non-triangles are
+ *     split by the case tables (triangulate.h);
+ *   - the wireframe of the displayed level's polygon edges;
+ *   - the control mesh of the editing level as an overlay, its vertices as
+ *     points, selected vertices and the hovered vertex highlighted;
+ *   - the interest box, a wire box given by two corners.
+ *
+ * Data path: map -> st_rgeom (CPU) -> buffers.  st_renderer_set_level()
+ * builds and uploads everything for a level; after an edit that moved
+ * vertices, st_renderer_edit() (or st_renderer_refresh() with the vertex ids
+ * known) recomputes only the touched positions and normals and re-uploads
+ * only their ranges with glBufferSubData.
+ *
+ *     st_renderer r;
+ *     st_renderer_init(&r, &gl, &err);
+ *     st_renderer_set_level(&r, &h.map, 3, &err);
+ *     st_renderer_set_cage(&r, &h.map, 0, &err);
+ *     st_renderer_draw(&r, &cam, width, height, &opts);
+ *     ...
+ *     st_hier_move(&h, 2, darts, pos, n);
+ *     st_renderer_edit(&r, &h, 2, darts, n);
+ */
+#ifndef ST_RENDERER_H
+#define ST_RENDERER_H
+
+#include "camera.h"
+#include "geom.h"
+#include "gl_loader.h"
+#include "hier.h"
+
+enum st_shading { ST_SHADE_NONE, ST_SHADE_SMOOTH, ST_SHADE_FLAT };
+
+typedef struct st_draw_opts {
+    int shading;              /* enum st_shading */
+    int wire;                 /* polygon edges of the displayed level */
+    int cage;                 /* control mesh of the editing level, with its vertices */
+    int box;                  /* the interest box (st_renderer_set_box) */
+    int clear;                /* clear colour and depth first */
+    float line_width;         /* pixels, 0: 1 */
+    float point_size;         /* pixels, 0: 6 */
+} st_draw_opts;
+
+/* Display modes of `strata render --mode`, as draw options. */
+enum st_render_mode { ST_MODE_SMOOTH, ST_MODE_FLAT, ST_MODE_WIRE, ST_MODE_CAGE, ST_MODE_COUNT };
+int st_render_mode_parse(const char *name);             /* -1 if unknown */
+const char *st_render_mode_name(int mode);
+void st_render_mode_opts(int mode, st_draw_opts *o);
+
+/* One drawable mesh on the GPU. */
+typedef struct st_gpu_mesh {
+    GLuint vao, vbo, ibo_tris, ibo_lines;
+    GLuint tbo_face_normal, tex_face_normal;  /* RGBA32F per face */
+    GLuint tbo_tri_face, tex_tri_face;        /* R32UI per triangle */
+    uint32_t nverts, ntris, nlines, nfaces;
+} st_gpu_mesh;
+
+typedef struct st_upload_stats {
+    uint64_t bytes;           /* bytes sent by the last update */
+    uint32_t ranges;          /* glBufferSubData calls of the last update */
+    uint32_t vertices;        /* vertices re-uploaded */
+} st_upload_stats;
+
+typedef struct st_renderer {
+    const st_gl *gl;
+    GLuint prog_surface, prog_line, prog_point;
+    struct {
+        GLint view, proj, flat, tri_face, face_normal, front, back;
+    } us;                     /* surface program uniforms */
+    struct {
+        GLint view, proj, depth_bias, viewport, width, color;
+    } ul;                     /* line program uniforms */
+    struct {
+        GLint view, proj, size, depth_bias, color;
+    } up;                     /* point program uniforms */
+
+    st_rgeom surf;            /* displayed level */
+    st_gpu_mesh gsurf;
+    int has_surf;
+    st_rgeom cage;            /* editing level (control mesh overlay) */
+    st_gpu_mesh gcage;
+    int has_cage;
+
+    GLuint ibo_sel;           /* selected cage vertices (indices into the cage's vertices) */
+    uint32_t nsel;
+    uint32_t hover;           /* cage vertex index of the hovered vertex, ST_NIL if none */
+    GLuint vao_box, vbo_box;
+    int has_box;
+
+    float background[3];
+    st_upload_stats last;     /* of the last set_level / refresh / edit */
+    uint32_t *scratch;        /* vertex ids of edit regions */
+    uint32_t scratch_n, scratch_cap;
+} st_renderer;
+
+/* Compiles the embedded shaders.  gl stays owned by the caller and must
+ * outlive the renderer; its context must be current for every call. */
+int st_renderer_init(st_renderer *r, const st_gl *gl, st_error *err);
+void st_renderer_free(st_renderer *r);
+
+/* Builds and uploads level l of m as the displayed surface. */
+int st_renderer_set_level(st_renderer *r, const st_map *m, unsigned l, st_error *err);
+/* Builds and uploads level l of m as the control-mesh overlay; clears the
+ * selection and the hover. */
+int st_renderer_set_cage(st_renderer *r, const st_map *m, unsigned l, st_error *err);
+void st_renderer_clear_cage(st_renderer *r);
+
+/* Incremental update: the positions of these vertex ids (at the displayed
+ * level, and at the cage level) changed; recomputes the dependent normals
+ * and re-uploads only the touched ranges.  Returns 0 or -1 (out of memory:
+ * nothing uploaded; call st_renderer_set_level). */
+int st_renderer_refresh(st_renderer *r, const st_map *m, const uint32_t *vids, uint32_t n);
+/* The same after st_hier_move(h, l, darts, ., n): finds the vertices that
+ * move on the displayed and cage levels itself (st_rgeom_edit_region). */
+int st_renderer_edit(st_renderer *r, const st_hier *h, unsigned l, const uint32_t *darts, uint32_t n);
+/* Every position changed (e.g. after analysis), topology not: re-reads and
+ * re-uploads the vertex data of both meshes. */
+void st_renderer_refresh_all(st_renderer *r, const st_map *m);
+
+/* Uploads the CPU-side meshes (surf, cage) again in full, e.g. after a test
+ * changed them by hand. */
+void st_renderer_reupload(st_renderer *r);
+
+/* Selection and hover, as vertex ids of the cage level (ids not on the cage
+ * are ignored; ST_NIL: no hover). */
+int st_renderer_set_selection(st_renderer *r, const uint32_t *vids, uint32_t n);
+void st_renderer_set_hover(st_renderer *r, uint32_t vid);
+/* Interest box from two opposite corners (any order); show = 0 hides it. */
+void st_renderer_set_box(st_renderer *r, const float a[3], const float b[3], int show);
+
+/* Draws into the bound framebuffer, viewport width x height. */
+void st_renderer_draw(st_renderer *r, const st_camera *cam, int width, int height, const st_draw_opts *o);
+
+#endif

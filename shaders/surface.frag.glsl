@@ -1,0 +1,42 @@
+#version 330 core
+// Smooth shading interpolates the vertex normals; flat shading looks up the
+// polygon's normal (not the triangle's): triangle -> face through
+// u_tri_face, face -> Newell normal through u_face_normal, both texture
+// buffers indexed by gl_PrimitiveID (the triangle number within the draw).
+in vec3 v_pos;
+in vec3 v_nrm;
+
+uniform mat4 u_view;
+uniform int u_flat;
+uniform usamplerBuffer u_tri_face;
+uniform samplerBuffer u_face_normal;
+uniform vec3 u_front;          // base colour of front faces
+uniform vec3 u_back;           // base colour of back faces (inside of open meshes)
+
+out vec4 o_color;
+
+void main()
+{
+    vec3 n = v_nrm;
+    if (u_flat != 0) {
+        int f = int(texelFetch(u_tri_face, gl_PrimitiveID).r);
+        n = mat3(u_view) * texelFetch(u_face_normal, f).xyz;
+    }
+    float len = length(n);
+    n = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+    vec3 base = u_front;
+    if (!gl_FrontFacing) { n = -n; base = u_back; }
+    vec3 v = normalize(-v_pos);
+    // A key light above left, a weaker fill from the right, a headlight
+    // (surfaces facing the viewer never go dark) and a rim of sky.
+    vec3 l1 = normalize(vec3(-0.40, 0.55, 0.75));
+    vec3 l2 = normalize(vec3(0.75, -0.15, 0.65));
+    float d1 = max(dot(n, l1), 0.0);
+    float d2 = max(dot(n, l2), 0.0);
+    float dh = max(n.z, 0.0);
+    float sky = 0.5 + 0.5 * n.y;
+    vec3 h1 = normalize(l1 + v);
+    float s1 = pow(max(dot(n, h1), 0.0), 48.0);
+    vec3 c = base * (0.12 + 0.14 * sky + 0.50 * d1 + 0.16 * d2 + 0.25 * dh) + vec3(0.18) * s1;
+    o_color = vec4(clamp(c, 0.0, 1.0), 1.0);
+}

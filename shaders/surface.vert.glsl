@@ -1,0 +1,18 @@
+#version 330 core
+// Surface: positions and per-vertex normals in object space.
+layout(location = 0) in vec3 a_pos;
+layout(location = 1) in vec3 a_nrm;
+
+uniform mat4 u_view;   // rigid (rotation + translation): mat3(u_view) turns normals
+uniform mat4 u_proj;
+
+out vec3 v_pos;        // view space
+out vec3 v_nrm;        // view space, not normalised
+
+void main()
+{
+    vec4 p = u_view * vec4(a_pos, 1.0);
+    v_pos = p.xyz;
+    v_nrm = mat3(u_view) * a_nrm;
+    gl_Position = u_proj * p;
+}

@@ -1,0 +1,328 @@
+/* What the renderer sends to the GPU for a level (render/geom.h):
+ *
+ *  - no cracks: for every scheme on meshes that fit it, at every level, the
+ *    triangle list welded by vertex index is a 2-manifold with the map's
+ *    own borders: every polygon side is a triangle edge once, in the face's
+ *    direction; every side shared by two real faces is met in both
+ *    directions; every triangulation diagonal is met once each way; no
+ *    directed edge twice; V - E + F equals the polygon mesh's (closed meshes:
+ *    every edge in exactly two triangles, consistently oriented);
+ *  - boundary faces are never drawn, faces/corners/vertices agree with the
+ *    level's polygon soup, the wireframe holds each polygon side once and
+ *    no diagonal, regular faces never fall outside the case tables;
+ *  - incremental updates: after st_hier_move at a coarser level, the edit
+ *    region + refresh give bit-identical vertex data and face normals to a
+ *    full rebuild, and the dirty ranges cover every changed entry.
+ */
+#include "testlib.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "geom.h"
+#include "map_mesh.h"
+
+typedef struct edge { uint32_t a, b; } edge;
+
+static int cmp_edge(const void *x, const void *y)
+{
+    const edge *p = x, *q = y;
+    if (p->a != q->a) return p->a < q->a ? -1 : 1;
+    return p->b < q->b ? -1 : p->b > q->b;
+}
+
+static int has(const edge *e, size_t n, uint32_t a, uint32_t b)
+{
+    edge k = { a, b };
+    return bsearch(&k, e, n, sizeof k, cmp_edge) != NULL;
+}
+
+static int check_geom(const st_rgeom *g, st_map *m, const char *name)
+{
+    int failures = tl_failed;
+    unsigned l = g->level;
+    /* Against the level's polygon soup (either encoding). */
+    st_mesh soup;
+    st_error err;
+    st_mesh_init(&soup);
+    CHECKF(st_map_to_mesh(m, l, &soup, &err) == ST_OK, "%s: %s", name, err.msg);
+    CHECKF(g->nfaces == soup.nfaces, "%s level %u: %u faces drawn, the level has %u", name, l, g->nfaces, soup.nfaces);
+    CHECKF(g->nverts == soup.nverts, "%s level %u: %u vertices, the level has %u", name, l, g->nverts, soup.nverts);
+    CHECKF(g->face_off[g->nfaces] == (soup.nfaces ? soup.face_off[soup.nfaces] : 0), "%s level %u: corners", name, l);
+    uint32_t ncorner = g->face_off[g->nfaces];
+    CHECKF(g->ntris == ncorner - 2 * g->nfaces, "%s level %u: %u triangles for %u corners", name, l, g->ntris, ncorner);
+    st_mesh_free(&soup);
+
+    /* Boundary faces are not drawn; every real dart maps to its face. */
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        uint32_t f = g->dart_face[d];
+        if (st_is_boundary(m, d)) { CHECKF(f >= g->nfaces, "%s level %u: boundary dart %u drawn", name, l, d); }
+        else if (!m->face_embedded) CHECKF(f < g->nfaces, "%s level %u: dart %u of a real face not drawn", name, l, d);
+    }
+
+    /* Directed polygon sides P and triangle edges T. */
+    edge *P = malloc((size_t)(ncorner ? ncorner : 1) * sizeof *P);
+    edge *T = malloc(3 * (size_t)(g->ntris ? g->ntris : 1) * sizeof *T);
+    for (uint32_t f = 0; f < g->nfaces; f++)
+        for (uint32_t k = g->face_off[f]; k < g->face_off[f + 1]; k++) {
+            uint32_t k1 = k + 1 < g->face_off[f + 1] ? k + 1 : g->face_off[f];
+            P[k].a = g->corner[k];
+            P[k].b = g->corner[k1];
+        }
+    size_t nt = 0;
+    int degenerate = 0;
+    for (uint32_t t = 0; t < g->ntris; t++) {
+        const uint32_t *v = g->tris + 3 * (size_t)t;
+        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) degenerate++;
+        for (int k = 0; k < 3; k++) { T[nt].a = v[k]; T[nt].b = v[(k + 1) % 3]; nt++; }
+        uint32_t f = g->tri_face[t];
+        int in = 0;
+        for (int k = 0; k < 3; k++)
+            for (uint32_t c = g->face_off[f]; c < g->face_off[f + 1]; c++) in += g->corner[c] == v[k];
+        CHECKF(in == 3, "%s level %u: triangle %u is not on the corners of its face %u", name, l, t, f);
+    }
+    CHECKF(!degenerate, "%s level %u: %d triangles repeat a vertex", name, l, degenerate);
+    qsort(P, ncorner, sizeof *P, cmp_edge);
+    qsort(T, nt, sizeof *T, cmp_edge);
+    size_t dupP = 0, dupT = 0, missing = 0, unpaired = 0, border = 0;
+    for (size_t i = 1; i < ncorner; i++) dupP += !cmp_edge(&P[i - 1], &P[i]);
+    for (size_t i = 1; i < nt; i++) dupT += !cmp_edge(&T[i - 1], &T[i]);
+    for (size_t i = 0; i < ncorner; i++) {
+        if (!has(T, nt, P[i].a, P[i].b)) missing++;
+        if (!has(P, ncorner, P[i].b, P[i].a)) {
+            border++;
+            if (has(T, nt, P[i].b, P[i].a)) unpaired++;     /* a diagonal over a border side */
+        }
+    }
+    for (size_t i = 0; i < nt; i++)
+        if (!has(P, ncorner, T[i].a, T[i].b) && !has(T, nt, T[i].b, T[i].a)) unpaired++;  /* a diagonal met one way only */
+    CHECKF(!dupP && !dupT, "%s level %u: %zu sides, %zu triangle edges repeated in the same direction", name, l, dupP, dupT);
+    CHECKF(!missing, "%s level %u: %zu polygon sides missing from the triangles (a crack)", name, l, missing);
+    CHECKF(!unpaired, "%s level %u: %zu triangle edges without their opposite", name, l, unpaired);
+    /* Closed map: no border at all. */
+    st_level_stats s;
+    st_level_stats_compute(m, l, &s);
+    if (!m->face_embedded) {
+        CHECKF(border == s.boundary_edges, "%s level %u: %zu border sides, the map has %llu boundary edges",
+               name, l, border, (unsigned long long)s.boundary_edges);
+        CHECKF(g->nlines == s.edges, "%s level %u: %u wire edges, the map has %llu edges", name, l, g->nlines,
+               (unsigned long long)s.edges);
+    } else {
+        CHECKF(border == 0, "%s level %u: Doo-Sabin surface with %zu border sides", name, l, border);
+        CHECKF(g->nlines == ncorner / 2, "%s level %u: %u wire edges for %u corners", name, l, g->nlines, ncorner);
+    }
+    /* Euler characteristic: the triangulation changes E and F alike. */
+    size_t ue = 0;
+    for (size_t i = 0; i < nt; i++) if (T[i].a < T[i].b || !has(T, nt, T[i].b, T[i].a)) ue++;
+    size_t pe = 0;
+    for (size_t i = 0; i < ncorner; i++) if (P[i].a < P[i].b || !has(P, ncorner, P[i].b, P[i].a)) pe++;
+    long chi_t = (long)g->nverts - (long)ue + (long)g->ntris, chi_p = (long)g->nverts - (long)pe + (long)g->nfaces;
+    CHECKF(chi_t == chi_p, "%s level %u: chi of the triangles %ld, of the polygons %ld", name, l, chi_t, chi_p);
+    /* Wire edges: each polygon side once (either direction), no diagonal. */
+    size_t wrong = 0;
+    for (uint32_t i = 0; i < g->nlines; i++) {
+        uint32_t a = g->lines[2 * i], b = g->lines[2 * i + 1];
+        if (!has(P, ncorner, a, b) && !has(P, ncorner, b, a)) wrong++;
+    }
+    CHECKF(!wrong, "%s level %u: %zu wire edges are not polygon sides", name, l, wrong);
+    CHECKF(g->nlines == pe, "%s level %u: %u wire edges, %zu polygon edges", name, l, g->nlines, pe);
+    /* Faces of up to 8 sides of a regular hierarchy are all in the tables. */
+    for (uint32_t f = 0; f < g->nfaces; f++) {
+        uint32_t n = g->face_off[f + 1] - g->face_off[f];
+        if (n <= ST_TRI_TABLE_MAX_SIDES)
+            CHECKF(g->face_case[f] != ST_TRI_FALLBACK, "%s level %u: regular face %u of %u sides outside the tables", name, l, f, n);
+    }
+    /* Normals are unit length. */
+    for (uint32_t v = 0; v < g->nverts; v++) {
+        const float *n = g->vdata + ST_RGEOM_VSTRIDE * (size_t)v + 3;
+        double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+        if (fabs(len - 1) > 1e-5) { CHECKF(0, "%s level %u: normal of vertex %u has length %g", name, l, v, len); break; }
+    }
+    free(P);
+    free(T);
+    return tl_failed == failures;
+}
+
+/* ---- meshes and schemes -------------------------------------------------------- */
+
+typedef struct mesh_case { const char *file; int shared; st_scheme_id scheme; unsigned levels; } mesh_case;
+
+static int load_hier(st_hier *h, const mesh_case *c, char *name, size_t namesz)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", c->shared ? STRATA_SHARED_DATA : STRATA_ASSETS, c->file);
+    const st_scheme *sc = st_scheme_get(c->scheme);
+    snprintf(name, namesz, "%s/%s", c->file, sc->name);
+    st_mesh mesh;
+    st_error err;
+    st_mesh_init(&mesh);
+    if (st_mesh_load(path, &mesh, &err)) {
+        if (c->shared) { printf("note: %s not available, skipped (%s)\n", path, err.msg); return -1; }
+        CHECKF(0, "%s", err.msg);
+        return -1;
+    }
+    int rc = st_hier_init(h, &mesh, sc, NULL, &err);
+    st_mesh_free(&mesh);
+    CHECKF(rc == ST_OK, "%s: %s", name, err.msg);
+    if (rc) return -1;
+    rc = st_hier_subdivide_to(h, c->levels, &err);
+    CHECKF(rc == ST_OK, "%s: %s", name, err.msg);
+    if (rc) { st_hier_free(h); return -1; }
+    return 0;
+}
+
+static const mesh_case regular_cases[] = {
+    { "cube.obj", 0, ST_SCHEME_CATMARK, 3 },
+    { "torus.obj", 0, ST_SCHEME_CATMARK, 2 },
+    { "mixed.obj", 0, ST_SCHEME_CATMARK, 2 },
+    { "ngon.obj", 0, ST_SCHEME_CATMARK, 2 },
+    { "open.obj", 0, ST_SCHEME_CATMARK, 2 },
+    { "tetrahedron.obj", 0, ST_SCHEME_CATMARK, 2 },
+    { "tetrahedron.obj", 0, ST_SCHEME_LOOP, 3 },
+    { "octahedron.obj", 0, ST_SCHEME_LOOP, 3 },
+    { "tetrahedron.obj", 0, ST_SCHEME_BUTTERFLY, 3 },
+    { "octahedron.obj", 0, ST_SCHEME_BUTTERFLY, 2 },
+    { "tetrahedron.obj", 0, ST_SCHEME_SQRT3, 4 },
+    { "octahedron.obj", 0, ST_SCHEME_SQRT3, 3 },
+    { "cube.obj", 0, ST_SCHEME_QUADTRI, 2 },
+    { "mixed.obj", 0, ST_SCHEME_QUADTRI, 3 },
+    { "open.obj", 0, ST_SCHEME_QUADTRI, 2 },
+    { "octahedron.obj", 0, ST_SCHEME_QUADTRI, 2 },
+    { "cube.obj", 0, ST_SCHEME_DOOSABIN, 3 },
+    { "octahedron.obj", 0, ST_SCHEME_DOOSABIN, 2 },
+    { "torus.obj", 0, ST_SCHEME_DOOSABIN, 2 },
+    { "tetrahedron.obj", 0, ST_SCHEME_DOOSABIN, 2 },
+    { "ngon.obj", 0, ST_SCHEME_DOOSABIN, 2 },
+    { "catmull_clark/dodecahedron_poly.obj", 1, ST_SCHEME_CATMARK, 2 },
+    { "catmull_clark/dodecahedron_poly.obj", 1, ST_SCHEME_DOOSABIN, 2 },
+    { "catmull_clark/hexa_sphere.off", 1, ST_SCHEME_CATMARK, 1 },
+    { "catmull_clark/hole_capsule.off", 1, ST_SCHEME_CATMARK, 2 },
+    { "catmull_clark/chamfer_cube.off", 1, ST_SCHEME_QUADTRI, 2 },
+    { "triangle/cube_no_bottom.obj", 1, ST_SCHEME_LOOP, 2 },
+    { "triangle/cube_no_bottom.obj", 1, ST_SCHEME_SQRT3, 2 },
+    { "triangle/cube_no_bottom.obj", 1, ST_SCHEME_BUTTERFLY, 2 },
+    { "triangle/sphere_ico.obj", 1, ST_SCHEME_SQRT3, 2 },
+};
+
+static void test_no_cracks(void)
+{
+    st_rgeom g;
+    st_rgeom_init(&g);
+    for (size_t i = 0; i < sizeof regular_cases / sizeof regular_cases[0]; i++) {
+        st_hier h;
+        char name[256];
+        if (load_hier(&h, &regular_cases[i], name, sizeof name)) continue;
+        for (unsigned l = 0; l <= h.map.top; l++) {
+            st_error err;
+            int rc = st_rgeom_build(&g, &h.map, l, &err);
+            CHECKF(rc == ST_OK, "%s: %s", name, err.msg);
+            if (!rc) check_geom(&g, &h.map, name);
+        }
+        st_hier_free(&h);
+    }
+    st_rgeom_free(&g);
+}
+
+/* ---- incremental updates --------------------------------------------------------- */
+
+static int in_ranges(const st_range_list *r, uint32_t i)
+{
+    for (uint32_t k = 0; k < r->n; k++)
+        if (i >= r->r[k].first && i - r->r[k].first < r->r[k].count) return 1;
+    return 0;
+}
+
+static const mesh_case edit_cases[] = {
+    { "torus.obj", 0, ST_SCHEME_CATMARK, 3 },
+    { "open.obj", 0, ST_SCHEME_CATMARK, 3 },
+    { "octahedron.obj", 0, ST_SCHEME_LOOP, 3 },
+    { "octahedron.obj", 0, ST_SCHEME_BUTTERFLY, 3 },
+    { "octahedron.obj", 0, ST_SCHEME_SQRT3, 3 },
+    { "mixed.obj", 0, ST_SCHEME_QUADTRI, 3 },
+    { "torus.obj", 0, ST_SCHEME_DOOSABIN, 3 },
+    { "triangle/cube_no_bottom.obj", 1, ST_SCHEME_SQRT3, 3 },
+    { "triangle/cube_no_bottom.obj", 1, ST_SCHEME_LOOP, 3 },
+};
+
+static void test_incremental(void)
+{
+    uint64_t rng = 0x5eed;
+    for (size_t i = 0; i < sizeof edit_cases / sizeof edit_cases[0]; i++) {
+        st_hier h;
+        char name[256];
+        if (load_hier(&h, &edit_cases[i], name, sizeof name)) continue;
+        tl_random_details(&h, &rng, 0.02);
+        for (unsigned l = 0; l < h.map.top; l++)
+            for (unsigned D = l; D <= h.map.top; D++) {
+                st_rgeom g, fresh;
+                st_rgeom_init(&g);
+                st_rgeom_init(&fresh);
+                st_error err;
+                CHECKF(st_rgeom_build(&g, &h.map, D, &err) == ST_OK, "%s", err.msg);
+                float *before = malloc((size_t)g.nverts * ST_RGEOM_VSTRIDE * sizeof *before);
+                float *fbefore = malloc(4 * (size_t)g.nfaces * sizeof *fbefore);
+                memcpy(before, g.vdata, (size_t)g.nverts * ST_RGEOM_VSTRIDE * sizeof *before);
+                memcpy(fbefore, g.fnormal, 4 * (size_t)g.nfaces * sizeof *fbefore);
+                /* Move two vertices of level l. */
+                uint32_t darts[2];
+                double pos[2][3];
+                darts[0] = tl_random_dart_at(&h.map, l, &rng);
+                do darts[1] = tl_random_dart_at(&h.map, l, &rng);
+                while (st_vert(&h.map, darts[1], l) == st_vert(&h.map, darts[0], l));
+                for (int k = 0; k < 2; k++) {
+                    const double *p = st_dart_pos(&h.map, darts[k], l);
+                    for (int c = 0; c < 3; c++) pos[k][c] = p[c] + 0.1 * (c + 1) * (k ? -1 : 1);
+                }
+                st_hier_move(&h, l, darts, (const double (*)[3])pos, 2);
+                uint32_t *vids = NULL, n = 0, cap = 0;
+                CHECK(st_rgeom_edit_region(&g, &h.map, h.scheme->support_rings, l, darts, 2, &vids, &n, &cap) == 0);
+                st_range_list vr = { 0 }, fr = { 0 };
+                CHECK(st_rgeom_refresh(&g, &h.map, vids, n, &vr, &fr) == 0);
+                CHECKF(st_rgeom_build(&fresh, &h.map, D, &err) == ST_OK, "%s", err.msg);
+                size_t vb = (size_t)g.nverts * ST_RGEOM_VSTRIDE * sizeof(float), fb = 4 * (size_t)g.nfaces * sizeof(float);
+                int same_v = g.nverts == fresh.nverts && !memcmp(g.vdata, fresh.vdata, vb);
+                int same_f = g.nfaces == fresh.nfaces && !memcmp(g.fnormal, fresh.fnormal, fb);
+                CHECKF(same_v && same_f, "%s: edit at level %u shown at level %u: incremental != rebuild (vertices %s, faces %s)",
+                       name, l, D, same_v ? "same" : "DIFFER", same_f ? "same" : "DIFFER");
+                /* Every changed entry lies in a dirty range. */
+                uint32_t changed = 0, uncovered = 0;
+                for (uint32_t v = 0; v < g.nverts; v++)
+                    if (memcmp(before + ST_RGEOM_VSTRIDE * (size_t)v, g.vdata + ST_RGEOM_VSTRIDE * (size_t)v,
+                               ST_RGEOM_VSTRIDE * sizeof(float))) {
+                        changed++;
+                        if (!in_ranges(&vr, v)) uncovered++;
+                    }
+                for (uint32_t f = 0; f < g.nfaces; f++)
+                    if (memcmp(fbefore + 4 * (size_t)f, g.fnormal + 4 * (size_t)f, 4 * sizeof(float)) && !in_ranges(&fr, f))
+                        uncovered++;
+                CHECKF(!uncovered, "%s: %u changed entries outside the dirty ranges", name, uncovered);
+                CHECKF(changed > 0, "%s: edit at level %u changed nothing at level %u", name, l, D);
+                /* Local: on the torus at depth 3, an edit at level 1 touches
+                 * a part of the finest level (Doo-Sabin's support is wider). */
+                if (!strcmp(edit_cases[i].file, "torus.obj") && l == 1 && D == 3) {
+                    uint32_t up = 0;
+                    for (uint32_t k = 0; k < vr.n; k++) up += vr.r[k].count;
+                    CHECKF(up < g.nverts / 2, "%s: %u of %u vertices re-uploaded after a level-1 edit", name, up, g.nverts);
+                    printf("%s: edit at level 1, level 3 shown: %u of %u vertices re-uploaded in %u ranges (%u region vertices)\n",
+                           name, up, g.nverts, vr.n, n);
+                }
+                st_range_list_free(&vr);
+                st_range_list_free(&fr);
+                free(vids);
+                free(before);
+                free(fbefore);
+                st_rgeom_free(&g);
+                st_rgeom_free(&fresh);
+            }
+        st_hier_free(&h);
+    }
+}
+
+int main(void)
+{
+    test_no_cracks();
+    test_incremental();
+    return TEST_END();
+}
