@@ -1,0 +1,580 @@
+/* Adaptive refinement and simplification (adapt.h). */
+#include "adapt.h"
+#include "crease.h"
+#include "map_mesh.h"
+#include "hier_internal.h"
+#include "refine.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { KIND_EDGE = 0, KIND_CENTRE = 1 };
+
+/* ---- cell subdivision levels (§3.2.6) ------------------------------------- */
+
+int st_edge_is_split(const st_map *m, uint32_t d, unsigned i)
+{
+    return m->darts.ins[st_beta0(m, d, i + 1)] == i + 1;
+}
+
+unsigned st_face_level(st_map *m, uint32_t d, unsigned l)
+{
+    uint32_t b = d, x = d;
+    do {
+        if (m->darts.ins[x] < m->darts.ins[b]) b = x;
+        x = st_phi1(m, x, l);
+    } while (x != d);
+    int bit = st_marker_reserve(m);
+    if (bit < 0) abort(); /* programmer error: markers leaked */
+    st_mark_face(m, bit, d, l);
+    unsigned level = l;
+    for (unsigned j = m->darts.ins[b]; j < l; j++) {
+        int inside = 1;
+        x = b;
+        do {
+            if (!st_marked(m, bit, x)) { inside = 0; break; }
+            x = st_phi1(m, x, j);
+        } while (x != b);
+        if (inside) { level = j; break; }
+    }
+    x = d;
+    do { st_unmark(m, bit, x); x = st_phi1(m, x, l); } while (x != d);
+    m->marks_used &= ~(1u << bit);
+    return level;
+}
+
+int st_face_is_subdivided(st_map *m, uint32_t d, unsigned i)
+{
+    return st_face_level(m, d, i + 1) == i + 1;
+}
+
+/* ---- saved details ----------------------------------------------------------- */
+
+/* A removed vertex is named by the level that created it, the kind of cell
+ * (edge or face) and that cell's canonical coarse dart; `at` is the level of
+ * the detail kept (a vertex has a detail at its own level and, as an even
+ * vertex, at every finer one). */
+static uint64_t saved_key(unsigned level, unsigned at, int kind, uint32_t dart)
+{
+    return (uint64_t)level << 48 | (uint64_t)at << 40 | (uint64_t)kind << 32 | dart;
+}
+
+static int64_t saved_find(const st_adapt *a, uint64_t key)
+{
+    uint32_t lo = 0, hi = a->nsaved;
+    while (lo < hi) {
+        uint32_t mid = (lo + hi) / 2;
+        if (a->saved[mid].key < key) lo = mid + 1; else hi = mid;
+    }
+    return lo < a->nsaved && a->saved[lo].key == key ? (int64_t)lo : -1 - (int64_t)lo;
+}
+
+static void saved_put(st_adapt *a, uint64_t key, const double d[3])
+{
+    int64_t at = saved_find(a, key);
+    if (at >= 0) { memcpy(a->saved[at].d, d, sizeof a->saved[at].d); return; }
+    if (d[0] == 0 && d[1] == 0 && d[2] == 0) return;
+    uint32_t pos = (uint32_t)(-1 - at);
+    if (a->nsaved == a->capsaved) {
+        a->capsaved = a->capsaved ? 2 * a->capsaved : 64;
+        a->saved = realloc(a->saved, a->capsaved * sizeof *a->saved);
+        if (!a->saved) abort();
+    }
+    memmove(a->saved + pos + 1, a->saved + pos, (a->nsaved - pos) * sizeof *a->saved);
+    a->saved[pos].key = key;
+    memcpy(a->saved[pos].d, d, sizeof a->saved[pos].d);
+    a->nsaved++;
+}
+
+/* Takes a saved detail out of the store (zero when none). */
+static void saved_take(st_adapt *a, uint64_t key, double d[3])
+{
+    int64_t at = saved_find(a, key);
+    if (at < 0) { d[0] = d[1] = d[2] = 0; return; }
+    memcpy(d, a->saved[at].d, 3 * sizeof *d);
+    memmove(a->saved + at, a->saved + at + 1, (a->nsaved - at - 1) * sizeof *a->saved);
+    a->nsaved--;
+}
+
+static uint32_t min_dart_of_face(const st_map *m, uint32_t d, unsigned l)
+{
+    uint32_t best = d, x = d;
+    do { if (x < best) best = x; x = st_phi1(m, x, l); } while (x != d);
+    return best;
+}
+
+/* ---- lifetime ------------------------------------------------------------------ */
+
+static enum st_split_mode split_mode(const st_hier *h)
+{
+    switch (h->scheme->id) {
+    case ST_SCHEME_CATMARK: return ST_SPLIT_POLY;
+    case ST_SCHEME_LOOP:
+    case ST_SCHEME_BUTTERFLY: return ST_SPLIT_TRI;
+    default: return ST_SPLIT_MIXED;
+    }
+}
+
+int st_adapt_init(st_adapt *a, st_hier *h, st_error *err)
+{
+    memset(a, 0, sizeof *a);
+    a->h = h;
+    st_scheme_id id = h->scheme->id;
+    if (id == ST_SCHEME_SQRT3 || id == ST_SCHEME_DOOSABIN)
+        return st_fail(err, ST_ERR_INVALID, "adaptive refinement of %s is not implemented yet (Catmull-Clark, Loop, "
+                       "Butterfly and quad/triangle are)", h->scheme->name);
+    return ST_OK;
+}
+
+void st_adapt_free(st_adapt *a)
+{
+    free(a->saved);
+    memset(a, 0, sizeof *a);
+}
+
+/* ---- geometry of a freshly subdivided face ------------------------------------ */
+
+typedef struct place_ctx {
+    st_adapt *a;
+    unsigned L;
+    const uint32_t *created;   /* vertices made by this subdivision */
+    uint32_t ncreated;
+} place_ctx;
+
+static int was_created(const place_ctx *c, uint32_t v)
+{
+    for (uint32_t k = 0; k < c->ncreated; k++)
+        if (c->created[k] == v) return 1;
+    return 0;
+}
+
+/* New vertices get their saved detail back (or zero); old vertices keep the
+ * detail they have at level L. */
+static void place_sink(void *ctx, const st_stencil *s)
+{
+    place_ctx *c = ctx;
+    st_hier *h = c->a->h;
+    const st_map *m = &h->map;
+    if (was_created(c, s->fine)) {
+        double d[3];
+        uint32_t key = s->frame_cell == ST_CELL_EDGE
+            ? (s->frame_dart < st_beta0(m, s->frame_dart, c->L - 1) ? s->frame_dart : st_beta0(m, s->frame_dart, c->L - 1))
+            : min_dart_of_face(m, s->frame_dart, c->L - 1);
+        int kind = s->frame_cell == ST_CELL_EDGE ? KIND_EDGE : KIND_CENTRE;
+        for (unsigned at = c->L; at < ST_MAX_LEVELS; at++) {
+            saved_take(c->a, saved_key(c->L, at, kind, key), d);
+            if (at == c->L || h->detail[at]) st_hier_set_detail(h, at, s->fine, d);
+        }
+    }
+    double p[3];
+    st_stencil_apply(h, c->L, s, p);
+    /* Propagating setter: the levels above L that still showed the old
+     * position follow, so a vertex displays its finest defined position. */
+    st_set_pos(&h->map, s->fine, c->L, p);
+}
+
+/* Edge and vertex sharpness of the children, as the uniform path does. */
+static void decay_sharpness(st_hier *h, uint32_t d, unsigned L)
+{
+    if (!h->has_sharpness) return;
+    float s = st_hier_edge_sharpness(h, d, L - 1);
+    uint32_t e = st_beta0(&h->map, d, L - 1);
+    if (s > 0) {
+        st_hier_set_edge_sharpness(h, d, L, st_crease_decay(s));
+        st_hier_set_edge_sharpness(h, e, L, st_crease_decay(s));
+    }
+    uint32_t v = st_vert(&h->map, d, L - 1);
+    float vs = st_hier_vertex_sharpness(h, v, L - 1);
+    if (vs > 0) st_hier_set_vertex_sharpness(h, v, L, st_crease_decay(vs));
+}
+
+/* ---- Algorithm 1 ------------------------------------------------------------------ */
+
+static int ensure_level(st_hier *h, unsigned L, st_error *err)
+{
+    while (h->map.top < L)
+        if (st_level_add(&h->map, err)) return err ? err->code : ST_ERR_RANGE;
+    return ST_OK;
+}
+
+/* With the restriction, every face sharing a vertex with the face of d
+ * (level i) is brought to level i first. */
+static int restrict_neighbours(st_adapt *a, uint32_t d, unsigned i, st_error *err)
+{
+    st_map *m = &a->h->map;
+    for (int again = 1; again;) {
+        again = 0;
+        uint32_t x = d;
+        do {
+            uint32_t y = x;
+            do {
+                if (!st_is_boundary(m, y)) {
+                    unsigned j = st_face_level(m, y, i);
+                    if (j < i) {
+                        /* Walk the coarser face from a dart that exists at its level. */
+                        uint32_t z = y;
+                        while (m->darts.ins[z] > j) z = st_phi1(m, z, i);
+                        int rc = st_adapt_subdivide_face(a, z, j, 1, err);
+                        if (rc) return rc;
+                        again = 1;
+                    }
+                }
+                y = st_beta1(m, y, i);
+            } while (y != x && !again);
+            x = st_phi1(m, x, i);
+        } while (x != d && !again);
+    }
+    return ST_OK;
+}
+
+int st_adapt_subdivide_face(st_adapt *a, uint32_t d, unsigned i, int restricted, st_error *err)
+{
+    st_hier *h = a->h;
+    st_map *m = &h->map;
+    unsigned L = i + 1;
+    if (st_is_boundary(m, d)) return st_fail(err, ST_ERR_INVALID, "adapt: dart %u is on a hole", d);
+    if (L >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "adapt: level %u is beyond the limit", L);
+    if (st_face_is_subdivided(m, d, i)) return ST_OK;
+    if (restricted) {
+        int rc = restrict_neighbours(a, d, i, err);
+        if (rc) return rc;
+    }
+    int rc = ensure_level(h, L, err);
+    if (rc) return rc;
+    unsigned n = st_face_degree(m, d, i);
+    if (n > 255) return st_fail(err, ST_ERR_RANGE, "adapt: face of %u sides", n);
+    uint32_t created[256], ncreated = 0;
+    double centre[3] = { 0, 0, 0 };
+    uint32_t x = d;
+    do {
+        const double *p = st_dart_pos(m, x, i);
+        for (int k = 0; k < 3; k++) centre[k] += p[k] / n;
+        uint32_t next = st_phi1(m, x, i);
+        if (!st_edge_is_split(m, x, i)) {
+            const double *q = st_dart_pos(m, st_beta0(m, x, i), i);
+            double mid[3] = { (p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2 };
+            created[ncreated++] = st_vert(m, st_split_edge(m, x, L, mid), L);
+        }
+        decay_sharpness(h, x, L);
+        x = next;
+    } while (x != d);
+    enum st_split_mode mode = split_mode(h);
+    if (mode == ST_SPLIT_TRI || (mode == ST_SPLIT_MIXED && n == 3)) st_split_face_tri(m, d, L);
+    else {
+        st_split_face_poly(m, d, L, centre);
+        created[ncreated++] = st_vert(m, st_phi1(m, st_phi1(m, d, L), L), L);
+    }
+    place_ctx c = { a, L, created, ncreated };
+    h->scheme->emit(h, L, &d, 1, place_sink, &c);
+    a->touched++;
+    return ST_OK;
+}
+
+/* ---- Algorithm 6 ---------------------------------------------------------------- */
+
+/* After the face f of d (level i) is subdivided, its outline at level
+ * L = i+1 is made of each coarse dart c and of m(c) = β0(β0(c, i), L), the
+ * half-edge from the midpoint to the next corner on f's side (whichever side
+ * split the edge).  Every other dart of f's sub-faces is inner. */
+static uint32_t half_after(const st_map *m, uint32_t c, unsigned i)
+{
+    return st_beta0(m, st_beta0(m, c, i), i + 1);
+}
+
+typedef struct outline { uint32_t *d; uint32_t n; } outline;
+
+static int on_outline(const st_map *m, const outline *o, uint32_t x, unsigned i)
+{
+    for (uint32_t k = 0; k < o->n; k++)
+        if (x == o->d[k] || x == half_after(m, o->d[k], i)) return 1;
+    return 0;
+}
+
+/* Sub-faces at level L: one dart each (the corner sub-faces start at the
+ * coarse darts; a triangle's central sub-face is across a corner's inner
+ * edge).  Returns the count. */
+static uint32_t sub_faces(const st_map *m, const outline *o, unsigned i, uint32_t *out)
+{
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < o->n; k++) out[n++] = o->d[k];
+    uint32_t x = o->d[0];
+    do {
+        if (!on_outline(m, o, x, i)) {
+            uint32_t e = st_beta0(m, x, i + 1);
+            /* The central triangle is the one sub-face without a coarse dart. */
+            uint32_t y = e;
+            int has_corner = 0;
+            do { if (m->darts.ins[y] <= i) has_corner = 1; y = st_phi1(m, y, i + 1); } while (y != e);
+            if (!has_corner) out[n++] = e;
+            break;
+        }
+        x = st_phi1(m, x, i + 1);
+    } while (x != o->d[0]);
+    return n;
+}
+
+static void get_outline(const st_map *m, uint32_t d, unsigned i, outline *o)
+{
+    o->n = 0;
+    uint32_t x = d;
+    do { o->d[o->n++] = x; x = st_phi1(m, x, i); } while (x != d);
+}
+
+int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
+{
+    st_map *m = &a->h->map;
+    unsigned L = i + 1;
+    if (!st_face_is_subdivided(m, d, i)) return 0;
+    unsigned deg = st_face_degree(m, d, i);
+    uint32_t buf[2 * 256], subs[256 + 1];
+    if (deg > 256) return 0;
+    outline o = { buf, 0 };
+    get_outline(m, d, i, &o);
+    uint32_t n = sub_faces(m, &o, i, subs);
+    for (uint32_t k = 0; k < n; k++)
+        if (st_face_is_subdivided(m, subs[k], L)) return 0;
+    if (!restricted) return 1;
+    /* Once f is back at level i, no face sharing one of its corners may be
+     * finer than level i+1. */
+    for (uint32_t k = 0; k < o.n; k++) {
+        uint32_t y = o.d[k];
+        do {
+            if (!st_is_boundary(m, y) && st_face_level(m, y, m->top) > L) return 0;
+            y = st_beta1(m, y, m->top);
+        } while (y != o.d[k]);
+    }
+    return 1;
+}
+
+static void save_detail(st_adapt *a, unsigned L, int kind, uint32_t key_dart, uint32_t v)
+{
+    static const double zero[3] = { 0, 0, 0 };
+    for (unsigned at = L; at < ST_MAX_LEVELS; at++) {
+        if (!a->h->detail[at]) continue;
+        saved_put(a, saved_key(L, at, kind, key_dart), st_hier_detail(a->h, at, v));
+        st_hier_set_detail(a->h, at, v, zero);
+    }
+}
+
+/* Removes the inner edges of f's subdivision (the reverse of
+ * st_split_face_tri / st_split_face_poly).  Triangle split: the corner
+ * triangle of c_k is (c_k x ...), x = φ1(c_k) the inner dart; uncut the
+ * three.  Polygon split: the corner quad of c_k is (c_k, mid->centre,
+ * centre->mid', ...), so φ1²(c_k) leaves the centre; uncut spokes until the
+ * centre has degree 2, unsplit it (saving its detail), uncut the edge left. */
+static int remove_inner(st_adapt *a, const outline *o, unsigned i, int tri, st_error *err)
+{
+    st_map *m = &a->h->map;
+    unsigned L = i + 1;
+    int rc = ST_OK;
+    if (tri) {
+        uint32_t x[3];
+        for (int k = 0; k < 3; k++) x[k] = st_phi1(m, o->d[k], L);
+        for (int k = 0; k < 3 && !rc; k++) rc = st_uncut_face(m, x[k], L, err);
+        return rc;
+    }
+    uint32_t spoke = st_phi1(m, st_phi1(m, o->d[0], L), L);
+    uint32_t centre = st_vert(m, spoke, L);
+    while (!rc && st_vertex_degree(m, spoke, L) > 2) {
+        uint32_t next = st_beta1(m, spoke, L);
+        rc = st_uncut_face(m, spoke, L, err);
+        spoke = next;
+    }
+    if (rc) return rc;
+    save_detail(a, L, KIND_CENTRE, min_dart_of_face(m, o->d[0], i), centre);
+    uint32_t left = st_beta0(m, st_beta1(m, spoke, L), L); /* mid-side dart of the merged edge */
+    rc = st_unsplit_edge(m, spoke, L, err);
+    if (!rc) rc = st_uncut_face(m, left, L, err);
+    return rc;
+}
+
+int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
+{
+    st_hier *h = a->h;
+    st_map *m = &h->map;
+    unsigned L = i + 1;
+    unsigned deg = st_face_degree(m, d, i);
+    if (deg > 256) return st_fail(err, ST_ERR_RANGE, "adapt: face of %u sides", deg);
+    uint32_t buf[256];
+    outline o = { buf, 0 };
+    get_outline(m, d, i, &o);
+    enum st_split_mode mode = split_mode(h);
+    int rc = remove_inner(a, &o, i, mode == ST_SPLIT_TRI || (mode == ST_SPLIT_MIXED && deg == 3), err);
+    if (rc) return rc;
+    /* Unsplit the edges whose other side is not subdivided toward L. */
+    for (uint32_t k = 0; k < o.n; k++) {
+        uint32_t c = o.d[k], e = st_beta0(m, c, i);
+        if (!st_is_boundary(m, e) && st_face_level(m, e, i) == i && st_face_is_subdivided(m, e, i)) continue;
+        uint32_t half = half_after(m, c, i);
+        uint32_t v = st_vert(m, half, L);
+        save_detail(a, L, KIND_EDGE, c < e ? c : e, v);
+        rc = st_unsplit_edge(m, half, L, err);
+        if (rc) return rc;
+    }
+    /* Corners no longer on a face of level L fall back to their level-i
+     * position (their level-L detail stays for a later refinement)... */
+    for (uint32_t k = 0; k < o.n; k++) {
+        uint32_t c = o.d[k], y = c, fine = 0;
+        do {
+            if (!st_is_boundary(m, y) && st_face_level(m, y, L) == L) fine = 1;
+            y = st_beta1(m, y, L);
+        } while (y != c && !fine);
+        if (!fine) {
+            /* (and, through the propagating setter, above L too) */
+            uint32_t v = st_vert(m, c, i);
+            double p[3];
+            memcpy(p, st_pos(m, v, i), sizeof p);
+            st_set_pos(m, v, L, p);
+        }
+    }
+    a->touched++;
+    return ST_OK;
+}
+
+/* ---- criteria and update (Algorithms 5 and 6) ----------------------------------- */
+
+static void face_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], double hi[3])
+{
+    for (int k = 0; k < 3; k++) { lo[k] = INFINITY; hi[k] = -INFINITY; }
+    uint32_t x = d;
+    do {
+        const double *p = st_dart_pos(m, x, l);
+        for (int k = 0; k < 3; k++) { lo[k] = fmin(lo[k], p[k]); hi[k] = fmax(hi[k], p[k]); }
+        x = st_phi1(m, x, l);
+    } while (x != d);
+}
+
+/* Level the criteria want for the face of d at level l. */
+static unsigned wanted_level(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p)
+{
+    unsigned want = p->base_level;
+    if (p->has_box) {
+        double lo[3], hi[3], gap = 0;
+        face_bbox(m, d, l, lo, hi);
+        for (int k = 0; k < 3; k++) {
+            double g = fmax(p->box_lo[k] - hi[k], lo[k] - p->box_hi[k]);
+            if (g > gap) gap = g;
+        }
+        unsigned w = p->max_level;
+        if (gap > 0) {
+            unsigned steps = p->falloff > 0 ? (unsigned)ceil(gap / p->falloff) : p->max_level;
+            w = steps >= p->max_level ? 0 : p->max_level - steps;
+        }
+        if (w > want) want = w;
+    }
+    if (p->flatness > 0 && l < p->max_level) {
+        /* Flatness: the largest angle between the face normal and the
+         * normals of its edge-neighbours. */
+        double n0[3] = { 0, 0, 0 };
+        uint32_t x = d;
+        do {
+            const double *a = st_dart_pos(m, x, l), *b = st_dart_pos(m, st_phi1(m, x, l), l);
+            n0[0] += (a[1] - b[1]) * (a[2] + b[2]); n0[1] += (a[2] - b[2]) * (a[0] + b[0]); n0[2] += (a[0] - b[0]) * (a[1] + b[1]);
+            x = st_phi1(m, x, l);
+        } while (x != d);
+        double worst = 0;
+        x = d;
+        do {
+            uint32_t e = st_beta0(m, x, l);
+            if (!st_is_boundary(m, e)) {
+                double n1[3] = { 0, 0, 0 };
+                uint32_t y = e;
+                do {
+                    const double *a = st_dart_pos(m, y, l), *b = st_dart_pos(m, st_phi1(m, y, l), l);
+                    n1[0] += (a[1] - b[1]) * (a[2] + b[2]); n1[1] += (a[2] - b[2]) * (a[0] + b[0]); n1[2] += (a[0] - b[0]) * (a[1] + b[1]);
+                    y = st_phi1(m, y, l);
+                } while (y != e);
+                double dn = sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]) * sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
+                if (dn > 0) {
+                    double c = (n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2]) / dn;
+                    worst = fmax(worst, acos(fmax(-1.0, fmin(1.0, c))));
+                }
+            }
+            x = st_phi1(m, x, l);
+        } while (x != d);
+        if (worst > p->flatness) want = p->max_level;
+    }
+    return want > p->max_level ? p->max_level : want;
+}
+
+/* One dart per real face of map l whose subdivision level is l. */
+static void faces_of_level(st_map *m, unsigned l, st_dart_list *out)
+{
+    out->n = 0;
+    int fb = st_marker_reserve(m);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fb, d)) continue;
+        st_mark_face(m, fb, d, l);
+        if (st_face_level(m, d, l) == l) st_dart_list_push(out, d);
+    }
+    st_marker_release(m, fb, l);
+}
+
+int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
+{
+    st_map *m = &a->h->map;
+    int restricted = !p->no_restriction;
+    st_dart_list faces = { 0 };
+    a->touched = 0;
+    int rc = ST_OK;
+    /* Algorithm 5: refine, coarse to fine; again while the restriction made
+     * new faces at levels already passed. */
+    for (uint64_t before = ~0ull; before != a->touched && !rc;) {
+        before = a->touched;
+        for (unsigned i = 0; i < p->max_level && i <= m->top && !rc; i++) {
+            faces_of_level(m, i, &faces);
+            for (uint32_t k = 0; k < faces.n && !rc; k++) {
+                uint32_t d = faces.d[k];
+                if (st_face_level(m, d, i) != i || st_face_is_subdivided(m, d, i)) continue;
+                if (wanted_level(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, restricted, err);
+            }
+        }
+    }
+    /* Algorithm 6: simplify, fine to coarse. */
+    for (unsigned i = m->top; i-- > 0 && !rc;) {
+        faces_of_level(m, i, &faces);
+        for (uint32_t k = 0; k < faces.n && !rc; k++) {
+            uint32_t d = faces.d[k];
+            if (wanted_level(m, d, i, p) > i || !st_adapt_can_simplify(a, d, i, restricted)) continue;
+            rc = st_adapt_simplify_face(a, d, i, err);
+        }
+    }
+    st_dart_list_free(&faces);
+    return rc;
+}
+
+typedef struct resynth_ctx { st_hier *h; unsigned L; uint32_t gen; } resynth_ctx;
+
+static void resynth_sink(void *ctx, const st_stencil *s)
+{
+    resynth_ctx *c = ctx;
+    if (c->h->stamp[s->fine] == c->gen) return;
+    c->h->stamp[s->fine] = c->gen;
+    double p[3];
+    st_stencil_apply(c->h, c->L, s, p);
+    st_set_pos(&c->h->map, s->fine, c->L, p);
+}
+
+void st_adapt_synthesize(st_adapt *a, unsigned from)
+{
+    st_hier *h = a->h;
+    st_map *m = &h->map;
+    st_dart_list faces = { 0 }, sub = { 0 };
+    for (unsigned L = from + 1; L <= m->top; L++) {
+        faces_of_level(m, L - 1, &faces);
+        sub.n = 0;
+        for (uint32_t k = 0; k < faces.n; k++)
+            if (st_face_is_subdivided(m, faces.d[k], L - 1)) st_dart_list_push(&sub, faces.d[k]);
+        resynth_ctx c = { h, L, st_hier_stamp_begin(h) };
+        h->scheme->emit(h, L, sub.d, sub.n, resynth_sink, &c);
+    }
+    st_dart_list_free(&faces);
+    st_dart_list_free(&sub);
+}
+
+int st_adapt_mesh(st_adapt *a, st_mesh *out, st_error *err)
+{
+    return st_map_to_mesh(&a->h->map, a->h->map.top, out, err);
+}

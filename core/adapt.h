@@ -1,0 +1,91 @@
+/* Adaptive refinement (thesis §3.2.2-3.2.6, Algorithms 1, 5 and 6; digest §5)
+ * for the primal quadrisection schemes: Catmull-Clark, Loop, Butterfly and
+ * quad/triangle.
+ *
+ * Only faces chosen by a criterion are subdivided.  Every level is still a
+ * closed 2-map: a face next to a finer one simply has more sides.  Whether a
+ * cell is subdivided is read from the map, nothing is stored (§3.2.6):
+ *   - an edge of level i is split toward i+1 when β0 of its dart at level
+ *     i+1 is a dart inserted at i+1;
+ *   - the subdivision level of a face in the map of level l is the smallest
+ *     j >= ℓ (ℓ the lowest insertion level of its darts, taken at that dart
+ *     b) such that the level-j face orbit of b lies inside the face; a face
+ *     of level i is subdivided toward i+1 when its dart's face in the map of
+ *     level i+1 has level i+1 (a query above the top level is allowed).
+ *
+ * The one-level restriction (on by default): before a face of level i is
+ * subdivided, every face sharing a vertex with it is brought to level i
+ * first, so neighbouring faces differ by at most one level.  Then every stencil of the new vertices finds its complete
+ * regular neighbourhood, and positions equal those of a regular hierarchy.
+ * With the restriction off the map stays valid; stencils are taken over
+ * whatever the neighbourhood is at level i (positions then differ from the
+ * regular ones near depth borders).
+ *
+ * Simplification keeps the detail vectors of the vertices it removes, keyed
+ * by the coarse cell they belong to (its canonical dart), and gives them back
+ * when the region is refined again.  Known limit: the key names a dart of
+ * the coarse level, so it survives only while that dart does; vertices made
+ * two or more levels above a face that is coarsened lose their details
+ * (exact round trips hold for one level above the coarsened faces, and for
+ * the details of every vertex that stays).  A path key from the permanent
+ * level-0 darts is the planned fix. */
+#ifndef ST_ADAPT_H
+#define ST_ADAPT_H
+
+#include "hier.h"
+
+int st_edge_is_split(const st_map *m, uint32_t d, unsigned i);
+/* Subdivision level of the face of d in the map of level l. */
+unsigned st_face_level(st_map *m, uint32_t d, unsigned l);
+/* The face of d, of subdivision level i, is subdivided toward i+1. */
+int st_face_is_subdivided(st_map *m, uint32_t d, unsigned i);
+
+typedef struct st_adapt_params {
+    unsigned base_level;     /* every face refined at least to this level */
+    unsigned max_level;      /* faces touching the box go to this level */
+    double box_lo[3], box_hi[3];
+    int has_box;
+    double falloff;          /* band around the box (object units) with one level less per band width; 0: none */
+    double flatness;         /* > 0: also refine faces whose normals deviate more than this (radians) */
+    int no_restriction;      /* 1: one-level restriction off */
+} st_adapt_params;
+
+/* Adaptive state kept between updates (saved details of removed vertices). */
+typedef struct st_adapt_saved {
+    uint64_t key;            /* level << 40 | kind << 32 | coarse dart */
+    double d[3];
+} st_adapt_saved;
+
+typedef struct st_adapt {
+    st_hier *h;
+    st_adapt_saved *saved;   /* sorted by key */
+    uint32_t nsaved, capsaved;
+    uint64_t touched;        /* faces subdivided or simplified by the last update */
+} st_adapt;
+
+int st_adapt_init(st_adapt *a, st_hier *h, st_error *err);
+void st_adapt_free(st_adapt *a);
+
+/* Subdivides the face of d (subdivision level i) toward i+1 (Algorithm 1),
+ * after its coarser neighbours when the restriction is on, and computes the
+ * level-(i+1) positions of its vertices. */
+int st_adapt_subdivide_face(st_adapt *a, uint32_t d, unsigned i, int restricted, st_error *err);
+/* Whether the face of d (level i, subdivided toward i+1) may go back to
+ * level i (§3.2.3, listing 3.2.3). */
+int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted);
+/* Algorithm 6 for one face: removes its inner edges and the edge splits no
+ * neighbour needs; keeps the removed vertices' details. */
+int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err);
+
+/* Algorithms 5 then 6 with the criteria of p.  Returns ST_OK. */
+int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err);
+
+/* Synthesis of an adaptive hierarchy from level `from`: every vertex of a
+ * subdivided face gets S(P_{L-1}) + frame · detail at each level L. */
+void st_adapt_synthesize(st_adapt *a, unsigned from);
+
+/* The displayed adaptive mesh: the real faces of the top level, with each
+ * vertex at the finest level where it has a position. */
+int st_adapt_mesh(st_adapt *a, st_mesh *out, st_error *err);
+
+#endif
