@@ -14,6 +14,9 @@ static void usage(FILE *f)
         "                                      per-level counts and memory\n"
         "  subdivide IN --scheme S --levels N [--level L] [--boundary edge-only|edge-and-corner] -o OUT\n"
         "                                      writes level L (default N) as OBJ or PLY\n"
+        "  adapt IN --scheme S --base-level B --max-level M --box x0,y0,z0,x1,y1,z1\n"
+        "        [--falloff W] [--flatness T] [--no-restriction] [--triangulate] -o OUT\n"
+        "                                      writes the adaptive mesh (interest box)\n"
         "  render IN [--scheme S --levels N --level L] [--view front|back|left|right|top|iso | --orbit AZ,EL,DIST]\n"
         "         [--mode smooth|flat|wire|cage] [--size WxH] -o OUT.png\n"
         "                                      draws level L headless (no display, no GPU) into a PNG\n"
@@ -27,6 +30,7 @@ int main(int argc, char **argv)
     const char *cmd = argv[1];
     if (!strcmp(cmd, "info")) return st_cmd_info(argc - 2, argv + 2);
     if (!strcmp(cmd, "subdivide")) return st_cmd_subdivide(argc - 2, argv + 2);
+    if (!strcmp(cmd, "adapt")) return st_cmd_adapt(argc - 2, argv + 2);
     if (!strcmp(cmd, "render")) return st_cmd_render(argc - 2, argv + 2);
     if (!strcmp(cmd, "help") || !strcmp(cmd, "--help") || !strcmp(cmd, "-h")) { usage(stdout); return 0; }
     if (access(cmd, F_OK) == 0) {

@@ -1,0 +1,120 @@
+/* strata adapt IN --scheme S --base-level B --max-level M --box x0,y0,z0,x1,y1,z1
+ *              [--falloff W] [--flatness T] [--no-restriction] [--triangulate] -o OUT
+ * Writes the adaptive polygon mesh (or its triangulation by the renderer's
+ * case tables). */
+#include "adapt.h"
+#include "cli.h"
+#include "cli_common.h"
+#include "geom.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int parse_box(const char *s, st_adapt_params *p)
+{
+    double v[6];
+    char *end;
+    for (int k = 0; k < 6; k++) {
+        v[k] = strtod(s, &end);
+        if (end == s || (k < 5 && *end != ',') || (k == 5 && *end)) return -1;
+        s = end + 1;
+    }
+    for (int k = 0; k < 3; k++) {
+        p->box_lo[k] = v[k] < v[k + 3] ? v[k] : v[k + 3];
+        p->box_hi[k] = v[k] < v[k + 3] ? v[k + 3] : v[k];
+    }
+    p->has_box = 1;
+    return 0;
+}
+
+static int parse_number(const char *s, double *out)
+{
+    char *end;
+    *out = strtod(s, &end);
+    return end == s || *end ? -1 : 0;
+}
+
+/* Adapt-only options out of argv; the rest goes to the common parser. */
+static int parse_adapt(int argc, char **argv, st_adapt_params *p, int *tri, char **rest, int *nrest)
+{
+    memset(p, 0, sizeof *p);
+    p->max_level = 3;
+    *tri = 0;
+    *nrest = 0;
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        double x;
+        if (!strcmp(a, "--base-level") && v && !parse_number(v, &x) && x >= 0 && x < ST_MAX_LEVELS) { p->base_level = (unsigned)x; i++; }
+        else if (!strcmp(a, "--max-level") && v && !parse_number(v, &x) && x >= 0 && x < ST_MAX_LEVELS) { p->max_level = (unsigned)x; i++; }
+        else if (!strcmp(a, "--box") && v && !parse_box(v, p)) i++;
+        else if (!strcmp(a, "--falloff") && v && !parse_number(v, &p->falloff) && p->falloff >= 0) i++;
+        else if (!strcmp(a, "--flatness") && v && !parse_number(v, &p->flatness) && p->flatness >= 0) i++;
+        else if (!strcmp(a, "--no-restriction")) p->no_restriction = 1;
+        else if (!strcmp(a, "--triangulate")) *tri = 1;
+        else if (!strcmp(a, "--base-level") || !strcmp(a, "--max-level") || !strcmp(a, "--box") ||
+                 !strcmp(a, "--falloff") || !strcmp(a, "--flatness")) {
+            fprintf(stderr, "strata adapt: bad or missing value for %s%s%s\n", a, v ? ": " : "", v ? v : "");
+            return -1;
+        } else rest[(*nrest)++] = argv[i];
+    }
+    if (p->base_level > p->max_level) { fprintf(stderr, "strata adapt: --base-level is above --max-level\n"); return -1; }
+    return 0;
+}
+
+/* The triangles the renderer would draw, as a soup (map positions). */
+static int triangulated(const st_map *m, st_mesh *out, st_error *err)
+{
+    st_rgeom g;
+    st_rgeom_init(&g);
+    int rc = st_rgeom_build(&g, m, m->top, err);
+    if (rc) return rc;
+    st_mesh r;
+    st_mesh_init(&r);
+    r.nverts = g.nverts;
+    r.nfaces = g.ntris;
+    r.pos = malloc((size_t)(g.nverts ? g.nverts : 1) * 3 * sizeof *r.pos);
+    r.face_off = malloc(((size_t)g.ntris + 1) * sizeof *r.face_off);
+    r.face_idx = malloc((size_t)(g.ntris ? g.ntris : 1) * 3 * sizeof *r.face_idx);
+    if (!r.pos || !r.face_off || !r.face_idx) { st_mesh_free(&r); st_rgeom_free(&g); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
+    for (uint32_t v = 0; v < g.nverts; v++) memcpy(r.pos + 3 * (size_t)v, st_pos(m, g.vid[v], m->top), 3 * sizeof(double));
+    for (uint32_t t = 0; t <= g.ntris; t++) r.face_off[t] = 3 * t;
+    memcpy(r.face_idx, g.tris, (size_t)g.ntris * 3 * sizeof *r.face_idx);
+    st_rgeom_free(&g);
+    st_mesh_move(out, &r);
+    return ST_OK;
+}
+
+int st_cmd_adapt(int argc, char **argv)
+{
+    st_adapt_params p;
+    int tri, nrest;
+    char **rest = malloc((size_t)(argc + 1) * sizeof *rest);
+    if (!rest || parse_adapt(argc, argv, &p, &tri, rest, &nrest)) { free(rest); return 2; }
+    st_cli_opts o;
+    int bad = st_cli_parse(nrest, rest, &o, "adapt");
+    free(rest);
+    if (bad) return 2;
+    if (!o.out) { fprintf(stderr, "strata adapt: -o OUT is required\n"); return 2; }
+    if (!p.has_box && p.flatness <= 0 && p.base_level == 0)
+        fprintf(stderr, "strata adapt: no --box and no --flatness: the result is level %u everywhere\n", p.base_level);
+    o.levels = 0;
+    st_hier h;
+    int rc = st_cli_load(&o, &h, "adapt");
+    if (rc) return rc;
+    st_adapt a;
+    st_error err;
+    st_mesh out;
+    st_mesh_init(&out);
+    rc = st_adapt_init(&a, &h, &err);
+    if (!rc) rc = st_adapt_update(&a, &p, &err);
+    if (!rc) rc = st_map_validate(&h.map, &err);
+    if (!rc) rc = tri ? triangulated(&h.map, &out, &err) : st_adapt_mesh(&a, &out, &err);
+    if (!rc) rc = st_mesh_save(o.out, &out, &err);
+    if (rc) fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
+    else printf("%s: %u %s, %u vertices, levels 0..%u\n", o.out, out.nfaces, tri ? "triangles" : "faces", out.nverts, h.map.top);
+    st_mesh_free(&out);
+    st_adapt_free(&a);
+    st_hier_free(&h);
+    return rc ? 1 : 0;
+}

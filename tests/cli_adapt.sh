@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# strata adapt: the adaptive mesh of an interest box is written, re-loads as
+# a closed manifold with the same Euler characteristic, has more faces than
+# the base level and fewer than the regular maximum level; bad options fail.
+# Usage: cli_adapt.sh STRATA SHARED_MESHES ASSETS BINDIR
+set -euo pipefail
+S=$1 D=$2 A=$3 B=$4
+W=$B/cli_adapt
+mkdir -p "$W"
+fail=0 n=0
+ok() { n=$((n + 1)); echo "ok   $*"; }
+bad() { n=$((n + 1)); fail=$((fail + 1)); echo "FAIL $*"; }
+faces_of() { "$S" info "$1" | awk '$1 == "0" { print $4 }'; }
+euler_of() { "$S" info "$1" | awk '$1 == "0" { print $6 }'; }
+check() { # label input scheme box max
+    local out=$W/$1.obj
+    if "$S" adapt "$2" --scheme "$3" --base-level 0 --max-level "$5" --box "$4" -o "$out" >/dev/null; then ok "$1 written"; else bad "$1 adapt failed"; return; fi
+    local f0 fa fm
+    f0=$(faces_of "$2"); fa=$(faces_of "$out")
+    "$S" subdivide "$2" --scheme "$3" --levels "$5" -o "$W/$1_regular.obj"
+    fm=$(faces_of "$W/$1_regular.obj")
+    if [ "$fa" -gt "$f0" ] && [ "$fa" -lt "$fm" ]; then ok "$1: $f0 < $fa < $fm faces"; else bad "$1: faces $f0 / $fa / $fm"; fi
+    if [ "$(euler_of "$out")" = "$(euler_of "$2")" ]; then ok "$1: euler $(euler_of "$out")"; else bad "$1: euler changed"; fi
+    "$S" adapt "$2" --scheme "$3" --max-level "$5" --box "$4" --triangulate -o "$W/$1_tri.obj" >/dev/null
+    if [ "$(euler_of "$W/$1_tri.obj")" = "$(euler_of "$2")" ]; then ok "$1: triangulated mesh closed, same euler"; else bad "$1: triangulation euler"; fi
+}
+check spot_cc "$D/catmull_clark/spot_quadrangulated.obj" catmull-clark 0.2,0,0,0.6,0.6,0.6 3
+check cube_cc "$A/cube.obj" catmull-clark 0.8,0.8,0.8,1.2,1.2,1.2 4
+check ico_loop "$D/triangle/sphere_ico.obj" loop 0.5,-1,-1,2,1,1 3
+check ico_butterfly "$D/triangle/sphere_ico.obj" butterfly 0.5,-1,-1,2,1,1 3
+for args in "--box 1,2,3" "--box a,b,c,d,e,f" "--base-level 4 --max-level 2 --box 0,0,0,1,1,1"; do
+    # shellcheck disable=SC2086
+    if "$S" adapt "$A/cube.obj" $args -o "$W/bad.obj" 2>/dev/null; then bad "accepted: $args"; else ok "refused: $args"; fi
+done
+if "$S" adapt "$A/tetrahedron.obj" --scheme sqrt3 --box 0,0,0,1,1,1 -o "$W/bad.obj" 2>"$W/err.txt"; then bad "sqrt3 adapt accepted"; else ok "refused: $(cat "$W/err.txt")"; fi
+echo "$((n - fail)) passed, $fail failed"
+[ "$fail" -eq 0 ]
