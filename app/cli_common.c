@@ -54,8 +54,10 @@ int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
     st_error err;
     st_notes notes = { 0 };
     st_mesh_init(&mesh);
-    if (st_mesh_load(o->in, &mesh, &err)) { fprintf(stderr, "strata: %s\n", err.msg); return 1; }
-    (void)notes;
+    if (st_mesh_load_notes(o->in, &mesh, &notes, &err)) { fprintf(stderr, "strata: %s\n", err.msg); st_notes_free(&notes); return 1; }
+    /* Repairs are made, and said. */
+    for (uint32_t i = 0; i < notes.count; i++) fprintf(stderr, "strata: %s\n", notes.lines[i]);
+    st_notes_free(&notes);
     st_hier_opts ho = { .boundary = o->boundary, .crease_method = ST_CREASE_UNIFORM };
     int rc = st_hier_init(h, &mesh, sc, &ho, &err);
     st_mesh_free(&mesh);
