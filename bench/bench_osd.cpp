@@ -8,12 +8,14 @@
 // Far::TopologyRefinerFactory + RefineUniform), synthesis of all levels
 // (st_hier_synthesize vs Far::PrimvarRefiner::Interpolate), peak memory of
 // each (VmHWM growth of a forked child that builds and synthesises), and the
-// ratios.  Medians of 5 runs.  Then a local edit: one vertex moved at level 2
+// ratios.  Synthesis is timed on one thread and on two (parallel.h; OpenSubdiv
+// on one thread in both lines).  Medians of 5 runs.  Then a local edit: one vertex moved at level 2
 // of a depth-6 Catmull-Clark hierarchy, local re-synthesis vs full synthesis.
 extern "C" {
 #include "bench_common.h"
 #include "hier.h"
 #include "hier_internal.h"
+#include "parallel.h"
 #include "pool.h"
 #include "mesh.h"
 }
@@ -141,7 +143,11 @@ void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int le
     double t_osd_interp = median_time([&] { osd_interpolate(*r, m); });
     st_hier h;
     if (strata_build(&h, m, sc, levels)) return;
+    st_parallel_set_threads(1);
     double t_st_synth = median_time([&] { st_hier_synthesize(&h, 0); });
+    st_parallel_set_threads(2);
+    double t_st_synth2 = median_time([&] { st_hier_synthesize(&h, 0); });
+    st_parallel_set_threads(1);
     printf("  finest level: OpenSubdiv %d vertices, Strata %llu vertices\n", r->GetLevel(levels).GetNumVertices(),
            (unsigned long long)st_pool_count(&h.map.verts, levels));
     delete r;
@@ -152,6 +158,8 @@ void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int le
            1e3 * t_st_topo, 1e3 * t_osd_topo, t_st_topo / t_osd_topo);
     printf("  synthesis, all levels, 1 thread: Strata %.1f ms, OpenSubdiv %.1f ms, ratio %.2f (target <= 1.0)\n",
            1e3 * t_st_synth, 1e3 * t_osd_interp, t_st_synth / t_osd_interp);
+    printf("  synthesis, all levels, 2 threads: Strata %.1f ms, OpenSubdiv (1 thread) %.1f ms, ratio %.2f (target <= 0.6)\n",
+           1e3 * t_st_synth2, 1e3 * t_osd_interp, t_st_synth2 / t_osd_interp);
     printf("  peak memory (refine + synthesis): Strata %.1f MB, OpenSubdiv %.1f MB, ratio %.2f (target <= 1.0)\n",
            mem_st / 1e6, mem_osd / 1e6, (double)mem_st / (double)mem_osd);
     st_mesh_free(&m);

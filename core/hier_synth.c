@@ -166,9 +166,11 @@ void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[
 
 void st_stencil_eval(const st_hier *h, unsigned L, const st_stencil *s, double out[3])
 {
+    st_level_view v;
+    st_level_view_init(&h->map, L - 1, &v);
     double x = 0, y = 0, z = 0;
     for (uint32_t i = 0; i < s->n; i++) {
-        const double *p = st_pos(&h->map, s->src[i], L - 1);
+        const double *p = st_v_pos(&v, s->src[i]);
         x += s->w[i] * p[0];
         y += s->w[i] * p[1];
         z += s->w[i] * p[2];
@@ -191,7 +193,23 @@ typedef struct synth_ctx {
     unsigned L;
     uint32_t gen;          /* stamp generation for local passes, 0 for full */
     uint64_t count;
+    st_dart_list *changed; /* local passes: a dart of level L of each vertex written */
+    int lost;              /* some written vertex had no dart found on its frame cell */
 } synth_ctx;
+
+/* A dart of level L carrying fine vertex v, found on the frame cell of its
+ * stencil (dart d of level L-1): d itself for a vertex cell; for an edge or
+ * a face, the children of a primal split lie on the face of d at level L.
+ * ST_NIL if v is not there (a scheme that puts it elsewhere). */
+static uint32_t dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L)
+{
+    uint32_t x = d;
+    do {
+        if (st_vert(m, x, L) == v) return x;
+        x = st_phi1(m, x, L);
+    } while (x != d);
+    return ST_NIL;
+}
 
 static void synth_sink(void *ctx, const st_stencil *s)
 {
@@ -204,6 +222,11 @@ static void synth_sink(void *ctx, const st_stencil *s)
     st_stencil_apply(c->h, c->L, s, p);
     st_hier_write_pos(c->h, s->fine, c->L, p);
     c->count++;
+    if (c->changed) {
+        uint32_t d = dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
+        if (d == ST_NIL) c->lost = 1;
+        else st_dart_list_push(c->changed, d);
+    }
 }
 
 void st_hier_synthesize(st_hier *h, unsigned from)
@@ -213,7 +236,7 @@ void st_hier_synthesize(st_hier *h, unsigned from)
             h->scheme->predict_level(h, L);
             continue;
         }
-        synth_ctx c = { h, L, 0, 0 };
+        synth_ctx c = { .h = h, .L = L };
         h->scheme->emit(h, L, NULL, 0, synth_sink, &c);
     }
 }
@@ -353,27 +376,37 @@ uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const doubl
     for (uint32_t i = 0; i < n; i++) st_hier_write_pos(h, st_vert(m, darts[i], l), l, pos[i]);
     if (l > 0)
         for (uint32_t i = 0; i < n; i++) refresh_detail(h, l, darts[i]);
-    /* Seeds at level L-1 locate the changed vertices; the region is the
-     * faces whose children can see them (stencil support), plus one ring at
-     * levels after the first, where changed vertices lie on children of the
-     * previous region rather than on the seeds themselves. */
-    st_dart_list seeds = { 0 }, faces = { 0 };
+    /* Level L is recomputed on the faces of level L-1 whose children can
+     * see a vertex that changed at L-1 (support_rings rings around it);
+     * the vertices written at L seed level L+1.  Should a written vertex
+     * not be found on its frame cell, the next level takes every dart of
+     * the region as seed, with one more ring (the children of the region
+     * lie within it). */
+    st_dart_list seeds = { 0 }, next = { 0 }, faces = { 0 };
     for (uint32_t i = 0; i < n; i++) st_dart_list_push(&seeds, darts[i]);
+    unsigned extra = 0;
     uint64_t count = 0;
     for (unsigned L = l + 1; L <= m->top; L++) {
         faces.n = 0;
-        st_region_faces(m, L - 1, seeds.d, seeds.n, h->scheme->support_rings + (L > l + 1), &faces);
-        synth_ctx c = { h, L, st_hier_stamp_begin(h), 0 };
+        st_region_faces(m, L - 1, seeds.d, seeds.n, h->scheme->support_rings + extra, &faces);
+        next.n = 0;
+        synth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next };
         h->scheme->emit(h, L, faces.d, faces.n, synth_sink, &c);
         count += c.count;
-        /* Next seeds: every dart of the region (they exist at level L). */
-        seeds.n = 0;
-        for (uint32_t i = 0; i < faces.n; i++) {
-            uint32_t x = faces.d[i];
-            do { st_dart_list_push(&seeds, x); x = st_phi1(m, x, L - 1); } while (x != faces.d[i]);
+        extra = c.lost;
+        if (c.lost) {
+            next.n = 0;
+            for (uint32_t i = 0; i < faces.n; i++) {
+                uint32_t x = faces.d[i];
+                do { st_dart_list_push(&next, x); x = st_phi1(m, x, L - 1); } while (x != faces.d[i]);
+            }
         }
+        st_dart_list t = seeds;
+        seeds = next;
+        next = t;
     }
     st_dart_list_free(&seeds);
+    st_dart_list_free(&next);
     st_dart_list_free(&faces);
     return count;
 }

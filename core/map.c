@@ -86,6 +86,20 @@ uint32_t st_dart_new(st_map *m, unsigned l, uint32_t v, uint8_t flags)
     return d;
 }
 
+static const unsigned char zero_attr[64];
+
+uint32_t st_dart_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got)
+{
+    uint32_t grow;
+    uint32_t d = st_pool_take_run(&m->darts, l, want, got, &grow);
+    if (d == ST_NIL) abort();
+    if (grow) grow_dart_arrays(m, grow);
+    if (m->marks) memset(m->marks + d, 0, (size_t)*got * sizeof *m->marks);
+    for (uint32_t i = 0; i < m->ndart_attrs; i++)
+        for (uint32_t k = 0; k < *got; k++) st_mla_insert(m->dart_attrs[i], &m->darts, d + k, zero_attr);
+    return d;
+}
+
 void st_dart_delete(st_map *m, uint32_t d)
 {
     st_pool_release(&m->darts, d);
@@ -113,6 +127,17 @@ uint32_t st_vertex_new(st_map *m, unsigned l, const double p[3])
     st_mla_insert(&m->pos, &m->verts, v, p);
     static const unsigned char zero[64];
     for (uint32_t i = 0; i < m->nvert_attrs; i++) st_mla_insert(m->vert_attrs[i], &m->verts, v, zero);
+    return v;
+}
+
+uint32_t st_vertex_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got)
+{
+    uint32_t grow;
+    uint32_t v = st_pool_take_run(&m->verts, l, want, got, &grow);
+    if (v == ST_NIL) abort();
+    if (grow && grow_vertex_arrays(m, grow)) abort();
+    for (uint32_t i = 0; i < m->nvert_attrs; i++)
+        for (uint32_t k = 0; k < *got; k++) st_mla_insert(m->vert_attrs[i], &m->verts, v + k, zero_attr);
     return v;
 }
 
@@ -305,27 +330,53 @@ void st_mark_vertex(st_map *m, int bit, uint32_t d, unsigned l)
 
 /* ---- statistics and memory ---------------------------------------------------- */
 
+/* Orbits are counted with two transient bits per dart id rather than the
+ * marker bits: no 4-byte-per-dart marks array to allocate, and no pass to
+ * clear it afterwards. */
+typedef struct orbit_count {
+    st_level_view v;
+    uint64_t *vseen, *fseen;
+} orbit_count;
+
+static int seen_bit(const uint64_t *s, uint32_t d) { return (s[d >> 6] >> (d & 63)) & 1; }
+static void see_bit(uint64_t *s, uint32_t d) { s[d >> 6] |= 1ull << (d & 63); }
+
+static void count_dart(const st_map *m, orbit_count *c, uint32_t d, st_level_stats *s)
+{
+    s->darts++;
+    if (d < st_v_beta0(&c->v, d)) s->edges++;
+    int bd = st_is_boundary(m, d);
+    if (bd) s->boundary_edges++;
+    if (!seen_bit(c->vseen, d)) {
+        s->vertices++;
+        uint32_t x = d;
+        do { see_bit(c->vseen, x); x = st_v_beta1(&c->v, x); } while (x != d);
+    }
+    if (!seen_bit(c->fseen, d)) {
+        if (bd) s->boundary_loops++; else s->faces++;
+        uint32_t x = d;
+        do { see_bit(c->fseen, x); x = st_v_phi1(&c->v, x); } while (x != d);
+    }
+}
+
 void st_level_stats_compute(st_map *m, unsigned l, st_level_stats *s)
 {
     memset(s, 0, sizeof *s);
-    int fbit = st_marker_reserve(m);
-    int vbit = st_marker_reserve(m);
-    if (fbit < 0 || vbit < 0) abort(); /* programmer error: markers leaked */
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
-        s->darts++;
-        uint32_t e = st_beta0(m, d, l);
-        if (d < e) s->edges++;
-        int bd = st_is_boundary(m, d);
-        if (bd) s->boundary_edges++;
-        if (!st_marked(m, vbit, d)) { s->vertices++; st_mark_vertex(m, vbit, d, l); }
-        if (!st_marked(m, fbit, d)) {
-            if (bd) s->boundary_loops++; else s->faces++;
-            st_mark_face(m, fbit, d, l);
+    size_t words = (size_t)m->darts.end / 64 + 1;
+    orbit_count c;
+    c.vseen = calloc(2 * words, sizeof *c.vseen);
+    if (!c.vseen) abort(); /* out of memory for two bits per dart */
+    c.fseen = c.vseen + words;
+    st_level_view_init(m, l, &c.v);
+    /* The darts of levels 0..l, block by block (st_dart_next without a call per dart). */
+    const st_pool *p = &m->darts;
+    for (unsigned lv = 0; lv <= st_lvl_clamp(l); lv++)
+        for (uint32_t b = 0; b < p->nblocks[lv]; b++) {
+            uint32_t first = p->blocks[lv][b] << ST_POOL_BLOCK_SHIFT;
+            for (uint32_t d = first; d < first + ST_POOL_BLOCK; d++)
+                if (p->ins[d] != ST_FREE_LEVEL) count_dart(m, &c, d, s);
         }
-    }
-    st_marker_release(m, fbit, l);
-    st_marker_release(m, vbit, l);
+    free(c.vseen);
     s->euler = (int64_t)s->vertices - (int64_t)s->edges + (int64_t)s->faces;
 }
 

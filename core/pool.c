@@ -105,6 +105,26 @@ uint32_t st_pool_take(st_pool *p, unsigned l, uint32_t *grow)
     return id;
 }
 
+uint32_t st_pool_take_run(st_pool *p, unsigned l, uint32_t want, uint32_t *got, uint32_t *grow)
+{
+    if (p->freehead[l] != ST_NIL || want <= 1) {
+        *got = 1;
+        return st_pool_take(p, l, grow);
+    }
+    *grow = 0;
+    if (p->fill[l] == ST_NIL) {
+        p->fill[l] = new_block(p, l, grow);
+        if (p->fill[l] == ST_NIL) return ST_NIL;
+    }
+    uint32_t id = p->fill[l], room = ST_POOL_BLOCK - (id & (ST_POOL_BLOCK - 1));
+    uint32_t n = want < room ? want : room;
+    memset(p->ins + id, (int)l, n);
+    p->live[l] += n;
+    p->fill[l] = n == room ? ST_NIL : id + n;
+    *got = n;
+    return id;
+}
+
 void st_pool_release(st_pool *p, uint32_t id)
 {
     unsigned l = p->ins[id];
@@ -147,6 +167,15 @@ uint64_t st_pool_count(const st_pool *p, unsigned l)
 {
     uint64_t n = 0;
     for (unsigned k = 0; k <= l && k < ST_MAX_LEVELS; k++) n += p->live[k];
+    return n;
+}
+
+uint32_t st_pool_block_list(const st_pool *p, unsigned l, uint32_t *out)
+{
+    uint32_t n = 0;
+    for (unsigned k = 0; k <= l && k < ST_MAX_LEVELS; k++)
+        for (uint32_t b = 0; b < p->nblocks[k]; b++, n++)
+            if (out) out[n] = p->blocks[k][b] << ST_POOL_BLOCK_SHIFT;
     return n;
 }
 

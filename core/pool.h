@@ -10,6 +10,11 @@ void st_pool_free(st_pool *p);
  * attached arrays must reach (0 when the capacity did not change); the pool's
  * own ins[] is already grown.  Returns ST_NIL when memory runs out. */
 uint32_t st_pool_take(st_pool *p, unsigned l, uint32_t *grow);
+/* Takes a run of up to `want` (>= 1) consecutive ids at level l, in the order
+ * st_pool_take would hand them out (free ids of the level first, one at a
+ * time; then the rest of the level's current block, then a fresh block).
+ * Returns the first id and sets *got; ST_NIL when memory runs out. */
+uint32_t st_pool_take_run(st_pool *p, unsigned l, uint32_t want, uint32_t *got, uint32_t *grow);
 /* Makes room for `more` further ids without doubling; returns the new
  * capacity (attached arrays must follow) or 0 when out of memory. */
 uint32_t st_pool_reserve(st_pool *p, uint64_t more);
@@ -20,6 +25,9 @@ uint32_t st_pool_cover(const st_pool *p, unsigned j);
 void st_pool_drop_level(st_pool *p, unsigned l);
 /* Live ids of levels 0..l. */
 uint64_t st_pool_count(const st_pool *p, unsigned l);
+/* Blocks of levels 0..l in enumeration order (st_dart_first/next): writes
+ * their first ids to out (NULL: count only); returns how many. */
+uint32_t st_pool_block_list(const st_pool *p, unsigned l, uint32_t *out);
 
 void st_mla_init(st_mla *a, uint32_t elem);
 void st_mla_free(st_mla *a);
@@ -43,5 +51,13 @@ void st_mla_drop_bottom(st_mla *a, const st_pool *p);
 /* Merges levels 0 and 1 and renumbers the levels above one down. */
 void st_pool_drop_bottom(st_pool *p);
 size_t st_mla_bytes(const st_mla *a, uint32_t cap);
+
+/* ---- bulk writers (refine.c) ------------------------------------------------
+ * Runs of new darts / vertices inserted at level l (st_pool_take_run) whose
+ * relations, flags and positions the caller writes itself, straight into the
+ * base arrays: attached attributes and marks are zeroed, nothing else is
+ * initialised.  They abort when memory runs out, like st_dart_new. */
+uint32_t st_dart_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got);
+uint32_t st_vertex_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got);
 
 #endif

@@ -12,7 +12,16 @@ enum st_split_mode {
     ST_SPLIT_MIXED,     /* triangles -> 4 triangles, other faces -> quads (quad/triangle) */
 };
 
+/* Adds level top+1.  Its new darts and vertices are numbered face by face,
+ * in an order that keeps neighbourhoods close in memory (refine.c), not in
+ * the order the operators below would number them. */
 int st_refine_uniform(st_map *m, enum st_split_mode mode, st_error *err);
+/* The same step through the generic operators (st_split_edge, st_cut_face):
+ * the reference the bulk writer of st_refine_uniform reproduces (the same
+ * relations at every level and the same positions, up to the numbering of
+ * the new darts and vertices), used by it for maps it does not handle (a
+ * column above the top, a face with fewer than 3 sides or along itself). */
+int st_refine_uniform_ops(st_map *m, enum st_split_mode mode, st_error *err);
 
 /* Face-level pieces, usable by adaptive refinement (Algorithm 1).  d is a
  * dart of a real face of level l whose edges are all split at level l+1
