@@ -40,6 +40,7 @@
  * no sharpness in the butterfly rules.  Tags are kept (refine propagates
  * them) but ignored by the masks. */
 #include "hier_internal.h"
+#include "primal_emit.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -138,62 +139,21 @@ static void edge_point(const st_map *m, unsigned l, uint32_t d, st_stencil_buf *
     if (x1) extraordinary(m, l, e, k1, s, out);
 }
 
-static void emit_edge(const st_hier *h, unsigned L, uint32_t d, st_stencil_buf *buf, st_stencil_sink sink, void *ctx)
+static void butterfly_edge(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out)
 {
-    const st_map *m = &h->map;
-    uint32_t mid = st_vert(m, st_beta0(m, d, L), L);
-    edge_point(m, L - 1, d, buf);
-    st_stencil s = { mid, buf->n, buf->src, buf->w, d, ST_CELL_EDGE };
-    sink(ctx, &s);
+    edge_point(&h->map, l, d, out);
 }
 
-static void emit_vertex(const st_hier *h, unsigned L, uint32_t d, st_stencil_sink sink, void *ctx)
-{
-    static const double one = 1.0;
-    uint32_t v = st_vert(&h->map, d, L - 1);
-    st_stencil s = { v, 1, &v, &one, d, ST_CELL_VERTEX };
-    sink(ctx, &s);
-}
+/* Interpolating: even vertices keep their position (vertex mask NULL);
+ * crease tags are carried but not used, as in OpenMesh. */
+static const st_primal_rules butterfly_rules = { NULL, butterfly_edge, 0, ST_FACE_POINTS_NONE };
 
 static void butterfly_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
 {
-    st_map *m = &h->map;
-    unsigned l = L - 1;
-    st_stencil_buf buf = { 0 };
-    if (faces) {
-        for (uint32_t i = 0; i < n; i++) {
-            uint32_t c = faces[i], x = c;
-            do {
-                emit_edge(h, L, x, &buf, sink, ctx);
-                emit_vertex(h, L, x, sink, ctx);
-                x = st_phi1(m, x, l);
-            } while (x != c);
-        }
-    } else {
-        int vb = st_marker_reserve(m);
-        if (vb < 0) abort();
-        st_dart_iter it;
-        for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
-            if (!st_marked(m, vb, d)) { st_mark_vertex(m, vb, d, l); emit_vertex(h, L, d, sink, ctx); }
-            if (d < st_beta0(m, d, l)) emit_edge(h, L, d, &buf, sink, ctx);
-        }
-        st_marker_release(m, vb, l);
-    }
-    st_stencil_buf_free(&buf);
+    st_primal_emit(h, L, faces, n, sink, ctx, &butterfly_rules);
 }
 
-static int butterfly_check(st_hier *h, st_error *err)
-{
-    const st_map *m = &h->map;
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, 0, &it); d != ST_NIL; d = st_dart_next(m, 0, &it)) {
-        if (st_is_boundary(m, d)) continue;
-        unsigned n = st_face_degree(m, d, 0);
-        if (n != 3)
-            return st_fail(err, ST_ERR_TOPOLOGY, "the butterfly scheme needs a triangle mesh, but the mesh has a face with %u sides", n);
-    }
-    return ST_OK;
-}
+static int butterfly_check(st_hier *h, st_error *err) { return st_check_triangles(h, err); }
 
 static int butterfly_refine(st_hier *h, st_error *err) { return st_hier_refine_primal(h, ST_SPLIT_TRI, err); }
 

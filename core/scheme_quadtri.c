@@ -57,17 +57,10 @@
  * above is the smooth mask. */
 #include "crease.h"
 #include "hier_internal.h"
+#include "primal_emit.h"
 
 #include <math.h>
 #include <stdlib.h>
-
-/* Adds w · (centroid of d's face). */
-static void add_centroid(const st_map *m, unsigned l, uint32_t d, double w, st_stencil_buf *out)
-{
-    unsigned n = st_face_degree(m, d, l);
-    uint32_t x = d;
-    do { st_stencil_buf_add(out, st_vert(m, x, l), w / n); x = st_phi1(m, x, l); } while (x != d);
-}
 
 static double omega(unsigned nq, unsigned nt)
 {
@@ -107,7 +100,7 @@ static void smooth_edge(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf
             st_stencil_buf_add(out, st_vert(m, st_phi1(m, st_phi1(m, x, l), l), l), 0.75 * k);
         } else {
             ab += 0.5 * k;
-            add_centroid(m, l, x, k, out);
+            st_add_face_centroid(m, l, x, k, out);
         }
     }
     st_stencil_buf_add(out, a, ab);
@@ -140,7 +133,7 @@ static void smooth_vertex(const st_hier *h, unsigned l, uint32_t d, st_stencil_b
                 vw += 0.5 * k;
                 st_stencil_buf_add(out, st_vert(m, next, l), 0.125 * k);
                 st_stencil_buf_add(out, st_vert(m, st_phi_1(m, x, l), l), 0.125 * k);
-                add_centroid(m, l, x, 0.25 * k, out);
+                st_add_face_centroid(m, l, x, 0.25 * k, out);
             }
         }
         x = st_beta1(m, x, l);
@@ -148,77 +141,11 @@ static void smooth_vertex(const st_hier *h, unsigned l, uint32_t d, st_stencil_b
     st_stencil_buf_add(out, v, vw);
 }
 
-typedef struct emitter {
-    st_stencil_buf buf, tmp;
-} emitter;
-
-/* Centre of a non-triangle face c (coarse dart at a corner): φ1² at L. */
-static void emit_face(const st_hier *h, unsigned L, uint32_t c, emitter *e, st_stencil_sink sink, void *ctx)
-{
-    const st_map *m = &h->map;
-    uint32_t centre = st_vert(m, st_phi1(m, st_phi1(m, c, L), L), L);
-    st_stencil_buf_clear(&e->buf);
-    add_centroid(m, L - 1, c, 1.0, &e->buf);
-    st_stencil s = { centre, e->buf.n, e->buf.src, e->buf.w, c, ST_CELL_FACE };
-    sink(ctx, &s);
-}
-
-static void emit_edge(const st_hier *h, unsigned L, uint32_t d, emitter *e, st_stencil_sink sink, void *ctx)
-{
-    const st_map *m = &h->map;
-    uint32_t mid = st_vert(m, st_beta0(m, d, L), L);
-    st_crease_edge_point(h, L - 1, d, smooth_edge, &e->buf, &e->tmp);
-    st_stencil s = { mid, e->buf.n, e->buf.src, e->buf.w, d, ST_CELL_EDGE };
-    sink(ctx, &s);
-}
-
-static void emit_vertex(const st_hier *h, unsigned L, uint32_t d, emitter *e, st_stencil_sink sink, void *ctx)
-{
-    st_crease_vertex_point(h, L - 1, d, smooth_vertex, &e->buf, &e->tmp);
-    st_stencil s = { st_vert(&h->map, d, L - 1), e->buf.n, e->buf.src, e->buf.w, d, ST_CELL_VERTEX };
-    sink(ctx, &s);
-}
-
-static void emit_all(st_hier *h, unsigned L, emitter *e, st_stencil_sink sink, void *ctx)
-{
-    st_map *m = &h->map;
-    unsigned l = L - 1;
-    int fb = st_marker_reserve(m), vb = st_marker_reserve(m);
-    if (fb < 0 || vb < 0) abort();
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
-        if (!st_marked(m, vb, d)) { st_mark_vertex(m, vb, d, l); emit_vertex(h, L, d, e, sink, ctx); }
-        if (d < st_beta0(m, d, l)) emit_edge(h, L, d, e, sink, ctx);
-        if (!st_is_boundary(m, d) && !st_marked(m, fb, d)) {
-            st_mark_face(m, fb, d, l);
-            if (st_face_degree(m, d, l) != 3) emit_face(h, L, d, e, sink, ctx);
-        }
-    }
-    st_marker_release(m, fb, l);
-    st_marker_release(m, vb, l);
-}
-
-static void emit_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, emitter *e, st_stencil_sink sink, void *ctx)
-{
-    const st_map *m = &h->map;
-    for (uint32_t i = 0; i < n; i++) {
-        uint32_t c = faces[i], x = c;
-        if (st_face_degree(m, c, L - 1) != 3) emit_face(h, L, c, e, sink, ctx);
-        do {
-            emit_edge(h, L, x, e, sink, ctx);
-            emit_vertex(h, L, x, e, sink, ctx);
-            x = st_phi1(m, x, L - 1);
-        } while (x != c);
-    }
-}
+static const st_primal_rules quadtri_rules = { smooth_vertex, smooth_edge, 1, ST_FACE_POINTS_NON_TRIANGLES };
 
 static void quadtri_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
 {
-    emitter e = { 0 };
-    if (faces) emit_faces(h, L, faces, n, &e, sink, ctx);
-    else emit_all(h, L, &e, sink, ctx);
-    st_stencil_buf_free(&e.buf);
-    st_stencil_buf_free(&e.tmp);
+    st_primal_emit(h, L, faces, n, sink, ctx, &quadtri_rules);
 }
 
 static int quadtri_refine(st_hier *h, st_error *err) { return st_hier_refine_primal(h, ST_SPLIT_MIXED, err); }
