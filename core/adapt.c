@@ -51,26 +51,118 @@ int st_face_is_subdivided(st_map *m, uint32_t d, unsigned i)
 
 /* ---- saved details ----------------------------------------------------------- */
 
-/* A removed vertex is named by the level that created it, the kind of cell
- * (edge or face) and that cell's canonical coarse dart; `at` is the level of
- * the detail kept (a vertex has a detail at its own level and, as an even
- * vertex, at every finer one). */
-static uint64_t saved_key(unsigned level, unsigned at, int kind, uint32_t dart)
+/* ---- stable addresses ----------------------------------------------------------
+ * A removed vertex is named by where it sits in the refinement tree, not by
+ * dart ids (darts of a coarsened region are recreated with other ids): the
+ * canonical dart of its level-0 ancestor face (level-0 darts are permanent)
+ * and, per level, the child index of the face that contains it.  A corner
+ * sub-face's index is the position of its corner dart (the one dart older
+ * than the sub-face) in the parent, counted from the parent's canonical dart;
+ * the central triangle of a triangle split is child 3.  Canonical dart of a
+ * face: its smallest dart id at level 0, its corner dart above, and for a
+ * central triangle the dart facing the lowest-numbered corner. */
+enum { PATH_NONE = 0 };
+
+static uint32_t corner_of(const st_map *m, uint32_t d, unsigned j)
 {
-    return (uint64_t)level << 48 | (uint64_t)at << 40 | (uint64_t)kind << 32 | dart;
+    uint32_t x = d;
+    do { if (m->darts.ins[x] < j) return x; x = st_phi1(m, x, j); } while (x != d);
+    return ST_NIL;
 }
 
-static int64_t saved_find(const st_adapt *a, uint64_t key)
+static uint32_t canonical(const st_map *m, uint32_t d, unsigned j);
+
+/* Position of c in the face of level j containing it, from that face's canonical dart. */
+static unsigned index_in_face(const st_map *m, uint32_t c, unsigned j)
+{
+    uint32_t x = canonical(m, c, j);
+    unsigned k = 0;
+    while (x != c && k < 1024) { x = st_phi1(m, x, j); k++; }
+    return k;
+}
+
+static uint32_t canonical(const st_map *m, uint32_t d, unsigned j)
+{
+    if (j == 0) {
+        uint32_t best = d, x = d;
+        do { if (x < best) best = x; x = st_phi1(m, x, 0); } while (x != d);
+        return best;
+    }
+    uint32_t c = corner_of(m, d, j);
+    if (c != ST_NIL) return c;
+    /* Central triangle: the dart whose twin lies in the lowest corner. */
+    uint32_t best = d, x = d;
+    unsigned bk = ~0u;
+    do {
+        uint32_t cc = corner_of(m, st_beta0(m, x, j), j);
+        unsigned k = cc == ST_NIL ? ~0u : index_in_face(m, cc, j - 1);
+        if (k < bk) { bk = k; best = x; }
+        x = st_phi1(m, x, j);
+    } while (x != d);
+    return best;
+}
+
+/* Path of the face of d at level j: 32 bits of level-0 dart, 8 bits of
+ * child index at level 1, 2 bits per level above, and the top bit set (so
+ * that no valid path equals PATH_NONE).  PATH_NONE when it does not fit
+ * (level-0 face of more than 254 sides, or j > 12). */
+static uint64_t face_path(const st_map *m, uint32_t d, unsigned j)
+{
+    if (j > 12) return PATH_NONE;
+    unsigned idx[16];
+    uint32_t x = d;
+    for (unsigned lev = j; lev >= 1; lev--) {
+        uint32_t c = corner_of(m, x, lev);
+        if (c == ST_NIL) {
+            idx[lev] = 3;
+            c = corner_of(m, st_beta0(m, x, lev), lev);
+            if (c == ST_NIL) return PATH_NONE;
+        } else {
+            idx[lev] = index_in_face(m, c, lev - 1);
+        }
+        x = c;
+    }
+    uint64_t path = 1ull << 63 | canonical(m, x, 0);
+    if (j >= 1) {
+        if (idx[1] >= 255) return PATH_NONE;
+        path |= (uint64_t)(idx[1] + 1) << 32;
+    }
+    for (unsigned lev = 2; lev <= j; lev++) path |= (uint64_t)(idx[lev] & 3) << (40 + 2 * (lev - 2));
+    return path;
+}
+
+/* Key of a vertex created at level L, kind, element (edge index in its face),
+ * and the level `at` of the detail kept. */
+typedef struct saved_addr { uint64_t path; uint32_t meta; } saved_addr;
+
+static saved_addr vertex_addr(const st_map *m, uint32_t face_dart, unsigned L, int kind, unsigned at)
+{
+    saved_addr k = { face_path(m, face_dart, L - 1), 0 };
+    unsigned elem = kind == KIND_EDGE ? index_in_face(m, face_dart, L - 1) : 0;
+    k.meta = (uint32_t)L << 24 | (uint32_t)at << 16 | (uint32_t)kind << 8 | (elem & 0xff);
+    return k;
+}
+
+static int addr_less(saved_addr a, saved_addr b)
+{
+    return a.path < b.path || (a.path == b.path && a.meta < b.meta);
+}
+
+static int addr_equal(saved_addr a, saved_addr b) { return a.path == b.path && a.meta == b.meta; }
+
+static saved_addr addr_of(const st_adapt_saved *r) { saved_addr k = { r->path, r->meta }; return k; }
+
+static int64_t saved_find(const st_adapt *a, saved_addr key)
 {
     uint32_t lo = 0, hi = a->nsaved;
     while (lo < hi) {
         uint32_t mid = (lo + hi) / 2;
-        if (a->saved[mid].key < key) lo = mid + 1; else hi = mid;
+        if (addr_less(addr_of(&a->saved[mid]), key)) lo = mid + 1; else hi = mid;
     }
-    return lo < a->nsaved && a->saved[lo].key == key ? (int64_t)lo : -1 - (int64_t)lo;
+    return lo < a->nsaved && addr_equal(addr_of(&a->saved[lo]), key) ? (int64_t)lo : -1 - (int64_t)lo;
 }
 
-static void saved_put(st_adapt *a, uint64_t key, const double d[3])
+static void saved_put(st_adapt *a, saved_addr key, const double d[3])
 {
     int64_t at = saved_find(a, key);
     if (at >= 0) { memcpy(a->saved[at].d, d, sizeof a->saved[at].d); return; }
@@ -82,13 +174,14 @@ static void saved_put(st_adapt *a, uint64_t key, const double d[3])
         if (!a->saved) abort();
     }
     memmove(a->saved + pos + 1, a->saved + pos, (a->nsaved - pos) * sizeof *a->saved);
-    a->saved[pos].key = key;
+    a->saved[pos].path = key.path;
+    a->saved[pos].meta = key.meta;
     memcpy(a->saved[pos].d, d, sizeof a->saved[pos].d);
     a->nsaved++;
 }
 
 /* Takes a saved detail out of the store (zero when none). */
-static void saved_take(st_adapt *a, uint64_t key, double d[3])
+static void saved_take(st_adapt *a, saved_addr key, double d[3])
 {
     int64_t at = saved_find(a, key);
     if (at < 0) { d[0] = d[1] = d[2] = 0; return; }
@@ -97,12 +190,6 @@ static void saved_take(st_adapt *a, uint64_t key, double d[3])
     a->nsaved--;
 }
 
-static uint32_t min_dart_of_face(const st_map *m, uint32_t d, unsigned l)
-{
-    uint32_t best = d, x = d;
-    do { if (x < best) best = x; x = st_phi1(m, x, l); } while (x != d);
-    return best;
-}
 
 /* ---- lifetime ------------------------------------------------------------------ */
 
@@ -149,23 +236,48 @@ static int was_created(const place_ctx *c, uint32_t v)
     return 0;
 }
 
+/* The faces of level L-1 that name a vertex created at L: its face, and for
+ * an edge point also the face across the edge when that face is of level
+ * L-1 too (either may be the one that creates the vertex again). */
+static unsigned naming_faces(st_map *m, unsigned L, int kind, uint32_t dart, uint32_t out[2])
+{
+    unsigned n = 0;
+    out[n++] = dart;
+    if (kind == KIND_EDGE) {
+        uint32_t t = st_beta0(m, dart, L - 1);
+        if (!st_is_boundary(m, t) && st_face_level(m, t, L - 1) == L - 1) out[n++] = t;
+    }
+    return n;
+}
+
+/* Gives a vertex created at L the details kept for its address (zero when
+ * none), and drops the copy kept under the other naming face. */
+static void restore_details(st_adapt *a, unsigned L, int kind, uint32_t dart, uint32_t v)
+{
+    st_map *m = &a->h->map;
+    uint32_t faces[2];
+    unsigned nf = naming_faces(m, L, kind, dart, faces);
+    for (unsigned at = L; at < ST_MAX_LEVELS; at++) {
+        double d[3] = { 0, 0, 0 }, other[3];
+        for (unsigned k = 0; k < nf; k++) {
+            saved_addr key = vertex_addr(m, faces[k], L, kind, at);
+            if (key.path == PATH_NONE) continue;
+            saved_take(a, key, k == 0 ? d : other);
+            if (k == 1 && d[0] == 0 && d[1] == 0 && d[2] == 0) memcpy(d, other, sizeof d);
+        }
+        if (at == L || a->h->detail[at]) st_hier_set_detail(a->h, at, v, d);
+    }
+}
+
 /* New vertices get their saved detail back (or zero); old vertices keep the
  * detail they have at level L. */
 static void place_sink(void *ctx, const st_stencil *s)
 {
     place_ctx *c = ctx;
     st_hier *h = c->a->h;
-    const st_map *m = &h->map;
     if (was_created(c, s->fine)) {
-        double d[3];
-        uint32_t key = s->frame_cell == ST_CELL_EDGE
-            ? (s->frame_dart < st_beta0(m, s->frame_dart, c->L - 1) ? s->frame_dart : st_beta0(m, s->frame_dart, c->L - 1))
-            : min_dart_of_face(m, s->frame_dart, c->L - 1);
         int kind = s->frame_cell == ST_CELL_EDGE ? KIND_EDGE : KIND_CENTRE;
-        for (unsigned at = c->L; at < ST_MAX_LEVELS; at++) {
-            saved_take(c->a, saved_key(c->L, at, kind, key), d);
-            if (at == c->L || h->detail[at]) st_hier_set_detail(h, at, s->fine, d);
-        }
+        restore_details(c->a, c->L, kind, s->frame_dart, s->fine);
     }
     double p[3];
     st_stencil_apply(h, c->L, s, p);
@@ -347,12 +459,18 @@ int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
     return 1;
 }
 
-static void save_detail(st_adapt *a, unsigned L, int kind, uint32_t key_dart, uint32_t v)
+static void save_detail(st_adapt *a, unsigned L, int kind, uint32_t dart, uint32_t v)
 {
     static const double zero[3] = { 0, 0, 0 };
+    st_map *m = &a->h->map;
+    uint32_t faces[2];
+    unsigned nf = naming_faces(m, L, kind, dart, faces);
     for (unsigned at = L; at < ST_MAX_LEVELS; at++) {
         if (!a->h->detail[at]) continue;
-        saved_put(a, saved_key(L, at, kind, key_dart), st_hier_detail(a->h, at, v));
+        for (unsigned k = 0; k < nf; k++) {
+            saved_addr key = vertex_addr(m, faces[k], L, kind, at);
+            if (key.path != PATH_NONE) saved_put(a, key, st_hier_detail(a->h, at, v));
+        }
         st_hier_set_detail(a->h, at, v, zero);
     }
 }
@@ -382,7 +500,7 @@ static int remove_inner(st_adapt *a, const outline *o, unsigned i, int tri, st_e
         spoke = next;
     }
     if (rc) return rc;
-    save_detail(a, L, KIND_CENTRE, min_dart_of_face(m, o->d[0], i), centre);
+    save_detail(a, L, KIND_CENTRE, o->d[0], centre);
     uint32_t left = st_beta0(m, st_beta1(m, spoke, L), L); /* mid-side dart of the merged edge */
     rc = st_unsplit_edge(m, spoke, L, err);
     if (!rc) rc = st_uncut_face(m, left, L, err);
@@ -408,7 +526,7 @@ int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
         if (!st_is_boundary(m, e) && st_face_level(m, e, i) == i && st_face_is_subdivided(m, e, i)) continue;
         uint32_t half = half_after(m, c, i);
         uint32_t v = st_vert(m, half, L);
-        save_detail(a, L, KIND_EDGE, c < e ? c : e, v);
+        save_detail(a, L, KIND_EDGE, c, v);
         rc = st_unsplit_edge(m, half, L, err);
         if (rc) return rc;
     }

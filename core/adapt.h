@@ -21,14 +21,15 @@
  * whatever the neighbourhood is at level i (positions then differ from the
  * regular ones near depth borders).
  *
- * Simplification keeps the detail vectors of the vertices it removes, keyed
- * by the coarse cell they belong to (its canonical dart), and gives them back
- * when the region is refined again.  Known limit: the key names a dart of
- * the coarse level, so it survives only while that dart does; vertices made
- * two or more levels above a face that is coarsened lose their details
- * (exact round trips hold for one level above the coarsened faces, and for
- * the details of every vertex that stays).  A path key from the permanent
- * level-0 darts is the planned fix. */
+ * Simplification keeps the detail vectors of the vertices it removes, at
+ * every level, under the vertex's address in the refinement tree (adapt.c:
+ * level-0 dart plus child indices, so recreated darts find them again), and
+ * gives them back when the region is refined again.  Known limit: local
+ * frames take their tangent from the smallest dart id of the coarse cell
+ * (hier_synth.c); darts recreated by a coarsening get other ids, so details
+ * more than one level above a coarsened face come back rotated.  Exact round
+ * trips hold one level deep; an id-free choice of the frame's first dart is
+ * the planned fix. */
 #ifndef ST_ADAPT_H
 #define ST_ADAPT_H
 
@@ -52,13 +53,14 @@ typedef struct st_adapt_params {
 
 /* Adaptive state kept between updates (saved details of removed vertices). */
 typedef struct st_adapt_saved {
-    uint64_t key;            /* level << 40 | kind << 32 | coarse dart */
+    uint64_t path;           /* refinement-tree address of the face (adapt.c) */
+    uint32_t meta;           /* creation level, detail level, kind, element */
     double d[3];
 } st_adapt_saved;
 
 typedef struct st_adapt {
     st_hier *h;
-    st_adapt_saved *saved;   /* sorted by key */
+    st_adapt_saved *saved;   /* sorted by (path, meta) */
     uint32_t nsaved, capsaved;
     uint64_t touched;        /* faces subdivided or simplified by the last update */
 } st_adapt;

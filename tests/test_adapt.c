@@ -163,9 +163,10 @@ static void check_matches_regular(st_scheme_id id, void (*make)(st_mesh *), unsi
 }
 
 /* Refine, put details on the fine vertices, move the box away and back:
- * the same geometry.  Run with max_level = base + 1: details of vertices
- * created two or more levels above a coarsened face are not yet kept
- * across that coarsening (their keys name darts that are recreated). */
+ * the same geometry.  Run with max_level = base + 1: deeper details are
+ * kept and restored (by refinement-tree address), but their local frames
+ * take the tangent from the smallest dart id of the coarse cell, and darts
+ * recreated by a coarsening get other ids, so they come back rotated. */
 static void check_detail_round_trip(st_scheme_id id, void (*make)(st_mesh *), unsigned max, double extent)
 {
     st_hier h;
