@@ -81,6 +81,26 @@ static double queries_per_second(const st_map *m, const uint32_t *darts, uint32_
     return bench_median(t, RUNS);
 }
 
+/* Relation lookups of the same darts at level l, without walking to other
+ * darts: the cost of one lookup, separated from where the walk leads. */
+static double lookups_per_second(const st_map *m, const uint32_t *darts, uint32_t n, unsigned l)
+{
+    double t[RUNS];
+    for (int r = 0; r < RUNS; r++) {
+        uint64_t q = 0;
+        uint32_t acc = 0;
+        double t0 = bench_now(), t1;
+        do {
+            for (uint32_t i = 0; i < n; i++) acc += st_beta0(m, darts[i], l) ^ st_beta1(m, darts[i], l);
+            q += 2 * (uint64_t)n;
+            t1 = bench_now();
+        } while (t1 - t0 < 0.2);
+        sink = acc;
+        t[r] = (double)q / (t1 - t0);
+    }
+    return bench_median(t, RUNS);
+}
+
 static uint32_t *sample_darts(const st_map *m, unsigned l, uint32_t n)
 {
     uint32_t *out = malloc((size_t)n * sizeof *out), k = 0;
@@ -136,6 +156,9 @@ int main(int argc, char **argv)
     double qkk = queries_per_second(&m, dk, n, m.top);
     printf("neighbour queries per second: level-0 darts at level 0 %.3g, the same darts at level %u %.3g (ratio %.2f), "
            "random darts at level %u %.3g (ratio %.2f)\n", q00, m.top, q0k, q0k / q00, m.top, qkk, qkk / q00);
+    double l00 = lookups_per_second(&m, d0, n, 0), l0k = lookups_per_second(&m, d0, n, m.top);
+    printf("relation lookups per second (beta0, beta1 of the same level-0 darts): at level 0 %.3g, at level %u %.3g (ratio %.2f)\n",
+           l00, m.top, l0k, l0k / l00);
     free(d0);
     free(dk);
     st_map_free(&m);
