@@ -291,3 +291,43 @@ void tl_check_details_kept(st_scheme_id id, void (*make)(st_mesh *), unsigned le
     st_hier_free(&h);
 }
 
+
+/* Analysis (least squares) then synthesis gives back the finest level with
+ * random details; an exact subdivision analyses to zero details. */
+void tl_check_analysis(st_scheme_id id, void (*make)(st_mesh *), unsigned levels)
+{
+    st_hier h;
+    uint64_t rng = 31337 + id;
+    tl_init_hier(&h, make, id, levels);
+    double worst = 0;
+    for (unsigned l = 1; l <= levels; l++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&h.map, l, &it); v != ST_NIL; v = st_vertex_next(&h.map, l, &it)) {
+            const double *d = st_hier_detail(&h, l, v);
+            worst = fmax(worst, fabs(d[0]) + fabs(d[1]) + fabs(d[2]));
+        }
+    }
+    st_hier_analyze(&h, 0);
+    for (unsigned l = 1; l <= levels; l++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&h.map, l, &it); v != ST_NIL; v = st_vertex_next(&h.map, l, &it)) {
+            const double *d = st_hier_detail(&h, l, v);
+            worst = fmax(worst, fabs(d[0]) + fabs(d[1]) + fabs(d[2]));
+        }
+    }
+    CHECKF(worst < 1e-9, "%s: exact subdivision analyses to details of %g", h.scheme->name, worst);
+    tl_random_details(&h, &rng, 0.01);
+    uint32_t n = h.map.verts.end;
+    double *fine = malloc(3 * (size_t)n * sizeof *fine);
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(&h.map, levels, &it); v != ST_NIL; v = st_vertex_next(&h.map, levels, &it))
+        memcpy(fine + 3 * (size_t)v, st_pos(&h.map, v, levels), 3 * sizeof *fine);
+    st_hier_analyze(&h, 0);
+    st_hier_synthesize(&h, 0);
+    worst = 0;
+    for (uint32_t v = st_vertex_first(&h.map, levels, &it); v != ST_NIL; v = st_vertex_next(&h.map, levels, &it))
+        for (int i = 0; i < 3; i++) worst = fmax(worst, fabs(st_pos(&h.map, v, levels)[i] - fine[3 * (size_t)v + i]));
+    CHECKF(worst < 1e-9, "%s: analysis + synthesis round trip error %g", h.scheme->name, worst);
+    free(fine);
+    st_hier_free(&h);
+}

@@ -46,4 +46,7 @@ void tl_check_local_equals_full(st_scheme_id id, void (*make)(st_mesh *), unsign
 void tl_check_rigid_motion(st_scheme_id id, void (*make)(st_mesh *), unsigned levels);
 /* An edit at level 1 keeps the finest level's details bit for bit. */
 void tl_check_details_kept(st_scheme_id id, void (*make)(st_mesh *), unsigned levels);
+/* An exact subdivision analyses to zero details; analysis then synthesis
+ * gives back the finest level with random details (1e-9). */
+void tl_check_analysis(st_scheme_id id, void (*make)(st_mesh *), unsigned levels);
 #endif
