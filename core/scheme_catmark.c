@@ -478,7 +478,7 @@ static uint64_t face_block(fast_level *x, uint32_t first)
     for (uint32_t d = first; d < first + ST_POOL_BLOCK; d++) {
         if (!is_live(ins, d)) continue; /* free ids hold no relation */
         names[n] = d;
-        n += !is_hole(x, d) & (ins[c_beta0(x, d)] < x->l);
+        n += (unsigned)!is_hole(x, d) & (unsigned)(ins[c_beta0(x, d)] < x->l); /* branch-free on purpose */
     }
     for (uint32_t i = 0; i < n; i++) {
         unsigned k = face_from_new_dart(x, names[i]);
