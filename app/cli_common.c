@@ -1,6 +1,7 @@
 /* Shared option parsing and loading for the subcommands. */
 #include "cli_common.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -66,6 +67,22 @@ int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
         fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);
         st_hier_free(h);
         return 1;
+    }
+    return 0;
+}
+
+int st_cli_parse_box(const char *s, double lo[3], double hi[3])
+{
+    double v[6];
+    char *end;
+    for (int k = 0; k < 6; k++) {
+        v[k] = strtod(s, &end);
+        if (end == s || !isfinite(v[k]) || (k < 5 && *end != ',') || (k == 5 && *end)) return -1;
+        s = end + 1;
+    }
+    for (int k = 0; k < 3; k++) {
+        lo[k] = v[k] < v[k + 3] ? v[k] : v[k + 3];
+        hi[k] = v[k] < v[k + 3] ? v[k + 3] : v[k];
     }
     return 0;
 }

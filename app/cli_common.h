@@ -15,4 +15,7 @@ int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd);
 /* Loads o->in and builds the hierarchy to o->levels; prints errors. */
 int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd);
 
+/* Parses "x0,y0,z0,x1,y1,z1" into sorted corners; -1 when malformed. */
+int st_cli_parse_box(const char *s, double lo[3], double hi[3]);
+
 #endif

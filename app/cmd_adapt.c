@@ -13,17 +13,7 @@
 
 static int parse_box(const char *s, st_adapt_params *p)
 {
-    double v[6];
-    char *end;
-    for (int k = 0; k < 6; k++) {
-        v[k] = strtod(s, &end);
-        if (end == s || (k < 5 && *end != ',') || (k == 5 && *end)) return -1;
-        s = end + 1;
-    }
-    for (int k = 0; k < 3; k++) {
-        p->box_lo[k] = v[k] < v[k + 3] ? v[k] : v[k + 3];
-        p->box_hi[k] = v[k] < v[k + 3] ? v[k + 3] : v[k];
-    }
+    if (st_cli_parse_box(s, p->box_lo, p->box_hi)) return -1;
     p->has_box = 1;
     return 0;
 }

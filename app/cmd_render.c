@@ -14,6 +14,7 @@
 #include <strings.h>
 
 #include "image.h"
+#include "adapt.h"
 #include "offscreen.h"
 
 #define DEFAULT_W 800
@@ -23,6 +24,8 @@ typedef struct render_opts {
     st_render_spec spec;
     int width, height;
     int view_given, orbit_given;
+    int adaptive;               /* --box / --base-level / --max-level given */
+    st_adapt_params adapt;
 } render_opts;
 
 /* ---- render-only options ---------------------------------------------------- */
@@ -84,13 +87,46 @@ static int parse_size(render_opts *r, const char *v)
     return 0;
 }
 
-/* Adaptive display options arrive with interest-box refinement (issue 4):
- * they slot in here and fill spec.box / base_level / max_level. */
-static int not_yet(render_opts *r, const char *v)
+/* Adaptive display: an interest-box refinement (core/adapt.h) drawn at its
+ * top level, with the box shown. */
+static int parse_box(render_opts *r, const char *v)
 {
-    (void)r; (void)v;
-    fprintf(stderr, "strata render: adaptive display (--box, --base-level, --max-level) is not built yet\n");
-    return -1;
+    if (st_cli_parse_box(v, r->adapt.box_lo, r->adapt.box_hi)) {
+        fprintf(stderr, "strata render: --box wants x0,y0,z0,x1,y1,z1, got '%s'\n", v);
+        return -1;
+    }
+    r->adapt.has_box = 1;
+    r->adaptive = 1;
+    for (int k = 0; k < 3; k++) {
+        r->spec.box[k] = (float)r->adapt.box_lo[k];
+        r->spec.box[k + 3] = (float)r->adapt.box_hi[k];
+    }
+    r->spec.has_box = 1;
+    return 0;
+}
+
+static int parse_level_option(const char *name, const char *v, unsigned *out)
+{
+    char *end;
+    long l = strtol(v, &end, 10);
+    if (end == v || *end || l < 0 || l >= ST_MAX_LEVELS) {
+        fprintf(stderr, "strata render: %s wants a level 0..%d, got '%s'\n", name, ST_MAX_LEVELS - 1, v);
+        return -1;
+    }
+    *out = (unsigned)l;
+    return 0;
+}
+
+static int parse_base_level(render_opts *r, const char *v)
+{
+    r->adaptive = 1;
+    return parse_level_option("--base-level", v, &r->adapt.base_level);
+}
+
+static int parse_max_level(render_opts *r, const char *v)
+{
+    r->adaptive = 1;
+    return parse_level_option("--max-level", v, &r->adapt.max_level);
 }
 
 static const struct {
@@ -101,9 +137,9 @@ static const struct {
     { "--orbit", parse_orbit },
     { "--mode", parse_mode },
     { "--size", parse_size },
-    { "--box", not_yet },
-    { "--base-level", not_yet },
-    { "--max-level", not_yet },
+    { "--box", parse_box },
+    { "--base-level", parse_base_level },
+    { "--max-level", parse_max_level },
 };
 
 /* Options of st_cli_parse that take a value: copied through untouched so
@@ -153,6 +189,7 @@ int st_cmd_render(int argc, char **argv)
     render_opts r;
     memset(&r, 0, sizeof r);
     r.spec = st_render_spec_default();
+    r.adapt.max_level = 3; /* as strata adapt */
     r.width = DEFAULT_W;
     r.height = DEFAULT_H;
     char **rest = malloc((size_t)(argc > 0 ? argc : 1) * sizeof *rest);
@@ -167,11 +204,23 @@ int st_cmd_render(int argc, char **argv)
     if (level > o.levels) { fprintf(stderr, "strata render: --level %u is above --levels %u\n", level, o.levels); return 2; }
     r.spec.level = level;
     r.spec.cage_level = 0;
+    if (r.adaptive) {
+        if (o.levels || o.level >= 0) { fprintf(stderr, "strata render: --levels/--level do not go with --box (the box decides the levels)\n"); return 2; }
+        if (r.adapt.base_level > r.adapt.max_level) { fprintf(stderr, "strata render: --base-level is above --max-level\n"); return 2; }
+    }
 
     st_hier h;
     int rc = st_cli_load(&o, &h, "render");
     if (rc) return rc;
     st_error err;
+    if (r.adaptive) {
+        st_adapt a;
+        rc = st_adapt_init(&a, &h, &err);
+        if (!rc) rc = st_adapt_update(&a, &r.adapt, &err);
+        st_adapt_free(&a);
+        if (rc) { fprintf(stderr, "strata render: %s: %s\n", o.in, err.msg); st_hier_free(&h); return 1; }
+        level = r.spec.level = h.map.top;
+    }
     st_offscreen off;
     unsigned char *rgba = NULL;
     rc = st_offscreen_init(&off, r.width, r.height, &err);

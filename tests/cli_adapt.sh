@@ -33,5 +33,12 @@ for args in "--box 1,2,3" "--box a,b,c,d,e,f" "--base-level 4 --max-level 2 --bo
     if "$S" adapt "$A/cube.obj" $args -o "$W/bad.obj" 2>/dev/null; then bad "accepted: $args"; else ok "refused: $args"; fi
 done
 if "$S" adapt "$A/tetrahedron.obj" --scheme sqrt3 --box 0,0,0,1,1,1 -o "$W/bad.obj" 2>"$W/err.txt"; then bad "sqrt3 adapt accepted"; else ok "refused: $(cat "$W/err.txt")"; fi
+# Adaptive display: strata render with the same box options, deterministic.
+for k in 1 2; do
+    "$S" render "$D/triangle/sphere_ico.obj" --scheme loop --box 0.5,-1,-1,2,1,1 --max-level 3 --mode wire --size 160x120 -o "$W/ico_box_$k.png" >/dev/null
+done
+if [ -s "$W/ico_box_1.png" ] && cmp -s "$W/ico_box_1.png" "$W/ico_box_2.png"; then ok "render --box: PNG written, identical on rerun"; else bad "render --box output"; fi
+if "$S" render "$A/cube.obj" --box 0,0,0,1,1,1 --levels 2 -o "$W/bad.png" 2>/dev/null; then bad "render --box with --levels accepted"; else ok "render: --box with --levels refused"; fi
+if "$S" render "$A/cube.obj" --box 0,0,0,1,1 -o "$W/bad.png" 2>/dev/null; then bad "render: short --box accepted"; else ok "render: short --box refused"; fi
 echo "$((n - fail)) passed, $fail failed"
 [ "$fail" -eq 0 ]
