@@ -66,6 +66,8 @@ for s in doo-sabin butterfly quad-triangle; do
     run 0 "^wrote" render "$ASSETS/octahedron.obj" --scheme "$s" --levels 2 --size 64x48 -o s.png
 done
 run 0 "^wrote" render "$ASSETS/open.obj" --levels 2 --mode wire --size 64x48 -o open.png
+# Adaptive display: the top level of an interest-box refinement.
+run 0 "level 3, 126 faces" render "$ASSETS/cube.obj" --box 0,0,0,1,1,1 --size 64x48 -o box.png
 
 # Bad arguments: exit 2 with a message naming the problem; bad input: exit 1.
 run 2 "--mode wants" render "$ASSETS/cube.obj" --mode shiny -o x.png
@@ -80,7 +82,9 @@ run 2 "needs a value" render "$ASSETS/cube.obj" -o x.png --mode
 run 2 "-o OUT.png is required" render "$ASSETS/cube.obj"
 run 2 "must be a \.png" render "$ASSETS/cube.obj" -o x.jpg
 run 2 "above --levels" render "$ASSETS/cube.obj" --levels 1 --level 3 -o x.png
-run 2 "not built yet" render "$ASSETS/cube.obj" --box 0,0,0,1,1,1 -o x.png
+run 2 "--box wants" render "$ASSETS/cube.obj" --box 0,0,0,1,1 -o x.png
+run 2 "do not go with --box" render "$ASSETS/cube.obj" --box 0,0,0,1,1,1 --levels 2 -o x.png
+run 2 "--base-level is above" render "$ASSETS/cube.obj" --box 0,0,0,1,1,1 --base-level 3 --max-level 1 -o x.png
 run 2 "unknown or incomplete option" render "$ASSETS/cube.obj" --frobnicate -o x.png
 run 2 "unknown scheme" render "$ASSETS/cube.obj" --scheme nurbs -o x.png
 run 1 "cannot open|No such file" render "$TMP/missing.obj" -o x.png
