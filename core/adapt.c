@@ -211,12 +211,23 @@ int st_adapt_init(st_adapt *a, st_hier *h, st_error *err)
     if (id == ST_SCHEME_SQRT3 || id == ST_SCHEME_DOOSABIN)
         return st_fail(err, ST_ERR_INVALID, "adaptive refinement of %s is not implemented yet (Catmull-Clark, Loop, "
                        "Butterfly and quad/triangle are)", h->scheme->name);
+    /* The base faces (level 0 never changes while adapting): one dart each. */
+    st_map *m = &h->map;
+    int fb = st_marker_reserve(m);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, 0, &it); d != ST_NIL; d = st_dart_next(m, 0, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fb, d)) continue;
+        st_mark_face(m, fb, d, 0);
+        st_dart_list_push(&a->base_faces, d);
+    }
+    st_marker_release(m, fb, 0);
     return ST_OK;
 }
 
 void st_adapt_free(st_adapt *a)
 {
     free(a->saved);
+    st_dart_list_free(&a->base_faces);
     memset(a, 0, sizeof *a);
 }
 
@@ -327,6 +338,7 @@ static int restrict_neighbours(st_adapt *a, uint32_t d, unsigned i, st_error *er
                         /* Walk the coarser face from a dart that exists at its level. */
                         uint32_t z = y;
                         while (m->darts.ins[z] > j) z = st_phi1(m, z, i);
+                        a->forced++;
                         int rc = st_adapt_subdivide_face(a, z, j, 1, err);
                         if (rc) return rc;
                         again = 1;
@@ -630,36 +642,148 @@ static void faces_of_level(st_map *m, unsigned l, st_dart_list *out)
     st_marker_release(m, fb, l);
 }
 
+/* ---- incremental updates --------------------------------------------------------
+ * A face's wanted level depends only on its geometry and the box, so when
+ * only the box moves, only faces near the old or the new box can change.
+ * Children stay near their parents, so the visit starts from the base faces
+ * near either box (grown by their own size), grown by three rings so that
+ * faces refined only because the restriction forced them are visited too,
+ * and descends through subdivided faces only. */
+
+static int boxes_only_moved(const st_adapt *a, const st_adapt_params *p)
+{
+    const st_adapt_params *q = &a->prev;
+    return a->has_prev && q->has_box && p->has_box && q->base_level == p->base_level && q->max_level == p->max_level &&
+           q->falloff == p->falloff && q->flatness == 0 && p->flatness == 0 && q->no_restriction == p->no_restriction;
+}
+
+/* Base faces near either box, then three rings around them. */
+static void region_roots(st_adapt *a, const st_adapt_params *q, const st_adapt_params *p, st_dart_list *roots)
+{
+    st_map *m = &a->h->map;
+    double lo[3], hi[3], grow = p->falloff > 0 ? p->falloff * p->max_level : 0;
+    for (int k = 0; k < 3; k++) {
+        lo[k] = fmin(q->box_lo[k], p->box_lo[k]) - grow;
+        hi[k] = fmax(q->box_hi[k], p->box_hi[k]) + grow;
+    }
+    st_dart_list seeds = { 0 };
+    const st_dart_list *base = &a->base_faces;
+    for (uint32_t k = 0; k < base->n; k++) {
+        double flo[3], fhi[3], size = 0;
+        face_bbox(m, base->d[k], 0, flo, fhi);
+        for (int j = 0; j < 3; j++) size = fmax(size, fhi[j] - flo[j]);
+        int hit = 1;
+        for (int j = 0; j < 3; j++) hit &= flo[j] - size <= hi[j] && fhi[j] + size >= lo[j];
+        if (!hit) continue;
+        uint32_t x = base->d[k];
+        do { st_dart_list_push(&seeds, x); x = st_phi1(m, x, 0); } while (x != base->d[k]);
+    }
+    roots->n = 0;
+    /* Forced refinement spreads one face per level, and faces double in size
+     * per level toward the base: its reach in base faces is a geometric sum,
+     * under 2 rings; 3 leave a margin. */
+    if (seeds.n) st_region_faces(m, 0, seeds.d, seeds.n, 3, roots);
+    st_dart_list_free(&seeds);
+}
+
+/* The sub-faces (level lev+1) of the subdivided faces of `cur` (level lev):
+ * corner sub-faces hold their parent's darts; a triangle split adds the
+ * central triangle, across the corner triangle's inner edge. */
+static void children(st_adapt *a, const st_dart_list *cur, unsigned lev, st_dart_list *out)
+{
+    st_map *m = &a->h->map;
+    enum st_split_mode mode = split_mode(a->h);
+    out->n = 0;
+    for (uint32_t k = 0; k < cur->n; k++) {
+        uint32_t d = cur->d[k];
+        if (!st_dart_live(m, d) || st_face_level(m, d, lev) != lev || !st_face_is_subdivided(m, d, lev)) continue;
+        unsigned n = 0;
+        uint32_t x = d;
+        do { st_dart_list_push(out, x); n++; x = st_phi1(m, x, lev); } while (x != d);
+        if (mode == ST_SPLIT_TRI || (mode == ST_SPLIT_MIXED && n == 3))
+            st_dart_list_push(out, st_beta0(m, st_phi1(m, d, lev + 1), lev + 1));
+    }
+}
+
+/* Algorithm 5 over the region: level by level, the faces to visit at i+1
+ * are the children of those visited at i (including the ones just made). */
+static int refine_region(st_adapt *a, const st_dart_list *roots, const st_adapt_params *p, st_error *err)
+{
+    st_map *m = &a->h->map;
+    st_dart_list cur = { 0 }, next = { 0 };
+    for (uint32_t k = 0; k < roots->n; k++) st_dart_list_push(&cur, roots->d[k]);
+    int rc = ST_OK;
+    for (unsigned i = 0; i < p->max_level && i <= m->top && !rc; i++) {
+        for (uint32_t k = 0; k < cur.n && !rc; k++) {
+            uint32_t d = cur.d[k];
+            if (!st_dart_live(m, d) || st_face_level(m, d, i) != i || st_face_is_subdivided(m, d, i)) continue;
+            if (wanted_level(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
+        }
+        children(a, &cur, i, &next);
+        st_dart_list t = cur; cur = next; next = t;
+    }
+    st_dart_list_free(&cur);
+    st_dart_list_free(&next);
+    return rc;
+}
+
 int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
 {
     st_map *m = &a->h->map;
     int restricted = !p->no_restriction;
-    st_dart_list faces = { 0 };
+    st_dart_list faces = { 0 }, roots = { 0 };
+    const st_dart_list *region = NULL;
+    if (boxes_only_moved(a, p)) {
+        region_roots(a, &a->prev, p, &roots);
+        region = &roots;
+    }
     a->touched = 0;
     int rc = ST_OK;
-    /* Algorithm 5: refine, coarse to fine; again while the restriction made
-     * new faces at levels already passed. */
-    for (uint64_t before = ~0ull; before != a->touched && !rc;) {
-        before = a->touched;
-        for (unsigned i = 0; i < p->max_level && i <= m->top && !rc; i++) {
-            faces_of_level(m, i, &faces);
-            for (uint32_t k = 0; k < faces.n && !rc; k++) {
-                uint32_t d = faces.d[k];
-                if (st_face_level(m, d, i) != i || st_face_is_subdivided(m, d, i)) continue;
-                if (wanted_level(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, restricted, err);
+    /* Algorithm 5: refine, coarse to fine; again while the restriction forced
+     * faces at levels already passed. */
+    for (uint64_t forced = 1; forced && !rc;) {
+        a->forced = 0;
+        if (region) rc = refine_region(a, region, p, err);
+        else
+            for (unsigned i = 0; i < p->max_level && i <= m->top && !rc; i++) {
+                faces_of_level(m, i, &faces);
+                for (uint32_t k = 0; k < faces.n && !rc; k++) {
+                    uint32_t d = faces.d[k];
+                    if (st_face_level(m, d, i) != i || st_face_is_subdivided(m, d, i)) continue;
+                    if (wanted_level(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, restricted, err);
+                }
             }
-        }
+        forced = a->forced;
     }
-    /* Algorithm 6: simplify, fine to coarse. */
+    /* Algorithm 6: simplify, fine to coarse.  In a region, the faces of each
+     * level are listed once, top-down, before anything is simplified: a
+     * simplification at level j > i deletes only darts inserted above i, so
+     * the lists of the coarser levels stay valid. */
+    st_dart_list *levels = NULL;
+    if (region && !rc) {
+        levels = calloc(m->top + 1, sizeof *levels);
+        if (!levels) rc = st_fail(err, ST_ERR_MEMORY, "adapt: out of memory");
+        for (uint32_t k = 0; !rc && k < region->n; k++) st_dart_list_push(&levels[0], region->d[k]);
+        for (unsigned i = 0; !rc && i < m->top; i++) children(a, &levels[i], i, &levels[i + 1]);
+    }
     for (unsigned i = m->top; i-- > 0 && !rc;) {
-        faces_of_level(m, i, &faces);
+        if (levels) { faces.n = 0; for (uint32_t k = 0; k < levels[i].n; k++) st_dart_list_push(&faces, levels[i].d[k]); }
+        else faces_of_level(m, i, &faces);
         for (uint32_t k = 0; k < faces.n && !rc; k++) {
             uint32_t d = faces.d[k];
+            if (!st_dart_live(m, d) || st_face_level(m, d, i) != i) continue;
             if (wanted_level(m, d, i, p) > i || !st_adapt_can_simplify(a, d, i, restricted)) continue;
             rc = st_adapt_simplify_face(a, d, i, err);
         }
     }
+    if (levels) {
+        for (unsigned i = 0; i <= m->top; i++) st_dart_list_free(&levels[i]);
+        free(levels);
+    }
     st_dart_list_free(&faces);
+    st_dart_list_free(&roots);
+    a->prev = *p;
+    a->has_prev = !rc;
     return rc;
 }
 
@@ -677,6 +801,7 @@ static void resynth_sink(void *ctx, const st_stencil *s)
 
 void st_adapt_synthesize(st_adapt *a, unsigned from)
 {
+    a->has_prev = 0; /* the geometry changed: the next update visits everything */
     st_hier *h = a->h;
     st_map *m = &h->map;
     st_dart_list faces = { 0 }, sub = { 0 };

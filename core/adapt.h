@@ -34,6 +34,7 @@
 #define ST_ADAPT_H
 
 #include "hier.h"
+#include "hier_internal.h" /* st_dart_list */
 
 int st_edge_is_split(const st_map *m, uint32_t d, unsigned i);
 /* Subdivision level of the face of d in the map of level l. */
@@ -63,6 +64,10 @@ typedef struct st_adapt {
     st_adapt_saved *saved;   /* sorted by (path, meta) */
     uint32_t nsaved, capsaved;
     uint64_t touched;        /* faces subdivided or simplified by the last update */
+    uint64_t forced;         /* coarser faces subdivided by the restriction in the current pass */
+    st_adapt_params prev;    /* criteria of the last update */
+    int has_prev;            /* prev is valid and the geometry has not changed since */
+    st_dart_list base_faces; /* one dart per base face */
 } st_adapt;
 
 int st_adapt_init(st_adapt *a, st_hier *h, st_error *err);
@@ -79,7 +84,11 @@ int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted);
  * neighbour needs; keeps the removed vertices' details. */
 int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err);
 
-/* Algorithms 5 then 6 with the criteria of p.  Returns ST_OK. */
+/* Algorithms 5 then 6 with the criteria of p.  When only the box moved since
+ * the last update (same levels, falloff and restriction, no flatness
+ * criterion, no edit in between), only the faces that descend from the base
+ * faces near the old or the new box are visited (incremental update); the
+ * result is the same as a full update. */
 int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err);
 
 /* Synthesis of an adaptive hierarchy from level `from`: every vertex of a

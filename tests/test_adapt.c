@@ -218,6 +218,52 @@ static void check_detail_round_trip(st_scheme_id id, void (*make)(st_mesh *), un
     st_hier_free(&h);
 }
 
+/* The incremental update (box moved, nothing else changed) gives the same
+ * mesh as a full update, along a random walk of the box. */
+static void check_incremental(st_scheme_id id, void (*make)(st_mesh *), unsigned max, double extent)
+{
+    st_hier h, g;
+    st_adapt a, b;
+    st_error err;
+    tl_init_hier(&h, make, id, 0);
+    tl_init_hier(&g, make, id, 0);
+    CHECK(st_adapt_init(&a, &h, &err) == ST_OK && st_adapt_init(&b, &g, &err) == ST_OK);
+    uint64_t rng = 77 + id;
+    double c[3] = { 0.5 * extent, 0, 0 };
+    for (int step = 0; step < 16; step++) {
+        for (int k = 0; k < 3; k++) c[k] += 0.15 * extent * ((double)(tl_rand(&rng) % 2001) / 1000.0 - 1.0);
+        st_adapt_params p = box_params(c[0], c[1], c[2], 0.3 * extent, 0, max);
+        p.falloff = step % 3 ? 0 : 0.2 * extent;
+        CHECK(st_adapt_update(&a, &p, &err) == ST_OK);
+        b.has_prev = 0; /* force the full update */
+        CHECK(st_adapt_update(&b, &p, &err) == ST_OK);
+        st_mesh s, t;
+        st_mesh_init(&s);
+        st_mesh_init(&t);
+        CHECK(st_adapt_mesh(&a, &s, &err) == ST_OK && st_adapt_mesh(&b, &t, &err) == ST_OK);
+        double worst = 0;
+        for (uint32_t v = 0; v < s.nverts; v++) {
+            double best = INFINITY;
+            for (uint32_t w = 0; w < t.nverts; w++) {
+                double d = 0;
+                for (int k = 0; k < 3; k++) d += (s.pos[3 * v + k] - t.pos[3 * w + k]) * (s.pos[3 * v + k] - t.pos[3 * w + k]);
+                best = fmin(best, d);
+            }
+            worst = fmax(worst, sqrt(best));
+        }
+        CHECKF(s.nfaces == t.nfaces && s.nverts == t.nverts && worst < 1e-12,
+               "%s step %d: incremental %u faces / %u verts, full %u / %u, max distance %g", h.scheme->name, step,
+               s.nfaces, s.nverts, t.nfaces, t.nverts, worst);
+        valid(&h.map, "incremental update");
+        st_mesh_free(&s);
+        st_mesh_free(&t);
+    }
+    st_adapt_free(&a);
+    st_adapt_free(&b);
+    st_hier_free(&h);
+    st_hier_free(&g);
+}
+
 int main(void)
 {
     struct { st_scheme_id id; void (*make)(st_mesh *); int closed; unsigned max; double extent; } cases[] = {
@@ -231,6 +277,7 @@ int main(void)
         check_random_moves(cases[i].id, cases[i].make, cases[i].closed, cases[i].max, cases[i].extent);
         check_matches_regular(cases[i].id, cases[i].make, cases[i].max, cases[i].extent);
         check_detail_round_trip(cases[i].id, cases[i].make, 1, cases[i].extent);
+        check_incremental(cases[i].id, cases[i].make, cases[i].max, cases[i].extent);
     }
     return TEST_END();
 }
