@@ -414,27 +414,6 @@ static void test_lagrange_sphere(void)
 
 /* ---- multiresolution ------------------------------------------------------------ */
 
-typedef struct snap { uint32_t n; unsigned levels; double *p; } snap;
-
-static void take(const st_hier *h, snap *s)
-{
-    s->levels = h->map.top + 1;
-    s->n = h->map.verts.end;
-    s->p = calloc((size_t)s->levels * s->n * 3 + 1, sizeof *s->p);
-    for (unsigned l = 0; l < s->levels; l++) {
-        st_dart_iter it;
-        for (uint32_t v = st_vertex_first(&h->map, l, &it); v != ST_NIL; v = st_vertex_next(&h->map, l, &it))
-            memcpy(s->p + ((size_t)l * s->n + v) * 3, st_pos(&h->map, v, l), 3 * sizeof(double));
-    }
-}
-
-static double diff(const snap *a, const snap *b)
-{
-    double m = 0;
-    for (size_t i = 0; i < (size_t)a->levels * a->n * 3; i++) m = fmax(m, fabs(a->p[i] - b->p[i]));
-    return m;
-}
-
 /* Stronger than tl_check_local_equals_full: every vertex of levels
  * 0..levels-1, one at a time, moved and re-synthesised locally, must give
  * the full synthesis (this is what fixes support_rings, boundaries
@@ -459,11 +438,11 @@ static void check_every_vertex_local(const char *name, void (*make)(st_mesh *), 
             memcpy(p[0], st_dart_pos(&h.map, verts.d[i], l), sizeof p[0]);
             p[0][0] += 0.031; p[0][1] -= 0.017; p[0][2] += 0.05;
             st_hier_move(&h, l, &verts.d[i], (const double (*)[3])p, 1);
-            snap a, b;
-            take(&h, &a);
+            tl_posnap a, b;
+            tl_snap_pos(&h, &a);
             st_hier_synthesize(&h, l);
-            take(&h, &b);
-            double dd = diff(&a, &b);
+            tl_snap_pos(&h, &b);
+            double dd = tl_snap_maxdiff(&a, &b);
             if (dd > worst) worst = dd;
             CHECKF(dd < 1e-12, "%s: moving vertex %u at level %u: local and full differ by %g", name,
                    st_vert(&h.map, verts.d[i], l), l, dd);

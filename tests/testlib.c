@@ -136,10 +136,7 @@ void tl_init_hier(st_hier *h, void (*make)(st_mesh *), st_scheme_id id, unsigned
     CHECKF(rc == ST_OK, "%s", err.msg);
 }
 
-/* Positions of every vertex at every level, indexed [level][vertex id]. */
-typedef struct posnap { unsigned levels; uint32_t n; double *p; } posnap;
-
-static void snap_pos(const st_hier *h, posnap *s)
+void tl_snap_pos(const st_hier *h, tl_posnap *s)
 {
     s->levels = h->map.top + 1;
     s->n = h->map.verts.end;
@@ -151,7 +148,7 @@ static void snap_pos(const st_hier *h, posnap *s)
     }
 }
 
-static double snap_maxdiff(const posnap *a, const posnap *b)
+double tl_snap_maxdiff(const tl_posnap *a, const tl_posnap *b)
 {
     double m = 0;
     for (size_t i = 0; i < (size_t)a->levels * a->n * 3; i++) m = fmax(m, fabs(a->p[i] - b->p[i]));
@@ -205,11 +202,11 @@ void tl_check_local_equals_full(st_scheme_id id, void (*make)(st_mesh *), unsign
             if (!dup) { darts[n] = darts[k]; memcpy(pos[n], pos[k], sizeof pos[k]); n++; }
         }
         uint64_t count = st_hier_move(&h, l, darts, (const double (*)[3])pos, n);
-        posnap local, full;
-        snap_pos(&h, &local);
+        tl_posnap local, full;
+        tl_snap_pos(&h, &local);
         st_hier_synthesize(&h, l);
-        snap_pos(&h, &full);
-        double diff = snap_maxdiff(&local, &full);
+        tl_snap_pos(&h, &full);
+        double diff = tl_snap_maxdiff(&local, &full);
         CHECKF(diff < 1e-12, "%s: edit at level %u: local and full synthesis differ by %g", h.scheme->name, l, diff);
         for (int k = 0; k < (int)n; k++) {
             const double *p = st_dart_pos(&h.map, darts[k], l);
@@ -236,8 +233,8 @@ void tl_check_rigid_motion(st_scheme_id id, void (*make)(st_mesh *), unsigned le
     uint64_t rng = 777 + id;
     tl_init_hier(&h, make, id, levels);
     tl_random_details(&h, &rng, 0.02);
-    posnap before;
-    snap_pos(&h, &before);
+    tl_posnap before;
+    tl_snap_pos(&h, &before);
     double c = cos(0.7), s = sin(0.7), t[3] = { 0.3, -1.2, 2.5 };
     st_dart_list darts = { 0 };
     int vb = st_marker_reserve(&h.map);

@@ -49,4 +49,9 @@ void tl_check_details_kept(st_scheme_id id, void (*make)(st_mesh *), unsigned le
 /* An exact subdivision analyses to zero details; analysis then synthesis
  * gives back the finest level with random details (1e-9). */
 void tl_check_analysis(st_scheme_id id, void (*make)(st_mesh *), unsigned levels);
+/* Positions of every vertex at every level, indexed [level][vertex id];
+ * free p when done. */
+typedef struct tl_posnap { unsigned levels; uint32_t n; double *p; } tl_posnap;
+void tl_snap_pos(const st_hier *h, tl_posnap *s);
+double tl_snap_maxdiff(const tl_posnap *a, const tl_posnap *b);
 #endif
