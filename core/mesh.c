@@ -121,6 +121,24 @@ int st_mesh_parse_double(const char *s, size_t len, double *out)
     return 0;
 }
 
+int st_text_is_blank(char c)
+{
+    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+int st_text_token(const char **q, const char *le, const char **tok, size_t *len)
+{
+    const char *p = *q;
+    while (p < le && st_text_is_blank(*p)) p++;
+    if (p == le || *p == '#') { *q = p; return 0; }
+    const char *s = p;
+    while (p < le && !st_text_is_blank(*p) && *p != '#') p++;
+    *tok = s;
+    *len = (size_t)(p - s);
+    *q = p;
+    return 1;
+}
+
 int st_mesh_parse_int(const char *s, size_t len, int64_t *out)
 {
     size_t i = 0;

@@ -129,6 +129,11 @@ uint32_t st_mesh_face_repeat(const uint32_t *idx, uint32_t n, uint32_t *scratch)
  * 0 on success, -1 if [s, s+len) is not entirely one number. */
 int st_mesh_parse_double(const char *s, size_t len, double *out);
 int st_mesh_parse_int(const char *s, size_t len, int64_t *out);
+/* Text readers (OBJ, OFF): blanks are space, tab, CR, VT, FF.  Next token of
+ * the line [*q, le): skips blanks; 0 at the line's end or at a '#' comment;
+ * a '#' also ends a token. */
+int st_text_is_blank(char c);
+int st_text_token(const char **q, const char *le, const char **tok, size_t *len);
 /* Fails with "name:LOC: problem" (LOC a line number) or, for binary files,
  * "name: byte LOC: problem"; returns code. */
 int st_mesh_fail_at(st_error *err, int code, const char *name, int binary, uint64_t loc,

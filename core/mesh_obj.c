@@ -47,22 +47,12 @@ typedef struct obj_reader {
 
 /* ---- tokens --------------------------------------------------------------- */
 
-static int is_space(char c)
-{
-    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
 
 /* Next whitespace-separated token of the current line; 0 at the end of the
  * line or at a '#' comment. */
 static int next_token(obj_reader *r, const char **tok, size_t *len)
 {
-    while (r->q < r->le && is_space(*r->q)) r->q++;
-    if (r->q == r->le || *r->q == '#') return 0;
-    const char *s = r->q;
-    while (r->q < r->le && !is_space(*r->q)) r->q++;
-    *tok = s;
-    *len = (size_t)(r->q - s);
-    return 1;
+    return st_text_token(&r->q, r->le, tok, len);
 }
 
 static int token_is(const char *tok, size_t len, const char *word)
@@ -98,8 +88,8 @@ static int ensure_tmp(obj_reader *r, size_t need)
 /* The keyword of a line starting at p: returns 'v' for "v", 'f' for "f". */
 static char line_kind(const char *p, const char *le)
 {
-    while (p < le && is_space(*p)) p++;
-    if (p < le && (*p == 'v' || *p == 'f') && (p + 1 == le || is_space(p[1]))) return *p;
+    while (p < le && st_text_is_blank(*p)) p++;
+    if (p < le && (*p == 'v' || *p == 'f') && (p + 1 == le || st_text_is_blank(p[1]))) return *p;
     return 0;
 }
 

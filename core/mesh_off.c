@@ -34,20 +34,10 @@ typedef struct off_reader {
 
 #define FAIL(r, code, ...) st_mesh_fail_at((r)->err, (code), (r)->name, 0, (r)->line, __VA_ARGS__)
 
-static int is_space(char c)
-{
-    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
 
 static int next_token(off_reader *r, const char **tok, size_t *len)
 {
-    while (r->q < r->le && is_space(*r->q)) r->q++;
-    if (r->q == r->le || *r->q == '#') return 0;
-    const char *s = r->q;
-    while (r->q < r->le && !is_space(*r->q) && *r->q != '#') r->q++;
-    *tok = s;
-    *len = (size_t)(r->q - s);
-    return 1;
+    return st_text_token(&r->q, r->le, tok, len);
 }
 
 /* Moves to the next line holding a token; 0 at the end of the file. */
