@@ -15,13 +15,8 @@
 set -u
 EXE=$1 MESHES=$2 ASSETS=$3 BIN=$4
 TOL=1e-6
+. "$(dirname "$0")/oracle_lib.sh"
 
-find_oracle() {
-    for d in "$BIN/oracles" "$BIN/../oracles"; do
-        if [ -x "$d/$1" ]; then echo "$d/$1"; return 0; fi
-    done
-    return 1
-}
 OM=$(find_oracle openmesh_oracle) || { echo "note: openmesh_oracle not built, $0 skipped"; exit 0; }
 DIFF=$(find_oracle pointset_diff) || { echo "note: pointset_diff not built, $0 skipped"; exit 0; }
 
@@ -30,19 +25,6 @@ trap 'rm -rf "$TMP"' EXIT
 failures=0
 cases=0
 
-compare() {
-    local out rc err faces
-    out=$("$DIFF" "$2" "$3" --tol "$TOL" 2>&1); rc=$?
-    cases=$((cases + 1))
-    err=$(sed -n 's/.*max_nn_rel=\([^ ]*\).*/\1/p' <<<"$out")
-    faces=$(sed -n 's/.*faces A=\([0-9]*\) B=\([0-9]*\).*/\1\/\2/p' <<<"$out")
-    if [ $rc -eq 0 ]; then
-        printf 'ok    %-50s max_nn_rel=%s faces=%s\n' "$1" "$err" "$faces"
-    else
-        printf 'FAIL  %-50s %s\n' "$1" "$out"
-        failures=$((failures + 1))
-    fi
-}
 
 # run_case MESH LEVELS [BOUNDARY]: strata levels 1..LEVELS vs OpenMesh.
 run_case() {

@@ -13,14 +13,9 @@
 set -u
 EXE=$1 MESHES=$2 ASSETS=$3 BIN=$4
 TOL=1e-6
+. "$(dirname "$0")/oracle_lib.sh"
 SCHEME=loop
 
-find_oracle() {
-    for d in "$BIN/oracles" "$BIN/../oracles"; do
-        if [ -x "$d/$1" ]; then echo "$d/$1"; return 0; fi
-    done
-    return 1
-}
 OSD=$(find_oracle osd_oracle) || { echo "note: osd_oracle not built, $0 skipped"; exit 0; }
 DIFF=$(find_oracle pointset_diff) || { echo "note: pointset_diff not built, $0 skipped"; exit 0; }
 CGAL=$(find_oracle cgal_oracle) || { CGAL=; echo "note: cgal_oracle not built, CGAL comparisons skipped"; }
@@ -32,20 +27,6 @@ failures=0
 cases=0
 
 # compare LABEL OURS THEIRS: one line with the measured error.
-compare() {
-    local out rc
-    out=$("$DIFF" "$2" "$3" --tol "$TOL" 2>&1); rc=$?
-    cases=$((cases + 1))
-    local err faces
-    err=$(sed -n 's/.*max_nn_rel=\([^ ]*\).*/\1/p' <<<"$out")
-    faces=$(sed -n 's/.*faces A=\([0-9]*\) B=\([0-9]*\).*/\1\/\2/p' <<<"$out")
-    if [ $rc -eq 0 ]; then
-        printf 'ok    %-58s max_nn_rel=%s faces=%s\n' "$1" "$err" "$faces"
-    else
-        printf 'FAIL  %-58s %s\n' "$1" "$out"
-        failures=$((failures + 1))
-    fi
-}
 
 # ours MESH LEVELS BOUNDARY PREFIX: writes PREFIX_1.obj .. PREFIX_N.obj.
 ours() {

@@ -19,13 +19,8 @@ EXE=$1
 MESHES=$2
 BIN=$4
 TOL=1e-6
+. "$(dirname "$0")/oracle_lib.sh" # find_oracle
 
-find_oracle() {
-    for d in "$BIN/oracles" "$BIN/../oracles"; do
-        if [ -x "$d/$1" ]; then echo "$d/$1"; return 0; fi
-    done
-    return 1
-}
 CGAL=$(find_oracle cgal_oracle) || { echo "SKIP: cgal_oracle not built (needs CGAL 5.5; see tests/oracles)"; exit 0; }
 OM=$(find_oracle openmesh_oracle) || { echo "SKIP: openmesh_oracle not built (needs OpenMesh 9; see tests/oracles)"; exit 0; }
 DIFF=$(find_oracle pointset_diff) || { echo "SKIP: pointset_diff not built"; exit 0; }
@@ -97,7 +92,7 @@ same_edges() {
 }
 
 # compare NAME IN LEVELS: levels 1..LEVELS against both libraries
-compare() {
+sqrt3_compare() {
     local name=$1 in=$2 levels=$3
     "$CGAL" "$in" --scheme sqrt3 --levels "$levels" --out-prefix "$WORK/${name}_cgal" 2> "$WORK/log" ||
         { echo "FAIL: cgal_oracle on $name"; cat "$WORK/log"; fail=1; return; }
@@ -132,15 +127,15 @@ bipyramid 16 "$WORK/bipyramid16.obj"
 bipyramid 64 "$WORK/bipyramid64.obj"
 
 # Closed meshes.
-compare sphere_ico "$MESHES/triangle/sphere_ico.obj" 4
-compare spot "$MESHES/triangle/spot_low_resolution.obj" 3
-compare bob "$MESHES/triangle/bob_small.ply" 4
-compare bipyramid16 "$WORK/bipyramid16.obj" 4
-compare bipyramid64 "$WORK/bipyramid64.obj" 3
+sqrt3_compare sphere_ico "$MESHES/triangle/sphere_ico.obj" 4
+sqrt3_compare spot "$MESHES/triangle/spot_low_resolution.obj" 3
+sqrt3_compare bob "$MESHES/triangle/bob_small.ply" 4
+sqrt3_compare bipyramid16 "$WORK/bipyramid16.obj" 4
+sqrt3_compare bipyramid64 "$WORK/bipyramid64.obj" 3
 # Open meshes: boundary refined on even levels.
-compare cube_no_bottom "$MESHES/triangle/cube_no_bottom.obj" 4
-compare hemisphere "$MESHES/triangle/hemisphere.obj" 3
-compare hand "$MESHES/triangle/hand_lowres.obj" 3
+sqrt3_compare cube_no_bottom "$MESHES/triangle/cube_no_bottom.obj" 4
+sqrt3_compare hemisphere "$MESHES/triangle/hemisphere.obj" 3
+sqrt3_compare hand "$MESHES/triangle/hand_lowres.obj" 3
 
 # The lagrange golden step (one Kobbelt √3 step of sphere.ply).
 REF="$MESHES/reference/lagrange_sqrt3"
