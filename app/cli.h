@@ -5,5 +5,9 @@ int st_cmd_info(int argc, char **argv);
 int st_cmd_subdivide(int argc, char **argv);
 int st_cmd_adapt(int argc, char **argv);
 int st_cmd_render(int argc, char **argv);
+/* app/cmd_convert.c (issue 7) */
+int st_cmd_convert(int argc, char **argv);
+/* app/cmd_window.c (issue 6): `strata [options] [FILE]` opens the modeller. */
+int st_cmd_window(int argc, char **argv);
 
 #endif

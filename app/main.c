@@ -26,22 +26,17 @@ static void usage(FILE *f)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2) { usage(stderr); return 2; }
+    if (argc < 2) return st_cmd_window(0, argv + 1);
     const char *cmd = argv[1];
     if (!strcmp(cmd, "info")) return st_cmd_info(argc - 2, argv + 2);
     if (!strcmp(cmd, "subdivide")) return st_cmd_subdivide(argc - 2, argv + 2);
     if (!strcmp(cmd, "adapt")) return st_cmd_adapt(argc - 2, argv + 2);
     if (!strcmp(cmd, "render")) return st_cmd_render(argc - 2, argv + 2);
+    if (!strcmp(cmd, "convert")) return st_cmd_convert(argc - 2, argv + 2);
     if (!strcmp(cmd, "help") || !strcmp(cmd, "--help") || !strcmp(cmd, "-h")) { usage(stdout); return 0; }
-    if (access(cmd, F_OK) == 0) {
-        /* `strata FILE` will open the modeller window (issue 6, not built
-         * yet): say so, and show what can be shown. */
-        fprintf(stderr, "strata: the interactive window is not part of this build yet; "
-                        "printing the hierarchy of %s instead (catmull-clark, 3 levels)\n", cmd);
-        char *args[] = { argv[1], "--scheme", "catmull-clark", "--levels", "3" };
-        return st_cmd_info(5, args);
-    }
-    fprintf(stderr, "strata: unknown command '%s'\n", cmd);
+    /* Anything else is the modeller: `strata [options] [FILE]`. */
+    if (cmd[0] == '-' || access(cmd, F_OK) == 0) return st_cmd_window(argc - 1, argv + 1);
+    fprintf(stderr, "strata: unknown command '%s' (and no such file)\n", cmd);
     usage(stderr);
     return 2;
 }

@@ -1,0 +1,26 @@
+# The modeller (issue 6), included from the top-level CMakeLists.txt.
+# Dependencies point one way: ui -> render -> core; core and render know
+# nothing of ui.
+file(GLOB STRATA_EDITOR_SOURCES CONFIGURE_DEPENDS
+     ${CMAKE_SOURCE_DIR}/ui/editor*.c ${CMAKE_SOURCE_DIR}/ui/brush*.c ${CMAKE_SOURCE_DIR}/ui/undo*.c)
+if(STRATA_EDITOR_SOURCES)
+  add_library(strata_editor STATIC ${STRATA_EDITOR_SOURCES})
+  target_include_directories(strata_editor PUBLIC ${CMAKE_SOURCE_DIR}/ui)
+  target_link_libraries(strata_editor PUBLIC strata_core)
+endif()
+
+file(GLOB STRATA_UI_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/ui/*.c)
+if(STRATA_EDITOR_SOURCES)
+  list(REMOVE_ITEM STRATA_UI_SOURCES ${STRATA_EDITOR_SOURCES})
+endif()
+if(STRATA_UI_SOURCES)
+  find_package(PkgConfig REQUIRED)
+  pkg_check_modules(GLFW3 REQUIRED IMPORTED_TARGET glfw3)
+  add_library(strata_ui STATIC ${STRATA_UI_SOURCES})
+  target_include_directories(strata_ui PUBLIC ${CMAKE_SOURCE_DIR}/ui
+                                       PRIVATE ${STRATA_GL_INCLUDE} ${STRATA_STB_INCLUDE})
+  target_link_libraries(strata_ui PUBLIC strata_render strata_core PkgConfig::GLFW3)
+  if(TARGET strata_editor)
+    target_link_libraries(strata_ui PUBLIC strata_editor)
+  endif()
+endif()
