@@ -152,44 +152,109 @@ static int addr_equal(saved_addr a, saved_addr b) { return a.path == b.path && a
 
 static saved_addr addr_of(const st_adapt_saved *r) { saved_addr k = { r->path, r->meta }; return k; }
 
-static int64_t saved_find(const st_adapt *a, saved_addr key)
+/* The two stores of an st_adapt share one sorted-array implementation. */
+typedef struct store_ref { st_adapt_saved **r; uint32_t *n, *cap; } store_ref;
+
+static store_ref saved_store(st_adapt *a) { store_ref s = { &a->saved, &a->nsaved, &a->capsaved }; return s; }
+static store_ref parked_store(st_adapt *a) { store_ref s = { &a->parked, &a->nparked, &a->capparked }; return s; }
+
+static int64_t store_find(store_ref s, saved_addr key)
 {
-    uint32_t lo = 0, hi = a->nsaved;
+    uint32_t lo = 0, hi = *s.n;
     while (lo < hi) {
         uint32_t mid = (lo + hi) / 2;
-        if (addr_less(addr_of(&a->saved[mid]), key)) lo = mid + 1; else hi = mid;
+        if (addr_less(addr_of(&(*s.r)[mid]), key)) lo = mid + 1; else hi = mid;
     }
-    return lo < a->nsaved && addr_equal(addr_of(&a->saved[lo]), key) ? (int64_t)lo : -1 - (int64_t)lo;
+    return lo < *s.n && addr_equal(addr_of(&(*s.r)[lo]), key) ? (int64_t)lo : -1 - (int64_t)lo;
 }
 
-static void saved_put(st_adapt *a, saved_addr key, const double d[3])
+static void store_put(store_ref s, saved_addr key, const double d[3])
 {
-    int64_t at = saved_find(a, key);
-    if (at >= 0) { memcpy(a->saved[at].d, d, sizeof a->saved[at].d); return; }
+    int64_t at = store_find(s, key);
+    if (at >= 0) { memcpy((*s.r)[at].d, d, sizeof (*s.r)[at].d); return; }
     if (d[0] == 0 && d[1] == 0 && d[2] == 0) return;
     uint32_t pos = (uint32_t)(-1 - at);
-    if (a->nsaved == a->capsaved) {
-        a->capsaved = a->capsaved ? 2 * a->capsaved : 64;
-        a->saved = realloc(a->saved, a->capsaved * sizeof *a->saved);
-        if (!a->saved) abort();
+    if (*s.n == *s.cap) {
+        *s.cap = *s.cap ? 2 * *s.cap : 64;
+        *s.r = realloc(*s.r, *s.cap * sizeof **s.r);
+        if (!*s.r) abort();
     }
-    memmove(a->saved + pos + 1, a->saved + pos, (a->nsaved - pos) * sizeof *a->saved);
-    a->saved[pos].path = key.path;
-    a->saved[pos].meta = key.meta;
-    memcpy(a->saved[pos].d, d, sizeof a->saved[pos].d);
-    a->nsaved++;
+    st_adapt_saved *r = *s.r;
+    memmove(r + pos + 1, r + pos, (*s.n - pos) * sizeof *r);
+    r[pos].path = key.path;
+    r[pos].meta = key.meta;
+    memcpy(r[pos].d, d, sizeof r[pos].d);
+    (*s.n)++;
 }
 
-/* Takes a saved detail out of the store (zero when none). */
-static void saved_take(st_adapt *a, saved_addr key, double d[3])
+/* Takes a record out of the store; returns 0 (and zero) when none. */
+static int store_take(store_ref s, saved_addr key, double d[3])
 {
-    int64_t at = saved_find(a, key);
-    if (at < 0) { d[0] = d[1] = d[2] = 0; return; }
-    memcpy(d, a->saved[at].d, 3 * sizeof *d);
-    memmove(a->saved + at, a->saved + at + 1, (a->nsaved - at - 1) * sizeof *a->saved);
-    a->nsaved--;
+    int64_t at = store_find(s, key);
+    if (at < 0) { d[0] = d[1] = d[2] = 0; return 0; }
+    st_adapt_saved *r = *s.r;
+    memcpy(d, r[at].d, 3 * sizeof *d);
+    memmove(r + at, r + at + 1, (*s.n - at - 1) * sizeof *r);
+    (*s.n)--;
+    return 1;
 }
 
+/* ---- details kept in world space ------------------------------------------------
+ * A detail is stored in the local frame of a coarse cell, and that frame's
+ * tangent comes from the cell's smallest dart id (hier_synth.c).  Darts of a
+ * coarsened region are recreated with other ids, so a detail whose frame
+ * cell is taken apart is first turned into a world-space vector, with the
+ * frame it was used with, and turned back with the new frame when the cell
+ * exists again.  With the one-level restriction the cell is complete both
+ * times (every face around it at its level), so an unedited coarse surface
+ * gets back exactly its fine geometry.  (Limit: an edit of a coarser level
+ * made while a region is coarsened moves the world-space details with it
+ * but does not rotate them.)
+ *
+ * When: the detail of v at level L uses a cell of level L-1 - the edge or
+ * face v was created on when L is v's insertion level, else v's vertex cell.
+ * Simplifying a face of level i changes the level-(i+1) vertex cells of all
+ * its vertices, so their level-(i+2) details are "parked" (world space,
+ * keyed by vertex id and level) first; a removed vertex takes its parked
+ * details and its creation-level detail (converted then: that cell is of
+ * level i and stays) into the saved store.  Subdividing gives them back:
+ * the creation-level detail at once, the others parked until the vertex is
+ * placed at their level. */
+static void to_world(const st_hier *h, unsigned l, uint32_t dart, int cell, const double d[3], double w[3])
+{
+    double f[3][3];
+    st_hier_frame(h, l, dart, cell, f);
+    for (int k = 0; k < 3; k++) w[k] = d[0] * f[0][k] + d[1] * f[1][k] + d[2] * f[2][k];
+}
+
+static void from_world(const st_hier *h, unsigned l, uint32_t dart, int cell, const double w[3], double d[3])
+{
+    double f[3][3];
+    st_hier_frame(h, l, dart, cell, f);
+    for (int k = 0; k < 3; k++) d[k] = f[k][0] * w[0] + f[k][1] * w[1] + f[k][2] * w[2];
+}
+
+static saved_addr park_key(uint32_t v, unsigned level)
+{
+    saved_addr k = { v, level };
+    return k;
+}
+
+/* Parks the level-(l+1) detail of the vertex of dart d (level l). */
+static void park_detail(st_adapt *a, uint32_t d, unsigned l)
+{
+    st_hier *h = a->h;
+    unsigned at = l + 1;
+    if (at >= ST_MAX_LEVELS || !h->detail[at]) return;
+    uint32_t v = st_vert(&h->map, d, l);
+    const double *dv = st_hier_detail(h, at, v);
+    if (dv[0] == 0 && dv[1] == 0 && dv[2] == 0) return;
+    double w[3];
+    static const double zero[3] = { 0, 0, 0 };
+    to_world(h, l, d, ST_CELL_VERTEX, dv, w);
+    store_put(parked_store(a), park_key(v, at), w);
+    st_hier_set_detail(h, at, v, zero);
+}
 
 /* ---- lifetime ------------------------------------------------------------------ */
 
@@ -227,6 +292,7 @@ int st_adapt_init(st_adapt *a, st_hier *h, st_error *err)
 void st_adapt_free(st_adapt *a)
 {
     free(a->saved);
+    free(a->parked);
     st_dart_list_free(&a->base_faces);
     memset(a, 0, sizeof *a);
 }
@@ -262,33 +328,47 @@ static unsigned naming_faces(st_map *m, unsigned L, int kind, uint32_t dart, uin
 }
 
 /* Gives a vertex created at L the details kept for its address (zero when
- * none), and drops the copy kept under the other naming face. */
-static void restore_details(st_adapt *a, unsigned L, int kind, uint32_t dart, uint32_t v)
+ * none), and drops the copy kept under the other naming face.  They are
+ * world-space vectors: the level-L one is turned into the stencil's frame
+ * now (its cell, of level L-1, is complete), the finer ones are parked. */
+static void restore_details(st_adapt *a, const st_stencil *s, unsigned L, int kind)
 {
     st_map *m = &a->h->map;
-    uint32_t faces[2];
-    unsigned nf = naming_faces(m, L, kind, dart, faces);
+    uint32_t faces[2], v = s->fine;
+    unsigned nf = naming_faces(m, L, kind, s->frame_dart, faces);
     for (unsigned at = L; at < ST_MAX_LEVELS; at++) {
-        double d[3] = { 0, 0, 0 }, other[3];
+        double w[3] = { 0, 0, 0 }, other[3];
         for (unsigned k = 0; k < nf; k++) {
             saved_addr key = vertex_addr(m, faces[k], L, kind, at);
             if (key.path == PATH_NONE) continue;
-            saved_take(a, key, k == 0 ? d : other);
-            if (k == 1 && d[0] == 0 && d[1] == 0 && d[2] == 0) memcpy(d, other, sizeof d);
+            store_take(saved_store(a), key, k == 0 ? w : other);
+            if (k == 1 && w[0] == 0 && w[1] == 0 && w[2] == 0) memcpy(w, other, sizeof w);
         }
-        if (at == L || a->h->detail[at]) st_hier_set_detail(a->h, at, v, d);
+        if (at == L) {
+            double d[3];
+            from_world(a->h, L - 1, s->frame_dart, s->frame_cell, w, d);
+            st_hier_set_detail(a->h, L, v, d);
+        } else {
+            store_put(parked_store(a), park_key(v, at), w);
+        }
     }
 }
 
 /* New vertices get their saved detail back (or zero); old vertices keep the
- * detail they have at level L. */
+ * detail they have at level L, or get back the one parked for L. */
 static void place_sink(void *ctx, const st_stencil *s)
 {
     place_ctx *c = ctx;
     st_hier *h = c->a->h;
     if (was_created(c, s->fine)) {
         int kind = s->frame_cell == ST_CELL_EDGE ? KIND_EDGE : KIND_CENTRE;
-        restore_details(c->a, c->L, kind, s->frame_dart, s->fine);
+        restore_details(c->a, s, c->L, kind);
+    } else {
+        double w[3], d[3];
+        if (store_take(parked_store(c->a), park_key(s->fine, c->L), w)) {
+            from_world(h, c->L - 1, s->frame_dart, s->frame_cell, w, d);
+            st_hier_set_detail(h, c->L, s->fine, d);
+        }
     }
     double p[3];
     st_stencil_apply(h, c->L, s, p);
@@ -471,6 +551,10 @@ int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
     return 1;
 }
 
+/* Moves the details of v (created at L on the edge or face of `dart`, level
+ * L-1) into the saved store, as world-space vectors: the level-L one through
+ * its creation cell (intact: it is of level L-1), the finer ones from the
+ * parked store (their vertex cells are gone already). */
 static void save_detail(st_adapt *a, unsigned L, int kind, uint32_t dart, uint32_t v)
 {
     static const double zero[3] = { 0, 0, 0 };
@@ -479,12 +563,35 @@ static void save_detail(st_adapt *a, unsigned L, int kind, uint32_t dart, uint32
     unsigned nf = naming_faces(m, L, kind, dart, faces);
     for (unsigned at = L; at < ST_MAX_LEVELS; at++) {
         if (!a->h->detail[at]) continue;
+        double w[3];
+        if (at == L) {
+            to_world(a->h, L - 1, dart, kind == KIND_EDGE ? ST_CELL_EDGE : ST_CELL_FACE, st_hier_detail(a->h, L, v), w);
+        } else if (!store_take(parked_store(a), park_key(v, at), w)) {
+            /* Never used (no face of level at-1 around v was subdivided
+             * since it was set): kept as it is. */
+            memcpy(w, st_hier_detail(a->h, at, v), sizeof w);
+        }
         for (unsigned k = 0; k < nf; k++) {
             saved_addr key = vertex_addr(m, faces[k], L, kind, at);
-            if (key.path != PATH_NONE) saved_put(a, key, st_hier_detail(a->h, at, v));
+            if (key.path != PATH_NONE) store_put(saved_store(a), key, w);
         }
         st_hier_set_detail(a->h, at, v, zero);
     }
+}
+
+/* Before the level-(i+1) structure of a face is taken apart: park the
+ * level-(i+2) details of every vertex it has at level i+1 - corners, edge
+ * points, centre - since their vertex cells of level i+1 change. */
+static void park_face_details(st_adapt *a, const outline *o, unsigned i, int tri)
+{
+    st_map *m = &a->h->map;
+    unsigned L = i + 1;
+    if (L + 1 >= ST_MAX_LEVELS || !a->h->detail[L + 1]) return;
+    for (uint32_t k = 0; k < o->n; k++) {
+        park_detail(a, o->d[k], L);
+        park_detail(a, half_after(m, o->d[k], i), L);
+    }
+    if (!tri) park_detail(a, st_phi1(m, st_phi1(m, o->d[0], L), L), L);
 }
 
 /* Removes the inner edges of f's subdivision (the reverse of
@@ -530,7 +637,9 @@ int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     outline o = { buf, 0 };
     get_outline(m, d, i, &o);
     enum st_split_mode mode = split_mode(h);
-    int rc = remove_inner(a, &o, i, mode == ST_SPLIT_TRI || (mode == ST_SPLIT_MIXED && deg == 3), err);
+    int tri = mode == ST_SPLIT_TRI || (mode == ST_SPLIT_MIXED && deg == 3);
+    park_face_details(a, &o, i, tri);
+    int rc = remove_inner(a, &o, i, tri, err);
     if (rc) return rc;
     /* Unsplit the edges whose other side is not subdivided toward L. */
     for (uint32_t k = 0; k < o.n; k++) {

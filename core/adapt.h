@@ -24,12 +24,14 @@
  * Simplification keeps the detail vectors of the vertices it removes, at
  * every level, under the vertex's address in the refinement tree (adapt.c:
  * level-0 dart plus child indices, so recreated darts find them again), and
- * gives them back when the region is refined again.  Known limit: local
- * frames take their tangent from the smallest dart id of the coarse cell
- * (hier_synth.c); darts recreated by a coarsening get other ids, so details
- * more than one level above a coarsened face come back rotated.  Exact round
- * trips hold one level deep; an id-free choice of the frame's first dart is
- * the planned fix. */
+ * gives them back when the region is refined again.  Local frames take their
+ * tangent from the smallest dart id of the coarse cell (hier_synth.c) and a
+ * coarsened region's darts come back with other ids, so a detail whose frame
+ * cell is taken apart is kept as a world-space vector and turned back into
+ * the new frame when the cell is complete again: with the restriction on,
+ * an unedited coarse surface gets exactly its fine geometry back at every
+ * depth.  (An edit of a coarser level made while a region is coarsened
+ * carries those details along but does not rotate them.) */
 #ifndef ST_ADAPT_H
 #define ST_ADAPT_H
 
@@ -61,8 +63,11 @@ typedef struct st_adapt_saved {
 
 typedef struct st_adapt {
     st_hier *h;
-    st_adapt_saved *saved;   /* sorted by (path, meta) */
+    st_adapt_saved *saved;   /* sorted by (path, meta); d in world space */
     uint32_t nsaved, capsaved;
+    st_adapt_saved *parked;  /* details of live vertices whose frame cell was taken apart:
+                                path = vertex id, meta = level, d in world space (adapt.c) */
+    uint32_t nparked, capparked;
     uint64_t touched;        /* faces subdivided or simplified by the last update */
     uint64_t forced;         /* coarser faces subdivided by the restriction in the current pass */
     st_adapt_params prev;    /* criteria of the last update */
