@@ -1,5 +1,6 @@
 /* Shared option parsing and loading for the subcommands. */
 #include "cli_common.h"
+#include "mesh_any.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -55,7 +56,7 @@ int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
     st_error err;
     st_notes notes = { 0 };
     st_mesh_init(&mesh);
-    if (st_mesh_load_notes(o->in, &mesh, &notes, &err)) { fprintf(stderr, "strata: %s\n", err.msg); st_notes_free(&notes); return 1; }
+    if (st_any_mesh_load(o->in, &mesh, &notes, &err)) { fprintf(stderr, "strata: %s\n", err.msg); st_notes_free(&notes); return 1; }
     /* Repairs are made, and said. */
     for (uint32_t i = 0; i < notes.count; i++) fprintf(stderr, "strata: %s\n", notes.lines[i]);
     st_notes_free(&notes);

@@ -5,6 +5,7 @@
 #include "adapt.h"
 #include "cli.h"
 #include "cli_common.h"
+#include "mesh_any.h"
 #include "geom.h"
 
 #include <stdio.h>
@@ -100,7 +101,7 @@ int st_cmd_adapt(int argc, char **argv)
     if (!rc) rc = st_adapt_update(&a, &p, &err);
     if (!rc) rc = st_map_validate(&h.map, &err);
     if (!rc) rc = tri ? triangulated(&h.map, &out, &err) : st_adapt_mesh(&a, &out, &err);
-    if (!rc) rc = st_mesh_save(o.out, &out, &err);
+    if (!rc) rc = st_any_mesh_save(o.out, &out, &err);
     if (rc) fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
     else printf("%s: %u %s, %u vertices, levels 0..%u\n", o.out, out.nfaces, tri ? "triangles" : "faces", out.nverts, h.map.top);
     st_mesh_free(&out);

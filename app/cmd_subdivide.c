@@ -1,6 +1,7 @@
 /* strata subdivide IN --scheme S --levels N [--level L] [--boundary B] -o OUT */
 #include "cli.h"
 #include "cli_common.h"
+#include "mesh_any.h"
 
 #include <stdio.h>
 
@@ -18,7 +19,7 @@ int st_cmd_subdivide(int argc, char **argv)
     st_error err;
     st_mesh_init(&out);
     rc = st_hier_level_mesh(&h, level, &out, &err);
-    if (!rc) rc = st_mesh_save(o.out, &out, &err);
+    if (!rc) rc = st_any_mesh_save(o.out, &out, &err);
     if (rc) fprintf(stderr, "strata: %s\n", err.msg);
     st_mesh_free(&out);
     st_hier_free(&h);

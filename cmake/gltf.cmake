@@ -10,8 +10,9 @@ if(STRATA_GLTF_SOURCES)
     message(FATAL_ERROR "glTF needs tinygltf (libtinygltf-dev, nlohmann-json3-dev): run scripts/setup.sh")
   endif()
   add_library(strata_gltf STATIC ${STRATA_GLTF_SOURCES})
-  target_include_directories(strata_gltf PUBLIC ${CMAKE_SOURCE_DIR}/app
-                                         PRIVATE ${STRATA_TINYGLTF_INCLUDE} /usr/include/stb)
+  target_include_directories(strata_gltf PUBLIC ${CMAKE_SOURCE_DIR}/app)
+  # SYSTEM: tinygltf's own warnings must not fail -Werror builds.
+  target_include_directories(strata_gltf SYSTEM PRIVATE ${STRATA_TINYGLTF_INCLUDE} /usr/include/stb)
   target_link_libraries(strata_gltf PUBLIC strata_core)
   if(STRATA_FUZZ)
     target_compile_options(strata_gltf PRIVATE -fsanitize=fuzzer-no-link)

@@ -1,0 +1,826 @@
+// glTF 2.0 reader and writer (gltf_io.h): the one C++17 translation unit that
+// compiles tinygltf.  Everything crosses the C API with try/catch around it:
+// no exception reaches C code.
+//
+// Images are never needed: tinygltf's stb_image/stb_image_write code is left
+// out (render/image.c already compiles stb, a second copy would clash), a
+// no-op image loader accepts embedded images and external images are not
+// read at all.  File access goes through our own callbacks so that the
+// in-memory parser reads nothing from disk and file reads are bounded.
+#define TINYGLTF_IMPLEMENTATION
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include <tiny_gltf.h>
+
+#include "gltf_io.h"
+
+#include <cerrno>
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace {
+
+// Files (and external buffers) above this are refused before reading;
+// tinygltf takes sizes as unsigned int.
+const size_t kMaxFileBytes = (size_t)1 << 31;
+// Deeper JSON is refused before tinygltf sees it: its extras/extensions
+// copies recurse once per level (a stack overflow on hostile input).
+const int kMaxJsonDepth = 256;
+
+const int kModePoints = 0, kModeTriangles = 4, kModeStrip = 5, kModeFan = 6;
+
+// The error type: a message without the file name ("what: problem").
+struct Failure {
+    int code;
+    std::string msg;
+};
+
+[[noreturn]] void fail(int code, const std::string &msg) { throw Failure{code, msg}; }
+
+std::string one_line(std::string s)
+{
+    // tinygltf's messages are several lines; ours must be one.
+    for (char &c : s)
+        if (c == '\n' || c == '\r') c = ';';
+    while (!s.empty() && (s.back() == ';' || s.back() == ' ')) s.pop_back();
+    std::string out;
+    for (size_t i = 0; i < s.size(); i++) {
+        out += s[i];
+        if (s[i] == ';' && i + 1 < s.size() && s[i + 1] != ' ') out += ' ';
+    }
+    return out;
+}
+
+bool ends_with_ci(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    if (n < k) return false;
+    for (size_t i = 0; i < k; i++) {
+        char c = s[n - k + i];
+        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
+        if (c != suffix[i]) return false;
+    }
+    return true;
+}
+
+// ---- reading files ---------------------------------------------------------
+
+bool read_file(const std::string &path, std::vector<unsigned char> *out, std::string *why)
+{
+    FILE *f = fopen(path.c_str(), "rb");
+    if (!f) {
+        *why = strerror(errno);
+        return false;
+    }
+    std::vector<unsigned char> buf;
+    unsigned char chunk[65536];
+    size_t n;
+    bool ok = true;
+    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) {
+        if (buf.size() + n > kMaxFileBytes) {
+            *why = "file larger than 2 GiB";
+            ok = false;
+            break;
+        }
+        buf.insert(buf.end(), chunk, chunk + n);
+    }
+    if (ok && ferror(f)) {
+        *why = strerror(errno);
+        ok = false;
+    }
+    fclose(f);
+    if (ok) out->swap(buf);
+    return ok;
+}
+
+// tinygltf's file-system callbacks.  user_data: non-null when parsing from
+// memory, where every external URI is refused with our message.
+bool fs_exists(const std::string &, void *) { return true; }
+std::string fs_expand(const std::string &path, void *) { return path; }
+bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *in_memory)
+{
+    if (in_memory) {
+        if (err) *err = "external URIs cannot be resolved when parsing from memory (only data: URIs)";
+        return false;
+    }
+    std::string why;
+    if (read_file(path, out, &why)) return true;
+    if (err) *err = why;
+    return false;
+}
+bool fs_write(std::string *err, const std::string &, const std::vector<unsigned char> &, void *)
+{
+    if (err) *err = "writing through tinygltf is not used";
+    return false;
+}
+bool no_image(tinygltf::Image *, const int, std::string *, std::string *, int, int,
+              const unsigned char *, int, void *)
+{
+    return true;  // images are not needed for geometry
+}
+
+// Max nesting of [ and { outside strings.
+int json_depth(const unsigned char *s, size_t n)
+{
+    int depth = 0, max = 0;
+    bool in_str = false;
+    for (size_t i = 0; i < n; i++) {
+        unsigned char c = s[i];
+        if (in_str) {
+            if (c == '\\') i++;
+            else if (c == '"') in_str = false;
+        } else if (c == '"') {
+            in_str = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > max) max = depth;
+        } else if (c == ']' || c == '}') {
+            depth--;
+        }
+    }
+    return max;
+}
+
+bool is_glb(const unsigned char *d, size_t n) { return n >= 4 && memcmp(d, "glTF", 4) == 0; }
+
+// Parses bytes with tinygltf; base_dir is where external buffers are looked
+// up, or null for the in-memory parser.
+void parse_model(const unsigned char *d, size_t n, const char *base_dir, tinygltf::Model *model)
+{
+    if (n > kMaxFileBytes) fail(ST_ERR_MEMORY, "larger than 2 GiB");
+    const unsigned char *json = d;
+    size_t json_n = n;
+    if (is_glb(d, n) && n >= 20) {
+        // Only the JSON chunk's declared length, clamped to the input.
+        uint32_t len;
+        memcpy(&len, d + 12, 4);
+        json = d + 20;
+        json_n = len < n - 20 ? len : n - 20;
+    }
+    if (json_depth(json, json_n) > kMaxJsonDepth)
+        fail(ST_ERR_PARSE, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+
+    tinygltf::TinyGLTF loader;
+    tinygltf::FsCallbacks fs = {fs_exists, fs_expand, fs_read, fs_write,
+                                base_dir ? nullptr : (void *)1};
+    loader.SetFsCallbacks(fs);
+    loader.SetImageLoader(no_image, nullptr);
+    std::string err, warn;
+    bool ok = is_glb(d, n)
+                  ? loader.LoadBinaryFromMemory(model, &err, &warn, d, (unsigned)n, base_dir ? base_dir : "")
+                  : loader.LoadASCIIFromString(model, &err, &warn, (const char *)d, (unsigned)n,
+                                               base_dir ? base_dir : "");
+    if (!ok) fail(ST_ERR_PARSE, one_line(err.empty() ? "tinygltf could not parse it" : err));
+}
+
+// ---- from the model to a triangle soup ----------------------------------
+
+typedef double Mat4[16];  // column-major, as glTF
+
+void mat_identity(Mat4 m)
+{
+    for (int i = 0; i < 16; i++) m[i] = (i % 5 == 0) ? 1.0 : 0.0;
+}
+
+void mat_mul(const Mat4 a, const Mat4 b, Mat4 out)
+{
+    Mat4 r;
+    for (int c = 0; c < 4; c++)
+        for (int rr = 0; rr < 4; rr++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++) s += a[k * 4 + rr] * b[c * 4 + k];
+            r[c * 4 + rr] = s;
+        }
+    memcpy(out, r, sizeof r);
+}
+
+void node_local(const tinygltf::Node &node, int index, Mat4 out)
+{
+    std::string what = "node " + std::to_string(index);
+    if (!node.matrix.empty()) {
+        if (node.matrix.size() != 16) fail(ST_ERR_PARSE, what + ": matrix does not have 16 numbers");
+        for (int i = 0; i < 16; i++) out[i] = node.matrix[(size_t)i];
+    } else {
+        double t[3] = {0, 0, 0}, q[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};
+        if (!node.translation.empty()) {
+            if (node.translation.size() != 3) fail(ST_ERR_PARSE, what + ": translation does not have 3 numbers");
+            for (int i = 0; i < 3; i++) t[i] = node.translation[(size_t)i];
+        }
+        if (!node.rotation.empty()) {
+            if (node.rotation.size() != 4) fail(ST_ERR_PARSE, what + ": rotation does not have 4 numbers");
+            for (int i = 0; i < 4; i++) q[i] = node.rotation[(size_t)i];
+        }
+        if (!node.scale.empty()) {
+            if (node.scale.size() != 3) fail(ST_ERR_PARSE, what + ": scale does not have 3 numbers");
+            for (int i = 0; i < 3; i++) s[i] = node.scale[(size_t)i];
+        }
+        // Normalise the quaternion: files store it rounded.
+        double ql = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+        if (!(ql > 0) || !std::isfinite(ql)) fail(ST_ERR_GEOMETRY, what + ": rotation is not a unit quaternion");
+        double x = q[0] / ql, y = q[1] / ql, z = q[2] / ql, w = q[3] / ql;
+        double r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w),
+                       2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+                       2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y)};
+        mat_identity(out);
+        for (int c = 0; c < 3; c++)
+            for (int rr = 0; rr < 3; rr++) out[c * 4 + rr] = r[c * 3 + rr] * s[c];
+        for (int rr = 0; rr < 3; rr++) out[12 + rr] = t[rr];
+    }
+    for (int i = 0; i < 16; i++)
+        if (!std::isfinite(out[i])) fail(ST_ERR_GEOMETRY, what + ": transform is not finite");
+}
+
+double mat_det3(const Mat4 m)
+{
+    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
+           m[8] * (m[1] * m[6] - m[5] * m[2]);
+}
+
+// The bytes of one accessor, checked against its view and buffer.
+struct View {
+    const unsigned char *base;
+    size_t count, stride;
+};
+
+View accessor_view(const tinygltf::Model &model, int index, size_t elem_bytes)
+{
+    std::string what = "accessor " + std::to_string(index);
+    if (index < 0 || (size_t)index >= model.accessors.size())
+        fail(ST_ERR_RANGE, what + " does not exist (the file has " + std::to_string(model.accessors.size()) +
+                               " accessors)");
+    const tinygltf::Accessor &a = model.accessors[(size_t)index];
+    if (a.sparse.isSparse) fail(ST_ERR_PARSE, what + ": sparse accessors are not supported");
+    if (a.bufferView < 0) fail(ST_ERR_PARSE, what + ": no bufferView (all-zero accessors are not supported)");
+    if ((size_t)a.bufferView >= model.bufferViews.size())
+        fail(ST_ERR_RANGE, what + ": bufferView " + std::to_string(a.bufferView) + " does not exist");
+    const tinygltf::BufferView &v = model.bufferViews[(size_t)a.bufferView];
+    std::string vwhat = "bufferView " + std::to_string(a.bufferView);
+    if (v.buffer < 0 || (size_t)v.buffer >= model.buffers.size())
+        fail(ST_ERR_RANGE, vwhat + ": buffer " + std::to_string(v.buffer) + " does not exist");
+    size_t bsize = model.buffers[(size_t)v.buffer].data.size();
+    if (v.byteOffset > bsize || v.byteLength > bsize - v.byteOffset)
+        fail(ST_ERR_RANGE, vwhat + ": bytes " + std::to_string(v.byteOffset) + "+" + std::to_string(v.byteLength) +
+                               " lie beyond its buffer of " + std::to_string(bsize) + " bytes");
+    size_t stride = v.byteStride ? v.byteStride : elem_bytes;
+    if (stride < elem_bytes)
+        fail(ST_ERR_PARSE, vwhat + ": byteStride " + std::to_string(stride) + " is smaller than an element of " +
+                               what);
+    // count elements need (count - 1) * stride + elem_bytes bytes after the
+    // accessor's offset, all inside the view (checked without overflow).
+    size_t avail = a.byteOffset <= v.byteLength ? v.byteLength - a.byteOffset : 0;
+    bool fits = a.byteOffset <= v.byteLength &&
+                (a.count == 0 || (avail >= elem_bytes && (a.count - 1) <= (avail - elem_bytes) / stride));
+    if (!fits)
+        fail(ST_ERR_RANGE, what + ": " + std::to_string(a.count) + " elements from byte " +
+                               std::to_string(a.byteOffset) + " lie beyond " + vwhat + " (" +
+                               std::to_string(v.byteLength) + " bytes)");
+    View out;
+    out.base = model.buffers[(size_t)v.buffer].data.data() + v.byteOffset + a.byteOffset;
+    out.count = a.count;
+    out.stride = stride;
+    return out;
+}
+
+// Welds vertices by exact position (after the transform).
+struct Key {
+    double x, y, z;
+    bool operator==(const Key &o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct KeyHash {
+    size_t operator()(const Key &k) const
+    {
+        uint64_t h = 1469598103934665603ull, b[3];
+        memcpy(b, &k, sizeof b);
+        for (uint64_t v : b) h = (h ^ v) * 1099511628211ull ^ (v >> 29);
+        return (size_t)h;
+    }
+};
+
+struct Soup {
+    std::vector<double> pos;
+    std::vector<uint32_t> tri;
+    std::unordered_map<Key, uint32_t, KeyHash> weld;
+    size_t dropped = 0;  // triangles that became degenerate
+};
+
+void add_primitive(const tinygltf::Model &model, int mesh_i, int prim_i, const Mat4 world, Soup *soup)
+{
+    const tinygltf::Primitive &p = model.meshes[(size_t)mesh_i].primitives[(size_t)prim_i];
+    std::string what = "mesh " + std::to_string(mesh_i) + " primitive " + std::to_string(prim_i);
+    if (p.mode >= kModePoints && p.mode < kModeTriangles)
+        fail(ST_ERR_PARSE, what + ": mode " + std::to_string(p.mode) +
+                               (p.mode == kModePoints ? " (POINTS)" : " (LINES)") +
+                               " is not supported: only triangles can be subdivided");
+    if (p.mode != kModeTriangles && p.mode != kModeStrip && p.mode != kModeFan)
+        fail(ST_ERR_PARSE, what + ": unknown mode " + std::to_string(p.mode));
+    auto it = p.attributes.find("POSITION");
+    if (it == p.attributes.end()) fail(ST_ERR_PARSE, what + ": no POSITION attribute");
+    int pa = it->second;
+    View pv = accessor_view(model, pa, 12);
+    const tinygltf::Accessor &pacc = model.accessors[(size_t)pa];
+    if (pacc.type != TINYGLTF_TYPE_VEC3 || pacc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+        fail(ST_ERR_PARSE, what + ": POSITION accessor " + std::to_string(pa) + " is not VEC3 of FLOAT");
+
+    // Corner list: the indices, or 0..count-1.
+    std::vector<uint32_t> idx;
+    if (p.indices >= 0) {
+        if ((size_t)p.indices >= model.accessors.size())
+            fail(ST_ERR_RANGE, what + ": indices accessor " + std::to_string(p.indices) + " does not exist");
+        const tinygltf::Accessor &ia = model.accessors[(size_t)p.indices];
+        size_t bytes = ia.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                       : ia.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                       : ia.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
+                                                                                    : 0;
+        if (ia.type != TINYGLTF_TYPE_SCALAR || bytes == 0)
+            fail(ST_ERR_PARSE, what + ": indices accessor " + std::to_string(p.indices) +
+                                   " is not SCALAR of unsigned byte/short/int");
+        View iv = accessor_view(model, p.indices, bytes);
+        if (iv.count > ST_MESH_MAX_FACES * (size_t)3) fail(ST_ERR_MEMORY, what + ": too many indices");
+        idx.resize(iv.count);
+        for (size_t i = 0; i < iv.count; i++) {
+            const unsigned char *e = iv.base + i * bytes;  // indices are tightly packed
+            uint32_t v = bytes == 1 ? e[0] : bytes == 2 ? (uint32_t)(e[0] | e[1] << 8) : 0;
+            if (bytes == 4) memcpy(&v, e, 4);
+            if (v >= pv.count)
+                fail(ST_ERR_RANGE, what + ": index " + std::to_string(i) + " is " + std::to_string(v) +
+                                       " but POSITION has " + std::to_string(pv.count) + " vertices");
+            idx[i] = v;
+        }
+    } else {
+        if (pv.count > ST_MESH_MAX_VERTS) fail(ST_ERR_MEMORY, what + ": too many vertices");
+        idx.resize(pv.count);
+        for (size_t i = 0; i < pv.count; i++) idx[i] = (uint32_t)i;
+    }
+
+    // Triangles as corner triples, converted from strips and fans.
+    std::vector<uint32_t> tris;
+    if (p.mode == kModeTriangles) {
+        if (idx.size() % 3)
+            fail(ST_ERR_PARSE, what + ": " + std::to_string(idx.size()) + " corners are not whole triangles");
+        tris.swap(idx);
+    } else {
+        for (size_t i = 2; i < idx.size(); i++) {
+            uint32_t a, b, c = idx[i];
+            if (p.mode == kModeFan) a = idx[0], b = idx[i - 1];
+            else if (i % 2 == 0) a = idx[i - 2], b = idx[i - 1];  // strips alternate winding
+            else a = idx[i - 1], b = idx[i - 2];
+            tris.insert(tris.end(), {a, b, c});
+        }
+    }
+    if (soup->tri.size() / 3 + tris.size() / 3 > ST_MESH_MAX_FACES)
+        fail(ST_ERR_MEMORY, what + ": more than " + std::to_string(ST_MESH_MAX_FACES) + " triangles in all");
+
+    // Transformed, welded vertices of the positions this primitive uses.
+    std::vector<uint32_t> map(pv.count, UINT32_MAX);
+    bool flip = mat_det3(world) < 0;
+    for (size_t t = 0; t < tris.size(); t += 3) {
+        uint32_t v[3];
+        for (int k = 0; k < 3; k++) {
+            uint32_t src = tris[t + (size_t)k];
+            if (map[src] == UINT32_MAX) {
+                float f[3];
+                memcpy(f, pv.base + src * pv.stride, sizeof f);
+                if (!std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2]))
+                    fail(ST_ERR_GEOMETRY, what + ": POSITION accessor " + std::to_string(pa) + " vertex " +
+                                              std::to_string(src) + " is not finite");
+                double w[3];
+                for (int r = 0; r < 3; r++)
+                    w[r] = world[r] * f[0] + world[4 + r] * f[1] + world[8 + r] * f[2] + world[12 + r] + 0.0;
+                if (!std::isfinite(w[0]) || !std::isfinite(w[1]) || !std::isfinite(w[2]))
+                    fail(ST_ERR_GEOMETRY, what + ": vertex " + std::to_string(src) + " is not finite after its node transform");
+                Key key = {w[0], w[1], w[2]};
+                auto found = soup->weld.find(key);
+                if (found != soup->weld.end()) {
+                    map[src] = found->second;
+                } else {
+                    if (soup->pos.size() / 3 >= ST_MESH_MAX_VERTS)
+                        fail(ST_ERR_MEMORY, "more than " + std::to_string(ST_MESH_MAX_VERTS) + " vertices");
+                    map[src] = (uint32_t)(soup->pos.size() / 3);
+                    soup->weld.emplace(key, map[src]);
+                    soup->pos.insert(soup->pos.end(), {w[0], w[1], w[2]});
+                }
+            }
+            v[k] = map[src];
+        }
+        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
+            soup->dropped++;
+            continue;
+        }
+        if (flip) std::swap(v[1], v[2]);
+        soup->tri.insert(soup->tri.end(), {v[0], v[1], v[2]});
+    }
+}
+
+void add_mesh(const tinygltf::Model &model, int mesh_i, const Mat4 world, Soup *soup)
+{
+    if (mesh_i < 0 || (size_t)mesh_i >= model.meshes.size())
+        fail(ST_ERR_RANGE, "mesh " + std::to_string(mesh_i) + " does not exist");
+    const tinygltf::Mesh &mesh = model.meshes[(size_t)mesh_i];
+    for (size_t p = 0; p < mesh.primitives.size(); p++) add_primitive(model, mesh_i, (int)p, world, soup);
+}
+
+// Depth-first over a scene's nodes with an explicit stack (no recursion on
+// file data); a node reached twice means a cycle or a shared child, which
+// glTF forbids and which could multiply the geometry without bound.
+void add_scene(const tinygltf::Model &model, int scene_i, Soup *soup)
+{
+    struct Item {
+        int node;
+        Mat4 parent;
+    };
+    std::vector<char> seen(model.nodes.size(), 0);
+    std::vector<Item> stack;
+    const tinygltf::Scene &scene = model.scenes[(size_t)scene_i];
+    for (auto it = scene.nodes.rbegin(); it != scene.nodes.rend(); ++it) {
+        Item item;
+        item.node = *it;
+        mat_identity(item.parent);
+        stack.push_back(item);
+    }
+    while (!stack.empty()) {
+        Item item = stack.back();
+        stack.pop_back();
+        int n = item.node;
+        if (n < 0 || (size_t)n >= model.nodes.size())
+            fail(ST_ERR_RANGE, "scene " + std::to_string(scene_i) + ": node " + std::to_string(n) + " does not exist");
+        if (seen[(size_t)n])
+            fail(ST_ERR_PARSE, "node " + std::to_string(n) + " is reached twice: the node hierarchy is not a tree");
+        seen[(size_t)n] = 1;
+        const tinygltf::Node &node = model.nodes[(size_t)n];
+        Mat4 local, world;
+        node_local(node, n, local);
+        mat_mul(item.parent, local, world);
+        if (node.mesh >= 0) add_mesh(model, node.mesh, world, soup);
+        for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) {
+            Item child;
+            child.node = *c;
+            memcpy(child.parent, world, sizeof world);
+            stack.push_back(child);
+        }
+    }
+}
+
+void model_to_soup(const tinygltf::Model &model, Soup *soup)
+{
+    for (const std::string &ext : model.extensionsRequired)
+        fail(ST_ERR_PARSE, "requires extension " + ext + ", which is not supported");
+    if (model.scenes.empty()) {
+        // No scene to place the meshes: take every mesh as it is.
+        Mat4 id;
+        mat_identity(id);
+        for (size_t m = 0; m < model.meshes.size(); m++) add_mesh(model, (int)m, id, soup);
+    } else {
+        int s = model.defaultScene;
+        if (s < 0) s = 0;
+        if ((size_t)s >= model.scenes.size())
+            fail(ST_ERR_RANGE, "scene " + std::to_string(s) + " does not exist");
+        add_scene(model, s, soup);
+    }
+    if (soup->tri.empty()) fail(ST_ERR_PARSE, "no triangles found");
+}
+
+// Moves the soup into a fresh st_mesh (C allocations, as st_mesh_free wants).
+int soup_to_mesh(const Soup &soup, st_mesh *m)
+{
+    st_mesh_init(m);
+    size_t nv = soup.pos.size() / 3, nt = soup.tri.size() / 3;
+    m->pos = (double *)malloc(soup.pos.size() * sizeof(double));
+    m->face_off = (uint32_t *)malloc((nt + 1) * sizeof(uint32_t));
+    m->face_idx = (uint32_t *)malloc(soup.tri.size() * sizeof(uint32_t));
+    if (!m->pos || !m->face_off || !m->face_idx) {
+        st_mesh_free(m);
+        return ST_ERR_MEMORY;
+    }
+    memcpy(m->pos, soup.pos.data(), soup.pos.size() * sizeof(double));
+    memcpy(m->face_idx, soup.tri.data(), soup.tri.size() * sizeof(uint32_t));
+    for (size_t f = 0; f <= nt; f++) m->face_off[f] = (uint32_t)(3 * f);
+    m->nverts = (uint32_t)nv;
+    m->nfaces = (uint32_t)nt;
+    return 0;
+}
+
+// Parses into *out (untouched on failure); dropped degenerate triangles
+// become a note when notes is given.
+int parse_impl(const char *name, const unsigned char *d, size_t n, const char *base_dir, st_mesh *out,
+               st_notes *notes, st_error *err)
+{
+    try {
+        tinygltf::Model model;
+        parse_model(d, n, base_dir, &model);
+        Soup soup;
+        model_to_soup(model, &soup);
+        st_mesh m;
+        if (soup_to_mesh(soup, &m)) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", name);
+        st_mesh_move(out, &m);
+        if (soup.dropped)
+            st_notes_add(notes, "%s: repaired: dropped %zu triangles that are degenerate after welding equal positions",
+                         name, soup.dropped);
+        return 0;
+    } catch (const Failure &f) {
+        return st_fail(err, f.code, "%s: %s", name, f.msg.c_str());
+    } catch (const std::bad_alloc &) {
+        return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", name);
+    } catch (const std::exception &e) {
+        return st_fail(err, ST_ERR_PARSE, "%s: %s", name, one_line(e.what()).c_str());
+    } catch (...) {
+        return st_fail(err, ST_ERR_PARSE, "%s: unexpected error", name);
+    }
+}
+
+// ---- writing -----------------------------------------------------------
+
+void add_view(tinygltf::Model *model, size_t offset, size_t length, int target)
+{
+    tinygltf::BufferView v;
+    v.buffer = 0;
+    v.byteOffset = offset;
+    v.byteLength = length;
+    v.target = target;
+    model->bufferViews.push_back(v);
+}
+
+template <class T> void put(std::vector<unsigned char> *buf, const T &v)
+{
+    const unsigned char *b = (const unsigned char *)&v;
+    buf->insert(buf->end(), b, b + sizeof v);
+}
+
+// Builds the tinygltf model of m (checked first).
+void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
+{
+    if (!m->nverts || !m->nfaces || !m->pos || !m->face_off || !m->face_idx)
+        fail(ST_ERR_INVALID, "the mesh is empty");
+    size_t ntri = 0;
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        uint32_t a = m->face_off[f], b = m->face_off[f + 1];
+        if (b < a + 3) fail(ST_ERR_INVALID, "face " + std::to_string(f) + " has fewer than 3 vertices");
+        for (uint32_t k = a; k < b; k++)
+            if (m->face_idx[k] >= m->nverts)
+                fail(ST_ERR_RANGE, "face " + std::to_string(f) + " uses vertex " + std::to_string(m->face_idx[k]) +
+                                       " of " + std::to_string(m->nverts));
+        ntri += b - a - 2;
+    }
+    if (ntri > (size_t)UINT32_MAX / 3) fail(ST_ERR_MEMORY, "too many triangles for one glTF primitive");
+    if (index_bytes == 0) index_bytes = m->nverts < 65535 ? 2 : 4;
+    // The largest value of each index type is the primitive restart value.
+    uint64_t limit = index_bytes == 1 ? 255 : index_bytes == 2 ? 65535 : 0xffffffffull;
+    if ((index_bytes != 1 && index_bytes != 2 && index_bytes != 4) || m->nverts > limit)
+        fail(ST_ERR_RANGE, std::to_string(m->nverts) + " vertices do not fit " + std::to_string(index_bytes) +
+                               "-byte indices");
+
+    // Positions as float, with their exact float bounds.
+    std::vector<float> pos(3 * (size_t)m->nverts);
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    for (size_t i = 0; i < 3 * (size_t)m->nverts; i++) {
+        double v = m->pos[i];
+        if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
+            fail(ST_ERR_GEOMETRY, "vertex " + std::to_string(i / 3) + " is not finite or beyond float range");
+        pos[i] = (float)v;
+        lo[i % 3] = std::min(lo[i % 3], (double)pos[i]);
+        hi[i % 3] = std::max(hi[i % 3], (double)pos[i]);
+    }
+
+    // Normals: given, or area-weighted (Newell vectors summed per vertex).
+    std::vector<double> acc(3 * (size_t)m->nverts, 0.0);
+    if (m->normals) {
+        for (size_t i = 0; i < acc.size(); i++) acc[i] = m->normals[i];
+    } else {
+        for (uint32_t f = 0; f < m->nfaces; f++) {
+            uint32_t a = m->face_off[f], b = m->face_off[f + 1];
+            double nn[3] = {0, 0, 0};
+            for (uint32_t k = a; k < b; k++) {
+                const double *p = m->pos + 3 * (size_t)m->face_idx[k];
+                const double *q = m->pos + 3 * (size_t)m->face_idx[k + 1 < b ? k + 1 : a];
+                nn[0] += (p[1] - q[1]) * (p[2] + q[2]);
+                nn[1] += (p[2] - q[2]) * (p[0] + q[0]);
+                nn[2] += (p[0] - q[0]) * (p[1] + q[1]);
+            }
+            for (uint32_t k = a; k < b; k++)
+                for (int c = 0; c < 3; c++) acc[3 * (size_t)m->face_idx[k] + (size_t)c] += nn[c];
+        }
+    }
+    std::vector<float> nrm(acc.size());
+    for (size_t v = 0; v < m->nverts; v++) {
+        double *n = &acc[3 * v];
+        double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(len > 1e-300) || !std::isfinite(len)) {
+            n[0] = 0, n[1] = 0, n[2] = 1, len = 1;  // isolated or degenerate: any unit vector
+        }
+        for (int c = 0; c < 3; c++) nrm[3 * v + (size_t)c] = (float)(n[c] / len);
+    }
+
+    // One buffer: positions, normals, indices (each 4-byte aligned).
+    std::vector<unsigned char> buf;
+    size_t vbytes = pos.size() * sizeof(float);
+    buf.reserve(2 * vbytes + 3 * ntri * (size_t)index_bytes + 4);
+    buf.insert(buf.end(), (const unsigned char *)pos.data(), (const unsigned char *)pos.data() + vbytes);
+    buf.insert(buf.end(), (const unsigned char *)nrm.data(), (const unsigned char *)nrm.data() + vbytes);
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        uint32_t a = m->face_off[f], b = m->face_off[f + 1];
+        for (uint32_t k = a + 1; k + 1 < b; k++) {  // fan from the first corner
+            uint32_t c[3] = {m->face_idx[a], m->face_idx[k], m->face_idx[k + 1]};
+            for (uint32_t v : c) {
+                if (index_bytes == 1) put(&buf, (uint8_t)v);
+                else if (index_bytes == 2) put(&buf, (uint16_t)v);
+                else put(&buf, (uint32_t)v);
+            }
+        }
+    }
+
+    model->asset.version = "2.0";
+    model->asset.generator = "Strata";
+    tinygltf::Buffer b;
+    b.data.swap(buf);
+    model->buffers.push_back(b);
+    add_view(model, 0, vbytes, TINYGLTF_TARGET_ARRAY_BUFFER);
+    add_view(model, vbytes, vbytes, TINYGLTF_TARGET_ARRAY_BUFFER);
+    add_view(model, 2 * vbytes, 3 * ntri * (size_t)index_bytes, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+
+    tinygltf::Accessor ap, an, ai;
+    ap.bufferView = 0;
+    ap.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    ap.type = TINYGLTF_TYPE_VEC3;
+    ap.count = m->nverts;
+    ap.minValues.assign(lo, lo + 3);
+    ap.maxValues.assign(hi, hi + 3);
+    an.bufferView = 1;
+    an.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    an.type = TINYGLTF_TYPE_VEC3;
+    an.count = m->nverts;
+    ai.bufferView = 2;
+    ai.componentType = index_bytes == 1   ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE
+                       : index_bytes == 2 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
+                                          : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    ai.type = TINYGLTF_TYPE_SCALAR;
+    ai.count = 3 * ntri;
+    model->accessors = {ap, an, ai};
+
+    tinygltf::Primitive prim;
+    prim.attributes["POSITION"] = 0;
+    prim.attributes["NORMAL"] = 1;
+    prim.indices = 2;
+    prim.mode = kModeTriangles;
+    tinygltf::Mesh mesh;
+    mesh.name = "strata";
+    mesh.primitives.push_back(prim);
+    model->meshes.push_back(mesh);
+    tinygltf::Node node;
+    node.mesh = 0;
+    node.name = "strata";
+    model->nodes.push_back(node);
+    tinygltf::Scene scene;
+    scene.nodes.push_back(0);
+    model->scenes.push_back(scene);
+    model->defaultScene = 0;
+}
+
+std::string to_bytes(const tinygltf::Model &model, bool binary)
+{
+    tinygltf::TinyGLTF writer;
+    std::ostringstream os;
+    if (!writer.WriteGltfSceneToStream(&model, os, !binary, binary)) fail(ST_ERR_IO, "tinygltf could not serialise it");
+    return os.str();
+}
+
+// Writes bytes to path through path.tmp and a rename, so that a failed
+// write never leaves a half file under the real name.
+void write_file(const std::string &path, const std::string &bytes)
+{
+    std::string tmp = path + ".tmp";
+    FILE *f = fopen(tmp.c_str(), "wb");
+    if (!f) fail(ST_ERR_IO, "cannot create " + tmp + ": " + strerror(errno));
+    bool ok = fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+    ok = (fflush(f) == 0) && ok;
+    int e = errno;
+    ok = (fclose(f) == 0) && ok;
+    if (!ok || rename(tmp.c_str(), path.c_str()) != 0) {
+        if (ok) e = errno;
+        remove(tmp.c_str());
+        fail(ST_ERR_IO, "cannot write " + path + ": " + strerror(e));
+    }
+}
+
+// Percent-encodes what a URI path segment may not hold.
+std::string uri_encode(const std::string &s)
+{
+    static const char hex[] = "0123456789ABCDEF";
+    std::string out;
+    for (unsigned char c : s) {
+        if (isalnum(c) || strchr("-._~!$&'()*+,;=:@", c)) out += (char)c;
+        else out += '%', out += hex[c >> 4], out += hex[c & 15];
+    }
+    return out;
+}
+
+// .gltf: the JSON of the GLB serialisation with the buffer's uri pointing at
+// NAME.bin (tinygltf's stream writer would embed it as base64 instead).
+void save_gltf_json(const std::string &path, const tinygltf::Model &model)
+{
+    std::string glb = to_bytes(model, true);
+    uint32_t json_len;
+    memcpy(&json_len, glb.data() + 12, 4);
+    nlohmann::json j = nlohmann::json::parse(glb.substr(20, json_len));
+    std::string dir, base = path;
+    size_t slash = path.find_last_of('/');
+    if (slash != std::string::npos) dir = path.substr(0, slash + 1), base = path.substr(slash + 1);
+    size_t dot = base.find_last_of('.');
+    std::string bin = (dot == std::string::npos ? base : base.substr(0, dot)) + ".bin";
+    j["buffers"][0]["uri"] = uri_encode(bin);
+    const std::vector<unsigned char> &data = model.buffers[0].data;
+    write_file(dir + bin, std::string(data.begin(), data.end()));
+    write_file(path, j.dump(2) + "\n");
+}
+
+}  // namespace
+
+extern "C" {
+
+int st_gltf_is_gltf_path(const char *path)
+{
+    return path && (ends_with_ci(path, ".gltf") || ends_with_ci(path, ".glb"));
+}
+
+int st_gltf_parse(const char *name, const void *data, size_t size, st_mesh *out, st_error *err)
+{
+    return parse_impl(name, (const unsigned char *)data, size, nullptr, out, nullptr, err);
+}
+
+int st_gltf_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error *err)
+{
+    std::vector<unsigned char> bytes;
+    std::string dir;
+    try {
+        std::string why;
+        if (!read_file(path, &bytes, &why)) return st_fail(err, ST_ERR_IO, "%s: cannot read: %s", path, why.c_str());
+        std::string p = path;
+        size_t slash = p.find_last_of('/');
+        dir = slash == std::string::npos ? "." : p.substr(0, slash);
+    } catch (...) {
+        return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path);
+    }
+    st_mesh m;
+    st_mesh_init(&m);
+    st_notes local = {nullptr, 0};
+    int rc = parse_impl(path, bytes.data(), bytes.size(), dir.c_str(), &m, notes ? &local : nullptr, err);
+    if (!rc) rc = st_mesh_repair(path, &m, notes ? &local : nullptr, err);
+    if (rc) {
+        st_mesh_free(&m);
+        st_notes_free(&local);
+        return rc;
+    }
+    st_mesh_move(out, &m);
+    for (uint32_t i = 0; i < local.count; i++) st_notes_add(notes, "%s", local.lines[i]);
+    st_notes_free(&local);
+    return 0;
+}
+
+int st_gltf_load(const char *path, st_mesh *out, st_error *err)
+{
+    return st_gltf_load_notes(path, out, nullptr, err);
+}
+
+int st_gltf_write_mem(const st_mesh *m, int binary, int index_bytes, void **data, size_t *size, st_error *err)
+{
+    try {
+        tinygltf::Model model;
+        mesh_to_model(m, index_bytes, &model);
+        std::string bytes = to_bytes(model, binary != 0);
+        void *p = malloc(bytes.size() ? bytes.size() : 1);
+        if (!p) return st_fail(err, ST_ERR_MEMORY, "glTF: out of memory");
+        memcpy(p, bytes.data(), bytes.size());
+        *data = p;
+        *size = bytes.size();
+        return 0;
+    } catch (const Failure &f) {
+        return st_fail(err, f.code, "glTF: %s", f.msg.c_str());
+    } catch (const std::exception &e) {
+        return st_fail(err, ST_ERR_MEMORY, "glTF: %s", one_line(e.what()).c_str());
+    }
+}
+
+int st_gltf_save(const char *path, const st_mesh *m, st_error *err)
+{
+    try {
+        bool glb = ends_with_ci(path, ".glb");
+        if (!glb && !ends_with_ci(path, ".gltf"))
+            return st_fail(err, ST_ERR_PARSE, "%s: not a glTF file name (expected .gltf or .glb)", path);
+        tinygltf::Model model;
+        mesh_to_model(m, 0, &model);
+        if (glb) write_file(path, to_bytes(model, true));
+        else save_gltf_json(path, model);
+        return 0;
+    } catch (const Failure &f) {
+        return st_fail(err, f.code, "%s: %s", path, f.msg.c_str());
+    } catch (const std::exception &e) {
+        return st_fail(err, ST_ERR_IO, "%s: %s", path, one_line(e.what()).c_str());
+    }
+}
+
+}  // extern "C"

@@ -1,0 +1,76 @@
+/* glTF 2.0 import and export (.gltf + .bin, .glb) through tinygltf, behind a
+ * C API: app/gltf_io.cc is the one C++ translation unit that compiles
+ * tinygltf.  core stays C and knows nothing of it; app/mesh_any.c picks this
+ * reader/writer or core's by extension.
+ *
+ * Export (st_gltf_save, st_gltf_write_mem): one mesh, one primitive of
+ * triangles, POSITION (float, with min/max) + NORMAL + indices (u16, or u32
+ * from 65535 vertices on).  glTF has only triangles: each polygon is fanned
+ * from its first vertex (exact for convex polygons, which is what the
+ * schemes produce).  Normals are m->normals when given, else smooth
+ * area-weighted vertex normals (the Newell vector of every face added to its
+ * vertices); both are normalised, and a vertex without a usable normal gets
+ * (0,0,1).  .gltf writes NAME.bin next to it (buffer uri NAME.bin); .glb
+ * embeds the buffer.  Files are written to NAME.tmp, then renamed.
+ *
+ * Import (st_gltf_load, st_gltf_parse): every triangle primitive of every
+ * mesh placed in the default scene (scene 0 when none is marked), with node
+ * transforms applied (matrix, or translation * rotation * scale; a mirroring
+ * transform flips the winding as glTF says).  A file without scenes: every
+ * mesh, untransformed.  Modes: TRIANGLES; TRIANGLE_STRIP and TRIANGLE_FAN
+ * are converted to triangles; POINTS and LINES* are refused.  Index types
+ * u8/u16/u32 and non-indexed primitives.  glTF duplicates vertices (per
+ * primitive, and for seams of normals/UVs): vertices with exactly the same
+ * transformed position are welded into one so that the result is a connected
+ * 2-manifold the schemes can subdivide; triangles that become degenerate
+ * (two corners on one vertex) are dropped.  Only POSITION is read; quads
+ * stored as triangle pairs come back as triangles (glTF keeps no polygons).
+ * Refused with "file: problem": tinygltf's own errors, accessors or buffer
+ * views beyond their buffer, indices out of range, non-finite positions,
+ * sparse accessors, accessors without a buffer view, unsupported required
+ * extensions, node hierarchies that are not trees, JSON nested deeper than
+ * 256 levels.  On failure *out is untouched.
+ */
+#ifndef ST_GLTF_IO_H
+#define ST_GLTF_IO_H
+
+#include <stddef.h>
+
+/* core's headers are C without extern "C" guards: wrap them here. */
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#include "mesh.h"
+
+/* Reads path (.gltf with external or data: buffers, or .glb: chosen by the
+ * file's magic, not its name), then st_mesh_repair() like core's loaders.
+ * The _notes variant also returns the repair notes (may be NULL). */
+int st_gltf_load(const char *path, st_mesh *out, st_error *err);
+int st_gltf_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error *err);
+
+/* Parses glTF from memory (GLB when it starts with "glTF", else JSON) without
+ * repairing (call st_mesh_repair next), for fuzzers and tests.  name is used
+ * in messages.  Buffers must be embedded (GLB BIN chunk or data: URIs): an
+ * external file URI is refused, nothing is read from disk. */
+int st_gltf_parse(const char *name, const void *data, size_t size, st_mesh *out, st_error *err);
+
+/* Writes m by extension: .glb binary, .gltf JSON + .bin (case-insensitive). */
+int st_gltf_save(const char *path, const st_mesh *m, st_error *err);
+
+/* Writes m to memory: binary != 0 gives a GLB, else JSON with the buffer as
+ * a data: URI.  index_bytes: 0 picks u16/u32 as st_gltf_save does; 1, 2 or 4
+ * force u8/u16/u32 indices (refused when a vertex index does not fit; a u8
+ * index may not be 255, glTF's primitive restart value).  *data is malloc'd:
+ * free() it. */
+int st_gltf_write_mem(const st_mesh *m, int binary, int index_bytes, void **data, size_t *size,
+                      st_error *err);
+
+/* 1 when path ends in .gltf or .glb (case-insensitive). */
+int st_gltf_is_gltf_path(const char *path);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
