@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# glTF through the CLI: meshes of several kinds (quads, n-gons fanned into
+# triangles, triangles, an adaptive mesh, an open mesh, >65535 vertices for
+# u32 indices) are exported as .gltf and .glb and every file must pass the
+# Khronos glTF Validator with no errors; exports load back (same triangles,
+# same Euler characteristic); broken files are refused with a message.
+# Needs node and gltf-validator (bash scripts/setup_node.sh): without them
+# this test FAILS, it does not skip.
+# Usage: cli_gltf.sh STRATA SHARED_MESHES ASSETS BINDIR
+set -euo pipefail
+S=$1 D=$2 A=$3 B=$4
+R="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+W=$B/cli_gltf
+rm -rf "$W"
+mkdir -p "$W"
+fail=0 n=0
+ok() { n=$((n + 1)); echo "ok   $*"; }
+bad() { n=$((n + 1)); fail=$((fail + 1)); echo "FAIL $*"; }
+
+VALIDATOR="${GLTF_VALIDATOR:-$R/build/node/node_modules/gltf-validator}"
+if ! command -v node >/dev/null 2>&1; then
+    echo "FAIL: node is not installed; the glTF Validator cannot run (bash scripts/setup.sh, then bash scripts/setup_node.sh)"
+    exit 1
+fi
+if ! node -e 'require(process.argv[1])' "$VALIDATOR" 2>/dev/null; then
+    echo "FAIL: gltf-validator not found at $VALIDATOR; run: bash scripts/setup_node.sh"
+    exit 1
+fi
+export GLTF_VALIDATOR="$VALIDATOR"
+
+row0() { "$S" info "$1" | awk '$1 == "0" { print $'"$2"' }'; }   # level-0 column
+files=()
+export_one() { # label input scheme levels ext
+    local out=$W/$1.$5
+    if "$S" subdivide "$2" --scheme "$3" --levels "$4" -o "$out" 2>"$W/$1.err"; then
+        ok "$1: wrote $(basename "$out")"; files+=("$out")
+    else
+        bad "$1: export failed: $(cat "$W/$1.err")"
+    fi
+}
+export_one cube_cc2 "$A/cube.obj" catmull-clark 2 gltf
+export_one cube_cc2 "$A/cube.obj" catmull-clark 2 glb
+export_one cube_cc7 "$A/cube.obj" catmull-clark 7 glb          # 98306 vertices: u32 indices
+export_one spot_cc1 "$D/catmull_clark/spot_quadrangulated.obj" catmull-clark 1 glb
+export_one dodeca "$D/catmull_clark/dodecahedron_poly.obj" catmull-clark 0 gltf   # pentagons
+export_one cube_ds2 "$A/cube.obj" doo-sabin 2 gltf             # n-gons
+export_one ico_loop2 "$D/triangle/sphere_ico.obj" loop 2 glb
+export_one open_cc1 "$A/open.obj" catmull-clark 1 gltf         # with boundary
+export_one ngon "$A/ngon.obj" catmull-clark 0 glb
+if "$S" adapt "$D/catmull_clark/spot_quadrangulated.obj" --max-level 3 --box 0.2,0,0,0.6,0.6,0.6 -o "$W/spot_adapt.glb" >/dev/null 2>"$W/adapt.err"; then
+    ok "spot_adapt: wrote spot_adapt.glb"; files+=("$W/spot_adapt.glb")
+else
+    bad "spot_adapt: export failed: $(cat "$W/adapt.err")"
+fi
+
+# The validator, on every file written.
+if node "$R/tests/gltf_validate.js" "${files[@]}" >"$W/validator.txt" 2>&1; then
+    ok "glTF Validator: ${#files[@]} files, no errors"
+else
+    bad "glTF Validator found errors"
+fi
+cat "$W/validator.txt"
+
+# Loading back: a level-2 Catmull-Clark cube is 96 quads, 192 triangles.
+for f in cube_cc2.gltf cube_cc2.glb; do
+    faces=$(row0 "$W/$f" 4 || true); euler=$(row0 "$W/$f" 6 || true)
+    if [ "$faces" = 192 ] && [ "$euler" = 2 ]; then ok "$f loads back: $faces triangles, euler $euler"; else bad "$f loads back as faces=$faces euler=$euler"; fi
+done
+e_in=$(row0 "$D/catmull_clark/spot_quadrangulated.obj" 6); e_out=$(row0 "$W/spot_adapt.glb" 6 || true)
+if [ "$e_in" = "$e_out" ]; then ok "spot_adapt.glb loads back, euler $e_out"; else bad "spot_adapt.glb euler $e_out, input $e_in"; fi
+if "$S" subdivide "$W/ico_loop2.glb" --scheme loop --levels 1 -o "$W/ico_again.obj" 2>"$W/again.err"; then ok "glb input subdivides again"; else bad "glb input: $(cat "$W/again.err")"; fi
+
+# Bad files: refused with a message naming the file, non-zero exit.
+head -c 100 "$W/cube_cc2.glb" >"$W/truncated.glb"
+printf 'not a gltf file at all' >"$W/garbage.gltf"
+sed 's/"uri": "cube_cc2.bin"/"uri": "nobin.bin"/' "$W/cube_cc2.gltf" >"$W/nobin.gltf"
+for f in truncated.glb garbage.gltf nobin.gltf missing.glb; do
+    if "$S" info "$W/$f" >/dev/null 2>"$W/bad.err"; then
+        bad "$f accepted"
+    elif grep -q "$f" "$W/bad.err"; then
+        ok "$f refused: $(head -n 1 "$W/bad.err")"
+    else
+        bad "$f refused without naming the file: $(cat "$W/bad.err")"
+    fi
+done
+
+echo "$((n - fail))/$n checks passed"
+[ "$fail" -eq 0 ]
