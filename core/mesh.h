@@ -70,6 +70,10 @@ int st_mesh_parse_obj(const char *name, const char *data, size_t size, st_mesh *
 int st_mesh_parse_off(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
 int st_mesh_parse_ply(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
 
+/* Area-weighted smooth vertex normals into m->normals (replaced); -1 when
+ * out of memory (core/mesh_normals.c). */
+int st_mesh_compute_normals(st_mesh *m);
+
 /* Writers: by extension (.obj .ply); PLY written binary little-endian. */
 int st_mesh_save(const char *path, const st_mesh *m, st_error *err);
 int st_mesh_save_obj(const char *path, const st_mesh *m, st_error *err);

@@ -1,8 +1,9 @@
 /* Writers: OBJ (text) and PLY (binary little-endian).
  *
- * Both write to "<path>.tmp" and rename it over path when everything has
- * been written and flushed, so a failed save (full disk, bad mesh) never
- * leaves a truncated file in place of a good one.
+ * Both write to a temporary next to path and rename it over path when
+ * everything has been written, flushed and fsynced (core/atomic_file.h), so
+ * a failed or killed save (full disk, bad mesh, crash) never leaves a
+ * truncated file in place of a good one.
  *
  * OBJ positions use %.17g, which reads back to the same double; tags are
  * written in OpenSubdiv's `t` syntax (0-based indices), normals as `vn`
@@ -11,6 +12,7 @@
  * vertices, uint-counted otherwise.  PLY has no standard place for tags;
  * they are not written.
  */
+#include "atomic_file.h"
 #include "mesh.h"
 
 #include <errno.h>
@@ -43,42 +45,25 @@ static int check_writable(const char *path, const st_mesh *m, st_error *err)
     return 0;
 }
 
-/* ---- temporary file, renamed into place on success ------------------------- */
+/* ---- temporary file, renamed into place on success (atomic_file.h) ------------ */
 
 typedef struct out_file {
     FILE *f;
-    char *tmp;              /* path + ".tmp" */
+    st_afile af;
 } out_file;
 
 static int out_open(out_file *o, const char *path, st_error *err)
 {
-    size_t n = strlen(path);
-    o->tmp = malloc(n + 5);
-    if (!o->tmp) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path);
-    memcpy(o->tmp, path, n);
-    memcpy(o->tmp + n, ".tmp", 5);
-    o->f = fopen(o->tmp, "wb");
-    if (!o->f) {
-        int e = errno;
-        free(o->tmp);
-        return st_fail(err, ST_ERR_IO, "%s: cannot write: %s", path, strerror(e));
-    }
-    return 0;
+    int rc = st_afile_open(&o->af, path, err);
+    o->f = o->af.f;
+    return rc;
 }
 
-/* Closes and renames into place; removes the temporary on any error. */
+/* Flushes, fsyncs and renames into place; removes the temporary on any error. */
 static int out_close(out_file *o, const char *path, st_error *err)
 {
-    int bad = ferror(o->f);
-    int e = errno;
-    if (fclose(o->f) != 0 && !bad) { bad = 1; e = errno; }
-    int rc = 0;
-    if (bad) rc = st_fail(err, ST_ERR_IO, "%s: write error: %s", path, strerror(e));
-    if (!rc && rename(o->tmp, path) != 0)
-        rc = st_fail(err, ST_ERR_IO, "%s: cannot replace the file: %s", path, strerror(errno));
-    if (rc) remove(o->tmp);
-    free(o->tmp);
-    return rc;
+    (void)path;
+    return st_afile_commit(&o->af, err);
 }
 
 /* ---- OBJ ------------------------------------------------------------------------ */

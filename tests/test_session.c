@@ -1,0 +1,447 @@
+/* Session files (core/session.h): byte-identical round trips, bit-equal
+ * geometry after reloading, identical behaviour of later edits and box
+ * moves, refusal of truncated, bit-flipped, crafted and foreign-version
+ * files; normals and the mesh writers. */
+#include "adapt.h"
+#include "hier_internal.h"
+#include "map_io.h"
+#include "session.h"
+#include "testlib.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static void torus(st_mesh *s) { tl_mesh_torus(s, 8, 6); }
+
+/* An octahedron (triangles, closed). */
+static void octa(st_mesh *s)
+{
+    static const double p[] = { 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1 };
+    static const uint32_t off[] = { 0, 3, 6, 9, 12, 15, 18, 21, 24 };
+    static const uint32_t idx[] = { 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5 };
+    tl_mesh_make(s, p, 6, off, idx, 8);
+}
+
+/* The cube with two creases and a corner (Catmull-Clark sharpness). */
+static void creased_cube(st_mesh *s)
+{
+    tl_mesh_cube(s);
+    s->ncreases = 2;
+    s->crease_v = malloc(4 * sizeof *s->crease_v);
+    s->crease_s = malloc(2 * sizeof *s->crease_s);
+    uint32_t f0 = s->face_off[0];
+    s->crease_v[0] = s->face_idx[f0];
+    s->crease_v[1] = s->face_idx[f0 + 1];
+    s->crease_v[2] = s->face_idx[f0 + 1];
+    s->crease_v[3] = s->face_idx[f0 + 2];
+    s->crease_s[0] = 2.5f;
+    s->crease_s[1] = 10.0f;
+    s->ncorners = 1;
+    s->corner_v = malloc(sizeof *s->corner_v);
+    s->corner_s = malloc(sizeof *s->corner_s);
+    s->corner_v[0] = s->face_idx[f0 + 3];
+    s->corner_s[0] = 1.5f;
+}
+
+static void build(st_hier *h, void (*make)(st_mesh *), st_scheme_id id, unsigned levels, st_mesh *base)
+{
+    st_mesh s;
+    st_error err;
+    make(&s);
+    int rc = st_hier_init(h, &s, st_scheme_get(id), NULL, &err);
+    CHECKF(rc == ST_OK, "%s", err.msg);
+    rc = st_hier_subdivide_to(h, levels, &err);
+    CHECKF(rc == ST_OK, "%s", err.msg);
+    if (base) st_mesh_move(base, &s);
+    st_mesh_free(&s);
+}
+
+static void *write_mem(const st_session_ref *r, size_t *n)
+{
+    void *data = NULL;
+    st_error err;
+    int rc = st_session_write_mem(r, &data, n, &err);
+    CHECKF(rc == ST_OK, "%s", err.msg);
+    return data;
+}
+
+static int snaps_equal(const st_hier *a, const st_hier *b)
+{
+    tl_posnap x, y;
+    tl_snap_pos(a, &x);
+    tl_snap_pos(b, &y);
+    int eq = x.levels == y.levels && x.n == y.n && !memcmp(x.p, y.p, (size_t)x.levels * x.n * 3 * sizeof *x.p);
+    free(x.p);
+    free(y.p);
+    return eq;
+}
+
+/* Moves a few vertices of level l on h (deterministic). */
+static void edit(st_hier *h, unsigned l, uint64_t seed)
+{
+    uint64_t rng = seed;
+    uint32_t d[3];
+    double p[3][3];
+    for (int i = 0; i < 3; i++) {
+        d[i] = tl_random_dart_at(&h->map, l, &rng);
+        const double *q = st_dart_pos(&h->map, d[i], l);
+        for (int k = 0; k < 3; k++) p[i][k] = q[k] + 0.05 * (k + 1) * (i + 1);
+    }
+    /* One dart per vertex: drop repeats. */
+    uint32_t n = 0;
+    for (int i = 0; i < 3; i++) {
+        int dup = 0;
+        for (uint32_t j = 0; j < n; j++) dup |= st_vert(&h->map, d[j], l) == st_vert(&h->map, d[i], l);
+        if (!dup) { d[n] = d[i]; memcpy(p[n], p[i], sizeof p[n]); n++; }
+    }
+    st_hier_move(h, l, d, (const double (*)[3])p, n);
+}
+
+static st_adapt_params box_at(double x, unsigned max)
+{
+    st_adapt_params p;
+    memset(&p, 0, sizeof p);
+    p.base_level = 0;
+    p.max_level = max;
+    p.has_box = 1;
+    p.box_lo[0] = x - 0.4; p.box_lo[1] = -0.4; p.box_lo[2] = -2;
+    p.box_hi[0] = x + 0.4; p.box_hi[1] = 0.4; p.box_hi[2] = 2;
+    return p;
+}
+
+/* save -> load -> save identical, geometry bit-equal, validator passes;
+ * returns the loaded session (caller frees). */
+static void round_trip(const char *what, const st_session_ref *r, st_session *out, void **bytes, size_t *nbytes)
+{
+    size_t n1, n2;
+    void *b1 = write_mem(r, &n1);
+    st_error err;
+    st_session_init(out);
+    int rc = st_session_parse("mem.strata", b1, n1, out, &err);
+    CHECKF(rc == ST_OK, "%s: %s", what, err.msg);
+    if (rc) { free(b1); *bytes = NULL; return; }
+    CHECKF(st_map_validate(&out->h.map, &err) == ST_OK, "%s: %s", what, err.msg);
+    st_session_ref r2 = st_session_ref_of(out);
+    void *b2 = write_mem(&r2, &n2);
+    CHECKF(n1 == n2 && !memcmp(b1, b2, n1), "%s: load -> save differs (%zu vs %zu bytes)", what, n1, n2);
+    CHECKF(snaps_equal(r->h, &out->h), "%s: positions differ after loading", what);
+    CHECK(out->h.scheme == r->h->scheme);
+    CHECK(out->edit_level == r->edit_level && out->display_level == r->display_level);
+    free(b2);
+    *bytes = b1;
+    *nbytes = n1;
+}
+
+static void check_regular(st_scheme_id id, void (*make)(st_mesh *))
+{
+    const st_scheme *sc = st_scheme_get(id);
+    st_hier h;
+    st_mesh base;
+    st_mesh_init(&base);
+    build(&h, make, id, 3, &base);
+    uint64_t rng = 7 + id;
+    tl_random_details(&h, &rng, 0.01);
+    edit(&h, 1, 99);
+    st_session_view view = { { 0.5f, 0.25f, 0 }, 0.7f, 0.3f, 5, 0.8f, 0, 2 };
+    st_session_ref r = { .h = &h, .edit_level = 1, .display_level = 3, .view = &view, .base = &base };
+    st_session s;
+    void *bytes;
+    size_t n;
+    char what[64];
+    snprintf(what, sizeof what, "%s regular", sc->name);
+    round_trip(what, &r, &s, &bytes, &n);
+    if (!bytes) { st_hier_free(&h); st_mesh_free(&base); return; }
+    CHECK(s.has_view && !memcmp(&s.view, &view, sizeof view));
+    CHECK(s.has_base && s.base.nverts == base.nverts && !memcmp(s.base.pos, base.pos, 24 * (size_t)base.nverts));
+    CHECK(s.h.has_sharpness == h.has_sharpness);
+    /* The same later edit on both gives the same positions, bit for bit. */
+    edit(&h, 1, 1234);
+    edit(&s.h, 1, 1234);
+    edit(&h, 2, 77);
+    edit(&s.h, 2, 77);
+    CHECKF(snaps_equal(&h, &s.h), "%s: edits after reloading differ", what);
+    /* And adding a level. */
+    st_error err;
+    CHECK(st_hier_subdivide_to(&h, 4, &err) == ST_OK);
+    CHECK(st_hier_subdivide_to(&s.h, 4, &err) == ST_OK);
+    CHECKF(snaps_equal(&h, &s.h), "%s: a new level after reloading differs", what);
+
+    /* Rebased (remove_bottom): ids no rebuild would give. */
+    st_hier_remove_bottom(&h);
+    st_session_ref rb = { .h = &h, .edit_level = 0, .display_level = h.map.top };
+    st_session s2;
+    void *b2;
+    size_t n2;
+    snprintf(what, sizeof what, "%s rebased", sc->name);
+    round_trip(what, &rb, &s2, &b2, &n2);
+    if (b2) {
+        edit(&h, 0, 5);
+        edit(&s2.h, 0, 5);
+        CHECKF(snaps_equal(&h, &s2.h), "%s: edits after reloading differ", what);
+        st_session_free(&s2);
+        free(b2);
+    }
+    st_session_free(&s);
+    free(bytes);
+    st_hier_free(&h);
+    st_mesh_free(&base);
+}
+
+static void check_adaptive(st_scheme_id id, void (*make)(st_mesh *))
+{
+    const st_scheme *sc = st_scheme_get(id);
+    st_hier h;
+    st_adapt a;
+    st_error err;
+    build(&h, make, id, 0, NULL);
+    CHECK(st_adapt_init(&a, &h, &err) == ST_OK);
+    st_adapt_params p = box_at(0.6, 3);
+    CHECKF(st_adapt_update(&a, &p, &err) == ST_OK, "%s", err.msg);
+    /* Details somewhere in the refined region, then a coarsening move so that
+     * saved details exist. */
+    edit(&h, 1, 3);
+    st_adapt_synthesize(&a, 1);
+    p = box_at(-0.6, 3);
+    CHECKF(st_adapt_update(&a, &p, &err) == ST_OK, "%s", err.msg);
+    st_session_ref r = { .h = &h, .adapt = &a, .box = &p, .box_on = 1, .edit_level = 0, .display_level = h.map.top };
+    st_session s;
+    void *bytes;
+    size_t n;
+    char what[64];
+    snprintf(what, sizeof what, "%s adaptive", sc->name);
+    round_trip(what, &r, &s, &bytes, &n);
+    if (!bytes) { st_adapt_free(&a); st_hier_free(&h); return; }
+    CHECK(s.has_adapt && s.adapt.h == &s.h && s.box_on);
+    CHECK(s.adapt.nsaved == a.nsaved);
+    CHECK(!memcmp(&s.box, &p, sizeof p));
+    /* The same box moves on both: same bytes afterwards (incremental path). */
+    double xs[] = { 0.1, 0.7, -0.3 };
+    for (int k = 0; k < 3; k++) {
+        st_adapt_params q = box_at(xs[k], 3);
+        CHECK(st_adapt_update(&a, &q, &err) == ST_OK);
+        CHECK(st_adapt_update(&s.adapt, &q, &err) == ST_OK);
+        CHECKF(snaps_equal(&h, &s.h), "%s: box move %d after reloading differs", what, k);
+    }
+    st_session_ref r1 = { .h = &h, .adapt = &a, .box = &p, .box_on = 1, .display_level = h.map.top };
+    st_session_ref r2 = st_session_ref_of(&s);
+    r2.box = &p;
+    size_t n1, n2;
+    void *x1 = write_mem(&r1, &n1), *x2 = write_mem(&r2, &n2);
+    CHECKF(n1 == n2 && !memcmp(x1, x2, n1), "%s: sessions differ after the same box moves", what);
+    free(x1);
+    free(x2);
+    st_session_free(&s);
+    free(bytes);
+    st_adapt_free(&a);
+    st_hier_free(&h);
+}
+
+/* Every prefix and every single-bit flip is refused with the file's name. */
+static void check_damage(void)
+{
+    st_hier h;
+    build(&h, tl_mesh_cube, ST_SCHEME_CATMARK, 1, NULL);
+    st_session_ref r = { .h = &h, .display_level = 1 };
+    size_t n;
+    unsigned char *b = write_mem(&r, &n);
+    st_session s;
+    st_error err;
+    int refused = 0, named = 0, total = 0;
+    for (size_t k = 0; k < n; k++) {
+        memset(&s, 0xab, sizeof s); /* must stay untouched */
+        int rc = st_session_parse("cut.strata", b, k, &s, &err);
+        total++;
+        refused += rc != ST_OK;
+        named += rc != ST_OK && strstr(err.msg, "cut.strata") && !strchr(err.msg, '\n');
+    }
+    CHECKF(refused == total && named == total, "prefixes: %d of %d refused, %d named", refused, total, named);
+    refused = named = total = 0;
+    unsigned char *c = malloc(n);
+    for (size_t k = 0; k < n; k++) {
+        memcpy(c, b, n);
+        c[k] ^= (unsigned char)(1u << (k % 8));
+        int rc = st_session_parse("flip.strata", c, n, &s, &err);
+        total++;
+        refused += rc != ST_OK;
+        named += rc != ST_OK && strstr(err.msg, "flip.strata") != NULL;
+    }
+    CHECKF(refused == total && named == total, "bit flips: %d of %d refused, %d named", refused, total, named);
+    /* A newer version: clear message (header checksum made valid). */
+    memcpy(c, b, n);
+    c[8] = 7;
+    uint32_t hc = st_crc32(0, c, 24);
+    for (int k = 0; k < 4; k++) c[24 + k] = (unsigned char)(hc >> (8 * k));
+    CHECK(st_session_parse("new.strata", c, n, &s, &err) != ST_OK);
+    CHECKF(!strcmp(err.msg, "new.strata: session format version 7 is newer than this strata (1)"), "%s", err.msg);
+    /* Not a session at all. */
+    CHECK(st_session_parse("x.strata", "hello world, this is not a session file", 39, &s, &err) != ST_OK);
+    CHECKF(strstr(err.msg, "x.strata: not a Strata session") != NULL, "%s", err.msg);
+    free(c);
+    free(b);
+    st_hier_free(&h);
+}
+
+/* Fixes header size, header CRC and trailer CRC of a mutated buffer. */
+static void fix_crc(unsigned char *c, size_t n)
+{
+    if (n < 32) return;
+    for (int k = 0; k < 8; k++) c[16 + k] = (unsigned char)((uint64_t)n >> (8 * k));
+    uint32_t hc = st_crc32(0, c, 24);
+    for (int k = 0; k < 4; k++) c[24 + k] = (unsigned char)(hc >> (8 * k));
+    uint32_t crc = st_crc32(0, c, n - 4);
+    for (int k = 0; k < 4; k++) c[n - 4 + k] = (unsigned char)(crc >> (8 * k));
+}
+
+/* Crafted files with valid checksums: random byte changes must be refused
+ * or give a session that validates (no crash: run under ASan). */
+static void check_crafted(st_scheme_id id, void (*make)(st_mesh *), int adaptive)
+{
+    st_hier h;
+    st_adapt a;
+    st_error err;
+    build(&h, make, id, adaptive ? 0 : 2, NULL);
+    st_adapt_params p = box_at(0.5, 2);
+    if (adaptive) {
+        CHECK(st_adapt_init(&a, &h, &err) == ST_OK);
+        CHECK(st_adapt_update(&a, &p, &err) == ST_OK);
+    }
+    st_session_ref r = { .h = &h, .adapt = adaptive ? &a : NULL, .box = &p, .box_on = adaptive };
+    size_t n;
+    unsigned char *b = write_mem(&r, &n);
+    unsigned char *c = malloc(n);
+    uint64_t rng = 4242 + id;
+    int accepted = 0;
+    for (int it = 0; it < 3000; it++) {
+        memcpy(c, b, n);
+        int k = 1 + (int)(tl_rand(&rng) % 4);
+        for (int j = 0; j < k; j++) {
+            size_t at = 28 + tl_rand(&rng) % (n - 32);
+            c[at] = (tl_rand(&rng) & 1) ? (unsigned char)tl_rand(&rng) : (unsigned char)(c[at] ^ (1u << (tl_rand(&rng) % 8)));
+        }
+        fix_crc(c, n);
+        st_session s;
+        if (st_session_parse("crafted.strata", c, n, &s, &err) == ST_OK) {
+            accepted++;
+            CHECKF(st_map_validate(&s.h.map, &err) == ST_OK, "%s", err.msg);
+            st_mesh m;
+            st_mesh_init(&m);
+            if (st_hier_level_mesh(&s.h, s.h.map.top, &m, &err) == ST_OK) st_mesh_free(&m);
+            st_session_free(&s);
+        } else {
+            CHECKF(strstr(err.msg, "crafted.strata") != NULL, "%s", err.msg);
+        }
+    }
+    (void)accepted;
+    free(c);
+    free(b);
+    if (adaptive) st_adapt_free(&a);
+    st_hier_free(&h);
+}
+
+/* Files: crash-safe save over an existing file, load, no stray temporary. */
+static void check_files(void)
+{
+    char path[1024], tmp[1100];
+    snprintf(path, sizeof path, "%s/test_session_%ld.strata", STRATA_TMP, (long)getpid());
+    st_hier h;
+    st_error err;
+    build(&h, torus, ST_SCHEME_CATMARK, 2, NULL);
+    st_session_ref r = { .h = &h, .display_level = 2 };
+    CHECKF(st_session_save_ref(path, &r, &err) == ST_OK, "%s", err.msg);
+    edit(&h, 0, 11);
+    CHECKF(st_session_save_ref(path, &r, &err) == ST_OK, "%s", err.msg);
+    snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid());
+    CHECK(access(tmp, F_OK) != 0);
+    st_session s;
+    CHECKF(st_session_load(path, &s, &err) == ST_OK, "%s", err.msg);
+    CHECK(snaps_equal(&h, &s.h));
+    /* Moving a session keeps it usable (pointers re-aimed). */
+    st_session t;
+    st_session_init(&t);
+    st_session_move(&t, &s);
+    CHECK(st_hier_subdivide_to(&t.h, 3, &err) == ST_OK);
+    CHECK(st_map_validate(&t.h.map, &err) == ST_OK);
+    st_session_free(&t);
+    st_session_free(&s);
+    CHECK(st_session_load("/nonexistent/dir/x.strata", &s, &err) != ST_OK);
+    CHECK(strstr(err.msg, "/nonexistent/dir/x.strata") != NULL);
+    CHECK(st_session_save_ref("/nonexistent/dir/x.strata", &r, &err) != ST_OK);
+    remove(path);
+    /* Recovery path: the environment override wins. */
+    char rec[512];
+    setenv("STRATA_RECOVERY", "/tmp/strata-test-recovery/x/recovery.strata", 1);
+    CHECK(st_session_recovery_path(rec, sizeof rec) == 0);
+    CHECK(!strcmp(rec, "/tmp/strata-test-recovery/x/recovery.strata"));
+    CHECK(access("/tmp/strata-test-recovery/x", F_OK) == 0);
+    rmdir("/tmp/strata-test-recovery/x");
+    rmdir("/tmp/strata-test-recovery");
+    unsetenv("STRATA_RECOVERY");
+    st_hier_free(&h);
+}
+
+/* Normals: unit length, outward on a convex mesh; OBJ and PLY read back. */
+static void check_normals(void)
+{
+    st_hier h;
+    st_error err;
+    st_mesh m, back;
+    build(&h, tl_mesh_cube, ST_SCHEME_CATMARK, 2, NULL);
+    st_mesh_init(&m);
+    st_mesh_init(&back);
+    CHECK(st_hier_level_mesh(&h, 2, &m, &err) == ST_OK);
+    CHECK(st_mesh_compute_normals(&m) == 0);
+    double c[3] = { 0, 0, 0 };
+    for (uint32_t v = 0; v < m.nverts; v++)
+        for (int k = 0; k < 3; k++) c[k] += m.pos[3 * v + k] / m.nverts;
+    int unit = 1, outward = 1;
+    for (uint32_t v = 0; v < m.nverts; v++) {
+        const double *n = m.normals + 3 * v, *p = m.pos + 3 * v;
+        unit &= fabs(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1) < 1e-12;
+        outward &= n[0] * (p[0] - c[0]) + n[1] * (p[1] - c[1]) + n[2] * (p[2] - c[2]) > 0;
+    }
+    CHECK(unit);
+    CHECK(outward);
+    const char *exts[] = { "obj", "ply" };
+    for (int e = 0; e < 2; e++) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/test_session_normals_%ld.%s", STRATA_TMP, (long)getpid(), exts[e]);
+        CHECKF(st_mesh_save(path, &m, &err) == ST_OK, "%s", err.msg);
+        size_t size;
+        char *text = tl_read_file(path, &size);
+        CHECK(text != NULL);
+        if (text && e == 0) CHECK(strstr(text, "\nvn ") && strstr(text, "//"));
+        if (text && e == 1) CHECK(strstr(text, "property double nx") != NULL);
+        free(text);
+        CHECKF(st_mesh_load(path, &back, &err) == ST_OK, "%s", err.msg);
+        CHECK(back.nverts == m.nverts && back.nfaces == m.nfaces);
+        CHECK(back.nverts == m.nverts && !memcmp(back.pos, m.pos, 24 * (size_t)m.nverts));
+        remove(path);
+    }
+    st_mesh_free(&back);
+    st_mesh_free(&m);
+    st_hier_free(&h);
+}
+
+int main(void)
+{
+    check_regular(ST_SCHEME_CATMARK, creased_cube);
+    check_regular(ST_SCHEME_CATMARK, torus);
+    check_regular(ST_SCHEME_LOOP, octa);
+    check_regular(ST_SCHEME_DOOSABIN, tl_mesh_cube);
+    check_regular(ST_SCHEME_SQRT3, octa);
+    check_regular(ST_SCHEME_BUTTERFLY, octa);
+    check_regular(ST_SCHEME_QUADTRI, tl_mesh_cube);
+    check_adaptive(ST_SCHEME_CATMARK, creased_cube);
+    check_adaptive(ST_SCHEME_CATMARK, torus);
+    check_adaptive(ST_SCHEME_LOOP, octa);
+    check_adaptive(ST_SCHEME_BUTTERFLY, octa);
+    check_damage();
+    check_crafted(ST_SCHEME_CATMARK, creased_cube, 0);
+    check_crafted(ST_SCHEME_LOOP, octa, 1);
+    check_crafted(ST_SCHEME_DOOSABIN, tl_mesh_cube, 0);
+    check_files();
+    check_normals();
+    return TEST_END();
+}
