@@ -164,6 +164,13 @@ void parse_model(const unsigned char *d, size_t n, const char *base_dir, tinyglt
         json = d + 20;
         json_n = len < n - 20 ? len : n - 20;
     }
+    if (!is_glb(d, n)) {
+        // Not GLB: must be a JSON object (after blanks and a UTF-8 BOM).
+        size_t i = n >= 3 && memcmp(d, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+        while (i < n && (d[i] == ' ' || d[i] == '\t' || d[i] == '\r' || d[i] == '\n')) i++;
+        if (i == n || d[i] != '{')
+            fail(ST_ERR_PARSE, "not glTF: neither binary (no \"glTF\" magic) nor JSON (no '{')");
+    }
     if (json_depth(json, json_n) > kMaxJsonDepth)
         fail(ST_ERR_PARSE, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
 
@@ -349,8 +356,9 @@ void add_primitive(const tinygltf::Model &model, int mesh_i, int prim_i, const M
             uint32_t v = bytes == 1 ? e[0] : bytes == 2 ? (uint32_t)(e[0] | e[1] << 8) : 0;
             if (bytes == 4) memcpy(&v, e, 4);
             if (v >= pv.count)
-                fail(ST_ERR_RANGE, what + ": index " + std::to_string(i) + " is " + std::to_string(v) +
-                                       " but POSITION has " + std::to_string(pv.count) + " vertices");
+                fail(ST_ERR_RANGE, what + ": index " + std::to_string(i) + " (value " + std::to_string(v) +
+                                       ") is out of range: POSITION accessor " + std::to_string(pa) + " has " +
+                                       std::to_string(pv.count) + " vertices");
             idx[i] = v;
         }
     } else {
