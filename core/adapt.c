@@ -539,14 +539,15 @@ int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
     for (uint32_t k = 0; k < n; k++)
         if (st_face_is_subdivided(m, subs[k], L)) return 0;
     if (!restricted) return 1;
-    /* Once f is back at level i, no face sharing one of its corners may be
-     * finer than level i+1. */
-    for (uint32_t k = 0; k < o.n; k++) {
-        uint32_t y = o.d[k];
+    /* Once f is back at level i, no face sharing one of its vertices may be
+     * finer than level i+1: its corners, and the midpoints of its sides
+     * that stay split because the face across is subdivided. */
+    for (uint32_t k = 0; k < 2 * o.n; k++) {
+        uint32_t c = k < o.n ? o.d[k] : half_after(m, o.d[k - o.n], i), y = c;
         do {
             if (!st_is_boundary(m, y) && st_face_level(m, y, m->top) > L) return 0;
             y = st_beta1(m, y, m->top);
-        } while (y != o.d[k]);
+        } while (y != c);
     }
     return 1;
 }
@@ -685,7 +686,7 @@ static void face_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], dou
 }
 
 /* Level the criteria want for the face of d at level l. */
-static unsigned wanted_level(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p)
+unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p)
 {
     unsigned want = p->base_level;
     if (p->has_box) {
@@ -826,7 +827,7 @@ static int refine_region(st_adapt *a, const st_dart_list *roots, const st_adapt_
         for (uint32_t k = 0; k < cur.n && !rc; k++) {
             uint32_t d = cur.d[k];
             if (!st_dart_live(m, d) || st_face_level(m, d, i) != i || st_face_is_subdivided(m, d, i)) continue;
-            if (wanted_level(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
+            if (st_adapt_wanted_level(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
         }
         children(a, &cur, i, &next);
         st_dart_list t = cur; cur = next; next = t;
@@ -859,7 +860,7 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
                 for (uint32_t k = 0; k < faces.n && !rc; k++) {
                     uint32_t d = faces.d[k];
                     if (st_face_level(m, d, i) != i || st_face_is_subdivided(m, d, i)) continue;
-                    if (wanted_level(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, restricted, err);
+                    if (st_adapt_wanted_level(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, restricted, err);
                 }
             }
         forced = a->forced;
@@ -881,7 +882,7 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
         for (uint32_t k = 0; k < faces.n && !rc; k++) {
             uint32_t d = faces.d[k];
             if (!st_dart_live(m, d) || st_face_level(m, d, i) != i) continue;
-            if (wanted_level(m, d, i, p) > i || !st_adapt_can_simplify(a, d, i, restricted)) continue;
+            if (st_adapt_wanted_level(m, d, i, p) > i || !st_adapt_can_simplify(a, d, i, restricted)) continue;
             rc = st_adapt_simplify_face(a, d, i, err);
         }
     }

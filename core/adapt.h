@@ -89,6 +89,10 @@ int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted);
  * neighbour needs; keeps the removed vertices' details. */
 int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err);
 
+/* Level the criteria of p want for the face of d at level l (box, falloff,
+ * flatness; never below p->base_level). */
+unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p);
+
 /* Algorithms 5 then 6 with the criteria of p.  When only the box moved since
  * the last update (same levels, falloff and restriction, no flatness
  * criterion, no edit in between), only the faces that descend from the base

@@ -1,5 +1,6 @@
 /* Adaptive refinement: validity after random box moves, watertightness,
  * agreement with the regular hierarchy, and the detail round trip. */
+#include "access.h"
 #include "adapt.h"
 #include "hier_internal.h"
 #include "testlib.h"
@@ -47,6 +48,24 @@ static int watertight(const st_mesh *s, int closed)
     return ok;
 }
 
+/* The one-level restriction: faces of the displayed (top) level that share
+ * a vertex differ by at most one subdivision level. */
+static int restriction_holds(st_map *m)
+{
+    unsigned T = m->top;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, T, &it); d != ST_NIL; d = st_dart_next(m, T, &it)) {
+        if (st_is_boundary(m, d)) continue;
+        unsigned fl = st_face_level(m, d, T);
+        uint32_t y = d;
+        do {
+            if (!st_is_boundary(m, y) && fl > st_face_level(m, y, T) + 1) return 0;
+            y = st_beta1(m, y, T);
+        } while (y != d);
+    }
+    return 1;
+}
+
 static void check_display(st_adapt *a, int closed, const char *what)
 {
     st_mesh s;
@@ -63,6 +82,22 @@ static st_adapt_params box_params(double cx, double cy, double cz, double r, uns
     p.box_lo[0] = cx - r; p.box_lo[1] = cy - r; p.box_lo[2] = cz - r;
     p.box_hi[0] = cx + r; p.box_hi[1] = cy + r; p.box_hi[2] = cz + r;
     return p;
+}
+
+/* Largest distance from a point of a to the nearest point of b. */
+static double pointset_dist(const st_mesh *a, const st_mesh *b)
+{
+    double worst = 0;
+    for (uint32_t v = 0; v < a->nverts; v++) {
+        double best = INFINITY;
+        for (uint32_t w = 0; w < b->nverts; w++) {
+            double d = 0;
+            for (int k = 0; k < 3; k++) d += (a->pos[3 * v + k] - b->pos[3 * w + k]) * (a->pos[3 * v + k] - b->pos[3 * w + k]);
+            best = fmin(best, d);
+        }
+        worst = fmax(worst, sqrt(best));
+    }
+    return worst;
 }
 
 /* Random box moves with fixed seeds: every level valid, display watertight. */
@@ -82,6 +117,8 @@ static void check_random_moves(st_scheme_id id, void (*make)(st_mesh *), int clo
         CHECKF(rc == ST_OK, "%s step %d: %s", h.scheme->name, step, err.msg);
         valid(&h.map, h.scheme->name);
         check_display(&a, closed, h.scheme->name);
+        CHECKF(restriction_holds(&h.map), "%s step %d: faces sharing a vertex differ by more than one level",
+               h.scheme->name, step);
     }
     st_adapt_free(&a);
     st_hier_free(&h);
@@ -205,16 +242,7 @@ static void check_detail_round_trip(st_scheme_id id, void (*make)(st_mesh *), un
     CHECKF(before.nverts == after.nverts && before.nfaces == after.nfaces, "%s: %u/%u vs %u/%u", h.scheme->name,
            before.nverts, before.nfaces, after.nverts, after.nfaces);
     /* Compare as point sets (vertex ids may be reassigned). */
-    double worst = 0;
-    for (uint32_t v = 0; v < after.nverts; v++) {
-        double best = INFINITY;
-        for (uint32_t w = 0; w < before.nverts; w++) {
-            double d = 0;
-            for (int k = 0; k < 3; k++) d += (after.pos[3 * v + k] - before.pos[3 * w + k]) * (after.pos[3 * v + k] - before.pos[3 * w + k]);
-            best = fmin(best, d);
-        }
-        worst = fmax(worst, sqrt(best));
-    }
+    double worst = pointset_dist(&after, &before);
     CHECKF(worst < 1e-6 * extent, "%s: away and back moved the surface by %g", h.scheme->name, worst);
     st_mesh_free(&before);
     st_mesh_free(&after);
@@ -245,16 +273,7 @@ static void check_incremental(st_scheme_id id, void (*make)(st_mesh *), unsigned
         st_mesh_init(&s);
         st_mesh_init(&t);
         CHECK(st_adapt_mesh(&a, &s, &err) == ST_OK && st_adapt_mesh(&b, &t, &err) == ST_OK);
-        double worst = 0;
-        for (uint32_t v = 0; v < s.nverts; v++) {
-            double best = INFINITY;
-            for (uint32_t w = 0; w < t.nverts; w++) {
-                double d = 0;
-                for (int k = 0; k < 3; k++) d += (s.pos[3 * v + k] - t.pos[3 * w + k]) * (s.pos[3 * v + k] - t.pos[3 * w + k]);
-                best = fmin(best, d);
-            }
-            worst = fmax(worst, sqrt(best));
-        }
+        double worst = pointset_dist(&s, &t);
         CHECKF(s.nfaces == t.nfaces && s.nverts == t.nverts && worst < 1e-12,
                "%s step %d: incremental %u faces / %u verts, full %u / %u, max distance %g", h.scheme->name, step,
                s.nfaces, s.nverts, t.nfaces, t.nverts, worst);
@@ -266,6 +285,51 @@ static void check_incremental(st_scheme_id id, void (*make)(st_mesh *), unsigned
     st_adapt_free(&b);
     st_hier_free(&h);
     st_hier_free(&g);
+}
+
+/* Adaptive access (§3.3.2) on a regular hierarchy shows the mesh adaptive
+ * refinement builds for the same criteria: same faces, same points, no
+ * T-junction; with the restriction off it is still watertight. */
+static void check_access(st_scheme_id id, void (*make)(st_mesh *), int closed, unsigned max, double extent)
+{
+    st_hier r;
+    st_error err;
+    tl_init_hier(&r, make, id, max);
+    uint64_t rng = 211 + id;
+    for (int step = 0; step < 6; step++) {
+        double c[3];
+        for (int k = 0; k < 3; k++) c[k] = extent * ((double)(tl_rand(&rng) % 2001) / 1000.0 - 1.0);
+        st_adapt_params p = box_params(c[0], c[1], c[2], (0.2 + 0.1 * step) * extent, step % 2, max);
+        if (step == 4) p = box_params(0, 0, 0, 100 * extent, 0, max);     /* everything */
+        if (step == 5) p = box_params(1000 * extent, 0, 0, 0.1, 1, max);  /* nothing: base level 1 */
+        if (step == 2) p.falloff = 0.3 * extent;
+        st_hier h;
+        st_adapt a;
+        tl_init_hier(&h, make, id, 0);
+        CHECK(st_adapt_init(&a, &h, &err) == ST_OK && st_adapt_update(&a, &p, &err) == ST_OK);
+        st_mesh want, got;
+        st_mesh_init(&want);
+        st_mesh_init(&got);
+        st_access_stats st;
+        CHECK(st_adapt_mesh(&a, &want, &err) == ST_OK);
+        CHECKF(st_access_mesh(&r, &p, &got, &st, &err) == ST_OK, "%s", err.msg);
+        double dist = fmax(pointset_dist(&got, &want), pointset_dist(&want, &got));
+        CHECKF(got.nfaces == want.nfaces && got.nverts == want.nverts && dist < 1e-9 * extent,
+               "%s step %d: access %u faces / %u verts, adaptive %u / %u, distance %g", r.scheme->name, step,
+               got.nfaces, got.nverts, want.nfaces, want.nverts, dist);
+        CHECKF(watertight(&got, closed), "%s step %d: access mesh not watertight", r.scheme->name, step);
+        valid(&r.map, "after adaptive access");
+        CHECKF(r.map.marks_used == 0, "%s: marker bits leaked (%#x)", r.scheme->name, r.map.marks_used);
+        p.no_restriction = 1;
+        st_mesh_free(&got);
+        CHECK(st_access_mesh(&r, &p, &got, NULL, &err) == ST_OK);
+        CHECKF(watertight(&got, closed), "%s step %d: access mesh without restriction not watertight", r.scheme->name, step);
+        st_mesh_free(&want);
+        st_mesh_free(&got);
+        st_adapt_free(&a);
+        st_hier_free(&h);
+    }
+    st_hier_free(&r);
 }
 
 int main(void)
@@ -282,6 +346,7 @@ int main(void)
         check_matches_regular(cases[i].id, cases[i].make, cases[i].max, cases[i].extent);
         check_detail_round_trip(cases[i].id, cases[i].make, cases[i].max, cases[i].extent);
         check_incremental(cases[i].id, cases[i].make, cases[i].max, cases[i].extent);
+        check_access(cases[i].id, cases[i].make, cases[i].closed, cases[i].max, cases[i].extent);
     }
     return TEST_END();
 }
