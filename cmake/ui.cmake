@@ -13,13 +13,17 @@ file(GLOB STRATA_UI_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/ui/*.c)
 if(STRATA_EDITOR_SOURCES)
   list(REMOVE_ITEM STRATA_UI_SOURCES ${STRATA_EDITOR_SOURCES})
 endif()
-if(STRATA_UI_SOURCES)
+# The window needs the document (ui/editor.c): without it strata_ui is not
+# built and `strata` without a subcommand says the window is missing.
+if(STRATA_UI_SOURCES AND TARGET strata_editor AND EXISTS ${CMAKE_SOURCE_DIR}/ui/editor.c)
   find_package(PkgConfig REQUIRED)
   pkg_check_modules(GLFW3 REQUIRED IMPORTED_TARGET glfw3)
   add_library(strata_ui STATIC ${STRATA_UI_SOURCES})
   target_include_directories(strata_ui PUBLIC ${CMAKE_SOURCE_DIR}/ui
                                        PRIVATE ${STRATA_GL_INCLUDE} ${STRATA_STB_INCLUDE})
   target_link_libraries(strata_ui PUBLIC strata_render strata_core PkgConfig::GLFW3)
+  # The default model of `strata` with no FILE (overridable by $STRATA_ASSETS).
+  target_compile_definitions(strata_ui PRIVATE STRATA_ASSETS="${CMAKE_SOURCE_DIR}/assets")
   if(TARGET strata_editor)
     target_link_libraries(strata_ui PUBLIC strata_editor)
   endif()

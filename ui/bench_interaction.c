@@ -1,0 +1,178 @@
+/* strata --bench-interaction FILE: the cost of one drag step against a full
+ * rebuild, on a depth-6 hierarchy (issue 6).
+ *
+ * One vertex of level 2 is selected and dragged in --bench-steps steps
+ * through the same calls the window makes (st_doc_drag_update, then
+ * st_renderer_edit with the moved darts); each step is timed as geometry
+ * (local re-synthesis of levels 3..6) plus buffers (the touched positions
+ * and normals recomputed and re-uploaded with glBufferSubData), with
+ * glFinish so that the upload is counted.  The reference is a full
+ * synthesis from level 0 (st_hier_synthesize) plus a full rebuild and upload
+ * of the displayed and editing levels' buffers (st_renderer_set_level +
+ * set_cage).  The context is a hidden GLFW window when a display is there,
+ * else OSMesa (same Mesa llvmpipe driver either way here). */
+#include "window.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include "headless.h"
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_d);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int st_window_bench(const st_win_opts *o)
+{
+    if (!o->file) { fprintf(stderr, "strata: --bench-interaction needs a FILE\n"); return 2; }
+    unsigned levels = o->levels >= 0 ? (unsigned)o->levels : 6;
+    unsigned edit = levels >= 2 ? 2 : levels;
+    const char *scheme = o->scheme ? o->scheme : "catmull-clark";
+    st_doc doc;
+    st_doc_init(&doc);
+    st_error err;
+    double t0 = now_ms();
+    if (st_doc_open(&doc, o->file, scheme, levels, &err)) {
+        fprintf(stderr, "strata: %s: %s\n", o->file, err.msg);
+        st_doc_free(&doc);
+        return 1;
+    }
+    double t_open = now_ms() - t0;
+
+    /* A GL context: a hidden window, or OSMesa without a display. */
+    GLFWwindow *win = NULL;
+    st_headless hl;
+    memset(&hl, 0, sizeof hl);
+    st_gl gl;
+    const char *ctx = NULL;
+    if (glfwInit()) {
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+        glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+        glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+        glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+        win = glfwCreateWindow(256, 256, "strata bench", NULL, NULL);
+        if (win) {
+            glfwMakeContextCurrent(win);
+            if (st_gl_load(&gl, glfwGetProcAddress, &err)) { glfwDestroyWindow(win); win = NULL; }
+            else ctx = "GLFW window";
+        }
+        if (!win) glfwTerminate();
+    }
+    if (!win) {
+        if (st_headless_init(&hl, 256, 256, 1, &err)) {
+            fprintf(stderr, "strata: no OpenGL context for the benchmark: %s\n", err.msg);
+            st_doc_free(&doc);
+            return 1;
+        }
+        gl = hl.gl;
+        ctx = "OSMesa (no display)";
+    }
+    const char *renderer = (const char *)gl.GetString(GL_RENDERER);
+
+    st_renderer r;
+    int rc = st_renderer_init(&r, &gl, &err);
+    unsigned top = doc.h.map.top;
+    st_doc_set_edit_level(&doc, edit);
+    st_doc_set_display_level(&doc, top);
+    if (!rc) rc = st_renderer_set_level(&r, &doc.h.map, top, &err);
+    if (!rc) rc = st_renderer_set_cage(&r, &doc.h.map, edit, &err);
+    if (rc || !r.cage.nverts) {
+        fprintf(stderr, "strata: bench: %s\n", rc ? err.msg : "empty editing level");
+        rc = 1;
+        goto done;
+    }
+    (void)st_doc_take_change(&doc);
+
+    uint32_t v = r.cage.vid[r.cage.nverts / 2];
+    st_doc_select(&doc, &v, 1, ST_SELECT_REPLACE);
+    (void)st_doc_take_change(&doc);
+    double diag = 0;
+    for (int k = 0; k < 3; k++) diag += (double)(r.surf.bbox[k + 3] - r.surf.bbox[k]) * (r.surf.bbox[k + 3] - r.surf.bbox[k]);
+    diag = sqrt(diag);
+    int n = o->bench_steps;
+    double *tg = malloc((size_t)n * sizeof *tg), *tb = malloc((size_t)n * sizeof *tb), *tt = malloc((size_t)n * sizeof *tt);
+    if (!tg || !tb || !tt || st_doc_drag_begin(&doc)) {
+        fprintf(stderr, "strata: bench: cannot start the drag\n");
+        free(tg); free(tb); free(tt);
+        rc = 1;
+        goto done;
+    }
+    uint64_t moved_top = 0;
+    uint32_t nmoved = 0;
+    for (int i = 0; i < n; i++) {
+        double delta[3] = { 0.002 * diag * (i + 1), 0.001 * diag * (i + 1), -0.0015 * diag * (i + 1) };
+        double a0 = now_ms();
+        st_doc_drag_update(&doc, delta);
+        double a1 = now_ms();
+        st_doc_change ch = st_doc_take_change(&doc);
+        st_renderer_edit(&r, &doc.h, ch.moved_level, ch.moved_darts, ch.nmoved);
+        gl.Finish();
+        double a2 = now_ms();
+        tg[i] = a1 - a0;
+        tb[i] = a2 - a1;
+        tt[i] = a2 - a0;
+        moved_top = r.last.vertices;
+        nmoved = ch.nmoved;
+    }
+    st_doc_drag_end(&doc);
+    (void)st_doc_take_change(&doc);
+    double mg = median(tg, n), mb = median(tb, n), mt = median(tt, n);
+    free(tg); free(tb); free(tt);
+
+    enum { REPS = 3 };
+    double fs[REPS], fb[REPS], ft[REPS];
+    for (int i = 0; i < REPS; i++) {
+        double a0 = now_ms();
+        st_hier_synthesize(&doc.h, 0);
+        double a1 = now_ms();
+        st_renderer_set_level(&r, &doc.h.map, top, &err);
+        st_renderer_set_cage(&r, &doc.h.map, edit, &err);
+        gl.Finish();
+        double a2 = now_ms();
+        fs[i] = a1 - a0;
+        fb[i] = a2 - a1;
+        ft[i] = a2 - a0;
+    }
+    double ms = median(fs, REPS), mbuf = median(fb, REPS), mfull = median(ft, REPS);
+    uint64_t faces = 0, verts = 0;
+    st_doc_display_counts(&doc, &faces, &verts);
+
+    printf("bench-interaction: %s, %s, levels 0..%u (opened in %.0f ms)\n", o->file, doc.scheme->name, top, t_open);
+    printf("  context: %s, %s\n", ctx, renderer ? renderer : "?");
+    printf("  displayed level %u: %llu faces, %llu vertices; editing level %u: %u vertices\n", top,
+           (unsigned long long)faces, (unsigned long long)verts, edit, r.cage.nverts);
+    printf("  drag of 1 level-%u vertex, %d steps (median): geometry %.3f ms + buffers %.3f ms = %.3f ms per step\n",
+           edit, n, mg, mb, mt);
+    printf("    (%u moved darts reported, %llu vertices re-uploaded per step)\n", nmoved, (unsigned long long)moved_top);
+    printf("  full synthesis %.1f ms + full buffer rebuild %.1f ms = %.1f ms (median of %d)\n", ms, mbuf, mfull, REPS);
+    printf("  ratio drag step / full = %.4f (target <= 0.02): %s\n", mt / mfull, mt / mfull <= 0.02 ? "ok" : "ABOVE TARGET");
+    rc = 0;
+done:
+    st_renderer_free(&r);
+    if (win) { glfwDestroyWindow(win); glfwTerminate(); }
+    else st_headless_free(&hl);
+    st_doc_free(&doc);
+    return rc;
+}

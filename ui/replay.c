@@ -1,0 +1,392 @@
+/* Scripted input; see replay.h. */
+#include "replay.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include "window.h"
+
+enum ev_type {
+    EV_WAIT, EV_KEY, EV_MOVE, EV_BUTTON, EV_SCROLL, EV_DROP, EV_LEVEL, EV_SNAPSHOT, EV_SHOT, EV_EXPECT, EV_ECHO, EV_QUIT
+};
+
+typedef struct ev {
+    int type, line;
+    int key, action, mods, button, which;
+    double x, y;
+    char *text, *arg;
+} ev;
+
+struct st_replay {
+    char path[1024];
+    ev *e;
+    size_t n, cap, pos;
+    float *snap;               /* displayed positions at the last snapshot */
+    uint32_t nsnap;
+    int has_snap;
+};
+
+static ev *push(st_replay *rp, int type, int line)
+{
+    if (rp->n == rp->cap) {
+        size_t cap = rp->cap ? 2 * rp->cap : 64;
+        ev *e = realloc(rp->e, cap * sizeof *e);
+        if (!e) return NULL;
+        rp->e = e;
+        rp->cap = cap;
+    }
+    ev *e = &rp->e[rp->n++];
+    memset(e, 0, sizeof *e);
+    e->type = type;
+    e->line = line;
+    return e;
+}
+
+static const struct { const char *name; int key; } key_names[] = {
+    { "pageup", GLFW_KEY_PAGE_UP }, { "pagedown", GLFW_KEY_PAGE_DOWN }, { "home", GLFW_KEY_HOME },
+    { "end", GLFW_KEY_END }, { "left", GLFW_KEY_LEFT }, { "right", GLFW_KEY_RIGHT }, { "up", GLFW_KEY_UP },
+    { "down", GLFW_KEY_DOWN }, { "escape", GLFW_KEY_ESCAPE }, { "esc", GLFW_KEY_ESCAPE },
+    { "enter", GLFW_KEY_ENTER }, { "return", GLFW_KEY_ENTER }, { "tab", GLFW_KEY_TAB },
+    { "space", GLFW_KEY_SPACE }, { "delete", GLFW_KEY_DELETE }, { "backspace", GLFW_KEY_BACKSPACE },
+    { "kp_add", GLFW_KEY_KP_ADD }, { "kp_subtract", GLFW_KEY_KP_SUBTRACT }, { "kp_enter", GLFW_KEY_KP_ENTER },
+    { "plus", GLFW_KEY_EQUAL }, { "minus", GLFW_KEY_MINUS },
+    { "[", GLFW_KEY_LEFT_BRACKET }, { "]", GLFW_KEY_RIGHT_BRACKET }, { ",", GLFW_KEY_COMMA },
+    { ".", GLFW_KEY_PERIOD }, { "-", GLFW_KEY_MINUS }, { "=", GLFW_KEY_EQUAL }, { "/", GLFW_KEY_SLASH },
+    { ";", GLFW_KEY_SEMICOLON }, { "'", GLFW_KEY_APOSTROPHE },
+    { "shift", GLFW_KEY_LEFT_SHIFT }, { "ctrl", GLFW_KEY_LEFT_CONTROL }, { "control", GLFW_KEY_LEFT_CONTROL },
+    { "alt", GLFW_KEY_LEFT_ALT }, { "super", GLFW_KEY_LEFT_SUPER },
+};
+
+static int key_code(const char *s)
+{
+    for (size_t i = 0; i < sizeof key_names / sizeof key_names[0]; i++)
+        if (!strcasecmp(s, key_names[i].name)) return key_names[i].key;
+    if (strlen(s) == 1 && isalpha((unsigned char)s[0])) return GLFW_KEY_A + (toupper((unsigned char)s[0]) - 'A');
+    if (strlen(s) == 1 && isdigit((unsigned char)s[0])) return GLFW_KEY_0 + (s[0] - '0');
+    if ((s[0] == 'f' || s[0] == 'F') && isdigit((unsigned char)s[1])) {
+        int n = atoi(s + 1);
+        if (n >= 1 && n <= 25) return GLFW_KEY_F1 + n - 1;
+    }
+    if (!strncasecmp(s, "kp_", 3) && isdigit((unsigned char)s[3]) && !s[4]) return GLFW_KEY_KP_0 + (s[3] - '0');
+    return -1;
+}
+
+static int mod_bit(const char *s)
+{
+    if (!strcasecmp(s, "ctrl") || !strcasecmp(s, "control")) return GLFW_MOD_CONTROL;
+    if (!strcasecmp(s, "shift")) return GLFW_MOD_SHIFT;
+    if (!strcasecmp(s, "alt")) return GLFW_MOD_ALT;
+    if (!strcasecmp(s, "super")) return GLFW_MOD_SUPER;
+    return 0;
+}
+
+static int mod_key(int bit)
+{
+    switch (bit) {
+    case GLFW_MOD_CONTROL: return GLFW_KEY_LEFT_CONTROL;
+    case GLFW_MOD_SHIFT: return GLFW_KEY_LEFT_SHIFT;
+    case GLFW_MOD_ALT: return GLFW_KEY_LEFT_ALT;
+    default: return GLFW_KEY_LEFT_SUPER;
+    }
+}
+
+/* "ctrl+shift+d" -> key and mods; a lone modifier ("ctrl") is a key. */
+static int parse_key(const char *spec, int *key, int *mods)
+{
+    char buf[128];
+    snprintf(buf, sizeof buf, "%s", spec);
+    *mods = 0;
+    *key = -1;
+    char *parts[8];
+    int np = 0;
+    char *s = buf;
+    while (np < 8) {
+        parts[np++] = s;
+        /* '+' separates, except a trailing "+" meaning the key itself. */
+        char *p = strchr(s, '+');
+        if (!p || !p[1]) break;
+        *p = 0;
+        s = p + 1;
+    }
+    for (int i = 0; i < np - 1; i++) {
+        int b = mod_bit(parts[i]);
+        if (!b) return -1;
+        *mods |= b;
+    }
+    *key = key_code(parts[np - 1]);
+    return *key < 0 ? -1 : 0;
+}
+
+static int parse_mods(const char *s, int *mods)
+{
+    *mods = 0;
+    if (!s || !*s) return 0;
+    char buf[128];
+    snprintf(buf, sizeof buf, "%s", s);
+    for (char *t = strtok(buf, "+"); t; t = strtok(NULL, "+")) {
+        int b = mod_bit(t);
+        if (!b) return -1;
+        *mods |= b;
+    }
+    return 0;
+}
+
+static int parse_button(const char *s)
+{
+    if (!s) return -1;
+    if (!strcasecmp(s, "left")) return GLFW_MOUSE_BUTTON_LEFT;
+    if (!strcasecmp(s, "right")) return GLFW_MOUSE_BUTTON_RIGHT;
+    if (!strcasecmp(s, "middle")) return GLFW_MOUSE_BUTTON_MIDDLE;
+    return -1;
+}
+
+/* Key events holding (action PRESS) or letting go (RELEASE) of the
+ * modifiers in mods, with the mods GLFW would report. */
+static int push_mods(st_replay *rp, int line, int mods, int action)
+{
+    static const int order[4] = { GLFW_MOD_CONTROL, GLFW_MOD_SHIFT, GLFW_MOD_ALT, GLFW_MOD_SUPER };
+    int held = action == GLFW_PRESS ? 0 : mods;
+    for (int i = 0; i < 4; i++) {
+        if (!(mods & order[i])) continue;
+        ev *e = push(rp, EV_KEY, line);
+        if (!e) return -1;
+        e->key = mod_key(order[i]);
+        e->action = action;
+        if (action == GLFW_PRESS) held |= order[i];
+        else held &= ~order[i];
+        e->mods = held;
+    }
+    return 0;
+}
+
+static int parse_line(st_replay *rp, char *s, int line, st_error *err)
+{
+    char *tok[10];
+    int nt = 0;
+    for (char *t = strtok(s, " \t\r\n"); t && nt < 10; t = strtok(NULL, " \t\r\n")) tok[nt++] = t;
+    if (!nt) return 0;
+    const char *c = tok[0];
+    ev *e;
+#define BAD(...) return st_fail(err, ST_ERR_PARSE, __VA_ARGS__)
+    if (!strcmp(c, "wait")) {
+        int n = nt > 1 ? atoi(tok[1]) : 1;
+        if (n < 0 || n > 100000) BAD("%s:%d: wait wants a frame count", rp->path, line);
+        for (int i = 0; i < n; i++) if (!push(rp, EV_WAIT, line)) BAD("out of memory");
+    } else if (!strcmp(c, "key") || !strcmp(c, "press") || !strcmp(c, "release")) {
+        int key, mods;
+        if (nt < 2 || parse_key(tok[1], &key, &mods)) BAD("%s:%d: unknown key '%s'", rp->path, line, nt > 1 ? tok[1] : "");
+        int full = !strcmp(c, "key");
+        if (full && push_mods(rp, line, mods, GLFW_PRESS)) BAD("out of memory");
+        if (full || !strcmp(c, "press")) {
+            if (!(e = push(rp, EV_KEY, line))) BAD("out of memory");
+            e->key = key; e->action = GLFW_PRESS; e->mods = mods;
+        }
+        if (full || !strcmp(c, "release")) {
+            if (!(e = push(rp, EV_KEY, line))) BAD("out of memory");
+            e->key = key; e->action = GLFW_RELEASE; e->mods = mods;
+        }
+        if (full && push_mods(rp, line, mods, GLFW_RELEASE)) BAD("out of memory");
+    } else if (!strcmp(c, "mouse_move")) {
+        if (nt < 3) BAD("%s:%d: mouse_move X Y", rp->path, line);
+        if (!(e = push(rp, EV_MOVE, line))) BAD("out of memory");
+        e->x = atof(tok[1]); e->y = atof(tok[2]);
+    } else if (!strcmp(c, "mouse_down") || !strcmp(c, "mouse_up")) {
+        int b = parse_button(nt > 1 ? tok[1] : NULL), mods;
+        if (b < 0 || parse_mods(nt > 2 ? tok[2] : NULL, &mods)) BAD("%s:%d: %s left|middle|right [MODS]", rp->path, line, c);
+        if (!(e = push(rp, EV_BUTTON, line))) BAD("out of memory");
+        e->button = b; e->mods = mods; e->action = !strcmp(c, "mouse_down") ? GLFW_PRESS : GLFW_RELEASE;
+    } else if (!strcmp(c, "drag")) {
+        int b = parse_button(nt > 1 ? tok[1] : NULL), mods;
+        if (b < 0 || nt < 7 || parse_mods(nt > 7 ? tok[7] : NULL, &mods))
+            BAD("%s:%d: drag BUTTON X0 Y0 X1 Y1 STEPS [MODS]", rp->path, line);
+        double x0 = atof(tok[2]), y0 = atof(tok[3]), x1 = atof(tok[4]), y1 = atof(tok[5]);
+        int steps = atoi(tok[6]);
+        if (steps < 1) steps = 1;
+        if (!(e = push(rp, EV_MOVE, line))) BAD("out of memory");
+        e->x = x0; e->y = y0;
+        if (push_mods(rp, line, mods, GLFW_PRESS)) BAD("out of memory");
+        if (!(e = push(rp, EV_BUTTON, line))) BAD("out of memory");
+        e->button = b; e->mods = mods; e->action = GLFW_PRESS;
+        for (int i = 1; i <= steps; i++) {
+            if (!(e = push(rp, EV_MOVE, line))) BAD("out of memory");
+            e->x = x0 + (x1 - x0) * i / steps;
+            e->y = y0 + (y1 - y0) * i / steps;
+        }
+        if (!(e = push(rp, EV_BUTTON, line))) BAD("out of memory");
+        e->button = b; e->mods = mods; e->action = GLFW_RELEASE;
+        if (push_mods(rp, line, mods, GLFW_RELEASE)) BAD("out of memory");
+    } else if (!strcmp(c, "scroll")) {
+        int mods;
+        if (nt < 2 || parse_mods(nt > 2 ? tok[2] : NULL, &mods)) BAD("%s:%d: scroll DY [MODS]", rp->path, line);
+        if (push_mods(rp, line, mods, GLFW_PRESS)) BAD("out of memory");
+        if (!(e = push(rp, EV_SCROLL, line))) BAD("out of memory");
+        e->y = atof(tok[1]);
+        if (push_mods(rp, line, mods, GLFW_RELEASE)) BAD("out of memory");
+    } else if (!strcmp(c, "drop") || !strcmp(c, "screenshot") || !strcmp(c, "echo")) {
+        if (nt < 2) BAD("%s:%d: %s needs an argument", rp->path, line, c);
+        if (!(e = push(rp, !strcmp(c, "drop") ? EV_DROP : !strcmp(c, "echo") ? EV_ECHO : EV_SHOT, line))) BAD("out of memory");
+        e->text = strdup(tok[1]);
+    } else if (!strcmp(c, "level")) {
+        if (nt < 3 || (strcmp(tok[1], "edit") && strcmp(tok[1], "display"))) BAD("%s:%d: level edit|display N", rp->path, line);
+        if (!(e = push(rp, EV_LEVEL, line))) BAD("out of memory");
+        e->which = !strcmp(tok[1], "display");
+        e->x = atof(tok[2]);
+    } else if (!strcmp(c, "snapshot")) {
+        if (!push(rp, EV_SNAPSHOT, line)) BAD("out of memory");
+    } else if (!strcmp(c, "expect")) {
+        if (nt < 2) BAD("%s:%d: expect WHAT [VALUE]", rp->path, line);
+        if (!(e = push(rp, EV_EXPECT, line))) BAD("out of memory");
+        e->text = strdup(tok[1]);
+        e->arg = nt > 2 ? strdup(tok[2]) : NULL;
+    } else if (!strcmp(c, "quit")) {
+        if (!push(rp, EV_QUIT, line)) BAD("out of memory");
+    } else {
+        BAD("%s:%d: unknown event '%s'", rp->path, line, c);
+    }
+#undef BAD
+    return 0;
+}
+
+void st_replay_free(st_replay *rp)
+{
+    if (!rp) return;
+    for (size_t i = 0; i < rp->n; i++) { free(rp->e[i].text); free(rp->e[i].arg); }
+    free(rp->e);
+    free(rp->snap);
+    free(rp);
+}
+
+int st_replay_load(st_replay **out, const char *path, st_error *err)
+{
+    *out = NULL;
+    FILE *f = fopen(path, "r");
+    if (!f) return st_fail(err, ST_ERR_IO, "cannot open %s", path);
+    st_replay *rp = calloc(1, sizeof *rp);
+    if (!rp) { fclose(f); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
+    snprintf(rp->path, sizeof rp->path, "%s", path);
+    char line[2048];
+    int ln = 0, rc = 0;
+    while (!rc && fgets(line, sizeof line, f)) {
+        ln++;
+        char *h = strchr(line, '#');
+        if (h) *h = 0;
+        rc = parse_line(rp, line, ln, err);
+    }
+    fclose(f);
+    if (rc) { st_replay_free(rp); return rc; }
+    *out = rp;
+    return 0;
+}
+
+/* ---- running ------------------------------------------------------------------ */
+
+static void snapshot(st_replay *rp, const st_app *a)
+{
+    const st_rgeom *g = &a->r.surf;
+    free(rp->snap);
+    rp->snap = malloc((size_t)(g->nverts ? g->nverts : 1) * 3 * sizeof *rp->snap);
+    rp->nsnap = 0;
+    rp->has_snap = rp->snap != NULL;
+    if (!rp->snap) return;
+    for (uint32_t i = 0; i < g->nverts; i++)
+        memcpy(rp->snap + 3 * (size_t)i, g->vdata + (size_t)i * ST_RGEOM_VSTRIDE, 3 * sizeof(float));
+    rp->nsnap = g->nverts;
+}
+
+/* 1: the displayed positions differ from the snapshot; 0: same; -1: the
+ * vertex count changed. */
+static int moved(const st_replay *rp, const st_app *a)
+{
+    const st_rgeom *g = &a->r.surf;
+    if (!rp->has_snap || g->nverts != rp->nsnap) return -1;
+    for (uint32_t i = 0; i < g->nverts; i++)
+        for (int k = 0; k < 3; k++)
+            if (fabsf(rp->snap[3 * (size_t)i + k] - g->vdata[(size_t)i * ST_RGEOM_VSTRIDE + k]) > 1e-7f) return 1;
+    return 0;
+}
+
+static int expect(st_replay *rp, st_app *a, const ev *e)
+{
+    const st_doc *d = &a->doc;
+    const char *w = e->text;
+    char actual[256] = "";
+    int ok;
+    long want = e->arg ? strtol(e->arg, NULL, 10) : 0;
+    uint64_t faces = 0, verts = 0;
+    if (d->loaded) st_doc_display_counts(d, &faces, &verts);
+    if (!strcmp(w, "edit_level")) { snprintf(actual, sizeof actual, "%u", d->edit_level); ok = (long)d->edit_level == want; }
+    else if (!strcmp(w, "display_level")) { snprintf(actual, sizeof actual, "%u", d->display_level); ok = (long)d->display_level == want; }
+    else if (!strcmp(w, "top") || !strcmp(w, "levels")) { snprintf(actual, sizeof actual, "%u", d->h.map.top); ok = (long)d->h.map.top == want; }
+    else if (!strcmp(w, "selected")) { snprintf(actual, sizeof actual, "%u", d->nsel); ok = (long)d->nsel == want; }
+    else if (!strcmp(w, "undo_depth")) { snprintf(actual, sizeof actual, "%u", d->undo_pos); ok = (long)d->undo_pos == want; }
+    else if (!strcmp(w, "redo_depth")) { snprintf(actual, sizeof actual, "%u", d->nundo - d->undo_pos); ok = (long)(d->nundo - d->undo_pos) == want; }
+    else if (!strcmp(w, "box_on")) { snprintf(actual, sizeof actual, "%d", d->box_on); ok = d->box_on == want; }
+    else if (!strcmp(w, "hover")) { snprintf(actual, sizeof actual, "%d", a->hover_vid != ST_NIL); ok = (a->hover_vid != ST_NIL) == (want != 0); }
+    else if (!strcmp(w, "faces")) { snprintf(actual, sizeof actual, "%llu", (unsigned long long)faces); ok = (long)faces == want; }
+    else if (!strcmp(w, "tool")) {
+        snprintf(actual, sizeof actual, "%s", a->tool == ST_TOOL_SELECT ? "select" : st_brush_name(a->tool));
+        ok = e->arg && !strcasecmp(actual, e->arg);
+    } else if (!strcmp(w, "scheme")) {
+        snprintf(actual, sizeof actual, "%s", d->scheme ? d->scheme->name : "none");
+        ok = e->arg && !strcmp(actual, e->arg);
+    } else if (!strcmp(w, "moved") || !strcmp(w, "unchanged")) {
+        int m = moved(rp, a);
+        snprintf(actual, sizeof actual, "%s", m < 0 ? "vertex count changed since the snapshot" : m ? "moved" : "unchanged");
+        ok = !strcmp(w, "moved") ? m == 1 : m == 0;
+    } else if (!strcmp(w, "error")) {
+        snprintf(actual, sizeof actual, "%d (%s)", a->msg_error, a->msg);
+        ok = a->msg_error == (want != 0);
+    } else if (!strcmp(w, "message")) {
+        snprintf(actual, sizeof actual, "'%s'", a->msg);
+        ok = e->arg && strstr(a->msg, e->arg) != NULL;
+    } else {
+        fprintf(stderr, "strata: %s:%d: unknown expectation '%s'\n", rp->path, e->line, w);
+        return -1;
+    }
+    if (!ok) {
+        fprintf(stderr, "strata: %s:%d: expect %s %s failed: actual %s\n", rp->path, e->line, w, e->arg ? e->arg : "", actual);
+        return -1;
+    }
+    return 0;
+}
+
+int st_replay_step(st_replay *rp, st_app *a)
+{
+    if (!rp->has_snap && a->doc.loaded) snapshot(rp, a);
+    if (rp->pos >= rp->n) return 1;
+    const ev *e = &rp->e[rp->pos++];
+    GLFWwindow *w = a->win;
+    switch (e->type) {
+    case EV_WAIT: break;
+    case EV_KEY: st_win_on_key(w, e->key, 0, e->action, e->mods); break;
+    case EV_MOVE: st_win_on_cursor(w, e->x, e->y); break;
+    case EV_BUTTON: st_win_on_mouse_button(w, e->button, e->action, e->mods); break;
+    case EV_SCROLL: st_win_on_scroll(w, 0, e->y); break;
+    case EV_DROP: { const char *p[1] = { e->text }; st_win_on_drop(w, 1, p); break; }
+    case EV_LEVEL:
+        if (e->which) st_doc_set_display_level(&a->doc, (unsigned)e->x);
+        else st_doc_set_edit_level(&a->doc, (unsigned)e->x);
+        st_app_sync(a);
+        break;
+    case EV_SNAPSHOT: st_app_sync(a); snapshot(rp, a); break;
+    case EV_SHOT:
+        snprintf(a->shot, sizeof a->shot, "%s", e->text);
+        a->shot_pending = 1;
+        break;
+    case EV_EXPECT:
+        st_app_sync(a);
+        if (expect(rp, a, e)) return -1;
+        break;
+    case EV_ECHO: fprintf(stderr, "strata: replay: %s\n", e->text); break;
+    case EV_QUIT: return 1;
+    default: break;
+    }
+    return 0;
+}

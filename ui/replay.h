@@ -1,0 +1,45 @@
+/* Scripted input for the modeller window (`strata --replay EVENTS.txt`).
+ *
+ * The file is a list of events, one per line, '#' starts a comment.  Each
+ * primitive event is delivered through the window's real GLFW callbacks
+ * (window.h) with the arguments GLFW would pass, one per frame, with a
+ * frame rendered in between:
+ *
+ *   wait N                      N frames without input
+ *   key SPEC                    press and release, e.g. key ctrl+d, key shift+pageup, key kp_1, key [
+ *   press SPEC / release SPEC   one key event (e.g. press ctrl: hold a modifier)
+ *   mouse_move X Y              cursor in window coordinates (top left origin)
+ *   mouse_down BUTTON [MODS]    left|middle|right, MODS like ctrl+shift
+ *   mouse_up BUTTON [MODS]
+ *   drag BUTTON X0 Y0 X1 Y1 STEPS [MODS]
+ *                               move to X0 Y0, press, STEPS moves to X1 Y1, release
+ *   scroll DY [MODS]            wheel (MODS held around it through key events)
+ *   drop PATH                   a file dropped on the window
+ *   level edit N | level display N
+ *                               set a level directly (document call)
+ *   snapshot                    remember the displayed positions (also taken after loading)
+ *   screenshot NAME.png         read the next frame from the framebuffer
+ *   expect WHAT [VALUE]         assertion; WHAT: edit_level, display_level, top,
+ *                               selected, undo_depth, redo_depth, box_on, tool,
+ *                               scheme, hover (0/1), faces, moved, unchanged,
+ *                               error (0/1: status line is an error),
+ *                               message TEXT (status line contains TEXT)
+ *   echo TEXT                   print
+ *   quit                        end (success); the end of the file too
+ *
+ * A failing expect prints the line and the actual value and the process
+ * exits 1. */
+#ifndef ST_REPLAY_H
+#define ST_REPLAY_H
+
+#include "st_error.h"
+
+typedef struct st_replay st_replay;
+struct st_app;
+
+int st_replay_load(st_replay **out, const char *path, st_error *err);
+void st_replay_free(st_replay *rp);
+/* Delivers the next event: 0 continue, 1 finished, -1 an expect failed. */
+int st_replay_step(st_replay *rp, struct st_app *a);
+
+#endif

@@ -1,0 +1,130 @@
+/* The modeller window (issue 6): one GLFW window with an OpenGL 3.3 core
+ * context, the document (editor.h), the renderer, picking, the HUD and the
+ * scripted input (replay.h).
+ *
+ * Every input goes through the GLFW callbacks below; the replay calls the
+ * same functions with the arguments GLFW would pass, one event per frame,
+ * so scripted runs exercise the real handlers.  After each handler the
+ * window reads st_doc_take_change() and updates the renderer incrementally
+ * (st_renderer_edit for moved vertices, set_level / set_cage for topology).
+ */
+#ifndef ST_WINDOW_H
+#define ST_WINDOW_H
+
+#include <stdint.h>
+
+#include "camera_ctl.h"
+#include "editor.h"
+#include "hud.h"
+#include "pick.h"
+#include "renderer.h"
+
+typedef struct GLFWwindow GLFWwindow;
+
+typedef struct st_win_opts {
+    const char *file;          /* NULL: the default asset */
+    const char *scheme;        /* NULL: catmull-clark */
+    int levels;                /* -1: default */
+    int width, height;         /* window size */
+    const char *replay;        /* events file, NULL: interactive */
+    const char *screenshot_dir;/* where `screenshot NAME` writes (default ".") */
+    const char *compare_dir;   /* replay screenshots compared with DIR/NAME */
+    int bench;                 /* --bench-interaction */
+    int bench_steps;           /* drag steps of the benchmark */
+} st_win_opts;
+
+enum st_tool { ST_TOOL_SELECT = -1 };   /* else an st_brush_tool */
+
+enum st_mouse_op {
+    ST_OP_NONE, ST_OP_ORBIT, ST_OP_PAN, ST_OP_CLICK, ST_OP_RECT, ST_OP_DRAG, ST_OP_STROKE, ST_OP_GRAB
+};
+
+#define ST_MSG_LEN 512
+
+typedef struct st_app {
+    st_win_opts opts;
+    GLFWwindow *win;
+    st_gl gl;
+    st_renderer r;
+    st_pick pick;
+    st_hud hud;
+    st_camctl cc;
+    st_doc doc;
+    int fb_w, fb_h, win_w, win_h;
+
+    /* What the renderer shows (to know when to rebuild). */
+    unsigned shown_display, shown_edit, shown_top;
+    int shown_box_on, shown_valid;
+    int shading;               /* enum st_shading */
+    int wire, cage;
+
+    int tool;                  /* ST_TOOL_SELECT or enum st_brush_tool */
+    int mods;                  /* GLFW_MOD_* held, from the key events */
+    double mx, my;             /* cursor, framebuffer pixels */
+    int op;                    /* enum st_mouse_op */
+    int op_button, op_mods;
+    double op_x0, op_y0;       /* where the operation started */
+    double op_lx, op_ly;       /* last cursor position seen by the operation */
+    double drag_anchor[3];     /* scene point that follows the cursor */
+    double drag_normal[3];     /* average normal of the selection */
+    double stroke_pos[3];      /* grab brush: current centre */
+    uint32_t hover_vid;        /* hovered editing-level vertex id, ST_NIL */
+    int hover_dirty;
+    int brush_hit;             /* brush circle: the cursor is over the surface */
+    double brush_pos[3], brush_nrm[3];
+
+    int help;                  /* F1 */
+    const char *pending_scheme;/* scheme change waiting for Y */
+    char msg[ST_MSG_LEN];      /* status line (errors in red) */
+    int msg_error;
+    double msg_time;
+    char default_path[4096];
+    char working[256];         /* drawn over the frame during a long operation */
+    int masked_times;          /* replay: times shown as "--" (screenshots stay comparable) */
+    int autosave_dirty;        /* edits since the last recovery save */
+    double autosave_t;
+
+    double frame_ms, frame_t0;
+    double update_ms;          /* last renderer update */
+    uint64_t frames;
+    int quit;
+    int exit_code;
+
+    /* Screenshot requested by the replay for the next rendered frame. */
+    char shot[4096];
+    int shot_pending;
+
+    void *replay;              /* st_replay */
+} st_app;
+
+/* Entry points (app/cmd_window.c). */
+int st_window_main(const st_win_opts *o);
+int st_window_bench(const st_win_opts *o);
+
+/* The GLFW callbacks (also called by the replay). */
+void st_win_on_key(GLFWwindow *w, int key, int scancode, int action, int mods);
+void st_win_on_mouse_button(GLFWwindow *w, int button, int action, int mods);
+void st_win_on_cursor(GLFWwindow *w, double x, double y);
+void st_win_on_scroll(GLFWwindow *w, double dx, double dy);
+void st_win_on_drop(GLFWwindow *w, int count, const char **paths);
+void st_win_on_resize(GLFWwindow *w, int width, int height);
+
+/* Status line. */
+void st_app_message(st_app *a, int error, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+/* Brings the renderer up to date with the document. */
+void st_app_sync(st_app *a);
+/* Renders one frame into the back buffer (no swap). */
+void st_app_draw(st_app *a);
+/* Opens a file (errors keep the current model and show a message). */
+int st_app_open(st_app *a, const char *path);
+
+/* Key bindings, for F1 and the README. */
+typedef struct st_binding { const char *keys, *what; } st_binding;
+extern const st_binding st_bindings[];
+extern const unsigned st_nbindings;
+
+#endif
