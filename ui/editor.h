@@ -91,7 +91,37 @@ typedef struct st_doc {
     /* In-progress drag or stroke (between begin and end). */
     int active;                /* 0, 1 drag, 2 stroke */
     st_undo_step *pending;
-    double last_update_ms;     /* time of the last geometry update */
+    double last_update_ms;     /* duration of the last geometry update, ms (monotonic clock) */
+
+    /* ---- additions (editor.c) ---------------------------------------------
+     * The interest box's display: when box_on, `disp` is the adaptive mesh
+     * shown instead of the regular hierarchy: a copy of levels
+     * 0..base_level of h, refined adaptively inside the box by st_adapt
+     * (adapt.h refers to disp, not h), with every vertex of a level
+     * <= h.map.top at the position of the same vertex of h (found by a
+     * walk of the refinement structure, `dcorr`), and levels beyond the
+     * model's top synthesised from there.  h always stays the regular
+     * hierarchy (the model): edits, levels and undo act on h, then the
+     * display follows (ST_CHANGE_ALL_POSITIONS when box_on). */
+    st_hier disp;
+    int disp_ok;               /* disp and adapt are built */
+    uint32_t *dcorr;           /* disp vertex id -> h vertex id (ST_NIL: none) */
+    uint32_t ndcorr;
+    uint32_t *dpairs;          /* (level, disp vertex, h vertex) of the display's vertices above dbase */
+    uint32_t ndpairs, capdpairs;
+    unsigned dbase;            /* levels 0..dbase of disp are copies of h's (same ids) */
+    double last_update_at_ms;  /* monotonic time stamp of the last geometry update */
+    uint32_t capmoved;
+    int rebased;               /* remove_bottom happened since open (set_scheme then rebuilds from level 0) */
+    int box_recording;         /* inside st_doc_box_begin .. end */
+    st_adapt_params box_rec_params;
+    int box_rec_on;
+    uint64_t disp_faces, disp_verts;  /* cached st_doc_display_counts */
+    uint32_t *vdart;           /* edit level: vertex id -> dart (built on demand) */
+    uint32_t nvdart;
+    int vdart_level;           /* level vdart was built for, -1 none */
+    struct st_brush_state *bs; /* stroke scratch (spatial grid, ...) */
+    char note[256];            /* last non-fatal message (undo history dropped, ...) */
 } st_doc;
 
 void st_doc_init(st_doc *d);
@@ -155,5 +185,37 @@ st_doc_change st_doc_take_change(st_doc *d);
 
 /* Counts of the displayed mesh, for the HUD. */
 void st_doc_display_counts(const st_doc *d, uint64_t *faces, uint64_t *verts);
+
+/* ---- additions ----------------------------------------------------------- */
+
+/* What the window draws: the regular hierarchy at display_level, or with the
+ * interest box on the adaptive display hierarchy at its top level. */
+const st_hier *st_doc_display_hier(const st_doc *d);
+unsigned st_doc_display_map_level(const st_doc *d);
+/* Picking on the displayed mesh gives vertex ids of st_doc_display_hier();
+ * this maps one to the editing-level vertex id used by st_doc_select
+ * (identity when the box is off; ST_NIL when the vertex is not a vertex of
+ * the editing level). */
+uint32_t st_doc_display_to_edit_vertex(const st_doc *d, uint32_t display_vid);
+/* A dart of the editing level for an editing-level vertex id (ST_NIL if
+ * none), e.g. to call st_renderer_edit. */
+uint32_t st_doc_vertex_dart(st_doc *d, uint32_t vid);
+
+/* Bytes the model uses now (map + details); the memory budget compares
+ * this plus what an operation adds to mem_budget. */
+size_t st_doc_model_bytes(const st_doc *d);
+
+/* Interaction benchmark (strata --bench-interaction): on the loaded model,
+ * drags one vertex of `level` (a vertex near the middle of the level's id
+ * range) through `steps` updates, and reports the median time per update
+ * (geometry only: st_hier_move plus the display sync; the window adds its
+ * buffer updates), then puts the model back exactly (nothing is recorded
+ * in the undo history), and the time of a full synthesis
+ * st_hier_synthesize(h, 0) (ms).  Returns 0, or -1 when no model is loaded
+ * or level > top. */
+int st_doc_bench_drag(st_doc *d, unsigned level, unsigned steps, double *step_ms_median, double *full_synth_ms);
+
+/* Brush falloff: (1 - (r/R)^2)^2 for r < R, else 0. */
+double st_brush_falloff(double r, double radius);
 
 #endif

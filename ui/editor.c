@@ -1,0 +1,1070 @@
+/* st_doc: the modeller's document (editor.h), without GL.
+ *
+ * Decisions (where the issue leaves a choice):
+ *   - The model is always the regular hierarchy d->h.  Drags and brushes
+ *     act at the editing level of h through st_hier_move (finer levels
+ *     follow with their details).  The interest box only changes what is
+ *     displayed: d->disp is a copy of h's levels 0..base refined by st_adapt
+ *     inside the box, whose vertices of levels <= h.top take the positions
+ *     of the same vertices of h (a walk of both refinement structures pairs
+ *     them, disp_pairs), and whose levels beyond h.top are synthesised from
+ *     there.  After every edit the display is synced from the model, so box
+ *     on, edit, box off, box on always shows the model (no detail is ever
+ *     lost or rotated by coarsening: the model never coarsens).
+ *   - Undo: edit steps store old/new values of exactly what st_hier_move
+ *     wrote (undo.c); level and scheme changes store the whole other
+ *     hierarchy (a bit-exact copy, swapped in and out, O(1) undo/redo, ids
+ *     preserved); box steps store old/new parameters.  The history is
+ *     bounded by undo_budget bytes; the oldest steps go first, and a single
+ *     step larger than the budget is not kept (d->note says so).
+ *   - A new level's memory is estimated from the current top level's
+ *     dart and vertex counts (st_doc_add_level_bytes).
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "editor_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+double ed_now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+const char *st_brush_name(int tool)
+{
+    static const char *names[ST_BRUSH_COUNT] = { "grab", "draw", "smooth", "flatten" };
+    return tool >= 0 && tool < ST_BRUSH_COUNT ? names[tool] : "?";
+}
+
+static void finish_active(st_doc *d);
+static void disp_free(st_doc *d);
+static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err);
+static void disp_sync(st_doc *d, unsigned from, int keep_prev);
+static void topology_changed(st_doc *d);
+static void undo_clear(st_doc *d);
+
+/* ---- lifetime ------------------------------------------------------------- */
+
+void st_doc_init(st_doc *d)
+{
+    memset(d, 0, sizeof *d);
+    st_mesh_init(&d->base);
+    d->brush.tool = ST_BRUSH_DRAW;
+    d->brush.radius = 0.25;
+    d->brush.strength = 0.5;
+    d->undo_budget = (size_t)256 << 20;
+    long pages = sysconf(_SC_PHYS_PAGES), psize = sysconf(_SC_PAGESIZE);
+    d->mem_budget = pages > 0 && psize > 0 ? (size_t)pages * (size_t)psize / 2 : (size_t)4 << 30;
+    d->box.base_level = 0;
+    d->box.max_level = 3;
+    d->box.has_box = 1;
+    d->vdart_level = -1;
+}
+
+void st_doc_free(st_doc *d)
+{
+    finish_active(d);
+    undo_clear(d);
+    free(d->undo);
+    disp_free(d);
+    if (d->loaded) st_hier_free(&d->h);
+    st_mesh_free(&d->base);
+    free(d->sel);
+    free(d->change.moved_darts);
+    free(d->dcorr);
+    free(d->dpairs);
+    free(d->vdart);
+    ed_brush_state_free(d->bs);
+    memset(d, 0, sizeof *d);
+}
+
+/* ---- memory ------------------------------------------------------------------ */
+
+size_t st_doc_model_bytes(const st_doc *d)
+{
+    if (!d->loaded) return 0;
+    size_t n = ed_hier_bytes(&d->h);
+    if (d->disp_ok) n += ed_hier_bytes(&d->disp);
+    return n;
+}
+
+static size_t level_bytes_for(const st_hier *h)
+{
+    const st_map *m = &h->map;
+    uint64_t nd = 0, nv = 0;
+    for (unsigned k = 0; k <= m->top; k++) {
+        nd += m->darts.live[k];
+        nv += m->verts.live[k];
+    }
+    uint64_t f = h->scheme && h->scheme->id == ST_SCHEME_SQRT3 ? 3 : 4;
+    /* New level: every dart's relations, insertion level and flags (14 bytes),
+     * the β0 column of the old darts, positions and insertion level of every
+     * vertex plus the column of the old ones, and room for details. */
+    uint64_t b = f * nd * 14 + nd * 4 + f * nv * (24 + 1 + 24) + nv * 24;
+    return (size_t)b;
+}
+
+size_t st_doc_add_level_bytes(const st_doc *d)
+{
+    return d->loaded ? level_bytes_for(&d->h) : 0;
+}
+
+static double mib(size_t b) { return (double)b / (1024.0 * 1024.0); }
+
+/* Refines h to `levels`, refusing a level that would go over the budget
+ * (`extra`: bytes already in use besides h). */
+static int build_levels(st_hier *h, unsigned levels, size_t budget, size_t extra, st_error *err)
+{
+    while (h->map.top < levels) {
+        size_t need = level_bytes_for(h), have = ed_hier_bytes(h) + extra;
+        if (have + need > budget)
+            return st_fail(err, ST_ERR_MEMORY,
+                           "level %u refused: it needs about %zu bytes (%.1f MiB) more, the model uses %.1f MiB "
+                           "and the memory budget is %.1f MiB",
+                           h->map.top + 1, need, mib(need), mib(have), mib(budget));
+        int rc = st_hier_subdivide_to(h, h->map.top + 1, err);
+        if (rc) return rc;
+    }
+    return ST_OK;
+}
+
+/* ---- open and scheme -------------------------------------------------------------- */
+
+static void default_box(st_doc *d)
+{
+    const st_mesh *m = &d->base;
+    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (uint32_t v = 0; v < m->nverts; v++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], m->pos[3 * v + k]);
+            hi[k] = fmax(hi[k], m->pos[3 * v + k]);
+        }
+    double diag = 0;
+    for (int k = 0; k < 3; k++) {
+        double c = (lo[k] + hi[k]) / 2, h = (hi[k] - lo[k]) / 4;
+        d->box.box_lo[k] = c - h;
+        d->box.box_hi[k] = c + h;
+        diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    d->box.has_box = 1;
+    d->box.base_level = 0;
+    d->box.max_level = d->h.map.top + 1 < ST_MAX_LEVELS ? d->h.map.top + 1 : d->h.map.top;
+    d->box.falloff = 0;
+    d->box.flatness = 0;
+    d->box.no_restriction = 0;
+    if (diag > 0) d->brush.radius = 0.1 * sqrt(diag);
+}
+
+int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels, st_error *err)
+{
+    const char *name = scheme ? scheme : "catmull-clark";
+    const st_scheme *sc = st_scheme_find(name);
+    if (!sc) return st_fail(err, ST_ERR_INVALID, "unknown scheme '%s' (catmull-clark, loop, butterfly, quad-triangle, sqrt3, doo-sabin)", name);
+    if (levels >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "%u levels: at most %d", levels, ST_MAX_LEVELS - 1);
+    if (strlen(path) >= sizeof d->path) return st_fail(err, ST_ERR_RANGE, "path too long");
+    st_mesh mesh;
+    st_mesh_init(&mesh);
+    st_notes notes = { 0 };
+    int rc = st_mesh_load_notes(path, &mesh, &notes, err);
+    if (rc) { st_notes_free(&notes); return rc; }
+    st_hier h;
+    st_hier_opts opts = { .boundary = ST_BOUNDARY_UNSET, .crease_method = ST_CREASE_UNIFORM };
+    rc = st_hier_init(&h, &mesh, sc, &opts, err);
+    if (rc) {
+        char msg[sizeof err->msg];
+        snprintf(msg, sizeof msg, "%s", err ? err->msg : "");
+        st_fail(err, rc, "%s: %s", path, msg);
+        st_mesh_free(&mesh);
+        st_notes_free(&notes);
+        return rc;
+    }
+    rc = build_levels(&h, levels, d->mem_budget, 0, err);
+    if (rc) {
+        st_hier_free(&h);
+        st_mesh_free(&mesh);
+        st_notes_free(&notes);
+        return rc;
+    }
+    /* Success: the old model goes. */
+    finish_active(d);
+    undo_clear(d);
+    disp_free(d);
+    d->box_on = 0;
+    if (d->loaded) st_hier_free(&d->h);
+    d->h = h;
+    ed_hier_fix(&d->h);
+    st_mesh_move(&d->base, &mesh);
+    d->scheme = sc;
+    d->opts = d->h.opts;
+    d->loaded = 1;
+    d->rebased = 0;
+    snprintf(d->path, sizeof d->path, "%s", path);
+    d->note[0] = 0;
+    if (notes.count) snprintf(d->note, sizeof d->note, "%.200s%s", notes.lines[0], notes.count > 1 ? " (and more repairs)" : "");
+    st_notes_free(&notes);
+    d->edit_level = 0;
+    d->display_level = d->h.map.top;
+    d->nsel = 0;
+    default_box(d);
+    topology_changed(d);
+    return ST_OK;
+}
+
+int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
+{
+    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
+    const st_scheme *sc = st_scheme_find(scheme ? scheme : "");
+    if (!sc) return st_fail(err, ST_ERR_INVALID, "unknown scheme '%s'", scheme ? scheme : "");
+    finish_active(d);
+    /* The control mesh as it is now (edits of level 0 kept); the file's
+     * tags are kept while level 0 is still the loaded one. */
+    st_mesh mesh;
+    st_mesh_init(&mesh);
+    int rc = st_hier_level_mesh(&d->h, 0, &mesh, err);
+    if (rc) return rc;
+    if (!d->rebased && mesh.nverts == d->base.nverts) {
+        const st_mesh *b = &d->base;
+        mesh.boundary_interp = b->boundary_interp;
+        if (b->ncreases) {
+            mesh.crease_v = malloc((size_t)b->ncreases * 2 * sizeof *mesh.crease_v);
+            mesh.crease_s = malloc((size_t)b->ncreases * sizeof *mesh.crease_s);
+            if (!mesh.crease_v || !mesh.crease_s) { st_mesh_free(&mesh); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
+            memcpy(mesh.crease_v, b->crease_v, (size_t)b->ncreases * 2 * sizeof *mesh.crease_v);
+            memcpy(mesh.crease_s, b->crease_s, (size_t)b->ncreases * sizeof *mesh.crease_s);
+            mesh.ncreases = b->ncreases;
+        }
+        if (b->ncorners) {
+            mesh.corner_v = malloc((size_t)b->ncorners * sizeof *mesh.corner_v);
+            mesh.corner_s = malloc((size_t)b->ncorners * sizeof *mesh.corner_s);
+            if (!mesh.corner_v || !mesh.corner_s) { st_mesh_free(&mesh); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
+            memcpy(mesh.corner_v, b->corner_v, (size_t)b->ncorners * sizeof *mesh.corner_v);
+            memcpy(mesh.corner_s, b->corner_s, (size_t)b->ncorners * sizeof *mesh.corner_s);
+            mesh.ncorners = b->ncorners;
+        }
+    }
+    st_hier h;
+    st_hier_opts opts = { .boundary = d->h.opts.boundary, .crease_method = d->h.opts.crease_method };
+    rc = st_hier_init(&h, &mesh, sc, &opts, err);
+    st_mesh_free(&mesh);
+    if (rc) return rc;
+    rc = build_levels(&h, d->h.map.top, d->mem_budget, 0, err);
+    if (rc) { st_hier_free(&h); return rc; }
+    st_undo_step *s = ed_step_new(ED_STEP_HIER);
+    s->snap = d->h;               /* the old hierarchy moves into the step */
+    ed_hier_fix(&s->snap);
+    s->scheme = d->scheme;
+    s->edit_level = d->edit_level;
+    s->display_level = d->display_level;
+    s->rebased = d->rebased;
+    d->h = h;
+    ed_hier_fix(&d->h);
+    d->scheme = sc;
+    d->opts = d->h.opts;
+    if (d->box_on && (sc->id == ST_SCHEME_SQRT3 || sc->id == ST_SCHEME_DOOSABIN)) {
+        disp_free(d);
+        d->box_on = 0;
+        snprintf(d->note, sizeof d->note, "interest box off: %s has no adaptive refinement", sc->name);
+    }
+    topology_changed(d);
+    ed_step_finish(s);
+    ed_push_step(d, s);
+    return ST_OK;
+}
+
+/* ---- levels ---------------------------------------------------------------------- */
+
+static void clamp_levels(st_doc *d)
+{
+    unsigned top = d->h.map.top;
+    if (d->edit_level > top) d->edit_level = top;
+    if (d->display_level > top) d->display_level = top;
+    if (d->display_level < d->edit_level) d->display_level = d->edit_level;
+}
+
+/* Copy of the current state into a new hierarchy step (before an in-place
+ * change). */
+static st_undo_step *hier_step_begin(st_doc *d, st_error *err)
+{
+    st_undo_step *s = ed_step_new(ED_STEP_HIER);
+    if (ed_hier_clone(&s->snap, &d->h, NULL)) {
+        free(s);
+        st_fail(err, ST_ERR_MEMORY, "out of memory keeping the undo copy");
+        return NULL;
+    }
+    s->scheme = d->scheme;
+    s->edit_level = d->edit_level;
+    s->display_level = d->display_level;
+    s->rebased = d->rebased;
+    return s;
+}
+
+static void hier_step_end(st_doc *d, st_undo_step *s)
+{
+    topology_changed(d);
+    ed_step_finish(s);
+    ed_push_step(d, s);
+}
+
+int st_doc_add_level(st_doc *d, st_error *err)
+{
+    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
+    finish_active(d);
+    if (d->h.map.top + 1 >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "level %u is beyond the limit", d->h.map.top + 1);
+    size_t need = st_doc_add_level_bytes(d), have = st_doc_model_bytes(d);
+    if (have + need > d->mem_budget)
+        return st_fail(err, ST_ERR_MEMORY,
+                       "level %u refused: it needs about %zu bytes (%.1f MiB) more, the model uses %.1f MiB "
+                       "and the memory budget is %.1f MiB",
+                       d->h.map.top + 1, need, mib(need), mib(have), mib(d->mem_budget));
+    st_undo_step *s = hier_step_begin(d, err);
+    if (!s) return ST_ERR_MEMORY;
+    int rc = st_hier_subdivide_to(&d->h, d->h.map.top + 1, err);
+    if (rc) {
+        /* Back to the copy: the document is unchanged. */
+        ed_hier_swap(&d->h, &s->snap);
+        ed_step_free(s);
+        topology_changed(d);
+        return rc;
+    }
+    d->display_level = d->h.map.top;
+    hier_step_end(d, s);
+    return ST_OK;
+}
+
+int st_doc_remove_top(st_doc *d, st_error *err)
+{
+    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
+    if (d->h.map.top == 0) return st_fail(err, ST_ERR_INVALID, "only the control mesh is left");
+    finish_active(d);
+    st_undo_step *s = hier_step_begin(d, err);
+    if (!s) return ST_ERR_MEMORY;
+    st_hier_remove_top(&d->h);
+    clamp_levels(d);
+    hier_step_end(d, s);
+    return ST_OK;
+}
+
+int st_doc_remove_bottom(st_doc *d, st_error *err)
+{
+    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
+    if (d->h.map.top == 0) return st_fail(err, ST_ERR_INVALID, "only the control mesh is left");
+    finish_active(d);
+    st_undo_step *s = hier_step_begin(d, err);
+    if (!s) return ST_ERR_MEMORY;
+    st_hier_remove_bottom(&d->h);
+    if (d->edit_level > 0) d->edit_level--;
+    if (d->display_level > 0) d->display_level--;
+    d->rebased = 1;
+    if (d->box.base_level > 0) d->box.base_level--;
+    if (d->box.max_level > d->box.base_level) d->box.max_level--;
+    clamp_levels(d);
+    hier_step_end(d, s);
+    return ST_OK;
+}
+
+void st_doc_set_edit_level(st_doc *d, unsigned l)
+{
+    if (!d->loaded) return;
+    finish_active(d);
+    if (l > d->h.map.top) l = d->h.map.top;
+    if (l != d->edit_level || d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
+    d->edit_level = l;
+    d->nsel = 0;
+    if (d->display_level < l) {
+        d->display_level = l;
+        topology_changed(d);
+    }
+}
+
+void st_doc_set_display_level(st_doc *d, unsigned l)
+{
+    if (!d->loaded) return;
+    if (l > d->h.map.top) l = d->h.map.top;
+    if (l < d->edit_level) l = d->edit_level;
+    if (l != d->display_level) {
+        d->display_level = l;
+        topology_changed(d);
+    }
+}
+
+/* ---- selection ---------------------------------------------------------------------- */
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+static int edit_vertex_ok(const st_doc *d, uint32_t v)
+{
+    const st_map *m = &d->h.map;
+    return v < m->verts.end && m->verts.ins[v] != ST_FREE_LEVEL && m->verts.ins[v] <= d->edit_level;
+}
+
+static int sel_has(const st_doc *d, uint32_t v)
+{
+    uint32_t lo = 0, hi = d->nsel;
+    while (lo < hi) {
+        uint32_t mid = (lo + hi) / 2;
+        if (d->sel[mid] < v) lo = mid + 1; else hi = mid;
+    }
+    return lo < d->nsel && d->sel[lo] == v;
+}
+
+void st_doc_select(st_doc *d, const uint32_t *vids, uint32_t n, int mode)
+{
+    if (!d->loaded) return;
+    finish_active(d);
+    uint32_t *keep = NULL, nk = 0;
+    if (mode == ST_SELECT_REMOVE) {
+        uint32_t *rm = malloc((size_t)(n ? n : 1) * sizeof *rm);
+        if (!rm) abort();
+        memcpy(rm, vids, (size_t)n * sizeof *rm);
+        qsort(rm, n, sizeof *rm, cmp_u32);
+        uint32_t j = 0;
+        for (uint32_t i = 0; i < d->nsel; i++) {
+            uint32_t lo = 0, hi = n;
+            while (lo < hi) { uint32_t mid = (lo + hi) / 2; if (rm[mid] < d->sel[i]) lo = mid + 1; else hi = mid; }
+            if (!(lo < n && rm[lo] == d->sel[i])) d->sel[j++] = d->sel[i];
+        }
+        d->nsel = j;
+        free(rm);
+        d->change.bits |= ST_CHANGE_SELECTION;
+        return;
+    }
+    uint64_t total = (uint64_t)n + (mode == ST_SELECT_ADD ? d->nsel : 0);
+    keep = malloc((size_t)(total ? total : 1) * sizeof *keep);
+    if (!keep) abort();
+    if (mode == ST_SELECT_ADD) { memcpy(keep, d->sel, (size_t)d->nsel * sizeof *keep); nk = d->nsel; }
+    for (uint32_t i = 0; i < n; i++)
+        if (edit_vertex_ok(d, vids[i])) keep[nk++] = vids[i];
+    qsort(keep, nk, sizeof *keep, cmp_u32);
+    uint32_t j = 0;
+    for (uint32_t i = 0; i < nk; i++)
+        if (j == 0 || keep[j - 1] != keep[i]) keep[j++] = keep[i];
+    free(d->sel);
+    d->sel = keep;
+    d->nsel = j;
+    d->capsel = (uint32_t)(total ? total : 1);
+    d->change.bits |= ST_CHANGE_SELECTION;
+    (void)sel_has;
+}
+
+void st_doc_vertex_pos(const st_doc *d, uint32_t vid, double p[3])
+{
+    if (!d->loaded || !edit_vertex_ok(d, vid)) { p[0] = p[1] = p[2] = 0; return; }
+    memcpy(p, st_pos(&d->h.map, vid, d->edit_level), 3 * sizeof *p);
+}
+
+uint32_t ed_vertex_dart(st_doc *d, uint32_t vid)
+{
+    if (!d->loaded || !edit_vertex_ok(d, vid)) return ST_NIL;
+    st_map *m = &d->h.map;
+    unsigned l = d->edit_level;
+    if (d->vdart_level != (int)l || d->nvdart < m->verts.end) {
+        free(d->vdart);
+        d->nvdart = m->verts.end;
+        d->vdart = malloc((size_t)(d->nvdart ? d->nvdart : 1) * sizeof *d->vdart);
+        if (!d->vdart) abort();
+        for (uint32_t v = 0; v < d->nvdart; v++) d->vdart[v] = ST_NIL;
+        st_dart_iter it;
+        for (uint32_t x = st_dart_first(m, l, &it); x != ST_NIL; x = st_dart_next(m, l, &it)) {
+            uint32_t v = st_vert(m, x, l), cur = d->vdart[v];
+            if (cur == ST_NIL || (st_is_boundary(m, cur) && !st_is_boundary(m, x))) d->vdart[v] = x;
+        }
+        d->vdart_level = (int)l;
+    }
+    return d->vdart[vid];
+}
+
+uint32_t st_doc_vertex_dart(st_doc *d, uint32_t vid) { return ed_vertex_dart(d, vid); }
+
+/* ---- change tracking ---------------------------------------------------------------- */
+
+static void change_add_darts(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n)
+{
+    st_doc_change *c = &d->change;
+    if (!(c->bits & ST_CHANGE_POSITIONS)) {
+        c->bits |= ST_CHANGE_POSITIONS;
+        c->moved_level = l;
+        c->nmoved = 0;
+    } else if (c->moved_level != l) {
+        c->bits |= ST_CHANGE_ALL_POSITIONS;
+    }
+    if (c->nmoved + (uint64_t)n > d->capmoved) {
+        uint64_t cap = d->capmoved ? d->capmoved : 256;
+        while (cap < c->nmoved + (uint64_t)n) cap *= 2;
+        uint32_t *p = realloc(c->moved_darts, (size_t)cap * sizeof *p);
+        if (!p) abort();
+        c->moved_darts = p;
+        d->capmoved = (uint32_t)cap;
+    }
+    memcpy(c->moved_darts + c->nmoved, darts, (size_t)n * sizeof *darts);
+    c->nmoved += n;
+}
+
+void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0)
+{
+    if (d->box_on && d->disp_ok) {
+        disp_sync(d, l, 0);
+        d->change.bits |= ST_CHANGE_ALL_POSITIONS;
+    }
+    change_add_darts(d, l, darts, n);
+    double now = ed_now_ms();
+    d->last_update_ms = now - t0;
+    d->last_update_at_ms = now;
+}
+
+st_doc_change st_doc_take_change(st_doc *d)
+{
+    st_doc_change c = d->change;
+    d->change.bits = 0;
+    d->change.nmoved = 0;
+    d->change.moved_level = 0;
+    return c;
+}
+
+static void count_display(st_doc *d)
+{
+    d->disp_faces = d->disp_verts = 0;
+    if (!d->loaded) return;
+    st_level_stats s;
+    if (d->box_on && d->disp_ok) st_level_stats_compute(&d->disp.map, d->disp.map.top, &s);
+    else st_level_stats_compute(&d->h.map, d->display_level, &s);
+    d->disp_faces = s.faces;
+    d->disp_verts = s.vertices;
+}
+
+static void topology_changed(st_doc *d)
+{
+    d->vdart_level = -1;
+    d->change.bits |= ST_CHANGE_TOPOLOGY | ST_CHANGE_ALL_POSITIONS;
+    if (d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
+    d->nsel = 0;
+    if (d->loaded) clamp_levels(d);
+    if (d->box_on) {
+        st_error err;
+        if (disp_build(d, &d->box, &err)) {
+            d->box_on = 0;
+            disp_free(d);
+            snprintf(d->note, sizeof d->note, "interest box off: %.200s", err.msg);
+        }
+    }
+    count_display(d);
+}
+
+void st_doc_display_counts(const st_doc *d, uint64_t *faces, uint64_t *verts)
+{
+    if (faces) *faces = d->disp_faces;
+    if (verts) *verts = d->disp_verts;
+}
+
+const st_hier *st_doc_display_hier(const st_doc *d)
+{
+    return d->box_on && d->disp_ok ? &d->disp : &d->h;
+}
+
+unsigned st_doc_display_map_level(const st_doc *d)
+{
+    return d->box_on && d->disp_ok ? d->disp.map.top : d->display_level;
+}
+
+uint32_t st_doc_display_to_edit_vertex(const st_doc *d, uint32_t dv)
+{
+    if (!d->loaded) return ST_NIL;
+    if (!(d->box_on && d->disp_ok)) return edit_vertex_ok(d, dv) ? dv : ST_NIL;
+    if (dv >= d->ndcorr) return ST_NIL;
+    uint32_t v = d->dcorr[dv];
+    return v != ST_NIL && edit_vertex_ok(d, v) ? v : ST_NIL;
+}
+
+/* ---- drag ---------------------------------------------------------------------------- */
+
+int st_doc_drag_begin(st_doc *d)
+{
+    if (!d->loaded) return -1;
+    finish_active(d);
+    if (!d->nsel) return -1;
+    unsigned l = d->edit_level;
+    st_undo_step *s = ed_step_new(ED_STEP_EDIT);
+    s->level = l;
+    uint32_t *darts = malloc((size_t)d->nsel * sizeof *darts);
+    if (!darts) abort();
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < d->nsel; i++) {
+        uint32_t x = ed_vertex_dart(d, d->sel[i]);
+        if (x != ST_NIL) darts[n++] = x;
+    }
+    if (!n) { free(darts); ed_step_free(s); return -1; }
+    /* st_hier_move's region depends on the seeds only: one dry run covers
+     * every update of this drag. */
+    ed_step_touch_move(s, &d->h, l, darts, n);
+    free(darts);
+    d->pending = s;
+    d->active = 1;
+    return 0;
+}
+
+int st_doc_drag_update(st_doc *d, const double delta[3])
+{
+    if (d->active != 1 || !d->pending) return -1;
+    st_undo_step *s = d->pending;
+    unsigned l = s->level;
+    /* s->moved holds the darts in the order touched; their original
+     * positions are the recorded "old" values of (l, pos, vid). */
+    double t0 = ed_now_ms();
+    double(*pos)[3] = malloc((size_t)(s->nmoved ? s->nmoved : 1) * sizeof *pos);
+    if (!pos) abort();
+    const st_map *m = &d->h.map;
+    /* The first nmoved entries of the step are the moved vertices' level-l
+     * positions (and details when l > 0), in the order of s->moved. */
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < s->n && k < s->nmoved; i++) {
+        unsigned lev = (unsigned)(s->key[i] >> 33);
+        int kind = (int)(s->key[i] >> 32) & 1;
+        if (lev != l || kind) continue;
+        uint32_t vid = (uint32_t)s->key[i];
+        if (vid != st_vert(m, s->moved[k], l)) continue;
+        for (int c = 0; c < 3; c++) pos[k][c] = s->oldv[i][c] + delta[c];
+        k++;
+    }
+    st_hier_move(&d->h, l, s->moved, (const double(*)[3])pos, k);
+    free(pos);
+    ed_geometry_changed(d, l, s->moved, k, t0);
+    return 0;
+}
+
+static void push_edit(st_doc *d, st_undo_step *s)
+{
+    ed_step_capture_new(s, &d->h);
+    /* Nothing moved (no update, or back where it started): no step. */
+    int same = 1;
+    for (uint32_t i = 0; i < s->n && same; i++)
+        if (memcmp(s->oldv[i], s->newv[i], sizeof s->oldv[i])) same = 0;
+    if (same) { ed_step_free(s); return; }
+    ed_step_finish(s);
+    ed_push_step(d, s);
+}
+
+void st_doc_drag_end(st_doc *d)
+{
+    if (d->active != 1) return;
+    st_undo_step *s = d->pending;
+    d->pending = NULL;
+    d->active = 0;
+    if (s) push_edit(d, s);
+}
+
+void st_doc_drag_cancel(st_doc *d)
+{
+    if (d->active != 1) return;
+    st_undo_step *s = d->pending;
+    d->pending = NULL;
+    d->active = 0;
+    if (!s) return;
+    double t0 = ed_now_ms();
+    ed_step_apply(s, &d->h, 0);
+    ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0);
+    ed_step_free(s);
+}
+
+/* Ends a drag or a stroke in progress (another operation comes). */
+static void finish_active(st_doc *d)
+{
+    if (d->active == 1) st_doc_drag_end(d);
+    else if (d->active == 2) st_doc_stroke_end(d);
+}
+
+/* ---- undo history ---------------------------------------------------------------------- */
+
+static void undo_clear(st_doc *d)
+{
+    for (uint32_t i = 0; i < d->nundo; i++) ed_step_free(d->undo[i]);
+    d->nundo = d->undo_pos = 0;
+    d->undo_bytes = 0;
+}
+
+void ed_push_step(st_doc *d, st_undo_step *s)
+{
+    /* The redo tail goes. */
+    for (uint32_t i = d->undo_pos; i < d->nundo; i++) {
+        d->undo_bytes -= d->undo[i]->bytes;
+        ed_step_free(d->undo[i]);
+    }
+    d->nundo = d->undo_pos;
+    if (d->nundo == d->capundo) {
+        uint32_t cap = d->capundo ? 2 * d->capundo : 32;
+        st_undo_step **p = realloc(d->undo, (size_t)cap * sizeof *p);
+        if (!p) abort();
+        d->undo = p;
+        d->capundo = cap;
+    }
+    d->undo[d->nundo++] = s;
+    d->undo_pos = d->nundo;
+    d->undo_bytes += s->bytes;
+    /* Bounded memory: the oldest steps go first. */
+    uint32_t drop = 0;
+    while (drop < d->nundo && d->undo_bytes > d->undo_budget) {
+        d->undo_bytes -= d->undo[drop]->bytes;
+        ed_step_free(d->undo[drop]);
+        drop++;
+    }
+    if (drop) {
+        memmove(d->undo, d->undo + drop, (size_t)(d->nundo - drop) * sizeof *d->undo);
+        d->nundo -= drop;
+        d->undo_pos -= drop;
+        snprintf(d->note, sizeof d->note, "undo history: %u oldest step%s dropped (budget %.1f MiB)", drop,
+                 drop > 1 ? "s" : "", mib(d->undo_budget));
+    }
+}
+
+static void apply_hier_step(st_doc *d, st_undo_step *s)
+{
+    ed_hier_swap(&d->h, &s->snap);
+    const st_scheme *sc = d->scheme;
+    unsigned el = d->edit_level, dl = d->display_level;
+    int rb = d->rebased;
+    d->scheme = s->scheme;
+    d->edit_level = s->edit_level;
+    d->display_level = s->display_level;
+    d->rebased = s->rebased;
+    s->scheme = sc;
+    s->edit_level = el;
+    s->display_level = dl;
+    s->rebased = rb;
+    d->opts = d->h.opts;
+    topology_changed(d);
+}
+
+static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
+{
+    switch (s->kind) {
+    case ED_STEP_EDIT: {
+        double t0 = ed_now_ms();
+        ed_step_apply(s, &d->h, redo);
+        ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0);
+        return ST_OK;
+    }
+    case ED_STEP_HIER:
+        apply_hier_step(d, s);
+        return ST_OK;
+    case ED_STEP_BOX: {
+        int rec = d->box_recording;
+        d->box_recording = 1; /* no new step */
+        int rc = st_doc_set_box(d, redo ? &s->box_new : &s->box_old, redo ? s->on_new : s->on_old, err);
+        d->box_recording = rec;
+        return rc;
+    }
+    }
+    return ST_OK;
+}
+
+int st_doc_undo(st_doc *d, st_error *err)
+{
+    finish_active(d);
+    if (!d->undo_pos) return -1;
+    st_undo_step *s = d->undo[d->undo_pos - 1];
+    int rc = apply_step(d, s, 0, err);
+    if (rc) return rc;
+    d->undo_pos--;
+    return 0;
+}
+
+int st_doc_redo(st_doc *d, st_error *err)
+{
+    finish_active(d);
+    if (d->undo_pos >= d->nundo) return -1;
+    st_undo_step *s = d->undo[d->undo_pos];
+    int rc = apply_step(d, s, 1, err);
+    if (rc) return rc;
+    d->undo_pos++;
+    return 0;
+}
+
+/* ---- interest box display ---------------------------------------------------------------- */
+
+static void disp_free(st_doc *d)
+{
+    if (d->disp_ok) {
+        st_adapt_free(&d->adapt);
+        st_hier_free(&d->disp);
+    }
+    d->disp_ok = 0;
+    d->ndcorr = 0;
+}
+
+static void pairs_push(st_doc *d, uint32_t L, uint32_t dv, uint32_t mv)
+{
+    if (d->ndpairs + 3 > d->capdpairs) {
+        uint32_t c = d->capdpairs ? 2 * d->capdpairs : 3 * 1024;
+        uint32_t *p = realloc(d->dpairs, (size_t)c * sizeof *p);
+        if (!p) abort();
+        d->dpairs = p;
+        d->capdpairs = c;
+    }
+    d->dpairs[d->ndpairs++] = L;
+    d->dpairs[d->ndpairs++] = dv;
+    d->dpairs[d->ndpairs++] = mv;
+}
+
+static int split_tri(const st_hier *h, unsigned deg)
+{
+    st_scheme_id id = h->scheme->id;
+    return id == ST_SCHEME_LOOP || id == ST_SCHEME_BUTTERFLY || (id == ST_SCHEME_QUADTRI && deg == 3);
+}
+
+/* Pairs the display's darts and vertices with the model's: identical ids up
+ * to the base level (the display is a copy), then level by level through
+ * the sub-faces of each subdivided face (the corner sub-face of a coarse
+ * dart starts at that dart in both maps; a triangle's central sub-face lies
+ * across the first corner's inner edge). */
+static void disp_pairs_build(st_doc *d)
+{
+    st_map *dm = &d->disp.map;
+    const st_map *mm = &d->h.map;
+    unsigned N = mm->top, b = d->box.base_level < N ? d->box.base_level : N;
+    d->ndpairs = 0;
+    d->dbase = b;
+    uint32_t *dd = malloc((size_t)(dm->darts.end ? dm->darts.end : 1) * sizeof *dd);
+    uint32_t *dc = realloc(d->dcorr, (size_t)(dm->verts.end ? dm->verts.end : 1) * sizeof *dc);
+    if (!dd || !dc) abort();
+    d->dcorr = dc;
+    d->ndcorr = dm->verts.end;
+    for (uint32_t x = 0; x < dm->darts.end; x++) dd[x] = dm->darts.ins[x] != ST_FREE_LEVEL && dm->darts.ins[x] <= b ? x : ST_NIL;
+    for (uint32_t v = 0; v < dm->verts.end; v++) dc[v] = dm->verts.ins[v] != ST_FREE_LEVEL && dm->verts.ins[v] <= b ? v : ST_NIL;
+    unsigned topL = dm->top < N ? dm->top : N;
+    for (unsigned L = b + 1; L <= topL; L++) {
+        int fb = st_marker_reserve(dm);
+        if (fb < 0) abort();
+        st_dart_iter it;
+        for (uint32_t x = st_dart_first(dm, L - 1, &it); x != ST_NIL; x = st_dart_next(dm, L - 1, &it)) {
+            if (st_is_boundary(dm, x) || st_marked(dm, fb, x)) continue;
+            st_mark_face(dm, fb, x, L - 1);
+            if (st_face_level(dm, x, L - 1) != L - 1 || !st_face_is_subdivided(dm, x, L - 1)) continue;
+            unsigned deg = st_face_degree(dm, x, L - 1);
+            int tri = split_tri(&d->disp, deg);
+            uint32_t c = x;
+            int first = 1;
+            do {
+                uint32_t C = dd[c];
+                if (C == ST_NIL) break; /* cannot happen: coarser darts are paired first */
+                uint32_t y = c, Y = C;
+                unsigned guard = 0;
+                do {
+                    dd[y] = Y;
+                    uint32_t v = st_vert(dm, y, L), V = st_vert(mm, Y, L);
+                    dc[v] = V;
+                    pairs_push(d, L, v, V);
+                    y = st_phi1(dm, y, L);
+                    Y = st_phi1(mm, Y, L);
+                } while (y != c && ++guard < 64);
+                if (tri && first) {
+                    uint32_t z = st_beta0(dm, st_phi1(dm, c, L), L), Z = st_beta0(mm, st_phi1(mm, C, L), L), z0 = z;
+                    guard = 0;
+                    do {
+                        dd[z] = Z;
+                        uint32_t v = st_vert(dm, z, L), V = st_vert(mm, Z, L);
+                        dc[v] = V;
+                        pairs_push(d, L, v, V);
+                        z = st_phi1(dm, z, L);
+                        Z = st_phi1(mm, Z, L);
+                    } while (z != z0 && ++guard < 64);
+                }
+                first = 0;
+                c = st_phi1(dm, c, L - 1);
+            } while (c != x);
+        }
+        st_marker_release(dm, fb, L - 1);
+    }
+    free(dd);
+}
+
+/* Display positions from the model, for levels >= from. */
+static void disp_sync(st_doc *d, unsigned from, int keep_prev)
+{
+    st_map *dm = &d->disp.map;
+    const st_map *mm = &d->h.map;
+    unsigned N = mm->top, b = d->dbase;
+    for (unsigned L = from; L <= b; L++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(dm, L, &it); v != ST_NIL; v = st_vertex_next(dm, L, &it))
+            st_set_pos(dm, v, L, st_pos(mm, v, L));
+    }
+    for (uint32_t i = 0; i < d->ndpairs; i += 3) {
+        unsigned L = d->dpairs[i];
+        if (L < from) continue;
+        st_set_pos(dm, d->dpairs[i + 1], L, st_pos(mm, d->dpairs[i + 2], L));
+    }
+    if (dm->top > N) {
+        int had = d->adapt.has_prev;
+        st_adapt_synthesize(&d->adapt, N);
+        /* Box moves leave the model alone: the display's geometry is the
+         * same as at the last update, which may stay incremental. */
+        if (keep_prev) d->adapt.has_prev = had;
+    }
+}
+
+static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err)
+{
+    disp_free(d);
+    unsigned N = d->h.map.top, b = p->base_level < N ? p->base_level : N;
+    if (ed_hier_clone(&d->disp, &d->h, NULL)) return st_fail(err, ST_ERR_MEMORY, "out of memory for the interest box's display");
+    while (d->disp.map.top > b) st_hier_remove_top(&d->disp);
+    int rc = st_adapt_init(&d->adapt, &d->disp, err);
+    if (rc) { st_hier_free(&d->disp); return rc; }
+    d->disp_ok = 1;
+    rc = st_adapt_update(&d->adapt, p, err);
+    if (rc) { disp_free(d); return rc; }
+    d->box = *p; /* pairs_build reads the base level */
+    disp_pairs_build(d);
+    disp_sync(d, 0, 1);
+    return ST_OK;
+}
+
+int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
+{
+    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
+    finish_active(d);
+    st_adapt_params p = *box;
+    if (p.max_level >= ST_MAX_LEVELS) p.max_level = ST_MAX_LEVELS - 1;
+    if (p.base_level > p.max_level) p.base_level = p.max_level;
+    for (int k = 0; k < 3; k++)
+        if (p.box_lo[k] > p.box_hi[k]) { double t = p.box_lo[k]; p.box_lo[k] = p.box_hi[k]; p.box_hi[k] = t; }
+    st_adapt_params old = d->box;
+    int old_on = d->box_on;
+    int rc = ST_OK;
+    if (on) {
+        unsigned N = d->h.map.top;
+        unsigned ob = old.base_level < N ? old.base_level : N, nb = p.base_level < N ? p.base_level : N;
+        if (!d->box_on || !d->disp_ok || ob != nb) {
+            rc = disp_build(d, &p, err);
+        } else {
+            rc = st_adapt_update(&d->adapt, &p, err);
+            if (!rc) {
+                d->box = p;
+                disp_pairs_build(d);
+                disp_sync(d, 0, 1);
+            }
+        }
+        if (rc) {
+            /* Back to the previous display. */
+            st_error e2;
+            disp_free(d);
+            d->box = old;
+            d->box_on = old_on;
+            if (old_on && disp_build(d, &old, &e2)) d->box_on = 0;
+            count_display(d);
+            return rc;
+        }
+    } else {
+        disp_free(d);
+    }
+    d->box = p;
+    d->box_on = on != 0;
+    d->change.bits |= ST_CHANGE_BOX | ST_CHANGE_TOPOLOGY | ST_CHANGE_ALL_POSITIONS;
+    count_display(d);
+    if (!d->box_recording && (old_on != d->box_on || memcmp(&old, &p, sizeof p))) {
+        st_undo_step *s = ed_step_new(ED_STEP_BOX);
+        s->box_old = old;
+        s->on_old = old_on;
+        s->box_new = p;
+        s->on_new = d->box_on;
+        ed_step_finish(s);
+        ed_push_step(d, s);
+    }
+    return ST_OK;
+}
+
+void st_doc_box_begin(st_doc *d)
+{
+    if (d->box_recording) return;
+    d->box_recording = 1;
+    d->box_rec_params = d->box;
+    d->box_rec_on = d->box_on;
+}
+
+void st_doc_box_end(st_doc *d)
+{
+    if (!d->box_recording) return;
+    d->box_recording = 0;
+    if (d->box_rec_on == d->box_on && !memcmp(&d->box_rec_params, &d->box, sizeof d->box)) return;
+    st_undo_step *s = ed_step_new(ED_STEP_BOX);
+    s->box_old = d->box_rec_params;
+    s->on_old = d->box_rec_on;
+    s->box_new = d->box;
+    s->on_new = d->box_on;
+    ed_step_finish(s);
+    ed_push_step(d, s);
+}
+
+/* ---- benchmark --------------------------------------------------------------------------- */
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+int st_doc_bench_drag(st_doc *d, unsigned level, unsigned steps, double *step_ms_median, double *full_synth_ms)
+{
+    if (!d->loaded || level > d->h.map.top || !steps) return -1;
+    finish_active(d);
+    st_map *m = &d->h.map;
+    uint64_t count = 0;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, level, &it); v != ST_NIL; v = st_vertex_next(m, level, &it)) count++;
+    uint64_t k = 0;
+    uint32_t pick = ST_NIL;
+    for (uint32_t v = st_vertex_first(m, level, &it); v != ST_NIL; v = st_vertex_next(m, level, &it))
+        if (k++ == count / 2) { pick = v; break; }
+    if (pick == ST_NIL) return -1;
+    unsigned el = d->edit_level, dl = d->display_level;
+    uint32_t nsel = d->nsel, *sel = malloc((size_t)(nsel ? nsel : 1) * sizeof *sel);
+    if (!sel) abort();
+    memcpy(sel, d->sel, (size_t)nsel * sizeof *sel);
+    d->edit_level = level;
+    if (d->display_level < level) d->display_level = level;
+    st_doc_select(d, &pick, 1, ST_SELECT_REPLACE);
+    double *t = malloc((size_t)steps * sizeof *t);
+    if (!t) abort();
+    double size = 0;
+    for (uint32_t i = 0; i < d->base.nverts; i++)
+        for (int c = 0; c < 3; c++) size = fmax(size, fabs(d->base.pos[3 * i + c]));
+    if (size == 0) size = 1;
+    int rc = st_doc_drag_begin(d);
+    if (!rc) {
+        for (unsigned i = 0; i < steps; i++) {
+            double a = 6.283185307179586 * i / steps;
+            double delta[3] = { 0.05 * size * cos(a), 0.05 * size * sin(a), 0.02 * size };
+            double t0 = ed_now_ms();
+            st_doc_drag_update(d, delta);
+            t[i] = ed_now_ms() - t0;
+        }
+        st_doc_drag_cancel(d);
+        qsort(t, steps, sizeof *t, cmp_double);
+        if (step_ms_median) *step_ms_median = steps % 2 ? t[steps / 2] : (t[steps / 2 - 1] + t[steps / 2]) / 2;
+    }
+    free(t);
+    d->edit_level = el;
+    d->display_level = dl;
+    d->vdart_level = -1;
+    st_doc_select(d, sel, nsel, ST_SELECT_REPLACE);
+    free(sel);
+    if (rc) return -1;
+    /* The full synthesis runs on a copy: the model keeps its exact bits. */
+    st_hier tmp;
+    if (ed_hier_clone(&tmp, &d->h, NULL)) return -1;
+    double t0 = ed_now_ms();
+    st_hier_synthesize(&tmp, 0);
+    if (full_synth_ms) *full_synth_ms = ed_now_ms() - t0;
+    st_hier_free(&tmp);
+    return 0;
+}
+

@@ -1,0 +1,73 @@
+/* Shared between ui/editor*.c, ui/brush*.c and ui/undo*.c; not part of the
+ * window's API. */
+#ifndef ST_EDITOR_INTERNAL_H
+#define ST_EDITOR_INTERNAL_H
+
+#include "editor.h"
+#include "hier_internal.h"
+
+/* ---- editor_clone.c ---- */
+/* Bit-exact deep copy (ids and allocation state included); -1 when out of
+ * memory (dst left empty).  *bytes: what the copy allocated. */
+int ed_hier_clone(st_hier *dst, const st_hier *src, size_t *bytes);
+/* Re-points the attached sharpness attributes after the struct moved. */
+void ed_hier_fix(st_hier *h);
+void ed_hier_swap(st_hier *a, st_hier *b);
+size_t ed_hier_bytes(const st_hier *h);
+
+/* ---- undo.c ---- */
+enum ed_step_kind { ED_STEP_EDIT, ED_STEP_HIER, ED_STEP_BOX };
+
+struct st_undo_step {
+    int kind;
+    size_t bytes;
+    /* ED_STEP_EDIT: values before and after, keyed by (level, kind, vid):
+     * positions of every vertex st_hier_move rewrote (every level >= the
+     * edit level) and the edit level's details of the moved vertices. */
+    unsigned level;
+    uint32_t n, cap;
+    uint64_t *key;
+    double (*oldv)[3], (*newv)[3];
+    uint64_t *hkey;            /* open-addressing index while recording */
+    uint32_t *hidx, hcap;
+    uint32_t *moved;           /* darts (edit level) of the moved vertices, deduplicated */
+    uint32_t nmoved, capmoved;
+    /* ED_STEP_HIER: the whole other state (swapped in and out). */
+    st_hier snap;
+    const st_scheme *scheme;
+    unsigned edit_level, display_level;
+    int rebased;
+    /* ED_STEP_BOX */
+    st_adapt_params box_old, box_new;
+    int on_old, on_new;
+};
+
+st_undo_step *ed_step_new(int kind);
+void ed_step_free(st_undo_step *s);
+/* Records the current value of (level, kind, vid) as "old" unless present
+ * (touch_pos returns 1 when it was not). */
+int ed_step_touch_pos(st_undo_step *s, const st_hier *h, unsigned level, uint32_t vid);
+void ed_step_touch_detail(st_undo_step *s, const st_hier *h, unsigned level, uint32_t vid);
+void ed_step_add_moved(st_undo_step *s, const st_map *m, unsigned level, uint32_t dart);
+/* Every vertex value st_hier_move(h, l, darts, ., n) is going to write, as
+ * "old" (a dry run of its region growth). */
+void ed_step_touch_move(st_undo_step *s, st_hier *h, unsigned l, const uint32_t *darts, uint32_t n);
+/* Reads the current values as "new" (end of the step). */
+void ed_step_capture_new(st_undo_step *s, const st_hier *h);
+/* Writes the old (which = 0) or new (1) values back. */
+void ed_step_apply(const st_undo_step *s, st_hier *h, int which);
+void ed_step_finish(st_undo_step *s);   /* drops the index, computes bytes */
+
+/* ---- editor.c ---- */
+double ed_now_ms(void);
+/* After any change of h's geometry at level l with the given moved darts:
+ * change bits, display sync, timing. */
+void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0);
+uint32_t ed_vertex_dart(st_doc *d, uint32_t vid);
+void ed_push_step(st_doc *d, st_undo_step *s);
+
+/* ---- brush.c ---- */
+struct st_brush_state;
+void ed_brush_state_free(struct st_brush_state *bs);
+
+#endif
