@@ -1,11 +1,273 @@
-/* strata convert (issue 7): placeholder until the session/interchange work lands. */
+/* strata convert IN OUT [--scheme S] [--levels N] [--level L] [--boundary B]
+ *                       [--box x0,y0,z0,x1,y1,z1 [--base-level B] [--max-level M]
+ *                        [--falloff W] [--no-restriction]]
+ *                       [--normals | --no-normals]
+ *
+ * IN: a mesh (.obj .off .ply) or a session (.strata).  OUT: a mesh (.obj
+ * .ply) or a session (.strata).
+ *   - mesh -> session: builds the hierarchy (--scheme, default catmull-clark;
+ *     --levels, default 0) or, with --box, the adaptive hierarchy, and saves
+ *     it with the base mesh; the displayed level is the top.
+ *   - session -> mesh: writes level --level, by default the top level, or
+ *     the adaptive mesh when the session's interest box is on (or --box is
+ *     given, which re-runs the adaptive refinement with that box).
+ *   - session -> session: re-saves it (the same bytes unless options change
+ *     it); --levels N adds regular levels up to N.
+ *   - mesh -> mesh: subdivision to --levels and export, like `strata
+ *     subdivide`, or the adaptive mesh with --box.
+ * Mesh output carries smooth vertex normals (OBJ `vn` with `f v//vn`, PLY nx
+ * ny nz) unless --no-normals.
+ * Exit status: 0 done, 1 a file could not be read or written, 2 bad usage. */
+#include "adapt.h"
 #include "cli.h"
+#include "cli_common.h"
+#include "session.h"
 
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct conv_opts {
+    const char *in, *out, *scheme;
+    int levels;                /* -1: not given */
+    int level;                 /* -1: not given */
+    int boundary;
+    int normals;
+    st_adapt_params box;
+    int has_box, has_adapt_opt;
+} conv_opts;
+
+static int parse_level(const char *s, int *out)
+{
+    char *end;
+    long v = strtol(s, &end, 10);
+    if (!*s || *end || v < 0 || v >= ST_MAX_LEVELS) return -1;
+    *out = (int)v;
+    return 0;
+}
+
+static int parse_double(const char *s, double *out)
+{
+    char *end;
+    *out = strtod(s, &end);
+    return end == s || *end ? -1 : 0;
+}
+
+static int usage(void)
+{
+    fprintf(stderr, "usage: strata convert IN OUT [--scheme S] [--levels N] [--level L] [--boundary edge-only|edge-and-corner]\n"
+                    "                      [--box x0,y0,z0,x1,y1,z1 [--base-level B] [--max-level M] [--falloff W] [--no-restriction]]\n"
+                    "                      [--normals | --no-normals]\n"
+                    "  IN: .obj .off .ply or .strata; OUT: .obj .ply or .strata\n");
+    return 2;
+}
+
+static int parse(int argc, char **argv, conv_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->levels = o->level = -1;
+    o->boundary = ST_BOUNDARY_UNSET;
+    o->normals = 1;
+    o->box.max_level = 3;
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int lv;
+        double x;
+        if (!strcmp(a, "--scheme") && v) { o->scheme = v; i++; }
+        else if (!strcmp(a, "--levels") && v) {
+            if (parse_level(v, &o->levels)) { fprintf(stderr, "strata convert: --levels wants 0..%d, got '%s'\n", ST_MAX_LEVELS - 1, v); return -1; }
+            i++;
+        } else if (!strcmp(a, "--level") && v) {
+            if (parse_level(v, &o->level)) { fprintf(stderr, "strata convert: --level wants a level number, got '%s'\n", v); return -1; }
+            i++;
+        } else if (!strcmp(a, "--boundary") && v) {
+            if (!strcmp(v, "edge-only")) o->boundary = ST_BOUNDARY_EDGE_ONLY;
+            else if (!strcmp(v, "edge-and-corner")) o->boundary = ST_BOUNDARY_EDGE_AND_CORNER;
+            else { fprintf(stderr, "strata convert: --boundary wants edge-only or edge-and-corner, got '%s'\n", v); return -1; }
+            i++;
+        } else if (!strcmp(a, "--box") && v) {
+            if (st_cli_parse_box(v, o->box.box_lo, o->box.box_hi)) { fprintf(stderr, "strata convert: --box wants x0,y0,z0,x1,y1,z1, got '%s'\n", v); return -1; }
+            o->box.has_box = o->has_box = 1;
+            i++;
+        } else if (!strcmp(a, "--base-level") && v) {
+            if (parse_level(v, &lv)) { fprintf(stderr, "strata convert: bad --base-level '%s'\n", v); return -1; }
+            o->box.base_level = (unsigned)lv;
+            o->has_adapt_opt = 1;
+            i++;
+        } else if (!strcmp(a, "--max-level") && v) {
+            if (parse_level(v, &lv)) { fprintf(stderr, "strata convert: bad --max-level '%s'\n", v); return -1; }
+            o->box.max_level = (unsigned)lv;
+            o->has_adapt_opt = 1;
+            i++;
+        } else if (!strcmp(a, "--falloff") && v) {
+            if (parse_double(v, &x) || !(x >= 0)) { fprintf(stderr, "strata convert: bad --falloff '%s'\n", v); return -1; }
+            o->box.falloff = x;
+            o->has_adapt_opt = 1;
+            i++;
+        } else if (!strcmp(a, "--no-restriction")) { o->box.no_restriction = 1; o->has_adapt_opt = 1; }
+        else if (!strcmp(a, "--normals")) o->normals = 1;
+        else if (!strcmp(a, "--no-normals")) o->normals = 0;
+        else if (a[0] == '-' && a[1]) { fprintf(stderr, "strata convert: unknown or incomplete option '%s'\n", a); return -1; }
+        else if (!o->in) o->in = a;
+        else if (!o->out) o->out = a;
+        else { fprintf(stderr, "strata convert: unexpected argument '%s'\n", a); return -1; }
+    }
+    if (!o->in || !o->out) { fprintf(stderr, "strata convert: needs an input and an output file\n"); return -1; }
+    if (o->has_adapt_opt && !o->has_box) { fprintf(stderr, "strata convert: --base-level, --max-level, --falloff and --no-restriction go with --box\n"); return -1; }
+    if (o->has_box && (o->levels >= 0 || o->level >= 0)) { fprintf(stderr, "strata convert: --box is an alternative to --levels / --level\n"); return -1; }
+    if (o->box.base_level > o->box.max_level) { fprintf(stderr, "strata convert: --base-level is above --max-level\n"); return -1; }
+    return 0;
+}
+
+static int is_mesh_out(const char *path)
+{
+    size_t n = strlen(path);
+    if (n < 4) return 0;
+    const char *e = path + n - 4;
+    char x[5];
+    for (int k = 0; k < 4; k++) x[k] = (char)((e[k] >= 'A' && e[k] <= 'Z') ? e[k] - 'A' + 'a' : e[k]);
+    x[4] = 0;
+    return !strcmp(x, ".obj") || !strcmp(x, ".ply");
+}
+
+/* Loads a mesh input into s: base mesh and hierarchy to `levels`. */
+static int load_mesh(const conv_opts *o, st_session *s)
+{
+    const char *name = o->scheme ? o->scheme : "catmull-clark";
+    const st_scheme *sc = st_scheme_find(name);
+    if (!sc) {
+        fprintf(stderr, "strata convert: unknown scheme '%s' (catmull-clark, loop, butterfly, quad-triangle, sqrt3, doo-sabin)\n", name);
+        return 2;
+    }
+    st_error err;
+    st_notes notes = { 0 };
+    st_mesh mesh;
+    st_mesh_init(&mesh);
+    if (st_mesh_load_notes(o->in, &mesh, &notes, &err)) {
+        fprintf(stderr, "strata: %s\n", err.msg);
+        st_notes_free(&notes);
+        return 1;
+    }
+    for (uint32_t i = 0; i < notes.count; i++) fprintf(stderr, "strata: %s\n", notes.lines[i]);
+    st_notes_free(&notes);
+    st_hier_opts ho = { .boundary = o->boundary, .crease_method = ST_CREASE_UNIFORM };
+    st_session_init(s);
+    if (st_hier_init(&s->h, &mesh, sc, &ho, &err)) {
+        fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);
+        st_mesh_free(&mesh);
+        st_session_init(s);
+        return 1;
+    }
+    st_mesh_move(&s->base, &mesh);
+    s->has_base = 1;
+    if (st_hier_subdivide_to(&s->h, o->levels > 0 ? (unsigned)o->levels : 0, &err)) {
+        fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);
+        st_session_free(s);
+        return 1;
+    }
+    s->display_level = s->h.map.top;
+    return 0;
+}
 
 int st_cmd_convert(int argc, char **argv)
 {
-    (void)argc; (void)argv;
-    fprintf(stderr, "strata convert: not built yet\n");
-    return 2;
+    conv_opts o;
+    if (parse(argc, argv, &o)) return usage();
+    int in_session = st_session_is_path(o.in), out_session = st_session_is_path(o.out);
+    if (!out_session && !is_mesh_out(o.out)) {
+        fprintf(stderr, "strata convert: %s: unknown output format (expected .obj, .ply or .strata)\n", o.out);
+        return 2;
+    }
+    st_session s;
+    st_error err;
+    int rc;
+    if (in_session) {
+        if (o.scheme || o.boundary != ST_BOUNDARY_UNSET) {
+            fprintf(stderr, "strata convert: --scheme and --boundary apply to mesh input; %s is a session\n", o.in);
+            return 2;
+        }
+        if (st_session_load(o.in, &s, &err)) { fprintf(stderr, "strata: %s\n", err.msg); return 1; }
+        if (o.levels >= 0 && (unsigned)o.levels > s.h.map.top) {
+            if (s.has_adapt) {
+                fprintf(stderr, "strata convert: %s holds an adaptive hierarchy; --levels applies to regular ones\n", o.in);
+                st_session_free(&s);
+                return 2;
+            }
+            if (st_hier_subdivide_to(&s.h, (unsigned)o.levels, &err)) {
+                fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
+                st_session_free(&s);
+                return 1;
+            }
+        }
+    } else {
+        rc = load_mesh(&o, &s);
+        if (rc) return rc;
+    }
+    rc = 0;
+    if (o.has_box) {
+        if (!s.has_adapt) {
+            if (st_adapt_init(&s.adapt, &s.h, &err)) rc = 1;
+            else s.has_adapt = 1;
+        }
+        if (!rc && st_adapt_update(&s.adapt, &o.box, &err)) rc = 1;
+        if (!rc && st_map_validate(&s.h.map, &err)) rc = 1;
+        if (rc) {
+            fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
+            st_session_free(&s);
+            return 1;
+        }
+        s.box = o.box;
+        s.box_on = 1;
+        s.display_level = s.h.map.top;
+    }
+    if (out_session) {
+        if (o.level >= 0) {
+            if ((unsigned)o.level > s.h.map.top) {
+                fprintf(stderr, "strata convert: --level %d: %s has levels 0..%u\n", o.level, o.in, s.h.map.top);
+                st_session_free(&s);
+                return 2;
+            }
+            s.display_level = (unsigned)o.level;
+            if (s.edit_level > s.display_level) s.edit_level = s.display_level;
+        }
+        if (st_session_save(o.out, &s, &err)) {
+            fprintf(stderr, "strata: %s\n", err.msg);
+            rc = 1;
+        } else {
+            FILE *f = fopen(o.out, "rb");
+            long size = -1;
+            if (f && fseek(f, 0, SEEK_END) == 0) size = ftell(f);
+            if (f) fclose(f);
+            printf("%s: session, scheme %s, levels 0..%u%s, %ld bytes\n", o.out, s.h.scheme->name, s.h.map.top,
+                   s.has_adapt ? " (adaptive)" : "", size);
+        }
+        st_session_free(&s);
+        return rc;
+    }
+    /* Mesh output. */
+    int adaptive = o.level < 0 && s.has_adapt && s.box_on;
+    if (o.level >= 0 && (unsigned)o.level > s.h.map.top) {
+        fprintf(stderr, "strata convert: --level %d: %s has levels 0..%u\n", o.level, o.in, s.h.map.top);
+        st_session_free(&s);
+        return 2;
+    }
+    unsigned l = o.level >= 0 ? (unsigned)o.level : s.h.map.top;
+    st_mesh out;
+    st_mesh_init(&out);
+    rc = adaptive ? st_adapt_mesh(&s.adapt, &out, &err) : st_hier_level_mesh(&s.h, l, &out, &err);
+    if (rc) fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
+    if (!rc && o.normals && st_mesh_compute_normals(&out)) {
+        fprintf(stderr, "strata: %s: out of memory computing normals\n", o.out);
+        rc = 1;
+    }
+    if (!rc && st_mesh_save(o.out, &out, &err)) {
+        fprintf(stderr, "strata: %s\n", err.msg);
+        rc = 1;
+    }
+    if (!rc)
+        printf("%s: %u faces, %u vertices, %s %u%s\n", o.out, out.nfaces, out.nverts, adaptive ? "adaptive, levels 0.." : "level", l,
+               o.normals ? ", with normals" : "");
+    st_mesh_free(&out);
+    st_session_free(&s);
+    return rc ? 1 : 0;
 }
