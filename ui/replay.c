@@ -316,7 +316,7 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
 {
     const st_doc *d = &a->doc;
     const char *w = e->text;
-    char actual[256] = "";
+    char actual[768] = "";
     int ok;
     long want = e->arg ? strtol(e->arg, NULL, 10) : 0;
     uint64_t faces = 0, verts = 0;

@@ -147,14 +147,16 @@ static const float C_TEXT[4] = { 0.08f, 0.09f, 0.12f, 1 };
 static const float C_DIM[4] = { 0.30f, 0.32f, 0.38f, 1 };
 static const float C_ERR[4] = { 0.80f, 0.05f, 0.05f, 1 };
 static const float C_OK[4] = { 0.05f, 0.40f, 0.15f, 1 };
-static const float C_PANEL[4] = { 1, 1, 1, 0.72f };
+static const float C_PANEL[4] = { 1, 1, 1, 0.6f };
 static const float C_DARK[4] = { 0.10f, 0.11f, 0.14f, 0.88f };
 static const float C_WHITE[4] = { 1, 1, 1, 1 };
 static const float C_BRUSH[4] = { 0.95f, 0.35f, 0.10f, 0.9f };
 static const float C_RECT[4] = { 0.10f, 0.30f, 0.85f, 0.9f };
 static const float C_RECT_FILL[4] = { 0.10f, 0.30f, 0.85f, 0.12f };
 
-#define HUD_SCALE 1.6f
+/* Text scale: the font's 7-pixel glyphs enlarged, less in small windows. */
+static float hud_scale = 1.6f;
+#define HUD_SCALE hud_scale
 #define HUD_LINE (12 * HUD_SCALE)
 
 static const char *file_base(const char *p)
@@ -167,6 +169,7 @@ static void draw_hud(st_app *a)
 {
     st_hud *u = &a->hud;
     st_doc *d = &a->doc;
+    hud_scale = a->fb_h < 600 || a->fb_w < 800 ? 1.2f : 1.6f;
     char line[10][256], t1[32], t2[32];
     int n = 0;
     if (d->loaded) {
@@ -213,28 +216,33 @@ static void draw_hud(st_app *a)
         msg = ask;
     }
     if (msg[0]) {
-        float w = st_hud_text_width(msg, HUD_SCALE);
-        float y = (float)a->fb_h - HUD_LINE - 8;
+        /* Shrunk to fit the width (long paths in error messages). */
+        float s = HUD_SCALE, w = st_hud_text_width(msg, s);
+        if (w > (float)a->fb_w - 16) { s *= ((float)a->fb_w - 16) / w; if (s < 0.7f) s = 0.7f; w = st_hud_text_width(msg, s); }
+        float y = (float)a->fb_h - 12 * s - 8;
         st_hud_rect(u, 0, y - 4, w + 16, (float)a->fb_h, C_PANEL);
-        st_hud_text(u, 8, y, HUD_SCALE, a->pending_scheme ? C_TEXT : a->msg_error ? C_ERR : C_OK, msg);
+        st_hud_text(u, 8, y, s, a->pending_scheme ? C_TEXT : a->msg_error ? C_ERR : C_OK, msg);
     }
 
     if (a->help) {
-        float colw = 0, y0 = 8 + 8 * HUD_LINE, x0 = 24;
+        /* Two columns (keys, what they do), at a scale that fits. */
+        float colw = 0, wmaxd = 0;
         for (unsigned i = 0; i < st_nbindings; i++) {
-            float w = st_hud_text_width(st_bindings[i].keys, HUD_SCALE);
+            float w = st_hud_text_width(st_bindings[i].keys, 1);
             if (w > colw) colw = w;
-        }
-        float wmaxd = 0;
-        for (unsigned i = 0; i < st_nbindings; i++) {
-            float w = st_hud_text_width(st_bindings[i].what, HUD_SCALE);
+            w = st_hud_text_width(st_bindings[i].what, 1);
             if (w > wmaxd) wmaxd = w;
         }
-        st_hud_rect(u, x0 - 12, y0 - 10, x0 + colw + 24 + wmaxd + 12, y0 + (st_nbindings + 1) * HUD_LINE + 4, C_DARK);
-        st_hud_text(u, x0, y0, HUD_SCALE, C_BRUSH, "Key bindings (F1 closes)");
+        float s = HUD_SCALE;
+        float sw = ((float)a->fb_w - 60) / (colw + 16 + wmaxd), sh = ((float)a->fb_h - 40) / (12.0f * (st_nbindings + 2));
+        if (sw < s) s = sw;
+        if (sh < s) s = sh;
+        float lh = 12 * s, x0 = 24, y0 = 0.5f * ((float)a->fb_h - (st_nbindings + 1) * lh);
+        st_hud_rect(u, x0 - 12, y0 - 10, x0 + (colw + 16 + wmaxd) * s + 12, y0 + (st_nbindings + 1) * lh + 4, C_DARK);
+        st_hud_text(u, x0, y0, s, C_BRUSH, "Key bindings (F1 closes)");
         for (unsigned i = 0; i < st_nbindings; i++) {
-            st_hud_text(u, x0, y0 + (i + 1) * HUD_LINE, HUD_SCALE, C_BRUSH, st_bindings[i].keys);
-            st_hud_text(u, x0 + colw + 24, y0 + (i + 1) * HUD_LINE, HUD_SCALE, C_WHITE, st_bindings[i].what);
+            st_hud_text(u, x0, y0 + (i + 1) * lh, s, C_BRUSH, st_bindings[i].keys);
+            st_hud_text(u, x0 + (colw + 16) * s, y0 + (i + 1) * lh, s, C_WHITE, st_bindings[i].what);
         }
     }
 
