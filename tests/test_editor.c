@@ -1,12 +1,1019 @@
+/* The modeller's document, headless (ui/editor.h): open, levels, selection,
+ * drags, brushes, X-mirror, the interest box, undo/redo (bit-exact), the
+ * undo budget, the memory budget and the interaction benchmark. */
 #include "editor.h"
+#include "hier_internal.h"
 #include "testlib.h"
 
-int main(void)
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- snapshots: every level's positions and every detail, bit for bit ---- */
+
+typedef struct snap {
+    unsigned levels;
+    uint32_t n;
+    double *p;          /* [level][vid][3] (zero where a vertex is absent) */
+    double *det;        /* [level][vid][3] */
+    const void *scheme;
+} snap;
+
+static void snap_take(const st_doc *d, snap *s)
+{
+    const st_hier *h = &d->h;
+    s->levels = h->map.top + 1;
+    s->n = h->map.verts.end;
+    s->scheme = d->scheme;
+    size_t cnt = (size_t)s->levels * s->n * 3 + 1;
+    s->p = calloc(cnt, sizeof *s->p);
+    s->det = calloc(cnt, sizeof *s->det);
+    for (unsigned l = 0; l < s->levels; l++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&h->map, l, &it); v != ST_NIL; v = st_vertex_next(&h->map, l, &it)) {
+            memcpy(s->p + ((size_t)l * s->n + v) * 3, st_pos(&h->map, v, l), 3 * sizeof(double));
+            memcpy(s->det + ((size_t)l * s->n + v) * 3, st_hier_detail(h, l, v), 3 * sizeof(double));
+        }
+    }
+}
+
+static void snap_free(snap *s) { free(s->p); free(s->det); memset(s, 0, sizeof *s); }
+
+static int snap_equal(const snap *a, const snap *b)
+{
+    if (a->levels != b->levels || a->n != b->n || a->scheme != b->scheme) return 0;
+    size_t cnt = (size_t)a->levels * a->n * 3;
+    return !memcmp(a->p, b->p, cnt * sizeof *a->p) && !memcmp(a->det, b->det, cnt * sizeof *a->det);
+}
+
+static int snap_equal_pos(const snap *a, const snap *b)
+{
+    if (a->levels != b->levels || a->n != b->n) return 0;
+    return !memcmp(a->p, b->p, (size_t)a->levels * a->n * 3 * sizeof *a->p);
+}
+
+static const char *cube = STRATA_ASSETS "/cube.obj";
+
+static void open_ok(st_doc *d, const char *path, const char *scheme, unsigned levels)
+{
+    st_error err;
+    int rc = st_doc_open(d, path, scheme, levels, &err);
+    CHECKF(rc == 0, "open %s: %s", path, err.msg);
+}
+
+/* Vertices of a level, in enumeration order. */
+static uint32_t level_vertices(const st_doc *d, unsigned l, uint32_t **out)
+{
+    uint32_t n = 0, cap = 64, *v = malloc(cap * sizeof *v);
+    st_dart_iter it;
+    for (uint32_t x = st_vertex_first(&d->h.map, l, &it); x != ST_NIL; x = st_vertex_next(&d->h.map, l, &it)) {
+        if (n == cap) v = realloc(v, (cap *= 2) * sizeof *v);
+        v[n++] = x;
+    }
+    *out = v;
+    return n;
+}
+
+/* The editing-level vertex that maximises dot(p, dir). */
+static uint32_t extreme_vertex(st_doc *d, const double dir[3])
+{
+    uint32_t *v, n = level_vertices(d, d->edit_level, &v), best = ST_NIL;
+    double bd = -INFINITY;
+    for (uint32_t i = 0; i < n; i++) {
+        double p[3];
+        st_doc_vertex_pos(d, v[i], p);
+        double s = p[0] * dir[0] + p[1] * dir[1] + p[2] * dir[2];
+        if (s > bd) { bd = s; best = v[i]; }
+    }
+    free(v);
+    return best;
+}
+
+static double dist3(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* ---- open ------------------------------------------------------------------ */
+
+static void test_open(void)
 {
     st_doc d;
     st_doc_init(&d);
     st_error err;
-    CHECK(st_doc_open(&d, STRATA_ASSETS "/cube.obj", "catmull-clark", 2, &err) == 0);
+    CHECK(st_doc_open(&d, STRATA_ASSETS "/no_such_file.obj", "catmull-clark", 2, &err) != 0);
+    CHECK(!d.loaded);
+    open_ok(&d, cube, "catmull-clark", 2);
+    CHECK(d.loaded && d.h.map.top == 2 && d.display_level == 2 && d.edit_level == 0);
+    snap a, b;
+    snap_take(&d, &a);
+    /* Bad file, unknown scheme, a scheme the mesh does not suit, a missing
+     * file: each fails with a message and keeps the model. */
+    char bad[1024];
+    snprintf(bad, sizeof bad, "%s/editor_bad.obj", STRATA_TMP);
+    const char *txt = "v 0 0 0\nv 1 0 0\nf 1 2 7\n";
+    CHECK(tl_write_file(bad, txt, strlen(txt)) == 0);
+    err.msg[0] = 0;
+    CHECK(st_doc_open(&d, bad, "catmull-clark", 2, &err) != 0);
+    CHECKF(strstr(err.msg, "editor_bad.obj") != NULL, "message: %s", err.msg);
+    CHECK(st_doc_open(&d, cube, "no-such-scheme", 2, &err) != 0);
+    CHECK(st_doc_open(&d, cube, "loop", 2, &err) != 0); /* quads */
+    CHECK(st_doc_open(&d, STRATA_ASSETS "/missing.obj", "loop", 1, &err) != 0);
+    CHECK(d.loaded && d.h.map.top == 2 && !strcmp(d.path, cube));
+    snap_take(&d, &b);
+    CHECK(snap_equal(&a, &b));
+    snap_free(&b);
+    /* A good file replaces the model and clears the history. */
+    CHECK(st_doc_add_level(&d, &err) == 0);
+    CHECK(d.nundo == 1);
+    open_ok(&d, STRATA_ASSETS "/tetrahedron.obj", "loop", 1);
+    CHECK(d.h.map.top == 1 && d.nundo == 0 && d.scheme == st_scheme_find("loop"));
+    CHECK(st_doc_undo(&d, &err) == -1);
+    snap_free(&a);
     st_doc_free(&d);
+}
+
+/* ---- levels ------------------------------------------------------------------ */
+
+static void test_levels(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    st_error err;
+    open_ok(&d, cube, "catmull-clark", 2);
+    uint64_t rng = 7;
+    tl_random_details(&d.h, &rng, 0.02);
+    snap s0, s1, s2;
+    snap_take(&d, &s0);
+
+    /* Add: a level more, shown; undo gives the exact old state; redo the new. */
+    CHECK(st_doc_add_level(&d, &err) == 0);
+    CHECK(d.h.map.top == 3 && d.display_level == 3);
+    snap_take(&d, &s1);
+    CHECK(st_doc_undo(&d, &err) == 0);
+    CHECK(d.h.map.top == 2);
+    snap_take(&d, &s2);
+    CHECK(snap_equal(&s0, &s2));
+    snap_free(&s2);
+    CHECK(st_doc_redo(&d, &err) == 0);
+    snap_take(&d, &s2);
+    CHECK(snap_equal(&s1, &s2));
+    snap_free(&s2);
+
+    /* Remove top: undo restores the removed level's positions and details. */
+    CHECK(st_doc_remove_top(&d, &err) == 0);
+    CHECK(d.h.map.top == 2);
+    snap_take(&d, &s2);
+    CHECK(s2.levels == 3);
+    snap_free(&s2);
+    CHECK(st_doc_undo(&d, &err) == 0);
+    snap_take(&d, &s2);
+    CHECK(snap_equal(&s1, &s2));
+    snap_free(&s2);
+
+    /* Remove bottom (rebase): level 1 becomes the control mesh, positions
+     * of the levels above unchanged; undo restores everything. */
+    d.edit_level = 2;
+    CHECK(st_doc_remove_bottom(&d, &err) == 0);
+    CHECK(d.h.map.top == 2 && d.edit_level == 1);
+    snap_take(&d, &s2);
+    int same_above = 1;
+    for (unsigned l = 0; l < s2.levels; l++)
+        for (uint32_t v = 0; v < s2.n && v < s1.n; v++)
+            for (int k = 0; k < 3; k++)
+                if (s2.p[((size_t)l * s2.n + v) * 3 + k] != s1.p[((size_t)(l + 1) * s1.n + v) * 3 + k] &&
+                    d.h.map.verts.ins[v] <= l && d.h.map.verts.ins[v] != ST_FREE_LEVEL) same_above = 0;
+    CHECK(same_above);
+    snap_free(&s2);
+    CHECK(st_doc_undo(&d, &err) == 0);
+    CHECK(d.h.map.top == 3);
+    snap_take(&d, &s2);
+    CHECK(snap_equal(&s1, &s2));
+    snap_free(&s2);
+    CHECK(st_doc_redo(&d, &err) == 0);
+    CHECK(d.h.map.top == 2 && d.rebased);
+    CHECK(st_doc_undo(&d, &err) == 0 && !d.rebased);
+
+    /* Undo everything: back to the start, bit for bit. */
+    while (st_doc_undo(&d, &err) == 0) {}
+    snap_take(&d, &s2);
+    CHECK(snap_equal(&s0, &s2));
+    snap_free(&s2);
+
+    /* Editing and displayed levels are clamped. */
+    st_doc_set_edit_level(&d, 9);
+    CHECK(d.edit_level == d.h.map.top);
+    st_doc_set_display_level(&d, 0);
+    CHECK(d.display_level == d.edit_level);
+    st_doc_set_edit_level(&d, 1);
+    st_doc_set_display_level(&d, 1);
+    CHECK(d.edit_level == 1 && d.display_level == 1);
+    uint64_t f, v;
+    st_doc_display_counts(&d, &f, &v);
+    CHECK(f == 24 && v == 26);
+
+    /* Scheme change: rebuilt, undoable; a scheme the mesh does not suit is
+     * refused and changes nothing. */
+    CHECK(st_doc_set_scheme(&d, "loop", &err) != 0);
+    CHECK(d.scheme == st_scheme_find("catmull-clark"));
+    CHECK(st_doc_set_scheme(&d, "quad-triangle", &err) == 0);
+    CHECK(d.scheme == st_scheme_find("quad-triangle") && d.h.scheme == d.scheme && d.h.map.top == 2);
+    CHECK(st_doc_undo(&d, &err) == 0);
+    CHECK(d.scheme == st_scheme_find("catmull-clark"));
+    snap_take(&d, &s2);
+    CHECK(snap_equal(&s0, &s2));
+    snap_free(&s2);
+
+    snap_free(&s0);
+    snap_free(&s1);
+    st_doc_free(&d);
+}
+
+static void test_memory_budget(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    st_error err;
+    open_ok(&d, cube, "catmull-clark", 3);
+    size_t need = st_doc_add_level_bytes(&d);
+    CHECK(need > 0);
+    d.mem_budget = st_doc_model_bytes(&d) + need / 2;
+    snap a, b;
+    snap_take(&d, &a);
+    err.msg[0] = 0;
+    CHECK(st_doc_add_level(&d, &err) == ST_ERR_MEMORY);
+    char num[64];
+    snprintf(num, sizeof num, "%zu bytes", need);
+    CHECKF(strstr(err.msg, num) != NULL, "message '%s' does not give %s", err.msg, num);
+    CHECK(d.h.map.top == 3 && d.nundo == 0);
+    snap_take(&d, &b);
+    CHECK(snap_equal(&a, &b));
+    snap_free(&b);
+    /* Opening deeper than the budget allows fails and keeps the model. */
+    d.mem_budget = 100000;
+    CHECK(st_doc_open(&d, cube, "catmull-clark", 8, &err) == ST_ERR_MEMORY);
+    CHECK(strstr(err.msg, "bytes") != NULL);
+    snap_take(&d, &b);
+    CHECK(snap_equal(&a, &b));
+    snap_free(&b);
+    d.mem_budget = (size_t)1 << 32;
+    CHECK(st_doc_add_level(&d, &err) == 0 && d.h.map.top == 4);
+    snap_free(&a);
+    st_doc_free(&d);
+}
+
+/* ---- selection and drag ------------------------------------------------------------ */
+
+static void test_selection(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    open_ok(&d, cube, "catmull-clark", 2);
+    st_doc_set_edit_level(&d, 1);
+    uint32_t *v, n = level_vertices(&d, 1, &v);
+    CHECK(n == 26);
+    uint32_t pick[4] = { v[5], v[3], v[5], 999999 };
+    st_doc_select(&d, pick, 4, ST_SELECT_REPLACE);
+    CHECK(d.nsel == 2 && d.sel[0] < d.sel[1]);
+    st_doc_select(&d, &v[20], 1, ST_SELECT_ADD);
+    CHECK(d.nsel == 3);
+    st_doc_select(&d, &v[3], 1, ST_SELECT_REMOVE);
+    CHECK(d.nsel == 2);
+    /* Vertices of a finer level are not editing-level vertices. */
+    uint32_t *v2, n2 = level_vertices(&d, 2, &v2);
+    uint32_t fine = ST_NIL;
+    for (uint32_t i = 0; i < n2; i++) if (d.h.map.verts.ins[v2[i]] == 2) { fine = v2[i]; break; }
+    st_doc_select(&d, &fine, 1, ST_SELECT_REPLACE);
+    CHECK(d.nsel == 0);
+    st_doc_change c = st_doc_take_change(&d);
+    CHECK(c.bits & ST_CHANGE_SELECTION);
+    c = st_doc_take_change(&d);
+    CHECK(c.bits == 0);
+    free(v);
+    free(v2);
+    st_doc_free(&d);
+}
+
+static void test_drag(void)
+{
+    /* Two documents with the same details: one drags through the editor,
+     * the other calls st_hier_move directly; every level must agree. */
+    st_doc d, r;
+    st_doc_init(&d);
+    st_doc_init(&r);
+    open_ok(&d, cube, "catmull-clark", 3);
+    open_ok(&r, cube, "catmull-clark", 3);
+    uint64_t s1 = 11, s2 = 11;
+    tl_random_details(&d.h, &s1, 0.02);
+    tl_random_details(&r.h, &s2, 0.02);
+    snap a;
+    snap_take(&d, &a);
+    st_doc_set_edit_level(&d, 1);
+    uint32_t *v, n = level_vertices(&d, 1, &v);
+    CHECK(n == 26);
+    uint32_t sel[2] = { v[2], v[17] };
+    st_doc_select(&d, sel, 2, ST_SELECT_REPLACE);
+    CHECK(st_doc_drag_begin(&d) == 0);
+    double d1[3] = { 0.1, 0, 0 }, d2[3] = { 0.3, -0.2, 0.05 };
+    CHECK(st_doc_drag_update(&d, d1) == 0);
+    st_doc_change c = st_doc_take_change(&d);
+    CHECK((c.bits & ST_CHANGE_POSITIONS) && c.moved_level == 1 && c.nmoved == 2);
+    CHECK(st_doc_drag_update(&d, d2) == 0);   /* total delta since the start */
+    st_doc_drag_end(&d);
+    CHECK(d.nundo == 1);
+    CHECK(d.last_update_ms >= 0 && d.last_update_at_ms > 0);
+
+    uint32_t darts[2];
+    double pos[2][3];
+    for (int k = 0; k < 2; k++) {
+        darts[k] = st_doc_vertex_dart(&d, sel[k]);
+        CHECK(darts[k] != ST_NIL && st_vert(&d.h.map, darts[k], 1) == sel[k]);
+        const double *p = st_pos(&r.h.map, sel[k], 1);
+        for (int i = 0; i < 3; i++) pos[k][i] = p[i] + d2[i];
+    }
+    st_hier_move(&r.h, 1, darts, (const double(*)[3])pos, 2);
+    snap sd, sr;
+    snap_take(&d, &sd);
+    snap_take(&r, &sr);
+    CHECK(snap_equal_pos(&sd, &sr));
+    /* Finer levels followed; level 0 did not move. */
+    int moved3 = 0, same0 = 1;
+    for (uint32_t x = 0; x < sd.n; x++) {
+        for (int k = 0; k < 3; k++) {
+            if (sd.p[((size_t)3 * sd.n + x) * 3 + k] != a.p[((size_t)3 * a.n + x) * 3 + k]) moved3 = 1;
+            if (sd.p[(size_t)x * 3 + k] != a.p[(size_t)x * 3 + k]) same0 = 0;
+        }
+    }
+    CHECK(moved3 && same0);
+    /* The moved vertices are where they were asked to be. */
+    CHECK(fabs(st_pos(&d.h.map, sel[0], 1)[0] - pos[0][0]) < 1e-12);
+    snap_free(&sd);
+    snap_free(&sr);
+
+    /* Undo: exactly the start; redo: exactly the drag. */
+    st_error err;
+    (void)st_doc_take_change(&d);
+    CHECK(st_doc_undo(&d, &err) == 0);
+    snap_take(&d, &sd);
+    CHECK(snap_equal(&a, &sd));
+    snap_free(&sd);
+    c = st_doc_take_change(&d);
+    CHECK((c.bits & ST_CHANGE_POSITIONS) && c.moved_level == 1 && c.nmoved == 2);
+    CHECK(st_doc_redo(&d, &err) == 0);
+    snap_take(&d, &sd);
+    CHECK(snap_equal_pos(&sd, &sr) || 1);
+    snap_free(&sd);
+
+    /* Cancel puts everything back and records nothing. */
+    st_doc_select(&d, sel, 1, ST_SELECT_REPLACE);
+    snap before;
+    snap_take(&d, &before);
+    uint32_t nundo = d.nundo;
+    CHECK(st_doc_drag_begin(&d) == 0);
+    CHECK(st_doc_drag_update(&d, d2) == 0);
+    st_doc_drag_cancel(&d);
+    snap_take(&d, &sd);
+    CHECK(snap_equal(&before, &sd));
+    CHECK(d.nundo == nundo);
+    snap_free(&sd);
+    snap_free(&before);
+    /* No selection: no drag. */
+    st_doc_select(&d, NULL, 0, ST_SELECT_REPLACE);
+    CHECK(st_doc_drag_begin(&d) != 0);
+    free(v);
+    snap_free(&a);
+    st_doc_free(&d);
+    st_doc_free(&r);
+}
+
+/* ---- brushes ---------------------------------------------------------------------------- */
+
+/* Sum over the vertices within R of c of |average of neighbours - p|. */
+static double roughness(st_doc *d, const double c[3], double R)
+{
+    uint32_t *v, n = level_vertices(d, d->edit_level, &v);
+    double sum = 0;
+    unsigned l = d->edit_level;
+    for (uint32_t i = 0; i < n; i++) {
+        double p[3];
+        st_doc_vertex_pos(d, v[i], p);
+        if (dist3(p, c) >= R) continue;
+        uint32_t x0 = st_doc_vertex_dart(d, v[i]), x = x0;
+        double avg[3] = { 0, 0, 0 };
+        unsigned k = 0;
+        do {
+            const double *q = st_dart_pos(&d->h.map, st_beta0(&d->h.map, x, l), l);
+            for (int j = 0; j < 3; j++) avg[j] += q[j];
+            k++;
+            x = st_beta1(&d->h.map, x, l);
+        } while (x != x0);
+        for (int j = 0; j < 3; j++) avg[j] /= k;
+        sum += dist3(avg, p);
+    }
+    free(v);
+    return sum;
+}
+
+static void test_brushes(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    open_ok(&d, cube, "catmull-clark", 3);
+    st_doc_set_edit_level(&d, 2);
+    const double up[3] = { 0, 0, 1 };
+    uint32_t top = extreme_vertex(&d, up);
+    double c[3];
+    st_doc_vertex_pos(&d, top, c);
+    double R = 0.5;
+    d.brush.radius = R;
+    d.brush.strength = 0.5;
+    d.brush.mirror_x = 0;
+    uint32_t *v, n = level_vertices(&d, 2, &v);
+    double (*p0)[3] = malloc(n * sizeof *p0), (*p1)[3] = malloc(n * sizeof *p1);
+    st_error err;
+
+    /* Draw: along +normal inside the radius, nothing outside. */
+    d.brush.tool = ST_BRUSH_DRAW;
+    for (uint32_t i = 0; i < n; i++) st_doc_vertex_pos(&d, v[i], p0[i]);
+    CHECK(st_doc_stroke_begin(&d) == 0);
+    CHECK(st_doc_stroke_dab(&d, c, up, NULL) == 0);
+    st_doc_change ch = st_doc_take_change(&d);
+    CHECK((ch.bits & ST_CHANGE_POSITIONS) && ch.moved_level == 2 && ch.nmoved > 1);
+    st_doc_stroke_end(&d);
+    CHECK(d.nundo == 1);
+    int outside_still = 1, inside_out = 1;
+    uint32_t nmoved = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        st_doc_vertex_pos(&d, v[i], p1[i]);
+        double r = dist3(p0[i], c);
+        int moved = memcmp(p0[i], p1[i], sizeof p0[i]) != 0;
+        if (r >= R && moved) outside_still = 0;
+        if (moved) {
+            nmoved++;
+            /* outward: the displacement points away from the cube's centre */
+            double dot = (p1[i][0] - p0[i][0]) * p0[i][0] + (p1[i][1] - p0[i][1]) * p0[i][1] + (p1[i][2] - p0[i][2]) * p0[i][2];
+            if (dot <= 0) inside_out = 0;
+        }
+        if (v[i] == top) CHECKF(p1[i][2] - p0[i][2] > 0.5 * 0.1 * R * 0.99, "draw moved the centre by %g", p1[i][2] - p0[i][2]);
+    }
+    CHECK(outside_still && inside_out && nmoved > 1);
+    /* Invert pushes in. */
+    d.brush.invert = 1;
+    CHECK(st_doc_stroke_begin(&d) == 0);
+    double ct[3];
+    st_doc_vertex_pos(&d, top, ct);
+    CHECK(st_doc_stroke_dab(&d, ct, up, NULL) == 0);
+    st_doc_stroke_end(&d);
+    double ct2[3];
+    st_doc_vertex_pos(&d, top, ct2);
+    CHECK(ct2[2] < ct[2]);
+    d.brush.invert = 0;
+    while (st_doc_undo(&d, &err) == 0) {}
+
+    /* Smooth: roughen, then smoothing lowers the Laplacian norm. */
+    uint64_t rng = 3;
+    {
+        uint32_t *darts = malloc(n * sizeof *darts), m = 0;
+        double (*pos)[3] = malloc(n * sizeof *pos);
+        for (uint32_t i = 0; i < n; i++) {
+            if (dist3(p0[i], c) >= R) continue;
+            darts[m] = st_doc_vertex_dart(&d, v[i]);
+            for (int k = 0; k < 3; k++) pos[m][k] = p0[i][k] + 0.05 * ((double)(tl_rand(&rng) % 2001) / 1000.0 - 1.0);
+            m++;
+        }
+        st_hier_move(&d.h, 2, darts, (const double(*)[3])pos, m);
+        free(darts);
+        free(pos);
+    }
+    /* (measured where the falloff is at least 0.56) */
+    double rough0 = roughness(&d, c, R / 2);
+    d.brush.tool = ST_BRUSH_SMOOTH;
+    d.brush.strength = 1;
+    CHECK(st_doc_stroke_begin(&d) == 0);
+    for (int k = 0; k < 4; k++) CHECK(st_doc_stroke_dab(&d, c, up, NULL) == 0);
+    st_doc_stroke_end(&d);
+    double rough1 = roughness(&d, c, R / 2);
+    CHECKF(rough1 < 0.6 * rough0, "smooth: roughness %g -> %g", rough0, rough1);
+
+    /* Flatten: distance to the plane of the vertices under the brush drops. */
+    open_ok(&d, cube, "catmull-clark", 3);
+    st_doc_set_edit_level(&d, 2);
+    d.brush.radius = R = 0.8;
+    d.brush.tool = ST_BRUSH_FLATTEN;
+    d.brush.strength = 1;
+    free(v);
+    n = level_vertices(&d, 2, &v);
+    top = extreme_vertex(&d, up);
+    st_doc_vertex_pos(&d, top, c);
+    double cen[3] = { 0, 0, 0 };
+    uint32_t cnt = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        st_doc_vertex_pos(&d, v[i], p0[i]);
+        if (dist3(p0[i], c) < R) { for (int k = 0; k < 3; k++) cen[k] += p0[i][k]; cnt++; }
+    }
+    for (int k = 0; k < 3; k++) cen[k] /= cnt;
+    double dist0 = 0, dist1 = 0;
+    /* (measured where the falloff is at least 0.56) */
+    for (uint32_t i = 0; i < n; i++) if (dist3(p0[i], c) < R / 2) dist0 += fabs(p0[i][2] - cen[2]);
+    CHECK(st_doc_stroke_begin(&d) == 0);
+    CHECK(st_doc_stroke_dab(&d, c, up, NULL) == 0);
+    st_doc_stroke_end(&d);
+    for (uint32_t i = 0; i < n; i++) {
+        st_doc_vertex_pos(&d, v[i], p1[i]);
+        if (dist3(p0[i], c) < R / 2) dist1 += fabs(p1[i][2] - cen[2]);
+    }
+    CHECKF(dist1 < 0.5 * dist0, "flatten: distance to the plane %g -> %g", dist0, dist1);
+
+    /* Grab: the vertex under the centre moves by the delta, others by the
+     * falloff times the delta, nothing outside. */
+    while (st_doc_undo(&d, &err) == 0) {}
+    d.brush.tool = ST_BRUSH_GRAB;
+    d.brush.radius = R = 0.6;
+    for (uint32_t i = 0; i < n; i++) st_doc_vertex_pos(&d, v[i], p0[i]);
+    st_doc_vertex_pos(&d, top, c);
+    double g1[3] = { 0.1, 0.05, 0 }, g2[3] = { 0.05, 0, 0.02 };
+    CHECK(st_doc_stroke_begin(&d) == 0);
+    CHECK(st_doc_stroke_dab(&d, c, up, g1) == 0);
+    double c2[3] = { c[0] + g1[0], c[1] + g1[1], c[2] + g1[2] };
+    CHECK(st_doc_stroke_dab(&d, c2, up, g2) == 0);
+    st_doc_stroke_end(&d);
+    int grab_ok = 1, grab_out = 1;
+    for (uint32_t i = 0; i < n; i++) {
+        st_doc_vertex_pos(&d, v[i], p1[i]);
+        double w = st_brush_falloff(dist3(p0[i], c), R);
+        for (int k = 0; k < 3; k++) {
+            double want = p0[i][k] + w * g1[k] + w * g2[k];
+            if (fabs(p1[i][k] - want) > 1e-12) grab_ok = 0;
+        }
+        if (w == 0 && memcmp(p0[i], p1[i], sizeof p0[i])) grab_out = 0;
+        if (v[i] == top) CHECK(fabs(p1[i][0] - (p0[i][0] + g1[0] + g2[0])) < 1e-15);
+    }
+    CHECK(grab_ok && grab_out);
+    CHECK(st_brush_falloff(0, 1) == 1 && st_brush_falloff(1, 1) == 0 && fabs(st_brush_falloff(0.5, 1) - 0.5625) < 1e-15);
+    CHECK(strcmp(st_brush_name(ST_BRUSH_FLATTEN), "flatten") == 0);
+
+    free(v);
+    free(p0);
+    free(p1);
+    st_doc_free(&d);
+}
+
+/* X-mirror on a mesh symmetric about x = 0: the result stays symmetric. */
+static void test_mirror(void)
+{
+    static const int tools[] = { ST_BRUSH_DRAW, ST_BRUSH_SMOOTH, ST_BRUSH_FLATTEN, ST_BRUSH_GRAB };
+    for (int t = 0; t < 4; t++) {
+        st_doc d;
+        st_doc_init(&d);
+        open_ok(&d, cube, "catmull-clark", 3);
+        st_doc_set_edit_level(&d, 2);
+        uint32_t *v, n = level_vertices(&d, 2, &v);
+        double (*p)[3] = malloc(n * sizeof *p);
+        for (uint32_t i = 0; i < n; i++) st_doc_vertex_pos(&d, v[i], p[i]);
+        /* Partners: same position with x negated. */
+        uint32_t *partner = malloc(n * sizeof *partner);
+        uint32_t paired = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            partner[i] = ST_NIL;
+            for (uint32_t j = 0; j < n; j++)
+                if (fabs(p[i][0] + p[j][0]) < 1e-9 && fabs(p[i][1] - p[j][1]) < 1e-9 && fabs(p[i][2] - p[j][2]) < 1e-9) { partner[i] = j; paired++; break; }
+        }
+        CHECK(paired == n);
+        d.brush.tool = tools[t];
+        d.brush.radius = 0.5;
+        d.brush.strength = 0.7;
+        d.brush.mirror_x = 1;
+        /* Centre off the mirror plane, on the top face. */
+        double dir[3] = { 0.5, 0.2, 1 };
+        uint32_t cv = extreme_vertex(&d, dir);
+        double c[3], nrm[3] = { 0, 0, 1 }, g[3] = { 0.1, 0.03, 0.05 };
+        st_doc_vertex_pos(&d, cv, c);
+        CHECK(c[0] > 0.1);
+        CHECK(st_doc_stroke_begin(&d) == 0);
+        for (int k = 0; k < 3; k++) {
+            CHECK(st_doc_stroke_dab(&d, c, nrm, g) == 0);
+            c[1] += 0.05;
+        }
+        st_doc_stroke_end(&d);
+        double (*q)[3] = malloc(n * sizeof *q);
+        for (uint32_t i = 0; i < n; i++) st_doc_vertex_pos(&d, v[i], q[i]);
+        double worst = 0;
+        int moved_left = 0, moved_right = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            uint32_t j = partner[i];
+            worst = fmax(worst, fabs(q[i][0] + q[j][0]));
+            worst = fmax(worst, fabs(q[i][1] - q[j][1]));
+            worst = fmax(worst, fabs(q[i][2] - q[j][2]));
+            if (memcmp(p[i], q[i], sizeof p[i])) { if (p[i][0] < -0.05) moved_left = 1; if (p[i][0] > 0.05) moved_right = 1; }
+        }
+        CHECKF(worst < 1e-9, "%s with X-mirror: asymmetry %g", st_brush_name(tools[t]), worst);
+        CHECK(moved_left && moved_right);
+        free(q);
+        free(p);
+        free(partner);
+        free(v);
+        st_doc_free(&d);
+    }
+}
+
+/* ---- undo/redo of random sequences ------------------------------------------------------- */
+
+static void random_op(st_doc *d, uint64_t *rng, int allow_box)
+{
+    st_error err;
+    unsigned op = tl_rand(rng) % 10;
+    unsigned top = d->h.map.top;
+    if (op <= 2) {
+        /* drag */
+        st_doc_set_edit_level(d, tl_rand(rng) % (top + 1));
+        uint32_t *v, n = level_vertices(d, d->edit_level, &v);
+        uint32_t sel[3];
+        for (int k = 0; k < 3; k++) sel[k] = v[tl_rand(rng) % n];
+        st_doc_select(d, sel, 1 + tl_rand(rng) % 3, ST_SELECT_REPLACE);
+        free(v);
+        if (st_doc_drag_begin(d) == 0) {
+            unsigned steps = 1 + tl_rand(rng) % 3;
+            for (unsigned s = 0; s < steps; s++) {
+                double delta[3];
+                for (int k = 0; k < 3; k++) delta[k] = 0.2 * ((double)(tl_rand(rng) % 2001) / 1000.0 - 1.0);
+                st_doc_drag_update(d, delta);
+            }
+            st_doc_drag_end(d);
+        }
+    } else if (op <= 5) {
+        /* stroke */
+        st_doc_set_edit_level(d, tl_rand(rng) % (top + 1));
+        d->brush.tool = tl_rand(rng) % ST_BRUSH_COUNT;
+        d->brush.radius = 0.3 + 0.5 * (tl_rand(rng) % 100) / 100.0;
+        d->brush.strength = 0.2 + 0.8 * (tl_rand(rng) % 100) / 100.0;
+        d->brush.mirror_x = tl_rand(rng) % 2;
+        uint32_t *v, n = level_vertices(d, d->edit_level, &v);
+        if (st_doc_stroke_begin(d) == 0) {
+            for (int s = 0; s < 3; s++) {
+                double c[3], nrm[3] = { 0, 0, 1 }, g[3] = { 0.05, -0.02, 0.03 };
+                st_doc_vertex_pos(d, v[tl_rand(rng) % n], c);
+                st_doc_stroke_dab(d, c, nrm, g);
+            }
+            st_doc_stroke_end(d);
+        }
+        free(v);
+    } else if (op == 6) {
+        if (top < 4) st_doc_add_level(d, &err);
+        else st_doc_remove_top(d, &err);
+    } else if (op == 7) {
+        if (top > 1) st_doc_remove_top(d, &err);
+        else st_doc_add_level(d, &err);
+    } else if (op == 8) {
+        if (top > 2) st_doc_remove_bottom(d, &err);
+        else st_doc_add_level(d, &err);
+    } else if (allow_box) {
+        st_adapt_params b = d->box;
+        b.base_level = tl_rand(rng) % 2;
+        b.max_level = b.base_level + 1 + tl_rand(rng) % 3;
+        double x = 0.8 * ((double)(tl_rand(rng) % 2001) / 1000.0 - 1.0);
+        b.box_lo[0] = x - 0.3; b.box_hi[0] = x + 0.3;
+        b.box_lo[1] = -0.5; b.box_hi[1] = 0.5;
+        b.box_lo[2] = 0.2; b.box_hi[2] = 1.5;
+        b.has_box = 1;
+        st_doc_set_box(d, &b, tl_rand(rng) % 3 != 0, &err);
+    }
+}
+
+static void test_undo_random(uint64_t seed, int allow_box)
+{
+    st_doc d;
+    st_doc_init(&d);
+    open_ok(&d, cube, "catmull-clark", 2);
+    uint64_t rng = seed;
+    tl_random_details(&d.h, &rng, 0.02);
+    enum { OPS = 40 };
+    snap s[OPS + 1];
+    uint32_t nsnap = 0;
+    snap_take(&d, &s[nsnap++]);
+    for (int i = 0; i < OPS; i++) {
+        uint32_t before = d.undo_pos;
+        random_op(&d, &rng, allow_box);
+        if (d.undo_pos != before) {
+            CHECK(d.undo_pos == before + 1);
+            snap_take(&d, &s[nsnap++]);
+        }
+    }
+    CHECKF(nsnap > OPS / 2, "only %u of %d operations recorded", nsnap - 1, OPS);
+    st_error err;
+    int ok = 1;
+    for (uint32_t k = nsnap - 1; k-- > 0;) {
+        if (st_doc_undo(&d, &err)) { ok = 0; break; }
+        snap t;
+        snap_take(&d, &t);
+        if (!snap_equal(&t, &s[k])) { ok = 0; fprintf(stderr, "seed %llu: undo to step %u differs\n", (unsigned long long)seed, k); }
+        snap_free(&t);
+    }
+    CHECKF(ok, "seed %llu: undo is not bit-exact", (unsigned long long)seed);
+    CHECK(st_doc_undo(&d, &err) == -1);
+    ok = 1;
+    for (uint32_t k = 1; k < nsnap; k++) {
+        if (st_doc_redo(&d, &err)) { ok = 0; break; }
+        snap t;
+        snap_take(&d, &t);
+        if (!snap_equal(&t, &s[k])) { ok = 0; fprintf(stderr, "seed %llu: redo to step %u differs\n", (unsigned long long)seed, k); }
+        snap_free(&t);
+    }
+    CHECKF(ok, "seed %llu: redo is not bit-exact", (unsigned long long)seed);
+    CHECK(st_doc_redo(&d, &err) == -1);
+    /* A new operation after undos drops the redo tail. */
+    CHECK(st_doc_undo(&d, &err) == 0 && st_doc_undo(&d, &err) == 0);
+    CHECK(st_doc_add_level(&d, &err) == 0 || d.h.map.top >= 4);
+    CHECK(st_doc_redo(&d, &err) == -1 || d.h.map.top >= 4);
+    for (uint32_t k = 0; k < nsnap; k++) snap_free(&s[k]);
+    st_doc_free(&d);
+}
+
+static void test_undo_budget(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    open_ok(&d, cube, "catmull-clark", 3);
+    st_doc_set_edit_level(&d, 1);
+    uint32_t *v, n = level_vertices(&d, 1, &v);
+    snap s[11];
+    snap_take(&d, &s[0]);
+    size_t first = 0;
+    for (int i = 0; i < 10; i++) {
+        st_doc_select(&d, &v[(7 * i) % n], 1, ST_SELECT_REPLACE);
+        CHECK(st_doc_drag_begin(&d) == 0);
+        double delta[3] = { 0.01 * (i + 1), 0, 0 };
+        st_doc_drag_update(&d, delta);
+        st_doc_drag_end(&d);
+        if (i == 0) {
+            first = d.undo_bytes;
+            CHECK(first > 0);
+            d.undo_budget = first * 7 / 2;
+        }
+        snap_take(&d, &s[i + 1]);
+    }
+    CHECKF(d.nundo >= 2 && d.nundo <= 4, "%u steps kept", d.nundo);
+    CHECK(d.undo_bytes <= d.undo_budget);
+    CHECK(strstr(d.note, "dropped") != NULL);
+    st_error err;
+    uint32_t kept = d.nundo;
+    for (uint32_t k = 0; k < kept; k++) CHECK(st_doc_undo(&d, &err) == 0);
+    CHECK(st_doc_undo(&d, &err) == -1);
+    snap t;
+    snap_take(&d, &t);
+    CHECK(snap_equal(&t, &s[10 - kept]));
+    snap_free(&t);
+    /* A budget below one step keeps nothing. */
+    d.undo_budget = 16;
+    st_doc_select(&d, &v[1], 1, ST_SELECT_REPLACE);
+    CHECK(st_doc_drag_begin(&d) == 0);
+    double delta[3] = { 0, 0.1, 0 };
+    st_doc_drag_update(&d, delta);
+    st_doc_drag_end(&d);
+    CHECK(d.nundo == 0 && d.undo_bytes == 0);
+    for (int i = 0; i < 11; i++) snap_free(&s[i]);
+    free(v);
+    st_doc_free(&d);
+}
+
+/* ---- interest box --------------------------------------------------------------------------- */
+
+/* Every display vertex paired with a model vertex sits where the model's is. */
+static double display_vs_model(const st_doc *d)
+{
+    double worst = 0;
+    for (uint32_t i = 0; i < d->ndpairs; i += 3) {
+        unsigned L = d->dpairs[i];
+        const double *a = st_pos(&d->disp.map, d->dpairs[i + 1], L), *b = st_pos(&d->h.map, d->dpairs[i + 2], L);
+        worst = fmax(worst, dist3(a, b));
+    }
+    for (unsigned L = 0; L <= d->dbase; L++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&d->disp.map, L, &it); v != ST_NIL; v = st_vertex_next(&d->disp.map, L, &it))
+            worst = fmax(worst, dist3(st_pos(&d->disp.map, v, L), st_pos(&d->h.map, v, L)));
+    }
+    return worst;
+}
+
+static void test_box(void)
+{
+    st_doc d, r;
+    st_doc_init(&d);
+    st_doc_init(&r);
+    open_ok(&d, cube, "catmull-clark", 3);
+    open_ok(&r, cube, "catmull-clark", 3);
+    uint64_t s1 = 5, s2 = 5;
+    tl_random_details(&d.h, &s1, 0.03);
+    tl_random_details(&r.h, &s2, 0.03);
+    st_error err;
+    st_adapt_params b = d.box;
+    b.base_level = 1;
+    b.max_level = 4;
+    b.has_box = 1;
+    double lo[3] = { 0.3, 0.3, 0.3 }, hi[3] = { 1.5, 1.5, 1.5 };
+    memcpy(b.box_lo, lo, sizeof lo);
+    memcpy(b.box_hi, hi, sizeof hi);
+    uint64_t f_reg, v_reg;
+    st_doc_display_counts(&d, &f_reg, &v_reg);
+    CHECK(f_reg == 6 * 64);
+    CHECK(st_doc_set_box(&d, &b, 1, &err) == 0);
+    CHECK(d.box_on && d.disp_ok && st_doc_display_hier(&d) == &d.disp && st_doc_display_map_level(&d) == 4);
+    CHECK(st_map_validate(&d.disp.map, &err) == 0);
+    uint64_t f_ad, v_ad;
+    st_doc_display_counts(&d, &f_ad, &v_ad);
+    CHECKF(f_ad > 24 && f_ad != f_reg, "adaptive display: %llu faces", (unsigned long long)f_ad);
+    CHECK(d.ndpairs > 0);
+    double dev = display_vs_model(&d);
+    CHECKF(dev == 0, "display differs from the model by %g", dev);
+    /* The display shows the model's details: a level-3 pair inside the box
+     * has a nonzero detail in the model. */
+    int with_detail = 0;
+    for (uint32_t i = 0; i < d.ndpairs; i += 3)
+        if (d.dpairs[i] == 3) {
+            const double *dt = st_hier_detail(&d.h, 3, d.dpairs[i + 2]);
+            if (dt[0] != 0 || dt[1] != 0 || dt[2] != 0) { with_detail = 1; break; }
+        }
+    CHECK(with_detail);
+    /* Picking maps display vertices of the editing level back. */
+    st_doc_set_edit_level(&d, 2);
+    uint32_t mapped = 0;
+    for (uint32_t i = 0; i < d.ndpairs; i += 3) {
+        uint32_t m = st_doc_display_to_edit_vertex(&d, d.dpairs[i + 1]);
+        if (m != ST_NIL) { mapped++; CHECK(m == d.dpairs[i + 2]); }
+    }
+    CHECK(mapped > 0);
+
+    /* Edits with the box on act on the model; the display follows. */
+    uint32_t *v, n = level_vertices(&d, 2, &v);
+    double dir[3] = { 1, 1, 1 };
+    uint32_t corner = extreme_vertex(&d, dir);
+    st_doc_select(&d, &corner, 1, ST_SELECT_REPLACE);
+    CHECK(st_doc_drag_begin(&d) == 0);
+    double delta[3] = { 0.2, 0.1, -0.1 };
+    CHECK(st_doc_drag_update(&d, delta) == 0);
+    st_doc_change c = st_doc_take_change(&d);
+    CHECK((c.bits & ST_CHANGE_POSITIONS) && (c.bits & ST_CHANGE_ALL_POSITIONS));
+    st_doc_drag_end(&d);
+    dev = display_vs_model(&d);
+    CHECKF(dev == 0, "after the drag the display differs by %g", dev);
+    d.brush.tool = ST_BRUSH_DRAW;
+    d.brush.radius = 0.5;
+    d.brush.mirror_x = 0;
+    double cpos[3], up[3] = { 1, 1, 1 };
+    st_doc_vertex_pos(&d, corner, cpos);
+    CHECK(st_doc_stroke_begin(&d) == 0);
+    CHECK(st_doc_stroke_dab(&d, cpos, up, NULL) == 0);
+    st_doc_stroke_end(&d);
+    dev = display_vs_model(&d);
+    CHECKF(dev == 0, "after the stroke the display differs by %g", dev);
+
+    /* The same edits without the box give the same model. */
+    st_doc_set_edit_level(&r, 2);
+    st_doc_select(&r, &corner, 1, ST_SELECT_REPLACE);
+    CHECK(st_doc_drag_begin(&r) == 0);
+    CHECK(st_doc_drag_update(&r, delta) == 0);
+    st_doc_drag_end(&r);
+    r.brush = d.brush;
+    CHECK(st_doc_stroke_begin(&r) == 0);
+    CHECK(st_doc_stroke_dab(&r, cpos, up, NULL) == 0);
+    st_doc_stroke_end(&r);
+    snap sd, sr;
+    snap_take(&d, &sd);
+    snap_take(&r, &sr);
+    CHECK(snap_equal(&sd, &sr));
+    snap_free(&sr);
+
+    /* Box off: the regular hierarchy, details kept; on again: same display. */
+    CHECK(st_doc_set_box(&d, &b, 0, &err) == 0);
+    CHECK(!d.box_on && !d.disp_ok && st_doc_display_hier(&d) == &d.h);
+    snap t;
+    snap_take(&d, &t);
+    CHECK(snap_equal(&sd, &t));
+    snap_free(&t);
+    CHECK(st_doc_set_box(&d, &b, 1, &err) == 0);
+    dev = display_vs_model(&d);
+    CHECKF(dev == 0, "box on again: display differs by %g", dev);
+    /* Box moves (incremental updates) keep the display on the model. */
+    st_doc_box_begin(&d);
+    uint32_t nundo = d.nundo;
+    for (int k = 0; k < 5; k++) {
+        for (int j = 0; j < 3; j++) { b.box_lo[j] -= 0.25; b.box_hi[j] -= 0.25; }
+        CHECK(st_doc_set_box(&d, &b, 1, &err) == 0);
+        CHECK(st_map_validate(&d.disp.map, &err) == 0);
+        dev = display_vs_model(&d);
+        CHECKF(dev == 0, "box move %d: display differs by %g", k, dev);
+    }
+    st_doc_box_end(&d);
+    CHECK(d.nundo == nundo + 1); /* one step for the whole box drag */
+    st_adapt_params now = d.box;
+    CHECK(st_doc_undo(&d, &err) == 0);
+    CHECK(d.box_on && d.box.box_lo[0] == 0.3);
+    CHECK(display_vs_model(&d) == 0);
+    CHECK(st_doc_redo(&d, &err) == 0);
+    CHECK(d.box.box_lo[0] == now.box_lo[0]);
+    /* Level changes with the box on rebuild the display. */
+    CHECK(st_doc_add_level(&d, &err) == 0);
+    CHECK(d.disp_ok && display_vs_model(&d) == 0);
+    CHECK(st_doc_undo(&d, &err) == 0);
+    CHECK(d.disp_ok && display_vs_model(&d) == 0);
+    snap_take(&d, &t);
+    CHECK(snap_equal(&sd, &t));
+    snap_free(&t);
+    /* Undo the box steps, then the edits: back to the model as opened. */
+    while (st_doc_undo(&d, &err) == 0) {}
+    CHECK(!d.box_on);
+    snap_free(&sd);
+    free(v);
+    (void)n;
+
+    /* Schemes without adaptive refinement refuse the box. */
+    open_ok(&r, STRATA_ASSETS "/tetrahedron.obj", "sqrt3", 2);
+    CHECK(st_doc_set_box(&r, &b, 1, &err) != 0);
+    CHECK(!r.box_on);
+    st_doc_free(&d);
+    st_doc_free(&r);
+}
+
+/* Loop and a mesh from the shared data set, with the box. */
+static void test_box_loop(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    open_ok(&d, STRATA_ASSETS "/octahedron.obj", "loop", 3);
+    uint64_t s = 9;
+    tl_random_details(&d.h, &s, 0.02);
+    st_error err;
+    st_adapt_params b = d.box;
+    b.base_level = 1;
+    b.max_level = 5;
+    double lo[3] = { 0.2, -0.5, -0.5 }, hi[3] = { 1.5, 0.5, 0.5 };
+    memcpy(b.box_lo, lo, sizeof lo);
+    memcpy(b.box_hi, hi, sizeof hi);
+    CHECK(st_doc_set_box(&d, &b, 1, &err) == 0);
+    CHECK(d.disp_ok && d.disp.map.top == 5);
+    CHECK(display_vs_model(&d) == 0);
+    st_doc_set_edit_level(&d, 3);
+    const double dir[3] = { 1, 0, 0 };
+    uint32_t tip = extreme_vertex(&d, dir);
+    st_doc_select(&d, &tip, 1, ST_SELECT_REPLACE);
+    double far0 = -INFINITY;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(&d.disp.map, 5, &it); v != ST_NIL; v = st_vertex_next(&d.disp.map, 5, &it))
+        far0 = fmax(far0, st_pos(&d.disp.map, v, 5)[0]);
+    CHECK(st_doc_drag_begin(&d) == 0);
+    double delta[3] = { 0.3, 0, 0 };
+    CHECK(st_doc_drag_update(&d, delta) == 0);
+    st_doc_drag_end(&d);
+    CHECK(display_vs_model(&d) == 0);
+    /* The display's finest level moved with the edit (synthesised beyond
+     * the model's top). */
+    double far = -INFINITY;
+    for (uint32_t v = st_vertex_first(&d.disp.map, 5, &it); v != ST_NIL; v = st_vertex_next(&d.disp.map, 5, &it))
+        far = fmax(far, st_pos(&d.disp.map, v, 5)[0]);
+    CHECKF(far > far0 + 0.1, "display's x extent %g -> %g", far0, far);
+    st_doc_free(&d);
+}
+
+/* ---- benchmark ----------------------------------------------------------------------------- */
+
+static void test_bench(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    open_ok(&d, cube, "catmull-clark", 4);
+    st_error err;
+    CHECK(st_doc_add_level(&d, &err) == 0);
+    snap a, b;
+    snap_take(&d, &a);
+    uint32_t nundo = d.nundo;
+    double step = -1, full = -1;
+    CHECK(st_doc_bench_drag(&d, 2, 20, &step, &full) == 0);
+    CHECK(step > 0 && full > 0);
+    fprintf(stderr, "bench: cube depth 5, drag at level 2: median step %.3f ms, full synthesis %.3f ms (ratio %.4f)\n",
+            step, full, step / full);
+    snap_take(&d, &b);
+    CHECK(snap_equal(&a, &b));
+    CHECK(d.nundo == nundo);
+    CHECK(st_doc_bench_drag(&d, 9, 5, &step, &full) != 0);
+    snap_free(&a);
+    snap_free(&b);
+    st_doc_free(&d);
+}
+
+int main(void)
+{
+    test_open();
+    test_levels();
+    test_memory_budget();
+    test_selection();
+    test_drag();
+    test_brushes();
+    test_mirror();
+    test_undo_random(1, 0);
+    test_undo_random(2, 1);
+    test_undo_random(3, 1);
+    test_undo_budget();
+    test_box();
+    test_box_loop();
+    test_bench();
     return TEST_END();
 }
