@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# The modeller window for real (issue 6): under Xvfb (Mesa llvmpipe), a
+# scripted replay drives the real GLFW window and its callbacks through
+# loading, a level change, a vertex drag at level 2, a brush stroke, a box
+# move and an undo; screenshots read from the framebuffer are compared with
+# tests/window_ref/ (the metric of render/image.h: a channel off by more
+# than 4 counts a pixel as differing, at most 0.3 % of the pixels may
+# differ; on a mismatch NAME.png, NAME.expected.png and NAME.diff.png are
+# left in BINARY_TEST_DIR/window_out).  Also: a failing expect exits
+# non-zero; without a display strata fails with a clear message, not a
+# crash; a file that does not load keeps the current model.
+#
+#   cli_window.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
+#
+# Runs itself under xvfb-run when $DISPLAY is unset.  To accept new
+# references: STRATA_UPDATE_REFS=1 bash tests/cli_window.sh ... (copies the
+# screenshots into tests/window_ref/).
+set -u
+if [ -z "${DISPLAY:-}" ] && [ -z "${STRATA_CLI_WINDOW_XVFB:-}" ]; then
+    if command -v xvfb-run >/dev/null 2>&1; then
+        export STRATA_CLI_WINDOW_XVFB=1
+        exec xvfb-run -a -s "-screen 0 1280x800x24" bash "$0" "$@"
+    fi
+    echo "FAIL: no \$DISPLAY and no xvfb-run: the window cannot be tested (install xvfb)"
+    exit 1
+fi
+EXE=$1 MESHES=$2 ASSETS=$3 BIN=$4
+abs() { (cd "$(dirname "$1")" && printf '%s/%s' "$(pwd)" "$(basename "$1")"); }
+EXE=$(abs "$EXE") ASSETS=$(abs "$ASSETS") BIN=$(abs "$BIN")
+: "$MESHES"
+SRC="$ASSETS/../tests"
+REF="$SRC/window_ref"
+OUT="$BIN/window_out"
+rm -rf "$OUT"
+mkdir -p "$OUT"
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/strata_cli_window.XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+# No recovery file from an earlier run.
+export STRATA_RECOVERY="$TMP/recovery.strata"
+passed=0 failed=0
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
+
+# run EXPECTED_EXIT PATTERN args... (exit status and output pattern)
+run() {
+    local want=$1 pat=$2
+    shift 2
+    local out rc=0
+    out=$("$@" 2>&1) || rc=$?
+    if [ "$rc" -ne "$want" ]; then bad "$* exited $rc, expected $want: $(tail -20 <<<"$out")"; return; fi
+    if [ -n "$pat" ] && ! grep -qE -- "$pat" <<<"$out"; then bad "$*: output lacks /$pat/: $(tail -20 <<<"$out")"; return; fi
+    ok
+}
+
+# 1. The scripted session, screenshots compared with the references.
+if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
+    "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/session.txt" --screenshot-dir "$OUT" "$ASSETS/torus.obj"
+    cp "$OUT"/[0-9]*.png "$REF"/ && rm -f "$REF"/*.expected.png "$REF"/*.diff.png
+    echo "references updated in $REF"
+fi
+run 0 "replay .* passed" "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/session.txt" \
+    --screenshot-dir "$OUT" --compare-dir "$REF" "$ASSETS/torus.obj"
+for f in "$REF"/*.png; do
+    [ -f "$OUT/$(basename "$f")" ] && ok || bad "screenshot $(basename "$f") was not taken"
+done
+
+# 2. A failing expectation exits non-zero and says which line.
+printf 'wait 2\nexpect top 99\nquit\n' > "$TMP/fail.txt"
+run 1 "fail.txt:2: expect top 99 failed: actual 2" "$EXE" --size 320x240 --levels 2 --replay "$TMP/fail.txt" "$ASSETS/cube.obj"
+# A bad event file is refused before a window opens.
+printf 'wiggle 3\n' > "$TMP/bad.txt"
+run 2 "bad.txt:1: unknown event 'wiggle'" "$EXE" --replay "$TMP/bad.txt" "$ASSETS/cube.obj"
+
+# 3. No display: a clear message and a non-zero exit, no crash (signals
+# give 128+).
+out=$(env -u DISPLAY -u WAYLAND_DISPLAY "$EXE" "$ASSETS/cube.obj" 2>&1); rc=$?
+if [ "$rc" -ne 0 ] && [ "$rc" -lt 128 ] && grep -q "cannot open a window" <<<"$out"; then ok
+else bad "without a display: exit $rc, output: $out"; fi
+
+# 4. Bad options.
+run 2 "unknown option" "$EXE" --frobnicate "$ASSETS/cube.obj"
+run 2 "--size wants" "$EXE" --size 12 "$ASSETS/cube.obj"
+
+echo "cli_window: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
