@@ -558,6 +558,53 @@ static void test_brushes(void)
     st_doc_free(&d);
 }
 
+/* Draw pushes out and smooth pulls a lifted vertex back, for every scheme
+ * (the dual encoding of Doo-Sabin included). */
+static void test_brush_schemes(void)
+{
+    static const char *schemes[][2] = {
+        { "catmull-clark", "/cube.obj" }, { "loop", "/octahedron.obj" }, { "butterfly", "/octahedron.obj" },
+        { "sqrt3", "/octahedron.obj" }, { "quad-triangle", "/mixed.obj" }, { "doo-sabin", "/cube.obj" },
+    };
+    for (int k = 0; k < 6; k++) {
+        st_doc d;
+        st_doc_init(&d);
+        char path[512];
+        snprintf(path, sizeof path, "%s%s", STRATA_ASSETS, schemes[k][1]);
+        open_ok(&d, path, schemes[k][0], 2);
+        st_doc_set_edit_level(&d, 1);
+        const double up[3] = { 0, 0.1, 1 };
+        uint32_t top = extreme_vertex(&d, up);
+        double c[3], c1[3], c2[3];
+        st_doc_vertex_pos(&d, top, c);
+        d.brush.tool = ST_BRUSH_DRAW;
+        d.brush.radius = 0.4;
+        d.brush.strength = 1;
+        d.brush.mirror_x = 0;
+        CHECK(st_doc_stroke_begin(&d) == 0);
+        CHECK(st_doc_stroke_dab(&d, c, up, NULL) == 0);
+        st_doc_stroke_end(&d);
+        st_doc_vertex_pos(&d, top, c1);
+        double out = (c1[0] - c[0]) * c[0] + (c1[1] - c[1]) * c[1] + (c1[2] - c[2]) * c[2];
+        CHECKF(out > 0, "%s: draw moved the top vertex by (%g %g %g)", schemes[k][0], c1[0] - c[0], c1[1] - c[1], c1[2] - c[2]);
+        /* Lift it far, then smooth brings it back toward its neighbours. */
+        st_doc_select(&d, &top, 1, ST_SELECT_REPLACE);
+        CHECK(st_doc_drag_begin(&d) == 0);
+        double lift[3] = { 0, 0, 0.5 };
+        CHECK(st_doc_drag_update(&d, lift) == 0);
+        st_doc_drag_end(&d);
+        st_doc_vertex_pos(&d, top, c1);
+        d.brush.tool = ST_BRUSH_SMOOTH;
+        d.brush.radius = 0.05;
+        CHECK(st_doc_stroke_begin(&d) == 0);
+        CHECK(st_doc_stroke_dab(&d, c1, up, NULL) == 0);
+        st_doc_stroke_end(&d);
+        st_doc_vertex_pos(&d, top, c2);
+        CHECKF(c2[2] < c1[2] - 0.2, "%s: smooth %g -> %g", schemes[k][0], c1[2], c2[2]);
+        st_doc_free(&d);
+    }
+}
+
 /* X-mirror on a mesh symmetric about x = 0: the result stays symmetric. */
 static void test_mirror(void)
 {
@@ -679,11 +726,14 @@ static void random_op(st_doc *d, uint64_t *rng, int allow_box)
     }
 }
 
-static void test_undo_random(uint64_t seed, int allow_box)
+static void test_undo_random(const char *path, const char *scheme, uint64_t seed, int allow_box)
 {
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, cube, "catmull-clark", 2);
+    FILE *f = fopen(path, "rb");
+    if (!f) { fprintf(stderr, "skipped: %s is not there\n", path); st_doc_free(&d); return; }
+    fclose(f);
+    open_ok(&d, path, scheme, 2);
     uint64_t rng = seed;
     tl_random_details(&d.h, &rng, 0.02);
     enum { OPS = 40 };
@@ -1007,10 +1057,17 @@ int main(void)
     test_selection();
     test_drag();
     test_brushes();
+    test_brush_schemes();
     test_mirror();
-    test_undo_random(1, 0);
-    test_undo_random(2, 1);
-    test_undo_random(3, 1);
+    test_undo_random(cube, "catmull-clark", 1, 0);
+    test_undo_random(cube, "catmull-clark", 2, 1);
+    test_undo_random(cube, "catmull-clark", 3, 1);
+    test_undo_random(STRATA_ASSETS "/open.obj", "catmull-clark", 4, 1);
+    test_undo_random(STRATA_ASSETS "/mixed.obj", "quad-triangle", 5, 1);
+    test_undo_random(STRATA_ASSETS "/octahedron.obj", "butterfly", 6, 1);
+    test_undo_random(STRATA_ASSETS "/octahedron.obj", "sqrt3", 7, 0);
+    test_undo_random(STRATA_ASSETS "/cube.obj", "doo-sabin", 8, 0);
+    test_undo_random(STRATA_SHARED_DATA "/triangle/sphere_ico.obj", "loop", 9, 1);
     test_undo_budget();
     test_box();
     test_box_loop();

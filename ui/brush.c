@@ -227,7 +227,21 @@ static void grid_query(struct st_brush_state *bs, const st_map *m, unsigned l, c
 
 /* ---- local geometry --------------------------------------------------------------- */
 
-/* Area-weighted normal of the vertex of dart x0 at level l (not normalised). */
+/* Next dart around the vertex of x at level l: β1 in the primal encoding;
+ * in the dual one (Doo-Sabin, map.h: a surface vertex is a map face) φ1. */
+static uint32_t around(const st_map *m, uint32_t x, unsigned l)
+{
+    return m->face_embedded ? st_phi1(m, x, l) : st_beta1(m, x, l);
+}
+
+/* Next dart along the surface face of x: φ1, or β1 in the dual encoding. */
+static uint32_t along(const st_map *m, uint32_t x, unsigned l)
+{
+    return m->face_embedded ? st_beta1(m, x, l) : st_phi1(m, x, l);
+}
+
+/* Area-weighted normal of the vertex of dart x0 at level l (not normalised):
+ * the sum of the Newell normals of the surface faces around it. */
 static void vertex_normal(const st_map *m, uint32_t x0, unsigned l, double n[3])
 {
     n[0] = n[1] = n[2] = 0;
@@ -238,7 +252,7 @@ static void vertex_normal(const st_map *m, uint32_t x0, unsigned l, double n[3])
             uint32_t y = x;
             unsigned g2 = 0;
             do {
-                uint32_t z = st_phi1(m, y, l);
+                uint32_t z = along(m, y, l);
                 const double *p = st_dart_pos(m, y, l), *q = st_dart_pos(m, z, l);
                 n[0] += (p[1] - q[1]) * (p[2] + q[2]);
                 n[1] += (p[2] - q[2]) * (p[0] + q[0]);
@@ -246,7 +260,7 @@ static void vertex_normal(const st_map *m, uint32_t x0, unsigned l, double n[3])
                 y = z;
             } while (y != x && ++g2 < 1u << 16);
         }
-        x = st_beta1(m, x, l);
+        x = around(m, x, l);
     } while (x != x0 && ++guard < 1u << 16);
 }
 
@@ -322,7 +336,7 @@ static void dab_displace(st_doc *d, struct st_brush_state *bs, const double c[3]
                 const double *q = st_dart_pos(m, st_beta0(m, x, l), l);
                 for (int k = 0; k < 3; k++) avg[k] += q[k];
                 cnt++;
-                x = st_beta1(m, x, l);
+                x = around(m, x, l);
             } while (x != x0 && cnt < 1u << 16);
             for (int k = 0; k < 3; k++) dv[k] = s * f * (avg[k] / cnt - p[k]);
         } else if (tool == ST_BRUSH_FLATTEN) {
@@ -351,7 +365,11 @@ int st_doc_stroke_begin(st_doc *d)
     unsigned l = d->edit_level;
     bs->level = l;
     bs->cs = d->brush.radius;
-    uint32_t nv = m->verts.end;
+    /* Per-vertex arrays up to the largest id of the editing level only. */
+    uint32_t nv = 0;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it))
+        if (v + 1 > nv) nv = v + 1;
     if (bs->nv < nv) {
         bs->next = xrealloc(bs->next, (size_t)nv * sizeof *bs->next);
         bs->prev = xrealloc(bs->prev, (size_t)nv * sizeof *bs->prev);
@@ -364,7 +382,6 @@ int st_doc_stroke_begin(st_doc *d)
     bs->gen = 0;
     for (uint32_t i = 0; i < bs->hcap; i++) bs->hkey[i] = EMPTY_KEY;
     bs->hn = 0;
-    st_dart_iter it;
     for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it))
         grid_insert(bs, v, st_pos(m, v, l));
     bs->grabbed = 0;

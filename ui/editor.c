@@ -48,6 +48,7 @@ static void disp_free(st_doc *d);
 static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err);
 static void disp_sync(st_doc *d, unsigned from, int keep_prev);
 static void topology_changed(st_doc *d);
+static void display_changed(st_doc *d);
 static void undo_clear(st_doc *d);
 
 /* ---- lifetime ------------------------------------------------------------- */
@@ -263,6 +264,7 @@ int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
     s->edit_level = d->edit_level;
     s->display_level = d->display_level;
     s->rebased = d->rebased;
+    s->box_old = d->box;
     d->h = h;
     ed_hier_fix(&d->h);
     d->scheme = sc;
@@ -302,12 +304,15 @@ static st_undo_step *hier_step_begin(st_doc *d, st_error *err)
     s->edit_level = d->edit_level;
     s->display_level = d->display_level;
     s->rebased = d->rebased;
+    s->box_old = d->box;
     return s;
 }
 
-static void hier_step_end(st_doc *d, st_undo_step *s)
+static void hier_step_end(st_doc *d, st_undo_step *s, double t0)
 {
     topology_changed(d);
+    d->last_update_at_ms = ed_now_ms();
+    d->last_update_ms = d->last_update_at_ms - t0;
     ed_step_finish(s);
     ed_push_step(d, s);
 }
@@ -323,6 +328,7 @@ int st_doc_add_level(st_doc *d, st_error *err)
                        "level %u refused: it needs about %zu bytes (%.1f MiB) more, the model uses %.1f MiB "
                        "and the memory budget is %.1f MiB",
                        d->h.map.top + 1, need, mib(need), mib(have), mib(d->mem_budget));
+    double t0 = ed_now_ms();
     st_undo_step *s = hier_step_begin(d, err);
     if (!s) return ST_ERR_MEMORY;
     int rc = st_hier_subdivide_to(&d->h, d->h.map.top + 1, err);
@@ -334,7 +340,7 @@ int st_doc_add_level(st_doc *d, st_error *err)
         return rc;
     }
     d->display_level = d->h.map.top;
-    hier_step_end(d, s);
+    hier_step_end(d, s, t0);
     return ST_OK;
 }
 
@@ -343,11 +349,12 @@ int st_doc_remove_top(st_doc *d, st_error *err)
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
     if (d->h.map.top == 0) return st_fail(err, ST_ERR_INVALID, "only the control mesh is left");
     finish_active(d);
+    double t0 = ed_now_ms();
     st_undo_step *s = hier_step_begin(d, err);
     if (!s) return ST_ERR_MEMORY;
     st_hier_remove_top(&d->h);
     clamp_levels(d);
-    hier_step_end(d, s);
+    hier_step_end(d, s, t0);
     return ST_OK;
 }
 
@@ -356,6 +363,7 @@ int st_doc_remove_bottom(st_doc *d, st_error *err)
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
     if (d->h.map.top == 0) return st_fail(err, ST_ERR_INVALID, "only the control mesh is left");
     finish_active(d);
+    double t0 = ed_now_ms();
     st_undo_step *s = hier_step_begin(d, err);
     if (!s) return ST_ERR_MEMORY;
     st_hier_remove_bottom(&d->h);
@@ -365,7 +373,7 @@ int st_doc_remove_bottom(st_doc *d, st_error *err)
     if (d->box.base_level > 0) d->box.base_level--;
     if (d->box.max_level > d->box.base_level) d->box.max_level--;
     clamp_levels(d);
-    hier_step_end(d, s);
+    hier_step_end(d, s, t0);
     return ST_OK;
 }
 
@@ -379,7 +387,7 @@ void st_doc_set_edit_level(st_doc *d, unsigned l)
     d->nsel = 0;
     if (d->display_level < l) {
         d->display_level = l;
-        topology_changed(d);
+        display_changed(d);
     }
 }
 
@@ -390,7 +398,7 @@ void st_doc_set_display_level(st_doc *d, unsigned l)
     if (l < d->edit_level) l = d->edit_level;
     if (l != d->display_level) {
         d->display_level = l;
-        topology_changed(d);
+        display_changed(d);
     }
 }
 
@@ -426,7 +434,7 @@ void st_doc_select(st_doc *d, const uint32_t *vids, uint32_t n, int mode)
     if (mode == ST_SELECT_REMOVE) {
         uint32_t *rm = malloc((size_t)(n ? n : 1) * sizeof *rm);
         if (!rm) abort();
-        memcpy(rm, vids, (size_t)n * sizeof *rm);
+        if (n) memcpy(rm, vids, (size_t)n * sizeof *rm);
         qsort(rm, n, sizeof *rm, cmp_u32);
         uint32_t j = 0;
         for (uint32_t i = 0; i < d->nsel; i++) {
@@ -442,7 +450,7 @@ void st_doc_select(st_doc *d, const uint32_t *vids, uint32_t n, int mode)
     uint64_t total = (uint64_t)n + (mode == ST_SELECT_ADD ? d->nsel : 0);
     keep = malloc((size_t)(total ? total : 1) * sizeof *keep);
     if (!keep) abort();
-    if (mode == ST_SELECT_ADD) { memcpy(keep, d->sel, (size_t)d->nsel * sizeof *keep); nk = d->nsel; }
+    if (mode == ST_SELECT_ADD && d->nsel) { memcpy(keep, d->sel, (size_t)d->nsel * sizeof *keep); nk = d->nsel; }
     for (uint32_t i = 0; i < n; i++)
         if (edit_vertex_ok(d, vids[i])) keep[nk++] = vids[i];
     qsort(keep, nk, sizeof *keep, cmp_u32);
@@ -468,19 +476,25 @@ uint32_t ed_vertex_dart(st_doc *d, uint32_t vid)
     if (!d->loaded || !edit_vertex_ok(d, vid)) return ST_NIL;
     st_map *m = &d->h.map;
     unsigned l = d->edit_level;
-    if (d->vdart_level != (int)l || d->nvdart < m->verts.end) {
-        free(d->vdart);
-        d->nvdart = m->verts.end;
-        d->vdart = malloc((size_t)(d->nvdart ? d->nvdart : 1) * sizeof *d->vdart);
-        if (!d->vdart) abort();
-        for (uint32_t v = 0; v < d->nvdart; v++) d->vdart[v] = ST_NIL;
+    if (d->vdart_level != (int)l) {
+        /* Sized by the largest vertex id of the level, not of the map: the
+         * ids of finer levels come later. */
+        uint32_t nv = 0;
         st_dart_iter it;
+        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it))
+            if (v + 1 > nv) nv = v + 1;
+        free(d->vdart);
+        d->nvdart = nv;
+        d->vdart = malloc((size_t)(nv ? nv : 1) * sizeof *d->vdart);
+        if (!d->vdart) abort();
+        for (uint32_t v = 0; v < nv; v++) d->vdart[v] = ST_NIL;
         for (uint32_t x = st_dart_first(m, l, &it); x != ST_NIL; x = st_dart_next(m, l, &it)) {
             uint32_t v = st_vert(m, x, l), cur = d->vdart[v];
             if (cur == ST_NIL || (st_is_boundary(m, cur) && !st_is_boundary(m, x))) d->vdart[v] = x;
         }
         d->vdart_level = (int)l;
     }
+    if (vid >= d->nvdart) return ST_NIL;
     return d->vdart[vid];
 }
 
@@ -506,7 +520,7 @@ static void change_add_darts(st_doc *d, unsigned l, const uint32_t *darts, uint3
         c->moved_darts = p;
         d->capmoved = (uint32_t)cap;
     }
-    memcpy(c->moved_darts + c->nmoved, darts, (size_t)n * sizeof *darts);
+    if (n) memcpy(c->moved_darts + c->nmoved, darts, (size_t)n * sizeof *darts);
     c->nmoved += n;
 }
 
@@ -557,6 +571,13 @@ static void topology_changed(st_doc *d)
             snprintf(d->note, sizeof d->note, "interest box off: %.200s", err.msg);
         }
     }
+    count_display(d);
+}
+
+/* The displayed level changed, the model did not. */
+static void display_changed(st_doc *d)
+{
+    d->change.bits |= ST_CHANGE_TOPOLOGY | ST_CHANGE_ALL_POSITIONS;
     count_display(d);
 }
 
@@ -739,6 +760,9 @@ static void apply_hier_step(st_doc *d, st_undo_step *s)
     s->edit_level = el;
     s->display_level = dl;
     s->rebased = rb;
+    st_adapt_params bx = d->box;
+    d->box = s->box_old;
+    s->box_old = bx;
     d->opts = d->h.opts;
     topology_changed(d);
 }
@@ -939,6 +963,8 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
         if (p.box_lo[k] > p.box_hi[k]) { double t = p.box_lo[k]; p.box_lo[k] = p.box_hi[k]; p.box_hi[k] = t; }
     st_adapt_params old = d->box;
     int old_on = d->box_on;
+    if ((on != 0) == (old_on != 0) && (!on || d->disp_ok) && !memcmp(&old, &p, sizeof p)) return ST_OK;
+    double t0 = ed_now_ms();
     int rc = ST_OK;
     if (on) {
         unsigned N = d->h.map.top;
@@ -970,6 +996,8 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
     d->box_on = on != 0;
     d->change.bits |= ST_CHANGE_BOX | ST_CHANGE_TOPOLOGY | ST_CHANGE_ALL_POSITIONS;
     count_display(d);
+    d->last_update_at_ms = ed_now_ms();
+    d->last_update_ms = d->last_update_at_ms - t0;
     if (!d->box_recording && (old_on != d->box_on || memcmp(&old, &p, sizeof p))) {
         st_undo_step *s = ed_step_new(ED_STEP_BOX);
         s->box_old = old;
@@ -1028,7 +1056,7 @@ int st_doc_bench_drag(st_doc *d, unsigned level, unsigned steps, double *step_ms
     unsigned el = d->edit_level, dl = d->display_level;
     uint32_t nsel = d->nsel, *sel = malloc((size_t)(nsel ? nsel : 1) * sizeof *sel);
     if (!sel) abort();
-    memcpy(sel, d->sel, (size_t)nsel * sizeof *sel);
+    if (nsel) memcpy(sel, d->sel, (size_t)nsel * sizeof *sel);
     d->edit_level = level;
     if (d->display_level < level) d->display_level = level;
     st_doc_select(d, &pick, 1, ST_SELECT_REPLACE);
