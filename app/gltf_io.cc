@@ -426,18 +426,26 @@ void add_primitive(const tinygltf::Model &model, int mesh_i, int prim_i, const M
     }
 }
 
-void add_mesh(const tinygltf::Model &model, int mesh_i, const Mat4 world, Soup *soup)
+// A mesh placed in the scene with its world transform.
+struct Instance {
+    int mesh;
+    Mat4 world;
+};
+
+void add_instance(const tinygltf::Model &model, int mesh_i, const Mat4 world, std::vector<Instance> *out)
 {
     if (mesh_i < 0 || (size_t)mesh_i >= model.meshes.size())
         fail(ST_ERR_RANGE, "mesh " + std::to_string(mesh_i) + " does not exist");
-    const tinygltf::Mesh &mesh = model.meshes[(size_t)mesh_i];
-    for (size_t p = 0; p < mesh.primitives.size(); p++) add_primitive(model, mesh_i, (int)p, world, soup);
+    Instance in;
+    in.mesh = mesh_i;
+    memcpy(in.world, world, sizeof in.world);
+    out->push_back(in);
 }
 
 // Depth-first over a scene's nodes with an explicit stack (no recursion on
 // file data); a node reached twice means a cycle or a shared child, which
 // glTF forbids and which could multiply the geometry without bound.
-void add_scene(const tinygltf::Model &model, int scene_i, Soup *soup)
+void scene_instances(const tinygltf::Model &model, int scene_i, std::vector<Instance> *out)
 {
     struct Item {
         int node;
@@ -465,7 +473,7 @@ void add_scene(const tinygltf::Model &model, int scene_i, Soup *soup)
         Mat4 local, world;
         node_local(node, n, local);
         mat_mul(item.parent, local, world);
-        if (node.mesh >= 0) add_mesh(model, node.mesh, world, soup);
+        if (node.mesh >= 0) add_instance(model, node.mesh, world, out);
         for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) {
             Item child;
             child.node = *c;
@@ -475,21 +483,52 @@ void add_scene(const tinygltf::Model &model, int scene_i, Soup *soup)
     }
 }
 
+// Triangles an instance asks for, from the accessors' declared counts (not
+// yet checked): lets a file that places one mesh many times be refused
+// before anything is allocated for it.
+size_t declared_triangles(const tinygltf::Model &model, const Instance &in)
+{
+    size_t n = 0;
+    for (const tinygltf::Primitive &p : model.meshes[(size_t)in.mesh].primitives) {
+        int a = p.indices;
+        if (a < 0) {
+            auto it = p.attributes.find("POSITION");
+            a = it == p.attributes.end() ? -1 : it->second;
+        }
+        if (a < 0 || (size_t)a >= model.accessors.size()) continue;
+        size_t c = model.accessors[(size_t)a].count;
+        n += p.mode == kModeTriangles ? c / 3 : c > 2 ? c - 2 : 0;
+        if (n > ST_MESH_MAX_FACES) break;
+    }
+    return n;
+}
+
 void model_to_soup(const tinygltf::Model &model, Soup *soup)
 {
     for (const std::string &ext : model.extensionsRequired)
         fail(ST_ERR_PARSE, "requires extension " + ext + ", which is not supported");
+    std::vector<Instance> inst;
     if (model.scenes.empty()) {
         // No scene to place the meshes: take every mesh as it is.
         Mat4 id;
         mat_identity(id);
-        for (size_t m = 0; m < model.meshes.size(); m++) add_mesh(model, (int)m, id, soup);
+        for (size_t m = 0; m < model.meshes.size(); m++) add_instance(model, (int)m, id, &inst);
     } else {
         int s = model.defaultScene;
         if (s < 0) s = 0;
         if ((size_t)s >= model.scenes.size())
             fail(ST_ERR_RANGE, "scene " + std::to_string(s) + " does not exist");
-        add_scene(model, s, soup);
+        scene_instances(model, s, &inst);
+    }
+    size_t total = 0;
+    for (const Instance &in : inst) {
+        total += declared_triangles(model, in);
+        if (total > ST_MESH_MAX_FACES)
+            fail(ST_ERR_MEMORY, "the scene places more than " + std::to_string(ST_MESH_MAX_FACES) + " triangles");
+    }
+    for (const Instance &in : inst) {
+        const tinygltf::Mesh &mesh = model.meshes[(size_t)in.mesh];
+        for (size_t p = 0; p < mesh.primitives.size(); p++) add_primitive(model, in.mesh, (int)p, in.world, soup);
     }
     if (soup->tri.empty()) fail(ST_ERR_PARSE, "no triangles found");
 }

@@ -484,6 +484,16 @@ static void test_bad_input(void)
     t = make_gltf(buf, sizeof buf, cyc);
     expect_text_refusal("cycle.gltf", t, "node cycle", "node");
     free(t);
+    /* Declared counts that would place too many triangles: refused before
+     * anything is read or allocated for them. */
+    const char *many =
+        "\"bufferViews\": [{\"buffer\": 0, \"byteLength\": 48}],"
+        "\"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 150000000, \"type\": \"VEC3\"}],"
+        "\"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}}]}],"
+        "\"nodes\": [{\"mesh\": 0}, {\"mesh\": 0}, {\"mesh\": 0}], \"scenes\": [{\"nodes\": [0, 1, 2]}]";
+    t = make_gltf(buf, sizeof buf, many);
+    expect_text_refusal("many.gltf", t, "too many triangles placed", "more than");
+    free(t);
     const char *nomesh = "\"nodes\": [{}], \"scenes\": [{\"nodes\": [0]}]";
     t = make_gltf(buf, sizeof buf, nomesh);
     expect_text_refusal("empty.gltf", t, "no triangles", "no triangles");
