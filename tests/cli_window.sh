@@ -81,5 +81,22 @@ else bad "without a display: exit $rc, output: $out"; fi
 run 2 "unknown option" "$EXE" --frobnicate "$ASSETS/cube.obj"
 run 2 "--size wants" "$EXE" --size 12 "$ASSETS/cube.obj"
 
+# 5. Sessions: Ctrl+S saves NAME.strata in the current directory, which
+# opens again with its levels; edits left unsaved at exit are in the
+# recovery file, which Ctrl+R restores at the next start.
+(
+    cd "$TMP" || exit 1
+    printf 'wait 1\nkey ctrl+d\nlevel edit 1\nkey ctrl+s\nexpect message saved\nquit\n' > save.txt
+    printf 'wait 1\nexpect top 2\nexpect edit_level 1\nquit\n' > load.txt
+    printf 'wait 1\nkey ctrl+d\nkey ctrl+d\nquit\n' > edit.txt
+    printf 'wait 1\nexpect top 1\nkey ctrl+r\nexpect top 3\nexpect message opened\nquit\n' > recover.txt
+) || bad "cannot write the session scripts"
+run 0 "saved cube.strata" bash -c 'cd "$1" && "$2" --size 320x240 --levels 1 --replay save.txt "$3/cube.obj"' _ "$TMP" "$EXE" "$ASSETS"
+run 0 "opened session" bash -c 'cd "$1" && "$2" --size 320x240 --replay load.txt cube.strata' _ "$TMP" "$EXE"
+rm -f "$STRATA_RECOVERY"
+run 0 "passed" "$EXE" --size 320x240 --levels 1 --replay "$TMP/edit.txt" "$ASSETS/cube.obj"
+[ -s "$STRATA_RECOVERY" ] && ok || bad "no recovery file after unsaved edits"
+run 0 "opened session .*recovery.strata" "$EXE" --size 320x240 --levels 1 --replay "$TMP/recover.txt" "$ASSETS/cube.obj"
+
 echo "cli_window: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

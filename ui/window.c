@@ -14,6 +14,7 @@
 
 #include "image.h"
 #include "replay.h"
+#include "session.h"
 
 #ifndef STRATA_ASSETS
 #define STRATA_ASSETS "assets"
@@ -336,6 +337,7 @@ static void frame_model(st_app *a)
 int st_app_open(st_app *a, const char *path)
 {
     st_error err;
+    if (st_session_is_path(path)) return st_app_restore(a, path);
     unsigned levels = a->opts.levels >= 0 ? (unsigned)a->opts.levels : DEFAULT_LEVELS;
     const char *scheme = a->opts.scheme ? a->opts.scheme : (a->doc.loaded && a->doc.scheme ? a->doc.scheme->name : "catmull-clark");
     show_working(a, "opening %s ...", file_base(path));
@@ -883,6 +885,8 @@ static void key_press(st_app *a, int key, int mods)
         st_app_sync(a);
         return;
     }
+    if (key == GLFW_KEY_S && ctrl) { st_app_save(a); return; }
+    if (key == GLFW_KEY_R && ctrl) { st_app_restore_recovery(a); return; }
     if (key == GLFW_KEY_Y && ctrl) {
         int rc = st_doc_redo(d, &err);
         if (rc == -1) st_app_message(a, 0, "nothing to redo");
@@ -1128,6 +1132,8 @@ int st_window_main(const st_win_opts *o)
         memcpy(a->msg, keep, sizeof keep);
         a->msg_error = 1;
     }
+    int autosave = !rp || getenv("STRATA_RECOVERY");
+    if (!rp) st_app_check_recovery(a);
     if (rp && !a->doc.loaded) {
         fprintf(stderr, "strata: --replay: the model did not load\n");
         a->exit_code = 1;
@@ -1154,11 +1160,13 @@ int st_window_main(const st_win_opts *o)
             if (take_screenshot(a, a->shot)) { a->exit_code = 1; break; }
         }
         glfwSwapBuffers(a->win);
+        if (autosave) st_app_autosave_tick(a, 0);
         double t = now_ms();
         a->frame_ms = t - last;
         last = t;
         a->frames++;
     }
+    if (autosave && !a->exit_code) st_app_autosave_tick(a, 1);
     rc = a->exit_code;
     if (rp && !rc) fprintf(stderr, "strata: replay %s passed (%llu frames)\n", o->replay, (unsigned long long)a->frames);
     st_replay_free(rp);

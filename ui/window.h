@@ -122,6 +122,14 @@ void st_app_draw(st_app *a);
 /* Opens a file (errors keep the current model and show a message). */
 int st_app_open(st_app *a, const char *path);
 
+/* Sessions (ui/session_io.c). */
+int st_app_save_session(st_app *a, const char *path, int quiet);
+void st_app_save(st_app *a);                       /* Ctrl+S */
+int st_app_restore(st_app *a, const char *path);   /* opens a .strata session */
+void st_app_autosave_tick(st_app *a, int force);    /* recovery file after edits */
+void st_app_check_recovery(st_app *a);              /* at start: offer it */
+void st_app_restore_recovery(st_app *a);            /* Ctrl+R */
+
 /* Key bindings, for F1 and the README. */
 typedef struct st_binding { const char *keys, *what; } st_binding;
 extern const st_binding st_bindings[];

@@ -1,0 +1,168 @@
+/* Sessions in the window: Ctrl+S saves the model as a .strata session
+ * (core/session.h), edits are autosaved to the recovery file, a recovery
+ * file found at start is offered (Ctrl+R restores it), and .strata files
+ * open like meshes (command line or drop). */
+#include "window.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include "session.h"
+
+#define AUTOSAVE_SECONDS 10.0
+#define DEG_PER_RAD 57.29577951308232
+
+static void ref_of(st_app *a, st_session_ref *r, st_session_view *v)
+{
+    const st_camera *c = &a->cc.cam;
+    memcpy(v->target, c->target, sizeof v->target);
+    v->az = (float)(c->az / DEG_PER_RAD);
+    v->el = (float)(c->el / DEG_PER_RAD);
+    v->dist = c->dist;
+    v->fovy = (float)(c->fovy / DEG_PER_RAD);
+    v->ortho = c->ortho;
+    v->ortho_height = c->ortho_height;
+    memset(r, 0, sizeof *r);
+    r->h = &a->doc.h;
+    /* With the box on, the adaptive state belongs to the display copy, not
+     * to the model: the box and its levels are saved and the display is
+     * rebuilt from them on load. */
+    r->adapt = NULL;
+    r->box = &a->doc.box;
+    r->box_on = a->doc.box_on;
+    r->edit_level = a->doc.edit_level;
+    r->display_level = a->doc.display_level;
+    r->view = v;
+    r->base = a->doc.base.nverts ? &a->doc.base : NULL;
+}
+
+int st_app_save_session(st_app *a, const char *path, int quiet)
+{
+    if (!a->doc.loaded) return -1;
+    st_session_ref r;
+    st_session_view v;
+    ref_of(a, &r, &v);
+    st_error err;
+    if (st_session_save_ref(path, &r, &err)) {
+        st_app_message(a, 1, "cannot save %s: %s", path, err.msg);
+        return -1;
+    }
+    if (!quiet) st_app_message(a, 0, "saved %s", path);
+    return 0;
+}
+
+/* Ctrl+S: a .strata model saves over itself; a mesh saves as STEM.strata
+ * in the current directory. */
+void st_app_save(st_app *a)
+{
+    char path[4200];
+    const char *p = a->doc.path;
+    if (st_session_is_path(p)) snprintf(path, sizeof path, "%s", p);
+    else {
+        const char *b = strrchr(p, '/');
+        b = b ? b + 1 : p;
+        const char *dot = strrchr(b, '.');
+        int n = dot ? (int)(dot - b) : (int)strlen(b);
+        snprintf(path, sizeof path, "%.*s.strata", n, b[0] ? b : "model");
+    }
+    if (!st_app_save_session(a, path, 0)) {
+        if (strlen(path) < sizeof a->doc.path) memcpy(a->doc.path, path, strlen(path) + 1);
+        a->autosave_dirty = 0;
+        char rec[4096];
+        if (!st_session_recovery_path(rec, sizeof rec)) unlink(rec);
+    }
+}
+
+int st_app_restore(st_app *a, const char *path)
+{
+    st_session s;
+    st_error err;
+    if (st_session_load(path, &s, &err)) {
+        st_app_message(a, 1, "cannot open %s: %s%s", path, err.msg, a->doc.loaded ? " (the current model is kept)" : "");
+        return -1;
+    }
+    st_doc *d = &a->doc;
+    st_brush brush = d->brush;
+    st_doc_free(d);
+    st_doc_init(d);
+    d->brush = brush;
+    st_session_move_hier(&d->h, &s.h);
+    d->scheme = d->h.scheme;
+    d->opts = d->h.opts;
+    d->loaded = 1;
+    if (s.has_base) st_mesh_move(&d->base, &s.base);
+    snprintf(d->path, sizeof d->path, "%s", path);
+    unsigned top = d->h.map.top;
+    d->edit_level = s.edit_level <= top ? s.edit_level : top;
+    /* An out-of-range value first, so that the editor recounts the display. */
+    d->display_level = top + 1;
+    st_doc_set_display_level(d, s.display_level);
+    if (d->display_level > top) { d->display_level = top + 1; st_doc_set_display_level(d, top); }
+    if (s.box.has_box || s.box.max_level) d->box = s.box;
+    if (s.box_on && st_doc_set_box(d, &d->box, 1, &err))
+        st_app_message(a, 1, "interest box of %s: %s", path, err.msg);
+    a->shown_valid = 0;
+    a->hover_vid = ST_NIL;
+    a->op = ST_OP_NONE;
+    st_app_sync(a);
+    if (s.has_view) {
+        st_camctl_frame_all(&a->cc, a->r.surf.bbox, a->fb_h > 0 ? (float)a->fb_w / a->fb_h : 1);
+        st_camera *c = &a->cc.cam;
+        memcpy(c->target, s.view.target, sizeof c->target);
+        c->az = (float)(s.view.az * DEG_PER_RAD);
+        c->el = (float)(s.view.el * DEG_PER_RAD);
+        if (s.view.dist > 0) c->dist = s.view.dist;
+        if (s.view.fovy > 0) c->fovy = (float)(s.view.fovy * DEG_PER_RAD);
+        c->ortho = s.view.ortho;
+        if (s.view.ortho_height > 0) c->ortho_height = s.view.ortho_height;
+        st_camctl_orbit(&a->cc, 0, 0);   /* recomputes the clip planes */
+    } else {
+        st_camctl_frame_all(&a->cc, a->r.surf.bbox, a->fb_h > 0 ? (float)a->fb_w / a->fb_h : 1);
+    }
+    st_pick_invalidate(&a->pick);
+    st_session_free(&s);
+    st_app_message(a, 0, "opened session %s (%s, levels 0..%u)", path, d->scheme->name, top);
+    return 0;
+}
+
+void st_app_autosave_tick(st_app *a, int force)
+{
+    if (!a->autosave_dirty || !a->doc.loaded || a->op != ST_OP_NONE) return;
+    double t = glfwGetTime();
+    if (!force && t - a->autosave_t < AUTOSAVE_SECONDS) return;
+    char rec[4096];
+    a->autosave_t = t;
+    if (st_session_recovery_path(rec, sizeof rec)) return;
+    char keep[ST_MSG_LEN];
+    int keep_err = a->msg_error;
+    memcpy(keep, a->msg, sizeof keep);
+    if (!st_app_save_session(a, rec, 1)) a->autosave_dirty = 0;
+    else { memcpy(a->msg, keep, sizeof keep); a->msg_error = keep_err; fprintf(stderr, "strata: autosave to %s failed\n", rec); }
+}
+
+void st_app_check_recovery(st_app *a)
+{
+    char rec[4096];
+    struct stat st;
+    if (st_session_recovery_path(rec, sizeof rec) || stat(rec, &st)) return;
+    char when[64];
+    struct tm tm;
+    localtime_r(&st.st_mtime, &tm);
+    strftime(when, sizeof when, "%Y-%m-%d %H:%M", &tm);
+    st_app_message(a, 0, "unsaved work from %s was recovered in %s: Ctrl+R restores it", when, rec);
+}
+
+void st_app_restore_recovery(st_app *a)
+{
+    char rec[4096];
+    if (st_session_recovery_path(rec, sizeof rec)) { st_app_message(a, 1, "no recovery path (no HOME?)"); return; }
+    if (access(rec, R_OK)) { st_app_message(a, 0, "no recovery file (%s)", rec); return; }
+    st_app_restore(a, rec);
+}
