@@ -81,6 +81,7 @@ void st_doc_free(st_doc *d)
     free(d->change.moved_darts);
     free(d->dcorr);
     free(d->dpairs);
+    free(d->dsub);
     free(d->vdart);
     ed_brush_state_free(d->bs);
     memset(d, 0, sizeof *d);
@@ -864,6 +865,28 @@ static void disp_pairs_build(st_doc *d)
     for (uint32_t x = 0; x < dm->darts.end; x++) dd[x] = dm->darts.ins[x] != ST_FREE_LEVEL && dm->darts.ins[x] <= b ? x : ST_NIL;
     for (uint32_t v = 0; v < dm->verts.end; v++) dc[v] = dm->verts.ins[v] != ST_FREE_LEVEL && dm->verts.ins[v] <= b ? v : ST_NIL;
     unsigned topL = dm->top < N ? dm->top : N;
+    /* Beyond the model: the subdivided faces, for disp_sync's synthesis. */
+    d->ndsub = 0;
+    for (unsigned L = 0; L <= ST_MAX_LEVELS; L++) d->dsub_off[L] = 0;
+    for (unsigned L = N + 1; L <= dm->top; L++) {
+        d->dsub_off[L] = d->ndsub;
+        int fb = st_marker_reserve(dm);
+        if (fb < 0) abort();
+        st_dart_iter it;
+        for (uint32_t x = st_dart_first(dm, L - 1, &it); x != ST_NIL; x = st_dart_next(dm, L - 1, &it)) {
+            if (st_is_boundary(dm, x) || st_marked(dm, fb, x)) continue;
+            st_mark_face(dm, fb, x, L - 1);
+            if (st_face_level(dm, x, L - 1) != L - 1 || !st_face_is_subdivided(dm, x, L - 1)) continue;
+            if (d->ndsub == d->capdsub) {
+                d->capdsub = d->capdsub ? 2 * d->capdsub : 1024;
+                d->dsub = realloc(d->dsub, (size_t)d->capdsub * sizeof *d->dsub);
+                if (!d->dsub) abort();
+            }
+            d->dsub[d->ndsub++] = x;
+        }
+        st_marker_release(dm, fb, L - 1);
+        d->dsub_off[L + 1] = d->ndsub;
+    }
     for (unsigned L = b + 1; L <= topL; L++) {
         int fb = st_marker_reserve(dm);
         if (fb < 0) abort();
@@ -910,6 +933,18 @@ static void disp_pairs_build(st_doc *d)
     free(dd);
 }
 
+typedef struct resynth_ctx { st_hier *h; unsigned L; uint32_t gen; } resynth_ctx;
+
+static void resynth_sink(void *ctx, const st_stencil *s)
+{
+    resynth_ctx *c = ctx;
+    if (c->h->stamp[s->fine] == c->gen) return;
+    c->h->stamp[s->fine] = c->gen;
+    double p[3];
+    st_stencil_apply(c->h, c->L, s, p);
+    st_set_pos(&c->h->map, s->fine, c->L, p);
+}
+
 /* Display positions from the model, for levels >= from. */
 static void disp_sync(st_doc *d, unsigned from, int keep_prev)
 {
@@ -926,13 +961,18 @@ static void disp_sync(st_doc *d, unsigned from, int keep_prev)
         if (L < from) continue;
         st_set_pos(dm, d->dpairs[i + 1], L, st_pos(mm, d->dpairs[i + 2], L));
     }
-    if (dm->top > N) {
-        int had = d->adapt.has_prev;
-        st_adapt_synthesize(&d->adapt, N);
-        /* Box moves leave the model alone: the display's geometry is the
-         * same as at the last update, which may stay incremental. */
-        if (keep_prev) d->adapt.has_prev = had;
+    /* Levels beyond the model: S(P_{L-1}) + frame * detail on the
+     * subdivided faces (st_adapt_synthesize, with the face lists kept from
+     * the last topology change instead of found again). */
+    for (unsigned L = N + 1; L <= dm->top; L++) {
+        resynth_ctx c = { &d->disp, L, st_hier_stamp_begin(&d->disp) };
+        uint32_t a = d->dsub_off[L], e = d->dsub_off[L + 1];
+        if (e > a) d->disp.scheme->emit(&d->disp, L, d->dsub + a, e - a, resynth_sink, &c);
     }
+    /* An edit changed the display's geometry: the next box update visits
+     * everything.  Box moves leave the model alone, so the update after
+     * them may stay incremental. */
+    if (!keep_prev) d->adapt.has_prev = 0;
 }
 
 static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err)

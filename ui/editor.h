@@ -110,6 +110,9 @@ typedef struct st_doc {
     uint32_t *dpairs;          /* (level, disp vertex, h vertex) of the display's vertices above dbase */
     uint32_t ndpairs, capdpairs;
     unsigned dbase;            /* levels 0..dbase of disp are copies of h's (same ids) */
+    uint32_t *dsub;            /* per level L > h.top: the display's faces of level L-1 subdivided toward L */
+    uint32_t ndsub, capdsub;
+    uint32_t dsub_off[ST_MAX_LEVELS + 1];
     double last_update_at_ms;  /* monotonic time stamp of the last geometry update */
     uint32_t capmoved;
     int rebased;               /* remove_bottom happened since open (set_scheme then rebuilds from level 0) */
