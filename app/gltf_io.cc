@@ -15,6 +15,7 @@
 
 #include "gltf_io.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cfloat>
 #include <cmath>
@@ -496,7 +497,8 @@ size_t declared_triangles(const tinygltf::Model &model, const Instance &in)
             a = it == p.attributes.end() ? -1 : it->second;
         }
         if (a < 0 || (size_t)a >= model.accessors.size()) continue;
-        size_t c = model.accessors[(size_t)a].count;
+        // Clamped so that the sum below cannot wrap around.
+        size_t c = std::min(model.accessors[(size_t)a].count, (size_t)ST_MESH_MAX_FACES * 4);
         n += p.mode == kModeTriangles ? c / 3 : c > 2 ? c - 2 : 0;
         if (n > ST_MESH_MAX_FACES) break;
     }
