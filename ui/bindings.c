@@ -28,6 +28,7 @@ const st_binding st_bindings[] = {
     { "Ctrl+Shift+D", "delete the finest level" },
     { "Ctrl+Alt+D", "delete the coarsest level (rebase)" },
     { "I", "interest box on / off (adaptive display)" },
+    { "Left drag a box handle", "square: move that face (resize), circle: move the box" },
     { "Arrows (Alt+Up/Down: Z)", "move the box in X / Y (Z)" },
     { "Shift+Arrows", "resize the box" },
     { ". / ,", "box maximum level up / down" },

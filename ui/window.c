@@ -287,6 +287,8 @@ static void draw_overlays(st_app *a)
     }
 }
 
+static void draw_handles(st_app *a);
+
 void st_app_draw(st_app *a)
 {
     const st_gl *gl = &a->gl;
@@ -307,6 +309,7 @@ void st_app_draw(st_app *a)
         gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     }
     st_hud_begin(&a->hud, a->fb_w, a->fb_h);
+    draw_handles(a);
     draw_overlays(a);
     draw_hud(a);
     st_hud_flush(&a->hud);
@@ -559,6 +562,83 @@ static void select_all(st_app *a, int none)
     st_app_sync(a);
 }
 
+/* ---- interest-box handles ---------------------------------------------------------- */
+
+#define HANDLE_PICK 10.0          /* pixels */
+
+static void handle_pos(const st_adapt_params *b, int k, double p[3])
+{
+    for (int i = 0; i < 3; i++) p[i] = 0.5 * (b->box_lo[i] + b->box_hi[i]);
+    if (k < 6) p[k / 2] = k % 2 ? b->box_hi[k / 2] : b->box_lo[k / 2];
+}
+
+/* The handle nearest to the cursor within HANDLE_PICK pixels, -1 if none. */
+static int pick_handle(st_app *a, double x, double y)
+{
+    if (!a->doc.loaded || !a->doc.box_on) return -1;
+    int best = -1;
+    double bestd = HANDLE_PICK * HANDLE_PICK;
+    for (int k = 0; k < 7; k++) {
+        double p[3], s[2];
+        handle_pos(&a->doc.box, k, p);
+        if (!st_camctl_project(&a->cc, a->fb_w, a->fb_h, p, s, NULL)) continue;
+        double d = (s[0] - x) * (s[0] - x) + (s[1] - y) * (s[1] - y);
+        if (d < bestd) { bestd = d; best = k; }
+    }
+    return best;
+}
+
+static void draw_handles(st_app *a)
+{
+    static const float c[4] = { 0.10f, 0.45f, 0.90f, 0.95f }, hot[4] = { 0.35f, 0.95f, 1.00f, 1 };
+    if (!a->doc.loaded || !a->doc.box_on) return;
+    for (int k = 0; k < 7; k++) {
+        double p[3], s[2];
+        handle_pos(&a->doc.box, k, p);
+        if (!st_camctl_project(&a->cc, a->fb_w, a->fb_h, p, s, NULL)) continue;
+        float r = k == 6 ? 6.0f : 4.5f;
+        const float *col = k == a->box_handle ? hot : c;
+        if (k == 6) st_hud_circle(&a->hud, (float)s[0], (float)s[1], r, 2.5f, col);
+        else st_hud_rect(&a->hud, (float)s[0] - r, (float)s[1] - r, (float)s[0] + r, (float)s[1] + r, col);
+    }
+}
+
+/* Box drag: a face handle moves that face along its axis (the cursor's
+ * motion projected on the axis' screen direction), the centre handle moves
+ * the box in the view plane.  Adaptive refinement follows at every step;
+ * the whole drag is one undo step (st_doc_box_begin / end). */
+static void box_drag_update(st_app *a)
+{
+    st_adapt_params b = a->box_start;
+    int k = a->box_handle;
+    double dx = a->mx - a->op_x0, dy = a->my - a->op_y0;
+    double p[3];
+    handle_pos(&a->box_start, k, p);
+    if (k == 6) {
+        double d[3];
+        st_camctl_screen_delta(&a->cc, a->fb_w, a->fb_h, p, dx, dy, d);
+        for (int i = 0; i < 3; i++) { b.box_lo[i] += d[i]; b.box_hi[i] += d[i]; }
+    } else {
+        int ax = k / 2;
+        double q[3] = { p[0], p[1], p[2] }, s0[2], s1[2];
+        double unit = 0.1 * (a->cc.radius > 0 ? a->cc.radius : 1);
+        q[ax] += unit;
+        if (!st_camctl_project(&a->cc, a->fb_w, a->fb_h, p, s0, NULL) ||
+            !st_camctl_project(&a->cc, a->fb_w, a->fb_h, q, s1, NULL)) return;
+        double ex = s1[0] - s0[0], ey = s1[1] - s0[1], e2 = ex * ex + ey * ey;
+        if (e2 < 1e-6) return;   /* the axis points at the viewer */
+        double t = (dx * ex + dy * ey) / e2 * unit;
+        if (k % 2) b.box_hi[ax] += t; else b.box_lo[ax] += t;
+        double minw = 0.01 * unit;
+        if (b.box_hi[ax] - b.box_lo[ax] < minw) {
+            if (k % 2) b.box_hi[ax] = b.box_lo[ax] + minw; else b.box_lo[ax] = b.box_hi[ax] - minw;
+        }
+    }
+    st_error err;
+    if (st_doc_set_box(&a->doc, &b, 1, &err)) st_app_message(a, 1, "cannot move the box: %s", err.msg);
+    st_app_sync(a);
+}
+
 /* ---- callbacks ------------------------------------------------------------------ */
 
 static void to_fb(const st_app *a, double x, double y, double *fx, double *fy)
@@ -611,9 +691,16 @@ void st_win_on_cursor(GLFWwindow *w, double x, double y)
         break;
     case ST_OP_RECT:
         break;
-    default:
-        update_hover(a);
+    case ST_OP_BOX:
+        box_drag_update(a);
         break;
+    default: {
+        int h = pick_handle(a, fx, fy);
+        a->box_handle = h;
+        if (h < 0) update_hover(a);
+        else if (a->hover_vid != ST_NIL) { a->hover_vid = ST_NIL; st_renderer_set_hover(&a->r, ST_NIL); }
+        break;
+    }
     }
 }
 
@@ -637,6 +724,10 @@ void st_win_on_mouse_button(GLFWwindow *w, int button, int action, int mods)
         a->op_y0 = a->my;
         if (button == GLFW_MOUSE_BUTTON_MIDDLE || (button == GLFW_MOUSE_BUTTON_LEFT && (mods & GLFW_MOD_ALT))) {
             a->op = (mods & GLFW_MOD_SHIFT) ? ST_OP_PAN : ST_OP_ORBIT;
+        } else if (button == GLFW_MOUSE_BUTTON_LEFT && (a->box_handle = pick_handle(a, a->mx, a->my)) >= 0) {
+            a->box_start = a->doc.box;
+            st_doc_box_begin(&a->doc);
+            a->op = ST_OP_BOX;
         } else if (button == GLFW_MOUSE_BUTTON_LEFT) {
             if (a->tool == ST_TOOL_SELECT) {
                 a->hover_vid = pick_vertex(a, a->mx, a->my);
@@ -654,6 +745,12 @@ void st_win_on_mouse_button(GLFWwindow *w, int button, int action, int mods)
     case ST_OP_RECT: a->op = ST_OP_NONE; select_rect(a); break;
     case ST_OP_DRAG: drag_finish(a, 0); break;
     case ST_OP_STROKE: stroke_finish(a); break;
+    case ST_OP_BOX:
+        st_doc_box_end(&a->doc);
+        a->op = ST_OP_NONE;
+        st_app_sync(a);
+        st_app_message(a, 0, "box %s", a->box_handle == 6 ? "moved" : "resized");
+        break;
     case ST_OP_ORBIT:
     case ST_OP_PAN: a->op = ST_OP_NONE; update_hover(a); break;
     default: break;
@@ -831,6 +928,12 @@ static void key_press(st_app *a, int key, int mods)
         if (a->help) a->help = 0;
         else if (a->op == ST_OP_DRAG || a->op == ST_OP_GRAB) drag_finish(a, 1);
         else if (a->op == ST_OP_RECT) a->op = ST_OP_NONE;
+        else if (a->op == ST_OP_BOX) {
+            st_doc_set_box(d, &a->box_start, 1, &err);
+            st_doc_box_end(d);
+            a->op = ST_OP_NONE;
+            st_app_sync(a);
+        }
         return;
     }
     if ((key == GLFW_KEY_ENTER || key == GLFW_KEY_KP_ENTER) && a->op == ST_OP_GRAB) { drag_finish(a, 0); return; }
@@ -1088,6 +1191,7 @@ int st_window_main(const st_win_opts *o)
     a->shading = ST_SHADE_SMOOTH;
     a->cage = 1;
     a->hover_vid = ST_NIL;
+    a->box_handle = -1;
     a->masked_times = o->replay != NULL;
     st_doc_init(&a->doc);
     default_asset(a);

@@ -36,7 +36,7 @@ typedef struct st_win_opts {
 enum st_tool { ST_TOOL_SELECT = -1 };   /* else an st_brush_tool */
 
 enum st_mouse_op {
-    ST_OP_NONE, ST_OP_ORBIT, ST_OP_PAN, ST_OP_CLICK, ST_OP_RECT, ST_OP_DRAG, ST_OP_STROKE, ST_OP_GRAB
+    ST_OP_NONE, ST_OP_ORBIT, ST_OP_PAN, ST_OP_CLICK, ST_OP_RECT, ST_OP_DRAG, ST_OP_STROKE, ST_OP_GRAB, ST_OP_BOX
 };
 
 #define ST_MSG_LEN 512
@@ -72,6 +72,10 @@ typedef struct st_app {
     int hover_dirty;
     int brush_hit;             /* brush circle: the cursor is over the surface */
     double brush_pos[3], brush_nrm[3];
+
+    int box_handle;            /* interest-box handle under the cursor or dragged: -1 none,
+                                  0..5 the face centres (-x +x -y +y -z +z), 6 the centre */
+    st_adapt_params box_start; /* the box when its drag started */
 
     int help;                  /* F1 */
     const char *pending_scheme;/* scheme change waiting for Y */
