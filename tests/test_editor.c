@@ -844,6 +844,22 @@ static double display_vs_model(const st_doc *d)
     return worst;
 }
 
+/* The display's levels beyond the model, synced locally after edits, equal
+ * a full adaptive synthesis from the model's top level (up to rounding: a
+ * vertex on several listed faces takes the stencil of the first one, and
+ * the order differs, as for st_hier_move against st_hier_synthesize). */
+static double local_vs_full(st_doc *d)
+{
+    tl_posnap a, b;
+    tl_snap_pos(&d->disp, &a);
+    st_adapt_synthesize(&d->adapt, d->h.map.top);
+    tl_snap_pos(&d->disp, &b);
+    double diff = a.levels == b.levels && a.n == b.n ? tl_snap_maxdiff(&a, &b) : INFINITY;
+    free(a.p);
+    free(b.p);
+    return diff;
+}
+
 static void test_box(void)
 {
     st_doc d, r;
@@ -915,6 +931,9 @@ static void test_box(void)
     st_doc_stroke_end(&d);
     dev = display_vs_model(&d);
     CHECKF(dev == 0, "after the stroke the display differs by %g", dev);
+    CHECK(d.disp.map.top > d.h.map.top);
+    dev = local_vs_full(&d);
+    CHECKF(dev < 1e-12, "local display sync differs from a full synthesis by %g", dev);
 
     /* The same edits without the box give the same model. */
     st_doc_set_edit_level(&r, 2);
@@ -1014,6 +1033,14 @@ static void test_box_loop(void)
     CHECK(st_doc_drag_update(&d, delta) == 0);
     st_doc_drag_end(&d);
     CHECK(display_vs_model(&d) == 0);
+    double dev = local_vs_full(&d);
+    CHECKF(dev < 1e-12, "loop: local display sync differs from a full synthesis by %g", dev);
+    /* Undo: the display follows, locally too. */
+    CHECK(st_doc_undo(&d, &err) == 0);
+    CHECK(display_vs_model(&d) == 0);
+    dev = local_vs_full(&d);
+    CHECKF(dev < 1e-12, "loop, undo: local display sync differs from a full synthesis by %g", dev);
+    CHECK(st_doc_redo(&d, &err) == 0);
     /* The display's finest level moved with the edit (synthesised beyond
      * the model's top). */
     double far = -INFINITY;

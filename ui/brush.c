@@ -462,7 +462,7 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
         uint32_t v = st_vert(&h->map, darts[i], l);
         grid_insert(bs, v, st_pos(&h->map, v, l));
     }
-    ed_geometry_changed(d, l, darts, n, t0);
+    ed_geometry_changed(d, l, darts, n, t0, d->pending->last, d->pending->nlast);
     free(darts);
     free(pos);
     return 0;

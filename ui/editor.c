@@ -47,6 +47,7 @@ static void finish_active(st_doc *d);
 static void disp_free(st_doc *d);
 static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err);
 static void disp_sync(st_doc *d, unsigned from, int keep_prev);
+static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys);
 static void topology_changed(st_doc *d);
 static void display_changed(st_doc *d);
 static void undo_clear(st_doc *d);
@@ -82,6 +83,9 @@ void st_doc_free(st_doc *d)
     free(d->dcorr);
     free(d->dpairs);
     free(d->dsub);
+    free(d->mcorr);
+    free(d->dlv);
+    free(d->dvdart);
     free(d->vdart);
     ed_brush_state_free(d->bs);
     memset(d, 0, sizeof *d);
@@ -525,10 +529,12 @@ static void change_add_darts(st_doc *d, unsigned l, const uint32_t *darts, uint3
     c->nmoved += n;
 }
 
-void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0)
+void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0,
+                         const uint64_t *keys, uint32_t nkeys)
 {
     if (d->box_on && d->disp_ok) {
-        disp_sync(d, l, 0);
+        if (keys) disp_sync_local(d, keys, nkeys);
+        else disp_sync(d, l, 0);
         d->change.bits |= ST_CHANGE_ALL_POSITIONS;
     }
     change_add_darts(d, l, darts, n);
@@ -659,7 +665,7 @@ int st_doc_drag_update(st_doc *d, const double delta[3])
     }
     st_hier_move(&d->h, l, s->moved, (const double(*)[3])pos, k);
     free(pos);
-    ed_geometry_changed(d, l, s->moved, k, t0);
+    ed_geometry_changed(d, l, s->moved, k, t0, s->last, s->nlast);
     return 0;
 }
 
@@ -693,7 +699,7 @@ void st_doc_drag_cancel(st_doc *d)
     if (!s) return;
     double t0 = ed_now_ms();
     ed_step_apply(s, &d->h, 0);
-    ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0);
+    ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, s->key, s->n);
     ed_step_free(s);
 }
 
@@ -774,7 +780,7 @@ static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
     case ED_STEP_EDIT: {
         double t0 = ed_now_ms();
         ed_step_apply(s, &d->h, redo);
-        ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0);
+        ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, s->key, s->n);
         return ST_OK;
     }
     case ED_STEP_HIER:
@@ -887,6 +893,24 @@ static void disp_pairs_build(st_doc *d)
         st_marker_release(dm, fb, L - 1);
         d->dsub_off[L + 1] = d->ndsub;
     }
+    uint32_t *mc = realloc(d->mcorr, (size_t)(mm->verts.end ? mm->verts.end : 1) * sizeof *mc);
+    uint32_t *lv = realloc(d->dlv, (size_t)(dm->verts.end ? dm->verts.end : 1) * sizeof *lv);
+    uint32_t *vd = realloc(d->dvdart, (size_t)(dm->verts.end ? dm->verts.end : 1) * sizeof *vd);
+    if (!mc || !lv || !vd) abort();
+    d->mcorr = mc;
+    d->nmcorr = mm->verts.end;
+    d->dlv = lv;
+    d->dvdart = vd;
+    d->ndv = dm->verts.end;
+    for (uint32_t v = 0; v < mm->verts.end; v++) mc[v] = ST_NIL;
+    for (uint32_t v = 0; v < dm->verts.end; v++) { lv[v] = 0; vd[v] = ST_NIL; }
+    {
+        st_dart_iter it;
+        for (uint32_t x = st_dart_first(dm, topL, &it); x != ST_NIL; x = st_dart_next(dm, topL, &it)) {
+            uint32_t v = st_vert(dm, x, topL);
+            if (vd[v] == ST_NIL || (st_is_boundary(dm, vd[v]) && !st_is_boundary(dm, x))) vd[v] = x;
+        }
+    }
     for (unsigned L = b + 1; L <= topL; L++) {
         int fb = st_marker_reserve(dm);
         if (fb < 0) abort();
@@ -908,6 +932,8 @@ static void disp_pairs_build(st_doc *d)
                     dd[y] = Y;
                     uint32_t v = st_vert(dm, y, L), V = st_vert(mm, Y, L);
                     dc[v] = V;
+                    mc[V] = v;
+                    lv[v] |= 1u << L;
                     pairs_push(d, L, v, V);
                     y = st_phi1(dm, y, L);
                     Y = st_phi1(mm, Y, L);
@@ -919,6 +945,8 @@ static void disp_pairs_build(st_doc *d)
                         dd[z] = Z;
                         uint32_t v = st_vert(dm, z, L), V = st_vert(mm, Z, L);
                         dc[v] = V;
+                        mc[V] = v;
+                        lv[v] |= 1u << L;
                         pairs_push(d, L, v, V);
                         z = st_phi1(dm, z, L);
                         Z = st_phi1(mm, Z, L);
@@ -973,6 +1001,92 @@ static void disp_sync(st_doc *d, unsigned from, int keep_prev)
      * everything.  Box moves leave the model alone, so the update after
      * them may stay incremental. */
     if (!keep_prev) d->adapt.has_prev = 0;
+}
+
+/* A dart of level L carrying fine vertex v, on the face of d (the frame
+ * cell of its stencil) at level L; ST_NIL if not there (hier_synth.c). */
+static uint32_t dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L)
+{
+    uint32_t x = d;
+    do {
+        if (st_vert(m, x, L) == v) return x;
+        x = st_phi1(m, x, L);
+    } while (x != d);
+    return ST_NIL;
+}
+
+typedef struct local_ctx { st_hier *h; unsigned L; uint32_t gen; st_dart_list *changed; int lost; } local_ctx;
+
+static void local_sink(void *ctx, const st_stencil *s)
+{
+    local_ctx *c = ctx;
+    if (c->h->stamp[s->fine] == c->gen) return;
+    c->h->stamp[s->fine] = c->gen;
+    double p[3];
+    st_stencil_apply(c->h, c->L, s, p);
+    st_set_pos(&c->h->map, s->fine, c->L, p);
+    uint32_t x = dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
+    if (x == ST_NIL) c->lost = 1;
+    else st_dart_list_push(c->changed, x);
+}
+
+/* After an edit of the model that changed the values of `keys` (undo.c):
+ * the display's copies of those positions, then its levels beyond the
+ * model re-synthesised around them only (the region growth of
+ * st_hier_move, on the subdivided faces). */
+static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys)
+{
+    st_hier *dh = &d->disp;
+    st_map *dm = &dh->map;
+    const st_map *mm = &d->h.map;
+    unsigned N = mm->top, b = d->dbase, T = dm->top < N ? dm->top : N;
+    unsigned lo = ST_MAX_LEVELS;
+    for (uint32_t i = 0; i < nkeys; i++) {
+        unsigned L = (unsigned)(keys[i] >> 33);
+        if (L < lo) lo = L;
+    }
+    st_dart_list seeds = { 0 }, next = { 0 }, faces = { 0 }, kept = { 0 };
+    for (unsigned L = lo; L <= T; L++)
+        for (uint32_t i = 0; i < nkeys; i++) {
+            if ((unsigned)(keys[i] >> 33) != L || ((keys[i] >> 32) & 1)) continue;
+            uint32_t V = (uint32_t)keys[i], dv;
+            if (mm->verts.ins[V] <= b) dv = V;
+            else dv = V < d->nmcorr ? d->mcorr[V] : ST_NIL;
+            if (dv == ST_NIL || dv >= d->ndv) continue;
+            if (L > b && !((d->dlv[dv] >> L) & 1)) continue;
+            const double *p = st_pos(mm, V, L);
+            if (!memcmp(st_pos(dm, dv, L), p, 3 * sizeof *p)) continue;
+            st_set_pos(dm, dv, L, p);
+            if (L == T && dm->top > N && d->dvdart[dv] != ST_NIL) st_dart_list_push(&seeds, d->dvdart[dv]);
+        }
+    unsigned extra = 0;
+    for (unsigned L = N + 1; L <= dm->top && seeds.n; L++) {
+        faces.n = 0;
+        st_region_faces(dm, L - 1, seeds.d, seeds.n, dh->scheme->support_rings + extra, &faces);
+        kept.n = 0;
+        for (uint32_t i = 0; i < faces.n; i++)
+            if (st_face_level(dm, faces.d[i], L - 1) == L - 1 && st_face_is_subdivided(dm, faces.d[i], L - 1))
+                st_dart_list_push(&kept, faces.d[i]);
+        next.n = 0;
+        local_ctx c = { dh, L, st_hier_stamp_begin(dh), &next, 0 };
+        if (kept.n) dh->scheme->emit(dh, L, kept.d, kept.n, local_sink, &c);
+        extra = c.lost;
+        if (c.lost) {
+            next.n = 0;
+            for (uint32_t i = 0; i < kept.n; i++) {
+                uint32_t x = kept.d[i];
+                do { st_dart_list_push(&next, x); x = st_phi1(dm, x, L - 1); } while (x != kept.d[i]);
+            }
+        }
+        st_dart_list t = seeds;
+        seeds = next;
+        next = t;
+    }
+    st_dart_list_free(&seeds);
+    st_dart_list_free(&next);
+    st_dart_list_free(&faces);
+    st_dart_list_free(&kept);
+    d->adapt.has_prev = 0;
 }
 
 static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err)

@@ -113,6 +113,11 @@ typedef struct st_doc {
     uint32_t *dsub;            /* per level L > h.top: the display's faces of level L-1 subdivided toward L */
     uint32_t ndsub, capdsub;
     uint32_t dsub_off[ST_MAX_LEVELS + 1];
+    uint32_t *mcorr;           /* h vertex id -> disp vertex id above dbase (ST_NIL: not shown) */
+    uint32_t nmcorr;
+    uint32_t *dlv;             /* disp vertex id -> bit L set when paired at level L */
+    uint32_t *dvdart;          /* disp vertex id -> a dart of it at level min(h.top, disp.top) */
+    uint32_t ndv;
     double last_update_at_ms;  /* monotonic time stamp of the last geometry update */
     uint32_t capmoved;
     int rebased;               /* remove_bottom happened since open (set_scheme then rebuilds from level 0) */

@@ -32,6 +32,8 @@ struct st_undo_step {
     uint32_t *hidx, hcap;
     uint32_t *moved;           /* darts (edit level) of the moved vertices, deduplicated */
     uint32_t nmoved, capmoved;
+    uint64_t *last;            /* keys touched by the last ed_step_touch_move call */
+    uint32_t nlast, caplast;
     /* ED_STEP_HIER: the whole other state (swapped in and out). */
     st_hier snap;
     const st_scheme *scheme;
@@ -61,8 +63,11 @@ void ed_step_finish(st_undo_step *s);   /* drops the index, computes bytes */
 /* ---- editor.c ---- */
 double ed_now_ms(void);
 /* After any change of h's geometry at level l with the given moved darts:
- * change bits, display sync, timing. */
-void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0);
+ * change bits, display sync, timing.  keys: the (level, kind, vid) keys of
+ * every value that changed (undo.c), so that the box display is synced
+ * locally; NULL: sync everything. */
+void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0,
+                         const uint64_t *keys, uint32_t nkeys);
 uint32_t ed_vertex_dart(st_doc *d, uint32_t vid);
 void ed_push_step(st_doc *d, st_undo_step *s);
 

@@ -33,6 +33,7 @@ void ed_step_free(st_undo_step *s)
     free(s->hkey);
     free(s->hidx);
     free(s->moved);
+    free(s->last);
     if (s->kind == ED_STEP_HIER) st_hier_free(&s->snap);
     free(s);
 }
@@ -96,10 +97,22 @@ static uint64_t make_key(unsigned level, int kind, uint32_t vid)
     return (uint64_t)level << 33 | (uint64_t)(kind & 1) << 32 | vid;
 }
 
+static void last_push(st_undo_step *s, uint64_t key)
+{
+    if (s->nlast == s->caplast) {
+        s->caplast = s->caplast ? 2 * s->caplast : 256;
+        s->last = realloc(s->last, (size_t)s->caplast * sizeof *s->last);
+        if (!s->last) abort();
+    }
+    s->last[s->nlast++] = key;
+}
+
 int ed_step_touch_pos(st_undo_step *s, const st_hier *h, unsigned level, uint32_t vid)
 {
     int fresh;
-    uint32_t i = lookup(s, make_key(level, 0, vid), &fresh);
+    uint64_t key = make_key(level, 0, vid);
+    last_push(s, key);
+    uint32_t i = lookup(s, key, &fresh);
     if (fresh) memcpy(s->oldv[i], st_pos(&h->map, vid, level), sizeof s->oldv[i]);
     return fresh;
 }
@@ -162,6 +175,7 @@ static void dry_sink(void *ctx, const st_stencil *st)
 void ed_step_touch_move(st_undo_step *s, st_hier *h, unsigned l, const uint32_t *darts, uint32_t n)
 {
     st_map *m = &h->map;
+    s->nlast = 0;
     for (uint32_t i = 0; i < n; i++) {
         uint32_t v = st_vert(m, darts[i], l);
         if (ed_step_touch_pos(s, h, l, v)) ed_step_add_moved(s, m, l, darts[i]);
@@ -221,6 +235,9 @@ void ed_step_apply(const st_undo_step *s, st_hier *h, int which)
 
 void ed_step_finish(st_undo_step *s)
 {
+    free(s->last);
+    s->last = NULL;
+    s->nlast = s->caplast = 0;
     free(s->hkey);
     free(s->hidx);
     s->hkey = NULL;
