@@ -6,7 +6,9 @@
  *    direction; every side shared by two real faces is met in both
  *    directions; every triangulation diagonal is met once each way; no
  *    directed edge twice; V - E + F equals the polygon mesh's (closed meshes:
- *    every edge in exactly two triangles, consistently oriented);
+ *    every edge in exactly two triangles, consistently oriented); and the
+ *    same on adaptive meshes (interest-box refinement, restriction on and
+ *    off) for every scheme that refines adaptively;
  *  - boundary faces are never drawn, faces/corners/vertices agree with the
  *    level's polygon soup, the wireframe holds each polygon side once and
  *    no diagonal, regular faces never fall outside the case tables;
@@ -20,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "adapt.h"
 #include "geom.h"
 #include "map_mesh.h"
 
@@ -38,7 +41,9 @@ static int has(const edge *e, size_t n, uint32_t a, uint32_t b)
     return bsearch(&k, e, n, sizeof k, cmp_edge) != NULL;
 }
 
-static int check_geom(const st_rgeom *g, st_map *m, const char *name)
+/* tables: every face of up to 8 sides must be in the case tables (regular
+ * levels; adaptive ones with the restriction on and no n-gon in the input). */
+static int check_geom(const st_rgeom *g, st_map *m, const char *name, int tables)
 {
     int failures = tl_failed;
     unsigned l = g->level;
@@ -129,7 +134,7 @@ static int check_geom(const st_rgeom *g, st_map *m, const char *name)
     CHECKF(!wrong, "%s level %u: %zu wire edges are not polygon sides", name, l, wrong);
     CHECKF(g->nlines == pe, "%s level %u: %u wire edges, %zu polygon edges", name, l, g->nlines, pe);
     /* Faces of up to 8 sides of a regular hierarchy are all in the tables. */
-    for (uint32_t f = 0; f < g->nfaces; f++) {
+    for (uint32_t f = 0; f < g->nfaces && tables; f++) {
         uint32_t n = g->face_off[f + 1] - g->face_off[f];
         if (n <= ST_TRI_TABLE_MAX_SIDES)
             CHECKF(g->face_case[f] != ST_TRI_FALLBACK, "%s level %u: regular face %u of %u sides outside the tables", name, l, f, n);
@@ -218,8 +223,90 @@ static void test_no_cracks(void)
             st_error err;
             int rc = st_rgeom_build(&g, &h.map, l, &err);
             CHECKF(rc == ST_OK, "%s: %s", name, err.msg);
-            if (!rc) check_geom(&g, &h.map, name);
+            if (!rc) check_geom(&g, &h.map, name, 1);
         }
+        st_hier_free(&h);
+    }
+    st_rgeom_free(&g);
+}
+
+/* No cracks on adaptive meshes: the displayed (top) level after interest-box
+ * refinements - faces of several depths side by side, their borders drawn
+ * through the case tables - for every scheme that refines adaptively, with
+ * the restriction and without it (fallback triangulation). */
+static const mesh_case adaptive_cases[] = {
+    { "torus.obj", 0, ST_SCHEME_CATMARK, 3 },
+    { "open.obj", 0, ST_SCHEME_CATMARK, 3 },
+    { "mixed.obj", 0, ST_SCHEME_QUADTRI, 3 },
+    { "octahedron.obj", 0, ST_SCHEME_LOOP, 3 },
+    { "octahedron.obj", 0, ST_SCHEME_BUTTERFLY, 3 },
+    { "octahedron.obj", 0, ST_SCHEME_SQRT3, 4 },
+    { "torus.obj", 0, ST_SCHEME_DOOSABIN, 3 },
+    { "catmull_clark/blub_control_mesh.obj", 1, ST_SCHEME_CATMARK, 3 },
+    { "triangle/cube_no_bottom.obj", 1, ST_SCHEME_LOOP, 3 },
+};
+
+static void test_no_cracks_adaptive(void)
+{
+    st_rgeom g;
+    st_rgeom_init(&g);
+    uint64_t rng = 0xada;
+    for (size_t i = 0; i < sizeof adaptive_cases / sizeof adaptive_cases[0]; i++) {
+        mesh_case c0 = adaptive_cases[i];
+        c0.levels = 0;
+        st_hier h;
+        char name[256];
+        if (load_hier(&h, &c0, name, sizeof name)) continue;
+        st_adapt a;
+        st_error err;
+        if (st_adapt_init(&a, &h, &err)) {
+            printf("%s: no adaptive refinement for this scheme yet (%s)\n", name, err.msg);
+            st_hier_free(&h);
+            continue;
+        }
+        st_mesh soup;
+        st_mesh_init(&soup);
+        CHECK(st_map_to_mesh(&h.map, 0, &soup, &err) == ST_OK);
+        double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+        for (uint32_t v = 0; v < soup.nverts; v++)
+            for (int k = 0; k < 3; k++) { lo[k] = fmin(lo[k], soup.pos[3 * v + k]); hi[k] = fmax(hi[k], soup.pos[3 * v + k]); }
+        /* Input polygons the scheme makes anyway (quads for Catmull-Clark,
+         * triangles for Loop and Butterfly, both for quad/triangle): then
+         * every restricted face is in the tables. */
+        int native = 1;
+        for (uint32_t f = 0; f < soup.nfaces; f++) {
+            uint32_t n = soup.face_off[f + 1] - soup.face_off[f];
+            st_scheme_id id = adaptive_cases[i].scheme;
+            if (id == ST_SCHEME_CATMARK ? n != 4 : id == ST_SCHEME_QUADTRI ? (n != 3 && n != 4) : n != 3) native = 0;
+        }
+        st_mesh_free(&soup);
+        unsigned faces_seen = 0, depths = 0;
+        for (int step = 0; step < 6; step++) {
+            st_adapt_params p = { .base_level = (unsigned)step % 2, .max_level = adaptive_cases[i].levels, .has_box = 1 };
+            for (int k = 0; k < 3; k++) {
+                double ext = hi[k] - lo[k], c = lo[k] + ext * (double)(tl_rand(&rng) % 1001) / 1000.0;
+                p.box_lo[k] = c - 0.2 * ext;
+                p.box_hi[k] = c + 0.2 * ext;
+            }
+            p.no_restriction = step == 5;
+            p.falloff = step == 3 ? 0.3 * (hi[0] - lo[0]) : 0;
+            int rc = st_adapt_update(&a, &p, &err);
+            CHECKF(rc == ST_OK, "%s step %d: %s", name, step, err.msg);
+            if (rc) break;
+            rc = st_rgeom_build(&g, &h.map, h.map.top, &err);
+            CHECKF(rc == ST_OK, "%s: %s", name, err.msg);
+            if (rc) break;
+            char what[300];
+            snprintf(what, sizeof what, "%s adaptive step %d%s", name, step, p.no_restriction ? " (no restriction)" : "");
+            check_geom(&g, &h.map, what, native && !p.no_restriction);
+            faces_seen += g.nfaces;
+            unsigned mixed = 0;
+            for (unsigned k = 0; k < 31; k++) mixed += g.ncase[k] > 0;
+            if (mixed > depths) depths = mixed;
+        }
+        printf("%s: adaptive meshes crack-free over 6 box moves (%u faces drawn in all, up to %u triangulation cases)\n",
+               name, faces_seen, depths);
+        st_adapt_free(&a);
         st_hier_free(&h);
     }
     st_rgeom_free(&g);
@@ -323,6 +410,7 @@ static void test_incremental(void)
 int main(void)
 {
     test_no_cracks();
+    test_no_cracks_adaptive();
     test_incremental();
     return TEST_END();
 }
