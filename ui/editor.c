@@ -981,13 +981,16 @@ static void disp_sync(st_doc *d, unsigned from, int keep_prev)
     unsigned N = mm->top, b = d->dbase;
     for (unsigned L = from; L <= b; L++) {
         st_dart_iter it;
-        for (uint32_t v = st_vertex_first(dm, L, &it); v != ST_NIL; v = st_vertex_next(dm, L, &it))
-            st_set_pos(dm, v, L, st_pos(mm, v, L));
+        for (uint32_t v = st_vertex_first(dm, L, &it); v != ST_NIL; v = st_vertex_next(dm, L, &it)) {
+            const double *p = st_pos(mm, v, L);
+            if (memcmp(st_pos(dm, v, L), p, 3 * sizeof *p)) st_set_pos(dm, v, L, p);
+        }
     }
     for (uint32_t i = 0; i < d->ndpairs; i += 3) {
         unsigned L = d->dpairs[i];
         if (L < from) continue;
-        st_set_pos(dm, d->dpairs[i + 1], L, st_pos(mm, d->dpairs[i + 2], L));
+        const double *p = st_pos(mm, d->dpairs[i + 2], L);
+        if (memcmp(st_pos(dm, d->dpairs[i + 1], L), p, 3 * sizeof *p)) st_set_pos(dm, d->dpairs[i + 1], L, p);
     }
     /* Levels beyond the model: S(P_{L-1}) + frame * detail on the
      * subdivided faces (st_adapt_synthesize, with the face lists kept from
@@ -1130,7 +1133,8 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
             if (!rc) {
                 d->box = p;
                 disp_pairs_build(d);
-                disp_sync(d, 0, 1);
+                /* Box updates never touch the levels up to the base. */
+                disp_sync(d, d->dbase + 1, 1);
             }
         }
         if (rc) {
