@@ -1,6 +1,7 @@
 /* Image-comparison tests of the renderer, headless (OSMesa).
  *
- * A matrix of meshes x schemes x display modes is rendered at 160x120 and
+ * A matrix of meshes x schemes x display modes, regular levels and adaptive
+ * (interest-box) meshes, is rendered at 160x120 and
  * compared with the reference PNGs in tests/render_ref/.  Metric (render/
  * image.h): a pixel differs when one of its channels is off by more than
  * ST_IMAGE_TOL = 4 (1.6 % of 255, Blender's per-pixel threshold); an image
@@ -26,6 +27,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "adapt.h"
 #include "image.h"
 #include "offscreen.h"
 
@@ -41,50 +43,82 @@ typedef struct img_case {
     int mode;
     int view;                  /* preset, or -1 for the orbit */
     float az, el;
+    /* Adaptive display: an interest box (fractions of the bounding box,
+     * min xyz then max xyz) refining from level 0 to `levels`; all zero:
+     * the regular level. */
+    float box[6];
 } img_case;
 
 #define A 0
 #define S 1
 static const img_case cases[] = {
-    { "cube_catmark_l1_smooth", "cube.obj", A, ST_SCHEME_CATMARK, 1, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0 },
-    { "cube_catmark_l3_smooth", "cube.obj", A, ST_SCHEME_CATMARK, 3, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0 },
-    { "cube_catmark_l2_flat", "cube.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0 },
-    { "cube_catmark_l2_wire", "cube.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_WIRE, ST_VIEW_FRONT, 0, 0 },
-    { "cube_catmark_l2_cage", "cube.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_CAGE, ST_VIEW_ISO, 0, 0 },
-    { "cube_doosabin_l1_flat", "cube.obj", A, ST_SCHEME_DOOSABIN, 1, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0 },
-    { "cube_doosabin_l3_wire", "cube.obj", A, ST_SCHEME_DOOSABIN, 3, ST_MODE_WIRE, ST_VIEW_ISO, 0, 0 },
-    { "mixed_quadtri_l2_smooth", "mixed.obj", A, ST_SCHEME_QUADTRI, 2, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0 },
-    { "mixed_quadtri_l2_wire", "mixed.obj", A, ST_SCHEME_QUADTRI, 2, ST_MODE_WIRE, ST_VIEW_TOP, 0, 0 },
-    { "mixed_catmark_l1_cage", "mixed.obj", A, ST_SCHEME_CATMARK, 1, ST_MODE_CAGE, ST_VIEW_ISO, 0, 0 },
-    { "tetrahedron_loop_l3_smooth", "tetrahedron.obj", A, ST_SCHEME_LOOP, 3, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0 },
-    { "tetrahedron_loop_l1_wire", "tetrahedron.obj", A, ST_SCHEME_LOOP, 1, ST_MODE_WIRE, ST_VIEW_ISO, 0, 0 },
-    { "octahedron_loop_l2_flat", "octahedron.obj", A, ST_SCHEME_LOOP, 2, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0 },
-    { "tetrahedron_butterfly_l3_flat", "tetrahedron.obj", A, ST_SCHEME_BUTTERFLY, 3, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0 },
-    { "octahedron_butterfly_l2_wire", "octahedron.obj", A, ST_SCHEME_BUTTERFLY, 2, ST_MODE_WIRE, ST_VIEW_RIGHT, 0, 0 },
-    { "tetrahedron_sqrt3_l4_smooth", "tetrahedron.obj", A, ST_SCHEME_SQRT3, 4, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0 },
-    { "octahedron_sqrt3_l2_wire", "octahedron.obj", A, ST_SCHEME_SQRT3, 2, ST_MODE_WIRE, ST_VIEW_ISO, 0, 0 },
-    { "octahedron_doosabin_l2_cage", "octahedron.obj", A, ST_SCHEME_DOOSABIN, 2, ST_MODE_CAGE, ST_VIEW_ISO, 0, 0 },
-    { "torus_catmark_l2_smooth", "torus.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0 },
-    { "torus_doosabin_l2_flat", "torus.obj", A, ST_SCHEME_DOOSABIN, 2, ST_MODE_FLAT, -1, 20, 50 },
-    { "torus_quadtri_l1_wire", "torus.obj", A, ST_SCHEME_QUADTRI, 1, ST_MODE_WIRE, ST_VIEW_FRONT, 0, 0 },
-    { "ngon_catmark_l0_flat", "ngon.obj", A, ST_SCHEME_CATMARK, 0, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0 },
-    { "ngon_catmark_l2_wire", "ngon.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_WIRE, ST_VIEW_ISO, 0, 0 },
-    { "ngon_doosabin_l1_smooth", "ngon.obj", A, ST_SCHEME_DOOSABIN, 1, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0 },
-    { "open_catmark_l2_smooth", "open.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_SMOOTH, -1, -30, 20 },
-    { "open_quadtri_l2_cage", "open.obj", A, ST_SCHEME_QUADTRI, 2, ST_MODE_CAGE, -1, 200, 25 },
-    { "dodecahedron_catmark_l0_flat", "catmull_clark/dodecahedron_poly.obj", S, ST_SCHEME_CATMARK, 0, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0 },
-    { "dodecahedron_catmark_l2_smooth", "catmull_clark/dodecahedron_poly.obj", S, ST_SCHEME_CATMARK, 2, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0 },
-    { "blub_catmark_l2_cage", "catmull_clark/blub_control_mesh.obj", S, ST_SCHEME_CATMARK, 2, ST_MODE_CAGE, ST_VIEW_LEFT, 0, 0 },
-    { "hole_capsule_catmark_l2_smooth", "catmull_clark/hole_capsule.off", S, ST_SCHEME_CATMARK, 2, ST_MODE_SMOOTH, -1, 120, -30 },
-    { "bob_loop_l1_smooth", "triangle/bob_small.ply", S, ST_SCHEME_LOOP, 1, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0 },
-    { "bob_sqrt3_l2_flat", "triangle/bob_small.ply", S, ST_SCHEME_SQRT3, 2, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0 },
-    { "spot_butterfly_l1_smooth", "triangle/spot_low_resolution.obj", S, ST_SCHEME_BUTTERFLY, 1, ST_MODE_SMOOTH, ST_VIEW_RIGHT, 0, 0 },
-    { "hemisphere_loop_l1_wire", "triangle/hemisphere.obj", S, ST_SCHEME_LOOP, 1, ST_MODE_WIRE, -1, 20, -35 },
+    { "cube_catmark_l1_smooth", "cube.obj", A, ST_SCHEME_CATMARK, 1, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "cube_catmark_l3_smooth", "cube.obj", A, ST_SCHEME_CATMARK, 3, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "cube_catmark_l2_flat", "cube.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "cube_catmark_l2_wire", "cube.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_WIRE, ST_VIEW_FRONT, 0, 0, { 0 } },
+    { "cube_catmark_l2_cage", "cube.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_CAGE, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "cube_doosabin_l1_flat", "cube.obj", A, ST_SCHEME_DOOSABIN, 1, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "cube_doosabin_l3_wire", "cube.obj", A, ST_SCHEME_DOOSABIN, 3, ST_MODE_WIRE, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "mixed_quadtri_l2_smooth", "mixed.obj", A, ST_SCHEME_QUADTRI, 2, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "mixed_quadtri_l2_wire", "mixed.obj", A, ST_SCHEME_QUADTRI, 2, ST_MODE_WIRE, ST_VIEW_TOP, 0, 0, { 0 } },
+    { "mixed_catmark_l1_cage", "mixed.obj", A, ST_SCHEME_CATMARK, 1, ST_MODE_CAGE, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "tetrahedron_loop_l3_smooth", "tetrahedron.obj", A, ST_SCHEME_LOOP, 3, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "tetrahedron_loop_l1_wire", "tetrahedron.obj", A, ST_SCHEME_LOOP, 1, ST_MODE_WIRE, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "octahedron_loop_l2_flat", "octahedron.obj", A, ST_SCHEME_LOOP, 2, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "tetrahedron_butterfly_l3_flat", "tetrahedron.obj", A, ST_SCHEME_BUTTERFLY, 3, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "octahedron_butterfly_l2_wire", "octahedron.obj", A, ST_SCHEME_BUTTERFLY, 2, ST_MODE_WIRE, ST_VIEW_RIGHT, 0, 0, { 0 } },
+    { "tetrahedron_sqrt3_l4_smooth", "tetrahedron.obj", A, ST_SCHEME_SQRT3, 4, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "octahedron_sqrt3_l2_wire", "octahedron.obj", A, ST_SCHEME_SQRT3, 2, ST_MODE_WIRE, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "octahedron_doosabin_l2_cage", "octahedron.obj", A, ST_SCHEME_DOOSABIN, 2, ST_MODE_CAGE, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "torus_catmark_l2_smooth", "torus.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "torus_doosabin_l2_flat", "torus.obj", A, ST_SCHEME_DOOSABIN, 2, ST_MODE_FLAT, -1, 20, 50, { 0 } },
+    { "torus_quadtri_l1_wire", "torus.obj", A, ST_SCHEME_QUADTRI, 1, ST_MODE_WIRE, ST_VIEW_FRONT, 0, 0, { 0 } },
+    { "ngon_catmark_l0_flat", "ngon.obj", A, ST_SCHEME_CATMARK, 0, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "ngon_catmark_l2_wire", "ngon.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_WIRE, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "ngon_doosabin_l1_smooth", "ngon.obj", A, ST_SCHEME_DOOSABIN, 1, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "open_catmark_l2_smooth", "open.obj", A, ST_SCHEME_CATMARK, 2, ST_MODE_SMOOTH, -1, -30, 20, { 0 } },
+    { "open_quadtri_l2_cage", "open.obj", A, ST_SCHEME_QUADTRI, 2, ST_MODE_CAGE, -1, 200, 25, { 0 } },
+    { "dodecahedron_catmark_l0_flat", "catmull_clark/dodecahedron_poly.obj", S, ST_SCHEME_CATMARK, 0, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "dodecahedron_catmark_l2_smooth", "catmull_clark/dodecahedron_poly.obj", S, ST_SCHEME_CATMARK, 2, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "blub_catmark_l2_cage", "catmull_clark/blub_control_mesh.obj", S, ST_SCHEME_CATMARK, 2, ST_MODE_CAGE, ST_VIEW_LEFT, 0, 0, { 0 } },
+    { "hole_capsule_catmark_l2_smooth", "catmull_clark/hole_capsule.off", S, ST_SCHEME_CATMARK, 2, ST_MODE_SMOOTH, -1, 120, -30, { 0 } },
+    { "bob_loop_l1_smooth", "triangle/bob_small.ply", S, ST_SCHEME_LOOP, 1, ST_MODE_SMOOTH, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "bob_sqrt3_l2_flat", "triangle/bob_small.ply", S, ST_SCHEME_SQRT3, 2, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0, { 0 } },
+    { "spot_butterfly_l1_smooth", "triangle/spot_low_resolution.obj", S, ST_SCHEME_BUTTERFLY, 1, ST_MODE_SMOOTH, ST_VIEW_RIGHT, 0, 0, { 0 } },
+    { "hemisphere_loop_l1_wire", "triangle/hemisphere.obj", S, ST_SCHEME_LOOP, 1, ST_MODE_WIRE, -1, 20, -35, { 0 } },
+    /* Adaptive: faces of several depths side by side, drawn through the case tables. */
+    { "cube_catmark_box3_wire", "cube.obj", A, ST_SCHEME_CATMARK, 3, ST_MODE_WIRE, ST_VIEW_ISO, 0, 0, { .5f, -.1f, -.1f, 1.1f, 1.1f, 1.1f } },
+    { "cube_catmark_box3_flat", "cube.obj", A, ST_SCHEME_CATMARK, 3, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0, { -.1f, .5f, -.1f, 1.1f, 1.1f, 1.1f } },
+    { "torus_catmark_box3_flat", "torus.obj", A, ST_SCHEME_CATMARK, 3, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0, { .5f, -.1f, -.1f, 1.1f, 1.1f, 1.1f } },
+    { "octahedron_loop_box3_wire", "octahedron.obj", A, ST_SCHEME_LOOP, 3, ST_MODE_WIRE, ST_VIEW_ISO, 0, 0, { .5f, -.1f, -.1f, 1.1f, 1.1f, 1.1f } },
+    { "tetrahedron_butterfly_box3_flat", "tetrahedron.obj", A, ST_SCHEME_BUTTERFLY, 3, ST_MODE_FLAT, ST_VIEW_ISO, 0, 0, { -.1f, -.1f, .4f, .6f, 1.1f, 1.1f } },
+    { "mixed_quadtri_box3_wire", "mixed.obj", A, ST_SCHEME_QUADTRI, 3, ST_MODE_WIRE, ST_VIEW_TOP, 0, 0, { -.1f, -.1f, -.1f, .5f, 1.1f, .5f } },
+    { "blub_catmark_box3_wire", "catmull_clark/blub_control_mesh.obj", S, ST_SCHEME_CATMARK, 3, ST_MODE_WIRE, ST_VIEW_LEFT, 0, 0, { -.1f, .5f, -.1f, 1.1f, 1.1f, 1.1f } },
 };
 
 static char out_dir[1024];
 
-static int load(const img_case *c, st_hier *h)
+static int is_adaptive(const img_case *c)
+{
+    for (int k = 0; k < 6; k++)
+        if (c->box[k] != 0) return 1;
+    return 0;
+}
+
+/* The case's box in object space, from fractions of the mesh's bounding box. */
+static void adaptive_box(const img_case *c, const st_mesh *m, double lo[3], double hi[3])
+{
+    double bmin[3] = { INFINITY, INFINITY, INFINITY }, bmax[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (uint32_t v = 0; v < m->nverts; v++)
+        for (int k = 0; k < 3; k++) { bmin[k] = fmin(bmin[k], m->pos[3 * v + k]); bmax[k] = fmax(bmax[k], m->pos[3 * v + k]); }
+    for (int k = 0; k < 3; k++) {
+        lo[k] = bmin[k] + c->box[k] * (bmax[k] - bmin[k]);
+        hi[k] = bmin[k] + c->box[k + 3] * (bmax[k] - bmin[k]);
+    }
+}
+
+/* box (may be NULL): the interest box of an adaptive case, for drawing. */
+static int load(const img_case *c, st_hier *h, float box[6])
 {
     char path[1024];
     snprintf(path, sizeof path, "%s/%s", c->shared ? STRATA_SHARED_DATA : STRATA_ASSETS, c->file);
@@ -97,8 +131,18 @@ static int load(const img_case *c, st_hier *h)
         return -1;
     }
     int rc = st_hier_init(h, &mesh, st_scheme_get(c->scheme), NULL, &err);
+    if (!rc && is_adaptive(c)) {
+        st_adapt_params p = { .base_level = 0, .max_level = c->levels, .has_box = 1 };
+        adaptive_box(c, &mesh, p.box_lo, p.box_hi);
+        for (int k = 0; box && k < 3; k++) { box[k] = (float)p.box_lo[k]; box[k + 3] = (float)p.box_hi[k]; }
+        st_adapt a;
+        rc = st_adapt_init(&a, h, &err);
+        if (!rc) rc = st_adapt_update(&a, &p, &err);
+        if (!rc) st_adapt_free(&a);
+    } else if (!rc) {
+        rc = st_hier_subdivide_to(h, c->levels, &err);
+    }
     st_mesh_free(&mesh);
-    if (!rc) rc = st_hier_subdivide_to(h, c->levels, &err);
     CHECKF(rc == ST_OK, "%s: %s", c->name, err.msg);
     return rc ? -1 : 0;
 }
@@ -173,9 +217,15 @@ static void test_matrix(st_offscreen *o, int update)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const img_case *c = &cases[i];
         st_hier h;
-        int rc = load(c, &h);
+        float box[6];
+        int rc = load(c, &h, box);
         if (rc) { skipped += rc > 0; continue; }
         st_render_spec s = spec_of(c);
+        if (is_adaptive(c)) {
+            s.level = h.map.top;
+            s.has_box = 1;
+            memcpy(s.box, box, sizeof box);
+        }
         st_error err;
         rc = st_offscreen_prepare(o, &h.map, &s, &err);
         if (!rc) rc = st_offscreen_draw(o, &s, rgba, &err);
@@ -201,7 +251,7 @@ static void test_comparison_catches(st_offscreen *o)
 {
     const img_case *c = &cases[0];                 /* cube, Catmull-Clark level 1, smooth, iso */
     st_hier h;
-    if (load(c, &h)) return;
+    if (load(c, &h, NULL)) return;
     st_render_spec s = spec_of(c);
     st_error err;
     unsigned char *a = malloc((size_t)W * H * 4), *b = malloc((size_t)W * H * 4);
@@ -282,7 +332,7 @@ static void test_comparison_catches(st_offscreen *o)
 static void test_overlays(st_offscreen *o)
 {
     st_hier h;
-    if (load(&cases[4], &h)) return;                /* cube, cage mode */
+    if (load(&cases[4], &h, NULL)) return;                /* cube, cage mode */
     st_render_spec s = spec_of(&cases[4]);
     st_error err;
     unsigned char *a = malloc((size_t)W * H * 4), *b = malloc((size_t)W * H * 4);
