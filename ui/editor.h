@@ -15,12 +15,24 @@
  *     details (st_hier_move); coarser levels never move;
  *   - the displayed level is >= the editing level and <= top; adding a level
  *     shows it; with the interest box on, the display is the adaptive mesh
- *     (the top level of the map, refined between base and max levels);
+ *     st_doc_display_hier() at st_doc_display_map_level() (its top level,
+ *     refined between the box's base and max levels);
+ *   - the model is always the regular hierarchy h: drags, brushes, levels
+ *     and undo act on h at the editing level, also with the box on; the
+ *     box's display is derived from h (same positions for every level h
+ *     has, synthesised beyond h's top) and follows every edit, so box on,
+ *     edit, box off, box on never loses or rotates a detail (editor.c);
  *   - every operation that changes the model is one undo step; a drag or a
- *     brush stroke (begin .. end) is one step however many updates it had.
+ *     brush stroke (begin .. end) is one step however many updates it had;
+ *     undo and redo restore positions and details bit for bit (undo.c);
+ *     level and scheme steps keep a whole copy of the other hierarchy, so
+ *     the history is bounded by undo_budget (oldest steps dropped first,
+ *     `note` says so).
  *
  * Errors: operations return 0, or non-zero with err filled and the document
- * unchanged (a failed open keeps the current model). */
+ * unchanged (a failed open keeps the current model).  Non-fatal messages
+ * (repairs made while loading, history dropped, box switched off) are left
+ * in `note`. */
 #ifndef ST_EDITOR_H
 #define ST_EDITOR_H
 
@@ -46,7 +58,9 @@ typedef struct st_brush {
  * st_doc_take_change()). */
 enum st_change_bits {
     ST_CHANGE_TOPOLOGY = 1,    /* levels, scheme, adaptive refinement: rebuild buffers */
-    ST_CHANGE_POSITIONS = 2,   /* vertices moved: see moved_level / moved_darts */
+    ST_CHANGE_POSITIONS = 2,   /* vertices of h moved: see moved_level / moved_darts (darts of h);
+                                  with the box on ST_CHANGE_ALL_POSITIONS comes too (the display
+                                  hierarchy moved as well) */
     ST_CHANGE_SELECTION = 4,
     ST_CHANGE_BOX = 8,
     ST_CHANGE_ALL_POSITIONS = 16, /* everything moved (undo, analysis): refresh all */
@@ -91,7 +105,8 @@ typedef struct st_doc {
     /* In-progress drag or stroke (between begin and end). */
     int active;                /* 0, 1 drag, 2 stroke */
     st_undo_step *pending;
-    double last_update_ms;     /* duration of the last geometry update, ms (monotonic clock) */
+    double last_update_ms;     /* how long the last geometry update took (edit, undo, level, box), ms,
+                                  monotonic clock; its time stamp is last_update_at_ms */
 
     /* ---- additions (editor.c) ---------------------------------------------
      * The interest box's display: when box_on, `disp` is the adaptive mesh
@@ -171,7 +186,18 @@ void st_doc_drag_cancel(st_doc *d);
 
 /* Brush stroke at the editing level: begin, one dab per cursor sample
  * (centre on the surface, the surface normal there, and for grab the
- * cursor's translation since the last dab), end (one undo step). */
+ * cursor's translation since the last dab), end (one undo step).
+ * Falloff (1-(r/R)^2)^2 (st_brush_falloff).  Grab captures the vertices
+ * under its first dab and moves them by falloff * delta at every dab; draw
+ * moves along each vertex's area-weighted normal by strength * falloff *
+ * R/10 per dab (invert: inward); smooth moves toward the one-ring average
+ * by strength * falloff; flatten toward the plane through the mean of the
+ * vertices under the dab (normal: their mean normal).  mirror_x repeats
+ * the dab mirrored across x = 0 (displacements of both from the same
+ * positions, added).  Vertices under a dab come from a uniform grid of
+ * the editing level built at stroke begin (cell = radius), kept exact by
+ * re-inserting every moved vertex (brush.c).  Normal may be NULL (+z);
+ * grab_delta may be NULL (zero). */
 int st_doc_stroke_begin(st_doc *d);
 int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3], const double grab_delta[3]);
 void st_doc_stroke_end(st_doc *d);
