@@ -64,6 +64,12 @@ for f in "$REF"/*.png; do
     [ -f "$OUT/$(basename "$f")" ] && ok || bad "screenshot $(basename "$f") was not taken"
 done
 
+# More bindings, by expectations: rectangle/all/none selection, G grab and
+# its cancel, drag along the normal, every brush, undo/redo, displayed
+# level, level deletion and rebase, the scheme change and its confirmation,
+# views, zoom, orbit and pan.
+run 0 "replay .* passed" "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/features.txt" "$ASSETS/torus.obj"
+
 # 2. A failing expectation exits non-zero and says which line.
 printf 'wait 2\nexpect top 99\nquit\n' > "$TMP/fail.txt"
 run 1 "fail.txt:2: expect top 99 failed: actual 2" "$EXE" --size 320x240 --levels 2 --replay "$TMP/fail.txt" "$ASSETS/cube.obj"
