@@ -558,6 +558,49 @@ static void test_brushes(void)
     st_doc_free(&d);
 }
 
+/* The grid finds exactly the vertices a linear scan finds, dab after dab,
+ * while the dabs move vertices across cells. */
+static void test_brush_grid(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    open_ok(&d, cube, "catmull-clark", 3);
+    st_doc_set_edit_level(&d, 3);
+    d.brush.tool = ST_BRUSH_DRAW;
+    d.brush.radius = 0.25;
+    d.brush.strength = 1;
+    d.brush.mirror_x = 0;
+    const double dir[3] = { 0.3, 0.2, 1 };
+    uint32_t cv = extreme_vertex(&d, dir);
+    double c[3], nrm[3] = { 0, 0, 1 };
+    st_doc_vertex_pos(&d, cv, c);
+    uint32_t *v, n = level_vertices(&d, 3, &v);
+    double (*p0)[3] = malloc(n * sizeof *p0);
+    int same = 1;
+    double travel = 0;
+    CHECK(st_doc_stroke_begin(&d) == 0);
+    for (int k = 0; k < 60; k++) {
+        for (uint32_t i = 0; i < n; i++) st_doc_vertex_pos(&d, v[i], p0[i]);
+        st_doc_vertex_pos(&d, cv, c); /* the centre stays on the surface, as under a cursor */
+        c[0] += 0.001;
+        CHECK(st_doc_stroke_dab(&d, c, nrm, NULL) == 0);
+        for (uint32_t i = 0; i < n; i++) {
+            double q[3];
+            st_doc_vertex_pos(&d, v[i], q);
+            int inside = dist3(p0[i], c) < d.brush.radius && st_brush_falloff(dist3(p0[i], c), d.brush.radius) > 0;
+            int moved = memcmp(q, p0[i], sizeof q) != 0;
+            if (inside != moved) same = 0;
+            if (v[i] == cv) travel += dist3(q, p0[i]);
+        }
+    }
+    st_doc_stroke_end(&d);
+    CHECK(same);
+    CHECKF(travel > d.brush.radius, "the centre vertex travelled %g, less than a cell", travel);
+    free(p0);
+    free(v);
+    st_doc_free(&d);
+}
+
 /* Draw pushes out and smooth pulls a lifted vertex back, for every scheme
  * (the dual encoding of Doo-Sabin included). */
 static void test_brush_schemes(void)
@@ -1084,6 +1127,7 @@ int main(void)
     test_selection();
     test_drag();
     test_brushes();
+    test_brush_grid();
     test_brush_schemes();
     test_mirror();
     test_undo_random(cube, "catmull-clark", 1, 0);

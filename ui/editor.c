@@ -1096,6 +1096,13 @@ static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err)
 {
     disp_free(d);
     unsigned N = d->h.map.top, b = p->base_level < N ? p->base_level : N;
+    /* The display starts as a copy of the model (then cut to the base). */
+    size_t have = st_doc_model_bytes(d), need = ed_hier_bytes(&d->h);
+    if (have + need > d->mem_budget)
+        return st_fail(err, ST_ERR_MEMORY,
+                       "interest box refused: its display needs about %zu bytes (%.1f MiB) more, the model uses "
+                       "%.1f MiB and the memory budget is %.1f MiB",
+                       need, mib(need), mib(have), mib(d->mem_budget));
     if (ed_hier_clone(&d->disp, &d->h, NULL)) return st_fail(err, ST_ERR_MEMORY, "out of memory for the interest box's display");
     while (d->disp.map.top > b) st_hier_remove_top(&d->disp);
     int rc = st_adapt_init(&d->adapt, &d->disp, err);
