@@ -382,7 +382,11 @@ static int r_hier(load_ctx *c, st_br *r)
     uint8_t sharp = st_br_u8(r);
     if (r->failed) return -1;
     const st_scheme *sc = st_scheme_find(name);
-    if (!sc || strlen(name) != n) return st_br_fail(r, "unknown scheme '%s'", name);
+    if (!sc || strlen(name) != n) {
+        for (uint32_t k = 0; k < n; k++)
+            if (name[k] < 0x20 || name[k] > 0x7e) name[k] = '?'; /* messages are one printable line */
+        return st_br_fail(r, "unknown scheme '%s'", name);
+    }
     if (boundary != ST_BOUNDARY_EDGE_ONLY && boundary != ST_BOUNDARY_EDGE_AND_CORNER)
         return st_br_fail(r, "bad boundary option %u", boundary);
     if (crease != ST_CREASE_UNIFORM && crease != ST_CREASE_CHAIKIN) return st_br_fail(r, "bad crease method %u", crease);
@@ -704,7 +708,10 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
         uint64_t len = st_br_u64(&hr);
         if (hr.failed) { rc = -1; break; }
         if (len > end - hr.off) { rc = st_br_fail(&hr, "chunk of %llu bytes runs past the end", (unsigned long long)len); break; }
-        char t[5] = { (char)(tag & 0xff), (char)(tag >> 8 & 0xff), (char)(tag >> 16 & 0xff), (char)(tag >> 24), 0 };
+        /* The tag as text for messages (hex when not printable ASCII). */
+        char t[16] = { (char)(tag & 0xff), (char)(tag >> 8 & 0xff), (char)(tag >> 16 & 0xff), (char)(tag >> 24), 0 };
+        for (int k = 0; k < 4; k++)
+            if (t[k] < 0x20 || t[k] > 0x7e) { snprintf(t, sizeof t, "0x%08x", (unsigned)tag); break; }
         /* The chunk's reader sees only its payload; offsets stay file offsets. */
         st_br r;
         st_br_init(&r, name, p, hr.off + (size_t)len, err);

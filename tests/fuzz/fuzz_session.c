@@ -54,6 +54,35 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         st_mesh_init(&m);
         if (st_hier_level_mesh(&s.h, l, &m, &err) == ST_OK) st_mesh_free(&m);
     }
+    /* What the window does next must not crash either: synthesis, an edit,
+     * a new level, a box move. */
+    st_hier *h = &s.h;
+    if (s.has_adapt) {
+        st_adapt_params p = s.adapt.has_prev ? s.adapt.prev : s.box;
+        for (int k = 0; k < 3; k++) { p.box_lo[k] += 0.25; p.box_hi[k] += 0.25; }
+        if (p.max_level > 3) p.max_level = 3;
+        if (p.base_level > p.max_level) p.base_level = p.max_level;
+        if (h->map.darts.end <= 20000 && st_adapt_update(&s.adapt, &p, &err) == ST_OK &&
+            st_map_validate(&h->map, &err) != ST_OK) {
+            fprintf(stderr, "box move broke the map: %s\n", err.msg);
+            abort();
+        }
+    } else {
+        st_hier_synthesize(h, 0);
+        st_dart_iter it;
+        uint32_t d = st_dart_first(&h->map, 0, &it);
+        if (d != ST_NIL) {
+            double q[1][3];
+            const double *pp = st_dart_pos(&h->map, d, 0);
+            for (int k = 0; k < 3; k++) q[0][k] = pp[k] + 0.125;
+            st_hier_move(h, 0, &d, (const double (*)[3])q, 1);
+        }
+        if (h->map.top < 3 && h->map.darts.end <= 20000 && st_hier_subdivide_to(h, h->map.top + 1, &err) == ST_OK &&
+            st_map_validate(&h->map, &err) != ST_OK) {
+            fprintf(stderr, "a new level broke the map: %s\n", err.msg);
+            abort();
+        }
+    }
     st_session_ref r = st_session_ref_of(&s);
     void *b1 = NULL, *b2 = NULL;
     size_t n1 = 0, n2 = 0;
