@@ -870,7 +870,9 @@ static void box_levels(st_app *a, int base, int dir)
         if (b.base_level > b.max_level) b.base_level = b.max_level;
     }
     st_error err;
-    report(a, st_doc_set_box(d, &b, d->box_on, &err), &err, "cannot change the box levels");
+    int rc = st_doc_set_box(d, &b, d->box_on, &err);
+    report(a, rc, &err, "cannot change the box levels");
+    if (!rc) st_app_message(a, 0, "box levels %u..%u", d->box.base_level, d->box.max_level);
 }
 
 static void toggle_box(st_app *a)
