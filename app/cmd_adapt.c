@@ -1,7 +1,10 @@
 /* strata adapt IN --scheme S --base-level B --max-level M --box x0,y0,z0,x1,y1,z1
- *              [--falloff W] [--flatness T] [--no-restriction] [--triangulate] -o OUT
+ *              [--falloff W] [--flatness T] [--no-restriction] [--triangulate | --access] -o OUT
  * Writes the adaptive polygon mesh (or its triangulation by the renderer's
- * case tables). */
+ * case tables).  --access builds the regular hierarchy to the maximum level
+ * instead and reads the same mesh off it with marker bits (core/access.h,
+ * thesis §3.3.2): the structure is not changed. */
+#include "access.h"
 #include "adapt.h"
 #include "cli.h"
 #include "cli_common.h"
@@ -27,11 +30,12 @@ static int parse_number(const char *s, double *out)
 }
 
 /* Adapt-only options out of argv; the rest goes to the common parser. */
-static int parse_adapt(int argc, char **argv, st_adapt_params *p, int *tri, char **rest, int *nrest)
+static int parse_adapt(int argc, char **argv, st_adapt_params *p, int *tri, int *access, char **rest, int *nrest)
 {
     memset(p, 0, sizeof *p);
     p->max_level = 3;
     *tri = 0;
+    *access = 0;
     *nrest = 0;
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -43,6 +47,7 @@ static int parse_adapt(int argc, char **argv, st_adapt_params *p, int *tri, char
         else if (!strcmp(a, "--flatness") && v && !parse_number(v, &p->flatness) && p->flatness >= 0) i++;
         else if (!strcmp(a, "--no-restriction")) p->no_restriction = 1;
         else if (!strcmp(a, "--triangulate")) *tri = 1;
+        else if (!strcmp(a, "--access")) *access = 1;
         else if (!strcmp(a, "--base-level") || !strcmp(a, "--max-level") || !strcmp(a, "--box") ||
                  !strcmp(a, "--falloff") || !strcmp(a, "--flatness")) {
             fprintf(stderr, "strata adapt: bad or missing value for %s%s%s\n", a, v ? ": " : "", v ? v : "");
@@ -50,6 +55,7 @@ static int parse_adapt(int argc, char **argv, st_adapt_params *p, int *tri, char
         } else rest[(*nrest)++] = argv[i];
     }
     if (p->base_level > p->max_level) { fprintf(stderr, "strata adapt: --base-level is above --max-level\n"); return -1; }
+    if (*tri && *access) { fprintf(stderr, "strata adapt: --triangulate and --access do not go together\n"); return -1; }
     return 0;
 }
 
@@ -76,12 +82,26 @@ static int triangulated(const st_map *m, st_mesh *out, st_error *err)
     return ST_OK;
 }
 
+/* --access: the regular hierarchy to max_level, read adaptively. */
+static int access_mesh(st_hier *h, const st_adapt_params *p, st_mesh *out, st_error *err)
+{
+    int rc = st_hier_subdivide_to(h, p->max_level, err);
+    st_access_stats st;
+    if (!rc) rc = st_access_mesh(h, p, out, &st, err);
+    if (!rc) {
+        printf("adaptive access (marker bits) of the regular levels 0..%u: faces shown per level:", h->map.top);
+        for (unsigned l = 0; l <= h->map.top; l++) printf(" %llu", (unsigned long long)st.faces_per_level[l]);
+        printf("; %llu opened by the restriction\n", (unsigned long long)st.forced);
+    }
+    return rc;
+}
+
 int st_cmd_adapt(int argc, char **argv)
 {
     st_adapt_params p;
-    int tri, nrest;
+    int tri, access, nrest;
     char **rest = malloc((size_t)(argc + 1) * sizeof *rest);
-    if (!rest || parse_adapt(argc, argv, &p, &tri, rest, &nrest)) { free(rest); return 2; }
+    if (!rest || parse_adapt(argc, argv, &p, &tri, &access, rest, &nrest)) { free(rest); return 2; }
     st_cli_opts o;
     int bad = st_cli_parse(nrest, rest, &o, "adapt");
     free(rest);
@@ -97,10 +117,15 @@ int st_cmd_adapt(int argc, char **argv)
     st_error err;
     st_mesh out;
     st_mesh_init(&out);
-    rc = st_adapt_init(&a, &h, &err);
-    if (!rc) rc = st_adapt_update(&a, &p, &err);
-    if (!rc) rc = st_map_validate(&h.map, &err);
-    if (!rc) rc = tri ? triangulated(&h.map, &out, &err) : st_adapt_mesh(&a, &out, &err);
+    memset(&a, 0, sizeof a);
+    if (access) {
+        rc = access_mesh(&h, &p, &out, &err);
+    } else {
+        rc = st_adapt_init(&a, &h, &err);
+        if (!rc) rc = st_adapt_update(&a, &p, &err);
+        if (!rc) rc = st_map_validate(&h.map, &err);
+        if (!rc) rc = tri ? triangulated(&h.map, &out, &err) : st_adapt_mesh(&a, &out, &err);
+    }
     if (!rc) rc = st_any_mesh_save(o.out, &out, &err);
     if (rc) fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
     else printf("%s: %u %s, %u vertices, levels 0..%u\n", o.out, out.nfaces, tri ? "triangles" : "faces", out.nverts, h.map.top);
