@@ -173,6 +173,42 @@ int st_window_bench(const st_win_opts *o)
     uint64_t faces = 0, verts = 0;
     st_doc_display_counts(&doc, &faces, &verts);
 
+    /* Picking as the window does it: the ID buffer is redrawn after a view
+     * or geometry change, then each mouse move reads back 21x21 pixels. */
+    enum { PW = 1024, PH = 768, NHOVER = 400 };
+    st_camctl cc;
+    st_camctl_init(&cc, r.surf.bbox, (float)PW / PH);
+    st_pick pk;
+    double pick_draw = -1, hover_med = -1, rect_ms = -1;
+    int hits = 0;
+    int64_t nrect = 0;
+    if (!st_pick_init(&pk, &gl, &err)) {
+        /* The first draw compiles the program (llvmpipe JIT): time the second. */
+        st_pick_render(&pk, &r, &cc, PW, PH, &err);
+        gl.Finish();
+        st_camctl_orbit(&cc, 20, 5);
+        st_pick_invalidate(&pk);
+        double a0 = now_ms();
+        st_pick_render(&pk, &r, &cc, PW, PH, &err);
+        gl.Finish();
+        pick_draw = now_ms() - a0;
+        double th[NHOVER];
+        for (int i = 0; i < NHOVER; i++) {
+            int x = (int)((i % 20 + 0.5) * PW / 20), y = (int)((i / 20 + 0.5) * PH / 20);
+            double b0 = now_ms();
+            uint32_t slot = st_pick_at(&pk, x, y);
+            th[i] = now_ms() - b0;
+            hits += slot != ST_NIL;
+        }
+        hover_med = median(th, NHOVER);
+        uint32_t *ids = NULL;
+        double c0 = now_ms();
+        nrect = st_pick_rect(&pk, 0, 0, PW - 1, PH - 1, &ids);
+        rect_ms = now_ms() - c0;
+        free(ids);
+        st_pick_free(&pk);
+    }
+
     printf("bench-interaction: %s, %s, levels 0..%u (opened in %.0f ms)\n", o->file, doc.scheme->name, top, t_open);
     printf("  context: %s, %s\n", ctx, renderer ? renderer : "?");
     printf("  displayed level %u: %llu faces, %llu vertices; editing level %u: %u vertices\n", top,
@@ -181,6 +217,9 @@ int st_window_bench(const st_win_opts *o)
            edit, n, mg, mb, mt);
     printf("    (%u moved darts reported, %llu vertices re-uploaded per step)\n", nmoved, (unsigned long long)moved_top);
     printf("  full synthesis %.1f ms + full buffer rebuild %.1f ms = %.1f ms (median of %d)\n", ms, mbuf, mfull, REPS);
+    printf("  picking (ID buffer %dx%d, level-%u vertices over the level-%u surface): redraw after a view change %.1f ms,\n"
+           "    hover lookup %.3f ms (median of %d, %d over a vertex), full-window rectangle %.1f ms (%lld visible vertices)\n",
+           PW, PH, edit, top, pick_draw, hover_med, NHOVER, hits, rect_ms, (long long)nrect);
     FILE *la = fopen("/proc/loadavg", "r");
     char load[64] = "?";
     if (la) { if (!fgets(load, sizeof load, la)) load[0] = 0; fclose(la); load[strcspn(load, "\n")] = 0; }

@@ -1246,7 +1246,6 @@ int st_window_main(const st_win_opts *o)
         a->quit = 1;
     }
 
-    double last = now_ms();
     while (!a->quit && !glfwWindowShouldClose(a->win)) {
         if (rp) {
             glfwPollEvents();
@@ -1260,16 +1259,15 @@ int st_window_main(const st_win_opts *o)
         glfwGetFramebufferSize(a->win, &a->fb_w, &a->fb_h);
         glfwGetWindowSize(a->win, &a->win_w, &a->win_h);
         st_app_sync(a);
+        double t0 = now_ms();   /* frame time: drawing and presenting, not the wait for events */
         st_app_draw(a);
         if (a->shot_pending) {
             a->shot_pending = 0;
             if (take_screenshot(a, a->shot)) { a->exit_code = 1; break; }
         }
         glfwSwapBuffers(a->win);
+        a->frame_ms = now_ms() - t0;
         if (autosave) st_app_autosave_tick(a, 0);
-        double t = now_ms();
-        a->frame_ms = t - last;
-        last = t;
         a->frames++;
     }
     if (autosave && !a->exit_code) st_app_autosave_tick(a, 1);
