@@ -322,6 +322,38 @@ static void hier_step_end(st_doc *d, st_undo_step *s, double t0)
     ed_push_step(d, s);
 }
 
+/* ---- adding levels without a copy ----------------------------------------------
+ * Removing the top level puts its id blocks on the pool's spare stack in
+ * the order the level took them; refining again would pop them in reverse
+ * and give other ids.  Reversing that segment of the stack first makes the
+ * refinement take the same blocks in the same order, so the level comes
+ * back with the same ids (checked by a sum over its ids) and the same
+ * values (refinement and synthesis are deterministic). */
+
+static uint64_t top_ids_sum(const st_map *m)
+{
+    unsigned l = m->top;
+    uint64_t h = 1469598103934665603ull;
+    st_dart_iter it;
+    for (uint32_t x = st_dart_first(m, l, &it); x != ST_NIL; x = st_dart_next(m, l, &it)) { h ^= x; h *= 1099511628211ull; }
+    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) { h ^= v; h *= 1099511628211ull; }
+    return h;
+}
+
+static void remove_top_keep_order(st_hier *h)
+{
+    st_pool *pools[2] = { &h->map.darts, &h->map.verts };
+    unsigned l = h->map.top;
+    uint32_t nb[2] = { pools[0]->nblocks[l], pools[1]->nblocks[l] };
+    st_hier_remove_top(h);
+    for (int k = 0; k < 2; k++) {
+        st_pool *p = pools[k];
+        if (nb[k] > p->nspare) continue; /* the spare list could not grow: nothing pushed */
+        uint32_t *a = p->spare + (p->nspare - nb[k]);
+        for (uint32_t i = 0, j = nb[k] ? nb[k] - 1 : 0; i < j; i++, j--) { uint32_t t = a[i]; a[i] = a[j]; a[j] = t; }
+    }
+}
+
 int st_doc_add_level(st_doc *d, st_error *err)
 {
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
@@ -334,18 +366,26 @@ int st_doc_add_level(st_doc *d, st_error *err)
                        "and the memory budget is %.1f MiB",
                        d->h.map.top + 1, need, mib(need), mib(have), mib(d->mem_budget));
     double t0 = ed_now_ms();
-    st_undo_step *s = hier_step_begin(d, err);
-    if (!s) return ST_ERR_MEMORY;
-    int rc = st_hier_subdivide_to(&d->h, d->h.map.top + 1, err);
+    unsigned top = d->h.map.top;
+    int rc = st_hier_subdivide_to(&d->h, top + 1, err);
     if (rc) {
-        /* Back to the copy: the document is unchanged. */
-        ed_hier_swap(&d->h, &s->snap);
-        ed_step_free(s);
+        while (d->h.map.top > top) st_hier_remove_top(&d->h);
         topology_changed(d);
         return rc;
     }
+    /* No copy kept: undo removes the level, redo refines again (add_redo). */
+    st_undo_step *s = ed_step_new(ED_STEP_ADD);
+    s->edit_level = d->edit_level;
+    s->display_level = d->display_level;
+    s->box_old = d->box;
+    s->idsum = top_ids_sum(&d->h.map);
     d->display_level = d->h.map.top;
-    hier_step_end(d, s, t0);
+    s->display_after = d->display_level;
+    topology_changed(d);
+    d->last_update_at_ms = ed_now_ms();
+    d->last_update_ms = d->last_update_at_ms - t0;
+    ed_step_finish(s);
+    ed_push_step(d, s);
     return ST_OK;
 }
 
@@ -774,6 +814,18 @@ static void apply_hier_step(st_doc *d, st_undo_step *s)
     topology_changed(d);
 }
 
+/* Drops the steps after s (s is being redone). */
+static void drop_redo_after(st_doc *d, st_undo_step *s)
+{
+    uint32_t i = 0;
+    while (i < d->nundo && d->undo[i] != s) i++;
+    for (uint32_t k = i + 1; k < d->nundo; k++) {
+        d->undo_bytes -= d->undo[k]->bytes;
+        ed_step_free(d->undo[k]);
+    }
+    if (i < d->nundo) d->nundo = i + 1;
+}
+
 static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
 {
     switch (s->kind) {
@@ -786,6 +838,34 @@ static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
     case ED_STEP_HIER:
         apply_hier_step(d, s);
         return ST_OK;
+    case ED_STEP_ADD: {
+        double t0 = ed_now_ms();
+        if (!redo) {
+            remove_top_keep_order(&d->h);
+            d->edit_level = s->edit_level;
+            d->display_level = s->display_level;
+            d->box = s->box_old;
+        } else {
+            unsigned top = d->h.map.top;
+            int rc = st_hier_subdivide_to(&d->h, top + 1, err);
+            if (rc) {
+                while (d->h.map.top > top) st_hier_remove_top(&d->h);
+                topology_changed(d);
+                return rc;
+            }
+            if (top_ids_sum(&d->h.map) != s->idsum) {
+                /* Other ids than the first time: the steps after this one
+                 * name vertices that no longer exist; they go. */
+                drop_redo_after(d, s);
+                snprintf(d->note, sizeof d->note, "redo: the level came back with other ids; later steps dropped");
+            }
+            d->display_level = s->display_after;
+        }
+        topology_changed(d);
+        d->last_update_at_ms = ed_now_ms();
+        d->last_update_ms = d->last_update_at_ms - t0;
+        return ST_OK;
+    }
     case ED_STEP_BOX: {
         int rec = d->box_recording;
         d->box_recording = 1; /* no new step */
@@ -1095,6 +1175,11 @@ static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys)
 static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err)
 {
     disp_free(d);
+    st_scheme_id sid = d->h.scheme->id;
+    if (sid != ST_SCHEME_CATMARK && sid != ST_SCHEME_LOOP && sid != ST_SCHEME_BUTTERFLY && sid != ST_SCHEME_QUADTRI)
+        /* disp_pairs_build walks quadrisection sub-faces. */
+        return st_fail(err, ST_ERR_INVALID, "the interest box display is implemented for Catmull-Clark, Loop, "
+                       "Butterfly and quad/triangle, not %s", d->h.scheme->name);
     unsigned N = d->h.map.top, b = p->base_level < N ? p->base_level : N;
     /* The display starts as a copy of the model (then cut to the base). */
     size_t have = st_doc_model_bytes(d), need = ed_hier_bytes(&d->h);

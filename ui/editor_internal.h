@@ -16,7 +16,7 @@ void ed_hier_swap(st_hier *a, st_hier *b);
 size_t ed_hier_bytes(const st_hier *h);
 
 /* ---- undo.c ---- */
-enum ed_step_kind { ED_STEP_EDIT, ED_STEP_HIER, ED_STEP_BOX };
+enum ed_step_kind { ED_STEP_EDIT, ED_STEP_HIER, ED_STEP_BOX, ED_STEP_ADD };
 
 struct st_undo_step {
     int kind;
@@ -39,6 +39,11 @@ struct st_undo_step {
     const st_scheme *scheme;
     unsigned edit_level, display_level;
     int rebased;
+    /* ED_STEP_ADD (a level added by regular refinement): undo removes it,
+     * redo refines again with the pool's spare blocks in their first order,
+     * which gives the same ids; `idsum` checks it. */
+    uint64_t idsum;
+    unsigned display_after;
     /* ED_STEP_BOX */
     st_adapt_params box_old, box_new;
     int on_old, on_new;
