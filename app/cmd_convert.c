@@ -3,8 +3,8 @@
  *                        [--falloff W] [--no-restriction]]
  *                       [--normals | --no-normals]
  *
- * IN: a mesh (.obj .off .ply) or a session (.strata).  OUT: a mesh (.obj
- * .ply) or a session (.strata).
+ * IN: a mesh (.obj .off .ply .gltf .glb, app/mesh_any.h) or a session
+ * (.strata).  OUT: a mesh (.obj .ply .gltf .glb) or a session (.strata).
  *   - mesh -> session: builds the hierarchy (--scheme, default catmull-clark;
  *     --levels, default 0) or, with --box, the adaptive hierarchy, and saves
  *     it with the base mesh; the displayed level is the top.
@@ -16,11 +16,12 @@
  *   - mesh -> mesh: subdivision to --levels and export, like `strata
  *     subdivide`, or the adaptive mesh with --box.
  * Mesh output carries smooth vertex normals (OBJ `vn` with `f v//vn`, PLY nx
- * ny nz) unless --no-normals.
+ * ny nz) unless --no-normals; glTF files always have them (app/gltf_io.h).
  * Exit status: 0 done, 1 a file could not be read or written, 2 bad usage. */
 #include "adapt.h"
 #include "cli.h"
 #include "cli_common.h"
+#include "mesh_any.h"
 #include "session.h"
 
 #include <stdio.h>
@@ -58,7 +59,7 @@ static int usage(void)
     fprintf(stderr, "usage: strata convert IN OUT [--scheme S] [--levels N] [--level L] [--boundary edge-only|edge-and-corner]\n"
                     "                      [--box x0,y0,z0,x1,y1,z1 [--base-level B] [--max-level M] [--falloff W] [--no-restriction]]\n"
                     "                      [--normals | --no-normals]\n"
-                    "  IN: .obj .off .ply or .strata; OUT: .obj .ply or .strata\n");
+                    "  IN: .obj .off .ply .gltf .glb or .strata; OUT: .obj .ply .gltf .glb or .strata\n");
     return 2;
 }
 
@@ -119,15 +120,21 @@ static int parse(int argc, char **argv, conv_opts *o)
     return 0;
 }
 
+static int has_ext(const char *path, const char *ext)
+{
+    size_t n = strlen(path), k = strlen(ext);
+    if (n < k) return 0;
+    for (size_t i = 0; i < k; i++) {
+        char c = path[n - k + i];
+        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
+        if (c != ext[i]) return 0;
+    }
+    return 1;
+}
+
 static int is_mesh_out(const char *path)
 {
-    size_t n = strlen(path);
-    if (n < 4) return 0;
-    const char *e = path + n - 4;
-    char x[5];
-    for (int k = 0; k < 4; k++) x[k] = (char)((e[k] >= 'A' && e[k] <= 'Z') ? e[k] - 'A' + 'a' : e[k]);
-    x[4] = 0;
-    return !strcmp(x, ".obj") || !strcmp(x, ".ply");
+    return has_ext(path, ".obj") || has_ext(path, ".ply") || has_ext(path, ".gltf") || has_ext(path, ".glb");
 }
 
 /* Loads a mesh input into s: base mesh and hierarchy to `levels`. */
@@ -143,7 +150,7 @@ static int load_mesh(const conv_opts *o, st_session *s)
     st_notes notes = { 0 };
     st_mesh mesh;
     st_mesh_init(&mesh);
-    if (st_mesh_load_notes(o->in, &mesh, &notes, &err)) {
+    if (st_any_mesh_load(o->in, &mesh, &notes, &err)) {
         fprintf(stderr, "strata: %s\n", err.msg);
         st_notes_free(&notes);
         return 1;
@@ -175,7 +182,7 @@ int st_cmd_convert(int argc, char **argv)
     if (parse(argc, argv, &o)) return usage();
     int in_session = st_session_is_path(o.in), out_session = st_session_is_path(o.out);
     if (!out_session && !is_mesh_out(o.out)) {
-        fprintf(stderr, "strata convert: %s: unknown output format (expected .obj, .ply or .strata)\n", o.out);
+        fprintf(stderr, "strata convert: %s: unknown output format (expected .obj, .ply, .gltf, .glb or .strata)\n", o.out);
         return 2;
     }
     st_session s;
@@ -260,13 +267,13 @@ int st_cmd_convert(int argc, char **argv)
         fprintf(stderr, "strata: %s: out of memory computing normals\n", o.out);
         rc = 1;
     }
-    if (!rc && st_mesh_save(o.out, &out, &err)) {
+    if (!rc && st_any_mesh_save(o.out, &out, &err)) {
         fprintf(stderr, "strata: %s\n", err.msg);
         rc = 1;
     }
     if (!rc)
         printf("%s: %u faces, %u vertices, %s %u%s\n", o.out, out.nfaces, out.nverts, adaptive ? "adaptive, levels 0.." : "level", l,
-               o.normals ? ", with normals" : "");
+               o.normals || has_ext(o.out, ".gltf") || has_ext(o.out, ".glb") ? ", with normals" : "");
     st_mesh_free(&out);
     st_session_free(&s);
     return rc ? 1 : 0;
