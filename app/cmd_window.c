@@ -1,5 +1,6 @@
 /* strata [--scheme S] [--levels N] [--size WxH] [--replay EVENTS.txt]
- *        [--screenshot-dir DIR] [--compare-dir DIR] [--bench-interaction [--bench-steps N]] [FILE]
+ *        [--screenshot-dir DIR] [--compare-dir DIR] [--mem-budget MIB]
+ *        [--bench-interaction [--bench-steps N]] [FILE]
  *
  * Opens the modeller window (ui/window.h) on FILE, or on the default asset
  * (assets/torus.obj).  Exit status: 0, 1 (a replay expectation or a
@@ -19,11 +20,12 @@ static void usage(FILE *f)
 {
     fprintf(f,
         "usage: strata [--scheme S] [--levels N] [--size WxH] [--replay EVENTS.txt]\n"
-        "              [--screenshot-dir DIR] [--compare-dir DIR] [--bench-interaction [--bench-steps N]] [FILE]\n"
+        "              [--screenshot-dir DIR] [--compare-dir DIR] [--mem-budget MIB] [--bench-interaction [--bench-steps N]] [FILE]\n"
         "  opens the modeller window on FILE (default: the torus asset); F1 in the window lists the keys\n"
         "  --replay F          drive the window by the scripted events of F (see ui/replay.h), exit 1 if an expect fails\n"
         "  --screenshot-dir D  where the replay's screenshots go (default .)\n"
         "  --compare-dir D     compare each screenshot with D/NAME.png (exit 1 on a mismatch)\n"
+        "  --mem-budget MIB    refuse operations that would make the model larger (default: half the memory)\n"
         "  --bench-interaction time a drag of one level-2 vertex on a depth-6 hierarchy (default --levels 6)\n");
 }
 
@@ -69,7 +71,11 @@ int st_cmd_window(int argc, char **argv)
         } else if (!strcmp(a, "--replay")) o.replay = v;
         else if (!strcmp(a, "--screenshot-dir")) o.screenshot_dir = v;
         else if (!strcmp(a, "--compare-dir")) o.compare_dir = v;
-        else if (!strcmp(a, "--bench-steps")) {
+        else if (!strcmp(a, "--mem-budget")) {
+            char *end;
+            o.mem_budget_mb = strtod(v, &end);
+            if (end == v || *end || !(o.mem_budget_mb > 0)) { fprintf(stderr, "strata: --mem-budget wants MiB > 0, got '%s'\n", v); return 2; }
+        } else if (!strcmp(a, "--bench-steps")) {
             o.bench_steps = atoi(v);
             if (o.bench_steps < 1 || o.bench_steps > 100000) { fprintf(stderr, "strata: --bench-steps wants 1..100000\n"); return 2; }
         } else {

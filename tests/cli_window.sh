@@ -70,6 +70,11 @@ done
 # views, zoom, orbit and pan.
 run 0 "replay .* passed" "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/features.txt" "$ASSETS/torus.obj"
 
+# An operation over the memory budget is refused with the bytes it needs,
+# and the model stays as it was.
+printf 'wait 1\nkey ctrl+d\nkey ctrl+d\nexpect error 1\nexpect message refused\nexpect top 3\nquit\n' > "$TMP/mem.txt"
+run 0 "level 4 refused: it needs about [0-9]+ bytes" "$EXE" --size 320x240 --levels 2 --mem-budget 1 --replay "$TMP/mem.txt" "$ASSETS/torus.obj"
+
 # 2. A failing expectation exits non-zero and says which line.
 printf 'wait 2\nexpect top 99\nquit\n' > "$TMP/fail.txt"
 run 1 "fail.txt:2: expect top 99 failed: actual 2" "$EXE" --size 320x240 --levels 2 --replay "$TMP/fail.txt" "$ASSETS/cube.obj"

@@ -220,6 +220,9 @@ int st_window_bench(const st_win_opts *o)
     printf("  picking (ID buffer %dx%d, level-%u vertices over the level-%u surface): redraw after a view change %.1f ms,\n"
            "    hover lookup %.3f ms (median of %d, %d over a vertex), full-window rectangle %.1f ms (%lld visible vertices)\n",
            PW, PH, edit, top, pick_draw, hover_med, NHOVER, hits, rect_ms, (long long)nrect);
+    double ed_step = -1, ed_full = -1;
+    if (!st_doc_bench_drag(&doc, edit, (unsigned)n, &ed_step, &ed_full))
+        printf("  editor's geometry-only bench (st_doc_bench_drag): %.3f ms per step, full synthesis %.1f ms\n", ed_step, ed_full);
     FILE *la = fopen("/proc/loadavg", "r");
     char load[64] = "?";
     if (la) { if (!fgets(load, sizeof load, la)) load[0] = 0; fclose(la); load[strcspn(load, "\n")] = 0; }

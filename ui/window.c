@@ -217,12 +217,39 @@ static void draw_hud(st_app *a)
         msg = ask;
     }
     if (msg[0]) {
-        /* Shrunk to fit the width (long paths in error messages). */
-        float s = HUD_SCALE, w = st_hud_text_width(msg, s);
-        if (w > (float)a->fb_w - 16) { s *= ((float)a->fb_w - 16) / w; if (s < 0.7f) s = 0.7f; w = st_hud_text_width(msg, s); }
-        float y = (float)a->fb_h - 12 * s - 8;
-        st_hud_rect(u, 0, y - 4, w + 16, (float)a->fb_h, C_PANEL);
-        st_hud_text(u, 8, y, s, a->pending_scheme ? C_TEXT : a->msg_error ? C_ERR : C_OK, msg);
+        /* Wrapped at spaces to the window's width (long error messages). */
+        char lines[4][ST_MSG_LEN];
+        int nl = 0;
+        float maxw = (float)a->fb_w - 16, wmax = 0;
+        const char *p = msg;
+        while (*p && nl < 4) {
+            size_t n = strlen(p), cut = n;
+            if (st_hud_text_width(p, HUD_SCALE) > maxw && nl < 3) {
+                /* The longest prefix ending at a space that fits. */
+                char tmp[ST_MSG_LEN];
+                size_t best = 0;
+                for (size_t i = 1; i < n && i < sizeof tmp; i++) {
+                    if (p[i] != ' ') continue;
+                    memcpy(tmp, p, i);
+                    tmp[i] = 0;
+                    if (st_hud_text_width(tmp, HUD_SCALE) > maxw) break;
+                    best = i;
+                }
+                if (best) cut = best;
+            }
+            if (cut >= sizeof lines[0]) cut = sizeof lines[0] - 1;
+            memcpy(lines[nl], p, cut);
+            lines[nl][cut] = 0;
+            float w = st_hud_text_width(lines[nl], HUD_SCALE);
+            if (w > wmax) wmax = w;
+            nl++;
+            p += cut;
+            while (*p == ' ') p++;
+        }
+        float y = (float)a->fb_h - nl * HUD_LINE - 6;
+        st_hud_rect(u, 0, y - 4, wmax + 16, (float)a->fb_h, C_PANEL);
+        for (int i = 0; i < nl; i++)
+            st_hud_text(u, 8, y + i * HUD_LINE, HUD_SCALE, a->pending_scheme ? C_TEXT : a->msg_error ? C_ERR : C_OK, lines[i]);
     }
 
     if (a->help) {
@@ -1196,6 +1223,7 @@ int st_window_main(const st_win_opts *o)
     a->box_handle = -1;
     a->masked_times = o->replay != NULL;
     st_doc_init(&a->doc);
+    if (o->mem_budget_mb > 0) a->doc.mem_budget = (size_t)(o->mem_budget_mb * 1048576.0);
     default_asset(a);
 
     st_replay *rp = NULL;

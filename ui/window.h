@@ -31,6 +31,7 @@ typedef struct st_win_opts {
     const char *compare_dir;   /* replay screenshots compared with DIR/NAME */
     int bench;                 /* --bench-interaction */
     int bench_steps;           /* drag steps of the benchmark */
+    double mem_budget_mb;      /* > 0: the document's memory budget (MiB) */
 } st_win_opts;
 
 enum st_tool { ST_TOOL_SELECT = -1 };   /* else an st_brush_tool */
