@@ -395,11 +395,71 @@ int st_doc_remove_top(st_doc *d, st_error *err)
     if (d->h.map.top == 0) return st_fail(err, ST_ERR_INVALID, "only the control mesh is left");
     finish_active(d);
     double t0 = ed_now_ms();
-    st_undo_step *s = hier_step_begin(d, err);
-    if (!s) return ST_ERR_MEMORY;
-    st_hier_remove_top(&d->h);
+    /* Kept for undo: the level's positions and details (no copy of the
+     * rest: the topology comes back from refinement, same ids). */
+    st_hier *h = &d->h;
+    unsigned top = h->map.top;
+    st_undo_step *s = ed_step_new(ED_STEP_RMTOP);
+    s->idsum = top_ids_sum(&h->map);
+    uint32_t n = 0;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(&h->map, top, &it); v != ST_NIL; v = st_vertex_next(&h->map, top, &it)) n++;
+    s->vids = malloc((size_t)(n ? n : 1) * sizeof *s->vids);
+    s->vpos = malloc((size_t)(n ? n : 1) * sizeof *s->vpos);
+    if (h->detail[top]) s->det = malloc((size_t)h->detail_cap[top] * 3 * sizeof *s->det);
+    if (!s->vids || !s->vpos || (h->detail[top] && !s->det)) {
+        ed_step_free(s);
+        return st_fail(err, ST_ERR_MEMORY, "out of memory keeping the level for undo");
+    }
+    for (uint32_t v = st_vertex_first(&h->map, top, &it); v != ST_NIL; v = st_vertex_next(&h->map, top, &it)) {
+        s->vids[s->nvids] = v;
+        memcpy(s->vpos[s->nvids++], st_pos(&h->map, v, top), sizeof s->vpos[0]);
+    }
+    if (h->detail[top]) {
+        memcpy(s->det, h->detail[top], (size_t)h->detail_cap[top] * 3 * sizeof *s->det);
+        s->detcap = h->detail_cap[top];
+    }
+    s->edit_level = d->edit_level;
+    s->display_level = d->display_level;
+    s->box_old = d->box;
+    remove_top_keep_order(h);
     clamp_levels(d);
-    hier_step_end(d, s, t0);
+    s->edit_after = d->edit_level;
+    s->display_after = d->display_level;
+    topology_changed(d);
+    d->last_update_at_ms = ed_now_ms();
+    d->last_update_ms = d->last_update_at_ms - t0;
+    ed_step_finish(s);
+    ed_push_step(d, s);
+    return ST_OK;
+}
+
+/* Undo of a top removal: the level again, then its values. */
+static int rmtop_undo(st_doc *d, st_undo_step *s, st_error *err)
+{
+    st_hier *h = &d->h;
+    unsigned top = h->map.top;
+    int rc = st_hier_subdivide_to(h, top + 1, err);
+    if (rc) {
+        while (h->map.top > top) st_hier_remove_top(h);
+        return rc;
+    }
+    if (top_ids_sum(&h->map) != s->idsum) {
+        remove_top_keep_order(h);
+        return st_fail(err, ST_ERR_INVALID, "undo: the level came back with other ids; not restored");
+    }
+    unsigned L = top + 1;
+    for (uint32_t i = 0; i < s->nvids; i++) st_hier_write_pos(h, s->vids[i], L, s->vpos[i]);
+    free(h->detail[L]);
+    h->detail[L] = NULL;
+    h->detail_cap[L] = 0;
+    if (s->det) {
+        double *p = malloc((size_t)s->detcap * 3 * sizeof *p);
+        if (!p) return st_fail(err, ST_ERR_MEMORY, "out of memory");
+        memcpy(p, s->det, (size_t)s->detcap * 3 * sizeof *p);
+        h->detail[L] = p;
+        h->detail_cap[L] = s->detcap;
+    }
     return ST_OK;
 }
 
@@ -838,6 +898,24 @@ static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
     case ED_STEP_HIER:
         apply_hier_step(d, s);
         return ST_OK;
+    case ED_STEP_RMTOP: {
+        double t0 = ed_now_ms();
+        if (!redo) {
+            int rc = rmtop_undo(d, s, err);
+            if (rc) { topology_changed(d); return rc; }
+            d->edit_level = s->edit_level;
+            d->display_level = s->display_level;
+            d->box = s->box_old;
+        } else {
+            remove_top_keep_order(&d->h);
+            d->edit_level = s->edit_after;
+            d->display_level = s->display_after;
+        }
+        topology_changed(d);
+        d->last_update_at_ms = ed_now_ms();
+        d->last_update_ms = d->last_update_at_ms - t0;
+        return ST_OK;
+    }
     case ED_STEP_ADD: {
         double t0 = ed_now_ms();
         if (!redo) {

@@ -16,7 +16,7 @@ void ed_hier_swap(st_hier *a, st_hier *b);
 size_t ed_hier_bytes(const st_hier *h);
 
 /* ---- undo.c ---- */
-enum ed_step_kind { ED_STEP_EDIT, ED_STEP_HIER, ED_STEP_BOX, ED_STEP_ADD };
+enum ed_step_kind { ED_STEP_EDIT, ED_STEP_HIER, ED_STEP_BOX, ED_STEP_ADD, ED_STEP_RMTOP };
 
 struct st_undo_step {
     int kind;
@@ -43,7 +43,14 @@ struct st_undo_step {
      * redo refines again with the pool's spare blocks in their first order,
      * which gives the same ids; `idsum` checks it. */
     uint64_t idsum;
-    unsigned display_after;
+    unsigned display_after, edit_after;
+    /* ED_STEP_RMTOP (the finest level removed): undo refines again the same
+     * way (same ids, idsum) and writes back the level's positions and
+     * details kept here. */
+    uint32_t *vids, nvids;
+    double (*vpos)[3];
+    double *det;
+    uint32_t detcap;
     /* ED_STEP_BOX */
     st_adapt_params box_old, box_new;
     int on_old, on_new;

@@ -34,6 +34,9 @@ void ed_step_free(st_undo_step *s)
     free(s->hidx);
     free(s->moved);
     free(s->last);
+    free(s->vids);
+    free(s->vpos);
+    free(s->det);
     if (s->kind == ED_STEP_HIER) st_hier_free(&s->snap);
     free(s);
 }
@@ -245,4 +248,5 @@ void ed_step_finish(st_undo_step *s)
     s->hcap = 0;
     s->bytes = sizeof *s + (size_t)s->n * (sizeof *s->key + 2 * sizeof *s->oldv) + (size_t)s->nmoved * sizeof *s->moved;
     if (s->kind == ED_STEP_HIER) s->bytes += ed_hier_bytes(&s->snap);
+    s->bytes += (size_t)s->nvids * (sizeof *s->vids + sizeof *s->vpos) + (size_t)s->detcap * 3 * sizeof(double);
 }
