@@ -3,6 +3,7 @@
 #include "pool.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,7 +12,7 @@
 /* ---- CRC-32 ------------------------------------------------------------------ */
 
 static uint32_t crc_table[8][256];
-static int crc_ready;
+static pthread_once_t crc_once = PTHREAD_ONCE_INIT;
 
 static void crc_init(void)
 {
@@ -23,12 +24,11 @@ static void crc_init(void)
     for (uint32_t i = 0; i < 256; i++)
         for (int t = 1; t < 8; t++)
             crc_table[t][i] = (crc_table[t - 1][i] >> 8) ^ crc_table[0][crc_table[t - 1][i] & 0xff];
-    crc_ready = 1;
 }
 
 uint32_t st_crc32(uint32_t crc, const void *data, size_t n)
 {
-    if (!crc_ready) crc_init();
+    pthread_once(&crc_once, crc_init); /* saves may run on a worker thread (autosave) */
     const unsigned char *p = data;
     uint32_t c = ~crc;
     /* Slicing by 8 (byte order independent: the bytes are combined by hand). */

@@ -166,15 +166,21 @@ static void w_params(st_bw *w, const st_adapt_params *p)
     st_bw_u8(w, p->no_restriction != 0);
 }
 
+static void w_store(st_bw *w, const st_adapt_saved *e, uint32_t n)
+{
+    st_bw_u32(w, n);
+    for (uint32_t i = 0; i < n; i++) {
+        st_bw_u64(w, e[i].path);
+        st_bw_u32(w, e[i].meta);
+        for (int k = 0; k < 3; k++) st_bw_f64(w, e[i].d[k]);
+    }
+}
+
 static void w_adapt(st_bw *w, const st_session_ref *r)
 {
     const st_adapt *a = r->adapt;
-    st_bw_u32(w, a->nsaved);
-    for (uint32_t i = 0; i < a->nsaved; i++) {
-        st_bw_u64(w, a->saved[i].path);
-        st_bw_u32(w, a->saved[i].meta);
-        for (int k = 0; k < 3; k++) st_bw_f64(w, a->saved[i].d[k]);
-    }
+    w_store(w, a->saved, a->nsaved);
+    w_store(w, a->parked, a->nparked);
     st_bw_u32(w, a->base_faces.n);
     for (uint32_t i = 0; i < a->base_faces.n; i++) st_bw_u32(w, a->base_faces.d[i]);
     w_params(w, &a->prev);
@@ -481,6 +487,30 @@ static int r_params(st_br *r, st_adapt_params *p, const char *what)
     return 0;
 }
 
+/* A sorted store of details (st_adapt saved / parked). */
+static int r_store(load_ctx *c, st_br *r, st_adapt_saved **out, uint32_t *nout, uint32_t *cap, const char *what)
+{
+    uint32_t n = st_br_u32(r);
+    if (st_br_need(r, n, 36, what)) return -1;
+    st_adapt_saved *a = malloc((size_t)(n ? n : 1) * sizeof *a);
+    if (!a) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+    *out = a;
+    *cap = n ? n : 1;
+    for (uint32_t i = 0; i < n; i++) {
+        st_adapt_saved *e = &a[i];
+        e->path = st_br_u64(r);
+        e->meta = st_br_u32(r);
+        for (int k = 0; k < 3; k++) e->d[k] = st_br_f64(r);
+        *nout = i + 1;
+        if (r->failed) return -1;
+        if (!isfinite(e->d[0]) || !isfinite(e->d[1]) || !isfinite(e->d[2]))
+            return st_br_fail(r, "%s: entry %u is not finite", what, i);
+        if (i && !(a[i - 1].path < e->path || (a[i - 1].path == e->path && a[i - 1].meta < e->meta)))
+            return st_br_fail(r, "%s: entries not sorted (entry %u)", what, i);
+    }
+    return 0;
+}
+
 static int r_adapt(load_ctx *c, st_br *r)
 {
     st_session *s = &c->s[0];
@@ -488,26 +518,9 @@ static int r_adapt(load_ctx *c, st_br *r)
     memset(a, 0, sizeof *a);
     a->h = &s->h;
     s->has_adapt = 1;
-    st_scheme_id id = s->h.scheme->id;
-    if (id != ST_SCHEME_CATMARK && id != ST_SCHEME_LOOP && id != ST_SCHEME_BUTTERFLY && id != ST_SCHEME_QUADTRI)
-        return st_br_fail(r, "adaptive state for the %s scheme, which has no adaptive refinement", s->h.scheme->name);
-    uint32_t n = st_br_u32(r);
-    if (st_br_need(r, n, 36, "saved details")) return -1;
-    a->saved = malloc((size_t)(n ? n : 1) * sizeof *a->saved);
-    if (!a->saved) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
-    a->capsaved = n ? n : 1;
-    for (uint32_t i = 0; i < n; i++) {
-        st_adapt_saved *e = &a->saved[i];
-        e->path = st_br_u64(r);
-        e->meta = st_br_u32(r);
-        for (int k = 0; k < 3; k++) e->d[k] = st_br_f64(r);
-        a->nsaved = i + 1;
-        if (r->failed) return -1;
-        if (!isfinite(e->d[0]) || !isfinite(e->d[1]) || !isfinite(e->d[2]))
-            return st_br_fail(r, "saved detail %u is not finite", i);
-        if (i && !(a->saved[i - 1].path < e->path || (a->saved[i - 1].path == e->path && a->saved[i - 1].meta < e->meta)))
-            return st_br_fail(r, "saved details are not sorted (entry %u)", i);
-    }
+    if (r_store(c, r, &a->saved, &a->nsaved, &a->capsaved, "saved details") ||
+        r_store(c, r, &a->parked, &a->nparked, &a->capparked, "parked details"))
+        return -1;
     uint32_t nb = st_br_u32(r);
     if (st_br_need(r, nb, 4, "base faces")) return -1;
     for (uint32_t i = 0; i < nb; i++) {
@@ -652,6 +665,10 @@ static int finish(load_ctx *c)
     if ((id == ST_SCHEME_LOOP || id == ST_SCHEME_BUTTERFLY || id == ST_SCHEME_SQRT3) && !faces_are_triangles(m, 0))
         return st_fail(c->err, ST_ERR_INVALID, "%s: the %s scheme needs a triangle control mesh", name, h->scheme->name);
     if (s->has_adapt) {
+        /* The scheme must have adaptive refinement in this build. */
+        st_adapt probe;
+        if (st_adapt_init(&probe, h, &e2)) return st_fail(c->err, ST_ERR_INVALID, "%s: adaptive state: %s", name, e2.msg);
+        st_adapt_free(&probe);
         /* One base dart per face of level 0. */
         int fb = st_marker_reserve(m);
         int rc = fb < 0 ? -1 : 0;

@@ -199,11 +199,21 @@ static void check_adaptive(st_scheme_id id, void (*make)(st_mesh *))
     CHECK(st_adapt_init(&a, &h, &err) == ST_OK);
     st_adapt_params p = box_at(0.6, 3);
     CHECKF(st_adapt_update(&a, &p, &err) == ST_OK, "%s", err.msg);
-    /* Details somewhere in the refined region, then a coarsening move so that
-     * saved details exist. */
+    /* Details at every level of the refined region, then a move that
+     * coarsens part of it, so that saved and parked details exist. */
+    uint64_t rng = 17 + id;
+    for (unsigned l = 1; l <= h.map.top; l++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&h.map, l, &it); v != ST_NIL; v = st_vertex_next(&h.map, l, &it)) {
+            double d[3];
+            for (int k = 0; k < 3; k++) d[k] = 0.01 * ((double)(tl_rand(&rng) % 2001) / 1000.0 - 1.0);
+            st_hier_set_detail(&h, l, v, d);
+        }
+    }
+    st_adapt_synthesize(&a, 0);
     edit(&h, 1, 3);
     st_adapt_synthesize(&a, 1);
-    p = box_at(-0.6, 3);
+    p = box_at(0.2, 3);
     CHECKF(st_adapt_update(&a, &p, &err) == ST_OK, "%s", err.msg);
     st_session_ref r = { .h = &h, .adapt = &a, .box = &p, .box_on = 1, .edit_level = 0, .display_level = h.map.top };
     st_session s;
@@ -214,7 +224,8 @@ static void check_adaptive(st_scheme_id id, void (*make)(st_mesh *))
     round_trip(what, &r, &s, &bytes, &n);
     if (!bytes) { st_adapt_free(&a); st_hier_free(&h); return; }
     CHECK(s.has_adapt && s.adapt.h == &s.h && s.box_on);
-    CHECK(s.adapt.nsaved == a.nsaved);
+    CHECK(s.adapt.nsaved == a.nsaved && s.adapt.nparked == a.nparked);
+    printf("%s: %zu bytes, levels 0..%u, %u saved and %u parked details\n", what, n, h.map.top, a.nsaved, a.nparked);
     CHECK(!memcmp(&s.box, &p, sizeof p));
     /* The same box moves on both: same bytes afterwards (incremental path). */
     double xs[] = { 0.1, 0.7, -0.3 };
