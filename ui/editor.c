@@ -12,9 +12,13 @@
  *     on, edit, box off, box on always shows the model (no detail is ever
  *     lost or rotated by coarsening: the model never coarsens).
  *   - Undo: edit steps store old/new values of exactly what st_hier_move
- *     wrote (undo.c); level and scheme changes store the whole other
- *     hierarchy (a bit-exact copy, swapped in and out, O(1) undo/redo, ids
- *     preserved); box steps store old/new parameters.  The history is
+ *     wrote (undo.c).  Adding a level stores nothing: undo removes it and
+ *     redo refines again, taking the id blocks in their first order, so the
+ *     ids are the same (checked).  Removing the finest level stores that
+ *     level's positions and details, restored after the same refinement.
+ *     Rebase and scheme changes store the whole other hierarchy (a
+ *     bit-exact copy, swapped in and out, ids preserved).  Box steps store
+ *     old/new parameters.  The history is
  *     bounded by undo_budget bytes; the oldest steps go first, and a single
  *     step larger than the budget is not kept (d->note says so).
  *   - A new level's memory is estimated from the current top level's

@@ -25,9 +25,11 @@
  *   - every operation that changes the model is one undo step; a drag or a
  *     brush stroke (begin .. end) is one step however many updates it had;
  *     undo and redo restore positions and details bit for bit (undo.c);
- *     level and scheme steps keep a whole copy of the other hierarchy, so
- *     the history is bounded by undo_budget (oldest steps dropped first,
- *     `note` says so).
+ *     adding a level keeps nothing (undo removes it, redo refines again
+ *     with the same ids), removing the finest keeps that level's positions
+ *     and details, rebase and scheme changes keep a whole copy of the other
+ *     hierarchy; the history is bounded by undo_budget (oldest steps
+ *     dropped first, `note` says so).
  *
  * Errors: operations return 0, or non-zero with err filled and the document
  * unchanged (a failed open keeps the current model).  Non-fatal messages
