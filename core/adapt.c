@@ -1,5 +1,6 @@
 /* Adaptive refinement and simplification (adapt.h). */
 #include "adapt.h"
+#include "adapt_internal.h"
 #include "crease.h"
 #include "map_mesh.h"
 #include "hier_internal.h"
@@ -273,9 +274,10 @@ int st_adapt_init(st_adapt *a, st_hier *h, st_error *err)
     memset(a, 0, sizeof *a);
     a->h = h;
     st_scheme_id id = h->scheme->id;
-    if (id == ST_SCHEME_SQRT3 || id == ST_SCHEME_DOOSABIN)
+    if (id == ST_SCHEME_DOOSABIN)
         return st_fail(err, ST_ERR_INVALID, "adaptive refinement of %s is not implemented yet (Catmull-Clark, Loop, "
-                       "Butterfly and quad/triangle are)", h->scheme->name);
+                       "Butterfly, quad/triangle and sqrt3 are)", h->scheme->name);
+    if (id == ST_SCHEME_SQRT3 && st_adapt_sqrt3_check(h, err)) return err ? err->code : ST_ERR_INVALID;
     /* The base faces (level 0 never changes while adapting): one dart each. */
     st_map *m = &h->map;
     int fb = st_marker_reserve(m);
@@ -299,12 +301,7 @@ void st_adapt_free(st_adapt *a)
 
 /* ---- geometry of a freshly subdivided face ------------------------------------ */
 
-typedef struct place_ctx {
-    st_adapt *a;
-    unsigned L;
-    const uint32_t *created;   /* vertices made by this subdivision */
-    uint32_t ncreated;
-} place_ctx;
+typedef st_adapt_place_ctx place_ctx;
 
 static int was_created(const place_ctx *c, uint32_t v)
 {
@@ -356,7 +353,7 @@ static void restore_details(st_adapt *a, const st_stencil *s, unsigned L, int ki
 
 /* New vertices get their saved detail back (or zero); old vertices keep the
  * detail they have at level L, or get back the one parked for L. */
-static void place_sink(void *ctx, const st_stencil *s)
+void st_adapt_place_sink(void *ctx, const st_stencil *s)
 {
     place_ctx *c = ctx;
     st_hier *h = c->a->h;
@@ -394,7 +391,7 @@ static void decay_sharpness(st_hier *h, uint32_t d, unsigned L)
 
 /* ---- Algorithm 1 ------------------------------------------------------------------ */
 
-static int ensure_level(st_hier *h, unsigned L, st_error *err)
+int st_adapt_ensure_level(st_hier *h, unsigned L, st_error *err)
 {
     while (h->map.top < L)
         if (st_level_add(&h->map, err)) return err ? err->code : ST_ERR_RANGE;
@@ -439,12 +436,13 @@ int st_adapt_subdivide_face(st_adapt *a, uint32_t d, unsigned i, int restricted,
     unsigned L = i + 1;
     if (st_is_boundary(m, d)) return st_fail(err, ST_ERR_INVALID, "adapt: dart %u is on a hole", d);
     if (L >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "adapt: level %u is beyond the limit", L);
+    if (h->scheme->id == ST_SCHEME_SQRT3) return st_adapt_sqrt3_subdivide(a, d, i, err);
     if (st_face_is_subdivided(m, d, i)) return ST_OK;
     if (restricted) {
         int rc = restrict_neighbours(a, d, i, err);
         if (rc) return rc;
     }
-    int rc = ensure_level(h, L, err);
+    int rc = st_adapt_ensure_level(h, L, err);
     if (rc) return rc;
     unsigned n = st_face_degree(m, d, i);
     if (n > 255) return st_fail(err, ST_ERR_RANGE, "adapt: face of %u sides", n);
@@ -470,7 +468,7 @@ int st_adapt_subdivide_face(st_adapt *a, uint32_t d, unsigned i, int restricted,
         created[ncreated++] = st_vert(m, st_phi1(m, st_phi1(m, d, L), L), L);
     }
     place_ctx c = { a, L, created, ncreated };
-    h->scheme->emit(h, L, &d, 1, place_sink, &c);
+    h->scheme->emit(h, L, &d, 1, st_adapt_place_sink, &c);
     a->touched++;
     return ST_OK;
 }
@@ -528,6 +526,7 @@ static void get_outline(const st_map *m, uint32_t d, unsigned i, outline *o)
 int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
 {
     st_map *m = &a->h->map;
+    if (a->h->scheme->id == ST_SCHEME_SQRT3) return st_adapt_sqrt3_can_simplify(a, d, i);
     unsigned L = i + 1;
     if (!st_face_is_subdivided(m, d, i)) return 0;
     unsigned deg = st_face_degree(m, d, i);
@@ -631,6 +630,7 @@ int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
 {
     st_hier *h = a->h;
     st_map *m = &h->map;
+    if (h->scheme->id == ST_SCHEME_SQRT3) return st_adapt_sqrt3_simplify(a, d, i, err);
     unsigned L = i + 1;
     unsigned deg = st_face_degree(m, d, i);
     if (deg > 256) return st_fail(err, ST_ERR_RANGE, "adapt: face of %u sides", deg);
@@ -763,7 +763,9 @@ static void faces_of_level(st_map *m, unsigned l, st_dart_list *out)
 static int boxes_only_moved(const st_adapt *a, const st_adapt_params *p)
 {
     const st_adapt_params *q = &a->prev;
-    return a->has_prev && q->has_box && p->has_box && q->base_level == p->base_level && q->max_level == p->max_level &&
+    /* √3 always takes the full path (adapt_sqrt3.c: its forced refinements
+     * reach further than the three rings region_roots adds). */
+    return a->has_prev && a->h->scheme->id != ST_SCHEME_SQRT3 && q->has_box && p->has_box && q->base_level == p->base_level && q->max_level == p->max_level &&
            q->falloff == p->falloff && q->flatness == 0 && p->flatness == 0 && q->no_restriction == p->no_restriction;
 }
 
@@ -931,3 +933,12 @@ int st_adapt_mesh(st_adapt *a, st_mesh *out, st_error *err)
 {
     return st_map_to_mesh(&a->h->map, a->h->map.top, out, err);
 }
+
+/* ---- shared with adapt_sqrt3.c (adapt_internal.h) ------------------------------- */
+
+void st_adapt_save_centre_detail(st_adapt *a, unsigned L, uint32_t dart, uint32_t v)
+{
+    save_detail(a, L, KIND_CENTRE, dart, v);
+}
+
+void st_adapt_park_detail(st_adapt *a, uint32_t d, unsigned l) { park_detail(a, d, l); }

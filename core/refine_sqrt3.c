@@ -42,10 +42,23 @@ uint32_t st_sqrt3_centre(const st_map *m, uint32_t f, unsigned L)
         x = st_phi1(m, x, l);
     } while (x != f);
     if (boundary && st_sqrt3_boundary_step(L)) return ST_NIL; /* boundary fan */
-    /* A flipped edge: β0(x) now starts at the centre of x's old face. */
-    if (interior != ST_NIL) return st_vert(m, st_beta0(m, interior, L), L);
-    /* Every edge is a boundary edge (an isolated triangle): nothing was
-     * flipped, and φ1⁻¹(f) starts at the centre. */
+    /* A flipped edge: β0(x) now starts at the centre of x's old face.  A
+     * flipped dart starts at a centre, not at its level-l vertex; adaptive
+     * refinement (adapt_sqrt3.c) leaves the edges toward unrefined
+     * neighbours unflipped, so the first interior dart is not enough there.
+     * (In a regular level every interior edge is flipped: the first
+     * interior dart answers, as it always did.) */
+    if (interior != ST_NIL) {
+        x = interior;
+        do {
+            if (!st_is_boundary(m, st_beta0(m, x, l)) && st_vert(m, x, L) != st_vert(m, x, l))
+                return st_vert(m, st_beta0(m, x, L), L);
+            x = st_phi1(m, x, l);
+        } while (x != interior);
+    }
+    /* No edge flipped (an isolated triangle, or an adaptive face whose
+     * neighbours are all unrefined): the face of f at level L is
+     * (f, ., φ1⁻¹(f)) and φ1⁻¹(f) starts at the centre. */
     return st_vert(m, st_phi_1(m, f, L), L);
 }
 

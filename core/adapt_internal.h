@@ -1,0 +1,39 @@
+/* Helpers of adapt.c shared with the √3 path (adapt_sqrt3.c).  Not part of
+ * the public API (adapt.h). */
+#ifndef ST_ADAPT_INTERNAL_H
+#define ST_ADAPT_INTERNAL_H
+
+#include "adapt.h"
+
+/* Context of st_adapt_place_sink: the vertices a subdivision just created
+ * get their saved details back (or zero); old vertices keep theirs or get
+ * back the ones parked for level L. */
+typedef struct st_adapt_place_ctx {
+    st_adapt *a;
+    unsigned L;
+    const uint32_t *created;   /* vertices made by this subdivision */
+    uint32_t ncreated;
+} st_adapt_place_ctx;
+
+/* Stencil sink of a freshly subdivided face (ctx: st_adapt_place_ctx). */
+void st_adapt_place_sink(void *ctx, const st_stencil *s);
+
+/* Moves the details of the centre v created at L in the face of `dart`
+ * (level L-1) into the saved store (world space, refinement-tree address). */
+void st_adapt_save_centre_detail(st_adapt *a, unsigned L, uint32_t dart, uint32_t v);
+
+/* Parks the level-(l+1) detail of the vertex of d (level l) as a world-space
+ * vector before its level-l vertex cell changes. */
+void st_adapt_park_detail(st_adapt *a, uint32_t d, unsigned l);
+
+/* Adds levels until top >= L. */
+int st_adapt_ensure_level(st_hier *h, unsigned L, st_error *err);
+
+/* √3 (adapt_sqrt3.c): the same entry points as the quadrisection code, for
+ * closed triangle meshes; the one-level restriction is always applied. */
+int st_adapt_sqrt3_check(const st_hier *h, st_error *err);
+int st_adapt_sqrt3_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err);
+int st_adapt_sqrt3_can_simplify(st_adapt *a, uint32_t d, unsigned i);
+int st_adapt_sqrt3_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err);
+
+#endif
