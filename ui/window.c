@@ -1095,6 +1095,23 @@ void st_win_on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     key_press(a, key, mods);
 }
 
+/* What GLFW calls: the handlers above, except during a replay, when only
+ * the script's events (the same handlers, called by replay.c) count, so
+ * that a stray pointer of the X server cannot change the result
+ * ($STRATA_REPLAY_LIVE=1 lets real input through as well). */
+static int live_input(GLFWwindow *w)
+{
+    static int live = -1;
+    if (live < 0) { const char *e = getenv("STRATA_REPLAY_LIVE"); live = e && e[0] == '1'; }
+    return !app_of(w)->replay || live;
+}
+
+static void glfw_key(GLFWwindow *w, int key, int sc, int action, int mods) { if (live_input(w)) st_win_on_key(w, key, sc, action, mods); }
+static void glfw_button(GLFWwindow *w, int b, int action, int mods) { if (live_input(w)) st_win_on_mouse_button(w, b, action, mods); }
+static void glfw_cursor(GLFWwindow *w, double x, double y) { if (live_input(w)) st_win_on_cursor(w, x, y); }
+static void glfw_scroll(GLFWwindow *w, double dx, double dy) { if (live_input(w)) st_win_on_scroll(w, dx, dy); }
+static void glfw_drop(GLFWwindow *w, int n, const char **p) { if (live_input(w)) st_win_on_drop(w, n, p); }
+
 /* ---- screenshots ------------------------------------------------------------------ */
 
 static void shot_path(char *out, size_t n, const char *dir, const char *name, const char *suffix)
@@ -1246,11 +1263,11 @@ int st_window_main(const st_win_opts *o)
         free(a);
         return 1;
     }
-    glfwSetKeyCallback(a->win, st_win_on_key);
-    glfwSetMouseButtonCallback(a->win, st_win_on_mouse_button);
-    glfwSetCursorPosCallback(a->win, st_win_on_cursor);
-    glfwSetScrollCallback(a->win, st_win_on_scroll);
-    glfwSetDropCallback(a->win, st_win_on_drop);
+    glfwSetKeyCallback(a->win, glfw_key);
+    glfwSetMouseButtonCallback(a->win, glfw_button);
+    glfwSetCursorPosCallback(a->win, glfw_cursor);
+    glfwSetScrollCallback(a->win, glfw_scroll);
+    glfwSetDropCallback(a->win, glfw_drop);
     glfwSetFramebufferSizeCallback(a->win, st_win_on_resize);
     glfwSwapInterval(rp ? 0 : 1);
     float bb[6] = { -1, -1, -1, 1, 1, 1 };
