@@ -70,6 +70,12 @@ done
 # views, zoom, orbit and pan.
 run 0 "replay .* passed" "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/features.txt" "$ASSETS/torus.obj"
 
+# No FILE: the default asset; --scheme picks the scheme at open.
+printf 'wait 1\nexpect scheme catmull-clark\nexpect faces 1536\nquit\n' > "$TMP/default.txt"
+run 0 "opened torus.obj" "$EXE" --size 320x240 --levels 2 --replay "$TMP/default.txt"
+printf 'wait 1\nexpect scheme loop\nexpect top 3\nexpect faces 512\nquit\n' > "$TMP/loop.txt"
+run 0 "opened octahedron.obj \(loop, 3 levels\)" "$EXE" --size 320x240 --scheme loop --levels 3 --replay "$TMP/loop.txt" "$ASSETS/octahedron.obj"
+
 # An operation over the memory budget is refused with the bytes it needs,
 # and the model stays as it was.
 printf 'wait 1\nkey ctrl+d\nkey ctrl+d\nexpect error 1\nexpect message refused\nexpect top 3\nquit\n' > "$TMP/mem.txt"

@@ -28,7 +28,8 @@
  *   quit                        end (success); the end of the file too
  *
  * A failing expect prints the line and the actual value and the process
- * exits 1. */
+ * exits 1.  During a replay the window ignores real input (an X server's
+ * stray pointer would change the run) unless STRATA_REPLAY_LIVE=1. */
 #ifndef ST_REPLAY_H
 #define ST_REPLAY_H
 

@@ -384,6 +384,9 @@ int st_app_open(st_app *a, const char *path)
     a->op = ST_OP_NONE;
     st_app_sync(a);
     frame_model(a);
+    char title[512];
+    snprintf(title, sizeof title, "Strata - %s", file_base(path));
+    glfwSetWindowTitle(a->win, title);
     char t[32];
     st_app_message(a, 0, "opened %s (%s, %u levels) in %s", file_base(path), a->doc.scheme->name, a->doc.h.map.top,
                    fmt_ms(a, now_ms() - t0, t, sizeof t));
