@@ -727,6 +727,8 @@ static void test_mirror(void)
 
 /* ---- undo/redo of random sequences ------------------------------------------------------- */
 
+static double display_vs_model(const st_doc *d);
+
 static void random_op(st_doc *d, uint64_t *rng, int allow_box)
 {
     st_error err;
@@ -805,6 +807,10 @@ static void test_undo_random(const char *path, const char *scheme, uint64_t seed
     for (int i = 0; i < OPS; i++) {
         uint32_t before = d.undo_pos;
         random_op(&d, &rng, allow_box);
+        if (d.box_on) {
+            double dev = display_vs_model(&d);
+            CHECKF(d.disp_ok && dev == 0, "%s (%s): box display differs from the model by %g", path, scheme, dev);
+        }
         if (d.undo_pos != before) {
             CHECK(d.undo_pos == before + 1);
             snap_take(&d, &s[nsnap++]);

@@ -264,7 +264,8 @@ int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
     rc = st_hier_init(&h, &mesh, sc, &opts, err);
     st_mesh_free(&mesh);
     if (rc) return rc;
-    rc = build_levels(&h, d->h.map.top, d->mem_budget, 0, err);
+    /* The old hierarchy stays (in the undo step) while the new one grows. */
+    rc = build_levels(&h, d->h.map.top, d->mem_budget, st_doc_model_bytes(d), err);
     if (rc) { st_hier_free(&h); return rc; }
     st_undo_step *s = ed_step_new(ED_STEP_HIER);
     s->snap = d->h;               /* the old hierarchy moves into the step */
