@@ -248,6 +248,26 @@ static void test_levels(void)
     st_doc_free(&d);
 }
 
+static unsigned g_progress_calls, g_progress_last;
+static void on_progress(void *ctx, const char *what, unsigned step, unsigned steps)
+{
+    (void)ctx;
+    if (strstr(what, "level") && step <= steps) { g_progress_calls++; g_progress_last = step; }
+}
+
+static void test_progress(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    d.progress = on_progress;
+    open_ok(&d, cube, "catmull-clark", 3);
+    CHECK(g_progress_calls == 3 && g_progress_last == 3);
+    st_error err;
+    CHECK(st_doc_add_level(&d, &err) == 0);
+    CHECK(g_progress_calls == 4);
+    st_doc_free(&d);
+}
+
 static void test_memory_budget(void)
 {
     st_doc d;
@@ -1153,6 +1173,7 @@ int main(void)
     test_open();
     test_levels();
     test_memory_budget();
+    test_progress();
     test_selection();
     test_drag();
     test_brushes();

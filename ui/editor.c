@@ -128,11 +128,19 @@ size_t st_doc_add_level_bytes(const st_doc *d)
 
 static double mib(size_t b) { return (double)b / (1024.0 * 1024.0); }
 
+static void progress(const st_doc *d, const char *what, unsigned step, unsigned steps)
+{
+    if (d->progress) d->progress(d->progress_ctx, what, step, steps);
+}
+
 /* Refines h to `levels`, refusing a level that would go over the budget
  * (`extra`: bytes already in use besides h). */
-static int build_levels(st_hier *h, unsigned levels, size_t budget, size_t extra, st_error *err)
+static int build_levels(const st_doc *d, st_hier *h, unsigned levels, size_t budget, size_t extra, st_error *err)
 {
     while (h->map.top < levels) {
+        char what[64];
+        snprintf(what, sizeof what, "building level %u", h->map.top + 1);
+        progress(d, what, h->map.top + 1, levels);
         size_t need = level_bytes_for(h), have = ed_hier_bytes(h) + extra;
         if (have + need > budget)
             return st_fail(err, ST_ERR_MEMORY,
@@ -195,7 +203,7 @@ int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels
         st_notes_free(&notes);
         return rc;
     }
-    rc = build_levels(&h, levels, d->mem_budget, 0, err);
+    rc = build_levels(d, &h, levels, d->mem_budget, 0, err);
     if (rc) {
         st_hier_free(&h);
         st_mesh_free(&mesh);
@@ -265,7 +273,7 @@ int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
     st_mesh_free(&mesh);
     if (rc) return rc;
     /* The old hierarchy stays (in the undo step) while the new one grows. */
-    rc = build_levels(&h, d->h.map.top, d->mem_budget, st_doc_model_bytes(d), err);
+    rc = build_levels(d, &h, d->h.map.top, d->mem_budget, st_doc_model_bytes(d), err);
     if (rc) { st_hier_free(&h); return rc; }
     st_undo_step *s = ed_step_new(ED_STEP_HIER);
     s->snap = d->h;               /* the old hierarchy moves into the step */
@@ -372,6 +380,9 @@ int st_doc_add_level(st_doc *d, st_error *err)
                        d->h.map.top + 1, need, mib(need), mib(have), mib(d->mem_budget));
     double t0 = ed_now_ms();
     unsigned top = d->h.map.top;
+    char what[64];
+    snprintf(what, sizeof what, "building level %u", top + 1);
+    progress(d, what, 1, d->box_on ? 2 : 1);
     int rc = st_hier_subdivide_to(&d->h, top + 1, err);
     if (rc) {
         while (d->h.map.top > top) st_hier_remove_top(&d->h);
@@ -1271,6 +1282,7 @@ static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err)
                        "interest box refused: its display needs about %zu bytes (%.1f MiB) more, the model uses "
                        "%.1f MiB and the memory budget is %.1f MiB",
                        need, mib(need), mib(have), mib(d->mem_budget));
+    progress(d, "refining the interest box", 1, 1);
     if (ed_hier_clone(&d->disp, &d->h, NULL)) return st_fail(err, ST_ERR_MEMORY, "out of memory for the interest box's display");
     while (d->disp.map.top > b) st_hier_remove_top(&d->disp);
     int rc = st_adapt_init(&d->adapt, &d->disp, err);

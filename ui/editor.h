@@ -147,6 +147,12 @@ typedef struct st_doc {
     int vdart_level;           /* level vdart was built for, -1 none */
     struct st_brush_state *bs; /* stroke scratch (spatial grid, ...) */
     char note[256];            /* last non-fatal message (undo history dropped, ...) */
+    /* Long operations (opening at a depth, adding a level, a scheme
+     * change, switching the box on) call this, when set, before each
+     * stage, e.g. "building level 5", 5, 6: the window can redraw a
+     * message.  NULL: nothing is called. */
+    void (*progress)(void *ctx, const char *what, unsigned step, unsigned steps);
+    void *progress_ctx;
 } st_doc;
 
 void st_doc_init(st_doc *d);
