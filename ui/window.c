@@ -23,6 +23,7 @@
 #define DEFAULT_LEVELS 2
 #define DRAG_THRESHOLD 4.0           /* pixels before a press becomes a drag */
 #define WORKING_FACES 150000         /* show a "working" frame above this */
+#define STROKE_REPICK_TRIS 400000    /* brush strokes re-pick the surface per dab below this */
 
 static char glfw_error[512];
 
@@ -532,8 +533,14 @@ static void stroke_move(st_app *a)
         if (st_doc_stroke_dab(d, a->stroke_pos, a->brush_nrm, delta)) st_app_message(a, 1, "brush dab failed");
         for (int k = 0; k < 3; k++) a->stroke_pos[k] += delta[k];
     } else {
-        st_app_sync(a);
-        if (ensure_pick(a)) return;
+        /* The surface under the cursor, from an ID buffer redrawn after
+         * every dab; on a dense display (a full draw per mouse move would
+         * make strokes lag) the buffer of the stroke's start is reused:
+         * the dabs move the surface by a fraction of the radius. */
+        if (a->r.surf.ntris < STROKE_REPICK_TRIS) {
+            st_app_sync(a);
+            if (ensure_pick(a)) return;
+        }
         double p[3], nrm[3];
         if (st_pick_surface(&a->pick, &a->cc, (int)floor(a->mx), (int)floor(a->my), p, nrm)) {
             static const double zero[3] = { 0, 0, 0 };
