@@ -763,13 +763,21 @@ static void faces_of_level(st_map *m, unsigned l, st_dart_list *out)
 static int boxes_only_moved(const st_adapt *a, const st_adapt_params *p)
 {
     const st_adapt_params *q = &a->prev;
-    /* √3 always takes the full path (adapt_sqrt3.c: its forced refinements
-     * reach further than the three rings region_roots adds). */
-    return a->has_prev && a->h->scheme->id != ST_SCHEME_SQRT3 && q->has_box && p->has_box && q->base_level == p->base_level && q->max_level == p->max_level &&
+    return a->has_prev && q->has_box && p->has_box && q->base_level == p->base_level && q->max_level == p->max_level &&
            q->falloff == p->falloff && q->flatness == 0 && p->flatness == 0 && q->no_restriction == p->no_restriction;
 }
 
-/* Base faces near either box, then three rings around them. */
+/* √3: forced refinement goes further.  Before a face of level i is
+ * subdivided, the faces around its corners must be even triangles of level
+ * i, so the lower neighbours of odd triangles two faces away are forced: up
+ * to about two faces of level i-1 per level, and faces shrink by √3 (not
+ * 2) per level, a reach under 2 / (1 - 1/√3) < 5 base faces.  Six rings
+ * leave a margin (tests/test_adapt_sqrt3.c compares with full updates). */
+#ifndef SQRT3_RINGS
+#define SQRT3_RINGS 6
+#endif
+
+/* Base faces near either box, then three rings around them (√3: SQRT3_RINGS). */
 static void region_roots(st_adapt *a, const st_adapt_params *q, const st_adapt_params *p, st_dart_list *roots)
 {
     st_map *m = &a->h->map;
@@ -794,7 +802,7 @@ static void region_roots(st_adapt *a, const st_adapt_params *q, const st_adapt_p
     /* Forced refinement spreads one face per level, and faces double in size
      * per level toward the base: its reach in base faces is a geometric sum,
      * under 2 rings; 3 leave a margin. */
-    if (seeds.n) st_region_faces(m, 0, seeds.d, seeds.n, 3, roots);
+    if (seeds.n) st_region_faces(m, 0, seeds.d, seeds.n, a->h->scheme->id == ST_SCHEME_SQRT3 ? SQRT3_RINGS : 3, roots);
     st_dart_list_free(&seeds);
 }
 
@@ -812,7 +820,10 @@ static void children(st_adapt *a, const st_dart_list *cur, unsigned lev, st_dart
         unsigned n = 0;
         uint32_t x = d;
         do { st_dart_list_push(out, x); n++; x = st_phi1(m, x, lev); } while (x != d);
-        if (mode == ST_SPLIT_TRI || (mode == ST_SPLIT_MIXED && n == 3))
+        /* (√3: the face of each of the three darts at lev+1 is one sub-face
+         * each - odd, or the even triangle of its flipped edge - and no
+         * other sub-face holds no old dart.) */
+        if (a->h->scheme->id != ST_SCHEME_SQRT3 && (mode == ST_SPLIT_TRI || (mode == ST_SPLIT_MIXED && n == 3)))
             st_dart_list_push(out, st_beta0(m, st_phi1(m, d, lev + 1), lev + 1));
     }
 }

@@ -204,6 +204,15 @@ static void check_matches_regular(void (*make)(st_mesh *), const char *name, uns
     CHECKF(h.map.top == max, "%s: top %u, max %u", name, h.map.top, max);
     for (unsigned k = 1; k <= max; k++) CHECKF(per_level[k] > 0, "%s: no face of level %u", name, k);
     CHECKF(worst < 1e-9 * extent && checked > 0, "%s: adaptive vs regular %g over %u corners", name, worst, checked);
+    /* Odd triangles (Algorithm 8: a neighbour of lower level across an
+     * unflipped edge) sit at the depth borders of every level. */
+    unsigned odd = 0;
+    for (unsigned k = 1; k <= h.map.top; k++) {
+        st_dart_iter it;
+        for (uint32_t d = st_dart_first(&h.map, k, &it); d != ST_NIL; d = st_dart_next(&h.map, k, &it))
+            if (st_face_level(&h.map, d, k) == k && st_face_level(&h.map, st_beta0(&h.map, d, k), k) < k) odd++;
+    }
+    CHECKF(odd > 0, "%s: no odd triangle at the depth borders", name);
     /* The partial mesh is smaller than the regular one. */
     st_mesh s;
     st_mesh_init(&s);
@@ -373,6 +382,83 @@ static void check_on_regular_levels(void (*make)(st_mesh *), const char *name, u
     st_hier_free(&g);
 }
 
+/* The flatness criterion alone, then with a box: valid, watertight, and
+ * refined somewhere but not everywhere. */
+static void check_flatness(void (*make)(st_mesh *), const char *name, unsigned max)
+{
+    st_hier h, r;
+    st_adapt a;
+    st_error err;
+    tl_init_hier(&h, make, ST_SCHEME_SQRT3, 0);
+    tl_init_hier(&r, make, ST_SCHEME_SQRT3, max);
+    CHECK(st_adapt_init(&a, &h, &err) == ST_OK);
+    st_adapt_params p = { .max_level = max, .flatness = 0.5 };
+    for (int step = 0; step < 2; step++) {
+        CHECK(st_adapt_update(&a, &p, &err) == ST_OK);
+        valid(&h.map, name);
+        check_display(&a, name, 100 + step);
+        st_mesh s, t, b;
+        st_mesh_init(&s);
+        st_mesh_init(&t);
+        st_mesh_init(&b);
+        CHECK(st_adapt_mesh(&a, &s, &err) == ST_OK);
+        CHECK(st_hier_level_mesh(&r, max, &t, &err) == ST_OK && st_hier_level_mesh(&r, 0, &b, &err) == ST_OK);
+        CHECKF(s.nfaces > b.nfaces && s.nfaces < t.nfaces, "%s flatness: %u faces (base %u, regular %u)", name, s.nfaces,
+               b.nfaces, t.nfaces);
+        st_mesh_free(&s);
+        st_mesh_free(&t);
+        st_mesh_free(&b);
+        p.has_box = 1;
+        for (int k = 0; k < 3; k++) { p.box_lo[k] = -0.2; p.box_hi[k] = 0.2; }
+        p.box_lo[0] = 2;
+        p.box_hi[0] = 3;
+    }
+    st_adapt_free(&a);
+    st_hier_free(&h);
+    st_hier_free(&r);
+}
+
+/* The incremental update (only the box moved: the faces near the old and
+ * new boxes are visited) gives the same mesh as a full update, along a
+ * random walk of the box. */
+static void check_incremental(void (*make)(st_mesh *), const char *name, unsigned max, double extent, double r)
+{
+    st_hier h, g;
+    st_adapt a, b;
+    st_error err;
+    tl_init_hier(&h, make, ST_SCHEME_SQRT3, 0);
+    tl_init_hier(&g, make, ST_SCHEME_SQRT3, 0);
+    CHECK(st_adapt_init(&a, &h, &err) == ST_OK && st_adapt_init(&b, &g, &err) == ST_OK);
+    uint64_t rng = 77;
+    double c[3] = { 0.5 * extent, 0, 0 };
+    uint64_t touched_inc = 0;
+    for (int step = 0; step < 24; step++) {
+        for (int k = 0; k < 3; k++) c[k] += 0.15 * extent * ((double)(tl_rand(&rng) % 2001) / 1000.0 - 1.0);
+        st_adapt_params p = box_params(c[0], c[1], c[2], r * extent, 0, max);
+        p.falloff = step % 3 ? 0 : 0.2 * extent;
+        CHECK(st_adapt_update(&a, &p, &err) == ST_OK);
+        touched_inc += a.touched;
+        b.has_prev = 0; /* force the full update */
+        CHECK(st_adapt_update(&b, &p, &err) == ST_OK);
+        st_mesh s, t;
+        st_mesh_init(&s);
+        st_mesh_init(&t);
+        CHECK(st_adapt_mesh(&a, &s, &err) == ST_OK && st_adapt_mesh(&b, &t, &err) == ST_OK);
+        double worst = fmax(pointset_dist(&s, &t), pointset_dist(&t, &s));
+        CHECKF(s.nfaces == t.nfaces && s.nverts == t.nverts && worst < 1e-12 * extent,
+               "%s step %d: incremental %u faces / %u verts, full %u / %u, max distance %g", name, step, s.nfaces,
+               s.nverts, t.nfaces, t.nverts, worst);
+        valid(&h.map, "incremental update");
+        st_mesh_free(&s);
+        st_mesh_free(&t);
+    }
+    CHECK(touched_inc > 0);
+    st_adapt_free(&a);
+    st_adapt_free(&b);
+    st_hier_free(&h);
+    st_hier_free(&g);
+}
+
 static void check_open_refused(void)
 {
     st_hier h;
@@ -399,6 +485,10 @@ int main(void)
         check_resynth_and_repeat(cases[i].make, cases[i].name, cases[i].max - 1, cases[i].extent);
         check_on_regular_levels(cases[i].make, cases[i].name, cases[i].max, cases[i].extent);
     }
+    check_flatness(tri_torus, "torus", 3);
+    check_incremental(tri_torus, "torus", 4, 2.7, 0.3);
+    check_incremental(tri_torus, "torus small box", 5, 2.7, 0.08);
+    check_incremental(octa, "octahedron", 5, 1, 0.2);
     check_open_refused();
     return TEST_END();
 }
