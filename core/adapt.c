@@ -756,9 +756,9 @@ static void faces_of_level(st_map *m, unsigned l, st_dart_list *out)
  * A face's wanted level depends only on its geometry and the box, so when
  * only the box moves, only faces near the old or the new box can change.
  * Children stay near their parents, so the visit starts from the base faces
- * near either box (grown by their own size), grown by three rings so that
- * faces refined only because the restriction forced them are visited too,
- * and descends through subdivided faces only. */
+ * near either box (grown by their own size), grown by three rings (√3:
+ * SQRT3_RINGS) so that faces refined only because the restriction forced
+ * them are visited too, and descends through subdivided faces only. */
 
 static int boxes_only_moved(const st_adapt *a, const st_adapt_params *p)
 {

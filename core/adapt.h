@@ -1,6 +1,7 @@
 /* Adaptive refinement (thesis §3.2.2-3.2.6, Algorithms 1, 5 and 6; digest §5)
  * for the primal quadrisection schemes: Catmull-Clark, Loop, Butterfly and
- * quad/triangle.
+ * quad/triangle, and for √3 on closed triangle meshes (Algorithm 8,
+ * adapt_sqrt3.c; see "√3" below).
  *
  * Only faces chosen by a criterion are subdivided.  Every level is still a
  * closed 2-map: a face next to a finer one simply has more sides.  Whether a
@@ -31,7 +32,26 @@
  * the new frame when the cell is complete again: with the restriction on,
  * an unedited coarse surface gets exactly its fine geometry back at every
  * depth.  (An edit of a coarser level made while a region is coarsened
- * carries those details along but does not rotate them.) */
+ * carries those details along but does not rotate them.)
+ *
+ * √3 (adapt_sqrt3.c has the details).  A level is one √3 step (two steps
+ * trisect the edges).  Subdividing a triangle of level i splits it by its
+ * centre at i+1 and flips each of its edges whose other side is already
+ * subdivided toward i+1; the edges toward unsubdivided neighbours stay
+ * unflipped and the sub-triangles on them are "odd" until the neighbour is
+ * subdivided.  No edge is split, so st_edge_is_split does not apply; every
+ * face is a triangle holding exactly one dart older than it, and the face
+ * level and "subdivided toward i+1" above read the same from the map; a
+ * face of level i is odd when a face across one of its edges has a lower
+ * level at i.  Nothing is stored.  The one-level restriction is always
+ * applied for √3 (no_restriction is ignored; the `restricted` arguments
+ * below too): an odd triangle is never subdivided (its lower neighbour is,
+ * first), and the faces around the corners of a face being subdivided are
+ * made even triangles of its level first - the flips change β1 of old
+ * darts, which the levels above may only take where they have not
+ * diverged.  Simplification flips the edges back and removes the centre
+ * (the only vertex √3 creates), keeping its details like the others.
+ * Meshes with holes are refused (boundary trisection is not adaptive). */
 #ifndef ST_ADAPT_H
 #define ST_ADAPT_H
 
@@ -51,7 +71,7 @@ typedef struct st_adapt_params {
     int has_box;
     double falloff;          /* band around the box (object units) with one level less per band width; 0: none */
     double flatness;         /* > 0: also refine faces whose normals deviate more than this (radians) */
-    int no_restriction;      /* 1: one-level restriction off */
+    int no_restriction;      /* 1: one-level restriction off (ignored by √3: always on) */
 } st_adapt_params;
 
 /* Adaptive state kept between updates (saved details of removed vertices). */

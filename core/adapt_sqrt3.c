@@ -54,6 +54,13 @@
  * face of level L.  Only centres are ever removed: the old vertices of √3
  * are never deleted.
  *
+ * Updates (st_adapt_update) are those of adapt.c: Algorithms 5 and 6 call
+ * the functions below.  The incremental path (box moved only) visits base
+ * faces SQRT3_RINGS rings around the boxes, since forced refinement reaches
+ * further than with quadrisection; the sub-faces of a subdivided face are
+ * the faces of its three darts one level up (an odd triangle, or the even
+ * triangle of a flipped edge - each holds exactly one older dart).
+ *
  * Boundaries (the trisection of boundary edges every second step) are not
  * handled adaptively: st_adapt_init refuses √3 meshes with holes.
  */

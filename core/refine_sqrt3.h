@@ -33,7 +33,8 @@ static inline int st_sqrt3_boundary_step(unsigned L) { return L >= 2 && L % 2 ==
 uint32_t st_sqrt3_face_boundary_dart(const st_map *m, uint32_t f, unsigned l);
 
 /* Centre vertex (at level L) of the level L-1 face of f, or ST_NIL when the
- * face was split as a boundary fan (no centre). */
+ * face was split as a boundary fan (no centre).  Also for the faces of an
+ * adaptive hierarchy (adapt_sqrt3.c), some of whose edges stay unflipped. */
 uint32_t st_sqrt3_centre(const st_map *m, uint32_t f, unsigned L);
 
 /* Boundary darts at the vertex of d, level l: *hole = the hole dart that
