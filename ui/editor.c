@@ -50,7 +50,7 @@ const char *st_brush_name(int tool)
 static void finish_active(st_doc *d);
 static void disp_free(st_doc *d);
 static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err);
-static void disp_sync(st_doc *d, unsigned from, int keep_prev);
+static void disp_sync(st_doc *d, unsigned from, int box_move);
 static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys);
 static void topology_changed(st_doc *d);
 static void display_changed(st_doc *d);
@@ -650,7 +650,10 @@ void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t 
 {
     if (d->box_on && d->disp_ok) {
         if (keys) disp_sync_local(d, keys, nkeys);
-        else disp_sync(d, l, 0);
+        else {
+            disp_sync(d, l, 0);
+            d->adapt.has_prev = 0; /* the model changed */
+        }
         d->change.bits |= ST_CHANGE_ALL_POSITIONS;
     }
     change_add_darts(d, l, darts, n);
@@ -1025,27 +1028,12 @@ static int split_tri(const st_hier *h, unsigned deg)
     return id == ST_SCHEME_LOOP || id == ST_SCHEME_BUTTERFLY || (id == ST_SCHEME_QUADTRI && deg == 3);
 }
 
-/* Pairs the display's darts and vertices with the model's: identical ids up
- * to the base level (the display is a copy), then level by level through
- * the sub-faces of each subdivided face (the corner sub-face of a coarse
- * dart starts at that dart in both maps; a triangle's central sub-face lies
- * across the first corner's inner edge). */
-static void disp_pairs_build(st_doc *d)
+/* The display's subdivided faces beyond the model, per level, for a full
+ * synthesis of those levels (disp_sync). */
+static void disp_collect_sub(st_doc *d)
 {
     st_map *dm = &d->disp.map;
-    const st_map *mm = &d->h.map;
-    unsigned N = mm->top, b = d->box.base_level < N ? d->box.base_level : N;
-    d->ndpairs = 0;
-    d->dbase = b;
-    uint32_t *dd = malloc((size_t)(dm->darts.end ? dm->darts.end : 1) * sizeof *dd);
-    uint32_t *dc = realloc(d->dcorr, (size_t)(dm->verts.end ? dm->verts.end : 1) * sizeof *dc);
-    if (!dd || !dc) abort();
-    d->dcorr = dc;
-    d->ndcorr = dm->verts.end;
-    for (uint32_t x = 0; x < dm->darts.end; x++) dd[x] = dm->darts.ins[x] != ST_FREE_LEVEL && dm->darts.ins[x] <= b ? x : ST_NIL;
-    for (uint32_t v = 0; v < dm->verts.end; v++) dc[v] = dm->verts.ins[v] != ST_FREE_LEVEL && dm->verts.ins[v] <= b ? v : ST_NIL;
-    unsigned topL = dm->top < N ? dm->top : N;
-    /* Beyond the model: the subdivided faces, for disp_sync's synthesis. */
+    unsigned N = d->h.map.top;
     d->ndsub = 0;
     for (unsigned L = 0; L <= ST_MAX_LEVELS; L++) d->dsub_off[L] = 0;
     for (unsigned L = N + 1; L <= dm->top; L++) {
@@ -1067,6 +1055,30 @@ static void disp_pairs_build(st_doc *d)
         st_marker_release(dm, fb, L - 1);
         d->dsub_off[L + 1] = d->ndsub;
     }
+    d->dsub_ok = 1;
+}
+
+/* Pairs the display's darts and vertices with the model's: identical ids up
+ * to the base level (the display is a copy), then level by level through
+ * the sub-faces of each subdivided face (the corner sub-face of a coarse
+ * dart starts at that dart in both maps; a triangle's central sub-face lies
+ * across the first corner's inner edge). */
+static void disp_pairs_build(st_doc *d)
+{
+    st_map *dm = &d->disp.map;
+    const st_map *mm = &d->h.map;
+    unsigned N = mm->top, b = d->box.base_level < N ? d->box.base_level : N;
+    d->ndpairs = 0;
+    d->dbase = b;
+    uint32_t *dd = malloc((size_t)(dm->darts.end ? dm->darts.end : 1) * sizeof *dd);
+    uint32_t *dc = realloc(d->dcorr, (size_t)(dm->verts.end ? dm->verts.end : 1) * sizeof *dc);
+    if (!dd || !dc) abort();
+    d->dcorr = dc;
+    d->ndcorr = dm->verts.end;
+    for (uint32_t x = 0; x < dm->darts.end; x++) dd[x] = dm->darts.ins[x] != ST_FREE_LEVEL && dm->darts.ins[x] <= b ? x : ST_NIL;
+    for (uint32_t v = 0; v < dm->verts.end; v++) dc[v] = dm->verts.ins[v] != ST_FREE_LEVEL && dm->verts.ins[v] <= b ? v : ST_NIL;
+    unsigned topL = dm->top < N ? dm->top : N;
+    d->dsub_ok = 0; /* collected when a full synthesis needs them */
     uint32_t *mc = realloc(d->mcorr, (size_t)(mm->verts.end ? mm->verts.end : 1) * sizeof *mc);
     uint32_t *lv = realloc(d->dlv, (size_t)(dm->verts.end ? dm->verts.end : 1) * sizeof *lv);
     uint32_t *vd = realloc(d->dvdart, (size_t)(dm->verts.end ? dm->verts.end : 1) * sizeof *vd);
@@ -1147,39 +1159,6 @@ static void resynth_sink(void *ctx, const st_stencil *s)
     st_set_pos(&c->h->map, s->fine, c->L, p);
 }
 
-/* Display positions from the model, for levels >= from. */
-static void disp_sync(st_doc *d, unsigned from, int keep_prev)
-{
-    st_map *dm = &d->disp.map;
-    const st_map *mm = &d->h.map;
-    unsigned N = mm->top, b = d->dbase;
-    for (unsigned L = from; L <= b; L++) {
-        st_dart_iter it;
-        for (uint32_t v = st_vertex_first(dm, L, &it); v != ST_NIL; v = st_vertex_next(dm, L, &it)) {
-            const double *p = st_pos(mm, v, L);
-            if (memcmp(st_pos(dm, v, L), p, 3 * sizeof *p)) st_set_pos(dm, v, L, p);
-        }
-    }
-    for (uint32_t i = 0; i < d->ndpairs; i += 3) {
-        unsigned L = d->dpairs[i];
-        if (L < from) continue;
-        const double *p = st_pos(mm, d->dpairs[i + 2], L);
-        if (memcmp(st_pos(dm, d->dpairs[i + 1], L), p, 3 * sizeof *p)) st_set_pos(dm, d->dpairs[i + 1], L, p);
-    }
-    /* Levels beyond the model: S(P_{L-1}) + frame * detail on the
-     * subdivided faces (st_adapt_synthesize, with the face lists kept from
-     * the last topology change instead of found again). */
-    for (unsigned L = N + 1; L <= dm->top; L++) {
-        resynth_ctx c = { &d->disp, L, st_hier_stamp_begin(&d->disp) };
-        uint32_t a = d->dsub_off[L], e = d->dsub_off[L + 1];
-        if (e > a) d->disp.scheme->emit(&d->disp, L, d->dsub + a, e - a, resynth_sink, &c);
-    }
-    /* An edit changed the display's geometry: the next box update visits
-     * everything.  Box moves leave the model alone, so the update after
-     * them may stay incremental. */
-    if (!keep_prev) d->adapt.has_prev = 0;
-}
-
 /* A dart of level L carrying fine vertex v, on the face of d (the frame
  * cell of its stencil) at level L; ST_NIL if not there (hier_synth.c). */
 static uint32_t dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L)
@@ -1207,39 +1186,25 @@ static void local_sink(void *ctx, const st_stencil *s)
     else st_dart_list_push(c->changed, x);
 }
 
-/* After an edit of the model that changed the values of `keys` (undo.c):
- * the display's copies of those positions, then its levels beyond the
- * model re-synthesised around them only (the region growth of
- * st_hier_move, on the subdivided faces). */
-static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys)
+/* The display's levels beyond the model, re-synthesised around the seeds
+ * (darts of level min(h.top, disp.top) of vertices whose positions
+ * changed): the region growth of st_hier_move, on the subdivided faces
+ * only.  Frees the seeds. */
+static void resynth_region(st_doc *d, st_dart_list *seeds0)
 {
     st_hier *dh = &d->disp;
     st_map *dm = &dh->map;
-    const st_map *mm = &d->h.map;
-    unsigned N = mm->top, b = d->dbase, T = dm->top < N ? dm->top : N;
-    unsigned lo = ST_MAX_LEVELS;
-    for (uint32_t i = 0; i < nkeys; i++) {
-        unsigned L = (unsigned)(keys[i] >> 33);
-        if (L < lo) lo = L;
-    }
-    st_dart_list seeds = { 0 }, next = { 0 }, faces = { 0 }, kept = { 0 };
-    for (unsigned L = lo; L <= T; L++)
-        for (uint32_t i = 0; i < nkeys; i++) {
-            if ((unsigned)(keys[i] >> 33) != L || ((keys[i] >> 32) & 1)) continue;
-            uint32_t V = (uint32_t)keys[i], dv;
-            if (mm->verts.ins[V] <= b) dv = V;
-            else dv = V < d->nmcorr ? d->mcorr[V] : ST_NIL;
-            if (dv == ST_NIL || dv >= d->ndv) continue;
-            if (L > b && !((d->dlv[dv] >> L) & 1)) continue;
-            const double *p = st_pos(mm, V, L);
-            if (!memcmp(st_pos(dm, dv, L), p, 3 * sizeof *p)) continue;
-            st_set_pos(dm, dv, L, p);
-            if (L == T && dm->top > N && d->dvdart[dv] != ST_NIL) st_dart_list_push(&seeds, d->dvdart[dv]);
-        }
+    unsigned N = d->h.map.top;
+    st_dart_list seeds = *seeds0, next = { 0 }, faces = { 0 }, kept = { 0 };
+    memset(seeds0, 0, sizeof *seeds0);
     unsigned extra = 0;
     for (unsigned L = N + 1; L <= dm->top && seeds.n; L++) {
         faces.n = 0;
-        st_region_faces(dm, L - 1, seeds.d, seeds.n, dh->scheme->support_rings + extra, &faces);
+        /* One ring more than st_hier_move: a face next to a changed vertex
+         * may be unsubdivided (it emits nothing) while a vertex of it is a
+         * corner of a subdivided face one ring further, whose stencil reads
+         * the changed vertex. */
+        st_region_faces(dm, L - 1, seeds.d, seeds.n, dh->scheme->support_rings + 1 + extra, &faces);
         kept.n = 0;
         for (uint32_t i = 0; i < faces.n; i++)
             if (st_face_level(dm, faces.d[i], L - 1) == L - 1 && st_face_is_subdivided(dm, faces.d[i], L - 1))
@@ -1263,6 +1228,82 @@ static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys)
     st_dart_list_free(&next);
     st_dart_list_free(&faces);
     st_dart_list_free(&kept);
+}
+
+/* Display positions from the model, for levels >= from.  Beyond the model:
+ * every subdivided face (after a build), or only around the vertices whose
+ * positions changed (after a box move, which leaves the model alone: only
+ * new vertices differ). */
+static void disp_sync(st_doc *d, unsigned from, int box_move)
+{
+    st_map *dm = &d->disp.map;
+    const st_map *mm = &d->h.map;
+    unsigned N = mm->top, b = d->dbase, T = dm->top < N ? dm->top : N;
+    int local = box_move && dm->top > N;
+    st_dart_list seeds = { 0 };
+    for (unsigned L = from; L <= b; L++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(dm, L, &it); v != ST_NIL; v = st_vertex_next(dm, L, &it)) {
+            const double *p = st_pos(mm, v, L);
+            if (!memcmp(st_pos(dm, v, L), p, 3 * sizeof *p)) continue;
+            st_set_pos(dm, v, L, p);
+            if (local && L == T && d->dvdart[v] != ST_NIL) st_dart_list_push(&seeds, d->dvdart[v]);
+        }
+    }
+    for (uint32_t i = 0; i < d->ndpairs; i += 3) {
+        unsigned L = d->dpairs[i];
+        if (L < from) continue;
+        uint32_t dv = d->dpairs[i + 1];
+        const double *p = st_pos(mm, d->dpairs[i + 2], L);
+        if (!memcmp(st_pos(dm, dv, L), p, 3 * sizeof *p)) continue;
+        st_set_pos(dm, dv, L, p);
+        if (local && L == T && d->dvdart[dv] != ST_NIL) st_dart_list_push(&seeds, d->dvdart[dv]);
+    }
+    if (local) {
+        resynth_region(d, &seeds);
+    } else if (dm->top > N) {
+        /* S(P_{L-1}) + frame * detail on every subdivided face
+         * (st_adapt_synthesize, with face lists kept until the display's
+         * topology changes). */
+        if (!d->dsub_ok) disp_collect_sub(d);
+        for (unsigned L = N + 1; L <= dm->top; L++) {
+            resynth_ctx c = { &d->disp, L, st_hier_stamp_begin(&d->disp) };
+            uint32_t a = d->dsub_off[L], e = d->dsub_off[L + 1];
+            if (e > a) d->disp.scheme->emit(&d->disp, L, d->dsub + a, e - a, resynth_sink, &c);
+        }
+    }
+    st_dart_list_free(&seeds);
+}
+
+/* After an edit of the model that changed the values of `keys` (undo.c):
+ * the display's copies of those positions, then its levels beyond the
+ * model around them only. */
+static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys)
+{
+    st_map *dm = &d->disp.map;
+    const st_map *mm = &d->h.map;
+    unsigned N = mm->top, b = d->dbase, T = dm->top < N ? dm->top : N;
+    unsigned lo = ST_MAX_LEVELS;
+    for (uint32_t i = 0; i < nkeys; i++) {
+        unsigned L = (unsigned)(keys[i] >> 33);
+        if (L < lo) lo = L;
+    }
+    st_dart_list seeds = { 0 };
+    for (unsigned L = lo; L <= T; L++)
+        for (uint32_t i = 0; i < nkeys; i++) {
+            if ((unsigned)(keys[i] >> 33) != L || ((keys[i] >> 32) & 1)) continue;
+            uint32_t V = (uint32_t)keys[i], dv;
+            if (mm->verts.ins[V] <= b) dv = V;
+            else dv = V < d->nmcorr ? d->mcorr[V] : ST_NIL;
+            if (dv == ST_NIL || dv >= d->ndv) continue;
+            if (L > b && !((d->dlv[dv] >> L) & 1)) continue;
+            const double *p = st_pos(mm, V, L);
+            if (!memcmp(st_pos(dm, dv, L), p, 3 * sizeof *p)) continue;
+            st_set_pos(dm, dv, L, p);
+            if (L == T && dm->top > N && d->dvdart[dv] != ST_NIL) st_dart_list_push(&seeds, d->dvdart[dv]);
+        }
+    resynth_region(d, &seeds);
+    /* The model changed: the next box update visits everything. */
     d->adapt.has_prev = 0;
 }
 
@@ -1292,7 +1333,7 @@ static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err)
     if (rc) { disp_free(d); return rc; }
     d->box = *p; /* pairs_build reads the base level */
     disp_pairs_build(d);
-    disp_sync(d, 0, 1);
+    disp_sync(d, 0, 0);
     return ST_OK;
 }
 

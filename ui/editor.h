@@ -130,6 +130,7 @@ typedef struct st_doc {
     uint32_t *dsub;            /* per level L > h.top: the display's faces of level L-1 subdivided toward L */
     uint32_t ndsub, capdsub;
     uint32_t dsub_off[ST_MAX_LEVELS + 1];
+    int dsub_ok;               /* dsub matches the display's topology */
     uint32_t *mcorr;           /* h vertex id -> disp vertex id above dbase (ST_NIL: not shown) */
     uint32_t nmcorr;
     uint32_t *dlv;             /* disp vertex id -> bit L set when paired at level L */
