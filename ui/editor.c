@@ -537,16 +537,6 @@ static int edit_vertex_ok(const st_doc *d, uint32_t v)
     return v < m->verts.end && m->verts.ins[v] != ST_FREE_LEVEL && m->verts.ins[v] <= d->edit_level;
 }
 
-static int sel_has(const st_doc *d, uint32_t v)
-{
-    uint32_t lo = 0, hi = d->nsel;
-    while (lo < hi) {
-        uint32_t mid = (lo + hi) / 2;
-        if (d->sel[mid] < v) lo = mid + 1; else hi = mid;
-    }
-    return lo < d->nsel && d->sel[lo] == v;
-}
-
 void st_doc_select(st_doc *d, const uint32_t *vids, uint32_t n, int mode)
 {
     if (!d->loaded) return;
@@ -583,7 +573,6 @@ void st_doc_select(st_doc *d, const uint32_t *vids, uint32_t n, int mode)
     d->nsel = j;
     d->capsel = (uint32_t)(total ? total : 1);
     d->change.bits |= ST_CHANGE_SELECTION;
-    (void)sel_has;
 }
 
 void st_doc_vertex_pos(const st_doc *d, uint32_t vid, double p[3])

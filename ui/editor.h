@@ -138,7 +138,7 @@ typedef struct st_doc {
     uint32_t ndv;
     double last_update_at_ms;  /* monotonic time stamp of the last geometry update */
     uint32_t capmoved;
-    int rebased;               /* remove_bottom happened since open (set_scheme then rebuilds from level 0) */
+    int rebased;               /* remove_bottom happened since open: set_scheme then cannot take the file's tags */
     int box_recording;         /* inside st_doc_box_begin .. end */
     st_adapt_params box_rec_params;
     int box_rec_on;
@@ -163,7 +163,9 @@ void st_doc_free(st_doc *d);
  * is unchanged.  Clears the undo history. */
 int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels, st_error *err);
 /* Rebuilds the hierarchy with another scheme (same depth, details dropped;
- * the caller asks for confirmation first).  Undoable. */
+ * the caller asks for confirmation first) from the current control mesh
+ * (level 0 as edited, with the file's crease tags while level 0 is still
+ * the loaded one).  Undoable. */
 int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err);
 
 /* Levels.  Add: regular refinement of the top (refused with a message giving
