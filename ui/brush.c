@@ -310,8 +310,9 @@ static void dab_displace(st_doc *d, struct st_brush_state *bs, const double c[3]
     if (tool == ST_BRUSH_FLATTEN) {
         for (uint32_t i = 0; i < bs->ntmp; i++) {
             const double *p = st_pos(m, bs->tmp[i], l);
-            double vn[3];
-            vertex_normal(m, ed_vertex_dart(d, bs->tmp[i]), l, vn);
+            double vn[3] = { 0, 0, 0 };
+            uint32_t x0 = ed_vertex_dart(d, bs->tmp[i]);
+            if (x0 != ST_NIL) vertex_normal(m, x0, l, vn);
             for (int k = 0; k < 3; k++) { c0[k] += p[k] / bs->ntmp; pn[k] += vn[k]; }
         }
         if (normalize3(pn)) memcpy(pn, dn, sizeof pn);
