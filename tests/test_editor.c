@@ -1047,9 +1047,30 @@ static void test_box(void)
     st_doc_select(&d, &corner, 1, ST_SELECT_REPLACE);
     CHECK(st_doc_drag_begin(&d) == 0);
     double delta[3] = { 0.2, 0.1, -0.1 };
+    (void)st_doc_take_change(&d);
+    tl_posnap before, after;
+    tl_snap_pos(&d.disp, &before);
     CHECK(st_doc_drag_update(&d, delta) == 0);
+    tl_snap_pos(&d.disp, &after);
     st_doc_change c = st_doc_take_change(&d);
-    CHECK((c.bits & ST_CHANGE_POSITIONS) && (c.bits & ST_CHANGE_ALL_POSITIONS));
+    CHECK((c.bits & ST_CHANGE_POSITIONS) && (c.bits & ST_CHANGE_DISPLAY) && !(c.bits & ST_CHANGE_TOPOLOGY));
+    CHECK(c.ndisp > 0);
+    /* Every display vertex that moved, at any level, is reported. */
+    uint32_t unreported = 0, moved_disp = 0;
+    CHECK(before.n == after.n && before.levels == after.levels);
+    for (uint32_t x = 0; x < after.n; x++) {
+        int moved = 0;
+        for (unsigned L = 0; L < after.levels; L++)
+            if (memcmp(before.p + ((size_t)L * before.n + x) * 3, after.p + ((size_t)L * after.n + x) * 3, 3 * sizeof(double))) moved = 1;
+        if (!moved) continue;
+        moved_disp++;
+        int found = 0;
+        for (uint32_t i = 0; i < c.ndisp && !found; i++) found = c.disp_vids[i] == x;
+        if (!found) unreported++;
+    }
+    CHECKF(moved_disp > 0 && unreported == 0, "%u of %u moved display vertices not reported", unreported, moved_disp);
+    free(before.p);
+    free(after.p);
     st_doc_drag_end(&d);
     dev = display_vs_model(&d);
     CHECKF(dev == 0, "after the drag the display differs by %g", dev);

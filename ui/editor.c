@@ -84,6 +84,7 @@ void st_doc_free(st_doc *d)
     st_mesh_free(&d->base);
     free(d->sel);
     free(d->change.moved_darts);
+    free(d->change.disp_vids);
     free(d->dcorr);
     free(d->dpairs);
     free(d->dsub);
@@ -638,12 +639,14 @@ void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t 
                          const uint64_t *keys, uint32_t nkeys)
 {
     if (d->box_on && d->disp_ok) {
-        if (keys) disp_sync_local(d, keys, nkeys);
-        else {
+        if (keys) {
+            disp_sync_local(d, keys, nkeys);
+            d->change.bits |= ST_CHANGE_DISPLAY;
+        } else {
             disp_sync(d, l, 0);
             d->adapt.has_prev = 0; /* the model changed */
+            d->change.bits |= ST_CHANGE_ALL_POSITIONS;
         }
-        d->change.bits |= ST_CHANGE_ALL_POSITIONS;
     }
     change_add_darts(d, l, darts, n);
     double now = ed_now_ms();
@@ -656,6 +659,7 @@ st_doc_change st_doc_take_change(st_doc *d)
     st_doc_change c = d->change;
     d->change.bits = 0;
     d->change.nmoved = 0;
+    d->change.ndisp = 0;
     d->change.moved_level = 0;
     return c;
 }
@@ -1136,6 +1140,20 @@ static void disp_pairs_build(st_doc *d)
     free(dd);
 }
 
+/* A display vertex moved (reported in the change as ST_CHANGE_DISPLAY). */
+static void disp_moved(st_doc *d, uint32_t v)
+{
+    st_doc_change *c = &d->change;
+    if (c->ndisp == d->capdisp) {
+        uint32_t cap = d->capdisp ? 2 * d->capdisp : 1024;
+        uint32_t *p = realloc(c->disp_vids, (size_t)cap * sizeof *p);
+        if (!p) abort();
+        c->disp_vids = p;
+        d->capdisp = cap;
+    }
+    c->disp_vids[c->ndisp++] = v;
+}
+
 typedef struct resynth_ctx { st_hier *h; unsigned L; uint32_t gen; } resynth_ctx;
 
 static void resynth_sink(void *ctx, const st_stencil *s)
@@ -1160,7 +1178,7 @@ static uint32_t dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L
     return ST_NIL;
 }
 
-typedef struct local_ctx { st_hier *h; unsigned L; uint32_t gen; st_dart_list *changed; int lost; } local_ctx;
+typedef struct local_ctx { st_hier *h; unsigned L; uint32_t gen; st_dart_list *changed; int lost; st_doc *doc; } local_ctx;
 
 static void local_sink(void *ctx, const st_stencil *s)
 {
@@ -1170,6 +1188,7 @@ static void local_sink(void *ctx, const st_stencil *s)
     double p[3];
     st_stencil_apply(c->h, c->L, s, p);
     st_set_pos(&c->h->map, s->fine, c->L, p);
+    if (c->doc) disp_moved(c->doc, s->fine);
     uint32_t x = dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
     if (x == ST_NIL) c->lost = 1;
     else st_dart_list_push(c->changed, x);
@@ -1199,7 +1218,7 @@ static void resynth_region(st_doc *d, st_dart_list *seeds0)
             if (st_face_level(dm, faces.d[i], L - 1) == L - 1 && st_face_is_subdivided(dm, faces.d[i], L - 1))
                 st_dart_list_push(&kept, faces.d[i]);
         next.n = 0;
-        local_ctx c = { dh, L, st_hier_stamp_begin(dh), &next, 0 };
+        local_ctx c = { dh, L, st_hier_stamp_begin(dh), &next, 0, d };
         if (kept.n) dh->scheme->emit(dh, L, kept.d, kept.n, local_sink, &c);
         extra = c.lost;
         if (c.lost) {
@@ -1289,6 +1308,7 @@ static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys)
             const double *p = st_pos(mm, V, L);
             if (!memcmp(st_pos(dm, dv, L), p, 3 * sizeof *p)) continue;
             st_set_pos(dm, dv, L, p);
+            disp_moved(d, dv);
             if (L == T && dm->top > N && d->dvdart[dv] != ST_NIL) st_dart_list_push(&seeds, d->dvdart[dv]);
         }
     resynth_region(d, &seeds);

@@ -61,11 +61,13 @@ typedef struct st_brush {
 enum st_change_bits {
     ST_CHANGE_TOPOLOGY = 1,    /* levels, scheme, adaptive refinement: rebuild buffers */
     ST_CHANGE_POSITIONS = 2,   /* vertices of h moved: see moved_level / moved_darts (darts of h);
-                                  with the box on ST_CHANGE_ALL_POSITIONS comes too (the display
-                                  hierarchy moved as well) */
+                                  with the box on the display moved too: ST_CHANGE_DISPLAY */
     ST_CHANGE_SELECTION = 4,
     ST_CHANGE_BOX = 8,
     ST_CHANGE_ALL_POSITIONS = 16, /* everything moved (undo, analysis): refresh all */
+    ST_CHANGE_DISPLAY = 32,    /* box on, topology unchanged: the vertices disp_vids of the display
+                                  hierarchy (st_doc_display_hier) moved, at some level: e.g.
+                                  st_renderer_refresh(r, &st_doc_display_hier(d)->map, disp_vids, ndisp) */
 };
 
 typedef struct st_doc_change {
@@ -73,6 +75,8 @@ typedef struct st_doc_change {
     unsigned moved_level;      /* the level the moved darts are on */
     uint32_t *moved_darts;     /* one dart per moved vertex (owned by the doc) */
     uint32_t nmoved;
+    uint32_t *disp_vids;       /* ST_CHANGE_DISPLAY: vertex ids of the display hierarchy (owned by the doc) */
+    uint32_t ndisp;
 } st_doc_change;
 
 typedef struct st_undo_step st_undo_step;   /* editor.c */
@@ -137,7 +141,7 @@ typedef struct st_doc {
     uint32_t *dvdart;          /* disp vertex id -> a dart of it at level min(h.top, disp.top) */
     uint32_t ndv;
     double last_update_at_ms;  /* monotonic time stamp of the last geometry update */
-    uint32_t capmoved;
+    uint32_t capmoved, capdisp;
     int rebased;               /* remove_bottom happened since open: set_scheme then cannot take the file's tags */
     int box_recording;         /* inside st_doc_box_begin .. end */
     st_adapt_params box_rec_params;
