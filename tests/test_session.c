@@ -376,6 +376,23 @@ static void check_files(void)
     CHECK(st_map_validate(&t.h.map, &err) == ST_OK);
     st_session_free(&t);
     st_session_free(&s);
+    /* Moving a hierarchy with sharpness out of a session (what the window
+     * does on Open): the map's attributes follow. */
+    st_hier hc;
+    build(&hc, creased_cube, ST_SCHEME_CATMARK, 1, NULL);
+    st_session_ref rc = { .h = &hc, .display_level = 1 };
+    CHECKF(st_session_save_ref(path, &rc, &err) == ST_OK, "%s", err.msg);
+    CHECKF(st_session_load(path, &s, &err) == ST_OK, "%s", err.msg);
+    st_hier *moved = malloc(sizeof *moved);
+    st_session_move_hier(moved, &s.h);
+    st_session_free(&s);
+    CHECK(moved->has_sharpness && moved->map.ndart_attrs == 1 && moved->map.dart_attrs[0] == &moved->edge_sharp &&
+          moved->map.vert_attrs[0] == &moved->vertex_sharp);
+    CHECK(st_hier_subdivide_to(moved, 3, &err) == ST_OK && st_hier_subdivide_to(&hc, 3, &err) == ST_OK);
+    CHECK(snaps_equal(moved, &hc));
+    st_hier_free(moved);
+    free(moved);
+    st_hier_free(&hc);
     CHECK(st_session_load("/nonexistent/dir/x.strata", &s, &err) != ST_OK);
     CHECK(strstr(err.msg, "/nonexistent/dir/x.strata") != NULL);
     CHECK(st_session_save_ref("/nonexistent/dir/x.strata", &r, &err) != ST_OK);
