@@ -1090,14 +1090,26 @@ static void disp_pairs_build(st_doc *d)
             if (vd[v] == ST_NIL || (st_is_boundary(dm, vd[v]) && !st_is_boundary(dm, x))) vd[v] = x;
         }
     }
-    for (unsigned L = b + 1; L <= topL; L++) {
+    /* Down the refinement tree: the faces of level b (all faces of the
+     * map at b), then the sub-faces of the subdivided ones, level by level;
+     * unrefined regions are not visited again at every level. */
+    st_dart_list cur = { 0 }, next = { 0 };
+    if (b < topL) {
         int fb = st_marker_reserve(dm);
         if (fb < 0) abort();
         st_dart_iter it;
-        for (uint32_t x = st_dart_first(dm, L - 1, &it); x != ST_NIL; x = st_dart_next(dm, L - 1, &it)) {
+        for (uint32_t x = st_dart_first(dm, b, &it); x != ST_NIL; x = st_dart_next(dm, b, &it)) {
             if (st_is_boundary(dm, x) || st_marked(dm, fb, x)) continue;
-            st_mark_face(dm, fb, x, L - 1);
-            if (st_face_level(dm, x, L - 1) != L - 1 || !st_face_is_subdivided(dm, x, L - 1)) continue;
+            st_mark_face(dm, fb, x, b);
+            st_dart_list_push(&cur, x);
+        }
+        st_marker_release(dm, fb, b);
+    }
+    for (unsigned L = b + 1; L <= topL; L++) {
+        next.n = 0;
+        for (uint32_t k = 0; k < cur.n; k++) {
+            uint32_t x = cur.d[k];
+            if (!st_face_is_subdivided(dm, x, L - 1)) continue;
             unsigned deg = st_face_degree(dm, x, L - 1);
             int tri = split_tri(&d->disp, deg);
             uint32_t c = x;
@@ -1117,6 +1129,7 @@ static void disp_pairs_build(st_doc *d)
                     y = st_phi1(dm, y, L);
                     Y = st_phi1(mm, Y, L);
                 } while (y != c && ++guard < 64);
+                st_dart_list_push(&next, c); /* the corner sub-face of c */
                 if (tri && first) {
                     uint32_t z = st_beta0(dm, st_phi1(dm, c, L), L), Z = st_beta0(mm, st_phi1(mm, C, L), L), z0 = z;
                     guard = 0;
@@ -1130,13 +1143,18 @@ static void disp_pairs_build(st_doc *d)
                         z = st_phi1(dm, z, L);
                         Z = st_phi1(mm, Z, L);
                     } while (z != z0 && ++guard < 64);
+                    st_dart_list_push(&next, z0); /* the central triangle */
                 }
                 first = 0;
                 c = st_phi1(dm, c, L - 1);
             } while (c != x);
         }
-        st_marker_release(dm, fb, L - 1);
+        st_dart_list t = cur;
+        cur = next;
+        next = t;
     }
+    st_dart_list_free(&cur);
+    st_dart_list_free(&next);
     free(dd);
 }
 
