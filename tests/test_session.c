@@ -465,6 +465,7 @@ int main(void)
     check_adaptive(ST_SCHEME_CATMARK, torus);
     check_adaptive(ST_SCHEME_LOOP, octa);
     check_adaptive(ST_SCHEME_BUTTERFLY, octa);
+    check_adaptive(ST_SCHEME_SQRT3, octa);
     check_damage();
     check_crafted(ST_SCHEME_CATMARK, creased_cube, 0);
     check_crafted(ST_SCHEME_LOOP, octa, 1);
