@@ -332,6 +332,34 @@ static void check_access(st_scheme_id id, void (*make)(st_mesh *), int closed, u
     st_hier_free(&r);
 }
 
+/* Synthesis after the box left the finer levels empty (no face subdivided
+ * at the first level synthesised) changes nothing. */
+static void check_synthesize_empty_levels(st_scheme_id id, void (*make)(st_mesh *), unsigned max, double extent)
+{
+    st_hier h;
+    st_adapt a;
+    st_error err;
+    tl_init_hier(&h, make, id, 0);
+    CHECK(st_adapt_init(&a, &h, &err) == ST_OK);
+    st_adapt_params p = box_params(0.5 * extent, 0, 0, 0.4 * extent, 0, max);
+    CHECK(st_adapt_update(&a, &p, &err) == ST_OK);
+    p.max_level = 1;
+    CHECK(st_adapt_update(&a, &p, &err) == ST_OK);
+    st_mesh before, after;
+    st_mesh_init(&before);
+    st_mesh_init(&after);
+    CHECK(st_adapt_mesh(&a, &before, &err) == ST_OK);
+    st_adapt_synthesize(&a, 1);
+    CHECK(st_adapt_mesh(&a, &after, &err) == ST_OK);
+    double dist = before.nverts == after.nverts ? 0 : INFINITY;
+    for (uint32_t k = 0; k < 3 * after.nverts && dist == 0; k++) dist = fmax(dist, fabs(after.pos[k] - before.pos[k]));
+    CHECKF(dist < 1e-12 * extent, "%s: synthesis over levels with no subdivided face moved the mesh by %g", h.scheme->name, dist);
+    st_mesh_free(&before);
+    st_mesh_free(&after);
+    st_adapt_free(&a);
+    st_hier_free(&h);
+}
+
 int main(void)
 {
     struct { st_scheme_id id; void (*make)(st_mesh *); int closed; unsigned max; double extent; } cases[] = {
@@ -347,6 +375,7 @@ int main(void)
         check_detail_round_trip(cases[i].id, cases[i].make, cases[i].max, cases[i].extent);
         check_incremental(cases[i].id, cases[i].make, cases[i].max, cases[i].extent);
         check_access(cases[i].id, cases[i].make, cases[i].closed, cases[i].max, cases[i].extent);
+        check_synthesize_empty_levels(cases[i].id, cases[i].make, cases[i].max, cases[i].extent);
     }
     return TEST_END();
 }
