@@ -3,6 +3,7 @@
 // is C++; Strata is called through its C API.
 //
 //   bench_osd [--quick]
+//   bench_osd --profile strata|osd catmark|loop DEPTH [THREADS]   (one synthesis, for profilers)
 //
 // Prints, per case: topology refinement time (Strata refine vs
 // Far::TopologyRefinerFactory + RefineUniform), synthesis of all levels
@@ -23,7 +24,9 @@ extern "C" {
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <sys/wait.h>
@@ -195,8 +198,93 @@ void local_edit(const char *path)
 
 } // namespace
 
+// Processor time of the whole process (all threads).
+double cpu_now()
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+// Compares every position of levels 1..top (after a synthesis) with its
+// stencil evaluated on the level below: prints the count of exact matches
+// and the largest difference relative to the coordinates' magnitude.
+struct check_ctx { st_hier *h; unsigned L; uint64_t n, exact; double worst; };
+
+void check_sink(void *ctx, const st_stencil *s)
+{
+    check_ctx *c = (check_ctx *)ctx;
+    double p[3];
+    st_stencil_eval(c->h, c->L, s, p);
+    const double *q = st_pos(&c->h->map, s->fine, c->L);
+    c->n++;
+    c->exact += !memcmp(p, q, sizeof p);
+    for (int k = 0; k < 3; k++) {
+        double scale = fabs(p[k]) > 1 ? fabs(p[k]) : 1;
+        if (fabs(p[k] - q[k]) / scale > c->worst) c->worst = fabs(p[k] - q[k]) / scale;
+    }
+}
+
+void check_stencils(st_hier *h)
+{
+    for (unsigned L = 1; L <= h->map.top; L++) {
+        check_ctx c = { h, L, 0, 0, 0 };
+        h->scheme->emit(h, L, nullptr, 0, check_sink, &c);
+        printf("  level %u: %llu stencils, %llu exact, worst relative difference %.3g\n", L, (unsigned long long)c.n,
+               (unsigned long long)c.exact, c.worst);
+    }
+}
+
+// One synthesis on one side, for profilers (callgrind --toggle-collect):
+//   bench_osd --profile strata|osd catmark|loop DEPTH [THREADS [REPEAT]]
+// REPEAT synthesis runs (default 1); prints the median time.
+int profile(int argc, char **argv)
+{
+    if (argc < 5) { fprintf(stderr, "usage: bench_osd --profile strata|osd catmark|loop DEPTH [THREADS [REPEAT]]\n"); return 2; }
+    bool osd = !strcmp(argv[2], "osd"), loop = !strcmp(argv[3], "loop");
+    int levels = atoi(argv[4]), repeat = argc > 6 ? atoi(argv[6]) : 1;
+    if (repeat < 1) repeat = 1;
+    std::vector<double> t(repeat), c(repeat);
+    std::string dir = STRATA_SHARED_DATA;
+    std::string path = dir + (loop ? "/large/koala.obj" : "/catmull_clark/spot_quadrangulated.obj");
+    st_mesh m;
+    st_error err;
+    st_mesh_init(&m);
+    if (st_mesh_load(path.c_str(), &m, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return 1; }
+    if (osd) {
+        Far::TopologyRefiner *r = osd_refine(m, loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, levels);
+        size_t n = 0;
+        for (int i = 0; i < repeat; i++) {
+            double t0 = bench_now(), c0 = cpu_now();
+            n = osd_interpolate(*r, m).size();
+            t[i] = bench_now() - t0;
+            c[i] = cpu_now() - c0;
+        }
+        printf("osd synthesis %.2f ms, cpu %.2f ms (medians of %d), %zu vertices\n", 1e3 * bench_median(t.data(), repeat),
+               1e3 * bench_median(c.data(), repeat), repeat, n);
+        delete r;
+    } else {
+        st_hier h;
+        if (strata_build(&h, m, loop ? st_scheme_find("loop") : &st_scheme_catmark, levels)) return 1;
+        st_parallel_set_threads(argc > 5 ? (unsigned)atoi(argv[5]) : 1);
+        for (int i = 0; i < repeat; i++) {
+            double t0 = bench_now(), c0 = cpu_now();
+            st_hier_synthesize(&h, 0);
+            t[i] = bench_now() - t0;
+            c[i] = cpu_now() - c0;
+        }
+        printf("strata synthesis %.2f ms, cpu %.2f ms (medians of %d)\n", 1e3 * bench_median(t.data(), repeat),
+               1e3 * bench_median(c.data(), repeat), repeat);
+        if (getenv("BENCH_CHECK")) check_stencils(&h);
+        st_hier_free(&h);
+    }
+    st_mesh_free(&m);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && !strcmp(argv[1], "--profile")) return profile(argc, argv);
     bool quick = argc > 1 && !strcmp(argv[1], "--quick");
     std::string dir = STRATA_SHARED_DATA;
     compare((dir + "/catmull_clark/spot_quadrangulated.obj").c_str(), &st_scheme_catmark, Sdc::SCHEME_CATMARK, quick ? 2 : 4);
