@@ -13,11 +13,13 @@
 #include "primal_emit.h"
 #include "hier_internal.h"
 
+#include "parallel.h"
+#include "pool.h"
+
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include "pool.h"
 
 /* Vertex opposite the edge of d in d's triangle (level l). */
 static uint32_t opposite(const st_map *m, uint32_t d, unsigned l)
@@ -140,7 +142,9 @@ static void fast_vertex(loop_fast *x, uint32_t d)
     memcpy(slot(x, v), acc, sizeof acc);
 }
 
-static void loop_predict_level(st_hier *h, unsigned L)
+/* Level views and a stamp per vertex: any map (used when the ring pass below
+ * does not apply). */
+static void loop_predict_views(st_hier *h, unsigned L)
 {
     st_map *m = &h->map;
     loop_fast x = { .h = h, .L = L };
@@ -151,7 +155,7 @@ static void loop_predict_level(st_hier *h, unsigned L)
     st_level_view_init(m, L, &x.f);
     uint32_t gen = st_hier_stamp_begin(h);
     const st_pool *p = &m->darts;
-    for (unsigned lv = 0; lv < L; lv++)
+    for (unsigned lv = L; lv-- > 0;)
         for (uint32_t b = 0; b < p->nblocks[lv]; b++) {
             uint32_t first = p->blocks[lv][b] << ST_POOL_BLOCK_SHIFT;
             for (uint32_t d = first; d < first + ST_POOL_BLOCK; d++) {
@@ -163,6 +167,269 @@ static void loop_predict_level(st_hier *h, unsigned L)
         }
     st_stencil_buf_free(&x.buf);
     st_stencil_buf_free(&x.tmp);
+}
+
+/* ---- ring pass -----------------------------------------------------------------
+ * One walk of each vertex ring of level l gives both its vertex point and
+ * the edge points of the ring edges whose smaller dart leaves it: with the
+ * ring darts y_0 .. y_{n-1} (β1 order) and u_j = vert(β0 y_j), the face of
+ * y_j is (v, u_j, u_{j-1}) and that of β0(y_j) is (u_j, v, u_{j+1}), so the
+ * edge point of y_j is 3/8 (v + u_j) + 1/8 (u_{j-1} + u_{j+1}), summed in the
+ * order of fast_edge.  Each vertex position and each relation of the ring is
+ * read once per level instead of once per mask that uses it.
+ *
+ * Two passes shared out over threads by blocks (parallel.h): every dart
+ * offers itself to its vertex; then every vertex walks its ring from its
+ * smallest dart (so that the sums never depend on the threads) and writes
+ * its vertex point and the edge points it owns: each fine vertex has one
+ * writer.  Holes and sharp cells take the stencil path. */
+
+#define RING_MAX 32u          /* rings up to this valence are kept on the stack */
+#define RING_CHUNK 8u         /* blocks per st_team_next chunk */
+#define RING_MIN_BLOCKS_PER_THREAD 32u
+
+typedef struct ring_level {
+    st_hier *h;
+    unsigned l, L;
+    st_level_view c;                 /* coarse level l */
+    const uint32_t *b0L;             /* β0 column of level L (darts of levels <= l) */
+    const uint32_t *b1, *vt;         /* base β1 and vert: no column at level l (checked) */
+    const uint8_t *flags;
+    double *pnew, *pold;             /* level-L positions: new vertices, old vertices */
+    _Atomic uint32_t *vd;            /* per coarse vertex: one of its darts, ST_NIL if none */
+    uint32_t *blocks, nblocks;       /* first ids of the dart blocks of levels l..0 */
+    uint32_t *vblocks, nvblocks;     /* ... and of the vertex blocks */
+    uint32_t vcover;
+    double vw[RING_MAX + 1], ew[RING_MAX + 1]; /* loop_weights by valence */
+} ring_level;
+
+typedef struct ring_worker { ring_level *x; loop_fast s; } ring_worker;
+
+static const void *pick(const void *base, const void *col, int use_col)
+{
+    uintptr_t m = -(uintptr_t)(use_col != 0);
+    return (const void *)(((uintptr_t)base & ~m) | ((uintptr_t)col & m));
+}
+
+static uint32_t r_beta0(const ring_level *x, uint32_t d)
+{
+    const st_u32_view *r = &x->c.beta0;
+    return ((const uint32_t *)pick(r->base, r->col, x->c.ins[d] < r->lvl))[d];
+}
+
+static const double *r_pos(const ring_level *x, uint32_t v)
+{
+    return (const double *)pick(x->c.pbase, x->c.pcol, x->c.vins[v] < x->c.plvl) + 3 * (size_t)v;
+}
+
+static void ring_offer(st_team *team, ring_level *x)
+{
+    const uint8_t *ins = x->c.ins;
+    uint32_t b, e;
+    while (st_team_next(team, 0, x->nblocks, RING_CHUNK, &b, &e))
+        for (uint32_t i = b; i < e; i++)
+            for (uint32_t d = x->blocks[i]; d < x->blocks[i] + ST_POOL_BLOCK; d++)
+                if (ins[d] != ST_FREE_LEVEL) atomic_store_explicit(&x->vd[x->vt[d]], d, memory_order_relaxed);
+}
+
+static int ring_sharp(const ring_level *x, uint32_t d)
+{
+    return x->h->has_sharpness && st_hier_edge_sharpness(x->h, d, x->l) > 0;
+}
+
+/* Stencil path for one vertex point / edge point (holes, sharpness). */
+static void ring_stencil_vertex(ring_worker *w, uint32_t d)
+{
+    loop_fast *s = &w->s;
+    st_crease_vertex_point(s->h, s->L - 1, d, smooth_vertex, &s->buf, &s->tmp);
+    write_stencil(s, st_v_vert(&s->c, d), d, ST_CELL_VERTEX);
+}
+
+static void ring_stencil_edge(ring_worker *w, uint32_t d)
+{
+    loop_fast *s = &w->s;
+    st_crease_edge_point(s->h, s->L - 1, d, smooth_edge, &s->buf, &s->tmp);
+    write_stencil(s, st_v_vert(&s->f, st_v_beta0(&s->f, d)), d, ST_CELL_EDGE);
+}
+
+/* A ring larger than RING_MAX: the views path, from its smallest dart. */
+static void ring_large(ring_worker *w, uint32_t d)
+{
+    ring_level *x = w->x;
+    uint32_t y = d, small = d;
+    do { small = y < small ? y : small; y = x->b1[y]; } while (y != d);
+    y = small;
+    do {
+        uint32_t t = r_beta0(x, y);
+        if (y < t) fast_edge(&w->s, y, t);
+        y = x->b1[y];
+    } while (y != small);
+    fast_vertex(&w->s, small);
+}
+
+/* The vertices of a batch are done in stages whose loads are independent
+ * across the batch (so that their cache misses overlap): the rings, then
+ * β0 of every ring dart, then the neighbours and their positions, then the
+ * level-L midpoints, then the sums. */
+#define BATCH_DARTS 1024u
+
+typedef struct ring_batch {
+    uint32_t v[BATCH_DARTS / 2], at[BATCH_DARTS / 2 + 1], lo[BATCH_DARTS / 2]; /* per vertex: id, first entry, smallest */
+    uint32_t r[BATCH_DARTS], e[BATCH_DARTS], u[BATCH_DARTS], mid[BATCH_DARTS];  /* per ring dart */
+    const double *q[BATCH_DARTS];
+    uint32_t nv, nd;
+} ring_batch;
+
+static void batch_finish(ring_worker *w, ring_batch *B)
+{
+    ring_level *x = w->x;
+    uint32_t nd = B->nd;
+    for (uint32_t k = 0; k < nd; k++) B->e[k] = r_beta0(x, B->r[k]);
+    for (uint32_t k = 0; k < nd; k++) B->u[k] = x->vt[B->e[k]];
+    for (uint32_t k = 0; k < nd; k++) B->q[k] = r_pos(x, B->u[k]);
+    for (uint32_t k = 0; k < nd; k++) B->mid[k] = B->r[k] < B->e[k] ? x->b0L[B->r[k]] : B->r[k];
+    for (uint32_t k = 0; k < nd; k++) B->mid[k] = x->vt[B->mid[k]];
+    const uint8_t *flags = x->flags;
+    int sharpness = x->h->has_sharpness;
+    for (uint32_t i = 0; i < B->nv; i++) {
+        uint32_t v = B->v[i], n = B->at[i + 1] - B->at[i], lo = B->lo[i];
+        const uint32_t *r = B->r + B->at[i], *e = B->e + B->at[i], *mid = B->mid + B->at[i];
+        const double *const *q = B->q + B->at[i];
+        /* The face of β0(y_j) is that of y_{j+1}: the ring darts' flags say
+         * which edges touch a hole. */
+        unsigned holes = 0;
+        for (uint32_t j = 0; j < n; j++) holes |= flags[r[j]];
+        int special = (holes & ST_DART_BOUNDARY) != 0;
+        if (sharpness) {
+            special |= st_hier_vertex_sharpness(x->h, v, x->l) > 0;
+            for (uint32_t j = 0; j < n; j++) special |= ring_sharp(x, r[j]);
+        }
+        const double *p = r_pos(x, v);
+        if (special) {
+            ring_stencil_vertex(w, r[lo]);
+        } else {
+            double acc[3] = { 0, 0, 0 };
+            axpy(acc, x->vw[n], p);
+            for (uint32_t c = 0, j = lo; c < n; c++, j = j + 1 < n ? j + 1 : 0) axpy(acc, x->ew[n], q[j]);
+            memcpy(x->pold + 3 * (size_t)v, acc, sizeof acc);
+        }
+        for (uint32_t j = 0; j < n; j++) {
+            if (r[j] > e[j]) continue;
+            uint32_t jn = j + 1 < n ? j + 1 : 0, jp = j ? j - 1 : n - 1;
+            if (special && (((flags[r[j]] | flags[r[jn]]) & ST_DART_BOUNDARY) || ring_sharp(x, r[j]))) {
+                ring_stencil_edge(w, r[j]);
+                continue;
+            }
+            double acc[3] = { 0, 0, 0 };
+            axpy(acc, 0.375, p);
+            axpy(acc, 0.375, q[j]);
+            axpy(acc, 0.125, q[jp]);
+            axpy(acc, 0.125, q[jn]);
+            memcpy(x->pnew + 3 * (size_t)mid[j], acc, sizeof acc);
+        }
+    }
+    B->nv = B->nd = 0;
+}
+
+/* Adds vertex v's ring to the batch (or does v at once: no dart, a large ring). */
+static void batch_add(ring_worker *w, ring_batch *B, uint32_t v)
+{
+    ring_level *x = w->x;
+    uint32_t d = atomic_load_explicit(&x->vd[v], memory_order_relaxed);
+    if (d == ST_NIL) { memcpy(x->pold + 3 * (size_t)v, r_pos(x, v), 3 * sizeof(double)); return; } /* no dart: stays */
+    uint32_t at = B->nd, n = 0, lo = 0, y = d;
+    do {
+        if (n == RING_MAX) { ring_large(w, d); return; }
+        B->r[at + n] = y;
+        lo = y < B->r[at + lo] ? n : lo;
+        n++;
+        y = x->b1[y];
+    } while (y != d);
+    B->v[B->nv] = v;
+    B->at[B->nv] = at;
+    B->lo[B->nv] = lo;
+    B->nv++;
+    B->nd = at + n;
+    B->at[B->nv] = B->nd;
+    if (B->nd + RING_MAX > BATCH_DARTS || B->nv == BATCH_DARTS / 2) batch_finish(w, B);
+}
+
+static void ring_vertices(st_team *team, ring_worker *w)
+{
+    ring_level *x = w->x;
+    const uint8_t *vins = x->c.vins;
+    ring_batch *B = malloc(sizeof *B);
+    if (!B) abort(); /* out of memory for a thread's scratch */
+    B->nv = B->nd = 0;
+    B->at[0] = 0;
+    uint32_t b, e;
+    while (st_team_next(team, 1, x->nvblocks, RING_CHUNK, &b, &e))
+        for (uint32_t i = b; i < e; i++)
+            for (uint32_t v = x->vblocks[i]; v < x->vblocks[i] + ST_POOL_BLOCK; v++)
+                if (vins[v] != ST_FREE_LEVEL) batch_add(w, B, v);
+    batch_finish(w, B);
+    free(B);
+}
+
+static void ring_passes(st_team *team, unsigned t, void *ctx)
+{
+    (void)t;
+    ring_level *x = ctx;
+    ring_worker w = { .x = x, .s = { .h = x->h, .L = x->L, .pnew = x->pnew, .pold = x->pold } };
+    st_level_view_init(&x->h->map, x->l, &w.s.c);
+    st_level_view_init(&x->h->map, x->L, &w.s.f);
+    ring_offer(team, x);
+    st_team_sync(team);
+    ring_vertices(team, &w);
+    st_stencil_buf_free(&w.s.buf);
+    st_stencil_buf_free(&w.s.tmp);
+}
+
+/* First ids of the blocks of levels l, l-1, ..., 0: refine.c numbers level
+ * l in the order of the faces it came from, so that neighbourhoods are close
+ * in memory in this order. */
+static uint32_t *newest_first(const st_pool *p, unsigned l, uint32_t *n)
+{
+    *n = st_pool_block_list(p, l, NULL);
+    uint32_t *out = malloc(((size_t)*n + 1) * sizeof *out), k = 0;
+    if (!out) return NULL;
+    for (unsigned lv = l + 1; lv-- > 0;)
+        for (uint32_t i = 0; i < p->nblocks[lv]; i++) out[k++] = p->blocks[lv][i] << ST_POOL_BLOCK_SHIFT;
+    return out;
+}
+
+static void loop_predict_level(st_hier *h, unsigned L)
+{
+    st_map *m = &h->map;
+    unsigned l = L - 1;
+    /* The ring pass reads β1 and vert from their base arrays and β0 at L
+     * from its column. */
+    if (!m->beta0.col[L] || m->beta1.eff[l] || m->vert.eff[l]) { loop_predict_views(h, L); return; }
+    ring_level x = { .h = h, .l = l, .L = L };
+    x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
+    x.pnew = (double *)m->pos.base;
+    if (!x.pold) abort(); /* out of memory for a level's positions */
+    x.b0L = (const uint32_t *)m->beta0.col[L];
+    x.b1 = (const uint32_t *)m->beta1.base;
+    x.vt = (const uint32_t *)m->vert.base;
+    x.flags = m->flags;
+    st_level_view_init(m, l, &x.c);
+    x.blocks = newest_first(&m->darts, l, &x.nblocks);
+    x.vblocks = newest_first(&m->verts, l, &x.nvblocks);
+    x.vcover = 0;
+    for (uint32_t i = 0; x.vblocks && i < x.nvblocks; i++)
+        if (x.vblocks[i] + ST_POOL_BLOCK > x.vcover) x.vcover = x.vblocks[i] + ST_POOL_BLOCK;
+    x.vd = malloc(((size_t)x.vcover + 1) * sizeof *x.vd);
+    if (!x.blocks || !x.vblocks || !x.vd) abort(); /* out of memory for a level's scratch */
+    for (uint32_t v = 0; v < x.vcover; v++) atomic_init(&x.vd[v], ST_NIL);
+    for (unsigned n = 1; n <= RING_MAX; n++) loop_weights(n, &x.vw[n], &x.ew[n]);
+    x.vw[0] = x.ew[0] = 0;
+    unsigned threads = st_parallel_threads();
+    if (x.nblocks < RING_MIN_BLOCKS_PER_THREAD * threads) threads = x.nblocks / RING_MIN_BLOCKS_PER_THREAD;
+    st_team_run(threads ? threads : 1, ring_passes, &x);
+    free(x.blocks);
+    free(x.vblocks);
+    free((void *)x.vd);
 }
 
 static const st_primal_rules loop_rules = { smooth_vertex, smooth_edge, 1, ST_FACE_POINTS_NONE };
