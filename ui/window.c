@@ -385,6 +385,9 @@ int st_app_open(st_app *a, const char *path)
     a->op = ST_OP_NONE;
     st_app_sync(a);
     frame_model(a);
+    /* Brush radius in model units: an eighth of the half-diagonal, so
+     * that models of any scale get a usable brush. */
+    a->doc.brush.radius = 0.125 * a->cc.radius;
     char title[512];
     snprintf(title, sizeof title, "Strata - %s", file_base(path));
     glfwSetWindowTitle(a->win, title);
