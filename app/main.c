@@ -20,6 +20,10 @@ static void usage(FILE *f)
         "  render IN [--scheme S --levels N --level L] [--view front|back|left|right|top|iso | --orbit AZ,EL,DIST]\n"
         "         [--mode smooth|flat|wire|cage] [--size WxH] -o OUT.png\n"
         "                                      draws level L headless (no display, no GPU) into a PNG\n"
+        "  [--scheme S] [--levels N] [--size WxH] [--replay EVENTS.txt] [--screenshot-dir D]\n"
+        "  [--compare-dir D] [--mem-budget MIB] [--bench-interaction] [FILE]\n"
+        "                                      the modeller window on FILE (default: assets/torus.obj);\n"
+        "                                      F1 in the window lists the keys\n"
         "  help                                this text\n"
         "schemes: catmull-clark, loop, butterfly, quad-triangle, sqrt3, doo-sabin\n");
 }
