@@ -588,7 +588,10 @@ static void select_rect(st_app *a)
     uint32_t *slots = NULL;
     int64_t n = st_pick_rect(&a->pick, (int)a->op_x0, (int)a->op_y0, (int)a->mx, (int)a->my, &slots);
     if (n < 0) { st_app_message(a, 1, "out of memory for the selection"); return; }
-    for (int64_t i = 0; i < n; i++) slots[i] = a->r.cage.vid[slots[i]];
+    int64_t k = 0;
+    for (int64_t i = 0; i < n; i++)
+        if (slots[i] < a->r.cage.nverts) slots[k++] = a->r.cage.vid[slots[i]];
+    n = k;
     int mode = (a->op_mods & GLFW_MOD_CONTROL) ? ST_SELECT_REMOVE : (a->op_mods & GLFW_MOD_SHIFT) ? ST_SELECT_ADD : ST_SELECT_REPLACE;
     st_doc_select(&a->doc, slots, (uint32_t)n, mode);
     free(slots);
