@@ -686,12 +686,11 @@ static void face_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], dou
 }
 
 /* Level the criteria want for the face of d at level l. */
-unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p)
+unsigned st_adapt_box_want(const double lo[3], const double hi[3], const st_adapt_params *p)
 {
     unsigned want = p->base_level;
     if (p->has_box) {
-        double lo[3], hi[3], gap = 0;
-        face_bbox(m, d, l, lo, hi);
+        double gap = 0;
         for (int k = 0; k < 3; k++) {
             double g = fmax(p->box_lo[k] - hi[k], lo[k] - p->box_hi[k]);
             if (g > gap) gap = g;
@@ -703,6 +702,14 @@ unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st
         }
         if (w > want) want = w;
     }
+    return want;
+}
+
+unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p)
+{
+    double lo[3], hi[3];
+    face_bbox(m, d, l, lo, hi);
+    unsigned want = st_adapt_box_want(lo, hi, p);
     if (p->flatness > 0 && l < p->max_level) {
         /* Flatness: the largest angle between the face normal and the
          * normals of its edge-neighbours. */
@@ -736,6 +743,14 @@ unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st
         if (worst > p->flatness) want = p->max_level;
     }
     return want > p->max_level ? p->max_level : want;
+}
+
+/* The criteria for the face of d at level l, as the update uses them (√3:
+ * adapt_sqrt3.c). */
+static unsigned wanted(st_adapt *a, uint32_t d, unsigned l, const st_adapt_params *p)
+{
+    if (a->h->scheme->id == ST_SCHEME_SQRT3) return st_adapt_sqrt3_wanted(&a->h->map, d, l, p);
+    return st_adapt_wanted_level(&a->h->map, d, l, p);
 }
 
 /* One dart per real face of map l whose subdivision level is l. */
@@ -840,7 +855,7 @@ static int refine_region(st_adapt *a, const st_dart_list *roots, const st_adapt_
         for (uint32_t k = 0; k < cur.n && !rc; k++) {
             uint32_t d = cur.d[k];
             if (!st_dart_live(m, d) || st_face_level(m, d, i) != i || st_face_is_subdivided(m, d, i)) continue;
-            if (st_adapt_wanted_level(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
+            if (wanted(a, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
         }
         children(a, &cur, i, &next);
         st_dart_list t = cur; cur = next; next = t;
@@ -873,7 +888,7 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
                 for (uint32_t k = 0; k < faces.n && !rc; k++) {
                     uint32_t d = faces.d[k];
                     if (st_face_level(m, d, i) != i || st_face_is_subdivided(m, d, i)) continue;
-                    if (st_adapt_wanted_level(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, restricted, err);
+                    if (wanted(a, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, restricted, err);
                 }
             }
         forced = a->forced;
@@ -895,7 +910,7 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
         for (uint32_t k = 0; k < faces.n && !rc; k++) {
             uint32_t d = faces.d[k];
             if (!st_dart_live(m, d) || st_face_level(m, d, i) != i) continue;
-            if (st_adapt_wanted_level(m, d, i, p) > i || !st_adapt_can_simplify(a, d, i, restricted)) continue;
+            if (wanted(a, d, i, p) > i || !st_adapt_can_simplify(a, d, i, restricted)) continue;
             rc = st_adapt_simplify_face(a, d, i, err);
         }
     }

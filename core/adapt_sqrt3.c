@@ -67,6 +67,7 @@
 #include "adapt_internal.h"
 #include "refine_sqrt3.h"
 
+#include <math.h>
 #include <stdlib.h>
 
 int st_adapt_sqrt3_check(const st_hier *h, st_error *err)
@@ -153,17 +154,24 @@ int st_adapt_sqrt3_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     unsigned L = i + 1;
     if (st_face_degree(m, d, i) != 3) return st_fail(err, ST_ERR_TOPOLOGY, "adapt sqrt3: face of %u sides", st_face_degree(m, d, i));
     /* Evenness and the restriction: force the coarser faces first, one at a
-     * time, and look again (each forcing may change the faces around). */
+     * time, and look again (each forcing may change the faces around).  An
+     * odd triangle is replaced by two even ones when its lower neighbour is
+     * subdivided: it is not subdivided itself - the caller's criteria judge
+     * the faces that replace it (st_adapt_update passes again after forced
+     * subdivisions). */
+    int was_odd = 0;
     for (;;) {
         if (st_face_level(m, d, i) != i) return st_fail(err, ST_ERR_INVALID, "adapt sqrt3: the face of dart %u is not of level %u", d, i);
         if (st_face_is_subdivided(m, d, i)) return ST_OK;
         uint32_t fd;
         unsigned fl;
         if (!needs_forcing(m, d, i, &fd, &fl)) break;
+        if (lower_neighbour(m, d, i) != ST_NIL) was_odd = 1;
         a->forced++;
         int rc = st_adapt_sqrt3_subdivide(a, fd, fl, err);
         if (rc) return rc;
     }
+    if (was_odd) return ST_OK;
     int rc = st_adapt_ensure_level(h, L, err);
     if (rc) return rc;
     double centre[3] = { 0, 0, 0 };
@@ -220,6 +228,103 @@ int st_adapt_sqrt3_can_simplify(st_adapt *a, uint32_t d, unsigned i)
         s = st_beta1(m, s, L);
     } while (s != s0);
     return 1;
+}
+
+/* ---- criteria ------------------------------------------------------------------
+ * Two things make criteria read on the face itself unusable for √3:
+ *   - an odd triangle and the two even triangles that replace it when its
+ *     lower neighbour is subdivided cover different regions: the odd one
+ *     may touch the box where the even ones do not, and each update would
+ *     subdivide the lower neighbour (to make the odd triangle even) and
+ *     simplify it again;
+ *   - a face may want more than the faces it comes from, so the faces kept
+ *     after a box move would depend on what was refined before: the box
+ *     moved away and back would not give back the same mesh.
+ * So the level wanted for a face t of level i >= 1 is
+ *     want(t) = min(own(t), max(want(P), want(G)))
+ * where P and G are the two level-(i-1) triangles of t's old edge (the one
+ * dart of t older than i lies on an edge of level i-1, flipped when t is
+ * even, not when it is odd), own(t) the criteria read on P and G with
+ * level-(i-1) positions (box: the bounding box of their corners; flatness:
+ * the angle between their normals), and want = the usual criteria for a
+ * level-0 face.  An odd triangle and the even ones replacing it share P, G
+ * and so their answer, and a face wants more than i only if one of the
+ * faces it comes from wants that much: the refinement from the base level
+ * reaches it, and the result of an update does not depend on the past. */
+static void newell(const st_map *m, uint32_t d, unsigned l, double n[3])
+{
+    n[0] = n[1] = n[2] = 0;
+    uint32_t x = d;
+    do {
+        const double *a = st_dart_pos(m, x, l), *b = st_dart_pos(m, st_phi1(m, x, l), l);
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]); n[1] += (a[2] - b[2]) * (a[0] + b[0]); n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+        x = st_phi1(m, x, l);
+    } while (x != d);
+}
+
+/* The dart of the face of d (level i >= 1) inserted before i, or ST_NIL. */
+static uint32_t old_dart(const st_map *m, uint32_t d, unsigned i)
+{
+    uint32_t c = d;
+    do {
+        if (m->darts.ins[c] < i) return c;
+        c = st_phi1(m, c, i);
+    } while (c != d);
+    return ST_NIL;
+}
+
+static unsigned own_want(const st_map *m, const uint32_t side[2], unsigned i, const st_adapt_params *p)
+{
+    unsigned l = i - 1;
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; k++) { lo[k] = INFINITY; hi[k] = -INFINITY; }
+    for (int s = 0; s < 2; s++) {
+        uint32_t x = side[s];
+        do {
+            const double *q = st_dart_pos(m, x, l);
+            for (int k = 0; k < 3; k++) { lo[k] = fmin(lo[k], q[k]); hi[k] = fmax(hi[k], q[k]); }
+            x = st_phi1(m, x, l);
+        } while (x != side[s]);
+    }
+    unsigned want = st_adapt_box_want(lo, hi, p);
+    if (p->flatness > 0 && i < p->max_level) {
+        double n0[3], n1[3];
+        newell(m, side[0], l, n0);
+        newell(m, side[1], l, n1);
+        double dn = sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]) * sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
+        if (dn > 0) {
+            double cs = (n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2]) / dn;
+            if (acos(fmax(-1.0, fmin(1.0, cs))) > p->flatness) want = p->max_level;
+        }
+    }
+    return want > p->max_level ? p->max_level : want;
+}
+
+/* min(cap, want(face of d at level i)); the second parent is visited only
+ * when the first does not reach the cap. */
+static unsigned want_capped(const st_map *m, uint32_t d, unsigned i, const st_adapt_params *p, unsigned cap)
+{
+    if (i == 0) {
+        unsigned w = st_adapt_wanted_level(m, d, 0, p);
+        return w < cap ? w : cap;
+    }
+    uint32_t c = old_dart(m, d, i);
+    if (c == ST_NIL) { /* not a face of level i: cannot happen in an adaptive √3 map */
+        unsigned w = st_adapt_wanted_level(m, d, i, p);
+        return w < cap ? w : cap;
+    }
+    uint32_t side[2] = { c, st_beta0(m, c, i - 1) };
+    unsigned o = own_want(m, side, i, p);
+    if (o > cap) o = cap;
+    unsigned a = want_capped(m, side[0], i - 1, p, o);
+    if (a >= o) return o;
+    unsigned b = want_capped(m, side[1], i - 1, p, o);
+    return a > b ? a : b;
+}
+
+unsigned st_adapt_sqrt3_wanted(const st_map *m, uint32_t d, unsigned i, const st_adapt_params *p)
+{
+    return want_capped(m, d, i, p, p->max_level);
 }
 
 int st_adapt_sqrt3_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
