@@ -50,7 +50,12 @@
  * made even triangles of its level first - the flips change β1 of old
  * darts, which the levels above may only take where they have not
  * diverged.  Simplification flips the edges back and removes the centre
- * (the only vertex √3 creates), keeping its details like the others.
+ * (the only vertex √3 creates), keeping its details like the others.  The
+ * updates read the criteria of a √3 face of level i >= 1 on the two
+ * level-(i-1) triangles of its old edge, capped by what those want (so an
+ * odd triangle and the even ones replacing it agree, and the result of an
+ * update does not depend on earlier ones); st_adapt_wanted_level below is
+ * the plain per-face reading.
  * Meshes with holes are refused (boundary trisection is not adaptive). */
 #ifndef ST_ADAPT_H
 #define ST_ADAPT_H
@@ -110,7 +115,8 @@ int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted);
 int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err);
 
 /* Level the criteria of p want for the face of d at level l (box, falloff,
- * flatness; never below p->base_level). */
+ * flatness; never below p->base_level).  (√3 updates use a variant: see
+ * "√3" above.) */
 unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p);
 
 /* Algorithms 5 then 6 with the criteria of p.  When only the box moved since

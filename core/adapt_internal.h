@@ -35,8 +35,9 @@ int st_adapt_sqrt3_check(const st_hier *h, st_error *err);
 int st_adapt_sqrt3_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err);
 int st_adapt_sqrt3_can_simplify(st_adapt *a, uint32_t d, unsigned i);
 int st_adapt_sqrt3_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err);
-/* The level the criteria p want for the face of d (level i), read on the
- * two level-(i-1) triangles of its old edge (adapt_sqrt3.c). */
+/* The level the criteria p want for the face of d (level i), as the
+ * updates use it for √3: read on the two level-(i-1) triangles of its old
+ * edge and capped by what those want (adapt_sqrt3.c). */
 unsigned st_adapt_sqrt3_wanted(const st_map *m, uint32_t d, unsigned i, const st_adapt_params *p);
 
 /* The box part of the criteria (and base_level) for a bounding box. */
