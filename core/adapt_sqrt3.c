@@ -33,9 +33,10 @@
  * subdivided above L yet - which is what the restriction guarantees.
  * Before t (level i) is subdivided:
  *   - t must be even (mandatory: an odd triangle is not a triangle of the
- *     regular level-i mesh; its lower neighbour is subdivided first, which
- *     flips the edge and replaces t by two even triangles - the face of d
- *     is then one of them);
+ *     regular level-i mesh).  Asked to subdivide an odd triangle, its lower
+ *     neighbour is subdivided instead, which flips the edge and replaces it
+ *     by two even triangles, and nothing more: the criteria then judge
+ *     those (st_adapt_update passes again after forced subdivisions);
  *   - every face around t's corners at level i must be an even triangle of
  *     level i (faces of lower level, and the lower neighbours of odd ones,
  *     are subdivided first).
