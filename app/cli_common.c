@@ -1,6 +1,7 @@
 /* Shared option parsing and loading for the subcommands. */
 #include "cli_common.h"
 #include "mesh_any.h"
+#include "session.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -47,8 +48,37 @@ int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd)
     return 0;
 }
 
+/* A session file (.strata) as input: its hierarchy as saved (details,
+ * edits, levels), refined further when --levels asks for more. */
+static int load_session(const st_cli_opts *o, st_hier *h, const char *cmd)
+{
+    st_session s;
+    st_error err;
+    if (st_session_load(o->in, &s, &err)) { fprintf(stderr, "strata: %s\n", err.msg); return 1; }
+    if (o->scheme && st_scheme_find(o->scheme) != s.h.scheme) {
+        fprintf(stderr, "strata %s: %s is a %s session; --scheme %s does not apply (strata convert rebuilds with another scheme from a mesh)\n",
+                cmd, o->in, s.h.scheme->name, o->scheme);
+        st_session_free(&s);
+        return 2;
+    }
+    if (o->levels > s.h.map.top && s.has_adapt && s.box_on) {
+        fprintf(stderr, "strata %s: %s shows an adaptive mesh (interest box on); --levels cannot refine it further\n", cmd, o->in);
+        st_session_free(&s);
+        return 2;
+    }
+    st_session_move_hier(h, &s.h);
+    st_session_free(&s);
+    if (o->levels > h->map.top && st_hier_subdivide_to(h, o->levels, &err)) {
+        fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);
+        st_hier_free(h);
+        return 1;
+    }
+    return 0;
+}
+
 int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
 {
+    if (st_session_is_path(o->in)) return load_session(o, h, cmd);
     const char *name = o->scheme ? o->scheme : "catmull-clark";
     const st_scheme *sc = st_scheme_find(name);
     if (!sc) { fprintf(stderr, "strata %s: unknown scheme '%s' (catmull-clark, loop, butterfly, quad-triangle, sqrt3, doo-sabin)\n", cmd, name); return 2; }
@@ -68,6 +98,17 @@ int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
         fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);
         st_hier_free(h);
         return 1;
+    }
+    return 0;
+}
+
+int st_cli_level(const st_cli_opts *o, const st_hier *h, const char *cmd, unsigned *level)
+{
+    *level = o->level >= 0 ? (unsigned)o->level : o->levels;
+    if (o->level < 0 && !o->levels && st_session_is_path(o->in)) *level = h->map.top;
+    if (*level > h->map.top) {
+        fprintf(stderr, "strata %s: level %u does not exist (the finest is %u)\n", cmd, *level, h->map.top);
+        return -1;
     }
     return 0;
 }

@@ -15,6 +15,11 @@ int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd);
 /* Loads o->in and builds the hierarchy to o->levels; prints errors. */
 int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd);
 
+/* The level a command shows or writes once h is loaded: --level, else
+ * --levels, else (a session file given without either) its top level.
+ * Prints a message and returns -1 when the level does not exist. */
+int st_cli_level(const st_cli_opts *o, const st_hier *h, const char *cmd, unsigned *level);
+
 /* Parses "x0,y0,z0,x1,y1,z1" into sorted corners; -1 when malformed. */
 int st_cli_parse_box(const char *s, double lo[3], double hi[3]);
 

@@ -15,6 +15,7 @@
 
 #include "image.h"
 #include "adapt.h"
+#include "session.h"
 #include "offscreen.h"
 
 #define DEFAULT_W 800
@@ -200,9 +201,10 @@ int st_cmd_render(int argc, char **argv)
     free(rest);
     if (!o.out) { fprintf(stderr, "strata render: -o OUT.png is required\n"); return 2; }
     if (!has_png_ext(o.out)) { fprintf(stderr, "strata render: the output must be a .png file, got '%s'\n", o.out); return 2; }
-    unsigned level = o.level < 0 ? o.levels : (unsigned)o.level;
-    if (level > o.levels) { fprintf(stderr, "strata render: --level %u is above --levels %u\n", level, o.levels); return 2; }
-    r.spec.level = level;
+    if (o.level > (int)o.levels && !st_session_is_path(o.in)) {
+        fprintf(stderr, "strata render: --level %d is above --levels %u\n", o.level, o.levels);
+        return 2;
+    }
     r.spec.cage_level = 0;
     if (r.adaptive) {
         if (o.levels || o.level >= 0) { fprintf(stderr, "strata render: --levels/--level do not go with --box (the box decides the levels)\n"); return 2; }
@@ -212,6 +214,9 @@ int st_cmd_render(int argc, char **argv)
     st_hier h;
     int rc = st_cli_load(&o, &h, "render");
     if (rc) return rc;
+    unsigned level = 0;
+    if (!r.adaptive && st_cli_level(&o, &h, "render", &level)) { st_hier_free(&h); return 2; }
+    r.spec.level = level;
     st_error err;
     if (r.adaptive) {
         st_adapt a;

@@ -2,6 +2,7 @@
 #include "cli.h"
 #include "cli_common.h"
 #include "mesh_any.h"
+#include "session.h"
 
 #include <stdio.h>
 
@@ -10,11 +11,15 @@ int st_cmd_subdivide(int argc, char **argv)
     st_cli_opts o;
     if (st_cli_parse(argc, argv, &o, "subdivide")) return 2;
     if (!o.out) { fprintf(stderr, "strata subdivide: -o OUT is required\n"); return 2; }
-    unsigned level = o.level < 0 ? o.levels : (unsigned)o.level;
-    if (level > o.levels) { fprintf(stderr, "strata subdivide: --level %u is above --levels %u\n", level, o.levels); return 2; }
+    if (o.level > (int)o.levels && !st_session_is_path(o.in)) {
+        fprintf(stderr, "strata subdivide: --level %d is above --levels %u\n", o.level, o.levels);
+        return 2;
+    }
     st_hier h;
     int rc = st_cli_load(&o, &h, "subdivide");
     if (rc) return rc;
+    unsigned level;
+    if (st_cli_level(&o, &h, "subdivide", &level)) { st_hier_free(&h); return 2; }
     st_mesh out;
     st_error err;
     st_mesh_init(&out);

@@ -138,5 +138,18 @@ expect 1 "loop on a quad mesh" "$S" convert "$A/cube.obj" "$W/x.strata" --scheme
 expect 1 "unwritable output" "$S" convert "$W/cc.strata" "/nonexistent/dir/x.strata"
 expect 2 "no output" "$S" convert "$W/cc.strata"
 
+# ---- sessions as input to the other commands ------------------------------------
+if "$S" info "$W/cc.strata" > "$W/info.txt" && grep -q '^    3 ' "$W/info.txt"; then ok "strata info reads a session (levels 0..3)"
+else bad "strata info on a session"; fi
+"$S" subdivide "$W/cc.strata" -o "$W/cc_top.obj" > /dev/null
+if cmp -s "$W/cc_top.obj" "$W/cc_d.obj"; then ok "strata subdivide of a session writes its top level"; else bad "subdivide of a session"; fi
+"$S" subdivide "$W/cc.strata" --levels 4 -o "$W/cc_4.obj" > /dev/null
+"$S" subdivide "$CAGE" --levels 4 -o "$W/cc_4d.obj" > /dev/null
+if [ "$(faces_of "$W/cc_4.obj")" = "$(faces_of "$W/cc_4d.obj")" ]; then ok "a session refined one level further ($(faces_of "$W/cc_4.obj") faces)"
+else bad "session --levels 4"; fi
+if "$S" render "$W/cc.strata" --size 80x60 -o "$W/cc.png" | grep -q 'level 3'; then ok "strata render draws a session's top level"; else bad "render of a session"; fi
+expect 2 "a session with another --scheme" "$S" info "$W/cc.strata" --scheme loop
+expect 2 "a session's missing level" "$S" subdivide "$W/cc.strata" --level 7 -o "$W/x.obj"
+
 echo "$((n - fail)) passed, $fail failed"
 [ "$fail" -eq 0 ]
