@@ -3,7 +3,9 @@
 #include "window.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -167,6 +169,20 @@ static const char *file_base(const char *p)
     return s ? s + 1 : p;
 }
 
+/* The "working..." panel of a long operation (reads nothing of the
+ * document: a worker thread may own it). */
+static void draw_working(st_app *a)
+{
+    st_hud *u = &a->hud;
+    if (!a->working[0]) return;
+    float sc = 2 * HUD_SCALE;
+    float w = st_hud_text_width(a->working, sc);
+    if (w > (float)a->fb_w - 48) { sc *= ((float)a->fb_w - 48) / w; w = st_hud_text_width(a->working, sc); }
+    float h = 12 * sc, x = 0.5f * ((float)a->fb_w - w), y = 0.5f * ((float)a->fb_h - h);
+    st_hud_rect(u, x - 20, y - 16, x + w + 20, y + h + 8, C_DARK);
+    st_hud_text(u, x, y, sc, C_WHITE, a->working);
+}
+
 static void draw_hud(st_app *a)
 {
     st_hud *u = &a->hud;
@@ -275,12 +291,7 @@ static void draw_hud(st_app *a)
         }
     }
 
-    if (a->working[0]) {
-        float w = st_hud_text_width(a->working, 2 * HUD_SCALE), h = 2 * HUD_LINE;
-        float x = 0.5f * ((float)a->fb_w - w), y = 0.5f * ((float)a->fb_h - h);
-        st_hud_rect(u, x - 20, y - 16, x + w + 20, y + h + 8, C_DARK);
-        st_hud_text(u, x, y, 2 * HUD_SCALE, C_WHITE, a->working);
-    }
+    draw_working(a);
 }
 
 static void draw_overlays(st_app *a)
@@ -331,20 +342,24 @@ void st_app_draw(st_app *a)
     o.clear = 1;
     o.line_width = 1.2f;
     o.point_size = 7;
-    if (a->doc.loaded && a->r.has_surf) st_renderer_draw(&a->r, &a->cc.cam, a->fb_w, a->fb_h, &o);
+    int scene = a->r.has_surf && (a->busy || a->doc.loaded);   /* busy: the worker owns the document */
+    if (scene) st_renderer_draw(&a->r, &a->cc.cam, a->fb_w, a->fb_h, &o);
     else {
         gl->ClearColor(a->r.background[0], a->r.background[1], a->r.background[2], 1);
         gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     }
     st_hud_begin(&a->hud, a->fb_w, a->fb_h);
-    draw_handles(a);
-    draw_overlays(a);
-    draw_hud(a);
+    if (!a->busy) {
+        draw_handles(a);
+        draw_overlays(a);
+        draw_hud(a);
+    } else {
+        draw_working(a);
+    }
     st_hud_flush(&a->hud);
 }
 
-/* A frame saying what is being done, shown before a long operation starts
- * (the core has no progress callback: the window cannot redraw during it). */
+/* A frame saying what is being done, drawn before a long operation starts. */
 static void show_working(st_app *a, const char *fmt, ...)
 {
     va_list ap;
@@ -355,6 +370,75 @@ static void show_working(st_app *a, const char *fmt, ...)
     glfwSwapBuffers(a->win);
     a->gl.Finish();
     fprintf(stderr, "strata: %s\n", a->working);
+}
+
+/* ---- long document operations on a worker thread ------------------------------------- */
+
+enum { JOB_OPEN, JOB_ADD_LEVEL, JOB_SCHEME };
+
+typedef struct doc_job {
+    st_doc *d;
+    int kind;
+    const char *path, *scheme;
+    unsigned levels;
+    st_error err;
+    int rc;
+    atomic_int done;
+} doc_job;
+
+static void *job_main(void *p)
+{
+    doc_job *j = p;
+    switch (j->kind) {
+    case JOB_OPEN: j->rc = st_doc_open(j->d, j->path, j->scheme, j->levels, &j->err); break;
+    case JOB_ADD_LEVEL: j->rc = st_doc_add_level(j->d, &j->err); break;
+    default: j->rc = st_doc_set_scheme(j->d, j->scheme, &j->err); break;
+    }
+    atomic_store(&j->done, 1);
+    return NULL;
+}
+
+/* Runs a document operation on a worker thread while this thread, after
+ * 150 ms, redraws a "working" frame with the elapsed time every 100 ms: the
+ * scene from the renderer's own buffers and the message, nothing read from
+ * the document meanwhile.  Input is not processed until it ends (GLFW
+ * forbids polling events from inside a callback, where this runs).  The core
+ * has no progress callback, so the frame shows the time, not a fraction. */
+static int run_job(st_app *a, doc_job *j, const char *what)
+{
+    j->d = &a->doc;
+    atomic_init(&j->done, 0);
+    pthread_t th;
+    if (pthread_create(&th, NULL, job_main, j)) {
+        show_working(a, "%s", what);
+        job_main(j);
+        a->working[0] = 0;
+        return j->rc;
+    }
+    double t0 = now_ms(), next = t0 + 150;
+    int shown = a->working[0] != 0;   /* show_working() already said it */
+    while (!atomic_load(&j->done)) {
+        double t = now_ms();
+        if (t >= next) {
+            char el[32];
+            if (a->masked_times) snprintf(el, sizeof el, "--");
+            else snprintf(el, sizeof el, "%.1f s", (t - t0) / 1000);
+            snprintf(a->working, sizeof a->working, "%s  (%s)", what, el);
+            if (!shown) fprintf(stderr, "strata: %s\n", what);
+            shown = 1;
+            a->busy = 1;
+            st_app_draw(a);
+            glfwSwapBuffers(a->win);
+            next = t + 100;
+        } else {
+            struct timespec ts = { 0, 2000000 };
+            nanosleep(&ts, NULL);
+        }
+    }
+    pthread_join(th, NULL);
+    a->busy = 0;
+    a->working[0] = 0;
+    return j->rc;
 }
 
 /* ---- opening ------------------------------------------------------------------ */
@@ -371,10 +455,12 @@ int st_app_open(st_app *a, const char *path)
     if (st_session_is_path(path)) return st_app_restore(a, path);
     unsigned levels = a->opts.levels >= 0 ? (unsigned)a->opts.levels : DEFAULT_LEVELS;
     const char *scheme = a->opts.scheme ? a->opts.scheme : (a->doc.loaded && a->doc.scheme ? a->doc.scheme->name : "catmull-clark");
-    show_working(a, "opening %s ...", file_base(path));
     double t0 = now_ms();
-    int rc = st_doc_open(&a->doc, path, scheme, levels, &err);
-    a->working[0] = 0;
+    char what[300];
+    snprintf(what, sizeof what, "working... opening %s", file_base(path));
+    doc_job j = { .kind = JOB_OPEN, .path = path, .scheme = scheme, .levels = levels };
+    int rc = run_job(a, &j, what);
+    err = j.err;
     if (rc) {
         st_app_message(a, 1, "cannot open %s: %s%s", file_base(path), err.msg,
                        a->doc.loaded ? " (the current model is kept)" : "");
@@ -857,12 +943,14 @@ static void add_level(st_app *a)
     size_t bytes = st_doc_add_level_bytes(d);
     double faces = a->r.surf.nfaces;
     for (unsigned l = shown_level(d); l <= d->h.map.top; l++) faces *= 4;
-    if (faces > WORKING_FACES)
-        show_working(a, "working... building level %u (about %.1fM faces, %.0f MB)", d->h.map.top + 1, faces / 1e6,
-                     bytes / 1048576.0);
+    char what[256];
+    snprintf(what, sizeof what, "working... building level %u (about %.1fM faces, %.0f MB)", d->h.map.top + 1,
+             faces / 1e6, bytes / 1048576.0);
+    if (faces > WORKING_FACES) show_working(a, "%s", what);
     double t0 = now_ms();
-    int rc = st_doc_add_level(d, &err);
-    a->working[0] = 0;
+    doc_job j = { .kind = JOB_ADD_LEVEL };
+    int rc = run_job(a, &j, what);
+    err = j.err;
     if (rc) { st_app_message(a, 1, "cannot add a level: %s", err.msg); return; }
     st_app_sync(a);
     uint64_t f = 0, v = 0;
@@ -957,9 +1045,11 @@ static void key_press(st_app *a, int key, int mods)
         if (key == GLFW_KEY_K) { a->pending_scheme = next_scheme(s); return; }
         a->pending_scheme = NULL;
         if (key == GLFW_KEY_Y || key == GLFW_KEY_ENTER) {
-            show_working(a, "working... rebuilding with %s", s);
-            int rc = st_doc_set_scheme(d, s, &err);
-            a->working[0] = 0;
+            char what[128];
+            snprintf(what, sizeof what, "working... rebuilding with %s", s);
+            doc_job j = { .kind = JOB_SCHEME, .scheme = s };
+            int rc = run_job(a, &j, what);
+            err = j.err;
             report(a, rc, &err, "cannot change the scheme");
             if (!rc) st_app_message(a, 0, "scheme is now %s", s);
         } else {

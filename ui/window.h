@@ -85,6 +85,7 @@ typedef struct st_app {
     double msg_time;
     char default_path[4096];
     char working[256];         /* drawn over the frame during a long operation */
+    int busy;                  /* a worker thread owns the document: draw nothing of it */
     int masked_times;          /* replay: times shown as "--" (screenshots stay comparable) */
     int autosave_dirty;        /* edits since the last recovery save */
     double autosave_t;
