@@ -544,6 +544,50 @@ static void check_incremental(void (*make)(st_mesh *), const char *name, unsigne
     st_hier_free(&g);
 }
 
+/* Random criteria (box sizes, base levels, falloff, flatness, no box):
+ * after every update the same criteria again change nothing, and the mesh
+ * equals the one a fresh hierarchy gets in one update (the result does not
+ * depend on earlier updates). */
+static void check_history_free(void (*make)(st_mesh *), const char *name, double e, uint64_t seed)
+{
+    st_hier h;
+    st_adapt a;
+    st_error err;
+    tl_init_hier(&h, make, ST_SCHEME_SQRT3, 0);
+    CHECK(st_adapt_init(&a, &h, &err) == ST_OK);
+    uint64_t rng = seed;
+    for (int step = 0; step < 12; step++) {
+        double c[3];
+        for (int k = 0; k < 3; k++) c[k] = e * ((double)(tl_rand(&rng) % 2001) / 1000.0 - 1.0);
+        st_adapt_params p = box_params(c[0], c[1], c[2], (0.1 + 0.1 * (tl_rand(&rng) % 4)) * e, tl_rand(&rng) % 3, 4);
+        if (tl_rand(&rng) % 2) p.falloff = 0.15 * e;
+        if (tl_rand(&rng) % 3 == 0) p.flatness = 0.3;
+        if (tl_rand(&rng) % 4 == 0) p.has_box = 0;
+        CHECK(st_adapt_update(&a, &p, &err) == ST_OK);
+        valid(&h.map, name);
+        check_display(&a, name, step);
+        CHECK(st_adapt_update(&a, &p, &err) == ST_OK);
+        CHECKF(a.touched == 0, "%s step %d: the same criteria again touched %llu faces", name, step, (unsigned long long)a.touched);
+        st_hier g;
+        st_adapt b;
+        tl_init_hier(&g, make, ST_SCHEME_SQRT3, 0);
+        CHECK(st_adapt_init(&b, &g, &err) == ST_OK && st_adapt_update(&b, &p, &err) == ST_OK);
+        st_mesh s, t;
+        st_mesh_init(&s);
+        st_mesh_init(&t);
+        CHECK(st_adapt_mesh(&a, &s, &err) == ST_OK && st_adapt_mesh(&b, &t, &err) == ST_OK);
+        double w = fmax(pointset_dist(&s, &t), pointset_dist(&t, &s));
+        CHECKF(s.nfaces == t.nfaces && s.nverts == t.nverts && w < 1e-9 * e, "%s step %d: %u faces after moves, %u fresh, distance %g",
+               name, step, s.nfaces, t.nfaces, w);
+        st_mesh_free(&s);
+        st_mesh_free(&t);
+        st_adapt_free(&b);
+        st_hier_free(&g);
+    }
+    st_adapt_free(&a);
+    st_hier_free(&h);
+}
+
 static void check_open_refused(void)
 {
     st_hier h;
@@ -576,6 +620,8 @@ int main(void)
     check_incremental(tri_torus, "torus small box", 5, 2.7, 0.08);
     check_incremental(octa, "octahedron", 5, 1, 0.2);
     check_incremental(icosphere, "icosphere", 4, 1, 0.15);
+    check_history_free(icosphere, "icosphere", 1, 1234);
+    check_history_free(tri_torus, "torus", 2.7, 1235);
     check_open_refused();
     return TEST_END();
 }
