@@ -340,8 +340,11 @@ void st_app_draw(st_app *a)
     o.cage = a->cage;
     o.box = 1;
     o.clear = 1;
-    o.line_width = 1.2f;
-    o.point_size = 7;
+    /* Cage points and lines thinner when the editing level is dense for
+     * the window (a level of thousands of vertices would be a carpet). */
+    float spacing = a->r.has_cage && a->r.cage.nverts ? sqrtf((float)a->fb_w * a->fb_h / a->r.cage.nverts) : 100;
+    o.point_size = fminf(7.0f, fmaxf(2.5f, 0.45f * spacing));
+    o.line_width = spacing < 12 ? 0.8f : 1.2f;
     int scene = a->r.has_surf && (a->busy || a->doc.loaded);   /* busy: the worker owns the document */
     if (scene) st_renderer_draw(&a->r, &a->cc.cam, a->fb_w, a->fb_h, &o);
     else {
