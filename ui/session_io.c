@@ -112,6 +112,7 @@ int st_app_restore(st_app *a, const char *path)
     a->hover_vid = ST_NIL;
     a->op = ST_OP_NONE;
     st_app_sync(a);
+    a->autosave_dirty = 0;   /* opening is not an edit */
     if (s.has_view) {
         st_camctl_frame_all(&a->cc, a->r.surf.bbox, a->fb_h > 0 ? (float)a->fb_w / a->fb_h : 1);
         st_camera *c = &a->cc.cam;

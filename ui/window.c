@@ -473,6 +473,7 @@ int st_app_open(st_app *a, const char *path)
     a->hover_vid = ST_NIL;
     a->op = ST_OP_NONE;
     st_app_sync(a);
+    a->autosave_dirty = 0;   /* opening is not an edit */
     frame_model(a);
     /* Brush radius in model units: an eighth of the half-diagonal, so
      * that models of any scale get a usable brush. */
