@@ -227,6 +227,15 @@ void check_sink(void *ctx, const st_stencil *s)
 
 void check_stencils(st_hier *h)
 {
+    uint64_t hash = 1469598103934665603ull;
+    for (unsigned L = 0; L <= h->map.top; L++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&h->map, L, &it); v != ST_NIL; v = st_vertex_next(&h->map, L, &it)) {
+            const unsigned char *b = (const unsigned char *)st_pos(&h->map, v, L);
+            for (size_t k = 0; k < 3 * sizeof(double); k++) hash = (hash ^ b[k]) * 1099511628211ull;
+        }
+    }
+    printf("  positions of all levels: FNV-1a %016llx\n", (unsigned long long)hash);
     for (unsigned L = 1; L <= h->map.top; L++) {
         check_ctx c = { h, L, 0, 0, 0 };
         h->scheme->emit(h, L, nullptr, 0, check_sink, &c);

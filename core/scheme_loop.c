@@ -12,6 +12,7 @@
  * a corner.  Topology: triangle quadrisection (refine.c, ST_SPLIT_TRI). */
 #include "primal_emit.h"
 #include "hier_internal.h"
+#include "synth_blocks.h"
 
 #include "parallel.h"
 #include "pool.h"
@@ -200,26 +201,25 @@ typedef struct ring_level {
     uint32_t *blocks, nblocks;       /* first ids of the dart blocks of levels l..0 */
     uint32_t *vblocks, nvblocks;     /* ... and of the vertex blocks */
     uint32_t vcover;
+    uint64_t *dnew;                  /* block bits (synth_blocks.h) of the darts of level l ... */
+    uint64_t *vnew;                  /* ... and of its vertices when positions have a level-l column (else NULL) */
     double vw[RING_MAX + 1], ew[RING_MAX + 1]; /* loop_weights by valence */
 } ring_level;
 
 typedef struct ring_worker { ring_level *x; loop_fast s; } ring_worker;
 
-static const void *pick(const void *base, const void *col, int use_col)
-{
-    uintptr_t m = -(uintptr_t)(use_col != 0);
-    return (const void *)(((uintptr_t)base & ~m) | ((uintptr_t)col & m));
-}
-
+/* β0 at level l (whose column is level l's: checked), a column read for
+ * the darts older than l. */
 static uint32_t r_beta0(const ring_level *x, uint32_t d)
 {
     const st_u32_view *r = &x->c.beta0;
-    return ((const uint32_t *)pick(r->base, r->col, x->c.ins[d] < r->lvl))[d];
+    return ((const uint32_t *)st_pick(r->base, r->col, !st_block_bit(x->dnew, d)))[d];
 }
 
 static const double *r_pos(const ring_level *x, uint32_t v)
 {
-    return (const double *)pick(x->c.pbase, x->c.pcol, x->c.vins[v] < x->c.plvl) + 3 * (size_t)v;
+    int use_col = x->vnew ? !st_block_bit(x->vnew, v) : x->c.vins[v] < x->c.plvl;
+    return (const double *)st_pick(x->c.pbase, x->c.pcol, use_col) + 3 * (size_t)v;
 }
 
 static void ring_offer(st_team *team, ring_level *x)
@@ -404,7 +404,7 @@ static void loop_predict_level(st_hier *h, unsigned L)
     unsigned l = L - 1;
     /* The ring pass reads β1 and vert from their base arrays and β0 at L
      * from its column. */
-    if (!m->beta0.col[L] || m->beta1.eff[l] || m->vert.eff[l]) { loop_predict_views(h, L); return; }
+    if (!m->beta0.col[L] || m->beta1.eff[l] || m->vert.eff[l] || m->beta0.eff[l] != l) { loop_predict_views(h, L); return; }
     ring_level x = { .h = h, .l = l, .L = L };
     x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
     x.pnew = (double *)m->pos.base;
@@ -420,7 +420,9 @@ static void loop_predict_level(st_hier *h, unsigned L)
     for (uint32_t i = 0; x.vblocks && i < x.nvblocks; i++)
         if (x.vblocks[i] + ST_POOL_BLOCK > x.vcover) x.vcover = x.vblocks[i] + ST_POOL_BLOCK;
     x.vd = malloc(((size_t)x.vcover + 1) * sizeof *x.vd);
-    if (!x.blocks || !x.vblocks || !x.vd) abort(); /* out of memory for a level's scratch */
+    x.dnew = st_block_bits(&m->darts, l);
+    x.vnew = m->pos.eff[l] == l ? st_block_bits(&m->verts, l) : NULL;
+    if (!x.blocks || !x.vblocks || !x.vd || !x.dnew || (m->pos.eff[l] == l && !x.vnew)) abort(); /* out of memory for a level's scratch */
     for (uint32_t v = 0; v < x.vcover; v++) atomic_init(&x.vd[v], ST_NIL);
     for (unsigned n = 1; n <= RING_MAX; n++) loop_weights(n, &x.vw[n], &x.ew[n]);
     x.vw[0] = x.ew[0] = 0;
@@ -430,6 +432,8 @@ static void loop_predict_level(st_hier *h, unsigned L)
     free(x.blocks);
     free(x.vblocks);
     free((void *)x.vd);
+    free(x.dnew);
+    free(x.vnew);
 }
 
 static const st_primal_rules loop_rules = { smooth_vertex, smooth_edge, 1, ST_FACE_POINTS_NONE };
