@@ -91,6 +91,14 @@ run 0 "opened octahedron.obj \(loop, 3 levels\)" win "$EXE" --size 320x240 --sch
 printf 'wait 1\nkey ctrl+d\nkey ctrl+d\nexpect error 1\nexpect message refused\nexpect top 3\nquit\n' > "$TMP/mem.txt"
 run 0 "level 4 refused: it needs about [0-9]+ bytes" win "$EXE" --size 320x240 --levels 2 --mem-budget 1 --replay "$TMP/mem.txt" "$ASSETS/torus.obj"
 
+# Every scheme through the same interactions (it must survive; the interest
+# box is refused with a message for sqrt3 and Doo-Sabin).
+for spec in "catmull-clark open.obj" "loop octahedron.obj" "butterfly octahedron.obj" \
+            "quad-triangle mixed.obj" "sqrt3 tetrahedron.obj" "doo-sabin cube.obj"; do
+    set -- $spec
+    run 0 "replay .* passed" win "$EXE" --size 480x360 --scheme "$1" --levels 2 --replay "$SRC/replay/smoke.txt" "$ASSETS/$2"
+done
+
 # 2. A failing expectation exits non-zero and says which line.
 printf 'wait 2\nexpect top 99\nquit\n' > "$TMP/fail.txt"
 run 1 "fail.txt:2: expect top 99 failed: actual 2" win "$EXE" --size 320x240 --levels 2 --replay "$TMP/fail.txt" "$ASSETS/cube.obj"
