@@ -21,27 +21,49 @@ int st_edge_is_split(const st_map *m, uint32_t d, unsigned i)
 
 unsigned st_face_level(st_map *m, uint32_t d, unsigned l)
 {
-    uint32_t b = d, x = d;
+    /* The face's darts at level l in a small local list (faces of an
+     * adaptive map have a few sides: a linear search beats marking darts in
+     * the shared marker array and clearing them again); larger faces fall
+     * back to a marker bit. */
+    enum { LOCAL = 64 };
+    uint32_t local[LOCAL];
+    unsigned n = 0;
+    uint32_t b = d, x = d, levels = 0;
     do {
         if (m->darts.ins[x] < m->darts.ins[b]) b = x;
+        levels |= 1u << m->darts.ins[x];
+        if (n < LOCAL) local[n] = x;
+        n++;
         x = st_phi1(m, x, l);
     } while (x != d);
-    int bit = st_marker_reserve(m);
-    if (bit < 0) abort(); /* programmer error: markers leaked */
-    st_mark_face(m, bit, d, l);
+    int bit = -1;
+    if (n > LOCAL) {
+        bit = st_marker_reserve(m);
+        if (bit < 0) abort(); /* programmer error: markers leaked */
+        st_mark_face(m, bit, d, l);
+    }
     unsigned level = l;
-    for (unsigned j = m->darts.ins[b]; j < l; j++) {
+    /* Only levels at which one of its darts was inserted can be the face's
+     * level: a face made by subdividing at level j has inner darts of level
+     * j (a level-0 face: its smallest insertion level). */
+    for (unsigned j = m->darts.ins[b]; j < l && level == l; j++) {
+        if (!(levels >> j & 1u)) continue;
         int inside = 1;
         x = b;
         do {
-            if (!st_marked(m, bit, x)) { inside = 0; break; }
+            int in = 0;
+            if (bit >= 0) in = st_marked(m, bit, x);
+            else for (unsigned k = 0; k < n && !in; k++) in = local[k] == x;
+            if (!in) { inside = 0; break; }
             x = st_phi1(m, x, j);
         } while (x != b);
-        if (inside) { level = j; break; }
+        if (inside) level = j;
     }
-    x = d;
-    do { st_unmark(m, bit, x); x = st_phi1(m, x, l); } while (x != d);
-    m->marks_used &= ~(1u << bit);
+    if (bit >= 0) {
+        x = d;
+        do { st_unmark(m, bit, x); x = st_phi1(m, x, l); } while (x != d);
+        m->marks_used &= ~(1u << bit);
+    }
     return level;
 }
 
@@ -332,12 +354,20 @@ static void restore_details(st_adapt *a, const st_stencil *s, unsigned L, int ki
 {
     st_map *m = &a->h->map;
     uint32_t faces[2], v = s->fine;
+    static const double zero[3] = { 0, 0, 0 };
+    if (!a->nsaved) { /* nothing kept anywhere: a zero detail */
+        if (a->h->detail[L]) st_hier_set_detail(a->h, L, v, zero);
+        return;
+    }
+    /* The addresses differ only by level: compute them once per naming face. */
     unsigned nf = naming_faces(m, L, kind, s->frame_dart, faces);
-    for (unsigned at = L; at < ST_MAX_LEVELS; at++) {
+    saved_addr base[2];
+    for (unsigned k = 0; k < nf; k++) base[k] = vertex_addr(m, faces[k], L, kind, 0);
+    for (unsigned at = L; at <= m->top && at < ST_MAX_LEVELS; at++) {
         double w[3] = { 0, 0, 0 }, other[3];
         for (unsigned k = 0; k < nf; k++) {
-            saved_addr key = vertex_addr(m, faces[k], L, kind, at);
-            if (key.path == PATH_NONE) continue;
+            if (base[k].path == PATH_NONE) continue;
+            saved_addr key = { base[k].path, base[k].meta | (uint32_t)at << 16 };
             store_take(saved_store(a), key, k == 0 ? w : other);
             if (k == 1 && w[0] == 0 && w[1] == 0 && w[2] == 0) memcpy(w, other, sizeof w);
         }
@@ -560,8 +590,9 @@ static void save_detail(st_adapt *a, unsigned L, int kind, uint32_t dart, uint32
     static const double zero[3] = { 0, 0, 0 };
     st_map *m = &a->h->map;
     uint32_t faces[2];
-    unsigned nf = naming_faces(m, L, kind, dart, faces);
-    for (unsigned at = L; at < ST_MAX_LEVELS; at++) {
+    unsigned nf = 0;
+    saved_addr base[2];
+    for (unsigned at = L; at <= m->top && at < ST_MAX_LEVELS; at++) {
         if (!a->h->detail[at]) continue;
         double w[3];
         if (at == L) {
@@ -571,8 +602,13 @@ static void save_detail(st_adapt *a, unsigned L, int kind, uint32_t dart, uint32
              * since it was set): kept as it is. */
             memcpy(w, st_hier_detail(a->h, at, v), sizeof w);
         }
+        if (w[0] == 0 && w[1] == 0 && w[2] == 0) continue; /* zero: nothing to keep (and already zero) */
+        if (!nf) { /* the addresses, once (they differ only by level) */
+            nf = naming_faces(m, L, kind, dart, faces);
+            for (unsigned k = 0; k < nf; k++) base[k] = vertex_addr(m, faces[k], L, kind, 0);
+        }
         for (unsigned k = 0; k < nf; k++) {
-            saved_addr key = vertex_addr(m, faces[k], L, kind, at);
+            saved_addr key = { base[k].path, base[k].meta | (uint32_t)at << 16 };
             if (key.path != PATH_NONE) store_put(saved_store(a), key, w);
         }
         st_hier_set_detail(a->h, at, v, zero);
