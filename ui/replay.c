@@ -232,7 +232,16 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
     } else if (!strcmp(c, "drop") || !strcmp(c, "screenshot") || !strcmp(c, "echo")) {
         if (nt < 2) BAD("%s:%d: %s needs an argument", rp->path, line, c);
         if (!(e = push(rp, !strcmp(c, "drop") ? EV_DROP : !strcmp(c, "echo") ? EV_ECHO : EV_SHOT, line))) BAD("out of memory");
-        e->text = strdup(tok[1]);
+        if (e->type == EV_DROP && tok[1][0] != '/') {
+            /* Relative dropped paths are relative to the events file. */
+            const char *slash = strrchr(rp->path, '/');
+            size_t dl = slash ? (size_t)(slash - rp->path) + 1 : 0, n = dl + strlen(tok[1]) + 1;
+            e->text = malloc(n);
+            if (e->text) { memcpy(e->text, rp->path, dl); strcpy(e->text + dl, tok[1]); }
+        } else {
+            e->text = strdup(tok[1]);
+        }
+        if (!e->text) BAD("out of memory");
     } else if (!strcmp(c, "level")) {
         if (nt < 3 || (strcmp(tok[1], "edit") && strcmp(tok[1], "display"))) BAD("%s:%d: level edit|display N", rp->path, line);
         if (!(e = push(rp, EV_LEVEL, line))) BAD("out of memory");

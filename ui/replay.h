@@ -14,7 +14,7 @@
  *   drag BUTTON X0 Y0 X1 Y1 STEPS [MODS]
  *                               move to X0 Y0, press, STEPS moves to X1 Y1, release
  *   scroll DY [MODS]            wheel (MODS held around it through key events)
- *   drop PATH                   a file dropped on the window
+ *   drop PATH                   a file dropped on the window (relative: to the events file)
  *   level edit N | level display N
  *                               set a level directly (document call)
  *   snapshot                    remember the displayed positions (also taken after loading)
