@@ -10,7 +10,8 @@
 // (st_hier_synthesize vs Far::PrimvarRefiner::Interpolate), peak memory of
 // each (VmHWM growth of a forked child that builds and synthesises), and the
 // ratios.  Synthesis is timed on one thread and on two (parallel.h; OpenSubdiv
-// on one thread in both lines).  Medians of 5 runs.  Then a local edit: one vertex moved at level 2
+// on one thread in both lines), the three runs interleaved, medians of 9;
+// other figures medians of 5 runs.  Then a local edit: one vertex moved at level 2
 // of a depth-6 Catmull-Clark hierarchy, local re-synthesis vs full synthesis.
 extern "C" {
 #include "bench_common.h"
@@ -38,6 +39,7 @@ using namespace OpenSubdiv;
 namespace {
 
 const int RUNS = 5;
+const int SYNTH_RUNS = 9;   // synthesis is short: more runs for its medians
 
 struct Vec3 {
     double p[3];
@@ -143,14 +145,28 @@ void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int le
     double t_osd_topo = median_time([&] { delete osd_refine(m, type, levels); });
     double t_st_topo = median_time([&] { st_hier h; if (!strata_build(&h, m, sc, levels)) st_hier_free(&h); });
     Far::TopologyRefiner *r = osd_refine(m, type, levels);
-    double t_osd_interp = median_time([&] { osd_interpolate(*r, m); });
     st_hier h;
     if (strata_build(&h, m, sc, levels)) return;
+    // Synthesis runs interleaved (OpenSubdiv, Strata on 1 thread, on 2), so
+    // that a change in the machine's load falls on all three alike.
+    double ti[3][SYNTH_RUNS];
+    for (int k = 0; k < SYNTH_RUNS; k++) {
+        double t0 = bench_now();
+        osd_interpolate(*r, m);
+        double t1 = bench_now();
+        st_parallel_set_threads(1);
+        st_hier_synthesize(&h, 0);
+        double t2 = bench_now();
+        st_parallel_set_threads(2);
+        st_hier_synthesize(&h, 0);
+        double t3 = bench_now();
+        ti[0][k] = t1 - t0;
+        ti[1][k] = t2 - t1;
+        ti[2][k] = t3 - t2;
+    }
     st_parallel_set_threads(1);
-    double t_st_synth = median_time([&] { st_hier_synthesize(&h, 0); });
-    st_parallel_set_threads(2);
-    double t_st_synth2 = median_time([&] { st_hier_synthesize(&h, 0); });
-    st_parallel_set_threads(1);
+    double t_osd_interp = bench_median(ti[0], SYNTH_RUNS), t_st_synth = bench_median(ti[1], SYNTH_RUNS),
+           t_st_synth2 = bench_median(ti[2], SYNTH_RUNS);
     printf("  finest level: OpenSubdiv %d vertices, Strata %llu vertices\n", r->GetLevel(levels).GetNumVertices(),
            (unsigned long long)st_pool_count(&h.map.verts, levels));
     delete r;
