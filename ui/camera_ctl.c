@@ -18,7 +18,8 @@ static void update_clip(st_camctl *c)
     }
     dc = sqrt(dc);
     double r = c->radius > 0 ? c->radius : 1;
-    double n = dc - 1.1 * r, f = dc + 1.1 * r;
+    /* Room for edits that pull the model out of its framed box. */
+    double n = dc - 2 * r, f = dc + 2 * r;
     if (!c->cam.ortho && n < 0.002 * r) n = 0.002 * r;
     if (f <= n) f = n + r;
     c->cam.znear = (float)n;
