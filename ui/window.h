@@ -90,7 +90,7 @@ typedef struct st_app {
     int autosave_dirty;        /* edits since the last recovery save */
     double autosave_t;
 
-    double frame_ms, frame_t0;
+    double frame_ms;           /* drawing + presenting the last frame */
     double update_ms;          /* last renderer update */
     uint64_t frames;
     int quit;
