@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { KIND_EDGE = 0, KIND_CENTRE = 1 };
+enum { KIND_EDGE = 0, KIND_CENTRE = 1, KIND_CORNER = 2 /* Doo-Sabin: corner of a cell (adapt_doosabin.c) */ };
 
 /* ---- cell subdivision levels (§3.2.6) ------------------------------------- */
 
@@ -161,7 +161,7 @@ typedef struct saved_addr { uint64_t path; uint32_t meta; } saved_addr;
 static saved_addr vertex_addr(const st_map *m, uint32_t face_dart, unsigned L, int kind, unsigned at)
 {
     saved_addr k = { face_path(m, face_dart, L - 1), 0 };
-    unsigned elem = kind == KIND_EDGE ? index_in_face(m, face_dart, L - 1) : 0;
+    unsigned elem = kind != KIND_CENTRE ? index_in_face(m, face_dart, L - 1) : 0;
     k.meta = (uint32_t)L << 24 | (uint32_t)at << 16 | (uint32_t)kind << 8 | (elem & 0xff);
     return k;
 }
@@ -284,7 +284,8 @@ static void park_detail(st_adapt *a, uint32_t d, unsigned l)
 static enum st_split_mode split_mode(const st_hier *h)
 {
     switch (h->scheme->id) {
-    case ST_SCHEME_CATMARK: return ST_SPLIT_POLY;
+    case ST_SCHEME_CATMARK:
+    case ST_SCHEME_DOOSABIN: return ST_SPLIT_POLY; /* (Catmull-Clark topology on the dual) */
     case ST_SCHEME_LOOP:
     case ST_SCHEME_BUTTERFLY: return ST_SPLIT_TRI;
     default: return ST_SPLIT_MIXED;
@@ -296,9 +297,8 @@ int st_adapt_init(st_adapt *a, st_hier *h, st_error *err)
     memset(a, 0, sizeof *a);
     a->h = h;
     st_scheme_id id = h->scheme->id;
-    if (id == ST_SCHEME_DOOSABIN)
-        return st_fail(err, ST_ERR_INVALID, "adaptive refinement of %s is not implemented yet (Catmull-Clark, Loop, "
-                       "Butterfly, quad/triangle and sqrt3 are)", h->scheme->name);
+    if (id == ST_SCHEME_DOOSABIN && !h->map.face_embedded)
+        return st_fail(err, ST_ERR_INVALID, "adapt: a %s hierarchy must hold the dual encoding", h->scheme->name);
     if (id == ST_SCHEME_SQRT3 && st_adapt_sqrt3_check(h, err)) return err ? err->code : ST_ERR_INVALID;
     /* The base faces (level 0 never changes while adapting): one dart each. */
     st_map *m = &h->map;
@@ -388,7 +388,7 @@ void st_adapt_place_sink(void *ctx, const st_stencil *s)
     place_ctx *c = ctx;
     st_hier *h = c->a->h;
     if (was_created(c, s->fine)) {
-        int kind = s->frame_cell == ST_CELL_EDGE ? KIND_EDGE : KIND_CENTRE;
+        int kind = s->frame_cell == ST_CELL_EDGE ? KIND_EDGE : s->frame_cell == ST_CELL_DUAL_FACE ? KIND_CORNER : KIND_CENTRE;
         restore_details(c->a, s, c->L, kind);
     } else {
         double w[3], d[3];
@@ -467,6 +467,7 @@ int st_adapt_subdivide_face(st_adapt *a, uint32_t d, unsigned i, int restricted,
     if (st_is_boundary(m, d)) return st_fail(err, ST_ERR_INVALID, "adapt: dart %u is on a hole", d);
     if (L >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "adapt: level %u is beyond the limit", L);
     if (h->scheme->id == ST_SCHEME_SQRT3) return st_adapt_sqrt3_subdivide(a, d, i, err);
+    if (h->scheme->id == ST_SCHEME_DOOSABIN) return st_adapt_ds_subdivide(a, d, i, err);
     if (st_face_is_subdivided(m, d, i)) return ST_OK;
     if (restricted) {
         int rc = restrict_neighbours(a, d, i, err);
@@ -557,6 +558,7 @@ int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
 {
     st_map *m = &a->h->map;
     if (a->h->scheme->id == ST_SCHEME_SQRT3) return st_adapt_sqrt3_can_simplify(a, d, i);
+    if (a->h->scheme->id == ST_SCHEME_DOOSABIN) restricted = 1; /* always on (adapt_doosabin.c) */
     unsigned L = i + 1;
     if (!st_face_is_subdivided(m, d, i)) return 0;
     unsigned deg = st_face_degree(m, d, i);
@@ -596,7 +598,8 @@ static void save_detail(st_adapt *a, unsigned L, int kind, uint32_t dart, uint32
         if (!a->h->detail[at]) continue;
         double w[3];
         if (at == L) {
-            to_world(a->h, L - 1, dart, kind == KIND_EDGE ? ST_CELL_EDGE : ST_CELL_FACE, st_hier_detail(a->h, L, v), w);
+            int cell = kind == KIND_EDGE ? ST_CELL_EDGE : kind == KIND_CORNER ? ST_CELL_DUAL_FACE : ST_CELL_FACE;
+            to_world(a->h, L - 1, dart, cell, st_hier_detail(a->h, L, v), w);
         } else if (!store_take(parked_store(a), park_key(v, at), w)) {
             /* Never used (no face of level at-1 around v was subdivided
              * since it was set): kept as it is. */
@@ -667,6 +670,7 @@ int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     st_hier *h = a->h;
     st_map *m = &h->map;
     if (h->scheme->id == ST_SCHEME_SQRT3) return st_adapt_sqrt3_simplify(a, d, i, err);
+    if (h->scheme->id == ST_SCHEME_DOOSABIN) return st_adapt_ds_simplify(a, d, i, err);
     unsigned L = i + 1;
     unsigned deg = st_face_degree(m, d, i);
     if (deg > 256) return st_fail(err, ST_ERR_RANGE, "adapt: face of %u sides", deg);
@@ -712,6 +716,8 @@ int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
 
 static void face_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], double hi[3])
 {
+    /* Dual encoding: the region of a Doo-Sabin cell (adapt_doosabin.c). */
+    if (m->face_embedded) { st_adapt_ds_cell_bbox(m, d, l, lo, hi); return; }
     for (int k = 0; k < 3; k++) { lo[k] = INFINITY; hi[k] = -INFINITY; }
     uint32_t x = d;
     do {
@@ -743,6 +749,7 @@ unsigned st_adapt_box_want(const double lo[3], const double hi[3], const st_adap
 
 unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p)
 {
+    if (m->face_embedded) return st_adapt_ds_wanted(m, d, l, p);
     double lo[3], hi[3];
     face_bbox(m, d, l, lo, hi);
     unsigned want = st_adapt_box_want(lo, hi, p);
@@ -1005,3 +1012,10 @@ void st_adapt_save_centre_detail(st_adapt *a, unsigned L, uint32_t dart, uint32_
 }
 
 void st_adapt_park_detail(st_adapt *a, uint32_t d, unsigned l) { park_detail(a, d, l); }
+
+void st_adapt_save_corner_detail(st_adapt *a, unsigned L, uint32_t dart, uint32_t v)
+{
+    save_detail(a, L, KIND_CORNER, dart, v);
+}
+
+int st_adapt_restrict(st_adapt *a, uint32_t d, unsigned i, st_error *err) { return restrict_neighbours(a, d, i, err); }

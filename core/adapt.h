@@ -1,7 +1,8 @@
 /* Adaptive refinement (thesis §3.2.2-3.2.6, Algorithms 1, 5 and 6; digest §5)
  * for the primal quadrisection schemes: Catmull-Clark, Loop, Butterfly and
- * quad/triangle, and for √3 on closed triangle meshes (Algorithm 8,
- * adapt_sqrt3.c; see "√3" below).
+ * quad/triangle, for √3 on closed triangle meshes (Algorithm 8,
+ * adapt_sqrt3.c; see "√3" below), and for Doo-Sabin through the dual
+ * encoding (adapt_doosabin.c; see "Doo-Sabin" below).
  *
  * Only faces chosen by a criterion are subdivided.  Every level is still a
  * closed 2-map: a face next to a finer one simply has more sides.  Whether a
@@ -56,7 +57,30 @@
  * odd triangle and the even ones replacing it agree, and the result of an
  * update does not depend on earlier ones); st_adapt_wanted_level below is
  * the plain per-face reading.
- * Meshes with holes are refused (boundary trisection is not adaptive). */
+ * Meshes with holes are refused (boundary trisection is not adaptive).
+ *
+ * Doo-Sabin (adapt_doosabin.c has the details).  The map holds the dual M*
+ * (scheme_doosabin.c): a face of M* is a surface vertex, a vertex of M* a
+ * surface face.  Adaptive Doo-Sabin is adaptive Catmull-Clark topology on
+ * M* - the face and edge levels, the polygon split, the restriction, the
+ * can-simplify test and the refinement-tree addresses above all apply as
+ * they are - with the dual vertex handling: each quad of a subdivided face
+ * of M* gets a fresh vertex id placed by the Doo-Sabin mask (the ids the
+ * primal operators make for midpoints and centres are released), the new
+ * dart a split edge puts into the unsplit face across carries that face's
+ * id, and simplification gives the face its coarse id back and keeps the
+ * quads' details under (path of the face, corner index).  The one-level
+ * restriction is always applied (no_restriction is ignored).  Criteria: a
+ * cell of level 0 covers the dual cell of its vertex (the vertex, the
+ * midpoints of its edges, the centroids of its faces); a cell of level
+ * l >= 1, cut at the corner of its parent's vertex u in the surface face W,
+ * covers W's corner quad at u (u, the midpoints of W's two sides at u, W's
+ * centroid, all of level l-1) and its own vertex - so children tile their
+ * parent's region and every reading is of a neighbourhood that is complete
+ * while the cell exists; flatness is the largest angle between consecutive
+ * faces around the parent's vertex (level 0: the vertex's own).  The
+ * displayed mesh is the dual of the top level (st_map_to_mesh): closed, its
+ * polygons at depth borders mixing corners of two levels. */
 #ifndef ST_ADAPT_H
 #define ST_ADAPT_H
 
@@ -76,7 +100,7 @@ typedef struct st_adapt_params {
     int has_box;
     double falloff;          /* band around the box (object units) with one level less per band width; 0: none */
     double flatness;         /* > 0: also refine faces whose normals deviate more than this (radians) */
-    int no_restriction;      /* 1: one-level restriction off (ignored by √3: always on) */
+    int no_restriction;      /* 1: one-level restriction off (ignored by √3 and Doo-Sabin: always on) */
 } st_adapt_params;
 
 /* Adaptive state kept between updates (saved details of removed vertices). */

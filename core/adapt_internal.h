@@ -43,4 +43,23 @@ unsigned st_adapt_sqrt3_wanted(const st_map *m, uint32_t d, unsigned i, const st
 /* The box part of the criteria (and base_level) for a bounding box. */
 unsigned st_adapt_box_want(const double lo[3], const double hi[3], const st_adapt_params *p);
 
+/* Doo-Sabin (adapt_doosabin.c): the same entry points, on the dual
+ * encoding; the one-level restriction is always applied. */
+int st_adapt_ds_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err);
+int st_adapt_ds_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err);
+/* The criteria p for the Doo-Sabin cell of d (a face of the dual map: a
+ * surface vertex) at level l, and the region it covers (adapt_doosabin.c). */
+unsigned st_adapt_ds_wanted(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p);
+void st_adapt_ds_cell_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], double hi[3]);
+
+/* The one-level restriction before the face of d (level i) is subdivided:
+ * every face sharing a vertex with it is brought to level i (adapt.c). */
+int st_adapt_restrict(st_adapt *a, uint32_t d, unsigned i, st_error *err);
+
+/* Moves the details of the Doo-Sabin vertex v created at L in the corner
+ * of `dart` (a dart of level L-1 of its parent cell) into the saved store
+ * (world space, refinement-tree address: the parent's path and the corner
+ * index). */
+void st_adapt_save_corner_detail(st_adapt *a, unsigned L, uint32_t dart, uint32_t v);
+
 #endif
