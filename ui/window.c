@@ -114,8 +114,25 @@ void st_app_sync(st_app *a)
         a->shown_valid = 1;
         a->hover_vid = ST_NIL;
         touched = 1;
-    } else if ((ch.bits & ST_CHANGE_ALL_POSITIONS) || ((ch.bits & ST_CHANGE_POSITIONS) && dh != &d->h)) {
+    } else if ((ch.bits & ST_CHANGE_ALL_POSITIONS) ||
+               ((ch.bits & ST_CHANGE_POSITIONS) && dh != &d->h && !(ch.bits & ST_CHANGE_DISPLAY))) {
         refresh_all(a);
+        touched = 1;
+    } else if (dh != &d->h && (ch.bits & (ST_CHANGE_POSITIONS | ST_CHANGE_DISPLAY))) {
+        /* Box on: the display's moved vertices (ids of the display
+         * hierarchy) for the surface, the model's moved darts for the cage. */
+        int cage = a->r.has_cage, surf = a->r.has_surf, rc = 0;
+        if (ch.bits & ST_CHANGE_DISPLAY) {
+            a->r.has_cage = 0;
+            rc |= st_renderer_refresh(&a->r, &dh->map, ch.disp_vids, ch.ndisp);
+            a->r.has_cage = cage;
+        }
+        if ((ch.bits & ST_CHANGE_POSITIONS) && ch.nmoved) {
+            a->r.has_surf = 0;
+            rc |= st_renderer_edit(&a->r, &d->h, ch.moved_level, ch.moved_darts, ch.nmoved);
+            a->r.has_surf = surf;
+        }
+        if (rc) refresh_all(a);
         touched = 1;
     } else if ((ch.bits & ST_CHANGE_POSITIONS) && ch.nmoved) {
         if (st_renderer_edit(&a->r, &d->h, ch.moved_level, ch.moved_darts, ch.nmoved)) {
@@ -387,7 +404,21 @@ typedef struct doc_job {
     st_error err;
     int rc;
     atomic_int done;
+    /* The editor's progress callback (on the worker): the current stage. */
+    pthread_mutex_t mu;
+    char stage[160];
+    unsigned step, steps;
 } doc_job;
+
+static void job_progress(void *ctx, const char *what, unsigned step, unsigned steps)
+{
+    doc_job *j = ctx;
+    pthread_mutex_lock(&j->mu);
+    snprintf(j->stage, sizeof j->stage, "%s", what ? what : "");
+    j->step = step;
+    j->steps = steps;
+    pthread_mutex_unlock(&j->mu);
+}
 
 static void *job_main(void *p)
 {
@@ -404,17 +435,26 @@ static void *job_main(void *p)
 /* Runs a document operation on a worker thread while this thread, after
  * 150 ms, redraws a "working" frame with the elapsed time every 100 ms: the
  * scene from the renderer's own buffers and the message, nothing read from
- * the document meanwhile.  Input is not processed until it ends (GLFW
- * forbids polling events from inside a callback, where this runs).  The core
- * has no progress callback, so the frame shows the time, not a fraction. */
+ * the document meanwhile, and the stage the editor's progress callback last
+ * reported ("building level 6, step 6 of 6").  Input is not processed until
+ * it ends (GLFW forbids polling events from inside a callback, where this
+ * runs). */
 static int run_job(st_app *a, doc_job *j, const char *what)
 {
     j->d = &a->doc;
     atomic_init(&j->done, 0);
+    pthread_mutex_init(&j->mu, NULL);
+    j->stage[0] = 0;
+    j->step = j->steps = 0;
     pthread_t th;
+    a->doc.progress = job_progress;
+    a->doc.progress_ctx = j;
     if (pthread_create(&th, NULL, job_main, j)) {
         show_working(a, "%s", what);
         job_main(j);
+        a->doc.progress = NULL;
+        a->doc.progress_ctx = NULL;
+        pthread_mutex_destroy(&j->mu);
         a->working[0] = 0;
         return j->rc;
     }
@@ -426,7 +466,12 @@ static int run_job(st_app *a, doc_job *j, const char *what)
             char el[32];
             if (a->masked_times) snprintf(el, sizeof el, "--");
             else snprintf(el, sizeof el, "%.1f s", (t - t0) / 1000);
-            snprintf(a->working, sizeof a->working, "%s  (%s)", what, el);
+            char stage[200] = "";
+            pthread_mutex_lock(&j->mu);
+            if (j->stage[0] && j->steps > 1) snprintf(stage, sizeof stage, "%s, step %u of %u, ", j->stage, j->step, j->steps);
+            else if (j->stage[0]) snprintf(stage, sizeof stage, "%s, ", j->stage);
+            pthread_mutex_unlock(&j->mu);
+            snprintf(a->working, sizeof a->working, "%s  (%s%s)", what, stage, el);
             if (!shown) fprintf(stderr, "strata: %s\n", what);
             shown = 1;
             a->busy = 1;
@@ -439,6 +484,9 @@ static int run_job(st_app *a, doc_job *j, const char *what)
         }
     }
     pthread_join(th, NULL);
+    a->doc.progress = NULL;
+    a->doc.progress_ctx = NULL;
+    pthread_mutex_destroy(&j->mu);
     a->busy = 0;
     a->working[0] = 0;
     return j->rc;
