@@ -91,6 +91,10 @@ run 0 "opened octahedron.obj \(loop, 3 levels\)" win "$EXE" --size 320x240 --sch
 printf 'wait 1\nkey ctrl+d\nkey ctrl+d\nexpect error 1\nexpect message refused\nexpect top 3\nquit\n' > "$TMP/mem.txt"
 run 0 "level 4 refused: it needs about [0-9]+ bytes" win "$EXE" --size 320x240 --levels 2 --mem-budget 1 --replay "$TMP/mem.txt" "$ASSETS/torus.obj"
 
+# Incremental buffer updates equal a fresh build after every kind of edit,
+# with the box off and on.
+run 0 "replay .* passed" win "$EXE" --size 640x480 --levels 3 --replay "$SRC/replay/sync.txt" "$ASSETS/torus.obj"
+
 # Every scheme through the same interactions (it must survive; the interest
 # box is refused with a message for sqrt3 and Doo-Sabin).
 for spec in "catmull-clark open.obj" "loop octahedron.obj" "butterfly octahedron.obj" \

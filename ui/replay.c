@@ -321,6 +321,29 @@ static int moved(const st_replay *rp, const st_app *a)
     return 0;
 }
 
+/* Largest difference between what the renderer holds for g (built from
+ * level l of m, then updated incrementally) and a fresh build; -1 when the
+ * vertex sets differ or memory runs out. */
+static double rgeom_drift(const st_rgeom *g, const st_map *m, unsigned l)
+{
+    st_rgeom f;
+    st_rgeom_init(&f);
+    st_error err;
+    if (st_rgeom_build(&f, m, l, &err)) return -1;
+    double worst = f.nverts == g->nverts ? 0 : -1;
+    for (uint32_t i = 0; worst >= 0 && i < g->nverts; i++) {
+        uint32_t v = g->vid[i];
+        if (v >= f.nvids || f.slot[v] == ST_NIL) { worst = -1; break; }
+        const float *p = g->vdata + (size_t)i * ST_RGEOM_VSTRIDE, *q = f.vdata + (size_t)f.slot[v] * ST_RGEOM_VSTRIDE;
+        for (int k = 0; k < ST_RGEOM_VSTRIDE; k++) {
+            double dd = fabs((double)p[k] - q[k]);
+            if (dd > worst) worst = dd;
+        }
+    }
+    st_rgeom_free(&f);
+    return worst;
+}
+
 static int expect(st_replay *rp, st_app *a, const ev *e)
 {
     const st_doc *d = &a->doc;
@@ -349,6 +372,13 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
         int m = moved(rp, a);
         snprintf(actual, sizeof actual, "%s", m < 0 ? "vertex count changed since the snapshot" : m ? "moved" : "unchanged");
         ok = !strcmp(w, "moved") ? m == 1 : m == 0;
+    } else if (!strcmp(w, "synced")) {
+        /* The renderer's incrementally updated buffers equal a fresh build
+         * of the displayed and editing levels (positions and normals). */
+        double ds = a->r.has_surf ? rgeom_drift(&a->r.surf, &st_doc_display_hier(d)->map, st_doc_display_map_level(d)) : 0;
+        double dc = a->r.has_cage ? rgeom_drift(&a->r.cage, &d->h.map, d->edit_level) : 0;
+        snprintf(actual, sizeof actual, "surface off by %g, cage off by %g", ds, dc);
+        ok = ds >= 0 && dc >= 0 && ds < 1e-5 && dc < 1e-5;
     } else if (!strcmp(w, "error")) {
         snprintf(actual, sizeof actual, "%d (%s)", a->msg_error, a->msg);
         ok = a->msg_error == (want != 0);

@@ -22,6 +22,8 @@
  *   expect WHAT [VALUE]         assertion; WHAT: edit_level, display_level, top,
  *                               selected, undo_depth, redo_depth, box_on, tool,
  *                               scheme, hover (0/1), faces, moved, unchanged,
+ *                               synced (the renderer's incrementally updated
+ *                               buffers equal a fresh build),
  *                               error (0/1: status line is an error),
  *                               message TEXT (status line contains TEXT)
  *   echo TEXT                   print
