@@ -78,6 +78,10 @@ typedef struct st_scheme {
      * with results identical to applying emit()'s stencils.  Used by full
      * synthesis of a level that carries no details. */
     void (*predict_level)(struct st_hier *h, unsigned L);
+    /* Optional: predict_level for L = from+1 .. to in turn (none of them
+     * carries details), free to carry scratch from one level to the next.
+     * NULL: predict_level per level. */
+    void (*predict_levels)(struct st_hier *h, unsigned from, unsigned to);
 } st_scheme;
 
 /* Lookup by id or CLI name (NULL if unknown). */

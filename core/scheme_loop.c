@@ -198,6 +198,8 @@ typedef struct ring_level {
     const uint8_t *flags;
     double *pnew, *pold;             /* level-L positions: new vertices, old vertices */
     _Atomic uint32_t *vd;            /* per coarse vertex: one of its darts, ST_NIL if none */
+    int vd_given;                    /* vd was filled by the level below (no offer pass) */
+    uint32_t *next_vd;               /* when the level above follows: vd of level L, filled here */
     uint32_t *blocks, nblocks;       /* first ids of the dart blocks of levels l..0 */
     uint32_t *vblocks, nvblocks;     /* ... and of the vertex blocks */
     uint32_t vcover;
@@ -261,10 +263,14 @@ static void ring_large(ring_worker *w, uint32_t d)
     y = small;
     do {
         uint32_t t = r_beta0(x, y);
-        if (y < t) fast_edge(&w->s, y, t);
+        if (y < t) {
+            fast_edge(&w->s, y, t);
+            if (x->next_vd) x->next_vd[x->vt[x->b0L[y]]] = x->b0L[y];
+        }
         y = x->b1[y];
     } while (y != small);
     fast_vertex(&w->s, small);
+    if (x->next_vd) x->next_vd[x->vt[small]] = small;
 }
 
 /* The vertices of a batch are done in stages whose loads are independent
@@ -305,6 +311,11 @@ static void batch_finish(ring_worker *w, ring_batch *B)
             for (uint32_t j = 0; j < n; j++) special |= ring_sharp(x, r[j]);
         }
         const double *p = r_pos(x, v);
+        if (x->next_vd) {
+            x->next_vd[v] = r[lo];   /* an old vertex keeps its ring at L */
+            for (uint32_t j = 0; j < n; j++)
+                if (r[j] < e[j]) x->next_vd[mid[j]] = x->b0L[r[j]]; /* β0(y_j, L) leaves the midpoint */
+        }
         if (special) {
             ring_stencil_vertex(w, r[lo]);
         } else {
@@ -378,8 +389,10 @@ static void ring_passes(st_team *team, unsigned t, void *ctx)
     ring_worker w = { .x = x, .s = { .h = x->h, .L = x->L, .pnew = x->pnew, .pold = x->pold } };
     st_level_view_init(&x->h->map, x->l, &w.s.c);
     st_level_view_init(&x->h->map, x->L, &w.s.f);
-    ring_offer(team, x);
-    st_team_sync(team);
+    if (!x->vd_given) {
+        ring_offer(team, x);
+        st_team_sync(team);
+    }
     ring_vertices(team, &w);
     st_stencil_buf_free(&w.s.buf);
     st_stencil_buf_free(&w.s.tmp);
@@ -398,13 +411,33 @@ static uint32_t *newest_first(const st_pool *p, unsigned l, uint32_t *n)
     return out;
 }
 
-static void loop_predict_level(st_hier *h, unsigned L)
+/* 1 + the last id of the vertex blocks of levels 0..l. */
+static uint32_t vblock_cover(const st_pool *p, unsigned l)
+{
+    uint32_t cover = 0;
+    for (unsigned lv = 0; lv <= l; lv++)
+        for (uint32_t i = 0; i < p->nblocks[lv]; i++) {
+            uint32_t end = (p->blocks[lv][i] + 1) << ST_POOL_BLOCK_SHIFT;
+            cover = end > cover ? end : cover;
+        }
+    return cover;
+}
+
+/* Whether level L can take the ring pass: β1 and vert read from their base
+ * arrays, β0 at l and at L from their columns. */
+static int ring_applies(const st_map *m, unsigned L)
+{
+    unsigned l = L - 1;
+    return m->beta0.col[L] && !m->beta1.eff[l] && !m->vert.eff[l] && m->beta0.eff[l] == l;
+}
+
+/* Level L by the ring pass.  vd: a dart per vertex of level l from the
+ * level below (taken over and freed), or NULL; with want_next, returns
+ * the same for level L (else NULL). */
+static _Atomic uint32_t *ring_level_run(st_hier *h, unsigned L, _Atomic uint32_t *vd, int want_next)
 {
     st_map *m = &h->map;
     unsigned l = L - 1;
-    /* The ring pass reads β1 and vert from their base arrays and β0 at L
-     * from its column. */
-    if (!m->beta0.col[L] || m->beta1.eff[l] || m->vert.eff[l] || m->beta0.eff[l] != l) { loop_predict_views(h, L); return; }
     ring_level x = { .h = h, .l = l, .L = L };
     x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
     x.pnew = (double *)m->pos.base;
@@ -416,14 +449,21 @@ static void loop_predict_level(st_hier *h, unsigned L)
     st_level_view_init(m, l, &x.c);
     x.blocks = newest_first(&m->darts, l, &x.nblocks);
     x.vblocks = newest_first(&m->verts, l, &x.nvblocks);
-    x.vcover = 0;
-    for (uint32_t i = 0; x.vblocks && i < x.nvblocks; i++)
-        if (x.vblocks[i] + ST_POOL_BLOCK > x.vcover) x.vcover = x.vblocks[i] + ST_POOL_BLOCK;
-    x.vd = malloc(((size_t)x.vcover + 1) * sizeof *x.vd);
+    x.vcover = vblock_cover(&m->verts, l);
+    x.vd = vd;
+    x.vd_given = vd != NULL;
+    if (!vd) x.vd = malloc(((size_t)x.vcover + 1) * sizeof *x.vd);
     x.dnew = st_block_bits(&m->darts, l);
     x.vnew = m->pos.eff[l] == l ? st_block_bits(&m->verts, l) : NULL;
     if (!x.blocks || !x.vblocks || !x.vd || !x.dnew || (m->pos.eff[l] == l && !x.vnew)) abort(); /* out of memory for a level's scratch */
-    for (uint32_t v = 0; v < x.vcover; v++) atomic_init(&x.vd[v], ST_NIL);
+    if (!vd)
+        for (uint32_t v = 0; v < x.vcover; v++) atomic_init(&x.vd[v], ST_NIL);
+    uint32_t next_cover = want_next ? vblock_cover(&m->verts, L) : 0;
+    if (want_next) {
+        x.next_vd = malloc(((size_t)next_cover + 1) * sizeof *x.next_vd);
+        if (!x.next_vd) abort(); /* out of memory for a level's scratch */
+        memset(x.next_vd, 0xff, ((size_t)next_cover + 1) * sizeof *x.next_vd); /* ST_NIL */
+    }
     for (unsigned n = 1; n <= RING_MAX; n++) loop_weights(n, &x.vw[n], &x.ew[n]);
     x.vw[0] = x.ew[0] = 0;
     unsigned threads = st_parallel_threads();
@@ -434,6 +474,32 @@ static void loop_predict_level(st_hier *h, unsigned L)
     free((void *)x.vd);
     free(x.dnew);
     free(x.vnew);
+    /* Every thread wrote its entries before st_team_run returned. */
+    return (_Atomic uint32_t *)x.next_vd;
+}
+
+static void loop_predict_level(st_hier *h, unsigned L)
+{
+    if (!ring_applies(&h->map, L)) { loop_predict_views(h, L); return; }
+    ring_level_run(h, L, NULL, 0);
+}
+
+/* Levels from+1..to: each level's ring pass leaves the next one a dart per
+ * vertex (its own rings and midpoints), which saves that level a pass over
+ * its darts. */
+static void loop_predict_levels(st_hier *h, unsigned from, unsigned to)
+{
+    _Atomic uint32_t *vd = NULL;
+    for (unsigned L = from + 1; L <= to; L++) {
+        if (!ring_applies(&h->map, L)) {
+            free((void *)vd);
+            vd = NULL;
+            loop_predict_views(h, L);
+            continue;
+        }
+        vd = ring_level_run(h, L, vd, L < to && ring_applies(&h->map, L + 1));
+    }
+    free((void *)vd);
 }
 
 static const st_primal_rules loop_rules = { smooth_vertex, smooth_edge, 1, ST_FACE_POINTS_NONE };
@@ -456,4 +522,5 @@ const st_scheme st_scheme_loop = {
     .refine = loop_refine,
     .emit = loop_emit,
     .predict_level = loop_predict_level,
+    .predict_levels = loop_predict_levels,
 };
