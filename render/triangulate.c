@@ -161,7 +161,16 @@ int st_tri_classify(unsigned n, const uint8_t *e, const uint8_t *v, uint32_t *mm
             run++;
             if (run % 2) mask |= 1u << ((k + 1) % n);
         } else {
-            if (run % 2) return -1;
+            if (run % 2) {
+                /* Dual encoding (no vertex levels): Doo-Sabin's border quad
+                 * with two adjacent corners one level finer (their three
+                 * sides are fine).  The first of them is read as 'm' and
+                 * the face as "cmcc": the diagonal from that corner to the
+                 * far coarse one (the finer corners lie inside the coarse
+                 * surface face, which keeps it on the inside). */
+                if (v || n != 4 || run != 3) return -1;
+                mask &= ~(1u << k); /* the coarse corner ending the run */
+            }
             run = 0;
         }
     }

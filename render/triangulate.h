@@ -30,6 +30,17 @@
  *     corner is a vertex inserted at level e and the others are older (and
  *     e >= 1): then every edge was split ("cmcm…").  Regular faces at levels
  *     >= 1 are triangles and quads whose vertices never alternate like this.
+ *   - Doo-Sabin (dual encoding, no vertex levels): a quad whose sides are
+ *     fine, fine, fine, coarse is a surface face with two adjacent corners
+ *     one level finer (Doo-Sabin points of subdivided cells) and two
+ *     coarser ones; it is read as "cmcc" with the first finer corner as
+ *     'm' (the diagonal from it to the far coarse corner).  The other
+ *     Doo-Sabin border polygons read as they are: a quad with one finer
+ *     corner has two fine sides around it ("cmcc", the diagonal from that
+ *     corner), three finer corners or two opposite ones make every side
+ *     fine (a regular quad), the triangle at an edge split on one side is
+ *     a triangle; larger polygons at depth borders (level 0 n-gons)
+ *     mostly take the fallback.
  *   - levels further apart (restriction off), fewer than 3 'c' corners, or a
  *     pattern not in the table: fallback.
  *

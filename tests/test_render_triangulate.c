@@ -426,6 +426,67 @@ static void test_adaptive_polyhedra(void)
     }
 }
 
+/* Doo-Sabin's border quads (dual encoding: edge levels only).  A surface
+ * quad of level 1 whose corners 1 and 2 are Doo-Sabin points of level 2
+ * (inside the coarse face, 9/16 toward their corner): the sides around
+ * them are of level 2.  Read as "cmcc" from every starting corner, with
+ * the diagonal from the first finer corner to the far coarse one, and a
+ * valid triangulation of the (convex) quad.  With vertex levels (a primal
+ * face) the same edge levels stay outside the tables; so does the
+ * pentagon with two finer corners (test_reading). */
+static void test_doosabin_border_quads(void)
+{
+    const double sq[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
+    double xy0[4][2];
+    for (unsigned k = 0; k < 4; k++) {
+        /* corners 1 and 2: the Doo-Sabin point of that corner of the square */
+        double w[4] = { 1.0 / 16, 3.0 / 16, 3.0 / 16, 1.0 / 16 };
+        if (k == 1 || k == 2) {
+            xy0[k][0] = xy0[k][1] = 0;
+            for (unsigned j = 0; j < 4; j++) {
+                double a = j == k ? 9.0 / 16 : (j + 2) % 4 == k ? w[0] : w[1];
+                xy0[k][0] += a * sq[j][0];
+                xy0[k][1] += a * sq[j][1];
+            }
+        } else {
+            xy0[k][0] = sq[k][0];
+            xy0[k][1] = sq[k][1];
+        }
+    }
+    const uint8_t e0[4] = { 2, 2, 2, 1 };
+    for (unsigned r = 0; r < 4; r++) {
+        uint8_t e[4];
+        double xy[4][2];
+        for (unsigned k = 0; k < 4; k++) {
+            e[k] = e0[(k + r) % 4];
+            memcpy(xy[k], xy0[(k + r) % 4], sizeof xy[k]);
+        }
+        uint32_t tri[6];
+        int c = st_tri_face(&IX, 4, e, NULL, NULL, tri);
+        CHECKF(c == find_case("cmcc"), "doo-sabin border quad from corner %u: case %d", r, c);
+        char what[64];
+        snprintf(what, sizeof what, "doo-sabin border quad from corner %u", r);
+        check_triangulation(4, tri, (const double (*)[2])xy, 1e-3, what);
+        /* The diagonal joins the first finer corner (1 before rotation)
+         * and the far coarse one (3). */
+        unsigned a = (1 + 4 - r) % 4, b = (3 + 4 - r) % 4, found = 0;
+        for (unsigned t = 0; t < 2; t++)
+            for (unsigned k = 0; k < 3; k++) {
+                uint32_t p = tri[3 * t + k], q = tri[3 * t + (k + 1) % 3];
+                if ((p == a && q == b) || (p == b && q == a)) found++;
+            }
+        CHECKF(found == 2, "doo-sabin border quad from corner %u: diagonal %u-%u used %u times", r, a, b, found);
+    }
+    /* One finer corner: "cmcc" from that corner; two opposite or three:
+     * every side fine, a regular quad. */
+    const uint8_t one[4] = { 2, 2, 1, 1 }, all[4] = { 2, 2, 2, 2 };
+    CHECK(case_of(4, one, NULL) == find_case("cmcc"));
+    CHECK(case_of(4, all, NULL) == find_case("cccc"));
+    /* Primal faces (vertex levels known) with an odd run stay outside. */
+    const uint8_t v[4] = { 1, 2, 2, 1 };
+    CHECK(case_of(4, e0, v) == ST_TRI_FALLBACK);
+}
+
 int main(void)
 {
     st_tri_index_init(&IX);
@@ -434,5 +495,6 @@ int main(void)
     test_reading();
     test_fallback();
     test_adaptive_polyhedra();
+    test_doosabin_border_quads();
     return TEST_END();
 }
