@@ -32,12 +32,20 @@
  * vertices of several levels into the Doo-Sabin mask.
  *
  * Criteria: the region a Doo-Sabin cell (the face of M* of vertex v)
- * covers is v's dual cell on the polygon mesh of its level: v, the
- * midpoints of its edges and the centroids of its faces.  That is where
- * the surface refined from v lies (the Doo-Sabin points of corner (v, W)
- * are in W, near v).  The box test uses the bounding box of that region;
- * the flatness test, the largest angle between the normals of two
- * consecutive faces around v.
+ * covers.  At level 0, v's dual cell on the base polygon mesh: v, the
+ * midpoints of its edges and the centroids of its faces.  At level l >= 1
+ * the cell was cut at the corner of its parent's vertex u in the surface
+ * face W (level l-1): it covers W's corner quad at u (u, the midpoints of
+ * W's two sides at u, W's centroid) and v itself.  So the children of a
+ * cell tile its region, and the surface refined from v lies there (the
+ * Doo-Sabin points of corner (v, W) are in W, near v).  Only level l-1
+ * is read around u, which is complete while the cell exists (the
+ * restriction brought every face around u to level l-1 before the parent
+ * was cut, and can-simplify keeps them): reading level l instead, whose
+ * neighbours may still be coarser, made the answer depend on earlier
+ * updates (refine/simplify cycles).  The box test uses the bounding box of
+ * the region; the flatness test the largest angle between the normals of
+ * two consecutive faces around u at level l-1 (level 0: around v).
  *
  * Displayed mesh: the surface polygons are the vertex orbits of M* at the
  * top level (st_map_to_mesh extracts the dual).  Around a subdivided cell
