@@ -55,6 +55,10 @@ for k in 1 2; do
     "$S" render "$D/triangle/sphere_ico.obj" --scheme loop --box 0.5,-1,-1,2,1,1 --max-level 3 --mode wire --size 160x120 -o "$W/ico_box_$k.png" >/dev/null
 done
 if [ -s "$W/ico_box_1.png" ] && cmp -s "$W/ico_box_1.png" "$W/ico_box_2.png"; then ok "render --box: PNG written, identical on rerun"; else bad "render --box output"; fi
+for k in 1 2; do
+    "$S" render "$A/torus.obj" --scheme doo-sabin --box 0.2,-2,-2,2,2,2 --max-level 3 --mode flat --size 160x120 -o "$W/torus_ds_box_$k.png" >/dev/null
+done
+if [ -s "$W/torus_ds_box_1.png" ] && cmp -s "$W/torus_ds_box_1.png" "$W/torus_ds_box_2.png"; then ok "render --box doo-sabin: PNG written, identical on rerun"; else bad "render --box doo-sabin output"; fi
 if "$S" render "$A/cube.obj" --box 0,0,0,1,1,1 --levels 2 -o "$W/bad.png" 2>/dev/null; then bad "render --box with --levels accepted"; else ok "render: --box with --levels refused"; fi
 if "$S" render "$A/cube.obj" --box 0,0,0,1,1 -o "$W/bad.png" 2>/dev/null; then bad "render: short --box accepted"; else ok "render: short --box refused"; fi
 echo "$((n - fail)) passed, $fail failed"
