@@ -532,6 +532,36 @@ static void check_history_free(void (*make)(st_mesh *), const char *name, double
     st_hier_free(&h);
 }
 
+/* The one-level restriction is always applied for Doo-Sabin: with
+ * no_restriction set, the same mesh as with it. */
+static void check_restriction_flag_ignored(void (*make)(st_mesh *), const char *name, unsigned max, double extent)
+{
+    st_hier h, g;
+    st_adapt a, b;
+    st_error err;
+    tl_init_hier(&h, make, ST_SCHEME_DOOSABIN, 0);
+    tl_init_hier(&g, make, ST_SCHEME_DOOSABIN, 0);
+    CHECK(st_adapt_init(&a, &h, &err) == ST_OK && st_adapt_init(&b, &g, &err) == ST_OK);
+    st_adapt_params p = box_params(0.6 * extent, 0.1 * extent, 0, 0.2 * extent, 0, max), q = p;
+    q.no_restriction = 1;
+    CHECK(st_adapt_update(&a, &p, &err) == ST_OK && st_adapt_update(&b, &q, &err) == ST_OK);
+    valid(&g.map, name);
+    CHECKF(restriction_holds(&g.map), "%s: no_restriction was not ignored", name);
+    st_mesh s, t;
+    st_mesh_init(&s);
+    st_mesh_init(&t);
+    CHECK(st_adapt_mesh(&a, &s, &err) == ST_OK && st_adapt_mesh(&b, &t, &err) == ST_OK);
+    double worst = fmax(pointset_dist(&s, &t), pointset_dist(&t, &s));
+    CHECKF(s.nfaces == t.nfaces && worst < 1e-12 * extent, "%s: no_restriction %u faces vs %u, distance %g", name,
+           t.nfaces, s.nfaces, worst);
+    st_mesh_free(&s);
+    st_mesh_free(&t);
+    st_adapt_free(&a);
+    st_adapt_free(&b);
+    st_hier_free(&h);
+    st_hier_free(&g);
+}
+
 int main(void)
 {
     struct { void (*make)(st_mesh *); const char *name; unsigned max; double extent; } cases[] = {
@@ -547,6 +577,7 @@ int main(void)
         check_detail_round_trip(cases[i].make, cases[i].name, cases[i].max, cases[i].extent);
         check_resynth_and_repeat(cases[i].make, cases[i].name, cases[i].max - 1, cases[i].extent);
         check_on_regular_levels(cases[i].make, cases[i].name, cases[i].max, cases[i].extent);
+        check_restriction_flag_ignored(cases[i].make, cases[i].name, cases[i].max, cases[i].extent);
     }
     check_flatness(torus, "torus", 3);
     check_incremental(torus, "torus", 4, 2.7, 0.3);
