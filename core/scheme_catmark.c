@@ -8,6 +8,7 @@
 #include "hier_internal.h"
 #include "parallel.h"
 #include "pool.h"
+#include "synth_blocks.h"
 
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -312,6 +313,8 @@ typedef struct fast_level {
     uint32_t nnew;                  /* ... of which the first nnew are level l's */
     uint32_t *vblocks, nvblocks;    /* first ids of the vertex blocks of levels l, ..., 0 */
     uint32_t dcover, vcover;        /* 1 + largest coarse dart / vertex id */
+    uint64_t *dnew, *vnew;          /* block bits (synth_blocks.h) of the darts / vertices of level l,
+                                       NULL where β0 / positions have no level-l column */
     atomic_int irregular;           /* the level is not the polygon split this code assumes */
     _Atomic uint64_t covered;       /* darts in the faces the face pass found ... */
     _Atomic uint64_t holes;         /* ... and darts of holes (edge pass): every dart of level l */
@@ -340,15 +343,20 @@ static const void *pick(const void *base, const void *col, int use_col)
 static uint32_t c_beta0(const fast_level *x, uint32_t d)
 {
     const st_u32_view *r = &x->c.beta0;
-    return ((const uint32_t *)pick(r->base, r->col, x->c.ins[d] < r->lvl))[d];
+    int use_col = x->dnew ? !st_block_bit(x->dnew, d) : x->c.ins[d] < r->lvl;
+    return ((const uint32_t *)pick(r->base, r->col, use_col))[d];
 }
 static uint32_t c_beta1(const fast_level *x, uint32_t d) { return x->plain ? x->b1[d] : st_v_beta1(&x->c, d); }
 static uint32_t c_vert(const fast_level *x, uint32_t d) { return x->plain ? x->vt[d] : st_v_vert(&x->c, d); }
 static uint32_t c_phi1(const fast_level *x, uint32_t d) { return c_beta1(x, c_beta0(x, d)); }
 static const double *c_pos(const fast_level *x, uint32_t v)
 {
-    return (const double *)pick(x->c.pbase, x->c.pcol, x->c.vins[v] < x->c.plvl) + 3 * (size_t)v;
+    int use_col = x->vnew ? !st_block_bit(x->vnew, v) : x->c.vins[v] < x->c.plvl;
+    return (const double *)pick(x->c.pbase, x->c.pcol, use_col) + 3 * (size_t)v;
 }
+
+/* Dart d of level l was inserted below l. */
+static int c_old(const fast_level *x, uint32_t d) { return x->dnew ? !st_block_bit(x->dnew, d) : x->c.ins[d] < x->l; }
 
 static int is_live(const uint8_t *ins, uint32_t id) { return ins[id] != ST_FREE_LEVEL; }
 static int is_hole(const fast_level *x, uint32_t d) { return (x->h->map.flags[d] & ST_DART_BOUNDARY) != 0; }
@@ -469,7 +477,10 @@ static unsigned face_from_new_dart(fast_level *x, uint32_t n)
 }
 
 /* One block of level l: its darts n(d_i) (new, twin old), gathered without
- * a branch per dart, each names a face. */
+ * a branch per dart, each names a face.  With plain relations the faces are
+ * walked in stages whose loads are independent across the block (so that
+ * their cache misses overlap): φ1 three times, the check, the chain to the
+ * centre, the corners' positions; then the sums. */
 static uint64_t face_block(fast_level *x, uint32_t first)
 {
     const uint8_t *ins = x->c.ins;
@@ -478,12 +489,58 @@ static uint64_t face_block(fast_level *x, uint32_t first)
     for (uint32_t d = first; d < first + ST_POOL_BLOCK; d++) {
         if (!is_live(ins, d)) continue; /* free ids hold no relation */
         names[n] = d;
-        n += (unsigned)!is_hole(x, d) & (unsigned)(ins[c_beta0(x, d)] < x->l); /* branch-free on purpose */
+        n += (unsigned)!is_hole(x, d) & (unsigned)c_old(x, c_beta0(x, d)); /* branch-free on purpose */
+    }
+    if (!x->plain) {
+        for (uint32_t i = 0; i < n; i++) {
+            unsigned k = face_from_new_dart(x, names[i]);
+            if (!k) atomic_store(&x->irregular, 1);
+            covered += k;
+        }
+        return covered;
+    }
+    const uint32_t *b1 = x->b1, *vt = x->vt;
+    uint32_t y1[ST_POOL_BLOCK], y2[ST_POOL_BLOCK], y3[ST_POOL_BLOCK], c[ST_POOL_BLOCK];
+    const double *p[4][ST_POOL_BLOCK];
+    uint8_t quad[ST_POOL_BLOCK];
+    for (uint32_t i = 0; i < n; i++) y1[i] = b1[c_beta0(x, names[i])];
+    for (uint32_t i = 0; i < n; i++) y2[i] = b1[c_beta0(x, y1[i])];
+    for (uint32_t i = 0; i < n; i++) y3[i] = b1[c_beta0(x, y2[i])];
+    for (uint32_t i = 0; i < n; i++)
+        quad[i] = (uint8_t)((b1[c_beta0(x, y3[i])] == names[i]) & c_old(x, y1[i]) & !c_old(x, y2[i]) & !c_old(x, y3[i]));
+    /* The centre of the face at L (centre_of), from the corner out_i. */
+    for (uint32_t i = 0; i < n; i++) c[i] = x->b0L[y3[i]];
+    for (uint32_t i = 0; i < n; i++) c[i] = b1[c[i]];
+    for (uint32_t i = 0; i < n; i++) c[i] = x->b0[c[i]];
+    for (uint32_t i = 0; i < n; i++) c[i] = vt[c[i]];
+    for (uint32_t i = 0; i < n; i++) {
+        p[0][i] = c_pos(x, vt[names[i]]);
+        p[1][i] = c_pos(x, vt[y1[i]]);
+        p[2][i] = c_pos(x, vt[y2[i]]);
+        p[3][i] = c_pos(x, vt[y3[i]]);
     }
     for (uint32_t i = 0; i < n; i++) {
-        unsigned k = face_from_new_dart(x, names[i]);
-        if (!k) atomic_store(&x->irregular, 1);
-        covered += k;
+        if (!quad[i]) {
+            unsigned k = face_any(x, names[i], 1);
+            if (!k) atomic_store(&x->irregular, 1);
+            covered += k;
+            continue;
+        }
+        if (x->c.vins[c[i]] != x->L) { atomic_store(&x->irregular, 1); continue; }
+        uint32_t y[4] = { names[i], y1[i], y2[i], y3[i] };
+        const double *q[4] = { p[0][i], p[1][i], p[2][i], p[3][i] };
+        double f[3] = { 0, 0, 0 };
+        for (unsigned k = 0; k < 4; k++) { f[0] += q[k][0]; f[1] += q[k][1]; f[2] += q[k][2]; }
+        double inv = 1.0 / 4;
+        f[0] *= inv; f[1] *= inv; f[2] *= inv;
+        memcpy(x->pnew + 3 * (size_t)c[i], f, sizeof f);
+        for (unsigned k = 0; k < 4; k++) {
+            const double *r = q[k + 1 < 4 ? k + 1 : 0];
+            double *g = x->g + 3 * (size_t)y[k];
+            g[0] = r[0] + f[0]; g[1] = r[1] + f[1]; g[2] = r[2] + f[2];
+            offer_dart(x, vt[y[k]], y[k]);
+        }
+        covered += 4;
     }
     return covered;
 }
@@ -705,6 +762,8 @@ static int fast_level_init(fast_level *x, st_hier *h, unsigned L)
     x->g = malloc(((size_t)x->dcover + 1) * 3 * sizeof *x->g);
     x->vd = malloc(((size_t)x->vcover + 1) * sizeof *x->vd);
     if (!x->g || !x->vd) return -1;
+    if (m->beta0.eff[x->l] == x->l && !(x->dnew = st_block_bits(&m->darts, x->l))) return -1;
+    if (m->pos.eff[x->l] == x->l && !(x->vnew = st_block_bits(&m->verts, x->l))) return -1;
     for (uint32_t v = 0; v < x->vcover; v++) atomic_init(&x->vd[v], ST_NIL);
     return 0;
 }
@@ -715,6 +774,8 @@ static void fast_level_free(fast_level *x)
     free(x->vblocks);
     free(x->g);
     free((void *)x->vd);
+    free(x->dnew);
+    free(x->vnew);
 }
 
 /* Every vertex of level L by its stencil (a level this file's fast path does
