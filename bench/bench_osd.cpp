@@ -3,7 +3,11 @@
 // is C++; Strata is called through its C API.
 //
 //   bench_osd [--quick]
-//   bench_osd --profile strata|osd catmark|loop DEPTH [THREADS]   (one synthesis, for profilers)
+//   bench_osd --profile strata|osd catmark|loop DEPTH [THREADS [REPEAT]]
+//       one side's synthesis alone, REPEAT times (wall and processor medians),
+//       for callgrind --toggle-collect / perf; with BENCH_CHECK=1 in the
+//       environment, also a hash of every level's positions and a comparison
+//       of each with its stencil (bit-identity checks across changes)
 //
 // Prints, per case: topology refinement time (Strata refine vs
 // Far::TopologyRefinerFactory + RefineUniform), synthesis of all levels
