@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_program.h"
 #include "shaders.h"
 
 /* ---- display modes ------------------------------------------------------------ */
@@ -36,19 +37,9 @@ static GLuint compile(const st_gl *gl, GLenum type, const char *name, st_error *
 {
     const char *src = st_shader_source(name);
     if (!src) { st_fail(err, ST_ERR_INVALID, "render: shader %s.glsl is not embedded", name); return 0; }
-    GLuint s = gl->CreateShader(type);
-    gl->ShaderSource(s, 1, &src, NULL);
-    gl->CompileShader(s);
-    GLint ok = 0;
-    gl->GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[768] = "";
-        gl->GetShaderInfoLog(s, sizeof log, NULL, log);
-        gl->DeleteShader(s);
-        st_fail(err, ST_ERR_INVALID, "render: shaders/%s.glsl does not compile: %s", name, log);
-        return 0;
-    }
-    return s;
+    char what[256];
+    snprintf(what, sizeof what, "render: shaders/%s.glsl", name);
+    return st_gl_shader(gl, type, src, what, err);
 }
 
 static GLuint program(const st_gl *gl, const char *vs, const char *gs, const char *fs, st_error *err)
@@ -57,23 +48,13 @@ static GLuint program(const st_gl *gl, const char *vs, const char *gs, const cha
     sh[0] = compile(gl, GL_VERTEX_SHADER, vs, err);
     if (sh[0] && gs) sh[1] = compile(gl, GL_GEOMETRY_SHADER, gs, err);
     if (sh[0] && (!gs || sh[1])) sh[2] = compile(gl, GL_FRAGMENT_SHADER, fs, err);
-    GLuint p = 0;
     if (sh[0] && (!gs || sh[1]) && sh[2]) {
-        p = gl->CreateProgram();
-        for (int i = 0; i < 3; i++) if (sh[i]) gl->AttachShader(p, sh[i]);
-        gl->LinkProgram(p);
-        GLint ok = 0;
-        gl->GetProgramiv(p, GL_LINK_STATUS, &ok);
-        if (!ok) {
-            char log[768] = "";
-            gl->GetProgramInfoLog(p, sizeof log, NULL, log);
-            gl->DeleteProgram(p);
-            p = 0;
-            st_fail(err, ST_ERR_INVALID, "render: program %s + %s does not link: %s", vs, fs, log);
-        }
+        char what[256];
+        snprintf(what, sizeof what, "render: program %s + %s", vs, fs);
+        return st_gl_link(gl, sh, 3, what, err);
     }
     for (int i = 0; i < 3; i++) if (sh[i]) gl->DeleteShader(sh[i]);
-    return p;
+    return 0;
 }
 
 int st_renderer_init(st_renderer *r, const st_gl *gl, st_error *err)
@@ -441,12 +422,7 @@ void st_renderer_draw(st_renderer *r, const st_camera *cam, int w, int h, const 
         /* Push the surface back by a constant (no slope factor: a slope term
          * pushes steep front faces behind the back faces at silhouettes) so
          * that edges drawn on it win. */
-        gl->Enable(GL_POLYGON_OFFSET_FILL);
-        gl->PolygonOffset(0.0f, 2.0f);
-        gl->BindVertexArray(r->gsurf.vao);
-        gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->gsurf.ibo_tris);
-        gl->DrawElements(GL_TRIANGLES, (GLsizei)(3 * r->gsurf.ntris), GL_UNSIGNED_INT, (const void *)0);
-        gl->Disable(GL_POLYGON_OFFSET_FILL);
+        st_gl_draw_surface_offset(gl, r->gsurf.vao, r->gsurf.ibo_tris, r->gsurf.ntris);
         gl->BindTexture(GL_TEXTURE_BUFFER, 0);
         gl->ActiveTexture(GL_TEXTURE1);
         gl->BindTexture(GL_TEXTURE_BUFFER, 0);

@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_program.h"
+
 #if defined(__GNUC__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wsign-compare"
@@ -32,40 +34,12 @@ static const char *const hud_fs =
     "out vec4 o_color;\n"
     "void main() { o_color = v_color; }\n";
 
-static GLuint compile(const st_gl *gl, GLenum type, const char *src, st_error *err)
-{
-    GLuint s = gl->CreateShader(type);
-    gl->ShaderSource(s, 1, &src, NULL);
-    gl->CompileShader(s);
-    GLint ok = 0;
-    gl->GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[512] = "";
-        gl->GetShaderInfoLog(s, sizeof log, NULL, log);
-        gl->DeleteShader(s);
-        st_fail(err, ST_ERR_INVALID, "hud: shader does not compile: %s", log);
-        return 0;
-    }
-    return s;
-}
-
 int st_hud_init(st_hud *u, const st_gl *gl, st_error *err)
 {
     memset(u, 0, sizeof *u);
     u->gl = gl;
-    GLuint vs = compile(gl, GL_VERTEX_SHADER, hud_vs, err);
-    if (!vs) return ST_ERR_INVALID;
-    GLuint fs = compile(gl, GL_FRAGMENT_SHADER, hud_fs, err);
-    if (!fs) { gl->DeleteShader(vs); return ST_ERR_INVALID; }
-    u->prog = gl->CreateProgram();
-    gl->AttachShader(u->prog, vs);
-    gl->AttachShader(u->prog, fs);
-    gl->LinkProgram(u->prog);
-    gl->DeleteShader(vs);
-    gl->DeleteShader(fs);
-    GLint ok = 0;
-    gl->GetProgramiv(u->prog, GL_LINK_STATUS, &ok);
-    if (!ok) { st_hud_free(u); return st_fail(err, ST_ERR_INVALID, "hud: program does not link"); }
+    u->prog = st_gl_program(gl, hud_vs, hud_fs, "hud: shader", "hud: program", err);
+    if (!u->prog) { st_hud_free(u); return ST_ERR_INVALID; }
     u->u_viewport = gl->GetUniformLocation(u->prog, "u_viewport");
     gl->GenVertexArrays(1, &u->vao);
     gl->GenBuffers(1, &u->vbo);

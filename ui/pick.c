@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_program.h"
+
 static const char *const pick_vs =
     "#version 330 core\n"
     "layout(location = 0) in vec3 a_pos;\n"
@@ -33,40 +35,12 @@ static const char *const pick_fs =
 #define PICK_POINT_SIZE 7.0f
 #define PICK_POINT_BIAS 1e-3f
 
-static GLuint compile(const st_gl *gl, GLenum type, const char *src, st_error *err)
-{
-    GLuint s = gl->CreateShader(type);
-    gl->ShaderSource(s, 1, &src, NULL);
-    gl->CompileShader(s);
-    GLint ok = 0;
-    gl->GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[512] = "";
-        gl->GetShaderInfoLog(s, sizeof log, NULL, log);
-        gl->DeleteShader(s);
-        st_fail(err, ST_ERR_INVALID, "pick: shader does not compile: %s", log);
-        return 0;
-    }
-    return s;
-}
-
 int st_pick_init(st_pick *p, const st_gl *gl, st_error *err)
 {
     memset(p, 0, sizeof *p);
     p->gl = gl;
-    GLuint vs = compile(gl, GL_VERTEX_SHADER, pick_vs, err);
-    if (!vs) return ST_ERR_INVALID;
-    GLuint fs = compile(gl, GL_FRAGMENT_SHADER, pick_fs, err);
-    if (!fs) { gl->DeleteShader(vs); return ST_ERR_INVALID; }
-    p->prog = gl->CreateProgram();
-    gl->AttachShader(p->prog, vs);
-    gl->AttachShader(p->prog, fs);
-    gl->LinkProgram(p->prog);
-    gl->DeleteShader(vs);
-    gl->DeleteShader(fs);
-    GLint ok = 0;
-    gl->GetProgramiv(p->prog, GL_LINK_STATUS, &ok);
-    if (!ok) { st_pick_free(p); return st_fail(err, ST_ERR_INVALID, "pick: program does not link"); }
+    p->prog = st_gl_program(gl, pick_vs, pick_fs, "pick: shader", "pick: program", err);
+    if (!p->prog) { st_pick_free(p); return ST_ERR_INVALID; }
     p->u_view = gl->GetUniformLocation(p->prog, "u_view");
     p->u_proj = gl->GetUniformLocation(p->prog, "u_proj");
     p->u_size = gl->GetUniformLocation(p->prog, "u_size");
@@ -150,12 +124,7 @@ int st_pick_render(st_pick *p, const st_renderer *r, const st_camctl *c, int w, 
         gl->Uniform1i(p->u_mode, 0);
         gl->Uniform1f(p->u_bias, 0);
         gl->Uniform1f(p->u_size, 1);
-        gl->Enable(GL_POLYGON_OFFSET_FILL);
-        gl->PolygonOffset(0.0f, 2.0f);
-        gl->BindVertexArray(r->gsurf.vao);
-        gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->gsurf.ibo_tris);
-        gl->DrawElements(GL_TRIANGLES, (GLsizei)(3 * r->gsurf.ntris), GL_UNSIGNED_INT, (const void *)0);
-        gl->Disable(GL_POLYGON_OFFSET_FILL);
+        st_gl_draw_surface_offset(gl, r->gsurf.vao, r->gsurf.ibo_tris, r->gsurf.ntris);
     }
     if (r->has_cage && r->gcage.nverts) {
         gl->Enable(GL_PROGRAM_POINT_SIZE);
