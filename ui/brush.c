@@ -471,16 +471,6 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
 
 void st_doc_stroke_end(st_doc *d)
 {
-    if (d->active != 2) return;
-    st_undo_step *s = d->pending;
-    d->pending = NULL;
-    d->active = 0;
-    if (!s) return;
-    ed_step_capture_new(s, &d->h);
-    int same = 1;
-    for (uint32_t i = 0; i < s->n && same; i++)
-        if (memcmp(s->oldv[i], s->newv[i], sizeof s->oldv[i])) same = 0;
-    if (same) { ed_step_free(s); return; }
-    ed_step_finish(s);
-    ed_push_step(d, s);
+    st_undo_step *s = ed_take_pending(d, 2);
+    if (s) ed_push_edit(d, s);
 }

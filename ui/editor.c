@@ -327,11 +327,17 @@ static st_undo_step *hier_step_begin(st_doc *d, st_error *err)
     return s;
 }
 
-static void hier_step_end(st_doc *d, st_undo_step *s, double t0)
+/* After a change of the levels begun at t0: topology bits, timing. */
+static void topology_done(st_doc *d, double t0)
 {
     topology_changed(d);
     d->last_update_at_ms = ed_now_ms();
     d->last_update_ms = d->last_update_at_ms - t0;
+}
+
+static void hier_step_end(st_doc *d, st_undo_step *s, double t0)
+{
+    topology_done(d, t0);
     ed_step_finish(s);
     ed_push_step(d, s);
 }
@@ -398,19 +404,24 @@ int st_doc_add_level(st_doc *d, st_error *err)
     s->idsum = top_ids_sum(&d->h.map);
     d->display_level = d->h.map.top;
     s->display_after = d->display_level;
-    topology_changed(d);
-    d->last_update_at_ms = ed_now_ms();
-    d->last_update_ms = d->last_update_at_ms - t0;
-    ed_step_finish(s);
-    ed_push_step(d, s);
+    hier_step_end(d, s, t0);
+    return ST_OK;
+}
+
+/* Before a level is removed: a model above its control mesh, no drag or
+ * stroke in progress. */
+static int removal_begin(st_doc *d, st_error *err)
+{
+    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
+    if (d->h.map.top == 0) return st_fail(err, ST_ERR_INVALID, "only the control mesh is left");
+    finish_active(d);
     return ST_OK;
 }
 
 int st_doc_remove_top(st_doc *d, st_error *err)
 {
-    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
-    if (d->h.map.top == 0) return st_fail(err, ST_ERR_INVALID, "only the control mesh is left");
-    finish_active(d);
+    int rc = removal_begin(d, err);
+    if (rc) return rc;
     double t0 = ed_now_ms();
     /* Kept for undo: the level's positions and details (no copy of the
      * rest: the topology comes back from refinement, same ids). */
@@ -443,11 +454,7 @@ int st_doc_remove_top(st_doc *d, st_error *err)
     clamp_levels(d);
     s->edit_after = d->edit_level;
     s->display_after = d->display_level;
-    topology_changed(d);
-    d->last_update_at_ms = ed_now_ms();
-    d->last_update_ms = d->last_update_at_ms - t0;
-    ed_step_finish(s);
-    ed_push_step(d, s);
+    hier_step_end(d, s, t0);
     return ST_OK;
 }
 
@@ -482,9 +489,8 @@ static int rmtop_undo(st_doc *d, st_undo_step *s, st_error *err)
 
 int st_doc_remove_bottom(st_doc *d, st_error *err)
 {
-    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
-    if (d->h.map.top == 0) return st_fail(err, ST_ERR_INVALID, "only the control mesh is left");
-    finish_active(d);
+    int rc = removal_begin(d, err);
+    if (rc) return rc;
     double t0 = ed_now_ms();
     st_undo_step *s = hier_step_begin(d, err);
     if (!s) return ST_ERR_MEMORY;
@@ -781,7 +787,16 @@ int st_doc_drag_update(st_doc *d, const double delta[3])
     return 0;
 }
 
-static void push_edit(st_doc *d, st_undo_step *s)
+st_undo_step *ed_take_pending(st_doc *d, int active)
+{
+    if (d->active != active) return NULL;
+    st_undo_step *s = d->pending;
+    d->pending = NULL;
+    d->active = 0;
+    return s;
+}
+
+void ed_push_edit(st_doc *d, st_undo_step *s)
 {
     ed_step_capture_new(s, &d->h);
     /* Nothing moved (no update, or back where it started): no step. */
@@ -795,19 +810,13 @@ static void push_edit(st_doc *d, st_undo_step *s)
 
 void st_doc_drag_end(st_doc *d)
 {
-    if (d->active != 1) return;
-    st_undo_step *s = d->pending;
-    d->pending = NULL;
-    d->active = 0;
-    if (s) push_edit(d, s);
+    st_undo_step *s = ed_take_pending(d, 1);
+    if (s) ed_push_edit(d, s);
 }
 
 void st_doc_drag_cancel(st_doc *d)
 {
-    if (d->active != 1) return;
-    st_undo_step *s = d->pending;
-    d->pending = NULL;
-    d->active = 0;
+    st_undo_step *s = ed_take_pending(d, 1);
     if (!s) return;
     double t0 = ed_now_ms();
     ed_step_apply(s, &d->h, 0);
@@ -923,9 +932,7 @@ static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
             d->edit_level = s->edit_after;
             d->display_level = s->display_after;
         }
-        topology_changed(d);
-        d->last_update_at_ms = ed_now_ms();
-        d->last_update_ms = d->last_update_at_ms - t0;
+        topology_done(d, t0);
         return ST_OK;
     }
     case ED_STEP_ADD: {
@@ -951,9 +958,7 @@ static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
             }
             d->display_level = s->display_after;
         }
-        topology_changed(d);
-        d->last_update_at_ms = ed_now_ms();
-        d->last_update_ms = d->last_update_at_ms - t0;
+        topology_done(d, t0);
         return ST_OK;
     }
     case ED_STEP_BOX: {
@@ -1051,6 +1056,25 @@ static void disp_collect_sub(st_doc *d)
     d->dsub_ok = 1;
 }
 
+/* Pairs the face of display dart y0 at level L with the face of model dart
+ * Y0, dart by dart and vertex by vertex (dd: display dart -> model dart). */
+static void pair_face(st_doc *d, uint32_t *dd, unsigned L, uint32_t y0, uint32_t Y0)
+{
+    const st_map *dm = &d->disp.map, *mm = &d->h.map;
+    uint32_t y = y0, Y = Y0;
+    unsigned guard = 0;
+    do {
+        dd[y] = Y;
+        uint32_t v = st_vert(dm, y, L), V = st_vert(mm, Y, L);
+        d->dcorr[v] = V;
+        d->mcorr[V] = v;
+        d->dlv[v] |= 1u << L;
+        pairs_push(d, L, v, V);
+        y = st_phi1(dm, y, L);
+        Y = st_phi1(mm, Y, L);
+    } while (y != y0 && ++guard < 64);
+}
+
 /* Pairs the display's darts and vertices with the model's: identical ids up
  * to the base level (the display is a copy), then level by level through
  * the sub-faces of each subdivided face (the corner sub-face of a coarse
@@ -1117,32 +1141,11 @@ static void disp_pairs_build(st_doc *d)
             do {
                 uint32_t C = dd[c];
                 if (C == ST_NIL) break; /* cannot happen: coarser darts are paired first */
-                uint32_t y = c, Y = C;
-                unsigned guard = 0;
-                do {
-                    dd[y] = Y;
-                    uint32_t v = st_vert(dm, y, L), V = st_vert(mm, Y, L);
-                    dc[v] = V;
-                    mc[V] = v;
-                    lv[v] |= 1u << L;
-                    pairs_push(d, L, v, V);
-                    y = st_phi1(dm, y, L);
-                    Y = st_phi1(mm, Y, L);
-                } while (y != c && ++guard < 64);
+                pair_face(d, dd, L, c, C);
                 st_dart_list_push(&next, c); /* the corner sub-face of c */
                 if (tri && first) {
-                    uint32_t z = st_beta0(dm, st_phi1(dm, c, L), L), Z = st_beta0(mm, st_phi1(mm, C, L), L), z0 = z;
-                    guard = 0;
-                    do {
-                        dd[z] = Z;
-                        uint32_t v = st_vert(dm, z, L), V = st_vert(mm, Z, L);
-                        dc[v] = V;
-                        mc[V] = v;
-                        lv[v] |= 1u << L;
-                        pairs_push(d, L, v, V);
-                        z = st_phi1(dm, z, L);
-                        Z = st_phi1(mm, Z, L);
-                    } while (z != z0 && ++guard < 64);
+                    uint32_t z0 = st_beta0(dm, st_phi1(dm, c, L), L);
+                    pair_face(d, dd, L, z0, st_beta0(mm, st_phi1(mm, C, L), L));
                     st_dart_list_push(&next, z0); /* the central triangle */
                 }
                 first = 0;
@@ -1174,26 +1177,22 @@ static void disp_moved(st_doc *d, uint32_t v)
 
 typedef struct resynth_ctx { st_hier *h; unsigned L; uint32_t gen; } resynth_ctx;
 
+/* Applies stencil s at level L unless its fine vertex was already written
+ * in this pass (stamp gen); 1 when it wrote. */
+static int apply_once(st_hier *h, unsigned L, uint32_t gen, const st_stencil *s)
+{
+    if (h->stamp[s->fine] == gen) return 0;
+    h->stamp[s->fine] = gen;
+    double p[3];
+    st_stencil_apply(h, L, s, p);
+    st_set_pos(&h->map, s->fine, L, p);
+    return 1;
+}
+
 static void resynth_sink(void *ctx, const st_stencil *s)
 {
     resynth_ctx *c = ctx;
-    if (c->h->stamp[s->fine] == c->gen) return;
-    c->h->stamp[s->fine] = c->gen;
-    double p[3];
-    st_stencil_apply(c->h, c->L, s, p);
-    st_set_pos(&c->h->map, s->fine, c->L, p);
-}
-
-/* A dart of level L carrying fine vertex v, on the face of d (the frame
- * cell of its stencil) at level L; ST_NIL if not there (hier_synth.c). */
-static uint32_t dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L)
-{
-    uint32_t x = d;
-    do {
-        if (st_vert(m, x, L) == v) return x;
-        x = st_phi1(m, x, L);
-    } while (x != d);
-    return ST_NIL;
+    apply_once(c->h, c->L, c->gen, s);
 }
 
 typedef struct local_ctx { st_hier *h; unsigned L; uint32_t gen; st_dart_list *changed; int lost; st_doc *doc; } local_ctx;
@@ -1201,13 +1200,9 @@ typedef struct local_ctx { st_hier *h; unsigned L; uint32_t gen; st_dart_list *c
 static void local_sink(void *ctx, const st_stencil *s)
 {
     local_ctx *c = ctx;
-    if (c->h->stamp[s->fine] == c->gen) return;
-    c->h->stamp[s->fine] = c->gen;
-    double p[3];
-    st_stencil_apply(c->h, c->L, s, p);
-    st_set_pos(&c->h->map, s->fine, c->L, p);
+    if (!apply_once(c->h, c->L, c->gen, s)) return;
     if (c->doc) disp_moved(c->doc, s->fine);
-    uint32_t x = dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
+    uint32_t x = ed_dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
     if (x == ST_NIL) c->lost = 1;
     else st_dart_list_push(c->changed, x);
 }
@@ -1239,16 +1234,7 @@ static void resynth_region(st_doc *d, st_dart_list *seeds0)
         local_ctx c = { dh, L, st_hier_stamp_begin(dh), &next, 0, d };
         if (kept.n) dh->scheme->emit(dh, L, kept.d, kept.n, local_sink, &c);
         extra = c.lost;
-        if (c.lost) {
-            next.n = 0;
-            for (uint32_t i = 0; i < kept.n; i++) {
-                uint32_t x = kept.d[i];
-                do { st_dart_list_push(&next, x); x = st_phi1(dm, x, L - 1); } while (x != kept.d[i]);
-            }
-        }
-        st_dart_list t = seeds;
-        seeds = next;
-        next = t;
+        ed_next_seeds(dm, L - 1, c.lost, &kept, &seeds, &next);
     }
     st_dart_list_free(&seeds);
     st_dart_list_free(&next);

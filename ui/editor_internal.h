@@ -71,6 +71,15 @@ void ed_step_capture_new(st_undo_step *s, const st_hier *h);
 /* Writes the old (which = 0) or new (1) values back. */
 void ed_step_apply(const st_undo_step *s, st_hier *h, int which);
 void ed_step_finish(st_undo_step *s);   /* drops the index, computes bytes */
+/* A dart of level L carrying fine vertex v, on the face of d (the frame
+ * cell of its stencil) at level L; ST_NIL if not there (hier_synth.c). */
+uint32_t ed_dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L);
+/* End of one level of st_hier_move's region growth: next (the darts of the
+ * changed vertices) becomes the seeds of the next level, or, when a changed
+ * vertex was not found on its cell (lost), every dart of the faces (one
+ * dart each, at the given level).  Swaps seeds and next. */
+void ed_next_seeds(const st_map *m, unsigned level, int lost, const st_dart_list *faces, st_dart_list *seeds,
+                   st_dart_list *next);
 
 /* ---- editor.c ---- */
 double ed_now_ms(void);
@@ -82,6 +91,12 @@ void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t 
                          const uint64_t *keys, uint32_t nkeys);
 uint32_t ed_vertex_dart(st_doc *d, uint32_t vid);
 void ed_push_step(st_doc *d, st_undo_step *s);
+/* The pending step of the drag (active 1) or stroke (2) in progress, taken
+ * (the document is left idle); NULL when no such operation is active or it
+ * has no step. */
+st_undo_step *ed_take_pending(st_doc *d, int active);
+/* Ends an edit step: pushed on the undo stack unless nothing changed. */
+void ed_push_edit(st_doc *d, st_undo_step *s);
 
 /* ---- brush.c ---- */
 struct st_brush_state;

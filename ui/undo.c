@@ -154,7 +154,7 @@ typedef struct dry_ctx {
     int lost;
 } dry_ctx;
 
-static uint32_t dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L)
+uint32_t ed_dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L)
 {
     uint32_t x = d;
     do {
@@ -164,13 +164,28 @@ static uint32_t dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L
     return ST_NIL;
 }
 
+void ed_next_seeds(const st_map *m, unsigned level, int lost, const st_dart_list *faces, st_dart_list *seeds,
+                   st_dart_list *next)
+{
+    if (lost) {
+        next->n = 0;
+        for (uint32_t i = 0; i < faces->n; i++) {
+            uint32_t x = faces->d[i];
+            do { st_dart_list_push(next, x); x = st_phi1(m, x, level); } while (x != faces->d[i]);
+        }
+    }
+    st_dart_list t = *seeds;
+    *seeds = *next;
+    *next = t;
+}
+
 static void dry_sink(void *ctx, const st_stencil *st)
 {
     dry_ctx *c = ctx;
     if (c->h->stamp[st->fine] == c->gen) return;
     c->h->stamp[st->fine] = c->gen;
     ed_step_touch_pos(c->s, c->h, c->L, st->fine);
-    uint32_t d = dart_on_cell(&c->h->map, st->fine, st->frame_dart, c->L);
+    uint32_t d = ed_dart_on_cell(&c->h->map, st->fine, st->frame_dart, c->L);
     if (d == ST_NIL) c->lost = 1;
     else st_dart_list_push(c->changed, d);
 }
@@ -194,16 +209,7 @@ void ed_step_touch_move(st_undo_step *s, st_hier *h, unsigned l, const uint32_t 
         dry_ctx c = { s, h, L, st_hier_stamp_begin(h), &next, 0 };
         h->scheme->emit(h, L, faces.d, faces.n, dry_sink, &c);
         extra = c.lost;
-        if (c.lost) {
-            next.n = 0;
-            for (uint32_t i = 0; i < faces.n; i++) {
-                uint32_t x = faces.d[i];
-                do { st_dart_list_push(&next, x); x = st_phi1(m, x, L - 1); } while (x != faces.d[i]);
-            }
-        }
-        st_dart_list t = seeds;
-        seeds = next;
-        next = t;
+        ed_next_seeds(m, L - 1, c.lost, &faces, &seeds, &next);
     }
     st_dart_list_free(&seeds);
     st_dart_list_free(&next);
