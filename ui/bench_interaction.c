@@ -40,6 +40,30 @@ static double cpu_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
+/* One timed step of two phases (the second ends with a gl.Finish): wall
+ * clock at the start (a0) and between the phases (a1), CPU time at the
+ * start (c0). */
+typedef struct lap { double c0, a0, a1; } lap;
+
+static lap lap_start(void)
+{
+    lap l;
+    l.c0 = cpu_ms();
+    l.a0 = now_ms();
+    l.a1 = l.a0;
+    return l;
+}
+
+/* Step i done: first phase, second phase, both, CPU time (ms). */
+static void lap_end(const lap *l, int i, double *first, double *second, double *total, double *cpu)
+{
+    double a2 = now_ms();
+    first[i] = l->a1 - l->a0;
+    second[i] = a2 - l->a1;
+    total[i] = a2 - l->a0;
+    cpu[i] = cpu_ms() - l->c0;
+}
+
 static int cmp_d(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -133,18 +157,13 @@ int st_window_bench(const st_win_opts *o)
     uint32_t nmoved = 0;
     for (int i = 0; i < n; i++) {
         double delta[3] = { 0.002 * diag * (i + 1), 0.001 * diag * (i + 1), -0.0015 * diag * (i + 1) };
-        double c0 = cpu_ms();
-        double a0 = now_ms();
+        lap t = lap_start();
         st_doc_drag_update(&doc, delta);
-        double a1 = now_ms();
+        t.a1 = now_ms();
         st_doc_change ch = st_doc_take_change(&doc);
         st_renderer_edit(&r, &doc.h, ch.moved_level, ch.moved_darts, ch.nmoved);
         gl.Finish();
-        double a2 = now_ms();
-        tg[i] = a1 - a0;
-        tb[i] = a2 - a1;
-        tt[i] = a2 - a0;
-        tc[i] = cpu_ms() - c0;
+        lap_end(&t, i, tg, tb, tt, tc);
         moved_top = r.last.vertices;
         nmoved = ch.nmoved;
     }
@@ -156,18 +175,13 @@ int st_window_bench(const st_win_opts *o)
     enum { REPS = 5 };
     double fs[REPS], fb[REPS], ft[REPS], fc[REPS];
     for (int i = 0; i < REPS; i++) {
-        double c0 = cpu_ms();
-        double a0 = now_ms();
+        lap t = lap_start();
         st_hier_synthesize(&doc.h, 0);
-        double a1 = now_ms();
+        t.a1 = now_ms();
         st_renderer_set_level(&r, &doc.h.map, top, &err);
         st_renderer_set_cage(&r, &doc.h.map, edit, &err);
         gl.Finish();
-        double a2 = now_ms();
-        fs[i] = a1 - a0;
-        fb[i] = a2 - a1;
-        ft[i] = a2 - a0;
-        fc[i] = cpu_ms() - c0;
+        lap_end(&t, i, fs, fb, ft, fc);
     }
     double ms = median(fs, REPS), mbuf = median(fb, REPS), mfull = median(ft, REPS), mfc = median(fc, REPS);
     uint64_t faces = 0, verts = 0;
