@@ -7,7 +7,11 @@
  *     displayed: d->disp is a copy of h's levels 0..base refined by st_adapt
  *     inside the box, whose vertices of levels <= h.top take the positions
  *     of the same vertices of h (a walk of both refinement structures pairs
- *     them, disp_pairs), and whose levels beyond h.top are synthesised from
+ *     them, disp_pairs_build: quadrisection sub-faces for Catmull-Clark,
+ *     Loop, Butterfly and quad/triangle, the same walk on the dual map for
+ *     Doo-Sabin, whose vertex ids are the faces of M*, and the three
+ *     sub-faces of each triangle after the flips for √3, every scheme
+ *     with a box), and whose levels beyond h.top are synthesised from
  *     there.  After every edit the display is synced from the model, so box
  *     on, edit, box off, box on always shows the model (no detail is ever
  *     lost or rotated by coarsening: the model never coarsens).
@@ -288,11 +292,6 @@ int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
     ed_hier_fix(&d->h);
     d->scheme = sc;
     d->opts = d->h.opts;
-    if (d->box_on && (sc->id == ST_SCHEME_SQRT3 || sc->id == ST_SCHEME_DOOSABIN)) {
-        disp_free(d);
-        d->box_on = 0;
-        snprintf(d->note, sizeof d->note, "interest box off: %s has no adaptive refinement", sc->name);
-    }
     topology_changed(d);
     ed_step_finish(s);
     ed_push_step(d, s);
@@ -1056,6 +1055,14 @@ static void disp_collect_sub(st_doc *d)
     d->dsub_ok = 1;
 }
 
+static void pair_vertex(st_doc *d, unsigned L, uint32_t v, uint32_t V)
+{
+    d->dcorr[v] = V;
+    d->mcorr[V] = v;
+    d->dlv[v] |= 1u << L;
+    pairs_push(d, L, v, V);
+}
+
 /* Pairs the face of display dart y0 at level L with the face of model dart
  * Y0, dart by dart and vertex by vertex (dd: display dart -> model dart). */
 static void pair_face(st_doc *d, uint32_t *dd, unsigned L, uint32_t y0, uint32_t Y0)
@@ -1065,21 +1072,61 @@ static void pair_face(st_doc *d, uint32_t *dd, unsigned L, uint32_t y0, uint32_t
     unsigned guard = 0;
     do {
         dd[y] = Y;
-        uint32_t v = st_vert(dm, y, L), V = st_vert(mm, Y, L);
-        d->dcorr[v] = V;
-        d->mcorr[V] = v;
-        d->dlv[v] |= 1u << L;
-        pairs_push(d, L, v, V);
+        pair_vertex(d, L, st_vert(dm, y, L), st_vert(mm, Y, L));
         y = st_phi1(dm, y, L);
         Y = st_phi1(mm, Y, L);
     } while (y != y0 && ++guard < 64);
+}
+
+/* √3: the centre of the level-(L-1) triangle of dart x (subdivided toward
+ * L), read at level L from x's face (adapt_sqrt3.c): x unflipped (the odd
+ * triangle a b c, x from a): c is the origin of x's second successor; x
+ * flipped (the edge a b became the centres' edge, thesis fig. 3.46): x's
+ * face is (a, c', c) with x from c' to c, or (b, c, c') with x from c. */
+static uint32_t sqrt3_centre(const st_map *m, uint32_t x, unsigned L)
+{
+    uint32_t o = st_vert(m, x, L - 1), x1 = st_phi1(m, x, L), x2 = st_phi1(m, x1, L);
+    if (st_vert(m, x, L) == o) return st_vert(m, x2, L);
+    if (st_vert(m, x2, L) == o) return st_vert(m, x1, L);
+    return st_vert(m, x, L);
+}
+
+/* √3: pairs the level-L sub-faces of the display's triangle of x (level
+ * L-1, subdivided toward L; its darts paired) with the model's.  Each dart
+ * of the triangle holds one sub-face at L: the even triangle of its flipped
+ * edge, paired dart by dart with the model's (every edge of the regular
+ * model is flipped), or an odd triangle (the edge toward an unsubdivided
+ * neighbour, not a face of the model, never subdivided): its corners and
+ * the centre are paired.  Even sub-faces go to `next`. */
+static void sqrt3_pair_children(st_doc *d, uint32_t *dd, unsigned L, uint32_t x, st_dart_list *next)
+{
+    const st_map *dm = &d->disp.map, *mm = &d->h.map;
+    uint32_t c = x;
+    unsigned guard = 0;
+    do {
+        uint32_t C = dd[c];
+        if (C == ST_NIL) break; /* cannot happen: coarser darts are paired first */
+        if (c == x) pair_vertex(d, L, sqrt3_centre(dm, c, L), sqrt3_centre(mm, C, L));
+        if (st_vert(dm, c, L) != st_vert(dm, c, L - 1)) {
+            pair_face(d, dd, L, c, C);
+            st_dart_list_push(next, c);
+        } else {
+            uint32_t a = st_vert(dm, c, L), b = st_vert(dm, st_phi1(dm, c, L), L);
+            if (d->dcorr[a] != ST_NIL) pair_vertex(d, L, a, d->dcorr[a]);
+            if (d->dcorr[b] != ST_NIL) pair_vertex(d, L, b, d->dcorr[b]);
+        }
+        c = st_phi1(dm, c, L - 1);
+    } while (c != x && ++guard < 3);
 }
 
 /* Pairs the display's darts and vertices with the model's: identical ids up
  * to the base level (the display is a copy), then level by level through
  * the sub-faces of each subdivided face (the corner sub-face of a coarse
  * dart starts at that dart in both maps; a triangle's central sub-face lies
- * across the first corner's inner edge). */
+ * across the first corner's inner edge).  Doo-Sabin: the same walk on the
+ * dual map M* (Catmull-Clark topology; the darts of a face of M* carry its
+ * surface vertex, a fresh id per quad in both maps, so pair_face pairs the
+ * Doo-Sabin vertices).  √3: sqrt3_pair_children. */
 static void disp_pairs_build(st_doc *d)
 {
     st_map *dm = &d->disp.map;
@@ -1134,6 +1181,10 @@ static void disp_pairs_build(st_doc *d)
         for (uint32_t k = 0; k < cur.n; k++) {
             uint32_t x = cur.d[k];
             if (!st_face_is_subdivided(dm, x, L - 1)) continue;
+            if (d->disp.scheme->id == ST_SCHEME_SQRT3) {
+                sqrt3_pair_children(d, dd, L, x, &next);
+                continue;
+            }
             unsigned deg = st_face_degree(dm, x, L - 1);
             int tri = split_tri(&d->disp, deg);
             uint32_t c = x;
@@ -1323,11 +1374,6 @@ static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys)
 static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err)
 {
     disp_free(d);
-    st_scheme_id sid = d->h.scheme->id;
-    if (sid != ST_SCHEME_CATMARK && sid != ST_SCHEME_LOOP && sid != ST_SCHEME_BUTTERFLY && sid != ST_SCHEME_QUADTRI)
-        /* disp_pairs_build walks quadrisection sub-faces. */
-        return st_fail(err, ST_ERR_INVALID, "the interest box display is implemented for Catmull-Clark, Loop, "
-                       "Butterfly and quad/triangle, not %s", d->h.scheme->name);
     unsigned N = d->h.map.top, b = p->base_level < N ? p->base_level : N;
     /* The display starts as a copy of the model (then cut to the base). */
     size_t have = st_doc_model_bytes(d), need = ed_hier_bytes(&d->h);
