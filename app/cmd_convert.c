@@ -120,21 +120,9 @@ static int parse(int argc, char **argv, conv_opts *o)
     return 0;
 }
 
-static int has_ext(const char *path, const char *ext)
-{
-    size_t n = strlen(path), k = strlen(ext);
-    if (n < k) return 0;
-    for (size_t i = 0; i < k; i++) {
-        char c = path[n - k + i];
-        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
-        if (c != ext[i]) return 0;
-    }
-    return 1;
-}
-
 static int is_mesh_out(const char *path)
 {
-    return has_ext(path, ".obj") || has_ext(path, ".ply") || has_ext(path, ".gltf") || has_ext(path, ".glb");
+    return st_path_has_ext(path, ".obj") || st_path_has_ext(path, ".ply") || st_path_has_ext(path, ".gltf") || st_path_has_ext(path, ".glb");
 }
 
 /* Loads a mesh input into s: base mesh and hierarchy to `levels`. */
@@ -273,7 +261,7 @@ int st_cmd_convert(int argc, char **argv)
     }
     if (!rc)
         printf("%s: %u faces, %u vertices, %s %u%s\n", o.out, out.nfaces, out.nverts, adaptive ? "adaptive, levels 0.." : "level", l,
-               o.normals || has_ext(o.out, ".gltf") || has_ext(o.out, ".glb") ? ", with normals" : "");
+               o.normals || st_path_has_ext(o.out, ".gltf") || st_path_has_ext(o.out, ".glb") ? ", with normals" : "");
     st_mesh_free(&out);
     st_session_free(&s);
     return rc ? 1 : 0;

@@ -11,7 +11,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "image.h"
 #include "adapt.h"
@@ -179,12 +178,6 @@ static int split_args(int argc, char **argv, render_opts *r, char **rest, int *n
     return 0;
 }
 
-static int has_png_ext(const char *path)
-{
-    size_t n = strlen(path);
-    return n > 4 && !strcasecmp(path + n - 4, ".png");
-}
-
 int st_cmd_render(int argc, char **argv)
 {
     render_opts r;
@@ -200,7 +193,7 @@ int st_cmd_render(int argc, char **argv)
     if (split_args(argc, argv, &r, rest, &nrest) || st_cli_parse(nrest, rest, &o, "render")) { free(rest); return 2; }
     free(rest);
     if (!o.out) { fprintf(stderr, "strata render: -o OUT.png is required\n"); return 2; }
-    if (!has_png_ext(o.out)) { fprintf(stderr, "strata render: the output must be a .png file, got '%s'\n", o.out); return 2; }
+    if (!st_path_has_ext(o.out, ".png")) { fprintf(stderr, "strata render: the output must be a .png file, got '%s'\n", o.out); return 2; }
     if (o.level > (int)o.levels && !st_session_is_path(o.in)) {
         fprintf(stderr, "strata render: --level %d is above --levels %u\n", o.level, o.levels);
         return 2;

@@ -60,18 +60,6 @@ std::string one_line(std::string s)
     return out;
 }
 
-bool ends_with_ci(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), k = strlen(suffix);
-    if (n < k) return false;
-    for (size_t i = 0; i < k; i++) {
-        char c = s[n - k + i];
-        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
-        if (c != suffix[i]) return false;
-    }
-    return true;
-}
-
 // ---- reading files ---------------------------------------------------------
 
 bool read_file(const std::string &path, std::vector<unsigned char> *out, std::string *why)
@@ -793,7 +781,7 @@ extern "C" {
 
 int st_gltf_is_gltf_path(const char *path)
 {
-    return path && (ends_with_ci(path, ".gltf") || ends_with_ci(path, ".glb"));
+    return path && (st_path_has_ext(path, ".gltf") || st_path_has_ext(path, ".glb"));
 }
 
 int st_gltf_parse(const char *name, const void *data, size_t size, st_mesh *out, st_error *err)
@@ -857,8 +845,8 @@ int st_gltf_write_mem(const st_mesh *m, int binary, int index_bytes, void **data
 int st_gltf_save(const char *path, const st_mesh *m, st_error *err)
 {
     try {
-        bool glb = ends_with_ci(path, ".glb");
-        if (!glb && !ends_with_ci(path, ".gltf"))
+        bool glb = st_path_has_ext(path, ".glb");
+        if (!glb && !st_path_has_ext(path, ".gltf"))
             return st_fail(err, ST_ERR_PARSE, "%s: not a glTF file name (expected .gltf or .glb)", path);
         tinygltf::Model model;
         mesh_to_model(m, 0, &model);

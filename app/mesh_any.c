@@ -10,20 +10,7 @@
 
 static int is_gltf(const char *path)
 {
-    static const char *const ext[] = { ".gltf", ".glb" };
-    size_t n = strlen(path);
-    for (size_t e = 0; e < sizeof ext / sizeof ext[0]; e++) {
-        size_t k = strlen(ext[e]);
-        if (n < k) continue;
-        int same = 1;
-        for (size_t i = 0; i < k && same; i++) {
-            char c = path[n - k + i];
-            if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
-            same = c == ext[e][i];
-        }
-        if (same) return 1;
-    }
-    return 0;
+    return st_path_has_ext(path, ".gltf") || st_path_has_ext(path, ".glb");
 }
 
 int st_any_mesh_load(const char *path, st_mesh *out, st_notes *notes, st_error *err)

@@ -193,7 +193,7 @@ static int read_whole_file(const char *path, char **data, size_t *size, st_error
 
 enum mesh_format { FMT_UNKNOWN, FMT_OBJ, FMT_OFF, FMT_PLY };
 
-static int ends_with_ci(const char *s, const char *suffix)
+int st_path_has_ext(const char *s, const char *suffix)
 {
     size_t n = strlen(s), k = strlen(suffix);
     if (n < k) return 0;
@@ -207,9 +207,9 @@ static int ends_with_ci(const char *s, const char *suffix)
 
 static enum mesh_format format_of(const char *path)
 {
-    if (ends_with_ci(path, ".obj")) return FMT_OBJ;
-    if (ends_with_ci(path, ".off")) return FMT_OFF;
-    if (ends_with_ci(path, ".ply")) return FMT_PLY;
+    if (st_path_has_ext(path, ".obj")) return FMT_OBJ;
+    if (st_path_has_ext(path, ".off")) return FMT_OFF;
+    if (st_path_has_ext(path, ".ply")) return FMT_PLY;
     return FMT_UNKNOWN;
 }
 

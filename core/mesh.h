@@ -51,6 +51,10 @@ void st_mesh_move(st_mesh *dst, st_mesh *src);
 #define ST_MESH_MAX_FACES   (1u << 27)
 #define ST_MESH_MAX_DEGREE  (1u << 16)
 
+/* Whether path ends in ext (".obj", ...), ignoring ASCII case: the one
+ * extension test every loader, writer and command uses. */
+int st_path_has_ext(const char *path, const char *ext);
+
 /* Loaders: read, parse, then st_mesh_repair().  On failure *out is
  * untouched and err names file:line: problem (binary PLY: "file: byte N:");
  * on success *out's previous content is freed and replaced.

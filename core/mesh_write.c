@@ -176,21 +176,9 @@ int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err)
 
 /* ---- dispatch ------------------------------------------------------------------- */
 
-static int has_ext(const char *path, const char *ext)
-{
-    size_t n = strlen(path), k = strlen(ext);
-    if (n < k) return 0;
-    for (size_t i = 0; i < k; i++) {
-        char c = path[n - k + i];
-        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
-        if (c != ext[i]) return 0;
-    }
-    return 1;
-}
-
 int st_mesh_save(const char *path, const st_mesh *m, st_error *err)
 {
-    if (has_ext(path, ".obj")) return st_mesh_save_obj(path, m, err);
-    if (has_ext(path, ".ply")) return st_mesh_save_ply(path, m, err);
+    if (st_path_has_ext(path, ".obj")) return st_mesh_save_obj(path, m, err);
+    if (st_path_has_ext(path, ".ply")) return st_mesh_save_ply(path, m, err);
     return st_fail(err, ST_ERR_INVALID, "%s: unknown mesh format for writing (expected .obj or .ply)", path);
 }

@@ -96,15 +96,7 @@ st_session_ref st_session_ref_of(const st_session *s)
 
 int st_session_is_path(const char *path)
 {
-    static const char ext[] = ".strata";
-    size_t n = strlen(path), k = sizeof ext - 1;
-    if (n < k) return 0;
-    for (size_t i = 0; i < k; i++) {
-        char c = path[n - k + i];
-        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
-        if (c != ext[i]) return 0;
-    }
-    return 1;
+    return path && st_path_has_ext(path, ".strata");
 }
 
 /* ---- chunk writers --------------------------------------------------------------- */
