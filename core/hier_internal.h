@@ -29,6 +29,12 @@ void st_dart_list_push(st_dart_list *l, uint32_t d);
 void st_dart_list_free(st_dart_list *l);
 void st_region_faces(st_map *m, unsigned l, const uint32_t *seeds, uint32_t nseeds, unsigned rings, st_dart_list *faces);
 
+/* A dart of level L carrying fine vertex v, found on the frame cell of its
+ * stencil (dart d of level L-1): d itself for a vertex cell; for an edge or
+ * a face, the children of a primal split lie on the face of d at level L.
+ * ST_NIL if v is not there (hier_synth.c). */
+uint32_t st_dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L);
+
 /* Per-vertex generation stamps for deduplication within one pass. */
 uint32_t st_hier_stamp_begin(st_hier *h);
 

@@ -201,7 +201,7 @@ typedef struct synth_ctx {
  * stencil (dart d of level L-1): d itself for a vertex cell; for an edge or
  * a face, the children of a primal split lie on the face of d at level L.
  * ST_NIL if v is not there (a scheme that puts it elsewhere). */
-static uint32_t dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L)
+uint32_t st_dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L)
 {
     uint32_t x = d;
     do {
@@ -223,7 +223,7 @@ static void synth_sink(void *ctx, const st_stencil *s)
     st_hier_write_pos(c->h, s->fine, c->L, p);
     c->count++;
     if (c->changed) {
-        uint32_t d = dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
+        uint32_t d = st_dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
         if (d == ST_NIL) c->lost = 1;
         else st_dart_list_push(c->changed, d);
     }

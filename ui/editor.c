@@ -1253,7 +1253,7 @@ static void local_sink(void *ctx, const st_stencil *s)
     local_ctx *c = ctx;
     if (!apply_once(c->h, c->L, c->gen, s)) return;
     if (c->doc) disp_moved(c->doc, s->fine);
-    uint32_t x = ed_dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
+    uint32_t x = st_dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
     if (x == ST_NIL) c->lost = 1;
     else st_dart_list_push(c->changed, x);
 }

@@ -71,9 +71,6 @@ void ed_step_capture_new(st_undo_step *s, const st_hier *h);
 /* Writes the old (which = 0) or new (1) values back. */
 void ed_step_apply(const st_undo_step *s, st_hier *h, int which);
 void ed_step_finish(st_undo_step *s);   /* drops the index, computes bytes */
-/* A dart of level L carrying fine vertex v, on the face of d (the frame
- * cell of its stencil) at level L; ST_NIL if not there (hier_synth.c). */
-uint32_t ed_dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L);
 /* End of one level of st_hier_move's region growth: next (the darts of the
  * changed vertices) becomes the seeds of the next level, or, when a changed
  * vertex was not found on its cell (lost), every dart of the faces (one

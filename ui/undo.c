@@ -154,16 +154,6 @@ typedef struct dry_ctx {
     int lost;
 } dry_ctx;
 
-uint32_t ed_dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L)
-{
-    uint32_t x = d;
-    do {
-        if (st_vert(m, x, L) == v) return x;
-        x = st_phi1(m, x, L);
-    } while (x != d);
-    return ST_NIL;
-}
-
 void ed_next_seeds(const st_map *m, unsigned level, int lost, const st_dart_list *faces, st_dart_list *seeds,
                    st_dart_list *next)
 {
@@ -185,7 +175,7 @@ static void dry_sink(void *ctx, const st_stencil *st)
     if (c->h->stamp[st->fine] == c->gen) return;
     c->h->stamp[st->fine] = c->gen;
     ed_step_touch_pos(c->s, c->h, c->L, st->fine);
-    uint32_t d = ed_dart_on_cell(&c->h->map, st->fine, st->frame_dart, c->L);
+    uint32_t d = st_dart_on_cell(&c->h->map, st->fine, st->frame_dart, c->L);
     if (d == ST_NIL) c->lost = 1;
     else st_dart_list_push(c->changed, d);
 }
