@@ -651,18 +651,38 @@ static int remove_inner(st_adapt *a, const outline *o, unsigned i, int tri, st_e
         return rc;
     }
     uint32_t spoke = st_phi1(m, st_phi1(m, o->d[0], L), L);
-    uint32_t centre = st_vert(m, spoke, L);
+    save_detail(a, L, KIND_CENTRE, o->d[0], st_vert(m, spoke, L));
+    return st_adapt_remove_centre(m, spoke, L, NULL, err);
+}
+
+int st_adapt_remove_centre(st_map *m, uint32_t spoke, unsigned L, st_unsplit_fn unsplit, st_error *err)
+{
+    int rc = ST_OK;
     while (!rc && st_vertex_degree(m, spoke, L) > 2) {
         uint32_t next = st_beta1(m, spoke, L);
         rc = st_uncut_face(m, spoke, L, err);
         spoke = next;
     }
     if (rc) return rc;
-    save_detail(a, L, KIND_CENTRE, o->d[0], centre);
     uint32_t left = st_beta0(m, st_beta1(m, spoke, L), L); /* mid-side dart of the merged edge */
-    rc = st_unsplit_edge(m, spoke, L, err);
+    rc = unsplit ? unsplit(m, spoke, L, err) : st_unsplit_edge(m, spoke, L, err);
     if (!rc) rc = st_uncut_face(m, left, L, err);
     return rc;
+}
+
+void st_adapt_corner_fallback(st_map *m, uint32_t c, unsigned i)
+{
+    unsigned L = i + 1;
+    uint32_t y = c;
+    do {
+        if (!st_is_boundary(m, y) && st_face_level(m, y, L) == L) return;
+        y = st_beta1(m, y, L);
+    } while (y != c);
+    /* (and, through the propagating setter, above L too) */
+    uint32_t v = st_vert(m, c, i);
+    double p[3];
+    memcpy(p, st_pos(m, v, i), sizeof p);
+    st_set_pos(m, v, L, p);
 }
 
 int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
@@ -694,20 +714,7 @@ int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     }
     /* Corners no longer on a face of level L fall back to their level-i
      * position (their level-L detail stays for a later refinement)... */
-    for (uint32_t k = 0; k < o.n; k++) {
-        uint32_t c = o.d[k], y = c, fine = 0;
-        do {
-            if (!st_is_boundary(m, y) && st_face_level(m, y, L) == L) fine = 1;
-            y = st_beta1(m, y, L);
-        } while (y != c && !fine);
-        if (!fine) {
-            /* (and, through the propagating setter, above L too) */
-            uint32_t v = st_vert(m, c, i);
-            double p[3];
-            memcpy(p, st_pos(m, v, i), sizeof p);
-            st_set_pos(m, v, L, p);
-        }
-    }
+    for (uint32_t k = 0; k < o.n; k++) st_adapt_corner_fallback(m, o.d[k], i);
     a->touched++;
     return ST_OK;
 }

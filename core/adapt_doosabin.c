@@ -252,17 +252,7 @@ int st_adapt_ds_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
         st_adapt_save_corner_detail(a, L, corner[k], quad[k]);
     }
     /* The spokes, then the centre and the edge left (adapt.c's remove_inner). */
-    int rc = ST_OK;
-    uint32_t spoke = st_phi1(m, st_phi1(m, corner[0], L), L);
-    while (!rc && st_vertex_degree(m, spoke, L) > 2) {
-        uint32_t next = st_beta1(m, spoke, L);
-        rc = st_uncut_face(m, spoke, L, err);
-        spoke = next;
-    }
-    if (rc) return rc;
-    uint32_t left = st_beta0(m, st_beta1(m, spoke, L), L);
-    rc = unsplit(m, spoke, L, err);
-    if (!rc) rc = st_uncut_face(m, left, L, err);
+    int rc = st_adapt_remove_centre(m, st_phi1(m, st_phi1(m, corner[0], L), L), L, unsplit, err);
     if (rc) return rc;
     /* F* is one face again: its level-i surface vertex. */
     x = corner[0];

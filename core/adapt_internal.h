@@ -56,6 +56,17 @@ void st_adapt_ds_cell_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3]
  * every face sharing a vertex with it is brought to level i (adapt.c). */
 int st_adapt_restrict(st_adapt *a, uint32_t d, unsigned i, st_error *err);
 
+/* Takes out the centre vertex of level L that a polygon or centre split
+ * made (spoke: a dart leaving it): uncuts spokes until the centre has
+ * degree 2, unsplits it with `unsplit` (NULL: st_unsplit_edge) and uncuts
+ * the edge left (adapt.c; used by every scheme's simplification). */
+typedef int (*st_unsplit_fn)(st_map *m, uint32_t x, unsigned L, st_error *err);
+int st_adapt_remove_centre(st_map *m, uint32_t spoke, unsigned L, st_unsplit_fn unsplit, st_error *err);
+/* After a face of level i was simplified: its corner c, when no face of
+ * level L = i+1 is left around it, falls back to its level-i position (at L
+ * and, through the propagating setter, above). */
+void st_adapt_corner_fallback(st_map *m, uint32_t c, unsigned i);
+
 /* Moves the details of the Doo-Sabin vertex v created at L in the corner
  * of `dart` (a dart of level L-1 of its parent cell) into the saved store
  * (world space, refinement-tree address: the parent's path and the corner

@@ -355,33 +355,12 @@ int st_adapt_sqrt3_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     st_adapt_save_centre_detail(a, L, d, c);
     uint32_t spoke = st_phi_1(m, d, L);
     if (st_vert(m, spoke, L) != c) return st_fail(err, ST_ERR_INVALID, "adapt sqrt3: centre of dart %u not found", d);
-    while (!rc && st_vertex_degree(m, spoke, L) > 2) {
-        uint32_t next = st_beta1(m, spoke, L);
-        rc = st_uncut_face(m, spoke, L, err);
-        spoke = next;
-    }
-    if (rc) return rc;
-    uint32_t left = st_beta0(m, st_beta1(m, spoke, L), L);
-    rc = st_unsplit_edge(m, spoke, L, err);
-    if (!rc) rc = st_uncut_face(m, left, L, err);
+    rc = st_adapt_remove_centre(m, spoke, L, NULL, err);
     if (rc) return rc;
     /* Corners no longer on a face of level L fall back to their level-i
      * position (and, through the propagating setter, above L too). */
     x = d;
-    do {
-        uint32_t y = x;
-        int fine = 0;
-        do {
-            if (!st_is_boundary(m, y) && st_face_level(m, y, L) == L) fine = 1;
-            y = st_beta1(m, y, L);
-        } while (y != x && !fine);
-        if (!fine) {
-            uint32_t v = st_vert(m, x, i);
-            double p[3] = { st_pos(m, v, i)[0], st_pos(m, v, i)[1], st_pos(m, v, i)[2] };
-            st_set_pos(m, v, L, p);
-        }
-        x = st_phi1(m, x, i);
-    } while (x != d);
+    do { st_adapt_corner_fallback(m, x, i); x = st_phi1(m, x, i); } while (x != d);
     a->touched++;
     return ST_OK;
 }
