@@ -5,14 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-void at_octa(st_mesh *s)
-{
-    static const double p[] = { 1,0,0, -1,0,0, 0,1,0, 0,-1,0, 0,0,1, 0,0,-1 };
-    static const uint32_t off[] = { 0, 3, 6, 9, 12, 15, 18, 21, 24 };
-    static const uint32_t idx[] = { 0,2,4, 2,1,4, 1,3,4, 3,0,4, 2,0,5, 1,2,5, 3,1,5, 0,3,5 };
-    tl_mesh_make(s, p, 6, off, idx, 8);
-}
-
 void at_torus(st_mesh *s) { tl_mesh_torus(s, 8, 6); }
 void at_grid(st_mesh *s) { tl_mesh_grid(s, 4); }
 

@@ -23,7 +23,6 @@ typedef struct at_case {
 } at_case;
 
 /* Fixtures. */
-void at_octa(st_mesh *s);   /* 6 v, 8 triangles */
 void at_torus(st_mesh *s);  /* tl_mesh_torus(8, 6) */
 void at_grid(st_mesh *s);   /* tl_mesh_grid(4): open */
 

@@ -92,8 +92,8 @@ int main(void)
         { ST_SCHEME_CATMARK, at_torus, "catmark torus", 1, 0, 3, 2.7 },
         { ST_SCHEME_CATMARK, at_grid, "catmark grid", 0, 0, 3, 4 },
         { ST_SCHEME_CATMARK, tl_mesh_cube, "catmark cube", 1, 0, 3, 1 },
-        { ST_SCHEME_LOOP, at_octa, "loop octahedron", 1, 0, 3, 1 },
-        { ST_SCHEME_BUTTERFLY, at_octa, "butterfly octahedron", 1, 0, 3, 1 },
+        { ST_SCHEME_LOOP, tl_mesh_octa, "loop octahedron", 1, 0, 3, 1 },
+        { ST_SCHEME_BUTTERFLY, tl_mesh_octa, "butterfly octahedron", 1, 0, 3, 1 },
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         const at_case *c = &cases[i];

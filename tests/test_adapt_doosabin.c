@@ -50,7 +50,7 @@ static at_case doosabin(void (*make)(st_mesh *), const char *name, unsigned max,
 int main(void)
 {
     const at_case cases[] = {
-        doosabin(at_octa, "octahedron", 4, 1),
+        doosabin(tl_mesh_octa, "octahedron", 4, 1),
         doosabin(tl_mesh_cube, "cube", 4, 1),
         doosabin(tl_mesh_tetra, "tetrahedron", 4, 1),
         doosabin(cut_cube, "cut cube", 4, 2),
@@ -62,7 +62,7 @@ int main(void)
     const at_inc inc[] = {
         { doosabin(at_torus, "torus", 4, 2.7), 0.3 },
         { doosabin(at_torus, "torus small box", 5, 2.7), 0.08 },
-        { doosabin(at_octa, "octahedron", 5, 1), 0.2 },
+        { doosabin(tl_mesh_octa, "octahedron", 5, 1), 0.2 },
         { cut1, 0.15 },
     };
     at_run_incremental(inc, sizeof inc / sizeof *inc);

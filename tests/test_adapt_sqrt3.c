@@ -108,7 +108,7 @@ static at_case sqrt3(void (*make)(st_mesh *), const char *name, unsigned max, do
 int main(void)
 {
     const at_case cases[] = {
-        sqrt3(at_octa, "octahedron", 4, 1),
+        sqrt3(tl_mesh_octa, "octahedron", 4, 1),
         sqrt3(tri_cube, "cube", 3, 1),
         sqrt3(tri_torus, "torus", 4, 2.7),
         sqrt3(icosphere, "icosphere", 4, 1),
@@ -119,7 +119,7 @@ int main(void)
     const at_inc inc[] = {
         { sqrt3(tri_torus, "torus", 4, 2.7), 0.3 },
         { sqrt3(tri_torus, "torus small box", 5, 2.7), 0.08 },
-        { sqrt3(at_octa, "octahedron", 5, 1), 0.2 },
+        { sqrt3(tl_mesh_octa, "octahedron", 5, 1), 0.2 },
         { sqrt3(icosphere, "icosphere", 4, 1), 0.15 },
     };
     at_run_incremental(inc, sizeof inc / sizeof *inc);

@@ -11,25 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void octahedron(st_mesh *s)
-{
-    static const double p[] = { 1,0,0, -1,0,0, 0,1,0, 0,-1,0, 0,0,1, 0,0,-1 };
-    static const uint32_t off[] = { 0, 3, 6, 9, 12, 15, 18, 21, 24 };
-    static const uint32_t idx[] = { 0,2,4, 2,1,4, 1,3,4, 3,0,4, 2,0,5, 1,2,5, 3,1,5, 0,3,5 };
-    tl_mesh_make(s, p, 6, off, idx, 8);
-}
-
-static void icosahedron(st_mesh *s)
-{
-    const double t = (1 + sqrt(5.0)) / 2;
-    const double p[] = { -1,t,0, 1,t,0, -1,-t,0, 1,-t,0, 0,-1,t, 0,1,t, 0,-1,-t, 0,1,-t, t,0,-1, t,0,1, -t,0,-1, -t,0,1 };
-    static const uint32_t idx[] = { 0,11,5, 0,5,1, 0,1,7, 0,7,10, 0,10,11, 1,5,9, 5,11,4, 11,10,2, 10,7,6, 7,1,8,
-                                    3,9,4, 3,4,2, 3,2,6, 3,6,8, 3,8,9, 4,9,5, 2,4,11, 6,2,10, 8,6,7, 9,8,1 };
-    uint32_t off[21];
-    for (int i = 0; i <= 20; i++) off[i] = 3 * i;
-    tl_mesh_make(s, p, 12, off, idx, 20);
-}
-
 /* Open grid of unit squares cut by the diagonal (i,j)-(i+1,j+1): interior
  * vertices have valence 6.  z(i, j) given by fz. */
 static void tri_grid_fz(st_mesh *s, unsigned n, double (*fz)(double, double))
@@ -123,7 +104,7 @@ static void check_interpolating(st_hier *h)
 
 static void test_interpolating(void)
 {
-    void (*makes[])(st_mesh *) = { tl_mesh_tetra, icosahedron, tri_grid, bipyramid };
+    void (*makes[])(st_mesh *) = { tl_mesh_tetra, tl_mesh_icosa, tri_grid, bipyramid };
     for (size_t i = 0; i < sizeof makes / sizeof *makes; i++) {
         st_hier h;
         tl_init_hier(&h, makes[i], ST_SCHEME_BUTTERFLY, 3);
@@ -150,7 +131,7 @@ static void test_valence3(void)
 static void test_valence4(void)
 {
     st_hier h;
-    tl_init_hier(&h, octahedron, ST_SCHEME_BUTTERFLY, 1);
+    tl_init_hier(&h, tl_mesh_octa, ST_SCHEME_BUTTERFLY, 1);
     const double *e = edge_point(&h, 0, 2);
     CHECK(e && near3(e, 0.625, 0.625, 0, 1e-15));
     st_hier_free(&h);
@@ -264,7 +245,7 @@ int main(void)
     /* local == full also checks that an edit recomputes less than
      * everything: only on meshes larger than the two-ring support. */
     struct { void (*make)(st_mesh *); unsigned levels; int local; } cases[] = {
-        { tl_mesh_tetra, 4, 0 }, { octahedron, 3, 0 }, { icosahedron, 3, 0 }, { bipyramid14, 3, 0 },
+        { tl_mesh_tetra, 4, 0 }, { tl_mesh_octa, 3, 0 }, { tl_mesh_icosa, 3, 0 }, { bipyramid14, 3, 0 },
         { tri_grid, 3, 1 }, { tri_torus, 3, 1 },
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
@@ -272,7 +253,7 @@ int main(void)
         tl_check_rigid_motion(ST_SCHEME_BUTTERFLY, cases[i].make, cases[i].levels);
         tl_check_details_kept(ST_SCHEME_BUTTERFLY, cases[i].make, cases[i].levels);
     }
-    tl_check_analysis(ST_SCHEME_BUTTERFLY, icosahedron, 3);
+    tl_check_analysis(ST_SCHEME_BUTTERFLY, tl_mesh_icosa, 3);
     tl_check_analysis(ST_SCHEME_BUTTERFLY, tri_grid, 3);
     return TEST_END();
 }

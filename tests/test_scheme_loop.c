@@ -10,27 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Octahedron ±x, ±y, ±z (all valence 4). */
-static void octahedron(st_mesh *s)
-{
-    static const double p[] = { 1,0,0, -1,0,0, 0,1,0, 0,-1,0, 0,0,1, 0,0,-1 };
-    static const uint32_t off[] = { 0, 3, 6, 9, 12, 15, 18, 21, 24 };
-    static const uint32_t idx[] = { 0,2,4, 2,1,4, 1,3,4, 3,0,4, 2,0,5, 1,2,5, 3,1,5, 0,3,5 };
-    tl_mesh_make(s, p, 6, off, idx, 8);
-}
-
-/* Icosahedron (all valence 5). */
-static void icosahedron(st_mesh *s)
-{
-    const double t = (1 + sqrt(5.0)) / 2;
-    const double p[] = { -1,t,0, 1,t,0, -1,-t,0, 1,-t,0, 0,-1,t, 0,1,t, 0,-1,-t, 0,1,-t, t,0,-1, t,0,1, -t,0,-1, -t,0,1 };
-    static const uint32_t idx[] = { 0,11,5, 0,5,1, 0,1,7, 0,7,10, 0,10,11, 1,5,9, 5,11,4, 11,10,2, 10,7,6, 7,1,8,
-                                    3,9,4, 3,4,2, 3,2,6, 3,6,8, 3,8,9, 4,9,5, 2,4,11, 6,2,10, 8,6,7, 9,8,1 };
-    uint32_t off[21];
-    for (int i = 0; i <= 20; i++) off[i] = 3 * i;
-    tl_mesh_make(s, p, 12, off, idx, 20);
-}
-
 /* Open n x n grid of squares cut by the diagonal (i,j)-(i+1,j+1): interior
  * vertices have valence 6; corners (0,0) and (n,n) have 2 faces, the other
  * two corners 1 face. z is a bumpy function so that nothing is planar. */
@@ -136,7 +115,7 @@ static void test_tetra_values(void)
 static void test_octahedron_values(void)
 {
     st_hier h;
-    tl_init_hier(&h, octahedron, ST_SCHEME_LOOP, 1);
+    tl_init_hier(&h, tl_mesh_octa, ST_SCHEME_LOOP, 1);
     CHECK(near3(st_pos(&h.map, 0, 1), 33.0 / 64, 0, 0, 1e-15));
     CHECK(count_at(&h, 1, 0.375, 0.375, 0) == 1);
     st_hier_free(&h);
@@ -195,7 +174,7 @@ static void test_creases(void)
 {
     st_mesh s;
     st_error err;
-    octahedron(&s);
+    tl_mesh_octa(&s);
     s.ncreases = 4;
     s.crease_v = malloc(8 * sizeof *s.crease_v);
     s.crease_s = malloc(4 * sizeof *s.crease_s);
@@ -263,14 +242,14 @@ int main(void)
      * everything, which needs meshes larger than the support (not the
      * tetrahedron or the octahedron, whose every face is within reach). */
     struct { void (*make)(st_mesh *); unsigned levels; int local; } cases[] = {
-        { tl_mesh_tetra, 4, 0 }, { octahedron, 3, 0 }, { icosahedron, 3, 1 }, { tri_grid, 3, 1 },
+        { tl_mesh_tetra, 4, 0 }, { tl_mesh_octa, 3, 0 }, { tl_mesh_icosa, 3, 1 }, { tri_grid, 3, 1 },
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         if (cases[i].local) tl_check_local_equals_full(ST_SCHEME_LOOP, cases[i].make, cases[i].levels);
         tl_check_rigid_motion(ST_SCHEME_LOOP, cases[i].make, cases[i].levels);
         tl_check_details_kept(ST_SCHEME_LOOP, cases[i].make, cases[i].levels);
     }
-    tl_check_analysis(ST_SCHEME_LOOP, icosahedron, 3);
+    tl_check_analysis(ST_SCHEME_LOOP, tl_mesh_icosa, 3);
     tl_check_analysis(ST_SCHEME_LOOP, tri_grid, 3);
     return TEST_END();
 }

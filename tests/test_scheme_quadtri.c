@@ -12,17 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void icosahedron(st_mesh *s)
-{
-    const double t = (1 + sqrt(5.0)) / 2;
-    const double p[] = { -1,t,0, 1,t,0, -1,-t,0, 1,-t,0, 0,-1,t, 0,1,t, 0,-1,-t, 0,1,-t, t,0,-1, t,0,1, -t,0,-1, -t,0,1 };
-    static const uint32_t idx[] = { 0,11,5, 0,5,1, 0,1,7, 0,7,10, 0,10,11, 1,5,9, 5,11,4, 11,10,2, 10,7,6, 7,1,8,
-                                    3,9,4, 3,4,2, 3,2,6, 3,6,8, 3,8,9, 4,9,5, 2,4,11, 6,2,10, 8,6,7, 9,8,1 };
-    uint32_t off[21];
-    for (int i = 0; i <= 20; i++) off[i] = 3 * i;
-    tl_mesh_make(s, p, 12, off, idx, 20);
-}
-
 /* Open 4 x 4 grid of squares cut by diagonals, bumpy z. */
 static void tri_grid(st_mesh *s)
 {
@@ -157,7 +146,7 @@ static void test_reductions(void)
     check_same_as(grid, &st_scheme_catmark, ST_BOUNDARY_EDGE_AND_CORNER, 3, "grid corners");
     check_same_as(ngon, &st_scheme_catmark, ST_BOUNDARY_EDGE_ONLY, 3, "ngon.obj");
     check_same_as(tl_mesh_tetra, &st_scheme_loop, ST_BOUNDARY_EDGE_ONLY, 3, "tetra");
-    check_same_as(icosahedron, &st_scheme_loop, ST_BOUNDARY_EDGE_ONLY, 3, "icosahedron");
+    check_same_as(tl_mesh_icosa, &st_scheme_loop, ST_BOUNDARY_EDGE_ONLY, 3, "icosahedron");
     check_same_as(tri_grid, &st_scheme_loop, ST_BOUNDARY_EDGE_ONLY, 3, "tri grid");
     check_same_as(tri_grid, &st_scheme_loop, ST_BOUNDARY_EDGE_AND_CORNER, 3, "tri grid corners");
 }

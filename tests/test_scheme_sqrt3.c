@@ -15,14 +15,6 @@
 
 /* ---- fixtures -------------------------------------------------------------- */
 
-static void octa(st_mesh *m)
-{
-    static const double p[] = { 1,0,0, -1,0,0, 0,1,0, 0,-1,0, 0,0,1, 0,0,-1 };
-    static const uint32_t off[] = { 0, 3, 6, 9, 12, 15, 18, 21, 24 };
-    static const uint32_t idx[] = { 0,2,4, 2,1,4, 1,3,4, 3,0,4, 2,0,5, 1,2,5, 3,1,5, 0,3,5 };
-    tl_mesh_make(m, p, 6, off, idx, 8);
-}
-
 static void single_triangle(st_mesh *m)
 {
     static const double p[] = { 0,0,0, 1,0,0, 0.3,0.8,0.1 };
@@ -192,7 +184,7 @@ static void test_octa_values(void)
 {
     st_mesh s;
     st_hier h;
-    octa(&s);
+    tl_mesh_octa(&s);
     if (build(&h, &s, 1)) { st_mesh_free(&s); return; }
     st_mesh_free(&s);
     const double tol = 1e-15;
@@ -307,7 +299,7 @@ static void check_counts(const char *name, void (*make)(st_mesh *), unsigned lev
 static void test_topology(void)
 {
     check_counts("tetra", tl_mesh_tetra, 5);
-    check_counts("octa", octa, 4);
+    check_counts("octa", tl_mesh_octa, 4);
     check_counts("torus", torus_tri, 4);
     check_counts("grid", grid_tri, 4);
     check_counts("triangle", single_triangle, 6);
@@ -468,7 +460,7 @@ static void test_multires(void)
     }
     check_every_vertex_local("grid 3x3", grid_small, 3);
     check_every_vertex_local("triangle", single_triangle, 4);
-    check_every_vertex_local("octa", octa, 3);
+    check_every_vertex_local("octa", tl_mesh_octa, 3);
     check_every_vertex_local("torus 6x4", torus_small, 3);
     check_every_vertex_local("bipyramid16", bipyramid16, 3);
 }

@@ -15,15 +15,6 @@
 
 static void torus(st_mesh *s) { tl_mesh_torus(s, 8, 6); }
 
-/* An octahedron (triangles, closed). */
-static void octa(st_mesh *s)
-{
-    static const double p[] = { 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1 };
-    static const uint32_t off[] = { 0, 3, 6, 9, 12, 15, 18, 21, 24 };
-    static const uint32_t idx[] = { 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5 };
-    tl_mesh_make(s, p, 6, off, idx, 8);
-}
-
 /* The cube with two creases and a corner (Catmull-Clark sharpness). */
 static void creased_cube(st_mesh *s)
 {
@@ -456,19 +447,19 @@ int main(void)
 {
     check_regular(ST_SCHEME_CATMARK, creased_cube);
     check_regular(ST_SCHEME_CATMARK, torus);
-    check_regular(ST_SCHEME_LOOP, octa);
+    check_regular(ST_SCHEME_LOOP, tl_mesh_octa);
     check_regular(ST_SCHEME_DOOSABIN, tl_mesh_cube);
-    check_regular(ST_SCHEME_SQRT3, octa);
-    check_regular(ST_SCHEME_BUTTERFLY, octa);
+    check_regular(ST_SCHEME_SQRT3, tl_mesh_octa);
+    check_regular(ST_SCHEME_BUTTERFLY, tl_mesh_octa);
     check_regular(ST_SCHEME_QUADTRI, tl_mesh_cube);
     check_adaptive(ST_SCHEME_CATMARK, creased_cube);
     check_adaptive(ST_SCHEME_CATMARK, torus);
-    check_adaptive(ST_SCHEME_LOOP, octa);
-    check_adaptive(ST_SCHEME_BUTTERFLY, octa);
-    check_adaptive(ST_SCHEME_SQRT3, octa);
+    check_adaptive(ST_SCHEME_LOOP, tl_mesh_octa);
+    check_adaptive(ST_SCHEME_BUTTERFLY, tl_mesh_octa);
+    check_adaptive(ST_SCHEME_SQRT3, tl_mesh_octa);
     check_damage();
     check_crafted(ST_SCHEME_CATMARK, creased_cube, 0);
-    check_crafted(ST_SCHEME_LOOP, octa, 1);
+    check_crafted(ST_SCHEME_LOOP, tl_mesh_octa, 1);
     check_crafted(ST_SCHEME_DOOSABIN, tl_mesh_cube, 0);
     check_files();
     check_normals();

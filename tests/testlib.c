@@ -64,6 +64,25 @@ void tl_mesh_tetra(st_mesh *m)
     tl_mesh_make(m, p, 4, off, idx, 4);
 }
 
+void tl_mesh_octa(st_mesh *m)
+{
+    static const double p[] = { 1,0,0, -1,0,0, 0,1,0, 0,-1,0, 0,0,1, 0,0,-1 };
+    static const uint32_t off[] = { 0, 3, 6, 9, 12, 15, 18, 21, 24 };
+    static const uint32_t idx[] = { 0,2,4, 2,1,4, 1,3,4, 3,0,4, 2,0,5, 1,2,5, 3,1,5, 0,3,5 };
+    tl_mesh_make(m, p, 6, off, idx, 8);
+}
+
+void tl_mesh_icosa(st_mesh *m)
+{
+    const double t = (1 + sqrt(5.0)) / 2;
+    const double p[] = { -1,t,0, 1,t,0, -1,-t,0, 1,-t,0, 0,-1,t, 0,1,t, 0,-1,-t, 0,1,-t, t,0,-1, t,0,1, -t,0,-1, -t,0,1 };
+    static const uint32_t idx[] = { 0,11,5, 0,5,1, 0,1,7, 0,7,10, 0,10,11, 1,5,9, 5,11,4, 11,10,2, 10,7,6, 7,1,8,
+                                    3,9,4, 3,4,2, 3,2,6, 3,6,8, 3,8,9, 4,9,5, 2,4,11, 6,2,10, 8,6,7, 9,8,1 };
+    uint32_t off[21];
+    for (int i = 0; i <= 20; i++) off[i] = 3 * i;
+    tl_mesh_make(m, p, 12, off, idx, 20);
+}
+
 void tl_mesh_grid(st_mesh *m, unsigned n)
 {
     uint32_t nv = (n + 1) * (n + 1), nf = n * n;

@@ -27,6 +27,8 @@ int tl_write_file(const char *path, const void *data, size_t size);
 #include "mesh.h"
 void tl_mesh_cube(st_mesh *m);              /* 8 v, 6 quads */
 void tl_mesh_tetra(st_mesh *m);             /* 4 v, 4 triangles */
+void tl_mesh_octa(st_mesh *m);              /* 6 v, 8 triangles, valence 4 */
+void tl_mesh_icosa(st_mesh *m);             /* 12 v, 20 triangles, valence 5 */
 void tl_mesh_grid(st_mesh *m, unsigned n);  /* open n x n quad grid in z=0 */
 void tl_mesh_torus(st_mesh *m, unsigned nu, unsigned nv); /* closed quad torus */
 /* Builds a soup from literal arrays (copied). */
