@@ -214,3 +214,13 @@ void st_pool_drop_bottom(st_pool *p)
     p->nblocks[t] = p->capblocks[t] = p->live[t] = 0;
     p->fill[t] = p->freehead[t] = ST_NIL;
 }
+
+uint32_t *st_pool_blocks_newest_first(const st_pool *p, unsigned l, uint32_t *n)
+{
+    *n = st_pool_block_list(p, l, NULL);
+    uint32_t *out = malloc(((size_t)*n + 1) * sizeof *out), k = 0;
+    if (!out) return NULL;
+    for (unsigned lv = l + 1; lv-- > 0;)
+        for (uint32_t i = 0; i < p->nblocks[lv]; i++) out[k++] = p->blocks[lv][i] << ST_POOL_BLOCK_SHIFT;
+    return out;
+}

@@ -28,6 +28,11 @@ uint64_t st_pool_count(const st_pool *p, unsigned l);
 /* Blocks of levels 0..l in enumeration order (st_dart_first/next): writes
  * their first ids to out (NULL: count only); returns how many. */
 uint32_t st_pool_block_list(const st_pool *p, unsigned l, uint32_t *out);
+/* First ids of the blocks of levels l, l-1, ..., 0 (newest first), malloc'd
+ * (NULL when out of memory), *n of them: refinement numbers level l in the
+ * order of the faces it came from, so neighbourhoods are close in memory in
+ * this order (the synthesis passes of the schemes walk it). */
+uint32_t *st_pool_blocks_newest_first(const st_pool *p, unsigned l, uint32_t *n);
 
 void st_mla_init(st_mla *a, uint32_t elem);
 void st_mla_free(st_mla *a);

@@ -762,19 +762,6 @@ static void level_passes(st_team *team, unsigned t, void *ctx)
     st_stencil_buf_free(&w.e.tmp);
 }
 
-/* First ids of the blocks of levels l, l-1, ..., 0: refine.c numbers level
- * l in the order of the faces it came from, so this is the order in which
- * neighbourhoods are close in memory. */
-static uint32_t *newest_first(const st_pool *p, unsigned l, uint32_t *n)
-{
-    *n = st_pool_block_list(p, l, NULL);
-    uint32_t *out = malloc(((size_t)*n + 1) * sizeof *out), k = 0;
-    if (!out) return NULL;
-    for (unsigned lv = l + 1; lv-- > 0;)
-        for (uint32_t i = 0; i < p->nblocks[lv]; i++) out[k++] = p->blocks[lv][i] << ST_POOL_BLOCK_SHIFT;
-    return out;
-}
-
 /* 1 + the largest id in the blocks. */
 static uint32_t blocks_cover(const uint32_t *blocks, uint32_t n)
 {
@@ -800,8 +787,8 @@ static int fast_level_init(fast_level *x, st_hier *h, unsigned L)
     x->vt = (const uint32_t *)m->vert.base;
     x->plain = m->beta1.eff[x->l] == 0 && m->vert.eff[x->l] == 0;
     st_level_view_init(m, x->l, &x->c);
-    x->blocks = newest_first(&m->darts, x->l, &x->nblocks);
-    x->vblocks = newest_first(&m->verts, x->l, &x->nvblocks);
+    x->blocks = st_pool_blocks_newest_first(&m->darts, x->l, &x->nblocks);
+    x->vblocks = st_pool_blocks_newest_first(&m->verts, x->l, &x->nvblocks);
     if (!x->blocks || !x->vblocks) return -1;
     x->nnew = m->darts.nblocks[x->l];
     x->dcover = blocks_cover(x->blocks, x->nblocks);

@@ -398,19 +398,6 @@ static void ring_passes(st_team *team, unsigned t, void *ctx)
     st_stencil_buf_free(&w.s.tmp);
 }
 
-/* First ids of the blocks of levels l, l-1, ..., 0: refine.c numbers level
- * l in the order of the faces it came from, so that neighbourhoods are close
- * in memory in this order. */
-static uint32_t *newest_first(const st_pool *p, unsigned l, uint32_t *n)
-{
-    *n = st_pool_block_list(p, l, NULL);
-    uint32_t *out = malloc(((size_t)*n + 1) * sizeof *out), k = 0;
-    if (!out) return NULL;
-    for (unsigned lv = l + 1; lv-- > 0;)
-        for (uint32_t i = 0; i < p->nblocks[lv]; i++) out[k++] = p->blocks[lv][i] << ST_POOL_BLOCK_SHIFT;
-    return out;
-}
-
 /* 1 + the last id of the vertex blocks of levels 0..l. */
 static uint32_t vblock_cover(const st_pool *p, unsigned l)
 {
@@ -447,8 +434,8 @@ static _Atomic uint32_t *ring_level_run(st_hier *h, unsigned L, _Atomic uint32_t
     x.vt = (const uint32_t *)m->vert.base;
     x.flags = m->flags;
     st_level_view_init(m, l, &x.c);
-    x.blocks = newest_first(&m->darts, l, &x.nblocks);
-    x.vblocks = newest_first(&m->verts, l, &x.nvblocks);
+    x.blocks = st_pool_blocks_newest_first(&m->darts, l, &x.nblocks);
+    x.vblocks = st_pool_blocks_newest_first(&m->verts, l, &x.nvblocks);
     x.vcover = vblock_cover(&m->verts, l);
     x.vd = vd;
     x.vd_given = vd != NULL;
