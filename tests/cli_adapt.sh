@@ -45,7 +45,6 @@ for c in "spot $D/catmull_clark/spot_quadrangulated.obj catmull-clark 0.013,0.01
         if "$diff_tool" "$W/$1_ad.obj" "$W/$1_ac.obj" --tol 1e-9 >/dev/null; then ok "$1: same points (pointset_diff)"; else bad "$1: points differ"; fi
     fi
 done
-set -- "$S" "$D" "$A" "$B"
 for args in "--box 1,2,3" "--box a,b,c,d,e,f" "--base-level 4 --max-level 2 --box 0,0,0,1,1,1"; do
     # shellcheck disable=SC2086
     if "$S" adapt "$A/cube.obj" $args -o "$W/bad.obj" 2>/dev/null; then bad "accepted: $args"; else ok "refused: $args"; fi
