@@ -5,7 +5,7 @@
  *
  * Cases: spot_quadrangulated.obj, Catmull-Clark, base 0, max 5; koala.obj,
  * Loop, base 0, max 3.  The box (a tenth of the model's extent, around the
- * vertex of largest x) is moved by 5 % of its size along x.  Medians of 5. */
+ * vertex of largest x) is moved by 5 % of its size along x.  Medians of 9. */
 #include "adapt.h"
 #include "bench_common.h"
 #include "hier.h"
@@ -14,7 +14,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#define RUNS 5
+#define RUNS 9
 
 static int load(st_hier *h, const char *path, const char *scheme)
 {

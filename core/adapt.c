@@ -72,6 +72,45 @@ int st_face_is_subdivided(st_map *m, uint32_t d, unsigned i)
     return st_face_level(m, d, i + 1) == i + 1;
 }
 
+/* st_face_is_subdivided in O(1) for the maps Algorithm 1 builds (all but
+ * √3): subdividing a face splits every side and then cuts the face, so for
+ * a dart d of level <= i on a face of map i, the face is subdivided toward
+ * i+1 exactly when, at i+1, the next dart after d was inserted at i+1 (d's
+ * side is split, or d is followed by an inner edge) and so is the one after
+ * it (an inner edge: a face whose sides are only split by finer neighbours
+ * goes back to one of its older darts there).  test_adapt checks it against
+ * st_face_is_subdivided on every face of random adaptive maps. */
+int st_adapt_split_toward(const st_map *m, uint32_t d, unsigned i)
+{
+    const uint8_t *ins = m->darts.ins;
+    uint32_t x = st_phi1(m, d, i + 1);
+    return ins[x] == i + 1 && ins[st_phi1(m, x, i + 1)] == i + 1;
+}
+
+/* st_face_level(m, y, i) == i, for the same maps: a face of level i >= 1 is
+ * a sub-face of a face of map i-1 subdivided toward i, and its darts older
+ * than i are darts of that parent (one corner, or none for the central
+ * triangle of a triangle split); a face of lower level is a face of map i-1
+ * not subdivided toward i.  (Checked like st_adapt_split_toward.) */
+int st_adapt_face_of_level(const st_map *m, uint32_t y, unsigned i)
+{
+    if (i == 0) return 1;
+    uint32_t z = y;
+    do {
+        if (m->darts.ins[z] < i) return st_adapt_split_toward(m, z, i - 1);
+        z = st_phi1(m, z, i);
+    } while (z != y);
+    return 1;
+}
+
+/* st_face_level(m, y, i) == i on the map of a: the O(1) reading where the
+ * map is built by Algorithm 1 (all but √3, whose flips re-link old darts). */
+static int face_of_level(st_adapt *a, uint32_t y, unsigned i)
+{
+    st_map *m = &a->h->map;
+    return a->h->scheme->id == ST_SCHEME_SQRT3 ? st_face_level(m, y, i) == i : st_adapt_face_of_level(m, y, i);
+}
+
 /* ---- saved details ----------------------------------------------------------- */
 
 /* ---- stable addresses ----------------------------------------------------------
@@ -318,6 +357,8 @@ void st_adapt_free(st_adapt *a)
     free(a->saved);
     free(a->parked);
     st_dart_list_free(&a->base_faces);
+    st_adapt_grid_free(a->grid);
+    st_dart_list_free(&a->forced_faces);
     memset(a, 0, sizeof *a);
 }
 
@@ -341,7 +382,7 @@ static unsigned naming_faces(st_map *m, unsigned L, int kind, uint32_t dart, uin
     out[n++] = dart;
     if (kind == KIND_EDGE) {
         uint32_t t = st_beta0(m, dart, L - 1);
-        if (!st_is_boundary(m, t) && st_face_level(m, t, L - 1) == L - 1) out[n++] = t;
+        if (!st_is_boundary(m, t) && st_adapt_face_of_level(m, t, L - 1)) out[n++] = t; /* (√3 has no edge points) */
     }
     return n;
 }
@@ -440,7 +481,7 @@ static int restrict_neighbours(st_adapt *a, uint32_t d, unsigned i, st_error *er
             uint32_t y = x;
             do {
                 if (!st_is_boundary(m, y)) {
-                    unsigned j = st_face_level(m, y, i);
+                    unsigned j = st_adapt_face_of_level(m, y, i) ? i : st_face_level(m, y, i);
                     if (j < i) {
                         /* Walk the coarser face from a dart that exists at its level. */
                         uint32_t z = y;
@@ -448,6 +489,8 @@ static int restrict_neighbours(st_adapt *a, uint32_t d, unsigned i, st_error *er
                         a->forced++;
                         int rc = st_adapt_subdivide_face(a, z, j, 1, err);
                         if (rc) return rc;
+                        st_dart_list_push(&a->forced_faces, z);
+                        st_dart_list_push(&a->forced_faces, j);
                         again = 1;
                     }
                 }
@@ -468,7 +511,7 @@ int st_adapt_subdivide_face(st_adapt *a, uint32_t d, unsigned i, int restricted,
     if (L >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "adapt: level %u is beyond the limit", L);
     if (h->scheme->id == ST_SCHEME_SQRT3) return st_adapt_sqrt3_subdivide(a, d, i, err);
     if (h->scheme->id == ST_SCHEME_DOOSABIN) return st_adapt_ds_subdivide(a, d, i, err);
-    if (st_face_is_subdivided(m, d, i)) return ST_OK;
+    if (st_adapt_split_toward(m, d, i)) return ST_OK;
     if (restricted) {
         int rc = restrict_neighbours(a, d, i, err);
         if (rc) return rc;
@@ -560,7 +603,7 @@ int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
     if (a->h->scheme->id == ST_SCHEME_SQRT3) return st_adapt_sqrt3_can_simplify(a, d, i);
     if (a->h->scheme->id == ST_SCHEME_DOOSABIN) restricted = 1; /* always on (adapt_doosabin.c) */
     unsigned L = i + 1;
-    if (!st_face_is_subdivided(m, d, i)) return 0;
+    if (!st_adapt_split_toward(m, d, i)) return 0;
     unsigned deg = st_face_degree(m, d, i);
     uint32_t buf[2 * 256], subs[256 + 1];
     if (deg > 256) return 0;
@@ -568,16 +611,19 @@ int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
     get_outline(m, d, i, &o);
     uint32_t n = sub_faces(m, &o, i, subs);
     for (uint32_t k = 0; k < n; k++)
-        if (st_face_is_subdivided(m, subs[k], L)) return 0;
+        if (st_adapt_split_toward(m, subs[k], L)) return 0;
     if (!restricted) return 1;
     /* Once f is back at level i, no face sharing one of its vertices may be
      * finer than level i+1: its corners, and the midpoints of its sides
-     * that stay split because the face across is subdivided. */
+     * that stay split because the face across is subdivided.  (A face of
+     * the top map finer than L holds such a vertex c, of level <= L, exactly
+     * when one of the level-L faces around c is subdivided toward L+1: its
+     * corner sub-face at c is the ancestor of the finer face.) */
     for (uint32_t k = 0; k < 2 * o.n; k++) {
         uint32_t c = k < o.n ? o.d[k] : half_after(m, o.d[k - o.n], i), y = c;
         do {
-            if (!st_is_boundary(m, y) && st_face_level(m, y, m->top) > L) return 0;
-            y = st_beta1(m, y, m->top);
+            if (!st_is_boundary(m, y) && st_adapt_split_toward(m, y, L)) return 0;
+            y = st_beta1(m, y, L);
         } while (y != c);
     }
     return 1;
@@ -670,12 +716,13 @@ int st_adapt_remove_centre(st_map *m, uint32_t spoke, unsigned L, st_unsplit_fn 
     return rc;
 }
 
-void st_adapt_corner_fallback(st_map *m, uint32_t c, unsigned i)
+void st_adapt_corner_fallback(st_adapt *a, uint32_t c, unsigned i)
 {
+    st_map *m = &a->h->map;
     unsigned L = i + 1;
     uint32_t y = c;
     do {
-        if (!st_is_boundary(m, y) && st_face_level(m, y, L) == L) return;
+        if (!st_is_boundary(m, y) && face_of_level(a, y, L)) return;
         y = st_beta1(m, y, L);
     } while (y != c);
     /* (and, through the propagating setter, above L too) */
@@ -705,7 +752,7 @@ int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     /* Unsplit the edges whose other side is not subdivided toward L. */
     for (uint32_t k = 0; k < o.n; k++) {
         uint32_t c = o.d[k], e = st_beta0(m, c, i);
-        if (!st_is_boundary(m, e) && st_face_level(m, e, i) == i && st_face_is_subdivided(m, e, i)) continue;
+        if (!st_is_boundary(m, e) && st_adapt_face_of_level(m, e, i) && st_adapt_split_toward(m, e, i)) continue;
         uint32_t half = half_after(m, c, i);
         uint32_t v = st_vert(m, half, L);
         save_detail(a, L, KIND_EDGE, c, v);
@@ -714,14 +761,14 @@ int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     }
     /* Corners no longer on a face of level L fall back to their level-i
      * position (their level-L detail stays for a later refinement)... */
-    for (uint32_t k = 0; k < o.n; k++) st_adapt_corner_fallback(m, o.d[k], i);
+    for (uint32_t k = 0; k < o.n; k++) st_adapt_corner_fallback(a, o.d[k], i);
     a->touched++;
     return ST_OK;
 }
 
 /* ---- criteria and update (Algorithms 5 and 6) ----------------------------------- */
 
-static void face_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], double hi[3])
+static void face_bbox(const st_map *m, uint32_t d, unsigned l, double *lo, double *hi)
 {
     /* Dual encoding: the region of a Doo-Sabin cell (adapt_doosabin.c). */
     if (m->face_embedded) { st_adapt_ds_cell_bbox(m, d, l, lo, hi); return; }
@@ -729,7 +776,12 @@ static void face_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], dou
     uint32_t x = d;
     do {
         const double *p = st_dart_pos(m, x, l);
-        for (int k = 0; k < 3; k++) { lo[k] = fmin(lo[k], p[k]); hi[k] = fmax(hi[k], p[k]); }
+        /* (Comparisons, not fmin/fmax: positions are finite, and these are
+         * calls in a hot loop.) */
+        for (int k = 0; k < 3; k++) {
+            if (p[k] < lo[k]) lo[k] = p[k];
+            if (p[k] > hi[k]) hi[k] = p[k];
+        }
         x = st_phi1(m, x, l);
     } while (x != d);
 }
@@ -741,7 +793,7 @@ unsigned st_adapt_box_want(const double lo[3], const double hi[3], const st_adap
     if (p->has_box) {
         double gap = 0;
         for (int k = 0; k < 3; k++) {
-            double g = fmax(p->box_lo[k] - hi[k], lo[k] - p->box_hi[k]);
+            double g0 = p->box_lo[k] - hi[k], g1 = lo[k] - p->box_hi[k], g = g0 > g1 ? g0 : g1;
             if (g > gap) gap = g;
         }
         unsigned w = p->max_level;
@@ -803,6 +855,26 @@ static unsigned wanted(st_adapt *a, uint32_t d, unsigned l, const st_adapt_param
     return st_adapt_wanted_level(&a->h->map, d, l, p);
 }
 
+/* st_face_is_subdivided, in O(1) where the map is built by Algorithm 1. */
+static int subdivided(st_adapt *a, uint32_t d, unsigned i)
+{
+    if (a->h->scheme->id == ST_SCHEME_SQRT3) return st_face_is_subdivided(&a->h->map, d, i);
+    return st_adapt_split_toward(&a->h->map, d, i);
+}
+
+/* d, listed as a face of level i (by faces_of_level or children), still is
+ * one.  In the maps of Algorithm 1 a listed dart is a corner (level <= i) of
+ * its face, which refining other faces (new darts of other faces, or of
+ * this face's sides at levels above i) and simplifying faces of level >= i
+ * (only darts inserted above i go) leave a face of level i: only liveness
+ * is checked.  √3's flips re-link old darts, so there the level is read. */
+static int listed_face(st_adapt *a, uint32_t d, unsigned i)
+{
+    st_map *m = &a->h->map;
+    if (!st_dart_live(m, d)) return 0;
+    return a->h->scheme->id != ST_SCHEME_SQRT3 || st_face_level(m, d, i) == i;
+}
+
 /* One dart per real face of map l whose subdivision level is l. */
 static void faces_of_level(st_map *m, unsigned l, st_dart_list *out)
 {
@@ -851,18 +923,24 @@ static void region_roots(st_adapt *a, const st_adapt_params *q, const st_adapt_p
         lo[k] = fmin(q->box_lo[k], p->box_lo[k]) - grow;
         hi[k] = fmax(q->box_hi[k], p->box_hi[k]) + grow;
     }
-    st_dart_list seeds = { 0 };
+    st_dart_list seeds = { 0 }, near = { 0 };
     const st_dart_list *base = &a->base_faces;
-    for (uint32_t k = 0; k < base->n; k++) {
+    if (!a->grid) a->grid = st_adapt_grid_build(m, base, face_bbox);
+    if (a->grid) st_adapt_grid_near(a->grid, lo, hi, &near);
+    else /* (out of memory for the grid: every base face is a candidate) */
+        for (uint32_t k = 0; k < base->n; k++) st_dart_list_push(&near, k);
+    for (uint32_t j = 0; j < near.n; j++) {
+        uint32_t k = near.d[j];
         double flo[3], fhi[3], size = 0;
         face_bbox(m, base->d[k], 0, flo, fhi);
-        for (int j = 0; j < 3; j++) size = fmax(size, fhi[j] - flo[j]);
+        for (int i = 0; i < 3; i++) size = fmax(size, fhi[i] - flo[i]);
         int hit = 1;
-        for (int j = 0; j < 3; j++) hit &= flo[j] - size <= hi[j] && fhi[j] + size >= lo[j];
+        for (int i = 0; i < 3; i++) hit &= flo[i] - size <= hi[i] && fhi[i] + size >= lo[i];
         if (!hit) continue;
         uint32_t x = base->d[k];
         do { st_dart_list_push(&seeds, x); x = st_phi1(m, x, 0); } while (x != base->d[k]);
     }
+    st_dart_list_free(&near);
     roots->n = 0;
     /* Forced refinement spreads one face per level, and faces double in size
      * per level toward the base: its reach in base faces is a geometric sum,
@@ -871,17 +949,37 @@ static void region_roots(st_adapt *a, const st_adapt_params *q, const st_adapt_p
     st_dart_list_free(&seeds);
 }
 
-/* The sub-faces (level lev+1) of the subdivided faces of `cur` (level lev):
- * corner sub-faces hold their parent's darts; a triangle split adds the
- * central triangle, across the corner triangle's inner edge. */
-static void children(st_adapt *a, const st_dart_list *cur, unsigned lev, st_dart_list *out)
+/* A face deep inside both the old and the new box (its bounding box grown
+ * by its own size on every side, which covers the neighbourhood its
+ * descendants' stencils read) is settled: the last update refined all its
+ * descendants to max_level, they all still want max_level, and nothing
+ * coarser around it is simplified into it (the restriction only spreads
+ * refinement outward).  An incremental update need not look inside it, so
+ * the visit costs the band where the boxes differ, not the whole box. */
+static int settled(const st_adapt *a, uint32_t d, unsigned lev, const st_adapt_params *p)
+{
+    const st_adapt_params *q = &a->prev;
+    double lo[3], hi[3], size = 0;
+    face_bbox(&a->h->map, d, lev, lo, hi);
+    for (int k = 0; k < 3; k++) size = fmax(size, hi[k] - lo[k]);
+    for (int k = 0; k < 3; k++)
+        if (lo[k] - size < fmax(q->box_lo[k], p->box_lo[k]) || hi[k] + size > fmin(q->box_hi[k], p->box_hi[k])) return 0;
+    return 1;
+}
+
+/* Appends to out the sub-faces (level lev+1) of the subdivided faces of
+ * cur[0..n) (level lev): corner sub-faces hold their parent's darts; a
+ * triangle split adds the central triangle, across the corner triangle's
+ * inner edge.  With p (an incremental update), settled faces are left out. */
+static void children(st_adapt *a, const uint32_t *cur, uint32_t ncur, unsigned lev, const st_adapt_params *p,
+                     st_dart_list *out)
 {
     st_map *m = &a->h->map;
     enum st_split_mode mode = split_mode(a->h);
-    out->n = 0;
-    for (uint32_t k = 0; k < cur->n; k++) {
-        uint32_t d = cur->d[k];
-        if (!st_dart_live(m, d) || st_face_level(m, d, lev) != lev || !st_face_is_subdivided(m, d, lev)) continue;
+    for (uint32_t k = 0; k < ncur; k++) {
+        uint32_t d = cur[k];
+        if (!listed_face(a, d, lev) || !subdivided(a, d, lev)) continue;
+        if (p && settled(a, d, lev, p)) continue;
         unsigned n = 0;
         uint32_t x = d;
         do { st_dart_list_push(out, x); n++; x = st_phi1(m, x, lev); } while (x != d);
@@ -893,25 +991,47 @@ static void children(st_adapt *a, const st_dart_list *cur, unsigned lev, st_dart
     }
 }
 
-/* Algorithm 5 over the region: level by level, the faces to visit at i+1
- * are the children of those visited at i (including the ones just made). */
-static int refine_region(st_adapt *a, const st_dart_list *roots, const st_adapt_params *p, st_error *err)
+/* Algorithm 5 over listed faces: level by level from `from`, each face of
+ * lists[i] (level i) wanting more is subdivided, and the children of the
+ * subdivided ones join lists[i+1] (lists has max_level + 1 entries). */
+static int refine_lists(st_adapt *a, st_dart_list *lists, unsigned from, const st_adapt_params *p, int prune,
+                        st_error *err)
 {
     st_map *m = &a->h->map;
-    st_dart_list cur = { 0 }, next = { 0 };
-    for (uint32_t k = 0; k < roots->n; k++) st_dart_list_push(&cur, roots->d[k]);
     int rc = ST_OK;
-    for (unsigned i = 0; i < p->max_level && i <= m->top && !rc; i++) {
-        for (uint32_t k = 0; k < cur.n && !rc; k++) {
-            uint32_t d = cur.d[k];
-            if (!st_dart_live(m, d) || st_face_level(m, d, i) != i || st_face_is_subdivided(m, d, i)) continue;
+    for (unsigned i = from; i < p->max_level && i <= m->top && !rc; i++) {
+        st_dart_list *cur = &lists[i];
+        for (uint32_t k = 0; k < cur->n && !rc; k++) {
+            uint32_t d = cur->d[k];
+            if (!listed_face(a, d, i) || subdivided(a, d, i)) continue;
             if (wanted(a, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
         }
-        children(a, &cur, i, &next);
-        st_dart_list t = cur; cur = next; next = t;
+        children(a, cur->d, cur->n, i, prune ? p : NULL, &lists[i + 1]);
     }
-    st_dart_list_free(&cur);
-    st_dart_list_free(&next);
+    return rc;
+}
+
+/* After a pass, the faces the restriction subdivided (a->forced_faces:
+ * dart, level pairs) have children nobody examined: faces made at levels
+ * the pass had already left.  Only those can want more - every other face
+ * was examined, and its wanted level reads its own geometry, which a
+ * neighbour's subdivision leaves as it is (with the restriction, stencils
+ * are complete and give the same points) - so the next pass starts from
+ * them.  (√3's forced steps also flip edges of faces already examined: it
+ * passes over everything again instead.) */
+static int refine_forced(st_adapt *a, const st_dart_list *forced, st_dart_list *lists, const st_adapt_params *p,
+                         st_error *err)
+{
+    unsigned from = p->max_level;
+    for (uint32_t k = 0; k + 1 < forced->n; k += 2) {
+        uint32_t z = forced->d[k];
+        unsigned j = forced->d[k + 1];
+        if (j + 1 > p->max_level) continue;
+        children(a, &z, 1, j, NULL, &lists[j + 1]);
+        if (j + 1 < from) from = j + 1;
+    }
+    int rc = refine_lists(a, lists, from, p, 0, err);
+    for (unsigned i = 0; i <= p->max_level; i++) lists[i].n = 0;
     return rc;
 }
 
@@ -924,50 +1044,61 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
     if (boxes_only_moved(a, p)) {
         region_roots(a, &a->prev, p, &roots);
         region = &roots;
+    } else { /* (level 0 may have moved: the grid is rebuilt, for the moves to come) */
+        st_adapt_grid_free(a->grid);
+        a->grid = p->has_box ? st_adapt_grid_build(m, &a->base_faces, face_bbox) : NULL;
     }
     a->touched = 0;
     int rc = ST_OK;
-    /* Algorithm 5: refine, coarse to fine; again while the restriction forced
-     * faces at levels already passed. */
-    for (uint64_t forced = 1; forced && !rc;) {
+    /* Algorithm 5: refine, coarse to fine; again (refine_forced) while the
+     * restriction forced faces at levels already passed. */
+    /* (region: lists holds the region's faces of each level after the first
+     * pass, which the simplification below reuses; more holds the faces of
+     * the later passes.) */
+    unsigned nl = p->max_level + 1;
+    st_dart_list *lists = calloc(2 * (size_t)nl, sizeof *lists), *more = lists + nl, forced = { 0 };
+    if (!lists) rc = st_fail(err, ST_ERR_MEMORY, "adapt: out of memory");
+    for (int pass = 0; !rc; pass++) {
         a->forced = 0;
-        if (region) rc = refine_region(a, region, p, err);
-        else
+        a->forced_faces.n = 0;
+        if (pass && a->h->scheme->id != ST_SCHEME_SQRT3) rc = refine_forced(a, &forced, more, p, err);
+        else if (region) {
+            for (unsigned i = 0; i < nl; i++) lists[i].n = 0;
+            for (uint32_t k = 0; k < region->n; k++) st_dart_list_push(&lists[0], region->d[k]);
+            rc = refine_lists(a, lists, 0, p, 1, err);
+        } else
             for (unsigned i = 0; i < p->max_level && i <= m->top && !rc; i++) {
                 faces_of_level(m, i, &faces);
                 for (uint32_t k = 0; k < faces.n && !rc; k++) {
                     uint32_t d = faces.d[k];
-                    if (st_face_level(m, d, i) != i || st_face_is_subdivided(m, d, i)) continue;
+                    if (!listed_face(a, d, i) || subdivided(a, d, i)) continue;
                     if (wanted(a, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, restricted, err);
                 }
             }
-        forced = a->forced;
+        if (!a->forced) break;
+        st_dart_list t = forced; forced = a->forced_faces; a->forced_faces = t;
     }
-    /* Algorithm 6: simplify, fine to coarse.  In a region, the faces of each
-     * level are listed once, top-down, before anything is simplified: a
-     * simplification at level j > i deletes only darts inserted above i, so
-     * the lists of the coarser levels stay valid. */
-    st_dart_list *levels = NULL;
-    if (region && !rc) {
-        levels = calloc(m->top + 1, sizeof *levels);
-        if (!levels) rc = st_fail(err, ST_ERR_MEMORY, "adapt: out of memory");
-        for (uint32_t k = 0; !rc && k < region->n; k++) st_dart_list_push(&levels[0], region->d[k]);
-        for (unsigned i = 0; !rc && i < m->top; i++) children(a, &levels[i], i, &levels[i + 1]);
-    }
-    for (unsigned i = m->top; i-- > 0 && !rc;) {
-        if (levels) { faces.n = 0; for (uint32_t k = 0; k < levels[i].n; k++) st_dart_list_push(&faces, levels[i].d[k]); }
-        else faces_of_level(m, i, &faces);
-        for (uint32_t k = 0; k < faces.n && !rc; k++) {
-            uint32_t d = faces.d[k];
-            if (!st_dart_live(m, d) || st_face_level(m, d, i) != i) continue;
+    st_dart_list_free(&forced);
+    st_dart_list_free(&a->forced_faces);
+    /* Algorithm 6: simplify, fine to coarse.  A simplification at level
+     * j > i deletes only darts inserted above i, so the lists of the coarser
+     * levels stay valid.  In a region, the lists are those of the first
+     * refinement pass: the later passes only subdivided faces the
+     * restriction needs (never simplifiable now) and made their children
+     * (not subdivided, so nothing to simplify in them). */
+    for (unsigned i = region && m->top >= nl ? nl - 1 : m->top; i-- > 0 && !rc;) {
+        if (!region) faces_of_level(m, i, &faces);
+        const st_dart_list *cur = region ? &lists[i] : &faces;
+        for (uint32_t k = 0; k < cur->n && !rc; k++) {
+            uint32_t d = cur->d[k];
+            if (!listed_face(a, d, i) || !subdivided(a, d, i)) continue;
             if (wanted(a, d, i, p) > i || !st_adapt_can_simplify(a, d, i, restricted)) continue;
             rc = st_adapt_simplify_face(a, d, i, err);
         }
     }
-    if (levels) {
-        for (unsigned i = 0; i <= m->top; i++) st_dart_list_free(&levels[i]);
-        free(levels);
-    }
+    if (lists)
+        for (unsigned i = 0; i < 2 * nl; i++) st_dart_list_free(&lists[i]);
+    free(lists);
     st_dart_list_free(&faces);
     st_dart_list_free(&roots);
     a->prev = *p;

@@ -119,9 +119,11 @@ typedef struct st_adapt {
     uint32_t nparked, capparked;
     uint64_t touched;        /* faces subdivided or simplified by the last update */
     uint64_t forced;         /* coarser faces subdivided by the restriction in the current pass */
+    st_dart_list forced_faces; /* those faces, as (dart, level) pairs (adapt.c; during an update only) */
     st_adapt_params prev;    /* criteria of the last update */
     int has_prev;            /* prev is valid and the geometry has not changed since */
     st_dart_list base_faces; /* one dart per base face */
+    struct st_adapt_grid *grid; /* base faces by place (adapt_grid.c): a cache, never saved */
 } st_adapt;
 
 int st_adapt_init(st_adapt *a, st_hier *h, st_error *err);
@@ -146,8 +148,10 @@ unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st
 /* Algorithms 5 then 6 with the criteria of p.  When only the box moved since
  * the last update (same levels, falloff and restriction, no flatness
  * criterion, no edit in between), only the faces that descend from the base
- * faces near the old or the new box are visited (incremental update); the
- * result is the same as a full update. */
+ * faces near the old or the new box are visited (incremental update: base
+ * faces found through a grid, faces deep inside both boxes not entered,
+ * later passes only below the faces the restriction forced); the result is
+ * the same as a full update. */
 int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err);
 
 /* Synthesis of an adaptive hierarchy from level `from`: every vertex of a

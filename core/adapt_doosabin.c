@@ -188,7 +188,7 @@ int st_adapt_ds_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     st_hier *h = a->h;
     st_map *m = &h->map;
     unsigned L = i + 1;
-    if (st_face_is_subdivided(m, d, i)) return ST_OK;
+    if (st_adapt_split_toward(m, d, i)) return ST_OK;
     int rc = st_adapt_restrict(a, d, i, err); /* always on for Doo-Sabin */
     if (rc) return rc;
     rc = st_adapt_ensure_level(h, L, err);
@@ -260,7 +260,7 @@ int st_adapt_ds_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     /* Unsplit the edges whose other side is not subdivided toward L. */
     for (unsigned k = 0; k < n && !rc; k++) {
         uint32_t e = st_beta0(m, corner[k], i);
-        if (st_face_level(m, e, i) == i && st_face_is_subdivided(m, e, i)) continue;
+        if (st_adapt_face_of_level(m, e, i) && st_adapt_split_toward(m, e, i)) continue;
         rc = unsplit(m, st_beta0(m, e, L), L, err);
     }
     if (rc) return rc;

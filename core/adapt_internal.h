@@ -28,6 +28,20 @@ void st_adapt_park_detail(st_adapt *a, uint32_t d, unsigned l);
 
 /* Adds levels until top >= L. */
 int st_adapt_ensure_level(st_hier *h, unsigned L, st_error *err);
+/* st_face_is_subdivided in O(1) for the maps Algorithm 1 builds (every
+ * scheme but √3); d a dart of level <= i on a real face of map i. */
+int st_adapt_split_toward(const st_map *m, uint32_t d, unsigned i);
+/* st_face_level(m, y, i) == i in O(face size) for the same maps. */
+int st_adapt_face_of_level(const st_map *m, uint32_t y, unsigned i);
+
+/* Base faces by place (adapt_grid.c).  Build: NULL when out of memory;
+ * bbox gives a base face's box.  Near: the indices (into base) of the faces
+ * whose box grown by their own size meets [lo, hi], in increasing order. */
+typedef struct st_adapt_grid st_adapt_grid;
+st_adapt_grid *st_adapt_grid_build(const st_map *m, const st_dart_list *base,
+                                   void (*bbox)(const st_map *, uint32_t, unsigned, double *, double *));
+void st_adapt_grid_near(const st_adapt_grid *g, const double lo[3], const double hi[3], st_dart_list *out_index);
+void st_adapt_grid_free(st_adapt_grid *g);
 
 /* √3 (adapt_sqrt3.c): the same entry points as the quadrisection code, for
  * closed triangle meshes; the one-level restriction is always applied. */
@@ -65,7 +79,7 @@ int st_adapt_remove_centre(st_map *m, uint32_t spoke, unsigned L, st_unsplit_fn 
 /* After a face of level i was simplified: its corner c, when no face of
  * level L = i+1 is left around it, falls back to its level-i position (at L
  * and, through the propagating setter, above). */
-void st_adapt_corner_fallback(st_map *m, uint32_t c, unsigned i);
+void st_adapt_corner_fallback(st_adapt *a, uint32_t c, unsigned i);
 
 /* Moves the details of the Doo-Sabin vertex v created at L in the corner
  * of `dart` (a dart of level L-1 of its parent cell) into the saved store

@@ -360,7 +360,7 @@ int st_adapt_sqrt3_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     /* Corners no longer on a face of level L fall back to their level-i
      * position (and, through the propagating setter, above L too). */
     x = d;
-    do { st_adapt_corner_fallback(m, x, i); x = st_phi1(m, x, i); } while (x != d);
+    do { st_adapt_corner_fallback(a, x, i); x = st_phi1(m, x, i); } while (x != d);
     a->touched++;
     return ST_OK;
 }

@@ -1,5 +1,6 @@
 /* Shared checks for the adaptive-refinement tests (adapt_testlib.h). */
 #include "adapt_testlib.h"
+#include "adapt_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -48,6 +49,25 @@ int at_watertight(const st_mesh *s, int closed, unsigned sides)
     return ok;
 }
 
+/* The O(1) readings of the Algorithm-1 maps ("subdivided toward i+1", "of
+ * level i") agree with the definitions (st_face_is_subdivided,
+ * st_face_level) on every dart of every level. */
+static void check_split_toward(st_map *m, const at_case *c, int step)
+{
+    unsigned bad = 0, seen = 0;
+    for (unsigned i = 0; i <= m->top; i++) {
+        st_dart_iter it;
+        for (uint32_t d = st_dart_first(m, i, &it); d != ST_NIL; d = st_dart_next(m, i, &it)) {
+            if (st_is_boundary(m, d)) continue;
+            seen++;
+            bad += st_adapt_split_toward(m, d, i) != st_face_is_subdivided(m, d, i);
+            bad += st_adapt_face_of_level(m, d, i) != (st_face_level(m, d, i) == i);
+        }
+    }
+    CHECKF(bad == 0 && seen > 0, "%s step %d: O(1) face readings differ from st_face_is_subdivided / st_face_level %u times on %u darts",
+           c->name, step, bad, seen);
+}
+
 void at_check_display(st_adapt *a, const at_case *c, int step)
 {
     st_mesh s;
@@ -57,6 +77,7 @@ void at_check_display(st_adapt *a, const at_case *c, int step)
     CHECKF(at_watertight(&s, c->closed, c->sides), "%s step %d: displayed mesh not watertight%s", c->name, step,
            c->sides == 3 ? " (or not all triangles)" : "");
     st_mesh_free(&s);
+    if (c->id != ST_SCHEME_SQRT3) check_split_toward(&a->h->map, c, step);
 }
 
 int at_restriction_holds(st_map *m)
