@@ -13,6 +13,7 @@ void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3])
 {
     st_map *m = &h->map;
     st_mla *a = &m->pos;
+    st_map_log_vertex(m, v);
     if (m->verts.ins[v] == l) {
         memcpy(a->base + (size_t)v * a->elem, p, a->elem);
         return;

@@ -70,6 +70,44 @@ int st_map_reserve(st_map *m, uint64_t darts, uint64_t verts)
     return 0;
 }
 
+/* ---- change log ---------------------------------------------------------------- */
+
+void st_map_log_clear(st_map_log *g)
+{
+    g->ndarts = g->nverts = 0;
+    g->overflow = 0;
+}
+
+void st_map_log_free(st_map_log *g)
+{
+    free(g->darts);
+    free(g->verts);
+    memset(g, 0, sizeof *g);
+}
+
+static void log_id(st_map_log *g, uint32_t **ids, uint32_t *n, uint32_t *cap, uint32_t id)
+{
+    if (g->overflow) return;
+    if (*n == *cap) {
+        uint32_t c = *cap ? 2 * *cap : 256;
+        uint32_t *a = c > *cap ? realloc(*ids, (size_t)c * sizeof *a) : NULL;
+        if (!a) { g->overflow = 1; return; }
+        *ids = a;
+        *cap = c;
+    }
+    (*ids)[(*n)++] = id;
+}
+
+static inline void log_dart(st_map *m, uint32_t d)
+{
+    if (m->log) log_id(m->log, &m->log->darts, &m->log->ndarts, &m->log->capdarts, d);
+}
+
+void st_map_log_vertex(st_map *m, uint32_t v)
+{
+    if (m->log) log_id(m->log, &m->log->verts, &m->log->nverts, &m->log->capverts, v);
+}
+
 uint32_t st_dart_new(st_map *m, unsigned l, uint32_t v, uint8_t flags)
 {
     uint32_t grow;
@@ -83,6 +121,7 @@ uint32_t st_dart_new(st_map *m, unsigned l, uint32_t v, uint8_t flags)
     if (m->marks) m->marks[d] = 0;
     static const unsigned char zero[64];
     for (uint32_t i = 0; i < m->ndart_attrs; i++) st_mla_insert(m->dart_attrs[i], &m->darts, d, zero);
+    log_dart(m, d);
     return d;
 }
 
@@ -97,11 +136,13 @@ uint32_t st_dart_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got)
     if (m->marks) memset(m->marks + d, 0, (size_t)*got * sizeof *m->marks);
     for (uint32_t i = 0; i < m->ndart_attrs; i++)
         for (uint32_t k = 0; k < *got; k++) st_mla_insert(m->dart_attrs[i], &m->darts, d + k, zero_attr);
+    for (uint32_t k = 0; m->log && k < *got; k++) log_dart(m, d + k);
     return d;
 }
 
 void st_dart_delete(st_map *m, uint32_t d)
 {
+    log_dart(m, d);
     st_pool_release(&m->darts, d);
 }
 
@@ -127,6 +168,7 @@ uint32_t st_vertex_new(st_map *m, unsigned l, const double p[3])
     st_mla_insert(&m->pos, &m->verts, v, p);
     static const unsigned char zero[64];
     for (uint32_t i = 0; i < m->nvert_attrs; i++) st_mla_insert(m->vert_attrs[i], &m->verts, v, zero);
+    st_map_log_vertex(m, v);
     return v;
 }
 
@@ -138,18 +180,20 @@ uint32_t st_vertex_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got)
     if (grow && grow_vertex_arrays(m, grow)) abort();
     for (uint32_t i = 0; i < m->nvert_attrs; i++)
         for (uint32_t k = 0; k < *got; k++) st_mla_insert(m->vert_attrs[i], &m->verts, v + k, zero_attr);
+    for (uint32_t k = 0; m->log && k < *got; k++) st_map_log_vertex(m, v + k);
     return v;
 }
 
 void st_vertex_delete(st_map *m, uint32_t v)
 {
+    st_map_log_vertex(m, v);
     st_pool_release(&m->verts, v);
 }
 
-void st_set_beta0(st_map *m, uint32_t d, unsigned l, uint32_t e) { st_mla_set(&m->beta0, &m->darts, d, l, &e); }
-void st_set_beta1(st_map *m, uint32_t d, unsigned l, uint32_t e) { st_mla_set(&m->beta1, &m->darts, d, l, &e); }
-void st_set_vert(st_map *m, uint32_t d, unsigned l, uint32_t v) { st_mla_set(&m->vert, &m->darts, d, l, &v); }
-void st_set_pos(st_map *m, uint32_t v, unsigned l, const double p[3]) { st_mla_set(&m->pos, &m->verts, v, l, p); }
+void st_set_beta0(st_map *m, uint32_t d, unsigned l, uint32_t e) { log_dart(m, d); st_mla_set(&m->beta0, &m->darts, d, l, &e); }
+void st_set_beta1(st_map *m, uint32_t d, unsigned l, uint32_t e) { log_dart(m, d); st_mla_set(&m->beta1, &m->darts, d, l, &e); }
+void st_set_vert(st_map *m, uint32_t d, unsigned l, uint32_t v) { log_dart(m, d); st_mla_set(&m->vert, &m->darts, d, l, &v); }
+void st_set_pos(st_map *m, uint32_t v, unsigned l, const double p[3]) { st_map_log_vertex(m, v); st_mla_set(&m->pos, &m->verts, v, l, p); }
 
 void st_sew0(st_map *m, uint32_t d, uint32_t e, unsigned l)
 {

@@ -101,8 +101,24 @@ enum st_dart_flags {
     ST_DART_BOUNDARY = 1u << 0,           /* dart of a face that fills a hole */
 };
 
+/* Change log (optional): while st_map.log is set, the primitive setters
+ * below record the darts whose relations they set or that they create or
+ * delete, and the vertices whose positions they set or that they create or
+ * delete (ids may repeat).  A consumer that mirrors the map (the renderer's
+ * buffers) then updates only what a local operation touched.  On running
+ * out of memory the log stops and sets `overflow`: the consumer must then
+ * start again from scratch.  Transient: never saved, never copied along. */
+typedef struct st_map_log {
+    uint32_t *darts, *verts;
+    uint32_t ndarts, nverts, capdarts, capverts;
+    int overflow;
+} st_map_log;
+void st_map_log_clear(st_map_log *g);    /* empties it (keeps the memory) */
+void st_map_log_free(st_map_log *g);
+
 typedef struct st_map {
     unsigned top;                         /* finest existing level */
+    st_map_log *log;                      /* NULL, or where changes are recorded (above) */
     st_pool darts;
     st_pool verts;
     st_mla beta0;                         /* per dart, uint32_t */
@@ -264,6 +280,8 @@ void st_vertex_delete(st_map *m, uint32_t v);
  * old level-l position).  Positions are stored per level only from the first
  * level at which some vertex differs from the level below. */
 void st_set_pos(st_map *m, uint32_t v, unsigned l, const double p[3]);
+/* Records v in m->log when one is set (the setters above do it themselves). */
+void st_map_log_vertex(st_map *m, uint32_t v);
 
 /* Sizes the arrays for `darts` and `verts` more ids at exact size, so that a
  * known amount of growth does not double the capacity.  -1: out of memory

@@ -1,25 +1,9 @@
 /* CPU-side geometry of a displayed level; see geom.h. */
-#include "geom.h"
+#include "geom_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#define UNDRAWN (ST_NIL - 1)          /* dart_face of darts of boundary faces */
-
-/* Returns p grown to hold need elements of elem bytes (geometric growth),
- * or p unchanged with *oom set when memory runs out. */
-static void *grow(void *p, size_t *cap, size_t need, size_t elem, int *oom)
-{
-    if (need <= *cap) return p;
-    size_t c = *cap ? *cap : 64;
-    while (c < need) c *= 2;
-    void *q = realloc(p, c * elem);
-    if (!q) { *oom = 1; return p; }
-    *cap = c;
-    return q;
-}
-#define GROW(ptr, cap, need, oom) ((ptr) = grow((ptr), &(cap), (need), sizeof *(ptr), &(oom)))
 
 void st_range_list_free(st_range_list *l)
 {
@@ -36,7 +20,7 @@ void st_rgeom_init(st_rgeom *g)
 void st_rgeom_free(st_rgeom *g)
 {
     free(g->vdata); free(g->vid); free(g->vdart); free(g->slot);
-    free(g->face_dart); free(g->face_off); free(g->corner); free(g->fnormal); free(g->face_case);
+    free(g->face_dart); free(g->face_off); free(g->corner); free(g->fnormal); free(g->face_case); free(g->face_line);
     free(g->dart_face); free(g->tris); free(g->tri_face); free(g->lines);
     free(g->dstamp_v); free(g->dstamp_f); free(g->vstamp); free(g->fstamp);
     st_tri_index tix = g->tix;
@@ -44,21 +28,8 @@ void st_rgeom_free(st_rgeom *g)
     g->tix = tix;
 }
 
-/* ---- walks in either encoding --------------------------------------------- */
-
-/* Next corner of a face. */
-static inline uint32_t face_next(const st_level_view *V, int fe, uint32_t d)
-{
-    return fe ? st_v_beta1(V, d) : st_v_phi1(V, d);
-}
-/* Next dart around a (surface) vertex: each lies in another face. */
-static inline uint32_t vertex_next(const st_level_view *V, int fe, uint32_t d)
-{
-    return fe ? st_v_phi1(V, d) : st_v_beta1(V, d);
-}
-
 /* Newell vector of face f from the vertex table's float positions. */
-static void face_normal(st_rgeom *g, uint32_t f)
+void st_rg_face_normal(st_rgeom *g, uint32_t f)
 {
     double n[3] = { 0, 0, 0 };
     uint32_t a = g->face_off[f], b = g->face_off[f + 1];
@@ -77,7 +48,7 @@ static void face_normal(st_rgeom *g, uint32_t f)
 }
 
 /* Normal of vertex s: sum of the face normals around it, in walk order. */
-static void vertex_normal(st_rgeom *g, const st_level_view *V, uint32_t s)
+void st_rg_vertex_normal(st_rgeom *g, const st_level_view *V, uint32_t s)
 {
     double n[3] = { 0, 0, 0 };
     uint32_t d = g->vdart[s], x = d;
@@ -95,7 +66,7 @@ static void vertex_normal(st_rgeom *g, const st_level_view *V, uint32_t s)
     else { o[0] = 0; o[1] = 0; o[2] = 1; }
 }
 
-static void read_position(st_rgeom *g, const st_level_view *V, uint32_t s)
+void st_rg_read_position(st_rgeom *g, const st_level_view *V, uint32_t s)
 {
     const double *p = st_v_pos(V, g->vid[s]);
     float *o = g->vdata + ST_RGEOM_VSTRIDE * (size_t)s;
@@ -104,16 +75,36 @@ static void read_position(st_rgeom *g, const st_level_view *V, uint32_t s)
 
 /* ---- build ------------------------------------------------------------------ */
 
-typedef struct face_scratch {
-    uint32_t *darts; size_t cdarts;
-    uint8_t *elev, *vlev; size_t celev, cvlev;
-    uint32_t *loc; size_t cloc;
-    float *pos; size_t cpos;
-} face_scratch;
-
-static void scratch_free(face_scratch *fs)
+void st_rg_scratch_free(st_rg_scratch *fs)
 {
     free(fs->darts); free(fs->elev); free(fs->vlev); free(fs->loc); free(fs->pos);
+}
+
+int st_rg_face_case(st_rgeom *g, const st_level_view *V, st_rg_scratch *fs, unsigned n, const uint32_t *vids)
+{
+    int oom = 0;
+    GROW(fs->elev, fs->celev, n, oom);
+    GROW(fs->vlev, fs->cvlev, n, oom);
+    GROW(fs->loc, fs->cloc, 3 * (size_t)n, oom);
+    if (oom) return -2;
+    for (unsigned k = 0; k < n; k++) {
+        uint32_t y = fs->darts[k], t = st_v_beta0(V, y);
+        uint8_t a = V->ins[y], b = V->ins[t];
+        fs->elev[k] = a > b ? a : b;               /* st_edge_level(m, y, l) */
+        fs->vlev[k] = V->vins[vids[k]];            /* st_vertex_level(m, v) */
+    }
+    /* The case tables read the walk only (the dual encoding has no
+     * meaningful vertex levels: only edge levels there). */
+    int c = st_tri_face(&g->tix, n, fs->elev, g->face_embedded ? NULL : fs->vlev, NULL, fs->loc);
+    if (c == ST_TRI_FALLBACK) {
+        if (GROW(fs->pos, fs->cpos, 3 * (size_t)n, oom), oom) return -2;
+        for (unsigned k = 0; k < n; k++) {
+            const double *p = st_v_pos(V, vids[k]);
+            fs->pos[3 * k] = (float)p[0]; fs->pos[3 * k + 1] = (float)p[1]; fs->pos[3 * k + 2] = (float)p[2];
+        }
+        st_tri_fallback(n, fs->pos, fs->loc);
+    }
+    return c;
 }
 
 int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
@@ -138,8 +129,8 @@ int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
     g->corner = malloc(ndl * sizeof *g->corner);
     g->lines = malloc(2 * ndl * sizeof *g->lines);
     g->tris = malloc(3 * ndl * sizeof *g->tris);
-    size_t cfaces = 0, ccase = 0;
-    face_scratch fs = { 0 };
+    size_t cfaces = 0, ccase = 0, cline = 0;
+    st_rg_scratch fs = { 0 };
     int oom = !g->dart_face || !g->slot || !g->corner || !g->lines || !g->tris;
     if (!oom) {
         for (uint32_t i = 0; i < g->ndarts_end; i++) g->dart_face[i] = ST_NIL;
@@ -168,20 +159,16 @@ int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
         }
         GROW(g->face_dart, cfaces, (size_t)g->nfaces + 1, oom);
         GROW(g->face_case, ccase, (size_t)g->nfaces + 1, oom);
-        GROW(fs.elev, fs.celev, n, oom);
-        GROW(fs.vlev, fs.cvlev, n, oom);
-        GROW(fs.loc, fs.cloc, 3 * (size_t)n, oom);
+        GROW(g->face_line, cline, (size_t)g->nfaces + 2, oom);
         if (oom) break;
         uint32_t f = g->nfaces++;
         g->face_dart[f] = d;
+        g->face_line[f] = g->nlines;
         for (unsigned k = 0; k < n; k++) {
-            uint32_t y = fs.darts[k], v = st_v_vert(&V, y), t = st_v_beta0(&V, y);
+            uint32_t y = fs.darts[k], v = st_v_vert(&V, y);
             g->dart_face[y] = f;
             g->corner[ncorner + k] = v;
             if (g->slot[v] == ST_NIL) g->slot[v] = y;
-            uint8_t a = V.ins[y], b = V.ins[t];
-            fs.elev[k] = a > b ? a : b;               /* st_edge_level(m, y, l) */
-            fs.vlev[k] = V.vins[v];                   /* st_vertex_level(m, v) */
         }
         /* Polygon edges: the side from corner k to k+1 once, from the end
          * with the smaller id (ids and table indices are in the same order),
@@ -194,24 +181,16 @@ int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
                 g->nlines++;
             }
         }
-        /* The case tables read the walk only (the dual encoding has no
-         * meaningful vertex levels: only edge levels there). */
-        int c = st_tri_face(&g->tix, n, fs.elev, fe ? NULL : fs.vlev, NULL, fs.loc);
-        if (c == ST_TRI_FALLBACK) {
-            if (GROW(fs.pos, fs.cpos, 3 * (size_t)n, oom), oom) break;
-            for (unsigned k = 0; k < n; k++) {
-                const double *p = st_v_pos(&V, g->corner[ncorner + k]);
-                fs.pos[3 * k] = (float)p[0]; fs.pos[3 * k + 1] = (float)p[1]; fs.pos[3 * k + 2] = (float)p[2];
-            }
-            st_tri_fallback(n, fs.pos, fs.loc);
-        }
+        g->face_line[f + 1] = g->nlines;
+        int c = st_rg_face_case(g, &V, &fs, n, g->corner + ncorner);
+        if (c == -2) { oom = 1; break; }
         g->face_case[f] = (int16_t)c;
         g->ncase[c >= 0 && c < 31 ? c : 31]++;
         for (unsigned t = 0; t < 3 * (n - 2); t++) g->tris[3 * (size_t)g->ntris + t] = (uint32_t)ncorner + fs.loc[t];
         g->ntris += n - 2;
         ncorner += n;
     }
-    scratch_free(&fs);
+    st_rg_scratch_free(&fs);
     if (!oom) {
         g->face_off = malloc(((size_t)g->nfaces + 1) * sizeof *g->face_off);
         g->fnormal = malloc(4 * ((size_t)g->nfaces + 1) * sizeof *g->fnormal);
@@ -249,6 +228,18 @@ int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
     for (size_t k = 0; k < ncorner; k++) g->corner[k] = g->slot[g->corner[k]];
     for (size_t k = 0; k < 2 * (size_t)g->nlines; k++) g->lines[k] = g->slot[g->lines[k]];
     for (size_t k = 0; k < 3 * (size_t)g->ntris; k++) g->tris[k] = g->corner[g->tris[k]];
+    if (!g->nfaces && g->face_line) g->face_line[0] = 0;
+    /* What st_rgeom_patch may grow in place. */
+    g->cap_faces = (size_t)g->nfaces + 1;
+    g->cap_corner = ndl;
+    g->cap_tris = g->ntris + 1;
+    g->cap_lines = ndl;
+    g->cap_verts = nv ? nv : 1;
+    g->cap_dart_face = g->ndarts_end ? g->ndarts_end : 1;
+    g->cap_slot = g->nvids ? g->nvids : 1;
+    g->cap_face_case = ccase;
+    g->cap_face_dart = cfaces;
+    g->cap_face_line = cline;
     st_rgeom_refresh_all(g, m);
     return ST_OK;
 }
@@ -259,22 +250,22 @@ void st_rgeom_refresh_all(st_rgeom *g, const st_map *m)
     st_level_view_init(m, g->level, &V);
     float lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
     for (uint32_t s = 0; s < g->nverts; s++) {
-        read_position(g, &V, s);
+        st_rg_read_position(g, &V, s);
         const float *p = g->vdata + ST_RGEOM_VSTRIDE * (size_t)s;
         for (int i = 0; i < 3; i++) { if (p[i] < lo[i]) lo[i] = p[i]; if (p[i] > hi[i]) hi[i] = p[i]; }
     }
     if (!g->nverts) for (int i = 0; i < 3; i++) lo[i] = hi[i] = 0;
     memcpy(g->bbox, lo, sizeof lo);
     memcpy(g->bbox + 3, hi, sizeof hi);
-    for (uint32_t f = 0; f < g->nfaces; f++) face_normal(g, f);
-    for (uint32_t s = 0; s < g->nverts; s++) vertex_normal(g, &V, s);
+    for (uint32_t f = 0; f < g->nfaces; f++) st_rg_face_normal(g, f);
+    for (uint32_t s = 0; s < g->nverts; s++) st_rg_vertex_normal(g, &V, s);
 }
 
 /* ---- incremental ------------------------------------------------------------ */
 
 /* Scratch marks: per vertex index, per face, and per dart of the current
  * map (the map may have grown finer levels since the build). */
-static int ensure_stamps(st_rgeom *g, const st_map *m)
+int st_rg_ensure_stamps(st_rgeom *g, const st_map *m)
 {
     if (!g->vstamp) {
         g->vstamp = calloc(g->nverts ? g->nverts : 1, sizeof *g->vstamp);
@@ -293,7 +284,7 @@ static int ensure_stamps(st_rgeom *g, const st_map *m)
 }
 
 /* A fresh generation for all stamp arrays. */
-static uint32_t next_gen(st_rgeom *g)
+uint32_t st_rg_next_gen(st_rgeom *g)
 {
     if (++g->gen == 0) {
         memset(g->vstamp, 0, (size_t)(g->nverts ? g->nverts : 1) * sizeof *g->vstamp);
@@ -305,9 +296,7 @@ static uint32_t next_gen(st_rgeom *g)
     return g->gen;
 }
 
-typedef struct u32_list { uint32_t *d; size_t n, cap; } u32_list;
-
-static int push(u32_list *l, uint32_t v)
+int st_rg_push(u32_list *l, uint32_t v)
 {
     int oom = 0;
     if (GROW(l->d, l->cap, l->n + 1, oom), oom) return -1;
@@ -322,7 +311,7 @@ static int push(u32_list *l, uint32_t v)
 static int region_faces(st_rgeom *g, const st_map *m, unsigned l, const uint32_t *seeds, size_t nseeds,
                         unsigned rings, u32_list *faces)
 {
-    uint32_t gen = next_gen(g);
+    uint32_t gen = st_rg_next_gen(g);
     u32_list verts = { 0 };
     int rc = 0;
     for (size_t i = 0; i < nseeds && !rc; i++) {
@@ -330,7 +319,7 @@ static int region_faces(st_rgeom *g, const st_map *m, unsigned l, const uint32_t
         if (g->dstamp_v[s] == gen) continue;
         uint32_t x = s;
         do { g->dstamp_v[x] = gen; x = st_beta1(m, x, l); } while (x != s);
-        rc = push(&verts, s);
+        rc = st_rg_push(&verts, s);
     }
     size_t begin = 0;
     for (unsigned r = 0; r < rings && !rc; r++) {
@@ -341,13 +330,13 @@ static int region_faces(st_rgeom *g, const st_map *m, unsigned l, const uint32_t
                 if (!st_is_boundary(m, x) && g->dstamp_f[x] != gen) {
                     uint32_t y = x;
                     do { g->dstamp_f[y] = gen; y = st_phi1(m, y, l); } while (y != x);
-                    rc |= push(faces, x);
+                    rc |= st_rg_push(faces, x);
                     y = x;
                     do {
                         if (g->dstamp_v[y] != gen) {
                             uint32_t z = y;
                             do { g->dstamp_v[z] = gen; z = st_beta1(m, z, l); } while (z != y);
-                            rc |= push(&verts, y);
+                            rc |= st_rg_push(&verts, y);
                         }
                         y = st_phi1(m, y, l);
                     } while (y != x);
@@ -367,30 +356,30 @@ int st_rgeom_edit_region(st_rgeom *g, const st_map *m, unsigned support_rings, u
 {
     unsigned D = g->level;
     if (D < l || !ndarts) return 0;
-    if (ensure_stamps(g, m)) return -1;
+    if (st_rg_ensure_stamps(g, m)) return -1;
     u32_list out = { *vids, *n, *cap };
     int rc = 0;
     if (D == l) {
-        for (uint32_t i = 0; i < ndarts && !rc; i++) rc = push(&out, st_vert(m, darts[i], l));
+        for (uint32_t i = 0; i < ndarts && !rc; i++) rc = st_rg_push(&out, st_vert(m, darts[i], l));
     } else {
         /* Level by level as st_hier_move's local synthesis: the faces of
          * level L-1 around the seeds (support rings, plus one after the
          * first level), then every dart of those faces seeds level L. */
         u32_list seeds = { 0 }, faces = { 0 };
-        for (uint32_t i = 0; i < ndarts && !rc; i++) rc = push(&seeds, darts[i]);
+        for (uint32_t i = 0; i < ndarts && !rc; i++) rc = st_rg_push(&seeds, darts[i]);
         for (unsigned L = l + 1; L <= D && !rc; L++) {
             faces.n = 0;
             rc = region_faces(g, m, L - 1, seeds.d, seeds.n, support_rings + (L > l + 1), &faces);
             seeds.n = 0;
             for (size_t i = 0; i < faces.n && !rc; i++) {
                 uint32_t x = faces.d[i];
-                do { rc |= push(&seeds, x); x = st_phi1(m, x, L - 1); } while (x != faces.d[i]);
+                do { rc |= st_rg_push(&seeds, x); x = st_phi1(m, x, L - 1); } while (x != faces.d[i]);
             }
         }
         /* Children at level D of the last faces: the level-D faces on both
          * sides of each of their darts (√3 flips the old edges, so a dart's
          * own face may miss a corner; the face across has it). */
-        uint32_t gen = next_gen(g);
+        uint32_t gen = st_rg_next_gen(g);
         for (size_t i = 0; i < seeds.n && !rc; i++) {
             uint32_t y0 = seeds.d[i];
             for (int side = 0; side < 2 && !rc; side++) {
@@ -399,7 +388,7 @@ int st_rgeom_edit_region(st_rgeom *g, const st_map *m, unsigned support_rings, u
                     uint32_t v = st_vert(m, x, D);
                     if (v < g->nvids && g->slot[v] != ST_NIL && g->vstamp[g->slot[v]] != gen) {
                         g->vstamp[g->slot[v]] = gen;
-                        rc |= push(&out, v);
+                        rc |= st_rg_push(&out, v);
                     }
                     x = st_phi1(m, x, D);
                 } while (x != y);
@@ -414,6 +403,16 @@ int st_rgeom_edit_region(st_rgeom *g, const st_map *m, unsigned support_rings, u
     return rc ? -1 : 0;
 }
 
+/* Vertex s still has a real face at its dart (st_rgeom_patch may leave
+ * vertices that no face uses any more: their dart can be gone). */
+int st_rg_vertex_drawn(const st_rgeom *g, const st_map *m, uint32_t s)
+{
+    uint32_t d = g->vdart[s];
+    if (!st_dart_in_level(m, d, g->level) || d >= g->cap_dart_face || st_is_boundary(m, d)) return 0;
+    uint32_t f = g->dart_face[d];
+    return f < g->nfaces && g->face_dart[f] != ST_NIL && st_vert(m, d, g->level) == g->vid[s];
+}
+
 static int cmp_u32(const void *a, const void *b)
 {
     uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
@@ -421,7 +420,7 @@ static int cmp_u32(const void *a, const void *b)
 }
 
 /* Sorted indices -> ranges, merging gaps of up to ST_RGEOM_RANGE_GAP. */
-static int to_ranges(u32_list *idx, st_range_list *out)
+int st_rg_to_ranges(u32_list *idx, st_range_list *out)
 {
     if (!idx->n) return 0;
     qsort(idx->d, idx->n, sizeof *idx->d, cmp_u32);
@@ -443,21 +442,21 @@ static int to_ranges(u32_list *idx, st_range_list *out)
 int st_rgeom_refresh(st_rgeom *g, const st_map *m, const uint32_t *vids, uint32_t n,
                      st_range_list *vdirty, st_range_list *fdirty)
 {
-    if (ensure_stamps(g, m)) return -1;
+    if (st_rg_ensure_stamps(g, m)) return -1;
     st_level_view V;
     st_level_view_init(m, g->level, &V);
     const int fe = g->face_embedded;
     u32_list moved = { 0 }, faces = { 0 }, verts = { 0 };
     int rc = 0;
-    uint32_t gen = next_gen(g);
+    uint32_t gen = st_rg_next_gen(g);
     for (uint32_t i = 0; i < n && !rc; i++) {
         uint32_t v = vids[i];
         if (v >= g->nvids || g->slot[v] == ST_NIL) continue;
         uint32_t s = g->slot[v];
-        if (g->vstamp[s] == gen) continue;
+        if (g->vstamp[s] == gen || !st_rg_vertex_drawn(g, m, s)) continue;
         g->vstamp[s] = gen;
-        read_position(g, &V, s);
-        rc = push(&moved, s);
+        st_rg_read_position(g, &V, s);
+        rc = st_rg_push(&moved, s);
     }
     /* Faces around moved vertices get new normals... */
     for (size_t i = 0; i < moved.n && !rc; i++) {
@@ -466,26 +465,26 @@ int st_rgeom_refresh(st_rgeom *g, const st_map *m, const uint32_t *vids, uint32_
             uint32_t f = g->dart_face[x];
             if (f < g->nfaces && g->fstamp[f] != gen) {
                 g->fstamp[f] = gen;
-                face_normal(g, f);
-                rc |= push(&faces, f);
+                st_rg_face_normal(g, f);
+                rc |= st_rg_push(&faces, f);
             }
             x = vertex_next(&V, fe, x);
         } while (x != d);
     }
     /* ...and so do all the corners of those faces. */
-    gen = next_gen(g);
+    gen = st_rg_next_gen(g);
     for (size_t i = 0; i < faces.n && !rc; i++) {
         uint32_t f = faces.d[i];
         for (uint32_t k = g->face_off[f]; k < g->face_off[f + 1] && !rc; k++) {
             uint32_t s = g->corner[k];
             if (g->vstamp[s] == gen) continue;
             g->vstamp[s] = gen;
-            vertex_normal(g, &V, s);
-            rc |= push(&verts, s);
+            st_rg_vertex_normal(g, &V, s);
+            rc |= st_rg_push(&verts, s);
         }
     }
-    if (!rc && vdirty) rc = to_ranges(&verts, vdirty);
-    if (!rc && fdirty) rc = to_ranges(&faces, fdirty);
+    if (!rc && vdirty) rc = st_rg_to_ranges(&verts, vdirty);
+    if (!rc && fdirty) rc = st_rg_to_ranges(&faces, fdirty);
     free(moved.d);
     free(faces.d);
     free(verts.d);

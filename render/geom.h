@@ -78,6 +78,15 @@ typedef struct st_rgeom {
 
     float bbox[6];                    /* min xyz, max xyz of the drawn vertices */
     uint32_t ncase[32];               /* faces per case id (index ncase[0..30] = case, [31] = fallback) */
+    uint32_t *face_line;              /* nfaces + 1 offsets into lines: the polygon edges each face draws */
+
+    /* st_rgeom_patch: faces it removed keep their slots (face_dart ST_NIL,
+     * their triangles and lines made degenerate: index 0 repeated, which
+     * draws nothing); faces and vertices it adds are appended. */
+    uint32_t ndead;                   /* removed faces among the nfaces */
+    size_t cap_faces;                 /* entries allocated in face_off and fnormal (per face, + 1) */
+    size_t cap_face_dart, cap_face_case, cap_face_line, cap_corner, cap_tris, cap_lines, cap_verts;
+    size_t cap_dart_face, cap_slot;
 
     /* Scratch for edit regions and refreshes (allocated on first use). */
     uint32_t *dstamp_v, *dstamp_f;    /* per dart: generation marks (vertex orbit, face orbit) */
@@ -114,6 +123,20 @@ int st_rgeom_edit_region(st_rgeom *g, const st_map *m, unsigned support_rings, u
 #define ST_RGEOM_RANGE_GAP 16
 int st_rgeom_refresh(st_rgeom *g, const st_map *m, const uint32_t *vids, uint32_t n,
                      st_range_list *vdirty, st_range_list *fdirty);
+
+/* After a local change of the map's topology (an interest-box update of an
+ * adaptive hierarchy), recorded in `log` (map.h: st_map_log, the darts and
+ * vertices the change touched): re-tessellates only the faces that changed
+ * - the old ones holding a logged dart are removed, the current faces of
+ * level g->level holding a logged dart (or its β0) are added - and
+ * refreshes the positions and normals around them.  The ranges to upload
+ * again are appended to the lists (any may be NULL).  Returns 0, -1 (out of
+ * memory or an overflowed log: build again) or 1 (more removed faces than
+ * live ones: build again, to compact).  The result draws the same
+ * triangles and polygon edges (as vertex ids) as st_rgeom_build would. */
+typedef struct st_rgeom_dirty { st_range_list verts, faces, tris, lines; } st_rgeom_dirty;
+int st_rgeom_patch(st_rgeom *g, const st_map *m, const st_map_log *log, st_rgeom_dirty *dirty);
+void st_rgeom_dirty_free(st_rgeom_dirty *d);
 
 /* Re-reads every position and recomputes every normal (topology kept). */
 void st_rgeom_refresh_all(st_rgeom *g, const st_map *m);

@@ -246,6 +246,104 @@ static const mesh_case adaptive_cases[] = {
     { "triangle/cube_no_bottom.obj", 1, ST_SCHEME_LOOP, 3 },
 };
 
+/* ---- patches after box moves ------------------------------------------------------ */
+
+typedef struct vkey { uint32_t a[3]; } vkey;
+
+static int cmp_u64(const void *x, const void *y)
+{
+    uint64_t a = *(const uint64_t *)x, b = *(const uint64_t *)y;
+    return (a > b) - (a < b);
+}
+
+/* A hash per live face: its cycle of vertex ids from the smallest (so the
+ * walk's start does not matter), sorted. */
+static uint64_t *face_keys(const st_rgeom *g, uint32_t *n)
+{
+    uint64_t *k = malloc(((size_t)g->nfaces + 1) * sizeof *k);
+    *n = 0;
+    for (uint32_t f = 0; f < g->nfaces; f++) {
+        if (g->face_dart[f] == ST_NIL) continue;
+        uint32_t a = g->face_off[f], b = g->face_off[f + 1], start = a;
+        for (uint32_t c = a; c < b; c++) if (g->vid[g->corner[c]] < g->vid[g->corner[start]]) start = c;
+        uint64_t h = 1469598103934665603ull;
+        for (uint32_t i = 0; i < b - a; i++) {
+            uint32_t c = a + (start - a + i) % (b - a);
+            h = (h ^ g->vid[g->corner[c]]) * 1099511628211ull;
+        }
+        k[(*n)++] = h ^ (b - a);
+    }
+    qsort(k, *n, sizeof *k, cmp_u64);
+    return k;
+}
+
+/* Polygon edges as sorted vertex-id pairs (degenerate ones skipped). */
+static uint64_t *line_keys(const st_rgeom *g, uint32_t *n)
+{
+    uint64_t *k = malloc(((size_t)g->nlines + 1) * sizeof *k);
+    *n = 0;
+    for (uint32_t i = 0; i < g->nlines; i++) {
+        uint32_t a = g->lines[2 * i], b = g->lines[2 * i + 1];
+        if (a == b) continue;
+        uint64_t x = g->vid[a], y = g->vid[b];
+        k[(*n)++] = x < y ? x << 32 | y : y << 32 | x;
+    }
+    qsort(k, *n, sizeof *k, cmp_u64);
+    return k;
+}
+
+/* Directed triangle sides (vertex ids) of the live faces: each at most
+ * once, and as many without a twin as in the fresh build. */
+static int unmatched_sides(const st_rgeom *g, int *repeated)
+{
+    size_t n = 0;
+    uint64_t *e = malloc(3 * ((size_t)g->ntris + 1) * sizeof *e);
+    for (uint32_t t = 0; t < g->ntris; t++) {
+        if (g->face_dart[g->tri_face[t]] == ST_NIL) continue;
+        for (int i = 0; i < 3; i++) {
+            uint64_t a = g->vid[g->tris[3 * t + i]], b = g->vid[g->tris[3 * t + (i + 1) % 3]];
+            e[n++] = a << 32 | b;
+        }
+    }
+    qsort(e, n, sizeof *e, cmp_u64);
+    int unmatched = 0;
+    *repeated = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (i && e[i] == e[i - 1]) (*repeated)++;
+        uint64_t twin = (e[i] << 32) | (e[i] >> 32);
+        if (!bsearch(&twin, e, n, sizeof *e, cmp_u64)) unmatched++;
+    }
+    free(e);
+    return unmatched;
+}
+
+/* The patched geometry draws what a fresh build draws: same faces (vertex
+ * cycles), same polygon edges, a closed triangle soup wherever the build's
+ * is, and the same positions and normals at every drawn vertex. */
+static void compare_patched(const st_rgeom *pg, const st_rgeom *g, const char *what)
+{
+    uint32_t na, nb;
+    uint64_t *fa = face_keys(pg, &na), *fb = face_keys(g, &nb);
+    CHECKF(na == nb && !memcmp(fa, fb, (size_t)na * sizeof *fa), "%s: patched faces differ (%u vs %u built)", what, na, nb);
+    free(fa); free(fb);
+    fa = line_keys(pg, &na);
+    fb = line_keys(g, &nb);
+    CHECKF(na == nb && !memcmp(fa, fb, (size_t)na * sizeof *fa), "%s: patched polygon edges differ (%u vs %u built)",
+           what, na, nb);
+    free(fa); free(fb);
+    int ra, rb, ua = unmatched_sides(pg, &ra), ub = unmatched_sides(g, &rb);
+    CHECKF(ra == 0 && ua == ub, "%s: patched triangles: %d repeated sides, %d without twin (built: %d)", what, ra, ua, ub);
+    double worst = 0;
+    uint32_t missing = 0;
+    for (uint32_t s = 0; s < g->nverts; s++) {
+        uint32_t v = g->vid[s], t = v < pg->nvids ? pg->slot[v] : ST_NIL;
+        if (t == ST_NIL) { missing++; continue; }
+        for (int k = 0; k < ST_RGEOM_VSTRIDE; k++)
+            worst = fmax(worst, fabs((double)pg->vdata[ST_RGEOM_VSTRIDE * (size_t)t + k] - g->vdata[ST_RGEOM_VSTRIDE * (size_t)s + k]));
+    }
+    CHECKF(missing == 0 && worst < 1e-5, "%s: patched vertices: %u missing, position/normal differs by %g", what, missing, worst);
+}
+
 static void test_no_cracks_adaptive(void)
 {
     st_rgeom g;
@@ -280,32 +378,64 @@ static void test_no_cracks_adaptive(void)
             if (id == ST_SCHEME_CATMARK ? n != 4 : id == ST_SCHEME_QUADTRI ? (n != 3 && n != 4) : n != 3) native = 0;
         }
         st_mesh_free(&soup);
-        unsigned faces_seen = 0, depths = 0;
-        for (int step = 0; step < 6; step++) {
-            st_adapt_params p = { .base_level = (unsigned)step % 2, .max_level = adaptive_cases[i].levels, .has_box = 1 };
-            for (int k = 0; k < 3; k++) {
-                double ext = hi[k] - lo[k], c = lo[k] + ext * (double)(tl_rand(&rng) % 1001) / 1000.0;
-                p.box_lo[k] = c - 0.2 * ext;
-                p.box_hi[k] = c + 0.2 * ext;
+        unsigned faces_seen = 0, depths = 0, patched = 0, rebuilt = 0;
+        st_rgeom pg;
+        st_rgeom_init(&pg);
+        st_map_log log = { 0 };
+        int have_pg = 0;
+        st_adapt_params p = { 0 };
+        /* Random boxes (steps 0-4 and 11, the last without the restriction)
+         * and, in between, six small moves of the box (5 % of its size along
+         * x, as a drag does). */
+        for (int step = 0; step < 12; step++) {
+            if (step < 5 || step == 11) {
+                p = (st_adapt_params){ .base_level = (unsigned)step % 2, .max_level = adaptive_cases[i].levels, .has_box = 1 };
+                for (int k = 0; k < 3; k++) {
+                    double ext = hi[k] - lo[k], c = lo[k] + ext * (double)(tl_rand(&rng) % 1001) / 1000.0;
+                    p.box_lo[k] = c - 0.2 * ext;
+                    p.box_hi[k] = c + 0.2 * ext;
+                }
+                p.no_restriction = step == 11;
+                p.falloff = step == 3 ? 0.3 * (hi[0] - lo[0]) : 0;
+            } else {
+                double shift = 0.05 * (p.box_hi[0] - p.box_lo[0]);
+                p.box_lo[0] += shift;
+                p.box_hi[0] += shift;
             }
-            p.no_restriction = step == 5;
-            p.falloff = step == 3 ? 0.3 * (hi[0] - lo[0]) : 0;
+            st_map_log_clear(&log);
+            unsigned top0 = h.map.top;
+            h.map.log = &log;
             int rc = st_adapt_update(&a, &p, &err);
+            h.map.log = NULL;
             CHECKF(rc == ST_OK, "%s step %d: %s", name, step, err.msg);
             if (rc) break;
+            /* The renderer's patch after the move (same displayed level). */
+            if (have_pg && h.map.top == top0) {
+                st_rgeom_dirty dirty = { 0 };
+                int pr = st_rgeom_patch(&pg, &h.map, &log, &dirty);
+                CHECKF(pr >= 0, "%s step %d: st_rgeom_patch failed", name, step);
+                if (pr == 1) { rebuilt++; have_pg = 0; }
+                else patched++;
+                st_rgeom_dirty_free(&dirty);
+            } else have_pg = 0;
+            if (!have_pg) have_pg = st_rgeom_build(&pg, &h.map, h.map.top, &err) == ST_OK;
             rc = st_rgeom_build(&g, &h.map, h.map.top, &err);
             CHECKF(rc == ST_OK, "%s: %s", name, err.msg);
             if (rc) break;
             char what[300];
             snprintf(what, sizeof what, "%s adaptive step %d%s", name, step, p.no_restriction ? " (no restriction)" : "");
             check_geom(&g, &h.map, what, native && !p.no_restriction);
+            compare_patched(&pg, &g, what);
             faces_seen += g.nfaces;
             unsigned mixed = 0;
             for (unsigned k = 0; k < 31; k++) mixed += g.ncase[k] > 0;
             if (mixed > depths) depths = mixed;
         }
-        printf("%s: adaptive meshes crack-free over 6 box moves (%u faces drawn in all, up to %u triangulation cases)\n",
-               name, faces_seen, depths);
+        printf("%s: adaptive meshes crack-free over 12 box moves (%u faces drawn in all, up to %u triangulation cases); "
+               "%u patched like a fresh build, %u compacted\n", name, faces_seen, depths, patched, rebuilt);
+        CHECKF(patched > 0, "%s: no move was patched", name);
+        st_rgeom_free(&pg);
+        st_map_log_free(&log);
         st_adapt_free(&a);
         st_hier_free(&h);
     }

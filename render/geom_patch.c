@@ -1,0 +1,260 @@
+/* st_rgeom_patch: re-tessellates only the faces a local change of the map
+ * touched (issue 5: "a local adaptive change re-tessellates only the touched
+ * faces").  See geom.h.
+ *
+ * Which faces changed.  Every primitive that changes a face's cycle sets a
+ * relation of one of its darts (map.c logs it): a new or deleted dart, β0
+ * (the face of that dart: φ1 = β1 ∘ β0), β1 (the face of its β0 twin, whose
+ * φ1 it changes; in the dual encoding faces are β1 orbits: its own), or the
+ * vertex a dart carries.  So the current faces holding a logged dart or its
+ * β0 are all the new ones, and an old face changed exactly when it holds a
+ * logged dart or shares a dart with a new face.  Old faces are removed in
+ * place (degenerate triangles and lines, so nothing else moves), new faces
+ * are appended, vertices new to the display are appended.
+ *
+ * Then normals: the moved vertices (logged positions) and every corner of a
+ * removed or added face go through st_rgeom_refresh, which re-reads their
+ * positions, recomputes the face normals around them and the vertex normals
+ * of those faces' corners. */
+#include "geom_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+void st_rgeom_dirty_free(st_rgeom_dirty *d)
+{
+    st_range_list_free(&d->verts);
+    st_range_list_free(&d->faces);
+    st_range_list_free(&d->tris);
+    st_range_list_free(&d->lines);
+}
+
+typedef struct patch {
+    st_rgeom *g;
+    const st_map *m;
+    st_level_view V;
+    uint32_t nfaces0;             /* faces before the patch: only those are removed */
+    u32_list refresh;             /* vertex ids whose position or normal may have changed */
+    u32_list tri_idx, line_idx, face_idx;   /* dirty triangle / line / face slots */
+    st_rg_scratch fs;
+    int oom;
+} patch;
+
+/* Per-dart and per-id tables cover the map as it is now. */
+static int grow_id_tables(st_rgeom *g, const st_map *m)
+{
+    int oom = 0;
+    size_t nd = m->darts.end, nv = m->verts.end, od = g->cap_dart_face, ov = g->cap_slot;
+    GROW(g->dart_face, g->cap_dart_face, nd ? nd : 1, oom);
+    GROW(g->slot, g->cap_slot, nv ? nv : 1, oom);
+    if (oom) return -1;
+    for (size_t i = od; i < g->cap_dart_face; i++) g->dart_face[i] = ST_NIL;
+    for (size_t i = ov; i < g->cap_slot; i++) g->slot[i] = ST_NIL;
+    g->ndarts_end = m->darts.end;
+    g->nvids = m->verts.end;
+    return 0;
+}
+
+static void push_corners(patch *p, uint32_t f)
+{
+    st_rgeom *g = p->g;
+    for (uint32_t k = g->face_off[f]; k < g->face_off[f + 1]; k++) p->oom |= st_rg_push(&p->refresh, g->vid[g->corner[k]]);
+}
+
+/* Removes face f (one that existed before the patch), if not done yet. */
+static void kill_face(patch *p, uint32_t f)
+{
+    st_rgeom *g = p->g;
+    if (f >= p->nfaces0 || g->face_dart[f] == ST_NIL) return;
+    g->face_dart[f] = ST_NIL;
+    g->ndead++;
+    int c = g->face_case[f];
+    g->ncase[c >= 0 && c < 31 ? c : 31]--;
+    memset(g->fnormal + 4 * (size_t)f, 0, 4 * sizeof *g->fnormal);
+    p->oom |= st_rg_push(&p->face_idx, f);
+    uint32_t t0 = g->face_off[f] - 2 * f, t1 = g->face_off[f + 1] - 2 * (f + 1);
+    for (uint32_t t = t0; t < t1; t++) {
+        memset(g->tris + 3 * (size_t)t, 0, 3 * sizeof *g->tris);
+        p->oom |= st_rg_push(&p->tri_idx, t);
+    }
+    for (uint32_t k = g->face_line[f]; k < g->face_line[f + 1]; k++) {
+        memset(g->lines + 2 * (size_t)k, 0, 2 * sizeof *g->lines);
+        p->oom |= st_rg_push(&p->line_idx, k);
+    }
+    push_corners(p, f);
+}
+
+/* The vertex-table index of map vertex v, appending it when new. */
+static uint32_t vertex_index(patch *p, uint32_t v, uint32_t dart)
+{
+    st_rgeom *g = p->g;
+    uint32_t s = g->slot[v];
+    if (s == ST_NIL) {
+        size_t cv = g->cap_verts, cd = g->cap_verts, cf = g->cap_verts * ST_RGEOM_VSTRIDE;
+        size_t need = (size_t)g->nverts + 1;
+        GROW(g->vid, cv, need, p->oom);
+        GROW(g->vdart, cd, need, p->oom);
+        GROW(g->vdata, cf, need * ST_RGEOM_VSTRIDE, p->oom);
+        if (p->oom) return 0;
+        g->cap_verts = cv < cd ? cv : cd;
+        if (cf / ST_RGEOM_VSTRIDE < g->cap_verts) g->cap_verts = cf / ST_RGEOM_VSTRIDE;
+        s = g->nverts++;
+        g->vid[s] = v;
+        g->slot[v] = s;
+        st_rg_read_position(g, &p->V, s);
+        float *n = g->vdata + ST_RGEOM_VSTRIDE * (size_t)s + 3;
+        n[0] = 0; n[1] = 0; n[2] = 1;
+    }
+    g->vdart[s] = dart; /* a dart of a live real face: the normal walks from it */
+    return s;
+}
+
+static int grow_face_arrays(patch *p, unsigned n)
+{
+    st_rgeom *g = p->g;
+    size_t f = g->nfaces, cf = g->cap_faces, cn = g->cap_faces * 4;
+    GROW(g->face_dart, g->cap_face_dart, f + 1, p->oom);
+    GROW(g->face_case, g->cap_face_case, f + 1, p->oom);
+    GROW(g->face_line, g->cap_face_line, f + 2, p->oom);
+    GROW(g->face_off, cf, f + 2, p->oom);
+    GROW(g->fnormal, cn, 4 * (f + 2), p->oom);
+    GROW(g->corner, g->cap_corner, (size_t)g->face_off[f] + n, p->oom);
+    size_t t = (size_t)g->ntris + n - 2, ct = g->cap_tris, ct3 = 3 * g->cap_tris;
+    GROW(g->tri_face, ct, t + 1, p->oom);
+    GROW(g->tris, ct3, 3 * (t + 1), p->oom);
+    size_t cl2 = 2 * g->cap_lines;
+    GROW(g->lines, cl2, 2 * ((size_t)g->nlines + n), p->oom);
+    if (p->oom) return -1;
+    g->cap_faces = cf < cn / 4 ? cf : cn / 4;
+    g->cap_tris = ct < ct3 / 3 ? ct : ct3 / 3;
+    g->cap_lines = cl2 / 2;
+    return 0;
+}
+
+/* Appends the face whose n darts are in p->fs.darts. */
+static void add_face(patch *p, unsigned n)
+{
+    st_rgeom *g = p->g;
+    const st_map *m = p->m;
+    if (grow_face_arrays(p, n)) return;
+    uint32_t f = g->nfaces, c0 = g->face_off[f], *vids = malloc(n * sizeof *vids);
+    if (!vids) { p->oom = 1; return; }
+    for (unsigned k = 0; k < n; k++) {
+        uint32_t y = p->fs.darts[k];
+        vids[k] = st_v_vert(&p->V, y);
+        g->corner[c0 + k] = vertex_index(p, vids[k], y);
+        g->dart_face[y] = f;
+    }
+    int c = p->oom ? -2 : st_rg_face_case(g, &p->V, &p->fs, n, vids);
+    if (c == -2) { p->oom = 1; free(vids); return; }
+    g->face_dart[f] = p->fs.darts[0];
+    g->face_case[f] = (int16_t)c;
+    g->ncase[c >= 0 && c < 31 ? c : 31]++;
+    g->face_off[f + 1] = c0 + n;
+    g->face_line[f] = g->nlines;
+    /* The same polygon edges as the build draws: each side once, from the
+     * end with the smaller vertex id, or from this face across a hole. */
+    for (unsigned k = 0; k < n; k++) {
+        uint32_t a = vids[k], b = vids[(k + 1) % n];
+        if (a < b || st_is_boundary(m, st_v_beta0(&p->V, p->fs.darts[k]))) {
+            g->lines[2 * (size_t)g->nlines] = g->slot[a];
+            g->lines[2 * (size_t)g->nlines + 1] = g->slot[b];
+            p->oom |= st_rg_push(&p->line_idx, g->nlines);
+            g->nlines++;
+        }
+    }
+    g->face_line[f + 1] = g->nlines;
+    for (unsigned t = 0; t < n - 2; t++) {
+        for (int i = 0; i < 3; i++) g->tris[3 * (size_t)g->ntris + i] = g->corner[c0 + p->fs.loc[3 * t + i]];
+        g->tri_face[g->ntris] = f;
+        p->oom |= st_rg_push(&p->tri_idx, g->ntris);
+        g->ntris++;
+    }
+    g->nfaces++;
+    st_rg_face_normal(g, f);
+    p->oom |= st_rg_push(&p->face_idx, f);
+    push_corners(p, f);
+    free(vids);
+}
+
+/* The current face of x (a live dart of the displayed level), unless
+ * already visited in this patch: the old faces sharing its darts go, then
+ * it is added (or its darts marked undrawn: a hole, a degenerate face). */
+static void visit_face(patch *p, uint32_t x, uint32_t gen)
+{
+    st_rgeom *g = p->g;
+    const st_map *m = p->m;
+    if (g->dstamp_f[x] == gen) return;
+    unsigned n = 0;
+    int real = 1;
+    uint32_t y = x;
+    do {
+        if (GROW(p->fs.darts, p->fs.cdarts, (size_t)n + 1, p->oom), p->oom) return;
+        p->fs.darts[n++] = y;
+        g->dstamp_f[y] = gen;
+        if (st_is_boundary(m, y)) real = 0;
+        uint32_t f = g->dart_face[y];
+        if (f < p->nfaces0) kill_face(p, f);
+        y = face_next(&p->V, g->face_embedded, y);
+    } while (y != x && n <= m->darts.end);
+    if (!real || n < 3) {
+        for (unsigned k = 0; k < n; k++) g->dart_face[p->fs.darts[k]] = UNDRAWN;
+        return;
+    }
+    add_face(p, n);
+}
+
+/* Dirty slots -> ranges; the bounding box grows to the refreshed vertices. */
+static int finish(patch *p, st_rgeom_dirty *dirty)
+{
+    st_rgeom *g = p->g;
+    for (size_t i = 0; i < p->refresh.n; i++) {
+        uint32_t v = p->refresh.d[i];
+        if (v >= g->nvids || g->slot[v] == ST_NIL || !st_rg_vertex_drawn(g, p->m, g->slot[v])) continue;
+        const float *q = g->vdata + ST_RGEOM_VSTRIDE * (size_t)g->slot[v];
+        for (int k = 0; k < 3; k++) {
+            if (q[k] < g->bbox[k]) g->bbox[k] = q[k];
+            if (q[k] > g->bbox[3 + k]) g->bbox[3 + k] = q[k];
+        }
+    }
+    if (!dirty) return 0;
+    int rc = st_rg_to_ranges(&p->tri_idx, &dirty->tris);
+    rc |= st_rg_to_ranges(&p->line_idx, &dirty->lines);
+    rc |= st_rg_to_ranges(&p->face_idx, &dirty->faces);
+    return rc;
+}
+
+int st_rgeom_patch(st_rgeom *g, const st_map *m, const st_map_log *log, st_rgeom_dirty *dirty)
+{
+    if (!log || log->overflow || g->level > m->top) return -1;
+    if (grow_id_tables(g, m) || st_rg_ensure_stamps(g, m)) return -1;
+    patch p = { .g = g, .m = m, .nfaces0 = g->nfaces };
+    st_level_view_init(m, g->level, &p.V);
+    uint32_t gen = st_rg_next_gen(g);
+    for (uint32_t i = 0; i < log->ndarts && !p.oom; i++) {
+        uint32_t d = log->darts[i];
+        if (d < g->cap_dart_face && g->dart_face[d] < p.nfaces0) kill_face(&p, g->dart_face[d]);
+        if (!st_dart_in_level(m, d, g->level)) continue;
+        visit_face(&p, d, gen);
+        uint32_t e = st_v_beta0(&p.V, d);
+        if (st_dart_in_level(m, e, g->level)) visit_face(&p, e, gen);
+    }
+    for (uint32_t i = 0; i < log->nverts && !p.oom; i++) p.oom |= st_rg_push(&p.refresh, log->verts[i]);
+    int rc = p.oom ? -1 : 0;
+    if (!rc && 2 * g->ndead > g->nfaces) rc = 1;
+    if (!rc) {
+        /* The stamp tables were sized for the old counts. */
+        free(g->vstamp);
+        free(g->fstamp);
+        g->vstamp = g->fstamp = NULL;
+        rc = st_rgeom_refresh(g, m, p.refresh.d, (uint32_t)p.refresh.n, dirty ? &dirty->verts : NULL,
+                              dirty ? &dirty->faces : NULL);
+        if (!rc) rc = finish(&p, dirty) ? -1 : 0;
+    }
+    free(p.refresh.d);
+    free(p.tri_idx.d);
+    free(p.line_idx.d);
+    free(p.face_idx.d);
+    st_rg_scratch_free(&p.fs);
+    return rc;
+}
