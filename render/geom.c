@@ -405,7 +405,7 @@ int st_rgeom_edit_region(st_rgeom *g, const st_map *m, unsigned support_rings, u
 
 /* Vertex s still has a real face at its dart (st_rgeom_patch may leave
  * vertices that no face uses any more: their dart can be gone). */
-int st_rg_vertex_drawn(const st_rgeom *g, const st_map *m, uint32_t s)
+int st_rgeom_vertex_drawn(const st_rgeom *g, const st_map *m, uint32_t s)
 {
     uint32_t d = g->vdart[s];
     if (!st_dart_in_level(m, d, g->level) || d >= g->cap_dart_face || st_is_boundary(m, d)) return 0;
@@ -453,7 +453,7 @@ int st_rgeom_refresh(st_rgeom *g, const st_map *m, const uint32_t *vids, uint32_
         uint32_t v = vids[i];
         if (v >= g->nvids || g->slot[v] == ST_NIL) continue;
         uint32_t s = g->slot[v];
-        if (g->vstamp[s] == gen || !st_rg_vertex_drawn(g, m, s)) continue;
+        if (g->vstamp[s] == gen || !st_rgeom_vertex_drawn(g, m, s)) continue;
         g->vstamp[s] = gen;
         st_rg_read_position(g, &V, s);
         rc = st_rg_push(&moved, s);

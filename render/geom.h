@@ -134,6 +134,10 @@ int st_rgeom_refresh(st_rgeom *g, const st_map *m, const uint32_t *vids, uint32_
  * memory or an overflowed log: build again) or 1 (more removed faces than
  * live ones: build again, to compact).  The result draws the same
  * triangles and polygon edges (as vertex ids) as st_rgeom_build would. */
+/* Whether vertex index s is a corner of a drawn face (after patches, the
+ * table may hold vertices no face uses any more). */
+int st_rgeom_vertex_drawn(const st_rgeom *g, const st_map *m, uint32_t s);
+
 typedef struct st_rgeom_dirty { st_range_list verts, faces, tris, lines; } st_rgeom_dirty;
 int st_rgeom_patch(st_rgeom *g, const st_map *m, const st_map_log *log, st_rgeom_dirty *dirty);
 void st_rgeom_dirty_free(st_rgeom_dirty *d);

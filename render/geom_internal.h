@@ -40,7 +40,6 @@ int st_rg_to_ranges(u32_list *idx, st_range_list *out);   /* sorts idx */
 void st_rg_face_normal(st_rgeom *g, uint32_t f);
 void st_rg_vertex_normal(st_rgeom *g, const st_level_view *V, uint32_t s);
 void st_rg_read_position(st_rgeom *g, const st_level_view *V, uint32_t s);
-int st_rg_vertex_drawn(const st_rgeom *g, const st_map *m, uint32_t s);
 int st_rg_ensure_stamps(st_rgeom *g, const st_map *m);
 uint32_t st_rg_next_gen(st_rgeom *g);
 

@@ -33,6 +33,7 @@ typedef struct patch {
     st_rgeom *g;
     const st_map *m;
     st_level_view V;
+    uint32_t *block_rank;         /* per dart block: its place in its level's list (dart_rank) */
     uint32_t nfaces0;             /* faces before the patch: only those are removed */
     u32_list refresh;             /* vertex ids whose position or normal may have changed */
     u32_list tri_idx, line_idx, face_idx;   /* dirty triangle / line / face slots */
@@ -177,6 +178,25 @@ static void add_face(patch *p, unsigned n)
     free(vids);
 }
 
+/* Where st_rgeom_build's scan (st_dart_first / st_dart_next: level by
+ * level, each level's blocks in list order) meets dart d: a face is walked
+ * from its first dart in that order, so that the case tables read the same
+ * walk, and pick the same triangles, as a fresh build. */
+static uint64_t dart_rank(const patch *p, uint32_t d)
+{
+    return (uint64_t)p->m->darts.ins[d] << 48 | (uint64_t)p->block_rank[d >> ST_POOL_BLOCK_SHIFT] << 20 |
+           (d & (ST_POOL_BLOCK - 1));
+}
+
+static uint32_t *block_ranks(const st_map *m, unsigned l)
+{
+    uint32_t *r = malloc((((size_t)m->darts.end >> ST_POOL_BLOCK_SHIFT) + 1) * sizeof *r);
+    if (!r) return NULL;
+    for (unsigned i = 0; i <= l && i < ST_MAX_LEVELS; i++)
+        for (uint32_t k = 0; k < m->darts.nblocks[i]; k++) r[m->darts.blocks[i][k]] = k;
+    return r;
+}
+
 /* The current face of x (a live dart of the displayed level), unless
  * already visited in this patch: the old faces sharing its darts go, then
  * it is added (or its darts marked undrawn: a hole, a degenerate face). */
@@ -201,6 +221,14 @@ static void visit_face(patch *p, uint32_t x, uint32_t gen)
         for (unsigned k = 0; k < n; k++) g->dart_face[p->fs.darts[k]] = UNDRAWN;
         return;
     }
+    unsigned first = 0;
+    for (unsigned k = 1; k < n; k++)
+        if (dart_rank(p, p->fs.darts[k]) < dart_rank(p, p->fs.darts[first])) first = k;
+    uint32_t *t = malloc(n * sizeof *t);
+    if (!t) { p->oom = 1; return; }
+    for (unsigned k = 0; k < n; k++) t[k] = p->fs.darts[(first + k) % n];
+    memcpy(p->fs.darts, t, n * sizeof *t);
+    free(t);
     add_face(p, n);
 }
 
@@ -210,7 +238,7 @@ static int finish(patch *p, st_rgeom_dirty *dirty)
     st_rgeom *g = p->g;
     for (size_t i = 0; i < p->refresh.n; i++) {
         uint32_t v = p->refresh.d[i];
-        if (v >= g->nvids || g->slot[v] == ST_NIL || !st_rg_vertex_drawn(g, p->m, g->slot[v])) continue;
+        if (v >= g->nvids || g->slot[v] == ST_NIL || !st_rgeom_vertex_drawn(g, p->m, g->slot[v])) continue;
         const float *q = g->vdata + ST_RGEOM_VSTRIDE * (size_t)g->slot[v];
         for (int k = 0; k < 3; k++) {
             if (q[k] < g->bbox[k]) g->bbox[k] = q[k];
@@ -228,7 +256,8 @@ int st_rgeom_patch(st_rgeom *g, const st_map *m, const st_map_log *log, st_rgeom
 {
     if (!log || log->overflow || g->level > m->top) return -1;
     if (grow_id_tables(g, m) || st_rg_ensure_stamps(g, m)) return -1;
-    patch p = { .g = g, .m = m, .nfaces0 = g->nfaces };
+    patch p = { .g = g, .m = m, .nfaces0 = g->nfaces, .block_rank = block_ranks(m, g->level) };
+    if (!p.block_rank) return -1;
     st_level_view_init(m, g->level, &p.V);
     uint32_t gen = st_rg_next_gen(g);
     for (uint32_t i = 0; i < log->ndarts && !p.oom; i++) {
@@ -251,6 +280,7 @@ int st_rgeom_patch(st_rgeom *g, const st_map *m, const st_map_log *log, st_rgeom
                               dirty ? &dirty->faces : NULL);
         if (!rc) rc = finish(&p, dirty) ? -1 : 0;
     }
+    free(p.block_rank);
     free(p.refresh.d);
     free(p.tri_idx.d);
     free(p.line_idx.d);

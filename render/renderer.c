@@ -116,11 +116,14 @@ static void gpu_mesh_free(const st_gl *gl, st_gpu_mesh *g)
 
 /* Sizes of zero are rounded up to one element: some drivers dislike empty
  * texture buffers. */
-static void buffer_data(const st_gl *gl, GLenum target, size_t bytes, const void *data, size_t min)
+/* Allocates the bound buffer with a quarter more room than `bytes` (so
+ * that st_renderer_patch can append in place) and fills its start. */
+static size_t buffer_data(const st_gl *gl, GLenum target, size_t bytes, const void *data, size_t min)
 {
-    static const unsigned char zeros[16] = { 0 };
-    if (bytes) gl->BufferData(target, (GLsizeiptr)bytes, data, GL_DYNAMIC_DRAW);
-    else gl->BufferData(target, (GLsizeiptr)min, zeros, GL_DYNAMIC_DRAW);
+    size_t cap = bytes + bytes / 4 + min;
+    gl->BufferData(target, (GLsizeiptr)cap, NULL, GL_DYNAMIC_DRAW);
+    if (bytes) gl->BufferSubData(target, 0, (GLsizeiptr)bytes, data);
+    return cap;
 }
 
 static uint64_t gpu_mesh_upload(const st_gl *gl, st_gpu_mesh *g, const st_rgeom *geo)
@@ -142,20 +145,20 @@ static uint64_t gpu_mesh_upload(const st_gl *gl, st_gpu_mesh *g, const st_rgeom 
     size_t ob = (size_t)geo->ntris * sizeof(uint32_t);
     gl->BindVertexArray(g->vao);
     gl->BindBuffer(GL_ARRAY_BUFFER, g->vbo);
-    buffer_data(gl, GL_ARRAY_BUFFER, vb, geo->vdata, 16);
+    g->cap[0] = buffer_data(gl, GL_ARRAY_BUFFER, vb, geo->vdata, 16);
     gl->VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, ST_RGEOM_VSTRIDE * sizeof(float), (const void *)0);
     gl->VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, ST_RGEOM_VSTRIDE * sizeof(float), (const void *)(3 * sizeof(float)));
     gl->EnableVertexAttribArray(0);
     gl->EnableVertexAttribArray(1);
     gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ibo_lines);
-    buffer_data(gl, GL_ELEMENT_ARRAY_BUFFER, lb, geo->lines, 16);
+    g->cap[2] = buffer_data(gl, GL_ELEMENT_ARRAY_BUFFER, lb, geo->lines, 16);
     gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ibo_tris);
-    buffer_data(gl, GL_ELEMENT_ARRAY_BUFFER, tb, geo->tris, 16);
+    g->cap[1] = buffer_data(gl, GL_ELEMENT_ARRAY_BUFFER, tb, geo->tris, 16);
     gl->BindVertexArray(0);
     gl->BindBuffer(GL_TEXTURE_BUFFER, g->tbo_face_normal);
-    buffer_data(gl, GL_TEXTURE_BUFFER, fb, geo->fnormal, 16);
+    g->cap[3] = buffer_data(gl, GL_TEXTURE_BUFFER, fb, geo->fnormal, 16);
     gl->BindBuffer(GL_TEXTURE_BUFFER, g->tbo_tri_face);
-    buffer_data(gl, GL_TEXTURE_BUFFER, ob, geo->tri_face, 16);
+    g->cap[4] = buffer_data(gl, GL_TEXTURE_BUFFER, ob, geo->tri_face, 16);
     gl->BindBuffer(GL_TEXTURE_BUFFER, 0);
     gl->BindTexture(GL_TEXTURE_BUFFER, g->tex_face_normal);
     gl->TexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, g->tbo_face_normal);
@@ -286,6 +289,57 @@ void st_renderer_refresh_all(st_renderer *r, const st_map *m)
         r->last.ranges += 2;
         r->last.vertices += geo->nverts;
     }
+}
+
+/* Uploads ranges of elements of `size` bytes from data into buffer buf
+ * (through the copy-write target, which no VAO or texture state holds). */
+static void upload_elems(st_renderer *r, GLuint buf, const st_range_list *l, const void *data, size_t size)
+{
+    const st_gl *gl = r->gl;
+    if (!l->n) return;
+    gl->BindBuffer(GL_COPY_WRITE_BUFFER, buf);
+    for (uint32_t i = 0; i < l->n; i++) {
+        size_t off = (size_t)l->r[i].first * size, len = (size_t)l->r[i].count * size;
+        gl->BufferSubData(GL_COPY_WRITE_BUFFER, (GLintptr)off, (GLsizeiptr)len, (const unsigned char *)data + off);
+        r->last.bytes += len;
+    }
+    gl->BindBuffer(GL_COPY_WRITE_BUFFER, 0);
+    r->last.ranges += l->n;
+}
+
+int st_renderer_patch(st_renderer *r, const st_map *m, const st_map_log *log)
+{
+    memset(&r->last, 0, sizeof r->last);
+    if (!r->has_surf) return -1;
+    st_rgeom *geo = &r->surf;
+    st_gpu_mesh *g = &r->gsurf;
+    st_rgeom_dirty dirty = { 0 };
+    int rc = st_rgeom_patch(geo, m, log, &dirty);
+    if (!rc) {
+        size_t need[5] = { (size_t)geo->nverts * ST_RGEOM_VSTRIDE * sizeof(float), (size_t)geo->ntris * 3 * sizeof(uint32_t),
+                           (size_t)geo->nlines * 2 * sizeof(uint32_t), (size_t)geo->nfaces * 4 * sizeof(float),
+                           (size_t)geo->ntris * sizeof(uint32_t) };
+        int fits = 1;
+        for (int i = 0; i < 5; i++) fits &= need[i] <= g->cap[i];
+        if (!fits) {
+            r->last.bytes = gpu_mesh_upload(r->gl, g, geo);
+            r->last.ranges = 5;
+            r->last.vertices = geo->nverts;
+        } else {
+            st_range_list none = { 0 };
+            upload_ranges(r, g, geo, &dirty.verts, &none);
+            upload_elems(r, g->tbo_face_normal, &dirty.faces, geo->fnormal, 4 * sizeof(float));
+            upload_elems(r, g->ibo_tris, &dirty.tris, geo->tris, 3 * sizeof(uint32_t));
+            upload_elems(r, g->tbo_tri_face, &dirty.tris, geo->tri_face, sizeof(uint32_t));
+            upload_elems(r, g->ibo_lines, &dirty.lines, geo->lines, 2 * sizeof(uint32_t));
+            g->nverts = geo->nverts;
+            g->ntris = geo->ntris;
+            g->nlines = geo->nlines;
+            g->nfaces = geo->nfaces;
+        }
+    }
+    st_rgeom_dirty_free(&dirty);
+    return rc;
 }
 
 void st_renderer_reupload(st_renderer *r)

@@ -59,6 +59,7 @@ typedef struct st_gpu_mesh {
     GLuint tbo_face_normal, tex_face_normal;  /* RGBA32F per face */
     GLuint tbo_tri_face, tex_tri_face;        /* R32UI per triangle */
     uint32_t nverts, ntris, nlines, nfaces;
+    size_t cap[5];                            /* bytes allocated: vbo, ibo_tris, ibo_lines, face normals, tri faces */
 } st_gpu_mesh;
 
 typedef struct st_upload_stats {
@@ -122,6 +123,13 @@ int st_renderer_edit(st_renderer *r, const st_hier *h, unsigned l, const uint32_
 /* Every position changed (e.g. after analysis), topology not: re-reads and
  * re-uploads the vertex data of both meshes. */
 void st_renderer_refresh_all(st_renderer *r, const st_map *m);
+/* After a local change of the displayed map's topology recorded in log (an
+ * interest-box update): re-tessellates only the touched faces
+ * (st_rgeom_patch) and re-uploads only the changed ranges; GPU buffers are
+ * allocated with room to grow, and re-created when that runs out.  Returns
+ * 0, or non-zero when the caller must st_renderer_set_level instead (out
+ * of memory, overflowed log, too many removed faces to keep). */
+int st_renderer_patch(st_renderer *r, const st_map *m, const st_map_log *log);
 
 /* Uploads the CPU-side meshes (surf, cage) again in full, e.g. after a test
  * changed them by hand. */

@@ -292,6 +292,25 @@ static uint64_t *line_keys(const st_rgeom *g, uint32_t *n)
     return k;
 }
 
+/* Triangles of the live faces as vertex-id triples (rotated to start at the
+ * smallest, orientation kept), hashed and sorted. */
+static uint64_t *tri_keys(const st_rgeom *g, uint32_t *n)
+{
+    uint64_t *k = malloc(((size_t)g->ntris + 1) * sizeof *k);
+    *n = 0;
+    for (uint32_t t = 0; t < g->ntris; t++) {
+        if (g->face_dart[g->tri_face[t]] == ST_NIL) continue;
+        uint32_t v[3], m = 0;
+        for (int i = 0; i < 3; i++) v[i] = g->vid[g->tris[3 * t + i]];
+        for (uint32_t i = 1; i < 3; i++) if (v[i] < v[m]) m = i;
+        uint64_t h = 1469598103934665603ull;
+        for (uint32_t i = 0; i < 3; i++) h = (h ^ v[(m + i) % 3]) * 1099511628211ull;
+        k[(*n)++] = h;
+    }
+    qsort(k, *n, sizeof *k, cmp_u64);
+    return k;
+}
+
 /* Directed triangle sides (vertex ids) of the live faces: each at most
  * once, and as many without a twin as in the fresh build. */
 static int unmatched_sides(const st_rgeom *g, int *repeated)
@@ -318,8 +337,9 @@ static int unmatched_sides(const st_rgeom *g, int *repeated)
 }
 
 /* The patched geometry draws what a fresh build draws: same faces (vertex
- * cycles), same polygon edges, a closed triangle soup wherever the build's
- * is, and the same positions and normals at every drawn vertex. */
+ * cycles), same triangles, same polygon edges, a closed triangle soup
+ * wherever the build's is, and the same positions and normals at every
+ * drawn vertex. */
 static void compare_patched(const st_rgeom *pg, const st_rgeom *g, const char *what)
 {
     uint32_t na, nb;
@@ -330,6 +350,11 @@ static void compare_patched(const st_rgeom *pg, const st_rgeom *g, const char *w
     fb = line_keys(g, &nb);
     CHECKF(na == nb && !memcmp(fa, fb, (size_t)na * sizeof *fa), "%s: patched polygon edges differ (%u vs %u built)",
            what, na, nb);
+    free(fa); free(fb);
+    fa = tri_keys(pg, &na);
+    fb = tri_keys(g, &nb);
+    CHECKF(na == nb && !memcmp(fa, fb, (size_t)na * sizeof *fa), "%s: patched triangles differ (%u vs %u built)", what,
+           na, nb);
     free(fa); free(fb);
     int ra, rb, ua = unmatched_sides(pg, &ra), ub = unmatched_sides(g, &rb);
     CHECKF(ra == 0 && ua == ub, "%s: patched triangles: %d repeated sides, %d without twin (built: %d)", what, ra, ua, ub);

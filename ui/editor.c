@@ -95,6 +95,7 @@ void st_doc_free(st_doc *d)
     free(d->mcorr);
     free(d->dlv);
     free(d->dvdart);
+    st_map_log_free(&d->patch_log);
     free(d->vdart);
     ed_brush_state_free(d->bs);
     memset(d, 0, sizeof *d);
@@ -1409,20 +1410,27 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
     int old_on = d->box_on;
     if ((on != 0) == (old_on != 0) && (!on || d->disp_ok) && !memcmp(&old, &p, sizeof p)) return ST_OK;
     double t0 = ed_now_ms();
-    int rc = ST_OK;
+    int rc = ST_OK, patched = 0;
     if (on) {
         unsigned N = d->h.map.top;
         unsigned ob = old.base_level < N ? old.base_level : N, nb = p.base_level < N ? p.base_level : N;
         if (!d->box_on || !d->disp_ok || ob != nb) {
             rc = disp_build(d, &p, err);
         } else {
+            /* The display map logs what the update touches, so that the
+             * renderer re-tessellates only that (ST_CHANGE_PATCH); moves not
+             * yet taken by the renderer add up in the one log. */
+            if (!(d->change.bits & ST_CHANGE_PATCH)) st_map_log_clear(&d->patch_log);
+            d->disp.map.log = &d->patch_log;
             rc = st_adapt_update(&d->adapt, &p, err);
             if (!rc) {
                 d->box = p;
                 disp_pairs_build(d);
                 /* Box updates never touch the levels up to the base. */
                 disp_sync(d, d->dbase + 1, 1);
+                patched = 1;
             }
+            d->disp.map.log = NULL;
         }
         if (rc) {
             /* Back to the previous display. */
@@ -1439,7 +1447,13 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
     }
     d->box = p;
     d->box_on = on != 0;
-    d->change.bits |= ST_CHANGE_BOX | ST_CHANGE_TOPOLOGY | ST_CHANGE_ALL_POSITIONS;
+    if (patched && !(d->change.bits & ST_CHANGE_TOPOLOGY)) {
+        d->change.bits |= ST_CHANGE_BOX | ST_CHANGE_PATCH;
+        d->change.patch = &d->patch_log;
+    } else {
+        d->change.bits = (d->change.bits & ~(unsigned)ST_CHANGE_PATCH) | ST_CHANGE_BOX | ST_CHANGE_TOPOLOGY |
+                         ST_CHANGE_ALL_POSITIONS;
+    }
     count_display(d);
     d->last_update_at_ms = ed_now_ms();
     d->last_update_ms = d->last_update_at_ms - t0;

@@ -68,6 +68,9 @@ enum st_change_bits {
     ST_CHANGE_DISPLAY = 32,    /* box on, topology unchanged: the vertices disp_vids of the display
                                   hierarchy (st_doc_display_hier) moved, at some level: e.g.
                                   st_renderer_refresh(r, &st_doc_display_hier(d)->map, disp_vids, ndisp) */
+    ST_CHANGE_PATCH = 64,      /* the box moved and the display was updated in place: what its map's
+                                  update touched is in `patch` (st_renderer_patch(r, map, patch));
+                                  never set together with ST_CHANGE_TOPOLOGY */
 };
 
 typedef struct st_doc_change {
@@ -77,6 +80,7 @@ typedef struct st_doc_change {
     uint32_t nmoved;
     uint32_t *disp_vids;       /* ST_CHANGE_DISPLAY: vertex ids of the display hierarchy (owned by the doc) */
     uint32_t ndisp;
+    const st_map_log *patch;   /* ST_CHANGE_PATCH: the display map's changes (owned by the doc) */
 } st_doc_change;
 
 typedef struct st_undo_step st_undo_step;   /* editor.c */
@@ -90,6 +94,7 @@ typedef struct st_doc {
     int loaded;
 
     st_adapt adapt;
+    st_map_log patch_log;      /* changes of the display map by box moves not yet taken (ST_CHANGE_PATCH) */
     st_adapt_params box;       /* box corners, base and max levels, falloff */
     int box_on;                /* the interest box drives the display */
 

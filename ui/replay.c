@@ -330,9 +330,13 @@ static double rgeom_drift(const st_rgeom *g, const st_map *m, unsigned l)
     st_rgeom_init(&f);
     st_error err;
     if (st_rgeom_build(&f, m, l, &err)) return -1;
-    double worst = f.nverts == g->nverts ? 0 : -1;
+    /* (After box moves, g may keep vertices no face draws any more.) */
+    uint32_t drawn = 0;
+    for (uint32_t i = 0; i < g->nverts; i++) drawn += (uint32_t)st_rgeom_vertex_drawn(g, m, i);
+    double worst = f.nverts == drawn ? 0 : -1;
     for (uint32_t i = 0; worst >= 0 && i < g->nverts; i++) {
         uint32_t v = g->vid[i];
+        if (!st_rgeom_vertex_drawn(g, m, i)) continue;
         if (v >= f.nvids || f.slot[v] == ST_NIL) { worst = -1; break; }
         const float *p = g->vdata + (size_t)i * ST_RGEOM_VSTRIDE, *q = f.vdata + (size_t)f.slot[v] * ST_RGEOM_VSTRIDE;
         for (int k = 0; k < ST_RGEOM_VSTRIDE; k++) {

@@ -114,6 +114,18 @@ void st_app_sync(st_app *a)
         a->shown_valid = 1;
         a->hover_vid = ST_NIL;
         touched = 1;
+    }
+    if (!rebuild && (ch.bits & ST_CHANGE_PATCH)) {
+        /* A box move: only the touched faces are re-tessellated. */
+        if (st_renderer_patch(&a->r, &dh->map, ch.patch)) {
+            if (st_renderer_set_level(&a->r, &dh->map, disp, &err))
+                st_app_message(a, 1, "cannot draw the model: %s", err.msg);
+        }
+        a->hover_vid = ST_NIL;
+        touched = 1;
+    }
+    if (rebuild) {
+        /* (the buffers were just built from the current positions) */
     } else if ((ch.bits & ST_CHANGE_ALL_POSITIONS) ||
                ((ch.bits & ST_CHANGE_POSITIONS) && dh != &d->h && !(ch.bits & ST_CHANGE_DISPLAY))) {
         refresh_all(a);
