@@ -14,18 +14,120 @@
  *
  * Both end with glFinish.  Target: incremental <= 0.05 x full.  The time of
  * st_hier_move itself (geometry, not buffers) is printed apart.  Medians of
- * R repetitions (default 15). */
+ * R repetitions (default 15).
+ *
+ * Then the same for an adaptive change, in bench_adapt's case: the shared
+ * spot_quadrangulated.obj refined by Catmull-Clark to depth 5 inside an
+ * interest box (a tenth of the model's extent, around the vertex of largest
+ * x), base level 0 (then most of the small displayed mesh changes with the
+ * box) and 3 (the box's changes are a small part of what is shown), the box
+ * moved by 5 % of its size (st_adapt_update, with the map's change log on;
+ * not timed), then
+ *
+ *   patch: st_renderer_patch - only the faces the move touched are
+ *          re-tessellated, only changed ranges uploaded;
+ *   full:  st_renderer_set_level on the adaptive level.
+ *
+ * (No target is set for this one; its ratio is printed.) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "adapt.h"
 #include "bench_common.h"
 #include "headless.h"
+#include "map_mesh.h"
 #include "renderer.h"
 
 #ifndef STRATA_ASSETS
 #define STRATA_ASSETS "assets"
 #endif
+#ifndef STRATA_SHARED_DATA
+#define STRATA_SHARED_DATA "../shared/data/meshes"
+#endif
+
+/* The interest box of bench_adapt: a tenth of the extent around the vertex
+ * of largest x of level 0, shifted along x by `shift` times its size. */
+static void box_at(const st_map *m, double shift, st_adapt_params *p)
+{
+    double lo[3] = { 1e300, 1e300, 1e300 }, hi[3] = { -1e300, -1e300, -1e300 }, at[3] = { 0, 0, 0 };
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, 0, &it); v != ST_NIL; v = st_vertex_next(m, 0, &it)) {
+        const double *q = st_pos(m, v, 0);
+        if (q[0] > hi[0]) memcpy(at, q, sizeof at);
+        for (int k = 0; k < 3; k++) { if (q[k] < lo[k]) lo[k] = q[k]; if (q[k] > hi[k]) hi[k] = q[k]; }
+    }
+    for (int k = 0; k < 3; k++) {
+        double r = 0.05 * (hi[k] - lo[k]), c = at[k] + (k == 0 ? shift * 2 * r : 0);
+        p->box_lo[k] = c - r;
+        p->box_hi[k] = c + r;
+    }
+    p->has_box = 1;
+}
+
+/* Adaptive part (see the header) on `path` with Catmull-Clark to `depth`. */
+static void bench_adaptive(st_renderer *r, st_headless *hl, const char *path, unsigned base_level, unsigned depth,
+                           int reps)
+{
+    st_error err;
+    st_hier h;
+    st_adapt a;
+    st_mesh base;
+    st_mesh_init(&base);
+    if (st_mesh_load(path, &base, &err) || st_hier_init(&h, &base, &st_scheme_catmark, NULL, &err) ||
+        st_adapt_init(&a, &h, &err)) {
+        fprintf(stderr, "bench_render: adaptive: %s\n", err.msg);
+        return;
+    }
+    st_mesh_free(&base);
+    st_adapt_params p = { .base_level = base_level, .max_level = depth };
+    box_at(&h.map, 0, &p);
+    st_map_log log = { 0 };
+    double *tp = malloc((size_t)reps * sizeof *tp), *tf = malloc((size_t)reps * sizeof *tf);
+    if (st_adapt_update(&a, &p, &err) || st_renderer_set_level(r, &h.map, h.map.top, &err)) {
+        fprintf(stderr, "bench_render: adaptive: %s\n", err.msg);
+        return;
+    }
+    int rebuilt = 0;
+    uint32_t touched = 0;
+    st_upload_stats last = { 0 };
+    for (int k = 0; k < reps; k++) {
+        box_at(&h.map, (k % 2) ? 0.0 : 0.05, &p);
+        st_map_log_clear(&log);
+        h.map.log = &log;
+        unsigned top = h.map.top;
+        if (st_adapt_update(&a, &p, &err)) { fprintf(stderr, "bench_render: adaptive: %s\n", err.msg); return; }
+        h.map.log = NULL;
+        double t0 = bench_now();
+        if (h.map.top != top || st_renderer_patch(r, &h.map, &log)) {
+            rebuilt++;
+            st_renderer_set_level(r, &h.map, h.map.top, &err);
+        }
+        hl->gl.Finish();
+        tp[k] = bench_now() - t0;
+        touched = (uint32_t)a.touched;
+        last = r->last;
+    }
+    for (int k = 0; k < reps; k++) {
+        double t0 = bench_now();
+        st_renderer_set_level(r, &h.map, h.map.top, &err);
+        hl->gl.Finish();
+        tf[k] = bench_now() - t0;
+    }
+    double mp = bench_median(tp, reps), mf = bench_median(tf, reps);
+    printf("adaptive: %s, catmull-clark, base level %u, depth %u in a box of a tenth of the extent, %u faces shown; box "
+           "moved by 5%% of its size (%u faces subdivided or simplified)\n", path, p.base_level, p.max_level,
+           r->surf.nfaces - r->surf.ndead, touched);
+    printf("full rebuild of the buffers:  %8.3f ms\n", 1e3 * mf);
+    printf("touched faces re-tessellated: %8.3f ms  (%u glBufferSubData ranges, %.1f KB; %d of %d moves rebuilt "
+           "instead: a large change, or compaction)\n", 1e3 * mp, last.ranges, last.bytes / 1024.0, rebuilt, reps);
+    printf("ratio patch / full:           %8.4f\n", mp / mf);
+    free(tp);
+    free(tf);
+    st_map_log_free(&log);
+    st_adapt_free(&a);
+    st_hier_free(&h);
+}
 
 int main(int argc, char **argv)
 {
@@ -105,6 +207,8 @@ int main(int argc, char **argv)
     printf("incremental buffer update:    %8.3f ms  (%u vertices = %.2f%% of the level, %u glBufferSubData ranges, %.1f KB)\n",
            1e3 * ti, last.vertices, 100.0 * last.vertices / (r.surf.nverts ? r.surf.nverts : 1), last.ranges, last.bytes / 1024.0);
     printf("ratio incremental / full:     %8.4f  (target <= 0.05: %s)\n", ti / tf, ti / tf <= 0.05 ? "met" : "NOT met");
+    bench_adaptive(&r, &hl, STRATA_SHARED_DATA "/catmull_clark/spot_quadrangulated.obj", 0, 5, reps);
+    bench_adaptive(&r, &hl, STRATA_SHARED_DATA "/catmull_clark/spot_quadrangulated.obj", 3, 5, reps);
     st_renderer_free(&r);
     st_headless_free(&hl);
     st_hier_free(&h);

@@ -35,8 +35,9 @@ typedef struct patch {
     st_level_view V;
     uint32_t *block_rank;         /* per dart block: its place in its level's list (dart_rank) */
     uint32_t nfaces0;             /* faces before the patch: only those are removed */
+    uint32_t ntris0, nlines0;     /* triangles and lines before the patch */
     u32_list refresh;             /* vertex ids whose position or normal may have changed */
-    u32_list tri_idx, line_idx, face_idx;   /* dirty triangle / line / face slots */
+    u32_list tri_r, line_r, face_r;   /* dirty triangle / line / face slots: (first, count) pairs */
     st_rg_scratch fs;
     int oom;
 } patch;
@@ -62,6 +63,13 @@ static void push_corners(patch *p, uint32_t f)
     for (uint32_t k = g->face_off[f]; k < g->face_off[f + 1]; k++) p->oom |= st_rg_push(&p->refresh, g->vid[g->corner[k]]);
 }
 
+static void push_range(patch *p, u32_list *l, uint32_t first, uint32_t end)
+{
+    if (end <= first) return;
+    p->oom |= st_rg_push(l, first);
+    p->oom |= st_rg_push(l, end - first);
+}
+
 /* Removes face f (one that existed before the patch), if not done yet. */
 static void kill_face(patch *p, uint32_t f)
 {
@@ -72,16 +80,13 @@ static void kill_face(patch *p, uint32_t f)
     int c = g->face_case[f];
     g->ncase[c >= 0 && c < 31 ? c : 31]--;
     memset(g->fnormal + 4 * (size_t)f, 0, 4 * sizeof *g->fnormal);
-    p->oom |= st_rg_push(&p->face_idx, f);
+    push_range(p, &p->face_r, f, f + 1);
     uint32_t t0 = g->face_off[f] - 2 * f, t1 = g->face_off[f + 1] - 2 * (f + 1);
-    for (uint32_t t = t0; t < t1; t++) {
-        memset(g->tris + 3 * (size_t)t, 0, 3 * sizeof *g->tris);
-        p->oom |= st_rg_push(&p->tri_idx, t);
-    }
-    for (uint32_t k = g->face_line[f]; k < g->face_line[f + 1]; k++) {
-        memset(g->lines + 2 * (size_t)k, 0, 2 * sizeof *g->lines);
-        p->oom |= st_rg_push(&p->line_idx, k);
-    }
+    memset(g->tris + 3 * (size_t)t0, 0, 3 * (size_t)(t1 - t0) * sizeof *g->tris);
+    push_range(p, &p->tri_r, t0, t1);
+    uint32_t l0 = g->face_line[f], l1 = g->face_line[f + 1];
+    memset(g->lines + 2 * (size_t)l0, 0, 2 * (size_t)(l1 - l0) * sizeof *g->lines);
+    push_range(p, &p->line_r, l0, l1);
     push_corners(p, f);
 }
 
@@ -160,7 +165,6 @@ static void add_face(patch *p, unsigned n)
         if (a < b || st_is_boundary(m, st_v_beta0(&p->V, p->fs.darts[k]))) {
             g->lines[2 * (size_t)g->nlines] = g->slot[a];
             g->lines[2 * (size_t)g->nlines + 1] = g->slot[b];
-            p->oom |= st_rg_push(&p->line_idx, g->nlines);
             g->nlines++;
         }
     }
@@ -168,12 +172,10 @@ static void add_face(patch *p, unsigned n)
     for (unsigned t = 0; t < n - 2; t++) {
         for (int i = 0; i < 3; i++) g->tris[3 * (size_t)g->ntris + i] = g->corner[c0 + p->fs.loc[3 * t + i]];
         g->tri_face[g->ntris] = f;
-        p->oom |= st_rg_push(&p->tri_idx, g->ntris);
         g->ntris++;
     }
     g->nfaces++;
     st_rg_face_normal(g, f);
-    p->oom |= st_rg_push(&p->face_idx, f);
     push_corners(p, f);
     free(vids);
 }
@@ -232,6 +234,39 @@ static void visit_face(patch *p, uint32_t x, uint32_t gen)
     add_face(p, n);
 }
 
+static int cmp_pair(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* (first, count) pairs -> sorted ranges appended to out, those closer than
+ * ST_RGEOM_RANGE_GAP merged. */
+static int ranges_out(u32_list *pairs, st_range_list *out)
+{
+    size_t n = pairs->n / 2;
+    if (!n) return 0;
+    qsort(pairs->d, n, 2 * sizeof *pairs->d, cmp_pair);
+    uint32_t first = pairs->d[0], end = pairs->d[0] + pairs->d[1];
+    for (size_t i = 1; i <= n; i++) {
+        uint32_t f = i < n ? pairs->d[2 * i] : 0, e = i < n ? f + pairs->d[2 * i + 1] : 0;
+        if (i < n && f <= end + ST_RGEOM_RANGE_GAP) { if (e > end) end = e; continue; }
+        if (out->n == out->cap) {
+            uint32_t c = out->cap ? 2 * out->cap : 16;
+            st_range *r = realloc(out->r, (size_t)c * sizeof *r);
+            if (!r) return -1;
+            out->r = r;
+            out->cap = c;
+        }
+        out->r[out->n].first = first;
+        out->r[out->n].count = end - first;
+        out->n++;
+        first = f;
+        end = e;
+    }
+    return 0;
+}
+
 /* Dirty slots -> ranges; the bounding box grows to the refreshed vertices. */
 static int finish(patch *p, st_rgeom_dirty *dirty)
 {
@@ -246,9 +281,14 @@ static int finish(patch *p, st_rgeom_dirty *dirty)
         }
     }
     if (!dirty) return 0;
-    int rc = st_rg_to_ranges(&p->tri_idx, &dirty->tris);
-    rc |= st_rg_to_ranges(&p->line_idx, &dirty->lines);
-    rc |= st_rg_to_ranges(&p->face_idx, &dirty->faces);
+    /* The appended slots, then every list sorted and merged. */
+    push_range(p, &p->tri_r, p->ntris0, g->ntris);
+    push_range(p, &p->line_r, p->nlines0, g->nlines);
+    push_range(p, &p->face_r, p->nfaces0, g->nfaces);
+    if (p->oom) return -1;
+    int rc = ranges_out(&p->tri_r, &dirty->tris);
+    rc |= ranges_out(&p->line_r, &dirty->lines);
+    rc |= ranges_out(&p->face_r, &dirty->faces);
     return rc;
 }
 
@@ -256,7 +296,8 @@ int st_rgeom_patch(st_rgeom *g, const st_map *m, const st_map_log *log, st_rgeom
 {
     if (!log || log->overflow || g->level > m->top) return -1;
     if (grow_id_tables(g, m) || st_rg_ensure_stamps(g, m)) return -1;
-    patch p = { .g = g, .m = m, .nfaces0 = g->nfaces, .block_rank = block_ranks(m, g->level) };
+    patch p = { .g = g, .m = m, .nfaces0 = g->nfaces, .ntris0 = g->ntris, .nlines0 = g->nlines,
+                .block_rank = block_ranks(m, g->level) };
     if (!p.block_rank) return -1;
     st_level_view_init(m, g->level, &p.V);
     uint32_t gen = st_rg_next_gen(g);
@@ -282,9 +323,9 @@ int st_rgeom_patch(st_rgeom *g, const st_map *m, const st_map_log *log, st_rgeom
     }
     free(p.block_rank);
     free(p.refresh.d);
-    free(p.tri_idx.d);
-    free(p.line_idx.d);
-    free(p.face_idx.d);
+    free(p.tri_r.d);
+    free(p.line_r.d);
+    free(p.face_r.d);
     st_rg_scratch_free(&p.fs);
     return rc;
 }

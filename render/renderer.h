@@ -128,7 +128,8 @@ void st_renderer_refresh_all(st_renderer *r, const st_map *m);
  * (st_rgeom_patch) and re-uploads only the changed ranges; GPU buffers are
  * allocated with room to grow, and re-created when that runs out.  Returns
  * 0, or non-zero when the caller must st_renderer_set_level instead (out
- * of memory, overflowed log, too many removed faces to keep). */
+ * of memory, overflowed log, too many removed faces to keep, or a change
+ * so large against what is shown that a build is cheaper). */
 int st_renderer_patch(st_renderer *r, const st_map *m, const st_map_log *log);
 
 /* Uploads the CPU-side meshes (surf, cage) again in full, e.g. after a test
