@@ -135,7 +135,7 @@ static void test_incremental_upload(st_headless *hl)
  * or a full upload when the room ran out), with no GL error. */
 static void torus_fine(st_mesh *m) { tl_mesh_torus(m, 32, 24); }
 
-static void test_patch_upload(st_headless *hl)
+static void test_patch_upload(st_headless *hl, st_scheme_id id)
 {
     st_gl *gl = &hl->gl;
     st_error err;
@@ -143,7 +143,7 @@ static void test_patch_upload(st_headless *hl)
     CHECKF(st_renderer_init(&r, gl, &err) == ST_OK, "%s", err.msg);
     st_hier h;
     st_adapt a;
-    tl_init_hier(&h, torus_fine, ST_SCHEME_CATMARK, 0);
+    tl_init_hier(&h, torus_fine, id, 0);
     CHECK(st_adapt_init(&a, &h, &err) == ST_OK);
     st_adapt_params p = { .base_level = 2, .max_level = 4, .has_box = 1 };
     double lo[3] = { 2.3, -0.3, -0.3 }, hi[3] = { 2.9, 0.3, 0.3 }; /* (on the outer equator) */
@@ -176,8 +176,8 @@ static void test_patch_upload(st_headless *hl)
         gl->BindVertexArray(0);
         CHECK(gl->GetError() == GL_NO_ERROR);
     }
-    printf("adaptive box moves: %d of 8 patched in place (%u faces drawn, %u removed slots)\n", patched,
-           r.surf.nfaces - r.surf.ndead, r.surf.ndead);
+    printf("%s: adaptive box moves: %d of 8 patched in place (%u faces drawn, %u removed slots)\n", h.scheme->name,
+           patched, r.surf.nfaces - r.surf.ndead, r.surf.ndead);
     CHECKF(patched >= 4, "only %d of 8 box moves patched", patched);
     st_map_log_free(&log);
     st_adapt_free(&a);
@@ -196,7 +196,8 @@ int main(void)
     if (!rc) {
         test_context(&hl);
         test_incremental_upload(&hl);
-        test_patch_upload(&hl);
+        test_patch_upload(&hl, ST_SCHEME_CATMARK);
+        test_patch_upload(&hl, ST_SCHEME_DOOSABIN);
         st_headless_free(&hl);
     }
     return TEST_END();
