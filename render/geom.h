@@ -141,6 +141,9 @@ int st_rgeom_vertex_drawn(const st_rgeom *g, const st_map *m, uint32_t s);
 typedef struct st_rgeom_dirty { st_range_list verts, faces, tris, lines; } st_rgeom_dirty;
 int st_rgeom_patch(st_rgeom *g, const st_map *m, const st_map_log *log, st_rgeom_dirty *dirty);
 void st_rgeom_dirty_free(st_rgeom_dirty *d);
+/* Distinct darts in the log (-1: overflowed, or out of memory): how large a
+ * change is, to choose between st_rgeom_patch and a build. */
+int64_t st_rgeom_log_darts(st_rgeom *g, const st_map *m, const st_map_log *log);
 
 /* Re-reads every position and recomputes every normal (topology kept). */
 void st_rgeom_refresh_all(st_rgeom *g, const st_map *m);

@@ -292,6 +292,20 @@ static int finish(patch *p, st_rgeom_dirty *dirty)
     return rc;
 }
 
+int64_t st_rgeom_log_darts(st_rgeom *g, const st_map *m, const st_map_log *log)
+{
+    if (!log || log->overflow || st_rg_ensure_stamps(g, m)) return -1;
+    uint32_t gen = st_rg_next_gen(g);
+    int64_t n = 0;
+    for (uint32_t i = 0; i < log->ndarts; i++) {
+        uint32_t d = log->darts[i];
+        if (d >= g->dstamp_cap || g->dstamp_v[d] == gen) continue;
+        g->dstamp_v[d] = gen;
+        n++;
+    }
+    return n;
+}
+
 int st_rgeom_patch(st_rgeom *g, const st_map *m, const st_map_log *log, st_rgeom_dirty *dirty)
 {
     if (!log || log->overflow || g->level > m->top) return -1;

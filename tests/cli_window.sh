@@ -95,6 +95,10 @@ run 0 "level 4 refused: it needs about [0-9]+ bytes" win "$EXE" --size 320x240 -
 # with the box off and on.
 run 0 "replay .* passed" win "$EXE" --size 640x480 --levels 3 --replay "$SRC/replay/sync.txt" "$ASSETS/torus.obj"
 
+# Box moves over a finer display patch only the touched faces, and the
+# patched buffers stay equal to a fresh build.
+run 0 "replay .* passed" win "$EXE" --size 480x360 --levels 4 --replay "$SRC/replay/box_patch.txt" "$ASSETS/torus.obj"
+
 # Every scheme through the same interactions (it must survive; the interest
 # box works for every scheme).
 for spec in "catmull-clark open.obj" "loop octahedron.obj" "butterfly octahedron.obj" \

@@ -383,6 +383,10 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
         double dc = a->r.has_cage ? rgeom_drift(&a->r.cage, &d->h.map, d->edit_level) : 0;
         snprintf(actual, sizeof actual, "surface off by %g, cage off by %g", ds, dc);
         ok = ds >= 0 && dc >= 0 && ds < 1e-5 && dc < 1e-5;
+    } else if (!strcmp(w, "patched")) {
+        /* At least N box moves were drawn by st_renderer_patch. */
+        snprintf(actual, sizeof actual, "%llu", (unsigned long long)a->patches);
+        ok = a->patches >= (uint64_t)want;
     } else if (!strcmp(w, "error")) {
         snprintf(actual, sizeof actual, "%d (%s)", a->msg_error, a->msg);
         ok = a->msg_error == (want != 0);

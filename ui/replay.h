@@ -24,6 +24,8 @@
  *                               scheme, hover (0/1), faces, moved, unchanged,
  *                               synced (the renderer's incrementally updated
  *                               buffers equal a fresh build),
+ *                               patched N (at least N box moves were drawn by
+ *                               re-tessellating only the touched faces),
  *                               error (0/1: status line is an error),
  *                               message TEXT (status line contains TEXT)
  *   echo TEXT                   print

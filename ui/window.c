@@ -120,6 +120,8 @@ void st_app_sync(st_app *a)
         if (st_renderer_patch(&a->r, &dh->map, ch.patch)) {
             if (st_renderer_set_level(&a->r, &dh->map, disp, &err))
                 st_app_message(a, 1, "cannot draw the model: %s", err.msg);
+        } else {
+            a->patches++;
         }
         a->hover_vid = ST_NIL;
         touched = 1;

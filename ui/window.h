@@ -92,6 +92,7 @@ typedef struct st_app {
 
     double frame_ms;           /* drawing + presenting the last frame */
     double update_ms;          /* last renderer update */
+    uint64_t patches;          /* box moves drawn by re-tessellating only the touched faces */
     uint64_t frames;
     int quit;
     int exit_code;
