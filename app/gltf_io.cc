@@ -806,16 +806,14 @@ int st_gltf_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error
     st_mesh_init(&m);
     st_notes local = {nullptr, 0};
     int rc = parse_impl(path, bytes.data(), bytes.size(), dir.c_str(), &m, notes ? &local : nullptr, err);
-    if (!rc) rc = st_mesh_repair(path, &m, notes ? &local : nullptr, err);
-    if (rc) {
-        st_mesh_free(&m);
-        st_notes_free(&local);
-        return rc;
-    }
-    st_mesh_move(out, &m);
-    for (uint32_t i = 0; i < local.count; i++) st_notes_add(notes, "%s", local.lines[i]);
+    /* The parser's notes (welded vertices and the like), then the repair's;
+     * *notes gets them only on success. */
+    if (!rc) rc = st_mesh_finish_load(path, &m, nullptr, out, notes ? &local : nullptr, err);
+    else st_mesh_free(&m);
+    if (!rc)
+        for (uint32_t i = 0; i < local.count; i++) st_notes_add(notes, "%s", local.lines[i]);
     st_notes_free(&local);
-    return 0;
+    return rc;
 }
 
 int st_gltf_load(const char *path, st_mesh *out, st_error *err)

@@ -238,17 +238,25 @@ static int load_as(enum mesh_format fmt, const char *path, st_mesh *out,
     st_mesh m;
     st_mesh_init(&m);
     st_mesh_src src = {0};
-    st_notes local = {0};
     rc = parse_as(fmt, path, data, size, &m, &src, err);
     free(data);
-    if (!rc) rc = st_mesh_repair_src(path, &m, &src, notes ? &local : NULL, err);
+    if (rc) st_mesh_free(&m);
+    else rc = st_mesh_finish_load(path, &m, &src, out, notes, err);
     st_mesh_src_free(&src);
+    return rc;
+}
+
+int st_mesh_finish_load(const char *name, st_mesh *parsed, const st_mesh_src *src, st_mesh *out,
+                        st_notes *notes, st_error *err)
+{
+    st_notes local = {0};
+    int rc = st_mesh_repair_src(name, parsed, src, notes ? &local : NULL, err);
     if (rc) {
-        st_mesh_free(&m);
+        st_mesh_free(parsed);
         st_notes_free(&local);
         return rc;
     }
-    st_mesh_move(out, &m);
+    st_mesh_move(out, parsed);
     for (uint32_t i = 0; i < local.count; i++) st_notes_add(notes, "%s", local.lines[i]);
     st_notes_free(&local);
     return 0;

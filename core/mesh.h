@@ -129,6 +129,12 @@ int st_mesh_parse_ply_src(const char *name, const char *data, size_t size,
 /* st_mesh_repair() naming lines/offsets from src (may be NULL). */
 int st_mesh_repair_src(const char *name, st_mesh *m, const st_mesh_src *src,
                        st_notes *notes, st_error *err);
+/* The end of every loader: repairs the freshly parsed mesh (src may be
+ * NULL), then moves it into *out and appends the repair notes to *notes (may
+ * be NULL).  On failure *out and *notes are untouched; *parsed is freed
+ * either way. */
+int st_mesh_finish_load(const char *name, st_mesh *parsed, const st_mesh_src *src, st_mesh *out,
+                        st_notes *notes, st_error *err);
 
 /* A vertex that occurs twice in idx[0..n), or UINT32_MAX when all differ.
  * scratch holds n entries (used for long faces, sorted there: O(n log n)). */
