@@ -927,16 +927,14 @@ static void region_roots(st_adapt *a, const st_adapt_params *q, const st_adapt_p
     const st_dart_list *base = &a->base_faces;
     if (!a->grid) a->grid = st_adapt_grid_build(m, base, face_bbox);
     if (a->grid) st_adapt_grid_near(a->grid, lo, hi, &near);
-    else /* (out of memory for the grid: every base face is a candidate) */
-        for (uint32_t k = 0; k < base->n; k++) st_dart_list_push(&near, k);
+    else /* (out of memory for the grid: the same test on every base face) */
+        for (uint32_t k = 0; k < base->n; k++) {
+            double fb[6];
+            face_bbox(m, base->d[k], 0, fb, fb + 3);
+            if (st_adapt_box_near(fb, lo, hi)) st_dart_list_push(&near, k);
+        }
     for (uint32_t j = 0; j < near.n; j++) {
         uint32_t k = near.d[j];
-        double flo[3], fhi[3], size = 0;
-        face_bbox(m, base->d[k], 0, flo, fhi);
-        for (int i = 0; i < 3; i++) size = fmax(size, fhi[i] - flo[i]);
-        int hit = 1;
-        for (int i = 0; i < 3; i++) hit &= flo[i] - size <= hi[i] && fhi[i] + size >= lo[i];
-        if (!hit) continue;
         uint32_t x = base->d[k];
         do { st_dart_list_push(&seeds, x); x = st_phi1(m, x, 0); } while (x != base->d[k]);
     }

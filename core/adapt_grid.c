@@ -4,7 +4,7 @@
  * touches only faces near its old and new positions").
  *
  * Each base face is filed under the cell of its bounding-box centre; its box
- * and size (largest extent) are kept for the exact test.  The grid is a
+ * is kept for the exact test (st_adapt_box_near).  The grid is a
  * cache of level-0 geometry: st_adapt_update rebuilds it on every full
  * update (which the editor forces after any edit, has_prev = 0) and builds it
  * when missing (a new or reloaded st_adapt); it is never saved. */
@@ -17,7 +17,6 @@
 struct st_adapt_grid {
     uint32_t nfaces;
     double *box;          /* 6 per base face: lo xyz, hi xyz */
-    double *size;         /* per base face: largest extent */
     double maxsize;       /* largest size */
     double lo[3], cell[3];
     unsigned res[3];
@@ -29,10 +28,18 @@ void st_adapt_grid_free(st_adapt_grid *g)
 {
     if (!g) return;
     free(g->box);
-    free(g->size);
     free(g->start);
     free(g->face);
     free(g);
+}
+
+int st_adapt_box_near(const double box[6], const double lo[3], const double hi[3])
+{
+    double s = 0;
+    for (int k = 0; k < 3; k++) s = fmax(s, box[3 + k] - box[k]);
+    int hit = 1;
+    for (int k = 0; k < 3; k++) hit &= box[k] - s <= hi[k] && box[3 + k] + s >= lo[k];
+    return hit;
 }
 
 static unsigned cell_of(const st_adapt_grid *g, int k, double x)
@@ -86,13 +93,11 @@ st_adapt_grid *st_adapt_grid_build(const st_map *m, const st_dart_list *base,
     if (!g) return NULL;
     g->nfaces = base->n;
     g->box = malloc(((size_t)base->n + 1) * 6 * sizeof *g->box);
-    g->size = malloc(((size_t)base->n + 1) * sizeof *g->size);
-    if (!g->box || !g->size) { st_adapt_grid_free(g); return NULL; }
+    if (!g->box) { st_adapt_grid_free(g); return NULL; }
     for (uint32_t f = 0; f < base->n; f++) {
         double *b = g->box + 6 * f, s = 0;
         bbox(m, base->d[f], 0, b, b + 3);
         for (int k = 0; k < 3; k++) s = fmax(s, b[3 + k] - b[k]);
-        g->size[f] = s;
         if (s > g->maxsize) g->maxsize = s;
     }
     layout(g);
@@ -140,11 +145,7 @@ void st_adapt_grid_near(const st_adapt_grid *g, const double lo[3], const double
                 uint32_t i = (z * g->res[1] + y) * g->res[0] + x;
                 for (uint32_t j = g->start[i]; j < g->start[i + 1]; j++) {
                     uint32_t f = g->face[j];
-                    const double *b = g->box + 6 * f;
-                    double s = g->size[f];
-                    int hit = 1;
-                    for (int k = 0; k < 3; k++) hit &= b[k] - s <= hi[k] && b[3 + k] + s >= lo[k];
-                    if (hit) st_dart_list_push(out_index, f);
+                    if (st_adapt_box_near(g->box + 6 * f, lo, hi)) st_dart_list_push(out_index, f);
                 }
             }
     /* In base-face order, as a scan would list them. */

@@ -42,6 +42,9 @@ st_adapt_grid *st_adapt_grid_build(const st_map *m, const st_dart_list *base,
                                    void (*bbox)(const st_map *, uint32_t, unsigned, double *, double *));
 void st_adapt_grid_near(const st_adapt_grid *g, const double lo[3], const double hi[3], st_dart_list *out_index);
 void st_adapt_grid_free(st_adapt_grid *g);
+/* A base face's box (lo xyz, hi xyz), grown by its own largest extent,
+ * meets [lo, hi]: the face is near the boxes of an incremental update. */
+int st_adapt_box_near(const double box[6], const double lo[3], const double hi[3]);
 
 /* √3 (adapt_sqrt3.c): the same entry points as the quadrisection code, for
  * closed triangle meshes; the one-level restriction is always applied. */

@@ -39,6 +39,8 @@ typedef struct patch {
     u32_list refresh;             /* vertex ids whose position or normal may have changed */
     u32_list tri_r, line_r, face_r;   /* dirty triangle / line / face slots: (first, count) pairs */
     st_rg_scratch fs;
+    uint32_t *tmp;                /* per face walked: vertex ids, or the walk rotated */
+    size_t ctmp;
     int oom;
 } patch;
 
@@ -143,8 +145,9 @@ static void add_face(patch *p, unsigned n)
     st_rgeom *g = p->g;
     const st_map *m = p->m;
     if (grow_face_arrays(p, n)) return;
-    uint32_t f = g->nfaces, c0 = g->face_off[f], *vids = malloc(n * sizeof *vids);
-    if (!vids) { p->oom = 1; return; }
+    uint32_t f = g->nfaces, c0 = g->face_off[f];
+    if (GROW(p->tmp, p->ctmp, n, p->oom), p->oom) return;
+    uint32_t *vids = p->tmp;
     for (unsigned k = 0; k < n; k++) {
         uint32_t y = p->fs.darts[k];
         vids[k] = st_v_vert(&p->V, y);
@@ -152,7 +155,7 @@ static void add_face(patch *p, unsigned n)
         g->dart_face[y] = f;
     }
     int c = p->oom ? -2 : st_rg_face_case(g, &p->V, &p->fs, n, vids);
-    if (c == -2) { p->oom = 1; free(vids); return; }
+    if (c == -2) { p->oom = 1; return; }
     g->face_dart[f] = p->fs.darts[0];
     g->face_case[f] = (int16_t)c;
     g->ncase[c >= 0 && c < 31 ? c : 31]++;
@@ -177,7 +180,6 @@ static void add_face(patch *p, unsigned n)
     g->nfaces++;
     st_rg_face_normal(g, f);
     push_corners(p, f);
-    free(vids);
 }
 
 /* Where st_rgeom_build's scan (st_dart_first / st_dart_next: level by
@@ -226,11 +228,9 @@ static void visit_face(patch *p, uint32_t x, uint32_t gen)
     unsigned first = 0;
     for (unsigned k = 1; k < n; k++)
         if (dart_rank(p, p->fs.darts[k]) < dart_rank(p, p->fs.darts[first])) first = k;
-    uint32_t *t = malloc(n * sizeof *t);
-    if (!t) { p->oom = 1; return; }
-    for (unsigned k = 0; k < n; k++) t[k] = p->fs.darts[(first + k) % n];
-    memcpy(p->fs.darts, t, n * sizeof *t);
-    free(t);
+    if (GROW(p->tmp, p->ctmp, n, p->oom), p->oom) return;
+    for (unsigned k = 0; k < n; k++) p->tmp[k] = p->fs.darts[(first + k) % n];
+    memcpy(p->fs.darts, p->tmp, n * sizeof *p->tmp);
     add_face(p, n);
 }
 
@@ -336,6 +336,7 @@ int st_rgeom_patch(st_rgeom *g, const st_map *m, const st_map_log *log, st_rgeom
         if (!rc) rc = finish(&p, dirty) ? -1 : 0;
     }
     free(p.block_rank);
+    free(p.tmp);
     free(p.refresh.d);
     free(p.tri_r.d);
     free(p.line_r.d);
