@@ -4,6 +4,8 @@
 //
 //   bench_osd [--quick]
 //   bench_osd --profile strata|osd catmark|loop DEPTH [THREADS [REPEAT]]
+//   bench_osd --profile-edit REPEAT
+//       the local edit case alone, with REPEAT more edits before the timed ones
 //       one side's synthesis alone, REPEAT times (wall and processor medians),
 //       for callgrind --toggle-collect / perf; with BENCH_CHECK=1 in the
 //       environment, also a hash of every level's positions and a comparison
@@ -33,6 +35,7 @@ extern "C" {
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <malloc.h>
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -113,6 +116,10 @@ template <class F> long peak_bytes(F fn)
     pid_t pid = fork();
     if (pid == 0) {
         close(fd[0]);
+        // Heap the parent freed but glibc kept (its mmap threshold grows
+        // with the blocks freed) would be reused without growing the
+        // resident set: give it back first, so the growth is all counted.
+        malloc_trim(0);
         long base = rss_kb("VmRSS:");
         fn();
         long peak = rss_kb("VmHWM:");
@@ -188,7 +195,7 @@ void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int le
     st_mesh_free(&m);
 }
 
-void local_edit(const char *path)
+void local_edit(const char *path, int repeat = 0)
 {
     st_mesh m;
     st_error err;
@@ -204,10 +211,12 @@ void local_edit(const char *path)
     memcpy(p0, st_dart_pos(&h.map, d, 2), sizeof p0);
     int flip = 0;
     uint64_t count = 0;
-    double t_local = median_time([&] {
+    auto move = [&] {
         double p[1][3] = { { p0[0], p0[1], p0[2] + (flip ^= 1) * 0.01 } };
         count = st_hier_move(&h, 2, &d, p, 1);
-    });
+    };
+    for (int i = 0; i < repeat; i++) move(); // --profile-edit: for profilers
+    double t_local = median_time(move);
     double t_full = median_time([&] { st_hier_synthesize(&h, 2); });
     printf("\nlocal edit: %s, Catmull-Clark depth 6, one vertex moved at level 2\n", path);
     printf("  local re-synthesis %.3f ms (%llu vertices), full synthesis from level 2 %.1f ms, ratio %.4f (target <= 0.02)\n",
@@ -314,6 +323,10 @@ int profile(int argc, char **argv)
 int main(int argc, char **argv)
 {
     if (argc > 1 && !strcmp(argv[1], "--profile")) return profile(argc, argv);
+    if (argc > 2 && !strcmp(argv[1], "--profile-edit")) {
+        local_edit((std::string(STRATA_SHARED_DATA) + "/catmull_clark/blub_control_mesh.obj").c_str(), atoi(argv[2]));
+        return 0;
+    }
     bool quick = argc > 1 && !strcmp(argv[1], "--quick");
     std::string dir = STRATA_SHARED_DATA;
     compare((dir + "/catmull_clark/spot_quadrangulated.obj").c_str(), &st_scheme_catmark, Sdc::SCHEME_CATMARK, quick ? 2 : 4);

@@ -74,6 +74,8 @@ void st_hier_free(st_hier *h)
     st_mla_free(&h->edge_sharp);
     st_mla_free(&h->vertex_sharp);
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(h->detail[l]);
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++)
+        if (h->cache[l].p) h->cache[l].free(h->cache[l].p);
     free(h->stamp);
     memset(h, 0, sizeof *h);
 }
@@ -102,9 +104,12 @@ float st_hier_vertex_sharpness(const st_hier *h, uint32_t v, unsigned l)
     return *(const float *)st_mla_at(&h->vertex_sharp, h->map.verts.ins, v, l);
 }
 
+/* Sharpness decides which cells take the crease rules: a cache of the
+ * synthesis depends on it as on the topology. */
 void st_hier_set_edge_sharpness(st_hier *h, uint32_t d, unsigned l, float s)
 {
     ensure_sharp(h);
+    st_map_changed(&h->map);
     st_mla_set(&h->edge_sharp, &h->map.darts, d, l, &s);
     st_mla_set(&h->edge_sharp, &h->map.darts, st_beta0(&h->map, d, l), l, &s);
 }
@@ -112,6 +117,7 @@ void st_hier_set_edge_sharpness(st_hier *h, uint32_t d, unsigned l, float s)
 void st_hier_set_vertex_sharpness(st_hier *h, uint32_t v, unsigned l, float s)
 {
     ensure_sharp(h);
+    st_map_changed(&h->map);
     st_mla_set(&h->vertex_sharp, &h->map.verts, v, l, &s);
 }
 

@@ -31,6 +31,11 @@ typedef struct st_hier_opts {
     int crease_method;         /* enum st_crease_method (OpenSubdiv's default: uniform) */
 } st_hier_opts;
 
+typedef struct st_level_cache {
+    void *p;                   /* NULL, or owned data ... */
+    void (*free)(void *p);     /* ... freed by this */
+} st_level_cache;
+
 typedef struct st_hier {
     st_map map;
     const st_scheme *scheme;
@@ -47,6 +52,11 @@ typedef struct st_hier {
     /* Scratch reused by the passes. */
     uint32_t *stamp;           /* per vertex id */
     uint32_t stamp_cap, stamp_gen;
+    /* Per coarse level, what a scheme's full-level synthesis derives from
+     * the topology alone (Catmull-Clark: its tables), kept between
+     * syntheses; the owner checks the map's generation before each use.
+     * Transient: never saved; a deep copy starts without it. */
+    st_level_cache cache[ST_MAX_LEVELS];
 } st_hier;
 
 /* Builds level 0 from a repaired soup: topology, positions, OBJ tags

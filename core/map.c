@@ -2,12 +2,33 @@
 #include "map.h"
 #include "pool.h"
 
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+
+static _Atomic uint64_t last_gen;
+
+static uint64_t new_gen(void) { return atomic_fetch_add(&last_gen, 1) + 1; }
+
+uint64_t st_map_generation(st_map *m)
+{
+    m->gen_seen = 1;
+    return m->gen;
+}
+
+/* A new number only when the current one was handed out: setters call this
+ * millions of times in a refinement, and a plain test costs nothing. */
+void st_map_changed(st_map *m)
+{
+    if (!m->gen_seen) return;
+    m->gen = new_gen();
+    m->gen_seen = 0;
+}
 
 void st_map_init(st_map *m)
 {
     memset(m, 0, sizeof *m);
+    m->gen = new_gen();
     st_pool_init(&m->darts);
     st_pool_init(&m->verts);
     st_mla_init(&m->beta0, sizeof(uint32_t));
@@ -100,6 +121,7 @@ static void log_id(st_map_log *g, uint32_t **ids, uint32_t *n, uint32_t *cap, ui
 
 static inline void log_dart(st_map *m, uint32_t d)
 {
+    st_map_changed(m);
     if (m->log) log_id(m->log, &m->log->darts, &m->log->ndarts, &m->log->capdarts, d);
 }
 
@@ -136,6 +158,7 @@ uint32_t st_dart_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got)
     if (m->marks) memset(m->marks + d, 0, (size_t)*got * sizeof *m->marks);
     for (uint32_t i = 0; i < m->ndart_attrs; i++)
         for (uint32_t k = 0; k < *got; k++) st_mla_insert(m->dart_attrs[i], &m->darts, d + k, zero_attr);
+    st_map_changed(m);
     for (uint32_t k = 0; m->log && k < *got; k++) log_dart(m, d + k);
     return d;
 }
@@ -165,6 +188,7 @@ uint32_t st_vertex_new(st_map *m, unsigned l, const double p[3])
     uint32_t v = st_pool_take(&m->verts, l, &grow);
     if (v == ST_NIL) abort();
     if (grow && grow_vertex_arrays(m, grow)) abort();
+    st_map_changed(m);
     st_mla_insert(&m->pos, &m->verts, v, p);
     static const unsigned char zero[64];
     for (uint32_t i = 0; i < m->nvert_attrs; i++) st_mla_insert(m->vert_attrs[i], &m->verts, v, zero);
@@ -178,6 +202,7 @@ uint32_t st_vertex_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got)
     uint32_t v = st_pool_take_run(&m->verts, l, want, got, &grow);
     if (v == ST_NIL) abort();
     if (grow && grow_vertex_arrays(m, grow)) abort();
+    st_map_changed(m);
     for (uint32_t i = 0; i < m->nvert_attrs; i++)
         for (uint32_t k = 0; k < *got; k++) st_mla_insert(m->vert_attrs[i], &m->verts, v + k, zero_attr);
     for (uint32_t k = 0; m->log && k < *got; k++) st_map_log_vertex(m, v + k);
@@ -186,6 +211,7 @@ uint32_t st_vertex_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got)
 
 void st_vertex_delete(st_map *m, uint32_t v)
 {
+    st_map_changed(m);
     st_map_log_vertex(m, v);
     st_pool_release(&m->verts, v);
 }
@@ -216,6 +242,7 @@ int st_level_add(st_map *m, st_error *err)
 {
     if (m->top + 1 >= ST_MAX_LEVELS)
         return st_fail(err, ST_ERR_RANGE, "cannot add level %u: at most %d levels", m->top + 1, ST_MAX_LEVELS);
+    st_map_changed(m);
     m->top++;
     return ST_OK;
 }
@@ -223,6 +250,7 @@ int st_level_add(st_map *m, st_error *err)
 void st_level_remove_top(st_map *m)
 {
     if (m->top == 0) return;
+    st_map_changed(m);
     unsigned l = m->top;
     st_mla_drop_column(&m->beta0, l);
     st_mla_drop_column(&m->beta1, l);
@@ -238,6 +266,7 @@ void st_level_remove_top(st_map *m)
 void st_level_remove_bottom(st_map *m)
 {
     if (m->top == 0) return;
+    st_map_changed(m);
     st_mla_drop_bottom(&m->beta0, &m->darts);
     st_mla_drop_bottom(&m->beta1, &m->darts);
     st_mla_drop_bottom(&m->vert, &m->darts);

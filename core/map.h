@@ -118,6 +118,8 @@ void st_map_log_free(st_map_log *g);
 
 typedef struct st_map {
     unsigned top;                         /* finest existing level */
+    uint64_t gen;                         /* topology generation (st_map_generation) */
+    int gen_seen;                         /* gen was handed out since it last changed */
     st_map_log *log;                      /* NULL, or where changes are recorded (above) */
     st_pool darts;
     st_pool verts;
@@ -139,6 +141,15 @@ typedef struct st_map {
 /* ---- lifetime -------------------------------------------------------------- */
 void st_map_init(st_map *m);
 void st_map_free(st_map *m);
+
+/* Topology generation: a number that changes whenever the map's darts, their
+ * relations or flags, its vertex ids or its levels change (positions do
+ * not count), unique across all maps of the process.  A cache derived from
+ * the topology (the Catmull-Clark synthesis tables) stores it and is stale
+ * when it differs.  Code that writes the relation arrays directly instead of
+ * through the setters below calls st_map_changed. */
+uint64_t st_map_generation(st_map *m);
+void st_map_changed(st_map *m);
 
 /* ---- inline queries: O(1) at every level --------------------------------- */
 static inline unsigned st_lvl_clamp(unsigned l)
