@@ -41,7 +41,7 @@
  * exactly one old dart, faces that miss some dart of the level, a face not
  * split at L) gets a table marked irregular: its synthesis is done by the
  * stencils. */
-#include "catmark_internal.h"
+#include "catmark_tables.h"
 #include "parallel.h"
 #include "pool.h"
 #include "synth_blocks.h"
@@ -49,46 +49,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define REF_COL 0x80000000u
-#define REF_ID 0x7fffffffu
-
-/* ---- growable arrays of 32-bit indices ---- */
-
-typedef struct u32vec { uint32_t *a; size_t n, cap; } u32vec;
-
-static void vec_reserve(u32vec *v, size_t cap)
-{
-    if (cap <= v->cap) return;
-    uint32_t *a = realloc(v->a, cap * sizeof *a);
-    if (!a) abort(); /* out of memory for the synthesis tables */
-    v->a = a;
-    v->cap = cap;
-}
-
-static inline void vec_push(u32vec *v, uint32_t x)
-{
-    if (v->n == v->cap) vec_reserve(v, v->cap ? 2 * v->cap : 64);
-    v->a[v->n++] = x;
-}
-
-static void vec_shrink(u32vec *v)
-{
-    if (v->n == v->cap || !v->n) return;
-    uint32_t *a = realloc(v->a, v->n * sizeof *a);
-    if (a) { v->a = a; v->cap = v->n; }
-}
-
-/* ---- the tables ---- */
-
-typedef struct cc_table {
-    uint64_t gen;                    /* map generation they were built for ... */
-    uint32_t dend, vend;             /* ... and, as a second guard, the pools' ends, */
-    unsigned top, plvl;              /* the top level and the coarse positions' column */
-    int irregular;                   /* not a polygon split: the stencils do it */
-    u32vec quad, foff, fdata, edge, sedge, v4, voff, vdata, svert, copy;
-} cc_table;
-
-static void table_free(void *p)
+void st_cc_table_free(void *p)
 {
     cc_table *t = p;
     u32vec *v[] = { &t->quad, &t->foff, &t->fdata, &t->edge, &t->sedge, &t->v4, &t->voff, &t->vdata, &t->svert, &t->copy };
@@ -102,8 +63,6 @@ static void table_shrink(cc_table *t)
     for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) vec_shrink(v[i]);
 }
 
-static uint32_t nfaces_general(const cc_table *t) { return t->foff.n ? (uint32_t)t->foff.n - 1 : 0; }
-static uint32_t nverts_general(const cc_table *t) { return t->voff.n ? (uint32_t)t->voff.n - 1 : 0; }
 
 /* ---- building: walks of the coarse level ---- */
 
@@ -386,7 +345,7 @@ static cc_table *tables_for(st_hier *h, unsigned L)
     if (!t) abort(); /* out of memory for the synthesis tables */
     *t = (cc_table){ .gen = st_map_generation(m), .dend = m->darts.end, .vend = m->verts.end, .top = m->top, .plvl = m->pos.eff[l] };
     cache->p = t;
-    cache->free = table_free;
+    cache->free = st_cc_table_free;
     builder x = { 0 };
     if (m->verts.end > REF_ID || builder_init(&x, h, L, t)) {
         /* ids past 2^31 (never in memory today) or no memory for the scratch */
@@ -409,14 +368,6 @@ static cc_table *tables_for(st_hier *h, unsigned L)
 
 /* ---- evaluation ---- */
 
-typedef struct cc_eval {
-    st_hier *h;
-    unsigned L;
-    const cc_table *t;
-    const double *pbase, *pcol;     /* level-l positions: base, column */
-    double *pnew, *pold;            /* level-L positions: base (new vertices), column (old vertices) */
-} cc_eval;
-
 /* Per thread: scratch for the stencil path. */
 typedef struct cc_worker { const cc_eval *x; st_catmark_emitter e; } cc_worker;
 
@@ -425,11 +376,6 @@ typedef struct cc_worker { const cc_eval *x; st_catmark_emitter e; } cc_worker;
 /* Levels with fewer records than this per thread run on fewer threads. */
 #define EVAL_MIN_PER_THREAD 8192u
 
-static inline const double *ref_pos(const cc_eval *x, uint32_t r)
-{
-    return (const double *)st_pick(x->pbase, x->pcol, (r & REF_COL) != 0) + 3 * (size_t)(r & REF_ID);
-}
-
 static void sink_write(void *ctx, const st_stencil *s)
 {
     const cc_eval *x = ((cc_worker *)ctx)->x;
@@ -437,27 +383,18 @@ static void sink_write(void *ctx, const st_stencil *s)
     st_stencil_eval(x->h, x->L, s, slot);
 }
 
-/* Face point of k corners (refs r) into the slot of `centre`. */
-static inline void face_point(const cc_eval *x, const uint32_t *r, unsigned k, uint32_t centre)
-{
-    double f[3] = { 0, 0, 0 };
-    for (unsigned i = 0; i < k; i++) {
-        const double *p = ref_pos(x, r[i]);
-        f[0] += p[0]; f[1] += p[1]; f[2] += p[2];
-    }
-    double inv = 1.0 / k;
-    f[0] *= inv; f[1] *= inv; f[2] *= inv;
-    memcpy(x->pnew + 3 * (size_t)centre, f, sizeof f);
-}
-
 static void face_item(const cc_eval *x, uint32_t i)
 {
     const cc_table *t = x->t;
     uint32_t nquad = (uint32_t)(t->quad.n / 5);
-    if (i < nquad) { face_point(x, t->quad.a + 5 * (size_t)i, 4, t->quad.a[5 * (size_t)i + 4]); return; }
+    if (i < nquad) {
+        const uint32_t *r = t->quad.a + 5 * (size_t)i;
+        st_cc_face_value(x, r, 4, x->pnew + 3 * (size_t)r[4]);
+        return;
+    }
     i -= nquad;
     const uint32_t *r = t->fdata.a + t->foff.a[i];
-    face_point(x, r + 1, t->foff.a[i + 1] - t->foff.a[i] - 1, r[0]);
+    st_cc_face_value(x, r + 1, t->foff.a[i + 1] - t->foff.a[i] - 1, x->pnew + 3 * (size_t)r[0]);
 }
 
 static void edge_item(cc_worker *w, uint32_t i)
@@ -467,46 +404,30 @@ static void edge_item(cc_worker *w, uint32_t i)
     uint32_t nedge = (uint32_t)(t->edge.n / 5);
     if (i >= nedge) { st_catmark_emit_edge(x->h, x->L, t->sedge.a[i - nedge], &w->e, sink_write, w); return; }
     const uint32_t *r = t->edge.a + 5 * (size_t)i;
-    const double *pd = ref_pos(x, r[0]), *pe = ref_pos(x, r[1]);
-    const double *fd = x->pnew + 3 * (size_t)r[2], *fe = x->pnew + 3 * (size_t)r[3];
-    double *out = x->pnew + 3 * (size_t)r[4];
-    for (int k = 0; k < 3; k++) {
-        double gd = pe[k] + fd[k], ge = pd[k] + fe[k];
-        out[k] = 0.25 * gd + 0.25 * ge;
-    }
-}
-
-/* Vertex point from ref v and n (neighbour ref, face point) pairs. */
-static inline void vertex_point(const cc_eval *x, const uint32_t *r, unsigned n)
-{
-    double s[3] = { 0, 0, 0 };
-    for (unsigned j = 0; j < n; j++) {
-        const double *q = ref_pos(x, r[1 + 2 * j]), *f = x->pnew + 3 * (size_t)r[2 + 2 * j];
-        double g[3] = { q[0] + f[0], q[1] + f[1], q[2] + f[2] };
-        s[0] += g[0]; s[1] += g[1]; s[2] += g[2];
-    }
-    const double *p = ref_pos(x, r[0]);
-    double *out = x->pold + 3 * (size_t)(r[0] & REF_ID), wv = (double)(n - 2) / n, wn = 1.0 / ((double)n * n);
-    for (int k = 0; k < 3; k++) out[k] = wv * p[k] + wn * s[k];
+    st_cc_edge_value(x, r, x->pnew + 3 * (size_t)r[4]);
 }
 
 static void vertex_item(cc_worker *w, uint32_t i)
 {
     const cc_eval *x = w->x;
     const cc_table *t = x->t;
-    uint32_t n4 = (uint32_t)(t->v4.n / 9), nn = nverts_general(t), ns = (uint32_t)t->svert.n;
-    if (i < n4) { vertex_point(x, t->v4.a + 9 * (size_t)i, 4); return; }
+    uint32_t n4 = (uint32_t)(t->v4.n / 9), nn = st_cc_nverts_general(t), ns = (uint32_t)t->svert.n;
+    if (i < n4) {
+        const uint32_t *r = t->v4.a + 9 * (size_t)i;
+        st_cc_vertex_value(x, r, 4, x->pold + 3 * (size_t)(r[0] & REF_ID));
+        return;
+    }
     i -= n4;
     if (i < nn) {
         const uint32_t *r = t->vdata.a + t->voff.a[i];
-        vertex_point(x, r, (t->voff.a[i + 1] - t->voff.a[i] - 1) / 2);
+        st_cc_vertex_value(x, r, (t->voff.a[i + 1] - t->voff.a[i] - 1) / 2, x->pold + 3 * (size_t)(r[0] & REF_ID));
         return;
     }
     i -= nn;
     if (i < ns) { st_catmark_emit_vertex(x->h, x->L, t->svert.a[i], &w->e, sink_write, w); return; }
     i -= ns;
     uint32_t r = t->copy.a[i];
-    memcpy(x->pold + 3 * (size_t)(r & REF_ID), ref_pos(x, r), 3 * sizeof(double));
+    memcpy(x->pold + 3 * (size_t)(r & REF_ID), st_cc_ref_pos(x, r), 3 * sizeof(double));
 }
 
 static void eval_passes(st_team *team, unsigned tid, void *ctx)
@@ -515,14 +436,14 @@ static void eval_passes(st_team *team, unsigned tid, void *ctx)
     cc_worker w = { .x = ctx };
     const cc_table *t = w.x->t;
     uint32_t b, e;
-    uint32_t nf = (uint32_t)(t->quad.n / 5) + nfaces_general(t);
+    uint32_t nf = (uint32_t)(t->quad.n / 5) + st_cc_nfaces_general(t);
     while (st_team_next(team, 0, nf, EVAL_CHUNK, &b, &e))
         for (uint32_t i = b; i < e; i++) face_item(w.x, i);
     st_team_sync(team); /* edge and vertex points read the face points */
     uint32_t ne = (uint32_t)(t->edge.n / 5 + t->sedge.n);
     while (st_team_next(team, 1, ne, EVAL_CHUNK, &b, &e))
         for (uint32_t i = b; i < e; i++) edge_item(&w, i);
-    uint32_t nv = (uint32_t)(t->v4.n / 9) + nverts_general(t) + (uint32_t)(t->svert.n + t->copy.n);
+    uint32_t nv = (uint32_t)(t->v4.n / 9) + st_cc_nverts_general(t) + (uint32_t)(t->svert.n + t->copy.n);
     while (st_team_next(team, 2, nv, EVAL_CHUNK, &b, &e))
         for (uint32_t i = b; i < e; i++) vertex_item(&w, i);
     st_stencil_buf_free(&w.e.buf);

@@ -68,14 +68,24 @@ int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const
     return rc;
 }
 
+/* Drops the caches of levels from..: they describe levels that moved or
+ * went away (the generation check would refuse them; this frees them). */
+static void drop_caches(st_hier *h, unsigned from)
+{
+    for (unsigned l = from; l < ST_MAX_LEVELS; l++)
+        if (h->cache[l].p) {
+            h->cache[l].free(h->cache[l].p);
+            h->cache[l].p = NULL;
+        }
+}
+
 void st_hier_free(st_hier *h)
 {
     st_map_free(&h->map);
     st_mla_free(&h->edge_sharp);
     st_mla_free(&h->vertex_sharp);
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(h->detail[l]);
-    for (unsigned l = 0; l < ST_MAX_LEVELS; l++)
-        if (h->cache[l].p) h->cache[l].free(h->cache[l].p);
+    drop_caches(h, 0);
     free(h->stamp);
     memset(h, 0, sizeof *h);
 }
@@ -194,6 +204,7 @@ void st_hier_remove_top(st_hier *h)
 {
     unsigned l = h->map.top;
     if (l == 0) return;
+    drop_caches(h, l - 1);
     free(h->detail[l]);
     h->detail[l] = NULL;
     h->detail_cap[l] = 0;
@@ -203,6 +214,7 @@ void st_hier_remove_top(st_hier *h)
 void st_hier_remove_bottom(st_hier *h)
 {
     if (h->map.top == 0) return;
+    drop_caches(h, 0);
     /* Level 1's details are now part of the control mesh's positions. */
     free(h->detail[1]);
     for (unsigned l = 1; l + 1 < ST_MAX_LEVELS; l++) {

@@ -15,11 +15,11 @@ void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3])
     st_mla *a = &m->pos;
     st_map_log_vertex(m, v);
     if (m->verts.ins[v] == l) {
-        memcpy(a->base + (size_t)v * a->elem, p, a->elem);
+        memcpy(a->base + (size_t)v * a->elem, p, 3 * sizeof(double)); /* elem: 3 doubles */
         return;
     }
     if (a->col[l] && v < a->colcap[l]) {
-        memcpy(a->col[l] + (size_t)v * a->elem, p, a->elem);
+        memcpy(a->col[l] + (size_t)v * a->elem, p, 3 * sizeof(double));
         return;
     }
     if (!a->col[l] && memcmp(st_pos(m, v, l), p, a->elem) == 0) return;
@@ -250,6 +250,17 @@ void st_hier_synthesize(st_hier *h, unsigned from)
     }
 }
 
+/* put of predict_faces (scheme.h): the sink's work for a point computed
+ * directly, whose dart is known. */
+static void synth_put(void *ctx, uint32_t v, uint32_t d, const double p[3])
+{
+    synth_ctx *c = ctx;
+    c->h->stamp[v] = c->gen;
+    st_hier_write_pos(c->h, v, c->L, p);
+    c->count++;
+    if (c->changed) st_dart_list_push(c->changed, d);
+}
+
 /* ---- regions ------------------------------------------------------------------ */
 
 void st_dart_list_push(st_dart_list *l, uint32_t d)
@@ -396,18 +407,24 @@ uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const doubl
     unsigned extra = 0;
     uint64_t count = 0;
     for (unsigned L = l + 1; L <= m->top; L++) {
-        faces.n = 0;
-        st_region_faces(m, L - 1, seeds.d, seeds.n, h->scheme->support_rings + extra, &faces);
         next.n = 0;
         synth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next };
-        h->scheme->emit(h, L, faces.d, faces.n, synth_sink, &c);
-        count += c.count;
-        extra = c.lost;
-        if (c.lost) {
-            next.n = 0;
-            for (uint32_t i = 0; i < faces.n; i++) {
-                uint32_t x = faces.d[i];
-                do { st_dart_list_push(&next, x); x = st_phi1(m, x, L - 1); } while (x != faces.d[i]);
+        if (h->scheme->predict_around && !h->detail[L] && !extra &&
+            h->scheme->predict_around(h, L, seeds.d, seeds.n, c.gen, synth_put, synth_sink, &c)) {
+            count += c.count;
+        } else {
+            faces.n = 0;
+            st_region_faces(m, L - 1, seeds.d, seeds.n, h->scheme->support_rings + extra, &faces);
+            c.gen = st_hier_stamp_begin(h);
+            h->scheme->emit(h, L, faces.d, faces.n, synth_sink, &c);
+            count += c.count;
+            extra = c.lost;
+            if (c.lost) {
+                next.n = 0;
+                for (uint32_t i = 0; i < faces.n; i++) {
+                    uint32_t x = faces.d[i];
+                    do { st_dart_list_push(&next, x); x = st_phi1(m, x, L - 1); } while (x != faces.d[i]);
+                }
             }
         }
         st_dart_list t = seeds;

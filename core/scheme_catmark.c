@@ -266,4 +266,5 @@ const st_scheme st_scheme_catmark = {
     .refine = catmark_refine,
     .emit = st_catmark_emit,
     .predict_level = st_catmark_predict_level,
+    .predict_around = st_catmark_predict_around,
 };

@@ -1,0 +1,114 @@
+/* Catmull-Clark synthesis tables (catmark_fast.c explains them) and the
+ * evaluation of one record, shared by the full-level synthesis
+ * (catmark_fast.c) and the local one (catmark_local.c), so that both give
+ * the same bits. */
+#ifndef ST_CATMARK_TABLES_H
+#define ST_CATMARK_TABLES_H
+
+#include "catmark_internal.h"
+#include "synth_blocks.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* A position ref: a vertex id, with REF_COL when its coarse position is in
+ * the level's column rather than the base. */
+#define REF_COL 0x80000000u
+#define REF_ID 0x7fffffffu
+
+/* ---- growable arrays of 32-bit indices ---- */
+
+typedef struct u32vec { uint32_t *a; size_t n, cap; } u32vec;
+
+static inline void vec_reserve(u32vec *v, size_t cap)
+{
+    if (cap <= v->cap) return;
+    uint32_t *a = realloc(v->a, cap * sizeof *a);
+    if (!a) abort(); /* out of memory for the synthesis tables */
+    v->a = a;
+    v->cap = cap;
+}
+
+static inline void vec_push(u32vec *v, uint32_t x)
+{
+    if (v->n == v->cap) vec_reserve(v, v->cap ? 2 * v->cap : 64);
+    v->a[v->n++] = x;
+}
+
+static inline void vec_shrink(u32vec *v)
+{
+    if (v->n == v->cap || !v->n) return;
+    uint32_t *a = realloc(v->a, v->n * sizeof *a);
+    if (a) { v->a = a; v->cap = v->n; }
+}
+
+/* ---- the tables of one coarse level ---- */
+
+typedef struct cc_table {
+    uint64_t gen;                    /* map generation they were built for ... */
+    uint32_t dend, vend;             /* ... and, as a second guard, the pools' ends, */
+    unsigned top, plvl;              /* the top level and the coarse positions' column */
+    int irregular;                   /* not a polygon split: the stencils do it */
+    u32vec quad, foff, fdata, edge, sedge, v4, voff, vdata, svert, copy;
+} cc_table;
+
+void st_cc_table_free(void *p);
+
+static inline uint32_t st_cc_nfaces_general(const cc_table *t) { return t->foff.n ? (uint32_t)t->foff.n - 1 : 0; }
+static inline uint32_t st_cc_nverts_general(const cc_table *t) { return t->voff.n ? (uint32_t)t->voff.n - 1 : 0; }
+
+/* ---- evaluation of a record ---- */
+
+typedef struct cc_eval {
+    st_hier *h;
+    unsigned L;
+    const cc_table *t;
+    const double *pbase, *pcol;     /* level-l positions: base, column */
+    double *pnew, *pold;            /* level-L positions: base (new vertices), column (old vertices) */
+} cc_eval;
+
+static inline const double *st_cc_ref_pos(const cc_eval *x, uint32_t r)
+{
+    return (const double *)st_pick(x->pbase, x->pcol, (r & REF_COL) != 0) + 3 * (size_t)(r & REF_ID);
+}
+
+/* Face point: (Σ corners, from the first) · (1/k). */
+static inline void st_cc_face_value(const cc_eval *x, const uint32_t *r, unsigned k, double *out)
+{
+    double f[3] = { 0, 0, 0 };
+    for (unsigned i = 0; i < k; i++) {
+        const double *p = st_cc_ref_pos(x, r[i]);
+        f[0] += p[0]; f[1] += p[1]; f[2] += p[2];
+    }
+    double inv = 1.0 / k;
+    out[0] = f[0] * inv; out[1] = f[1] * inv; out[2] = f[2] * inv;
+}
+
+/* Edge point of record r (ref vd, ref ve, face point of d's face, of e's):
+ * 0.25 G(d) + 0.25 G(e), G(d) = P(ve) + F(d). */
+static inline void st_cc_edge_value(const cc_eval *x, const uint32_t *r, double *out)
+{
+    const double *pd = st_cc_ref_pos(x, r[0]), *pe = st_cc_ref_pos(x, r[1]);
+    const double *fd = x->pnew + 3 * (size_t)r[2], *fe = x->pnew + 3 * (size_t)r[3];
+    for (int k = 0; k < 3; k++) {
+        double gd = pe[k] + fd[k], ge = pd[k] + fe[k];
+        out[k] = 0.25 * gd + 0.25 * ge;
+    }
+}
+
+/* Vertex point of record r (ref v, then n pairs: neighbour ref, face
+ * point): (n-2)/n P(v) + (1/n²) Σ (P(neighbour) + F), summed in order. */
+static inline void st_cc_vertex_value(const cc_eval *x, const uint32_t *r, unsigned n, double *out)
+{
+    double s[3] = { 0, 0, 0 };
+    for (unsigned j = 0; j < n; j++) {
+        const double *q = st_cc_ref_pos(x, r[1 + 2 * j]), *f = x->pnew + 3 * (size_t)r[2 + 2 * j];
+        double g[3] = { q[0] + f[0], q[1] + f[1], q[2] + f[2] };
+        s[0] += g[0]; s[1] += g[1]; s[2] += g[2];
+    }
+    const double *p = st_cc_ref_pos(x, r[0]);
+    double wv = (double)(n - 2) / n, wn = 1.0 / ((double)n * n);
+    for (int k = 0; k < 3; k++) out[k] = wv * p[k] + wn * s[k];
+}
+
+#endif
