@@ -2,6 +2,7 @@
  * re-synthesis after edits, for every registered scheme that applies. */
 #include "hier.h"
 #include "hier_internal.h"
+#include "parallel.h"
 #include "testlib.h"
 
 #include <math.h>
@@ -33,9 +34,78 @@ static void test_catmark_cube_values(void)
     st_hier_free(&h);
 }
 
+/* Largest gap between the positions of levels 1..top and their stencils
+ * evaluated on the level below. */
+typedef struct gap_ctx { const st_hier *h; unsigned L; double worst; uint64_t n; } gap_ctx;
+
+static void gap_sink(void *ctx, const st_stencil *s)
+{
+    gap_ctx *c = ctx;
+    double p[3];
+    st_stencil_eval(c->h, c->L, s, p);
+    const double *q = st_pos(&c->h->map, s->fine, c->L);
+    for (int k = 0; k < 3; k++) c->worst = fmax(c->worst, fabs(p[k] - q[k]));
+    c->n++;
+}
+
+static double stencil_gap(st_hier *h)
+{
+    gap_ctx c = { .h = h };
+    for (c.L = 1; c.L <= h->map.top; c.L++) h->scheme->emit(h, c.L, NULL, 0, gap_sink, &c);
+    CHECK(c.n > 0);
+    return c.worst;
+}
+
+static void icosa(st_mesh *s) { tl_mesh_icosa(s); }
+static void tetra(st_mesh *s) { tl_mesh_tetra(s); }
+
+/* Catmull-Clark's full synthesis reads tables cached per level (catmark_fast.c)
+ * that must follow every change of topology or sharpness: after each change
+ * the levels still equal their stencils, one thread and two agree to the
+ * bit, and a second synthesis from the cache repeats the first. */
+static void test_catmark_tables(void)
+{
+    void (*makes[])(st_mesh *) = { torus, grid, icosa, tetra, cube_scaled };
+    for (size_t i = 0; i < sizeof makes / sizeof *makes; i++) {
+        st_hier h;
+        st_error err;
+        tl_init_hier(&h, makes[i], ST_SCHEME_CATMARK, 3);
+        for (int step = 0; step < 4; step++) {
+            if (step == 1) { /* a crease and a corner on level 0: other rules at level 1 */
+                uint32_t d = st_dart_first(&h.map, 0, &(st_dart_iter){ 0 });
+                st_hier_set_edge_sharpness(&h, d, 0, 1.5f);
+                st_hier_set_vertex_sharpness(&h, st_vert(&h.map, st_beta0(&h.map, d, 0), 0), 0, 3.0f);
+            }
+            if (step == 2) st_hier_remove_bottom(&h);
+            if (step == 3) {
+                st_hier_remove_top(&h);
+                CHECK(st_hier_subdivide_to(&h, h.map.top + 2, &err) == ST_OK);
+            }
+            st_parallel_set_threads(1);
+            st_hier_synthesize(&h, 0);
+            double gap = stencil_gap(&h);
+            CHECKF(gap < 1e-13, "mesh %zu, step %d: levels and stencils differ by %g", i, step, gap);
+            tl_posnap one, again, two;
+            tl_snap_pos(&h, &one);
+            st_hier_synthesize(&h, 0);
+            tl_snap_pos(&h, &again);
+            st_parallel_set_threads(2);
+            st_hier_synthesize(&h, 0);
+            tl_snap_pos(&h, &two);
+            st_parallel_set_threads(1);
+            CHECKF(tl_snap_maxdiff(&one, &again) == 0 && tl_snap_maxdiff(&one, &two) == 0, "mesh %zu, step %d", i, step);
+            free(one.p);
+            free(again.p);
+            free(two.p);
+        }
+        st_hier_free(&h);
+    }
+}
+
 int main(void)
 {
     test_catmark_cube_values();
+    test_catmark_tables();
     struct { st_scheme_id id; void (*make)(st_mesh *); unsigned levels; } cases[] = {
         { ST_SCHEME_CATMARK, torus, 4 },
         { ST_SCHEME_CATMARK, grid, 3 },
