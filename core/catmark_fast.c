@@ -330,15 +330,23 @@ static void builder_free(builder *x)
 
 /* The tables of coarse level L-1, built now when there are none or they
  * are stale. */
+const cc_table *st_cc_tables_if_fresh(const st_hier *h, unsigned l)
+{
+    const st_map *m = &h->map;
+    const cc_table *t = h->cache[l].p;
+    if (t && h->cache[l].free == st_cc_table_free && t->gen == m->gen && t->dend == m->darts.end &&
+        t->vend == m->verts.end && t->top == m->top && t->plvl == m->pos.eff[l])
+        return t;
+    return NULL;
+}
+
 static cc_table *tables_for(st_hier *h, unsigned L)
 {
     st_map *m = &h->map;
     unsigned l = L - 1;
     st_level_cache *cache = &h->cache[l];
     cc_table *t = cache->p;
-    if (t && t->gen == m->gen && t->dend == m->darts.end && t->vend == m->verts.end && t->top == m->top &&
-        t->plvl == m->pos.eff[l])
-        return t;
+    if (st_cc_tables_if_fresh(h, l)) return t;
     if (t) cache->free(t);
     cache->p = NULL;
     t = calloc(1, sizeof *t);

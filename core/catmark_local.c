@@ -199,10 +199,155 @@ static void evaluate(plan *p, st_point_sink put, st_stencil_sink sink, void *ctx
     st_stencil_buf_free(&e.tmp);
 }
 
+/* ---- direct path: level l is known to be the whole polygon split ---- */
+
+/* With fresh regular tables at l (catmark_fast.c), every face of l has its
+ * point at L and every edge its midpoint: nothing can fail, so points are
+ * computed and written at once, face points first (edges and vertices read
+ * them back from level L), without records. */
+typedef struct direct {
+    st_hier *h;
+    const st_map *m;
+    unsigned l, L;
+    uint32_t gen;
+    st_level_view c;
+    const uint32_t *b0L, *b1, *b0, *vt; /* β0 column of L; base relations (darts new at L, plain ones) */
+    int plain;                          /* β1 and vert have no column at l (primal splits keep them) */
+    const double *pL;                   /* level-L positions of the vertices new at L */
+    st_point_sink put;
+    st_stencil_sink sink;
+    void *ctx;
+    st_catmark_emitter e;
+    u32vec faces;                       /* per face: dart, centre */
+} direct;
+
+static uint32_t direct_centre_dart(const direct *x, uint32_t d) { return x->b0[x->b1[x->b0L[d]]]; }
+static const double *direct_face_point(const direct *x, uint32_t d) { return x->pL + 3 * (size_t)x->vt[direct_centre_dart(x, d)]; }
+static uint32_t d_beta1(const direct *x, uint32_t d) { return x->plain ? x->b1[d] : st_v_beta1(&x->c, d); }
+static uint32_t d_vert(const direct *x, uint32_t d) { return x->plain ? x->vt[d] : d_vert(x, d); }
+static uint32_t d_phi1(const direct *x, uint32_t d) { return d_beta1(x, st_v_beta0(&x->c, d)); }
+static int direct_hole(const direct *x, uint32_t d) { return (x->m->flags[d] & ST_DART_BOUNDARY) != 0; }
+static int direct_sharp(const direct *x, uint32_t d) { return x->h->has_sharpness && st_hier_edge_sharpness(x->h, d, x->l) > 0; }
+
+/* Faces and rings up to this size are walked once (kept on the stack). */
+#define DIRECT_RING 16u
+
+/* The corner the tables start a face at (as face_start), in the face's
+ * corners y[0..k). */
+static unsigned direct_start(const direct *x, const uint32_t *y, unsigned k)
+{
+    unsigned best = 0;
+    for (unsigned i = 0; i < k; i++) {
+        if (x->l > 0 && x->c.ins[y[i]] == x->l && x->c.ins[st_v_beta0(&x->c, y[i])] < x->l) return i;
+        best = y[i] < y[best] ? i : best;
+    }
+    return best;
+}
+
+static void direct_face(direct *x, uint32_t c)
+{
+    uint32_t cd = direct_centre_dart(x, c), centre = x->vt[cd];
+    if (x->h->stamp[centre] == x->gen) return;
+    uint32_t y[DIRECT_RING], z = c;
+    unsigned k = 0;
+    do {
+        if (k == DIRECT_RING) { st_catmark_emit(x->h, x->L, &c, 1, x->sink, x->ctx); return; } /* a large face of level 0 */
+        y[k++] = z;
+        z = d_phi1(x, z);
+    } while (z != c);
+    unsigned s = direct_start(x, y, k);
+    double f[3] = { 0, 0, 0 }, out[3];
+    for (unsigned i = 0, j = s; i < k; i++, j = j + 1 < k ? j + 1 : 0) st_cc_face_add(f, st_v_pos(&x->c, d_vert(x, y[j])));
+    st_cc_face_finish(f, k, out);
+    x->put(x->ctx, centre, cd, out);
+    vec_push(&x->faces, c);
+    vec_push(&x->faces, centre);
+}
+
+static void direct_edge(direct *x, uint32_t d, uint32_t centre)
+{
+    uint32_t md = x->b0L[d], mid = x->vt[md];
+    if (x->h->stamp[mid] == x->gen) return;
+    uint32_t e = st_v_beta0(&x->c, d);
+    if (direct_hole(x, d) || direct_hole(x, e) || direct_sharp(x, d)) {
+        st_catmark_emit_edge(x->h, x->L, d, &x->e, x->sink, x->ctx);
+        return;
+    }
+    double out[3];
+    st_cc_edge_mix(st_v_pos(&x->c, d_vert(x, d)), st_v_pos(&x->c, d_vert(x, e)), x->pL + 3 * (size_t)centre,
+                   direct_face_point(x, e), out);
+    x->put(x->ctx, mid, md, out);
+}
+
+static void direct_vertex(direct *x, uint32_t d)
+{
+    uint32_t v = d_vert(x, d);
+    if (x->h->stamp[v] == x->gen) return;
+    int special = x->h->has_sharpness && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
+    uint32_t r[DIRECT_RING], y = d;
+    unsigned n = 0, lo = 0;
+    do {
+        if (n == DIRECT_RING) { special = 1; break; } /* high valence: the stencil */
+        special |= direct_hole(x, y) || direct_sharp(x, y);
+        lo = (n == 0 || y < r[lo]) ? n : lo;
+        r[n++] = y;
+        y = d_beta1(x, y);
+    } while (y != d);
+    if (special) {
+        uint32_t m = d;
+        y = d;
+        do { m = y < m ? y : m; y = d_beta1(x, y); } while (y != d);
+        st_catmark_emit_vertex(x->h, x->L, m, &x->e, x->sink, x->ctx);
+        return;
+    }
+    double s[3] = { 0, 0, 0 }, out[3];
+    for (unsigned i = 0, j = lo; i < n; i++, j = j + 1 < n ? j + 1 : 0)
+        st_cc_vertex_add(s, st_v_pos(&x->c, d_vert(x, st_v_beta0(&x->c, r[j]))), direct_face_point(x, r[j]));
+    st_cc_vertex_finish(st_v_pos(&x->c, v), s, n, out);
+    x->put(x->ctx, v, d, out);
+}
+
+static void predict_direct(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n, uint32_t gen, st_point_sink put,
+                           st_stencil_sink sink, void *ctx)
+{
+    const st_map *m = &h->map;
+    direct x = { .h = h, .m = m, .l = L - 1, .L = L, .gen = gen, .put = put, .sink = sink, .ctx = ctx };
+    st_level_view_init(m, x.l, &x.c);
+    x.b0L = (const uint32_t *)m->beta0.col[L];
+    x.b0 = (const uint32_t *)m->beta0.base;
+    x.b1 = (const uint32_t *)m->beta1.base;
+    x.vt = (const uint32_t *)m->vert.base;
+    x.pL = (const double *)m->pos.base;
+    x.plain = m->beta1.eff[x.l] == 0 && m->vert.eff[x.l] == 0;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t y = seeds[i];
+        do {
+            if (!direct_hole(&x, y)) direct_face(&x, y);
+            y = d_beta1(&x, y);
+        } while (y != seeds[i]);
+    }
+    for (size_t i = 0; i < x.faces.n; i += 2) {
+        uint32_t c = x.faces.a[i], centre = x.faces.a[i + 1], y = c;
+        do {
+            direct_edge(&x, y, centre);
+            direct_vertex(&x, y);
+            y = d_phi1(&x, y);
+        } while (y != c);
+    }
+    free(x.faces.a);
+    st_stencil_buf_free(&x.e.buf);
+    st_stencil_buf_free(&x.e.tmp);
+}
+
 int st_catmark_predict_around(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n, uint32_t gen, st_point_sink put,
                               st_stencil_sink sink, void *ctx)
 {
     if (!h->map.beta0.col[L]) return 0;
+    const cc_table *t = st_cc_tables_if_fresh(h, L - 1);
+    if (t && !t->irregular) {
+        predict_direct(h, L, seeds, n, gen, put, sink, ctx);
+        return 1;
+    }
     plan p = { .h = h, .m = &h->map, .l = L - 1, .L = L, .gen = gen, .b0L = (const uint32_t *)h->map.beta0.col[L] };
     st_level_view_init(&h->map, p.l, &p.c);
     int ok = plan_region(&p, seeds, n) == 0;

@@ -53,6 +53,10 @@ typedef struct cc_table {
 } cc_table;
 
 void st_cc_table_free(void *p);
+/* The tables of coarse level l if built for the map as it is now, else
+ * NULL.  Fresh tables that are not irregular prove that level l+1 is the
+ * whole polygon split of level l. */
+const cc_table *st_cc_tables_if_fresh(const st_hier *h, unsigned l);
 
 static inline uint32_t st_cc_nfaces_general(const cc_table *t) { return t->foff.n ? (uint32_t)t->foff.n - 1 : 0; }
 static inline uint32_t st_cc_nverts_general(const cc_table *t) { return t->voff.n ? (uint32_t)t->voff.n - 1 : 0; }
@@ -72,43 +76,62 @@ static inline const double *st_cc_ref_pos(const cc_eval *x, uint32_t r)
     return (const double *)st_pick(x->pbase, x->pcol, (r & REF_COL) != 0) + 3 * (size_t)(r & REF_ID);
 }
 
-/* Face point: (Σ corners, from the first) · (1/k). */
-static inline void st_cc_face_value(const cc_eval *x, const uint32_t *r, unsigned k, double *out)
+/* The arithmetic, on positions: every path goes through these, so that all
+ * give the same bits. */
+
+/* Face point: f = Σ corners (from the first, f starting at 0), then ... */
+static inline void st_cc_face_add(double *f, const double *p) { f[0] += p[0]; f[1] += p[1]; f[2] += p[2]; }
+/* ... out = f · (1/k). */
+static inline void st_cc_face_finish(const double *f, unsigned k, double *out)
 {
-    double f[3] = { 0, 0, 0 };
-    for (unsigned i = 0; i < k; i++) {
-        const double *p = st_cc_ref_pos(x, r[i]);
-        f[0] += p[0]; f[1] += p[1]; f[2] += p[2];
-    }
     double inv = 1.0 / k;
     out[0] = f[0] * inv; out[1] = f[1] * inv; out[2] = f[2] * inv;
 }
 
-/* Edge point of record r (ref vd, ref ve, face point of d's face, of e's):
- * 0.25 G(d) + 0.25 G(e), G(d) = P(ve) + F(d). */
-static inline void st_cc_edge_value(const cc_eval *x, const uint32_t *r, double *out)
+/* Edge point of (d, e): 0.25 G(d) + 0.25 G(e), G(d) = P(ve) + F(d). */
+static inline void st_cc_edge_mix(const double *pd, const double *pe, const double *fd, const double *fe, double *out)
 {
-    const double *pd = st_cc_ref_pos(x, r[0]), *pe = st_cc_ref_pos(x, r[1]);
-    const double *fd = x->pnew + 3 * (size_t)r[2], *fe = x->pnew + 3 * (size_t)r[3];
     for (int k = 0; k < 3; k++) {
         double gd = pe[k] + fd[k], ge = pd[k] + fe[k];
         out[k] = 0.25 * gd + 0.25 * ge;
     }
 }
 
-/* Vertex point of record r (ref v, then n pairs: neighbour ref, face
- * point): (n-2)/n P(v) + (1/n²) Σ (P(neighbour) + F), summed in order. */
+/* Vertex point: s = Σ G(y) = Σ (P(vert(β0 y)) + F(y)) around from the
+ * smallest dart (s starting at 0), then ... */
+static inline void st_cc_vertex_add(double *s, const double *q, const double *f)
+{
+    double g[3] = { q[0] + f[0], q[1] + f[1], q[2] + f[2] };
+    s[0] += g[0]; s[1] += g[1]; s[2] += g[2];
+}
+/* ... out = (n-2)/n P(v) + (1/n²) s. */
+static inline void st_cc_vertex_finish(const double *p, const double *s, unsigned n, double *out)
+{
+    double wv = (double)(n - 2) / n, wn = 1.0 / ((double)n * n);
+    for (int k = 0; k < 3; k++) out[k] = wv * p[k] + wn * s[k];
+}
+
+/* ---- the same on table records ---- */
+
+static inline void st_cc_face_value(const cc_eval *x, const uint32_t *r, unsigned k, double *out)
+{
+    double f[3] = { 0, 0, 0 };
+    for (unsigned i = 0; i < k; i++) st_cc_face_add(f, st_cc_ref_pos(x, r[i]));
+    st_cc_face_finish(f, k, out);
+}
+
+/* Record r: ref vd, ref ve, face point of d's face, of e's. */
+static inline void st_cc_edge_value(const cc_eval *x, const uint32_t *r, double *out)
+{
+    st_cc_edge_mix(st_cc_ref_pos(x, r[0]), st_cc_ref_pos(x, r[1]), x->pnew + 3 * (size_t)r[2], x->pnew + 3 * (size_t)r[3], out);
+}
+
+/* Record r: ref v, then n pairs (neighbour ref, face point). */
 static inline void st_cc_vertex_value(const cc_eval *x, const uint32_t *r, unsigned n, double *out)
 {
     double s[3] = { 0, 0, 0 };
-    for (unsigned j = 0; j < n; j++) {
-        const double *q = st_cc_ref_pos(x, r[1 + 2 * j]), *f = x->pnew + 3 * (size_t)r[2 + 2 * j];
-        double g[3] = { q[0] + f[0], q[1] + f[1], q[2] + f[2] };
-        s[0] += g[0]; s[1] += g[1]; s[2] += g[2];
-    }
-    const double *p = st_cc_ref_pos(x, r[0]);
-    double wv = (double)(n - 2) / n, wn = 1.0 / ((double)n * n);
-    for (int k = 0; k < 3; k++) out[k] = wv * p[k] + wn * s[k];
+    for (unsigned j = 0; j < n; j++) st_cc_vertex_add(s, st_cc_ref_pos(x, r[1 + 2 * j]), x->pnew + 3 * (size_t)r[2 + 2 * j]);
+    st_cc_vertex_finish(st_cc_ref_pos(x, r[0]), s, n, out);
 }
 
 #endif

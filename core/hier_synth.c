@@ -13,7 +13,7 @@ void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3])
 {
     st_map *m = &h->map;
     st_mla *a = &m->pos;
-    st_map_log_vertex(m, v);
+    if (m->log) st_map_log_vertex(m, v); /* a call per vertex written otherwise */
     if (m->verts.ins[v] == l) {
         memcpy(a->base + (size_t)v * a->elem, p, 3 * sizeof(double)); /* elem: 3 doubles */
         return;
@@ -258,7 +258,10 @@ static void synth_put(void *ctx, uint32_t v, uint32_t d, const double p[3])
     c->h->stamp[v] = c->gen;
     st_hier_write_pos(c->h, v, c->L, p);
     c->count++;
-    if (c->changed) st_dart_list_push(c->changed, d);
+    st_dart_list *l = c->changed;
+    if (!l) return;
+    if (l->n < l->cap) l->d[l->n++] = d; /* no call while there is room */
+    else st_dart_list_push(l, d);
 }
 
 /* ---- regions ------------------------------------------------------------------ */

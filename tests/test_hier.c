@@ -57,6 +57,26 @@ static double stencil_gap(st_hier *h)
 }
 
 static void icosa(st_mesh *s) { tl_mesh_icosa(s); }
+
+/* A torus with a semi-sharp crease along one ring of edges and a corner:
+ * the crease rules (special cells) inside local and full synthesis. */
+static void torus_creased(st_mesh *s)
+{
+    tl_mesh_torus(s, 10, 6);
+    s->ncreases = 10;
+    s->crease_v = malloc(2 * 10 * sizeof *s->crease_v);
+    s->crease_s = malloc(10 * sizeof *s->crease_s);
+    for (uint32_t i = 0; i < 10; i++) {
+        s->crease_v[2 * i] = i;
+        s->crease_v[2 * i + 1] = (i + 1) % 10;
+        s->crease_s[i] = 2.5f;
+    }
+    s->ncorners = 1;
+    s->corner_v = malloc(sizeof *s->corner_v);
+    s->corner_s = malloc(sizeof *s->corner_s);
+    s->corner_v[0] = 23;
+    s->corner_s[0] = 1.5f;
+}
 static void tetra(st_mesh *s) { tl_mesh_tetra(s); }
 
 /* Catmull-Clark's full synthesis reads tables cached per level (catmark_fast.c)
@@ -65,7 +85,7 @@ static void tetra(st_mesh *s) { tl_mesh_tetra(s); }
  * bit, and a second synthesis from the cache repeats the first. */
 static void test_catmark_tables(void)
 {
-    void (*makes[])(st_mesh *) = { torus, grid, icosa, tetra, cube_scaled };
+    void (*makes[])(st_mesh *) = { torus, grid, icosa, tetra, cube_scaled, torus_creased };
     for (size_t i = 0; i < sizeof makes / sizeof *makes; i++) {
         st_hier h;
         st_error err;
@@ -110,6 +130,7 @@ int main(void)
         { ST_SCHEME_CATMARK, torus, 4 },
         { ST_SCHEME_CATMARK, grid, 3 },
         { ST_SCHEME_CATMARK, cube_scaled, 4 },
+        { ST_SCHEME_CATMARK, torus_creased, 4 },
         { ST_SCHEME_DOOSABIN, torus, 3 },
         { ST_SCHEME_DOOSABIN, cube_scaled, 3 },
     };
