@@ -49,21 +49,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-void st_cc_table_free(void *p)
-{
-    cc_table *t = p;
-    u32vec *v[] = { &t->quad, &t->foff, &t->fdata, &t->edge, &t->sedge, &t->v4, &t->voff, &t->vdata, &t->svert, &t->copy };
-    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) free(v[i]->a);
-    free(t);
-}
-
-static void table_shrink(cc_table *t)
-{
-    u32vec *v[] = { &t->quad, &t->foff, &t->fdata, &t->edge, &t->sedge, &t->v4, &t->voff, &t->vdata, &t->svert, &t->copy };
-    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) vec_shrink(v[i]);
-}
-
-
 /* ---- building: walks of the coarse level ---- */
 
 typedef struct builder {
@@ -328,39 +313,12 @@ static void builder_free(builder *x)
     free(x->walk.a);
 }
 
-/* The tables of coarse level L-1, built now when there are none or they
- * are stale. */
-const cc_table *st_cc_tables_if_fresh(const st_hier *h, unsigned l)
+/* The Catmull-Clark records of level L's coarse level (st_synth_build). */
+static int build_tables(st_hier *h, unsigned L, cc_table *t)
 {
-    const st_map *m = &h->map;
-    const cc_table *t = h->cache[l].p;
-    if (t && h->cache[l].free == st_cc_table_free && t->gen == m->gen && t->dend == m->darts.end &&
-        t->vend == m->verts.end && t->top == m->top && t->plvl == m->pos.eff[l])
-        return t;
-    return NULL;
-}
-
-static cc_table *tables_for(st_hier *h, unsigned L)
-{
-    st_map *m = &h->map;
-    unsigned l = L - 1;
-    st_level_cache *cache = &h->cache[l];
-    cc_table *t = cache->p;
-    if (st_cc_tables_if_fresh(h, l)) return t;
-    if (t) cache->free(t);
-    cache->p = NULL;
-    t = calloc(1, sizeof *t);
-    if (!t) abort(); /* out of memory for the synthesis tables */
-    *t = (cc_table){ .gen = st_map_generation(m), .dend = m->darts.end, .vend = m->verts.end, .top = m->top, .plvl = m->pos.eff[l] };
-    cache->p = t;
-    cache->free = st_cc_table_free;
     builder x = { 0 };
-    if (m->verts.end > REF_ID || builder_init(&x, h, L, t)) {
-        /* ids past 2^31 (never in memory today) or no memory for the scratch */
-        builder_free(&x);
-        t->irregular = 1;
-        return t;
-    }
+    if (builder_init(&x, h, L, t)) { builder_free(&x); return 1; } /* no memory for the scratch */
+    unsigned l = L - 1;
     if (l > 0)
         for (uint32_t i = 0; i < x.nnew && !x.irregular; i++) face_block(&x, x.blocks[i]);
     else
@@ -368,10 +326,9 @@ static cc_table *tables_for(st_hier *h, unsigned L)
     if (!x.irregular) build_edges(&x);
     if (!x.irregular) build_vertices(&x);
     /* Every dart of level l must lie in a face found or in a hole. */
-    t->irregular = x.irregular || (l > 0 && x.covered + x.holes != st_pool_count(&m->darts, l));
+    int irregular = x.irregular || (l > 0 && x.covered + x.holes != st_pool_count(&h->map.darts, l));
     builder_free(&x);
-    table_shrink(t);
-    return t;
+    return irregular;
 }
 
 /* ---- evaluation ---- */
@@ -475,7 +432,7 @@ void st_catmark_predict_level(st_hier *h, unsigned L)
 {
     st_map *m = &h->map;
     if (!m->beta0.col[L]) { predict_by_stencils(h, L); return; }
-    const cc_table *t = tables_for(h, L);
+    const cc_table *t = st_synth_tables_for(h, L, ST_SCHEME_CATMARK, build_tables);
     if (t->irregular) { predict_by_stencils(h, L); return; }
     cc_eval x = { .h = h, .L = L, .t = t };
     x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);

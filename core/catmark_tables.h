@@ -7,59 +7,23 @@
 
 #include "catmark_internal.h"
 #include "synth_blocks.h"
+#include "synth_tables.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-/* A position ref: a vertex id, with REF_COL when its coarse position is in
- * the level's column rather than the base. */
-#define REF_COL 0x80000000u
-#define REF_ID 0x7fffffffu
+typedef st_synth_table cc_table;
 
-/* ---- growable arrays of 32-bit indices ---- */
-
-typedef struct u32vec { uint32_t *a; size_t n, cap; } u32vec;
-
-static inline void vec_reserve(u32vec *v, size_t cap)
+/* The Catmull-Clark tables of coarse level l if fresh (synth_tables.h).
+ * Fresh tables that are not irregular prove that level l+1 is the whole
+ * polygon split of level l. */
+static inline const cc_table *st_cc_tables_if_fresh(const st_hier *h, unsigned l)
 {
-    if (cap <= v->cap) return;
-    uint32_t *a = realloc(v->a, cap * sizeof *a);
-    if (!a) abort(); /* out of memory for the synthesis tables */
-    v->a = a;
-    v->cap = cap;
+    return st_synth_tables_if_fresh(h, l, ST_SCHEME_CATMARK);
 }
 
-static inline void vec_push(u32vec *v, uint32_t x)
-{
-    if (v->n == v->cap) vec_reserve(v, v->cap ? 2 * v->cap : 64);
-    v->a[v->n++] = x;
-}
-
-static inline void vec_shrink(u32vec *v)
-{
-    if (v->n == v->cap || !v->n) return;
-    uint32_t *a = realloc(v->a, v->n * sizeof *a);
-    if (a) { v->a = a; v->cap = v->n; }
-}
-
-/* ---- the tables of one coarse level ---- */
-
-typedef struct cc_table {
-    uint64_t gen;                    /* map generation they were built for ... */
-    uint32_t dend, vend;             /* ... and, as a second guard, the pools' ends, */
-    unsigned top, plvl;              /* the top level and the coarse positions' column */
-    int irregular;                   /* not a polygon split: the stencils do it */
-    u32vec quad, foff, fdata, edge, sedge, v4, voff, vdata, svert, copy;
-} cc_table;
-
-void st_cc_table_free(void *p);
-/* The tables of coarse level l if built for the map as it is now, else
- * NULL.  Fresh tables that are not irregular prove that level l+1 is the
- * whole polygon split of level l. */
-const cc_table *st_cc_tables_if_fresh(const st_hier *h, unsigned l);
-
-static inline uint32_t st_cc_nfaces_general(const cc_table *t) { return t->foff.n ? (uint32_t)t->foff.n - 1 : 0; }
-static inline uint32_t st_cc_nverts_general(const cc_table *t) { return t->voff.n ? (uint32_t)t->voff.n - 1 : 0; }
+static inline uint32_t st_cc_nfaces_general(const cc_table *t) { return st_synth_count(&t->foff); }
+static inline uint32_t st_cc_nverts_general(const cc_table *t) { return st_synth_count(&t->voff); }
 
 /* ---- evaluation of a record ---- */
 
