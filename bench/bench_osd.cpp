@@ -159,7 +159,7 @@ void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int le
     st_hier h;
     if (strata_build(&h, m, sc, levels)) return;
     // The first synthesis after a refinement also builds the tables
-    // (catmark_fast.c) that the later ones reuse: timed apart, and added to
+    // (synth_tables.h) that the later ones reuse: timed apart, and added to
     // the topology's time in a second ratio (OpenSubdiv's RefineUniform
     // builds its own tables).
     st_parallel_set_threads(1);
@@ -194,8 +194,7 @@ void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int le
     long mem_st = peak_bytes([&] { st_hier g; if (!strata_build(&g, m, sc, levels)) { st_hier_synthesize(&g, 0); st_hier_free(&g); } });
     printf("  topology refinement: Strata %.1f ms, OpenSubdiv %.1f ms, ratio %.2f (target <= 1.5)\n",
            1e3 * t_st_topo, 1e3 * t_osd_topo, t_st_topo / t_osd_topo);
-    if (sc->id == ST_SCHEME_CATMARK)
-        printf("  first synthesis after refinement (1 thread, builds the tables): Strata %.1f ms; topology + it %.1f ms, "
+    printf("  first synthesis after refinement (1 thread, builds the tables): Strata %.1f ms; topology + it %.1f ms, "
                "ratio %.2f to OpenSubdiv's topology\n",
                1e3 * t_first, 1e3 * (t_st_topo + t_first), (t_st_topo + t_first) / t_osd_topo);
     printf("  synthesis, all levels, 1 thread: Strata %.1f ms, OpenSubdiv %.1f ms, ratio %.2f (target <= 1.0)\n",

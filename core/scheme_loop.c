@@ -13,12 +13,12 @@
 #include "primal_emit.h"
 #include "hier_internal.h"
 #include "synth_blocks.h"
+#include "synth_tables.h"
 
 #include "parallel.h"
 #include "pool.h"
 
 #include <math.h>
-#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -170,323 +170,232 @@ static void loop_predict_views(st_hier *h, unsigned L)
     st_stencil_buf_free(&x.tmp);
 }
 
-/* ---- ring pass -----------------------------------------------------------------
- * One walk of each vertex ring of level l gives both its vertex point and
- * the edge points of the ring edges whose smaller dart leaves it: with the
- * ring darts y_0 .. y_{n-1} (β1 order) and u_j = vert(β0 y_j), the face of
- * y_j is (v, u_j, u_{j-1}) and that of β0(y_j) is (u_j, v, u_{j+1}), so the
- * edge point of y_j is 3/8 (v + u_j) + 1/8 (u_{j-1} + u_{j+1}), summed in the
- * order of fast_edge.  Each vertex position and each relation of the ring is
- * read once per level instead of once per mask that uses it.
- *
- * Two passes shared out over threads by blocks (parallel.h): every dart
- * offers itself to its vertex; then every vertex walks its ring from its
- * smallest dart (so that the sums never depend on the threads) and writes
- * its vertex point and the edge points it owns: each fine vertex has one
- * writer.  Holes and sharp cells take the stencil path. */
+/* ---- tables --------------------------------------------------------------------
+ * Full-level synthesis by index tables cached per level (synth_tables.h;
+ * the design: catmark_fast.c), records read off each vertex ring of level
+ * l: with the ring darts y_0 .. y_{n-1} (β1 order) and u_j = vert(β0 y_j),
+ * the face of y_j is (v, u_j, u_{j-1}) and that of β0(y_j) is
+ * (u_j, v, u_{j+1}), so
+ *   vertex v   vdata: ref v, then ref u_j for j from the smallest dart:
+ *              vw(n) P(v) + Σ ew(n) P(u_j), summed in that order;
+ *   edge y_j   (the ring of the end whose dart is the smaller one) 5 words:
+ *              ref v, ref u_j, ref u_{j-1}, ref u_{j+1}, midpoint id:
+ *              3/8 P(v) + 3/8 P(u_j) + 1/8 P(u_{j-1}) + 1/8 P(u_{j+1}),
+ *   the order of fast_edge and fast_vertex, so the tables give their bits.
+ * Special cells (a ring touching a hole, sharpness) keep a dart for the
+ * stencil path; vertices on no real face are copied.  A level that is not
+ * the triangle split (β1 or vert with a column at l, a midpoint not new at
+ * L) is irregular: loop_predict_views does it. */
 
-#define RING_MAX 32u          /* rings up to this valence are kept on the stack */
-#define RING_CHUNK 8u         /* blocks per st_team_next chunk */
-#define RING_MIN_BLOCKS_PER_THREAD 32u
+#define RING_MAX 32u          /* valences with precomputed weights */
+#define EVAL_CHUNK 2048u      /* records per st_team_next chunk */
+#define EVAL_MIN_PER_THREAD 8192u
 
-typedef struct ring_level {
+typedef struct lbuild {
     st_hier *h;
     unsigned l, L;
     st_level_view c;                 /* coarse level l */
-    const uint32_t *b0L;             /* β0 column of level L (darts of levels <= l) */
-    const uint32_t *b1, *vt;         /* base β1 and vert: no column at level l (checked) */
-    const uint8_t *flags;
-    double *pnew, *pold;             /* level-L positions: new vertices, old vertices */
-    _Atomic uint32_t *vd;            /* per coarse vertex: one of its darts, ST_NIL if none */
-    int vd_given;                    /* vd was filled by the level below (no offer pass) */
-    uint32_t *next_vd;               /* when the level above follows: vd of level L, filled here */
-    uint32_t *blocks, nblocks;       /* first ids of the dart blocks of levels l..0 */
-    uint32_t *vblocks, nvblocks;     /* ... and of the vertex blocks */
-    uint32_t vcover;
-    uint64_t *dnew;                  /* block bits (synth_blocks.h) of the darts of level l ... */
-    uint64_t *vnew;                  /* ... and of its vertices when positions have a level-l column (else NULL) */
-    double vw[RING_MAX + 1], ew[RING_MAX + 1]; /* loop_weights by valence */
-} ring_level;
+    const uint32_t *b0L, *b1, *vt;   /* β0 column of L; base β1 and vert (no column at l) */
+    uint32_t *vd;                    /* per coarse vertex: one of its darts, ST_NIL if none */
+    uint64_t *vnew;                  /* block bits of level l's vertices when positions have a level-l column */
+    st_synth_table *t;
+    u32vec ring, twin;               /* scratch: a ring and the twins of its darts */
+    int irregular;
+} lbuild;
 
-typedef struct ring_worker { ring_level *x; loop_fast s; } ring_worker;
-
-/* β0 at level l (whose column is level l's: checked), a column read for
- * the darts older than l. */
-static uint32_t r_beta0(const ring_level *x, uint32_t d)
-{
-    const st_u32_view *r = &x->c.beta0;
-    return ((const uint32_t *)st_pick(r->base, r->col, !st_block_bit(x->dnew, d)))[d];
-}
-
-static const double *r_pos(const ring_level *x, uint32_t v)
+static uint32_t lref(const lbuild *x, uint32_t v)
 {
     int use_col = x->vnew ? !st_block_bit(x->vnew, v) : x->c.vins[v] < x->c.plvl;
-    return (const double *)st_pick(x->c.pbase, x->c.pcol, use_col) + 3 * (size_t)v;
+    return v | (use_col ? REF_COL : 0);
 }
 
-static void ring_offer(st_team *team, ring_level *x)
-{
-    const uint8_t *ins = x->c.ins;
-    uint32_t b, e;
-    while (st_team_next(team, 0, x->nblocks, RING_CHUNK, &b, &e))
-        for (uint32_t i = b; i < e; i++)
-            for (uint32_t d = x->blocks[i]; d < x->blocks[i] + ST_POOL_BLOCK; d++)
-                if (ins[d] != ST_FREE_LEVEL) atomic_store_explicit(&x->vd[x->vt[d]], d, memory_order_relaxed);
-}
+static int ring_sharp(const st_hier *h, uint32_t d, unsigned l) { return h->has_sharpness && st_hier_edge_sharpness(h, d, l) > 0; }
 
-static int ring_sharp(const ring_level *x, uint32_t d)
+static void build_vertex(lbuild *x, uint32_t v)
 {
-    return x->h->has_sharpness && st_hier_edge_sharpness(x->h, d, x->l) > 0;
-}
-
-/* Stencil path for one vertex point / edge point (holes, sharpness). */
-static void ring_stencil_vertex(ring_worker *w, uint32_t d)
-{
-    loop_fast *s = &w->s;
-    st_crease_vertex_point(s->h, s->L - 1, d, smooth_vertex, &s->buf, &s->tmp);
-    write_stencil(s, st_v_vert(&s->c, d), d, ST_CELL_VERTEX);
-}
-
-static void ring_stencil_edge(ring_worker *w, uint32_t d)
-{
-    loop_fast *s = &w->s;
-    st_crease_edge_point(s->h, s->L - 1, d, smooth_edge, &s->buf, &s->tmp);
-    write_stencil(s, st_v_vert(&s->f, st_v_beta0(&s->f, d)), d, ST_CELL_EDGE);
-}
-
-/* A ring larger than RING_MAX: the views path, from its smallest dart. */
-static void ring_large(ring_worker *w, uint32_t d)
-{
-    ring_level *x = w->x;
-    uint32_t y = d, small = d;
-    do { small = y < small ? y : small; y = x->b1[y]; } while (y != d);
-    y = small;
+    st_synth_table *t = x->t;
+    const uint8_t *flags = x->h->map.flags;
+    uint32_t d = x->vd[v];
+    if (d == ST_NIL) { vec_push(&t->copy, lref(x, v)); return; }
+    x->ring.n = x->twin.n = 0;
+    int special = x->h->has_sharpness && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
+    uint32_t y = d;
     do {
-        uint32_t t = r_beta0(x, y);
-        if (y < t) {
-            fast_edge(&w->s, y, t);
-            if (x->next_vd) x->next_vd[x->vt[x->b0L[y]]] = x->b0L[y];
-        }
-        y = x->b1[y];
-    } while (y != small);
-    fast_vertex(&w->s, small);
-    if (x->next_vd) x->next_vd[x->vt[small]] = small;
-}
-
-/* The vertices of a batch are done in stages whose loads are independent
- * across the batch (so that their cache misses overlap): the rings, then
- * β0 of every ring dart, then the neighbours and their positions, then the
- * level-L midpoints, then the sums. */
-#define BATCH_DARTS 1024u
-
-typedef struct ring_batch {
-    uint32_t v[BATCH_DARTS / 2], at[BATCH_DARTS / 2 + 1], lo[BATCH_DARTS / 2]; /* per vertex: id, first entry, smallest */
-    uint32_t r[BATCH_DARTS], e[BATCH_DARTS], u[BATCH_DARTS], mid[BATCH_DARTS];  /* per ring dart */
-    const double *q[BATCH_DARTS];
-    uint32_t nv, nd;
-} ring_batch;
-
-static void batch_finish(ring_worker *w, ring_batch *B)
-{
-    ring_level *x = w->x;
-    uint32_t nd = B->nd;
-    for (uint32_t k = 0; k < nd; k++) B->e[k] = r_beta0(x, B->r[k]);
-    for (uint32_t k = 0; k < nd; k++) B->u[k] = x->vt[B->e[k]];
-    for (uint32_t k = 0; k < nd; k++) B->q[k] = r_pos(x, B->u[k]);
-    for (uint32_t k = 0; k < nd; k++) B->mid[k] = B->r[k] < B->e[k] ? x->b0L[B->r[k]] : B->r[k];
-    for (uint32_t k = 0; k < nd; k++) B->mid[k] = x->vt[B->mid[k]];
-    const uint8_t *flags = x->flags;
-    int sharpness = x->h->has_sharpness;
-    for (uint32_t i = 0; i < B->nv; i++) {
-        uint32_t v = B->v[i], n = B->at[i + 1] - B->at[i], lo = B->lo[i];
-        const uint32_t *r = B->r + B->at[i], *e = B->e + B->at[i], *mid = B->mid + B->at[i];
-        const double *const *q = B->q + B->at[i];
         /* The face of β0(y_j) is that of y_{j+1}: the ring darts' flags say
          * which edges touch a hole. */
-        unsigned holes = 0;
-        for (uint32_t j = 0; j < n; j++) holes |= flags[r[j]];
-        int special = (holes & ST_DART_BOUNDARY) != 0;
-        if (sharpness) {
-            special |= st_hier_vertex_sharpness(x->h, v, x->l) > 0;
-            for (uint32_t j = 0; j < n; j++) special |= ring_sharp(x, r[j]);
-        }
-        const double *p = r_pos(x, v);
-        if (x->next_vd) {
-            x->next_vd[v] = r[lo];   /* an old vertex keeps its ring at L */
-            for (uint32_t j = 0; j < n; j++)
-                if (r[j] < e[j]) x->next_vd[mid[j]] = x->b0L[r[j]]; /* β0(y_j, L) leaves the midpoint */
-        }
-        if (special) {
-            ring_stencil_vertex(w, r[lo]);
-        } else {
-            double acc[3] = { 0, 0, 0 };
-            axpy(acc, x->vw[n], p);
-            for (uint32_t c = 0, j = lo; c < n; c++, j = j + 1 < n ? j + 1 : 0) axpy(acc, x->ew[n], q[j]);
-            memcpy(x->pold + 3 * (size_t)v, acc, sizeof acc);
-        }
-        for (uint32_t j = 0; j < n; j++) {
-            if (r[j] > e[j]) continue;
-            uint32_t jn = j + 1 < n ? j + 1 : 0, jp = j ? j - 1 : n - 1;
-            if (special && (((flags[r[j]] | flags[r[jn]]) & ST_DART_BOUNDARY) || ring_sharp(x, r[j]))) {
-                ring_stencil_edge(w, r[j]);
-                continue;
-            }
-            double acc[3] = { 0, 0, 0 };
-            axpy(acc, 0.375, p);
-            axpy(acc, 0.375, q[j]);
-            axpy(acc, 0.125, q[jp]);
-            axpy(acc, 0.125, q[jn]);
-            memcpy(x->pnew + 3 * (size_t)mid[j], acc, sizeof acc);
-        }
-    }
-    B->nv = B->nd = 0;
-}
-
-/* Adds vertex v's ring to the batch (or does v at once: no dart, a large ring). */
-static void batch_add(ring_worker *w, ring_batch *B, uint32_t v)
-{
-    ring_level *x = w->x;
-    uint32_t d = atomic_load_explicit(&x->vd[v], memory_order_relaxed);
-    if (d == ST_NIL) { memcpy(x->pold + 3 * (size_t)v, r_pos(x, v), 3 * sizeof(double)); return; } /* no dart: stays */
-    uint32_t at = B->nd, n = 0, lo = 0, y = d;
-    do {
-        if (n == RING_MAX) { ring_large(w, d); return; }
-        B->r[at + n] = y;
-        lo = y < B->r[at + lo] ? n : lo;
-        n++;
+        special |= (flags[y] & ST_DART_BOUNDARY) || ring_sharp(x->h, y, x->l);
+        vec_push(&x->ring, y);
+        vec_push(&x->twin, st_v_beta0(&x->c, y));
         y = x->b1[y];
     } while (y != d);
-    B->v[B->nv] = v;
-    B->at[B->nv] = at;
-    B->lo[B->nv] = lo;
-    B->nv++;
-    B->nd = at + n;
-    B->at[B->nv] = B->nd;
-    if (B->nd + RING_MAX > BATCH_DARTS || B->nv == BATCH_DARTS / 2) batch_finish(w, B);
-}
-
-static void ring_vertices(st_team *team, ring_worker *w)
-{
-    ring_level *x = w->x;
-    const uint8_t *vins = x->c.vins;
-    ring_batch *B = malloc(sizeof *B);
-    if (!B) abort(); /* out of memory for a thread's scratch */
-    B->nv = B->nd = 0;
-    B->at[0] = 0;
-    uint32_t b, e;
-    while (st_team_next(team, 1, x->nvblocks, RING_CHUNK, &b, &e))
-        for (uint32_t i = b; i < e; i++)
-            for (uint32_t v = x->vblocks[i]; v < x->vblocks[i] + ST_POOL_BLOCK; v++)
-                if (vins[v] != ST_FREE_LEVEL) batch_add(w, B, v);
-    batch_finish(w, B);
-    free(B);
-}
-
-static void ring_passes(st_team *team, unsigned t, void *ctx)
-{
-    (void)t;
-    ring_level *x = ctx;
-    ring_worker w = { .x = x, .s = { .h = x->h, .L = x->L, .pnew = x->pnew, .pold = x->pold } };
-    st_level_view_init(&x->h->map, x->l, &w.s.c);
-    st_level_view_init(&x->h->map, x->L, &w.s.f);
-    if (!x->vd_given) {
-        ring_offer(team, x);
-        st_team_sync(team);
+    const uint32_t *r = x->ring.a, *e = x->twin.a;
+    unsigned n = (unsigned)x->ring.n, lo = 0;
+    for (unsigned j = 1; j < n; j++) lo = r[j] < r[lo] ? j : lo;
+    if (special) {
+        vec_push(&t->svert, r[lo]);
+    } else {
+        if (!t->voff.n) vec_push(&t->voff, 0);
+        vec_push(&t->vdata, lref(x, v));
+        for (unsigned i = 0, j = lo; i < n; i++, j = j + 1 < n ? j + 1 : 0) vec_push(&t->vdata, lref(x, x->vt[e[j]]));
+        vec_push(&t->voff, (uint32_t)t->vdata.n);
     }
-    ring_vertices(team, &w);
-    st_stencil_buf_free(&w.s.buf);
-    st_stencil_buf_free(&w.s.tmp);
-}
-
-/* 1 + the last id of the vertex blocks of levels 0..l. */
-static uint32_t vblock_cover(const st_pool *p, unsigned l)
-{
-    uint32_t cover = 0;
-    for (unsigned lv = 0; lv <= l; lv++)
-        for (uint32_t i = 0; i < p->nblocks[lv]; i++) {
-            uint32_t end = (p->blocks[lv][i] + 1) << ST_POOL_BLOCK_SHIFT;
-            cover = end > cover ? end : cover;
+    for (unsigned j = 0; j < n; j++) {
+        if (r[j] > e[j]) continue;
+        unsigned jn = j + 1 < n ? j + 1 : 0, jp = j ? j - 1 : n - 1;
+        uint32_t mid = x->vt[x->b0L[r[j]]];
+        if (x->c.vins[mid] != x->L) { x->irregular = 1; return; }
+        if (special && (((flags[r[j]] | flags[r[jn]]) & ST_DART_BOUNDARY) || ring_sharp(x->h, r[j], x->l))) {
+            vec_push(&t->sedge, r[j]);
+            continue;
         }
-    return cover;
+        uint32_t rec[5] = { lref(x, v), lref(x, x->vt[e[j]]), lref(x, x->vt[e[jp]]), lref(x, x->vt[e[jn]]), mid };
+        for (int k = 0; k < 5; k++) vec_push(&t->edge, rec[k]);
+    }
 }
 
-/* Whether level L can take the ring pass: β1 and vert read from their base
- * arrays, β0 at l and at L from their columns. */
-static int ring_applies(const st_map *m, unsigned L)
+/* Whether level L is the triangle split tables describe: β1 and vert read
+ * from their base arrays, β0 at l and at L from their columns. */
+static int tables_apply(const st_map *m, unsigned L)
 {
     unsigned l = L - 1;
     return m->beta0.col[L] && !m->beta1.eff[l] && !m->vert.eff[l] && m->beta0.eff[l] == l;
 }
 
-/* Level L by the ring pass.  vd: a dart per vertex of level l from the
- * level below (taken over and freed), or NULL; with want_next, returns
- * the same for level L (else NULL). */
-static _Atomic uint32_t *ring_level_run(st_hier *h, unsigned L, _Atomic uint32_t *vd, int want_next)
+static int loop_build(st_hier *h, unsigned L, st_synth_table *t)
 {
     st_map *m = &h->map;
-    unsigned l = L - 1;
-    ring_level x = { .h = h, .l = l, .L = L };
-    x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
-    x.pnew = (double *)m->pos.base;
-    if (!x.pold) abort(); /* out of memory for a level's positions */
+    if (!tables_apply(m, L)) return 1;
+    lbuild x = { .h = h, .l = L - 1, .L = L, .t = t };
     x.b0L = (const uint32_t *)m->beta0.col[L];
     x.b1 = (const uint32_t *)m->beta1.base;
     x.vt = (const uint32_t *)m->vert.base;
-    x.flags = m->flags;
-    st_level_view_init(m, l, &x.c);
-    x.blocks = st_pool_blocks_newest_first(&m->darts, l, &x.nblocks);
-    x.vblocks = st_pool_blocks_newest_first(&m->verts, l, &x.nvblocks);
-    x.vcover = vblock_cover(&m->verts, l);
-    x.vd = vd;
-    x.vd_given = vd != NULL;
-    if (!vd) x.vd = malloc(((size_t)x.vcover + 1) * sizeof *x.vd);
-    x.dnew = st_block_bits(&m->darts, l);
-    x.vnew = m->pos.eff[l] == l ? st_block_bits(&m->verts, l) : NULL;
-    if (!x.blocks || !x.vblocks || !x.vd || !x.dnew || (m->pos.eff[l] == l && !x.vnew)) abort(); /* out of memory for a level's scratch */
-    if (!vd)
-        for (uint32_t v = 0; v < x.vcover; v++) atomic_init(&x.vd[v], ST_NIL);
-    uint32_t next_cover = want_next ? vblock_cover(&m->verts, L) : 0;
-    if (want_next) {
-        x.next_vd = malloc(((size_t)next_cover + 1) * sizeof *x.next_vd);
-        if (!x.next_vd) abort(); /* out of memory for a level's scratch */
-        memset(x.next_vd, 0xff, ((size_t)next_cover + 1) * sizeof *x.next_vd); /* ST_NIL */
-    }
-    for (unsigned n = 1; n <= RING_MAX; n++) loop_weights(n, &x.vw[n], &x.ew[n]);
-    x.vw[0] = x.ew[0] = 0;
-    unsigned threads = st_parallel_threads();
-    if (x.nblocks < RING_MIN_BLOCKS_PER_THREAD * threads) threads = x.nblocks / RING_MIN_BLOCKS_PER_THREAD;
-    st_team_run(threads ? threads : 1, ring_passes, &x);
-    free(x.blocks);
-    free(x.vblocks);
-    free((void *)x.vd);
-    free(x.dnew);
+    st_level_view_init(m, x.l, &x.c);
+    uint32_t nblocks, nvblocks;
+    uint32_t *blocks = st_pool_blocks_newest_first(&m->darts, x.l, &nblocks);
+    uint32_t *vblocks = st_pool_blocks_newest_first(&m->verts, x.l, &nvblocks);
+    x.vd = malloc(((size_t)m->verts.end + 1) * sizeof *x.vd);
+    x.vnew = m->pos.eff[x.l] == x.l ? st_block_bits(&m->verts, x.l) : NULL;
+    if (!blocks || !vblocks || !x.vd || (m->pos.eff[x.l] == x.l && !x.vnew)) abort(); /* out of memory for a level's scratch */
+    memset(x.vd, 0xff, ((size_t)m->verts.end + 1) * sizeof *x.vd); /* ST_NIL */
+    uint64_t darts = st_pool_count(&m->darts, x.l), verts = st_pool_count(&m->verts, x.l);
+    vec_reserve(&t->edge, 5 * (size_t)(darts / 2) + 5);
+    vec_reserve(&t->vdata, (size_t)(darts + verts) + 1);
+    vec_reserve(&t->voff, (size_t)verts + 2);
+    for (uint32_t i = 0; i < nblocks; i++)
+        for (uint32_t d = blocks[i]; d < blocks[i] + ST_POOL_BLOCK; d++)
+            if (m->darts.ins[d] != ST_FREE_LEVEL) x.vd[x.vt[d]] = d;
+    for (uint32_t i = 0; i < nvblocks && !x.irregular; i++)
+        for (uint32_t v = vblocks[i]; v < vblocks[i] + ST_POOL_BLOCK && !x.irregular; v++)
+            if (m->verts.ins[v] != ST_FREE_LEVEL) build_vertex(&x, v);
+    free(blocks);
+    free(vblocks);
+    free(x.vd);
     free(x.vnew);
-    /* Every thread wrote its entries before st_team_run returned. */
-    return (_Atomic uint32_t *)x.next_vd;
+    free(x.ring.a);
+    free(x.twin.a);
+    return x.irregular;
+}
+
+typedef struct leval {
+    st_hier *h;
+    unsigned l, L;
+    const st_synth_table *t;
+    const double *pbase, *pcol;      /* level-l positions: base, column */
+    double *pnew, *pold;             /* level-L positions: new vertices, old vertices */
+    double vw[RING_MAX + 1], ew[RING_MAX + 1];
+} leval;
+
+typedef struct lworker { const leval *x; loop_fast s; } lworker;
+
+static const double *lpos(const leval *x, uint32_t r)
+{
+    return (const double *)st_pick(x->pbase, x->pcol, (r & REF_COL) != 0) + 3 * (size_t)(r & REF_ID);
+}
+
+static void vertex_item(lworker *w, uint32_t i)
+{
+    const leval *x = w->x;
+    const st_synth_table *t = x->t;
+    uint32_t nv = st_synth_count(&t->voff), ns = (uint32_t)t->svert.n;
+    if (i < nv) {
+        const uint32_t *r = t->vdata.a + t->voff.a[i];
+        unsigned n = t->voff.a[i + 1] - t->voff.a[i] - 1;
+        double vw, ew, acc[3] = { 0, 0, 0 };
+        if (n <= RING_MAX) { vw = x->vw[n]; ew = x->ew[n]; }
+        else loop_weights(n, &vw, &ew);
+        axpy(acc, vw, lpos(x, r[0]));
+        for (unsigned j = 1; j <= n; j++) axpy(acc, ew, lpos(x, r[j]));
+        memcpy(x->pold + 3 * (size_t)(r[0] & REF_ID), acc, sizeof acc);
+        return;
+    }
+    i -= nv;
+    if (i < ns) {
+        loop_fast *s = &w->s;
+        uint32_t d = t->svert.a[i];
+        st_crease_vertex_point(s->h, x->l, d, smooth_vertex, &s->buf, &s->tmp);
+        write_stencil(s, st_v_vert(&s->c, d), d, ST_CELL_VERTEX);
+        return;
+    }
+    uint32_t r = t->copy.a[i - ns];
+    memcpy(x->pold + 3 * (size_t)(r & REF_ID), lpos(x, r), 3 * sizeof(double));
+}
+
+static void edge_item(lworker *w, uint32_t i)
+{
+    const leval *x = w->x;
+    const st_synth_table *t = x->t;
+    uint32_t ne = (uint32_t)(t->edge.n / 5);
+    if (i < ne) {
+        const uint32_t *r = t->edge.a + 5 * (size_t)i;
+        double acc[3] = { 0, 0, 0 };
+        axpy(acc, 0.375, lpos(x, r[0]));
+        axpy(acc, 0.375, lpos(x, r[1]));
+        axpy(acc, 0.125, lpos(x, r[2]));
+        axpy(acc, 0.125, lpos(x, r[3]));
+        memcpy(x->pnew + 3 * (size_t)r[4], acc, sizeof acc);
+        return;
+    }
+    loop_fast *s = &w->s;
+    uint32_t d = t->sedge.a[i - ne];
+    st_crease_edge_point(s->h, x->l, d, smooth_edge, &s->buf, &s->tmp);
+    write_stencil(s, st_v_vert(&s->f, st_v_beta0(&s->f, d)), d, ST_CELL_EDGE);
+}
+
+/* Vertex and edge points write different slots and read level l only. */
+static void eval_passes(st_team *team, unsigned tid, void *ctx)
+{
+    (void)tid;
+    const leval *x = ctx;
+    const st_synth_table *t = x->t;
+    lworker w = { .x = x, .s = { .h = x->h, .L = x->L, .pnew = x->pnew, .pold = x->pold } };
+    st_level_view_init(&x->h->map, x->l, &w.s.c);
+    st_level_view_init(&x->h->map, x->L, &w.s.f);
+    uint32_t b, e, nv = st_synth_count(&t->voff) + (uint32_t)(t->svert.n + t->copy.n), ne = (uint32_t)(t->edge.n / 5 + t->sedge.n);
+    while (st_team_next(team, 0, nv, EVAL_CHUNK, &b, &e))
+        for (uint32_t i = b; i < e; i++) vertex_item(&w, i);
+    while (st_team_next(team, 1, ne, EVAL_CHUNK, &b, &e))
+        for (uint32_t i = b; i < e; i++) edge_item(&w, i);
+    st_stencil_buf_free(&w.s.buf);
+    st_stencil_buf_free(&w.s.tmp);
 }
 
 static void loop_predict_level(st_hier *h, unsigned L)
 {
-    if (!ring_applies(&h->map, L)) { loop_predict_views(h, L); return; }
-    ring_level_run(h, L, NULL, 0);
-}
-
-/* Levels from+1..to: each level's ring pass leaves the next one a dart per
- * vertex (its own rings and midpoints), which saves that level a pass over
- * its darts. */
-static void loop_predict_levels(st_hier *h, unsigned from, unsigned to)
-{
-    _Atomic uint32_t *vd = NULL;
-    for (unsigned L = from + 1; L <= to; L++) {
-        if (!ring_applies(&h->map, L)) {
-            free((void *)vd);
-            vd = NULL;
-            loop_predict_views(h, L);
-            continue;
-        }
-        vd = ring_level_run(h, L, vd, L < to && ring_applies(&h->map, L + 1));
-    }
-    free((void *)vd);
+    st_map *m = &h->map;
+    const st_synth_table *t = st_synth_tables_for(h, L, ST_SCHEME_LOOP, loop_build);
+    if (t->irregular) { loop_predict_views(h, L); return; }
+    leval x = { .h = h, .l = L - 1, .L = L, .t = t };
+    x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
+    if (!x.pold) abort(); /* out of memory for a level's positions */
+    x.pnew = (double *)m->pos.base;
+    x.pbase = (const double *)m->pos.base;
+    x.pcol = (const double *)m->pos.col[t->plvl];
+    for (unsigned n = 1; n <= RING_MAX; n++) loop_weights(n, &x.vw[n], &x.ew[n]);
+    x.vw[0] = x.ew[0] = 0;
+    uint64_t records = st_synth_count(&t->voff) + t->edge.n / 5;
+    unsigned threads = st_parallel_threads();
+    if (records < (uint64_t)EVAL_MIN_PER_THREAD * threads) threads = (unsigned)(records / EVAL_MIN_PER_THREAD);
+    st_team_run(threads ? threads : 1, eval_passes, &x);
 }
 
 static const st_primal_rules loop_rules = { smooth_vertex, smooth_edge, 1, ST_FACE_POINTS_NONE };
@@ -509,5 +418,4 @@ const st_scheme st_scheme_loop = {
     .refine = loop_refine,
     .emit = loop_emit,
     .predict_level = loop_predict_level,
-    .predict_levels = loop_predict_levels,
 };

@@ -79,17 +79,17 @@ static void torus_creased(st_mesh *s)
 }
 static void tetra(st_mesh *s) { tl_mesh_tetra(s); }
 
-/* Catmull-Clark's full synthesis reads tables cached per level (catmark_fast.c)
- * that must follow every change of topology or sharpness: after each change
- * the levels still equal their stencils, one thread and two agree to the
- * bit, and a second synthesis from the cache repeats the first. */
-static void test_catmark_tables(void)
+/* Catmull-Clark's and Loop's full syntheses read tables cached per level
+ * (synth_tables.h) that must follow every change of topology or sharpness:
+ * after each change the levels still equal their stencils, one thread and
+ * two agree to the bit, and a second synthesis from the cache repeats the
+ * first. */
+static void check_tables(st_scheme_id id, void (*make)(st_mesh *), size_t i)
 {
-    void (*makes[])(st_mesh *) = { torus, grid, icosa, tetra, cube_scaled, torus_creased };
-    for (size_t i = 0; i < sizeof makes / sizeof *makes; i++) {
+    {
         st_hier h;
         st_error err;
-        tl_init_hier(&h, makes[i], ST_SCHEME_CATMARK, 3);
+        tl_init_hier(&h, make, id, 3);
         for (int step = 0; step < 4; step++) {
             if (step == 1) { /* a crease and a corner on level 0: other rules at level 1 */
                 uint32_t d = st_dart_first(&h.map, 0, &(st_dart_iter){ 0 });
@@ -122,15 +122,44 @@ static void test_catmark_tables(void)
     }
 }
 
+static void octa(st_mesh *s) { tl_mesh_octa(s); }
+
+/* The icosahedron with a crease around one vertex's fan and a corner. */
+static void icosa_creased(st_mesh *s)
+{
+    tl_mesh_icosa(s);
+    s->ncreases = 2;
+    s->crease_v = malloc(4 * sizeof *s->crease_v);
+    s->crease_s = malloc(2 * sizeof *s->crease_s);
+    s->crease_v[0] = s->face_idx[0]; s->crease_v[1] = s->face_idx[1];
+    s->crease_v[2] = s->face_idx[1]; s->crease_v[3] = s->face_idx[2];
+    s->crease_s[0] = 2.0f;
+    s->crease_s[1] = 0.5f;
+    s->ncorners = 1;
+    s->corner_v = malloc(sizeof *s->corner_v);
+    s->corner_s = malloc(sizeof *s->corner_s);
+    s->corner_v[0] = s->face_idx[4];
+    s->corner_s[0] = 4.0f;
+}
+
+static void test_tables(void)
+{
+    void (*quads[])(st_mesh *) = { torus, grid, icosa, tetra, cube_scaled, torus_creased };
+    for (size_t i = 0; i < sizeof quads / sizeof *quads; i++) check_tables(ST_SCHEME_CATMARK, quads[i], i);
+    void (*tris[])(st_mesh *) = { icosa, tetra, octa, icosa_creased };
+    for (size_t i = 0; i < sizeof tris / sizeof *tris; i++) check_tables(ST_SCHEME_LOOP, tris[i], 100 + i);
+}
+
 int main(void)
 {
     test_catmark_cube_values();
-    test_catmark_tables();
+    test_tables();
     struct { st_scheme_id id; void (*make)(st_mesh *); unsigned levels; } cases[] = {
         { ST_SCHEME_CATMARK, torus, 4 },
         { ST_SCHEME_CATMARK, grid, 3 },
         { ST_SCHEME_CATMARK, cube_scaled, 4 },
         { ST_SCHEME_CATMARK, torus_creased, 4 },
+        { ST_SCHEME_LOOP, icosa_creased, 3 },
         { ST_SCHEME_DOOSABIN, torus, 3 },
         { ST_SCHEME_DOOSABIN, cube_scaled, 3 },
     };
