@@ -91,7 +91,7 @@ static int plan_edge(plan *p, uint32_t d, uint32_t cd)
     if (p->h->stamp[mid] == p->gen) return 0;
     uint32_t e = st_v_beta0(&p->c, d);
     if (is_hole(p, d) || is_hole(p, e) || (p->h->has_sharpness && st_hier_edge_sharpness(p->h, d, p->l) > 0)) {
-        vec_push(&p->t.sedge, d); /* the sink stamps it */
+        vec_push(&p->t.sedge, d < e ? d : e); /* from the smaller dart, as the tables; the sink stamps it */
         return 0;
     }
     uint32_t ce = centre_of(p, e);
@@ -219,18 +219,16 @@ typedef struct direct {
     void *ctx;
     st_catmark_emitter e;
     u32vec faces;                       /* per face: dart, centre */
+    u32vec walk;                        /* scratch: a face or a ring */
 } direct;
 
 static uint32_t direct_centre_dart(const direct *x, uint32_t d) { return x->b0[x->b1[x->b0L[d]]]; }
 static const double *direct_face_point(const direct *x, uint32_t d) { return x->pL + 3 * (size_t)x->vt[direct_centre_dart(x, d)]; }
 static uint32_t d_beta1(const direct *x, uint32_t d) { return x->plain ? x->b1[d] : st_v_beta1(&x->c, d); }
-static uint32_t d_vert(const direct *x, uint32_t d) { return x->plain ? x->vt[d] : d_vert(x, d); }
+static uint32_t d_vert(const direct *x, uint32_t d) { return x->plain ? x->vt[d] : st_v_vert(&x->c, d); }
 static uint32_t d_phi1(const direct *x, uint32_t d) { return d_beta1(x, st_v_beta0(&x->c, d)); }
 static int direct_hole(const direct *x, uint32_t d) { return (x->m->flags[d] & ST_DART_BOUNDARY) != 0; }
 static int direct_sharp(const direct *x, uint32_t d) { return x->h->has_sharpness && st_hier_edge_sharpness(x->h, d, x->l) > 0; }
-
-/* Faces and rings up to this size are walked once (kept on the stack). */
-#define DIRECT_RING 16u
 
 /* The corner the tables start a face at (as face_start), in the face's
  * corners y[0..k). */
@@ -248,14 +246,11 @@ static void direct_face(direct *x, uint32_t c)
 {
     uint32_t cd = direct_centre_dart(x, c), centre = x->vt[cd];
     if (x->h->stamp[centre] == x->gen) return;
-    uint32_t y[DIRECT_RING], z = c;
-    unsigned k = 0;
-    do {
-        if (k == DIRECT_RING) { st_catmark_emit(x->h, x->L, &c, 1, x->sink, x->ctx); return; } /* a large face of level 0 */
-        y[k++] = z;
-        z = d_phi1(x, z);
-    } while (z != c);
-    unsigned s = direct_start(x, y, k);
+    uint32_t z = c;
+    x->walk.n = 0;
+    do { vec_push(&x->walk, z); z = d_phi1(x, z); } while (z != c);
+    const uint32_t *y = x->walk.a;
+    unsigned k = (unsigned)x->walk.n, s = direct_start(x, y, k);
     double f[3] = { 0, 0, 0 }, out[3];
     for (unsigned i = 0, j = s; i < k; i++, j = j + 1 < k ? j + 1 : 0) st_cc_face_add(f, st_v_pos(&x->c, d_vert(x, y[j])));
     st_cc_face_finish(f, k, out);
@@ -270,7 +265,8 @@ static void direct_edge(direct *x, uint32_t d, uint32_t centre)
     if (x->h->stamp[mid] == x->gen) return;
     uint32_t e = st_v_beta0(&x->c, d);
     if (direct_hole(x, d) || direct_hole(x, e) || direct_sharp(x, d)) {
-        st_catmark_emit_edge(x->h, x->L, d, &x->e, x->sink, x->ctx);
+        /* from the smaller dart, as the tables: the stencil's order, its bits */
+        st_catmark_emit_edge(x->h, x->L, d < e ? d : e, &x->e, x->sink, x->ctx);
         return;
     }
     double out[3];
@@ -284,20 +280,19 @@ static void direct_vertex(direct *x, uint32_t d)
     uint32_t v = d_vert(x, d);
     if (x->h->stamp[v] == x->gen) return;
     int special = x->h->has_sharpness && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
-    uint32_t r[DIRECT_RING], y = d;
+    uint32_t y = d;
     unsigned n = 0, lo = 0;
+    x->walk.n = 0;
     do {
-        if (n == DIRECT_RING) { special = 1; break; } /* high valence: the stencil */
         special |= direct_hole(x, y) || direct_sharp(x, y);
-        lo = (n == 0 || y < r[lo]) ? n : lo;
-        r[n++] = y;
+        lo = (n == 0 || y < x->walk.a[lo]) ? n : lo;
+        vec_push(&x->walk, y);
+        n++;
         y = d_beta1(x, y);
     } while (y != d);
+    const uint32_t *r = x->walk.a;
     if (special) {
-        uint32_t m = d;
-        y = d;
-        do { m = y < m ? y : m; y = d_beta1(x, y); } while (y != d);
-        st_catmark_emit_vertex(x->h, x->L, m, &x->e, x->sink, x->ctx);
+        st_catmark_emit_vertex(x->h, x->L, r[lo], &x->e, x->sink, x->ctx);
         return;
     }
     double s[3] = { 0, 0, 0 }, out[3];
@@ -335,6 +330,7 @@ static void predict_direct(st_hier *h, unsigned L, const uint32_t *seeds, uint32
         } while (y != c);
     }
     free(x.faces.a);
+    free(x.walk.a);
     st_stencil_buf_free(&x.e.buf);
     st_stencil_buf_free(&x.e.tmp);
 }

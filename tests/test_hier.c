@@ -124,6 +124,31 @@ static void check_tables(st_scheme_id id, void (*make)(st_mesh *), size_t i)
 
 static void octa(st_mesh *s) { tl_mesh_octa(s); }
 
+/* A cone: a 20-gon base and a valence-20 apex (faces and rings larger than
+ * any fixed-size scratch). */
+static void cone20(st_mesh *s)
+{
+    enum { N = 20 };
+    double p[3 * (N + 1)];
+    uint32_t off[N + 2], idx[N + 3 * N];
+    for (unsigned i = 0; i < N; i++) {
+        p[3 * i] = cos(2 * M_PI * i / N);
+        p[3 * i + 1] = sin(2 * M_PI * i / N);
+        p[3 * i + 2] = 0;
+        idx[i] = N - 1 - i; /* base, facing down */
+    }
+    p[3 * N] = 0; p[3 * N + 1] = 0; p[3 * N + 2] = 1.5;
+    off[0] = 0;
+    off[1] = N;
+    for (unsigned i = 0; i < N; i++) {
+        idx[N + 3 * i] = i;
+        idx[N + 3 * i + 1] = (i + 1) % N;
+        idx[N + 3 * i + 2] = N;
+        off[i + 2] = N + 3 * (i + 1);
+    }
+    tl_mesh_make(s, p, N + 1, off, idx, N + 1);
+}
+
 /* The icosahedron with a crease around one vertex's fan and a corner. */
 static void icosa_creased(st_mesh *s)
 {
@@ -144,7 +169,7 @@ static void icosa_creased(st_mesh *s)
 
 static void test_tables(void)
 {
-    void (*quads[])(st_mesh *) = { torus, grid, icosa, tetra, cube_scaled, torus_creased };
+    void (*quads[])(st_mesh *) = { torus, grid, icosa, tetra, cube_scaled, torus_creased, cone20 };
     for (size_t i = 0; i < sizeof quads / sizeof *quads; i++) check_tables(ST_SCHEME_CATMARK, quads[i], i);
     void (*tris[])(st_mesh *) = { icosa, tetra, octa, icosa_creased };
     for (size_t i = 0; i < sizeof tris / sizeof *tris; i++) check_tables(ST_SCHEME_LOOP, tris[i], 100 + i);
@@ -160,6 +185,7 @@ int main(void)
         { ST_SCHEME_CATMARK, cube_scaled, 4 },
         { ST_SCHEME_CATMARK, torus_creased, 4 },
         { ST_SCHEME_LOOP, icosa_creased, 3 },
+        { ST_SCHEME_CATMARK, cone20, 3 },
         { ST_SCHEME_DOOSABIN, torus, 3 },
         { ST_SCHEME_DOOSABIN, cube_scaled, 3 },
     };

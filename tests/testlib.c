@@ -236,7 +236,10 @@ static void check_local_equals_full(st_scheme_id id, void (*make)(st_mesh *), un
         st_hier_synthesize(&h, l);
         tl_snap_pos(&h, &full);
         double diff = tl_snap_maxdiff(&local, &full);
-        CHECKF(diff < 1e-12, "%s%s: edit at level %u: local and full synthesis differ by %g", h.scheme->name,
+        /* Without details, Catmull-Clark's local paths share the full
+         * synthesis's arithmetic (catmark_local.c): the same bits. */
+        double tol = !details && id == ST_SCHEME_CATMARK ? 0 : 1e-12;
+        CHECKF(diff <= tol, "%s%s: edit at level %u: local and full synthesis differ by %g", h.scheme->name,
                details ? "" : " without details", l, diff);
         for (int k = 0; k < (int)n; k++) {
             const double *p = st_dart_pos(&h.map, darts[k], l);
@@ -248,7 +251,10 @@ static void check_local_equals_full(st_scheme_id id, void (*make)(st_mesh *), un
             st_level_stats_compute(&h.map, L, &s);
             total += s.vertices;
         }
-        if (l + 2 <= levels) CHECKF(count < total, "%s: local update recomputed %llu of %llu", h.scheme->name, (unsigned long long)count, (unsigned long long)total);
+        /* On a mesh of a few faces the support of a level-l edit can be all of it. */
+        st_level_stats sl;
+        st_level_stats_compute(&h.map, l, &sl);
+        if (l + 2 <= levels && sl.faces > 32) CHECKF(count < total, "%s: local update recomputed %llu of %llu", h.scheme->name, (unsigned long long)count, (unsigned long long)total);
         free(local.p);
         free(full.p);
     }
