@@ -104,6 +104,8 @@ int ed_hier_clone(st_hier *dst, const st_hier *src, size_t *bytes_out)
     dst->stamp_cap = 0;
     dst->stamp_gen = 0;
     memset(dst->cache, 0, sizeof dst->cache); /* the copy builds its own */
+    dm->gen_seen = 1;
+    st_map_changed(dm); /* a generation of its own */
     int rc = dup_pool(&dm->darts, &sm->darts, &bytes);
     rc |= dup_pool(&dm->verts, &sm->verts, &bytes);
     rc |= dup_mla(&dm->beta0, &sm->beta0, sm->darts.cap, &bytes);
