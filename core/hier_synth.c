@@ -234,14 +234,6 @@ void st_hier_synthesize(st_hier *h, unsigned from)
 {
     for (unsigned L = from + 1; L <= h->map.top; L++) {
         if (h->scheme->predict_level && !h->detail[L]) {
-            if (h->scheme->predict_levels) {
-                /* The run of levels without details starting at L. */
-                unsigned to = L;
-                while (to < h->map.top && !h->detail[to + 1]) to++;
-                h->scheme->predict_levels(h, L - 1, to);
-                L = to;
-                continue;
-            }
             h->scheme->predict_level(h, L);
             continue;
         }

@@ -78,13 +78,9 @@ typedef struct st_scheme {
     void (*emit)(struct st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces,
                  st_stencil_sink sink, void *ctx);
     /* Optional fast path: writes S(P_{L-1}) for every vertex of level L,
-     * with results identical to applying emit()'s stencils.  Used by full
+     * equal to applying emit()'s stencils up to rounding.  Used by full
      * synthesis of a level that carries no details. */
     void (*predict_level)(struct st_hier *h, unsigned L);
-    /* Optional: predict_level for L = from+1 .. to in turn (none of them
-     * carries details), free to carry scratch from one level to the next.
-     * NULL: predict_level per level. */
-    void (*predict_levels)(struct st_hier *h, unsigned from, unsigned to);
     /* Optional fast path of local re-synthesis for a level L without
      * details: every fine vertex of the real faces of level L-1 around the
      * vertices of the seeds (darts of L-1; the faces support_rings = 1

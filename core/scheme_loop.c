@@ -143,8 +143,8 @@ static void fast_vertex(loop_fast *x, uint32_t d)
     memcpy(slot(x, v), acc, sizeof acc);
 }
 
-/* Level views and a stamp per vertex: any map (used when the ring pass below
- * does not apply). */
+/* Level views and a stamp per vertex: any map (used when the tables below
+ * do not apply). */
 static void loop_predict_views(st_hier *h, unsigned L)
 {
     st_map *m = &h->map;
