@@ -19,7 +19,6 @@ void st_catmark_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, 
 /* The scheme's predict_level (catmark_fast.c). */
 void st_catmark_predict_level(st_hier *h, unsigned L);
 /* The scheme's predict_around (catmark_local.c). */
-int st_catmark_predict_around(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n, uint32_t gen, st_point_sink put,
-                              st_stencil_sink sink, void *ctx);
+int st_catmark_predict_around(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n, st_synth_ctx *out);
 
 #endif

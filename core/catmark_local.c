@@ -171,30 +171,30 @@ static int plan_region(plan *p, const uint32_t *seeds, uint32_t nseeds)
 }
 
 /* Faces first: edges and vertices read their points at level L. */
-static void evaluate(plan *p, st_point_sink put, st_stencil_sink sink, void *ctx)
+static void evaluate(plan *p, st_synth_ctx *sc)
 {
     st_map *m = &p->h->map;
     cc_eval x = { .h = p->h, .L = p->L, .pbase = (const double *)m->pos.base, .pcol = (const double *)m->pos.col[p->c.plvl] };
-    double out[3];
+    double v[3];
     const cc_table *t = &p->t;
     for (uint32_t i = 0; i < st_cc_nfaces_general(t); i++) {
         const uint32_t *r = t->fdata.a + t->foff.a[i];
-        st_cc_face_value(&x, r + 1, t->foff.a[i + 1] - t->foff.a[i] - 1, out);
-        put(ctx, r[0], p->fdart.a[i], out);
+        st_cc_face_value(&x, r + 1, t->foff.a[i + 1] - t->foff.a[i] - 1, v);
+        st_synth_put(sc, r[0], p->fdart.a[i], v);
     }
     x.pnew = (double *)m->pos.base; /* the face points, read back */
     for (size_t i = 0; i < t->edge.n / 5; i++) {
-        st_cc_edge_value(&x, t->edge.a + 5 * i, out);
-        put(ctx, t->edge.a[5 * i + 4], p->edart.a[i], out);
+        st_cc_edge_value(&x, t->edge.a + 5 * i, v);
+        st_synth_put(sc, t->edge.a[5 * i + 4], p->edart.a[i], v);
     }
     for (uint32_t i = 0; i < st_cc_nverts_general(t); i++) {
         const uint32_t *r = t->vdata.a + t->voff.a[i];
-        st_cc_vertex_value(&x, r, (t->voff.a[i + 1] - t->voff.a[i] - 1) / 2, out);
-        put(ctx, r[0] & REF_ID, p->vdart.a[i], out);
+        st_cc_vertex_value(&x, r, (t->voff.a[i + 1] - t->voff.a[i] - 1) / 2, v);
+        st_synth_put(sc, r[0] & REF_ID, p->vdart.a[i], v);
     }
     st_catmark_emitter e = { 0 };
-    for (size_t i = 0; i < t->sedge.n; i++) st_catmark_emit_edge(p->h, p->L, t->sedge.a[i], &e, sink, ctx);
-    for (size_t i = 0; i < t->svert.n; i++) st_catmark_emit_vertex(p->h, p->L, t->svert.a[i], &e, sink, ctx);
+    for (size_t i = 0; i < t->sedge.n; i++) st_catmark_emit_edge(p->h, p->L, t->sedge.a[i], &e, st_synth_sink, sc);
+    for (size_t i = 0; i < t->svert.n; i++) st_catmark_emit_vertex(p->h, p->L, t->svert.a[i], &e, st_synth_sink, sc);
     st_stencil_buf_free(&e.buf);
     st_stencil_buf_free(&e.tmp);
 }
@@ -214,9 +214,7 @@ typedef struct direct {
     const uint32_t *b0L, *b1, *b0, *vt; /* β0 column of L; base relations (darts new at L, plain ones) */
     int plain;                          /* β1 and vert have no column at l (primal splits keep them) */
     const double *pL;                   /* level-L positions of the vertices new at L */
-    st_point_sink put;
-    st_stencil_sink sink;
-    void *ctx;
+    st_synth_ctx *out;
     st_catmark_emitter e;
     u32vec faces;                       /* per face: dart, centre */
     u32vec walk;                        /* scratch: a face or a ring */
@@ -254,7 +252,7 @@ static void direct_face(direct *x, uint32_t c)
     double f[3] = { 0, 0, 0 }, out[3];
     for (unsigned i = 0, j = s; i < k; i++, j = j + 1 < k ? j + 1 : 0) st_cc_face_add(f, st_v_pos(&x->c, d_vert(x, y[j])));
     st_cc_face_finish(f, k, out);
-    x->put(x->ctx, centre, cd, out);
+    st_synth_put(x->out, centre, cd, out);
     vec_push(&x->faces, c);
     vec_push(&x->faces, centre);
 }
@@ -266,13 +264,13 @@ static void direct_edge(direct *x, uint32_t d, uint32_t centre)
     uint32_t e = st_v_beta0(&x->c, d);
     if (direct_hole(x, d) || direct_hole(x, e) || direct_sharp(x, d)) {
         /* from the smaller dart, as the tables: the stencil's order, its bits */
-        st_catmark_emit_edge(x->h, x->L, d < e ? d : e, &x->e, x->sink, x->ctx);
+        st_catmark_emit_edge(x->h, x->L, d < e ? d : e, &x->e, st_synth_sink, x->out);
         return;
     }
     double out[3];
     st_cc_edge_mix(st_v_pos(&x->c, d_vert(x, d)), st_v_pos(&x->c, d_vert(x, e)), x->pL + 3 * (size_t)centre,
                    direct_face_point(x, e), out);
-    x->put(x->ctx, mid, md, out);
+    st_synth_put(x->out, mid, md, out);
 }
 
 static void direct_vertex(direct *x, uint32_t d)
@@ -292,21 +290,20 @@ static void direct_vertex(direct *x, uint32_t d)
     } while (y != d);
     const uint32_t *r = x->walk.a;
     if (special) {
-        st_catmark_emit_vertex(x->h, x->L, r[lo], &x->e, x->sink, x->ctx);
+        st_catmark_emit_vertex(x->h, x->L, r[lo], &x->e, st_synth_sink, x->out);
         return;
     }
     double s[3] = { 0, 0, 0 }, out[3];
     for (unsigned i = 0, j = lo; i < n; i++, j = j + 1 < n ? j + 1 : 0)
         st_cc_vertex_add(s, st_v_pos(&x->c, d_vert(x, st_v_beta0(&x->c, r[j]))), direct_face_point(x, r[j]));
     st_cc_vertex_finish(st_v_pos(&x->c, v), s, n, out);
-    x->put(x->ctx, v, d, out);
+    st_synth_put(x->out, v, d, out);
 }
 
-static void predict_direct(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n, uint32_t gen, st_point_sink put,
-                           st_stencil_sink sink, void *ctx)
+static void predict_direct(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n, st_synth_ctx *out)
 {
     const st_map *m = &h->map;
-    direct x = { .h = h, .m = m, .l = L - 1, .L = L, .gen = gen, .put = put, .sink = sink, .ctx = ctx };
+    direct x = { .h = h, .m = m, .l = L - 1, .L = L, .gen = out->gen, .out = out };
     st_level_view_init(m, x.l, &x.c);
     x.b0L = (const uint32_t *)m->beta0.col[L];
     x.b0 = (const uint32_t *)m->beta0.base;
@@ -335,19 +332,18 @@ static void predict_direct(st_hier *h, unsigned L, const uint32_t *seeds, uint32
     st_stencil_buf_free(&x.e.tmp);
 }
 
-int st_catmark_predict_around(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n, uint32_t gen, st_point_sink put,
-                              st_stencil_sink sink, void *ctx)
+int st_catmark_predict_around(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n, st_synth_ctx *out)
 {
     if (!h->map.beta0.col[L]) return 0;
     const cc_table *t = st_cc_tables_if_fresh(h, L - 1);
     if (t && !t->irregular) {
-        predict_direct(h, L, seeds, n, gen, put, sink, ctx);
+        predict_direct(h, L, seeds, n, out);
         return 1;
     }
-    plan p = { .h = h, .m = &h->map, .l = L - 1, .L = L, .gen = gen, .b0L = (const uint32_t *)h->map.beta0.col[L] };
+    plan p = { .h = h, .m = &h->map, .l = L - 1, .L = L, .gen = out->gen, .b0L = (const uint32_t *)h->map.beta0.col[L] };
     st_level_view_init(&h->map, p.l, &p.c);
     int ok = plan_region(&p, seeds, n) == 0;
-    if (ok) evaluate(&p, put, sink, ctx);
+    if (ok) evaluate(&p, out);
     plan_free(&p);
     return ok;
 }

@@ -189,14 +189,7 @@ void st_stencil_apply(const st_hier *h, unsigned L, const st_stencil *s, double 
     for (int i = 0; i < 3; i++) out[i] += d[0] * f[0][i] + d[1] * f[1][i] + d[2] * f[2][i];
 }
 
-typedef struct synth_ctx {
-    st_hier *h;
-    unsigned L;
-    uint32_t gen;          /* stamp generation for local passes, 0 for full */
-    uint64_t count;
-    st_dart_list *changed; /* local passes: a dart of level L of each vertex written */
-    int lost;              /* some written vertex had no dart found on its frame cell */
-} synth_ctx;
+typedef st_synth_ctx synth_ctx;
 
 /* A dart of level L carrying fine vertex v, found on the frame cell of its
  * stencil (dart d of level L-1): d itself for a vertex cell; for an edge or
@@ -212,7 +205,7 @@ uint32_t st_dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L)
     return ST_NIL;
 }
 
-static void synth_sink(void *ctx, const st_stencil *s)
+void st_synth_sink(void *ctx, const st_stencil *s)
 {
     synth_ctx *c = ctx;
     if (c->gen) {
@@ -238,22 +231,8 @@ void st_hier_synthesize(st_hier *h, unsigned from)
             continue;
         }
         synth_ctx c = { .h = h, .L = L };
-        h->scheme->emit(h, L, NULL, 0, synth_sink, &c);
+        h->scheme->emit(h, L, NULL, 0, st_synth_sink, &c);
     }
-}
-
-/* put of predict_faces (scheme.h): the sink's work for a point computed
- * directly, whose dart is known. */
-static void synth_put(void *ctx, uint32_t v, uint32_t d, const double p[3])
-{
-    synth_ctx *c = ctx;
-    c->h->stamp[v] = c->gen;
-    st_hier_write_pos(c->h, v, c->L, p);
-    c->count++;
-    st_dart_list *l = c->changed;
-    if (!l) return;
-    if (l->n < l->cap) l->d[l->n++] = d; /* no call while there is room */
-    else st_dart_list_push(l, d);
 }
 
 /* ---- regions ------------------------------------------------------------------ */
@@ -404,14 +383,13 @@ uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const doubl
     for (unsigned L = l + 1; L <= m->top; L++) {
         next.n = 0;
         synth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next };
-        if (h->scheme->predict_around && !h->detail[L] && !extra &&
-            h->scheme->predict_around(h, L, seeds.d, seeds.n, c.gen, synth_put, synth_sink, &c)) {
+        if (h->scheme->predict_around && !h->detail[L] && !extra && h->scheme->predict_around(h, L, seeds.d, seeds.n, &c)) {
             count += c.count;
         } else {
             faces.n = 0;
             st_region_faces(m, L - 1, seeds.d, seeds.n, h->scheme->support_rings + extra, &faces);
             c.gen = st_hier_stamp_begin(h);
-            h->scheme->emit(h, L, faces.d, faces.n, synth_sink, &c);
+            h->scheme->emit(h, L, faces.d, faces.n, st_synth_sink, &c);
             count += c.count;
             extra = c.lost;
             if (c.lost) {

@@ -56,10 +56,8 @@ void st_stencil_buf_add(st_stencil_buf *b, uint32_t v, double w);
  * passes accept repeated sources). */
 void st_stencil_buf_add_scaled(st_stencil_buf *b, const st_stencil_buf *o, double s);
 
-/* A fine vertex v computed directly, with a dart of level L at it. */
-typedef void (*st_point_sink)(void *ctx, uint32_t v, uint32_t dart, const double p[3]);
-
 struct st_hier;
+struct st_synth_ctx;
 
 typedef struct st_scheme {
     const char *name;                 /* CLI name: "catmull-clark", "loop", ... */
@@ -84,13 +82,12 @@ typedef struct st_scheme {
     /* Optional fast path of local re-synthesis for a level L without
      * details: every fine vertex of the real faces of level L-1 around the
      * vertices of the seeds (darts of L-1; the faces support_rings = 1
-     * gives to emit) whose stamp (h->stamp) is not gen, once, as S(P_{L-1})
-     * through put, or through sink as a stencil (which stamps it itself).
-     * Returns 0, having written nothing, when level L is not one it
-     * handles (the stamps it set must then be forgotten: a new
-     * generation). */
-    int (*predict_around)(struct st_hier *h, unsigned L, const uint32_t *seeds, uint32_t nseeds, uint32_t gen,
-                          st_point_sink put, st_stencil_sink sink, void *ctx);
+     * gives to emit) whose stamp (h->stamp) is not out->gen, once, as
+     * S(P_{L-1}) through st_synth_put, or through st_synth_sink as a
+     * stencil (hier_internal.h).  Returns 0, having written nothing, when
+     * level L is not one it handles (the stamps it set must then be
+     * forgotten: a new generation). */
+    int (*predict_around)(struct st_hier *h, unsigned L, const uint32_t *seeds, uint32_t nseeds, struct st_synth_ctx *out);
 } st_scheme;
 
 /* Lookup by id or CLI name (NULL if unknown). */
