@@ -195,6 +195,7 @@ int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err)
     while (h->map.top < levels) {
         int rc = h->scheme->refine(h, err);
         if (rc) return rc;
+        drop_caches(h, 0); /* stale now: their memory back before the next level */
         st_hier_synthesize(h, h->map.top - 1);
     }
     return ST_OK;

@@ -13,10 +13,19 @@ static void table_free(void *p)
     free(t);
 }
 
+/* To their sizes; an irregular table keeps no records (the build may have
+ * filled some before it found out). */
 static void table_shrink(st_synth_table *t)
 {
     u32vec *v[] = TABLE_ARRAYS(t);
-    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) vec_shrink(v[i]);
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
+        if (t->irregular) {
+            free(v[i]->a);
+            *v[i] = (u32vec){ 0 };
+        } else {
+            vec_shrink(v[i]);
+        }
+    }
 }
 
 const st_synth_table *st_synth_tables_if_fresh(const st_hier *h, unsigned l, int scheme)
