@@ -229,12 +229,14 @@ static int direct_hole(const direct *x, uint32_t d) { return (x->m->flags[d] & S
 static int direct_sharp(const direct *x, uint32_t d) { return x->h->has_sharpness && st_hier_edge_sharpness(x->h, d, x->l) > 0; }
 
 /* The corner the tables start a face at (as face_start), in the face's
- * corners y[0..k). */
+ * corners y[0..k): on a level l >= 1 of the polygon split (which fresh
+ * tables prove), the dart before the face's one dart older than l; at level
+ * 0 the smallest. */
 static unsigned direct_start(const direct *x, const uint32_t *y, unsigned k)
 {
     unsigned best = 0;
     for (unsigned i = 0; i < k; i++) {
-        if (x->l > 0 && x->c.ins[y[i]] == x->l && x->c.ins[st_v_beta0(&x->c, y[i])] < x->l) return i;
+        if (x->l > 0 && x->c.ins[y[i]] < x->l) return i ? i - 1 : k - 1;
         best = y[i] < y[best] ? i : best;
     }
     return best;
