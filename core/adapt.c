@@ -338,6 +338,14 @@ int st_adapt_init(st_adapt *a, st_hier *h, st_error *err)
     st_scheme_id id = h->scheme->id;
     if (id == ST_SCHEME_DOOSABIN && !h->map.face_embedded)
         return st_fail(err, ST_ERR_INVALID, "adapt: a %s hierarchy must hold the dual encoding", h->scheme->name);
+    if (id == ST_SCHEME_DOOSABIN) {
+        /* The hole corners' cut (scheme_doosabin.c) has no adaptive form yet. */
+        st_dart_iter it0;
+        for (uint32_t d = st_dart_first(&h->map, 0, &it0); d != ST_NIL; d = st_dart_next(&h->map, 0, &it0))
+            if (st_is_boundary(&h->map, d))
+                return st_fail(err, ST_ERR_TOPOLOGY, "adapt: adaptive doo-sabin on open meshes is not supported yet; "
+                               "use uniform levels or catmull-clark");
+    }
     if (id == ST_SCHEME_SQRT3 && st_adapt_sqrt3_check(h, err)) return err ? err->code : ST_ERR_INVALID;
     /* The base faces (level 0 never changes while adapting): one dart each. */
     st_map *m = &h->map;

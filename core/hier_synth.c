@@ -312,6 +312,20 @@ uint32_t st_hier_stamp_begin(st_hier *h)
 
 /* ---- editing ------------------------------------------------------------------ */
 
+/* A seed on a hole leads nowhere in the dual encoding (Doo-Sabin), where
+ * the region walk starts from the seed's β1 orbit, a surface face: take a
+ * dart of the same surface vertex (φ1 orbit) on a real face. */
+static uint32_t real_seed(const st_map *m, uint32_t d, unsigned l)
+{
+    if (d == ST_NIL || !m->face_embedded || !st_is_boundary(m, d)) return d;
+    uint32_t x = d;
+    do {
+        if (!st_is_boundary(m, x)) return x;
+        x = st_phi1(m, x, l);
+    } while (x != d);
+    return d;
+}
+
 /* A dart of level l-1 near the vertex of d (level l): walk the faces around
  * the vertex until a dart that existed at level l-1 is found. */
 static uint32_t coarse_seed(const st_map *m, uint32_t d, unsigned l)
@@ -346,7 +360,7 @@ static void find_sink(void *ctx, const st_stencil *s)
 static void refresh_detail(st_hier *h, unsigned l, uint32_t d)
 {
     st_map *m = &h->map;
-    uint32_t v = st_vert(m, d, l), seed = coarse_seed(m, d, l);
+    uint32_t v = st_vert(m, d, l), seed = real_seed(m, coarse_seed(m, d, l), l - 1);
     if (seed == ST_NIL) return;
     st_dart_list faces = { 0 };
     st_region_faces(m, l - 1, &seed, 1, 1, &faces);
@@ -369,7 +383,7 @@ uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const doubl
     st_map *m = &h->map;
     for (uint32_t i = 0; i < n; i++) st_hier_write_pos(h, st_vert(m, darts[i], l), l, pos[i]);
     if (l > 0)
-        for (uint32_t i = 0; i < n; i++) refresh_detail(h, l, darts[i]);
+        for (uint32_t i = 0; i < n; i++) refresh_detail(h, l, real_seed(m, darts[i], l));
     /* Level L is recomputed on the faces of level L-1 whose children can
      * see a vertex that changed at L-1 (support_rings rings around it);
      * the vertices written at L seed level L+1.  Should a written vertex
@@ -377,7 +391,7 @@ uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const doubl
      * the region as seed, with one more ring (the children of the region
      * lie within it). */
     st_dart_list seeds = { 0 }, next = { 0 }, faces = { 0 };
-    for (uint32_t i = 0; i < n; i++) st_dart_list_push(&seeds, darts[i]);
+    for (uint32_t i = 0; i < n; i++) st_dart_list_push(&seeds, real_seed(m, darts[i], l));
     unsigned extra = 0;
     uint64_t count = 0;
     for (unsigned L = l + 1; L <= m->top; L++) {

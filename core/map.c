@@ -414,21 +414,23 @@ typedef struct orbit_count {
 static int seen_bit(const uint64_t *s, uint32_t d) { return (s[d >> 6] >> (d & 63)) & 1; }
 static void see_bit(uint64_t *s, uint32_t d) { s[d >> 6] |= 1ull << (d & 63); }
 
+/* Cells of the surface: in the dual encoding its vertices are the map's
+ * φ1 orbits and its faces (and holes) the β1 orbits. */
 static void count_dart(const st_map *m, orbit_count *c, uint32_t d, st_level_stats *s)
 {
     s->darts++;
     if (d < st_v_beta0(&c->v, d)) s->edges++;
-    int bd = st_is_boundary(m, d);
+    int bd = st_is_boundary(m, d), dual = m->face_embedded;
     if (bd) s->boundary_edges++;
     if (!seen_bit(c->vseen, d)) {
         s->vertices++;
         uint32_t x = d;
-        do { see_bit(c->vseen, x); x = st_v_beta1(&c->v, x); } while (x != d);
+        do { see_bit(c->vseen, x); x = dual ? st_v_phi1(&c->v, x) : st_v_beta1(&c->v, x); } while (x != d);
     }
     if (!seen_bit(c->fseen, d)) {
         if (bd) s->boundary_loops++; else s->faces++;
         uint32_t x = d;
-        do { see_bit(c->fseen, x); x = st_v_phi1(&c->v, x); } while (x != d);
+        do { see_bit(c->fseen, x); x = dual ? st_v_beta1(&c->v, x) : st_v_phi1(&c->v, x); } while (x != d);
     }
 }
 

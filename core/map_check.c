@@ -38,7 +38,9 @@ static int check_dart(check_ctx *c, uint32_t d)
     if (!(m->face_embedded && st_is_boundary(m, d)) && st_vert(m, same, l) != v)
         return st_fail(c->err, ST_ERR_INVALID, "level %u, dart %u: %s orbit carries two vertices (%u and %u)", l, d,
                        m->face_embedded ? "face" : "vertex", v, st_vert(m, same, l));
-    if (st_is_boundary(m, n) != st_is_boundary(m, d))
+    /* The hole flag is on the cell that stands for a face: φ1 orbits, or β1
+     * orbits in the dual encoding. */
+    if (st_is_boundary(m, m->face_embedded ? f : n) != st_is_boundary(m, d))
         return st_fail(c->err, ST_ERR_INVALID, "level %u, dart %u: face mixes boundary and real darts", l, d);
     if (st_is_boundary(m, d) && st_is_boundary(m, e))
         return st_fail(c->err, ST_ERR_INVALID, "level %u, dart %u: two boundary faces share an edge", l, d);

@@ -18,8 +18,22 @@
  * β1 orbit starting at c.  These are Doo and Sabin's original weights, the
  * ones CGAL uses (9/16, 3/16, 1/16, 3/16 on quads).
  *
- * Boundaries: not supported yet — open meshes are refused with a message
- * (CGAL drops the faces along a boundary; a boundary rule is future work). */
+ * Boundaries (Strata's rule; CGAL instead drops the faces along a
+ * boundary).  A hole of the surface is a vertex H of M* whose darts carry
+ * ST_DART_BOUNDARY (the validator and the renderer read that flag on the
+ * embedded cells of the dual encoding).  After the Catmull-Clark step on M*
+ * (with the flags off, so that refine.c splits every face as on a closed
+ * map), each face of level L at a corner (H, v) of the hole, the quad
+ * (n, D, in, out) with D the old hole dart, is cut from H to the centre:
+ * the surface vertex it stood for becomes two boundary vertices joined by a
+ * boundary edge, and the hole gets twice as many sides.  Only darts new at
+ * L are added (the dart sets stay nested); the old hole darts' β1 changes at
+ * L.  The surface then has an edge face (quad) along every boundary edge
+ * and a vertex face at every boundary vertex, as inside, and the two new
+ * boundary vertices of corner v are Chaikin's points
+ *     3/4 v + 1/4 w   (w: the other end of the boundary edge),
+ * so the boundary converges to the quadratic B-spline of the boundary
+ * polygon (the 1-D Doo-Sabin), while interior masks are unchanged. */
 #include "hier_internal.h"
 
 #include <math.h>
@@ -29,13 +43,9 @@ static int ds_prepare(st_hier *h, st_error *err)
 {
     st_map *m = &h->map;
     st_dart_iter it;
-    uint32_t holes = 0;
-    for (uint32_t d = st_dart_first(m, 0, &it); d != ST_NIL; d = st_dart_next(m, 0, &it))
-        if (st_is_boundary(m, d)) holes++;
-    if (holes)
-        return st_fail(err, ST_ERR_TOPOLOGY, "doo-sabin: open meshes are not supported yet (%u boundary edges); "
-                       "use catmull-clark or close the holes", holes);
-    /* β1* = φ1 = β1∘β0, computed for every dart before any is written. */
+    /* A hole face of the primal map becomes a vertex H of M*: its darts keep
+     * their flag.  β1* = φ1 = β1∘β0, computed for every dart before any is
+     * written. */
     uint32_t *b1 = malloc((size_t)(m->darts.end ? m->darts.end : 1) * sizeof *b1);
     if (!b1) return st_fail(err, ST_ERR_MEMORY, "doo-sabin: out of memory");
     for (uint32_t d = st_dart_first(m, 0, &it); d != ST_NIL; d = st_dart_next(m, 0, &it)) b1[d] = st_phi1(m, d, 0);
@@ -45,15 +55,43 @@ static int ds_prepare(st_hier *h, st_error *err)
     return ST_OK;
 }
 
-/* Catmull-Clark topology on M*, then one new surface vertex per face of the
- * new level; the vertices that the primal split created for M*'s edges and
- * faces mean nothing in the dual encoding and are released. */
+/* Old hole darts of level l, their flags cleared (refine.c reads the flag
+ * as a primal hole, which M*'s are not). */
+static void holes_off(st_map *m, unsigned l, st_dart_list *holes)
+{
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it))
+        if (st_is_boundary(m, d)) {
+            st_dart_list_push(holes, d);
+            m->flags[d] &= (uint8_t)~ST_DART_BOUNDARY;
+        }
+}
+
+/* The face of level L at hole dart D, (n, D, in, out), cut from H to the
+ * centre into (y, D, in) and (x, out, n); x joins the hole. */
+static void cut_hole_corner(st_map *m, uint32_t D, unsigned L)
+{
+    uint32_t out = st_phi1(m, st_phi1(m, D, L), L);
+    uint32_t x = st_cut_face(m, D, out, L), y = st_beta0(m, x, L);
+    m->flags[x] |= ST_DART_BOUNDARY;
+    m->flags[y] &= (uint8_t)~ST_DART_BOUNDARY;
+}
+
+/* Catmull-Clark topology on M*, the hole corners cut, then one new surface
+ * vertex per face of the new level; the vertices that the primal split
+ * created for M*'s edges and faces mean nothing in the dual encoding and are
+ * released. */
 static int ds_refine(st_hier *h, st_error *err)
 {
     st_map *m = &h->map;
+    st_dart_list holes = { 0 };
+    holes_off(m, m->top, &holes);
     int rc = st_refine_uniform(m, ST_SPLIT_POLY, err);
-    if (rc) return rc;
+    for (uint32_t i = 0; i < holes.n; i++) m->flags[holes.d[i]] |= ST_DART_BOUNDARY;
+    if (rc) { st_dart_list_free(&holes); return rc; }
     unsigned L = m->top;
+    for (uint32_t i = 0; i < holes.n; i++) cut_hole_corner(m, holes.d[i], L);
+    st_dart_list_free(&holes);
     st_dart_list garbage = { 0 };
     for (uint32_t b = 0; b < m->verts.nblocks[L]; b++) {
         uint32_t first = m->verts.blocks[L][b] << ST_POOL_BLOCK_SHIFT;
@@ -92,19 +130,48 @@ static void emit_corner(const st_hier *h, unsigned L, uint32_t c, st_stencil_buf
     sink(ctx, &s);
 }
 
+/* The two boundary vertices of level L at hole dart D (ds_refine): on D's
+ * face, Chaikin's point toward the other end of D's boundary edge; on the
+ * face across the cut, toward the other end of the boundary edge before it
+ * around the hole (e, β1(e) = D at level l).  Frames: those of the real
+ * faces along the two boundary edges. */
+static void emit_hole_corner(const st_hier *h, unsigned L, uint32_t D, st_stencil_buf *buf, st_stencil_sink sink, void *ctx)
+{
+    const st_map *m = &h->map;
+    unsigned l = L - 1;
+    uint32_t v = st_vert(m, D, l), e = st_beta1_inv(m, D, l);
+    uint32_t x = st_beta0(m, st_phi_1(m, D, L), L); /* the cut's dart at H: before D around the hole at L */
+    uint32_t across[2] = { st_beta0(m, D, l), st_beta0(m, e, l) };
+    uint32_t fine[2] = { st_vert(m, D, L), st_vert(m, x, L) };
+    for (int k = 0; k < 2; k++) {
+        st_stencil_buf_clear(buf);
+        st_stencil_buf_add(buf, v, 0.75);
+        st_stencil_buf_add(buf, st_vert(m, k ? e : across[0], l), 0.25);
+        st_stencil s = { fine[k], buf->n, buf->src, buf->w, across[k], ST_CELL_DUAL_FACE };
+        sink(ctx, &s);
+    }
+}
+
+static void emit_dart(const st_hier *h, unsigned L, uint32_t c, st_stencil_buf *buf, st_stencil_sink sink, void *ctx)
+{
+    if (st_is_boundary(&h->map, c)) emit_hole_corner(h, L, c, buf, sink, ctx);
+    else emit_corner(h, L, c, buf, sink, ctx);
+}
+
 static void ds_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces, st_stencil_sink sink, void *ctx)
 {
     st_map *m = &h->map;
     st_stencil_buf buf = { 0 };
     if (!faces) {
-        /* Each face of level L holds exactly one dart of level L-1. */
+        /* Each face of level L holds exactly one dart of level L-1, but for
+         * the cut hole corners (two faces per old hole dart). */
         st_dart_iter it;
         for (uint32_t d = st_dart_first(m, L - 1, &it); d != ST_NIL; d = st_dart_next(m, L - 1, &it))
-            emit_corner(h, L, d, &buf, sink, ctx);
+            emit_dart(h, L, d, &buf, sink, ctx);
     } else {
         for (uint32_t i = 0; i < nfaces; i++) {
             uint32_t x = faces[i];
-            do { emit_corner(h, L, x, &buf, sink, ctx); x = st_phi1(m, x, L - 1); } while (x != faces[i]);
+            do { emit_dart(h, L, x, &buf, sink, ctx); x = st_phi1(m, x, L - 1); } while (x != faces[i]);
         }
     }
     st_stencil_buf_free(&buf);
