@@ -125,6 +125,8 @@ static void round_trip(const char *what, const st_session_ref *r, st_session *ou
     *nbytes = n1;
 }
 
+static void open_grid(st_mesh *m) { tl_mesh_grid(m, 4); }
+
 static void check_regular(st_scheme_id id, void (*make)(st_mesh *))
 {
     const st_scheme *sc = st_scheme_get(id);
@@ -449,6 +451,7 @@ int main(void)
     check_regular(ST_SCHEME_CATMARK, torus);
     check_regular(ST_SCHEME_LOOP, tl_mesh_octa);
     check_regular(ST_SCHEME_DOOSABIN, tl_mesh_cube);
+    check_regular(ST_SCHEME_DOOSABIN, open_grid); /* hole corners cut, β1 columns */
     check_regular(ST_SCHEME_SQRT3, tl_mesh_octa);
     check_regular(ST_SCHEME_BUTTERFLY, tl_mesh_octa);
     check_regular(ST_SCHEME_QUADTRI, tl_mesh_cube);
