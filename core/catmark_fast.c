@@ -87,12 +87,7 @@ static int is_live(const uint8_t *ins, uint32_t id) { return ins[id] != ST_FREE_
 static int is_hole(const builder *x, uint32_t d) { return (x->h->map.flags[d] & ST_DART_BOUNDARY) != 0; }
 static int sharp_edge(const builder *x, uint32_t d) { return x->h->has_sharpness && st_hier_edge_sharpness(x->h, d, x->l) > 0; }
 
-/* Position ref of coarse vertex v (the choice of st_v_pos, with block bits). */
-static uint32_t ref_of(const builder *x, uint32_t v)
-{
-    int use_col = x->vnew ? !st_block_bit(x->vnew, v) : x->c.vins[v] < x->c.plvl;
-    return v | (use_col ? REF_COL : 0);
-}
+static uint32_t ref_of(const builder *x, uint32_t v) { return st_synth_ref(&x->c, x->vnew, v); }
 
 /* The centre of the face of coarse dart d at level L, or ST_NIL when the
  * chain does not end on a vertex new at L.  Each step reads a live dart
@@ -181,7 +176,8 @@ static void face_block(builder *x, uint32_t first)
     }
 }
 
-/* Level 0: faces in enumeration order, a visited bit per dart. */
+/* Level 0: faces in enumeration order, a visited bit per dart, each from its
+ * smallest dart. */
 static void faces_sequential(builder *x)
 {
     uint64_t *seen = calloc((size_t)x->dcover / 64 + 1, sizeof *seen);
@@ -189,9 +185,10 @@ static void faces_sequential(builder *x)
     for (uint32_t i = 0; i < x->nblocks && !x->irregular; i++)
         for (uint32_t d = x->blocks[i]; d < x->blocks[i] + ST_POOL_BLOCK; d++) {
             if (!is_live(x->c.ins, d) || is_hole(x, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
-            uint32_t y = d;
-            do { seen[y >> 6] |= 1ull << (y & 63); y = c_phi1(x, y); } while (y != d);
-            face_general(x, d, 0);
+            /* From the face's smallest dart: where catmark_local.c starts it too. */
+            uint32_t y = d, lo = d;
+            do { seen[y >> 6] |= 1ull << (y & 63); lo = y < lo ? y : lo; y = c_phi1(x, y); } while (y != d);
+            face_general(x, lo, 0);
         }
     free(seen);
 }
@@ -314,7 +311,7 @@ static void builder_free(builder *x)
 }
 
 /* The Catmull-Clark records of level L's coarse level (st_synth_build). */
-static int build_tables(st_hier *h, unsigned L, cc_table *t)
+static int build_tables_of(st_hier *h, unsigned L, cc_table *t)
 {
     builder x = { 0 };
     if (builder_init(&x, h, L, t)) { builder_free(&x); return 1; } /* no memory for the scratch */
@@ -331,15 +328,12 @@ static int build_tables(st_hier *h, unsigned L, cc_table *t)
     return irregular;
 }
 
+const cc_table *st_cc_tables_for(st_hier *h, unsigned L) { return st_synth_tables_for(h, L, ST_SCHEME_CATMARK, build_tables_of); }
+
 /* ---- evaluation ---- */
 
 /* Per thread: scratch for the stencil path. */
 typedef struct cc_worker { const cc_eval *x; st_catmark_emitter e; } cc_worker;
-
-/* Records are shared out in chunks of this many. */
-#define EVAL_CHUNK 2048u
-/* Levels with fewer records than this per thread run on fewer threads. */
-#define EVAL_MIN_PER_THREAD 8192u
 
 static void sink_write(void *ctx, const st_stencil *s)
 {
@@ -402,14 +396,14 @@ static void eval_passes(st_team *team, unsigned tid, void *ctx)
     const cc_table *t = w.x->t;
     uint32_t b, e;
     uint32_t nf = (uint32_t)(t->quad.n / 5) + st_cc_nfaces_general(t);
-    while (st_team_next(team, 0, nf, EVAL_CHUNK, &b, &e))
+    while (st_team_next(team, 0, nf, ST_SYNTH_CHUNK, &b, &e))
         for (uint32_t i = b; i < e; i++) face_item(w.x, i);
     st_team_sync(team); /* edge and vertex points read the face points */
     uint32_t ne = (uint32_t)(t->edge.n / 5 + t->sedge.n);
-    while (st_team_next(team, 1, ne, EVAL_CHUNK, &b, &e))
+    while (st_team_next(team, 1, ne, ST_SYNTH_CHUNK, &b, &e))
         for (uint32_t i = b; i < e; i++) edge_item(&w, i);
     uint32_t nv = (uint32_t)(t->v4.n / 9) + st_cc_nverts_general(t) + (uint32_t)(t->svert.n + t->copy.n);
-    while (st_team_next(team, 2, nv, EVAL_CHUNK, &b, &e))
+    while (st_team_next(team, 2, nv, ST_SYNTH_CHUNK, &b, &e))
         for (uint32_t i = b; i < e; i++) vertex_item(&w, i);
     st_stencil_buf_free(&w.e.buf);
     st_stencil_buf_free(&w.e.tmp);
@@ -432,7 +426,7 @@ void st_catmark_predict_level(st_hier *h, unsigned L)
 {
     st_map *m = &h->map;
     if (!m->beta0.col[L]) { predict_by_stencils(h, L); return; }
-    const cc_table *t = st_synth_tables_for(h, L, ST_SCHEME_CATMARK, build_tables);
+    const cc_table *t = st_cc_tables_for(h, L);
     if (t->irregular) { predict_by_stencils(h, L); return; }
     cc_eval x = { .h = h, .L = L, .t = t };
     x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
@@ -440,8 +434,5 @@ void st_catmark_predict_level(st_hier *h, unsigned L)
     x.pnew = (double *)m->pos.base;
     x.pbase = (const double *)m->pos.base;
     x.pcol = (const double *)m->pos.col[t->plvl];
-    uint64_t records = t->quad.n / 5 + t->edge.n / 5 + t->v4.n / 9;
-    unsigned threads = st_parallel_threads();
-    if (records < (uint64_t)EVAL_MIN_PER_THREAD * threads) threads = (unsigned)(records / EVAL_MIN_PER_THREAD);
-    st_team_run(threads ? threads : 1, eval_passes, &x);
+    st_synth_run(t->quad.n / 5 + t->edge.n / 5 + t->v4.n / 9, eval_passes, &x);
 }

@@ -14,13 +14,10 @@
 
 typedef st_synth_table cc_table;
 
-/* The Catmull-Clark tables of coarse level l if fresh (synth_tables.h).
- * Fresh tables that are not irregular prove that level l+1 is the whole
- * polygon split of level l. */
-static inline const cc_table *st_cc_tables_if_fresh(const st_hier *h, unsigned l)
-{
-    return st_synth_tables_if_fresh(h, l, ST_SCHEME_CATMARK);
-}
+/* The Catmull-Clark tables of level L's coarse level, built now if stale
+ * (catmark_fast.c).  Tables that are not irregular prove that level L is
+ * the whole polygon split of level L-1. */
+const cc_table *st_cc_tables_for(st_hier *h, unsigned L);
 
 static inline uint32_t st_cc_nfaces_general(const cc_table *t) { return st_synth_count(&t->foff); }
 static inline uint32_t st_cc_nverts_general(const cc_table *t) { return st_synth_count(&t->voff); }
@@ -35,10 +32,7 @@ typedef struct cc_eval {
     double *pnew, *pold;            /* level-L positions: base (new vertices), column (old vertices) */
 } cc_eval;
 
-static inline const double *st_cc_ref_pos(const cc_eval *x, uint32_t r)
-{
-    return (const double *)st_pick(x->pbase, x->pcol, (r & REF_COL) != 0) + 3 * (size_t)(r & REF_ID);
-}
+static inline const double *st_cc_ref_pos(const cc_eval *x, uint32_t r) { return st_synth_ref_pos(x->pbase, x->pcol, r); }
 
 /* The arithmetic, on positions: every path goes through these, so that all
  * give the same bits. */

@@ -188,8 +188,6 @@ static void loop_predict_views(st_hier *h, unsigned L)
  * L) is irregular: loop_predict_views does it. */
 
 #define RING_MAX 32u          /* valences with precomputed weights */
-#define EVAL_CHUNK 2048u      /* records per st_team_next chunk */
-#define EVAL_MIN_PER_THREAD 8192u
 
 typedef struct lbuild {
     st_hier *h;
@@ -203,11 +201,7 @@ typedef struct lbuild {
     int irregular;
 } lbuild;
 
-static uint32_t lref(const lbuild *x, uint32_t v)
-{
-    int use_col = x->vnew ? !st_block_bit(x->vnew, v) : x->c.vins[v] < x->c.plvl;
-    return v | (use_col ? REF_COL : 0);
-}
+static uint32_t lref(const lbuild *x, uint32_t v) { return st_synth_ref(&x->c, x->vnew, v); }
 
 static int ring_sharp(const st_hier *h, uint32_t d, unsigned l) { return h->has_sharpness && st_hier_edge_sharpness(h, d, l) > 0; }
 
@@ -307,10 +301,7 @@ typedef struct leval {
 
 typedef struct lworker { const leval *x; loop_fast s; } lworker;
 
-static const double *lpos(const leval *x, uint32_t r)
-{
-    return (const double *)st_pick(x->pbase, x->pcol, (r & REF_COL) != 0) + 3 * (size_t)(r & REF_ID);
-}
+static const double *lpos(const leval *x, uint32_t r) { return st_synth_ref_pos(x->pbase, x->pcol, r); }
 
 static void vertex_item(lworker *w, uint32_t i)
 {
@@ -371,9 +362,9 @@ static void eval_passes(st_team *team, unsigned tid, void *ctx)
     st_level_view_init(&x->h->map, x->l, &w.s.c);
     st_level_view_init(&x->h->map, x->L, &w.s.f);
     uint32_t b, e, nv = st_synth_count(&t->voff) + (uint32_t)(t->svert.n + t->copy.n), ne = (uint32_t)(t->edge.n / 5 + t->sedge.n);
-    while (st_team_next(team, 0, nv, EVAL_CHUNK, &b, &e))
+    while (st_team_next(team, 0, nv, ST_SYNTH_CHUNK, &b, &e))
         for (uint32_t i = b; i < e; i++) vertex_item(&w, i);
-    while (st_team_next(team, 1, ne, EVAL_CHUNK, &b, &e))
+    while (st_team_next(team, 1, ne, ST_SYNTH_CHUNK, &b, &e))
         for (uint32_t i = b; i < e; i++) edge_item(&w, i);
     st_stencil_buf_free(&w.s.buf);
     st_stencil_buf_free(&w.s.tmp);
@@ -392,10 +383,7 @@ static void loop_predict_level(st_hier *h, unsigned L)
     x.pcol = (const double *)m->pos.col[t->plvl];
     for (unsigned n = 1; n <= RING_MAX; n++) loop_weights(n, &x.vw[n], &x.ew[n]);
     x.vw[0] = x.ew[0] = 0;
-    uint64_t records = st_synth_count(&t->voff) + t->edge.n / 5;
-    unsigned threads = st_parallel_threads();
-    if (records < (uint64_t)EVAL_MIN_PER_THREAD * threads) threads = (unsigned)(records / EVAL_MIN_PER_THREAD);
-    st_team_run(threads ? threads : 1, eval_passes, &x);
+    st_synth_run(st_synth_count(&t->voff) + t->edge.n / 5, eval_passes, &x);
 }
 
 static const st_primal_rules loop_rules = { smooth_vertex, smooth_edge, 1, ST_FACE_POINTS_NONE };

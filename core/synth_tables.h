@@ -7,6 +7,8 @@
 #define ST_SYNTH_TABLES_H
 
 #include "hier.h"
+#include "parallel.h"
+#include "synth_blocks.h"
 
 #include <stdint.h>
 #include <stdlib.h>
@@ -15,6 +17,33 @@
  * the level's column rather than the base. */
 #define REF_COL 0x80000000u
 #define REF_ID 0x7fffffffu
+
+/* The ref of coarse vertex v at the level of view c: the choice of
+ * st_v_pos, read from block bits (synth_blocks.h) when vnew is given. */
+static inline uint32_t st_synth_ref(const st_level_view *c, const uint64_t *vnew, uint32_t v)
+{
+    int use_col = vnew ? !st_block_bit(vnew, v) : c->vins[v] < c->plvl;
+    return v | (use_col ? REF_COL : 0);
+}
+
+/* The position a ref names: base or column by a select (which one varies
+ * without pattern). */
+static inline const double *st_synth_ref_pos(const double *pbase, const double *pcol, uint32_t r)
+{
+    return (const double *)st_pick(pbase, pcol, (r & REF_COL) != 0) + 3 * (size_t)(r & REF_ID);
+}
+
+/* Evaluation shares records out in chunks of this many; a level with fewer
+ * than ST_SYNTH_MIN_PER_THREAD records per thread runs on fewer threads. */
+#define ST_SYNTH_CHUNK 2048u
+#define ST_SYNTH_MIN_PER_THREAD 8192u
+
+static inline void st_synth_run(uint64_t records, st_team_fn fn, void *ctx)
+{
+    unsigned threads = st_parallel_threads();
+    if (records < (uint64_t)ST_SYNTH_MIN_PER_THREAD * threads) threads = (unsigned)(records / ST_SYNTH_MIN_PER_THREAD);
+    st_team_run(threads ? threads : 1, fn, ctx);
+}
 
 /* ---- growable arrays of 32-bit indices ---- */
 
