@@ -44,6 +44,9 @@ void tl_random_details(st_hier *h, uint64_t *rng, double scale);
 uint32_t tl_random_dart_at(const st_map *m, unsigned l, uint64_t *rng);
 /* Moving vertices at each level: local re-synthesis == full synthesis. */
 void tl_check_local_equals_full(st_scheme_id id, void (*make)(st_mesh *), unsigned levels);
+/* The same without "far fewer vertices": for a mesh so small that an edit's
+ * support can be all of it. */
+void tl_check_local_equals_full_small(st_scheme_id id, void (*make)(st_mesh *), unsigned levels);
 /* A rigid motion of level 0 moves every level rigidly, details included. */
 void tl_check_rigid_motion(st_scheme_id id, void (*make)(st_mesh *), unsigned levels);
 /* An edit at level 1 keeps the finest level's details bit for bit. */
