@@ -1,7 +1,7 @@
 /* Shared option parsing and loading for the subcommands. */
 #include "cli_common.h"
 #include "mesh_any.h"
-#include "session.h"
+#include "core/io/session.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,7 +1,7 @@
 #ifndef ST_CLI_COMMON_H
 #define ST_CLI_COMMON_H
 
-#include "hier.h"
+#include "core/multires/hier.h"
 
 typedef struct st_cli_opts {
     const char *in, *out, *scheme;

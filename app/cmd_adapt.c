@@ -2,10 +2,10 @@
  *              [--falloff W] [--flatness T] [--no-restriction] [--triangulate | --access] -o OUT
  * Writes the adaptive polygon mesh (or its triangulation by the renderer's
  * case tables).  --access builds the regular hierarchy to the maximum level
- * instead and reads the same mesh off it with marker bits (core/access.h,
+ * instead and reads the same mesh off it with marker bits (core/adapt/access.h,
  * thesis §3.3.2): the structure is not changed. */
-#include "access.h"
-#include "adapt.h"
+#include "core/adapt/access.h"
+#include "core/adapt/adapt.h"
 #include "cli.h"
 #include "cli_common.h"
 #include "mesh_any.h"

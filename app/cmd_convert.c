@@ -18,11 +18,11 @@
  * Mesh output carries smooth vertex normals (OBJ `vn` with `f v//vn`, PLY nx
  * ny nz) unless --no-normals; glTF files always have them (app/gltf_io.h).
  * Exit status: 0 done, 1 a file could not be read or written, 2 bad usage. */
-#include "adapt.h"
+#include "core/adapt/adapt.h"
 #include "cli.h"
 #include "cli_common.h"
 #include "mesh_any.h"
-#include "session.h"
+#include "core/io/session.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,7 +1,7 @@
 /* strata info FILE [--scheme S --levels N]: the per-level table. */
 #include "cli.h"
 #include "cli_common.h"
-#include "map_memory.h"
+#include "core/map/map_memory.h"
 
 #include <stdio.h>
 

@@ -13,8 +13,8 @@
 #include <string.h>
 
 #include "image.h"
-#include "adapt.h"
-#include "session.h"
+#include "core/adapt/adapt.h"
+#include "core/io/session.h"
 #include "offscreen.h"
 
 #define DEFAULT_W 800
@@ -87,7 +87,7 @@ static int parse_size(render_opts *r, const char *v)
     return 0;
 }
 
-/* Adaptive display: an interest-box refinement (core/adapt.h) drawn at its
+/* Adaptive display: an interest-box refinement (core/adapt/adapt.h) drawn at its
  * top level, with the box shown. */
 static int parse_box(render_opts *r, const char *v)
 {

@@ -2,7 +2,7 @@
 #include "cli.h"
 #include "cli_common.h"
 #include "mesh_any.h"
-#include "session.h"
+#include "core/io/session.h"
 
 #include <stdio.h>
 

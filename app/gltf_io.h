@@ -41,7 +41,7 @@
 extern "C" {
 #endif
 
-#include "mesh.h"
+#include "core/io/mesh.h"
 
 /* Reads path (.gltf with external or data: buffers, or .glb: chosen by the
  * file's magic, not its name), then st_mesh_repair() like core's loaders.

@@ -5,7 +5,7 @@
 #ifndef ST_MESH_ANY_H
 #define ST_MESH_ANY_H
 
-#include "mesh.h"
+#include "core/io/mesh.h"
 
 int st_any_mesh_load(const char *path, st_mesh *out, st_notes *notes, st_error *err);
 int st_any_mesh_save(const char *path, const st_mesh *m, st_error *err);

@@ -8,10 +8,10 @@
  * at both levels (within noise) are the evidence that a relation lookup is
  * O(1) whatever the level.  Medians of 5 runs. */
 #include "bench_common.h"
-#include "map.h"
-#include "map_mesh.h"
-#include "mesh.h"
-#include "refine.h"
+#include "core/map/map.h"
+#include "core/map/map_mesh.h"
+#include "core/io/mesh.h"
+#include "core/map/refine_internal.h"
 
 #include <stdio.h>
 #include <string.h>

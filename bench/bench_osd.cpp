@@ -21,11 +21,11 @@
 // of a depth-6 Catmull-Clark hierarchy, local re-synthesis vs full synthesis.
 extern "C" {
 #include "bench_common.h"
-#include "hier.h"
-#include "hier_internal.h"
-#include "parallel.h"
-#include "pool.h"
-#include "mesh.h"
+#include "core/multires/hier.h"
+#include "core/multires/hier_internal.h"
+#include "core/base/parallel.h"
+#include "core/map/pool_internal.h"
+#include "core/io/mesh.h"
 }
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>

@@ -33,10 +33,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adapt.h"
+#include "core/adapt/adapt.h"
 #include "bench_common.h"
 #include "headless.h"
-#include "map_mesh.h"
+#include "core/map/map_mesh.h"
 #include "renderer.h"
 
 #ifndef STRATA_ASSETS

@@ -37,8 +37,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "map.h"
-#include "st_error.h"
+#include "core/map/map.h"
+#include "core/base/st_error.h"
 #include "triangulate.h"
 
 #define ST_RGEOM_VSTRIDE 6            /* floats per vertex: position, normal */

@@ -19,7 +19,7 @@
 
 #include <GL/glcorearb.h>
 
-#include "st_error.h"
+#include "core/base/st_error.h"
 
 /* The generic function pointer type of glfwGetProcAddress (GLFWglproc). */
 typedef void (*st_gl_proc)(void);

@@ -16,7 +16,7 @@
 
 #include <stdint.h>
 
-#include "st_error.h"
+#include "core/base/st_error.h"
 
 #define ST_IMAGE_TOL 4
 #define ST_IMAGE_MAX_FRACTION 0.003

@@ -33,7 +33,7 @@
 #include "camera.h"
 #include "geom.h"
 #include "gl_loader.h"
-#include "hier.h"
+#include "core/multires/hier.h"
 
 enum st_shading { ST_SHADE_NONE, ST_SHADE_SMOOTH, ST_SHADE_FLAT };
 

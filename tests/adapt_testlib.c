@@ -1,6 +1,6 @@
 /* Shared checks for the adaptive-refinement tests (adapt_testlib.h). */
 #include "adapt_testlib.h"
-#include "adapt_internal.h"
+#include "core/adapt/adapt_internal.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -8,8 +8,8 @@
 #ifndef ST_ADAPT_TESTLIB_H
 #define ST_ADAPT_TESTLIB_H
 
-#include "adapt.h"
-#include "hier_internal.h"
+#include "core/adapt/adapt.h"
+#include "core/multires/hier_internal.h"
 #include "testlib.h"
 
 typedef struct at_case {

@@ -10,7 +10,7 @@
 # distance <= 1e-6 of the bounding-box diagonal), and up to 10000 faces
 # their edge sets are compared (vertices matched by position), which checks
 # the flips.  Closed meshes, open meshes (boundary rule: see
-# core/scheme_sqrt3.c) and generated bipyramids with valence-16 and
+# core/schemes/scheme_sqrt3.c) and generated bipyramids with valence-16 and
 # valence-64 apexes (OpenMesh's weight table stops at 50; the oracle widens
 # it).  Prints the measured errors.  Skips (exit 0, with a note) only when an
 # oracle program is missing.

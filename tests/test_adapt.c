@@ -3,7 +3,7 @@
  * hierarchy, the detail round trip and incremental == full updates (the
  * shared drivers of adapt_testlib.c), adaptive access on a regular hierarchy,
  * and synthesis over empty levels. */
-#include "access.h"
+#include "core/adapt/access.h"
 #include "adapt_testlib.h"
 
 #include <math.h>

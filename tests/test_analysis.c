@@ -1,7 +1,7 @@
 /* Analysis and synthesis: round trips, zero details for exact
  * subdivisions, and level switches that change nothing. */
-#include "hier.h"
-#include "hier_internal.h"
+#include "core/multires/hier.h"
+#include "core/multires/hier_internal.h"
 #include "testlib.h"
 
 #include <math.h>

@@ -8,8 +8,8 @@
  *     twice as many boundary edges; the map stays valid;
  * and the multiresolution checks shared by the schemes (local edits, rigid
  * motions, details) on an open grid. */
-#include "hier.h"
-#include "hier_internal.h"
+#include "core/multires/hier.h"
+#include "core/multires/hier_internal.h"
 #include "testlib.h"
 
 #include <math.h>

@@ -3,9 +3,9 @@
  * undo budget, the memory budget and the interaction benchmark. */
 #include "editor.h"
 #include "editor_internal.h" /* ed_hier_clone */
-#include "hier_internal.h"
-#include "map_mesh.h"
-#include "adapt.h"
+#include "core/multires/hier_internal.h"
+#include "core/map/map_mesh.h"
+#include "core/adapt/adapt.h"
 #include "testlib.h"
 
 #include <math.h>

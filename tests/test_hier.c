@@ -1,8 +1,8 @@
 /* Multiresolution geometry: synthesis, details in local frames, local
  * re-synthesis after edits, for every registered scheme that applies. */
-#include "hier.h"
-#include "hier_internal.h"
-#include "parallel.h"
+#include "core/multires/hier.h"
+#include "core/multires/hier_internal.h"
+#include "core/base/parallel.h"
 #include "testlib.h"
 
 #include <math.h>

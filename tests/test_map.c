@@ -1,7 +1,7 @@
 /* Kernel tests: building, levels, queries, enumeration, memory. */
-#include "map.h"
-#include "map_mesh.h"
-#include "refine.h"
+#include "core/map/map.h"
+#include "core/map/map_mesh.h"
+#include "core/map/refine_internal.h"
 #include "testlib.h"
 
 #include <string.h>

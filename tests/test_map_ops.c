@@ -1,9 +1,9 @@
 /* Randomized sequences of operators at random levels (fixed seeds), with the
  * validator after every operation, and exact inverse checks: an operator
  * followed by its inverse gives back every relation at every level. */
-#include "map.h"
-#include "map_mesh.h"
-#include "refine.h"
+#include "core/map/map.h"
+#include "core/map/map_mesh.h"
+#include "core/map/refine_internal.h"
 #include "testlib.h"
 
 #include <stdlib.h>

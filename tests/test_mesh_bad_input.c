@@ -3,7 +3,7 @@
  * mesh exactly as it was; every repair is announced by a note.  Also: every
  * truncated prefix and every single-bit flip of a small binary PLY (loads
  * cleanly or fails cleanly, never crashes). */
-#include "mesh.h"
+#include "core/io/mesh.h"
 #include "testlib.h"
 
 #include <math.h>

@@ -3,7 +3,7 @@
  * scalar type and unknown elements/properties, and import -> export ->
  * import round trips through OBJ and binary PLY.  Also the project's base
  * meshes in assets/: each loads with no repair and faces outwards. */
-#include "mesh.h"
+#include "core/io/mesh.h"
 #include "testlib.h"
 
 #include <math.h>

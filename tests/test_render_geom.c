@@ -22,9 +22,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adapt.h"
+#include "core/adapt/adapt.h"
 #include "geom.h"
-#include "map_mesh.h"
+#include "core/map/map_mesh.h"
 
 typedef struct edge { uint32_t a, b; } edge;
 

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adapt.h"
+#include "core/adapt/adapt.h"
 #include "headless.h"
 #include "renderer.h"
 #include "shaders.h"

@@ -27,7 +27,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "adapt.h"
+#include "core/adapt/adapt.h"
 #include "image.h"
 #include "offscreen.h"
 

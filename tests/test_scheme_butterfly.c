@@ -3,8 +3,8 @@
  * reproduction of planes and of the regular lattice, refusal of
  * non-triangles, and the multiresolution checks.  The comparison with
  * OpenMesh on real meshes is cli_oracle_butterfly.sh. */
-#include "hier.h"
-#include "hier_internal.h"
+#include "core/multires/hier.h"
+#include "core/multires/hier_internal.h"
 #include "testlib.h"
 
 #include <math.h>

@@ -1,9 +1,9 @@
 /* Loop scheme: exact values on literal meshes (smooth, boundary, corner and
  * crease rules), refusal of non-triangles, and the multiresolution checks.
  * The comparison with OpenSubdiv on real meshes is cli_oracle_loop.sh. */
-#include "crease.h"
-#include "hier.h"
-#include "hier_internal.h"
+#include "core/schemes/crease_internal.h"
+#include "core/multires/hier.h"
+#include "core/multires/hier_internal.h"
 #include "testlib.h"
 
 #include <math.h>

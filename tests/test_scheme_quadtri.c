@@ -4,8 +4,8 @@
  * triangular prism, the house asset (mixed.obj) and the chamfered cube,
  * and the multiresolution checks.  cli_oracle_quadtri.sh compares the
  * reductions with OpenSubdiv on real meshes. */
-#include "hier.h"
-#include "hier_internal.h"
+#include "core/multires/hier.h"
+#include "core/multires/hier_internal.h"
 #include "testlib.h"
 
 #include <math.h>

@@ -1,12 +1,12 @@
-/* √3 subdivision (core/scheme_sqrt3.c, core/refine_sqrt3.c): values by
+/* √3 subdivision (core/schemes/scheme_sqrt3.c, core/map/refine_sqrt3.c): values by
  * hand on tiny meshes, topology (×3 faces, boundary trisection every second
  * level, validator at every level), the golden lagrange sqrt3 step, the
  * multiresolution checks, and robustness on odd inputs.  The comparisons
  * with CGAL and OpenMesh are in cli_oracle_sqrt3.sh. */
-#include "hier.h"
-#include "hier_internal.h"
-#include "map_mesh.h"
-#include "refine_sqrt3.h"
+#include "core/multires/hier.h"
+#include "core/multires/hier_internal.h"
+#include "core/map/map_mesh.h"
+#include "core/map/refine_sqrt3_internal.h"
 #include "testlib.h"
 
 #include <math.h>

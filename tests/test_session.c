@@ -1,11 +1,11 @@
-/* Session files (core/session.h): byte-identical round trips, bit-equal
+/* Session files (core/io/session.h): byte-identical round trips, bit-equal
  * geometry after reloading, identical behaviour of later edits and box
  * moves, refusal of truncated, bit-flipped, crafted and foreign-version
  * files; normals and the mesh writers. */
-#include "adapt.h"
-#include "hier_internal.h"
-#include "map_io.h"
-#include "session.h"
+#include "core/adapt/adapt.h"
+#include "core/multires/hier_internal.h"
+#include "core/io/map_io_internal.h"
+#include "core/io/session.h"
 #include "testlib.h"
 
 #include <math.h>

@@ -1,6 +1,6 @@
 /* Every mesh of the shared test set (STRATA_SHARED_DATA, see its SOURCES.md)
  * loads with the vertex, face, boundary-edge and face-size counts measured
- * there, or is repaired or refused as decided in core/mesh_repair.c:
+ * there, or is repaired or refused as decided in core/io/mesh_repair.c:
  *   fan3, nonmanifold_edge        refused: an edge with 3 faces
  *   moebius_quad                  refused: non-orientable
  *   nonoriented_edge              1 face flipped
@@ -9,7 +9,7 @@
  *   newell_teapot_cage            2 pinch vertices split     (V 290 -> 292)
  * Euler characteristics are checked as V - E + F, which grows by one per
  * vertex copy.  The 100k-face koala is timed (quadratic work would show). */
-#include "mesh.h"
+#include "core/io/mesh.h"
 #include "testlib.h"
 
 #include <stdlib.h>

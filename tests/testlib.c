@@ -136,8 +136,8 @@ uint32_t tl_rand(uint64_t *s)
 }
 
 /* ---- multiresolution checks shared by the scheme tests ---- */
-#include "hier.h"
-#include "hier_internal.h"
+#include "core/multires/hier.h"
+#include "core/multires/hier_internal.h"
 
 void tl_init_hier(st_hier *h, void (*make)(st_mesh *), st_scheme_id id, unsigned levels)
 {

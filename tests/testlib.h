@@ -24,7 +24,7 @@ int tl_write_file(const char *path, const void *data, size_t size);
 
 
 /* Literal fixtures (counter-clockwise, outward). */
-#include "mesh.h"
+#include "core/io/mesh.h"
 void tl_mesh_cube(st_mesh *m);              /* 8 v, 6 quads */
 void tl_mesh_tetra(st_mesh *m);             /* 4 v, 4 triangles */
 void tl_mesh_octa(st_mesh *m);              /* 6 v, 8 triangles, valence 4 */
@@ -37,7 +37,7 @@ void tl_mesh_make(st_mesh *m, const double *pos, uint32_t nv, const uint32_t *of
 uint32_t tl_rand(uint64_t *state);
 /* Multiresolution checks, for any scheme (tests/testlib.c):
  * builds `levels` levels on the fixture, validates the map. */
-#include "hier.h"
+#include "core/multires/hier.h"
 void tl_init_hier(st_hier *h, void (*make)(st_mesh *), st_scheme_id id, unsigned levels);
 /* Random details (uniform in ±scale per component) at every level >= 1. */
 void tl_random_details(st_hier *h, uint64_t *rng, double scale);

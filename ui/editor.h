@@ -41,9 +41,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adapt.h"
-#include "hier.h"
-#include "mesh.h"
+#include "core/adapt/adapt.h"
+#include "core/multires/hier.h"
+#include "core/io/mesh.h"
 
 enum st_brush_tool { ST_BRUSH_GRAB, ST_BRUSH_DRAW, ST_BRUSH_SMOOTH, ST_BRUSH_FLATTEN, ST_BRUSH_COUNT };
 const char *st_brush_name(int tool);

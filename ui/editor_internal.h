@@ -4,7 +4,7 @@
 #define ST_EDITOR_INTERNAL_H
 
 #include "editor.h"
-#include "hier_internal.h"
+#include "core/multires/hier_internal.h"
 
 /* ---- editor_clone.c ---- */
 /* Bit-exact deep copy (ids and allocation state included); -1 when out of

@@ -37,7 +37,7 @@
 #ifndef ST_REPLAY_H
 #define ST_REPLAY_H
 
-#include "st_error.h"
+#include "core/base/st_error.h"
 
 typedef struct st_replay st_replay;
 struct st_app;

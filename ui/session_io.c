@@ -1,5 +1,5 @@
 /* Sessions in the window: Ctrl+S saves the model as a .strata session
- * (core/session.h), edits are autosaved to the recovery file, a recovery
+ * (core/io/session.h), edits are autosaved to the recovery file, a recovery
  * file found at start is offered (Ctrl+R restores it), and .strata files
  * open like meshes (command line or drop). */
 #include "window.h"
@@ -14,7 +14,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include "session.h"
+#include "core/io/session.h"
 
 #define AUTOSAVE_SECONDS 10.0
 #define DEG_PER_RAD 57.29577951308232

@@ -16,7 +16,7 @@
 
 #include "image.h"
 #include "replay.h"
-#include "session.h"
+#include "core/io/session.h"
 
 #ifndef STRATA_ASSETS
 #define STRATA_ASSETS "assets"

@@ -7,7 +7,7 @@
 #ifndef ST_FUZZ_HARNESS_H
 #define ST_FUZZ_HARNESS_H
 
-#include "mesh.h"
+#include "core/io/mesh.h"
 
 #include <stdio.h>
 #include <stdlib.h>

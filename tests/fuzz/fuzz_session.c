@@ -1,4 +1,4 @@
-/* libFuzzer target for the session reader (core/session.h).
+/* libFuzzer target for the session reader (core/io/session.h).
  *
  * The checksum would turn almost every mutation into "damaged file", so the
  * harness first makes the header's size, the header CRC and the trailing CRC
@@ -10,8 +10,8 @@
  * re-save identically.
  *   fuzz_session -max_total_time=60 /tmp/corpus_session   (a copy of
  *   tests/fuzz/corpus/session: the fuzzer writes into its corpus folder) */
-#include "map_io.h"
-#include "session.h"
+#include "core/io/map_io_internal.h"
+#include "core/io/session.h"
 
 #include <stdio.h>
 #include <stdlib.h>

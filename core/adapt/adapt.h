@@ -1,0 +1,165 @@
+/* Adaptive refinement (thesis §3.2.2-3.2.6, Algorithms 1, 5 and 6; digest §5)
+ * for the primal quadrisection schemes: Catmull-Clark, Loop, Butterfly and
+ * quad/triangle, for √3 on closed triangle meshes (Algorithm 8,
+ * adapt_sqrt3.c; see "√3" below), and for Doo-Sabin through the dual
+ * encoding (adapt_doosabin.c; see "Doo-Sabin" below).
+ *
+ * Only faces chosen by a criterion are subdivided.  Every level is still a
+ * closed 2-map: a face next to a finer one simply has more sides.  Whether a
+ * cell is subdivided is read from the map, nothing is stored (§3.2.6):
+ *   - an edge of level i is split toward i+1 when β0 of its dart at level
+ *     i+1 is a dart inserted at i+1;
+ *   - the subdivision level of a face in the map of level l is the smallest
+ *     j >= ℓ (ℓ the lowest insertion level of its darts, taken at that dart
+ *     b) such that the level-j face orbit of b lies inside the face; a face
+ *     of level i is subdivided toward i+1 when its dart's face in the map of
+ *     level i+1 has level i+1 (a query above the top level is allowed).
+ *
+ * The one-level restriction (on by default): before a face of level i is
+ * subdivided, every face sharing a vertex with it is brought to level i
+ * first, so neighbouring faces differ by at most one level.  Then every stencil of the new vertices finds its complete
+ * regular neighbourhood, and positions equal those of a regular hierarchy.
+ * With the restriction off the map stays valid; stencils are taken over
+ * whatever the neighbourhood is at level i (positions then differ from the
+ * regular ones near depth borders).
+ *
+ * Simplification keeps the detail vectors of the vertices it removes, at
+ * every level, under the vertex's address in the refinement tree (adapt.c:
+ * level-0 dart plus child indices, so recreated darts find them again), and
+ * gives them back when the region is refined again.  Local frames take their
+ * tangent from the smallest dart id of the coarse cell (hier_synth.c) and a
+ * coarsened region's darts come back with other ids, so a detail whose frame
+ * cell is taken apart is kept as a world-space vector and turned back into
+ * the new frame when the cell is complete again: with the restriction on,
+ * an unedited coarse surface gets exactly its fine geometry back at every
+ * depth.  (An edit of a coarser level made while a region is coarsened
+ * carries those details along but does not rotate them.)
+ *
+ * √3 (adapt_sqrt3.c has the details).  A level is one √3 step (two steps
+ * trisect the edges).  Subdividing a triangle of level i splits it by its
+ * centre at i+1 and flips each of its edges whose other side is already
+ * subdivided toward i+1; the edges toward unsubdivided neighbours stay
+ * unflipped and the sub-triangles on them are "odd" until the neighbour is
+ * subdivided.  No edge is split, so st_edge_is_split does not apply; every
+ * face is a triangle holding exactly one dart older than it, and the face
+ * level and "subdivided toward i+1" above read the same from the map; a
+ * face of level i is odd when a face across one of its edges has a lower
+ * level at i.  Nothing is stored.  The one-level restriction is always
+ * applied for √3 (no_restriction is ignored; the `restricted` arguments
+ * below too): an odd triangle is never subdivided (its lower neighbour is,
+ * first), and the faces around the corners of a face being subdivided are
+ * made even triangles of its level first - the flips change β1 of old
+ * darts, which the levels above may only take where they have not
+ * diverged.  Simplification flips the edges back and removes the centre
+ * (the only vertex √3 creates), keeping its details like the others.  The
+ * updates read the criteria of a √3 face of level i >= 1 on the two
+ * level-(i-1) triangles of its old edge, capped by what those want (so an
+ * odd triangle and the even ones replacing it agree, and the result of an
+ * update does not depend on earlier ones); st_adapt_wanted_level below is
+ * the plain per-face reading.
+ * Meshes with holes are refused (boundary trisection is not adaptive).
+ *
+ * Doo-Sabin (adapt_doosabin.c has the details).  The map holds the dual M*
+ * (scheme_doosabin.c): a face of M* is a surface vertex, a vertex of M* a
+ * surface face.  Adaptive Doo-Sabin is adaptive Catmull-Clark topology on
+ * M* - the face and edge levels, the polygon split, the restriction, the
+ * can-simplify test and the refinement-tree addresses above all apply as
+ * they are - with the dual vertex handling: each quad of a subdivided face
+ * of M* gets a fresh vertex id placed by the Doo-Sabin mask (the ids the
+ * primal operators make for midpoints and centres are released), the new
+ * dart a split edge puts into the unsplit face across carries that face's
+ * id, and simplification gives the face its coarse id back and keeps the
+ * quads' details under (path of the face, corner index).  The one-level
+ * restriction is always applied (no_restriction is ignored).  Criteria: a
+ * cell of level 0 covers the dual cell of its vertex (the vertex, the
+ * midpoints of its edges, the centroids of its faces); a cell of level
+ * l >= 1, cut at the corner of its parent's vertex u in the surface face W,
+ * covers W's corner quad at u (u, the midpoints of W's two sides at u, W's
+ * centroid, all of level l-1) and its own vertex - so children tile their
+ * parent's region and every reading is of a neighbourhood that is complete
+ * while the cell exists; flatness is the largest angle between consecutive
+ * faces around the parent's vertex (level 0: the vertex's own).  The
+ * displayed mesh is the dual of the top level (st_map_to_mesh): closed, its
+ * polygons at depth borders mixing corners of two levels. */
+#ifndef ST_ADAPT_H
+#define ST_ADAPT_H
+
+#include "core/multires/hier.h"
+#include "core/map/dart_list.h"
+
+int st_edge_is_split(const st_map *m, uint32_t d, unsigned i);
+/* Subdivision level of the face of d in the map of level l. */
+unsigned st_face_level(st_map *m, uint32_t d, unsigned l);
+/* The face of d, of subdivision level i, is subdivided toward i+1. */
+int st_face_is_subdivided(st_map *m, uint32_t d, unsigned i);
+
+typedef struct st_adapt_params {
+    unsigned base_level;     /* every face refined at least to this level */
+    unsigned max_level;      /* faces touching the box go to this level */
+    double box_lo[3], box_hi[3];
+    int has_box;
+    double falloff;          /* band around the box (object units) with one level less per band width; 0: none */
+    double flatness;         /* > 0: also refine faces whose normals deviate more than this (radians) */
+    int no_restriction;      /* 1: one-level restriction off (ignored by √3 and Doo-Sabin: always on) */
+} st_adapt_params;
+
+/* Adaptive state kept between updates (saved details of removed vertices). */
+typedef struct st_adapt_saved {
+    uint64_t path;           /* refinement-tree address of the face (adapt.c) */
+    uint32_t meta;           /* creation level, detail level, kind, element */
+    double d[3];
+} st_adapt_saved;
+
+typedef struct st_adapt {
+    st_hier *h;
+    st_adapt_saved *saved;   /* sorted by (path, meta); d in world space */
+    uint32_t nsaved, capsaved;
+    st_adapt_saved *parked;  /* details of live vertices whose frame cell was taken apart:
+                                path = vertex id, meta = level, d in world space (adapt.c) */
+    uint32_t nparked, capparked;
+    uint64_t touched;        /* faces subdivided or simplified by the last update */
+    uint64_t forced;         /* coarser faces subdivided by the restriction in the current pass */
+    st_dart_list forced_faces; /* those faces, as (dart, level) pairs (adapt.c; during an update only) */
+    st_adapt_params prev;    /* criteria of the last update */
+    int has_prev;            /* prev is valid and the geometry has not changed since */
+    st_dart_list base_faces; /* one dart per base face */
+    struct st_adapt_grid *grid; /* base faces by place (adapt_grid.c): a cache, never saved */
+} st_adapt;
+
+int st_adapt_init(st_adapt *a, st_hier *h, st_error *err);
+void st_adapt_free(st_adapt *a);
+
+/* Subdivides the face of d (subdivision level i) toward i+1 (Algorithm 1),
+ * after its coarser neighbours when the restriction is on, and computes the
+ * level-(i+1) positions of its vertices. */
+int st_adapt_subdivide_face(st_adapt *a, uint32_t d, unsigned i, int restricted, st_error *err);
+/* Whether the face of d (level i, subdivided toward i+1) may go back to
+ * level i (§3.2.3, listing 3.2.3). */
+int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted);
+/* Algorithm 6 for one face: removes its inner edges and the edge splits no
+ * neighbour needs; keeps the removed vertices' details. */
+int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err);
+
+/* Level the criteria of p want for the face of d at level l (box, falloff,
+ * flatness; never below p->base_level).  (√3 updates use a variant: see
+ * "√3" above.) */
+unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p);
+
+/* Algorithms 5 then 6 with the criteria of p.  When only the box moved since
+ * the last update (same levels, falloff and restriction, no flatness
+ * criterion, no edit in between), only the faces that descend from the base
+ * faces near the old or the new box are visited (incremental update: base
+ * faces found through a grid, faces deep inside both boxes not entered,
+ * later passes only below the faces the restriction forced); the result is
+ * the same as a full update. */
+int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err);
+
+/* Synthesis of an adaptive hierarchy from level `from`: every vertex of a
+ * subdivided face gets S(P_{L-1}) + frame · detail at each level L. */
+void st_adapt_synthesize(st_adapt *a, unsigned from);
+
+/* The displayed adaptive mesh: the real faces of the top level, with each
+ * vertex at the finest level where it has a position. */
+int st_adapt_mesh(st_adapt *a, st_mesh *out, st_error *err);
+
+#endif

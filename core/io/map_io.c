@@ -1,0 +1,500 @@
+/* Binary (de)serialization of st_map and st_mla (map_io.h). */
+#include "core/io/map_io_internal.h"
+#include "core/map/pool_internal.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* ---- CRC-32 ------------------------------------------------------------------ */
+
+static uint32_t crc_table[8][256];
+static pthread_once_t crc_once = PTHREAD_ONCE_INIT;
+
+static void crc_init(void)
+{
+    for (uint32_t i = 0; i < 256; i++) {
+        uint32_t c = i;
+        for (int k = 0; k < 8; k++) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+        crc_table[0][i] = c;
+    }
+    for (uint32_t i = 0; i < 256; i++)
+        for (int t = 1; t < 8; t++)
+            crc_table[t][i] = (crc_table[t - 1][i] >> 8) ^ crc_table[0][crc_table[t - 1][i] & 0xff];
+}
+
+uint32_t st_crc32(uint32_t crc, const void *data, size_t n)
+{
+    pthread_once(&crc_once, crc_init); /* saves may run on a worker thread (autosave) */
+    const unsigned char *p = data;
+    uint32_t c = ~crc;
+    /* Slicing by 8 (byte order independent: the bytes are combined by hand). */
+    while (n >= 8) {
+        uint32_t lo = c ^ ((uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24);
+        uint32_t hi = (uint32_t)p[4] | (uint32_t)p[5] << 8 | (uint32_t)p[6] << 16 | (uint32_t)p[7] << 24;
+        c = crc_table[7][lo & 0xff] ^ crc_table[6][(lo >> 8) & 0xff] ^ crc_table[5][(lo >> 16) & 0xff] ^
+            crc_table[4][lo >> 24] ^ crc_table[3][hi & 0xff] ^ crc_table[2][(hi >> 8) & 0xff] ^
+            crc_table[1][(hi >> 16) & 0xff] ^ crc_table[0][hi >> 24];
+        p += 8;
+        n -= 8;
+    }
+    while (n--) c = crc_table[0][(c ^ *p++) & 0xff] ^ (c >> 8);
+    return ~c;
+}
+
+/* ---- writer -------------------------------------------------------------------- */
+
+static void bw_reset(st_bw *w)
+{
+    w->f = NULL;
+    w->mem = 0;
+    w->out = NULL;
+    w->outlen = w->outcap = 0;
+    w->total = 0;
+    w->crc = 0;
+    w->failed = 0;
+    w->slow_us = 0;
+    w->n = 0;
+}
+
+void st_bw_init_count(st_bw *w) { bw_reset(w); }
+void st_bw_init_file(st_bw *w, FILE *f) { bw_reset(w); w->f = f; }
+void st_bw_init_mem(st_bw *w) { bw_reset(w); w->mem = 1; }
+
+int st_bw_flush(st_bw *w)
+{
+    if (w->n && !w->failed) {
+        w->crc = st_crc32(w->crc, w->buf, w->n);
+        if (w->f) {
+            if (fwrite(w->buf, 1, w->n, w->f) != w->n) w->failed = 1;
+            if (w->slow_us > 0) {
+                struct timespec ts = { w->slow_us / 1000000, (w->slow_us % 1000000) * 1000 };
+                nanosleep(&ts, NULL);
+            }
+        } else if (w->mem) {
+            if (w->outlen + w->n > w->outcap) {
+                size_t cap = w->outcap ? w->outcap : 1 << 16;
+                while (cap < w->outlen + w->n) cap *= 2;
+                unsigned char *q = realloc(w->out, cap);
+                if (!q) { w->failed = 1; w->n = 0; return -1; }
+                w->out = q;
+                w->outcap = cap;
+            }
+            memcpy(w->out + w->outlen, w->buf, w->n);
+            w->outlen += w->n;
+        }
+    }
+    w->n = 0;
+    return w->failed ? -1 : 0;
+}
+
+void st_bw_bytes(st_bw *w, const void *p, size_t n)
+{
+    const unsigned char *s = p;
+    w->total += n;
+    while (n) {
+        size_t room = sizeof w->buf - w->n, k = n < room ? n : room;
+        memcpy(w->buf + w->n, s, k);
+        w->n += k;
+        s += k;
+        n -= k;
+        if (w->n == sizeof w->buf) st_bw_flush(w);
+    }
+}
+
+static inline void bw_le(st_bw *w, uint64_t v, unsigned k)
+{
+    if (w->n + k > sizeof w->buf) st_bw_flush(w);
+    for (unsigned i = 0; i < k; i++) w->buf[w->n + i] = (unsigned char)(v >> (8 * i));
+    w->n += k;
+    w->total += k;
+}
+
+void st_bw_u8(st_bw *w, uint8_t v) { bw_le(w, v, 1); }
+void st_bw_u32(st_bw *w, uint32_t v) { bw_le(w, v, 4); }
+void st_bw_u64(st_bw *w, uint64_t v) { bw_le(w, v, 8); }
+void st_bw_f32(st_bw *w, float v) { uint32_t u; memcpy(&u, &v, 4); bw_le(w, u, 4); }
+void st_bw_f64(st_bw *w, double v) { uint64_t u; memcpy(&u, &v, 8); bw_le(w, u, 8); }
+
+/* ---- reader -------------------------------------------------------------------- */
+
+void st_br_init(st_br *r, const char *name, const void *p, size_t size, st_error *err)
+{
+    r->p = p;
+    r->size = size;
+    r->off = 0;
+    r->name = name;
+    r->err = err;
+    r->failed = 0;
+}
+
+int st_br_fail(st_br *r, const char *fmt, ...)
+{
+    if (r->failed) return -1;
+    r->failed = 1;
+    char what[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    st_fail(r->err, ST_ERR_PARSE, "%s: byte %zu: %s", r->name, r->off, what);
+    return -1;
+}
+
+int st_br_need(st_br *r, uint64_t count, uint64_t elem, const char *what)
+{
+    if (r->failed) return -1;
+    uint64_t left = r->size - r->off;
+    if (elem && count > left / elem)
+        return st_br_fail(r, "%s: %llu entries of %llu bytes do not fit in the %llu bytes left", what,
+                          (unsigned long long)count, (unsigned long long)elem, (unsigned long long)left);
+    return 0;
+}
+
+static uint64_t br_le(st_br *r, unsigned k)
+{
+    if (r->failed) return 0;
+    if (r->size - r->off < k) { st_br_fail(r, "unexpected end of data"); return 0; }
+    uint64_t v = 0;
+    for (unsigned i = 0; i < k; i++) v |= (uint64_t)r->p[r->off + i] << (8 * i);
+    r->off += k;
+    return v;
+}
+
+uint8_t st_br_u8(st_br *r) { return (uint8_t)br_le(r, 1); }
+uint32_t st_br_u32(st_br *r) { return (uint32_t)br_le(r, 4); }
+uint64_t st_br_u64(st_br *r) { return br_le(r, 8); }
+float st_br_f32(st_br *r) { uint32_t u = (uint32_t)br_le(r, 4); float f; memcpy(&f, &u, 4); return f; }
+double st_br_f64(st_br *r) { uint64_t u = br_le(r, 8); double d; memcpy(&d, &u, 8); return d; }
+
+void st_br_bytes(st_br *r, void *out, size_t n)
+{
+    if (r->failed || r->size - r->off < n) {
+        if (!r->failed) st_br_fail(r, "unexpected end of data");
+        memset(out, 0, n);
+        return;
+    }
+    memcpy(out, r->p + r->off, n);
+    r->off += n;
+}
+
+/* ---- value checks -------------------------------------------------------------- */
+
+int st_value_finite_f64x3(const void *v)
+{
+    double d[3];
+    memcpy(d, v, sizeof d);
+    return isfinite(d[0]) && isfinite(d[1]) && isfinite(d[2]);
+}
+
+int st_value_sharpness_f32(const void *v)
+{
+    float f;
+    memcpy(&f, v, sizeof f);
+    return isfinite(f) && f >= 0;
+}
+
+/* ---- pools ---------------------------------------------------------------------- */
+
+#define OWNER_NONE 0xfeu
+#define OWNER_SPARE 0xfdu
+
+static uint32_t chain_length(const st_pool *p, unsigned l)
+{
+    uint32_t n = 0;
+    for (uint32_t id = p->freehead[l]; id != ST_NIL; id = p->next_free[id]) n++;
+    return n;
+}
+
+static void pool_write(st_bw *w, const st_pool *p)
+{
+    st_bw_u32(w, p->end);
+    st_bw_bytes(w, p->ins, p->end);
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        st_bw_u32(w, p->nblocks[l]);
+        for (uint32_t b = 0; b < p->nblocks[l]; b++) st_bw_u32(w, p->blocks[l][b]);
+        st_bw_u32(w, p->fill[l]);
+        st_bw_u32(w, p->live[l]);
+        uint32_t n = p->freehead[l] == ST_NIL ? 0 : chain_length(p, l);
+        st_bw_u32(w, n);
+        for (uint32_t id = p->freehead[l]; n && id != ST_NIL; id = p->next_free[id]) st_bw_u32(w, id);
+    }
+    st_bw_u32(w, p->nspare);
+    for (uint32_t i = 0; i < p->nspare; i++) st_bw_u32(w, p->spare[i]);
+    st_bw_u8(w, p->next_free != NULL);
+}
+
+static uint32_t *read_u32_array(st_br *r, uint32_t n, const char *what)
+{
+    if (st_br_need(r, n, 4, what)) return NULL;
+    uint32_t *a = malloc((size_t)(n ? n : 1) * sizeof *a);
+    if (!a) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory reading %s", r->name, what); r->failed = 1; return NULL; }
+    for (uint32_t i = 0; i < n; i++) a[i] = st_br_u32(r);
+    return a;
+}
+
+/* Reads and checks a pool of a map whose top level is `top`. */
+static int pool_read(st_br *r, st_pool *p, unsigned top, const char *what)
+{
+    st_pool_init(p);
+    uint8_t *owner = NULL, *seen = NULL;
+    uint32_t **chains = calloc(ST_MAX_LEVELS, sizeof *chains);
+    uint32_t nchain[ST_MAX_LEVELS] = { 0 };
+    int rc = -1;
+    if (!chains) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory", r->name); r->failed = 1; return -1; }
+    uint32_t end = st_br_u32(r);
+    if (r->failed) goto out;
+    if (end & (ST_POOL_BLOCK - 1) || end > UINT32_MAX - 4 * ST_POOL_BLOCK) {
+        st_br_fail(r, "%s: %u ids is not a whole number of blocks", what, end);
+        goto out;
+    }
+    if (st_br_need(r, end, 1, what)) goto out;
+    uint32_t nb = end >> ST_POOL_BLOCK_SHIFT;
+    p->ins = malloc(end ? end : 1);
+    owner = malloc(nb ? nb : 1);
+    seen = calloc(end ? end : 1, 1);
+    if (!p->ins || !owner || !seen) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory", r->name); r->failed = 1; goto out; }
+    p->end = p->cap = end;
+    st_br_bytes(r, p->ins, end);
+    for (uint32_t i = 0; i < end; i++)
+        if (p->ins[i] != ST_FREE_LEVEL && p->ins[i] > top) {
+            st_br_fail(r, "%s: id %u has insertion level %u above the top level %u", what, i, p->ins[i], top);
+            goto out;
+        }
+    memset(owner, OWNER_NONE, nb ? nb : 1);
+    for (unsigned l = 0; l < ST_MAX_LEVELS && !r->failed; l++) {
+        uint32_t n = st_br_u32(r);
+        if (r->failed) break;
+        if (n > nb) { st_br_fail(r, "%s: level %u owns %u blocks of %u", what, l, n, nb); break; }
+        if (n && l > top) { st_br_fail(r, "%s: level %u above the top level owns blocks", what, l); break; }
+        p->blocks[l] = read_u32_array(r, n, what);
+        if (!p->blocks[l]) break;
+        p->nblocks[l] = p->capblocks[l] = n;
+        for (uint32_t b = 0; b < n; b++) {
+            uint32_t k = p->blocks[l][b];
+            if (k >= nb || owner[k] != OWNER_NONE) { st_br_fail(r, "%s: block %u of level %u is invalid or owned twice", what, k, l); break; }
+            owner[k] = (uint8_t)l;
+        }
+        p->fill[l] = st_br_u32(r);
+        p->live[l] = st_br_u32(r);
+        nchain[l] = st_br_u32(r);
+        if (r->failed) break;
+        if (nchain[l] > end) { st_br_fail(r, "%s: free list of level %u is longer than the pool", what, l); break; }
+        chains[l] = read_u32_array(r, nchain[l], what);
+        if (!chains[l]) break;
+    }
+    if (r->failed) goto out;
+    uint32_t nspare = st_br_u32(r);
+    if (r->failed) goto out;
+    if (nspare > nb) { st_br_fail(r, "%s: %u spare blocks of %u", what, nspare, nb); goto out; }
+    p->spare = read_u32_array(r, nspare, what);
+    if (!p->spare) goto out;
+    p->nspare = p->capspare = nspare;
+    for (uint32_t i = 0; i < nspare; i++) {
+        uint32_t k = p->spare[i];
+        if (k >= nb || owner[k] != OWNER_NONE) { st_br_fail(r, "%s: spare block %u is invalid or owned twice", what, k); goto out; }
+        owner[k] = OWNER_SPARE;
+    }
+    uint8_t has_next = st_br_u8(r);
+    if (r->failed) goto out;
+    if (has_next > 1) { st_br_fail(r, "%s: bad free-list flag %u", what, has_next); goto out; }
+    /* Insertion levels agree with block owners; live counts agree. */
+    uint32_t live[ST_MAX_LEVELS] = { 0 };
+    for (uint32_t i = 0; i < end; i++) {
+        uint8_t o = owner[i >> ST_POOL_BLOCK_SHIFT], v = p->ins[i];
+        if (v == ST_FREE_LEVEL) continue;
+        if (o != v) { st_br_fail(r, "%s: id %u of level %u lies in a block of %s", what, i, v, o < ST_MAX_LEVELS ? "another level" : "no level"); goto out; }
+        live[v]++;
+    }
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        if (live[l] != p->live[l]) { st_br_fail(r, "%s: level %u claims %u live ids, has %u", what, l, p->live[l], live[l]); goto out; }
+        uint32_t f = p->fill[l];
+        if (f != ST_NIL) {
+            if (f >= end || owner[f >> ST_POOL_BLOCK_SHIFT] != l) { st_br_fail(r, "%s: fill pointer %u of level %u is outside its blocks", what, f, l); goto out; }
+            for (uint32_t i = f; i < ((f >> ST_POOL_BLOCK_SHIFT) + 1) << ST_POOL_BLOCK_SHIFT; i++)
+                if (p->ins[i] != ST_FREE_LEVEL) { st_br_fail(r, "%s: id %u after the fill pointer of level %u is taken", what, i, l); goto out; }
+        }
+        for (uint32_t k = 0; k < nchain[l]; k++) {
+            uint32_t id = chains[l][k];
+            if (id >= end || p->ins[id] != ST_FREE_LEVEL || owner[id >> ST_POOL_BLOCK_SHIFT] != l || seen[id] ||
+                (f != ST_NIL && (id >> ST_POOL_BLOCK_SHIFT) == (f >> ST_POOL_BLOCK_SHIFT) && id >= f)) {
+                st_br_fail(r, "%s: free list of level %u: id %u cannot be free there", what, l, id);
+                goto out;
+            }
+            seen[id] = 1;
+        }
+        p->freehead[l] = nchain[l] ? chains[l][0] : ST_NIL;
+        if (nchain[l] && !has_next) { st_br_fail(r, "%s: free lists without links", what); goto out; }
+    }
+    if (has_next) {
+        p->next_free = calloc(end ? end : 1, sizeof *p->next_free);
+        if (!p->next_free) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory", r->name); r->failed = 1; goto out; }
+        for (unsigned l = 0; l < ST_MAX_LEVELS; l++)
+            for (uint32_t k = 0; k < nchain[l]; k++)
+                p->next_free[chains[l][k]] = k + 1 < nchain[l] ? chains[l][k + 1] : ST_NIL;
+    }
+    rc = 0;
+out:
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(chains[l]);
+    free(chains);
+    free(owner);
+    free(seen);
+    if (rc) st_pool_free(p);
+    return rc;
+}
+
+/* ---- multilevel attributes -------------------------------------------------------- */
+
+static const unsigned char zeros[64];
+
+/* Whether entry i of column l (l >= 1) can be read: an id inserted below l. */
+static inline int col_readable(const st_pool *p, uint32_t i, unsigned l)
+{
+    return i < p->end && p->ins[i] != ST_FREE_LEVEL && p->ins[i] < l;
+}
+
+void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p)
+{
+    st_bw_u32(w, a->elem);
+    for (uint32_t i = 0; i < p->end; i++)
+        st_bw_bytes(w, p->ins[i] == ST_FREE_LEVEL ? zeros : a->base + (size_t)i * a->elem, a->elem);
+    uint32_t mask = 0;
+    for (unsigned l = 1; l < ST_MAX_LEVELS; l++)
+        if (a->col[l]) mask |= 1u << l;
+    st_bw_u32(w, mask);
+    for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
+        if (!a->col[l]) continue;
+        st_bw_u32(w, a->colcap[l]);
+        for (uint32_t i = 0; i < a->colcap[l]; i++)
+            st_bw_bytes(w, col_readable(p, i, l) ? a->col[l] + (size_t)i * a->elem : zeros, a->elem);
+    }
+}
+
+int st_mla_read(st_br *r, st_mla *a, const st_pool *p, unsigned top, uint32_t elem,
+                st_mla_value_check check, const char *what)
+{
+    st_mla_init(a, elem);
+    uint32_t e = st_br_u32(r);
+    if (r->failed) return -1;
+    if (e != elem) return st_br_fail(r, "%s: element size %u, expected %u", what, e, elem);
+    if (st_br_need(r, p->end, elem, what)) return -1;
+    a->base = malloc(p->end ? (size_t)p->end * elem : elem);
+    if (!a->base) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory", r->name); r->failed = 1; return -1; }
+    st_br_bytes(r, a->base, (size_t)p->end * elem);
+    for (uint32_t i = 0; check && i < p->end; i++)
+        if (p->ins[i] != ST_FREE_LEVEL && !check(a->base + (size_t)i * elem)) {
+            st_br_fail(r, "%s: bad value for id %u", what, i);
+            goto fail;
+        }
+    /* Largest id inserted below each level, +1. */
+    uint32_t below[ST_MAX_LEVELS + 1] = { 0 };
+    for (uint32_t i = 0; i < p->end; i++)
+        if (p->ins[i] != ST_FREE_LEVEL && i + 1 > below[p->ins[i] + 1]) below[p->ins[i] + 1] = i + 1;
+    for (unsigned l = 1; l <= ST_MAX_LEVELS; l++)
+        if (below[l - 1] > below[l]) below[l] = below[l - 1];
+    uint32_t mask = st_br_u32(r);
+    if (r->failed) goto fail;
+    if (mask & 1u || mask >> ST_MAX_LEVELS || (top + 1 < ST_MAX_LEVELS && mask >> (top + 1))) {
+        st_br_fail(r, "%s: columns at impossible levels (mask %#x, top %u)", what, mask, top);
+        goto fail;
+    }
+    for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
+        if (!(mask >> l & 1u)) continue;
+        uint32_t n = st_br_u32(r);
+        if (r->failed || st_br_need(r, n, elem, what)) goto fail;
+        /* below[l]: 1 + largest id inserted at a level < l. */
+        if (n < below[l]) { st_br_fail(r, "%s: column %u holds %u entries, needs %u", what, l, n, below[l]); goto fail; }
+        a->col[l] = malloc(n ? (size_t)n * elem : 1);
+        if (!a->col[l]) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory", r->name); r->failed = 1; goto fail; }
+        a->colcap[l] = n;
+        st_br_bytes(r, a->col[l], (size_t)n * elem);
+        for (uint32_t i = 0; check && i < n; i++)
+            if (col_readable(p, i, l) && !check(a->col[l] + (size_t)i * elem)) {
+                st_br_fail(r, "%s: bad value for id %u at level %u", what, i, l);
+                goto fail;
+            }
+    }
+    /* eff and maxcol follow from which columns exist (mla.c, refresh_eff). */
+    unsigned last = 0;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        if (a->col[l]) last = l;
+        a->eff[l] = (uint8_t)last;
+    }
+    a->maxcol = (uint8_t)last;
+    if (r->failed) goto fail;
+    return 0;
+fail:
+    st_mla_free(a);
+    return -1;
+}
+
+/* ---- map ---------------------------------------------------------------------------- */
+
+void st_map_write(st_bw *w, const st_map *m)
+{
+    st_bw_u32(w, m->top);
+    st_bw_u8(w, m->face_embedded);
+    pool_write(w, &m->darts);
+    pool_write(w, &m->verts);
+    st_mla_write(w, &m->beta0, &m->darts);
+    st_mla_write(w, &m->beta1, &m->darts);
+    st_mla_write(w, &m->vert, &m->darts);
+    for (uint32_t i = 0; i < m->darts.end; i++) st_bw_u8(w, m->darts.ins[i] == ST_FREE_LEVEL ? 0 : m->flags[i]);
+    st_mla_write(w, &m->pos, &m->verts);
+}
+
+/* Every relation of every level stays inside the level (what the validator
+ * assumes before it follows relations). */
+static int check_ranges(st_br *r, const st_map *m)
+{
+    for (unsigned l = 0; l <= m->top; l++) {
+        st_dart_iter it;
+        for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+            uint32_t e = st_beta0(m, d, l), f = st_beta1(m, d, l), v = st_vert(m, d, l);
+            if (!st_dart_in_level(m, e, l) || !st_dart_in_level(m, f, l))
+                return st_br_fail(r, "map: level %u, dart %u: relation leaves the level", l, d);
+            if (v >= m->verts.end || m->verts.ins[v] == ST_FREE_LEVEL || m->verts.ins[v] > l)
+                return st_br_fail(r, "map: level %u, dart %u: vertex %u does not exist at this level", l, d, v);
+        }
+    }
+    return 0;
+}
+
+int st_map_read(st_br *r, st_map *m)
+{
+    st_map_init(m);
+    uint32_t top = st_br_u32(r);
+    uint8_t fe = st_br_u8(r);
+    if (r->failed) return -1;
+    if (top >= ST_MAX_LEVELS) return st_br_fail(r, "map: top level %u (at most %d)", top, ST_MAX_LEVELS - 1);
+    if (fe > 1) return st_br_fail(r, "map: bad face-embedding flag %u", fe);
+    m->top = top;
+    m->face_embedded = fe;
+    if (pool_read(r, &m->darts, top, "dart pool")) goto fail;
+    if (pool_read(r, &m->verts, top, "vertex pool")) goto fail;
+    if (st_mla_read(r, &m->beta0, &m->darts, top, 4, NULL, "beta0") ||
+        st_mla_read(r, &m->beta1, &m->darts, top, 4, NULL, "beta1") ||
+        st_mla_read(r, &m->vert, &m->darts, top, 4, NULL, "vertex relation"))
+        goto fail;
+    if (st_br_need(r, m->darts.end, 1, "dart flags")) goto fail;
+    m->flags = malloc(m->darts.end ? m->darts.end : 1);
+    if (!m->flags) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory", r->name); r->failed = 1; goto fail; }
+    st_br_bytes(r, m->flags, m->darts.end);
+    for (uint32_t i = 0; i < m->darts.end; i++)
+        if (m->flags[i] & ~(uint8_t)ST_DART_BOUNDARY) { st_br_fail(r, "map: dart %u has unknown flags %#x", i, m->flags[i]); goto fail; }
+    if (st_mla_read(r, &m->pos, &m->verts, top, 3 * sizeof(double), st_value_finite_f64x3, "positions")) goto fail;
+    if (check_ranges(r, m)) goto fail;
+    return 0;
+fail:
+    st_map_free(m);
+    return -1;
+}
+
+void st_map_move(st_map *dst, st_map *src)
+{
+    *dst = *src;
+    st_map_init(src);
+}

@@ -1,0 +1,336 @@
+/* st_mesh lifetime, notes, file reading and st_mesh_load() dispatch.
+ *
+ * Loading is three steps, each of which can refuse: read the whole file,
+ * parse it into a scratch st_mesh (mesh_obj.c, mesh_off.c, mesh_ply.c), and
+ * repair/check it (mesh_repair.c).  Only when all three succeed is the result
+ * moved into *out, so a failed load leaves the caller's model untouched.
+ */
+#include "core/io/mesh.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+/* Files above this are refused before reading: the largest mesh the limits
+ * allow (2^27 vertices as text) stays well below it. */
+#define MAX_FILE_BYTES ((size_t)1 << 32)
+
+void st_mesh_init(st_mesh *m)
+{
+    memset(m, 0, sizeof *m);
+    m->boundary_interp = ST_BOUNDARY_UNSET;
+}
+
+void st_mesh_free(st_mesh *m)
+{
+    free(m->pos);
+    free(m->face_off);
+    free(m->face_idx);
+    free(m->normals);
+    free(m->crease_v);
+    free(m->crease_s);
+    free(m->corner_v);
+    free(m->corner_s);
+    st_mesh_init(m);
+}
+
+void st_mesh_move(st_mesh *dst, st_mesh *src)
+{
+    if (dst == src) return;
+    st_mesh_free(dst);
+    *dst = *src;
+    st_mesh_init(src);
+}
+
+void st_mesh_src_free(st_mesh_src *src)
+{
+    if (!src) return;
+    free(src->face_loc);
+    src->face_loc = NULL;
+}
+
+void st_notes_free(st_notes *n)
+{
+    if (!n) return;
+    for (uint32_t i = 0; i < n->count; i++) free(n->lines[i]);
+    free(n->lines);
+    n->lines = NULL;
+    n->count = 0;
+}
+
+int st_notes_add(st_notes *notes, const char *fmt, ...)
+{
+    if (!notes) return 0;
+    char buf[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    char **lines = realloc(notes->lines, (notes->count + 1u) * sizeof *lines);
+    if (!lines) return ST_ERR_MEMORY;
+    notes->lines = lines;
+    size_t len = strlen(buf) + 1;
+    char *copy = malloc(len);
+    if (!copy) return ST_ERR_MEMORY;
+    memcpy(copy, buf, len);
+    lines[notes->count++] = copy;
+    return 0;
+}
+
+/* ---- face and number helpers shared by the parsers ---------------------- */
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+uint32_t st_mesh_face_repeat(const uint32_t *idx, uint32_t n, uint32_t *scratch)
+{
+    /* Pairwise for short faces (the common case, no copy); sorting for long
+     * ones so that a file of huge faces cannot make this quadratic. */
+    if (n <= 16) {
+        for (uint32_t i = 1; i < n; i++)
+            for (uint32_t j = 0; j < i; j++)
+                if (idx[i] == idx[j]) return idx[i];
+        return UINT32_MAX;
+    }
+    memcpy(scratch, idx, (size_t)n * sizeof *idx);
+    qsort(scratch, n, sizeof *scratch, cmp_u32);
+    for (uint32_t i = 1; i < n; i++)
+        if (scratch[i] == scratch[i - 1]) return scratch[i];
+    return UINT32_MAX;
+}
+
+int st_mesh_parse_double(const char *s, size_t len, double *out)
+{
+    /* strtod needs a terminated string; tokens are copied to a bounded buffer
+     * so the parser never reads past the caller's data. */
+    char buf[128];
+    if (len == 0 || len >= sizeof buf) return -1;
+    memcpy(buf, s, len);
+    buf[len] = 0;
+    char *end;
+    errno = 0;
+    double v = strtod(buf, &end);
+    if (end != buf + len) return -1;
+    *out = v;   /* overflow gives +-HUGE_VAL: the caller's finiteness check names it */
+    return 0;
+}
+
+int st_text_is_blank(char c)
+{
+    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+int st_text_token(const char **q, const char *le, const char **tok, size_t *len)
+{
+    const char *p = *q;
+    while (p < le && st_text_is_blank(*p)) p++;
+    if (p == le || *p == '#') { *q = p; return 0; }
+    const char *s = p;
+    while (p < le && !st_text_is_blank(*p) && *p != '#') p++;
+    *tok = s;
+    *len = (size_t)(p - s);
+    *q = p;
+    return 1;
+}
+
+int st_mesh_parse_int(const char *s, size_t len, int64_t *out)
+{
+    size_t i = 0;
+    int neg = 0;
+    if (len > 0 && (s[0] == '-' || s[0] == '+')) { neg = s[0] == '-'; i = 1; }
+    if (i == len) return -1;
+    int64_t v = 0;
+    for (; i < len; i++) {
+        if (s[i] < '0' || s[i] > '9') return -1;
+        if (v > (INT64_MAX - 9) / 10) return -1;   /* far beyond any limit */
+        v = v * 10 + (s[i] - '0');
+    }
+    *out = neg ? -v : v;
+    return 0;
+}
+
+/* ---- reading files and dispatching -------------------------------------- */
+
+/* Reads path into a malloc'ed buffer (NUL-terminated for convenience). */
+static int read_whole_file(const char *path, char **data, size_t *size, st_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return st_fail(err, ST_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        fclose(f);
+        return st_fail(err, ST_ERR_IO, "%s: not a regular file", path);
+    }
+    if ((uint64_t)st.st_size > MAX_FILE_BYTES) {
+        fclose(f);
+        return st_fail(err, ST_ERR_RANGE, "%s: file of %lld bytes is too large (limit %zu)",
+                       path, (long long)st.st_size, MAX_FILE_BYTES);
+    }
+    size_t n = (size_t)st.st_size;
+    char *buf = malloc(n + 1);
+    if (!buf) {
+        fclose(f);
+        return st_fail(err, ST_ERR_MEMORY, "%s: out of memory reading %zu bytes", path, n);
+    }
+    size_t got = fread(buf, 1, n, f);
+    int bad = ferror(f);
+    fclose(f);
+    if (bad || got != n) {
+        free(buf);
+        return st_fail(err, ST_ERR_IO, "%s: read error after %zu of %zu bytes", path, got, n);
+    }
+    buf[n] = 0;
+    *data = buf;
+    *size = n;
+    return 0;
+}
+
+enum mesh_format { FMT_UNKNOWN, FMT_OBJ, FMT_OFF, FMT_PLY };
+
+int st_path_has_ext(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    if (n < k) return 0;
+    for (size_t i = 0; i < k; i++) {
+        char c = s[n - k + i];
+        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
+        if (c != suffix[i]) return 0;
+    }
+    return 1;
+}
+
+static enum mesh_format format_of(const char *path)
+{
+    if (st_path_has_ext(path, ".obj")) return FMT_OBJ;
+    if (st_path_has_ext(path, ".off")) return FMT_OFF;
+    if (st_path_has_ext(path, ".ply")) return FMT_PLY;
+    return FMT_UNKNOWN;
+}
+
+static int parse_as(enum mesh_format fmt, const char *name, const char *data, size_t size,
+                    st_mesh *out, st_mesh_src *src, st_error *err)
+{
+    switch (fmt) {
+    case FMT_OBJ: return st_mesh_parse_obj_src(name, data, size, out, src, err);
+    case FMT_OFF: return st_mesh_parse_off_src(name, data, size, out, src, err);
+    case FMT_PLY: return st_mesh_parse_ply_src(name, data, size, out, src, err);
+    default: break;
+    }
+    return st_fail(err, ST_ERR_PARSE, "%s: unknown mesh format (expected .obj, .off or .ply)", name);
+}
+
+/* Read, parse, repair into scratch; move into *out only on full success.
+ * Notes are collected separately and appended only on success too. */
+static int load_as(enum mesh_format fmt, const char *path, st_mesh *out,
+                   st_notes *notes, st_error *err)
+{
+    if (fmt == FMT_UNKNOWN) return parse_as(fmt, path, NULL, 0, NULL, NULL, err);
+    char *data = NULL;
+    size_t size = 0;
+    int rc = read_whole_file(path, &data, &size, err);
+    if (rc) return rc;
+    st_mesh m;
+    st_mesh_init(&m);
+    st_mesh_src src = {0};
+    rc = parse_as(fmt, path, data, size, &m, &src, err);
+    free(data);
+    if (rc) st_mesh_free(&m);
+    else rc = st_mesh_finish_load(path, &m, &src, out, notes, err);
+    st_mesh_src_free(&src);
+    return rc;
+}
+
+int st_mesh_finish_load(const char *name, st_mesh *parsed, const st_mesh_src *src, st_mesh *out,
+                        st_notes *notes, st_error *err)
+{
+    st_notes local = {0};
+    int rc = st_mesh_repair_src(name, parsed, src, notes ? &local : NULL, err);
+    if (rc) {
+        st_mesh_free(parsed);
+        st_notes_free(&local);
+        return rc;
+    }
+    st_mesh_move(out, parsed);
+    for (uint32_t i = 0; i < local.count; i++) st_notes_add(notes, "%s", local.lines[i]);
+    st_notes_free(&local);
+    return 0;
+}
+
+int st_mesh_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error *err)
+{
+    return load_as(format_of(path), path, out, notes, err);
+}
+
+int st_mesh_load(const char *path, st_mesh *out, st_error *err)
+{
+    return load_as(format_of(path), path, out, NULL, err);
+}
+
+int st_mesh_load_obj(const char *path, st_mesh *out, st_error *err)
+{
+    return load_as(FMT_OBJ, path, out, NULL, err);
+}
+
+int st_mesh_load_off(const char *path, st_mesh *out, st_error *err)
+{
+    return load_as(FMT_OFF, path, out, NULL, err);
+}
+
+int st_mesh_load_ply(const char *path, st_mesh *out, st_error *err)
+{
+    return load_as(FMT_PLY, path, out, NULL, err);
+}
+
+int st_mesh_parse_obj(const char *name, const char *data, size_t size, st_mesh *out, st_error *err)
+{
+    return st_mesh_parse_obj_src(name, data, size, out, NULL, err);
+}
+
+int st_mesh_parse_off(const char *name, const char *data, size_t size, st_mesh *out, st_error *err)
+{
+    return st_mesh_parse_off_src(name, data, size, out, NULL, err);
+}
+
+int st_mesh_parse_ply(const char *name, const char *data, size_t size, st_mesh *out, st_error *err)
+{
+    return st_mesh_parse_ply_src(name, data, size, out, NULL, err);
+}
+
+int st_mesh_repair(const char *name, st_mesh *m, st_notes *notes, st_error *err)
+{
+    return st_mesh_repair_src(name, m, NULL, notes, err);
+}
+
+int st_mesh_fail_at(st_error *err, int code, const char *name, int binary, uint64_t loc,
+                    const char *fmt, ...)
+{
+    if (!err) return code;
+    char what[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    if (binary)
+        return st_fail(err, code, "%s: byte %llu: %s", name, (unsigned long long)loc, what);
+    return st_fail(err, code, "%s:%llu: %s", name, (unsigned long long)loc, what);
+}
+
+void *st_mesh_grow(void *p, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap) return p;
+    size_t n = *cap ? *cap : 64;
+    while (n < need) {
+        if (n > SIZE_MAX / 2) return NULL;
+        n *= 2;
+    }
+    if (n > SIZE_MAX / elem) return NULL;
+    void *q = realloc(p, n * elem);
+    if (q) *cap = n;
+    return q;
+}

@@ -1,0 +1,169 @@
+/* st_mesh: a polygon soup, the interchange form between files and the map.
+ *
+ * Loaders fill it, the repair/check pass makes it a consistently oriented
+ * 2-manifold (or refuses it with a message), st_map_from_mesh() builds the
+ * level-0 map from it, and st_map_to_mesh() extracts any level back into it
+ * for the writers.  Flat arrays, counts-and-offsets for faces (OpenSubdiv's
+ * vtr layout).  Vertex and face indices are 0-based.
+ */
+#ifndef ST_MESH_H
+#define ST_MESH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/base/st_error.h"
+
+/* OBJ `t interpolateboundary` values as written in files (PLATFORM-NOTES:
+ * 0 none, 1 edge-and-corner, 2 edge-only; no tag means edge-only). */
+enum st_boundary_interp {
+    ST_BOUNDARY_UNSET = -1,
+    ST_BOUNDARY_NONE = 0,
+    ST_BOUNDARY_EDGE_AND_CORNER = 1,
+    ST_BOUNDARY_EDGE_ONLY = 2,
+};
+
+typedef struct st_mesh {
+    uint32_t nverts;
+    double *pos;            /* 3 * nverts */
+    uint32_t nfaces;
+    uint32_t *face_off;     /* nfaces + 1 offsets into face_idx */
+    uint32_t *face_idx;     /* face_off[nfaces] vertex indices, counter-clockwise */
+    /* Optional per-vertex normals (writers only; NULL when absent). */
+    double *normals;        /* 3 * nverts or NULL */
+    /* OpenSubdiv tags from OBJ `t` lines, kept for the schemes. */
+    uint32_t ncreases;
+    uint32_t *crease_v;     /* 2 * ncreases vertex indices (an edge) */
+    float *crease_s;        /* ncreases sharpness values */
+    uint32_t ncorners;
+    uint32_t *corner_v;     /* ncorners vertex indices */
+    float *corner_s;        /* ncorners sharpness values */
+    int boundary_interp;    /* enum st_boundary_interp */
+} st_mesh;
+
+void st_mesh_init(st_mesh *m);
+void st_mesh_free(st_mesh *m);
+/* Moves src into dst (dst freed first); src is left empty. */
+void st_mesh_move(st_mesh *dst, st_mesh *src);
+
+/* Limits that keep an unchecked count in a file from driving an allocation. */
+#define ST_MESH_MAX_VERTS   (1u << 27)
+#define ST_MESH_MAX_FACES   (1u << 27)
+#define ST_MESH_MAX_DEGREE  (1u << 16)
+
+/* Whether path ends in ext (".obj", ...), ignoring ASCII case: the one
+ * extension test every loader, writer and command uses. */
+int st_path_has_ext(const char *path, const char *ext);
+
+/* Loaders: read, parse, then st_mesh_repair().  On failure *out is
+ * untouched and err names file:line: problem (binary PLY: "file: byte N:");
+ * on success *out's previous content is freed and replaced.
+ * Format chosen by extension (.obj .off .ply), case-insensitive.
+ * OBJ face indices count from 1 (negative: relative); OFF and PLY from 0;
+ * OBJ `t` tag indices from 0 (OpenSubdiv).  Messages number vertices as
+ * the file does. */
+int st_mesh_load(const char *path, st_mesh *out, st_error *err);
+int st_mesh_load_obj(const char *path, st_mesh *out, st_error *err);
+int st_mesh_load_off(const char *path, st_mesh *out, st_error *err);
+int st_mesh_load_ply(const char *path, st_mesh *out, st_error *err);
+/* In-memory variants (fuzzers); name is used in messages.  They parse and
+ * reject malformed records (bad numbers, indices out of range, faces of < 3
+ * or repeated vertices, non-finite coordinates, lying counts) but do not
+ * repair: call st_mesh_repair() next. */
+int st_mesh_parse_obj(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
+int st_mesh_parse_off(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
+int st_mesh_parse_ply(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
+
+/* Area-weighted smooth vertex normals into m->normals (replaced); -1 when
+ * out of memory (core/io/mesh_normals.c). */
+int st_mesh_compute_normals(st_mesh *m);
+
+/* Writers: by extension (.obj .ply); PLY written binary little-endian. */
+int st_mesh_save(const char *path, const st_mesh *m, st_error *err);
+int st_mesh_save_obj(const char *path, const st_mesh *m, st_error *err);
+int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err);
+
+/* Topological check and repair, run by st_mesh_load() after parsing.
+ * Makes the soup an oriented 2-manifold (possibly with boundary) or fails.
+ * Repairs it performs are appended to *notes (one line each, may be NULL).
+ * Repaired: inconsistent winding (faces flipped), bow-tie vertices (one copy
+ * per fan), unreferenced vertices (dropped; tags follow their vertices).
+ * Refused: edges with 3+ faces, non-orientable surfaces, degenerate faces.
+ * On failure m is unchanged.  See core/io/mesh_repair.c for the rules. */
+typedef struct st_notes {
+    char **lines;
+    uint32_t count;
+} st_notes;
+void st_notes_free(st_notes *n);
+int st_mesh_repair(const char *name, st_mesh *m, st_notes *notes, st_error *err);
+
+/* st_mesh_load() that also returns the repair notes ("file: repaired: ...",
+ * one per line; notes may be NULL).  st_mesh_load() drops them. */
+int st_mesh_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error *err);
+
+/* Checks what st_mesh_repair() promises, without changing m: indices in
+ * range, faces of 3+ distinct vertices, finite positions, every vertex used,
+ * every undirected edge used by 1 or 2 faces (in opposite directions when 2),
+ * every vertex's faces one fan, tags on existing vertices and edges.
+ * Returns 0 or fills err (ST_ERR_INVALID / ST_ERR_TOPOLOGY). */
+int st_mesh_check(const char *name, const st_mesh *m, st_error *err);
+
+/* ---- Loader plumbing shared by core/mesh*.c; not meant for other callers. */
+
+/* Where each face came from, so that problems found after parsing (by the
+ * repair pass) can still name a line or byte offset. */
+typedef struct st_mesh_src {
+    uint64_t *face_loc;     /* nfaces entries: line (text) or byte offset (binary) */
+    int binary;             /* 1: face_loc holds byte offsets, 0: line numbers */
+    int index_base;         /* how the file numbers vertices: 1 (OBJ) or 0 */
+} st_mesh_src;
+void st_mesh_src_free(st_mesh_src *src);
+
+/* The parse_* functions with face locations (src may be NULL). */
+int st_mesh_parse_obj_src(const char *name, const char *data, size_t size,
+                          st_mesh *out, st_mesh_src *src, st_error *err);
+int st_mesh_parse_off_src(const char *name, const char *data, size_t size,
+                          st_mesh *out, st_mesh_src *src, st_error *err);
+int st_mesh_parse_ply_src(const char *name, const char *data, size_t size,
+                          st_mesh *out, st_mesh_src *src, st_error *err);
+/* st_mesh_repair() naming lines/offsets from src (may be NULL). */
+int st_mesh_repair_src(const char *name, st_mesh *m, const st_mesh_src *src,
+                       st_notes *notes, st_error *err);
+/* The end of every loader: repairs the freshly parsed mesh (src may be
+ * NULL), then moves it into *out and appends the repair notes to *notes (may
+ * be NULL).  On failure *out and *notes are untouched; *parsed is freed
+ * either way. */
+int st_mesh_finish_load(const char *name, st_mesh *parsed, const st_mesh_src *src, st_mesh *out,
+                        st_notes *notes, st_error *err);
+
+/* A vertex that occurs twice in idx[0..n), or UINT32_MAX when all differ.
+ * scratch holds n entries (used for long faces, sorted there: O(n log n)). */
+uint32_t st_mesh_face_repeat(const uint32_t *idx, uint32_t n, uint32_t *scratch);
+/* Whole-token number parsers for text formats (C syntax, '.' decimal point):
+ * 0 on success, -1 if [s, s+len) is not entirely one number. */
+int st_mesh_parse_double(const char *s, size_t len, double *out);
+int st_mesh_parse_int(const char *s, size_t len, int64_t *out);
+/* Text readers (OBJ, OFF): blanks are space, tab, CR, VT, FF.  Next token of
+ * the line [*q, le): skips blanks; 0 at the line's end or at a '#' comment;
+ * a '#' also ends a token. */
+int st_text_is_blank(char c);
+int st_text_token(const char **q, const char *le, const char **tok, size_t *len);
+/* Fails with "name:LOC: problem" (LOC a line number) or, for binary files,
+ * "name: byte LOC: problem"; returns code. */
+int st_mesh_fail_at(st_error *err, int code, const char *name, int binary, uint64_t loc,
+                    const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 6, 7)))
+#endif
+    ;
+/* Makes room for need elements of elem bytes in p (capacity *cap), growing
+ * geometrically; returns the (new) array, or NULL with p still valid. */
+void *st_mesh_grow(void *p, size_t *cap, size_t need, size_t elem);
+/* Appends one printf-style line to notes (ignored when notes is NULL). */
+int st_notes_add(st_notes *notes, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+#endif

@@ -1,0 +1,452 @@
+/* Wavefront OBJ reader: `v` and `f` records plus OpenSubdiv's `t` tags.
+ *
+ * Two passes over the text.  The first counts `v` and `f` lines so that the
+ * position and face-offset arrays are allocated once, from counts the file
+ * actually contains, and so that positive face indices can be checked
+ * against the final vertex count (a face may name a vertex defined further
+ * down).  The second pass parses.  Everything else that OBJ can hold
+ * (vt, vn, vp, o, g, s, usemtl, mtllib, l, p, free-form geometry) is skipped:
+ * the subdivision cage needs only positions and polygons.
+ *
+ * Faces are `f a b c ...` where each corner is `v`, `v/t`, `v//n` or
+ * `v/t/n`; only v is used.  Indices count from 1; negative ones count back
+ * from the last vertex defined so far (-1 is the latest).
+ *
+ * Tags follow OpenSubdiv's regression shapes: `t name nint/nfloat/nstring`
+ * then the values.  Tag vertex indices are 0-based (unlike faces).
+ *   t crease 2/1/0 v0 v1 s          a chain v0..vk: one crease edge per pair,
+ *                                    one sharpness for all or one per edge
+ *   t corner 1/1/0 v s              one sharpness for all or one per vertex
+ *   t interpolateboundary 1/0/0 b   0 none, 1 edge-and-corner, 2 edge-only
+ * Other tags are read (their counts must hold) and ignored.
+ */
+#include "core/io/mesh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct obj_reader {
+    const char *name;
+    st_error *err;
+    uint64_t line;          /* 1-based number of the line being parsed */
+    const char *q, *le;     /* token cursor and end of the current line */
+    uint32_t nv_total;      /* `v` lines in the whole file (first pass) */
+    uint32_t nf_total;      /* `f` lines in the whole file (first pass) */
+    st_mesh m;              /* result under construction */
+    size_t cap_idx;         /* capacity of m.face_idx */
+    size_t cap_crease, cap_corner;
+    uint64_t *face_loc;     /* nf_total entries: line of each face */
+    uint32_t *tmp;          /* one face's corners or one tag's integers */
+    size_t cap_tmp;
+    uint32_t *scratch;      /* for st_mesh_face_repeat, same capacity as tmp */
+} obj_reader;
+
+/* Fails naming the current line. */
+#define FAIL(r, code, ...) st_mesh_fail_at((r)->err, (code), (r)->name, 0, (r)->line, __VA_ARGS__)
+
+/* ---- tokens --------------------------------------------------------------- */
+
+
+/* Next whitespace-separated token of the current line; 0 at the end of the
+ * line or at a '#' comment. */
+static int next_token(obj_reader *r, const char **tok, size_t *len)
+{
+    return st_text_token(&r->q, r->le, tok, len);
+}
+
+static int token_is(const char *tok, size_t len, const char *word)
+{
+    return strlen(word) == len && memcmp(tok, word, len) == 0;
+}
+
+/* Quotes a token for a message (bounded, so binary junk stays short). */
+static const char *quote(char *buf, size_t size, const char *tok, size_t len)
+{
+    size_t n = len < size - 1 ? len : size - 1;
+    for (size_t i = 0; i < n; i++) buf[i] = (tok[i] >= 32 && tok[i] < 127) ? tok[i] : '?';
+    buf[n] = 0;
+    return buf;
+}
+
+static int ensure_tmp(obj_reader *r, size_t need)
+{
+    if (need <= r->cap_tmp) return 0;
+    size_t cap = r->cap_tmp, cap2 = r->cap_tmp;
+    uint32_t *t = st_mesh_grow(r->tmp, &cap, need, sizeof *t);
+    if (!t) return FAIL(r, ST_ERR_MEMORY, "out of memory");
+    r->tmp = t;
+    uint32_t *s = st_mesh_grow(r->scratch, &cap2, need, sizeof *s);
+    if (!s) return FAIL(r, ST_ERR_MEMORY, "out of memory");
+    r->scratch = s;
+    r->cap_tmp = cap < cap2 ? cap : cap2;
+    return 0;
+}
+
+/* ---- first pass ------------------------------------------------------------ */
+
+/* The keyword of a line starting at p: returns 'v' for "v", 'f' for "f". */
+static char line_kind(const char *p, const char *le)
+{
+    while (p < le && st_text_is_blank(*p)) p++;
+    if (p < le && (*p == 'v' || *p == 'f') && (p + 1 == le || st_text_is_blank(p[1]))) return *p;
+    return 0;
+}
+
+static int count_records(obj_reader *r, const char *data, size_t size)
+{
+    uint64_t nv = 0, nf = 0;
+    const char *p = data, *end = data + size;
+    while (p < end) {
+        const char *le = memchr(p, '\n', (size_t)(end - p));
+        if (!le) le = end;
+        char k = line_kind(p, le);
+        nv += k == 'v';
+        nf += k == 'f';
+        p = le + 1;
+    }
+    if (nv > ST_MESH_MAX_VERTS)
+        return st_fail(r->err, ST_ERR_RANGE, "%s: %llu vertices exceed the limit of %u",
+                       r->name, (unsigned long long)nv, ST_MESH_MAX_VERTS);
+    if (nf > ST_MESH_MAX_FACES)
+        return st_fail(r->err, ST_ERR_RANGE, "%s: %llu faces exceed the limit of %u",
+                       r->name, (unsigned long long)nf, ST_MESH_MAX_FACES);
+    r->nv_total = (uint32_t)nv;
+    r->nf_total = (uint32_t)nf;
+    return 0;
+}
+
+/* ---- records --------------------------------------------------------------- */
+
+static int parse_vertex(obj_reader *r)
+{
+    double *xyz = r->m.pos + 3 * (size_t)r->m.nverts;
+    for (int k = 0; k < 3; k++) {
+        const char *tok;
+        size_t len;
+        char q[48];
+        if (!next_token(r, &tok, &len))
+            return FAIL(r, ST_ERR_PARSE, "vertex has %d coordinates, 3 needed", k);
+        if (st_mesh_parse_double(tok, len, &xyz[k]))
+            return FAIL(r, ST_ERR_PARSE, "bad vertex coordinate '%s'", quote(q, sizeof q, tok, len));
+        if (!isfinite(xyz[k]))
+            return FAIL(r, ST_ERR_GEOMETRY, "non-finite vertex coordinate '%s' (nan, inf or overflow)",
+                        quote(q, sizeof q, tok, len));
+    }
+    /* Further values (w, or the r g b of some exporters) are ignored. */
+    r->m.nverts++;
+    return 0;
+}
+
+/* One face corner "v", "v/t", "v//n" or "v/t/n": the 0-based vertex. */
+static int parse_corner(obj_reader *r, const char *tok, size_t len, uint32_t *v)
+{
+    char q[48];
+    size_t vlen = 0;
+    while (vlen < len && tok[vlen] != '/') vlen++;
+    int slashes = 0;
+    for (size_t i = vlen; i < len; i++) {
+        char c = tok[i];
+        slashes += c == '/';
+        if (c != '/' && c != '-' && (c < '0' || c > '9')) slashes = 3;
+    }
+    int64_t i;
+    if (slashes > 2 || st_mesh_parse_int(tok, vlen, &i))
+        return FAIL(r, ST_ERR_PARSE, "bad face corner '%s'", quote(q, sizeof q, tok, len));
+    if (i == 0)
+        return FAIL(r, ST_ERR_RANGE, "vertex index 0 in a face (OBJ indices start at 1)");
+    if (i > 0 && (uint64_t)i > r->nv_total)
+        return FAIL(r, ST_ERR_RANGE, "face references vertex %lld but the file has %u vertices",
+                    (long long)i, r->nv_total);
+    if (i < 0 && -i > (int64_t)r->m.nverts)
+        return FAIL(r, ST_ERR_RANGE, "relative index %lld reaches before the first vertex "
+                    "(%u vertices defined so far)", (long long)i, r->m.nverts);
+    *v = i > 0 ? (uint32_t)(i - 1) : (uint32_t)((int64_t)r->m.nverts + i);
+    return 0;
+}
+
+static int parse_face(obj_reader *r)
+{
+    st_mesh *m = &r->m;
+    const char *tok;
+    size_t len;
+    uint32_t n = 0;
+    while (next_token(r, &tok, &len)) {
+        if (n == ST_MESH_MAX_DEGREE)
+            return FAIL(r, ST_ERR_RANGE, "face has more than %u vertices", ST_MESH_MAX_DEGREE);
+        int rc = ensure_tmp(r, (size_t)n + 1);
+        if (!rc) rc = parse_corner(r, tok, len, &r->tmp[n]);
+        if (rc) return rc;
+        n++;
+    }
+    if (n < 3) return FAIL(r, ST_ERR_TOPOLOGY, "face has %u vertices; a face needs at least 3", n);
+    uint32_t dup = st_mesh_face_repeat(r->tmp, n, r->scratch);
+    if (dup != UINT32_MAX)
+        return FAIL(r, ST_ERR_TOPOLOGY, "face uses vertex %u more than once", dup + 1);
+    uint32_t nc = m->face_off[m->nfaces];
+    if ((uint64_t)nc + n > UINT32_MAX || m->nfaces >= r->nf_total)
+        return FAIL(r, ST_ERR_RANGE, "too many face corners");
+    uint32_t *idx = st_mesh_grow(m->face_idx, &r->cap_idx, (size_t)nc + n, sizeof *idx);
+    if (!idx) return FAIL(r, ST_ERR_MEMORY, "out of memory for %u face corners", nc + n);
+    m->face_idx = idx;
+    memcpy(idx + nc, r->tmp, (size_t)n * sizeof *idx);
+    if (r->face_loc) r->face_loc[m->nfaces] = r->line;
+    m->face_off[++m->nfaces] = nc + n;
+    return 0;
+}
+
+/* ---- tags ------------------------------------------------------------------ */
+
+enum tag_kind { TAG_OTHER, TAG_CREASE, TAG_CORNER, TAG_INTERP };
+
+typedef struct tag_head {
+    enum tag_kind kind;
+    int64_t nint, nfloat, nstring;
+} tag_head;
+
+/* "nint/nfloat/nstring", each a small non-negative count. */
+static int parse_tag_counts(obj_reader *r, const char *tok, size_t len, tag_head *h)
+{
+    int64_t v[3];
+    size_t a = 0;
+    for (int k = 0; k < 3; k++) {
+        size_t b = a;
+        while (b < len && tok[b] != '/') b++;
+        if ((k < 2) != (b < len) || st_mesh_parse_int(tok + a, b - a, &v[k]) ||
+            v[k] < 0 || v[k] > ST_MESH_MAX_DEGREE) {
+            char q[48];
+            return FAIL(r, ST_ERR_PARSE, "bad tag counts '%s' (expected nint/nfloat/nstring)",
+                        quote(q, sizeof q, tok, len));
+        }
+        a = b + 1;
+    }
+    h->nint = v[0];
+    h->nfloat = v[1];
+    h->nstring = v[2];
+    return 0;
+}
+
+/* Checks the counts of a known tag against what its kind needs. */
+static int check_tag_shape(obj_reader *r, const tag_head *h)
+{
+    int ok = 1;
+    const char *what = "";
+    if (h->kind == TAG_CREASE) {
+        ok = h->nint >= 2 && (h->nfloat == 1 || h->nfloat == h->nint - 1);
+        what = "crease needs 2+ vertices and 1 sharpness or one per edge";
+    } else if (h->kind == TAG_CORNER) {
+        ok = h->nint >= 1 && (h->nfloat == 1 || h->nfloat == h->nint);
+        what = "corner needs 1+ vertices and 1 sharpness or one per vertex";
+    } else if (h->kind == TAG_INTERP) {
+        ok = h->nint == 1 && h->nfloat == 0;
+        what = "interpolateboundary needs exactly one integer";
+    }
+    if (!ok) return FAIL(r, ST_ERR_PARSE, "bad tag: %s", what);
+    return 0;
+}
+
+/* Reads the integers of a tag into r->tmp, range-checked for its kind. */
+static int read_tag_ints(obj_reader *r, const tag_head *h)
+{
+    int rc = ensure_tmp(r, (size_t)h->nint);
+    if (rc) return rc;
+    for (int64_t i = 0; i < h->nint; i++) {
+        const char *tok;
+        size_t len;
+        int64_t v;
+        char q[48];
+        if (!next_token(r, &tok, &len))
+            return FAIL(r, ST_ERR_PARSE, "tag announces %lld integers but has %lld",
+                        (long long)h->nint, (long long)i);
+        if (h->kind == TAG_OTHER) continue;
+        if (st_mesh_parse_int(tok, len, &v))
+            return FAIL(r, ST_ERR_PARSE, "bad tag integer '%s'", quote(q, sizeof q, tok, len));
+        if (h->kind == TAG_INTERP) {
+            if (v < 0 || v > 2)
+                return FAIL(r, ST_ERR_RANGE, "interpolateboundary %lld is not 0, 1 or 2", (long long)v);
+        } else if (v < 0 || v >= (int64_t)r->nv_total) {
+            return FAIL(r, ST_ERR_RANGE, "tag references vertex %lld but the file has %u vertices "
+                        "(tag indices start at 0)", (long long)v, r->nv_total);
+        }
+        if (h->kind == TAG_CREASE && i > 0 && r->tmp[i - 1] == (uint32_t)v)
+            return FAIL(r, ST_ERR_TOPOLOGY, "crease tag repeats vertex %lld in a row", (long long)v);
+        r->tmp[i] = (uint32_t)v;
+    }
+    return 0;
+}
+
+static int read_sharpness(obj_reader *r, float *s)
+{
+    const char *tok;
+    size_t len;
+    double v;
+    char q[48];
+    if (!next_token(r, &tok, &len)) return FAIL(r, ST_ERR_PARSE, "tag has fewer floats than announced");
+    if (st_mesh_parse_double(tok, len, &v) || !isfinite(v) || v < 0 || v > 3.0e38)
+        return FAIL(r, ST_ERR_PARSE, "bad sharpness '%s' (a finite number >= 0)",
+                    quote(q, sizeof q, tok, len));
+    *s = (float)v;
+    return 0;
+}
+
+static int push_crease(obj_reader *r, uint32_t a, uint32_t b, float s)
+{
+    st_mesh *m = &r->m;
+    size_t cap_s = r->cap_crease, cap_v = r->cap_crease * 2;
+    float *cs = st_mesh_grow(m->crease_s, &cap_s, (size_t)m->ncreases + 1, sizeof *cs);
+    if (cs) m->crease_s = cs;
+    uint32_t *cv = cs ? st_mesh_grow(m->crease_v, &cap_v, 2 * ((size_t)m->ncreases + 1), sizeof *cv) : NULL;
+    if (!cs || !cv) return FAIL(r, ST_ERR_MEMORY, "out of memory for crease tags");
+    m->crease_v = cv;
+    r->cap_crease = cap_s < cap_v / 2 ? cap_s : cap_v / 2;
+    cv[2 * m->ncreases] = a;
+    cv[2 * m->ncreases + 1] = b;
+    cs[m->ncreases++] = s;
+    return 0;
+}
+
+static int push_corner(obj_reader *r, uint32_t v, float s)
+{
+    st_mesh *m = &r->m;
+    size_t cap_s = r->cap_corner, cap_v = r->cap_corner;
+    float *cs = st_mesh_grow(m->corner_s, &cap_s, (size_t)m->ncorners + 1, sizeof *cs);
+    if (cs) m->corner_s = cs;
+    uint32_t *cv = cs ? st_mesh_grow(m->corner_v, &cap_v, (size_t)m->ncorners + 1, sizeof *cv) : NULL;
+    if (!cs || !cv) return FAIL(r, ST_ERR_MEMORY, "out of memory for corner tags");
+    m->corner_v = cv;
+    r->cap_corner = cap_s < cap_v ? cap_s : cap_v;
+    cv[m->ncorners] = v;
+    cs[m->ncorners++] = s;
+    return 0;
+}
+
+/* The floats of a tag: sharpness values applied as they are read, one for
+ * all items or one per item (crease edge or corner vertex). */
+static int apply_tag_floats(obj_reader *r, const tag_head *h)
+{
+    int64_t items = h->kind == TAG_CREASE ? h->nint - 1 : h->nint;
+    float s = 0;
+    for (int64_t j = 0; j < items; j++) {
+        int rc = 0;
+        if (j == 0 || h->nfloat > 1) rc = read_sharpness(r, &s);
+        if (!rc && h->kind == TAG_CREASE) rc = push_crease(r, r->tmp[j], r->tmp[j + 1], s);
+        if (!rc && h->kind == TAG_CORNER) rc = push_corner(r, r->tmp[j], s);
+        if (rc) return rc;
+    }
+    return 0;
+}
+
+static int parse_tag(obj_reader *r)
+{
+    const char *name, *tok;
+    size_t nlen, len;
+    tag_head h = {TAG_OTHER, 0, 0, 0};
+    if (!next_token(r, &name, &nlen) || !next_token(r, &tok, &len))
+        return FAIL(r, ST_ERR_PARSE, "tag needs a name and nint/nfloat/nstring counts");
+    if (token_is(name, nlen, "crease")) h.kind = TAG_CREASE;
+    else if (token_is(name, nlen, "corner")) h.kind = TAG_CORNER;
+    else if (token_is(name, nlen, "interpolateboundary")) h.kind = TAG_INTERP;
+    int rc = parse_tag_counts(r, tok, len, &h);
+    if (!rc) rc = check_tag_shape(r, &h);
+    if (!rc) rc = read_tag_ints(r, &h);
+    if (rc) return rc;
+    if (h.kind == TAG_INTERP) r->m.boundary_interp = (int)r->tmp[0];
+    if (h.kind == TAG_CREASE || h.kind == TAG_CORNER) {
+        rc = apply_tag_floats(r, &h);
+        if (rc) return rc;
+    } else {
+        for (int64_t j = 0; j < h.nfloat; j++)
+            if (!next_token(r, &tok, &len)) return FAIL(r, ST_ERR_PARSE, "tag has fewer floats than announced");
+    }
+    for (int64_t j = 0; j < h.nstring; j++)
+        if (!next_token(r, &tok, &len)) return FAIL(r, ST_ERR_PARSE, "tag has fewer strings than announced");
+    if (next_token(r, &tok, &len)) return FAIL(r, ST_ERR_PARSE, "tag has more values than announced");
+    return 0;
+}
+
+/* ---- driver ---------------------------------------------------------------- */
+
+static int grow_vertex(obj_reader *r, size_t *cap)
+{
+    double *p = st_mesh_grow(r->m.pos, cap, 3 * ((size_t)r->m.nverts + 1), sizeof *p);
+    if (!p) return FAIL(r, ST_ERR_MEMORY, "out of memory for vertices");
+    r->m.pos = p;
+    return 0;
+}
+
+static int grow_face(obj_reader *r, size_t *cap, size_t *cap_loc)
+{
+    uint32_t *off = st_mesh_grow(r->m.face_off, cap, (size_t)r->m.nfaces + 2, sizeof *off);
+    if (!off) return FAIL(r, ST_ERR_MEMORY, "out of memory for faces");
+    r->m.face_off = off;
+    if (!cap_loc) return 0;
+    uint64_t *loc = st_mesh_grow(r->face_loc, cap_loc, (size_t)r->m.nfaces + 1, sizeof *loc);
+    if (!loc) return FAIL(r, ST_ERR_MEMORY, "out of memory for faces");
+    r->face_loc = loc;
+    return 0;
+}
+
+static int parse_line(obj_reader *r, size_t *cap_pos, size_t *cap_off, size_t *cap_loc)
+{
+    const char *tok;
+    size_t len;
+    if (!next_token(r, &tok, &len)) return 0;
+    if (token_is(tok, len, "v")) {
+        if (r->m.nverts >= r->nv_total) return FAIL(r, ST_ERR_RANGE, "too many vertices");
+        int rc = grow_vertex(r, cap_pos);
+        return rc ? rc : parse_vertex(r);
+    }
+    if (token_is(tok, len, "f")) {
+        int rc = grow_face(r, cap_off, cap_loc);
+        return rc ? rc : parse_face(r);
+    }
+    if (token_is(tok, len, "t")) return parse_tag(r);
+    return 0;   /* vt, vn, o, g, s, usemtl, mtllib, l, p, ...: not needed */
+}
+
+static int parse_lines(obj_reader *r, const char *data, size_t size, int want_loc)
+{
+    size_t cap_pos = 0, cap_off = 0, cap_loc = 0;
+    int rc = grow_face(r, &cap_off, want_loc ? &cap_loc : NULL);
+    if (rc) return rc;
+    r->m.face_off[0] = 0;
+    const char *p = data, *end = data + size;
+    while (p < end && !rc) {
+        const char *le = memchr(p, '\n', (size_t)(end - p));
+        if (!le) le = end;
+        r->line++;
+        r->q = p;
+        r->le = le;
+        rc = parse_line(r, &cap_pos, &cap_off, want_loc ? &cap_loc : NULL);
+        p = le < end ? le + 1 : end;
+    }
+    return rc;
+}
+
+int st_mesh_parse_obj_src(const char *name, const char *data, size_t size,
+                          st_mesh *out, st_mesh_src *src, st_error *err)
+{
+    obj_reader r;
+    memset(&r, 0, sizeof r);
+    r.name = name;
+    r.err = err;
+    st_mesh_init(&r.m);
+    if (size == 0) return st_fail(err, ST_ERR_PARSE, "%s: empty file", name);
+    int rc = count_records(&r, data, size);
+    if (!rc && r.nf_total == 0) rc = st_fail(err, ST_ERR_TOPOLOGY, "%s: no faces (no 'f' lines)", name);
+    if (!rc) rc = parse_lines(&r, data, size, src != NULL);
+    if (!rc) {
+        if (src) {
+            src->face_loc = r.face_loc;
+            src->binary = 0;
+            src->index_base = 1;
+            r.face_loc = NULL;
+        }
+        st_mesh_move(out, &r.m);
+    }
+    free(r.face_loc);
+    free(r.tmp);
+    free(r.scratch);
+    st_mesh_free(&r.m);
+    return rc;
+}

@@ -1,0 +1,750 @@
+/* Topological check and repair of a polygon soup (st_mesh_repair, st_mesh_check).
+ *
+ * Goal: an oriented 2-manifold, possibly with boundary.  Every undirected
+ * edge is used by one face (boundary) or two faces that traverse it in
+ * opposite directions, and the faces around every vertex form one fan (a
+ * disk, or a half-disk at the boundary).
+ *
+ * Decisions, one per defect, in the order they are handled:
+ *   structural garbage (index out of range, face of < 3 or repeated
+ *     vertices, non-finite position)       refuse (parsers already refuse
+ *                                          these with the line)
+ *   edge used by 3+ faces                  refuse: no split is canonical
+ *   inconsistent winding                   repair: breadth-first search over
+ *                                          faces across manifold edges, flip
+ *                                          the faces whose winding disagrees
+ *                                          (per component, the smaller side)
+ *   non-orientable (Moebius)               refuse: no winding exists
+ *   vertex with 2+ fans (bow-tie, pinch)   repair: one copy of the vertex
+ *                                          per fan, positions duplicated
+ *   unreferenced vertex                    repair: dropped, indices remapped
+ *   crease/corner tag on a changed vertex  follows its vertex (creases to the
+ *                                          copies that form the edge, corners
+ *                                          to every copy); a tag left with no
+ *                                          edge or vertex is dropped
+ * Every repair adds one note line "file: repaired: ...".
+ *
+ * Edges are found by sorting the half-edge keys (min, max vertex), so the
+ * whole pass is O(n log n) in the number of face corners, and the fan
+ * search is a union-find over corners: no recursion, no per-vertex scans.
+ * The input is modified only after every check has passed, so a refused
+ * mesh is left as it was.
+ */
+#include "core/io/mesh.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NONE UINT32_MAX
+#define MAX_LISTED 8        /* vertices or faces named in one message */
+
+typedef struct ctx {
+    const char *name;
+    const st_mesh_src *src; /* face locations, or NULL */
+    st_notes *notes;
+    st_error *err;
+    uint32_t base;          /* vertex numbering of the file in messages: 0 or 1 */
+} ctx;
+
+/* The corner (half-edge) view of the faces: corner c of face f sits at
+ * vertex idx[c]; its half-edge runs from idx[c] to idx[next(c)]. */
+typedef struct soup {
+    uint32_t nv, nf, nc;
+    const uint32_t *off;    /* nf + 1 face offsets */
+    uint32_t *idx;          /* nc vertex per corner (a working copy in repair) */
+    uint32_t *face_of;      /* nc face of each corner */
+    uint32_t *partner;      /* nc other corner on the same undirected edge, or NONE */
+} soup;
+
+typedef struct edge_rec {
+    uint64_t key;           /* (min vertex << 32) | max vertex */
+    uint32_t c;             /* the corner whose half-edge this is */
+} edge_rec;
+
+/* ---- messages -------------------------------------------------------------- */
+
+/* "line 12" / "byte 345" / "face 7" for a face, as the file locates it. */
+static void face_where(const ctx *x, uint32_t f, char *buf, size_t size)
+{
+    if (x->src && x->src->face_loc)
+        snprintf(buf, size, "%s %llu", x->src->binary ? "byte" : "line",
+                 (unsigned long long)x->src->face_loc[f]);
+    else
+        snprintf(buf, size, "face %u", f);
+}
+
+/* Fails at face f: "name:LINE: ..." or "name: byte N: ...", or "name: ..."
+ * when locations are unknown (the messages then name the 0-based face). */
+static int fail_face(const ctx *x, int code, uint32_t f, const char *fmt, ...)
+{
+    char what[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    if (x->src && x->src->face_loc)
+        return st_mesh_fail_at(x->err, code, x->name, x->src->binary, x->src->face_loc[f], "%s", what);
+    return st_fail(x->err, code, "%s: %s", x->name, what);
+}
+
+static int out_of_memory(const ctx *x)
+{
+    return st_fail(x->err, ST_ERR_MEMORY, "%s: out of memory checking the mesh", x->name);
+}
+
+/* ---- structural validation ---------------------------------------------------- */
+
+/* Offsets first (so that the degree bound sizes the scratch), then indices. */
+static int validate_faces(const ctx *x, const st_mesh *m)
+{
+    if (!m->face_off || m->face_off[0] != 0)
+        return st_fail(x->err, ST_ERR_INVALID, "%s: malformed face offsets", x->name);
+    uint32_t maxdeg = 0;
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        uint32_t a = m->face_off[f], b = m->face_off[f + 1];
+        if (b < a || b - a < 3 || b - a > ST_MESH_MAX_DEGREE)
+            return fail_face(x, ST_ERR_TOPOLOGY, f, "face %u has %lld vertices; a face needs 3 to %u",
+                             f, (long long)b - (long long)a, ST_MESH_MAX_DEGREE);
+        if (b - a > maxdeg) maxdeg = b - a;
+    }
+    if (!m->face_idx) return st_fail(x->err, ST_ERR_INVALID, "%s: no face indices", x->name);
+    uint32_t *scratch = malloc((size_t)maxdeg * sizeof *scratch);
+    if (!scratch) return out_of_memory(x);
+    int rc = 0;
+    for (uint32_t f = 0; f < m->nfaces && !rc; f++) {
+        uint32_t a = m->face_off[f], b = m->face_off[f + 1];
+        for (uint32_t c = a; c < b && !rc; c++)
+            if (m->face_idx[c] >= m->nverts)
+                rc = fail_face(x, ST_ERR_RANGE, f, "face %u references vertex %u but the mesh has %u",
+                               f, m->face_idx[c] + x->base, m->nverts);
+        uint32_t dup = rc ? NONE : st_mesh_face_repeat(m->face_idx + a, b - a, scratch);
+        if (dup != NONE)
+            rc = fail_face(x, ST_ERR_TOPOLOGY, f, "face %u uses vertex %u more than once", f, dup + x->base);
+    }
+    free(scratch);
+    return rc;
+}
+
+static int validate_tags(const ctx *x, const st_mesh *m)
+{
+    if ((m->ncreases && (!m->crease_v || !m->crease_s)) || (m->ncorners && (!m->corner_v || !m->corner_s)))
+        return st_fail(x->err, ST_ERR_INVALID, "%s: malformed tag arrays", x->name);
+    for (uint32_t i = 0; i < m->ncreases; i++) {
+        uint32_t a = m->crease_v[2 * i], b = m->crease_v[2 * i + 1];
+        if (a >= m->nverts || b >= m->nverts || a == b || !isfinite(m->crease_s[i]))
+            return st_fail(x->err, ST_ERR_INVALID, "%s: crease tag %u (%u-%u) is not an edge of "
+                           "two existing vertices", x->name, i, a, b);
+    }
+    for (uint32_t i = 0; i < m->ncorners; i++)
+        if (m->corner_v[i] >= m->nverts || !isfinite(m->corner_s[i]))
+            return st_fail(x->err, ST_ERR_INVALID, "%s: corner tag %u names vertex %u of %u",
+                           x->name, i, m->corner_v[i], m->nverts);
+    return 0;
+}
+
+/* Everything the parsers guarantee, re-checked for meshes built elsewhere. */
+static int validate(const ctx *x, const st_mesh *m)
+{
+    if (m->nfaces == 0) return st_fail(x->err, ST_ERR_TOPOLOGY, "%s: no faces", x->name);
+    if (m->nverts > ST_MESH_MAX_VERTS || m->nfaces > ST_MESH_MAX_FACES)
+        return st_fail(x->err, ST_ERR_RANGE, "%s: %u vertices and %u faces exceed the limits",
+                       x->name, m->nverts, m->nfaces);
+    if (m->nverts && !m->pos) return st_fail(x->err, ST_ERR_INVALID, "%s: no positions", x->name);
+    for (size_t i = 0; i < 3 * (size_t)m->nverts; i++)
+        if (!isfinite(m->pos[i]))
+            return st_fail(x->err, ST_ERR_GEOMETRY, "%s: vertex %zu has a non-finite coordinate",
+                           x->name, i / 3 + x->base);
+    int rc = validate_faces(x, m);
+    return rc ? rc : validate_tags(x, m);
+}
+
+/* ---- corners and edges ---------------------------------------------------- */
+
+static uint32_t next_corner(const soup *s, uint32_t c)
+{
+    return c + 1 == s->off[s->face_of[c] + 1] ? s->off[s->face_of[c]] : c + 1;
+}
+
+static uint64_t edge_key(uint32_t a, uint32_t b)
+{
+    return a < b ? ((uint64_t)a << 32) | b : ((uint64_t)b << 32) | a;
+}
+
+static int cmp_edge(const void *pa, const void *pb)
+{
+    const edge_rec *a = pa, *b = pb;
+    if (a->key != b->key) return a->key < b->key ? -1 : 1;
+    return (a->c > b->c) - (a->c < b->c);
+}
+
+static void soup_free(soup *s)
+{
+    free(s->face_of);
+    free(s->partner);
+    s->face_of = s->partner = NULL;
+}
+
+static int soup_init(const ctx *x, soup *s, const st_mesh *m, uint32_t *idx)
+{
+    s->nv = m->nverts;
+    s->nf = m->nfaces;
+    s->nc = m->face_off[m->nfaces];
+    s->off = m->face_off;
+    s->idx = idx;
+    s->face_of = malloc((size_t)s->nc * sizeof *s->face_of);
+    s->partner = malloc((size_t)s->nc * sizeof *s->partner);
+    if (!s->face_of || !s->partner) {
+        soup_free(s);
+        return out_of_memory(x);
+    }
+    for (uint32_t f = 0; f < s->nf; f++)
+        for (uint32_t c = s->off[f]; c < s->off[f + 1]; c++) s->face_of[c] = f;
+    return 0;
+}
+
+/* Names the faces of a sorted edge group as the file locates them:
+ * "lines 6, 7, 8", "bytes 120, 134, 148" or "faces 0, 1, 2". */
+static void list_faces(const ctx *x, const soup *s, const edge_rec *e, uint32_t n, char *buf, size_t size)
+{
+    int located = x->src && x->src->face_loc;
+    size_t len = (size_t)snprintf(buf, size, "%s", !located ? "faces" : x->src->binary ? "bytes" : "lines");
+    for (uint32_t k = 0; k < n && k < MAX_LISTED && len < size; k++) {
+        uint32_t f = s->face_of[e[k].c];
+        unsigned long long w = located ? (unsigned long long)x->src->face_loc[f] : f;
+        len += (size_t)snprintf(buf + len, size - len, "%s %llu", k ? "," : "", w);
+    }
+    if (n > MAX_LISTED && len < size) snprintf(buf + len, size - len, ", ...");
+}
+
+/* The half-edges sorted by undirected key; vertices are first relabelled
+ * through relabel when it is not NULL. */
+static edge_rec *sorted_edges(const ctx *x, const soup *s, const uint32_t *relabel)
+{
+    edge_rec *e = malloc(((size_t)s->nc + 1) * sizeof *e);
+    if (!e) {
+        out_of_memory(x);
+        return NULL;
+    }
+    for (uint32_t c = 0; c < s->nc; c++) {
+        uint32_t a = s->idx[c], b = s->idx[next_corner(s, c)];
+        e[c].key = relabel ? edge_key(relabel[a], relabel[b]) : edge_key(a, b);
+        e[c].c = c;
+    }
+    qsort(e, s->nc, sizeof *e, cmp_edge);
+    return e;
+}
+
+/* First record with the given key, or NULL. */
+static const edge_rec *find_edge(const edge_rec *e, uint32_t n, uint64_t key)
+{
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (e[mid].key < key) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo < n && e[lo].key == key ? &e[lo] : NULL;
+}
+
+/* Pairs up the half-edges of each undirected edge.  An edge with 3+
+ * half-edges is refused, naming its vertices and its faces. */
+static int pair_edges(const ctx *x, soup *s)
+{
+    edge_rec *e = sorted_edges(x, s, NULL);
+    if (!e) return ST_ERR_MEMORY;
+    int rc = 0;
+    for (uint32_t i = 0, j; i < s->nc && !rc; i = j) {
+        for (j = i + 1; j < s->nc && e[j].key == e[i].key; j++) {}
+        s->partner[e[i].c] = j - i == 2 ? e[i + 1].c : NONE;
+        if (j - i == 2) s->partner[e[i + 1].c] = e[i].c;
+        if (j - i >= 3) {
+            char faces[512];
+            list_faces(x, s, e + i, j - i, faces, sizeof faces);
+            rc = fail_face(x, ST_ERR_TOPOLOGY, s->face_of[e[i + 2].c],
+                           "non-manifold edge between vertices %u and %u: %u faces share it (%s)",
+                           (uint32_t)(e[i].key >> 32) + x->base, (uint32_t)e[i].key + x->base, j - i, faces);
+        }
+    }
+    free(e);
+    return rc;
+}
+
+/* ---- orientation ------------------------------------------------------------ */
+
+enum { UNSEEN = 0, KEEP = 1, FLIP = 2 };
+
+/* Two faces sharing an edge agree when they run along it in opposite
+ * directions, i.e. when the two half-edges start at different vertices. */
+static int conflict(const ctx *x, const soup *s, uint32_t c, uint32_t g)
+{
+    return fail_face(x, ST_ERR_TOPOLOGY, g, "non-orientable surface: cannot orient consistently "
+                     "(face %u, at the edge between vertices %u and %u)", g, s->idx[c] + x->base,
+                     s->idx[next_corner(s, c)] + x->base);
+}
+
+/* Breadth-first over the faces of the component of root, giving each the
+ * winding its neighbour across an edge implies.  queue[*tail..] receives
+ * the component.  Fails on a contradiction: the surface is non-orientable. */
+static int orient_component(const ctx *x, const soup *s, uint32_t root, uint8_t *state,
+                            uint32_t *queue, uint32_t *tail)
+{
+    uint32_t head = *tail;
+    queue[(*tail)++] = root;
+    state[root] = KEEP;
+    while (head < *tail) {
+        uint32_t f = queue[head++];
+        for (uint32_t c = s->off[f]; c < s->off[f + 1]; c++) {
+            uint32_t p = s->partner[c];
+            if (p == NONE) continue;
+            uint32_t g = s->face_of[p];
+            uint8_t want = s->idx[p] == s->idx[c] ? (uint8_t)(KEEP + FLIP - state[f]) : state[f];
+            if (state[g] == UNSEEN) {
+                state[g] = want;
+                queue[(*tail)++] = g;
+            } else if (state[g] != want) {
+                return conflict(x, s, c, g);
+            }
+        }
+    }
+    return 0;
+}
+
+/* Decides per face whether to flip it; within each component the smaller
+ * set is flipped, so one stray face costs one flip whatever its index. */
+static int orient(const ctx *x, const soup *s, uint8_t *state, uint32_t *nflip)
+{
+    uint32_t *queue = malloc((size_t)s->nf * sizeof *queue);
+    if (!queue) return out_of_memory(x);
+    uint32_t tail = 0;
+    int rc = 0;
+    *nflip = 0;
+    for (uint32_t f = 0; f < s->nf && !rc; f++) {
+        if (state[f] != UNSEEN) continue;
+        uint32_t start = tail, flips = 0;
+        rc = orient_component(x, s, f, state, queue, &tail);
+        for (uint32_t k = start; k < tail; k++) flips += state[queue[k]] == FLIP;
+        if (2 * (uint64_t)flips > tail - start) {
+            for (uint32_t k = start; k < tail; k++) state[queue[k]] = (uint8_t)(KEEP + FLIP - state[queue[k]]);
+            flips = tail - start - flips;
+        }
+        *nflip += flips;
+    }
+    free(queue);
+    return rc;
+}
+
+/* Reverses the flagged faces in place, keeping each face's first corner. */
+static uint32_t apply_flips(soup *s, const uint8_t *state)
+{
+    uint32_t first = NONE;
+    for (uint32_t f = 0; f < s->nf; f++) {
+        if (state[f] != FLIP) continue;
+        if (first == NONE) first = f;
+        for (uint32_t a = s->off[f] + 1, b = s->off[f + 1] - 1; a < b; a++, b--) {
+            uint32_t t = s->idx[a];
+            s->idx[a] = s->idx[b];
+            s->idx[b] = t;
+        }
+    }
+    return first;
+}
+
+static int repair_orientation(const ctx *x, soup *s)
+{
+    uint8_t *state = calloc(s->nf, 1);
+    if (!state) return out_of_memory(x);
+    uint32_t nflip = 0;
+    int rc = orient(x, s, state, &nflip);
+    if (!rc && nflip) {
+        uint32_t first = apply_flips(s, state);
+        char w[48];
+        face_where(x, first, w, sizeof w);
+        st_notes_add(x->notes, "%s: repaired: flipped %u of %u faces to orient the surface "
+                     "consistently (first: %s)", x->name, nflip, s->nf, w);
+        rc = pair_edges(x, s);  /* corners moved: pair them again */
+    }
+    free(state);
+    return rc;
+}
+
+/* ---- fans -------------------------------------------------------------------- */
+
+static uint32_t uf_find(uint32_t *parent, uint32_t c)
+{
+    while (parent[c] != c) {
+        parent[c] = parent[parent[c]];  /* path halving: no recursion, near-constant depth */
+        c = parent[c];
+    }
+    return c;
+}
+
+static void uf_union(uint32_t *parent, uint32_t a, uint32_t b)
+{
+    a = uf_find(parent, a);
+    b = uf_find(parent, b);
+    if (a < b) parent[b] = a;
+    else if (b < a) parent[a] = b;
+}
+
+/* Groups the corners at each vertex into fans: corner c (half-edge v->w)
+ * and the corner at v of the face across that edge are neighbours in the
+ * fan of v.  Needs a consistent orientation (the partner runs w->v). */
+static uint32_t *fan_roots(const ctx *x, const soup *s)
+{
+    uint32_t *parent = malloc((size_t)s->nc * sizeof *parent);
+    if (!parent) {
+        out_of_memory(x);
+        return NULL;
+    }
+    for (uint32_t c = 0; c < s->nc; c++) parent[c] = c;
+    for (uint32_t c = 0; c < s->nc; c++)
+        if (s->partner[c] != NONE) uf_union(parent, c, next_corner(s, s->partner[c]));
+    for (uint32_t c = 0; c < s->nc; c++) parent[c] = uf_find(parent, c);
+    return parent;
+}
+
+static const char *vertices_word(uint32_t n)
+{
+    return n == 1 ? "vertex" : "vertices";
+}
+
+/* Fans per original vertex, and the copies made for the extra fans. */
+typedef struct vmap {
+    uint32_t nv;            /* vertices before splitting */
+    uint32_t next;          /* vertices after splitting: nv + copies */
+    uint32_t *nfans;        /* nv: fans of each vertex (0: unreferenced) */
+    uint32_t *copy_of;      /* next - nv: the original vertex of each copy */
+} vmap;
+
+static void vmap_free(vmap *vm)
+{
+    free(vm->nfans);
+    free(vm->copy_of);
+    vm->nfans = vm->copy_of = NULL;
+}
+
+static void note_splits(const ctx *x, const vmap *vm)
+{
+    uint32_t nsplit = 0, listed = 0;
+    for (uint32_t v = 0; v < vm->nv; v++) nsplit += vm->nfans[v] > 1;
+    if (!nsplit) return;
+    st_notes_add(x->notes, "%s: repaired: split %u non-manifold %s (faces meeting only at a vertex) "
+                 "into %u copies, one per fan of faces", x->name, nsplit, vertices_word(nsplit),
+                 nsplit + (vm->next - vm->nv));
+    for (uint32_t v = 0; v < vm->nv && listed < MAX_LISTED; v++)
+        if (vm->nfans[v] > 1) {
+            st_notes_add(x->notes, "%s: repaired: vertex %u split into %u", x->name, v + x->base, vm->nfans[v]);
+            listed++;
+        }
+    if (nsplit > listed)
+        st_notes_add(x->notes, "%s: repaired: ... and %u more split vertices", x->name, nsplit - listed);
+}
+
+/* Gives every fan but the first of each vertex a new vertex (numbered from
+ * nv up), rewriting the corners of that fan. */
+static int split_vertices(const ctx *x, soup *s, vmap *vm)
+{
+    uint32_t *root = fan_roots(x, s);
+    uint32_t *vert = malloc(((size_t)s->nc + 1) * sizeof *vert);  /* per root corner: its vertex */
+    vm->nv = vm->next = s->nv;
+    vm->nfans = calloc((size_t)s->nv + 1, sizeof *vm->nfans);
+    vm->copy_of = malloc(((size_t)s->nc + 1) * sizeof *vm->copy_of);
+    int rc = (!root || !vert || !vm->nfans || !vm->copy_of) ? out_of_memory(x) : 0;
+    for (uint32_t c = 0; c < s->nc && !rc; c++) {
+        uint32_t r = root[c], v = s->idx[c];
+        if (r == c) {   /* the first corner of a fan, in corner order */
+            if (vm->nfans[v]++ == 0) {
+                vert[r] = v;
+            } else if (vm->next == ST_MESH_MAX_VERTS) {
+                rc = st_fail(x->err, ST_ERR_RANGE, "%s: splitting non-manifold vertices would exceed "
+                             "%u vertices", x->name, ST_MESH_MAX_VERTS);
+            } else {
+                vm->copy_of[vm->next - vm->nv] = v;
+                vert[r] = vm->next++;
+            }
+        }
+        s->idx[c] = vert[r];
+    }
+    free(root);
+    free(vert);
+    if (!rc) note_splits(x, vm);
+    return rc;
+}
+
+/* ---- renumbering, positions, tags --------------------------------------------- */
+
+/* The result of a repair, built aside and committed only on success. */
+typedef struct fixed {
+    uint32_t nverts;
+    uint32_t *orig;         /* nverts: the input vertex each output vertex comes from */
+    double *pos, *normals;
+    uint32_t ncreases, ncorners;
+    uint32_t *crease_v, *corner_v;
+    float *crease_s, *corner_s;
+} fixed;
+
+static void fixed_free(fixed *r)
+{
+    free(r->orig);
+    free(r->pos);
+    free(r->normals);
+    free(r->crease_v);
+    free(r->crease_s);
+    free(r->corner_v);
+    free(r->corner_s);
+}
+
+static void note_dropped(const ctx *x, const vmap *vm, uint32_t ndropped)
+{
+    char list[256];
+    size_t len = 0;
+    uint32_t listed = 0;
+    list[0] = 0;
+    for (uint32_t v = 0; v < vm->nv && listed < MAX_LISTED; v++)
+        if (vm->nfans[v] == 0)
+            len += (size_t)snprintf(list + len, sizeof list - len, "%s%u", listed++ ? ", " : "", v + x->base);
+    st_notes_add(x->notes, "%s: repaired: dropped %u unreferenced %s (%s%s)", x->name, ndropped,
+                 vertices_word(ndropped), list, ndropped > listed ? ", ..." : "");
+}
+
+/* Numbers the used vertices in order (copies after the originals), drops
+ * the unreferenced ones and rewrites the corners. */
+static int renumber(const ctx *x, soup *s, const vmap *vm, fixed *out)
+{
+    uint32_t *newid = malloc(((size_t)vm->next + 1) * sizeof *newid);
+    out->orig = malloc(((size_t)vm->next + 1) * sizeof *out->orig);
+    if (!newid || !out->orig) {
+        free(newid);
+        return out_of_memory(x);
+    }
+    uint32_t n = 0;
+    for (uint32_t e = 0; e < vm->next; e++) {
+        int used = e >= vm->nv || vm->nfans[e] > 0;
+        newid[e] = used ? n : NONE;
+        if (used) out->orig[n++] = e < vm->nv ? e : vm->copy_of[e - vm->nv];
+    }
+    for (uint32_t c = 0; c < s->nc; c++) s->idx[c] = newid[s->idx[c]];
+    out->nverts = n;
+    if (n < vm->next) note_dropped(x, vm, vm->next - n);
+    free(newid);
+    return 0;
+}
+
+static double *gather3(const double *src, const uint32_t *orig, uint32_t n)
+{
+    double *dst = malloc(3 * (size_t)n * sizeof *dst + 1);
+    if (!dst) return NULL;
+    for (uint32_t v = 0; v < n; v++) memcpy(dst + 3 * (size_t)v, src + 3 * (size_t)orig[v], 3 * sizeof *dst);
+    return dst;
+}
+
+static int gather_vertices(const ctx *x, const st_mesh *m, fixed *out)
+{
+    out->pos = gather3(m->pos, out->orig, out->nverts);
+    if (!out->pos) return out_of_memory(x);
+    if (m->normals && !(out->normals = gather3(m->normals, out->orig, out->nverts))) return out_of_memory(x);
+    return 0;
+}
+
+/* A crease names an input edge; it goes to the output edge whose ends come
+ * from the same input vertices (unique: both faces of an edge lie in the
+ * same fan of each end).  Creases on no edge of the mesh are dropped. */
+static int remap_creases(const ctx *x, const soup *s, const st_mesh *m, fixed *out)
+{
+    if (!m->ncreases) return 0;
+    edge_rec *e = sorted_edges(x, s, out->orig);
+    out->crease_v = malloc(2 * (size_t)m->ncreases * sizeof *out->crease_v);
+    out->crease_s = malloc((size_t)m->ncreases * sizeof *out->crease_s);
+    if (!e || !out->crease_v || !out->crease_s) {
+        free(e);
+        return out_of_memory(x);
+    }
+    uint32_t dropped = 0, first = NONE;
+    for (uint32_t i = 0; i < m->ncreases; i++) {
+        uint32_t u = m->crease_v[2 * i], w = m->crease_v[2 * i + 1];
+        const edge_rec *r = find_edge(e, s->nc, edge_key(u, w));
+        if (!r) {
+            dropped++;
+            if (first == NONE) first = i;
+            continue;
+        }
+        uint32_t a = s->idx[r->c], b = s->idx[next_corner(s, r->c)];
+        if (out->orig[a] != u) { uint32_t t = a; a = b; b = t; }
+        out->crease_v[2 * out->ncreases] = a;
+        out->crease_v[2 * out->ncreases + 1] = b;
+        out->crease_s[out->ncreases++] = m->crease_s[i];
+    }
+    free(e);
+    if (dropped)
+        st_notes_add(x->notes, "%s: repaired: dropped %u crease tags that name no edge of the mesh "
+                     "(first: vertices %u %u, 0-based as in tags)", x->name, dropped,
+                     m->crease_v[2 * first], m->crease_v[2 * first + 1]);
+    return 0;
+}
+
+/* A corner tag goes to every copy of its vertex; one on a dropped vertex is
+ * dropped.  Copies are looked up through a per-input-vertex list (CSR). */
+static int remap_corners(const ctx *x, const st_mesh *m, fixed *out)
+{
+    if (!m->ncorners) return 0;
+    uint32_t *start = calloc((size_t)m->nverts + 2, sizeof *start);
+    uint32_t *list = malloc(((size_t)out->nverts + 1) * sizeof *list);
+    int rc = (!start || !list) ? out_of_memory(x) : 0;
+    uint64_t total = 0;
+    if (!rc) {
+        for (uint32_t v = 0; v < out->nverts; v++) start[out->orig[v] + 2]++;
+        for (uint32_t v = 0; v <= m->nverts; v++) start[v + 1] += start[v];
+        for (uint32_t v = 0; v < out->nverts; v++) list[start[out->orig[v] + 1]++] = v;
+        for (uint32_t i = 0; i < m->ncorners; i++)
+            total += start[m->corner_v[i] + 1] - start[m->corner_v[i]];
+        if (total > ST_MESH_MAX_VERTS)
+            rc = st_fail(x->err, ST_ERR_RANGE, "%s: too many corner tags after splitting vertices", x->name);
+    }
+    if (!rc && total) {
+        out->corner_v = malloc((size_t)total * sizeof *out->corner_v);
+        out->corner_s = malloc((size_t)total * sizeof *out->corner_s);
+        if (!out->corner_v || !out->corner_s) rc = out_of_memory(x);
+    }
+    for (uint32_t i = 0; i < m->ncorners && !rc; i++)
+        for (uint32_t k = start[m->corner_v[i]]; k < start[m->corner_v[i] + 1]; k++) {
+            out->corner_v[out->ncorners] = list[k];
+            out->corner_s[out->ncorners++] = m->corner_s[i];
+        }
+    if (!rc && total != m->ncorners)
+        st_notes_add(x->notes, "%s: repaired: %u corner tags became %u (tags follow split vertices; "
+                     "those on dropped vertices are dropped)", x->name, m->ncorners, (uint32_t)total);
+    free(start);
+    free(list);
+    return rc;
+}
+
+/* ---- drivers ----------------------------------------------------------------- */
+
+static void commit(st_mesh *m, uint32_t *idx, fixed *r)
+{
+    free(m->face_idx);
+    free(m->pos);
+    free(m->normals);
+    free(m->crease_v);
+    free(m->crease_s);
+    free(m->corner_v);
+    free(m->corner_s);
+    m->face_idx = idx;
+    m->nverts = r->nverts;
+    m->pos = r->pos;
+    m->normals = r->normals;
+    m->ncreases = r->ncreases;
+    m->crease_v = r->crease_v;
+    m->crease_s = r->crease_s;
+    m->ncorners = r->ncorners;
+    m->corner_v = r->corner_v;
+    m->corner_s = r->corner_s;
+    free(r->orig);
+    memset(r, 0, sizeof *r);
+}
+
+/* The repair pipeline on a working copy of the corners (s->idx). */
+static int repair_steps(const ctx *x, const st_mesh *m, soup *s, fixed *out)
+{
+    vmap vm = {0};
+    int rc = pair_edges(x, s);
+    if (!rc) rc = repair_orientation(x, s);
+    if (!rc) rc = split_vertices(x, s, &vm);
+    if (!rc) rc = renumber(x, s, &vm, out);
+    if (!rc) rc = gather_vertices(x, m, out);
+    if (!rc) rc = remap_creases(x, s, m, out);
+    if (!rc) rc = remap_corners(x, m, out);
+    vmap_free(&vm);
+    return rc;
+}
+
+int st_mesh_repair_src(const char *name, st_mesh *m, const st_mesh_src *src,
+                       st_notes *notes, st_error *err)
+{
+    st_notes local = {0};
+    ctx x = {name, src, notes ? &local : NULL, err, src ? (uint32_t)src->index_base : 0};
+    int rc = validate(&x, m);
+    if (rc) return rc;
+    size_t nc = m->face_off[m->nfaces];
+    uint32_t *idx = malloc((nc + 1) * sizeof *idx);
+    if (!idx) return out_of_memory(&x);
+    memcpy(idx, m->face_idx, nc * sizeof *idx);
+    soup s = {0};
+    fixed out = {0};
+    rc = soup_init(&x, &s, m, idx);
+    if (!rc) rc = repair_steps(&x, m, &s, &out);
+    soup_free(&s);
+    if (rc) {
+        free(idx);
+        fixed_free(&out);
+        st_notes_free(&local);
+        return rc;
+    }
+    commit(m, idx, &out);
+    for (uint32_t i = 0; i < local.count; i++) st_notes_add(notes, "%s", local.lines[i]);
+    st_notes_free(&local);
+    return 0;
+}
+
+/* ---- check ------------------------------------------------------------------- */
+
+static int check_orientation(const ctx *x, const soup *s)
+{
+    for (uint32_t c = 0; c < s->nc; c++) {
+        uint32_t p = s->partner[c];
+        if (p != NONE && s->idx[p] == s->idx[c])
+            return st_fail(x->err, ST_ERR_TOPOLOGY, "%s: faces %u and %u run along the edge between "
+                           "vertices %u and %u in the same direction", x->name, s->face_of[c],
+                           s->face_of[p], s->idx[c], s->idx[next_corner(s, c)]);
+    }
+    return 0;
+}
+
+static int check_fans(const ctx *x, const soup *s)
+{
+    uint32_t *root = fan_roots(x, s);
+    uint32_t *fans = calloc((size_t)s->nv + 1, sizeof *fans);
+    int rc = (!root || !fans) ? out_of_memory(x) : 0;
+    for (uint32_t c = 0; c < s->nc && !rc; c++) fans[s->idx[c]] += root[c] == c;
+    for (uint32_t v = 0; v < s->nv && !rc; v++)
+        if (fans[v] == 0)
+            rc = st_fail(x->err, ST_ERR_TOPOLOGY, "%s: vertex %u is not used by any face", x->name, v);
+        else if (fans[v] > 1)
+            rc = st_fail(x->err, ST_ERR_TOPOLOGY, "%s: vertex %u is non-manifold (%u fans of faces)",
+                         x->name, v, fans[v]);
+    free(root);
+    free(fans);
+    return rc;
+}
+
+static int check_creases(const ctx *x, const soup *s, const st_mesh *m)
+{
+    if (!m->ncreases) return 0;
+    edge_rec *e = sorted_edges(x, s, NULL);
+    if (!e) return ST_ERR_MEMORY;
+    int rc = 0;
+    for (uint32_t i = 0; i < m->ncreases && !rc; i++)
+        if (!find_edge(e, s->nc, edge_key(m->crease_v[2 * i], m->crease_v[2 * i + 1])))
+            rc = st_fail(x->err, ST_ERR_INVALID, "%s: crease %u (vertices %u %u) is not an edge",
+                         x->name, i, m->crease_v[2 * i], m->crease_v[2 * i + 1]);
+    free(e);
+    return rc;
+}
+
+int st_mesh_check(const char *name, const st_mesh *m, st_error *err)
+{
+    ctx x = {name, NULL, NULL, err, 0};
+    int rc = validate(&x, m);
+    if (rc) return rc;
+    soup s = {0};
+    rc = soup_init(&x, &s, m, m->face_idx);
+    if (!rc) rc = pair_edges(&x, &s);
+    if (!rc) rc = check_orientation(&x, &s);
+    if (!rc) rc = check_fans(&x, &s);
+    if (!rc) rc = check_creases(&x, &s, m);
+    soup_free(&s);
+    return rc;
+}

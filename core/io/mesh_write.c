@@ -1,0 +1,184 @@
+/* Writers: OBJ (text) and PLY (binary little-endian).
+ *
+ * Both write to a temporary next to path and rename it over path when
+ * everything has been written, flushed and fsynced (core/io/atomic_file.h), so
+ * a failed or killed save (full disk, bad mesh, crash) never leaves a
+ * truncated file in place of a good one.
+ *
+ * OBJ positions use %.17g, which reads back to the same double; tags are
+ * written in OpenSubdiv's `t` syntax (0-based indices), normals as `vn`
+ * with `f a//a` corners.  PLY stores double x y z (and nx ny nz), and
+ * vertex_indices as a uchar-counted list when every face has at most 255
+ * vertices, uint-counted otherwise.  PLY has no standard place for tags;
+ * they are not written.
+ */
+#include "core/io/atomic_file.h"
+#include "core/io/mesh.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Refuses meshes the readers could not read back. */
+static int check_writable(const char *path, const st_mesh *m, st_error *err)
+{
+    if (m->nverts && !m->pos) return st_fail(err, ST_ERR_INVALID, "%s: mesh has no positions", path);
+    if (!m->face_off || (m->nfaces && !m->face_idx))
+        return st_fail(err, ST_ERR_INVALID, "%s: mesh has no face arrays", path);
+    for (size_t i = 0; i < 3 * (size_t)m->nverts; i++)
+        if (!isfinite(m->pos[i]) || (m->normals && !isfinite(m->normals[i])))
+            return st_fail(err, ST_ERR_GEOMETRY, "%s: vertex %zu is not finite", path, i / 3);
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        uint32_t a = m->face_off[f], b = m->face_off[f + 1];
+        if (b < a || b - a < 3) return st_fail(err, ST_ERR_INVALID, "%s: face %u has fewer than 3 vertices", path, f);
+        for (uint32_t c = a; c < b; c++)
+            if (m->face_idx[c] >= m->nverts)
+                return st_fail(err, ST_ERR_INVALID, "%s: face %u references vertex %u of %u",
+                               path, f, m->face_idx[c], m->nverts);
+    }
+    for (uint32_t i = 0; i < 2 * m->ncreases; i++)
+        if (m->crease_v[i] >= m->nverts) return st_fail(err, ST_ERR_INVALID, "%s: bad crease tag", path);
+    for (uint32_t i = 0; i < m->ncorners; i++)
+        if (m->corner_v[i] >= m->nverts) return st_fail(err, ST_ERR_INVALID, "%s: bad corner tag", path);
+    return 0;
+}
+
+/* ---- temporary file, renamed into place on success (atomic_file.h) ------------ */
+
+typedef struct out_file {
+    FILE *f;
+    st_afile af;
+} out_file;
+
+static int out_open(out_file *o, const char *path, st_error *err)
+{
+    int rc = st_afile_open(&o->af, path, err);
+    o->f = o->af.f;
+    return rc;
+}
+
+/* Flushes, fsyncs and renames into place; removes the temporary on any error. */
+static int out_close(out_file *o, const char *path, st_error *err)
+{
+    (void)path;
+    return st_afile_commit(&o->af, err);
+}
+
+/* ---- OBJ ------------------------------------------------------------------------ */
+
+static void obj_body(FILE *f, const st_mesh *m)
+{
+    fprintf(f, "# Strata mesh: %u vertices, %u faces\n", m->nverts, m->nfaces);
+    for (uint32_t v = 0; v < m->nverts; v++) {
+        const double *p = m->pos + 3 * (size_t)v;
+        fprintf(f, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    }
+    for (uint32_t v = 0; m->normals && v < m->nverts; v++) {
+        const double *n = m->normals + 3 * (size_t)v;
+        fprintf(f, "vn %.17g %.17g %.17g\n", n[0], n[1], n[2]);
+    }
+    for (uint32_t fi = 0; fi < m->nfaces; fi++) {
+        fputc('f', f);
+        for (uint32_t c = m->face_off[fi]; c < m->face_off[fi + 1]; c++) {
+            uint32_t v = m->face_idx[c] + 1;
+            if (m->normals) fprintf(f, " %u//%u", v, v);
+            else fprintf(f, " %u", v);
+        }
+        fputc('\n', f);
+    }
+    for (uint32_t i = 0; i < m->ncreases; i++)
+        fprintf(f, "t crease 2/1/0 %u %u %.9g\n", m->crease_v[2 * i], m->crease_v[2 * i + 1],
+                (double)m->crease_s[i]);
+    for (uint32_t i = 0; i < m->ncorners; i++)
+        fprintf(f, "t corner 1/1/0 %u %.9g\n", m->corner_v[i], (double)m->corner_s[i]);
+    if (m->boundary_interp >= ST_BOUNDARY_NONE && m->boundary_interp <= ST_BOUNDARY_EDGE_ONLY)
+        fprintf(f, "t interpolateboundary 1/0/0 %d\n", m->boundary_interp);
+}
+
+int st_mesh_save_obj(const char *path, const st_mesh *m, st_error *err)
+{
+    int rc = check_writable(path, m, err);
+    out_file o;
+    if (!rc) rc = out_open(&o, path, err);
+    if (rc) return rc;
+    obj_body(o.f, m);
+    return out_close(&o, path, err);
+}
+
+/* ---- PLY ------------------------------------------------------------------------ */
+
+static void put_u32(unsigned char *b, uint32_t v)
+{
+    for (int k = 0; k < 4; k++) b[k] = (unsigned char)(v >> (8 * k));
+}
+
+static void put_f64(unsigned char *b, double d)
+{
+    uint64_t v;
+    memcpy(&v, &d, sizeof v);
+    for (int k = 0; k < 8; k++) b[k] = (unsigned char)(v >> (8 * k));
+}
+
+static void ply_header(FILE *f, const st_mesh *m, int wide)
+{
+    fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment written by Strata\n"
+               "element vertex %u\nproperty double x\nproperty double y\nproperty double z\n", m->nverts);
+    if (m->normals) fprintf(f, "property double nx\nproperty double ny\nproperty double nz\n");
+    fprintf(f, "element face %u\nproperty list %s uint vertex_indices\nend_header\n",
+            m->nfaces, wide ? "uint" : "uchar");
+}
+
+static void ply_vertices(FILE *f, const st_mesh *m)
+{
+    unsigned char b[48];
+    for (uint32_t v = 0; v < m->nverts; v++) {
+        size_t n = 0;
+        for (int k = 0; k < 3; k++, n += 8) put_f64(b + n, m->pos[3 * (size_t)v + (size_t)k]);
+        for (int k = 0; m->normals && k < 3; k++, n += 8) put_f64(b + n, m->normals[3 * (size_t)v + (size_t)k]);
+        fwrite(b, 1, n, f);
+    }
+}
+
+static void ply_faces(FILE *f, const st_mesh *m, int wide)
+{
+    unsigned char b[4];
+    for (uint32_t fi = 0; fi < m->nfaces; fi++) {
+        uint32_t n = m->face_off[fi + 1] - m->face_off[fi];
+        if (wide) {
+            put_u32(b, n);
+            fwrite(b, 1, 4, f);
+        } else {
+            fputc((int)n, f);
+        }
+        for (uint32_t c = m->face_off[fi]; c < m->face_off[fi + 1]; c++) {
+            put_u32(b, m->face_idx[c]);
+            fwrite(b, 1, 4, f);
+        }
+    }
+}
+
+int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err)
+{
+    int rc = check_writable(path, m, err);
+    out_file o;
+    if (!rc) rc = out_open(&o, path, err);
+    if (rc) return rc;
+    int wide = 0;
+    for (uint32_t fi = 0; fi < m->nfaces; fi++)
+        wide |= m->face_off[fi + 1] - m->face_off[fi] > 255;
+    ply_header(o.f, m, wide);
+    ply_vertices(o.f, m);
+    ply_faces(o.f, m, wide);
+    return out_close(&o, path, err);
+}
+
+/* ---- dispatch ------------------------------------------------------------------- */
+
+int st_mesh_save(const char *path, const st_mesh *m, st_error *err)
+{
+    if (st_path_has_ext(path, ".obj")) return st_mesh_save_obj(path, m, err);
+    if (st_path_has_ext(path, ".ply")) return st_mesh_save_ply(path, m, err);
+    return st_fail(err, ST_ERR_INVALID, "%s: unknown mesh format for writing (expected .obj or .ply)", path);
+}

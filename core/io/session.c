@@ -1,0 +1,816 @@
+/* Session files (session.h, docs/SESSION-FORMAT.md). */
+#include "core/io/session.h"
+#include "core/io/atomic_file.h"
+#include "core/io/map_io_internal.h"
+#include "core/map/pool_internal.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define HEADER_BYTES 28u
+#define TRAILER_BYTES 4u
+#define CHUNK_HEAD 12u
+
+/* ---- lifetime ----------------------------------------------------------------- */
+
+void st_session_init(st_session *s)
+{
+    memset(s, 0, sizeof *s);
+    st_map_init(&s->h.map);
+    st_mla_init(&s->h.edge_sharp, sizeof(float));
+    st_mla_init(&s->h.vertex_sharp, sizeof(float));
+    st_mesh_init(&s->base);
+}
+
+void st_session_free(st_session *s)
+{
+    if (s->has_adapt) st_adapt_free(&s->adapt);
+    st_hier_free(&s->h);
+    st_mesh_free(&s->base);
+    st_session_init(s);
+}
+
+void st_session_move_hier(st_hier *dst, st_hier *src)
+{
+    *dst = *src;
+    st_map *m = &dst->map;
+    for (uint32_t i = 0; i < m->ndart_attrs && i < 4; i++)
+        if (m->dart_attrs[i] == &src->edge_sharp) m->dart_attrs[i] = &dst->edge_sharp;
+    for (uint32_t i = 0; i < m->nvert_attrs && i < 4; i++)
+        if (m->vert_attrs[i] == &src->vertex_sharp) m->vert_attrs[i] = &dst->vertex_sharp;
+    memset(src, 0, sizeof *src);
+    st_map_init(&src->map);
+    st_mla_init(&src->edge_sharp, sizeof(float));
+    st_mla_init(&src->vertex_sharp, sizeof(float));
+}
+
+void st_session_move_adapt(st_adapt *dst, st_adapt *src, st_hier *h)
+{
+    *dst = *src;
+    dst->h = h;
+    memset(src, 0, sizeof *src);
+}
+
+/* Moves without freeing dst (dst's content is garbage or already freed). */
+static void move_raw(st_session *dst, st_session *src)
+{
+    st_session_move_hier(&dst->h, &src->h);
+    dst->has_adapt = src->has_adapt;
+    if (src->has_adapt) st_session_move_adapt(&dst->adapt, &src->adapt, &dst->h);
+    else memset(&dst->adapt, 0, sizeof dst->adapt);
+    dst->box = src->box;
+    dst->box_on = src->box_on;
+    dst->edit_level = src->edit_level;
+    dst->display_level = src->display_level;
+    dst->has_view = src->has_view;
+    dst->view = src->view;
+    dst->has_base = src->has_base;
+    dst->base = src->base;
+    st_mesh_init(&src->base);
+    st_session_init(src);
+}
+
+void st_session_move(st_session *dst, st_session *src)
+{
+    if (dst == src) return;
+    st_session_free(dst);
+    move_raw(dst, src);
+}
+
+st_session_ref st_session_ref_of(const st_session *s)
+{
+    st_session_ref r = { 0 };
+    r.h = &s->h;
+    r.adapt = s->has_adapt ? &s->adapt : NULL;
+    r.box = &s->box;
+    r.box_on = s->box_on;
+    r.edit_level = s->edit_level;
+    r.display_level = s->display_level;
+    r.view = s->has_view ? &s->view : NULL;
+    r.base = s->has_base ? &s->base : NULL;
+    return r;
+}
+
+int st_session_is_path(const char *path)
+{
+    return path && st_path_has_ext(path, ".strata");
+}
+
+/* ---- chunk writers --------------------------------------------------------------- */
+
+#define TAG(a, b, c, d) ((uint32_t)(a) | (uint32_t)(b) << 8 | (uint32_t)(c) << 16 | (uint32_t)(d) << 24)
+#define TAG_HIER TAG('H', 'I', 'E', 'R')
+#define TAG_MAP  TAG('M', 'A', 'P', ' ')
+#define TAG_SHRP TAG('S', 'H', 'R', 'P')
+#define TAG_DETL TAG('D', 'E', 'T', 'L')
+#define TAG_ADPT TAG('A', 'D', 'P', 'T')
+#define TAG_EDIT TAG('E', 'D', 'I', 'T')
+#define TAG_VIEW TAG('V', 'I', 'E', 'W')
+#define TAG_BASE TAG('B', 'A', 'S', 'E')
+
+typedef void (*chunk_fn)(st_bw *w, const st_session_ref *r);
+
+static void w_hier(st_bw *w, const st_session_ref *r)
+{
+    const char *name = r->h->scheme->name;
+    uint32_t n = (uint32_t)strlen(name);
+    st_bw_u32(w, n);
+    st_bw_bytes(w, name, n);
+    st_bw_u32(w, (uint32_t)r->h->opts.boundary);
+    st_bw_u32(w, (uint32_t)r->h->opts.crease_method);
+    st_bw_u8(w, r->h->has_sharpness != 0);
+}
+
+static void w_map(st_bw *w, const st_session_ref *r) { st_map_write(w, &r->h->map); }
+
+static void w_sharp(st_bw *w, const st_session_ref *r)
+{
+    st_mla_write(w, &r->h->edge_sharp, &r->h->map.darts);
+    st_mla_write(w, &r->h->vertex_sharp, &r->h->map.verts);
+}
+
+static void w_detail(st_bw *w, const st_session_ref *r)
+{
+    const st_hier *h = r->h;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        int present = h->detail[l] != NULL;
+        st_bw_u8(w, (uint8_t)present);
+        if (!present) continue;
+        st_bw_u32(w, h->detail_cap[l]);
+        for (size_t i = 0; i < 3 * (size_t)h->detail_cap[l]; i++) st_bw_f64(w, h->detail[l][i]);
+    }
+}
+
+static void w_params(st_bw *w, const st_adapt_params *p)
+{
+    static const st_adapt_params none;
+    if (!p) p = &none;
+    st_bw_u32(w, p->base_level);
+    st_bw_u32(w, p->max_level);
+    for (int k = 0; k < 3; k++) st_bw_f64(w, p->box_lo[k]);
+    for (int k = 0; k < 3; k++) st_bw_f64(w, p->box_hi[k]);
+    st_bw_u8(w, p->has_box != 0);
+    st_bw_f64(w, p->falloff);
+    st_bw_f64(w, p->flatness);
+    st_bw_u8(w, p->no_restriction != 0);
+}
+
+static void w_store(st_bw *w, const st_adapt_saved *e, uint32_t n)
+{
+    st_bw_u32(w, n);
+    for (uint32_t i = 0; i < n; i++) {
+        st_bw_u64(w, e[i].path);
+        st_bw_u32(w, e[i].meta);
+        for (int k = 0; k < 3; k++) st_bw_f64(w, e[i].d[k]);
+    }
+}
+
+static void w_adapt(st_bw *w, const st_session_ref *r)
+{
+    const st_adapt *a = r->adapt;
+    w_store(w, a->saved, a->nsaved);
+    w_store(w, a->parked, a->nparked);
+    st_bw_u32(w, a->base_faces.n);
+    for (uint32_t i = 0; i < a->base_faces.n; i++) st_bw_u32(w, a->base_faces.d[i]);
+    w_params(w, &a->prev);
+    st_bw_u8(w, a->has_prev != 0);
+    st_bw_u64(w, a->touched);
+    st_bw_u64(w, a->forced);
+}
+
+static void w_edit(st_bw *w, const st_session_ref *r)
+{
+    unsigned top = r->h->map.top;
+    w_params(w, r->box);
+    st_bw_u8(w, r->box_on != 0);
+    st_bw_u32(w, r->edit_level <= top ? r->edit_level : top);
+    st_bw_u32(w, r->display_level <= top ? r->display_level : top);
+}
+
+static void w_view(st_bw *w, const st_session_ref *r)
+{
+    const st_session_view *v = r->view;
+    for (int k = 0; k < 3; k++) st_bw_f32(w, v->target[k]);
+    st_bw_f32(w, v->az);
+    st_bw_f32(w, v->el);
+    st_bw_f32(w, v->dist);
+    st_bw_f32(w, v->fovy);
+    st_bw_u32(w, (uint32_t)v->ortho);
+    st_bw_f32(w, v->ortho_height);
+}
+
+static void w_base(st_bw *w, const st_session_ref *r)
+{
+    const st_mesh *m = r->base;
+    st_bw_u32(w, m->nverts);
+    for (size_t i = 0; i < 3 * (size_t)m->nverts; i++) st_bw_f64(w, m->pos[i]);
+    st_bw_u32(w, m->nfaces);
+    for (uint32_t f = 0; f < m->nfaces; f++) st_bw_u32(w, m->face_off[f + 1] - m->face_off[f]);
+    uint32_t nidx = m->nfaces ? m->face_off[m->nfaces] : 0;
+    for (uint32_t i = 0; i < nidx; i++) st_bw_u32(w, m->face_idx[i]);
+    st_bw_u32(w, m->ncreases);
+    for (uint32_t i = 0; i < m->ncreases; i++) {
+        st_bw_u32(w, m->crease_v[2 * i]);
+        st_bw_u32(w, m->crease_v[2 * i + 1]);
+        st_bw_f32(w, m->crease_s[i]);
+    }
+    st_bw_u32(w, m->ncorners);
+    for (uint32_t i = 0; i < m->ncorners; i++) {
+        st_bw_u32(w, m->corner_v[i]);
+        st_bw_f32(w, m->corner_s[i]);
+    }
+    st_bw_u32(w, (uint32_t)m->boundary_interp);
+}
+
+typedef struct chunk_def { uint32_t tag; chunk_fn fn; } chunk_def;
+
+/* The chunks of r, in file order. */
+static unsigned chunk_list(const st_session_ref *r, chunk_def out[8])
+{
+    unsigned n = 0;
+    out[n++] = (chunk_def){ TAG_HIER, w_hier };
+    out[n++] = (chunk_def){ TAG_MAP, w_map };
+    if (r->h->has_sharpness) out[n++] = (chunk_def){ TAG_SHRP, w_sharp };
+    out[n++] = (chunk_def){ TAG_DETL, w_detail };
+    if (r->adapt) out[n++] = (chunk_def){ TAG_ADPT, w_adapt };
+    out[n++] = (chunk_def){ TAG_EDIT, w_edit };
+    if (r->view) out[n++] = (chunk_def){ TAG_VIEW, w_view };
+    if (r->base) out[n++] = (chunk_def){ TAG_BASE, w_base };
+    return n;
+}
+
+static int check_ref(const st_session_ref *r, st_error *err)
+{
+    if (!r || !r->h || !r->h->scheme) return st_fail(err, ST_ERR_INVALID, "session: no hierarchy to save");
+    const st_hier *h = r->h;
+    const st_map *m = &h->map;
+    for (uint32_t i = 0; i < m->ndart_attrs; i++)
+        if (m->dart_attrs[i] != &h->edge_sharp)
+            return st_fail(err, ST_ERR_INVALID, "session: the map carries a per-dart attribute the session format does not know");
+    for (uint32_t i = 0; i < m->nvert_attrs; i++)
+        if (m->vert_attrs[i] != &h->vertex_sharp)
+            return st_fail(err, ST_ERR_INVALID, "session: the map carries a per-vertex attribute the session format does not know");
+    if (r->adapt && r->adapt->h != h)
+        return st_fail(err, ST_ERR_INVALID, "session: the adaptive state belongs to another hierarchy");
+    if (r->base && st_mesh_check("base mesh", r->base, err)) return err ? err->code : ST_ERR_INVALID;
+    return ST_OK;
+}
+
+/* Writes the whole file to w (counting pass first for the lengths). */
+static void write_all(st_bw *w, const st_session_ref *r)
+{
+    chunk_def c[8];
+    unsigned n = chunk_list(r, c);
+    uint64_t len[8], total = HEADER_BYTES + TRAILER_BYTES;
+    st_bw *cnt = malloc(sizeof *cnt);
+    if (!cnt) { w->failed = 1; return; }
+    for (unsigned i = 0; i < n; i++) {
+        st_bw_init_count(cnt);
+        c[i].fn(cnt, r);
+        len[i] = cnt->total;
+        total += CHUNK_HEAD + len[i];
+    }
+    free(cnt);
+    unsigned char head[HEADER_BYTES];
+    memcpy(head, ST_SESSION_MAGIC, 8);
+    for (int k = 0; k < 4; k++) head[8 + k] = (unsigned char)(ST_SESSION_VERSION >> (8 * k));
+    memset(head + 12, 0, 4);
+    for (int k = 0; k < 8; k++) head[16 + k] = (unsigned char)(total >> (8 * k));
+    uint32_t hc = st_crc32(0, head, 24);
+    for (int k = 0; k < 4; k++) head[24 + k] = (unsigned char)(hc >> (8 * k));
+    st_bw_bytes(w, head, sizeof head);
+    for (unsigned i = 0; i < n; i++) {
+        uint64_t before = w->total;
+        st_bw_u32(w, c[i].tag);
+        st_bw_u64(w, len[i]);
+        c[i].fn(w, r);
+        if (w->total - before != CHUNK_HEAD + len[i]) w->failed = 1; /* cannot happen: same writer twice */
+    }
+    st_bw_flush(w);
+    uint32_t crc = w->crc;
+    unsigned char t[4];
+    for (int k = 0; k < 4; k++) t[k] = (unsigned char)(crc >> (8 * k));
+    st_bw_bytes(w, t, 4);
+    st_bw_flush(w);
+}
+
+int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_error *err)
+{
+    *data = NULL;
+    *size = 0;
+    int rc = check_ref(r, err);
+    if (rc) return rc;
+    st_bw *w = malloc(sizeof *w);
+    if (!w) return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
+    st_bw_init_mem(w);
+    write_all(w, r);
+    if (w->failed) {
+        free(w->out);
+        free(w);
+        return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
+    }
+    *data = w->out;
+    *size = w->outlen;
+    free(w);
+    return ST_OK;
+}
+
+int st_session_save_ref(const char *path, const st_session_ref *r, st_error *err)
+{
+    int rc = check_ref(r, err);
+    if (rc) {
+        if (err) {
+            char msg[sizeof err->msg];
+            snprintf(msg, sizeof msg, "%s", err->msg);
+            st_fail(err, rc, "%s: %s", path, msg);
+        }
+        return rc;
+    }
+    st_bw *w = malloc(sizeof *w);
+    if (!w) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path);
+    st_afile af;
+    rc = st_afile_open(&af, path, err);
+    if (rc) { free(w); return rc; }
+    st_bw_init_file(w, af.f);
+    /* Test hook (tests/cli_session.sh): slow the save down so that a test
+     * can kill it in the middle. */
+    const char *slow = getenv("STRATA_SAVE_SLOWDOWN");
+    if (slow) w->slow_us = strtol(slow, NULL, 10);
+    write_all(w, r);
+    int failed = w->failed;
+    free(w);
+    if (failed) {
+        int e = errno;
+        st_afile_abort(&af);
+        return st_fail(err, ST_ERR_IO, "%s: write error: %s", path, strerror(e ? e : EIO));
+    }
+    return st_afile_commit(&af, err);
+}
+
+int st_session_save(const char *path, const st_session *s, st_error *err)
+{
+    st_session_ref r = st_session_ref_of(s);
+    return st_session_save_ref(path, &r, err);
+}
+
+/* ---- chunk readers ------------------------------------------------------------------ */
+
+typedef struct load_ctx {
+    st_session *s;
+    const char *name;
+    st_error *err;
+    unsigned seen;         /* bit per chunk kind */
+    int has_sharpness;
+} load_ctx;
+
+enum { SEEN_HIER = 1, SEEN_MAP = 2, SEEN_SHRP = 4, SEEN_DETL = 8, SEEN_ADPT = 16, SEEN_EDIT = 32, SEEN_VIEW = 64, SEEN_BASE = 128 };
+
+static int r_hier(load_ctx *c, st_br *r)
+{
+    uint32_t n = st_br_u32(r);
+    if (r->failed) return -1;
+    if (n == 0 || n > 64) return st_br_fail(r, "scheme name of %u bytes", n);
+    char name[65];
+    st_br_bytes(r, name, n);
+    name[n] = 0;
+    uint32_t boundary = st_br_u32(r), crease = st_br_u32(r);
+    uint8_t sharp = st_br_u8(r);
+    if (r->failed) return -1;
+    const st_scheme *sc = st_scheme_find(name);
+    if (!sc || strlen(name) != n) {
+        for (uint32_t k = 0; k < n; k++)
+            if (name[k] < 0x20 || name[k] > 0x7e) name[k] = '?'; /* messages are one printable line */
+        return st_br_fail(r, "unknown scheme '%s'", name);
+    }
+    if (boundary != ST_BOUNDARY_EDGE_ONLY && boundary != ST_BOUNDARY_EDGE_AND_CORNER)
+        return st_br_fail(r, "bad boundary option %u", boundary);
+    if (crease != ST_CREASE_UNIFORM && crease != ST_CREASE_CHAIKIN) return st_br_fail(r, "bad crease method %u", crease);
+    if (sharp > 1) return st_br_fail(r, "bad sharpness flag %u", sharp);
+    c->s->h.scheme = sc;
+    c->s->h.opts.boundary = (int)boundary;
+    c->s->h.opts.crease_method = (int)crease;
+    c->has_sharpness = sharp;
+    return 0;
+}
+
+static int faces_are_triangles(st_map *m, unsigned l)
+{
+    int fb = st_marker_reserve(m);
+    if (fb < 0) return 0;
+    int ok = 1;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL && ok; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fb, d)) continue;
+        st_mark_face(m, fb, d, l);
+        ok = st_face_degree(m, d, l) == 3;
+    }
+    st_marker_release(m, fb, l);
+    return ok;
+}
+
+static int r_map(load_ctx *c, st_br *r)
+{
+    st_hier *h = &c->s->h;
+    st_map_free(&h->map);
+    if (st_map_read(r, &h->map)) return -1;
+    int dual = h->scheme->id == ST_SCHEME_DOOSABIN;
+    if (h->map.face_embedded != dual)
+        return st_br_fail(r, "map: the %s scheme needs %s", h->scheme->name,
+                          dual ? "the dual (face) embedding" : "the vertex embedding");
+    return 0;
+}
+
+static int r_sharp(load_ctx *c, st_br *r)
+{
+    st_hier *h = &c->s->h;
+    if (!c->has_sharpness) return st_br_fail(r, "sharpness chunk in a session without sharpness");
+    if (st_mla_read(r, &h->edge_sharp, &h->map.darts, h->map.top, sizeof(float), st_value_sharpness_f32, "edge sharpness") ||
+        st_mla_read(r, &h->vertex_sharp, &h->map.verts, h->map.top, sizeof(float), st_value_sharpness_f32, "vertex sharpness"))
+        return -1;
+    return 0;
+}
+
+static int r_detail(load_ctx *c, st_br *r)
+{
+    st_hier *h = &c->s->h;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        uint8_t present = st_br_u8(r);
+        if (r->failed) return -1;
+        if (present > 1) return st_br_fail(r, "details of level %u: bad flag %u", l, present);
+        if (!present) continue;
+        if (l == 0 || l > h->map.top) return st_br_fail(r, "details at level %u (levels 1..%u have details)", l, h->map.top);
+        uint32_t cap = st_br_u32(r);
+        if (st_br_need(r, cap, 24, "details")) return -1;
+        if (cap == 0) return st_br_fail(r, "details of level %u: empty array", l);
+        h->detail[l] = malloc((size_t)cap * 24);
+        if (!h->detail[l]) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+        h->detail_cap[l] = cap;
+        for (size_t i = 0; i < 3 * (size_t)cap; i++) {
+            h->detail[l][i] = st_br_f64(r);
+            if (!isfinite(h->detail[l][i])) return st_br_fail(r, "details of level %u: vertex %zu is not finite", l, i / 3);
+        }
+    }
+    return r->failed ? -1 : 0;
+}
+
+static int r_params(st_br *r, st_adapt_params *p, const char *what)
+{
+    memset(p, 0, sizeof *p);
+    p->base_level = st_br_u32(r);
+    p->max_level = st_br_u32(r);
+    for (int k = 0; k < 3; k++) p->box_lo[k] = st_br_f64(r);
+    for (int k = 0; k < 3; k++) p->box_hi[k] = st_br_f64(r);
+    uint8_t hb = st_br_u8(r);
+    p->falloff = st_br_f64(r);
+    p->flatness = st_br_f64(r);
+    uint8_t nr = st_br_u8(r);
+    if (r->failed) return -1;
+    p->has_box = hb;
+    p->no_restriction = nr;
+    if (hb > 1 || nr > 1) return st_br_fail(r, "%s: bad flag", what);
+    if (p->base_level >= ST_MAX_LEVELS || p->max_level >= ST_MAX_LEVELS)
+        return st_br_fail(r, "%s: levels %u..%u (at most %d)", what, p->base_level, p->max_level, ST_MAX_LEVELS - 1);
+    int ok = isfinite(p->falloff) && p->falloff >= 0 && isfinite(p->flatness) && p->flatness >= 0;
+    for (int k = 0; k < 3; k++) ok &= isfinite(p->box_lo[k]) && isfinite(p->box_hi[k]);
+    if (!ok) return st_br_fail(r, "%s: non-finite or negative value", what);
+    return 0;
+}
+
+/* A sorted store of details (st_adapt saved / parked). */
+static int r_store(load_ctx *c, st_br *r, st_adapt_saved **out, uint32_t *nout, uint32_t *cap, const char *what)
+{
+    uint32_t n = st_br_u32(r);
+    if (st_br_need(r, n, 36, what)) return -1;
+    st_adapt_saved *a = malloc((size_t)(n ? n : 1) * sizeof *a);
+    if (!a) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+    *out = a;
+    *cap = n ? n : 1;
+    for (uint32_t i = 0; i < n; i++) {
+        st_adapt_saved *e = &a[i];
+        e->path = st_br_u64(r);
+        e->meta = st_br_u32(r);
+        for (int k = 0; k < 3; k++) e->d[k] = st_br_f64(r);
+        *nout = i + 1;
+        if (r->failed) return -1;
+        if (!isfinite(e->d[0]) || !isfinite(e->d[1]) || !isfinite(e->d[2]))
+            return st_br_fail(r, "%s: entry %u is not finite", what, i);
+        if (i && !(a[i - 1].path < e->path || (a[i - 1].path == e->path && a[i - 1].meta < e->meta)))
+            return st_br_fail(r, "%s: entries not sorted (entry %u)", what, i);
+    }
+    return 0;
+}
+
+static int r_adapt(load_ctx *c, st_br *r)
+{
+    st_session *s = &c->s[0];
+    st_adapt *a = &s->adapt;
+    memset(a, 0, sizeof *a);
+    a->h = &s->h;
+    s->has_adapt = 1;
+    if (r_store(c, r, &a->saved, &a->nsaved, &a->capsaved, "saved details") ||
+        r_store(c, r, &a->parked, &a->nparked, &a->capparked, "parked details"))
+        return -1;
+    uint32_t nb = st_br_u32(r);
+    if (st_br_need(r, nb, 4, "base faces")) return -1;
+    for (uint32_t i = 0; i < nb; i++) {
+        uint32_t d = st_br_u32(r);
+        if (r->failed) return -1;
+        if (!st_dart_in_level(&s->h.map, d, 0) || st_is_boundary(&s->h.map, d))
+            return st_br_fail(r, "base face %u: dart %u is not a real dart of level 0", i, d);
+        st_dart_list_push(&a->base_faces, d);
+    }
+    if (r_params(r, &a->prev, "adaptive criteria")) return -1;
+    uint8_t hp = st_br_u8(r);
+    a->touched = st_br_u64(r);
+    a->forced = st_br_u64(r);
+    if (r->failed) return -1;
+    if (hp > 1) return st_br_fail(r, "bad flag %u", hp);
+    a->has_prev = hp;
+    return 0;
+}
+
+static int r_edit(load_ctx *c, st_br *r)
+{
+    st_session *s = c->s;
+    if (r_params(r, &s->box, "interest box")) return -1;
+    uint8_t on = st_br_u8(r);
+    uint32_t e = st_br_u32(r), d = st_br_u32(r);
+    if (r->failed) return -1;
+    if (on > 1) return st_br_fail(r, "bad box flag %u", on);
+    if (e > s->h.map.top || d > s->h.map.top)
+        return st_br_fail(r, "editing level %u / displayed level %u above the top level %u", e, d, s->h.map.top);
+    s->box_on = on;
+    s->edit_level = e;
+    s->display_level = d;
+    return 0;
+}
+
+static int r_view(load_ctx *c, st_br *r)
+{
+    st_session_view *v = &c->s->view;
+    for (int k = 0; k < 3; k++) v->target[k] = st_br_f32(r);
+    v->az = st_br_f32(r);
+    v->el = st_br_f32(r);
+    v->dist = st_br_f32(r);
+    v->fovy = st_br_f32(r);
+    v->ortho = (int)st_br_u32(r);
+    v->ortho_height = st_br_f32(r);
+    if (r->failed) return -1;
+    int ok = v->ortho == 0 || v->ortho == 1;
+    float f[8] = { v->target[0], v->target[1], v->target[2], v->az, v->el, v->dist, v->fovy, v->ortho_height };
+    for (int k = 0; k < 8; k++) ok &= isfinite(f[k]) != 0;
+    if (!ok) return st_br_fail(r, "view: bad value");
+    c->s->has_view = 1;
+    return 0;
+}
+
+static int r_base(load_ctx *c, st_br *r)
+{
+    st_mesh *m = &c->s->base;
+    c->s->has_base = 1;
+    uint32_t nv = st_br_u32(r);
+    if (r->failed) return -1;
+    if (nv > ST_MESH_MAX_VERTS || st_br_need(r, nv, 24, "base mesh vertices")) return st_br_fail(r, "base mesh: %u vertices", nv);
+    m->pos = malloc((size_t)(nv ? nv : 1) * 24);
+    if (!m->pos) goto oom;
+    m->nverts = nv;
+    for (size_t i = 0; i < 3 * (size_t)nv; i++) m->pos[i] = st_br_f64(r);
+    uint32_t nf = st_br_u32(r);
+    if (r->failed) return -1;
+    if (nf > ST_MESH_MAX_FACES || st_br_need(r, nf, 4, "base mesh faces")) return st_br_fail(r, "base mesh: %u faces", nf);
+    m->face_off = malloc(((size_t)nf + 1) * sizeof *m->face_off);
+    if (!m->face_off) goto oom;
+    m->face_off[0] = 0;
+    uint64_t total = 0;
+    for (uint32_t f = 0; f < nf; f++) {
+        uint32_t k = st_br_u32(r);
+        total += k;
+        if (r->failed) return -1;
+        if (k < 3 || k > ST_MESH_MAX_DEGREE || total > UINT32_MAX) return st_br_fail(r, "base mesh: face %u has %u vertices", f, k);
+        m->face_off[f + 1] = (uint32_t)total;
+    }
+    m->nfaces = nf;
+    if (st_br_need(r, total, 4, "base mesh corners")) return -1;
+    m->face_idx = malloc((size_t)(total ? total : 1) * sizeof *m->face_idx);
+    if (!m->face_idx) goto oom;
+    for (uint64_t i = 0; i < total; i++) m->face_idx[i] = st_br_u32(r);
+    uint32_t nc = st_br_u32(r);
+    if (r->failed || st_br_need(r, nc, 12, "crease tags")) return -1;
+    m->crease_v = malloc((size_t)(nc ? nc : 1) * 2 * sizeof *m->crease_v);
+    m->crease_s = malloc((size_t)(nc ? nc : 1) * sizeof *m->crease_s);
+    if (!m->crease_v || !m->crease_s) goto oom;
+    m->ncreases = nc;
+    for (uint32_t i = 0; i < nc; i++) {
+        m->crease_v[2 * i] = st_br_u32(r);
+        m->crease_v[2 * i + 1] = st_br_u32(r);
+        m->crease_s[i] = st_br_f32(r);
+    }
+    uint32_t nk = st_br_u32(r);
+    if (r->failed || st_br_need(r, nk, 8, "corner tags")) return -1;
+    m->corner_v = malloc((size_t)(nk ? nk : 1) * sizeof *m->corner_v);
+    m->corner_s = malloc((size_t)(nk ? nk : 1) * sizeof *m->corner_s);
+    if (!m->corner_v || !m->corner_s) goto oom;
+    m->ncorners = nk;
+    for (uint32_t i = 0; i < nk; i++) {
+        m->corner_v[i] = st_br_u32(r);
+        m->corner_s[i] = st_br_f32(r);
+    }
+    int32_t bi = (int32_t)st_br_u32(r);
+    if (r->failed) return -1;
+    if (bi < ST_BOUNDARY_UNSET || bi > ST_BOUNDARY_EDGE_ONLY) return st_br_fail(r, "base mesh: bad boundary tag %d", bi);
+    m->boundary_interp = bi;
+    for (uint32_t i = 0; i < nc; i++)
+        if (!isfinite(m->crease_s[i]) || m->crease_s[i] < 0) return st_br_fail(r, "base mesh: bad crease sharpness");
+    for (uint32_t i = 0; i < nk; i++)
+        if (!isfinite(m->corner_s[i]) || m->corner_s[i] < 0) return st_br_fail(r, "base mesh: bad corner sharpness");
+    st_error e2;
+    if (st_mesh_check("base mesh", m, &e2)) return st_br_fail(r, "%s", e2.msg);
+    return 0;
+oom:
+    st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name);
+    r->failed = 1;
+    return -1;
+}
+
+/* After every chunk: attributes attached, whole-map checks. */
+static int finish(load_ctx *c)
+{
+    st_session *s = c->s;
+    st_hier *h = &s->h;
+    st_map *m = &h->map;
+    const char *name = c->name;
+    unsigned need = SEEN_HIER | SEEN_MAP | SEEN_DETL | SEEN_EDIT;
+    if ((c->seen & need) != need) return st_fail(c->err, ST_ERR_PARSE, "%s: a required part of the session is missing", name);
+    if (c->has_sharpness && !(c->seen & SEEN_SHRP)) return st_fail(c->err, ST_ERR_PARSE, "%s: the sharpness is missing", name);
+    if (c->has_sharpness) {
+        m->dart_attrs[0] = &h->edge_sharp;
+        m->vert_attrs[0] = &h->vertex_sharp;
+        m->ndart_attrs = m->nvert_attrs = 1;
+        h->has_sharpness = 1;
+    }
+    st_error e2;
+    if (st_map_validate(m, &e2)) return st_fail(c->err, ST_ERR_INVALID, "%s: invalid map: %s", name, e2.msg);
+    st_scheme_id id = h->scheme->id;
+    if ((id == ST_SCHEME_LOOP || id == ST_SCHEME_BUTTERFLY || id == ST_SCHEME_SQRT3) && !faces_are_triangles(m, 0))
+        return st_fail(c->err, ST_ERR_INVALID, "%s: the %s scheme needs a triangle control mesh", name, h->scheme->name);
+    if (s->has_adapt) {
+        /* The scheme must have adaptive refinement in this build. */
+        st_adapt probe;
+        if (st_adapt_init(&probe, h, &e2)) return st_fail(c->err, ST_ERR_INVALID, "%s: adaptive state: %s", name, e2.msg);
+        st_adapt_free(&probe);
+        /* One base dart per face of level 0. */
+        int fb = st_marker_reserve(m);
+        int rc = fb < 0 ? -1 : 0;
+        for (uint32_t i = 0; !rc && i < s->adapt.base_faces.n; i++) {
+            uint32_t d = s->adapt.base_faces.d[i];
+            if (st_marked(m, fb, d)) rc = -1;
+            else st_mark_face(m, fb, d, 0);
+        }
+        if (fb >= 0) st_marker_release(m, fb, 0);
+        if (rc) return st_fail(c->err, ST_ERR_INVALID, "%s: adaptive state: two base darts on one face", name);
+    }
+    return ST_OK;
+}
+
+int st_session_parse(const char *name, const void *data, size_t size, st_session *out, st_error *err)
+{
+    const unsigned char *p = data;
+    if (size < HEADER_BYTES + TRAILER_BYTES)
+        return st_fail(err, ST_ERR_PARSE, "%s: %s (%zu bytes)", name,
+                       size >= 8 && !memcmp(p, ST_SESSION_MAGIC, 8) ? "truncated session file" : "too short to be a Strata session", size);
+    if (memcmp(p, ST_SESSION_MAGIC, 8))
+        return st_fail(err, ST_ERR_PARSE, "%s: not a Strata session file (bad magic)", name);
+    uint32_t hc = 0, version = 0;
+    uint64_t total = 0;
+    for (int k = 0; k < 4; k++) version |= (uint32_t)p[8 + k] << (8 * k);
+    for (int k = 0; k < 8; k++) total |= (uint64_t)p[16 + k] << (8 * k);
+    for (int k = 0; k < 4; k++) hc |= (uint32_t)p[24 + k] << (8 * k);
+    if (st_crc32(0, p, 24) != hc)
+        return st_fail(err, ST_ERR_PARSE, "%s: damaged session file (header checksum mismatch)", name);
+    if (version != ST_SESSION_VERSION)
+        return st_fail(err, ST_ERR_PARSE, "%s: session format version %u is %s than this strata (%u)", name, version,
+                       version > ST_SESSION_VERSION ? "newer" : "older", ST_SESSION_VERSION);
+    if (p[12] | p[13] | p[14] | p[15]) return st_fail(err, ST_ERR_PARSE, "%s: unknown header flags", name);
+    if (total != size)
+        return st_fail(err, ST_ERR_PARSE, "%s: %s: %zu bytes, the header says %llu", name,
+                       size < total ? "truncated session file" : "session file with trailing data", size,
+                       (unsigned long long)total);
+    uint32_t crc = 0;
+    for (int k = 0; k < 4; k++) crc |= (uint32_t)p[size - 4 + k] << (8 * k);
+    if (st_crc32(0, p, size - 4) != crc)
+        return st_fail(err, ST_ERR_PARSE, "%s: damaged session file (checksum mismatch)", name);
+
+    st_session *s = malloc(sizeof *s);
+    if (!s) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", name);
+    st_session_init(s);
+    load_ctx c = { .s = s, .name = name, .err = err };
+    size_t off = HEADER_BYTES, end = size - TRAILER_BYTES;
+    int rc = 0;
+    while (off < end && !rc) {
+        st_br hr;
+        st_br_init(&hr, name, p, end, err);
+        hr.off = off;
+        uint32_t tag = st_br_u32(&hr);
+        uint64_t len = st_br_u64(&hr);
+        if (hr.failed) { rc = -1; break; }
+        if (len > end - hr.off) { rc = st_br_fail(&hr, "chunk of %llu bytes runs past the end", (unsigned long long)len); break; }
+        /* The tag as text for messages (hex when not printable ASCII). */
+        char t[16] = { (char)(tag & 0xff), (char)(tag >> 8 & 0xff), (char)(tag >> 16 & 0xff), (char)(tag >> 24), 0 };
+        for (int k = 0; k < 4; k++)
+            if (t[k] < 0x20 || t[k] > 0x7e) { snprintf(t, sizeof t, "0x%08x", (unsigned)tag); break; }
+        /* The chunk's reader sees only its payload; offsets stay file offsets. */
+        st_br r;
+        st_br_init(&r, name, p, hr.off + (size_t)len, err);
+        r.off = hr.off;
+        unsigned bit = 0;
+        int (*fn)(load_ctx *, st_br *) = NULL;
+        unsigned after = 0;   /* chunks that must come first */
+        switch (tag) {
+        case TAG_HIER: bit = SEEN_HIER; fn = r_hier; break;
+        case TAG_MAP:  bit = SEEN_MAP;  fn = r_map;  after = SEEN_HIER; break;
+        case TAG_SHRP: bit = SEEN_SHRP; fn = r_sharp; after = SEEN_MAP; break;
+        case TAG_DETL: bit = SEEN_DETL; fn = r_detail; after = SEEN_MAP; break;
+        case TAG_ADPT: bit = SEEN_ADPT; fn = r_adapt; after = SEEN_MAP; break;
+        case TAG_EDIT: bit = SEEN_EDIT; fn = r_edit; after = SEEN_MAP; break;
+        case TAG_VIEW: bit = SEEN_VIEW; fn = r_view; break;
+        case TAG_BASE: bit = SEEN_BASE; fn = r_base; break;
+        default: break;
+        }
+        if (!fn) {
+            /* Unknown chunk: ancillary ones (first letter lower case) are skipped. */
+            if (t[0] >= 'a' && t[0] <= 'z') { off = hr.off + (size_t)len; continue; }
+            rc = st_br_fail(&hr, "unknown chunk '%s'", t);
+            break;
+        }
+        if (c.seen & bit) { rc = st_br_fail(&hr, "chunk '%s' appears twice", t); break; }
+        if ((c.seen & after) != after) { rc = st_br_fail(&hr, "chunk '%s' comes before the chunks it depends on", t); break; }
+        c.seen |= bit;
+        rc = fn(&c, &r);
+        if (!rc && r.failed) rc = -1;
+        if (!rc && r.off != r.size) rc = st_br_fail(&r, "chunk '%s': %zu bytes left over", t, r.size - r.off);
+        off = hr.off + (size_t)len;
+    }
+    if (!rc) rc = finish(&c);
+    if (rc) {
+        if (err && !err->code) st_fail(err, ST_ERR_PARSE, "%s: invalid session", name);
+        st_session_free(s);
+        free(s);
+        return err ? (err->code ? err->code : ST_ERR_PARSE) : ST_ERR_PARSE;
+    }
+    move_raw(out, s);
+    free(s);
+    if (err) { err->code = ST_OK; err->msg[0] = 0; }
+    return ST_OK;
+}
+
+int st_session_load(const char *path, st_session *out, st_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return st_fail(err, ST_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    unsigned char *buf = NULL;
+    size_t n = 0, cap = 0;
+    int bad = 0;
+    for (;;) {
+        if (n == cap) {
+            size_t nc = cap ? cap * 2 : 1 << 20;
+            unsigned char *q = realloc(buf, nc);
+            if (!q) { bad = ENOMEM; break; }
+            buf = q;
+            cap = nc;
+        }
+        size_t k = fread(buf + n, 1, cap - n, f);
+        n += k;
+        if (k == 0) {
+            if (ferror(f)) bad = errno ? errno : EIO;
+            break;
+        }
+    }
+    fclose(f);
+    if (bad) {
+        free(buf);
+        return st_fail(err, bad == ENOMEM ? ST_ERR_MEMORY : ST_ERR_IO, "%s: cannot read: %s", path, strerror(bad));
+    }
+    int rc = st_session_parse(path, buf ? buf : (const unsigned char *)"", n, out, err);
+    free(buf);
+    return rc;
+}
+
+/* ---- recovery file ------------------------------------------------------------------- */
+
+int st_session_recovery_path(char *buf, size_t n)
+{
+    const char *env = getenv("STRATA_RECOVERY");
+    int k;
+    if (env && *env) k = snprintf(buf, n, "%s", env);
+    else {
+        const char *xdg = getenv("XDG_STATE_HOME"), *home = getenv("HOME");
+        if (xdg && *xdg == '/') k = snprintf(buf, n, "%s/strata/recovery.strata", xdg);
+        else if (home && *home) k = snprintf(buf, n, "%s/.local/state/strata/recovery.strata", home);
+        else return -1;
+    }
+    if (k < 0 || (size_t)k >= n) return -1;
+    return st_mkdir_parents(buf);
+}

@@ -1,0 +1,125 @@
+/* Session files (.strata): everything needed to continue work exactly.
+ * The format is documented in docs/SESSION-FORMAT.md.
+ *
+ * What is stored: the hierarchy as it is in memory (the map's pools and
+ * every multilevel attribute: β0, β1, vertex relation, positions of every
+ * level, sharpness; the detail vectors of every level), the scheme by name
+ * and its options, the adaptive state (saved details of coarsened regions,
+ * base faces, last criteria) when present, the interest box and whether it
+ * is on, the editing and displayed levels, the camera (st_session_view),
+ * and optionally the base mesh as loaded.  Nothing is regenerated on load:
+ * dart and vertex ids, hence local frames and every later operation, are
+ * those of the session that was saved, and load -> save gives the same
+ * bytes.
+ *
+ * Reading is bounded and checked: magic, version, header checksum, total
+ * size, CRC-32 of the whole file, then every count against the bytes left,
+ * every structure (pools, relations at every level, st_map_validate, finite
+ * positions and details).  A failed load leaves *out untouched and returns
+ * a one-line message naming the file.
+ *
+ * Saving is crash-safe (core/io/atomic_file.h): a temporary next to the file,
+ * fsync, rename over the old file, fsync of the directory.
+ *
+ * Typical use by the window (ui/):
+ *     st_session_ref r = { .h = &doc->h, .adapt = doc->box_on ? &doc->adapt : NULL,
+ *                          .box = &doc->box, .box_on = doc->box_on,
+ *                          .edit_level = doc->edit_level, .display_level = doc->display_level,
+ *                          .view = &view, .base = &doc->base };
+ *     st_session_save_ref(path, &r, &err);          // Save
+ *     char rec[4096];
+ *     if (st_session_recovery_path(rec, sizeof rec) == 0)
+ *         st_session_save_ref(rec, &r, &err);       // autosave after edits
+ *     st_session s;
+ *     if (st_session_load(path, &s, &err) == 0) {   // Open
+ *         st_session_move_hier(&doc->h, &s.h);      // re-points attributes
+ *         if (s.has_adapt) st_session_move_adapt(&doc->adapt, &s.adapt, &doc->h);
+ *         ... copy box, levels, view; st_mesh_move(&doc->base, &s.base) ...
+ *         st_session_free(&s);
+ *     }
+ * An st_hier or st_adapt must not be copied with memcpy/assignment: the map
+ * points at the hierarchy's sharpness attributes and the adaptive state at
+ * its hierarchy; the move functions fix those pointers.
+ */
+#ifndef ST_SESSION_H
+#define ST_SESSION_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/adapt/adapt.h"
+#include "core/multires/hier.h"
+#include "core/io/mesh.h"
+
+#define ST_SESSION_VERSION 1u
+#define ST_SESSION_MAGIC "STRATASN"
+
+/* The camera, as the window's render camera describes it (orbit around
+ * target: azimuth and elevation in radians, distance; vertical field of
+ * view in radians; orthographic with a view height when ortho != 0). */
+typedef struct st_session_view {
+    float target[3], az, el, dist, fovy;
+    int ortho;
+    float ortho_height;
+} st_session_view;
+
+/* A loaded session; owns everything in it. */
+typedef struct st_session {
+    st_hier h;                     /* always valid after a successful load */
+    int has_adapt;
+    st_adapt adapt;                /* adapt.h == &h (st_session_move keeps it so) */
+    st_adapt_params box;           /* the interest box and its levels */
+    int box_on;
+    unsigned edit_level, display_level;
+    int has_view;
+    st_session_view view;
+    int has_base;
+    st_mesh base;                  /* the control mesh as loaded, if stored */
+} st_session;
+
+/* What to save, by reference (nothing is copied). */
+typedef struct st_session_ref {
+    const st_hier *h;              /* required */
+    const st_adapt *adapt;         /* NULL: no adaptive state (must belong to h) */
+    const st_adapt_params *box;    /* NULL: none (stored as zeros, off) */
+    int box_on;
+    unsigned edit_level, display_level;   /* clamped to 0..top when written */
+    const st_session_view *view;   /* NULL: none */
+    const st_mesh *base;           /* NULL: none */
+} st_session_ref;
+
+void st_session_init(st_session *s);
+void st_session_free(st_session *s);
+/* Moves src into dst (dst freed first), fixing internal pointers. */
+void st_session_move(st_session *dst, st_session *src);
+/* Moves a hierarchy / adaptive state (dst overwritten without being freed;
+ * src left empty).  The adaptive state is re-pointed at h. */
+void st_session_move_hier(st_hier *dst, st_hier *src);
+void st_session_move_adapt(st_adapt *dst, st_adapt *src, st_hier *h);
+/* The reference form of a loaded session. */
+st_session_ref st_session_ref_of(const st_session *s);
+
+/* Crash-safe save (see above).  Refused: hierarchies with attributes this
+ * format does not know (a map attribute other than the sharpness). */
+int st_session_save_ref(const char *path, const st_session_ref *r, st_error *err);
+int st_session_save(const char *path, const st_session *s, st_error *err);
+/* The same bytes into a malloc'ed buffer (*data freed by the caller). */
+int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_error *err);
+
+/* Loads path into *out (initialised here).  On failure *out is left as it
+ * was (not even initialised) and err names the file. */
+int st_session_load(const char *path, st_session *out, st_error *err);
+/* Parses a session from memory; name is used in messages. */
+int st_session_parse(const char *name, const void *data, size_t size, st_session *out, st_error *err);
+
+/* Recovery file for autosave: $STRATA_RECOVERY if set, else
+ * $XDG_STATE_HOME/strata/recovery.strata, else
+ * $HOME/.local/state/strata/recovery.strata.  Creates the parent
+ * directories.  0, or -1 when no path can be made (buf too small, no HOME,
+ * directories cannot be created). */
+int st_session_recovery_path(char *buf, size_t n);
+
+/* Whether path ends in ".strata" (case-insensitive). */
+int st_session_is_path(const char *path);
+
+#endif

@@ -1,0 +1,71 @@
+/* Internal: id pools and multilevel attributes behind st_map (see map.h). */
+#ifndef ST_POOL_H
+#define ST_POOL_H
+#ifndef STRATA_CORE_INTERNAL
+#error "internal to core: render/, ui/ and app/ use core's public headers (docs/ARCHITECTURE.md)"
+#endif
+
+#include "core/map/map.h"
+
+void st_pool_init(st_pool *p);
+void st_pool_free(st_pool *p);
+/* Takes an id inserted at level l.  *grow is set to the new capacity the
+ * attached arrays must reach (0 when the capacity did not change); the pool's
+ * own ins[] is already grown.  Returns ST_NIL when memory runs out. */
+uint32_t st_pool_take(st_pool *p, unsigned l, uint32_t *grow);
+/* Takes a run of up to `want` (>= 1) consecutive ids at level l, in the order
+ * st_pool_take would hand them out (free ids of the level first, one at a
+ * time; then the rest of the level's current block, then a fresh block).
+ * Returns the first id and sets *got; ST_NIL when memory runs out. */
+uint32_t st_pool_take_run(st_pool *p, unsigned l, uint32_t want, uint32_t *got, uint32_t *grow);
+/* Makes room for `more` further ids without doubling; returns the new
+ * capacity (attached arrays must follow) or 0 when out of memory. */
+uint32_t st_pool_reserve(st_pool *p, uint64_t more);
+void st_pool_release(st_pool *p, uint32_t id);
+/* 1 + the largest id ever handed out to a level < j (0 if none). */
+uint32_t st_pool_cover(const st_pool *p, unsigned j);
+/* Frees every id of level l and its blocks (level removal). */
+void st_pool_drop_level(st_pool *p, unsigned l);
+/* Live ids of levels 0..l. */
+uint64_t st_pool_count(const st_pool *p, unsigned l);
+/* Blocks of levels 0..l in enumeration order (st_dart_first/next): writes
+ * their first ids to out (NULL: count only); returns how many. */
+uint32_t st_pool_block_list(const st_pool *p, unsigned l, uint32_t *out);
+/* First ids of the blocks of levels l, l-1, ..., 0 (newest first), malloc'd
+ * (NULL when out of memory), *n of them: refinement numbers level l in the
+ * order of the faces it came from, so neighbourhoods are close in memory in
+ * this order (the synthesis passes of the schemes walk it). */
+uint32_t *st_pool_blocks_newest_first(const st_pool *p, unsigned l, uint32_t *n);
+
+void st_mla_init(st_mla *a, uint32_t elem);
+void st_mla_free(st_mla *a);
+int st_mla_grow(st_mla *a, uint32_t cap);
+/* New id inserted at level l with value v at every level >= l. */
+void st_mla_insert(st_mla *a, const st_pool *p, uint32_t id, const void *v);
+/* Value at level l := v, and at the levels above that still had the old
+ * level-l value.  l >= ins[id]. */
+void st_mla_set(st_mla *a, const st_pool *p, uint32_t id, unsigned l, const void *v);
+/* Writable column of level l (materialised if needed); NULL when l == 0 or
+ * out of memory.  Only for bulk writers that know no column above l exists. */
+void *st_mla_column(st_mla *a, const st_pool *p, unsigned l);
+/* Same, without copying level l-1 into a new column: every value of ids
+ * inserted before l must then be written by the caller. */
+void *st_mla_column_for_overwrite(st_mla *a, const st_pool *p, unsigned l);
+/* Removes the column of level l (level removal). */
+void st_mla_drop_column(st_mla *a, unsigned l);
+/* Level 1 becomes level 0 (call before st_pool_drop_bottom: it reads the
+ * old insertion levels). */
+void st_mla_drop_bottom(st_mla *a, const st_pool *p);
+/* Merges levels 0 and 1 and renumbers the levels above one down. */
+void st_pool_drop_bottom(st_pool *p);
+size_t st_mla_bytes(const st_mla *a, uint32_t cap);
+
+/* ---- bulk writers (refine.c) ------------------------------------------------
+ * Runs of new darts / vertices inserted at level l (st_pool_take_run) whose
+ * relations, flags and positions the caller writes itself, straight into the
+ * base arrays: attached attributes and marks are zeroed, nothing else is
+ * initialised.  They abort when memory runs out, like st_dart_new. */
+uint32_t st_dart_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got);
+uint32_t st_vertex_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got);
+
+#endif

@@ -1,0 +1,240 @@
+/* st_hier: construction, refinement, sharpness and level extraction.
+ * The geometry passes are in hier_synth.c (synthesis, editing) and
+ * hier_analysis.c (least-squares analysis). */
+#include "core/multires/hier.h"
+#include "core/multires/hier_internal.h"
+#include "core/map/map_mesh.h"
+#include "core/map/pool_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Dart from u to w at level 0, ST_NIL if none (walks u's β1 cycle). */
+static uint32_t find_edge(const st_map *m, const uint32_t *vdart, uint32_t u, uint32_t w)
+{
+    uint32_t d = vdart[u];
+    if (d == ST_NIL) return ST_NIL;
+    uint32_t x = d;
+    do {
+        if (st_vert(m, st_beta0(m, x, 0), 0) == w) return x;
+        x = st_beta1(m, x, 0);
+    } while (x != d);
+    return ST_NIL;
+}
+
+static int load_tags(st_hier *h, const st_mesh *mesh, st_error *err)
+{
+    if (!mesh->ncreases && !mesh->ncorners) return ST_OK;
+    st_map *m = &h->map;
+    uint32_t *vdart = malloc((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vdart);
+    if (!vdart) return st_fail(err, ST_ERR_MEMORY, "out of memory reading creases");
+    for (uint32_t v = 0; v < m->verts.end; v++) vdart[v] = ST_NIL;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, 0, &it); d != ST_NIL; d = st_dart_next(m, 0, &it)) vdart[st_vert(m, d, 0)] = d;
+    int rc = ST_OK;
+    for (uint32_t i = 0; i < mesh->ncreases && !rc; i++) {
+        uint32_t u = mesh->crease_v[2 * i], w = mesh->crease_v[2 * i + 1];
+        uint32_t d = (u < mesh->nverts && w < mesh->nverts) ? find_edge(m, vdart, u, w) : ST_NIL;
+        if (d == ST_NIL)
+            rc = st_fail(err, ST_ERR_RANGE, "crease tag names %u-%u, which is not an edge of the mesh", u, w);
+        else
+            st_hier_set_edge_sharpness(h, d, 0, mesh->crease_s[i]);
+    }
+    for (uint32_t i = 0; i < mesh->ncorners && !rc; i++) {
+        if (mesh->corner_v[i] >= mesh->nverts)
+            rc = st_fail(err, ST_ERR_RANGE, "corner tag names vertex %u of %u", mesh->corner_v[i], mesh->nverts);
+        else
+            st_hier_set_vertex_sharpness(h, mesh->corner_v[i], 0, mesh->corner_s[i]);
+    }
+    free(vdart);
+    return rc;
+}
+
+int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const st_hier_opts *opts, st_error *err)
+{
+    memset(h, 0, sizeof *h);
+    st_map_init(&h->map);
+    st_mla_init(&h->edge_sharp, sizeof(float));
+    st_mla_init(&h->vertex_sharp, sizeof(float));
+    h->scheme = scheme;
+    h->opts.boundary = mesh->boundary_interp == ST_BOUNDARY_EDGE_AND_CORNER ? ST_BOUNDARY_EDGE_AND_CORNER : ST_BOUNDARY_EDGE_ONLY;
+    h->opts.crease_method = ST_CREASE_UNIFORM;
+    if (opts && opts->boundary != ST_BOUNDARY_UNSET) h->opts.boundary = opts->boundary;
+    int rc = st_map_from_mesh(&h->map, mesh, err);
+    if (!rc && scheme->check) rc = scheme->check(h, err);
+    if (!rc) rc = load_tags(h, mesh, err);
+    if (rc) st_hier_free(h);
+    return rc;
+}
+
+/* Drops the caches of levels from..: they describe levels that moved or
+ * went away (the generation check would refuse them; this frees them). */
+static void drop_caches(st_hier *h, unsigned from)
+{
+    for (unsigned l = from; l < ST_MAX_LEVELS; l++)
+        if (h->cache[l].p) {
+            h->cache[l].free(h->cache[l].p);
+            h->cache[l].p = NULL;
+        }
+}
+
+void st_hier_free(st_hier *h)
+{
+    st_map_free(&h->map);
+    st_mla_free(&h->edge_sharp);
+    st_mla_free(&h->vertex_sharp);
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(h->detail[l]);
+    drop_caches(h, 0);
+    free(h->stamp);
+    memset(h, 0, sizeof *h);
+}
+
+/* ---- sharpness ------------------------------------------------------------- */
+
+/* The sharpness attributes are attached to the map on the first crease, so
+ * that every dart and vertex created later starts at zero. */
+static void ensure_sharp(st_hier *h)
+{
+    if (h->has_sharpness) return;
+    if (st_map_attach_dart_attr(&h->map, &h->edge_sharp) || st_map_attach_vertex_attr(&h->map, &h->vertex_sharp))
+        abort(); /* out of memory attaching two small arrays */
+    h->has_sharpness = 1;
+}
+
+float st_hier_edge_sharpness(const st_hier *h, uint32_t d, unsigned l)
+{
+    if (!h->has_sharpness) return 0;
+    return *(const float *)st_mla_at(&h->edge_sharp, h->map.darts.ins, d, l);
+}
+
+float st_hier_vertex_sharpness(const st_hier *h, uint32_t v, unsigned l)
+{
+    if (!h->has_sharpness) return 0;
+    return *(const float *)st_mla_at(&h->vertex_sharp, h->map.verts.ins, v, l);
+}
+
+/* Sharpness decides which cells take the crease rules: a cache of the
+ * synthesis depends on it as on the topology. */
+void st_hier_set_edge_sharpness(st_hier *h, uint32_t d, unsigned l, float s)
+{
+    ensure_sharp(h);
+    st_map_changed(&h->map);
+    st_mla_set(&h->edge_sharp, &h->map.darts, d, l, &s);
+    st_mla_set(&h->edge_sharp, &h->map.darts, st_beta0(&h->map, d, l), l, &s);
+}
+
+void st_hier_set_vertex_sharpness(st_hier *h, uint32_t v, unsigned l, float s)
+{
+    ensure_sharp(h);
+    st_map_changed(&h->map);
+    st_mla_set(&h->vertex_sharp, &h->map.verts, v, l, &s);
+}
+
+/* OpenSubdiv's uniform rule: sharpness decreases by one per level; values
+ * at or above 10 are infinitely sharp and stay (Sdc::Crease). */
+static float child_sharpness(float s)
+{
+    if (s >= 10.0f) return 10.0f;
+    return s > 1.0f ? s - 1.0f : 0.0f;
+}
+
+/* A coarse edge (d, e) of level L-1 splits into (d, β0(d,L)) and
+ * (e, β0(e,L)) at level L (st_split_edge). */
+typedef struct sharp_edge { uint32_t d, e; float s; } sharp_edge;
+
+static sharp_edge *collect_sharp_edges(st_hier *h, unsigned l, uint32_t *n)
+{
+    *n = 0;
+    if (!h->has_sharpness) return NULL;
+    st_map *m = &h->map;
+    uint32_t cap = 16;
+    sharp_edge *out = malloc(cap * sizeof *out);
+    if (!out) abort();
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        uint32_t e = st_beta0(m, d, l);
+        float s = st_hier_edge_sharpness(h, d, l);
+        if (d > e || s <= 0) continue;
+        if (*n == cap) { cap *= 2; out = realloc(out, cap * sizeof *out); if (!out) abort(); }
+        out[(*n)++] = (sharp_edge){ d, e, s };
+    }
+    return out;
+}
+
+static void propagate_sharpness(st_hier *h, unsigned L, const sharp_edge *edges, uint32_t n)
+{
+    if (!h->has_sharpness) return;
+    st_map *m = &h->map;
+    for (uint32_t i = 0; i < n; i++) {
+        float c = child_sharpness(edges[i].s);
+        st_hier_set_edge_sharpness(h, edges[i].d, L, c);
+        st_hier_set_edge_sharpness(h, edges[i].e, L, c);
+    }
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, L - 1, &it); v != ST_NIL; v = st_vertex_next(m, L - 1, &it)) {
+        float s = st_hier_vertex_sharpness(h, v, L - 1);
+        if (s > 0) st_hier_set_vertex_sharpness(h, v, L, child_sharpness(s));
+    }
+}
+
+int st_hier_refine_primal(st_hier *h, enum st_split_mode mode, st_error *err)
+{
+    uint32_t n;
+    sharp_edge *edges = collect_sharp_edges(h, h->map.top, &n);
+    int rc = st_refine_uniform(&h->map, mode, err);
+    if (!rc) propagate_sharpness(h, h->map.top, edges, n);
+    free(edges);
+    return rc;
+}
+
+/* ---- levels ---------------------------------------------------------------- */
+
+int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err)
+{
+    while (h->map.top < levels) {
+        int rc = h->scheme->refine(h, err);
+        if (rc) return rc;
+        drop_caches(h, 0); /* stale now: their memory back before the next level */
+        st_hier_synthesize(h, h->map.top - 1);
+    }
+    return ST_OK;
+}
+
+void st_hier_remove_top(st_hier *h)
+{
+    unsigned l = h->map.top;
+    if (l == 0) return;
+    drop_caches(h, l - 1);
+    free(h->detail[l]);
+    h->detail[l] = NULL;
+    h->detail_cap[l] = 0;
+    st_level_remove_top(&h->map);
+}
+
+void st_hier_remove_bottom(st_hier *h)
+{
+    if (h->map.top == 0) return;
+    drop_caches(h, 0);
+    /* Level 1's details are now part of the control mesh's positions. */
+    free(h->detail[1]);
+    for (unsigned l = 1; l + 1 < ST_MAX_LEVELS; l++) {
+        h->detail[l] = h->detail[l + 1];
+        h->detail_cap[l] = h->detail_cap[l + 1];
+    }
+    h->detail[ST_MAX_LEVELS - 1] = NULL;
+    h->detail_cap[ST_MAX_LEVELS - 1] = 0;
+    if (h->map.face_embedded) {
+        /* Dual encoding: the control vertices are not carried by level 1,
+         * whose own vertices become the control mesh. */
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&h->map, 0, &it); v != ST_NIL; v = st_vertex_next(&h->map, 0, &it))
+            st_vertex_delete(&h->map, v);
+    }
+    st_level_remove_bottom(&h->map);
+}
+
+int st_hier_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err)
+{
+    return st_map_to_mesh(&h->map, l, out, err);
+}

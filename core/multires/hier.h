@@ -1,0 +1,105 @@
+/* st_hier: a multiresolution subdivision surface (thesis §3.1, digest §3).
+ *
+ * Positions of level l (map->pos) always satisfy
+ *     P_l(v) = S(P_{l-1})(v) + F_l(v) · D_l(v)            (l >= 1)
+ * where S is the scheme's subdivision step (stencils), D_l(v) the detail
+ * vector of v at level l, stored in the orthonormal local frame F_l(v)
+ * (tangent, bitangent, normal) of the coarse cell the stencil comes from,
+ * computed from P_{l-1}.  Because frames come from the coarser surface, a
+ * rigid motion of a coarse level moves every finer detail with it exactly.
+ *
+ * Synthesis (Algorithm 3) evaluates this for l = from+1..top; analysis
+ * (Algorithm 4) goes the other way: P_{l-1} is the least-squares fit
+ * argmin ||S(P_{l-1}) - P_l||² (so details are as small as possible and zero
+ * when P_l is exactly a subdivision), then D_l is what remains.
+ *
+ * Editing (Blender multires conventions): moving vertices of level i changes
+ * P_i and D_i of those vertices; levels above are re-synthesised locally,
+ * keeping their details; levels below are untouched.
+ */
+#ifndef ST_HIER_H
+#define ST_HIER_H
+
+#include "core/map/map.h"
+#include "core/io/mesh.h"
+#include "core/schemes/scheme.h"
+
+enum st_crease_method { ST_CREASE_UNIFORM, ST_CREASE_CHAIKIN };
+
+typedef struct st_hier_opts {
+    int boundary;              /* ST_BOUNDARY_EDGE_ONLY or ST_BOUNDARY_EDGE_AND_CORNER */
+    int crease_method;         /* enum st_crease_method (OpenSubdiv's default: uniform) */
+} st_hier_opts;
+
+typedef struct st_level_cache {
+    void *p;                   /* NULL, or owned data ... */
+    void (*free)(void *p);     /* ... freed by this */
+} st_level_cache;
+
+typedef struct st_hier {
+    st_map map;
+    const st_scheme *scheme;
+    st_hier_opts opts;
+    /* Semi-sharp creases and corners (DeRose et al. 1998, OpenSubdiv):
+     * sharpness per dart (both darts of an edge agree) and per vertex, per
+     * level; NULL base when the mesh has none. */
+    st_mla edge_sharp;         /* float per dart */
+    st_mla vertex_sharp;       /* float per vertex */
+    int has_sharpness;
+    /* Detail vectors per level, indexed by vertex id (NULL: all zero). */
+    double *detail[ST_MAX_LEVELS];
+    uint32_t detail_cap[ST_MAX_LEVELS];
+    /* Scratch reused by the passes. */
+    uint32_t *stamp;           /* per vertex id */
+    uint32_t stamp_cap, stamp_gen;
+    /* Per coarse level, what a scheme's full-level synthesis derives from
+     * the topology alone (Catmull-Clark: its tables), kept between
+     * syntheses; the owner checks the map's generation before each use.
+     * Transient: never saved; a deep copy starts without it. */
+    st_level_cache cache[ST_MAX_LEVELS];
+} st_hier;
+
+/* Builds level 0 from a repaired soup: topology, positions, OBJ tags
+ * (creases, corners, interpolateboundary unless opts overrides it).
+ * The scheme's input requirements are checked (Loop, Butterfly, √3:
+ * triangles only).  h is left empty on failure. */
+int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const st_hier_opts *opts, st_error *err);
+void st_hier_free(st_hier *h);
+
+/* Adds levels by regular refinement until top == levels (zero details). */
+int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err);
+/* Deletes the finest level. */
+void st_hier_remove_top(st_hier *h);
+
+/* Deletes the coarsest level: level 1 becomes the control mesh; finer
+ * levels, their details and positions are unchanged. */
+void st_hier_remove_bottom(st_hier *h);
+
+/* Synthesis of levels from+1..top from level `from` (Algorithm 3). */
+void st_hier_synthesize(st_hier *h, unsigned from);
+/* Analysis of levels top-1..to from the finest level (Algorithm 4):
+ * least-squares coarse positions and details.  Returns the final relative
+ * residual of the solver. */
+double st_hier_analyze(st_hier *h, unsigned to);
+
+/* Editing: sets the level-l positions of the vertices of the darts given
+ * (one dart per vertex), keeps every finer detail, and re-synthesises the
+ * levels above locally.  Returns the number of vertex positions recomputed
+ * above l (for tests and benchmarks). */
+uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n);
+
+/* Local frame of the coarse cell (enum st_frame_cell) at dart d of level l:
+ * rows t, b, n, orthonormal. */
+void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[3][3]);
+
+/* Sharpness queries (0 when none; boundary edges are not sharp here: the
+ * rules handle boundaries by themselves). */
+float st_hier_edge_sharpness(const st_hier *h, uint32_t d, unsigned l);
+float st_hier_vertex_sharpness(const st_hier *h, uint32_t v, unsigned l);
+void st_hier_set_edge_sharpness(st_hier *h, uint32_t d, unsigned l, float s);
+void st_hier_set_vertex_sharpness(st_hier *h, uint32_t v, unsigned l, float s);
+
+/* Level l as a soup (real faces), for writers and tests. */
+int st_hier_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err);
+
+#endif

@@ -1,0 +1,170 @@
+/* Analysis (thesis Algorithm 4): from the finest level down, fit level l-1
+ * to level l in the least-squares sense,
+ *     P_{l-1} = argmin_x || S x - P_l ||²,
+ * then store what remains as details, D_l = F^T (P_l - S P_{l-1}).
+ * This minimises the sum of squared detail lengths at each level and gives
+ * zero details when P_l is exactly a subdivision of some coarse mesh (S has
+ * full column rank for every scheme here: each coarse vertex has an even
+ * child or, for √3 and Doo-Sabin, enough children to pin it).  For
+ * interpolating schemes S restricted to even vertices is the identity and
+ * the fit is exact restriction.  The normal equations S^T S x = S^T P_l are
+ * solved by conjugate gradients, warm-started from the current P_{l-1}.
+ * The stencils of level l are cached in CSR form for the solve. */
+#include "core/multires/hier_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct csr {
+    uint32_t nrows;           /* fine vertices */
+    uint32_t *row_vertex;     /* fine vertex id per row */
+    uint32_t *off;            /* nrows + 1 */
+    uint32_t *col;            /* coarse vertex ids */
+    double *w;
+    uint32_t *frame_dart;
+    uint8_t *frame_cell;
+    uint32_t cap_rows, cap_nz;
+} csr;
+
+static void *grow(void *p, size_t n, size_t elem)
+{
+    void *q = realloc(p, n * elem);
+    if (!q) abort(); /* analysis scratch: out of memory is fatal here */
+    return q;
+}
+
+static void csr_sink(void *ctx, const st_stencil *s)
+{
+    csr *c = ctx;
+    if (c->nrows + 1 >= c->cap_rows) {
+        c->cap_rows = c->cap_rows ? 2 * c->cap_rows : 1024;
+        c->row_vertex = grow(c->row_vertex, c->cap_rows, sizeof *c->row_vertex);
+        c->off = grow(c->off, c->cap_rows + 1, sizeof *c->off);
+        c->frame_dart = grow(c->frame_dart, c->cap_rows, sizeof *c->frame_dart);
+        c->frame_cell = grow(c->frame_cell, c->cap_rows, sizeof *c->frame_cell);
+    }
+    uint32_t nz = c->off[c->nrows];
+    if (nz + s->n > c->cap_nz) {
+        while (nz + s->n > c->cap_nz) c->cap_nz = c->cap_nz ? 2 * c->cap_nz : 8192;
+        c->col = grow(c->col, c->cap_nz, sizeof *c->col);
+        c->w = grow(c->w, c->cap_nz, sizeof *c->w);
+    }
+    memcpy(c->col + nz, s->src, s->n * sizeof *s->src);
+    memcpy(c->w + nz, s->w, s->n * sizeof *s->w);
+    c->row_vertex[c->nrows] = s->fine;
+    c->frame_dart[c->nrows] = s->frame_dart;
+    c->frame_cell[c->nrows] = s->frame_cell;
+    c->off[++c->nrows] = nz + s->n;
+}
+
+static void csr_free(csr *c)
+{
+    free(c->row_vertex); free(c->off); free(c->col); free(c->w); free(c->frame_dart); free(c->frame_cell);
+}
+
+/* y = S x  (rows = fine vertices, 3 components). */
+static void mul_s(const csr *c, const double *x, double *y)
+{
+    for (uint32_t r = 0; r < c->nrows; r++) {
+        double a = 0, b = 0, d = 0;
+        for (uint32_t k = c->off[r]; k < c->off[r + 1]; k++) {
+            const double *p = x + 3 * (size_t)c->col[k];
+            a += c->w[k] * p[0]; b += c->w[k] * p[1]; d += c->w[k] * p[2];
+        }
+        y[3 * r] = a; y[3 * r + 1] = b; y[3 * r + 2] = d;
+    }
+}
+
+/* x = S^T y  (x indexed by coarse vertex id, n entries). */
+static void mul_st(const csr *c, const double *y, double *x, uint32_t n)
+{
+    memset(x, 0, 3 * (size_t)n * sizeof *x);
+    for (uint32_t r = 0; r < c->nrows; r++)
+        for (uint32_t k = c->off[r]; k < c->off[r + 1]; k++) {
+            double *p = x + 3 * (size_t)c->col[k];
+            p[0] += c->w[k] * y[3 * r]; p[1] += c->w[k] * y[3 * r + 1]; p[2] += c->w[k] * y[3 * r + 2];
+        }
+}
+
+static double dot(const double *a, const double *b, size_t n)
+{
+    double s = 0;
+    for (size_t i = 0; i < n; i++) s += a[i] * b[i];
+    return s;
+}
+
+/* CG on S^T S x = S^T f, per component pair summed (the three components
+ * share the operator; solving them jointly keeps the code short and the
+ * iteration count is set by the worst one).  Returns the relative residual. */
+static double solve(const csr *c, const double *f, double *x, uint32_t n)
+{
+    size_t nn = 3 * (size_t)n, nf = 3 * (size_t)c->nrows;
+    double *b = malloc(nn * sizeof *b), *r = malloc(nn * sizeof *r), *p = malloc(nn * sizeof *p);
+    double *ap = malloc(nn * sizeof *ap), *tmp = malloc((nf ? nf : 1) * sizeof *tmp);
+    if (!b || !r || !p || !ap || !tmp) abort();
+    mul_st(c, f, b, n);
+    mul_s(c, x, tmp);
+    mul_st(c, tmp, r, n);
+    for (size_t i = 0; i < nn; i++) { r[i] = b[i] - r[i]; p[i] = r[i]; }
+    double bb = dot(b, b, nn), rr = dot(r, r, nn);
+    for (int it = 0; it < 2000 && rr > 1e-30 * bb && rr > 0; it++) {
+        mul_s(c, p, tmp);
+        mul_st(c, tmp, ap, n);
+        double pap = dot(p, ap, nn);
+        if (pap <= 0) break;
+        double alpha = rr / pap;
+        for (size_t i = 0; i < nn; i++) { x[i] += alpha * p[i]; r[i] -= alpha * ap[i]; }
+        double rr2 = dot(r, r, nn);
+        for (size_t i = 0; i < nn; i++) p[i] = r[i] + (rr2 / rr) * p[i];
+        rr = rr2;
+    }
+    free(b); free(r); free(p); free(ap); free(tmp);
+    return bb > 0 ? sqrt(rr / bb) : 0;
+}
+
+static double analyze_level(st_hier *h, unsigned l)
+{
+    st_map *m = &h->map;
+    uint32_t n = m->verts.end;
+    csr c = { 0 };
+    c.off = grow(NULL, 1, sizeof *c.off);
+    c.off[0] = 0;
+    c.cap_rows = 0;
+    h->scheme->emit(h, l, NULL, 0, csr_sink, &c);
+    double *x = calloc(3 * (size_t)n + 1, sizeof *x), *f = malloc((3 * (size_t)c.nrows + 1) * sizeof *f);
+    if (!x || !f) abort();
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, l - 1, &it); v != ST_NIL; v = st_vertex_next(m, l - 1, &it))
+        memcpy(x + 3 * (size_t)v, st_pos(m, v, l - 1), 3 * sizeof *x);
+    for (uint32_t r = 0; r < c.nrows; r++) memcpy(f + 3 * (size_t)r, st_pos(m, c.row_vertex[r], l), 3 * sizeof *f);
+    double res = solve(&c, f, x, n);
+    /* New level l-1, then level l rewritten exactly (it may have inherited
+     * from l-1) with details re-expressed against the new coarse surface. */
+    for (uint32_t v = st_vertex_first(m, l - 1, &it); v != ST_NIL; v = st_vertex_next(m, l - 1, &it))
+        st_hier_write_pos(h, v, l - 1, x + 3 * (size_t)v);
+    for (uint32_t r = 0; r < c.nrows; r++) {
+        st_stencil s = { c.row_vertex[r], c.off[r + 1] - c.off[r], c.col + c.off[r], c.w + c.off[r], c.frame_dart[r], c.frame_cell[r] };
+        double pred[3], fr[3][3], d[3], *target = f + 3 * (size_t)r;
+        st_stencil_eval(h, l, &s, pred);
+        st_hier_frame(h, l - 1, s.frame_dart, s.frame_cell, fr);
+        for (int i = 0; i < 3; i++)
+            d[i] = fr[i][0] * (target[0] - pred[0]) + fr[i][1] * (target[1] - pred[1]) + fr[i][2] * (target[2] - pred[2]);
+        st_hier_set_detail(h, l, s.fine, d);
+        st_hier_write_pos(h, s.fine, l, target);
+    }
+    free(x);
+    free(f);
+    csr_free(&c);
+    return res;
+}
+
+double st_hier_analyze(st_hier *h, unsigned to)
+{
+    double worst = 0;
+    for (unsigned l = h->map.top; l > to; l--) {
+        double r = analyze_level(h, l);
+        if (r > worst) worst = r;
+    }
+    return worst;
+}

@@ -1,0 +1,82 @@
+/* Internal helpers shared by hier*.c and the schemes. */
+#ifndef ST_HIER_INTERNAL_H
+#define ST_HIER_INTERNAL_H
+#ifndef STRATA_CORE_INTERNAL
+#error "internal to core: render/, ui/ and app/ use core's public headers (docs/ARCHITECTURE.md)"
+#endif
+
+#include "core/multires/hier.h"
+#include "core/map/dart_list.h"
+#include "core/map/refine_internal.h"
+
+#include <string.h>
+
+/* Primal refinement with sharpness propagation (OpenSubdiv uniform rule). */
+int st_hier_refine_primal(st_hier *h, enum st_split_mode mode, st_error *err);
+
+/* Writable position slot of v at level l: base when v was inserted at l,
+ * else the level-l column; the column is created only when p differs from
+ * the inherited value ("stored only where it differs"). */
+void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3]);
+
+/* Detail of v at level l (zero vector when none stored). */
+const double *st_hier_detail(const st_hier *h, unsigned l, uint32_t v);
+void st_hier_set_detail(st_hier *h, unsigned l, uint32_t v, const double d[3]);
+
+/* Stencil evaluation: Σ w P_{L-1}(src). */
+void st_stencil_eval(const st_hier *h, unsigned L, const st_stencil *s, double out[3]);
+/* Predicted position plus frame · detail. */
+void st_stencil_apply(const st_hier *h, unsigned L, const st_stencil *s, double out[3]);
+
+/* Faces of level l within `rings` vertex rings of the seed darts' vertices,
+ * one dart per face (real faces only), into a growable list. */
+void st_region_faces(st_map *m, unsigned l, const uint32_t *seeds, uint32_t nseeds, unsigned rings, st_dart_list *faces);
+
+/* A dart of level L carrying fine vertex v, found on the frame cell of its
+ * stencil (dart d of level L-1): d itself for a vertex cell; for an edge or
+ * a face, the children of a primal split lie on the face of d at level L.
+ * ST_NIL if v is not there (hier_synth.c). */
+uint32_t st_dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L);
+
+/* Per-vertex generation stamps for deduplication within one pass. */
+uint32_t st_hier_stamp_begin(st_hier *h);
+
+/* The output of a synthesis pass of level L (hier_synth.c): positions are
+ * written at L; a local pass (gen != 0) writes each vertex once (h->stamp)
+ * and lists a dart of level L of each, which seeds level L+1. */
+typedef struct st_synth_ctx {
+    st_hier *h;
+    unsigned L;
+    uint32_t gen;          /* stamp generation for local passes, 0 for full */
+    uint64_t count;        /* vertices written */
+    st_dart_list *changed; /* local passes: a dart of level L of each vertex written */
+    int lost;              /* some written vertex had no dart found on its frame cell */
+} st_synth_ctx;
+
+/* Sink for stencils (scheme.h emit), ctx an st_synth_ctx: applies, with
+ * the detail, and writes. */
+void st_synth_sink(void *ctx, const st_stencil *s);
+
+/* The same for a point a scheme computed itself (predict_around), whose
+ * dart at L is known and whose stamp it checked; inline, as it runs once
+ * per vertex of a local edit. */
+static inline void st_synth_put(st_synth_ctx *c, uint32_t v, uint32_t d, const double p[3])
+{
+    st_map *m = &c->h->map;
+    st_mla *a = &m->pos;
+    c->h->stamp[v] = c->gen;
+    if (m->verts.ins[v] != c->L && !(a->col[c->L] && v < a->colcap[c->L])) {
+        st_hier_write_pos(c->h, v, c->L, p); /* no column yet */
+    } else {
+        if (m->log) st_map_log_vertex(m, v);
+        unsigned char *slot = m->verts.ins[v] == c->L ? a->base : a->col[c->L];
+        memcpy(slot + (size_t)v * 3 * sizeof(double), p, 3 * sizeof(double));
+    }
+    c->count++;
+    st_dart_list *l = c->changed;
+    if (!l) return;
+    if (l->n < l->cap) l->d[l->n++] = d; /* no call while there is room */
+    else st_dart_list_push(l, d);
+}
+
+#endif

@@ -1,0 +1,425 @@
+/* Synthesis (thesis Algorithm 3), local frames, and local re-synthesis after
+ * an edit.  Stencils come from the scheme; this file only applies them. */
+#include "core/multires/hier_internal.h"
+#include "core/map/pool_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- positions and details -------------------------------------------------- */
+
+void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3])
+{
+    st_map *m = &h->map;
+    st_mla *a = &m->pos;
+    if (m->log) st_map_log_vertex(m, v); /* a call per vertex written otherwise */
+    if (m->verts.ins[v] == l) {
+        memcpy(a->base + (size_t)v * a->elem, p, 3 * sizeof(double)); /* elem: 3 doubles */
+        return;
+    }
+    if (a->col[l] && v < a->colcap[l]) {
+        memcpy(a->col[l] + (size_t)v * a->elem, p, 3 * sizeof(double));
+        return;
+    }
+    if (!a->col[l] && memcmp(st_pos(m, v, l), p, a->elem) == 0) return;
+    double *col = st_mla_column(a, &m->verts, l);
+    if (!col) abort(); /* out of memory for a level's positions */
+    memcpy(col + 3 * (size_t)v, p, a->elem);
+}
+
+static const double zero3[3];
+
+const double *st_hier_detail(const st_hier *h, unsigned l, uint32_t v)
+{
+    if (!h->detail[l] || v >= h->detail_cap[l]) return zero3;
+    return h->detail[l] + 3 * (size_t)v;
+}
+
+void st_hier_set_detail(st_hier *h, unsigned l, uint32_t v, const double d[3])
+{
+    if (v >= h->detail_cap[l]) {
+        if (!h->detail[l] && d[0] == 0 && d[1] == 0 && d[2] == 0) return;
+        uint32_t cap = h->map.verts.end > v ? h->map.verts.end : v + 1;
+        double *p = realloc(h->detail[l], 3 * (size_t)cap * sizeof *p);
+        if (!p) abort();
+        memset(p + 3 * (size_t)h->detail_cap[l], 0, 3 * (size_t)(cap - h->detail_cap[l]) * sizeof *p);
+        h->detail[l] = p;
+        h->detail_cap[l] = cap;
+    }
+    memcpy(h->detail[l] + 3 * (size_t)v, d, 3 * sizeof *d);
+}
+
+/* ---- local frames ------------------------------------------------------------ */
+
+static void sub3(const double *a, const double *b, double *o) { o[0] = a[0] - b[0]; o[1] = a[1] - b[1]; o[2] = a[2] - b[2]; }
+static void cross3(const double *a, const double *b, double *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static void add3(double *a, const double *b) { a[0] += b[0]; a[1] += b[1]; a[2] += b[2]; }
+
+/* Newell normal of the face of d (unnormalised; zero for boundary faces). */
+static void face_normal(const st_map *m, uint32_t d, unsigned l, double n[3])
+{
+    n[0] = n[1] = n[2] = 0;
+    if (st_is_boundary(m, d)) return;
+    uint32_t x = d;
+    do {
+        uint32_t y = st_phi1(m, x, l);
+        const double *p = st_dart_pos(m, x, l), *q = st_dart_pos(m, y, l);
+        n[0] += (p[1] - q[1]) * (p[2] + q[2]);
+        n[1] += (p[2] - q[2]) * (p[0] + q[0]);
+        n[2] += (p[0] - q[0]) * (p[1] + q[1]);
+        x = y;
+    } while (x != d);
+}
+
+static uint32_t min_in_orbit(const st_map *m, uint32_t d, unsigned l, int face)
+{
+    uint32_t best = d, x = d;
+    do {
+        if (x < best) best = x;
+        x = face ? st_phi1(m, x, l) : st_beta1(m, x, l);
+    } while (x != d);
+    return best;
+}
+
+/* Orthonormalises (t, n) into rows t, b = n × t, n; degenerate inputs fall
+ * back to fixed axes so that the frame is always defined. */
+static void orthonormal(double t[3], double n[3], double f[3][3])
+{
+    double ln = sqrt(dot3(n, n));
+    if (ln < 1e-300) { n[0] = 0; n[1] = 0; n[2] = 1; ln = 1; }
+    for (int i = 0; i < 3; i++) n[i] /= ln;
+    double k = dot3(t, n);
+    for (int i = 0; i < 3; i++) t[i] -= k * n[i];
+    double lt = sqrt(dot3(t, t));
+    if (lt < 1e-12 * (ln > 0 ? 1 : 1)) {
+        double ax[3] = { fabs(n[0]) < 0.9 ? 1 : 0, fabs(n[0]) < 0.9 ? 0 : 1, 0 };
+        k = dot3(ax, n);
+        for (int i = 0; i < 3; i++) t[i] = ax[i] - k * n[i];
+        lt = sqrt(dot3(t, t));
+    }
+    for (int i = 0; i < 3; i++) t[i] /= lt;
+    double b[3];
+    cross3(n, t, b);
+    memcpy(f[0], t, sizeof f[0]);
+    memcpy(f[1], b, sizeof f[1]);
+    memcpy(f[2], n, sizeof f[2]);
+}
+
+void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[3][3])
+{
+    const st_map *m = &h->map;
+    double n[3] = { 0, 0, 0 }, t[3], fn[3];
+    uint32_t c;
+    if (cell == ST_CELL_DUAL_FACE) {
+        /* Face of a dual-encoded surface: the vertex orbit of the map,
+         * whose faces carry the surface's vertices (Newell normal). */
+        c = min_in_orbit(m, d, l, 0);
+        uint32_t x = c;
+        do {
+            const double *p = st_pos(m, st_vert(m, x, l), l), *q = st_pos(m, st_vert(m, st_beta1(m, x, l), l), l);
+            n[0] += (p[1] - q[1]) * (p[2] + q[2]);
+            n[1] += (p[2] - q[2]) * (p[0] + q[0]);
+            n[2] += (p[0] - q[0]) * (p[1] + q[1]);
+            x = st_beta1(m, x, l);
+        } while (x != c);
+        sub3(st_pos(m, st_vert(m, st_beta1(m, c, l), l), l), st_pos(m, st_vert(m, c, l), l), t);
+        orthonormal(t, n, f);
+        return;
+    }
+    if (cell == ST_CELL_FACE) {
+        c = min_in_orbit(m, d, l, 1);
+        face_normal(m, c, l, n);
+    } else if (cell == ST_CELL_EDGE) {
+        uint32_t e = st_beta0(m, d, l);
+        c = d < e ? d : e;
+        face_normal(m, c, l, n);
+        face_normal(m, st_beta0(m, c, l), l, fn);
+        add3(n, fn);
+    } else {
+        /* Vertex: sum of the corner normals of its real faces. */
+        c = min_in_orbit(m, d, l, 0);
+        const double *p = st_dart_pos(m, c, l);
+        uint32_t x = c;
+        do {
+            uint32_t y = st_beta1(m, x, l);
+            if (!st_is_boundary(m, st_beta0(m, x, l))) {
+                double a[3], b[3], cr[3];
+                sub3(p, st_dart_pos(m, st_beta0(m, x, l), l), a);
+                sub3(st_dart_pos(m, st_beta0(m, y, l), l), p, b);
+                cross3(a, b, cr);
+                add3(n, cr);
+            }
+            x = y;
+        } while (x != c);
+    }
+    sub3(st_dart_pos(m, st_beta0(m, c, l), l), st_dart_pos(m, c, l), t);
+    orthonormal(t, n, f);
+}
+
+/* ---- stencil application ----------------------------------------------------- */
+
+void st_stencil_eval(const st_hier *h, unsigned L, const st_stencil *s, double out[3])
+{
+    st_level_view v;
+    st_level_view_init(&h->map, L - 1, &v);
+    double x = 0, y = 0, z = 0;
+    for (uint32_t i = 0; i < s->n; i++) {
+        const double *p = st_v_pos(&v, s->src[i]);
+        x += s->w[i] * p[0];
+        y += s->w[i] * p[1];
+        z += s->w[i] * p[2];
+    }
+    out[0] = x; out[1] = y; out[2] = z;
+}
+
+void st_stencil_apply(const st_hier *h, unsigned L, const st_stencil *s, double out[3])
+{
+    st_stencil_eval(h, L, s, out);
+    const double *d = st_hier_detail(h, L, s->fine);
+    if (d[0] == 0 && d[1] == 0 && d[2] == 0) return;
+    double f[3][3];
+    st_hier_frame(h, L - 1, s->frame_dart, s->frame_cell, f);
+    for (int i = 0; i < 3; i++) out[i] += d[0] * f[0][i] + d[1] * f[1][i] + d[2] * f[2][i];
+}
+
+typedef st_synth_ctx synth_ctx;
+
+/* A dart of level L carrying fine vertex v, found on the frame cell of its
+ * stencil (dart d of level L-1): d itself for a vertex cell; for an edge or
+ * a face, the children of a primal split lie on the face of d at level L.
+ * ST_NIL if v is not there (a scheme that puts it elsewhere). */
+uint32_t st_dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L)
+{
+    uint32_t x = d;
+    do {
+        if (st_vert(m, x, L) == v) return x;
+        x = st_phi1(m, x, L);
+    } while (x != d);
+    return ST_NIL;
+}
+
+void st_synth_sink(void *ctx, const st_stencil *s)
+{
+    synth_ctx *c = ctx;
+    if (c->gen) {
+        if (c->h->stamp[s->fine] == c->gen) return;
+        c->h->stamp[s->fine] = c->gen;
+    }
+    double p[3];
+    st_stencil_apply(c->h, c->L, s, p);
+    st_hier_write_pos(c->h, s->fine, c->L, p);
+    c->count++;
+    if (c->changed) {
+        uint32_t d = st_dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
+        if (d == ST_NIL) c->lost = 1;
+        else st_dart_list_push(c->changed, d);
+    }
+}
+
+void st_hier_synthesize(st_hier *h, unsigned from)
+{
+    for (unsigned L = from + 1; L <= h->map.top; L++) {
+        if (h->scheme->predict_level && !h->detail[L]) {
+            h->scheme->predict_level(h, L);
+            continue;
+        }
+        synth_ctx c = { .h = h, .L = L };
+        h->scheme->emit(h, L, NULL, 0, st_synth_sink, &c);
+    }
+}
+
+/* ---- regions ------------------------------------------------------------------ */
+
+void st_dart_list_push(st_dart_list *l, uint32_t d)
+{
+    if (l->n == l->cap) {
+        uint32_t cap = l->cap ? 2 * l->cap : 64;
+        uint32_t *p = realloc(l->d, cap * sizeof *p);
+        if (!p) abort();
+        l->d = p;
+        l->cap = cap;
+    }
+    l->d[l->n++] = d;
+}
+
+void st_dart_list_free(st_dart_list *l) { free(l->d); memset(l, 0, sizeof *l); }
+
+/* Breadth-first over vertex rings with two marker bits; the marks are
+ * cleared from the lists afterwards, so the cost is proportional to the
+ * region, not to the level. */
+void st_region_faces(st_map *m, unsigned l, const uint32_t *seeds, uint32_t nseeds, unsigned rings, st_dart_list *faces)
+{
+    int fb = st_marker_reserve(m), vb = st_marker_reserve(m);
+    if (fb < 0 || vb < 0) abort();
+    st_dart_list verts = { 0 };
+    for (uint32_t i = 0; i < nseeds; i++)
+        if (!st_marked(m, vb, seeds[i])) { st_mark_vertex(m, vb, seeds[i], l); st_dart_list_push(&verts, seeds[i]); }
+    uint32_t begin = 0;
+    for (unsigned r = 0; r < rings; r++) {
+        uint32_t end = verts.n;
+        for (uint32_t i = begin; i < end; i++) {
+            uint32_t x = verts.d[i];
+            do {
+                if (!st_is_boundary(m, x) && !st_marked(m, fb, x)) {
+                    st_mark_face(m, fb, x, l);
+                    st_dart_list_push(faces, x);
+                    uint32_t y = x;
+                    do {
+                        if (!st_marked(m, vb, y)) { st_mark_vertex(m, vb, y, l); st_dart_list_push(&verts, y); }
+                        y = st_phi1(m, y, l);
+                    } while (y != x);
+                }
+                x = st_beta1(m, x, l);
+            } while (x != verts.d[i]);
+        }
+        begin = end;
+    }
+    for (uint32_t i = 0; i < verts.n; i++) {
+        uint32_t x = verts.d[i];
+        do { st_unmark(m, vb, x); x = st_beta1(m, x, l); } while (x != verts.d[i]);
+    }
+    for (uint32_t i = 0; i < faces->n; i++) {
+        uint32_t x = faces->d[i];
+        do { st_unmark(m, fb, x); x = st_phi1(m, x, l); } while (x != faces->d[i]);
+    }
+    m->marks_used &= ~((1u << fb) | (1u << vb));
+    st_dart_list_free(&verts);
+}
+
+uint32_t st_hier_stamp_begin(st_hier *h)
+{
+    uint32_t need = h->map.verts.end;
+    if (h->stamp_cap < need) {
+        uint32_t *p = realloc(h->stamp, (size_t)need * sizeof *p);
+        if (!p) abort();
+        memset(p + h->stamp_cap, 0, (size_t)(need - h->stamp_cap) * sizeof *p);
+        h->stamp = p;
+        h->stamp_cap = need;
+    }
+    if (++h->stamp_gen == 0) {
+        memset(h->stamp, 0, (size_t)h->stamp_cap * sizeof *h->stamp);
+        h->stamp_gen = 1;
+    }
+    return h->stamp_gen;
+}
+
+/* ---- editing ------------------------------------------------------------------ */
+
+/* A seed on a hole leads nowhere in the dual encoding (Doo-Sabin), where
+ * the region walk starts from the seed's β1 orbit, a surface face: take a
+ * dart of the same surface vertex (φ1 orbit) on a real face. */
+static uint32_t real_seed(const st_map *m, uint32_t d, unsigned l)
+{
+    if (d == ST_NIL || !m->face_embedded || !st_is_boundary(m, d)) return d;
+    uint32_t x = d;
+    do {
+        if (!st_is_boundary(m, x)) return x;
+        x = st_phi1(m, x, l);
+    } while (x != d);
+    return d;
+}
+
+/* A dart of level l-1 near the vertex of d (level l): walk the faces around
+ * the vertex until a dart that existed at level l-1 is found. */
+static uint32_t coarse_seed(const st_map *m, uint32_t d, unsigned l)
+{
+    uint32_t x = d;
+    do {
+        uint32_t y = x;
+        do {
+            if (m->darts.ins[y] < l) return y;
+            y = st_phi1(m, y, l);
+        } while (y != x);
+        x = st_beta1(m, x, l);
+    } while (x != d);
+    return ST_NIL;
+}
+
+typedef struct find_ctx { uint32_t v; st_stencil_buf buf; uint32_t frame_dart; uint8_t frame_cell; int found; } find_ctx;
+
+static void find_sink(void *ctx, const st_stencil *s)
+{
+    find_ctx *c = ctx;
+    if (s->fine != c->v || c->found) return;
+    st_stencil_buf_clear(&c->buf);
+    for (uint32_t i = 0; i < s->n; i++) st_stencil_buf_add(&c->buf, s->src[i], s->w[i]);
+    c->frame_dart = s->frame_dart;
+    c->frame_cell = s->frame_cell;
+    c->found = 1;
+}
+
+/* Re-expresses the detail of the vertex of d at level l >= 1 so that its
+ * position is P_l(v): D = F^T (P_l - S(P_{l-1})). */
+static void refresh_detail(st_hier *h, unsigned l, uint32_t d)
+{
+    st_map *m = &h->map;
+    uint32_t v = st_vert(m, d, l), seed = real_seed(m, coarse_seed(m, d, l), l - 1);
+    if (seed == ST_NIL) return;
+    st_dart_list faces = { 0 };
+    st_region_faces(m, l - 1, &seed, 1, 1, &faces);
+    find_ctx c = { .v = v };
+    h->scheme->emit(h, l, faces.d, faces.n, find_sink, &c);
+    st_dart_list_free(&faces);
+    if (!c.found) { st_stencil_buf_free(&c.buf); return; }
+    st_stencil s = { v, c.buf.n, c.buf.src, c.buf.w, c.frame_dart, c.frame_cell };
+    double pred[3], f[3][3], r[3], dv[3];
+    st_stencil_eval(h, l, &s, pred);
+    st_hier_frame(h, l - 1, s.frame_dart, s.frame_cell, f);
+    sub3(st_pos(m, v, l), pred, r);
+    for (int i = 0; i < 3; i++) dv[i] = dot3(f[i], r);
+    st_hier_set_detail(h, l, v, dv);
+    st_stencil_buf_free(&c.buf);
+}
+
+uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n)
+{
+    st_map *m = &h->map;
+    for (uint32_t i = 0; i < n; i++) st_hier_write_pos(h, st_vert(m, darts[i], l), l, pos[i]);
+    if (l > 0)
+        for (uint32_t i = 0; i < n; i++) refresh_detail(h, l, real_seed(m, darts[i], l));
+    /* Level L is recomputed on the faces of level L-1 whose children can
+     * see a vertex that changed at L-1 (support_rings rings around it);
+     * the vertices written at L seed level L+1.  Should a written vertex
+     * not be found on its frame cell, the next level takes every dart of
+     * the region as seed, with one more ring (the children of the region
+     * lie within it). */
+    st_dart_list seeds = { 0 }, next = { 0 }, faces = { 0 };
+    for (uint32_t i = 0; i < n; i++) st_dart_list_push(&seeds, real_seed(m, darts[i], l));
+    unsigned extra = 0;
+    uint64_t count = 0;
+    for (unsigned L = l + 1; L <= m->top; L++) {
+        next.n = 0;
+        synth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next };
+        if (h->scheme->predict_around && !h->detail[L] && !extra && h->scheme->predict_around(h, L, seeds.d, seeds.n, &c)) {
+            count += c.count;
+        } else {
+            faces.n = 0;
+            st_region_faces(m, L - 1, seeds.d, seeds.n, h->scheme->support_rings + extra, &faces);
+            c.gen = st_hier_stamp_begin(h);
+            h->scheme->emit(h, L, faces.d, faces.n, st_synth_sink, &c);
+            count += c.count;
+            extra = c.lost;
+            if (c.lost) {
+                next.n = 0;
+                for (uint32_t i = 0; i < faces.n; i++) {
+                    uint32_t x = faces.d[i];
+                    do { st_dart_list_push(&next, x); x = st_phi1(m, x, L - 1); } while (x != faces.d[i]);
+                }
+            }
+        }
+        st_dart_list t = seeds;
+        seeds = next;
+        next = t;
+    }
+    st_dart_list_free(&seeds);
+    st_dart_list_free(&next);
+    st_dart_list_free(&faces);
+    return count;
+}

@@ -1,0 +1,438 @@
+/* Catmull-Clark full-level synthesis by tables (the scheme's predict_level).
+ *
+ * Same rules as the stencils of scheme_catmark.c, organised like OpenSubdiv's
+ * PrimvarRefiner: face points first, then edge and vertex points, each read
+ * from flat index tables.  The tables of coarse level l depend on the
+ * topology only (and on sharpness, which decides the special cells), so
+ * they are built once, on the first synthesis after a change, and kept in
+ * h->cache[l] while the map's generation (map.h) stays the same.  Building
+ * them walks the 2-map (about the cost of one synthesis by walks); using
+ * them reads a few sequential 32-bit indices per fine vertex instead of a
+ * chain of dependent loads through β0, β1 and the embedding, which bound
+ * the walk by memory latency.
+ *
+ * Tables of level l (each record in the order the build met it):
+ *   quad   5 per quad face: its corners' position refs from the dart new at
+ *          l (below), then the id of its face point at L
+ *   face   other faces (level 0): foff into fdata = centre, refs...
+ *   edge   5 per smooth edge (d < e = β0 d): ref vert(d), ref vert(e),
+ *          face points of d's and e's faces, id of the edge point
+ *   v4     9 per smooth vertex of valence 4: ref v, then per ring dart y
+ *          from the smallest: ref vert(β0 y), face point of y's face
+ *   vn     other valences: voff into vdata = ref v, pairs as in v4
+ *   sedge, svert   special cells (hole, crease, corner): a dart, for the
+ *          stencil path (crease.c rules)
+ *   copy   refs of vertices on no real face: they keep their position
+ * A position ref is a vertex id, with REF_COL when its level-l position is
+ * in the level's column rather than the base (map.h, "Storage").
+ *
+ * The arithmetic is the one of the walk it replaces, operation for
+ * operation: with G(y) = P(vert(φ1 y)) + F(y) per coarse dart y,
+ *   face point   F = (Σ corners) · (1/k), summed from the first corner;
+ *   edge point   (G(d) + G(e)) / 4  as  0.25 G(d) + 0.25 G(e);
+ *   vertex point (n-2)/n P(v) + (1/n²) Σ G(y), summed from the smallest y,
+ * so every value is the same whichever thread computes it.
+ *
+ * Faces need no marks: on a level l >= 1 built by the polygon split each
+ * face is a corner quad (n(d_i), d_{i+1}, in_{i+1}, out_i) (refine.c) in
+ * which n(d_i) is the one dart new at l whose twin is old; so the blocks of
+ * level l name each face once.  Level 0 takes a sequential pass with a
+ * visited bit per dart.  A level without that structure (a face without
+ * exactly one old dart, faces that miss some dart of the level, a face not
+ * split at L) gets a table marked irregular: its synthesis is done by the
+ * stencils. */
+#include "core/schemes/catmark_tables_internal.h"
+#include "core/base/parallel.h"
+#include "core/map/pool_internal.h"
+#include "core/schemes/synth_blocks_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- building: walks of the coarse level ---- */
+
+typedef struct builder {
+    st_hier *h;
+    unsigned l, L;
+    st_level_view c;                /* coarse level l */
+    int plain;                      /* β1 and vert have no column at level l: read the base */
+    const uint32_t *b0L;            /* β0 column of level L: darts of levels <= l */
+    const uint32_t *b0, *b1, *vt;   /* base relations (new darts at L; plain coarse ones) */
+    uint32_t *blocks, nblocks;      /* first ids of the dart blocks of levels l, l-1, ..., 0 ... */
+    uint32_t nnew;                  /* ... of which the first nnew are level l's */
+    uint32_t *vblocks, nvblocks;    /* first ids of the vertex blocks of levels l, ..., 0 */
+    uint32_t dcover, vcover;        /* 1 + largest coarse dart / vertex id */
+    uint64_t *dnew, *vnew;          /* block bits (synth_blocks.h) of the darts / vertices of level l,
+                                       NULL where β0 / positions have no level-l column */
+    uint32_t *fc;                   /* per coarse dart: the face point of its face, ST_NIL if none */
+    uint32_t *vd;                   /* per coarse vertex: a dart of it in a real face, ST_NIL if none */
+    u32vec walk;                    /* scratch: a face or a ring */
+    int irregular;
+    uint64_t covered, holes;        /* darts in the faces found, darts of holes: every dart of level l */
+    cc_table *t;
+} builder;
+
+static uint32_t c_beta0(const builder *x, uint32_t d)
+{
+    const st_u32_view *r = &x->c.beta0;
+    int use_col = x->dnew ? !st_block_bit(x->dnew, d) : x->c.ins[d] < r->lvl;
+    return ((const uint32_t *)st_pick(r->base, r->col, use_col))[d];
+}
+static uint32_t c_beta1(const builder *x, uint32_t d) { return x->plain ? x->b1[d] : st_v_beta1(&x->c, d); }
+static uint32_t c_vert(const builder *x, uint32_t d) { return x->plain ? x->vt[d] : st_v_vert(&x->c, d); }
+static uint32_t c_phi1(const builder *x, uint32_t d) { return c_beta1(x, c_beta0(x, d)); }
+/* Dart d of level l was inserted below l. */
+static int c_old(const builder *x, uint32_t d) { return x->dnew ? !st_block_bit(x->dnew, d) : x->c.ins[d] < x->l; }
+static int is_live(const uint8_t *ins, uint32_t id) { return ins[id] != ST_FREE_LEVEL; }
+static int is_hole(const builder *x, uint32_t d) { return (x->h->map.flags[d] & ST_DART_BOUNDARY) != 0; }
+static int sharp_edge(const builder *x, uint32_t d) { return x->h->has_sharpness && st_hier_edge_sharpness(x->h, d, x->l) > 0; }
+
+static uint32_t ref_of(const builder *x, uint32_t v) { return st_synth_ref(&x->c, x->vnew, v); }
+
+/* The centre of the face of coarse dart d at level L, or ST_NIL when the
+ * chain does not end on a vertex new at L.  Each step reads a live dart
+ * whatever the map, so only the end is checked: a level whose faces passed
+ * the checks at level l but were not split at L ends on an old vertex. */
+static uint32_t centre_of(const builder *x, uint32_t d)
+{
+    uint32_t c = x->vt[x->b0[x->b1[x->b0L[d]]]];
+    return x->c.vins[c] == x->L ? c : ST_NIL;
+}
+
+/* Records the face of corners y[0..k) with face point `centre`; its darts
+ * and vertices learn it. */
+static void record_face(builder *x, const uint32_t *y, unsigned k, uint32_t centre)
+{
+    cc_table *t = x->t;
+    if (k == 4) {
+        for (unsigned i = 0; i < 4; i++) vec_push(&t->quad, ref_of(x, c_vert(x, y[i])));
+        vec_push(&t->quad, centre);
+    } else {
+        if (!t->foff.n) vec_push(&t->foff, 0);
+        vec_push(&t->fdata, centre);
+        for (unsigned i = 0; i < k; i++) vec_push(&t->fdata, ref_of(x, c_vert(x, y[i])));
+        vec_push(&t->foff, (uint32_t)t->fdata.n);
+    }
+    for (unsigned i = 0; i < k; i++) {
+        x->fc[y[i]] = centre;
+        x->vd[c_vert(x, y[i])] = y[i];
+    }
+    x->covered += k;
+}
+
+/* Any face, walked from d; with one_old, it must hold exactly one dart
+ * older than l. */
+static void face_general(builder *x, uint32_t d, int one_old)
+{
+    unsigned old = 0;
+    uint32_t z = d;
+    x->walk.n = 0;
+    do {
+        old += x->c.ins[z] < x->l;
+        vec_push(&x->walk, z);
+        z = c_phi1(x, z);
+    } while (z != d);
+    uint32_t centre = centre_of(x, x->walk.a[x->walk.n - 1]);
+    if ((one_old && old != 1) || centre == ST_NIL) { x->irregular = 1; return; }
+    record_face(x, x->walk.a, (unsigned)x->walk.n, centre);
+}
+
+/* One block of level l: its darts n(d_i) (new, twin old), gathered without
+ * a branch per dart, each names a face.  With plain relations the faces are
+ * walked in stages whose loads are independent across the block (so that
+ * their cache misses overlap): φ1 three times, the check, the chain to the
+ * centre. */
+static void face_block(builder *x, uint32_t first)
+{
+    const uint8_t *ins = x->c.ins;
+    uint32_t names[ST_POOL_BLOCK], n = 0;
+    for (uint32_t d = first; d < first + ST_POOL_BLOCK; d++) {
+        if (!is_live(ins, d)) continue; /* free ids hold no relation */
+        names[n] = d;
+        n += (unsigned)!is_hole(x, d) & (unsigned)c_old(x, c_beta0(x, d)); /* branch-free on purpose */
+    }
+    if (!x->plain) {
+        for (uint32_t i = 0; i < n; i++) face_general(x, names[i], 1);
+        return;
+    }
+    const uint32_t *b1 = x->b1;
+    uint32_t y1[ST_POOL_BLOCK], y2[ST_POOL_BLOCK], y3[ST_POOL_BLOCK], c[ST_POOL_BLOCK];
+    uint8_t quad[ST_POOL_BLOCK];
+    for (uint32_t i = 0; i < n; i++) y1[i] = b1[c_beta0(x, names[i])];
+    for (uint32_t i = 0; i < n; i++) y2[i] = b1[c_beta0(x, y1[i])];
+    for (uint32_t i = 0; i < n; i++) y3[i] = b1[c_beta0(x, y2[i])];
+    for (uint32_t i = 0; i < n; i++)
+        quad[i] = (uint8_t)((b1[c_beta0(x, y3[i])] == names[i]) & c_old(x, y1[i]) & !c_old(x, y2[i]) & !c_old(x, y3[i]));
+    /* The centre of the face at L (centre_of), from the corner out_i. */
+    for (uint32_t i = 0; i < n; i++) c[i] = x->b0L[y3[i]];
+    for (uint32_t i = 0; i < n; i++) c[i] = b1[c[i]];
+    for (uint32_t i = 0; i < n; i++) c[i] = x->b0[c[i]];
+    for (uint32_t i = 0; i < n; i++) c[i] = x->vt[c[i]];
+    for (uint32_t i = 0; i < n; i++) {
+        if (!quad[i]) { face_general(x, names[i], 1); continue; }
+        if (x->c.vins[c[i]] != x->L) { x->irregular = 1; continue; }
+        uint32_t y[4] = { names[i], y1[i], y2[i], y3[i] };
+        record_face(x, y, 4, c[i]);
+    }
+}
+
+/* Level 0: faces in enumeration order, a visited bit per dart, each from its
+ * smallest dart. */
+static void faces_sequential(builder *x)
+{
+    uint64_t *seen = calloc((size_t)x->dcover / 64 + 1, sizeof *seen);
+    if (!seen) abort(); /* out of memory for a bit per dart */
+    for (uint32_t i = 0; i < x->nblocks && !x->irregular; i++)
+        for (uint32_t d = x->blocks[i]; d < x->blocks[i] + ST_POOL_BLOCK; d++) {
+            if (!is_live(x->c.ins, d) || is_hole(x, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
+            /* From the face's smallest dart: where catmark_local.c starts it too. */
+            uint32_t y = d, lo = d;
+            do { seen[y >> 6] |= 1ull << (y & 63); lo = y < lo ? y : lo; y = c_phi1(x, y); } while (y != d);
+            face_general(x, lo, 0);
+        }
+    free(seen);
+}
+
+static void build_edges(builder *x)
+{
+    cc_table *t = x->t;
+    for (uint32_t i = 0; i < x->nblocks; i++)
+        for (uint32_t d = x->blocks[i]; d < x->blocks[i] + ST_POOL_BLOCK; d++) {
+            if (!is_live(x->c.ins, d)) continue;
+            uint32_t e = c_beta0(x, d);
+            x->holes += is_hole(x, d);
+            if (d > e) continue;
+            if (is_hole(x, d) || is_hole(x, e) || sharp_edge(x, d)) { vec_push(&t->sedge, d); continue; }
+            if (x->fc[d] == ST_NIL || x->fc[e] == ST_NIL) { x->irregular = 1; return; }
+            if (t->edge.n + 5 > t->edge.cap) vec_reserve(&t->edge, 2 * t->edge.cap + 5);
+            uint32_t *r = t->edge.a + t->edge.n;
+            r[0] = ref_of(x, c_vert(x, d));
+            r[1] = ref_of(x, c_vert(x, e));
+            r[2] = x->fc[d];
+            r[3] = x->fc[e];
+            r[4] = x->vt[x->b0L[d]];
+            t->edge.n += 5;
+        }
+}
+
+/* Position in r[0..n) of the smallest dart. */
+static unsigned smallest(const uint32_t *r, unsigned n)
+{
+    unsigned m = 0;
+    for (unsigned i = 1; i < n; i++) m = r[i] < r[m] ? i : m;
+    return m;
+}
+
+static void build_vertex(builder *x, uint32_t v)
+{
+    cc_table *t = x->t;
+    uint32_t d = x->vd[v];
+    if (d == ST_NIL) { vec_push(&t->copy, ref_of(x, v)); return; }
+    int special = x->h->has_sharpness && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
+    x->walk.n = 0;
+    uint32_t y = d;
+    do {
+        special |= is_hole(x, y) | sharp_edge(x, y);
+        vec_push(&x->walk, y);
+        y = c_beta1(x, y);
+    } while (y != d);
+    const uint32_t *r = x->walk.a;
+    unsigned n = (unsigned)x->walk.n, m = smallest(r, n);
+    if (special) { vec_push(&t->svert, r[m]); return; }
+    u32vec *out = n == 4 ? &t->v4 : &t->vdata;
+    vec_push(out, ref_of(x, v));
+    for (unsigned i = 0, j = m; i < n; i++, j = j + 1 < n ? j + 1 : 0) {
+        if (x->fc[r[j]] == ST_NIL) { x->irregular = 1; return; }
+        vec_push(out, ref_of(x, c_vert(x, c_beta0(x, r[j]))));
+        vec_push(out, x->fc[r[j]]);
+    }
+    if (n != 4) {
+        if (!t->voff.n) vec_push(&t->voff, 0);
+        vec_push(&t->voff, (uint32_t)t->vdata.n);
+    }
+}
+
+static void build_vertices(builder *x)
+{
+    for (uint32_t i = 0; i < x->nvblocks && !x->irregular; i++)
+        for (uint32_t v = x->vblocks[i]; v < x->vblocks[i] + ST_POOL_BLOCK; v++)
+            if (is_live(x->c.vins, v)) build_vertex(x, v);
+}
+
+/* 1 + the largest id in the blocks. */
+static uint32_t blocks_cover(const uint32_t *blocks, uint32_t n)
+{
+    uint32_t cover = 0;
+    for (uint32_t i = 0; i < n; i++)
+        if (blocks[i] + ST_POOL_BLOCK > cover) cover = blocks[i] + ST_POOL_BLOCK;
+    return cover;
+}
+
+static int builder_init(builder *x, st_hier *h, unsigned L, cc_table *t)
+{
+    st_map *m = &h->map;
+    *x = (builder){ .h = h, .l = L - 1, .L = L, .t = t };
+    x->b0L = (const uint32_t *)m->beta0.col[L];
+    x->b0 = (const uint32_t *)m->beta0.base;
+    x->b1 = (const uint32_t *)m->beta1.base;
+    x->vt = (const uint32_t *)m->vert.base;
+    x->plain = m->beta1.eff[x->l] == 0 && m->vert.eff[x->l] == 0;
+    st_level_view_init(m, x->l, &x->c);
+    x->blocks = st_pool_blocks_newest_first(&m->darts, x->l, &x->nblocks);
+    x->vblocks = st_pool_blocks_newest_first(&m->verts, x->l, &x->nvblocks);
+    if (!x->blocks || !x->vblocks) return -1;
+    x->nnew = m->darts.nblocks[x->l];
+    x->dcover = blocks_cover(x->blocks, x->nblocks);
+    x->vcover = blocks_cover(x->vblocks, x->nvblocks);
+    x->fc = malloc(((size_t)x->dcover + 1) * sizeof *x->fc);
+    x->vd = malloc(((size_t)x->vcover + 1) * sizeof *x->vd);
+    if (!x->fc || !x->vd) return -1;
+    memset(x->fc, 0xff, ((size_t)x->dcover + 1) * sizeof *x->fc);
+    memset(x->vd, 0xff, ((size_t)x->vcover + 1) * sizeof *x->vd);
+    if (m->beta0.eff[x->l] == x->l && !(x->dnew = st_block_bits(&m->darts, x->l))) return -1;
+    if (m->pos.eff[x->l] == x->l && !(x->vnew = st_block_bits(&m->verts, x->l))) return -1;
+    /* Sizes of a level of quads (every level >= 1): one allocation each. */
+    uint64_t darts = st_pool_count(&m->darts, x->l), verts = st_pool_count(&m->verts, x->l);
+    vec_reserve(&t->quad, 5 * (size_t)(darts / 4) + 5);
+    vec_reserve(&t->edge, 5 * (size_t)(darts / 2) + 5);
+    vec_reserve(&t->v4, 9 * (size_t)verts + 9);
+    return 0;
+}
+
+static void builder_free(builder *x)
+{
+    free(x->blocks);
+    free(x->vblocks);
+    free(x->fc);
+    free(x->vd);
+    free(x->dnew);
+    free(x->vnew);
+    free(x->walk.a);
+}
+
+/* The Catmull-Clark records of level L's coarse level (st_synth_build). */
+static int build_tables_of(st_hier *h, unsigned L, cc_table *t)
+{
+    builder x = { 0 };
+    if (builder_init(&x, h, L, t)) { builder_free(&x); return 1; } /* no memory for the scratch */
+    unsigned l = L - 1;
+    if (l > 0)
+        for (uint32_t i = 0; i < x.nnew && !x.irregular; i++) face_block(&x, x.blocks[i]);
+    else
+        faces_sequential(&x);
+    if (!x.irregular) build_edges(&x);
+    if (!x.irregular) build_vertices(&x);
+    /* Every dart of level l must lie in a face found or in a hole. */
+    int irregular = x.irregular || (l > 0 && x.covered + x.holes != st_pool_count(&h->map.darts, l));
+    builder_free(&x);
+    return irregular;
+}
+
+const cc_table *st_cc_tables_for(st_hier *h, unsigned L) { return st_synth_tables_for(h, L, ST_SCHEME_CATMARK, build_tables_of); }
+
+/* ---- evaluation ---- */
+
+/* Per thread: scratch for the stencil path. */
+typedef struct cc_worker { const cc_eval *x; st_catmark_emitter e; } cc_worker;
+
+static void sink_write(void *ctx, const st_stencil *s)
+{
+    const cc_eval *x = ((cc_worker *)ctx)->x;
+    double *slot = (x->h->map.verts.ins[s->fine] == x->L ? x->pnew : x->pold) + 3 * (size_t)s->fine;
+    st_stencil_eval(x->h, x->L, s, slot);
+}
+
+static void face_item(const cc_eval *x, uint32_t i)
+{
+    const cc_table *t = x->t;
+    uint32_t nquad = (uint32_t)(t->quad.n / 5);
+    if (i < nquad) {
+        const uint32_t *r = t->quad.a + 5 * (size_t)i;
+        st_cc_face_value(x, r, 4, x->pnew + 3 * (size_t)r[4]);
+        return;
+    }
+    i -= nquad;
+    const uint32_t *r = t->fdata.a + t->foff.a[i];
+    st_cc_face_value(x, r + 1, t->foff.a[i + 1] - t->foff.a[i] - 1, x->pnew + 3 * (size_t)r[0]);
+}
+
+static void edge_item(cc_worker *w, uint32_t i)
+{
+    const cc_eval *x = w->x;
+    const cc_table *t = x->t;
+    uint32_t nedge = (uint32_t)(t->edge.n / 5);
+    if (i >= nedge) { st_catmark_emit_edge(x->h, x->L, t->sedge.a[i - nedge], &w->e, sink_write, w); return; }
+    const uint32_t *r = t->edge.a + 5 * (size_t)i;
+    st_cc_edge_value(x, r, x->pnew + 3 * (size_t)r[4]);
+}
+
+static void vertex_item(cc_worker *w, uint32_t i)
+{
+    const cc_eval *x = w->x;
+    const cc_table *t = x->t;
+    uint32_t n4 = (uint32_t)(t->v4.n / 9), nn = st_cc_nverts_general(t), ns = (uint32_t)t->svert.n;
+    if (i < n4) {
+        const uint32_t *r = t->v4.a + 9 * (size_t)i;
+        st_cc_vertex_value(x, r, 4, x->pold + 3 * (size_t)(r[0] & REF_ID));
+        return;
+    }
+    i -= n4;
+    if (i < nn) {
+        const uint32_t *r = t->vdata.a + t->voff.a[i];
+        st_cc_vertex_value(x, r, (t->voff.a[i + 1] - t->voff.a[i] - 1) / 2, x->pold + 3 * (size_t)(r[0] & REF_ID));
+        return;
+    }
+    i -= nn;
+    if (i < ns) { st_catmark_emit_vertex(x->h, x->L, t->svert.a[i], &w->e, sink_write, w); return; }
+    i -= ns;
+    uint32_t r = t->copy.a[i];
+    memcpy(x->pold + 3 * (size_t)(r & REF_ID), st_cc_ref_pos(x, r), 3 * sizeof(double));
+}
+
+static void eval_passes(st_team *team, unsigned tid, void *ctx)
+{
+    (void)tid;
+    cc_worker w = { .x = ctx };
+    const cc_table *t = w.x->t;
+    uint32_t b, e;
+    uint32_t nf = (uint32_t)(t->quad.n / 5) + st_cc_nfaces_general(t);
+    while (st_team_next(team, 0, nf, ST_SYNTH_CHUNK, &b, &e))
+        for (uint32_t i = b; i < e; i++) face_item(w.x, i);
+    st_team_sync(team); /* edge and vertex points read the face points */
+    uint32_t ne = (uint32_t)(t->edge.n / 5 + t->sedge.n);
+    while (st_team_next(team, 1, ne, ST_SYNTH_CHUNK, &b, &e))
+        for (uint32_t i = b; i < e; i++) edge_item(&w, i);
+    uint32_t nv = (uint32_t)(t->v4.n / 9) + st_cc_nverts_general(t) + (uint32_t)(t->svert.n + t->copy.n);
+    while (st_team_next(team, 2, nv, ST_SYNTH_CHUNK, &b, &e))
+        for (uint32_t i = b; i < e; i++) vertex_item(&w, i);
+    st_stencil_buf_free(&w.e.buf);
+    st_stencil_buf_free(&w.e.tmp);
+}
+
+/* ---- the level ---- */
+
+/* Every vertex of level L by its stencil (a level the tables do not fit). */
+static void predict_by_stencils(st_hier *h, unsigned L)
+{
+    cc_eval x = { .h = h, .L = L };
+    x.pold = st_mla_column_for_overwrite(&h->map.pos, &h->map.verts, L);
+    x.pnew = (double *)h->map.pos.base;
+    if (!x.pold) abort(); /* out of memory for a level's positions */
+    cc_worker w = { .x = &x };
+    st_catmark_emit(h, L, NULL, 0, sink_write, &w);
+}
+
+void st_catmark_predict_level(st_hier *h, unsigned L)
+{
+    st_map *m = &h->map;
+    if (!m->beta0.col[L]) { predict_by_stencils(h, L); return; }
+    const cc_table *t = st_cc_tables_for(h, L);
+    if (t->irregular) { predict_by_stencils(h, L); return; }
+    cc_eval x = { .h = h, .L = L, .t = t };
+    x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
+    if (!x.pold) abort(); /* out of memory for a level's positions */
+    x.pnew = (double *)m->pos.base;
+    x.pbase = (const double *)m->pos.base;
+    x.pcol = (const double *)m->pos.col[t->plvl];
+    st_synth_run(t->quad.n / 5 + t->edge.n / 5 + t->v4.n / 9, eval_passes, &x);
+}

@@ -1,0 +1,27 @@
+/* What scheme_catmark.c (stencils) shares with catmark_fast.c (full-level
+ * synthesis by tables). */
+#ifndef ST_CATMARK_INTERNAL_H
+#define ST_CATMARK_INTERNAL_H
+#ifndef STRATA_CORE_INTERNAL
+#error "internal to core: render/, ui/ and app/ use core's public headers (docs/ARCHITECTURE.md)"
+#endif
+
+#include "core/multires/hier_internal.h"
+
+/* Scratch of the stencil path, one per thread. */
+typedef struct st_catmark_emitter {
+    st_stencil_buf buf, tmp;
+} st_catmark_emitter;
+
+/* The stencil of the edge point of coarse dart d's edge / of the vertex
+ * point of vert(d), level L from L-1, with the crease and boundary rules. */
+void st_catmark_emit_edge(const st_hier *h, unsigned L, uint32_t d, st_catmark_emitter *e, st_stencil_sink sink, void *ctx);
+void st_catmark_emit_vertex(const st_hier *h, unsigned L, uint32_t d, st_catmark_emitter *e, st_stencil_sink sink, void *ctx);
+/* The scheme's emit (scheme.h). */
+void st_catmark_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx);
+/* The scheme's predict_level (catmark_fast.c). */
+void st_catmark_predict_level(st_hier *h, unsigned L);
+/* The scheme's predict_around (catmark_local.c). */
+int st_catmark_predict_around(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n, st_synth_ctx *out);
+
+#endif

@@ -1,0 +1,109 @@
+/* Sharpness rules (crease.h). */
+#include "core/schemes/crease_internal.h"
+
+float st_crease_decay(float s)
+{
+    if (s >= ST_SHARP_INFINITE) return ST_SHARP_INFINITE;
+    return s > 1.0f ? s - 1.0f : 0.0f;
+}
+
+float st_crease_edge_sharpness(const st_hier *h, uint32_t d, unsigned l)
+{
+    const st_map *m = &h->map;
+    if (st_is_boundary(m, d) || st_is_boundary(m, st_beta0(m, d, l))) return ST_SHARP_INFINITE;
+    return st_hier_edge_sharpness(h, d, l);
+}
+
+float st_crease_vertex_sharpness(const st_hier *h, uint32_t d, unsigned l)
+{
+    const st_map *m = &h->map;
+    float s = st_hier_vertex_sharpness(h, st_vert(m, d, l), l);
+    if (h->opts.boundary == ST_BOUNDARY_EDGE_AND_CORNER) {
+        /* A boundary vertex with a single real face. */
+        unsigned real = 0, bnd = 0;
+        uint32_t x = d;
+        do {
+            if (st_is_boundary(m, x)) bnd++; else real++;
+            x = st_beta1(m, x, l);
+        } while (x != d);
+        if (bnd && real == 1) return ST_SHARP_INFINITE;
+    }
+    return s;
+}
+
+enum rule { RULE_SMOOTH, RULE_DART, RULE_CREASE, RULE_CORNER };
+
+static enum rule vertex_rule(float vs, unsigned sharp_edges)
+{
+    if (vs > 0) return RULE_CORNER;
+    if (sharp_edges > 2) return RULE_CORNER;
+    if (sharp_edges == 2) return RULE_CREASE;
+    return sharp_edges ? RULE_DART : RULE_SMOOTH;
+}
+
+static void rule_mask(const st_hier *h, unsigned l, uint32_t d, enum rule r, const uint32_t crease_end[2],
+                      st_vertex_mask_fn smooth, st_stencil_buf *out)
+{
+    uint32_t v = st_vert(&h->map, d, l);
+    if (r == RULE_CORNER) st_stencil_buf_add(out, v, 1.0);
+    else if (r == RULE_CREASE) {
+        st_stencil_buf_add(out, v, 0.75);
+        st_stencil_buf_add(out, crease_end[0], 0.125);
+        st_stencil_buf_add(out, crease_end[1], 0.125);
+    } else smooth(h, l, d, out);
+}
+
+void st_crease_vertex_point(const st_hier *h, unsigned l, uint32_t d, st_vertex_mask_fn smooth,
+                            st_stencil_buf *out, st_stencil_buf *tmp)
+{
+    const st_map *m = &h->map;
+    float vs = st_crease_vertex_sharpness(h, d, l), cvs = st_crease_decay(vs);
+    unsigned sharp = 0, csharp = 0, transitions = 0;
+    float tsum = 0; /* OpenSubdiv computes the blend weight in float */
+    uint32_t ends[2] = { 0, 0 }, cends[2] = { 0, 0 }; /* crease ends for the parent and the child rule */
+    uint32_t x = d;
+    if (vs > 0 && cvs <= 0) { transitions++; tsum += vs; }
+    do {
+        float s = st_crease_edge_sharpness(h, x, l);
+        if (s > 0) {
+            uint32_t end = st_vert(m, st_beta0(m, x, l), l);
+            if (sharp < 2) ends[sharp] = end;
+            sharp++;
+            if (st_crease_decay(s) > 0) { if (csharp < 2) cends[csharp] = end; csharp++; }
+            else { transitions++; tsum += s; }
+        }
+        x = st_beta1(m, x, l);
+    } while (x != d);
+    enum rule pr = vertex_rule(vs, sharp), cr = vertex_rule(cvs, csharp);
+    st_stencil_buf_clear(out);
+    if (pr == RULE_SMOOTH || pr == RULE_DART || pr == cr || transitions == 0) {
+        rule_mask(h, l, d, pr, ends, smooth, out);
+        return;
+    }
+    float wf = tsum / (float)transitions;
+    double w = wf > 1.0f ? 1.0 : wf;
+    st_stencil_buf_clear(tmp);
+    rule_mask(h, l, d, pr, ends, smooth, tmp);
+    st_stencil_buf_add_scaled(out, tmp, w);
+    st_stencil_buf_clear(tmp);
+    rule_mask(h, l, d, cr, cends, smooth, tmp);
+    st_stencil_buf_add_scaled(out, tmp, 1 - w);
+}
+
+void st_crease_edge_point(const st_hier *h, unsigned l, uint32_t d, st_edge_mask_fn smooth,
+                          st_stencil_buf *out, st_stencil_buf *tmp)
+{
+    const st_map *m = &h->map;
+    float s = st_crease_edge_sharpness(h, d, l);
+    uint32_t a = st_vert(m, d, l), b = st_vert(m, st_beta0(m, d, l), l);
+    st_stencil_buf_clear(out);
+    if (s <= 0) { smooth(h, l, d, out); return; }
+    double w = st_crease_decay(s) > 0 || s >= 1 ? 1.0 : s;
+    st_stencil_buf_add(out, a, 0.5 * w);
+    st_stencil_buf_add(out, b, 0.5 * w);
+    if (w < 1) {
+        st_stencil_buf_clear(tmp);
+        smooth(h, l, d, tmp);
+        st_stencil_buf_add_scaled(out, tmp, 1 - w);
+    }
+}

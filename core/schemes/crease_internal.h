@@ -1,0 +1,41 @@
+/* OpenSubdiv's sharpness rules shared by Catmull-Clark and Loop
+ * (DeRose, Kass, Truong 1998; Sdc::Crease):
+ *   - boundary edges are infinitely sharp;
+ *   - a vertex is a corner when its sharpness is > 0, else smooth, dart,
+ *     crease or corner for 0, 1, 2, > 2 incident sharp edges;
+ *     with edge-and-corner boundaries a boundary vertex with one face is an
+ *     infinitely sharp corner;
+ *   - crease vertex: (e_a + 6 v + e_b) / 8 over its two sharp edges; corner:
+ *     v; smooth and dart: the scheme's smooth mask;
+ *   - edge point: smooth mask when the edge is smooth, midpoint when sharp;
+ *   - when a rule changes between a parent and its child (a sharpness decays
+ *     to 0), both masks are blended by the average parent sharpness of the
+ *     features that decay (ComputeFractionalWeightAtVertex), clamped to 1.
+ * Sharpness decreases by 1 per level (uniform method, OpenSubdiv's default). */
+#ifndef ST_CREASE_H
+#define ST_CREASE_H
+#ifndef STRATA_CORE_INTERNAL
+#error "internal to core: render/, ui/ and app/ use core's public headers (docs/ARCHITECTURE.md)"
+#endif
+
+#include "core/multires/hier.h"
+
+#define ST_SHARP_INFINITE 10.0f
+
+/* Sharpness of the edge of d at level l, infinite on boundaries. */
+float st_crease_edge_sharpness(const st_hier *h, uint32_t d, unsigned l);
+/* Sharpness of the vertex of d at level l, with the edge-and-corner rule. */
+float st_crease_vertex_sharpness(const st_hier *h, uint32_t d, unsigned l);
+float st_crease_decay(float s);
+
+typedef void (*st_vertex_mask_fn)(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out);
+typedef void (*st_edge_mask_fn)(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out);
+
+/* Stencil of the child of the vertex of d (level l) into out. */
+void st_crease_vertex_point(const st_hier *h, unsigned l, uint32_t d, st_vertex_mask_fn smooth,
+                            st_stencil_buf *out, st_stencil_buf *tmp);
+/* Stencil of the point splitting the edge of d (level l) into out. */
+void st_crease_edge_point(const st_hier *h, unsigned l, uint32_t d, st_edge_mask_fn smooth,
+                          st_stencil_buf *out, st_stencil_buf *tmp);
+
+#endif
