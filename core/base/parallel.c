@@ -4,13 +4,17 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 static atomic_uint threads_setting; /* 0: not read from the environment yet */
 
+/* STRATA_THREADS when set, else every online core: a pass gives the same
+ * bits on any number of threads, so using the machine costs nothing in
+ * reproducibility. */
 static unsigned default_threads(void)
 {
     const char *s = getenv("STRATA_THREADS");
-    long n = s ? strtol(s, NULL, 10) : 1;
+    long n = s && *s ? strtol(s, NULL, 10) : sysconf(_SC_NPROCESSORS_ONLN);
     return n < 1 ? 1 : n > ST_PARALLEL_MAX ? ST_PARALLEL_MAX : (unsigned)n;
 }
 

@@ -6,8 +6,9 @@
  * same bits.  Threads are started per call and joined before it returns (no
  * pool survives a call, so fork() and library unloading need no care).
  *
- * The number of threads is a process-wide setting: 1 unless the environment
- * variable STRATA_THREADS says otherwise, or st_parallel_set_threads(). */
+ * The number of threads is a process-wide setting: the number of online
+ * cores unless the environment variable STRATA_THREADS says otherwise, or
+ * st_parallel_set_threads(). */
 #ifndef ST_PARALLEL_H
 #define ST_PARALLEL_H
 
@@ -16,7 +17,7 @@
 #define ST_PARALLEL_MAX 64
 
 unsigned st_parallel_threads(void);
-/* n = 0 goes back to the default (STRATA_THREADS, else 1). */
+/* n = 0 goes back to the default (STRATA_THREADS, else the online cores). */
 void st_parallel_set_threads(unsigned n);
 
 typedef struct st_team st_team;
