@@ -1,5 +1,6 @@
 /* strata: one executable, subcommands. */
 #include "cli.h"
+#include "core/base/membudget.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -25,13 +26,40 @@ static void usage(FILE *f)
         "                                      the modeller window on FILE (default: assets/torus.obj);\n"
         "                                      F1 in the window lists the keys\n"
         "  help                                this text\n"
+        "every command takes --mem-budget MIB: operations whose estimated memory would exceed it are refused\n"
+        "(default: 3/4 of the memory available at start)\n"
         "schemes: catmull-clark, loop, butterfly, quad-triangle, sqrt3, doo-sabin\n");
+}
+
+/* --mem-budget MIB anywhere on the line sets the process-wide budget
+ * (core/base/membudget.h); the option is taken out of argv for the
+ * subcommands and left for the window, which also shows it.  Returns -1
+ * after a message when its value is not a positive number. */
+static int take_mem_budget(int *argc, char **argv, int keep)
+{
+    int out = 0;
+    for (int i = 0; i < *argc; i++) {
+        if (!strcmp(argv[i], "--mem-budget") && i + 1 < *argc) {
+            size_t bytes;
+            if (st_mem_parse_mib(argv[i + 1], &bytes)) {
+                fprintf(stderr, "strata: --mem-budget wants MiB > 0, got '%s'\n", argv[i + 1]);
+                return -1;
+            }
+            st_mem_budget_set(bytes);
+            if (!keep) { i++; continue; }
+        }
+        argv[out++] = argv[i];
+    }
+    *argc = out;
+    return 0;
 }
 
 int main(int argc, char **argv)
 {
     if (argc < 2) return st_cmd_window(0, argv + 1);
     const char *cmd = argv[1];
+    int window = cmd[0] == '-' || access(cmd, F_OK) == 0;
+    if (take_mem_budget(&argc, argv, window)) return 2;
     if (!strcmp(cmd, "info")) return st_cmd_info(argc - 2, argv + 2);
     if (!strcmp(cmd, "subdivide")) return st_cmd_subdivide(argc - 2, argv + 2);
     if (!strcmp(cmd, "adapt")) return st_cmd_adapt(argc - 2, argv + 2);

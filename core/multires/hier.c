@@ -1,12 +1,15 @@
 /* st_hier: construction, refinement, sharpness and level extraction.
  * The geometry passes are in hier_synth.c (synthesis, editing) and
  * hier_analysis.c (least-squares analysis). */
+#include "core/base/membudget.h"
+#include "core/multires/estimate.h"
 #include "core/multires/hier.h"
 #include "core/multires/hier_internal.h"
 #include "core/map/map_mesh.h"
 #include "core/map/pool_internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -192,6 +195,13 @@ int st_hier_refine_primal(st_hier *h, enum st_split_mode mode, st_error *err)
 
 int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err)
 {
+    if (levels > h->map.top) {
+        /* The memory guard: refused from the counts, before any level. */
+        char what[64];
+        snprintf(what, sizeof what, "subdividing to level %u", levels);
+        int rc = st_mem_check(st_hier_estimate_subdivide(h, levels, NULL), what, err);
+        if (rc) return rc;
+    }
     while (h->map.top < levels) {
         int rc = h->scheme->refine(h, err);
         if (rc) return rc;

@@ -1,0 +1,147 @@
+/* The memory guard (core/base/membudget.h, core/multires/estimate.h):
+ *   - the predicted cell counts of every new level equal the counts the
+ *     refinement really makes, for every scheme (closed and open meshes);
+ *   - the estimated peak of st_hier_subdivide_to is within 25 % of the
+ *     measured peak resident size, on several meshes, schemes and depths
+ *     (each case in a child process of its own, so that peaks don't mix);
+ *   - over the budget, st_hier_subdivide_to refuses at once with
+ *     ST_ERR_MEMORY, the estimate and the limit in the message, and leaves
+ *     the hierarchy as it was. */
+#include "testlib.h"
+#include "core/base/membudget.h"
+#include "core/multires/estimate.h"
+
+#include <stdint.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+static int load(st_hier *h, const char *rel, st_scheme_id id)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", STRATA_SHARED_DATA, rel);
+    st_mesh mesh;
+    st_error err;
+    st_mesh_init(&mesh);
+    if (st_mesh_load(path, &mesh, &err)) { fprintf(stderr, "%s\n", err.msg); return -1; }
+    int rc = st_hier_init(h, &mesh, st_scheme_get(id), NULL, &err);
+    st_mesh_free(&mesh);
+    if (rc) fprintf(stderr, "%s: %s\n", path, err.msg);
+    return rc;
+}
+
+/* Predicted counts of each level == counts measured after refinement. */
+static void check_counts(const char *rel, st_scheme_id id, unsigned levels)
+{
+    st_hier h;
+    if (load(&h, rel, id)) { CHECK(!"load"); return; }
+    st_error err;
+    for (unsigned l = 1; l <= levels; l++) {
+        st_level_stats before, predicted, got;
+        st_level_stats_compute(&h.map, l - 1, &before);
+        uint64_t triangles = st_level_triangles(&h.map, l - 1);
+        st_estimate_next_level(id, &before, &triangles, &predicted);
+        CHECK(st_hier_subdivide_to(&h, l, &err) == ST_OK);
+        st_level_stats_compute(&h.map, l, &got);
+        CHECKF(predicted.vertices == got.vertices && predicted.edges == got.edges && predicted.faces == got.faces,
+               "%s %s level %u: predicted V %llu E %llu F %llu, got V %llu E %llu F %llu", rel,
+               h.scheme->name, l, (unsigned long long)predicted.vertices, (unsigned long long)predicted.edges,
+               (unsigned long long)predicted.faces, (unsigned long long)got.vertices,
+               (unsigned long long)got.edges, (unsigned long long)got.faces);
+    }
+    st_hier_free(&h);
+}
+
+/* In a child: resident size before, the estimate, the peak after. */
+static void check_peak(const char *rel, st_scheme_id id, unsigned levels)
+{
+    int fd[2];
+    if (pipe(fd)) { CHECK(!"pipe"); return; }
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(fd[0]);
+        double r[3] = { 0, 0, 0 };
+        st_hier h;
+        if (!load(&h, rel, id)) {
+            st_error err;
+            r[0] = (double)st_mem_resident();
+            r[1] = (double)st_hier_estimate_subdivide(&h, levels, NULL);
+            if (st_hier_subdivide_to(&h, levels, &err) == ST_OK) {
+                struct rusage ru;
+                getrusage(RUSAGE_SELF, &ru);
+                r[2] = (double)ru.ru_maxrss * 1024.0;
+            }
+            st_hier_free(&h);
+        }
+        ssize_t w = write(fd[1], r, sizeof r);
+        _exit(w == (ssize_t)sizeof r ? 0 : 1);
+    }
+    close(fd[1]);
+    double r[3] = { 0, 0, 0 };
+    ssize_t got = read(fd[0], r, sizeof r);
+    close(fd[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    CHECK(got == (ssize_t)sizeof r && r[2] > 0);
+    double estimate = r[0] + r[1], peak = r[2], ratio = estimate / peak;
+    printf("%-40s %-14s levels %u: resident before %.1f MiB, estimated peak %.1f MiB, measured %.1f MiB (%.2f)\n",
+           rel, st_scheme_get(id)->name, levels, r[0] / 1048576, estimate / 1048576, peak / 1048576, ratio);
+#if defined(__SANITIZE_ADDRESS__)
+    (void)ratio; /* the sanitizer's shadow memory and quarantine are not the program's */
+#else
+    CHECKF(ratio > 0.75 && ratio < 1.25, "%s %u levels: estimate %.1f MiB against a peak of %.1f MiB", rel, levels,
+           estimate / 1048576, peak / 1048576);
+#endif
+}
+
+static void check_refusal(void)
+{
+    st_hier h;
+    if (load(&h, "catmull_clark/spot_quadrangulated.obj", ST_SCHEME_CATMARK)) { CHECK(!"load"); return; }
+    size_t before = st_mem_resident();
+    st_mem_budget_set(before + ((size_t)64 << 20)); /* 64 MiB more: level 4 needs ~80 */
+    st_error err;
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    int rc = st_hier_subdivide_to(&h, 6, &err);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    double secs = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    CHECK(rc == ST_ERR_MEMORY);
+    CHECKF(strstr(err.msg, "subdividing to level 6") && strstr(err.msg, "MiB more") && strstr(err.msg, "memory budget"),
+           "message: %s", err.msg);
+    CHECK(h.map.top == 0);        /* nothing was built */
+    CHECK(secs < 1.0);
+    /* Within the budget the same call goes through. */
+    CHECK(st_hier_subdivide_to(&h, 2, &err) == ST_OK && h.map.top == 2);
+    st_mem_budget_set(0);
+    CHECK(st_mem_budget() > 0);
+    size_t b;
+    CHECK(st_mem_parse_mib("1.5", &b) == 0 && b == (size_t)(1.5 * 1048576));
+    CHECK(st_mem_parse_mib("0", &b) != 0 && st_mem_parse_mib("-3", &b) != 0 && st_mem_parse_mib("12x", &b) != 0);
+    st_hier_free(&h);
+}
+
+int main(void)
+{
+    check_counts("catmull_clark/dodecahedron_poly.obj", ST_SCHEME_CATMARK, 3);
+    check_counts("triangle/cube_no_bottom.obj", ST_SCHEME_CATMARK, 3);
+    check_counts("triangle/hemisphere.obj", ST_SCHEME_LOOP, 3);
+    check_counts("triangle/sphere_ico.obj", ST_SCHEME_BUTTERFLY, 3);
+    check_counts("catmull_clark/mixed_faring.off", ST_SCHEME_QUADTRI, 3);
+    check_counts("triangle/sphere_ico.obj", ST_SCHEME_SQRT3, 4);
+    check_counts("catmull_clark/blub_control_mesh.obj", ST_SCHEME_DOOSABIN, 3);
+    check_counts("triangle/hemisphere.obj", ST_SCHEME_DOOSABIN, 3);
+
+    check_peak("catmull_clark/spot_quadrangulated.obj", ST_SCHEME_CATMARK, 4);
+    check_peak("catmull_clark/blub_control_mesh.obj", ST_SCHEME_CATMARK, 6);
+    check_peak("triangle/spot_low_resolution.obj", ST_SCHEME_LOOP, 5);
+    check_peak("triangle/sphere_ico.obj", ST_SCHEME_SQRT3, 7);
+    check_peak("catmull_clark/blub_control_mesh.obj", ST_SCHEME_DOOSABIN, 6);
+    check_peak("triangle/hand_lowres.obj", ST_SCHEME_BUTTERFLY, 5);
+    check_peak("catmull_clark/mixed_faring.off", ST_SCHEME_QUADTRI, 4);
+
+    check_refusal();
+    return TEST_END();
+}
