@@ -7,6 +7,8 @@
 #include "core/adapt/access.h"
 #include "core/adapt/adapt.h"
 #include "cli.h"
+#include "core/adapt/adapt_estimate.h"
+#include "core/base/membudget.h"
 #include "cli_common.h"
 #include "mesh_any.h"
 #include "geom.h"
@@ -121,7 +123,9 @@ int st_cmd_adapt(int argc, char **argv)
     if (access) {
         rc = access_mesh(&h, &p, &out, &err);
     } else {
-        rc = st_adapt_init(&a, &h, &err);
+        /* the memory guard, from level 0, before anything is built */
+        rc = st_mem_check(st_adapt_estimate_bytes(&h, &p), "the adaptive refinement", &err);
+        if (!rc) rc = st_adapt_init(&a, &h, &err);
         if (!rc) rc = st_adapt_update(&a, &p, &err);
         if (!rc) rc = st_map_validate(&h.map, &err);
         if (!rc) rc = tri ? triangulated(&h.map, &out, &err) : st_adapt_mesh(&a, &out, &err);

@@ -20,6 +20,8 @@
  * Exit status: 0 done, 1 a file could not be read or written, 2 bad usage. */
 #include "core/adapt/adapt.h"
 #include "cli.h"
+#include "core/adapt/adapt_estimate.h"
+#include "core/base/membudget.h"
 #include "cli_common.h"
 #include "mesh_any.h"
 #include "core/io/session.h"
@@ -200,7 +202,8 @@ int st_cmd_convert(int argc, char **argv)
     }
     rc = 0;
     if (o.has_box) {
-        if (!s.has_adapt) {
+        if (st_mem_check(st_adapt_estimate_bytes(&s.h, &o.box), "the adaptive refinement", &err)) rc = 1;
+        else if (!s.has_adapt) {
             if (st_adapt_init(&s.adapt, &s.h, &err)) rc = 1;
             else s.has_adapt = 1;
         }

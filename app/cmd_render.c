@@ -5,6 +5,8 @@
  * Renders level L (default N) of IN's hierarchy headless (OSMesa: no
  * display, no GPU) into a PNG.  Same inputs, same machine: same bytes. */
 #include "cli.h"
+#include "core/adapt/adapt_estimate.h"
+#include "core/base/membudget.h"
 #include "cli_common.h"
 
 #include <math.h>
@@ -213,7 +215,9 @@ int st_cmd_render(int argc, char **argv)
     st_error err;
     if (r.adaptive) {
         st_adapt a;
-        rc = st_adapt_init(&a, &h, &err);
+        memset(&a, 0, sizeof a);
+        rc = st_mem_check(st_adapt_estimate_bytes(&h, &r.adapt), "the adaptive refinement", &err);
+        if (!rc) rc = st_adapt_init(&a, &h, &err);
         if (!rc) rc = st_adapt_update(&a, &r.adapt, &err);
         st_adapt_free(&a);
         if (rc) { fprintf(stderr, "strata render: %s: %s\n", o.in, err.msg); st_hier_free(&h); return 1; }

@@ -58,7 +58,10 @@ int main(int argc, char **argv)
 {
     if (argc < 2) return st_cmd_window(0, argv + 1);
     const char *cmd = argv[1];
-    int window = cmd[0] == '-' || access(cmd, F_OK) == 0;
+    static const char *const subcommands[] = { "info", "subdivide", "adapt", "render", "convert", "help" };
+    int window = 1;
+    for (size_t i = 0; i < sizeof subcommands / sizeof subcommands[0]; i++)
+        if (!strcmp(cmd, subcommands[i])) window = 0;
     if (take_mem_budget(&argc, argv, window)) return 2;
     if (!strcmp(cmd, "info")) return st_cmd_info(argc - 2, argv + 2);
     if (!strcmp(cmd, "subdivide")) return st_cmd_subdivide(argc - 2, argv + 2);
