@@ -31,10 +31,11 @@ static void usage(FILE *f)
         "schemes: catmull-clark, loop, butterfly, quad-triangle, sqrt3, doo-sabin\n");
 }
 
-/* --mem-budget MIB anywhere on the line sets the process-wide budget
- * (core/base/membudget.h); the option is taken out of argv for the
- * subcommands and left for the window, which also shows it.  Returns -1
- * after a message when its value is not a positive number. */
+/* --mem-budget MIB anywhere on a subcommand's line sets the process-wide
+ * budget (core/base/membudget.h) and is taken out of argv.  The window keeps
+ * the option: its document counts the model's own bytes against it (ui/),
+ * while the process budget stays at its default there.  Returns -1 after a
+ * message when the value is not a positive number. */
 static int take_mem_budget(int *argc, char **argv, int keep)
 {
     int out = 0;
@@ -45,8 +46,7 @@ static int take_mem_budget(int *argc, char **argv, int keep)
                 fprintf(stderr, "strata: --mem-budget wants MiB > 0, got '%s'\n", argv[i + 1]);
                 return -1;
             }
-            st_mem_budget_set(bytes);
-            if (!keep) { i++; continue; }
+            if (!keep) { st_mem_budget_set(bytes); i++; continue; }
         }
         argv[out++] = argv[i];
     }

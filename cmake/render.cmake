@@ -29,4 +29,6 @@ file(GLOB STRATA_RENDER_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/render/*.c
 add_library(strata_render STATIC ${STRATA_RENDER_SOURCES} ${STRATA_SHADER_C})
 target_include_directories(strata_render PUBLIC ${CMAKE_SOURCE_DIR}/render
                                          PRIVATE ${STRATA_GL_INCLUDE} ${STRATA_OSMESA_INCLUDE} ${STRATA_STB_INCLUDE})
-target_link_libraries(strata_render PUBLIC strata_core ${STRATA_OSMESA_LIB})
+# OSMesa is opened with dlopen on first use (render/headless.c), not linked.
+target_link_libraries(strata_render PUBLIC strata_core ${CMAKE_DL_LIBS})
+target_compile_definitions(strata_render PRIVATE STRATA_OSMESA_PATH="${STRATA_OSMESA_LIB}")
