@@ -21,7 +21,8 @@ static double peak_over_map(st_scheme_id id)
     }
 }
 
-void st_estimate_next_level(st_scheme_id scheme, const st_level_stats *l, uint64_t *triangles, st_level_stats *n)
+void st_estimate_next_level(st_scheme_id scheme, unsigned next_level, const st_level_stats *l, uint64_t *triangles,
+                            st_level_stats *n)
 {
     uint64_t V = l->vertices, E = l->edges, F = l->faces;
     /* Σ deg over real faces: every edge has two sides, a boundary edge one. */
@@ -41,10 +42,14 @@ void st_estimate_next_level(st_scheme_id scheme, const st_level_stats *l, uint64
         *triangles = 4 * T;
         break;
     }
-    case ST_SCHEME_SQRT3:
-        n->vertices = V + F; n->edges = E + 3 * F; n->faces = 3 * F;
-        n->boundary_edges = l->boundary_edges;
+    case ST_SCHEME_SQRT3: {
+        /* even levels trisect each boundary edge, and its triangle gets no
+         * centre (core/schemes/scheme_sqrt3.c) */
+        uint64_t B = next_level % 2 == 0 ? l->boundary_edges : 0;
+        n->vertices = V + F + B; n->edges = E + 3 * F + B; n->faces = 3 * F;
+        n->boundary_edges = l->boundary_edges + 2 * B;
         break;
+    }
     case ST_SCHEME_DOOSABIN:
         /* a corner per face side, and Chaikin's two points per boundary vertex */
         n->vertices = 2 * E + l->boundary_edges; n->edges = 4 * E + l->boundary_edges; n->faces = F + E + V;
@@ -86,7 +91,7 @@ size_t st_hier_estimate_subdivide(st_hier *h, unsigned levels, st_level_stats *f
     double bytes = 0;
     for (unsigned l = m->top; l < levels; l++) {
         st_level_stats next;
-        st_estimate_next_level(h->scheme->id, &s, &triangles, &next);
+        st_estimate_next_level(h->scheme->id, l + 1, &s, &triangles, &next);
         s = next;
         bytes += level_bytes(&s);
     }

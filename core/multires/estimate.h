@@ -6,7 +6,8 @@
  *   polygon split (Catmull-Clark):  V' = V + E + F,  E' = 2E + Σdeg,  F' = Σdeg
  *   triangle quadrisection (Loop, Butterfly):  V' = V + E,  E' = 2E + 3F,  F' = 4F
  *   quad/triangle (T triangles):  V' = V + E + F - T,  E' = 2E + Σdeg,  F' = T + Σdeg
- *   √3:  V' = V + F,  E' = E + 3F,  F' = 3F
+ *   √3:  V' = V + F + B',  E' = E + 3F + B',  F' = 3F,  B' = B on even levels
+ *        (boundary edges trisected, no centre in their triangles), else 0
  *   Doo-Sabin (surface cells, B boundary edges):  V' = 2E + B,  E' = 4E + B,  F' = F + E + V
  * and darts are 2E'.  Bytes come from the map's measured costs per dart and
  * per vertex of a level (topology: relations, vertex ids, insertion levels
@@ -21,10 +22,11 @@
 
 #include "core/multires/hier.h"
 
-/* Cell counts of level l+1 from those of level l under the scheme.
+/* Cell counts of level next_level from those of the level below under the scheme.
  * *triangles: the number of triangles of level l, read by quad/triangle
  * only (st_level_triangles), and updated to level l+1's. */
-void st_estimate_next_level(st_scheme_id scheme, const st_level_stats *l, uint64_t *triangles, st_level_stats *next);
+void st_estimate_next_level(st_scheme_id scheme, unsigned next_level, const st_level_stats *l, uint64_t *triangles,
+                            st_level_stats *next);
 /* Faces of level l with three sides. */
 uint64_t st_level_triangles(const st_map *m, unsigned l);
 
