@@ -311,7 +311,7 @@ void at_check_matches_regular(const at_case *c, at_border_face border, const cha
 }
 
 /* Details of removed vertices are kept by refinement-tree address, in world
- * space, and turned back into the frames of the recreated cells (adapt.c). */
+ * space, and turned back into the frames of the recreated cells (adapt_details.c). */
 void at_check_detail_round_trip(const at_case *c)
 {
     st_hier h;

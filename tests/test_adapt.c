@@ -1,12 +1,15 @@
-/* Adaptive refinement (adapt.c: Catmull-Clark, Loop, Butterfly): validity
+/* Adaptive refinement (the polygon split family, adapt_split.c: Catmull-Clark,
+ * Loop, Butterfly; the choice of every scheme's family table): validity
  * after random box moves, watertightness, agreement with the regular
  * hierarchy, the detail round trip and incremental == full updates (the
  * shared drivers of adapt_testlib.c), adaptive access on a regular hierarchy,
  * and synthesis over empty levels. */
 #include "core/adapt/access.h"
 #include "adapt_testlib.h"
+#include "core/adapt/adapt_internal.h"
 
 #include <math.h>
+#include <string.h>
 
 /* Adaptive access (§3.3.2) on a regular hierarchy shows the mesh adaptive
  * refinement builds for the same criteria: same faces, same points, no
@@ -86,8 +89,52 @@ static void check_synthesize_empty_levels(const at_case *c)
     st_hier_free(&h);
 }
 
+/* Each scheme's st_adapt goes through its refinement family's table
+ * (adapt_internal.h), and an st_adapt filled in field by field, as a
+ * session load does, gets the same table on first use and updates to the
+ * same mesh as one made by st_adapt_init. */
+static void check_family_tables(void)
+{
+    static const struct { st_scheme_id id; void (*make)(st_mesh *); const st_adapt_ops *ops; const char *family; } t[] = {
+        { ST_SCHEME_CATMARK, tl_mesh_cube, &st_adapt_ops_quads, "polygon split" },
+        { ST_SCHEME_LOOP, tl_mesh_octa, &st_adapt_ops_triangles, "polygon split" },
+        { ST_SCHEME_BUTTERFLY, tl_mesh_octa, &st_adapt_ops_triangles, "polygon split" },
+        { ST_SCHEME_QUADTRI, tl_mesh_cube, &st_adapt_ops_quadtri, "polygon split" },
+        { ST_SCHEME_SQRT3, tl_mesh_octa, &st_adapt_ops_sqrt3, "sqrt3" },
+        { ST_SCHEME_DOOSABIN, tl_mesh_cube, &st_adapt_ops_doosabin, "doo-sabin" },
+    };
+    for (size_t k = 0; k < sizeof t / sizeof *t; k++) {
+        st_hier h, g;
+        st_adapt a, b;
+        st_error err;
+        tl_init_hier(&h, t[k].make, t[k].id, 0);
+        tl_init_hier(&g, t[k].make, t[k].id, 0);
+        CHECK(st_adapt_init(&a, &h, &err) == ST_OK);
+        CHECKF(a.ops == t[k].ops && !strcmp(a.ops->family, t[k].family), "%s: st_adapt_init chose the %s table",
+               h.scheme->name, a.ops ? a.ops->family : "no");
+        memset(&b, 0, sizeof b);
+        b.h = &g;
+        for (uint32_t i = 0; i < a.base_faces.n; i++) st_dart_list_push(&b.base_faces, a.base_faces.d[i]);
+        CHECKF(st_adapt_ops_of(&b) == t[k].ops && b.ops == t[k].ops, "%s: no table chosen on first use", h.scheme->name);
+        memset(&b.ops, 0, sizeof b.ops);
+        st_adapt_params p = at_box(0.9, 0.9, 0.9, 0.3, 0, 3);
+        CHECK(st_adapt_update(&a, &p, &err) == ST_OK);
+        CHECK(st_adapt_update(&b, &p, &err) == ST_OK);
+        uint32_t nf[2], nv[2];
+        double dist = at_compare(&a, &b, nf, nv);
+        CHECKF(a.touched > 0, "%s: the box refined nothing", h.scheme->name);
+        CHECKF(nf[0] == nf[1] && nv[0] == nv[1] && dist == 0, "%s: field-by-field st_adapt: %u/%u faces, distance %g",
+               h.scheme->name, nf[1], nf[0], dist);
+        st_adapt_free(&a);
+        st_adapt_free(&b);
+        st_hier_free(&h);
+        st_hier_free(&g);
+    }
+}
+
 int main(void)
 {
+    check_family_tables();
     static const at_case cases[] = {
         { ST_SCHEME_CATMARK, at_torus, "catmark torus", 1, 0, 3, 2.7 },
         { ST_SCHEME_CATMARK, at_grid, "catmark grid", 0, 0, 3, 4 },

@@ -1,4 +1,4 @@
-/* Adaptive access (thesis §3.3.2, figs 3.36-3.37; digest §6): show chosen
+/* Adaptive access (Kraemer 2008 §3.3.2, figs 3.36-3.37): show chosen
  * depths per region of a REGULARLY built hierarchy without changing it.
  *
  * One marker bit per level j (bit B_j): a dart carries B_j when its face of

@@ -1,4 +1,4 @@
-/* Adaptive refinement (thesis §3.2.2-3.2.6, Algorithms 1, 5 and 6; digest §5)
+/* Adaptive refinement (Kraemer 2008 §3.2.2-3.2.6, Algorithms 1, 5 and 6)
  * for the primal quadrisection schemes: Catmull-Clark, Loop, Butterfly and
  * quad/triangle, for √3 on closed triangle meshes (Algorithm 8,
  * adapt_sqrt3.c; see "√3" below), and for Doo-Sabin through the dual
@@ -24,7 +24,7 @@
  * regular ones near depth borders).
  *
  * Simplification keeps the detail vectors of the vertices it removes, at
- * every level, under the vertex's address in the refinement tree (adapt.c:
+ * every level, under the vertex's address in the refinement tree (adapt_details.c:
  * level-0 dart plus child indices, so recreated darts find them again), and
  * gives them back when the region is refined again.  Local frames take their
  * tangent from the smallest dart id of the coarse cell (hier_synth.c) and a
@@ -105,7 +105,7 @@ typedef struct st_adapt_params {
 
 /* Adaptive state kept between updates (saved details of removed vertices). */
 typedef struct st_adapt_saved {
-    uint64_t path;           /* refinement-tree address of the face (adapt.c) */
+    uint64_t path;           /* refinement-tree address of the face (adapt_details.c) */
     uint32_t meta;           /* creation level, detail level, kind, element */
     double d[3];
 } st_adapt_saved;
@@ -115,15 +115,17 @@ typedef struct st_adapt {
     st_adapt_saved *saved;   /* sorted by (path, meta); d in world space */
     uint32_t nsaved, capsaved;
     st_adapt_saved *parked;  /* details of live vertices whose frame cell was taken apart:
-                                path = vertex id, meta = level, d in world space (adapt.c) */
+                                path = vertex id, meta = level, d in world space (adapt_details.c) */
     uint32_t nparked, capparked;
     uint64_t touched;        /* faces subdivided or simplified by the last update */
     uint64_t forced;         /* coarser faces subdivided by the restriction in the current pass */
-    st_dart_list forced_faces; /* those faces, as (dart, level) pairs (adapt.c; during an update only) */
+    st_dart_list forced_faces; /* those faces, as (dart, level) pairs (adapt_update.c; during an update only) */
     st_adapt_params prev;    /* criteria of the last update */
     int has_prev;            /* prev is valid and the geometry has not changed since */
     st_dart_list base_faces; /* one dart per base face */
     struct st_adapt_grid *grid; /* base faces by place (adapt_grid.c): a cache, never saved */
+    const struct st_adapt_ops *ops; /* the refinement family's operations (adapt_internal.h), chosen from
+                                       the scheme by st_adapt_init (or on first use): never saved */
 } st_adapt;
 
 int st_adapt_init(st_adapt *a, st_hier *h, st_error *err);
@@ -140,9 +142,10 @@ int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted);
  * neighbour needs; keeps the removed vertices' details. */
 int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err);
 
-/* Level the criteria of p want for the face of d at level l (box, falloff,
- * flatness; never below p->base_level).  (√3 updates use a variant: see
- * "√3" above.) */
+/* Level the criteria of p want for the face of d at level l of a primal
+ * map (box, falloff, flatness; never below p->base_level): what the polygon
+ * split schemes' updates read.  (√3 updates use a variant, see "√3" above;
+ * Doo-Sabin reads the region of its cells, see "Doo-Sabin".) */
 unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p);
 
 /* Algorithms 5 then 6 with the criteria of p.  When only the box moved since

@@ -1,12 +1,13 @@
 /* Adaptive Doo-Sabin through the dual encoding (adapt.h, "Doo-Sabin";
- * scheme_doosabin.c; thesis §3.2.1 and §3.2.2, digest §4-5).
+ * scheme_doosabin.c; Kraemer 2008 §3.2.1 and §3.2.2).
  *
  * The map stores the dual M* of the surface: a face of M* is a surface
  * vertex (all its darts carry that vertex's id), a vertex of M* (β1 orbit)
  * is a surface face.  One Doo-Sabin step is one Catmull-Clark topological
  * step on M*, so adaptive Doo-Sabin is adaptive Catmull-Clark topology on M*
- * (adapt.c: face and edge levels, the one-level restriction, can-simplify,
- * the refinement-tree addresses all read the same), with the dual vertex
+ * (the face and edge levels of adapt_levels.c, the one-level restriction
+ * and can-simplify of adapt_split.c, the refinement-tree addresses of
+ * adapt_details.c all read the same), with the dual vertex
  * handling of scheme_doosabin.c's ds_refine:
  *   - subdividing a face F* of M* (a surface vertex v of level i) splits
  *     its edges that are not split yet and cuts it into one quad per corner
@@ -18,9 +19,9 @@
  *     the unsplit face across carries that face's id;
  *   - simplifying F* saves the details of its quads' vertices (world space,
  *     keyed by refinement-tree address: F*'s path and the corner index,
- *     adapt.c's KIND_CORNER), removes the spokes and centre, gives every
- *     dart of F* at level i+1 its level-i id back, unsplits the edges whose
- *     other side is not subdivided, and releases the quad ids.
+ *     adapt_details.c's corner kind), removes the spokes and centre, gives
+ *     every dart of F* at level i+1 its level-i id back, unsplits the edges
+ *     whose other side is not subdivided, and releases the quad ids.
  * A Doo-Sabin vertex exists at one level only (its face is cut at the next
  * level), so its only detail is the one of its creation level: nothing is
  * ever parked (the frame cell of a level-L detail, the surface face W at
@@ -63,6 +64,20 @@
 
 static const double origin[3] = { 0, 0, 0 };
 
+/* The map must hold the dual encoding; the hole corners' cut
+ * (scheme_doosabin.c) has no adaptive form yet. */
+static int ds_check(const st_hier *h, st_error *err)
+{
+    if (!h->map.face_embedded)
+        return st_fail(err, ST_ERR_INVALID, "adapt: a %s hierarchy must hold the dual encoding", h->scheme->name);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(&h->map, 0, &it); d != ST_NIL; d = st_dart_next(&h->map, 0, &it))
+        if (st_is_boundary(&h->map, d))
+            return st_fail(err, ST_ERR_TOPOLOGY, "adapt: adaptive doo-sabin on open meshes is not supported yet; "
+                           "use uniform levels or catmull-clark");
+    return ST_OK;
+}
+
 /* ---- criteria ---------------------------------------------------------------- */
 
 static void grow(double lo[3], double hi[3], const double p[3])
@@ -100,7 +115,7 @@ static void grow_mid(double lo[3], double hi[3], const double a[3], const double
     grow(lo, hi, mid);
 }
 
-void st_adapt_ds_cell_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], double hi[3])
+static void ds_cell_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], double hi[3])
 {
     const double *v = st_dart_pos(m, d, l);
     for (int k = 0; k < 3; k++) lo[k] = hi[k] = v[k];
@@ -166,10 +181,10 @@ static double ring_bend(const st_map *m, uint32_t d, unsigned l)
     return fmax(worst, angle(prev, first));
 }
 
-unsigned st_adapt_ds_wanted(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p)
+static unsigned ds_wanted(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p)
 {
     double lo[3], hi[3];
-    st_adapt_ds_cell_bbox(m, d, l, lo, hi);
+    ds_cell_bbox(m, d, l, lo, hi);
     unsigned want = st_adapt_box_want(lo, hi, p);
     if (p->flatness > 0 && l < p->max_level) {
         /* Read around the parent vertex at level l-1 (level 0: the vertex
@@ -183,13 +198,14 @@ unsigned st_adapt_ds_wanted(const st_map *m, uint32_t d, unsigned l, const st_ad
 
 /* ---- subdivision --------------------------------------------------------------- */
 
-int st_adapt_ds_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err)
+static int ds_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, st_error *err)
 {
     st_hier *h = a->h;
     st_map *m = &h->map;
     unsigned L = i + 1;
     if (st_adapt_split_toward(m, d, i)) return ST_OK;
-    int rc = st_adapt_restrict(a, d, i, err); /* always on for Doo-Sabin */
+    (void)restricted; /* always on for Doo-Sabin */
+    int rc = st_adapt_restrict(a, d, i, err);
     if (rc) return rc;
     rc = st_adapt_ensure_level(h, L, err);
     if (rc) return rc;
@@ -236,7 +252,7 @@ static int unsplit(st_map *m, uint32_t x, unsigned L, st_error *err)
     return st_unsplit_edge(m, x, L, err);
 }
 
-int st_adapt_ds_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
+static int ds_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
 {
     st_hier *h = a->h;
     st_map *m = &h->map;
@@ -251,7 +267,7 @@ int st_adapt_ds_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
         quad[k] = st_vert(m, corner[k], L);
         st_adapt_save_corner_detail(a, L, corner[k], quad[k]);
     }
-    /* The spokes, then the centre and the edge left (adapt.c's remove_inner). */
+    /* The spokes, then the centre and the edge left (adapt_split.c's remove_inner). */
     int rc = st_adapt_remove_centre(m, st_phi1(m, st_phi1(m, corner[0], L), L), L, unsplit, err);
     if (rc) return rc;
     /* F* is one face again: its level-i surface vertex. */
@@ -271,3 +287,41 @@ int st_adapt_ds_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     a->touched++;
     return ST_OK;
 }
+
+/* ---- the table ------------------------------------------------------------------- */
+
+/* adapt_split.c's test on M*, with the restriction always on. */
+static int ds_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
+{
+    (void)restricted;
+    return st_adapt_split_can_simplify(a, d, i, 1);
+}
+
+/* The readings of Algorithm 1's maps (adapt_levels.c): M* is refined by
+ * polygon splits. */
+static int ds_subdivided(st_map *m, uint32_t d, unsigned i) { return st_adapt_split_toward(m, d, i); }
+static int ds_face_of_level(st_map *m, uint32_t y, unsigned i) { return st_adapt_face_of_level(m, y, i); }
+/* (As for the polygon split family: a live listed corner stays a face of its level.) */
+static int ds_still_listed(st_map *m, uint32_t d, unsigned i)
+{
+    (void)m, (void)d, (void)i;
+    return 1;
+}
+/* Cells are cut into quads around a centre: every quad holds a corner. */
+static int ds_no_central_child(unsigned n) { (void)n; return 0; }
+
+const st_adapt_ops st_adapt_ops_doosabin = {
+    .family = "doo-sabin",
+    .check = ds_check,
+    .subdivide = ds_subdivide,
+    .can_simplify = ds_can_simplify,
+    .simplify = ds_simplify,
+    .wanted = ds_wanted,
+    .cell_bbox = ds_cell_bbox,
+    .subdivided = ds_subdivided,
+    .face_of_level = ds_face_of_level,
+    .still_listed = ds_still_listed,
+    .central_child = ds_no_central_child,
+    .region_rings = 3, /* as the polygon split family: forced refinement spreads the same way on M* */
+    .forced_children_only = 1,
+};

@@ -1,7 +1,8 @@
 /* A uniform grid over the base faces, so that an incremental box update
+ * (Kraemer 2008 §3.2.5: a moved interest box triggers Algorithms 5 and 6)
  * finds the base faces near the boxes at a cost proportional to what it
- * finds, not to the size of the base mesh (issue 4: "moving the box a little
- * touches only faces near its old and new positions").
+ * finds, not to the size of the base mesh: moving the box a little touches
+ * only faces near its old and new positions.
  *
  * Each base face is filed under the cell of its bounding-box centre; its box
  * is kept for the exact test (st_adapt_box_near).  The grid is a

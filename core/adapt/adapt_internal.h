@@ -1,5 +1,20 @@
-/* Helpers of adapt.c shared with the √3 path (adapt_sqrt3.c).  Not part of
- * the public API (adapt.h). */
+/* Internal to core/adapt: the operations table that tells the refinement
+ * families apart, and the helpers their files share.  Not part of the
+ * public API (adapt.h).
+ *
+ * The files of adaptive refinement, by concern:
+ *   adapt.c           lifetime of an st_adapt; the family's table is chosen
+ *                     there, once, and the public entry points go through it
+ *   adapt_levels.c    subdivision levels of cells, read from the map (§3.2.6)
+ *   adapt_details.c   details kept in world space across coarsening (§3.2.4)
+ *   adapt_criteria.c  the level a polygon face wants (box, falloff, flatness)
+ *   adapt_split.c     polygon split family: Algorithm 1 with the one-level
+ *                     restriction (§3.2.2), Algorithm 6 for one face (§3.2.3)
+ *   adapt_sqrt3.c     √3 family (§3.4.2, Algorithm 8)
+ *   adapt_doosabin.c  Doo-Sabin family (§3.2.1: Catmull-Clark topology on M*)
+ *   adapt_update.c    the updates: Algorithms 5 and 6 over the map, and the
+ *                     incremental update when only the box moved (§3.2.5)
+ *   adapt_grid.c      base faces by place, for the incremental update */
 #ifndef ST_ADAPT_INTERNAL_H
 #define ST_ADAPT_INTERNAL_H
 #ifndef STRATA_CORE_INTERNAL
@@ -7,6 +22,90 @@
 #endif
 
 #include "core/adapt/adapt.h"
+
+/* ---- the operations of a refinement family ----------------------------------
+ * What differs between the families: how a cell is subdivided and
+ * simplified, how its criteria are read, and which map readings are O(1).
+ * Everything else (the update passes, the details, the cell levels) is
+ * shared and calls these.  The schemes map to families as:
+ *   Catmull-Clark             polygon split, quads around a centre
+ *   Loop, Butterfly           polygon split, triangle quadrisection
+ *   quad/triangle             polygon split, triangles and quads mixed
+ *   √3                        centre splits and flips (adapt_sqrt3.c)
+ *   Doo-Sabin                 Catmull-Clark topology on the dual M*
+ *                             (adapt_doosabin.c) */
+typedef struct st_adapt_ops {
+    const char *family;    /* for messages and tests: "polygon split", "sqrt3", "doo-sabin" */
+    /* Refuses the hierarchies the family cannot adapt (NULL: none). */
+    int (*check)(const st_hier *h, st_error *err);
+    /* Algorithm 1 for the face (cell) of d, of level i, toward i+1, with
+     * the level-(i+1) positions of its vertices.  restricted: the one-level
+     * restriction (families that always apply it ignore the flag).  Called
+     * after st_adapt_subdivide_face's checks (a real face, i+1 in range). */
+    int (*subdivide)(st_adapt *a, uint32_t d, unsigned i, int restricted, st_error *err);
+    /* The face of d (level i) is subdivided toward i+1 and may go back to
+     * level i (§3.2.3, listing 3.2.3). */
+    int (*can_simplify)(st_adapt *a, uint32_t d, unsigned i, int restricted);
+    /* Algorithm 6 for the face of d (level i): back to level i, keeping the
+     * details of the vertices it removes. */
+    int (*simplify)(st_adapt *a, uint32_t d, unsigned i, st_error *err);
+    /* The level the criteria p want for the cell of d at level l, as the
+     * updates read it. */
+    unsigned (*wanted)(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p);
+    /* The region the cell of d (level l) covers: its bounding box.  The
+     * incremental update tests it against the boxes (settled cells, the
+     * grid of base cells). */
+    void (*cell_bbox)(const st_map *m, uint32_t d, unsigned l, double lo[3], double hi[3]);
+    /* st_face_is_subdivided(m, d, i) for a face of level i of this
+     * family's maps (O(1) where the map allows it). */
+    int (*subdivided)(st_map *m, uint32_t d, unsigned i);
+    /* st_face_level(m, y, i) == i on this family's maps. */
+    int (*face_of_level)(st_map *m, uint32_t y, unsigned i);
+    /* A live dart listed as a face of level i (one of its darts of level
+     * <= i, as st_adapt_faces_of_level and the update's children list
+     * them) still is a face of level i after other faces were refined or
+     * faces of level >= i simplified. */
+    int (*still_listed)(st_map *m, uint32_t d, unsigned i);
+    /* A subdivided face of n sides has a sub-face that holds none of its
+     * darts: the central triangle of a triangle quadrisection.  The polygon
+     * split family chooses its split by it; the updates list that child. */
+    int (*central_child)(unsigned n);
+    /* Rings of base faces around those near the boxes that an incremental
+     * update visits: how far forced refinement reaches (adapt_update.c). */
+    unsigned region_rings;
+    /* 1: after a pass, the restriction's forced subdivisions left the faces
+     * already examined as they were, so the next pass starts from the
+     * forced faces' children; 0: forced steps also change examined faces
+     * (√3's flips), so the next pass goes over everything again. */
+    int forced_children_only;
+} st_adapt_ops;
+
+/* The families' tables (adapt_split.c, adapt_sqrt3.c, adapt_doosabin.c). */
+extern const st_adapt_ops st_adapt_ops_quads;      /* Catmull-Clark */
+extern const st_adapt_ops st_adapt_ops_triangles;  /* Loop, Butterfly */
+extern const st_adapt_ops st_adapt_ops_quadtri;    /* quad/triangle */
+extern const st_adapt_ops st_adapt_ops_sqrt3;
+extern const st_adapt_ops st_adapt_ops_doosabin;
+
+/* The table of a's scheme: chosen by st_adapt_init; an st_adapt filled in
+ * field by field (a session load) gets it on first use (adapt.c). */
+const st_adapt_ops *st_adapt_choose_ops(st_adapt *a);
+static inline const st_adapt_ops *st_adapt_ops_of(st_adapt *a)
+{
+    return a->ops ? a->ops : st_adapt_choose_ops(a);
+}
+
+/* ---- cell levels (adapt_levels.c) ----------------------------------------- */
+
+/* st_face_is_subdivided in O(1) for the maps Algorithm 1 builds (every
+ * family but √3); d a dart of level <= i on a real face of map i. */
+int st_adapt_split_toward(const st_map *m, uint32_t d, unsigned i);
+/* st_face_level(m, y, i) == i in O(face size) for the same maps. */
+int st_adapt_face_of_level(const st_map *m, uint32_t y, unsigned i);
+/* One dart per real face of map l whose subdivision level is l. */
+void st_adapt_faces_of_level(st_map *m, unsigned l, st_dart_list *out);
+
+/* ---- details (adapt_details.c) -------------------------------------------- */
 
 /* Context of st_adapt_place_sink: the vertices a subdivision just created
  * get their saved details back (or zero); old vertices keep theirs or get
@@ -21,25 +120,54 @@ typedef struct st_adapt_place_ctx {
 /* Stencil sink of a freshly subdivided face (ctx: st_adapt_place_ctx). */
 void st_adapt_place_sink(void *ctx, const st_stencil *s);
 
-/* Moves the details of the centre v created at L in the face of `dart`
- * (level L-1) into the saved store (world space, refinement-tree address). */
+/* Move the details of a vertex v created at L, about to be removed, into
+ * the saved store (world space, under its refinement-tree address): the
+ * midpoint of the edge of `dart`, the centre of the face of `dart`, or
+ * (Doo-Sabin) the vertex in the corner of `dart` of its parent cell; dart
+ * is of level L-1. */
+void st_adapt_save_edge_detail(st_adapt *a, unsigned L, uint32_t dart, uint32_t v);
 void st_adapt_save_centre_detail(st_adapt *a, unsigned L, uint32_t dart, uint32_t v);
+void st_adapt_save_corner_detail(st_adapt *a, unsigned L, uint32_t dart, uint32_t v);
 
 /* Parks the level-(l+1) detail of the vertex of d (level l) as a world-space
  * vector before its level-l vertex cell changes. */
 void st_adapt_park_detail(st_adapt *a, uint32_t d, unsigned l);
 
+/* ---- criteria (adapt_criteria.c) ------------------------------------------ */
+
+/* The box part of the criteria (and base_level) for a bounding box. */
+unsigned st_adapt_box_want(const double lo[3], const double hi[3], const st_adapt_params *p);
+/* The bounding box of the corners of the face of d at level l. */
+void st_adapt_face_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], double hi[3]);
+
+/* ---- shared by the families' subdivisions and simplifications (adapt_split.c) */
+
 /* Adds levels until top >= L. */
 int st_adapt_ensure_level(st_hier *h, unsigned L, st_error *err);
-/* st_face_is_subdivided in O(1) for the maps Algorithm 1 builds (every
- * scheme but √3); d a dart of level <= i on a real face of map i. */
-int st_adapt_split_toward(const st_map *m, uint32_t d, unsigned i);
-/* st_face_level(m, y, i) == i in O(face size) for the same maps. */
-int st_adapt_face_of_level(const st_map *m, uint32_t y, unsigned i);
 
-/* Base faces by place (adapt_grid.c).  Build: NULL when out of memory;
- * bbox gives a base face's box.  Near: the indices (into base) of the faces
- * whose box grown by their own size meets [lo, hi], in increasing order. */
+/* The one-level restriction before the face of d (level i) is subdivided:
+ * every face sharing a vertex with it is brought to level i. */
+int st_adapt_restrict(st_adapt *a, uint32_t d, unsigned i, st_error *err);
+
+/* The polygon split family's can-simplify test (Doo-Sabin's too, on M*). */
+int st_adapt_split_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted);
+
+/* Takes out the centre vertex of level L that a polygon or centre split
+ * made (spoke: a dart leaving it): uncuts spokes until the centre has
+ * degree 2, unsplits it with `unsplit` (NULL: st_unsplit_edge) and uncuts
+ * the edge left (used by every family's simplification). */
+typedef int (*st_unsplit_fn)(st_map *m, uint32_t x, unsigned L, st_error *err);
+int st_adapt_remove_centre(st_map *m, uint32_t spoke, unsigned L, st_unsplit_fn unsplit, st_error *err);
+/* After a face of level i was simplified: its corner c, when no face of
+ * level L = i+1 is left around it, falls back to its level-i position (at L
+ * and, through the propagating setter, above). */
+void st_adapt_corner_fallback(st_adapt *a, uint32_t c, unsigned i);
+
+/* ---- base faces by place (adapt_grid.c) ----------------------------------- */
+
+/* Build: NULL when out of memory; bbox gives a base face's box.  Near: the
+ * indices (into base) of the faces whose box grown by their own size meets
+ * [lo, hi], in increasing order. */
 typedef struct st_adapt_grid st_adapt_grid;
 st_adapt_grid *st_adapt_grid_build(const st_map *m, const st_dart_list *base,
                                    void (*bbox)(const st_map *, uint32_t, unsigned, double *, double *));
@@ -48,49 +176,5 @@ void st_adapt_grid_free(st_adapt_grid *g);
 /* A base face's box (lo xyz, hi xyz), grown by its own largest extent,
  * meets [lo, hi]: the face is near the boxes of an incremental update. */
 int st_adapt_box_near(const double box[6], const double lo[3], const double hi[3]);
-
-/* √3 (adapt_sqrt3.c): the same entry points as the quadrisection code, for
- * closed triangle meshes; the one-level restriction is always applied. */
-int st_adapt_sqrt3_check(const st_hier *h, st_error *err);
-int st_adapt_sqrt3_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err);
-int st_adapt_sqrt3_can_simplify(st_adapt *a, uint32_t d, unsigned i);
-int st_adapt_sqrt3_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err);
-/* The level the criteria p want for the face of d (level i), as the
- * updates use it for √3: read on the two level-(i-1) triangles of its old
- * edge and capped by what those want (adapt_sqrt3.c). */
-unsigned st_adapt_sqrt3_wanted(const st_map *m, uint32_t d, unsigned i, const st_adapt_params *p);
-
-/* The box part of the criteria (and base_level) for a bounding box. */
-unsigned st_adapt_box_want(const double lo[3], const double hi[3], const st_adapt_params *p);
-
-/* Doo-Sabin (adapt_doosabin.c): the same entry points, on the dual
- * encoding; the one-level restriction is always applied. */
-int st_adapt_ds_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err);
-int st_adapt_ds_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err);
-/* The criteria p for the Doo-Sabin cell of d (a face of the dual map: a
- * surface vertex) at level l, and the region it covers (adapt_doosabin.c). */
-unsigned st_adapt_ds_wanted(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p);
-void st_adapt_ds_cell_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], double hi[3]);
-
-/* The one-level restriction before the face of d (level i) is subdivided:
- * every face sharing a vertex with it is brought to level i (adapt.c). */
-int st_adapt_restrict(st_adapt *a, uint32_t d, unsigned i, st_error *err);
-
-/* Takes out the centre vertex of level L that a polygon or centre split
- * made (spoke: a dart leaving it): uncuts spokes until the centre has
- * degree 2, unsplits it with `unsplit` (NULL: st_unsplit_edge) and uncuts
- * the edge left (adapt.c; used by every scheme's simplification). */
-typedef int (*st_unsplit_fn)(st_map *m, uint32_t x, unsigned L, st_error *err);
-int st_adapt_remove_centre(st_map *m, uint32_t spoke, unsigned L, st_unsplit_fn unsplit, st_error *err);
-/* After a face of level i was simplified: its corner c, when no face of
- * level L = i+1 is left around it, falls back to its level-i position (at L
- * and, through the propagating setter, above). */
-void st_adapt_corner_fallback(st_adapt *a, uint32_t c, unsigned i);
-
-/* Moves the details of the Doo-Sabin vertex v created at L in the corner
- * of `dart` (a dart of level L-1 of its parent cell) into the saved store
- * (world space, refinement-tree address: the parent's path and the corner
- * index). */
-void st_adapt_save_corner_detail(st_adapt *a, unsigned L, uint32_t dart, uint32_t v);
 
 #endif

@@ -1,6 +1,6 @@
 /* Adaptive √3 refinement (thesis §3.4.2, Algorithm 8, fig. 3.48-3.49;
- * Kobbelt 2000, §5 "adaptive refinement"; digest §5).  Closed triangle
- * meshes; see adapt.h for the levels, the criteria and the details.
+ * Kobbelt 2000, §5 "adaptive refinement").  Closed triangle meshes; see
+ * adapt.h for the levels, the criteria and the details.
  *
  * Subdividing a triangle t of level i toward L = i+1 (Algorithm 8): split t
  * at level L by its centre (the three edges of fig. 3.46, as the regular
@@ -50,14 +50,16 @@
  * face around the centre's level-L neighbours (t's corners, the centres of
  * the subdivided neighbours) has level L+1.  It flips t's flipped edges
  * back (their other sides become odd again), removes the centre (its
- * details are saved under the refinement-tree address of t, adapt.c), and
+ * details are saved under the refinement-tree address of t,
+ * adapt_details.c), and
  * puts back the level-i position at level L of the corners left without a
  * face of level L.  Only centres are ever removed: the old vertices of √3
  * are never deleted.
  *
- * Updates (st_adapt_update) are those of adapt.c: Algorithms 5 and 6 call
- * the functions below.  The incremental path (box moved only) visits base
- * faces SQRT3_RINGS rings around the boxes, since forced refinement reaches
+ * Updates (st_adapt_update) are those of adapt_update.c: Algorithms 5 and
+ * 6 call the functions below through the table st_adapt_ops_sqrt3 (at the
+ * end).  The incremental path (box moved only) visits base faces
+ * SQRT3_RINGS rings around the boxes, since forced refinement reaches
  * further than with quadrisection; the sub-faces of a subdivided face are
  * the faces of its three darts one level up (an odd triangle, or the even
  * triangle of a flipped edge - each holds exactly one older dart).
@@ -71,7 +73,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-int st_adapt_sqrt3_check(const st_hier *h, st_error *err)
+static int sqrt3_check(const st_hier *h, st_error *err)
 {
     const st_map *m = &h->map;
     st_dart_iter it;
@@ -148,7 +150,7 @@ static uint32_t centre_dart(const st_map *m, uint32_t d, unsigned L)
     return st_phi_1(m, d, L);
 }
 
-int st_adapt_sqrt3_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err)
+static int sqrt3_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err)
 {
     st_hier *h = a->h;
     st_map *m = &h->map;
@@ -169,7 +171,7 @@ int st_adapt_sqrt3_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err)
         if (!needs_forcing(m, d, i, &fd, &fl)) break;
         if (lower_neighbour(m, d, i) != ST_NIL) was_odd = 1;
         a->forced++;
-        int rc = st_adapt_sqrt3_subdivide(a, fd, fl, err);
+        int rc = sqrt3_subdivide(a, fd, fl, err);
         if (rc) return rc;
     }
     if (was_odd) return ST_OK;
@@ -202,8 +204,9 @@ int st_adapt_sqrt3_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     return ST_OK;
 }
 
-int st_adapt_sqrt3_can_simplify(st_adapt *a, uint32_t d, unsigned i)
+static int sqrt3_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
 {
+    (void)restricted; /* always on for √3 */
     st_map *m = &a->h->map;
     unsigned L = i + 1;
     if (st_face_level(m, d, i) != i || !st_face_is_subdivided(m, d, i)) return 0;
@@ -323,19 +326,19 @@ static unsigned want_capped(const st_map *m, uint32_t d, unsigned i, const st_ad
     return a > b ? a : b;
 }
 
-unsigned st_adapt_sqrt3_wanted(const st_map *m, uint32_t d, unsigned i, const st_adapt_params *p)
+static unsigned sqrt3_wanted(const st_map *m, uint32_t d, unsigned i, const st_adapt_params *p)
 {
     return want_capped(m, d, i, p, p->max_level);
 }
 
-int st_adapt_sqrt3_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
+static int sqrt3_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
 {
     st_hier *h = a->h;
     st_map *m = &h->map;
     unsigned L = i + 1;
     int rc = ST_OK;
     /* The level-L vertex cells of the centre and of its neighbours change:
-     * park their level-(L+1) details first (adapt.c). */
+     * park their level-(L+1) details first (adapt_details.c). */
     uint32_t s0 = centre_dart(m, d, L), s = s0;
     uint32_t c = st_vert(m, s0, L);
     do {
@@ -364,3 +367,48 @@ int st_adapt_sqrt3_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     a->touched++;
     return ST_OK;
 }
+
+/* ---- the table ------------------------------------------------------------------- */
+
+static int sqrt3_subdivide_face(st_adapt *a, uint32_t d, unsigned i, int restricted, st_error *err)
+{
+    (void)restricted; /* always on for √3 */
+    return sqrt3_subdivide(a, d, i, err);
+}
+
+/* Faces are read by the general definitions: the flips re-link old darts,
+ * so the O(1) readings of Algorithm 1's maps do not hold, and a listed dart
+ * may have been flipped into a face of another level since it was listed. */
+static int sqrt3_face_of_level(st_map *m, uint32_t y, unsigned i) { return st_face_level(m, y, i) == i; }
+
+/* No sub-face without an old dart: each of a face's three darts lies in one
+ * sub-face at i+1 (odd, or the even triangle of its flipped edge). */
+static int no_central_child(unsigned n) { (void)n; return 0; }
+
+/* √3: forced refinement goes further.  Before a face of level i is
+ * subdivided, the faces around its corners must be even triangles of level
+ * i, so the lower neighbours of odd triangles two faces away are forced: up
+ * to about two faces of level i-1 per level, and faces shrink by √3 (not
+ * 2) per level, a reach under 2 / (1 - 1/√3) < 5 base faces.  Six rings
+ * leave a margin (tests/test_adapt_sqrt3.c compares with full updates). */
+#ifndef SQRT3_RINGS
+#define SQRT3_RINGS 6
+#endif
+
+const st_adapt_ops st_adapt_ops_sqrt3 = {
+    .family = "sqrt3",
+    .check = sqrt3_check,
+    .subdivide = sqrt3_subdivide_face,
+    .can_simplify = sqrt3_can_simplify,
+    .simplify = sqrt3_simplify,
+    .wanted = sqrt3_wanted,
+    .cell_bbox = st_adapt_face_bbox,
+    .subdivided = st_face_is_subdivided,
+    .face_of_level = sqrt3_face_of_level,
+    .still_listed = sqrt3_face_of_level,
+    .central_child = no_central_child,
+    .region_rings = SQRT3_RINGS,
+    /* A forced subdivision flips edges of faces already examined: the next
+     * pass goes over every face again. */
+    .forced_children_only = 0,
+};

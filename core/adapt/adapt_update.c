@@ -1,0 +1,232 @@
+/* The updates of an adaptive hierarchy (Kraemer 2008 §3.2.5): Algorithm 5
+ * (refine, coarse to fine) then Algorithm 6 (simplify, fine to coarse) with
+ * the criteria of st_adapt_params, over the whole map or, when only the
+ * interest box moved, over the region near the old and the new box.
+ *
+ * Invariant: the result of an update is the same whatever came before and
+ * whichever path computed it - a full update and an incremental one give
+ * the same map (tests/adapt_testlib.c compares them along random walks of
+ * the box).  The passes only ask the family's table (adapt_internal.h)
+ * what to subdivide, what may be simplified and how a face's level reads. */
+#include "core/adapt/adapt_internal.h"
+#include "core/multires/hier_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* d, listed as a face of level i (by st_adapt_faces_of_level or
+ * children), still is one. */
+static int listed_face(st_map *m, const st_adapt_ops *ops, uint32_t d, unsigned i)
+{
+    return st_dart_live(m, d) && ops->still_listed(m, d, i);
+}
+
+/* ---- incremental updates --------------------------------------------------------
+ * A face's wanted level depends only on its geometry and the box, so when
+ * only the box moves, only faces near the old or the new box can change.
+ * Children stay near their parents, so the visit starts from the base faces
+ * near either box (grown by their own size), grown by the family's
+ * region_rings so that faces refined only because the restriction forced
+ * them are visited too, and descends through subdivided faces only. */
+
+static int boxes_only_moved(const st_adapt *a, const st_adapt_params *p)
+{
+    const st_adapt_params *q = &a->prev;
+    return a->has_prev && q->has_box && p->has_box && q->base_level == p->base_level && q->max_level == p->max_level &&
+           q->falloff == p->falloff && q->flatness == 0 && p->flatness == 0 && q->no_restriction == p->no_restriction;
+}
+
+/* Base faces near either box, then the family's rings around them. */
+static void region_roots(st_adapt *a, const st_adapt_ops *ops, const st_adapt_params *q, const st_adapt_params *p,
+                         st_dart_list *roots)
+{
+    st_map *m = &a->h->map;
+    double lo[3], hi[3], grow = p->falloff > 0 ? p->falloff * p->max_level : 0;
+    for (int k = 0; k < 3; k++) {
+        lo[k] = fmin(q->box_lo[k], p->box_lo[k]) - grow;
+        hi[k] = fmax(q->box_hi[k], p->box_hi[k]) + grow;
+    }
+    st_dart_list seeds = { 0 }, near = { 0 };
+    const st_dart_list *base = &a->base_faces;
+    if (!a->grid) a->grid = st_adapt_grid_build(m, base, ops->cell_bbox);
+    if (a->grid) st_adapt_grid_near(a->grid, lo, hi, &near);
+    else /* (out of memory for the grid: the same test on every base face) */
+        for (uint32_t k = 0; k < base->n; k++) {
+            double fb[6];
+            ops->cell_bbox(m, base->d[k], 0, fb, fb + 3);
+            if (st_adapt_box_near(fb, lo, hi)) st_dart_list_push(&near, k);
+        }
+    for (uint32_t j = 0; j < near.n; j++) {
+        uint32_t k = near.d[j];
+        uint32_t x = base->d[k];
+        do { st_dart_list_push(&seeds, x); x = st_phi1(m, x, 0); } while (x != base->d[k]);
+    }
+    st_dart_list_free(&near);
+    roots->n = 0;
+    if (seeds.n) st_region_faces(m, 0, seeds.d, seeds.n, ops->region_rings, roots);
+    st_dart_list_free(&seeds);
+}
+
+/* A face deep inside both the old and the new box (its bounding box grown
+ * by its own size on every side, which covers the neighbourhood its
+ * descendants' stencils read) is settled: the last update refined all its
+ * descendants to max_level, they all still want max_level, and nothing
+ * coarser around it is simplified into it (the restriction only spreads
+ * refinement outward).  An incremental update need not look inside it, so
+ * the visit costs the band where the boxes differ, not the whole box. */
+static int settled(const st_adapt *a, const st_adapt_ops *ops, uint32_t d, unsigned lev, const st_adapt_params *p)
+{
+    const st_adapt_params *q = &a->prev;
+    double lo[3], hi[3], size = 0;
+    ops->cell_bbox(&a->h->map, d, lev, lo, hi);
+    for (int k = 0; k < 3; k++) size = fmax(size, hi[k] - lo[k]);
+    for (int k = 0; k < 3; k++)
+        if (lo[k] - size < fmax(q->box_lo[k], p->box_lo[k]) || hi[k] + size > fmin(q->box_hi[k], p->box_hi[k])) return 0;
+    return 1;
+}
+
+/* Appends to out the sub-faces (level lev+1) of the subdivided faces of
+ * cur[0..n) (level lev): corner sub-faces hold their parent's darts (√3:
+ * the face of each of the three darts at lev+1 is one sub-face each - odd,
+ * or the even triangle of its flipped edge); a triangle quadrisection adds
+ * the central triangle, across the corner triangle's inner edge.  With p
+ * (an incremental update), settled faces are left out. */
+static void children(st_adapt *a, const st_adapt_ops *ops, const uint32_t *cur, uint32_t ncur, unsigned lev,
+                     const st_adapt_params *p, st_dart_list *out)
+{
+    st_map *m = &a->h->map;
+    for (uint32_t k = 0; k < ncur; k++) {
+        uint32_t d = cur[k];
+        if (!listed_face(m, ops, d, lev) || !ops->subdivided(m, d, lev)) continue;
+        if (p && settled(a, ops, d, lev, p)) continue;
+        unsigned n = 0;
+        uint32_t x = d;
+        do { st_dart_list_push(out, x); n++; x = st_phi1(m, x, lev); } while (x != d);
+        if (ops->central_child(n)) st_dart_list_push(out, st_beta0(m, st_phi1(m, d, lev + 1), lev + 1));
+    }
+}
+
+/* Algorithm 5 over listed faces: level by level from `from`, each face of
+ * lists[i] (level i) wanting more is subdivided, and the children of the
+ * subdivided ones join lists[i+1] (lists has max_level + 1 entries). */
+static int refine_lists(st_adapt *a, const st_adapt_ops *ops, st_dart_list *lists, unsigned from,
+                        const st_adapt_params *p, int prune, st_error *err)
+{
+    st_map *m = &a->h->map;
+    int rc = ST_OK;
+    for (unsigned i = from; i < p->max_level && i <= m->top && !rc; i++) {
+        st_dart_list *cur = &lists[i];
+        for (uint32_t k = 0; k < cur->n && !rc; k++) {
+            uint32_t d = cur->d[k];
+            if (!listed_face(m, ops, d, i) || ops->subdivided(m, d, i)) continue;
+            if (ops->wanted(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
+        }
+        children(a, ops, cur->d, cur->n, i, prune ? p : NULL, &lists[i + 1]);
+    }
+    return rc;
+}
+
+/* After a pass, the faces the restriction subdivided (a->forced_faces:
+ * dart, level pairs) have children nobody examined: faces made at levels
+ * the pass had already left.  Only those can want more - every other face
+ * was examined, and its wanted level reads its own geometry, which a
+ * neighbour's subdivision leaves as it is (with the restriction, stencils
+ * are complete and give the same points) - so the next pass starts from
+ * them (families with forced_children_only). */
+static int refine_forced(st_adapt *a, const st_adapt_ops *ops, const st_dart_list *forced, st_dart_list *lists,
+                         const st_adapt_params *p, st_error *err)
+{
+    unsigned from = p->max_level;
+    for (uint32_t k = 0; k + 1 < forced->n; k += 2) {
+        uint32_t z = forced->d[k];
+        unsigned j = forced->d[k + 1];
+        if (j + 1 > p->max_level) continue;
+        children(a, ops, &z, 1, j, NULL, &lists[j + 1]);
+        if (j + 1 < from) from = j + 1;
+    }
+    int rc = refine_lists(a, ops, lists, from, p, 0, err);
+    for (unsigned i = 0; i <= p->max_level; i++) lists[i].n = 0;
+    return rc;
+}
+
+/* Algorithm 5 over every face of the map, level by level. */
+static int refine_all(st_adapt *a, const st_adapt_ops *ops, const st_adapt_params *p, st_dart_list *faces,
+                      st_error *err)
+{
+    st_map *m = &a->h->map;
+    int rc = ST_OK;
+    for (unsigned i = 0; i < p->max_level && i <= m->top && !rc; i++) {
+        st_adapt_faces_of_level(m, i, faces);
+        for (uint32_t k = 0; k < faces->n && !rc; k++) {
+            uint32_t d = faces->d[k];
+            if (!listed_face(m, ops, d, i) || ops->subdivided(m, d, i)) continue;
+            if (ops->wanted(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
+        }
+    }
+    return rc;
+}
+
+int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
+{
+    st_map *m = &a->h->map;
+    const st_adapt_ops *ops = st_adapt_ops_of(a);
+    int restricted = !p->no_restriction;
+    st_dart_list faces = { 0 }, roots = { 0 };
+    const st_dart_list *region = NULL;
+    if (boxes_only_moved(a, p)) {
+        region_roots(a, ops, &a->prev, p, &roots);
+        region = &roots;
+    } else { /* (level 0 may have moved: the grid is rebuilt, for the moves to come) */
+        st_adapt_grid_free(a->grid);
+        a->grid = p->has_box ? st_adapt_grid_build(m, &a->base_faces, ops->cell_bbox) : NULL;
+    }
+    a->touched = 0;
+    int rc = ST_OK;
+    /* Algorithm 5: refine, coarse to fine; again while the restriction
+     * forced faces at levels already passed. */
+    /* (region: lists holds the region's faces of each level after the first
+     * pass, which the simplification below reuses; more holds the faces of
+     * the later passes.) */
+    unsigned nl = p->max_level + 1;
+    st_dart_list *lists = calloc(2 * (size_t)nl, sizeof *lists), *more = lists + nl, forced = { 0 };
+    if (!lists) rc = st_fail(err, ST_ERR_MEMORY, "adapt: out of memory");
+    for (int pass = 0; !rc; pass++) {
+        a->forced = 0;
+        a->forced_faces.n = 0;
+        if (pass && ops->forced_children_only) rc = refine_forced(a, ops, &forced, more, p, err);
+        else if (region) {
+            for (unsigned i = 0; i < nl; i++) lists[i].n = 0;
+            for (uint32_t k = 0; k < region->n; k++) st_dart_list_push(&lists[0], region->d[k]);
+            rc = refine_lists(a, ops, lists, 0, p, 1, err);
+        } else
+            rc = refine_all(a, ops, p, &faces, err);
+        if (!a->forced) break;
+        st_dart_list t = forced; forced = a->forced_faces; a->forced_faces = t;
+    }
+    st_dart_list_free(&forced);
+    st_dart_list_free(&a->forced_faces);
+    /* Algorithm 6: simplify, fine to coarse.  A simplification at level
+     * j > i deletes only darts inserted above i, so the lists of the coarser
+     * levels stay valid.  In a region, the lists are those of the first
+     * refinement pass: the later passes only subdivided faces the
+     * restriction needs (never simplifiable now) and made their children
+     * (not subdivided, so nothing to simplify in them). */
+    for (unsigned i = region && m->top >= nl ? nl - 1 : m->top; i-- > 0 && !rc;) {
+        if (!region) st_adapt_faces_of_level(m, i, &faces);
+        const st_dart_list *cur = region ? &lists[i] : &faces;
+        for (uint32_t k = 0; k < cur->n && !rc; k++) {
+            uint32_t d = cur->d[k];
+            if (!listed_face(m, ops, d, i) || !ops->subdivided(m, d, i)) continue;
+            if (ops->wanted(m, d, i, p) > i || !ops->can_simplify(a, d, i, restricted)) continue;
+            rc = ops->simplify(a, d, i, err);
+        }
+    }
+    if (lists)
+        for (unsigned i = 0; i < 2 * nl; i++) st_dart_list_free(&lists[i]);
+    free(lists);
+    st_dart_list_free(&faces);
+    st_dart_list_free(&roots);
+    a->prev = *p;
+    a->has_prev = !rc;
+    return rc;
+}
