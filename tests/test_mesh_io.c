@@ -85,7 +85,7 @@ static const char cube_obj[] =
     "f -8 -4 -2 -6\r\n"
     "\tf 2 4 8 6   # right\r\n"
     "l 1 2\r\n"
-    "t crease 3/1/0 0 1 3 2.5\r\n"
+    "t crease 4/1/0 0 1 1 3 2.5\r\n"
     "t corner 2/2/0 6 7 1.5 4\r\n"
     "t interpolateboundary 1/0/0 1\r\n"
     "t facevaryingpropagatecorners 1/0/0 0\r\n";
@@ -119,7 +119,7 @@ static void test_obj_relative(void)
         "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
         "v 1 1 0\n"
         "f -3 -1 -2\n"              /* 2 4 3 */
-        "t crease 3/2/0 0 1 2 1 2\n";
+        "t crease 4/2/0 0 1 1 2 1 2\n";
     st_mesh m;
     if (load_text("io_relative.obj", text, &m, NULL)) return;
     static const uint32_t off[] = {0, 3, 6}, idx[] = {0, 1, 2, 1, 3, 2};
@@ -131,6 +131,36 @@ static void test_obj_relative(void)
 
 /* Two 100-gons glued along their boundary (a pillow): faces long enough to
  * take the sorting path of the repeated-vertex check. */
+/* OpenSubdiv's tag convention (regression/common/far_utils.h): a crease
+ * tag's integers are vertex pairs, one edge per pair, not a chain; one
+ * sharpness for all pairs or one per pair.  creasemethod normal and
+ * smoothtriangles catmark name what Strata does and are accepted. */
+static void test_obj_tag_pairs(void)
+{
+    static const char text[] =
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+        "f 1 2 3 4\nf 2 5 6 3\n"
+        "t crease 4/1/0 0 1 1 4 0.7\n"          /* edges 0-1 and 1-4, both 0.7 */
+        "t crease 6/3/0 3 0 2 5 4 5 1 2 3.5\n"  /* edges 3-0 (1), 2-5 (2), 4-5 (3.5) */
+        "t corner 2/1/0 2 3 4\n"
+        "t creasemethod 0/0/1 normal\n"
+        "t smoothtriangles 0/0/1 catmark\n"
+        "t interpolateboundary 1/0/0 2\n";
+    st_mesh m;
+    if (load_text("io_tag_pairs.obj", text, &m, NULL)) return;
+    static const uint32_t v[] = {0, 1, 1, 4, 3, 0, 2, 5, 4, 5};
+    static const float s[] = {0.7f, 0.7f, 1.0f, 2.0f, 3.5f};
+    CHECK(m.ncreases == 5);
+    for (uint32_t i = 0; i < 5 && m.ncreases == 5; i++) {
+        CHECKF(m.crease_v[2 * i] == v[2 * i] && m.crease_v[2 * i + 1] == v[2 * i + 1],
+               "crease %u is %u-%u, expected %u-%u", i, m.crease_v[2 * i], m.crease_v[2 * i + 1], v[2 * i], v[2 * i + 1]);
+        CHECKF(m.crease_s[i] == s[i], "crease %u sharpness %g, expected %g", i, (double)m.crease_s[i], (double)s[i]);
+    }
+    CHECK(m.ncorners == 2 && m.corner_v[0] == 2 && m.corner_v[1] == 3 && m.corner_s[1] == 4.0f);
+    CHECK(m.boundary_interp == ST_BOUNDARY_EDGE_ONLY);
+    st_mesh_free(&m);
+}
+
 static void test_obj_big_faces(void)
 {
     char *text = malloc(20000);
@@ -501,6 +531,7 @@ int main(void)
 {
     test_obj_forms();
     test_obj_relative();
+    test_obj_tag_pairs();
     test_obj_big_faces();
     test_off_variants();
     test_ply_types();
