@@ -20,6 +20,7 @@
 #ifndef ST_HEADLESS_H
 #define ST_HEADLESS_H
 
+#include "framebuffer.h"
 #include "gl_loader.h"
 
 #define ST_HEADLESS_MAX_SIZE 8192
@@ -29,7 +30,7 @@ typedef struct st_headless {
     unsigned char *buffer;     /* width*height*4, bottom-up RGBA, OSMesa's colour buffer */
     int width, height;
     int samples;               /* requested MSAA samples (<= 1: none) */
-    GLuint fbo, color_rb, depth_rb; /* multisampled target, 0 when samples <= 1 */
+    st_framebuffer target;     /* multisampled target, empty when samples <= 1 */
     st_gl gl;                  /* entry points of this context */
 } st_headless;
 
