@@ -1,6 +1,6 @@
 /* Headless OpenGL through Mesa's OSMesa (no display, no GPU needed).
  *
- * PLATFORM-NOTES: Debian 12's OSMesa (Mesa 22.3, llvmpipe) gives an OpenGL
+ * Debian 12's OSMesa (Mesa 22.3, llvmpipe) gives an OpenGL
  * 4.5 core context for OSMesaCreateContextAttribs with OSMESA_CORE_PROFILE
  * and a 3.3 request.  It renders into a caller-owned RGBA buffer whose first
  * row is the *bottom* of the image; st_headless_read() returns rows top-down.

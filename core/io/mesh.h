@@ -14,8 +14,8 @@
 
 #include "core/base/st_error.h"
 
-/* OBJ `t interpolateboundary` values as written in files (PLATFORM-NOTES:
- * 0 none, 1 edge-and-corner, 2 edge-only; no tag means edge-only). */
+/* OBJ `t interpolateboundary` values as written in files (OpenSubdiv's
+ * regression/common/far_utils.h: 0 none, 1 edge-and-corner, 2 edge-only; no tag means edge-only). */
 enum st_boundary_interp {
     ST_BOUNDARY_UNSET = -1,
     ST_BOUNDARY_NONE = 0,
