@@ -5,9 +5,9 @@ int st_cmd_info(int argc, char **argv);
 int st_cmd_subdivide(int argc, char **argv);
 int st_cmd_adapt(int argc, char **argv);
 int st_cmd_render(int argc, char **argv);
-/* app/cmd_convert.c (issue 7) */
+/* app/cmd_convert.c: `strata convert IN OUT`. */
 int st_cmd_convert(int argc, char **argv);
-/* app/cmd_window.c (issue 6): `strata [options] [FILE]` opens the modeller. */
+/* app/cmd_window.c: `strata [options] [FILE]` opens the modeller. */
 int st_cmd_window(int argc, char **argv);
 
 #endif

@@ -624,34 +624,19 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
         hi[i % 3] = std::max(hi[i % 3], (double)pos[i]);
     }
 
-    // Normals: given, or area-weighted (Newell vectors summed per vertex).
-    std::vector<double> acc(3 * (size_t)m->nverts, 0.0);
-    if (m->normals) {
-        for (size_t i = 0; i < acc.size(); i++) acc[i] = m->normals[i];
-    } else {
-        for (uint32_t f = 0; f < m->nfaces; f++) {
-            uint32_t a = m->face_off[f], b = m->face_off[f + 1];
-            double nn[3] = {0, 0, 0};
-            for (uint32_t k = a; k < b; k++) {
-                const double *p = m->pos + 3 * (size_t)m->face_idx[k];
-                const double *q = m->pos + 3 * (size_t)m->face_idx[k + 1 < b ? k + 1 : a];
-                nn[0] += (p[1] - q[1]) * (p[2] + q[2]);
-                nn[1] += (p[2] - q[2]) * (p[0] + q[0]);
-                nn[2] += (p[0] - q[0]) * (p[1] + q[1]);
-            }
-            for (uint32_t k = a; k < b; k++)
-                for (int c = 0; c < 3; c++) acc[3 * (size_t)m->face_idx[k] + (size_t)c] += nn[c];
-        }
+    // Normals: core's area-weighted unit normals (st_mesh_vertex_normals, the
+    // one computation every writer uses), replaced by the mesh's own where it
+    // has them and they have a length: glTF wants unit normals.
+    std::vector<double> acc(3 * (size_t)m->nverts);
+    if (st_mesh_vertex_normals(m, acc.data())) fail(ST_ERR_MEMORY, "out of memory for normals");
+    for (size_t v = 0; m->normals && v < m->nverts; v++) {
+        const double *g = m->normals + 3 * v;
+        double len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        if (len > 1e-300 && std::isfinite(len))
+            for (int c = 0; c < 3; c++) acc[3 * v + (size_t)c] = g[c] / len;
     }
     std::vector<float> nrm(acc.size());
-    for (size_t v = 0; v < m->nverts; v++) {
-        double *n = &acc[3 * v];
-        double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (!(len > 1e-300) || !std::isfinite(len)) {
-            n[0] = 0, n[1] = 0, n[2] = 1, len = 1;  // isolated or degenerate: any unit vector
-        }
-        for (int c = 0; c < 3; c++) nrm[3 * v + (size_t)c] = (float)(n[c] / len);
-    }
+    for (size_t i = 0; i < acc.size(); i++) nrm[i] = (float)acc[i];
 
     // One buffer: positions, normals, indices (each 4-byte aligned).
     std::vector<unsigned char> buf;

@@ -7,10 +7,10 @@
  * triangles, POSITION (float, with min/max) + NORMAL + indices (u16, or u32
  * from 65535 vertices on).  glTF has only triangles: each polygon is fanned
  * from its first vertex (exact for convex polygons, which is what the
- * schemes produce).  Normals are m->normals when given, else smooth
- * area-weighted vertex normals (the Newell vector of every face added to its
- * vertices); both are normalised, and a vertex without a usable normal gets
- * (0,0,1).  .gltf writes NAME.bin next to it (buffer uri NAME.bin); .glb
+ * schemes produce).  Normals are m->normals, normalised, where given with
+ * a length; elsewhere core's smooth area-weighted ones (st_mesh_vertex_normals:
+ * a vertex whose faces cancel out takes its first face's normal, then
+ * (0,0,1)), as the OBJ and PLY writers have them.  .gltf writes NAME.bin next to it (buffer uri NAME.bin); .glb
  * embeds the buffer.  Files are written to NAME.tmp, then renamed.
  *
  * Import (st_gltf_load, st_gltf_parse): every triangle primitive of every

@@ -1,5 +1,5 @@
 /* bench_adapt: interest-box update after moving the box by 5 % of its size,
- * against rebuilding the adaptive mesh from scratch (issue 4's benchmark).
+ * against rebuilding the adaptive mesh from scratch.
  *
  *   bench_adapt
  *

@@ -1,5 +1,5 @@
 // bench_osd: Strata vs OpenSubdiv 3.5 side by side, in one run, on the same
-// input and depth (issue: schemes benchmark).  C++ only because OpenSubdiv
+// input and depth.  C++ only because OpenSubdiv
 // is C++; Strata is called through its C API.
 //
 //   bench_osd [--quick]

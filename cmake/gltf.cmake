@@ -1,7 +1,7 @@
 # glTF 2.0 import/export through tinygltf (Debian libtinygltf-dev), included
 # from the top-level CMakeLists.txt.  tinygltf is C++: it is compiled in one
 # translation unit (app/gltf*.cc) behind a C API (app/gltf_io.h), in its own
-# library so tests and fuzzers link it too.  PLATFORM-NOTES: tinygltf needs
+# library so tests and fuzzers link it too.  Debian 12's tinygltf needs
 # nlohmann-json3-dev and -I/usr/include/stb (it includes stb_image.h bare).
 file(GLOB STRATA_GLTF_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/app/gltf*.cc)
 if(STRATA_GLTF_SOURCES)

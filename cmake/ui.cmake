@@ -1,4 +1,4 @@
-# The modeller (issue 6), included from the top-level CMakeLists.txt.
+# The modeller, included from the top-level CMakeLists.txt.
 # Dependencies point one way: ui -> render -> core; core and render know
 # nothing of ui.
 file(GLOB STRATA_EDITOR_SOURCES CONFIGURE_DEPENDS

@@ -1,7 +1,7 @@
 /* st_gl: the OpenGL 3.3 core entry points Strata uses, as one table of
  * function pointers.
  *
- * Why a table (PLATFORM-NOTES "GL entry points"): libOSMesa and glvnd's
+ * Why a table: libOSMesa and glvnd's
  * libGL both export the core gl* symbols, and GLFW opens libGL at run time,
  * so an executable that links OSMesa and calls gl* directly would send the
  * window's calls to OSMesa.  Every GL call in render/ goes through an st_gl

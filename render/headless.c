@@ -47,15 +47,6 @@ static st_gl_proc osmesa_get(const char *name)
     return (st_gl_proc)OSMesaGetProcAddress(name);
 }
 
-static void destroy_target(st_headless *hl)
-{
-    st_gl *gl = &hl->gl;
-    if (hl->fbo) gl->DeleteFramebuffers(1, &hl->fbo);
-    if (hl->color_rb) gl->DeleteRenderbuffers(1, &hl->color_rb);
-    if (hl->depth_rb) gl->DeleteRenderbuffers(1, &hl->depth_rb);
-    hl->fbo = hl->color_rb = hl->depth_rb = 0;
-}
-
 /* (Re)binds the OSMesa buffer of the current size and builds the MSAA
  * target.  hl->buffer must hold width*height*4 bytes. */
 static int make_target(st_headless *hl, st_error *err)
@@ -64,28 +55,11 @@ static int make_target(st_headless *hl, st_error *err)
         return st_fail(err, ST_ERR_INVALID, "headless: OSMesaMakeCurrent failed for %dx%d", hl->width, hl->height);
     st_gl *gl = &hl->gl;
     if (!gl->GetError && st_gl_load(gl, osmesa_get, err)) return err ? err->code : ST_ERR_INVALID;
-    destroy_target(hl);
+    st_framebuffer_destroy(&hl->target, gl);
     if (hl->samples > 1) {
-        GLint maxs = 0;
-        gl->GetIntegerv(GL_MAX_SAMPLES, &maxs);
-        int s = hl->samples < maxs ? hl->samples : maxs;
-        gl->GenFramebuffers(1, &hl->fbo);
-        gl->GenRenderbuffers(1, &hl->color_rb);
-        gl->GenRenderbuffers(1, &hl->depth_rb);
-        gl->BindRenderbuffer(GL_RENDERBUFFER, hl->color_rb);
-        gl->RenderbufferStorageMultisample(GL_RENDERBUFFER, s, GL_RGBA8, hl->width, hl->height);
-        gl->BindRenderbuffer(GL_RENDERBUFFER, hl->depth_rb);
-        gl->RenderbufferStorageMultisample(GL_RENDERBUFFER, s, GL_DEPTH_COMPONENT24, hl->width, hl->height);
-        gl->BindRenderbuffer(GL_RENDERBUFFER, 0);
-        gl->BindFramebuffer(GL_FRAMEBUFFER, hl->fbo);
-        gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, hl->color_rb);
-        gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, hl->depth_rb);
-        GLenum st = gl->CheckFramebufferStatus(GL_FRAMEBUFFER);
-        gl->BindFramebuffer(GL_FRAMEBUFFER, 0);
-        if (st != GL_FRAMEBUFFER_COMPLETE) {
-            destroy_target(hl);
-            return st_fail(err, ST_ERR_INVALID, "headless: multisampled framebuffer incomplete (0x%x)", (unsigned)st);
-        }
+        int rc = st_framebuffer_create(&hl->target, gl, hl->width, hl->height, hl->samples,
+                                       "headless: multisampled", err);
+        if (rc) return rc;
     }
     while (gl->GetError() != GL_NO_ERROR) {}
     return ST_OK;
@@ -144,15 +118,15 @@ int st_headless_resize(st_headless *hl, int width, int height, st_error *err)
 void st_headless_begin(st_headless *hl)
 {
     OSMesaMakeCurrent((OSMesaContext)hl->ctx, hl->buffer, GL_UNSIGNED_BYTE, hl->width, hl->height);
-    hl->gl.BindFramebuffer(GL_FRAMEBUFFER, hl->fbo);
+    hl->gl.BindFramebuffer(GL_FRAMEBUFFER, hl->target.fbo);
     hl->gl.Viewport(0, 0, hl->width, hl->height);
 }
 
 int st_headless_read(st_headless *hl, unsigned char *rgba, st_error *err)
 {
     st_gl *gl = &hl->gl;
-    if (hl->fbo) {
-        gl->BindFramebuffer(GL_READ_FRAMEBUFFER, hl->fbo);
+    if (hl->target.fbo) {
+        gl->BindFramebuffer(GL_READ_FRAMEBUFFER, hl->target.fbo);
         gl->BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
         gl->BlitFramebuffer(0, 0, hl->width, hl->height, 0, 0, hl->width, hl->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
         gl->BindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -172,7 +146,7 @@ void st_headless_free(st_headless *hl)
     if (hl->ctx) {
         if (hl->gl.GetError) {
             OSMesaMakeCurrent((OSMesaContext)hl->ctx, hl->buffer, GL_UNSIGNED_BYTE, hl->width, hl->height);
-            destroy_target(hl);
+            st_framebuffer_destroy(&hl->target, &hl->gl);
         }
         /* Unbind first: a context destroyed while current keeps its
          * framebuffer referenced (and leaks it). */

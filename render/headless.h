@@ -1,6 +1,6 @@
 /* Headless OpenGL through Mesa's OSMesa (no display, no GPU needed).
  *
- * PLATFORM-NOTES: Debian 12's OSMesa (Mesa 22.3, llvmpipe) gives an OpenGL
+ * Debian 12's OSMesa (Mesa 22.3, llvmpipe) gives an OpenGL
  * 4.5 core context for OSMesaCreateContextAttribs with OSMESA_CORE_PROFILE
  * and a 3.3 request.  It renders into a caller-owned RGBA buffer whose first
  * row is the *bottom* of the image; st_headless_read() returns rows top-down.
@@ -20,6 +20,7 @@
 #ifndef ST_HEADLESS_H
 #define ST_HEADLESS_H
 
+#include "framebuffer.h"
 #include "gl_loader.h"
 
 #define ST_HEADLESS_MAX_SIZE 8192
@@ -29,7 +30,7 @@ typedef struct st_headless {
     unsigned char *buffer;     /* width*height*4, bottom-up RGBA, OSMesa's colour buffer */
     int width, height;
     int samples;               /* requested MSAA samples (<= 1: none) */
-    GLuint fbo, color_rb, depth_rb; /* multisampled target, 0 when samples <= 1 */
+    st_framebuffer target;     /* multisampled target, empty when samples <= 1 */
     st_gl gl;                  /* entry points of this context */
 } st_headless;
 

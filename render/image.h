@@ -2,8 +2,8 @@
  *
  * Images are RGBA, 8 bits per channel, top row first.
  *
- * Comparison metric (the convention of established render test suites,
- * STYLE.md): a pixel differs when one of its R, G, B channels differs by
+ * Comparison metric (the convention of established render test suites):
+ * a pixel differs when one of its R, G, B channels differs by
  * more than `tol` (out of 255); the images match when at most `max_fraction`
  * of the pixels differ.  Blender's render tests fail above 1 % of pixels
  * differing by more than 1.6 % (idiff -fail 0.016 -failpercent 1); three.js

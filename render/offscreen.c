@@ -8,7 +8,6 @@ st_render_spec st_render_spec_default(void)
     memset(&s, 0, sizeof s);
     s.mode = ST_MODE_SMOOTH;
     s.view = ST_VIEW_ISO;
-    s.base_level = s.max_level = -1;
     return s;
 }
 

@@ -24,9 +24,6 @@ typedef struct st_render_spec {
     float az, el, dist;       /* orbit (degrees, degrees, model units; dist <= 0: fit) */
     int has_box;              /* draw the interest box box[0..2] - box[3..5] */
     float box[6];
-    /* Room for the adaptive display (issue 4): base and maximum level of
-     * an interest-box refinement; unused (-1) until that lands. */
-    int base_level, max_level;
 } st_render_spec;
 
 st_render_spec st_render_spec_default(void);

@@ -2,6 +2,8 @@
  * for how a face's case is read from its edge levels. */
 #include "triangulate.h"
 
+#include "core/map/geometry.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -210,13 +212,9 @@ void st_tri_fallback(unsigned n, const float *pos, uint32_t *tri)
     if (n < 3) return;
     if (n == 3 || !pos || n > ST_TRI_EAR_MAX) { fan(n, tri); return; }
     /* Newell normal and a plane basis. */
-    double nx = 0, ny = 0, nz = 0;
-    for (unsigned i = 0; i < n; i++) {
-        const float *a = pos + 3 * i, *b = pos + 3 * ((i + 1) % n);
-        nx += ((double)a[1] - b[1]) * ((double)a[2] + b[2]);
-        ny += ((double)a[2] - b[2]) * ((double)a[0] + b[0]);
-        nz += ((double)a[0] - b[0]) * ((double)a[1] + b[1]);
-    }
+    double nv[3];
+    st_newell_points_f(pos, n, nv);
+    double nx = nv[0], ny = nv[1], nz = nv[2];
     double len = sqrt(nx * nx + ny * ny + nz * nz);
     if (!(len > 0) || !isfinite(len)) { fan(n, tri); return; }
     nx /= len; ny /= len; nz /= len;

@@ -1,5 +1,5 @@
 /* Triangulation of the faces of a displayed level by case tables
- * (thesis §3.3.3, Algorithm 7, figs 3.38-3.39, listing 3.3.1; digest §7).
+ * (Kraemer 2008 §3.3.3, Algorithm 7, figs 3.38-3.39, listing 3.3.1).
  *
  * With the one-level restriction, a face of level f of an adaptive mesh is a
  * *coarse* polygon (a triangle for Loop/Butterfly, a quad for Catmull-Clark,

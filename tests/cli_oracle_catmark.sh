@@ -1,47 +1,58 @@
 #!/usr/bin/env bash
-# Catmull-Clark against OpenSubdiv 3.5 (Far::TopologyRefiner + PrimvarRefiner):
-# levels 1..4 as point sets (max nearest-neighbour distance <= 1e-6 of the
-# bounding-box diagonal) with equal face counts; closed and open meshes, both
-# boundary conventions, creases and corners, n-gons, high valence.
-# Usage: cli_oracle_catmark.sh STRATA SHARED_MESHES ASSETS BINDIR
-set -euo pipefail
-S=$1 D=$2 A=$3 B=$4
-O=$B/oracles
-W=$B/cli_oracle_catmark
-if [ ! -x "$O/osd_oracle" ] || [ ! -x "$O/pointset_diff" ]; then
-    echo "skipped: oracles not built"; exit 0
-fi
-mkdir -p "$W"
-fail=0 n=0
-compare() { # mesh levels boundary label
-    local mesh=$1 levels=$2 bnd=$3 label=$4
-    "$O/osd_oracle" "$mesh" --scheme catmark --levels "$levels" --boundary "$bnd" --out-prefix "$W/$label" >/dev/null
-    for l in $(seq 1 "$levels"); do
-        "$S" subdivide "$mesh" --scheme catmull-clark --levels "$levels" --level "$l" --boundary "$bnd" -o "$W/${label}_st_$l.obj"
-        n=$((n + 1))
-        if out=$("$O/pointset_diff" "$W/${label}_$l.obj" "$W/${label}_st_$l.obj" --tol 1e-6); then
-            echo "ok   $label level $l: $out"
-        else
-            echo "FAIL $label level $l: $out"; fail=$((fail + 1))
-        fi
-    done
+# Catmull-Clark against OpenSubdiv 3.5 (osd_oracle: Far::TopologyRefiner +
+# PrimvarRefiner): levels 1..4 as point sets (tests/oracle_lib.sh) on closed
+# and open meshes, both boundary conventions, creases and corners, n-gons,
+# high valence; and OpenSubdiv's OBJ tags as its regression harness reads
+# them (regression/common/far_utils.h): crease integers are vertex pairs,
+# several pairs per tag with one sharpness or one per pair, several corners
+# per tag, interpolateboundary from the file, creasemethod normal and
+# smoothtriangles catmark; the tags Strata does not model (hole,
+# creasemethod chaikin, smoothtriangles smooth) and odd crease counts are
+# refused with file:line.
+#
+#   cli_oracle_catmark.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
+set -u
+. "$(dirname "$0")/oracle_lib.sh"
+oracle_init catmark "$@"
+need_oracle OSD osd_oracle
+
+# run_case MESH LEVELS BOUNDARY [LABEL]: strata levels 1..LEVELS vs
+# OpenSubdiv; BOUNDARY "tag": neither side is given one (the file's
+# interpolateboundary tag, else edge-only).
+run_case() {
+    local mesh=$1 levels=$2 boundary=$3 label=${4:-$(basename "$1")} b
+    have_mesh "$mesh" || return
+    b=$boundary; [ "$b" = tag ] && b=
+    strata_levels catmull-clark "$mesh" "$levels" "$b" "$TMP/s" || return
+    oracle_levels "$OSD" "$mesh" "$levels" "$TMP/osd" --scheme catmark ${b:+--boundary "$b"} || return
+    compare_levels "$label $boundary vs OpenSubdiv" "$levels" "$TMP/s" "$TMP/osd"
 }
-# A cube with a semi-sharp crease loop, a fractional crease and a corner.
-cat > "$W/creased_cube.obj" <<'OBJ'
-v 0 0 0
-v 1 0 0
-v 1 1 0
-v 0 1 0
-v 0 0 1
-v 1 0 1
-v 1 1 1
-v 0 1 1
-f 1 4 3 2
-f 5 6 7 8
-f 1 2 6 5
-f 2 3 7 6
-f 3 4 8 7
-f 4 1 5 8
+
+# refused NAME TAG WHAT: the cube with the tag line TAG is refused, with a
+# message naming the file, the tag's line (15) and WHAT.
+refused() {
+    local f=$TMP/$1.obj out
+    { cube_cage; printf '%s\n' "$2"; } >"$f"
+    cases=$((cases + 1))
+    if out=$("$EXE" subdivide "$f" --scheme catmull-clark --levels 1 -o "$TMP/refused.obj" 2>&1); then
+        fail_case "$1: accepted, should be refused ($2)"
+    elif [[ $out == *"$1.obj:15: "*"$3"* ]]; then
+        echo "ok    $1 refused: $out"
+    else
+        fail_case "$1: message lacks '$1.obj:15: ... $3': $out"
+    fi
+}
+
+# cube_cage: the unit cube, 8 vertex lines then 6 face lines (a tag that
+# follows is on line 15; tags number vertices from 0).
+cube_cage() {
+    printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n'
+    printf 'f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n'
+}
+
+# A cube with a semi-sharp crease loop, a fractional crease and a corner,
+# one edge per tag.
+{ cube_cage; cat <<'OBJ'
 t crease 2/1/0 4 5 2.5
 t crease 2/1/0 5 6 2.5
 t crease 2/1/0 6 7 2.5
@@ -49,6 +60,20 @@ t crease 2/1/0 7 4 2.5
 t crease 2/1/0 0 1 0.5
 t corner 1/1/0 2 1.7
 OBJ
+} >"$TMP/creased_cube.obj"
+# The same kinds of tags with several pairs each: the top loop in one tag
+# with one sharpness; three edges with a sharpness each; `3 7 2 3` is the
+# edges 3-7 and 2-3 (read as a chain it would hold 7-2, a face diagonal);
+# two corners with their own sharpness; OpenSubdiv's defaults named.
+{ cube_cage; cat <<'OBJ'
+t crease 8/1/0 4 5 5 6 6 7 7 4 2.5
+t crease 6/3/0 0 1 1 2 2 6 0.5 1.5 3.2
+t crease 4/1/0 3 7 2 3 1.2
+t corner 2/2/0 0 5 1.7 0.8
+t creasemethod 0/0/1 normal
+t smoothtriangles 0/0/1 catmark
+OBJ
+} >"$TMP/pairs_cube.obj"
 # A fan with one vertex of valence 16 (an open disk).
 {
     echo "v 0 0 0.3"
@@ -56,18 +81,72 @@ OBJ
         awk -v i="$i" 'BEGIN { a = 2 * 3.14159265358979 * i / 16; printf "v %.17g %.17g %.17g\n", cos(a), sin(a), 0.1 * (i % 3) }'
     done
     for i in $(seq 0 15); do echo "f 1 $((i + 2)) $(( (i + 1) % 16 + 2 ))"; done
-} > "$W/fan16.obj"
-compare "$D/catmull_clark/blub_control_mesh.obj" 4 edge-only blub
-compare "$D/catmull_clark/dodecahedron_poly.obj" 3 edge-only dodeca
-compare "$D/catmull_clark/chamfer_cube.off" 3 edge-only chamfer
-compare "$D/catmull_clark/hole_capsule.off" 3 edge-only capsule_eo
-compare "$D/catmull_clark/hole_capsule.off" 3 edge-and-corner capsule_ec
-compare "$D/catmull_clark/mixed_faring.off" 2 edge-only faring
-compare "$D/catmull_clark/hexa_sphere.off" 2 edge-only hexa
-compare "$W/creased_cube.obj" 4 edge-only creased
-compare "$W/fan16.obj" 3 edge-and-corner fan16_ec
-compare "$W/fan16.obj" 3 edge-only fan16_eo
-compare "$A/open.obj" 3 edge-and-corner open_ec
-compare "$A/ngon.obj" 3 edge-only ngon
-echo "$((n - fail)) passed, $fail failed"
-[ "$fail" -eq 0 ]
+} >"$TMP/fan16.obj"
+# The boundary convention from the file (edge-and-corner), with two spokes
+# creased in one tag.
+{ cat "$TMP/fan16.obj"; echo "t interpolateboundary 1/0/0 1"; echo "t crease 4/2/0 0 1 0 9 1.5 0.5"; } >"$TMP/fan16_ec.obj"
+
+C=$MESHES/catmull_clark
+run_case "$C/blub_control_mesh.obj" 4 edge-only
+run_case "$C/dodecahedron_poly.obj" 3 edge-only
+run_case "$C/chamfer_cube.off" 3 edge-only
+run_case "$C/hole_capsule.off" 3 edge-only
+run_case "$C/hole_capsule.off" 3 edge-and-corner
+run_case "$C/mixed_faring.off" 2 edge-only
+run_case "$C/hexa_sphere.off" 2 edge-only
+run_case "$TMP/creased_cube.obj" 4 edge-only
+run_case "$TMP/pairs_cube.obj" 4 edge-only
+run_case "$TMP/fan16.obj" 3 edge-and-corner
+run_case "$TMP/fan16.obj" 3 edge-only
+run_case "$TMP/fan16_ec.obj" 3 tag
+run_case "$ASSETS/open.obj" 3 edge-and-corner
+run_case "$ASSETS/ngon.obj" 3 edge-only
+
+# The pair convention changes the surface: one tag of pairs differs from the
+# chain it would be, so a reader of chains would fail the case above.
+{ cube_cage; echo "t crease 4/1/0 0 1 2 3 2.0"; } >"$TMP/pair_cube.obj"
+{ cube_cage; echo "t crease 6/1/0 0 1 1 2 2 3 2.0"; } >"$TMP/chain3_cube.obj"
+cases=$((cases + 1))
+strata_levels catmull-clark "$TMP/pair_cube.obj" 2 edge-only "$TMP/pair" &&
+    strata_levels catmull-clark "$TMP/chain3_cube.obj" 2 edge-only "$TMP/chain3" &&
+    if "$DIFF" "$TMP/pair_2.obj" "$TMP/chain3_2.obj" --tol "$TOL" >/dev/null 2>&1; then
+        fail_case "t crease 4/1/0 0 1 2 3 gives the surface of the chain 0-1-2-3"
+    else
+        echo "ok    t crease 4/1/0 0 1 2 3 is the edges 0-1 and 2-3, not the chain 0-1-2-3"
+    fi
+run_case "$TMP/pair_cube.obj" 3 edge-only
+
+# Refused: an odd crease count, and what Strata does not model.  Each of
+# those tags changes OpenSubdiv's level 2 (so ignoring it would be wrong).
+tag_matters() { # LABEL MESH TAG
+    { cat "$2"; echo "$3"; } >"$TMP/tagged.obj"
+    cases=$((cases + 1))
+    oracle_levels "$OSD" "$2" 2 "$TMP/plain" --scheme catmark || return
+    oracle_levels "$OSD" "$TMP/tagged.obj" 2 "$TMP/tagged" --scheme catmark || return
+    if "$DIFF" "$TMP/plain_2.obj" "$TMP/tagged_2.obj" --tol "$TOL" >/dev/null 2>&1; then
+        fail_case "$1: OpenSubdiv's level 2 is the same with '$3'"
+    else
+        echo "ok    $1: OpenSubdiv's level 2 changes with '$3'"
+    fi
+}
+tag_matters "chaikin creasing" "$TMP/pairs_cube.obj" "t creasemethod 0/0/1 chaikin"
+tag_matters "smooth triangles" "$TMP/fan16.obj" "t smoothtriangles 0/0/1 smooth"
+tag_matters "hole" "$TMP/pairs_cube.obj" "t hole 1/0/0 2"
+tag_matters "interpolateboundary none" "$ASSETS/open.obj" "t interpolateboundary 1/0/0 0"
+# interpolateboundary none: OpenSubdiv gives the faces along the boundary no
+# surface; Strata refuses the tag unless --boundary overrides it.
+{ cat "$ASSETS/open.obj"; echo "t interpolateboundary 1/0/0 0"; } >"$TMP/open_none.obj"
+cases=$((cases + 1))
+if out=$("$EXE" subdivide "$TMP/open_none.obj" --scheme catmull-clark --levels 1 -o "$TMP/none.obj" 2>&1); then
+    fail_case "interpolateboundary 0 accepted"
+elif [[ $out == *"open_none.obj: interpolateboundary 0 (none) is not supported"* ]]; then
+    echo "ok    interpolateboundary none refused: $out"
+else
+    fail_case "interpolateboundary 0 message: $out"
+fi
+run_case "$TMP/open_none.obj" 2 edge-and-corner "open_none (--boundary overrides the tag)"
+refused odd_crease "t crease 3/1/0 0 1 3 2.5" "crease tag has 3 integers: they are vertex pairs"
+refused hole "t hole 1/0/0 2" "hole tags are not supported"
+refused chaikin "t creasemethod 0/0/1 chaikin" "creasemethod chaikin is not supported"
+refused smooth_tri "t smoothtriangles 0/0/1 smooth" "smoothtriangles smooth is not supported"
+oracle_done

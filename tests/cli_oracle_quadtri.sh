@@ -9,44 +9,20 @@
 #
 #   cli_oracle_quadtri.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 #
-# Tolerance: equal vertex and face counts and face-size histograms, max
-# nearest-neighbour distance <= 1e-6 x bounding-box diagonal; the measured
-# error of every case is printed.  Skips (exit 0, with a note) only when
-# osd_oracle or pointset_diff is not built.
+# Comparisons as point sets (tests/oracle_lib.sh).  Skips (exit 0, with a
+# note) only when osd_oracle or pointset_diff is not built.
 set -u
-EXE=$1 MESHES=$2 ASSETS=$3 BIN=$4
-TOL=1e-6
 . "$(dirname "$0")/oracle_lib.sh"
-
-OSD=$(find_oracle osd_oracle) || { echo "note: osd_oracle not built, $0 skipped"; exit 0; }
-DIFF=$(find_oracle pointset_diff) || { echo "note: pointset_diff not built, $0 skipped"; exit 0; }
-
-TMP=$(mktemp -d "${TMPDIR:-/tmp}/strata_cli_quadtri.XXXXXX")
-trap 'rm -rf "$TMP"' EXIT
-failures=0
-cases=0
-
-
-ours() { # MESH LEVEL BOUNDARY OUT
-    if ! "$EXE" subdivide "$1" --scheme quad-triangle --levels "$2" --boundary "$3" -o "$4" >"$TMP/strata.log" 2>&1; then
-        echo "FAIL  strata subdivide $(basename "$1") level $2: $(cat "$TMP/strata.log")"
-        failures=$((failures + 1))
-        return 1
-    fi
-}
+oracle_init quadtri "$@"
+need_oracle OSD osd_oracle
 
 # run_case MESH LEVELS BOUNDARY OSD_SCHEME
 run_case() {
-    local mesh=$1 levels=$2 boundary=$3 ref=$4 name l
-    name=$(basename "$mesh")
-    if [ ! -f "$mesh" ]; then echo "note: $mesh missing, skipped"; return; fi
-    for l in $(seq 1 "$levels"); do ours "$mesh" "$l" "$boundary" "$TMP/s_$l.obj" || return; done
-    if ! "$OSD" "$mesh" --scheme "$ref" --levels "$levels" --boundary "$boundary" --out-prefix "$TMP/osd" >"$TMP/osd.log" 2>&1; then
-        echo "FAIL  osd_oracle on $name: $(tail -3 "$TMP/osd.log")"
-        failures=$((failures + 1))
-        return
-    fi
-    for l in $(seq 1 "$levels"); do compare "$name $boundary L$l vs OpenSubdiv $ref" "$TMP/s_$l.obj" "$TMP/osd_$l.obj"; done
+    local mesh=$1 levels=$2 boundary=$3 ref=$4
+    have_mesh "$mesh" || return
+    strata_levels quad-triangle "$mesh" "$levels" "$boundary" "$TMP/s" || return
+    oracle_levels "$OSD" "$mesh" "$levels" "$TMP/osd" --scheme "$ref" --boundary "$boundary" || return
+    compare_levels "$(basename "$mesh") $boundary vs OpenSubdiv $ref" "$levels" "$TMP/s" "$TMP/osd"
 }
 
 # face_sizes MESH: "tris quads others" of an OBJ or OFF file.
@@ -64,7 +40,7 @@ face_sizes() {
 mixed_case() {
     local mesh=$1 levels=$2 name l t q o et eq got
     name=$(basename "$mesh")
-    if [ ! -f "$mesh" ]; then echo "note: $mesh missing, skipped"; return; fi
+    have_mesh "$mesh" || return
     read -r t q o <<<"$(face_sizes "$mesh")"
     # Σ n over the n-gons (n > 4) from the file.
     case "$mesh" in
@@ -74,30 +50,17 @@ mixed_case() {
     *) o=$(awk '/^f / && NF - 1 > 4 { s += NF - 1 } END { print s + 0 }' "$mesh") ;;
     esac
     et=$((4 * t)); eq=$((4 * q + o))
+    strata_levels quad-triangle "$mesh" "$levels" edge-only "$TMP/m" || return
     for l in $(seq 1 "$levels"); do
-        ours "$mesh" "$l" edge-only "$TMP/m_$l.obj" || return
         got=$(face_sizes "$TMP/m_$l.obj")
         cases=$((cases + 1))
         if [ "$got" = "$et $eq 0" ]; then
             printf 'ok    %-62s tris quads = %s %s\n' "$name L$l mixed (face counts only)" "$et" "$eq"
         else
-            printf 'FAIL  %-62s got %s, want %s %s 0\n' "$name L$l mixed" "$got" "$et" "$eq"
-            failures=$((failures + 1))
+            fail_case "$(printf '%-62s got %s, want %s %s 0' "$name L$l mixed" "$got" "$et" "$eq")"
         fi
         et=$((4 * et)); eq=$((4 * eq))
     done
-}
-
-# tri_grid N OUT.obj: open grid of squares cut by one diagonal (two corners
-# with a single face: edge-and-corner makes them corners).
-tri_grid() {
-    awk -v n="$1" 'BEGIN {
-        for (j = 0; j <= n; j++) for (i = 0; i <= n; i++) printf "v %d %d %.2f\n", i, j, 0.1 * ((i * 7 + j * 3) % 5)
-        for (j = 0; j < n; j++) for (i = 0; i < n; i++) {
-            a = j * (n + 1) + i + 1; b = a + 1; c = a + n + 2; d = a + n + 1
-            printf "f %d %d %d\nf %d %d %d\n", a, b, c, a, c, d
-        }
-    }' >"$2"
 }
 
 C=$MESHES/catmull_clark
@@ -125,5 +88,4 @@ mixed_case "$C/blub_control_mesh.obj" 2
 mixed_case "$C/newell_teapot_cage.obj" 2
 mixed_case "$C/mixed_faring.off" 1
 
-echo "$cases comparisons, $failures failures"
-[ "$failures" -eq 0 ]
+oracle_done

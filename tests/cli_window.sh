@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The modeller window for real (issue 6): under Xvfb (Mesa llvmpipe), a
+# The modeller window for real: under Xvfb (Mesa llvmpipe), a
 # scripted replay drives the real GLFW window and its callbacks through
 # loading, a level change, a vertex drag at level 2, a brush stroke, a box
 # move and an undo; screenshots read from the framebuffer are compared with

@@ -129,6 +129,6 @@ int main(void)
     tl_check_local_equals_full(ST_SCHEME_DOOSABIN, grid, 3);
     tl_check_rigid_motion(ST_SCHEME_DOOSABIN, grid, 3);
     tl_check_details_kept(ST_SCHEME_DOOSABIN, grid, 3);
-    tl_check_analysis(ST_SCHEME_DOOSABIN, grid, 6); /* the depth the issue asks for */
+    tl_check_analysis(ST_SCHEME_DOOSABIN, grid, 6); /* the round trip at depth 6 */
     return TEST_END();
 }

@@ -337,6 +337,25 @@ static void test_tags(void)
     refused("bad_tag_interp.obj", t, ":5:", "interpolateboundary 7");
     snprintf(t, sizeof t, "%sf 1 2 3\nt crease 2/1/0 0 1 1.0 5\n", tri3);
     refused("bad_tag_extra.obj", t, ":5:", "more values than announced");
+    /* Crease integers are vertex pairs (OpenSubdiv): an odd count, a pair
+     * of one vertex, or a float count that is neither 1 nor one per pair. */
+    snprintf(t, sizeof t, "%sf 1 2 3\nt crease 3/1/0 0 1 2 1.0\n", tri3);
+    refused("bad_tag_odd.obj", t, ":5:", "crease tag has 3 integers: they are vertex pairs");
+    snprintf(t, sizeof t, "%sf 1 2 3\nt crease 4/1/0 0 1 2 2 1.0\n", tri3);
+    refused("bad_tag_self.obj", t, ":5:", "pairs vertex 2 with itself (pair 2)");
+    snprintf(t, sizeof t, "%sf 1 2 3\nt crease 4/3/0 0 1 1 2 1 2 3\n", tri3);
+    refused("bad_tag_floats.obj", t, ":5:", "1 sharpness or one per pair (4 integers, 3 floats)");
+    /* What Strata does not model is refused, not ignored. */
+    snprintf(t, sizeof t, "%sf 1 2 3\nt hole 1/0/0 0\n", tri3);
+    refused("bad_tag_hole.obj", t, ":5:", "hole tags are not supported");
+    snprintf(t, sizeof t, "%sf 1 2 3\nt creasemethod 0/0/1 chaikin\n", tri3);
+    refused("bad_tag_chaikin.obj", t, ":5:", "creasemethod chaikin is not supported");
+    snprintf(t, sizeof t, "%sf 1 2 3\nt smoothtriangles 0/0/1 smooth\n", tri3);
+    refused("bad_tag_smoothtri.obj", t, ":5:", "smoothtriangles smooth is not supported");
+    snprintf(t, sizeof t, "%sf 1 2 3\nt creasemethod 0/0/1 sharp\n", tri3);
+    refused("bad_tag_method.obj", t, ":5:", "creasemethod 'sharp' is not 'normal' or 'chaikin'");
+    snprintf(t, sizeof t, "%sf 1 2 3\nt creasemethod 1/0/0 1\n", tri3);
+    refused("bad_tag_method_form.obj", t, ":5:", "creasemethod needs exactly one string");
 }
 
 /* Three triangles on the edge 1-2 (a fan of fins).

@@ -4,6 +4,8 @@
  * import round trips through OBJ and binary PLY.  Also the project's base
  * meshes in assets/: each loads with no repair and faces outwards. */
 #include "core/io/mesh.h"
+#include "core/map/geometry.h"
+#include "core/map/map_mesh.h"
 #include "testlib.h"
 
 #include <math.h>
@@ -85,7 +87,7 @@ static const char cube_obj[] =
     "f -8 -4 -2 -6\r\n"
     "\tf 2 4 8 6   # right\r\n"
     "l 1 2\r\n"
-    "t crease 3/1/0 0 1 3 2.5\r\n"
+    "t crease 4/1/0 0 1 1 3 2.5\r\n"
     "t corner 2/2/0 6 7 1.5 4\r\n"
     "t interpolateboundary 1/0/0 1\r\n"
     "t facevaryingpropagatecorners 1/0/0 0\r\n";
@@ -119,7 +121,7 @@ static void test_obj_relative(void)
         "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
         "v 1 1 0\n"
         "f -3 -1 -2\n"              /* 2 4 3 */
-        "t crease 3/2/0 0 1 2 1 2\n";
+        "t crease 4/2/0 0 1 1 2 1 2\n";
     st_mesh m;
     if (load_text("io_relative.obj", text, &m, NULL)) return;
     static const uint32_t off[] = {0, 3, 6}, idx[] = {0, 1, 2, 1, 3, 2};
@@ -131,6 +133,36 @@ static void test_obj_relative(void)
 
 /* Two 100-gons glued along their boundary (a pillow): faces long enough to
  * take the sorting path of the repeated-vertex check. */
+/* OpenSubdiv's tag convention (regression/common/far_utils.h): a crease
+ * tag's integers are vertex pairs, one edge per pair, not a chain; one
+ * sharpness for all pairs or one per pair.  creasemethod normal and
+ * smoothtriangles catmark name what Strata does and are accepted. */
+static void test_obj_tag_pairs(void)
+{
+    static const char text[] =
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+        "f 1 2 3 4\nf 2 5 6 3\n"
+        "t crease 4/1/0 0 1 1 4 0.7\n"          /* edges 0-1 and 1-4, both 0.7 */
+        "t crease 6/3/0 3 0 2 5 4 5 1 2 3.5\n"  /* edges 3-0 (1), 2-5 (2), 4-5 (3.5) */
+        "t corner 2/1/0 2 3 4\n"
+        "t creasemethod 0/0/1 normal\n"
+        "t smoothtriangles 0/0/1 catmark\n"
+        "t interpolateboundary 1/0/0 2\n";
+    st_mesh m;
+    if (load_text("io_tag_pairs.obj", text, &m, NULL)) return;
+    static const uint32_t v[] = {0, 1, 1, 4, 3, 0, 2, 5, 4, 5};
+    static const float s[] = {0.7f, 0.7f, 1.0f, 2.0f, 3.5f};
+    CHECK(m.ncreases == 5);
+    for (uint32_t i = 0; i < 5 && m.ncreases == 5; i++) {
+        CHECKF(m.crease_v[2 * i] == v[2 * i] && m.crease_v[2 * i + 1] == v[2 * i + 1],
+               "crease %u is %u-%u, expected %u-%u", i, m.crease_v[2 * i], m.crease_v[2 * i + 1], v[2 * i], v[2 * i + 1]);
+        CHECKF(m.crease_s[i] == s[i], "crease %u sharpness %g, expected %g", i, (double)m.crease_s[i], (double)s[i]);
+    }
+    CHECK(m.ncorners == 2 && m.corner_v[0] == 2 && m.corner_v[1] == 3 && m.corner_s[1] == 4.0f);
+    CHECK(m.boundary_interp == ST_BOUNDARY_EDGE_ONLY);
+    st_mesh_free(&m);
+}
+
 static void test_obj_big_faces(void)
 {
     char *text = malloc(20000);
@@ -401,6 +433,66 @@ static void test_normals_export(void)
     st_mesh_free(&b);
 }
 
+/* Newell vectors (core/map/geometry.h) and the vertex normals every writer
+ * uses (st_mesh_vertex_normals), degenerate cases included. */
+static void test_newell_and_normals(void)
+{
+    static const double sq[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    static const float sqf[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    static const uint32_t ccw[] = {0, 1, 2, 3};
+    double n[3], nf[3];
+    st_newell_indexed(sq, ccw, 4, n);
+    CHECKF(n[0] == 0 && n[1] == 0 && n[2] == 2, "unit square: (%g %g %g), want (0 0 2)", n[0], n[1], n[2]);
+    st_newell_points_f(sqf, 4, nf);
+    CHECK(nf[0] == n[0] && nf[1] == n[1] && nf[2] == n[2]);
+
+    st_mesh m;
+    if (load_text("io_newell_cube.obj", cube_obj, &m, NULL)) return;
+    double *vn = malloc(3 * (size_t)m.nverts * sizeof *vn);
+    CHECK(vn && st_mesh_vertex_normals(&m, vn) == 0);
+    for (uint32_t v = 0; vn && v < m.nverts; v++)
+        for (int k = 0; k < 3; k++)   /* corners of a cube centred at 0: along the diagonal, outwards */
+            CHECKF(fabs(vn[3 * v + k] - m.pos[3 * v + k] / sqrt(3.0)) < 1e-15, "vertex %u normal %d: %g", v, k,
+                   vn[3 * v + k]);
+    free(vn);
+    /* Each face of the map: 2 x its area (4) along its outward axis. */
+    st_map map;
+    st_error e;
+    st_map_init(&map);
+    CHECKF(st_map_from_mesh(&map, &m, &e) == 0, "%s", e.msg);
+    st_dart_iter it;
+    unsigned faces = 0;
+    for (uint32_t d = st_dart_first(&map, 0, &it); d != ST_NIL; d = st_dart_next(&map, 0, &it)) {
+        if (st_is_boundary(&map, d)) continue;
+        st_face_newell(&map, d, 0, n);
+        const double *p = st_dart_pos(&map, d, 0);
+        int axis = fabs(n[0]) > 0 ? 0 : fabs(n[1]) > 0 ? 1 : 2;
+        CHECKF(fabs(n[axis]) == 8 && n[(axis + 1) % 3] == 0 && n[(axis + 2) % 3] == 0 && n[axis] * p[axis] > 0,
+               "face of dart %u: (%g %g %g)", d, n[0], n[1], n[2]);
+        st_vertex_newell(&map, d, 0, nf);   /* a primal map: one point, no area */
+        CHECK(nf[0] == 0 && nf[1] == 0 && nf[2] == 0);
+        faces++;
+    }
+    CHECK(faces == 24);
+    st_map_free(&map);
+    st_mesh_free(&m);
+
+    /* A vertex whose faces cancel out takes its first face's normal; one
+     * with only a degenerate face, and one in no face, take +z. */
+    static double pos[] = {0, 0, 0, 0, 1, 0, 0, 0, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4, 9, 9, 9};
+    static uint32_t off[] = {0, 3, 6, 9}, idx[] = {0, 1, 2, 0, 2, 1, 3, 4, 5};
+    st_mesh t;
+    st_mesh_init(&t);
+    t.nverts = 7; t.pos = pos; t.nfaces = 3; t.face_off = off; t.face_idx = idx;
+    double out[21];
+    CHECK(st_mesh_vertex_normals(&t, out) == 0);
+    for (int v = 0; v < 7; v++) {
+        int axis = v < 3 ? 0 : 2;   /* +x: the first face (0 1 2) of 0-2; +z for 3-6 */
+        CHECKF(out[3 * v + axis] == 1 && out[3 * v + (axis + 1) % 3] == 0 && out[3 * v + (axis + 2) % 3] == 0,
+               "vertex %d: (%g %g %g)", v, out[3 * v], out[3 * v + 1], out[3 * v + 2]);
+    }
+}
+
 static void test_writer_errors(void)
 {
     st_mesh a;
@@ -501,6 +593,7 @@ int main(void)
 {
     test_obj_forms();
     test_obj_relative();
+    test_obj_tag_pairs();
     test_obj_big_faces();
     test_off_variants();
     test_ply_types();
@@ -509,6 +602,7 @@ int main(void)
     test_round_trip_file(STRATA_SHARED_DATA "/triangle/bob_small.ply");
     test_round_trip_file(STRATA_SHARED_DATA "/catmull_clark/newell_teapot_cage.obj");
     test_normals_export();
+    test_newell_and_normals();
     test_writer_errors();
     test_lifetime();
     test_assets();

@@ -51,11 +51,7 @@ int st_pick_init(st_pick *p, const st_gl *gl, st_error *err)
 
 static void destroy_target(st_pick *p)
 {
-    const st_gl *gl = p->gl;
-    if (p->fbo) gl->DeleteFramebuffers(1, &p->fbo);
-    if (p->rb_id) gl->DeleteRenderbuffers(1, &p->rb_id);
-    if (p->rb_depth) gl->DeleteRenderbuffers(1, &p->rb_depth);
-    p->fbo = p->rb_id = p->rb_depth = 0;
+    st_framebuffer_destroy(&p->target, p->gl);
     p->w = p->h = 0;
 }
 
@@ -71,25 +67,9 @@ void st_pick_free(st_pick *p)
 
 static int make_target(st_pick *p, int w, int h, st_error *err)
 {
-    const st_gl *gl = p->gl;
     destroy_target(p);
-    gl->GenFramebuffers(1, &p->fbo);
-    gl->GenRenderbuffers(1, &p->rb_id);
-    gl->GenRenderbuffers(1, &p->rb_depth);
-    gl->BindRenderbuffer(GL_RENDERBUFFER, p->rb_id);
-    gl->RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
-    gl->BindRenderbuffer(GL_RENDERBUFFER, p->rb_depth);
-    gl->RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
-    gl->BindRenderbuffer(GL_RENDERBUFFER, 0);
-    gl->BindFramebuffer(GL_FRAMEBUFFER, p->fbo);
-    gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, p->rb_id);
-    gl->FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, p->rb_depth);
-    GLenum st = gl->CheckFramebufferStatus(GL_FRAMEBUFFER);
-    gl->BindFramebuffer(GL_FRAMEBUFFER, 0);
-    if (st != GL_FRAMEBUFFER_COMPLETE) {
-        destroy_target(p);
-        return st_fail(err, ST_ERR_INVALID, "pick: ID framebuffer incomplete (0x%x)", (unsigned)st);
-    }
+    int rc = st_framebuffer_create(&p->target, p->gl, w, h, 1, "pick: ID", err);
+    if (rc) return rc;
     p->w = w;
     p->h = h;
     return ST_OK;
@@ -100,14 +80,14 @@ int st_pick_render(st_pick *p, const st_renderer *r, const st_camctl *c, int w, 
     if (w < 1 || h < 1) return ST_OK;
     if (p->valid && p->w == w && p->h == h) return ST_OK;
     const st_gl *gl = p->gl;
-    if (p->w != w || p->h != h || !p->fbo) {
+    if (p->w != w || p->h != h || !p->target.fbo) {
         int rc = make_target(p, w, h, err);
         if (rc) return rc;
     }
     float view[16], proj[16];
     st_camera_view(&c->cam, view);
     st_camera_proj(&c->cam, (float)w / (float)h, proj);
-    gl->BindFramebuffer(GL_FRAMEBUFFER, p->fbo);
+    gl->BindFramebuffer(GL_FRAMEBUFFER, p->target.fbo);
     gl->Viewport(0, 0, w, h);
     gl->Disable(GL_BLEND);
     gl->Enable(GL_DEPTH_TEST);
@@ -163,12 +143,12 @@ static unsigned char *read_ids(st_pick *p, int *x0, int *y0, int *x1, int *y1)
     if (*y0 < 0) *y0 = 0;
     if (*x1 > p->w) *x1 = p->w;
     if (*y1 > p->h) *y1 = p->h;
-    if (*x1 <= *x0 || *y1 <= *y0 || !p->fbo) return NULL;
+    if (*x1 <= *x0 || *y1 <= *y0 || !p->target.fbo) return NULL;
     int rw = *x1 - *x0, rh = *y1 - *y0;
     unsigned char *px = scratch(p, (size_t)rw * rh * 4);
     if (!px) return NULL;
     const st_gl *gl = p->gl;
-    gl->BindFramebuffer(GL_READ_FRAMEBUFFER, p->fbo);
+    gl->BindFramebuffer(GL_READ_FRAMEBUFFER, p->target.fbo);
     gl->ReadBuffer(GL_COLOR_ATTACHMENT0);
     gl->PixelStorei(GL_PACK_ALIGNMENT, 1);
     gl->ReadPixels(*x0, p->h - *y1, rw, rh, GL_RGBA, GL_UNSIGNED_BYTE, px);
@@ -233,7 +213,7 @@ static int read_depth(st_pick *p, int x, int y, float *z)
 {
     if (x < 0 || y < 0 || x >= p->w || y >= p->h) return 0;
     const st_gl *gl = p->gl;
-    gl->BindFramebuffer(GL_READ_FRAMEBUFFER, p->fbo);
+    gl->BindFramebuffer(GL_READ_FRAMEBUFFER, p->target.fbo);
     gl->PixelStorei(GL_PACK_ALIGNMENT, 1);
     gl->ReadPixels(x, p->h - 1 - y, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, z);
     gl->BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
@@ -242,7 +222,7 @@ static int read_depth(st_pick *p, int x, int y, float *z)
 
 int st_pick_surface(st_pick *p, const st_camctl *c, int x, int y, double pos[3], double nrm[3])
 {
-    if (!p->fbo) return 0;
+    if (!p->target.fbo) return 0;
     float z = 1;
     if (!read_depth(p, x, y, &z)) return 0;
     st_camctl_unproject(c, p->w, p->h, x + 0.5, y + 0.5, z, pos);

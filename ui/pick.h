@@ -17,13 +17,15 @@
 #include <stdint.h>
 
 #include "camera_ctl.h"
+#include "framebuffer.h"
 #include "renderer.h"
 
 #define ST_PICK_RADIUS 10      /* pixels around the cursor searched for a vertex */
 
 typedef struct st_pick {
     const st_gl *gl;
-    GLuint prog, fbo, rb_id, rb_depth;
+    GLuint prog;
+    st_framebuffer target;     /* the ID buffer: RGBA8 colour, 24-bit depth */
     GLint u_view, u_proj, u_size, u_bias, u_mode;
     int w, h;                  /* size of the buffers */
     int valid;                 /* the buffer shows the current view and geometry */

@@ -5,7 +5,7 @@
  * repair/check it (mesh_repair.c).  Only when all three succeed is the result
  * moved into *out, so a failed load leaves the caller's model untouched.
  */
-#include "core/io/mesh.h"
+#include "core/io/mesh_internal.h"
 
 #include <errno.h>
 #include <stdarg.h>
@@ -124,6 +124,14 @@ int st_mesh_parse_double(const char *s, size_t len, double *out)
 int st_text_is_blank(char c)
 {
     return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+const char *st_text_quote(char *buf, size_t size, const char *tok, size_t len)
+{
+    size_t n = len < size - 1 ? len : size - 1;
+    for (size_t i = 0; i < n; i++) buf[i] = (tok[i] >= 32 && tok[i] < 127) ? tok[i] : '?';
+    buf[n] = 0;
+    return buf;
 }
 
 int st_text_token(const char **q, const char *le, const char **tok, size_t *len)

@@ -14,8 +14,8 @@
 
 #include "core/base/st_error.h"
 
-/* OBJ `t interpolateboundary` values as written in files (PLATFORM-NOTES:
- * 0 none, 1 edge-and-corner, 2 edge-only; no tag means edge-only). */
+/* OBJ `t interpolateboundary` values as written in files (OpenSubdiv's
+ * regression/common/far_utils.h: 0 none, 1 edge-and-corner, 2 edge-only; no tag means edge-only). */
 enum st_boundary_interp {
     ST_BOUNDARY_UNSET = -1,
     ST_BOUNDARY_NONE = 0,
@@ -74,8 +74,10 @@ int st_mesh_parse_obj(const char *name, const char *data, size_t size, st_mesh *
 int st_mesh_parse_off(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
 int st_mesh_parse_ply(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
 
-/* Area-weighted smooth vertex normals into m->normals (replaced); -1 when
- * out of memory (core/io/mesh_normals.c). */
+/* Area-weighted smooth unit vertex normals (core/io/mesh_normals.c): into
+ * n (3 * m->nverts doubles), or into m->normals (replaced).  -1 when out of
+ * memory.  The one normal computation of every writer, glTF's included. */
+int st_mesh_vertex_normals(const st_mesh *m, double *n);
 int st_mesh_compute_normals(st_mesh *m);
 
 /* Writers: by extension (.obj .ply); PLY written binary little-endian. */
@@ -108,57 +110,16 @@ int st_mesh_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error
  * Returns 0 or fills err (ST_ERR_INVALID / ST_ERR_TOPOLOGY). */
 int st_mesh_check(const char *name, const st_mesh *m, st_error *err);
 
-/* ---- Loader plumbing shared by core/mesh*.c; not meant for other callers. */
+/* ---- For loaders outside core (the glTF reader in app/gltf_io.cc). */
 
-/* Where each face came from, so that problems found after parsing (by the
- * repair pass) can still name a line or byte offset. */
-typedef struct st_mesh_src {
-    uint64_t *face_loc;     /* nfaces entries: line (text) or byte offset (binary) */
-    int binary;             /* 1: face_loc holds byte offsets, 0: line numbers */
-    int index_base;         /* how the file numbers vertices: 1 (OBJ) or 0 */
-} st_mesh_src;
-void st_mesh_src_free(st_mesh_src *src);
-
-/* The parse_* functions with face locations (src may be NULL). */
-int st_mesh_parse_obj_src(const char *name, const char *data, size_t size,
-                          st_mesh *out, st_mesh_src *src, st_error *err);
-int st_mesh_parse_off_src(const char *name, const char *data, size_t size,
-                          st_mesh *out, st_mesh_src *src, st_error *err);
-int st_mesh_parse_ply_src(const char *name, const char *data, size_t size,
-                          st_mesh *out, st_mesh_src *src, st_error *err);
-/* st_mesh_repair() naming lines/offsets from src (may be NULL). */
-int st_mesh_repair_src(const char *name, st_mesh *m, const st_mesh_src *src,
-                       st_notes *notes, st_error *err);
+/* Where each face of a parsed mesh came from (core/io/mesh_internal.h). */
+typedef struct st_mesh_src st_mesh_src;
 /* The end of every loader: repairs the freshly parsed mesh (src may be
  * NULL), then moves it into *out and appends the repair notes to *notes (may
  * be NULL).  On failure *out and *notes are untouched; *parsed is freed
  * either way. */
 int st_mesh_finish_load(const char *name, st_mesh *parsed, const st_mesh_src *src, st_mesh *out,
                         st_notes *notes, st_error *err);
-
-/* A vertex that occurs twice in idx[0..n), or UINT32_MAX when all differ.
- * scratch holds n entries (used for long faces, sorted there: O(n log n)). */
-uint32_t st_mesh_face_repeat(const uint32_t *idx, uint32_t n, uint32_t *scratch);
-/* Whole-token number parsers for text formats (C syntax, '.' decimal point):
- * 0 on success, -1 if [s, s+len) is not entirely one number. */
-int st_mesh_parse_double(const char *s, size_t len, double *out);
-int st_mesh_parse_int(const char *s, size_t len, int64_t *out);
-/* Text readers (OBJ, OFF): blanks are space, tab, CR, VT, FF.  Next token of
- * the line [*q, le): skips blanks; 0 at the line's end or at a '#' comment;
- * a '#' also ends a token. */
-int st_text_is_blank(char c);
-int st_text_token(const char **q, const char *le, const char **tok, size_t *len);
-/* Fails with "name:LOC: problem" (LOC a line number) or, for binary files,
- * "name: byte LOC: problem"; returns code. */
-int st_mesh_fail_at(st_error *err, int code, const char *name, int binary, uint64_t loc,
-                    const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 6, 7)))
-#endif
-    ;
-/* Makes room for need elements of elem bytes in p (capacity *cap), growing
- * geometrically; returns the (new) array, or NULL with p still valid. */
-void *st_mesh_grow(void *p, size_t *cap, size_t need, size_t elem);
 /* Appends one printf-style line to notes (ignored when notes is NULL). */
 int st_notes_add(st_notes *notes, const char *fmt, ...)
 #if defined(__GNUC__)

@@ -1,29 +1,23 @@
 /* Smooth vertex normals for the writers (mesh.h, st_mesh_compute_normals). */
 #include "core/io/mesh.h"
+#include "core/map/geometry.h"
 
 #include <math.h>
 #include <stdlib.h>
 
-/* Each face adds its area vector (Newell's method: for a planar polygon,
- * twice its area times its unit normal; for a non-planar one the normal of
- * its best projection) to each of its vertices, so larger faces weigh more;
- * the sums are normalised.  A vertex whose faces cancel out gets the normal
- * of its first face, or +z when that is degenerate too. */
-int st_mesh_compute_normals(st_mesh *m)
+/* Each face adds its Newell vector (core/map/geometry.h: twice its area
+ * times its unit normal when planar) to each of its vertices, so larger
+ * faces weigh more; the sums are normalised.  A vertex whose faces cancel
+ * out gets the normal of its first face, or +z when that is degenerate too. */
+int st_mesh_vertex_normals(const st_mesh *m, double *n)
 {
-    double *n = calloc(3 * (size_t)(m->nverts ? m->nverts : 1), sizeof *n);
     double *first = calloc(3 * (size_t)(m->nverts ? m->nverts : 1), sizeof *first);
-    if (!n || !first) { free(n); free(first); return -1; }
+    if (!first) return -1;
+    for (size_t i = 0; i < 3 * (size_t)m->nverts; i++) n[i] = 0;
     for (uint32_t f = 0; f < m->nfaces; f++) {
         uint32_t a = m->face_off[f], b = m->face_off[f + 1];
-        double s[3] = { 0, 0, 0 };
-        for (uint32_t c = a; c < b; c++) {
-            const double *p = m->pos + 3 * (size_t)m->face_idx[c];
-            const double *q = m->pos + 3 * (size_t)m->face_idx[c + 1 < b ? c + 1 : a];
-            s[0] += (p[1] - q[1]) * (p[2] + q[2]);
-            s[1] += (p[2] - q[2]) * (p[0] + q[0]);
-            s[2] += (p[0] - q[0]) * (p[1] + q[1]);
-        }
+        double s[3];
+        st_newell_indexed(m->pos, m->face_idx + a, b - a, s);
         for (uint32_t c = a; c < b; c++) {
             double *t = n + 3 * (size_t)m->face_idx[c], *u = first + 3 * (size_t)m->face_idx[c];
             for (int k = 0; k < 3; k++) t[k] += s[k];
@@ -43,6 +37,13 @@ int st_mesh_compute_normals(st_mesh *m)
         for (int k = 0; k < 3; k++) t[k] /= len;
     }
     free(first);
+    return 0;
+}
+
+int st_mesh_compute_normals(st_mesh *m)
+{
+    double *n = malloc(3 * (size_t)(m->nverts ? m->nverts : 1) * sizeof *n);
+    if (!n || st_mesh_vertex_normals(m, n)) { free(n); return -1; }
     free(m->normals);
     m->normals = n;
     return 0;

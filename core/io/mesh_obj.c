@@ -12,15 +12,22 @@
  * `v/t/n`; only v is used.  Indices count from 1; negative ones count back
  * from the last vertex defined so far (-1 is the latest).
  *
- * Tags follow OpenSubdiv's regression shapes: `t name nint/nfloat/nstring`
- * then the values.  Tag vertex indices are 0-based (unlike faces).
- *   t crease 2/1/0 v0 v1 s          a chain v0..vk: one crease edge per pair,
- *                                    one sharpness for all or one per edge
- *   t corner 1/1/0 v s              one sharpness for all or one per vertex
- *   t interpolateboundary 1/0/0 b   0 none, 1 edge-and-corner, 2 edge-only
+ * Tags follow OpenSubdiv's regression shapes (regression/common/
+ * shape_utils.cpp reads them, far_utils.h applies them): `t name
+ * nint/nfloat/nstring` then the values.  Tag vertex indices are 0-based
+ * (unlike faces).
+ *   t crease 4/1/0 a b c d s          vertex pairs, one crease edge per pair
+ *                                      (a-b, c-d); one sharpness for all or
+ *                                      one per pair; an odd count is refused
+ *   t corner 1/1/0 v s                one sharpness for all or one per vertex
+ *   t interpolateboundary 1/0/0 b     0 none, 1 edge-and-corner, 2 edge-only
+ *   t creasemethod 0/0/1 normal       OpenSubdiv's uniform creasing, Strata's
+ *   t smoothtriangles 0/0/1 catmark   Catmull-Clark's own rule on triangles
+ * `creasemethod chaikin`, `smoothtriangles smooth` and `hole` change the
+ * surface in ways Strata does not model: they are refused with a message.
  * Other tags are read (their counts must hold) and ignored.
  */
-#include "core/io/mesh.h"
+#include "core/io/mesh_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -58,15 +65,6 @@ static int next_token(obj_reader *r, const char **tok, size_t *len)
 static int token_is(const char *tok, size_t len, const char *word)
 {
     return strlen(word) == len && memcmp(tok, word, len) == 0;
-}
-
-/* Quotes a token for a message (bounded, so binary junk stays short). */
-static const char *quote(char *buf, size_t size, const char *tok, size_t len)
-{
-    size_t n = len < size - 1 ? len : size - 1;
-    for (size_t i = 0; i < n; i++) buf[i] = (tok[i] >= 32 && tok[i] < 127) ? tok[i] : '?';
-    buf[n] = 0;
-    return buf;
 }
 
 static int ensure_tmp(obj_reader *r, size_t need)
@@ -128,10 +126,10 @@ static int parse_vertex(obj_reader *r)
         if (!next_token(r, &tok, &len))
             return FAIL(r, ST_ERR_PARSE, "vertex has %d coordinates, 3 needed", k);
         if (st_mesh_parse_double(tok, len, &xyz[k]))
-            return FAIL(r, ST_ERR_PARSE, "bad vertex coordinate '%s'", quote(q, sizeof q, tok, len));
+            return FAIL(r, ST_ERR_PARSE, "bad vertex coordinate '%s'", st_text_quote(q, sizeof q, tok, len));
         if (!isfinite(xyz[k]))
             return FAIL(r, ST_ERR_GEOMETRY, "non-finite vertex coordinate '%s' (nan, inf or overflow)",
-                        quote(q, sizeof q, tok, len));
+                        st_text_quote(q, sizeof q, tok, len));
     }
     /* Further values (w, or the r g b of some exporters) are ignored. */
     r->m.nverts++;
@@ -152,7 +150,7 @@ static int parse_corner(obj_reader *r, const char *tok, size_t len, uint32_t *v)
     }
     int64_t i;
     if (slashes > 2 || st_mesh_parse_int(tok, vlen, &i))
-        return FAIL(r, ST_ERR_PARSE, "bad face corner '%s'", quote(q, sizeof q, tok, len));
+        return FAIL(r, ST_ERR_PARSE, "bad face corner '%s'", st_text_quote(q, sizeof q, tok, len));
     if (i == 0)
         return FAIL(r, ST_ERR_RANGE, "vertex index 0 in a face (OBJ indices start at 1)");
     if (i > 0 && (uint64_t)i > r->nv_total)
@@ -197,12 +195,26 @@ static int parse_face(obj_reader *r)
 
 /* ---- tags ------------------------------------------------------------------ */
 
-enum tag_kind { TAG_OTHER, TAG_CREASE, TAG_CORNER, TAG_INTERP };
+/* The tags OpenSubdiv's regression harness applies (regression/common/
+ * far_utils.h: GetSdcOptions and assignComponentTags); any other name is
+ * read (its counts must hold) and ignored. */
+enum tag_kind { TAG_OTHER, TAG_CREASE, TAG_CORNER, TAG_INTERP, TAG_HOLE, TAG_CREASEMETHOD, TAG_SMOOTHTRI };
 
 typedef struct tag_head {
     enum tag_kind kind;
     int64_t nint, nfloat, nstring;
 } tag_head;
+
+static enum tag_kind tag_kind_of(const char *name, size_t len)
+{
+    static const struct { const char *name; enum tag_kind kind; } known[] = {
+        {"crease", TAG_CREASE}, {"corner", TAG_CORNER}, {"interpolateboundary", TAG_INTERP},
+        {"hole", TAG_HOLE}, {"creasemethod", TAG_CREASEMETHOD}, {"smoothtriangles", TAG_SMOOTHTRI},
+    };
+    for (size_t i = 0; i < sizeof known / sizeof known[0]; i++)
+        if (token_is(name, len, known[i].name)) return known[i].kind;
+    return TAG_OTHER;
+}
 
 /* "nint/nfloat/nstring", each a small non-negative count. */
 static int parse_tag_counts(obj_reader *r, const char *tok, size_t len, tag_head *h)
@@ -216,7 +228,7 @@ static int parse_tag_counts(obj_reader *r, const char *tok, size_t len, tag_head
             v[k] < 0 || v[k] > ST_MESH_MAX_DEGREE) {
             char q[48];
             return FAIL(r, ST_ERR_PARSE, "bad tag counts '%s' (expected nint/nfloat/nstring)",
-                        quote(q, sizeof q, tok, len));
+                        st_text_quote(q, sizeof q, tok, len));
         }
         a = b + 1;
     }
@@ -226,22 +238,31 @@ static int parse_tag_counts(obj_reader *r, const char *tok, size_t len, tag_head
     return 0;
 }
 
-/* Checks the counts of a known tag against what its kind needs. */
+/* Checks the counts of a known tag against what its kind needs.  A crease
+ * tag's integers are vertex pairs, one edge per pair, as OpenSubdiv reads
+ * them (`t crease 4/1/0 0 1 1 3 0.7` is the edges 0-1 and 1-3), with one
+ * sharpness for all edges or one per edge. */
 static int check_tag_shape(obj_reader *r, const tag_head *h)
 {
-    int ok = 1;
-    const char *what = "";
-    if (h->kind == TAG_CREASE) {
-        ok = h->nint >= 2 && (h->nfloat == 1 || h->nfloat == h->nint - 1);
-        what = "crease needs 2+ vertices and 1 sharpness or one per edge";
-    } else if (h->kind == TAG_CORNER) {
-        ok = h->nint >= 1 && (h->nfloat == 1 || h->nfloat == h->nint);
-        what = "corner needs 1+ vertices and 1 sharpness or one per vertex";
-    } else if (h->kind == TAG_INTERP) {
-        ok = h->nint == 1 && h->nfloat == 0;
-        what = "interpolateboundary needs exactly one integer";
-    }
-    if (!ok) return FAIL(r, ST_ERR_PARSE, "bad tag: %s", what);
+    if (h->kind == TAG_CREASE && h->nint % 2)
+        return FAIL(r, ST_ERR_PARSE, "crease tag has %lld integers: they are vertex pairs, one edge per "
+                    "pair (OpenSubdiv's convention), so their count must be even", (long long)h->nint);
+    if (h->kind == TAG_CREASE && (h->nint < 2 || (h->nfloat != 1 && h->nfloat != h->nint / 2)))
+        return FAIL(r, ST_ERR_PARSE, "bad tag: crease needs 1+ vertex pairs and 1 sharpness or one per "
+                    "pair (%lld integers, %lld floats)", (long long)h->nint, (long long)h->nfloat);
+    if (h->kind == TAG_CORNER && (h->nint < 1 || (h->nfloat != 1 && h->nfloat != h->nint)))
+        return FAIL(r, ST_ERR_PARSE, "bad tag: corner needs 1+ vertices and 1 sharpness or one per vertex");
+    if (h->kind == TAG_INTERP && (h->nint != 1 || h->nfloat != 0))
+        return FAIL(r, ST_ERR_PARSE, "bad tag: interpolateboundary needs exactly one integer");
+    if ((h->kind == TAG_CREASEMETHOD || h->kind == TAG_SMOOTHTRI) && h->nstring != 1)
+        return FAIL(r, ST_ERR_PARSE, "bad tag: %s needs exactly one string",
+                    h->kind == TAG_CREASEMETHOD ? "creasemethod" : "smoothtriangles");
+    /* OpenSubdiv keeps a hole face in the subdivision rules of its vertices
+     * and draws none of its surface, at every level; Strata's levels carry
+     * no such face flag, so a hole is refused rather than filled. */
+    if (h->kind == TAG_HOLE && h->nint > 0)
+        return FAIL(r, ST_ERR_PARSE, "hole tags are not supported (OpenSubdiv keeps a hole face in the "
+                    "rules of its vertices but draws no surface for it; Strata cannot leave it out)");
     return 0;
 }
 
@@ -260,7 +281,7 @@ static int read_tag_ints(obj_reader *r, const tag_head *h)
                         (long long)h->nint, (long long)i);
         if (h->kind == TAG_OTHER) continue;
         if (st_mesh_parse_int(tok, len, &v))
-            return FAIL(r, ST_ERR_PARSE, "bad tag integer '%s'", quote(q, sizeof q, tok, len));
+            return FAIL(r, ST_ERR_PARSE, "bad tag integer '%s'", st_text_quote(q, sizeof q, tok, len));
         if (h->kind == TAG_INTERP) {
             if (v < 0 || v > 2)
                 return FAIL(r, ST_ERR_RANGE, "interpolateboundary %lld is not 0, 1 or 2", (long long)v);
@@ -268,8 +289,9 @@ static int read_tag_ints(obj_reader *r, const tag_head *h)
             return FAIL(r, ST_ERR_RANGE, "tag references vertex %lld but the file has %u vertices "
                         "(tag indices start at 0)", (long long)v, r->nv_total);
         }
-        if (h->kind == TAG_CREASE && i > 0 && r->tmp[i - 1] == (uint32_t)v)
-            return FAIL(r, ST_ERR_TOPOLOGY, "crease tag repeats vertex %lld in a row", (long long)v);
+        if (h->kind == TAG_CREASE && i % 2 && r->tmp[i - 1] == (uint32_t)v)
+            return FAIL(r, ST_ERR_TOPOLOGY, "crease tag pairs vertex %lld with itself (pair %lld)",
+                        (long long)v, (long long)(i / 2 + 1));
         r->tmp[i] = (uint32_t)v;
     }
     return 0;
@@ -284,7 +306,7 @@ static int read_sharpness(obj_reader *r, float *s)
     if (!next_token(r, &tok, &len)) return FAIL(r, ST_ERR_PARSE, "tag has fewer floats than announced");
     if (st_mesh_parse_double(tok, len, &v) || !isfinite(v) || v < 0 || v > 3.0e38)
         return FAIL(r, ST_ERR_PARSE, "bad sharpness '%s' (a finite number >= 0)",
-                    quote(q, sizeof q, tok, len));
+                    st_text_quote(q, sizeof q, tok, len));
     *s = (float)v;
     return 0;
 }
@@ -321,19 +343,40 @@ static int push_corner(obj_reader *r, uint32_t v, float s)
 }
 
 /* The floats of a tag: sharpness values applied as they are read, one for
- * all items or one per item (crease edge or corner vertex). */
+ * all items or one per item (crease pair or corner vertex).  Pair k takes
+ * float k; OpenSubdiv's harness indexes them by the pair's first integer
+ * (floatargs[2k]), which runs past the list, so its regression shapes use one
+ * float per tag, and its oracle here (tests/oracles/mesh_io.h) reads k too. */
 static int apply_tag_floats(obj_reader *r, const tag_head *h)
 {
-    int64_t items = h->kind == TAG_CREASE ? h->nint - 1 : h->nint;
+    int64_t items = h->kind == TAG_CREASE ? h->nint / 2 : h->nint;
     float s = 0;
     for (int64_t j = 0; j < items; j++) {
         int rc = 0;
         if (j == 0 || h->nfloat > 1) rc = read_sharpness(r, &s);
-        if (!rc && h->kind == TAG_CREASE) rc = push_crease(r, r->tmp[j], r->tmp[j + 1], s);
+        if (!rc && h->kind == TAG_CREASE) rc = push_crease(r, r->tmp[2 * j], r->tmp[2 * j + 1], s);
         if (!rc && h->kind == TAG_CORNER) rc = push_corner(r, r->tmp[j], s);
         if (rc) return rc;
     }
     return 0;
+}
+
+/* The string of `creasemethod` or `smoothtriangles`: OpenSubdiv's default
+ * (uniform creasing, named "normal"; Catmull-Clark's own triangle rule) is
+ * what Strata's schemes do; the alternatives are refused, not ignored. */
+static int check_tag_string(obj_reader *r, const tag_head *h, const char *tok, size_t len)
+{
+    char q[48];
+    int creasing = h->kind == TAG_CREASEMETHOD;
+    const char *ours = creasing ? "normal" : "catmark", *other = creasing ? "chaikin" : "smooth";
+    if (token_is(tok, len, ours)) return 0;
+    if (token_is(tok, len, other))
+        return FAIL(r, ST_ERR_PARSE, creasing ? "creasemethod chaikin is not supported (Strata decays sharpness "
+                                                "by the uniform rule, OpenSubdiv's 'normal')"
+                                              : "smoothtriangles smooth is not supported (Strata's Catmull-Clark "
+                                                "uses its own rule on triangles, OpenSubdiv's 'catmark')");
+    return FAIL(r, ST_ERR_PARSE, "%s '%s' is not '%s' or '%s'", creasing ? "creasemethod" : "smoothtriangles",
+                st_text_quote(q, sizeof q, tok, len), ours, other);
 }
 
 static int parse_tag(obj_reader *r)
@@ -343,9 +386,7 @@ static int parse_tag(obj_reader *r)
     tag_head h = {TAG_OTHER, 0, 0, 0};
     if (!next_token(r, &name, &nlen) || !next_token(r, &tok, &len))
         return FAIL(r, ST_ERR_PARSE, "tag needs a name and nint/nfloat/nstring counts");
-    if (token_is(name, nlen, "crease")) h.kind = TAG_CREASE;
-    else if (token_is(name, nlen, "corner")) h.kind = TAG_CORNER;
-    else if (token_is(name, nlen, "interpolateboundary")) h.kind = TAG_INTERP;
+    h.kind = tag_kind_of(name, nlen);
     int rc = parse_tag_counts(r, tok, len, &h);
     if (!rc) rc = check_tag_shape(r, &h);
     if (!rc) rc = read_tag_ints(r, &h);
@@ -358,8 +399,13 @@ static int parse_tag(obj_reader *r)
         for (int64_t j = 0; j < h.nfloat; j++)
             if (!next_token(r, &tok, &len)) return FAIL(r, ST_ERR_PARSE, "tag has fewer floats than announced");
     }
-    for (int64_t j = 0; j < h.nstring; j++)
+    for (int64_t j = 0; j < h.nstring; j++) {
         if (!next_token(r, &tok, &len)) return FAIL(r, ST_ERR_PARSE, "tag has fewer strings than announced");
+        if (j == 0 && (h.kind == TAG_CREASEMETHOD || h.kind == TAG_SMOOTHTRI)) {
+            rc = check_tag_string(r, &h, tok, len);
+            if (rc) return rc;
+        }
+    }
     if (next_token(r, &tok, &len)) return FAIL(r, ST_ERR_PARSE, "tag has more values than announced");
     return 0;
 }

@@ -13,7 +13,7 @@
  * hold exactly the announced records: fewer or more is an error.
  * 4OFF/nOFF (other dimensions) and binary OFF are refused.
  */
-#include "core/io/mesh.h"
+#include "core/io/mesh_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -60,14 +60,6 @@ static int next_record(off_reader *r)
     return 0;
 }
 
-static const char *quote(char *buf, size_t size, const char *tok, size_t len)
-{
-    size_t n = len < size - 1 ? len : size - 1;
-    for (size_t i = 0; i < n; i++) buf[i] = (tok[i] >= 32 && tok[i] < 127) ? tok[i] : '?';
-    buf[n] = 0;
-    return buf;
-}
-
 static int read_count(off_reader *r, const char *what, int64_t *v)
 {
     const char *tok;
@@ -75,7 +67,7 @@ static int read_count(off_reader *r, const char *what, int64_t *v)
     char q[48];
     if (!next_token(r, &tok, &len)) return FAIL(r, ST_ERR_PARSE, "missing %s count", what);
     if (st_mesh_parse_int(tok, len, v) || *v < 0)
-        return FAIL(r, ST_ERR_PARSE, "bad %s count '%s'", what, quote(q, sizeof q, tok, len));
+        return FAIL(r, ST_ERR_PARSE, "bad %s count '%s'", what, st_text_quote(q, sizeof q, tok, len));
     return 0;
 }
 
@@ -92,7 +84,7 @@ static int parse_keyword(off_reader *r)
         for (size_t i = 0; i + 3 < len; i++)
             if (!strchr("STCN", tok[i]))
                 return FAIL(r, ST_ERR_PARSE, "unsupported OFF variant '%s' (only 3D ASCII OFF)",
-                            quote(q, sizeof q, tok, len));
+                            st_text_quote(q, sizeof q, tok, len));
         save = r->q;
         int more = next_token(r, &tok, &len);
         if (more && len == 6 && memcmp(tok, "BINARY", 6) == 0)
@@ -104,7 +96,7 @@ static int parse_keyword(off_reader *r)
     }
     r->q = save;
     if (tok[0] == '-' || tok[0] == '+' || (tok[0] >= '0' && tok[0] <= '9')) return 0;
-    return FAIL(r, ST_ERR_PARSE, "not an OFF file (starts with '%s')", quote(q, sizeof q, tok, len));
+    return FAIL(r, ST_ERR_PARSE, "not an OFF file (starts with '%s')", st_text_quote(q, sizeof q, tok, len));
 }
 
 /* Counts line: checked against the limits and the bytes that follow (a
@@ -152,10 +144,10 @@ static int parse_vertices(off_reader *r)
             if (!next_token(r, &tok, &len))
                 return FAIL(r, ST_ERR_PARSE, "vertex %u has %d coordinates, 3 needed", v, k);
             if (st_mesh_parse_double(tok, len, &x))
-                return FAIL(r, ST_ERR_PARSE, "bad vertex coordinate '%s'", quote(q, sizeof q, tok, len));
+                return FAIL(r, ST_ERR_PARSE, "bad vertex coordinate '%s'", st_text_quote(q, sizeof q, tok, len));
             if (!isfinite(x))
                 return FAIL(r, ST_ERR_GEOMETRY, "non-finite vertex coordinate '%s' (nan, inf or overflow)",
-                            quote(q, sizeof q, tok, len));
+                            st_text_quote(q, sizeof q, tok, len));
             r->m.pos[3 * (size_t)v + (size_t)k] = x;
         }
     }
@@ -170,7 +162,7 @@ static int read_face_size(off_reader *r, uint32_t *n)
     char q[48];
     next_token(r, &tok, &len);
     if (st_mesh_parse_int(tok, len, &v))
-        return FAIL(r, ST_ERR_PARSE, "bad face size '%s'", quote(q, sizeof q, tok, len));
+        return FAIL(r, ST_ERR_PARSE, "bad face size '%s'", st_text_quote(q, sizeof q, tok, len));
     if (v < 3) return FAIL(r, ST_ERR_TOPOLOGY, "face has %lld vertices; a face needs at least 3", (long long)v);
     if (v > ST_MESH_MAX_DEGREE)
         return FAIL(r, ST_ERR_RANGE, "face has %lld vertices (limit %u)", (long long)v, ST_MESH_MAX_DEGREE);
@@ -198,7 +190,7 @@ static int parse_face(off_reader *r, uint32_t f)
         if (!next_token(r, &tok, &len))
             return FAIL(r, ST_ERR_PARSE, "face announces %u vertices but lists %u", n, k);
         if (st_mesh_parse_int(tok, len, &v))
-            return FAIL(r, ST_ERR_PARSE, "bad vertex index '%s'", quote(q, sizeof q, tok, len));
+            return FAIL(r, ST_ERR_PARSE, "bad vertex index '%s'", st_text_quote(q, sizeof q, tok, len));
         if (v < 0 || v >= (int64_t)r->m.nverts)
             return FAIL(r, ST_ERR_RANGE, "face references vertex %lld but the file has %u vertices "
                         "(OFF indices start at 0)", (long long)v, r->m.nverts);

@@ -14,7 +14,7 @@
  * file names the byte offset (binary) or line (ascii) where it ends; the
  * body must end exactly where the header says it does.
  */
-#include "core/io/mesh.h"
+#include "core/io/mesh_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -80,14 +80,6 @@ static int name_is(const char *s, size_t n, const char *word)
     return strlen(word) == n && memcmp(s, word, n) == 0;
 }
 
-static const char *quote(char *buf, size_t size, const char *tok, size_t len)
-{
-    size_t n = len < size - 1 ? len : size - 1;
-    for (size_t i = 0; i < n; i++) buf[i] = (tok[i] >= 32 && tok[i] < 127) ? tok[i] : '?';
-    buf[n] = 0;
-    return buf;
-}
-
 /* ---- header ---------------------------------------------------------------- */
 
 typedef struct hdr_line {
@@ -139,7 +131,7 @@ static int header_format(ply_reader *r, const hdr_line *h)
     if (name_is(h->tok[1], h->len[1], "ascii")) r->format = F_ASCII;
     else if (name_is(h->tok[1], h->len[1], "binary_little_endian")) r->format = F_LE;
     else if (name_is(h->tok[1], h->len[1], "binary_big_endian")) r->format = F_BE;
-    else return FAIL(r, ST_ERR_PARSE, "unknown PLY format '%s'", quote(q, sizeof q, h->tok[1], h->len[1]));
+    else return FAIL(r, ST_ERR_PARSE, "unknown PLY format '%s'", st_text_quote(q, sizeof q, h->tok[1], h->len[1]));
     return 0;
 }
 
@@ -172,12 +164,12 @@ static int header_property(ply_reader *r, const hdr_line *h)
     int ti = is_list ? 3 : 1;
     p.type = (uint8_t)parse_type(h->tok[ti], h->len[ti]);
     if (p.type == T_NONE)
-        return FAIL(r, ST_ERR_PARSE, "unknown property type '%s'", quote(q, sizeof q, h->tok[ti], h->len[ti]));
+        return FAIL(r, ST_ERR_PARSE, "unknown property type '%s'", st_text_quote(q, sizeof q, h->tok[ti], h->len[ti]));
     if (is_list) {
         p.count_type = (uint8_t)parse_type(h->tok[2], h->len[2]);
         if (p.count_type == T_NONE || p.count_type >= T_F32)
             return FAIL(r, ST_ERR_PARSE, "list count type '%s' is not an integer type",
-                        quote(q, sizeof q, h->tok[2], h->len[2]));
+                        st_text_quote(q, sizeof q, h->tok[2], h->len[2]));
     }
     p.name = h->tok[ti + 1];
     p.nlen = h->len[ti + 1];
@@ -205,7 +197,7 @@ static int header_lines(ply_reader *r)
         } else if (name_is(h.tok[0], h.len[0], "property")) {
             rc = header_property(r, &h);
         } else if (!name_is(h.tok[0], h.len[0], "comment") && !name_is(h.tok[0], h.len[0], "obj_info")) {
-            rc = FAIL(r, ST_ERR_PARSE, "unknown header line '%s'", quote(q, sizeof q, h.tok[0], h.len[0]));
+            rc = FAIL(r, ST_ERR_PARSE, "unknown header line '%s'", st_text_quote(q, sizeof q, h.tok[0], h.len[0]));
         }
         if (rc) return rc;
     }
@@ -274,7 +266,7 @@ static int check_counts(ply_reader *r)
         if (rec && e->count > (left + 1) / rec)
             return st_mesh_fail_at(r->err, ST_ERR_RANGE, r->name, bin, at, "header announces %llu '%s' "
                                    "records of at least %llu bytes but only %llu bytes follow the header",
-                                   (unsigned long long)e->count, quote(q, sizeof q, e->name, e->nlen),
+                                   (unsigned long long)e->count, st_text_quote(q, sizeof q, e->name, e->nlen),
                                    (unsigned long long)rec, (unsigned long long)left);
         need += rec * e->count;     /* no overflow: each term is at most left + 1 */
     }
@@ -293,7 +285,7 @@ static int truncated(ply_reader *r)
     char q[48];
     const ply_elem *e = r->ctx;
     return FAIL(r, ST_ERR_PARSE, "file ends inside %s record %llu of %llu (truncated, or the "
-                "header announces more records than the file holds)", quote(q, sizeof q, e->name, e->nlen),
+                "header announces more records than the file holds)", st_text_quote(q, sizeof q, e->name, e->nlen),
                 (unsigned long long)r->ctx_index + 1, (unsigned long long)e->count);
 }
 
@@ -374,11 +366,11 @@ static int read_value(ply_reader *r, int type, int64_t *i, double *d)
     if (type >= T_F32) {
         *i = 0;
         if (st_mesh_parse_double(tok, len, d))
-            return FAIL(r, ST_ERR_PARSE, "bad number '%s'", quote(q, sizeof q, tok, len));
+            return FAIL(r, ST_ERR_PARSE, "bad number '%s'", st_text_quote(q, sizeof q, tok, len));
         return 0;
     }
     if (st_mesh_parse_int(tok, len, i))
-        return FAIL(r, ST_ERR_PARSE, "bad integer '%s'", quote(q, sizeof q, tok, len));
+        return FAIL(r, ST_ERR_PARSE, "bad integer '%s'", st_text_quote(q, sizeof q, tok, len));
     *d = (double)*i;
     return 0;
 }

@@ -30,7 +30,7 @@
  * The input is modified only after every check has passed, so a refused
  * mesh is left as it was.
  */
-#include "core/io/mesh.h"
+#include "core/io/mesh_internal.h"
 
 #include <math.h>
 #include <stdarg.h>

@@ -1,5 +1,5 @@
-/* st_map: a multiresolution combinatorial 2-map (Kraemer 2008, ch. 2;
- * THESIS-DIGEST §1-2).
+/* st_map: a multiresolution combinatorial 2-map (Kraemer 2008, §1.2.2
+ * and ch. 2).
  *
  * Darts
  * -----

@@ -1,4 +1,4 @@
-/* Higher operators across levels (thesis §2.3.2, digest §2).  Each acts on
+/* Higher operators across levels (Kraemer 2008 §2.3.2).  Each acts on
  * the map of level l: it inserts darts at level l and changes level-l
  * relations, so the levels below l are untouched, and the levels above l
  * follow wherever they had not diverged (map.h, "Setting a relation"). */

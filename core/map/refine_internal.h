@@ -1,5 +1,5 @@
 /* Topological refinement: builds level top+1 from level top by primal
- * quadrisection (thesis §3.2.1, digest §4).  Positions of new vertices are
+ * quadrisection (Kraemer 2008 §3.2.1).  Positions of new vertices are
  * set to the linear (midpoint / centroid) rule; the schemes overwrite them. */
 #ifndef ST_REFINE_H
 #define ST_REFINE_H

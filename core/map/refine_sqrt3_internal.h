@@ -1,4 +1,4 @@
-/* √3 topology (Kobbelt 2000; thesis §3.4.2, fig. 3.46; digest §4) and the
+/* √3 topology (Kobbelt 2000; Kraemer 2008 §3.4.2, fig. 3.46) and the
  * cell lookups the √3 rules need (scheme_sqrt3.c).
  *
  * Level L = l+1 is built from level l by

@@ -1,5 +1,5 @@
-/* Subdivision schemes: rules kept apart from topology (STYLE.md, OpenSubdiv's
- * sdc/vtr split).
+/* Subdivision schemes: rules kept apart from topology (as OpenSubdiv
+ * keeps Sdc apart from Vtr).
  *
  * A scheme is a table of functions:
  *   - refine(): the topology of level top+1 (a uniform split of the map);

@@ -1,5 +1,5 @@
 /* Catmull-Clark (1978) on any polygon mesh, with OpenSubdiv's boundary and
- * crease rules (crease.h).  Masks (digest §4, thesis fig. 3.14):
+ * crease rules (crease.h).  Masks (Kraemer 2008 §3.2.1, fig. 3.14):
  *   face point   = average of the face's vertices;
  *   edge point   = (v0 + v1 + f0 + f1) / 4, f = adjacent face points;
  *   vertex point = ((n-2) v + Σe/n + Σf/n) / n  (= (Q + 2R + (n-3)S)/n).

@@ -1,5 +1,5 @@
-/* Doo-Sabin (1978) through the dual encoding (thesis §3.2.1, figs 3.19-3.20;
- * digest §4).
+/* Doo-Sabin (1978) through the dual encoding (Kraemer 2008 §3.2.1,
+ * figs 3.19-3.20).
  *
  * The map stores the *dual* of the surface: reading a half-edge map K as a
  * primal map with β1* = φ1_K gives a map M* whose vertices are K's faces and

@@ -1,6 +1,6 @@
 /* Loop (1987) on triangle meshes, with OpenSubdiv 3.5's boundary, corner
  * and semi-sharp crease rules (crease.h; Sdc::Scheme<SCHEME_LOOP>,
- * sdc/loopScheme.h).  Masks (digest §4, thesis fig. 3.14, listing 3.2.1):
+ * sdc/loopScheme.h).  Masks (Kraemer 2008 §3.2.1, fig. 3.14, listing 3.2.1):
  *   edge point   = 3/8 (a + b) + 1/8 (c + d), c and d opposite the edge;
  *   vertex point = (1 - nβ) v + β Σ neighbours, Loop's original
  *                  β = (1/n) (5/8 - (3/8 + cos(2π/n) / 4)²),

@@ -2,7 +2,7 @@
  * and quads, in the paper's two-step form (docs/SUBDIVISION-RULES.md §7):
  * a linear subdivision step followed by one smoothing (averaging) step.
  *
- * Topology (ST_SPLIT_MIXED, digest §4): every edge is split at its
+ * Topology (ST_SPLIT_MIXED, Kraemer 2008 §3.4.1): every edge is split at its
  * midpoint; a triangle becomes 4 triangles; any other face becomes quads
  * around its centroid.  After the first level every face is a triangle or
  * a quad.

@@ -1,5 +1,5 @@
-/* √3 subdivision (Kobbelt 2000; thesis §3.4.2; digest §4-5) on triangle
- * meshes.  Topology: refine_sqrt3.c (centre split, then every old interior
+/* √3 subdivision (Kobbelt 2000; Kraemer 2008 §3.4.2, adaptive §3.2.2-3.2.6)
+ * on triangle meshes.  Topology: refine_sqrt3.c (centre split, then every old interior
  * edge flipped; level L has 3x the faces of level L-1).
  *
  * Rules, as stencils over level L-1 (emit):

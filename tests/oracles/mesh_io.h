@@ -3,7 +3,9 @@
 // Reads:
 //   OBJ  : v, f (forms i, i/t, i//n, i/t/n; negative = relative indices),
 //          OpenSubdiv tags  `t NAME ni/nf/ns ints... floats... strings...`
-//          (crease: vertex pairs; corner: vertices; interpolateboundary: 1 int).
+//          as its regression harness applies them (regression/common/far_utils.h):
+//          crease: vertex pairs; corner: vertices; interpolateboundary: 1 int;
+//          hole: face indices; creasemethod, smoothtriangles: 1 string.
 //          Other records (vt, vn, o, g, s, usemtl, mtllib, l, #) are ignored.
 //   OFF  : ASCII, n-gon faces.
 //   PLY  : ascii / binary_little_endian / binary_big_endian; vertex x,y,z of any
@@ -36,6 +38,9 @@ struct Mesh {
     std::vector<Crease> creases;  // from `t crease`
     std::vector<Corner> corners;  // from `t corner`
     int interpolateboundary = -1; // OBJ tag value (0 none, 1 edge-and-corner, 2 edge-only), -1 = absent
+    std::vector<int>    holes;    // from `t hole` (0-based face indices)
+    std::string creasemethod;     // from `t creasemethod` ("normal" | "chaikin"), empty = absent
+    std::string smoothtriangles;  // from `t smoothtriangles` ("catmark" | "smooth"), empty = absent
 
     int nverts() const { return (int)(P.size() / 3); }
     int nfaces() const { return (int)fsize.size(); }
@@ -111,8 +116,10 @@ inline void read_obj(const std::string& path, Mesh& m) {
                 throw std::runtime_error(path + ":" + std::to_string(lineno) + ": bad tag counts");
             std::vector<long> ia(ni);
             std::vector<float> fa(nf);
+            std::vector<std::string> sa(ns);
             for (auto& x : ia) ls >> x;
             for (auto& x : fa) ls >> x;
+            for (auto& x : sa) ls >> x;
             if (!ls) throw std::runtime_error(path + ":" + std::to_string(lineno) + ": truncated tag");
             if (name == "crease") {
                 // OpenSubdiv shape_utils: ints are vertex PAIRS (j += 2); one float applies to all
@@ -128,6 +135,11 @@ inline void read_obj(const std::string& path, Mesh& m) {
                 }
             } else if (name == "interpolateboundary") {
                 if (ni >= 1) m.interpolateboundary = (int)ia[0];
+            } else if (name == "hole") {
+                for (long f : ia) m.holes.push_back((int)f);
+            } else if (name == "creasemethod" || name == "smoothtriangles") {
+                if (ns < 1) throw std::runtime_error(path + ":" + std::to_string(lineno) + ": " + name + " needs a string");
+                (name == "creasemethod" ? m.creasemethod : m.smoothtriangles) = sa[0];
             } else {
                 std::fprintf(stderr, "warning: %s:%d: ignoring tag '%s'\n", path.c_str(), lineno, name.c_str());
             }

@@ -12,9 +12,13 @@
 //   * boundary: --boundary, else the OBJ `t interpolateboundary` tag
 //     (OBJ tag values: 0 = none, 1 = edge-and-corner, 2 = edge-only; the reverse of
 //     Sdc::Options' enum order), else edge-only.
-//   * creasing: --creasing, default UNIFORM.  Sdc::Options() defaults to CREASE_UNIFORM
-//     (not Chaikin); we keep OpenSubdiv's default unless asked.
-//   * triangle subdivision (Catmark only): --tri-sub, default TRI_SUB_CATMARK (Sdc default).
+//   * creasing: --creasing, else the OBJ `t creasemethod` tag (normal = uniform,
+//     chaikin), else UNIFORM.  Sdc::Options() defaults to CREASE_UNIFORM (not Chaikin).
+//   * triangle subdivision (Catmark only): --tri-sub, else the OBJ `t smoothtriangles`
+//     tag, else TRI_SUB_CATMARK (Sdc default).
+//   * holes: the OBJ `t hole` faces are holes (TopologyDescriptor::holeIndices): they
+//     stay in the rules of their vertices, and the faces they leave at each level are
+//     not written.
 //   * face-varying: untouched (no face-varying data is refined).
 // Positions are refined in double precision (Far::PrimvarRefinerReal<double>); the
 // mask weights are computed by Sdc in double as well.
@@ -120,6 +124,8 @@ Far::TopologyRefiner* build_refiner(const oracle::Mesh& m, const Setup& s,
     d.numCorners = (int)cornerW.size();
     d.cornerVertexIndices = cornerIdx.empty() ? nullptr : cornerIdx.data();
     d.cornerWeights = cornerW.empty() ? nullptr : cornerW.data();
+    d.numHoles = (int)m.holes.size();
+    d.holeIndices = m.holes.empty() ? nullptr : m.holes.data();
     return Factory::Create(d, Factory::Options(s.scheme, s.opts));
 }
 
@@ -182,11 +188,11 @@ int main(int argc, char** argv) {
             else return usage();
         }
         s.opts.SetVtxBoundaryInterpolation(b);
-        std::string cr = a.get("creasing", "uniform");
+        std::string cr = a.get("creasing", m.creasemethod == "chaikin" ? "chaikin" : "uniform");
         if (cr == "uniform") s.opts.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
         else if (cr == "chaikin") s.opts.SetCreasingMethod(Sdc::Options::CREASE_CHAIKIN);
         else return usage();
-        std::string ts = a.get("tri-sub", "catmark");
+        std::string ts = a.get("tri-sub", m.smoothtriangles.empty() ? "catmark" : m.smoothtriangles);
         if (ts == "catmark") s.opts.SetTriangleSubdivision(Sdc::Options::TRI_SUB_CATMARK);
         else if (ts == "smooth") s.opts.SetTriangleSubdivision(Sdc::Options::TRI_SUB_SMOOTH);
         else return usage();
@@ -252,6 +258,7 @@ int main(int argc, char** argv) {
             std::vector<int> fs, fi;
             fs.reserve(lev.GetNumFaces());
             for (int f = 0; f < lev.GetNumFaces(); ++f) {
+                if (lev.IsFaceHole(f)) continue;
                 Far::ConstIndexArray fv = lev.GetFaceVertices(f);
                 fs.push_back(fv.size());
                 for (int k = 0; k < fv.size(); ++k) fi.push_back(fv[k]);
