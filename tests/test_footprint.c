@@ -1,7 +1,8 @@
 /* One footprint for every change (core/multires/footprint.h, edit.h).
  *
- * Core: for every scheme, the footprint st_hier_edit reports is the set its
- * query st_hier_edit_footprint gives before the edit, every value the edit
+ * Core: for every scheme, with and without details, the footprint
+ * st_hier_edit reports is the set its query st_hier_edit_footprint gives
+ * before the edit, every value the edit
  * changed is in it, and st_hier_restore of the saved values gives the
  * hierarchy back bit for bit, reporting the same set.
  *
@@ -88,12 +89,14 @@ static void values_free(values *v) { free(v->key); free(v->v); memset(v, 0, size
 
 static void mesh_torus(st_mesh *m) { tl_mesh_torus(m, 8, 6); }
 
-static void check_core(st_scheme_id id, void (*make)(st_mesh *), unsigned levels)
+/* details: random details on every level; without, the schemes' own local
+ * predictions (st_scheme.predict_around) write the levels above. */
+static void check_core(st_scheme_id id, void (*make)(st_mesh *), unsigned levels, int details)
 {
     st_hier h;
     uint64_t rng = 0xf00d + id;
     tl_init_hier(&h, make, id, levels);
-    tl_random_details(&h, &rng, 0.02);
+    if (details) tl_random_details(&h, &rng, 0.02);
     for (unsigned l = 0; l < h.map.top; l++) {
         uint32_t darts[2];
         double pos[2][3];
@@ -225,7 +228,7 @@ static void sync_and_check(st_doc *d, st_renderer *r, const st_gl *gl, const cha
            r->cage.nverts);
 }
 
-static void check_document(st_headless *hl, const char *path, const char *scheme, int box)
+static void check_document(st_headless *hl, const char *path, const char *scheme, int box, int details)
 {
     st_gl *gl = &hl->gl;
     st_error err;
@@ -233,8 +236,10 @@ static void check_document(st_headless *hl, const char *path, const char *scheme
     st_doc_init(&d);
     CHECKF(st_doc_open(&d, path, scheme, 3, &err) == 0, "%s", err.msg);
     uint64_t rng = 5;
-    tl_random_details(&d.h, &rng, 0.02);
-    st_hier_synthesize(&d.h, 0);
+    if (details) {
+        tl_random_details(&d.h, &rng, 0.02);
+        st_hier_synthesize(&d.h, 0);
+    }
     st_doc_set_edit_level(&d, 1);
     st_doc_set_display_level(&d, 3);
     if (box) {
@@ -259,7 +264,7 @@ static void check_document(st_headless *hl, const char *path, const char *scheme
     CHECK(st_doc_drag_begin(&d) == 0);
     double d1[3] = { 0.05, 0.02, -0.03 }, d2[3] = { 0.1, -0.04, 0.02 };
     CHECK(st_doc_drag_update(&d, d1) == 0);
-    snprintf(what, sizeof what, "%s%s: drag", scheme, box ? " (box)" : "");
+    snprintf(what, sizeof what, "%s%s%s: drag", scheme, box ? " (box)" : "", details ? "" : " (no details)");
     sync_and_check(&d, &r, gl, what);
     CHECK(st_doc_drag_update(&d, d2) == 0);
     sync_and_check(&d, &r, gl, what);
@@ -297,7 +302,8 @@ int main(void)
                                         ST_SCHEME_SQRT3, ST_SCHEME_DOOSABIN };
     for (size_t i = 0; i < sizeof ids / sizeof ids[0]; i++) {
         int tri = ids[i] == ST_SCHEME_LOOP || ids[i] == ST_SCHEME_BUTTERFLY || ids[i] == ST_SCHEME_SQRT3;
-        check_core(ids[i], tri ? tl_mesh_icosa : mesh_torus, 3);
+        check_core(ids[i], tri ? tl_mesh_icosa : mesh_torus, 3, 1);
+        check_core(ids[i], tri ? tl_mesh_icosa : mesh_torus, 3, 0);
     }
     st_headless hl;
     st_error err;
@@ -305,11 +311,12 @@ int main(void)
     CHECKF(rc == ST_OK, "%s", err.msg);
     if (!rc) {
         const char *torus = STRATA_ASSETS "/torus.obj", *octa = STRATA_ASSETS "/octahedron.obj";
-        check_document(&hl, torus, "catmull-clark", 0);
-        check_document(&hl, torus, "doo-sabin", 0);
-        check_document(&hl, octa, "loop", 0);
-        check_document(&hl, torus, "catmull-clark", 1);
-        check_document(&hl, octa, "loop", 1);
+        check_document(&hl, torus, "catmull-clark", 0, 0);
+        check_document(&hl, torus, "catmull-clark", 0, 1);
+        check_document(&hl, torus, "doo-sabin", 0, 1);
+        check_document(&hl, octa, "loop", 0, 1);
+        check_document(&hl, torus, "catmull-clark", 1, 1);
+        check_document(&hl, octa, "loop", 1, 1);
         st_headless_free(&hl);
     }
     return TEST_END();

@@ -706,6 +706,9 @@ static void count_display(st_doc *d)
 static void topology_changed(st_doc *d)
 {
     d->vdart_level = -1;
+    /* Footprints name vertices of the old topology; the window rebuilds. */
+    d->fp_model.n = 0;
+    d->fp_disp.n = 0;
     d->change.bits |= ST_CHANGE_TOPOLOGY | ST_CHANGE_ALL_POSITIONS;
     if (d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
     d->nsel = 0;

@@ -1,5 +1,5 @@
 /* st_doc: the modeller's document and every editing operation on it, with no
- * GL and no window (issue 6).  The window (ui/window.c) turns events into
+ * GL and no window.  The window (ui/window.c) turns events into
  * calls here and then asks what changed (st_doc_change) to update the
  * renderer; tests and the interaction benchmark drive the same calls
  * headless.
@@ -10,7 +10,7 @@
  * "sculpt level") and the displayed level ("viewport level"), the selection
  * (vertex ids of the editing level), the brush, and the undo history.
  *
- * Conventions (Blender multires / ZBrush, chosen where the issue is silent):
+ * Conventions (Blender multires / ZBrush, chosen where the requirements are silent):
  *   - editing at level i moves P_i; every finer level follows with its
  *     details (st_hier_move); coarser levels never move;
  *   - the displayed level is >= the editing level and <= top; adding a level
