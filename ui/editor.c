@@ -59,7 +59,7 @@ static void finish_active(st_doc *d);
 static void disp_free(st_doc *d);
 static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err);
 static void disp_sync(st_doc *d, unsigned from, int box_move);
-static void disp_sync_local(st_doc *d, const st_footprint *fp);
+static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys);
 static void topology_changed(st_doc *d);
 static void display_changed(st_doc *d);
 static void undo_clear(st_doc *d);
@@ -95,7 +95,6 @@ void st_doc_free(st_doc *d)
     free(d->change.disp_vids);
     st_footprint_free(&d->fp_model);
     st_footprint_free(&d->fp_disp);
-    st_footprint_free(&d->fp_edit);
     st_footprint_free(&d->fp_query);
     st_footprint_free(&d->fp_taken[0]);
     st_footprint_free(&d->fp_taken[1]);
@@ -651,13 +650,11 @@ static void change_add_darts(st_doc *d, unsigned l, const uint32_t *darts, uint3
     c->nmoved += n;
 }
 
-void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0,
-                         const st_footprint *fp)
+void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0, uint32_t from)
 {
-    if (fp) st_footprint_append(&d->fp_model, fp);
     if (d->box_on && d->disp_ok) {
-        if (fp) {
-            disp_sync_local(d, fp);
+        if (from <= d->fp_model.n) {
+            disp_sync_local(d, d->fp_model.keys + from, d->fp_model.n - from);
             d->change.bits |= ST_CHANGE_DISPLAY;
         } else {
             disp_sync(d, l, 0);
@@ -806,10 +803,10 @@ int st_doc_drag_update(st_doc *d, const double delta[3])
         for (int c = 0; c < 3; c++) pos[k][c] = s->oldv[i][c] + delta[c];
         k++;
     }
-    d->fp_edit.n = 0;
-    st_hier_edit(&d->h, l, s->moved, (const double(*)[3])pos, k, &d->fp_edit);
+    uint32_t from = d->fp_model.n;
+    st_hier_edit(&d->h, l, s->moved, (const double(*)[3])pos, k, &d->fp_model);
     free(pos);
-    ed_geometry_changed(d, l, s->moved, k, t0, &d->fp_edit);
+    ed_geometry_changed(d, l, s->moved, k, t0, from);
     return 0;
 }
 
@@ -845,9 +842,9 @@ void st_doc_drag_cancel(st_doc *d)
     st_undo_step *s = ed_take_pending(d, 1);
     if (!s) return;
     double t0 = ed_now_ms();
-    d->fp_edit.n = 0;
-    ed_step_apply(s, &d->h, 0, &d->fp_edit);
-    ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, &d->fp_edit);
+    uint32_t from = d->fp_model.n;
+    ed_step_apply(s, &d->h, 0, &d->fp_model);
+    ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, from);
     ed_step_free(s);
 }
 
@@ -939,9 +936,9 @@ static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
     switch (s->kind) {
     case ED_STEP_EDIT: {
         double t0 = ed_now_ms();
-        d->fp_edit.n = 0;
-        ed_step_apply(s, &d->h, redo, &d->fp_edit);
-        ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, &d->fp_edit);
+        uint32_t from = d->fp_model.n;
+        ed_step_apply(s, &d->h, redo, &d->fp_model);
+        ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, from);
         return ST_OK;
     }
     case ED_STEP_HIER:
@@ -1309,13 +1306,11 @@ static void disp_sync(st_doc *d, unsigned from, int box_move)
     st_dart_list_free(&seeds);
 }
 
-/* After an edit of the model that wrote the values of footprint fp (core's
- * report): the display's copies of those positions, then its levels beyond
- * the model around them only. */
-static void disp_sync_local(st_doc *d, const st_footprint *fp)
+/* After an edit of the model that wrote the values of `keys` (core's
+ * footprint of it): the display's copies of those positions, then its
+ * levels beyond the model around them only. */
+static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys)
 {
-    const uint64_t *keys = fp->keys;
-    uint32_t nkeys = fp->n;
     st_map *dm = &d->disp.map;
     const st_map *mm = &d->h.map;
     unsigned N = mm->top, b = d->dbase, T = dm->top < N ? dm->top : N;

@@ -152,9 +152,8 @@ typedef struct st_doc {
     uint32_t ndv;
     double last_update_at_ms;  /* monotonic time stamp of the last geometry update */
     uint32_t capmoved, capdisp;
-    st_footprint fp_model;     /* values of h written since the last st_doc_take_change */
+    st_footprint fp_model;     /* values of h written since the last st_doc_take_change (core appends) */
     st_footprint fp_disp;      /* values of the display written since then */
-    st_footprint fp_edit;      /* scratch: what the current core call reports */
     st_footprint fp_query;     /* scratch: an edit's footprint asked before it (undo) */
     st_footprint fp_taken[2];  /* model and display footprints handed out by st_doc_take_change */
     int rebased;               /* remove_bottom happened since open: set_scheme then cannot take the file's tags */

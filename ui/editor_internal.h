@@ -75,12 +75,13 @@ void ed_step_apply(const st_undo_step *s, st_hier *h, int which, st_footprint *f
 void ed_step_finish(st_undo_step *s);   /* drops the index, computes bytes */
 /* ---- editor.c ---- */
 double ed_now_ms(void);
-/* After any change of h's geometry at level l with the given moved darts:
- * change bits, display sync, timing.  fp: what core reported writing
- * (st_hier_edit, st_hier_restore), which the box display copies and the
- * renderer refreshes; NULL: everything may have changed. */
-void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0,
-                         const st_footprint *fp);
+/* After a local change of h's geometry at level l with the given moved
+ * darts: change bits, display sync, timing.  Core appended what it wrote
+ * (st_hier_edit, st_hier_restore) to d->fp_model from index `from` on: the
+ * box's display copies exactly that, and the renderer refreshes it
+ * (st_doc_take_change); from > d->fp_model.n: no footprint, the display is
+ * synced in full. */
+void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0, uint32_t from);
 uint32_t ed_vertex_dart(st_doc *d, uint32_t vid);
 void ed_push_step(st_doc *d, st_undo_step *s);
 /* The pending step of the drag (active 1) or stroke (2) in progress, taken
