@@ -1,19 +1,19 @@
 /* bench_render [MESH] [--levels N] [--edit-level L] [--scheme S] [--reps R]
  *
- * Buffer update after a one-vertex edit vs a full rebuild of the buffers:
- * a hierarchy of depth N (default 6) is displayed at its finest
+ * Buffer update after a one-vertex edit vs a full rebuild of the buffers
+ * (README "Benchmarks"): a hierarchy of depth N (default 6) is displayed at its finest
  * level on a headless (OSMesa) context; one vertex of level L (default 2) is
- * moved with st_hier_move, then
+ * moved with st_hier_edit, which reports what it wrote (its footprint), then
  *
- *   incremental: st_renderer_edit - the vertices of the finest level the
- *                edit can move (edit region), their positions and the
+ *   incremental: st_renderer_refresh with that footprint - the vertices of
+ *                the finest level the edit wrote, their positions and the
  *                normals around them, re-uploaded range by range with
  *                glBufferSubData;
  *   full:        st_renderer_set_level - walk and triangulate the level,
  *                all positions and normals, all buffers uploaded again.
  *
  * Both end with glFinish.  Target: incremental <= 0.05 x full.  The time of
- * st_hier_move itself (geometry, not buffers) is printed apart.  Medians of
+ * st_hier_edit itself (geometry, not buffers) is printed apart.  Medians of
  * R repetitions (default 15).
  *
  * Then the same for an adaptive change, in bench_adapt's case: the shared
@@ -34,6 +34,7 @@
 #include <string.h>
 
 #include "core/adapt/adapt.h"
+#include "core/multires/edit.h"
 #include "bench_common.h"
 #include "headless.h"
 #include "core/map/map_mesh.h"
@@ -186,13 +187,15 @@ int main(int argc, char **argv)
     double base[3] = { p0[0], p0[1], p0[2] };
     uint64_t moved = 0;
     st_upload_stats last = { 0 };
+    st_footprint fp = { 0 };
     for (int k = 0; k < reps; k++) {
         double pos[1][3] = { { base[0] + 0.01 * (k + 1), base[1] - 0.005 * (k + 1), base[2] + 0.008 * (k + 1) } };
         t0 = bench_now();
-        moved = st_hier_move(&h, edit_level, &dart, (const double (*)[3])pos, 1);
+        fp.n = 0;
+        moved = st_hier_edit(&h, edit_level, &dart, (const double (*)[3])pos, 1, &fp);
         mv[k] = bench_now() - t0;
         t0 = bench_now();
-        if (st_renderer_edit(&r, &h, edit_level, &dart, 1)) { fprintf(stderr, "bench_render: out of memory\n"); return 1; }
+        if (st_renderer_refresh(&r, ST_TARGET_MESHES, &h.map, &fp)) { fprintf(stderr, "bench_render: out of memory\n"); return 1; }
         hl.gl.Finish();
         inc[k] = bench_now() - t0;
         last = r.last;
@@ -201,7 +204,7 @@ int main(int argc, char **argv)
     printf("mesh %s, %s, depth %u (hierarchy built in %.3f s)\n", path, sc->name, levels, t_build);
     printf("level %u shown: %u vertices, %u faces, %u triangles, %u polygon edges\n",
            D, r.surf.nverts, r.surf.nfaces, r.surf.ntris, r.surf.nlines);
-    printf("edit: one vertex of level %u moved; st_hier_move recomputed %llu positions in %.3f ms (median of %d)\n",
+    printf("edit: one vertex of level %u moved; st_hier_edit recomputed %llu positions in %.3f ms (median of %d)\n",
            edit_level, (unsigned long long)moved, 1e3 * tm, reps);
     printf("full rebuild of the buffers:  %8.3f ms  (%.1f MB uploaded)\n", 1e3 * tf, full_bytes / 1048576.0);
     printf("incremental buffer update:    %8.3f ms  (%u vertices = %.2f%% of the level, %u glBufferSubData ranges, %.1f KB)\n",
@@ -212,6 +215,7 @@ int main(int argc, char **argv)
     st_renderer_free(&r);
     st_headless_free(&hl);
     st_hier_free(&h);
+    st_footprint_free(&fp);
     free(full);
     free(inc);
     free(mv);

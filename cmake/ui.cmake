@@ -1,4 +1,4 @@
-# The modeller, included from the top-level CMakeLists.txt.
+# The modeller (ui/README.md), included from the top-level CMakeLists.txt.
 # Dependencies point one way: ui -> render -> core; core and render know
 # nothing of ui.
 file(GLOB STRATA_EDITOR_SOURCES CONFIGURE_DEPENDS
@@ -7,9 +7,8 @@ if(STRATA_EDITOR_SOURCES)
   add_library(strata_editor STATIC ${STRATA_EDITOR_SOURCES})
   target_include_directories(strata_editor PUBLIC ${CMAKE_SOURCE_DIR}/ui)
   target_link_libraries(strata_editor PUBLIC strata_core)
-  # Until core reports the footprint of an edit itself, the document's
-  # adaptive display and undo still reach into core's internals.
-  target_compile_definitions(strata_editor PRIVATE STRATA_CORE_INTERNAL=1)
+  # Core's public headers only: edits report their footprints
+  # (core/multires/edit.h), so the document needs none of core's internals.
 endif()
 
 file(GLOB STRATA_UI_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/ui/*.c)

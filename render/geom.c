@@ -22,7 +22,7 @@ void st_rgeom_free(st_rgeom *g)
     free(g->vdata); free(g->vid); free(g->vdart); free(g->slot);
     free(g->face_dart); free(g->face_off); free(g->corner); free(g->fnormal); free(g->face_case); free(g->face_line);
     free(g->dart_face); free(g->tris); free(g->tri_face); free(g->lines);
-    free(g->dstamp_v); free(g->dstamp_f); free(g->vstamp); free(g->fstamp);
+    free(g->dstamp_v); free(g->dstamp_f); free(g->vstamp); free(g->fstamp); free(g->reread);
     st_tri_index tix = g->tix;
     memset(g, 0, sizeof *g);
     g->tix = tix;
@@ -304,98 +304,24 @@ int st_rg_push(u32_list *l, uint32_t v)
     return 0;
 }
 
-/* Real faces of level l within `rings` vertex rings of the seeds' vertices,
- * one dart per face, walked as the local re-synthesis walks them (primal
- * walks on the map, in either encoding: the schemes' regions are map
- * faces).  Marks live in the per-dart stamps of generation gen. */
-static int region_faces(st_rgeom *g, const st_map *m, unsigned l, const uint32_t *seeds, size_t nseeds,
-                        unsigned rings, u32_list *faces)
+int st_rgeom_footprint_vids(st_rgeom *g, const st_map *m, const st_footprint *fp,
+                            uint32_t **vids, uint32_t *n, uint32_t *cap)
 {
-    uint32_t gen = st_rg_next_gen(g);
-    u32_list verts = { 0 };
-    int rc = 0;
-    for (size_t i = 0; i < nseeds && !rc; i++) {
-        uint32_t s = seeds[i];
-        if (g->dstamp_v[s] == gen) continue;
-        uint32_t x = s;
-        do { g->dstamp_v[x] = gen; x = st_beta1(m, x, l); } while (x != s);
-        rc = st_rg_push(&verts, s);
-    }
-    size_t begin = 0;
-    for (unsigned r = 0; r < rings && !rc; r++) {
-        size_t end = verts.n;
-        for (size_t i = begin; i < end && !rc; i++) {
-            uint32_t v0 = verts.d[i], x = v0;
-            do {
-                if (!st_is_boundary(m, x) && g->dstamp_f[x] != gen) {
-                    uint32_t y = x;
-                    do { g->dstamp_f[y] = gen; y = st_phi1(m, y, l); } while (y != x);
-                    rc |= st_rg_push(faces, x);
-                    y = x;
-                    do {
-                        if (g->dstamp_v[y] != gen) {
-                            uint32_t z = y;
-                            do { g->dstamp_v[z] = gen; z = st_beta1(m, z, l); } while (z != y);
-                            rc |= st_rg_push(&verts, y);
-                        }
-                        y = st_phi1(m, y, l);
-                    } while (y != x);
-                }
-                x = st_beta1(m, x, l);
-            } while (x != v0);
-        }
-        begin = end;
-    }
-    free(verts.d);
-    return rc;
-}
-
-int st_rgeom_edit_region(st_rgeom *g, const st_map *m, unsigned support_rings, unsigned l,
-                         const uint32_t *darts, uint32_t ndarts,
-                         uint32_t **vids, uint32_t *n, uint32_t *cap)
-{
-    unsigned D = g->level;
-    if (D < l || !ndarts) return 0;
+    if (!fp || !fp->n) return 0;
     if (st_rg_ensure_stamps(g, m)) return -1;
     u32_list out = { *vids, *n, *cap };
+    uint32_t gen = st_rg_next_gen(g);
     int rc = 0;
-    if (D == l) {
-        for (uint32_t i = 0; i < ndarts && !rc; i++) rc = st_rg_push(&out, st_vert(m, darts[i], l));
-    } else {
-        /* Level by level as st_hier_move's local synthesis: the faces of
-         * level L-1 around the seeds (support rings, plus one after the
-         * first level), then every dart of those faces seeds level L. */
-        u32_list seeds = { 0 }, faces = { 0 };
-        for (uint32_t i = 0; i < ndarts && !rc; i++) rc = st_rg_push(&seeds, darts[i]);
-        for (unsigned L = l + 1; L <= D && !rc; L++) {
-            faces.n = 0;
-            rc = region_faces(g, m, L - 1, seeds.d, seeds.n, support_rings + (L > l + 1), &faces);
-            seeds.n = 0;
-            for (size_t i = 0; i < faces.n && !rc; i++) {
-                uint32_t x = faces.d[i];
-                do { rc |= st_rg_push(&seeds, x); x = st_phi1(m, x, L - 1); } while (x != faces.d[i]);
-            }
-        }
-        /* Children at level D of the last faces: the level-D faces on both
-         * sides of each of their darts (√3 flips the old edges, so a dart's
-         * own face may miss a corner; the face across has it). */
-        uint32_t gen = st_rg_next_gen(g);
-        for (size_t i = 0; i < seeds.n && !rc; i++) {
-            uint32_t y0 = seeds.d[i];
-            for (int side = 0; side < 2 && !rc; side++) {
-                uint32_t y = side ? st_beta0(m, y0, D) : y0, x = y;
-                do {
-                    uint32_t v = st_vert(m, x, D);
-                    if (v < g->nvids && g->slot[v] != ST_NIL && g->vstamp[g->slot[v]] != gen) {
-                        g->vstamp[g->slot[v]] = gen;
-                        rc |= st_rg_push(&out, v);
-                    }
-                    x = st_phi1(m, x, D);
-                } while (x != y);
-            }
-        }
-        free(seeds.d);
-        free(faces.d);
+    for (uint32_t i = 0; i < fp->n && !rc; i++) {
+        uint64_t k = fp->keys[i];
+        /* A position at level L <= g->level is what the drawn level shows
+         * where it stores none of its own (hier.h: stored only where it
+         * differs). */
+        if (st_fp_kind(k) != ST_FP_POS || st_fp_level(k) > g->level) continue;
+        uint32_t v = st_fp_vid(k);
+        if (v >= g->nvids || g->slot[v] == ST_NIL || g->vstamp[g->slot[v]] == gen) continue;
+        g->vstamp[g->slot[v]] = gen;
+        rc = st_rg_push(&out, v);
     }
     *vids = out.d;
     *n = (uint32_t)out.n;
@@ -485,7 +411,9 @@ int st_rgeom_refresh(st_rgeom *g, const st_map *m, const uint32_t *vids, uint32_
     }
     if (!rc && vdirty) rc = st_rg_to_ranges(&verts, vdirty);
     if (!rc && fdirty) rc = st_rg_to_ranges(&faces, fdirty);
-    free(moved.d);
+    free(g->reread);
+    g->reread = moved.d;
+    g->nreread = (uint32_t)moved.n;
     free(faces.d);
     free(verts.d);
     return rc ? -1 : 0;

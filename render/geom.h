@@ -25,11 +25,11 @@
  * refreshes, so an incremental update gives bit-identical buffers.
  *
  * Incremental updates (an edit moves some vertices, topology unchanged):
- * st_rgeom_edit_region() finds the vertices of the displayed level that an
- * st_hier_move() at a coarser level can have moved (the same support
- * regions, level by level, as the local re-synthesis), st_rgeom_refresh()
- * re-reads those positions and recomputes the normals that depend on them,
- * and reports the dirty vertex and face ranges for glBufferSubData.
+ * core reports which values the edit wrote (core/multires/footprint.h);
+ * st_rgeom_footprint_vids() takes the vertices of the drawn level among
+ * them, st_rgeom_refresh() re-reads those positions and recomputes the
+ * normals that depend on them, and reports the dirty vertex and face ranges
+ * for glBufferSubData.
  */
 #ifndef ST_RGEOM_H
 #define ST_RGEOM_H
@@ -38,6 +38,7 @@
 #include <stdint.h>
 
 #include "core/map/map.h"
+#include "core/multires/footprint.h"
 #include "core/base/st_error.h"
 #include "triangulate.h"
 
@@ -94,6 +95,8 @@ typedef struct st_rgeom {
     uint32_t *vstamp;                 /* per vertex index: generation mark */
     uint32_t *fstamp;                 /* per face: generation mark */
     uint32_t gen;
+    uint32_t *reread;                 /* vertex indices the last st_rgeom_refresh re-read */
+    uint32_t nreread;
     st_tri_index tix;                 /* case lookup */
 } st_rgeom;
 
@@ -106,20 +109,20 @@ void st_rgeom_free(st_rgeom *g);
 int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err);
 
 /* Appends to *vids (growable, *n entries, *cap capacity) the ids of the
- * vertices of level g->level whose position can change when
- * st_hier_move(h, l, darts, ., n) moves the vertices of `darts` at level
- * l, for a scheme with the given support_rings (st_scheme.support_rings).
- * A superset: the faces reached level by level as the local re-synthesis
- * reaches them, then their children.  Returns 0 or -1 (out of memory). */
-int st_rgeom_edit_region(st_rgeom *g, const st_map *m, unsigned support_rings, unsigned l,
-                         const uint32_t *darts, uint32_t ndarts,
-                         uint32_t **vids, uint32_t *n, uint32_t *cap);
+ * vertices drawn by g whose position at g->level the footprint fp wrote:
+ * its position keys of levels <= g->level (a level without a position of
+ * its own shows the coarser one), each vertex once.  Returns 0 or -1 (out
+ * of memory). */
+int st_rgeom_footprint_vids(st_rgeom *g, const st_map *m, const st_footprint *fp,
+                            uint32_t **vids, uint32_t *n, uint32_t *cap);
 
 /* Re-reads the positions of the given vertex ids (ids not drawn are
  * skipped), recomputes the face normals of the faces around them and the
  * vertex normals of those faces' corners.  The vertex and face ranges that
  * changed are appended to vdirty and fdirty (sorted, merged when closer than
- * ST_RGEOM_RANGE_GAP).  Returns 0 or -1 (out of memory). */
+ * ST_RGEOM_RANGE_GAP).  The vertex indices it re-read are left in
+ * g->reread (what a test compares with the edit's footprint).  Returns 0
+ * or -1 (out of memory). */
 #define ST_RGEOM_RANGE_GAP 16
 int st_rgeom_refresh(st_rgeom *g, const st_map *m, const uint32_t *vids, uint32_t n,
                      st_range_list *vdirty, st_range_list *fdirty);

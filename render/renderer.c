@@ -196,12 +196,17 @@ int st_renderer_set_cage(st_renderer *r, const st_map *m, unsigned l, st_error *
     return ST_OK;
 }
 
-void st_renderer_clear_cage(st_renderer *r)
+void st_renderer_clear(st_renderer *r, unsigned targets)
 {
-    r->has_cage = 0;
-    r->nsel = 0;
-    r->hover = ST_NIL;
+    if (targets & ST_TARGET_SURFACE) r->has_surf = 0;
+    if (targets & ST_TARGET_CAGE) {
+        r->has_cage = 0;
+        r->nsel = 0;
+        r->hover = ST_NIL;
+    }
 }
+
+void st_renderer_clear_cage(st_renderer *r) { st_renderer_clear(r, ST_TARGET_CAGE); }
 
 /* Re-uploads the dirty ranges of one mesh. */
 static void upload_ranges(st_renderer *r, st_gpu_mesh *g, const st_rgeom *geo,
@@ -243,39 +248,38 @@ static int refresh_mesh(st_renderer *r, st_rgeom *geo, st_gpu_mesh *g, const st_
     return rc;
 }
 
-int st_renderer_refresh(st_renderer *r, const st_map *m, const uint32_t *vids, uint32_t n)
+/* The meshes a target mask names that are built. */
+static int target_mesh(st_renderer *r, unsigned targets, int k, st_rgeom **geo, st_gpu_mesh **g)
 {
-    memset(&r->last, 0, sizeof r->last);
-    int rc = 0;
-    if (r->has_surf) rc |= refresh_mesh(r, &r->surf, &r->gsurf, m, vids, n);
-    if (r->has_cage) rc |= refresh_mesh(r, &r->cage, &r->gcage, m, vids, n);
-    return rc ? -1 : 0;
+    if (!(targets & (k ? ST_TARGET_CAGE : ST_TARGET_SURFACE)) || !(k ? r->has_cage : r->has_surf)) return 0;
+    *geo = k ? &r->cage : &r->surf;
+    *g = k ? &r->gcage : &r->gsurf;
+    return 1;
 }
 
-int st_renderer_edit(st_renderer *r, const st_hier *h, unsigned l, const uint32_t *darts, uint32_t n)
+int st_renderer_refresh(st_renderer *r, unsigned targets, const st_map *m, const st_footprint *change)
 {
     memset(&r->last, 0, sizeof r->last);
     int rc = 0;
     for (int k = 0; k < 2; k++) {
-        st_rgeom *geo = k ? &r->cage : &r->surf;
-        st_gpu_mesh *g = k ? &r->gcage : &r->gsurf;
-        if (!(k ? r->has_cage : r->has_surf)) continue;
+        st_rgeom *geo;
+        st_gpu_mesh *g;
+        if (!target_mesh(r, targets, k, &geo, &g)) continue;
         r->scratch_n = 0;
-        if (st_rgeom_edit_region(geo, &h->map, h->scheme->support_rings, l, darts, n,
-                                 &r->scratch, &r->scratch_n, &r->scratch_cap)) { rc = -1; continue; }
-        rc |= refresh_mesh(r, geo, g, &h->map, r->scratch, r->scratch_n);
+        if (st_rgeom_footprint_vids(geo, m, change, &r->scratch, &r->scratch_n, &r->scratch_cap)) { rc = -1; continue; }
+        rc |= refresh_mesh(r, geo, g, m, r->scratch, r->scratch_n);
     }
     return rc ? -1 : 0;
 }
 
-void st_renderer_refresh_all(st_renderer *r, const st_map *m)
+void st_renderer_refresh_all(st_renderer *r, unsigned targets, const st_map *m)
 {
     const st_gl *gl = r->gl;
     memset(&r->last, 0, sizeof r->last);
     for (int k = 0; k < 2; k++) {
-        st_rgeom *geo = k ? &r->cage : &r->surf;
-        st_gpu_mesh *g = k ? &r->gcage : &r->gsurf;
-        if (!(k ? r->has_cage : r->has_surf)) continue;
+        st_rgeom *geo;
+        st_gpu_mesh *g;
+        if (!target_mesh(r, targets, k, &geo, &g)) continue;
         st_rgeom_refresh_all(geo, m);
         size_t vb = (size_t)geo->nverts * ST_RGEOM_VSTRIDE * sizeof(float);
         size_t fb = (size_t)geo->nfaces * 4 * sizeof(float);

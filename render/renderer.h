@@ -14,9 +14,12 @@
  *
  * Data path: map -> st_rgeom (CPU) -> buffers.  st_renderer_set_level()
  * builds and uploads everything for a level; after an edit that moved
- * vertices, st_renderer_edit() (or st_renderer_refresh() with the vertex ids
- * known) recomputes only the touched positions and normals and re-uploads
- * only their ranges with glBufferSubData.
+ * vertices, st_renderer_refresh() with the footprint core reported for it
+ * (core/multires/footprint.h) recomputes only those positions and the
+ * normals around them and re-uploads only their ranges with
+ * glBufferSubData.  Updates name their targets (enum st_render_target): the
+ * surface and the cage may come from different maps (the interest box's
+ * display and the model).
  *
  *     st_renderer r;
  *     st_renderer_init(&r, &gl, &err);
@@ -24,8 +27,9 @@
  *     st_renderer_set_cage(&r, &h.map, 0, &err);
  *     st_renderer_draw(&r, &cam, width, height, &opts);
  *     ...
- *     st_hier_move(&h, 2, darts, pos, n);
- *     st_renderer_edit(&r, &h, 2, darts, n);
+ *     st_footprint fp = { 0 };
+ *     st_hier_edit(&h, 2, darts, pos, n, &fp);          (core/multires/edit.h)
+ *     st_renderer_refresh(&r, ST_TARGET_MESHES, &h.map, &fp);
  */
 #ifndef ST_RENDERER_H
 #define ST_RENDERER_H
@@ -33,7 +37,11 @@
 #include "camera.h"
 #include "geom.h"
 #include "gl_loader.h"
-#include "core/multires/hier.h"
+#include "core/multires/footprint.h"
+
+/* What an update applies to: the displayed surface, the control-mesh
+ * overlay (the cage, with its selection and hover), or both. */
+enum st_render_target { ST_TARGET_SURFACE = 1, ST_TARGET_CAGE = 2, ST_TARGET_MESHES = 3 };
 
 enum st_shading { ST_SHADE_NONE, ST_SHADE_SMOOTH, ST_SHADE_FLAT };
 
@@ -95,8 +103,8 @@ typedef struct st_renderer {
     int has_box;
 
     float background[3];
-    st_upload_stats last;     /* of the last set_level / refresh / edit */
-    uint32_t *scratch;        /* vertex ids of edit regions */
+    st_upload_stats last;     /* of the last set_level / refresh */
+    uint32_t *scratch;        /* vertex ids a footprint moves on one mesh */
     uint32_t scratch_n, scratch_cap;
 } st_renderer;
 
@@ -110,19 +118,23 @@ int st_renderer_set_level(st_renderer *r, const st_map *m, unsigned l, st_error 
 /* Builds and uploads level l of m as the control-mesh overlay; clears the
  * selection and the hover. */
 int st_renderer_set_cage(st_renderer *r, const st_map *m, unsigned l, st_error *err);
-void st_renderer_clear_cage(st_renderer *r);
+/* Drops the targets' meshes (nothing is drawn for them until they are set
+ * again); the cage's selection and hover go with it. */
+void st_renderer_clear(st_renderer *r, unsigned targets);
+void st_renderer_clear_cage(st_renderer *r);   /* st_renderer_clear(r, ST_TARGET_CAGE) */
 
-/* Incremental update: the positions of these vertex ids (at the displayed
- * level, and at the cage level) changed; recomputes the dependent normals
- * and re-uploads only the touched ranges.  Returns 0 or -1 (out of memory:
- * nothing uploaded; call st_renderer_set_level). */
-int st_renderer_refresh(st_renderer *r, const st_map *m, const uint32_t *vids, uint32_t n);
-/* The same after st_hier_move(h, l, darts, ., n): finds the vertices that
- * move on the displayed and cage levels itself (st_rgeom_edit_region). */
-int st_renderer_edit(st_renderer *r, const st_hier *h, unsigned l, const uint32_t *darts, uint32_t n);
-/* Every position changed (e.g. after analysis), topology not: re-reads and
- * re-uploads the vertex data of both meshes. */
-void st_renderer_refresh_all(st_renderer *r, const st_map *m);
+/* Incremental update of the targets (enum st_render_target) whose mesh was
+ * built from map m, after a local edit that wrote the values `change`
+ * reports (core/multires/edit.h: st_hier_edit, st_hier_restore,
+ * st_hier_resynth_around): re-reads exactly the drawn vertices whose
+ * position at the mesh's level the footprint wrote
+ * (st_rgeom_footprint_vids), recomputes the dependent normals and
+ * re-uploads only the touched ranges.  Returns 0 or -1 (out of memory:
+ * nothing uploaded; build the level again). */
+int st_renderer_refresh(st_renderer *r, unsigned targets, const st_map *m, const st_footprint *change);
+/* Every position of the targets' map changed (e.g. after analysis),
+ * topology not: re-reads and re-uploads their vertex data. */
+void st_renderer_refresh_all(st_renderer *r, unsigned targets, const st_map *m);
 /* After a local change of the displayed map's topology recorded in log (an
  * interest-box update): re-tessellates only the touched faces
  * (st_rgeom_patch) and re-uploads only the changed ranges; GPU buffers are

@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "core/adapt/adapt.h"
+#include "core/multires/edit.h"
 #include "geom.h"
 #include "core/map/map_mesh.h"
 
@@ -515,9 +516,11 @@ static void test_incremental(void)
                     const double *p = st_dart_pos(&h.map, darts[k], l);
                     for (int c = 0; c < 3; c++) pos[k][c] = p[c] + 0.1 * (c + 1) * (k ? -1 : 1);
                 }
-                st_hier_move(&h, l, darts, (const double (*)[3])pos, 2);
+                st_footprint fp = { 0 };
+                st_hier_edit(&h, l, darts, (const double (*)[3])pos, 2, &fp);
                 uint32_t *vids = NULL, n = 0, cap = 0;
-                CHECK(st_rgeom_edit_region(&g, &h.map, h.scheme->support_rings, l, darts, 2, &vids, &n, &cap) == 0);
+                CHECK(st_rgeom_footprint_vids(&g, &h.map, &fp, &vids, &n, &cap) == 0);
+                st_footprint_free(&fp);
                 st_range_list vr = { 0 }, fr = { 0 };
                 CHECK(st_rgeom_refresh(&g, &h.map, vids, n, &vr, &fr) == 0);
                 CHECKF(st_rgeom_build(&fresh, &h.map, D, &err) == ST_OK, "%s", err.msg);

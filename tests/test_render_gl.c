@@ -1,6 +1,6 @@
 /* The GL side of the renderer, on a headless OSMesa context: the loader
  * table (and its failure), the context (3.3+ core), the embedded shaders,
- * and incremental buffer updates: after st_hier_move + st_renderer_edit the
+ * and incremental buffer updates: after st_hier_edit + st_renderer_refresh the
  * GPU's vertex and face-normal buffers equal a full rebuild, with only a
  * part of the vertices re-uploaded. */
 #include "testlib.h"
@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "core/adapt/adapt.h"
+#include "core/multires/edit.h"
 #include "headless.h"
 #include "renderer.h"
 #include "shaders.h"
@@ -94,8 +95,10 @@ static void test_incremental_upload(st_headless *hl)
         uint32_t dart = tl_random_dart_at(&h.map, 1, &rng);
         const double *p = st_dart_pos(&h.map, dart, 1);
         double pos[1][3] = { { p[0] + 0.2, p[1] - 0.1, p[2] + 0.05 } };
-        st_hier_move(&h, 1, &dart, (const double (*)[3])pos, 1);
-        CHECK(st_renderer_edit(&r, &h, 1, &dart, 1) == 0);
+        st_footprint fp = { 0 };
+        st_hier_edit(&h, 1, &dart, (const double (*)[3])pos, 1, &fp);
+        CHECK(st_renderer_refresh(&r, ST_TARGET_MESHES, &h.map, &fp) == 0);
+        st_footprint_free(&fp);
         CHECKF(r.last.vertices > 0 && r.last.vertices < full_verts / 2,
                "%u vertices re-uploaded of %u", r.last.vertices, full_verts);
         printf("%s: edit at level 1 shown at level 4: %u of %u vertices re-uploaded in %u ranges\n",
@@ -114,7 +117,7 @@ static void test_incremental_upload(st_headless *hl)
         gl->BindVertexArray(0);
         /* Whole-position refresh (after an analysis, say). */
         tl_random_details(&h, &rng, 0.01);
-        st_renderer_refresh_all(&r, &h.map);
+        st_renderer_refresh_all(&r, ST_TARGET_MESHES, &h.map);
         CHECK(st_rgeom_build(&fresh, &h.map, 4, &err) == ST_OK);
         CHECK(buffer_equals(gl, GL_ARRAY_BUFFER, r.gsurf.vbo, fresh.vdata, (size_t)fresh.nverts * ST_RGEOM_VSTRIDE * sizeof(float)));
         /* Selection ignores ids not on the cage. */

@@ -1,9 +1,9 @@
 /* strata --bench-interaction FILE: the cost of one drag step against a full
- * rebuild, on a depth-6 hierarchy.
+ * rebuild, on a depth-6 hierarchy (README "Modeller").
  *
  * One vertex of level 2 is selected and dragged in --bench-steps steps
  * through the same calls the window makes (st_doc_drag_update, then
- * st_renderer_edit with the moved darts); each step is timed as geometry
+ * st_renderer_refresh with the footprint core reported); each step is timed as geometry
  * (local re-synthesis of levels 3..6) plus buffers (the touched positions
  * and normals recomputed and re-uploaded with glBufferSubData), with
  * glFinish so that the upload is counted.  The reference is a full
@@ -161,7 +161,7 @@ int st_window_bench(const st_win_opts *o)
         st_doc_drag_update(&doc, delta);
         t.a1 = now_ms();
         st_doc_change ch = st_doc_take_change(&doc);
-        st_renderer_edit(&r, &doc.h, ch.moved_level, ch.moved_darts, ch.nmoved);
+        st_renderer_refresh(&r, ST_TARGET_MESHES, &doc.h.map, ch.footprint);
         gl.Finish();
         lap_end(&t, i, tg, tb, tt, tc);
         moved_top = r.last.vertices;

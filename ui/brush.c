@@ -457,13 +457,16 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
         for (int k = 0; k < 3; k++) pos[n][k] = p[k] + bs->disp[i][k];
         darts[n++] = x;
     }
-    ed_step_touch_move(d->pending, h, l, darts, n);
-    st_hier_move(h, l, darts, (const double(*)[3])pos, n);
+    /* Old values of what core will write, then the edit, which reports
+     * what it wrote for the display and the renderer. */
+    ed_step_touch_move(d->pending, h, l, darts, n, &d->fp_query);
+    uint32_t from = d->fp_model.n;
+    st_hier_edit(h, l, darts, (const double(*)[3])pos, n, &d->fp_model);
     for (uint32_t i = 0; i < n; i++) {
         uint32_t v = st_vert(&h->map, darts[i], l);
         grid_insert(bs, v, st_pos(&h->map, v, l));
     }
-    ed_geometry_changed(d, l, darts, n, t0, d->pending->last, d->pending->nlast);
+    ed_geometry_changed(d, l, darts, n, t0, from);
     free(darts);
     free(pos);
     return 0;

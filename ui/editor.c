@@ -1,8 +1,8 @@
 /* st_doc: the modeller's document (editor.h), without GL.
  *
- * Decisions (where the issue leaves a choice):
+ * Decisions (where the requirements leave a choice):
  *   - The model is always the regular hierarchy d->h.  Drags and brushes
- *     act at the editing level of h through st_hier_move (finer levels
+ *     act at the editing level of h through st_hier_edit (finer levels
  *     follow with their details).  The interest box only changes what is
  *     displayed: d->disp is a copy of h's levels 0..base refined by st_adapt
  *     inside the box, whose vertices of levels <= h.top take the positions
@@ -15,7 +15,11 @@
  *     there.  After every edit the display is synced from the model, so box
  *     on, edit, box off, box on always shows the model (no detail is ever
  *     lost or rotated by coarsening: the model never coarsens).
- *   - Undo: edit steps store old/new values of exactly what st_hier_move
+ *   - Core reports what each edit wrote (its footprint, core/multires/
+ *     footprint.h): undo saves exactly those values, the box's display
+ *     copies exactly those positions, and the change handed to the window
+ *     carries the footprints for the renderer.
+ *   - Undo: edit steps store old/new values of exactly what st_hier_edit
  *     wrote (undo.c).  Adding a level stores nothing: undo removes it and
  *     redo refines again, taking the id blocks in their first order, so the
  *     ids are the same (checked).  Removing the finest level stores that
@@ -89,6 +93,11 @@ void st_doc_free(st_doc *d)
     free(d->sel);
     free(d->change.moved_darts);
     free(d->change.disp_vids);
+    st_footprint_free(&d->fp_model);
+    st_footprint_free(&d->fp_disp);
+    st_footprint_free(&d->fp_query);
+    st_footprint_free(&d->fp_taken[0]);
+    st_footprint_free(&d->fp_taken[1]);
     free(d->dcorr);
     free(d->dpairs);
     free(d->dsub);
@@ -473,7 +482,7 @@ static int rmtop_undo(st_doc *d, st_undo_step *s, st_error *err)
         return st_fail(err, ST_ERR_INVALID, "undo: the level came back with other ids; not restored");
     }
     unsigned L = top + 1;
-    for (uint32_t i = 0; i < s->nvids; i++) st_hier_write_pos(h, s->vids[i], L, s->vpos[i]);
+    for (uint32_t i = 0; i < s->nvids; i++) st_hier_set_value(h, st_fp_key(L, ST_FP_POS, s->vids[i]), s->vpos[i]);
     free(h->detail[L]);
     h->detail[L] = NULL;
     h->detail_cap[L] = 0;
@@ -641,12 +650,11 @@ static void change_add_darts(st_doc *d, unsigned l, const uint32_t *darts, uint3
     c->nmoved += n;
 }
 
-void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0,
-                         const uint64_t *keys, uint32_t nkeys)
+void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0, uint32_t from)
 {
     if (d->box_on && d->disp_ok) {
-        if (keys) {
-            disp_sync_local(d, keys, nkeys);
+        if (from <= d->fp_model.n) {
+            disp_sync_local(d, d->fp_model.keys + from, d->fp_model.n - from);
             d->change.bits |= ST_CHANGE_DISPLAY;
         } else {
             disp_sync(d, l, 0);
@@ -662,7 +670,18 @@ void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t 
 
 st_doc_change st_doc_take_change(st_doc *d)
 {
+    /* The footprints handed out stay valid until the next take. */
+    st_footprint t = d->fp_taken[0];
+    d->fp_taken[0] = d->fp_model;
+    d->fp_model = t;
+    d->fp_model.n = 0;
+    t = d->fp_taken[1];
+    d->fp_taken[1] = d->fp_disp;
+    d->fp_disp = t;
+    d->fp_disp.n = 0;
     st_doc_change c = d->change;
+    c.footprint = &d->fp_taken[0];
+    c.disp_footprint = &d->fp_taken[1];
     d->change.bits = 0;
     d->change.nmoved = 0;
     d->change.ndisp = 0;
@@ -684,6 +703,9 @@ static void count_display(st_doc *d)
 static void topology_changed(st_doc *d)
 {
     d->vdart_level = -1;
+    /* Footprints name vertices of the old topology; the window rebuilds. */
+    d->fp_model.n = 0;
+    d->fp_disp.n = 0;
     d->change.bits |= ST_CHANGE_TOPOLOGY | ST_CHANGE_ALL_POSITIONS;
     if (d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
     d->nsel = 0;
@@ -749,9 +771,9 @@ int st_doc_drag_begin(st_doc *d)
         if (x != ST_NIL) darts[n++] = x;
     }
     if (!n) { free(darts); ed_step_free(s); return -1; }
-    /* st_hier_move's region depends on the seeds only: one dry run covers
+    /* An edit's footprint depends on the seeds only: one query covers
      * every update of this drag. */
-    ed_step_touch_move(s, &d->h, l, darts, n);
+    ed_step_touch_move(s, &d->h, l, darts, n, &d->fp_query);
     free(darts);
     d->pending = s;
     d->active = 1;
@@ -781,9 +803,10 @@ int st_doc_drag_update(st_doc *d, const double delta[3])
         for (int c = 0; c < 3; c++) pos[k][c] = s->oldv[i][c] + delta[c];
         k++;
     }
-    st_hier_move(&d->h, l, s->moved, (const double(*)[3])pos, k);
+    uint32_t from = d->fp_model.n;
+    st_hier_edit(&d->h, l, s->moved, (const double(*)[3])pos, k, &d->fp_model);
     free(pos);
-    ed_geometry_changed(d, l, s->moved, k, t0, s->last, s->nlast);
+    ed_geometry_changed(d, l, s->moved, k, t0, from);
     return 0;
 }
 
@@ -819,8 +842,9 @@ void st_doc_drag_cancel(st_doc *d)
     st_undo_step *s = ed_take_pending(d, 1);
     if (!s) return;
     double t0 = ed_now_ms();
-    ed_step_apply(s, &d->h, 0);
-    ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, s->key, s->n);
+    uint32_t from = d->fp_model.n;
+    ed_step_apply(s, &d->h, 0, &d->fp_model);
+    ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, from);
     ed_step_free(s);
 }
 
@@ -912,8 +936,9 @@ static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
     switch (s->kind) {
     case ED_STEP_EDIT: {
         double t0 = ed_now_ms();
-        ed_step_apply(s, &d->h, redo);
-        ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, s->key, s->n);
+        uint32_t from = d->fp_model.n;
+        ed_step_apply(s, &d->h, redo, &d->fp_model);
+        ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, from);
         return ST_OK;
     }
     case ED_STEP_HIER:
@@ -1227,71 +1252,16 @@ static void disp_moved(st_doc *d, uint32_t v)
     c->disp_vids[c->ndisp++] = v;
 }
 
-typedef struct resynth_ctx { st_hier *h; unsigned L; uint32_t gen; } resynth_ctx;
-
-/* Applies stencil s at level L unless its fine vertex was already written
- * in this pass (stamp gen); 1 when it wrote. */
-static int apply_once(st_hier *h, unsigned L, uint32_t gen, const st_stencil *s)
-{
-    if (h->stamp[s->fine] == gen) return 0;
-    h->stamp[s->fine] = gen;
-    double p[3];
-    st_stencil_apply(h, L, s, p);
-    st_set_pos(&h->map, s->fine, L, p);
-    return 1;
-}
-
-static void resynth_sink(void *ctx, const st_stencil *s)
-{
-    resynth_ctx *c = ctx;
-    apply_once(c->h, c->L, c->gen, s);
-}
-
-typedef struct local_ctx { st_hier *h; unsigned L; uint32_t gen; st_dart_list *changed; int lost; st_doc *doc; } local_ctx;
-
-static void local_sink(void *ctx, const st_stencil *s)
-{
-    local_ctx *c = ctx;
-    if (!apply_once(c->h, c->L, c->gen, s)) return;
-    if (c->doc) disp_moved(c->doc, s->fine);
-    uint32_t x = st_dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
-    if (x == ST_NIL) c->lost = 1;
-    else st_dart_list_push(c->changed, x);
-}
-
 /* The display's levels beyond the model, re-synthesised around the seeds
  * (darts of level min(h.top, disp.top) of vertices whose positions
- * changed): the region growth of st_hier_move, on the subdivided faces
- * only.  Frees the seeds. */
-static void resynth_region(st_doc *d, st_dart_list *seeds0)
+ * changed) by core (st_hier_resynth_around), which reports what it wrote.
+ * Frees the seeds. */
+static void resynth_region(st_doc *d, st_dart_list *seeds)
 {
-    st_hier *dh = &d->disp;
-    st_map *dm = &dh->map;
-    unsigned N = d->h.map.top;
-    st_dart_list seeds = *seeds0, next = { 0 }, faces = { 0 }, kept = { 0 };
-    memset(seeds0, 0, sizeof *seeds0);
-    unsigned extra = 0;
-    for (unsigned L = N + 1; L <= dm->top && seeds.n; L++) {
-        faces.n = 0;
-        /* One ring more than st_hier_move: a face next to a changed vertex
-         * may be unsubdivided (it emits nothing) while a vertex of it is a
-         * corner of a subdivided face one ring further, whose stencil reads
-         * the changed vertex. */
-        st_region_faces(dm, L - 1, seeds.d, seeds.n, dh->scheme->support_rings + 1 + extra, &faces);
-        kept.n = 0;
-        for (uint32_t i = 0; i < faces.n; i++)
-            if (st_face_level(dm, faces.d[i], L - 1) == L - 1 && st_face_is_subdivided(dm, faces.d[i], L - 1))
-                st_dart_list_push(&kept, faces.d[i]);
-        next.n = 0;
-        local_ctx c = { dh, L, st_hier_stamp_begin(dh), &next, 0, d };
-        if (kept.n) dh->scheme->emit(dh, L, kept.d, kept.n, local_sink, &c);
-        extra = c.lost;
-        ed_next_seeds(dm, L - 1, c.lost, &kept, &seeds, &next);
-    }
-    st_dart_list_free(&seeds);
-    st_dart_list_free(&next);
-    st_dart_list_free(&faces);
-    st_dart_list_free(&kept);
+    uint32_t n0 = d->fp_disp.n;
+    if (seeds->n) st_hier_resynth_around(&d->disp, d->h.map.top, seeds->d, seeds->n, &d->fp_disp);
+    for (uint32_t i = n0; i < d->fp_disp.n; i++) disp_moved(d, st_fp_vid(d->fp_disp.keys[i]));
+    st_dart_list_free(seeds);
 }
 
 /* Display positions from the model, for levels >= from.  Beyond the model:
@@ -1330,18 +1300,15 @@ static void disp_sync(st_doc *d, unsigned from, int box_move)
          * (st_adapt_synthesize, with face lists kept until the display's
          * topology changes). */
         if (!d->dsub_ok) disp_collect_sub(d);
-        for (unsigned L = N + 1; L <= dm->top; L++) {
-            resynth_ctx c = { &d->disp, L, st_hier_stamp_begin(&d->disp) };
-            uint32_t a = d->dsub_off[L], e = d->dsub_off[L + 1];
-            if (e > a) d->disp.scheme->emit(&d->disp, L, d->dsub + a, e - a, resynth_sink, &c);
-        }
+        for (unsigned L = N + 1; L <= dm->top; L++)
+            st_hier_resynth_faces(&d->disp, L, d->dsub + d->dsub_off[L], d->dsub_off[L + 1] - d->dsub_off[L]);
     }
     st_dart_list_free(&seeds);
 }
 
-/* After an edit of the model that changed the values of `keys` (undo.c):
- * the display's copies of those positions, then its levels beyond the
- * model around them only. */
+/* After an edit of the model that wrote the values of `keys` (core's
+ * footprint of it): the display's copies of those positions, then its
+ * levels beyond the model around them only. */
 static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys)
 {
     st_map *dm = &d->disp.map;
@@ -1365,6 +1332,7 @@ static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys)
             if (!memcmp(st_pos(dm, dv, L), p, 3 * sizeof *p)) continue;
             st_set_pos(dm, dv, L, p);
             disp_moved(d, dv);
+            st_footprint_add(&d->fp_disp, st_fp_key(L, ST_FP_POS, dv));
             if (L == T && dm->top > N && d->dvdart[dv] != ST_NIL) st_dart_list_push(&seeds, d->dvdart[dv]);
         }
     resynth_region(d, &seeds);
@@ -1533,6 +1501,9 @@ int st_doc_bench_drag(st_doc *d, unsigned level, unsigned steps, double *step_ms
             double t0 = ed_now_ms();
             st_doc_drag_update(d, delta);
             t[i] = ed_now_ms() - t0;
+            /* Untimed, as the window takes the change every frame (else
+             * the footprints of all the steps pile up). */
+            (void)st_doc_take_change(d);
         }
         st_doc_drag_cancel(d);
         qsort(t, steps, sizeof *t, cmp_double);

@@ -1,5 +1,5 @@
 /* st_doc: the modeller's document and every editing operation on it, with no
- * GL and no window (issue 6).  The window (ui/window.c) turns events into
+ * GL and no window.  The window (ui/window.c) turns events into
  * calls here and then asks what changed (st_doc_change) to update the
  * renderer; tests and the interaction benchmark drive the same calls
  * headless.
@@ -10,7 +10,7 @@
  * "sculpt level") and the displayed level ("viewport level"), the selection
  * (vertex ids of the editing level), the brush, and the undo history.
  *
- * Conventions (Blender multires / ZBrush, chosen where the issue is silent):
+ * Conventions (Blender multires / ZBrush, chosen where the requirements are silent):
  *   - editing at level i moves P_i; every finer level follows with its
  *     details (st_hier_move); coarser levels never move;
  *   - the displayed level is >= the editing level and <= top; adding a level
@@ -42,7 +42,7 @@
 #include <stdint.h>
 
 #include "core/adapt/adapt.h"
-#include "core/multires/hier.h"
+#include "core/multires/edit.h"
 #include "core/io/mesh.h"
 
 enum st_brush_tool { ST_BRUSH_GRAB, ST_BRUSH_DRAW, ST_BRUSH_SMOOTH, ST_BRUSH_FLATTEN, ST_BRUSH_COUNT };
@@ -60,14 +60,17 @@ typedef struct st_brush {
  * st_doc_take_change()). */
 enum st_change_bits {
     ST_CHANGE_TOPOLOGY = 1,    /* levels, scheme, adaptive refinement: rebuild buffers */
-    ST_CHANGE_POSITIONS = 2,   /* vertices of h moved: see moved_level / moved_darts (darts of h);
+    ST_CHANGE_POSITIONS = 2,   /* vertices of h moved: `footprint` holds what core wrote, e.g.
+                                  st_renderer_refresh(r, targets, &d->h.map, footprint); moved_level /
+                                  moved_darts: the moved vertices of the editing level (darts of h);
                                   with the box on the display moved too: ST_CHANGE_DISPLAY */
     ST_CHANGE_SELECTION = 4,
     ST_CHANGE_BOX = 8,
     ST_CHANGE_ALL_POSITIONS = 16, /* everything moved (undo, analysis): refresh all */
-    ST_CHANGE_DISPLAY = 32,    /* box on, topology unchanged: the vertices disp_vids of the display
-                                  hierarchy (st_doc_display_hier) moved, at some level: e.g.
-                                  st_renderer_refresh(r, &st_doc_display_hier(d)->map, disp_vids, ndisp) */
+    ST_CHANGE_DISPLAY = 32,    /* box on, topology unchanged: the display hierarchy
+                                  (st_doc_display_hier) wrote `disp_footprint` (its vertices disp_vids,
+                                  at some level): e.g. st_renderer_refresh(r, ST_TARGET_SURFACE,
+                                  &st_doc_display_hier(d)->map, disp_footprint) */
     ST_CHANGE_PATCH = 64,      /* the box moved and the display was updated in place: what its map's
                                   update touched is in `patch` (st_renderer_patch(r, map, patch));
                                   never set together with ST_CHANGE_TOPOLOGY */
@@ -81,6 +84,8 @@ typedef struct st_doc_change {
     uint32_t *disp_vids;       /* ST_CHANGE_DISPLAY: vertex ids of the display hierarchy (owned by the doc) */
     uint32_t ndisp;
     const st_map_log *patch;   /* ST_CHANGE_PATCH: the display map's changes (owned by the doc) */
+    const st_footprint *footprint;      /* ST_CHANGE_POSITIONS: values of h core wrote (owned by the doc) */
+    const st_footprint *disp_footprint; /* ST_CHANGE_DISPLAY: values of the display core wrote (owned by the doc) */
 } st_doc_change;
 
 typedef struct st_undo_step st_undo_step;   /* editor.c */
@@ -147,6 +152,10 @@ typedef struct st_doc {
     uint32_t ndv;
     double last_update_at_ms;  /* monotonic time stamp of the last geometry update */
     uint32_t capmoved, capdisp;
+    st_footprint fp_model;     /* values of h written since the last st_doc_take_change (core appends) */
+    st_footprint fp_disp;      /* values of the display written since then */
+    st_footprint fp_query;     /* scratch: an edit's footprint asked before it (undo) */
+    st_footprint fp_taken[2];  /* model and display footprints handed out by st_doc_take_change */
     int rebased;               /* remove_bottom happened since open: set_scheme then cannot take the file's tags */
     int box_recording;         /* inside st_doc_box_begin .. end */
     st_adapt_params box_rec_params;
@@ -233,8 +242,9 @@ void st_doc_box_end(st_doc *d);
 int st_doc_undo(st_doc *d, st_error *err);
 int st_doc_redo(st_doc *d, st_error *err);
 
-/* Returns the accumulated change and resets it (moved_darts stays valid
- * until the next operation). */
+/* Returns the accumulated change and resets it (moved_darts and disp_vids
+ * stay valid until the next operation, the footprints until the next
+ * take). */
 st_doc_change st_doc_take_change(st_doc *d);
 
 /* Counts of the displayed mesh, for the HUD. */
@@ -252,7 +262,7 @@ unsigned st_doc_display_map_level(const st_doc *d);
  * the editing level). */
 uint32_t st_doc_display_to_edit_vertex(const st_doc *d, uint32_t display_vid);
 /* A dart of the editing level for an editing-level vertex id (ST_NIL if
- * none), e.g. to call st_renderer_edit. */
+ * none), e.g. to call st_hier_edit. */
 uint32_t st_doc_vertex_dart(st_doc *d, uint32_t vid);
 
 /* Bytes the model uses now (map + details); the memory budget compares
@@ -262,7 +272,7 @@ size_t st_doc_model_bytes(const st_doc *d);
 /* Interaction benchmark (strata --bench-interaction): on the loaded model,
  * drags one vertex of `level` (a vertex near the middle of the level's id
  * range) through `steps` updates, and reports the median time per update
- * (geometry only: st_hier_move plus the display sync; the window adds its
+ * (geometry only: st_hier_edit plus the display sync; the window adds its
  * buffer updates), then puts the model back exactly (nothing is recorded
  * in the undo history), and the time of a full synthesis
  * st_hier_synthesize(h, 0) (ms).  Returns 0, or -1 when no model is loaded

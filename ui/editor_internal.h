@@ -4,7 +4,8 @@
 #define ST_EDITOR_INTERNAL_H
 
 #include "editor.h"
-#include "core/multires/hier_internal.h"
+#include "core/map/dart_list.h"
+#include "core/multires/edit.h"
 
 /* ---- editor_clone.c ---- */
 /* Bit-exact deep copy (ids and allocation state included); -1 when out of
@@ -21,9 +22,10 @@ enum ed_step_kind { ED_STEP_EDIT, ED_STEP_HIER, ED_STEP_BOX, ED_STEP_ADD, ED_STE
 struct st_undo_step {
     int kind;
     size_t bytes;
-    /* ED_STEP_EDIT: values before and after, keyed by (level, kind, vid):
-     * positions of every vertex st_hier_move rewrote (every level >= the
-     * edit level) and the edit level's details of the moved vertices. */
+    /* ED_STEP_EDIT: values before and after, keyed by (level, kind, vid)
+     * as core's footprints (core/multires/footprint.h: st_fp_key): positions
+     * of every vertex st_hier_edit rewrote (every level >= the edit level)
+     * and the edit level's details of the moved vertices. */
     unsigned level;
     uint32_t n, cap;
     uint64_t *key;
@@ -32,8 +34,6 @@ struct st_undo_step {
     uint32_t *hidx, hcap;
     uint32_t *moved;           /* darts (edit level) of the moved vertices, deduplicated */
     uint32_t nmoved, capmoved;
-    uint64_t *last;            /* keys touched by the last ed_step_touch_move call */
-    uint32_t nlast, caplast;
     /* ED_STEP_HIER: the whole other state (swapped in and out). */
     st_hier snap;
     const st_scheme *scheme;
@@ -63,29 +63,25 @@ void ed_step_free(st_undo_step *s);
 int ed_step_touch_pos(st_undo_step *s, const st_hier *h, unsigned level, uint32_t vid);
 void ed_step_touch_detail(st_undo_step *s, const st_hier *h, unsigned level, uint32_t vid);
 void ed_step_add_moved(st_undo_step *s, const st_map *m, unsigned level, uint32_t dart);
-/* Every vertex value st_hier_move(h, l, darts, ., n) is going to write, as
- * "old" (a dry run of its region growth). */
-void ed_step_touch_move(st_undo_step *s, st_hier *h, unsigned l, const uint32_t *darts, uint32_t n);
+/* Every value st_hier_edit(h, l, darts, ., n, .) is going to write, as
+ * "old" (core's st_hier_edit_footprint; scratch: its footprint, reused). */
+void ed_step_touch_move(st_undo_step *s, st_hier *h, unsigned l, const uint32_t *darts, uint32_t n,
+                        st_footprint *scratch);
 /* Reads the current values as "new" (end of the step). */
 void ed_step_capture_new(st_undo_step *s, const st_hier *h);
-/* Writes the old (which = 0) or new (1) values back. */
-void ed_step_apply(const st_undo_step *s, st_hier *h, int which);
+/* Writes the old (which = 0) or new (1) values back (st_hier_restore),
+ * appending what it wrote to fp. */
+void ed_step_apply(const st_undo_step *s, st_hier *h, int which, st_footprint *fp);
 void ed_step_finish(st_undo_step *s);   /* drops the index, computes bytes */
-/* End of one level of st_hier_move's region growth: next (the darts of the
- * changed vertices) becomes the seeds of the next level, or, when a changed
- * vertex was not found on its cell (lost), every dart of the faces (one
- * dart each, at the given level).  Swaps seeds and next. */
-void ed_next_seeds(const st_map *m, unsigned level, int lost, const st_dart_list *faces, st_dart_list *seeds,
-                   st_dart_list *next);
-
 /* ---- editor.c ---- */
 double ed_now_ms(void);
-/* After any change of h's geometry at level l with the given moved darts:
- * change bits, display sync, timing.  keys: the (level, kind, vid) keys of
- * every value that changed (undo.c), so that the box display is synced
- * locally; NULL: sync everything. */
-void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0,
-                         const uint64_t *keys, uint32_t nkeys);
+/* After a local change of h's geometry at level l with the given moved
+ * darts: change bits, display sync, timing.  Core appended what it wrote
+ * (st_hier_edit, st_hier_restore) to d->fp_model from index `from` on: the
+ * box's display copies exactly that, and the renderer refreshes it
+ * (st_doc_take_change); from > d->fp_model.n: no footprint, the display is
+ * synced in full. */
+void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0, uint32_t from);
 uint32_t ed_vertex_dart(st_doc *d, uint32_t vid);
 void ed_push_step(st_doc *d, st_undo_step *s);
 /* The pending step of the drag (active 1) or stroke (2) in progress, taken

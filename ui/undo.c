@@ -3,11 +3,11 @@
  * An edit step (drag, stroke) stores, for every value the edit rewrote, the
  * value before and after: level-l positions and details of the moved
  * vertices, and the positions of every vertex of the levels above that
- * st_hier_move re-synthesised.  Which ones those are is found by a dry run
- * of st_hier_move's region growth (same regions, same stencils) before the
- * move.  Undo and redo write the stored values back, so both are bit-exact
- * whatever the floating-point history (re-synthesising instead would round
- * differently where a level was edited directly).
+ * st_hier_edit re-synthesised.  Which ones those are, core says before the
+ * edit (st_hier_edit_footprint: the edit's own region growth, recording
+ * only).  Undo and redo write the stored values back (st_hier_restore), so
+ * both are bit-exact whatever the floating-point history (re-synthesising
+ * instead would round differently where a level was edited directly).
  *
  * Level and scheme changes store the whole other hierarchy (editor_clone.c)
  * and swap it in and out; box steps store the old and new parameters. */
@@ -33,7 +33,6 @@ void ed_step_free(st_undo_step *s)
     free(s->hkey);
     free(s->hidx);
     free(s->moved);
-    free(s->last);
     free(s->vids);
     free(s->vpos);
     free(s->det);
@@ -95,27 +94,10 @@ static uint32_t lookup(st_undo_step *s, uint64_t key, int *fresh)
     return s->n++;
 }
 
-static uint64_t make_key(unsigned level, int kind, uint32_t vid)
-{
-    return (uint64_t)level << 33 | (uint64_t)(kind & 1) << 32 | vid;
-}
-
-static void last_push(st_undo_step *s, uint64_t key)
-{
-    if (s->nlast == s->caplast) {
-        s->caplast = s->caplast ? 2 * s->caplast : 256;
-        s->last = realloc(s->last, (size_t)s->caplast * sizeof *s->last);
-        if (!s->last) abort();
-    }
-    s->last[s->nlast++] = key;
-}
-
 int ed_step_touch_pos(st_undo_step *s, const st_hier *h, unsigned level, uint32_t vid)
 {
     int fresh;
-    uint64_t key = make_key(level, 0, vid);
-    last_push(s, key);
-    uint32_t i = lookup(s, key, &fresh);
+    uint32_t i = lookup(s, st_fp_key(level, ST_FP_POS, vid), &fresh);
     if (fresh) memcpy(s->oldv[i], st_pos(&h->map, vid, level), sizeof s->oldv[i]);
     return fresh;
 }
@@ -123,8 +105,8 @@ int ed_step_touch_pos(st_undo_step *s, const st_hier *h, unsigned level, uint32_
 void ed_step_touch_detail(st_undo_step *s, const st_hier *h, unsigned level, uint32_t vid)
 {
     int fresh;
-    uint32_t i = lookup(s, make_key(level, 1, vid), &fresh);
-    if (fresh) memcpy(s->oldv[i], st_hier_detail(h, level, vid), sizeof s->oldv[i]);
+    uint32_t i = lookup(s, st_fp_key(level, ST_FP_DETAIL, vid), &fresh);
+    if (fresh) st_hier_value(h, st_fp_key(level, ST_FP_DETAIL, vid), s->oldv[i]);
 }
 
 void ed_step_add_moved(st_undo_step *s, const st_map *m, unsigned level, uint32_t dart)
@@ -143,67 +125,24 @@ void ed_step_add_moved(st_undo_step *s, const st_map *m, unsigned level, uint32_
     s->moved[s->nmoved++] = dart;
 }
 
-/* ---- dry run of st_hier_move ------------------------------------------------ */
+/* ---- footprint of an edit ---------------------------------------------------- */
 
-typedef struct dry_ctx {
-    st_undo_step *s;
-    st_hier *h;
-    unsigned L;
-    uint32_t gen;
-    st_dart_list *changed;
-    int lost;
-} dry_ctx;
-
-void ed_next_seeds(const st_map *m, unsigned level, int lost, const st_dart_list *faces, st_dart_list *seeds,
-                   st_dart_list *next)
+void ed_step_touch_move(st_undo_step *s, st_hier *h, unsigned l, const uint32_t *darts, uint32_t n,
+                        st_footprint *scratch)
 {
-    if (lost) {
-        next->n = 0;
-        for (uint32_t i = 0; i < faces->n; i++) {
-            uint32_t x = faces->d[i];
-            do { st_dart_list_push(next, x); x = st_phi1(m, x, level); } while (x != faces->d[i]);
-        }
-    }
-    st_dart_list t = *seeds;
-    *seeds = *next;
-    *next = t;
-}
-
-static void dry_sink(void *ctx, const st_stencil *st)
-{
-    dry_ctx *c = ctx;
-    if (c->h->stamp[st->fine] == c->gen) return;
-    c->h->stamp[st->fine] = c->gen;
-    ed_step_touch_pos(c->s, c->h, c->L, st->fine);
-    uint32_t d = st_dart_on_cell(&c->h->map, st->fine, st->frame_dart, c->L);
-    if (d == ST_NIL) c->lost = 1;
-    else st_dart_list_push(c->changed, d);
-}
-
-void ed_step_touch_move(st_undo_step *s, st_hier *h, unsigned l, const uint32_t *darts, uint32_t n)
-{
-    st_map *m = &h->map;
-    s->nlast = 0;
+    const st_map *m = &h->map;
     for (uint32_t i = 0; i < n; i++) {
         uint32_t v = st_vert(m, darts[i], l);
         if (ed_step_touch_pos(s, h, l, v)) ed_step_add_moved(s, m, l, darts[i]);
         if (l > 0) ed_step_touch_detail(s, h, l, v);
     }
-    st_dart_list seeds = { 0 }, next = { 0 }, faces = { 0 };
-    for (uint32_t i = 0; i < n; i++) st_dart_list_push(&seeds, darts[i]);
-    unsigned extra = 0;
-    for (unsigned L = l + 1; L <= m->top; L++) {
-        faces.n = 0;
-        st_region_faces(m, L - 1, seeds.d, seeds.n, h->scheme->support_rings + extra, &faces);
-        next.n = 0;
-        dry_ctx c = { s, h, L, st_hier_stamp_begin(h), &next, 0 };
-        h->scheme->emit(h, L, faces.d, faces.n, dry_sink, &c);
-        extra = c.lost;
-        ed_next_seeds(m, L - 1, c.lost, &faces, &seeds, &next);
+    /* The levels above, as core will write them. */
+    scratch->n = 0;
+    st_hier_edit_footprint(h, l, darts, n, scratch);
+    for (uint32_t i = 0; i < scratch->n; i++) {
+        uint64_t k = scratch->keys[i];
+        if (st_fp_level(k) > l) ed_step_touch_pos(s, h, st_fp_level(k), st_fp_vid(k));
     }
-    st_dart_list_free(&seeds);
-    st_dart_list_free(&next);
-    st_dart_list_free(&faces);
 }
 
 void ed_step_capture_new(st_undo_step *s, const st_hier *h)
@@ -211,32 +150,18 @@ void ed_step_capture_new(st_undo_step *s, const st_hier *h)
     free(s->newv);
     s->newv = malloc((size_t)(s->n ? s->n : 1) * sizeof *s->newv);
     if (!s->newv) abort();
-    for (uint32_t i = 0; i < s->n; i++) {
-        unsigned level = (unsigned)(s->key[i] >> 33);
-        int kind = (int)(s->key[i] >> 32) & 1;
-        uint32_t vid = (uint32_t)s->key[i];
-        memcpy(s->newv[i], kind ? st_hier_detail(h, level, vid) : st_pos(&h->map, vid, level), sizeof s->newv[i]);
-    }
+    for (uint32_t i = 0; i < s->n; i++) st_hier_value(h, s->key[i], s->newv[i]);
 }
 
-void ed_step_apply(const st_undo_step *s, st_hier *h, int which)
+void ed_step_apply(const st_undo_step *s, st_hier *h, int which, st_footprint *fp)
 {
     const double(*v)[3] = which ? (const double(*)[3])s->newv : (const double(*)[3])s->oldv;
     if (!v) return;
-    for (uint32_t i = 0; i < s->n; i++) {
-        unsigned level = (unsigned)(s->key[i] >> 33);
-        int kind = (int)(s->key[i] >> 32) & 1;
-        uint32_t vid = (uint32_t)s->key[i];
-        if (kind) st_hier_set_detail(h, level, vid, v[i]);
-        else st_hier_write_pos(h, vid, level, v[i]);
-    }
+    st_hier_restore(h, s->key, v, s->n, fp);
 }
 
 void ed_step_finish(st_undo_step *s)
 {
-    free(s->last);
-    s->last = NULL;
-    s->nlast = s->caplast = 0;
     free(s->hkey);
     free(s->hidx);
     s->hkey = NULL;

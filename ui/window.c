@@ -76,14 +76,9 @@ static void refresh_all(st_app *a)
 {
     const st_doc *d = &a->doc;
     const st_hier *dh = st_doc_display_hier(d);
-    if (dh == &d->h) { st_renderer_refresh_all(&a->r, &d->h.map); return; }
-    int cage = a->r.has_cage, surf = a->r.has_surf;
-    a->r.has_cage = 0;
-    st_renderer_refresh_all(&a->r, &dh->map);
-    a->r.has_cage = cage;
-    a->r.has_surf = 0;
-    st_renderer_refresh_all(&a->r, &d->h.map);
-    a->r.has_surf = surf;
+    if (dh == &d->h) { st_renderer_refresh_all(&a->r, ST_TARGET_MESHES, &d->h.map); return; }
+    st_renderer_refresh_all(&a->r, ST_TARGET_SURFACE, &dh->map);
+    st_renderer_refresh_all(&a->r, ST_TARGET_CAGE, &d->h.map);
 }
 
 void st_app_sync(st_app *a)
@@ -91,8 +86,7 @@ void st_app_sync(st_app *a)
     st_doc *d = &a->doc;
     st_doc_change ch = st_doc_take_change(d);
     if (!d->loaded) {
-        a->r.has_surf = 0;
-        st_renderer_clear_cage(&a->r);
+        st_renderer_clear(&a->r, ST_TARGET_MESHES);
         a->shown_valid = 0;
         return;
     }
@@ -133,23 +127,15 @@ void st_app_sync(st_app *a)
         refresh_all(a);
         touched = 1;
     } else if (dh != &d->h && (ch.bits & (ST_CHANGE_POSITIONS | ST_CHANGE_DISPLAY))) {
-        /* Box on: the display's moved vertices (ids of the display
-         * hierarchy) for the surface, the model's moved darts for the cage. */
-        int cage = a->r.has_cage, surf = a->r.has_surf, rc = 0;
-        if (ch.bits & ST_CHANGE_DISPLAY) {
-            a->r.has_cage = 0;
-            rc |= st_renderer_refresh(&a->r, &dh->map, ch.disp_vids, ch.ndisp);
-            a->r.has_cage = cage;
-        }
-        if ((ch.bits & ST_CHANGE_POSITIONS) && ch.nmoved) {
-            a->r.has_surf = 0;
-            rc |= st_renderer_edit(&a->r, &d->h, ch.moved_level, ch.moved_darts, ch.nmoved);
-            a->r.has_surf = surf;
-        }
+        /* Box on: what core wrote in the display hierarchy for the
+         * surface, what it wrote in the model for the cage. */
+        int rc = 0;
+        if (ch.bits & ST_CHANGE_DISPLAY) rc |= st_renderer_refresh(&a->r, ST_TARGET_SURFACE, &dh->map, ch.disp_footprint);
+        if (ch.bits & ST_CHANGE_POSITIONS) rc |= st_renderer_refresh(&a->r, ST_TARGET_CAGE, &d->h.map, ch.footprint);
         if (rc) refresh_all(a);
         touched = 1;
     } else if ((ch.bits & ST_CHANGE_POSITIONS) && ch.nmoved) {
-        if (st_renderer_edit(&a->r, &d->h, ch.moved_level, ch.moved_darts, ch.nmoved)) {
+        if (st_renderer_refresh(&a->r, ST_TARGET_MESHES, &d->h.map, ch.footprint)) {
             /* Out of memory for the incremental path: rebuild. */
             st_renderer_set_level(&a->r, &dh->map, disp, &err);
             st_renderer_set_cage(&a->r, &d->h.map, d->edit_level, &err);

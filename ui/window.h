@@ -6,7 +6,7 @@
  * same functions with the arguments GLFW would pass, one event per frame,
  * so scripted runs exercise the real handlers.  After each handler the
  * window reads st_doc_take_change() and updates the renderer incrementally
- * (st_renderer_edit for moved vertices, set_level / set_cage for topology).
+ * (st_renderer_refresh with core's footprint for moved vertices, set_level / set_cage for topology).
  */
 #ifndef ST_WINDOW_H
 #define ST_WINDOW_H

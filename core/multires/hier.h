@@ -1,4 +1,4 @@
-/* st_hier: a multiresolution subdivision surface (thesis §3.1, digest §3).
+/* st_hier: a multiresolution subdivision surface (Kraemer 2008 §3.1).
  *
  * Positions of level l (map->pos) always satisfy
  *     P_l(v) = S(P_{l-1})(v) + F_l(v) · D_l(v)            (l >= 1)

@@ -5,6 +5,7 @@
 #error "internal to core: render/, ui/ and app/ use core's public headers (docs/ARCHITECTURE.md)"
 #endif
 
+#include "core/multires/footprint.h"
 #include "core/multires/hier.h"
 #include "core/map/dart_list.h"
 #include "core/map/refine_internal.h"
@@ -51,6 +52,7 @@ typedef struct st_synth_ctx {
     uint64_t count;        /* vertices written */
     st_dart_list *changed; /* local passes: a dart of level L of each vertex written */
     int lost;              /* some written vertex had no dart found on its frame cell */
+    st_footprint *fp;      /* NULL, or where (L, position, vertex) of each vertex written goes */
 } st_synth_ctx;
 
 /* Sink for stencils (scheme.h emit), ctx an st_synth_ctx: applies, with
@@ -73,6 +75,7 @@ static inline void st_synth_put(st_synth_ctx *c, uint32_t v, uint32_t d, const d
         memcpy(slot + (size_t)v * 3 * sizeof(double), p, 3 * sizeof(double));
     }
     c->count++;
+    if (c->fp) st_footprint_add(c->fp, st_fp_key(c->L, ST_FP_POS, v));
     st_dart_list *l = c->changed;
     if (!l) return;
     if (l->n < l->cap) l->d[l->n++] = d; /* no call while there is room */

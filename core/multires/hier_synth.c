@@ -1,5 +1,6 @@
 /* Synthesis (thesis Algorithm 3), local frames, and local re-synthesis after
  * an edit.  Stencils come from the scheme; this file only applies them. */
+#include "core/multires/edit.h"
 #include "core/multires/hier_internal.h"
 #include "core/map/pool_internal.h"
 
@@ -216,6 +217,7 @@ void st_synth_sink(void *ctx, const st_stencil *s)
     st_stencil_apply(c->h, c->L, s, p);
     st_hier_write_pos(c->h, s->fine, c->L, p);
     c->count++;
+    if (c->fp) st_footprint_add(c->fp, st_fp_key(c->L, ST_FP_POS, s->fine));
     if (c->changed) {
         uint32_t d = st_dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
         if (d == ST_NIL) c->lost = 1;
@@ -378,12 +380,26 @@ static void refresh_detail(st_hier *h, unsigned l, uint32_t d)
     st_stencil_buf_free(&c.buf);
 }
 
-uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n)
+/* Footprint query (st_hier_edit_footprint): the stamps and the seeds of
+ * st_synth_sink, the write left out. */
+static void dry_sink(void *ctx, const st_stencil *s)
+{
+    synth_ctx *c = ctx;
+    if (c->h->stamp[s->fine] == c->gen) return;
+    c->h->stamp[s->fine] = c->gen;
+    c->count++;
+    if (c->fp) st_footprint_add(c->fp, st_fp_key(c->L, ST_FP_POS, s->fine));
+    uint32_t d = st_dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
+    if (d == ST_NIL) c->lost = 1;
+    else st_dart_list_push(c->changed, d);
+}
+
+/* The levels above l after the vertices of `darts` changed at l, written
+ * (write != 0) or only recorded in fp: one walk for the edit and for its
+ * footprint query, so that both give the same set. */
+static uint64_t resynth_above(st_hier *h, unsigned l, const uint32_t *darts, uint32_t n, int write, st_footprint *fp)
 {
     st_map *m = &h->map;
-    for (uint32_t i = 0; i < n; i++) st_hier_write_pos(h, st_vert(m, darts[i], l), l, pos[i]);
-    if (l > 0)
-        for (uint32_t i = 0; i < n; i++) refresh_detail(h, l, real_seed(m, darts[i], l));
     /* Level L is recomputed on the faces of level L-1 whose children can
      * see a vertex that changed at L-1 (support_rings rings around it);
      * the vertices written at L seed level L+1.  Should a written vertex
@@ -396,14 +412,15 @@ uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const doubl
     uint64_t count = 0;
     for (unsigned L = l + 1; L <= m->top; L++) {
         next.n = 0;
-        synth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next };
-        if (h->scheme->predict_around && !h->detail[L] && !extra && h->scheme->predict_around(h, L, seeds.d, seeds.n, &c)) {
+        synth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next, .fp = fp };
+        if (write && h->scheme->predict_around && !h->detail[L] && !extra &&
+            h->scheme->predict_around(h, L, seeds.d, seeds.n, &c)) {
             count += c.count;
         } else {
             faces.n = 0;
             st_region_faces(m, L - 1, seeds.d, seeds.n, h->scheme->support_rings + extra, &faces);
             c.gen = st_hier_stamp_begin(h);
-            h->scheme->emit(h, L, faces.d, faces.n, st_synth_sink, &c);
+            h->scheme->emit(h, L, faces.d, faces.n, write ? st_synth_sink : dry_sink, &c);
             count += c.count;
             extra = c.lost;
             if (c.lost) {
@@ -422,4 +439,37 @@ uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const doubl
     st_dart_list_free(&next);
     st_dart_list_free(&faces);
     return count;
+}
+
+/* The level-l values of an edit: positions, and details for l >= 1. */
+static void edit_level_keys(const st_map *m, unsigned l, const uint32_t *darts, uint32_t n, st_footprint *fp)
+{
+    if (!fp) return;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t v = st_vert(m, darts[i], l);
+        st_footprint_add(fp, st_fp_key(l, ST_FP_POS, v));
+        if (l > 0) st_footprint_add(fp, st_fp_key(l, ST_FP_DETAIL, v));
+    }
+}
+
+uint64_t st_hier_edit(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                      st_footprint *fp)
+{
+    st_map *m = &h->map;
+    for (uint32_t i = 0; i < n; i++) st_hier_write_pos(h, st_vert(m, darts[i], l), l, pos[i]);
+    if (l > 0)
+        for (uint32_t i = 0; i < n; i++) refresh_detail(h, l, real_seed(m, darts[i], l));
+    edit_level_keys(m, l, darts, n, fp);
+    return resynth_above(h, l, darts, n, 1, fp);
+}
+
+uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n)
+{
+    return st_hier_edit(h, l, darts, pos, n, NULL);
+}
+
+void st_hier_edit_footprint(st_hier *h, unsigned l, const uint32_t *darts, uint32_t n, st_footprint *fp)
+{
+    edit_level_keys(&h->map, l, darts, n, fp);
+    resynth_above(h, l, darts, n, 0, fp);
 }

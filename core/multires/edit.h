@@ -1,0 +1,59 @@
+/* Local edits of an st_hier that report their footprint (footprint.h).
+ *
+ * Editing at level l (Kraemer 2008 §3.2; Blender multires conventions, see
+ * hier.h) writes P_l and D_l of the moved vertices and re-synthesises the
+ * levels above locally; coarser levels never change.  Core knows exactly
+ * which values it writes, so it reports them once here and the callers
+ * (undo, the interest box's display, the renderer) take that set instead
+ * of working the region out again. */
+#ifndef ST_EDIT_H
+#define ST_EDIT_H
+
+#include "core/multires/footprint.h"
+#include "core/multires/hier.h"
+
+/* st_hier_move, appending to fp (NULL: nothing) every value it wrote:
+ * (l, ST_FP_POS) and, for l >= 1, (l, ST_FP_DETAIL) of the moved vertices,
+ * then (L, ST_FP_POS) of each vertex re-synthesised at L = l+1..top, level
+ * by level.  Returns the number of positions recomputed above l. */
+uint64_t st_hier_edit(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                      st_footprint *fp);
+
+/* The footprint st_hier_edit(h, l, darts, ., n, .) writes, appended to fp
+ * without writing anything, so that old values can be saved first (undo).
+ * The same region growth and stencils as the edit, with a sink that only
+ * records; the region depends on the seeds and the topology, not on the new
+ * positions, so one query covers every update of a drag. */
+void st_hier_edit_footprint(st_hier *h, unsigned l, const uint32_t *darts, uint32_t n, st_footprint *fp);
+
+/* The value a key names: the position at its level, or the detail vector
+ * (zero when none is stored). */
+void st_hier_value(const st_hier *h, uint64_t key, double out[3]);
+/* Writes the value a key names (positions are stored only where they differ
+ * from the inherited value, hier.h).  Nothing is re-synthesised. */
+void st_hier_set_value(st_hier *h, uint64_t key, const double v[3]);
+
+/* Writes saved values back, e.g. undo and redo of an edit with the values of
+ * its whole footprint, and appends the keys to fp (NULL: nothing).  Nothing
+ * is re-synthesised: the keys cover every value the edit wrote, so writing
+ * them back is bit-exact, where a re-synthesis would round differently on a
+ * level that was edited directly. */
+void st_hier_restore(st_hier *h, const uint64_t *keys, const double (*values)[3], uint32_t n, st_footprint *fp);
+
+/* ---- adaptive hierarchies (core/adapt) ----------------------------------- */
+
+/* Level L of an adaptive hierarchy on the given faces of level L-1 (one dart
+ * each, faces subdivided toward L): S(P_{L-1}) + F·D, each vertex once
+ * (st_adapt_synthesize's arithmetic). */
+void st_hier_resynth_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n);
+
+/* Levels from+1..top of an adaptive hierarchy re-synthesised around seeds
+ * (darts of level `from` whose vertices moved): the region growth of
+ * st_hier_edit on the faces subdivided toward the next level only, with one
+ * ring more (a face next to a moved vertex may be unsubdivided while a
+ * corner of it is a corner of a subdivided face one ring further, whose
+ * stencils read the moved vertex).  Appends (L, ST_FP_POS) of every vertex
+ * written to fp (NULL: nothing). */
+void st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds, uint32_t n, st_footprint *fp);
+
+#endif
