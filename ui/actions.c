@@ -399,8 +399,8 @@ const st_action st_actions[ST_NACTIONS] = {
     ACT(ST_ACT_CAGE, ST_CAT_VIEW, "Control mesh", "control mesh overlay on / off", cage, model_keys_free,
         KEY(C, 0, S | A)),
 
-    ACT(ST_ACT_HELP, ST_CAT_HELP, "Key bindings", "this help", help, NULL, KEY(F1, 0, ANY)),
-    ACT(ST_ACT_CANCEL, ST_CAT_HELP, "Cancel", "cancel the current operation (or close this help)", cancel, NULL,
+    ACT(ST_ACT_HELP, ST_CAT_HELP, "Key bindings", "show / hide the key list", help, NULL, KEY(F1, 0, ANY)),
+    ACT(ST_ACT_CANCEL, ST_CAT_HELP, "Cancel", "cancel the current operation (or hide the key list)", cancel, NULL,
         KEY(ESCAPE, 0, ANY)),
     ACT(ST_ACT_QUIT, ST_CAT_HELP, "Quit", "quit", quit, NULL, KEY(Q, C, S | A)),
 

@@ -41,19 +41,52 @@ void st_app_draw_working(st_app *a)
     st_hud_text(u, x, y, sc, C_WHITE, a->working);
 }
 
-/* Splits the help's rows into columns of at most per rows, a heading never
+/* The F1 help's columns, at scale 1: long keys or descriptions wrap. */
+#define HELP_KEYS_W 210.0f
+#define HELP_WHAT_W 290.0f
+
+/* Copies text into out (n bytes), replacing by '\n' the spaces where a
+ * line would get wider than maxw at scale 1; returns the number of lines. */
+static int wrap_text(const char *text, float maxw, char *out, size_t n)
+{
+    snprintf(out, n, "%s", text);
+    int lines = 1;
+    char *line = out, *last_space = NULL;
+    for (char *p = out; *p; p++) {
+        if (*p != ' ') continue;
+        *p = 0;
+        float w = st_hud_text_width(line, 1);
+        *p = ' ';
+        if (w > maxw && last_space) {
+            *last_space = '\n';
+            line = last_space + 1;
+            lines++;
+        }
+        last_space = p;
+    }
+    if (st_hud_text_width(line, 1) > maxw && last_space && last_space + 1 > line) {
+        *last_space = '\n';
+        lines++;
+    }
+    return lines;
+}
+
+/* Splits the help's rows into columns of at most per lines, a heading never
  * last in a column; returns the number of columns, their first rows in
  * start (at most ncap). */
-static unsigned help_columns(const st_help_row *rows, unsigned n, unsigned per, unsigned *start, unsigned ncap)
+static unsigned help_columns(const int *lines, const st_help_row *rows, unsigned n, int per, unsigned *start,
+                             unsigned ncap)
 {
     unsigned ncol = 0, i = 0;
     while (i < n && ncol < ncap) {
         start[ncol++] = i;
-        unsigned end = i + per < n ? i + per : n;
+        unsigned end = i;
+        int used = 0;
+        while (end < n && (end == i || used + lines[end] <= per)) used += lines[end++];
         if (end < n && end - i > 1 && rows[end - 1].heading) end--;
         i = end;
     }
-    return ncol;
+    return i < n ? ncap + 1 : ncol;
 }
 
 /* The F1 help: the rows generated from the action table (actions.c) in one
@@ -62,22 +95,30 @@ static void draw_help(st_app *a)
 {
     static const float C_HEADING[4] = { 0.55f, 0.75f, 1.00f, 1 };
     static st_help_row rows[ST_HELP_MAX_ROWS];
+    static char keys[ST_HELP_MAX_ROWS][192], what[ST_HELP_MAX_ROWS][192];
+    static int lines[ST_HELP_MAX_ROWS];
     st_hud *u = &a->hud;
     unsigned n = st_help_rows(rows, ST_HELP_MAX_ROWS);
     if (n > ST_HELP_MAX_ROWS) n = ST_HELP_MAX_ROWS;
     float keysw = 0, whatw = 0;    /* column widths at scale 1 */
+    int total = 0;
     for (unsigned i = 0; i < n; i++) {
-        float w = st_hud_text_width(rows[i].heading ? rows[i].heading : rows[i].keys, 1);
-        if (w > keysw) keysw = w;
-        w = rows[i].what ? st_hud_text_width(rows[i].what, 1) : 0;
-        if (w > whatw) whatw = w;
+        int lk = wrap_text(rows[i].heading ? rows[i].heading : rows[i].keys, HELP_KEYS_W, keys[i], sizeof keys[i]);
+        int lw = wrap_text(rows[i].what ? rows[i].what : "", HELP_WHAT_W, what[i], sizeof what[i]);
+        lines[i] = lk > lw ? lk : lw;
+        total += lines[i];
+        keysw = fmaxf(keysw, st_hud_text_width(keys[i], 1));
+        whatw = fmaxf(whatw, st_hud_text_width(what[i], 1));
     }
     const float gap = 24, colw = keysw + 16 + whatw;
-    unsigned start[4], ncol = 1, best_per = n;
+    unsigned start[4] = { 0 }, ncol = 1;
+    int best_per = total;
     float s = 0;
-    for (unsigned want = 1; want <= 3; want++) {
-        unsigned per = (n + want - 1) / want, st[4];
-        unsigned nc = help_columns(rows, n, per, st, 4);
+    for (int want = 1; want <= 3; want++) {
+        int per = (total + want - 1) / want;
+        unsigned st[4];
+        unsigned nc;
+        while ((nc = help_columns(lines, rows, n, per, st, (unsigned)want)) > (unsigned)want) per++;
         float sw = ((float)a->fb_w - 48 - gap * (float)(nc - 1)) / (colw * (float)nc);
         float sh = ((float)a->fb_h - 40) / (12.0f * (float)(per + 2));
         float sc = fminf(HUD_SCALE, fminf(sw, sh));
@@ -91,15 +132,11 @@ static void draw_help(st_app *a)
     st_hud_text(u, x0, y0, s, C_BRUSH, "Key bindings (F1 closes)");
     for (unsigned c = 0; c < ncol; c++) {
         unsigned end = c + 1 < ncol ? start[c + 1] : n;
-        float x = x0 + (float)c * (colw * s + gap);
+        float x = x0 + (float)c * (colw * s + gap), y = y0 + lh;
         for (unsigned i = start[c]; i < end; i++) {
-            float y = y0 + (float)(i - start[c] + 1) * lh;
-            if (rows[i].heading) {
-                st_hud_text(u, x, y, s, C_HEADING, rows[i].heading);
-                continue;
-            }
-            st_hud_text(u, x, y, s, C_BRUSH, rows[i].keys);
-            st_hud_text(u, x + (keysw + 16) * s, y, s, C_WHITE, rows[i].what);
+            st_hud_text(u, x, y, s, rows[i].heading ? C_HEADING : C_BRUSH, keys[i]);
+            if (!rows[i].heading) st_hud_text(u, x + (keysw + 16) * s, y, s, C_WHITE, what[i]);
+            y += (float)lines[i] * lh;
         }
     }
 }
