@@ -1,6 +1,7 @@
 /* strata [--scheme S] [--levels N] [--size WxH] [--replay EVENTS.txt]
  *        [--screenshot-dir DIR] [--compare-dir DIR] [--mem-budget MIB]
  *        [--bench-interaction [--bench-steps N]] [FILE]
+ * strata --keys
  *
  * Opens the modeller window (ui/window.h) on FILE, or on the default asset
  * (assets/torus.obj).  Exit status: 0, 1 (a replay expectation or a
@@ -13,6 +14,7 @@
 #include <string.h>
 
 #ifdef STRATA_UI_BUILT
+#include "actions.h"
 #include "window.h"
 #endif
 
@@ -26,7 +28,8 @@ static void usage(FILE *f)
         "  --screenshot-dir D  where the replay's screenshots go (default .)\n"
         "  --compare-dir D     compare each screenshot with D/NAME.png (exit 1 on a mismatch)\n"
         "  --mem-budget MIB    refuse operations that would make the model larger (default: half the memory)\n"
-        "  --bench-interaction time a drag of one level-2 vertex on a depth-6 hierarchy (default --levels 6)\n");
+        "  --bench-interaction time a drag of one level-2 vertex on a depth-6 hierarchy (default --levels 6)\n"
+        "  --keys              print the key table (README.md's, from ui/actions.c) as markdown\n");
 }
 
 int st_cmd_window(int argc, char **argv)
@@ -47,6 +50,7 @@ int st_cmd_window(int argc, char **argv)
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) { usage(stdout); return 0; }
         if (!strcmp(a, "--bench-interaction")) { o.bench = 1; continue; }
+        if (!strcmp(a, "--keys")) { st_actions_markdown(stdout); return 0; }
         if (a[0] != '-') {
             if (o.file) { fprintf(stderr, "strata: one file at a time ('%s' and '%s')\n", o.file, a); return 2; }
             o.file = a;

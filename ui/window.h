@@ -1,4 +1,4 @@
-/* The modeller window (issue 6): one GLFW window with an OpenGL 3.3 core
+/* The modeller window: one GLFW window with an OpenGL 3.3 core
  * context, the document (editor.h), the renderer, picking, the HUD and the
  * scripted input (replay.h).
  *
@@ -11,6 +11,7 @@
 #ifndef ST_WINDOW_H
 #define ST_WINDOW_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "camera_ctl.h"
@@ -137,9 +138,33 @@ void st_app_autosave_tick(st_app *a, int force);    /* recovery file after edits
 void st_app_check_recovery(st_app *a);              /* at start: offer it */
 void st_app_restore_recovery(st_app *a);            /* Ctrl+R */
 
-/* Key bindings, for F1 and the README. */
-typedef struct st_binding { const char *keys, *what; } st_binding;
-extern const st_binding st_bindings[];
-extern const unsigned st_nbindings;
+/* Long operations on a worker thread with a "working..." panel (ui/jobs.c;
+ * st_app_open above is one). */
+void st_app_add_level(st_app *a);                   /* Ctrl+D */
+void st_app_change_scheme(st_app *a, const char *scheme);
+
+/* Keys are looked up in the action table (ui/actions.h). */
+
+/* ---- shared by the window's files (window.c, actions.c, jobs.c, hud_panels.c) ---- */
+
+double st_now_ms(void);
+const char *st_path_base(const char *path);        /* the file name of a path */
+/* A duration for the HUD and messages ("-- ms" in replays, so that their
+ * screenshots are the same pixels). */
+const char *st_app_fmt_ms(const st_app *a, double ms, char *buf, size_t n);
+float st_app_aspect(const st_app *a);
+void st_app_frame_model(st_app *a);                 /* Home */
+void st_app_update_hover(st_app *a);                /* hovered vertex or brush point */
+void st_app_select_all(st_app *a, int none);
+void st_app_drag_start(st_app *a, int op);          /* ST_OP_DRAG or ST_OP_GRAB of the selection */
+void st_app_drag_finish(st_app *a, int cancel);
+/* Handle k of the interest box: 0..5 the face centres (-x +x -y +y -z +z), 6 the centre. */
+void st_box_handle_pos(const st_adapt_params *b, int k, double p[3]);
+
+/* The overlay (ui/hud_panels.c). */
+void st_app_draw_hud(st_app *a);                    /* panel, status line, F1 help */
+void st_app_draw_overlays(st_app *a);               /* selection rectangle, brush circle */
+void st_app_draw_handles(st_app *a);                /* interest-box handles */
+void st_app_draw_working(st_app *a);                /* "working..." of a long operation */
 
 #endif

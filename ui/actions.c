@@ -1,0 +1,443 @@
+/* The modeller's actions: the table of everything a key does (actions.h),
+ * what each action runs, and when it is enabled.
+ *
+ * Not in the table: pointer input (orbit, pan, zoom, clicks, rectangles,
+ * drags, brush strokes, box handles, dropped files), which is continuous and
+ * stays in the window's pointer handlers (window.c); it is listed for F1
+ * and the README in st_gestures below.  Modifier keys pressed alone are
+ * state (held modifiers change a drag), not actions (window.c).
+ *
+ * Adding a key: an id in actions.h, an entry below; F1 follows, and
+ * `strata --keys` prints the README's table (tests/test_actions.c fails
+ * until README.md is updated). */
+#include "actions.h"
+
+#include <math.h>
+#include <string.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include "window.h"
+
+/* ---- what the keys run ---------------------------------------------------------- */
+
+static const char *const scheme_cycle[] = { "catmull-clark", "loop", "butterfly", "quad-triangle", "sqrt3", "doo-sabin" };
+#define NSCHEMES (sizeof scheme_cycle / sizeof scheme_cycle[0])
+
+static const char *next_scheme(const char *cur)
+{
+    for (unsigned i = 0; i < NSCHEMES; i++)
+        if (cur && !strcmp(cur, scheme_cycle[i])) return scheme_cycle[(i + 1) % NSCHEMES];
+    return scheme_cycle[0];
+}
+
+static void report(st_app *a, int rc, const st_error *err, const char *what)
+{
+    if (rc) st_app_message(a, 1, "%s: %s", what, err->msg);
+    st_app_sync(a);
+}
+
+static void move_box(st_app *a, int axis, double dir, int resize)
+{
+    st_doc *d = &a->doc;
+    if (!d->box_on) { st_app_message(a, 0, "the interest box is hidden: I shows it"); return; }
+    st_adapt_params b = d->box;
+    double step = 0.05 * 2 * a->cc.radius;
+    if (resize) {
+        double half = 0.5 * (b.box_hi[axis] - b.box_lo[axis]) + 0.5 * dir * step;
+        if (half < 0.25 * step) half = 0.25 * step;
+        double c = 0.5 * (b.box_hi[axis] + b.box_lo[axis]);
+        b.box_lo[axis] = c - half;
+        b.box_hi[axis] = c + half;
+    } else {
+        b.box_lo[axis] += dir * step;
+        b.box_hi[axis] += dir * step;
+    }
+    st_error err;
+    double t0 = st_now_ms();
+    int rc = st_doc_set_box(d, &b, 1, &err);
+    report(a, rc, &err, "cannot move the box");
+    if (!rc) {
+        char t[32];
+        st_app_message(a, 0, "box %s, adaptive mesh updated in %s", resize ? "resized" : "moved",
+                       st_app_fmt_ms(a, st_now_ms() - t0, t, sizeof t));
+    }
+}
+
+static void box_levels(st_app *a, int base, int dir)
+{
+    st_doc *d = &a->doc;
+    st_adapt_params b = d->box;
+    if (base) {
+        if (dir < 0 && b.base_level == 0) return;
+        b.base_level += dir;
+        if (b.base_level > b.max_level) b.max_level = b.base_level;
+    } else {
+        if (dir < 0 && b.max_level == 0) return;
+        b.max_level += dir;
+        if (b.base_level > b.max_level) b.base_level = b.max_level;
+    }
+    st_error err;
+    int rc = st_doc_set_box(d, &b, d->box_on, &err);
+    report(a, rc, &err, "cannot change the box levels");
+    if (!rc) st_app_message(a, 0, "box levels %u..%u", d->box.base_level, d->box.max_level);
+}
+
+static void toggle_box(st_app *a)
+{
+    st_doc *d = &a->doc;
+    st_adapt_params b = d->box;
+    if (!b.has_box || (b.box_lo[0] == b.box_hi[0] && b.box_lo[1] == b.box_hi[1])) {
+        const float *bb = a->cc.bbox;
+        for (int k = 0; k < 3; k++) {
+            double c = 0.5 * (bb[k] + bb[k + 3]), h = 0.2 * (bb[k + 3] - bb[k]);
+            b.box_lo[k] = c - h;
+            b.box_hi[k] = c + h;
+        }
+        /* Start the box on the right half, so that it is not all inside. */
+        double sx = 0.3 * (bb[3] - bb[0]);
+        b.box_lo[0] += sx;
+        b.box_hi[0] += sx;
+        b.has_box = 1;
+        if (b.max_level == 0) { b.base_level = 0; b.max_level = d->h.map.top + 1; }
+    }
+    st_error err;
+    double t0 = st_now_ms();
+    int rc = st_doc_set_box(d, &b, !d->box_on, &err);
+    report(a, rc, &err, "cannot change the interest box");
+    if (!rc) {
+        char t[32];
+        st_app_message(a, 0, "interest box %s (%s)", d->box_on ? "on" : "off", st_app_fmt_ms(a, st_now_ms() - t0, t, sizeof t));
+    }
+}
+
+/* When an action may run.  Keys wait for the mouse: while a drag, a
+ * stroke, a rectangle or a box drag is under way only Esc, F1, Ctrl+Q and
+ * (for a grab) Enter act; orbiting and panning let keys through. */
+static int grabbing(const st_app *a) { return a->op == ST_OP_GRAB; }
+static int keys_free(const st_app *a) { return a->op == ST_OP_NONE || a->op == ST_OP_ORBIT || a->op == ST_OP_PAN; }
+static int model_keys_free(const st_app *a) { return keys_free(a) && a->doc.loaded; }
+
+/* File */
+static void save(st_app *a) { st_app_save(a); }
+static void restore_recovery(st_app *a) { st_app_restore_recovery(a); }
+
+/* Edit */
+static void undo_redo(st_app *a, int redo)
+{
+    st_doc *d = &a->doc;
+    st_error err;
+    int rc = redo ? st_doc_redo(d, &err) : st_doc_undo(d, &err);
+    if (rc == -1) st_app_message(a, 0, "nothing to %s", redo ? "redo" : "undo");
+    else if (rc) st_app_message(a, 1, "%s failed: %s", redo ? "redo" : "undo", err.msg);
+    else st_app_message(a, 0, "%s (%u/%u)", redo ? "redone" : "undone", d->undo_pos, d->nundo);
+    st_app_sync(a);
+}
+static void undo(st_app *a) { undo_redo(a, 0); }
+static void redo(st_app *a) { undo_redo(a, 1); }
+static void select_all(st_app *a) { st_app_select_all(a, 0); }
+static void select_none(st_app *a) { st_app_select_all(a, 1); }
+
+/* G: the selection follows the mouse until a click or Enter (Blender's grab). */
+static void grab(st_app *a)
+{
+    if (!a->doc.nsel) { st_app_message(a, 0, "nothing selected to grab"); return; }
+    a->op_x0 = a->mx;
+    a->op_y0 = a->my;
+    a->op_mods = 0;
+    st_app_drag_start(a, ST_OP_GRAB);
+}
+static void grab_confirm(st_app *a) { st_app_drag_finish(a, 0); }
+
+/* Tools */
+static void set_tool(st_app *a, int tool) { a->tool = tool; st_app_update_hover(a); }
+static void tool_select(st_app *a) { set_tool(a, ST_TOOL_SELECT); }
+static void brush_grab(st_app *a) { set_tool(a, ST_BRUSH_GRAB); }
+static void brush_draw(st_app *a) { set_tool(a, ST_BRUSH_DRAW); }
+static void brush_smooth(st_app *a) { set_tool(a, ST_BRUSH_SMOOTH); }
+static void brush_flatten(st_app *a) { set_tool(a, ST_BRUSH_FLATTEN); }
+static void radius_down(st_app *a) { a->doc.brush.radius /= 1.15; }
+static void radius_up(st_app *a) { a->doc.brush.radius *= 1.15; }
+static void strength_down(st_app *a) { a->doc.brush.strength = fmax(0.02, a->doc.brush.strength - 0.05); }
+static void strength_up(st_app *a) { a->doc.brush.strength = fmin(1.0, a->doc.brush.strength + 0.05); }
+static void mirror_x(st_app *a) { a->doc.brush.mirror_x = !a->doc.brush.mirror_x; }
+
+/* Mesh: the editing level moves between 0 and the top, the displayed one
+ * between the editing level and the top. */
+static void step_level(st_app *a, int display, int up)
+{
+    st_doc *d = &a->doc;
+    int down = !up;
+    if (display) {
+        if (d->box_on) { st_app_message(a, 0, "the interest box decides the display: I hides it"); return; }
+        unsigned l = d->display_level;
+        if (down && l > d->edit_level) l--;
+        if (up && l < d->h.map.top) l++;
+        st_doc_set_display_level(d, l);
+    } else {
+        unsigned l = d->edit_level;
+        if (down && l > 0) l--;
+        if (up && l < d->h.map.top) l++;
+        st_doc_set_edit_level(d, l);
+    }
+    st_app_sync(a);
+    st_app_update_hover(a);
+}
+static void edit_level_up(st_app *a) { step_level(a, 0, 1); }
+static void edit_level_down(st_app *a) { step_level(a, 0, 0); }
+static void display_level_up(st_app *a) { step_level(a, 1, 1); }
+static void display_level_down(st_app *a) { step_level(a, 1, 0); }
+static void add_level(st_app *a) { st_app_add_level(a); }
+static void delete_finest(st_app *a)
+{
+    st_error err;
+    report(a, st_doc_remove_top(&a->doc, &err), &err, "cannot delete the finest level");
+}
+static void delete_coarsest(st_app *a)
+{
+    st_error err;
+    report(a, st_doc_remove_bottom(&a->doc, &err), &err, "cannot delete the coarsest level");
+}
+/* K asks first (the rebuild loses the details): the scheme question. */
+static void change_scheme(st_app *a) { a->pending_scheme = next_scheme(a->doc.scheme ? a->doc.scheme->name : NULL); }
+static void scheme_next(st_app *a) { a->pending_scheme = next_scheme(a->pending_scheme); }
+static void scheme_confirm(st_app *a)
+{
+    const char *s = a->pending_scheme;
+    a->pending_scheme = NULL;
+    st_app_change_scheme(a, s);
+}
+static void scheme_keep(st_app *a)
+{
+    a->pending_scheme = NULL;
+    st_app_message(a, 0, "scheme unchanged");
+}
+
+/* Box */
+static void box_toggle(st_app *a) { toggle_box(a); }
+static void box_move_xn(st_app *a) { move_box(a, 0, -1, 0); }
+static void box_move_xp(st_app *a) { move_box(a, 0, 1, 0); }
+static void box_move_yn(st_app *a) { move_box(a, 1, -1, 0); }
+static void box_move_yp(st_app *a) { move_box(a, 1, 1, 0); }
+static void box_move_zn(st_app *a) { move_box(a, 2, -1, 0); }
+static void box_move_zp(st_app *a) { move_box(a, 2, 1, 0); }
+static void box_shrink_x(st_app *a) { move_box(a, 0, -1, 1); }
+static void box_grow_x(st_app *a) { move_box(a, 0, 1, 1); }
+static void box_shrink_y(st_app *a) { move_box(a, 1, -1, 1); }
+static void box_grow_y(st_app *a) { move_box(a, 1, 1, 1); }
+static void box_shrink_z(st_app *a) { move_box(a, 2, -1, 1); }
+static void box_grow_z(st_app *a) { move_box(a, 2, 1, 1); }
+static void box_max_up(st_app *a) { box_levels(a, 0, 1); }
+static void box_max_down(st_app *a) { box_levels(a, 0, -1); }
+static void box_base_up(st_app *a) { box_levels(a, 1, 1); }
+static void box_base_down(st_app *a) { box_levels(a, 1, -1); }
+
+/* View */
+static void frame_all(st_app *a) { st_app_frame_model(a); }
+static void view(st_app *a, int v) { st_camctl_view(&a->cc, v, st_app_aspect(a)); st_pick_invalidate(&a->pick); }
+static void view_front(st_app *a) { view(a, ST_CV_FRONT); }
+static void view_back(st_app *a) { view(a, ST_CV_BACK); }
+static void view_right(st_app *a) { view(a, ST_CV_RIGHT); }
+static void view_left(st_app *a) { view(a, ST_CV_LEFT); }
+static void view_top(st_app *a) { view(a, ST_CV_TOP); }
+static void view_bottom(st_app *a) { view(a, ST_CV_BOTTOM); }
+static void projection(st_app *a) { st_camctl_toggle_ortho(&a->cc); st_pick_invalidate(&a->pick); }
+/* 15 degrees: st_camctl_orbit turns 0.4 degrees per pixel. */
+static void orbit(st_app *a, float dx, float dy) { st_camctl_orbit(&a->cc, dx, dy); st_pick_invalidate(&a->pick); }
+static void orbit_left(st_app *a) { orbit(a, 15 / 0.4f, 0); }
+static void orbit_right(st_app *a) { orbit(a, -15 / 0.4f, 0); }
+static void orbit_up(st_app *a) { orbit(a, 0, 15 / 0.4f); }
+static void orbit_down(st_app *a) { orbit(a, 0, -15 / 0.4f); }
+static void shading(st_app *a) { a->shading = a->shading == ST_SHADE_SMOOTH ? ST_SHADE_FLAT : ST_SHADE_SMOOTH; }
+static void wireframe(st_app *a) { a->wire = !a->wire; }
+static void cage(st_app *a) { a->cage = !a->cage; st_pick_invalidate(&a->pick); }
+
+/* Help */
+static void help(st_app *a) { a->help = !a->help; }
+static void quit(st_app *a) { a->quit = 1; }
+/* Esc closes the help, else cancels what the mouse is doing. */
+static void cancel(st_app *a)
+{
+    st_doc *d = &a->doc;
+    st_error err;
+    if (a->help) a->help = 0;
+    else if (a->op == ST_OP_DRAG || a->op == ST_OP_GRAB) st_app_drag_finish(a, 1);
+    else if (a->op == ST_OP_RECT) a->op = ST_OP_NONE;
+    else if (a->op == ST_OP_BOX) {
+        st_doc_set_box(d, &a->box_start, 1, &err);
+        st_doc_box_end(d);
+        a->op = ST_OP_NONE;
+        st_app_sync(a);
+    }
+}
+
+/* ---- the table ------------------------------------------------------------------ */
+
+#define C ST_MOD_CTRL
+#define S ST_MOD_SHIFT
+#define A ST_MOD_ALT
+#define ANY ST_MODS
+/* KEY(name, needed modifiers, tolerated modifiers) */
+#define KEY(k, mods, tolerate) { GLFW_KEY_##k, mods, tolerate }
+#define ACT(id, cat, name, help, run, enabled, ...) [id] = { id, name, cat, ST_KEYS_WINDOW, { __VA_ARGS__ }, help, run, enabled }
+#define ASK(id, name, help, run, ...) [id] = { id, name, ST_CAT_MESH, ST_KEYS_SCHEME_QUESTION, { __VA_ARGS__ }, help, run, NULL }
+
+const st_action st_actions[ST_NACTIONS] = {
+    ACT(ST_ACT_SAVE, ST_CAT_FILE, "Save session",
+        "save the session as NAME.strata (current directory; a .strata saves over itself)",
+        save, model_keys_free, KEY(S, C, S | A)),
+    ACT(ST_ACT_RESTORE_RECOVERY, ST_CAT_FILE, "Restore recovery", "restore the autosaved recovery session",
+        restore_recovery, model_keys_free, KEY(R, C, S | A)),
+
+    ACT(ST_ACT_UNDO, ST_CAT_EDIT, "Undo", "undo / redo", undo, model_keys_free, KEY(Z, C, A)),
+    ACT(ST_ACT_REDO, ST_CAT_EDIT, "Redo", "undo / redo", redo, model_keys_free, KEY(Z, C | S, A), KEY(Y, C, S | A)),
+    ACT(ST_ACT_SELECT_ALL, ST_CAT_EDIT, "Select all", "select all / none", select_all, model_keys_free, KEY(A, 0, S)),
+    ACT(ST_ACT_SELECT_NONE, ST_CAT_EDIT, "Select none", "select all / none", select_none, model_keys_free, KEY(A, A, S)),
+    ACT(ST_ACT_GRAB, ST_CAT_EDIT, "Grab",
+        "grab the selection: move the mouse, click or Enter confirms, right click or Esc cancels",
+        grab, model_keys_free, KEY(G, 0, S | A)),
+    ACT(ST_ACT_GRAB_CONFIRM, ST_CAT_EDIT, "Confirm grab", "confirm a grab", grab_confirm, grabbing,
+        KEY(ENTER, 0, ANY), KEY(KP_ENTER, 0, ANY)),
+
+    ACT(ST_ACT_TOOL_SELECT, ST_CAT_TOOLS, "Select/move tool", "select/move tool", tool_select, model_keys_free,
+        KEY(W, 0, S | A)),
+    ACT(ST_ACT_BRUSH_GRAB, ST_CAT_TOOLS, "Grab brush", "brush: grab / draw (inflate) / smooth / flatten", brush_grab,
+        model_keys_free, KEY(B, 0, S | A)),
+    ACT(ST_ACT_BRUSH_DRAW, ST_CAT_TOOLS, "Draw brush", "brush: grab / draw (inflate) / smooth / flatten", brush_draw,
+        model_keys_free, KEY(D, 0, S | A)),
+    ACT(ST_ACT_BRUSH_SMOOTH, ST_CAT_TOOLS, "Smooth brush", "brush: grab / draw (inflate) / smooth / flatten",
+        brush_smooth, model_keys_free, KEY(S, 0, S | A)),
+    ACT(ST_ACT_BRUSH_FLATTEN, ST_CAT_TOOLS, "Flatten brush", "brush: grab / draw (inflate) / smooth / flatten",
+        brush_flatten, model_keys_free, KEY(F, 0, S | A)),
+    ACT(ST_ACT_RADIUS_DOWN, ST_CAT_TOOLS, "Smaller brush", "brush radius smaller / larger (also Ctrl+Wheel)",
+        radius_down, model_keys_free, KEY(LEFT_BRACKET, 0, A)),
+    ACT(ST_ACT_RADIUS_UP, ST_CAT_TOOLS, "Larger brush", "brush radius smaller / larger (also Ctrl+Wheel)", radius_up,
+        model_keys_free, KEY(RIGHT_BRACKET, 0, A)),
+    ACT(ST_ACT_STRENGTH_DOWN, ST_CAT_TOOLS, "Weaker brush", "brush strength down / up", strength_down,
+        model_keys_free, KEY(LEFT_BRACKET, S, A)),
+    ACT(ST_ACT_STRENGTH_UP, ST_CAT_TOOLS, "Stronger brush", "brush strength down / up", strength_up,
+        model_keys_free, KEY(RIGHT_BRACKET, S, A)),
+    ACT(ST_ACT_MIRROR_X, ST_CAT_TOOLS, "X mirror", "X-mirror symmetry on / off", mirror_x, model_keys_free,
+        KEY(X, 0, S | A)),
+
+    ACT(ST_ACT_EDIT_LEVEL_UP, ST_CAT_MESH, "Edit a finer level", "editing level up / down", edit_level_up,
+        model_keys_free, KEY(PAGE_UP, 0, 0), KEY(KP_ADD, 0, 0), KEY(EQUAL, 0, 0)),
+    ACT(ST_ACT_EDIT_LEVEL_DOWN, ST_CAT_MESH, "Edit a coarser level", "editing level up / down", edit_level_down,
+        model_keys_free, KEY(PAGE_DOWN, 0, 0), KEY(KP_SUBTRACT, 0, 0), KEY(MINUS, 0, 0)),
+    ACT(ST_ACT_DISPLAY_LEVEL_UP, ST_CAT_MESH, "Display a finer level", "displayed level up / down",
+        display_level_up, model_keys_free, KEY(PAGE_UP, S, 0), KEY(KP_ADD, S, 0), KEY(EQUAL, S, 0)),
+    ACT(ST_ACT_DISPLAY_LEVEL_DOWN, ST_CAT_MESH, "Display a coarser level", "displayed level up / down",
+        display_level_down, model_keys_free, KEY(PAGE_DOWN, S, 0), KEY(KP_SUBTRACT, S, 0), KEY(MINUS, S, 0)),
+    ACT(ST_ACT_ADD_LEVEL, ST_CAT_MESH, "Add a level", "add a level (subdivide)", add_level, model_keys_free,
+        KEY(D, C, 0)),
+    ACT(ST_ACT_DELETE_FINEST, ST_CAT_MESH, "Delete the finest level", "delete the finest level", delete_finest,
+        model_keys_free, KEY(D, C | S, A)),
+    ACT(ST_ACT_DELETE_COARSEST, ST_CAT_MESH, "Delete the coarsest level", "delete the coarsest level (rebase)",
+        delete_coarsest, model_keys_free, KEY(D, C | A, 0)),
+    ACT(ST_ACT_CHANGE_SCHEME, ST_CAT_MESH, "Change the scheme...", "change the scheme (asks first, see below)",
+        change_scheme, model_keys_free, KEY(K, 0, S | A)),
+
+    ACT(ST_ACT_BOX_TOGGLE, ST_CAT_BOX, "Interest box", "interest box on / off (adaptive display)", box_toggle,
+        model_keys_free, KEY(I, 0, S | A)),
+    ACT(ST_ACT_BOX_MOVE_XN, ST_CAT_BOX, "Move the box -X", "move the box in X / Y / Z", box_move_xn, model_keys_free,
+        KEY(LEFT, 0, A)),
+    ACT(ST_ACT_BOX_MOVE_XP, ST_CAT_BOX, "Move the box +X", "move the box in X / Y / Z", box_move_xp, model_keys_free,
+        KEY(RIGHT, 0, A)),
+    ACT(ST_ACT_BOX_MOVE_YN, ST_CAT_BOX, "Move the box -Y", "move the box in X / Y / Z", box_move_yn, model_keys_free,
+        KEY(DOWN, 0, 0)),
+    ACT(ST_ACT_BOX_MOVE_YP, ST_CAT_BOX, "Move the box +Y", "move the box in X / Y / Z", box_move_yp, model_keys_free,
+        KEY(UP, 0, 0)),
+    ACT(ST_ACT_BOX_MOVE_ZN, ST_CAT_BOX, "Move the box -Z", "move the box in X / Y / Z", box_move_zn, model_keys_free,
+        KEY(DOWN, A, 0)),
+    ACT(ST_ACT_BOX_MOVE_ZP, ST_CAT_BOX, "Move the box +Z", "move the box in X / Y / Z", box_move_zp, model_keys_free,
+        KEY(UP, A, 0)),
+    ACT(ST_ACT_BOX_SHRINK_X, ST_CAT_BOX, "Shrink the box in X", "resize the box in X / Y / Z", box_shrink_x,
+        model_keys_free, KEY(LEFT, S, A)),
+    ACT(ST_ACT_BOX_GROW_X, ST_CAT_BOX, "Grow the box in X", "resize the box in X / Y / Z", box_grow_x,
+        model_keys_free, KEY(RIGHT, S, A)),
+    ACT(ST_ACT_BOX_SHRINK_Y, ST_CAT_BOX, "Shrink the box in Y", "resize the box in X / Y / Z", box_shrink_y,
+        model_keys_free, KEY(DOWN, S, 0)),
+    ACT(ST_ACT_BOX_GROW_Y, ST_CAT_BOX, "Grow the box in Y", "resize the box in X / Y / Z", box_grow_y,
+        model_keys_free, KEY(UP, S, 0)),
+    ACT(ST_ACT_BOX_SHRINK_Z, ST_CAT_BOX, "Shrink the box in Z", "resize the box in X / Y / Z", box_shrink_z,
+        model_keys_free, KEY(DOWN, A | S, 0)),
+    ACT(ST_ACT_BOX_GROW_Z, ST_CAT_BOX, "Grow the box in Z", "resize the box in X / Y / Z", box_grow_z,
+        model_keys_free, KEY(UP, A | S, 0)),
+    ACT(ST_ACT_BOX_MAX_UP, ST_CAT_BOX, "Box maximum level up", "box maximum level up / down", box_max_up,
+        model_keys_free, KEY(PERIOD, 0, A)),
+    ACT(ST_ACT_BOX_MAX_DOWN, ST_CAT_BOX, "Box maximum level down", "box maximum level up / down", box_max_down,
+        model_keys_free, KEY(COMMA, 0, A)),
+    ACT(ST_ACT_BOX_BASE_UP, ST_CAT_BOX, "Box base level up", "box base level up / down", box_base_up,
+        model_keys_free, KEY(PERIOD, S, A)),
+    ACT(ST_ACT_BOX_BASE_DOWN, ST_CAT_BOX, "Box base level down", "box base level up / down", box_base_down,
+        model_keys_free, KEY(COMMA, S, A)),
+
+    ACT(ST_ACT_FRAME_ALL, ST_CAT_VIEW, "Frame all", "frame all", frame_all, keys_free, KEY(HOME, 0, ANY)),
+    ACT(ST_ACT_VIEW_FRONT, ST_CAT_VIEW, "Front view", "front / back view", view_front, keys_free,
+        KEY(KP_1, 0, S | A), KEY(1, 0, S | A)),
+    ACT(ST_ACT_VIEW_BACK, ST_CAT_VIEW, "Back view", "front / back view", view_back, keys_free,
+        KEY(KP_1, C, S | A), KEY(1, C, S | A)),
+    ACT(ST_ACT_VIEW_RIGHT, ST_CAT_VIEW, "Right view", "right / left view", view_right, keys_free,
+        KEY(KP_3, 0, S | A), KEY(3, 0, S | A)),
+    ACT(ST_ACT_VIEW_LEFT, ST_CAT_VIEW, "Left view", "right / left view", view_left, keys_free,
+        KEY(KP_3, C, S | A), KEY(3, C, S | A)),
+    ACT(ST_ACT_VIEW_TOP, ST_CAT_VIEW, "Top view", "top / bottom view", view_top, keys_free,
+        KEY(KP_7, 0, S | A), KEY(7, 0, S | A)),
+    ACT(ST_ACT_VIEW_BOTTOM, ST_CAT_VIEW, "Bottom view", "top / bottom view", view_bottom, keys_free,
+        KEY(KP_7, C, S | A), KEY(7, C, S | A)),
+    ACT(ST_ACT_PROJECTION, ST_CAT_VIEW, "Perspective / orthographic", "perspective / orthographic", projection,
+        keys_free, KEY(KP_5, 0, ANY), KEY(5, 0, ANY)),
+    ACT(ST_ACT_ORBIT_LEFT, ST_CAT_VIEW, "Orbit left", "orbit by 15 degrees", orbit_left, keys_free, KEY(KP_4, 0, ANY)),
+    ACT(ST_ACT_ORBIT_RIGHT, ST_CAT_VIEW, "Orbit right", "orbit by 15 degrees", orbit_right, keys_free,
+        KEY(KP_6, 0, ANY)),
+    ACT(ST_ACT_ORBIT_UP, ST_CAT_VIEW, "Orbit up", "orbit by 15 degrees", orbit_up, keys_free, KEY(KP_8, 0, ANY)),
+    ACT(ST_ACT_ORBIT_DOWN, ST_CAT_VIEW, "Orbit down", "orbit by 15 degrees", orbit_down, keys_free, KEY(KP_2, 0, ANY)),
+    ACT(ST_ACT_SHADING, ST_CAT_VIEW, "Smooth / flat shading", "smooth / flat shading", shading, model_keys_free,
+        KEY(Z, 0, A)),
+    ACT(ST_ACT_WIREFRAME, ST_CAT_VIEW, "Wireframe", "wireframe on / off", wireframe, model_keys_free, KEY(Z, S, A)),
+    ACT(ST_ACT_CAGE, ST_CAT_VIEW, "Control mesh", "control mesh overlay on / off", cage, model_keys_free,
+        KEY(C, 0, S | A)),
+
+    ACT(ST_ACT_HELP, ST_CAT_HELP, "Key bindings", "show / hide the key list", help, NULL, KEY(F1, 0, ANY)),
+    ACT(ST_ACT_CANCEL, ST_CAT_HELP, "Cancel", "cancel the current operation (or hide the key list)", cancel, NULL,
+        KEY(ESCAPE, 0, ANY)),
+    ACT(ST_ACT_QUIT, ST_CAT_HELP, "Quit", "quit", quit, NULL, KEY(Q, C, S | A)),
+
+    ASK(ST_ACT_SCHEME_NEXT, "Next scheme", "propose the next scheme", scheme_next, KEY(K, 0, ANY)),
+    ASK(ST_ACT_SCHEME_CONFIRM, "Rebuild", "rebuild the hierarchy with it (its details are lost)", scheme_confirm,
+        KEY(Y, 0, ANY), KEY(ENTER, 0, ANY)),
+    ASK(ST_ACT_SCHEME_KEEP, "Keep the scheme", "keep the scheme (any other key too)", scheme_keep, KEY(N, 0, ANY)),
+};
+
+const st_gesture st_gestures[] = {
+    { "Middle drag / Alt+Left drag", "orbit" },
+    { "Shift+Middle drag / Alt+Shift+Left drag", "pan" },
+    { "Wheel", "zoom" },
+    { "Ctrl+Wheel", "brush radius" },
+    { "Left click", "select a vertex of the editing level (Shift toggles, Ctrl removes)" },
+    { "Left drag on empty space", "rectangle selection (Shift adds, Ctrl removes)" },
+    { "Left drag on a vertex", "move the selection in the view plane (Ctrl or Alt: along its normal)" },
+    { "Left drag (brush tools)", "stroke (draw: Ctrl pushes in)" },
+    { "Left drag a box handle", "square: move that face (resize), circle: move the box" },
+    { "Drop a file", "open it, mesh or .strata session (a failed load keeps the model)" },
+};
+const unsigned st_ngestures = sizeof st_gestures / sizeof st_gestures[0];
+
+/* ---- running ---------------------------------------------------------------------- */
+
+int st_action_enabled(const st_action *act, const st_app *a)
+{
+    return !act->enabled || act->enabled(a);
+}
+
+const st_action *st_app_key(st_app *a, int key, int mods)
+{
+    int context = a->pending_scheme ? ST_KEYS_SCHEME_QUESTION : ST_KEYS_WINDOW;
+    const st_action *act = st_action_for_key(context, key, mods);
+    /* Any other key answers the scheme question with no. */
+    if (!act && context == ST_KEYS_SCHEME_QUESTION) act = &st_actions[ST_ACT_SCHEME_KEEP];
+    if (!act || !st_action_enabled(act, a)) return NULL;
+    act->run(a);
+    return act;
+}
