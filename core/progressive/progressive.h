@@ -1,0 +1,137 @@
+/* Progressive multiresolution meshes (Kraemer 2008, ch. 4; GSS99).
+ *
+ * st_progressive_build turns a manifold triangle mesh (closed or open, any
+ * genus) into an ordinary st_hier whose level 0 is coarse and whose finest
+ * level is the input, so that synthesis, analysis, local edits, undo,
+ * sessions and the renderer work on it unchanged.
+ *
+ * Design
+ * ------
+ * 1. Simplification on a flat working copy (progressive_work.c): a closed
+ *    half-edge structure (twin/next/prev/origin arrays, holes as boundary
+ *    loops of half-edges).  Collapses are *half-edge* collapses a -> b (the
+ *    merged vertex sits on the endpoint b, as in GSS99 and thesis §4.4.6:
+ *    "v takes the position of s1"), ranked by the quadric error metric
+ *    (Garland-Heckbert 97: area-weighted face planes, plus planes through
+ *    the boundary edges perpendicular to their face, so that open borders
+ *    keep their shape).  The endpoint is chosen over the optimal position
+ *    because every vertex then keeps its input position at every level it
+ *    exists in: level positions need no per-level column, the details of
+ *    the vertices that are not split are exactly zero, and the finest level
+ *    is the input bit for bit.
+ *
+ * 2. Before a collapse a -> b (c, d the vertices opposite the edge):
+ *    - a on the boundary: the edge must be a boundary edge (a boundary
+ *      vertex only moves along its boundary; an interior edge between two
+ *      boundary vertices would pinch the surface);
+ *    - link condition (thesis §4.4.3, P2; Dey et al. 1999 for boundaries):
+ *      N(a) ∩ N(b) = {c, d}, or {c} for a boundary edge;
+ *    - valences (§4.4.3, P1): an interior c or d keeps at least 3
+ *      neighbours, a boundary one at least 2 (no dangling edge), the merged
+ *      vertex at least 3 (interior) or 2 (boundary), and for a boundary
+ *      edge b keeps a neighbour besides a and c (no "ear" whose every dart
+ *      would be new when split again: see progressive_emit.c);
+ *    - no face around a flips its normal.
+ *    A collapse that satisfies the link condition leaves the surface
+ *    homeomorphic, so the Euler characteristic and the boundary loops are
+ *    kept at every level; a hole can neither close nor pinch.
+ *
+ * 3. Independence (thesis §4.4.4, Algorithm 9, made precise).  For a
+ *    collapse h = a -> b on the mesh M of level L, with c, d opposite:
+ *        A(h) = {a, b} ∪ N(a)    the vertices whose 1-ring h changes;
+ *        C(h) = {a, b, c, d}     the vertices whose number of neighbours
+ *                                h changes (a vertex of N(a) other than
+ *                                b, c, d trades a for b: same count, since
+ *                                the link condition keeps it out of N(b)).
+ *    h reads the whole 1-rings of a and b, only the number of neighbours
+ *    of c and d, and the boundary flags, which no collapse changes.
+ *    Rule: two collapses h, h' of one group satisfy
+ *        A(h) ∩ {a', b'} = ∅  and  C(h) ∩ {c', d'} = ∅,  and the same with
+ *        h and h' exchanged.
+ *    Proof that every level stays a valid map: every check of h' (point 2)
+ *    reads the 1-rings of a' and b', the neighbour counts of c' and d',
+ *    boundary flags and positions (which never change).  After h, those
+ *    rings and counts are as they were, so h' passes its checks on h(M)
+ *    exactly as on M.  Its two triangles contain a', b' ∉ A(h) ⊇ {a,b,c,d},
+ *    so h did not remove them; the edges it re-sews (c'-b' with a'-c',
+ *    d'-a' with b'-d') have an end in {a', b'}, so they are neither edges h
+ *    removed nor darts whose origin h moved (those start at a).  A face
+ *    around a' contains a only if a' ∈ N(a) ⊂ A(h): the normal test sees
+ *    the same faces.  By induction any order of the group gives the same
+ *    valid manifold, homeomorphic to M.  It also gives what the stencils
+ *    need: no two vertices split at one level are neighbours at that level
+ *    (a' ∈ N(a) would put a' in A(h)), and no split vertex is a neighbour
+ *    of another split's partner (b ∈ N(a') puts b in A(h')), so every
+ *    vertex a split vertex is predicted from exists one level down.
+ *    The groups are chosen greedily, cheapest quadric cost first, with four
+ *    marker bits per vertex; a group stops at the target face count.
+ *    (The thesis asks only that splits of one level share no neighbour; a
+ *    rule of that kind lets two collapses lower the valence of one vertex
+ *    that each alone would keep legal, which the C ∩ {c', d'} part forbids.)
+ *
+ * 4. Materialisation: the groups are recorded fine to coarse with an undo
+ *    log (the digest's "simpler alternative": no level shifting).  Level 0
+ *    is built from the coarsest working copy; then, for L = 1..top, the
+ *    group of level L is undone on the working copy and replayed on the map
+ *    as vertex splits: the split vertex a and the darts of the two restored
+ *    triangles (one triangle and one boundary dart for a boundary edge) are
+ *    inserted at level L, and the darts around a, b, c, d take their level-L
+ *    β0, β1 and vertex through the kernel's per-level columns (thesis
+ *    §4.4.2: φ1 of the real faces never changes; β1 = φ1∘β0 changes where
+ *    β0 does, and along the hole whose length changed).
+ *
+ * 5. Geometry: the "progressive" scheme (core/schemes/scheme_progressive.c)
+ *    predicts, at level L, every vertex that exists at L-1 by its own
+ *    level-(L-1) position, and each split vertex a by the average of the
+ *    level-(L-1) positions of its level-L neighbours (its two boundary
+ *    neighbours on a border) — a relaxation operator in the sense of
+ *    GSS99 §3 (uniform weights).  Its detail, in the local frame of the
+ *    coarse vertex b it was merged into, is what remains; every other
+ *    detail is zero.  A rigid motion of a coarse level therefore moves the
+ *    finer levels rigidly, and st_progressive_filter scales the details
+ *    per level (multiresolution filtering, GSS99 §5, thesis §4.4.6).
+ *
+ * Polygons are triangulated first (fans; rep->triangulated says so).
+ */
+#ifndef ST_PROGRESSIVE_H
+#define ST_PROGRESSIVE_H
+
+#include "core/multires/hier.h"
+
+typedef struct st_progressive_opts {
+    uint64_t target_faces;     /* stop at or just above this many faces; 0: as far as possible */
+    unsigned max_levels;       /* most levels in all (level 0 included); 0: ST_MAX_LEVELS */
+    /* Called after each level with the fraction of the work done; a
+     * non-zero return cancels the build (ST_ERR_INVALID, "cancelled"). */
+    int (*progress)(void *ctx, double fraction);
+    void *progress_ctx;
+} st_progressive_opts;
+
+typedef struct st_progressive_report {
+    unsigned levels;                       /* levels built: 0..levels-1 */
+    uint64_t faces[ST_MAX_LEVELS];         /* faces of each level */
+    uint64_t vertices[ST_MAX_LEVELS];      /* vertices of each level */
+    double kept[ST_MAX_LEVELS];            /* t of level l >= 1: vertices(l-1) / vertices(l) */
+    double bytes_per_dart;                 /* map topology bytes per finest dart */
+    uint64_t inexact;                      /* split vertices whose synthesis misses the input's bits
+                                              (progressive.c, compute_details); normally 0 */
+    int triangulated;                      /* the input had polygons: fans were used */
+    int target_reached;                    /* faces[0] <= target_faces */
+    char note[256];                        /* why the simplification stopped */
+} st_progressive_report;
+
+/* Builds the hierarchy into *out (left empty on failure).  fine must be a
+ * repaired soup (st_mesh_repair): manifold and consistently oriented.
+ * rep may be NULL. */
+int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_hier *out,
+                         st_progressive_report *rep, st_error *err);
+
+/* Multiresolution filtering: multiplies the details of level k+1 by
+ * gains[k] (k < n; levels above n keep gain 1), then re-synthesises the
+ * levels above the first level whose gain is not 1.  Gain 0 removes a band,
+ * 1 keeps it (all gains 1 change no bit), > 1 enhances it.  The scaled
+ * details stay: applying gains g then 1/g restores the details (up to
+ * rounding).  Fails on a hierarchy of another scheme or a non-finite gain. */
+int st_progressive_filter(st_hier *h, const double *gains, unsigned n, st_error *err);
+
+#endif
