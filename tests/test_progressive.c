@@ -83,60 +83,42 @@ static int same_triangles(const st_mesh *a, const st_mesh *b)
 
 /* ---- the independence rule, checked on the map ---------------------------------- */
 
-/* At every level L: for each split vertex a (inserted at L) with partner b
- * (the other end of its edge whose two darts are new) and c, d opposite
- * that edge, A = {a} ∪ N(a) and C = {a, b, c, d} at level L (progressive.h,
- * point 3): no other split's A meets {a, b} and no other split's C meets
- * {c, d}. */
+/* At every level L (progressive.h, point 3): the vertices inserted at L
+ * are pairwise not neighbours at L, each is the end a of exactly one edge
+ * a -> b whose two darts are new (its split), and the partners b are
+ * distinct vertices of level L-1. */
 static int check_independence(st_map *m, const char *what)
 {
     int ok = 1;
     uint32_t nv = m->verts.end;
-    uint32_t *acount = calloc(nv ? nv : 1, sizeof *acount), *ccount = calloc(nv ? nv : 1, sizeof *ccount);
-    st_dart_list ab = { 0 };
-    for (unsigned L = 1; L <= m->top; L++) {
-        memset(acount, 0, nv * sizeof *acount);
-        memset(ccount, 0, nv * sizeof *ccount);
-        ab.n = 0;
+    uint32_t *partner_of = calloc(nv ? nv : 1, sizeof *partner_of), *splits = calloc(nv ? nv : 1, sizeof *splits);
+    for (unsigned L = 1; L <= m->top && ok; L++) {
+        memset(partner_of, 0, nv * sizeof *partner_of);
+        memset(splits, 0, nv * sizeof *splits);
         st_dart_iter it;
         for (uint32_t d = st_dart_first(m, L, &it); d != ST_NIL; d = st_dart_next(m, L, &it)) {
-            uint32_t e = st_beta0(m, d, L);
-            if (m->darts.ins[d] != L || m->darts.ins[e] != L || st_is_boundary(m, d)) continue;
-            uint32_t a = st_vert(m, d, L);
-            if (m->verts.ins[a] != L) continue;  /* d runs a -> b */
-            st_dart_list_push(&ab, d);
-        }
-        uint32_t (*r)[4] = malloc((ab.n ? ab.n : 1) * sizeof *r);
-        for (uint32_t i = 0; i < ab.n; i++) {
-            uint32_t d = ab.d[i], e = st_beta0(m, d, L), x = d;
-            r[i][0] = st_vert(m, d, L);
-            r[i][1] = st_vert(m, e, L);
-            r[i][2] = st_vert(m, st_phi_1(m, d, L), L);
-            r[i][3] = st_is_boundary(m, e) ? ST_NIL : st_vert(m, st_phi_1(m, e, L), L);
-            acount[r[i][0]]++;                      /* b is counted as a neighbour of a */
-            do { acount[st_vert(m, st_beta0(m, x, L), L)]++; x = st_beta1(m, x, L); } while (x != d);
-            for (int k = 0; k < 4; k++) if (r[i][k] != ST_NIL) ccount[r[i][k]]++;
-            if (m->verts.ins[r[i][1]] >= L) ok = 0;  /* the partner exists one level down */
-        }
-        for (uint32_t i = 0; i < ab.n; i++)
-            for (int k = 0; k < 4; k++) {
-                uint32_t v = r[i][k];
-                if (v == ST_NIL || (k < 2 ? acount[v] : ccount[v]) == 1) continue;
-                if (ok) fprintf(stderr, "%s: level %u: vertex %u read by one split is changed by another\n", what, L, v);
+            uint32_t e = st_beta0(m, d, L), a = st_vert(m, d, L), b = st_vert(m, e, L);
+            if (m->verts.ins[a] == L && m->verts.ins[b] == L) {
+                fprintf(stderr, "%s: level %u: split vertices %u and %u are neighbours\n", what, L, a, b);
                 ok = 0;
             }
-        free(r);
-        /* Every vertex inserted at L is one split's a. */
-        uint32_t news = 0;
-        for (uint32_t v = st_vertex_first(m, L, &it); v != ST_NIL; v = st_vertex_next(m, L, &it)) news += m->verts.ins[v] == L;
-        if (news != ab.n) {
-            fprintf(stderr, "%s: level %u: %u new vertices, %u split edges\n", what, L, news, ab.n);
-            ok = 0;
+            if (m->darts.ins[d] != L || m->darts.ins[e] != L || st_is_boundary(m, d) || m->verts.ins[a] != L) continue;
+            splits[a]++;
+            partner_of[b]++;
+        }
+        for (uint32_t v = st_vertex_first(m, L, &it); v != ST_NIL; v = st_vertex_next(m, L, &it)) {
+            if (m->verts.ins[v] == L && splits[v] != 1) {
+                fprintf(stderr, "%s: level %u: vertex %u is split %u times\n", what, L, v, splits[v]);
+                ok = 0;
+            }
+            if (partner_of[v] > 1) {
+                fprintf(stderr, "%s: level %u: vertex %u is the partner of %u splits\n", what, L, v, partner_of[v]);
+                ok = 0;
+            }
         }
     }
-    st_dart_list_free(&ab);
-    free(acount);
-    free(ccount);
+    free(partner_of);
+    free(splits);
     return ok;
 }
 

@@ -30,44 +30,37 @@
  *      neighbours, a boundary one at least 2 (no dangling edge), the merged
  *      vertex at least 3 (interior) or 2 (boundary), and for a boundary
  *      edge b keeps a neighbour besides a and c (no "ear" whose every dart
- *      would be new when split again: see progressive_emit.c);
+ *      would be new when split again: see point 3 (ii));
  *    - no face around a flips its normal.
  *    A collapse that satisfies the link condition leaves the surface
  *    homeomorphic, so the Euler characteristic and the boundary loops are
  *    kept at every level; a hole can neither close nor pinch.
  *
- * 3. Independence (thesis §4.4.4, Algorithm 9, made precise).  For a
- *    collapse h = a -> b on the mesh M of level L, with c, d opposite:
- *        A(h) = {a, b} ∪ N(a)    the vertices whose 1-ring h changes;
- *        C(h) = {a, b, c, d}     the vertices whose number of neighbours
- *                                h changes (a vertex of N(a) other than
- *                                b, c, d trades a for b: same count, since
- *                                the link condition keeps it out of N(b)).
- *    h reads the whole 1-rings of a and b, only the number of neighbours
- *    of c and d, and the boundary flags, which no collapse changes.
- *    Rule: two collapses h, h' of one group satisfy
- *        A(h) ∩ {a', b'} = ∅  and  C(h) ∩ {c', d'} = ∅,  and the same with
- *        h and h' exchanged.
- *    Proof that every level stays a valid map: every check of h' (point 2)
- *    reads the 1-rings of a' and b', the neighbour counts of c' and d',
- *    boundary flags and positions (which never change).  After h, those
- *    rings and counts are as they were, so h' passes its checks on h(M)
- *    exactly as on M.  Its two triangles contain a', b' ∉ A(h) ⊇ {a,b,c,d},
- *    so h did not remove them; the edges it re-sews (c'-b' with a'-c',
- *    d'-a' with b'-d') have an end in {a', b'}, so they are neither edges h
- *    removed nor darts whose origin h moved (those start at a).  A face
- *    around a' contains a only if a' ∈ N(a) ⊂ A(h): the normal test sees
- *    the same faces.  By induction any order of the group gives the same
- *    valid manifold, homeomorphic to M.  It also gives what the stencils
- *    need: no two vertices split at one level are neighbours at that level
- *    (a' ∈ N(a) would put a' in A(h)), and no split vertex is a neighbour
- *    of another split's partner (b ∈ N(a') puts b in A(h')), so every
- *    vertex a split vertex is predicted from exists one level down.
- *    The groups are chosen greedily, cheapest quadric cost first, with four
- *    marker bits per vertex; a group stops at the target face count.
- *    (The thesis asks only that splits of one level share no neighbour; a
- *    rule of that kind lets two collapses lower the valence of one vertex
- *    that each alone would keep legal, which the C ∩ {c', d'} part forbids.)
+ * 3. Independence (thesis §4.4.4, Algorithm 9, made precise).  The
+ *    collapses of one group (one level) are made one after the other, and
+ *    each passes the checks of point 2 on the mesh as the previous ones
+ *    left it; so every level is a valid surface homeomorphic to the input
+ *    (link condition), whatever the group.  (The thesis' rule — splits of
+ *    one level share no neighbour, checked on the level before the group —
+ *    does not ensure this by itself: two collapses that are each legal
+ *    can together lower one vertex's valence below what the checks allow,
+ *    or close a hole; checking each on the current mesh does.)
+ *    What the group must still satisfy is what the hierarchy needs, for a
+ *    group turning level L into level L-1, with N(a) the 1-ring at L:
+ *      (i)  no removed vertex is a neighbour at L of another one
+ *           (a' ∉ N(a) ∪ {a}): every vertex a split vertex is predicted
+ *           from (its level-L neighbours) exists at level L-1, and so does
+ *           every vertex a neighbour of a split reads;
+ *      (ii) no vertex is the target b of two collapses: b keeps at level L
+ *           a dart of level L-1 (an interior b has valence >= 3 at L and
+ *           only two of its darts are new; point 2 keeps one for a
+ *           boundary b), on which its detail frame sits (scheme_progressive.c).
+ *    (i) also means a removed vertex is never a target (b ∈ N(a)), so no
+ *    chain a -> b -> b' within a level.  Both are kept with two marker bits
+ *    per vertex, set on a's ring before each collapse (tests/
+ *    test_progressive.c checks them on the map at every level).  The groups
+ *    are chosen greedily, cheapest quadric cost first, up to the target
+ *    face count.
  *
  * 4. Materialisation: the groups are recorded fine to coarse with an undo
  *    log (the digest's "simpler alternative": no level shifting).  Level 0

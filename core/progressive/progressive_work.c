@@ -372,38 +372,23 @@ static int cmp_cand(const void *x, const void *y)
 }
 
 /* Marker bits of the independence rule (progressive.h, point 3), per
- * vertex and per group: in the {a, b} of an accepted collapse (its rings are
- * read), in its {c, d} (their sizes are read), in its A = {a, b} ∪ N(a) (its
- * ring changes), in its C = {a, b, c, d} (its ring's size changes). */
-enum { IND_AB = 1, IND_CD = 2, IND_A = 4, IND_C = 8 };
+ * vertex and per group: the removed vertex of an accepted collapse or one
+ * of its neighbours at the group's finer level; the target b of one. */
+enum { IND_NEAR_REMOVED = 1, IND_TARGET = 2 };
 
 static int independent(const pm_work *w, uint32_t h)
 {
-    uint32_t a = w->org[h], b = pm_dest(w, h), t = w->twin[h];
-    uint32_t c = w->org[w->prev[h]], d = (w->hflags[t] & PM_HE_BOUNDARY) ? ST_NIL : w->org[w->prev[t]];
-    /* what h reads must not have been changed by the group */
-    if ((w->indep[a] | w->indep[b]) & IND_A) return 0;
-    if ((w->indep[c] | (d != ST_NIL ? w->indep[d] : 0)) & IND_C) return 0;
-    /* what h changes must not have been read by the group */
-    if ((w->indep[a] | w->indep[b] | w->indep[c] | (d != ST_NIL ? w->indep[d] : 0)) & (IND_AB | IND_CD)) return 0;
-    uint32_t x = h;
-    do {
-        if (w->indep[pm_dest(w, x)] & IND_AB) return 0;
-        x = pm_rot(w, x);
-    } while (x != h);
-    return 1;
+    return !(w->hflags[h] & PM_HE_DEAD) && !(w->indep[w->org[h]] & IND_NEAR_REMOVED) && !(w->indep[pm_dest(w, h)] & IND_TARGET);
 }
 
+/* Marks before the collapse, so that N(a) is a's ring at the finer level. */
 static void claim(pm_work *w, uint32_t h)
 {
-    uint32_t a = w->org[h], b = pm_dest(w, h), t = w->twin[h];
-    w->indep[a] |= IND_AB | IND_A | IND_C;
-    w->indep[b] |= IND_AB | IND_A | IND_C;
-    w->indep[w->org[w->prev[h]]] |= IND_CD | IND_C;
-    if (!(w->hflags[t] & PM_HE_BOUNDARY)) w->indep[w->org[w->prev[t]]] |= IND_CD | IND_C;
     uint32_t x = h;
+    w->indep[w->org[h]] |= IND_NEAR_REMOVED;
+    w->indep[pm_dest(w, h)] |= IND_TARGET;
     do {
-        w->indep[pm_dest(w, x)] |= IND_A;
+        w->indep[pm_dest(w, x)] |= IND_NEAR_REMOVED;
         x = pm_rot(w, x);
     } while (x != h);
 }
