@@ -427,7 +427,16 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
         }
         qsort(cs, nc, sizeof *cs, cmp_cand);
         uint32_t before = w->ncol;
+        /* Quality: a group takes its collapses among the cheapest 40 % of
+         * the candidate half-edges only, so that it does not pay for its
+         * size with collapses a sequential simplification would put off.
+         * Measured on koala (bench_progressive, 1 % of the faces): all
+         * candidates: 16 levels, Hausdorff 1.17x and RMS 1.22x OpenMesh's;
+         * 60 %: 17 levels, 1.26x, 1.12x; 40 %: 17 levels, 1.00x, 1.06x;
+         * 25 %: 19 levels, 0.95x, 1.04x. */
+        uint32_t last = (uint32_t)(0.4 * nc);
         for (uint32_t i = 0; i < nc && w->faces > target; i++) {
+            if (i >= last && w->ncol > before) break; /* past the cheapest part, unless it had none allowed */
             uint32_t h = cs[i].he;
             if (!independent(w, h) || !collapse_ok(w, h)) continue;
             claim(w, h);
