@@ -209,6 +209,7 @@ static void test_tetrahedron(void)
     CHECK(rep.levels == 1 && h.map.top == 0 && rep.faces[0] == 4 && !rep.target_reached && strstr(rep.note, "no collapse"));
     st_hier_free(&h);
     /* The octahedron: each collapse would leave a valence-3 ... it may go one level. */
+    st_mesh_free(&t);
     tl_mesh_octa(&t);
     CHECK(st_progressive_build(&t, &o, &h, &rep, &err) == ST_OK);
     CHECK(st_map_validate(&h.map, &err) == ST_OK);
@@ -238,6 +239,16 @@ static void test_progress_and_bad_input(void)
     st_progressive_report rep;
     CHECK(st_progressive_build(&m, &o2, &h, &rep, &err) == ST_OK && rep.levels == 3 && strstr(rep.note, "limit"));
     st_hier_free(&h);
+    /* an edge used twice in one direction (not a manifold) is refused */
+    {
+        static const double pos[12] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0 };
+        static const uint32_t off[3] = { 0, 3, 6 }, idx[6] = { 0, 1, 2, 0, 1, 3 };
+        st_mesh bad;
+        st_mesh_init(&bad);
+        tl_mesh_make(&bad, pos, 4, off, idx, 2);
+        CHECK(st_progressive_build(&bad, NULL, &h, NULL, &err) == ST_ERR_TOPOLOGY && strstr(err.msg, "edge 0-1"));
+        st_mesh_free(&bad);
+    }
     /* a non-finite coordinate is refused with a message */
     m.pos[4] = NAN;
     CHECK(st_progressive_build(&m, NULL, &h, NULL, &err) == ST_ERR_GEOMETRY && strstr(err.msg, "vertex 1"));
