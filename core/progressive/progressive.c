@@ -220,6 +220,7 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
     if (!rc) {
         hier_empty(out);
         rc = materialise(&w, out, err);
+        pm_work_free(&w); /* before the details: a lower peak of memory */
         if (!rc) rep->inexact = compute_details(out);
         if (rc) st_hier_free(out);
     }
