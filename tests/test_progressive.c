@@ -526,6 +526,45 @@ static void test_filter(const char *name)
     st_hier_free(&h);
 }
 
+/* The generic passes on a progressive hierarchy: least-squares analysis
+ * then synthesis gives the finest level back; deleting the coarsest level
+ * leaves a valid hierarchy whose synthesis still gives it back. */
+static void test_analysis_and_remove_bottom(const char *name, uint64_t target)
+{
+    st_hier h;
+    if (build(name, &h, target)) return;
+    st_error err;
+    unsigned top = h.map.top;
+    tl_posnap a, b;
+    tl_snap_pos(&h, &a);
+    double res = st_hier_analyze(&h, 0);
+    st_hier_synthesize(&h, 0);
+    tl_snap_pos(&h, &b);
+    double worst = 0, extent = 0;
+    for (uint32_t v = 0; v < a.n; v++)
+        for (int k = 0; k < 3; k++) {
+            size_t at = 3 * ((size_t)top * a.n + v) + (size_t)k;
+            worst = fmax(worst, fabs(a.p[at] - b.p[at]));
+            extent = fmax(extent, fabs(a.p[at]));
+        }
+    CHECKF(worst <= 1e-9 * extent, "%s: analysis then synthesis moves the finest level by %g (residual %g)", name, worst, res);
+    free(b.p);
+    st_hier_remove_bottom(&h);
+    CHECK(h.map.top == top - 1);
+    CHECKF(st_map_validate(&h.map, &err) == ST_OK, "%s: %s", name, err.msg);
+    CHECK(check_independence(&h.map, name));
+    st_hier_synthesize(&h, 0);
+    worst = 0;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(&h.map, h.map.top, &it); v != ST_NIL; v = st_vertex_next(&h.map, h.map.top, &it)) {
+        const double *p = st_pos(&h.map, v, h.map.top);
+        for (int k = 0; k < 3; k++) worst = fmax(worst, fabs(p[k] - a.p[3 * ((size_t)top * a.n + v) + (size_t)k]));
+    }
+    CHECKF(worst <= 1e-9 * extent, "%s: after deleting level 0, synthesis moves the finest level by %g", name, worst);
+    free(a.p);
+    st_hier_free(&h);
+}
+
 int main(void)
 {
     test_topology();
@@ -541,5 +580,7 @@ int main(void)
     test_session("cube_no_bottom.obj");
     test_filter("spot_low_resolution.obj");
     test_filter("boot.obj");
+    test_analysis_and_remove_bottom("hand_lowres.obj", 60);
+    test_analysis_and_remove_bottom("cube_no_bottom.obj", 4);
     return TEST_END();
 }
