@@ -137,11 +137,14 @@ static int materialise(pm_work *w, st_hier *h, st_error *err)
 /* D = F^T (P_l - S(P_{l-1})) for every vertex whose stencil is not itself
  * (the split vertices and their neighbours; every other detail is zero).
  * D is then corrected by the residual of the synthesis itself
- * (st_stencil_apply) until synthesis gives back the input to the bit, so
- * that the stored positions are also what a full synthesis writes.  The
- * vertices where a few corrections do not reach the exact bits are
- * counted (their stored position stays the input; a synthesis moves them
- * by an ulp or so). */
+ * (st_stencil_apply), with shrinking steps after the second so as not to
+ * jump over the target bits, until synthesis gives back the input to the
+ * bit: the stored positions are then also what a full synthesis writes.
+ * Some bits cannot be reached (a coordinate much smaller than the
+ * prediction it is the sum of has finer bits than that sum can hold);
+ * those vertices are counted, keep the input as stored position, and a
+ * synthesis moves them by an ulp or so (koala: about 6 % of the (level,
+ * vertex) pairs with a detail). */
 typedef struct detail_ctx { st_hier *h; unsigned l; uint64_t inexact; } detail_ctx;
 
 static void detail_sink(void *ctx, const st_stencil *s)
@@ -156,8 +159,9 @@ static void detail_sink(void *ctx, const st_stencil *s)
     st_hier_frame(h, l - 1, s->frame_dart, s->frame_cell, f);
     for (int j = 0; j < 3; j++) r[j] = p[j] - pred[j];
     int exact = 0;
-    for (int it = 0; it < 8 && !exact; it++) {
-        for (int j = 0; j < 3; j++) dv[j] += f[j][0] * r[0] + f[j][1] * r[1] + f[j][2] * r[2];
+    double step = 1.0;
+    for (int it = 0; it < 16 && !exact; it++, step = it < 2 ? 1.0 : step * 0.75) {
+        for (int j = 0; j < 3; j++) dv[j] += step * (f[j][0] * r[0] + f[j][1] * r[1] + f[j][2] * r[2]);
         st_hier_set_detail(h, l, s->fine, dv);
         st_stencil_apply(h, l, s, out);
         for (int j = 0; j < 3; j++) r[j] = p[j] - out[j];

@@ -120,8 +120,8 @@ typedef struct st_progressive_report {
     uint64_t vertices[ST_MAX_LEVELS];      /* vertices of each level */
     double kept[ST_MAX_LEVELS];            /* t of level l >= 1: vertices(l-1) / vertices(l) */
     double bytes_per_dart;                 /* map topology bytes per finest dart */
-    uint64_t inexact;                      /* split vertices whose synthesis misses the input's bits
-                                              (progressive.c, compute_details); normally 0 */
+    uint64_t inexact;                      /* (level, vertex) details whose synthesis misses the input's
+                                              bits by an ulp or so (progressive.c, compute_details) */
     int triangulated;                      /* the input had polygons: fans were used */
     int target_reached;                    /* faces[0] <= target_faces */
     char note[256];                        /* why the simplification stopped */
