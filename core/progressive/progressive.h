@@ -63,7 +63,8 @@
  *    face count.
  *
  * 4. Materialisation: the groups are recorded fine to coarse with an undo
- *    log (the digest's "simpler alternative": no level shifting).  Level 0
+ *    log, and laid out once, coarse to fine, instead of shifting every
+ *    level at each simplification step as thesis §4.4.1-4.4.2 do.  Level 0
  *    is built from the coarsest working copy; then, for L = 1..top, the
  *    group of level L is undone on the working copy and replayed on the map
  *    as vertex splits: the split vertex a and the darts of the two restored
@@ -74,15 +75,19 @@
  *    β0 does, and along the hole whose length changed).
  *
  * 5. Geometry: the "progressive" scheme (core/schemes/scheme_progressive.c)
- *    predicts, at level L, every vertex that exists at L-1 by its own
- *    level-(L-1) position, and each split vertex a by the average of the
+ *    predicts, at level L, each split vertex a by the average of the
  *    level-(L-1) positions of its level-L neighbours (its two boundary
- *    neighbours on a border) — a relaxation operator in the sense of
- *    GSS99 §3 (uniform weights).  Its detail, in the local frame of the
- *    coarse vertex b it was merged into, is what remains; every other
- *    detail is zero.  A rigid motion of a coarse level therefore moves the
- *    finer levels rigidly, and st_progressive_filter scales the details
- *    per level (multiresolution filtering, GSS99 §5, thesis §4.4.6).
+ *    neighbours on a border), each neighbour of a split vertex by half its
+ *    own position and half the average of its neighbours (a split one at
+ *    its prediction), and every other vertex by its own level-(L-1)
+ *    position — relaxation operators in the sense of GSS99 §3 (uniform
+ *    weights).  A detail, in the local frame of the vertex's coarse
+ *    neighbourhood (for a, of the vertex b it was merged into), is what
+ *    remains; the details of the other vertices are zero.  A rigid motion
+ *    of a coarse level therefore moves the finer levels rigidly, and
+ *    st_progressive_filter scales the details per level (multiresolution
+ *    filtering, GSS99 §5, thesis §4.4.6): gain 0 on a band leaves the
+ *    relaxed, smoother surface.
  *
  * 6. Memory (thesis §4.4.8).  The kernel stores a relation's level-l
  *    values in a dense column over every dart inserted before l (map.h),
