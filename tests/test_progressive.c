@@ -217,23 +217,29 @@ static void test_tetrahedron(void)
     st_mesh_free(&t);
 }
 
-static int cancel_at_half(void *ctx, double f)
+typedef struct cancel_at { double at; int calls; } cancel_at;
+
+static int cancel_when(void *ctx, double f)
 {
-    int *calls = ctx;
-    ++*calls;
-    return f >= 0.5;
+    cancel_at *c = ctx;
+    c->calls++;
+    return f >= c->at;
 }
 
 static void test_progress_and_bad_input(void)
 {
     st_mesh m;
     if (load_shared("spot_low_resolution.obj", &m)) return;
-    int calls = 0;
-    st_progressive_opts o = { .target_faces = 10, .progress = cancel_at_half, .progress_ctx = &calls };
     st_hier h;
     st_error err;
-    CHECK(st_progressive_build(&m, &o, &h, NULL, &err) == ST_ERR_INVALID && strstr(err.msg, "cancelled") && calls >= 1);
-    CHECK(h.map.top == 0 && h.scheme == NULL); /* left empty */
+    /* cancelled while simplifying (fractions up to 0.8), then while laying
+     * out the map (0.8 to 0.95) */
+    for (int k = 0; k < 2; k++) {
+        cancel_at c = { k ? 0.85 : 0.5, 0 };
+        st_progressive_opts o = { .target_faces = 10, .progress = cancel_when, .progress_ctx = &c };
+        CHECK(st_progressive_build(&m, &o, &h, NULL, &err) == ST_ERR_INVALID && strstr(err.msg, "cancelled") && c.calls >= 1);
+        CHECK(h.map.top == 0 && h.scheme == NULL); /* left empty */
+    }
     /* max_levels caps the levels */
     st_progressive_opts o2 = { .target_faces = 10, .max_levels = 3 };
     st_progressive_report rep;

@@ -88,7 +88,7 @@ static void relations_around(mat *c, uint32_t v, unsigned l)
  * coarse to fine: undo the group on the working copy, insert its split
  * vertices and the darts of its restored faces at level l, and re-set the
  * relations of the darts around the four vertices of each split. */
-static int materialise(pm_work *w, st_hier *h, st_error *err)
+static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_error *err)
 {
     st_map *m = &h->map;
     mat c = { w, m, malloc((size_t)w->nhe * sizeof(uint32_t)), malloc((size_t)(w->nv ? w->nv : 1) * sizeof(uint32_t)) };
@@ -128,6 +128,8 @@ static int materialise(pm_work *w, st_hier *h, st_error *err)
             relations_around(&c, cl->c, l);
             if (cl->d != ST_NIL) relations_around(&c, cl->d, l);
         }
+        if (o->progress && o->progress(o->progress_ctx, 0.8 + 0.15 * l / w->ngroups))
+            rc = st_fail(err, ST_ERR_INVALID, "progressive: cancelled");
     }
     free(c.dart_of);
     free(c.vid_of);
@@ -223,7 +225,7 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
     rc = pm_simplify(&w, o->target_faces, max_levels - 1, o->progress, o->progress_ctx, rep->note, sizeof rep->note, err);
     if (!rc) {
         hier_empty(out);
-        rc = materialise(&w, out, err);
+        rc = materialise(&w, out, o, err);
         pm_work_free(&w); /* before the details: a lower peak of memory */
         if (!rc) rep->inexact = compute_details(out);
         if (rc) st_hier_free(out);
