@@ -145,8 +145,8 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
  * Some bits cannot be reached (a coordinate much smaller than the
  * prediction it is the sum of has finer bits than that sum can hold);
  * those vertices are counted, keep the input as stored position, and a
- * synthesis moves them by an ulp or so (koala: about 6 % of the (level,
- * vertex) pairs with a detail). */
+ * synthesis moves them by an ulp or so (koala to 1 %: 1823 details,
+ * bench_progressive). */
 typedef struct detail_ctx { st_hier *h; unsigned l; uint64_t inexact; } detail_ctx;
 
 static void detail_sink(void *ctx, const st_stencil *s)
