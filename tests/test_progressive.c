@@ -138,6 +138,9 @@ static void check_mesh(const char *what, const st_mesh *in, uint64_t target, int
     soup_topology(in, &euler, &loops);
     CHECKF(st_map_validate(&h.map, &err) == ST_OK, "%s: %s", what, err.msg);
     CHECK(rep.levels == h.map.top + 1 && rep.levels <= ST_MAX_LEVELS);
+    int polygons = 0;
+    for (uint32_t f = 0; f < in->nfaces; f++) polygons |= in->face_off[f + 1] - in->face_off[f] > 3;
+    CHECK(rep.triangulated == polygons);
     if (expect_levels) CHECKF(rep.levels >= 3, "%s: only %u levels (%s)", what, rep.levels, rep.note);
     for (unsigned l = 0; l <= h.map.top; l++) {
         st_level_stats s;
@@ -571,6 +574,35 @@ static void test_analysis_and_remove_bottom(const char *name, uint64_t target)
     st_hier_free(&h);
 }
 
+/* A map the scheme did not build (a crafted session could name it for a
+ * Loop hierarchy): every pass runs without a fault, and the vertices it
+ * cannot predict (no dart of the level below) keep their positions. */
+static void test_foreign_map(void)
+{
+    st_hier h;
+    tl_init_hier(&h, tl_mesh_icosa, ST_SCHEME_LOOP, 2);
+    uint64_t rng = 5;
+    tl_random_details(&h, &rng, 0.01);
+    h.scheme = &st_scheme_progressive;
+    tl_posnap a, b;
+    tl_snap_pos(&h, &a);
+    st_hier_synthesize(&h, 0);
+    uint32_t n;
+    uint32_t *vd = vertex_darts(&h.map, 0, &n);
+    double q[1][3] = { { 0.1, 0.2, 0.3 } };
+    st_hier_move(&h, 0, vd, q, 1);
+    st_hier_analyze(&h, 0);
+    tl_snap_pos(&h, &b);
+    CHECK(a.n == b.n && b.levels == 3);
+    st_error err;
+    CHECK(st_map_validate(&h.map, &err) == ST_OK);
+    free(vd);
+    free(a.p);
+    free(b.p);
+    h.scheme = &st_scheme_loop;
+    st_hier_free(&h);
+}
+
 int main(void)
 {
     test_topology();
@@ -586,6 +618,7 @@ int main(void)
     test_session("cube_no_bottom.obj");
     test_filter("spot_low_resolution.obj");
     test_filter("boot.obj");
+    test_foreign_map();
     test_analysis_and_remove_bottom("hand_lowres.obj", 60);
     test_analysis_and_remove_bottom("cube_no_bottom.obj", 4);
     return TEST_END();

@@ -52,6 +52,7 @@ static void ring_average(const st_map *m, uint32_t c, unsigned L, int border, do
         if ((!border || on_border(m, x, L)) && m->verts.ins[u] < L) st_stencil_buf_add(buf, u, 1.0);
         x = st_beta1(m, x, L);
     } while (x != c);
+    if (buf->n == first) return; /* the caller falls back on a vertex of level L-1 */
     double w = scale / (buf->n - first);
     for (uint32_t i = first; i < buf->n; i++) buf->w[i] = w;
 }
