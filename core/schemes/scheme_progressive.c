@@ -187,7 +187,7 @@ static int progressive_refine(st_hier *h, st_error *err)
 const st_scheme st_scheme_progressive = {
     .name = "progressive",
     .id = ST_SCHEME_PROGRESSIVE,
-    .interpolating = 1,
+    .interpolating = 0,               /* the neighbours of a split are relaxed */
     .support_rings = 2,
     .check = progressive_check,
     .refine = progressive_refine,
