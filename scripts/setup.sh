@@ -19,7 +19,7 @@ PACKAGES=(
   # glTF / images
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   # reference implementations used by tests/oracles and benchmarks
-  libosd-dev libcgal-dev libgmp-dev libmpfr-dev libopenmesh-dev
+  libosd-dev libcgal-dev libgmp-dev libmpfr-dev libopenmesh-dev libmeshoptimizer-dev
   # testing the window as a person would, screenshots
   xvfb xauth xdotool imagemagick
   # glTF validator (npm package gltf-validator)

@@ -23,6 +23,7 @@ typedef enum st_scheme_id {
     ST_SCHEME_QUADTRI,      /* quad/triangle (Stam, Loop 2003) on mixed meshes */
     ST_SCHEME_SQRT3,        /* √3 (Kobbelt 2000), triangles */
     ST_SCHEME_DOOSABIN,     /* Doo-Sabin, any polygon mesh (dual) */
+    ST_SCHEME_PROGRESSIVE,  /* progressive mesh: levels by simplification (core/progressive/progressive.h) */
     ST_SCHEME_COUNT
 } st_scheme_id;
 
@@ -101,5 +102,6 @@ extern const st_scheme st_scheme_butterfly;
 extern const st_scheme st_scheme_quadtri;
 extern const st_scheme st_scheme_sqrt3;
 extern const st_scheme st_scheme_doosabin;
+extern const st_scheme st_scheme_progressive;
 
 #endif

@@ -36,6 +36,7 @@ void st_stencil_buf_add_scaled(st_stencil_buf *b, const st_stencil_buf *o, doubl
 static const st_scheme *const all_schemes[] = {
     &st_scheme_catmark, &st_scheme_loop, &st_scheme_butterfly,
     &st_scheme_quadtri, &st_scheme_sqrt3, &st_scheme_doosabin,
+    &st_scheme_progressive,
 };
 
 const st_scheme *st_scheme_get(st_scheme_id id)

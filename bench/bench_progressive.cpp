@@ -1,0 +1,375 @@
+// bench_progressive: Strata's progressive hierarchy (core/progressive) against
+// OpenMesh's Decimater (quadric module) and meshoptimizer's meshopt_simplify,
+// in one process, on the same input down to the same face count.
+//
+//   bench_progressive [MESH] [--percent P] [--repeat N]
+//
+// Prints, for each: time (median of N), peak memory (each run once more in a
+// forked child: its peak RSS above the RSS it started with), the face count
+// reached, and the two-sided Hausdorff and RMS distances between the result
+// and the input relative to the bounding-box diagonal (points: every vertex
+// and centroid of the input, and 16 barycentric samples per triangle of
+// the result, each to the closest point of the other surface).
+extern "C" {
+#include "bench_common.h"
+#include "core/io/mesh.h"
+#include "core/progressive/progressive_internal.h"
+#include "core/map/map.h"
+}
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+#include <meshoptimizer.h>
+
+#include <malloc.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+typedef OpenMesh::TriMesh_ArrayKernelT<> OMesh;
+
+struct Tri { std::vector<double> pos; std::vector<uint32_t> idx; };
+
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static long rss_kib(void)
+{
+    FILE *f = fopen("/proc/self/statm", "r");
+    long pages = 0, res = 0;
+    if (f) {
+        if (fscanf(f, "%ld %ld", &pages, &res) != 2) res = 0;
+        fclose(f);
+    }
+    return res * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+// ---- the three simplifiers ---------------------------------------------------------
+
+static Tri run_strata(const st_mesh *m, uint64_t target, st_progressive_report *rep)
+{
+    st_hier h;
+    st_error err;
+    st_progressive_opts o = {};
+    o.target_faces = target;
+    Tri t;
+    if (st_progressive_build(m, &o, &h, rep, &err)) {
+        fprintf(stderr, "strata: %s\n", err.msg);
+        return t;
+    }
+    st_mesh c;
+    st_mesh_init(&c);
+    if (st_hier_level_mesh(&h, 0, &c, &err) == ST_OK) {
+        t.pos.assign(c.pos, c.pos + 3 * (size_t)c.nverts);
+        t.idx.assign(c.face_idx, c.face_idx + c.face_off[c.nfaces]);
+    }
+    st_mesh_free(&c);
+    st_hier_free(&h);
+    return t;
+}
+
+static Tri run_openmesh(const st_mesh *m, uint64_t target)
+{
+    OMesh mesh;
+    std::vector<OMesh::VertexHandle> vh(m->nverts);
+    for (uint32_t v = 0; v < m->nverts; v++)
+        vh[v] = mesh.add_vertex(OMesh::Point((float)m->pos[3 * v], (float)m->pos[3 * v + 1], (float)m->pos[3 * v + 2]));
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        const uint32_t *i = m->face_idx + m->face_off[f];
+        mesh.add_face(vh[i[0]], vh[i[1]], vh[i[2]]);
+    }
+    OpenMesh::Decimater::DecimaterT<OMesh> dec(mesh);
+    OpenMesh::Decimater::ModQuadricT<OMesh>::Handle hq;
+    dec.add(hq);
+    dec.module(hq).unset_max_err();
+    dec.initialize();
+    dec.decimate_to_faces(0, target);
+    mesh.garbage_collection();
+    Tri t;
+    for (auto v : mesh.vertices()) {
+        OMesh::Point p = mesh.point(v);
+        t.pos.push_back(p[0]); t.pos.push_back(p[1]); t.pos.push_back(p[2]);
+    }
+    for (auto f : mesh.faces())
+        for (auto v : mesh.fv_range(f)) t.idx.push_back((uint32_t)v.idx());
+    return t;
+}
+
+static Tri run_meshopt(const st_mesh *m, uint64_t target)
+{
+    std::vector<float> p(3 * (size_t)m->nverts);
+    for (size_t i = 0; i < p.size(); i++) p[i] = (float)m->pos[i];
+    std::vector<unsigned> in(m->face_idx, m->face_idx + m->face_off[m->nfaces]), out(in.size());
+    size_t n = meshopt_simplify(out.data(), in.data(), in.size(), p.data(), m->nverts, 3 * sizeof(float),
+                                3 * (size_t)target, FLT_MAX, 0, nullptr);
+    Tri t;
+    t.pos.assign(m->pos, m->pos + 3 * (size_t)m->nverts);
+    t.idx.assign(out.begin(), out.begin() + (long)n);
+    return t;
+}
+
+// ---- distances: closest point on a triangle set through a uniform grid --------------
+
+static void closest_on_tri(const double *p, const double *a, const double *b, const double *c, double *q)
+{
+    // Ericson, Real-Time Collision Detection §5.1.5.
+    double ab[3], ac[3], ap[3];
+    for (int i = 0; i < 3; i++) { ab[i] = b[i] - a[i]; ac[i] = c[i] - a[i]; ap[i] = p[i] - a[i]; }
+    auto dot = [](const double *x, const double *y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+    double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) { memcpy(q, a, 24); return; }
+    double bp[3];
+    for (int i = 0; i < 3; i++) bp[i] = p[i] - b[i];
+    double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) { memcpy(q, b, 24); return; }
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) { double v = d1 / (d1 - d3); for (int i = 0; i < 3; i++) q[i] = a[i] + v * ab[i]; return; }
+    double cp[3];
+    for (int i = 0; i < 3; i++) cp[i] = p[i] - c[i];
+    double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) { memcpy(q, c, 24); return; }
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) { double w = d2 / (d2 - d6); for (int i = 0; i < 3; i++) q[i] = a[i] + w * ac[i]; return; }
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        for (int i = 0; i < 3; i++) q[i] = b[i] + w * (c[i] - b[i]);
+        return;
+    }
+    double den = 1.0 / (va + vb + vc), v = vb * den, w = vc * den;
+    for (int i = 0; i < 3; i++) q[i] = a[i] + ab[i] * v + ac[i] * w;
+}
+
+struct Grid {
+    const Tri *t;
+    double lo[3], cell;
+    int n[3];
+    std::vector<uint32_t> start, items;
+    explicit Grid(const Tri *tri) : t(tri)
+    {
+        size_t nt = t->idx.size() / 3;
+        double hi[3];
+        for (int k = 0; k < 3; k++) { lo[k] = DBL_MAX; hi[k] = -DBL_MAX; }
+        for (size_t v = 0; v < t->pos.size() / 3; v++)
+            for (int k = 0; k < 3; k++) { lo[k] = std::min(lo[k], t->pos[3 * v + k]); hi[k] = std::max(hi[k], t->pos[3 * v + k]); }
+        double vol = 1;
+        for (int k = 0; k < 3; k++) vol *= std::max(hi[k] - lo[k], 1e-9);
+        cell = std::cbrt(vol / std::max<double>(1, (double)nt)) * 1.5;
+        for (int k = 0; k < 3; k++) n[k] = std::max(1, (int)std::ceil((hi[k] - lo[k]) / cell) + 1);
+        size_t ncell = (size_t)n[0] * n[1] * n[2];
+        start.assign(ncell + 1, 0);
+        for (int pass = 0; pass < 2; pass++) {
+            if (pass) {
+                for (size_t c = 0; c < ncell; c++) start[c + 1] += start[c];
+                items.resize(start[ncell]);
+            }
+            std::vector<uint32_t> fill(pass ? start : std::vector<uint32_t>());
+            for (size_t f = 0; f < nt; f++) {
+                int a[3], b[3];
+                box(f, a, b);
+                for (int z = a[2]; z <= b[2]; z++)
+                    for (int y = a[1]; y <= b[1]; y++)
+                        for (int x = a[0]; x <= b[0]; x++) {
+                            size_t c = ((size_t)z * n[1] + y) * n[0] + x;
+                            if (pass) items[fill[c]++] = (uint32_t)f;
+                            else start[c + 1]++;
+                        }
+            }
+        }
+    }
+    int coord(double x, int k) const { return std::min(n[k] - 1, std::max(0, (int)((x - lo[k]) / cell))); }
+    void box(size_t f, int *a, int *b) const
+    {
+        for (int k = 0; k < 3; k++) { a[k] = n[k]; b[k] = -1; }
+        for (int j = 0; j < 3; j++) {
+            const double *p = &t->pos[3 * (size_t)t->idx[3 * f + j]];
+            for (int k = 0; k < 3; k++) { a[k] = std::min(a[k], coord(p[k], k)); b[k] = std::max(b[k], coord(p[k], k)); }
+        }
+    }
+    // Distance from p to the closest triangle: rings of cells until the
+    // best distance found is within the ring's reach.
+    double dist(const double *p) const
+    {
+        int c[3] = { coord(p[0], 0), coord(p[1], 1), coord(p[2], 2) };
+        double best = DBL_MAX;
+        int maxr = std::max(n[0], std::max(n[1], n[2]));
+        for (int r = 0; r <= maxr; r++) {
+            for (int z = c[2] - r; z <= c[2] + r; z++)
+                for (int y = c[1] - r; y <= c[1] + r; y++)
+                    for (int x = c[0] - r; x <= c[0] + r; x++) {
+                        if (std::max(std::abs(x - c[0]), std::max(std::abs(y - c[1]), std::abs(z - c[2]))) != r) continue;
+                        if (x < 0 || y < 0 || z < 0 || x >= n[0] || y >= n[1] || z >= n[2]) continue;
+                        size_t cc = ((size_t)z * n[1] + y) * n[0] + x;
+                        for (uint32_t i = start[cc]; i < start[cc + 1]; i++) {
+                            size_t f = items[i];
+                            double q[3];
+                            closest_on_tri(p, &t->pos[3 * (size_t)t->idx[3 * f]], &t->pos[3 * (size_t)t->idx[3 * f + 1]],
+                                           &t->pos[3 * (size_t)t->idx[3 * f + 2]], q);
+                            double d = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
+                            best = std::min(best, d);
+                        }
+                    }
+            if (best < DBL_MAX && std::sqrt(best) <= r * cell) break;
+        }
+        return std::sqrt(best);
+    }
+};
+
+struct Dist { double hausdorff, rms; };
+
+static void one_side(const std::vector<double> &pts, const Grid &g, double &mx, double &sum2, size_t &cnt)
+{
+    for (size_t i = 0; i < pts.size(); i += 3) {
+        double d = g.dist(&pts[i]);
+        mx = std::max(mx, d);
+        sum2 += d * d;
+        cnt++;
+    }
+}
+
+static Dist distance(const Tri &in, const Grid &gin, const Tri &out, double diag)
+{
+    std::vector<double> pin(in.pos), pout;
+    for (size_t f = 0; f < in.idx.size(); f += 3)
+        for (int k = 0; k < 3; k++)
+            pin.push_back((in.pos[3 * in.idx[f] + k] + in.pos[3 * in.idx[f + 1] + k] + in.pos[3 * in.idx[f + 2] + k]) / 3);
+    for (size_t f = 0; f < out.idx.size(); f += 3)
+        for (int i = 0; i <= 4; i++)
+            for (int j = 0; i + j <= 4; j++) {
+                double u = (i + 0.25) / 5.5, v = (j + 0.25) / 5.5, w = 1 - u - v;
+                for (int k = 0; k < 3; k++)
+                    pout.push_back(u * out.pos[3 * out.idx[f] + k] + v * out.pos[3 * out.idx[f + 1] + k] + w * out.pos[3 * out.idx[f + 2] + k]);
+            }
+    Grid gout(&out);
+    double mx = 0, s2 = 0;
+    size_t n = 0;
+    one_side(pin, gout, mx, s2, n);
+    one_side(pout, gin, mx, s2, n);
+    return { mx / diag, std::sqrt(s2 / (double)n) / diag };
+}
+
+// ---- driver -----------------------------------------------------------------------
+
+static long peak_in_child(int which, const st_mesh *m, uint64_t target)
+{
+    int fd[2];
+    if (pipe(fd)) return -1;
+    pid_t pid = fork();
+    if (pid == 0) {
+        malloc_trim(0); /* so that the run's heap is new resident memory */
+        long before = rss_kib();
+        st_progressive_report rep;
+        if (which == 0) run_strata(m, target, &rep);
+        else if (which == 1) run_openmesh(m, target);
+        else run_meshopt(m, target);
+        struct rusage ru;
+        getrusage(RUSAGE_SELF, &ru);
+        long peak = ru.ru_maxrss - before;
+        if (write(fd[1], &peak, sizeof peak) != (ssize_t)sizeof peak) _exit(1);
+        _exit(0);
+    }
+    long peak = -1;
+    close(fd[1]);
+    if (read(fd[0], &peak, sizeof peak) != (ssize_t)sizeof peak) peak = -1;
+    close(fd[0]);
+    waitpid(pid, nullptr, 0);
+    return peak;
+}
+
+int main(int argc, char **argv)
+{
+    char def[1024];
+    snprintf(def, sizeof def, "%s/large/koala.obj", STRATA_SHARED_DATA);
+    const char *path = def;
+    double percent = 1.0;
+    int repeat = 3;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--percent") && i + 1 < argc) percent = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::max(1, atoi(argv[++i]));
+        else path = argv[i];
+    }
+    st_mesh m;
+    st_error err;
+    st_mesh_init(&m);
+    if (st_mesh_load(path, &m, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
+    for (uint32_t f = 0; f < m.nfaces; f++)
+        if (m.face_off[f + 1] - m.face_off[f] != 3) { fprintf(stderr, "%s: triangle meshes only\n", path); return 1; }
+    uint64_t target = (uint64_t)std::floor(m.nfaces * percent / 100.0);
+    Tri in;
+    in.pos.assign(m.pos, m.pos + 3 * (size_t)m.nverts);
+    in.idx.assign(m.face_idx, m.face_idx + m.face_off[m.nfaces]);
+    double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
+    for (uint32_t v = 0; v < m.nverts; v++)
+        for (int k = 0; k < 3; k++) { lo[k] = std::min(lo[k], m.pos[3 * v + k]); hi[k] = std::max(hi[k], m.pos[3 * v + k]); }
+    double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    printf("bench_progressive: %s, %u vertices, %u faces, target %llu faces (%.2f %%), median of %d runs\n", path, m.nverts,
+           m.nfaces, (unsigned long long)target, percent, repeat);
+    const char *names[3] = { "strata (whole hierarchy)", "openmesh decimater+quadric", "meshopt_simplify" };
+    long peak[3];
+    for (int which = 0; which < 3; which++) peak[which] = peak_in_child(which, &m, target);
+    double med[3], cpu[3];
+    Tri res[3];
+    st_progressive_report rep;
+    for (int which = 0; which < 3; which++) {
+        std::vector<double> t, c;
+        for (int r = 0; r < repeat; r++) {
+            double t0 = bench_now(), c0 = cpu_now();
+            if (which == 0) res[0] = run_strata(&m, target, &rep);
+            else if (which == 1) res[1] = run_openmesh(&m, target);
+            else res[2] = run_meshopt(&m, target);
+            t.push_back(bench_now() - t0);
+            c.push_back(cpu_now() - c0);
+        }
+        med[which] = bench_median(t.data(), (int)t.size());
+        cpu[which] = bench_median(c.data(), (int)c.size());
+    }
+    {
+        /* Strata's phases: the working copy, the grouped simplification, the rest (map, details). */
+        std::vector<uint32_t> tri(m.face_idx, m.face_idx + m.face_off[m.nfaces]);
+        pm_work w;
+        char note[256];
+        double c0 = cpu_now();
+        if (pm_work_init(&w, m.pos, m.nverts, tri.data(), m.nfaces, &err) == ST_OK) {
+            double c1 = cpu_now();
+            pm_simplify(&w, target, ST_MAX_LEVELS - 1, nullptr, nullptr, note, sizeof note, &err);
+            double c2 = cpu_now();
+            printf("  strata phases (CPU): working copy %.1f ms, grouped collapses %.1f ms, map + details %.1f ms\n",
+                   1e3 * (c1 - c0), 1e3 * (c2 - c1), 1e3 * (cpu[0] - (c2 - c0)));
+            pm_work_free(&w);
+        }
+    }
+    Grid gin(&in);
+    double h0 = 0, r0 = 0;
+    for (int which = 0; which < 3; which++) {
+        Dist d = distance(in, gin, res[which], diag);
+        printf("  %-28s %8.1f ms (CPU %8.1f ms)  peak %7.1f MiB  faces %6zu  Hausdorff %.5f  RMS %.6f (of the diagonal)\n",
+               names[which], 1e3 * med[which], 1e3 * cpu[which], peak[which] / 1024.0, res[which].idx.size() / 3, d.hausdorff, d.rms);
+        if (which == 0) { h0 = d.hausdorff; r0 = d.rms; }
+        else printf("    strata / this: wall %.2fx, CPU %.2fx, peak memory %.2fx, Hausdorff %.2fx, RMS %.2fx\n", med[0] / med[which],
+                    cpu[0] / cpu[which], (double)peak[0] / (double)std::max(1L, peak[which]), h0 / d.hausdorff, r0 / d.rms);
+    }
+    printf("  strata: %u levels, faces per level:", rep.levels);
+    for (unsigned l = 0; l < rep.levels; l++) printf(" %llu", (unsigned long long)rep.faces[l]);
+    printf("\n  kept fraction t per level (vertices l-1 / l):");
+    for (unsigned l = 1; l < rep.levels; l++) printf(" %.3f", rep.kept[l]);
+    double tmean = rep.levels > 1 ? std::pow((double)rep.vertices[0] / (double)rep.vertices[rep.levels - 1], 1.0 / (rep.levels - 1)) : 1;
+    printf("\n  geometric mean t %.3f; topology %.1f bytes per finest dart; thesis §4.4.8 full arrays: 24/(1-t) = %.1f bytes per "
+           "fine vertex = %.1f per dart (6 darts per vertex), classic [Hop98] structure 68 bytes per vertex = 11.3 per dart\n",
+           tmean, rep.bytes_per_dart, 24 / (1 - tmean), 4 / (1 - tmean));
+    printf("  %s; %llu (level, vertex) details miss the input's bits by an ulp or so\n", rep.note,
+           (unsigned long long)rep.inexact);
+    st_mesh_free(&m);
+    return 0;
+}

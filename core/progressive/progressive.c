@@ -1,0 +1,258 @@
+/* Progressive multiresolution meshes: the build (working copy -> st_hier)
+ * and multiresolution filtering.  Design: progressive.h. */
+#include "core/progressive/progressive_internal.h"
+#include "core/multires/hier_internal.h"
+#include "core/map/pool_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Fans every polygon into triangles (3 indices per triangle). */
+static int triangulate(const st_mesh *m, uint32_t **tri, uint32_t *nt, int *fanned, st_error *err)
+{
+    uint64_t n = 0;
+    *fanned = 0;
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        uint32_t k = m->face_off[f + 1] - m->face_off[f];
+        if (k < 3) return st_fail(err, ST_ERR_TOPOLOGY, "progressive: face %u has %u vertices", f, k);
+        if (k > 3) *fanned = 1;
+        n += k - 2;
+    }
+    if (n >= 0x7fffffffu / 6) return st_fail(err, ST_ERR_RANGE, "progressive: %llu triangles are too many", (unsigned long long)n);
+    uint32_t *t = malloc(3 * (size_t)(n ? n : 1) * sizeof *t);
+    if (!t) return st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for %llu triangles", (unsigned long long)n);
+    size_t o = 0;
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        const uint32_t *idx = m->face_idx + m->face_off[f];
+        uint32_t k = m->face_off[f + 1] - m->face_off[f];
+        for (uint32_t i = 1; i + 1 < k; i++) {
+            t[o++] = idx[0];
+            t[o++] = idx[i];
+            t[o++] = idx[i + 1];
+        }
+    }
+    *tri = t;
+    *nt = (uint32_t)n;
+    return ST_OK;
+}
+
+static void hier_empty(st_hier *h)
+{
+    memset(h, 0, sizeof *h);
+    st_map_init(&h->map);
+    st_mla_init(&h->edge_sharp, sizeof(float));
+    st_mla_init(&h->vertex_sharp, sizeof(float));
+    h->scheme = &st_scheme_progressive;
+    h->opts.boundary = ST_BOUNDARY_EDGE_ONLY;
+    h->opts.crease_method = ST_CREASE_UNIFORM;
+}
+
+typedef struct mat {
+    pm_work *w;
+    st_map *m;
+    uint32_t *dart_of;   /* per half-edge */
+    uint32_t *vid_of;    /* per working vertex */
+} mat;
+
+/* Level-l relations of the dart of half-edge e, from the working copy as
+ * it is at level l (set only where they differ from the level below). */
+static void set_relations(mat *c, uint32_t e, unsigned l)
+{
+    pm_work *w = c->w;
+    st_map *m = c->m;
+    uint32_t d = c->dart_of[e];
+    uint32_t b0 = c->dart_of[w->twin[e]], b1 = c->dart_of[pm_rot(w, e)], v = c->vid_of[w->org[e]];
+    if (st_beta0(m, d, l) != b0) st_set_beta0(m, d, l, b0);
+    if (st_beta1(m, d, l) != b1) st_set_beta1(m, d, l, b1);
+    if (st_vert(m, d, l) != v) st_set_vert(m, d, l, v);
+}
+
+static void new_dart(mat *c, uint32_t e, unsigned l)
+{
+    c->dart_of[e] = st_dart_new(c->m, l, c->vid_of[c->w->org[e]], (c->w->hflags[e] & PM_HE_BOUNDARY) ? ST_DART_BOUNDARY : 0);
+}
+
+static void relations_around(mat *c, uint32_t v, unsigned l)
+{
+    pm_work *w = c->w;
+    uint32_t h = w->vhe[v], x = h;
+    do {
+        set_relations(c, x, l);
+        x = pm_rot(w, x);
+    } while (x != h);
+}
+
+/* Level 0 from the coarsest working copy, then one level per group,
+ * coarse to fine: undo the group on the working copy, insert its split
+ * vertices and the darts of its restored faces at level l, and re-set the
+ * relations of the darts around the four vertices of each split. */
+static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_error *err)
+{
+    st_map *m = &h->map;
+    mat c = { w, m, malloc((size_t)w->nhe * sizeof(uint32_t)), malloc((size_t)(w->nv ? w->nv : 1) * sizeof(uint32_t)) };
+    if (!c.dart_of || !c.vid_of || st_map_reserve(m, w->nhe, w->nv)) {
+        free(c.dart_of);
+        free(c.vid_of);
+        return st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for the map");
+    }
+    for (uint32_t v = 0; v < w->nv; v++)
+        c.vid_of[v] = w->vdead[v] ? ST_NIL : st_vertex_new(m, 0, w->pos + 3 * (size_t)v);
+    for (uint32_t e = 0; e < w->nhe; e++) c.dart_of[e] = (w->hflags[e] & PM_HE_DEAD) ? ST_NIL : (new_dart(&c, e, 0), c.dart_of[e]);
+    for (uint32_t e = 0; e < w->nhe; e++)
+        if (!(w->hflags[e] & PM_HE_DEAD)) set_relations(&c, e, 0);
+    int rc = ST_OK;
+    for (unsigned l = 1; l <= w->ngroups && !rc; l++) {
+        uint32_t k = w->ngroups - l, beg = w->group_beg[k], end = w->group_beg[k + 1];
+        rc = st_level_add(m, err);
+        if (rc) break;
+        for (uint32_t i = end; i-- > beg;) pm_undo(w, i);
+        for (uint32_t i = beg; i < end; i++) {
+            const pm_collapse *cl = &w->col[i];
+            c.vid_of[cl->a] = st_vertex_new(m, l, w->pos + 3 * (size_t)cl->a);
+            uint32_t t = w->twin[cl->h];
+            new_dart(&c, cl->h, l);
+            new_dart(&c, w->next[cl->h], l);
+            new_dart(&c, w->prev[cl->h], l);
+            new_dart(&c, t, l);
+            if (cl->d != ST_NIL) {
+                new_dart(&c, w->next[t], l);
+                new_dart(&c, w->prev[t], l);
+            }
+        }
+        for (uint32_t i = beg; i < end; i++) {
+            const pm_collapse *cl = &w->col[i];
+            relations_around(&c, cl->a, l);
+            relations_around(&c, cl->b, l);
+            relations_around(&c, cl->c, l);
+            if (cl->d != ST_NIL) relations_around(&c, cl->d, l);
+        }
+        if (o->progress && o->progress(o->progress_ctx, 0.8 + 0.15 * l / w->ngroups))
+            rc = st_fail(err, ST_ERR_INVALID, "progressive: cancelled");
+    }
+    free(c.dart_of);
+    free(c.vid_of);
+    return rc;
+}
+
+/* D = F^T (P_l - S(P_{l-1})) for every vertex whose stencil is not itself
+ * (the split vertices and their neighbours; every other detail is zero).
+ * D is then corrected by the residual of the synthesis itself
+ * (st_stencil_apply), with shrinking steps after the second so as not to
+ * jump over the target bits, until synthesis gives back the input to the
+ * bit: the stored positions are then also what a full synthesis writes.
+ * Some bits cannot be reached (a coordinate much smaller than the
+ * prediction it is the sum of has finer bits than that sum can hold);
+ * those vertices are counted, keep the input as stored position, and a
+ * synthesis moves them by an ulp or so (koala to 1 %: 1823 details,
+ * bench_progressive). */
+typedef struct detail_ctx { st_hier *h; unsigned l; uint64_t inexact; } detail_ctx;
+
+static void detail_sink(void *ctx, const st_stencil *s)
+{
+    detail_ctx *c = ctx;
+    st_hier *h = c->h;
+    unsigned l = c->l;
+    if (s->n == 1 && s->src[0] == s->fine && s->w[0] == 1.0) return; /* predicted by itself: zero */
+    double pred[3], f[3][3], r[3], dv[3] = { 0, 0, 0 }, out[3];
+    const double *p = st_pos(&h->map, s->fine, l);
+    st_stencil_eval(h, l, s, pred);
+    st_hier_frame(h, l - 1, s->frame_dart, s->frame_cell, f);
+    for (int j = 0; j < 3; j++) r[j] = p[j] - pred[j];
+    int exact = 0;
+    double step = 1.0;
+    for (int it = 0; it < 16 && !exact; it++, step = it < 2 ? 1.0 : step * 0.75) {
+        for (int j = 0; j < 3; j++) dv[j] += step * (f[j][0] * r[0] + f[j][1] * r[1] + f[j][2] * r[2]);
+        st_hier_set_detail(h, l, s->fine, dv);
+        st_stencil_apply(h, l, s, out);
+        for (int j = 0; j < 3; j++) r[j] = p[j] - out[j];
+        exact = r[0] == 0 && r[1] == 0 && r[2] == 0;
+    }
+    c->inexact += !exact;
+}
+
+static uint64_t compute_details(st_hier *h)
+{
+    uint64_t inexact = 0;
+    for (unsigned l = 1; l <= h->map.top; l++) {
+        detail_ctx c = { h, l, 0 };
+        h->scheme->emit(h, l, NULL, 0, detail_sink, &c);
+        inexact += c.inexact;
+    }
+    return inexact;
+}
+
+static void fill_report(st_hier *h, st_progressive_report *rep, uint64_t target)
+{
+    st_map *m = &h->map;
+    rep->levels = m->top + 1;
+    for (unsigned l = 0; l <= m->top; l++) {
+        st_level_stats s;
+        st_level_stats_compute(m, l, &s);
+        rep->faces[l] = s.faces;
+        rep->vertices[l] = s.vertices;
+        rep->kept[l] = l ? (double)rep->vertices[l - 1] / (double)s.vertices : 1.0;
+        if (l == m->top) {
+            st_map_bytes b;
+            st_map_memory(m, &b);
+            rep->bytes_per_dart = s.darts ? (double)b.topology / (double)s.darts : 0;
+        }
+    }
+    rep->target_reached = rep->faces[0] <= target;
+}
+
+int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_hier *out,
+                         st_progressive_report *rep, st_error *err)
+{
+    st_progressive_opts def = { 0 };
+    st_progressive_report local;
+    if (!o) o = &def;
+    if (!rep) rep = &local;
+    memset(rep, 0, sizeof *rep);
+    memset(out, 0, sizeof *out);
+    for (uint64_t i = 0; i < 3 * (uint64_t)fine->nverts; i++)
+        if (!isfinite(fine->pos[i]))
+            return st_fail(err, ST_ERR_GEOMETRY, "progressive: vertex %llu has a non-finite coordinate", (unsigned long long)(i / 3));
+    uint32_t *tri = NULL, nt = 0;
+    int rc = triangulate(fine, &tri, &nt, &rep->triangulated, err);
+    if (rc) return rc;
+    pm_work w;
+    rc = pm_work_init(&w, fine->pos, fine->nverts, tri, nt, err);
+    free(tri);
+    if (rc) return rc;
+    unsigned max_levels = o->max_levels && o->max_levels < ST_MAX_LEVELS ? o->max_levels : ST_MAX_LEVELS;
+    rc = pm_simplify(&w, o->target_faces, max_levels - 1, o->progress, o->progress_ctx, rep->note, sizeof rep->note, err);
+    if (!rc) {
+        hier_empty(out);
+        rc = materialise(&w, out, o, err);
+        pm_work_free(&w); /* before the details: a lower peak of memory */
+        if (!rc) rep->inexact = compute_details(out);
+        if (rc) st_hier_free(out);
+    }
+    if (!rc && o->progress && o->progress(o->progress_ctx, 1.0)) {
+        st_hier_free(out);
+        rc = st_fail(err, ST_ERR_INVALID, "progressive: cancelled");
+    }
+    pm_work_free(&w);
+    if (!rc) fill_report(out, rep, o->target_faces);
+    return rc;
+}
+
+int st_progressive_filter(st_hier *h, const double *gains, unsigned n, st_error *err)
+{
+    if (h->scheme != &st_scheme_progressive)
+        return st_fail(err, ST_ERR_INVALID, "filter: the hierarchy is %s, not progressive", h->scheme ? h->scheme->name : "empty");
+    for (unsigned k = 0; k < n; k++)
+        if (!isfinite(gains[k])) return st_fail(err, ST_ERR_INVALID, "filter: gain %u is not finite", k);
+    unsigned first = 0;
+    for (unsigned k = 0; k < n && k < h->map.top; k++) {
+        unsigned l = k + 1;
+        if (gains[k] == 1.0) continue;
+        if (!first) first = l;
+        double *d = h->detail[l];
+        for (uint64_t i = 0; d && i < 3 * (uint64_t)h->detail_cap[l]; i++) d[i] *= gains[k];
+    }
+    if (first) st_hier_synthesize(h, first - 1);
+    return ST_OK;
+}

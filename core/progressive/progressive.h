@@ -1,0 +1,149 @@
+/* Progressive multiresolution meshes (Kraemer 2008, ch. 4; GSS99).
+ *
+ * st_progressive_build turns a manifold triangle mesh (closed or open, any
+ * genus) into an ordinary st_hier whose level 0 is coarse and whose finest
+ * level is the input, so that synthesis, analysis, local edits, undo,
+ * sessions and the renderer work on it unchanged.
+ *
+ * Design
+ * ------
+ * 1. Simplification on a flat working copy (progressive_work.c): a closed
+ *    half-edge structure (twin/next/prev/origin arrays, holes as boundary
+ *    loops of half-edges).  Collapses are *half-edge* collapses a -> b (the
+ *    merged vertex sits on the endpoint b, as in GSS99 and thesis §4.4.6:
+ *    "v takes the position of s1"), ranked by the quadric error metric
+ *    (Garland-Heckbert 97: area-weighted face planes, plus planes through
+ *    the boundary edges perpendicular to their face, so that open borders
+ *    keep their shape).  The endpoint is chosen over the optimal position
+ *    because every vertex then keeps its input position at every level it
+ *    exists in: level positions need no per-level column, the details of
+ *    the vertices that are not split are exactly zero, and the finest level
+ *    is the input bit for bit.
+ *
+ * 2. Before a collapse a -> b (c, d the vertices opposite the edge):
+ *    - a on the boundary: the edge must be a boundary edge (a boundary
+ *      vertex only moves along its boundary; an interior edge between two
+ *      boundary vertices would pinch the surface);
+ *    - link condition (thesis §4.4.3, P2; Dey et al. 1999 for boundaries):
+ *      N(a) ∩ N(b) = {c, d}, or {c} for a boundary edge;
+ *    - valences (§4.4.3, P1): an interior c or d keeps at least 3
+ *      neighbours, a boundary one at least 2 (no dangling edge), the merged
+ *      vertex at least 3 (interior) or 2 (boundary), and for a boundary
+ *      edge b keeps a neighbour besides a and c (no "ear" whose every dart
+ *      would be new when split again: see point 3 (ii));
+ *    - no face around a flips its normal.
+ *    A collapse that satisfies the link condition leaves the surface
+ *    homeomorphic, so the Euler characteristic and the boundary loops are
+ *    kept at every level; a hole can neither close nor pinch.
+ *
+ * 3. Independence (thesis §4.4.4, Algorithm 9, made precise).  The
+ *    collapses of one group (one level) are made one after the other, and
+ *    each passes the checks of point 2 on the mesh as the previous ones
+ *    left it; so every level is a valid surface homeomorphic to the input
+ *    (link condition), whatever the group.  (The thesis' rule — splits of
+ *    one level share no neighbour, checked on the level before the group —
+ *    does not ensure this by itself: two collapses that are each legal
+ *    can together lower one vertex's valence below what the checks allow,
+ *    or close a hole; checking each on the current mesh does.)
+ *    What the group must still satisfy is what the hierarchy needs, for a
+ *    group turning level L into level L-1, with N(a) the 1-ring at L:
+ *      (i)  no removed vertex is a neighbour at L of another one
+ *           (a' ∉ N(a) ∪ {a}): every vertex a split vertex is predicted
+ *           from (its level-L neighbours) exists at level L-1, and so does
+ *           every vertex a neighbour of a split reads;
+ *      (ii) no vertex is the target b of two collapses: b keeps at level L
+ *           a dart of level L-1 (an interior b has valence >= 3 at L and
+ *           only two of its darts are new; point 2 keeps one for a
+ *           boundary b), on which its detail frame sits (scheme_progressive.c).
+ *    (i) also means a removed vertex is never a target (b ∈ N(a)), so no
+ *    chain a -> b -> b' within a level.  Both are kept with two marker bits
+ *    per vertex, set on a's ring before each collapse (tests/
+ *    test_progressive.c checks them on the map at every level).  The groups
+ *    are chosen greedily, cheapest quadric cost first, up to the target
+ *    face count.
+ *
+ * 4. Materialisation: the groups are recorded fine to coarse with an undo
+ *    log, and laid out once, coarse to fine, instead of shifting every
+ *    level at each simplification step as thesis §4.4.1-4.4.2 do.  Level 0
+ *    is built from the coarsest working copy; then, for L = 1..top, the
+ *    group of level L is undone on the working copy and replayed on the map
+ *    as vertex splits: the split vertex a and the darts of the two restored
+ *    triangles (one triangle and one boundary dart for a boundary edge) are
+ *    inserted at level L, and the darts around a, b, c, d take their level-L
+ *    β0, β1 and vertex through the kernel's per-level columns (thesis
+ *    §4.4.2: φ1 of the real faces never changes; β1 = φ1∘β0 changes where
+ *    β0 does, and along the hole whose length changed).
+ *
+ * 5. Geometry: the "progressive" scheme (core/schemes/scheme_progressive.c)
+ *    predicts, at level L, each split vertex a by the average of the
+ *    level-(L-1) positions of its level-L neighbours (its two boundary
+ *    neighbours on a border), each neighbour of a split vertex by half its
+ *    own position and half the average of its neighbours (a split one at
+ *    its prediction), and every other vertex by its own level-(L-1)
+ *    position — relaxation operators in the sense of GSS99 §3 (uniform
+ *    weights).  A detail, in the local frame of the vertex's coarse
+ *    neighbourhood (for a, of the vertex b it was merged into), is what
+ *    remains; the details of the other vertices are zero.  A rigid motion
+ *    of a coarse level therefore moves the finer levels rigidly, and
+ *    st_progressive_filter scales the details per level (multiresolution
+ *    filtering, GSS99 §5, thesis §4.4.6): gain 0 on a band leaves the
+ *    relaxed, smoother surface.
+ *
+ * 6. Memory (thesis §4.4.8).  The kernel stores a relation's level-l
+ *    values in a dense column over every dart inserted before l (map.h),
+ *    and a vertex split changes β0, β1 and the vertex of darts of every
+ *    earlier level, so each level l >= 1 has three columns of |B^{l-1}|
+ *    entries: about 14 + 12/(1-t) bytes per finest dart, t the fraction of
+ *    vertices a level keeps.  Koala (100k faces) to 1 % in 17 levels,
+ *    t = 0.75: 64.5 bytes per finest dart (bench_progressive).  The
+ *    thesis' full φ2 arrays count 4/(1-t) = 16 bytes per dart at that t,
+ *    the classic [Hop98] structure 68 bytes per vertex, about 11.3 per
+ *    dart; the pair form of §4.4.5 (a column holding only the darts that
+ *    change: the darts around the four vertices of each split) would bring
+ *    the columns down to a few dozen darts per split, a kernel change this
+ *    build does not make.
+ *
+ * Polygons are triangulated first (fans; rep->triangulated says so).
+ */
+#ifndef ST_PROGRESSIVE_H
+#define ST_PROGRESSIVE_H
+
+#include "core/multires/hier.h"
+
+typedef struct st_progressive_opts {
+    uint64_t target_faces;     /* stop at or just above this many faces; 0: as far as possible */
+    unsigned max_levels;       /* most levels in all (level 0 included); 0: ST_MAX_LEVELS */
+    /* Called after each level with the fraction of the work done; a
+     * non-zero return cancels the build (ST_ERR_INVALID, "cancelled"). */
+    int (*progress)(void *ctx, double fraction);
+    void *progress_ctx;
+} st_progressive_opts;
+
+typedef struct st_progressive_report {
+    unsigned levels;                       /* levels built: 0..levels-1 */
+    uint64_t faces[ST_MAX_LEVELS];         /* faces of each level */
+    uint64_t vertices[ST_MAX_LEVELS];      /* vertices of each level */
+    double kept[ST_MAX_LEVELS];            /* t of level l >= 1: vertices(l-1) / vertices(l) */
+    double bytes_per_dart;                 /* map topology bytes per finest dart */
+    uint64_t inexact;                      /* (level, vertex) details whose synthesis misses the input's
+                                              bits by an ulp or so (progressive.c, compute_details) */
+    int triangulated;                      /* the input had polygons: fans were used */
+    int target_reached;                    /* faces[0] <= target_faces */
+    char note[256];                        /* why the simplification stopped */
+} st_progressive_report;
+
+/* Builds the hierarchy into *out (left empty on failure).  fine must be a
+ * repaired soup (st_mesh_repair): manifold and consistently oriented.
+ * rep may be NULL. */
+int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_hier *out,
+                         st_progressive_report *rep, st_error *err);
+
+/* Multiresolution filtering: multiplies the details of level k+1 by
+ * gains[k] (k < n; levels above n keep gain 1), then re-synthesises the
+ * levels above the first level whose gain is not 1.  Gain 0 removes a band,
+ * 1 keeps it (all gains 1 change no bit), > 1 enhances it.  The scaled
+ * details stay: applying gains g then 1/g restores the details (up to
+ * rounding).  Fails on a hierarchy of another scheme or a non-finite gain. */
+int st_progressive_filter(st_hier *h, const double *gains, unsigned n, st_error *err);
+
+#endif

@@ -1,0 +1,74 @@
+/* The flat working copy of a progressive build (progressive.h, design
+ * points 1-4): a closed half-edge structure, the grouped collapses and
+ * their undo log. */
+#ifndef ST_PROGRESSIVE_INTERNAL_H
+#define ST_PROGRESSIVE_INTERNAL_H
+#ifndef STRATA_CORE_INTERNAL
+#error "internal to core: render/, ui/ and app/ use core's public headers (docs/ARCHITECTURE.md)"
+#endif
+
+#include "core/progressive/progressive.h"
+
+enum { PM_HE_BOUNDARY = 1u, PM_HE_DEAD = 2u };
+
+/* One half-edge's state before a collapse changed it. */
+typedef struct pm_rec {
+    uint32_t he, twin, next, prev, org;
+    uint8_t flags;
+} pm_rec;
+
+/* One collapse a -> b of half-edge h; c, d opposite (d = ST_NIL on a
+ * boundary edge); its undo records are log[rec_beg, rec_end). */
+typedef struct pm_collapse {
+    uint32_t h, a, b, c, d;
+    uint32_t rec_beg, rec_end;
+    uint32_t vhe[4];             /* vhe of a, b, c, d before (undo restores them exactly) */
+} pm_collapse;
+
+typedef struct pm_work {
+    uint32_t nv, nhe;            /* vertices, half-edges (real ones first: 3 per triangle) */
+    uint32_t nreal;              /* real half-edges */
+    const double *pos;           /* 3 * nv, borrowed */
+    uint32_t *twin, *next, *prev, *org;
+    uint8_t *hflags;             /* PM_HE_* */
+    uint32_t *vhe;               /* per vertex: an outgoing half-edge */
+    uint8_t *vdead;
+    double *quad;                /* per vertex: 10 coefficients of the quadric */
+    /* scratch */
+    uint32_t *stamp, stamp_gen;
+    uint8_t *indep;              /* per vertex, per group: bit 0 in some W, bit 1 in some R */
+    uint8_t *vbound;             /* per vertex: on a boundary (per group) */
+    /* result */
+    pm_collapse *col;
+    uint32_t ncol, capcol;
+    uint32_t *group_beg;         /* groups fine to coarse: collapses [group_beg[k], group_beg[k+1]) */
+    uint32_t ngroups;
+    pm_rec *log;
+    uint32_t nlog, caplog;
+    uint64_t faces, verts;       /* alive now */
+} pm_work;
+
+/* Builds the working copy of a triangle soup (3 indices per face). */
+int pm_work_init(pm_work *w, const double *pos, uint32_t nv, const uint32_t *tri, uint32_t nt, st_error *err);
+void pm_work_free(pm_work *w);
+
+/* Simplifies by groups of independent collapses down to target faces or
+ * max_groups groups; progress as in st_progressive_opts.  Returns ST_OK
+ * (note says why it stopped) or ST_ERR_INVALID when cancelled. */
+int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress)(void *, double), void *ctx,
+                char *note, size_t notesz, st_error *err);
+
+/* Undoes collapse i: collapses are undone in the reverse order of their
+ * making, and each restores every array it changed, vhe included. */
+void pm_undo(pm_work *w, uint32_t i);
+
+/* The stencil of the vertex of dart d at level L >= 1 of a progressive
+ * hierarchy (core/schemes/scheme_progressive.c), built in buf; 0 when the
+ * vertex has no dart of level L-1 (a map this scheme did not build). */
+int st_progressive_stencil(const st_hier *h, unsigned L, uint32_t d, st_stencil_buf *buf, st_stencil *s);
+
+/* Half-edge helpers. */
+static inline uint32_t pm_dest(const pm_work *w, uint32_t h) { return w->org[w->next[h]]; }
+static inline uint32_t pm_rot(const pm_work *w, uint32_t h) { return w->next[w->twin[h]]; } /* next around org[h] */
+
+#endif

@@ -1,0 +1,459 @@
+/* The working copy of a progressive build: grouped independent half-edge
+ * collapses ranked by quadrics (progressive.h, design points 1-3). */
+#include "core/progressive/progressive_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- construction ------------------------------------------------------------ */
+
+typedef struct edge_key { uint64_t key; uint32_t he; } edge_key;
+
+static int cmp_key(const void *x, const void *y)
+{
+    const edge_key *a = x, *b = y;
+    return a->key < b->key ? -1 : a->key > b->key ? 1 : (a->he < b->he ? -1 : a->he > b->he);
+}
+
+static uint64_t dkey(uint32_t u, uint32_t v) { return (uint64_t)u << 32 | v; }
+
+static void quad_add_plane(double *q, const double n[3], double dist, double wgt)
+{
+    double a = n[0], b = n[1], c = n[2], d = dist;
+    q[0] += wgt * a * a; q[1] += wgt * a * b; q[2] += wgt * a * c; q[3] += wgt * a * d;
+    q[4] += wgt * b * b; q[5] += wgt * b * c; q[6] += wgt * b * d;
+    q[7] += wgt * c * c; q[8] += wgt * c * d; q[9] += wgt * d * d;
+}
+
+static double quad_eval(const double *q, const double p[3])
+{
+    double x = p[0], y = p[1], z = p[2];
+    return q[0] * x * x + 2 * q[1] * x * y + 2 * q[2] * x * z + 2 * q[3] * x
+         + q[4] * y * y + 2 * q[5] * y * z + 2 * q[6] * y
+         + q[7] * z * z + 2 * q[8] * z + q[9];
+}
+
+static void sub3(const double *a, const double *b, double *o) { o[0] = a[0] - b[0]; o[1] = a[1] - b[1]; o[2] = a[2] - b[2]; }
+static void cross3(const double *a, const double *b, double *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* Plane quadrics of the input (Garland-Heckbert 97 §5: weighted by area),
+ * and for each boundary edge the plane through it perpendicular to its
+ * face, weighted by the squared edge length times a penalty, so that a
+ * border is simplified along itself (Garland-Heckbert 97 §6.1). */
+static void init_quadrics(pm_work *w)
+{
+    const double boundary_penalty = 100.0;
+    for (uint32_t h = 0; h < w->nreal; h += 3) {
+        const double *p0 = w->pos + 3 * (size_t)w->org[h], *p1 = w->pos + 3 * (size_t)w->org[h + 1],
+                     *p2 = w->pos + 3 * (size_t)w->org[h + 2];
+        double e1[3], e2[3], n[3];
+        sub3(p1, p0, e1);
+        sub3(p2, p0, e2);
+        cross3(e1, e2, n);
+        double len = sqrt(dot3(n, n));
+        if (len <= 0) continue;
+        for (int i = 0; i < 3; i++) n[i] /= len;
+        double area = 0.5 * len, dist = -dot3(n, p0);
+        for (int k = 0; k < 3; k++) quad_add_plane(w->quad + 10 * (size_t)w->org[h + k], n, dist, area);
+        for (int k = 0; k < 3; k++) {
+            uint32_t e = h + (uint32_t)k;
+            if (!(w->hflags[w->twin[e]] & PM_HE_BOUNDARY)) continue;
+            const double *a = w->pos + 3 * (size_t)w->org[e], *b = w->pos + 3 * (size_t)pm_dest(w, e);
+            double ed[3], m[3];
+            sub3(b, a, ed);
+            cross3(ed, n, m);
+            double ml = sqrt(dot3(m, m));
+            if (ml <= 0) continue;
+            for (int i = 0; i < 3; i++) m[i] /= ml;
+            double wgt = boundary_penalty * dot3(ed, ed);
+            quad_add_plane(w->quad + 10 * (size_t)w->org[e], m, -dot3(m, a), wgt);
+            quad_add_plane(w->quad + 10 * (size_t)pm_dest(w, e), m, -dot3(m, a), wgt);
+        }
+    }
+}
+
+void pm_work_free(pm_work *w)
+{
+    free(w->twin); free(w->next); free(w->prev); free(w->org); free(w->hflags);
+    free(w->vhe); free(w->vdead); free(w->quad); free(w->stamp); free(w->indep); free(w->vbound);
+    free(w->col); free(w->group_beg); free(w->log);
+    memset(w, 0, sizeof *w);
+}
+
+int pm_work_init(pm_work *w, const double *pos, uint32_t nv, const uint32_t *tri, uint32_t nt, st_error *err)
+{
+    memset(w, 0, sizeof *w);
+    if (nt == 0) return st_fail(err, ST_ERR_TOPOLOGY, "progressive: the mesh has no face");
+    if ((uint64_t)nt * 6 >= 0xfffffff0u) return st_fail(err, ST_ERR_RANGE, "progressive: %u triangles are too many", nt);
+    w->nv = nv;
+    w->pos = pos;
+    w->nreal = 3 * nt;
+    uint32_t cap = 2 * w->nreal; /* at most one boundary half-edge per real one */
+    w->twin = malloc(cap * sizeof *w->twin);
+    w->next = malloc(cap * sizeof *w->next);
+    w->prev = malloc(cap * sizeof *w->prev);
+    w->org = malloc(cap * sizeof *w->org);
+    w->hflags = calloc(cap, 1);
+    w->vhe = malloc((size_t)(nv ? nv : 1) * sizeof *w->vhe);
+    w->vdead = calloc(nv ? nv : 1, 1);
+    w->quad = calloc(10 * (size_t)(nv ? nv : 1), sizeof *w->quad);
+    w->stamp = calloc(nv ? nv : 1, sizeof *w->stamp);
+    w->indep = calloc(nv ? nv : 1, 1);
+    w->vbound = calloc(nv ? nv : 1, 1);
+    edge_key *keys = malloc(w->nreal * sizeof *keys);
+    uint32_t *bout = malloc((size_t)(nv ? nv : 1) * sizeof *bout);
+    int rc = ST_OK;
+    if (!w->twin || !w->next || !w->prev || !w->org || !w->hflags || !w->vhe || !w->vdead || !w->quad || !w->stamp ||
+        !w->indep || !w->vbound || !keys || !bout) {
+        rc = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for %u triangles", nt);
+        goto done;
+    }
+    for (uint32_t v = 0; v < nv; v++) { w->vhe[v] = ST_NIL; bout[v] = ST_NIL; }
+    for (uint32_t f = 0; f < nt; f++)
+        for (uint32_t k = 0; k < 3; k++) {
+            uint32_t h = 3 * f + k, u = tri[h], v = tri[3 * f + (k + 1) % 3];
+            if (u >= nv || u == v) { rc = st_fail(err, ST_ERR_TOPOLOGY, "progressive: triangle %u is degenerate", f); goto done; }
+            w->org[h] = u;
+            w->next[h] = 3 * f + (k + 1) % 3;
+            w->prev[h] = 3 * f + (k + 2) % 3;
+            w->twin[h] = ST_NIL;
+            w->vhe[u] = h;
+            keys[h].key = dkey(u, v);
+            keys[h].he = h;
+        }
+    qsort(keys, w->nreal, sizeof *keys, cmp_key);
+    for (uint32_t i = 0; i + 1 < w->nreal; i++)
+        if (keys[i].key == keys[i + 1].key) {
+            rc = st_fail(err, ST_ERR_TOPOLOGY, "progressive: edge %u-%u is used twice in one direction (not a manifold)",
+                         (uint32_t)(keys[i].key >> 32), (uint32_t)keys[i].key);
+            goto done;
+        }
+    for (uint32_t h = 0; h < w->nreal; h++) {
+        if (w->twin[h] != ST_NIL) continue;
+        edge_key probe = { dkey(w->org[w->next[h]], w->org[h]), 0 };
+        /* binary search for the opposite direction */
+        uint32_t lo = 0, hi = w->nreal;
+        while (lo < hi) {
+            uint32_t mid = lo + (hi - lo) / 2;
+            if (keys[mid].key < probe.key) lo = mid + 1; else hi = mid;
+        }
+        if (lo < w->nreal && keys[lo].key == probe.key) {
+            w->twin[h] = keys[lo].he;
+            w->twin[keys[lo].he] = h;
+        }
+    }
+    /* Holes: one boundary half-edge opposite each unmatched one. */
+    w->nhe = w->nreal;
+    for (uint32_t h = 0; h < w->nreal; h++) {
+        if (w->twin[h] != ST_NIL) continue;
+        uint32_t b = w->nhe++, u = w->org[w->next[h]];
+        w->org[b] = u;
+        w->hflags[b] = PM_HE_BOUNDARY;
+        w->twin[b] = h;
+        w->twin[h] = b;
+        if (bout[u] != ST_NIL) {
+            rc = st_fail(err, ST_ERR_TOPOLOGY, "progressive: vertex %u touches two holes (not a manifold)", u);
+            goto done;
+        }
+        bout[u] = b;
+    }
+    for (uint32_t b = w->nreal; b < w->nhe; b++) {
+        uint32_t v = w->org[w->twin[b]]; /* b runs from org to v */
+        w->next[b] = bout[v];
+        w->prev[bout[v]] = b;
+    }
+    for (uint32_t v = 0; v < nv; v++) {
+        if (w->vhe[v] == ST_NIL) { w->vdead[v] = 1; continue; } /* unused vertex */
+        w->verts++;
+    }
+    w->faces = nt;
+    init_quadrics(w);
+done:
+    free(keys);
+    free(bout);
+    if (rc) pm_work_free(w);
+    return rc;
+}
+
+/* ---- checks ------------------------------------------------------------------ */
+
+static uint32_t stamp_next(pm_work *w)
+{
+    if (++w->stamp_gen == 0) {
+        memset(w->stamp, 0, w->nv * sizeof *w->stamp);
+        w->stamp_gen = 1;
+    }
+    return w->stamp_gen;
+}
+
+static unsigned valence(const pm_work *w, uint32_t v)
+{
+    unsigned n = 0;
+    uint32_t h = w->vhe[v], x = h;
+    do { n++; x = pm_rot(w, x); } while (x != h);
+    return n;
+}
+
+/* Normal of the triangle of half-edge h with vertex `moved` at q. */
+static void tri_normal(const pm_work *w, uint32_t h, uint32_t moved, const double *q, double n[3])
+{
+    const double *p[3];
+    uint32_t x = h;
+    for (int k = 0; k < 3; k++, x = w->next[x]) p[k] = w->org[x] == moved ? q : w->pos + 3 * (size_t)w->org[x];
+    double e1[3], e2[3];
+    sub3(p[1], p[0], e1);
+    sub3(p[2], p[0], e2);
+    cross3(e1, e2, n);
+}
+
+/* The topological and geometric conditions of a collapse h = a -> b
+ * (progressive.h, point 2), on the current mesh. */
+static int collapse_ok(pm_work *w, uint32_t h)
+{
+    uint32_t t = w->twin[h], a = w->org[h], b = pm_dest(w, h);
+    int bedge = (w->hflags[t] & PM_HE_BOUNDARY) != 0;
+    if (w->vbound[a] && !bedge) return 0;
+    uint32_t c = w->org[w->prev[h]], d = bedge ? ST_NIL : w->org[w->prev[t]];
+    /* link condition and the merged valence */
+    uint32_t g = stamp_next(w);
+    unsigned na = 0, nb = 0, common = 0;
+    uint32_t x = h;
+    do { w->stamp[pm_dest(w, x)] = g; na++; x = pm_rot(w, x); } while (x != h);
+    x = w->next[h]; /* b -> c leaves b */
+    uint32_t start = x;
+    do {
+        uint32_t n = pm_dest(w, x);
+        nb++;
+        if (w->stamp[n] == g) {
+            if (n != c && n != d) return 0;
+            common++;
+        }
+        x = pm_rot(w, x);
+    } while (x != start);
+    if (common != (bedge ? 1u : 2u)) return 0;
+    unsigned merged = na + nb - (bedge ? 3u : 4u);
+    if (merged < (w->vbound[a] || w->vbound[b] ? 2u : 3u)) return 0;
+    if (bedge && nb < 3) return 0;               /* b would keep no dart of its own when split back */
+    unsigned vc = valence(w, c);
+    if (vc < (w->vbound[c] ? 3u : 4u)) return 0;
+    if (!bedge) {
+        unsigned vd = valence(w, d);
+        if (vd < (w->vbound[d] ? 3u : 4u)) return 0;
+    }
+    /* no face around a flips */
+    const double *q = w->pos + 3 * (size_t)b;
+    x = h;
+    do {
+        if (!(w->hflags[x] & PM_HE_BOUNDARY) && x != h && x != w->next[t]) {
+            double n0[3], n1[3];
+            tri_normal(w, x, a, w->pos + 3 * (size_t)a, n0);
+            tri_normal(w, x, a, q, n1);
+            if (dot3(n0, n1) <= 0) return 0;
+        }
+        x = pm_rot(w, x);
+    } while (x != h);
+    return 1;
+}
+
+/* ---- collapse and undo ---------------------------------------------------------- */
+
+static int log_he(pm_work *w, uint32_t h)
+{
+    if (w->nlog == w->caplog) {
+        uint32_t cap = w->caplog ? 2 * w->caplog : 1024;
+        pm_rec *p = realloc(w->log, cap * sizeof *p);
+        if (!p) return -1;
+        w->log = p;
+        w->caplog = cap;
+    }
+    w->log[w->nlog++] = (pm_rec){ h, w->twin[h], w->next[h], w->prev[h], w->org[h], w->hflags[h] };
+    return 0;
+}
+
+static int collapse(pm_work *w, uint32_t h)
+{
+    if (w->ncol == w->capcol) {
+        uint32_t cap = w->capcol ? 2 * w->capcol : 256;
+        pm_collapse *p = realloc(w->col, cap * sizeof *p);
+        if (!p) return -1;
+        w->col = p;
+        w->capcol = cap;
+    }
+    uint32_t t = w->twin[h], a = w->org[h], b = pm_dest(w, h);
+    int bedge = (w->hflags[t] & PM_HE_BOUNDARY) != 0;
+    uint32_t h1 = w->next[h], h2 = w->next[h1], c = w->org[h2];
+    uint32_t t1 = w->next[t], t2 = bedge ? ST_NIL : w->next[t1], d = bedge ? ST_NIL : w->org[t2];
+    uint32_t o1 = w->twin[h1], o2 = w->twin[h2];
+    pm_collapse *cl = &w->col[w->ncol];
+    *cl = (pm_collapse){ h, a, b, c, d, w->nlog, 0, { w->vhe[a], w->vhe[b], w->vhe[c], d != ST_NIL ? w->vhe[d] : ST_NIL } };
+    int rc = 0;
+    uint32_t x = h;
+    do { rc |= log_he(w, x); x = pm_rot(w, x); } while (x != h);
+    rc |= log_he(w, h1) | log_he(w, h2) | log_he(w, t) | log_he(w, o1) | log_he(w, o2);
+    uint32_t o3 = ST_NIL, o4 = ST_NIL, p = ST_NIL, n = ST_NIL;
+    if (!bedge) {
+        o3 = w->twin[t1];
+        o4 = w->twin[t2];
+        rc |= log_he(w, t1) | log_he(w, t2) | log_he(w, o3) | log_he(w, o4);
+    } else {
+        p = w->prev[t];
+        n = w->next[t];
+        rc |= log_he(w, p) | log_he(w, n);
+    }
+    if (rc) return -1;
+    cl->rec_end = w->nlog;
+    w->ncol++;
+    x = h;
+    do { w->org[x] = b; x = pm_rot(w, x); } while (x != h);
+    w->twin[o1] = o2;
+    w->twin[o2] = o1;
+    w->hflags[h] |= PM_HE_DEAD;
+    w->hflags[h1] |= PM_HE_DEAD;
+    w->hflags[h2] |= PM_HE_DEAD;
+    w->hflags[t] |= PM_HE_DEAD;
+    if (!bedge) {
+        w->twin[o3] = o4;
+        w->twin[o4] = o3;
+        w->hflags[t1] |= PM_HE_DEAD;
+        w->hflags[t2] |= PM_HE_DEAD;
+        w->vhe[d] = o3;
+        w->faces -= 2;
+    } else {
+        w->next[p] = n;
+        w->prev[n] = p;
+        w->faces -= 1;
+    }
+    w->vhe[c] = o1;
+    w->vhe[b] = o2;
+    w->vdead[a] = 1;
+    w->verts--;
+    double *qa = w->quad + 10 * (size_t)a, *qb = w->quad + 10 * (size_t)b;
+    for (int i = 0; i < 10; i++) qb[i] += qa[i];
+    return 0;
+}
+
+void pm_undo(pm_work *w, uint32_t i)
+{
+    const pm_collapse *cl = &w->col[i];
+    for (uint32_t r = cl->rec_end; r-- > cl->rec_beg;) {
+        const pm_rec *e = &w->log[r];
+        w->twin[e->he] = e->twin;
+        w->next[e->he] = e->next;
+        w->prev[e->he] = e->prev;
+        w->org[e->he] = e->org;
+        w->hflags[e->he] = e->flags;
+    }
+    w->vdead[cl->a] = 0;
+    w->vhe[cl->a] = cl->vhe[0];
+    w->vhe[cl->b] = cl->vhe[1];
+    w->vhe[cl->c] = cl->vhe[2];
+    if (cl->d != ST_NIL) w->vhe[cl->d] = cl->vhe[3];
+    w->verts++;
+    w->faces += cl->d != ST_NIL ? 2 : 1;
+}
+
+/* ---- grouped simplification ------------------------------------------------------ */
+
+typedef struct cand { double cost; uint32_t he; } cand;
+
+static int cmp_cand(const void *x, const void *y)
+{
+    const cand *a = x, *b = y;
+    if (a->cost != b->cost) return a->cost < b->cost ? -1 : 1;
+    return a->he < b->he ? -1 : a->he > b->he;
+}
+
+/* Marker bits of the independence rule (progressive.h, point 3), per
+ * vertex and per group: the removed vertex of an accepted collapse or one
+ * of its neighbours at the group's finer level; the target b of one. */
+enum { IND_NEAR_REMOVED = 1, IND_TARGET = 2 };
+
+static int independent(const pm_work *w, uint32_t h)
+{
+    return !(w->hflags[h] & PM_HE_DEAD) && !(w->indep[w->org[h]] & IND_NEAR_REMOVED) && !(w->indep[pm_dest(w, h)] & IND_TARGET);
+}
+
+/* Marks before the collapse, so that N(a) is a's ring at the finer level. */
+static void claim(pm_work *w, uint32_t h)
+{
+    uint32_t x = h;
+    w->indep[w->org[h]] |= IND_NEAR_REMOVED;
+    w->indep[pm_dest(w, h)] |= IND_TARGET;
+    do {
+        w->indep[pm_dest(w, x)] |= IND_NEAR_REMOVED;
+        x = pm_rot(w, x);
+    } while (x != h);
+}
+
+int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress)(void *, double), void *ctx,
+                char *note, size_t notesz, st_error *err)
+{
+    uint64_t start_faces = w->faces;
+    cand *cs = malloc((size_t)w->nreal * sizeof *cs);
+    w->group_beg = malloc(((size_t)max_groups + 1) * sizeof *w->group_beg);
+    if (!cs || !w->group_beg) {
+        free(cs);
+        return st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
+    }
+    snprintf(note, notesz, "reached the target of %llu faces", (unsigned long long)target);
+    int rc = ST_OK;
+    w->ngroups = 0;
+    w->group_beg[0] = 0;
+    while (w->faces > target) {
+        if (w->ngroups == max_groups) {
+            snprintf(note, notesz, "stopped at the limit of %u levels with %llu faces", max_groups + 1,
+                     (unsigned long long)w->faces);
+            break;
+        }
+        memset(w->vbound, 0, w->nv);
+        memset(w->indep, 0, w->nv);
+        for (uint32_t h = w->nreal; h < w->nhe; h++)
+            if (!(w->hflags[h] & PM_HE_DEAD)) w->vbound[w->org[h]] = 1;
+        uint32_t nc = 0;
+        for (uint32_t h = 0; h < w->nreal; h++) {
+            if (w->hflags[h] & PM_HE_DEAD) continue;
+            uint32_t a = w->org[h], b = pm_dest(w, h);
+            if (w->vbound[a] && !(w->hflags[w->twin[h]] & PM_HE_BOUNDARY)) continue;
+            const double *pb = w->pos + 3 * (size_t)b;
+            cs[nc++] = (cand){ quad_eval(w->quad + 10 * (size_t)a, pb) + quad_eval(w->quad + 10 * (size_t)b, pb), h };
+        }
+        qsort(cs, nc, sizeof *cs, cmp_cand);
+        uint32_t before = w->ncol;
+        /* Quality: a group takes its collapses among the cheapest 40 % of
+         * the candidate half-edges only, so that it does not pay for its
+         * size with collapses a sequential simplification would put off.
+         * Measured on koala (bench_progressive, 1 % of the faces): all
+         * candidates: 16 levels, Hausdorff 1.17x and RMS 1.22x OpenMesh's;
+         * 60 %: 17 levels, 1.26x, 1.12x; 40 %: 17 levels, 1.00x, 1.06x;
+         * 25 %: 19 levels, 0.95x, 1.04x. */
+        uint32_t last = (uint32_t)(0.4 * nc);
+        for (uint32_t i = 0; i < nc && w->faces > target; i++) {
+            if (i >= last && w->ncol > before) break; /* past the cheapest part, unless it had none allowed */
+            uint32_t h = cs[i].he;
+            if (!independent(w, h) || !collapse_ok(w, h)) continue;
+            claim(w, h);
+            if (collapse(w, h)) { rc = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory"); break; }
+        }
+        if (rc) break;
+        if (w->ncol == before) {
+            snprintf(note, notesz, "no collapse is allowed any more at %llu faces (the link condition, valences or "
+                     "boundaries forbid every one)", (unsigned long long)w->faces);
+            break;
+        }
+        w->group_beg[++w->ngroups] = w->ncol;
+        if (progress) {
+            double f = start_faces > target ? (double)(start_faces - w->faces) / (double)(start_faces - target) : 1.0;
+            if (progress(ctx, 0.8 * f)) { rc = st_fail(err, ST_ERR_INVALID, "progressive: cancelled"); break; }
+        }
+    }
+    free(cs);
+    return rc;
+}

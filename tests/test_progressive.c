@@ -1,0 +1,625 @@
+/* Progressive multiresolution meshes (core/progressive/progressive.h):
+ * topology kept at every level, the independence rule, the hierarchy's
+ * geometry (finest == input, rigid motion, local edits, sessions) and
+ * multiresolution filtering. */
+#include "testlib.h"
+
+#include "core/progressive/progressive_internal.h"
+#include "core/multires/hier_internal.h"
+#include "core/io/session.h"
+#include "core/map/map_mesh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- fixtures ------------------------------------------------------------------ */
+
+static int load_shared(const char *name, st_mesh *m)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/triangle/%s", STRATA_SHARED_DATA, name);
+    st_error err;
+    st_mesh_init(m);
+    if (st_mesh_load(path, m, &err)) {
+        printf("note: %s not loaded (%s): skipped\n", path, err.msg);
+        return -1;
+    }
+    return 0;
+}
+
+/* Euler characteristic and boundary loops of a soup, through a map. */
+static void soup_topology(const st_mesh *s, int64_t *euler, uint64_t *loops)
+{
+    st_map m;
+    st_map_init(&m);
+    st_error err;
+    CHECK(st_map_from_mesh(&m, s, &err) == ST_OK);
+    st_level_stats st;
+    st_level_stats_compute(&m, 0, &st);
+    *euler = st.euler;
+    *loops = st.boundary_loops;
+    st_map_free(&m);
+}
+
+/* Triangles as position triples, each rotated to start at its smallest
+ * position and sorted: two meshes with the same triangles at the same
+ * positions, whatever their numbering, compare equal. */
+typedef struct ptri { double p[9]; } ptri;
+
+static int cmp_pos(const double *a, const double *b) { return memcmp(a, b, 3 * sizeof(double)); }
+static int cmp_ptri(const void *x, const void *y) { return memcmp(x, y, sizeof(ptri)); }
+
+static ptri *soup_tris(const st_mesh *s, uint32_t *n)
+{
+    uint32_t k = 0;
+    for (uint32_t f = 0; f < s->nfaces; f++) k += s->face_off[f + 1] - s->face_off[f] - 2;
+    ptri *t = calloc(k ? k : 1, sizeof *t);
+    k = 0;
+    for (uint32_t f = 0; f < s->nfaces; f++) {
+        const uint32_t *idx = s->face_idx + s->face_off[f];
+        uint32_t deg = s->face_off[f + 1] - s->face_off[f];
+        for (uint32_t i = 1; i + 1 < deg; i++, k++) {
+            const double *q[3] = { s->pos + 3 * (size_t)idx[0], s->pos + 3 * (size_t)idx[i], s->pos + 3 * (size_t)idx[i + 1] };
+            int r = 0;
+            for (int j = 1; j < 3; j++) if (cmp_pos(q[j], q[r]) < 0) r = j;
+            for (int j = 0; j < 3; j++) memcpy(t[k].p + 3 * j, q[(r + j) % 3], 3 * sizeof(double));
+        }
+    }
+    qsort(t, k, sizeof *t, cmp_ptri);
+    *n = k;
+    return t;
+}
+
+static int same_triangles(const st_mesh *a, const st_mesh *b)
+{
+    uint32_t na, nb;
+    ptri *ta = soup_tris(a, &na), *tb = soup_tris(b, &nb);
+    int same = na == nb && !memcmp(ta, tb, na * sizeof *ta);
+    free(ta);
+    free(tb);
+    return same;
+}
+
+/* ---- the independence rule, checked on the map ---------------------------------- */
+
+/* At every level L (progressive.h, point 3): the vertices inserted at L
+ * are pairwise not neighbours at L, each is the end a of exactly one edge
+ * a -> b whose two darts are new (its split), and the partners b are
+ * distinct vertices of level L-1. */
+static int check_independence(st_map *m, const char *what)
+{
+    int ok = 1;
+    uint32_t nv = m->verts.end;
+    uint32_t *partner_of = calloc(nv ? nv : 1, sizeof *partner_of), *splits = calloc(nv ? nv : 1, sizeof *splits);
+    for (unsigned L = 1; L <= m->top && ok; L++) {
+        memset(partner_of, 0, nv * sizeof *partner_of);
+        memset(splits, 0, nv * sizeof *splits);
+        st_dart_iter it;
+        for (uint32_t d = st_dart_first(m, L, &it); d != ST_NIL; d = st_dart_next(m, L, &it)) {
+            uint32_t e = st_beta0(m, d, L), a = st_vert(m, d, L), b = st_vert(m, e, L);
+            if (m->verts.ins[a] == L && m->verts.ins[b] == L) {
+                fprintf(stderr, "%s: level %u: split vertices %u and %u are neighbours\n", what, L, a, b);
+                ok = 0;
+            }
+            if (m->darts.ins[d] != L || m->darts.ins[e] != L || st_is_boundary(m, d) || m->verts.ins[a] != L) continue;
+            splits[a]++;
+            partner_of[b]++;
+        }
+        for (uint32_t v = st_vertex_first(m, L, &it); v != ST_NIL; v = st_vertex_next(m, L, &it)) {
+            if (m->verts.ins[v] == L && splits[v] != 1) {
+                fprintf(stderr, "%s: level %u: vertex %u is split %u times\n", what, L, v, splits[v]);
+                ok = 0;
+            }
+            if (partner_of[v] > 1) {
+                fprintf(stderr, "%s: level %u: vertex %u is the partner of %u splits\n", what, L, v, partner_of[v]);
+                ok = 0;
+            }
+        }
+    }
+    free(partner_of);
+    free(splits);
+    return ok;
+}
+
+/* ---- topology at every level ------------------------------------------------------ */
+
+static void check_mesh(const char *what, const st_mesh *in, uint64_t target, int expect_levels)
+{
+    st_hier h;
+    st_progressive_report rep;
+    st_error err;
+    st_progressive_opts o = { .target_faces = target };
+    int rc = st_progressive_build(in, &o, &h, &rep, &err);
+    CHECKF(rc == ST_OK, "%s: %s", what, err.msg);
+    if (rc) return;
+    int64_t euler;
+    uint64_t loops;
+    soup_topology(in, &euler, &loops);
+    CHECKF(st_map_validate(&h.map, &err) == ST_OK, "%s: %s", what, err.msg);
+    CHECK(rep.levels == h.map.top + 1 && rep.levels <= ST_MAX_LEVELS);
+    int polygons = 0;
+    for (uint32_t f = 0; f < in->nfaces; f++) polygons |= in->face_off[f + 1] - in->face_off[f] > 3;
+    CHECK(rep.triangulated == polygons);
+    if (expect_levels) CHECKF(rep.levels >= 3, "%s: only %u levels (%s)", what, rep.levels, rep.note);
+    for (unsigned l = 0; l <= h.map.top; l++) {
+        st_level_stats s;
+        st_level_stats_compute(&h.map, l, &s);
+        CHECKF(s.euler == euler && s.boundary_loops == loops, "%s: level %u: Euler %lld (input %lld), %llu loops (input %llu)",
+               what, l, (long long)s.euler, (long long)euler, (unsigned long long)s.boundary_loops, (unsigned long long)loops);
+        CHECK(s.faces == rep.faces[l]);
+        if (l) CHECKF(rep.faces[l] > rep.faces[l - 1] && rep.kept[l] < 1.0, "%s: level %u", what, l);
+    }
+    CHECKF(rep.faces[0] <= target || !rep.target_reached, "%s", what);
+    CHECKF(check_independence(&h.map, what), "%s: independence", what);
+    /* The finest level is the input, position for position. */
+    st_mesh top;
+    st_mesh_init(&top);
+    CHECK(st_hier_level_mesh(&h, h.map.top, &top, &err) == ST_OK);
+    CHECKF(same_triangles(in, &top), "%s: the finest level is not the input", what);
+    st_mesh_free(&top);
+    /* and so is a full synthesis of it: to the bit but for the vertices
+     * counted in rep.inexact, which move by an ulp or so */
+    tl_posnap a, b;
+    tl_snap_pos(&h, &a);
+    st_hier_synthesize(&h, 0);
+    tl_snap_pos(&h, &b);
+    double extent = 0;
+    for (uint32_t i = 0; i < 3 * in->nverts; i++) extent = fmax(extent, fabs(in->pos[i]));
+    CHECKF(tl_snap_maxdiff(&a, &b) <= 1e-12 * extent, "%s: a full synthesis moves the input by %g", what, tl_snap_maxdiff(&a, &b));
+    if (rep.inexact == 0) CHECK(tl_snap_maxdiff(&a, &b) == 0);
+    free(a.p);
+    free(b.p);
+    printf("%s: %u levels, faces %llu -> %llu, t at the finest level %.3f, %.1f topology bytes per finest dart%s, %llu "
+           "inexact; %s\n", what, rep.levels, (unsigned long long)rep.faces[rep.levels - 1], (unsigned long long)rep.faces[0],
+           rep.levels > 1 ? rep.kept[rep.levels - 1] : 1.0, rep.bytes_per_dart, rep.triangulated ? " (triangulated)" : "",
+           (unsigned long long)rep.inexact, rep.note);
+    st_hier_free(&h);
+}
+
+static const char *const shared[] = {
+    "sphere_ico.obj", "spot_low_resolution.obj", "hemisphere.obj", "cube_no_bottom.obj",
+    "plane_holes.obj", "blub_open.obj", "hand_lowres.obj", "boot.obj",
+};
+
+static void test_topology(void)
+{
+    for (size_t i = 0; i < sizeof shared / sizeof *shared; i++) {
+        st_mesh m;
+        if (load_shared(shared[i], &m)) continue;
+        check_mesh(shared[i], &m, m.nfaces / 20, 1);
+        check_mesh(shared[i], &m, 0, 1);           /* as far as the rules allow */
+        st_mesh_free(&m);
+    }
+    st_mesh t;
+    st_mesh_init(&t);
+    tl_mesh_torus(&t, 24, 16);                      /* genus 1, quads: fanned */
+    check_mesh("torus 24x16", &t, 40, 1);
+    st_mesh_free(&t);
+}
+
+/* A tetrahedron has no allowed collapse: one level and a note, no error. */
+static void test_tetrahedron(void)
+{
+    st_mesh t;
+    st_mesh_init(&t);
+    tl_mesh_tetra(&t);
+    st_hier h;
+    st_progressive_report rep;
+    st_error err;
+    st_progressive_opts o = { .target_faces = 1 };
+    CHECK(st_progressive_build(&t, &o, &h, &rep, &err) == ST_OK);
+    CHECK(rep.levels == 1 && h.map.top == 0 && rep.faces[0] == 4 && !rep.target_reached && strstr(rep.note, "no collapse"));
+    st_hier_free(&h);
+    /* The octahedron: each collapse would leave a valence-3 ... it may go one level. */
+    st_mesh_free(&t);
+    tl_mesh_octa(&t);
+    CHECK(st_progressive_build(&t, &o, &h, &rep, &err) == ST_OK);
+    CHECK(st_map_validate(&h.map, &err) == ST_OK);
+    st_hier_free(&h);
+    st_mesh_free(&t);
+}
+
+typedef struct cancel_at { double at; int calls; } cancel_at;
+
+static int cancel_when(void *ctx, double f)
+{
+    cancel_at *c = ctx;
+    c->calls++;
+    return f >= c->at;
+}
+
+static void test_progress_and_bad_input(void)
+{
+    st_mesh m;
+    if (load_shared("spot_low_resolution.obj", &m)) return;
+    st_hier h;
+    st_error err;
+    /* cancelled while simplifying (fractions up to 0.8), then while laying
+     * out the map (0.8 to 0.95) */
+    for (int k = 0; k < 2; k++) {
+        cancel_at c = { k ? 0.85 : 0.5, 0 };
+        st_progressive_opts o = { .target_faces = 10, .progress = cancel_when, .progress_ctx = &c };
+        CHECK(st_progressive_build(&m, &o, &h, NULL, &err) == ST_ERR_INVALID && strstr(err.msg, "cancelled") && c.calls >= 1);
+        CHECK(h.map.top == 0 && h.scheme == NULL); /* left empty */
+    }
+    /* max_levels caps the levels */
+    st_progressive_opts o2 = { .target_faces = 10, .max_levels = 3 };
+    st_progressive_report rep;
+    CHECK(st_progressive_build(&m, &o2, &h, &rep, &err) == ST_OK && rep.levels == 3 && strstr(rep.note, "limit"));
+    st_hier_free(&h);
+    /* an edge used twice in one direction (not a manifold) is refused */
+    {
+        static const double pos[12] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0 };
+        static const uint32_t off[3] = { 0, 3, 6 }, idx[6] = { 0, 1, 2, 0, 1, 3 };
+        st_mesh bad;
+        st_mesh_init(&bad);
+        tl_mesh_make(&bad, pos, 4, off, idx, 2);
+        CHECK(st_progressive_build(&bad, NULL, &h, NULL, &err) == ST_ERR_TOPOLOGY && strstr(err.msg, "edge 0-1"));
+        st_mesh_free(&bad);
+    }
+    /* a non-finite coordinate is refused with a message */
+    m.pos[4] = NAN;
+    CHECK(st_progressive_build(&m, NULL, &h, NULL, &err) == ST_ERR_GEOMETRY && strstr(err.msg, "vertex 1"));
+    st_mesh_free(&m);
+}
+
+/* ---- geometry ------------------------------------------------------------------------ */
+
+static int build(const char *name, st_hier *h, uint64_t target)
+{
+    st_mesh m;
+    if (load_shared(name, &m)) return -1;
+    st_error err;
+    st_progressive_opts o = { .target_faces = target };
+    int rc = st_progressive_build(&m, &o, h, NULL, &err);
+    CHECKF(rc == ST_OK, "%s: %s", name, err.msg);
+    st_mesh_free(&m);
+    return rc;
+}
+
+/* One dart per vertex of level l, in vertex id order. */
+static uint32_t *vertex_darts(st_map *m, unsigned l, uint32_t *n)
+{
+    uint32_t *vd = malloc(m->verts.end * sizeof *vd), k = 0;
+    for (uint32_t v = 0; v < m->verts.end; v++) vd[v] = ST_NIL;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) vd[st_vert(m, d, l)] = d;
+    for (uint32_t v = 0; v < m->verts.end; v++) if (vd[v] != ST_NIL) vd[k++] = vd[v];
+    *n = k;
+    return vd;
+}
+
+static void rotate(const double p[3], double q[3])
+{
+    const double c = cos(0.7), s = sin(0.7);
+    q[0] = c * p[0] - s * p[1] + 1.5;
+    q[1] = s * p[0] + c * p[1] - 2.0;
+    q[2] = p[2] + 0.25;
+}
+
+static void test_rigid_motion(const char *name)
+{
+    st_hier h;
+    if (build(name, &h, 40)) return;
+    st_map *m = &h.map;
+    unsigned top = m->top;
+    uint32_t n;
+    uint32_t *vd = vertex_darts(m, 0, &n);
+    double (*np)[3] = malloc(n * sizeof *np);
+    for (uint32_t i = 0; i < n; i++) rotate(st_dart_pos(m, vd[i], 0), np[i]);
+    tl_posnap before;
+    tl_snap_pos(&h, &before);
+    st_hier_move(&h, 0, vd, (const double (*)[3])np, n);
+    double worst = 0, size = 0;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, top, &it); v != ST_NIL; v = st_vertex_next(m, top, &it)) {
+        double q[3];
+        const double *p0 = before.p + 3 * ((size_t)top * before.n + v);
+        rotate(p0, q);
+        const double *p = st_pos(m, v, top);
+        for (int k = 0; k < 3; k++) {
+            worst = fmax(worst, fabs(p[k] - q[k]));
+            size = fmax(size, fabs(p0[k]));
+        }
+    }
+    CHECKF(worst <= 1e-9 * (1 + size), "%s: rigid motion of level 0 moves the finest level by %g off", name, worst);
+    free(before.p);
+    free(np);
+    free(vd);
+    st_hier_free(&h);
+}
+
+/* An edit at level top-k (k = 0: level 0): local re-synthesis == full
+ * synthesis to the bit, and a vertex moves at level L only if a vertex
+ * its stencil or its frame reads (the frame vertex's 1-ring) moved at L-1.
+ * With few levels above the edit, few vertices move. */
+static void test_local_edit(const char *name, unsigned k)
+{
+    st_hier h;
+    if (build(name, &h, 30)) return;
+    st_map *m = &h.map;
+    unsigned l = k && k <= m->top ? m->top - k : 0;
+    uint32_t n;
+    uint32_t *vd = vertex_darts(m, l, &n);
+    uint32_t d = vd[n / 3];
+    const double *p = st_dart_pos(m, d, l);
+    double q[1][3] = { { p[0] + 0.05, p[1] - 0.03, p[2] + 0.04 } };
+    tl_posnap before, local, full;
+    /* From a synthesised state (as after any first edit): the few split
+     * vertices whose input bits no detail reproduces (rep.inexact) have
+     * taken their synthesised position. */
+    st_hier_synthesize(&h, 0);
+    tl_snap_pos(&h, &before);
+    uint64_t count = st_hier_move(&h, l, &d, q, 1);
+    tl_snap_pos(&h, &local);
+    st_hier_synthesize(&h, l);
+    tl_snap_pos(&h, &full);
+    CHECKF(tl_snap_maxdiff(&local, &full) == 0, "%s: local edit at level %u differs from full synthesis by %g", name, l,
+           tl_snap_maxdiff(&local, &full));
+    uint8_t *moved = calloc(m->verts.end, 1), *prev = calloc(m->verts.end, 1);
+    prev[st_vert(m, d, l)] = 1;
+    uint64_t changed = 0, total = 0;
+    int ok = 1;
+    st_stencil_buf buf = { 0 };
+    for (unsigned L = l + 1; L <= m->top; L++) {
+        memset(moved, 0, m->verts.end);
+        uint32_t nv;
+        uint32_t *vl = vertex_darts(m, L, &nv);
+        total += nv;
+        for (uint32_t i = 0; i < nv; i++) {
+            uint32_t v = st_vert(m, vl[i], L);
+            size_t at = 3 * ((size_t)L * before.n + v);
+            if (!memcmp(before.p + at, full.p + at, 3 * sizeof(double))) continue;
+            moved[v] = 1;
+            changed++;
+            st_stencil s;
+            if (!st_progressive_stencil(&h, L, vl[i], &buf, &s)) { ok = 0; continue; }
+            int near = 0;
+            for (uint32_t j = 0; j < s.n; j++) near |= prev[s.src[j]];
+            uint32_t x = s.frame_dart;
+            near |= prev[st_vert(m, x, L - 1)];
+            do { near |= prev[st_vert(m, st_beta0(m, x, L - 1), L - 1)]; x = st_beta1(m, x, L - 1); } while (x != s.frame_dart);
+            ok &= near;
+        }
+        free(vl);
+        uint8_t *t = prev; prev = moved; moved = t;
+    }
+    CHECKF(ok, "%s: a vertex outside the edit's support moved", name);
+    CHECKF(count >= changed && changed > 0, "%s: %llu moved, %llu written", name, (unsigned long long)changed, (unsigned long long)count);
+    if (k) CHECKF(changed * 10 < total, "%s: %llu of %llu vertices moved above level %u", name, (unsigned long long)changed,
+                  (unsigned long long)total, l);
+    st_stencil_buf_free(&buf);
+    free(moved); free(prev); free(vd);
+    free(before.p); free(local.p); free(full.p);
+    st_hier_free(&h);
+}
+
+static void test_session(const char *name)
+{
+    st_hier h;
+    if (build(name, &h, 30)) return;
+    /* an edit first, so that positions carry columns too */
+    uint32_t n;
+    uint32_t *vd = vertex_darts(&h.map, 1, &n);
+    const double *p = st_dart_pos(&h.map, vd[0], 1);
+    double q[1][3] = { { p[0] + 0.01, p[1], p[2] - 0.02 } };
+    st_hier_move(&h, 1, vd, q, 1);
+    free(vd);
+    st_session_ref r = { .h = &h, .edit_level = 1, .display_level = h.map.top };
+    void *b1 = NULL, *b2 = NULL;
+    size_t n1 = 0, n2 = 0;
+    st_error err;
+    CHECK(st_session_write_mem(&r, &b1, &n1, &err) == ST_OK);
+    st_session s;
+    st_session_init(&s);
+    int rc = st_session_parse("progressive.strata", b1, n1, &s, &err);
+    CHECKF(rc == ST_OK, "%s: %s", name, err.msg);
+    if (!rc) {
+        CHECK(s.h.scheme == &st_scheme_progressive && s.h.map.top == h.map.top);
+        st_session_ref r2 = st_session_ref_of(&s);
+        CHECK(st_session_write_mem(&r2, &b2, &n2, &err) == ST_OK);
+        CHECKF(n1 == n2 && !memcmp(b1, b2, n1), "%s: save -> load -> save differs", name);
+        /* the same later edit on both gives the same bits */
+        vd = vertex_darts(&h.map, 0, &n);
+        uint32_t d = vd[n / 2];
+        free(vd);
+        const double *p0 = st_dart_pos(&h.map, d, 0);
+        double q0[1][3] = { { p0[0] - 0.02, p0[1] + 0.03, p0[2] } };
+        st_hier_move(&h, 0, &d, q0, 1);
+        st_hier_move(&s.h, 0, &d, q0, 1);
+        tl_posnap a, b;
+        tl_snap_pos(&h, &a);
+        tl_snap_pos(&s.h, &b);
+        CHECK(a.n == b.n && tl_snap_maxdiff(&a, &b) == 0);
+        free(a.p);
+        free(b.p);
+        /* and refining is refused with a message */
+        CHECK(st_hier_subdivide_to(&s.h, s.h.map.top + 1, &err) != ST_OK && strstr(err.msg, "simplification"));
+    }
+    st_session_free(&s);
+    free(b1);
+    free(b2);
+    st_hier_free(&h);
+}
+
+/* ---- filtering ------------------------------------------------------------------------ */
+
+/* Mean dihedral angle (radians between the normals of the two faces of
+ * each interior edge) of level l: zero on a plane, small on a smooth
+ * surface, large on a bumpy one. */
+static void face_normal_at(st_map *m, uint32_t d, unsigned l, double n[3])
+{
+    const double *p = st_dart_pos(m, d, l), *q = st_dart_pos(m, st_phi1(m, d, l), l),
+                 *r = st_dart_pos(m, st_phi1(m, st_phi1(m, d, l), l), l);
+    double u[3] = { q[0] - p[0], q[1] - p[1], q[2] - p[2] }, v[3] = { r[0] - p[0], r[1] - p[1], r[2] - p[2] };
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (len > 0) for (int k = 0; k < 3; k++) n[k] /= len;
+}
+
+static double roughness(st_map *m, unsigned l)
+{
+    double sum = 0;
+    uint64_t cnt = 0;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        uint32_t e = st_beta0(m, d, l);
+        if (d > e || st_is_boundary(m, d) || st_is_boundary(m, e)) continue;
+        double a[3], b[3];
+        face_normal_at(m, d, l, a);
+        face_normal_at(m, e, l, b);
+        double c = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        sum += acos(c > 1 ? 1 : c < -1 ? -1 : c);
+        cnt++;
+    }
+    return cnt ? sum / (double)cnt : 0;
+}
+
+static void test_filter(const char *name)
+{
+    st_hier h;
+    if (build(name, &h, 40)) return;
+    st_error err;
+    unsigned top = h.map.top;
+    tl_posnap a, b;
+    tl_snap_pos(&h, &a);
+    double ones[ST_MAX_LEVELS];
+    for (unsigned k = 0; k < ST_MAX_LEVELS; k++) ones[k] = 1.0;
+    CHECK(st_progressive_filter(&h, ones, top, &err) == ST_OK);
+    tl_snap_pos(&h, &b);
+    CHECKF(tl_snap_maxdiff(&a, &b) == 0, "%s: gains 1 changed positions", name);
+    free(b.p);
+    /* g then 1/g gives the details back (to rounding) */
+    double g[ST_MAX_LEVELS];
+    for (unsigned k = 0; k < ST_MAX_LEVELS; k++) g[k] = k % 2 ? 2.0 : 1.0;
+    CHECK(st_progressive_filter(&h, g, top, &err) == ST_OK);
+    for (unsigned k = 0; k < ST_MAX_LEVELS; k++) g[k] = 1.0 / g[k];
+    CHECK(st_progressive_filter(&h, g, top, &err) == ST_OK);
+    tl_snap_pos(&h, &b);
+    CHECKF(tl_snap_maxdiff(&a, &b) < 1e-9, "%s: gains 2 then 1/2 differ by %g", name, tl_snap_maxdiff(&a, &b));
+    free(b.p);
+    /* Gain 0 on the finest bands: a smoother surface, coarse levels kept. */
+    double before = roughness(&h.map, top);
+    unsigned bands = top >= 3 ? 3 : top;
+    double z[ST_MAX_LEVELS];
+    for (unsigned k = 0; k < top; k++) z[k] = k + bands >= top ? 0.0 : 1.0;
+    tl_posnap c0;
+    tl_snap_pos(&h, &c0);
+    CHECK(st_progressive_filter(&h, z, top, &err) == ST_OK);
+    double after = roughness(&h.map, top);
+    tl_snap_pos(&h, &b);
+    double coarse_diff = 0;
+    for (unsigned l = 0; l + bands < top; l++)
+        for (uint32_t v = 0; v < b.n; v++)
+            for (int k = 0; k < 3; k++) {
+                size_t at = 3 * ((size_t)l * b.n + v) + (size_t)k;
+                coarse_diff = fmax(coarse_diff, fabs(b.p[at] - c0.p[at]));
+            }
+    CHECKF(after < 0.95 * before, "%s: roughness %.4f -> %.4f after removing %u bands", name, before, after, bands);
+    CHECK(coarse_diff == 0);
+    printf("%s: mean dihedral angle %.4f -> %.4f rad with the %u finest bands removed\n", name,
+           before, after, bands);
+    /* Enhancing: gains 2 on those bands make it rougher than the input. */
+    free(b.p);
+    free(c0.p);
+    st_hier_free(&h);
+    if (build(name, &h, 40)) { free(a.p); return; }
+    for (unsigned k = 0; k < top; k++) z[k] = k + bands >= top ? 2.0 : 1.0;
+    CHECK(st_progressive_filter(&h, z, top, &err) == ST_OK);
+    CHECKF(roughness(&h.map, top) > before, "%s: gains 2 did not enhance", name);
+    CHECK(st_progressive_filter(&h, (const double[]){ NAN }, 1, &err) != ST_OK);
+    free(a.p);
+    st_hier_free(&h);
+}
+
+/* The generic passes on a progressive hierarchy: least-squares analysis
+ * then synthesis gives the finest level back; deleting the coarsest level
+ * leaves a valid hierarchy whose synthesis still gives it back. */
+static void test_analysis_and_remove_bottom(const char *name, uint64_t target)
+{
+    st_hier h;
+    if (build(name, &h, target)) return;
+    st_error err;
+    unsigned top = h.map.top;
+    tl_posnap a, b;
+    tl_snap_pos(&h, &a);
+    double res = st_hier_analyze(&h, 0);
+    st_hier_synthesize(&h, 0);
+    tl_snap_pos(&h, &b);
+    double worst = 0, extent = 0;
+    for (uint32_t v = 0; v < a.n; v++)
+        for (int k = 0; k < 3; k++) {
+            size_t at = 3 * ((size_t)top * a.n + v) + (size_t)k;
+            worst = fmax(worst, fabs(a.p[at] - b.p[at]));
+            extent = fmax(extent, fabs(a.p[at]));
+        }
+    CHECKF(worst <= 1e-9 * extent, "%s: analysis then synthesis moves the finest level by %g (residual %g)", name, worst, res);
+    free(b.p);
+    st_hier_remove_bottom(&h);
+    CHECK(h.map.top == top - 1);
+    CHECKF(st_map_validate(&h.map, &err) == ST_OK, "%s: %s", name, err.msg);
+    CHECK(check_independence(&h.map, name));
+    st_hier_synthesize(&h, 0);
+    worst = 0;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(&h.map, h.map.top, &it); v != ST_NIL; v = st_vertex_next(&h.map, h.map.top, &it)) {
+        const double *p = st_pos(&h.map, v, h.map.top);
+        for (int k = 0; k < 3; k++) worst = fmax(worst, fabs(p[k] - a.p[3 * ((size_t)top * a.n + v) + (size_t)k]));
+    }
+    CHECKF(worst <= 1e-9 * extent, "%s: after deleting level 0, synthesis moves the finest level by %g", name, worst);
+    free(a.p);
+    st_hier_free(&h);
+}
+
+/* A map the scheme did not build (a crafted session could name it for a
+ * Loop hierarchy): every pass runs without a fault, and the vertices it
+ * cannot predict (no dart of the level below) keep their positions. */
+static void test_foreign_map(void)
+{
+    st_hier h;
+    tl_init_hier(&h, tl_mesh_icosa, ST_SCHEME_LOOP, 2);
+    uint64_t rng = 5;
+    tl_random_details(&h, &rng, 0.01);
+    h.scheme = &st_scheme_progressive;
+    tl_posnap a, b;
+    tl_snap_pos(&h, &a);
+    st_hier_synthesize(&h, 0);
+    uint32_t n;
+    uint32_t *vd = vertex_darts(&h.map, 0, &n);
+    double q[1][3] = { { 0.1, 0.2, 0.3 } };
+    st_hier_move(&h, 0, vd, q, 1);
+    st_hier_analyze(&h, 0);
+    tl_snap_pos(&h, &b);
+    CHECK(a.n == b.n && b.levels == 3);
+    st_error err;
+    CHECK(st_map_validate(&h.map, &err) == ST_OK);
+    free(vd);
+    free(a.p);
+    free(b.p);
+    h.scheme = &st_scheme_loop;
+    st_hier_free(&h);
+}
+
+int main(void)
+{
+    test_topology();
+    test_tetrahedron();
+    test_progress_and_bad_input();
+    test_rigid_motion("spot_low_resolution.obj");
+    test_rigid_motion("hemisphere.obj");
+    test_local_edit("spot_low_resolution.obj", 0);
+    test_local_edit("blub_open.obj", 3);
+    test_local_edit("plane_holes.obj", 4);
+    test_local_edit("boot.obj", 2);
+    test_session("spot_low_resolution.obj");
+    test_session("cube_no_bottom.obj");
+    test_filter("spot_low_resolution.obj");
+    test_filter("boot.obj");
+    test_foreign_map();
+    test_analysis_and_remove_bottom("hand_lowres.obj", 60);
+    test_analysis_and_remove_bottom("cube_no_bottom.obj", 4);
+    return TEST_END();
+}
