@@ -7,6 +7,7 @@ int st_cmd_adapt(int argc, char **argv);
 int st_cmd_render(int argc, char **argv);
 /* app/cmd_convert.c: `strata convert IN OUT`. */
 int st_cmd_convert(int argc, char **argv);
+int st_cmd_filter(int argc, char **argv);
 /* app/cmd_window.c: `strata [options] [FILE]` opens the modeller. */
 int st_cmd_window(int argc, char **argv);
 
