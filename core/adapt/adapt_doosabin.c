@@ -216,7 +216,7 @@ static int ds_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, st_
     for (unsigned k = 0; k < n; k++) { corner[k] = x; x = st_phi1(m, x, i); }
     for (unsigned k = 0; k < n; k++) {
         x = corner[k];
-        if (st_edge_is_split(m, x, i)) continue;
+        if (st_adapt_edge_split(m, x, i)) continue;
         uint32_t e = st_beta0(m, x, i);
         uint32_t half = st_split_edge(m, x, L, origin);
         garbage[ng++] = st_vert(m, half, L);
@@ -301,12 +301,6 @@ static int ds_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
  * polygon splits. */
 static int ds_subdivided(st_map *m, uint32_t d, unsigned i) { return st_adapt_split_toward(m, d, i); }
 static int ds_face_of_level(st_map *m, uint32_t y, unsigned i) { return st_adapt_face_of_level(m, y, i); }
-/* (As for the polygon split family: a live listed corner stays a face of its level.) */
-static int ds_still_listed(st_map *m, uint32_t d, unsigned i)
-{
-    (void)m, (void)d, (void)i;
-    return 1;
-}
 /* Cells are cut into quads around a centre: every quad holds a corner. */
 static int ds_no_central_child(unsigned n) { (void)n; return 0; }
 
@@ -320,7 +314,7 @@ const st_adapt_ops st_adapt_ops_doosabin = {
     .cell_bbox = ds_cell_bbox,
     .subdivided = ds_subdivided,
     .face_of_level = ds_face_of_level,
-    .still_listed = ds_still_listed,
+    .still_listed = NULL, /* as for the polygon split family: liveness is enough */
     .central_child = ds_no_central_child,
     .region_rings = 3, /* as the polygon split family: forced refinement spreads the same way on M* */
     .forced_children_only = 1,

@@ -64,7 +64,7 @@ typedef struct st_adapt_ops {
     /* A live dart listed as a face of level i (one of its darts of level
      * <= i, as st_adapt_faces_of_level and the update's children list
      * them) still is a face of level i after other faces were refined or
-     * faces of level >= i simplified. */
+     * faces of level >= i simplified.  NULL: always (liveness is enough). */
     int (*still_listed)(st_map *m, uint32_t d, unsigned i);
     /* A subdivided face of n sides has a sub-face that holds none of its
      * darts: the central triangle of a triangle quadrisection.  The polygon
@@ -97,11 +97,44 @@ static inline const st_adapt_ops *st_adapt_ops_of(st_adapt *a)
 
 /* ---- cell levels (adapt_levels.c) ----------------------------------------- */
 
+/* The readings below are inline: the restriction and the update passes
+ * call them for every dart around every face they look at. */
+
+/* st_edge_is_split. */
+static inline int st_adapt_edge_split(const st_map *m, uint32_t d, unsigned i)
+{
+    return m->darts.ins[st_beta0(m, d, i + 1)] == i + 1;
+}
+
 /* st_face_is_subdivided in O(1) for the maps Algorithm 1 builds (every
- * family but √3); d a dart of level <= i on a real face of map i. */
-int st_adapt_split_toward(const st_map *m, uint32_t d, unsigned i);
-/* st_face_level(m, y, i) == i in O(face size) for the same maps. */
-int st_adapt_face_of_level(const st_map *m, uint32_t y, unsigned i);
+ * family but √3); d a dart of level <= i on a real face of map i.
+ * Subdividing a face splits every side and then cuts the face, so the face
+ * is subdivided toward i+1 exactly when, at i+1, the next dart after d was
+ * inserted at i+1 (d's side is split, or d is followed by an inner edge)
+ * and so is the one after it (an inner edge: a face whose sides are only
+ * split by finer neighbours goes back to one of its older darts there). */
+static inline int st_adapt_split_toward(const st_map *m, uint32_t d, unsigned i)
+{
+    const uint8_t *ins = m->darts.ins;
+    uint32_t x = st_phi1(m, d, i + 1);
+    return ins[x] == i + 1 && ins[st_phi1(m, x, i + 1)] == i + 1;
+}
+
+/* st_face_level(m, y, i) == i in O(face size) for the same maps: a face of
+ * level i >= 1 is a sub-face of a face of map i-1 subdivided toward i, and
+ * its darts older than i are darts of that parent (one corner, or none for
+ * the central triangle of a triangle split); a face of lower level is a
+ * face of map i-1 not subdivided toward i. */
+static inline int st_adapt_face_of_level(const st_map *m, uint32_t y, unsigned i)
+{
+    if (i == 0) return 1;
+    uint32_t z = y;
+    do {
+        if (m->darts.ins[z] < i) return st_adapt_split_toward(m, z, i - 1);
+        z = st_phi1(m, z, i);
+    } while (z != y);
+    return 1;
+}
 /* One dart per real face of map l whose subdivision level is l. */
 void st_adapt_faces_of_level(st_map *m, unsigned l, st_dart_list *out);
 

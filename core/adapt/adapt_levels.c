@@ -11,16 +11,18 @@
  *     orbit of that oldest dart lies inside the face;
  *   - a face of level i is subdivided toward i+1 when its face in the map of
  *     level i+1 has level i+1.
- * The general readings hold for every family; the O(1) ones below hold for
- * the maps Algorithm 1 builds (all but √3, whose flips re-link old darts),
- * and tests/adapt_testlib.c checks them against the general ones. */
+ * The general readings hold for every family; the O(1) ones
+ * (st_adapt_split_toward, st_adapt_face_of_level: inline, in
+ * adapt_internal.h) hold for the maps Algorithm 1 builds (all but √3, whose
+ * flips re-link old darts), and tests/adapt_testlib.c checks them against
+ * the general ones. */
 #include "core/adapt/adapt_internal.h"
 
 #include <stdlib.h>
 
 int st_edge_is_split(const st_map *m, uint32_t d, unsigned i)
 {
-    return m->darts.ins[st_beta0(m, d, i + 1)] == i + 1;
+    return st_adapt_edge_split(m, d, i);
 }
 
 unsigned st_face_level(st_map *m, uint32_t d, unsigned l)
@@ -74,34 +76,6 @@ unsigned st_face_level(st_map *m, uint32_t d, unsigned l)
 int st_face_is_subdivided(st_map *m, uint32_t d, unsigned i)
 {
     return st_face_level(m, d, i + 1) == i + 1;
-}
-
-/* Subdividing a face splits every side and then cuts the face, so for a
- * dart d of level <= i on a face of map i, the face is subdivided toward
- * i+1 exactly when, at i+1, the next dart after d was inserted at i+1 (d's
- * side is split, or d is followed by an inner edge) and so is the one after
- * it (an inner edge: a face whose sides are only split by finer neighbours
- * goes back to one of its older darts there). */
-int st_adapt_split_toward(const st_map *m, uint32_t d, unsigned i)
-{
-    const uint8_t *ins = m->darts.ins;
-    uint32_t x = st_phi1(m, d, i + 1);
-    return ins[x] == i + 1 && ins[st_phi1(m, x, i + 1)] == i + 1;
-}
-
-/* A face of level i >= 1 is a sub-face of a face of map i-1 subdivided
- * toward i, and its darts older than i are darts of that parent (one
- * corner, or none for the central triangle of a triangle split); a face of
- * lower level is a face of map i-1 not subdivided toward i. */
-int st_adapt_face_of_level(const st_map *m, uint32_t y, unsigned i)
-{
-    if (i == 0) return 1;
-    uint32_t z = y;
-    do {
-        if (m->darts.ins[z] < i) return st_adapt_split_toward(m, z, i - 1);
-        z = st_phi1(m, z, i);
-    } while (z != y);
-    return 1;
 }
 
 void st_adapt_faces_of_level(st_map *m, unsigned l, st_dart_list *out)

@@ -106,7 +106,7 @@ static int split_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, 
         const double *p = st_dart_pos(m, x, i);
         for (int k = 0; k < 3; k++) centre[k] += p[k] / n;
         uint32_t next = st_phi1(m, x, i);
-        if (!st_edge_is_split(m, x, i)) {
+        if (!st_adapt_edge_split(m, x, i)) {
             const double *q = st_dart_pos(m, st_beta0(m, x, i), i);
             double mid[3] = { (p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2 };
             created[ncreated++] = st_vert(m, st_split_edge(m, x, L, mid), L);
@@ -311,17 +311,6 @@ static int split_subdivided(st_map *m, uint32_t d, unsigned i) { return st_adapt
 
 static int split_face_of_level(st_map *m, uint32_t y, unsigned i) { return st_adapt_face_of_level(m, y, i); }
 
-/* In the maps of Algorithm 1 a listed dart is a corner (level <= i) of its
- * face, which refining other faces (new darts of other faces, or of this
- * face's sides at levels above i) and simplifying faces of level >= i (only
- * darts inserted above i go) leave a face of level i: liveness, checked by
- * the caller, is enough. */
-static int split_still_listed(st_map *m, uint32_t d, unsigned i)
-{
-    (void)m, (void)d, (void)i;
-    return 1;
-}
-
 static int never(unsigned n) { (void)n; return 0; }
 static int always(unsigned n) { (void)n; return 1; }
 static int when_triangle(unsigned n) { return n == 3; }
@@ -331,13 +320,18 @@ static int when_triangle(unsigned n) { return n == 3; }
  * under 2 rings; 3 leave a margin. */
 enum { SPLIT_RINGS = 3 };
 
+/* still_listed: in the maps of Algorithm 1 a listed dart is a corner
+ * (level <= i) of its face, which refining other faces (new darts of other
+ * faces, or of this face's sides at levels above i) and simplifying faces
+ * of level >= i (only darts inserted above i go) leave a face of level i:
+ * liveness is enough. */
 #define SPLIT_OPS(central)                                                                     \
     {                                                                                          \
         .family = "polygon split", .check = NULL, .subdivide = split_subdivide,                \
         .can_simplify = st_adapt_split_can_simplify, .simplify = split_simplify,               \
         .wanted = st_adapt_wanted_level, .cell_bbox = st_adapt_face_bbox,                      \
         .subdivided = split_subdivided, .face_of_level = split_face_of_level,                  \
-        .still_listed = split_still_listed, .central_child = central,                          \
+        .still_listed = NULL, .central_child = central,                                        \
         .region_rings = SPLIT_RINGS, .forced_children_only = 1                                 \
     }
 

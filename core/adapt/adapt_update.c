@@ -18,7 +18,7 @@
  * children), still is one. */
 static int listed_face(st_map *m, const st_adapt_ops *ops, uint32_t d, unsigned i)
 {
-    return st_dart_live(m, d) && ops->still_listed(m, d, i);
+    return st_dart_live(m, d) && (!ops->still_listed || ops->still_listed(m, d, i));
 }
 
 /* ---- incremental updates --------------------------------------------------------
