@@ -1,4 +1,5 @@
 /* CPU-side geometry of a displayed level; see geom.h. */
+#include "core/map/geometry.h"
 #include "geom_internal.h"
 
 #include <math.h>
@@ -36,9 +37,7 @@ void st_rg_face_normal(st_rgeom *g, uint32_t f)
     for (uint32_t k = a; k < b; k++) {
         const float *p = g->vdata + ST_RGEOM_VSTRIDE * (size_t)g->corner[k];
         const float *q = g->vdata + ST_RGEOM_VSTRIDE * (size_t)g->corner[k + 1 < b ? k + 1 : a];
-        n[0] += ((double)p[1] - q[1]) * ((double)p[2] + q[2]);
-        n[1] += ((double)p[2] - q[2]) * ((double)p[0] + q[0]);
-        n[2] += ((double)p[0] - q[0]) * ((double)p[1] + q[1]);
+        st_newell_add_f(n, p, q);
     }
     float *o = g->fnormal + 4 * (size_t)f;
     o[0] = (float)(0.5 * n[0]);

@@ -1,6 +1,6 @@
 /* st_rgeom_patch: re-tessellates only the faces a local change of the map
- * touched (issue 5: "a local adaptive change re-tessellates only the touched
- * faces").  See geom.h.
+ * touched (a box move of the adaptive display changes a few faces; the rest
+ * of the buffers stay).  See geom.h and docs/ARCHITECTURE.md.
  *
  * Which faces changed.  Every primitive that changes a face's cycle sets a
  * relation of one of its darts (map.c logs it): a new or deleted dart, β0

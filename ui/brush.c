@@ -23,6 +23,7 @@
  * across x = 0; the displacements of both dabs are computed from the same
  * positions and added, so a symmetric mesh stays symmetric.
  */
+#include "core/map/geometry.h"
 #include "editor_internal.h"
 
 #include <math.h>
@@ -253,10 +254,7 @@ static void vertex_normal(const st_map *m, uint32_t x0, unsigned l, double n[3])
             unsigned g2 = 0;
             do {
                 uint32_t z = along(m, y, l);
-                const double *p = st_dart_pos(m, y, l), *q = st_dart_pos(m, z, l);
-                n[0] += (p[1] - q[1]) * (p[2] + q[2]);
-                n[1] += (p[2] - q[2]) * (p[0] + q[0]);
-                n[2] += (p[0] - q[0]) * (p[1] + q[1]);
+                st_newell_add(n, st_dart_pos(m, y, l), st_dart_pos(m, z, l)); /* one running sum */
                 y = z;
             } while (y != x && ++g2 < 1u << 16);
         }

@@ -36,6 +36,11 @@ int st_adapt_init(st_adapt *a, st_hier *h, st_error *err)
 {
     memset(a, 0, sizeof *a);
     a->h = h;
+    /* A progressive hierarchy's levels come from collapses, not from a
+     * refinement of faces: nothing here applies to it (selective display of
+     * a progressive hierarchy is a different design, Kraemer 2008 §4.4.7). */
+    if (h->scheme->id == ST_SCHEME_PROGRESSIVE)
+        return st_fail(err, ST_ERR_INVALID, "adapt: a progressive hierarchy has no adaptive refinement");
     const st_adapt_ops *ops = st_adapt_choose_ops(a);
     if (ops->check) {
         int rc = ops->check(h, err);

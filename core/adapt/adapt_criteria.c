@@ -9,6 +9,7 @@
  * update may skip the faces far from both boxes (adapt_update.c).  The √3
  * and Doo-Sabin families read their cells differently (adapt_sqrt3.c,
  * adapt_doosabin.c) on top of st_adapt_box_want. */
+#include "core/map/geometry.h"
 #include "core/adapt/adapt_internal.h"
 
 #include <math.h>
@@ -50,30 +51,19 @@ unsigned st_adapt_box_want(const double lo[3], const double hi[3], const st_adap
     return want;
 }
 
-/* Newell normal of the face of d at level l (unnormalised). */
-static void face_normal(const st_map *m, uint32_t d, unsigned l, double n[3])
-{
-    n[0] = n[1] = n[2] = 0;
-    uint32_t x = d;
-    do {
-        const double *a = st_dart_pos(m, x, l), *b = st_dart_pos(m, st_phi1(m, x, l), l);
-        n[0] += (a[1] - b[1]) * (a[2] + b[2]); n[1] += (a[2] - b[2]) * (a[0] + b[0]); n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-        x = st_phi1(m, x, l);
-    } while (x != d);
-}
 
 /* The largest angle between the normal of the face of d and the normals of
  * its edge-neighbours, at level l. */
 static double face_bend(const st_map *m, uint32_t d, unsigned l)
 {
     double n0[3], worst = 0;
-    face_normal(m, d, l, n0);
+    st_face_newell(m, d, l, n0);
     uint32_t x = d;
     do {
         uint32_t e = st_beta0(m, x, l);
         if (!st_is_boundary(m, e)) {
             double n1[3];
-            face_normal(m, e, l, n1);
+            st_face_newell(m, e, l, n1);
             double dn = sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]) * sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
             if (dn > 0) {
                 double c = (n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2]) / dn;

@@ -55,6 +55,7 @@
  * (two new vertices of the finer cell and the coarser vertex) for each
  * edge of M* split on one side only.  Every M* edge is shared by exactly
  * two surface polygons, so the mesh is closed. */
+#include "core/map/geometry.h"
 #include "core/adapt/adapt.h"
 #include "core/adapt/adapt_internal.h"
 #include "core/map/refine_internal.h"
@@ -144,19 +145,6 @@ static void ds_cell_bbox(const st_map *m, uint32_t d, unsigned l, double lo[3], 
     } while (x != d);
 }
 
-/* Newell normal of the surface face at dart x (its β1 orbit). */
-static void surface_face_normal(const st_map *m, uint32_t x, unsigned l, double n[3])
-{
-    n[0] = n[1] = n[2] = 0;
-    uint32_t y = x;
-    do {
-        const double *a = st_dart_pos(m, y, l), *b = st_dart_pos(m, st_beta1(m, y, l), l);
-        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-        y = st_beta1(m, y, l);
-    } while (y != x);
-}
 
 static double angle(const double a[3], const double b[3])
 {
@@ -171,10 +159,10 @@ static double angle(const double a[3], const double b[3])
 static double ring_bend(const st_map *m, uint32_t d, unsigned l)
 {
     double first[3], prev[3], cur[3], worst = 0;
-    surface_face_normal(m, d, l, first);
+    st_vertex_newell(m, d, l, first);
     memcpy(prev, first, sizeof prev);
     for (uint32_t x = st_phi1(m, d, l); x != d; x = st_phi1(m, x, l)) {
-        surface_face_normal(m, x, l, cur);
+        st_vertex_newell(m, x, l, cur);
         worst = fmax(worst, angle(prev, cur));
         memcpy(prev, cur, sizeof prev);
     }

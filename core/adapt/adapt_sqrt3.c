@@ -67,6 +67,7 @@
  * Boundaries (the trisection of boundary edges every second step) are not
  * handled adaptively: st_adapt_init refuses √3 meshes with holes.
  */
+#include "core/map/geometry.h"
 #include "core/adapt/adapt_internal.h"
 #include "core/map/refine_sqrt3_internal.h"
 
@@ -255,16 +256,6 @@ static int sqrt3_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricte
  * and so their answer, and a face wants more than i only if one of the
  * faces it comes from wants that much: the refinement from the base level
  * reaches it, and the result of an update does not depend on the past. */
-static void newell(const st_map *m, uint32_t d, unsigned l, double n[3])
-{
-    n[0] = n[1] = n[2] = 0;
-    uint32_t x = d;
-    do {
-        const double *a = st_dart_pos(m, x, l), *b = st_dart_pos(m, st_phi1(m, x, l), l);
-        n[0] += (a[1] - b[1]) * (a[2] + b[2]); n[1] += (a[2] - b[2]) * (a[0] + b[0]); n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-        x = st_phi1(m, x, l);
-    } while (x != d);
-}
 
 /* The dart of the face of d (level i >= 1) inserted before i, or ST_NIL. */
 static uint32_t old_dart(const st_map *m, uint32_t d, unsigned i)
@@ -293,8 +284,8 @@ static unsigned own_want(const st_map *m, const uint32_t side[2], unsigned i, co
     unsigned want = st_adapt_box_want(lo, hi, p);
     if (p->flatness > 0 && i < p->max_level) {
         double n0[3], n1[3];
-        newell(m, side[0], l, n0);
-        newell(m, side[1], l, n1);
+        st_face_newell(m, side[0], l, n0);
+        st_face_newell(m, side[1], l, n1);
         double dn = sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]) * sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
         if (dn > 0) {
             double cs = (n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2]) / dn;

@@ -510,6 +510,8 @@ static int r_adapt(load_ctx *c, st_br *r)
     memset(a, 0, sizeof *a);
     a->h = &s->h;
     s->has_adapt = 1;
+    if (s->h.scheme && s->h.scheme->id == ST_SCHEME_PROGRESSIVE)
+        return st_br_fail(r, "adaptive state in a progressive session");
     if (r_store(c, r, &a->saved, &a->nsaved, &a->capsaved, "saved details") ||
         r_store(c, r, &a->parked, &a->nparked, &a->capparked, "parked details"))
         return -1;

@@ -1,5 +1,6 @@
 /* Synthesis (thesis Algorithm 3), local frames, and local re-synthesis after
  * an edit.  Stencils come from the scheme; this file only applies them. */
+#include "core/map/geometry.h"
 #include "core/multires/edit.h"
 #include "core/multires/hier_internal.h"
 #include "core/map/pool_internal.h"
@@ -66,17 +67,8 @@ static void add3(double *a, const double *b) { a[0] += b[0]; a[1] += b[1]; a[2] 
 /* Newell normal of the face of d (unnormalised; zero for boundary faces). */
 static void face_normal(const st_map *m, uint32_t d, unsigned l, double n[3])
 {
-    n[0] = n[1] = n[2] = 0;
-    if (st_is_boundary(m, d)) return;
-    uint32_t x = d;
-    do {
-        uint32_t y = st_phi1(m, x, l);
-        const double *p = st_dart_pos(m, x, l), *q = st_dart_pos(m, y, l);
-        n[0] += (p[1] - q[1]) * (p[2] + q[2]);
-        n[1] += (p[2] - q[2]) * (p[0] + q[0]);
-        n[2] += (p[0] - q[0]) * (p[1] + q[1]);
-        x = y;
-    } while (x != d);
+    if (st_is_boundary(m, d)) { n[0] = n[1] = n[2] = 0; return; }
+    st_face_newell(m, d, l, n);
 }
 
 static uint32_t min_in_orbit(const st_map *m, uint32_t d, unsigned l, int face)
@@ -122,14 +114,7 @@ void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[
         /* Face of a dual-encoded surface: the vertex orbit of the map,
          * whose faces carry the surface's vertices (Newell normal). */
         c = min_in_orbit(m, d, l, 0);
-        uint32_t x = c;
-        do {
-            const double *p = st_pos(m, st_vert(m, x, l), l), *q = st_pos(m, st_vert(m, st_beta1(m, x, l), l), l);
-            n[0] += (p[1] - q[1]) * (p[2] + q[2]);
-            n[1] += (p[2] - q[2]) * (p[0] + q[0]);
-            n[2] += (p[0] - q[0]) * (p[1] + q[1]);
-            x = st_beta1(m, x, l);
-        } while (x != c);
+        st_vertex_newell(m, c, l, n);
         sub3(st_pos(m, st_vert(m, st_beta1(m, c, l), l), l), st_pos(m, st_vert(m, c, l), l), t);
         orthonormal(t, n, f);
         return;
