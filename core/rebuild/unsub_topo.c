@@ -1,0 +1,50 @@
+/* Half-edge adjacency for the unsubdivide pass (unsub_topo_internal.h). */
+#include "core/rebuild/unsub_topo_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void st_unsub_topo_free(st_unsub_topo *t)
+{
+    free(t->face_of); free(t->out_off); free(t->out_c); free(t->twin); free(t->bnd); free(t->valence);
+    memset(t, 0, sizeof *t);
+}
+
+int st_unsub_topo_build(st_unsub_topo *t, const st_mesh *m)
+{
+    memset(t, 0, sizeof *t);
+    t->nv = m->nverts;
+    t->nf = m->nfaces;
+    t->nc = m->face_off[m->nfaces];
+    t->foff = m->face_off;
+    t->fidx = m->face_idx;
+    size_t nc = (size_t)t->nc + 1, nv = (size_t)t->nv + 1;
+    t->face_of = malloc(nc * sizeof *t->face_of);
+    t->out_off = calloc(nv + 1, sizeof *t->out_off);
+    t->out_c = malloc(nc * sizeof *t->out_c);
+    t->twin = malloc(nc * sizeof *t->twin);
+    t->bnd = calloc(nv, 1);
+    t->valence = malloc(nv * sizeof *t->valence);
+    if (!t->face_of || !t->out_off || !t->out_c || !t->twin || !t->bnd || !t->valence) {
+        st_unsub_topo_free(t);
+        return -1;
+    }
+    for (uint32_t f = 0; f < t->nf; f++)
+        for (uint32_t c = t->foff[f]; c < t->foff[f + 1]; c++) {
+            t->face_of[c] = f;
+            t->out_off[t->fidx[c] + 1]++;
+        }
+    for (uint32_t v = 0; v < t->nv; v++) t->out_off[v + 1] += t->out_off[v];
+    /* Counting sort by vertex; valence[] is the fill cursor for now. */
+    memcpy(t->valence, t->out_off, (size_t)t->nv * sizeof *t->valence);
+    for (uint32_t c = 0; c < t->nc; c++) t->out_c[t->valence[t->fidx[c]]++] = c;
+    for (uint32_t c = 0; c < t->nc; c++) t->twin[c] = st_unsub_find(t, st_unsub_target(t, c), t->fidx[c]);
+    for (uint32_t v = 0; v < t->nv; v++) {
+        uint32_t deg = t->out_off[v + 1] - t->out_off[v];
+        for (uint32_t k = t->out_off[v]; k < t->out_off[v + 1]; k++)
+            if (t->twin[t->out_c[k]] == ST_NIL) t->bnd[v] = 1;
+        /* A boundary fan has one neighbour more than out-going half-edges. */
+        t->valence[v] = deg + t->bnd[v];
+    }
+    return 0;
+}
