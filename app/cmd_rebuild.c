@@ -122,18 +122,17 @@ static int rebuild_unsubdivide(const rebuild_opts *o, const st_mesh *mesh, const
     }
     st_hier h;
     st_error err;
-    double res;
     st_hier_opts ho = { .boundary = ST_BOUNDARY_UNSET, .crease_method = ST_CREASE_UNIFORM };
-    if (st_unsub_build_hier(mesh, u, sc, &ho, &h, NULL, &res, &err)) {
+    if (st_unsub_build_hier(mesh, u, sc, &ho, &h, NULL, NULL, &err)) {
         fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);
         return 1;
     }
     int rc = save_hier(o, &h);
     if (!rc) {
         const st_mesh *cage = &u->step[0].coarse;
-        printf("%s: unsubdivide, %s, scheme %s: levels 0..%u, cage %u faces and %u vertices, finest %u faces (analysis residual %.3g)\n",
+        printf("%s: unsubdivide, %s, scheme %s: levels 0..%u, cage %u faces and %u vertices, finest %u faces, longest detail %.3g\n",
                o->out, u->pattern == ST_UNSUB_POLY_SPLIT ? "polygon split" : "triangle quadrisection", sc->name,
-               h.map.top, cage->nfaces, cage->nverts, mesh->nfaces, res);
+               h.map.top, cage->nfaces, cage->nverts, mesh->nfaces, st_unsub_max_detail(&h));
         printf("%s: %s\n", o->out, u->stop);
     }
     st_hier_free(&h);

@@ -5,6 +5,7 @@
 #include "core/rebuild/unsub_topo_internal.h"
 #include "core/multires/hier_internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -110,4 +111,19 @@ int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *s
         free(map);
     }
     return ST_OK;
+}
+
+double st_unsub_max_detail(const st_hier *h)
+{
+    const st_map *m = &h->map;
+    double worst = 0;
+    for (unsigned l = 1; l <= m->top; l++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
+            const double *d = st_hier_detail(h, l, v);
+            double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            if (n > worst) worst = n;
+        }
+    }
+    return worst;
 }

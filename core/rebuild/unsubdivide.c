@@ -57,6 +57,28 @@ static int wanted(const step_ctx *s, unsigned i, unsigned p)
     return p != CENTRAL && i == p ? LAB_V : LAB_E;
 }
 
+/* Checks a vertex can carry its new label, as soon as it gets it, so that
+ * a local re-meshing is reported where it is rather than where the
+ * propagation runs into its consequences: an edge point has valence 4 (3
+ * on the boundary) after a polygon split, 6 (4) after quadrisection; a
+ * face point is interior. */
+static int local_check(step_ctx *s, uint32_t v)
+{
+    const st_unsub_topo *t = s->t;
+    int poly = s->pattern == ST_UNSUB_POLY_SPLIT;
+    unsigned inner = poly ? 4 : 6, outer = poly ? 3 : 4;
+    if (s->lab[v] == LAB_F && t->bnd[v]) {
+        failf(s, "vertex %u would be a face point but lies on the boundary", v + 1);
+        return -1;
+    }
+    if (s->lab[v] == LAB_E && t->valence[v] != (t->bnd[v] ? outer : inner)) {
+        failf(s, "vertex %u would be an edge point but has %u neighbours; expected %u (%u on the boundary)",
+              v + 1, t->valence[v], inner, outer);
+        return -1;
+    }
+    return 0;
+}
+
 static int assign(step_ctx *s, uint32_t f, unsigned p)
 {
     s->phase[f] = (uint8_t)p;
@@ -65,8 +87,10 @@ static int assign(step_ctx *s, uint32_t f, unsigned p)
     for (unsigned i = 0; i < face_deg(s, f); i++) {
         uint32_t v = s->t->fidx[b + i];
         int w = wanted(s, i, p);
-        if (s->lab[v] == LAB_NONE) s->lab[v] = (uint8_t)w;
-        else if (s->lab[v] != w) {
+        if (s->lab[v] == LAB_NONE) {
+            s->lab[v] = (uint8_t)w;
+            if (local_check(s, v)) return -1;
+        } else if (s->lab[v] != w) {
             failf(s, "vertex %u (in face %u): this face makes it %s but its other faces make it %s",
                   v + 1, f + 1, lab_name[w], lab_name[s->lab[v]]);
             return -1;
@@ -221,6 +245,8 @@ static uint64_t quad_faces(const step_ctx *s)
     return n;
 }
 
+static int best_fail_none(const char *msg) { return msg[0] == 0; }
+
 /* Labels every component: each seed phase in turn, the best consistent one
  * kept (unsubdivide.h: residual, then quadrilaterals, then order).  On
  * failure the message of the attempt that got furthest. */
@@ -243,13 +269,29 @@ static int label_all(step_ctx *s, double tie)
                 if (best < 0 || r < best_r - tie || (fabs(r - best_r) <= tie && q > best_q)) {
                     best = (int)p; best_r = r; best_q = q;
                 }
-            } else if (s->nq >= far) {
+            } else if (s->nq > far || best_fail_none(far_msg)) {
                 far = s->nq;
                 memcpy(far_msg, s->fail, sizeof far_msg);
             }
             unlabel(s);
         }
         if (best < 0) {
+            /* No labelling fits this component.  The seed may lie in the
+             * broken region itself, where every attempt fails at once: the
+             * message comes from the attempt that labelled the most faces,
+             * seeds spread over the mesh included, which runs from a sound
+             * region into the break and names it. */
+            for (unsigned j = 1; j < 8; j++) {
+                uint32_t g = (uint32_t)(f0 + (uint64_t)(t->nf - f0) * j / 8);
+                if (g >= t->nf || s->phase[g] != NO_PHASE) continue;
+                for (unsigned p = 0; p < nseeds; p++) {
+                    if (propagate(s, g, p) != 0 && s->nq > far) {
+                        far = s->nq;
+                        memcpy(far_msg, s->fail, sizeof far_msg);
+                    }
+                    unlabel(s);
+                }
+            }
             memcpy(s->fail, far_msg, sizeof s->fail);
             return -1;
         }

@@ -71,7 +71,7 @@ typedef struct st_unsub {
     int pattern;                /* enum st_unsub_pattern */
     unsigned levels;            /* k: steps found */
     st_unsub_step step[ST_MAX_LEVELS];   /* step[j]: level j, j = 0 .. k-1 */
-    char stop[512];             /* why no further step was taken (one line) */
+    char stop[1024];             /* why no further step was taken (one line) */
 } st_unsub;
 
 void st_unsub_free(st_unsub *u);
@@ -102,5 +102,9 @@ int st_unsub_scheme_fits(const st_unsub *u, const st_scheme *sc);
  * Returns the analysis' worst relative solver residual in *residual. */
 int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                         st_hier *h, uint32_t **fine_of, double *residual, st_error *err);
+
+/* The longest detail vector of levels 1..top (0 for an exact subdivision,
+ * up to rounding). */
+double st_unsub_max_detail(const st_hier *h);
 
 #endif
