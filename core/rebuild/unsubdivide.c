@@ -27,6 +27,8 @@ typedef struct step_ctx {
     uint8_t *lab;              /* per vertex */
     uint8_t *phase;            /* per face */
     uint32_t *queue, nq;       /* faces of the component being labelled, in visiting order */
+    uint32_t *best_queue, best_nq;   /* the best labelling of the component so far: its faces */
+    uint8_t *best_phase;       /* ... and their phases (per face) */
     double *acc;               /* 3 per vertex: scratch of the geometric score */
     uint8_t *mark;             /* per vertex: scratch */
     char fail[400];            /* why the current attempt failed */
@@ -168,30 +170,35 @@ static unsigned coarse_neighbours(const step_ctx *s, uint32_t v)
     return n;
 }
 
-/* What a labelled component must satisfy beyond face-by-face consistency. */
+/* What a labelled component must satisfy beyond face-by-face consistency
+ * and local_check, for quadrisection: each edge point has two coarse
+ * neighbours.  (After a polygon split this follows: the neighbours of an
+ * edge point of valence 4 alternate coarse vertex, face point around it,
+ * and on the boundary its two boundary neighbours cannot be face points.)
+ * s->mark visits each vertex once. */
 static int check_component(step_ctx *s)
 {
     const st_unsub_topo *t = s->t;
-    int poly = s->pattern == ST_UNSUB_POLY_SPLIT;
-    unsigned inner = poly ? 4 : 6, outer = poly ? 3 : 4;
-    for (uint32_t i = 0; i < s->nq; i++) {
+    int rc = 0;
+    for (uint32_t i = 0; i < s->nq && !rc; i++) {
         uint32_t f = s->queue[i];
         for (uint32_t c = t->foff[f]; c < t->foff[f + 1]; c++) {
             uint32_t v = t->fidx[c];
-            if (s->lab[v] == LAB_F && t->bnd[v]) {
-                failf(s, "vertex %u would be a face point but lies on the boundary", v + 1);
-                return -1;
-            }
-            if (s->lab[v] != LAB_E) continue;
-            unsigned want = t->bnd[v] ? outer : inner, nb = coarse_neighbours(s, v);
-            if (t->valence[v] != want || nb != 2) {
-                failf(s, "vertex %u would be an edge point but has %u neighbours of which %u coarse vertices; expected %u (%u on the boundary) with 2",
-                      v + 1, t->valence[v], nb, inner, outer);
-                return -1;
+            if (s->lab[v] != LAB_E || s->mark[v]) continue;
+            s->mark[v] = 1;
+            unsigned nb = coarse_neighbours(s, v);
+            if (nb != 2) {
+                failf(s, "vertex %u would be an edge point but has %u coarse vertices among its neighbours; expected 2", v + 1, nb);
+                rc = -1;
+                break;
             }
         }
     }
-    return 0;
+    for (uint32_t i = 0; i < s->nq; i++) {
+        uint32_t f = s->queue[i];
+        for (uint32_t c = t->foff[f]; c < t->foff[f + 1]; c++) s->mark[t->fidx[c]] = 0;
+    }
+    return rc;
 }
 
 /* Polygon split: the face point across the edge point that follows the
@@ -247,6 +254,25 @@ static uint64_t quad_faces(const step_ctx *s)
 
 static int best_fail_none(const char *msg) { return msg[0] == 0; }
 
+/* The labelling just found is the best so far: keep it, rather than
+ * propagate it again at the end. */
+static void keep_best(step_ctx *s)
+{
+    memcpy(s->best_queue, s->queue, (size_t)s->nq * sizeof *s->queue);
+    s->best_nq = s->nq;
+    for (uint32_t i = 0; i < s->nq; i++) s->best_phase[s->queue[i]] = s->phase[s->queue[i]];
+}
+
+static void restore_best(step_ctx *s)
+{
+    const st_unsub_topo *t = s->t;
+    for (uint32_t i = 0; i < s->best_nq; i++) {
+        uint32_t f = s->best_queue[i], b = t->foff[f];
+        s->phase[f] = s->best_phase[f];
+        for (unsigned k = 0; k < face_deg(s, f); k++) s->lab[t->fidx[b + k]] = (uint8_t)wanted(s, k, s->phase[f]);
+    }
+}
+
 /* Labels every component: each seed phase in turn, the best consistent one
  * kept (unsubdivide.h: residual, then quadrilaterals, then order).  On
  * failure the message of the attempt that got furthest. */
@@ -262,12 +288,13 @@ static int label_all(step_ctx *s, double tie)
         uint32_t far = 0;
         char far_msg[sizeof s->fail] = "";
         for (unsigned p = 0; p < nseeds; p++) {
-            int ok = propagate(s, f0, p) == 0 && check_component(s) == 0;
+            int ok = propagate(s, f0, p) == 0 && (s->pattern == ST_UNSUB_POLY_SPLIT || check_component(s) == 0);
             if (ok) {
                 double r = s->pattern == ST_UNSUB_POLY_SPLIT ? poly_score(s) : 0;
                 uint64_t q = quad_faces(s);
                 if (best < 0 || r < best_r - tie || (fabs(r - best_r) <= tie && q > best_q)) {
                     best = (int)p; best_r = r; best_q = q;
+                    keep_best(s);
                 }
             } else if (s->nq > far || best_fail_none(far_msg)) {
                 far = s->nq;
@@ -295,7 +322,7 @@ static int label_all(step_ctx *s, double tie)
             memcpy(s->fail, far_msg, sizeof s->fail);
             return -1;
         }
-        if (propagate(s, f0, (unsigned)best) || check_component(s)) return -1; /* cannot happen: it passed */
+        restore_best(s);
     }
     return 0;
 }
@@ -541,11 +568,13 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
     s->lab = calloc(nv, 1);
     s->phase = malloc(nf);
     s->queue = malloc(nf * sizeof *s->queue);
+    s->best_queue = malloc(nf * sizeof *s->best_queue);
+    s->best_phase = malloc(nf);
     s->acc = malloc(3 * nv * sizeof *s->acc);
     s->mark = calloc(nv, 1);
     uint32_t *vmap = malloc(nv * sizeof *vmap);
     int rc = -1;
-    if (!s->lab || !s->phase || !s->queue || !s->acc || !s->mark || !vmap) { failf(s, "out of memory"); goto done; }
+    if (!s->lab || !s->phase || !s->queue || !s->best_queue || !s->best_phase || !s->acc || !s->mark || !vmap) { failf(s, "out of memory"); goto done; }
     memset(s->phase, NO_PHASE, nf);
     double diag = bbox_diagonal(fine);
     if (label_all(s, 1e-12 * (diag > 0 ? diag : 1))) goto done;
@@ -583,8 +612,9 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
 done:
     if (rc) free_step(st);
     free(s->lab); free(s->phase); free(s->queue); free(s->acc); free(s->mark); free(vmap);
-    s->lab = s->phase = s->mark = NULL;
-    s->queue = NULL;
+    free(s->best_queue); free(s->best_phase);
+    s->lab = s->phase = s->mark = s->best_phase = NULL;
+    s->queue = s->best_queue = NULL;
     s->acc = NULL;
     st_unsub_topo_free(&t);
     return rc;
