@@ -6,7 +6,7 @@
 
 void st_unsub_topo_free(st_unsub_topo *t)
 {
-    free(t->face_of); free(t->out_off); free(t->out_c); free(t->twin); free(t->bnd); free(t->valence);
+    free(t->face_of); free(t->out_off); free(t->out_c); free(t->out_t); free(t->twin); free(t->bnd); free(t->valence);
     memset(t, 0, sizeof *t);
 }
 
@@ -22,10 +22,11 @@ int st_unsub_topo_build(st_unsub_topo *t, const st_mesh *m)
     t->face_of = malloc(nc * sizeof *t->face_of);
     t->out_off = calloc(nv + 1, sizeof *t->out_off);
     t->out_c = malloc(nc * sizeof *t->out_c);
+    t->out_t = malloc(nc * sizeof *t->out_t);
     t->twin = malloc(nc * sizeof *t->twin);
     t->bnd = calloc(nv, 1);
     t->valence = malloc(nv * sizeof *t->valence);
-    if (!t->face_of || !t->out_off || !t->out_c || !t->twin || !t->bnd || !t->valence) {
+    if (!t->face_of || !t->out_off || !t->out_c || !t->out_t || !t->twin || !t->bnd || !t->valence) {
         st_unsub_topo_free(t);
         return -1;
     }
@@ -37,8 +38,17 @@ int st_unsub_topo_build(st_unsub_topo *t, const st_mesh *m)
     for (uint32_t v = 0; v < t->nv; v++) t->out_off[v + 1] += t->out_off[v];
     /* Counting sort by vertex; valence[] is the fill cursor for now. */
     memcpy(t->valence, t->out_off, (size_t)t->nv * sizeof *t->valence);
-    for (uint32_t c = 0; c < t->nc; c++) t->out_c[t->valence[t->fidx[c]]++] = c;
-    for (uint32_t c = 0; c < t->nc; c++) t->twin[c] = st_unsub_find(t, st_unsub_target(t, c), t->fidx[c]);
+    for (uint32_t f = 0; f < t->nf; f++)
+        for (uint32_t c = t->foff[f]; c < t->foff[f + 1]; c++) {
+            uint32_t k = t->valence[t->fidx[c]]++;
+            t->out_c[k] = c;
+            t->out_t[k] = t->fidx[c + 1 < t->foff[f + 1] ? c + 1 : t->foff[f]];
+        }
+    /* By vertex: the twins of a's out-going half-edges lie in the out lists
+     * of its neighbours. */
+    for (uint32_t a = 0; a < t->nv; a++)
+        for (uint32_t k = t->out_off[a]; k < t->out_off[a + 1]; k++)
+            t->twin[t->out_c[k]] = st_unsub_find(t, t->out_t[k], a);
     for (uint32_t v = 0; v < t->nv; v++) {
         uint32_t deg = t->out_off[v + 1] - t->out_off[v];
         for (uint32_t k = t->out_off[v]; k < t->out_off[v + 1]; k++)

@@ -18,6 +18,8 @@ typedef struct st_unsub_topo {
     uint32_t *face_of;            /* per corner: its face */
     uint32_t *out_off;            /* nv + 1 offsets into out_c */
     uint32_t *out_c;              /* corners grouped by their vertex */
+    uint32_t *out_t;              /* beside out_c: where each corner's half-edge ends (one
+                                     cache line answers a half-edge lookup) */
     uint32_t *twin;               /* per corner: the opposite half-edge, ST_NIL on the boundary */
     uint8_t *bnd;                 /* per vertex: 1 on the boundary */
     uint32_t *valence;            /* per vertex: number of neighbours */
@@ -43,7 +45,7 @@ static inline uint32_t st_unsub_target(const st_unsub_topo *t, uint32_t c) { ret
 static inline uint32_t st_unsub_find(const st_unsub_topo *t, uint32_t a, uint32_t b)
 {
     for (uint32_t k = t->out_off[a]; k < t->out_off[a + 1]; k++)
-        if (st_unsub_target(t, t->out_c[k]) == b) return t->out_c[k];
+        if (t->out_t[k] == b) return t->out_c[k];
     return ST_NIL;
 }
 

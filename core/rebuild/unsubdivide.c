@@ -62,17 +62,13 @@ static int wanted(const step_ctx *s, unsigned i, unsigned p)
 /* Checks a vertex can carry its new label, as soon as it gets it, so that
  * a local re-meshing is reported where it is rather than where the
  * propagation runs into its consequences: an edge point has valence 4 (3
- * on the boundary) after a polygon split, 6 (4) after quadrisection; a
- * face point is interior. */
+ * on the boundary) after a polygon split, 6 (4) after quadrisection.  (That
+ * face points are interior is checked per candidate, label_all.) */
 static int local_check(step_ctx *s, uint32_t v)
 {
     const st_unsub_topo *t = s->t;
     int poly = s->pattern == ST_UNSUB_POLY_SPLIT;
     unsigned inner = poly ? 4 : 6, outer = poly ? 3 : 4;
-    if (s->lab[v] == LAB_F && t->bnd[v]) {
-        failf(s, "vertex %u would be a face point but lies on the boundary", v + 1);
-        return -1;
-    }
     if (s->lab[v] == LAB_E && t->valence[v] != (t->bnd[v] ? outer : inner)) {
         failf(s, "vertex %u would be an edge point but has %u neighbours; expected %u (%u on the boundary)",
               v + 1, t->valence[v], inner, outer);
@@ -201,26 +197,31 @@ static int check_component(step_ctx *s)
     return rc;
 }
 
-/* Polygon split: the face point across the edge point that follows the
- * coarse vertex of face q (ST_NIL on the boundary). */
-static uint32_t face_point_across(const step_ctx *s, uint32_t q)
+/* Polygon split, for the labelling of the current phases (swap 0) or the
+ * one with coarse vertices and face points exchanged (swap 1): the corner
+ * of face q that is the coarse vertex. */
+static unsigned vcorner(const step_ctx *s, uint32_t q, unsigned swap) { return (s->phase[q] + 2u * swap) & 3u; }
+
+/* The face point across the edge point that follows the coarse vertex of
+ * face q (ST_NIL on the boundary). */
+static uint32_t face_point_across(const step_ctx *s, uint32_t q, unsigned swap)
 {
     const st_unsub_topo *t = s->t;
-    uint32_t tw = t->twin[t->foff[q] + s->phase[q]];
+    uint32_t tw = t->twin[t->foff[q] + vcorner(s, q, swap)];
     if (tw == ST_NIL) return ST_NIL;
     uint32_t g = t->face_of[tw];
-    return t->fidx[t->foff[g] + ((s->phase[g] + 2u) & 3u)];
+    return t->fidx[t->foff[g] + ((vcorner(s, g, swap) + 2u) & 3u)];
 }
 
 /* Root mean square, over the component's interior coarse faces, of the
  * identity 4 ΣE_i - 3 m F - Σ F'_i = 0 (unsubdivide.h), which an exact
  * polygon split satisfies and a wrong labelling generally does not. */
-static double poly_score(step_ctx *s)
+static double poly_score(step_ctx *s, unsigned swap)
 {
     const st_unsub_topo *t = s->t;
     for (uint32_t i = 0; i < s->nq; i++) {
-        uint32_t q = s->queue[i], b = t->foff[q], p = s->phase[q];
-        uint32_t F = t->fidx[b + ((p + 2) & 3)], E = t->fidx[b + ((p + 1) & 3)], G = face_point_across(s, q);
+        uint32_t q = s->queue[i], b = t->foff[q], p = vcorner(s, q, swap);
+        uint32_t F = t->fidx[b + ((p + 2) & 3)], E = t->fidx[b + ((p + 1) & 3)], G = face_point_across(s, q, swap);
         double *a = s->acc + 3 * (size_t)F;
         if (s->mark[F] == 0) { a[0] = a[1] = a[2] = 0; s->mark[F] = 1; }
         if (G == ST_NIL) { s->mark[F] = 2; continue; }
@@ -229,7 +230,7 @@ static double poly_score(step_ctx *s)
     double sum = 0;
     uint64_t n = 0;
     for (uint32_t i = 0; i < s->nq; i++) {
-        uint32_t q = s->queue[i], F = t->fidx[t->foff[q] + ((s->phase[q] + 2) & 3)];
+        uint32_t q = s->queue[i], F = t->fidx[t->foff[q] + ((vcorner(s, q, swap) + 2) & 3)];
         if (s->mark[F] == 1) {
             const double *a = s->acc + 3 * (size_t)F;
             sum += a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
@@ -241,26 +242,36 @@ static double poly_score(step_ctx *s)
 }
 
 /* Quadrilateral coarse faces, counted once per fine face around them. */
-static uint64_t quad_faces(const step_ctx *s)
+static uint64_t quad_faces(const step_ctx *s, unsigned swap)
 {
-    if (s->pattern != ST_UNSUB_POLY_SPLIT) return 0;
     uint64_t n = 0;
     for (uint32_t i = 0; i < s->nq; i++) {
         uint32_t q = s->queue[i];
-        n += s->t->valence[s->t->fidx[s->t->foff[q] + ((s->phase[q] + 2) & 3)]] == 4;
+        n += s->t->valence[s->t->fidx[s->t->foff[q] + ((vcorner(s, q, swap) + 2) & 3)]] == 4;
     }
     return n;
+}
+
+/* A face point of the labelling (swap as above) on the boundary, or ST_NIL:
+ * face points are interior. */
+static uint32_t face_point_on_boundary(const step_ctx *s, unsigned swap)
+{
+    for (uint32_t i = 0; i < s->nq; i++) {
+        uint32_t q = s->queue[i], F = s->t->fidx[s->t->foff[q] + ((vcorner(s, q, swap) + 2) & 3)];
+        if (s->t->bnd[F]) return F;
+    }
+    return ST_NIL;
 }
 
 static int best_fail_none(const char *msg) { return msg[0] == 0; }
 
 /* The labelling just found is the best so far: keep it, rather than
  * propagate it again at the end. */
-static void keep_best(step_ctx *s)
+static void keep_best(step_ctx *s, unsigned swap)
 {
     memcpy(s->best_queue, s->queue, (size_t)s->nq * sizeof *s->queue);
     s->best_nq = s->nq;
-    for (uint32_t i = 0; i < s->nq; i++) s->best_phase[s->queue[i]] = s->phase[s->queue[i]];
+    for (uint32_t i = 0; i < s->nq; i++) s->best_phase[s->queue[i]] = (uint8_t)vcorner(s, s->queue[i], swap);
 }
 
 static void restore_best(step_ctx *s)
@@ -279,7 +290,8 @@ static void restore_best(step_ctx *s)
 static int label_all(step_ctx *s, double tie)
 {
     const st_unsub_topo *t = s->t;
-    unsigned nseeds = 4;
+    int poly = s->pattern == ST_UNSUB_POLY_SPLIT;
+    unsigned nseeds = poly ? 2 : 4;
     for (uint32_t f0 = 0; f0 < t->nf; f0++) {
         if (s->phase[f0] != NO_PHASE) continue;
         int best = -1;
@@ -288,15 +300,30 @@ static int label_all(step_ctx *s, double tie)
         uint32_t far = 0;
         char far_msg[sizeof s->fail] = "";
         for (unsigned p = 0; p < nseeds; p++) {
-            int ok = propagate(s, f0, p) == 0 && (s->pattern == ST_UNSUB_POLY_SPLIT || check_component(s) == 0);
-            if (ok) {
-                double r = s->pattern == ST_UNSUB_POLY_SPLIT ? poly_score(s) : 0;
-                uint64_t q = quad_faces(s);
-                if (best < 0 || r < best_r - tie || (fabs(r - best_r) <= tie && q > best_q)) {
-                    best = (int)p; best_r = r; best_q = q;
-                    keep_best(s);
+            int ok = propagate(s, f0, p) == 0 && (poly || check_component(s) == 0);
+            /* Polygon split: seeds 0 and 1 only; the same propagation with
+             * coarse vertices and face points exchanged is seed 2 and 3
+             * (consistency and edge points are the same), valid when its
+             * face points are interior too. */
+            for (unsigned swap = 0; ok && swap <= (unsigned)poly; swap++) {
+                double r = 0;
+                uint64_t q = 0;
+                if (poly) {
+                    uint32_t fb = face_point_on_boundary(s, swap);
+                    if (fb != ST_NIL) {
+                        failf(s, "vertex %u would be a face point but lies on the boundary", fb + 1);
+                        if (s->nq > far || best_fail_none(far_msg)) { far = s->nq; memcpy(far_msg, s->fail, sizeof far_msg); }
+                        continue;
+                    }
+                    r = poly_score(s, swap);
+                    q = quad_faces(s, swap);
                 }
-            } else if (s->nq > far || best_fail_none(far_msg)) {
+                if (best < 0 || r < best_r - tie || (fabs(r - best_r) <= tie && q > best_q)) {
+                    best = (int)(p + 2 * swap); best_r = r; best_q = q;
+                    keep_best(s, swap);
+                }
+            }
+            if (!ok && (s->nq > far || best_fail_none(far_msg))) {
                 far = s->nq;
                 memcpy(far_msg, s->fail, sizeof far_msg);
             }
@@ -468,7 +495,7 @@ static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
         uint32_t b = t->foff[q], p = s->phase[q];
         uint32_t V = t->fidx[b + p];
         if (exact[V] || t->bnd[V]) continue;
-        uint32_t E = t->fidx[b + ((p + 1) & 3)], F = t->fidx[b + ((p + 2) & 3)], G = face_point_across(s, q);
+        uint32_t E = t->fidx[b + ((p + 1) & 3)], F = t->fidx[b + ((p + 2) & 3)], G = face_point_across(s, q, 0);
         uint32_t tw = t->twin[b + ((p + 1) & 3)];
         if (G == ST_NIL || tw == ST_NIL) continue;
         uint32_t h = t->face_of[tw], U = t->fidx[t->foff[h] + s->phase[h]];

@@ -32,9 +32,10 @@
  * being split (the input's, and at coarser steps positions recovered from
  * the finer level by inverting the vertex and edge rules where they are
  * invertible); (2) more quadrilateral coarse faces; (3) the first in the
- * enumeration order (seed = the component's first face in input order,
- * coarse vertex at its corner 0, 1, 2, 3; for quadrisection: corner
- * triangle with the coarse vertex at corner 0, 1, 2, then central).
+ * enumeration order (seed = the component's first face in input order;
+ * polygon split: coarse vertex at its corner 0, 2, 1, 3, as one
+ * propagation serves a labelling and its V/F exchange; quadrisection:
+ * corner triangle with the coarse vertex at corner 0, 1, 2, then central).
  *
  * Flat arrays per step, no allocation per vertex or face. */
 #ifndef ST_UNSUBDIVIDE_H
