@@ -369,6 +369,8 @@ int main(void)
         { "catmull_clark/blub_control_mesh.obj", ST_SCHEME_CATMARK, 3 },   /* triangles and quads */
         { "catmull_clark/dodecahedron_poly.obj", ST_SCHEME_CATMARK, 4 },   /* pentagons, valence 3 */
         { "catmull_clark/spot_quadrangulated.obj", ST_SCHEME_CATMARK, 2 },
+        { "catmull_clark/newell_teapot_cage.obj", ST_SCHEME_CATMARK, 2 }, /* open, several pieces */
+        { "edge_cases/grid_holes.obj", ST_SCHEME_CATMARK, 2 },             /* holes */
         { "cube.obj", ST_SCHEME_CATMARK, 3 },                              /* assets: valence 3 quads */
         { "torus.obj", ST_SCHEME_CATMARK, 2 },                             /* assets: regular grid */
         { "triangle/sphere_ico.obj", ST_SCHEME_CATMARK, 2 },               /* triangle cage under the polygon split */
