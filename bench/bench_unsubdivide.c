@@ -6,7 +6,8 @@
  *   - st_unsubdivide with no limit (spot's cage is itself twice split),
  *   - st_unsub_build_hier (cage hierarchy, correspondence, analysis),
  *   - st_hier_init + st_hier_subdivide_to(N) of the cage,
- * and the ratio of the first to the last. */
+ * and the ratio of the first to the last.  --no-hier leaves out the
+ * hierarchy (for callgrind's instruction counts). */
 #include "bench_common.h"
 #include "core/rebuild/unsubdivide.h"
 
@@ -48,10 +49,11 @@ int main(int argc, char **argv)
 {
     const char *path = STRATA_SHARED_DATA "/catmull_clark/spot_quadrangulated.obj";
     unsigned levels = 4;
-    int repeat = 5;
+    int repeat = 5, hier = 1;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = (unsigned)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--no-hier")) hier = 0;   /* for callgrind: unsubdivide and subdivide only */
         else path = argv[i];
     }
     if (repeat < 1 || repeat > 99 || levels < 1 || levels > 8) { fprintf(stderr, "bad arguments\n"); return 2; }
@@ -102,7 +104,7 @@ int main(int argc, char **argv)
     }
     st_unsub_opts o = { .max_levels = levels };
     if (st_unsubdivide("bench", &fine, &o, &u, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-    int hr = repeat < 3 ? repeat : 3;
+    int hr = !hier ? 0 : repeat < 3 ? repeat : 3;
     double detail = 0;
     for (int r = 0; r < hr; r++) {
         st_hier h;
@@ -114,7 +116,7 @@ int main(int argc, char **argv)
     }
     st_unsub_free(&u);
     double ms_sub = 1e3 * bench_median(t_sub, repeat), ms_unsub = 1e3 * bench_median(t_unsub, repeat);
-    double ms_all = 1e3 * bench_median(t_all, repeat), ms_hier = 1e3 * bench_median(t_hier, hr);
+    double ms_all = 1e3 * bench_median(t_all, repeat), ms_hier = hr ? 1e3 * bench_median(t_hier, hr) : 0;
     printf("input: %s (%u faces) x%u = %u faces, %u vertices, vertex order shuffled\n", path, cage.nfaces, levels, fine.nfaces, fine.nverts);
     printf("unsubdivide, %u levels, Strata's vertex order: %8.1f ms  (median of %d)\n", found, 1e3 * bench_median(t_plain, repeat), repeat);
     printf("unsubdivide, %u levels:        %8.1f ms  (median of %d; cage %u faces)\n", found, ms_unsub, repeat, cage_faces);

@@ -9,6 +9,7 @@
 #include "testlib.h"
 #include "core/rebuild/unsubdivide.h"
 #include "core/io/session.h"
+#include "core/rebuild/unsub_topo_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -363,6 +364,40 @@ static void check_session(void)
     st_mesh_free(&cage);
 }
 
+/* The manifold check that stands in for st_mesh_check on coarse meshes
+ * agrees with it on a few cases. */
+static void check_manifold(void)
+{
+    static const double pos[7 * 3] = { 0 };
+    static const uint32_t off[4] = { 0, 3, 6, 9 };
+    /* Two triangles meeting at vertex 0 only (a bow-tie), then a fan. */
+    static const uint32_t bowtie[6] = { 0, 1, 2, 0, 3, 4 }, fan[9] = { 0, 1, 2, 0, 2, 3, 0, 3, 4 };
+    static const uint32_t twice[6] = { 0, 1, 2, 0, 1, 3 };   /* half-edge 0->1 twice */
+    const uint32_t *idx[3] = { bowtie, fan, twice };
+    uint32_t nf[3] = { 2, 3, 2 }, nv[3] = { 5, 5, 4 };
+    int want[3] = { -1, 0, -1 };
+    for (int i = 0; i < 3; i++) {
+        st_mesh m;
+        tl_mesh_make(&m, pos, nv[i], off, idx[i], nf[i]);
+        st_unsub_topo t;
+        st_error err;
+        uint32_t where = ST_NIL;
+        CHECK(st_unsub_topo_build(&t, &m) == 0);
+        CHECKF(st_unsub_topo_manifold(&t, &where) == want[i], "case %d", i);
+        CHECK((st_mesh_check("m", &m, &err) == 0) == (want[i] == 0));
+        if (want[i]) CHECKF(where == 0 || where == 1, "case %d: vertex %u", i, where);
+        st_unsub_topo_free(&t);
+        st_mesh_free(&m);
+    }
+    st_mesh cube;
+    tl_mesh_cube(&cube);
+    st_unsub_topo t;
+    uint32_t where;
+    CHECK(st_unsub_topo_build(&t, &cube) == 0 && st_unsub_topo_manifold(&t, &where) == 0);
+    st_unsub_topo_free(&t);
+    st_mesh_free(&cube);
+}
+
 int main(void)
 {
     static const struct { const char *mesh; st_scheme_id id; unsigned max; } cases[] = {
@@ -384,6 +419,7 @@ int main(void)
             check_recovery(cases[i].mesh, cases[i].id, l, 0);
             check_recovery(cases[i].mesh, cases[i].id, l, 1000 + 17 * i + l);
         }
+    check_manifold();
     check_refusals();
     check_limits();
     check_session();

@@ -58,3 +58,42 @@ int st_unsub_topo_build(st_unsub_topo *t, const st_mesh *m)
     }
     return 0;
 }
+
+/* The faces around v from corner c0 one way (c -> twin(prev(c))), then, on
+ * the boundary, the other way (c -> next(twin(c))): one fan iff every
+ * out-going half-edge of v is reached. */
+static uint32_t fan_size(const st_unsub_topo *t, uint32_t c0)
+{
+    uint32_t n = 0, c = c0, cap = t->nc;
+    do {
+        n++;
+        c = t->twin[st_unsub_prev(t, c)];
+    } while (c != ST_NIL && c != c0 && n <= cap);
+    if (c == c0) return n;
+    for (uint32_t x = t->twin[c0]; x != ST_NIL && n <= cap; x = t->twin[x]) {
+        n++;
+        x = st_unsub_next(t, x);
+        if (x == c0) break;
+    }
+    return n;
+}
+
+int st_unsub_topo_manifold(const st_unsub_topo *t, uint32_t *where)
+{
+    for (uint32_t f = 0; f < t->nf; f++) {
+        uint32_t b = t->foff[f], n = t->foff[f + 1] - b;
+        if (n < 3) { *where = n ? t->fidx[b] : 0; return -1; }
+        for (uint32_t i = 0; i < n; i++)
+            for (uint32_t j = i + 1; j < n; j++)
+                if (t->fidx[b + i] == t->fidx[b + j]) { *where = t->fidx[b + i]; return -1; }
+    }
+    for (uint32_t v = 0; v < t->nv; v++) {
+        uint32_t lo = t->out_off[v], hi = t->out_off[v + 1];
+        if (lo == hi) { *where = v; return -1; }
+        for (uint32_t k = lo; k < hi; k++)
+            for (uint32_t j = k + 1; j < hi; j++)
+                if (t->out_t[k] == t->out_t[j]) { *where = v; return -1; }
+        if (fan_size(t, t->out_c[lo]) != hi - lo) { *where = v; return -1; }
+    }
+    return 0;
+}

@@ -29,6 +29,12 @@ typedef struct st_unsub_topo {
 int st_unsub_topo_build(st_unsub_topo *t, const st_mesh *m);
 void st_unsub_topo_free(st_unsub_topo *t);
 
+/* What st_mesh_check promises for a mesh read off a labelling, in
+ * O(corners) on t: faces of 3+ distinct vertices, each half-edge once,
+ * every vertex used and its faces one fan.  0, or -1 with a vertex
+ * (0-based) in *where. */
+int st_unsub_topo_manifold(const st_unsub_topo *t, uint32_t *where);
+
 static inline uint32_t st_unsub_next(const st_unsub_topo *t, uint32_t c)
 {
     uint32_t f = t->face_of[c];

@@ -513,14 +513,14 @@ static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
  * adjacent to both its ends in the fine mesh. */
 static int check_coarse(step_ctx *s, const st_unsub_step *st)
 {
-    st_error e;
-    if (st_mesh_check("coarse", &st->coarse, &e)) {
-        failf(s, "the coarse mesh read off the pattern is not a manifold (%s)", e.msg);
-        return -1;
-    }
     st_unsub_topo ct;
     if (st_unsub_topo_build(&ct, &st->coarse)) { failf(s, "out of memory"); return -1; }
     int rc = 0;
+    uint32_t bad;
+    if (st_unsub_topo_manifold(&ct, &bad)) {
+        failf(s, "the coarse mesh read off the pattern is not a manifold around vertex %u", st->v_fine[bad] + 1);
+        rc = -1;
+    }
     for (uint32_t c = 0; c < ct.nc && !rc; c++) {
         uint32_t E = st->e_fine[c], tw = ct.twin[c];
         uint32_t a = st->v_fine[ct.fidx[c]], b = st->v_fine[st_unsub_target(&ct, c)];
