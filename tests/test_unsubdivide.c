@@ -55,6 +55,8 @@ static int subdivided(const st_mesh *cage, st_scheme_id id, unsigned levels, st_
     return rc ? -1 : 0;
 }
 
+#define ROTATE_ONLY (1ull << 62)
+
 /* A copy with vertices and faces permuted and each face's start rotated. */
 static void shuffle(const st_mesh *in, st_mesh *out, uint64_t seed)
 {
@@ -63,8 +65,11 @@ static void shuffle(const st_mesh *in, st_mesh *out, uint64_t seed)
     uint32_t *vperm = malloc(nv * sizeof *vperm), *fperm = malloc(nf * sizeof *fperm);
     for (uint32_t i = 0; i < nv; i++) vperm[i] = i;
     for (uint32_t i = 0; i < nf; i++) fperm[i] = i;
-    for (uint32_t i = nv; i > 1; i--) { uint32_t j = tl_rand(&rng) % i, t = vperm[i - 1]; vperm[i - 1] = vperm[j]; vperm[j] = t; }
-    for (uint32_t i = nf; i > 1; i--) { uint32_t j = tl_rand(&rng) % i, t = fperm[i - 1]; fperm[i - 1] = fperm[j]; fperm[j] = t; }
+    /* ROTATE_ONLY: same orders, every face starting two corners later (so
+     * a face's coarse vertex and face point trade places in the seed). */
+    int rotate_only = (seed & ROTATE_ONLY) != 0;
+    for (uint32_t i = nv; i > 1 && !rotate_only; i--) { uint32_t j = tl_rand(&rng) % i, t = vperm[i - 1]; vperm[i - 1] = vperm[j]; vperm[j] = t; }
+    for (uint32_t i = nf; i > 1 && !rotate_only; i--) { uint32_t j = tl_rand(&rng) % i, t = fperm[i - 1]; fperm[i - 1] = fperm[j]; fperm[j] = t; }
     st_mesh_init(out);
     out->nverts = nv;
     out->nfaces = nf;
@@ -75,7 +80,7 @@ static void shuffle(const st_mesh *in, st_mesh *out, uint64_t seed)
     for (uint32_t v = 0; v < nv; v++) memcpy(out->pos + 3 * (size_t)vperm[v], in->pos + 3 * (size_t)v, 3 * sizeof(double));
     uint32_t c = 0;
     for (uint32_t i = 0; i < nf; i++) {
-        uint32_t f = fperm[i], b = in->face_off[f], n = in->face_off[f + 1] - b, r = tl_rand(&rng) % n;
+        uint32_t f = fperm[i], b = in->face_off[f], n = in->face_off[f + 1] - b, r = rotate_only ? 2 % n : tl_rand(&rng) % n;
         out->face_off[i] = c;
         for (uint32_t k = 0; k < n; k++) out->face_idx[c++] = vperm[in->face_idx[b + (k + r) % n]];
     }
@@ -419,6 +424,11 @@ int main(void)
             check_recovery(cases[i].mesh, cases[i].id, l, 0);
             check_recovery(cases[i].mesh, cases[i].id, l, 1000 + 17 * i + l);
         }
+    /* Large components take the probe-then-label-in-place path: both
+     * starting corners of the seed face (coarse vertex or face point). */
+    check_recovery("catmull_clark/spot_quadrangulated.obj", ST_SCHEME_CATMARK, 2, ROTATE_ONLY | 1);
+    check_recovery("triangle/sphere_ico.obj", ST_SCHEME_CATMARK, 3, ROTATE_ONLY | 1);
+    check_recovery("triangle/sphere_ico.obj", ST_SCHEME_CATMARK, 3, 77);
     check_manifold();
     check_refusals();
     check_limits();

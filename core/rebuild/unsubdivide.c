@@ -124,8 +124,10 @@ static int derive_phase(step_ctx *s, uint32_t f, uint32_t tw, unsigned *p)
 }
 
 /* Labels the component of `seed` from phase p0 by breadth-first
- * propagation over the faces.  -1 with s->fail at the first conflict. */
-static int propagate(step_ctx *s, uint32_t seed, unsigned p0)
+ * propagation over the faces.  0 when done, -1 with s->fail at the first
+ * conflict, 1 when `budget` faces are labelled without a conflict (a
+ * probe). */
+static int propagate(step_ctx *s, uint32_t seed, unsigned p0, uint32_t budget)
 {
     const st_unsub_topo *t = s->t;
     s->nq = 0;
@@ -137,6 +139,7 @@ static int propagate(step_ctx *s, uint32_t seed, unsigned p0)
             if (tw == ST_NIL || s->phase[t->face_of[tw]] != NO_PHASE) continue;
             unsigned p;
             if (derive_phase(s, f, tw, &p) || assign(s, t->face_of[tw], p)) return -1;
+            if (s->nq >= budget) return 1;
         }
     }
     return 0;
@@ -263,8 +266,6 @@ static uint32_t face_point_on_boundary(const step_ctx *s, unsigned swap)
     return ST_NIL;
 }
 
-static int best_fail_none(const char *msg) { return msg[0] == 0; }
-
 /* The labelling just found is the best so far: keep it, rather than
  * propagate it again at the end. */
 static void keep_best(step_ctx *s, unsigned swap)
@@ -284,9 +285,75 @@ static void restore_best(step_ctx *s)
     }
 }
 
-/* Labels every component: each seed phase in turn, the best consistent one
- * kept (unsubdivide.h: residual, then quadrilaterals, then order).  On
- * failure the message of the attempt that got furthest. */
+/* The best candidate labelling of a component so far, and the failure
+ * that got furthest. */
+typedef struct cand {
+    int seed;                  /* -1: none yet */
+    double r;
+    uint64_t q;
+    uint32_t far;
+    char msg[sizeof ((step_ctx *)0)->fail];
+} cand;
+
+static void note_fail(const step_ctx *s, cand *c)
+{
+    if (s->nq > c->far || !c->msg[0]) {
+        c->far = s->nq;
+        memcpy(c->msg, s->fail, sizeof c->msg);
+    }
+}
+
+/* Scores the labelling just propagated from seed phase p and, for the
+ * polygon split, the same with coarse vertices and face points exchanged
+ * (seed p + 2: consistency and edge points are the same; it is valid when
+ * its face points are interior too).  Returns the exchange (0 or 1) of the
+ * candidate that became the best, or -1 when none did. */
+static int evaluate(step_ctx *s, unsigned p, double tie, cand *c)
+{
+    int poly = s->pattern == ST_UNSUB_POLY_SPLIT, win = -1;
+    if (!poly && check_component(s)) { note_fail(s, c); return -1; }
+    for (unsigned swap = 0; swap <= (unsigned)poly; swap++) {
+        double r = 0;
+        uint64_t q = 0;
+        if (poly) {
+            uint32_t fb = face_point_on_boundary(s, swap);
+            if (fb != ST_NIL) {
+                failf(s, "vertex %u would be a face point but lies on the boundary", fb + 1);
+                note_fail(s, c);
+                continue;
+            }
+            r = poly_score(s, swap);
+            q = quad_faces(s, swap);
+        }
+        if (c->seed < 0 || r < c->r - tie || (fabs(r - c->r) <= tie && q > c->q)) {
+            c->seed = (int)(p + 2 * swap); c->r = r; c->q = q;
+            win = (int)swap;
+        }
+    }
+    return win;
+}
+
+/* Coarse vertices and face points exchanged over the labelled component. */
+static void exchange_in_place(step_ctx *s)
+{
+    const st_unsub_topo *t = s->t;
+    for (uint32_t i = 0; i < s->nq; i++) {
+        uint32_t f = s->queue[i];
+        s->phase[f] = (uint8_t)((s->phase[f] + 2u) & 3u);
+        for (unsigned k = 0; k < face_deg(s, f); k++) s->lab[t->fidx[t->foff[f] + k]] = (uint8_t)wanted(s, k, s->phase[f]);
+    }
+}
+
+/* Faces a probe labels before a seed phase counts as surviving: wrong
+ * phases meet a conflict within a few rings of an extraordinary vertex. */
+#define PROBE_FACES 4096u
+
+/* Labels every component, choosing among the consistent labellings
+ * (unsubdivide.h: residual, then quadrilaterals, then order).  Each seed
+ * phase is first probed; when one survives on a large component (the usual
+ * case) it is propagated once, in place; otherwise every survivor is
+ * propagated in full, scored, the best kept and restored.  On failure the
+ * message of the attempt that got furthest. */
 static int label_all(step_ctx *s, double tie)
 {
     const st_unsub_topo *t = s->t;
@@ -294,42 +361,45 @@ static int label_all(step_ctx *s, double tie)
     unsigned nseeds = poly ? 2 : 4;
     for (uint32_t f0 = 0; f0 < t->nf; f0++) {
         if (s->phase[f0] != NO_PHASE) continue;
-        int best = -1;
-        double best_r = 0;
-        uint64_t best_q = 0;
-        uint32_t far = 0;
-        char far_msg[sizeof s->fail] = "";
+        cand c = { .seed = -1 };
+        unsigned alive = 0, nalive = 0;
         for (unsigned p = 0; p < nseeds; p++) {
-            int ok = propagate(s, f0, p) == 0 && (poly || check_component(s) == 0);
-            /* Polygon split: seeds 0 and 1 only; the same propagation with
-             * coarse vertices and face points exchanged is seed 2 and 3
-             * (consistency and edge points are the same), valid when its
-             * face points are interior too. */
-            for (unsigned swap = 0; ok && swap <= (unsigned)poly; swap++) {
-                double r = 0;
-                uint64_t q = 0;
-                if (poly) {
-                    uint32_t fb = face_point_on_boundary(s, swap);
-                    if (fb != ST_NIL) {
-                        failf(s, "vertex %u would be a face point but lies on the boundary", fb + 1);
-                        if (s->nq > far || best_fail_none(far_msg)) { far = s->nq; memcpy(far_msg, s->fail, sizeof far_msg); }
-                        continue;
-                    }
-                    r = poly_score(s, swap);
-                    q = quad_faces(s, swap);
-                }
-                if (best < 0 || r < best_r - tie || (fabs(r - best_r) <= tie && q > best_q)) {
-                    best = (int)(p + 2 * swap); best_r = r; best_q = q;
-                    keep_best(s, swap);
-                }
-            }
-            if (!ok && (s->nq > far || best_fail_none(far_msg))) {
-                far = s->nq;
-                memcpy(far_msg, s->fail, sizeof far_msg);
+            int r = propagate(s, f0, p, PROBE_FACES);
+            if (r == 0) {
+                int w = evaluate(s, p, tie, &c);
+                if (w >= 0) keep_best(s, (unsigned)w);
+            } else if (r > 0) {
+                alive |= 1u << p;
+                nalive++;
+            } else {
+                note_fail(s, &c);
             }
             unlabel(s);
         }
-        if (best < 0) {
+        if (nalive == 1 && c.seed < 0) {
+            unsigned p = 0;
+            while (!(alive >> p & 1u)) p++;
+            if (propagate(s, f0, p, UINT32_MAX) == 0) {
+                int w = evaluate(s, p, tie, &c);
+                if (w == 1) exchange_in_place(s);
+                if (w >= 0) continue;
+            } else {
+                note_fail(s, &c);
+            }
+            unlabel(s);
+        } else {
+            for (unsigned p = 0; p < nseeds; p++) {
+                if (!(alive >> p & 1u)) continue;
+                if (propagate(s, f0, p, UINT32_MAX) == 0) {
+                    int w = evaluate(s, p, tie, &c);
+                    if (w >= 0) keep_best(s, (unsigned)w);
+                } else {
+                    note_fail(s, &c);
+                }
+                unlabel(s);
+            }
+        }
+        if (c.seed < 0) {
             /* No labelling fits this component.  The seed may lie in the
              * broken region itself, where every attempt fails at once: the
              * message comes from the attempt that labelled the most faces,
@@ -339,14 +409,11 @@ static int label_all(step_ctx *s, double tie)
                 uint32_t g = (uint32_t)(f0 + (uint64_t)(t->nf - f0) * j / 8);
                 if (g >= t->nf || s->phase[g] != NO_PHASE) continue;
                 for (unsigned p = 0; p < nseeds; p++) {
-                    if (propagate(s, g, p) != 0 && s->nq > far) {
-                        far = s->nq;
-                        memcpy(far_msg, s->fail, sizeof far_msg);
-                    }
+                    if (propagate(s, g, p, UINT32_MAX) < 0 && s->nq > c.far) note_fail(s, &c);
                     unlabel(s);
                 }
             }
-            memcpy(s->fail, far_msg, sizeof s->fail);
+            memcpy(s->fail, c.msg, sizeof s->fail);
             return -1;
         }
         restore_best(s);
