@@ -216,25 +216,37 @@ static uint32_t face_point_across(const step_ctx *s, uint32_t q, unsigned swap)
     return t->fidx[t->foff[g] + ((vcorner(s, g, swap) + 2u) & 3u)];
 }
 
-/* Root mean square, over the component's interior coarse faces, of the
- * identity 4 ΣE_i - 3 m F - Σ F'_i = 0 (unsubdivide.h), which an exact
- * polygon split satisfies and a wrong labelling generally does not. */
+/* Root mean square, over the interior coarse faces met by the first
+ * SCORE_FACES fine faces in propagation order (a deterministic sample: a
+ * wrong labelling breaks the identity everywhere, so a sample tells as
+ * well as the whole and keeps the cost flat), of the identity
+ * 4 ΣE_i - 3 m F - Σ F'_i = 0 (unsubdivide.h), which an exact polygon split
+ * satisfies and a wrong labelling generally does not.  Faces the sample's
+ * end cuts (or of more than 253 sides) are left out. */
+#define SCORE_FACES 65536u
+#define SCORE_SKIP 255u
 static double poly_score(step_ctx *s, unsigned swap)
 {
     const st_unsub_topo *t = s->t;
-    for (uint32_t i = 0; i < s->nq; i++) {
+    uint32_t nq = s->nq < SCORE_FACES ? s->nq : SCORE_FACES;
+    /* mark[F]: 0 not met, 1 + the terms summed so far, SCORE_SKIP when F
+     * has a boundary edge point (the identity is for interior faces). */
+    for (uint32_t i = 0; i < nq; i++) {
         uint32_t q = s->queue[i], b = t->foff[q], p = vcorner(s, q, swap);
         uint32_t F = t->fidx[b + ((p + 2) & 3)], E = t->fidx[b + ((p + 1) & 3)], G = face_point_across(s, q, swap);
         double *a = s->acc + 3 * (size_t)F;
         if (s->mark[F] == 0) { a[0] = a[1] = a[2] = 0; s->mark[F] = 1; }
-        if (G == ST_NIL) { s->mark[F] = 2; continue; }
+        if (s->mark[F] == SCORE_SKIP) continue;
+        if (G == ST_NIL || s->mark[F] == SCORE_SKIP - 1) { s->mark[F] = SCORE_SKIP; continue; }
+        s->mark[F]++;
         for (int k = 0; k < 3; k++) a[k] += 4 * s->pos[3 * (size_t)E + k] - 3 * s->pos[3 * (size_t)F + k] - s->pos[3 * (size_t)G + k];
     }
     double sum = 0;
     uint64_t n = 0;
-    for (uint32_t i = 0; i < s->nq; i++) {
+    for (uint32_t i = 0; i < nq; i++) {
         uint32_t q = s->queue[i], F = t->fidx[t->foff[q] + ((vcorner(s, q, swap) + 2) & 3)];
-        if (s->mark[F] == 1) {
+        /* Only faces whose every term is in the sample. */
+        if (s->mark[F] != 0 && s->mark[F] != SCORE_SKIP && s->mark[F] - 1u == t->valence[F]) {
             const double *a = s->acc + 3 * (size_t)F;
             sum += a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
             n++;
@@ -577,8 +589,9 @@ static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
 }
 
 /* The coarse mesh must be a manifold whose every edge has one edge point,
- * adjacent to both its ends in the fine mesh. */
-static int check_coarse(step_ctx *s, const st_unsub_step *st)
+ * adjacent to both its ends in the fine mesh.  Its adjacency goes to *out
+ * (the next step's). */
+static int check_coarse(step_ctx *s, const st_unsub_step *st, st_unsub_topo *out)
 {
     st_unsub_topo ct;
     if (st_unsub_topo_build(&ct, &st->coarse)) { failf(s, "out of memory"); return -1; }
@@ -598,7 +611,8 @@ static int check_coarse(step_ctx *s, const st_unsub_step *st)
             rc = -1;
         }
     }
-    st_unsub_topo_free(&ct);
+    if (rc) st_unsub_topo_free(&ct);
+    else *out = ct;
     return rc;
 }
 
@@ -638,7 +652,9 @@ static int pick_pattern(step_ctx *s, const st_mesh *m)
 }
 
 /* One step from `fine` (pattern fixed, or chosen when ST_UNSUB_NONE). */
-static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_step *st)
+/* t: the adjacency of `fine` (built here when empty); on success it is
+ * replaced by the coarse mesh's. */
+static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_step *st, st_unsub_topo *topo, double diag)
 {
     if (*pattern == ST_UNSUB_NONE) {
         int p = pick_pattern(s, fine);
@@ -655,8 +671,9 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
     s->pattern = *pattern;
     s->pos = fine->pos;
     s->boundary_interp = fine->boundary_interp;
-    st_unsub_topo t;
-    if (st_unsub_topo_build(&t, fine)) { failf(s, "out of memory"); return -1; }
+    if (!topo->face_of && st_unsub_topo_build(topo, fine)) { failf(s, "out of memory"); return -1; }
+    st_unsub_topo t = *topo, next;
+    memset(&next, 0, sizeof next);
     s->t = &t;
     size_t nv = (size_t)t.nv + 1, nf = (size_t)t.nf + 1;
     s->lab = calloc(nv, 1);
@@ -670,7 +687,6 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
     int rc = -1;
     if (!s->lab || !s->phase || !s->queue || !s->best_queue || !s->best_phase || !s->acc || !s->mark || !vmap) { failf(s, "out of memory"); goto done; }
     memset(s->phase, NO_PHASE, nf);
-    double diag = bbox_diagonal(fine);
     if (label_all(s, 1e-12 * (diag > 0 ? diag : 1))) goto done;
     uint32_t ncv = 0, ncf = 0;
     for (uint32_t v = 0; v < t.nv; v++) {
@@ -701,7 +717,7 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
         for (uint32_t cv = 0; cv < ncv; cv++)
             memcpy(st->coarse.pos + 3 * (size_t)cv, fine->pos + 3 * (size_t)st->v_fine[cv], 3 * sizeof(double));
     }
-    if (check_coarse(s, st)) goto done;
+    if (check_coarse(s, st, &next)) goto done;
     rc = 0;
 done:
     if (rc) free_step(st);
@@ -711,6 +727,7 @@ done:
     s->queue = s->best_queue = NULL;
     s->acc = NULL;
     st_unsub_topo_free(&t);
+    *topo = next;
     return rc;
 }
 
@@ -736,6 +753,10 @@ int st_unsubdivide(const char *name, const st_mesh *in, const st_unsub_opts *o, 
     int pattern = ST_UNSUB_NONE;
     unsigned k = 0;
     const st_mesh *cur = in;
+    st_unsub_topo topo;
+    memset(&topo, 0, sizeof topo);
+    /* One scale for the tie tolerance of every step: the input's. */
+    double diag = bbox_diagonal(in);
     unsigned max = o && o->max_levels ? o->max_levels : ST_MAX_LEVELS - 1;
     if (max > ST_MAX_LEVELS - 1) max = ST_MAX_LEVELS - 1;
     for (;;) {
@@ -746,8 +767,9 @@ int st_unsubdivide(const char *name, const st_mesh *in, const st_unsub_opts *o, 
         st_unsub_step st;
         memset(&st, 0, sizeof st);
         st_mesh_init(&st.coarse);
-        if (unsub_step(&s, cur, &pattern, &st)) {
+        if (unsub_step(&s, cur, &pattern, &st, &topo, diag)) {
             if (k == 0) {
+                st_unsub_topo_free(&topo);
                 int code = strncmp(s.fail, "out of memory", 13) ? ST_ERR_TOPOLOGY : ST_ERR_MEMORY;
                 return st_fail(err, code, "%s: not a %s of a coarser mesh: %s", name,
                                pattern_name(pattern), s.fail);
@@ -765,12 +787,14 @@ int st_unsubdivide(const char *name, const st_mesh *in, const st_unsub_opts *o, 
         if (o && o->target_faces && st.coarse.nfaces < o->target_faces && k == 0) {
             /* Not even one step fits the target: a refusal like any other. */
             free_step(&st);
+            st_unsub_topo_free(&topo);
             return st_fail(err, ST_ERR_INVALID, "%s: one step would leave %u faces, fewer than --target-faces %u",
                            name, st.coarse.nfaces, o->target_faces);
         }
         found[k++] = st;
         cur = &found[k - 1].coarse;
     }
+    st_unsub_topo_free(&topo);
     out->pattern = pattern;
     out->levels = k;
     for (unsigned i = 0; i < k; i++) out->step[k - 1 - i] = found[i];
