@@ -19,7 +19,6 @@ static const char *const lab_name[] = { "unlabelled", "a coarse vertex", "an edg
  * is the coarse vertex (the face point is opposite); quadrisection, the
  * corner that is the coarse vertex (0..2) or CENTRAL. */
 typedef struct step_ctx {
-    const char *name;
     const st_unsub_topo *t;
     const double *pos;
     int pattern;
@@ -749,7 +748,7 @@ int st_unsubdivide(const char *name, const st_mesh *in, const st_unsub_opts *o, 
     for (unsigned j = 0; j < ST_MAX_LEVELS; j++) st_mesh_init(&out->step[j].coarse);
     st_unsub_step found[ST_MAX_LEVELS];
     memset(found, 0, sizeof found);
-    step_ctx s = { .name = name };
+    step_ctx s = { 0 };
     int pattern = ST_UNSUB_NONE;
     unsigned k = 0;
     const st_mesh *cur = in;
