@@ -403,6 +403,50 @@ static void check_manifold(void)
     st_mesh_free(&cube);
 }
 
+/* Sculpting a rebuilt hierarchy: a move at level 1 re-synthesises the
+ * levels above locally (far vertices keep the input's bits), and moving it
+ * back gives the input again up to rounding. */
+static void check_edit(void)
+{
+    st_mesh cage, fine;
+    st_error err;
+    st_unsub u;
+    st_hier h;
+    uint32_t *fine_of = NULL;
+    CHECK(load("catmull_clark/blub_control_mesh.obj", &cage) == 0);
+    CHECK(subdivided(&cage, ST_SCHEME_CATMARK, 3, &fine) == 0);
+    CHECK(st_unsubdivide("b", &fine, NULL, &u, &err) == 0);
+    CHECK(st_unsub_build_hier(&fine, &u, st_scheme_find("catmull-clark"), NULL, &h, &fine_of, NULL, &err) == 0);
+    double diag = diagonal(&fine);
+    st_dart_iter it;
+    uint32_t d = st_dart_first(&h.map, 1, &it);
+    while (st_is_boundary(&h.map, d)) d = st_dart_next(&h.map, 1, &it);
+    uint32_t v = st_vert(&h.map, d, 1);
+    double old[1][3], moved[1][3];
+    memcpy(old[0], st_pos(&h.map, v, 1), sizeof old[0]);
+    memcpy(moved[0], old[0], sizeof moved[0]);
+    moved[0][2] += 0.05 * diag;
+    uint64_t n = st_hier_move(&h, 1, &d, (const double (*)[3])moved, 1);
+    uint32_t same = 0, total = 0;
+    for (uint32_t x = st_vertex_first(&h.map, 3, &it); x != ST_NIL; x = st_vertex_next(&h.map, 3, &it), total++)
+        same += memcmp(st_pos(&h.map, x, 3), fine.pos + 3 * (size_t)fine_of[x], 3 * sizeof(double)) == 0;
+    CHECKF(n > 0 && same > total / 2 && same < total, "move: %llu recomputed, %u of %u finest vertices unchanged", (unsigned long long)n, same, total);
+    CHECK(st_map_validate(&h.map, &err) == 0);
+    st_hier_move(&h, 1, &d, (const double (*)[3])old, 1);
+    double worst = 0;
+    for (uint32_t x = st_vertex_first(&h.map, 3, &it); x != ST_NIL; x = st_vertex_next(&h.map, 3, &it))
+        for (int k = 0; k < 3; k++) {
+            double e = fabs(st_pos(&h.map, x, 3)[k] - fine.pos[3 * (size_t)fine_of[x] + k]);
+            if (e > worst) worst = e;
+        }
+    CHECKF(worst <= 1e-12 * diag, "moved back: off by %.3g", worst);
+    free(fine_of);
+    st_hier_free(&h);
+    st_unsub_free(&u);
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+}
+
 int main(void)
 {
     static const struct { const char *mesh; st_scheme_id id; unsigned max; } cases[] = {
@@ -430,6 +474,7 @@ int main(void)
     check_recovery("catmull_clark/spot_quadrangulated.obj", ST_SCHEME_CATMARK, 3, 5);
     check_recovery("triangle/sphere_ico.obj", ST_SCHEME_CATMARK, 3, ROTATE_ONLY | 1);
     check_recovery("triangle/sphere_ico.obj", ST_SCHEME_CATMARK, 3, 77);
+    check_edit();
     check_manifold();
     check_refusals();
     check_limits();
