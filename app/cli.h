@@ -10,5 +10,7 @@ int st_cmd_convert(int argc, char **argv);
 int st_cmd_filter(int argc, char **argv);
 /* app/cmd_window.c: `strata [options] [FILE]` opens the modeller. */
 int st_cmd_window(int argc, char **argv);
+/* app/cmd_rebuild.c: a dense mesh into a hierarchy (unsubdivide / progressive). */
+int st_cmd_rebuild(int argc, char **argv);
 
 #endif

@@ -21,6 +21,11 @@ static void usage(FILE *f)
         "  render IN [--scheme S --levels N --level L] [--view front|back|left|right|top|iso | --orbit AZ,EL,DIST]\n"
         "         [--mode smooth|flat|wire|cage] [--size WxH] -o OUT.png\n"
         "                                      draws level L headless (no display, no GPU) into a PNG\n"
+        "  convert IN OUT [--scheme S --levels N --level L | --box ...] [--normals | --no-normals]\n"
+        "                                      meshes and sessions (.strata) into each other\n"
+        "  rebuild IN [--method auto|unsubdivide|progressive] [--scheme S] [--target-faces N]\n"
+        "          [--max-levels L] -o OUT.strata\n"
+        "                                      a dense mesh into a hierarchy with coarse levels\n"
         "  [--scheme S] [--levels N] [--size WxH] [--replay EVENTS.txt] [--screenshot-dir D]\n"
         "  [--compare-dir D] [--mem-budget MIB] [--bench-interaction] [FILE]\n"
         "                                      the modeller window on FILE (default: assets/torus.obj);\n"
@@ -60,7 +65,7 @@ int main(int argc, char **argv)
 {
     if (argc < 2) return st_cmd_window(0, argv + 1);
     const char *cmd = argv[1];
-    static const char *const subcommands[] = { "info", "subdivide", "adapt", "render", "convert", "filter", "help" };
+    static const char *const subcommands[] = { "info", "subdivide", "adapt", "render", "convert", "filter", "rebuild", "help" };
     int window = 1;
     for (size_t i = 0; i < sizeof subcommands / sizeof subcommands[0]; i++)
         if (!strcmp(cmd, subcommands[i])) window = 0;
@@ -71,6 +76,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "render")) return st_cmd_render(argc - 2, argv + 2);
     if (!strcmp(cmd, "convert")) return st_cmd_convert(argc - 2, argv + 2);
     if (!strcmp(cmd, "filter")) return st_cmd_filter(argc - 2, argv + 2);
+    if (!strcmp(cmd, "rebuild")) return st_cmd_rebuild(argc - 2, argv + 2);
     if (!strcmp(cmd, "help") || !strcmp(cmd, "--help") || !strcmp(cmd, "-h")) { usage(stdout); return 0; }
     /* Anything else is the modeller: `strata [options] [FILE]`. */
     if (cmd[0] == '-' || access(cmd, F_OK) == 0) return st_cmd_window(argc - 1, argv + 1);

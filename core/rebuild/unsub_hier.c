@@ -1,0 +1,129 @@
+/* The hierarchy of an unsubdivided mesh (unsubdivide.h): cage, regular
+ * refinement, the input's positions written at the finest level through
+ * the combinatorial correspondence, analysis down to level 0. */
+#include "core/rebuild/unsubdivide.h"
+#include "core/rebuild/unsub_topo_internal.h"
+#include "core/multires/hier_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* map[v] for the vertices of level j (an index of level j's mesh) becomes
+ * that of level j+1, and the vertices new at j+1 get theirs: after a primal
+ * split the face of an old dart d at level j+1 runs corner, the edge point
+ * of d's edge, then (polygon split) the face point (thesis §3.2.1: old darts
+ * keep their vertex, refine_internal.h). */
+static int map_level(st_hier *h, unsigned j, const st_unsub_step *st, uint32_t *map, st_error *err)
+{
+    st_map *m = &h->map;
+    st_unsub_topo ct;
+    if (st_unsub_topo_build(&ct, &st->coarse)) return st_fail(err, ST_ERR_MEMORY, "out of memory");
+    int rc = ST_OK;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, j, &it); d != ST_NIL && !rc; d = st_dart_next(m, j, &it)) {
+        if (st_is_boundary(m, d)) continue;
+        uint32_t a = map[st_vert(m, d, j)], b = map[st_vert(m, st_phi1(m, d, j), j)];
+        uint32_t c = a < ct.nv && b < ct.nv ? st_unsub_find(&ct, a, b) : ST_NIL;
+        uint32_t x = st_phi1(m, d, j + 1), ev = st_vert(m, x, j + 1);
+        if (c == ST_NIL || st_vertex_level(m, ev) != j + 1) {
+            rc = st_fail(err, ST_ERR_INVALID, "level %u: dart %u has no counterpart in the recovered mesh", j, d);
+            break;
+        }
+        map[ev] = st->e_fine[c];
+        if (st->f_fine) {
+            uint32_t fv = st_vert(m, st_phi1(m, x, j + 1), j + 1);
+            if (st_vertex_level(m, fv) != j + 1) { rc = st_fail(err, ST_ERR_INVALID, "level %u: no face point after dart %u", j + 1, d); break; }
+            map[fv] = st->f_fine[ct.face_of[c]];
+        }
+    }
+    for (uint32_t v = st_vertex_first(m, j, &it); v != ST_NIL && !rc; v = st_vertex_next(m, j, &it))
+        map[v] = st->v_fine[map[v]];
+    st_unsub_topo_free(&ct);
+    return rc;
+}
+
+/* Every finest vertex has a distinct input vertex, and every real half-edge
+ * of the finest level is one of the input's. */
+static int check_correspondence(st_hier *h, const st_mesh *in, const uint32_t *map, st_error *err)
+{
+    st_map *m = &h->map;
+    unsigned k = m->top;
+    uint8_t *seen = calloc((size_t)in->nverts + 1, 1);
+    st_unsub_topo t;
+    if (!seen || st_unsub_topo_build(&t, in)) { free(seen); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
+    int rc = ST_OK;
+    uint32_t nv = 0;
+    uint64_t nd = 0;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL; v = st_vertex_next(m, k, &it), nv++)
+        if (map[v] >= in->nverts || seen[map[v]]++) { rc = st_fail(err, ST_ERR_INVALID, "vertex %u of level %u has no input vertex of its own", v, k); break; }
+    if (!rc && nv != in->nverts) rc = st_fail(err, ST_ERR_INVALID, "level %u has %u vertices, the input %u", k, nv, in->nverts);
+    for (uint32_t d = st_dart_first(m, k, &it); d != ST_NIL && !rc; d = st_dart_next(m, k, &it)) {
+        if (st_is_boundary(m, d)) continue;
+        nd++;
+        if (st_unsub_find(&t, map[st_vert(m, d, k)], map[st_vert(m, st_phi1(m, d, k), k)]) == ST_NIL)
+            rc = st_fail(err, ST_ERR_INVALID, "level %u: dart %u is no edge of the input", k, d);
+    }
+    if (!rc && nd != t.nc) rc = st_fail(err, ST_ERR_INVALID, "level %u has %llu face corners, the input %u", k, (unsigned long long)nd, t.nc);
+    st_unsub_topo_free(&t);
+    free(seen);
+    return rc;
+}
+
+int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
+                        st_hier *h, uint32_t **fine_of, double *residual, st_error *err)
+{
+    if (fine_of) *fine_of = NULL;
+    if (residual) *residual = 0;
+    if (!u->levels) return st_fail(err, ST_ERR_INVALID, "nothing to rebuild: no level was recovered");
+    int rc = st_hier_init(h, &u->step[0].coarse, sc, ho, err);
+    if (rc) return rc;
+    rc = st_hier_subdivide_to(h, u->levels, err);
+    if (rc) { st_hier_free(h); return rc; }
+    st_map *m = &h->map;
+    uint32_t *map = malloc(((size_t)m->verts.end + 1) * sizeof *map);
+    if (!map) { st_hier_free(h); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
+    for (uint32_t v = 0; v < m->verts.end; v++) map[v] = ST_NIL;
+    /* Level 0 was built from the cage in its vertex order. */
+    st_dart_iter it;
+    uint32_t i = 0;
+    for (uint32_t v = st_vertex_first(m, 0, &it); v != ST_NIL; v = st_vertex_next(m, 0, &it)) map[v] = i++;
+    if (i != u->step[0].coarse.nverts) rc = st_fail(err, ST_ERR_INVALID, "level 0 has %u vertices, the cage %u", i, u->step[0].coarse.nverts);
+    for (unsigned j = 0; j < u->levels && !rc; j++) rc = map_level(h, j, &u->step[j], map, err);
+    if (!rc) rc = check_correspondence(h, in, map, err);
+    if (rc) { free(map); st_hier_free(h); return rc; }
+    unsigned k = u->levels;
+    for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL; v = st_vertex_next(m, k, &it))
+        st_hier_write_pos(h, v, k, in->pos + 3 * (size_t)map[v]);
+    double r = st_hier_analyze(h, 0);
+    /* The analysis writes the finest level back as given; make sure of it,
+     * as the finest level must reproduce the input bit for bit. */
+    for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL; v = st_vertex_next(m, k, &it))
+        if (memcmp(st_pos(m, v, k), in->pos + 3 * (size_t)map[v], 3 * sizeof(double)))
+            st_hier_write_pos(h, v, k, in->pos + 3 * (size_t)map[v]);
+    if (residual) *residual = r;
+    if (fine_of) {
+        for (uint32_t v = 0; v < m->verts.end; v++)
+            if (m->verts.ins[v] == ST_FREE_LEVEL) map[v] = ST_NIL;
+        *fine_of = map;
+    } else {
+        free(map);
+    }
+    return ST_OK;
+}
+
+double st_unsub_max_detail(const st_hier *h)
+{
+    const st_map *m = &h->map;
+    double worst = 0;
+    for (unsigned l = 1; l <= m->top; l++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
+            const double *d = st_hier_detail(h, l, v);
+            double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            if (n > worst) worst = n;
+        }
+    }
+    return worst;
+}

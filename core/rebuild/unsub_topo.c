@@ -1,0 +1,99 @@
+/* Half-edge adjacency for the unsubdivide pass (unsub_topo_internal.h). */
+#include "core/rebuild/unsub_topo_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void st_unsub_topo_free(st_unsub_topo *t)
+{
+    free(t->face_of); free(t->out_off); free(t->out_c); free(t->out_t); free(t->twin); free(t->bnd); free(t->valence);
+    memset(t, 0, sizeof *t);
+}
+
+int st_unsub_topo_build(st_unsub_topo *t, const st_mesh *m)
+{
+    memset(t, 0, sizeof *t);
+    t->nv = m->nverts;
+    t->nf = m->nfaces;
+    t->nc = m->face_off[m->nfaces];
+    t->foff = m->face_off;
+    t->fidx = m->face_idx;
+    size_t nc = (size_t)t->nc + 1, nv = (size_t)t->nv + 1;
+    t->face_of = malloc(nc * sizeof *t->face_of);
+    t->out_off = calloc(nv + 1, sizeof *t->out_off);
+    t->out_c = malloc(nc * sizeof *t->out_c);
+    t->out_t = malloc(nc * sizeof *t->out_t);
+    t->twin = malloc(nc * sizeof *t->twin);
+    t->bnd = calloc(nv, 1);
+    t->valence = malloc(nv * sizeof *t->valence);
+    if (!t->face_of || !t->out_off || !t->out_c || !t->out_t || !t->twin || !t->bnd || !t->valence) {
+        st_unsub_topo_free(t);
+        return -1;
+    }
+    for (uint32_t f = 0; f < t->nf; f++)
+        for (uint32_t c = t->foff[f]; c < t->foff[f + 1]; c++) {
+            t->face_of[c] = f;
+            t->out_off[t->fidx[c] + 1]++;
+        }
+    for (uint32_t v = 0; v < t->nv; v++) t->out_off[v + 1] += t->out_off[v];
+    /* Counting sort by vertex; valence[] is the fill cursor for now. */
+    memcpy(t->valence, t->out_off, (size_t)t->nv * sizeof *t->valence);
+    for (uint32_t f = 0; f < t->nf; f++)
+        for (uint32_t c = t->foff[f]; c < t->foff[f + 1]; c++) {
+            uint32_t k = t->valence[t->fidx[c]]++;
+            t->out_c[k] = c;
+            t->out_t[k] = t->fidx[c + 1 < t->foff[f + 1] ? c + 1 : t->foff[f]];
+        }
+    /* By vertex: the twins of a's out-going half-edges lie in the out lists
+     * of its neighbours. */
+    for (uint32_t a = 0; a < t->nv; a++)
+        for (uint32_t k = t->out_off[a]; k < t->out_off[a + 1]; k++)
+            t->twin[t->out_c[k]] = st_unsub_find(t, t->out_t[k], a);
+    for (uint32_t v = 0; v < t->nv; v++) {
+        uint32_t deg = t->out_off[v + 1] - t->out_off[v];
+        for (uint32_t k = t->out_off[v]; k < t->out_off[v + 1]; k++)
+            if (t->twin[t->out_c[k]] == ST_NIL) t->bnd[v] = 1;
+        /* A boundary fan has one neighbour more than out-going half-edges. */
+        t->valence[v] = deg + t->bnd[v];
+    }
+    return 0;
+}
+
+/* The faces around v from corner c0 one way (c -> twin(prev(c))), then, on
+ * the boundary, the other way (c -> next(twin(c))): one fan iff every
+ * out-going half-edge of v is reached. */
+static uint32_t fan_size(const st_unsub_topo *t, uint32_t c0)
+{
+    uint32_t n = 0, c = c0, cap = t->nc;
+    do {
+        n++;
+        c = t->twin[st_unsub_prev(t, c)];
+    } while (c != ST_NIL && c != c0 && n <= cap);
+    if (c == c0) return n;
+    for (uint32_t x = t->twin[c0]; x != ST_NIL && n <= cap; x = t->twin[x]) {
+        n++;
+        x = st_unsub_next(t, x);
+        if (x == c0) break;
+    }
+    return n;
+}
+
+int st_unsub_topo_manifold(const st_unsub_topo *t, uint32_t *where)
+{
+    for (uint32_t f = 0; f < t->nf; f++) {
+        uint32_t b = t->foff[f], n = t->foff[f + 1] - b;
+        if (n < 3) { *where = n ? t->fidx[b] : 0; return -1; }
+        for (uint32_t i = 0; i < n; i++)
+            for (uint32_t j = i + 1; j < n; j++)
+                if (t->fidx[b + i] == t->fidx[b + j]) { *where = t->fidx[b + i]; return -1; }
+    }
+    for (uint32_t v = 0; v < t->nv; v++) {
+        uint32_t lo = t->out_off[v], hi = t->out_off[v + 1];
+        if (lo == hi) { *where = v; return -1; }
+        for (uint32_t k = lo; k < hi; k++)
+            for (uint32_t j = k + 1; j < hi; j++)
+                if (t->out_t[k] == t->out_t[j]) { *where = v; return -1; }
+        if (fan_size(t, t->out_c[lo]) != hi - lo) { *where = v; return -1; }
+    }
+    return 0;
+}

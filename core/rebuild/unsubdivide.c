@@ -1,0 +1,815 @@
+/* Unsubdivide (unsubdivide.h): one step labels the vertices of the fine
+ * mesh by propagation over its faces, checks the labelling, and reads the
+ * coarse mesh off it; steps repeat while the pattern holds. */
+#include "core/rebuild/unsubdivide.h"
+#include "core/rebuild/unsub_topo_internal.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { LAB_NONE = 0, LAB_V, LAB_E, LAB_F };
+static const char *const lab_name[] = { "unlabelled", "a coarse vertex", "an edge point", "a face point" };
+#define NO_PHASE 0xffu
+#define CENTRAL 3u   /* quadrisection phase of a central triangle */
+
+/* The labelling of one step.  phase[f]: polygon split, the corner of f that
+ * is the coarse vertex (the face point is opposite); quadrisection, the
+ * corner that is the coarse vertex (0..2) or CENTRAL. */
+typedef struct step_ctx {
+    const st_unsub_topo *t;
+    const double *pos;
+    int pattern;
+    int boundary_interp;
+    uint8_t *lab;              /* per vertex */
+    uint8_t *phase;            /* per face */
+    uint32_t *queue, nq;       /* faces of the component being labelled, in visiting order */
+    uint32_t *best_queue, best_nq;   /* the best labelling of the component so far: its faces */
+    uint8_t *best_phase;       /* ... and their phases (per face) */
+    double *acc;               /* 3 per vertex: scratch of the geometric score */
+    uint8_t *mark;             /* per vertex: scratch */
+    char fail[400];            /* why the current attempt failed */
+} step_ctx;
+
+static void failf(step_ctx *s, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+static void failf(step_ctx *s, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(s->fail, sizeof s->fail, fmt, ap);
+    va_end(ap);
+}
+
+static unsigned face_deg(const step_ctx *s, uint32_t f) { return s->t->foff[f + 1] - s->t->foff[f]; }
+
+/* The label corner i of a face of phase p must carry. */
+static int wanted(const step_ctx *s, unsigned i, unsigned p)
+{
+    if (s->pattern == ST_UNSUB_POLY_SPLIT) {
+        static const uint8_t cycle[4] = { LAB_V, LAB_E, LAB_F, LAB_E };
+        return cycle[(i + 4 - p) & 3];
+    }
+    return p != CENTRAL && i == p ? LAB_V : LAB_E;
+}
+
+/* Checks a vertex can carry its new label, as soon as it gets it, so that
+ * a local re-meshing is reported where it is rather than where the
+ * propagation runs into its consequences: an edge point has valence 4 (3
+ * on the boundary) after a polygon split, 6 (4) after quadrisection.  (That
+ * face points are interior is checked per candidate, label_all.) */
+static int local_check(step_ctx *s, uint32_t v)
+{
+    const st_unsub_topo *t = s->t;
+    int poly = s->pattern == ST_UNSUB_POLY_SPLIT;
+    unsigned inner = poly ? 4 : 6, outer = poly ? 3 : 4;
+    if (s->lab[v] == LAB_E && t->valence[v] != (t->bnd[v] ? outer : inner)) {
+        failf(s, "vertex %u would be an edge point but has %u neighbours; expected %u (%u on the boundary)",
+              v + 1, t->valence[v], inner, outer);
+        return -1;
+    }
+    return 0;
+}
+
+static int assign(step_ctx *s, uint32_t f, unsigned p)
+{
+    s->phase[f] = (uint8_t)p;
+    s->queue[s->nq++] = f;
+    uint32_t b = s->t->foff[f];
+    for (unsigned i = 0; i < face_deg(s, f); i++) {
+        uint32_t v = s->t->fidx[b + i];
+        int w = wanted(s, i, p);
+        if (s->lab[v] == LAB_NONE) {
+            s->lab[v] = (uint8_t)w;
+            if (local_check(s, v)) return -1;
+        } else if (s->lab[v] != w) {
+            failf(s, "vertex %u (in face %u): this face makes it %s but its other faces make it %s",
+                  v + 1, f + 1, lab_name[w], lab_name[s->lab[v]]);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* Phase of face g reached through corner tw (the twin of a labelled face
+ * f's half-edge): its two shared vertices carry labels already. */
+static int derive_phase(step_ctx *s, uint32_t f, uint32_t tw, unsigned *p)
+{
+    const st_unsub_topo *t = s->t;
+    uint32_t g = t->face_of[tw];
+    unsigned n = face_deg(s, g), jt = tw - t->foff[g], jn = (jt + 1) % n;
+    int lw = s->lab[t->fidx[tw]], lv = s->lab[t->fidx[t->foff[g] + jn]];
+    if (s->pattern == ST_UNSUB_POLY_SPLIT) {
+        if (lw == LAB_V) *p = jt;
+        else if (lw == LAB_F) *p = (jt + 2) & 3;
+        else if (lv == LAB_V) *p = jn;
+        else if (lv == LAB_F) *p = (jn + 2) & 3;
+        else { failf(s, "face %u: its edge %u-%u joins two edge points", g + 1, t->fidx[tw] + 1, t->fidx[t->foff[g] + jn] + 1); return -1; }
+        return 0;
+    }
+    if (lw == LAB_V && lv == LAB_V) {
+        failf(s, "face %u: its edge %u-%u joins two coarse vertices", g + 1, t->fidx[tw] + 1, t->fidx[t->foff[g] + jn] + 1);
+        return -1;
+    }
+    if (lw == LAB_V) *p = jt;
+    else if (lv == LAB_V) *p = jn;
+    else *p = s->phase[f] == CENTRAL ? (jt + 2) % 3 : CENTRAL;
+    return 0;
+}
+
+/* Labels the component of `seed` from phase p0 by breadth-first
+ * propagation over the faces.  0 when done, -1 with s->fail at the first
+ * conflict, 1 when `budget` faces are labelled without a conflict (a
+ * probe). */
+static int propagate(step_ctx *s, uint32_t seed, unsigned p0, uint32_t budget)
+{
+    const st_unsub_topo *t = s->t;
+    s->nq = 0;
+    if (assign(s, seed, p0)) return -1;
+    for (uint32_t head = 0; head < s->nq; head++) {
+        uint32_t f = s->queue[head];
+        for (uint32_t c = t->foff[f]; c < t->foff[f + 1]; c++) {
+            uint32_t tw = t->twin[c];
+            if (tw == ST_NIL || s->phase[t->face_of[tw]] != NO_PHASE) continue;
+            unsigned p;
+            if (derive_phase(s, f, tw, &p) || assign(s, t->face_of[tw], p)) return -1;
+            if (s->nq >= budget) return 1;
+        }
+    }
+    return 0;
+}
+
+static void unlabel(step_ctx *s)
+{
+    for (uint32_t i = 0; i < s->nq; i++) {
+        uint32_t f = s->queue[i];
+        s->phase[f] = NO_PHASE;
+        for (uint32_t c = s->t->foff[f]; c < s->t->foff[f + 1]; c++) s->lab[s->t->fidx[c]] = LAB_NONE;
+    }
+    s->nq = 0;
+}
+
+/* Coarse-vertex neighbours of v (boundary fans: the one neighbour reached
+ * only by an incoming half-edge counts too). */
+static unsigned coarse_neighbours(const step_ctx *s, uint32_t v)
+{
+    const st_unsub_topo *t = s->t;
+    unsigned n = 0;
+    for (uint32_t k = t->out_off[v]; k < t->out_off[v + 1]; k++) {
+        uint32_t c = t->out_c[k], pc = st_unsub_prev(t, c);
+        n += s->lab[st_unsub_target(t, c)] == LAB_V;
+        if (t->twin[pc] == ST_NIL) n += s->lab[t->fidx[pc]] == LAB_V;
+    }
+    return n;
+}
+
+/* What a labelled component must satisfy beyond face-by-face consistency
+ * and local_check, for quadrisection: each edge point has two coarse
+ * neighbours.  (After a polygon split this follows: the neighbours of an
+ * edge point of valence 4 alternate coarse vertex, face point around it,
+ * and on the boundary its two boundary neighbours cannot be face points.)
+ * s->mark visits each vertex once. */
+static int check_component(step_ctx *s)
+{
+    const st_unsub_topo *t = s->t;
+    int rc = 0;
+    for (uint32_t i = 0; i < s->nq && !rc; i++) {
+        uint32_t f = s->queue[i];
+        for (uint32_t c = t->foff[f]; c < t->foff[f + 1]; c++) {
+            uint32_t v = t->fidx[c];
+            if (s->lab[v] != LAB_E || s->mark[v]) continue;
+            s->mark[v] = 1;
+            unsigned nb = coarse_neighbours(s, v);
+            if (nb != 2) {
+                failf(s, "vertex %u would be an edge point but has %u coarse vertices among its neighbours; expected 2", v + 1, nb);
+                rc = -1;
+                break;
+            }
+        }
+    }
+    for (uint32_t i = 0; i < s->nq; i++) {
+        uint32_t f = s->queue[i];
+        for (uint32_t c = t->foff[f]; c < t->foff[f + 1]; c++) s->mark[t->fidx[c]] = 0;
+    }
+    return rc;
+}
+
+/* Polygon split, for the labelling of the current phases (swap 0) or the
+ * one with coarse vertices and face points exchanged (swap 1): the corner
+ * of face q that is the coarse vertex. */
+static unsigned vcorner(const step_ctx *s, uint32_t q, unsigned swap) { return (s->phase[q] + 2u * swap) & 3u; }
+
+/* The face point across the edge point that follows the coarse vertex of
+ * face q (ST_NIL on the boundary). */
+static uint32_t face_point_across(const step_ctx *s, uint32_t q, unsigned swap)
+{
+    const st_unsub_topo *t = s->t;
+    uint32_t tw = t->twin[t->foff[q] + vcorner(s, q, swap)];
+    if (tw == ST_NIL) return ST_NIL;
+    uint32_t g = t->face_of[tw];
+    return t->fidx[t->foff[g] + ((vcorner(s, g, swap) + 2u) & 3u)];
+}
+
+/* Root mean square, over the interior coarse faces met by the first
+ * SCORE_FACES fine faces in propagation order (a deterministic sample: a
+ * wrong labelling breaks the identity everywhere, so a sample tells as
+ * well as the whole and keeps the cost flat), of the identity
+ * 4 ΣE_i - 3 m F - Σ F'_i = 0 (unsubdivide.h), which an exact polygon split
+ * satisfies and a wrong labelling generally does not.  Faces the sample's
+ * end cuts (or of more than 253 sides) are left out. */
+#define SCORE_FACES 65536u
+#define SCORE_SKIP 255u
+static double poly_score(step_ctx *s, unsigned swap)
+{
+    const st_unsub_topo *t = s->t;
+    uint32_t nq = s->nq < SCORE_FACES ? s->nq : SCORE_FACES;
+    /* mark[F]: 0 not met, 1 + the terms summed so far, SCORE_SKIP when F
+     * has a boundary edge point (the identity is for interior faces). */
+    for (uint32_t i = 0; i < nq; i++) {
+        uint32_t q = s->queue[i], b = t->foff[q], p = vcorner(s, q, swap);
+        uint32_t F = t->fidx[b + ((p + 2) & 3)], E = t->fidx[b + ((p + 1) & 3)], G = face_point_across(s, q, swap);
+        double *a = s->acc + 3 * (size_t)F;
+        if (s->mark[F] == 0) { a[0] = a[1] = a[2] = 0; s->mark[F] = 1; }
+        if (s->mark[F] == SCORE_SKIP) continue;
+        if (G == ST_NIL || s->mark[F] == SCORE_SKIP - 1) { s->mark[F] = SCORE_SKIP; continue; }
+        s->mark[F]++;
+        for (int k = 0; k < 3; k++) a[k] += 4 * s->pos[3 * (size_t)E + k] - 3 * s->pos[3 * (size_t)F + k] - s->pos[3 * (size_t)G + k];
+    }
+    double sum = 0;
+    uint64_t n = 0;
+    for (uint32_t i = 0; i < nq; i++) {
+        uint32_t q = s->queue[i], F = t->fidx[t->foff[q] + ((vcorner(s, q, swap) + 2) & 3)];
+        /* Only faces whose every term is in the sample. */
+        if (s->mark[F] != 0 && s->mark[F] != SCORE_SKIP && s->mark[F] - 1u == t->valence[F]) {
+            const double *a = s->acc + 3 * (size_t)F;
+            sum += a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+            n++;
+        }
+        s->mark[F] = 0;
+    }
+    return n ? sqrt(sum / (double)n) : 0;
+}
+
+/* Quadrilateral coarse faces, counted once per fine face around them. */
+static uint64_t quad_faces(const step_ctx *s, unsigned swap)
+{
+    uint64_t n = 0;
+    for (uint32_t i = 0; i < s->nq; i++) {
+        uint32_t q = s->queue[i];
+        n += s->t->valence[s->t->fidx[s->t->foff[q] + ((vcorner(s, q, swap) + 2) & 3)]] == 4;
+    }
+    return n;
+}
+
+/* A face point of the labelling (swap as above) on the boundary, or ST_NIL:
+ * face points are interior. */
+static uint32_t face_point_on_boundary(const step_ctx *s, unsigned swap)
+{
+    for (uint32_t i = 0; i < s->nq; i++) {
+        uint32_t q = s->queue[i], F = s->t->fidx[s->t->foff[q] + ((vcorner(s, q, swap) + 2) & 3)];
+        if (s->t->bnd[F]) return F;
+    }
+    return ST_NIL;
+}
+
+/* The labelling just found is the best so far: keep it, rather than
+ * propagate it again at the end. */
+static void keep_best(step_ctx *s, unsigned swap)
+{
+    memcpy(s->best_queue, s->queue, (size_t)s->nq * sizeof *s->queue);
+    s->best_nq = s->nq;
+    for (uint32_t i = 0; i < s->nq; i++) s->best_phase[s->queue[i]] = (uint8_t)vcorner(s, s->queue[i], swap);
+}
+
+static void restore_best(step_ctx *s)
+{
+    const st_unsub_topo *t = s->t;
+    for (uint32_t i = 0; i < s->best_nq; i++) {
+        uint32_t f = s->best_queue[i], b = t->foff[f];
+        s->phase[f] = s->best_phase[f];
+        for (unsigned k = 0; k < face_deg(s, f); k++) s->lab[t->fidx[b + k]] = (uint8_t)wanted(s, k, s->phase[f]);
+    }
+}
+
+/* The best candidate labelling of a component so far, and the failure
+ * that got furthest. */
+typedef struct cand {
+    int seed;                  /* -1: none yet */
+    double r;
+    uint64_t q;
+    uint32_t far;
+    char msg[sizeof ((step_ctx *)0)->fail];
+} cand;
+
+static void note_fail(const step_ctx *s, cand *c)
+{
+    if (s->nq > c->far || !c->msg[0]) {
+        c->far = s->nq;
+        memcpy(c->msg, s->fail, sizeof c->msg);
+    }
+}
+
+/* Scores the labelling just propagated from seed phase p and, for the
+ * polygon split, the same with coarse vertices and face points exchanged
+ * (seed p + 2: consistency and edge points are the same; it is valid when
+ * its face points are interior too).  Returns the exchange (0 or 1) of the
+ * candidate that became the best, or -1 when none did. */
+static int evaluate(step_ctx *s, unsigned p, double tie, cand *c)
+{
+    int poly = s->pattern == ST_UNSUB_POLY_SPLIT, win = -1;
+    if (!poly && check_component(s)) { note_fail(s, c); return -1; }
+    for (unsigned swap = 0; swap <= (unsigned)poly; swap++) {
+        double r = 0;
+        uint64_t q = 0;
+        if (poly) {
+            uint32_t fb = face_point_on_boundary(s, swap);
+            if (fb != ST_NIL) {
+                failf(s, "vertex %u would be a face point but lies on the boundary", fb + 1);
+                note_fail(s, c);
+                continue;
+            }
+            r = poly_score(s, swap);
+            q = quad_faces(s, swap);
+        }
+        if (c->seed < 0 || r < c->r - tie || (fabs(r - c->r) <= tie && q > c->q)) {
+            c->seed = (int)(p + 2 * swap); c->r = r; c->q = q;
+            win = (int)swap;
+        }
+    }
+    return win;
+}
+
+/* Coarse vertices and face points exchanged over the labelled component. */
+static void exchange_in_place(step_ctx *s)
+{
+    const st_unsub_topo *t = s->t;
+    for (uint32_t i = 0; i < s->nq; i++) {
+        uint32_t f = s->queue[i];
+        s->phase[f] = (uint8_t)((s->phase[f] + 2u) & 3u);
+        for (unsigned k = 0; k < face_deg(s, f); k++) s->lab[t->fidx[t->foff[f] + k]] = (uint8_t)wanted(s, k, s->phase[f]);
+    }
+}
+
+/* Faces a probe labels before a seed phase counts as surviving: wrong
+ * phases meet a conflict within a few rings of an extraordinary vertex. */
+#define PROBE_FACES 4096u
+
+/* Labels every component, choosing among the consistent labellings
+ * (unsubdivide.h: residual, then quadrilaterals, then order).  Each seed
+ * phase is first probed; when one survives on a large component (the usual
+ * case) it is propagated once, in place; otherwise every survivor is
+ * propagated in full, scored, the best kept and restored.  On failure the
+ * message of the attempt that got furthest. */
+static int label_all(step_ctx *s, double tie)
+{
+    const st_unsub_topo *t = s->t;
+    int poly = s->pattern == ST_UNSUB_POLY_SPLIT;
+    unsigned nseeds = poly ? 2 : 4;
+    for (uint32_t f0 = 0; f0 < t->nf; f0++) {
+        if (s->phase[f0] != NO_PHASE) continue;
+        cand c = { .seed = -1 };
+        unsigned alive = 0, nalive = 0;
+        for (unsigned p = 0; p < nseeds; p++) {
+            int r = propagate(s, f0, p, PROBE_FACES);
+            if (r == 0) {
+                int w = evaluate(s, p, tie, &c);
+                if (w >= 0) keep_best(s, (unsigned)w);
+            } else if (r > 0) {
+                alive |= 1u << p;
+                nalive++;
+            } else {
+                note_fail(s, &c);
+            }
+            unlabel(s);
+        }
+        if (nalive == 1 && c.seed < 0) {
+            unsigned p = 0;
+            while (!(alive >> p & 1u)) p++;
+            if (propagate(s, f0, p, UINT32_MAX) == 0) {
+                int w = evaluate(s, p, tie, &c);
+                if (w == 1) exchange_in_place(s);
+                if (w >= 0) continue;
+            } else {
+                note_fail(s, &c);
+            }
+            unlabel(s);
+        } else {
+            for (unsigned p = 0; p < nseeds; p++) {
+                if (!(alive >> p & 1u)) continue;
+                if (propagate(s, f0, p, UINT32_MAX) == 0) {
+                    int w = evaluate(s, p, tie, &c);
+                    if (w >= 0) keep_best(s, (unsigned)w);
+                } else {
+                    note_fail(s, &c);
+                }
+                unlabel(s);
+            }
+        }
+        if (c.seed < 0) {
+            /* No labelling fits this component.  The seed may lie in the
+             * broken region itself, where every attempt fails at once: the
+             * message comes from the attempt that labelled the most faces,
+             * seeds spread over the mesh included, which runs from a sound
+             * region into the break and names it. */
+            for (unsigned j = 1; j < 8; j++) {
+                uint32_t g = (uint32_t)(f0 + (uint64_t)(t->nf - f0) * j / 8);
+                if (g >= t->nf || s->phase[g] != NO_PHASE) continue;
+                for (unsigned p = 0; p < nseeds; p++) {
+                    if (propagate(s, g, p, UINT32_MAX) < 0 && s->nq > c.far) note_fail(s, &c);
+                    unlabel(s);
+                }
+            }
+            memcpy(s->fail, c.msg, sizeof s->fail);
+            return -1;
+        }
+        restore_best(s);
+    }
+    return 0;
+}
+
+/* ---- the coarse mesh ------------------------------------------------------- */
+
+static int alloc_step(st_unsub_step *st, uint32_t nv, uint32_t nf, uint32_t nc, int faces_pts)
+{
+    st_mesh *m = &st->coarse;
+    m->nverts = nv;
+    m->nfaces = nf;
+    m->pos = malloc(((size_t)nv + 1) * 3 * sizeof *m->pos);
+    m->face_off = malloc(((size_t)nf + 1) * sizeof *m->face_off);
+    m->face_idx = malloc(((size_t)nc + 1) * sizeof *m->face_idx);
+    st->v_fine = malloc(((size_t)nv + 1) * sizeof *st->v_fine);
+    st->e_fine = malloc(((size_t)nc + 1) * sizeof *st->e_fine);
+    st->f_fine = faces_pts ? malloc(((size_t)nf + 1) * sizeof *st->f_fine) : NULL;
+    return m->pos && m->face_off && m->face_idx && st->v_fine && st->e_fine && (!faces_pts || st->f_fine) ? 0 : -1;
+}
+
+static void free_step(st_unsub_step *st)
+{
+    st_mesh_free(&st->coarse);
+    free(st->v_fine); free(st->e_fine); free(st->f_fine);
+    memset(st, 0, sizeof *st);
+    st_mesh_init(&st->coarse);
+}
+
+/* Coarse faces of the polygon split: one per face point, its corners read
+ * around it (each fine quad is (V, E_next, F, E_prev)). */
+static int build_poly_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap, uint32_t *first_face)
+{
+    const st_unsub_topo *t = s->t;
+    st_mesh *m = &st->coarse;
+    uint32_t nf = 0, nc = 0;
+    for (uint32_t v = 0; v < t->nv; v++) first_face[v] = ST_NIL;
+    for (uint32_t q = 0; q < t->nf; q++) {
+        uint32_t F = t->fidx[t->foff[q] + ((s->phase[q] + 2) & 3)];
+        if (first_face[F] == ST_NIL) first_face[F] = q;
+    }
+    for (uint32_t F = 0; F < t->nv; F++) {
+        if (s->lab[F] != LAB_F) continue;
+        uint32_t q0 = first_face[F], q = q0, n = 0;
+        m->face_off[nf] = nc;
+        st->f_fine[nf] = F;
+        do {
+            uint32_t b = t->foff[q], p = s->phase[q];
+            m->face_idx[nc] = vmap[t->fidx[b + p]];
+            st->e_fine[nc++] = t->fidx[b + ((p + 1) & 3)];
+            uint32_t tw = t->twin[b + ((p + 1) & 3)];
+            if (tw == ST_NIL || ++n > t->valence[F]) {
+                failf(s, "vertex %u: the faces around this face point do not close", F + 1);
+                return -1;
+            }
+            q = t->face_of[tw];
+        } while (q != q0);
+        nf++;
+    }
+    m->face_off[nf] = nc;
+    return 0;
+}
+
+/* Coarse faces of quadrisection: one per central triangle (x0 x1 x2); the
+ * corner triangle across x_i -> x_(i+1) holds coarse vertex i, and the edge
+ * from coarse vertex i to i+1 has edge point x_(i+1). */
+static int build_tri_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
+{
+    const st_unsub_topo *t = s->t;
+    st_mesh *m = &st->coarse;
+    uint32_t nf = 0, nc = 0;
+    for (uint32_t f = 0; f < t->nf; f++) {
+        if (s->phase[f] != CENTRAL) continue;
+        uint32_t b = t->foff[f];
+        m->face_off[nf] = nc;
+        for (unsigned i = 0; i < 3; i++) {
+            uint32_t tw = t->twin[b + i];
+            uint32_t g = tw == ST_NIL ? ST_NIL : t->face_of[tw];
+            if (g == ST_NIL || s->phase[g] == CENTRAL) {
+                failf(s, "face %u: a central triangle must have a corner triangle across each edge", f + 1);
+                return -1;
+            }
+            m->face_idx[nc] = vmap[t->fidx[t->foff[g] + s->phase[g]]];
+            st->e_fine[nc++] = t->fidx[b + (i + 1) % 3];
+        }
+        nf++;
+    }
+    m->face_off[nf] = nc;
+    return 0;
+}
+
+/* Estimated coarse positions (polygon split): the inverted Catmull-Clark
+ * rules, exact for an exact subdivision.  Interior vertex of valence n != 3:
+ * V' = (n-3)/n v + 4/n² ΣE_i - 1/n² ΣF_i (the vertex rule with Σv_i taken
+ * from the edge rule).  Boundary (edge-only rule V' = (a + 6v + b)/8 with
+ * E = (v + a)/2): v = 2V' - (E_a + E_b)/2.  Valence 3, interior: from an
+ * exact neighbour u across edge point E, v = 4E - F - F' - u.  Otherwise
+ * the fine position. */
+static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
+{
+    const st_unsub_topo *t = s->t;
+    st_mesh *m = &st->coarse;
+    uint32_t nv = m->nverts;
+    double *sum = s->acc;                 /* 3 per fine vertex, read at V vertices: ΣE then ΣF in m->pos */
+    memset(sum, 0, 3 * (size_t)t->nv * sizeof *sum);
+    memset(m->pos, 0, 3 * (size_t)nv * sizeof *m->pos);
+    for (uint32_t q = 0; q < t->nf; q++) {
+        uint32_t b = t->foff[q], p = s->phase[q];
+        uint32_t V = t->fidx[b + p], E = t->fidx[b + ((p + 1) & 3)], F = t->fidx[b + ((p + 2) & 3)];
+        for (int k = 0; k < 3; k++) {
+            sum[3 * (size_t)V + k] += s->pos[3 * (size_t)E + k];
+            m->pos[3 * (size_t)vmap[V] + k] += s->pos[3 * (size_t)F + k];
+        }
+    }
+    uint8_t *exact = s->mark;             /* per fine vertex */
+    for (uint32_t cv = 0; cv < nv; cv++) {
+        uint32_t V = st->v_fine[cv], n = t->valence[V];
+        const double *pv = s->pos + 3 * (size_t)V;
+        double *out = m->pos + 3 * (size_t)cv, *se = sum + 3 * (size_t)V;
+        exact[V] = 0;
+        if (t->bnd[V]) {
+            uint32_t ea = ST_NIL, eb = ST_NIL;
+            for (uint32_t k = t->out_off[V]; k < t->out_off[V + 1]; k++) {
+                uint32_t c = t->out_c[k], pc = st_unsub_prev(t, c);
+                if (t->twin[c] == ST_NIL) ea = st_unsub_target(t, c);
+                if (t->twin[pc] == ST_NIL) eb = t->fidx[pc];
+            }
+            int corner = n == 2 && s->boundary_interp == ST_BOUNDARY_EDGE_AND_CORNER;
+            for (int k = 0; k < 3; k++)
+                out[k] = corner || ea == ST_NIL || eb == ST_NIL ? pv[k]
+                       : 2 * pv[k] - 0.5 * (s->pos[3 * (size_t)ea + k] + s->pos[3 * (size_t)eb + k]);
+            exact[V] = !corner;
+        } else if (n != 3) {
+            double nn = (double)n;
+            for (int k = 0; k < 3; k++)
+                out[k] = (nn * pv[k] - 4 * se[k] / nn + out[k] / nn) / (nn - 3);
+            exact[V] = 1;
+        } else {
+            for (int k = 0; k < 3; k++) out[k] = pv[k];
+        }
+    }
+    /* Valence 3: one pass over the fine quads, from an exact neighbour. */
+    for (uint32_t q = 0; q < t->nf; q++) {
+        uint32_t b = t->foff[q], p = s->phase[q];
+        uint32_t V = t->fidx[b + p];
+        if (exact[V] || t->bnd[V]) continue;
+        uint32_t E = t->fidx[b + ((p + 1) & 3)], F = t->fidx[b + ((p + 2) & 3)], G = face_point_across(s, q, 0);
+        uint32_t tw = t->twin[b + ((p + 1) & 3)];
+        if (G == ST_NIL || tw == ST_NIL) continue;
+        uint32_t h = t->face_of[tw], U = t->fidx[t->foff[h] + s->phase[h]];
+        if (!exact[U]) continue;
+        const double *pu = m->pos + 3 * (size_t)vmap[U];
+        double *out = m->pos + 3 * (size_t)vmap[V];
+        for (int k = 0; k < 3; k++)
+            out[k] = 4 * s->pos[3 * (size_t)E + k] - s->pos[3 * (size_t)F + k] - s->pos[3 * (size_t)G + k] - pu[k];
+        exact[V] = 1;
+    }
+    for (uint32_t cv = 0; cv < nv; cv++) exact[st->v_fine[cv]] = 0;
+}
+
+/* The coarse mesh must be a manifold whose every edge has one edge point,
+ * adjacent to both its ends in the fine mesh.  Its adjacency goes to *out
+ * (the next step's). */
+static int check_coarse(step_ctx *s, const st_unsub_step *st, st_unsub_topo *out)
+{
+    st_unsub_topo ct;
+    if (st_unsub_topo_build(&ct, &st->coarse)) { failf(s, "out of memory"); return -1; }
+    int rc = 0;
+    uint32_t bad;
+    if (st_unsub_topo_manifold(&ct, &bad)) {
+        failf(s, "the coarse mesh read off the pattern is not a manifold around vertex %u", st->v_fine[bad] + 1);
+        rc = -1;
+    }
+    for (uint32_t c = 0; c < ct.nc && !rc; c++) {
+        uint32_t E = st->e_fine[c], tw = ct.twin[c];
+        uint32_t a = st->v_fine[ct.fidx[c]], b = st->v_fine[st_unsub_target(&ct, c)];
+        if ((tw != ST_NIL && st->e_fine[tw] != E) ||
+            (st_unsub_find(s->t, a, E) == ST_NIL && st_unsub_find(s->t, E, a) == ST_NIL) ||
+            (st_unsub_find(s->t, b, E) == ST_NIL && st_unsub_find(s->t, E, b) == ST_NIL)) {
+            failf(s, "vertex %u: edge point of coarse vertices %u and %u that are not its neighbours", E + 1, a + 1, b + 1);
+            rc = -1;
+        }
+    }
+    if (rc) st_unsub_topo_free(&ct);
+    else *out = ct;
+    return rc;
+}
+
+static double bbox_diagonal(const st_mesh *m)
+{
+    double lo[3] = { 0 }, hi[3] = { 0 };
+    for (uint32_t v = 0; v < m->nverts; v++)
+        for (int k = 0; k < 3; k++) {
+            double x = m->pos[3 * (size_t)v + k];
+            if (v == 0 || x < lo[k]) lo[k] = x;
+            if (v == 0 || x > hi[k]) hi[k] = x;
+        }
+    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+/* Which pattern the face degrees allow; -1 with the face that breaks it. */
+static int pick_pattern(step_ctx *s, const st_mesh *m)
+{
+    uint32_t quads = 0, tris = 0, q1 = ST_NIL, t1 = ST_NIL, o1 = ST_NIL;
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        uint32_t n = m->face_off[f + 1] - m->face_off[f];
+        if (n == 4) { quads++; if (q1 == ST_NIL) q1 = f; }
+        else if (n == 3) { tris++; if (t1 == ST_NIL) t1 = f; }
+        else if (o1 == ST_NIL) o1 = f;
+    }
+    if (m->nfaces && quads == m->nfaces) return ST_UNSUB_POLY_SPLIT;
+    if (m->nfaces && tris == m->nfaces) return ST_UNSUB_QUADRISECTION;
+    if (!m->nfaces) { failf(s, "the mesh has no faces"); return -1; }
+    if (quads >= tris) {
+        uint32_t f = t1 != ST_NIL ? t1 : o1;
+        failf(s, "face %u has %u sides: a polygon split gives quads only (as face %u)", f + 1, m->face_off[f + 1] - m->face_off[f], q1 + 1);
+    } else {
+        uint32_t f = q1 != ST_NIL ? q1 : o1;
+        failf(s, "face %u has %u sides: a triangle quadrisection gives triangles only (as face %u)", f + 1, m->face_off[f + 1] - m->face_off[f], t1 + 1);
+    }
+    return -1;
+}
+
+/* One step from `fine` (pattern fixed, or chosen when ST_UNSUB_NONE). */
+/* t: the adjacency of `fine` (built here when empty); on success it is
+ * replaced by the coarse mesh's. */
+static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_step *st, st_unsub_topo *topo, double diag)
+{
+    if (*pattern == ST_UNSUB_NONE) {
+        int p = pick_pattern(s, fine);
+        if (p < 0) return -1;
+        *pattern = p;
+    } else {
+        unsigned want = *pattern == ST_UNSUB_POLY_SPLIT ? 4 : 3;
+        for (uint32_t f = 0; f < fine->nfaces; f++)
+            if (fine->face_off[f + 1] - fine->face_off[f] != want) {
+                failf(s, "face %u has %u sides", f + 1, fine->face_off[f + 1] - fine->face_off[f]);
+                return -1;
+            }
+    }
+    s->pattern = *pattern;
+    s->pos = fine->pos;
+    s->boundary_interp = fine->boundary_interp;
+    if (!topo->face_of && st_unsub_topo_build(topo, fine)) { failf(s, "out of memory"); return -1; }
+    st_unsub_topo t = *topo, next;
+    memset(&next, 0, sizeof next);
+    s->t = &t;
+    size_t nv = (size_t)t.nv + 1, nf = (size_t)t.nf + 1;
+    s->lab = calloc(nv, 1);
+    s->phase = malloc(nf);
+    s->queue = malloc(nf * sizeof *s->queue);
+    s->best_queue = malloc(nf * sizeof *s->best_queue);
+    s->best_phase = malloc(nf);
+    s->acc = malloc(3 * nv * sizeof *s->acc);
+    s->mark = calloc(nv, 1);
+    uint32_t *vmap = malloc(nv * sizeof *vmap);
+    int rc = -1;
+    if (!s->lab || !s->phase || !s->queue || !s->best_queue || !s->best_phase || !s->acc || !s->mark || !vmap) { failf(s, "out of memory"); goto done; }
+    memset(s->phase, NO_PHASE, nf);
+    if (label_all(s, 1e-12 * (diag > 0 ? diag : 1))) goto done;
+    uint32_t ncv = 0, ncf = 0;
+    for (uint32_t v = 0; v < t.nv; v++) {
+        vmap[v] = s->lab[v] == LAB_V ? ncv++ : ST_NIL;
+        ncf += s->pattern == ST_UNSUB_POLY_SPLIT ? s->lab[v] == LAB_F : 0;
+    }
+    uint32_t ncc = t.nf;                  /* polygon split: one coarse corner per fine quad */
+    if (s->pattern == ST_UNSUB_QUADRISECTION) {
+        ncf = 0;
+        for (uint32_t f = 0; f < t.nf; f++) ncf += s->phase[f] == CENTRAL;
+        ncc = 3 * ncf;
+        if (4 * ncf != t.nf) { failf(s, "%u central triangles for %u faces: expected a quarter", ncf, t.nf); goto done; }
+    }
+    if (alloc_step(st, ncv, ncf, ncc, s->pattern == ST_UNSUB_POLY_SPLIT)) { failf(s, "out of memory"); goto done; }
+    st->coarse.boundary_interp = fine->boundary_interp;
+    for (uint32_t v = 0; v < t.nv; v++)
+        if (vmap[v] != ST_NIL) st->v_fine[vmap[v]] = v;
+    if (s->pattern == ST_UNSUB_POLY_SPLIT) {
+        uint32_t *first = malloc(nv * sizeof *first);
+        if (!first) { failf(s, "out of memory"); goto done; }
+        int b = build_poly_faces(s, st, vmap, first);
+        free(first);
+        if (b) goto done;
+        if (st->coarse.face_off[ncf] != ncc) { failf(s, "the coarse faces do not cover the fine quads"); goto done; }
+        poly_positions(s, st, vmap);
+    } else {
+        if (build_tri_faces(s, st, vmap)) goto done;
+        for (uint32_t cv = 0; cv < ncv; cv++)
+            memcpy(st->coarse.pos + 3 * (size_t)cv, fine->pos + 3 * (size_t)st->v_fine[cv], 3 * sizeof(double));
+    }
+    if (check_coarse(s, st, &next)) goto done;
+    rc = 0;
+done:
+    if (rc) free_step(st);
+    free(s->lab); free(s->phase); free(s->queue); free(s->acc); free(s->mark); free(vmap);
+    free(s->best_queue); free(s->best_phase);
+    s->lab = s->phase = s->mark = s->best_phase = NULL;
+    s->queue = s->best_queue = NULL;
+    s->acc = NULL;
+    st_unsub_topo_free(&t);
+    *topo = next;
+    return rc;
+}
+
+void st_unsub_free(st_unsub *u)
+{
+    for (unsigned j = 0; j < ST_MAX_LEVELS; j++) free_step(&u->step[j]);
+    u->levels = 0;
+    u->pattern = ST_UNSUB_NONE;
+}
+
+static const char *pattern_name(int p)
+{
+    return p == ST_UNSUB_POLY_SPLIT ? "polygon split (Catmull-Clark)" : p == ST_UNSUB_QUADRISECTION ? "triangle quadrisection (Loop, Butterfly)" : "polygon split (Catmull-Clark) or triangle quadrisection (Loop, Butterfly)";
+}
+
+int st_unsubdivide(const char *name, const st_mesh *in, const st_unsub_opts *o, st_unsub *out, st_error *err)
+{
+    memset(out, 0, sizeof *out);
+    for (unsigned j = 0; j < ST_MAX_LEVELS; j++) st_mesh_init(&out->step[j].coarse);
+    st_unsub_step found[ST_MAX_LEVELS];
+    memset(found, 0, sizeof found);
+    step_ctx s = { 0 };
+    int pattern = ST_UNSUB_NONE;
+    unsigned k = 0;
+    const st_mesh *cur = in;
+    st_unsub_topo topo;
+    memset(&topo, 0, sizeof topo);
+    /* One scale for the tie tolerance of every step: the input's. */
+    double diag = bbox_diagonal(in);
+    unsigned max = o && o->max_levels ? o->max_levels : ST_MAX_LEVELS - 1;
+    if (max > ST_MAX_LEVELS - 1) max = ST_MAX_LEVELS - 1;
+    for (;;) {
+        if (k == max) {
+            snprintf(out->stop, sizeof out->stop, "stopped after %u step%s (the most allowed)", k, k == 1 ? "" : "s");
+            break;
+        }
+        st_unsub_step st;
+        memset(&st, 0, sizeof st);
+        st_mesh_init(&st.coarse);
+        if (unsub_step(&s, cur, &pattern, &st, &topo, diag)) {
+            if (k == 0) {
+                st_unsub_topo_free(&topo);
+                int code = strncmp(s.fail, "out of memory", 13) ? ST_ERR_TOPOLOGY : ST_ERR_MEMORY;
+                return st_fail(err, code, "%s: not a %s of a coarser mesh: %s", name,
+                               pattern_name(pattern), s.fail);
+            }
+            snprintf(out->stop, sizeof out->stop, "level 0 (%u faces) is no %s of a coarser mesh: %s",
+                     cur->nfaces, pattern_name(pattern), s.fail);
+            break;
+        }
+        if (o && o->target_faces && st.coarse.nfaces < o->target_faces && k > 0) {
+            snprintf(out->stop, sizeof out->stop, "one more step would leave %u faces, fewer than the %u asked for",
+                     st.coarse.nfaces, o->target_faces);
+            free_step(&st);
+            break;
+        }
+        if (o && o->target_faces && st.coarse.nfaces < o->target_faces && k == 0) {
+            /* Not even one step fits the target: a refusal like any other. */
+            free_step(&st);
+            st_unsub_topo_free(&topo);
+            return st_fail(err, ST_ERR_INVALID, "%s: one step would leave %u faces, fewer than --target-faces %u",
+                           name, st.coarse.nfaces, o->target_faces);
+        }
+        found[k++] = st;
+        cur = &found[k - 1].coarse;
+    }
+    st_unsub_topo_free(&topo);
+    out->pattern = pattern;
+    out->levels = k;
+    for (unsigned i = 0; i < k; i++) out->step[k - 1 - i] = found[i];
+    return ST_OK;
+}
+
+int st_unsub_scheme_fits(const st_unsub *u, const st_scheme *sc)
+{
+    if (u->pattern == ST_UNSUB_QUADRISECTION)
+        return sc->id == ST_SCHEME_LOOP || sc->id == ST_SCHEME_BUTTERFLY || sc->id == ST_SCHEME_QUADTRI;
+    if (u->pattern != ST_UNSUB_POLY_SPLIT || !u->levels) return 0;
+    if (sc->id == ST_SCHEME_CATMARK) return 1;
+    if (sc->id != ST_SCHEME_QUADTRI) return 0;
+    /* Quad/triangle splits triangles by quadrisection: a cage with none. */
+    const st_mesh *c = &u->step[0].coarse;
+    for (uint32_t f = 0; f < c->nfaces; f++)
+        if (c->face_off[f + 1] - c->face_off[f] == 3) return 0;
+    return 1;
+}

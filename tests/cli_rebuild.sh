@@ -1,0 +1,144 @@
+#!/usr/bin/env bash
+# strata rebuild: subdivided cages (by Strata and, when built, by OpenSubdiv
+# through tests/oracles/osd_oracle, which numbers vertices differently),
+# shuffled (vertex order, face order, starting corners), rebuilt by
+# unsubdivide; `info` lists k+1 levels, level k written back equals the
+# input up to vertex order, the session re-saves byte-identically.
+# Re-meshed input is refused by --method unsubdivide with the place named;
+# auto falls back to the progressive method (a stub in this build); bad
+# input is refused with the file named and nothing written.
+# Usage: cli_rebuild.sh STRATA SHARED_MESHES ASSETS BINDIR
+set -uo pipefail
+S=$1 D=$2 A=$3 B=$4
+W=$B/cli_rebuild
+rm -rf "$W"
+mkdir -p "$W"
+fail=0 n=0
+ok() { n=$((n + 1)); echo "ok   $*"; }
+bad() { n=$((n + 1)); fail=$((fail + 1)); echo "FAIL $*"; }
+levels_of() { "$S" info "$1" | awk '$1 ~ /^[0-9]+$/ { n++ } END { print n + 0 }'; }
+faces_at() { "$S" info "$1" | awk -v l="$2" '$1 == l { print $4 }'; }
+
+# Vertices, faces and starting corners shuffled (awk's rand, fixed seed).
+shuffle() {
+    awk -v seed="$3" 'BEGIN { srand(seed) }
+        /^v / { nv++; V[nv] = $2 " " $3 " " $4 }
+        /^f / { nf++; F[nf] = ""; for (i = 2; i <= NF; i++) { split($i, t, "/"); F[nf] = F[nf] " " t[1] } }
+        END {
+            for (i = 1; i <= nv; i++) P[i] = i
+            for (i = nv; i > 1; i--) { j = int(rand() * i) + 1; tmp = P[i]; P[i] = P[j]; P[j] = tmp }
+            for (i = 1; i <= nv; i++) { NEW[P[i]] = i; print "v " V[P[i]] }
+            for (i = 1; i <= nf; i++) Q[i] = i
+            for (i = nf; i > 1; i--) { j = int(rand() * i) + 1; tmp = Q[i]; Q[i] = Q[j]; Q[j] = tmp }
+            for (i = 1; i <= nf; i++) {
+                k = split(substr(F[Q[i]], 2), c, " "); r = int(rand() * k); line = "f"
+                for (j = 0; j < k; j++) line = line " " NEW[c[(j + r) % k + 1]]
+                print line
+            }
+        }' "$1" > "$2"
+}
+
+# Faces as lists of vertex coordinates (as written: %.17g), each rotated to
+# its smallest coordinate string, sorted: equal for equal meshes up to order.
+canon() {
+    awk '/^v / { nv++; V[nv] = $2 " " $3 " " $4 }
+         /^f / { k = 0; for (i = 2; i <= NF; i++) { split($i, t, "/"); k++; c[k] = V[t[1]] }
+                 s = 1; for (i = 2; i <= k; i++) if (c[i] < c[s]) s = i
+                 line = ""; for (i = 0; i < k; i++) line = line "|" c[(s - 1 + i) % k + 1]
+                 print line }' "$1" | LC_ALL=C sort
+}
+
+check_rebuild() {   # tag fine.obj k cage_faces [rebuild options]
+    local tag=$1 fine=$2 k=$3 cf=$4
+    shift 4
+    if "$S" rebuild "$fine" "$@" -o "$W/$tag.strata" > "$W/$tag.out" 2> "$W/$tag.err"; then
+        ok "$tag: $(head -1 "$W/$tag.out")"
+    else bad "$tag: rebuild failed: $(cat "$W/$tag.err")"; return; fi
+    local lv
+    lv=$(levels_of "$W/$tag.strata")
+    if [ "$lv" = $((k + 1)) ]; then ok "$tag: info lists $lv levels"; else bad "$tag: info lists $lv levels, expected $((k + 1))"; fi
+    local f0
+    f0=$(faces_at "$W/$tag.strata" 0)
+    if [ "$f0" = "$cf" ]; then ok "$tag: cage of $f0 faces"; else bad "$tag: cage of $f0 faces, expected $cf"; fi
+    "$S" convert "$W/$tag.strata" "$W/${tag}_fine.obj" --level "$k" --no-normals > /dev/null
+    if [ -n "$(canon "$fine")" ] && cmp -s <(canon "$fine") <(canon "$W/${tag}_fine.obj"); then
+        ok "$tag: level $k = the input up to vertex order"
+    else bad "$tag: level $k differs from the input"; fi
+    "$S" convert "$W/$tag.strata" "$W/${tag}_2.strata" > /dev/null
+    if cmp -s "$W/$tag.strata" "$W/${tag}_2.strata"; then ok "$tag: load -> save byte-identical"
+    else bad "$tag: load -> save differs"; fi
+}
+
+CC=$D/catmull_clark
+TRI=$D/triangle
+# ---- subdivided by Strata, shuffled -------------------------------------------
+for spec in "blub:$CC/blub_control_mesh.obj:catmull-clark:3:112" "dodeca:$CC/dodecahedron_poly.obj:catmull-clark:4:12" \
+            "cube:$A/cube.obj:catmull-clark:2:6" "hemi:$TRI/hemisphere.obj:loop:3:640" \
+            "cnb:$TRI/cube_no_bottom.obj:loop:2:40" "qt:$A/cube.obj:quad-triangle:2:6"; do
+    IFS=: read -r tag mesh scheme k cf <<< "$spec"
+    "$S" subdivide "$mesh" --scheme "$scheme" --levels "$k" -o "$W/${tag}_in.obj" > /dev/null
+    shuffle "$W/${tag}_in.obj" "$W/${tag}_sh.obj" 11
+    extra=()
+    [ "$scheme" = quad-triangle ] && extra=(--scheme quad-triangle)
+    check_rebuild "$tag" "$W/${tag}_sh.obj" "$k" "$cf" --max-levels "$k" "${extra[@]}"
+done
+# The icosphere is itself two quadrisections of the icosahedron: with no
+# limit, Loop x1 of it comes back to 20 faces in 3 levels.
+"$S" subdivide "$TRI/sphere_ico.obj" --scheme loop --levels 1 -o "$W/ico_in.obj" > /dev/null
+check_rebuild ico "$W/ico_in.obj" 3 20
+# --target-faces: the coarsest level with at least N faces (960 -> 240 -> 60).
+"$S" subdivide "$CC/dodecahedron_poly.obj" --scheme catmull-clark --levels 3 -o "$W/d3.obj" > /dev/null
+check_rebuild target "$W/d3.obj" 2 60 --target-faces 50
+
+# ---- subdivided by OpenSubdiv (its own vertex order) ---------------------------
+OSD=$B/oracles/osd_oracle
+if [ -x "$OSD" ]; then
+    "$OSD" "$CC/blub_control_mesh.obj" --scheme catmark --levels 3 --out-prefix "$W/osd_blub" 2> /dev/null
+    check_rebuild osd_blub "$W/osd_blub_3.obj" 3 112 --max-levels 3
+    "$OSD" "$TRI/hemisphere.obj" --scheme loop --levels 2 --out-prefix "$W/osd_hemi" 2> /dev/null
+    shuffle "$W/osd_hemi_2.obj" "$W/osd_hemi_sh.obj" 5
+    check_rebuild osd_hemi "$W/osd_hemi_sh.obj" 2 640 --max-levels 2
+else
+    echo "skip OpenSubdiv inputs: $OSD not built"
+fi
+
+# ---- refusals --------------------------------------------------------------------
+# One quad of a Catmull-Clark level split into two triangles (face 100).
+awk '/^f / { nf++; if (nf == 100) { print "f " $2 " " $3 " " $4; print "f " $2 " " $4 " " $5; next } } { print }' \
+    "$W/blub_in.obj" > "$W/split.obj"
+"$S" rebuild "$W/split.obj" --method unsubdivide -o "$W/split.strata" > /dev/null 2> "$W/split.err"
+rc=$?
+if [ $rc -ne 0 ] && grep -q "split.obj" "$W/split.err" && grep -q "face 100 has 3 sides" "$W/split.err" && [ ! -e "$W/split.strata" ]; then
+    ok "re-meshed input refused (exit $rc): $(cat "$W/split.err")"
+else bad "re-meshed input: exit $rc, $(cat "$W/split.err")"; fi
+"$S" rebuild "$W/split.obj" -o "$W/split.strata" > /dev/null 2> "$W/auto.err"
+rc=$?
+if [ $rc -eq 1 ] && grep -q "unsubdivide refused" "$W/auto.err" && grep -q "using the progressive method" "$W/auto.err" \
+   && grep -q "progressive method is not in this build" "$W/auto.err" && [ ! -e "$W/split.strata" ]; then
+    ok "auto falls back to progressive and says why"
+else bad "auto: exit $rc, $(cat "$W/auto.err")"; fi
+"$S" rebuild "$W/blub_in.obj" --method progressive -o "$W/p.strata" > /dev/null 2>&1
+rc=$?
+if [ $rc -eq 1 ] && [ ! -e "$W/p.strata" ]; then ok "--method progressive: exit 1, nothing written"; else bad "--method progressive: exit $rc"; fi
+"$S" rebuild "$W/blub_in.obj" --scheme loop -o "$W/l.strata" > /dev/null 2> "$W/l.err"
+rc=$?
+if [ $rc -eq 2 ] && grep -q "polygon split" "$W/l.err" && [ ! -e "$W/l.strata" ]; then ok "incompatible scheme refused: $(cat "$W/l.err")"
+else bad "incompatible scheme: exit $rc, $(cat "$W/l.err")"; fi
+"$S" rebuild "$W/blub_in.obj" -o "$W/x.obj" > /dev/null 2>&1
+rc=$?
+if [ $rc -eq 2 ] && [ ! -e "$W/x.obj" ]; then ok "non-session output refused"; else bad "non-session output: exit $rc"; fi
+
+# ---- bad input ---------------------------------------------------------------------
+: > "$W/empty.obj"
+for f in "$D/edge_cases/nonmanifold_edge.obj" "$D/edge_cases/moebius_quad.obj" "$W/empty.obj" "$W/missing.obj"; do
+    "$S" rebuild "$f" --method unsubdivide -o "$W/bad.strata" > /dev/null 2> "$W/bad.err"
+    rc=$?
+    if [ $rc -ne 0 ] && grep -q "$(basename "$f")" "$W/bad.err" && [ ! -e "$W/bad.strata" ]; then
+        ok "bad input $(basename "$f") refused (exit $rc): $(head -1 "$W/bad.err")"
+    else bad "bad input $(basename "$f"): exit $rc, $(cat "$W/bad.err")"; fi
+done
+
+if "$S" help | grep -qE '^[[:space:]]*rebuild[[:space:]]'; then ok "help lists rebuild"; else bad "help does not list rebuild"; fi
+
+echo "$((n - fail)) passed, $fail failed"
+[ $fail -eq 0 ]

@@ -1,0 +1,483 @@
+/* Unsubdivide (core/rebuild/unsubdivide.h): cages from the shared meshes,
+ * subdivided 1..4 times by Strata, then shuffled (vertex order, face order,
+ * starting corners), are recognised with their depth, face and vertex
+ * counts; the rebuilt hierarchy's cage matches the original cage's
+ * positions (1e-9 of the diagonal), its details are zero, its finest level
+ * is the input bit for bit with the same faces up to vertex order.  Locally
+ * re-meshed inputs are refused with the place named; limits and scheme
+ * compatibility behave as documented. */
+#include "testlib.h"
+#include "core/rebuild/unsubdivide.h"
+#include "core/io/session.h"
+#include "core/rebuild/unsub_topo_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static double diagonal(const st_mesh *m)
+{
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; k++) lo[k] = hi[k] = m->nverts ? m->pos[k] : 0;
+    for (uint32_t v = 0; v < m->nverts; v++)
+        for (int k = 0; k < 3; k++) {
+            double x = m->pos[3 * (size_t)v + k];
+            if (x < lo[k]) lo[k] = x;
+            if (x > hi[k]) hi[k] = x;
+        }
+    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+static int load(const char *rel, st_mesh *m)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", STRATA_SHARED_DATA, rel);
+    st_error err;
+    st_mesh_init(m);
+    if (st_mesh_load(path, m, &err)) {
+        snprintf(path, sizeof path, "%s/%s", STRATA_ASSETS, rel);
+        if (st_mesh_load(path, m, &err)) { fprintf(stderr, "%s\n", err.msg); return -1; }
+    }
+    return 0;
+}
+
+/* Level `levels` of the cage under scheme id, as a soup. */
+static int subdivided(const st_mesh *cage, st_scheme_id id, unsigned levels, st_mesh *out)
+{
+    st_hier h;
+    st_error err;
+    st_mesh_init(out);
+    if (st_hier_init(&h, cage, st_scheme_find(id == ST_SCHEME_CATMARK ? "catmull-clark" : id == ST_SCHEME_LOOP ? "loop"
+                                                    : id == ST_SCHEME_BUTTERFLY ? "butterfly" : "quad-triangle"), NULL, &err))
+        return -1;
+    int rc = st_hier_subdivide_to(&h, levels, &err) || st_hier_level_mesh(&h, levels, out, &err);
+    st_hier_free(&h);
+    return rc ? -1 : 0;
+}
+
+#define ROTATE_ONLY (1ull << 62)
+
+/* A copy with vertices and faces permuted and each face's start rotated. */
+static void shuffle(const st_mesh *in, st_mesh *out, uint64_t seed)
+{
+    uint64_t rng = seed;
+    uint32_t nv = in->nverts, nf = in->nfaces, nc = in->face_off[nf];
+    uint32_t *vperm = malloc(nv * sizeof *vperm), *fperm = malloc(nf * sizeof *fperm);
+    for (uint32_t i = 0; i < nv; i++) vperm[i] = i;
+    for (uint32_t i = 0; i < nf; i++) fperm[i] = i;
+    /* ROTATE_ONLY: same orders, every face starting two corners later (so
+     * a face's coarse vertex and face point trade places in the seed). */
+    int rotate_only = (seed & ROTATE_ONLY) != 0;
+    for (uint32_t i = nv; i > 1 && !rotate_only; i--) { uint32_t j = tl_rand(&rng) % i, t = vperm[i - 1]; vperm[i - 1] = vperm[j]; vperm[j] = t; }
+    for (uint32_t i = nf; i > 1 && !rotate_only; i--) { uint32_t j = tl_rand(&rng) % i, t = fperm[i - 1]; fperm[i - 1] = fperm[j]; fperm[j] = t; }
+    st_mesh_init(out);
+    out->nverts = nv;
+    out->nfaces = nf;
+    out->boundary_interp = in->boundary_interp;
+    out->pos = malloc(3 * (size_t)nv * sizeof *out->pos);
+    out->face_off = malloc(((size_t)nf + 1) * sizeof *out->face_off);
+    out->face_idx = malloc((size_t)nc * sizeof *out->face_idx);
+    for (uint32_t v = 0; v < nv; v++) memcpy(out->pos + 3 * (size_t)vperm[v], in->pos + 3 * (size_t)v, 3 * sizeof(double));
+    uint32_t c = 0;
+    for (uint32_t i = 0; i < nf; i++) {
+        uint32_t f = fperm[i], b = in->face_off[f], n = in->face_off[f + 1] - b, r = rotate_only ? 2 % n : tl_rand(&rng) % n;
+        out->face_off[i] = c;
+        for (uint32_t k = 0; k < n; k++) out->face_idx[c++] = vperm[in->face_idx[b + (k + r) % n]];
+    }
+    out->face_off[nf] = c;
+    free(vperm);
+    free(fperm);
+}
+
+/* Faces as sorted lists of position ranks, each rotated to its smallest
+ * rank: equal for two meshes with the same faces up to vertex order. */
+static int cmp_pos(const void *a, const void *b, const double *pos)
+{
+    const double *p = pos + 3 * (size_t)*(const uint32_t *)a, *q = pos + 3 * (size_t)*(const uint32_t *)b;
+    for (int k = 0; k < 3; k++) if (p[k] != q[k]) return p[k] < q[k] ? -1 : 1;
+    return 0;
+}
+static const double *g_pos;
+static int cmp_pos_g(const void *a, const void *b) { return cmp_pos(a, b, g_pos); }
+static uint32_t g_width;
+static int cmp_rows(const void *a, const void *b) { return memcmp(a, b, g_width * sizeof(uint32_t)) ; }
+
+static uint32_t *canonical(const st_mesh *m, uint32_t width)
+{
+    uint32_t *order = malloc(m->nverts * sizeof *order), *rank = malloc(m->nverts * sizeof *rank);
+    for (uint32_t v = 0; v < m->nverts; v++) order[v] = v;
+    g_pos = m->pos;
+    qsort(order, m->nverts, sizeof *order, cmp_pos_g);
+    for (uint32_t i = 0; i < m->nverts; i++) rank[order[i]] = i;
+    uint32_t *rows = calloc((size_t)m->nfaces * width, sizeof *rows);
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        uint32_t b = m->face_off[f], n = m->face_off[f + 1] - b, s = 0;
+        for (uint32_t k = 1; k < n; k++) if (rank[m->face_idx[b + k]] < rank[m->face_idx[b + s]]) s = k;
+        uint32_t *row = rows + (size_t)f * width;
+        row[0] = n;
+        for (uint32_t k = 0; k < n && k + 1 < width; k++) row[k + 1] = rank[m->face_idx[b + (s + k) % n]];
+    }
+    g_width = width;
+    qsort(rows, m->nfaces, width * sizeof *rows, cmp_rows);
+    free(order);
+    free(rank);
+    return rows;
+}
+
+static int same_faces(const st_mesh *a, const st_mesh *b)
+{
+    if (a->nverts != b->nverts || a->nfaces != b->nfaces) return 0;
+    uint32_t *ra = canonical(a, 9), *rb = canonical(b, 9);
+    int same = memcmp(ra, rb, (size_t)a->nfaces * 9 * sizeof *ra) == 0;
+    free(ra);
+    free(rb);
+    return same;
+}
+
+/* Largest distance from a cage vertex to the nearest vertex of the other. */
+static double cage_distance(const st_mesh *a, const st_mesh *b)
+{
+    double worst = 0;
+    for (uint32_t i = 0; i < a->nverts; i++) {
+        double best = INFINITY;
+        for (uint32_t j = 0; j < b->nverts; j++) {
+            double d = 0;
+            for (int k = 0; k < 3; k++) { double x = a->pos[3 * (size_t)i + k] - b->pos[3 * (size_t)j + k]; d += x * x; }
+            if (d < best) best = d;
+        }
+        if (sqrt(best) > worst) worst = sqrt(best);
+    }
+    return worst;
+}
+
+static void check_recovery(const char *rel, st_scheme_id id, unsigned levels, uint64_t seed)
+{
+    st_mesh cage, fine, in;
+    if (load(rel, &cage)) { CHECKF(0, "cannot load %s", rel); return; }
+    if (subdivided(&cage, id, levels, &fine)) { CHECKF(0, "cannot subdivide %s", rel); st_mesh_free(&cage); return; }
+    if (seed) shuffle(&fine, &in, seed);
+    else st_mesh_move(&in, &fine);
+    st_mesh_free(&fine);
+    st_unsub u;
+    st_error err;
+    st_unsub_opts o = { .max_levels = levels };
+    int rc = st_unsubdivide(rel, &in, &o, &u, &err);
+    CHECKF(rc == 0, "%s x%u seed %llu: %s", rel, levels, (unsigned long long)seed, rc ? err.msg : "");
+    if (rc) { st_mesh_free(&cage); st_mesh_free(&in); return; }
+    const st_mesh *got = &u.step[0].coarse;
+    CHECKF(u.levels == levels && got->nfaces == cage.nfaces && got->nverts == cage.nverts,
+           "%s x%u: found %u levels, cage %u faces %u vertices; expected %u faces %u vertices",
+           rel, levels, u.levels, got->nfaces, got->nverts, cage.nfaces, cage.nverts);
+    CHECK(u.pattern == (id == ST_SCHEME_CATMARK ? ST_UNSUB_POLY_SPLIT : ST_UNSUB_QUADRISECTION));
+    st_hier h;
+    uint32_t *fine_of = NULL;
+    double res;
+    const st_scheme *sc = st_scheme_find(id == ST_SCHEME_CATMARK ? "catmull-clark" : id == ST_SCHEME_LOOP ? "loop" : "butterfly");
+    CHECK(st_unsub_scheme_fits(&u, sc));
+    rc = st_unsub_build_hier(&in, &u, sc, NULL, &h, &fine_of, &res, &err);
+    CHECKF(rc == 0, "%s: %s", rel, rc ? err.msg : "");
+    if (!rc) {
+        double diag = diagonal(&in);
+        CHECKF(h.map.top == levels, "%s: top %u", rel, h.map.top);
+        /* Level 0 is the original cage (a permutation of it). */
+        st_mesh l0;
+        st_mesh_init(&l0);
+        CHECK(st_hier_level_mesh(&h, 0, &l0, &err) == 0);
+        double dist = cage_distance(&l0, &cage);
+        CHECKF(dist <= 1e-9 * diag, "%s x%u: cage off by %.3g (diagonal %.3g)", rel, levels, dist, diag);
+        CHECKF(st_unsub_max_detail(&h) <= 1e-9 * diag, "%s x%u: detail %.3g", rel, levels, st_unsub_max_detail(&h));
+        /* The finest level is the input, bit for bit, same faces. */
+        st_dart_iter it;
+        uint32_t exact = 1;
+        for (uint32_t v = st_vertex_first(&h.map, levels, &it); v != ST_NIL; v = st_vertex_next(&h.map, levels, &it))
+            exact &= memcmp(st_pos(&h.map, v, levels), in.pos + 3 * (size_t)fine_of[v], 3 * sizeof(double)) == 0;
+        CHECKF(exact, "%s x%u: finest level differs from the input", rel, levels);
+        st_mesh top;
+        st_mesh_init(&top);
+        CHECK(st_hier_level_mesh(&h, levels, &top, &err) == 0);
+        CHECKF(same_faces(&top, &in), "%s x%u: finest faces differ from the input's", rel, levels);
+        CHECK(st_map_validate(&h.map, &err) == 0);
+        st_mesh_free(&top);
+        st_mesh_free(&l0);
+        free(fine_of);
+        st_hier_free(&h);
+    }
+    st_unsub_free(&u);
+    st_mesh_free(&cage);
+    st_mesh_free(&in);
+}
+
+/* A subdivided cage whose pattern is broken locally is refused, the
+ * message naming a place of the change. */
+static void check_refusals(void)
+{
+    st_mesh cage, fine;
+    st_error err;
+    st_unsub u;
+    /* One quad of a Catmull-Clark level split into two triangles. */
+    CHECK(load("catmull_clark/blub_control_mesh.obj", &cage) == 0);
+    CHECK(subdivided(&cage, ST_SCHEME_CATMARK, 2, &fine) == 0);
+    {
+        st_mesh m;
+        st_mesh_init(&m);
+        uint32_t q = fine.nfaces / 2, nf = fine.nfaces + 1;
+        m.nverts = fine.nverts;
+        m.pos = malloc(3 * (size_t)fine.nverts * sizeof *m.pos);
+        memcpy(m.pos, fine.pos, 3 * (size_t)fine.nverts * sizeof *m.pos);
+        m.nfaces = nf;
+        m.face_off = malloc(((size_t)nf + 1) * sizeof *m.face_off);
+        m.face_idx = malloc(((size_t)fine.face_off[fine.nfaces] + 2) * sizeof *m.face_idx);
+        uint32_t c = 0, f2 = 0;
+        for (uint32_t f = 0; f < fine.nfaces; f++) {
+            const uint32_t *x = fine.face_idx + fine.face_off[f];
+            if (f == q) {
+                m.face_off[f2++] = c; m.face_idx[c++] = x[0]; m.face_idx[c++] = x[1]; m.face_idx[c++] = x[2];
+                m.face_off[f2++] = c; m.face_idx[c++] = x[0]; m.face_idx[c++] = x[2]; m.face_idx[c++] = x[3];
+            } else {
+                m.face_off[f2++] = c;
+                for (int k = 0; k < 4; k++) m.face_idx[c++] = x[k];
+            }
+        }
+        m.face_off[nf] = c;
+        CHECK(st_mesh_check("split", &m, &err) == 0);
+        int rc = st_unsubdivide("split.obj", &m, NULL, &u, &err);
+        char want[64];
+        snprintf(want, sizeof want, "face %u has 3 sides", q + 1);
+        CHECKF(rc == ST_ERR_TOPOLOGY && strstr(err.msg, want) && strstr(err.msg, "split.obj"), "message: %s", rc ? err.msg : "accepted");
+        CHECK(u.levels == 0);
+        st_mesh_free(&m);
+    }
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+    /* One interior edge of a Loop level flipped. */
+    CHECK(load("triangle/sphere_ico.obj", &cage) == 0);
+    CHECK(subdivided(&cage, ST_SCHEME_LOOP, 1, &fine) == 0);
+    {
+        /* Faces f = (a b c) and g = (b a d) become (a d c) and (d b c). */
+        uint32_t f = 7, a = fine.face_idx[3 * f], b = fine.face_idx[3 * f + 1], cc = fine.face_idx[3 * f + 2], g = ST_NIL, d = 0;
+        for (uint32_t h = 0; h < fine.nfaces && g == ST_NIL; h++)
+            for (int k = 0; k < 3; k++)
+                if (fine.face_idx[3 * h + k] == b && fine.face_idx[3 * h + (k + 1) % 3] == a) { g = h; d = fine.face_idx[3 * h + (k + 2) % 3]; }
+        CHECK(g != ST_NIL);
+        uint32_t nf[6] = { a, d, cc, d, b, cc };
+        memcpy(fine.face_idx + 3 * f, nf, 3 * sizeof *nf);
+        memcpy(fine.face_idx + 3 * g, nf + 3, 3 * sizeof *nf);
+        CHECK(st_mesh_check("flip", &fine, &err) == 0);
+        int rc = st_unsubdivide("flip.obj", &fine, NULL, &u, &err);
+        CHECKF(rc == ST_ERR_TOPOLOGY, "flipped edge accepted");
+        int named = 0;
+        uint32_t near[4] = { a, b, cc, d };
+        for (int i = 0; i < 4; i++) {
+            char want[48];
+            snprintf(want, sizeof want, "vertex %u ", near[i] + 1);
+            if (strstr(err.msg, want)) named = 1;
+        }
+        char wf[2][48];
+        snprintf(wf[0], sizeof wf[0], "face %u", f + 1);
+        snprintf(wf[1], sizeof wf[1], "face %u", g + 1);
+        if (strstr(err.msg, wf[0]) || strstr(err.msg, wf[1])) named = 1;
+        CHECKF(named, "the message does not name the flipped edge's vertices %u %u %u %u or faces %u %u: %s",
+               a + 1, b + 1, cc + 1, d + 1, f + 1, g + 1, err.msg);
+        fprintf(stderr, "flip refused: %s\n", err.msg);
+    }
+    st_mesh_free(&fine);
+    /* A mesh that is no subdivision at all (the icosahedron's own cage). */
+    CHECK(subdivided(&cage, ST_SCHEME_LOOP, 0, &fine) == 0);
+    st_unsub_opts one = { .max_levels = 0 };
+    CHECK(st_unsubdivide("ico.obj", &fine, &one, &u, &err) == 0 && u.levels == 2 && u.step[0].coarse.nfaces == 20);
+    st_unsub_free(&u);
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+}
+
+/* --max-levels and --target-faces; scheme compatibility. */
+static void check_limits(void)
+{
+    st_mesh cage, fine;
+    st_error err;
+    st_unsub u;
+    CHECK(load("catmull_clark/dodecahedron_poly.obj", &cage) == 0);
+    CHECK(subdivided(&cage, ST_SCHEME_CATMARK, 3, &fine) == 0); /* 960 quads */
+    st_unsub_opts o = { 0 };
+    CHECK(st_unsubdivide("d", &fine, &o, &u, &err) == 0 && u.levels == 3 && u.step[0].coarse.nfaces == 12);
+    CHECK(st_unsub_scheme_fits(&u, st_scheme_find("catmull-clark")));
+    CHECK(st_unsub_scheme_fits(&u, st_scheme_find("quad-triangle")));  /* pentagons: no triangles */
+    CHECK(!st_unsub_scheme_fits(&u, st_scheme_find("loop")));
+    CHECK(!st_unsub_scheme_fits(&u, st_scheme_find("doo-sabin")));
+    st_unsub_free(&u);
+    o.max_levels = 1;
+    CHECK(st_unsubdivide("d", &fine, &o, &u, &err) == 0 && u.levels == 1 && u.step[0].coarse.nfaces == 240);
+    st_unsub_free(&u);
+    o.max_levels = 0;
+    o.target_faces = 50;   /* 960 -> 240 -> 60; 12 would be fewer than 50 */
+    CHECK(st_unsubdivide("d", &fine, &o, &u, &err) == 0 && u.levels == 2 && u.step[0].coarse.nfaces == 60);
+    st_unsub_free(&u);
+    o.target_faces = 240;
+    CHECK(st_unsubdivide("d", &fine, &o, &u, &err) == 0 && u.levels == 1 && u.step[0].coarse.nfaces == 240);
+    st_unsub_free(&u);
+    o.target_faces = 1000;
+    CHECK(st_unsubdivide("d", &fine, &o, &u, &err) != 0 && strstr(err.msg, "--target-faces"));
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+    /* Blub's cage has triangles: quad-triangle would quadrisect them. */
+    CHECK(load("catmull_clark/blub_control_mesh.obj", &cage) == 0);
+    CHECK(subdivided(&cage, ST_SCHEME_CATMARK, 1, &fine) == 0);
+    CHECK(st_unsubdivide("b", &fine, NULL, &u, &err) == 0 && u.levels == 1);
+    CHECK(!st_unsub_scheme_fits(&u, st_scheme_find("quad-triangle")));
+    st_unsub_free(&u);
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+    /* Quadrisection: loop, butterfly, quad-triangle. */
+    CHECK(load("triangle/hemisphere.obj", &cage) == 0);
+    CHECK(subdivided(&cage, ST_SCHEME_LOOP, 1, &fine) == 0);
+    o.target_faces = 0;
+    o.max_levels = 1;
+    CHECK(st_unsubdivide("h", &fine, &o, &u, &err) == 0 && u.levels == 1);
+    CHECK(st_unsub_scheme_fits(&u, st_scheme_find("loop")) && st_unsub_scheme_fits(&u, st_scheme_find("butterfly")) &&
+          st_unsub_scheme_fits(&u, st_scheme_find("quad-triangle")) && !st_unsub_scheme_fits(&u, st_scheme_find("catmull-clark")));
+    st_unsub_free(&u);
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+}
+
+/* The rebuilt hierarchy saves and loads like any session, byte for byte. */
+static void check_session(void)
+{
+    st_mesh cage, fine;
+    st_error err;
+    st_unsub u;
+    st_hier h;
+    CHECK(load("triangle/cube_no_bottom.obj", &cage) == 0);
+    CHECK(subdivided(&cage, ST_SCHEME_LOOP, 2, &fine) == 0);
+    CHECK(st_unsubdivide("c", &fine, NULL, &u, &err) == 0);
+    CHECK(st_unsub_build_hier(&fine, &u, st_scheme_find("loop"), NULL, &h, NULL, NULL, &err) == 0);
+    st_session_ref r = { .h = &h, .display_level = h.map.top };
+    void *a = NULL, *b = NULL;
+    size_t na = 0, nb = 0;
+    CHECK(st_session_write_mem(&r, &a, &na, &err) == 0);
+    st_session s;
+    CHECK(st_session_parse("mem", a, na, &s, &err) == 0);
+    st_session_ref r2 = st_session_ref_of(&s);
+    CHECK(st_session_write_mem(&r2, &b, &nb, &err) == 0);
+    CHECK(na == nb && memcmp(a, b, na) == 0);
+    st_session_free(&s);
+    free(a);
+    free(b);
+    st_hier_free(&h);
+    st_unsub_free(&u);
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+}
+
+/* The manifold check that stands in for st_mesh_check on coarse meshes
+ * agrees with it on a few cases. */
+static void check_manifold(void)
+{
+    static const double pos[7 * 3] = { 0 };
+    static const uint32_t off[4] = { 0, 3, 6, 9 };
+    /* Two triangles meeting at vertex 0 only (a bow-tie), then a fan. */
+    static const uint32_t bowtie[6] = { 0, 1, 2, 0, 3, 4 }, fan[9] = { 0, 1, 2, 0, 2, 3, 0, 3, 4 };
+    static const uint32_t twice[6] = { 0, 1, 2, 0, 1, 3 };   /* half-edge 0->1 twice */
+    const uint32_t *idx[3] = { bowtie, fan, twice };
+    uint32_t nf[3] = { 2, 3, 2 }, nv[3] = { 5, 5, 4 };
+    int want[3] = { -1, 0, -1 };
+    for (int i = 0; i < 3; i++) {
+        st_mesh m;
+        tl_mesh_make(&m, pos, nv[i], off, idx[i], nf[i]);
+        st_unsub_topo t;
+        st_error err;
+        uint32_t where = ST_NIL;
+        CHECK(st_unsub_topo_build(&t, &m) == 0);
+        CHECKF(st_unsub_topo_manifold(&t, &where) == want[i], "case %d", i);
+        CHECK((st_mesh_check("m", &m, &err) == 0) == (want[i] == 0));
+        if (want[i]) CHECKF(where == 0 || where == 1, "case %d: vertex %u", i, where);
+        st_unsub_topo_free(&t);
+        st_mesh_free(&m);
+    }
+    st_mesh cube;
+    tl_mesh_cube(&cube);
+    st_unsub_topo t;
+    uint32_t where;
+    CHECK(st_unsub_topo_build(&t, &cube) == 0 && st_unsub_topo_manifold(&t, &where) == 0);
+    st_unsub_topo_free(&t);
+    st_mesh_free(&cube);
+}
+
+/* Sculpting a rebuilt hierarchy: a move at level 1 re-synthesises the
+ * levels above locally (far vertices keep the input's bits), and moving it
+ * back gives the input again up to rounding. */
+static void check_edit(void)
+{
+    st_mesh cage, fine;
+    st_error err;
+    st_unsub u;
+    st_hier h;
+    uint32_t *fine_of = NULL;
+    CHECK(load("catmull_clark/blub_control_mesh.obj", &cage) == 0);
+    CHECK(subdivided(&cage, ST_SCHEME_CATMARK, 3, &fine) == 0);
+    CHECK(st_unsubdivide("b", &fine, NULL, &u, &err) == 0);
+    CHECK(st_unsub_build_hier(&fine, &u, st_scheme_find("catmull-clark"), NULL, &h, &fine_of, NULL, &err) == 0);
+    double diag = diagonal(&fine);
+    st_dart_iter it;
+    uint32_t d = st_dart_first(&h.map, 1, &it);
+    while (st_is_boundary(&h.map, d)) d = st_dart_next(&h.map, 1, &it);
+    uint32_t v = st_vert(&h.map, d, 1);
+    double old[1][3], moved[1][3];
+    memcpy(old[0], st_pos(&h.map, v, 1), sizeof old[0]);
+    memcpy(moved[0], old[0], sizeof moved[0]);
+    moved[0][2] += 0.05 * diag;
+    uint64_t n = st_hier_move(&h, 1, &d, (const double (*)[3])moved, 1);
+    uint32_t same = 0, total = 0;
+    for (uint32_t x = st_vertex_first(&h.map, 3, &it); x != ST_NIL; x = st_vertex_next(&h.map, 3, &it), total++)
+        same += memcmp(st_pos(&h.map, x, 3), fine.pos + 3 * (size_t)fine_of[x], 3 * sizeof(double)) == 0;
+    CHECKF(n > 0 && same > total / 2 && same < total, "move: %llu recomputed, %u of %u finest vertices unchanged", (unsigned long long)n, same, total);
+    CHECK(st_map_validate(&h.map, &err) == 0);
+    st_hier_move(&h, 1, &d, (const double (*)[3])old, 1);
+    double worst = 0;
+    for (uint32_t x = st_vertex_first(&h.map, 3, &it); x != ST_NIL; x = st_vertex_next(&h.map, 3, &it))
+        for (int k = 0; k < 3; k++) {
+            double e = fabs(st_pos(&h.map, x, 3)[k] - fine.pos[3 * (size_t)fine_of[x] + k]);
+            if (e > worst) worst = e;
+        }
+    CHECKF(worst <= 1e-12 * diag, "moved back: off by %.3g", worst);
+    free(fine_of);
+    st_hier_free(&h);
+    st_unsub_free(&u);
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+}
+
+int main(void)
+{
+    static const struct { const char *mesh; st_scheme_id id; unsigned max; } cases[] = {
+        { "catmull_clark/blub_control_mesh.obj", ST_SCHEME_CATMARK, 3 },   /* triangles and quads */
+        { "catmull_clark/dodecahedron_poly.obj", ST_SCHEME_CATMARK, 4 },   /* pentagons, valence 3 */
+        { "catmull_clark/spot_quadrangulated.obj", ST_SCHEME_CATMARK, 2 },
+        { "catmull_clark/newell_teapot_cage.obj", ST_SCHEME_CATMARK, 2 }, /* open, several pieces */
+        { "edge_cases/grid_holes.obj", ST_SCHEME_CATMARK, 2 },             /* holes */
+        { "cube.obj", ST_SCHEME_CATMARK, 3 },                              /* assets: valence 3 quads */
+        { "torus.obj", ST_SCHEME_CATMARK, 2 },                             /* assets: regular grid */
+        { "triangle/sphere_ico.obj", ST_SCHEME_CATMARK, 2 },               /* triangle cage under the polygon split */
+        { "triangle/sphere_ico.obj", ST_SCHEME_LOOP, 3 },
+        { "triangle/hemisphere.obj", ST_SCHEME_LOOP, 3 },                  /* open */
+        { "triangle/cube_no_bottom.obj", ST_SCHEME_LOOP, 4 },              /* open */
+        { "triangle/sphere_ico.obj", ST_SCHEME_BUTTERFLY, 2 },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        for (unsigned l = 1; l <= cases[i].max; l++) {
+            check_recovery(cases[i].mesh, cases[i].id, l, 0);
+            check_recovery(cases[i].mesh, cases[i].id, l, 1000 + 17 * i + l);
+        }
+    /* Large components take the probe-then-label-in-place path: both
+     * starting corners of the seed face (coarse vertex or face point). */
+    check_recovery("catmull_clark/spot_quadrangulated.obj", ST_SCHEME_CATMARK, 3, ROTATE_ONLY | 1); /* 187k faces: sampled score */
+    check_recovery("catmull_clark/spot_quadrangulated.obj", ST_SCHEME_CATMARK, 3, 5);
+    check_recovery("triangle/sphere_ico.obj", ST_SCHEME_CATMARK, 3, ROTATE_ONLY | 1);
+    check_recovery("triangle/sphere_ico.obj", ST_SCHEME_CATMARK, 3, 77);
+    check_edit();
+    check_manifold();
+    check_refusals();
+    check_limits();
+    check_session();
+    return TEST_END();
+}
