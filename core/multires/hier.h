@@ -85,7 +85,8 @@ double st_hier_analyze(st_hier *h, unsigned to);
 /* Editing: sets the level-l positions of the vertices of the darts given
  * (one dart per vertex), keeps every finer detail, and re-synthesises the
  * levels above locally.  Returns the number of vertex positions recomputed
- * above l (for tests and benchmarks). */
+ * above l (for tests and benchmarks).  st_hier_edit (edit.h) is the same
+ * edit reporting what it wrote. */
 uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n);
 
 /* Local frame of the coarse cell (enum st_frame_cell) at dart d of level l:
