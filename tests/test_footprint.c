@@ -216,7 +216,8 @@ static void sync_and_check(st_doc *d, st_renderer *r, const st_gl *gl, const cha
     } else {
         CHECKF(ch.bits & ST_CHANGE_DISPLAY, "%s: box on, the display did not follow", what);
         CHECK(st_renderer_refresh(r, ST_TARGET_SURFACE, &dh->map, ch.disp_footprint) == 0);
-        CHECKF(reread_is_footprint(&r->surf, ch.disp_footprint, &ns), "%s: surface re-read != the display's footprint", what);
+        CHECKF(reread_is_footprint(&r->surf, ch.disp_footprint, &ns), "%s: surface re-read != the display's footprint",
+               what);
         CHECK(st_renderer_refresh(r, ST_TARGET_CAGE, &d->h.map, ch.footprint) == 0);
     }
     CHECKF(reread_is_footprint(&r->cage, ch.footprint, &nc), "%s: cage re-read != core's footprint", what);

@@ -137,7 +137,8 @@ void st_app_sync(st_app *a)
         /* Box on: what core wrote in the display hierarchy for the
          * surface, what it wrote in the model for the cage. */
         int rc = 0;
-        if (ch.bits & ST_CHANGE_DISPLAY) rc |= st_renderer_refresh(&a->r, ST_TARGET_SURFACE, &dh->map, ch.disp_footprint);
+        if (ch.bits & ST_CHANGE_DISPLAY)
+            rc |= st_renderer_refresh(&a->r, ST_TARGET_SURFACE, &dh->map, ch.disp_footprint);
         if (ch.bits & ST_CHANGE_POSITIONS) rc |= st_renderer_refresh(&a->r, ST_TARGET_CAGE, &d->h.map, ch.footprint);
         if (rc) refresh_all(a);
         touched = 1;
