@@ -5,7 +5,8 @@
 # unsubdivide; `info` lists k+1 levels, level k written back equals the
 # input up to vertex order, the session re-saves byte-identically.
 # Re-meshed input is refused by --method unsubdivide with the place named;
-# auto falls back to the progressive method (a stub in this build); bad
+# auto falls back to the progressive method; the progressive method and
+# strata filter on an open triangle mesh; bad
 # input is refused with the file named and nothing written.
 # Usage: cli_rebuild.sh STRATA SHARED_MESHES ASSETS BINDIR
 set -uo pipefail
@@ -111,15 +112,42 @@ rc=$?
 if [ $rc -ne 0 ] && grep -q "split.obj" "$W/split.err" && grep -q "face 100 has 3 sides" "$W/split.err" && [ ! -e "$W/split.strata" ]; then
     ok "re-meshed input refused (exit $rc): $(cat "$W/split.err")"
 else bad "re-meshed input: exit $rc, $(cat "$W/split.err")"; fi
-"$S" rebuild "$W/split.obj" -o "$W/split.strata" > /dev/null 2> "$W/auto.err"
+"$S" rebuild "$W/split.obj" -o "$W/split.strata" > "$W/auto.out" 2> "$W/auto.err"
 rc=$?
-if [ $rc -eq 1 ] && grep -q "unsubdivide refused" "$W/auto.err" && grep -q "using the progressive method" "$W/auto.err" \
-   && grep -q "progressive method is not in this build" "$W/auto.err" && [ ! -e "$W/split.strata" ]; then
-    ok "auto falls back to progressive and says why"
-else bad "auto: exit $rc, $(cat "$W/auto.err")"; fi
-"$S" rebuild "$W/blub_in.obj" --method progressive -o "$W/p.strata" > /dev/null 2>&1
-rc=$?
-if [ $rc -eq 1 ] && [ ! -e "$W/p.strata" ]; then ok "--method progressive: exit 1, nothing written"; else bad "--method progressive: exit $rc"; fi
+if [ $rc -eq 0 ] && grep -q "unsubdivide refused" "$W/auto.err" && grep -q "using the progressive method" "$W/auto.err" \
+   && grep -q "progressive, [0-9]* levels" "$W/auto.out" && grep -q "split into triangles" "$W/auto.out" \
+   && [ "$(levels_of "$W/split.strata")" -ge 3 ]; then
+    ok "auto falls back to progressive and says why: $(head -1 "$W/auto.out" | cut -c1-100)"
+else bad "auto: exit $rc, $(cat "$W/auto.err" "$W/auto.out")"; fi
+
+# ---- progressive: a triangle mesh (open) -------------------------------------------
+HEMI=$D/triangle/hemisphere.obj
+"$S" convert "$HEMI" "$W/hemi_in.obj" --no-normals > /dev/null
+if "$S" rebuild "$HEMI" --method progressive --target-faces 100 -o "$W/p.strata" > "$W/p.out" 2> "$W/p.err"; then
+    ok "progressive: $(head -1 "$W/p.out" | cut -c1-120)"
+else bad "progressive rebuild failed: $(cat "$W/p.err")"; fi
+plv=$(levels_of "$W/p.strata")
+ptop=$((plv - 1))
+if [ "$plv" -ge 4 ] && [ "$(faces_at "$W/p.strata" 0)" -le 130 ]; then ok "progressive: $plv levels, $(faces_at "$W/p.strata" 0) faces at level 0"
+else bad "progressive: $plv levels, $(faces_at "$W/p.strata" 0) faces at level 0"; fi
+if [ "$(faces_at "$W/p.strata" "$ptop")" = "$(faces_at "$HEMI" 0)" ]; then ok "progressive: finest level has the input's faces"; else bad "progressive: finest faces"; fi
+"$S" convert "$W/p.strata" "$W/p_top.obj" --level "$ptop" --no-normals > /dev/null
+if cmp -s <(canon "$W/p_top.obj") <(canon "$W/hemi_in.obj"); then ok "progressive: finest level == input up to vertex order"
+else bad "progressive: finest level differs from the input"; fi
+"$S" convert "$W/p.strata" "$W/p2.strata" > /dev/null
+if cmp -s "$W/p.strata" "$W/p2.strata"; then ok "progressive: load -> save byte-identical"; else bad "progressive: re-save differs"; fi
+ones=$(printf '1,%.0s' $(seq 1 "$ptop")); ones=${ones%,}
+"$S" filter "$W/p.strata" --gains "$ones" -o "$W/f1.obj" > /dev/null
+"$S" convert "$W/f1.obj" "$W/f1c.obj" --no-normals > /dev/null
+if cmp -s <(canon "$W/f1c.obj") <(canon "$W/hemi_in.obj"); then ok "filter: gains 1 change nothing"; else bad "filter: gains 1 changed the surface"; fi
+zeros=$(printf '1,%.0s' $(seq 1 $((ptop - 2)))); zeros="${zeros}0,0"
+"$S" filter "$W/p.strata" --gains "$zeros" -o "$W/f0.strata" > /dev/null
+"$S" convert "$W/f0.strata" "$W/f0.obj" --level "$ptop" --no-normals > /dev/null
+if ! cmp -s <(canon "$W/f0.obj") <(canon "$W/hemi_in.obj") && [ "$(faces_at "$W/f0.strata" "$ptop")" = "$(faces_at "$HEMI" 0)" ]; then
+    ok "filter: gain 0 on the two finest bands changes the finest level, same faces"
+else bad "filter: gain 0 had no effect"; fi
+rc=0; "$S" filter "$W/p.strata" --gains 1,x -o "$W/bad.obj" > /dev/null 2>&1 || rc=$?
+if [ $rc -eq 2 ] && [ ! -e "$W/bad.obj" ]; then ok "filter: bad gains refused"; else bad "filter: bad gains exit $rc"; fi
 "$S" rebuild "$W/blub_in.obj" --scheme loop -o "$W/l.strata" > /dev/null 2> "$W/l.err"
 rc=$?
 if [ $rc -eq 2 ] && grep -q "polygon split" "$W/l.err" && [ ! -e "$W/l.strata" ]; then ok "incompatible scheme refused: $(cat "$W/l.err")"
