@@ -86,6 +86,7 @@
 
 #include "core/multires/hier.h"
 #include "core/map/dart_list.h"
+#include "core/multires/footprint.h"
 
 int st_edge_is_split(const st_map *m, uint32_t d, unsigned i);
 /* Subdivision level of the face of d in the map of level l. */
@@ -164,5 +165,21 @@ void st_adapt_synthesize(st_adapt *a, unsigned from);
 /* The displayed adaptive mesh: the real faces of the top level, with each
  * vertex at the finest level where it has a position. */
 int st_adapt_mesh(st_adapt *a, st_mesh *out, st_error *err);
+
+/* ---- local re-synthesis (adapt_resynth.c) -------------------------------- */
+
+/* Level L of an adaptive hierarchy on the given faces of level L-1 (one dart
+ * each, faces subdivided toward L): S(P_{L-1}) + F·D, each vertex once
+ * (st_adapt_synthesize's arithmetic). */
+void st_hier_resynth_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n);
+
+/* Levels from+1..top of an adaptive hierarchy re-synthesised around seeds
+ * (darts of level `from` whose vertices moved): the region growth of
+ * st_hier_edit on the faces subdivided toward the next level only, with one
+ * ring more (a face next to a moved vertex may be unsubdivided while a
+ * corner of it is a corner of a subdivided face one ring further, whose
+ * stencils read the moved vertex).  Appends (L, ST_FP_POS) of every vertex
+ * written to fp (NULL: nothing). */
+void st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds, uint32_t n, st_footprint *fp);
 
 #endif

@@ -40,20 +40,4 @@ void st_hier_set_value(st_hier *h, uint64_t key, const double v[3]);
  * level that was edited directly. */
 void st_hier_restore(st_hier *h, const uint64_t *keys, const double (*values)[3], uint32_t n, st_footprint *fp);
 
-/* ---- adaptive hierarchies (core/adapt) ----------------------------------- */
-
-/* Level L of an adaptive hierarchy on the given faces of level L-1 (one dart
- * each, faces subdivided toward L): S(P_{L-1}) + F·D, each vertex once
- * (st_adapt_synthesize's arithmetic). */
-void st_hier_resynth_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n);
-
-/* Levels from+1..top of an adaptive hierarchy re-synthesised around seeds
- * (darts of level `from` whose vertices moved): the region growth of
- * st_hier_edit on the faces subdivided toward the next level only, with one
- * ring more (a face next to a moved vertex may be unsubdivided while a
- * corner of it is a corner of a subdivided face one ring further, whose
- * stencils read the moved vertex).  Appends (L, ST_FP_POS) of every vertex
- * written to fp (NULL: nothing). */
-void st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds, uint32_t n, st_footprint *fp);
-
 #endif
