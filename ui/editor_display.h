@@ -2,10 +2,10 @@
  * window shows instead of the regular hierarchy when the box is on.
  *
  * It is a copy of the model's levels 0..copied_top (same ids), refined
- * adaptively inside the box by st_adapt (Kraemer 2008 §3.3), with every
- * vertex of a level <= the model's top at the position of the same vertex
- * of the model (found by a walk of both refinement structures: the pairs
- * below), and levels beyond the model's top synthesised from there.  The
+ * adaptively inside the box by st_adapt (Kraemer 2008 §3.2.2-3.2.6), with
+ * every vertex of a level <= the model's top at the position of the same
+ * vertex of the model (found by a walk of both refinement structures: the
+ * pairs below), and levels beyond the model's top synthesised from there.  The
  * model (the document's regular hierarchy) is never changed here: after
  * every edit of the model the document asks the display to follow.
  *
