@@ -836,7 +836,7 @@ static void test_undo_random(const char *path, const char *scheme, uint64_t seed
         if (d.box_on) {
             boxed++;
             double dev = display_vs_model(&d);
-            CHECKF(d.disp_ok && dev == 0, "%s (%s): box display differs from the model by %g", path, scheme, dev);
+            CHECKF(d.display.built && dev == 0, "%s (%s): box display differs from the model by %g", path, scheme, dev);
             dev = local_vs_full(&d);
             CHECKF(dev < 1e-12, "%s (%s): box display beyond the model differs from a full synthesis by %g", path, scheme, dev);
         }
@@ -930,15 +930,15 @@ static void test_undo_budget(void)
 static double display_vs_model(const st_doc *d)
 {
     double worst = 0;
-    for (uint32_t i = 0; i < d->ndpairs; i += 3) {
-        unsigned L = d->dpairs[i];
-        const double *a = st_pos(&d->disp.map, d->dpairs[i + 1], L), *b = st_pos(&d->h.map, d->dpairs[i + 2], L);
+    for (uint32_t i = 0; i < d->display.npairs; i += 3) {
+        unsigned L = d->display.pairs[i];
+        const double *a = st_pos(&d->display.hier.map, d->display.pairs[i + 1], L), *b = st_pos(&d->h.map, d->display.pairs[i + 2], L);
         worst = fmax(worst, dist3(a, b));
     }
-    for (unsigned L = 0; L <= d->dbase; L++) {
+    for (unsigned L = 0; L <= d->display.copied_top; L++) {
         st_dart_iter it;
-        for (uint32_t v = st_vertex_first(&d->disp.map, L, &it); v != ST_NIL; v = st_vertex_next(&d->disp.map, L, &it))
-            worst = fmax(worst, dist3(st_pos(&d->disp.map, v, L), st_pos(&d->h.map, v, L)));
+        for (uint32_t v = st_vertex_first(&d->display.hier.map, L, &it); v != ST_NIL; v = st_vertex_next(&d->display.hier.map, L, &it))
+            worst = fmax(worst, dist3(st_pos(&d->display.hier.map, v, L), st_pos(&d->h.map, v, L)));
     }
     return worst;
 }
@@ -986,10 +986,10 @@ static double local_vs_full(st_doc *d)
 {
     /* On a copy of the display, so the document stays as it is. */
     st_hier c;
-    if (ed_hier_clone(&c, &d->disp, NULL)) return INFINITY;
+    if (ed_hier_clone(&c, &d->display.hier, NULL)) return INFINITY;
     full_adaptive_synth(&c, d->h.map.top);
     tl_posnap a, b;
-    tl_snap_pos(&d->disp, &a);
+    tl_snap_pos(&d->display.hier, &a);
     tl_snap_pos(&c, &b);
     double diff = a.levels == b.levels && a.n == b.n ? tl_snap_maxdiff(&a, &b) : INFINITY;
     free(a.p);
@@ -1020,29 +1020,29 @@ static void test_box(void)
     st_doc_display_counts(&d, &f_reg, &v_reg);
     CHECK(f_reg == 6 * 64);
     CHECK(st_doc_set_box(&d, &b, 1, &err) == 0);
-    CHECK(d.box_on && d.disp_ok && st_doc_display_hier(&d) == &d.disp && st_doc_display_map_level(&d) == 4);
-    CHECK(st_map_validate(&d.disp.map, &err) == 0);
+    CHECK(d.box_on && d.display.built && st_doc_display_hier(&d) == &d.display.hier && st_doc_display_map_level(&d) == 4);
+    CHECK(st_map_validate(&d.display.hier.map, &err) == 0);
     uint64_t f_ad, v_ad;
     st_doc_display_counts(&d, &f_ad, &v_ad);
     CHECKF(f_ad > 24 && f_ad != f_reg, "adaptive display: %llu faces", (unsigned long long)f_ad);
-    CHECK(d.ndpairs > 0);
+    CHECK(d.display.npairs > 0);
     double dev = display_vs_model(&d);
     CHECKF(dev == 0, "display differs from the model by %g", dev);
     /* The display shows the model's details: a level-3 pair inside the box
      * has a nonzero detail in the model. */
     int with_detail = 0;
-    for (uint32_t i = 0; i < d.ndpairs; i += 3)
-        if (d.dpairs[i] == 3) {
-            const double *dt = st_hier_detail(&d.h, 3, d.dpairs[i + 2]);
+    for (uint32_t i = 0; i < d.display.npairs; i += 3)
+        if (d.display.pairs[i] == 3) {
+            const double *dt = st_hier_detail(&d.h, 3, d.display.pairs[i + 2]);
             if (dt[0] != 0 || dt[1] != 0 || dt[2] != 0) { with_detail = 1; break; }
         }
     CHECK(with_detail);
     /* Picking maps display vertices of the editing level back. */
     st_doc_set_edit_level(&d, 2);
     uint32_t mapped = 0;
-    for (uint32_t i = 0; i < d.ndpairs; i += 3) {
-        uint32_t m = st_doc_display_to_edit_vertex(&d, d.dpairs[i + 1]);
-        if (m != ST_NIL) { mapped++; CHECK(m == d.dpairs[i + 2]); }
+    for (uint32_t i = 0; i < d.display.npairs; i += 3) {
+        uint32_t m = st_doc_display_to_edit_vertex(&d, d.display.pairs[i + 1]);
+        if (m != ST_NIL) { mapped++; CHECK(m == d.display.pairs[i + 2]); }
     }
     CHECK(mapped > 0);
 
@@ -1055,9 +1055,9 @@ static void test_box(void)
     double delta[3] = { 0.2, 0.1, -0.1 };
     (void)st_doc_take_change(&d);
     tl_posnap before, after;
-    tl_snap_pos(&d.disp, &before);
+    tl_snap_pos(&d.display.hier, &before);
     CHECK(st_doc_drag_update(&d, delta) == 0);
-    tl_snap_pos(&d.disp, &after);
+    tl_snap_pos(&d.display.hier, &after);
     st_doc_change c = st_doc_take_change(&d);
     CHECK((c.bits & ST_CHANGE_POSITIONS) && (c.bits & ST_CHANGE_DISPLAY) && !(c.bits & ST_CHANGE_TOPOLOGY));
     CHECK(c.ndisp > 0);
@@ -1090,7 +1090,7 @@ static void test_box(void)
     st_doc_stroke_end(&d);
     dev = display_vs_model(&d);
     CHECKF(dev == 0, "after the stroke the display differs by %g", dev);
-    CHECK(d.disp.map.top > d.h.map.top);
+    CHECK(d.display.hier.map.top > d.h.map.top);
     dev = local_vs_full(&d);
     CHECKF(dev < 1e-12, "local display sync differs from a full synthesis by %g", dev);
 
@@ -1112,7 +1112,7 @@ static void test_box(void)
 
     /* Box off: the regular hierarchy, details kept; on again: same display. */
     CHECK(st_doc_set_box(&d, &b, 0, &err) == 0);
-    CHECK(!d.box_on && !d.disp_ok && st_doc_display_hier(&d) == &d.h);
+    CHECK(!d.box_on && !d.display.built && st_doc_display_hier(&d) == &d.h);
     snap t;
     snap_take(&d, &t);
     CHECK(snap_equal(&sd, &t));
@@ -1126,7 +1126,7 @@ static void test_box(void)
     for (int k = 0; k < 5; k++) {
         for (int j = 0; j < 3; j++) { b.box_lo[j] -= 0.25; b.box_hi[j] -= 0.25; }
         CHECK(st_doc_set_box(&d, &b, 1, &err) == 0);
-        CHECK(st_map_validate(&d.disp.map, &err) == 0);
+        CHECK(st_map_validate(&d.display.hier.map, &err) == 0);
         dev = display_vs_model(&d);
         CHECKF(dev == 0, "box move %d: display differs by %g", k, dev);
         if (k % 2) {
@@ -1144,9 +1144,9 @@ static void test_box(void)
     CHECK(d.box.box_lo[0] == now.box_lo[0]);
     /* Level changes with the box on rebuild the display. */
     CHECK(st_doc_add_level(&d, &err) == 0);
-    CHECK(d.disp_ok && display_vs_model(&d) == 0);
+    CHECK(d.display.built && display_vs_model(&d) == 0);
     CHECK(st_doc_undo(&d, &err) == 0);
-    CHECK(d.disp_ok && display_vs_model(&d) == 0);
+    CHECK(d.display.built && display_vs_model(&d) == 0);
     snap_take(&d, &t);
     CHECK(snap_equal(&sd, &t));
     snap_free(&t);
@@ -1208,10 +1208,10 @@ static void check_whole_box(st_doc *d, const char *what)
     b.flatness = 0;
     for (int k = 0; k < 3; k++) { b.box_lo[k] = -100; b.box_hi[k] = 100; }
     CHECKF(st_doc_set_box(d, &b, 1, &err) == 0, "%s: %s", what, err.msg);
-    if (!d->disp_ok) return;
-    CHECK(d->disp.map.top == d->h.map.top);
+    if (!d->display.built) return;
+    CHECK(d->display.hier.map.top == d->h.map.top);
     uint32_t na, nb;
-    double *a = mesh_corners(&d->disp.map, d->disp.map.top, &na), *c = mesh_corners(&d->h.map, d->h.map.top, &nb);
+    double *a = mesh_corners(&d->display.hier.map, d->display.hier.map.top, &na), *c = mesh_corners(&d->h.map, d->h.map.top, &nb);
     CHECKF(a && c && na == nb && !memcmp(a, c, (size_t)na * 3 * sizeof *a), "%s: whole-box display differs from the model's top level (%u/%u corners)", what, na, nb);
     free(a);
     free(c);
@@ -1261,9 +1261,9 @@ static void test_box_schemes(void)
     b.max_level = 3;
     CHECK(st_doc_set_box(&d, &b, 1, &err) == 0);
     CHECK(st_doc_set_scheme(&d, "doo-sabin", &err) == 0);
-    CHECK(d.box_on && d.disp_ok && d.disp.scheme == st_scheme_find("doo-sabin") && display_vs_model(&d) == 0);
+    CHECK(d.box_on && d.display.built && d.display.hier.scheme == st_scheme_find("doo-sabin") && display_vs_model(&d) == 0);
     CHECK(st_doc_undo(&d, &err) == 0);
-    CHECK(d.box_on && d.disp_ok && d.disp.scheme == st_scheme_find("catmull-clark") && display_vs_model(&d) == 0);
+    CHECK(d.box_on && d.display.built && d.display.hier.scheme == st_scheme_find("catmull-clark") && display_vs_model(&d) == 0);
     st_doc_free(&d);
 }
 
@@ -1292,18 +1292,18 @@ static void test_box_pairs_partial(const char *scheme, const char *file)
         b.box_lo[2] = 0.2; b.box_hi[2] = 1.5;
         b.has_box = 1;
         CHECKF(st_doc_set_box(&d, &b, 1, &err) == 0, "%s: %s", scheme, err.msg);
-        if (!d.disp_ok) continue;
+        if (!d.display.built) continue;
         st_hier c;
         st_adapt a;
         CHECK(ed_hier_clone(&c, &d.h, NULL) == 0);
-        while (c.map.top > d.dbase) st_hier_remove_top(&c);
+        while (c.map.top > d.display.copied_top) st_hier_remove_top(&c);
         CHECK(st_adapt_init(&a, &c, &err) == 0);
         CHECK(st_adapt_update(&a, &d.box, &err) == 0);
-        CHECK(c.map.darts.end == d.disp.map.darts.end && c.map.verts.end == d.disp.map.verts.end);
+        CHECK(c.map.darts.end == d.display.hier.map.darts.end && c.map.verts.end == d.display.hier.map.verts.end);
         double worst = 0;
-        for (uint32_t i = 0; i < d.ndpairs; i += 3) {
-            unsigned L = d.dpairs[i];
-            worst = fmax(worst, dist3(st_pos(&c.map, d.dpairs[i + 1], L), st_pos(&d.h.map, d.dpairs[i + 2], L)));
+        for (uint32_t i = 0; i < d.display.npairs; i += 3) {
+            unsigned L = d.display.pairs[i];
+            worst = fmax(worst, dist3(st_pos(&c.map, d.display.pairs[i + 1], L), st_pos(&d.h.map, d.display.pairs[i + 2], L)));
             checked++;
         }
         CHECKF(worst < 1e-9, "%s %s box %d: adaptive positions differ from the paired model's by %g", scheme, file, k, worst);
@@ -1330,7 +1330,7 @@ static void test_box_loop(void)
     memcpy(b.box_lo, lo, sizeof lo);
     memcpy(b.box_hi, hi, sizeof hi);
     CHECK(st_doc_set_box(&d, &b, 1, &err) == 0);
-    CHECK(d.disp_ok && d.disp.map.top == 5);
+    CHECK(d.display.built && d.display.hier.map.top == 5);
     CHECK(display_vs_model(&d) == 0);
     st_doc_set_edit_level(&d, 3);
     const double dir[3] = { 1, 0, 0 };
@@ -1338,8 +1338,8 @@ static void test_box_loop(void)
     st_doc_select(&d, &tip, 1, ST_SELECT_REPLACE);
     double far0 = -INFINITY;
     st_dart_iter it;
-    for (uint32_t v = st_vertex_first(&d.disp.map, 5, &it); v != ST_NIL; v = st_vertex_next(&d.disp.map, 5, &it))
-        far0 = fmax(far0, st_pos(&d.disp.map, v, 5)[0]);
+    for (uint32_t v = st_vertex_first(&d.display.hier.map, 5, &it); v != ST_NIL; v = st_vertex_next(&d.display.hier.map, 5, &it))
+        far0 = fmax(far0, st_pos(&d.display.hier.map, v, 5)[0]);
     CHECK(st_doc_drag_begin(&d) == 0);
     double delta[3] = { 0.3, 0, 0 };
     CHECK(st_doc_drag_update(&d, delta) == 0);
@@ -1356,8 +1356,8 @@ static void test_box_loop(void)
     /* The display's finest level moved with the edit (synthesised beyond
      * the model's top). */
     double far = -INFINITY;
-    for (uint32_t v = st_vertex_first(&d.disp.map, 5, &it); v != ST_NIL; v = st_vertex_next(&d.disp.map, 5, &it))
-        far = fmax(far, st_pos(&d.disp.map, v, 5)[0]);
+    for (uint32_t v = st_vertex_first(&d.display.hier.map, 5, &it); v != ST_NIL; v = st_vertex_next(&d.display.hier.map, 5, &it))
+        far = fmax(far, st_pos(&d.display.hier.map, v, 5)[0]);
     CHECKF(far > far0 + 0.1, "display's x extent %g -> %g", far0, far);
     st_doc_free(&d);
 }

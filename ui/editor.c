@@ -4,31 +4,14 @@
  *   - The model is always the regular hierarchy d->h.  Drags and brushes
  *     act at the editing level of h through st_hier_edit (finer levels
  *     follow with their details).  The interest box only changes what is
- *     displayed: d->disp is a copy of h's levels 0..base refined by st_adapt
- *     inside the box, whose vertices of levels <= h.top take the positions
- *     of the same vertices of h (a walk of both refinement structures pairs
- *     them, disp_pairs_build: quadrisection sub-faces for Catmull-Clark,
- *     Loop, Butterfly and quad/triangle, the same walk on the dual map for
- *     Doo-Sabin, whose vertex ids are the faces of M*, and the three
- *     sub-faces of each triangle after the flips for √3, every scheme
- *     with a box), and whose levels beyond h.top are synthesised from
- *     there.  After every edit the display is synced from the model, so box
- *     on, edit, box off, box on always shows the model (no detail is ever
- *     lost or rotated by coarsening: the model never coarsens).
+ *     displayed: d->display (editor_display.c) is derived from h and
+ *     follows every edit.
  *   - Core reports what each edit wrote (its footprint, core/multires/
  *     footprint.h): undo saves exactly those values, the box's display
  *     copies exactly those positions, and the change handed to the window
  *     carries the footprints for the renderer.
- *   - Undo: edit steps store old/new values of exactly what st_hier_edit
- *     wrote (undo.c).  Adding a level stores nothing: undo removes it and
- *     redo refines again, taking the id blocks in their first order, so the
- *     ids are the same (checked).  Removing the finest level stores that
- *     level's positions and details, restored after the same refinement.
- *     Rebase and scheme changes store the whole other hierarchy (a
- *     bit-exact copy, swapped in and out, ids preserved).  Box steps store
- *     old/new parameters.  The history is
- *     bounded by undo_budget bytes; the oldest steps go first, and a single
- *     step larger than the budget is not kept (d->note says so).
+ *   - Undo (undo.c): every operation here that changes the model pushes
+ *     one step (ed_push_step).
  *   - A new level's memory is estimated from the current top level's
  *     dart and vertex counts (st_doc_add_level_bytes).
  */
@@ -55,14 +38,8 @@ const char *st_brush_name(int tool)
     return tool >= 0 && tool < ST_BRUSH_COUNT ? names[tool] : "?";
 }
 
-static void finish_active(st_doc *d);
-static void disp_free(st_doc *d);
-static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err);
-static void disp_sync(st_doc *d, unsigned from, int box_move);
-static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys);
-static void topology_changed(st_doc *d);
+static int display_build(st_doc *d, const st_adapt_params *p, st_error *err);
 static void display_changed(st_doc *d);
-static void undo_clear(st_doc *d);
 
 /* ---- lifetime ------------------------------------------------------------- */
 
@@ -84,27 +61,18 @@ void st_doc_init(st_doc *d)
 
 void st_doc_free(st_doc *d)
 {
-    finish_active(d);
-    undo_clear(d);
+    ed_finish_active(d);
+    ed_undo_clear(d);
     free(d->undo);
-    disp_free(d);
+    st_box_display_free(&d->display);
     if (d->loaded) st_hier_free(&d->h);
     st_mesh_free(&d->base);
     free(d->sel);
     free(d->change.moved_darts);
-    free(d->change.disp_vids);
     st_footprint_free(&d->fp_model);
-    st_footprint_free(&d->fp_disp);
     st_footprint_free(&d->fp_query);
     st_footprint_free(&d->fp_taken[0]);
     st_footprint_free(&d->fp_taken[1]);
-    free(d->dcorr);
-    free(d->dpairs);
-    free(d->dsub);
-    free(d->mcorr);
-    free(d->dlv);
-    free(d->dvdart);
-    st_map_log_free(&d->patch_log);
     free(d->vdart);
     ed_brush_state_free(d->bs);
     memset(d, 0, sizeof *d);
@@ -116,7 +84,7 @@ size_t st_doc_model_bytes(const st_doc *d)
 {
     if (!d->loaded) return 0;
     size_t n = ed_hier_bytes(&d->h);
-    if (d->disp_ok) n += ed_hier_bytes(&d->disp);
+    if (d->display.built) n += ed_hier_bytes(&d->display.hier);
     return n;
 }
 
@@ -226,9 +194,9 @@ int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels
         return rc;
     }
     /* Success: the old model goes. */
-    finish_active(d);
-    undo_clear(d);
-    disp_free(d);
+    ed_finish_active(d);
+    ed_undo_clear(d);
+    st_box_display_drop(&d->display);
     d->box_on = 0;
     if (d->loaded) st_hier_free(&d->h);
     d->h = h;
@@ -246,7 +214,7 @@ int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels
     d->display_level = d->h.map.top;
     d->nsel = 0;
     default_box(d);
-    topology_changed(d);
+    ed_topology_changed(d);
     return ST_OK;
 }
 
@@ -255,7 +223,7 @@ int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
     const st_scheme *sc = st_scheme_find(scheme ? scheme : "");
     if (!sc) return st_fail(err, ST_ERR_INVALID, "unknown scheme '%s'", scheme ? scheme : "");
-    finish_active(d);
+    ed_finish_active(d);
     /* The control mesh as it is now (edits of level 0 kept); the file's
      * tags are kept while level 0 is still the loaded one. */
     st_mesh mesh;
@@ -302,7 +270,7 @@ int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
     ed_hier_fix(&d->h);
     d->scheme = sc;
     d->opts = d->h.opts;
-    topology_changed(d);
+    ed_topology_changed(d);
     ed_step_finish(s);
     ed_push_step(d, s);
     return ST_OK;
@@ -337,16 +305,16 @@ static st_undo_step *hier_step_begin(st_doc *d, st_error *err)
 }
 
 /* After a change of the levels begun at t0: topology bits, timing. */
-static void topology_done(st_doc *d, double t0)
+void ed_topology_done(st_doc *d, double t0)
 {
-    topology_changed(d);
+    ed_topology_changed(d);
     d->last_update_at_ms = ed_now_ms();
     d->last_update_ms = d->last_update_at_ms - t0;
 }
 
 static void hier_step_end(st_doc *d, st_undo_step *s, double t0)
 {
-    topology_done(d, t0);
+    ed_topology_done(d, t0);
     ed_step_finish(s);
     ed_push_step(d, s);
 }
@@ -359,7 +327,7 @@ static void hier_step_end(st_doc *d, st_undo_step *s, double t0)
  * back with the same ids (checked by a sum over its ids) and the same
  * values (refinement and synthesis are deterministic). */
 
-static uint64_t top_ids_sum(const st_map *m)
+uint64_t ed_top_ids_sum(const st_map *m)
 {
     unsigned l = m->top;
     uint64_t h = 1469598103934665603ull;
@@ -369,7 +337,7 @@ static uint64_t top_ids_sum(const st_map *m)
     return h;
 }
 
-static void remove_top_keep_order(st_hier *h)
+void ed_remove_top_keep_order(st_hier *h)
 {
     st_pool *pools[2] = { &h->map.darts, &h->map.verts };
     unsigned l = h->map.top;
@@ -386,7 +354,7 @@ static void remove_top_keep_order(st_hier *h)
 int st_doc_add_level(st_doc *d, st_error *err)
 {
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
-    finish_active(d);
+    ed_finish_active(d);
     if (d->h.map.top + 1 >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "level %u is beyond the limit", d->h.map.top + 1);
     size_t need = st_doc_add_level_bytes(d), have = st_doc_model_bytes(d);
     if (have + need > d->mem_budget)
@@ -402,7 +370,7 @@ int st_doc_add_level(st_doc *d, st_error *err)
     int rc = st_hier_subdivide_to(&d->h, top + 1, err);
     if (rc) {
         while (d->h.map.top > top) st_hier_remove_top(&d->h);
-        topology_changed(d);
+        ed_topology_changed(d);
         return rc;
     }
     /* No copy kept: undo removes the level, redo refines again (add_redo). */
@@ -410,7 +378,7 @@ int st_doc_add_level(st_doc *d, st_error *err)
     s->edit_level = d->edit_level;
     s->display_level = d->display_level;
     s->box_old = d->box;
-    s->idsum = top_ids_sum(&d->h.map);
+    s->idsum = ed_top_ids_sum(&d->h.map);
     d->display_level = d->h.map.top;
     s->display_after = d->display_level;
     hier_step_end(d, s, t0);
@@ -423,7 +391,7 @@ static int removal_begin(st_doc *d, st_error *err)
 {
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
     if (d->h.map.top == 0) return st_fail(err, ST_ERR_INVALID, "only the control mesh is left");
-    finish_active(d);
+    ed_finish_active(d);
     return ST_OK;
 }
 
@@ -437,7 +405,7 @@ int st_doc_remove_top(st_doc *d, st_error *err)
     st_hier *h = &d->h;
     unsigned top = h->map.top;
     st_undo_step *s = ed_step_new(ED_STEP_RMTOP);
-    s->idsum = top_ids_sum(&h->map);
+    s->idsum = ed_top_ids_sum(&h->map);
     uint32_t n = 0;
     st_dart_iter it;
     for (uint32_t v = st_vertex_first(&h->map, top, &it); v != ST_NIL; v = st_vertex_next(&h->map, top, &it)) n++;
@@ -459,40 +427,11 @@ int st_doc_remove_top(st_doc *d, st_error *err)
     s->edit_level = d->edit_level;
     s->display_level = d->display_level;
     s->box_old = d->box;
-    remove_top_keep_order(h);
+    ed_remove_top_keep_order(h);
     clamp_levels(d);
     s->edit_after = d->edit_level;
     s->display_after = d->display_level;
     hier_step_end(d, s, t0);
-    return ST_OK;
-}
-
-/* Undo of a top removal: the level again, then its values. */
-static int rmtop_undo(st_doc *d, st_undo_step *s, st_error *err)
-{
-    st_hier *h = &d->h;
-    unsigned top = h->map.top;
-    int rc = st_hier_subdivide_to(h, top + 1, err);
-    if (rc) {
-        while (h->map.top > top) st_hier_remove_top(h);
-        return rc;
-    }
-    if (top_ids_sum(&h->map) != s->idsum) {
-        remove_top_keep_order(h);
-        return st_fail(err, ST_ERR_INVALID, "undo: the level came back with other ids; not restored");
-    }
-    unsigned L = top + 1;
-    for (uint32_t i = 0; i < s->nvids; i++) st_hier_set_value(h, st_fp_key(L, ST_FP_POS, s->vids[i]), s->vpos[i]);
-    free(h->detail[L]);
-    h->detail[L] = NULL;
-    h->detail_cap[L] = 0;
-    if (s->det) {
-        double *p = malloc((size_t)s->detcap * 3 * sizeof *p);
-        if (!p) return st_fail(err, ST_ERR_MEMORY, "out of memory");
-        memcpy(p, s->det, (size_t)s->detcap * 3 * sizeof *p);
-        h->detail[L] = p;
-        h->detail_cap[L] = s->detcap;
-    }
     return ST_OK;
 }
 
@@ -517,7 +456,7 @@ int st_doc_remove_bottom(st_doc *d, st_error *err)
 void st_doc_set_edit_level(st_doc *d, unsigned l)
 {
     if (!d->loaded) return;
-    finish_active(d);
+    ed_finish_active(d);
     if (l > d->h.map.top) l = d->h.map.top;
     if (l != d->edit_level || d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
     d->edit_level = l;
@@ -556,7 +495,7 @@ static int edit_vertex_ok(const st_doc *d, uint32_t v)
 void st_doc_select(st_doc *d, const uint32_t *vids, uint32_t n, int mode)
 {
     if (!d->loaded) return;
-    finish_active(d);
+    ed_finish_active(d);
     uint32_t *keep = NULL, nk = 0;
     if (mode == ST_SELECT_REMOVE) {
         uint32_t *rm = malloc((size_t)(n ? n : 1) * sizeof *rm);
@@ -652,13 +591,12 @@ static void change_add_darts(st_doc *d, unsigned l, const uint32_t *darts, uint3
 
 void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0, uint32_t from)
 {
-    if (d->box_on && d->disp_ok) {
+    if (d->box_on && d->display.built) {
         if (from <= d->fp_model.n) {
-            disp_sync_local(d, d->fp_model.keys + from, d->fp_model.n - from);
+            st_box_display_follow_edit(&d->display, &d->h, d->fp_model.keys + from, d->fp_model.n - from);
             d->change.bits |= ST_CHANGE_DISPLAY;
         } else {
-            disp_sync(d, l, 0);
-            d->adapt.has_prev = 0; /* the model changed */
+            st_box_display_follow_model(&d->display, &d->h, l);
             d->change.bits |= ST_CHANGE_ALL_POSITIONS;
         }
     }
@@ -676,10 +614,13 @@ st_doc_change st_doc_take_change(st_doc *d)
     d->fp_model = t;
     d->fp_model.n = 0;
     t = d->fp_taken[1];
-    d->fp_taken[1] = d->fp_disp;
-    d->fp_disp = t;
-    d->fp_disp.n = 0;
+    d->fp_taken[1] = d->display.written;
+    d->display.written = t;
+    d->display.written.n = 0;
     st_doc_change c = d->change;
+    c.disp_vids = d->display.moved;
+    c.ndisp = d->display.nmoved;
+    d->display.nmoved = 0;
     c.footprint = &d->fp_taken[0];
     c.disp_footprint = &d->fp_taken[1];
     d->change.bits = 0;
@@ -694,27 +635,27 @@ static void count_display(st_doc *d)
     d->disp_faces = d->disp_verts = 0;
     if (!d->loaded) return;
     st_level_stats s;
-    if (d->box_on && d->disp_ok) st_level_stats_compute(&d->disp.map, d->disp.map.top, &s);
+    if (d->box_on && d->display.built) st_level_stats_compute(&d->display.hier.map, d->display.hier.map.top, &s);
     else st_level_stats_compute(&d->h.map, d->display_level, &s);
     d->disp_faces = s.faces;
     d->disp_verts = s.vertices;
 }
 
-static void topology_changed(st_doc *d)
+void ed_topology_changed(st_doc *d)
 {
     d->vdart_level = -1;
     /* Footprints name vertices of the old topology; the window rebuilds. */
     d->fp_model.n = 0;
-    d->fp_disp.n = 0;
+    d->display.written.n = 0;
     d->change.bits |= ST_CHANGE_TOPOLOGY | ST_CHANGE_ALL_POSITIONS;
     if (d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
     d->nsel = 0;
     if (d->loaded) clamp_levels(d);
     if (d->box_on) {
         st_error err;
-        if (disp_build(d, &d->box, &err)) {
+        if (display_build(d, &d->box, &err)) {
             d->box_on = 0;
-            disp_free(d);
+            st_box_display_drop(&d->display);
             snprintf(d->note, sizeof d->note, "interest box off: %.200s", err.msg);
         }
     }
@@ -736,20 +677,19 @@ void st_doc_display_counts(const st_doc *d, uint64_t *faces, uint64_t *verts)
 
 const st_hier *st_doc_display_hier(const st_doc *d)
 {
-    return d->box_on && d->disp_ok ? &d->disp : &d->h;
+    return d->box_on && d->display.built ? &d->display.hier : &d->h;
 }
 
 unsigned st_doc_display_map_level(const st_doc *d)
 {
-    return d->box_on && d->disp_ok ? d->disp.map.top : d->display_level;
+    return d->box_on && d->display.built ? d->display.hier.map.top : d->display_level;
 }
 
 uint32_t st_doc_display_to_edit_vertex(const st_doc *d, uint32_t dv)
 {
     if (!d->loaded) return ST_NIL;
-    if (!(d->box_on && d->disp_ok)) return edit_vertex_ok(d, dv) ? dv : ST_NIL;
-    if (dv >= d->ndcorr) return ST_NIL;
-    uint32_t v = d->dcorr[dv];
+    if (!(d->box_on && d->display.built)) return edit_vertex_ok(d, dv) ? dv : ST_NIL;
+    uint32_t v = st_box_display_model_vertex(&d->display, dv);
     return v != ST_NIL && edit_vertex_ok(d, v) ? v : ST_NIL;
 }
 
@@ -758,7 +698,7 @@ uint32_t st_doc_display_to_edit_vertex(const st_doc *d, uint32_t dv)
 int st_doc_drag_begin(st_doc *d)
 {
     if (!d->loaded) return -1;
-    finish_active(d);
+    ed_finish_active(d);
     if (!d->nsel) return -1;
     unsigned l = d->edit_level;
     st_undo_step *s = ed_step_new(ED_STEP_EDIT);
@@ -848,502 +788,19 @@ void st_doc_drag_cancel(st_doc *d)
     ed_step_free(s);
 }
 
-/* Ends a drag or a stroke in progress (another operation comes). */
-static void finish_active(st_doc *d)
+void ed_finish_active(st_doc *d)
 {
     if (d->active == 1) st_doc_drag_end(d);
     else if (d->active == 2) st_doc_stroke_end(d);
 }
 
-/* ---- undo history ---------------------------------------------------------------------- */
+/* ---- interest box -------------------------------------------------------------------------- */
 
-static void undo_clear(st_doc *d)
+/* Builds the box's display for p within the memory budget; d->box = p on
+ * success. */
+static int display_build(st_doc *d, const st_adapt_params *p, st_error *err)
 {
-    for (uint32_t i = 0; i < d->nundo; i++) ed_step_free(d->undo[i]);
-    d->nundo = d->undo_pos = 0;
-    d->undo_bytes = 0;
-}
-
-void ed_push_step(st_doc *d, st_undo_step *s)
-{
-    /* The redo tail goes. */
-    for (uint32_t i = d->undo_pos; i < d->nundo; i++) {
-        d->undo_bytes -= d->undo[i]->bytes;
-        ed_step_free(d->undo[i]);
-    }
-    d->nundo = d->undo_pos;
-    if (d->nundo == d->capundo) {
-        uint32_t cap = d->capundo ? 2 * d->capundo : 32;
-        st_undo_step **p = realloc(d->undo, (size_t)cap * sizeof *p);
-        if (!p) abort();
-        d->undo = p;
-        d->capundo = cap;
-    }
-    d->undo[d->nundo++] = s;
-    d->undo_pos = d->nundo;
-    d->undo_bytes += s->bytes;
-    /* Bounded memory: the oldest steps go first. */
-    uint32_t drop = 0;
-    while (drop < d->nundo && d->undo_bytes > d->undo_budget) {
-        d->undo_bytes -= d->undo[drop]->bytes;
-        ed_step_free(d->undo[drop]);
-        drop++;
-    }
-    if (drop) {
-        memmove(d->undo, d->undo + drop, (size_t)(d->nundo - drop) * sizeof *d->undo);
-        d->nundo -= drop;
-        d->undo_pos -= drop;
-        snprintf(d->note, sizeof d->note, "undo history: %u oldest step%s dropped (budget %.1f MiB)", drop,
-                 drop > 1 ? "s" : "", mib(d->undo_budget));
-    }
-}
-
-static void apply_hier_step(st_doc *d, st_undo_step *s)
-{
-    ed_hier_swap(&d->h, &s->snap);
-    const st_scheme *sc = d->scheme;
-    unsigned el = d->edit_level, dl = d->display_level;
-    int rb = d->rebased;
-    d->scheme = s->scheme;
-    d->edit_level = s->edit_level;
-    d->display_level = s->display_level;
-    d->rebased = s->rebased;
-    s->scheme = sc;
-    s->edit_level = el;
-    s->display_level = dl;
-    s->rebased = rb;
-    st_adapt_params bx = d->box;
-    d->box = s->box_old;
-    s->box_old = bx;
-    d->opts = d->h.opts;
-    topology_changed(d);
-}
-
-/* Drops the steps after s (s is being redone). */
-static void drop_redo_after(st_doc *d, st_undo_step *s)
-{
-    uint32_t i = 0;
-    while (i < d->nundo && d->undo[i] != s) i++;
-    for (uint32_t k = i + 1; k < d->nundo; k++) {
-        d->undo_bytes -= d->undo[k]->bytes;
-        ed_step_free(d->undo[k]);
-    }
-    if (i < d->nundo) d->nundo = i + 1;
-}
-
-static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
-{
-    switch (s->kind) {
-    case ED_STEP_EDIT: {
-        double t0 = ed_now_ms();
-        uint32_t from = d->fp_model.n;
-        ed_step_apply(s, &d->h, redo, &d->fp_model);
-        ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, from);
-        return ST_OK;
-    }
-    case ED_STEP_HIER:
-        apply_hier_step(d, s);
-        return ST_OK;
-    case ED_STEP_RMTOP: {
-        double t0 = ed_now_ms();
-        if (!redo) {
-            int rc = rmtop_undo(d, s, err);
-            if (rc) { topology_changed(d); return rc; }
-            d->edit_level = s->edit_level;
-            d->display_level = s->display_level;
-            d->box = s->box_old;
-        } else {
-            remove_top_keep_order(&d->h);
-            d->edit_level = s->edit_after;
-            d->display_level = s->display_after;
-        }
-        topology_done(d, t0);
-        return ST_OK;
-    }
-    case ED_STEP_ADD: {
-        double t0 = ed_now_ms();
-        if (!redo) {
-            remove_top_keep_order(&d->h);
-            d->edit_level = s->edit_level;
-            d->display_level = s->display_level;
-            d->box = s->box_old;
-        } else {
-            unsigned top = d->h.map.top;
-            int rc = st_hier_subdivide_to(&d->h, top + 1, err);
-            if (rc) {
-                while (d->h.map.top > top) st_hier_remove_top(&d->h);
-                topology_changed(d);
-                return rc;
-            }
-            if (top_ids_sum(&d->h.map) != s->idsum) {
-                /* Other ids than the first time: the steps after this one
-                 * name vertices that no longer exist; they go. */
-                drop_redo_after(d, s);
-                snprintf(d->note, sizeof d->note, "redo: the level came back with other ids; later steps dropped");
-            }
-            d->display_level = s->display_after;
-        }
-        topology_done(d, t0);
-        return ST_OK;
-    }
-    case ED_STEP_BOX: {
-        int rec = d->box_recording;
-        d->box_recording = 1; /* no new step */
-        int rc = st_doc_set_box(d, redo ? &s->box_new : &s->box_old, redo ? s->on_new : s->on_old, err);
-        d->box_recording = rec;
-        return rc;
-    }
-    }
-    return ST_OK;
-}
-
-int st_doc_undo(st_doc *d, st_error *err)
-{
-    finish_active(d);
-    if (!d->undo_pos) return -1;
-    st_undo_step *s = d->undo[d->undo_pos - 1];
-    int rc = apply_step(d, s, 0, err);
-    if (rc) return rc;
-    d->undo_pos--;
-    return 0;
-}
-
-int st_doc_redo(st_doc *d, st_error *err)
-{
-    finish_active(d);
-    if (d->undo_pos >= d->nundo) return -1;
-    st_undo_step *s = d->undo[d->undo_pos];
-    int rc = apply_step(d, s, 1, err);
-    if (rc) return rc;
-    d->undo_pos++;
-    return 0;
-}
-
-/* ---- interest box display ---------------------------------------------------------------- */
-
-static void disp_free(st_doc *d)
-{
-    if (d->disp_ok) {
-        st_adapt_free(&d->adapt);
-        st_hier_free(&d->disp);
-    }
-    d->disp_ok = 0;
-    d->ndcorr = 0;
-}
-
-static void pairs_push(st_doc *d, uint32_t L, uint32_t dv, uint32_t mv)
-{
-    if (d->ndpairs + 3 > d->capdpairs) {
-        uint32_t c = d->capdpairs ? 2 * d->capdpairs : 3 * 1024;
-        uint32_t *p = realloc(d->dpairs, (size_t)c * sizeof *p);
-        if (!p) abort();
-        d->dpairs = p;
-        d->capdpairs = c;
-    }
-    d->dpairs[d->ndpairs++] = L;
-    d->dpairs[d->ndpairs++] = dv;
-    d->dpairs[d->ndpairs++] = mv;
-}
-
-static int split_tri(const st_hier *h, unsigned deg)
-{
-    st_scheme_id id = h->scheme->id;
-    return id == ST_SCHEME_LOOP || id == ST_SCHEME_BUTTERFLY || (id == ST_SCHEME_QUADTRI && deg == 3);
-}
-
-/* The display's subdivided faces beyond the model, per level, for a full
- * synthesis of those levels (disp_sync). */
-static void disp_collect_sub(st_doc *d)
-{
-    st_map *dm = &d->disp.map;
-    unsigned N = d->h.map.top;
-    d->ndsub = 0;
-    for (unsigned L = 0; L <= ST_MAX_LEVELS; L++) d->dsub_off[L] = 0;
-    for (unsigned L = N + 1; L <= dm->top; L++) {
-        d->dsub_off[L] = d->ndsub;
-        int fb = st_marker_reserve(dm);
-        if (fb < 0) abort();
-        st_dart_iter it;
-        for (uint32_t x = st_dart_first(dm, L - 1, &it); x != ST_NIL; x = st_dart_next(dm, L - 1, &it)) {
-            if (st_is_boundary(dm, x) || st_marked(dm, fb, x)) continue;
-            st_mark_face(dm, fb, x, L - 1);
-            if (st_face_level(dm, x, L - 1) != L - 1 || !st_face_is_subdivided(dm, x, L - 1)) continue;
-            if (d->ndsub == d->capdsub) {
-                d->capdsub = d->capdsub ? 2 * d->capdsub : 1024;
-                d->dsub = realloc(d->dsub, (size_t)d->capdsub * sizeof *d->dsub);
-                if (!d->dsub) abort();
-            }
-            d->dsub[d->ndsub++] = x;
-        }
-        st_marker_release(dm, fb, L - 1);
-        d->dsub_off[L + 1] = d->ndsub;
-    }
-    d->dsub_ok = 1;
-}
-
-static void pair_vertex(st_doc *d, unsigned L, uint32_t v, uint32_t V)
-{
-    d->dcorr[v] = V;
-    d->mcorr[V] = v;
-    d->dlv[v] |= 1u << L;
-    pairs_push(d, L, v, V);
-}
-
-/* Pairs the face of display dart y0 at level L with the face of model dart
- * Y0, dart by dart and vertex by vertex (dd: display dart -> model dart). */
-static void pair_face(st_doc *d, uint32_t *dd, unsigned L, uint32_t y0, uint32_t Y0)
-{
-    const st_map *dm = &d->disp.map, *mm = &d->h.map;
-    uint32_t y = y0, Y = Y0;
-    unsigned guard = 0;
-    do {
-        dd[y] = Y;
-        pair_vertex(d, L, st_vert(dm, y, L), st_vert(mm, Y, L));
-        y = st_phi1(dm, y, L);
-        Y = st_phi1(mm, Y, L);
-    } while (y != y0 && ++guard < 64);
-}
-
-/* √3: the centre of the level-(L-1) triangle of dart x (subdivided toward
- * L), read at level L from x's face (adapt_sqrt3.c): x unflipped (the odd
- * triangle a b c, x from a): c is the origin of x's second successor; x
- * flipped (the edge a b became the centres' edge, thesis fig. 3.46): x's
- * face is (a, c', c) with x from c' to c, or (b, c, c') with x from c. */
-static uint32_t sqrt3_centre(const st_map *m, uint32_t x, unsigned L)
-{
-    uint32_t o = st_vert(m, x, L - 1), x1 = st_phi1(m, x, L), x2 = st_phi1(m, x1, L);
-    if (st_vert(m, x, L) == o) return st_vert(m, x2, L);
-    if (st_vert(m, x2, L) == o) return st_vert(m, x1, L);
-    return st_vert(m, x, L);
-}
-
-/* √3: pairs the level-L sub-faces of the display's triangle of x (level
- * L-1, subdivided toward L; its darts paired) with the model's.  Each dart
- * of the triangle holds one sub-face at L: the even triangle of its flipped
- * edge, paired dart by dart with the model's (every edge of the regular
- * model is flipped), or an odd triangle (the edge toward an unsubdivided
- * neighbour, not a face of the model, never subdivided): its corners and
- * the centre are paired.  Even sub-faces go to `next`. */
-static void sqrt3_pair_children(st_doc *d, uint32_t *dd, unsigned L, uint32_t x, st_dart_list *next)
-{
-    const st_map *dm = &d->disp.map, *mm = &d->h.map;
-    uint32_t c = x;
-    unsigned guard = 0;
-    do {
-        uint32_t C = dd[c];
-        if (C == ST_NIL) break; /* cannot happen: coarser darts are paired first */
-        if (c == x) pair_vertex(d, L, sqrt3_centre(dm, c, L), sqrt3_centre(mm, C, L));
-        if (st_vert(dm, c, L) != st_vert(dm, c, L - 1)) {
-            pair_face(d, dd, L, c, C);
-            st_dart_list_push(next, c);
-        } else {
-            uint32_t a = st_vert(dm, c, L), b = st_vert(dm, st_phi1(dm, c, L), L);
-            if (d->dcorr[a] != ST_NIL) pair_vertex(d, L, a, d->dcorr[a]);
-            if (d->dcorr[b] != ST_NIL) pair_vertex(d, L, b, d->dcorr[b]);
-        }
-        c = st_phi1(dm, c, L - 1);
-    } while (c != x && ++guard < 3);
-}
-
-/* Pairs the display's darts and vertices with the model's: identical ids up
- * to the base level (the display is a copy), then level by level through
- * the sub-faces of each subdivided face (the corner sub-face of a coarse
- * dart starts at that dart in both maps; a triangle's central sub-face lies
- * across the first corner's inner edge).  Doo-Sabin: the same walk on the
- * dual map M* (Catmull-Clark topology; the darts of a face of M* carry its
- * surface vertex, a fresh id per quad in both maps, so pair_face pairs the
- * Doo-Sabin vertices).  √3: sqrt3_pair_children. */
-static void disp_pairs_build(st_doc *d)
-{
-    st_map *dm = &d->disp.map;
-    const st_map *mm = &d->h.map;
-    unsigned N = mm->top, b = d->box.base_level < N ? d->box.base_level : N;
-    d->ndpairs = 0;
-    d->dbase = b;
-    uint32_t *dd = malloc((size_t)(dm->darts.end ? dm->darts.end : 1) * sizeof *dd);
-    uint32_t *dc = realloc(d->dcorr, (size_t)(dm->verts.end ? dm->verts.end : 1) * sizeof *dc);
-    if (!dd || !dc) abort();
-    d->dcorr = dc;
-    d->ndcorr = dm->verts.end;
-    for (uint32_t x = 0; x < dm->darts.end; x++) dd[x] = dm->darts.ins[x] != ST_FREE_LEVEL && dm->darts.ins[x] <= b ? x : ST_NIL;
-    for (uint32_t v = 0; v < dm->verts.end; v++) dc[v] = dm->verts.ins[v] != ST_FREE_LEVEL && dm->verts.ins[v] <= b ? v : ST_NIL;
-    unsigned topL = dm->top < N ? dm->top : N;
-    d->dsub_ok = 0; /* collected when a full synthesis needs them */
-    uint32_t *mc = realloc(d->mcorr, (size_t)(mm->verts.end ? mm->verts.end : 1) * sizeof *mc);
-    uint32_t *lv = realloc(d->dlv, (size_t)(dm->verts.end ? dm->verts.end : 1) * sizeof *lv);
-    uint32_t *vd = realloc(d->dvdart, (size_t)(dm->verts.end ? dm->verts.end : 1) * sizeof *vd);
-    if (!mc || !lv || !vd) abort();
-    d->mcorr = mc;
-    d->nmcorr = mm->verts.end;
-    d->dlv = lv;
-    d->dvdart = vd;
-    d->ndv = dm->verts.end;
-    for (uint32_t v = 0; v < mm->verts.end; v++) mc[v] = ST_NIL;
-    for (uint32_t v = 0; v < dm->verts.end; v++) { lv[v] = 0; vd[v] = ST_NIL; }
-    {
-        st_dart_iter it;
-        for (uint32_t x = st_dart_first(dm, topL, &it); x != ST_NIL; x = st_dart_next(dm, topL, &it)) {
-            uint32_t v = st_vert(dm, x, topL);
-            if (vd[v] == ST_NIL || (st_is_boundary(dm, vd[v]) && !st_is_boundary(dm, x))) vd[v] = x;
-        }
-    }
-    /* Down the refinement tree: the faces of level b (all faces of the
-     * map at b), then the sub-faces of the subdivided ones, level by level;
-     * unrefined regions are not visited again at every level. */
-    st_dart_list cur = { 0 }, next = { 0 };
-    if (b < topL) {
-        int fb = st_marker_reserve(dm);
-        if (fb < 0) abort();
-        st_dart_iter it;
-        for (uint32_t x = st_dart_first(dm, b, &it); x != ST_NIL; x = st_dart_next(dm, b, &it)) {
-            if (st_is_boundary(dm, x) || st_marked(dm, fb, x)) continue;
-            st_mark_face(dm, fb, x, b);
-            st_dart_list_push(&cur, x);
-        }
-        st_marker_release(dm, fb, b);
-    }
-    for (unsigned L = b + 1; L <= topL; L++) {
-        next.n = 0;
-        for (uint32_t k = 0; k < cur.n; k++) {
-            uint32_t x = cur.d[k];
-            if (!st_face_is_subdivided(dm, x, L - 1)) continue;
-            if (d->disp.scheme->id == ST_SCHEME_SQRT3) {
-                sqrt3_pair_children(d, dd, L, x, &next);
-                continue;
-            }
-            unsigned deg = st_face_degree(dm, x, L - 1);
-            int tri = split_tri(&d->disp, deg);
-            uint32_t c = x;
-            int first = 1;
-            do {
-                uint32_t C = dd[c];
-                if (C == ST_NIL) break; /* cannot happen: coarser darts are paired first */
-                pair_face(d, dd, L, c, C);
-                st_dart_list_push(&next, c); /* the corner sub-face of c */
-                if (tri && first) {
-                    uint32_t z0 = st_beta0(dm, st_phi1(dm, c, L), L);
-                    pair_face(d, dd, L, z0, st_beta0(mm, st_phi1(mm, C, L), L));
-                    st_dart_list_push(&next, z0); /* the central triangle */
-                }
-                first = 0;
-                c = st_phi1(dm, c, L - 1);
-            } while (c != x);
-        }
-        st_dart_list t = cur;
-        cur = next;
-        next = t;
-    }
-    st_dart_list_free(&cur);
-    st_dart_list_free(&next);
-    free(dd);
-}
-
-/* A display vertex moved (reported in the change as ST_CHANGE_DISPLAY). */
-static void disp_moved(st_doc *d, uint32_t v)
-{
-    st_doc_change *c = &d->change;
-    if (c->ndisp == d->capdisp) {
-        uint32_t cap = d->capdisp ? 2 * d->capdisp : 1024;
-        uint32_t *p = realloc(c->disp_vids, (size_t)cap * sizeof *p);
-        if (!p) abort();
-        c->disp_vids = p;
-        d->capdisp = cap;
-    }
-    c->disp_vids[c->ndisp++] = v;
-}
-
-/* The display's levels beyond the model, re-synthesised around the seeds
- * (darts of level min(h.top, disp.top) of vertices whose positions
- * changed) by core (st_hier_resynth_around), which reports what it wrote.
- * Frees the seeds. */
-static void resynth_region(st_doc *d, st_dart_list *seeds)
-{
-    uint32_t n0 = d->fp_disp.n;
-    if (seeds->n) st_hier_resynth_around(&d->disp, d->h.map.top, seeds->d, seeds->n, &d->fp_disp);
-    for (uint32_t i = n0; i < d->fp_disp.n; i++) disp_moved(d, st_fp_vid(d->fp_disp.keys[i]));
-    st_dart_list_free(seeds);
-}
-
-/* Display positions from the model, for levels >= from.  Beyond the model:
- * every subdivided face (after a build), or only around the vertices whose
- * positions changed (after a box move, which leaves the model alone: only
- * new vertices differ). */
-static void disp_sync(st_doc *d, unsigned from, int box_move)
-{
-    st_map *dm = &d->disp.map;
-    const st_map *mm = &d->h.map;
-    unsigned N = mm->top, b = d->dbase, T = dm->top < N ? dm->top : N;
-    int local = box_move && dm->top > N;
-    st_dart_list seeds = { 0 };
-    for (unsigned L = from; L <= b; L++) {
-        st_dart_iter it;
-        for (uint32_t v = st_vertex_first(dm, L, &it); v != ST_NIL; v = st_vertex_next(dm, L, &it)) {
-            const double *p = st_pos(mm, v, L);
-            if (!memcmp(st_pos(dm, v, L), p, 3 * sizeof *p)) continue;
-            st_set_pos(dm, v, L, p);
-            if (local && L == T && d->dvdart[v] != ST_NIL) st_dart_list_push(&seeds, d->dvdart[v]);
-        }
-    }
-    for (uint32_t i = 0; i < d->ndpairs; i += 3) {
-        unsigned L = d->dpairs[i];
-        if (L < from) continue;
-        uint32_t dv = d->dpairs[i + 1];
-        const double *p = st_pos(mm, d->dpairs[i + 2], L);
-        if (!memcmp(st_pos(dm, dv, L), p, 3 * sizeof *p)) continue;
-        st_set_pos(dm, dv, L, p);
-        if (local && L == T && d->dvdart[dv] != ST_NIL) st_dart_list_push(&seeds, d->dvdart[dv]);
-    }
-    if (local) {
-        resynth_region(d, &seeds);
-    } else if (dm->top > N) {
-        /* S(P_{L-1}) + frame * detail on every subdivided face
-         * (st_adapt_synthesize, with face lists kept until the display's
-         * topology changes). */
-        if (!d->dsub_ok) disp_collect_sub(d);
-        for (unsigned L = N + 1; L <= dm->top; L++)
-            st_hier_resynth_faces(&d->disp, L, d->dsub + d->dsub_off[L], d->dsub_off[L + 1] - d->dsub_off[L]);
-    }
-    st_dart_list_free(&seeds);
-}
-
-/* After an edit of the model that wrote the values of `keys` (core's
- * footprint of it): the display's copies of those positions, then its
- * levels beyond the model around them only. */
-static void disp_sync_local(st_doc *d, const uint64_t *keys, uint32_t nkeys)
-{
-    st_map *dm = &d->disp.map;
-    const st_map *mm = &d->h.map;
-    unsigned N = mm->top, b = d->dbase, T = dm->top < N ? dm->top : N;
-    unsigned lo = ST_MAX_LEVELS;
-    for (uint32_t i = 0; i < nkeys; i++) {
-        unsigned L = (unsigned)(keys[i] >> 33);
-        if (L < lo) lo = L;
-    }
-    st_dart_list seeds = { 0 };
-    for (unsigned L = lo; L <= T; L++)
-        for (uint32_t i = 0; i < nkeys; i++) {
-            if ((unsigned)(keys[i] >> 33) != L || ((keys[i] >> 32) & 1)) continue;
-            uint32_t V = (uint32_t)keys[i], dv;
-            if (mm->verts.ins[V] <= b) dv = V;
-            else dv = V < d->nmcorr ? d->mcorr[V] : ST_NIL;
-            if (dv == ST_NIL || dv >= d->ndv) continue;
-            if (L > b && !((d->dlv[dv] >> L) & 1)) continue;
-            const double *p = st_pos(mm, V, L);
-            if (!memcmp(st_pos(dm, dv, L), p, 3 * sizeof *p)) continue;
-            st_set_pos(dm, dv, L, p);
-            disp_moved(d, dv);
-            st_footprint_add(&d->fp_disp, st_fp_key(L, ST_FP_POS, dv));
-            if (L == T && dm->top > N && d->dvdart[dv] != ST_NIL) st_dart_list_push(&seeds, d->dvdart[dv]);
-        }
-    resynth_region(d, &seeds);
-    /* The model changed: the next box update visits everything. */
-    d->adapt.has_prev = 0;
-}
-
-static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err)
-{
-    disp_free(d);
-    unsigned N = d->h.map.top, b = p->base_level < N ? p->base_level : N;
+    st_box_display_drop(&d->display);
     /* The display starts as a copy of the model (then cut to the base). */
     size_t have = st_doc_model_bytes(d), need = ed_hier_bytes(&d->h);
     if (have + need > d->mem_budget)
@@ -1352,23 +809,15 @@ static int disp_build(st_doc *d, const st_adapt_params *p, st_error *err)
                        "%.1f MiB and the memory budget is %.1f MiB",
                        need, mib(need), mib(have), mib(d->mem_budget));
     progress(d, "refining the interest box", 1, 1);
-    if (ed_hier_clone(&d->disp, &d->h, NULL)) return st_fail(err, ST_ERR_MEMORY, "out of memory for the interest box's display");
-    while (d->disp.map.top > b) st_hier_remove_top(&d->disp);
-    int rc = st_adapt_init(&d->adapt, &d->disp, err);
-    if (rc) { st_hier_free(&d->disp); return rc; }
-    d->disp_ok = 1;
-    rc = st_adapt_update(&d->adapt, p, err);
-    if (rc) { disp_free(d); return rc; }
-    d->box = *p; /* pairs_build reads the base level */
-    disp_pairs_build(d);
-    disp_sync(d, 0, 0);
-    return ST_OK;
+    int rc = st_box_display_build(&d->display, &d->h, p, err);
+    if (!rc) d->box = *p;
+    return rc;
 }
 
 int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
 {
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
-    finish_active(d);
+    ed_finish_active(d);
     st_adapt_params p = *box;
     if (p.max_level >= ST_MAX_LEVELS) p.max_level = ST_MAX_LEVELS - 1;
     if (p.base_level > p.max_level) p.base_level = p.max_level;
@@ -1376,48 +825,41 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
         if (p.box_lo[k] > p.box_hi[k]) { double t = p.box_lo[k]; p.box_lo[k] = p.box_hi[k]; p.box_hi[k] = t; }
     st_adapt_params old = d->box;
     int old_on = d->box_on;
-    if ((on != 0) == (old_on != 0) && (!on || d->disp_ok) && !memcmp(&old, &p, sizeof p)) return ST_OK;
+    if ((on != 0) == (old_on != 0) && (!on || d->display.built) && !memcmp(&old, &p, sizeof p)) return ST_OK;
     double t0 = ed_now_ms();
     int rc = ST_OK, patched = 0;
     if (on) {
         unsigned N = d->h.map.top;
         unsigned ob = old.base_level < N ? old.base_level : N, nb = p.base_level < N ? p.base_level : N;
-        if (!d->box_on || !d->disp_ok || ob != nb) {
-            rc = disp_build(d, &p, err);
+        if (!d->box_on || !d->display.built || ob != nb) {
+            rc = display_build(d, &p, err);
         } else {
-            /* The display map logs what the update touches, so that the
-             * renderer re-tessellates only that (ST_CHANGE_PATCH); moves not
-             * yet taken by the renderer add up in the one log. */
-            if (!(d->change.bits & ST_CHANGE_PATCH)) st_map_log_clear(&d->patch_log);
-            d->disp.map.log = &d->patch_log;
-            rc = st_adapt_update(&d->adapt, &p, err);
+            /* In place: the renderer re-tessellates what the map's log
+             * holds (ST_CHANGE_PATCH); moves it has not taken yet add up. */
+            rc = st_box_display_move(&d->display, &d->h, &p, (d->change.bits & ST_CHANGE_PATCH) != 0, err);
             if (!rc) {
                 d->box = p;
-                disp_pairs_build(d);
-                /* Box updates never touch the levels up to the base. */
-                disp_sync(d, d->dbase + 1, 1);
                 patched = 1;
             }
-            d->disp.map.log = NULL;
         }
         if (rc) {
             /* Back to the previous display. */
             st_error e2;
-            disp_free(d);
+            st_box_display_drop(&d->display);
             d->box = old;
             d->box_on = old_on;
-            if (old_on && disp_build(d, &old, &e2)) d->box_on = 0;
+            if (old_on && display_build(d, &old, &e2)) d->box_on = 0;
             count_display(d);
             return rc;
         }
     } else {
-        disp_free(d);
+        st_box_display_drop(&d->display);
     }
     d->box = p;
     d->box_on = on != 0;
     if (patched && !(d->change.bits & ST_CHANGE_TOPOLOGY)) {
         d->change.bits |= ST_CHANGE_BOX | ST_CHANGE_PATCH;
-        d->change.patch = &d->patch_log;
+        d->change.patch = &d->display.patch_log;
     } else {
         d->change.bits = (d->change.bits & ~(unsigned)ST_CHANGE_PATCH) | ST_CHANGE_BOX | ST_CHANGE_TOPOLOGY |
                          ST_CHANGE_ALL_POSITIONS;
@@ -1457,72 +899,5 @@ void st_doc_box_end(st_doc *d)
     s->on_new = d->box_on;
     ed_step_finish(s);
     ed_push_step(d, s);
-}
-
-/* ---- benchmark --------------------------------------------------------------------------- */
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-int st_doc_bench_drag(st_doc *d, unsigned level, unsigned steps, double *step_ms_median, double *full_synth_ms)
-{
-    if (!d->loaded || level > d->h.map.top || !steps) return -1;
-    finish_active(d);
-    st_map *m = &d->h.map;
-    uint64_t count = 0;
-    st_dart_iter it;
-    for (uint32_t v = st_vertex_first(m, level, &it); v != ST_NIL; v = st_vertex_next(m, level, &it)) count++;
-    uint64_t k = 0;
-    uint32_t pick = ST_NIL;
-    for (uint32_t v = st_vertex_first(m, level, &it); v != ST_NIL; v = st_vertex_next(m, level, &it))
-        if (k++ == count / 2) { pick = v; break; }
-    if (pick == ST_NIL) return -1;
-    unsigned el = d->edit_level, dl = d->display_level;
-    uint32_t nsel = d->nsel, *sel = malloc((size_t)(nsel ? nsel : 1) * sizeof *sel);
-    if (!sel) abort();
-    if (nsel) memcpy(sel, d->sel, (size_t)nsel * sizeof *sel);
-    d->edit_level = level;
-    if (d->display_level < level) d->display_level = level;
-    st_doc_select(d, &pick, 1, ST_SELECT_REPLACE);
-    double *t = malloc((size_t)steps * sizeof *t);
-    if (!t) abort();
-    double size = 0;
-    for (uint32_t i = 0; i < d->base.nverts; i++)
-        for (int c = 0; c < 3; c++) size = fmax(size, fabs(d->base.pos[3 * i + c]));
-    if (size == 0) size = 1;
-    int rc = st_doc_drag_begin(d);
-    if (!rc) {
-        for (unsigned i = 0; i < steps; i++) {
-            double a = 6.283185307179586 * i / steps;
-            double delta[3] = { 0.05 * size * cos(a), 0.05 * size * sin(a), 0.02 * size };
-            double t0 = ed_now_ms();
-            st_doc_drag_update(d, delta);
-            t[i] = ed_now_ms() - t0;
-            /* Untimed, as the window takes the change every frame (else
-             * the footprints of all the steps pile up). */
-            (void)st_doc_take_change(d);
-        }
-        st_doc_drag_cancel(d);
-        qsort(t, steps, sizeof *t, cmp_double);
-        if (step_ms_median) *step_ms_median = steps % 2 ? t[steps / 2] : (t[steps / 2 - 1] + t[steps / 2]) / 2;
-    }
-    free(t);
-    d->edit_level = el;
-    d->display_level = dl;
-    d->vdart_level = -1;
-    st_doc_select(d, sel, nsel, ST_SELECT_REPLACE);
-    free(sel);
-    if (rc) return -1;
-    /* The full synthesis runs on a copy: the model keeps its exact bits. */
-    st_hier tmp;
-    if (ed_hier_clone(&tmp, &d->h, NULL)) return -1;
-    double t0 = ed_now_ms();
-    st_hier_synthesize(&tmp, 0);
-    if (full_synth_ms) *full_synth_ms = ed_now_ms() - t0;
-    st_hier_free(&tmp);
-    return 0;
 }
 

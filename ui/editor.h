@@ -21,7 +21,7 @@
  *     and undo act on h at the editing level, also with the box on; the
  *     box's display is derived from h (same positions for every level h
  *     has, synthesised beyond h's top) and follows every edit, so box on,
- *     edit, box off, box on never loses or rotates a detail (editor.c);
+ *     edit, box off, box on never loses or rotates a detail (editor_display.c);
  *   - every operation that changes the model is one undo step; a drag or a
  *     brush stroke (begin .. end) is one step however many updates it had;
  *     undo and redo restore positions and details bit for bit (undo.c);
@@ -44,6 +44,7 @@
 #include "core/adapt/adapt.h"
 #include "core/multires/edit.h"
 #include "core/io/mesh.h"
+#include "editor_display.h"
 
 enum st_brush_tool { ST_BRUSH_GRAB, ST_BRUSH_DRAW, ST_BRUSH_SMOOTH, ST_BRUSH_FLATTEN, ST_BRUSH_COUNT };
 const char *st_brush_name(int tool);
@@ -98,10 +99,13 @@ typedef struct st_doc {
     st_hier h;
     int loaded;
 
-    st_adapt adapt;
-    st_map_log patch_log;      /* changes of the display map by box moves not yet taken (ST_CHANGE_PATCH) */
     st_adapt_params box;       /* box corners, base and max levels, falloff */
     int box_on;                /* the interest box drives the display */
+    /* The interest box's display (editor_display.h): when box_on, the
+     * adaptive mesh shown instead of the regular hierarchy, derived from h.
+     * h always stays the regular hierarchy (the model): edits, levels and
+     * undo act on h, then the display follows. */
+    st_box_display display;
 
     unsigned edit_level, display_level;
 
@@ -123,37 +127,9 @@ typedef struct st_doc {
     st_undo_step *pending;
     double last_update_ms;     /* how long the last geometry update took (edit, undo, level, box), ms,
                                   monotonic clock; its time stamp is last_update_at_ms */
-
-    /* ---- additions (editor.c) ---------------------------------------------
-     * The interest box's display: when box_on, `disp` is the adaptive mesh
-     * shown instead of the regular hierarchy: a copy of levels
-     * 0..base_level of h, refined adaptively inside the box by st_adapt
-     * (adapt.h refers to disp, not h), with every vertex of a level
-     * <= h.map.top at the position of the same vertex of h (found by a
-     * walk of the refinement structure, `dcorr`), and levels beyond the
-     * model's top synthesised from there.  h always stays the regular
-     * hierarchy (the model): edits, levels and undo act on h, then the
-     * display follows (ST_CHANGE_ALL_POSITIONS when box_on). */
-    st_hier disp;
-    int disp_ok;               /* disp and adapt are built */
-    uint32_t *dcorr;           /* disp vertex id -> h vertex id (ST_NIL: none) */
-    uint32_t ndcorr;
-    uint32_t *dpairs;          /* (level, disp vertex, h vertex) of the display's vertices above dbase */
-    uint32_t ndpairs, capdpairs;
-    unsigned dbase;            /* levels 0..dbase of disp are copies of h's (same ids) */
-    uint32_t *dsub;            /* per level L > h.top: the display's faces of level L-1 subdivided toward L */
-    uint32_t ndsub, capdsub;
-    uint32_t dsub_off[ST_MAX_LEVELS + 1];
-    int dsub_ok;               /* dsub matches the display's topology */
-    uint32_t *mcorr;           /* h vertex id -> disp vertex id above dbase (ST_NIL: not shown) */
-    uint32_t nmcorr;
-    uint32_t *dlv;             /* disp vertex id -> bit L set when paired at level L */
-    uint32_t *dvdart;          /* disp vertex id -> a dart of it at level min(h.top, disp.top) */
-    uint32_t ndv;
     double last_update_at_ms;  /* monotonic time stamp of the last geometry update */
-    uint32_t capmoved, capdisp;
+    uint32_t capmoved;         /* capacity of change.moved_darts */
     st_footprint fp_model;     /* values of h written since the last st_doc_take_change (core appends) */
-    st_footprint fp_disp;      /* values of the display written since then */
     st_footprint fp_query;     /* scratch: an edit's footprint asked before it (undo) */
     st_footprint fp_taken[2];  /* model and display footprints handed out by st_doc_take_change */
     int rebased;               /* remove_bottom happened since open: set_scheme then cannot take the file's tags */
@@ -250,7 +226,7 @@ st_doc_change st_doc_take_change(st_doc *d);
 /* Counts of the displayed mesh, for the HUD. */
 void st_doc_display_counts(const st_doc *d, uint64_t *faces, uint64_t *verts);
 
-/* ---- additions ----------------------------------------------------------- */
+/* ---- what is displayed ----------------------------------------------------- */
 
 /* What the window draws: the regular hierarchy at display_level, or with the
  * interest box on the adaptive display hierarchy at its top level. */

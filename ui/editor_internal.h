@@ -73,8 +73,26 @@ void ed_step_capture_new(st_undo_step *s, const st_hier *h);
  * appending what it wrote to fp. */
 void ed_step_apply(const st_undo_step *s, st_hier *h, int which, st_footprint *fp);
 void ed_step_finish(st_undo_step *s);   /* drops the index, computes bytes */
+/* Bounded history of the document (st_doc_undo / st_doc_redo): pushes a
+ * finished step, dropping the redo tail and, beyond undo_budget, the oldest
+ * steps (d->note says so). */
+void ed_push_step(st_doc *d, st_undo_step *s);
+void ed_undo_clear(st_doc *d);
+
 /* ---- editor.c ---- */
 double ed_now_ms(void);
+/* Ends a drag or a stroke in progress (another operation comes). */
+void ed_finish_active(st_doc *d);
+/* After any change of h's levels or scheme: selection cleared, levels
+ * clamped, the box's display rebuilt, everything redrawn; _done also times
+ * the change begun at t0. */
+void ed_topology_changed(st_doc *d);
+void ed_topology_done(st_doc *d, double t0);
+/* Adding a level without a copy: removing the top level puts its id blocks
+ * on the pools' spare stacks in reverse, so refining again gives the same
+ * ids; the sum over the top level's ids checks it (editor.c). */
+uint64_t ed_top_ids_sum(const st_map *m);
+void ed_remove_top_keep_order(st_hier *h);
 /* After a local change of h's geometry at level l with the given moved
  * darts: change bits, display sync, timing.  Core appended what it wrote
  * (st_hier_edit, st_hier_restore) to d->fp_model from index `from` on: the
@@ -83,7 +101,6 @@ double ed_now_ms(void);
  * synced in full. */
 void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0, uint32_t from);
 uint32_t ed_vertex_dart(st_doc *d, uint32_t vid);
-void ed_push_step(st_doc *d, st_undo_step *s);
 /* The pending step of the drag (active 1) or stroke (2) in progress, taken
  * (the document is left idle); NULL when no such operation is active or it
  * has no step. */

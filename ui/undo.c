@@ -10,11 +10,22 @@
  * instead would round differently where a level was edited directly).
  *
  * Level and scheme changes store the whole other hierarchy (editor_clone.c)
- * and swap it in and out; box steps store the old and new parameters. */
+ * and swap it in and out; box steps store the old and new parameters.
+ * Adding a level stores nothing: undo removes it and redo refines again,
+ * taking the id blocks in their first order, so the ids are the same
+ * (checked).  Removing the finest level stores that level's positions and
+ * details, restored after the same refinement.
+ *
+ * The document's history (st_doc_undo, st_doc_redo) is bounded by
+ * undo_budget bytes; the oldest steps go first, and a single step larger
+ * than the budget is not kept (d->note says so). */
 #include "editor_internal.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+static double mib(size_t b) { return (double)b / (1024.0 * 1024.0); }
 
 st_undo_step *ed_step_new(int kind)
 {
@@ -170,4 +181,197 @@ void ed_step_finish(st_undo_step *s)
     s->bytes = sizeof *s + (size_t)s->n * (sizeof *s->key + 2 * sizeof *s->oldv) + (size_t)s->nmoved * sizeof *s->moved;
     if (s->kind == ED_STEP_HIER) s->bytes += ed_hier_bytes(&s->snap);
     s->bytes += (size_t)s->nvids * (sizeof *s->vids + sizeof *s->vpos) + (size_t)s->detcap * 3 * sizeof(double);
+}
+
+/* ---- the document's history ------------------------------------------------------------ */
+
+void ed_undo_clear(st_doc *d)
+{
+    for (uint32_t i = 0; i < d->nundo; i++) ed_step_free(d->undo[i]);
+    d->nundo = d->undo_pos = 0;
+    d->undo_bytes = 0;
+}
+
+void ed_push_step(st_doc *d, st_undo_step *s)
+{
+    /* The redo tail goes. */
+    for (uint32_t i = d->undo_pos; i < d->nundo; i++) {
+        d->undo_bytes -= d->undo[i]->bytes;
+        ed_step_free(d->undo[i]);
+    }
+    d->nundo = d->undo_pos;
+    if (d->nundo == d->capundo) {
+        uint32_t cap = d->capundo ? 2 * d->capundo : 32;
+        st_undo_step **p = realloc(d->undo, (size_t)cap * sizeof *p);
+        if (!p) abort();
+        d->undo = p;
+        d->capundo = cap;
+    }
+    d->undo[d->nundo++] = s;
+    d->undo_pos = d->nundo;
+    d->undo_bytes += s->bytes;
+    /* Bounded memory: the oldest steps go first. */
+    uint32_t drop = 0;
+    while (drop < d->nundo && d->undo_bytes > d->undo_budget) {
+        d->undo_bytes -= d->undo[drop]->bytes;
+        ed_step_free(d->undo[drop]);
+        drop++;
+    }
+    if (drop) {
+        memmove(d->undo, d->undo + drop, (size_t)(d->nundo - drop) * sizeof *d->undo);
+        d->nundo -= drop;
+        d->undo_pos -= drop;
+        snprintf(d->note, sizeof d->note, "undo history: %u oldest step%s dropped (budget %.1f MiB)", drop,
+                 drop > 1 ? "s" : "", mib(d->undo_budget));
+    }
+}
+
+static void apply_hier_step(st_doc *d, st_undo_step *s)
+{
+    ed_hier_swap(&d->h, &s->snap);
+    const st_scheme *sc = d->scheme;
+    unsigned el = d->edit_level, dl = d->display_level;
+    int rb = d->rebased;
+    d->scheme = s->scheme;
+    d->edit_level = s->edit_level;
+    d->display_level = s->display_level;
+    d->rebased = s->rebased;
+    s->scheme = sc;
+    s->edit_level = el;
+    s->display_level = dl;
+    s->rebased = rb;
+    st_adapt_params bx = d->box;
+    d->box = s->box_old;
+    s->box_old = bx;
+    d->opts = d->h.opts;
+    ed_topology_changed(d);
+}
+
+/* Drops the steps after s (s is being redone). */
+static void drop_redo_after(st_doc *d, st_undo_step *s)
+{
+    uint32_t i = 0;
+    while (i < d->nundo && d->undo[i] != s) i++;
+    for (uint32_t k = i + 1; k < d->nundo; k++) {
+        d->undo_bytes -= d->undo[k]->bytes;
+        ed_step_free(d->undo[k]);
+    }
+    if (i < d->nundo) d->nundo = i + 1;
+}
+
+/* Undo of a top removal: the level again, then its values. */
+static int rmtop_undo(st_doc *d, st_undo_step *s, st_error *err)
+{
+    st_hier *h = &d->h;
+    unsigned top = h->map.top;
+    int rc = st_hier_subdivide_to(h, top + 1, err);
+    if (rc) {
+        while (h->map.top > top) st_hier_remove_top(h);
+        return rc;
+    }
+    if (ed_top_ids_sum(&h->map) != s->idsum) {
+        ed_remove_top_keep_order(h);
+        return st_fail(err, ST_ERR_INVALID, "undo: the level came back with other ids; not restored");
+    }
+    unsigned L = top + 1;
+    for (uint32_t i = 0; i < s->nvids; i++) st_hier_set_value(h, st_fp_key(L, ST_FP_POS, s->vids[i]), s->vpos[i]);
+    free(h->detail[L]);
+    h->detail[L] = NULL;
+    h->detail_cap[L] = 0;
+    if (s->det) {
+        double *p = malloc((size_t)s->detcap * 3 * sizeof *p);
+        if (!p) return st_fail(err, ST_ERR_MEMORY, "out of memory");
+        memcpy(p, s->det, (size_t)s->detcap * 3 * sizeof *p);
+        h->detail[L] = p;
+        h->detail_cap[L] = s->detcap;
+    }
+    return ST_OK;
+}
+
+static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
+{
+    switch (s->kind) {
+    case ED_STEP_EDIT: {
+        double t0 = ed_now_ms();
+        uint32_t from = d->fp_model.n;
+        ed_step_apply(s, &d->h, redo, &d->fp_model);
+        ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, from);
+        return ST_OK;
+    }
+    case ED_STEP_HIER:
+        apply_hier_step(d, s);
+        return ST_OK;
+    case ED_STEP_RMTOP: {
+        double t0 = ed_now_ms();
+        if (!redo) {
+            int rc = rmtop_undo(d, s, err);
+            if (rc) { ed_topology_changed(d); return rc; }
+            d->edit_level = s->edit_level;
+            d->display_level = s->display_level;
+            d->box = s->box_old;
+        } else {
+            ed_remove_top_keep_order(&d->h);
+            d->edit_level = s->edit_after;
+            d->display_level = s->display_after;
+        }
+        ed_topology_done(d, t0);
+        return ST_OK;
+    }
+    case ED_STEP_ADD: {
+        double t0 = ed_now_ms();
+        if (!redo) {
+            ed_remove_top_keep_order(&d->h);
+            d->edit_level = s->edit_level;
+            d->display_level = s->display_level;
+            d->box = s->box_old;
+        } else {
+            unsigned top = d->h.map.top;
+            int rc = st_hier_subdivide_to(&d->h, top + 1, err);
+            if (rc) {
+                while (d->h.map.top > top) st_hier_remove_top(&d->h);
+                ed_topology_changed(d);
+                return rc;
+            }
+            if (ed_top_ids_sum(&d->h.map) != s->idsum) {
+                /* Other ids than the first time: the steps after this one
+                 * name vertices that no longer exist; they go. */
+                drop_redo_after(d, s);
+                snprintf(d->note, sizeof d->note, "redo: the level came back with other ids; later steps dropped");
+            }
+            d->display_level = s->display_after;
+        }
+        ed_topology_done(d, t0);
+        return ST_OK;
+    }
+    case ED_STEP_BOX: {
+        int rec = d->box_recording;
+        d->box_recording = 1; /* no new step */
+        int rc = st_doc_set_box(d, redo ? &s->box_new : &s->box_old, redo ? s->on_new : s->on_old, err);
+        d->box_recording = rec;
+        return rc;
+    }
+    }
+    return ST_OK;
+}
+
+int st_doc_undo(st_doc *d, st_error *err)
+{
+    ed_finish_active(d);
+    if (!d->undo_pos) return -1;
+    st_undo_step *s = d->undo[d->undo_pos - 1];
+    int rc = apply_step(d, s, 0, err);
+    if (rc) return rc;
+    d->undo_pos--;
+    return 0;
+}
+
+int st_doc_redo(st_doc *d, st_error *err)
+{
+    ed_finish_active(d);
+    if (d->undo_pos >= d->nundo) return -1;
+    st_undo_step *s = d->undo[d->undo_pos];
+    int rc = apply_step(d, s, 1, err);
+    if (rc) return rc;
+    d->undo_pos++;
+    return 0;
 }
