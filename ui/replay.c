@@ -7,14 +7,17 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include "gui.h"
 #include "window.h"
 
 enum ev_type {
-    EV_WAIT, EV_KEY, EV_MOVE, EV_BUTTON, EV_SCROLL, EV_DROP, EV_LEVEL, EV_SNAPSHOT, EV_SHOT, EV_EXPECT, EV_ECHO, EV_QUIT
+    EV_WAIT, EV_KEY, EV_MOVE, EV_BUTTON, EV_SCROLL, EV_DROP, EV_LEVEL, EV_SNAPSHOT, EV_SHOT, EV_EXPECT, EV_ECHO, EV_QUIT,
+    EV_GUI, EV_MENU
 };
 
 typedef struct ev {
@@ -254,6 +257,16 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
         if (!(e = push(rp, EV_EXPECT, line))) BAD("out of memory");
         e->text = strdup(tok[1]);
         e->arg = nt > 2 ? strdup(tok[2]) : NULL;
+    } else if (!strcmp(c, "gui")) {
+        if (nt < 2 || (strcmp(tok[1], "on") && strcmp(tok[1], "off"))) BAD("%s:%d: gui on|off", rp->path, line);
+        if (!(e = push(rp, EV_GUI, line))) BAD("out of memory");
+        e->which = !strcmp(tok[1], "on");
+    } else if (!strcmp(c, "menu")) {
+        if (nt < 2) BAD("%s:%d: menu PATH [ARG] (e.g. menu File/Export/glTF out.gltf)", rp->path, line);
+        if (!(e = push(rp, EV_MENU, line))) BAD("out of memory");
+        e->text = strdup(tok[1]);
+        e->arg = nt > 2 ? strdup(tok[2]) : NULL;
+        if (!e->text || (nt > 2 && !e->arg)) BAD("out of memory");
     } else if (!strcmp(c, "quit")) {
         if (!push(rp, EV_QUIT, line)) BAD("out of memory");
     } else {
@@ -390,6 +403,14 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
     } else if (!strcmp(w, "error")) {
         snprintf(actual, sizeof actual, "%d (%s)", a->msg_error, a->msg);
         ok = a->msg_error == (want != 0);
+    } else if (!strcmp(w, "gui")) {
+        snprintf(actual, sizeof actual, "%d", st_gui_shown());
+        ok = st_gui_shown() == (want != 0);
+    } else if (!strcmp(w, "file")) {
+        struct stat st;
+        int there = e->arg && !stat(e->arg, &st) && st.st_size > 0;
+        snprintf(actual, sizeof actual, "%s", there ? "a non-empty file" : "missing or empty");
+        ok = there;
     } else if (!strcmp(w, "message")) {
         snprintf(actual, sizeof actual, "'%s'", a->msg);
         ok = e->arg && strstr(a->msg, e->arg) != NULL;
@@ -433,6 +454,15 @@ int st_replay_step(st_replay *rp, st_app *a)
         break;
     case EV_ECHO: fprintf(stderr, "strata: replay: %s\n", e->text); break;
     case EV_QUIT: return 1;
+    case EV_GUI: st_gui_set_shown(e->which); break;
+    case EV_MENU: {
+        char msg[512];
+        if (st_gui_menu_activate(a, e->text, e->arg, msg, sizeof msg)) {
+            fprintf(stderr, "strata: %s:%d: menu %s: %s\n", rp->path, e->line, e->text, msg);
+            return -1;
+        }
+        break;
+    }
     default: break;
     }
     return 0;
