@@ -214,6 +214,7 @@ bool same_label(const std::string &want, const char *label)
     std::string l = label;
     while (!l.empty() && (l.back() == '.' || l.back() == ' ')) l.pop_back();
     std::string w = want;
+    std::replace(w.begin(), w.end(), '_', ' ');   /* the replay's tokens have no spaces */
     while (!w.empty() && (w.back() == '.' || w.back() == ' ')) w.pop_back();
     return !strcasecmp(l.c_str(), w.c_str());
 }
@@ -256,8 +257,10 @@ void choose_dialog(menu_pass &m, int kind, int format)
         g.dlg_kind = kind;
         char cwd[4096];
         g.cwd = getcwd(cwd, sizeof cwd) ? cwd : ".";
+        /* A failure is the status line's error, as in the dialog, not
+         * the replay's: `expect error 1` checks it. */
         dialog_accept(m.a, kind, completed_path(kind, m.arg));
-        if (!g.dlg_error.empty()) m.error = g.dlg_error;
+        g.dlg_error.clear();
         return;
     }
     open_dialog(m.a, kind, format);
@@ -281,7 +284,10 @@ void action_item(menu_pass &m, const st_action *act)
         if (!m.draw) label = act->name; else label = named;
     }
     bool enabled = st_action_enabled(act, m.a) != 0;
-    if (m_item(m, label, sc[0] ? sc : nullptr, checked > 0, enabled)) choose_action(m, act->id);
+    if (!m_item(m, label, sc[0] ? sc : nullptr, checked > 0, enabled)) return;
+    if (act->id == ST_ACT_OPEN) choose_dialog(m, ST_DIALOG_OPEN, 0);
+    else if (act->id == ST_ACT_SAVE_AS) choose_dialog(m, ST_DIALOG_SAVE_AS, 0);
+    else choose_action(m, act->id);
 }
 
 void export_menu(menu_pass &m, const st_action *act)
@@ -573,7 +579,7 @@ void side_panel(st_app *a)
                                          ST_ACT_BRUSH_FLATTEN };
             static const char *const names[] = { "select", "grab", "draw", "smooth", "flatten" };
             for (int i = 0; i < 5; i++) {
-                if (i) ImGui::SameLine();
+                if (i && i != 3) ImGui::SameLine();
                 if (ImGui::RadioButton(names[i], st_action_checked(&st_actions[tools[i]], a) > 0)) g.pending_action = tools[i];
             }
             float r = (float)d->brush.radius, s = (float)d->brush.strength;

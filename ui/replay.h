@@ -33,7 +33,9 @@
  *   gui on | off                show / hide the GUI (menus, side panel; gui.h);
  *                               replays start with it hidden
  *   menu PATH [ARG]             activate a menu item by its labels, as a click
- *                               does: menu View/Wireframe, menu Mesh/Scheme/loop
+ *                               does ('_' for a space, case and a trailing "..."
+ *                               ignored): menu View/Wireframe, menu Mesh/Add_a_level,
+ *                               menu Mesh/Scheme/loop
  *                               (then the question; ARG confirm rebuilds at
  *                               once); for items that open the file dialog ARG
  *                               is the file (relative: to the working directory):
