@@ -40,6 +40,8 @@
  *                               once); for items that open the file dialog ARG
  *                               is the file (relative: to the working directory):
  *                               menu File/Export/glTF out.gltf, menu File/Open x.obj
+ *   time_frames N               print the median and mean of the next N frames'
+ *                               times (drawing + presenting, a->frame_ms)
  *   echo TEXT                   print
  *   quit                        end (success); the end of the file too
  *
