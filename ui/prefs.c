@@ -89,6 +89,9 @@ int st_prefs_load(void)
     if (st_prefs_path(path, sizeof path)) return 0;
     FILE *f = fopen(path, "r");
     if (!f) return 0;
+    clear_recent();
+    ui_scale = 0;
+    win_w = win_h = 0;
     int rc = load_file(f, path);
     fclose(f);
     if (rc) { clear_recent(); ui_scale = 0; win_w = win_h = 0; }
