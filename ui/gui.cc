@@ -362,7 +362,8 @@ void file_dialog(st_app *a)
     const char *title = g.dlg_kind == ST_DIALOG_OPEN ? "Open###filedialog"
                         : g.dlg_kind == ST_DIALOG_SAVE_AS ? "Save session as###filedialog"
                                                           : "Export the displayed mesh###filedialog";
-    if (g.dlg_popup) { ImGui::OpenPopup("###filedialog"); g.dlg_popup = false; }
+    /* (Again after a job: its frames drew no dialog.) */
+    if (g.dlg_popup || !ImGui::IsPopupOpen("###filedialog")) { ImGui::OpenPopup("###filedialog"); g.dlg_popup = false; }
     ImGuiIO &io = ImGui::GetIO();
     ImGui::SetNextWindowSize(ImVec2(560 * g.scale, 420 * g.scale), ImGuiCond_Appearing);
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
