@@ -81,6 +81,9 @@ if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
 fi
 run 0 "replay .* passed" bash -c 'cd "$1" && shift && ASAN_OPTIONS="$0" "$@"' "$WINDOW_ASAN" "$TMP/gui" "$EXE" --size 640x480 --levels 2 \
     --replay "$SRC/replay/gui.txt" --screenshot-dir "$OUT" --compare-dir "$REF" "$ASSETS/torus.obj"
+# A menu path that names no item fails the replay, naming the line.
+printf 'gui on\nwait 1\nmenu File/No_such_item\n' > "$TMP/badmenu.txt"
+run 1 "badmenu.txt:3: menu File/No_such_item: no such menu item" win "$EXE" --size 320x240 --replay "$TMP/badmenu.txt" "$ASSETS/cube.obj"
 for f in "$REF"/*.png; do
     [ -f "$OUT/$(basename "$f")" ] && ok || bad "screenshot $(basename "$f") was not taken"
 done
