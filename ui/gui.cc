@@ -471,6 +471,36 @@ void about_window(void)
     ImGui::End();
 }
 
+/* Help > Key bindings (F1): the same rows as the HUD's F1 list and the
+ * README's table (st_help_rows). */
+void keys_window(st_app *a)
+{
+    if (!a->help) return;
+    static st_help_row rows[ST_HELP_MAX_ROWS];
+    unsigned n = st_help_rows(rows, ST_HELP_MAX_ROWS);
+    if (n > ST_HELP_MAX_ROWS) n = ST_HELP_MAX_ROWS;
+    ImGuiIO &io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2(20 * g.scale, menu_height + 10 * g.scale), ImGuiCond_Appearing);
+    ImGui::SetNextWindowSize(ImVec2(std::min(760 * g.scale, io.DisplaySize.x - 40 * g.scale), io.DisplaySize.y * 0.8f),
+                             ImGuiCond_Appearing);
+    bool open = true;
+    if (ImGui::Begin("Key bindings (F1)", &open) && ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_Resizable)) {
+        ImGui::TableSetupColumn("keys", ImGuiTableColumnFlags_WidthFixed, 300 * g.scale);
+        ImGui::TableSetupColumn("what", ImGuiTableColumnFlags_WidthStretch);
+        for (unsigned i = 0; i < n; i++) {
+            ImGui::TableNextRow();
+            ImGui::TableSetColumnIndex(0);
+            if (rows[i].heading) { ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "%s", rows[i].heading); continue; }
+            ImGui::TextUnformatted(rows[i].keys);
+            ImGui::TableSetColumnIndex(1);
+            ImGui::TextWrapped("%s", rows[i].what);
+        }
+        ImGui::EndTable();
+    }
+    ImGui::End();
+    if (!open) a->help = 0;
+}
+
 /* What the window is doing on its worker thread (jobs.c): the stage and,
  * when the editor reports steps ("step 3 of 6"), how far it is.  The
  * document's operations have no cancellation, so there is no Cancel. */
@@ -687,6 +717,7 @@ void st_gui_frame(st_app *a)
         side_panel(a);
         scheme_window(a);
         about_window();
+        keys_window(a);
         if (g.dlg_open) file_dialog(a);
     }
     ImGui::Render();

@@ -231,7 +231,7 @@ void st_app_draw_hud(st_app *a)
             st_hud_text(u, 8, y + i * HUD_LINE, HUD_SCALE, a->pending_scheme ? C_TEXT : a->msg_error ? C_ERR : C_OK, lines[i]);
     }
 
-    if (a->help) draw_help(a);
+    if (a->help && panel) draw_help(a);   /* with the GUI: its Keys window */
 
     st_app_draw_working(a);
 }
