@@ -24,6 +24,7 @@ static void usage(FILE *f)
         "usage: strata [--scheme S] [--levels N] [--size WxH] [--replay EVENTS.txt]\n"
         "              [--screenshot-dir DIR] [--compare-dir DIR] [--mem-budget MIB] [--bench-interaction [--bench-steps N]] [FILE]\n"
         "  opens the modeller window on FILE (default: the torus asset); F1 in the window lists the keys\n"
+        "  --no-gui            start with the menus and side panel hidden (F10 shows them)\n"
         "  --replay F          drive the window by the scripted events of F (see ui/replay.h), exit 1 if an expect fails\n"
         "  --screenshot-dir D  where the replay's screenshots go (default .)\n"
         "  --compare-dir D     compare each screenshot with D/NAME.png (exit 1 on a mismatch)\n"
@@ -50,6 +51,7 @@ int st_cmd_window(int argc, char **argv)
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) { usage(stdout); return 0; }
         if (!strcmp(a, "--bench-interaction")) { o.bench = 1; continue; }
+        if (!strcmp(a, "--no-gui")) { o.no_gui = 1; continue; }
         if (!strcmp(a, "--keys")) { st_actions_markdown(stdout); return 0; }
         if (a[0] != '-') {
             if (o.file) { fprintf(stderr, "strata: one file at a time ('%s' and '%s')\n", o.file, a); return 2; }
@@ -72,6 +74,7 @@ int st_cmd_window(int argc, char **argv)
             }
             o.width = w;
             o.height = h;
+            o.size_given = 1;
         } else if (!strcmp(a, "--replay")) o.replay = v;
         else if (!strcmp(a, "--screenshot-dir")) o.screenshot_dir = v;
         else if (!strcmp(a, "--compare-dir")) o.compare_dir = v;

@@ -11,7 +11,7 @@ if(STRATA_EDITOR_SOURCES)
   # (core/multires/edit.h), so the document needs none of core's internals.
 endif()
 
-file(GLOB STRATA_UI_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/ui/*.c)
+file(GLOB STRATA_UI_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/ui/*.c ${CMAKE_SOURCE_DIR}/ui/*.cc)
 if(STRATA_EDITOR_SOURCES)
   list(REMOVE_ITEM STRATA_UI_SOURCES ${STRATA_EDITOR_SOURCES})
 endif()
@@ -29,4 +29,12 @@ if(STRATA_UI_SOURCES AND TARGET strata_editor AND EXISTS ${CMAKE_SOURCE_DIR}/ui/
   if(TARGET strata_editor)
     target_link_libraries(strata_ui PUBLIC strata_editor)
   endif()
+  # The GUI (ui/gui.cc, the one C++ file of ui/): Dear ImGui 1.86 from
+  # Debian's libimgui-dev, whose static libimgui.a holds the GLFW and
+  # OpenGL 3 backends; the OpenGL 3 backend loads libGL by itself (dlopen).
+  # Export writes glTF through strata_gltf (cmake/gltf.cmake).
+  pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
+  target_link_libraries(strata_ui PUBLIC PkgConfig::IMGUI ${CMAKE_DL_LIBS} strata_gltf)
+  target_include_directories(strata_ui PRIVATE ${CMAKE_SOURCE_DIR}/app)
+  target_compile_definitions(strata_ui PRIVATE STRATA_VERSION="${PROJECT_VERSION}")
 endif()

@@ -14,8 +14,8 @@ PACKAGES=(
   # toolchain
   build-essential cmake ninja-build pkg-config git
   clang libclang-rt-14-dev            # libFuzzer + LeakSanitizer runtime for clang
-  # rendering: GLFW window, OSMesa headless, GL headers, cglm maths
-  libglfw3-dev libosmesa6-dev libgl-dev libcglm-dev
+  # rendering: GLFW window, OSMesa headless, GL headers, cglm maths, Dear ImGui (the GUI)
+  libglfw3-dev libosmesa6-dev libgl-dev libcglm-dev libimgui-dev
   # glTF / images
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   # reference implementations used by tests/oracles and benchmarks

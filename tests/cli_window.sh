@@ -70,6 +70,20 @@ if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
 fi
 run 0 "replay .* passed" win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/session.txt" \
     --screenshot-dir "$OUT" --compare-dir "$REF" "$ASSETS/torus.obj"
+# The GUI (ui/gui.cc): menu bar and side panel, the File menu opened with
+# the pointer, a panel checkbox clicked, actions through the menus (exports,
+# a failed open, save as, a scheme change), F10; files land in a scratch
+# directory.
+mkdir -p "$TMP/gui"
+if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
+    (cd "$TMP/gui" && win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/gui.txt" --screenshot-dir "$OUT" "$ASSETS/torus.obj")
+    cp "$OUT"/0[67]_gui*.png "$REF"/
+fi
+run 0 "replay .* passed" bash -c 'cd "$1" && shift && ASAN_OPTIONS="$0" "$@"' "$WINDOW_ASAN" "$TMP/gui" "$EXE" --size 640x480 --levels 2 \
+    --replay "$SRC/replay/gui.txt" --screenshot-dir "$OUT" --compare-dir "$REF" "$ASSETS/torus.obj"
+# A menu path that names no item fails the replay, naming the line.
+printf 'gui on\nwait 1\nmenu File/No_such_item\n' > "$TMP/badmenu.txt"
+run 1 "badmenu.txt:3: menu File/No_such_item: no such menu item" win "$EXE" --size 320x240 --replay "$TMP/badmenu.txt" "$ASSETS/cube.obj"
 for f in "$REF"/*.png; do
     [ -f "$OUT/$(basename "$f")" ] && ok || bad "screenshot $(basename "$f") was not taken"
 done

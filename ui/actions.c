@@ -18,6 +18,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include "gui.h"
 #include "window.h"
 
 /* ---- what the keys run ---------------------------------------------------------- */
@@ -119,8 +120,12 @@ static int grabbing(const st_app *a) { return a->op == ST_OP_GRAB; }
 static int keys_free(const st_app *a) { return a->op == ST_OP_NONE || a->op == ST_OP_ORBIT || a->op == ST_OP_PAN; }
 static int model_keys_free(const st_app *a) { return keys_free(a) && a->doc.loaded; }
 
-/* File */
+/* File: the dialogs are the GUI's (ui/gui.cc); a key opens them and shows
+ * the GUI if it was hidden. */
+static void open_file(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_OPEN); }
 static void save(st_app *a) { st_app_save(a); }
+static void save_as(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_SAVE_AS); }
+static void export_mesh(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_EXPORT); }
 static void restore_recovery(st_app *a) { st_app_restore_recovery(a); }
 
 /* Edit */
@@ -252,9 +257,11 @@ static void orbit_down(st_app *a) { orbit(a, 0, -15 / 0.4f); }
 static void shading(st_app *a) { a->shading = a->shading == ST_SHADE_SMOOTH ? ST_SHADE_FLAT : ST_SHADE_SMOOTH; }
 static void wireframe(st_app *a) { a->wire = !a->wire; }
 static void cage(st_app *a) { a->cage = !a->cage; st_pick_invalidate(&a->pick); }
+static void toggle_gui(st_app *a) { (void)a; st_gui_set_shown(!st_gui_shown()); }
 
 /* Help */
 static void help(st_app *a) { a->help = !a->help; }
+static void about(st_app *a) { (void)a; st_gui_set_shown(1); st_gui_show_about(); }
 static void quit(st_app *a) { a->quit = 1; }
 /* Esc closes the help, else cancels what the mouse is doing. */
 static void cancel(st_app *a)
@@ -284,11 +291,19 @@ static void cancel(st_app *a)
 #define ASK(id, name, help, run, ...) [id] = { id, name, ST_CAT_MESH, ST_KEYS_SCHEME_QUESTION, { __VA_ARGS__ }, help, run, NULL }
 
 const st_action st_actions[ST_NACTIONS] = {
+    ACT(ST_ACT_OPEN, ST_CAT_FILE, "Open...", "open a mesh or a .strata session (file dialog)", open_file, keys_free,
+        KEY(O, C, 0)),
     ACT(ST_ACT_SAVE, ST_CAT_FILE, "Save session",
         "save the session as NAME.strata (current directory; a .strata saves over itself)",
         save, model_keys_free, KEY(S, C, S | A)),
+    ACT(ST_ACT_SAVE_AS, ST_CAT_FILE, "Save session as...", "save the session under a name (file dialog)", save_as,
+        model_keys_free, KEY(F12, 0, 0)),
+    ACT(ST_ACT_EXPORT, ST_CAT_FILE, "Export...",
+        "export the displayed mesh (level, or adaptive mesh with the box on) as OBJ, PLY, glTF or GLB",
+        export_mesh, model_keys_free, KEY(E, C, 0)),
     ACT(ST_ACT_RESTORE_RECOVERY, ST_CAT_FILE, "Restore recovery", "restore the autosaved recovery session",
         restore_recovery, model_keys_free, KEY(R, C, S | A)),
+    ACT(ST_ACT_QUIT, ST_CAT_FILE, "Quit", "quit", quit, NULL, KEY(Q, C, S | A)),
 
     ACT(ST_ACT_UNDO, ST_CAT_EDIT, "Undo", "undo / redo", undo, model_keys_free, KEY(Z, C, A)),
     ACT(ST_ACT_REDO, ST_CAT_EDIT, "Redo", "undo / redo", redo, model_keys_free, KEY(Z, C | S, A), KEY(Y, C, S | A)),
@@ -398,11 +413,12 @@ const st_action st_actions[ST_NACTIONS] = {
     ACT(ST_ACT_WIREFRAME, ST_CAT_VIEW, "Wireframe", "wireframe on / off", wireframe, model_keys_free, KEY(Z, S, A)),
     ACT(ST_ACT_CAGE, ST_CAT_VIEW, "Control mesh", "control mesh overlay on / off", cage, model_keys_free,
         KEY(C, 0, S | A)),
+    ACT(ST_ACT_GUI, ST_CAT_VIEW, "Interface", "menus and side panel on / off", toggle_gui, NULL, KEY(F10, 0, 0)),
 
     ACT(ST_ACT_HELP, ST_CAT_HELP, "Key bindings", "show / hide the key list", help, NULL, KEY(F1, 0, ANY)),
+    ACT(ST_ACT_ABOUT, ST_CAT_HELP, "About Strata", "version and libraries", about, NULL, KEY(F12, S, 0)),
     ACT(ST_ACT_CANCEL, ST_CAT_HELP, "Cancel", "cancel the current operation (or hide the key list)", cancel, NULL,
         KEY(ESCAPE, 0, ANY)),
-    ACT(ST_ACT_QUIT, ST_CAT_HELP, "Quit", "quit", quit, NULL, KEY(Q, C, S | A)),
 
     ASK(ST_ACT_SCHEME_NEXT, "Next scheme", "propose the next scheme", scheme_next, KEY(K, 0, ANY)),
     ASK(ST_ACT_SCHEME_CONFIRM, "Rebuild", "rebuild the hierarchy with it (its details are lost)", scheme_confirm,
@@ -429,6 +445,36 @@ const unsigned st_ngestures = sizeof st_gestures / sizeof st_gestures[0];
 int st_action_enabled(const st_action *act, const st_app *a)
 {
     return !act->enabled || act->enabled(a);
+}
+
+int st_action_in_menu(const st_action *act)
+{
+    if (act->context != ST_KEYS_WINDOW) return 0;
+    switch (act->id) {
+    case ST_ACT_GRAB_CONFIRM: case ST_ACT_CANCEL:
+    case ST_ACT_ORBIT_LEFT: case ST_ACT_ORBIT_RIGHT: case ST_ACT_ORBIT_UP: case ST_ACT_ORBIT_DOWN: return 0;
+    default: return 1;
+    }
+}
+
+int st_action_checked(const st_action *act, const st_app *a)
+{
+    switch (act->id) {
+    case ST_ACT_TOOL_SELECT: return a->tool == ST_TOOL_SELECT;
+    case ST_ACT_BRUSH_GRAB: return a->tool == ST_BRUSH_GRAB;
+    case ST_ACT_BRUSH_DRAW: return a->tool == ST_BRUSH_DRAW;
+    case ST_ACT_BRUSH_SMOOTH: return a->tool == ST_BRUSH_SMOOTH;
+    case ST_ACT_BRUSH_FLATTEN: return a->tool == ST_BRUSH_FLATTEN;
+    case ST_ACT_MIRROR_X: return a->doc.brush.mirror_x != 0;
+    case ST_ACT_BOX_TOGGLE: return a->doc.box_on != 0;
+    case ST_ACT_SHADING: return a->shading == ST_SHADE_FLAT ? 0 : 1;
+    case ST_ACT_WIREFRAME: return a->wire != 0;
+    case ST_ACT_CAGE: return a->cage != 0;
+    case ST_ACT_PROJECTION: return a->cc.cam.ortho ? 0 : 1;
+    case ST_ACT_GUI: return st_gui_shown();
+    case ST_ACT_HELP: return a->help != 0;
+    default: return -1;
+    }
 }
 
 const st_action *st_app_key(st_app *a, int key, int mods)

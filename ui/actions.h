@@ -58,7 +58,7 @@ typedef struct st_action {
 } st_action;
 
 enum st_action_id {
-    ST_ACT_SAVE, ST_ACT_RESTORE_RECOVERY,
+    ST_ACT_OPEN, ST_ACT_SAVE, ST_ACT_SAVE_AS, ST_ACT_EXPORT, ST_ACT_RESTORE_RECOVERY, ST_ACT_QUIT,
     ST_ACT_UNDO, ST_ACT_REDO, ST_ACT_SELECT_ALL, ST_ACT_SELECT_NONE, ST_ACT_GRAB, ST_ACT_GRAB_CONFIRM,
     ST_ACT_TOOL_SELECT, ST_ACT_BRUSH_GRAB, ST_ACT_BRUSH_DRAW, ST_ACT_BRUSH_SMOOTH, ST_ACT_BRUSH_FLATTEN,
     ST_ACT_RADIUS_DOWN, ST_ACT_RADIUS_UP, ST_ACT_STRENGTH_DOWN, ST_ACT_STRENGTH_UP, ST_ACT_MIRROR_X,
@@ -70,8 +70,8 @@ enum st_action_id {
     ST_ACT_BOX_MAX_UP, ST_ACT_BOX_MAX_DOWN, ST_ACT_BOX_BASE_UP, ST_ACT_BOX_BASE_DOWN,
     ST_ACT_FRAME_ALL, ST_ACT_VIEW_FRONT, ST_ACT_VIEW_BACK, ST_ACT_VIEW_RIGHT, ST_ACT_VIEW_LEFT, ST_ACT_VIEW_TOP,
     ST_ACT_VIEW_BOTTOM, ST_ACT_PROJECTION, ST_ACT_ORBIT_LEFT, ST_ACT_ORBIT_RIGHT, ST_ACT_ORBIT_UP, ST_ACT_ORBIT_DOWN,
-    ST_ACT_SHADING, ST_ACT_WIREFRAME, ST_ACT_CAGE,
-    ST_ACT_HELP, ST_ACT_CANCEL, ST_ACT_QUIT,
+    ST_ACT_SHADING, ST_ACT_WIREFRAME, ST_ACT_CAGE, ST_ACT_GUI,
+    ST_ACT_HELP, ST_ACT_ABOUT, ST_ACT_CANCEL,
     ST_ACT_SCHEME_NEXT, ST_ACT_SCHEME_CONFIRM, ST_ACT_SCHEME_KEEP,
     ST_NACTIONS
 };
@@ -90,6 +90,12 @@ extern const unsigned st_ngestures;
  * action, or NULL when the key does nothing. */
 const st_action *st_app_key(struct st_app *a, int key, int mods);
 int st_action_enabled(const st_action *act, const struct st_app *a);
+/* Whether the menus (ui/gui.cc) list it: every window action but those
+ * that only make sense as a key (confirm a grab, Esc, the 15-degree orbit
+ * steps). */
+int st_action_in_menu(const st_action *act);
+/* For a menu's check mark: 1 on, 0 off, -1 not an on/off action. */
+int st_action_checked(const st_action *act, const struct st_app *a);
 
 /* ---- shortcuts, help and README text (shortcuts.c; no window needed) ---- */
 

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "actions.h"
+#include "gui.h"
 
 static const float C_TEXT[4] = { 0.08f, 0.09f, 0.12f, 1 };
 static const float C_DIM[4] = { 0.30f, 0.32f, 0.38f, 1 };
@@ -148,7 +149,10 @@ void st_app_draw_hud(st_app *a)
     hud_scale = a->fb_h < 600 || a->fb_w < 800 ? 1.2f : 1.6f;
     char line[10][256], t1[32], t2[32];
     int n = 0;
-    if (d->loaded) {
+    /* The GUI's side panel shows all this (ui/gui.cc). */
+    int panel = !st_gui_shown();
+    if (!panel) {
+    } else if (d->loaded) {
         uint64_t faces = 0, verts = 0;
         st_doc_display_counts(d, &faces, &verts);
         snprintf(line[n++], 256, "%s   %s", st_path_base(d->path), d->scheme ? d->scheme->name : "?");
@@ -173,14 +177,14 @@ void st_app_draw_hud(st_app *a)
         snprintf(line[n++], 256, "no model: drop a mesh file on the window");
     }
     char t3[32];
-    snprintf(line[n++], 256, "frame %s   last update: geometry %s + buffers %s   F1 help", st_app_fmt_ms(a, a->frame_ms, t1, sizeof t1),
+    if (panel) snprintf(line[n++], 256, "frame %s   last update: geometry %s + buffers %s   F1 help", st_app_fmt_ms(a, a->frame_ms, t1, sizeof t1),
              st_app_fmt_ms(a, d->loaded ? d->last_update_ms : 0, t2, sizeof t2), st_app_fmt_ms(a, a->update_ms, t3, sizeof t3));
     float wmax = 0;
     for (int i = 0; i < n; i++) {
         float w = st_hud_text_width(line[i], HUD_SCALE);
         if (w > wmax) wmax = w;
     }
-    st_hud_rect(u, 0, 0, wmax + 16, 8 + n * HUD_LINE, C_PANEL);
+    if (n) st_hud_rect(u, 0, 0, wmax + 16, 8 + n * HUD_LINE, C_PANEL);
     for (int i = 0; i < n; i++) st_hud_text(u, 8, 6 + i * HUD_LINE, HUD_SCALE, i == 0 ? C_TEXT : C_DIM, line[i]);
 
     /* Status line and questions at the bottom. */
@@ -227,7 +231,7 @@ void st_app_draw_hud(st_app *a)
             st_hud_text(u, 8, y + i * HUD_LINE, HUD_SCALE, a->pending_scheme ? C_TEXT : a->msg_error ? C_ERR : C_OK, lines[i]);
     }
 
-    if (a->help) draw_help(a);
+    if (a->help && panel) draw_help(a);   /* with the GUI: its Keys window */
 
     st_app_draw_working(a);
 }

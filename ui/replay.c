@@ -7,14 +7,17 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include "gui.h"
 #include "window.h"
 
 enum ev_type {
-    EV_WAIT, EV_KEY, EV_MOVE, EV_BUTTON, EV_SCROLL, EV_DROP, EV_LEVEL, EV_SNAPSHOT, EV_SHOT, EV_EXPECT, EV_ECHO, EV_QUIT
+    EV_WAIT, EV_KEY, EV_MOVE, EV_BUTTON, EV_SCROLL, EV_DROP, EV_LEVEL, EV_SNAPSHOT, EV_SHOT, EV_EXPECT, EV_ECHO, EV_QUIT,
+    EV_GUI, EV_MENU, EV_FRAMES
 };
 
 typedef struct ev {
@@ -31,6 +34,9 @@ struct st_replay {
     float *snap;               /* displayed positions at the last snapshot */
     uint32_t nsnap;
     int has_snap;
+    /* `time_frames N`: frame times still to collect, and those collected. */
+    int timing_left, ntimes;
+    double *times;
 };
 
 static ev *push(st_replay *rp, int type, int line)
@@ -254,6 +260,20 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
         if (!(e = push(rp, EV_EXPECT, line))) BAD("out of memory");
         e->text = strdup(tok[1]);
         e->arg = nt > 2 ? strdup(tok[2]) : NULL;
+    } else if (!strcmp(c, "time_frames")) {
+        if (nt < 2 || atoi(tok[1]) < 1 || atoi(tok[1]) > 100000) BAD("%s:%d: time_frames N (1..100000)", rp->path, line);
+        if (!(e = push(rp, EV_FRAMES, line))) BAD("out of memory");
+        e->which = atoi(tok[1]);
+    } else if (!strcmp(c, "gui")) {
+        if (nt < 2 || (strcmp(tok[1], "on") && strcmp(tok[1], "off"))) BAD("%s:%d: gui on|off", rp->path, line);
+        if (!(e = push(rp, EV_GUI, line))) BAD("out of memory");
+        e->which = !strcmp(tok[1], "on");
+    } else if (!strcmp(c, "menu")) {
+        if (nt < 2) BAD("%s:%d: menu PATH [ARG] (e.g. menu File/Export/glTF out.gltf)", rp->path, line);
+        if (!(e = push(rp, EV_MENU, line))) BAD("out of memory");
+        e->text = strdup(tok[1]);
+        e->arg = nt > 2 ? strdup(tok[2]) : NULL;
+        if (!e->text || (nt > 2 && !e->arg)) BAD("out of memory");
     } else if (!strcmp(c, "quit")) {
         if (!push(rp, EV_QUIT, line)) BAD("out of memory");
     } else {
@@ -269,6 +289,7 @@ void st_replay_free(st_replay *rp)
     for (size_t i = 0; i < rp->n; i++) { free(rp->e[i].text); free(rp->e[i].arg); }
     free(rp->e);
     free(rp->snap);
+    free(rp->times);
     free(rp);
 }
 
@@ -390,6 +411,14 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
     } else if (!strcmp(w, "error")) {
         snprintf(actual, sizeof actual, "%d (%s)", a->msg_error, a->msg);
         ok = a->msg_error == (want != 0);
+    } else if (!strcmp(w, "gui")) {
+        snprintf(actual, sizeof actual, "%d", st_gui_shown());
+        ok = st_gui_shown() == (want != 0);
+    } else if (!strcmp(w, "file")) {
+        struct stat st;
+        int there = e->arg && !stat(e->arg, &st) && st.st_size > 0;
+        snprintf(actual, sizeof actual, "%s", there ? "a non-empty file" : "missing or empty");
+        ok = there;
     } else if (!strcmp(w, "message")) {
         snprintf(actual, sizeof actual, "'%s'", a->msg);
         ok = e->arg && strstr(a->msg, e->arg) != NULL;
@@ -404,8 +433,30 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
     return 0;
 }
 
+static int cmp_double(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return a < b ? -1 : a > b;
+}
+
+/* One sample of `time_frames` (the frame just drawn); the median and the
+ * mean at the last. */
+static void time_frame(st_replay *rp, const st_app *a)
+{
+    rp->times[rp->ntimes++] = a->frame_ms;
+    if (--rp->timing_left) return;
+    double sum = 0;
+    for (int i = 0; i < rp->ntimes; i++) sum += rp->times[i];
+    qsort(rp->times, (size_t)rp->ntimes, sizeof *rp->times, cmp_double);
+    fprintf(stderr, "strata: replay: %d frames (GUI %s): median %.3f ms, mean %.3f ms\n", rp->ntimes,
+            st_gui_shown() ? "shown" : "hidden", rp->times[rp->ntimes / 2], sum / rp->ntimes);
+    free(rp->times);
+    rp->times = NULL;
+}
+
 int st_replay_step(st_replay *rp, st_app *a)
 {
+    if (rp->timing_left) { time_frame(rp, a); return 0; }
     if (!rp->has_snap && a->doc.loaded) snapshot(rp, a);
     if (rp->pos >= rp->n) return 1;
     const ev *e = &rp->e[rp->pos++];
@@ -433,6 +484,21 @@ int st_replay_step(st_replay *rp, st_app *a)
         break;
     case EV_ECHO: fprintf(stderr, "strata: replay: %s\n", e->text); break;
     case EV_QUIT: return 1;
+    case EV_GUI: st_gui_set_shown(e->which); break;
+    case EV_FRAMES:
+        free(rp->times);
+        if (!(rp->times = malloc((size_t)e->which * sizeof *rp->times))) return -1;
+        rp->ntimes = 0;
+        rp->timing_left = e->which;
+        break;
+    case EV_MENU: {
+        char msg[512];
+        if (st_gui_menu_activate(a, e->text, e->arg, msg, sizeof msg)) {
+            fprintf(stderr, "strata: %s:%d: menu %s: %s\n", rp->path, e->line, e->text, msg);
+            return -1;
+        }
+        break;
+    }
     default: break;
     }
     return 0;

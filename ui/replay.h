@@ -27,7 +27,21 @@
  *                               patched N (at least N box moves were drawn by
  *                               re-tessellating only the touched faces),
  *                               error (0/1: status line is an error),
- *                               message TEXT (status line contains TEXT)
+ *                               message TEXT (status line contains TEXT),
+ *                               gui (0/1: the GUI is shown), file PATH (exists,
+ *                               not empty)
+ *   gui on | off                show / hide the GUI (menus, side panel; gui.h);
+ *                               replays start with it hidden
+ *   menu PATH [ARG]             activate a menu item by its labels, as a click
+ *                               does ('_' for a space, case and a trailing "..."
+ *                               ignored): menu View/Wireframe, menu Mesh/Add_a_level,
+ *                               menu Mesh/Scheme/loop
+ *                               (then the question; ARG confirm rebuilds at
+ *                               once); for items that open the file dialog ARG
+ *                               is the file (relative: to the working directory):
+ *                               menu File/Export/glTF out.gltf, menu File/Open x.obj
+ *   time_frames N               print the median and mean of the next N frames'
+ *                               times (drawing + presenting, a->frame_ms)
  *   echo TEXT                   print
  *   quit                        end (success); the end of the file too
  *

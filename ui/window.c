@@ -16,7 +16,9 @@
 #include <GLFW/glfw3.h>
 
 #include "actions.h"
+#include "gui.h"
 #include "image.h"
+#include "prefs.h"
 #include "replay.h"
 
 #ifndef STRATA_ASSETS
@@ -204,6 +206,7 @@ void st_app_draw(st_app *a)
         st_app_draw_working(a);
     }
     st_hud_flush(&a->hud);
+    st_gui_frame(a);
 }
 
 /* ---- camera -------------------------------------------------------------------- */
@@ -496,6 +499,7 @@ void st_win_on_cursor(GLFWwindow *w, double x, double y)
 {
     st_app *a = app_of(w);
     double fx, fy;
+    st_gui_cursor(x, y);
     to_fb(a, x, y, &fx, &fy);
     double dx = fx - a->mx, dy = fy - a->my;
     a->mx = fx;
@@ -552,6 +556,7 @@ void st_win_on_cursor(GLFWwindow *w, double x, double y)
 void st_win_on_mouse_button(GLFWwindow *w, int button, int action, int mods)
 {
     st_app *a = app_of(w);
+    if (st_gui_mouse_button(a, button, action, mods)) return;
     if (!a->doc.loaded) return;
     if (action == GLFW_PRESS) {
         if (a->op == ST_OP_GRAB) {
@@ -605,7 +610,7 @@ void st_win_on_mouse_button(GLFWwindow *w, int button, int action, int mods)
 void st_win_on_scroll(GLFWwindow *w, double dx, double dy)
 {
     st_app *a = app_of(w);
-    (void)dx;
+    if (st_gui_scroll(dx, dy)) return;
     if (a->mods & GLFW_MOD_CONTROL) {
         a->doc.brush.radius *= pow(1.1, dy);
         return;
@@ -637,7 +642,7 @@ void st_win_on_resize(GLFWwindow *w, int width, int height)
 void st_win_on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
 {
     st_app *a = app_of(w);
-    (void)scancode;
+    int gui = st_gui_key(key, scancode, action, mods);   /* a text field or dialog takes keys */
     int bit = 0;
     switch (key) {
     case GLFW_KEY_LEFT_SHIFT: case GLFW_KEY_RIGHT_SHIFT: bit = GLFW_MOD_SHIFT; break;
@@ -652,7 +657,7 @@ void st_win_on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
         if ((a->op == ST_OP_DRAG || a->op == ST_OP_GRAB) && bit != GLFW_MOD_SHIFT) drag_update(a);
         return;
     }
-    if (action == GLFW_RELEASE) return;
+    if (action == GLFW_RELEASE || gui) return;
     st_app_key(a, key, mods);
 }
 
@@ -672,6 +677,7 @@ static void glfw_button(GLFWwindow *w, int b, int action, int mods) { if (live_i
 static void glfw_cursor(GLFWwindow *w, double x, double y) { if (live_input(w)) st_win_on_cursor(w, x, y); }
 static void glfw_scroll(GLFWwindow *w, double dx, double dy) { if (live_input(w)) st_win_on_scroll(w, dx, dy); }
 static void glfw_drop(GLFWwindow *w, int n, const char **p) { if (live_input(w)) st_win_on_drop(w, n, p); }
+static void glfw_char(GLFWwindow *w, unsigned c) { if (live_input(w)) st_gui_char(c); }
 
 /* ---- screenshots ------------------------------------------------------------------ */
 
@@ -804,6 +810,14 @@ int st_window_main(const st_win_opts *o)
     if (o->mem_budget_mb > 0) a->doc.mem_budget = (size_t)(o->mem_budget_mb * 1048576.0);
     default_asset(a);
 
+    /* Preferences (recent files, window size, UI scale): not in replays,
+     * which must not depend on the user's files. */
+    if (!o->replay) {
+        st_prefs_load();
+        int pw, ph;
+        st_prefs_window(&pw, &ph);
+        if (!o->size_given && pw >= 64 && ph >= 64 && pw <= 8192 && ph <= 8192) { a->opts.width = pw; a->opts.height = ph; }
+    }
     st_replay *rp = NULL;
     st_error err;
     if (o->replay && st_replay_load(&rp, o->replay, &err)) {
@@ -830,6 +844,10 @@ int st_window_main(const st_win_opts *o)
     glfwSetScrollCallback(a->win, glfw_scroll);
     glfwSetDropCallback(a->win, glfw_drop);
     glfwSetFramebufferSizeCallback(a->win, st_win_on_resize);
+    glfwSetCharCallback(a->win, glfw_char);
+    /* Replays start with the GUI hidden (their references predate it; the
+     * script's `gui on` shows it). */
+    st_gui_init(a, !o->no_gui && !rp);
     glfwSwapInterval(rp ? 0 : 1);
     float bb[6] = { -1, -1, -1, 1, 1, 1 };
     st_camctl_init(&a->cc, bb, st_app_aspect(a));
@@ -862,6 +880,7 @@ int st_window_main(const st_win_opts *o)
             if (a->op == ST_OP_NONE) glfwWaitEventsTimeout(0.25);
             else glfwPollEvents();
         }
+        st_gui_run_pending(a);
         glfwGetFramebufferSize(a->win, &a->fb_w, &a->fb_h);
         glfwGetWindowSize(a->win, &a->win_w, &a->win_h);
         st_app_sync(a);
@@ -879,6 +898,12 @@ int st_window_main(const st_win_opts *o)
     if (autosave && !a->exit_code) st_app_autosave_tick(a, 1);
     rc = a->exit_code;
     if (rp && !rc) fprintf(stderr, "strata: replay %s passed (%llu frames)\n", o->replay, (unsigned long long)a->frames);
+    if (!rp) {
+        st_prefs_set_window(a->win_w, a->win_h);
+        st_prefs_save();
+    }
+    st_prefs_free();
+    st_gui_shutdown();
     st_replay_free(rp);
     st_hud_free(&a->hud);
     st_pick_free(&a->pick);

@@ -33,6 +33,8 @@ typedef struct st_win_opts {
     int bench;                 /* --bench-interaction */
     int bench_steps;           /* drag steps of the benchmark */
     double mem_budget_mb;      /* > 0: the document's memory budget (MiB) */
+    int no_gui;                /* start with the GUI (gui.h) hidden */
+    int size_given;            /* --size: the preferences' window size does not apply */
 } st_win_opts;
 
 enum st_tool { ST_TOOL_SELECT = -1 };   /* else an st_brush_tool */

@@ -1,0 +1,823 @@
+/* The window's interface with Dear ImGui 1.86: the one C++ translation unit
+ * of ui/, behind gui.h.  Menus are generated from the action table
+ * (actions.h), so a menu item, its shortcut text and the F1 row come from
+ * one entry; the items that open a dialog or pick a scheme are the same
+ * actions with a submenu.  See gui.h for the input routing. */
+extern "C" {
+#include "gui.h"
+#include "actions.h"
+#include "prefs.h"
+#include "window.h"
+#include "core/io/mesh.h"
+#include "core/io/session.h"
+#include "core/multires/hier.h"
+#include "gltf_io.h"
+}
+
+#include <dirent.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#ifndef STRATA_VERSION
+#define STRATA_VERSION "?"
+#endif
+
+namespace {
+
+struct file_entry {
+    std::string name;
+    bool dir;
+    long long size;
+};
+
+/* The formats Strata reads (core/io/mesh.h, app/gltf_io.h, sessions) and
+ * writes (sessions, and the exporters). */
+const char *const read_exts[] = { ".obj", ".off", ".ply", ".gltf", ".glb", ".strata" };
+const char *const export_exts[] = { ".obj", ".ply", ".gltf", ".glb" };
+const char *const export_labels[] = { "OBJ...", "PLY...", "glTF...", "GLB..." };
+const char *const schemes[] = { "catmull-clark", "loop", "butterfly", "quad-triangle", "sqrt3", "doo-sabin" };
+
+struct gui_state {
+    bool init = false, shown = true, in_frame = false;
+    GLFWwindow *win = nullptr;
+    float scale = 1;
+    /* The pointer as the window's events carried it (window coordinates). */
+    float mx = -FLT_MAX, my = -FLT_MAX;
+    bool down[3] = {}, pressed[3] = {};
+    int pending_action = -1;
+    /* The file dialog. */
+    bool dlg_open = false, dlg_popup = false, dlg_confirm = false, dlg_accept = false;
+    int dlg_kind = ST_DIALOG_OPEN;
+    int dlg_format = 0;                 /* export: index in export_exts */
+    std::string cwd;
+    char path[4096] = "";
+    std::vector<file_entry> entries;
+    std::string dlg_error;
+    bool about = false;
+    int box_dragging = 0;
+};
+
+gui_state g;
+
+bool ends_with_ci(const char *s, const char *ext)
+{
+    size_t n = strlen(s), m = strlen(ext);
+    return n >= m && !strcasecmp(s + n - m, ext);
+}
+
+bool wanted_file(int kind, const char *name)
+{
+    if (kind == ST_DIALOG_OPEN) {
+        for (const char *e : read_exts) if (ends_with_ci(name, e)) return true;
+        return false;
+    }
+    if (kind == ST_DIALOG_SAVE_AS) return ends_with_ci(name, ".strata");
+    return ends_with_ci(name, export_exts[g.dlg_format]);
+}
+
+/* Folders first, then files of the dialog's formats, each by name. */
+void list_dir(void)
+{
+    g.entries.clear();
+    DIR *d = opendir(g.cwd.c_str());
+    if (!d) { g.dlg_error = "cannot read the folder " + g.cwd + ": " + strerror(errno); return; }
+    while (struct dirent *e = readdir(d)) {
+        if (e->d_name[0] == '.') continue;   /* hidden files and . / .. (Parent goes up) */
+        std::string full = g.cwd + "/" + e->d_name;
+        struct stat st;
+        if (stat(full.c_str(), &st)) continue;
+        bool dir = S_ISDIR(st.st_mode);
+        if (!dir && !wanted_file(g.dlg_kind, e->d_name)) continue;
+        g.entries.push_back({ e->d_name, dir, (long long)st.st_size });
+    }
+    closedir(d);
+    std::sort(g.entries.begin(), g.entries.end(), [](const file_entry &a, const file_entry &b) {
+        if (a.dir != b.dir) return a.dir;
+        return a.name < b.name;
+    });
+}
+
+void set_cwd(const std::string &dir)
+{
+    char buf[4096];
+    g.cwd = realpath(dir.c_str(), buf) ? buf : dir;
+    list_dir();
+}
+
+std::string dir_of(const char *path)
+{
+    const char *s = strrchr(path, '/');
+    if (!s) return ".";
+    if (s == path) return "/";
+    return std::string(path, (size_t)(s - path));
+}
+
+std::string format_size(long long n)
+{
+    char b[32];
+    if (n >= 1 << 20) snprintf(b, sizeof b, "%.1f MB", n / 1048576.0);
+    else if (n >= 1 << 10) snprintf(b, sizeof b, "%.1f KB", n / 1024.0);
+    else snprintf(b, sizeof b, "%lld B", n);
+    return b;
+}
+
+/* The dialog's path completed with the extension its kind writes. */
+std::string completed_path(int kind, const char *p)
+{
+    std::string s = p;
+    if (kind == ST_DIALOG_SAVE_AS && !ends_with_ci(p, ".strata")) s += ".strata";
+    if (kind == ST_DIALOG_EXPORT) {
+        bool known = false;
+        for (const char *e : export_exts) known = known || ends_with_ci(p, e);
+        if (!known) s += export_exts[g.dlg_format];
+    }
+    if (!s.empty() && s[0] != '/') s = g.cwd + "/" + s;
+    return s;
+}
+
+/* Runs the dialog's choice (outside the ImGui frame: opening is a job).
+ * A failure keeps the dialog open with the message and the current model. */
+void dialog_accept(st_app *a, int kind, const std::string &path)
+{
+    int rc;
+    if (kind == ST_DIALOG_OPEN) {
+        rc = st_app_open(a, path.c_str());
+    } else if (kind == ST_DIALOG_SAVE_AS) {
+        rc = st_app_save_session(a, path.c_str(), 0);
+        if (!rc && path.size() < sizeof a->doc.path) {
+            memcpy(a->doc.path, path.c_str(), path.size() + 1);
+            a->autosave_dirty = 0;
+        }
+    } else {
+        rc = st_app_export(a, path.c_str());
+    }
+    if (rc) {
+        g.dlg_error = a->msg;
+        return;
+    }
+    if (kind != ST_DIALOG_EXPORT) st_prefs_add_recent(path.c_str());
+    g.dlg_open = false;
+    g.dlg_error.clear();
+}
+
+void open_dialog(st_app *a, int kind, int format)
+{
+    g.dlg_open = true;
+    g.dlg_popup = true;
+    g.dlg_confirm = false;
+    g.dlg_kind = kind;
+    g.dlg_format = format;
+    g.dlg_error.clear();
+    g.path[0] = 0;
+    const char *doc = a->doc.loaded ? a->doc.path : "";
+    std::string start = doc[0] ? dir_of(doc) : ".";
+    if (kind != ST_DIALOG_OPEN && doc[0]) {
+        /* The model's name with the extension of what is written. */
+        const char *base = st_path_base(doc);
+        const char *dot = strrchr(base, '.');
+        int n = dot ? (int)(dot - base) : (int)strlen(base);
+        snprintf(g.path, sizeof g.path, "%.*s%s", n, base, kind == ST_DIALOG_SAVE_AS ? ".strata" : export_exts[format]);
+    }
+    set_cwd(start);
+    g.shown = true;
+}
+
+/* ---- menus: drawn, or searched by the replay's `menu PATH` -------------------------- */
+
+struct menu_pass {
+    st_app *a = nullptr;
+    bool draw = true;
+    std::vector<std::string> path;   /* search: the labels to follow */
+    size_t depth = 0;
+    const char *arg = nullptr;
+    bool found = false;
+    std::string error;
+};
+
+bool same_label(const std::string &want, const char *label)
+{
+    std::string l = label;
+    while (!l.empty() && (l.back() == '.' || l.back() == ' ')) l.pop_back();
+    std::string w = want;
+    std::replace(w.begin(), w.end(), '_', ' ');   /* the replay's tokens have no spaces */
+    while (!w.empty() && (w.back() == '.' || w.back() == ' ')) w.pop_back();
+    return !strcasecmp(l.c_str(), w.c_str());
+}
+
+bool m_begin(menu_pass &m, const char *label, bool enabled = true)
+{
+    if (m.draw) return ImGui::BeginMenu(label, enabled);
+    if (m.found || m.depth + 1 >= m.path.size() || !same_label(m.path[m.depth], label)) return false;
+    if (!enabled) { m.error = std::string("menu ") + label + " is disabled"; return false; }
+    m.depth++;
+    return true;
+}
+
+void m_end(menu_pass &m)
+{
+    if (m.draw) ImGui::EndMenu();
+    else m.depth--;
+}
+
+bool m_item(menu_pass &m, const char *label, const char *shortcut, bool checked, bool enabled)
+{
+    if (m.draw) return ImGui::MenuItem(label, shortcut, checked, enabled);
+    if (m.found || m.depth + 1 != m.path.size() || !same_label(m.path[m.depth], label)) return false;
+    if (!enabled) { m.error = std::string("menu item ") + label + " is disabled"; return false; }
+    m.found = true;
+    return true;
+}
+
+/* A drawn click waits for the end of the frame; a replay's runs now. */
+void choose_action(menu_pass &m, int id)
+{
+    if (m.draw) g.pending_action = id;
+    else st_actions[id].run(m.a);
+}
+
+void choose_dialog(menu_pass &m, int kind, int format)
+{
+    if (!m.draw && m.arg) {
+        g.dlg_format = format;
+        g.dlg_kind = kind;
+        char cwd[4096];
+        g.cwd = getcwd(cwd, sizeof cwd) ? cwd : ".";
+        /* A failure is the status line's error, as in the dialog, not
+         * the replay's: `expect error 1` checks it. */
+        dialog_accept(m.a, kind, completed_path(kind, m.arg));
+        g.dlg_error.clear();
+        return;
+    }
+    open_dialog(m.a, kind, format);
+}
+
+void action_item(menu_pass &m, const st_action *act)
+{
+    char sc[64] = "";
+    if (act->keys[0].key) st_shortcut_format(&act->keys[0], sc, sizeof sc);
+    int checked = st_action_checked(act, m.a);
+    const char *label = act->name;
+    char named[160];
+    if (act->id == ST_ACT_UNDO || act->id == ST_ACT_REDO) {
+        /* The undo stack keeps no names: the position in it instead. */
+        const st_doc *d = &m.a->doc;
+        if (act->id == ST_ACT_UNDO && d->undo_pos) snprintf(named, sizeof named, "Undo step %u of %u", d->undo_pos, d->nundo);
+        else if (act->id == ST_ACT_REDO && d->undo_pos < d->nundo)
+            snprintf(named, sizeof named, "Redo step %u of %u", d->undo_pos + 1, d->nundo);
+        else snprintf(named, sizeof named, "%s", act->name);
+        /* The replay names the item by the table's name. */
+        if (!m.draw) label = act->name; else label = named;
+    }
+    bool enabled = st_action_enabled(act, m.a) != 0;
+    if (!m_item(m, label, sc[0] ? sc : nullptr, checked > 0, enabled)) return;
+    if (act->id == ST_ACT_OPEN) choose_dialog(m, ST_DIALOG_OPEN, 0);
+    else if (act->id == ST_ACT_SAVE_AS) choose_dialog(m, ST_DIALOG_SAVE_AS, 0);
+    else choose_action(m, act->id);
+}
+
+void export_menu(menu_pass &m, const st_action *act)
+{
+    bool enabled = st_action_enabled(act, m.a) != 0;
+    if (!m_begin(m, "Export", enabled)) return;
+    for (int f = 0; f < 4; f++) {
+        char sc[64] = "";
+        if (f == 0 && act->keys[0].key) st_shortcut_format(&act->keys[0], sc, sizeof sc);
+        if (m_item(m, export_labels[f], sc[0] ? sc : nullptr, false, true)) choose_dialog(m, ST_DIALOG_EXPORT, f);
+    }
+    m_end(m);
+}
+
+/* The scheme submenu proposes a scheme; the question (scheme_window)
+ * confirms it, as K then Y do. */
+void scheme_menu(menu_pass &m, const st_action *act)
+{
+    bool enabled = st_action_enabled(act, m.a) != 0;
+    if (!m_begin(m, "Scheme", enabled)) return;
+    const char *cur = m.a->doc.scheme ? m.a->doc.scheme->name : "";
+    for (const char *s : schemes) {
+        if (m_item(m, s, nullptr, !strcmp(cur, s), strcmp(cur, s) != 0)) {
+            m.a->pending_scheme = s;
+            if (!m.draw && m.arg && !strcmp(m.arg, "confirm")) st_actions[ST_ACT_SCHEME_CONFIRM].run(m.a);
+        }
+    }
+    m_end(m);
+}
+
+void menus(menu_pass &m)
+{
+    for (int c = 0; c < ST_NCATEGORIES; c++) {
+        if (!m_begin(m, st_category_name(c))) continue;
+        int last = -1;
+        for (int i = 0; i < ST_NACTIONS; i++) {
+            const st_action *act = &st_actions[i];
+            if (act->category != c || act->context != ST_KEYS_WINDOW || !st_action_in_menu(act)) continue;
+            /* A separator between groups of different help text. */
+            if (m.draw && last >= 0 && strcmp(st_actions[last].help, act->help) &&
+                (st_actions[last].id + 1 != act->id || act->id == ST_ACT_QUIT))
+                ImGui::Separator();
+            last = i;
+            if (act->id == ST_ACT_EXPORT) export_menu(m, act);
+            else if (act->id == ST_ACT_CHANGE_SCHEME) scheme_menu(m, act);
+            else action_item(m, act);
+            if (act->id == ST_ACT_OPEN) {
+                const char *const *recent = st_prefs_recent();
+                if (m_begin(m, "Open Recent", recent[0] != nullptr)) {
+                    for (int r = 0; recent[r]; r++)
+                        if (m_item(m, recent[r], nullptr, false, true)) {
+                            g.dlg_kind = ST_DIALOG_OPEN;
+                            g.path[0] = 0;
+                            snprintf(g.path, sizeof g.path, "%s", recent[r]);
+                            g.dlg_accept = true;
+                            if (!m.draw) { g.dlg_accept = false; dialog_accept(m.a, ST_DIALOG_OPEN, recent[r]); }
+                        }
+                    m_end(m);
+                }
+            }
+        }
+        m_end(m);
+    }
+}
+
+/* ---- windows --------------------------------------------------------------------------- */
+
+float menu_height = 0;
+
+void file_dialog(st_app *a)
+{
+    const char *title = g.dlg_kind == ST_DIALOG_OPEN ? "Open###filedialog"
+                        : g.dlg_kind == ST_DIALOG_SAVE_AS ? "Save session as###filedialog"
+                                                          : "Export the displayed mesh###filedialog";
+    /* (Again after a job: its frames drew no dialog.) */
+    if (g.dlg_popup || !ImGui::IsPopupOpen("###filedialog")) { ImGui::OpenPopup("###filedialog"); g.dlg_popup = false; }
+    ImGuiIO &io = ImGui::GetIO();
+    ImGui::SetNextWindowSize(ImVec2(560 * g.scale, 420 * g.scale), ImGuiCond_Appearing);
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    bool open = true;
+    if (!ImGui::BeginPopupModal(title, &open)) {
+        if (!open || g.dlg_open) g.dlg_open = g.dlg_open && open;
+        return;
+    }
+    ImGui::TextUnformatted(g.cwd.c_str());
+    if (ImGui::Button("Parent")) set_cwd(dir_of(g.cwd.c_str()));
+    ImGui::SameLine();
+    if (ImGui::Button("Refresh")) list_dir();
+    ImGui::SameLine();
+    if (g.dlg_kind == ST_DIALOG_OPEN) ImGui::TextDisabled(".obj .off .ply .gltf .glb .strata");
+    else if (g.dlg_kind == ST_DIALOG_SAVE_AS) ImGui::TextDisabled(".strata");
+    else ImGui::TextDisabled("%s of the displayed %s", export_exts[g.dlg_format], a->doc.box_on ? "adaptive mesh" : "level");
+    float footer = ImGui::GetFrameHeightWithSpacing() * 2 + (g.dlg_error.empty() ? 0 : ImGui::GetTextLineHeightWithSpacing() * 2);
+    ImGui::BeginChild("entries", ImVec2(0, -footer), true);
+    std::string go;
+    for (const file_entry &e : g.entries) {
+        std::string label = e.dir ? "[dir] " + e.name : e.name;
+        bool sel = !e.dir && !strcmp(g.path, e.name.c_str());
+        if (ImGui::Selectable(label.c_str(), sel, ImGuiSelectableFlags_AllowDoubleClick)) {
+            if (e.dir) go = e.name;
+            else {
+                snprintf(g.path, sizeof g.path, "%s", e.name.c_str());
+                g.dlg_confirm = false;
+                if (ImGui::IsMouseDoubleClicked(0)) g.dlg_accept = true;
+            }
+        }
+        if (!e.dir) {
+            ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 90 * g.scale);
+            ImGui::TextDisabled("%s", format_size(e.size).c_str());
+        }
+    }
+    ImGui::EndChild();
+    if (!go.empty()) set_cwd(g.cwd + "/" + go);
+    if (!g.dlg_error.empty()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
+        ImGui::TextWrapped("%s", g.dlg_error.c_str());
+        ImGui::PopStyleColor();
+    }
+    ImGui::SetNextItemWidth(-160 * g.scale);
+    if (ImGui::InputText("##path", g.path, sizeof g.path, ImGuiInputTextFlags_EnterReturnsTrue)) g.dlg_accept = true;
+    ImGui::SameLine();
+    const char *ok = g.dlg_kind == ST_DIALOG_OPEN ? "Open" : g.dlg_kind == ST_DIALOG_SAVE_AS ? "Save" : "Export";
+    if (ImGui::Button(ok, ImVec2(70 * g.scale, 0)) && g.path[0]) g.dlg_accept = true;
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel", ImVec2(70 * g.scale, 0)) || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
+        g.dlg_open = false;
+        g.dlg_accept = false;
+    }
+    if (g.dlg_accept) {
+        std::string full = completed_path(g.dlg_kind, g.path);
+        struct stat st;
+        if (!g.path[0]) g.dlg_accept = false;
+        else if (!stat(full.c_str(), &st) && S_ISDIR(st.st_mode)) { set_cwd(full); g.path[0] = 0; g.dlg_accept = false; }
+        else if (g.dlg_kind != ST_DIALOG_OPEN && !g.dlg_confirm && !stat(full.c_str(), &st)) {
+            g.dlg_confirm = true;   /* asks below; the choice runs on "Overwrite" */
+            g.dlg_accept = false;
+        }
+    }
+    if (g.dlg_confirm) {
+        ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%s exists.", g.path);
+        ImGui::SameLine();
+        if (ImGui::Button("Overwrite")) { g.dlg_accept = true; }
+        ImGui::SameLine();
+        if (ImGui::Button("Keep it")) g.dlg_confirm = false;
+    }
+    if (!g.dlg_open || !open) { g.dlg_open = false; ImGui::CloseCurrentPopup(); }
+    ImGui::EndPopup();
+}
+
+/* The scheme question of K (or the Scheme menu): Y / Enter, K, N still work. */
+void scheme_window(st_app *a)
+{
+    if (!a->pending_scheme) return;
+    ImGuiIO &io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::Begin("Change the scheme?", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
+    ImGui::Text("Rebuild the hierarchy with %s?", a->pending_scheme);
+    ImGui::TextDisabled("The details of the current levels are lost.");
+    char b[96];
+    snprintf(b, sizeof b, "Rebuild with %s", a->pending_scheme);
+    if (ImGui::Button(b)) g.pending_action = ST_ACT_SCHEME_CONFIRM;
+    ImGui::SameLine();
+    if (ImGui::Button("Next scheme")) g.pending_action = ST_ACT_SCHEME_NEXT;
+    ImGui::SameLine();
+    if (ImGui::Button("Keep")) g.pending_action = ST_ACT_SCHEME_KEEP;
+    ImGui::End();
+}
+
+void about_window(void)
+{
+    if (!g.about) return;
+    ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x * 0.5f, ImGui::GetIO().DisplaySize.y * 0.4f), ImGuiCond_Appearing,
+                            ImVec2(0.5f, 0.5f));
+    if (ImGui::Begin("About Strata", &g.about, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse)) {
+        ImGui::Text("Strata %s", STRATA_VERSION);
+        ImGui::TextDisabled("interactive multiresolution subdivision modelling");
+        ImGui::Separator();
+        ImGui::Text("Dear ImGui %s", IMGUI_VERSION);
+        ImGui::Text("GLFW %s", glfwGetVersionString());
+    }
+    ImGui::End();
+}
+
+/* Help > Key bindings (F1): the same rows as the HUD's F1 list and the
+ * README's table (st_help_rows). */
+void keys_window(st_app *a)
+{
+    if (!a->help) return;
+    static st_help_row rows[ST_HELP_MAX_ROWS];
+    unsigned n = st_help_rows(rows, ST_HELP_MAX_ROWS);
+    if (n > ST_HELP_MAX_ROWS) n = ST_HELP_MAX_ROWS;
+    ImGuiIO &io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2(20 * g.scale, menu_height + 10 * g.scale), ImGuiCond_Appearing);
+    ImGui::SetNextWindowSize(ImVec2(std::min(760 * g.scale, io.DisplaySize.x - 40 * g.scale), io.DisplaySize.y * 0.8f),
+                             ImGuiCond_Appearing);
+    bool open = true;
+    if (ImGui::Begin("Key bindings (F1)", &open) && ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_Resizable)) {
+        ImGui::TableSetupColumn("keys", ImGuiTableColumnFlags_WidthFixed, 300 * g.scale);
+        ImGui::TableSetupColumn("what", ImGuiTableColumnFlags_WidthStretch);
+        for (unsigned i = 0; i < n; i++) {
+            ImGui::TableNextRow();
+            ImGui::TableSetColumnIndex(0);
+            if (rows[i].heading) { ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "%s", rows[i].heading); continue; }
+            ImGui::TextUnformatted(rows[i].keys);
+            ImGui::TableSetColumnIndex(1);
+            ImGui::TextWrapped("%s", rows[i].what);
+        }
+        ImGui::EndTable();
+    }
+    ImGui::End();
+    if (!open) a->help = 0;
+}
+
+/* What the window is doing on its worker thread (jobs.c): the stage and,
+ * when the editor reports steps ("step 3 of 6"), how far it is.  The
+ * document's operations have no cancellation, so there is no Cancel. */
+void progress_window(st_app *a)
+{
+    if (!a->working[0]) return;
+    ImGuiIO &io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::SetNextWindowSize(ImVec2(420 * g.scale, 0));
+    ImGui::Begin("Working", nullptr, ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove);
+    ImGui::TextWrapped("%s", a->working);
+    unsigned step = 0, steps = 0;
+    const char *s = strstr(a->working, "step ");
+    if (s) sscanf(s, "step %u of %u", &step, &steps);
+    char over[32];
+    if (steps) snprintf(over, sizeof over, "step %u of %u", step, steps);
+    else snprintf(over, sizeof over, "working...");
+    ImGui::ProgressBar(steps ? (float)step / (float)steps : 0.0f, ImVec2(-1, 0), over);
+    ImGui::End();
+}
+
+void slider_level(st_app *a, const char *label, int display)
+{
+    st_doc *d = &a->doc;
+    int top = (int)d->h.map.top;
+    int v = display ? (int)d->display_level : (int)d->edit_level;
+    int lo = display ? (int)d->edit_level : 0;
+    bool off = display && d->box_on;
+    if (off) ImGui::BeginDisabled();
+    if (ImGui::SliderInt(label, &v, lo, top) && a->op == ST_OP_NONE) {
+        if (display) st_doc_set_display_level(d, (unsigned)v);
+        else st_doc_set_edit_level(d, (unsigned)v);
+        st_app_sync(a);
+    }
+    if (off) ImGui::EndDisabled();
+}
+
+void action_button(st_app *a, int id, const char *label)
+{
+    bool on = st_action_enabled(&st_actions[id], a) != 0;
+    if (!on) ImGui::BeginDisabled();
+    if (ImGui::Button(label)) g.pending_action = id;
+    if (!on) ImGui::EndDisabled();
+}
+
+void box_section(st_app *a)
+{
+    st_doc *d = &a->doc;
+    bool on = d->box_on != 0;
+    if (ImGui::Checkbox("interest box", &on)) g.pending_action = ST_ACT_BOX_TOGGLE;
+    if (!d->box_on) return;
+    st_adapt_params b = d->box;
+    double c[3], s[3];
+    for (int k = 0; k < 3; k++) { c[k] = 0.5 * (b.box_lo[k] + b.box_hi[k]); s[k] = b.box_hi[k] - b.box_lo[k]; }
+    float speed = 0.005f * (float)a->cc.radius;
+    bool changed = ImGui::DragScalarN("centre", ImGuiDataType_Double, c, 3, speed, nullptr, nullptr, "%.3f");
+    bool active = ImGui::IsItemActive();
+    double smin = 1e-4 * a->cc.radius;
+    changed |= ImGui::DragScalarN("size", ImGuiDataType_Double, s, 3, speed, &smin, nullptr, "%.3f");
+    active |= ImGui::IsItemActive();
+    int base = (int)b.base_level, mx = (int)b.max_level, top = (int)d->h.map.top + 3;
+    bool lv = ImGui::SliderInt("base level", &base, 0, top);
+    lv |= ImGui::SliderInt("max level", &mx, 0, top);
+    /* A drag of the fields is one box operation, as a handle drag. */
+    if (active && !g.box_dragging) { st_doc_box_begin(d); g.box_dragging = 1; }
+    if ((changed || lv) && a->op == ST_OP_NONE) {
+        for (int k = 0; k < 3; k++) { b.box_lo[k] = c[k] - 0.5 * s[k]; b.box_hi[k] = c[k] + 0.5 * s[k]; }
+        if (base > mx) { if (lv && base != (int)d->box.base_level) mx = base; else base = mx; }
+        b.base_level = (unsigned)base;
+        b.max_level = (unsigned)mx;
+        st_error err;
+        if (st_doc_set_box(d, &b, 1, &err)) st_app_message(a, 1, "cannot change the box: %s", err.msg);
+        st_app_sync(a);
+    }
+    if (!active && g.box_dragging) { st_doc_box_end(d); g.box_dragging = 0; st_app_sync(a); }
+}
+
+void side_panel(st_app *a)
+{
+    ImGuiIO &io = ImGui::GetIO();
+    float w = 290 * g.scale;
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - w, menu_height), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(w, 0), ImGuiCond_Always);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(w, 0), ImVec2(w, io.DisplaySize.y - menu_height));
+    ImGui::Begin("Strata", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_AlwaysAutoResize);
+    st_doc *d = &a->doc;
+    ImGui::PushItemWidth(150 * g.scale);
+    if (!d->loaded) {
+        ImGui::TextUnformatted("No model: File > Open, or drop a file");
+    } else {
+        uint64_t faces = 0, verts = 0;
+        st_doc_display_counts(d, &faces, &verts);
+        ImGui::Text("%s  (%s)", st_path_base(d->path), d->scheme ? d->scheme->name : "?");
+        if (ImGui::CollapsingHeader("Levels", ImGuiTreeNodeFlags_DefaultOpen)) {
+            slider_level(a, "editing", 0);
+            slider_level(a, "displayed", 1);
+            ImGui::Text("%llu faces, %llu vertices", (unsigned long long)faces, (unsigned long long)verts);
+            ImGui::Text("editing level: %u vertices", a->r.has_cage ? a->r.cage.nverts : 0);
+            action_button(a, ST_ACT_ADD_LEVEL, "Add level");
+            ImGui::SameLine();
+            action_button(a, ST_ACT_DELETE_FINEST, "Delete finest");
+            ImGui::SameLine();
+            action_button(a, ST_ACT_DELETE_COARSEST, "Rebase");
+        }
+        if (ImGui::CollapsingHeader("Tool", ImGuiTreeNodeFlags_DefaultOpen)) {
+            static const int tools[] = { ST_ACT_TOOL_SELECT, ST_ACT_BRUSH_GRAB, ST_ACT_BRUSH_DRAW, ST_ACT_BRUSH_SMOOTH,
+                                         ST_ACT_BRUSH_FLATTEN };
+            static const char *const names[] = { "select", "grab", "draw", "smooth", "flatten" };
+            for (int i = 0; i < 5; i++) {
+                if (i && i != 3) ImGui::SameLine();
+                if (ImGui::RadioButton(names[i], st_action_checked(&st_actions[tools[i]], a) > 0)) g.pending_action = tools[i];
+            }
+            float r = (float)d->brush.radius, s = (float)d->brush.strength;
+            float rmax = (float)a->cc.radius;
+            if (ImGui::SliderFloat("radius", &r, 0.002f * rmax, rmax, "%.4g", ImGuiSliderFlags_Logarithmic)) d->brush.radius = r;
+            if (ImGui::SliderFloat("strength", &s, 0.02f, 1.0f, "%.2f")) d->brush.strength = s;
+            bool mir = d->brush.mirror_x != 0;
+            if (ImGui::Checkbox("X mirror", &mir)) d->brush.mirror_x = mir;
+            ImGui::SameLine();
+            ImGui::Text("  selected %u", d->nsel);
+        }
+        if (ImGui::CollapsingHeader("Interest box", ImGuiTreeNodeFlags_DefaultOpen)) box_section(a);
+        if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {
+            int sh = a->shading;
+            if (ImGui::RadioButton("smooth", sh == ST_SHADE_SMOOTH)) a->shading = ST_SHADE_SMOOTH;
+            ImGui::SameLine();
+            if (ImGui::RadioButton("flat", sh == ST_SHADE_FLAT)) a->shading = ST_SHADE_FLAT;
+            ImGui::SameLine();
+            bool cage = a->cage != 0, wire = a->wire != 0;
+            if (ImGui::Checkbox("cage", &cage)) g.pending_action = ST_ACT_CAGE;
+            ImGui::SameLine();
+            if (ImGui::Checkbox("wire", &wire)) a->wire = wire;
+        }
+    }
+    if (ImGui::CollapsingHeader("Timings", ImGuiTreeNodeFlags_DefaultOpen)) {
+        char t1[32], t2[32], t3[32];
+        ImGui::Text("frame %s", st_app_fmt_ms(a, a->frame_ms, t1, sizeof t1));
+        ImGui::Text("update: geometry %s, buffers %s", st_app_fmt_ms(a, d->loaded ? d->last_update_ms : 0, t2, sizeof t2),
+                    st_app_fmt_ms(a, a->update_ms, t3, sizeof t3));
+        ImGui::Text("undo %u/%u   %s", d->undo_pos, d->nundo, a->cc.cam.ortho ? "ortho" : "persp");
+    }
+    ImGui::PopItemWidth();
+    ImGui::End();
+}
+
+}  // namespace
+
+/* ---- the C API ---------------------------------------------------------------------------- */
+
+extern "C" {
+
+int st_gui_init(st_app *a, int shown)
+{
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGuiIO &io = ImGui::GetIO();
+    io.IniFilename = nullptr;   /* preferences are ours (prefs.c), no imgui.ini in the working directory */
+    ImGui::StyleColorsDark();
+    /* The window's callbacks stay the window's: they pass events on (gui.h). */
+    if (!ImGui_ImplGlfw_InitForOpenGL(a->win, false) || !ImGui_ImplOpenGL3_Init("#version 330")) {
+        fprintf(stderr, "strata: the interface (Dear ImGui) did not start; the window works without it\n");
+        ImGui::DestroyContext();
+        return -1;
+    }
+    float xs = 1, ys = 1;
+    glfwGetWindowContentScale(a->win, &xs, &ys);
+    g.scale = st_prefs_ui_scale() > 0 ? st_prefs_ui_scale() : std::max(1.0f, std::max(xs, ys));
+    if (g.scale != 1) {
+        ImGui::GetStyle().ScaleAllSizes(g.scale);
+        io.FontGlobalScale = g.scale;
+    }
+    ImGui::GetStyle().WindowRounding = 0;
+    ImGui::GetStyle().Colors[ImGuiCol_WindowBg].w = 0.85f;
+    g.win = a->win;
+    g.shown = shown != 0;
+    g.init = true;
+    return 0;
+}
+
+void st_gui_shutdown(void)
+{
+    if (!g.init) return;
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    g = gui_state();
+}
+
+int st_gui_shown(void) { return g.init && g.shown; }
+void st_gui_set_shown(int on) { g.shown = on != 0; }
+
+void st_gui_frame(st_app *a)
+{
+    if (!st_gui_shown() || g.in_frame) return;
+    g.in_frame = true;
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGuiIO &io = ImGui::GetIO();
+    io.MousePos = ImVec2(g.mx, g.my);
+    for (int i = 0; i < 5; i++) io.MouseDown[i] = i < 3 && (g.down[i] || g.pressed[i]);
+    for (bool &p : g.pressed) p = false;
+    if (a->masked_times) io.DeltaTime = 1.0f / 60;   /* replays: the same frames whatever the clock */
+    ImGui::NewFrame();
+    if (a->busy) {
+        progress_window(a);
+    } else {
+        if (ImGui::BeginMainMenuBar()) {
+            menu_pass m;
+            m.a = a;
+            menus(m);
+            menu_height = ImGui::GetWindowSize().y;
+            ImGui::EndMainMenuBar();
+        }
+        side_panel(a);
+        scheme_window(a);
+        about_window();
+        keys_window(a);
+        if (g.dlg_open) file_dialog(a);
+    }
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    g.in_frame = false;
+}
+
+void st_gui_run_pending(st_app *a)
+{
+    if (g.pending_action >= 0) {
+        int id = g.pending_action;
+        g.pending_action = -1;
+        if (st_action_enabled(&st_actions[id], a)) st_actions[id].run(a);
+    }
+    if (g.dlg_accept) {
+        g.dlg_accept = false;
+        g.dlg_confirm = false;
+        dialog_accept(a, g.dlg_kind, completed_path(g.dlg_kind, g.path));
+    }
+}
+
+void st_gui_cursor(double x, double y)
+{
+    g.mx = (float)x;
+    g.my = (float)y;
+}
+
+int st_gui_mouse_button(st_app *a, int button, int action, int mods)
+{
+    (void)mods;
+    if (!st_gui_shown() || button < 0 || button >= 3) return 0;
+    if (action == GLFW_RELEASE) { g.down[button] = false; return 0; }
+    if (a->op != ST_OP_NONE || !ImGui::GetIO().WantCaptureMouse) return 0;
+    g.down[button] = g.pressed[button] = true;
+    return 1;
+}
+
+int st_gui_scroll(double dx, double dy)
+{
+    if (!st_gui_shown() || !ImGui::GetIO().WantCaptureMouse) return 0;
+    ImGuiIO &io = ImGui::GetIO();
+    io.MouseWheelH += (float)dx;
+    io.MouseWheel += (float)dy;
+    return 1;
+}
+
+int st_gui_key(int key, int scancode, int action, int mods)
+{
+    if (!g.init) return 0;
+    ImGui_ImplGlfw_KeyCallback(g.win, key, scancode, action, mods);
+    if (!g.shown || action == GLFW_RELEASE) return 0;
+    switch (key) {
+    case GLFW_KEY_LEFT_SHIFT: case GLFW_KEY_RIGHT_SHIFT: case GLFW_KEY_LEFT_CONTROL: case GLFW_KEY_RIGHT_CONTROL:
+    case GLFW_KEY_LEFT_ALT: case GLFW_KEY_RIGHT_ALT: case GLFW_KEY_LEFT_SUPER: case GLFW_KEY_RIGHT_SUPER: return 0;
+    default: break;
+    }
+    return ImGui::GetIO().WantCaptureKeyboard ? 1 : 0;
+}
+
+void st_gui_char(unsigned c)
+{
+    if (st_gui_shown()) ImGui::GetIO().AddInputCharacter(c);
+}
+
+void st_gui_open_dialog(st_app *a, int kind) { open_dialog(a, kind, 0); }
+void st_gui_show_about(void) { g.about = true; }
+
+int st_app_export(st_app *a, const char *path)
+{
+    st_doc *d = &a->doc;
+    if (!d->loaded) { st_app_message(a, 1, "nothing to export"); return -1; }
+    st_mesh m;
+    st_mesh_init(&m);
+    st_error err;
+    /* The displayed hierarchy: the model's, or the adaptive one with the box on. */
+    st_hier *h = (st_hier *)st_doc_display_hier(d);
+    unsigned l = st_doc_display_map_level(d);
+    int rc = st_hier_level_mesh(h, l, &m, &err);
+    if (!rc) rc = st_gltf_is_gltf_path(path) ? st_gltf_save(path, &m, &err) : st_mesh_save(path, &m, &err);
+    if (rc) st_app_message(a, 1, "cannot export %s: %s", st_path_base(path), err.msg);
+    else st_app_message(a, 0, "exported %s (%s %u, %u faces)", st_path_base(path), d->box_on ? "adaptive mesh at level" : "level", l,
+                        (unsigned)m.nfaces);
+    st_mesh_free(&m);
+    return rc;
+}
+
+int st_gui_menu_activate(st_app *a, const char *path, const char *arg, char *msg, size_t n)
+{
+    menu_pass m;
+    m.a = a;
+    m.draw = false;
+    m.arg = arg;
+    std::string p = path;
+    size_t s = 0;
+    for (size_t i = 0; i <= p.size(); i++)
+        if (i == p.size() || p[i] == '/') { m.path.push_back(p.substr(s, i - s)); s = i + 1; }
+    menus(m);
+    if (m.found && m.error.empty()) return 0;
+    snprintf(msg, n, "%s", !m.error.empty() ? m.error.c_str() : "no such menu item");
+    return -1;
+}
+
+}  // extern "C"

@@ -1,0 +1,70 @@
+/* The window's interface drawn with Dear ImGui (libimgui-dev 1.86, C++):
+ * a menu bar generated from the action table (actions.h), a side panel,
+ * a file dialog, the scheme question and a progress window for long jobs.
+ * Dear ImGui stays in ui/gui.cc; this is its C API.
+ *
+ * Input: the window's GLFW handlers (window.c), which the replay calls too,
+ * pass every event here first.  A press, a wheel turn or a key goes to the
+ * GUI alone when ImGui wants it (io.WantCaptureMouse / WantCaptureKeyboard:
+ * the pointer is over a menu or panel, a text field is active, a dialog is
+ * open); releases, cursor moves and modifiers always reach the 3D view as
+ * well, so its camera and brush operations end cleanly.  The pointer and
+ * buttons ImGui sees are the ones those events carried, not polled from the
+ * X server, so that replays are deterministic.
+ *
+ * Actions chosen in the GUI run after the GUI's frame (st_gui_run_pending),
+ * never inside it: a long job draws frames of its own (jobs.c). */
+#ifndef ST_GUI_H
+#define ST_GUI_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct st_app;
+
+/* After the window's GLFW callbacks are installed.  0, or -1 (the window
+ * then works without the GUI; the reason is printed). */
+int st_gui_init(struct st_app *a, int shown);
+void st_gui_shutdown(void);
+
+/* Whether the GUI is drawn (and takes input); F10 / View > Interface. */
+int st_gui_shown(void);
+void st_gui_set_shown(int on);
+
+/* Builds and draws the GUI over the frame in the back buffer. */
+void st_gui_frame(struct st_app *a);
+/* Runs what the GUI chose during its last frame. */
+void st_gui_run_pending(struct st_app *a);
+
+/* Events (window coordinates); the _mouse_button, _scroll and _key ones
+ * return 1 when the GUI took the event and the 3D view must ignore it. */
+void st_gui_cursor(double x, double y);
+int st_gui_mouse_button(struct st_app *a, int button, int action, int mods);
+int st_gui_scroll(double dx, double dy);
+int st_gui_key(int key, int scancode, int action, int mods);
+void st_gui_char(unsigned c);
+
+/* The file dialog (Ctrl+O, Ctrl+Shift+S, Ctrl+E). */
+enum st_gui_dialog { ST_DIALOG_OPEN, ST_DIALOG_SAVE_AS, ST_DIALOG_EXPORT };
+void st_gui_open_dialog(struct st_app *a, int kind);
+
+/* Help > About. */
+void st_gui_show_about(void);
+
+/* Writes the displayed mesh (the displayed level, or the adaptive mesh
+ * while the interest box is on) by extension: .obj .ply .gltf .glb. */
+int st_app_export(struct st_app *a, const char *path);
+
+/* The replay's `menu PATH [ARG]`: activates the menu item PATH
+ * ("File/Export/glTF", "View/Wireframe") as a click would; ARG is the file
+ * name a dialog would ask for.  0, or -1 with the reason in msg. */
+int st_gui_menu_activate(struct st_app *a, const char *path, const char *arg, char *msg, size_t n);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,117 @@
+/* Preferences file (prefs.h). */
+#include "prefs.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/io/atomic_file.h"
+
+static char *recent[ST_PREFS_RECENT + 1];
+static float ui_scale;
+static int win_w, win_h;
+
+int st_prefs_path(char *buf, unsigned long n)
+{
+    const char *x = getenv("XDG_CONFIG_HOME"), *home = getenv("HOME");
+    int k;
+    if (x && x[0]) k = snprintf(buf, n, "%s/strata/prefs", x);
+    else if (home && home[0]) k = snprintf(buf, n, "%s/.config/strata/prefs", home);
+    else return -1;
+    return k > 0 && (unsigned long)k < n ? 0 : -1;
+}
+
+static void clear_recent(void)
+{
+    for (int i = 0; i < ST_PREFS_RECENT; i++) { free(recent[i]); recent[i] = NULL; }
+}
+
+void st_prefs_free(void) { clear_recent(); }
+
+const char *const *st_prefs_recent(void) { return (const char *const *)recent; }
+float st_prefs_ui_scale(void) { return ui_scale; }
+void st_prefs_window(int *w, int *h) { *w = win_w; *h = win_h; }
+void st_prefs_set_window(int w, int h) { win_w = w; win_h = h; }
+
+void st_prefs_add_recent(const char *path)
+{
+    char full[PATH_MAX];
+    const char *p = realpath(path, full) ? full : path;
+    char *dup = strdup(p);
+    if (!dup) return;
+    /* Moved to the front if already listed; the oldest falls off. */
+    int at = ST_PREFS_RECENT - 1;
+    for (int i = 0; i < ST_PREFS_RECENT; i++)
+        if (recent[i] && !strcmp(recent[i], p)) { at = i; break; }
+    free(recent[at]);
+    memmove(recent + 1, recent, (size_t)at * sizeof recent[0]);
+    recent[0] = dup;
+}
+
+static int load_file(FILE *f, const char *path)
+{
+    char line[4200];
+    unsigned no = 0;
+    int nrec = 0;
+    while (fgets(line, sizeof line, f)) {
+        no++;
+        size_t len = strlen(line);
+        if (len && line[len - 1] == '\n') line[--len] = 0;
+        else if (!feof(f)) { fprintf(stderr, "strata: %s:%u: line too long; preferences ignored\n", path, no); return -1; }
+        if (!line[0] || line[0] == '#') continue;
+        if (no == 1) {
+            if (strcmp(line, "strata-prefs 1")) { fprintf(stderr, "strata: %s:1: not a strata-prefs 1 file; preferences ignored\n", path); return -1; }
+            continue;
+        }
+        int w, h, used = 0;
+        float s;
+        if (sscanf(line, "window %d %d%n", &w, &h, &used) == 2 && !line[used] && w > 0 && h > 0 && w < 100000 && h < 100000) {
+            win_w = w;
+            win_h = h;
+        } else if (sscanf(line, "ui_scale %f%n", &s, &used) == 1 && !line[used] && s >= 0 && s <= 8) {
+            ui_scale = s;
+        } else if (!strncmp(line, "recent ", 7) && line[7]) {
+            if (nrec < ST_PREFS_RECENT && (recent[nrec] = strdup(line + 7))) nrec++;
+        } else {
+            fprintf(stderr, "strata: %s:%u: cannot read \"%.60s\"; preferences ignored\n", path, no, line);
+            return -1;
+        }
+    }
+    if (no == 0) { fprintf(stderr, "strata: %s: empty; preferences ignored\n", path); return -1; }
+    return 0;
+}
+
+int st_prefs_load(void)
+{
+    char path[PATH_MAX];
+    if (st_prefs_path(path, sizeof path)) return 0;
+    FILE *f = fopen(path, "r");
+    if (!f) return 0;
+    clear_recent();
+    ui_scale = 0;
+    win_w = win_h = 0;
+    int rc = load_file(f, path);
+    fclose(f);
+    if (rc) { clear_recent(); ui_scale = 0; win_w = win_h = 0; }
+    return rc;
+}
+
+int st_prefs_save(void)
+{
+    char path[PATH_MAX];
+    if (st_prefs_path(path, sizeof path)) return -1;
+    st_error err;
+    st_afile af;
+    if (st_mkdir_parents(path) || st_afile_open(&af, path, &err)) {
+        fprintf(stderr, "strata: cannot write the preferences %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    fprintf(af.f, "strata-prefs 1\n");
+    if (win_w > 0 && win_h > 0) fprintf(af.f, "window %d %d\n", win_w, win_h);
+    fprintf(af.f, "ui_scale %g\n", ui_scale);
+    for (int i = 0; i < ST_PREFS_RECENT && recent[i]; i++) fprintf(af.f, "recent %s\n", recent[i]);
+    if (st_afile_commit(&af, &err)) { fprintf(stderr, "strata: cannot write the preferences %s: %s\n", path, err.msg); return -1; }
+    return 0;
+}
