@@ -162,6 +162,18 @@ int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels
  * the loaded one).  Undoable. */
 int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err);
 
+/* Rebuild levels: the finest level (the loaded mesh when there is one
+ * level) made into a hierarchy with coarse levels, as `strata rebuild
+ * --method auto` does: unsubdivide when it has subdivision connectivity
+ * (scheme Catmull-Clark or Loop by its pattern), else the progressive
+ * method (to 1 % of the faces).  The result replaces the hierarchy
+ * (editing level 0, displayed level top); undoable like a scheme change.
+ * progress (may be NULL) is called with the fraction done; a non-zero
+ * return cancels (ST_ERR_INVALID, "cancelled"), the document unchanged.
+ * msg receives which method made how many levels. */
+int st_doc_rebuild_levels(st_doc *d, int (*progress)(void *ctx, double fraction), void *ctx, char *msg,
+                          size_t msgcap, st_error *err);
+
 /* Levels.  Add: regular refinement of the top (refused with a message giving
  * the bytes needed when over mem_budget).  Remove top / bottom: delete the
  * finest / coarsest level (bottom = "rebase": level 1 becomes the control
