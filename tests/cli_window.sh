@@ -127,6 +127,17 @@ for spec in "sqrt3 octahedron.obj" "sqrt3 tetrahedron.obj" "doo-sabin torus.obj"
     run 0 "replay .* passed" win "$EXE" --size 480x360 --scheme "$1" --levels 2 --replay "$SRC/replay/box_schemes.txt" "$ASSETS/$2"
 done
 
+# Rebuild levels (Ctrl+U, Mesh menu) on meshes opened with no levels: a
+# twice subdivided cube (unsubdivide) and a triangle mesh without
+# subdivision connectivity (the progressive method); undo and redo.
+if "$EXE" subdivide "$ASSETS/cube.obj" --scheme catmull-clark --levels 2 -o "$TMP/cube_cc2.obj" > /dev/null; then
+    run 0 "replay .* passed" win "$EXE" --size 480x360 --levels 0 --replay "$SRC/replay/rebuild.txt" "$TMP/cube_cc2.obj"
+else
+    bad "strata subdivide cube.obj failed"
+fi
+run 0 "replay .* passed" win "$EXE" --size 480x360 --scheme loop --levels 0 --replay "$SRC/replay/rebuild_progressive.txt" \
+    "$MESHES/triangle/bob_small.ply"
+
 # 2. A failing expectation exits non-zero and says which line.
 printf 'wait 2\nexpect top 99\nquit\n' > "$TMP/fail.txt"
 run 1 "fail.txt:2: expect top 99 failed: actual 2" win "$EXE" --size 320x240 --levels 2 --replay "$TMP/fail.txt" "$ASSETS/cube.obj"

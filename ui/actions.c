@@ -206,6 +206,7 @@ static void delete_coarsest(st_app *a)
 }
 /* K asks first (the rebuild loses the details): the scheme question. */
 static void change_scheme(st_app *a) { a->pending_scheme = next_scheme(a->doc.scheme ? a->doc.scheme->name : NULL); }
+static void rebuild_levels(st_app *a) { st_app_request_rebuild(a); }
 static void scheme_next(st_app *a) { a->pending_scheme = next_scheme(a->pending_scheme); }
 static void scheme_confirm(st_app *a)
 {
@@ -352,6 +353,9 @@ const st_action st_actions[ST_NACTIONS] = {
         delete_coarsest, model_keys_free, KEY(D, C | A, 0)),
     ACT(ST_ACT_CHANGE_SCHEME, ST_CAT_MESH, "Change the scheme...", "change the scheme (asks first, see below)",
         change_scheme, model_keys_free, KEY(K, 0, S | A)),
+    ACT(ST_ACT_REBUILD_LEVELS, ST_CAT_MESH, "Rebuild levels",
+        "rebuild coarse levels from the finest (unsubdivide, else progressive; Esc cancels)", rebuild_levels,
+        model_keys_free, KEY(U, C, 0)),
 
     ACT(ST_ACT_BOX_TOGGLE, ST_CAT_BOX, "Interest box", "interest box on / off (adaptive display)", box_toggle,
         model_keys_free, KEY(I, 0, S | A)),

@@ -732,6 +732,7 @@ void st_gui_run_pending(st_app *a)
         g.pending_action = -1;
         if (st_action_enabled(&st_actions[id], a)) st_actions[id].run(a);
     }
+    st_app_run_requested(a);
     if (g.dlg_accept) {
         g.dlg_accept = false;
         g.dlg_confirm = false;

@@ -1,5 +1,5 @@
 /* Long document operations on a worker thread: opening a file, adding a
- * level and changing the scheme.  The main thread keeps drawing a
+ * level, changing the scheme and rebuilding the levels (which Esc cancels).  The main thread keeps drawing a
  * "working..." panel (hud_panels.c) with the stage the editor's progress
  * callback reports and the elapsed time; see README.md "Modeller". */
 #include "window.h"
@@ -34,7 +34,7 @@ static void show_working(st_app *a, const char *fmt, ...)
 
 /* ---- long document operations on a worker thread ------------------------------------- */
 
-enum { JOB_OPEN, JOB_ADD_LEVEL, JOB_SCHEME };
+enum { JOB_OPEN, JOB_ADD_LEVEL, JOB_SCHEME, JOB_REBUILD };
 
 typedef struct doc_job {
     st_doc *d;
@@ -48,7 +48,17 @@ typedef struct doc_job {
     pthread_mutex_t mu;
     char stage[160];
     unsigned step, steps;
+    /* JOB_REBUILD: set by the main thread (Esc), read by the rebuild's
+     * progress callback; msg: which method made how many levels. */
+    atomic_int cancel;
+    char msg[256];
 } doc_job;
+
+static int job_cancelled(void *ctx, double fraction)
+{
+    (void)fraction;
+    return atomic_load(&((doc_job *)ctx)->cancel);
+}
 
 static void job_progress(void *ctx, const char *what, unsigned step, unsigned steps)
 {
@@ -66,6 +76,7 @@ static void *job_main(void *p)
     switch (j->kind) {
     case JOB_OPEN: j->rc = st_doc_open(j->d, j->path, j->scheme, j->levels, &j->err); break;
     case JOB_ADD_LEVEL: j->rc = st_doc_add_level(j->d, &j->err); break;
+    case JOB_REBUILD: j->rc = st_doc_rebuild_levels(j->d, job_cancelled, j, j->msg, sizeof j->msg, &j->err); break;
     default: j->rc = st_doc_set_scheme(j->d, j->scheme, &j->err); break;
     }
     atomic_store(&j->done, 1);
@@ -79,6 +90,15 @@ static void *job_main(void *p)
  * reported ("building level 6, step 6 of 6").  Input is not processed until
  * it ends (GLFW forbids polling events from inside a callback, where this
  * runs). */
+/* A cancellable job's key callback while it runs: Esc cancels, every other
+ * input waits (the worker owns the document). */
+static doc_job *g_cancellable;
+static void cancel_key(GLFWwindow *w, int key, int sc, int action, int mods)
+{
+    (void)w; (void)sc; (void)mods;
+    if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS && g_cancellable) atomic_store(&g_cancellable->cancel, 1);
+}
+
 static int run_job(st_app *a, doc_job *j, const char *what)
 {
     j->d = &a->doc;
@@ -100,7 +120,28 @@ static int run_job(st_app *a, doc_job *j, const char *what)
     }
     double t0 = st_now_ms(), next = t0 + 150;
     int shown = a->working[0] != 0;   /* show_working() already said it */
+    /* A cancellable job runs from the main loop (st_app_run_requested), not
+     * from a GLFW callback, so events can be polled: only Esc is listened
+     * to, the window's other handlers are off until the job ends (replays
+     * deliver their own events, none during a job). */
+    int poll = j->kind == JOB_REBUILD && !a->replay;
+    GLFWkeyfun keyfun = NULL;
+    GLFWmousebuttonfun buttonfun = NULL;
+    GLFWcursorposfun cursorfun = NULL;
+    GLFWscrollfun scrollfun = NULL;
+    GLFWdropfun dropfun = NULL;
+    GLFWcharfun charfun = NULL;
+    if (poll) {
+        g_cancellable = j;
+        keyfun = glfwSetKeyCallback(a->win, cancel_key);
+        buttonfun = glfwSetMouseButtonCallback(a->win, NULL);
+        cursorfun = glfwSetCursorPosCallback(a->win, NULL);
+        scrollfun = glfwSetScrollCallback(a->win, NULL);
+        dropfun = glfwSetDropCallback(a->win, NULL);
+        charfun = glfwSetCharCallback(a->win, NULL);
+    }
     while (!atomic_load(&j->done)) {
+        if (poll) glfwPollEvents();
         double t = st_now_ms();
         if (t >= next) {
             char el[32];
@@ -124,6 +165,15 @@ static int run_job(st_app *a, doc_job *j, const char *what)
         }
     }
     pthread_join(th, NULL);
+    if (poll) {
+        g_cancellable = NULL;
+        glfwSetKeyCallback(a->win, keyfun);
+        glfwSetMouseButtonCallback(a->win, buttonfun);
+        glfwSetCursorPosCallback(a->win, cursorfun);
+        glfwSetScrollCallback(a->win, scrollfun);
+        glfwSetDropCallback(a->win, dropfun);
+        glfwSetCharCallback(a->win, charfun);
+    }
     a->doc.progress = NULL;
     a->doc.progress_ctx = NULL;
     pthread_mutex_destroy(&j->mu);
@@ -204,4 +254,40 @@ void st_app_change_scheme(st_app *a, const char *s)
     if (rc) st_app_message(a, 1, "cannot change the scheme: %s", err.msg);
     st_app_sync(a);
     if (!rc) st_app_message(a, 0, "scheme is now %s", s);
+}
+
+/* ---- rebuilding the levels ------------------------------------------------------- */
+
+/* The action only asks (it may run inside a GLFW key callback, where
+ * events cannot be polled for Esc); the main loop runs it next
+ * (st_app_run_requested, from st_gui_run_pending). */
+static int g_rebuild_requested;
+
+void st_app_request_rebuild(st_app *a)
+{
+    (void)a;
+    g_rebuild_requested = 1;
+}
+
+static void rebuild_levels(st_app *a)
+{
+    double t0 = st_now_ms();
+    doc_job j = { .kind = JOB_REBUILD };
+    atomic_init(&j.cancel, 0);
+    int rc = run_job(a, &j, "working... rebuilding the levels (Esc cancels)");
+    st_app_sync(a);
+    if (rc && atomic_load(&j.cancel)) {
+        st_app_message(a, 0, "rebuild cancelled: the model is unchanged");
+        return;
+    }
+    if (rc) { st_app_message(a, 1, "cannot rebuild the levels: %s", j.err.msg); return; }
+    char t[32];
+    st_app_message(a, 0, "%s, in %s", j.msg, st_app_fmt_ms(a, st_now_ms() - t0, t, sizeof t));
+}
+
+void st_app_run_requested(st_app *a)
+{
+    if (!g_rebuild_requested) return;
+    g_rebuild_requested = 0;
+    if (a->doc.loaded) rebuild_levels(a);
 }

@@ -144,6 +144,11 @@ void st_app_restore_recovery(st_app *a);            /* Ctrl+R */
  * st_app_open above is one). */
 void st_app_add_level(st_app *a);                   /* Ctrl+D */
 void st_app_change_scheme(st_app *a, const char *scheme);
+/* Ctrl+U: asks for a rebuild of the levels (st_doc_rebuild_levels), which
+ * the main loop runs next on the worker thread, Esc cancelling
+ * (st_app_run_requested, called by st_gui_run_pending). */
+void st_app_request_rebuild(st_app *a);
+void st_app_run_requested(st_app *a);
 
 /* Keys are looked up in the action table (ui/actions.h). */
 
