@@ -1,6 +1,7 @@
 /* The modeller's document, headless (ui/editor.h): open, levels, selection,
  * drags, brushes, X-mirror, the interest box, undo/redo (bit-exact), the
- * undo budget, the memory budget and the interaction benchmark. */
+ * names of undo steps, the undo budget, the memory budget and the
+ * interaction benchmark. */
 #include "editor.h"
 #include "editor_internal.h" /* ed_hier_clone */
 #include "core/multires/hier_internal.h"
@@ -248,6 +249,65 @@ static void test_levels(void)
 
     snap_free(&s0);
     snap_free(&s1);
+    st_doc_free(&d);
+}
+
+/* Named undo steps: each operation's step says what it was, for the Edit
+ * menu ("Undo brush stroke"); undo and redo move the names along. */
+static int name_is(const char *got, const char *want)
+{
+    return got && want ? !strcmp(got, want) : got == want;
+}
+
+static void test_undo_names(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    st_error err;
+    open_ok(&d, cube, "catmull-clark", 2);
+    CHECK(st_doc_undo_name(&d) == NULL && st_doc_redo_name(&d) == NULL);
+    CHECK(st_doc_add_level(&d, &err) == 0);
+    CHECKF(name_is(st_doc_undo_name(&d), "add level"), "%s", st_doc_undo_name(&d));
+    CHECK(st_doc_remove_top(&d, &err) == 0);
+    CHECK(name_is(st_doc_undo_name(&d), "delete the finest level"));
+    CHECK(st_doc_remove_bottom(&d, &err) == 0);
+    CHECK(name_is(st_doc_undo_name(&d), "delete the coarsest level"));
+    CHECK(st_doc_undo(&d, &err) == 0);
+    CHECK(st_doc_set_scheme(&d, "quad-triangle", &err) == 0);
+    CHECK(name_is(st_doc_undo_name(&d), "scheme change") && st_doc_redo_name(&d) == NULL);
+
+    uint32_t *v, n = level_vertices(&d, 0, &v);
+    CHECK(n == 8);
+    st_doc_select(&d, v, 1, ST_SELECT_REPLACE);
+    free(v);
+    CHECK(st_doc_drag_begin(&d) == 0);
+    double delta[3] = { 0.1, 0, 0 };
+    CHECK(st_doc_drag_update(&d, delta) == 0);
+    st_doc_drag_end(&d);
+    CHECK(name_is(st_doc_undo_name(&d), "move"));
+
+    double c[3], up[3] = { 0, 0, 1 };
+    st_doc_vertex_pos(&d, d.sel[0], c);
+    CHECK(st_doc_stroke_begin(&d) == 0);
+    CHECK(st_doc_stroke_dab(&d, c, up, NULL) == 0);
+    st_doc_stroke_end(&d);
+    CHECK(name_is(st_doc_undo_name(&d), "brush stroke"));
+
+    st_adapt_params b = d.box;
+    CHECK(st_doc_set_box(&d, &b, 1, &err) == 0);
+    CHECK(name_is(st_doc_undo_name(&d), "interest box"));
+
+    /* Undo walks back through the names; redo names what undo undid. */
+    const char *order[] = { "interest box", "brush stroke", "move", "scheme change", "delete the finest level",
+                            "add level" };
+    for (unsigned i = 0; i < sizeof order / sizeof *order; i++) {
+        CHECKF(name_is(st_doc_undo_name(&d), order[i]), "step %u: %s", i, st_doc_undo_name(&d));
+        CHECK(st_doc_undo(&d, &err) == 0);
+        CHECK(name_is(st_doc_redo_name(&d), order[i]));
+    }
+    CHECK(st_doc_undo_name(&d) == NULL);
+    CHECK(st_doc_redo(&d, &err) == 0);
+    CHECK(name_is(st_doc_undo_name(&d), "add level") && name_is(st_doc_redo_name(&d), "delete the finest level"));
     st_doc_free(&d);
 }
 
@@ -1392,6 +1452,7 @@ int main(void)
 {
     test_open();
     test_levels();
+    test_undo_names();
     test_memory_budget();
     test_progress();
     test_selection();

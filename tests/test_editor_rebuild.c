@@ -83,7 +83,9 @@ static void check_undo_redo(st_doc *d, const snap *before)
     st_error err;
     snap after, s;
     snap_take(d, &after);
+    CHECK(st_doc_undo_name(d) && !strcmp(st_doc_undo_name(d), "rebuild levels"));
     CHECK(st_doc_undo(d, &err) == 0);
+    CHECK(st_doc_redo_name(d) && !strcmp(st_doc_redo_name(d), "rebuild levels"));
     snap_take(d, &s);
     CHECK(snap_equal(&s, before));
     snap_free(&s);

@@ -442,6 +442,7 @@ int st_doc_remove_bottom(st_doc *d, st_error *err)
     double t0 = ed_now_ms();
     st_undo_step *s = hier_step_begin(d, err);
     if (!s) return ST_ERR_MEMORY;
+    s->name = "delete the coarsest level";
     st_hier_remove_bottom(&d->h);
     if (d->edit_level > 0) d->edit_level--;
     if (d->display_level > 0) d->display_level--;
@@ -756,6 +757,7 @@ st_undo_step *ed_take_pending(st_doc *d, int active)
     st_undo_step *s = d->pending;
     d->pending = NULL;
     d->active = 0;
+    if (s && active == 2) s->name = "brush stroke";
     return s;
 }
 

@@ -229,6 +229,12 @@ void st_doc_box_end(st_doc *d);
 /* Undo and redo; 0 when done, -1 when there is nothing to undo/redo. */
 int st_doc_undo(st_doc *d, st_error *err);
 int st_doc_redo(st_doc *d, st_error *err);
+/* What the step undo / redo would act on was, for menus ("move", "brush
+ * stroke", "add level", "delete the finest level", "delete the coarsest
+ * level", "scheme change", "rebuild levels", "interest box"); NULL when
+ * there is none. */
+const char *st_doc_undo_name(const st_doc *d);
+const char *st_doc_redo_name(const st_doc *d);
 
 /* Returns the accumulated change and resets it (moved_darts and disp_vids
  * stay valid until the next operation, the footprints until the next

@@ -21,6 +21,7 @@ enum ed_step_kind { ED_STEP_EDIT, ED_STEP_HIER, ED_STEP_BOX, ED_STEP_ADD, ED_STE
 
 struct st_undo_step {
     int kind;
+    const char *name;          /* what the step was, for menus: "move", "brush stroke", ... (static) */
     size_t bytes;
     /* ED_STEP_EDIT: values before and after, keyed by (level, kind, vid)
      * as core's footprints (core/multires/footprint.h: st_fp_key): positions

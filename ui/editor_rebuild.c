@@ -97,6 +97,7 @@ int st_doc_rebuild_levels(st_doc *d, int (*progress)(void *, double), void *ctx,
     if (rc) return err && err->code ? err->code : ST_ERR_INVALID;
     /* The old hierarchy moves into the undo step (as a scheme change). */
     st_undo_step *s = ed_step_new(ED_STEP_HIER);
+    s->name = "rebuild levels";
     s->snap = d->h;
     ed_hier_fix(&s->snap);
     s->scheme = d->scheme;

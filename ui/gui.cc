@@ -274,11 +274,10 @@ void action_item(menu_pass &m, const st_action *act)
     const char *label = act->name;
     char named[160];
     if (act->id == ST_ACT_UNDO || act->id == ST_ACT_REDO) {
-        /* The undo stack keeps no names: the position in it instead. */
+        /* What the step was: "Undo brush stroke", "Redo add level". */
         const st_doc *d = &m.a->doc;
-        if (act->id == ST_ACT_UNDO && d->undo_pos) snprintf(named, sizeof named, "Undo step %u of %u", d->undo_pos, d->nundo);
-        else if (act->id == ST_ACT_REDO && d->undo_pos < d->nundo)
-            snprintf(named, sizeof named, "Redo step %u of %u", d->undo_pos + 1, d->nundo);
+        const char *step = act->id == ST_ACT_UNDO ? st_doc_undo_name(d) : st_doc_redo_name(d);
+        if (step) snprintf(named, sizeof named, "%s %s", act->name, step);
         else snprintf(named, sizeof named, "%s", act->name);
         /* The replay names the item by the table's name. */
         if (!m.draw) label = act->name; else label = named;

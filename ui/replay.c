@@ -419,6 +419,12 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
         int there = e->arg && !stat(e->arg, &st) && st.st_size > 0;
         snprintf(actual, sizeof actual, "%s", there ? "a non-empty file" : "missing or empty");
         ok = there;
+    } else if (!strcmp(w, "undo_name") || !strcmp(w, "redo_name")) {
+        /* What the Edit menu's Undo / Redo names ('_' for a space; none: "-"). */
+        const char *n = !strcmp(w, "undo_name") ? st_doc_undo_name(d) : st_doc_redo_name(d);
+        snprintf(actual, sizeof actual, "%s", n ? n : "-");
+        for (char *c = actual; *c; c++) if (*c == ' ') *c = '_';
+        ok = e->arg && !strcmp(actual, e->arg);
     } else if (!strcmp(w, "message")) {
         snprintf(actual, sizeof actual, "'%s'", a->msg);
         ok = e->arg && strstr(a->msg, e->arg) != NULL;

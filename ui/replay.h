@@ -29,7 +29,9 @@
  *                               error (0/1: status line is an error),
  *                               message TEXT (status line contains TEXT),
  *                               gui (0/1: the GUI is shown), file PATH (exists,
- *                               not empty)
+ *                               not empty), undo_name / redo_name NAME (what the
+ *                               Edit menu's Undo / Redo names, '_' for a space,
+ *                               "-" for none: expect undo_name brush_stroke)
  *   gui on | off                show / hide the GUI (menus, side panel; gui.h);
  *                               replays start with it hidden
  *   menu PATH [ARG]             activate a menu item by its labels, as a click

@@ -32,7 +32,23 @@ st_undo_step *ed_step_new(int kind)
     st_undo_step *s = calloc(1, sizeof *s);
     if (!s) abort();
     s->kind = kind;
+    /* The usual operation of each kind; the others name theirs (a brush
+     * stroke, the coarsest level removed, a rebuild). */
+    static const char *const names[] = { [ED_STEP_EDIT] = "move", [ED_STEP_HIER] = "scheme change",
+                                         [ED_STEP_BOX] = "interest box", [ED_STEP_ADD] = "add level",
+                                         [ED_STEP_RMTOP] = "delete the finest level" };
+    s->name = kind >= 0 && kind < (int)(sizeof names / sizeof names[0]) ? names[kind] : "edit";
     return s;
+}
+
+const char *st_doc_undo_name(const st_doc *d)
+{
+    return d->undo_pos ? d->undo[d->undo_pos - 1]->name : NULL;
+}
+
+const char *st_doc_redo_name(const st_doc *d)
+{
+    return d->undo_pos < d->nundo ? d->undo[d->undo_pos]->name : NULL;
 }
 
 void ed_step_free(st_undo_step *s)
