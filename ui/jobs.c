@@ -8,6 +8,7 @@
 #include <stdarg.h>
 #include <stdatomic.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -123,8 +124,10 @@ static int run_job(st_app *a, doc_job *j, const char *what)
     /* A cancellable job runs from the main loop (st_app_run_requested), not
      * from a GLFW callback, so events can be polled: only Esc is listened
      * to, the window's other handlers are off until the job ends (replays
-     * deliver their own events, none during a job). */
-    int poll = j->kind == JOB_REBUILD && !a->replay;
+     * deliver their own events, none during a job, unless real input is let
+     * through: STRATA_REPLAY_LIVE=1, window.c). */
+    const char *live = getenv("STRATA_REPLAY_LIVE");
+    int poll = j->kind == JOB_REBUILD && (!a->replay || (live && live[0] == '1'));
     GLFWkeyfun keyfun = NULL;
     GLFWmousebuttonfun buttonfun = NULL;
     GLFWcursorposfun cursorfun = NULL;
