@@ -258,22 +258,31 @@ int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
     /* The old hierarchy stays (in the undo step) while the new one grows. */
     rc = build_levels(d, &h, d->h.map.top, d->mem_budget, st_doc_model_bytes(d), err);
     if (rc) { st_hier_free(&h); return rc; }
+    st_undo_step *s = ed_swap_hier(d, &h);
+    ed_topology_changed(d);
+    ed_step_finish(s);
+    ed_push_step(d, s);
+    return ST_OK;
+}
+
+/* A new hierarchy for the document, the old one moved into a hierarchy undo
+ * step (with the scheme, levels and box that went with it): a scheme change
+ * and a rebuild of levels both replace the model so. */
+st_undo_step *ed_swap_hier(st_doc *d, st_hier *h)
+{
     st_undo_step *s = ed_step_new(ED_STEP_HIER);
-    s->snap = d->h;               /* the old hierarchy moves into the step */
+    s->snap = d->h;
     ed_hier_fix(&s->snap);
     s->scheme = d->scheme;
     s->edit_level = d->edit_level;
     s->display_level = d->display_level;
     s->rebased = d->rebased;
     s->box_old = d->box;
-    d->h = h;
+    d->h = *h;
     ed_hier_fix(&d->h);
-    d->scheme = sc;
+    d->scheme = d->h.scheme;
     d->opts = d->h.opts;
-    ed_topology_changed(d);
-    ed_step_finish(s);
-    ed_push_step(d, s);
-    return ST_OK;
+    return s;
 }
 
 /* ---- levels ---------------------------------------------------------------------- */

@@ -58,6 +58,9 @@ struct st_undo_step {
 };
 
 st_undo_step *ed_step_new(int kind);
+/* Installs *h as the document's hierarchy; the old one goes into the
+ * returned hierarchy step, which the caller finishes and pushes. */
+st_undo_step *ed_swap_hier(st_doc *d, st_hier *h);
 void ed_step_free(st_undo_step *s);
 /* Records the current value of (level, kind, vid) as "old" unless present
  * (touch_pos returns 1 when it was not). */

@@ -96,19 +96,8 @@ int st_doc_rebuild_levels(st_doc *d, int (*progress)(void *, double), void *ctx,
     st_mesh_free(&fine);
     if (rc) return err && err->code ? err->code : ST_ERR_INVALID;
     /* The old hierarchy moves into the undo step (as a scheme change). */
-    st_undo_step *s = ed_step_new(ED_STEP_HIER);
+    st_undo_step *s = ed_swap_hier(d, &h);
     s->name = "rebuild levels";
-    s->snap = d->h;
-    ed_hier_fix(&s->snap);
-    s->scheme = d->scheme;
-    s->edit_level = d->edit_level;
-    s->display_level = d->display_level;
-    s->rebased = d->rebased;
-    s->box_old = d->box;
-    d->h = h;
-    ed_hier_fix(&d->h);
-    d->scheme = d->h.scheme;
-    d->opts = d->h.opts;
     /* Level 0 is no longer the loaded mesh: a scheme change must not take
      * the file's crease tags. */
     d->rebased = 1;
