@@ -1,0 +1,336 @@
+/* The bake: level L's surface rasterised in level B's UV layout
+ * (core/bake/bake.h). */
+#include "core/bake/bake_internal.h"
+#include "core/base/membudget.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void st_bake_maps_free(st_bake_maps *m)
+{
+    free(m->normal);
+    free(m->disp);
+    free(m->mask);
+    memset(m, 0, sizeof *m);
+}
+
+size_t st_bake_estimate(const st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o)
+{
+    size_t texels = (size_t)o->size * o->size;
+    size_t per_texel = sizeof(uint32_t) + 2 * sizeof(uint8_t)                 /* owner, mask, ring */
+                     + (o->normal ? 3 * sizeof(float) : 0)
+                     + (size_t)o->displacement * sizeof(float);
+    size_t corners = uvs && uvs->corner_off ? uvs->corner_off[uvs->nfaces] : 0;
+    size_t per_corner = 7 * sizeof(double) + sizeof(uint32_t);                 /* tangent, normal, vertex */
+    /* Tangents' scratch: keys, groups, sums. */
+    size_t tangent_scratch = corners * (sizeof(double) * 9 + 2 * sizeof(uint32_t));
+    size_t normals = 2 * 3 * sizeof(double) * (size_t)h->map.verts.end;        /* levels B and L */
+    return texels * per_texel + corners * per_corner + tangent_scratch + normals;
+}
+
+typedef struct bake_ctx {
+    st_map *m;
+    const st_bake_opts *o;
+    const st_bake_uvs *uvs;
+    uint32_t face;                /* level-B face being baked */
+    uint32_t *owner;              /* per texel: the level-B face covering it, ST_NIL */
+    uint32_t conflict[2];         /* faces found overlapping, ST_NIL */
+    uint32_t conflict_texel[2];
+    const double *corner_tangent; /* 4 per corner of B */
+    const double *corner_normal;  /* 3 per corner of B */
+    const uint32_t *corner_vert;  /* vertex id per corner of B */
+    const double *normal_L;       /* per vertex id of level L */
+    /* The level-L triangle being rasterised. */
+    const double *tri_pos[3], *tri_nrm[3];
+    st_bake_maps *out;
+} bake_ctx;
+
+/* ---- pass 1: which face of B covers each texel, overlaps ------------------ */
+
+static void claim_texel(void *pc, uint32_t x, uint32_t y, const double w[3])
+{
+    (void)w;
+    bake_ctx *c = pc;
+    size_t i = (size_t)y * c->o->size + x;
+    uint32_t f = c->owner[i];
+    if (f == ST_NIL) { c->owner[i] = c->face; return; }
+    if (f != c->face && c->conflict[0] == ST_NIL) {
+        c->conflict[0] = f;
+        c->conflict[1] = c->face;
+        c->conflict_texel[0] = x;
+        c->conflict_texel[1] = y;
+    }
+}
+
+static int claim_faces(bake_ctx *c, st_error *err)
+{
+    const st_bake_uvs *u = c->uvs;
+    for (uint32_t f = 0; f < u->nfaces && c->conflict[0] == ST_NIL; f++) {
+        c->face = f;
+        uint32_t a = u->corner_off[f], n = u->corner_off[f + 1] - a;
+        for (uint32_t t = 0; t + 2 < n; t++) {
+            double tri[3][2];
+            uint32_t idx[3] = { a, a + t + 1, a + t + 2 };
+            for (int k = 0; k < 3; k++) memcpy(tri[k], u->uv + 2 * (size_t)idx[k], sizeof tri[k]);
+            st_bake_raster_tri(tri, c->o->size, claim_texel, c);
+        }
+    }
+    if (c->conflict[0] == ST_NIL) return ST_OK;
+    double s = c->o->size;
+    return st_fail(err, ST_ERR_INVALID,
+                   "UV islands overlap: faces %u and %u of level %u both cover texel (%u, %u) at UV (%.4f, %.4f) of a %ux%u map",
+                   c->conflict[0] + 1, c->conflict[1] + 1, c->o->base, c->conflict_texel[0], c->conflict_texel[1],
+                   (c->conflict_texel[0] + 0.5) / s, (c->conflict_texel[1] + 0.5) / s, c->o->size, c->o->size);
+}
+
+/* ---- pass 2: level-L faces ------------------------------------------------- */
+
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static void normalize3(double *v)
+{
+    double len = sqrt(dot3(v, v));
+    if (len > 1e-300 && isfinite(len))
+        for (int k = 0; k < 3; k++) v[k] /= len;
+}
+
+/* B's point and frame (t, b, n) at UV p inside face c->face: the fan
+ * triangle of the face that holds p best (largest smallest weight), its
+ * corners' positions, normals and tangents interpolated, the tangent made
+ * orthogonal to the normal again and b = w · n × t, as a shader does. */
+static void base_point(const bake_ctx *c, const double p[2], double pos[3], double frame[3][3])
+{
+    const st_bake_uvs *u = c->uvs;
+    uint32_t a = u->corner_off[c->face], n = u->corner_off[c->face + 1] - a;
+    double best = -INFINITY, bw[3] = { 1, 0, 0 };
+    uint32_t bi[3] = { a, a, a };
+    for (uint32_t t = 0; t + 2 < n; t++) {
+        uint32_t idx[3] = { a, a + t + 1, a + t + 2 };
+        double tri[3][2], w[3];
+        for (int k = 0; k < 3; k++) memcpy(tri[k], u->uv + 2 * (size_t)idx[k], sizeof tri[k]);
+        if (!st_bake_barycentric(tri, p, w)) continue;
+        double lo = fmin(w[0], fmin(w[1], w[2]));
+        if (lo > best) { best = lo; memcpy(bw, w, sizeof bw); memcpy(bi, idx, sizeof bi); }
+    }
+    double t[3] = { 0, 0, 0 }, *nn = frame[2];
+    for (int k = 0; k < 3; k++) pos[k] = nn[k] = 0;
+    for (int j = 0; j < 3; j++) {
+        const double *q = st_pos(c->m, c->corner_vert[bi[j]], c->o->base);
+        const double *cn = c->corner_normal + 3 * (size_t)bi[j], *ct = c->corner_tangent + 4 * (size_t)bi[j];
+        for (int k = 0; k < 3; k++) {
+            pos[k] += bw[j] * q[k];
+            nn[k] += bw[j] * cn[k];
+            t[k] += bw[j] * ct[k];
+        }
+    }
+    normalize3(nn);
+    double d = dot3(t, nn);
+    for (int k = 0; k < 3; k++) t[k] -= d * nn[k];
+    normalize3(t);
+    double w = c->corner_tangent[4 * (size_t)bi[0] + 3];
+    memcpy(frame[0], t, sizeof t);
+    frame[1][0] = w * (nn[1] * t[2] - nn[2] * t[1]);
+    frame[1][1] = w * (nn[2] * t[0] - nn[0] * t[2]);
+    frame[1][2] = w * (nn[0] * t[1] - nn[1] * t[0]);
+}
+
+static void bake_texel(void *pc, uint32_t x, uint32_t y, const double w[3])
+{
+    bake_ctx *c = pc;
+    uint32_t size = c->o->size;
+    size_t i = (size_t)y * size + x;
+    if (c->owner[i] != c->face) return;
+    double pl[3] = { 0, 0, 0 }, nl[3] = { 0, 0, 0 };
+    for (int j = 0; j < 3; j++)
+        for (int k = 0; k < 3; k++) {
+            pl[k] += w[j] * c->tri_pos[j][k];
+            nl[k] += w[j] * c->tri_nrm[j][k];
+        }
+    normalize3(nl);
+    double p[2] = { (x + 0.5) / size, (y + 0.5) / size }, pb[3], f[3][3];
+    base_point(c, p, pb, f);
+    int tangent = c->o->space == ST_BAKE_TANGENT;
+    st_bake_maps *out = c->out;
+    if (out->normal) {
+        float *o = out->normal + 3 * i;
+        for (int k = 0; k < 3; k++) o[k] = (float)(tangent ? dot3(nl, f[k]) : nl[k]);
+    }
+    if (out->disp) {
+        double d[3] = { pl[0] - pb[0], pl[1] - pb[1], pl[2] - pb[2] };
+        float *o = out->disp + (size_t)out->disp_channels * i;
+        if (out->disp_channels == 1) o[0] = (float)dot3(d, f[2]);
+        else
+            for (int k = 0; k < 3; k++) o[k] = (float)(tangent ? dot3(d, f[k]) : d[k]);
+        for (unsigned k = 0; k < out->disp_channels; k++) {
+            out->disp_min = fmin(out->disp_min, o[k]);
+            out->disp_max = fmax(out->disp_max, o[k]);
+        }
+    }
+    if (!out->mask[i]) out->baked++;
+    out->mask[i] = 1;
+}
+
+static int bake_fine_face(void *pc, const uint32_t *verts, const double *uv, unsigned n)
+{
+    bake_ctx *c = pc;
+    unsigned L = c->o->level;
+    for (unsigned t = 0; t + 2 < n; t++) {
+        unsigned idx[3] = { 0, t + 1, t + 2 };
+        double tri[3][2];
+        for (int k = 0; k < 3; k++) {
+            tri[k][0] = uv[2 * idx[k]];
+            tri[k][1] = uv[2 * idx[k] + 1];
+            c->tri_pos[k] = st_pos(c->m, verts[idx[k]], L);
+            c->tri_nrm[k] = c->normal_L + 3 * (size_t)verts[idx[k]];
+        }
+        st_bake_raster_tri(tri, c->o->size, bake_texel, c);
+    }
+    return ST_OK;
+}
+
+/* ---- padding ------------------------------------------------------------- */
+
+/* Dilation: each pass gives every empty texel next to a filled one (8
+ * neighbours, filled before this pass) the mean of those neighbours, so
+ * mip-maps and bilinear filtering near island borders do not mix in the
+ * background. */
+static void pad(st_bake_maps *out, uint32_t passes, uint8_t *ring)
+{
+    uint32_t s = out->size;
+    size_t texels = (size_t)s * s;
+    for (size_t i = 0; i < texels; i++) ring[i] = out->mask[i] ? 1 : 0;
+    for (uint32_t pass = 1; pass <= passes && pass < 255; pass++) {
+        uint64_t added = 0;
+        for (uint32_t y = 0; y < s; y++)
+            for (uint32_t x = 0; x < s; x++) {
+                size_t i = (size_t)y * s + x;
+                if (ring[i]) continue;
+                double nsum[3] = { 0, 0, 0 }, dsum[3] = { 0, 0, 0 };
+                unsigned cnt = 0;
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int64_t xx = (int64_t)x + dx, yy = (int64_t)y + dy;
+                        if ((dx == 0 && dy == 0) || xx < 0 || yy < 0 || xx >= s || yy >= s) continue;
+                        size_t j = (size_t)yy * s + (size_t)xx;
+                        if (!ring[j] || ring[j] > pass) continue;
+                        cnt++;
+                        for (int k = 0; out->normal && k < 3; k++) nsum[k] += out->normal[3 * j + k];
+                        for (unsigned k = 0; out->disp && k < out->disp_channels; k++)
+                            dsum[k] += out->disp[out->disp_channels * j + k];
+                    }
+                if (!cnt) continue;
+                ring[i] = (uint8_t)(pass + 1);
+                out->mask[i] = 2;
+                added++;
+                if (out->normal) {
+                    normalize3(nsum);
+                    for (int k = 0; k < 3; k++) out->normal[3 * i + k] = (float)nsum[k];
+                }
+                for (unsigned k = 0; out->disp && k < out->disp_channels; k++)
+                    out->disp[out->disp_channels * i + k] = (float)(dsum[k] / cnt);
+            }
+        out->padded += added;
+        if (!added) break;
+    }
+}
+
+/* ---- the bake ------------------------------------------------------------ */
+
+static int alloc_maps(const st_bake_opts *o, st_bake_maps *out, st_error *err)
+{
+    size_t texels = (size_t)o->size * o->size;
+    memset(out, 0, sizeof *out);
+    out->size = o->size;
+    out->mask = calloc(texels, 1);
+    if (o->normal) out->normal = malloc(3 * texels * sizeof *out->normal);
+    if (o->displacement) {
+        out->disp_channels = (unsigned)o->displacement;
+        out->disp = calloc(out->disp_channels * texels, sizeof *out->disp);
+    }
+    if (!out->mask || (o->normal && !out->normal) || (o->displacement && !out->disp)) {
+        st_bake_maps_free(out);
+        return st_fail(err, ST_ERR_MEMORY, "out of memory allocating %ux%u maps", o->size, o->size);
+    }
+    for (size_t i = 0; out->normal && i < texels; i++) {
+        out->normal[3 * i] = out->normal[3 * i + 1] = 0;
+        out->normal[3 * i + 2] = 1;
+    }
+    out->disp_min = INFINITY;
+    out->disp_max = -INFINITY;
+    return ST_OK;
+}
+
+static int check_opts(const st_hier *h, const st_bake_opts *o, st_error *err)
+{
+    if (o->base > o->level || o->level > h->map.top)
+        return st_fail(err, ST_ERR_RANGE, "cannot bake level %u onto level %u: levels are 0..%u and the base must not be finer",
+                       o->level, o->base, h->map.top);
+    if (o->size < 1 || o->size > 16384)
+        return st_fail(err, ST_ERR_RANGE, "map size %u is outside 1..16384", o->size);
+    if (o->displacement != 0 && o->displacement != 1 && o->displacement != 3)
+        return st_fail(err, ST_ERR_INVALID, "a displacement map has 1 or 3 channels, not %d", o->displacement);
+    if (!o->normal && !o->displacement) return st_fail(err, ST_ERR_INVALID, "nothing to bake");
+    return ST_OK;
+}
+
+int st_bake(st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o, st_bake_maps *out, st_error *err)
+{
+    memset(out, 0, sizeof *out);
+    st_map *m = &h->map;
+    int rc = st_bake_check_scheme(h, err);
+    if (!rc) rc = check_opts(h, o, err);
+    if (rc) return rc;
+    uint32_t *darts = NULL, nf = 0;
+    rc = st_bake_level_faces(m, o->base, &darts, &nf, err);
+    if (!rc) rc = st_bake_check_uvs(m, o->base, darts, nf, uvs, err);
+    if (!rc) rc = st_mem_check(st_bake_estimate(h, uvs, o), "baking the maps", err);
+    if (rc) { free(darts); return rc; }
+
+    size_t texels = (size_t)o->size * o->size, nc = uvs->corner_off[nf];
+    bake_ctx c = { .m = m, .o = o, .uvs = uvs, .out = out };
+    c.conflict[0] = c.conflict[1] = ST_NIL;
+    uint32_t *owner = malloc(texels * sizeof *owner), *cvert = malloc((nc ? nc : 1) * sizeof *cvert);
+    double *ctan = malloc((nc ? nc : 1) * 4 * sizeof *ctan), *cnrm = malloc((nc ? nc : 1) * 3 * sizeof *cnrm);
+    double *nL = NULL;
+    if (!owner || !cvert || !ctan || !cnrm) { rc = st_fail(err, ST_ERR_MEMORY, "out of memory baking %ux%u maps", o->size, o->size); goto done; }
+    for (size_t i = 0; i < texels; i++) owner[i] = ST_NIL;
+    c.owner = owner;
+    rc = claim_faces(&c, err);
+    if (!rc) rc = st_bake_tangents(h, o->base, uvs, ctan, cnrm, err);
+    if (!rc) rc = st_bake_vertex_normals(m, o->level, &nL, err);
+    if (!rc) rc = alloc_maps(o, out, err);
+    if (rc) goto done;
+    for (uint32_t f = 0; f < nf; f++) {
+        uint32_t x = darts[f];
+        for (uint32_t k = uvs->corner_off[f]; k < uvs->corner_off[f + 1]; k++, x = st_phi1(m, x, o->base))
+            cvert[k] = st_vert(m, x, o->base);
+    }
+    c.corner_tangent = ctan;
+    c.corner_normal = cnrm;
+    c.corner_vert = cvert;
+    c.normal_L = nL;
+    for (uint32_t f = 0; f < nf && !rc; f++) {
+        c.face = f;
+        uint32_t a = uvs->corner_off[f];
+        rc = st_bake_walk(m, darts[f], o->base, o->level, uvs->uv + 2 * (size_t)a, uvs->corner_off[f + 1] - a,
+                          bake_fine_face, &c, err);
+    }
+    if (rc) { st_bake_maps_free(out); goto done; }
+    if (!out->baked) {
+        st_bake_maps_free(out);
+        rc = st_fail(err, ST_ERR_INVALID, "the UVs of level %u cover no texel centre of a %ux%u map", o->base, o->size, o->size);
+        goto done;
+    }
+    /* The owner array is free again: its bytes hold the dilation rings. */
+    pad(out, o->padding, (uint8_t *)owner);
+done:
+    free(darts);
+    free(owner);
+    free(cvert);
+    free(ctan);
+    free(cnrm);
+    free(nL);
+    return rc;
+}

@@ -1,0 +1,104 @@
+/* st_bake: normal and displacement maps of a fine level baked onto the UV
+ * layout of a coarse one (the low mesh a game engine renders).
+ *
+ * Correspondence.  For the primal schemes whose faces nest (Catmull-Clark,
+ * Loop, Butterfly, quad/triangle) every face of level L lies inside one face
+ * of level B: refinement splits a face at its corners (old darts keep their
+ * vertex, Kraemer 2008 §3.2.1), edge points and, for the polygon split, a
+ * face point.  Following those splits from each face of B gives every
+ * level-L vertex inside it a parametric position, which B's UVs map to the
+ * texture: edge points at the middle of their edge, face points at the
+ * centroid of the corners (face-varying "linear" interpolation, OpenSubdiv's
+ * default).  The level-L faces are then rasterised in B's UV layout; no ray
+ * is cast.  √3 and Doo-Sabin (faces do not nest: edges flip, faces become
+ * vertices) and progressive hierarchies (collapses) are refused.
+ *
+ * Tangent frames (MikkTSpace's construction, Mikkelsen 2008): per triangle of
+ * B's fan triangulation, the tangent and bitangent from the UV derivatives;
+ * summed per corner over its smoothing group (corners that share a vertex, a
+ * UV and the UV orientation), weighted by the corner angle; the tangent is
+ * made orthogonal to the corner's normal (Gram-Schmidt) and the bitangent's
+ * side is kept as a sign w.  A shader (and glTF, whose TANGENT attribute is
+ * exactly these four numbers) rebuilds bitangent = w · cross(n, t).
+ *
+ * Texel (x, y) of a size × size map has its centre at UV ((x + ½)/size,
+ * (y + ½)/size); maps are stored row y = 0 first, so written as images the
+ * first row is v = 0 (glTF's convention: UV (0,0) is the image's first pixel).
+ */
+#ifndef ST_BAKE_H
+#define ST_BAKE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/multires/hier.h"
+
+/* UVs of the faces of a level, in the order st_hier_level_mesh lists them,
+ * each face's corners from its first dart along φ1 (the same order). */
+typedef struct st_bake_uvs {
+    uint32_t nfaces;
+    const uint32_t *corner_off;   /* nfaces + 1 offsets */
+    const double *uv;             /* 2 per corner */
+} st_bake_uvs;
+
+/* An owned layout (st_bake_auto_uvs). */
+typedef struct st_bake_layout {
+    uint32_t nfaces;
+    uint32_t *corner_off;
+    double *uv;
+} st_bake_layout;
+void st_bake_layout_free(st_bake_layout *l);
+static inline st_bake_uvs st_bake_layout_uvs(const st_bake_layout *l)
+{
+    st_bake_uvs u = { l->nfaces, l->corner_off, l->uv };
+    return u;
+}
+
+/* A per-face atlas of level l: each face projected on its own plane (shape
+ * kept, one scale for all faces so texel density is uniform), in its own
+ * cell of a square grid with a margin of 1/8 cell around it.  Islands never
+ * overlap.  For when the mesh carries no UVs. */
+int st_bake_auto_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err);
+
+/* ST_OK when the faces of h nest level to level (see above). */
+int st_bake_check_scheme(const st_hier *h, st_error *err);
+
+/* Face-corner tangents of level l for uvs: 4 doubles per corner (unit
+ * tangent xyz, orthogonal to the corner normal, and the bitangent sign w =
+ * ±1), in the order of uvs.  `normals` (optional, 3 per corner) receives the
+ * corner normals they were made orthogonal to: the area-weighted smooth
+ * vertex normals of the level. */
+int st_bake_tangents(st_hier *h, unsigned l, const st_bake_uvs *uvs, double *tangents, double *normals, st_error *err);
+
+enum st_bake_space { ST_BAKE_TANGENT, ST_BAKE_OBJECT };
+
+typedef struct st_bake_opts {
+    unsigned base, level;         /* B and L, B <= L <= top */
+    uint32_t size;                /* texels per side */
+    int space;                    /* enum st_bake_space, of the normal map and of --vector */
+    int normal;                   /* bake the normal map */
+    int displacement;             /* 0: none, 1: scalar along B's normal, 3: vector */
+    uint32_t padding;             /* texels of dilation around the islands */
+} st_bake_opts;
+
+typedef struct st_bake_maps {
+    uint32_t size;
+    float *normal;                /* 3 per texel, unit vector (background: 0,0,1), or NULL */
+    float *disp;                  /* 1 or 3 per texel (background 0), or NULL */
+    unsigned disp_channels;
+    uint8_t *mask;                /* per texel: 0 background, 1 baked, 2 padded */
+    uint64_t baked, padded;       /* texel counts */
+    double disp_min, disp_max;    /* over every channel of baked texels */
+} st_bake_maps;
+void st_bake_maps_free(st_bake_maps *m);
+
+/* Bytes a bake needs beyond the hierarchy (the maps and the scratch). */
+size_t st_bake_estimate(const st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o);
+
+/* The bake.  Refuses (ST_ERR_INVALID, a message naming faces and UVs) UVs
+ * that do not match level B, that are not finite or leave [0,1], islands
+ * that overlap, schemes whose faces do not nest; checks the memory budget
+ * with st_bake_estimate first.  Nothing is returned on failure. */
+int st_bake(st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o, st_bake_maps *out, st_error *err);
+
+#endif

@@ -1,0 +1,302 @@
+/* Level faces, normals, UV checks, the nested walk and the UV rasteriser of
+ * the bake (core/bake/bake.h). */
+#include "core/bake/bake_internal.h"
+#include "core/map/geometry.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int st_bake_level_faces(st_map *m, unsigned l, uint32_t **darts, uint32_t *n, st_error *err)
+{
+    st_level_stats s;
+    st_level_stats_compute(m, l, &s);
+    uint32_t *out = malloc((size_t)(s.faces ? s.faces : 1) * sizeof *out);
+    if (!out) return st_fail(err, ST_ERR_MEMORY, "out of memory listing the faces of level %u", l);
+    int bit = st_marker_reserve(m);
+    if (bit < 0) { free(out); return st_fail(err, ST_ERR_INVALID, "no marker bit left to list the faces of level %u", l); }
+    uint32_t k = 0;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, bit, d)) continue;
+        st_mark_face(m, bit, d, l);
+        if (k < s.faces) out[k] = d;
+        k++;
+    }
+    st_marker_release(m, bit, l);
+    *darts = out;
+    *n = k < s.faces ? k : (uint32_t)s.faces;
+    return ST_OK;
+}
+
+int st_bake_vertex_normals(const st_map *m, unsigned l, double **out, st_error *err)
+{
+    size_t nv = m->verts.end ? m->verts.end : 1;
+    double *n = calloc(3 * nv, sizeof *n);
+    if (!n) return st_fail(err, ST_ERR_MEMORY, "out of memory computing the normals of level %u", l);
+    st_dart_iter it;
+    /* Each dart adds its face's Newell vector (twice the area times the
+     * normal) to its vertex: every face once per corner. */
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d)) continue;
+        double f[3];
+        st_face_newell(m, d, l, f);
+        double *t = n + 3 * (size_t)st_vert(m, d, l);
+        for (int k = 0; k < 3; k++) t[k] += f[k];
+    }
+    for (size_t v = 0; v < nv; v++) {
+        double *t = n + 3 * v;
+        double len = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+        if (!(len > 1e-300) || !isfinite(len)) { t[0] = t[1] = 0; t[2] = 1; continue; }
+        for (int k = 0; k < 3; k++) t[k] /= len;
+    }
+    *out = n;
+    return ST_OK;
+}
+
+int st_bake_check_uvs(const st_map *m, unsigned l, const uint32_t *darts, uint32_t n, const st_bake_uvs *uvs, st_error *err)
+{
+    if (!uvs || !uvs->corner_off || !uvs->uv)
+        return st_fail(err, ST_ERR_INVALID, "level %u has no UVs", l);
+    if (uvs->nfaces != n)
+        return st_fail(err, ST_ERR_INVALID, "the UVs describe %u faces but level %u has %u", uvs->nfaces, l, n);
+    if (uvs->corner_off[0] != 0)
+        return st_fail(err, ST_ERR_INVALID, "the UVs' corner offsets do not start at 0");
+    for (uint32_t f = 0; f < n; f++) {
+        uint32_t deg = st_face_degree(m, darts[f], l);
+        if (uvs->corner_off[f + 1] < uvs->corner_off[f] || uvs->corner_off[f + 1] - uvs->corner_off[f] != deg)
+            return st_fail(err, ST_ERR_INVALID, "face %u of level %u has %u corners but %d UVs",
+                           f + 1, l, deg, (int)(uvs->corner_off[f + 1] - uvs->corner_off[f]));
+        for (uint32_t c = 0; c < deg; c++) {
+            const double *uv = uvs->uv + 2 * ((size_t)uvs->corner_off[f] + c);
+            if (!isfinite(uv[0]) || !isfinite(uv[1]))
+                return st_fail(err, ST_ERR_INVALID, "face %u of level %u: corner %u has no UV", f + 1, l, c + 1);
+            if (uv[0] < 0 || uv[0] > 1 || uv[1] < 0 || uv[1] > 1)
+                return st_fail(err, ST_ERR_INVALID,
+                               "face %u of level %u: corner %u has UV (%g, %g) outside [0,1] (tiled UVs cannot be baked)",
+                               f + 1, l, c + 1, uv[0], uv[1]);
+        }
+    }
+    return ST_OK;
+}
+
+/* ---- the nested walk ------------------------------------------------------ */
+
+/* Vertex ids and UVs of the vertices of one refined face at level l+1: its
+ * corners, its edge points, its face point (polygon split). */
+typedef struct uv_table {
+    uint32_t *id;
+    double *uv;
+    uint32_t n;
+} uv_table;
+
+static const double *table_find(const uv_table *t, uint32_t id)
+{
+    for (uint32_t i = 0; i < t->n; i++)
+        if (t->id[i] == id) return t->uv + 2 * (size_t)i;
+    return NULL;
+}
+
+static void table_add(uv_table *t, uint32_t id, double u, double v)
+{
+    t->id[t->n] = id;
+    t->uv[2 * (size_t)t->n] = u;
+    t->uv[2 * (size_t)t->n + 1] = v;
+    t->n++;
+}
+
+/* Corners of the face of dart c at level l (at most 4: a child of a split)
+ * looked up in t; -1 when a vertex is not one of the parent's. */
+static int child_face(const st_map *m, uint32_t c, unsigned l, const uv_table *t, uint32_t ids[4], double uv[8])
+{
+    unsigned k = 0;
+    uint32_t x = c;
+    do {
+        if (k == 4) return -1;
+        uint32_t v = st_vert(m, x, l);
+        const double *p = table_find(t, v);
+        if (!p) return -1;
+        ids[k] = v;
+        uv[2 * k] = p[0];
+        uv[2 * k + 1] = p[1];
+        k++;
+        x = st_phi1(m, x, l);
+    } while (x != c);
+    return (int)k;
+}
+
+typedef struct walk_ctx {
+    st_map *m;
+    unsigned L;
+    st_bake_face_fn fn;
+    void *ctx;
+    st_error *err;
+} walk_ctx;
+
+static int walk_face(walk_ctx *w, uint32_t d, unsigned l, const uint32_t *ids, const double *uv, unsigned n);
+
+static int not_nested(walk_ctx *w, unsigned l)
+{
+    return st_fail(w->err, ST_ERR_INVALID,
+                   "the faces of level %u do not nest in those of level %u (a face is not split at its corners and edges)",
+                   l + 1, l);
+}
+
+/* Splits the face of d at level l into its children at level l+1 (thesis
+ * §3.2.1: an old dart keeps its vertex, so at level l+1 dart d_i runs along
+ * the child at corner i) and walks each. */
+static int walk_children(walk_ctx *w, uint32_t d, unsigned l, const uint32_t *ids, const double *uv, unsigned n, uv_table *t)
+{
+    st_map *m = w->m;
+    unsigned f = l + 1;
+    double cu = 0, cv = 0;
+    t->n = 0;
+    for (unsigned i = 0; i < n; i++) {
+        table_add(t, ids[i], uv[2 * i], uv[2 * i + 1]);
+        cu += uv[2 * i];
+        cv += uv[2 * i + 1];
+    }
+    /* Edge points at the middle of their edge (linear face-varying rule). */
+    uint32_t x = d;
+    for (unsigned i = 0; i < n; i++) {
+        unsigned j = i + 1 < n ? i + 1 : 0;
+        uint32_t e = st_vert(m, st_phi1(m, x, f), f);
+        if (table_find(t, e)) return not_nested(w, l);
+        table_add(t, e, 0.5 * (uv[2 * i] + uv[2 * j]), 0.5 * (uv[2 * i + 1] + uv[2 * j + 1]));
+        x = st_phi1(m, x, l);
+    }
+    unsigned child_deg = st_face_degree(m, d, f);
+    if (child_deg == 4) {
+        /* Polygon split: the face point at the centroid of the corners. */
+        uint32_t c = st_vert(m, st_phi1(m, st_phi1(m, d, f), f), f);
+        if (table_find(t, c)) return not_nested(w, l);
+        table_add(t, c, cu / n, cv / n);
+    } else if (child_deg != 3 || n != 3) {
+        return not_nested(w, l);
+    }
+    uint32_t cids[4];
+    double cuv[8];
+    x = d;
+    for (unsigned i = 0; i < n; i++) {
+        int k = child_face(m, x, f, t, cids, cuv);
+        if (k != (int)child_deg || cids[0] != ids[i]) return not_nested(w, l);
+        int rc = walk_face(w, x, f, cids, cuv, (unsigned)k);
+        if (rc) return rc;
+        x = st_phi1(m, x, l);
+    }
+    if (child_deg == 3) {
+        /* Triangle quadrisection: the middle triangle of the edge points,
+         * across the inner edge of the corner-0 child. */
+        uint32_t c = st_phi2(m, st_phi1(m, d, f), f);
+        int k = child_face(m, c, f, t, cids, cuv);
+        if (k != 3) return not_nested(w, l);
+        int rc = walk_face(w, c, f, cids, cuv, 3);
+        if (rc) return rc;
+    }
+    return ST_OK;
+}
+
+static int walk_face(walk_ctx *w, uint32_t d, unsigned l, const uint32_t *ids, const double *uv, unsigned n)
+{
+    if (l == w->L) return w->fn(w->ctx, ids, uv, n);
+    if (n <= 4) {
+        uint32_t tid[9];
+        double tuv[18];
+        uv_table t = { tid, tuv, 0 };
+        return walk_children(w, d, l, ids, uv, n, &t);
+    }
+    uv_table t = { malloc((2 * (size_t)n + 1) * sizeof *t.id), malloc((2 * (size_t)n + 1) * 2 * sizeof *t.uv), 0 };
+    int rc = (t.id && t.uv) ? walk_children(w, d, l, ids, uv, n, &t)
+                            : st_fail(w->err, ST_ERR_MEMORY, "out of memory splitting a %u-gon", n);
+    free(t.id);
+    free(t.uv);
+    return rc;
+}
+
+int st_bake_walk(st_map *m, uint32_t d, unsigned B, unsigned L, const double *uv, unsigned n,
+                 st_bake_face_fn fn, void *ctx, st_error *err)
+{
+    uint32_t *ids = malloc((size_t)(n ? n : 1) * sizeof *ids);
+    if (!ids) return st_fail(err, ST_ERR_MEMORY, "out of memory walking a %u-gon", n);
+    uint32_t x = d;
+    for (unsigned i = 0; i < n; i++) {
+        ids[i] = st_vert(m, x, B);
+        x = st_phi1(m, x, B);
+    }
+    walk_ctx w = { m, L, fn, ctx, err };
+    int rc = walk_face(&w, d, B, ids, uv, n);
+    free(ids);
+    return rc;
+}
+
+/* ---- the rasteriser ------------------------------------------------------ */
+
+static double cross2(const double *a, const double *b, const double *p)
+{
+    return (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+}
+
+/* The edge function of a→b at p computed with the endpoints in a canonical
+ * order, so the two triangles of a shared edge get exactly opposite values
+ * and the tie rule below gives a centre on the edge to exactly one. */
+static double edge_fn(const double *a, const double *b, const double *p)
+{
+    if (a[0] > b[0] || (a[0] == b[0] && a[1] > b[1])) return -cross2(b, a, p);
+    return cross2(a, b, p);
+}
+
+/* On a counter-clockwise triangle, the edge a→b owns the centres on it when
+ * it points this way (the opposite direction never does). */
+static int owns_edge(const double *a, const double *b)
+{
+    double dx = b[0] - a[0], dy = b[1] - a[1];
+    return dy > 0 || (dy == 0 && dx < 0);
+}
+
+int st_bake_barycentric(const double t[3][2], const double p[2], double w[3])
+{
+    double area = cross2(t[0], t[1], t[2]);
+    if (area == 0 || !isfinite(area)) return 0;
+    w[0] = edge_fn(t[1], t[2], p) / area;
+    w[1] = edge_fn(t[2], t[0], p) / area;
+    w[2] = 1.0 - w[0] - w[1];
+    return 1;
+}
+
+static int clamp_texel(double x, uint32_t size)
+{
+    if (x < 0) return 0;
+    if (x > (double)size - 1) return (int)size - 1;
+    return (int)x;
+}
+
+void st_bake_raster_tri(const double t[3][2], uint32_t size, st_bake_texel_fn fn, void *ctx)
+{
+    double area = cross2(t[0], t[1], t[2]);
+    if (area == 0 || !isfinite(area)) return;
+    /* Counter-clockwise order o[] of the corners. */
+    int o[3] = { 0, 1, 2 };
+    if (area < 0) { o[1] = 2; o[2] = 1; area = -area; }
+    const double *a = t[o[0]], *b = t[o[1]], *c = t[o[2]];
+    double lo[2], hi[2];
+    for (int k = 0; k < 2; k++) {
+        lo[k] = fmin(a[k], fmin(b[k], c[k])) * size - 0.5;
+        hi[k] = fmax(a[k], fmax(b[k], c[k])) * size - 0.5;
+    }
+    if (hi[0] < 0 || hi[1] < 0 || lo[0] > (double)size - 1 || lo[1] > (double)size - 1) return;
+    int x0 = clamp_texel(ceil(lo[0]), size), x1 = clamp_texel(floor(hi[0]), size);
+    int y0 = clamp_texel(ceil(lo[1]), size), y1 = clamp_texel(floor(hi[1]), size);
+    int own_ab = owns_edge(a, b), own_bc = owns_edge(b, c), own_ca = owns_edge(c, a);
+    for (int y = y0; y <= y1; y++) {
+        double p[2] = { 0, (y + 0.5) / size };
+        for (int x = x0; x <= x1; x++) {
+            p[0] = (x + 0.5) / size;
+            double eab = edge_fn(a, b, p), ebc = edge_fn(b, c, p), eca = edge_fn(c, a, p);
+            if (eab < 0 || ebc < 0 || eca < 0) continue;
+            if ((eab == 0 && !own_ab) || (ebc == 0 && !own_bc) || (eca == 0 && !own_ca)) continue;
+            double wo[3] = { ebc / area, eca / area, eab / area }, w[3];
+            for (int k = 0; k < 3; k++) w[o[k]] = wo[k];
+            fn(ctx, (uint32_t)x, (uint32_t)y, w);
+        }
+    }
+}

@@ -1,0 +1,396 @@
+/* Baking (core/bake/bake.h): a fine level that is a known displacement of
+ * the base level along its interpolated normal bakes to that displacement
+ * (within 1 % of its range) on a per-face atlas (cube) and on a seamed
+ * toroidal unwrap (torus); level B baked onto itself gives the flat
+ * tangent-space normal; tangents follow the UV derivative; bad UVs,
+ * overlapping islands and schemes whose faces do not nest are refused. */
+#include "testlib.h"
+
+#include "core/bake/bake_internal.h"
+#include "core/multires/edit.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static void normalize3(double *v)
+{
+    double l = sqrt(dot3(v, v));
+    for (int k = 0; k < 3; k++) v[k] /= l;
+}
+
+/* The known displacement: a smooth function of the base point. */
+static double bump(const double *p)
+{
+    return 0.04 * sin(3.0 * p[0] + 0.5) * cos(2.0 * p[1]) + 0.03 * sin(2.5 * p[2]);
+}
+
+typedef struct base_geo {
+    st_hier *h;
+    unsigned B;
+    const st_bake_uvs *uvs;
+    uint32_t *cvert;              /* vertex per corner */
+    double *cnormal;              /* normal per corner */
+    double *target;               /* per vertex id of level L */
+    uint8_t *has_target;
+    uint32_t face;
+} base_geo;
+
+/* Point and unit interpolated normal of face f of B at UV p (the fan
+ * triangle that holds p best, as the bake picks it). */
+static void base_at(const base_geo *g, uint32_t f, const double p[2], double pos[3], double n[3])
+{
+    uint32_t a = g->uvs->corner_off[f], deg = g->uvs->corner_off[f + 1] - a;
+    double best = -INFINITY, bw[3] = { 1, 0, 0 };
+    uint32_t bi[3] = { a, a, a };
+    for (uint32_t t = 0; t + 2 < deg; t++) {
+        uint32_t idx[3] = { a, a + t + 1, a + t + 2 };
+        double tri[3][2], w[3];
+        for (int k = 0; k < 3; k++) memcpy(tri[k], g->uvs->uv + 2 * (size_t)idx[k], sizeof tri[k]);
+        if (!st_bake_barycentric(tri, p, w)) continue;
+        double lo = fmin(w[0], fmin(w[1], w[2]));
+        if (lo > best) { best = lo; memcpy(bw, w, sizeof bw); memcpy(bi, idx, sizeof bi); }
+    }
+    for (int k = 0; k < 3; k++) pos[k] = n[k] = 0;
+    for (int j = 0; j < 3; j++) {
+        const double *q = st_pos(&g->h->map, g->cvert[bi[j]], g->B), *cn = g->cnormal + 3 * (size_t)bi[j];
+        for (int k = 0; k < 3; k++) { pos[k] += bw[j] * q[k]; n[k] += bw[j] * cn[k]; }
+    }
+    normalize3(n);
+}
+
+static int set_target(void *ctx, const uint32_t *verts, const double *uv, unsigned n)
+{
+    base_geo *g = ctx;
+    for (unsigned c = 0; c < n; c++) {
+        double p[3], nn[3];
+        base_at(g, g->face, uv + 2 * c, p, nn);
+        double h = bump(p), *t = g->target + 3 * (size_t)verts[c];
+        for (int k = 0; k < 3; k++) t[k] = p[k] + h * nn[k];
+        g->has_target[verts[c]] = 1;
+    }
+    return ST_OK;
+}
+
+static void corner_data(base_geo *g)
+{
+    st_map *m = &g->h->map;
+    uint32_t *darts, nf;
+    st_error err;
+    CHECK(st_bake_level_faces(m, g->B, &darts, &nf, &err) == ST_OK);
+    size_t nc = g->uvs->corner_off[nf];
+    g->cvert = malloc(nc * sizeof *g->cvert);
+    g->cnormal = malloc(3 * nc * sizeof *g->cnormal);
+    double *tan = malloc(4 * nc * sizeof *tan);
+    CHECKF(st_bake_tangents(g->h, g->B, g->uvs, tan, g->cnormal, &err) == ST_OK, "%s", err.msg);
+    for (uint32_t f = 0; f < nf; f++) {
+        uint32_t x = darts[f];
+        for (uint32_t k = g->uvs->corner_off[f]; k < g->uvs->corner_off[f + 1]; k++, x = st_phi1(m, x, g->B))
+            g->cvert[k] = st_vert(m, x, g->B);
+    }
+    free(tan);
+    free(darts);
+}
+
+/* Moves every vertex of level L to base point + bump · base normal, through
+ * the editing API (details stay consistent). */
+static void displace_level(base_geo *g, unsigned L)
+{
+    st_map *m = &g->h->map;
+    uint32_t *darts, nf;
+    st_error err;
+    CHECK(st_bake_level_faces(m, g->B, &darts, &nf, &err) == ST_OK);
+    g->target = calloc(3 * (size_t)m->verts.end, sizeof *g->target);
+    g->has_target = calloc(m->verts.end, 1);
+    for (uint32_t f = 0; f < nf; f++) {
+        g->face = f;
+        uint32_t a = g->uvs->corner_off[f];
+        int rc = st_bake_walk(m, darts[f], g->B, L, g->uvs->uv + 2 * (size_t)a, g->uvs->corner_off[f + 1] - a, set_target, g, &err);
+        CHECKF(rc == ST_OK, "%s", err.msg);
+    }
+    uint32_t *vd = malloc(m->verts.end * sizeof *vd), n = 0;
+    double (*pos)[3] = malloc(m->verts.end * sizeof *pos);
+    uint8_t *seen = calloc(m->verts.end, 1);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, L, &it); d != ST_NIL; d = st_dart_next(m, L, &it)) {
+        uint32_t v = st_vert(m, d, L);
+        if (seen[v] || !g->has_target[v]) continue;
+        seen[v] = 1;
+        vd[n] = d;
+        memcpy(pos[n], g->target + 3 * (size_t)v, sizeof pos[n]);
+        n++;
+    }
+    st_hier_move(g->h, L, vd, (const double (*)[3])pos, n);
+    free(vd);
+    free(pos);
+    free(seen);
+    free(darts);
+}
+
+typedef struct expect_ctx {
+    base_geo *g;
+    const st_bake_maps *maps;
+    double max_err, lo, hi;
+    uint64_t compared;
+} expect_ctx;
+
+static void compare_texel(void *pc, uint32_t x, uint32_t y, const double w[3])
+{
+    (void)w;
+    expect_ctx *e = pc;
+    size_t i = (size_t)y * e->maps->size + x;
+    if (e->maps->mask[i] != 1) return;
+    double p[2] = { (x + 0.5) / e->maps->size, (y + 0.5) / e->maps->size }, pos[3], n[3];
+    base_at(e->g, e->g->face, p, pos, n);
+    double want = bump(pos);
+    e->lo = fmin(e->lo, want);
+    e->hi = fmax(e->hi, want);
+    e->max_err = fmax(e->max_err, fabs(e->maps->disp[i] - want));
+    e->compared++;
+}
+
+/* Bakes level L of h (displaced as above) onto B with uvs and compares. */
+static void check_analytic(const char *what, st_hier *h, unsigned B, unsigned L, const st_bake_uvs *uvs, uint32_t size)
+{
+    base_geo g = { .h = h, .B = B, .uvs = uvs };
+    corner_data(&g);
+    displace_level(&g, L);
+    st_bake_opts o = { .base = B, .level = L, .size = size, .space = ST_BAKE_TANGENT, .normal = 1, .displacement = 1, .padding = 4 };
+    st_bake_maps maps;
+    st_error err;
+    int rc = st_bake(h, uvs, &o, &maps, &err);
+    CHECKF(rc == ST_OK, "%s: %s", what, err.msg);
+    if (rc) return;
+    expect_ctx e = { .g = &g, .maps = &maps, .lo = INFINITY, .hi = -INFINITY };
+    for (uint32_t f = 0; f < uvs->nfaces; f++) {
+        g.face = f;
+        uint32_t a = uvs->corner_off[f], deg = uvs->corner_off[f + 1] - a;
+        for (uint32_t t = 0; t + 2 < deg; t++) {
+            double tri[3][2];
+            uint32_t idx[3] = { a, a + t + 1, a + t + 2 };
+            for (int k = 0; k < 3; k++) memcpy(tri[k], uvs->uv + 2 * (size_t)idx[k], sizeof tri[k]);
+            st_bake_raster_tri(tri, size, compare_texel, &e);
+        }
+    }
+    double range = e.hi - e.lo;
+    printf("%s: B=%u L=%u %ux%u: %llu texels baked, %llu padded, %llu compared; displacement range %.5f, "
+           "max error %.3g (%.3f %% of the range)\n",
+           what, B, L, size, size, (unsigned long long)maps.baked, (unsigned long long)maps.padded,
+           (unsigned long long)e.compared, range, e.max_err, 100 * e.max_err / range);
+    CHECKF(e.compared > maps.baked * 99 / 100, "%s: %llu of %llu baked texels compared", what,
+           (unsigned long long)e.compared, (unsigned long long)maps.baked);
+    CHECKF(range > 0.05, "%s: range %g", what, range);
+    CHECKF(e.max_err < 0.01 * range, "%s: max error %g >= 1 %% of range %g", what, e.max_err, range);
+    CHECK(maps.padded > 0);
+    /* The same bake twice gives the same maps, to the bit. */
+    st_bake_maps again;
+    CHECK(st_bake(h, uvs, &o, &again, &err) == ST_OK);
+    size_t tx = (size_t)size * size;
+    CHECK(!memcmp(again.disp, maps.disp, tx * sizeof(float)) && !memcmp(again.normal, maps.normal, 3 * tx * sizeof(float)));
+    st_bake_maps_free(&again);
+    st_bake_maps_free(&maps);
+    free(g.cvert);
+    free(g.cnormal);
+    free(g.target);
+    free(g.has_target);
+}
+
+/* Toroidal unwrap of the test torus (major axis z): u around z, v around the
+ * tube, seams where the angles wrap, kept inside [0.02, 0.98]. */
+static void torus_uvs(st_hier *h, unsigned l, st_bake_layout *out)
+{
+    st_map *m = &h->map;
+    uint32_t *darts, nf;
+    st_error err;
+    CHECK(st_bake_level_faces(m, l, &darts, &nf, &err) == ST_OK);
+    out->nfaces = nf;
+    out->corner_off = malloc(((size_t)nf + 1) * sizeof *out->corner_off);
+    out->corner_off[0] = 0;
+    for (uint32_t f = 0; f < nf; f++) out->corner_off[f + 1] = out->corner_off[f] + st_face_degree(m, darts[f], l);
+    out->uv = malloc(2 * (size_t)out->corner_off[nf] * sizeof *out->uv);
+    for (uint32_t f = 0; f < nf; f++) {
+        uint32_t a = out->corner_off[f], n = out->corner_off[f + 1] - a, x = darts[f];
+        double *uv = out->uv + 2 * (size_t)a;
+        for (uint32_t c = 0; c < n; c++, x = st_phi1(m, x, l)) {
+            const double *p = st_dart_pos(m, x, l);
+            double r = sqrt(p[0] * p[0] + p[1] * p[1]);
+            double ang[2] = { atan2(p[1], p[0]), atan2(p[2], r - 2) };
+            for (int k = 0; k < 2; k++) {
+                double t = ang[k] / (2 * M_PI);
+                if (t < -1e-9) t += 1;
+                uv[2 * c + k] = t < 0 ? 0 : t;
+            }
+        }
+        for (int k = 0; k < 2; k++) {
+            double hi = 0;
+            for (uint32_t c = 0; c < n; c++) hi = fmax(hi, uv[2 * c + k]);
+            for (uint32_t c = 0; c < n; c++)
+                if (hi - uv[2 * c + k] > 0.5) uv[2 * c + k] += 1;
+            for (uint32_t c = 0; c < n; c++) uv[2 * c + k] = 0.02 + 0.96 * uv[2 * c + k];
+        }
+    }
+    free(darts);
+}
+
+static void make_torus(st_mesh *m) { tl_mesh_torus(m, 12, 8); }
+
+static void test_analytic(void)
+{
+    st_hier h;
+    st_error err;
+    tl_init_hier(&h, tl_mesh_cube, ST_SCHEME_CATMARK, 4);
+    st_bake_layout lay;
+    CHECKF(st_bake_auto_uvs(&h, 1, &lay, &err) == ST_OK, "%s", err.msg);
+    st_bake_uvs u = st_bake_layout_uvs(&lay);
+    check_analytic("cube catmull-clark, per-face atlas", &h, 1, 4, &u, 256);
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+
+    tl_init_hier(&h, make_torus, ST_SCHEME_CATMARK, 4);
+    torus_uvs(&h, 0, &lay);
+    u = st_bake_layout_uvs(&lay);
+    check_analytic("torus catmull-clark, toroidal unwrap with seams", &h, 0, 4, &u, 256);
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+
+    tl_init_hier(&h, tl_mesh_icosa, ST_SCHEME_LOOP, 4);
+    CHECKF(st_bake_auto_uvs(&h, 1, &lay, &err) == ST_OK, "%s", err.msg);
+    u = st_bake_layout_uvs(&lay);
+    check_analytic("icosahedron loop, per-face atlas", &h, 1, 4, &u, 512);
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+}
+
+/* Level B onto itself: the fine normal is B's own, so the tangent-space map
+ * is (0, 0, 1) and the displacement 0; tangents are unit, orthogonal to the
+ * normal and point along dP/du on the cube's flat faces. */
+static void test_identity_and_tangents(void)
+{
+    st_hier h;
+    st_error err;
+    tl_init_hier(&h, tl_mesh_cube, ST_SCHEME_CATMARK, 2);
+    st_bake_layout lay;
+    CHECK(st_bake_auto_uvs(&h, 0, &lay, &err) == ST_OK);
+    st_bake_uvs u = st_bake_layout_uvs(&lay);
+    size_t nc = lay.corner_off[lay.nfaces];
+    CHECK(lay.nfaces == 6 && nc == 24);
+    double *tan = malloc(4 * nc * sizeof *tan), *nrm = malloc(3 * nc * sizeof *nrm);
+    CHECK(st_bake_tangents(&h, 0, &u, tan, nrm, &err) == ST_OK);
+    uint32_t *darts, nf;
+    CHECK(st_bake_level_faces(&h.map, 0, &darts, &nf, &err) == ST_OK);
+    double worst_orth = 0, worst_dir = 1;
+    for (uint32_t f = 0; f < nf; f++) {
+        /* dP/du of the face from its first triangle. */
+        uint32_t a = lay.corner_off[f];
+        const double *p0 = st_dart_pos(&h.map, darts[f], 0), *p1 = st_dart_pos(&h.map, st_phi1(&h.map, darts[f], 0), 0);
+        const double *p2 = st_dart_pos(&h.map, st_phi1(&h.map, st_phi1(&h.map, darts[f], 0), 0), 0);
+        const double *t0 = lay.uv + 2 * a, *t1 = t0 + 2, *t2 = t0 + 4;
+        double du1 = t1[0] - t0[0], dv1 = t1[1] - t0[1], du2 = t2[0] - t0[0], dv2 = t2[1] - t0[1], r = du1 * dv2 - du2 * dv1;
+        double dpdu[3];
+        for (int k = 0; k < 3; k++) dpdu[k] = ((p1[k] - p0[k]) * dv2 - (p2[k] - p0[k]) * dv1) / r;
+        normalize3(dpdu);
+        for (uint32_t c = a; c < lay.corner_off[f + 1]; c++) {
+            const double *t = tan + 4 * c, *n = nrm + 3 * c;
+            worst_orth = fmax(worst_orth, fabs(dot3(t, n)));
+            CHECK(fabs(dot3(t, t) - 1) < 1e-12 && (t[3] == 1 || t[3] == -1));
+            /* The corner normal is the vertex's (diagonal on the cube), so
+             * the tangent is dP/du made orthogonal to it. */
+            double d = dot3(dpdu, n), pr[3] = { dpdu[0] - d * n[0], dpdu[1] - d * n[1], dpdu[2] - d * n[2] };
+            normalize3(pr);
+            worst_dir = fmin(worst_dir, dot3(pr, t));
+        }
+    }
+    CHECKF(worst_orth < 1e-12, "tangent·normal up to %g", worst_orth);
+    CHECKF(worst_dir > 1 - 1e-12, "tangent off dP/du: cos %g", worst_dir);
+    free(darts);
+    free(tan);
+    free(nrm);
+
+    st_bake_opts o = { .base = 0, .level = 0, .size = 64, .space = ST_BAKE_TANGENT, .normal = 1, .displacement = 3, .padding = 2 };
+    st_bake_maps maps;
+    CHECKF(st_bake(&h, &u, &o, &maps, &err) == ST_OK, "%s", err.msg);
+    double worst_n = 0, worst_d = 0;
+    for (size_t i = 0; i < (size_t)64 * 64; i++) {
+        if (maps.mask[i] != 1) continue;
+        worst_n = fmax(worst_n, fabs(maps.normal[3 * i]) + fabs(maps.normal[3 * i + 1]) + fabs(maps.normal[3 * i + 2] - 1));
+        for (int k = 0; k < 3; k++) worst_d = fmax(worst_d, fabs(maps.disp[3 * i + k]));
+    }
+    printf("level 0 onto itself: %llu texels, normal off (0,0,1) by %.2g, displacement up to %.2g\n",
+           (unsigned long long)maps.baked, worst_n, worst_d);
+    CHECK(maps.baked > 1000);
+    CHECK(worst_n < 1e-5 && worst_d < 1e-5);
+    /* Padding reaches 2 texels beyond the islands and no further. */
+    uint64_t pad2 = maps.padded;
+    st_bake_maps_free(&maps);
+    o.padding = 0;
+    CHECK(st_bake(&h, &u, &o, &maps, &err) == ST_OK);
+    CHECK(maps.padded == 0 && pad2 > 0);
+    st_bake_maps_free(&maps);
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+}
+
+static void expect_refusal(st_hier *h, const st_bake_uvs *u, const st_bake_opts *o, const char *pattern)
+{
+    st_bake_maps maps;
+    st_error err;
+    int rc = st_bake(h, u, o, &maps, &err);
+    CHECKF(rc != ST_OK && strstr(err.msg, pattern), "expected a refusal with '%s', got %d '%s'", pattern, rc, rc ? err.msg : "");
+    CHECK(maps.normal == NULL && maps.disp == NULL && maps.mask == NULL);
+}
+
+static void test_refusals(void)
+{
+    st_hier h;
+    st_error err;
+    tl_init_hier(&h, tl_mesh_cube, ST_SCHEME_CATMARK, 2);
+    st_bake_layout lay;
+    CHECK(st_bake_auto_uvs(&h, 0, &lay, &err) == ST_OK);
+    st_bake_uvs u = st_bake_layout_uvs(&lay);
+    st_bake_opts o = { .base = 0, .level = 2, .size = 32, .normal = 1, .padding = 2 };
+
+    expect_refusal(&h, NULL, &o, "has no UVs");
+    /* Face 2 laid over face 1. */
+    double saved[8];
+    memcpy(saved, lay.uv + 8, sizeof saved);
+    memcpy(lay.uv + 8, lay.uv, sizeof saved);
+    expect_refusal(&h, &u, &o, "UV islands overlap: faces 1 and 2 of level 0");
+    memcpy(lay.uv + 8, saved, sizeof saved);
+    lay.uv[5] = NAN;
+    expect_refusal(&h, &u, &o, "face 1 of level 0: corner 3 has no UV");
+    lay.uv[5] = 1.5;
+    expect_refusal(&h, &u, &o, "outside [0,1]");
+    memcpy(lay.uv + 8, saved, sizeof saved);
+    lay.uv[5] = lay.uv[3];
+    u.nfaces = 5;
+    expect_refusal(&h, &u, &o, "describe 5 faces but level 0 has 6");
+    u.nfaces = 6;
+    o.base = 1;
+    expect_refusal(&h, &u, &o, "describe 6 faces but level 1 has 24");
+    o.base = 3;
+    expect_refusal(&h, &u, &o, "levels are 0..2");
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+
+    /* √3 and Doo-Sabin: faces do not nest. */
+    tl_init_hier(&h, tl_mesh_octa, ST_SCHEME_SQRT3, 2);
+    CHECK(st_bake_auto_uvs(&h, 0, &lay, &err) == ST_OK);
+    u = st_bake_layout_uvs(&lay);
+    o.base = 0;
+    expect_refusal(&h, &u, &o, "faces that nest");
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+    tl_init_hier(&h, tl_mesh_cube, ST_SCHEME_DOOSABIN, 1);
+    expect_refusal(&h, NULL, &o, "faces that nest");
+    st_hier_free(&h);
+}
+
+int main(void)
+{
+    test_identity_and_tangents();
+    test_refusals();
+    test_analytic();
+    return TEST_END();
+}
