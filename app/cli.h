@@ -12,5 +12,7 @@ int st_cmd_filter(int argc, char **argv);
 int st_cmd_window(int argc, char **argv);
 /* app/cmd_rebuild.c: a dense mesh into a hierarchy (unsubdivide / progressive). */
 int st_cmd_rebuild(int argc, char **argv);
+/* app/cmd_bake.c: normal and displacement maps of a level onto a coarser one. */
+int st_cmd_bake(int argc, char **argv);
 
 #endif

@@ -32,6 +32,9 @@ static void usage(FILE *f)
         "                                      F1 in the window lists the keys\n"
         "  filter IN.strata --gains g0,g1,... -o OUT\n"
         "                                      scales the details of each level of a progressive hierarchy\n"
+        "  bake IN --base-level B [--level L] --normal-map N.png [--displacement-map D.exr|D.png]\n"
+        "       [--size 2048] [--space tangent|object] [--vector] [--padding 8] [--bits 8|16] --auto-uv\n"
+        "                                      bakes level L onto level B's UV layout as maps\n"
         "  help                                this text\n"
         "every command takes --mem-budget MIB: operations whose estimated memory would exceed it are refused\n"
         "(default: 3/4 of the memory available at start)\n"
@@ -65,7 +68,7 @@ int main(int argc, char **argv)
 {
     if (argc < 2) return st_cmd_window(0, argv + 1);
     const char *cmd = argv[1];
-    static const char *const subcommands[] = { "info", "subdivide", "adapt", "render", "convert", "filter", "rebuild", "help" };
+    static const char *const subcommands[] = { "info", "subdivide", "adapt", "render", "convert", "filter", "rebuild", "bake", "help" };
     int window = 1;
     for (size_t i = 0; i < sizeof subcommands / sizeof subcommands[0]; i++)
         if (!strcmp(cmd, subcommands[i])) window = 0;
@@ -77,6 +80,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "convert")) return st_cmd_convert(argc - 2, argv + 2);
     if (!strcmp(cmd, "filter")) return st_cmd_filter(argc - 2, argv + 2);
     if (!strcmp(cmd, "rebuild")) return st_cmd_rebuild(argc - 2, argv + 2);
+    if (!strcmp(cmd, "bake")) return st_cmd_bake(argc - 2, argv + 2);
     if (!strcmp(cmd, "help") || !strcmp(cmd, "--help") || !strcmp(cmd, "-h")) { usage(stdout); return 0; }
     /* Anything else is the modeller: `strata [options] [FILE]`. */
     if (cmd[0] == '-' || access(cmd, F_OK) == 0) return st_cmd_window(argc - 1, argv + 1);

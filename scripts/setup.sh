@@ -18,6 +18,8 @@ PACKAGES=(
   libglfw3-dev libosmesa6-dev libgl-dev libcglm-dev libimgui-dev
   # glTF / images
   libtinygltf-dev nlohmann-json3-dev libstb-dev
+  # baked maps (strata bake): 16-bit PNG, 32-bit float OpenEXR
+  libpng-dev libtinyexr-dev
   # reference implementations used by tests/oracles and benchmarks
   libosd-dev libcgal-dev libgmp-dev libmpfr-dev libopenmesh-dev libmeshoptimizer-dev
   # testing the window as a person would, screenshots

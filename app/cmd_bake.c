@@ -1,0 +1,209 @@
+/* strata bake IN --base-level B [--level L] --normal-map N.png
+ *             [--displacement-map D.exr|D.png] [--size 2048] [--space tangent|object]
+ *             [--vector] [--padding 8] [--bits 8|16] --auto-uv
+ *
+ * Bakes the surface of level L (default: the finest) onto the UV layout of
+ * level B (core/bake/bake.h).  Meshes and sessions carry no UVs yet, so
+ * --auto-uv (a per-face atlas of level B, st_bake_auto_uvs) is required for
+ * now; without it the command says level B has no UVs.  Every file is
+ * written to NAME.tmp.EXT first and renamed once all are written, so a refusal
+ * or a failed write leaves nothing.  Exit status: 0 done, 1 refused or a
+ * file could not be read or written, 2 bad usage. */
+#include "bake_images.h"
+#include "cli.h"
+#include "cli_common.h"
+#include "core/bake/bake.h"
+#include "core/io/mesh.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int usage(void)
+{
+    fprintf(stderr,
+            "usage: strata bake IN --base-level B [--level L] --normal-map N.png [--displacement-map D.exr|D.png]\n"
+            "                   [--size 2048] [--space tangent|object] [--vector] [--padding 8] [--bits 8|16] --auto-uv\n");
+    return 2;
+}
+
+typedef struct bake_args {
+    const char *normal_path, *disp_path;
+    int base;                 /* -1: not given */
+    unsigned size, padding;
+    int bits, space, vector, auto_uv;
+} bake_args;
+
+static int parse_unsigned(const char *s, unsigned lo, unsigned hi, unsigned *out)
+{
+    char *end;
+    unsigned long v = strtoul(s, &end, 10);
+    if (!*s || *end || s[0] == '-' || v < lo || v > hi) return -1;
+    *out = (unsigned)v;
+    return 0;
+}
+
+/* Takes bake's own options out of argv; the rest (IN, --level, --scheme,
+ * --levels, --boundary) goes to st_cli_parse. */
+static int split_args(int argc, char **argv, bake_args *b, char **rest, int *nrest)
+{
+    *nrest = 0;
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        unsigned u;
+        if (!strcmp(a, "--normal-map") && v) { b->normal_path = v; i++; }
+        else if (!strcmp(a, "--displacement-map") && v) { b->disp_path = v; i++; }
+        else if (!strcmp(a, "--base-level") && v) {
+            if (parse_unsigned(v, 0, ST_MAX_LEVELS - 1, &u)) { fprintf(stderr, "strata bake: --base-level wants a level number, got '%s'\n", v); return -1; }
+            b->base = (int)u;
+            i++;
+        } else if (!strcmp(a, "--size") && v) {
+            if (parse_unsigned(v, 1, 16384, &b->size)) { fprintf(stderr, "strata bake: --size wants 1..16384 texels, got '%s'\n", v); return -1; }
+            i++;
+        } else if (!strcmp(a, "--padding") && v) {
+            if (parse_unsigned(v, 0, 254, &b->padding)) { fprintf(stderr, "strata bake: --padding wants 0..254 texels, got '%s'\n", v); return -1; }
+            i++;
+        } else if (!strcmp(a, "--bits") && v) {
+            if (parse_unsigned(v, 8, 16, &u) || (u != 8 && u != 16)) { fprintf(stderr, "strata bake: --bits wants 8 or 16, got '%s'\n", v); return -1; }
+            b->bits = (int)u;
+            i++;
+        } else if (!strcmp(a, "--space") && v) {
+            if (!strcmp(v, "tangent")) b->space = ST_BAKE_TANGENT;
+            else if (!strcmp(v, "object")) b->space = ST_BAKE_OBJECT;
+            else { fprintf(stderr, "strata bake: --space wants tangent or object, got '%s'\n", v); return -1; }
+            i++;
+        } else if (!strcmp(a, "--vector")) b->vector = 1;
+        else if (!strcmp(a, "--auto-uv")) b->auto_uv = 1;
+        else rest[(*nrest)++] = argv[i];
+    }
+    return 0;
+}
+
+static int check_paths(const bake_args *b)
+{
+    if (!b->normal_path && !b->disp_path) { fprintf(stderr, "strata bake: nothing to bake: give --normal-map and/or --displacement-map\n"); return -1; }
+    if (b->base < 0) { fprintf(stderr, "strata bake: --base-level B is required (the level whose UVs receive the maps)\n"); return -1; }
+    if (b->normal_path && !st_path_has_ext(b->normal_path, ".png")) { fprintf(stderr, "strata bake: %s: the normal map is written as .png\n", b->normal_path); return -1; }
+    if (b->disp_path && !st_path_has_ext(b->disp_path, ".png") && !st_path_has_ext(b->disp_path, ".exr")) {
+        fprintf(stderr, "strata bake: %s: the displacement map is written as .exr or .png\n", b->disp_path);
+        return -1;
+    }
+    if (b->vector && !b->disp_path) { fprintf(stderr, "strata bake: --vector applies to --displacement-map\n"); return -1; }
+    return 0;
+}
+
+/* NAME.json beside a displacement PNG: NAME.png with its extension replaced. */
+static char *sidecar_path(const char *png)
+{
+    size_t n = strlen(png);
+    char *s = malloc(n + 6);
+    if (!s) return NULL;
+    memcpy(s, png, n - 4);
+    strcpy(s + n - 4, ".json");
+    return s;
+}
+
+/* NAME.tmp.EXT: the writers pick the format by the extension. */
+static char *tmp_path(const char *p)
+{
+    size_t n = strlen(p), dot = n - 4;
+    char *s = malloc(n + 5);
+    if (!s) return NULL;
+    memcpy(s, p, dot);
+    memcpy(s + dot, ".tmp", 4);
+    strcpy(s + dot + 4, p + dot);
+    return s;
+}
+
+/* Writes the maps to their .tmp names, then renames them all; on any
+ * failure removes what was written. */
+static int write_outputs(const bake_args *b, const st_bake_maps *maps, char *side, st_error *err)
+{
+    const char *final[3] = { b->normal_path, b->disp_path, side };
+    char *tmp[3] = { NULL, NULL, NULL };
+    int rc = ST_OK;
+    for (int k = 0; k < 3 && !rc; k++)
+        if (final[k] && !(tmp[k] = tmp_path(final[k]))) rc = st_fail(err, ST_ERR_MEMORY, "out of memory");
+    double offset = 0, scale = 1;
+    if (!rc && b->normal_path) rc = st_bake_write_normal_png(tmp[0], maps, b->bits, err);
+    if (!rc && b->disp_path) rc = st_bake_write_disp(tmp[1], maps, &offset, &scale, err);
+    if (!rc && side) {
+        const char *meaning = !b->vector ? "displacement along the base level's interpolated normal"
+                            : b->space == ST_BAKE_TANGENT ? "displacement vector in tangent space (tangent, bitangent, normal)"
+                                                         : "displacement vector in object space (x, y, z)";
+        rc = st_bake_write_sidecar(tmp[2], b->disp_path, maps, meaning, offset, scale, err);
+    }
+    for (int k = 0; k < 3 && !rc; k++)
+        if (tmp[k] && rename(tmp[k], final[k])) rc = st_fail(err, ST_ERR_IO, "%s: cannot rename into place", final[k]);
+    for (int k = 0; k < 3; k++) {
+        if (rc && tmp[k]) remove(tmp[k]);
+        free(tmp[k]);
+    }
+    return rc;
+}
+
+static void report(const bake_args *b, const st_bake_opts *o, const st_bake_maps *maps, const char *side)
+{
+    if (b->normal_path)
+        printf("wrote %s (%ux%u, %s-space normals, %d-bit RGB)\n", b->normal_path, o->size, o->size,
+               o->space == ST_BAKE_TANGENT ? "tangent" : "object", b->bits);
+    if (b->disp_path)
+        printf("wrote %s (%ux%u, %s displacement, %s)%s%s\n", b->disp_path, o->size, o->size,
+               b->vector ? "vector" : "scalar", st_path_has_ext(b->disp_path, ".exr") ? "32-bit float EXR" : "16-bit PNG",
+               side ? ", scale and offset in " : "", side ? side : "");
+    printf("level %u onto level %u: %llu texels baked, %llu padded", o->level, o->base,
+           (unsigned long long)maps->baked, (unsigned long long)maps->padded);
+    if (maps->disp) printf(", displacement %.6g .. %.6g", maps->disp_min, maps->disp_max);
+    printf("\n");
+}
+
+int st_cmd_bake(int argc, char **argv)
+{
+    bake_args b = { .base = -1, .size = 2048, .padding = 8, .bits = 8, .space = ST_BAKE_TANGENT };
+    char **rest = malloc((size_t)(argc ? argc : 1) * sizeof *rest);
+    int nrest = 0;
+    st_cli_opts o;
+    if (!rest) return 1;
+    if (split_args(argc, argv, &b, rest, &nrest) || st_cli_parse(nrest, rest, &o, "bake") || check_paths(&b)) {
+        free(rest);
+        return usage();
+    }
+    free(rest);
+    if (o.out) { fprintf(stderr, "strata bake: -o does not apply: name the maps with --normal-map and --displacement-map\n"); return usage(); }
+    st_hier h;
+    int rc = st_cli_load(&o, &h, "bake");
+    if (rc) return rc;
+    unsigned level = o.level >= 0 ? (unsigned)o.level : h.map.top;
+    st_error err;
+    st_bake_layout lay = { 0 };
+    st_bake_maps maps = { 0 };
+    char *side = NULL;
+    st_bake_opts bo = { .base = (unsigned)b.base, .level = level, .size = b.size, .space = b.space,
+                        .normal = b.normal_path != NULL, .displacement = b.disp_path ? (b.vector ? 3 : 1) : 0,
+                        .padding = b.padding };
+    if ((unsigned)b.base > h.map.top || level > h.map.top || (unsigned)b.base > level) {
+        fprintf(stderr, "strata bake: %s: cannot bake level %u onto level %d: levels are 0..%u and the base must not be finer\n",
+                o.in, level, b.base, h.map.top);
+        rc = 1;
+        goto done;
+    }
+    if (st_bake_check_scheme(&h, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
+    if (!b.auto_uv) {
+        fprintf(stderr, "strata bake: %s: level %d has no UVs (meshes and sessions carry none yet); "
+                        "--auto-uv lays out a per-face atlas\n", o.in, b.base);
+        rc = 1;
+        goto done;
+    }
+    if (st_bake_auto_uvs(&h, (unsigned)b.base, &lay, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
+    st_bake_uvs uvs = st_bake_layout_uvs(&lay);
+    if (st_bake(&h, &uvs, &bo, &maps, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
+    if (b.disp_path && st_path_has_ext(b.disp_path, ".png") && !(side = sidecar_path(b.disp_path))) { rc = 1; goto done; }
+    if (write_outputs(&b, &maps, side, &err)) { fprintf(stderr, "strata: %s\n", err.msg); rc = 1; goto done; }
+    report(&b, &bo, &maps, side);
+done:
+    free(side);
+    st_bake_maps_free(&maps);
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+    return rc;
+}
