@@ -86,6 +86,9 @@ typedef st_gl_proc (*st_gl_get_proc)(const char *name);
     X(PFNGLACTIVETEXTUREPROC, ActiveTexture) \
     X(PFNGLTEXBUFFERPROC, TexBuffer) \
     X(PFNGLDELETETEXTURESPROC, DeleteTextures) \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D) \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri) \
+    X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap) \
     X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers) \
     X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer) \
     X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer) \

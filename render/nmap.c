@@ -1,0 +1,161 @@
+/* A level drawn with a normal map (render/nmap.h). */
+#include "nmap.h"
+#include "gl_program.h"
+#include "shaders.h"
+#include "core/io/mesh.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void st_nmap_mesh_free(st_nmap_mesh *m)
+{
+    free(m->attr);
+    memset(m, 0, sizeof *m);
+}
+
+static void put_corner(float *a, const double *p, const double *n, const double *t, const double *uv)
+{
+    for (int k = 0; k < 3; k++) { a[k] = (float)p[k]; a[3 + k] = (float)n[k]; }
+    for (int k = 0; k < 4; k++) a[6 + k] = (float)t[k];
+    a[10] = (float)uv[0];
+    a[11] = (float)uv[1];
+}
+
+int st_nmap_mesh_build(st_hier *h, unsigned level, const st_bake_uvs *uvs, st_nmap_mesh *out, st_error *err)
+{
+    memset(out, 0, sizeof *out);
+    st_mesh mesh;
+    st_mesh_init(&mesh);
+    int rc = st_hier_level_mesh(h, level, &mesh, err);
+    if (rc) return rc;
+    size_t nc = mesh.face_off[mesh.nfaces], ntri = 0;
+    double *tan = malloc((nc ? nc : 1) * 4 * sizeof *tan), *nrm = malloc((nc ? nc : 1) * 3 * sizeof *nrm);
+    if (!tan || !nrm) rc = st_fail(err, ST_ERR_MEMORY, "out of memory building the normal-mapped mesh");
+    if (!rc) rc = st_bake_tangents(h, level, uvs, tan, nrm, err);
+    for (uint32_t f = 0; !rc && f < mesh.nfaces; f++) ntri += mesh.face_off[f + 1] - mesh.face_off[f] - 2;
+    if (!rc && !(out->attr = malloc((ntri ? ntri : 1) * 3 * ST_NMAP_FLOATS * sizeof *out->attr)))
+        rc = st_fail(err, ST_ERR_MEMORY, "out of memory building the normal-mapped mesh");
+    if (!rc) {
+        float *a = out->attr;
+        for (uint32_t f = 0; f < mesh.nfaces; f++) {
+            uint32_t s = mesh.face_off[f], n = mesh.face_off[f + 1] - s;
+            for (uint32_t t = 0; t + 2 < n; t++) {
+                uint32_t c[3] = { s, s + t + 1, s + t + 2 };
+                for (int k = 0; k < 3; k++, a += ST_NMAP_FLOATS)
+                    put_corner(a, mesh.pos + 3 * (size_t)mesh.face_idx[c[k]], nrm + 3 * (size_t)c[k],
+                               tan + 4 * (size_t)c[k], uvs->uv + 2 * (size_t)c[k]);
+            }
+        }
+        out->ncorners = (uint32_t)(3 * ntri);
+        for (int k = 0; k < 3; k++) { out->bbox[k] = 3e38f; out->bbox[k + 3] = -3e38f; }
+        for (uint32_t v = 0; v < mesh.nverts; v++)
+            for (int k = 0; k < 3; k++) {
+                float x = (float)mesh.pos[3 * (size_t)v + k];
+                if (x < out->bbox[k]) out->bbox[k] = x;
+                if (x > out->bbox[k + 3]) out->bbox[k + 3] = x;
+            }
+    }
+    free(tan);
+    free(nrm);
+    st_mesh_free(&mesh);
+    if (rc) st_nmap_mesh_free(out);
+    return rc;
+}
+
+int st_nmap_init(st_nmap *n, const st_gl *gl, st_error *err)
+{
+    memset(n, 0, sizeof *n);
+    n->gl = gl;
+    n->prog = st_gl_program(gl, st_shader_source("surface_nmap.vert"), st_shader_source("surface_nmap.frag"),
+                            "surface_nmap", "normal-mapped surface program", err);
+    if (!n->prog) return err->code ? err->code : ST_ERR_INVALID;
+    n->u_view = gl->GetUniformLocation(n->prog, "u_view");
+    n->u_proj = gl->GetUniformLocation(n->prog, "u_proj");
+    n->u_map = gl->GetUniformLocation(n->prog, "u_map");
+    n->u_use_map = gl->GetUniformLocation(n->prog, "u_use_map");
+    n->u_object = gl->GetUniformLocation(n->prog, "u_object_space");
+    n->u_front = gl->GetUniformLocation(n->prog, "u_front");
+    n->u_back = gl->GetUniformLocation(n->prog, "u_back");
+    gl->GenVertexArrays(1, &n->vao);
+    gl->GenBuffers(1, &n->vbo);
+    gl->GenTextures(1, &n->tex);
+    return ST_OK;
+}
+
+void st_nmap_set_mesh(st_nmap *n, const st_nmap_mesh *m)
+{
+    const st_gl *gl = n->gl;
+    gl->BindVertexArray(n->vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, n->vbo);
+    gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)m->ncorners * ST_NMAP_FLOATS * sizeof(float)), m->attr, GL_STATIC_DRAW);
+    static const int offs[4] = { 0, 3, 6, 10 }, sizes[4] = { 3, 3, 4, 2 };
+    for (GLuint i = 0; i < 4; i++) {
+        gl->VertexAttribPointer(i, sizes[i], GL_FLOAT, GL_FALSE, ST_NMAP_FLOATS * sizeof(float),
+                                (const void *)(offs[i] * sizeof(float)));
+        gl->EnableVertexAttribArray(i);
+    }
+    gl->BindVertexArray(0);
+    n->ncorners = m->ncorners;
+}
+
+void st_nmap_set_map(st_nmap *n, const unsigned char *rgba, int w, int h)
+{
+    const st_gl *gl = n->gl;
+    gl->ActiveTexture(GL_TEXTURE0);
+    gl->BindTexture(GL_TEXTURE_2D, n->tex);
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    gl->GenerateMipmap(GL_TEXTURE_2D);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    gl->BindTexture(GL_TEXTURE_2D, 0);
+    n->has_map = 1;
+}
+
+void st_nmap_draw(st_nmap *n, const st_camera *cam, int w, int h, int mode)
+{
+    const st_gl *gl = n->gl;
+    /* The renderer's surface colours and background (render/renderer.c). */
+    static const float front[3] = { 0.70f, 0.73f, 0.78f }, back[3] = { 0.78f, 0.48f, 0.36f };
+    float view[16], proj[16];
+    st_camera_view(cam, view);
+    st_camera_proj(cam, h > 0 ? (float)w / (float)h : 1, proj);
+    gl->Viewport(0, 0, w, h);
+    gl->Enable(GL_DEPTH_TEST);
+    gl->DepthFunc(GL_LEQUAL);
+    gl->DepthMask(GL_TRUE);
+    gl->Disable(GL_CULL_FACE);
+    gl->Disable(GL_BLEND);
+    gl->ClearColor(0.93f, 0.94f, 0.96f, 1);
+    gl->ClearDepth(1);
+    gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl->UseProgram(n->prog);
+    gl->UniformMatrix4fv(n->u_view, 1, GL_FALSE, view);
+    gl->UniformMatrix4fv(n->u_proj, 1, GL_FALSE, proj);
+    gl->Uniform3fv(n->u_front, 1, front);
+    gl->Uniform3fv(n->u_back, 1, back);
+    int use = mode != ST_NMAP_NONE && n->has_map;
+    gl->Uniform1i(n->u_use_map, use);
+    gl->Uniform1i(n->u_object, mode == ST_NMAP_OBJECT);
+    gl->Uniform1i(n->u_map, 0);
+    gl->ActiveTexture(GL_TEXTURE0);
+    gl->BindTexture(GL_TEXTURE_2D, n->tex);
+    gl->BindVertexArray(n->vao);
+    gl->DrawArrays(GL_TRIANGLES, 0, (GLsizei)n->ncorners);
+    gl->BindVertexArray(0);
+    gl->BindTexture(GL_TEXTURE_2D, 0);
+    gl->UseProgram(0);
+}
+
+void st_nmap_free(st_nmap *n)
+{
+    const st_gl *gl = n->gl;
+    if (!gl) return;
+    if (n->tex) gl->DeleteTextures(1, &n->tex);
+    if (n->vbo) gl->DeleteBuffers(1, &n->vbo);
+    if (n->vao) gl->DeleteVertexArrays(1, &n->vao);
+    if (n->prog) gl->DeleteProgram(n->prog);
+    memset(n, 0, sizeof *n);
+}
