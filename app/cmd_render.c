@@ -1,6 +1,7 @@
 /* strata render IN [--scheme S --levels N --level L] [--boundary B]
  *                  [--view front|back|left|right|top|iso | --orbit AZ,EL,DIST]
  *                  [--mode smooth|flat|wire|cage] [--size WxH] -o OUT.png
+ *                  [--normal-map N.png [--normal-space tangent|object]]
  *
  * Renders level L (default N) of IN's hierarchy headless (OSMesa: no
  * display, no GPU) into a PNG.  Same inputs, same machine: same bytes. */
@@ -18,6 +19,7 @@
 #include "core/adapt/adapt.h"
 #include "core/io/session.h"
 #include "offscreen.h"
+#include "render_nmap.h"
 
 #define DEFAULT_W 800
 #define DEFAULT_H 600
@@ -28,6 +30,9 @@ typedef struct render_opts {
     int view_given, orbit_given;
     int adaptive;               /* --box / --base-level / --max-level given */
     st_adapt_params adapt;
+    const char *normal_map;     /* --normal-map N.png (app/render_nmap.h) */
+    int normal_object;          /* --normal-space object */
+    int mode_given;
 } render_opts;
 
 /* ---- render-only options ---------------------------------------------------- */
@@ -68,6 +73,23 @@ static int parse_mode(render_opts *r, const char *v)
     int m = st_render_mode_parse(v);
     if (m < 0) { fprintf(stderr, "strata render: --mode wants smooth, flat, wire or cage, got '%s'\n", v); return -1; }
     r->spec.mode = m;
+    r->mode_given = 1;
+    return 0;
+}
+
+static int parse_normal_map(render_opts *r, const char *v)
+{
+    r->normal_map = v;
+    return 0;
+}
+
+static int parse_normal_space(render_opts *r, const char *v)
+{
+    if (strcmp(v, "tangent") && strcmp(v, "object")) {
+        fprintf(stderr, "strata render: --normal-space wants tangent or object, got '%s'\n", v);
+        return -1;
+    }
+    r->normal_object = !strcmp(v, "object");
     return 0;
 }
 
@@ -142,6 +164,8 @@ static const struct {
     { "--box", parse_box },
     { "--base-level", parse_base_level },
     { "--max-level", parse_max_level },
+    { "--normal-map", parse_normal_map },
+    { "--normal-space", parse_normal_space },
 };
 
 /* Options of st_cli_parse that take a value: copied through untouched so
@@ -205,6 +229,11 @@ int st_cmd_render(int argc, char **argv)
         if (o.levels || o.level >= 0) { fprintf(stderr, "strata render: --levels/--level do not go with --box (the box decides the levels)\n"); return 2; }
         if (r.adapt.base_level > r.adapt.max_level) { fprintf(stderr, "strata render: --base-level is above --max-level\n"); return 2; }
     }
+    if (r.normal_map && (r.adaptive || (r.mode_given && r.spec.mode != ST_MODE_SMOOTH))) {
+        fprintf(stderr, "strata render: --normal-map draws a level in smooth mode; it does not go with --box or --mode %s\n",
+                st_render_mode_name(r.spec.mode));
+        return 2;
+    }
 
     st_hier h;
     int rc = st_cli_load(&o, &h, "render");
@@ -233,9 +262,14 @@ int st_cmd_render(int argc, char **argv)
     }
     rgba = malloc((size_t)r.width * (size_t)r.height * 4);
     if (!rgba) rc = st_fail(&err, ST_ERR_MEMORY, "out of memory for a %dx%d image", r.width, r.height);
-    if (!rc) rc = st_offscreen_prepare(&off, &h.map, &r.spec, &err);
-    uint32_t faces = off.r.surf.nfaces;
-    if (!rc) rc = st_offscreen_draw(&off, &r.spec, rgba, &err);
+    uint32_t faces = 0;
+    if (r.normal_map) {
+        if (!rc) rc = st_render_normal_mapped(&off, &h, &r.spec, r.normal_map, r.normal_object, rgba, &faces, &err);
+    } else {
+        if (!rc) rc = st_offscreen_prepare(&off, &h.map, &r.spec, &err);
+        faces = off.r.surf.nfaces;
+        if (!rc) rc = st_offscreen_draw(&off, &r.spec, rgba, &err);
+    }
     if (!rc) rc = st_png_write(o.out, r.width, r.height, rgba, &err);
     st_offscreen_free(&off);
     free(rgba);

@@ -19,7 +19,7 @@ static void usage(FILE *f)
         "        [--falloff W] [--flatness T] [--no-restriction] [--triangulate] -o OUT\n"
         "                                      writes the adaptive mesh (interest box)\n"
         "  render IN [--scheme S --levels N --level L] [--view front|back|left|right|top|iso | --orbit AZ,EL,DIST]\n"
-        "         [--mode smooth|flat|wire|cage] [--size WxH] -o OUT.png\n"
+        "         [--mode smooth|flat|wire|cage] [--size WxH] [--normal-map N.png [--normal-space tangent|object]] -o OUT.png\n"
         "                                      draws level L headless (no display, no GPU) into a PNG\n"
         "  convert IN OUT [--scheme S --levels N --level L | --box ...] [--normals | --no-normals]\n"
         "                                      meshes and sessions (.strata) into each other\n"

@@ -1,0 +1,15 @@
+/* `strata render --normal-map N.png`: level L drawn with a baked normal map
+ * (render/nmap.h) on the UV layout strata bake --auto-uv used. */
+#ifndef ST_RENDER_NMAP_H
+#define ST_RENDER_NMAP_H
+
+#include "offscreen.h"
+#include "core/multires/hier.h"
+
+/* Draws level `level` of h with the map in map_path (PNG, any size, row 0 =
+ * v = 0; tangent space unless object_space) into rgba, framed as
+ * st_offscreen_draw frames spec.  *faces receives the level's face count. */
+int st_render_normal_mapped(st_offscreen *off, st_hier *h, const st_render_spec *spec, const char *map_path,
+                            int object_space, unsigned char *rgba, uint32_t *faces, st_error *err);
+
+#endif
