@@ -1,0 +1,114 @@
+#!/usr/bin/env bash
+# `strata bake` and `strata render --normal-map` from the command line:
+# normal maps (8- and 16-bit PNG), displacement maps (32-bit float EXR, or
+# 16-bit PNG with its JSON scale and offset), same bytes for the same
+# inputs, sessions and meshes as input, and refusals (no UVs, schemes whose
+# faces do not nest, levels, sizes, extensions, the memory budget) with a
+# message, a non-zero exit and nothing written.
+#
+#   cli_bake.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
+set -u
+EXE=$1 MESHES=$2 ASSETS=$3 BIN=$4
+abs() { (cd "$(dirname "$1")" && printf '%s/%s' "$(pwd)" "$(basename "$1")"); }
+EXE=$(abs "$EXE") ASSETS=$(abs "$ASSETS")
+: "$MESHES" "$BIN"
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/strata_cli_bake.XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+unset DISPLAY WAYLAND_DISPLAY
+passed=0 failed=0
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
+
+# run EXPECTED_EXIT PATTERN args...: exit status and output (stdout + stderr).
+run() {
+    local want=$1 pat=$2
+    shift 2
+    local out rc=0
+    out=$("$EXE" "$@" 2>&1) || rc=$?
+    if [ "$rc" -ne "$want" ]; then bad "strata $* exited $rc, expected $want: $out"; return; fi
+    if [ -n "$pat" ] && ! grep -qE -- "$pat" <<<"$out"; then bad "strata $*: output lacks /$pat/: $out"; return; fi
+    ok
+}
+magic() { head -c "$2" "$1" | od -An -tx1 | tr -d ' \n'; }
+is_png() { [ "$(magic "$1" 8)" = "89504e470d0a1a0a" ]; }
+is_exr() { [ "$(magic "$1" 4)" = "762f3101" ]; }
+# PNG IHDR: bit depth at byte 24, colour type at byte 25 (0 grey, 2 RGB).
+png_depth() { od -An -tu1 -j24 -N1 "$1" | tr -d ' '; }
+png_type() { od -An -tu1 -j25 -N1 "$1" | tr -d ' '; }
+nothing_written() { # nothing named $1* in $TMP
+    if compgen -G "$TMP/$1*" >/dev/null; then bad "files were written: $(ls "$TMP"/"$1"*)"; else ok; fi
+}
+
+cd "$TMP"
+if "$EXE" help | grep -qE '^[[:space:]]*bake[[:space:]]'; then ok; else bad "strata help does not list bake"; fi
+run 0 "" convert "$ASSETS/cube.obj" cube.strata --levels 3
+
+# Normal map (8-bit) and scalar displacement (EXR).
+run 0 "^wrote n\.png \(256x256, tangent-space normals, 8-bit RGB\)" \
+    bake cube.strata --base-level 1 --normal-map n.png --displacement-map d.exr --size 256 --auto-uv
+if is_png n.png && [ "$(png_depth n.png)" = 8 ] && [ "$(png_type n.png)" = 2 ]; then ok; else bad "n.png is not an 8-bit RGB PNG"; fi
+if is_exr d.exr; then ok; else bad "d.exr is not an OpenEXR file"; fi
+run 0 "level 3 onto level 1: [0-9]+ texels baked, [0-9]+ padded, displacement -" \
+    bake cube.strata --base-level 1 --normal-map n2.png --displacement-map d2.exr --size 256 --auto-uv
+if cmp -s n.png n2.png && cmp -s d.exr d2.exr; then ok; else bad "two bakes with the same inputs gave different files"; fi
+# No temporary files left.
+if compgen -G "$TMP/*.tmp.*" >/dev/null; then bad "temporary files left: $(ls "$TMP"/*.tmp.*)"; else ok; fi
+
+# 16-bit normal map, vector displacement as 16-bit PNG + JSON.
+run 0 "wrote dv\.png \(128x128, vector displacement, 16-bit PNG\), scale and offset in dv\.json" \
+    bake cube.strata --base-level 0 --level 2 --normal-map n16.png --bits 16 --displacement-map dv.png --vector --size 128 --auto-uv
+if [ "$(png_depth n16.png)" = 16 ] && [ "$(png_depth dv.png)" = 16 ] && [ "$(png_type dv.png)" = 2 ]; then ok; else bad "n16.png/dv.png are not 16-bit RGB"; fi
+if grep -q '"scale": ' dv.json && grep -q '"offset": -' dv.json && grep -q '"image": "dv.png"' dv.json; then ok; else bad "dv.json lacks scale/offset: $(cat dv.json)"; fi
+run 0 "scalar displacement, 16-bit PNG" bake cube.strata --base-level 1 --displacement-map ds.png --size 64 --auto-uv
+if [ "$(png_type ds.png)" = 0 ]; then ok; else bad "a scalar displacement PNG is not grey"; fi
+run 0 "object-space normals" bake cube.strata --base-level 1 --normal-map no.png --space object --size 64 --padding 0 --auto-uv
+
+# A mesh as input, Loop and quad/triangle.
+run 0 "level 2 onto level 0" bake "$ASSETS/octahedron.obj" --scheme loop --levels 2 --base-level 0 --normal-map lo.png --size 64 --auto-uv
+run 0 "level 2 onto level 1" bake "$ASSETS/mixed.obj" --scheme quad-triangle --levels 2 --base-level 1 --normal-map qt.png --size 64 --auto-uv
+
+# Refusals: message, exit status, nothing written.
+run 1 "level 1 has no UVs .*--auto-uv" bake cube.strata --base-level 1 --normal-map x.png --size 64
+nothing_written x
+run 1 "sqrt3 faces do not nest" bake "$ASSETS/octahedron.obj" --scheme sqrt3 --levels 2 --base-level 0 --normal-map x.png --auto-uv
+run 1 "doo-sabin faces do not nest" bake "$ASSETS/cube.obj" --scheme doo-sabin --levels 2 --base-level 0 --normal-map x.png --auto-uv
+run 1 "cannot bake level 3 onto level 4: levels are 0\.\.3" bake cube.strata --base-level 4 --normal-map x.png --auto-uv
+run 1 "cannot bake level 1 onto level 2" bake cube.strata --base-level 2 --level 1 --normal-map x.png --auto-uv
+run 1 "baking the maps needs about [0-9.]+ MiB more .*memory budget is 8\.0 MiB" \
+    bake cube.strata --base-level 1 --normal-map x.png --displacement-map x.exr --size 4096 --auto-uv --mem-budget 8
+nothing_written x
+run 2 "--base-level B is required" bake cube.strata --normal-map x.png --auto-uv
+run 2 "nothing to bake" bake cube.strata --base-level 0 --auto-uv
+run 2 "--size wants 1\.\.16384" bake cube.strata --base-level 0 --normal-map x.png --size 0 --auto-uv
+run 2 "--bits wants 8 or 16" bake cube.strata --base-level 0 --normal-map x.png --bits 12 --auto-uv
+run 2 "--space wants tangent or object" bake cube.strata --base-level 0 --normal-map x.png --space world --auto-uv
+run 2 "x\.jpg: the normal map is written as \.png" bake cube.strata --base-level 0 --normal-map x.jpg --auto-uv
+run 2 "x\.tif: the displacement map is written as \.exr or \.png" bake cube.strata --base-level 0 --displacement-map x.tif --auto-uv
+run 2 "--vector applies to --displacement-map" bake cube.strata --base-level 0 --normal-map x.png --vector --auto-uv
+run 2 "unknown or incomplete option '--frobnicate'" bake cube.strata --base-level 0 --normal-map x.png --frobnicate --auto-uv
+run 1 "missing\.strata" bake missing.strata --base-level 0 --normal-map x.png --auto-uv
+mkdir ro && chmod 555 ro
+if [ "$(id -u)" != 0 ]; then
+    run 1 "ro/x\.tmp\.png: cannot open for writing" bake cube.strata --base-level 0 --normal-map ro/x.png --size 16 --auto-uv
+fi
+nothing_written x
+
+# render --normal-map: level 1 with its baked map.
+run 0 "^wrote r\.png \(96x96, smooth, level 1, 24 faces, iso view\)" render cube.strata --level 1 --normal-map n.png --size 96x96 -o r.png
+if is_png r.png; then ok; else bad "r.png is not a PNG"; fi
+run 0 "^wrote r2\.png" render cube.strata --level 1 --normal-map n.png --size 96x96 -o r2.png
+if cmp -s r.png r2.png; then ok; else bad "two renders with the same inputs gave different files"; fi
+run 0 "^wrote" render cube.strata --level 1 --normal-map no.png --normal-space object --size 96x96 -o ro.png
+# The map changes the picture (the plain level differs from the mapped one).
+run 0 "^wrote" render cube.strata --level 1 --size 96x96 -o plain.png
+if ! cmp -s r.png plain.png; then ok; else bad "the normal map did not change the image"; fi
+run 1 "missing\.png: cannot open" render cube.strata --level 1 --normal-map missing.png -o y.png
+printf 'not a png\n' > fake.png
+run 1 "fake\.png" render cube.strata --level 1 --normal-map fake.png -o y.png
+run 2 "does not go with --box or --mode wire" render cube.strata --level 1 --normal-map n.png --mode wire -o y.png
+run 2 "--normal-space wants tangent or object" render cube.strata --level 1 --normal-map n.png --normal-space up -o y.png
+run 1 "sqrt3 faces do not nest" render "$ASSETS/octahedron.obj" --scheme sqrt3 --levels 1 --normal-map n.png -o y.png
+nothing_written y
+
+echo "cli_bake: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
