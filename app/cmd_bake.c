@@ -13,6 +13,7 @@
 #include "cli.h"
 #include "cli_common.h"
 #include "core/bake/bake.h"
+#include "core/base/membudget.h"
 #include "core/io/mesh.h"
 
 #include <stdio.h>
@@ -142,6 +143,17 @@ static int write_outputs(const bake_args *b, const st_bake_maps *maps, char *sid
     return rc;
 }
 
+/* Bytes the writers add while the maps are held: the PNG rows (8/16-bit
+ * samples), the EXR planes and tinyexr's own copy (about as much again,
+ * measured: 2048², 3 channels, 84 MiB over the maps). */
+static size_t writer_bytes(const bake_args *b, const st_bake_opts *o)
+{
+    size_t texels = (size_t)o->size * o->size, ch = b->vector ? 3 : 1, w = 0, d = 0;
+    if (b->normal_path) w = texels * 3 * (size_t)(b->bits / 8);
+    if (b->disp_path) d = st_path_has_ext(b->disp_path, ".exr") ? 2 * texels * ch * sizeof(float) : texels * ch * 2;
+    return w > d ? w : d;
+}
+
 static void report(const bake_args *b, const st_bake_opts *o, const st_bake_maps *maps, const char *side)
 {
     if (b->normal_path)
@@ -196,6 +208,11 @@ int st_cmd_bake(int argc, char **argv)
     }
     if (st_bake_auto_uvs(&h, (unsigned)b.base, &lay, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
     st_bake_uvs uvs = st_bake_layout_uvs(&lay);
+    if (st_mem_check(st_bake_estimate(&h, &uvs, &bo) + writer_bytes(&b, &bo), "baking and writing the maps", &err)) {
+        fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg);
+        rc = 1;
+        goto done;
+    }
     if (st_bake(&h, &uvs, &bo, &maps, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
     if (b.disp_path && st_path_has_ext(b.disp_path, ".png") && !(side = sidecar_path(b.disp_path))) { rc = 1; goto done; }
     if (write_outputs(&b, &maps, side, &err)) { fprintf(stderr, "strata: %s\n", err.msg); rc = 1; goto done; }

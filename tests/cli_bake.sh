@@ -74,7 +74,7 @@ run 1 "sqrt3 faces do not nest" bake "$ASSETS/octahedron.obj" --scheme sqrt3 --l
 run 1 "doo-sabin faces do not nest" bake "$ASSETS/cube.obj" --scheme doo-sabin --levels 2 --base-level 0 --normal-map x.png --auto-uv
 run 1 "cannot bake level 3 onto level 4: levels are 0\.\.3" bake cube.strata --base-level 4 --normal-map x.png --auto-uv
 run 1 "cannot bake level 1 onto level 2" bake cube.strata --base-level 2 --level 1 --normal-map x.png --auto-uv
-run 1 "baking the maps needs about [0-9.]+ MiB more .*memory budget is 8\.0 MiB" \
+run 1 "baking and writing the maps needs about [0-9.]+ MiB more .*memory budget is 8\.0 MiB" \
     bake cube.strata --base-level 1 --normal-map x.png --displacement-map x.exr --size 4096 --auto-uv --mem-budget 8
 nothing_written x
 run 2 "--base-level B is required" bake cube.strata --normal-map x.png --auto-uv
