@@ -121,6 +121,11 @@ static void check_space(st_hier *h, unsigned B, unsigned L, const st_bake_uvs *u
     CHECKF(st_bake(h, uvs, &o, &maps, &err) == ST_OK, "%s", err.msg);
     unsigned char *tex = malloc((size_t)MAP * MAP * 4), *with = malloc(4 * W * H), *plain = malloc(4 * W * H);
     to_rgba8(&maps, tex);
+    {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/bake_%s_map.png", STRATA_TMP, name);
+        CHECKF(st_png_write(path, MAP, MAP, tex, &err) == ST_OK, "%s", err.msg);
+    }
     st_nmap_mesh mesh;
     CHECKF(st_nmap_mesh_build(h, B, uvs, &mesh, &err) == ST_OK, "%s", err.msg);
     st_headless_begin(&off->hl);
