@@ -387,8 +387,92 @@ static void test_refusals(void)
     st_hier_free(&h);
 }
 
+/* The walk's level-L faces tile their level-B face in UV: their signed
+ * areas have the parent's sign and add up to the parent's area, and their
+ * count is the split's (n·4^(k-1) quads for the polygon split of an n-gon,
+ * 4^k triangles for quadrisection). */
+typedef struct tile_ctx { double area; uint32_t faces; int flipped; double parent_sign; } tile_ctx;
+
+static double signed_area(const double *uv, unsigned n)
+{
+    double a = 0;
+    for (unsigned c = 0; c < n; c++) {
+        const double *p = uv + 2 * c, *q = uv + 2 * ((c + 1) % n);
+        a += p[0] * q[1] - q[0] * p[1];
+    }
+    return 0.5 * a;
+}
+
+static int add_tile(void *pc, const uint32_t *verts, const double *uv, unsigned n)
+{
+    (void)verts;
+    tile_ctx *t = pc;
+    double a = signed_area(uv, n);
+    if (!(a * t->parent_sign > 0)) t->flipped++;
+    t->area += a;
+    t->faces++;
+    return ST_OK;
+}
+
+static void check_tiling(const char *what, st_scheme_id id, void (*make)(st_mesh *), unsigned B, unsigned L)
+{
+    st_hier h;
+    st_error err;
+    tl_init_hier(&h, make, id, L);
+    st_bake_layout lay;
+    CHECK(st_bake_auto_uvs(&h, B, &lay, &err) == ST_OK);
+    uint32_t *darts, nf;
+    CHECK(st_bake_level_faces(&h.map, B, &darts, &nf, &err) == ST_OK);
+    double worst = 0;
+    uint64_t total = 0;
+    int bad_count = 0, flipped = 0;
+    for (uint32_t f = 0; f < nf; f++) {
+        uint32_t a = lay.corner_off[f], n = lay.corner_off[f + 1] - a;
+        double parent = signed_area(lay.uv + 2 * (size_t)a, n);
+        tile_ctx t = { 0, 0, 0, parent > 0 ? 1 : -1 };
+        CHECKF(st_bake_walk(&h.map, darts[f], B, L, lay.uv + 2 * (size_t)a, n, add_tile, &t, &err) == ST_OK, "%s", err.msg);
+        worst = fmax(worst, fabs(t.area - parent) / fabs(parent));
+        unsigned k = L - B;
+        uint64_t want = 1;
+        for (unsigned i = 0; i < k; i++) want *= 4;
+        unsigned child_deg = st_face_degree(&h.map, darts[f], B + (k ? 1 : 0));
+        if (k && child_deg == 4) want = want / 4 * n;
+        if (t.faces != want) bad_count++;
+        flipped += t.flipped;
+        total += t.faces;
+    }
+    printf("%s: %u faces of level %u tile into %llu of level %u; area off by %.2g (relative), %d flipped\n",
+           what, nf, B, (unsigned long long)total, L, worst, flipped);
+    CHECK(worst < 1e-12 && !bad_count && !flipped);
+    st_level_stats st;
+    st_level_stats_compute(&h.map, L, &st);
+    CHECKF(total == st.faces, "%s: %llu faces walked, level %u has %llu", what, (unsigned long long)total, L, (unsigned long long)st.faces);
+    free(darts);
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+}
+
+static void mixed_mesh(st_mesh *m)
+{
+    /* A quad and two triangles around it (an open strip). */
+    static const double p[] = { 0, 0, 0, 1, 0, 0, 1, 1, 0.2, 0, 1, 0, 2, 0.5, 0, -1, 0.5, 0.1 };
+    static const uint32_t off[] = { 0, 4, 7, 10 }, idx[] = { 0, 1, 2, 3, 1, 4, 2, 3, 5, 0 };
+    tl_mesh_make(m, p, 6, off, idx, 3);
+}
+
+static void test_walk_tiles(void)
+{
+    check_tiling("cube catmull-clark", ST_SCHEME_CATMARK, tl_mesh_cube, 0, 3);
+    check_tiling("tetrahedron catmull-clark (triangles into quads)", ST_SCHEME_CATMARK, tl_mesh_tetra, 0, 2);
+    check_tiling("icosahedron loop", ST_SCHEME_LOOP, tl_mesh_icosa, 1, 3);
+    check_tiling("octahedron butterfly", ST_SCHEME_BUTTERFLY, tl_mesh_octa, 0, 3);
+    check_tiling("quad and triangles quad-triangle", ST_SCHEME_QUADTRI, mixed_mesh, 0, 3);
+    check_tiling("cube onto itself", ST_SCHEME_CATMARK, tl_mesh_cube, 2, 2);
+}
+
 int main(void)
 {
+    test_walk_tiles();
     test_identity_and_tangents();
     test_refusals();
     test_analytic();
