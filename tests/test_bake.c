@@ -190,6 +190,22 @@ static void check_analytic(const char *what, st_hier *h, unsigned B, unsigned L,
     size_t tx = (size_t)size * size;
     CHECK(!memcmp(again.disp, maps.disp, tx * sizeof(float)) && !memcmp(again.normal, maps.normal, 3 * tx * sizeof(float)));
     st_bake_maps_free(&again);
+    /* --vector: the normal component is the scalar map; the displacement is
+     * along the normal, so the tangential ones stay within the
+     * discretisation error too. */
+    o.displacement = 3;
+    CHECK(st_bake(h, uvs, &o, &again, &err) == ST_OK);
+    double worst_n = 0, worst_t = 0;
+    for (size_t i = 0; i < tx; i++) {
+        if (maps.mask[i] != 1) continue;
+        worst_n = fmax(worst_n, fabs(again.disp[3 * i + 2] - maps.disp[i]));
+        worst_t = fmax(worst_t, fmax(fabs(again.disp[3 * i]), fabs(again.disp[3 * i + 1])));
+    }
+    printf("%s: vector displacement: normal component off the scalar by %.2g, tangential up to %.2g (%.3f %% of the range)\n",
+           what, worst_n, worst_t, 100 * worst_t / range);
+    CHECK(worst_n < 1e-6);
+    CHECK(worst_t < 0.01 * range);
+    st_bake_maps_free(&again);
     st_bake_maps_free(&maps);
     free(g.cvert);
     free(g.cnormal);
