@@ -380,7 +380,8 @@ static uint32_t acc_slot(struct st_brush_state *bs, uint32_t v)
 
 void ed_brush_acc(struct st_brush_state *bs, uint32_t v, const double dv[3])
 {
-    double *t = bs->disp[acc_slot(bs, v)];
+    uint32_t i = acc_slot(bs, v); /* before reading bs->disp, which it may move */
+    double *t = bs->disp[i];
     t[0] += dv[0]; t[1] += dv[1]; t[2] += dv[2];
 }
 
