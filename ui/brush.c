@@ -121,10 +121,10 @@ void ed_brush_state_free(struct st_brush_state *bs)
     free(bs->mark);
     free(bs->slot);
     free(bs->lay_o);
+    free(bs->lay_n0);
     free(bs->list);
     free(bs->disp);
     free(bs->lay_t);
-    free(bs->lay_n);
     free(bs->tmp);
     free(bs->tmpw);
     free(bs->tmpn);
@@ -366,14 +366,12 @@ static uint32_t acc_slot(struct st_brush_state *bs, uint32_t v)
             bs->list = ed_xrealloc(bs->list, (size_t)bs->caplist * sizeof *bs->list);
             bs->disp = ed_xrealloc(bs->disp, (size_t)bs->caplist * sizeof *bs->disp);
             bs->lay_t = ed_xrealloc(bs->lay_t, (size_t)bs->caplist * sizeof *bs->lay_t);
-            bs->lay_n = ed_xrealloc(bs->lay_n, (size_t)bs->caplist * sizeof *bs->lay_n);
         }
         uint32_t i = bs->nlist++;
         bs->slot[v] = i;
         bs->list[i] = v;
         bs->disp[i][0] = bs->disp[i][1] = bs->disp[i][2] = 0;
         bs->lay_t[i] = 0;
-        bs->lay_n[i][0] = bs->lay_n[i][1] = bs->lay_n[i][2] = 0;
     }
     return bs->slot[v];
 }
@@ -389,13 +387,17 @@ void ed_brush_acc_layer(struct st_brush_state *bs, uint32_t v, double h, const d
 {
     uint32_t i = acc_slot(bs, v);
     if (h > bs->lay_t[i]) bs->lay_t[i] = h;
-    memcpy(bs->lay_n[i], n, sizeof bs->lay_n[i]);
+    if (bs->lay_o[v] < 0) {
+        bs->lay_o[v] = 0;
+        memcpy(bs->lay_n0[v], n, sizeof bs->lay_n0[v]);
+    }
 }
 
 /* Layer (Blender's layer brush without "persistent"): a vertex rises to the
  * largest height any dab of the stroke asked of it, never more: each dab
  * moves it by what is left between that height and its displacement so far
- * (lay_o), along its current normal. */
+ * (lay_o), along its normal when the stroke first reached it (so the
+ * heights add up exactly along one direction). */
 static void layer_finish(st_doc *d, struct st_brush_state *bs)
 {
     double sgn = d->brush.invert ? -1 : 1;
@@ -404,7 +406,7 @@ static void layer_finish(st_doc *d, struct st_brush_state *bs)
         double step = bs->lay_t[i] - bs->lay_o[v];
         if (!(step > 0)) continue;
         bs->lay_o[v] = bs->lay_t[i];
-        for (int k = 0; k < 3; k++) bs->disp[i][k] = sgn * step * bs->lay_n[i][k];
+        for (int k = 0; k < 3; k++) bs->disp[i][k] = sgn * step * bs->lay_n0[v][k];
     }
 }
 
@@ -438,9 +440,10 @@ int st_doc_stroke_begin(st_doc *d)
         bs->mark = ed_xrealloc(bs->mark, (size_t)nv * sizeof *bs->mark);
         bs->slot = ed_xrealloc(bs->slot, (size_t)nv * sizeof *bs->slot);
         bs->lay_o = ed_xrealloc(bs->lay_o, (size_t)nv * sizeof *bs->lay_o);
+        bs->lay_n0 = ed_xrealloc(bs->lay_n0, (size_t)nv * sizeof *bs->lay_n0);
         bs->nv = nv;
     }
-    for (uint32_t v = 0; v < bs->nv; v++) { bs->vcell[v] = EMPTY_KEY; bs->mark[v] = 0; bs->lay_o[v] = 0; }
+    for (uint32_t v = 0; v < bs->nv; v++) { bs->vcell[v] = EMPTY_KEY; bs->mark[v] = 0; bs->lay_o[v] = -1; }
     bs->gen = 0;
     for (uint32_t i = 0; i < bs->hcap; i++) bs->hkey[i] = EMPTY_KEY;
     bs->hn = 0;

@@ -16,11 +16,11 @@ struct st_brush_state {
     uint64_t *vcell;           /* cell key of each vertex, EMPTY when not in the grid */
     uint32_t *mark, gen;       /* dab membership */
     uint32_t *slot;            /* index in list when marked */
-    double *lay_o;             /* layer: displacement along the normal so far this stroke */
+    double *lay_o;             /* layer: displacement along lay_n0 so far this stroke, -1 untouched */
+    double (*lay_n0)[3];       /* layer: the vertex's unit normal when the stroke first reached it */
     uint32_t *list;            /* vertices moved by this dab */
     double (*disp)[3];
     double *lay_t;             /* layer: per list slot, the height this dab reaches */
-    double (*lay_n)[3];        /* layer: per list slot, the vertex's unit normal */
     uint32_t nlist, caplist;
     /* The vertices under one dab: id, weight (ed_brush_weight), unit normal. */
     uint32_t *tmp;
@@ -49,8 +49,9 @@ void ed_vertex_unit_normal(const st_map *m, uint32_t x0, unsigned l, const doubl
 double ed_brush_weight(const st_doc *d, uint32_t v, double r, const double vn[3], const double view[3]);
 /* Adds a displacement of v into this dab's accumulator. */
 void ed_brush_acc(struct st_brush_state *bs, uint32_t v, const double dv[3]);
-/* Layer: the height h (>= 0) the dab raises v to along its unit normal n;
- * the largest over the mirrored dabs counts. */
+/* Layer: the height h (>= 0) the dab raises v to; the largest over the
+ * mirrored dabs counts.  n: v's unit normal now, kept as the direction of
+ * the layer at v when the stroke first reaches it. */
 void ed_brush_acc_layer(struct st_brush_state *bs, uint32_t v, double h, const double n[3]);
 
 /* ---- brush_tools.c ---- */

@@ -20,8 +20,9 @@
  *   clay strips  toward the plane of flatten raised by sgn * R/10, only the
  *                vertices below it (sgn: above), by w of the distance: a
  *                flat-bottomed build-up whose top stops at the raised plane
- *   layer        up to the height w * R/10 along vn, the largest any dab of
- *                the stroke asked, never more (brush.c: layer_finish)
+ *   layer        up to the height w * R/10 along vn (as it was when the
+ *                stroke reached the vertex), the largest any dab of the
+ *                stroke asked, never more (brush.c: layer_finish)
  *   relax        by w times the Laplacian (one-ring average minus position)
  *                less its component along vn: the vertices slide along the
  *                surface toward even spacing and the shape stays
