@@ -81,6 +81,18 @@ if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
 fi
 run 0 "replay .* passed" bash -c 'cd "$1" && shift && ASAN_OPTIONS="$0" "$@"' "$WINDOW_ASAN" "$TMP/gui" "$EXE" --size 640x480 --levels 2 \
     --replay "$SRC/replay/gui.txt" --screenshot-dir "$OUT" --compare-dir "$REF" "$ASSETS/torus.obj"
+# A stroke with every brush (ui/brush_tools.c), each compared with its
+# reference, and the brush settings by keys and replay events (falloff,
+# X/Y/Z symmetry, spacing, stabiliser, front faces only).
+if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
+    win "$EXE" --size 480x360 --levels 2 --replay "$SRC/replay/brushes.txt" --screenshot-dir "$OUT" "$ASSETS/torus.obj"
+    cp "$OUT"/1[0-9]_brush*.png "$REF"/
+fi
+run 0 "replay .* passed" win "$EXE" --size 480x360 --levels 2 --replay "$SRC/replay/brushes.txt" \
+    --screenshot-dir "$OUT" --compare-dir "$REF" "$ASSETS/torus.obj"
+# A bad brush setting is refused before a window opens, naming the line.
+printf 'brush falloff wobbly\n' > "$TMP/badbrush.txt"
+run 2 "badbrush.txt:1: brush falloff wobbly: not one of smooth" "$EXE" --replay "$TMP/badbrush.txt" "$ASSETS/cube.obj"
 # A menu path that names no item fails the replay, naming the line.
 printf 'gui on\nwait 1\nmenu File/No_such_item\n' > "$TMP/badmenu.txt"
 run 1 "badmenu.txt:3: menu File/No_such_item: no such menu item" win "$EXE" --size 320x240 --replay "$TMP/badmenu.txt" "$ASSETS/cube.obj"

@@ -156,17 +156,48 @@ static void grab(st_app *a)
 static void grab_confirm(st_app *a) { st_app_drag_finish(a, 0); }
 
 /* Tools */
-static void set_tool(st_app *a, int tool) { a->tool = tool; st_app_update_hover(a); }
+static void set_tool(st_app *a, int tool)
+{
+    a->tool = tool;
+    if (tool != ST_TOOL_SELECT) st_brush_set_tool(&a->doc.brush, tool);
+    st_app_update_hover(a);
+}
 static void tool_select(st_app *a) { set_tool(a, ST_TOOL_SELECT); }
 static void brush_grab(st_app *a) { set_tool(a, ST_BRUSH_GRAB); }
 static void brush_draw(st_app *a) { set_tool(a, ST_BRUSH_DRAW); }
 static void brush_smooth(st_app *a) { set_tool(a, ST_BRUSH_SMOOTH); }
 static void brush_flatten(st_app *a) { set_tool(a, ST_BRUSH_FLATTEN); }
+static void brush_crease(st_app *a) { set_tool(a, ST_BRUSH_CREASE); }
+static void brush_pinch(st_app *a) { set_tool(a, ST_BRUSH_PINCH); }
+static void brush_inflate(st_app *a) { set_tool(a, ST_BRUSH_INFLATE); }
+static void brush_clay_strips(st_app *a) { set_tool(a, ST_BRUSH_CLAY_STRIPS); }
+static void brush_layer(st_app *a) { set_tool(a, ST_BRUSH_LAYER); }
+static void brush_relax(st_app *a) { set_tool(a, ST_BRUSH_RELAX); }
 static void radius_down(st_app *a) { a->doc.brush.radius /= 1.15; }
 static void radius_up(st_app *a) { a->doc.brush.radius *= 1.15; }
 static void strength_down(st_app *a) { a->doc.brush.strength = fmax(0.02, a->doc.brush.strength - 0.05); }
 static void strength_up(st_app *a) { a->doc.brush.strength = fmin(1.0, a->doc.brush.strength + 0.05); }
+static void falloff_step(st_app *a, int dir)
+{
+    st_brush *b = &a->doc.brush;
+    b->falloff = (b->falloff + dir + ST_FALLOFF_COUNT) % ST_FALLOFF_COUNT;
+    st_app_message(a, 0, "falloff %s", st_falloff_name(b->falloff));
+}
+static void falloff_next(st_app *a) { falloff_step(a, 1); }
+static void falloff_prev(st_app *a) { falloff_step(a, -1); }
 static void mirror_x(st_app *a) { a->doc.brush.mirror_x = !a->doc.brush.mirror_x; }
+static void mirror_y(st_app *a) { a->doc.brush.mirror_y = !a->doc.brush.mirror_y; }
+static void mirror_z(st_app *a) { a->doc.brush.mirror_z = !a->doc.brush.mirror_z; }
+static void stabilize(st_app *a)
+{
+    a->doc.brush.stabilize = !a->doc.brush.stabilize;
+    st_app_message(a, 0, "stabiliser %s", a->doc.brush.stabilize ? "on" : "off");
+}
+static void front_only(st_app *a)
+{
+    a->doc.brush.front_only = !a->doc.brush.front_only;
+    st_app_message(a, 0, "front faces only %s", a->doc.brush.front_only ? "on" : "off");
+}
 
 /* Mesh: the editing level moves between 0 and the top, the displayed one
  * between the editing level and the top. */
@@ -318,14 +349,27 @@ const st_action st_actions[ST_NACTIONS] = {
 
     ACT(ST_ACT_TOOL_SELECT, ST_CAT_TOOLS, "Select/move tool", "select/move tool", tool_select, model_keys_free,
         KEY(W, 0, S | A)),
-    ACT(ST_ACT_BRUSH_GRAB, ST_CAT_TOOLS, "Grab brush", "brush: grab / draw (inflate) / smooth / flatten", brush_grab,
+    ACT(ST_ACT_BRUSH_GRAB, ST_CAT_TOOLS, "Grab brush", "brush: grab / draw / smooth / flatten", brush_grab,
         model_keys_free, KEY(B, 0, S | A)),
-    ACT(ST_ACT_BRUSH_DRAW, ST_CAT_TOOLS, "Draw brush", "brush: grab / draw (inflate) / smooth / flatten", brush_draw,
+    ACT(ST_ACT_BRUSH_DRAW, ST_CAT_TOOLS, "Draw brush", "brush: grab / draw / smooth / flatten", brush_draw,
         model_keys_free, KEY(D, 0, S | A)),
-    ACT(ST_ACT_BRUSH_SMOOTH, ST_CAT_TOOLS, "Smooth brush", "brush: grab / draw (inflate) / smooth / flatten",
+    ACT(ST_ACT_BRUSH_SMOOTH, ST_CAT_TOOLS, "Smooth brush", "brush: grab / draw / smooth / flatten",
         brush_smooth, model_keys_free, KEY(S, 0, S | A)),
-    ACT(ST_ACT_BRUSH_FLATTEN, ST_CAT_TOOLS, "Flatten brush", "brush: grab / draw (inflate) / smooth / flatten",
-        brush_flatten, model_keys_free, KEY(F, 0, S | A)),
+    ACT(ST_ACT_BRUSH_FLATTEN, ST_CAT_TOOLS, "Flatten brush", "brush: grab / draw / smooth / flatten",
+        brush_flatten, model_keys_free, KEY(F, 0, A)),
+    ACT(ST_ACT_BRUSH_CREASE, ST_CAT_TOOLS, "Crease brush", "brush: crease / pinch / inflate / clay strips / layer / relax",
+        brush_crease, model_keys_free, KEY(C, S, A)),
+    ACT(ST_ACT_BRUSH_PINCH, ST_CAT_TOOLS, "Pinch brush", "brush: crease / pinch / inflate / clay strips / layer / relax",
+        brush_pinch, model_keys_free, KEY(P, 0, A)),
+    ACT(ST_ACT_BRUSH_INFLATE, ST_CAT_TOOLS, "Inflate brush", "brush: crease / pinch / inflate / clay strips / layer / relax",
+        brush_inflate, model_keys_free, KEY(I, S, A)),
+    ACT(ST_ACT_BRUSH_CLAY_STRIPS, ST_CAT_TOOLS, "Clay strips brush",
+        "brush: crease / pinch / inflate / clay strips / layer / relax", brush_clay_strips, model_keys_free,
+        KEY(T, 0, A)),
+    ACT(ST_ACT_BRUSH_LAYER, ST_CAT_TOOLS, "Layer brush", "brush: crease / pinch / inflate / clay strips / layer / relax",
+        brush_layer, model_keys_free, KEY(L, 0, A)),
+    ACT(ST_ACT_BRUSH_RELAX, ST_CAT_TOOLS, "Relax brush", "brush: crease / pinch / inflate / clay strips / layer / relax",
+        brush_relax, model_keys_free, KEY(R, S, A)),
     ACT(ST_ACT_RADIUS_DOWN, ST_CAT_TOOLS, "Smaller brush", "brush radius smaller / larger (also Ctrl+Wheel)",
         radius_down, model_keys_free, KEY(LEFT_BRACKET, 0, A)),
     ACT(ST_ACT_RADIUS_UP, ST_CAT_TOOLS, "Larger brush", "brush radius smaller / larger (also Ctrl+Wheel)", radius_up,
@@ -334,8 +378,22 @@ const st_action st_actions[ST_NACTIONS] = {
         model_keys_free, KEY(LEFT_BRACKET, S, A)),
     ACT(ST_ACT_STRENGTH_UP, ST_CAT_TOOLS, "Stronger brush", "brush strength down / up", strength_up,
         model_keys_free, KEY(RIGHT_BRACKET, S, A)),
-    ACT(ST_ACT_MIRROR_X, ST_CAT_TOOLS, "X mirror", "X-mirror symmetry on / off", mirror_x, model_keys_free,
-        KEY(X, 0, S | A)),
+    ACT(ST_ACT_FALLOFF_NEXT, ST_CAT_TOOLS, "Next falloff",
+        "brush falloff: next / previous preset (smooth, sphere, root, sharp, linear, constant)", falloff_next,
+        model_keys_free, KEY(O, 0, A)),
+    ACT(ST_ACT_FALLOFF_PREV, ST_CAT_TOOLS, "Previous falloff",
+        "brush falloff: next / previous preset (smooth, sphere, root, sharp, linear, constant)", falloff_prev,
+        model_keys_free, KEY(O, S, A)),
+    ACT(ST_ACT_MIRROR_X, ST_CAT_TOOLS, "X mirror", "symmetry across x = 0 / y = 0 / z = 0 on / off (any combination)",
+        mirror_x, model_keys_free, KEY(X, 0, S | A)),
+    ACT(ST_ACT_MIRROR_Y, ST_CAT_TOOLS, "Y mirror", "symmetry across x = 0 / y = 0 / z = 0 on / off (any combination)",
+        mirror_y, model_keys_free, KEY(H, 0, A)),
+    ACT(ST_ACT_MIRROR_Z, ST_CAT_TOOLS, "Z mirror", "symmetry across x = 0 / y = 0 / z = 0 on / off (any combination)",
+        mirror_z, model_keys_free, KEY(J, 0, A)),
+    ACT(ST_ACT_STABILIZE, ST_CAT_TOOLS, "Stabiliser", "stroke stabiliser (lazy mouse) on / off", stabilize,
+        model_keys_free, KEY(L, S, A)),
+    ACT(ST_ACT_FRONT_ONLY, ST_CAT_TOOLS, "Front faces only", "front faces only on / off (on: the brush does not reach the back)",
+        front_only, model_keys_free, KEY(F, S, A)),
 
     ACT(ST_ACT_EDIT_LEVEL_UP, ST_CAT_MESH, "Edit a finer level", "editing level up / down", edit_level_up,
         model_keys_free, KEY(PAGE_UP, 0, 0), KEY(KP_ADD, 0, 0), KEY(EQUAL, 0, 0)),
@@ -358,7 +416,7 @@ const st_action st_actions[ST_NACTIONS] = {
         model_keys_free, KEY(U, C, 0)),
 
     ACT(ST_ACT_BOX_TOGGLE, ST_CAT_BOX, "Interest box", "interest box on / off (adaptive display)", box_toggle,
-        model_keys_free, KEY(I, 0, S | A)),
+        model_keys_free, KEY(I, 0, A)),
     ACT(ST_ACT_BOX_MOVE_XN, ST_CAT_BOX, "Move the box -X", "move the box in X / Y / Z", box_move_xn, model_keys_free,
         KEY(LEFT, 0, A)),
     ACT(ST_ACT_BOX_MOVE_XP, ST_CAT_BOX, "Move the box +X", "move the box in X / Y / Z", box_move_xp, model_keys_free,
@@ -416,7 +474,7 @@ const st_action st_actions[ST_NACTIONS] = {
         KEY(Z, 0, A)),
     ACT(ST_ACT_WIREFRAME, ST_CAT_VIEW, "Wireframe", "wireframe on / off", wireframe, model_keys_free, KEY(Z, S, A)),
     ACT(ST_ACT_CAGE, ST_CAT_VIEW, "Control mesh", "control mesh overlay on / off", cage, model_keys_free,
-        KEY(C, 0, S | A)),
+        KEY(C, 0, A)),
     ACT(ST_ACT_GUI, ST_CAT_VIEW, "Interface", "menus and side panel on / off", toggle_gui, NULL, KEY(F10, 0, 0)),
 
     ACT(ST_ACT_HELP, ST_CAT_HELP, "Key bindings", "show / hide the key list", help, NULL, KEY(F1, 0, ANY)),
@@ -438,7 +496,7 @@ const st_gesture st_gestures[] = {
     { "Left click", "select a vertex of the editing level (Shift toggles, Ctrl removes)" },
     { "Left drag on empty space", "rectangle selection (Shift adds, Ctrl removes)" },
     { "Left drag on a vertex", "move the selection in the view plane (Ctrl or Alt: along its normal)" },
-    { "Left drag (brush tools)", "stroke (draw: Ctrl pushes in)" },
+    { "Left drag (brush tools)", "stroke, dabs spaced along the path (Ctrl: the other way, e.g. draw pushes in)" },
     { "Left drag a box handle", "square: move that face (resize), circle: move the box" },
     { "Drop a file", "open it, mesh or .strata session (a failed load keeps the model)" },
 };
@@ -469,7 +527,17 @@ int st_action_checked(const st_action *act, const st_app *a)
     case ST_ACT_BRUSH_DRAW: return a->tool == ST_BRUSH_DRAW;
     case ST_ACT_BRUSH_SMOOTH: return a->tool == ST_BRUSH_SMOOTH;
     case ST_ACT_BRUSH_FLATTEN: return a->tool == ST_BRUSH_FLATTEN;
+    case ST_ACT_BRUSH_CREASE: return a->tool == ST_BRUSH_CREASE;
+    case ST_ACT_BRUSH_PINCH: return a->tool == ST_BRUSH_PINCH;
+    case ST_ACT_BRUSH_INFLATE: return a->tool == ST_BRUSH_INFLATE;
+    case ST_ACT_BRUSH_CLAY_STRIPS: return a->tool == ST_BRUSH_CLAY_STRIPS;
+    case ST_ACT_BRUSH_LAYER: return a->tool == ST_BRUSH_LAYER;
+    case ST_ACT_BRUSH_RELAX: return a->tool == ST_BRUSH_RELAX;
     case ST_ACT_MIRROR_X: return a->doc.brush.mirror_x != 0;
+    case ST_ACT_MIRROR_Y: return a->doc.brush.mirror_y != 0;
+    case ST_ACT_MIRROR_Z: return a->doc.brush.mirror_z != 0;
+    case ST_ACT_STABILIZE: return a->doc.brush.stabilize != 0;
+    case ST_ACT_FRONT_ONLY: return a->doc.brush.front_only != 0;
     case ST_ACT_BOX_TOGGLE: return a->doc.box_on != 0;
     case ST_ACT_SHADING: return a->shading == ST_SHADE_FLAT ? 0 : 1;
     case ST_ACT_WIREFRAME: return a->wire != 0;

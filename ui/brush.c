@@ -1,4 +1,7 @@
-/* Brushes at the editing level (editor.h): grab, draw, smooth, flatten.
+/* Brush strokes at the editing level (editor.h): the spatial grid, the
+ * per-vertex weight, symmetry and the stroke itself; what each brush does
+ * under a dab is in brush_tools.c, the spacing of dabs along the cursor's
+ * path in brush_stroke.c.
  *
  * Finding the vertices under a dab: a uniform grid (hashed cells) of the
  * editing level's vertex positions, built at stroke begin with the cell
@@ -7,62 +10,104 @@
  * stroke: every vertex a dab moves is re-inserted into the cell of its new
  * position right after the dab (doubly linked per-cell lists, O(1) per
  * move), so the grid is always exact.  A radius changed during the stroke
- * only widens the range of cells visited.
+ * only widens the range of cells visited.  A dab's cost is thus that of
+ * the vertices under it (and their one-rings for normals).
  *
- * Falloff (1 - (r/R)^2)^2.  Normals: area-weighted vertex normals of the
- * editing level (sum of the Newell normals of the faces around the vertex),
- * computed for the vertices under the dab only.  Per dab, with s the
- * strength and f the falloff:
- *   grab     the vertices under the first dab (and their weights f) are
- *            captured; every dab moves them by f * grab_delta;
- *   draw     along the vertex's own normal by s * f * R / 10 (invert: in);
- *   smooth   towards the average of the one-ring neighbours by s * f;
- *   flatten  towards the plane through the average position of the
- *            vertices under the dab, normal their average normal, by s * f.
- * X-mirror: the dab is repeated with centre, normal and delta mirrored
- * across x = 0; the displacements of both dabs are computed from the same
- * positions and added, so a symmetric mesh stays symmetric.
+ * Weight of a vertex under a dab (ed_brush_weight, the one place): the
+ * falloff preset at its distance, times the strength, times the front-face
+ * test: with front_only and a view direction known (brush.view_dir, set by
+ * the window at stroke begin), a vertex whose area-weighted normal does not
+ * face the viewer (dot with the view direction >= 0) is on the far side of
+ * a thin part or of the model and is left alone, as Blender's "front faces
+ * only" does.  Mirrored dabs reflect the view direction with the dab.
+ *
+ * Symmetry: with mirror_x / _y / _z the dab is repeated with centre, normal
+ * and grab delta reflected across every combination of the enabled planes
+ * of object space (up to 8 dabs).  The displacements of all of them are
+ * computed from the same positions and added, and only then applied, so a
+ * mesh symmetric about those planes stays symmetric (to the rounding of the
+ * additions).
  */
 #include "core/map/geometry.h"
-#include "editor_internal.h"
+#include "brush_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-struct st_brush_state {
-    unsigned level;
-    double cs;                 /* cell size */
-    uint64_t *hkey;            /* cell hash: key -> first vertex */
-    uint32_t *hhead, hcap, hn;
-    uint32_t nv;               /* per-vertex arrays below have nv entries */
-    uint32_t *next, *prev;     /* per-cell doubly linked lists */
-    uint64_t *vcell;           /* cell key of each vertex, EMPTY when not in the grid */
-    uint32_t *mark, gen;       /* dab membership */
-    uint32_t *slot;            /* index in list when marked */
-    uint32_t *list;            /* vertices moved by this dab */
-    double (*disp)[3];
-    uint32_t nlist, caplist;
-    uint32_t *tmp;             /* query result */
-    double *tmpw;
-    uint32_t ntmp, captmp;
-    /* grab */
-    int grabbed;
-    uint32_t *gv;
-    double *gw;
-    uint8_t *gk;               /* which dab (0 direct, 1 mirrored) */
-    uint32_t ng, capg;
-};
 
 #define EMPTY_KEY UINT64_MAX
 #define CELL_LIM (1 << 20)
 
 double st_brush_falloff(double r, double radius)
 {
-    if (!(radius > 0) || r >= radius) return 0;
-    double q = r / radius;
-    double t = 1 - q * q;
-    return t * t;
+    return st_falloff_eval(ST_FALLOFF_SMOOTH, r, radius);
+}
+
+double st_falloff_eval(int kind, double r, double radius)
+{
+    if (!(radius > 0) || !(r < radius)) return 0;
+    double q = r > 0 ? r / radius : 0, t = 1 - q;
+    switch (kind) {
+    case ST_FALLOFF_SPHERE: return sqrt(2 * t - t * t);
+    case ST_FALLOFF_ROOT: return sqrt(t);
+    case ST_FALLOFF_SHARP: return t * t;
+    case ST_FALLOFF_LINEAR: return t;
+    case ST_FALLOFF_CONSTANT: return 1;
+    default: {
+        double u = 1 - q * q;
+        return u * u;
+    }
+    }
+}
+
+static const char *const falloff_names[ST_FALLOFF_COUNT] = { "smooth", "sphere", "root", "sharp", "linear", "constant" };
+
+const char *st_falloff_name(int falloff)
+{
+    return falloff >= 0 && falloff < ST_FALLOFF_COUNT ? falloff_names[falloff] : "?";
+}
+
+int st_falloff_by_name(const char *name)
+{
+    for (int k = 0; k < ST_FALLOFF_COUNT; k++)
+        if (name && !strcmp(name, falloff_names[k])) return k;
+    return -1;
+}
+
+const char *st_brush_name(int tool)
+{
+    static const char *names[ST_BRUSH_COUNT] = { "grab", "draw", "smooth", "flatten", "crease",
+                                                 "pinch", "inflate", "clay strips", "layer", "relax" };
+    return tool >= 0 && tool < ST_BRUSH_COUNT ? names[tool] : "?";
+}
+
+void st_brush_defaults(st_brush *b, double radius)
+{
+    memset(b, 0, sizeof *b);
+    b->tool = ST_BRUSH_DRAW;
+    b->radius = radius;
+    b->falloff = ST_FALLOFF_SMOOTH;
+    b->front_only = 1;
+    b->spacing = 0.1;          /* Blender's default spacing: 10 % of the radius */
+    b->stabilize_dist = 0.5;
+    for (int t = 0; t < ST_BRUSH_COUNT; t++) {
+        b->tool_strength[t] = t == ST_BRUSH_GRAB ? 1.0 : 0.5;
+        b->tool_falloff[t] = ST_FALLOFF_SMOOTH;
+    }
+    b->strength = b->tool_strength[b->tool];
+}
+
+void st_brush_set_tool(st_brush *b, int tool)
+{
+    if (tool < 0 || tool >= ST_BRUSH_COUNT) return;
+    if (b->tool >= 0 && b->tool < ST_BRUSH_COUNT) {
+        b->tool_strength[b->tool] = b->strength;
+        b->tool_falloff[b->tool] = b->falloff;
+    }
+    b->tool = tool;
+    b->strength = b->tool_strength[tool];
+    b->falloff = b->tool_falloff[tool];
 }
 
 void ed_brush_state_free(struct st_brush_state *bs)
@@ -75,17 +120,21 @@ void ed_brush_state_free(struct st_brush_state *bs)
     free(bs->vcell);
     free(bs->mark);
     free(bs->slot);
+    free(bs->lay_o);
+    free(bs->lay_n0);
     free(bs->list);
     free(bs->disp);
+    free(bs->lay_t);
     free(bs->tmp);
     free(bs->tmpw);
+    free(bs->tmpn);
     free(bs->gv);
     free(bs->gw);
     free(bs->gk);
     free(bs);
 }
 
-static void *xrealloc(void *p, size_t n)
+void *ed_xrealloc(void *p, size_t n)
 {
     void *q = realloc(p, n ? n : 1);
     if (!q) abort();
@@ -119,8 +168,8 @@ static void grid_rehash(struct st_brush_state *bs, uint32_t cap)
 {
     uint64_t *ok = bs->hkey;
     uint32_t *oh = bs->hhead, ocap = bs->hcap;
-    bs->hkey = xrealloc(NULL, (size_t)cap * sizeof *bs->hkey);
-    bs->hhead = xrealloc(NULL, (size_t)cap * sizeof *bs->hhead);
+    bs->hkey = ed_xrealloc(NULL, (size_t)cap * sizeof *bs->hkey);
+    bs->hhead = ed_xrealloc(NULL, (size_t)cap * sizeof *bs->hhead);
     for (uint32_t i = 0; i < cap; i++) bs->hkey[i] = EMPTY_KEY;
     bs->hcap = cap;
     for (uint32_t i = 0; i < ocap; i++) {
@@ -179,58 +228,24 @@ static void grid_insert(struct st_brush_state *bs, uint32_t v, const double *p)
     bs->vcell[v] = key;
 }
 
-static void tmp_push(struct st_brush_state *bs, uint32_t v, double w)
+static void tmp_push(struct st_brush_state *bs, uint32_t v, double w, const double n[3])
 {
     if (bs->ntmp == bs->captmp) {
         bs->captmp = bs->captmp ? 2 * bs->captmp : 256;
-        bs->tmp = xrealloc(bs->tmp, (size_t)bs->captmp * sizeof *bs->tmp);
-        bs->tmpw = xrealloc(bs->tmpw, (size_t)bs->captmp * sizeof *bs->tmpw);
+        bs->tmp = ed_xrealloc(bs->tmp, (size_t)bs->captmp * sizeof *bs->tmp);
+        bs->tmpw = ed_xrealloc(bs->tmpw, (size_t)bs->captmp * sizeof *bs->tmpw);
+        bs->tmpn = ed_xrealloc(bs->tmpn, (size_t)bs->captmp * sizeof *bs->tmpn);
     }
     bs->tmp[bs->ntmp] = v;
-    bs->tmpw[bs->ntmp++] = w;
-}
-
-static void visit_cell(struct st_brush_state *bs, const st_map *m, unsigned l, uint32_t head, const double c[3], double R)
-{
-    for (uint32_t v = head; v != ST_NIL; v = bs->next[v]) {
-        const double *p = st_pos(m, v, l);
-        double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2];
-        double r = sqrt(dx * dx + dy * dy + dz * dz);
-        double w = st_brush_falloff(r, R);
-        if (w > 0) tmp_push(bs, v, w);
-    }
-}
-
-/* Vertices strictly inside the sphere (c, R), with their falloff, into tmp. */
-static void grid_query(struct st_brush_state *bs, const st_map *m, unsigned l, const double c[3], double R)
-{
-    bs->ntmp = 0;
-    int64_t lo[3], hi[3];
-    double cells = 1;
-    for (int k = 0; k < 3; k++) {
-        lo[k] = cell_coord(c[k] - R, bs->cs);
-        hi[k] = cell_coord(c[k] + R, bs->cs);
-        cells *= (double)(hi[k] - lo[k] + 1);
-    }
-    if (cells > 2.0 * bs->hn) {
-        /* A radius far above the cell size: every occupied cell once. */
-        for (uint32_t h = 0; h < bs->hcap; h++)
-            if (bs->hkey[h] != EMPTY_KEY) visit_cell(bs, m, l, bs->hhead[h], c, R);
-        return;
-    }
-    for (int64_t x = lo[0]; x <= hi[0]; x++)
-        for (int64_t y = lo[1]; y <= hi[1]; y++)
-            for (int64_t z = lo[2]; z <= hi[2]; z++) {
-                int64_t h = grid_cell(bs, cell_key(x, y, z), 0);
-                if (h >= 0) visit_cell(bs, m, l, bs->hhead[h], c, R);
-            }
+    bs->tmpw[bs->ntmp] = w;
+    memcpy(bs->tmpn[bs->ntmp++], n, sizeof bs->tmpn[0]);
 }
 
 /* ---- local geometry --------------------------------------------------------------- */
 
 /* Next dart around the vertex of x at level l: β1 in the primal encoding;
  * in the dual one (Doo-Sabin, map.h: a surface vertex is a map face) φ1. */
-static uint32_t around(const st_map *m, uint32_t x, unsigned l)
+uint32_t ed_around(const st_map *m, uint32_t x, unsigned l)
 {
     return m->face_embedded ? st_phi1(m, x, l) : st_beta1(m, x, l);
 }
@@ -258,7 +273,7 @@ static void vertex_normal(const st_map *m, uint32_t x0, unsigned l, double n[3])
                 y = z;
             } while (y != x && ++g2 < 1u << 16);
         }
-        x = around(m, x, l);
+        x = ed_around(m, x, l);
     } while (x != x0 && ++guard < 1u << 16);
 }
 
@@ -270,79 +285,128 @@ static int normalize3(double v[3])
     return 0;
 }
 
+void ed_vertex_unit_normal(const st_map *m, uint32_t x0, unsigned l, const double fallback[3], double n[3])
+{
+    vertex_normal(m, x0, l, n);
+    if (normalize3(n)) memcpy(n, fallback, 3 * sizeof *n);
+}
+
+/* ---- the weight of a vertex under a dab ------------------------------------------------ */
+
+double ed_brush_weight(const st_doc *d, uint32_t v, double r, const double vn[3], const double view[3])
+{
+    (void)v; /* a per-vertex factor (a mask) would be read here */
+    const st_brush *b = &d->brush;
+    double f = st_falloff_eval(b->falloff, r, b->radius);
+    if (!(f > 0)) return 0;
+    int known = view[0] != 0 || view[1] != 0 || view[2] != 0;
+    if (b->front_only && known && !(vn[0] * view[0] + vn[1] * view[1] + vn[2] * view[2] < 0)) return 0;
+    double s = b->strength;
+    if (!(s > 0)) return 0;
+    if (s > 1) s = 1;
+    return f * s;
+}
+
+static void visit_cell(st_doc *d, struct st_brush_state *bs, uint32_t head, const double c[3], const double dn[3],
+                       const double view[3])
+{
+    const st_map *m = &d->h.map;
+    unsigned l = bs->level;
+    double R = d->brush.radius;
+    for (uint32_t v = head; v != ST_NIL; v = bs->next[v]) {
+        const double *p = st_pos(m, v, l);
+        double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2];
+        double r = sqrt(dx * dx + dy * dy + dz * dz);
+        if (!(r < R)) continue;
+        uint32_t x0 = ed_vertex_dart(d, v);
+        if (x0 == ST_NIL) continue;
+        double vn[3];
+        ed_vertex_unit_normal(m, x0, l, dn, vn);
+        double w = ed_brush_weight(d, v, r, vn, view);
+        if (w > 0) tmp_push(bs, v, w, vn);
+    }
+}
+
+/* Vertices strictly inside the sphere (c, R) with a positive weight, with
+ * their weights and unit normals, into tmp. */
+static void grid_query(st_doc *d, struct st_brush_state *bs, const double c[3], const double dn[3], const double view[3])
+{
+    double R = d->brush.radius;
+    bs->ntmp = 0;
+    int64_t lo[3], hi[3];
+    double cells = 1;
+    for (int k = 0; k < 3; k++) {
+        lo[k] = cell_coord(c[k] - R, bs->cs);
+        hi[k] = cell_coord(c[k] + R, bs->cs);
+        cells *= (double)(hi[k] - lo[k] + 1);
+    }
+    if (cells > 2.0 * bs->hn) {
+        /* A radius far above the cell size: every occupied cell once. */
+        for (uint32_t h = 0; h < bs->hcap; h++)
+            if (bs->hkey[h] != EMPTY_KEY) visit_cell(d, bs, bs->hhead[h], c, dn, view);
+        return;
+    }
+    for (int64_t x = lo[0]; x <= hi[0]; x++)
+        for (int64_t y = lo[1]; y <= hi[1]; y++)
+            for (int64_t z = lo[2]; z <= hi[2]; z++) {
+                int64_t h = grid_cell(bs, cell_key(x, y, z), 0);
+                if (h >= 0) visit_cell(d, bs, bs->hhead[h], c, dn, view);
+            }
+}
+
 /* ---- dab accumulation ----------------------------------------------------------------- */
 
-static void acc(struct st_brush_state *bs, uint32_t v, const double dv[3])
+/* The accumulator slot of v in this dab (created zero). */
+static uint32_t acc_slot(struct st_brush_state *bs, uint32_t v)
 {
     if (bs->mark[v] != bs->gen) {
         bs->mark[v] = bs->gen;
         if (bs->nlist == bs->caplist) {
             bs->caplist = bs->caplist ? 2 * bs->caplist : 256;
-            bs->list = xrealloc(bs->list, (size_t)bs->caplist * sizeof *bs->list);
-            bs->disp = xrealloc(bs->disp, (size_t)bs->caplist * sizeof *bs->disp);
+            bs->list = ed_xrealloc(bs->list, (size_t)bs->caplist * sizeof *bs->list);
+            bs->disp = ed_xrealloc(bs->disp, (size_t)bs->caplist * sizeof *bs->disp);
+            bs->lay_t = ed_xrealloc(bs->lay_t, (size_t)bs->caplist * sizeof *bs->lay_t);
         }
-        bs->slot[v] = bs->nlist;
-        bs->list[bs->nlist] = v;
-        bs->disp[bs->nlist][0] = bs->disp[bs->nlist][1] = bs->disp[bs->nlist][2] = 0;
-        bs->nlist++;
+        uint32_t i = bs->nlist++;
+        bs->slot[v] = i;
+        bs->list[i] = v;
+        bs->disp[i][0] = bs->disp[i][1] = bs->disp[i][2] = 0;
+        bs->lay_t[i] = 0;
     }
-    double *t = bs->disp[bs->slot[v]];
+    return bs->slot[v];
+}
+
+void ed_brush_acc(struct st_brush_state *bs, uint32_t v, const double dv[3])
+{
+    uint32_t i = acc_slot(bs, v); /* before reading bs->disp, which it may move */
+    double *t = bs->disp[i];
     t[0] += dv[0]; t[1] += dv[1]; t[2] += dv[2];
 }
 
-/* One dab's displacements (tools other than grab), from the current
- * positions, added into the accumulator. */
-static void dab_displace(st_doc *d, struct st_brush_state *bs, const double c[3], const double nrm[3])
+void ed_brush_acc_layer(struct st_brush_state *bs, uint32_t v, double h, const double n[3])
 {
-    const st_map *m = &d->h.map;
-    unsigned l = bs->level;
-    double R = d->brush.radius, s = d->brush.strength;
-    if (s < 0) s = 0;
-    if (s > 1) s = 1;
-    grid_query(bs, m, l, c, R);
-    if (!bs->ntmp) return;
-    double dn[3] = { nrm ? nrm[0] : 0, nrm ? nrm[1] : 0, nrm ? nrm[2] : 1 };
-    if (normalize3(dn)) { dn[0] = 0; dn[1] = 0; dn[2] = 1; }
-    int tool = d->brush.tool;
-    double c0[3] = { 0, 0, 0 }, pn[3] = { 0, 0, 0 };
-    if (tool == ST_BRUSH_FLATTEN) {
-        for (uint32_t i = 0; i < bs->ntmp; i++) {
-            const double *p = st_pos(m, bs->tmp[i], l);
-            double vn[3] = { 0, 0, 0 };
-            uint32_t x0 = ed_vertex_dart(d, bs->tmp[i]);
-            if (x0 != ST_NIL) vertex_normal(m, x0, l, vn);
-            for (int k = 0; k < 3; k++) { c0[k] += p[k] / bs->ntmp; pn[k] += vn[k]; }
-        }
-        if (normalize3(pn)) memcpy(pn, dn, sizeof pn);
+    uint32_t i = acc_slot(bs, v);
+    if (h > bs->lay_t[i]) bs->lay_t[i] = h;
+    if (bs->lay_o[v] < 0) {
+        bs->lay_o[v] = 0;
+        memcpy(bs->lay_n0[v], n, sizeof bs->lay_n0[v]);
     }
-    for (uint32_t i = 0; i < bs->ntmp; i++) {
-        uint32_t v = bs->tmp[i];
-        double f = bs->tmpw[i], dv[3] = { 0, 0, 0 };
-        const double *p = st_pos(m, v, l);
-        uint32_t x0 = ed_vertex_dart(d, v);
-        if (x0 == ST_NIL) continue;
-        if (tool == ST_BRUSH_DRAW) {
-            double vn[3];
-            vertex_normal(m, x0, l, vn);
-            if (normalize3(vn)) memcpy(vn, dn, sizeof vn);
-            double a = (d->brush.invert ? -1 : 1) * s * f * R * 0.1;
-            for (int k = 0; k < 3; k++) dv[k] = a * vn[k];
-        } else if (tool == ST_BRUSH_SMOOTH) {
-            double avg[3] = { 0, 0, 0 };
-            unsigned cnt = 0;
-            uint32_t x = x0;
-            do {
-                const double *q = st_dart_pos(m, st_beta0(m, x, l), l);
-                for (int k = 0; k < 3; k++) avg[k] += q[k];
-                cnt++;
-                x = around(m, x, l);
-            } while (x != x0 && cnt < 1u << 16);
-            for (int k = 0; k < 3; k++) dv[k] = s * f * (avg[k] / cnt - p[k]);
-        } else if (tool == ST_BRUSH_FLATTEN) {
-            double h = (p[0] - c0[0]) * pn[0] + (p[1] - c0[1]) * pn[1] + (p[2] - c0[2]) * pn[2];
-            for (int k = 0; k < 3; k++) dv[k] = -s * f * h * pn[k];
-        }
-        acc(bs, v, dv);
+}
+
+/* Layer (Blender's layer brush without "persistent"): a vertex rises to the
+ * largest height any dab of the stroke asked of it, never more: each dab
+ * moves it by what is left between that height and its displacement so far
+ * (lay_o), along its normal when the stroke first reached it (so the
+ * heights add up exactly along one direction). */
+static void layer_finish(st_doc *d, struct st_brush_state *bs)
+{
+    double sgn = d->brush.invert ? -1 : 1;
+    for (uint32_t i = 0; i < bs->nlist; i++) {
+        uint32_t v = bs->list[i];
+        double step = bs->lay_t[i] - bs->lay_o[v];
+        if (!(step > 0)) continue;
+        bs->lay_o[v] = bs->lay_t[i];
+        for (int k = 0; k < 3; k++) bs->disp[i][k] = sgn * step * bs->lay_n0[v][k];
     }
 }
 
@@ -370,14 +434,16 @@ int st_doc_stroke_begin(st_doc *d)
     for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it))
         if (v + 1 > nv) nv = v + 1;
     if (bs->nv < nv) {
-        bs->next = xrealloc(bs->next, (size_t)nv * sizeof *bs->next);
-        bs->prev = xrealloc(bs->prev, (size_t)nv * sizeof *bs->prev);
-        bs->vcell = xrealloc(bs->vcell, (size_t)nv * sizeof *bs->vcell);
-        bs->mark = xrealloc(bs->mark, (size_t)nv * sizeof *bs->mark);
-        bs->slot = xrealloc(bs->slot, (size_t)nv * sizeof *bs->slot);
+        bs->next = ed_xrealloc(bs->next, (size_t)nv * sizeof *bs->next);
+        bs->prev = ed_xrealloc(bs->prev, (size_t)nv * sizeof *bs->prev);
+        bs->vcell = ed_xrealloc(bs->vcell, (size_t)nv * sizeof *bs->vcell);
+        bs->mark = ed_xrealloc(bs->mark, (size_t)nv * sizeof *bs->mark);
+        bs->slot = ed_xrealloc(bs->slot, (size_t)nv * sizeof *bs->slot);
+        bs->lay_o = ed_xrealloc(bs->lay_o, (size_t)nv * sizeof *bs->lay_o);
+        bs->lay_n0 = ed_xrealloc(bs->lay_n0, (size_t)nv * sizeof *bs->lay_n0);
         bs->nv = nv;
     }
-    for (uint32_t v = 0; v < bs->nv; v++) { bs->vcell[v] = EMPTY_KEY; bs->mark[v] = 0; }
+    for (uint32_t v = 0; v < bs->nv; v++) { bs->vcell[v] = EMPTY_KEY; bs->mark[v] = 0; bs->lay_o[v] = -1; }
     bs->gen = 0;
     for (uint32_t i = 0; i < bs->hcap; i++) bs->hkey[i] = EMPTY_KEY;
     bs->hn = 0;
@@ -392,20 +458,37 @@ int st_doc_stroke_begin(st_doc *d)
     return 0;
 }
 
-static void grab_capture(st_doc *d, struct st_brush_state *bs, const double c[3], uint8_t which)
+static void grab_capture(st_doc *d, struct st_brush_state *bs, const double c[3], const double dn[3],
+                         const double view[3], uint8_t which)
 {
-    grid_query(bs, &d->h.map, bs->level, c, d->brush.radius);
+    grid_query(d, bs, c, dn, view);
     for (uint32_t i = 0; i < bs->ntmp; i++) {
         if (bs->ng == bs->capg) {
             bs->capg = bs->capg ? 2 * bs->capg : 256;
-            bs->gv = xrealloc(bs->gv, (size_t)bs->capg * sizeof *bs->gv);
-            bs->gw = xrealloc(bs->gw, (size_t)bs->capg * sizeof *bs->gw);
-            bs->gk = xrealloc(bs->gk, (size_t)bs->capg * sizeof *bs->gk);
+            bs->gv = ed_xrealloc(bs->gv, (size_t)bs->capg * sizeof *bs->gv);
+            bs->gw = ed_xrealloc(bs->gw, (size_t)bs->capg * sizeof *bs->gw);
+            bs->gk = ed_xrealloc(bs->gk, (size_t)bs->capg * sizeof *bs->gk);
         }
         bs->gv[bs->ng] = bs->tmp[i];
         bs->gw[bs->ng] = bs->tmpw[i];
         bs->gk[bs->ng++] = which;
     }
+}
+
+/* v reflected across the planes of the set bits of `which` (1 x, 2 y, 4 z). */
+static void reflect(uint8_t which, const double v[3], double out[3])
+{
+    for (int k = 0; k < 3; k++) out[k] = which >> k & 1 ? -v[k] : v[k];
+}
+
+/* The mirrored dabs of the brush's symmetry: every subset of the enabled
+ * planes (0 is the dab itself); returns how many. */
+static unsigned symmetry_set(const st_brush *b, uint8_t which[8])
+{
+    unsigned mask = (b->mirror_x ? 1u : 0) | (b->mirror_y ? 2u : 0) | (b->mirror_z ? 4u : 0), n = 0;
+    for (unsigned s = 0; s < 8; s++)
+        if (!(s & ~mask)) which[n++] = (uint8_t)s;
+    return n;
 }
 
 int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3], const double grab_delta[3])
@@ -416,11 +499,12 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
     double t0 = ed_now_ms();
     st_hier *h = &d->h;
     unsigned l = bs->level;
-    int mirror = d->brush.mirror_x != 0;
-    double mc[3] = { -center[0], center[1], center[2] };
-    double nn[3] = { 0, 0, 1 }, mn[3];
+    static const double up[3] = { 0, 0, 1 };
+    double nn[3] = { 0, 0, 1 };
     if (normal) memcpy(nn, normal, sizeof nn);
-    mn[0] = -nn[0]; mn[1] = nn[1]; mn[2] = nn[2];
+    if (normalize3(nn)) memcpy(nn, up, sizeof nn);
+    uint8_t which[8];
+    unsigned nsym = symmetry_set(&d->brush, which);
     if (++bs->gen == 0) {
         for (uint32_t v = 0; v < bs->nv; v++) bs->mark[v] = 0;
         bs->gen = 1;
@@ -428,43 +512,58 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
     bs->nlist = 0;
     if (d->brush.tool == ST_BRUSH_GRAB) {
         if (!bs->grabbed) {
-            grab_capture(d, bs, center, 0);
-            if (mirror) grab_capture(d, bs, mc, 1);
+            for (unsigned s = 0; s < nsym; s++) {
+                double mc[3], mn[3], mv[3];
+                reflect(which[s], center, mc);
+                reflect(which[s], nn, mn);
+                reflect(which[s], d->brush.view_dir, mv);
+                grab_capture(d, bs, mc, mn, mv, which[s]);
+            }
             bs->grabbed = 1;
         }
         double g[3] = { 0, 0, 0 };
         if (grab_delta) memcpy(g, grab_delta, sizeof g);
-        double mg[3] = { -g[0], g[1], g[2] };
         for (uint32_t i = 0; i < bs->ng; i++) {
-            const double *dd = bs->gk[i] ? mg : g;
+            double dd[3];
+            reflect(bs->gk[i], g, dd);
             double dv[3] = { bs->gw[i] * dd[0], bs->gw[i] * dd[1], bs->gw[i] * dd[2] };
-            acc(bs, bs->gv[i], dv);
+            ed_brush_acc(bs, bs->gv[i], dv);
         }
     } else {
-        dab_displace(d, bs, center, nn);
-        if (mirror) dab_displace(d, bs, mc, mn);
+        for (unsigned s = 0; s < nsym; s++) {
+            double mc[3], mn[3], mv[3];
+            reflect(which[s], center, mc);
+            reflect(which[s], nn, mn);
+            reflect(which[s], d->brush.view_dir, mv);
+            grid_query(d, bs, mc, mn, mv);
+            if (bs->ntmp) ed_brush_tool_dab(d, bs, mc, mn);
+        }
+        if (d->brush.tool == ST_BRUSH_LAYER) layer_finish(d, bs);
     }
     if (!bs->nlist) return 0;
-    uint32_t *darts = xrealloc(NULL, (size_t)bs->nlist * sizeof *darts);
-    double(*pos)[3] = xrealloc(NULL, (size_t)bs->nlist * sizeof *pos);
+    uint32_t *darts = ed_xrealloc(NULL, (size_t)bs->nlist * sizeof *darts);
+    double(*pos)[3] = ed_xrealloc(NULL, (size_t)bs->nlist * sizeof *pos);
     uint32_t n = 0;
     for (uint32_t i = 0; i < bs->nlist; i++) {
         uint32_t v = bs->list[i], x = ed_vertex_dart(d, v);
         if (x == ST_NIL) continue;
+        if (!bs->disp[i][0] && !bs->disp[i][1] && !bs->disp[i][2]) continue;
         const double *p = st_pos(&h->map, v, l);
         for (int k = 0; k < 3; k++) pos[n][k] = p[k] + bs->disp[i][k];
         darts[n++] = x;
     }
-    /* Old values of what core will write, then the edit, which reports
-     * what it wrote for the display and the renderer. */
-    ed_step_touch_move(d->pending, h, l, darts, n, &d->fp_query);
-    uint32_t from = d->fp_model.n;
-    st_hier_edit(h, l, darts, (const double(*)[3])pos, n, &d->fp_model);
-    for (uint32_t i = 0; i < n; i++) {
-        uint32_t v = st_vert(&h->map, darts[i], l);
-        grid_insert(bs, v, st_pos(&h->map, v, l));
+    if (n) {
+        /* Old values of what core will write, then the edit, which reports
+         * what it wrote for the display and the renderer. */
+        ed_step_touch_move(d->pending, h, l, darts, n, &d->fp_query);
+        uint32_t from = d->fp_model.n;
+        st_hier_edit(h, l, darts, (const double(*)[3])pos, n, &d->fp_model);
+        for (uint32_t i = 0; i < n; i++) {
+            uint32_t v = st_vert(&h->map, darts[i], l);
+            grid_insert(bs, v, st_pos(&h->map, v, l));
+        }
+        ed_geometry_changed(d, l, darts, n, t0, from);
     }
-    ed_geometry_changed(d, l, darts, n, t0, from);
     free(darts);
     free(pos);
     return 0;

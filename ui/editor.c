@@ -32,12 +32,6 @@ double ed_now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-const char *st_brush_name(int tool)
-{
-    static const char *names[ST_BRUSH_COUNT] = { "grab", "draw", "smooth", "flatten" };
-    return tool >= 0 && tool < ST_BRUSH_COUNT ? names[tool] : "?";
-}
-
 static int display_build(st_doc *d, const st_adapt_params *p, st_error *err);
 static void display_changed(st_doc *d);
 
@@ -47,9 +41,7 @@ void st_doc_init(st_doc *d)
 {
     memset(d, 0, sizeof *d);
     st_mesh_init(&d->base);
-    d->brush.tool = ST_BRUSH_DRAW;
-    d->brush.radius = 0.25;
-    d->brush.strength = 0.5;
+    st_brush_defaults(&d->brush, 0.25);
     d->undo_budget = (size_t)256 << 20;
     long pages = sysconf(_SC_PHYS_PAGES), psize = sysconf(_SC_PAGESIZE);
     d->mem_budget = pages > 0 && psize > 0 ? (size_t)pages * (size_t)psize / 2 : (size_t)4 << 30;

@@ -46,16 +46,60 @@
 #include "core/io/mesh.h"
 #include "editor_display.h"
 
-enum st_brush_tool { ST_BRUSH_GRAB, ST_BRUSH_DRAW, ST_BRUSH_SMOOTH, ST_BRUSH_FLATTEN, ST_BRUSH_COUNT };
+/* Brushes (brush.c, brush_tools.c).  The order is the order of the panel's
+ * buttons; a mask brush (another module) takes the next slot. */
+enum st_brush_tool {
+    ST_BRUSH_GRAB, ST_BRUSH_DRAW, ST_BRUSH_SMOOTH, ST_BRUSH_FLATTEN,
+    ST_BRUSH_CREASE, ST_BRUSH_PINCH, ST_BRUSH_INFLATE, ST_BRUSH_CLAY_STRIPS, ST_BRUSH_LAYER, ST_BRUSH_RELAX,
+    ST_BRUSH_COUNT
+};
 const char *st_brush_name(int tool);
+
+/* Falloff presets, with t = 1 - r/R (Blender's BKE_brush_curve_strength,
+ * except smooth, which is Strata's (1 - (r/R)^2)^2 as before). */
+enum st_falloff {
+    ST_FALLOFF_SMOOTH,         /* (1 - q^2)^2, q = r/R */
+    ST_FALLOFF_SPHERE,         /* sqrt(2t - t^2) = sqrt(1 - q^2) */
+    ST_FALLOFF_ROOT,           /* sqrt(t) */
+    ST_FALLOFF_SHARP,          /* t^2 */
+    ST_FALLOFF_LINEAR,         /* t */
+    ST_FALLOFF_CONSTANT,       /* 1 */
+    ST_FALLOFF_COUNT
+};
+const char *st_falloff_name(int falloff);
+/* The preset whose name is `name`, -1 if none. */
+int st_falloff_by_name(const char *name);
+/* Falloff `kind` at distance r of a brush of radius R: in [0, 1], 0 for
+ * r >= R. */
+double st_falloff_eval(int kind, double r, double radius);
 
 typedef struct st_brush {
     int tool;                  /* enum st_brush_tool */
-    double radius;             /* object units */
-    double strength;           /* 0..1 */
-    int mirror_x;              /* X-mirror symmetry (plane x = 0 of object space) */
-    int invert;                /* draw: push in instead of out */
+    double radius;             /* object units (one radius for every brush, as Blender's unified size) */
+    double strength;           /* 0..1, of the current tool */
+    int falloff;               /* enum st_falloff, of the current tool */
+    int mirror_x;              /* symmetry across the plane x = 0 of object space */
+    int mirror_y;              /* ... y = 0 */
+    int mirror_z;              /* ... z = 0 */
+    int invert;                /* the stroke's opposite direction (Ctrl held): in instead of out */
+    int front_only;            /* front faces only: vertices whose normal faces away from the viewer
+                                  (view_dir) are not touched (on by default, as in Blender) */
+    double view_dir[3];        /* direction the view looks in object space, set by the window at
+                                  stroke begin; zero: unknown (no front-face test) */
+    double spacing;            /* dabs every spacing * radius along the path (window strokes) */
+    int stabilize;             /* lazy mouse: the brush trails the cursor by stabilize_dist * radius */
+    double stabilize_dist;
+    /* Each tool's own strength and falloff, kept while another tool is
+     * active (st_brush_set_tool). */
+    double tool_strength[ST_BRUSH_COUNT];
+    int tool_falloff[ST_BRUSH_COUNT];
 } st_brush;
+
+/* Default settings of every brush (radius r). */
+void st_brush_defaults(st_brush *b, double radius);
+/* Makes `tool` current: keeps the current tool's strength and falloff and
+ * takes the new one's. */
+void st_brush_set_tool(st_brush *b, int tool);
 
 /* What the last operations changed, for the renderer (accumulated until
  * st_doc_take_change()). */
@@ -204,20 +248,43 @@ void st_doc_drag_cancel(st_doc *d);
 /* Brush stroke at the editing level: begin, one dab per cursor sample
  * (centre on the surface, the surface normal there, and for grab the
  * cursor's translation since the last dab), end (one undo step).
- * Falloff (1-(r/R)^2)^2 (st_brush_falloff).  Grab captures the vertices
- * under its first dab and moves them by falloff * delta at every dab; draw
- * moves along each vertex's area-weighted normal by strength * falloff *
- * R/10 per dab (invert: inward); smooth moves toward the one-ring average
- * by strength * falloff; flatten toward the plane through the mean of the
- * vertices under the dab (normal: their mean normal).  mirror_x repeats
- * the dab mirrored across x = 0 (displacements of both from the same
- * positions, added).  Vertices under a dab come from a uniform grid of
+ * Every brush weighs a vertex under a dab by the falloff preset at its
+ * distance times the strength times the front-face test (front_only with
+ * view_dir set: a vertex whose normal faces away from the viewer is not
+ * touched).
+ * Grab captures the vertices under its first dab and moves them by weight *
+ * delta at every dab; the other brushes (brush_tools.c: draw, smooth,
+ * flatten, crease, pinch, inflate, clay strips, layer, relax) displace
+ * from the positions before the dab, proportionally to weight and R/10.
+ * Symmetry (mirror_x, _y, _z, any combination) repeats the dab reflected
+ * across the enabled planes of object space (up to 8 dabs, displacements
+ * all from the same positions, added), so a symmetric mesh stays
+ * symmetric.  Vertices under a dab come from a uniform grid of
  * the editing level built at stroke begin (cell = radius), kept exact by
  * re-inserting every moved vertex (brush.c).  Normal may be NULL (+z);
  * grab_delta may be NULL (zero). */
 int st_doc_stroke_begin(st_doc *d);
 int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3], const double grab_delta[3]);
 void st_doc_stroke_end(st_doc *d);
+
+/* Where the dabs of a stroke go (brush_stroke.c), in any space of up to
+ * three coordinates (the window uses pixels, z = 0).  The brush point
+ * follows the cursor: directly, or with the stabiliser ("lazy mouse") it
+ * stays `lazy` behind it and moves only when the cursor pulls it further.
+ * Along the brush point's path a dab is placed every `spacing` (path
+ * length), wherever the events fell: fast and slow cursor motion along the
+ * same path give the same dabs.  spacing <= 0: one dab at the brush point
+ * per event (no spacing). */
+typedef struct st_stroke_path {
+    double brush[3];           /* the brush point */
+    double since;              /* path length since the last dab */
+} st_stroke_path;
+/* Starts at the cursor; the caller puts the first dab there. */
+void st_stroke_path_begin(st_stroke_path *sp, const double cursor[3]);
+/* The cursor moved: calls dab(ctx, p) for every dab due, in order, and
+ * returns how many. */
+unsigned st_stroke_path_move(st_stroke_path *sp, const double cursor[3], double spacing, double lazy,
+                             void (*dab)(void *ctx, const double p[3]), void *ctx);
 
 /* Interest box: corners, levels, on/off.  Refines or coarsens the display
  * incrementally (st_adapt_update).  Undoable (a box drag is one step when
@@ -273,7 +340,7 @@ size_t st_doc_model_bytes(const st_doc *d);
  * or level > top. */
 int st_doc_bench_drag(st_doc *d, unsigned level, unsigned steps, double *step_ms_median, double *full_synth_ms);
 
-/* Brush falloff: (1 - (r/R)^2)^2 for r < R, else 0. */
+/* Brush falloff of the smooth preset: (1 - (r/R)^2)^2 for r < R, else 0. */
 double st_brush_falloff(double r, double radius);
 
 #endif

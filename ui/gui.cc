@@ -605,21 +605,48 @@ void side_panel(st_app *a)
             action_button(a, ST_ACT_DELETE_COARSEST, "Rebase");
         }
         if (ImGui::CollapsingHeader("Tool", ImGuiTreeNodeFlags_DefaultOpen)) {
-            static const int tools[] = { ST_ACT_TOOL_SELECT, ST_ACT_BRUSH_GRAB, ST_ACT_BRUSH_DRAW, ST_ACT_BRUSH_SMOOTH,
-                                         ST_ACT_BRUSH_FLATTEN };
-            static const char *const names[] = { "select", "grab", "draw", "smooth", "flatten" };
-            for (int i = 0; i < 5; i++) {
-                if (i && i != 3) ImGui::SameLine();
-                if (ImGui::RadioButton(names[i], st_action_checked(&st_actions[tools[i]], a) > 0)) g.pending_action = tools[i];
+            /* Three tools a row (clay strips, the longest name, in the middle column). */
+            static const int tools[] = { ST_ACT_TOOL_SELECT, ST_ACT_BRUSH_GRAB,    ST_ACT_BRUSH_DRAW,
+                                         ST_ACT_BRUSH_SMOOTH, ST_ACT_BRUSH_FLATTEN, ST_ACT_BRUSH_CREASE,
+                                         ST_ACT_BRUSH_PINCH,  ST_ACT_BRUSH_INFLATE, ST_ACT_BRUSH_LAYER,
+                                         ST_ACT_BRUSH_RELAX,  ST_ACT_BRUSH_CLAY_STRIPS };
+            static const int brush_of[] = { ST_TOOL_SELECT, ST_BRUSH_GRAB, ST_BRUSH_DRAW, ST_BRUSH_SMOOTH,
+                                            ST_BRUSH_FLATTEN, ST_BRUSH_CREASE, ST_BRUSH_PINCH, ST_BRUSH_INFLATE,
+                                            ST_BRUSH_LAYER, ST_BRUSH_RELAX, ST_BRUSH_CLAY_STRIPS };
+            const int ntools = (int)(sizeof tools / sizeof tools[0]);
+            for (int i = 0; i < ntools; i++) {
+                if (i % 3) ImGui::SameLine((float)(i % 3) * 88 * g.scale);
+                const char *name = brush_of[i] == ST_TOOL_SELECT ? "select" : st_brush_name(brush_of[i]);
+                if (ImGui::RadioButton(name, st_action_checked(&st_actions[tools[i]], a) > 0)) g.pending_action = tools[i];
             }
             float r = (float)d->brush.radius, s = (float)d->brush.strength;
             float rmax = (float)a->cc.radius;
             if (ImGui::SliderFloat("radius", &r, 0.002f * rmax, rmax, "%.4g", ImGuiSliderFlags_Logarithmic)) d->brush.radius = r;
             if (ImGui::SliderFloat("strength", &s, 0.02f, 1.0f, "%.2f")) d->brush.strength = s;
-            bool mir = d->brush.mirror_x != 0;
-            if (ImGui::Checkbox("X mirror", &mir)) d->brush.mirror_x = mir;
+            /* Symmetry in the model's axes (brush.c). */
+            bool mx = d->brush.mirror_x != 0, my = d->brush.mirror_y != 0, mz = d->brush.mirror_z != 0;
+            if (ImGui::Checkbox("X", &mx)) d->brush.mirror_x = mx;
             ImGui::SameLine();
-            ImGui::Text("  selected %u", d->nsel);
+            if (ImGui::Checkbox("Y", &my)) d->brush.mirror_y = my;
+            ImGui::SameLine();
+            if (ImGui::Checkbox("Z mirror", &mz)) d->brush.mirror_z = mz;
+            ImGui::SameLine();
+            ImGui::Text(" selected %u", d->nsel);
+            if (ImGui::TreeNode("falloff, spacing, stabiliser")) {
+                if (ImGui::BeginCombo("falloff", st_falloff_name(d->brush.falloff))) {
+                    for (int k = 0; k < ST_FALLOFF_COUNT; k++)
+                        if (ImGui::Selectable(st_falloff_name(k), d->brush.falloff == k)) d->brush.falloff = k;
+                    ImGui::EndCombo();
+                }
+                float sp = (float)d->brush.spacing;
+                if (ImGui::SliderFloat("spacing", &sp, 0.0f, 1.0f, "%.2f radius")) d->brush.spacing = sp;
+                bool lazy = d->brush.stabilize != 0;
+                if (ImGui::Checkbox("stabiliser", &lazy)) d->brush.stabilize = lazy;
+                ImGui::SameLine();
+                bool front = d->brush.front_only != 0;
+                if (ImGui::Checkbox("front faces only", &front)) d->brush.front_only = front;
+                ImGui::TreePop();
+            }
         }
         if (ImGui::CollapsingHeader("Interest box", ImGuiTreeNodeFlags_DefaultOpen)) box_section(a);
         if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {

@@ -162,10 +162,17 @@ void st_app_draw_hud(st_app *a)
                  (unsigned long long)faces, (unsigned long long)verts, a->r.has_cage ? a->r.cage.nverts : 0);
         if (a->tool == ST_TOOL_SELECT)
             snprintf(line[n++], 256, "tool select/move   selected %u", d->nsel);
-        else
-            snprintf(line[n++], 256, "tool brush %s   radius %.3g   strength %.2f%s%s   selected %u",
-                     st_brush_name(a->tool), d->brush.radius, d->brush.strength,
-                     d->brush.mirror_x ? "   mirror X" : "", d->brush.invert ? "   inverted" : "", d->nsel);
+        else {
+            char sym[16] = "", fall[32] = "";
+            if (d->brush.mirror_x || d->brush.mirror_y || d->brush.mirror_z)
+                snprintf(sym, sizeof sym, "   mirror %s%s%s", d->brush.mirror_x ? "X" : "", d->brush.mirror_y ? "Y" : "",
+                         d->brush.mirror_z ? "Z" : "");
+            if (d->brush.falloff != ST_FALLOFF_SMOOTH)
+                snprintf(fall, sizeof fall, "   falloff %s", st_falloff_name(d->brush.falloff));
+            snprintf(line[n++], 256, "tool brush %s   radius %.3g   strength %.2f%s%s%s   selected %u",
+                     st_brush_name(a->tool), d->brush.radius, d->brush.strength, fall, sym,
+                     d->brush.invert ? "   inverted" : "", d->nsel);
+        }
         if (d->box_on)
             snprintf(line[n++], 256, "box (%.2f %.2f %.2f)-(%.2f %.2f %.2f)   levels %u..%u",
                      d->box.box_lo[0], d->box.box_lo[1], d->box.box_lo[2], d->box.box_hi[0], d->box.box_hi[1],
@@ -257,8 +264,13 @@ void st_app_draw_overlays(st_app *a)
             float rad = (float)(a->doc.brush.radius / (px > 0 ? px : 1));
             if (st_camctl_project(&a->cc, a->fb_w, a->fb_h, p, s, NULL))
                 st_hud_circle(u, (float)s[0], (float)s[1], rad, 2, C_BRUSH);
-            if (a->doc.brush.mirror_x) {
-                double q[3] = { -p[0], p[1], p[2] };
+            /* The mirrored dabs of the symmetry (brush.c). */
+            unsigned sym = (a->doc.brush.mirror_x ? 1u : 0) | (a->doc.brush.mirror_y ? 2u : 0) |
+                           (a->doc.brush.mirror_z ? 4u : 0);
+            for (unsigned m = 1; m < 8; m++) {
+                if (m & ~sym) continue;
+                double q[3];
+                for (int k = 0; k < 3; k++) q[k] = m >> k & 1 ? -p[k] : p[k];
                 if (st_camctl_project(&a->cc, a->fb_w, a->fb_h, q, s, NULL))
                     st_hud_circle(u, (float)s[0], (float)s[1], rad, 1, C_BRUSH);
             }

@@ -17,8 +17,11 @@
 
 enum ev_type {
     EV_WAIT, EV_KEY, EV_MOVE, EV_BUTTON, EV_SCROLL, EV_DROP, EV_LEVEL, EV_SNAPSHOT, EV_SHOT, EV_EXPECT, EV_ECHO, EV_QUIT,
-    EV_GUI, EV_MENU, EV_FRAMES
+    EV_GUI, EV_MENU, EV_FRAMES, EV_BRUSH
 };
+
+/* `brush SETTING VALUE`: what the panel's tool section sets. */
+enum brush_setting { BR_FALLOFF, BR_SPACING, BR_STABILIZE, BR_SYMMETRY, BR_FRONT, BR_STRENGTH, BR_RADIUS };
 
 typedef struct ev {
     int type, line;
@@ -274,6 +277,38 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
         e->text = strdup(tok[1]);
         e->arg = nt > 2 ? strdup(tok[2]) : NULL;
         if (!e->text || (nt > 2 && !e->arg)) BAD("out of memory");
+    } else if (!strcmp(c, "brush")) {
+        static const char *const what[] = { "falloff", "spacing", "stabilize", "symmetry", "front", "strength", "radius" };
+        int k = -1;
+        for (int i = 0; nt >= 3 && i < (int)(sizeof what / sizeof what[0]); i++)
+            if (!strcmp(tok[1], what[i])) k = i;
+        if (k < 0)
+            BAD("%s:%d: brush falloff NAME | spacing F | stabilize on|off [F] | symmetry none|x|y|z|xy|xz|yz|xyz | "
+                "front on|off | strength S | radius R", rp->path, line);
+        if (!(e = push(rp, EV_BRUSH, line))) BAD("out of memory");
+        e->which = k;
+        char *end = NULL;
+        if (k == BR_FALLOFF) {
+            if ((e->key = st_falloff_by_name(tok[2])) < 0)
+                BAD("%s:%d: brush falloff %s: not one of smooth, sphere, root, sharp, linear, constant", rp->path, line, tok[2]);
+        } else if (k == BR_STABILIZE || k == BR_FRONT) {
+            if (strcmp(tok[2], "on") && strcmp(tok[2], "off")) BAD("%s:%d: brush %s on|off", rp->path, line, what[k]);
+            e->key = !strcmp(tok[2], "on");
+            e->x = nt > 3 ? strtod(tok[3], &end) : -1;
+            if (nt > 3 && (!end || *end || !(e->x > 0) || e->x > 10)) BAD("%s:%d: brush %s: distance 0..10 radii", rp->path, line, what[k]);
+        } else if (k == BR_SYMMETRY) {
+            if (strcmp(tok[2], "none")) {
+                for (const char *q = tok[2]; *q; q++) {
+                    if (*q < 'x' || *q > 'z') BAD("%s:%d: brush symmetry %s: letters x, y, z or none", rp->path, line, tok[2]);
+                    e->key |= 1 << (*q - 'x');
+                }
+            }
+        } else {
+            e->x = strtod(tok[2], &end);
+            double hi = k == BR_STRENGTH ? 1 : k == BR_SPACING ? 10 : 1e9;
+            if (!end || *end || !(e->x >= 0) || e->x > hi || (k == BR_RADIUS && !(e->x > 0)))
+                BAD("%s:%d: brush %s %s: a number in 0..%g", rp->path, line, what[k], tok[2], hi);
+        }
     } else if (!strcmp(c, "quit")) {
         if (!push(rp, EV_QUIT, line)) BAD("out of memory");
     } else {
@@ -388,8 +423,22 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
     else if (!strcmp(w, "hover")) { snprintf(actual, sizeof actual, "%d", a->hover_vid != ST_NIL); ok = (a->hover_vid != ST_NIL) == (want != 0); }
     else if (!strcmp(w, "faces")) { snprintf(actual, sizeof actual, "%llu", (unsigned long long)faces); ok = (long)faces == want; }
     else if (!strcmp(w, "tool")) {
+        /* '_' for a space: expect tool clay_strips */
         snprintf(actual, sizeof actual, "%s", a->tool == ST_TOOL_SELECT ? "select" : st_brush_name(a->tool));
+        for (char *q = actual; *q; q++) if (*q == ' ') *q = '_';
         ok = e->arg && !strcasecmp(actual, e->arg);
+    } else if (!strcmp(w, "falloff")) {
+        snprintf(actual, sizeof actual, "%s", st_falloff_name(d->brush.falloff));
+        ok = e->arg && !strcmp(actual, e->arg);
+    } else if (!strcmp(w, "symmetry")) {
+        snprintf(actual, sizeof actual, "%s%s%s", d->brush.mirror_x ? "x" : "", d->brush.mirror_y ? "y" : "",
+                 d->brush.mirror_z ? "z" : "");
+        if (!actual[0]) snprintf(actual, sizeof actual, "none");
+        ok = e->arg && !strcmp(actual, e->arg);
+    } else if (!strcmp(w, "stabilize") || !strcmp(w, "front")) {
+        int on = !strcmp(w, "front") ? d->brush.front_only : d->brush.stabilize;
+        snprintf(actual, sizeof actual, "%d", on != 0);
+        ok = (on != 0) == (want != 0);
     } else if (!strcmp(w, "scheme")) {
         snprintf(actual, sizeof actual, "%s", d->scheme ? d->scheme->name : "none");
         ok = e->arg && !strcmp(actual, e->arg);
@@ -490,6 +539,20 @@ int st_replay_step(st_replay *rp, st_app *a)
         break;
     case EV_ECHO: fprintf(stderr, "strata: replay: %s\n", e->text); break;
     case EV_QUIT: return 1;
+    case EV_BRUSH: {
+        st_brush *b = &a->doc.brush;
+        switch (e->which) {
+        case BR_FALLOFF: b->falloff = e->key; break;
+        case BR_SPACING: b->spacing = e->x; break;
+        case BR_STABILIZE: b->stabilize = e->key; if (e->x > 0) b->stabilize_dist = e->x; break;
+        case BR_SYMMETRY: b->mirror_x = e->key & 1; b->mirror_y = e->key >> 1 & 1; b->mirror_z = e->key >> 2 & 1; break;
+        case BR_FRONT: b->front_only = e->key; break;
+        case BR_STRENGTH: b->strength = e->x; break;
+        case BR_RADIUS: b->radius = e->x; break;
+        default: break;
+        }
+        break;
+    }
     case EV_GUI: st_gui_set_shown(e->which); break;
     case EV_FRAMES:
         free(rp->times);

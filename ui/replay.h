@@ -20,7 +20,9 @@
  *   snapshot                    remember the displayed positions (also taken after loading)
  *   screenshot NAME.png         read the next frame from the framebuffer
  *   expect WHAT [VALUE]         assertion; WHAT: edit_level, display_level, top,
- *                               selected, undo_depth, redo_depth, box_on, tool,
+ *                               selected, undo_depth, redo_depth, box_on, tool
+ *                               ('_' for a space: clay_strips), falloff NAME,
+ *                               symmetry xyz|none, stabilize 0/1, front 0/1,
  *                               scheme, hover (0/1), faces, moved, unchanged,
  *                               synced (the renderer's incrementally updated
  *                               buffers equal a fresh build),
@@ -32,6 +34,12 @@
  *                               not empty), undo_name / redo_name NAME (what the
  *                               Edit menu's Undo / Redo names, '_' for a space,
  *                               "-" for none: expect undo_name brush_stroke)
+ *   brush SETTING VALUE         the brush settings of the panel's tool section:
+ *                               falloff smooth|sphere|root|sharp|linear|constant,
+ *                               spacing F (dabs every F radii; 0: one per event),
+ *                               stabilize on|off [F] (lazy mouse, F radii behind),
+ *                               symmetry none|x|y|z|xy|xz|yz|xyz, front on|off
+ *                               (front faces only), strength S, radius R
  *   gui on | off                show / hide the GUI (menus, side panel; gui.h);
  *                               replays start with it hidden
  *   menu PATH [ARG]             activate a menu item by its labels, as a click

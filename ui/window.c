@@ -324,14 +324,31 @@ void st_app_drag_finish(st_app *a, int cancel)
 
 /* ---- brush strokes ------------------------------------------------------------ */
 
+/* A dab of a spaced stroke at screen point s (brush_stroke.c): the surface
+ * under it from the ID buffer. */
+static void stroke_dab_at(void *ctx, const double s[3])
+{
+    st_app *a = ctx;
+    double p[3], nrm[3];
+    if (!st_pick_surface(&a->pick, &a->cc, (int)floor(s[0]), (int)floor(s[1]), p, nrm)) return;
+    memcpy(a->brush_pos, p, sizeof p);
+    memcpy(a->brush_nrm, nrm, sizeof nrm);
+    static const double zero[3] = { 0, 0, 0 };
+    if (st_doc_stroke_dab(&a->doc, p, nrm, zero)) st_app_message(a, 1, "brush dab failed");
+}
+
 static void stroke_start(st_app *a, int mods)
 {
     st_doc *d = &a->doc;
     if (ensure_pick(a)) return;
     double p[3], nrm[3];
     if (!st_pick_surface(&a->pick, &a->cc, (int)floor(a->mx), (int)floor(a->my), p, nrm)) return;
-    d->brush.tool = a->tool;
+    st_brush_set_tool(&d->brush, a->tool);
     d->brush.invert = (mods & GLFW_MOD_CONTROL) != 0;
+    /* Front faces only: the direction the view looks. */
+    double right[3], up[3], back[3];
+    st_camctl_axes(&a->cc, right, up, back);
+    for (int k = 0; k < 3; k++) d->brush.view_dir[k] = -back[k];
     if (st_doc_stroke_begin(d)) { st_app_message(a, 1, "cannot start a stroke"); return; }
     a->op = ST_OP_STROKE;
     a->op_lx = a->mx;
@@ -340,6 +357,8 @@ static void stroke_start(st_app *a, int mods)
     memcpy(a->brush_pos, p, sizeof p);
     memcpy(a->brush_nrm, nrm, sizeof nrm);
     a->brush_hit = 1;
+    const double cursor[3] = { a->mx, a->my, 0 };
+    st_stroke_path_begin(&a->stroke_path, cursor);
     static const double zero[3] = { 0, 0, 0 };
     if (a->tool != ST_BRUSH_GRAB && st_doc_stroke_dab(d, p, nrm, zero)) st_app_message(a, 1, "brush dab failed");
     st_app_sync(a);
@@ -357,20 +376,20 @@ static void stroke_move(st_app *a)
         for (int k = 0; k < 3; k++) a->stroke_pos[k] += delta[k];
     } else {
         /* The surface under the cursor, from an ID buffer redrawn after
-         * every dab; on a dense display (a full draw per mouse move would
+         * every event; on a dense display (a full draw per mouse move would
          * make strokes lag) the buffer of the stroke's start is reused:
-         * the dabs move the surface by a fraction of the radius. */
+         * the dabs move the surface by a fraction of the radius.  Dabs are
+         * spaced along the path in pixels: spacing and the stabiliser's
+         * distance are fractions of the brush radius on the screen. */
         if (a->r.surf.ntris < STROKE_REPICK_TRIS) {
             st_app_sync(a);
             if (ensure_pick(a)) return;
         }
-        double p[3], nrm[3];
-        if (st_pick_surface(&a->pick, &a->cc, (int)floor(a->mx), (int)floor(a->my), p, nrm)) {
-            static const double zero[3] = { 0, 0, 0 };
-            memcpy(a->brush_pos, p, sizeof p);
-            memcpy(a->brush_nrm, nrm, sizeof nrm);
-            if (st_doc_stroke_dab(d, p, nrm, zero)) st_app_message(a, 1, "brush dab failed");
-        }
+        double px = st_camctl_pixel_size(&a->cc, a->fb_w, a->fb_h, a->brush_pos);
+        double rpx = d->brush.radius / (px > 0 ? px : 1);
+        double lazy = d->brush.stabilize ? d->brush.stabilize_dist * rpx : 0;
+        const double cursor[3] = { a->mx, a->my, 0 };
+        st_stroke_path_move(&a->stroke_path, cursor, d->brush.spacing * rpx, lazy, stroke_dab_at, a);
     }
     a->op_lx = a->mx;
     a->op_ly = a->my;

@@ -72,6 +72,7 @@ typedef struct st_app {
     double drag_anchor[3];     /* scene point that follows the cursor */
     double drag_normal[3];     /* average normal of the selection */
     double stroke_pos[3];      /* grab brush: current centre */
+    st_stroke_path stroke_path;/* other brushes: dab spacing and stabiliser (pixels) */
     uint32_t hover_vid;        /* hovered editing-level vertex id, ST_NIL */
     int hover_dirty;
     int brush_hit;             /* brush circle: the cursor is over the surface */

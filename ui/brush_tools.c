@@ -1,0 +1,130 @@
+/* What each brush does under one dab (editor.h, brush.c).
+ *
+ * Input: the dab's centre c and unit normal n (the surface normal under the
+ * cursor), and the vertices under it with their weights w (falloff times
+ * strength times the front-face test, ed_brush_weight) and unit normals vn.
+ * R is the radius, sgn -1 when the stroke is inverted (Ctrl), else 1.  All
+ * displacements are computed from the positions before the dab:
+ *
+ *   draw         along n by sgn * w * R/10 (Blender's draw: the area normal)
+ *   smooth       toward the one-ring average by w
+ *   flatten      toward the plane through the mean of the vertices under the
+ *                dab, normal their mean normal, by w of the distance
+ *   crease       into the surface (sgn: out) along n by w * R/10, and toward
+ *                the dab's axis in the plane of n by w/2 of the offset: a
+ *                sharp groove whose sides are pinched together (Blender's
+ *                crease, pinch factor 0.5)
+ *   pinch        toward the dab's axis in the plane of n by w/2 of the offset
+ *                (sgn: away)
+ *   inflate      along the vertex's own normal vn by sgn * w * R/10
+ *   clay strips  toward the plane of flatten raised by sgn * R/10, only the
+ *                vertices below it (sgn: above), by w of the distance: a
+ *                flat-bottomed build-up whose top stops at the raised plane
+ *   layer        up to the height w * R/10 along vn (as it was when the
+ *                stroke reached the vertex), the largest any dab of the
+ *                stroke asked, never more (brush.c: layer_finish)
+ *   relax        by w times the Laplacian (one-ring average minus position)
+ *                less its component along vn: the vertices slide along the
+ *                surface toward even spacing and the shape stays
+ */
+#include "brush_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* Average of the one-ring neighbours of the vertex of dart x0, minus p. */
+static void laplacian(const st_map *m, uint32_t x0, unsigned l, const double p[3], double lap[3])
+{
+    double avg[3] = { 0, 0, 0 };
+    unsigned cnt = 0;
+    uint32_t x = x0;
+    do {
+        const double *q = st_dart_pos(m, st_beta0(m, x, l), l);
+        for (int k = 0; k < 3; k++) avg[k] += q[k];
+        cnt++;
+        x = ed_around(m, x, l);
+    } while (x != x0 && cnt < 1u << 16);
+    for (int k = 0; k < 3; k++) lap[k] = avg[k] / cnt - p[k];
+}
+
+/* The plane of flatten and clay strips: the mean position of the vertices
+ * under the dab and their mean normal (the dab's when it vanishes). */
+static void dab_plane(const st_map *m, unsigned l, const struct st_brush_state *bs, const double n[3], double c0[3],
+                      double pn[3])
+{
+    c0[0] = c0[1] = c0[2] = 0;
+    pn[0] = pn[1] = pn[2] = 0;
+    for (uint32_t i = 0; i < bs->ntmp; i++) {
+        const double *p = st_pos(m, bs->tmp[i], l);
+        for (int k = 0; k < 3; k++) { c0[k] += p[k] / bs->ntmp; pn[k] += bs->tmpn[i][k]; }
+    }
+    double len = sqrt(dot3(pn, pn));
+    if (len > 0) for (int k = 0; k < 3; k++) pn[k] /= len;
+    else memcpy(pn, n, sizeof *pn * 3);
+}
+
+void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], const double n[3])
+{
+    const st_map *m = &d->h.map;
+    unsigned l = bs->level;
+    int tool = d->brush.tool;
+    double R = d->brush.radius, sgn = d->brush.invert ? -1 : 1;
+    double c0[3] = { 0, 0, 0 }, pn[3] = { 0, 0, 0 };
+    if (tool == ST_BRUSH_FLATTEN || tool == ST_BRUSH_CLAY_STRIPS) {
+        dab_plane(m, l, bs, n, c0, pn);
+        if (tool == ST_BRUSH_CLAY_STRIPS)
+            for (int k = 0; k < 3; k++) c0[k] += sgn * 0.1 * R * pn[k];
+    }
+    for (uint32_t i = 0; i < bs->ntmp; i++) {
+        uint32_t v = bs->tmp[i];
+        double w = bs->tmpw[i], dv[3] = { 0, 0, 0 };
+        const double *vn = bs->tmpn[i];
+        const double *p = st_pos(m, v, l);
+        uint32_t x0 = ed_vertex_dart(d, v);
+        if (x0 == ST_NIL) continue;
+        switch (tool) {
+        case ST_BRUSH_DRAW:
+        case ST_BRUSH_INFLATE: {
+            const double *dir = tool == ST_BRUSH_DRAW ? n : vn;
+            double a = sgn * w * R * 0.1;
+            for (int k = 0; k < 3; k++) dv[k] = a * dir[k];
+            break;
+        }
+        case ST_BRUSH_SMOOTH: {
+            double lap[3];
+            laplacian(m, x0, l, p, lap);
+            for (int k = 0; k < 3; k++) dv[k] = w * lap[k];
+            break;
+        }
+        case ST_BRUSH_RELAX: {
+            double lap[3];
+            laplacian(m, x0, l, p, lap);
+            double ln = dot3(lap, vn);
+            for (int k = 0; k < 3; k++) dv[k] = w * (lap[k] - ln * vn[k]);
+            break;
+        }
+        case ST_BRUSH_FLATTEN:
+        case ST_BRUSH_CLAY_STRIPS: {
+            double hgt = (p[0] - c0[0]) * pn[0] + (p[1] - c0[1]) * pn[1] + (p[2] - c0[2]) * pn[2];
+            if (tool == ST_BRUSH_CLAY_STRIPS && !(sgn * hgt < 0)) break;
+            for (int k = 0; k < 3; k++) dv[k] = -w * hgt * pn[k];
+            break;
+        }
+        case ST_BRUSH_CREASE:
+        case ST_BRUSH_PINCH: {
+            double to[3] = { c[0] - p[0], c[1] - p[1], c[2] - p[2] };
+            double along_n = dot3(to, n);
+            double f = tool == ST_BRUSH_PINCH ? sgn * 0.5 * w : 0.5 * w;
+            for (int k = 0; k < 3; k++) dv[k] = f * (to[k] - along_n * n[k]);
+            if (tool == ST_BRUSH_CREASE)
+                for (int k = 0; k < 3; k++) dv[k] -= sgn * w * R * 0.1 * n[k];
+            break;
+        }
+        case ST_BRUSH_LAYER: ed_brush_acc_layer(bs, v, w * R * 0.1, vn); continue;
+        default: continue;
+        }
+        ed_brush_acc(bs, v, dv);
+    }
+}
