@@ -6,9 +6,9 @@
 # them (regression/common/far_utils.h): crease integers are vertex pairs,
 # several pairs per tag with one sharpness or one per pair, several corners
 # per tag, interpolateboundary from the file, creasemethod normal and
-# smoothtriangles catmark; the tags Strata does not model (hole,
-# creasemethod chaikin, smoothtriangles smooth) and odd crease counts are
-# refused with file:line.
+# smoothtriangles catmark; creasemethod chaikin (Chaikin's sharpness rule)
+# on closed and open meshes; the tags Strata does not model (hole,
+# smoothtriangles smooth) and odd crease counts are refused with file:line.
 #
 #   cli_oracle_catmark.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 set -u
@@ -86,6 +86,29 @@ OBJ
 # creased in one tag.
 { cat "$TMP/fan16.obj"; echo "t interpolateboundary 1/0/0 1"; echo "t crease 4/2/0 0 1 0 9 1.5 0.5"; } >"$TMP/fan16_ec.obj"
 
+# face_loops_tags IN.obj OUT.obj METHOD: the mesh with the edges of its
+# first face and of face nf/2 creased in one tag of pairs, one sharpness
+# per pair (varying along each loop, so that Chaikin's averaging matters),
+# and `t creasemethod METHOD`.
+face_loops_tags() {
+    awk -v method="$3" '
+    { print }
+    /^f / {
+        nf++; n[nf] = NF - 1
+        for (i = 2; i <= NF; i++) { split($i, c, "/"); f[nf, i - 1] = c[1] - 1 }
+    }
+    END {
+        k[1] = 1; k[2] = int(nf / 2); np = 0; ints = ""; floats = ""
+        for (j = 1; j <= 2; j++)
+            for (i = 1; i <= n[k[j]]; i++) {
+                ints = ints " " f[k[j], i] " " f[k[j], i % n[k[j]] + 1]
+                floats = floats " " (0.4 + 0.7 * ((np * 3) % 5)); np++
+            }
+        printf "t crease %d/%d/0%s%s\n", 2 * np, np, ints, floats
+        printf "t creasemethod 0/0/1 %s\n", method
+    }' "$1" >"$2"
+}
+
 C=$MESHES/catmull_clark
 run_case "$C/blub_control_mesh.obj" 4 edge-only
 run_case "$C/dodecahedron_poly.obj" 3 edge-only
@@ -101,6 +124,27 @@ run_case "$TMP/fan16.obj" 3 edge-only
 run_case "$TMP/fan16_ec.obj" 3 tag
 run_case "$ASSETS/open.obj" 3 edge-and-corner
 run_case "$ASSETS/ngon.obj" 3 edge-only
+
+# Chaikin creasing (Sdc::Options::CREASE_CHAIKIN): the same tags with
+# `t creasemethod 0/0/1 chaikin`, closed and open meshes, both boundary
+# conventions, multi-pair tags; tag_matters below shows that the method
+# changes OpenSubdiv's surface on these tags.
+for m in creased_cube pairs_cube fan16_ec; do
+    { cat "$TMP/$m.obj"; echo "t creasemethod 0/0/1 chaikin"; } >"$TMP/${m}_chaikin.obj"
+done
+run_case "$TMP/creased_cube_chaikin.obj" 3 edge-only
+run_case "$TMP/pairs_cube_chaikin.obj" 3 edge-only
+run_case "$TMP/fan16_ec_chaikin.obj" 3 tag
+for m in "$C/blub_control_mesh.obj" "$ASSETS/open.obj" "$ASSETS/ngon.obj"; do
+    have_mesh "$m" || continue
+    face_loops_tags "$m" "$TMP/$(basename "$m" .obj)_loops_chaikin.obj" chaikin
+    face_loops_tags "$m" "$TMP/$(basename "$m" .obj)_loops_normal.obj" normal
+done
+run_case "$TMP/blub_control_mesh_loops_chaikin.obj" 3 edge-only
+run_case "$TMP/blub_control_mesh_loops_normal.obj" 3 edge-only
+run_case "$TMP/open_loops_chaikin.obj" 3 edge-and-corner
+run_case "$TMP/open_loops_chaikin.obj" 3 edge-only
+run_case "$TMP/ngon_loops_chaikin.obj" 3 edge-only
 
 # The pair convention changes the surface: one tag of pairs differs from the
 # chain it would be, so a reader of chains would fail the case above.
@@ -130,6 +174,7 @@ tag_matters() { # LABEL MESH TAG
     fi
 }
 tag_matters "chaikin creasing" "$TMP/pairs_cube.obj" "t creasemethod 0/0/1 chaikin"
+tag_matters "chaikin creasing" "$TMP/blub_control_mesh_loops_normal.obj" "t creasemethod 0/0/1 chaikin"
 tag_matters "smooth triangles" "$TMP/fan16.obj" "t smoothtriangles 0/0/1 smooth"
 tag_matters "hole" "$TMP/pairs_cube.obj" "t hole 1/0/0 2"
 tag_matters "interpolateboundary none" "$ASSETS/open.obj" "t interpolateboundary 1/0/0 0"
@@ -147,6 +192,6 @@ fi
 run_case "$TMP/open_none.obj" 2 edge-and-corner "open_none (--boundary overrides the tag)"
 refused odd_crease "t crease 3/1/0 0 1 3 2.5" "crease tag has 3 integers: they are vertex pairs"
 refused hole "t hole 1/0/0 2" "hole tags are not supported"
-refused chaikin "t creasemethod 0/0/1 chaikin" "creasemethod chaikin is not supported"
+refused bad_method "t creasemethod 0/0/1 sharp" "creasemethod 'sharp' is not 'normal' or 'chaikin'"
 refused smooth_tri "t smoothtriangles 0/0/1 smooth" "smoothtriangles smooth is not supported"
 oracle_done

@@ -348,8 +348,6 @@ static void test_tags(void)
     /* What Strata does not model is refused, not ignored. */
     snprintf(t, sizeof t, "%sf 1 2 3\nt hole 1/0/0 0\n", tri3);
     refused("bad_tag_hole.obj", t, ":5:", "hole tags are not supported");
-    snprintf(t, sizeof t, "%sf 1 2 3\nt creasemethod 0/0/1 chaikin\n", tri3);
-    refused("bad_tag_chaikin.obj", t, ":5:", "creasemethod chaikin is not supported");
     snprintf(t, sizeof t, "%sf 1 2 3\nt smoothtriangles 0/0/1 smooth\n", tri3);
     refused("bad_tag_smoothtri.obj", t, ":5:", "smoothtriangles smooth is not supported");
     snprintf(t, sizeof t, "%sf 1 2 3\nt creasemethod 0/0/1 sharp\n", tri3);

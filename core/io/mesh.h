@@ -39,6 +39,7 @@ typedef struct st_mesh {
     uint32_t *corner_v;     /* ncorners vertex indices */
     float *corner_s;        /* ncorners sharpness values */
     int boundary_interp;    /* enum st_boundary_interp */
+    int crease_method;      /* `t creasemethod`: 0 uniform ("normal"), 1 chaikin (enum st_crease_method) */
 } st_mesh;
 
 void st_mesh_init(st_mesh *m);

@@ -21,10 +21,11 @@
  *                                      one per pair; an odd count is refused
  *   t corner 1/1/0 v s                one sharpness for all or one per vertex
  *   t interpolateboundary 1/0/0 b     0 none, 1 edge-and-corner, 2 edge-only
- *   t creasemethod 0/0/1 normal       OpenSubdiv's uniform creasing, Strata's
+ *   t creasemethod 0/0/1 normal       uniform sharpness decay (the default),
+ *                       ... chaikin      or Chaikin's rule (Sdc::Options::CREASE_CHAIKIN)
  *   t smoothtriangles 0/0/1 catmark   Catmull-Clark's own rule on triangles
- * `creasemethod chaikin`, `smoothtriangles smooth` and `hole` change the
- * surface in ways Strata does not model: they are refused with a message.
+ * `smoothtriangles smooth` and `hole` change the surface in ways Strata does
+ * not model: they are refused with a message.
  * Other tags are read (their counts must hold) and ignored.
  */
 #include "core/io/mesh_internal.h"
@@ -361,20 +362,26 @@ static int apply_tag_floats(obj_reader *r, const tag_head *h)
     return 0;
 }
 
-/* The string of `creasemethod` or `smoothtriangles`: OpenSubdiv's default
- * (uniform creasing, named "normal"; Catmull-Clark's own triangle rule) is
- * what Strata's schemes do; the alternatives are refused, not ignored. */
+/* The string of `creasemethod` or `smoothtriangles`: OpenSubdiv's defaults
+ * (uniform creasing, named "normal"; Catmull-Clark's own triangle rule) and
+ * Chaikin creasing are what Strata's schemes do; the smooth triangle rule is
+ * refused, not ignored. */
 static int check_tag_string(obj_reader *r, const tag_head *h, const char *tok, size_t len)
 {
     char q[48];
     int creasing = h->kind == TAG_CREASEMETHOD;
     const char *ours = creasing ? "normal" : "catmark", *other = creasing ? "chaikin" : "smooth";
-    if (token_is(tok, len, ours)) return 0;
+    if (token_is(tok, len, ours)) {
+        if (creasing) r->m.crease_method = 0;
+        return 0;
+    }
+    if (creasing && token_is(tok, len, other)) {
+        r->m.crease_method = 1;
+        return 0;
+    }
     if (token_is(tok, len, other))
-        return FAIL(r, ST_ERR_PARSE, creasing ? "creasemethod chaikin is not supported (Strata decays sharpness "
-                                                "by the uniform rule, OpenSubdiv's 'normal')"
-                                              : "smoothtriangles smooth is not supported (Strata's Catmull-Clark "
-                                                "uses its own rule on triangles, OpenSubdiv's 'catmark')");
+        return FAIL(r, ST_ERR_PARSE, "smoothtriangles smooth is not supported (Strata's Catmull-Clark "
+                                     "uses its own rule on triangles, OpenSubdiv's 'catmark')");
     return FAIL(r, ST_ERR_PARSE, "%s '%s' is not '%s' or '%s'", creasing ? "creasemethod" : "smoothtriangles",
                 st_text_quote(q, sizeof q, tok, len), ours, other);
 }

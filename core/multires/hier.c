@@ -7,6 +7,7 @@
 #include "core/multires/hier_internal.h"
 #include "core/map/map_mesh.h"
 #include "core/map/pool_internal.h"
+#include "core/schemes/crease_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -62,7 +63,8 @@ int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const
     st_mla_init(&h->vertex_sharp, sizeof(float));
     h->scheme = scheme;
     h->opts.boundary = mesh->boundary_interp == ST_BOUNDARY_EDGE_AND_CORNER ? ST_BOUNDARY_EDGE_AND_CORNER : ST_BOUNDARY_EDGE_ONLY;
-    h->opts.crease_method = ST_CREASE_UNIFORM;
+    h->opts.crease_method = mesh->crease_method == ST_CREASE_CHAIKIN ? ST_CREASE_CHAIKIN : ST_CREASE_UNIFORM;
+    if (opts && opts->crease_method == ST_CREASE_CHAIKIN) h->opts.crease_method = ST_CREASE_CHAIKIN;
     if (opts && opts->boundary != ST_BOUNDARY_UNSET) h->opts.boundary = opts->boundary;
     int rc = st_map_from_mesh(&h->map, mesh, err);
     if (!rc && scheme->check) rc = scheme->check(h, err);
@@ -144,7 +146,7 @@ static float child_sharpness(float s)
 
 /* A coarse edge (d, e) of level L-1 splits into (d, β0(d,L)) and
  * (e, β0(e,L)) at level L (st_split_edge). */
-typedef struct sharp_edge { uint32_t d, e; float s; } sharp_edge;
+typedef struct sharp_edge { uint32_t d, e; float cd, ce; } sharp_edge;
 
 static sharp_edge *collect_sharp_edges(st_hier *h, unsigned l, uint32_t *n)
 {
@@ -160,7 +162,7 @@ static sharp_edge *collect_sharp_edges(st_hier *h, unsigned l, uint32_t *n)
         float s = st_hier_edge_sharpness(h, d, l);
         if (d > e || s <= 0) continue;
         if (*n == cap) { cap *= 2; out = realloc(out, cap * sizeof *out); if (!out) abort(); }
-        out[(*n)++] = (sharp_edge){ d, e, s };
+        out[(*n)++] = (sharp_edge){ d, e, st_crease_child_edge_sharpness(h, d, l), st_crease_child_edge_sharpness(h, e, l) };
     }
     return out;
 }
@@ -170,9 +172,8 @@ static void propagate_sharpness(st_hier *h, unsigned L, const sharp_edge *edges,
     if (!h->has_sharpness) return;
     st_map *m = &h->map;
     for (uint32_t i = 0; i < n; i++) {
-        float c = child_sharpness(edges[i].s);
-        st_hier_set_edge_sharpness(h, edges[i].d, L, c);
-        st_hier_set_edge_sharpness(h, edges[i].e, L, c);
+        st_hier_set_edge_sharpness(h, edges[i].d, L, edges[i].cd);
+        st_hier_set_edge_sharpness(h, edges[i].e, L, edges[i].ce);
     }
     st_dart_iter it;
     for (uint32_t v = st_vertex_first(m, L - 1, &it); v != ST_NIL; v = st_vertex_next(m, L - 1, &it)) {
