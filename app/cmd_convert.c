@@ -147,10 +147,6 @@ static int load_mesh(const conv_opts *o, st_session *s)
     }
     for (uint32_t i = 0; i < notes.count; i++) fprintf(stderr, "strata: %s\n", notes.lines[i]);
     st_notes_free(&notes);
-    if (st_cli_check_boundary(o->in, o->boundary, &mesh)) {
-        st_mesh_free(&mesh);
-        return 1;
-    }
     st_hier_opts ho = { .boundary = o->boundary, .crease_method = ST_CREASE_UNIFORM };
     st_session_init(s);
     if (st_hier_init(&s->h, &mesh, sc, &ho, &err)) {

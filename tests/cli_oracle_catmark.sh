@@ -7,8 +7,10 @@
 # several pairs per tag with one sharpness or one per pair, several corners
 # per tag, interpolateboundary from the file, creasemethod normal and
 # smoothtriangles catmark; creasemethod chaikin (Chaikin's sharpness rule)
-# on closed and open meshes; the tags Strata does not model (hole,
-# smoothtriangles smooth) and odd crease counts are refused with file:line.
+# on closed and open meshes; hole faces and interpolateboundary 0 (the
+# boundary faces become holes), compared with OpenSubdiv's faces without
+# its holes; the tag Strata does not model (smoothtriangles smooth) and odd
+# crease counts are refused with file:line.
 #
 #   cli_oracle_catmark.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 set -u
@@ -178,20 +180,45 @@ tag_matters "chaikin creasing" "$TMP/blub_control_mesh_loops_normal.obj" "t crea
 tag_matters "smooth triangles" "$TMP/fan16.obj" "t smoothtriangles 0/0/1 smooth"
 tag_matters "hole" "$TMP/pairs_cube.obj" "t hole 1/0/0 2"
 tag_matters "interpolateboundary none" "$ASSETS/open.obj" "t interpolateboundary 1/0/0 0"
-# interpolateboundary none: OpenSubdiv gives the faces along the boundary no
-# surface; Strata refuses the tag unless --boundary overrides it.
-{ cat "$ASSETS/open.obj"; echo "t interpolateboundary 1/0/0 0"; } >"$TMP/open_none.obj"
-cases=$((cases + 1))
-if out=$("$EXE" subdivide "$TMP/open_none.obj" --scheme catmull-clark --levels 1 -o "$TMP/none.obj" 2>&1); then
-    fail_case "interpolateboundary 0 accepted"
-elif [[ $out == *"open_none.obj: interpolateboundary 0 (none) is not supported"* ]]; then
-    echo "ok    interpolateboundary none refused: $out"
-else
-    fail_case "interpolateboundary 0 message: $out"
+
+# Holes (t hole: faces in the rules with no surface; OpenSubdiv's
+# TopologyDescriptor::holeIndices): both sides write every level without
+# its hole faces.  Closed and open meshes, with creases, several tags.
+with_holes() { # IN OUT TAG-LINES...
+    local in=$1 out=$2
+    shift 2
+    { cat "$in"; printf '%s\n' "$@"; } >"$out"
+}
+with_holes "$TMP/pairs_cube.obj" "$TMP/pairs_cube_holes.obj" "t hole 1/0/0 2" "t hole 1/0/0 5"
+with_holes "$TMP/creased_cube_chaikin.obj" "$TMP/creased_cube_hole.obj" "t hole 1/0/0 1"
+with_holes "$TMP/fan16_ec.obj" "$TMP/fan16_holes.obj" "t hole 3/0/0 0 7 8"
+run_case "$TMP/pairs_cube_holes.obj" 3 edge-only
+run_case "$TMP/creased_cube_hole.obj" 3 edge-only
+run_case "$TMP/fan16_holes.obj" 3 tag
+if have_mesh "$C/blub_control_mesh.obj"; then
+    nf=$(grep -c '^f ' "$C/blub_control_mesh.obj")
+    with_holes "$TMP/blub_control_mesh_loops_normal.obj" "$TMP/blub_holes.obj" \
+        "t hole 4/0/0 0 1 $((nf / 2)) $((nf - 1))"
+    run_case "$TMP/blub_holes.obj" 3 edge-only
 fi
+# interpolateboundary 0 (Sdc VTX_BOUNDARY_NONE): every face at a vertex with
+# a boundary edge that is not infinitely sharp becomes a hole; a boundary
+# creased to 10 keeps its faces.  --boundary overrides the tag.
+{ cat "$ASSETS/open.obj"; echo "t interpolateboundary 1/0/0 0"; } >"$TMP/open_none.obj"
+{ cat "$TMP/fan16.obj"; echo "t interpolateboundary 1/0/0 0"; echo "t crease 2/1/0 0 1 1.5"; } >"$TMP/fan16_none.obj"
+{ cat "$TMP/fan16.obj"; echo "t interpolateboundary 1/0/0 0"
+  echo "t crease 6/1/0 1 2 2 3 3 4 10"; } >"$TMP/fan16_none_sharp.obj"
+run_case "$TMP/open_none.obj" 3 tag
+run_case "$TMP/fan16_none.obj" 3 tag
+run_case "$TMP/fan16_none_sharp.obj" 3 tag
 run_case "$TMP/open_none.obj" 2 edge-and-corner "open_none (--boundary overrides the tag)"
+if have_mesh "$C/blub_control_mesh.obj"; then
+    # blub is closed and hole faces are no boundary: `none` adds no holes.
+    with_holes "$C/blub_control_mesh.obj" "$TMP/blub_none.obj" "t hole 2/0/0 3 40" "t interpolateboundary 1/0/0 0"
+    run_case "$TMP/blub_none.obj" 3 tag
+fi
 refused odd_crease "t crease 3/1/0 0 1 3 2.5" "crease tag has 3 integers: they are vertex pairs"
-refused hole "t hole 1/0/0 2" "hole tags are not supported"
+refused hole_range "t hole 1/0/0 6" "hole tag references face 6 but the file has 6 faces"
 refused bad_method "t creasemethod 0/0/1 sharp" "creasemethod 'sharp' is not 'normal' or 'chaikin'"
 refused smooth_tri "t smoothtriangles 0/0/1 smooth" "smoothtriangles smooth is not supported"
 oracle_done

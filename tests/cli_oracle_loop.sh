@@ -116,5 +116,29 @@ if [ -f "$T/hemisphere.obj" ]; then
     one_pair_tag "$TMP/hemisphere_chaikin.obj" "$TMP/hemisphere_pairs_chaikin.obj"
     run_case "$TMP/hemisphere_pairs_chaikin.obj" 3 edge-only 0
 fi
+# Hole faces (t hole) and interpolateboundary 0 (the faces at the boundary
+# become holes): OpenSubdiv's levels without its hole faces.  run_case
+# passes --boundary to both sides, so `none` is compared through tag_case.
+tag_case() { # MESH LEVELS: the file's own tags on both sides
+    local mesh=$1 levels=$2
+    strata_levels loop "$mesh" "$levels" "" "$TMP/s" || return
+    oracle_levels "$OSD" "$mesh" "$levels" "$TMP/osd" --scheme loop || return
+    compare_levels "$(basename "$mesh") tags vs OpenSubdiv" "$levels" "$TMP/s" "$TMP/osd"
+}
+if [ -f "$T/sphere_ico.obj" ]; then
+    { cat "$TMP/sphere_chaikin.obj"; echo "t hole 3/0/0 0 1 7"; echo "t hole 1/0/0 30"; } >"$TMP/sphere_holes.obj"
+    run_case "$TMP/sphere_holes.obj" 3 edge-only 0
+fi
+if [ -f "$T/hemisphere.obj" ]; then
+    { cat "$TMP/hemisphere_creased.obj"; echo "t hole 2/0/0 5 9"; } >"$TMP/hemisphere_holes.obj"
+    run_case "$TMP/hemisphere_holes.obj" 3 edge-only 0
+    run_case "$TMP/hemisphere_holes.obj" 2 edge-and-corner 0
+    { cat "$TMP/hemisphere_creased.obj"; echo "t interpolateboundary 1/0/0 0"; } >"$TMP/hemisphere_none.obj"
+    tag_case "$TMP/hemisphere_none.obj" 3
+fi
+if [ -f "$T/cube_no_bottom.obj" ]; then
+    { cat "$T/cube_no_bottom.obj"; echo "t interpolateboundary 1/0/0 0"; } >"$TMP/cube_no_bottom_none.obj"
+    tag_case "$TMP/cube_no_bottom_none.obj" 3
+fi
 
 oracle_done

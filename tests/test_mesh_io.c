@@ -189,6 +189,18 @@ static void test_obj_creasemethod(void)
     st_mesh_free(&m);
 }
 
+/* `t hole` names faces (0-based, a face may come after the tag); several
+ * tags add up. */
+static void test_obj_holes(void)
+{
+    static const char text[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+                               "t hole 1/0/0 1\nf 1 2 3 4\nf 2 5 6 3\nf 4 3 6\nt hole 2/0/0 2 1\n";
+    st_mesh m;
+    if (load_text("io_holes.obj", text, &m, NULL)) return;
+    CHECK(m.nfaces == 3 && m.face_hole && !m.face_hole[0] && m.face_hole[1] && m.face_hole[2]);
+    st_mesh_free(&m);
+}
+
 static void test_obj_big_faces(void)
 {
     char *text = malloc(20000);
@@ -621,6 +633,7 @@ int main(void)
     test_obj_relative();
     test_obj_tag_pairs();
     test_obj_creasemethod();
+    test_obj_holes();
     test_obj_big_faces();
     test_off_variants();
     test_ply_types();

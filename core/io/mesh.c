@@ -34,6 +34,7 @@ void st_mesh_free(st_mesh *m)
     free(m->crease_s);
     free(m->corner_v);
     free(m->corner_s);
+    free(m->face_hole);
     st_mesh_init(m);
 }
 

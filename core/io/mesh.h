@@ -40,6 +40,10 @@ typedef struct st_mesh {
     float *corner_s;        /* ncorners sharpness values */
     int boundary_interp;    /* enum st_boundary_interp */
     int crease_method;      /* `t creasemethod`: 0 uniform ("normal"), 1 chaikin (enum st_crease_method) */
+    /* Hole faces (OBJ `t hole`): nfaces flags, 1 for a hole, or NULL when
+     * none.  A hole is a face for the rules of its vertices, with no surface:
+     * the writers leave it out. */
+    uint8_t *face_hole;
 } st_mesh;
 
 void st_mesh_init(st_mesh *m);

@@ -24,8 +24,10 @@
  *   t creasemethod 0/0/1 normal       uniform sharpness decay (the default),
  *                       ... chaikin      or Chaikin's rule (Sdc::Options::CREASE_CHAIKIN)
  *   t smoothtriangles 0/0/1 catmark   Catmull-Clark's own rule on triangles
- * `smoothtriangles smooth` and `hole` change the surface in ways Strata does
- * not model: they are refused with a message.
+ *   t hole 2/0/0 f g                  faces (0-based, in file order) that are
+ *                                      holes: in the rules, with no surface
+ * `smoothtriangles smooth` changes the surface in a way Strata does not
+ * model: it is refused with a message.
  * Other tags are read (their counts must hold) and ignored.
  */
 #include "core/io/mesh_internal.h"
@@ -258,12 +260,8 @@ static int check_tag_shape(obj_reader *r, const tag_head *h)
     if ((h->kind == TAG_CREASEMETHOD || h->kind == TAG_SMOOTHTRI) && h->nstring != 1)
         return FAIL(r, ST_ERR_PARSE, "bad tag: %s needs exactly one string",
                     h->kind == TAG_CREASEMETHOD ? "creasemethod" : "smoothtriangles");
-    /* OpenSubdiv keeps a hole face in the subdivision rules of its vertices
-     * and draws none of its surface, at every level; Strata's levels carry
-     * no such face flag, so a hole is refused rather than filled. */
-    if (h->kind == TAG_HOLE && h->nint > 0)
-        return FAIL(r, ST_ERR_PARSE, "hole tags are not supported (OpenSubdiv keeps a hole face in the "
-                    "rules of its vertices but draws no surface for it; Strata cannot leave it out)");
+    if (h->kind == TAG_HOLE && (h->nint < 1 || h->nfloat != 0))
+        return FAIL(r, ST_ERR_PARSE, "bad tag: hole needs 1+ face indices and no floats");
     return 0;
 }
 
@@ -286,6 +284,10 @@ static int read_tag_ints(obj_reader *r, const tag_head *h)
         if (h->kind == TAG_INTERP) {
             if (v < 0 || v > 2)
                 return FAIL(r, ST_ERR_RANGE, "interpolateboundary %lld is not 0, 1 or 2", (long long)v);
+        } else if (h->kind == TAG_HOLE) {
+            if (v < 0 || v >= (int64_t)r->nf_total)
+                return FAIL(r, ST_ERR_RANGE, "hole tag references face %lld but the file has %u faces "
+                            "(tag indices start at 0)", (long long)v, r->nf_total);
         } else if (v < 0 || v >= (int64_t)r->nv_total) {
             return FAIL(r, ST_ERR_RANGE, "tag references vertex %lld but the file has %u vertices "
                         "(tag indices start at 0)", (long long)v, r->nv_total);
@@ -399,6 +401,13 @@ static int parse_tag(obj_reader *r)
     if (!rc) rc = read_tag_ints(r, &h);
     if (rc) return rc;
     if (h.kind == TAG_INTERP) r->m.boundary_interp = (int)r->tmp[0];
+    if (h.kind == TAG_HOLE) {
+        /* Flags for the faces of the whole file (a tag may name a face
+         * defined further down). */
+        if (!r->m.face_hole) r->m.face_hole = calloc(r->nf_total ? r->nf_total : 1, 1);
+        if (!r->m.face_hole) return FAIL(r, ST_ERR_MEMORY, "out of memory for hole tags");
+        for (int64_t j = 0; j < h.nint; j++) r->m.face_hole[r->tmp[j]] = 1;
+    }
     if (h.kind == TAG_CREASE || h.kind == TAG_CORNER) {
         rc = apply_tag_floats(r, &h);
         if (rc) return rc;
