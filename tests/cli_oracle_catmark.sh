@@ -9,8 +9,9 @@
 # smoothtriangles catmark; creasemethod chaikin (Chaikin's sharpness rule)
 # on closed and open meshes; hole faces and interpolateboundary 0 (the
 # boundary faces become holes), compared with OpenSubdiv's faces without
-# its holes; the tag Strata does not model (smoothtriangles smooth) and odd
-# crease counts are refused with file:line.
+# its holes; smoothtriangles smooth (TRI_SUB_SMOOTH) on mixed and
+# triangle meshes; odd crease counts, unknown tag values and faces out of
+# range are refused with file:line.
 #
 #   cli_oracle_catmark.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 set -u
@@ -220,5 +221,25 @@ fi
 refused odd_crease "t crease 3/1/0 0 1 3 2.5" "crease tag has 3 integers: they are vertex pairs"
 refused hole_range "t hole 1/0/0 6" "hole tag references face 6 but the file has 6 faces"
 refused bad_method "t creasemethod 0/0/1 sharp" "creasemethod 'sharp' is not 'normal' or 'chaikin'"
-refused smooth_tri "t smoothtriangles 0/0/1 smooth" "smoothtriangles smooth is not supported"
+refused bad_tri "t smoothtriangles 0/0/1 loop" "smoothtriangles 'loop' is not 'catmark' or 'smooth'"
+
+# Smooth triangles (Sdc::Options::TRI_SUB_SMOOTH): edge points next to a
+# triangle weigh its face point 0.47.  A large mixed mesh (its triangles
+# changed by the option: tag_matters), with creases, a triangle fan with
+# both boundary rules, and a closed all-triangle mesh.
+if have_mesh "$C/mixed_faring.off"; then
+    "$EXE" subdivide "$C/mixed_faring.off" --scheme catmull-clark --levels 0 -o "$TMP/mixed.obj" 2>/dev/null
+    { cat "$TMP/mixed.obj"; echo "t smoothtriangles 0/0/1 smooth"; } >"$TMP/mixed_smooth.obj"
+    face_loops_tags "$TMP/mixed_smooth.obj" "$TMP/mixed_smooth_creased.obj" chaikin
+    run_case "$TMP/mixed_smooth.obj" 3 edge-only
+    run_case "$TMP/mixed_smooth_creased.obj" 2 edge-only
+    tag_matters "smooth triangles" "$TMP/mixed.obj" "t smoothtriangles 0/0/1 smooth"
+fi
+{ cat "$TMP/fan16.obj"; echo "t smoothtriangles 0/0/1 smooth"; } >"$TMP/fan16_smooth.obj"
+run_case "$TMP/fan16_smooth.obj" 3 edge-only
+run_case "$TMP/fan16_smooth.obj" 3 edge-and-corner
+{ printf 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n'
+  printf 'f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n'
+  echo "t smoothtriangles 0/0/1 smooth"; echo "t crease 4/2/0 0 2 2 1 2.5 0.5"; } >"$TMP/octa_smooth.obj"
+run_case "$TMP/octa_smooth.obj" 3 edge-only
 oracle_done

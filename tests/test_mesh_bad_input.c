@@ -355,8 +355,8 @@ static void test_tags(void)
     snprintf(t, sizeof t, "%sf 1 2 3\nt hole 1/1/0 0 0.5\n", tri3);
     refused("bad_tag_hole_float.obj", t, ":5:", "hole needs 1+ face indices and no floats");
     /* What Strata does not model is refused, not ignored. */
-    snprintf(t, sizeof t, "%sf 1 2 3\nt smoothtriangles 0/0/1 smooth\n", tri3);
-    refused("bad_tag_smoothtri.obj", t, ":5:", "smoothtriangles smooth is not supported");
+    snprintf(t, sizeof t, "%sf 1 2 3\nt smoothtriangles 0/0/1 loop\n", tri3);
+    refused("bad_tag_smoothtri.obj", t, ":5:", "smoothtriangles 'loop' is not 'catmark' or 'smooth'");
     snprintf(t, sizeof t, "%sf 1 2 3\nt creasemethod 0/0/1 sharp\n", tri3);
     refused("bad_tag_method.obj", t, ":5:", "creasemethod 'sharp' is not 'normal' or 'chaikin'");
     snprintf(t, sizeof t, "%sf 1 2 3\nt creasemethod 1/0/0 1\n", tri3);

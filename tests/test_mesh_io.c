@@ -183,9 +183,10 @@ static void test_obj_creasemethod(void)
     st_mesh_free(&back);
     st_mesh_free(&m);
     static const char text2[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"
-                                "t creasemethod 0/0/1 chaikin\nt creasemethod 0/0/1 normal\n";
+                                "t creasemethod 0/0/1 chaikin\nt creasemethod 0/0/1 normal\n"
+                                "t smoothtriangles 0/0/1 smooth\n";
     if (load_text("io_normal.obj", text2, &m, NULL)) return;
-    CHECK(m.crease_method == 0);
+    CHECK(m.crease_method == 0 && m.tri_sub == 1);
     st_mesh_free(&m);
 }
 

@@ -40,6 +40,7 @@ typedef struct st_mesh {
     float *corner_s;        /* ncorners sharpness values */
     int boundary_interp;    /* enum st_boundary_interp */
     int crease_method;      /* `t creasemethod`: 0 uniform ("normal"), 1 chaikin (enum st_crease_method) */
+    int tri_sub;            /* `t smoothtriangles`: 0 catmark, 1 smooth (enum st_tri_sub) */
     /* Hole faces (OBJ `t hole`): nfaces flags, 1 for a hole, or NULL when
      * none.  A hole is a face for the rules of its vertices, with no surface:
      * the writers leave it out. */

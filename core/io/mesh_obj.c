@@ -23,11 +23,10 @@
  *   t interpolateboundary 1/0/0 b     0 none, 1 edge-and-corner, 2 edge-only
  *   t creasemethod 0/0/1 normal       uniform sharpness decay (the default),
  *                       ... chaikin      or Chaikin's rule (Sdc::Options::CREASE_CHAIKIN)
- *   t smoothtriangles 0/0/1 catmark   Catmull-Clark's own rule on triangles
+ *   t smoothtriangles 0/0/1 catmark   Catmull-Clark's own rule on triangles,
+ *                          ... smooth    or TRI_SUB_SMOOTH's edge weights
  *   t hole 2/0/0 f g                  faces (0-based, in file order) that are
  *                                      holes: in the rules, with no surface
- * `smoothtriangles smooth` changes the surface in a way Strata does not
- * model: it is refused with a message.
  * Other tags are read (their counts must hold) and ignored.
  */
 #include "core/io/mesh_internal.h"
@@ -364,26 +363,22 @@ static int apply_tag_floats(obj_reader *r, const tag_head *h)
     return 0;
 }
 
-/* The string of `creasemethod` or `smoothtriangles`: OpenSubdiv's defaults
- * (uniform creasing, named "normal"; Catmull-Clark's own triangle rule) and
- * Chaikin creasing are what Strata's schemes do; the smooth triangle rule is
- * refused, not ignored. */
+/* The string of `creasemethod` (normal or chaikin) or `smoothtriangles`
+ * (catmark or smooth); the last tag of a kind wins. */
 static int check_tag_string(obj_reader *r, const tag_head *h, const char *tok, size_t len)
 {
     char q[48];
     int creasing = h->kind == TAG_CREASEMETHOD;
     const char *ours = creasing ? "normal" : "catmark", *other = creasing ? "chaikin" : "smooth";
+    int *field = creasing ? &r->m.crease_method : &r->m.tri_sub;
     if (token_is(tok, len, ours)) {
-        if (creasing) r->m.crease_method = 0;
+        *field = 0;
         return 0;
     }
-    if (creasing && token_is(tok, len, other)) {
-        r->m.crease_method = 1;
+    if (token_is(tok, len, other)) {
+        *field = 1;
         return 0;
     }
-    if (token_is(tok, len, other))
-        return FAIL(r, ST_ERR_PARSE, "smoothtriangles smooth is not supported (Strata's Catmull-Clark "
-                                     "uses its own rule on triangles, OpenSubdiv's 'catmark')");
     return FAIL(r, ST_ERR_PARSE, "%s '%s' is not '%s' or '%s'", creasing ? "creasemethod" : "smoothtriangles",
                 st_text_quote(q, sizeof q, tok, len), ours, other);
 }

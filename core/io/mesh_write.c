@@ -132,6 +132,7 @@ static void obj_body(FILE *f, const st_mesh *m)
     if (m->boundary_interp >= ST_BOUNDARY_NONE && m->boundary_interp <= ST_BOUNDARY_EDGE_ONLY)
         fprintf(f, "t interpolateboundary 1/0/0 %d\n", m->boundary_interp);
     if (m->crease_method == 1) fputs("t creasemethod 0/0/1 chaikin\n", f);
+    if (m->tri_sub == 1) fputs("t smoothtriangles 0/0/1 smooth\n", f);
 }
 
 int st_mesh_save_obj(const char *path, const st_mesh *m, st_error *err)

@@ -115,6 +115,12 @@ int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const
     h->opts.boundary = mesh->boundary_interp == ST_BOUNDARY_EDGE_AND_CORNER ? ST_BOUNDARY_EDGE_AND_CORNER : ST_BOUNDARY_EDGE_ONLY;
     h->opts.crease_method = mesh->crease_method == ST_CREASE_CHAIKIN ? ST_CREASE_CHAIKIN : ST_CREASE_UNIFORM;
     if (opts && opts->crease_method == ST_CREASE_CHAIKIN) h->opts.crease_method = ST_CREASE_CHAIKIN;
+    /* A Catmull-Clark option: other schemes ignore the tag, as OpenSubdiv's
+     * regression harness does. */
+    h->opts.tri_sub = ST_TRI_SUB_CATMARK;
+    if ((mesh->tri_sub == ST_TRI_SUB_SMOOTH || (opts && opts->tri_sub == ST_TRI_SUB_SMOOTH)) &&
+        !strcmp(scheme->name, "catmull-clark"))
+        h->opts.tri_sub = ST_TRI_SUB_SMOOTH;
     if (opts && opts->boundary != ST_BOUNDARY_UNSET) h->opts.boundary = opts->boundary;
     int none = mesh->boundary_interp == ST_BOUNDARY_NONE && (!opts || opts->boundary == ST_BOUNDARY_UNSET);
     int rc = ST_OK;
