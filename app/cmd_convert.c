@@ -263,7 +263,7 @@ int st_cmd_convert(int argc, char **argv)
         rc = 1;
     }
     if (!rc)
-        printf("%s: %u faces, %u vertices, %s %u%s\n", o.out, out.nfaces, out.nverts, adaptive ? "adaptive, levels 0.." : "level", l,
+        printf("%s: %u faces, %u vertices, %s %u%s\n", o.out, out.nfaces - st_mesh_hole_faces(&out), out.nverts, adaptive ? "adaptive, levels 0.." : "level", l,
                o.normals || st_path_has_ext(o.out, ".gltf") || st_path_has_ext(o.out, ".glb") ? ", with normals" : "");
     st_mesh_free(&out);
     st_session_free(&s);

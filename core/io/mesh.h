@@ -48,6 +48,8 @@ typedef struct st_mesh {
 } st_mesh;
 
 void st_mesh_init(st_mesh *m);
+/* Hole faces in m (face_hole set): the writers leave them out. */
+uint32_t st_mesh_hole_faces(const st_mesh *m);
 void st_mesh_free(st_mesh *m);
 /* Moves src into dst (dst freed first); src is left empty. */
 void st_mesh_move(st_mesh *dst, st_mesh *src);
