@@ -605,6 +605,7 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
                                        " of " + std::to_string(m->nverts));
         ntri += b - a - 2;
     }
+    if (ntri == 0) fail(ST_ERR_INVALID, "every face is a hole: no surface to write");
     if (ntri > (size_t)UINT32_MAX / 3) fail(ST_ERR_MEMORY, "too many triangles for one glTF primitive");
     if (index_bytes == 0) index_bytes = m->nverts < 65535 ? 2 : 4;
     // The largest value of each index type is the primitive restart value.

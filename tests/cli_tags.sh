@@ -73,5 +73,12 @@ for scheme in sqrt3 doo-sabin; do
     else bad "$scheme with holes: rc $rc, '$out'"; fi
 done
 
+# A glTF of nothing but holes is refused (a primitive needs triangles).
+{ cat "$A/cube.obj"; echo "t hole 6/0/0 0 1 2 3 4 5"; } >"$W/all_holes.obj"
+out=$("$S" convert "$W/all_holes.obj" "$W/all_holes.glb" --levels 1 2>&1); rc=$?
+if [ $rc = 1 ] && [[ $out == *"all_holes.glb: every face is a hole"* ]] && [ ! -e "$W/all_holes.glb" ]; then
+    ok "glTF of holes only refused: $out"
+else bad "glTF of holes only: rc $rc, '$out'"; fi
+
 echo "$((n - fail)) passed, $fail failed"
 [ "$fail" = 0 ]
