@@ -76,15 +76,6 @@ static int load_session(const st_cli_opts *o, st_hier *h, const char *cmd)
     return 0;
 }
 
-int st_cli_check_boundary(const char *path, int boundary, const st_mesh *m)
-{
-    if (boundary != ST_BOUNDARY_UNSET || m->boundary_interp != ST_BOUNDARY_NONE) return 0;
-    fprintf(stderr, "strata: %s: interpolateboundary 0 (none) is not supported: OpenSubdiv gives the faces "
-            "along the boundary no surface, Strata cannot leave them out (--boundary edge-only or "
-            "edge-and-corner overrides the tag)\n", path);
-    return 1;
-}
-
 int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
 {
     if (st_session_is_path(o->in)) return load_session(o, h, cmd);
@@ -99,7 +90,6 @@ int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
     /* Repairs are made, and said. */
     for (uint32_t i = 0; i < notes.count; i++) fprintf(stderr, "strata: %s\n", notes.lines[i]);
     st_notes_free(&notes);
-    if (st_cli_check_boundary(o->in, o->boundary, &mesh)) { st_mesh_free(&mesh); return 1; }
     st_hier_opts ho = { .boundary = o->boundary, .crease_method = ST_CREASE_UNIFORM };
     int rc = st_hier_init(h, &mesh, sc, &ho, &err);
     st_mesh_free(&mesh);

@@ -14,14 +14,6 @@ typedef struct st_cli_opts {
 int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd);
 /* Loads o->in and builds the hierarchy to o->levels; prints errors. */
 int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd);
-/* 0 when the boundary rule of m (loaded from path) is one Strata draws as
- * OpenSubdiv does; else says why on stderr and returns 1.  A file's
- * `t interpolateboundary 0` (none) is refused unless --boundary (boundary,
- * else ST_BOUNDARY_UNSET) overrides it: OpenSubdiv refines the vertices as
- * with edge-only but gives the faces along the boundary no surface, and
- * Strata cannot leave them out. */
-int st_cli_check_boundary(const char *path, int boundary, const st_mesh *m);
-
 /* The level a command shows or writes once h is loaded: --level, else
  * --levels, else (a session file given without either) its top level.
  * Prints a message and returns -1 when the level does not exist. */

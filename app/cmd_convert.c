@@ -147,10 +147,6 @@ static int load_mesh(const conv_opts *o, st_session *s)
     }
     for (uint32_t i = 0; i < notes.count; i++) fprintf(stderr, "strata: %s\n", notes.lines[i]);
     st_notes_free(&notes);
-    if (st_cli_check_boundary(o->in, o->boundary, &mesh)) {
-        st_mesh_free(&mesh);
-        return 1;
-    }
     st_hier_opts ho = { .boundary = o->boundary, .crease_method = ST_CREASE_UNIFORM };
     st_session_init(s);
     if (st_hier_init(&s->h, &mesh, sc, &ho, &err)) {
@@ -267,7 +263,7 @@ int st_cmd_convert(int argc, char **argv)
         rc = 1;
     }
     if (!rc)
-        printf("%s: %u faces, %u vertices, %s %u%s\n", o.out, out.nfaces, out.nverts, adaptive ? "adaptive, levels 0.." : "level", l,
+        printf("%s: %u faces, %u vertices, %s %u%s\n", o.out, out.nfaces - st_mesh_hole_faces(&out), out.nverts, adaptive ? "adaptive, levels 0.." : "level", l,
                o.normals || st_path_has_ext(o.out, ".gltf") || st_path_has_ext(o.out, ".glb") ? ", with normals" : "");
     st_mesh_free(&out);
     st_session_free(&s);

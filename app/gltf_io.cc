@@ -597,6 +597,7 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
     size_t ntri = 0;
     for (uint32_t f = 0; f < m->nfaces; f++) {
         uint32_t a = m->face_off[f], b = m->face_off[f + 1];
+        if (m->face_hole && m->face_hole[f]) continue;  // a hole face has no surface
         if (b < a + 3) fail(ST_ERR_INVALID, "face " + std::to_string(f) + " has fewer than 3 vertices");
         for (uint32_t k = a; k < b; k++)
             if (m->face_idx[k] >= m->nverts)
@@ -604,6 +605,7 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
                                        " of " + std::to_string(m->nverts));
         ntri += b - a - 2;
     }
+    if (ntri == 0) fail(ST_ERR_INVALID, "every face is a hole: no surface to write");
     if (ntri > (size_t)UINT32_MAX / 3) fail(ST_ERR_MEMORY, "too many triangles for one glTF primitive");
     if (index_bytes == 0) index_bytes = m->nverts < 65535 ? 2 : 4;
     // The largest value of each index type is the primitive restart value.
@@ -646,6 +648,7 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
     buf.insert(buf.end(), (const unsigned char *)nrm.data(), (const unsigned char *)nrm.data() + vbytes);
     for (uint32_t f = 0; f < m->nfaces; f++) {
         uint32_t a = m->face_off[f], b = m->face_off[f + 1];
+        if (m->face_hole && m->face_hole[f]) continue;
         for (uint32_t k = a + 1; k + 1 < b; k++) {  // fan from the first corner
             uint32_t c[3] = {m->face_idx[a], m->face_idx[k], m->face_idx[k + 1]};
             for (uint32_t v : c) {

@@ -148,7 +148,7 @@ int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
         do {
             if (GROW(fs.darts, fs.cdarts, (size_t)n + 1, oom), oom) break;
             fs.darts[n++] = x;
-            if (st_is_boundary(m, x)) real = 0;
+            if (st_is_void(m, x)) real = 0; /* a boundary or a hole face: nothing to draw */
             x = face_next(&V, fe, x);
         } while (x != d);
         if (oom) break;
@@ -174,7 +174,7 @@ int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
          * or from this face when the face across is a hole. */
         for (unsigned k = 0; k < n; k++) {
             uint32_t a = g->corner[ncorner + k], b = g->corner[ncorner + (k + 1) % n];
-            if (a < b || st_is_boundary(m, st_v_beta0(&V, fs.darts[k]))) {
+            if (a < b || st_is_void(m, st_v_beta0(&V, fs.darts[k]))) {
                 g->lines[2 * (size_t)g->nlines] = a;
                 g->lines[2 * (size_t)g->nlines + 1] = b;
                 g->nlines++;
@@ -333,7 +333,7 @@ int st_rgeom_footprint_vids(st_rgeom *g, const st_map *m, const st_footprint *fp
 int st_rgeom_vertex_drawn(const st_rgeom *g, const st_map *m, uint32_t s)
 {
     uint32_t d = g->vdart[s];
-    if (!st_dart_in_level(m, d, g->level) || d >= g->cap_dart_face || st_is_boundary(m, d)) return 0;
+    if (!st_dart_in_level(m, d, g->level) || d >= g->cap_dart_face || st_is_void(m, d)) return 0;
     uint32_t f = g->dart_face[d];
     return f < g->nfaces && g->face_dart[f] != ST_NIL && st_vert(m, d, g->level) == g->vid[s];
 }

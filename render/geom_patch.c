@@ -165,7 +165,7 @@ static void add_face(patch *p, unsigned n)
      * end with the smaller vertex id, or from this face across a hole. */
     for (unsigned k = 0; k < n; k++) {
         uint32_t a = vids[k], b = vids[(k + 1) % n];
-        if (a < b || st_is_boundary(m, st_v_beta0(&p->V, p->fs.darts[k]))) {
+        if (a < b || st_is_void(m, st_v_beta0(&p->V, p->fs.darts[k]))) {
             g->lines[2 * (size_t)g->nlines] = g->slot[a];
             g->lines[2 * (size_t)g->nlines + 1] = g->slot[b];
             g->nlines++;
@@ -216,7 +216,7 @@ static void visit_face(patch *p, uint32_t x, uint32_t gen)
         if (GROW(p->fs.darts, p->fs.cdarts, (size_t)n + 1, p->oom), p->oom) return;
         p->fs.darts[n++] = y;
         g->dstamp_f[y] = gen;
-        if (st_is_boundary(m, y)) real = 0;
+        if (st_is_void(m, y)) real = 0;
         uint32_t f = g->dart_face[y];
         if (f < p->nfaces0) kill_face(p, f);
         y = face_next(&p->V, g->face_embedded, y);

@@ -47,6 +47,9 @@ export_one cube_ds2 "$A/cube.obj" doo-sabin 2 gltf             # n-gons
 export_one ico_loop2 "$D/triangle/sphere_ico.obj" loop 2 glb
 export_one open_cc1 "$A/open.obj" catmull-clark 1 gltf         # with boundary
 export_one ngon "$A/ngon.obj" catmull-clark 0 glb
+# Hole faces (t hole) are left out; the vertices only they use stay.
+{ cat "$A/cube.obj"; echo "t hole 2/0/0 0 2"; } >"$W/cube_hole.obj"
+export_one cube_hole_cc2 "$W/cube_hole.obj" catmull-clark 2 glb
 if "$S" adapt "$D/catmull_clark/spot_quadrangulated.obj" --max-level 3 --box 0.2,0,0,0.6,0.6,0.6 -o "$W/spot_adapt.glb" >/dev/null 2>"$W/adapt.err"; then
     ok "spot_adapt: wrote spot_adapt.glb"; files+=("$W/spot_adapt.glb")
 else

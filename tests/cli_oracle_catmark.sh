@@ -6,9 +6,12 @@
 # them (regression/common/far_utils.h): crease integers are vertex pairs,
 # several pairs per tag with one sharpness or one per pair, several corners
 # per tag, interpolateboundary from the file, creasemethod normal and
-# smoothtriangles catmark; the tags Strata does not model (hole,
-# creasemethod chaikin, smoothtriangles smooth) and odd crease counts are
-# refused with file:line.
+# smoothtriangles catmark; creasemethod chaikin (Chaikin's sharpness rule)
+# on closed and open meshes; hole faces and interpolateboundary 0 (the
+# boundary faces become holes), compared with OpenSubdiv's faces without
+# its holes; smoothtriangles smooth (TRI_SUB_SMOOTH) on mixed and
+# triangle meshes; odd crease counts, unknown tag values and faces out of
+# range are refused with file:line.
 #
 #   cli_oracle_catmark.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 set -u
@@ -86,6 +89,29 @@ OBJ
 # creased in one tag.
 { cat "$TMP/fan16.obj"; echo "t interpolateboundary 1/0/0 1"; echo "t crease 4/2/0 0 1 0 9 1.5 0.5"; } >"$TMP/fan16_ec.obj"
 
+# face_loops_tags IN.obj OUT.obj METHOD: the mesh with the edges of its
+# first face and of face nf/2 creased in one tag of pairs, one sharpness
+# per pair (varying along each loop, so that Chaikin's averaging matters),
+# and `t creasemethod METHOD`.
+face_loops_tags() {
+    awk -v method="$3" '
+    { print }
+    /^f / {
+        nf++; n[nf] = NF - 1
+        for (i = 2; i <= NF; i++) { split($i, c, "/"); f[nf, i - 1] = c[1] - 1 }
+    }
+    END {
+        k[1] = 1; k[2] = int(nf / 2); np = 0; ints = ""; floats = ""
+        for (j = 1; j <= 2; j++)
+            for (i = 1; i <= n[k[j]]; i++) {
+                ints = ints " " f[k[j], i] " " f[k[j], i % n[k[j]] + 1]
+                floats = floats " " (0.4 + 0.7 * ((np * 3) % 5)); np++
+            }
+        printf "t crease %d/%d/0%s%s\n", 2 * np, np, ints, floats
+        printf "t creasemethod 0/0/1 %s\n", method
+    }' "$1" >"$2"
+}
+
 C=$MESHES/catmull_clark
 run_case "$C/blub_control_mesh.obj" 4 edge-only
 run_case "$C/dodecahedron_poly.obj" 3 edge-only
@@ -101,6 +127,27 @@ run_case "$TMP/fan16.obj" 3 edge-only
 run_case "$TMP/fan16_ec.obj" 3 tag
 run_case "$ASSETS/open.obj" 3 edge-and-corner
 run_case "$ASSETS/ngon.obj" 3 edge-only
+
+# Chaikin creasing (Sdc::Options::CREASE_CHAIKIN): the same tags with
+# `t creasemethod 0/0/1 chaikin`, closed and open meshes, both boundary
+# conventions, multi-pair tags; tag_matters below shows that the method
+# changes OpenSubdiv's surface on these tags.
+for m in creased_cube pairs_cube fan16_ec; do
+    { cat "$TMP/$m.obj"; echo "t creasemethod 0/0/1 chaikin"; } >"$TMP/${m}_chaikin.obj"
+done
+run_case "$TMP/creased_cube_chaikin.obj" 3 edge-only
+run_case "$TMP/pairs_cube_chaikin.obj" 3 edge-only
+run_case "$TMP/fan16_ec_chaikin.obj" 3 tag
+for m in "$C/blub_control_mesh.obj" "$ASSETS/open.obj" "$ASSETS/ngon.obj"; do
+    have_mesh "$m" || continue
+    face_loops_tags "$m" "$TMP/$(basename "$m" .obj)_loops_chaikin.obj" chaikin
+    face_loops_tags "$m" "$TMP/$(basename "$m" .obj)_loops_normal.obj" normal
+done
+run_case "$TMP/blub_control_mesh_loops_chaikin.obj" 3 edge-only
+run_case "$TMP/blub_control_mesh_loops_normal.obj" 3 edge-only
+run_case "$TMP/open_loops_chaikin.obj" 3 edge-and-corner
+run_case "$TMP/open_loops_chaikin.obj" 3 edge-only
+run_case "$TMP/ngon_loops_chaikin.obj" 3 edge-only
 
 # The pair convention changes the surface: one tag of pairs differs from the
 # chain it would be, so a reader of chains would fail the case above.
@@ -130,23 +177,69 @@ tag_matters() { # LABEL MESH TAG
     fi
 }
 tag_matters "chaikin creasing" "$TMP/pairs_cube.obj" "t creasemethod 0/0/1 chaikin"
+tag_matters "chaikin creasing" "$TMP/blub_control_mesh_loops_normal.obj" "t creasemethod 0/0/1 chaikin"
 tag_matters "smooth triangles" "$TMP/fan16.obj" "t smoothtriangles 0/0/1 smooth"
 tag_matters "hole" "$TMP/pairs_cube.obj" "t hole 1/0/0 2"
 tag_matters "interpolateboundary none" "$ASSETS/open.obj" "t interpolateboundary 1/0/0 0"
-# interpolateboundary none: OpenSubdiv gives the faces along the boundary no
-# surface; Strata refuses the tag unless --boundary overrides it.
-{ cat "$ASSETS/open.obj"; echo "t interpolateboundary 1/0/0 0"; } >"$TMP/open_none.obj"
-cases=$((cases + 1))
-if out=$("$EXE" subdivide "$TMP/open_none.obj" --scheme catmull-clark --levels 1 -o "$TMP/none.obj" 2>&1); then
-    fail_case "interpolateboundary 0 accepted"
-elif [[ $out == *"open_none.obj: interpolateboundary 0 (none) is not supported"* ]]; then
-    echo "ok    interpolateboundary none refused: $out"
-else
-    fail_case "interpolateboundary 0 message: $out"
+
+# Holes (t hole: faces in the rules with no surface; OpenSubdiv's
+# TopologyDescriptor::holeIndices): both sides write every level without
+# its hole faces.  Closed and open meshes, with creases, several tags.
+with_holes() { # IN OUT TAG-LINES...
+    local in=$1 out=$2
+    shift 2
+    { cat "$in"; printf '%s\n' "$@"; } >"$out"
+}
+with_holes "$TMP/pairs_cube.obj" "$TMP/pairs_cube_holes.obj" "t hole 1/0/0 2" "t hole 1/0/0 5"
+with_holes "$TMP/creased_cube_chaikin.obj" "$TMP/creased_cube_hole.obj" "t hole 1/0/0 1"
+with_holes "$TMP/fan16_ec.obj" "$TMP/fan16_holes.obj" "t hole 3/0/0 0 7 8"
+run_case "$TMP/pairs_cube_holes.obj" 3 edge-only
+run_case "$TMP/creased_cube_hole.obj" 3 edge-only
+run_case "$TMP/fan16_holes.obj" 3 tag
+if have_mesh "$C/blub_control_mesh.obj"; then
+    nf=$(grep -c '^f ' "$C/blub_control_mesh.obj")
+    with_holes "$TMP/blub_control_mesh_loops_normal.obj" "$TMP/blub_holes.obj" \
+        "t hole 4/0/0 0 1 $((nf / 2)) $((nf - 1))"
+    run_case "$TMP/blub_holes.obj" 3 edge-only
 fi
+# interpolateboundary 0 (Sdc VTX_BOUNDARY_NONE): every face at a vertex with
+# a boundary edge that is not infinitely sharp becomes a hole; a boundary
+# creased to 10 keeps its faces.  --boundary overrides the tag.
+{ cat "$ASSETS/open.obj"; echo "t interpolateboundary 1/0/0 0"; } >"$TMP/open_none.obj"
+{ cat "$TMP/fan16.obj"; echo "t interpolateboundary 1/0/0 0"; echo "t crease 2/1/0 0 1 1.5"; } >"$TMP/fan16_none.obj"
+{ cat "$TMP/fan16.obj"; echo "t interpolateboundary 1/0/0 0"
+  echo "t crease 6/1/0 1 2 2 3 3 4 10"; } >"$TMP/fan16_none_sharp.obj"
+run_case "$TMP/open_none.obj" 3 tag
+run_case "$TMP/fan16_none.obj" 3 tag
+run_case "$TMP/fan16_none_sharp.obj" 3 tag
 run_case "$TMP/open_none.obj" 2 edge-and-corner "open_none (--boundary overrides the tag)"
+if have_mesh "$C/blub_control_mesh.obj"; then
+    # blub is closed and hole faces are no boundary: `none` adds no holes.
+    with_holes "$C/blub_control_mesh.obj" "$TMP/blub_none.obj" "t hole 2/0/0 3 40" "t interpolateboundary 1/0/0 0"
+    run_case "$TMP/blub_none.obj" 3 tag
+fi
 refused odd_crease "t crease 3/1/0 0 1 3 2.5" "crease tag has 3 integers: they are vertex pairs"
-refused hole "t hole 1/0/0 2" "hole tags are not supported"
-refused chaikin "t creasemethod 0/0/1 chaikin" "creasemethod chaikin is not supported"
-refused smooth_tri "t smoothtriangles 0/0/1 smooth" "smoothtriangles smooth is not supported"
+refused hole_range "t hole 1/0/0 6" "hole tag references face 6 but the file has 6 faces"
+refused bad_method "t creasemethod 0/0/1 sharp" "creasemethod 'sharp' is not 'normal' or 'chaikin'"
+refused bad_tri "t smoothtriangles 0/0/1 loop" "smoothtriangles 'loop' is not 'catmark' or 'smooth'"
+
+# Smooth triangles (Sdc::Options::TRI_SUB_SMOOTH): edge points next to a
+# triangle weigh its face point 0.47.  A large mixed mesh (its triangles
+# changed by the option: tag_matters), with creases, a triangle fan with
+# both boundary rules, and a closed all-triangle mesh.
+if have_mesh "$C/mixed_faring.off"; then
+    "$EXE" subdivide "$C/mixed_faring.off" --scheme catmull-clark --levels 0 -o "$TMP/mixed.obj" 2>/dev/null
+    { cat "$TMP/mixed.obj"; echo "t smoothtriangles 0/0/1 smooth"; } >"$TMP/mixed_smooth.obj"
+    face_loops_tags "$TMP/mixed_smooth.obj" "$TMP/mixed_smooth_creased.obj" chaikin
+    run_case "$TMP/mixed_smooth.obj" 3 edge-only
+    run_case "$TMP/mixed_smooth_creased.obj" 2 edge-only
+    tag_matters "smooth triangles" "$TMP/mixed.obj" "t smoothtriangles 0/0/1 smooth"
+fi
+{ cat "$TMP/fan16.obj"; echo "t smoothtriangles 0/0/1 smooth"; } >"$TMP/fan16_smooth.obj"
+run_case "$TMP/fan16_smooth.obj" 3 edge-only
+run_case "$TMP/fan16_smooth.obj" 3 edge-and-corner
+{ printf 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n'
+  printf 'f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n'
+  echo "t smoothtriangles 0/0/1 smooth"; echo "t crease 4/2/0 0 2 2 1 2.5 0.5"; } >"$TMP/octa_smooth.obj"
+run_case "$TMP/octa_smooth.obj" 3 edge-only
 oracle_done

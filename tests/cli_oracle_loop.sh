@@ -91,5 +91,54 @@ if [ -f "$T/hemisphere.obj" ]; then
     run_case "$TMP/hemisphere_creased.obj" 3 edge-only 0
     run_case "$TMP/hemisphere_creased.obj" 2 edge-and-corner 0
 fi
+# Chaikin creasing (t creasemethod 0/0/1 chaikin) on the same tags, and the
+# crease tags merged into one tag of vertex pairs with one sharpness per
+# pair (OpenSubdiv's convention), closed and open.
+with_chaikin() { # IN OUT
+    { cat "$1"; echo "t creasemethod 0/0/1 chaikin"; } >"$2"
+}
+one_pair_tag() { # IN OUT: the `t crease 2/1/0 a b s` lines as one tag
+    awk '
+    $1 == "t" && $2 == "crease" { ints = ints " " $4 " " $5; floats = floats " " $6; np++; next }
+    { print }
+    END { printf "t crease %d/%d/0%s%s\n", 2 * np, np, ints, floats }' "$1" >"$2"
+}
+if [ -f "$T/sphere_ico.obj" ]; then
+    with_chaikin "$TMP/sphere_creased.obj" "$TMP/sphere_chaikin.obj"
+    run_case "$TMP/sphere_chaikin.obj" 3 edge-only 0
+    one_pair_tag "$TMP/sphere_creased.obj" "$TMP/sphere_pairs.obj"
+    run_case "$TMP/sphere_pairs.obj" 3 edge-only 0
+fi
+if [ -f "$T/hemisphere.obj" ]; then
+    with_chaikin "$TMP/hemisphere_creased.obj" "$TMP/hemisphere_chaikin.obj"
+    run_case "$TMP/hemisphere_chaikin.obj" 3 edge-only 0
+    run_case "$TMP/hemisphere_chaikin.obj" 2 edge-and-corner 0
+    one_pair_tag "$TMP/hemisphere_chaikin.obj" "$TMP/hemisphere_pairs_chaikin.obj"
+    run_case "$TMP/hemisphere_pairs_chaikin.obj" 3 edge-only 0
+fi
+# Hole faces (t hole) and interpolateboundary 0 (the faces at the boundary
+# become holes): OpenSubdiv's levels without its hole faces.  run_case
+# passes --boundary to both sides, so `none` is compared through tag_case.
+tag_case() { # MESH LEVELS: the file's own tags on both sides
+    local mesh=$1 levels=$2
+    strata_levels loop "$mesh" "$levels" "" "$TMP/s" || return
+    oracle_levels "$OSD" "$mesh" "$levels" "$TMP/osd" --scheme loop || return
+    compare_levels "$(basename "$mesh") tags vs OpenSubdiv" "$levels" "$TMP/s" "$TMP/osd"
+}
+if [ -f "$T/sphere_ico.obj" ]; then
+    { cat "$TMP/sphere_chaikin.obj"; echo "t hole 3/0/0 0 1 7"; echo "t hole 1/0/0 30"; } >"$TMP/sphere_holes.obj"
+    run_case "$TMP/sphere_holes.obj" 3 edge-only 0
+fi
+if [ -f "$T/hemisphere.obj" ]; then
+    { cat "$TMP/hemisphere_creased.obj"; echo "t hole 2/0/0 5 9"; } >"$TMP/hemisphere_holes.obj"
+    run_case "$TMP/hemisphere_holes.obj" 3 edge-only 0
+    run_case "$TMP/hemisphere_holes.obj" 2 edge-and-corner 0
+    { cat "$TMP/hemisphere_creased.obj"; echo "t interpolateboundary 1/0/0 0"; } >"$TMP/hemisphere_none.obj"
+    tag_case "$TMP/hemisphere_none.obj" 3
+fi
+if [ -f "$T/cube_no_bottom.obj" ]; then
+    { cat "$T/cube_no_bottom.obj"; echo "t interpolateboundary 1/0/0 0"; } >"$TMP/cube_no_bottom_none.obj"
+    tag_case "$TMP/cube_no_bottom_none.obj" 3
+fi
 
 oracle_done

@@ -345,13 +345,18 @@ static void test_tags(void)
     refused("bad_tag_self.obj", t, ":5:", "pairs vertex 2 with itself (pair 2)");
     snprintf(t, sizeof t, "%sf 1 2 3\nt crease 4/3/0 0 1 1 2 1 2 3\n", tri3);
     refused("bad_tag_floats.obj", t, ":5:", "1 sharpness or one per pair (4 integers, 3 floats)");
+    /* Hole tags name faces that exist, and nothing else. */
+    snprintf(t, sizeof t, "%sf 1 2 3\nt hole 1/0/0 1\n", tri3);
+    refused("bad_tag_hole_range.obj", t, ":5:", "hole tag references face 1 but the file has 1 faces");
+    snprintf(t, sizeof t, "%sf 1 2 3\nt hole 1/0/0 -1\n", tri3);
+    refused("bad_tag_hole_negative.obj", t, ":5:", "hole tag references face -1");
+    snprintf(t, sizeof t, "%sf 1 2 3\nt hole 0/0/0\n", tri3);
+    refused("bad_tag_hole_empty.obj", t, ":5:", "hole needs 1+ face indices and no floats");
+    snprintf(t, sizeof t, "%sf 1 2 3\nt hole 1/1/0 0 0.5\n", tri3);
+    refused("bad_tag_hole_float.obj", t, ":5:", "hole needs 1+ face indices and no floats");
     /* What Strata does not model is refused, not ignored. */
-    snprintf(t, sizeof t, "%sf 1 2 3\nt hole 1/0/0 0\n", tri3);
-    refused("bad_tag_hole.obj", t, ":5:", "hole tags are not supported");
-    snprintf(t, sizeof t, "%sf 1 2 3\nt creasemethod 0/0/1 chaikin\n", tri3);
-    refused("bad_tag_chaikin.obj", t, ":5:", "creasemethod chaikin is not supported");
-    snprintf(t, sizeof t, "%sf 1 2 3\nt smoothtriangles 0/0/1 smooth\n", tri3);
-    refused("bad_tag_smoothtri.obj", t, ":5:", "smoothtriangles smooth is not supported");
+    snprintf(t, sizeof t, "%sf 1 2 3\nt smoothtriangles 0/0/1 loop\n", tri3);
+    refused("bad_tag_smoothtri.obj", t, ":5:", "smoothtriangles 'loop' is not 'catmark' or 'smooth'");
     snprintf(t, sizeof t, "%sf 1 2 3\nt creasemethod 0/0/1 sharp\n", tri3);
     refused("bad_tag_method.obj", t, ":5:", "creasemethod 'sharp' is not 'normal' or 'chaikin'");
     snprintf(t, sizeof t, "%sf 1 2 3\nt creasemethod 1/0/0 1\n", tri3);

@@ -160,6 +160,45 @@ static void test_obj_tag_pairs(void)
     }
     CHECK(m.ncorners == 2 && m.corner_v[0] == 2 && m.corner_v[1] == 3 && m.corner_s[1] == 4.0f);
     CHECK(m.boundary_interp == ST_BOUNDARY_EDGE_ONLY);
+    CHECK(m.crease_method == 0);
+    st_mesh_free(&m);
+}
+
+/* `t creasemethod 0/0/1 chaikin` selects Chaikin's sharpness rule; the last
+ * creasemethod tag wins, as in OpenSubdiv's harness; an OBJ written back
+ * keeps it. */
+static void test_obj_creasemethod(void)
+{
+    static const char text[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"
+                               "t crease 2/1/0 0 1 0.7\nt creasemethod 0/0/1 chaikin\n";
+    st_mesh m;
+    if (load_text("io_chaikin.obj", text, &m, NULL)) return;
+    CHECK(m.crease_method == 1);
+    const char *path = tmp_path("io_chaikin_out.obj");
+    st_error e;
+    CHECK(st_mesh_save_obj(path, &m, &e) == 0);
+    st_mesh back;
+    st_mesh_init(&back);
+    CHECK(st_mesh_load_obj(path, &back, &e) == 0 && back.crease_method == 1 && back.ncreases == 1);
+    st_mesh_free(&back);
+    st_mesh_free(&m);
+    static const char text2[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"
+                                "t creasemethod 0/0/1 chaikin\nt creasemethod 0/0/1 normal\n"
+                                "t smoothtriangles 0/0/1 smooth\n";
+    if (load_text("io_normal.obj", text2, &m, NULL)) return;
+    CHECK(m.crease_method == 0 && m.tri_sub == 1);
+    st_mesh_free(&m);
+}
+
+/* `t hole` names faces (0-based, a face may come after the tag); several
+ * tags add up. */
+static void test_obj_holes(void)
+{
+    static const char text[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+                               "t hole 1/0/0 1\nf 1 2 3 4\nf 2 5 6 3\nf 4 3 6\nt hole 2/0/0 2 1\n";
+    st_mesh m;
+    if (load_text("io_holes.obj", text, &m, NULL)) return;
+    CHECK(m.nfaces == 3 && m.face_hole && !m.face_hole[0] && m.face_hole[1] && m.face_hole[2]);
     st_mesh_free(&m);
 }
 
@@ -594,6 +633,8 @@ int main(void)
     test_obj_forms();
     test_obj_relative();
     test_obj_tag_pairs();
+    test_obj_creasemethod();
+    test_obj_holes();
     test_obj_big_faces();
     test_off_variants();
     test_ply_types();

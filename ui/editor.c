@@ -243,7 +243,8 @@ int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
         }
     }
     st_hier h;
-    st_hier_opts opts = { .boundary = d->h.opts.boundary, .crease_method = d->h.opts.crease_method };
+    st_hier_opts opts = { .boundary = d->h.opts.boundary, .crease_method = d->h.opts.crease_method,
+                          .tri_sub = d->h.opts.tri_sub };
     rc = st_hier_init(&h, &mesh, sc, &opts, err);
     st_mesh_free(&mesh);
     if (rc) return rc;

@@ -165,6 +165,7 @@ static int collect_faces(access_ctx *c, soup *s, st_access_stats *stats)
             if (st_is_boundary(m, d) || st_marked(m, seen, d)) continue;
             st_mark_face(m, seen, d, j);
             if (!present(c, d, j) || opened(c, d, j)) continue;
+            if (st_is_hole(m, d)) continue; /* no surface (its children are holes too) */
             rc = emit_face(c, s, d, j);
             if (stats) stats->faces_per_level[j]++;
         }

@@ -44,8 +44,9 @@ static void decay_sharpness(st_hier *h, uint32_t d, unsigned L)
     float s = st_hier_edge_sharpness(h, d, L - 1);
     uint32_t e = st_beta0(&h->map, d, L - 1);
     if (s > 0) {
-        st_hier_set_edge_sharpness(h, d, L, st_crease_decay(s));
-        st_hier_set_edge_sharpness(h, e, L, st_crease_decay(s));
+        float cd = st_crease_child_edge_sharpness(h, d, L - 1), ce = st_crease_child_edge_sharpness(h, e, L - 1);
+        st_hier_set_edge_sharpness(h, d, L, cd);
+        st_hier_set_edge_sharpness(h, e, L, ce);
     }
     uint32_t v = st_vert(&h->map, d, L - 1);
     float vs = st_hier_vertex_sharpness(h, v, L - 1);

@@ -484,7 +484,11 @@ int st_map_read(st_br *r, st_map *m)
     if (!m->flags) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory", r->name); r->failed = 1; goto fail; }
     st_br_bytes(r, m->flags, m->darts.end);
     for (uint32_t i = 0; i < m->darts.end; i++)
-        if (m->flags[i] & ~(uint8_t)ST_DART_BOUNDARY) { st_br_fail(r, "map: dart %u has unknown flags %#x", i, m->flags[i]); goto fail; }
+        if ((m->flags[i] & ~(uint8_t)(ST_DART_BOUNDARY | ST_DART_HOLE)) ||
+            m->flags[i] == (uint8_t)(ST_DART_BOUNDARY | ST_DART_HOLE)) {
+            st_br_fail(r, "map: dart %u has unknown flags %#x", i, m->flags[i]);
+            goto fail;
+        }
     if (st_mla_read(r, &m->pos, &m->verts, top, 3 * sizeof(double), st_value_finite_f64x3, "positions")) goto fail;
     if (check_ranges(r, m)) goto fail;
     return 0;

@@ -24,6 +24,13 @@ void st_mesh_init(st_mesh *m)
     m->boundary_interp = ST_BOUNDARY_UNSET;
 }
 
+uint32_t st_mesh_hole_faces(const st_mesh *m)
+{
+    uint32_t n = 0;
+    for (uint32_t f = 0; m->face_hole && f < m->nfaces; f++) n += m->face_hole[f] != 0;
+    return n;
+}
+
 void st_mesh_free(st_mesh *m)
 {
     free(m->pos);
@@ -34,6 +41,7 @@ void st_mesh_free(st_mesh *m)
     free(m->crease_s);
     free(m->corner_v);
     free(m->corner_s);
+    free(m->face_hole);
     st_mesh_init(m);
 }
 

@@ -39,9 +39,17 @@ typedef struct st_mesh {
     uint32_t *corner_v;     /* ncorners vertex indices */
     float *corner_s;        /* ncorners sharpness values */
     int boundary_interp;    /* enum st_boundary_interp */
+    int crease_method;      /* `t creasemethod`: 0 uniform ("normal"), 1 chaikin (enum st_crease_method) */
+    int tri_sub;            /* `t smoothtriangles`: 0 catmark, 1 smooth (enum st_tri_sub) */
+    /* Hole faces (OBJ `t hole`): nfaces flags, 1 for a hole, or NULL when
+     * none.  A hole is a face for the rules of its vertices, with no surface:
+     * the writers leave it out. */
+    uint8_t *face_hole;
 } st_mesh;
 
 void st_mesh_init(st_mesh *m);
+/* Hole faces in m (face_hole set): the writers leave them out. */
+uint32_t st_mesh_hole_faces(const st_mesh *m);
 void st_mesh_free(st_mesh *m);
 /* Moves src into dst (dst freed first); src is left empty. */
 void st_mesh_move(st_mesh *dst, st_mesh *src);

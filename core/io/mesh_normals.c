@@ -15,6 +15,7 @@ int st_mesh_vertex_normals(const st_mesh *m, double *n)
     if (!first) return -1;
     for (size_t i = 0; i < 3 * (size_t)m->nverts; i++) n[i] = 0;
     for (uint32_t f = 0; f < m->nfaces; f++) {
+        if (m->face_hole && m->face_hole[f]) continue; /* no surface */
         uint32_t a = m->face_off[f], b = m->face_off[f + 1];
         double s[3];
         st_newell_indexed(m->pos, m->face_idx + a, b - a, s);

@@ -21,10 +21,12 @@
  *                                      one per pair; an odd count is refused
  *   t corner 1/1/0 v s                one sharpness for all or one per vertex
  *   t interpolateboundary 1/0/0 b     0 none, 1 edge-and-corner, 2 edge-only
- *   t creasemethod 0/0/1 normal       OpenSubdiv's uniform creasing, Strata's
- *   t smoothtriangles 0/0/1 catmark   Catmull-Clark's own rule on triangles
- * `creasemethod chaikin`, `smoothtriangles smooth` and `hole` change the
- * surface in ways Strata does not model: they are refused with a message.
+ *   t creasemethod 0/0/1 normal       uniform sharpness decay (the default),
+ *                       ... chaikin      or Chaikin's rule (Sdc::Options::CREASE_CHAIKIN)
+ *   t smoothtriangles 0/0/1 catmark   Catmull-Clark's own rule on triangles,
+ *                          ... smooth    or TRI_SUB_SMOOTH's edge weights
+ *   t hole 2/0/0 f g                  faces (0-based, in file order) that are
+ *                                      holes: in the rules, with no surface
  * Other tags are read (their counts must hold) and ignored.
  */
 #include "core/io/mesh_internal.h"
@@ -257,12 +259,8 @@ static int check_tag_shape(obj_reader *r, const tag_head *h)
     if ((h->kind == TAG_CREASEMETHOD || h->kind == TAG_SMOOTHTRI) && h->nstring != 1)
         return FAIL(r, ST_ERR_PARSE, "bad tag: %s needs exactly one string",
                     h->kind == TAG_CREASEMETHOD ? "creasemethod" : "smoothtriangles");
-    /* OpenSubdiv keeps a hole face in the subdivision rules of its vertices
-     * and draws none of its surface, at every level; Strata's levels carry
-     * no such face flag, so a hole is refused rather than filled. */
-    if (h->kind == TAG_HOLE && h->nint > 0)
-        return FAIL(r, ST_ERR_PARSE, "hole tags are not supported (OpenSubdiv keeps a hole face in the "
-                    "rules of its vertices but draws no surface for it; Strata cannot leave it out)");
+    if (h->kind == TAG_HOLE && (h->nint < 1 || h->nfloat != 0))
+        return FAIL(r, ST_ERR_PARSE, "bad tag: hole needs 1+ face indices and no floats");
     return 0;
 }
 
@@ -285,6 +283,10 @@ static int read_tag_ints(obj_reader *r, const tag_head *h)
         if (h->kind == TAG_INTERP) {
             if (v < 0 || v > 2)
                 return FAIL(r, ST_ERR_RANGE, "interpolateboundary %lld is not 0, 1 or 2", (long long)v);
+        } else if (h->kind == TAG_HOLE) {
+            if (v < 0 || v >= (int64_t)r->nf_total)
+                return FAIL(r, ST_ERR_RANGE, "hole tag references face %lld but the file has %u faces "
+                            "(tag indices start at 0)", (long long)v, r->nf_total);
         } else if (v < 0 || v >= (int64_t)r->nv_total) {
             return FAIL(r, ST_ERR_RANGE, "tag references vertex %lld but the file has %u vertices "
                         "(tag indices start at 0)", (long long)v, r->nv_total);
@@ -361,20 +363,22 @@ static int apply_tag_floats(obj_reader *r, const tag_head *h)
     return 0;
 }
 
-/* The string of `creasemethod` or `smoothtriangles`: OpenSubdiv's default
- * (uniform creasing, named "normal"; Catmull-Clark's own triangle rule) is
- * what Strata's schemes do; the alternatives are refused, not ignored. */
+/* The string of `creasemethod` (normal or chaikin) or `smoothtriangles`
+ * (catmark or smooth); the last tag of a kind wins. */
 static int check_tag_string(obj_reader *r, const tag_head *h, const char *tok, size_t len)
 {
     char q[48];
     int creasing = h->kind == TAG_CREASEMETHOD;
     const char *ours = creasing ? "normal" : "catmark", *other = creasing ? "chaikin" : "smooth";
-    if (token_is(tok, len, ours)) return 0;
-    if (token_is(tok, len, other))
-        return FAIL(r, ST_ERR_PARSE, creasing ? "creasemethod chaikin is not supported (Strata decays sharpness "
-                                                "by the uniform rule, OpenSubdiv's 'normal')"
-                                              : "smoothtriangles smooth is not supported (Strata's Catmull-Clark "
-                                                "uses its own rule on triangles, OpenSubdiv's 'catmark')");
+    int *field = creasing ? &r->m.crease_method : &r->m.tri_sub;
+    if (token_is(tok, len, ours)) {
+        *field = 0;
+        return 0;
+    }
+    if (token_is(tok, len, other)) {
+        *field = 1;
+        return 0;
+    }
     return FAIL(r, ST_ERR_PARSE, "%s '%s' is not '%s' or '%s'", creasing ? "creasemethod" : "smoothtriangles",
                 st_text_quote(q, sizeof q, tok, len), ours, other);
 }
@@ -392,6 +396,13 @@ static int parse_tag(obj_reader *r)
     if (!rc) rc = read_tag_ints(r, &h);
     if (rc) return rc;
     if (h.kind == TAG_INTERP) r->m.boundary_interp = (int)r->tmp[0];
+    if (h.kind == TAG_HOLE) {
+        /* Flags for the faces of the whole file (a tag may name a face
+         * defined further down). */
+        if (!r->m.face_hole) r->m.face_hole = calloc(r->nf_total ? r->nf_total : 1, 1);
+        if (!r->m.face_hole) return FAIL(r, ST_ERR_MEMORY, "out of memory for hole tags");
+        for (int64_t j = 0; j < h.nint; j++) r->m.face_hole[r->tmp[j]] = 1;
+    }
     if (h.kind == TAG_CREASE || h.kind == TAG_CORNER) {
         rc = apply_tag_floats(r, &h);
         if (rc) return rc;

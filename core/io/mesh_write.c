@@ -10,7 +10,9 @@
  * with `f a//a` corners.  PLY stores double x y z (and nx ny nz), and
  * vertex_indices as a uchar-counted list when every face has at most 255
  * vertices, uint-counted otherwise.  PLY has no standard place for tags;
- * they are not written.
+ * they are not written.  Hole faces (st_mesh.face_hole) have no surface and
+ * are not written; every vertex is, so vertex numbers stay those of the
+ * level (as OpenSubdiv's harness writes a refined level with holes).
  */
 #include "core/io/atomic_file.h"
 #include "core/io/mesh.h"
@@ -43,6 +45,40 @@ static int check_writable(const char *path, const st_mesh *m, st_error *err)
     for (uint32_t i = 0; i < m->ncorners; i++)
         if (m->corner_v[i] >= m->nverts) return st_fail(err, ST_ERR_INVALID, "%s: bad corner tag", path);
     return 0;
+}
+
+/* m without its hole faces: a view sharing everything but the face arrays
+ * (v->face_off == m->face_off when m has no holes).  Freed by
+ * surface_done. */
+static int surface_view(const char *path, const st_mesh *m, st_mesh *v, st_error *err)
+{
+    *v = *m;
+    v->face_hole = NULL;
+    if (!m->face_hole) return 0;
+    v->face_off = malloc(((size_t)m->nfaces + 1) * sizeof *v->face_off);
+    v->face_idx = malloc(((size_t)m->face_off[m->nfaces] + 1) * sizeof *v->face_idx);
+    if (!v->face_off || !v->face_idx) {
+        free(v->face_off);
+        free(v->face_idx);
+        return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path);
+    }
+    uint32_t nf = 0, k = 0;
+    v->face_off[0] = 0;
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        if (m->face_hole[f]) continue;
+        for (uint32_t c = m->face_off[f]; c < m->face_off[f + 1]; c++) v->face_idx[k++] = m->face_idx[c];
+        v->face_off[++nf] = k;
+    }
+    v->nfaces = nf;
+    return 0;
+}
+
+static void surface_done(const st_mesh *m, st_mesh *v)
+{
+    if (v->face_off != m->face_off) {
+        free(v->face_off);
+        free(v->face_idx);
+    }
 }
 
 /* ---- temporary file, renamed into place on success (atomic_file.h) ------------ */
@@ -95,16 +131,24 @@ static void obj_body(FILE *f, const st_mesh *m)
         fprintf(f, "t corner 1/1/0 %u %.9g\n", m->corner_v[i], (double)m->corner_s[i]);
     if (m->boundary_interp >= ST_BOUNDARY_NONE && m->boundary_interp <= ST_BOUNDARY_EDGE_ONLY)
         fprintf(f, "t interpolateboundary 1/0/0 %d\n", m->boundary_interp);
+    if (m->crease_method == 1) fputs("t creasemethod 0/0/1 chaikin\n", f);
+    if (m->tri_sub == 1) fputs("t smoothtriangles 0/0/1 smooth\n", f);
 }
 
 int st_mesh_save_obj(const char *path, const st_mesh *m, st_error *err)
 {
     int rc = check_writable(path, m, err);
-    out_file o;
-    if (!rc) rc = out_open(&o, path, err);
+    st_mesh v;
+    if (!rc) rc = surface_view(path, m, &v, err);
     if (rc) return rc;
-    obj_body(o.f, m);
-    return out_close(&o, path, err);
+    out_file o;
+    rc = out_open(&o, path, err);
+    if (!rc) {
+        obj_body(o.f, &v);
+        rc = out_close(&o, path, err);
+    }
+    surface_done(m, &v);
+    return rc;
 }
 
 /* ---- PLY ------------------------------------------------------------------------ */
@@ -162,16 +206,22 @@ static void ply_faces(FILE *f, const st_mesh *m, int wide)
 int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err)
 {
     int rc = check_writable(path, m, err);
-    out_file o;
-    if (!rc) rc = out_open(&o, path, err);
+    st_mesh v;
+    if (!rc) rc = surface_view(path, m, &v, err);
     if (rc) return rc;
-    int wide = 0;
-    for (uint32_t fi = 0; fi < m->nfaces; fi++)
-        wide |= m->face_off[fi + 1] - m->face_off[fi] > 255;
-    ply_header(o.f, m, wide);
-    ply_vertices(o.f, m);
-    ply_faces(o.f, m, wide);
-    return out_close(&o, path, err);
+    out_file o;
+    rc = out_open(&o, path, err);
+    if (!rc) {
+        int wide = 0;
+        for (uint32_t fi = 0; fi < v.nfaces; fi++)
+            wide |= v.face_off[fi + 1] - v.face_off[fi] > 255;
+        ply_header(o.f, &v, wide);
+        ply_vertices(o.f, &v);
+        ply_faces(o.f, &v, wide);
+        rc = out_close(&o, path, err);
+    }
+    surface_done(m, &v);
+    return rc;
 }
 
 /* ---- dispatch ------------------------------------------------------------------- */

@@ -120,7 +120,9 @@ static void w_hier(st_bw *w, const st_session_ref *r)
     st_bw_u32(w, n);
     st_bw_bytes(w, name, n);
     st_bw_u32(w, (uint32_t)r->h->opts.boundary);
-    st_bw_u32(w, (uint32_t)r->h->opts.crease_method);
+    /* Bit 8: smooth triangles (0 in sessions written before the option, so
+     * they load unchanged). */
+    st_bw_u32(w, (uint32_t)r->h->opts.crease_method | (uint32_t)r->h->opts.tri_sub << 8);
     st_bw_u8(w, r->h->has_sharpness != 0);
 }
 
@@ -376,7 +378,8 @@ static int r_hier(load_ctx *c, st_br *r)
     char name[65];
     st_br_bytes(r, name, n);
     name[n] = 0;
-    uint32_t boundary = st_br_u32(r), crease = st_br_u32(r);
+    uint32_t boundary = st_br_u32(r), crease = st_br_u32(r), tri_sub = crease >> 8;
+    crease &= 0xff;
     uint8_t sharp = st_br_u8(r);
     if (r->failed) return -1;
     const st_scheme *sc = st_scheme_find(name);
@@ -388,10 +391,12 @@ static int r_hier(load_ctx *c, st_br *r)
     if (boundary != ST_BOUNDARY_EDGE_ONLY && boundary != ST_BOUNDARY_EDGE_AND_CORNER)
         return st_br_fail(r, "bad boundary option %u", boundary);
     if (crease != ST_CREASE_UNIFORM && crease != ST_CREASE_CHAIKIN) return st_br_fail(r, "bad crease method %u", crease);
+    if (tri_sub != ST_TRI_SUB_CATMARK && tri_sub != ST_TRI_SUB_SMOOTH) return st_br_fail(r, "bad triangle rule %u", tri_sub);
     if (sharp > 1) return st_br_fail(r, "bad sharpness flag %u", sharp);
     c->s->h.scheme = sc;
     c->s->h.opts.boundary = (int)boundary;
     c->s->h.opts.crease_method = (int)crease;
+    c->s->h.opts.tri_sub = (int)tri_sub;
     c->has_sharpness = sharp;
     return 0;
 }

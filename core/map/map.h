@@ -99,6 +99,12 @@ typedef struct st_mla {
 
 enum st_dart_flags {
     ST_DART_BOUNDARY = 1u << 0,           /* dart of a face that fills a hole */
+    /* Dart of a hole face (OBJ `t hole`, OpenSubdiv's Far hole tag): a real
+     * face for the subdivision rules of its vertices and edges, but with no
+     * surface: extraction marks it, drawing and export leave it out.  The
+     * darts a refinement makes inside it inherit the flag, so its children
+     * are holes at every level. */
+    ST_DART_HOLE = 1u << 1,
 };
 
 /* Change log (optional): while st_map.log is set, the primitive setters
@@ -178,6 +184,9 @@ static inline unsigned st_dart_level(const st_map *m, uint32_t d) { return m->da
 static inline int st_dart_live(const st_map *m, uint32_t d) { return d < m->darts.end && m->darts.ins[d] != ST_FREE_LEVEL; }
 static inline int st_dart_in_level(const st_map *m, uint32_t d, unsigned l) { return st_dart_live(m, d) && m->darts.ins[d] <= l; }
 static inline int st_is_boundary(const st_map *m, uint32_t d) { return (m->flags[d] & ST_DART_BOUNDARY) != 0; }
+static inline int st_is_hole(const st_map *m, uint32_t d) { return (m->flags[d] & ST_DART_HOLE) != 0; }
+/* Dart of a face with no surface to draw or export: a boundary or a hole. */
+static inline int st_is_void(const st_map *m, uint32_t d) { return (m->flags[d] & (ST_DART_BOUNDARY | ST_DART_HOLE)) != 0; }
 static inline unsigned st_vertex_level(const st_map *m, uint32_t v) { return m->verts.ins[v]; }
 static inline const double *st_pos(const st_map *m, uint32_t v, unsigned l) { return (const double *)st_mla_at(&m->pos, m->verts.ins, v, l); }
 /* Position of the vertex of dart d at level l. */

@@ -44,6 +44,9 @@ static int check_dart(check_ctx *c, uint32_t d)
         return st_fail(c->err, ST_ERR_INVALID, "level %u, dart %u: face mixes boundary and real darts", l, d);
     if (st_is_boundary(m, d) && st_is_boundary(m, e))
         return st_fail(c->err, ST_ERR_INVALID, "level %u, dart %u: two boundary faces share an edge", l, d);
+    /* A hole face (ST_DART_HOLE) is all hole, and never a boundary face. */
+    if (st_is_hole(m, m->face_embedded ? f : n) != st_is_hole(m, d) || (st_is_hole(m, d) && st_is_boundary(m, d)))
+        return st_fail(c->err, ST_ERR_INVALID, "level %u, dart %u: face mixes hole and other darts", l, d);
     return ST_OK;
 }
 

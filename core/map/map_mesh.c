@@ -115,8 +115,16 @@ static void emit_map(build *b, uint32_t total)
     uint32_t *did = malloc((size_t)(total ? total : 1) * sizeof *did);
     if (!vid || !did) abort();
     for (uint32_t v = 0; v < ms->nverts; v++) vid[v] = st_vertex_new(m, 0, ms->pos + 3 * (size_t)v);
-    for (uint32_t d = 0; d < total; d++)
-        did[d] = st_dart_new(m, 0, vid[b->from[d]], d >= b->ndarts ? ST_DART_BOUNDARY : 0);
+    uint32_t f = 0;
+    for (uint32_t d = 0; d < total; d++) {
+        uint8_t fl = 0;
+        if (d >= b->ndarts) fl = ST_DART_BOUNDARY;
+        else if (ms->face_hole) {
+            while (d >= ms->face_off[f + 1]) f++;
+            if (ms->face_hole[f]) fl = ST_DART_HOLE;
+        }
+        did[d] = st_dart_new(m, 0, vid[b->from[d]], fl);
+    }
     for (uint32_t d = 0; d < total; d++) {
         st_set_beta0(m, did[d], 0, did[b->phi2[d]]);
         st_set_beta1(m, did[d], 0, did[b->phi1[b->phi2[d]]]); /* β1 = φ1∘φ2 */
@@ -225,6 +233,16 @@ int st_map_to_mesh(st_map *m, unsigned l, st_mesh *out, st_error *err)
     r.face_off[0] = 0;
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
         if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+        if (st_is_hole(m, d) && !r.face_hole) {
+            r.face_hole = calloc((size_t)s.faces + 1, 1);
+            if (!r.face_hole) {
+                st_marker_release(m, fbit, l);
+                free(index);
+                st_mesh_free(&r);
+                return st_fail(err, ST_ERR_MEMORY, "out of memory extracting level %u", l);
+            }
+        }
+        if (st_is_hole(m, d)) r.face_hole[r.nfaces] = 1;
         uint32_t x = d;
         do {
             st_mark(m, fbit, x);

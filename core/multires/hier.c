@@ -7,6 +7,7 @@
 #include "core/multires/hier_internal.h"
 #include "core/map/map_mesh.h"
 #include "core/map/pool_internal.h"
+#include "core/schemes/crease_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -54,6 +55,56 @@ static int load_tags(st_hier *h, const st_mesh *mesh, st_error *err)
     return rc;
 }
 
+/* Hole faces need a scheme that splits every face into children inside it
+ * (the children inherit the flag); √3 flips edges across faces and
+ * Doo-Sabin and the progressive scheme are not face splits. */
+static int holes_supported(const st_scheme *scheme)
+{
+    static const char *const primal[] = { "catmull-clark", "loop", "butterfly", "quad-triangle" };
+    for (size_t i = 0; i < sizeof primal / sizeof primal[0]; i++)
+        if (!strcmp(scheme->name, primal[i])) return 1;
+    return 0;
+}
+
+static int mesh_has_holes(const st_mesh *mesh)
+{
+    for (uint32_t f = 0; mesh->face_hole && f < mesh->nfaces; f++)
+        if (mesh->face_hole[f]) return 1;
+    return 0;
+}
+
+/* Every real face around the vertex of d (level 0) becomes a hole. */
+static void hole_faces_around(st_map *m, uint32_t d)
+{
+    uint32_t x = d;
+    do {
+        if (!st_is_boundary(m, x)) {
+            uint32_t y = x;
+            do {
+                m->flags[y] |= ST_DART_HOLE;
+                y = st_phi1(m, y, 0);
+            } while (y != x);
+        }
+        x = st_beta1(m, x, 0);
+    } while (x != d);
+}
+
+/* OBJ `t interpolateboundary 0` (Sdc::Options::VTX_BOUNDARY_NONE): the
+ * boundary faces are not in the limit surface.  As Far's
+ * prepareComponentTagsAndSharpness does, every face at a vertex with a
+ * boundary edge that is not infinitely sharp becomes a hole; the rules are
+ * then the edge-only ones (boundary edges infinitely sharp, no corners). */
+static void boundary_none_holes(st_hier *h)
+{
+    st_map *m = &h->map;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, 0, &it); d != ST_NIL; d = st_dart_next(m, 0, &it)) {
+        if (!st_is_boundary(m, d) || st_hier_edge_sharpness(h, d, 0) >= ST_SHARP_INFINITE) continue;
+        hole_faces_around(m, d);
+        hole_faces_around(m, st_beta0(m, d, 0));
+    }
+}
+
 int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const st_hier_opts *opts, st_error *err)
 {
     memset(h, 0, sizeof *h);
@@ -62,11 +113,25 @@ int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const
     st_mla_init(&h->vertex_sharp, sizeof(float));
     h->scheme = scheme;
     h->opts.boundary = mesh->boundary_interp == ST_BOUNDARY_EDGE_AND_CORNER ? ST_BOUNDARY_EDGE_AND_CORNER : ST_BOUNDARY_EDGE_ONLY;
-    h->opts.crease_method = ST_CREASE_UNIFORM;
+    h->opts.crease_method = mesh->crease_method == ST_CREASE_CHAIKIN ? ST_CREASE_CHAIKIN : ST_CREASE_UNIFORM;
+    if (opts && opts->crease_method == ST_CREASE_CHAIKIN) h->opts.crease_method = ST_CREASE_CHAIKIN;
+    /* A Catmull-Clark option: other schemes ignore the tag, as OpenSubdiv's
+     * regression harness does. */
+    h->opts.tri_sub = ST_TRI_SUB_CATMARK;
+    if ((mesh->tri_sub == ST_TRI_SUB_SMOOTH || (opts && opts->tri_sub == ST_TRI_SUB_SMOOTH)) &&
+        !strcmp(scheme->name, "catmull-clark"))
+        h->opts.tri_sub = ST_TRI_SUB_SMOOTH;
     if (opts && opts->boundary != ST_BOUNDARY_UNSET) h->opts.boundary = opts->boundary;
-    int rc = st_map_from_mesh(&h->map, mesh, err);
+    int none = mesh->boundary_interp == ST_BOUNDARY_NONE && (!opts || opts->boundary == ST_BOUNDARY_UNSET);
+    int rc = ST_OK;
+    if ((none || mesh_has_holes(mesh)) && !holes_supported(scheme))
+        rc = st_fail(err, ST_ERR_INVALID, "%s has no hole faces (OBJ `t hole`, `t interpolateboundary 0`): "
+                     "holes need a face-splitting scheme (catmull-clark, loop, butterfly, quad-triangle)",
+                     scheme->name);
+    if (!rc) rc = st_map_from_mesh(&h->map, mesh, err);
     if (!rc && scheme->check) rc = scheme->check(h, err);
     if (!rc) rc = load_tags(h, mesh, err);
+    if (!rc && none) boundary_none_holes(h);
     if (rc) st_hier_free(h);
     return rc;
 }
@@ -144,7 +209,7 @@ static float child_sharpness(float s)
 
 /* A coarse edge (d, e) of level L-1 splits into (d, β0(d,L)) and
  * (e, β0(e,L)) at level L (st_split_edge). */
-typedef struct sharp_edge { uint32_t d, e; float s; } sharp_edge;
+typedef struct sharp_edge { uint32_t d, e; float cd, ce; } sharp_edge;
 
 static sharp_edge *collect_sharp_edges(st_hier *h, unsigned l, uint32_t *n)
 {
@@ -160,7 +225,7 @@ static sharp_edge *collect_sharp_edges(st_hier *h, unsigned l, uint32_t *n)
         float s = st_hier_edge_sharpness(h, d, l);
         if (d > e || s <= 0) continue;
         if (*n == cap) { cap *= 2; out = realloc(out, cap * sizeof *out); if (!out) abort(); }
-        out[(*n)++] = (sharp_edge){ d, e, s };
+        out[(*n)++] = (sharp_edge){ d, e, st_crease_child_edge_sharpness(h, d, l), st_crease_child_edge_sharpness(h, e, l) };
     }
     return out;
 }
@@ -170,9 +235,8 @@ static void propagate_sharpness(st_hier *h, unsigned L, const sharp_edge *edges,
     if (!h->has_sharpness) return;
     st_map *m = &h->map;
     for (uint32_t i = 0; i < n; i++) {
-        float c = child_sharpness(edges[i].s);
-        st_hier_set_edge_sharpness(h, edges[i].d, L, c);
-        st_hier_set_edge_sharpness(h, edges[i].e, L, c);
+        st_hier_set_edge_sharpness(h, edges[i].d, L, edges[i].cd);
+        st_hier_set_edge_sharpness(h, edges[i].e, L, edges[i].ce);
     }
     st_dart_iter it;
     for (uint32_t v = st_vertex_first(m, L - 1, &it); v != ST_NIL; v = st_vertex_next(m, L - 1, &it)) {

@@ -25,10 +25,15 @@
 #include "core/schemes/scheme.h"
 
 enum st_crease_method { ST_CREASE_UNIFORM, ST_CREASE_CHAIKIN };
+/* Catmull-Clark's edge points next to triangles (Sdc::Options
+ * TriangleSubdivision, OBJ `t smoothtriangles`): its own rule, or the
+ * smoother weights of TRI_SUB_SMOOTH. */
+enum st_tri_sub { ST_TRI_SUB_CATMARK, ST_TRI_SUB_SMOOTH };
 
 typedef struct st_hier_opts {
     int boundary;              /* ST_BOUNDARY_EDGE_ONLY or ST_BOUNDARY_EDGE_AND_CORNER */
     int crease_method;         /* enum st_crease_method (OpenSubdiv's default: uniform) */
+    int tri_sub;               /* enum st_tri_sub (Catmull-Clark only; default catmark) */
 } st_hier_opts;
 
 typedef struct st_level_cache {

@@ -202,7 +202,10 @@ static void build_edges(builder *x)
             uint32_t e = c_beta0(x, d);
             x->holes += is_hole(x, d);
             if (d > e) continue;
-            if (is_hole(x, d) || is_hole(x, e) || sharp_edge(x, d)) { vec_push(&t->sedge, d); continue; }
+            if (is_hole(x, d) || is_hole(x, e) || sharp_edge(x, d) || st_catmark_tri_edge(x->h, d, x->l)) {
+                vec_push(&t->sedge, d);
+                continue;
+            }
             if (x->fc[d] == ST_NIL || x->fc[e] == ST_NIL) { x->irregular = 1; return; }
             if (t->edge.n + 5 > t->edge.cap) vec_reserve(&t->edge, 2 * t->edge.cap + 5);
             uint32_t *r = t->edge.a + t->edge.n;

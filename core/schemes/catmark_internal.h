@@ -17,6 +17,10 @@ typedef struct st_catmark_emitter {
  * point of vert(d), level L from L-1, with the crease and boundary rules. */
 void st_catmark_emit_edge(const st_hier *h, unsigned L, uint32_t d, st_catmark_emitter *e, st_stencil_sink sink, void *ctx);
 void st_catmark_emit_vertex(const st_hier *h, unsigned L, uint32_t d, st_catmark_emitter *e, st_stencil_sink sink, void *ctx);
+/* Whether the edge of d (level l) takes the smooth-triangle edge weights
+ * (opts.tri_sub smooth, a triangle on either side): such edges leave the
+ * tables for the stencil path. */
+int st_catmark_tri_edge(const st_hier *h, uint32_t d, unsigned l);
 /* The scheme's emit (scheme.h). */
 void st_catmark_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx);
 /* The scheme's predict_level (catmark_fast.c). */

@@ -77,7 +77,7 @@ static void direct_edge(direct *x, uint32_t d, uint32_t centre)
     uint32_t md = x->b0L[d], mid = x->vt[md];
     if (x->h->stamp[mid] == x->gen) return;
     uint32_t e = st_v_beta0(&x->c, d);
-    if (direct_hole(x, d) || direct_hole(x, e) || direct_sharp(x, d)) {
+    if (direct_hole(x, d) || direct_hole(x, e) || direct_sharp(x, d) || st_catmark_tri_edge(x->h, d, x->l)) {
         /* from the smaller dart, as the tables: the stencil's order, its bits */
         st_catmark_emit_edge(x->h, x->L, d < e ? d : e, &x->e, st_synth_sink, x->out);
         return;

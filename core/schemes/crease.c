@@ -31,6 +31,49 @@ float st_crease_vertex_sharpness(const st_hier *h, uint32_t d, unsigned l)
     return s;
 }
 
+/* Sum and count of the semi-sharp edges (0 < s < infinite) around the vertex
+ * of d at level l: what Chaikin's rule averages over. */
+static void semi_sharp_around(const st_hier *h, uint32_t d, unsigned l, float *sum, unsigned *count)
+{
+    const st_map *m = &h->map;
+    uint32_t x = d;
+    *sum = 0;
+    *count = 0;
+    do {
+        float s = st_crease_edge_sharpness(h, x, l);
+        if (s > 0 && s < ST_SHARP_INFINITE) { *sum += s; (*count)++; }
+        x = st_beta1(m, x, l);
+    } while (x != d);
+}
+
+/* Chaikin's rule for one child edge (Sdc::Crease::SubdivideEdgeSharpnessesAroundVertex,
+ * CREASE_CHAIKIN): 3/4 of the parent sharpness plus 1/4 of the mean of the
+ * other semi-sharp edges at the vertex, less one; alone at its vertex, the
+ * uniform decay.  Float arithmetic, as OpenSubdiv's. */
+static float chaikin_child(float s, float sum, unsigned count)
+{
+    if (s <= 0) return 0;
+    if (s >= ST_SHARP_INFINITE) return ST_SHARP_INFINITE;
+    if (count < 2) return st_crease_decay(s);
+    float others = (sum - s) / (float)(count - 1);
+    float c = (0.75f * s + 0.25f * others) - 1.0f;
+    return c > 0 ? c : 0;
+}
+
+float st_crease_child_edge_sharpness(const st_hier *h, uint32_t d, unsigned l)
+{
+    const st_map *m = &h->map;
+    float s = st_hier_edge_sharpness(h, d, l);
+    /* Boundary edges are infinitely sharp in the rules whatever their tag:
+     * their tag decays as it is. */
+    if (h->opts.crease_method != ST_CREASE_CHAIKIN || st_is_boundary(m, d) || st_is_boundary(m, st_beta0(m, d, l)))
+        return st_crease_decay(s);
+    float sum;
+    unsigned count;
+    semi_sharp_around(h, d, l, &sum, &count);
+    return chaikin_child(s, sum, count);
+}
+
 enum rule { RULE_SMOOTH, RULE_DART, RULE_CREASE, RULE_CORNER };
 
 static enum rule vertex_rule(float vs, unsigned sharp_edges)
@@ -62,6 +105,10 @@ void st_crease_vertex_point(const st_hier *h, unsigned l, uint32_t d, st_vertex_
     float tsum = 0; /* OpenSubdiv computes the blend weight in float */
     uint32_t ends[2] = { 0, 0 }, cends[2] = { 0, 0 }; /* crease ends for the parent and the child rule */
     uint32_t x = d;
+    int chaikin = h->opts.crease_method == ST_CREASE_CHAIKIN;
+    float semi_sum = 0;
+    unsigned semi_count = 0;
+    if (chaikin) semi_sharp_around(h, d, l, &semi_sum, &semi_count);
     if (vs > 0 && cvs <= 0) { transitions++; tsum += vs; }
     do {
         float s = st_crease_edge_sharpness(h, x, l);
@@ -69,7 +116,8 @@ void st_crease_vertex_point(const st_hier *h, unsigned l, uint32_t d, st_vertex_
             uint32_t end = st_vert(m, st_beta0(m, x, l), l);
             if (sharp < 2) ends[sharp] = end;
             sharp++;
-            if (st_crease_decay(s) > 0) { if (csharp < 2) cends[csharp] = end; csharp++; }
+            float child = chaikin ? chaikin_child(s, semi_sum, semi_count) : st_crease_decay(s);
+            if (child > 0) { if (csharp < 2) cends[csharp] = end; csharp++; }
             else { transitions++; tsum += s; }
         }
         x = st_beta1(m, x, l);
@@ -99,9 +147,18 @@ void st_crease_edge_point(const st_hier *h, unsigned l, uint32_t d, st_edge_mask
     st_stencil_buf_clear(out);
     if (s <= 0) { smooth(h, l, d, out); return; }
     double w = st_crease_decay(s) > 0 || s >= 1 ? 1.0 : s;
+    if (h->opts.crease_method == ST_CREASE_CHAIKIN && s < ST_SHARP_INFINITE) {
+        /* The child rule is a crease only when both child edges stay sharp
+         * (Vtr::Refinement::reclassifySemisharpVertices); otherwise the
+         * masks blend by the parent sharpness, unclamped, as
+         * Sdc::Scheme::ComputeEdgeVertexMask does. */
+        int both = st_crease_child_edge_sharpness(h, d, l) > 0 &&
+                   st_crease_child_edge_sharpness(h, st_beta0(m, d, l), l) > 0;
+        w = both ? 1.0 : s;
+    }
     st_stencil_buf_add(out, a, 0.5 * w);
     st_stencil_buf_add(out, b, 0.5 * w);
-    if (w < 1) {
+    if (w != 1) {
         st_stencil_buf_clear(tmp);
         smooth(h, l, d, tmp);
         st_stencil_buf_add_scaled(out, tmp, 1 - w);

@@ -11,7 +11,13 @@
  *   - when a rule changes between a parent and its child (a sharpness decays
  *     to 0), both masks are blended by the average parent sharpness of the
  *     features that decay (ComputeFractionalWeightAtVertex), clamped to 1.
- * Sharpness decreases by 1 per level (uniform method, OpenSubdiv's default). */
+ * Sharpness decreases by 1 per level (uniform method, OpenSubdiv's default),
+ * or by Chaikin's rule (Sdc::Options::CREASE_CHAIKIN, OBJ `t creasemethod
+ * chaikin`): the child edge at a vertex takes 3/4 of its parent's sharpness
+ * plus 1/4 of the mean of the other semi-sharp edges there, less one; the
+ * two halves of an edge may then differ, and an edge point takes the crease
+ * mask only when both stay sharp, else the masks blend by the parent
+ * sharpness (Sdc::Scheme::ComputeEdgeVertexMask). */
 #ifndef ST_CREASE_H
 #define ST_CREASE_H
 #ifndef STRATA_CORE_INTERNAL
@@ -27,6 +33,9 @@ float st_crease_edge_sharpness(const st_hier *h, uint32_t d, unsigned l);
 /* Sharpness of the vertex of d at level l, with the edge-and-corner rule. */
 float st_crease_vertex_sharpness(const st_hier *h, uint32_t d, unsigned l);
 float st_crease_decay(float s);
+/* Sharpness of the child at the vertex of d of the edge of d (level l), by
+ * the hierarchy's crease method: what refinement stores at level l + 1. */
+float st_crease_child_edge_sharpness(const st_hier *h, uint32_t d, unsigned l);
 
 typedef void (*st_vertex_mask_fn)(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out);
 typedef void (*st_edge_mask_fn)(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out);

@@ -62,17 +62,53 @@ static unsigned add_face_rest(const st_level_view *v, uint32_t d, double w, st_s
     return n;
 }
 
-/* Edge point (v0 + v1 + f0 + f1) / 4: both ends lie on both faces. */
+static unsigned face_degree(const st_level_view *v, uint32_t d)
+{
+    unsigned n = 0;
+    uint32_t x = d;
+    do { n++; x = st_v_phi1(v, x); } while (x != d);
+    return n;
+}
+
+/* Catmull-Clark's weight of a triangle's face point in an edge point under
+ * Sdc::Options::TRI_SUB_SMOOTH (Sdc::Scheme<SCHEME_CATMARK>::
+ * assignSmoothMaskForEdge, after Hbr). */
+#define TRI_SMOOTH_FACE_WEIGHT 0.470
+
+int st_catmark_tri_edge(const st_hier *h, uint32_t d, unsigned l)
+{
+    if (h->opts.tri_sub != ST_TRI_SUB_SMOOTH) return 0;
+    const st_map *m = &h->map;
+    uint32_t e = st_beta0(m, d, l);
+    if (st_is_boundary(m, d) || st_is_boundary(m, e)) return 0;
+    st_level_view v;
+    st_level_view_init(m, l, &v);
+    return face_degree(&v, d) == 3 || face_degree(&v, e) == 3;
+}
+
+/* Edge point (v0 + v1 + f0 + f1) / 4: both ends lie on both faces.  With
+ * smooth triangles an edge next to a triangle weighs both face points by
+ * fw = (w0 + w1) / 2 (w = 0.47 for a triangle, 1/4 else) and its ends by
+ * (1 - 2 fw) / 2. */
 static void smooth_edge(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out)
 {
     st_level_view v;
     st_level_view_init(&h->map, l, &v);
     uint32_t e = st_v_beta0(&v, d);
+    double vw = 0.25, fw = 0.25;
+    if (h->opts.tri_sub == ST_TRI_SUB_SMOOTH) {
+        unsigned nd = face_degree(&v, d), ne = face_degree(&v, e);
+        if (nd == 3 || ne == 3) {
+            double w0 = nd == 3 ? TRI_SMOOTH_FACE_WEIGHT : 0.25, w1 = ne == 3 ? TRI_SMOOTH_FACE_WEIGHT : 0.25;
+            fw = 0.5 * (w0 + w1);
+            vw = 0.5 * (1.0 - 2.0 * fw);
+        }
+    }
     uint32_t at = out->n;
-    buf_add(out, st_v_vert(&v, d), 0.25);
-    buf_add(out, st_v_vert(&v, e), 0.25);
-    unsigned kd = add_face_rest(&v, d, 0.25, out), ke = add_face_rest(&v, e, 0.25, out);
-    double shared = 0.25 / kd + 0.25 / ke;
+    buf_add(out, st_v_vert(&v, d), vw);
+    buf_add(out, st_v_vert(&v, e), vw);
+    unsigned kd = add_face_rest(&v, d, fw, out), ke = add_face_rest(&v, e, fw, out);
+    double shared = fw / kd + fw / ke;
     out->w[at] += shared;
     out->w[at + 1] += shared;
 }
@@ -135,6 +171,7 @@ static int plain_edge(const st_hier *h, uint32_t d, unsigned l)
     const st_map *m = &h->map;
     return !h->has_sharpness && !st_is_boundary(m, d) && !st_is_boundary(m, st_beta0(m, d, l));
 }
+
 
 static int plain_vertex(const st_hier *h, uint32_t d, unsigned l)
 {
