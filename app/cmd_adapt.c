@@ -130,6 +130,7 @@ int st_cmd_adapt(int argc, char **argv)
         if (!rc) rc = st_map_validate(&h.map, &err);
         unsigned shown = 0;
         const st_map *sm = rc ? NULL : st_adapt_display_map(&a, &shown); /* a progressive hierarchy's: its own map */
+        if (!rc && !sm) rc = st_fail(&err, ST_ERR_MEMORY, "out of memory for the adaptive mesh");
         if (!rc && sm != &h.map) rc = st_map_validate((st_map *)sm, &err);
         if (!rc) rc = tri ? triangulated(sm, shown, &out, &err) : st_adapt_mesh(&a, &out, &err);
     }

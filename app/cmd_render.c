@@ -222,6 +222,7 @@ int st_cmd_render(int argc, char **argv)
         if (!rc) rc = st_adapt_update(&a, &r.adapt, &err);
         if (rc) { fprintf(stderr, "strata render: %s: %s\n", o.in, err.msg); st_adapt_free(&a); st_hier_free(&h); return 1; }
         shown = st_adapt_display_map(&a, &level);
+        if (!shown) { fprintf(stderr, "strata render: %s: out of memory for the adaptive mesh\n", o.in); st_adapt_free(&a); st_hier_free(&h); return 1; }
         r.spec.level = level;
         if (shown == &h.map) st_adapt_free(&a);
     }

@@ -90,11 +90,12 @@ int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     return st_adapt_ops_of(a)->simplify(a, d, i, err);
 }
 
-const st_map *st_adapt_display_map(const st_adapt *a, unsigned *level)
+const st_map *st_adapt_display_map(st_adapt *a, unsigned *level)
 {
     if (st_adapt_is_progressive(a)) {
+        st_error e;
         *level = 0;
-        return a->pm_view;
+        return st_adapt_pm_ensure(a, &e) ? NULL : a->pm_view;
     }
     *level = a->h->map.top;
     return &a->h->map;
@@ -146,10 +147,8 @@ int st_adapt_mesh(st_adapt *a, st_mesh *out, st_error *err)
 {
     if (st_adapt_is_progressive(a)) {
         /* (a session loaded field by field has the criteria, not the mesh) */
-        if (!a->pm || !a->pm->valid) {
-            int rc = st_adapt_pm_update(a, &a->prev, err);
-            if (rc) return rc;
-        }
+        int rc = st_adapt_pm_ensure(a, err);
+        if (rc) return rc;
         return st_pm_select_mesh(a->pm, a->h, out, err);
     }
     return st_map_to_mesh(&a->h->map, a->h->map.top, out, err);

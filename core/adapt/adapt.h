@@ -178,8 +178,9 @@ void st_pm_select_free(st_pm_select *s);
 
 /* The map and level that show the result of the last update: the
  * hierarchy's top level, or for a progressive hierarchy the one-level map
- * of the selected mesh (NULL before the first update). */
-const st_map *st_adapt_display_map(const st_adapt *a, unsigned *level);
+ * of the selected mesh (built from the saved criteria after a session
+ * load; NULL when out of memory). */
+const st_map *st_adapt_display_map(st_adapt *a, unsigned *level);
 
 int st_adapt_init(st_adapt *a, st_hier *h, st_error *err);
 void st_adapt_free(st_adapt *a);

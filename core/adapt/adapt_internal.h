@@ -202,6 +202,9 @@ void st_adapt_corner_fallback(st_adapt *a, uint32_t c, unsigned i);
  * for a progressive hierarchy (adapt.c dispatches on a->pm's scheme). */
 int st_adapt_pm_update(st_adapt *a, const st_adapt_params *p, st_error *err);
 int st_adapt_pm_refresh(st_adapt *a, st_error *err);
+/* The selection of a->prev when there is none yet (a session loaded field
+ * by field keeps only the criteria), leaving the saved fields alone. */
+int st_adapt_pm_ensure(st_adapt *a, st_error *err);
 void st_adapt_pm_free(st_adapt *a);
 static inline int st_adapt_is_progressive(const st_adapt *a)
 {

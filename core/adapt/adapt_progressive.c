@@ -10,38 +10,49 @@
  * the collapses left out are kept as splits (fine detail).
  *
  * The rule.  V(c) = {a} ∪ N_l(a) for the collapse c of a at level l (its
- * 1-ring at level l, read from the map).  A collapse is left out when
+ * 1-ring at level l, read from the map); b its target.  A collapse is left
+ * out when
  *   (w) some vertex of V(c) wants level >= l: a vertex wants the highest
  *       level st_adapt_box_want gives a face of level M around it (max_level
  *       on faces touching the box, one less per falloff band), or
- *   (d) some vertex of V(c) is in V(c') of a collapse c' left out in a
- *       finer group (level > l).
+ *   (d) a or b is in V(c') of a collapse c' left out in a finer group
+ *       (level > l): "held", the vertices whose star in C may differ from
+ *       their star in the full sequence.
  * Collapses of the same group never hold each other back.
  *
  * Claim: every collapse applied to C acts on C exactly as it acted in the
  * full sequence, and C stays a 2-manifold with the input's boundary loops
  * (valid map, watertight: every edge has two faces or is an input boundary
  * edge, Euler characteristic kept).  Proof, by induction on the sequence;
- * write F_j for the full sequence's mesh before c_j, C_j for ours:
- *  - every face of the star of a in F_j is in C_j: it was made by some
- *    c_i, i < j, whose V(c_i) holds all its corners; c_i is in a finer
- *    group (a face made by a collapse of the same group holds a' ∈ N(x_i),
- *    excluded by the group's independence rule (i), progressive.h point 3;
- *    a' = b_i is excluded too, a removed vertex is never a target), so
- *    V(c_i) ∩ V(c_j) ∋ a and (d) would have left c_j out had c_i been;
- *  - C_j has no other face around a: such a face was destroyed in the
- *    full sequence by some c_k, k < j, left out here, whose removed vertex
- *    x_k is a neighbour of a; (i) puts c_k in a finer group, and (d) again;
+ * write F_j for the full sequence's mesh before c_j = (a -> b), C_j for ours:
+ *  - every face of the star of a in F_j is in C_j: one made by some
+ *    c_i, i < j, has its corners in {y_i} ∪ N(x_i) ⊆ V(c_i), so a ∈ V(c_i);
+ *    c_i is in a finer group (in the same group a ∈ N(x_i) is excluded by
+ *    the independence rule (i), progressive.h point 3, and a = y_i too: a
+ *    removed vertex is never a target), so (d) would have left c_j out had
+ *    c_i been left out; applied, c_i made the face in C as well;
+ *  - C_j has no other face around a: such a face was destroyed in the full
+ *    sequence by some c_k, k < j, left out here, with a ∈ N(x_k) ⊆ V(c_k);
+ *    (i) puts c_k in a finer group, and (d) again;
  *  - so the collapse replaces the same faces by the same faces, and the
  *    link condition N(a) ∩ N(b) = {c, d} holds in C_j: an edge b-w,
  *    w ∈ N(a) \ {c, d}, in C_j and not in F_j belongs to a face (b, w, x_k)
- *    destroyed by a left-out c_k (x_k alive otherwise); then b, w ∈ N(x_k)
- *    so V(c_k) ∩ V(c_j) ≠ ∅; in the same group the edge b-w would still be
- *    in F_j (a collapse removes no edge of which x_k is not an end), a
+ *    destroyed by a left-out c_k (x_k, the one corner not alive in F_j);
+ *    then b ∈ N(x_k) ⊆ V(c_k); in the same group the edge b-w would still
+ *    be in F_j (a collapse removes no edge of which x_k is not an end), a
  *    contradiction, and in a finer group (d) applies.
  *  The link condition keeps a closed or bordered triangle 2-manifold one
  *  (Dey et al. 1999; a boundary vertex a only moves along its boundary
  *  edge, as in F_j).
+ *
+ * Width of the transition.  The held set grows by about one ring of each
+ * level between M and B, and a level's edges are about 1/sqrt(t) longer
+ * than the next finer level's (t = 0.75 per level on the shared meshes): the
+ * band between the box and the faces of level B is some 4-7 edges of level
+ * B wide.  A coarse B on a small mesh is then mostly transition; a B a few
+ * levels below M keeps it narrow.  (A split-by-split dependency as in Hoppe
+ * 97's view-dependent meshes, vertex split by vertex split, would narrow
+ * it, at the price of a per-split neighbourhood record.)
  *
  * Reading C off the map, without replaying anything.  A face (φ1 orbit) of
  * the map is only ever removed by the collapse of the split that inserted
@@ -145,14 +156,17 @@ static void vertex_wants(st_pm_select *s, const st_map *m, unsigned M, const st_
     }
 }
 
-/* Rules (w) and (d) for the collapse of a (level l): 1 to leave it out. */
+/* Rules (w) and (d) for the collapse a -> b (level l): 1 to leave it out.
+ * b is the vertex at l-1 of a dart around a older than l (the collapse
+ * renamed a to b in every old dart around a). */
 static int held_back(const st_pm_select *s, const st_map *m, uint32_t a, unsigned l)
 {
     if (s->want[a] >= l || s->held[a]) return 1;
     uint32_t d0 = s->split_dart[a], x = d0;
     do {
         uint32_t u = st_vert(m, st_beta0(m, x, l), l);
-        if (s->want[u] >= l || s->held[u]) return 1;
+        if (s->want[u] >= l) return 1;
+        if (m->darts.ins[x] < l && s->held[st_vert(m, x, l - 1)]) return 1;
         x = st_beta1(m, x, l);
     } while (x != d0);
     return 0;
@@ -311,7 +325,8 @@ static int rebuild_view(st_adapt *a, st_error *err)
     return rc;
 }
 
-int st_adapt_pm_update(st_adapt *a, const st_adapt_params *p, st_error *err)
+/* The selection and its view for p; the saved fields stay as they are. */
+static int select_and_view(st_adapt *a, const st_adapt_params *p, st_error *err)
 {
     if (!a->pm) {
         a->pm = calloc(1, sizeof *a->pm);
@@ -319,6 +334,12 @@ int st_adapt_pm_update(st_adapt *a, const st_adapt_params *p, st_error *err)
     }
     int rc = st_pm_select_update(a->pm, a->h, p, err);
     if (!rc) rc = rebuild_view(a, err);
+    return rc;
+}
+
+int st_adapt_pm_update(st_adapt *a, const st_adapt_params *p, st_error *err)
+{
+    int rc = select_and_view(a, p, err);
     if (rc) return rc;
     a->prev = *p;
     a->has_prev = 1;
@@ -327,11 +348,17 @@ int st_adapt_pm_update(st_adapt *a, const st_adapt_params *p, st_error *err)
     return ST_OK;
 }
 
-/* After an edit of the hierarchy: the view's positions follow (a session
- * loaded field by field builds C from the criteria it saved). */
+int st_adapt_pm_ensure(st_adapt *a, st_error *err)
+{
+    return a->pm && a->pm->valid && a->pm_view ? ST_OK : select_and_view(a, &a->prev, err);
+}
+
+/* After an edit of the hierarchy: the view's positions follow; the
+ * selection stays until the next update (the box's faces moved, so the
+ * next update may choose others, as for the other families). */
 int st_adapt_pm_refresh(st_adapt *a, st_error *err)
 {
-    if (!a->pm || !a->pm->valid || !a->pm_view) return st_adapt_pm_update(a, &a->prev, err);
+    if (!a->pm || !a->pm->valid || !a->pm_view) return st_adapt_pm_ensure(a, err);
     /* st_map_from_mesh numbers the vertices as the mesh does */
     for (uint32_t i = 0; i < a->pm->nverts; i++)
         st_set_pos(a->pm_view, i, 0, st_pos(&a->h->map, a->pm->vid[i], a->pm->lam[i]));
