@@ -374,7 +374,6 @@ static void dry_sink(void *ctx, const st_stencil *s)
     c->h->stamp[s->fine] = c->gen;
     c->count++;
     if (c->fp) st_footprint_add(c->fp, st_fp_key(c->L, ST_FP_POS, s->fine));
-    if (!c->changed) return; /* a whole level (resynth_above) */
     uint32_t d = st_dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
     if (d == ST_NIL) c->lost = 1;
     else st_dart_list_push(c->changed, d);
@@ -396,29 +395,10 @@ static uint64_t resynth_above(st_hier *h, unsigned l, const uint32_t *darts, uin
     for (uint32_t i = 0; i < n; i++) st_dart_list_push(&seeds, real_seed(m, darts[i], l));
     unsigned extra = 0;
     uint64_t count = 0;
-    int whole = 0;
     for (unsigned L = l + 1; L <= m->top; L++) {
         next.n = 0;
         synth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next, .fp = fp };
-        /* Seeds on more than about 1/4 of the vertices of level L-1: the
-         * region (support_rings around each) is then a good part of the
-         * level, and walking it and emitting every vertex once per face
-         * around it costs more than the level's whole synthesis, which
-         * writes the same values; the levels above are then whole too.
-         * (A progressive hierarchy's coarse edit reaches most of the finer
-         * levels: bench_progressive.)  Only for schemes without
-         * predict_around, so that an edit and its footprint query take the
-         * same path and report the same set. */
-        if (!whole && !h->scheme->predict_around && !extra) {
-            uint64_t nv = 0;
-            for (unsigned k = 0; k < L; k++) nv += m->verts.live[k];
-            whole = (uint64_t)seeds.n * 4 > nv;
-        }
-        if (whole) {
-            c.changed = NULL;
-            h->scheme->emit(h, L, NULL, 0, write ? st_synth_sink : dry_sink, &c);
-            count += c.count;
-        } else if (write && h->scheme->predict_around && !h->detail[L] && !extra &&
+        if (write && h->scheme->predict_around && !h->detail[L] && !extra &&
             h->scheme->predict_around(h, L, seeds.d, seeds.n, &c)) {
             count += c.count;
         } else {
