@@ -134,6 +134,15 @@ static void test_box(void)
     CHECK(st_doc_undo(&d, &err) == 0);
     display_follows(&d, "after undo");
     display_is_selection(&d, &p, "after undo");
+    /* undo the rebuild with the box on: the display follows the model back
+     * to Loop and forth to progressive again */
+    while (d.scheme == st_scheme_find("progressive") && st_doc_undo(&d, &err) == 0) {}
+    CHECK(d.scheme == st_scheme_find("loop"));
+    const st_hier *sh = st_doc_display_hier(&d);
+    CHECKF(st_map_validate((st_map *)&sh->map, &err) == ST_OK, "after undoing the rebuild: %s", err.msg);
+    while (d.scheme != st_scheme_find("progressive") && st_doc_redo(&d, &err) == 0) {}
+    CHECK(d.scheme == st_scheme_find("progressive"));
+    if (d.box_on) display_is_selection(&d, &d.box, "after redoing the rebuild");
     CHECK(st_doc_set_box(&d, &p, 0, &err) == 0);
     CHECK(st_doc_display_hier(&d) == &d.h);
     st_doc_free(&d);
