@@ -62,11 +62,11 @@ static int parse_adapt(int argc, char **argv, st_adapt_params *p, int *tri, int 
 }
 
 /* The triangles the renderer would draw, as a soup (map positions). */
-static int triangulated(const st_map *m, st_mesh *out, st_error *err)
+static int triangulated(const st_map *m, unsigned level, st_mesh *out, st_error *err)
 {
     st_rgeom g;
     st_rgeom_init(&g);
-    int rc = st_rgeom_build(&g, m, m->top, err);
+    int rc = st_rgeom_build(&g, m, level, err);
     if (rc) return rc;
     st_mesh r;
     st_mesh_init(&r);
@@ -76,7 +76,7 @@ static int triangulated(const st_map *m, st_mesh *out, st_error *err)
     r.face_off = malloc(((size_t)g.ntris + 1) * sizeof *r.face_off);
     r.face_idx = malloc((size_t)(g.ntris ? g.ntris : 1) * 3 * sizeof *r.face_idx);
     if (!r.pos || !r.face_off || !r.face_idx) { st_mesh_free(&r); st_rgeom_free(&g); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
-    for (uint32_t v = 0; v < g.nverts; v++) memcpy(r.pos + 3 * (size_t)v, st_pos(m, g.vid[v], m->top), 3 * sizeof(double));
+    for (uint32_t v = 0; v < g.nverts; v++) memcpy(r.pos + 3 * (size_t)v, st_pos(m, g.vid[v], level), 3 * sizeof(double));
     for (uint32_t t = 0; t <= g.ntris; t++) r.face_off[t] = 3 * t;
     memcpy(r.face_idx, g.tris, (size_t)g.ntris * 3 * sizeof *r.face_idx);
     st_rgeom_free(&g);
@@ -128,7 +128,11 @@ int st_cmd_adapt(int argc, char **argv)
         if (!rc) rc = st_adapt_init(&a, &h, &err);
         if (!rc) rc = st_adapt_update(&a, &p, &err);
         if (!rc) rc = st_map_validate(&h.map, &err);
-        if (!rc) rc = tri ? triangulated(&h.map, &out, &err) : st_adapt_mesh(&a, &out, &err);
+        unsigned shown = 0;
+        const st_map *sm = rc ? NULL : st_adapt_display_map(&a, &shown); /* a progressive hierarchy's: its own map */
+        if (!rc && !sm) rc = st_fail(&err, ST_ERR_MEMORY, "out of memory for the adaptive mesh");
+        if (!rc && sm != &h.map) rc = st_map_validate((st_map *)sm, &err);
+        if (!rc) rc = tri ? triangulated(sm, shown, &out, &err) : st_adapt_mesh(&a, &out, &err);
     }
     if (!rc) rc = st_any_mesh_save(o.out, &out, &err);
     if (rc) fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);

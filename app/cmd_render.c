@@ -242,21 +242,25 @@ int st_cmd_render(int argc, char **argv)
     if (!r.adaptive && st_cli_level(&o, &h, "render", &level)) { st_hier_free(&h); return 2; }
     r.spec.level = level;
     st_error err;
+    st_adapt a;
+    memset(&a, 0, sizeof a);
+    const st_map *shown = &h.map; /* the adaptive result: h's top level, or a progressive hierarchy's own map */
     if (r.adaptive) {
-        st_adapt a;
-        memset(&a, 0, sizeof a);
         rc = st_mem_check(st_adapt_estimate_bytes(&h, &r.adapt), "the adaptive refinement", &err);
         if (!rc) rc = st_adapt_init(&a, &h, &err);
         if (!rc) rc = st_adapt_update(&a, &r.adapt, &err);
-        st_adapt_free(&a);
-        if (rc) { fprintf(stderr, "strata render: %s: %s\n", o.in, err.msg); st_hier_free(&h); return 1; }
-        level = r.spec.level = h.map.top;
+        if (rc) { fprintf(stderr, "strata render: %s: %s\n", o.in, err.msg); st_adapt_free(&a); st_hier_free(&h); return 1; }
+        shown = st_adapt_display_map(&a, &level);
+        if (!shown) { fprintf(stderr, "strata render: %s: out of memory for the adaptive mesh\n", o.in); st_adapt_free(&a); st_hier_free(&h); return 1; }
+        r.spec.level = level;
+        if (shown == &h.map) st_adapt_free(&a);
     }
     st_offscreen off;
     unsigned char *rgba = NULL;
     rc = st_offscreen_init(&off, r.width, r.height, &err);
     if (rc) {
         fprintf(stderr, "strata render: cannot render headless: %s\n", err.msg);
+        st_adapt_free(&a);
         st_hier_free(&h);
         return 1;
     }
@@ -266,13 +270,14 @@ int st_cmd_render(int argc, char **argv)
     if (r.normal_map) {
         if (!rc) rc = st_render_normal_mapped(&off, &h, &r.spec, r.normal_map, r.normal_object, rgba, &faces, &err);
     } else {
-        if (!rc) rc = st_offscreen_prepare(&off, &h.map, &r.spec, &err);
+        if (!rc) rc = st_offscreen_prepare(&off, shown, &r.spec, &err);
         faces = off.r.surf.nfaces;
         if (!rc) rc = st_offscreen_draw(&off, &r.spec, rgba, &err);
     }
     if (!rc) rc = st_png_write(o.out, r.width, r.height, rgba, &err);
     st_offscreen_free(&off);
     free(rgba);
+    st_adapt_free(&a);
     st_hier_free(&h);
     if (rc) { fprintf(stderr, "strata render: %s\n", err.msg); return 1; }
     if (r.spec.view >= 0)

@@ -2,7 +2,14 @@
 // OpenMesh's Decimater (quadric module) and meshoptimizer's meshopt_simplify,
 // in one process, on the same input down to the same face count.
 //
-//   bench_progressive [MESH] [--percent P] [--repeat N]
+//   bench_progressive [MESH...] [--percent P] [--repeat N] [--edits-only]
+//
+// Default meshes: large/koala.obj (100k triangles) and
+// large/sword_quad_dominant.obj (22k faces, 98 % quads, fanned into 44.6k
+// triangles for all three).  After the comparison, on Strata's hierarchy:
+// a one-vertex edit of levels 0, 2 and 4 (local re-synthesis, st_hier_move)
+// against the full synthesis of the levels above, and the interest box's
+// selective display (update time, faces shown).
 //
 // Prints, for each: time (median of N), peak memory (each run once more in a
 // forked child: its peak RSS above the RSS it started with), the face count
@@ -15,6 +22,8 @@ extern "C" {
 #include "core/io/mesh.h"
 #include "core/progressive/progressive_internal.h"
 #include "core/map/map.h"
+#include "core/adapt/adapt.h"
+#include "core/multires/edit.h"
 }
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -32,6 +41,7 @@ extern "C" {
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <vector>
 
 typedef OpenMesh::TriMesh_ArrayKernelT<> OMesh;
@@ -269,14 +279,28 @@ static long peak_in_child(int which, const st_mesh *m, uint64_t target)
     pid_t pid = fork();
     if (pid == 0) {
         malloc_trim(0); /* so that the run's heap is new resident memory */
+        /* The peak is the child's own from here: a child starts with its
+         * parent's high-water mark (the earlier meshes' runs), which
+         * writing 5 to clear_refs resets to the current resident size. */
+        FILE *cr = fopen("/proc/self/clear_refs", "w");
+        if (cr) { fputs("5", cr); fclose(cr); }
         long before = rss_kib();
         st_progressive_report rep;
         if (which == 0) run_strata(m, target, &rep);
         else if (which == 1) run_openmesh(m, target);
         else run_meshopt(m, target);
-        struct rusage ru;
-        getrusage(RUSAGE_SELF, &ru);
-        long peak = ru.ru_maxrss - before;
+        long hwm = -1;
+        FILE *st = fopen("/proc/self/status", "r");
+        char line[256];
+        while (st && fgets(line, sizeof line, st))
+            if (!strncmp(line, "VmHWM:", 6)) hwm = atol(line + 6);
+        if (st) fclose(st);
+        if (hwm < 0) { /* no /proc: the process's peak (includes the parent's before the fork) */
+            struct rusage ru;
+            getrusage(RUSAGE_SELF, &ru);
+            hwm = ru.ru_maxrss;
+        }
+        long peak = hwm - before;
         if (write(fd[1], &peak, sizeof peak) != (ssize_t)sizeof peak) _exit(1);
         _exit(0);
     }
@@ -288,24 +312,141 @@ static long peak_in_child(int which, const st_mesh *m, uint64_t target)
     return peak;
 }
 
-int main(int argc, char **argv)
+/* Fans every polygon into triangles, so that the three simplifiers get the
+ * same triangles (Strata would fan them itself). */
+static void fan_polygons(st_mesh *m)
 {
-    char def[1024];
-    snprintf(def, sizeof def, "%s/large/koala.obj", STRATA_SHARED_DATA);
-    const char *path = def;
-    double percent = 1.0;
-    int repeat = 3;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--percent") && i + 1 < argc) percent = atof(argv[++i]);
-        else if (!strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::max(1, atoi(argv[++i]));
-        else path = argv[i];
+    uint32_t nt = 0;
+    for (uint32_t f = 0; f < m->nfaces; f++) nt += m->face_off[f + 1] - m->face_off[f] - 2;
+    if (nt == m->nfaces) return;
+    uint32_t *off = (uint32_t *)malloc(((size_t)nt + 1) * sizeof *off), *idx = (uint32_t *)malloc(3 * (size_t)nt * sizeof *idx);
+    if (!off || !idx) abort();
+    uint32_t t = 0;
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        const uint32_t *i = m->face_idx + m->face_off[f];
+        for (uint32_t k = 1; k + 1 < m->face_off[f + 1] - m->face_off[f]; k++, t++) {
+            off[t] = 3 * t;
+            idx[3 * t] = i[0];
+            idx[3 * t + 1] = i[k];
+            idx[3 * t + 2] = i[k + 1];
+        }
     }
+    off[t] = 3 * t;
+    free(m->face_off);
+    free(m->face_idx);
+    m->face_off = off;
+    m->face_idx = idx;
+    m->nfaces = nt;
+}
+
+/* One dart per vertex of level l, in vertex id order. */
+static std::vector<uint32_t> vertex_darts(const st_map *m, unsigned l)
+{
+    std::vector<uint32_t> vd(m->verts.end, ST_NIL), out;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it))
+        if (!st_is_boundary(m, d)) vd[st_vert(m, d, l)] = d;
+    for (uint32_t d : vd)
+        if (d != ST_NIL) out.push_back(d);
+    return out;
+}
+
+/* Coarse-level edits on the hierarchy (thesis §4.4.6: a local edit
+ * re-synthesises the support of the moved vertex only) against the full
+ * synthesis of the levels above, and the selective display of a box
+ * (core/adapt/adapt_progressive.c): update time and faces shown. */
+static void edits_and_display(const st_mesh *m, uint64_t target, double diag, int repeat)
+{
+    st_hier h;
+    st_error err;
+    st_progressive_opts o = {};
+    o.target_faces = target;
+    if (st_progressive_build(m, &o, &h, nullptr, &err)) { fprintf(stderr, "strata: %s\n", err.msg); return; }
+    st_map *mp = &h.map;
+    st_hier_synthesize(&h, 0); /* (as after any first edit) */
+    unsigned top = mp->top;
+    for (unsigned l : { 0u, 2u, 4u, 8u, 10u, 12u }) {
+        if (l >= top) continue;
+        std::vector<uint32_t> vd = vertex_darts(mp, l);
+        uint32_t d = vd[vd.size() / 3];
+        std::vector<double> tl, tf;
+        uint64_t written = 0, changed = 0;
+        for (int r = 0; r < std::max(repeat, 3); r++) {
+            const double *p = st_dart_pos(mp, d, l);
+            double q[1][3] = { { p[0] + 1e-3 * diag * (r & 1 ? -1 : 1), p[1], p[2] + 5e-4 * diag } };
+            std::vector<double> before;
+            if (r == 0) /* the support: positions above l that the edit changes */
+                for (unsigned L = l + 1; L <= top; L++) {
+                    st_dart_iter it;
+                    for (uint32_t v = st_vertex_first(mp, L, &it); v != ST_NIL; v = st_vertex_next(mp, L, &it))
+                        before.insert(before.end(), st_pos(mp, v, L), st_pos(mp, v, L) + 3);
+                }
+            double t0 = cpu_now();
+            written = st_hier_move(&h, l, &d, q, 1);
+            tl.push_back(cpu_now() - t0);
+            if (r == 0) {
+                size_t i = 0;
+                for (unsigned L = l + 1; L <= top; L++) {
+                    st_dart_iter it;
+                    for (uint32_t v = st_vertex_first(mp, L, &it); v != ST_NIL; v = st_vertex_next(mp, L, &it), i += 3)
+                        changed += memcmp(&before[i], st_pos(mp, v, L), 3 * sizeof(double)) != 0;
+                }
+            }
+            t0 = cpu_now();
+            st_hier_synthesize(&h, l);
+            tf.push_back(cpu_now() - t0);
+        }
+        uint64_t above = 0;
+        for (unsigned L = l + 1; L <= top; L++) {
+            st_level_stats s;
+            st_level_stats_compute(mp, L, &s);
+            above += s.vertices;
+        }
+        double ml = bench_median(tl.data(), (int)tl.size()), mf = bench_median(tf.data(), (int)tf.size());
+        printf("  edit of one vertex of level %2u: local %8.3f ms (%llu positions written, %llu changed, of %llu above), full "
+               "synthesis of levels %u..%u %7.2f ms: local / full %.4fx (goal <= 0.05x)\n",
+               l, 1e3 * ml, (unsigned long long)written, (unsigned long long)changed, (unsigned long long)above, l + 1, top,
+               1e3 * mf, ml / mf);
+    }
+    /* the interest box: half-size 2 % of the diagonal around a vertex */
+    std::vector<uint32_t> vt = vertex_darts(mp, top);
+    const double *c = st_dart_pos(mp, vt[vt.size() / 2], top);
+    for (unsigned base : { 0u, top > 6 ? top - 6 : 0u }) {
+        st_adapt_params p = {};
+        p.base_level = base;
+        p.max_level = top;
+        p.has_box = 1;
+        for (int k = 0; k < 3; k++) { p.box_lo[k] = c[k] - 0.02 * diag; p.box_hi[k] = c[k] + 0.02 * diag; }
+        st_adapt a;
+        if (st_adapt_init(&a, &h, &err)) { fprintf(stderr, "strata: %s\n", err.msg); break; }
+        std::vector<double> tu;
+        for (int r = 0; r < std::max(repeat, 3); r++) {
+            double t0 = cpu_now();
+            if (st_adapt_update(&a, &p, &err)) { fprintf(stderr, "strata: %s\n", err.msg); break; }
+            tu.push_back(cpu_now() - t0);
+        }
+        st_level_stats sb, st;
+        st_level_stats_compute(mp, base, &sb);
+        st_level_stats_compute(mp, top, &st);
+        printf("  interest box (2 %% of the diagonal), levels %u..%u: %u faces shown (level %u: %llu, level %u: %llu), "
+               "update %.2f ms (selection and its one-level map)\n",
+               base, top, a.pm ? a.pm->nfaces : 0, base, (unsigned long long)sb.faces, top, (unsigned long long)st.faces,
+               1e3 * bench_median(tu.data(), (int)tu.size()));
+        st_adapt_free(&a);
+    }
+    st_hier_free(&h);
+}
+
+static int g_edits_only;
+
+static int bench_mesh(const char *path, double percent, int repeat)
+{
     st_mesh m;
     st_error err;
     st_mesh_init(&m);
     if (st_mesh_load(path, &m, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-    for (uint32_t f = 0; f < m.nfaces; f++)
-        if (m.face_off[f + 1] - m.face_off[f] != 3) { fprintf(stderr, "%s: triangle meshes only\n", path); return 1; }
+    uint32_t nin = m.nfaces;
+    fan_polygons(&m);
     uint64_t target = (uint64_t)std::floor(m.nfaces * percent / 100.0);
     Tri in;
     in.pos.assign(m.pos, m.pos + 3 * (size_t)m.nverts);
@@ -314,8 +455,14 @@ int main(int argc, char **argv)
     for (uint32_t v = 0; v < m.nverts; v++)
         for (int k = 0; k < 3; k++) { lo[k] = std::min(lo[k], m.pos[3 * v + k]); hi[k] = std::max(hi[k], m.pos[3 * v + k]); }
     double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    printf("bench_progressive: %s, %u vertices, %u faces, target %llu faces (%.2f %%), median of %d runs\n", path, m.nverts,
-           m.nfaces, (unsigned long long)target, percent, repeat);
+    printf("bench_progressive: %s, %u vertices, %u faces%s, target %llu faces (%.2f %%), median of %d runs\n", path, m.nverts,
+           m.nfaces, nin != m.nfaces ? " (polygons fanned into triangles for all three)" : "", (unsigned long long)target, percent,
+           repeat);
+    if (g_edits_only) {
+        edits_and_display(&m, target, diag, repeat);
+        st_mesh_free(&m);
+        return 0;
+    }
     const char *names[3] = { "strata (whole hierarchy)", "openmesh decimater+quadric", "meshopt_simplify" };
     long peak[3];
     for (int which = 0; which < 3; which++) peak[which] = peak_in_child(which, &m, target);
@@ -370,6 +517,27 @@ int main(int argc, char **argv)
            tmean, rep.bytes_per_dart, 24 / (1 - tmean), 4 / (1 - tmean));
     printf("  %s; %llu (level, vertex) details miss the input's bits by an ulp or so\n", rep.note,
            (unsigned long long)rep.inexact);
+    edits_and_display(&m, target, diag, repeat);
     st_mesh_free(&m);
     return 0;
+}
+
+int main(int argc, char **argv)
+{
+    double percent = 1.0;
+    int repeat = 3;
+    std::vector<std::string> paths;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--percent") && i + 1 < argc) percent = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::max(1, atoi(argv[++i]));
+        else if (!strcmp(argv[i], "--edits-only")) g_edits_only = 1;
+        else paths.push_back(argv[i]);
+    }
+    if (paths.empty()) { /* the two large meshes of the shared data (SOURCES.md) */
+        paths.push_back(std::string(STRATA_SHARED_DATA) + "/large/koala.obj");
+        paths.push_back(std::string(STRATA_SHARED_DATA) + "/large/sword_quad_dominant.obj");
+    }
+    int rc = 0;
+    for (const std::string &p : paths) rc |= bench_mesh(p.c_str(), percent, repeat);
+    return rc;
 }

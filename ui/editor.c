@@ -835,7 +835,7 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
     if (on) {
         unsigned N = d->h.map.top;
         unsigned ob = old.base_level < N ? old.base_level : N, nb = p.base_level < N ? p.base_level : N;
-        if (!d->box_on || !d->display.built || ob != nb) {
+        if (!d->box_on || !d->display.built || ob != nb || d->h.scheme->id == ST_SCHEME_PROGRESSIVE) {
             rc = display_build(d, &p, err);
         } else {
             /* In place: the renderer re-tessellates what the map's log

@@ -24,6 +24,8 @@
 
 void st_box_display_drop(st_box_display *bd)
 {
+    /* (a progressive model's display: adapt reads the model, hier is the
+     * selected mesh; both are freed the same way) */
     if (bd->built) {
         st_adapt_free(&bd->adapt);
         st_hier_free(&bd->hier);
@@ -252,6 +254,86 @@ static void disp_moved(st_box_display *bd, uint32_t v)
     bd->moved[bd->nmoved++] = v;
 }
 
+/* ---- progressive hierarchies ---------------------------------------------------
+ * Nothing is refined: core selects a mesh of faces of several levels of
+ * the model (st_adapt on the model itself, which it only reads), and the
+ * display is that mesh as a one-level hierarchy.  Display vertex i is the
+ * model's vertex st_adapt's pm->vid[i] at its level pm->lam[i]. */
+
+static int is_progressive(const st_hier *h) { return h->scheme && h->scheme->id == ST_SCHEME_PROGRESSIVE; }
+
+static int pm_build(st_box_display *bd, const st_hier *model, const st_adapt_params *p, st_error *err)
+{
+    /* (st_adapt takes a mutable hierarchy for the refinement families; on
+     * a progressive one it only reads, the topology cache reading the map's
+     * generation number) */
+    int rc = st_adapt_init(&bd->adapt, (st_hier *)model, err);
+    if (rc) return rc;
+    rc = st_adapt_update(&bd->adapt, p, err);
+    st_mesh c;
+    st_mesh_init(&c);
+    if (!rc) rc = st_adapt_mesh(&bd->adapt, &c, err);
+    if (!rc) rc = st_hier_init(&bd->hier, &c, &st_scheme_progressive, NULL, err);
+    st_mesh_free(&c);
+    if (rc) {
+        st_adapt_free(&bd->adapt);
+        return rc;
+    }
+    bd->built = 1;
+    bd->copied_top = 0;
+    bd->npairs = 0;
+    bd->subdivided_faces_ok = 0;
+    const st_pm_select *s = bd->adapt.pm;
+    const st_map *mm = &model->map;
+    uint32_t n = s->nverts;
+    uint32_t *dc = realloc(bd->disp_to_model_vertex, (size_t)(n ? n : 1) * sizeof *dc);
+    uint32_t *mc = realloc(bd->model_to_disp_vertex, (size_t)(mm->verts.end ? mm->verts.end : 1) * sizeof *mc);
+    uint32_t *lv = realloc(bd->levels_of_disp_vertex, (size_t)(n ? n : 1) * sizeof *lv);
+    uint32_t *vd = realloc(bd->dart_of_disp_vertex, (size_t)(n ? n : 1) * sizeof *vd);
+    if (!dc || !mc || !lv || !vd) abort();
+    bd->disp_to_model_vertex = dc;
+    bd->model_to_disp_vertex = mc;
+    bd->levels_of_disp_vertex = lv;
+    bd->dart_of_disp_vertex = vd;
+    bd->ndisp_to_model = bd->ndisp_vertices = n;
+    bd->nmodel_to_disp = mm->verts.end;
+    for (uint32_t v = 0; v < mm->verts.end; v++) mc[v] = ST_NIL;
+    for (uint32_t i = 0; i < n; i++) {
+        dc[i] = s->vid[i];
+        mc[s->vid[i]] = i;
+        lv[i] = 1u << s->lam[i];
+        vd[i] = ST_NIL;
+    }
+    return ST_OK;
+}
+
+/* Display vertex i to its model position; reported when it moved. */
+static void pm_sync_vertex(st_box_display *bd, const st_hier *model, uint32_t i, int report)
+{
+    const st_pm_select *s = bd->adapt.pm;
+    const double *p = st_pos(&model->map, s->vid[i], s->lam[i]);
+    if (!memcmp(st_pos(&bd->hier.map, i, 0), p, 3 * sizeof *p)) return;
+    st_set_pos(&bd->hier.map, i, 0, p);
+    if (!report) return;
+    disp_moved(bd, i);
+    st_footprint_add(&bd->written, st_fp_key(0, ST_FP_POS, i));
+}
+
+/* After a local edit: the display vertices whose level-and-vertex the edit
+ * wrote (keys: core/multires/footprint.h). */
+static void pm_follow_edit(st_box_display *bd, const st_hier *model, const uint64_t *keys, uint32_t nkeys)
+{
+    const st_pm_select *s = bd->adapt.pm;
+    for (uint32_t k = 0; k < nkeys; k++) {
+        if ((keys[k] >> 32) & 1) continue; /* not a position */
+        unsigned L = (unsigned)(keys[k] >> 33);
+        uint32_t V = (uint32_t)keys[k];
+        uint32_t i = V < bd->nmodel_to_disp ? bd->model_to_disp_vertex[V] : ST_NIL;
+        if (i == ST_NIL || s->lam[i] != L) continue;
+        pm_sync_vertex(bd, model, i, 1);
+    }
+}
+
 /* The display's levels beyond the model, re-synthesised around the seeds
  * (darts of level min(h.top, disp.top) of vertices whose positions
  * changed) by core (st_hier_resynth_around), which reports what it wrote.
@@ -311,6 +393,10 @@ static void sync_from_model(st_box_display *bd, const st_hier *model, unsigned f
  * levels beyond the model around them only. */
 void st_box_display_follow_edit(st_box_display *bd, const st_hier *model, const uint64_t *keys, uint32_t nkeys)
 {
+    if (is_progressive(model)) {
+        pm_follow_edit(bd, model, keys, nkeys);
+        return;
+    }
     st_map *dm = &bd->hier.map;
     const st_map *mm = &model->map;
     unsigned N = mm->top, b = bd->copied_top, T = dm->top < N ? dm->top : N;
@@ -343,6 +429,7 @@ void st_box_display_follow_edit(st_box_display *bd, const st_hier *model, const 
 int st_box_display_build(st_box_display *bd, const st_hier *model, const st_adapt_params *p, st_error *err)
 {
     st_box_display_drop(bd);
+    if (is_progressive(model)) return pm_build(bd, model, p, err);
     unsigned N = model->map.top, b = p->base_level < N ? p->base_level : N;
     /* The display starts as a copy of the model (then cut to the base). */
     if (ed_hier_clone(&bd->hier, model, NULL)) return st_fail(err, ST_ERR_MEMORY, "out of memory for the interest box's display");
@@ -364,6 +451,12 @@ int st_box_display_move(st_box_display *bd, const st_hier *model, const st_adapt
      * re-tessellates only that (ST_CHANGE_PATCH); moves not yet taken by
      * the renderer add up in the one log. */
     if (!keep_log) st_map_log_clear(&bd->patch_log);
+    if (is_progressive(model)) {
+        /* a new mesh each time (the document rebuilds the display for a
+         * progressive model rather than patching it) */
+        st_box_display_drop(bd);
+        return pm_build(bd, model, p, err);
+    }
     bd->hier.map.log = &bd->patch_log;
     int rc = st_adapt_update(&bd->adapt, p, err);
     if (!rc) {
@@ -377,6 +470,11 @@ int st_box_display_move(st_box_display *bd, const st_hier *model, const st_adapt
 
 void st_box_display_follow_model(st_box_display *bd, const st_hier *model, unsigned from)
 {
+    if (is_progressive(model)) {
+        (void)from; /* a vertex shows its position of its own level, which may be any */
+        for (uint32_t i = 0; bd->built && i < bd->adapt.pm->nverts; i++) pm_sync_vertex(bd, model, i, 0);
+        return;
+    }
     sync_from_model(bd, model, from, 0);
     bd->adapt.has_prev = 0; /* the model changed */
 }

@@ -37,12 +37,10 @@ int st_adapt_init(st_adapt *a, st_hier *h, st_error *err)
     memset(a, 0, sizeof *a);
     a->h = h;
     /* A progressive hierarchy's levels come from collapses, not from a
-     * refinement of faces: nothing here applies to it (selective display of
-     * a progressive hierarchy is a different design, Kraemer 2008 §4.4.7). */
-    if (h->scheme->id == ST_SCHEME_PROGRESSIVE)
-        return st_fail(err, ST_ERR_INVALID, "adapt: a progressive hierarchy has no adaptive refinement");
-    const st_adapt_ops *ops = st_adapt_choose_ops(a);
-    if (ops->check) {
+     * refinement of faces: its selective display reads a mesh off the
+     * levels (adapt_progressive.c) and no family's operations apply. */
+    const st_adapt_ops *ops = st_adapt_is_progressive(a) ? NULL : st_adapt_choose_ops(a);
+    if (ops && ops->check) {
         int rc = ops->check(h, err);
         if (rc) return rc;
     }
@@ -61,6 +59,7 @@ int st_adapt_init(st_adapt *a, st_hier *h, st_error *err)
 
 void st_adapt_free(st_adapt *a)
 {
+    st_adapt_pm_free(a);
     free(a->saved);
     free(a->parked);
     st_dart_list_free(&a->base_faces);
@@ -75,17 +74,31 @@ int st_adapt_subdivide_face(st_adapt *a, uint32_t d, unsigned i, int restricted,
     unsigned L = i + 1;
     if (st_is_boundary(m, d)) return st_fail(err, ST_ERR_INVALID, "adapt: dart %u is on a hole", d);
     if (L >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "adapt: level %u is beyond the limit", L);
+    if (st_adapt_is_progressive(a)) return st_fail(err, ST_ERR_INVALID, "adapt: a progressive hierarchy has no face subdivision");
     return st_adapt_ops_of(a)->subdivide(a, d, i, restricted, err);
 }
 
 int st_adapt_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
 {
+    if (st_adapt_is_progressive(a)) return 0;
     return st_adapt_ops_of(a)->can_simplify(a, d, i, restricted);
 }
 
 int st_adapt_simplify_face(st_adapt *a, uint32_t d, unsigned i, st_error *err)
 {
+    if (st_adapt_is_progressive(a)) return st_fail(err, ST_ERR_INVALID, "adapt: a progressive hierarchy has no face simplification");
     return st_adapt_ops_of(a)->simplify(a, d, i, err);
+}
+
+const st_map *st_adapt_display_map(st_adapt *a, unsigned *level)
+{
+    if (st_adapt_is_progressive(a)) {
+        st_error e;
+        *level = 0;
+        return st_adapt_pm_ensure(a, &e) ? NULL : a->pm_view;
+    }
+    *level = a->h->map.top;
+    return &a->h->map;
 }
 
 /* ---- geometry ------------------------------------------------------------------ */
@@ -106,6 +119,15 @@ void st_adapt_synthesize(st_adapt *a, unsigned from)
 {
     a->has_prev = 0; /* the geometry changed: the next update visits everything */
     st_hier *h = a->h;
+    if (st_adapt_is_progressive(a)) {
+        /* every level exists: the regular synthesis, then the shown
+         * positions follow */
+        st_hier_synthesize(h, from);
+        a->has_prev = 1;
+        st_error e;
+        (void)st_adapt_pm_refresh(a, &e); /* only an update after a failed one can fail: it leaves no view */
+        return;
+    }
     st_map *m = &h->map;
     st_dart_list faces = { 0 }, sub = { 0 };
     for (unsigned L = from + 1; L <= m->top; L++) {
@@ -123,5 +145,11 @@ void st_adapt_synthesize(st_adapt *a, unsigned from)
 
 int st_adapt_mesh(st_adapt *a, st_mesh *out, st_error *err)
 {
+    if (st_adapt_is_progressive(a)) {
+        /* (a session loaded field by field has the criteria, not the mesh) */
+        int rc = st_adapt_pm_ensure(a, err);
+        if (rc) return rc;
+        return st_pm_select_mesh(a->pm, a->h, out, err);
+    }
     return st_map_to_mesh(&a->h->map, a->h->map.top, out, err);
 }

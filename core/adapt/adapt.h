@@ -80,7 +80,21 @@
  * while the cell exists; flatness is the largest angle between consecutive
  * faces around the parent's vertex (level 0: the vertex's own).  The
  * displayed mesh is the dual of the top level (st_map_to_mesh): closed, its
- * polygons at depth borders mixing corners of two levels. */
+ * polygons at depth borders mixing corners of two levels.
+ *
+ * Progressive hierarchies (core/progressive/progressive.h; the proof is in
+ * adapt_progressive.c).  Nothing is refined: every level exists already.
+ * The displayed mesh is level max_level with the collapses of the levels
+ * base_level+1..max_level applied, except those whose 1-ring at their level
+ * holds a vertex of a level-max_level face that wants their level (the box,
+ * its falloff bands) and those whose 1-ring meets the ring of a collapse
+ * left out at a finer level.  It is a valid closed-or-bordered triangle
+ * mesh of the input's topology made of triangles of several levels: level
+ * max_level where faces touch the box, level base_level far from it.  Its
+ * vertices take the position of the level of the coarsest collapse applied
+ * around them.  The map is never changed; st_adapt_update recomputes the
+ * mesh (O(darts)), and st_adapt_display_map / st_adapt_mesh give it.
+ * Flatness and the restriction flag are not used there. */
 #ifndef ST_ADAPT_H
 #define ST_ADAPT_H
 
@@ -127,7 +141,46 @@ typedef struct st_adapt {
     struct st_adapt_grid *grid; /* base faces by place (adapt_grid.c): a cache, never saved */
     const struct st_adapt_ops *ops; /* the refinement family's operations (adapt_internal.h), chosen from
                                        the scheme by st_adapt_init (or on first use): never saved */
+    struct st_pm_select *pm; /* progressive hierarchies: the selection (below); NULL otherwise; never saved */
+    st_map *pm_view;         /* progressive hierarchies: the selected mesh as a one-level map; never saved */
 } st_adapt;
+
+/* Selective display of a progressive hierarchy (see "Progressive hierarchies"
+ * above; adapt_progressive.c).  The selected mesh: nverts vertices, vertex i
+ * being the hierarchy's vertex vid[i] at its position of level lam[i], and
+ * nfaces triangles of vertex indices (tri, 3 each). */
+typedef struct st_pm_select {
+    unsigned base, max;       /* the levels of the last update (clamped to the hierarchy) */
+    int valid;                /* an update succeeded */
+    uint32_t nverts, nfaces;
+    uint32_t *vid;
+    uint8_t *lam;
+    uint32_t *tri;
+    uint64_t kept, applied;   /* collapses of levels base+1..max left out / applied */
+    /* caches of the hierarchy's topology (valid for cache_map at cache_gen) */
+    const st_map *cache_map;
+    uint64_t cache_gen;
+    uint32_t cache_nv;
+    uint32_t *split_dart;     /* per vertex of level l >= 1: a dart of level l leaving it */
+    uint32_t *order;          /* vertices by insertion level: level l at [level_beg[l], level_beg[l+1]) */
+    uint32_t level_beg[ST_MAX_LEVELS + 1];
+    uint8_t *want, *skip, *held, *lamv; /* per vertex (scratch of an update; skip: collapse left out) */
+    uint32_t *disp;           /* per vertex: its index in the selected mesh, or ST_NIL */
+} st_pm_select;
+
+/* Recomputes the selection for p (h must be progressive; the map is not
+ * changed, only read; h is not const because the topology cache reads the
+ * map's generation). */
+int st_pm_select_update(st_pm_select *s, st_hier *h, const st_adapt_params *p, st_error *err);
+/* The selected mesh, with the positions h has now. */
+int st_pm_select_mesh(const st_pm_select *s, const st_hier *h, st_mesh *out, st_error *err);
+void st_pm_select_free(st_pm_select *s);
+
+/* The map and level that show the result of the last update: the
+ * hierarchy's top level, or for a progressive hierarchy the one-level map
+ * of the selected mesh (built from the saved criteria after a session
+ * load; NULL when out of memory). */
+const st_map *st_adapt_display_map(st_adapt *a, unsigned *level);
 
 int st_adapt_init(st_adapt *a, st_hier *h, st_error *err);
 void st_adapt_free(st_adapt *a);

@@ -22,6 +22,11 @@ static double overlap_fraction(const double lo[3], const double hi[3], const st_
 
 size_t st_adapt_estimate_bytes(st_hier *h, const st_adapt_params *p)
 {
+    /* A progressive hierarchy has every level: the selection's arrays (about
+     * 16 bytes per vertex), the selected mesh and its one-level map (at most
+     * the finest level's darts, about 40 bytes each with the mesh). */
+    if (h->scheme->id == ST_SCHEME_PROGRESSIVE)
+        return (size_t)h->map.verts.end * 16u + (size_t)h->map.darts.end * 40u;
     /* the regular part: every face to the base level */
     size_t regular = st_hier_estimate_subdivide(h, p->base_level, NULL);
     if (!p->has_box || p->max_level <= p->base_level) return regular;

@@ -196,6 +196,21 @@ int st_adapt_remove_centre(st_map *m, uint32_t spoke, unsigned L, st_unsplit_fn 
  * and, through the propagating setter, above). */
 void st_adapt_corner_fallback(st_adapt *a, uint32_t c, unsigned i);
 
+/* ---- progressive hierarchies (adapt_progressive.c) ------------------------- */
+
+/* st_adapt_update, st_adapt_synthesize's follow-up and st_adapt_free's part
+ * for a progressive hierarchy (adapt.c dispatches on a->pm's scheme). */
+int st_adapt_pm_update(st_adapt *a, const st_adapt_params *p, st_error *err);
+int st_adapt_pm_refresh(st_adapt *a, st_error *err);
+/* The selection of a->prev when there is none yet (a session loaded field
+ * by field keeps only the criteria), leaving the saved fields alone. */
+int st_adapt_pm_ensure(st_adapt *a, st_error *err);
+void st_adapt_pm_free(st_adapt *a);
+static inline int st_adapt_is_progressive(const st_adapt *a)
+{
+    return a->h && a->h->scheme && a->h->scheme->id == ST_SCHEME_PROGRESSIVE;
+}
+
 /* ---- base faces by place (adapt_grid.c) ----------------------------------- */
 
 /* Build: NULL when out of memory; bbox gives a base face's box.  Near: the

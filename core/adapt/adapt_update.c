@@ -168,6 +168,7 @@ static int refine_all(st_adapt *a, const st_adapt_ops *ops, const st_adapt_param
 
 int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
 {
+    if (st_adapt_is_progressive(a)) return st_adapt_pm_update(a, p, err);
     st_map *m = &a->h->map;
     const st_adapt_ops *ops = st_adapt_ops_of(a);
     int restricted = !p->no_restriction;

@@ -515,11 +515,13 @@ static int r_adapt(load_ctx *c, st_br *r)
     memset(a, 0, sizeof *a);
     a->h = &s->h;
     s->has_adapt = 1;
-    if (s->h.scheme && s->h.scheme->id == ST_SCHEME_PROGRESSIVE)
-        return st_br_fail(r, "adaptive state in a progressive session");
     if (r_store(c, r, &a->saved, &a->nsaved, &a->capsaved, "saved details") ||
         r_store(c, r, &a->parked, &a->nparked, &a->capparked, "parked details"))
         return -1;
+    /* A progressive hierarchy's selective display removes no vertex and
+     * keeps no detail: only its criteria are saved (core/adapt/adapt.h). */
+    if (s->h.scheme && s->h.scheme->id == ST_SCHEME_PROGRESSIVE && (a->nsaved || a->nparked))
+        return st_br_fail(r, "a progressive hierarchy's adaptive state keeps no details (%u saved, %u parked)", a->nsaved, a->nparked);
     uint32_t nb = st_br_u32(r);
     if (st_br_need(r, nb, 4, "base faces")) return -1;
     for (uint32_t i = 0; i < nb; i++) {

@@ -103,6 +103,13 @@
  *    the columns down to a few dozen darts per split, a kernel change this
  *    build does not make.
  *
+ * 7. Selective display (thesis §4.4.7 leaves it open): the interest box
+ *    shows the finest level inside it and a coarse level outside, by
+ *    applying the collapses of the levels above the base except those the
+ *    box or a finer kept split holds back; core/adapt/adapt_progressive.c
+ *    has the rule and the proof that the result is a valid watertight
+ *    surface of the input's topology.
+ *
  * Polygons are triangulated first (fans; rep->triangulated says so).
  */
 #ifndef ST_PROGRESSIVE_H

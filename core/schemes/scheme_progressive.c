@@ -145,18 +145,27 @@ static void emit_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n
 {
     st_map *m = &h->map;
     st_stencil_buf buf = { 0 };
+    /* Each vertex once: it is reached from every face and ring around it,
+     * some forty times, and its stencil is the costly part (the sinks'
+     * stamps only drop the repeats once built).  The stencil does not
+     * depend on the dart that reached the vertex (orbit_min above). */
+    uint8_t *seen = calloc(m->verts.end ? m->verts.end : 1, 1);
+    if (!seen) abort(); /* one byte per vertex: out of memory here is fatal, as for stencils */
     for (uint32_t i = 0; i < nfaces; i++) {
         uint32_t f = faces[i], x = f;
         do {
-            emit_one(h, L, x, &buf, sink, ctx);
+            uint32_t v = st_vert(m, x, L);
+            if (!seen[v]) { seen[v] = 1; emit_one(h, L, x, &buf, sink, ctx); }
             uint32_t z = x;
             do {
-                emit_one(h, L, st_beta0(m, z, L), &buf, sink, ctx);
+                uint32_t e = st_beta0(m, z, L), u = st_vert(m, e, L);
+                if (!seen[u]) { seen[u] = 1; emit_one(h, L, e, &buf, sink, ctx); }
                 z = st_beta1(m, z, L);
             } while (z != x);
             x = st_phi1(m, x, L - 1);
         } while (x != f);
     }
+    free(seen);
     st_stencil_buf_free(&buf);
 }
 

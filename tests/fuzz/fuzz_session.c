@@ -67,6 +67,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             fprintf(stderr, "box move broke the map: %s\n", err.msg);
             abort();
         }
+        /* a progressive hierarchy's selected mesh is a map of its own */
+        unsigned shown_level;
+        const st_map *shown = st_adapt_display_map(&s.adapt, &shown_level);
+        if (shown && shown != &h->map && st_map_validate((st_map *)shown, &err) != ST_OK) {
+            fprintf(stderr, "the selected mesh is not a valid map: %s\n", err.msg);
+            abort();
+        }
     } else {
         st_hier_synthesize(h, 0);
         st_dart_iter it;
