@@ -195,7 +195,9 @@ void st_app_draw_hud(st_app *a)
                  a->pending_scheme);
         msg = ask;
     }
-    if (msg[0]) {
+    /* With the GUI, messages are its notifications (gui.cc) and the scheme
+     * question its window. */
+    if (msg[0] && panel) {
         /* Wrapped at spaces to the window's width (long error messages). */
         char lines[4][ST_MSG_LEN];
         int nl = 0;
