@@ -59,6 +59,13 @@ struct gui_state {
     /* The pointer as the window's events carried it (window coordinates). */
     float mx = -FLT_MAX, my = -FLT_MAX;
     bool down[3] = {}, pressed[3] = {};
+    /* Keys pressed since the last frame, and releases held back until a
+     * frame has seen them down (ImGui 1.86 reads key states, not events: a
+     * press and release between two frames, such as a fast typist's Enter
+     * or Backspace, would otherwise be lost). */
+    struct key_event { int key, scancode, mods; };
+    std::vector<int> keys_pressed;
+    std::vector<key_event> held_releases;
     int pending_action = -1;
     /* The file dialog. */
     bool dlg_open = false, dlg_popup = false, dlg_confirm = false, dlg_accept = false;
@@ -486,7 +493,10 @@ void file_dialog(st_app *a)
         ImGui::PopStyleColor();
     }
     ImGui::SetNextItemWidth(-160 * g.scale);
-    if (ImGui::InputText("##path", g.path, sizeof g.path, ImGuiInputTextFlags_EnterReturnsTrue)) g.dlg_accept = true;
+    /* A click in the field selects what it holds, so that a typed path
+     * replaces the proposed name. */
+    if (ImGui::InputText("##path", g.path, sizeof g.path, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll))
+        g.dlg_accept = true;
     probe_item("dialog:path");
     ImGui::SameLine();
     const char *ok = g.dlg_kind == ST_DIALOG_OPEN ? "Open" : g.dlg_kind == ST_DIALOG_SAVE_AS ? "Save" : "Export";
@@ -906,6 +916,9 @@ void st_gui_frame(st_app *a)
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     g.frames++;
     probe_write(a);
+    g.keys_pressed.clear();
+    for (const gui_state::key_event &e : g.held_releases) ImGui_ImplGlfw_KeyCallback(g.win, e.key, e.scancode, GLFW_RELEASE, e.mods);
+    g.held_releases.clear();
     g.in_frame = false;
 }
 
@@ -960,7 +973,10 @@ int st_gui_scroll(double dx, double dy)
 int st_gui_key(int key, int scancode, int action, int mods)
 {
     if (!g.init) return 0;
-    ImGui_ImplGlfw_KeyCallback(g.win, key, scancode, action, mods);
+    bool seen = std::find(g.keys_pressed.begin(), g.keys_pressed.end(), key) != g.keys_pressed.end();
+    if (action == GLFW_RELEASE && seen) g.held_releases.push_back({ key, scancode, mods });
+    else ImGui_ImplGlfw_KeyCallback(g.win, key, scancode, action, mods);
+    if (action == GLFW_PRESS && !seen) g.keys_pressed.push_back(key);
     if (!g.shown || action == GLFW_RELEASE) return 0;
     switch (key) {
     case GLFW_KEY_LEFT_SHIFT: case GLFW_KEY_RIGHT_SHIFT: case GLFW_KEY_LEFT_CONTROL: case GLFW_KEY_RIGHT_CONTROL:

@@ -57,12 +57,23 @@ typedef struct doc_job {
      * progress callback; msg: which method made how many levels. */
     atomic_int cancel;
     char msg[256];
+    /* STRATA_JOB_HOLD_S (tests): until when its progress reports wait. */
+    double hold_until_ms;
 } doc_job;
 
+/* With STRATA_JOB_HOLD_S=N, a cancellable job's progress reports wait for
+ * a cancellation, N seconds at most in all: tests of the Cancel button
+ * (tests/cli_gui_xdotool.sh) then do not race a fast machine; a Cancel
+ * that does not work lets the job finish after N s and the test fails. */
 static int job_cancelled(void *ctx, double fraction)
 {
+    doc_job *j = ctx;
     (void)fraction;
-    return atomic_load(&((doc_job *)ctx)->cancel);
+    while (!atomic_load(&j->cancel) && st_now_ms() < j->hold_until_ms) {
+        struct timespec ts = { 0, 5000000 };
+        nanosleep(&ts, NULL);
+    }
+    return atomic_load(&j->cancel);
 }
 
 static void job_progress(void *ctx, const char *what, unsigned step, unsigned steps)
@@ -303,6 +314,8 @@ static void rebuild_levels(st_app *a)
     double t0 = st_now_ms();
     doc_job j = { .kind = JOB_REBUILD };
     atomic_init(&j.cancel, 0);
+    const char *hold = getenv("STRATA_JOB_HOLD_S");
+    if (hold && atof(hold) > 0) j.hold_until_ms = st_now_ms() + 1000 * atof(hold);
     int rc = run_job(a, &j, "working... rebuilding the levels (Esc cancels)");
     st_app_sync(a);
     if (rc && atomic_load(&j.cancel)) {

@@ -878,7 +878,15 @@ int st_window_main(const st_win_opts *o)
         if (!o->size_given && pw >= 64 && ph >= 64 && pw <= 8192 && ph <= 8192) { a->opts.width = pw; a->opts.height = ph; }
         brush_prefs_apply(a);
     }
-    if (probe_dir()) signal(SIGUSR1, on_shot_signal);
+    if (probe_dir()) {
+        /* sigaction: signal() may reset the handler after one signal. */
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_shot_signal;
+        sigemptyset(&sa.sa_mask);
+        sa.sa_flags = SA_RESTART;
+        sigaction(SIGUSR1, &sa, NULL);
+    }
     st_replay *rp = NULL;
     st_error err;
     if (o->replay && st_replay_load(&rp, o->replay, &err)) {
