@@ -87,9 +87,18 @@ has_rect() { [ -n "$(rect "$1")" ]; }
 # the probe (a press is seen by the GUI one frame, its release the next).
 frames_after() { local f0; f0=$(frame); until_true "frames" frame_above "${f0:-0}" 2; }
 frame_above() { local f; f=$(frame); [ -n "$f" ] && [ "$f" -ge $(($1 + $2)) ]; }
-# point NAME FX FY: the point at fractions FX, FY of a widget's rectangle.
+# point NAME FX FY: the point at fractions FX, FY of a widget's rectangle,
+# once it is the same in two frames (a window that fits its content is
+# placed from its size, known from its second frame).
+stable_rect() {
+    local r1 f1
+    r1=$(rect "$1") f1=$(frame)
+    [ -n "$r1" ] || return 1
+    until_true "frames" frame_above "${f1:-0}" 1
+    [ "$(rect "$1")" = "$r1" ]
+}
 point() {
-    until_true "widget $1 shown" has_rect "$1"
+    until_true "widget $1 shown and still" stable_rect "$1"
     rect "$1" | awk -v fx="$2" -v fy="$3" '{ printf "%d %d\n", $1 + fx * ($3 - $1), $2 + fy * ($4 - $2) }'
 }
 move() { xdotool mousemove --window "$W" "$1" "$2"; frames_after; }
@@ -265,6 +274,40 @@ if finish "cancelled rebuild" && grep -q "rebuild cancelled: the model is unchan
 else
     bad "Cancel button: $(tail -5 "$TMP/strata.log")"
 fi
+
+# ---- 3. preferences applied at start, a section closed by a click kept ----------
+# The panel 360 wide with Tool closed, the smooth brush at strength 0.3 and
+# a radius of a quarter of the model's half-diagonal, UI scale 1.25.
+printf 'strata-prefs 1\nui_scale 1.25\npanel_width 360\nsection Tool 0\nbrush_tool smooth\nbrush_radius 0.25\nbrush_strength 0.3\n' \
+    > "$XDG_CONFIG_HOME/strata/prefs"
+start --size 1000x700 --levels 1 "$ASSETS/cube.obj"
+until_true "cube.obj loaded" is file cube.obj
+frames_after
+set -- $(rect window:panel)
+if [ "$(value scale)" = 1.25 ] && [ $(($3 - $1)) = 450 ] && has_rect panel:section:Tool && ! has_rect panel:radius &&
+   [ "$(value tool)" = smooth ] && [ "$(value strength)" = 0.3 ] &&
+   awk -v r="$(value radius)" 'BEGIN { exit !(r > 0.4329 && r < 0.4331) }'; then   # 0.25 of 1.732 (0.2165 at 1/8 in part 1)
+    ok "preferences applied: scale 1.25, panel 360 (450 px), Tool closed, smooth brush, strength 0.3, radius $(value radius)"
+else
+    bad "preferences not applied: $(grep -v '^rect' "$P/gui" | tr '\n' ' ') panel $*"
+fi
+click panel:section:Levels
+until_true "Levels closed" eval '! has_rect panel:Add_level'
+xdotool key --window "$W" ctrl+q
+if finish "Ctrl+Q" && grep -qx "section Levels 0" "$XDG_CONFIG_HOME/strata/prefs" && grep -qx "section Tool 0" "$XDG_CONFIG_HOME/strata/prefs" &&
+   grep -qx "brush_tool smooth" "$XDG_CONFIG_HOME/strata/prefs"; then ok "a section closed by a click is kept in the preferences"
+else bad "preferences after closing Levels: $(cat "$XDG_CONFIG_HOME/strata/prefs")"; fi
+# A corrupt file: a message naming it and its line, the window starts with
+# the defaults (scale 1 here: no content scale under Xvfb).
+printf 'strata-prefs 1\npanel_width wide\n' > "$XDG_CONFIG_HOME/strata/prefs"
+start --size 1000x700 "$ASSETS/cube.obj"
+until_true "cube.obj loaded" is file cube.obj
+xdotool key --window "$W" ctrl+q
+finish "Ctrl+Q" || true
+if grep -q "strata/prefs:2: cannot read \"panel_width wide\"; preferences ignored" "$TMP/strata.log"; then ok "corrupt preferences ignored with a message"
+else bad "corrupt preferences: $(head -3 "$TMP/strata.log")"; fi
+if out=$("$EXE" --ui-scale 9 "$ASSETS/cube.obj" 2>&1); then bad "--ui-scale 9 accepted"
+elif grep -q -- "--ui-scale wants 0.5..4" <<< "$out"; then ok "--ui-scale 9 refused"; else bad "--ui-scale 9: $out"; fi
 
 if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
     cp "$OUT"/2*_xdo_*.png "$REF"/ && echo "references updated in $REF"

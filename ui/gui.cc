@@ -139,6 +139,9 @@ void probe_write(st_app *a)
              d->box.box_hi[0] - d->box.box_lo[0], d->box.box_hi[1] - d->box.box_lo[1], d->box.box_hi[2] - d->box.box_lo[2]);
     std::string text = b;
     text += "file " + std::string(d->loaded ? st_path_base(d->path) : "-") + "\n";
+    text += "tool " + std::string(a->tool == ST_TOOL_SELECT ? "select" : st_brush_name(a->tool)) + "\n";
+    snprintf(b, sizeof b, "strength %.6g\nscale %g\n", d->brush.strength, g.scale);
+    text += b;
     text += "dialog " + std::string(g.dlg_open ? "1" : "0") + "\n";
     text += g.probe;
     std::string path = g.probe_dir + "/gui", tmp = path + ".tmp";
