@@ -898,7 +898,7 @@ void st_gui_frame(st_app *a)
     ImGui::NewFrame();
     g.probe.clear();
     g.menu_path.clear();
-    if (a->busy) {
+    if (a->busy || a->working[0]) {
         progress_window(a);
     } else {
         if (ImGui::BeginMainMenuBar()) {

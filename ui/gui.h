@@ -13,7 +13,12 @@
  * X server, so that replays are deterministic.
  *
  * Actions chosen in the GUI run after the GUI's frame (st_gui_run_pending),
- * never inside it: a long job draws frames of its own (jobs.c). */
+ * never inside it: a long job draws frames of its own (jobs.c).
+ *
+ * Tests: with STRATA_GUI_PROBE=DIR each frame writes DIR/gui (frame
+ * number, document values, the rectangles of the widgets a test clicks:
+ * "rect menu:File/Open x0 y0 x1 y1"), so that tests/cli_gui_xdotool.sh
+ * clicks where the widgets are. */
 #ifndef ST_GUI_H
 #define ST_GUI_H
 
