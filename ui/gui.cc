@@ -117,6 +117,11 @@ void probe_rect_at(const std::string &name, ImVec2 lo, ImVec2 hi)
 }
 
 /* The item just submitted. */
+void probe_item(const char *name)
+{
+    if (!g.probe_dir.empty()) probe_rect_at(name, ImGui::GetItemRectMin(), ImGui::GetItemRectMax());
+}
+
 void probe_item(const std::string &name)
 {
     if (!g.probe_dir.empty()) probe_rect_at(name, ImGui::GetItemRectMin(), ImGui::GetItemRectMax());
@@ -301,6 +306,7 @@ bool m_begin(menu_pass &m, const char *label, bool enabled = true)
     if (m.draw) {
         /* Where the label starts: after BeginMenu the last item is the
          * open menu's window. */
+        if (g.probe_dir.empty()) return ImGui::BeginMenu(label, enabled);
         ImVec2 p = ImGui::GetCursorScreenPos(), t = ImGui::CalcTextSize(label);
         std::string name = probe_name(menu_prefix(), label);
         bool open = ImGui::BeginMenu(label, enabled);
@@ -316,7 +322,10 @@ bool m_begin(menu_pass &m, const char *label, bool enabled = true)
 
 void m_end(menu_pass &m)
 {
-    if (m.draw) { ImGui::EndMenu(); g.menu_path.pop_back(); }
+    if (m.draw) {
+        ImGui::EndMenu();
+        if (!g.menu_path.empty()) g.menu_path.pop_back();
+    }
     else m.depth--;
 }
 
@@ -324,7 +333,7 @@ bool m_item(menu_pass &m, const char *label, const char *shortcut, bool checked,
 {
     if (m.draw) {
         bool chosen = ImGui::MenuItem(label, shortcut, checked, enabled);
-        probe_item(probe_name(menu_prefix(), label));
+        if (!g.probe_dir.empty()) probe_item(probe_name(menu_prefix(), label));
         return chosen;
     }
     if (m.found || m.depth + 1 != m.path.size() || !same_label(m.path[m.depth], label)) return false;
@@ -692,7 +701,7 @@ void action_button(st_app *a, int id, const char *label)
     bool on = st_action_enabled(&st_actions[id], a) != 0;
     if (!on) ImGui::BeginDisabled();
     if (ImGui::Button(label)) g.pending_action = id;
-    probe_item(probe_name("panel:", label));
+    if (!g.probe_dir.empty()) probe_item(probe_name("panel:", label));
     if (!on) ImGui::EndDisabled();
 }
 
@@ -737,7 +746,7 @@ bool section(const char *name)
     bool was = st_prefs_section_open(name, 1) != 0;
     ImGui::SetNextItemOpen(was, ImGuiCond_Once);
     bool open = ImGui::CollapsingHeader(name);
-    probe_item(probe_name("panel:section:", name));
+    if (!g.probe_dir.empty()) probe_item(probe_name("panel:section:", name));
     if (open != was) st_prefs_set_section_open(name, open);
     return open;
 }
@@ -797,7 +806,7 @@ void side_panel(st_app *a)
             for (int i = 0; i < 5; i++) {
                 if (i && i != 3) ImGui::SameLine();
                 if (ImGui::RadioButton(names[i], st_action_checked(&st_actions[tools[i]], a) > 0)) g.pending_action = tools[i];
-                probe_item(probe_name("panel:", names[i]));
+                if (!g.probe_dir.empty()) probe_item(probe_name("panel:", names[i]));
             }
             float r = (float)d->brush.radius, s = (float)d->brush.strength;
             float rmax = (float)a->cc.radius;
