@@ -965,9 +965,8 @@ int st_gui_mouse_button(st_app *a, int button, int action, int mods)
     return 1;
 }
 
-void st_gui_job_mouse_button(st_app *a, int button, int action)
+void st_gui_job_mouse_button(int button, int action)
 {
-    (void)a;
     if (!st_gui_shown() || button < 0 || button >= 3) return;
     if (action == GLFW_RELEASE) g.down[button] = false;
     else g.down[button] = g.pressed[button] = true;

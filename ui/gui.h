@@ -50,7 +50,7 @@ void st_gui_cursor(double x, double y);
 int st_gui_mouse_button(struct st_app *a, int button, int action, int mods);
 /* During a job (jobs.c) the buttons go to the GUI whatever it wants: its
  * progress window is the only thing that takes input then. */
-void st_gui_job_mouse_button(struct st_app *a, int button, int action);
+void st_gui_job_mouse_button(int button, int action);
 int st_gui_scroll(double dx, double dy);
 int st_gui_key(int key, int scancode, int action, int mods);
 void st_gui_char(unsigned c);

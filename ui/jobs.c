@@ -19,8 +19,6 @@
 #include "core/io/session.h"
 #include "gui.h"
 
-static st_app *app_of_job(GLFWwindow *w) { return (st_app *)glfwGetWindowUserPointer(w); }
-
 #define DEFAULT_LEVELS 2
 #define WORKING_FACES 150000         /* show a "working" frame above this */
 
@@ -132,8 +130,9 @@ static void job_cursor(GLFWwindow *w, double x, double y)
 
 static void job_button(GLFWwindow *w, int button, int action, int mods)
 {
+    (void)w;
     (void)mods;
-    st_gui_job_mouse_button(app_of_job(w), button, action);
+    st_gui_job_mouse_button(button, action);
 }
 
 static int run_job(st_app *a, doc_job *j, const char *what)
