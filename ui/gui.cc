@@ -91,6 +91,14 @@ struct gui_state {
 
 gui_state g;
 
+/* After a frame (or with the GUI hidden): the releases held back go to ImGui. */
+void release_held_keys(void)
+{
+    g.keys_pressed.clear();
+    for (const gui_state::key_event &e : g.held_releases) ImGui_ImplGlfw_KeyCallback(g.win, e.key, e.scancode, GLFW_RELEASE, e.mods);
+    g.held_releases.clear();
+}
+
 /* ---- widget rectangles for tests ---------------------------------------------------
  * With STRATA_GUI_PROBE=DIR, every frame writes DIR/gui (atomically: a
  * temporary renamed over it) with the frame number, a few document values
@@ -928,9 +936,7 @@ void st_gui_frame(st_app *a)
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     g.frames++;
     probe_write(a);
-    g.keys_pressed.clear();
-    for (const gui_state::key_event &e : g.held_releases) ImGui_ImplGlfw_KeyCallback(g.win, e.key, e.scancode, GLFW_RELEASE, e.mods);
-    g.held_releases.clear();
+    release_held_keys();
     g.in_frame = false;
 }
 
@@ -984,6 +990,7 @@ int st_gui_scroll(double dx, double dy)
 int st_gui_key(int key, int scancode, int action, int mods)
 {
     if (!g.init) return 0;
+    if (!g.shown) release_held_keys();   /* no frame will see them */
     bool seen = std::find(g.keys_pressed.begin(), g.keys_pressed.end(), key) != g.keys_pressed.end();
     if (action == GLFW_RELEASE && seen) g.held_releases.push_back({ key, scancode, mods });
     else ImGui_ImplGlfw_KeyCallback(g.win, key, scancode, action, mods);
