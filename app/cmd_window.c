@@ -25,6 +25,7 @@ static void usage(FILE *f)
         "              [--screenshot-dir DIR] [--compare-dir DIR] [--mem-budget MIB] [--bench-interaction [--bench-steps N]] [FILE]\n"
         "  opens the modeller window on FILE (default: the torus asset); F1 in the window lists the keys\n"
         "  --no-gui            start with the menus and side panel hidden (F10 shows them)\n"
+        "  --ui-scale S        size of the menus and panel (0.5..4; default: the preference, else the monitor's scale)\n"
         "  --replay F          drive the window by the scripted events of F (see ui/replay.h), exit 1 if an expect fails\n"
         "  --screenshot-dir D  where the replay's screenshots go (default .)\n"
         "  --compare-dir D     compare each screenshot with D/NAME.png (exit 1 on a mismatch)\n"
@@ -78,6 +79,12 @@ int st_cmd_window(int argc, char **argv)
         } else if (!strcmp(a, "--replay")) o.replay = v;
         else if (!strcmp(a, "--screenshot-dir")) o.screenshot_dir = v;
         else if (!strcmp(a, "--compare-dir")) o.compare_dir = v;
+        else if (!strcmp(a, "--ui-scale")) {
+            char *end;
+            double s = strtod(v, &end);
+            if (end == v || *end || !(s >= 0.5 && s <= 4)) { fprintf(stderr, "strata: --ui-scale wants 0.5..4, got '%s'\n", v); return 2; }
+            o.ui_scale = (float)s;
+        }
         else if (!strcmp(a, "--mem-budget")) {
             char *end;
             o.mem_budget_mb = strtod(v, &end);

@@ -1,7 +1,9 @@
 /* The window's preferences file (ui/prefs.h), without a window: a valid
  * file is read, a corrupt one is ignored (defaults kept, -1), the recent
- * list keeps the newest first without duplicates, and a save round-trips
- * through the atomic writer with no temporary left behind.  (Named
+ * list keeps the newest first without duplicates, the panel layout
+ * (width, open and closed sections) and the brush defaults (tool, radius,
+ * strength) round-trip, and a save goes through the atomic writer with no
+ * temporary left behind.  (Named
  * test_actions_* to link the window's library, tests/CMakeLists.txt.) */
 #include "prefs.h"
 #include "testlib.h"
@@ -90,6 +92,56 @@ int main(void)
     write_file("strata-prefs 1\n# comment\nui_scale 1.5\nrecent /y.obj\n");
     CHECK(st_prefs_load() == 0 && st_prefs_ui_scale() == 1.5f);
     CHECK(st_prefs_recent()[0] && !strcmp(st_prefs_recent()[0], "/y.obj"));
+
+    /* Panel layout and brush defaults: unset, then set, saved, read back. */
+    write_file("strata-prefs 1\n");
+    CHECK(st_prefs_load() == 0);
+    CHECK(st_prefs_panel_width() == 0 && st_prefs_brush_tool()[0] == 0);
+    CHECK(st_prefs_brush_radius() == 0 && st_prefs_brush_strength() == 0);
+    CHECK(st_prefs_section_open("Levels", 1) == 1 && st_prefs_section_open("Levels", 0) == 0);
+    st_prefs_set_panel_width(340);
+    st_prefs_set_section_open("Levels", 0);
+    st_prefs_set_section_open("Interest box", 1);
+    st_prefs_set_section_open("Timings", 0);
+    st_prefs_set_section_open("Timings", 1);          /* changed again: one entry */
+    st_prefs_set_brush("smooth", 0.0625, 0.35);
+    CHECK(st_prefs_save() == 0);
+    CHECK(count_entries(sdir) == 1);
+    st_prefs_set_panel_width(0);
+    st_prefs_set_brush(NULL, 0, 0);
+    CHECK(st_prefs_load() == 0);
+    CHECK(st_prefs_panel_width() == 340.0f);
+    CHECK(st_prefs_section_open("Levels", 1) == 0);
+    CHECK(st_prefs_section_open("Interest box", 0) == 1);
+    CHECK(st_prefs_section_open("Timings", 0) == 1);
+    CHECK(st_prefs_section_open("Display", 1) == 1);  /* not listed: the default */
+    CHECK(!strcmp(st_prefs_brush_tool(), "smooth"));
+    CHECK(st_prefs_brush_radius() == 0.0625 && st_prefs_brush_strength() == 0.35);
+    FILE *f = fopen(path, "r");
+    char text[2048] = "";
+    size_t len = f ? fread(text, 1, sizeof text - 1, f) : 0;
+    if (f) fclose(f);
+    text[len] = 0;
+    CHECKF(strstr(text, "\nsection Timings 1\n") && !strstr(text, "section Timings 0"), "file: %s", text);
+    /* Settings out of range or malformed: the whole file is ignored and
+     * every setting, the layout and brush included, is back to its default. */
+    static const char *const bad2[] = {
+        "strata-prefs 1\npanel_width -3\n", "strata-prefs 1\nsection Levels 2\n", "strata-prefs 1\nsection 1\n",
+        "strata-prefs 1\nbrush_strength 7\n", "strata-prefs 1\nbrush_radius 0\n", "strata-prefs 1\nbrush_tool draw smooth\n",
+        "strata-prefs 1\npanel_width 300\nbrush_tool draw\nsection Tool 0\nwindow 1 2 3\n",
+    };
+    for (size_t i = 0; i < sizeof bad2 / sizeof bad2[0]; i++) {
+        write_file("strata-prefs 1\npanel_width 310\nbrush_tool grab\nsection Tool 0\n");
+        CHECK(st_prefs_load() == 0 && st_prefs_panel_width() == 310.0f && st_prefs_section_open("Tool", 1) == 0);
+        write_file(bad2[i]);
+        CHECKF(st_prefs_load() == -1, "layout case %zu loaded", i);
+        CHECKF(st_prefs_panel_width() == 0 && st_prefs_brush_tool()[0] == 0 && st_prefs_brush_radius() == 0 &&
+                   st_prefs_brush_strength() == 0 && st_prefs_section_open("Tool", 1) == 1,
+               "layout case %zu kept values", i);
+    }
+    /* Names with spaces, and setters refusing what the file could not hold. */
+    st_prefs_set_brush("two words", 5000, 2);
+    CHECK(st_prefs_brush_tool()[0] == 0 && st_prefs_brush_radius() == 0 && st_prefs_brush_strength() == 0);
 
     st_prefs_free();
     unlink(path);

@@ -59,6 +59,13 @@ struct gui_state {
     /* The pointer as the window's events carried it (window coordinates). */
     float mx = -FLT_MAX, my = -FLT_MAX;
     bool down[3] = {}, pressed[3] = {};
+    /* Keys pressed since the last frame, and releases held back until a
+     * frame has seen them down (ImGui 1.86 reads key states, not events: a
+     * press and release between two frames, such as a fast typist's Enter
+     * or Backspace, would otherwise be lost). */
+    struct key_event { int key, scancode, mods; };
+    std::vector<int> keys_pressed;
+    std::vector<key_event> held_releases;
     int pending_action = -1;
     /* The file dialog. */
     bool dlg_open = false, dlg_popup = false, dlg_confirm = false, dlg_accept = false;
@@ -70,9 +77,92 @@ struct gui_state {
     std::string dlg_error;
     bool about = false;
     int box_dragging = 0;
+    /* Side panel width (window units; a preference, the left edge drags it). */
+    float panel_w = 0;
+    /* STRATA_GUI_PROBE (tests): the folder the widget rectangles go to. */
+    std::string probe_dir, probe;
+    std::vector<std::string> menu_path;   /* drawn menus open around the current item */
+    unsigned long long frames = 0;
+    /* Notifications: the window's messages (st_app_message) as toasts. */
+    double msg_time = -1;
+    struct toast { std::string text; bool error; double t0; };
+    std::vector<toast> toasts;
 };
 
 gui_state g;
+
+/* After a frame (or with the GUI hidden): the releases held back go to ImGui. */
+void release_held_keys(void)
+{
+    g.keys_pressed.clear();
+    for (const gui_state::key_event &e : g.held_releases) ImGui_ImplGlfw_KeyCallback(g.win, e.key, e.scancode, GLFW_RELEASE, e.mods);
+    g.held_releases.clear();
+}
+
+/* ---- widget rectangles for tests ---------------------------------------------------
+ * With STRATA_GUI_PROBE=DIR, every frame writes DIR/gui (atomically: a
+ * temporary renamed over it) with the frame number, a few document values
+ * and the rectangles (window coordinates) of the widgets a test clicks,
+ * so that tests/cli_gui_xdotool.sh computes where to click instead of
+ * guessing pixels.  Names have '_' for spaces and no trailing "...". */
+
+std::string probe_name(const std::string &prefix, const char *label)
+{
+    std::string n = label;
+    size_t hash = n.find("##");
+    if (hash != std::string::npos) n.resize(hash);
+    while (!n.empty() && (n.back() == '.' || n.back() == ' ')) n.pop_back();
+    std::replace(n.begin(), n.end(), ' ', '_');
+    return prefix + n;
+}
+
+void probe_rect_at(const std::string &name, ImVec2 lo, ImVec2 hi)
+{
+    if (g.probe_dir.empty()) return;
+    char b[96];
+    snprintf(b, sizeof b, " %.0f %.0f %.0f %.0f\n", lo.x, lo.y, hi.x, hi.y);
+    g.probe += "rect " + name + b;
+}
+
+/* The item just submitted. */
+void probe_item(const char *name)
+{
+    if (!g.probe_dir.empty()) probe_rect_at(name, ImGui::GetItemRectMin(), ImGui::GetItemRectMax());
+}
+
+void probe_item(const std::string &name)
+{
+    if (!g.probe_dir.empty()) probe_rect_at(name, ImGui::GetItemRectMin(), ImGui::GetItemRectMax());
+}
+
+std::string menu_prefix(void)
+{
+    std::string p = "menu:";
+    for (const std::string &m : g.menu_path) p += m + "/";
+    return p;
+}
+
+void probe_write(st_app *a)
+{
+    if (g.probe_dir.empty()) return;
+    const st_doc *d = &a->doc;
+    char b[512];
+    snprintf(b, sizeof b, "frame %llu\nbusy %d\nloaded %d\ntop %u\nbox_on %d\nundo %u\nradius %.6g\nbox_size %.6g %.6g %.6g\n",
+             g.frames, a->busy, d->loaded, d->loaded ? d->h.map.top : 0, d->box_on, d->undo_pos, d->brush.radius,
+             d->box.box_hi[0] - d->box.box_lo[0], d->box.box_hi[1] - d->box.box_lo[1], d->box.box_hi[2] - d->box.box_lo[2]);
+    std::string text = b;
+    text += "file " + std::string(d->loaded ? st_path_base(d->path) : "-") + "\n";
+    text += "tool " + std::string(a->tool == ST_TOOL_SELECT ? "select" : st_brush_name(a->tool)) + "\n";
+    snprintf(b, sizeof b, "strength %.6g\nscale %g\n", d->brush.strength, g.scale);
+    text += b;
+    text += "dialog " + std::string(g.dlg_open ? "1" : "0") + "\n";
+    text += g.probe;
+    std::string path = g.probe_dir + "/gui", tmp = path + ".tmp";
+    FILE *f = fopen(tmp.c_str(), "w");
+    if (!f) return;
+    fwrite(text.data(), 1, text.size(), f);
+    if (fclose(f) == 0) rename(tmp.c_str(), path.c_str());
+}
 
 bool ends_with_ci(const char *s, const char *ext)
 {
@@ -221,7 +311,17 @@ bool same_label(const std::string &want, const char *label)
 
 bool m_begin(menu_pass &m, const char *label, bool enabled = true)
 {
-    if (m.draw) return ImGui::BeginMenu(label, enabled);
+    if (m.draw) {
+        /* Where the label starts: after BeginMenu the last item is the
+         * open menu's window. */
+        if (g.probe_dir.empty()) return ImGui::BeginMenu(label, enabled);
+        ImVec2 p = ImGui::GetCursorScreenPos(), t = ImGui::CalcTextSize(label);
+        std::string name = probe_name(menu_prefix(), label);
+        bool open = ImGui::BeginMenu(label, enabled);
+        probe_rect_at(name, p, ImVec2(p.x + t.x + ImGui::GetStyle().ItemSpacing.x, p.y + t.y));
+        if (open) g.menu_path.push_back(probe_name("", label));
+        return open;
+    }
     if (m.found || m.depth + 1 >= m.path.size() || !same_label(m.path[m.depth], label)) return false;
     if (!enabled) { m.error = std::string("menu ") + label + " is disabled"; return false; }
     m.depth++;
@@ -230,13 +330,20 @@ bool m_begin(menu_pass &m, const char *label, bool enabled = true)
 
 void m_end(menu_pass &m)
 {
-    if (m.draw) ImGui::EndMenu();
+    if (m.draw) {
+        ImGui::EndMenu();
+        if (!g.menu_path.empty()) g.menu_path.pop_back();
+    }
     else m.depth--;
 }
 
 bool m_item(menu_pass &m, const char *label, const char *shortcut, bool checked, bool enabled)
 {
-    if (m.draw) return ImGui::MenuItem(label, shortcut, checked, enabled);
+    if (m.draw) {
+        bool chosen = ImGui::MenuItem(label, shortcut, checked, enabled);
+        if (!g.probe_dir.empty()) probe_item(probe_name(menu_prefix(), label));
+        return chosen;
+    }
     if (m.found || m.depth + 1 != m.path.size() || !same_label(m.path[m.depth], label)) return false;
     if (!enabled) { m.error = std::string("menu item ") + label + " is disabled"; return false; }
     m.found = true;
@@ -406,12 +513,19 @@ void file_dialog(st_app *a)
         ImGui::PopStyleColor();
     }
     ImGui::SetNextItemWidth(-160 * g.scale);
-    if (ImGui::InputText("##path", g.path, sizeof g.path, ImGuiInputTextFlags_EnterReturnsTrue)) g.dlg_accept = true;
+    /* A click in the field selects what it holds, so that a typed path
+     * replaces the proposed name. */
+    if (ImGui::InputText("##path", g.path, sizeof g.path, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll))
+        g.dlg_accept = true;
+    probe_item("dialog:path");
     ImGui::SameLine();
     const char *ok = g.dlg_kind == ST_DIALOG_OPEN ? "Open" : g.dlg_kind == ST_DIALOG_SAVE_AS ? "Save" : "Export";
     if (ImGui::Button(ok, ImVec2(70 * g.scale, 0)) && g.path[0]) g.dlg_accept = true;
+    probe_item("dialog:ok");
     ImGui::SameLine();
-    if (ImGui::Button("Cancel", ImVec2(70 * g.scale, 0)) || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
+    bool cancel = ImGui::Button("Cancel", ImVec2(70 * g.scale, 0));
+    probe_item("dialog:cancel");
+    if (cancel || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
         g.dlg_open = false;
         g.dlg_accept = false;
     }
@@ -429,6 +543,7 @@ void file_dialog(st_app *a)
         ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%s exists.", g.path);
         ImGui::SameLine();
         if (ImGui::Button("Overwrite")) { g.dlg_accept = true; }
+        probe_item("dialog:Overwrite");
         ImGui::SameLine();
         if (ImGui::Button("Keep it")) g.dlg_confirm = false;
     }
@@ -501,8 +616,10 @@ void keys_window(st_app *a)
 }
 
 /* What the window is doing on its worker thread (jobs.c): the stage and,
- * when the editor reports steps ("step 3 of 6"), how far it is.  The
- * document's operations have no cancellation, so there is no Cancel. */
+ * when the editor reports steps ("step 3 of 6"), how far it is.  A job that
+ * can be cancelled (rebuilding the levels) has a Cancel button, as Esc:
+ * the worker stops at its next progress report and the model stays as it
+ * was (st_doc_rebuild_levels works on a copy). */
 void progress_window(st_app *a)
 {
     if (!a->working[0]) return;
@@ -518,7 +635,57 @@ void progress_window(st_app *a)
     if (steps) snprintf(over, sizeof over, "step %u of %u", step, steps);
     else snprintf(over, sizeof over, "working...");
     ImGui::ProgressBar(steps ? (float)step / (float)steps : 0.0f, ImVec2(-1, 0), over);
+    if (st_app_job_cancellable()) {
+        bool asked = st_app_job_cancelling();
+        if (asked) ImGui::BeginDisabled();
+        if (ImGui::Button(asked ? "Cancelling..." : "Cancel", ImVec2(100 * g.scale, 0))) st_app_cancel_job();
+        probe_item("progress:Cancel");
+        if (asked) ImGui::EndDisabled();
+    }
     ImGui::End();
+}
+
+/* Messages (st_app_message: "saved ...", errors) as notifications at the
+ * bottom left that take no input and fade: 4 s, errors 8 s, the last 3
+ * stacked.  With times masked (replays, tests) they stay until newer ones
+ * push them out, so that screenshots do not depend on the clock. */
+float panel_width(void);
+
+void note_message(st_app *a)
+{
+    if (!a->msg[0] || a->msg_time == g.msg_time) return;
+    g.msg_time = a->msg_time;
+    g.toasts.push_back({ a->msg, a->msg_error != 0, glfwGetTime() });
+    if (g.toasts.size() > 3) g.toasts.erase(g.toasts.begin());
+}
+
+void toasts(st_app *a)
+{
+    note_message(a);
+    ImGuiIO &io = ImGui::GetIO();
+    double now = glfwGetTime();
+    float y = io.DisplaySize.y - 8 * g.scale;
+    float wmax = std::max(120 * g.scale, io.DisplaySize.x - panel_width() - 24 * g.scale);
+    for (size_t i = g.toasts.size(); i-- > 0;) {
+        const gui_state::toast &t = g.toasts[i];
+        double life = t.error ? 8 : 4, age = a->masked_times ? 0 : now - t.t0;
+        if (age > life) { g.toasts.erase(g.toasts.begin() + (long)i); continue; }
+        float alpha = (float)std::min(1.0, (life - age) / 0.5);
+        char id[32];
+        snprintf(id, sizeof id, "##toast%zu", i);
+        ImGui::SetNextWindowPos(ImVec2(8 * g.scale, y), ImGuiCond_Always, ImVec2(0, 1));
+        ImGui::SetNextWindowBgAlpha(0.85f * alpha);
+        ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(wmax, FLT_MAX));
+        ImGui::PushStyleVar(ImGuiStyleVar_Alpha, alpha);
+        ImGui::Begin(id, nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
+                                      ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoSavedSettings);
+        ImGui::PushTextWrapPos(wmax - 16 * g.scale);
+        ImGui::TextColored(t.error ? ImVec4(1, 0.45f, 0.4f, 1) : ImVec4(0.6f, 0.95f, 0.6f, 1), "%s", t.text.c_str());
+        ImGui::PopTextWrapPos();
+        y -= ImGui::GetWindowHeight() + 4 * g.scale;
+        ImGui::End();
+        ImGui::PopStyleVar();
+    }
 }
 
 void slider_level(st_app *a, const char *label, int display)
@@ -542,6 +709,7 @@ void action_button(st_app *a, int id, const char *label)
     bool on = st_action_enabled(&st_actions[id], a) != 0;
     if (!on) ImGui::BeginDisabled();
     if (ImGui::Button(label)) g.pending_action = id;
+    if (!g.probe_dir.empty()) probe_item(probe_name("panel:", label));
     if (!on) ImGui::EndDisabled();
 }
 
@@ -550,6 +718,7 @@ void box_section(st_app *a)
     st_doc *d = &a->doc;
     bool on = d->box_on != 0;
     if (ImGui::Checkbox("interest box", &on)) g.pending_action = ST_ACT_BOX_TOGGLE;
+    probe_item("panel:interest_box");
     if (!d->box_on) return;
     st_adapt_params b = d->box;
     double c[3], s[3];
@@ -559,6 +728,7 @@ void box_section(st_app *a)
     bool active = ImGui::IsItemActive();
     double smin = 1e-4 * a->cc.radius;
     changed |= ImGui::DragScalarN("size", ImGuiDataType_Double, s, 3, speed, &smin, nullptr, "%.3f");
+    probe_item("panel:size");
     active |= ImGui::IsItemActive();
     int base = (int)b.base_level, mx = (int)b.max_level, top = (int)d->h.map.top + 3;
     bool lv = ImGui::SliderInt("base level", &base, 0, top);
@@ -577,14 +747,47 @@ void box_section(st_app *a)
     if (!active && g.box_dragging) { st_doc_box_end(d); g.box_dragging = 0; st_app_sync(a); }
 }
 
+/* A collapsible section of the panel, open or closed as the preferences
+ * say (open by default); a click that changes it changes them. */
+bool section(const char *name)
+{
+    bool was = st_prefs_section_open(name, 1) != 0;
+    ImGui::SetNextItemOpen(was, ImGuiCond_Once);
+    bool open = ImGui::CollapsingHeader(name);
+    if (!g.probe_dir.empty()) probe_item(probe_name("panel:section:", name));
+    if (open != was) st_prefs_set_section_open(name, open);
+    return open;
+}
+
+/* The panel's width: the preference (in unscaled units), within
+ * [200, 60 % of the window] scaled. */
+float panel_width(void)
+{
+    float lo = 200 * g.scale, hi = std::max(lo, ImGui::GetIO().DisplaySize.x * 0.6f);
+    return std::min(hi, std::max(lo, g.panel_w));
+}
+
 void side_panel(st_app *a)
 {
     ImGuiIO &io = ImGui::GetIO();
-    float w = 290 * g.scale;
+    float w = panel_width();
+    /* Its width follows a drag of the left edge (and is remembered); the
+     * height fits the content (a 0 size axis is fitted each frame).  The
+     * corner grips are not drawn: only the edge resizes. */
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - w, menu_height), ImGuiCond_Always);
     ImGui::SetNextWindowSize(ImVec2(w, 0), ImGuiCond_Always);
-    ImGui::SetNextWindowSizeConstraints(ImVec2(w, 0), ImVec2(w, io.DisplaySize.y - menu_height));
-    ImGui::Begin("Strata", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_AlwaysAutoResize);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(200 * g.scale, 0), ImVec2(std::max(200 * g.scale, io.DisplaySize.x * 0.6f), io.DisplaySize.y - menu_height));
+    ImGui::PushStyleColor(ImGuiCol_ResizeGrip, ImVec4(0, 0, 0, 0));
+    ImGui::PushStyleColor(ImGuiCol_ResizeGripHovered, ImVec4(0, 0, 0, 0));
+    ImGui::PushStyleColor(ImGuiCol_ResizeGripActive, ImVec4(0, 0, 0, 0));
+    ImGui::Begin("Strata", nullptr, ImGuiWindowFlags_NoMove);
+    ImGui::PopStyleColor(3);
+    probe_rect_at("window:panel", ImGui::GetWindowPos(),
+                  ImVec2(ImGui::GetWindowPos().x + ImGui::GetWindowWidth(), ImGui::GetWindowPos().y + ImGui::GetWindowHeight()));
+    if (std::fabs(ImGui::GetWindowWidth() - w) >= 1) {
+        g.panel_w = ImGui::GetWindowWidth();
+        st_prefs_set_panel_width(g.panel_w / g.scale);
+    }
     st_doc *d = &a->doc;
     ImGui::PushItemWidth(150 * g.scale);
     if (!d->loaded) {
@@ -593,7 +796,7 @@ void side_panel(st_app *a)
         uint64_t faces = 0, verts = 0;
         st_doc_display_counts(d, &faces, &verts);
         ImGui::Text("%s  (%s)", st_path_base(d->path), d->scheme ? d->scheme->name : "?");
-        if (ImGui::CollapsingHeader("Levels", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (section("Levels")) {
             slider_level(a, "editing", 0);
             slider_level(a, "displayed", 1);
             ImGui::Text("%llu faces, %llu vertices", (unsigned long long)faces, (unsigned long long)verts);
@@ -604,7 +807,7 @@ void side_panel(st_app *a)
             ImGui::SameLine();
             action_button(a, ST_ACT_DELETE_COARSEST, "Rebase");
         }
-        if (ImGui::CollapsingHeader("Tool", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (section("Tool")) {
             /* Three tools a row (clay strips, the longest name, in the middle column). */
             static const int tools[] = { ST_ACT_TOOL_SELECT, ST_ACT_BRUSH_GRAB,    ST_ACT_BRUSH_DRAW,
                                          ST_ACT_BRUSH_SMOOTH, ST_ACT_BRUSH_FLATTEN, ST_ACT_BRUSH_CREASE,
@@ -618,10 +821,12 @@ void side_panel(st_app *a)
                 if (i % 3) ImGui::SameLine((float)(i % 3) * 88 * g.scale);
                 const char *name = brush_of[i] == ST_TOOL_SELECT ? "select" : st_brush_name(brush_of[i]);
                 if (ImGui::RadioButton(name, st_action_checked(&st_actions[tools[i]], a) > 0)) g.pending_action = tools[i];
+                if (!g.probe_dir.empty()) probe_item(probe_name("panel:", name));
             }
             float r = (float)d->brush.radius, s = (float)d->brush.strength;
             float rmax = (float)a->cc.radius;
             if (ImGui::SliderFloat("radius", &r, 0.002f * rmax, rmax, "%.4g", ImGuiSliderFlags_Logarithmic)) d->brush.radius = r;
+            probe_item("panel:radius");
             if (ImGui::SliderFloat("strength", &s, 0.02f, 1.0f, "%.2f")) d->brush.strength = s;
             /* Symmetry in the model's axes (brush.c). */
             bool mx = d->brush.mirror_x != 0, my = d->brush.mirror_y != 0, mz = d->brush.mirror_z != 0;
@@ -648,8 +853,8 @@ void side_panel(st_app *a)
                 ImGui::TreePop();
             }
         }
-        if (ImGui::CollapsingHeader("Interest box", ImGuiTreeNodeFlags_DefaultOpen)) box_section(a);
-        if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (section("Interest box")) box_section(a);
+        if (section("Display")) {
             int sh = a->shading;
             if (ImGui::RadioButton("smooth", sh == ST_SHADE_SMOOTH)) a->shading = ST_SHADE_SMOOTH;
             ImGui::SameLine();
@@ -661,7 +866,7 @@ void side_panel(st_app *a)
             if (ImGui::Checkbox("wire", &wire)) a->wire = wire;
         }
     }
-    if (ImGui::CollapsingHeader("Timings", ImGuiTreeNodeFlags_DefaultOpen)) {
+    if (section("Timings")) {
         char t1[32], t2[32], t3[32];
         ImGui::Text("frame %s", st_app_fmt_ms(a, a->frame_ms, t1, sizeof t1));
         ImGui::Text("update: geometry %s, buffers %s", st_app_fmt_ms(a, d->loaded ? d->last_update_ms : 0, t2, sizeof t2),
@@ -693,7 +898,12 @@ int st_gui_init(st_app *a, int shown)
     }
     float xs = 1, ys = 1;
     glfwGetWindowContentScale(a->win, &xs, &ys);
-    g.scale = st_prefs_ui_scale() > 0 ? st_prefs_ui_scale() : std::max(1.0f, std::max(xs, ys));
+    /* --ui-scale, else the preference, else the monitor's content scale. */
+    g.scale = a->opts.ui_scale > 0 ? a->opts.ui_scale
+              : st_prefs_ui_scale() > 0 ? st_prefs_ui_scale() : std::max(1.0f, std::max(xs, ys));
+    g.panel_w = (st_prefs_panel_width() > 0 ? st_prefs_panel_width() : 290) * g.scale;
+    const char *probe = getenv("STRATA_GUI_PROBE");
+    if (probe && probe[0]) g.probe_dir = probe;
     if (g.scale != 1) {
         ImGui::GetStyle().ScaleAllSizes(g.scale);
         io.FontGlobalScale = g.scale;
@@ -730,7 +940,9 @@ void st_gui_frame(st_app *a)
     for (bool &p : g.pressed) p = false;
     if (a->masked_times) io.DeltaTime = 1.0f / 60;   /* replays: the same frames whatever the clock */
     ImGui::NewFrame();
-    if (a->busy) {
+    g.probe.clear();
+    g.menu_path.clear();
+    if (a->busy || a->working[0]) {
         progress_window(a);
     } else {
         if (ImGui::BeginMainMenuBar()) {
@@ -745,9 +957,13 @@ void st_gui_frame(st_app *a)
         about_window();
         keys_window(a);
         if (g.dlg_open) file_dialog(a);
+        toasts(a);
     }
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    g.frames++;
+    probe_write(a);
+    release_held_keys();
     g.in_frame = false;
 }
 
@@ -782,6 +998,13 @@ int st_gui_mouse_button(st_app *a, int button, int action, int mods)
     return 1;
 }
 
+void st_gui_job_mouse_button(int button, int action)
+{
+    if (!st_gui_shown() || button < 0 || button >= 3) return;
+    if (action == GLFW_RELEASE) g.down[button] = false;
+    else g.down[button] = g.pressed[button] = true;
+}
+
 int st_gui_scroll(double dx, double dy)
 {
     if (!st_gui_shown() || !ImGui::GetIO().WantCaptureMouse) return 0;
@@ -794,7 +1017,11 @@ int st_gui_scroll(double dx, double dy)
 int st_gui_key(int key, int scancode, int action, int mods)
 {
     if (!g.init) return 0;
-    ImGui_ImplGlfw_KeyCallback(g.win, key, scancode, action, mods);
+    if (!g.shown) release_held_keys();   /* no frame will see them */
+    bool seen = std::find(g.keys_pressed.begin(), g.keys_pressed.end(), key) != g.keys_pressed.end();
+    if (action == GLFW_RELEASE && seen) g.held_releases.push_back({ key, scancode, mods });
+    else ImGui_ImplGlfw_KeyCallback(g.win, key, scancode, action, mods);
+    if (action == GLFW_PRESS && !seen) g.keys_pressed.push_back(key);
     if (!g.shown || action == GLFW_RELEASE) return 0;
     switch (key) {
     case GLFW_KEY_LEFT_SHIFT: case GLFW_KEY_RIGHT_SHIFT: case GLFW_KEY_LEFT_CONTROL: case GLFW_KEY_RIGHT_CONTROL:

@@ -13,7 +13,12 @@
  * X server, so that replays are deterministic.
  *
  * Actions chosen in the GUI run after the GUI's frame (st_gui_run_pending),
- * never inside it: a long job draws frames of its own (jobs.c). */
+ * never inside it: a long job draws frames of its own (jobs.c).
+ *
+ * Tests: with STRATA_GUI_PROBE=DIR each frame writes DIR/gui (frame
+ * number, document values, the rectangles of the widgets a test clicks:
+ * "rect menu:File/Open x0 y0 x1 y1"), so that tests/cli_gui_xdotool.sh
+ * clicks where the widgets are. */
 #ifndef ST_GUI_H
 #define ST_GUI_H
 
@@ -43,6 +48,9 @@ void st_gui_run_pending(struct st_app *a);
  * return 1 when the GUI took the event and the 3D view must ignore it. */
 void st_gui_cursor(double x, double y);
 int st_gui_mouse_button(struct st_app *a, int button, int action, int mods);
+/* During a job (jobs.c) the buttons go to the GUI whatever it wants: its
+ * progress window is the only thing that takes input then. */
+void st_gui_job_mouse_button(int button, int action);
 int st_gui_scroll(double dx, double dy);
 int st_gui_key(int key, int scancode, int action, int mods);
 void st_gui_char(unsigned c);

@@ -33,7 +33,7 @@ static float hud_scale = 1.6f;
 void st_app_draw_working(st_app *a)
 {
     st_hud *u = &a->hud;
-    if (!a->working[0]) return;
+    if (!a->working[0] || st_gui_shown()) return;   /* the GUI's progress window says it */
     float sc = 2 * HUD_SCALE;
     float w = st_hud_text_width(a->working, sc);
     if (w > (float)a->fb_w - 48) { sc *= ((float)a->fb_w - 48) / w; w = st_hud_text_width(a->working, sc); }
@@ -202,7 +202,9 @@ void st_app_draw_hud(st_app *a)
                  a->pending_scheme);
         msg = ask;
     }
-    if (msg[0]) {
+    /* With the GUI, messages are its notifications (gui.cc) and the scheme
+     * question its window. */
+    if (msg[0] && panel) {
         /* Wrapped at spaces to the window's width (long error messages). */
         char lines[4][ST_MSG_LEN];
         int nl = 0;

@@ -1,5 +1,6 @@
 /* Long document operations on a worker thread: opening a file, adding a
- * level, changing the scheme and rebuilding the levels (which Esc cancels).  The main thread keeps drawing a
+ * level, changing the scheme and rebuilding the levels (which Esc or the
+ * progress window's Cancel button cancels).  The main thread keeps drawing a
  * "working..." panel (hud_panels.c) with the stage the editor's progress
  * callback reports and the elapsed time; see README.md "Modeller". */
 #include "window.h"
@@ -16,6 +17,7 @@
 #include <GLFW/glfw3.h>
 
 #include "core/io/session.h"
+#include "gui.h"
 
 #define DEFAULT_LEVELS 2
 #define WORKING_FACES 150000         /* show a "working" frame above this */
@@ -53,12 +55,23 @@ typedef struct doc_job {
      * progress callback; msg: which method made how many levels. */
     atomic_int cancel;
     char msg[256];
+    /* STRATA_JOB_HOLD_S (tests): until when its progress reports wait. */
+    double hold_until_ms;
 } doc_job;
 
+/* With STRATA_JOB_HOLD_S=N, a cancellable job's progress reports wait for
+ * a cancellation, N seconds at most in all: tests of the Cancel button
+ * (tests/cli_gui_xdotool.sh) then do not race a fast machine; a Cancel
+ * that does not work lets the job finish after N s and the test fails. */
 static int job_cancelled(void *ctx, double fraction)
 {
+    doc_job *j = ctx;
     (void)fraction;
-    return atomic_load(&((doc_job *)ctx)->cancel);
+    while (!atomic_load(&j->cancel) && st_now_ms() < j->hold_until_ms) {
+        struct timespec ts = { 0, 5000000 };
+        nanosleep(&ts, NULL);
+    }
+    return atomic_load(&j->cancel);
 }
 
 static void job_progress(void *ctx, const char *what, unsigned step, unsigned steps)
@@ -100,6 +113,28 @@ static void cancel_key(GLFWwindow *w, int key, int sc, int action, int mods)
     if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS && g_cancellable) atomic_store(&g_cancellable->cancel, 1);
 }
 
+int st_app_job_cancellable(void) { return g_cancellable != NULL; }
+int st_app_job_cancelling(void) { return g_cancellable && atomic_load(&g_cancellable->cancel); }
+void st_app_cancel_job(void)
+{
+    if (g_cancellable) atomic_store(&g_cancellable->cancel, 1);
+}
+
+/* The pointer and buttons during such a job go to the GUI alone, for the
+ * progress window's Cancel (gui.h); the 3D view waits. */
+static void job_cursor(GLFWwindow *w, double x, double y)
+{
+    (void)w;
+    st_gui_cursor(x, y);
+}
+
+static void job_button(GLFWwindow *w, int button, int action, int mods)
+{
+    (void)w;
+    (void)mods;
+    st_gui_job_mouse_button(button, action);
+}
+
 static int run_job(st_app *a, doc_job *j, const char *what)
 {
     j->d = &a->doc;
@@ -137,8 +172,8 @@ static int run_job(st_app *a, doc_job *j, const char *what)
     if (poll) {
         g_cancellable = j;
         keyfun = glfwSetKeyCallback(a->win, cancel_key);
-        buttonfun = glfwSetMouseButtonCallback(a->win, NULL);
-        cursorfun = glfwSetCursorPosCallback(a->win, NULL);
+        buttonfun = glfwSetMouseButtonCallback(a->win, job_button);
+        cursorfun = glfwSetCursorPosCallback(a->win, job_cursor);
         scrollfun = glfwSetScrollCallback(a->win, NULL);
         dropfun = glfwSetDropCallback(a->win, NULL);
         charfun = glfwSetCharCallback(a->win, NULL);
@@ -210,9 +245,10 @@ int st_app_open(st_app *a, const char *path)
     st_app_sync(a);
     a->autosave_dirty = 0;   /* opening is not an edit */
     st_app_frame_model(a);
-    /* Brush radius in model units: an eighth of the half-diagonal, so
-     * that models of any scale get a usable brush. */
-    a->doc.brush.radius = 0.125 * a->cc.radius;
+    /* Brush radius in model units: a fraction of the half-diagonal (an
+     * eighth, or the preference), so that models of any scale get a
+     * usable brush. */
+    a->doc.brush.radius = a->brush_radius_frac * a->cc.radius;
     char title[512];
     snprintf(title, sizeof title, "Strata - %s", st_path_base(path));
     glfwSetWindowTitle(a->win, title);
@@ -277,6 +313,8 @@ static void rebuild_levels(st_app *a)
     double t0 = st_now_ms();
     doc_job j = { .kind = JOB_REBUILD };
     atomic_init(&j.cancel, 0);
+    const char *hold = getenv("STRATA_JOB_HOLD_S");
+    if (hold && atof(hold) > 0) j.hold_until_ms = st_now_ms() + 1000 * atof(hold);
     int rc = run_job(a, &j, "working... rebuilding the levels (Esc cancels)");
     st_app_sync(a);
     if (rc && atomic_load(&j.cancel)) {

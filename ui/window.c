@@ -6,6 +6,7 @@
 #include "window.h"
 
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -808,6 +809,63 @@ static int make_window(st_app *a, int visible)
     return 0;
 }
 
+/* ---- tests driving the real window (tests/cli_gui_xdotool.sh) ------------------
+ * With STRATA_GUI_PROBE=DIR (gui.cc writes DIR/gui, the widget rectangles),
+ * SIGUSR1 asks for a screenshot: the name in DIR/shot, taken from the next
+ * frame (under --screenshot-dir, compared under --compare-dir as a replay's)
+ * and reported as a line "NAME ok" or "NAME failed" appended to DIR/shots.
+ * Times are masked, as in replays, so that screenshots are comparable. */
+static volatile sig_atomic_t g_shot_signal;
+static void on_shot_signal(int sig) { (void)sig; g_shot_signal = 1; }
+
+static const char *probe_dir(void)
+{
+    const char *d = getenv("STRATA_GUI_PROBE");
+    return d && d[0] ? d : NULL;
+}
+
+static void probe_shot_request(st_app *a)
+{
+    char path[4200];
+    if (!g_shot_signal || !probe_dir()) return;
+    g_shot_signal = 0;
+    snprintf(path, sizeof path, "%s/shot", probe_dir());
+    FILE *f = fopen(path, "r");
+    if (!f) return;
+    if (fgets(a->shot, sizeof a->shot, f)) {
+        a->shot[strcspn(a->shot, "\r\n")] = 0;
+        a->shot_pending = a->shot[0] && !strchr(a->shot, '/');
+        a->shot_probe = a->shot_pending;
+    }
+    fclose(f);
+}
+
+static void probe_shot_done(st_app *a, int rc)
+{
+    char path[4200];
+    snprintf(path, sizeof path, "%s/shots", probe_dir());
+    FILE *f = fopen(path, "a");
+    if (f) { fprintf(f, "%s %s\n", a->shot, rc ? "failed" : "ok"); fclose(f); }
+}
+
+/* Brush defaults (preferences): the tool by name, the radius as a fraction
+ * of the model's size, the strength. */
+static void brush_prefs_apply(st_app *a)
+{
+    const char *t = st_prefs_brush_tool();
+    if (!strcmp(t, "select")) a->tool = ST_TOOL_SELECT;
+    for (int i = 0; i < ST_BRUSH_COUNT; i++)
+        if (!strcmp(t, st_brush_name(i))) a->tool = i;
+    if (st_prefs_brush_radius() > 0) a->brush_radius_frac = st_prefs_brush_radius();
+    if (st_prefs_brush_strength() > 0) a->doc.brush.strength = st_prefs_brush_strength();
+}
+
+static void brush_prefs_keep(const st_app *a)
+{
+    double frac = a->doc.loaded && a->cc.radius > 0 ? a->doc.brush.radius / a->cc.radius : a->brush_radius_frac;
+    st_prefs_set_brush(a->tool == ST_TOOL_SELECT ? "select" : st_brush_name(a->tool), frac, a->doc.brush.strength);
+}
+
 static void default_asset(st_app *a)
 {
     const char *dir = getenv("STRATA_ASSETS");
@@ -824,7 +882,8 @@ int st_window_main(const st_win_opts *o)
     a->cage = 1;
     a->hover_vid = ST_NIL;
     a->box_handle = -1;
-    a->masked_times = o->replay != NULL;
+    a->masked_times = o->replay != NULL || probe_dir();
+    a->brush_radius_frac = 0.125;
     st_doc_init(&a->doc);
     if (o->mem_budget_mb > 0) a->doc.mem_budget = (size_t)(o->mem_budget_mb * 1048576.0);
     default_asset(a);
@@ -836,6 +895,16 @@ int st_window_main(const st_win_opts *o)
         int pw, ph;
         st_prefs_window(&pw, &ph);
         if (!o->size_given && pw >= 64 && ph >= 64 && pw <= 8192 && ph <= 8192) { a->opts.width = pw; a->opts.height = ph; }
+        brush_prefs_apply(a);
+    }
+    if (probe_dir()) {
+        /* sigaction: signal() may reset the handler after one signal. */
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_shot_signal;
+        sigemptyset(&sa.sa_mask);
+        sa.sa_flags = SA_RESTART;
+        sigaction(SIGUSR1, &sa, NULL);
     }
     st_replay *rp = NULL;
     st_error err;
@@ -904,10 +973,15 @@ int st_window_main(const st_win_opts *o)
         glfwGetWindowSize(a->win, &a->win_w, &a->win_h);
         st_app_sync(a);
         double t0 = now_ms();   /* frame time: drawing and presenting, not the wait for events */
+        probe_shot_request(a);
         st_app_draw(a);
         if (a->shot_pending) {
             a->shot_pending = 0;
-            if (take_screenshot(a, a->shot)) { a->exit_code = 1; break; }
+            int shot_rc = take_screenshot(a, a->shot);
+            /* A test's screenshot: reported, and the run goes on to the
+             * end (its exit status says a screenshot failed). */
+            if (a->shot_probe) { a->shot_probe = 0; probe_shot_done(a, shot_rc); if (shot_rc) a->exit_code = 1; }
+            else if (shot_rc) { a->exit_code = 1; break; }
         }
         glfwSwapBuffers(a->win);
         a->frame_ms = now_ms() - t0;
@@ -919,6 +993,7 @@ int st_window_main(const st_win_opts *o)
     if (rp && !rc) fprintf(stderr, "strata: replay %s passed (%llu frames)\n", o->replay, (unsigned long long)a->frames);
     if (!rp) {
         st_prefs_set_window(a->win_w, a->win_h);
+        brush_prefs_keep(a);
         st_prefs_save();
     }
     st_prefs_free();

@@ -35,6 +35,7 @@ typedef struct st_win_opts {
     double mem_budget_mb;      /* > 0: the document's memory budget (MiB) */
     int no_gui;                /* start with the GUI (gui.h) hidden */
     int size_given;            /* --size: the preferences' window size does not apply */
+    float ui_scale;            /* --ui-scale: > 0 overrides the preference and the monitor's */
 } st_win_opts;
 
 enum st_tool { ST_TOOL_SELECT = -1 };   /* else an st_brush_tool */
@@ -90,7 +91,8 @@ typedef struct st_app {
     char default_path[4096];
     char working[256];         /* drawn over the frame during a long operation */
     int busy;                  /* a worker thread owns the document: draw nothing of it */
-    int masked_times;          /* replay: times shown as "--" (screenshots stay comparable) */
+    int masked_times;          /* replay, STRATA_GUI_PROBE: times shown as "--" (screenshots stay comparable) */
+    double brush_radius_frac;  /* brush radius at open, times the model's half-diagonal (preference) */
     int autosave_dirty;        /* edits since the last recovery save */
     double autosave_t;
 
@@ -104,6 +106,7 @@ typedef struct st_app {
     /* Screenshot requested by the replay for the next rendered frame. */
     char shot[4096];
     int shot_pending;
+    int shot_probe;            /* asked by SIGUSR1 (STRATA_GUI_PROBE, window.c) */
 
     void *replay;              /* st_replay */
 } st_app;
@@ -150,6 +153,12 @@ void st_app_change_scheme(st_app *a, const char *scheme);
  * (st_app_run_requested, called by st_gui_run_pending). */
 void st_app_request_rebuild(st_app *a);
 void st_app_run_requested(st_app *a);
+/* While a job that can be cancelled runs (the rebuild): whether one does,
+ * whether its cancellation was asked, and asking it (the progress window's
+ * Cancel button, as Esc; the model stays as it was). */
+int st_app_job_cancellable(void);
+int st_app_job_cancelling(void);
+void st_app_cancel_job(void);
 
 /* Keys are looked up in the action table (ui/actions.h). */
 
