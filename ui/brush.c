@@ -450,16 +450,18 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
     uint32_t n = 0;
     for (uint32_t i = 0; i < bs->nlist; i++) {
         uint32_t v = bs->list[i], x = ed_vertex_dart(d, v);
-        if (x == ST_NIL) continue;
+        /* The mask attenuates the dab: displacement times 1 - mask; a fully
+         * masked vertex is left out, so it stays the same to the bit. */
+        double keep = 1.0 - (double)st_mask_get(&d->mask, v);
+        if (x == ST_NIL || !(keep > 0)) continue;
         const double *p = st_pos(&h->map, v, l);
-        for (int k = 0; k < 3; k++) pos[n][k] = p[k] + bs->disp[i][k];
+        for (int k = 0; k < 3; k++) pos[n][k] = p[k] + keep * bs->disp[i][k];
         darts[n++] = x;
     }
-    /* Old values of what core will write, then the edit, which reports
-     * what it wrote for the display and the renderer. */
-    ed_step_touch_move(d->pending, h, l, darts, n, &d->fp_query);
+    /* Old values of what core will write (also the layers'), then the
+     * edit, which reports what it wrote for the display and the renderer. */
     uint32_t from = d->fp_model.n;
-    st_hier_edit(h, l, darts, (const double(*)[3])pos, n, &d->fp_model);
+    ed_model_edit(d, d->pending, l, darts, (const double(*)[3])pos, n);
     for (uint32_t i = 0; i < n; i++) {
         uint32_t v = st_vert(&h->map, darts[i], l);
         grid_insert(bs, v, st_pos(&h->map, v, l));
@@ -468,6 +470,16 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
     free(darts);
     free(pos);
     return 0;
+}
+
+uint32_t ed_brush_query(st_doc *d, const double c[3], double R, const uint32_t **vids, const double **w)
+{
+    struct st_brush_state *bs = d->bs;
+    if (!bs || !d->active) return 0;
+    grid_query(bs, &d->h.map, bs->level, c, R);
+    *vids = bs->tmp;
+    *w = bs->tmpw;
+    return bs->ntmp;
 }
 
 void st_doc_stroke_end(st_doc *d)

@@ -19,6 +19,21 @@
 uint64_t st_hier_edit(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
                       st_footprint *fp);
 
+/* Decides the detail stored for vertex v of level l >= 1 during
+ * st_hier_edit_with: det holds F^T (P_l - S(P_{l-1})) for the position the
+ * edit gave (sculpt layers, core/multires/layers.h, split it between the
+ * layers and write back their composition). */
+typedef void (*st_detail_hook)(void *ctx, unsigned l, uint32_t v, double det[3]);
+
+/* st_hier_edit, where for l >= 1 the hook (NULL: none, st_hier_edit)
+ * chooses each moved vertex's detail, and the vertex's level-l position is
+ * then S(P_{l-1}) + F D as a synthesis gives it, so that the level equals a
+ * full synthesis at these vertices.  pos NULL: the positions are not
+ * written first (the hook recomposes the details from elsewhere).  The
+ * same footprint as st_hier_edit. */
+uint64_t st_hier_edit_with(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                           st_footprint *fp, st_detail_hook hook, void *ctx);
+
 /* The footprint st_hier_edit(h, l, darts, ., n, .) writes, appended to fp
  * without writing anything, so that old values can be saved first (undo).
  * The same region growth and stencils as the edit, with a sink that only

@@ -343,8 +343,11 @@ static void find_sink(void *ctx, const st_stencil *s)
 }
 
 /* Re-expresses the detail of the vertex of d at level l >= 1 so that its
- * position is P_l(v): D = F^T (P_l - S(P_{l-1})). */
-static void refresh_detail(st_hier *h, unsigned l, uint32_t d)
+ * position is P_l(v): D = F^T (P_l - S(P_{l-1})).  With a hook (edit.h:
+ * st_hier_edit_with) the hook decides the detail to store, and the position
+ * becomes S(P_{l-1}) + F D, as the synthesis computes it
+ * (st_stencil_apply). */
+static void refresh_detail(st_hier *h, unsigned l, uint32_t d, st_detail_hook hook, void *hctx)
 {
     st_map *m = &h->map;
     uint32_t v = st_vert(m, d, l), seed = real_seed(m, coarse_seed(m, d, l), l - 1);
@@ -361,6 +364,13 @@ static void refresh_detail(st_hier *h, unsigned l, uint32_t d)
     st_hier_frame(h, l - 1, s.frame_dart, s.frame_cell, f);
     sub3(st_pos(m, v, l), pred, r);
     for (int i = 0; i < 3; i++) dv[i] = dot3(f[i], r);
+    if (hook) {
+        double p[3] = { pred[0], pred[1], pred[2] };
+        hook(hctx, l, v, dv);
+        if (dv[0] != 0 || dv[1] != 0 || dv[2] != 0)
+            for (int i = 0; i < 3; i++) p[i] += dv[0] * f[0][i] + dv[1] * f[1][i] + dv[2] * f[2][i];
+        st_hier_write_pos(h, v, l, p);
+    }
     st_hier_set_detail(h, l, v, dv);
     st_stencil_buf_free(&c.buf);
 }
@@ -437,15 +447,22 @@ static void edit_level_keys(const st_map *m, unsigned l, const uint32_t *darts, 
     }
 }
 
+uint64_t st_hier_edit_with(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                           st_footprint *fp, st_detail_hook hook, void *hctx)
+{
+    st_map *m = &h->map;
+    if (pos)
+        for (uint32_t i = 0; i < n; i++) st_hier_write_pos(h, st_vert(m, darts[i], l), l, pos[i]);
+    if (l > 0)
+        for (uint32_t i = 0; i < n; i++) refresh_detail(h, l, real_seed(m, darts[i], l), hook, hctx);
+    edit_level_keys(m, l, darts, n, fp);
+    return resynth_above(h, l, darts, n, 1, fp);
+}
+
 uint64_t st_hier_edit(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
                       st_footprint *fp)
 {
-    st_map *m = &h->map;
-    for (uint32_t i = 0; i < n; i++) st_hier_write_pos(h, st_vert(m, darts[i], l), l, pos[i]);
-    if (l > 0)
-        for (uint32_t i = 0; i < n; i++) refresh_detail(h, l, real_seed(m, darts[i], l));
-    edit_level_keys(m, l, darts, n, fp);
-    return resynth_above(h, l, darts, n, 1, fp);
+    return st_hier_edit_with(h, l, darts, pos, n, fp, NULL, NULL);
 }
 
 uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n)
