@@ -134,11 +134,11 @@ void ed_brush_state_free(struct st_brush_state *bs);
 uint32_t ed_brush_query(st_doc *d, const double c[3], double R, const uint32_t **vids, const double **w);
 
 /* ---- editor_layers.c ---- */
-/* Key of a layer value in an undo step: slot -1 (the level's own details)
- * or a layer index, level, vertex id. */
+/* Key of a layer value in an undo step: slot (core/multires/layers.h:
+ * st_layers_get), level, vertex id. */
 static inline uint64_t ed_layer_key(int slot, unsigned level, uint32_t vid)
 {
-    return (uint64_t)(uint32_t)(slot + 1) << 40 | (uint64_t)level << 33 | vid;
+    return (uint64_t)(uint32_t)(slot + 2) << 40 | (uint64_t)level << 33 | vid;
 }
 /* The edit of a drag or a stroke: records the old values of everything it
  * will write in s (h's footprint and the layer values), then edits h at

@@ -34,12 +34,38 @@ static int edit_target(st_doc *d, unsigned l)
     return a;
 }
 
+/* Whether a layered level lies above l (its positions are rewritten by an
+ * edit at l). */
+static int layers_above(const st_layers *ls, unsigned l)
+{
+    for (uint32_t i = 0; i < ls->n; i++)
+        if (ls->v[i].level > l) return 1;
+    return 0;
+}
+
 void ed_model_touch_layers(st_doc *d, st_undo_step *s, unsigned l, const uint32_t *darts, uint32_t n)
 {
-    if (!s || l == 0 || !st_layers_on_level(&d->layers, l)) return;
-    int slot = edit_target(d, l);
+    st_layers *ls = &d->layers;
+    if (!s || !ls->n) return;
     if (!s->lay) s->lay = ed_step_new(ED_STEP_EDIT);
-    for (uint32_t i = 0; i < n; i++) ed_step_touch_layer(s->lay, &d->layers, slot, l, st_vert(&d->h.map, darts[i], l));
+    if (l > 0 && st_layers_on_level(ls, l)) {
+        int slot = edit_target(d, l);
+        for (uint32_t i = 0; i < n; i++) {
+            uint32_t v = st_vert(&d->h.map, darts[i], l);
+            ed_step_touch_layer(s->lay, ls, slot, l, v);
+            ed_step_touch_layer(s->lay, ls, ST_LAYERS_SLOT_BPOS, l, v);
+        }
+    }
+    /* The positions kept without layers on the levels above, which follow
+     * the re-synthesis (st_layers_follow): the keys are the edit's
+     * footprint, just asked (ed_step_touch_move). */
+    if (!layers_above(ls, l)) return;
+    for (uint32_t i = 0; i < d->fp_query.n; i++) {
+        uint64_t k = d->fp_query.keys[i];
+        unsigned L = st_fp_level(k);
+        if (L > l && st_fp_kind(k) == ST_FP_POS && ls->bpos[L])
+            ed_step_touch_layer(s->lay, ls, ST_LAYERS_SLOT_BPOS, L, st_fp_vid(k));
+    }
 }
 
 void ed_model_edit(st_doc *d, st_undo_step *s, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n)
@@ -48,10 +74,12 @@ void ed_model_edit(st_doc *d, st_undo_step *s, unsigned l, const uint32_t *darts
         ed_step_touch_move(s, &d->h, l, darts, n, &d->fp_query);
         ed_model_touch_layers(d, s, l, darts, n);
     }
+    uint32_t from = d->fp_model.n;
     if (l > 0 && st_layers_on_level(&d->layers, l))
         st_layers_edit(&d->layers, &d->h, l, edit_target(d, l), darts, pos, n, &d->fp_model);
     else
         st_hier_edit(&d->h, l, darts, pos, n, &d->fp_model);
+    if (layers_above(&d->layers, l)) st_layers_follow(&d->layers, &d->h, l, d->fp_model.keys + from, d->fp_model.n - from);
 }
 
 void ed_step_apply_extra(st_doc *d, const st_undo_step *s, int which)
@@ -123,6 +151,7 @@ static int op_end(st_doc *d, st_undo_step *s, unsigned l, dart_set *ds, double t
     if (ds->n) {
         uint32_t from = d->fp_model.n;
         st_layers_recompose(&d->layers, &d->h, l, ds->d, ds->n, &d->fp_model);
+        st_layers_follow(&d->layers, &d->h, l, d->fp_model.keys + from, d->fp_model.n - from);
         ed_geometry_changed(d, l, ds->d, ds->n, t0, from);
     }
     free(ds->d);
@@ -277,6 +306,7 @@ int st_doc_layer_delete(st_doc *d, int k, st_error *err)
     if (ds.n) {
         uint32_t from = d->fp_model.n;
         st_layers_recompose(&d->layers, &d->h, l, ds.d, ds.n, &d->fp_model);
+        st_layers_follow(&d->layers, &d->h, l, d->fp_model.keys + from, d->fp_model.n - from);
         ed_geometry_changed(d, l, ds.d, ds.n, t0, from);
     }
     st_layers_remove(&d->layers, k, err);

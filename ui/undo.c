@@ -190,7 +190,7 @@ void ed_step_touch_layer(st_undo_step *s, const st_layers *ls, int slot, unsigne
 
 static void layer_key_parts(uint64_t k, int *slot, unsigned *level, uint32_t *vid)
 {
-    *slot = (int)(uint32_t)(k >> 40) - 1;
+    *slot = (int)(uint32_t)(k >> 40) - 2;
     *level = (unsigned)(k >> 33) & 127u;
     *vid = (uint32_t)k;
 }

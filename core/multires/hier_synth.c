@@ -350,6 +350,7 @@ static void find_sink(void *ctx, const st_stencil *s)
 static void refresh_detail(st_hier *h, unsigned l, uint32_t d, st_detail_hook hook, void *hctx)
 {
     st_map *m = &h->map;
+    if (hook) d = real_seed(m, min_in_orbit(m, d, l, m->face_embedded), l);
     uint32_t v = st_vert(m, d, l), seed = real_seed(m, coarse_seed(m, d, l), l - 1);
     if (seed == ST_NIL) return;
     st_dart_list faces = { 0 };
@@ -365,10 +366,8 @@ static void refresh_detail(st_hier *h, unsigned l, uint32_t d, st_detail_hook ho
     sub3(st_pos(m, v, l), pred, r);
     for (int i = 0; i < 3; i++) dv[i] = dot3(f[i], r);
     if (hook) {
-        double p[3] = { pred[0], pred[1], pred[2] };
-        hook(hctx, l, v, dv);
-        if (dv[0] != 0 || dv[1] != 0 || dv[2] != 0)
-            for (int i = 0; i < 3; i++) p[i] += dv[0] * f[0][i] + dv[1] * f[1][i] + dv[2] * f[2][i];
+        double p[3];
+        hook(hctx, l, v, dv, pred, (const double(*)[3])f, p);
         st_hier_write_pos(h, v, l, p);
     }
     st_hier_set_detail(h, l, v, dv);

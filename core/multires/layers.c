@@ -4,11 +4,13 @@
  * and stores the composition instead. */
 #include "core/multires/layers.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 static const double zero3[3];
+static const double none3[3] = { NAN, NAN, NAN };
 
 void st_layers_init(st_layers *ls)
 {
@@ -20,7 +22,10 @@ void st_layers_free(st_layers *ls)
 {
     for (uint32_t i = 0; i < ls->n; i++) free(ls->v[i].off);
     free(ls->v);
-    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(ls->base[l]);
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        free(ls->base[l]);
+        free(ls->bpos[l]);
+    }
     st_layers_init(ls);
 }
 
@@ -51,6 +56,8 @@ int st_layers_copy(st_layers *dst, const st_layers *src)
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
         dst->base[l] = dup3(src->base[l], src->base_cap[l], &fail);
         dst->base_cap[l] = dst->base[l] ? src->base_cap[l] : 0;
+        dst->bpos[l] = dup3(src->bpos[l], src->bpos_cap[l], &fail);
+        dst->bpos_cap[l] = dst->bpos[l] ? src->bpos_cap[l] : 0;
     }
     dst->active = src->active;
     if (fail) { st_layers_free(dst); return -1; }
@@ -61,7 +68,7 @@ size_t st_layers_bytes(const st_layers *ls)
 {
     size_t b = sizeof *ls + (size_t)ls->cap * sizeof *ls->v;
     for (uint32_t i = 0; i < ls->n; i++) b += 3 * (size_t)ls->v[i].cap * sizeof(double);
-    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) b += 3 * (size_t)ls->base_cap[l] * sizeof(double);
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) b += 3 * (size_t)(ls->base_cap[l] + ls->bpos_cap[l]) * sizeof(double);
     return b;
 }
 
@@ -72,17 +79,20 @@ uint32_t st_layers_on_level(const st_layers *ls, unsigned l)
     return c;
 }
 
-/* Grows a 3-doubles-per-id array to hold id v (zeros added). */
-static void grow3(double **a, uint32_t *cap, uint32_t v, uint32_t hint)
+/* Grows a 3-doubles-per-id array to hold id v (new entries: fill). */
+static void grow3_fill(double **a, uint32_t *cap, uint32_t v, uint32_t hint, double fill)
 {
     if (v < *cap) return;
     uint32_t nc = hint > v ? hint : v + 1;
+    if (nc < 2 * *cap) nc = 2 * *cap; /* amortised: ids come one at a time from strokes */
     double *p = realloc(*a, 3 * (size_t)nc * sizeof *p);
     if (!p) abort(); /* out of memory while editing, as the synthesis does */
-    memset(p + 3 * (size_t)*cap, 0, 3 * (size_t)(nc - *cap) * sizeof *p);
+    for (size_t i = 3 * (size_t)*cap; i < 3 * (size_t)nc; i++) p[i] = fill;
     *a = p;
     *cap = nc;
 }
+
+static void grow3(double **a, uint32_t *cap, uint32_t v, uint32_t hint) { grow3_fill(a, cap, v, hint, 0); }
 
 static void set_name(char *dst, const char *name)
 {
@@ -129,7 +139,9 @@ static int contributes(const st_layer *y, unsigned l)
 void st_layers_get(const st_layers *ls, int slot, unsigned l, uint32_t v, double out[3])
 {
     const double *p = zero3;
-    if (slot < 0) {
+    if (slot == ST_LAYERS_SLOT_BPOS) {
+        p = ls->bpos[l] && v < ls->bpos_cap[l] ? ls->bpos[l] + 3 * (size_t)v : none3;
+    } else if (slot < 0) {
         if (ls->base[l] && v < ls->base_cap[l]) p = ls->base[l] + 3 * (size_t)v;
     } else if ((uint32_t)slot < ls->n) {
         const st_layer *y = &ls->v[slot];
@@ -141,7 +153,11 @@ void st_layers_get(const st_layers *ls, int slot, unsigned l, uint32_t v, double
 void st_layers_set(st_layers *ls, int slot, unsigned l, uint32_t v, const double val[3])
 {
     double *p;
-    if (slot < 0) {
+    if (slot == ST_LAYERS_SLOT_BPOS) {
+        if (!ls->bpos[l] && isnan(val[0])) return;
+        grow3_fill(&ls->bpos[l], &ls->bpos_cap[l], v, v + 1, NAN);
+        p = ls->bpos[l] + 3 * (size_t)v;
+    } else if (slot < 0) {
         grow3(&ls->base[l], &ls->base_cap[l], v, v + 1);
         p = ls->base[l] + 3 * (size_t)v;
     } else {
@@ -152,9 +168,11 @@ void st_layers_set(st_layers *ls, int slot, unsigned l, uint32_t v, const double
     memcpy(p, val, 3 * sizeof *p);
 }
 
-/* Sum of the contributing layers of level l at v, leaving out `skip`. */
-static void compose_except(const st_layers *ls, unsigned l, uint32_t v, int skip, double out[3])
+/* Sum of the contributing layers of level l at v, leaving out `skip`;
+ * returns how many layers added something. */
+static int compose_except(const st_layers *ls, unsigned l, uint32_t v, int skip, double out[3])
 {
+    int terms = 0;
     st_layers_get(ls, -1, l, v, out);
     for (uint32_t i = 0; i < ls->n; i++) {
         const st_layer *y = &ls->v[i];
@@ -162,7 +180,9 @@ static void compose_except(const st_layers *ls, unsigned l, uint32_t v, int skip
         const double *o = y->off + 3 * (size_t)v;
         if (o[0] == 0 && o[1] == 0 && o[2] == 0) continue;
         for (int c = 0; c < 3; c++) out[c] += y->strength * o[c];
+        terms++;
     }
+    return terms;
 }
 
 void st_layers_compose(const st_layers *ls, unsigned l, uint32_t v, double out[3])
@@ -170,11 +190,54 @@ void st_layers_compose(const st_layers *ls, unsigned l, uint32_t v, double out[3
     compose_except(ls, l, v, -1, out);
 }
 
+/* The detail of v composed into det, and its position: P0 where no layer
+ * contributes and P0 is kept, else as a synthesis computes it. */
+static void compose_vertex(const st_layers *ls, unsigned l, uint32_t v, double det[3], const double pred[3],
+                           const double f[3][3], double pos[3])
+{
+    int terms = compose_except(ls, l, v, -1, det);
+    double p0[3];
+    st_layers_get(ls, ST_LAYERS_SLOT_BPOS, l, v, p0);
+    if (!terms && !isnan(p0[0])) memcpy(pos, p0, sizeof p0);
+    else st_hier_apply_detail(pred, f, det, pos);
+}
+
+/* Before the layers change the vertices of darts at level l: P0 kept for
+ * those where no layer contributes yet (their position is the one without
+ * layers). */
+static void keep_bpos(st_layers *ls, const st_hier *h, unsigned l, const uint32_t *darts, uint32_t n)
+{
+    const st_map *m = &h->map;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t v = st_vert(m, darts[i], l);
+        double p0[3], tmp[3];
+        st_layers_get(ls, ST_LAYERS_SLOT_BPOS, l, v, p0);
+        if (!isnan(p0[0]) || compose_except(ls, l, v, -1, tmp)) continue;
+        st_layers_set(ls, ST_LAYERS_SLOT_BPOS, l, v, st_pos(m, v, l));
+    }
+}
+
+void st_layers_follow(st_layers *ls, const st_hier *h, unsigned above, const uint64_t *keys, uint32_t n)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        uint64_t k = keys[i];
+        unsigned l = st_fp_level(k);
+        if (l <= above || st_fp_kind(k) != ST_FP_POS || !ls->bpos[l]) continue;
+        uint32_t v = st_fp_vid(k);
+        double p0[3], tmp[3];
+        st_layers_get(ls, ST_LAYERS_SLOT_BPOS, l, v, p0);
+        if (isnan(p0[0])) continue;
+        if (compose_except(ls, l, v, -1, tmp)) st_layers_set(ls, ST_LAYERS_SLOT_BPOS, l, v, none3);
+        else st_layers_set(ls, ST_LAYERS_SLOT_BPOS, l, v, st_pos(&h->map, v, l));
+    }
+}
+
 typedef struct hook_ctx { st_layers *ls; int target; } hook_ctx;
 
 /* st_hier_edit_with's hook for an edit: the change goes into the target,
  * the stored detail is the composition. */
-static void edit_hook(void *ctx, unsigned l, uint32_t v, double det[3])
+static void edit_hook(void *ctx, unsigned l, uint32_t v, double det[3], const double pred[3], const double f[3][3],
+                      double pos[3])
 {
     hook_ctx *c = ctx;
     st_layers *ls = c->ls;
@@ -192,14 +255,17 @@ static void edit_hook(void *ctx, unsigned l, uint32_t v, double det[3])
         /* layers - old = the layers' sum alone, added on top of B_l. */
         for (int i = 0; i < 3; i++) b[i] = det[i] - (layers[i] - old[i]);
         st_layers_set(ls, -1, l, v, b);
+        /* The surface without layers moved here too: P0 is no longer kept. */
+        st_layers_set(ls, ST_LAYERS_SLOT_BPOS, l, v, none3);
     }
-    st_layers_compose(ls, l, v, det);
+    compose_vertex(ls, l, v, det, pred, f, pos);
 }
 
-static void recompose_hook(void *ctx, unsigned l, uint32_t v, double det[3])
+static void recompose_hook(void *ctx, unsigned l, uint32_t v, double det[3], const double pred[3], const double f[3][3],
+                           double pos[3])
 {
     hook_ctx *c = ctx;
-    st_layers_compose(c->ls, l, v, det);
+    compose_vertex(c->ls, l, v, det, pred, f, pos);
 }
 
 uint64_t st_layers_edit(st_layers *ls, st_hier *h, unsigned l, int target, const uint32_t *darts,
@@ -207,6 +273,7 @@ uint64_t st_layers_edit(st_layers *ls, st_hier *h, unsigned l, int target, const
 {
     if (l == 0 || !st_layers_on_level(ls, l)) return st_hier_edit(h, l, darts, pos, n, fp);
     if (target >= 0 && ((uint32_t)target >= ls->n || !contributes(&ls->v[target], l))) target = -1;
+    keep_bpos(ls, h, l, darts, n);
     hook_ctx c = { ls, target };
     return st_hier_edit_with(h, l, darts, pos, n, fp, edit_hook, &c);
 }
@@ -215,6 +282,9 @@ uint64_t st_layers_recompose(st_layers *ls, st_hier *h, unsigned l, const uint32
                              st_footprint *fp)
 {
     if (l == 0 || !n) return 0;
+    /* No P0 to keep here: a vertex gets offsets by an edit first
+     * (st_layers_edit keeps it then), and the strengths may already have
+     * changed, so the current position may hold layers. */
     hook_ctx c = { ls, -1 };
     return st_hier_edit_with(h, l, darts, NULL, n, fp, recompose_hook, &c);
 }
@@ -282,6 +352,9 @@ static void drop(st_layers *ls, int k)
         free(ls->base[l]);
         ls->base[l] = NULL;
         ls->base_cap[l] = 0;
+        free(ls->bpos[l]);
+        ls->bpos[l] = NULL;
+        ls->bpos_cap[l] = 0;
     }
 }
 
@@ -330,11 +403,16 @@ int st_layers_rebase(st_layers *ls, st_error *err)
                                                 "merge or delete it first", ls->v[i].name), -1;
     for (uint32_t i = 0; i < ls->n; i++) ls->v[i].level--;
     free(ls->base[0]);
+    free(ls->bpos[0]);
     for (unsigned l = 0; l + 1 < ST_MAX_LEVELS; l++) {
         ls->base[l] = ls->base[l + 1];
         ls->base_cap[l] = ls->base_cap[l + 1];
+        ls->bpos[l] = ls->bpos[l + 1];
+        ls->bpos_cap[l] = ls->bpos_cap[l + 1];
     }
     ls->base[ST_MAX_LEVELS - 1] = NULL;
     ls->base_cap[ST_MAX_LEVELS - 1] = 0;
+    ls->bpos[ST_MAX_LEVELS - 1] = NULL;
+    ls->bpos_cap[ST_MAX_LEVELS - 1] = 0;
     return 0;
 }

@@ -14,10 +14,19 @@
  * without layers has no B_l and is edited exactly as before.
  *
  * Exactness: a layer at strength 0 (or hidden) is left out of the sum, so
- * the details are bit for bit those without it; at strength 1 the sum is
- * the one the sculpting stored.  A vertex whose details are recomposed gets
- * its level-l position from them as a synthesis does (S(P_{l-1}) + F D,
- * st_hier_edit_with), so local changes equal a full synthesis to the bit.
+ * the details are bit for bit those without it.  Positions: a vertex with
+ * a layer contribution gets its level-l position from its details as a
+ * synthesis does, S(P_{l-1}) + F D, with the stencil found from the
+ * smallest dart of the vertex (st_hier_edit_with), so the same strengths
+ * give the same surface bit for bit (strength 1: the surface as sculpted).
+ * A vertex with no contribution gets back the position it had without
+ * layers, kept when a layer first changed it (P0_l), so strength 0 gives
+ * the surface without the layer bit for bit.  An edit of a coarser level
+ * rewrites P_l by the local re-synthesis: where no layer contributes, that
+ * is the surface without layers and P0_l follows it (st_layers_follow);
+ * where one does, P0_l is forgotten, and strength 0 later gives
+ * S(P_{l-1}) + F B_l, equal to the re-synthesis without layers up to the
+ * order of the stencil's sum (rounding, 1e-15 relative).
  *
  * Layers at different levels combine: each level composes its own. */
 #ifndef ST_LAYERS_H
@@ -49,6 +58,8 @@ typedef struct st_layers {
     int active;                /* index of the layer strokes go into, -1: the level's own details */
     double *base[ST_MAX_LEVELS];   /* B_l per vertex id (3 doubles), for levels with layers */
     uint32_t base_cap[ST_MAX_LEVELS];
+    double *bpos[ST_MAX_LEVELS];   /* P0_l per vertex id (3 doubles; NaN: not kept) */
+    uint32_t bpos_cap[ST_MAX_LEVELS];
 } st_layers;
 
 void st_layers_init(st_layers *ls);
@@ -67,8 +78,11 @@ int st_layers_add(st_layers *ls, const st_hier *h, unsigned l, const char *name,
 /* The composed detail D_l(v) (above). */
 void st_layers_compose(const st_layers *ls, unsigned l, uint32_t v, double out[3]);
 
-/* One stored value: slot -1 is B_l(v), slot k >= 0 is O_k(v) (l ignored).
- * Set grows the arrays; undo writes values back with it. */
+/* One stored value: slot -1 is B_l(v), slot -2 is P0_l(v) (NaN when not
+ * kept), slot k >= 0 is O_k(v) (l ignored).  Set grows the arrays; undo
+ * writes values back with it. */
+#define ST_LAYERS_SLOT_BASE (-1)
+#define ST_LAYERS_SLOT_BPOS (-2)
 void st_layers_get(const st_layers *ls, int slot, unsigned l, uint32_t v, double out[3]);
 void st_layers_set(st_layers *ls, int slot, unsigned l, uint32_t v, const double val[3]);
 
@@ -84,6 +98,11 @@ uint64_t st_layers_edit(st_layers *ls, st_hier *h, unsigned l, int target, const
  * strengths, visibility, order or offsets, and re-synthesises above. */
 uint64_t st_layers_recompose(st_layers *ls, st_hier *h, unsigned l, const uint32_t *darts, uint32_t n,
                              st_footprint *fp);
+
+/* After an edit at level l reported its footprint (keys,
+ * core/multires/footprint.h): P0 of the vertices it rewrote on layered
+ * levels above l follows where no layer contributes, else is forgotten. */
+void st_layers_follow(st_layers *ls, const st_hier *h, unsigned l, const uint64_t *keys, uint32_t n);
 
 /* Darts of the layer's level (one per vertex) of the vertices where layer
  * k has a non-zero offset, into *darts (grown; *cap its capacity).
