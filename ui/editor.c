@@ -79,6 +79,7 @@ void st_doc_free(st_doc *d)
     st_layers_free(&d->layers);
     st_mask_free(&d->mask);
     free(d->change.mask_vids);
+    st_edit_cache_free(d->ecache);
     memset(d, 0, sizeof *d);
 }
 
@@ -803,6 +804,7 @@ st_undo_step *ed_take_pending(st_doc *d, int active)
     st_undo_step *s = d->pending;
     d->pending = NULL;
     d->active = 0;
+    d->edit_serial++;   /* the predictions cached during it may go stale now */
     if (s && active == 2) s->name = "brush stroke";
     if (s && active == 3) s->name = "mask stroke";
     return s;

@@ -157,6 +157,11 @@ typedef struct st_doc {
     /* Sculpt layers (core/multires/layers.h); strokes and drags at the
      * active layer's level go into it. */
     st_layers layers;
+    /* Predictions of the vertices the drag or stroke in progress touched
+     * (core/multires/edit.h); valid while edit_serial == ecache_serial,
+     * which every end of a drag or stroke breaks. */
+    st_edit_cache *ecache;
+    uint64_t edit_serial, ecache_serial;
     char note[256];            /* last non-fatal message (undo history dropped, ...) */
     /* Long operations (opening at a depth, adding a level, a scheme
      * change, switching the box on) call this, when set, before each

@@ -74,11 +74,23 @@ void ed_model_edit(st_doc *d, st_undo_step *s, unsigned l, const uint32_t *darts
         ed_step_touch_move(s, &d->h, l, darts, n, &d->fp_query);
         ed_model_touch_layers(d, s, l, darts, n);
     }
+    /* A drag or a stroke re-touches its vertices update after update:
+     * their predictions come from level l-1, which does not change
+     * before it ends. */
+    st_edit_cache *cache = NULL;
+    if (d->active == 1 || d->active == 2) {
+        if (!d->ecache) d->ecache = st_edit_cache_new();
+        if (d->ecache_serial != d->edit_serial) {
+            st_edit_cache_clear(d->ecache);
+            d->ecache_serial = d->edit_serial;
+        }
+        cache = d->ecache;
+    }
     uint32_t from = d->fp_model.n;
     if (l > 0 && st_layers_on_level(&d->layers, l))
-        st_layers_edit(&d->layers, &d->h, l, edit_target(d, l), darts, pos, n, &d->fp_model);
+        st_layers_edit(&d->layers, &d->h, l, edit_target(d, l), darts, pos, n, &d->fp_model, cache);
     else
-        st_hier_edit(&d->h, l, darts, pos, n, &d->fp_model);
+        st_hier_edit_cached(&d->h, l, darts, pos, n, &d->fp_model, NULL, NULL, cache);
     if (layers_above(&d->layers, l)) st_layers_follow(&d->layers, &d->h, l, d->fp_model.keys + from, d->fp_model.n - from);
 }
 

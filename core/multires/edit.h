@@ -38,6 +38,21 @@ typedef void (*st_detail_hook)(void *ctx, unsigned l, uint32_t v, double det[3],
 uint64_t st_hier_edit_with(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
                            st_footprint *fp, st_detail_hook hook, void *ctx);
 
+/* A cache of the predictions S(P_{l-1})(v) and frames of the vertices an
+ * edit sequence at one level touches (a brush stroke re-touches the same
+ * vertices dab after dab).  They depend on level l-1 only: the owner
+ * clears the cache (or drops it) before anything may have changed level
+ * l-1 or the topology; within a stroke or drag at level l nothing does.
+ * The values are the ones the edit would compute, so the results are the
+ * same bit for bit. */
+typedef struct st_edit_cache st_edit_cache;
+st_edit_cache *st_edit_cache_new(void);
+void st_edit_cache_clear(st_edit_cache *c);
+void st_edit_cache_free(st_edit_cache *c);
+/* st_hier_edit_with using the cache (NULL: none). */
+uint64_t st_hier_edit_cached(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                             st_footprint *fp, st_detail_hook hook, void *ctx, st_edit_cache *cache);
+
 /* The position a synthesis gives from a prediction, a frame and a detail:
  * pred + F^T det, summed as st_stencil_apply sums it. */
 static inline void st_hier_apply_detail(const double pred[3], const double f[3][3], const double det[3], double out[3])

@@ -269,13 +269,13 @@ static void recompose_hook(void *ctx, unsigned l, uint32_t v, double det[3], con
 }
 
 uint64_t st_layers_edit(st_layers *ls, st_hier *h, unsigned l, int target, const uint32_t *darts,
-                        const double (*pos)[3], uint32_t n, st_footprint *fp)
+                        const double (*pos)[3], uint32_t n, st_footprint *fp, st_edit_cache *cache)
 {
-    if (l == 0 || !st_layers_on_level(ls, l)) return st_hier_edit(h, l, darts, pos, n, fp);
+    if (l == 0 || !st_layers_on_level(ls, l)) return st_hier_edit_cached(h, l, darts, pos, n, fp, NULL, NULL, cache);
     if (target >= 0 && ((uint32_t)target >= ls->n || !contributes(&ls->v[target], l))) target = -1;
     keep_bpos(ls, h, l, darts, n);
     hook_ctx c = { ls, target };
-    return st_hier_edit_with(h, l, darts, pos, n, fp, edit_hook, &c);
+    return st_hier_edit_cached(h, l, darts, pos, n, fp, edit_hook, &c, cache);
 }
 
 uint64_t st_layers_recompose(st_layers *ls, st_hier *h, unsigned l, const uint32_t *darts, uint32_t n,

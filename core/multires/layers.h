@@ -90,9 +90,9 @@ void st_layers_set(st_layers *ls, int slot, unsigned l, uint32_t v, const double
  * into slot `target` (-1: B_l; else a visible layer of level l with a
  * strength != 0): O_t = (D_new - rest) / s_t, then D_l is recomposed.
  * Without layers on level l this is st_hier_edit.  Same footprint as
- * st_hier_edit. */
+ * st_hier_edit; cache as st_hier_edit_cached (may be NULL). */
 uint64_t st_layers_edit(st_layers *ls, st_hier *h, unsigned l, int target, const uint32_t *darts,
-                        const double (*pos)[3], uint32_t n, st_footprint *fp);
+                        const double (*pos)[3], uint32_t n, st_footprint *fp, st_edit_cache *cache);
 
 /* Recomposes D_l of the vertices of the darts (level l) after a change of
  * strengths, visibility, order or offsets, and re-synthesises above. */
