@@ -227,7 +227,13 @@ int st_doc_mask_cavity(st_doc *d)
 
 int st_doc_mask_stroke_begin(st_doc *d, int erase)
 {
-    if (st_doc_stroke_begin(d)) return -1;
+    /* The stroke's grid and step, whatever tool is chosen (the window's
+     * select tool too). */
+    int tool = d->brush.tool;
+    if (tool < 0 || tool >= ST_BRUSH_COUNT) d->brush.tool = ST_BRUSH_DRAW;
+    int rc = st_doc_stroke_begin(d);
+    d->brush.tool = tool;
+    if (rc) return -1;
     st_undo_step *s = d->pending;
     s->has_mask = 1;
     if (st_mask_copy(&s->mask_old, &d->mask)) abort();

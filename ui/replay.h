@@ -32,6 +32,10 @@
  *                               not empty), undo_name / redo_name NAME (what the
  *                               Edit menu's Undo / Redo names, '_' for a space,
  *                               "-" for none: expect undo_name brush_stroke)
+ *                               layers N (sculpt layers), active_layer K (-1: none),
+ *                               layer_strength S (the active layer's, in hundredths),
+ *                               masked N (editing-level vertices with a mask above 0;
+ *                               "masked +": at least one)
  *   gui on | off                show / hide the GUI (menus, side panel; gui.h);
  *                               replays start with it hidden
  *   menu PATH [ARG]             activate a menu item by its labels, as a click
