@@ -192,7 +192,7 @@ int st_window_bench(const st_win_opts *o)
      * window's path (stroke dab, then st_renderer_refresh of the footprint),
      * timed like a drag step.  The mask is the cavity mask of the level, the
      * strokes go into the third of three layers of the top level. */
-    double dab_ms = -1, dab_geo = -1, dab_buf = -1;
+    double dab_ms = -1, dab_geo = -1, dab_buf = -1, dab_cpu = -1;
     uint32_t dab_verts = 0;
     {
         st_doc_set_edit_level(&doc, top);
@@ -226,6 +226,7 @@ int st_window_bench(const st_win_opts *o)
             dab_geo = median(dg, n);
             dab_buf = median(db, n);
             dab_ms = median(dt, n);
+            dab_cpu = median(dc, n);
         }
         free(dg); free(db); free(dt); free(dc);
         st_doc_set_edit_level(&doc, edit);
@@ -279,6 +280,8 @@ int st_window_bench(const st_win_opts *o)
         printf("  draw dab on level %u, radius 5%% of the model, cavity mask and 3 layers on, %d dabs (median): geometry %.3f ms\n"
                "    + buffers %.3f ms = %.3f ms (%u vertices under the brush); ratio to full = %.4f (target <= 0.02): %s\n",
                top, n, dab_geo, dab_buf, dab_ms, dab_verts, dab_ms / mfull, dab_ms / mfull <= 0.02 ? "ok" : "ABOVE TARGET");
+    if (dab_cpu >= 0)
+        printf("    in process CPU time: dab %.3f ms / full %.1f ms = %.4f\n", dab_cpu, mfc, dab_cpu / mfc);
     printf("  picking (ID buffer %dx%d, level-%u vertices over the level-%u surface): redraw after a view change %.1f ms,\n"
            "    hover lookup %.3f ms (median of %d, %d over a vertex), full-window rectangle %.1f ms (%lld visible vertices)\n",
            PW, PH, edit, top, pick_draw, hover_med, NHOVER, hits, rect_ms, (long long)nrect);
