@@ -124,7 +124,7 @@ static int state_close(const state *a, const state *b, unsigned exact, double to
         unsigned l;
         memcpy(&l, x, sizeof l);
         if (memcmp(x, y, 8) || memcmp(x + 32, y + 32, 24)) {  /* level, id, detail */
-            if (getenv("ML_DEBUG")) {
+            if (getenv("STRATA_TEST_VERBOSE")) {
                 double p[3], q[3];
                 memcpy(p, x + 32, 24);
                 memcpy(q, y + 32, 24);
@@ -137,7 +137,7 @@ static int state_close(const state *a, const state *b, unsigned exact, double to
         memcpy(q, y + 8, sizeof q);
         for (int k = 0; k < 3; k++)
             if (l <= exact ? p[k] != q[k] : fabs(p[k] - q[k]) > tol) {
-                if (getenv("ML_DEBUG")) fprintf(stderr, "record %zu level %u: pos[%d] %.17g vs %.17g\n", r, l, k, p[k], q[k]);
+                if (getenv("STRATA_TEST_VERBOSE")) fprintf(stderr, "record %zu level %u: pos[%d] %.17g vs %.17g\n", r, l, k, p[k], q[k]);
                 return 0;
             }
     }
