@@ -58,6 +58,7 @@ typedef st_gl_proc (*st_gl_get_proc)(const char *name);
     X(PFNGLDELETEBUFFERSPROC, DeleteBuffers) \
     X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer) \
     X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray) \
+    X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, DisableVertexAttribArray) \
     X(PFNGLDRAWELEMENTSPROC, DrawElements) \
     X(PFNGLDRAWARRAYSPROC, DrawArrays) \
     X(PFNGLCREATESHADERPROC, CreateShader) \

@@ -77,6 +77,7 @@ int st_renderer_init(st_renderer *r, const st_gl *gl, st_error *err)
     r->us.face_normal = gl->GetUniformLocation(p, "u_face_normal");
     r->us.front = gl->GetUniformLocation(p, "u_front");
     r->us.back = gl->GetUniformLocation(p, "u_back");
+    r->us.masked = gl->GetUniformLocation(p, "u_masked");
     gl->UseProgram(p);
     gl->Uniform1i(r->us.tri_face, 0);
     gl->Uniform1i(r->us.face_normal, 1);
@@ -182,7 +183,69 @@ int st_renderer_set_level(st_renderer *r, const st_map *m, unsigned l, st_error 
     r->last.ranges = 5;
     r->last.vertices = r->surf.nverts;
     r->has_surf = 1;
+    if (r->has_shade) {
+        r->gl->BindVertexArray(r->gsurf.vao);
+        r->gl->DisableVertexAttribArray(2);
+        r->gl->BindVertexArray(0);
+        r->has_shade = 0;
+    }
     return ST_OK;
+}
+
+/* ---- mask shading ---------------------------------------------------------------- */
+
+static float shade_of(const float *mask, uint32_t cap, uint32_t vid)
+{
+    float m = mask && vid < cap ? mask[vid] : 0.0f;
+    return 1.0f - 0.6f * m;
+}
+
+void st_renderer_set_mask(st_renderer *r, const float *mask, uint32_t cap, const uint32_t *vids, uint32_t n)
+{
+    const st_gl *gl = r->gl;
+    if (!r->has_surf) return;
+    const st_rgeom *g = &r->surf;
+    if (!mask || !cap) {
+        if (r->has_shade) {
+            gl->BindVertexArray(r->gsurf.vao);
+            gl->DisableVertexAttribArray(2);
+            gl->BindVertexArray(0);
+        }
+        r->has_shade = 0;
+        return;
+    }
+    if (!r->has_shade || r->nshade != g->nverts) vids = NULL; /* first time on this surface: all */
+    if (!vids) {
+        float *p = realloc(r->shade, (size_t)(g->nverts ? g->nverts : 1) * sizeof *p);
+        if (!p) return;
+        r->shade = p;
+        r->nshade = g->nverts;
+        for (uint32_t i = 0; i < g->nverts; i++) p[i] = shade_of(mask, cap, g->vid[i]);
+        if (!r->vbo_shade) gl->GenBuffers(1, &r->vbo_shade);
+        gl->BindVertexArray(r->gsurf.vao);
+        gl->BindBuffer(GL_ARRAY_BUFFER, r->vbo_shade);
+        gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)g->nverts * sizeof *p), p, GL_DYNAMIC_DRAW);
+        gl->VertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, sizeof(float), (const void *)0);
+        gl->EnableVertexAttribArray(2);
+        gl->BindVertexArray(0);
+        r->has_shade = 1;
+        return;
+    }
+    /* The changed vertices only: one range from the lowest to the highest
+     * slot (the vertex table is in id order, so a region's ids are close). */
+    uint32_t lo = UINT32_MAX, hi = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t v = vids[i];
+        if (v >= g->nvids || g->slot[v] == ST_NIL) continue;
+        uint32_t s = g->slot[v];
+        r->shade[s] = shade_of(mask, cap, v);
+        if (s < lo) lo = s;
+        if (s > hi) hi = s;
+    }
+    if (lo > hi) return;
+    gl->BindBuffer(GL_ARRAY_BUFFER, r->vbo_shade);
+    gl->BufferSubData(GL_ARRAY_BUFFER, (GLintptr)((size_t)lo * sizeof(float)), (GLsizeiptr)((size_t)(hi - lo + 1) * sizeof(float)),
+                      r->shade + lo);
 }
 
 int st_renderer_set_cage(st_renderer *r, const st_map *m, unsigned l, st_error *err)
@@ -478,6 +541,7 @@ void st_renderer_draw(st_renderer *r, const st_camera *cam, int w, int h, const 
         gl->Uniform1i(r->us.flat, o->shading == ST_SHADE_FLAT);
         gl->Uniform3fv(r->us.front, 1, front);
         gl->Uniform3fv(r->us.back, 1, back);
+        gl->Uniform1i(r->us.masked, r->has_shade);
         gl->ActiveTexture(GL_TEXTURE0);
         gl->BindTexture(GL_TEXTURE_BUFFER, r->gsurf.tex_tri_face);
         gl->ActiveTexture(GL_TEXTURE1);
@@ -530,6 +594,7 @@ void st_renderer_free(st_renderer *r)
     if (gl) {
         gpu_mesh_free(gl, &r->gsurf);
         gpu_mesh_free(gl, &r->gcage);
+        if (r->vbo_shade) gl->DeleteBuffers(1, &r->vbo_shade);
         if (r->ibo_sel) gl->DeleteBuffers(1, &r->ibo_sel);
         if (r->vbo_box) gl->DeleteBuffers(1, &r->vbo_box);
         if (r->vao_box) gl->DeleteVertexArrays(1, &r->vao_box);
@@ -540,5 +605,6 @@ void st_renderer_free(st_renderer *r)
     st_rgeom_free(&r->surf);
     st_rgeom_free(&r->cage);
     free(r->scratch);
+    free(r->shade);
     memset(r, 0, sizeof *r);
 }

@@ -80,7 +80,7 @@ typedef struct st_renderer {
     const st_gl *gl;
     GLuint prog_surface, prog_line, prog_point;
     struct {
-        GLint view, proj, flat, tri_face, face_normal, front, back;
+        GLint view, proj, flat, tri_face, face_normal, front, back, masked;
     } us;                     /* surface program uniforms */
     struct {
         GLint view, proj, depth_bias, viewport, width, color;
@@ -106,7 +106,20 @@ typedef struct st_renderer {
     st_upload_stats last;     /* of the last set_level / refresh */
     uint32_t *scratch;        /* vertex ids a footprint moves on one mesh */
     uint32_t scratch_n, scratch_cap;
+    /* Sculpting mask on the surface (st_renderer_set_mask): a shade per
+     * surface vertex (1 - 0.6 mask), attribute 2 of the surface. */
+    GLuint vbo_shade;
+    float *shade;
+    uint32_t nshade;
+    int has_shade;
 } st_renderer;
+
+/* The sculpting mask drawn as darkening of the surface: mask[vid] in [0, 1]
+ * per vertex id of the map the surface was built from (cap entries; NULL
+ * or cap 0: no mask).  vids (n of them) are the ids whose value changed,
+ * re-uploaded alone; NULL: every vertex.  A rebuild of the surface
+ * (st_renderer_set_level) drops the mask: set it again. */
+void st_renderer_set_mask(st_renderer *r, const float *mask, uint32_t cap, const uint32_t *vids, uint32_t n);
 
 /* Compiles the embedded shaders.  gl stays owned by the caller and must
  * outlive the renderer; its context must be current for every call. */

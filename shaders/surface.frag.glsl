@@ -5,6 +5,7 @@
 // buffers indexed by gl_PrimitiveID (the triangle number within the draw).
 in vec3 v_pos;
 in vec3 v_nrm;
+in float v_shade;              // the sculpting mask darkens (1: unmasked)
 
 uniform mat4 u_view;
 uniform int u_flat;
@@ -38,5 +39,5 @@ void main()
     vec3 h1 = normalize(l1 + v);
     float s1 = pow(max(dot(n, h1), 0.0), 48.0);
     vec3 c = base * (0.12 + 0.14 * sky + 0.50 * d1 + 0.16 * d2 + 0.25 * dh) + vec3(0.18) * s1;
-    o_color = vec4(clamp(c, 0.0, 1.0), 1.0);
+    o_color = vec4(clamp(c * v_shade, 0.0, 1.0), 1.0);
 }

@@ -70,6 +70,14 @@ if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
 fi
 run 0 "replay .* passed" win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/session.txt" \
     --screenshot-dir "$OUT" --compare-dir "$REF" "$ASSETS/torus.obj"
+# Masks and sculpt layers (ui/editor_mask.c, ui/editor_layers.c) by their
+# keys; the mask's darkening compared with its reference.
+if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
+    win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/masks_layers.txt" --screenshot-dir "$OUT" "$ASSETS/torus.obj"
+    cp "$OUT"/08_mask.png "$REF"/
+fi
+run 0 "replay .* passed" win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/masks_layers.txt" \
+    --screenshot-dir "$OUT" --compare-dir "$REF" "$ASSETS/torus.obj"
 # The GUI (ui/gui.cc): menu bar and side panel, the File menu opened with
 # the pointer, a panel checkbox clicked, actions through the menus (exports,
 # a failed open, save as, a scheme change), F10; files land in a scratch

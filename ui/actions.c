@@ -251,6 +251,98 @@ static void scheme_keep(st_app *a)
     st_app_message(a, 0, "scheme unchanged");
 }
 
+/* Mask (ui/editor_mask.c) */
+static void mask_brush(st_app *a)
+{
+    a->mask_brush = !a->mask_brush;
+    st_app_message(a, 0, a->mask_brush ? "mask brush: a stroke brushes the mask in, Ctrl+stroke erases it" : "mask brush off");
+}
+static void mask_done(st_app *a, int rc, const char *what)
+{
+    if (rc) st_app_message(a, 1, "no model");
+    else st_app_message(a, 0, "%s", what);
+    st_app_sync(a);
+}
+static void mask_clear(st_app *a) { mask_done(a, st_doc_mask_clear(&a->doc), "mask cleared"); }
+static void mask_invert(st_app *a) { mask_done(a, st_doc_mask_invert(&a->doc), "mask inverted"); }
+static void mask_grow(st_app *a) { mask_done(a, st_doc_mask_grow(&a->doc), "mask grown"); }
+static void mask_shrink(st_app *a) { mask_done(a, st_doc_mask_shrink(&a->doc), "mask shrunk"); }
+static void mask_smooth(st_app *a) { mask_done(a, st_doc_mask_smooth(&a->doc), "mask smoothed"); }
+static void mask_cavity(st_app *a) { mask_done(a, st_doc_mask_cavity(&a->doc), "mask by cavity"); }
+
+/* Sculpt layers (ui/editor_layers.c): the active one. */
+static int active_layer(st_app *a)
+{
+    int k = a->doc.layers.active;
+    if (k < 0 || (uint32_t)k >= a->doc.layers.n) {
+        st_app_message(a, 1, "no active layer (Ctrl+L adds one, L picks one)");
+        return -1;
+    }
+    return k;
+}
+static void layer_add(st_app *a)
+{
+    st_error err;
+    int rc = st_doc_layer_add(&a->doc, NULL, &err);
+    if (!rc) st_app_message(a, 0, "layer '%s' on level %u: strokes go into it", a->doc.layers.v[a->doc.layers.active].name,
+                            a->doc.edit_level);
+    report(a, rc, &err, "cannot add a layer");
+}
+/* L: the next layer up the stack, then none (the level's own details). */
+static void layer_next(st_app *a)
+{
+    st_layers *ls = &a->doc.layers;
+    if (!ls->n) { st_app_message(a, 1, "no layers (Ctrl+L adds one)"); return; }
+    int k = ls->active + 1 >= (int)ls->n ? -1 : ls->active + 1;
+    st_error err;
+    report(a, st_doc_layer_set_active(&a->doc, k, &err), &err, "cannot pick the layer");
+    if (k < 0) st_app_message(a, 0, "no active layer: strokes go into the level's own details");
+    else st_app_message(a, 0, "active layer '%s' (level %u)", ls->v[k].name, ls->v[k].level);
+}
+static void layer_hide(st_app *a)
+{
+    int k = active_layer(a);
+    if (k < 0) return;
+    st_error err;
+    report(a, st_doc_layer_set_hidden(&a->doc, k, !a->doc.layers.v[k].hidden, &err), &err, "cannot hide the layer");
+}
+static void layer_strength(st_app *a, double step)
+{
+    int k = active_layer(a);
+    if (k < 0) return;
+    st_error err;
+    double s = a->doc.layers.v[k].strength + step;
+    report(a, st_doc_layer_set_strength(&a->doc, k, s, &err), &err, "cannot set the strength");
+    st_app_message(a, 0, "layer '%s': strength %.2f", a->doc.layers.v[k].name, a->doc.layers.v[k].strength);
+}
+static void layer_weaker(st_app *a) { layer_strength(a, -0.25); }
+static void layer_stronger(st_app *a) { layer_strength(a, 0.25); }
+static void layer_move(st_app *a, int dir)
+{
+    int k = active_layer(a);
+    if (k < 0) return;
+    int to = k + dir;
+    if (to < 0 || to >= (int)a->doc.layers.n) return;
+    st_error err;
+    report(a, st_doc_layer_move(&a->doc, k, to, &err), &err, "cannot move the layer");
+}
+static void layer_up(st_app *a) { layer_move(a, 1); }
+static void layer_down(st_app *a) { layer_move(a, -1); }
+static void layer_merge(st_app *a)
+{
+    int k = active_layer(a);
+    if (k < 0) return;
+    st_error err;
+    report(a, st_doc_layer_merge_down(&a->doc, k, &err), &err, "cannot merge");
+}
+static void layer_delete(st_app *a)
+{
+    int k = active_layer(a);
+    if (k < 0) return;
+    st_error err;
+    report(a, st_doc_layer_delete(&a->doc, k, &err), &err, "cannot delete the layer");
+}
+
 /* Box */
 static void box_toggle(st_app *a) { toggle_box(a); }
 static void box_move_xn(st_app *a) { move_box(a, 0, -1, 0); }
@@ -367,7 +459,7 @@ const st_action st_actions[ST_NACTIONS] = {
         "brush: crease / pinch / inflate / clay strips / layer / relax", brush_clay_strips, model_keys_free,
         KEY(T, 0, A)),
     ACT(ST_ACT_BRUSH_LAYER, ST_CAT_TOOLS, "Layer brush", "brush: crease / pinch / inflate / clay strips / layer / relax",
-        brush_layer, model_keys_free, KEY(L, 0, A)),
+        brush_layer, model_keys_free, KEY(L, 0, 0)),
     ACT(ST_ACT_BRUSH_RELAX, ST_CAT_TOOLS, "Relax brush", "brush: crease / pinch / inflate / clay strips / layer / relax",
         brush_relax, model_keys_free, KEY(R, S, A)),
     ACT(ST_ACT_RADIUS_DOWN, ST_CAT_TOOLS, "Smaller brush", "brush radius smaller / larger (also Ctrl+Wheel)",
@@ -394,6 +486,36 @@ const st_action st_actions[ST_NACTIONS] = {
         model_keys_free, KEY(L, S, A)),
     ACT(ST_ACT_FRONT_ONLY, ST_CAT_TOOLS, "Front faces only", "front faces only on / off (on: the brush does not reach the back)",
         front_only, model_keys_free, KEY(F, S, A)),
+    ACT(ST_ACT_MASK_BRUSH, ST_CAT_TOOLS, "Mask brush",
+        "mask brush on / off: a stroke brushes the mask in, Ctrl+stroke erases it (masked vertices are protected)",
+        mask_brush, model_keys_free, KEY(M, 0, 0)),
+    ACT(ST_ACT_MASK_CLEAR, ST_CAT_TOOLS, "Clear mask", "clear the mask", mask_clear, model_keys_free, KEY(M, A, 0)),
+    ACT(ST_ACT_MASK_INVERT, ST_CAT_TOOLS, "Invert mask", "invert the mask", mask_invert, model_keys_free, KEY(M, C, 0)),
+    ACT(ST_ACT_MASK_GROW, ST_CAT_TOOLS, "Grow mask", "grow / shrink the mask by one ring", mask_grow, model_keys_free,
+        KEY(KP_ADD, C, 0), KEY(EQUAL, C, 0)),
+    ACT(ST_ACT_MASK_SHRINK, ST_CAT_TOOLS, "Shrink mask", "grow / shrink the mask by one ring", mask_shrink,
+        model_keys_free, KEY(KP_SUBTRACT, C, 0), KEY(MINUS, C, 0)),
+    ACT(ST_ACT_MASK_SMOOTH, ST_CAT_TOOLS, "Smooth mask", "smooth the mask", mask_smooth, model_keys_free, KEY(M, S, 0)),
+    ACT(ST_ACT_MASK_CAVITY, ST_CAT_TOOLS, "Mask by cavity", "mask the crevices (mask by cavity)", mask_cavity,
+        model_keys_free, KEY(M, A | S, 0)),
+    ACT(ST_ACT_LAYER_ADD, ST_CAT_TOOLS, "New layer", "new sculpt layer at the editing level (strokes go into it)",
+        layer_add, model_keys_free, KEY(L, C, 0)),
+    ACT(ST_ACT_LAYER_NEXT, ST_CAT_TOOLS, "Next layer", "next layer up the stack, then none (the level's own details)",
+        layer_next, model_keys_free, KEY(V, 0, 0)),
+    ACT(ST_ACT_LAYER_HIDE, ST_CAT_TOOLS, "Hide layer", "hide / show the active layer", layer_hide, model_keys_free,
+        KEY(L, A, 0)),
+    ACT(ST_ACT_LAYER_WEAKER, ST_CAT_TOOLS, "Weaker layer", "active layer's strength down / up by 0.25 (0..2)",
+        layer_weaker, model_keys_free, KEY(PAGE_DOWN, C | A, 0)),
+    ACT(ST_ACT_LAYER_STRONGER, ST_CAT_TOOLS, "Stronger layer", "active layer's strength down / up by 0.25 (0..2)",
+        layer_stronger, model_keys_free, KEY(PAGE_UP, C | A, 0)),
+    ACT(ST_ACT_LAYER_UP, ST_CAT_TOOLS, "Move layer up", "move the active layer up / down the stack", layer_up,
+        model_keys_free, KEY(PAGE_UP, A | S, 0)),
+    ACT(ST_ACT_LAYER_DOWN, ST_CAT_TOOLS, "Move layer down", "move the active layer up / down the stack", layer_down,
+        model_keys_free, KEY(PAGE_DOWN, A | S, 0)),
+    ACT(ST_ACT_LAYER_MERGE, ST_CAT_TOOLS, "Merge layer down", "merge the active layer into the one below",
+        layer_merge, model_keys_free, KEY(L, C | A, 0)),
+    ACT(ST_ACT_LAYER_DELETE, ST_CAT_TOOLS, "Delete layer", "delete the active layer", layer_delete, model_keys_free,
+        KEY(L, C | S, 0)),
 
     ACT(ST_ACT_EDIT_LEVEL_UP, ST_CAT_MESH, "Edit a finer level", "editing level up / down", edit_level_up,
         model_keys_free, KEY(PAGE_UP, 0, 0), KEY(KP_ADD, 0, 0), KEY(EQUAL, 0, 0)),
@@ -538,6 +660,7 @@ int st_action_checked(const st_action *act, const st_app *a)
     case ST_ACT_MIRROR_Z: return a->doc.brush.mirror_z != 0;
     case ST_ACT_STABILIZE: return a->doc.brush.stabilize != 0;
     case ST_ACT_FRONT_ONLY: return a->doc.brush.front_only != 0;
+    case ST_ACT_MASK_BRUSH: return a->mask_brush != 0;
     case ST_ACT_BOX_TOGGLE: return a->doc.box_on != 0;
     case ST_ACT_SHADING: return a->shading == ST_SHADE_FLAT ? 0 : 1;
     case ST_ACT_WIREFRAME: return a->wire != 0;

@@ -187,6 +187,51 @@ int st_window_bench(const st_win_opts *o)
     uint64_t faces = 0, verts = 0;
     st_doc_display_counts(&doc, &faces, &verts);
 
+    /* Sculpting on the top level with a mask and three layers on: a draw
+     * dab of radius 5 % of the model (bounding-box diagonal) through the
+     * window's path (stroke dab, then st_renderer_refresh of the footprint),
+     * timed like a drag step.  The mask is the cavity mask of the level, the
+     * strokes go into the third of three layers of the top level. */
+    double dab_ms = -1, dab_geo = -1, dab_buf = -1, dab_cpu = -1;
+    uint32_t dab_verts = 0;
+    {
+        st_doc_set_edit_level(&doc, top);
+        st_doc_mask_cavity(&doc);
+        for (int k = 0; k < 3; k++) st_doc_layer_add(&doc, NULL, &err);
+        (void)st_doc_take_change(&doc);
+        doc.brush.tool = ST_BRUSH_DRAW;
+        doc.brush.radius = 0.05 * diag;
+        doc.brush.strength = 0.5;
+        doc.brush.mirror_x = 0;
+        double *dg = malloc((size_t)n * sizeof *dg), *db = malloc((size_t)n * sizeof *db), *dt = malloc((size_t)n * sizeof *dt);
+        double *dc = malloc((size_t)n * sizeof *dc);
+        uint32_t cv = r.surf.vid[r.surf.nverts / 3];
+        double c0[3];
+        st_doc_vertex_pos(&doc, cv, c0);
+        if (dg && db && dt && dc && doc.layers.n == 3 && !st_doc_stroke_begin(&doc)) {
+            for (int i = 0; i < n; i++) {
+                /* Along a short path, as a stroke's samples come. */
+                double c[3] = { c0[0] + 0.002 * diag * i, c0[1] + 0.001 * diag * i, c0[2] };
+                const double up[3] = { 0, 0, 1 };
+                lap t = lap_start();
+                st_doc_stroke_dab(&doc, c, up, NULL);
+                t.a1 = now_ms();
+                st_doc_change ch = st_doc_take_change(&doc);
+                st_renderer_refresh(&r, ST_TARGET_SURFACE, &doc.h.map, ch.footprint);
+                gl.Finish();
+                lap_end(&t, i, dg, db, dt, dc);
+                dab_verts = ch.nmoved;
+            }
+            st_doc_stroke_end(&doc);
+            dab_geo = median(dg, n);
+            dab_buf = median(db, n);
+            dab_ms = median(dt, n);
+            dab_cpu = median(dc, n);
+        }
+        free(dg); free(db); free(dt); free(dc);
+        st_doc_set_edit_level(&doc, edit);
+    }
+
     /* Picking as the window does it: the ID buffer is redrawn after a view
      * or geometry change, then each mouse move reads back 21x21 pixels. */
     enum { PW = 1024, PH = 768, NHOVER = 400 };
@@ -231,6 +276,12 @@ int st_window_bench(const st_win_opts *o)
            edit, n, mg, mb, mt);
     printf("    (%u moved darts reported, %llu vertices re-uploaded per step)\n", nmoved, (unsigned long long)moved_top);
     printf("  full synthesis %.1f ms + full buffer rebuild %.1f ms = %.1f ms (median of %d)\n", ms, mbuf, mfull, REPS);
+    if (dab_ms >= 0)
+        printf("  draw dab on level %u, radius 5%% of the model, cavity mask and 3 layers on, %d dabs (median): geometry %.3f ms\n"
+               "    + buffers %.3f ms = %.3f ms (%u vertices under the brush); ratio to full = %.4f (target <= 0.02): %s\n",
+               top, n, dab_geo, dab_buf, dab_ms, dab_verts, dab_ms / mfull, dab_ms / mfull <= 0.02 ? "ok" : "ABOVE TARGET");
+    if (dab_cpu >= 0)
+        printf("    in process CPU time: dab %.3f ms / full %.1f ms = %.4f\n", dab_cpu, mfc, dab_cpu / mfc);
     printf("  picking (ID buffer %dx%d, level-%u vertices over the level-%u surface): redraw after a view change %.1f ms,\n"
            "    hover lookup %.3f ms (median of %d, %d over a vertex), full-window rectangle %.1f ms (%lld visible vertices)\n",
            PW, PH, edit, top, pick_draw, hover_med, NHOVER, hits, rect_ms, (long long)nrect);

@@ -295,7 +295,10 @@ void ed_vertex_unit_normal(const st_map *m, uint32_t x0, unsigned l, const doubl
 
 double ed_brush_weight(const st_doc *d, uint32_t v, double r, const double vn[3], const double view[3])
 {
-    (void)v; /* a per-vertex factor (a mask) would be read here */
+    /* v: the mask is not read here but where the dab's summed displacement
+     * is applied (st_doc_stroke_dab), so that it scales every mirrored dab
+     * together and a vertex masked 1 is left out to the bit. */
+    (void)v;
     const st_brush *b = &d->brush;
     double f = st_falloff_eval(b->falloff, r, b->radius);
     if (!(f > 0)) return 0;
@@ -546,18 +549,20 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
     uint32_t n = 0;
     for (uint32_t i = 0; i < bs->nlist; i++) {
         uint32_t v = bs->list[i], x = ed_vertex_dart(d, v);
-        if (x == ST_NIL) continue;
+        /* The mask attenuates the dab: displacement times 1 - mask; a fully
+         * masked vertex is left out, so it stays the same to the bit. */
+        double keep = 1.0 - (double)st_mask_get(&d->mask, v);
+        if (x == ST_NIL || !(keep > 0)) continue;
         if (!bs->disp[i][0] && !bs->disp[i][1] && !bs->disp[i][2]) continue;
         const double *p = st_pos(&h->map, v, l);
-        for (int k = 0; k < 3; k++) pos[n][k] = p[k] + bs->disp[i][k];
+        for (int k = 0; k < 3; k++) pos[n][k] = p[k] + keep * bs->disp[i][k];
         darts[n++] = x;
     }
     if (n) {
-        /* Old values of what core will write, then the edit, which reports
-         * what it wrote for the display and the renderer. */
-        ed_step_touch_move(d->pending, h, l, darts, n, &d->fp_query);
+        /* Old values of what core will write (also the layers'), then the
+         * edit, which reports what it wrote for the display and the renderer. */
         uint32_t from = d->fp_model.n;
-        st_hier_edit(h, l, darts, (const double(*)[3])pos, n, &d->fp_model);
+        ed_model_edit(d, d->pending, l, darts, (const double(*)[3])pos, n);
         for (uint32_t i = 0; i < n; i++) {
             uint32_t v = st_vert(&h->map, darts[i], l);
             grid_insert(bs, v, st_pos(&h->map, v, l));
@@ -567,6 +572,20 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
     free(darts);
     free(pos);
     return 0;
+}
+
+uint32_t ed_brush_query(st_doc *d, const double c[3], double R, const uint32_t **vids, const double **w)
+{
+    struct st_brush_state *bs = d->bs;
+    if (!bs || !d->active) return 0;
+    /* The weights are those of every brush (falloff preset, strength,
+     * front faces only); R is the brush radius grid_query reads. */
+    (void)R;
+    static const double up[3] = { 0, 0, 1 };
+    grid_query(d, bs, c, up, d->brush.view_dir);
+    *vids = bs->tmp;
+    *w = bs->tmpw;
+    return bs->ntmp;
 }
 
 void st_doc_stroke_end(st_doc *d)

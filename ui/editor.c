@@ -49,6 +49,7 @@ void st_doc_init(st_doc *d)
     d->box.max_level = 3;
     d->box.has_box = 1;
     d->vdart_level = -1;
+    st_layers_init(&d->layers);
 }
 
 void st_doc_free(st_doc *d)
@@ -67,6 +68,10 @@ void st_doc_free(st_doc *d)
     st_footprint_free(&d->fp_taken[1]);
     free(d->vdart);
     ed_brush_state_free(d->bs);
+    st_layers_free(&d->layers);
+    st_mask_free(&d->mask);
+    free(d->change.mask_vids);
+    st_edit_cache_free(d->ecache);
     memset(d, 0, sizeof *d);
 }
 
@@ -193,6 +198,8 @@ int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels
     if (d->loaded) st_hier_free(&d->h);
     d->h = h;
     ed_hier_fix(&d->h);
+    st_layers_free(&d->layers);
+    st_mask_free(&d->mask);
     st_mesh_move(&d->base, &mesh);
     d->scheme = sc;
     d->opts = d->h.opts;
@@ -271,6 +278,16 @@ st_undo_step *ed_swap_hier(st_doc *d, st_hier *h)
     s->display_level = d->display_level;
     s->rebased = d->rebased;
     s->box_old = d->box;
+    /* The layers and the mask go with the old hierarchy (the new one has
+     * other vertices). */
+    s->has_layers = 1;
+    s->layers_old = d->layers;
+    st_layers_init(&s->layers_new);
+    st_layers_init(&d->layers);
+    s->mask_old = d->mask;
+    d->mask = (st_mask){ 0 };
+    d->change.bits |= ST_CHANGE_MASK;
+    d->mask_all = 1;
     d->h = *h;
     ed_hier_fix(&d->h);
     d->scheme = d->h.scheme;
@@ -303,6 +320,13 @@ static st_undo_step *hier_step_begin(st_doc *d, st_error *err)
     s->display_level = d->display_level;
     s->rebased = d->rebased;
     s->box_old = d->box;
+    s->has_layers = 1;
+    st_layers_init(&s->layers_new);
+    if (st_layers_copy(&s->layers_old, &d->layers) || st_mask_copy(&s->mask_old, &d->mask)) {
+        ed_step_free(s);
+        st_fail(err, ST_ERR_MEMORY, "out of memory keeping the undo copy");
+        return NULL;
+    }
     return s;
 }
 
@@ -383,6 +407,7 @@ int st_doc_add_level(st_doc *d, st_error *err)
     s->idsum = ed_top_ids_sum(&d->h.map);
     d->display_level = d->h.map.top;
     s->display_after = d->display_level;
+    ed_mask_extend(d);
     hier_step_end(d, s, t0);
     return ST_OK;
 }
@@ -406,6 +431,8 @@ int st_doc_remove_top(st_doc *d, st_error *err)
      * rest: the topology comes back from refinement, same ids). */
     st_hier *h = &d->h;
     unsigned top = h->map.top;
+    if (st_layers_on_level(&d->layers, top))
+        return st_fail(err, ST_ERR_INVALID, "level %u has sculpt layers: merge or delete them first", top);
     st_undo_step *s = ed_step_new(ED_STEP_RMTOP);
     s->idsum = ed_top_ids_sum(&h->map);
     uint32_t n = 0;
@@ -445,6 +472,10 @@ int st_doc_remove_bottom(st_doc *d, st_error *err)
     st_undo_step *s = hier_step_begin(d, err);
     if (!s) return ST_ERR_MEMORY;
     s->name = "delete the coarsest level";
+    if (st_layers_rebase(&d->layers, err)) {
+        ed_step_free(s);
+        return ST_ERR_INVALID;
+    }
     st_hier_remove_bottom(&d->h);
     if (d->edit_level > 0) d->edit_level--;
     if (d->display_level > 0) d->display_level--;
@@ -625,6 +656,9 @@ st_doc_change st_doc_take_change(st_doc *d)
     c.ndisp = d->display.nmoved;
     d->display.nmoved = 0;
     c.footprint = &d->fp_taken[0];
+    if (d->mask_all) c.nmask_vids = 0;
+    d->mask_all = 0;
+    d->change.nmask_vids = 0;
     c.disp_footprint = &d->fp_taken[1];
     d->change.bits = 0;
     d->change.nmoved = 0;
@@ -711,12 +745,14 @@ int st_doc_drag_begin(st_doc *d)
     uint32_t n = 0;
     for (uint32_t i = 0; i < d->nsel; i++) {
         uint32_t x = ed_vertex_dart(d, d->sel[i]);
-        if (x != ST_NIL) darts[n++] = x;
+        /* Fully masked vertices do not move at all (bit for bit). */
+        if (x != ST_NIL && st_mask_get(&d->mask, d->sel[i]) < 1.0f) darts[n++] = x;
     }
     if (!n) { free(darts); ed_step_free(s); return -1; }
     /* An edit's footprint depends on the seeds only: one query covers
      * every update of this drag. */
     ed_step_touch_move(s, &d->h, l, darts, n, &d->fp_query);
+    ed_model_touch_layers(d, s, l, darts, n);
     free(darts);
     d->pending = s;
     d->active = 1;
@@ -743,11 +779,13 @@ int st_doc_drag_update(st_doc *d, const double delta[3])
         if (lev != l || kind) continue;
         uint32_t vid = (uint32_t)s->key[i];
         if (vid != st_vert(m, s->moved[k], l)) continue;
-        for (int c = 0; c < 3; c++) pos[k][c] = s->oldv[i][c] + delta[c];
+        /* The mask protects in proportion: the displacement times 1 - mask. */
+        double keep = 1.0 - (double)st_mask_get(&d->mask, vid);
+        for (int c = 0; c < 3; c++) pos[k][c] = s->oldv[i][c] + keep * delta[c];
         k++;
     }
     uint32_t from = d->fp_model.n;
-    st_hier_edit(&d->h, l, s->moved, (const double(*)[3])pos, k, &d->fp_model);
+    ed_model_edit(d, NULL, l, s->moved, (const double(*)[3])pos, k);
     free(pos);
     ed_geometry_changed(d, l, s->moved, k, t0, from);
     return 0;
@@ -759,13 +797,16 @@ st_undo_step *ed_take_pending(st_doc *d, int active)
     st_undo_step *s = d->pending;
     d->pending = NULL;
     d->active = 0;
+    d->edit_serial++;   /* the predictions cached during it may go stale now */
     if (s && active == 2) s->name = "brush stroke";
+    if (s && active == 3) s->name = "mask stroke";
     return s;
 }
 
 void ed_push_edit(st_doc *d, st_undo_step *s)
 {
     ed_step_capture_new(s, &d->h);
+    if (s->lay) ed_layer_values_capture(s->lay, &d->layers);
     /* Nothing moved (no update, or back where it started): no step. */
     int same = 1;
     for (uint32_t i = 0; i < s->n && same; i++)
@@ -796,6 +837,7 @@ void ed_finish_active(st_doc *d)
 {
     if (d->active == 1) st_doc_drag_end(d);
     else if (d->active == 2) st_doc_stroke_end(d);
+    else if (d->active == 3) st_doc_mask_stroke_end(d);
 }
 
 /* ---- interest box -------------------------------------------------------------------------- */

@@ -43,6 +43,8 @@
 
 #include "core/adapt/adapt.h"
 #include "core/multires/edit.h"
+#include "core/multires/layers.h"
+#include "core/multires/mask.h"
 #include "core/io/mesh.h"
 #include "editor_display.h"
 
@@ -116,6 +118,8 @@ enum st_change_bits {
                                   (st_doc_display_hier) wrote `disp_footprint` (its vertices disp_vids,
                                   at some level): e.g. st_renderer_refresh(r, ST_TARGET_SURFACE,
                                   &st_doc_display_hier(d)->map, disp_footprint) */
+    ST_CHANGE_MASK = 128,      /* the mask changed (st_doc.mask): at mask_vids of h (ids), or everywhere
+                                  when nmask_vids is 0; positions did not move for it */
     ST_CHANGE_PATCH = 64,      /* the box moved and the display was updated in place: what its map's
                                   update touched is in `patch` (st_renderer_patch(r, map, patch));
                                   never set together with ST_CHANGE_TOPOLOGY */
@@ -131,6 +135,8 @@ typedef struct st_doc_change {
     const st_map_log *patch;   /* ST_CHANGE_PATCH: the display map's changes (owned by the doc) */
     const st_footprint *footprint;      /* ST_CHANGE_POSITIONS: values of h core wrote (owned by the doc) */
     const st_footprint *disp_footprint; /* ST_CHANGE_DISPLAY: values of the display core wrote (owned by the doc) */
+    uint32_t *mask_vids;       /* ST_CHANGE_MASK: vertex ids of h whose mask changed (owned by the doc) */
+    uint32_t nmask_vids;       /* 0: all of them */
 } st_doc_change;
 
 typedef struct st_undo_step st_undo_step;   /* editor.c */
@@ -185,6 +191,21 @@ typedef struct st_doc {
     uint32_t nvdart;
     int vdart_level;           /* level vdart was built for, -1 none */
     struct st_brush_state *bs; /* stroke scratch (spatial grid, ...) */
+    /* Mask (core/multires/mask.h): per vertex id of h, painted at the
+     * editing level, subdivided above it; protects vertices from brushes,
+     * drags and grabs in proportion (displacement times 1 - mask). */
+    st_mask mask;
+    int mask_all;              /* the pending change covers every vertex */
+    int mask_erase;            /* the mask stroke in progress erases */
+    uint32_t capmaskv;         /* capacity of change.mask_vids */
+    /* Sculpt layers (core/multires/layers.h); strokes and drags at the
+     * active layer's level go into it. */
+    st_layers layers;
+    /* Predictions of the vertices the drag or stroke in progress touched
+     * (core/multires/edit.h); valid while edit_serial == ecache_serial,
+     * which every end of a drag or stroke breaks. */
+    st_edit_cache *ecache;
+    uint64_t edit_serial, ecache_serial;
     char note[256];            /* last non-fatal message (undo history dropped, ...) */
     /* Long operations (opening at a depth, adding a level, a scheme
      * change, switching the box on) call this, when set, before each
@@ -339,6 +360,44 @@ size_t st_doc_model_bytes(const st_doc *d);
  * st_hier_synthesize(h, 0) (ms).  Returns 0, or -1 when no model is loaded
  * or level > top. */
 int st_doc_bench_drag(st_doc *d, unsigned level, unsigned steps, double *step_ms_median, double *full_synth_ms);
+
+/* ---- masks (editor_mask.c) ------------------------------------------------------
+ * The mask is painted and edited at the editing level; every operation is
+ * one undo step ("mask ...") and ends with the finer levels' subdivision
+ * of it (core/multires/mask.h).  Operations return 0, or -1 when no model
+ * is loaded. */
+float st_doc_mask(const st_doc *d, uint32_t vid);
+int st_doc_mask_clear(st_doc *d);
+int st_doc_mask_invert(st_doc *d);
+/* Grow / shrink: each vertex takes the largest / smallest value of its
+ * one-ring and itself (morphological dilation / erosion). */
+int st_doc_mask_grow(st_doc *d);
+int st_doc_mask_shrink(st_doc *d);
+/* Smooth: each vertex moves halfway to its one-ring average. */
+int st_doc_mask_smooth(st_doc *d);
+/* Mask by cavity: 1 where the vertex lies below the mean of its one-ring
+ * (a crevice), by the depth relative to the ring's mean edge length:
+ * clamp(4 * depth / edge, 0, 1); 0 on flat and convex parts. */
+int st_doc_mask_cavity(st_doc *d);
+/* Mask brush: a stroke (begin, dabs, end: one undo step) that brushes the
+ * mask in (erase 0: m += s f (1 - m)) or out (erase 1: m -= s f m), s the
+ * brush strength, f its falloff, over the vertices of the editing level
+ * within the brush radius. */
+int st_doc_mask_stroke_begin(st_doc *d, int erase);
+int st_doc_mask_stroke_dab(st_doc *d, const double center[3]);
+void st_doc_mask_stroke_end(st_doc *d);
+
+/* ---- sculpt layers (editor_layers.c) --------------------------------------------
+ * Every operation is one undo step; 0, or non-zero with err filled and the
+ * document unchanged.  k is a layer index (bottom 0). */
+int st_doc_layer_add(st_doc *d, const char *name, st_error *err);   /* at the editing level, made active */
+int st_doc_layer_set_active(st_doc *d, int k, st_error *err);        /* -1: none (the level's own details); sets the editing level */
+int st_doc_layer_set_strength(st_doc *d, int k, double strength, st_error *err);   /* clamped to 0..2 */
+int st_doc_layer_set_hidden(st_doc *d, int k, int hidden, st_error *err);
+int st_doc_layer_rename(st_doc *d, int k, const char *name, st_error *err);
+int st_doc_layer_move(st_doc *d, int k, int to, st_error *err);
+int st_doc_layer_merge_down(st_doc *d, int k, st_error *err);
+int st_doc_layer_delete(st_doc *d, int k, st_error *err);
 
 /* Brush falloff of the smooth preset: (1 - (r/R)^2)^2 for r < R, else 0. */
 double st_brush_falloff(double r, double radius);

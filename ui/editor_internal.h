@@ -6,6 +6,8 @@
 #include "editor.h"
 #include "core/map/dart_list.h"
 #include "core/multires/edit.h"
+#include "core/multires/layers.h"
+#include "core/multires/mask.h"
 
 /* ---- editor_clone.c ---- */
 /* Bit-exact deep copy (ids and allocation state included); -1 when out of
@@ -55,6 +57,17 @@ struct st_undo_step {
     /* ED_STEP_BOX */
     st_adapt_params box_old, box_new;
     int on_old, on_new;
+    /* Sculpt layers and masks (editor_layers.c, editor_mask.c).
+     * ED_STEP_EDIT into a level with layers: `lay` holds the layer values
+     * the edit changed (keys ed_layer_key) before and after.
+     * has_layers: the whole layer stack before (layers_old) and after
+     * (layers_new) a layer operation; ED_STEP_HIER: the other hierarchy's
+     * stack in layers_old.  has_mask: the mask before and after (ED_STEP_HIER:
+     * the other hierarchy's mask in mask_old). */
+    st_undo_step *lay;
+    int has_layers, has_mask;
+    st_layers layers_old, layers_new;
+    st_mask mask_old, mask_new;
 };
 
 st_undo_step *ed_step_new(int kind);
@@ -115,5 +128,38 @@ void ed_push_edit(st_doc *d, st_undo_step *s);
 /* ---- brush.c ---- */
 struct st_brush_state;
 void ed_brush_state_free(struct st_brush_state *bs);
+/* Vertices of the editing level strictly inside the sphere (c, R) and their
+ * falloff, from the stroke's grid (between st_doc_stroke_begin and end);
+ * valid until the next query. */
+uint32_t ed_brush_query(st_doc *d, const double c[3], double R, const uint32_t **vids, const double **w);
+
+/* ---- editor_layers.c ---- */
+/* Key of a layer value in an undo step: slot (core/multires/layers.h:
+ * st_layers_get), level, vertex id. */
+static inline uint64_t ed_layer_key(int slot, unsigned level, uint32_t vid)
+{
+    return (uint64_t)(uint32_t)(slot + 2) << 40 | (uint64_t)level << 33 | vid;
+}
+/* The edit of a drag or a stroke: records the old values of everything it
+ * will write in s (h's footprint and the layer values), then edits h at
+ * level l into the active layer when it is on l (else the level's own
+ * details; st_layers_edit). */
+void ed_model_edit(st_doc *d, st_undo_step *s, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n);
+/* Records the layer value (slot, level, vid) as "old" in s unless present. */
+void ed_step_touch_layer(st_undo_step *s, const st_layers *ls, int slot, unsigned level, uint32_t vid);
+/* ed_model_edit's recording part alone for the layers (a drag records
+ * once at begin, then edits with s NULL). */
+void ed_model_touch_layers(st_doc *d, st_undo_step *s, unsigned l, const uint32_t *darts, uint32_t n);
+/* Layer values of s->lay: read as "new", written back (which 0 old, 1 new). */
+void ed_layer_values_capture(st_undo_step *s, const st_layers *ls);
+void ed_layer_values_apply(const st_undo_step *s, st_layers *ls, int which);
+/* Whole-stack and mask parts of a step (has_layers / has_mask). */
+void ed_step_apply_extra(st_doc *d, const st_undo_step *s, int which);
+
+/* ---- editor_mask.c ---- */
+/* Vertices of the new top level take the mask's subdivision. */
+void ed_mask_extend(st_doc *d);
+/* The mask changed at these vertex ids (NULL, n 0: everywhere). */
+void ed_mask_changed(st_doc *d, const uint32_t *vids, uint32_t n);
 
 #endif

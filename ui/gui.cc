@@ -749,9 +749,9 @@ void box_section(st_app *a)
 
 /* A collapsible section of the panel, open or closed as the preferences
  * say (open by default); a click that changes it changes them. */
-bool section(const char *name)
+bool section(const char *name, bool open_by_default = true)
 {
-    bool was = st_prefs_section_open(name, 1) != 0;
+    bool was = st_prefs_section_open(name, open_by_default ? 1 : 0) != 0;
     ImGui::SetNextItemOpen(was, ImGuiCond_Once);
     bool open = ImGui::CollapsingHeader(name);
     if (!g.probe_dir.empty()) probe_item(probe_name("panel:section:", name));
@@ -765,6 +765,84 @@ float panel_width(void)
 {
     float lo = 200 * g.scale, hi = std::max(lo, ImGui::GetIO().DisplaySize.x * 0.6f);
     return std::min(hi, std::max(lo, g.panel_w));
+}
+
+/* The Mask section: the mask brush and the whole-level operations
+ * (ui/editor_mask.c), as actions so that keys, menus and this agree. */
+void mask_section(st_app *a)
+{
+    bool on = a->mask_brush != 0;
+    if (ImGui::Checkbox("mask brush (Ctrl+stroke erases)", &on)) g.pending_action = ST_ACT_MASK_BRUSH;
+    action_button(a, ST_ACT_MASK_CLEAR, "Clear");
+    ImGui::SameLine();
+    action_button(a, ST_ACT_MASK_INVERT, "Invert");
+    ImGui::SameLine();
+    action_button(a, ST_ACT_MASK_GROW, "Grow");
+    ImGui::SameLine();
+    action_button(a, ST_ACT_MASK_SHRINK, "Shrink");
+    action_button(a, ST_ACT_MASK_SMOOTH, "Smooth");
+    ImGui::SameLine();
+    action_button(a, ST_ACT_MASK_CAVITY, "Mask cavities");
+}
+
+/* The Layers section (ui/editor_layers.c): the stack top first; a click
+ * makes a layer active (and its level the editing level); visibility,
+ * strength (one undo step when the slider is released) and the active
+ * layer's name. */
+void layers_section(st_app *a)
+{
+    st_doc *d = &a->doc;
+    st_layers *ls = &d->layers;
+    static float strength[ST_LAYER_MAX];
+    static char name[ST_LAYER_NAME];
+    static int name_of = -2;
+    st_error err;
+    if (ImGui::Selectable("(none: the level's own details)", ls->active < 0)) st_doc_layer_set_active(d, -1, &err);
+    for (int k = (int)ls->n - 1; k >= 0; k--) {
+        st_layer *y = &ls->v[k];
+        ImGui::PushID(k);
+        bool vis = !y->hidden;
+        if (ImGui::Checkbox("##vis", &vis)) {
+            if (st_doc_layer_set_hidden(d, k, !vis, &err)) st_app_message(a, 1, "%s", err.msg);
+            st_app_sync(a);
+        }
+        ImGui::SameLine();
+        char label[ST_LAYER_NAME + 32];
+        snprintf(label, sizeof label, "%s  (level %u)", y->name, y->level);
+        if (ImGui::Selectable(label, ls->active == k, 0, ImVec2(120 * g.scale, 0))) {
+            st_doc_layer_set_active(d, k, &err);
+            st_app_sync(a);
+        }
+        ImGui::SameLine();
+        if (!ImGui::IsAnyItemActive() || !strength[k]) strength[k] = (float)y->strength;
+        ImGui::SetNextItemWidth(80 * g.scale);
+        ImGui::SliderFloat("##s", &strength[k], 0.0f, (float)ST_LAYER_STRENGTH_MAX, "%.2f");
+        if (ImGui::IsItemDeactivatedAfterEdit()) {
+            if (st_doc_layer_set_strength(d, k, strength[k], &err)) st_app_message(a, 1, "%s", err.msg);
+            st_app_sync(a);
+        }
+        ImGui::PopID();
+    }
+    action_button(a, ST_ACT_LAYER_ADD, "New");
+    ImGui::SameLine();
+    action_button(a, ST_ACT_LAYER_UP, "Up");
+    ImGui::SameLine();
+    action_button(a, ST_ACT_LAYER_DOWN, "Down");
+    ImGui::SameLine();
+    action_button(a, ST_ACT_LAYER_MERGE, "Merge");
+    ImGui::SameLine();
+    action_button(a, ST_ACT_LAYER_DELETE, "Delete");
+    int k = ls->active;
+    if (k >= 0 && (uint32_t)k < ls->n) {
+        if (name_of != k || !ImGui::IsAnyItemActive()) {
+            snprintf(name, sizeof name, "%s", ls->v[k].name);
+            name_of = k;
+        }
+        ImGui::InputText("name", name, sizeof name);
+        if (ImGui::IsItemDeactivatedAfterEdit() && strcmp(name, ls->v[k].name)) {
+            if (st_doc_layer_rename(d, k, name, &err)) st_app_message(a, 1, "%s", err.msg);
+        }
+    }
 }
 
 void side_panel(st_app *a)
@@ -865,6 +943,9 @@ void side_panel(st_app *a)
             ImGui::SameLine();
             if (ImGui::Checkbox("wire", &wire)) a->wire = wire;
         }
+        /* Last, so that the sections above keep their places. */
+        if (section("Mask", false)) mask_section(a);
+        if (section("Layers", false)) layers_section(a);
     }
     if (section("Timings")) {
         char t1[32], t2[32], t3[32];

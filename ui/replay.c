@@ -474,6 +474,29 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
         snprintf(actual, sizeof actual, "%s", n ? n : "-");
         for (char *c = actual; *c; c++) if (*c == ' ') *c = '_';
         ok = e->arg && !strcmp(actual, e->arg);
+    } else if (!strcmp(w, "layers")) {
+        snprintf(actual, sizeof actual, "%u", d->layers.n);
+        ok = (long)d->layers.n == want;
+    } else if (!strcmp(w, "active_layer")) {
+        snprintf(actual, sizeof actual, "%d", d->layers.active);
+        ok = d->layers.active == want;
+    } else if (!strcmp(w, "layer_strength")) {
+        /* The active layer's strength, in hundredths. */
+        int k = d->layers.active;
+        long s100 = k >= 0 && (uint32_t)k < d->layers.n ? lround(100 * d->layers.v[k].strength) : -1;
+        snprintf(actual, sizeof actual, "%ld", s100);
+        ok = s100 == want;
+    } else if (!strcmp(w, "masked")) {
+        /* Vertices of the editing level with a mask above 0; "masked +"
+         * asks for at least one. */
+        long n = 0;
+        st_dart_iter it;
+        if (d->loaded)
+            for (uint32_t v = st_vertex_first(&d->h.map, d->edit_level, &it); v != ST_NIL;
+                 v = st_vertex_next(&d->h.map, d->edit_level, &it))
+                n += st_doc_mask(d, v) > 0;
+        snprintf(actual, sizeof actual, "%ld", n);
+        ok = e->arg && !strcmp(e->arg, "+") ? n > 0 : n == want;
     } else if (!strcmp(w, "message")) {
         snprintf(actual, sizeof actual, "'%s'", a->msg);
         ok = e->arg && strstr(a->msg, e->arg) != NULL;

@@ -34,6 +34,10 @@
  *                               not empty), undo_name / redo_name NAME (what the
  *                               Edit menu's Undo / Redo names, '_' for a space,
  *                               "-" for none: expect undo_name brush_stroke)
+ *                               layers N (sculpt layers), active_layer K (-1: none),
+ *                               layer_strength S (the active layer's, in hundredths),
+ *                               masked N (editing-level vertices with a mask above 0;
+ *                               "masked +": at least one)
  *   brush SETTING VALUE         the brush settings of the panel's tool section:
  *                               falloff smooth|sphere|root|sharp|linear|constant,
  *                               spacing F (dabs every F radii; 0: one per event),

@@ -41,6 +41,8 @@ static void ref_of(st_app *a, st_session_ref *r, st_session_view *v)
     r->display_level = a->doc.display_level;
     r->view = v;
     r->base = a->doc.base.nverts ? &a->doc.base : NULL;
+    r->layers = &a->doc.layers;
+    r->mask = &a->doc.mask;
 }
 
 int st_app_save_session(st_app *a, const char *path, int quiet)
@@ -98,6 +100,13 @@ int st_app_restore(st_app *a, const char *path)
     d->opts = d->h.opts;
     d->loaded = 1;
     if (s.has_base) st_mesh_move(&d->base, &s.base);
+    /* The sculpt layers and the mask move over with their hierarchy. */
+    st_layers_free(&d->layers);
+    d->layers = s.layers;
+    st_layers_init(&s.layers);
+    st_mask_free(&d->mask);
+    d->mask = s.mask;
+    s.mask = (st_mask){ 0 };
     snprintf(d->path, sizeof d->path, "%s", path);
     unsigned top = d->h.map.top;
     d->edit_level = s.edit_level <= top ? s.edit_level : top;

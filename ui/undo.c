@@ -64,6 +64,13 @@ void ed_step_free(st_undo_step *s)
     free(s->vpos);
     free(s->det);
     if (s->kind == ED_STEP_HIER) st_hier_free(&s->snap);
+    ed_step_free(s->lay);
+    if (s->has_layers) {
+        st_layers_free(&s->layers_old);
+        st_layers_free(&s->layers_new);
+    }
+    st_mask_free(&s->mask_old);
+    st_mask_free(&s->mask_new);
     free(s);
 }
 
@@ -172,6 +179,49 @@ void ed_step_touch_move(st_undo_step *s, st_hier *h, unsigned l, const uint32_t 
     }
 }
 
+/* ---- layer values (editor_layers.c) -------------------------------------------- */
+
+void ed_step_touch_layer(st_undo_step *s, const st_layers *ls, int slot, unsigned level, uint32_t vid)
+{
+    int fresh;
+    uint32_t i = lookup(s, ed_layer_key(slot, level, vid), &fresh);
+    if (fresh) st_layers_get(ls, slot, level, vid, s->oldv[i]);
+}
+
+static void layer_key_parts(uint64_t k, int *slot, unsigned *level, uint32_t *vid)
+{
+    *slot = (int)(uint32_t)(k >> 40) - 2;
+    *level = (unsigned)(k >> 33) & 127u;
+    *vid = (uint32_t)k;
+}
+
+void ed_layer_values_capture(st_undo_step *s, const st_layers *ls)
+{
+    free(s->newv);
+    s->newv = malloc((size_t)(s->n ? s->n : 1) * sizeof *s->newv);
+    if (!s->newv) abort();
+    for (uint32_t i = 0; i < s->n; i++) {
+        int slot;
+        unsigned l;
+        uint32_t v;
+        layer_key_parts(s->key[i], &slot, &l, &v);
+        st_layers_get(ls, slot, l, v, s->newv[i]);
+    }
+}
+
+void ed_layer_values_apply(const st_undo_step *s, st_layers *ls, int which)
+{
+    const double(*val)[3] = which ? (const double(*)[3])s->newv : (const double(*)[3])s->oldv;
+    if (!val) return;
+    for (uint32_t i = 0; i < s->n; i++) {
+        int slot;
+        unsigned l;
+        uint32_t v;
+        layer_key_parts(s->key[i], &slot, &l, &v);
+        if (slot < (int)ls->n) st_layers_set(ls, slot, l, v, val[i]);
+    }
+}
+
 void ed_step_capture_new(st_undo_step *s, const st_hier *h)
 {
     free(s->newv);
@@ -196,6 +246,12 @@ void ed_step_finish(st_undo_step *s)
     s->hcap = 0;
     s->bytes = sizeof *s + (size_t)s->n * (sizeof *s->key + 2 * sizeof *s->oldv) + (size_t)s->nmoved * sizeof *s->moved;
     if (s->kind == ED_STEP_HIER) s->bytes += ed_hier_bytes(&s->snap);
+    if (s->lay) {
+        ed_step_finish(s->lay);
+        s->bytes += s->lay->bytes;
+    }
+    if (s->has_layers) s->bytes += st_layers_bytes(&s->layers_old) + st_layers_bytes(&s->layers_new);
+    s->bytes += ((size_t)s->mask_old.cap + s->mask_new.cap) * sizeof(float);
     s->bytes += (size_t)s->nvids * (sizeof *s->vids + sizeof *s->vpos) + (size_t)s->detcap * 3 * sizeof(double);
 }
 
@@ -260,7 +316,15 @@ static void apply_hier_step(st_doc *d, st_undo_step *s)
     d->box = s->box_old;
     s->box_old = bx;
     d->opts = d->h.opts;
+    /* The layers and the mask belong to their hierarchy. */
+    st_layers lt = d->layers;
+    d->layers = s->layers_old;
+    s->layers_old = lt;
+    st_mask mt = d->mask;
+    d->mask = s->mask_old;
+    s->mask_old = mt;
     ed_topology_changed(d);
+    ed_mask_changed(d, NULL, 0);
 }
 
 /* Drops the steps after s (s is being redone). */
@@ -311,6 +375,8 @@ static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
         double t0 = ed_now_ms();
         uint32_t from = d->fp_model.n;
         ed_step_apply(s, &d->h, redo, &d->fp_model);
+        if (s->lay) ed_layer_values_apply(s->lay, &d->layers, redo);
+        ed_step_apply_extra(d, s, redo);
         ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, from);
         return ST_OK;
     }
@@ -354,6 +420,7 @@ static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
                 drop_redo_after(d, s);
                 snprintf(d->note, sizeof d->note, "redo: the level came back with other ids; later steps dropped");
             }
+            ed_mask_extend(d);
             d->display_level = s->display_after;
         }
         ed_topology_done(d, t0);

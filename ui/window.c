@@ -154,6 +154,14 @@ void st_app_sync(st_app *a)
         }
         touched = 1;
     }
+    /* The mask darkens the surface (the regular hierarchy's: the box's
+     * display has other vertex ids and shows none). */
+    if (dh == &d->h && (rebuild || (ch.bits & ST_CHANGE_MASK))) {
+        int all = rebuild || !ch.nmask_vids;
+        if (all && !st_mask_any(&d->mask)) st_renderer_set_mask(&a->r, NULL, 0, NULL, 0);
+        else st_renderer_set_mask(&a->r, d->mask.v, d->mask.cap, all ? NULL : ch.mask_vids, ch.nmask_vids);
+        touched = 1;
+    }
     if (rebuild || (ch.bits & ST_CHANGE_SELECTION)) {
         st_renderer_set_selection(&a->r, d->sel, d->nsel);
         touched = 1;
@@ -169,7 +177,7 @@ void st_app_sync(st_app *a)
         st_pick_invalidate(&a->pick);
         a->update_ms = now_ms() - t0;
     }
-    if (ch.bits & (ST_CHANGE_TOPOLOGY | ST_CHANGE_POSITIONS | ST_CHANGE_ALL_POSITIONS | ST_CHANGE_BOX))
+    if (ch.bits & (ST_CHANGE_TOPOLOGY | ST_CHANGE_POSITIONS | ST_CHANGE_ALL_POSITIONS | ST_CHANGE_BOX | ST_CHANGE_MASK))
         a->autosave_dirty = 1;
 }
 
@@ -335,7 +343,8 @@ static void stroke_dab_at(void *ctx, const double s[3])
     memcpy(a->brush_pos, p, sizeof p);
     memcpy(a->brush_nrm, nrm, sizeof nrm);
     static const double zero[3] = { 0, 0, 0 };
-    if (st_doc_stroke_dab(&a->doc, p, nrm, zero)) st_app_message(a, 1, "brush dab failed");
+    if (a->mask_brush) st_doc_mask_stroke_dab(&a->doc, p);
+    else if (st_doc_stroke_dab(&a->doc, p, nrm, zero)) st_app_message(a, 1, "brush dab failed");
 }
 
 static void stroke_start(st_app *a, int mods)
@@ -350,7 +359,8 @@ static void stroke_start(st_app *a, int mods)
     double right[3], up[3], back[3];
     st_camctl_axes(&a->cc, right, up, back);
     for (int k = 0; k < 3; k++) d->brush.view_dir[k] = -back[k];
-    if (st_doc_stroke_begin(d)) { st_app_message(a, 1, "cannot start a stroke"); return; }
+    int started = a->mask_brush ? st_doc_mask_stroke_begin(d, (mods & GLFW_MOD_CONTROL) != 0) : st_doc_stroke_begin(d);
+    if (started) { st_app_message(a, 1, "cannot start a stroke"); return; }
     a->op = ST_OP_STROKE;
     a->op_lx = a->mx;
     a->op_ly = a->my;
@@ -361,7 +371,8 @@ static void stroke_start(st_app *a, int mods)
     const double cursor[3] = { a->mx, a->my, 0 };
     st_stroke_path_begin(&a->stroke_path, cursor);
     static const double zero[3] = { 0, 0, 0 };
-    if (a->tool != ST_BRUSH_GRAB && st_doc_stroke_dab(d, p, nrm, zero)) st_app_message(a, 1, "brush dab failed");
+    if (a->mask_brush) st_doc_mask_stroke_dab(d, p);
+    else if (a->tool != ST_BRUSH_GRAB && st_doc_stroke_dab(d, p, nrm, zero)) st_app_message(a, 1, "brush dab failed");
     st_app_sync(a);
 }
 
@@ -370,7 +381,7 @@ static void stroke_move(st_app *a)
     st_doc *d = &a->doc;
     double dx = a->mx - a->op_lx, dy = a->my - a->op_ly;
     if (dx * dx + dy * dy < 1) return;
-    if (a->tool == ST_BRUSH_GRAB) {
+    if (a->tool == ST_BRUSH_GRAB && !a->mask_brush) {
         double delta[3];
         st_camctl_screen_delta(&a->cc, a->fb_w, a->fb_h, a->stroke_pos, dx, dy, delta);
         if (st_doc_stroke_dab(d, a->stroke_pos, a->brush_nrm, delta)) st_app_message(a, 1, "brush dab failed");
@@ -399,7 +410,8 @@ static void stroke_move(st_app *a)
 
 static void stroke_finish(st_app *a)
 {
-    st_doc_stroke_end(&a->doc);
+    if (a->doc.active == 3) st_doc_mask_stroke_end(&a->doc);
+    else st_doc_stroke_end(&a->doc);
     a->doc.brush.invert = 0;
     a->op = ST_OP_NONE;
     st_app_sync(a);
@@ -599,7 +611,7 @@ void st_win_on_mouse_button(GLFWwindow *w, int button, int action, int mods)
             st_doc_box_begin(&a->doc);
             a->op = ST_OP_BOX;
         } else if (button == GLFW_MOUSE_BUTTON_LEFT) {
-            if (a->tool == ST_TOOL_SELECT) {
+            if (a->tool == ST_TOOL_SELECT && !a->mask_brush) {
                 a->hover_vid = pick_vertex(a, a->mx, a->my);
                 st_renderer_set_hover(&a->r, a->hover_vid);
                 a->op = ST_OP_CLICK;

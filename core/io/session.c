@@ -19,6 +19,7 @@
 void st_session_init(st_session *s)
 {
     memset(s, 0, sizeof *s);
+    st_layers_init(&s->layers);
     st_map_init(&s->h.map);
     st_mla_init(&s->h.edge_sharp, sizeof(float));
     st_mla_init(&s->h.vertex_sharp, sizeof(float));
@@ -30,6 +31,8 @@ void st_session_free(st_session *s)
     if (s->has_adapt) st_adapt_free(&s->adapt);
     st_hier_free(&s->h);
     st_mesh_free(&s->base);
+    st_layers_free(&s->layers);
+    st_mask_free(&s->mask);
     st_session_init(s);
 }
 
@@ -69,6 +72,8 @@ static void move_raw(st_session *dst, st_session *src)
     dst->view = src->view;
     dst->has_base = src->has_base;
     dst->base = src->base;
+    dst->layers = src->layers;
+    dst->mask = src->mask;
     st_mesh_init(&src->base);
     st_session_init(src);
 }
@@ -91,6 +96,8 @@ st_session_ref st_session_ref_of(const st_session *s)
     r.display_level = s->display_level;
     r.view = s->has_view ? &s->view : NULL;
     r.base = s->has_base ? &s->base : NULL;
+    r.layers = &s->layers;
+    r.mask = &s->mask;
     return r;
 }
 
@@ -110,6 +117,8 @@ int st_session_is_path(const char *path)
 #define TAG_EDIT TAG('E', 'D', 'I', 'T')
 #define TAG_VIEW TAG('V', 'I', 'E', 'W')
 #define TAG_BASE TAG('B', 'A', 'S', 'E')
+#define TAG_MASK TAG('m', 'a', 's', 'k')
+#define TAG_LAYR TAG('l', 'a', 'y', 'r')
 
 typedef void (*chunk_fn)(st_bw *w, const st_session_ref *r);
 
@@ -227,10 +236,66 @@ static void w_base(st_bw *w, const st_session_ref *r)
     st_bw_u32(w, (uint32_t)m->boundary_interp);
 }
 
+/* Values up to the last non-zero one (so that load -> save keeps the
+ * length). */
+static uint32_t mask_len(const st_mask *mk, uint32_t end)
+{
+    uint32_t n = mk->v ? (mk->cap < end ? mk->cap : end) : 0;
+    while (n && mk->v[n - 1] == 0) n--;
+    return n;
+}
+
+static void w_mask(st_bw *w, const st_session_ref *r)
+{
+    uint32_t n = mask_len(r->mask, r->h->map.verts.end);
+    st_bw_u32(w, n);
+    for (uint32_t i = 0; i < n; i++) st_bw_f32(w, r->mask->v[i]);
+}
+
+static uint32_t off_len(const double *a, uint32_t cap, uint32_t end)
+{
+    uint32_t n = a ? (cap < end ? cap : end) : 0;
+    while (n && a[3 * (size_t)n - 1] == 0 && a[3 * (size_t)n - 2] == 0 && a[3 * (size_t)n - 3] == 0) n--;
+    return n;
+}
+
+static void w_offsets(st_bw *w, const double *a, uint32_t n)
+{
+    st_bw_u32(w, n);
+    for (size_t i = 0; i < 3 * (size_t)n; i++) st_bw_f64(w, a[i]);
+}
+
+static void w_layers(st_bw *w, const st_session_ref *r)
+{
+    const st_layers *ls = r->layers;
+    uint32_t end = r->h->map.verts.end;
+    st_bw_u32(w, ls->active < 0 ? UINT32_MAX : (uint32_t)ls->active);
+    st_bw_u32(w, ls->n);
+    for (uint32_t i = 0; i < ls->n; i++) {
+        const st_layer *y = &ls->v[i];
+        uint32_t len = (uint32_t)strlen(y->name);
+        st_bw_u32(w, len);
+        st_bw_bytes(w, y->name, len);
+        st_bw_u32(w, y->level);
+        st_bw_f64(w, y->strength);
+        st_bw_u8(w, y->hidden != 0);
+        w_offsets(w, y->off, off_len(y->off, y->cap, end));
+    }
+    for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
+        if (!st_layers_on_level(ls, l)) continue;
+        st_bw_u32(w, l);
+        w_offsets(w, ls->base[l], off_len(ls->base[l], ls->base_cap[l], end));
+        /* The positions kept without layers (NaN: none), up to the last kept. */
+        uint32_t n = ls->bpos[l] ? (ls->bpos_cap[l] < end ? ls->bpos_cap[l] : end) : 0;
+        while (n && isnan(ls->bpos[l][3 * (size_t)n - 3])) n--;
+        w_offsets(w, ls->bpos[l], n);
+    }
+}
+
 typedef struct chunk_def { uint32_t tag; chunk_fn fn; } chunk_def;
 
 /* The chunks of r, in file order. */
-static unsigned chunk_list(const st_session_ref *r, chunk_def out[8])
+static unsigned chunk_list(const st_session_ref *r, chunk_def out[10])
 {
     unsigned n = 0;
     out[n++] = (chunk_def){ TAG_HIER, w_hier };
@@ -241,6 +306,8 @@ static unsigned chunk_list(const st_session_ref *r, chunk_def out[8])
     out[n++] = (chunk_def){ TAG_EDIT, w_edit };
     if (r->view) out[n++] = (chunk_def){ TAG_VIEW, w_view };
     if (r->base) out[n++] = (chunk_def){ TAG_BASE, w_base };
+    if (r->mask && mask_len(r->mask, r->h->map.verts.end)) out[n++] = (chunk_def){ TAG_MASK, w_mask };
+    if (r->layers && r->layers->n) out[n++] = (chunk_def){ TAG_LAYR, w_layers };
     return n;
 }
 
@@ -264,7 +331,7 @@ static int check_ref(const st_session_ref *r, st_error *err)
 /* Writes the whole file to w (counting pass first for the lengths). */
 static void write_all(st_bw *w, const st_session_ref *r)
 {
-    chunk_def c[8];
+    chunk_def c[10];
     unsigned n = chunk_list(r, c);
     uint64_t len[8], total = HEADER_BYTES + TRAILER_BYTES;
     st_bw *cnt = malloc(sizeof *cnt);
@@ -368,7 +435,8 @@ typedef struct load_ctx {
     int has_sharpness;
 } load_ctx;
 
-enum { SEEN_HIER = 1, SEEN_MAP = 2, SEEN_SHRP = 4, SEEN_DETL = 8, SEEN_ADPT = 16, SEEN_EDIT = 32, SEEN_VIEW = 64, SEEN_BASE = 128 };
+enum { SEEN_HIER = 1, SEEN_MAP = 2, SEEN_SHRP = 4, SEEN_DETL = 8, SEEN_ADPT = 16, SEEN_EDIT = 32, SEEN_VIEW = 64, SEEN_BASE = 128,
+       SEEN_MASK = 256, SEEN_LAYR = 512 };
 
 static int r_hier(load_ctx *c, st_br *r)
 {
@@ -644,6 +712,93 @@ oom:
     return -1;
 }
 
+static int r_mask(load_ctx *c, st_br *r)
+{
+    st_mask *mk = &c->s->mask;
+    uint32_t n = st_br_u32(r);
+    if (r->failed || st_br_need(r, n, 4, "mask")) return -1;
+    if (n > c->s->h.map.verts.end) return st_br_fail(r, "mask of %u vertices; the map has %u vertex ids", n, c->s->h.map.verts.end);
+    if (!n) return st_br_fail(r, "empty mask");
+    mk->v = malloc((size_t)n * sizeof *mk->v);
+    if (!mk->v) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+    mk->cap = n;
+    for (uint32_t i = 0; i < n; i++) {
+        float x = st_br_f32(r);
+        if (!(x >= 0 && x <= 1)) return st_br_fail(r, "mask of vertex %u is %g, not in [0, 1]", i, (double)x);
+        mk->v[i] = x;
+    }
+    if (mk->v[n - 1] == 0) return st_br_fail(r, "mask: trailing zero values");
+    return r->failed ? -1 : 0;
+}
+
+static int r_offsets(load_ctx *c, st_br *r, double **out, uint32_t *cap, const char *what, int nan_ok)
+{
+    uint32_t n = st_br_u32(r);
+    if (r->failed || st_br_need(r, n, 24, what)) return -1;
+    if (n > c->s->h.map.verts.end) return st_br_fail(r, "%s: %u vertices; the map has %u vertex ids", what, n, c->s->h.map.verts.end);
+    if (!n) return 0;
+    double *a = malloc((size_t)n * 24);
+    if (!a) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+    *out = a;
+    *cap = n;
+    for (size_t i = 0; i < 3 * (size_t)n; i++) {
+        a[i] = st_br_f64(r);
+        if (nan_ok && isnan(a[i]) && (i % 3 == 0 || isnan(a[i - i % 3]))) continue;
+        if (!isfinite(a[i]) || (nan_ok && i % 3 && isnan(a[i - i % 3])))
+            return st_br_fail(r, "%s: vertex %zu is not finite", what, i / 3);
+    }
+    if (nan_ok ? isnan(a[3 * (size_t)n - 3])
+               : a[3 * (size_t)n - 1] == 0 && a[3 * (size_t)n - 2] == 0 && a[3 * (size_t)n - 3] == 0)
+        return st_br_fail(r, "%s: trailing empty entries", what);
+    return r->failed ? -1 : 0;
+}
+
+static int r_layers(load_ctx *c, st_br *r)
+{
+    st_layers *ls = &c->s->layers;
+    unsigned top = c->s->h.map.top;
+    uint32_t active = st_br_u32(r), n = st_br_u32(r);
+    if (r->failed || st_br_need(r, n, 21, "layers")) return -1;
+    if (n > ST_LAYER_MAX) return st_br_fail(r, "%u sculpt layers (at most %d)", n, ST_LAYER_MAX);
+    if (active != UINT32_MAX && active >= n) return st_br_fail(r, "active layer %u of %u", active, n);
+    ls->v = calloc(n ? n : 1, sizeof *ls->v);
+    if (!ls->v) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+    ls->cap = n;
+    ls->active = active == UINT32_MAX ? -1 : (int)active;
+    for (uint32_t i = 0; i < n; i++) {
+        st_layer *y = &ls->v[i];
+        ls->n = i + 1;
+        uint32_t len = st_br_u32(r);
+        if (r->failed) return -1;
+        if (len == 0 || len >= ST_LAYER_NAME) return st_br_fail(r, "layer %u: name of %u bytes (1..%d)", i, len, ST_LAYER_NAME - 1);
+        st_br_bytes(r, y->name, len);
+        if (r->failed) return -1;
+        y->name[len] = 0;
+        if (strlen(y->name) != len) return st_br_fail(r, "layer %u: NUL in its name", i);
+        y->level = st_br_u32(r);
+        y->strength = st_br_f64(r);
+        uint8_t hidden = st_br_u8(r);
+        if (r->failed) return -1;
+        if (y->level < 1 || y->level > top) return st_br_fail(r, "layer '%s' at level %u (levels 1..%u)", y->name, y->level, top);
+        if (!(y->strength >= 0 && y->strength <= ST_LAYER_STRENGTH_MAX))
+            return st_br_fail(r, "layer '%s': strength %g not in [0, %g]", y->name, y->strength, ST_LAYER_STRENGTH_MAX);
+        if (hidden > 1) return st_br_fail(r, "layer '%s': bad hidden flag %u", y->name, hidden);
+        y->hidden = hidden;
+        if (r_offsets(c, r, &y->off, &y->cap, "layer offsets", 0)) return -1;
+    }
+    /* The details without layers, one array per level with layers, in
+     * increasing level order. */
+    for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
+        if (!st_layers_on_level(ls, l)) continue;
+        uint32_t lev = st_br_u32(r);
+        if (r->failed) return -1;
+        if (lev != l) return st_br_fail(r, "layers: base details of level %u where level %u was expected", lev, l);
+        if (r_offsets(c, r, &ls->base[l], &ls->base_cap[l], "layer base details", 0)) return -1;
+        if (r_offsets(c, r, &ls->bpos[l], &ls->bpos_cap[l], "layer base positions", 1)) return -1;
+    }
+    return r->failed ? -1 : 0;
+}
+
 /* After every chunk: attributes attached, whole-map checks. */
 static int finish(load_ctx *c)
 {
@@ -746,6 +901,8 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
         case TAG_EDIT: bit = SEEN_EDIT; fn = r_edit; after = SEEN_MAP; break;
         case TAG_VIEW: bit = SEEN_VIEW; fn = r_view; break;
         case TAG_BASE: bit = SEEN_BASE; fn = r_base; break;
+        case TAG_MASK: bit = SEEN_MASK; fn = r_mask; after = SEEN_MAP; break;
+        case TAG_LAYR: bit = SEEN_LAYR; fn = r_layers; after = SEEN_MAP; break;
         default: break;
         }
         if (!fn) {

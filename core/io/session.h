@@ -49,6 +49,8 @@
 
 #include "core/adapt/adapt.h"
 #include "core/multires/hier.h"
+#include "core/multires/layers.h"
+#include "core/multires/mask.h"
 #include "core/io/mesh.h"
 
 #define ST_SESSION_VERSION 1u
@@ -75,6 +77,8 @@ typedef struct st_session {
     st_session_view view;
     int has_base;
     st_mesh base;                  /* the control mesh as loaded, if stored */
+    st_layers layers;              /* sculpt layers (empty when none were stored) */
+    st_mask mask;                  /* sculpting mask (zero when none was stored) */
 } st_session;
 
 /* What to save, by reference (nothing is copied). */
@@ -86,6 +90,8 @@ typedef struct st_session_ref {
     unsigned edit_level, display_level;   /* clamped to 0..top when written */
     const st_session_view *view;   /* NULL: none */
     const st_mesh *base;           /* NULL: none */
+    const st_layers *layers;       /* NULL or empty: none (must belong to h) */
+    const st_mask *mask;           /* NULL or all zero: none */
 } st_session_ref;
 
 void st_session_init(st_session *s);

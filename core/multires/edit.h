@@ -19,6 +19,49 @@
 uint64_t st_hier_edit(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
                       st_footprint *fp);
 
+/* Decides what st_hier_edit_with stores for vertex v of level l >= 1: det
+ * holds F^T (P_l - S(P_{l-1})) for the position the edit gave; pred is
+ * S(P_{l-1}) and f the frame (rows t, b, n).  The hook writes the detail
+ * to store into det and the level-l position into pos (sculpt layers,
+ * core/multires/layers.h, split the change between the layers and store
+ * their composition). */
+typedef void (*st_detail_hook)(void *ctx, unsigned l, uint32_t v, double det[3], const double pred[3],
+                               const double f[3][3], double pos[3]);
+
+/* st_hier_edit, where for l >= 1 the hook (NULL: none, st_hier_edit)
+ * chooses each moved vertex's detail and position.  With a hook, the
+ * stencil of v is the one found from the smallest dart of v's vertex orbit
+ * at level l, so that the prediction is the same for the same vertex
+ * whatever dart the caller gave.  pos NULL: the positions are not written
+ * first (the hook recomposes the details from elsewhere).  The same
+ * footprint as st_hier_edit. */
+uint64_t st_hier_edit_with(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                           st_footprint *fp, st_detail_hook hook, void *ctx);
+
+/* A cache of the predictions S(P_{l-1})(v) and frames of the vertices an
+ * edit sequence at one level touches (a brush stroke re-touches the same
+ * vertices dab after dab).  They depend on level l-1 only: the owner
+ * clears the cache (or drops it) before anything may have changed level
+ * l-1 or the topology; within a stroke or drag at level l nothing does.
+ * The values are the ones the edit would compute, so the results are the
+ * same bit for bit. */
+typedef struct st_edit_cache st_edit_cache;
+st_edit_cache *st_edit_cache_new(void);
+void st_edit_cache_clear(st_edit_cache *c);
+void st_edit_cache_free(st_edit_cache *c);
+/* st_hier_edit_with using the cache (NULL: none). */
+uint64_t st_hier_edit_cached(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                             st_footprint *fp, st_detail_hook hook, void *ctx, st_edit_cache *cache);
+
+/* The position a synthesis gives from a prediction, a frame and a detail:
+ * pred + F^T det, summed as st_stencil_apply sums it. */
+static inline void st_hier_apply_detail(const double pred[3], const double f[3][3], const double det[3], double out[3])
+{
+    for (int i = 0; i < 3; i++) out[i] = pred[i];
+    if (det[0] == 0 && det[1] == 0 && det[2] == 0) return;
+    for (int i = 0; i < 3; i++) out[i] += det[0] * f[0][i] + det[1] * f[1][i] + det[2] * f[2][i];
+}
+
 /* The footprint st_hier_edit(h, l, darts, ., n, .) writes, appended to fp
  * without writing anything, so that old values can be saved first (undo).
  * The same region growth and stencils as the edit, with a sink that only

@@ -342,27 +342,140 @@ static void find_sink(void *ctx, const st_stencil *s)
     c->found = 1;
 }
 
-/* Re-expresses the detail of the vertex of d at level l >= 1 so that its
- * position is P_l(v): D = F^T (P_l - S(P_{l-1})). */
-static void refresh_detail(st_hier *h, unsigned l, uint32_t d)
+/* ---- prediction cache of an edit sequence (edit.h) ---------------------------- */
+
+struct st_edit_cache {
+    unsigned level;
+    uint32_t *key, cap, n;     /* open addressing: vertex id + 1 (0: empty) -> entry */
+    uint32_t *entry;
+    double (*pf)[12];          /* per entry: S(P_{l-1})(v), frame rows */
+    uint32_t nent, capent;
+};
+
+st_edit_cache *st_edit_cache_new(void)
+{
+    st_edit_cache *c = calloc(1, sizeof *c);
+    if (!c) abort();
+    return c;
+}
+
+void st_edit_cache_clear(st_edit_cache *c)
+{
+    if (!c) return;
+    if (c->key) memset(c->key, 0, (size_t)c->cap * sizeof *c->key);
+    c->n = 0;
+    c->nent = 0;
+}
+
+void st_edit_cache_free(st_edit_cache *c)
+{
+    if (!c) return;
+    free(c->key);
+    free(c->entry);
+    free(c->pf);
+    free(c);
+}
+
+static uint32_t cache_hash(uint32_t v, uint32_t cap) { return (v * 2654435761u) & (cap - 1); }
+
+static double *cache_find(st_edit_cache *c, unsigned l, uint32_t v)
+{
+    if (!c || !c->n || c->level != l) return NULL;
+    for (uint32_t k = cache_hash(v, c->cap); c->key[k]; k = (k + 1) & (c->cap - 1))
+        if (c->key[k] == v + 1) return c->pf[c->entry[k]];
+    return NULL;
+}
+
+static void cache_put(st_edit_cache *c, unsigned l, uint32_t v, const double pred[3], const double f[3][3])
+{
+    if (!c) return;
+    if (c->level != l) { st_edit_cache_clear(c); c->level = l; }
+    if (2 * (c->n + 1) > c->cap) {
+        uint32_t oc = c->cap, *ok = c->key, *oe = c->entry;
+        c->cap = oc ? 2 * oc : 4096;
+        c->key = calloc(c->cap, sizeof *c->key);
+        c->entry = malloc((size_t)c->cap * sizeof *c->entry);
+        if (!c->key || !c->entry) abort();
+        for (uint32_t i = 0; i < oc; i++)
+            if (ok[i]) {
+                uint32_t k = cache_hash(ok[i] - 1, c->cap);
+                while (c->key[k]) k = (k + 1) & (c->cap - 1);
+                c->key[k] = ok[i];
+                c->entry[k] = oe[i];
+            }
+        free(ok);
+        free(oe);
+    }
+    if (c->nent == c->capent) {
+        c->capent = c->capent ? 2 * c->capent : 4096;
+        double(*p)[12] = realloc(c->pf, (size_t)c->capent * sizeof *p);
+        if (!p) abort();
+        c->pf = p;
+    }
+    uint32_t k = cache_hash(v, c->cap);
+    while (c->key[k]) k = (k + 1) & (c->cap - 1);
+    c->key[k] = v + 1;
+    c->entry[k] = c->nent;
+    memcpy(c->pf[c->nent], pred, 3 * sizeof(double));
+    memcpy(c->pf[c->nent] + 3, f, 9 * sizeof(double));
+    c->nent++;
+    c->n++;
+}
+
+/* S(P_{l-1})(v) and the frame of v's stencil, found from dart d of v. */
+static int predict_vertex(st_hier *h, unsigned l, uint32_t d, uint32_t v, double pred[3], double f[3][3])
 {
     st_map *m = &h->map;
-    uint32_t v = st_vert(m, d, l), seed = real_seed(m, coarse_seed(m, d, l), l - 1);
-    if (seed == ST_NIL) return;
-    st_dart_list faces = { 0 };
-    st_region_faces(m, l - 1, &seed, 1, 1, &faces);
+    uint32_t seed = real_seed(m, coarse_seed(m, d, l), l - 1);
+    if (seed == ST_NIL) return 0;
+    /* The seed's face first, alone: v is one of its children, and a region
+     * lists the seed's face first, so the stencil found is the one the
+     * ring below would give first, at a ninth of the cost; the ring of
+     * faces around the seed when a scheme puts v elsewhere. */
     find_ctx c = { .v = v };
-    h->scheme->emit(h, l, faces.d, faces.n, find_sink, &c);
-    st_dart_list_free(&faces);
-    if (!c.found) { st_stencil_buf_free(&c.buf); return; }
-    st_stencil s = { v, c.buf.n, c.buf.src, c.buf.w, c.frame_dart, c.frame_cell };
+    if (!st_is_boundary(m, seed)) h->scheme->emit(h, l, &seed, 1, find_sink, &c);
+    if (!c.found) {
+        st_dart_list faces = { 0 };
+        st_region_faces(m, l - 1, &seed, 1, 1, &faces);
+        h->scheme->emit(h, l, faces.d, faces.n, find_sink, &c);
+        st_dart_list_free(&faces);
+    }
+    if (c.found) {
+        st_stencil s = { v, c.buf.n, c.buf.src, c.buf.w, c.frame_dart, c.frame_cell };
+        st_stencil_eval(h, l, &s, pred);
+        st_hier_frame(h, l - 1, s.frame_dart, s.frame_cell, f);
+    }
+    st_stencil_buf_free(&c.buf);
+    return c.found;
+}
+
+/* Re-expresses the detail of the vertex of d at level l >= 1 so that its
+ * position is P_l(v): D = F^T (P_l - S(P_{l-1})).  With a hook (edit.h:
+ * st_hier_edit_with) the hook decides the detail and the position.  The
+ * cache (may be NULL) keeps S(P_{l-1})(v) and the frame, which only depend
+ * on level l-1. */
+static void refresh_detail(st_hier *h, unsigned l, uint32_t d, st_detail_hook hook, void *hctx, st_edit_cache *cache)
+{
+    st_map *m = &h->map;
+    if (hook) d = real_seed(m, min_in_orbit(m, d, l, m->face_embedded), l);
+    uint32_t v = st_vert(m, d, l);
     double pred[3], f[3][3], r[3], dv[3];
-    st_stencil_eval(h, l, &s, pred);
-    st_hier_frame(h, l - 1, s.frame_dart, s.frame_cell, f);
+    const double *pc = cache_find(cache, l, v);
+    if (pc) {
+        memcpy(pred, pc, sizeof pred);
+        memcpy(f, pc + 3, sizeof f);
+    } else {
+        if (!predict_vertex(h, l, d, v, pred, f)) return;
+        cache_put(cache, l, v, pred, (const double(*)[3])f);
+    }
     sub3(st_pos(m, v, l), pred, r);
     for (int i = 0; i < 3; i++) dv[i] = dot3(f[i], r);
+    if (hook) {
+        double p[3];
+        hook(hctx, l, v, dv, pred, (const double(*)[3])f, p);
+        st_hier_write_pos(h, v, l, p);
+    }
     st_hier_set_detail(h, l, v, dv);
-    st_stencil_buf_free(&c.buf);
 }
 
 /* Footprint query (st_hier_edit_footprint): the stamps and the seeds of
@@ -437,15 +550,28 @@ static void edit_level_keys(const st_map *m, unsigned l, const uint32_t *darts, 
     }
 }
 
+uint64_t st_hier_edit_with(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                           st_footprint *fp, st_detail_hook hook, void *hctx)
+{
+    return st_hier_edit_cached(h, l, darts, pos, n, fp, hook, hctx, NULL);
+}
+
+uint64_t st_hier_edit_cached(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                             st_footprint *fp, st_detail_hook hook, void *hctx, st_edit_cache *cache)
+{
+    st_map *m = &h->map;
+    if (pos)
+        for (uint32_t i = 0; i < n; i++) st_hier_write_pos(h, st_vert(m, darts[i], l), l, pos[i]);
+    if (l > 0)
+        for (uint32_t i = 0; i < n; i++) refresh_detail(h, l, real_seed(m, darts[i], l), hook, hctx, cache);
+    edit_level_keys(m, l, darts, n, fp);
+    return resynth_above(h, l, darts, n, 1, fp);
+}
+
 uint64_t st_hier_edit(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
                       st_footprint *fp)
 {
-    st_map *m = &h->map;
-    for (uint32_t i = 0; i < n; i++) st_hier_write_pos(h, st_vert(m, darts[i], l), l, pos[i]);
-    if (l > 0)
-        for (uint32_t i = 0; i < n; i++) refresh_detail(h, l, real_seed(m, darts[i], l));
-    edit_level_keys(m, l, darts, n, fp);
-    return resynth_above(h, l, darts, n, 1, fp);
+    return st_hier_edit_with(h, l, darts, pos, n, fp, NULL, NULL);
 }
 
 uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n)
