@@ -7,7 +7,9 @@
  *
  * OBJ positions use %.17g, which reads back to the same double; tags are
  * written in OpenSubdiv's `t` syntax (0-based indices), normals as `vn`
- * with `f a//a` corners.  PLY stores double x y z (and nx ny nz), and
+ * with `f a//a` corners, texture coordinates as `vt` with `f a/t` or
+ * `f a/t/a` corners (the UV indices as the mesh holds them, so seams
+ * survive a round trip).  PLY stores double x y z (and nx ny nz), and
  * vertex_indices as a uchar-counted list when every face has at most 255
  * vertices, uint-counted otherwise.  PLY has no standard place for tags;
  * they are not written.
@@ -42,6 +44,15 @@ static int check_writable(const char *path, const st_mesh *m, st_error *err)
         if (m->crease_v[i] >= m->nverts) return st_fail(err, ST_ERR_INVALID, "%s: bad crease tag", path);
     for (uint32_t i = 0; i < m->ncorners; i++)
         if (m->corner_v[i] >= m->nverts) return st_fail(err, ST_ERR_INVALID, "%s: bad corner tag", path);
+    if (!m->face_uv) return 0;
+    for (size_t i = 0; i < 2 * (size_t)m->nuvs; i++)
+        if (!m->uv || !isfinite(m->uv[i]))
+            return st_fail(err, ST_ERR_GEOMETRY, "%s: texture coordinate %zu is not finite", path, i / 2);
+    uint32_t nc = m->nfaces ? m->face_off[m->nfaces] : 0;
+    for (uint32_t c = 0; c < nc; c++)
+        if (m->face_uv[c] >= m->nuvs)
+            return st_fail(err, ST_ERR_INVALID, "%s: a face corner references texture coordinate %u of %u",
+                           path, m->face_uv[c], m->nuvs);
     return 0;
 }
 
@@ -79,11 +90,15 @@ static void obj_body(FILE *f, const st_mesh *m)
         const double *n = m->normals + 3 * (size_t)v;
         fprintf(f, "vn %.17g %.17g %.17g\n", n[0], n[1], n[2]);
     }
+    for (uint32_t t = 0; m->face_uv && t < m->nuvs; t++)
+        fprintf(f, "vt %.17g %.17g\n", m->uv[2 * (size_t)t], m->uv[2 * (size_t)t + 1]);
     for (uint32_t fi = 0; fi < m->nfaces; fi++) {
         fputc('f', f);
         for (uint32_t c = m->face_off[fi]; c < m->face_off[fi + 1]; c++) {
             uint32_t v = m->face_idx[c] + 1;
-            if (m->normals) fprintf(f, " %u//%u", v, v);
+            if (m->face_uv && m->normals) fprintf(f, " %u/%u/%u", v, m->face_uv[c] + 1, v);
+            else if (m->face_uv) fprintf(f, " %u/%u", v, m->face_uv[c] + 1);
+            else if (m->normals) fprintf(f, " %u//%u", v, v);
             else fprintf(f, " %u", v);
         }
         fputc('\n', f);
