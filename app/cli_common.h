@@ -8,6 +8,7 @@ typedef struct st_cli_opts {
     unsigned levels;
     int level;          /* -1: not given */
     int boundary;       /* ST_BOUNDARY_UNSET unless --boundary */
+    int uv_interp;      /* enum st_uv_interp: --uv-interp, else OpenSubdiv's default (corners-plus1) */
 } st_cli_opts;
 
 /* Parses the common options; prints a message and returns -1 on error. */
@@ -20,6 +21,8 @@ int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd);
  * else ST_BOUNDARY_UNSET) overrides it: OpenSubdiv refines the vertices as
  * with edge-only but gives the faces along the boundary no surface, and
  * Strata cannot leave them out. */
+/* --uv-interp NAME into *out (enum st_uv_interp); -1 with a message. */
+int st_cli_parse_uv_interp(const char *v, int *out, const char *cmd);
 int st_cli_check_boundary(const char *path, int boundary, const st_mesh *m);
 
 /* The level a command shows or writes once h is loaded: --level, else
