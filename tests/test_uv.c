@@ -6,6 +6,8 @@
 #include "core/io/mesh.h"
 #include "core/io/mesh_internal.h"
 #include "core/multires/hier.h"
+#include "core/fvar/fvar_internal.h"
+#include "core/map/map.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -123,8 +125,153 @@ static void test_ply_read(void)
     }
 }
 
+/* A 4 x 4 grid whose left half is its own UV island: a seam along x = 2. */
+static void seam_grid(st_mesh *m)
+{
+    char text[4096];
+    size_t k = 0;
+    for (int y = 0; y <= 4; y++)
+        for (int x = 0; x <= 4; x++) k += (size_t)snprintf(text + k, sizeof text - k, "v %d %d %g\n", x, y, 0.1 * ((x * y) % 3));
+    for (int r = 0; r < 2; r++)
+        for (int y = 0; y <= 4; y++)
+            for (int x = 0; x <= 4; x++) k += (size_t)snprintf(text + k, sizeof text - k, "vt %g %g\n", x / 4.0 + 0.1 * r, y / 4.0);
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < 4; i++) {
+            int r = i < 2 ? 0 : 25, a = j * 5 + i + 1, b = a + 1, c = a + 6, d = a + 5;
+            k += (size_t)snprintf(text + k, sizeof text - k, "f %d/%d %d/%d %d/%d %d/%d\n", a, a + r, b, b + r, c, c + r, d, d + r);
+        }
+    st_error err = {0};
+    CHECKF(parse(text, m, &err) == 0, "%s", err.msg);
+}
+
+/* The UVs of level l at the real darts, in dart order (n pairs). */
+static double *snap_uv(const st_hier *h, unsigned l, uint32_t *n)
+{
+    const double *uv = st_hier_uv(h, l);
+    double *out = malloc(2 * ((size_t)h->map.darts.end + 1) * sizeof *out);
+    *n = 0;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(&h->map, l, &it); uv && d != ST_NIL; d = st_dart_next(&h->map, l, &it)) {
+        if (st_is_boundary(&h->map, d)) continue;
+        out[2 * *n] = uv[2 * (size_t)d];
+        out[2 * *n + 1] = uv[2 * (size_t)d + 1];
+        (*n)++;
+    }
+    return out;
+}
+
+static void test_hier_levels(void)
+{
+    st_mesh m;
+    seam_grid(&m);
+    st_hier h;
+    st_error err = {0};
+    CHECKF(st_hier_init(&h, &m, &st_scheme_catmark, NULL, &err) == 0, "%s", err.msg);
+    CHECK(st_hier_subdivide_to(&h, 3, &err) == 0);
+    for (unsigned l = 0; l <= 3; l++) CHECKF(st_hier_uv(&h, l) != NULL, "level %u", l);
+    CHECK(st_hier_uv(&h, 4) == NULL);
+    uint32_t n2, n3, n;
+    double *l2 = snap_uv(&h, 2, &n2), *l3 = snap_uv(&h, 3, &n3);
+    CHECK(n2 == 16 * 16 * 4 && n3 == 4 * n2);
+    /* The level's soup carries them: seams stay seams (the 9 vertices on x = 2 have two UVs). */
+    st_mesh lm;
+    st_mesh_init(&lm);
+    CHECK(st_hier_level_mesh(&h, 1, &lm, &err) == 0);
+    CHECK(lm.face_uv && lm.nuvs == lm.nverts + 9 && st_mesh_check("level1", &lm, &err) == 0);
+    st_mesh_free(&lm);
+    /* Edits move positions, never UVs. */
+    st_dart_iter it;
+    uint32_t d = st_dart_first(&h.map, 1, &it);
+    double p[1][3] = {{ 0.3, 0.2, 0.9 }};
+    CHECK(st_hier_move(&h, 1, &d, (const double (*)[3])p, 1) > 0);
+    double *e3 = snap_uv(&h, 3, &n);
+    CHECK(n == n3 && memcmp(e3, l3, 2 * n * sizeof *e3) == 0);
+    free(e3);
+    /* Deleting the finest level and adding it again gives the same bits. */
+    st_hier_remove_top(&h);
+    CHECK(st_hier_uv(&h, 3) == NULL && st_hier_uv(&h, 2) != NULL);
+    CHECK(st_hier_subdivide_to(&h, 3, &err) == 0);
+    e3 = snap_uv(&h, 3, &n);
+    CHECK(n == n3 && memcmp(e3, l3, 2 * n * sizeof *e3) == 0);
+    free(e3);
+    /* Deleting the coarsest level: level 2 becomes level 1 with its UVs. */
+    st_hier_remove_bottom(&h);
+    double *b1 = snap_uv(&h, 1, &n);
+    CHECK(h.map.top == 2 && n == n2 && memcmp(b1, l2, 2 * n * sizeof *b1) == 0);
+    free(b1);
+    st_hier_remove_bottom(&h);
+    st_hier_remove_bottom(&h);
+    CHECK(h.map.top == 0 && st_hier_uv(&h, 0) != NULL);
+    free(l2);
+    free(l3);
+    st_hier_free(&h);
+    st_mesh_free(&m);
+}
+
+static int cmp_pair(const void *a, const void *b)
+{
+    const double *x = a, *y = b;
+    if (x[0] != y[0]) return x[0] < y[0] ? -1 : 1;
+    return (x[1] > y[1]) - (x[1] < y[1]);
+}
+
+/* Linear rules: quad/triangle on quads gives Catmull-Clark's --uv-interp all;
+ * √3 keeps level 0's UVs only. */
+static void test_other_schemes(void)
+{
+    st_mesh m;
+    seam_grid(&m);
+    st_error err = {0};
+    st_hier a, b;
+    st_hier_opts all = { .boundary = ST_BOUNDARY_UNSET, .crease_method = ST_CREASE_UNIFORM, .uv_interp = ST_UV_ALL };
+    CHECK(st_hier_init(&a, &m, &st_scheme_catmark, &all, &err) == 0 && st_hier_subdivide_to(&a, 2, &err) == 0);
+    CHECK(st_hier_init(&b, &m, &st_scheme_quadtri, NULL, &err) == 0 && st_hier_subdivide_to(&b, 2, &err) == 0);
+    uint32_t na, nb;
+    double *ua = snap_uv(&a, 2, &na), *ub = snap_uv(&b, 2, &nb);
+    qsort(ua, na, 2 * sizeof *ua, cmp_pair);
+    qsort(ub, nb, 2 * sizeof *ub, cmp_pair);
+    CHECK(na == nb && na > 0 && memcmp(ua, ub, 2 * na * sizeof *ua) == 0);
+    /* and the default (corners-plus1) is not linear on the same grid */
+    st_hier c;
+    CHECK(st_hier_init(&c, &m, &st_scheme_catmark, NULL, &err) == 0 && st_hier_subdivide_to(&c, 2, &err) == 0);
+    uint32_t nc;
+    double *uc = snap_uv(&c, 2, &nc);
+    qsort(uc, nc, 2 * sizeof *uc, cmp_pair);
+    CHECK(nc == na && memcmp(ua, uc, 2 * na * sizeof *ua) != 0);
+    free(ua);
+    free(ub);
+    free(uc);
+    st_hier_free(&a);
+    st_hier_free(&b);
+    st_hier_free(&c);
+    st_mesh_free(&m);
+    /* √3 on a triangle mesh with UVs: level 0 only. */
+    CHECK(parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n"
+                "f 1/1 3/3 2/2\nf 1/1 2/2 4/4\nf 2/2 3/3 4/4\nf 3/3 1/1 4/4\n", &m, &err) == 0);
+    CHECK(st_hier_init(&a, &m, &st_scheme_sqrt3, NULL, &err) == 0 && st_hier_subdivide_to(&a, 1, &err) == 0);
+    CHECK(st_hier_uv(&a, 0) != NULL && st_hier_uv(&a, 1) == NULL);
+    st_hier_free(&a);
+    st_mesh_free(&m);
+    /* No UVs: no channel. */
+    tl_mesh_cube(&m);
+    CHECK(st_hier_init(&a, &m, &st_scheme_catmark, NULL, &err) == 0 && st_hier_subdivide_to(&a, 1, &err) == 0);
+    CHECK(a.fvar == NULL && st_hier_uv(&a, 0) == NULL);
+    st_hier_free(&a);
+    st_mesh_free(&m);
+}
+
+static void test_interp_names(void)
+{
+    for (int i = 0; i < ST_UV_INTERP_COUNT; i++) CHECK(st_uv_interp_find(st_uv_interp_name(i)) == i);
+    CHECK(st_uv_interp_find("corners-plus1") == ST_UV_CORNERS_PLUS1 && ST_UV_CORNERS_PLUS1 == 0);
+    CHECK(st_uv_interp_find("bogus") == -1);
+}
+
 int main(void)
 {
+    test_hier_levels();
+    test_other_schemes();
+    test_interp_names();
     test_ply_read();
     test_obj_read();
     test_obj_bad();
