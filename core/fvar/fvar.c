@@ -103,7 +103,8 @@ static uint32_t corner_dart(const st_map *m, uint32_t start, uint32_t w)
 
 int st_fvar_init(st_hier *h, const st_mesh *mesh, int interp, st_error *err)
 {
-    if (!mesh->face_uv) return ST_OK;
+    /* Doo-Sabin's dual encoding has no corner darts to carry them. */
+    if (!mesh->face_uv || h->map.face_embedded) return ST_OK;
     st_map *m = &h->map;
     st_fvar *f = calloc(1, sizeof *f);
     uint32_t *vdart = malloc((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vdart);
@@ -144,16 +145,18 @@ int st_fvar_init(st_hier *h, const st_mesh *mesh, int interp, st_error *err)
 
 enum rules { RULES_CATMARK, RULES_LOOP, RULES_LINEAR };
 
+/* The children are written straight into level L's arrays (no scratch per
+ * dart): the vertex child of coarse corner d at d itself, the edge child of
+ * d's edge on d's side at φ1(d) and at the last corner of the child face of
+ * the next coarse corner, the face child at φ1²(d) of each child quad. */
 typedef struct work {
     st_hier *h;
     st_map *m;
-    unsigned l;
+    unsigned l, L;
     int interp, rules;
     const double *uv;            /* level l, per dart */
     const uint32_t *val;
-    double *vv, *ev, *evin, *fc; /* per dart: vertex child, edge child (own edge, previous edge), face child */
-    uint32_t *elab, *elabin;     /* per dart: value label of the edge child (own, previous edge) */
-    uint8_t *seen;               /* per dart / per vertex scratch */
+    st_fvar_level *out;          /* level L */
     uint32_t *c, *rot;           /* one vertex's corners in β1 order, and scratch */
     uint32_t cap_c, cap_rot;
 } work;
@@ -165,6 +168,18 @@ static void put2(double *a, uint32_t d, double u, double v)
 }
 
 static const double *at2(const double *a, uint32_t d) { return a + 2 * (size_t)d; }
+
+static void put_child(const work *w, uint32_t x, const double p[2], uint32_t label)
+{
+    put2(w->out->uv, x, p[0], p[1]);
+    w->out->val[x] = label;
+}
+
+/* The face child of the coarse face of d (Catmull-Clark, quad children). */
+static const double *face_child(const work *w, uint32_t d)
+{
+    return at2(w->out->uv, st_phi1(w->m, st_phi1(w->m, d, w->L), w->L));
+}
 
 static int linear_boundaries(int interp) { return interp == ST_UV_BOUNDARIES || interp == ST_UV_ALL; }
 
@@ -184,14 +199,17 @@ static int discontinuous(const work *w, uint32_t d)
     return w->val[d] != w->val[st_phi1(w->m, t, w->l)] || w->val[st_phi1(w->m, d, w->l)] != w->val[t];
 }
 
+/* Centroids of the coarse faces split into quads. */
 static void face_children(work *w)
 {
     st_map *m = w->m;
     unsigned l = w->l;
+    int fbit = st_marker_reserve(m);
     st_dart_iter it;
-    memset(w->seen, 0, w->m->darts.end);
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
-        if (st_is_boundary(m, d) || w->seen[d]) continue;
+        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+        st_mark_face(m, fbit, d, l);
+        if (st_face_degree(m, d, w->L) != 4) continue;  /* a triangle split: no face child */
         double s[2] = {0, 0};
         unsigned n = 0;
         uint32_t x = d;
@@ -201,46 +219,45 @@ static void face_children(work *w)
             n++;
             x = st_phi1(m, x, l);
         } while (x != d);
+        double c[2] = { s[0] / n, s[1] / n };
         do {
-            w->seen[x] = 1;
-            put2(w->fc, x, s[0] / n, s[1] / n);
+            put_child(w, st_phi1(m, st_phi1(m, x, w->L), w->L), c, 0);
             x = st_phi1(m, x, l);
         } while (x != d);
     }
+    st_marker_release(m, fbit, l);
 }
 
 /* The child of the edge of d on d's side (OpenSubdiv's edge masks). */
 static void edge_child(work *w, uint32_t d)
 {
     st_map *m = w->m;
-    unsigned l = w->l;
+    unsigned l = w->l, L = w->L;
     uint32_t t = st_beta0(m, d, l), n = st_phi1(m, d, l);
     const double *a = at2(w->uv, d), *b = at2(w->uv, n);
-    double mid[2] = { (a[0] + b[0]) / 2, (a[1] + b[1]) / 2 };
+    double mid[2] = { (a[0] + b[0]) / 2, (a[1] + b[1]) / 2 }, p[2];
     int hole = st_is_boundary(m, t);
     int disc = !hole && discontinuous(w, d);
-    w->elab[d] = disc ? d : (hole || d < t ? d : t);
-    w->elabin[n] = w->elab[d];
+    uint32_t label = disc ? d : (hole || d < t ? d : t);
     float s = hole ? SHARP_INF : st_hier_edge_sharpness(w->h, d, l);
     if (w->rules == RULES_LINEAR || w->interp == ST_UV_ALL || hole || disc || s >= 1.0f) {
-        put2(w->ev, d, mid[0], mid[1]);
-        put2(w->evin, n, mid[0], mid[1]);
-        return;
-    }
-    double sm[2];
-    if (w->rules == RULES_CATMARK) {
-        const double *f0 = at2(w->fc, d), *f1 = at2(w->fc, t);
-        for (int k = 0; k < 2; k++) sm[k] = (a[k] + b[k] + f0[k] + f1[k]) / 4;
+        p[0] = mid[0];
+        p[1] = mid[1];
     } else {
-        const double *o0 = at2(w->uv, st_phi1(m, n, l)), *o1 = at2(w->uv, st_phi1(m, st_phi1(m, t, l), l));
-        for (int k = 0; k < 2; k++) sm[k] = 0.375 * (a[k] + b[k]) + 0.125 * (o0[k] + o1[k]);
+        if (w->rules == RULES_CATMARK) {
+            const double *f0 = face_child(w, d), *f1 = face_child(w, t);
+            for (int k = 0; k < 2; k++) p[k] = (a[k] + b[k] + f0[k] + f1[k]) / 4;
+        } else {
+            const double *o0 = at2(w->uv, st_phi1(m, n, l)), *o1 = at2(w->uv, st_phi1(m, st_phi1(m, t, l), l));
+            for (int k = 0; k < 2; k++) p[k] = 0.375 * (a[k] + b[k]) + 0.125 * (o0[k] + o1[k]);
+        }
+        /* A semi-sharp edge below 1 blends the crease and smooth masks by
+         * its sharpness (Sdc::Scheme::ComputeEdgeVertexMask). */
+        double wc = s > 0 ? s : 0;
+        for (int k = 0; k < 2; k++) p[k] = wc * mid[k] + (1 - wc) * p[k];
     }
-    /* A semi-sharp edge below 1 blends the crease and smooth masks by its
-     * sharpness (Sdc::Scheme::ComputeEdgeVertexMask). */
-    double wc = s > 0 ? s : 0;
-    for (int k = 0; k < 2; k++) sm[k] = wc * mid[k] + (1 - wc) * sm[k];
-    put2(w->ev, d, sm[0], sm[1]);
-    put2(w->evin, n, sm[0], sm[1]);
+    put_child(w, st_phi1(m, d, L), p, label);
+    put_child(w, st_phi_1(m, n, L), p, label);
 }
 
 /* ---- vertex children --------------------------------------------------------- */
@@ -260,17 +277,21 @@ static uint32_t prev_corner(const work *w, const vert *v, uint32_t j)
     return st_beta0(w->m, p, w->l);
 }
 
+/* The vertex child's corners are the coarse corners themselves (old
+ * darts keep their vertex) and keep their labels. */
+static void put_vertex(work *w, uint32_t d, const double p[2])
+{
+    put_child(w, d, p, w->val[d]);
+}
+
 static void set_all(work *w, const vert *v, const double p[2])
 {
-    for (uint32_t j = 0; j < v->n; j++) put2(w->vv, v->c[j], p[0], p[1]);
+    for (uint32_t j = 0; j < v->n; j++) put_vertex(w, v->c[j], p);
 }
 
 static void keep_all(work *w, const vert *v)
 {
-    for (uint32_t j = 0; j < v->n; j++) {
-        const double *a = at2(w->uv, v->c[j]);
-        put2(w->vv, v->c[j], a[0], a[1]);
-    }
+    for (uint32_t j = 0; j < v->n; j++) put_vertex(w, v->c[j], at2(w->uv, v->c[j]));
 }
 
 enum vrule { RULE_SMOOTH, RULE_CREASE, RULE_CORNER };
@@ -298,7 +319,8 @@ static void smooth_mask(const work *w, const vert *v, double out[2])
     const double *p = at2(w->uv, v->c[0]);
     double n = v->n, se[2] = {0, 0}, sf[2] = {0, 0};
     for (uint32_t j = 0; j < v->n; j++) {
-        const double *e = at2(w->uv, st_phi1(w->m, v->c[j], w->l)), *f = at2(w->fc, v->c[j]);
+        const double *e = at2(w->uv, st_phi1(w->m, v->c[j], w->l));
+        const double *f = w->rules == RULES_CATMARK ? face_child(w, v->c[j]) : e;
         for (int k = 0; k < 2; k++) { se[k] += e[k]; sf[k] += f[k]; }
     }
     if (w->rules == RULES_CATMARK) {
@@ -379,7 +401,7 @@ static void crease_value(work *w, const vert *v, const span *s)
     for (int k = 0; k < 2; k++) out[k] = 0.75 * p[k] + 0.125 * (e0[k] + e1[k]);
     uint32_t j = s->first;
     for (;;) {
-        put2(w->vv, v->c[j], out[0], out[1]);
+        put_vertex(w, v->c[j], out);
         if (j == s->last) break;
         j = (j + 1) % v->n;
     }
@@ -443,8 +465,7 @@ static void mismatched_vertex(work *w, const vert *v, uint32_t nvalues, int depe
         if (sp[s].disjoint || (sp[s].size == 1 && fvar_corners_sharp)) {
             for (uint32_t j = 0; j < v->n; j++)
                 if (w->val[v->c[j]] == sp[s].label) {
-                    const double *a = at2(w->uv, v->c[j]);
-                    put2(w->vv, v->c[j], a[0], a[1]);
+                    put_vertex(w, v->c[j], at2(w->uv, v->c[j]));
                 }
         } else {
             crease_value(w, v, &sp[s]);
@@ -538,47 +559,22 @@ static int vertex_children(work *w)
     return rc;
 }
 
-/* ---- level L from the children ------------------------------------------------ */
+/* ---- level L ------------------------------------------------------------------ */
 
-/* The UV and label of fine corner x (level L) from the coarse children;
- * 0, or -1 when x's face has no old dart (the inner triangle). */
-static int fine_corner(const work *w, uint32_t x, unsigned L, st_fvar_level *out)
+/* The inner triangle of a triangle split has no old dart: each corner is
+ * the midpoint that the corner triangle across its edge has at φ1(β0(x)),
+ * inside the same coarse face. */
+static void inner_triangles(work *w)
 {
     const st_map *m = w->m;
-    unsigned deg = 0, j = 0;
-    uint32_t y = x, old = ST_NIL;
-    do {
-        if (old == ST_NIL && m->darts.ins[y] < L) { old = y; j = deg; }
-        deg++;
-        y = st_phi1(m, y, L);
-    } while (y != x && deg < 64);
-    if (old == ST_NIL) return -1;
-    unsigned k = (deg - j) % deg;  /* x = φ1^k(old) */
-    const double *p;
-    uint32_t lab;
-    if (k == 0) { p = at2(w->vv, old); lab = w->val[old]; }
-    else if (k == 1) { p = at2(w->ev, old); lab = w->elab[old]; }
-    else if (k == deg - 1) { p = at2(w->evin, old); lab = w->elabin[old]; }
-    else { p = at2(w->fc, old); lab = 0; }
-    put2(out->uv, x, p[0], p[1]);
-    out->val[x] = lab;
-    return 0;
-}
-
-static void fine_level(const work *w, unsigned L, st_fvar_level *out)
-{
-    const st_map *m = w->m;
+    unsigned L = w->L;
     st_dart_iter it;
     for (uint32_t x = st_dart_first(m, L, &it); x != ST_NIL; x = st_dart_next(m, L, &it)) {
-        if (st_is_boundary(m, x)) continue;
-        if (fine_corner(w, x, L, out) == 0) continue;
-        /* Inner triangle: the corner triangle across x's edge has the same
-         * vertex (a midpoint) at φ1(β0(x)), inside the same coarse face. */
+        if (st_is_boundary(m, x) || m->darts.ins[x] < L) continue;
+        uint32_t a = st_phi1(m, x, L), b = st_phi1(m, a, L);
+        if (st_phi1(m, b, L) != x || m->darts.ins[a] < L || m->darts.ins[b] < L) continue;
         uint32_t y = st_phi1(m, st_beta0(m, x, L), L);
-        if (fine_corner(w, y, L, out) == 0) {
-            put2(out->uv, x, out->uv[2 * (size_t)y], out->uv[2 * (size_t)y + 1]);
-            out->val[x] = out->val[y];
-        }
+        put_child(w, x, at2(w->out->uv, y), w->out->val[y]);
     }
 }
 
@@ -593,46 +589,36 @@ static int rules_of(const st_hier *h)
     }
 }
 
+int st_fvar_continues(const st_hier *h)
+{
+    return h->fvar && h->fvar->levels == h->map.top + 1 && rules_of(h) >= 0 && !h->map.face_embedded;
+}
+
 int st_fvar_refine(st_hier *h, st_error *err)
 {
     st_fvar *f = h->fvar;
     unsigned L = h->map.top;
-    if (!f || L == 0 || f->levels != L || rules_of(h) < 0 || h->map.face_embedded) return ST_OK;
+    if (L == 0 || !f || f->levels != L || rules_of(h) < 0 || h->map.face_embedded) return ST_OK;
     st_map *m = &h->map;
-    work w = { .h = h, .m = m, .l = L - 1, .interp = f->interp, .rules = rules_of(h) };
+    if (level_alloc(&f->lv[L], m->darts.end))
+        return st_fail(err, ST_ERR_MEMORY, "out of memory subdividing texture coordinates to level %u", L);
+    work w = { .h = h, .m = m, .l = L - 1, .L = L, .interp = f->interp, .rules = rules_of(h) };
     w.uv = f->lv[L - 1].uv;
     w.val = f->lv[L - 1].val;
-    size_t n = (size_t)m->darts.end + 1;
-    w.vv = malloc(2 * n * sizeof *w.vv);
-    w.ev = malloc(2 * n * sizeof *w.ev);
-    w.evin = malloc(2 * n * sizeof *w.evin);
-    w.fc = malloc(2 * n * sizeof *w.fc);
-    w.elab = malloc(n * sizeof *w.elab);
-    w.elabin = malloc(n * sizeof *w.elabin);
-    w.seen = malloc(n);
-    int rc = (!w.vv || !w.ev || !w.evin || !w.fc || !w.elab || !w.elabin || !w.seen) ? -1 : 0;
-    if (!rc) {
-        face_children(&w);
-        st_dart_iter it;
-        for (uint32_t d = st_dart_first(m, L - 1, &it); d != ST_NIL; d = st_dart_next(m, L - 1, &it))
-            if (!st_is_boundary(m, d)) edge_child(&w, d);
-        rc = vertex_children(&w);
-    }
-    if (!rc) rc = level_alloc(&f->lv[L], m->darts.end);
-    if (!rc) {
-        fine_level(&w, L, &f->lv[L]);
-        f->levels = L + 1;
-    }
-    free(w.vv);
-    free(w.ev);
-    free(w.evin);
-    free(w.fc);
-    free(w.elab);
-    free(w.elabin);
-    free(w.seen);
+    w.out = &f->lv[L];
+    face_children(&w);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, L - 1, &it); d != ST_NIL; d = st_dart_next(m, L - 1, &it))
+        if (!st_is_boundary(m, d)) edge_child(&w, d);
+    int rc = vertex_children(&w);
+    if (!rc) inner_triangles(&w);
     free(w.c);
     free(w.rot);
-    if (rc) return st_fail(err, ST_ERR_MEMORY, "out of memory subdividing texture coordinates to level %u", L);
+    if (rc) {
+        level_free(&f->lv[L]);
+        return st_fail(err, ST_ERR_MEMORY, "out of memory subdividing texture coordinates to level %u", L);
+    }
+    f->levels = L + 1;
     return ST_OK;
 }
 

@@ -36,6 +36,10 @@ void st_fvar_free(struct st_hier *h);
 /* After level L = top was added by the scheme's refine(): its UVs from
  * level L-1 (primal quadrisection schemes; others leave level L without). */
 int st_fvar_refine(struct st_hier *h, st_error *err);
+/* Whether the next level will get UVs (the estimate of its memory counts
+ * ST_FVAR_BYTES_PER_DART per dart of that level then). */
+int st_fvar_continues(const struct st_hier *h);
+#define ST_FVAR_BYTES_PER_DART 20.0
 /* Level bookkeeping mirroring st_hier_remove_top / st_hier_remove_bottom. */
 void st_fvar_remove_top(struct st_hier *h);
 void st_fvar_remove_bottom(struct st_hier *h);
