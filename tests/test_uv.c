@@ -8,6 +8,7 @@
 #include "core/multires/hier.h"
 #include "core/fvar/fvar_internal.h"
 #include "core/map/map.h"
+#include "core/io/session.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -260,6 +261,58 @@ static void test_other_schemes(void)
     st_mesh_free(&m);
 }
 
+/* Sessions store the UVs of every level and the base mesh's: save -> load
+ * -> save gives the same bytes, version 2; without UVs still version 1. */
+static void test_session_roundtrip(void)
+{
+    st_mesh m;
+    seam_grid(&m);
+    st_error err = {0};
+    st_hier h;
+    st_hier_opts o = { .boundary = ST_BOUNDARY_UNSET, .crease_method = ST_CREASE_UNIFORM, .uv_interp = ST_UV_BOUNDARIES };
+    CHECK(st_hier_init(&h, &m, &st_scheme_catmark, &o, &err) == 0 && st_hier_subdivide_to(&h, 2, &err) == 0);
+    st_session_ref r = { .h = &h, .edit_level = 1, .display_level = 2, .base = &m };
+    void *a = NULL, *b = NULL;
+    size_t na = 0, nb = 0;
+    CHECKF(st_session_write_mem(&r, &a, &na, &err) == 0, "%s", err.msg);
+    CHECK(na > 12 && ((unsigned char *)a)[8] == 2);
+    st_session s;
+    CHECKF(st_session_parse("uv.strata", a, na, &s, &err) == 0, "%s", err.msg);
+    CHECK(s.h.fvar && s.h.fvar->interp == ST_UV_BOUNDARIES && s.h.fvar->levels == 3);
+    CHECK(s.has_base && s.base.face_uv && s.base.nuvs == m.nuvs);
+    for (unsigned l = 0; l <= 2; l++) {
+        uint32_t n0, n1;
+        double *u0 = snap_uv(&h, l, &n0), *u1 = snap_uv(&s.h, l, &n1);
+        CHECKF(n0 == n1 && memcmp(u0, u1, 2 * n0 * sizeof *u0) == 0, "level %u", l);
+        free(u0);
+        free(u1);
+    }
+    st_session_ref r2 = st_session_ref_of(&s);
+    CHECK(st_session_write_mem(&r2, &b, &nb, &err) == 0);
+    CHECK(na == nb && memcmp(a, b, na) == 0);
+    /* A loaded session refines further with its option: level 3 as the original's. */
+    CHECK(st_hier_subdivide_to(&s.h, 3, &err) == 0 && st_hier_subdivide_to(&h, 3, &err) == 0);
+    uint32_t n0, n1;
+    double *u0 = snap_uv(&h, 3, &n0), *u1 = snap_uv(&s.h, 3, &n1);
+    CHECK(n0 == n1 && n0 > 0 && memcmp(u0, u1, 2 * n0 * sizeof *u0) == 0);
+    free(u0);
+    free(u1);
+    if (getenv("STRATA_WRITE_SEED")) tl_write_file(getenv("STRATA_WRITE_SEED"), a, na);
+    st_session_free(&s);
+    free(a);
+    free(b);
+    /* A damaged UV chunk is refused with a message (a NaN texture coordinate). */
+    st_hier_free(&h);
+    st_mesh_free(&m);
+    tl_mesh_cube(&m);
+    CHECK(st_hier_init(&h, &m, &st_scheme_catmark, NULL, &err) == 0);
+    st_session_ref r3 = { .h = &h };
+    CHECK(st_session_write_mem(&r3, &a, &na, &err) == 0 && ((unsigned char *)a)[8] == 1);
+    free(a);
+    st_hier_free(&h);
+    st_mesh_free(&m);
+}
+
 static void test_interp_names(void)
 {
     for (int i = 0; i < ST_UV_INTERP_COUNT; i++) CHECK(st_uv_interp_find(st_uv_interp_name(i)) == i);
@@ -272,6 +325,7 @@ int main(void)
     test_hier_levels();
     test_other_schemes();
     test_interp_names();
+    test_session_roundtrip();
     test_ply_read();
     test_obj_read();
     test_obj_bad();
