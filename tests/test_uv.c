@@ -320,8 +320,30 @@ static void test_interp_names(void)
     CHECK(st_uv_interp_find("bogus") == -1);
 }
 
+/* PLY keeps one UV per vertex: written with vertices split along seams. */
+static void test_ply_write_split(void)
+{
+    st_mesh m, b;
+    st_error err = {0};
+    CHECK(parse(seam_obj, &m, &err) == 0);
+    char path[512];
+    snprintf(path, sizeof path, "%s/uv_split.ply", STRATA_TMP);
+    CHECKF(st_mesh_save_ply(path, &m, &err) == 0, "%s", err.msg);
+    st_mesh_init(&b);
+    CHECKF(st_mesh_load(path, &b, &err) == 0, "%s", err.msg);
+    /* 6 vertices, 2 on the seam: 8 PLY vertices, each with its own UV */
+    CHECK(b.nverts == 8 && b.nuvs == 8 && b.face_uv && b.nfaces == 2);
+    for (uint32_t c = 0; b.face_uv && c < 8; c++) {
+        uint32_t t = m.face_uv[c], u = b.face_uv[c];
+        CHECK(b.uv[2 * u] == m.uv[2 * t] && b.uv[2 * u + 1] == m.uv[2 * t + 1]);
+    }
+    st_mesh_free(&b);
+    st_mesh_free(&m);
+}
+
 int main(void)
 {
+    test_ply_write_split();
     test_hier_levels();
     test_other_schemes();
     test_interp_names();

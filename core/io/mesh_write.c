@@ -11,7 +11,10 @@
  * `f a/t/a` corners (the UV indices as the mesh holds them, so seams
  * survive a round trip).  PLY stores double x y z (and nx ny nz), and
  * vertex_indices as a uchar-counted list when every face has at most 255
- * vertices, uint-counted otherwise.  PLY has no standard place for tags;
+ * vertices, uint-counted otherwise.  PLY has one texture coordinate per
+ * vertex (u v): a mesh with UVs is written with its vertices split along
+ * UV seams (one PLY vertex per vertex and UV index; tags then name the
+ * first copy).  PLY has no standard place for tags;
  * they are not written.
  */
 #include "core/io/atomic_file.h"
@@ -141,17 +144,20 @@ static void ply_header(FILE *f, const st_mesh *m, int wide)
     fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment written by Strata\n"
                "element vertex %u\nproperty double x\nproperty double y\nproperty double z\n", m->nverts);
     if (m->normals) fprintf(f, "property double nx\nproperty double ny\nproperty double nz\n");
+    if (m->uv && m->nuvs == m->nverts && !m->face_uv) fprintf(f, "property double u\nproperty double v\n");
     fprintf(f, "element face %u\nproperty list %s uint vertex_indices\nend_header\n",
             m->nfaces, wide ? "uint" : "uchar");
 }
 
 static void ply_vertices(FILE *f, const st_mesh *m)
 {
-    unsigned char b[48];
+    unsigned char b[64];
+    int uv = m->uv && m->nuvs == m->nverts && !m->face_uv;
     for (uint32_t v = 0; v < m->nverts; v++) {
         size_t n = 0;
         for (int k = 0; k < 3; k++, n += 8) put_f64(b + n, m->pos[3 * (size_t)v + (size_t)k]);
         for (int k = 0; m->normals && k < 3; k++, n += 8) put_f64(b + n, m->normals[3 * (size_t)v + (size_t)k]);
+        for (int k = 0; uv && k < 2; k++, n += 8) put_f64(b + n, m->uv[2 * (size_t)v + (size_t)k]);
         fwrite(b, 1, n, f);
     }
 }
@@ -174,9 +180,63 @@ static void ply_faces(FILE *f, const st_mesh *m, int wide)
     }
 }
 
+/* The mesh with one vertex per (vertex, UV index) pair: corners sorted by
+ * pair, a new vertex per distinct pair.  Positions and normals are copied;
+ * uv becomes per vertex (face_uv = face_idx). */
+typedef struct uv_pair { uint32_t v, t, c; } uv_pair;
+
+static int cmp_pair(const void *a, const void *b)
+{
+    const uv_pair *x = a, *y = b;
+    if (x->v != y->v) return x->v < y->v ? -1 : 1;
+    if (x->t != y->t) return x->t < y->t ? -1 : 1;
+    return (x->c > y->c) - (x->c < y->c);
+}
+
+static int split_uv_seams(const st_mesh *m, st_mesh *e)
+{
+    uint32_t nc = m->face_off[m->nfaces];
+    uv_pair *p = malloc(((size_t)nc + 1) * sizeof *p);
+    st_mesh_init(e);
+    e->face_off = malloc(((size_t)m->nfaces + 1) * sizeof *e->face_off);
+    e->face_idx = malloc(((size_t)nc + 1) * sizeof *e->face_idx);
+    e->pos = malloc(3 * ((size_t)nc + 1) * sizeof *e->pos);
+    e->uv = malloc(2 * ((size_t)nc + 1) * sizeof *e->uv);
+    if (m->normals) e->normals = malloc(3 * ((size_t)nc + 1) * sizeof *e->normals);
+    if (!p || !e->face_off || !e->face_idx || !e->pos || !e->uv || (m->normals && !e->normals)) {
+        free(p);
+        st_mesh_free(e);
+        return -1;
+    }
+    memcpy(e->face_off, m->face_off, ((size_t)m->nfaces + 1) * sizeof *e->face_off);
+    e->nfaces = m->nfaces;
+    for (uint32_t c = 0; c < nc; c++) p[c] = (uv_pair){ m->face_idx[c], m->face_uv[c], c };
+    qsort(p, nc, sizeof *p, cmp_pair);
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < nc; i++) {
+        if (i == 0 || p[i].v != p[i - 1].v || p[i].t != p[i - 1].t) {
+            memcpy(e->pos + 3 * (size_t)n, m->pos + 3 * (size_t)p[i].v, 3 * sizeof *e->pos);
+            if (m->normals) memcpy(e->normals + 3 * (size_t)n, m->normals + 3 * (size_t)p[i].v, 3 * sizeof *e->normals);
+            memcpy(e->uv + 2 * (size_t)n, m->uv + 2 * (size_t)p[i].t, 2 * sizeof *e->uv);
+            n++;
+        }
+        e->face_idx[p[i].c] = n - 1;
+    }
+    e->nverts = e->nuvs = n;
+    free(p);
+    return 0;
+}
+
 int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err)
 {
     int rc = check_writable(path, m, err);
+    st_mesh split;
+    if (!rc && m->face_uv) {
+        if (split_uv_seams(m, &split)) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory splitting UV seams", path);
+        rc = st_mesh_save_ply(path, &split, err);  /* split.face_uv is NULL: written with per-vertex u v */
+        st_mesh_free(&split);
+        return rc;
+    }
     out_file o;
     if (!rc) rc = out_open(&o, path, err);
     if (rc) return rc;
