@@ -662,6 +662,18 @@ int st_fvar_copy(st_hier *dst, const st_hier *src)
     return 0;
 }
 
+int st_hier_uv_copy(st_hier *dst, const st_hier *src, size_t *bytes)
+{
+    if (st_fvar_copy(dst, src)) return -1;
+    for (unsigned l = 0; bytes && dst->fvar && l < dst->fvar->levels; l++) *bytes += 20 * (size_t)dst->fvar->lv[l].cap;
+    return 0;
+}
+
+void st_hier_uv_free(st_hier *h)
+{
+    st_fvar_free(h);
+}
+
 typedef struct uv_key { uint32_t vert, label, corner; } uv_key;
 
 static int cmp_key(const void *pa, const void *pb)

@@ -13,6 +13,7 @@
 #ifndef ST_FVAR_H
 #define ST_FVAR_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 /* OpenSubdiv's Sdc::Options::FVarLinearInterpolation, in Strata's order:
@@ -42,5 +43,12 @@ struct st_hier;
  * gives the corners in the order of that mesh's face_idx.  NULL when the
  * hierarchy has no UVs at level l. */
 const double *st_hier_uv(const struct st_hier *h, unsigned l);
+
+/* For code that copies an st_hier field by field (the editor's undo
+ * snapshots): dst->fvar becomes a deep copy of src's UVs (NULL when none),
+ * *bytes (may be NULL) grows by what it allocated; -1 when out of memory
+ * (dst->fvar NULL then).  st_hier_uv_free releases dst's. */
+int st_hier_uv_copy(struct st_hier *dst, const struct st_hier *src, size_t *bytes);
+void st_hier_uv_free(struct st_hier *h);
 
 #endif
