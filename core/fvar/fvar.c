@@ -9,9 +9,9 @@
  * the child of the coarse vertex, 1 the child of d's edge, 2 in a quad the
  * child of f, last the child of the previous edge of f; the inner triangle
  * of a triangle split has no old dart and takes its corners from the corner
- * triangles across its edges.  The coarse level is first reduced to three
- * values per coarse corner: the vertex child, the edge child on the
- * corner's side, and the face child.
+ * triangles across its edges.  Each child value is written straight to the
+ * fine corners that hold it (face children first: the edge and vertex
+ * rules of Catmull-Clark read them back from there).
  *
  * The rules are OpenSubdiv's (Far::PrimvarRefiner::InterpolateFaceVarying,
  * the tags of Vtr::FVarLevel), evaluated on each level afresh rather than
@@ -25,7 +25,7 @@
  *     corner, semi-sharp blends) applied to the face-varying values;
  *   - otherwise each value is a corner (kept) or a crease (3/4 v + 1/8 of the
  *     two ends of its boundary edges) as FVarLinearInterpolation decides:
- *     see docs/SUBDIVISION-RULES.md.
+ *     see docs/SUBDIVISION-RULES.md §7b.
  * Semi-sharp creases inside a face-varying boundary take the plain crease
  * rule (OpenSubdiv blends toward a corner there).
  */
@@ -141,7 +141,7 @@ int st_fvar_init(st_hier *h, const st_mesh *mesh, int interp, st_error *err)
     return rc;
 }
 
-/* ---- the coarse level reduced to vertex, edge and face children ------------ */
+/* ---- the children of level l, written into level L ----------------------- */
 
 enum rules { RULES_CATMARK, RULES_LOOP, RULES_LINEAR };
 
