@@ -17,6 +17,18 @@ static int parse_uint(const char *s, unsigned max, unsigned *out)
     return 0;
 }
 
+int st_cli_parse_uv_interp(const char *v, int *out, const char *cmd)
+{
+    int i = st_uv_interp_find(v);
+    if (i < 0) {
+        fprintf(stderr, "strata %s: --uv-interp wants none, corners-only, corners-plus1, corners-plus2, "
+                "boundaries or all, got '%s'\n", cmd, v);
+        return -1;
+    }
+    *out = i;
+    return 0;
+}
+
 int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd)
 {
     memset(o, 0, sizeof *o);
@@ -38,6 +50,9 @@ int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd)
             if (!strcmp(v, "edge-only")) o->boundary = ST_BOUNDARY_EDGE_ONLY;
             else if (!strcmp(v, "edge-and-corner")) o->boundary = ST_BOUNDARY_EDGE_AND_CORNER;
             else { fprintf(stderr, "strata %s: --boundary wants edge-only or edge-and-corner, got '%s'\n", cmd, v); return -1; }
+            i++;
+        } else if (!strcmp(a, "--uv-interp") && v) {
+            if (st_cli_parse_uv_interp(v, &o->uv_interp, cmd)) return -1;
             i++;
         } else if (!strcmp(a, "-o") && v) { o->out = v; i++; }
         else if (a[0] == '-' && a[1]) { fprintf(stderr, "strata %s: unknown or incomplete option '%s'\n", cmd, a); return -1; }
@@ -90,7 +105,7 @@ int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
     /* Repairs are made, and said. */
     for (uint32_t i = 0; i < notes.count; i++) fprintf(stderr, "strata: %s\n", notes.lines[i]);
     st_notes_free(&notes);
-    st_hier_opts ho = { .boundary = o->boundary, .crease_method = ST_CREASE_UNIFORM };
+    st_hier_opts ho = { .boundary = o->boundary, .crease_method = ST_CREASE_UNIFORM, .uv_interp = o->uv_interp };
     int rc = st_hier_init(h, &mesh, sc, &ho, &err);
     st_mesh_free(&mesh);
     if (rc) { fprintf(stderr, "strata: %s: %s\n", o->in, err.msg); return 1; }

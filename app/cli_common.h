@@ -8,12 +8,16 @@ typedef struct st_cli_opts {
     unsigned levels;
     int level;          /* -1: not given */
     int boundary;       /* ST_BOUNDARY_UNSET unless --boundary */
+    int uv_interp;      /* enum st_uv_interp: --uv-interp, else OpenSubdiv's default (corners-plus1) */
 } st_cli_opts;
 
 /* Parses the common options; prints a message and returns -1 on error. */
 int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd);
 /* Loads o->in and builds the hierarchy to o->levels; prints errors. */
 int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd);
+/* --uv-interp NAME into *out (enum st_uv_interp); -1 with a message. */
+int st_cli_parse_uv_interp(const char *v, int *out, const char *cmd);
+
 /* The level a command shows or writes once h is loaded: --level, else
  * --levels, else (a session file given without either) its top level.
  * Prints a message and returns -1 when the level does not exist. */

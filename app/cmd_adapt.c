@@ -134,6 +134,9 @@ int st_cmd_adapt(int argc, char **argv)
         if (!rc && sm != &h.map) rc = st_map_validate((st_map *)sm, &err);
         if (!rc) rc = tri ? triangulated(sm, shown, &out, &err) : st_adapt_mesh(&a, &out, &err);
     }
+    if (!rc && st_hier_uv(&h, 0))
+        fprintf(stderr, "strata adapt: note: %s has UVs; adaptive meshes do not carry them yet, %s is written without\n",
+                o.in, o.out);
     if (!rc) rc = st_any_mesh_save(o.out, &out, &err);
     if (rc) fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
     else printf("%s: %u %s, %u vertices, levels 0..%u\n", o.out, out.nfaces - st_mesh_hole_faces(&out),

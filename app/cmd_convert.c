@@ -35,6 +35,7 @@ typedef struct conv_opts {
     int levels;                /* -1: not given */
     int level;                 /* -1: not given */
     int boundary;
+    int uv_interp;     /* enum st_uv_interp (--uv-interp) */
     int normals;
     st_adapt_params box;
     int has_box, has_adapt_opt;
@@ -59,6 +60,7 @@ static int parse_double(const char *s, double *out)
 static int usage(void)
 {
     fprintf(stderr, "usage: strata convert IN OUT [--scheme S] [--levels N] [--level L] [--boundary edge-only|edge-and-corner]\n"
+                    "                      [--uv-interp none|corners-only|corners-plus1|corners-plus2|boundaries|all]\n"
                     "                      [--box x0,y0,z0,x1,y1,z1 [--base-level B] [--max-level M] [--falloff W] [--no-restriction]]\n"
                     "                      [--normals | --no-normals]\n"
                     "  IN: .obj .off .ply .gltf .glb or .strata; OUT: .obj .ply .gltf .glb or .strata\n");
@@ -87,6 +89,9 @@ static int parse(int argc, char **argv, conv_opts *o)
             if (!strcmp(v, "edge-only")) o->boundary = ST_BOUNDARY_EDGE_ONLY;
             else if (!strcmp(v, "edge-and-corner")) o->boundary = ST_BOUNDARY_EDGE_AND_CORNER;
             else { fprintf(stderr, "strata convert: --boundary wants edge-only or edge-and-corner, got '%s'\n", v); return -1; }
+            i++;
+        } else if (!strcmp(a, "--uv-interp") && v) {
+            if (st_cli_parse_uv_interp(v, &o->uv_interp, "convert")) return -1;
             i++;
         } else if (!strcmp(a, "--box") && v) {
             if (st_cli_parse_box(v, o->box.box_lo, o->box.box_hi)) { fprintf(stderr, "strata convert: --box wants x0,y0,z0,x1,y1,z1, got '%s'\n", v); return -1; }
@@ -147,7 +152,7 @@ static int load_mesh(const conv_opts *o, st_session *s)
     }
     for (uint32_t i = 0; i < notes.count; i++) fprintf(stderr, "strata: %s\n", notes.lines[i]);
     st_notes_free(&notes);
-    st_hier_opts ho = { .boundary = o->boundary, .crease_method = ST_CREASE_UNIFORM };
+    st_hier_opts ho = { .boundary = o->boundary, .crease_method = ST_CREASE_UNIFORM, .uv_interp = o->uv_interp };
     st_session_init(s);
     if (st_hier_init(&s->h, &mesh, sc, &ho, &err)) {
         fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);

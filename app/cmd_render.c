@@ -172,7 +172,7 @@ static const struct {
  * that their values are never read as render options. */
 static int common_takes_value(const char *a)
 {
-    static const char *const names[] = { "--scheme", "--levels", "--level", "--boundary", "-o" };
+    static const char *const names[] = { "--scheme", "--levels", "--level", "--boundary", "--uv-interp", "-o" };
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (!strcmp(a, names[i])) return 1;
     return 0;

@@ -22,6 +22,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
+#include <tuple>
 #include <sstream>
 #include <string>
 #include <unordered_map>
@@ -302,6 +304,11 @@ struct KeyHash {
 struct Soup {
     std::vector<double> pos;
     std::vector<uint32_t> tri;
+    // TEXCOORD_0 (OBJ convention, v up) per source vertex, and per corner
+    // of tri the index into it; dropped when some primitive has none.
+    std::vector<double> uv;
+    std::vector<uint32_t> tri_uv;
+    bool no_uv = false;
     std::unordered_map<Key, uint32_t, KeyHash> weld;
     size_t dropped = 0;  // triangles that became degenerate
 };
@@ -323,6 +330,30 @@ void add_primitive(const tinygltf::Model &model, int mesh_i, int prim_i, const M
     const tinygltf::Accessor &pacc = model.accessors[(size_t)pa];
     if (pacc.type != TINYGLTF_TYPE_VEC3 || pacc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
         fail(ST_ERR_PARSE, what + ": POSITION accessor " + std::to_string(pa) + " is not VEC3 of FLOAT");
+
+    // TEXCOORD_0 as float VEC2 (other encodings, or none: no UVs at all).
+    uint32_t uv_base = (uint32_t)(soup->uv.size() / 2);
+    auto ti = p.attributes.find("TEXCOORD_0");
+    bool has_uv = false;
+    if (ti != p.attributes.end() && ti->second >= 0 && (size_t)ti->second < model.accessors.size()) {
+        const tinygltf::Accessor &ta = model.accessors[(size_t)ti->second];
+        if (ta.type == TINYGLTF_TYPE_VEC2 && ta.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+            View tv = accessor_view(model, ti->second, 8);
+            if (tv.count != pv.count)
+                fail(ST_ERR_PARSE, what + ": TEXCOORD_0 has " + std::to_string(tv.count) + " entries for " +
+                                       std::to_string(pv.count) + " vertices");
+            for (size_t i = 0; i < tv.count && !soup->no_uv; i++) {
+                float f[2];
+                memcpy(f, tv.base + i * tv.stride, sizeof f);
+                if (!std::isfinite(f[0]) || !std::isfinite(f[1]))
+                    fail(ST_ERR_GEOMETRY, what + ": TEXCOORD_0 entry " + std::to_string(i) + " is not finite");
+                // glTF's v runs down the image, OBJ's (and Strata's) up.
+                soup->uv.insert(soup->uv.end(), {(double)f[0], 1.0 - (double)f[1]});
+            }
+            has_uv = true;
+        }
+    }
+    if (!has_uv) soup->no_uv = true;
 
     // Corner list: the indices, or 0..count-1.
     std::vector<uint32_t> idx;
@@ -410,8 +441,10 @@ void add_primitive(const tinygltf::Model &model, int mesh_i, int prim_i, const M
             soup->dropped++;
             continue;
         }
-        if (flip) std::swap(v[1], v[2]);
+        uint32_t u[3] = {uv_base + tris[t], uv_base + tris[t + 1], uv_base + tris[t + 2]};
+        if (flip) std::swap(v[1], v[2]), std::swap(u[1], u[2]);
         soup->tri.insert(soup->tri.end(), {v[0], v[1], v[2]});
+        if (has_uv) soup->tri_uv.insert(soup->tri_uv.end(), {u[0], u[1], u[2]});
     }
 }
 
@@ -540,6 +573,33 @@ int soup_to_mesh(const Soup &soup, st_mesh *m)
     for (size_t f = 0; f <= nt; f++) m->face_off[f] = (uint32_t)(3 * f);
     m->nverts = (uint32_t)nv;
     m->nfaces = (uint32_t)nt;
+    if (soup.no_uv || soup.tri_uv.size() != soup.tri.size()) return 0;
+    // One texture coordinate per welded vertex and UV value: glTF splits
+    // vertices for normals too, and a split with equal UVs is no UV seam.
+    std::map<std::tuple<uint32_t, double, double>, uint32_t> id;
+    std::vector<double> uv;
+    m->face_uv = (uint32_t *)malloc((soup.tri.size() + 1) * sizeof(uint32_t));
+    if (!m->face_uv) {
+        st_mesh_free(m);
+        return ST_ERR_MEMORY;
+    }
+    for (size_t c = 0; c < soup.tri.size(); c++) {
+        const double *p = &soup.uv[2 * (size_t)soup.tri_uv[c]];
+        auto key = std::make_tuple(soup.tri[c], p[0], p[1]);
+        auto it = id.find(key);
+        if (it == id.end()) {
+            it = id.emplace(key, (uint32_t)(uv.size() / 2)).first;
+            uv.insert(uv.end(), {p[0], p[1]});
+        }
+        m->face_uv[c] = it->second;
+    }
+    m->uv = (double *)malloc((uv.size() + 2) * sizeof(double));
+    if (!m->uv) {
+        st_mesh_free(m);
+        return ST_ERR_MEMORY;
+    }
+    memcpy(m->uv, uv.data(), uv.size() * sizeof(double));
+    m->nuvs = (uint32_t)(uv.size() / 2);
     return 0;
 }
 
@@ -589,9 +649,73 @@ template <class T> void put(std::vector<unsigned char> *buf, const T &v)
     buf->insert(buf->end(), b, b + sizeof v);
 }
 
+// A mesh with UVs as glTF wants it: one vertex per (vertex, UV index) pair,
+// so vertices are split along UV seams; normals are those of the unsplit
+// mesh (smooth across seams).  texcoord gets TEXCOORD_0 per new vertex.
+struct Split {
+    st_mesh m;
+    std::vector<float> texcoord;
+    Split() { st_mesh_init(&m); }
+    ~Split() { st_mesh_free(&m); }
+};
+
+void split_seams(const st_mesh *m, Split *out)
+{
+    uint32_t nc = m->face_off[m->nfaces];
+    for (uint32_t c = 0; c < nc; c++)
+        if (m->face_idx[c] >= m->nverts || m->face_uv[c] >= m->nuvs)
+            fail(ST_ERR_RANGE, "face corner " + std::to_string(c) + " is out of range");
+    std::vector<double> nrm(3 * (size_t)m->nverts);
+    if (st_mesh_vertex_normals(m, nrm.data())) fail(ST_ERR_MEMORY, "out of memory for normals");
+    for (size_t v = 0; m->normals && v < m->nverts; v++) {
+        const double *g = m->normals + 3 * v;
+        double len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        if (len > 1e-300 && std::isfinite(len))
+            for (int c = 0; c < 3; c++) nrm[3 * v + (size_t)c] = g[c] / len;
+    }
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> id;
+    std::vector<uint32_t> src;  // per new vertex: (vertex, uv) pair's corner
+    st_mesh *e = &out->m;
+    e->face_idx = (uint32_t *)malloc(((size_t)nc + 1) * sizeof(uint32_t));
+    e->face_off = (uint32_t *)malloc(((size_t)m->nfaces + 1) * sizeof(uint32_t));
+    if (!e->face_idx || !e->face_off) fail(ST_ERR_MEMORY, "out of memory splitting UV seams");
+    memcpy(e->face_off, m->face_off, ((size_t)m->nfaces + 1) * sizeof(uint32_t));
+    e->nfaces = m->nfaces;
+    for (uint32_t c = 0; c < nc; c++) {
+        auto key = std::make_pair(m->face_idx[c], m->face_uv[c]);
+        auto it = id.find(key);
+        if (it == id.end()) {
+            it = id.emplace(key, (uint32_t)src.size()).first;
+            src.push_back(c);
+        }
+        e->face_idx[c] = it->second;
+    }
+    e->nverts = (uint32_t)src.size();
+    e->pos = (double *)malloc(3 * (src.size() + 1) * sizeof(double));
+    e->normals = (double *)malloc(3 * (src.size() + 1) * sizeof(double));
+    if (!e->pos || !e->normals) fail(ST_ERR_MEMORY, "out of memory splitting UV seams");
+    out->texcoord.resize(2 * src.size());
+    for (size_t i = 0; i < src.size(); i++) {
+        uint32_t v = m->face_idx[src[i]], t = m->face_uv[src[i]];
+        memcpy(e->pos + 3 * i, m->pos + 3 * (size_t)v, 3 * sizeof(double));
+        memcpy(e->normals + 3 * i, nrm.data() + 3 * (size_t)v, 3 * sizeof(double));
+        double u = m->uv[2 * (size_t)t], w = m->uv[2 * (size_t)t + 1];
+        if (!std::isfinite(u) || !std::isfinite(w) || std::fabs(u) > FLT_MAX || std::fabs(w) > FLT_MAX)
+            fail(ST_ERR_GEOMETRY, "texture coordinate " + std::to_string(t) + " is not finite or beyond float range");
+        out->texcoord[2 * i] = (float)u;
+        out->texcoord[2 * i + 1] = (float)(1.0 - w);  // glTF's v runs down the image
+    }
+}
+
 // Builds the tinygltf model of m (checked first).
 void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
 {
+    Split split;
+    if (m->face_uv && m->uv && m->nfaces && m->face_off && m->face_idx) {
+        split_seams(m, &split);
+        m = &split.m;
+    }
+    const std::vector<float> &tex = split.texcoord;
     if (!m->nverts || !m->nfaces || !m->pos || !m->face_off || !m->face_idx)
         fail(ST_ERR_INVALID, "the mesh is empty");
     size_t ntri = 0;
@@ -640,12 +764,13 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
     std::vector<float> nrm(acc.size());
     for (size_t i = 0; i < acc.size(); i++) nrm[i] = (float)acc[i];
 
-    // One buffer: positions, normals, indices (each 4-byte aligned).
+    // One buffer: positions, normals, [texcoords,] indices (each 4-byte aligned).
     std::vector<unsigned char> buf;
-    size_t vbytes = pos.size() * sizeof(float);
-    buf.reserve(2 * vbytes + 3 * ntri * (size_t)index_bytes + 4);
+    size_t vbytes = pos.size() * sizeof(float), tbytes = tex.size() * sizeof(float);
+    buf.reserve(2 * vbytes + tbytes + 3 * ntri * (size_t)index_bytes + 4);
     buf.insert(buf.end(), (const unsigned char *)pos.data(), (const unsigned char *)pos.data() + vbytes);
     buf.insert(buf.end(), (const unsigned char *)nrm.data(), (const unsigned char *)nrm.data() + vbytes);
+    if (tbytes) buf.insert(buf.end(), (const unsigned char *)tex.data(), (const unsigned char *)tex.data() + tbytes);
     for (uint32_t f = 0; f < m->nfaces; f++) {
         uint32_t a = m->face_off[f], b = m->face_off[f + 1];
         if (m->face_hole && m->face_hole[f]) continue;
@@ -666,7 +791,8 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
     model->buffers.push_back(b);
     add_view(model, 0, vbytes, TINYGLTF_TARGET_ARRAY_BUFFER);
     add_view(model, vbytes, vbytes, TINYGLTF_TARGET_ARRAY_BUFFER);
-    add_view(model, 2 * vbytes, 3 * ntri * (size_t)index_bytes, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    if (tbytes) add_view(model, 2 * vbytes, tbytes, TINYGLTF_TARGET_ARRAY_BUFFER);
+    add_view(model, 2 * vbytes + tbytes, 3 * ntri * (size_t)index_bytes, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
 
     tinygltf::Accessor ap, an, ai;
     ap.bufferView = 0;
@@ -679,17 +805,26 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
     an.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
     an.type = TINYGLTF_TYPE_VEC3;
     an.count = m->nverts;
-    ai.bufferView = 2;
+    ai.bufferView = tbytes ? 3 : 2;
     ai.componentType = index_bytes == 1   ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE
                        : index_bytes == 2 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
                                           : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
     ai.type = TINYGLTF_TYPE_SCALAR;
     ai.count = 3 * ntri;
     model->accessors = {ap, an, ai};
+    if (tbytes) {
+        tinygltf::Accessor at;
+        at.bufferView = 2;
+        at.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+        at.type = TINYGLTF_TYPE_VEC2;
+        at.count = m->nverts;
+        model->accessors.push_back(at);
+    }
 
     tinygltf::Primitive prim;
     prim.attributes["POSITION"] = 0;
     prim.attributes["NORMAL"] = 1;
+    if (tbytes) prim.attributes["TEXCOORD_0"] = 3;
     prim.indices = 2;
     prim.mode = kModeTriangles;
     tinygltf::Mesh mesh;

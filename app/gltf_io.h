@@ -5,7 +5,10 @@
  *
  * Export (st_gltf_save, st_gltf_write_mem): one mesh, one primitive of
  * triangles, POSITION (float, with min/max) + NORMAL + indices (u16, or u32
- * from 65535 vertices on).  glTF has only triangles: each polygon is fanned
+ * from 65535 vertices on), and TEXCOORD_0 (float; v flipped: glTF's v runs
+ * down the image, OBJ's up) when the mesh has UVs: vertices are then split
+ * along UV seams (one glTF vertex per vertex and UV index; normals are the
+ * unsplit mesh's, smooth across seams).  glTF has only triangles: each polygon is fanned
  * from its first vertex (exact for convex polygons, which is what the
  * schemes produce).  Normals are m->normals, normalised, where given with
  * a length; elsewhere core's smooth area-weighted ones (st_mesh_vertex_normals:
@@ -23,7 +26,10 @@
  * primitive, and for seams of normals/UVs): vertices with exactly the same
  * transformed position are welded into one so that the result is a connected
  * 2-manifold the schemes can subdivide; triangles that become degenerate
- * (two corners on one vertex) are dropped.  Only POSITION is read; quads
+ * (two corners on one vertex) are dropped.  POSITION and TEXCOORD_0 (float
+ * VEC2, when every primitive has it; v flipped back) are read: corners of a
+ * welded vertex with different UVs are on a UV seam, with equal UVs share
+ * one texture coordinate; quads
  * stored as triangle pairs come back as triangles (glTF keeps no polygons).
  * Refused with "file: problem": tinygltf's own errors, accessors or buffer
  * views beyond their buffer, indices out of range, non-finite positions,

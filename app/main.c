@@ -23,6 +23,8 @@ static void usage(FILE *f)
         "                                      draws level L headless (no display, no GPU) into a PNG\n"
         "  convert IN OUT [--scheme S --levels N --level L | --box ...] [--normals | --no-normals]\n"
         "                                      meshes and sessions (.strata) into each other\n"
+        "  (info, subdivide, render, convert, adapt: [--uv-interp none|corners-only|corners-plus1|\n"
+        "   corners-plus2|boundaries|all], how UVs are subdivided; default corners-plus1)\n"
         "  rebuild IN [--method auto|unsubdivide|progressive] [--scheme S] [--target-faces N]\n"
         "          [--max-levels L] -o OUT.strata\n"
         "                                      a dense mesh into a hierarchy with coarse levels\n"

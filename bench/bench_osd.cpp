@@ -89,7 +89,7 @@ std::vector<Vec3> osd_interpolate(const Far::TopologyRefiner &r, const st_mesh &
 int strata_build(st_hier *h, const st_mesh &m, const st_scheme *sc, int levels)
 {
     st_error err;
-    st_hier_opts o = { ST_BOUNDARY_EDGE_ONLY, ST_CREASE_UNIFORM, ST_TRI_SUB_CATMARK };
+    st_hier_opts o = { ST_BOUNDARY_EDGE_ONLY, ST_CREASE_UNIFORM, ST_TRI_SUB_CATMARK, ST_UV_CORNERS_PLUS1 };
     if (st_hier_init(h, &m, sc, &o, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return -1; }
     for (int l = 0; l < levels; l++)
         if (sc->refine(h, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return -1; }

@@ -72,6 +72,17 @@ done
 e_in=$(row0 "$D/catmull_clark/spot_quadrangulated.obj" 6); e_out=$(row0 "$W/spot_adapt.glb" 6 || true)
 if [ "$e_in" = "$e_out" ]; then ok "spot_adapt.glb loads back, euler $e_out"; else bad "spot_adapt.glb euler $e_out, input $e_in"; fi
 if "$S" subdivide "$W/ico_loop2.glb" --scheme loop --levels 1 -o "$W/ico_again.obj" 2>"$W/again.err"; then ok "glb input subdivides again"; else bad "glb input: $(cat "$W/again.err")"; fi
+# UVs (TEXCOORD_0) go out and come back: the sphere's level-2 UVs, written
+# to .glb (vertices split along seams) and read back, give as many texture
+# coordinates as the OBJ of the same level.
+"$S" subdivide "$D/triangle/sphere_ico.obj" --scheme loop --levels 2 -o "$W/ico2.obj" 2>/dev/null
+"$S" subdivide "$W/ico_loop2.glb" --scheme loop --levels 0 -o "$W/ico_back.obj" 2>/dev/null
+n_obj=$(grep -c '^vt' "$W/ico2.obj" || true); n_back=$(grep -c '^vt' "$W/ico_back.obj" || true)
+if [ "${n_obj:-0}" -gt 0 ] && [ "$n_obj" = "$n_back" ] && grep -q '^f [0-9]*/[0-9]' "$W/ico_back.obj"; then
+    ok "TEXCOORD_0 round trip: $n_back texture coordinates, as the OBJ's $n_obj"
+else
+    bad "TEXCOORD_0 round trip: $n_back texture coordinates back, the OBJ has $n_obj"
+fi
 
 # Bad files: refused with a message naming the file, non-zero exit.
 head -c 100 "$W/cube_cc2.glb" >"$W/truncated.glb"

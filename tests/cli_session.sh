@@ -37,7 +37,10 @@ done
 
 # ---- exports with normals ---------------------------------------------------------
 "$S" convert "$W/cc.strata" "$W/cc1.obj" --level 1 > /dev/null
-if grep -q '^vn ' "$W/cc1.obj" && grep -q '^f [0-9]*//[0-9]*' "$W/cc1.obj"; then ok "OBJ export has vn and f v//vn"; else bad "OBJ normals missing"; fi
+# blub_control_mesh has UVs: its corners are v/vt/vn (v//vn without UVs).
+if grep -q '^vn ' "$W/cc1.obj" && grep -q '^vt ' "$W/cc1.obj" && grep -q '^f [0-9]*/[0-9][0-9]*/[0-9]*' "$W/cc1.obj"; then ok "OBJ export has vn, vt and f v/vt/vn"; else bad "OBJ normals or UVs missing"; fi
+"$S" convert "$A/cube.obj" "$W/cube1.obj" --levels 1 > /dev/null
+if grep -q '^vn ' "$W/cube1.obj" && grep -q '^f [0-9]*//[0-9]*' "$W/cube1.obj"; then ok "OBJ export without UVs has vn and f v//vn"; else bad "OBJ normals missing"; fi
 if [ "$(faces_of "$W/cc1.obj")" = "$(faces_of "$W/cc1.obj")" ] && "$S" info "$W/cc1.obj" > /dev/null; then ok "OBJ with normals reads back"; else bad "OBJ with normals does not read back"; fi
 "$S" convert "$W/cc.strata" "$W/cc1.ply" --level 1 > /dev/null
 if head -c 400 "$W/cc1.ply" | grep -q 'property double nx' && "$S" info "$W/cc1.ply" > /dev/null; then ok "PLY export has nx ny nz and reads back"; else bad "PLY normals"; fi

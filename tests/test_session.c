@@ -278,7 +278,7 @@ static void check_damage(void)
     uint32_t hc = st_crc32(0, c, 24);
     for (int k = 0; k < 4; k++) c[24 + k] = (unsigned char)(hc >> (8 * k));
     CHECK(st_session_parse("new.strata", c, n, &s, &err) != ST_OK);
-    CHECKF(!strcmp(err.msg, "new.strata: session format version 7 is newer than this strata (1)"), "%s", err.msg);
+    CHECKF(!strcmp(err.msg, "new.strata: session format version 7 is newer than this strata (2)"), "%s", err.msg);
     /* Not a session at all. */
     CHECK(st_session_parse("x.strata", "hello world, this is not a session file", 39, &s, &err) != ST_OK);
     CHECKF(strstr(err.msg, "x.strata: not a Strata session") != NULL, "%s", err.msg);

@@ -78,6 +78,7 @@ static void free_partial(st_hier *h)
     free_mla(&h->vertex_sharp);
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(h->detail[l]);
     free(h->stamp);
+    st_hier_uv_free(h);
     memset(h, 0, sizeof *h);
 }
 
@@ -104,6 +105,7 @@ int ed_hier_clone(st_hier *dst, const st_hier *src, size_t *bytes_out)
     dst->stamp_cap = 0;
     dst->stamp_gen = 0;
     memset(dst->cache, 0, sizeof dst->cache); /* the copy builds its own */
+    dst->fvar = NULL;                         /* UVs: copied below */
     dm->gen_seen = 1;
     st_map_changed(dm); /* a generation of its own */
     int rc = dup_pool(&dm->darts, &sm->darts, &bytes);
@@ -126,6 +128,7 @@ int ed_hier_clone(st_hier *dst, const st_hier *src, size_t *bytes_out)
     }
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++)
         rc |= dup_bytes((void **)&dst->detail[l], src->detail[l], (size_t)src->detail_cap[l] * 3 * sizeof(double), &bytes);
+    rc |= st_hier_uv_copy(dst, src, &bytes);
     if (rc) {
         free_partial(dst);
         return -1;

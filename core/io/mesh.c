@@ -42,6 +42,8 @@ void st_mesh_free(st_mesh *m)
     free(m->corner_v);
     free(m->corner_s);
     free(m->face_hole);
+    free(m->uv);
+    free(m->face_uv);
     st_mesh_init(m);
 }
 

@@ -45,6 +45,14 @@ typedef struct st_mesh {
      * none.  A hole is a face for the rules of its vertices, with no surface:
      * the writers leave it out. */
     uint8_t *face_hole;
+    /* Optional face-varying texture coordinates (OBJ vt, PLY u v, glTF
+     * TEXCOORD_0): face_uv is parallel to face_idx and names, per face
+     * corner, one of the nuvs values in uv.  Two corners of one vertex with
+     * different indices are on a UV seam, even when their values are equal
+     * (OpenSubdiv's face-varying topology is by index).  NULL when absent. */
+    uint32_t nuvs;
+    double *uv;             /* 2 * nuvs */
+    uint32_t *face_uv;      /* face_off[nfaces] indices into uv, or NULL */
 } st_mesh;
 
 void st_mesh_init(st_mesh *m);
@@ -98,6 +106,8 @@ int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err);
  * Repairs it performs are appended to *notes (one line each, may be NULL).
  * Repaired: inconsistent winding (faces flipped), bow-tie vertices (one copy
  * per fan), unreferenced vertices (dropped; tags follow their vertices).
+ * Faces keep their order; a flipped face's UV indices are flipped with its
+ * vertices, so face_uv stays parallel to face_idx.
  * Refused: edges with 3+ faces, non-orientable surfaces, degenerate faces.
  * On failure m is unchanged.  See core/io/mesh_repair.c for the rules. */
 typedef struct st_notes {
@@ -114,7 +124,8 @@ int st_mesh_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error
 /* Checks what st_mesh_repair() promises, without changing m: indices in
  * range, faces of 3+ distinct vertices, finite positions, every vertex used,
  * every undirected edge used by 1 or 2 faces (in opposite directions when 2),
- * every vertex's faces one fan, tags on existing vertices and edges.
+ * every vertex's faces one fan, tags on existing vertices and edges, UV
+ * indices in range and UV values finite.
  * Returns 0 or fills err (ST_ERR_INVALID / ST_ERR_TOPOLOGY). */
 int st_mesh_check(const char *name, const st_mesh *m, st_error *err);
 

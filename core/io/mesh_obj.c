@@ -4,13 +4,18 @@
  * position and face-offset arrays are allocated once, from counts the file
  * actually contains, and so that positive face indices can be checked
  * against the final vertex count (a face may name a vertex defined further
- * down).  The second pass parses.  Everything else that OBJ can hold
- * (vt, vn, vp, o, g, s, usemtl, mtllib, l, p, free-form geometry) is skipped:
- * the subdivision cage needs only positions and polygons.
+ * down).  The second pass parses.  Texture coordinates (`vt u v [w]`, w
+ * ignored) become the face-varying UV channel (mesh.h); everything else
+ * that OBJ can hold (vn, vp, o, g, s, usemtl, mtllib, l, p, free-form
+ * geometry) is skipped: the subdivision cage needs only positions and
+ * polygons.
  *
  * Faces are `f a b c ...` where each corner is `v`, `v/t`, `v//n` or
- * `v/t/n`; only v is used.  Indices count from 1; negative ones count back
- * from the last vertex defined so far (-1 is the latest).
+ * `v/t/n`; v and t are used.  Indices count from 1; negative ones count
+ * back from the last vertex (texture coordinate) defined so far (-1 is the
+ * latest).  A face gives t on every corner or on none; when some faces have
+ * none, the file has no UV channel (it is dropped, as a UV layout with
+ * holes in it cannot be subdivided).
  *
  * Tags follow OpenSubdiv's regression shapes (regression/common/
  * shape_utils.cpp reads them, far_utils.h applies them): `t name
@@ -42,6 +47,9 @@ typedef struct obj_reader {
     const char *q, *le;     /* token cursor and end of the current line */
     uint32_t nv_total;      /* `v` lines in the whole file (first pass) */
     uint32_t nf_total;      /* `f` lines in the whole file (first pass) */
+    uint32_t nvt_total;     /* `vt` lines in the whole file (first pass) */
+    int faces_without_uv;   /* some face gave no t index: the channel is dropped */
+    size_t cap_uv, cap_face_uv;
     st_mesh m;              /* result under construction */
     size_t cap_idx;         /* capacity of m.face_idx */
     size_t cap_crease, cap_corner;
@@ -85,17 +93,19 @@ static int ensure_tmp(obj_reader *r, size_t need)
 
 /* ---- first pass ------------------------------------------------------------ */
 
-/* The keyword of a line starting at p: returns 'v' for "v", 'f' for "f". */
+/* The keyword of a line starting at p: returns 'v' for "v", 'f' for "f",
+ * 't' for "vt". */
 static char line_kind(const char *p, const char *le)
 {
     while (p < le && st_text_is_blank(*p)) p++;
     if (p < le && (*p == 'v' || *p == 'f') && (p + 1 == le || st_text_is_blank(p[1]))) return *p;
+    if (p + 1 < le && p[0] == 'v' && p[1] == 't' && (p + 2 == le || st_text_is_blank(p[2]))) return 't';
     return 0;
 }
 
 static int count_records(obj_reader *r, const char *data, size_t size)
 {
-    uint64_t nv = 0, nf = 0;
+    uint64_t nv = 0, nf = 0, nvt = 0;
     const char *p = data, *end = data + size;
     while (p < end) {
         const char *le = memchr(p, '\n', (size_t)(end - p));
@@ -103,8 +113,13 @@ static int count_records(obj_reader *r, const char *data, size_t size)
         char k = line_kind(p, le);
         nv += k == 'v';
         nf += k == 'f';
+        nvt += k == 't';
         p = le + 1;
     }
+    if (nvt > ST_MESH_MAX_VERTS)
+        return st_fail(r->err, ST_ERR_RANGE, "%s: %llu texture coordinates exceed the limit of %u",
+                       r->name, (unsigned long long)nvt, ST_MESH_MAX_VERTS);
+    r->nvt_total = (uint32_t)nvt;
     if (nv > ST_MESH_MAX_VERTS)
         return st_fail(r->err, ST_ERR_RANGE, "%s: %llu vertices exceed the limit of %u",
                        r->name, (unsigned long long)nv, ST_MESH_MAX_VERTS);
@@ -138,8 +153,53 @@ static int parse_vertex(obj_reader *r)
     return 0;
 }
 
-/* One face corner "v", "v/t", "v//n" or "v/t/n": the 0-based vertex. */
-static int parse_corner(obj_reader *r, const char *tok, size_t len, uint32_t *v)
+/* `vt u v [w]`: the first two numbers. */
+static int parse_texcoord(obj_reader *r)
+{
+    if (r->m.nuvs >= r->nvt_total) return FAIL(r, ST_ERR_RANGE, "too many texture coordinates");
+    double *uv = st_mesh_grow(r->m.uv, &r->cap_uv, 2 * ((size_t)r->m.nuvs + 1), sizeof *uv);
+    if (!uv) return FAIL(r, ST_ERR_MEMORY, "out of memory for texture coordinates");
+    r->m.uv = uv;
+    uv += 2 * (size_t)r->m.nuvs;
+    for (int k = 0; k < 2; k++) {
+        const char *tok;
+        size_t len;
+        char q[48];
+        if (!next_token(r, &tok, &len)) {
+            if (k == 1) { uv[1] = 0; break; }  /* `vt u`: v defaults to 0 (OBJ spec) */
+            return FAIL(r, ST_ERR_PARSE, "texture coordinate has no value");
+        }
+        if (st_mesh_parse_double(tok, len, &uv[k]))
+            return FAIL(r, ST_ERR_PARSE, "bad texture coordinate '%s'", st_text_quote(q, sizeof q, tok, len));
+        if (!isfinite(uv[k]))
+            return FAIL(r, ST_ERR_GEOMETRY, "non-finite texture coordinate '%s'", st_text_quote(q, sizeof q, tok, len));
+    }
+    r->m.nuvs++;
+    return 0;
+}
+
+/* The t of a corner "v/t" or "v/t/n" ([tok, tok+len) is "t"): 0-based. */
+static int parse_corner_uv(obj_reader *r, const char *tok, size_t len, const char *corner, size_t clen, uint32_t *t)
+{
+    char q[48];
+    int64_t i;
+    if (st_mesh_parse_int(tok, len, &i))
+        return FAIL(r, ST_ERR_PARSE, "bad face corner '%s'", st_text_quote(q, sizeof q, corner, clen));
+    if (i == 0)
+        return FAIL(r, ST_ERR_RANGE, "texture coordinate index 0 in a face (OBJ indices start at 1)");
+    if (i > 0 && (uint64_t)i > r->nvt_total)
+        return FAIL(r, ST_ERR_RANGE, "face references texture coordinate %lld but the file has %u",
+                    (long long)i, r->nvt_total);
+    if (i < 0 && -i > (int64_t)r->m.nuvs)
+        return FAIL(r, ST_ERR_RANGE, "relative texture coordinate index %lld reaches before the first one "
+                    "(%u defined so far)", (long long)i, r->m.nuvs);
+    *t = i > 0 ? (uint32_t)(i - 1) : (uint32_t)((int64_t)r->m.nuvs + i);
+    return 0;
+}
+
+/* One face corner "v", "v/t", "v//n" or "v/t/n": the 0-based vertex, and
+ * the 0-based texture coordinate or UINT32_MAX when the corner has none. */
+static int parse_corner(obj_reader *r, const char *tok, size_t len, uint32_t *v, uint32_t *t)
 {
     char q[48];
     size_t vlen = 0;
@@ -153,6 +213,13 @@ static int parse_corner(obj_reader *r, const char *tok, size_t len, uint32_t *v)
     int64_t i;
     if (slashes > 2 || st_mesh_parse_int(tok, vlen, &i))
         return FAIL(r, ST_ERR_PARSE, "bad face corner '%s'", st_text_quote(q, sizeof q, tok, len));
+    *t = UINT32_MAX;
+    size_t tlen = 0;
+    while (vlen + 1 + tlen < len && tok[vlen + 1 + tlen] != '/') tlen++;
+    if (slashes >= 1 && tlen > 0) {
+        int rc = parse_corner_uv(r, tok + vlen + 1, tlen, tok, len, t);
+        if (rc) return rc;
+    }
     if (i == 0)
         return FAIL(r, ST_ERR_RANGE, "vertex index 0 in a face (OBJ indices start at 1)");
     if (i > 0 && (uint64_t)i > r->nv_total)
@@ -165,20 +232,40 @@ static int parse_corner(obj_reader *r, const char *tok, size_t len, uint32_t *v)
     return 0;
 }
 
+/* The face's texture coordinate indices (r->scratch[0..n)) into m.face_uv,
+ * parallel to face_idx; a face without them drops the channel. */
+static int store_face_uv(obj_reader *r, uint32_t nc, uint32_t n, int with_uv)
+{
+    if (!with_uv) r->faces_without_uv = 1;
+    if (r->faces_without_uv || r->nvt_total == 0) return 0;
+    uint32_t *fu = st_mesh_grow(r->m.face_uv, &r->cap_face_uv, (size_t)nc + n, sizeof *fu);
+    if (!fu) return FAIL(r, ST_ERR_MEMORY, "out of memory for %u face corners", nc + n);
+    r->m.face_uv = fu;
+    memcpy(fu + nc, r->scratch, (size_t)n * sizeof *fu);
+    return 0;
+}
+
 static int parse_face(obj_reader *r)
 {
     st_mesh *m = &r->m;
     const char *tok;
     size_t len;
-    uint32_t n = 0;
+    uint32_t n = 0, with_uv = 0;
     while (next_token(r, &tok, &len)) {
         if (n == ST_MESH_MAX_DEGREE)
             return FAIL(r, ST_ERR_RANGE, "face has more than %u vertices", ST_MESH_MAX_DEGREE);
         int rc = ensure_tmp(r, (size_t)n + 1);
-        if (!rc) rc = parse_corner(r, tok, len, &r->tmp[n]);
+        uint32_t t = UINT32_MAX;
+        if (!rc) rc = parse_corner(r, tok, len, &r->tmp[n], &t);
         if (rc) return rc;
+        r->scratch[n] = t;  /* kept until the repeat check below reuses scratch */
+        with_uv += t != UINT32_MAX;
         n++;
     }
+    if (with_uv && with_uv != n)
+        return FAIL(r, ST_ERR_PARSE, "face gives texture coordinates on %u of its %u corners", with_uv, n);
+    int urc = store_face_uv(r, m->face_off[m->nfaces], n, with_uv != 0);
+    if (urc) return urc;
     if (n < 3) return FAIL(r, ST_ERR_TOPOLOGY, "face has %u vertices; a face needs at least 3", n);
     uint32_t dup = st_mesh_face_repeat(r->tmp, n, r->scratch);
     if (dup != UINT32_MAX)
@@ -458,7 +545,8 @@ static int parse_line(obj_reader *r, size_t *cap_pos, size_t *cap_off, size_t *c
         return rc ? rc : parse_face(r);
     }
     if (token_is(tok, len, "t")) return parse_tag(r);
-    return 0;   /* vt, vn, o, g, s, usemtl, mtllib, l, p, ...: not needed */
+    if (token_is(tok, len, "vt")) return parse_texcoord(r);
+    return 0;   /* vn, o, g, s, usemtl, mtllib, l, p, ...: not needed */
 }
 
 static int parse_lines(obj_reader *r, const char *data, size_t size, int want_loc)
@@ -492,6 +580,14 @@ int st_mesh_parse_obj_src(const char *name, const char *data, size_t size,
     int rc = count_records(&r, data, size);
     if (!rc && r.nf_total == 0) rc = st_fail(err, ST_ERR_TOPOLOGY, "%s: no faces (no 'f' lines)", name);
     if (!rc) rc = parse_lines(&r, data, size, src != NULL);
+    if (!rc && (r.faces_without_uv || !r.m.face_uv)) {
+        /* No face, or not every face, names texture coordinates: no channel. */
+        free(r.m.uv);
+        free(r.m.face_uv);
+        r.m.uv = NULL;
+        r.m.face_uv = NULL;
+        r.m.nuvs = 0;
+    }
     if (!rc) {
         if (src) {
             src->face_loc = r.face_loc;

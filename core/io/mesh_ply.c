@@ -43,6 +43,7 @@ typedef struct ply_elem {
     int role;               /* enum ply_role */
     int xyz[3];             /* vertex: property numbers of x, y, z (-1: absent) */
     int list;               /* face: property number of vertex_indices (-1: absent) */
+    int uv[2];              /* vertex: property numbers of u v / s t / texture_u texture_v (-1: absent) */
 } ply_elem;
 
 typedef struct ply_reader {
@@ -148,6 +149,7 @@ static int header_element(ply_reader *r, const hdr_line *h)
     e->count = (uint64_t)count;
     e->first = r->nprops;
     e->xyz[0] = e->xyz[1] = e->xyz[2] = e->list = -1;
+    e->uv[0] = e->uv[1] = -1;
     return 0;
 }
 
@@ -204,6 +206,23 @@ static int header_lines(ply_reader *r)
     return st_fail(r->err, ST_ERR_PARSE, "%s: header has no end_header line", r->name);
 }
 
+/* Per-vertex texture coordinates under the names exporters use (u v:
+ * Blender, s t: VCGlib/MeshLab, texture_u texture_v: others); the first
+ * pair present in full is read. */
+static void find_uv(ply_reader *r, ply_elem *e)
+{
+    static const char *const names[3][2] = {{"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}};
+    for (int n = 0; n < 3 && e->uv[1] < 0; n++) {
+        int at[2] = {-1, -1};
+        for (uint32_t k = 0; k < e->nprops; k++) {
+            const ply_prop *p = &r->props[e->first + k];
+            for (int a = 0; a < 2; a++)
+                if (p->count_type == T_NONE && at[a] < 0 && name_is(p->name, p->nlen, names[n][a])) at[a] = (int)k;
+        }
+        if (at[0] >= 0 && at[1] >= 0) { e->uv[0] = at[0]; e->uv[1] = at[1]; }
+    }
+}
+
 /* Finds the vertex and face elements and the properties the mesh needs. */
 static int header_roles(ply_reader *r)
 {
@@ -225,6 +244,7 @@ static int header_roles(ply_reader *r)
     }
     if (!ev || ev->xyz[0] < 0 || ev->xyz[1] < 0 || ev->xyz[2] < 0)
         return st_fail(r->err, ST_ERR_PARSE, "%s: header has no vertex element with x, y and z", r->name);
+    find_uv(r, ev);
     if (!ef || ef->list < 0)
         return st_fail(r->err, ST_ERR_PARSE, "%s: header has no face element with a vertex_indices list", r->name);
     if (r->props[ef->first + (uint32_t)ef->list].type >= T_F32)
@@ -414,6 +434,17 @@ static int read_vertex(ply_reader *r, const ply_elem *e, uint32_t v)
     for (uint32_t k = 0; k < e->nprops; k++) {
         const ply_prop *p = &r->props[e->first + k];
         int a = (int)k == e->xyz[0] ? 0 : (int)k == e->xyz[1] ? 1 : (int)k == e->xyz[2] ? 2 : -1;
+        int t = (int)k == e->uv[0] ? 0 : (int)k == e->uv[1] ? 1 : -1;
+        if (t >= 0) {
+            int64_t i;
+            double x;
+            int rc = read_value(r, p->type, &i, &x);
+            if (rc) return rc;
+            if (!isfinite(x))
+                return FAIL(r, ST_ERR_GEOMETRY, "vertex %u has a non-finite texture coordinate", v);
+            r->m.uv[2 * (size_t)v + (size_t)t] = x;
+            continue;
+        }
         if (a < 0) {
             int rc = skip_property(r, p);
             if (rc) return rc;
@@ -551,6 +582,32 @@ static int alloc_mesh(ply_reader *r)
         return st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory for %u vertices and %u faces",
                        r->name, m->nverts, m->nfaces);
     m->face_off[0] = 0;
+    const ply_elem *ev = NULL;
+    for (uint32_t i = 0; i < r->nelems && !ev; i++)
+        if (r->elems[i].role == R_VERTEX) ev = &r->elems[i];
+    if (ev && ev->uv[1] >= 0) {
+        m->nuvs = m->nverts;
+        m->uv = malloc(2 * (size_t)m->nverts * sizeof *m->uv + 1);
+        if (!m->uv) return st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory for texture coordinates", r->name);
+    }
+    return 0;
+}
+
+/* Per-vertex UVs as a face-varying channel: each corner names its vertex's
+ * value (no seams: PLY has none). */
+static int uv_corners(ply_reader *r)
+{
+    st_mesh *m = &r->m;
+    if (!m->uv || m->nverts == 0) {
+        free(m->uv);
+        m->uv = NULL;
+        m->nuvs = 0;
+        return 0;
+    }
+    size_t nc = m->face_off[m->nfaces];
+    m->face_uv = malloc(nc * sizeof *m->face_uv + 1);
+    if (!m->face_uv) return st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory for texture coordinates", r->name);
+    memcpy(m->face_uv, m->face_idx, nc * sizeof *m->face_uv);
     return 0;
 }
 
@@ -572,6 +629,7 @@ int st_mesh_parse_ply_src(const char *name, const char *data, size_t size,
     if (!rc) rc = check_counts(r);
     if (!rc) rc = alloc_mesh(r);
     if (!rc) rc = read_body(r);
+    if (!rc) rc = uv_corners(r);
     if (!rc) {
         if (src) {
             src->face_loc = r->face_loc;

@@ -57,6 +57,7 @@ typedef struct soup {
     uint32_t *idx;          /* nc vertex per corner (a working copy in repair) */
     uint32_t *face_of;      /* nc face of each corner */
     uint32_t *partner;      /* nc other corner on the same undirected edge, or NONE */
+    uint32_t *uv;           /* nc UV index per corner (a working copy in repair), or NULL */
 } soup;
 
 typedef struct edge_rec {
@@ -145,6 +146,25 @@ static int validate_tags(const ctx *x, const st_mesh *m)
     return 0;
 }
 
+/* The face-varying UV channel: all three fields or none, indices in range,
+ * values finite. */
+static int validate_uvs(const ctx *x, const st_mesh *m)
+{
+    if (!m->face_uv && !m->uv && !m->nuvs) return 0;
+    if (!m->face_uv || !m->uv || !m->nuvs)
+        return st_fail(x->err, ST_ERR_INVALID, "%s: malformed texture coordinate arrays", x->name);
+    for (size_t i = 0; i < 2 * (size_t)m->nuvs; i++)
+        if (!isfinite(m->uv[i]))
+            return st_fail(x->err, ST_ERR_GEOMETRY, "%s: texture coordinate %zu is not finite",
+                           x->name, i / 2 + x->base);
+    for (uint32_t f = 0; f < m->nfaces; f++)
+        for (uint32_t c = m->face_off[f]; c < m->face_off[f + 1]; c++)
+            if (m->face_uv[c] >= m->nuvs)
+                return fail_face(x, ST_ERR_RANGE, f, "face %u references texture coordinate %u but the mesh has %u",
+                                 f, m->face_uv[c] + x->base, m->nuvs);
+    return 0;
+}
+
 /* Everything the parsers guarantee, re-checked for meshes built elsewhere. */
 static int validate(const ctx *x, const st_mesh *m)
 {
@@ -158,6 +178,7 @@ static int validate(const ctx *x, const st_mesh *m)
             return st_fail(x->err, ST_ERR_GEOMETRY, "%s: vertex %zu has a non-finite coordinate",
                            x->name, i / 3 + x->base);
     int rc = validate_faces(x, m);
+    if (!rc) rc = validate_uvs(x, m);
     return rc ? rc : validate_tags(x, m);
 }
 
@@ -336,18 +357,25 @@ static int orient(const ctx *x, const soup *s, uint8_t *state, uint32_t *nflip)
     return rc;
 }
 
-/* Reverses the flagged faces in place, keeping each face's first corner. */
+static void reverse_corners(uint32_t *c, uint32_t a, uint32_t b)
+{
+    for (; a < b; a++, b--) {
+        uint32_t t = c[a];
+        c[a] = c[b];
+        c[b] = t;
+    }
+}
+
+/* Reverses the flagged faces in place, keeping each face's first corner;
+ * UV indices are corners too and turn with them. */
 static uint32_t apply_flips(soup *s, const uint8_t *state)
 {
     uint32_t first = NONE;
     for (uint32_t f = 0; f < s->nf; f++) {
         if (state[f] != FLIP) continue;
         if (first == NONE) first = f;
-        for (uint32_t a = s->off[f] + 1, b = s->off[f + 1] - 1; a < b; a++, b--) {
-            uint32_t t = s->idx[a];
-            s->idx[a] = s->idx[b];
-            s->idx[b] = t;
-        }
+        reverse_corners(s->idx, s->off[f] + 1, s->off[f + 1] - 1);
+        if (s->uv) reverse_corners(s->uv, s->off[f] + 1, s->off[f + 1] - 1);
     }
     return first;
 }
@@ -623,9 +651,13 @@ static int remap_corners(const ctx *x, const st_mesh *m, fixed *out)
 
 /* ---- drivers ----------------------------------------------------------------- */
 
-static void commit(st_mesh *m, uint32_t *idx, fixed *r)
+static void commit(st_mesh *m, uint32_t *idx, uint32_t *uvidx, fixed *r)
 {
     free(m->face_idx);
+    if (uvidx) {
+        free(m->face_uv);
+        m->face_uv = uvidx;
+    }
     free(m->pos);
     free(m->normals);
     free(m->crease_v);
@@ -672,18 +704,26 @@ int st_mesh_repair_src(const char *name, st_mesh *m, const st_mesh_src *src,
     uint32_t *idx = malloc((nc + 1) * sizeof *idx);
     if (!idx) return out_of_memory(&x);
     memcpy(idx, m->face_idx, nc * sizeof *idx);
+    uint32_t *uvidx = NULL;
+    if (m->face_uv) {
+        uvidx = malloc((nc + 1) * sizeof *uvidx);
+        if (!uvidx) { free(idx); return out_of_memory(&x); }
+        memcpy(uvidx, m->face_uv, nc * sizeof *uvidx);
+    }
     soup s = {0};
     fixed out = {0};
     rc = soup_init(&x, &s, m, idx);
+    s.uv = uvidx;
     if (!rc) rc = repair_steps(&x, m, &s, &out);
     soup_free(&s);
     if (rc) {
         free(idx);
+        free(uvidx);
         fixed_free(&out);
         st_notes_free(&local);
         return rc;
     }
-    commit(m, idx, &out);
+    commit(m, idx, uvidx, &out);
     for (uint32_t i = 0; i < local.count; i++) st_notes_add(notes, "%s", local.lines[i]);
     st_notes_free(&local);
     return 0;

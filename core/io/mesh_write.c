@@ -7,12 +7,17 @@
  *
  * OBJ positions use %.17g, which reads back to the same double; tags are
  * written in OpenSubdiv's `t` syntax (0-based indices), normals as `vn`
- * with `f a//a` corners.  PLY stores double x y z (and nx ny nz), and
+ * with `f a//a` corners, texture coordinates as `vt` with `f a/t` or
+ * `f a/t/a` corners (the UV indices as the mesh holds them, so seams
+ * survive a round trip).  PLY stores double x y z (and nx ny nz), and
  * vertex_indices as a uchar-counted list when every face has at most 255
- * vertices, uint-counted otherwise.  PLY has no standard place for tags;
- * they are not written.  Hole faces (st_mesh.face_hole) have no surface and
- * are not written; every vertex is, so vertex numbers stay those of the
- * level (as OpenSubdiv's harness writes a refined level with holes).
+ * vertices, uint-counted otherwise.  PLY has one texture coordinate per
+ * vertex (u v): a mesh with UVs is written with its vertices split along
+ * UV seams (one PLY vertex per vertex and UV index; tags then name the
+ * first copy).  PLY has no standard place for tags; they are not written.
+ * Hole faces (st_mesh.face_hole) have no surface and are not written;
+ * every vertex is, so vertex numbers stay those of the level (as
+ * OpenSubdiv's harness writes a refined level with holes).
  */
 #include "core/io/atomic_file.h"
 #include "core/io/mesh.h"
@@ -44,6 +49,15 @@ static int check_writable(const char *path, const st_mesh *m, st_error *err)
         if (m->crease_v[i] >= m->nverts) return st_fail(err, ST_ERR_INVALID, "%s: bad crease tag", path);
     for (uint32_t i = 0; i < m->ncorners; i++)
         if (m->corner_v[i] >= m->nverts) return st_fail(err, ST_ERR_INVALID, "%s: bad corner tag", path);
+    if (!m->face_uv) return 0;
+    for (size_t i = 0; i < 2 * (size_t)m->nuvs; i++)
+        if (!m->uv || !isfinite(m->uv[i]))
+            return st_fail(err, ST_ERR_GEOMETRY, "%s: texture coordinate %zu is not finite", path, i / 2);
+    uint32_t nc = m->nfaces ? m->face_off[m->nfaces] : 0;
+    for (uint32_t c = 0; c < nc; c++)
+        if (m->face_uv[c] >= m->nuvs)
+            return st_fail(err, ST_ERR_INVALID, "%s: a face corner references texture coordinate %u of %u",
+                           path, m->face_uv[c], m->nuvs);
     return 0;
 }
 
@@ -57,16 +71,21 @@ static int surface_view(const char *path, const st_mesh *m, st_mesh *v, st_error
     if (!m->face_hole) return 0;
     v->face_off = malloc(((size_t)m->nfaces + 1) * sizeof *v->face_off);
     v->face_idx = malloc(((size_t)m->face_off[m->nfaces] + 1) * sizeof *v->face_idx);
-    if (!v->face_off || !v->face_idx) {
+    v->face_uv = m->face_uv ? malloc(((size_t)m->face_off[m->nfaces] + 1) * sizeof *v->face_uv) : NULL;
+    if (!v->face_off || !v->face_idx || (m->face_uv && !v->face_uv)) {
         free(v->face_off);
         free(v->face_idx);
+        free(v->face_uv);
         return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path);
     }
     uint32_t nf = 0, k = 0;
     v->face_off[0] = 0;
     for (uint32_t f = 0; f < m->nfaces; f++) {
         if (m->face_hole[f]) continue;
-        for (uint32_t c = m->face_off[f]; c < m->face_off[f + 1]; c++) v->face_idx[k++] = m->face_idx[c];
+        for (uint32_t c = m->face_off[f]; c < m->face_off[f + 1]; c++) {
+            if (v->face_uv) v->face_uv[k] = m->face_uv[c];
+            v->face_idx[k++] = m->face_idx[c];
+        }
         v->face_off[++nf] = k;
     }
     v->nfaces = nf;
@@ -78,6 +97,7 @@ static void surface_done(const st_mesh *m, st_mesh *v)
     if (v->face_off != m->face_off) {
         free(v->face_off);
         free(v->face_idx);
+        if (v->face_uv != m->face_uv) free(v->face_uv);
     }
 }
 
@@ -115,11 +135,15 @@ static void obj_body(FILE *f, const st_mesh *m)
         const double *n = m->normals + 3 * (size_t)v;
         fprintf(f, "vn %.17g %.17g %.17g\n", n[0], n[1], n[2]);
     }
+    for (uint32_t t = 0; m->face_uv && t < m->nuvs; t++)
+        fprintf(f, "vt %.17g %.17g\n", m->uv[2 * (size_t)t], m->uv[2 * (size_t)t + 1]);
     for (uint32_t fi = 0; fi < m->nfaces; fi++) {
         fputc('f', f);
         for (uint32_t c = m->face_off[fi]; c < m->face_off[fi + 1]; c++) {
             uint32_t v = m->face_idx[c] + 1;
-            if (m->normals) fprintf(f, " %u//%u", v, v);
+            if (m->face_uv && m->normals) fprintf(f, " %u/%u/%u", v, m->face_uv[c] + 1, v);
+            else if (m->face_uv) fprintf(f, " %u/%u", v, m->face_uv[c] + 1);
+            else if (m->normals) fprintf(f, " %u//%u", v, v);
             else fprintf(f, " %u", v);
         }
         fputc('\n', f);
@@ -170,17 +194,20 @@ static void ply_header(FILE *f, const st_mesh *m, int wide)
     fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment written by Strata\n"
                "element vertex %u\nproperty double x\nproperty double y\nproperty double z\n", m->nverts);
     if (m->normals) fprintf(f, "property double nx\nproperty double ny\nproperty double nz\n");
+    if (m->uv && m->nuvs == m->nverts && !m->face_uv) fprintf(f, "property double u\nproperty double v\n");
     fprintf(f, "element face %u\nproperty list %s uint vertex_indices\nend_header\n",
             m->nfaces, wide ? "uint" : "uchar");
 }
 
 static void ply_vertices(FILE *f, const st_mesh *m)
 {
-    unsigned char b[48];
+    unsigned char b[64];
+    int uv = m->uv && m->nuvs == m->nverts && !m->face_uv;
     for (uint32_t v = 0; v < m->nverts; v++) {
         size_t n = 0;
         for (int k = 0; k < 3; k++, n += 8) put_f64(b + n, m->pos[3 * (size_t)v + (size_t)k]);
         for (int k = 0; m->normals && k < 3; k++, n += 8) put_f64(b + n, m->normals[3 * (size_t)v + (size_t)k]);
+        for (int k = 0; uv && k < 2; k++, n += 8) put_f64(b + n, m->uv[2 * (size_t)v + (size_t)k]);
         fwrite(b, 1, n, f);
     }
 }
@@ -203,9 +230,73 @@ static void ply_faces(FILE *f, const st_mesh *m, int wide)
     }
 }
 
+/* The mesh with one vertex per (vertex, UV index) pair: corners sorted by
+ * pair, a new vertex per distinct pair.  Positions and normals are copied;
+ * uv becomes per vertex (face_uv = face_idx). */
+typedef struct uv_pair { uint32_t v, t, c; } uv_pair;
+
+static int cmp_pair(const void *a, const void *b)
+{
+    const uv_pair *x = a, *y = b;
+    if (x->v != y->v) return x->v < y->v ? -1 : 1;
+    if (x->t != y->t) return x->t < y->t ? -1 : 1;
+    return (x->c > y->c) - (x->c < y->c);
+}
+
+static int split_uv_seams(const st_mesh *m, st_mesh *e)
+{
+    uint32_t nc = m->face_off[m->nfaces];
+    uv_pair *p = malloc(((size_t)nc + 1) * sizeof *p);
+    st_mesh_init(e);
+    e->face_off = malloc(((size_t)m->nfaces + 1) * sizeof *e->face_off);
+    e->face_idx = malloc(((size_t)nc + 1) * sizeof *e->face_idx);
+    e->pos = malloc(3 * ((size_t)nc + 1) * sizeof *e->pos);
+    e->uv = malloc(2 * ((size_t)nc + 1) * sizeof *e->uv);
+    if (m->normals) e->normals = malloc(3 * ((size_t)nc + 1) * sizeof *e->normals);
+    if (!p || !e->face_off || !e->face_idx || !e->pos || !e->uv || (m->normals && !e->normals)) {
+        free(p);
+        st_mesh_free(e);
+        return -1;
+    }
+    memcpy(e->face_off, m->face_off, ((size_t)m->nfaces + 1) * sizeof *e->face_off);
+    e->nfaces = m->nfaces;
+    if (m->face_hole) {
+        /* The same faces in the same order: the same hole flags. */
+        e->face_hole = malloc((size_t)m->nfaces + 1);
+        if (!e->face_hole) {
+            free(p);
+            st_mesh_free(e);
+            return -1;
+        }
+        memcpy(e->face_hole, m->face_hole, m->nfaces);
+    }
+    for (uint32_t c = 0; c < nc; c++) p[c] = (uv_pair){ m->face_idx[c], m->face_uv[c], c };
+    qsort(p, nc, sizeof *p, cmp_pair);
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < nc; i++) {
+        if (i == 0 || p[i].v != p[i - 1].v || p[i].t != p[i - 1].t) {
+            memcpy(e->pos + 3 * (size_t)n, m->pos + 3 * (size_t)p[i].v, 3 * sizeof *e->pos);
+            if (m->normals) memcpy(e->normals + 3 * (size_t)n, m->normals + 3 * (size_t)p[i].v, 3 * sizeof *e->normals);
+            memcpy(e->uv + 2 * (size_t)n, m->uv + 2 * (size_t)p[i].t, 2 * sizeof *e->uv);
+            n++;
+        }
+        e->face_idx[p[i].c] = n - 1;
+    }
+    e->nverts = e->nuvs = n;
+    free(p);
+    return 0;
+}
+
 int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err)
 {
     int rc = check_writable(path, m, err);
+    st_mesh split;
+    if (!rc && m->face_uv) {
+        if (split_uv_seams(m, &split)) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory splitting UV seams", path);
+        rc = st_mesh_save_ply(path, &split, err);  /* split.face_uv is NULL: written with per-vertex u v */
+        st_mesh_free(&split);
+        return rc;
+    }
     st_mesh v;
     if (!rc) rc = surface_view(path, m, &v, err);
     if (rc) return rc;

@@ -3,6 +3,7 @@
 #include "core/io/atomic_file.h"
 #include "core/io/map_io_internal.h"
 #include "core/map/pool_internal.h"
+#include "core/fvar/fvar_internal.h"
 
 #include <errno.h>
 #include <math.h>
@@ -119,6 +120,12 @@ int st_session_is_path(const char *path)
 #define TAG_BASE TAG('B', 'A', 'S', 'E')
 #define TAG_MASK TAG('m', 'a', 's', 'k')
 #define TAG_LAYR TAG('l', 'a', 'y', 'r')
+#define TAG_FVAR TAG('F', 'V', 'A', 'R')
+#define TAG_BUVS TAG('B', 'U', 'V', 'S')
+
+/* Version 2 added the UV chunks (FVAR, BUVS); a session without UVs is
+ * still written as version 1, byte for byte what it was. */
+#define SESSION_VERSION_UV 2u
 
 typedef void (*chunk_fn)(st_bw *w, const st_session_ref *r);
 
@@ -292,6 +299,37 @@ static void w_layers(st_bw *w, const st_session_ref *r)
     }
 }
 
+/* The face-varying UVs: the option, the levels that carry them, then per
+ * level the UV and value label of every real dart in st_dart_first order. */
+static void w_fvar(st_bw *w, const st_session_ref *r)
+{
+    const st_hier *h = r->h;
+    const st_fvar *f = h->fvar;
+    unsigned levels = f->levels <= h->map.top + 1 ? f->levels : h->map.top + 1;
+    st_bw_u32(w, (uint32_t)f->interp);
+    st_bw_u32(w, levels);
+    for (unsigned l = 0; l < levels; l++) {
+        st_dart_iter it;
+        for (uint32_t d = st_dart_first(&h->map, l, &it); d != ST_NIL; d = st_dart_next(&h->map, l, &it)) {
+            if (st_is_boundary(&h->map, d)) continue;
+            int in = d < f->lv[l].cap;
+            st_bw_f64(w, in ? f->lv[l].uv[2 * (size_t)d] : 0);
+            st_bw_f64(w, in ? f->lv[l].uv[2 * (size_t)d + 1] : 0);
+            st_bw_u32(w, in ? f->lv[l].val[d] : 0);
+        }
+    }
+}
+
+/* The base mesh's UVs (mesh.h: uv, face_uv parallel to face_idx). */
+static void w_base_uv(st_bw *w, const st_session_ref *r)
+{
+    const st_mesh *m = r->base;
+    st_bw_u32(w, m->nuvs);
+    for (size_t i = 0; i < 2 * (size_t)m->nuvs; i++) st_bw_f64(w, m->uv[i]);
+    uint32_t nidx = m->nfaces ? m->face_off[m->nfaces] : 0;
+    for (uint32_t i = 0; i < nidx; i++) st_bw_u32(w, m->face_uv[i]);
+}
+
 typedef struct chunk_def { uint32_t tag; chunk_fn fn; } chunk_def;
 
 /* The chunks of r, in file order. */
@@ -308,7 +346,14 @@ static unsigned chunk_list(const st_session_ref *r, chunk_def out[10])
     if (r->base) out[n++] = (chunk_def){ TAG_BASE, w_base };
     if (r->mask && mask_len(r->mask, r->h->map.verts.end)) out[n++] = (chunk_def){ TAG_MASK, w_mask };
     if (r->layers && r->layers->n) out[n++] = (chunk_def){ TAG_LAYR, w_layers };
+    if (r->h->fvar) out[n++] = (chunk_def){ TAG_FVAR, w_fvar };
+    if (r->base && r->base->face_uv) out[n++] = (chunk_def){ TAG_BUVS, w_base_uv };
     return n;
+}
+
+static uint32_t version_of(const st_session_ref *r)
+{
+    return (r->h->fvar || (r->base && r->base->face_uv)) ? SESSION_VERSION_UV : 1u;
 }
 
 static int check_ref(const st_session_ref *r, st_error *err)
@@ -333,7 +378,7 @@ static void write_all(st_bw *w, const st_session_ref *r)
 {
     chunk_def c[10];
     unsigned n = chunk_list(r, c);
-    uint64_t len[8], total = HEADER_BYTES + TRAILER_BYTES;
+    uint64_t len[10], total = HEADER_BYTES + TRAILER_BYTES;
     st_bw *cnt = malloc(sizeof *cnt);
     if (!cnt) { w->failed = 1; return; }
     for (unsigned i = 0; i < n; i++) {
@@ -345,7 +390,8 @@ static void write_all(st_bw *w, const st_session_ref *r)
     free(cnt);
     unsigned char head[HEADER_BYTES];
     memcpy(head, ST_SESSION_MAGIC, 8);
-    for (int k = 0; k < 4; k++) head[8 + k] = (unsigned char)(ST_SESSION_VERSION >> (8 * k));
+    uint32_t version = version_of(r);
+    for (int k = 0; k < 4; k++) head[8 + k] = (unsigned char)(version >> (8 * k));
     memset(head + 12, 0, 4);
     for (int k = 0; k < 8; k++) head[16 + k] = (unsigned char)(total >> (8 * k));
     uint32_t hc = st_crc32(0, head, 24);
@@ -436,7 +482,8 @@ typedef struct load_ctx {
 } load_ctx;
 
 enum { SEEN_HIER = 1, SEEN_MAP = 2, SEEN_SHRP = 4, SEEN_DETL = 8, SEEN_ADPT = 16, SEEN_EDIT = 32, SEEN_VIEW = 64, SEEN_BASE = 128,
-       SEEN_MASK = 256, SEEN_LAYR = 512 };
+       SEEN_MASK = 256, SEEN_LAYR = 512,
+       SEEN_FVAR = 1024, SEEN_BUVS = 2048 };
 
 static int r_hier(load_ctx *c, st_br *r)
 {
@@ -799,6 +846,68 @@ static int r_layers(load_ctx *c, st_br *r)
     return r->failed ? -1 : 0;
 }
 
+static int r_fvar(load_ctx *c, st_br *r)
+{
+    st_hier *h = &c->s->h;
+    uint32_t interp = st_br_u32(r), levels = st_br_u32(r);
+    if (r->failed) return -1;
+    if (interp >= ST_UV_INTERP_COUNT) return st_br_fail(r, "UVs: bad interpolation option %u", interp);
+    if (levels == 0 || levels > h->map.top + 1) return st_br_fail(r, "UVs: %u levels in a hierarchy of %u", levels, h->map.top + 1);
+    st_fvar *f = calloc(1, sizeof *f);
+    if (!f) goto oom;
+    h->fvar = f;
+    f->interp = (int)interp;
+    for (unsigned l = 0; l < levels; l++) {
+        st_fvar_level *lv = &f->lv[l];
+        lv->cap = h->map.darts.end;
+        lv->uv = calloc(2 * (size_t)lv->cap + 2, sizeof *lv->uv);
+        lv->val = calloc((size_t)lv->cap + 1, sizeof *lv->val);
+        if (!lv->uv || !lv->val) goto oom;
+        f->levels = l + 1;
+        st_dart_iter it;
+        uint64_t n = 0;
+        for (uint32_t d = st_dart_first(&h->map, l, &it); d != ST_NIL; d = st_dart_next(&h->map, l, &it)) n += !st_is_boundary(&h->map, d);
+        if (st_br_need(r, n, 20, "UVs")) return -1;
+        for (uint32_t d = st_dart_first(&h->map, l, &it); d != ST_NIL; d = st_dart_next(&h->map, l, &it)) {
+            if (st_is_boundary(&h->map, d)) continue;
+            lv->uv[2 * (size_t)d] = st_br_f64(r);
+            lv->uv[2 * (size_t)d + 1] = st_br_f64(r);
+            lv->val[d] = st_br_u32(r);
+            if (!isfinite(lv->uv[2 * (size_t)d]) || !isfinite(lv->uv[2 * (size_t)d + 1]))
+                return st_br_fail(r, "UVs: a texture coordinate of level %u is not finite", l);
+        }
+    }
+    return r->failed ? -1 : 0;
+oom:
+    st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name);
+    r->failed = 1;
+    return -1;
+}
+
+static int r_base_uv(load_ctx *c, st_br *r)
+{
+    st_mesh *m = &c->s->base;
+    uint32_t n = st_br_u32(r);
+    if (r->failed) return -1;
+    if (n == 0 || n > ST_MESH_MAX_VERTS || st_br_need(r, n, 16, "base mesh UVs")) return st_br_fail(r, "base mesh: %u UVs", n);
+    uint32_t nidx = m->nfaces ? m->face_off[m->nfaces] : 0;
+    m->uv = malloc(2 * (size_t)n * sizeof *m->uv);
+    m->face_uv = malloc(((size_t)nidx + 1) * sizeof *m->face_uv);
+    if (!m->uv || !m->face_uv) {
+        st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name);
+        r->failed = 1;
+        return -1;
+    }
+    m->nuvs = n;
+    for (size_t i = 0; i < 2 * (size_t)n; i++) m->uv[i] = st_br_f64(r);
+    if (st_br_need(r, nidx, 4, "base mesh UV corners")) return -1;
+    for (uint32_t i = 0; i < nidx; i++) m->face_uv[i] = st_br_u32(r);
+    if (r->failed) return -1;
+    st_error e2;
+    if (st_mesh_check("base mesh", m, &e2)) return st_br_fail(r, "%s", e2.msg);
+    return 0;
+}
+
 /* After every chunk: attributes attached, whole-map checks. */
 static int finish(load_ctx *c)
 {
@@ -854,7 +963,7 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
     for (int k = 0; k < 4; k++) hc |= (uint32_t)p[24 + k] << (8 * k);
     if (st_crc32(0, p, 24) != hc)
         return st_fail(err, ST_ERR_PARSE, "%s: damaged session file (header checksum mismatch)", name);
-    if (version != ST_SESSION_VERSION)
+    if (version < 1 || version > ST_SESSION_VERSION)
         return st_fail(err, ST_ERR_PARSE, "%s: session format version %u is %s than this strata (%u)", name, version,
                        version > ST_SESSION_VERSION ? "newer" : "older", ST_SESSION_VERSION);
     if (p[12] | p[13] | p[14] | p[15]) return st_fail(err, ST_ERR_PARSE, "%s: unknown header flags", name);
@@ -903,6 +1012,8 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
         case TAG_BASE: bit = SEEN_BASE; fn = r_base; break;
         case TAG_MASK: bit = SEEN_MASK; fn = r_mask; after = SEEN_MAP; break;
         case TAG_LAYR: bit = SEEN_LAYR; fn = r_layers; after = SEEN_MAP; break;
+        case TAG_FVAR: if (version >= SESSION_VERSION_UV) { bit = SEEN_FVAR; fn = r_fvar; after = SEEN_MAP; } break;
+        case TAG_BUVS: if (version >= SESSION_VERSION_UV) { bit = SEEN_BUVS; fn = r_base_uv; after = SEEN_BASE; } break;
         default: break;
         }
         if (!fn) {

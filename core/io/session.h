@@ -53,7 +53,9 @@
 #include "core/multires/mask.h"
 #include "core/io/mesh.h"
 
-#define ST_SESSION_VERSION 1u
+/* The newest version read and written (2: face-varying UVs; files without
+ * UVs are still written as version 1). */
+#define ST_SESSION_VERSION 2u
 #define ST_SESSION_MAGIC "STRATASN"
 
 /* The camera, as the window's render camera describes it (orbit around

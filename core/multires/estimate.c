@@ -1,6 +1,7 @@
 /* Estimates of what an operation will cost (estimate.h). */
 #include "core/multires/estimate.h"
 #include "core/map/map_memory.h"
+#include "core/fvar/fvar_internal.h"
 
 /* Measured on the shared meshes (strata info: topology and position bytes
  * of each level over its darts and vertices): 11.5-12.2 bytes of topology
@@ -89,11 +90,13 @@ size_t st_hier_estimate_subdivide(st_hier *h, unsigned levels, st_level_stats *f
     st_level_stats_compute(m, m->top, &s);
     uint64_t triangles = h->scheme->id == ST_SCHEME_QUADTRI && levels > m->top ? st_level_triangles(m, m->top) : 0;
     double bytes = 0;
+    /* Face-varying UVs: a UV and a label per dart id of each new level. */
+    double uv_per_dart = st_fvar_continues(h) ? ST_FVAR_BYTES_PER_DART : 0;
     for (unsigned l = m->top; l < levels; l++) {
         st_level_stats next;
         st_estimate_next_level(h->scheme->id, l + 1, &s, &triangles, &next);
         s = next;
-        bytes += level_bytes(&s);
+        bytes += level_bytes(&s) + uv_per_dart * (double)s.darts;
     }
     if (finest) *finest = s;
     bytes *= peak_over_map(h->scheme->id);

@@ -8,6 +8,7 @@
 #include "core/map/map_mesh.h"
 #include "core/map/pool_internal.h"
 #include "core/schemes/crease_internal.h"
+#include "core/fvar/fvar_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -132,6 +133,8 @@ int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const
     if (!rc && scheme->check) rc = scheme->check(h, err);
     if (!rc) rc = load_tags(h, mesh, err);
     if (!rc && none) boundary_none_holes(h);
+    h->opts.uv_interp = opts ? opts->uv_interp : ST_UV_CORNERS_PLUS1;
+    if (!rc) rc = st_fvar_init(h, mesh, h->opts.uv_interp, err);
     if (rc) st_hier_free(h);
     return rc;
 }
@@ -155,6 +158,7 @@ void st_hier_free(st_hier *h)
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(h->detail[l]);
     drop_caches(h, 0);
     free(h->stamp);
+    st_fvar_free(h);
     memset(h, 0, sizeof *h);
 }
 
@@ -268,6 +272,7 @@ int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err)
     }
     while (h->map.top < levels) {
         int rc = h->scheme->refine(h, err);
+        if (!rc) rc = st_fvar_refine(h, err);
         if (rc) return rc;
         drop_caches(h, 0); /* stale now: their memory back before the next level */
         st_hier_synthesize(h, h->map.top - 1);
@@ -283,6 +288,7 @@ void st_hier_remove_top(st_hier *h)
     free(h->detail[l]);
     h->detail[l] = NULL;
     h->detail_cap[l] = 0;
+    st_fvar_remove_top(h);
     st_level_remove_top(&h->map);
 }
 
@@ -305,10 +311,13 @@ void st_hier_remove_bottom(st_hier *h)
         for (uint32_t v = st_vertex_first(&h->map, 0, &it); v != ST_NIL; v = st_vertex_next(&h->map, 0, &it))
             st_vertex_delete(&h->map, v);
     }
+    st_fvar_remove_bottom(h);
     st_level_remove_bottom(&h->map);
 }
 
 int st_hier_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err)
 {
-    return st_map_to_mesh(&h->map, l, out, err);
+    int rc = st_map_to_mesh(&h->map, l, out, err);
+    if (!rc) rc = st_fvar_level_mesh(h, l, out, err);
+    return rc;
 }

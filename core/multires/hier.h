@@ -23,6 +23,7 @@
 #include "core/map/map.h"
 #include "core/io/mesh.h"
 #include "core/schemes/scheme.h"
+#include "core/fvar/fvar.h"
 
 enum st_crease_method { ST_CREASE_UNIFORM, ST_CREASE_CHAIKIN };
 /* Catmull-Clark's edge points next to triangles (Sdc::Options
@@ -34,6 +35,7 @@ typedef struct st_hier_opts {
     int boundary;              /* ST_BOUNDARY_EDGE_ONLY or ST_BOUNDARY_EDGE_AND_CORNER */
     int crease_method;         /* enum st_crease_method (OpenSubdiv's default: uniform) */
     int tri_sub;               /* enum st_tri_sub (Catmull-Clark only; default catmark) */
+    int uv_interp;             /* enum st_uv_interp (core/fvar/fvar.h); 0 is OpenSubdiv's default */
 } st_hier_opts;
 
 typedef struct st_level_cache {
@@ -62,6 +64,9 @@ typedef struct st_hier {
      * syntheses; the owner checks the map's generation before each use.
      * Transient: never saved; a deep copy starts without it. */
     st_level_cache cache[ST_MAX_LEVELS];
+    /* Face-varying UVs per level (core/fvar/fvar.h: st_hier_uv); NULL when
+     * the mesh had none.  Edits never change them. */
+    struct st_fvar *fvar;
 } st_hier;
 
 /* Builds level 0 from a repaired soup: topology, positions, OBJ tags
@@ -105,7 +110,9 @@ float st_hier_vertex_sharpness(const st_hier *h, uint32_t v, unsigned l);
 void st_hier_set_edge_sharpness(st_hier *h, uint32_t d, unsigned l, float s);
 void st_hier_set_vertex_sharpness(st_hier *h, uint32_t v, unsigned l, float s);
 
-/* Level l as a soup (real faces), for writers and tests. */
+/* Level l as a soup (real faces), for writers and tests; with the level's
+ * UVs (face_uv, one texture coordinate per vertex and UV value) when it
+ * has some. */
 int st_hier_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err);
 
 #endif
