@@ -149,7 +149,7 @@ static const struct { int key, mods, id; } window_keys[] = {
     { GLFW_KEY_DOWN, S, ST_ACT_BOX_SHRINK_Y }, { GLFW_KEY_DOWN, A | S, ST_ACT_BOX_SHRINK_Z }, { GLFW_KEY_DOWN, C, -1 },
     { GLFW_KEY_PERIOD, 0, ST_ACT_BOX_MAX_UP }, { GLFW_KEY_PERIOD, A, ST_ACT_BOX_MAX_UP },
     { GLFW_KEY_PERIOD, S, ST_ACT_BOX_BASE_UP }, { GLFW_KEY_COMMA, 0, ST_ACT_BOX_MAX_DOWN },
-    { GLFW_KEY_COMMA, S, ST_ACT_BOX_BASE_DOWN }, { GLFW_KEY_COMMA, C, -1 },
+    { GLFW_KEY_COMMA, S, ST_ACT_BOX_BASE_DOWN }, { GLFW_KEY_COMMA, C, -1 }, { GLFW_KEY_U, C | A, ST_ACT_PREFERENCES },
     { GLFW_KEY_N, 0, -1 }, { GLFW_KEY_E, 0, -1 }, { GLFW_KEY_TAB, 0, -1 },
 };
 

@@ -93,6 +93,22 @@ int main(void)
     CHECK(st_prefs_load() == 0 && st_prefs_ui_scale() == 1.5f);
     CHECK(st_prefs_recent()[0] && !strcmp(st_prefs_recent()[0], "/y.obj"));
 
+    /* The Preferences window's settings: the UI scale (clamped; 0 is the
+     * monitor's) and clearing the recent files, saved and read back. */
+    st_prefs_set_ui_scale(2.25f);
+    st_prefs_clear_recent();
+    CHECK(st_prefs_ui_scale() == 2.25f && st_prefs_recent()[0] == NULL);
+    CHECK(st_prefs_save() == 0);
+    st_prefs_set_ui_scale(0);
+    st_prefs_add_recent("/nonexistent/z.obj");
+    CHECK(st_prefs_load() == 0 && st_prefs_ui_scale() == 2.25f && st_prefs_recent()[0] == NULL);
+    st_prefs_set_ui_scale(100);
+    CHECK(st_prefs_ui_scale() == 4.0f);
+    st_prefs_set_ui_scale(0.1f);
+    CHECK(st_prefs_ui_scale() == 0.5f);
+    st_prefs_set_ui_scale(-1);
+    CHECK(st_prefs_ui_scale() == 0);
+
     /* Panel layout and brush defaults: unset, then set, saved, read back. */
     write_file("strata-prefs 1\n");
     CHECK(st_prefs_load() == 0);

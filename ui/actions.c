@@ -386,6 +386,7 @@ static void toggle_gui(st_app *a) { (void)a; st_gui_set_shown(!st_gui_shown()); 
 /* Help */
 static void help(st_app *a) { a->help = !a->help; }
 static void about(st_app *a) { (void)a; st_gui_set_shown(1); st_gui_show_about(); }
+static void preferences(st_app *a) { (void)a; st_gui_set_shown(1); st_gui_show_prefs(); }
 static void quit(st_app *a) { a->quit = 1; }
 /* Esc closes the help, else cancels what the mouse is doing. */
 static void cancel(st_app *a)
@@ -433,6 +434,8 @@ const st_action st_actions[ST_NACTIONS] = {
     ACT(ST_ACT_REDO, ST_CAT_EDIT, "Redo", "undo / redo", redo, model_keys_free, KEY(Z, C | S, A), KEY(Y, C, S | A)),
     ACT(ST_ACT_SELECT_ALL, ST_CAT_EDIT, "Select all", "select all / none", select_all, model_keys_free, KEY(A, 0, S)),
     ACT(ST_ACT_SELECT_NONE, ST_CAT_EDIT, "Select none", "select all / none", select_none, model_keys_free, KEY(A, A, S)),
+    ACT(ST_ACT_PREFERENCES, ST_CAT_EDIT, "Preferences...", "preferences: UI scale, recent files, where they are kept",
+        preferences, NULL, KEY(U, C | A, 0)),
     ACT(ST_ACT_GRAB, ST_CAT_EDIT, "Grab",
         "grab the selection: move the mouse, click or Enter confirms, right click or Esc cancels",
         grab, model_keys_free, KEY(G, 0, S | A)),

@@ -76,6 +76,7 @@ struct gui_state {
     std::vector<file_entry> entries;
     std::string dlg_error;
     bool about = false;
+    bool prefs = false;
     int box_dragging = 0;
     /* Side panel width (window units; a preference, the left edge drags it). */
     float panel_w = 0;
@@ -585,6 +586,42 @@ void about_window(void)
     ImGui::End();
 }
 
+/* Edit > Preferences: what the user sets by hand (prefs.h); the rest
+ * (window size, panel layout, brush defaults, recent files) is kept as the
+ * window is used and saved at exit.  "Save now" writes the file at once. */
+void prefs_window(st_app *a)
+{
+    if (!g.prefs) return;
+    ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x * 0.5f, ImGui::GetIO().DisplaySize.y * 0.4f), ImGuiCond_Appearing,
+                            ImVec2(0.5f, 0.5f));
+    if (ImGui::Begin("Preferences", &g.prefs, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse)) {
+        char path[4096];
+        ImGui::Text("kept in %s", st_prefs_path(path, sizeof path) ? "(no $XDG_CONFIG_HOME or $HOME: not kept)" : path);
+        ImGui::Separator();
+        float s = st_prefs_ui_scale();
+        if (ImGui::SliderFloat("UI scale", &s, 0.0f, 4.0f, s > 0 ? "%.2f" : "auto (monitor)")) st_prefs_set_ui_scale(s);
+        probe_item("prefs:ui_scale");
+        ImGui::TextDisabled("now %.2f; a new scale applies at the next start (--ui-scale overrides it)", g.scale);
+        const char *const *recent = st_prefs_recent();
+        int nrecent = 0;
+        while (recent[nrecent]) nrecent++;
+        ImGui::Text("%d recent file%s", nrecent, nrecent == 1 ? "" : "s");
+        ImGui::SameLine();
+        if (ImGui::Button("Clear")) st_prefs_clear_recent();
+        probe_item("prefs:clear_recent");
+        const char *tool = st_prefs_brush_tool();
+        ImGui::Text("brush at start: %s, radius %.3g of the model, strength %.2g", tool[0] ? tool : "(default)",
+                    st_prefs_brush_radius(), st_prefs_brush_strength());
+        ImGui::TextDisabled("(the brush in use when the window closes)");
+        if (ImGui::Button("Save now")) {
+            if (st_prefs_save()) st_app_message(a, 1, "preferences not saved (see the terminal)");
+            else st_app_message(a, 0, "preferences saved");
+        }
+        probe_item("prefs:save");
+    }
+    ImGui::End();
+}
+
 /* Help > Key bindings (F1): the same rows as the HUD's F1 list and the
  * README's table (st_help_rows). */
 void keys_window(st_app *a)
@@ -1036,6 +1073,7 @@ void st_gui_frame(st_app *a)
         side_panel(a);
         scheme_window(a);
         about_window();
+        prefs_window(a);
         keys_window(a);
         if (g.dlg_open) file_dialog(a);
         toasts(a);
@@ -1119,6 +1157,7 @@ void st_gui_char(unsigned c)
 
 void st_gui_open_dialog(st_app *a, int kind) { open_dialog(a, kind, 0); }
 void st_gui_show_about(void) { g.about = true; }
+void st_gui_show_prefs(void) { g.prefs = true; }
 
 int st_app_export(st_app *a, const char *path)
 {

@@ -61,6 +61,8 @@ void st_gui_open_dialog(struct st_app *a, int kind);
 
 /* Help > About. */
 void st_gui_show_about(void);
+/* Edit > Preferences: the preferences window (ui/prefs.h). */
+void st_gui_show_prefs(void);
 
 /* Writes the displayed mesh (the displayed level, or the adaptive mesh
  * while the interest box is on) by extension: .obj .ply .gltf .glb. */

@@ -78,6 +78,12 @@ static void clear_recent(void)
 }
 
 void st_prefs_free(void) { clear_recent(); }
+void st_prefs_clear_recent(void) { clear_recent(); }
+
+void st_prefs_set_ui_scale(float s)
+{
+    ui_scale = !(s > 0) ? 0 : s < 0.5f ? 0.5f : s > 4 ? 4 : s;
+}
 
 const char *const *st_prefs_recent(void) { return (const char *const *)recent; }
 float st_prefs_ui_scale(void) { return ui_scale; }

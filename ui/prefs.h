@@ -31,6 +31,11 @@ int st_prefs_save(void);
 const char *const *st_prefs_recent(void);
 void st_prefs_add_recent(const char *path);
 float st_prefs_ui_scale(void);
+/* 0: from the monitor's content scale; else clamped to [0.5, 4].  Applies
+ * at the next start (fonts are built once). */
+void st_prefs_set_ui_scale(float s);
+/* Forgets every recent file (File > Open Recent). */
+void st_prefs_clear_recent(void);
 void st_prefs_window(int *w, int *h);        /* 0 0 when not set */
 void st_prefs_set_window(int w, int h);
 void st_prefs_free(void);                  /* at exit */
