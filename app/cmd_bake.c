@@ -1,11 +1,12 @@
 /* strata bake IN --base-level B [--level L] --normal-map N.png
  *             [--displacement-map D.exr|D.png] [--size 2048] [--space tangent|object]
- *             [--vector] [--padding 8] [--bits 8|16] --auto-uv
+ *             [--vector] [--padding 8] [--bits 8|16] [--auto-uv]
  *
  * Bakes the surface of level L (default: the finest) onto the UV layout of
- * level B (core/bake/bake.h).  Meshes and sessions carry no UVs yet, so
- * --auto-uv (a per-face atlas of level B, st_bake_auto_uvs) is required for
- * now; without it the command says level B has no UVs.  Every file is
+ * level B (core/bake/bake.h): B's own UVs (core/fvar/fvar.h), or with
+ * --auto-uv a generated per-face atlas (st_bake_auto_uvs), which a level
+ * without UVs needs; without either the command says level B has no UVs.
+ * UVs that overlap or leave [0,1] are refused by st_bake.  Every file is
  * written to NAME.tmp.EXT first and renamed once all are written, so a refusal
  * or a failed write leaves nothing.  Exit status: 0 done, 1 refused or a
  * file could not be read or written, 2 bad usage. */
@@ -14,6 +15,7 @@
 #include "cli_common.h"
 #include "core/bake/bake.h"
 #include "core/base/membudget.h"
+#include "core/fvar/fvar.h"
 #include "core/io/mesh.h"
 
 #include <stdio.h>
@@ -24,7 +26,7 @@ static int usage(void)
 {
     fprintf(stderr,
             "usage: strata bake IN --base-level B [--level L] --normal-map N.png [--displacement-map D.exr|D.png]\n"
-            "                   [--size 2048] [--space tangent|object] [--vector] [--padding 8] [--bits 8|16] --auto-uv\n");
+            "                   [--size 2048] [--space tangent|object] [--vector] [--padding 8] [--bits 8|16] [--auto-uv]\n");
     return 2;
 }
 
@@ -200,13 +202,14 @@ int st_cmd_bake(int argc, char **argv)
         goto done;
     }
     if (st_bake_check_scheme(&h, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
-    if (!b.auto_uv) {
-        fprintf(stderr, "strata bake: %s: level %d has no UVs (meshes and sessions carry none yet); "
+    if (!b.auto_uv && !st_hier_uv(&h, (unsigned)b.base)) {
+        fprintf(stderr, "strata bake: %s: level %d has no UVs (the mesh it was made from had none); "
                         "--auto-uv lays out a per-face atlas\n", o.in, b.base);
         rc = 1;
         goto done;
     }
-    if (st_bake_auto_uvs(&h, (unsigned)b.base, &lay, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
+    rc = b.auto_uv ? st_bake_auto_uvs(&h, (unsigned)b.base, &lay, &err) : st_bake_level_uvs(&h, (unsigned)b.base, &lay, &err);
+    if (rc) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
     st_bake_uvs uvs = st_bake_layout_uvs(&lay);
     if (st_mem_check(st_bake_estimate(&h, &uvs, &bo) + writer_bytes(&b, &bo), "baking and writing the maps", &err)) {
         fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg);

@@ -1,7 +1,7 @@
 /* strata convert IN OUT [--scheme S] [--levels N] [--level L] [--boundary B]
  *                       [--box x0,y0,z0,x1,y1,z1 [--base-level B] [--max-level M]
  *                        [--falloff W] [--no-restriction]]
- *                       [--normals | --no-normals]
+ *                       [--normals | --no-normals] [--normal-map N.png]
  *
  * IN: a mesh (.obj .off .ply .gltf .glb, app/mesh_any.h) or a session
  * (.strata).  OUT: a mesh (.obj .ply .gltf .glb) or a session (.strata).
@@ -17,6 +17,10 @@
  *     subdivide`, or the adaptive mesh with --box.
  * Mesh output carries smooth vertex normals (OBJ `vn` with `f v//vn`, PLY nx
  * ny nz) unless --no-normals; glTF files always have them (app/gltf_io.h).
+ * --normal-map N.png (glTF output of a level): TEXCOORD_0, TANGENT and
+ * NORMAL exactly as strata bake used them (core/bake/bake.h: the level's own
+ * UVs, or the --auto-uv atlas for a level without UVs; st_bake_tangents) and
+ * a material whose normalTexture is N.png (app/gltf_io.h st_gltf_save_mapped).
  * Exit status: 0 done, 1 a file could not be read or written, 2 bad usage. */
 #include "core/adapt/adapt.h"
 #include "cli.h"
@@ -25,6 +29,9 @@
 #include "cli_common.h"
 #include "mesh_any.h"
 #include "core/io/session.h"
+#include "core/bake/bake.h"
+#include "core/fvar/fvar.h"
+#include "gltf_io.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,6 +44,7 @@ typedef struct conv_opts {
     int boundary;
     int uv_interp;     /* enum st_uv_interp (--uv-interp) */
     int normals;
+    const char *normal_map;    /* --normal-map N.png: NULL when not given */
     st_adapt_params box;
     int has_box, has_adapt_opt;
 } conv_opts;
@@ -62,7 +70,7 @@ static int usage(void)
     fprintf(stderr, "usage: strata convert IN OUT [--scheme S] [--levels N] [--level L] [--boundary edge-only|edge-and-corner]\n"
                     "                      [--uv-interp none|corners-only|corners-plus1|corners-plus2|boundaries|all]\n"
                     "                      [--box x0,y0,z0,x1,y1,z1 [--base-level B] [--max-level M] [--falloff W] [--no-restriction]]\n"
-                    "                      [--normals | --no-normals]\n"
+                    "                      [--normals | --no-normals] [--normal-map N.png (glTF output)]\n"
                     "  IN: .obj .off .ply .gltf .glb or .strata; OUT: .obj .ply .gltf .glb or .strata\n");
     return 2;
 }
@@ -115,6 +123,7 @@ static int parse(int argc, char **argv, conv_opts *o)
         } else if (!strcmp(a, "--no-restriction")) { o->box.no_restriction = 1; o->has_adapt_opt = 1; }
         else if (!strcmp(a, "--normals")) o->normals = 1;
         else if (!strcmp(a, "--no-normals")) o->normals = 0;
+        else if (!strcmp(a, "--normal-map") && v) { o->normal_map = v; i++; }
         else if (a[0] == '-' && a[1]) { fprintf(stderr, "strata convert: unknown or incomplete option '%s'\n", a); return -1; }
         else if (!o->in) o->in = a;
         else if (!o->out) o->out = a;
@@ -124,6 +133,11 @@ static int parse(int argc, char **argv, conv_opts *o)
     if (o->has_adapt_opt && !o->has_box) { fprintf(stderr, "strata convert: --base-level, --max-level, --falloff and --no-restriction go with --box\n"); return -1; }
     if (o->has_box && (o->levels >= 0 || o->level >= 0)) { fprintf(stderr, "strata convert: --box is an alternative to --levels / --level\n"); return -1; }
     if (o->box.base_level > o->box.max_level) { fprintf(stderr, "strata convert: --base-level is above --max-level\n"); return -1; }
+    if (o->normal_map) {
+        if (!st_path_has_ext(o->out, ".gltf") && !st_path_has_ext(o->out, ".glb")) { fprintf(stderr, "strata convert: --normal-map writes a material into glTF output (.gltf or .glb), not %s\n", o->out); return -1; }
+        if (o->has_box) { fprintf(stderr, "strata convert: --normal-map applies to a level (--level), not to --box\n"); return -1; }
+        if (!st_path_has_ext(o->normal_map, ".png")) { fprintf(stderr, "strata convert: %s: the normal map must be a .png\n", o->normal_map); return -1; }
+    }
     return 0;
 }
 
@@ -169,6 +183,31 @@ static int load_mesh(const conv_opts *o, st_session *s)
     }
     s->display_level = s->h.map.top;
     return 0;
+}
+
+/* Level l as glTF with the normal map: the layout and tangents strata bake
+ * used for l (see the header comment). */
+static int save_mapped(st_hier *h, unsigned l, const st_mesh *m, const conv_opts *o, st_error *err)
+{
+    st_bake_layout lay;
+    int rc = st_hier_uv(h, l) ? st_bake_level_uvs(h, l, &lay, err) : st_bake_auto_uvs(h, l, &lay, err);
+    if (rc) return rc;
+    size_t nc = lay.corner_off[lay.nfaces];
+    double *tan = malloc((nc ? nc : 1) * 4 * sizeof *tan), *nrm = malloc((nc ? nc : 1) * 3 * sizeof *nrm);
+    st_bake_uvs uvs = st_bake_layout_uvs(&lay);
+    if (!tan || !nrm) rc = st_fail(err, ST_ERR_MEMORY, "out of memory for the tangents of level %u", l);
+    else if (lay.nfaces != m->nfaces || nc != m->face_off[m->nfaces])
+        rc = st_fail(err, ST_ERR_INVALID, "level %u: %u faces, %zu corners in its UV layout; the mesh has %u and %u", l, lay.nfaces, nc,
+                     m->nfaces, m->face_off[m->nfaces]);
+    if (!rc) rc = st_bake_tangents(h, l, &uvs, tan, nrm, err);
+    if (!rc) {
+        st_gltf_material mat = { lay.uv, tan, nrm, o->normal_map };
+        rc = st_gltf_save_mapped(o->out, m, &mat, err);
+    }
+    free(tan);
+    free(nrm);
+    st_bake_layout_free(&lay);
+    return rc;
 }
 
 int st_cmd_convert(int argc, char **argv)
@@ -263,13 +302,20 @@ int st_cmd_convert(int argc, char **argv)
         fprintf(stderr, "strata: %s: out of memory computing normals\n", o.out);
         rc = 1;
     }
-    if (!rc && st_any_mesh_save(o.out, &out, &err)) {
+    if (!rc && o.normal_map && adaptive) {
+        fprintf(stderr, "strata convert: %s shows an adaptive mesh; --normal-map applies to a level: give --level\n", o.in);
+        rc = 1;
+    } else if (!rc && o.normal_map && save_mapped(&s.h, l, &out, &o, &err)) {
+        fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
+        rc = 1;
+    } else if (!rc && !o.normal_map && st_any_mesh_save(o.out, &out, &err)) {
         fprintf(stderr, "strata: %s\n", err.msg);
         rc = 1;
     }
     if (!rc)
-        printf("%s: %u faces, %u vertices, %s %u%s\n", o.out, out.nfaces - st_mesh_hole_faces(&out), out.nverts, adaptive ? "adaptive, levels 0.." : "level", l,
-               o.normals || st_path_has_ext(o.out, ".gltf") || st_path_has_ext(o.out, ".glb") ? ", with normals" : "");
+        printf("%s: %u faces, %u vertices, %s %u%s%s%s\n", o.out, out.nfaces - st_mesh_hole_faces(&out), out.nverts, adaptive ? "adaptive, levels 0.." : "level", l,
+               o.normals || st_path_has_ext(o.out, ".gltf") || st_path_has_ext(o.out, ".glb") ? ", with normals" : "",
+               o.normal_map ? ", UVs, tangents and a material with normal map " : "", o.normal_map ? o.normal_map : "");
     st_mesh_free(&out);
     st_session_free(&s);
     return rc ? 1 : 0;

@@ -16,12 +16,14 @@
 #include "gltf_io.h"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <tuple>
 #include <sstream>
@@ -707,11 +709,86 @@ void split_seams(const st_mesh *m, Split *out)
     }
 }
 
-// Builds the tinygltf model of m (checked first).
-void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
+// The normal-mapped export (st_gltf_save_mapped): one glTF vertex per
+// distinct (vertex, UV, tangent, normal) of the corners, so vertices are
+// split wherever two corners of a vertex differ in any of them (UV seams,
+// the tangent's sign across mirrored islands).  Keys are the float values
+// written, so corners that round to the same floats share a vertex.
+void split_mapped(const st_mesh *m, const st_gltf_material *mat, Split *out, std::vector<float> *tangent)
+{
+    if (!m->nfaces || !m->face_off || !m->face_idx) fail(ST_ERR_INVALID, "the mesh is empty");
+    uint32_t nc = m->face_off[m->nfaces];
+    const double *uv = mat->corner_uv, *tg = mat->corner_tangent, *nm = mat->corner_normal;
+    std::map<std::array<uint32_t, 10>, uint32_t> id;
+    std::vector<float> attr;  // 9 per new vertex: u, v, tangent xyzw, normal xyz
+    std::vector<uint32_t> vert;
+    st_mesh *e = &out->m;
+    e->face_idx = (uint32_t *)malloc(((size_t)nc + 1) * sizeof(uint32_t));
+    e->face_off = (uint32_t *)malloc(((size_t)m->nfaces + 1) * sizeof(uint32_t));
+    if (!e->face_idx || !e->face_off) fail(ST_ERR_MEMORY, "out of memory splitting vertices");
+    memcpy(e->face_off, m->face_off, ((size_t)m->nfaces + 1) * sizeof(uint32_t));
+    e->nfaces = m->nfaces;
+    if (m->face_hole) {
+        e->face_hole = (uint8_t *)malloc((size_t)m->nfaces);
+        if (!e->face_hole) fail(ST_ERR_MEMORY, "out of memory splitting vertices");
+        memcpy(e->face_hole, m->face_hole, (size_t)m->nfaces);
+    }
+    for (uint32_t c = 0; c < nc; c++) {
+        if (m->face_idx[c] >= m->nverts) fail(ST_ERR_RANGE, "face corner " + std::to_string(c) + " is out of range");
+        double v[9] = {uv[2 * (size_t)c], 1.0 - uv[2 * (size_t)c + 1],  // glTF's v runs down the image
+                       tg[4 * (size_t)c], tg[4 * (size_t)c + 1], tg[4 * (size_t)c + 2], tg[4 * (size_t)c + 3],
+                       nm[3 * (size_t)c], nm[3 * (size_t)c + 1], nm[3 * (size_t)c + 2]};
+        std::array<uint32_t, 10> key;
+        key[0] = m->face_idx[c];
+        float f[9];
+        for (int k = 0; k < 9; k++) {
+            if (!std::isfinite(v[k]) || std::fabs(v[k]) > FLT_MAX)
+                fail(ST_ERR_GEOMETRY, "face corner " + std::to_string(c) + ": UV, tangent or normal is not finite");
+            f[k] = (float)v[k];
+            memcpy(&key[(size_t)k + 1], &f[k], 4);
+        }
+        auto it = id.find(key);
+        if (it == id.end()) {
+            it = id.emplace(key, (uint32_t)vert.size()).first;
+            vert.push_back(m->face_idx[c]);
+            attr.insert(attr.end(), f, f + 9);
+        }
+        e->face_idx[c] = it->second;
+    }
+    e->nverts = (uint32_t)vert.size();
+    e->pos = (double *)malloc(3 * (vert.size() + 1) * sizeof(double));
+    e->normals = (double *)malloc(3 * (vert.size() + 1) * sizeof(double));
+    if (!e->pos || !e->normals) fail(ST_ERR_MEMORY, "out of memory splitting vertices");
+    out->texcoord.resize(2 * vert.size());
+    tangent->resize(4 * vert.size());
+    for (size_t i = 0; i < vert.size(); i++) {
+        memcpy(e->pos + 3 * i, m->pos + 3 * (size_t)vert[i], 3 * sizeof(double));
+        const float *a = attr.data() + 9 * i;
+        out->texcoord[2 * i] = a[0];
+        out->texcoord[2 * i + 1] = a[1];
+        for (int k = 0; k < 4; k++) (*tangent)[4 * i + (size_t)k] = a[2 + k];
+        for (int k = 0; k < 3; k++) e->normals[3 * i + (size_t)k] = a[6 + k];
+    }
+}
+
+// The normal map of a mapped export: for .glb its PNG bytes (embedded), for
+// .gltf the URI that reaches it from the .gltf's folder.
+struct NormalMap {
+    std::vector<unsigned char> png;
+    std::string uri;
+};
+
+// Builds the tinygltf model of m (checked first); with mat, the tangents,
+// UVs and normals of mat and a material whose normalTexture is nmap.
+void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model,
+                   const st_gltf_material *mat = nullptr, const NormalMap *nmap = nullptr)
 {
     Split split;
-    if (m->face_uv && m->uv && m->nfaces && m->face_off && m->face_idx) {
+    std::vector<float> tan;
+    if (mat) {
+        split_mapped(m, mat, &split, &tan);
+        m = &split.m;
+    } else if (m->face_uv && m->uv && m->nfaces && m->face_off && m->face_idx) {
         split_seams(m, &split);
         m = &split.m;
     }
@@ -764,13 +841,15 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
     std::vector<float> nrm(acc.size());
     for (size_t i = 0; i < acc.size(); i++) nrm[i] = (float)acc[i];
 
-    // One buffer: positions, normals, [texcoords,] indices (each 4-byte aligned).
+    // One buffer: positions, normals, [texcoords, [tangents,]] indices (each
+    // 4-byte aligned), [the embedded normal map].
     std::vector<unsigned char> buf;
-    size_t vbytes = pos.size() * sizeof(float), tbytes = tex.size() * sizeof(float);
-    buf.reserve(2 * vbytes + tbytes + 3 * ntri * (size_t)index_bytes + 4);
+    size_t vbytes = pos.size() * sizeof(float), tbytes = tex.size() * sizeof(float), gbytes = tan.size() * sizeof(float);
+    buf.reserve(2 * vbytes + tbytes + gbytes + 3 * ntri * (size_t)index_bytes + 4);
     buf.insert(buf.end(), (const unsigned char *)pos.data(), (const unsigned char *)pos.data() + vbytes);
     buf.insert(buf.end(), (const unsigned char *)nrm.data(), (const unsigned char *)nrm.data() + vbytes);
     if (tbytes) buf.insert(buf.end(), (const unsigned char *)tex.data(), (const unsigned char *)tex.data() + tbytes);
+    if (gbytes) buf.insert(buf.end(), (const unsigned char *)tan.data(), (const unsigned char *)tan.data() + gbytes);
     for (uint32_t f = 0; f < m->nfaces; f++) {
         uint32_t a = m->face_off[f], b = m->face_off[f + 1];
         if (m->face_hole && m->face_hole[f]) continue;
@@ -784,6 +863,13 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
         }
     }
 
+    size_t ibytes = 3 * ntri * (size_t)index_bytes, png_at = 0;
+    if (nmap && !nmap->png.empty()) {
+        while (buf.size() % 4) buf.push_back(0);
+        png_at = buf.size();
+        buf.insert(buf.end(), nmap->png.begin(), nmap->png.end());
+    }
+
     model->asset.version = "2.0";
     model->asset.generator = "Strata";
     tinygltf::Buffer b;
@@ -792,7 +878,8 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
     add_view(model, 0, vbytes, TINYGLTF_TARGET_ARRAY_BUFFER);
     add_view(model, vbytes, vbytes, TINYGLTF_TARGET_ARRAY_BUFFER);
     if (tbytes) add_view(model, 2 * vbytes, tbytes, TINYGLTF_TARGET_ARRAY_BUFFER);
-    add_view(model, 2 * vbytes + tbytes, 3 * ntri * (size_t)index_bytes, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    add_view(model, 2 * vbytes + tbytes + gbytes, ibytes, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    if (gbytes) add_view(model, 2 * vbytes + tbytes, gbytes, TINYGLTF_TARGET_ARRAY_BUFFER);
 
     tinygltf::Accessor ap, an, ai;
     ap.bufferView = 0;
@@ -820,13 +907,44 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model)
         at.count = m->nverts;
         model->accessors.push_back(at);
     }
+    if (gbytes) {
+        tinygltf::Accessor ag;
+        ag.bufferView = 4;
+        ag.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+        ag.type = TINYGLTF_TYPE_VEC4;
+        ag.count = m->nverts;
+        model->accessors.push_back(ag);
+    }
 
     tinygltf::Primitive prim;
     prim.attributes["POSITION"] = 0;
     prim.attributes["NORMAL"] = 1;
     if (tbytes) prim.attributes["TEXCOORD_0"] = 3;
+    if (gbytes) prim.attributes["TANGENT"] = 4;
     prim.indices = 2;
     prim.mode = kModeTriangles;
+    if (nmap) {
+        // The normal map: image (embedded bytes or a URI), texture, and a
+        // material that uses it through TEXCOORD_0 and the TANGENT above.
+        tinygltf::Image img;
+        img.name = "normal";
+        if (!nmap->png.empty()) {
+            add_view(model, png_at, nmap->png.size(), 0);
+            img.bufferView = (int)model->bufferViews.size() - 1;
+            img.mimeType = "image/png";
+        } else {
+            img.uri = nmap->uri;
+        }
+        model->images.push_back(img);
+        tinygltf::Texture t;
+        t.source = 0;
+        model->textures.push_back(t);
+        tinygltf::Material mt;
+        mt.name = "strata";
+        mt.normalTexture.index = 0;
+        model->materials.push_back(mt);
+        prim.material = 0;
+    }
     tinygltf::Mesh mesh;
     mesh.name = "strata";
     mesh.primitives.push_back(prim);
@@ -898,9 +1016,55 @@ void save_gltf_json(const std::string &path, const tinygltf::Model &model)
     write_file(path, j.dump(2) + "\n");
 }
 
+// The URI of png as seen from the folder of the .gltf at path: a relative
+// reference, each segment percent-encoded.
+std::string relative_uri(const std::string &path, const std::string &png)
+{
+    namespace fs = std::filesystem;
+    fs::path from = fs::weakly_canonical(fs::absolute(fs::path(path))).parent_path();
+    fs::path to = fs::weakly_canonical(fs::absolute(fs::path(png)));
+    fs::path rel = to.lexically_relative(from);
+    if (rel.empty()) fail(ST_ERR_INVALID, png + ": no relative path from " + from.string());
+    std::string uri;
+    for (const fs::path &seg : rel) uri += (uri.empty() ? "" : "/") + uri_encode(seg.string());
+    return uri;
+}
+
+void load_normal_map(const std::string &path, const std::string &png, bool glb, NormalMap *out)
+{
+    std::vector<unsigned char> bytes;
+    std::string why;
+    if (!read_file(png, &bytes, &why)) fail(ST_ERR_IO, png + ": cannot read: " + why);
+    if (bytes.size() < 8 || memcmp(bytes.data(), "\x89PNG\r\n\x1a\n", 8) != 0) fail(ST_ERR_PARSE, png + ": not a PNG file");
+    if (glb) out->png.swap(bytes);
+    else out->uri = relative_uri(path, png);
+}
+
 }  // namespace
 
 extern "C" {
+
+int st_gltf_save_mapped(const char *path, const st_mesh *m, const st_gltf_material *mat, st_error *err)
+{
+    try {
+        bool glb = st_path_has_ext(path, ".glb");
+        if (!glb && !st_path_has_ext(path, ".gltf"))
+            return st_fail(err, ST_ERR_PARSE, "%s: not a glTF file name (expected .gltf or .glb)", path);
+        if (!mat || !mat->corner_uv || !mat->corner_tangent || !mat->corner_normal || !mat->normal_map)
+            return st_fail(err, ST_ERR_INVALID, "%s: a normal-mapped export needs UVs, tangents, normals and a map", path);
+        NormalMap nmap;
+        load_normal_map(path, mat->normal_map, glb, &nmap);
+        tinygltf::Model model;
+        mesh_to_model(m, 0, &model, mat, &nmap);
+        if (glb) write_file(path, to_bytes(model, true));
+        else save_gltf_json(path, model);
+        return 0;
+    } catch (const Failure &f) {
+        return st_fail(err, f.code, "%s: %s", path, f.msg.c_str());
+    } catch (const std::exception &e) {
+        return st_fail(err, ST_ERR_IO, "%s: %s", path, one_line(e.what()).c_str());
+    }
+}
 
 int st_gltf_is_gltf_path(const char *path)
 {

@@ -64,6 +64,24 @@ int st_gltf_parse(const char *name, const void *data, size_t size, st_mesh *out,
 /* Writes m by extension: .glb binary, .gltf JSON + .bin (case-insensitive). */
 int st_gltf_save(const char *path, const st_mesh *m, st_error *err);
 
+/* A normal-mapped export (strata convert --normal-map): per face corner of
+ * m, in the order of m->face_idx, the UV (2, OBJ convention: v up), the
+ * tangent (4: unit xyz and the bitangent sign w = ±1) and the normal (3, unit)
+ * the map was baked with (st_bake_tangents), and the PNG of the map. */
+typedef struct st_gltf_material {
+    const double *corner_uv;
+    const double *corner_tangent;
+    const double *corner_normal;
+    const char *normal_map;
+} st_gltf_material;
+
+/* Writes m like st_gltf_save with TEXCOORD_0, TANGENT and NORMAL from mat,
+ * vertices split wherever two corners of a vertex differ in any of them,
+ * and a material whose normalTexture is mat->normal_map: embedded in a .glb
+ * (bufferView, image/png), referenced by a relative URI from a .gltf (the
+ * PNG is not copied).  m's own UVs and normals are not used. */
+int st_gltf_save_mapped(const char *path, const st_mesh *m, const st_gltf_material *mat, st_error *err);
+
 /* Writes m to memory: binary != 0 gives a GLB, else JSON with the buffer as
  * a data: URI.  index_bytes: 0 picks u16/u32 as st_gltf_save does; 1, 2 or 4
  * force u8/u16/u32 indices (refused when a vertex index does not fit; a u8

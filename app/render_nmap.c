@@ -3,6 +3,7 @@
 #include "image.h"
 #include "nmap.h"
 #include "core/bake/bake.h"
+#include "core/fvar/fvar.h"
 
 #include <stdlib.h>
 
@@ -15,11 +16,12 @@ int st_render_normal_mapped(st_offscreen *off, st_hier *h, const st_render_spec 
     unsigned char *tex = NULL;
     rc = st_png_read(map_path, &tw, &th, &tex, err);
     if (rc) return rc;
-    /* Meshes carry no UVs yet: the layout strata bake --auto-uv made. */
+    /* The layout strata bake used: the level's own UVs, or for a level
+     * without UVs the atlas of strata bake --auto-uv. */
     st_bake_layout lay;
     st_nmap_mesh mesh = { 0 };
     st_nmap nm = { 0 };
-    rc = st_bake_auto_uvs(h, spec->level, &lay, err);
+    rc = st_hier_uv(h, spec->level) ? st_bake_level_uvs(h, spec->level, &lay, err) : st_bake_auto_uvs(h, spec->level, &lay, err);
     if (rc) { free(tex); return rc; }
     st_bake_uvs uvs = st_bake_layout_uvs(&lay);
     *faces = lay.nfaces;

@@ -1,5 +1,6 @@
 /* `strata render --normal-map N.png`: level L drawn with a baked normal map
- * (render/nmap.h) on the UV layout strata bake --auto-uv used. */
+ * (render/nmap.h) on the UV layout strata bake used: the level's own UVs,
+ * or for a level without UVs the atlas of strata bake --auto-uv. */
 #ifndef ST_RENDER_NMAP_H
 #define ST_RENDER_NMAP_H
 

@@ -2,7 +2,8 @@
 # `strata bake` and `strata render --normal-map` from the command line:
 # normal maps (8- and 16-bit PNG), displacement maps (32-bit float EXR, or
 # 16-bit PNG with its JSON scale and offset), same bytes for the same
-# inputs, sessions and meshes as input, and refusals (no UVs, schemes whose
+# inputs, sessions and meshes as input, on the mesh's own UVs or the
+# --auto-uv atlas, and refusals (no UVs, overlapping or tiled UVs, schemes whose
 # faces do not nest, levels, sizes, extensions, the memory budget) with a
 # message, a non-zero exit and nothing written.
 #
@@ -66,6 +67,33 @@ run 0 "object-space normals" bake cube.strata --base-level 1 --normal-map no.png
 # A mesh as input, Loop and quad/triangle.
 run 0 "level 2 onto level 0" bake "$ASSETS/octahedron.obj" --scheme loop --levels 2 --base-level 0 --normal-map lo.png --size 64 --auto-uv
 run 0 "level 2 onto level 1" bake "$ASSETS/mixed.obj" --scheme quad-triangle --levels 2 --base-level 1 --normal-map qt.png --size 64 --auto-uv
+
+# The mesh's own UVs (no --auto-uv): the icosphere's layout, from the OBJ
+# and from a session; --auto-uv still forces the generated atlas, which
+# covers other texels.
+ICO="$MESHES/triangle/sphere_ico.obj"
+run 0 "level 2 onto level 0: [0-9]+ texels baked" bake "$ICO" --scheme loop --levels 2 --base-level 0 --normal-map ico.png --displacement-map ico.exr --size 128
+run 0 "" convert "$ICO" ico.strata --scheme loop --levels 2
+run 0 "level 2 onto level 1: [0-9]+ texels baked" bake ico.strata --base-level 1 --normal-map ico1.png --size 128
+run 0 "level 2 onto level 0" bake ico.strata --base-level 0 --normal-map ico_s.png --displacement-map ico_s.exr --size 128
+if cmp -s ico.png ico_s.png && cmp -s ico.exr ico_s.exr; then ok; else bad "the OBJ and its session baked different maps"; fi
+own=$("$EXE" bake ico.strata --base-level 0 --normal-map o.png --size 128 2>&1 | grep -oE '[0-9]+ texels baked')
+auto=$("$EXE" bake ico.strata --base-level 0 --normal-map a.png --size 128 --auto-uv 2>&1 | grep -oE '[0-9]+ texels baked')
+if [ -n "$own" ] && [ -n "$auto" ] && [ "$own" != "$auto" ] && ! cmp -s o.png a.png; then ok
+else bad "own UVs ($own) and --auto-uv ($auto) baked the same"; fi
+run 0 "^wrote ir\.png \(96x96, smooth, level 0, 320 faces" render ico.strata --level 0 --normal-map ico_s.png --size 96x96 -o ir.png
+run 0 "^wrote" render ico.strata --level 0 --size 96x96 -o iplain.png
+if ! cmp -s ir.png iplain.png; then ok; else bad "the normal map on the icosphere's UVs did not change the image"; fi
+# Overlapping islands (every face of the cube on the same unit square) and
+# tiled UVs (outside [0,1]) are refused with nothing written.
+{ grep '^v ' "$ASSETS/cube.obj"; printf 'vt 0.1 0.1\nvt 0.9 0.1\nvt 0.9 0.9\nvt 0.1 0.9\n'
+  grep '^f ' "$ASSETS/cube.obj" | awk '{ printf "f %s/1 %s/2 %s/3 %s/4\n", $2, $3, $4, $5 }'; } > stacked.obj
+run 1 "stacked\.obj: UV islands overlap: faces [0-9]+ and [0-9]+ of level 0" bake stacked.obj --levels 1 --base-level 0 --normal-map xo.png --displacement-map xo.exr --size 64
+nothing_written xo
+sed 's/^vt 0\.9 0\.9/vt 1.5 0.9/' stacked.obj > tiled.obj
+run 1 "tiled\.obj: face [0-9]+ of level 0: corner [0-9]+ has UV \(1\.5, 0\.9\) outside \[0,1\]" bake tiled.obj --levels 1 --base-level 0 --normal-map xo.png --size 64
+nothing_written xo
+run 0 "level 1 onto level 0" bake stacked.obj --levels 1 --base-level 0 --normal-map so.png --size 64 --auto-uv
 
 # Refusals: message, exit status, nothing written.
 run 1 "level 1 has no UVs .*--auto-uv" bake cube.strata --base-level 1 --normal-map x.png --size 64

@@ -41,7 +41,7 @@ typedef struct st_bake_uvs {
     const double *uv;             /* 2 per corner */
 } st_bake_uvs;
 
-/* An owned layout (st_bake_auto_uvs). */
+/* An owned layout (st_bake_auto_uvs, st_bake_level_uvs). */
 typedef struct st_bake_layout {
     uint32_t nfaces;
     uint32_t *corner_off;
@@ -59,6 +59,11 @@ static inline st_bake_uvs st_bake_layout_uvs(const st_bake_layout *l)
  * cell of a square grid with a margin of 1/8 cell around it.  Islands never
  * overlap.  For when the mesh carries no UVs. */
 int st_bake_auto_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err);
+
+/* The mesh's own UVs of level l (core/fvar/fvar.h: st_hier_uv) as a layout
+ * in the order above.  ST_ERR_INVALID with "level l has no UVs" when the
+ * hierarchy carries none at that level. */
+int st_bake_level_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err);
 
 /* ST_OK when the faces of h nest level to level (see above). */
 int st_bake_check_scheme(const st_hier *h, st_error *err);

@@ -1,5 +1,6 @@
 /* UV layouts and tangent frames of a level (core/bake/bake.h). */
 #include "core/bake/bake_internal.h"
+#include "core/fvar/fvar.h"
 #include "core/map/geometry.h"
 
 #include <math.h>
@@ -110,6 +111,39 @@ int st_bake_auto_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err)
         for (unsigned c = 0; c < n; c++)
             for (int k = 0; k < 2; k++)
                 xy[2 * c + k] = centre[k] + (xy[2 * c + k] - 0.5 * (lo[k] + hi[k])) * scale;
+    }
+    free(darts);
+    return ST_OK;
+}
+
+/* ---- the mesh's own UVs ----------------------------------------------------- */
+
+int st_bake_level_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err)
+{
+    memset(out, 0, sizeof *out);
+    st_map *m = &h->map;
+    if (l > m->top) return st_fail(err, ST_ERR_RANGE, "level %u does not exist (top level %u)", l, m->top);
+    const double *uv = st_hier_uv(h, l);
+    if (!uv) return st_fail(err, ST_ERR_INVALID, "level %u has no UVs", l);
+    uint32_t *darts, nf;
+    int rc = st_bake_level_faces(m, l, &darts, &nf, err);
+    if (rc) return rc;
+    out->nfaces = nf;
+    out->corner_off = malloc(((size_t)nf + 1) * sizeof *out->corner_off);
+    if (!out->corner_off) { free(darts); return st_fail(err, ST_ERR_MEMORY, "out of memory reading the UVs of level %u", l); }
+    out->corner_off[0] = 0;
+    for (uint32_t f = 0; f < nf; f++) out->corner_off[f + 1] = out->corner_off[f] + st_face_degree(m, darts[f], l);
+    out->uv = malloc(((size_t)out->corner_off[nf] ? out->corner_off[nf] : 1) * 2 * sizeof *out->uv);
+    if (!out->uv) { free(darts); st_bake_layout_free(out); return st_fail(err, ST_ERR_MEMORY, "out of memory reading the UVs of level %u", l); }
+    /* Corners from each face's first dart along φ1: st_hier_uv's order. */
+    for (uint32_t f = 0; f < nf; f++) {
+        uint32_t d = darts[f], k = out->corner_off[f];
+        do {
+            out->uv[2 * (size_t)k] = uv[2 * (size_t)d];
+            out->uv[2 * (size_t)k + 1] = uv[2 * (size_t)d + 1];
+            k++;
+            d = st_phi1(m, d, l);
+        } while (d != darts[f]);
     }
     free(darts);
     return ST_OK;
