@@ -31,6 +31,8 @@ typedef struct step_ctx {
     double *acc;               /* 3 per vertex: scratch of the geometric score */
     uint8_t *mark;             /* per vertex: scratch */
     int crease_chaikin;        /* `t creasemethod chaikin` */
+    float *esharp;             /* per corner: the crease sharpness of its edge; NULL when no creases */
+    float *vsharp;             /* per vertex: its corner sharpness; NULL when no corners */
     char fail[400];            /* why the current attempt failed */
 } step_ctx;
 
@@ -237,7 +239,9 @@ static double poly_score(step_ctx *s, unsigned swap)
         double *a = s->acc + 3 * (size_t)F;
         if (s->mark[F] == 0) { a[0] = a[1] = a[2] = 0; s->mark[F] = 1; }
         if (s->mark[F] == SCORE_SKIP) continue;
-        if (G == ST_NIL || s->mark[F] == SCORE_SKIP - 1) { s->mark[F] = SCORE_SKIP; continue; }
+        /* A sharp coarse edge's edge point is its midpoint, not the smooth
+         * rule the identity rests on: such faces are left out too. */
+        if (G == ST_NIL || s->mark[F] == SCORE_SKIP - 1 || (s->esharp && s->esharp[b + p] > 0)) { s->mark[F] = SCORE_SKIP; continue; }
         s->mark[F]++;
         for (int k = 0; k < 3; k++) a[k] += 4 * s->pos[3 * (size_t)E + k] - 3 * s->pos[3 * (size_t)F + k] - s->pos[3 * (size_t)G + k];
     }
@@ -554,7 +558,32 @@ static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
         const double *pv = s->pos + 3 * (size_t)V;
         double *out = m->pos + 3 * (size_t)cv, *se = sum + 3 * (size_t)V;
         exact[V] = 0;
-        if (t->bnd[V]) {
+        /* Crease rules (DeRose et al. 1998; the coarse edges and vertex of
+         * a sharp fine chain are at least 1 sharp, unsubdivide.h, so the
+         * rules are the full sharp ones): a corner (a sharp vertex, 3+
+         * sharp edges, or a sharp edge at a boundary vertex) stays, V' = v;
+         * a crease vertex V' = (a + 6v + b)/8 with its sharp edges' edge
+         * points E = (v + a)/2 gives v = 2V' - (E_a + E_b)/2; one sharp
+         * edge (a dart) keeps the fine position as its estimate. */
+        unsigned ns = 0;
+        uint32_t sa = ST_NIL, sb = ST_NIL;
+        for (uint32_t k = t->out_off[V]; s->esharp && k < t->out_off[V + 1]; k++) {
+            uint32_t c = t->out_c[k];
+            if (s->esharp[c] <= 0 || t->twin[c] == ST_NIL) continue;
+            ns++;
+            if (sa == ST_NIL) sa = st_unsub_target(t, c);
+            else sb = st_unsub_target(t, c);
+        }
+        int sharp_v = s->vsharp && s->vsharp[V] > 0;
+        if (sharp_v || ns >= 3 || (ns && t->bnd[V])) {
+            for (int k = 0; k < 3; k++) out[k] = pv[k];
+            exact[V] = 1;
+        } else if (ns == 2) {
+            for (int k = 0; k < 3; k++) out[k] = 2 * pv[k] - 0.5 * (s->pos[3 * (size_t)sa + k] + s->pos[3 * (size_t)sb + k]);
+            exact[V] = 1;
+        } else if (ns == 1) {
+            for (int k = 0; k < 3; k++) out[k] = pv[k];
+        } else if (t->bnd[V]) {
             uint32_t ea = ST_NIL, eb = ST_NIL;
             for (uint32_t k = t->out_off[V]; k < t->out_off[V + 1]; k++) {
                 uint32_t c = t->out_c[k], pc = st_unsub_prev(t, c);
@@ -579,7 +608,7 @@ static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
     for (uint32_t q = 0; q < t->nf; q++) {
         uint32_t b = t->foff[q], p = s->phase[q];
         uint32_t V = t->fidx[b + p];
-        if (exact[V] || t->bnd[V]) continue;
+        if (exact[V] || t->bnd[V] || (s->esharp && s->esharp[b + p] > 0)) continue;
         uint32_t E = t->fidx[b + ((p + 1) & 3)], F = t->fidx[b + ((p + 2) & 3)], G = face_point_across(s, q, 0);
         uint32_t tw = t->twin[b + ((p + 1) & 3)];
         if (G == ST_NIL || tw == ST_NIL) continue;
@@ -656,18 +685,13 @@ static int carry_creases(step_ctx *s, const st_mesh *fine, st_unsub_step *st, co
 {
     const st_unsub_topo *t = s->t;
     st_mesh *m = &st->coarse;
-    float *esharp = calloc((size_t)t->nc + 1, sizeof *esharp);
+    const float *esharp = s->esharp;
     uint8_t *used = calloc((size_t)t->nc + 1, 1);
     m->crease_v = malloc(((size_t)ct->nc + 1) * 2 * sizeof *m->crease_v);
     m->crease_s = malloc(((size_t)ct->nc + 1) * sizeof *m->crease_s);
     int rc = 0;
+    (void)fine;
     if (!esharp || !used || !m->crease_v || !m->crease_s) { failf(s, "out of memory"); rc = -1; goto done; }
-    for (uint32_t i = 0; i < fine->ncreases; i++) {
-        uint32_t a = fine->crease_v[2 * i], b = fine->crease_v[2 * i + 1];
-        uint32_t c = st_unsub_find(t, a, b), d = st_unsub_find(t, b, a);
-        if (c != ST_NIL) esharp[c] = fine->crease_s[i];
-        if (d != ST_NIL) esharp[d] = fine->crease_s[i];
-    }
     for (uint32_t c = 0; c < ct->nc && !rc; c++) {
         if (ct->twin[c] != ST_NIL && ct->twin[c] < c) continue;   /* each edge once */
         uint32_t a = st->v_fine[ct->fidx[c]], b = st->v_fine[st_unsub_target(ct, c)], E = st->e_fine[c];
@@ -709,7 +733,6 @@ static int carry_creases(step_ctx *s, const st_mesh *fine, st_unsub_step *st, co
             rc = -1;
         }
 done:
-    free(esharp);
     free(used);
     return rc;
 }
@@ -848,6 +871,26 @@ static int pick_pattern(step_ctx *s, const st_mesh *m)
     return -1;
 }
 
+/* The fine mesh's tags by corner and vertex (NULL when it has none). */
+static int fine_tags(step_ctx *s, const st_mesh *fine)
+{
+    const st_unsub_topo *t = s->t;
+    if (fine->ncreases) {
+        if (!(s->esharp = calloc((size_t)t->nc + 1, sizeof *s->esharp))) { failf(s, "out of memory"); return -1; }
+        for (uint32_t i = 0; i < fine->ncreases; i++) {
+            uint32_t a = fine->crease_v[2 * i], b = fine->crease_v[2 * i + 1];
+            uint32_t c = st_unsub_find(t, a, b), d = st_unsub_find(t, b, a);
+            if (c != ST_NIL) s->esharp[c] = fine->crease_s[i];
+            if (d != ST_NIL) s->esharp[d] = fine->crease_s[i];
+        }
+    }
+    if (fine->ncorners) {
+        if (!(s->vsharp = calloc((size_t)t->nv + 1, sizeof *s->vsharp))) { failf(s, "out of memory"); return -1; }
+        for (uint32_t i = 0; i < fine->ncorners; i++) s->vsharp[fine->corner_v[i]] = fine->corner_s[i];
+    }
+    return 0;
+}
+
 /* One step from `fine` (pattern fixed, or chosen when ST_UNSUB_NONE). */
 /* t: the adjacency of `fine` (built here when empty); on success it is
  * replaced by the coarse mesh's. */
@@ -889,6 +932,7 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
     if (!s->lab || !s->phase || !s->queue || !s->best_queue || !s->best_phase || !s->acc || !s->mark || !vmap ||
         !corner_fine || !coarse_of) { failf(s, "out of memory"); goto done; }
     memset(s->phase, NO_PHASE, nf);
+    if (fine_tags(s, fine)) goto done;
     if (label_all(s, 1e-12 * (diag > 0 ? diag : 1))) goto done;
     uint32_t ncv = 0, ncf = 0;
     for (uint32_t v = 0; v < t.nv; v++) {
@@ -927,6 +971,8 @@ done:
     if (rc) free_step(st);
     free(s->lab); free(s->phase); free(s->queue); free(s->acc); free(s->mark); free(vmap);
     free(s->best_queue); free(s->best_phase);
+    free(s->esharp); free(s->vsharp);
+    s->esharp = s->vsharp = NULL;
     s->lab = s->phase = s->mark = s->best_phase = NULL;
     s->queue = s->best_queue = NULL;
     s->acc = NULL;
