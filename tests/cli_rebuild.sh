@@ -211,6 +211,9 @@ if [ -x "$OSD" ]; then
         ok "OpenSubdiv-refined creased cage: cage back within $dev (diagonal ~3), $(grep -o "longest detail.*" "$W/osd_tags.out")"
     else bad "OpenSubdiv-refined creased cage: off by $dev, $(cat "$W/osd_tags.out")"; fi
 fi
+rc=0; "$S" rebuild "$W/tags.obj" --uv-interp smooth -o "$W/uvbad.strata" > /dev/null 2> "$W/uvbad.err" || rc=$?
+if [ $rc -eq 2 ] && grep -q "uv-interp wants" "$W/uvbad.err" && [ ! -e "$W/uvbad.strata" ]; then ok "bad --uv-interp refused (exit 2)"
+else bad "bad --uv-interp: exit $rc, $(cat "$W/uvbad.err")"; fi
 # Tags no coarser mesh refines into: refused by unsubdivide, naming what;
 # auto falls back to progressive, which says what it drops.
 tag_fine 3 > "$W/mixhole.obj"
