@@ -211,6 +211,10 @@ if [ -x "$OSD" ]; then
         ok "OpenSubdiv-refined creased cage: cage back within $dev (diagonal ~3), $(grep -o "longest detail.*" "$W/osd_tags.out")"
     else bad "OpenSubdiv-refined creased cage: off by $dev, $(cat "$W/osd_tags.out")"; fi
 fi
+{ cat "$W/tfine.obj"; echo "t interpolateboundary 1/0/0 0"; } > "$W/ibnone.obj"
+rc=0; "$S" rebuild "$W/ibnone.obj" --method unsubdivide -o "$W/ibnone.strata" > /dev/null 2> "$W/ibnone.err" || rc=$?
+if [ $rc -eq 1 ] && grep -q "interpolateboundary 0. with a boundary" "$W/ibnone.err" && [ ! -e "$W/ibnone.strata" ]; then ok "interpolateboundary 0 with a boundary refused: $(cat "$W/ibnone.err")"
+else bad "interpolateboundary 0: exit $rc, $(cat "$W/ibnone.err")"; fi
 rc=0; "$S" rebuild "$W/tags.obj" --uv-interp smooth -o "$W/uvbad.strata" > /dev/null 2> "$W/uvbad.err" || rc=$?
 if [ $rc -eq 2 ] && grep -q "uv-interp wants" "$W/uvbad.err" && [ ! -e "$W/uvbad.strata" ]; then ok "bad --uv-interp refused (exit 2)"
 else bad "bad --uv-interp: exit $rc, $(cat "$W/uvbad.err")"; fi

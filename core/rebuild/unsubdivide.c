@@ -932,6 +932,14 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
     if (!s->lab || !s->phase || !s->queue || !s->best_queue || !s->best_phase || !s->acc || !s->mark || !vmap ||
         !corner_fine || !coarse_of) { failf(s, "out of memory"); goto done; }
     memset(s->phase, NO_PHASE, nf);
+    /* `t interpolateboundary 0` makes the faces at boundary vertices holes
+     * (hier.c); at a coarser level those are coarser faces, whose children
+     * are more faces than the input's: no cage gives the input's holes. */
+    for (uint32_t v = 0; v < t.nv && fine->boundary_interp == ST_BOUNDARY_NONE; v++)
+        if (t.bnd[v]) {
+            failf(s, "`t interpolateboundary 0` with a boundary (vertex %u): a coarser mesh's boundary holes cover other faces", v + 1);
+            goto done;
+        }
     if (fine_tags(s, fine)) goto done;
     if (label_all(s, 1e-12 * (diag > 0 ? diag : 1))) goto done;
     uint32_t ncv = 0, ncf = 0;

@@ -115,7 +115,8 @@ int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *s
  * sharpness; a sharp edge inside a coarse face or a sharp edge or face
  * point; a hole beside a non-hole child of one coarse face; a sharpness
  * that one level coarser would be infinite; semi-sharp creases under
- * `t creasemethod chaikin`).  st_unsub_build_hier sets the finest level's
+ * `t creasemethod chaikin`; `t interpolateboundary 0` with a boundary,
+ * whose implied holes a coarser boundary would widen).  st_unsub_build_hier sets the finest level's
  * sharpness to the input's exactly after checking the refined values agree
  * (to float rounding of s + k).  UVs: the cage's corner UV at a coarse
  * vertex is the input's UV at that vertex's fine corner (coarse vertices
