@@ -1,5 +1,5 @@
 /* strata rebuild IN [--method auto|unsubdivide|progressive] [--scheme S]
- *                   [--target-faces N] [--max-levels L] -o OUT.strata
+ *                   [--target-faces N] [--max-levels L] [--uv-interp I] -o OUT.strata
  *
  * Makes a dense mesh into a hierarchy with coarse editing levels and saves
  * it as a session (core/io/session.h).
@@ -10,6 +10,9 @@
  *   - progressive: arbitrary meshes (not in this build yet).
  *   - auto (default): unsubdivide, and when it refuses, progressive; says
  *     which it used and why.
+ * Unsubdivide keeps the OBJ tags and UVs (core/rebuild/unsubdivide.h);
+ * progressive says which it drops.  --uv-interp: the face-varying option
+ * the UVs are refined by (unsubdivide).
  * --max-levels L: at most L levels removed.  --target-faces N: no step that
  * would leave a cage of fewer than N faces (the cage is the coarsest level
  * the pattern allows with at least N faces).
@@ -31,6 +34,7 @@ enum rebuild_method { METHOD_AUTO, METHOD_UNSUBDIVIDE, METHOD_PROGRESSIVE };
 typedef struct rebuild_opts {
     const char *in, *out, *scheme;
     int method;
+    int uv_interp;             /* enum st_uv_interp */
     unsigned max_levels;       /* 0: no limit */
     uint32_t target_faces;     /* 0: none */
 } rebuild_opts;
@@ -38,7 +42,7 @@ typedef struct rebuild_opts {
 static int usage(void)
 {
     fprintf(stderr, "usage: strata rebuild IN [--method auto|unsubdivide|progressive] [--scheme S]\n"
-                    "                     [--target-faces N] [--max-levels L] -o OUT.strata\n");
+                    "                     [--target-faces N] [--max-levels L] [--uv-interp I] -o OUT.strata\n");
     return 2;
 }
 
@@ -59,6 +63,13 @@ static int parse(int argc, char **argv, rebuild_opts *o)
         unsigned long n;
         if (!strcmp(a, "-o") && v) { o->out = v; i++; }
         else if (!strcmp(a, "--scheme") && v) { o->scheme = v; i++; }
+        else if (!strcmp(a, "--uv-interp") && v) {
+            if ((o->uv_interp = st_uv_interp_find(v)) < 0) {
+                fprintf(stderr, "strata rebuild: --uv-interp wants none, corners-only, corners-plus1, corners-plus2, boundaries or all, got '%s'\n", v);
+                return -1;
+            }
+            i++;
+        }
         else if (!strcmp(a, "--method") && v) {
             if (!strcmp(v, "auto")) o->method = METHOD_AUTO;
             else if (!strcmp(v, "unsubdivide")) o->method = METHOD_UNSUBDIVIDE;
@@ -87,6 +98,21 @@ static int parse(int argc, char **argv, rebuild_opts *o)
 }
 
 static int save_hier(const rebuild_opts *o, st_hier *h);
+
+/* The progressive method builds levels by edge collapses, which have no
+ * rule for OBJ tags or UVs (a collapse merges a crease or a seam with its
+ * neighbours): what the input had and the hierarchy lacks, one line. */
+static void progressive_dropped(const rebuild_opts *o, const st_mesh *mesh)
+{
+    char buf[512];
+    size_t n = 0;
+    uint32_t holes = st_mesh_hole_faces(mesh);
+    if (mesh->ncreases) n += (size_t)snprintf(buf + n, sizeof buf - n, "%s%u crease tag%s", n ? ", " : "", mesh->ncreases, mesh->ncreases == 1 ? "" : "s");
+    if (mesh->ncorners && n < sizeof buf) n += (size_t)snprintf(buf + n, sizeof buf - n, "%s%u corner tag%s", n ? ", " : "", mesh->ncorners, mesh->ncorners == 1 ? "" : "s");
+    if (holes && n < sizeof buf) n += (size_t)snprintf(buf + n, sizeof buf - n, "%s%u hole face%s (they are ordinary faces now)", n ? ", " : "", holes, holes == 1 ? "" : "s");
+    if (mesh->face_uv && n < sizeof buf) n += (size_t)snprintf(buf + n, sizeof buf - n, "%sthe UVs", n ? ", " : "");
+    if (n) printf("%s: note: the progressive method keeps no tags or UVs; dropped %s\n", o->in, buf);
+}
 
 /* The progressive method for any manifold mesh (core/progressive/: grouped
  * independent edge collapses, Kraemer 2008 §4.4).  Default target: 1 % of
@@ -118,6 +144,7 @@ static int rebuild_progressive(const rebuild_opts *o, const st_mesh *mesh)
     printf(", %.1f topology bytes per finest dart\n", rep.bytes_per_dart);
     if (rep.triangulated) printf("%s: polygons were split into triangles (fans) first\n", o->in);
     if (rep.note[0]) printf("%s: %s\n", o->in, rep.note);
+    progressive_dropped(o, mesh);
     int rc = save_hier(o, &h);
     if (!rc) printf("%s: session, levels 0..%u\n", o->out, h.map.top);
     st_hier_free(&h);
@@ -152,8 +179,9 @@ static int rebuild_unsubdivide(const rebuild_opts *o, const st_mesh *mesh, const
     }
     st_hier h;
     st_error err;
-    st_hier_opts ho = { .boundary = ST_BOUNDARY_UNSET, .crease_method = ST_CREASE_UNIFORM };
-    if (st_unsub_build_hier(mesh, u, sc, &ho, &h, NULL, NULL, &err)) {
+    st_hier_opts ho = { .boundary = ST_BOUNDARY_UNSET, .crease_method = ST_CREASE_UNIFORM, .uv_interp = o->uv_interp };
+    uint32_t *fine_of = NULL;
+    if (st_unsub_build_hier(mesh, u, sc, &ho, &h, &fine_of, NULL, &err)) {
         fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);
         return 1;
     }
@@ -164,7 +192,17 @@ static int rebuild_unsubdivide(const rebuild_opts *o, const st_mesh *mesh, const
                o->out, u->pattern == ST_UNSUB_POLY_SPLIT ? "polygon split" : "triangle quadrisection", sc->name,
                h.map.top, cage->nfaces, cage->nverts, mesh->nfaces, st_unsub_max_detail(&h));
         printf("%s: %s\n", o->out, u->stop);
+        const st_mesh *c = &u->step[0].coarse;
+        if (mesh->ncreases || mesh->ncorners || mesh->face_hole)
+            printf("%s: tags kept: cage %u crease edge%s, %u corner%s, %u hole face%s; finest level as the input's\n", o->out,
+                   c->ncreases, c->ncreases == 1 ? "" : "s", c->ncorners, c->ncorners == 1 ? "" : "s",
+                   st_mesh_hole_faces(c), st_mesh_hole_faces(c) == 1 ? "" : "s");
+        if (mesh->face_uv)
+            printf("%s: UVs: cage corners from the input's; refined with --uv-interp %s, the finest level's UVs differ from "
+                   "the input's by at most %.3g (UVs have no details)\n",
+                   o->out, st_uv_interp_name(o->uv_interp), st_unsub_uv_residual(&h, mesh, fine_of));
     }
+    free(fine_of);
     st_hier_free(&h);
     return rc;
 }

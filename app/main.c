@@ -26,7 +26,7 @@ static void usage(FILE *f)
         "  (info, subdivide, render, convert, adapt: [--uv-interp none|corners-only|corners-plus1|\n"
         "   corners-plus2|boundaries|all], how UVs are subdivided; default corners-plus1)\n"
         "  rebuild IN [--method auto|unsubdivide|progressive] [--scheme S] [--target-faces N]\n"
-        "          [--max-levels L] -o OUT.strata\n"
+        "          [--max-levels L] [--uv-interp I] -o OUT.strata\n"
         "                                      a dense mesh into a hierarchy with coarse levels\n"
         "  [--scheme S] [--levels N] [--size WxH] [--replay EVENTS.txt] [--screenshot-dir D]\n"
         "  [--compare-dir D] [--mem-budget MIB] [--bench-interaction] [FILE]\n"

@@ -156,6 +156,84 @@ else bad "incompatible scheme: exit $rc, $(cat "$W/l.err")"; fi
 rc=$?
 if [ $rc -eq 2 ] && [ ! -e "$W/x.obj" ]; then ok "non-session output refused"; else bad "non-session output: exit $rc"; fi
 
+# ---- tags and UVs ------------------------------------------------------------------
+# A 2x2 grid cage (open) with a crease of
+# sharpness 2.5 down its middle column and UVs (not a linear map: the
+# middle one moved), subdivided once with linear UVs; the fine mesh gets its tags back by position: the crease chain (the
+# vertices at x = 1, sharpness 1.5) and the four children of the first
+# coarse face (around the face point at 0.5 0.5 0) as holes.
+printf 'v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 0 2 0.5\nv 1 2 0.5\nv 2 2 0.5\n' > "$W/tcage.obj"
+printf 'vt 0 0\nvt 0.5 0\nvt 1 0\nvt 0 0.5\nvt 0.6 0.4\nvt 1 0.5\nvt 0 1\nvt 0.5 1\nvt 1 1\n' >> "$W/tcage.obj"
+printf 'f 1/1 2/2 5/5 4/4\nf 2/2 3/3 6/6 5/5\nf 4/4 5/5 8/8 7/7\nf 5/5 6/6 9/9 8/8\nt crease 4/1/0 1 4 4 7 2.5\n' >> "$W/tcage.obj"
+"$S" subdivide "$W/tcage.obj" --scheme catmull-clark --levels 1 --uv-interp all -o "$W/tfine.obj" > /dev/null
+# tag_fine HOLES [CREASE_PAIRS [FILE [SHARPNESS]]]: FILE (tfine.obj) plus a crease tag along x = 1 (the
+# first CREASE_PAIRS of its edges) and a hole tag on the first HOLES
+# children of the first coarse face.
+tag_fine() {
+    awk -v holes="$1" -v pairs="${2:-99}" -v sharp="${4:-1.5}" '
+        /^v / { nv++; if ($2 == 1) { X[++nx] = nv - 1; Y[nx] = $3 } if ($2 == 0.5 && $3 == 0.5 && $4 == 0) fp = nv }
+        /^f / { nf++; for (i = 2; i <= NF; i++) { split($i, t, "/"); if (t[1] == fp) H[++nh] = nf - 1 } }
+        { print }
+        END {
+            for (i = 1; i <= nx; i++) for (j = i + 1; j <= nx; j++) if (Y[j] < Y[i]) { tmp = Y[i]; Y[i] = Y[j]; Y[j] = tmp; tmp = X[i]; X[i] = X[j]; X[j] = tmp }
+            np = nx - 1 < pairs ? nx - 1 : pairs
+            line = "t crease " 2 * np "/1/0"; for (i = 1; i <= np; i++) line = line " " X[i] " " X[i + 1]; print line " " sharp
+            if (holes > 0) { line = "t hole " holes "/0/0"; for (i = 1; i <= holes; i++) line = line " " H[i]; print line }
+        }' "${3:-$W/tfine.obj}"
+}
+tag_fine 4 > "$W/tags.obj"
+if "$S" rebuild "$W/tags.obj" --method unsubdivide --uv-interp all -o "$W/tags.strata" > "$W/tags.out" 2> "$W/tags.err" \
+   && grep -q "tags kept: cage 2 crease edges, 0 corners, 1 hole face" "$W/tags.out" \
+   && grep -q "UVs: .*--uv-interp all.* by at most 0 " "$W/tags.out" \
+   && [ "$(faces_at "$W/tags.strata" 0)" = 4 ]; then
+    ok "unsubdivide keeps creases, holes and UVs: $(grep -h "tags kept\|UVs" "$W/tags.out" | tr '\n' ' ' | cut -c1-220)"
+else bad "unsubdivide with tags: $(cat "$W/tags.out" "$W/tags.err")"; fi
+"$S" rebuild "$W/tags.obj" --method unsubdivide -o "$W/tags2.strata" > "$W/tags2.out" 2>&1
+if grep -Eq "UVs: .*--uv-interp corners-plus1.* by at most (0\.[0-9]*[1-9]|[1-9])" "$W/tags2.out"; then
+    ok "smooth face-varying UVs: the refined UVs differ and it says by how much: $(grep -h "UVs" "$W/tags2.out" | cut -c1-160)"
+else bad "UVs under corners-plus1: $(cat "$W/tags2.out")"; fi
+# The same cage refined twice by OpenSubdiv (its rules for the crease, its
+# vertex order), the chain tagged 0.5: unsubdivide finds the cage (positions
+# within 1e-9 of the diagonal, details zero) with the crease at 2.5.
+if [ -x "$OSD" ]; then
+    "$OSD" "$W/tcage.obj" --scheme catmark --levels 2 --out-prefix "$W/osd_tags" 2> /dev/null
+    tag_fine 0 99 "$W/osd_tags_2.obj" 0.5 > "$W/osd_tags.obj"
+    "$S" rebuild "$W/osd_tags.obj" --method unsubdivide -o "$W/osd_tags.strata" > "$W/osd_tags.out" 2>&1
+    "$S" convert "$W/osd_tags.strata" "$W/osd_tags_cage.obj" --level 0 --no-normals > /dev/null 2>&1
+    dev=$(awk '/^v / { if (FILENAME == ARGV[1]) P[++n] = $2 " " $3 " " $4; else Q[++m] = $2 " " $3 " " $4 }
+        END { worst = (n == m && n == 9) ? 0 : 1e9
+              for (i = 1; i <= m; i++) { best = 1e9; split(Q[i], q, " ")
+                  for (j = 1; j <= n; j++) { split(P[j], p, " "); d = (p[1]-q[1])^2 + (p[2]-q[2])^2 + (p[3]-q[3])^2; if (d < best) best = d }
+                  if (sqrt(best) > worst) worst = sqrt(best) }
+              printf "%.3g", worst }' "$W/tcage.obj" "$W/osd_tags_cage.obj")
+    if grep -q "levels 0..2, cage 4 faces and 9 vertices" "$W/osd_tags.out" && grep -q "tags kept: cage 2 crease edges" "$W/osd_tags.out" \
+       && grep -Eq "longest detail ([0-9.]+e-(1[0-9]|[2-9][0-9])|0)$" "$W/osd_tags.out" && awk -v d="$dev" 'BEGIN { exit !(d <= 3e-9) }'; then
+        ok "OpenSubdiv-refined creased cage: cage back within $dev (diagonal ~3), $(grep -o "longest detail.*" "$W/osd_tags.out")"
+    else bad "OpenSubdiv-refined creased cage: off by $dev, $(cat "$W/osd_tags.out")"; fi
+fi
+{ cat "$W/tfine.obj"; echo "t interpolateboundary 1/0/0 0"; } > "$W/ibnone.obj"
+rc=0; "$S" rebuild "$W/ibnone.obj" --method unsubdivide -o "$W/ibnone.strata" > /dev/null 2> "$W/ibnone.err" || rc=$?
+if [ $rc -eq 1 ] && grep -q "interpolateboundary 0. with a boundary" "$W/ibnone.err" && [ ! -e "$W/ibnone.strata" ]; then ok "interpolateboundary 0 with a boundary refused: $(cat "$W/ibnone.err")"
+else bad "interpolateboundary 0: exit $rc, $(cat "$W/ibnone.err")"; fi
+rc=0; "$S" rebuild "$W/tags.obj" --uv-interp smooth -o "$W/uvbad.strata" > /dev/null 2> "$W/uvbad.err" || rc=$?
+if [ $rc -eq 2 ] && grep -q "uv-interp wants" "$W/uvbad.err" && [ ! -e "$W/uvbad.strata" ]; then ok "bad --uv-interp refused (exit 2)"
+else bad "bad --uv-interp: exit $rc, $(cat "$W/uvbad.err")"; fi
+# Tags no coarser mesh refines into: refused by unsubdivide, naming what;
+# auto falls back to progressive, which says what it drops.
+tag_fine 3 > "$W/mixhole.obj"
+tag_fine 0 1 > "$W/halfcrease.obj"
+for c in "mixhole hole: face" "halfcrease crease: edge"; do
+    set -- $c
+    rc=0; "$S" rebuild "$W/$1.obj" --method unsubdivide -o "$W/$1.strata" > /dev/null 2> "$W/$1.err" || rc=$?
+    if [ $rc -eq 1 ] && grep -q "$1.obj: .*$2 $3" "$W/$1.err" && [ ! -e "$W/$1.strata" ]; then ok "$1 refused: $(cat "$W/$1.err")"
+    else bad "$1: exit $rc, $(cat "$W/$1.err")"; fi
+done
+rc=0; "$S" rebuild "$W/mixhole.obj" -o "$W/mix_auto.strata" > "$W/mix_auto.out" 2> "$W/mix_auto.err" || rc=$?
+if [ $rc -eq 0 ] && grep -q "unsubdivide refused: .*hole: face" "$W/mix_auto.err" \
+   && grep -q "note: the progressive method keeps no tags or UVs; dropped 4 crease tags, 3 hole faces (they are ordinary faces now), the UVs" "$W/mix_auto.out"; then
+    ok "auto falls back to progressive, which names what it drops: $(grep note "$W/mix_auto.out")"
+else bad "auto with mixed holes: exit $rc, $(cat "$W/mix_auto.out" "$W/mix_auto.err")"; fi
+
 # ---- bad input ---------------------------------------------------------------------
 : > "$W/empty.obj"
 for f in "$D/edge_cases/nonmanifold_edge.obj" "$D/edge_cases/moebius_quad.obj" "$W/empty.obj" "$W/missing.obj"; do

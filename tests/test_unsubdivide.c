@@ -447,6 +447,205 @@ static void check_edit(void)
     st_mesh_free(&cage);
 }
 
+/* ---- tags and UVs ------------------------------------------------------------ */
+
+/* The vertex of m nearest to p (the cages here have distinct positions). */
+static uint32_t nearest(const st_map *m, unsigned l, const double *p)
+{
+    uint32_t best = ST_NIL;
+    double bd = INFINITY;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
+        const double *q = st_pos(m, v, l);
+        double d = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+        if (d < bd) { bd = d; best = v; }
+    }
+    return best;
+}
+
+/* The dart of level l from the vertex a to b, or ST_NIL. */
+static uint32_t dart_between(const st_map *m, unsigned l, uint32_t a, uint32_t b)
+{
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it))
+        if (!st_is_boundary(m, d) && st_vert(m, d, l) == a && st_vert(m, st_phi1(m, d, l), l) == b) return d;
+    return ST_NIL;
+}
+
+/* Level l of h as a soup with its edge and vertex sharpness as OBJ tags
+ * (what a file written from it with its tags holds). */
+static void tagged_level(st_hier *h, unsigned l, st_mesh *out)
+{
+    st_error err;
+    st_mesh_init(out);
+    CHECK(st_hier_level_mesh(h, l, out, &err) == 0);
+    st_map *m = &h->map;
+    uint32_t *index = malloc(((size_t)m->verts.end + 1) * sizeof *index), n = 0;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) index[v] = n++;
+    size_t nd = (size_t)m->darts.end + 1;
+    out->crease_v = malloc(2 * nd * sizeof *out->crease_v);
+    out->crease_s = malloc(nd * sizeof *out->crease_s);
+    out->corner_v = malloc(((size_t)n + 1) * sizeof *out->corner_v);
+    out->corner_s = malloc(((size_t)n + 1) * sizeof *out->corner_s);
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        uint32_t e = st_beta0(m, d, l);
+        float sh = st_hier_edge_sharpness(h, d, l);
+        if (st_is_boundary(m, d) || (!st_is_boundary(m, e) && e < d) || sh <= 0) continue;
+        out->crease_v[2 * out->ncreases] = index[st_vert(m, d, l)];
+        out->crease_v[2 * out->ncreases + 1] = index[st_vert(m, st_phi1(m, d, l), l)];
+        out->crease_s[out->ncreases++] = sh;
+    }
+    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it))
+        if (st_hier_vertex_sharpness(h, v, l) > 0) {
+            out->corner_v[out->ncorners] = index[v];
+            out->corner_s[out->ncorners++] = st_hier_vertex_sharpness(h, v, l);
+        }
+    free(index);
+    CHECK(st_mesh_check("tagged", out, &err) == 0);
+}
+
+/* A tagged cage (semi-sharp creases, an infinitely sharp one, a corner, a
+ * hole, UVs with a seam at every edge) refined k times with linear UVs is
+ * unsubdivided: the cage's positions (1e-9 of the diagonal), every edge's
+ * and vertex's sharpness (to float rounding), its holes and its corner UVs
+ * come back; the finest level's sharpness is the input's exactly and its
+ * UVs are the input's (residual 0). */
+static void check_tags(const char *rel, st_scheme_id id, unsigned k)
+{
+    st_mesh cage;
+    if (load(rel, &cage)) { CHECKF(0, "cannot load %s", rel); return; }
+    /* Tags: creases of sharpness 2.5, k + 0.7 and infinite on the first
+     * edges of face 0 and 1, a corner on the last vertex, face 2 a hole. */
+    uint32_t *f0 = cage.face_idx + cage.face_off[0], *f1 = cage.face_idx + cage.face_off[1];
+    cage.ncreases = 3;
+    cage.crease_v = malloc(6 * sizeof *cage.crease_v);
+    cage.crease_s = malloc(3 * sizeof *cage.crease_s);
+    uint32_t cv[6] = { f0[0], f0[1], f0[1], f0[2], f1[0], f1[1] };
+    memcpy(cage.crease_v, cv, sizeof cv);
+    cage.crease_s[0] = (float)k + 0.5f;
+    cage.crease_s[1] = (float)k + 0.7f;
+    cage.crease_s[2] = 10.0f;
+    cage.ncorners = 1;
+    cage.corner_v = malloc(sizeof *cage.corner_v);
+    cage.corner_s = malloc(sizeof *cage.corner_s);
+    cage.corner_v[0] = cage.nverts - 1;
+    cage.corner_s[0] = (float)k + 1.25f;
+    cage.face_hole = calloc(cage.nfaces, 1);
+    cage.face_hole[2] = 1;
+    uint32_t nc = cage.face_off[cage.nfaces];
+    free(cage.uv); free(cage.face_uv);
+    cage.nuvs = nc;
+    cage.uv = malloc(2 * (size_t)nc * sizeof *cage.uv);
+    cage.face_uv = malloc((size_t)nc * sizeof *cage.face_uv);
+    for (uint32_t c = 0; c < nc; c++) {
+        cage.face_uv[c] = c;
+        cage.uv[2 * c] = 0.01 * c + 0.003 * (c % 7);
+        cage.uv[2 * c + 1] = 1.0 - 0.02 * c;
+    }
+    st_error err;
+    CHECK(st_mesh_check("cage", &cage, &err) == 0);
+    const st_scheme *sc = st_scheme_find(id == ST_SCHEME_CATMARK ? "catmull-clark" : "loop");
+    st_hier_opts ho = { .boundary = ST_BOUNDARY_UNSET, .uv_interp = ST_UV_ALL };
+    st_hier h0, h1;
+    CHECK(st_hier_init(&h0, &cage, sc, &ho, &err) == 0);
+    CHECK(st_hier_subdivide_to(&h0, k, &err) == 0);
+    st_mesh fine;
+    tagged_level(&h0, k, &fine);
+    st_unsub u;
+    st_unsub_opts o = { .max_levels = k };
+    int rc = st_unsubdivide(rel, &fine, &o, &u, &err);
+    CHECKF(rc == 0 && u.levels == k, "%s x%u tagged: %s", rel, k, rc ? err.msg : "levels");
+    uint32_t *fine_of = NULL;
+    if (!rc) rc = st_unsub_build_hier(&fine, &u, sc, &ho, &h1, &fine_of, NULL, &err);
+    CHECKF(rc == 0, "%s x%u tagged: %s", rel, k, rc ? err.msg : "");
+    if (!rc) {
+        double diag = diagonal(&cage);
+        const st_map *a = &h0.map, *b = &h1.map;
+        st_dart_iter it;
+        double worst = 0, uvw = 0;
+        float sworst = 0;
+        uint32_t missing = 0, holes = 0, sharp = 0;
+        /* Level 0: every dart of the rebuilt cage against the original's. */
+        for (uint32_t d = st_dart_first(b, 0, &it); d != ST_NIL; d = st_dart_next(b, 0, &it)) {
+            if (st_is_boundary(b, d)) continue;
+            const double *p = st_pos(b, st_vert(b, d, 0), 0), *q = st_pos(b, st_vert(b, st_phi1(b, d, 0), 0), 0);
+            uint32_t va = nearest(a, 0, p), vb = nearest(a, 0, q), e = dart_between(a, 0, va, vb);
+            if (e == ST_NIL) { missing++; continue; }
+            for (int c = 0; c < 3; c++) worst = fmax(worst, fabs(p[c] - st_pos(a, va, 0)[c]));
+            sworst = fmaxf(sworst, fabsf(st_hier_edge_sharpness(&h1, d, 0) - st_hier_edge_sharpness(&h0, e, 0)));
+            sworst = fmaxf(sworst, fabsf(st_hier_vertex_sharpness(&h1, st_vert(b, d, 0), 0) - st_hier_vertex_sharpness(&h0, va, 0)));
+            sharp += st_hier_edge_sharpness(&h1, d, 0) > 0;
+            holes += st_is_hole(b, d) != st_is_hole(a, e);
+            const double *ua = st_hier_uv(&h0, 0), *ub = st_hier_uv(&h1, 0);
+            uvw = fmax(uvw, fmax(fabs(ua[2 * e] - ub[2 * d]), fabs(ua[2 * e + 1] - ub[2 * d + 1])));
+        }
+        CHECKF(!missing && worst <= 1e-9 * diag, "%s x%u tagged: cage off by %.3g, %u edges missing", rel, k, worst, missing);
+        CHECKF(sworst <= 1e-5f && sharp == 6, "%s x%u tagged: cage sharpness off by %g, %u sharp darts (6 expected)", rel, k, (double)sworst, sharp);
+        CHECKF(!holes, "%s x%u tagged: %u darts with another hole flag", rel, k, holes);
+        CHECKF(uvw == 0, "%s x%u tagged: cage UVs off by %.3g", rel, k, uvw);
+        /* Finest level: the input, sharpness and UVs included. */
+        st_mesh top;
+        tagged_level(&h1, k, &top);
+        CHECKF(same_faces(&top, &fine) && top.ncreases == fine.ncreases && top.ncorners == fine.ncorners &&
+               st_mesh_hole_faces(&top) == st_mesh_hole_faces(&fine) && st_mesh_hole_faces(&fine) > 0,
+               "%s x%u tagged: finest level: %u creases %u corners %u holes, the input %u %u %u", rel, k,
+               top.ncreases, top.ncorners, st_mesh_hole_faces(&top), fine.ncreases, fine.ncorners, st_mesh_hole_faces(&fine));
+        uint32_t off = 0;
+        for (uint32_t d = st_dart_first(b, k, &it); d != ST_NIL; d = st_dart_next(b, k, &it)) {
+            if (st_is_boundary(b, d)) continue;
+            const double *p = st_pos(b, st_vert(b, d, k), k), *q = st_pos(b, st_vert(b, st_phi1(b, d, k), k), k);
+            uint32_t e = dart_between(a, k, nearest(a, k, p), nearest(a, k, q));
+            off += e == ST_NIL || st_hier_edge_sharpness(&h1, d, k) != st_hier_edge_sharpness(&h0, e, k) ||
+                   st_hier_vertex_sharpness(&h1, st_vert(b, d, k), k) != st_hier_vertex_sharpness(&h0, st_vert(a, e, k), k);
+        }
+        CHECKF(!off, "%s x%u tagged: %u finest darts whose sharpness is not the input's", rel, k, off);
+        double r = st_unsub_uv_residual(&h1, &fine, fine_of);
+        /* To rounding: a face point's UV sums its corners from another
+         * starting corner than in h0. */
+        CHECKF(r <= 1e-12, "%s x%u tagged: finest UVs off by %.3g under linear interpolation", rel, k, r);
+        printf("%s x%u tagged: cage off by %.3g, sharpness %.3g, finest UV residual %.3g\n", rel, k, worst, (double)sworst, r);
+        st_mesh_free(&top);
+        free(fine_of);
+        st_hier_free(&h1);
+    }
+    st_unsub_free(&u);
+    /* Tags no coarser mesh gives are refused, naming what. */
+    struct { const char *what; int kind; } bad[] = { { "crease:", 0 }, { "crease:", 1 }, { "corner:", 2 }, { "hole:", 3 } };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        st_mesh m;
+        tagged_level(&h0, k, &m);
+        if (bad[i].kind == 0) {                                 /* one half of a semi-sharp coarse edge changed */
+            uint32_t c = 0;
+            while (m.crease_s[c] >= 10.0f) c++;
+            m.crease_s[c] += 0.25f;
+        }
+        if (bad[i].kind == 1) {                                 /* a sharp edge from a coarse vertex's ... */
+            uint32_t f = 0;                                     /* ... face's middle: corners 1 and 2 of a fine face */
+            while (f < m.nfaces && m.face_hole[f]) f++;
+            uint32_t *fv = m.face_idx + m.face_off[f];
+            m.crease_v[0] = fv[1]; m.crease_v[1] = fv[2];
+            m.crease_v[2] = fv[2]; m.crease_v[3] = fv[id == ST_SCHEME_CATMARK ? 3 : 0];
+        }
+        if (bad[i].kind == 2) m.corner_v[0] = m.nverts - 1;    /* the last vertex, new at the finest level */
+        if (bad[i].kind == 3) {                                 /* one child of the hole face made solid */
+            uint32_t f = 0;
+            while (!m.face_hole[f]) f++;
+            m.face_hole[f] = 0;
+        }
+        st_unsub_opts one = { .max_levels = 1 };
+        rc = st_unsubdivide("bad.obj", &m, &one, &u, &err);
+        CHECKF(rc != 0 && strstr(err.msg, bad[i].what), "%s x%u bad %s (%d): %s", rel, k, bad[i].what, bad[i].kind,
+               rc ? err.msg : "accepted");
+        if (rc) printf("refused: %s\n", err.msg);
+        else st_unsub_free(&u);
+        st_mesh_free(&m);
+    }
+    st_mesh_free(&fine);
+    st_hier_free(&h0);
+    st_mesh_free(&cage);
+}
+
 int main(void)
 {
     static const struct { const char *mesh; st_scheme_id id; unsigned max; } cases[] = {
@@ -474,6 +673,10 @@ int main(void)
     check_recovery("catmull_clark/spot_quadrangulated.obj", ST_SCHEME_CATMARK, 3, 5);
     check_recovery("triangle/sphere_ico.obj", ST_SCHEME_CATMARK, 3, ROTATE_ONLY | 1);
     check_recovery("triangle/sphere_ico.obj", ST_SCHEME_CATMARK, 3, 77);
+    check_tags("cube.obj", ST_SCHEME_CATMARK, 1);
+    check_tags("cube.obj", ST_SCHEME_CATMARK, 3);
+    check_tags("catmull_clark/dodecahedron_poly.obj", ST_SCHEME_CATMARK, 2);
+    check_tags("triangle/sphere_ico.obj", ST_SCHEME_LOOP, 2);
     check_edit();
     check_manifold();
     check_refusals();

@@ -71,6 +71,58 @@ static int check_correspondence(st_hier *h, const st_mesh *in, const uint32_t *m
     return rc;
 }
 
+/* The finest level's tags against the input's.  Sharpness: the cage's
+ * tags (s + k, unsubdivide.c) decay by one per level, exact in float
+ * except for the rounding of s + k, so the refined finest values agree with
+ * the input's to a few ulps; they are then set to the input's exactly, so
+ * that the finest level is the input, tags included.  Holes: the finest
+ * face of every dart must be a hole exactly when its input face is. */
+static int finest_tags(st_hier *h, const st_mesh *in, const uint32_t *map, st_error *err)
+{
+    st_map *m = &h->map;
+    unsigned k = m->top;
+    st_unsub_topo t;
+    if (st_unsub_topo_build(&t, in)) return st_fail(err, ST_ERR_MEMORY, "out of memory");
+    float *esharp = calloc((size_t)t.nc + 1, sizeof *esharp), *vsharp = calloc((size_t)in->nverts + 1, sizeof *vsharp);
+    int rc = ST_OK;
+    if (!esharp || !vsharp) { rc = st_fail(err, ST_ERR_MEMORY, "out of memory"); goto done; }
+    for (uint32_t i = 0; i < in->ncreases; i++) {
+        uint32_t a = in->crease_v[2 * i], b = in->crease_v[2 * i + 1], c;
+        if ((c = st_unsub_find(&t, a, b)) != ST_NIL) esharp[c] = in->crease_s[i];
+        if ((c = st_unsub_find(&t, b, a)) != ST_NIL) esharp[c] = in->crease_s[i];
+    }
+    for (uint32_t i = 0; i < in->ncorners; i++) vsharp[in->corner_v[i]] = in->corner_s[i];
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, k, &it); d != ST_NIL && !rc; d = st_dart_next(m, k, &it)) {
+        if (st_is_boundary(m, d)) continue;
+        uint32_t a = map[st_vert(m, d, k)], c = st_unsub_find(&t, a, map[st_vert(m, st_phi1(m, d, k), k)]);
+        if (c == ST_NIL) continue;   /* check_correspondence reports it */
+        if (!st_is_hole(m, d) != !(in->face_hole && in->face_hole[t.face_of[c]]))
+            rc = st_fail(err, ST_ERR_INVALID, "level %u: face of dart %u is%s a hole, input face %u is%s", k, d,
+                         st_is_hole(m, d) ? "" : " not", t.face_of[c] + 1, st_is_hole(m, d) ? " not" : "");
+        if (!in->ncreases) continue;
+        float got = st_hier_edge_sharpness(h, d, k), want = esharp[c];
+        if (fabsf(got - want) > 1e-5f * (1.0f + want))
+            rc = st_fail(err, ST_ERR_INVALID, "level %u: edge %u-%u has sharpness %g after refinement, the input %g",
+                         k, a + 1, map[st_vert(m, st_phi1(m, d, k), k)] + 1, (double)got, (double)want);
+        else if (got != want)
+            st_hier_set_edge_sharpness(h, d, k, want);
+    }
+    for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL && !rc && in->ncorners; v = st_vertex_next(m, k, &it)) {
+        float got = st_hier_vertex_sharpness(h, v, k), want = vsharp[map[v]];
+        if (fabsf(got - want) > 1e-5f * (1.0f + want))
+            rc = st_fail(err, ST_ERR_INVALID, "level %u: vertex %u has sharpness %g after refinement, the input %g",
+                         k, map[v] + 1, (double)got, (double)want);
+        else if (got != want)
+            st_hier_set_vertex_sharpness(h, v, k, want);
+    }
+done:
+    free(esharp);
+    free(vsharp);
+    st_unsub_topo_free(&t);
+    return rc;
+}
+
 int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                         st_hier *h, uint32_t **fine_of, double *residual, st_error *err)
 {
@@ -92,6 +144,7 @@ int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *s
     if (i != u->step[0].coarse.nverts) rc = st_fail(err, ST_ERR_INVALID, "level 0 has %u vertices, the cage %u", i, u->step[0].coarse.nverts);
     for (unsigned j = 0; j < u->levels && !rc; j++) rc = map_level(h, j, &u->step[j], map, err);
     if (!rc) rc = check_correspondence(h, in, map, err);
+    if (!rc) rc = finest_tags(h, in, map, err);
     if (rc) { free(map); st_hier_free(h); return rc; }
     unsigned k = u->levels;
     for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL; v = st_vertex_next(m, k, &it))
@@ -125,5 +178,28 @@ double st_unsub_max_detail(const st_hier *h)
             if (n > worst) worst = n;
         }
     }
+    return worst;
+}
+
+double st_unsub_uv_residual(const st_hier *h, const st_mesh *in, const uint32_t *fine_of)
+{
+    const st_map *m = &h->map;
+    unsigned k = m->top;
+    const double *uv = st_hier_uv(h, k);
+    if (!in->face_uv) return 0;
+    if (!uv || !fine_of) return INFINITY;
+    st_unsub_topo t;
+    if (st_unsub_topo_build(&t, in)) return INFINITY;
+    double worst = 0;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, k, &it); d != ST_NIL; d = st_dart_next(m, k, &it)) {
+        if (st_is_boundary(m, d) || st_is_hole(m, d)) continue;
+        uint32_t c = st_unsub_find(&t, fine_of[st_vert(m, d, k)], fine_of[st_vert(m, st_phi1(m, d, k), k)]);
+        if (c == ST_NIL) { worst = INFINITY; break; }
+        const double *w = in->uv + 2 * (size_t)in->face_uv[c];
+        double e = fmax(fabs(uv[2 * (size_t)d] - w[0]), fabs(uv[2 * (size_t)d + 1] - w[1]));
+        if (e > worst) worst = e;
+    }
+    st_unsub_topo_free(&t);
     return worst;
 }

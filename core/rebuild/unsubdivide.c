@@ -30,6 +30,9 @@ typedef struct step_ctx {
     uint8_t *best_phase;       /* ... and their phases (per face) */
     double *acc;               /* 3 per vertex: scratch of the geometric score */
     uint8_t *mark;             /* per vertex: scratch */
+    int crease_chaikin;        /* `t creasemethod chaikin` */
+    float *esharp;             /* per corner: the crease sharpness of its edge; NULL when no creases */
+    float *vsharp;             /* per vertex: its corner sharpness; NULL when no corners */
     char fail[400];            /* why the current attempt failed */
 } step_ctx;
 
@@ -236,7 +239,9 @@ static double poly_score(step_ctx *s, unsigned swap)
         double *a = s->acc + 3 * (size_t)F;
         if (s->mark[F] == 0) { a[0] = a[1] = a[2] = 0; s->mark[F] = 1; }
         if (s->mark[F] == SCORE_SKIP) continue;
-        if (G == ST_NIL || s->mark[F] == SCORE_SKIP - 1) { s->mark[F] = SCORE_SKIP; continue; }
+        /* A sharp coarse edge's edge point is its midpoint, not the smooth
+         * rule the identity rests on: such faces are left out too. */
+        if (G == ST_NIL || s->mark[F] == SCORE_SKIP - 1 || (s->esharp && s->esharp[b + p] > 0)) { s->mark[F] = SCORE_SKIP; continue; }
         s->mark[F]++;
         for (int k = 0; k < 3; k++) a[k] += 4 * s->pos[3 * (size_t)E + k] - 3 * s->pos[3 * (size_t)F + k] - s->pos[3 * (size_t)G + k];
     }
@@ -458,7 +463,8 @@ static void free_step(st_unsub_step *st)
 
 /* Coarse faces of the polygon split: one per face point, its corners read
  * around it (each fine quad is (V, E_next, F, E_prev)). */
-static int build_poly_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap, uint32_t *first_face)
+static int build_poly_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap, uint32_t *first_face,
+                            uint32_t *corner_fine, uint32_t *coarse_of)
 {
     const st_unsub_topo *t = s->t;
     st_mesh *m = &st->coarse;
@@ -476,6 +482,8 @@ static int build_poly_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap
         do {
             uint32_t b = t->foff[q], p = s->phase[q];
             m->face_idx[nc] = vmap[t->fidx[b + p]];
+            corner_fine[nc] = b + p;
+            coarse_of[q] = nf;
             st->e_fine[nc++] = t->fidx[b + ((p + 1) & 3)];
             uint32_t tw = t->twin[b + ((p + 1) & 3)];
             if (tw == ST_NIL || ++n > t->valence[F]) {
@@ -493,7 +501,7 @@ static int build_poly_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap
 /* Coarse faces of quadrisection: one per central triangle (x0 x1 x2); the
  * corner triangle across x_i -> x_(i+1) holds coarse vertex i, and the edge
  * from coarse vertex i to i+1 has edge point x_(i+1). */
-static int build_tri_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
+static int build_tri_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap, uint32_t *corner_fine, uint32_t *coarse_of)
 {
     const st_unsub_topo *t = s->t;
     st_mesh *m = &st->coarse;
@@ -502,6 +510,7 @@ static int build_tri_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
         if (s->phase[f] != CENTRAL) continue;
         uint32_t b = t->foff[f];
         m->face_off[nf] = nc;
+        coarse_of[f] = nf;
         for (unsigned i = 0; i < 3; i++) {
             uint32_t tw = t->twin[b + i];
             uint32_t g = tw == ST_NIL ? ST_NIL : t->face_of[tw];
@@ -510,6 +519,8 @@ static int build_tri_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
                 return -1;
             }
             m->face_idx[nc] = vmap[t->fidx[t->foff[g] + s->phase[g]]];
+            corner_fine[nc] = t->foff[g] + s->phase[g];
+            coarse_of[g] = nf;
             st->e_fine[nc++] = t->fidx[b + (i + 1) % 3];
         }
         nf++;
@@ -547,7 +558,32 @@ static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
         const double *pv = s->pos + 3 * (size_t)V;
         double *out = m->pos + 3 * (size_t)cv, *se = sum + 3 * (size_t)V;
         exact[V] = 0;
-        if (t->bnd[V]) {
+        /* Crease rules (DeRose et al. 1998; the coarse edges and vertex of
+         * a sharp fine chain are at least 1 sharp, unsubdivide.h, so the
+         * rules are the full sharp ones): a corner (a sharp vertex, 3+
+         * sharp edges, or a sharp edge at a boundary vertex) stays, V' = v;
+         * a crease vertex V' = (a + 6v + b)/8 with its sharp edges' edge
+         * points E = (v + a)/2 gives v = 2V' - (E_a + E_b)/2; one sharp
+         * edge (a dart) keeps the fine position as its estimate. */
+        unsigned ns = 0;
+        uint32_t sa = ST_NIL, sb = ST_NIL;
+        for (uint32_t k = t->out_off[V]; s->esharp && k < t->out_off[V + 1]; k++) {
+            uint32_t c = t->out_c[k];
+            if (s->esharp[c] <= 0 || t->twin[c] == ST_NIL) continue;
+            ns++;
+            if (sa == ST_NIL) sa = st_unsub_target(t, c);
+            else sb = st_unsub_target(t, c);
+        }
+        int sharp_v = s->vsharp && s->vsharp[V] > 0;
+        if (sharp_v || ns >= 3 || (ns && t->bnd[V])) {
+            for (int k = 0; k < 3; k++) out[k] = pv[k];
+            exact[V] = 1;
+        } else if (ns == 2) {
+            for (int k = 0; k < 3; k++) out[k] = 2 * pv[k] - 0.5 * (s->pos[3 * (size_t)sa + k] + s->pos[3 * (size_t)sb + k]);
+            exact[V] = 1;
+        } else if (ns == 1) {
+            for (int k = 0; k < 3; k++) out[k] = pv[k];
+        } else if (t->bnd[V]) {
             uint32_t ea = ST_NIL, eb = ST_NIL;
             for (uint32_t k = t->out_off[V]; k < t->out_off[V + 1]; k++) {
                 uint32_t c = t->out_c[k], pc = st_unsub_prev(t, c);
@@ -572,7 +608,7 @@ static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
     for (uint32_t q = 0; q < t->nf; q++) {
         uint32_t b = t->foff[q], p = s->phase[q];
         uint32_t V = t->fidx[b + p];
-        if (exact[V] || t->bnd[V]) continue;
+        if (exact[V] || t->bnd[V] || (s->esharp && s->esharp[b + p] > 0)) continue;
         uint32_t E = t->fidx[b + ((p + 1) & 3)], F = t->fidx[b + ((p + 2) & 3)], G = face_point_across(s, q, 0);
         uint32_t tw = t->twin[b + ((p + 1) & 3)];
         if (G == ST_NIL || tw == ST_NIL) continue;
@@ -615,6 +651,191 @@ static int check_coarse(step_ctx *s, const st_unsub_step *st, st_unsub_topo *out
     return rc;
 }
 
+/* ---- tags and UVs of the coarse mesh ---------------------------------------- */
+
+/* The sharpness one level coarser whose child is s under OpenSubdiv's
+ * uniform rule (a child edge or vertex has its parent's sharpness less one;
+ * at or above ST_SHARP_INF it stays; DeRose et al. 1998): s + 1, or s when
+ * infinitely sharp, or 0 when not sharp (a parent of sharpness at most 1
+ * also gives 0: the smooth parent is the one chosen, the details carry the
+ * difference).  -1 when no parent gives s: one more than s would be
+ * infinitely sharp, whose children stay infinite. */
+#define ST_SHARP_INF 10.0f
+static float parent_sharpness(float s)
+{
+    if (s <= 0.0f) return 0.0f;
+    if (s >= ST_SHARP_INF) return s;
+    float p = s + 1.0f;
+    return p >= ST_SHARP_INF ? -1.0f : p;
+}
+
+/* Sharpness of the fine edge a-b (0 when untagged), from per-corner values. */
+static float fine_edge_sharpness(const st_unsub_topo *t, const float *esharp, uint32_t a, uint32_t b)
+{
+    uint32_t c = st_unsub_find(t, a, b);
+    if (c == ST_NIL) c = st_unsub_find(t, b, a);
+    return c == ST_NIL ? 0.0f : esharp[c];
+}
+
+/* Crease tags of the coarse mesh: each coarse edge a-b with edge point E is
+ * the fine chain a-E-b, so both halves must carry one sharpness s, and the
+ * coarse edge gets parent_sharpness(s); a sharp fine edge that is no half
+ * of a coarse edge (inside a coarse face) has no coarse counterpart. */
+static int carry_creases(step_ctx *s, const st_mesh *fine, st_unsub_step *st, const st_unsub_topo *ct)
+{
+    const st_unsub_topo *t = s->t;
+    st_mesh *m = &st->coarse;
+    const float *esharp = s->esharp;
+    uint8_t *used = calloc((size_t)t->nc + 1, 1);
+    m->crease_v = malloc(((size_t)ct->nc + 1) * 2 * sizeof *m->crease_v);
+    m->crease_s = malloc(((size_t)ct->nc + 1) * sizeof *m->crease_s);
+    int rc = 0;
+    (void)fine;
+    if (!esharp || !used || !m->crease_v || !m->crease_s) { failf(s, "out of memory"); rc = -1; goto done; }
+    for (uint32_t c = 0; c < ct->nc && !rc; c++) {
+        if (ct->twin[c] != ST_NIL && ct->twin[c] < c) continue;   /* each edge once */
+        uint32_t a = st->v_fine[ct->fidx[c]], b = st->v_fine[st_unsub_target(ct, c)], E = st->e_fine[c];
+        float sa = fine_edge_sharpness(t, esharp, a, E), sb = fine_edge_sharpness(t, esharp, E, b);
+        uint32_t x;
+        if ((x = st_unsub_find(t, a, E)) != ST_NIL) used[x] = 1;
+        if ((x = st_unsub_find(t, E, a)) != ST_NIL) used[x] = 1;
+        if ((x = st_unsub_find(t, E, b)) != ST_NIL) used[x] = 1;
+        if ((x = st_unsub_find(t, b, E)) != ST_NIL) used[x] = 1;
+        if (sa != sb && !(sa >= ST_SHARP_INF && sb >= ST_SHARP_INF)) {
+            failf(s, "crease: edge %u-%u has sharpness %g but edge %u-%u, the other half of the same coarse edge, has %g",
+                  a + 1, E + 1, (double)sa, E + 1, b + 1, (double)sb);
+            rc = -1;
+            break;
+        }
+        float p = parent_sharpness(sa);
+        if (p < 0) {
+            failf(s, "crease: edges %u-%u-%u have sharpness %g; one level coarser it would be %g, infinitely sharp, "
+                  "whose children stay infinite", a + 1, E + 1, b + 1, (double)sa, (double)(sa + 1.0f));
+            rc = -1;
+            break;
+        }
+        if (p > 0 && s->crease_chaikin && p < ST_SHARP_INF) {
+            failf(s, "crease: edges %u-%u-%u have sharpness %g under `t creasemethod chaikin`, whose parent sharpness "
+                  "is not one value per edge", a + 1, E + 1, b + 1, (double)sa);
+            rc = -1;
+            break;
+        }
+        if (p > 0) {
+            m->crease_v[2 * m->ncreases] = ct->fidx[c];
+            m->crease_v[2 * m->ncreases + 1] = st_unsub_target(ct, c);
+            m->crease_s[m->ncreases++] = p;
+        }
+    }
+    for (uint32_t c = 0; c < t->nc && !rc; c++)
+        if (esharp[c] > 0 && !used[c]) {
+            failf(s, "crease: edge %u-%u (sharpness %g) lies inside a coarse face: no coarse edge refines into it",
+                  t->fidx[c] + 1, st_unsub_target(t, c) + 1, (double)esharp[c]);
+            rc = -1;
+        }
+done:
+    free(used);
+    return rc;
+}
+
+/* Corner tags: coarse vertices persist and take parent_sharpness; edge and
+ * face points are new vertices, never sharp (their children of a smooth
+ * rule), so a sharp one has no coarse counterpart. */
+static int carry_corners(step_ctx *s, const st_mesh *fine, st_unsub_step *st, const uint32_t *vmap)
+{
+    st_mesh *m = &st->coarse;
+    if (!fine->ncorners) return 0;
+    m->corner_v = malloc((size_t)fine->ncorners * sizeof *m->corner_v);
+    m->corner_s = malloc((size_t)fine->ncorners * sizeof *m->corner_s);
+    if (!m->corner_v || !m->corner_s) { failf(s, "out of memory"); return -1; }
+    for (uint32_t i = 0; i < fine->ncorners; i++) {
+        uint32_t v = fine->corner_v[i];
+        float sv = fine->corner_s[i], p = parent_sharpness(sv);
+        if (sv <= 0) continue;
+        if (vmap[v] == ST_NIL) {
+            failf(s, "corner: vertex %u has sharpness %g but is %s, a vertex no coarse vertex refines into",
+                  v + 1, (double)sv, lab_name[s->lab[v]]);
+            return -1;
+        }
+        if (p < 0) {
+            failf(s, "corner: vertex %u has sharpness %g; one level coarser it would be %g, infinitely sharp, "
+                  "whose children stay infinite", v + 1, (double)sv, (double)(sv + 1.0f));
+            return -1;
+        }
+        m->corner_v[m->ncorners] = vmap[v];
+        m->corner_s[m->ncorners++] = p;
+    }
+    return 0;
+}
+
+/* Hole tags: a coarse face is a hole when all its fine faces are (its
+ * children are holes at every level, and only those). */
+static int carry_holes(step_ctx *s, const st_mesh *fine, st_unsub_step *st, const uint32_t *coarse_of)
+{
+    st_mesh *m = &st->coarse;
+    if (!fine->face_hole) return 0;
+    uint32_t *holes = calloc((size_t)m->nfaces + 1, sizeof *holes), *seen = calloc((size_t)m->nfaces + 1, sizeof *seen);
+    m->face_hole = calloc((size_t)m->nfaces + 1, 1);
+    int rc = 0;
+    if (!holes || !seen || !m->face_hole) { failf(s, "out of memory"); rc = -1; goto done; }
+    for (uint32_t f = 0; f < fine->nfaces; f++) {
+        seen[coarse_of[f]]++;
+        holes[coarse_of[f]] += fine->face_hole[f] != 0;
+    }
+    for (uint32_t f = 0; f < fine->nfaces && !rc; f++) {
+        uint32_t cf = coarse_of[f];
+        if (holes[cf] && holes[cf] != seen[cf]) {
+            uint32_t g = f;
+            while (g < fine->nfaces && (coarse_of[g] != cf || (fine->face_hole[g] != 0) == (fine->face_hole[f] != 0))) g++;
+            uint32_t h = fine->face_hole[f] ? f : g, n = fine->face_hole[f] ? g : f;
+            failf(s, "hole: face %u is a hole but face %u, a child of the same coarse face, is not", h + 1, n + 1);
+            rc = -1;
+        }
+        m->face_hole[cf] = holes[cf] == seen[cf];
+    }
+done:
+    free(holes);
+    free(seen);
+    return rc;
+}
+
+/* UVs: the coarse corner at coarse vertex v of a coarse face takes the UV
+ * of v's corner in the fine face at that corner (coarse vertices persist;
+ * their face-varying values with them).  The UV values used are renumbered
+ * in order of first use. */
+static int carry_uvs(step_ctx *s, const st_mesh *fine, st_unsub_step *st, const uint32_t *corner_fine)
+{
+    st_mesh *m = &st->coarse;
+    if (!fine->face_uv) return 0;
+    uint32_t nc = m->face_off[m->nfaces];
+    uint32_t *renum = malloc(((size_t)fine->nuvs + 1) * sizeof *renum);
+    m->face_uv = malloc(((size_t)nc + 1) * sizeof *m->face_uv);
+    m->uv = malloc(((size_t)nc + 1) * 2 * sizeof *m->uv);
+    if (!renum || !m->face_uv || !m->uv) { free(renum); failf(s, "out of memory"); return -1; }
+    for (uint32_t i = 0; i < fine->nuvs; i++) renum[i] = ST_NIL;
+    for (uint32_t c = 0; c < nc; c++) {
+        uint32_t u = fine->face_uv[corner_fine[c]];
+        if (renum[u] == ST_NIL) {
+            renum[u] = m->nuvs;
+            memcpy(m->uv + 2 * (size_t)m->nuvs++, fine->uv + 2 * (size_t)u, 2 * sizeof(double));
+        }
+        m->face_uv[c] = renum[u];
+    }
+    free(renum);
+    return 0;
+}
+
+static int carry_tags(step_ctx *s, const st_mesh *fine, st_unsub_step *st, const st_unsub_topo *ct,
+                      const uint32_t *vmap, const uint32_t *corner_fine, const uint32_t *coarse_of)
+{
+    st_mesh *m = &st->coarse;
+    m->crease_method = fine->crease_method;
+    m->tri_sub = fine->tri_sub;
+    s->crease_chaikin = fine->crease_method == ST_CREASE_CHAIKIN;
+    if (fine->ncreases && carry_creases(s, fine, st, ct)) return -1;
+    if (carry_corners(s, fine, st, vmap) || carry_holes(s, fine, st, coarse_of)) return -1;
+    return carry_uvs(s, fine, st, corner_fine);
+}
+
 static double bbox_diagonal(const st_mesh *m)
 {
     double lo[3] = { 0 }, hi[3] = { 0 };
@@ -650,6 +871,26 @@ static int pick_pattern(step_ctx *s, const st_mesh *m)
     return -1;
 }
 
+/* The fine mesh's tags by corner and vertex (NULL when it has none). */
+static int fine_tags(step_ctx *s, const st_mesh *fine)
+{
+    const st_unsub_topo *t = s->t;
+    if (fine->ncreases) {
+        if (!(s->esharp = calloc((size_t)t->nc + 1, sizeof *s->esharp))) { failf(s, "out of memory"); return -1; }
+        for (uint32_t i = 0; i < fine->ncreases; i++) {
+            uint32_t a = fine->crease_v[2 * i], b = fine->crease_v[2 * i + 1];
+            uint32_t c = st_unsub_find(t, a, b), d = st_unsub_find(t, b, a);
+            if (c != ST_NIL) s->esharp[c] = fine->crease_s[i];
+            if (d != ST_NIL) s->esharp[d] = fine->crease_s[i];
+        }
+    }
+    if (fine->ncorners) {
+        if (!(s->vsharp = calloc((size_t)t->nv + 1, sizeof *s->vsharp))) { failf(s, "out of memory"); return -1; }
+        for (uint32_t i = 0; i < fine->ncorners; i++) s->vsharp[fine->corner_v[i]] = fine->corner_s[i];
+    }
+    return 0;
+}
+
 /* One step from `fine` (pattern fixed, or chosen when ST_UNSUB_NONE). */
 /* t: the adjacency of `fine` (built here when empty); on success it is
  * replaced by the coarse mesh's. */
@@ -683,9 +924,23 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
     s->acc = malloc(3 * nv * sizeof *s->acc);
     s->mark = calloc(nv, 1);
     uint32_t *vmap = malloc(nv * sizeof *vmap);
+    /* Per coarse corner: the fine corner at its coarse vertex; per fine
+     * face: its coarse face (tags and UVs, carry_tags). */
+    uint32_t *corner_fine = malloc(((size_t)t.nc + 1) * sizeof *corner_fine);
+    uint32_t *coarse_of = malloc(nf * sizeof *coarse_of);
     int rc = -1;
-    if (!s->lab || !s->phase || !s->queue || !s->best_queue || !s->best_phase || !s->acc || !s->mark || !vmap) { failf(s, "out of memory"); goto done; }
+    if (!s->lab || !s->phase || !s->queue || !s->best_queue || !s->best_phase || !s->acc || !s->mark || !vmap ||
+        !corner_fine || !coarse_of) { failf(s, "out of memory"); goto done; }
     memset(s->phase, NO_PHASE, nf);
+    /* `t interpolateboundary 0` makes the faces at boundary vertices holes
+     * (hier.c); at a coarser level those are coarser faces, whose children
+     * are more faces than the input's: no cage gives the input's holes. */
+    for (uint32_t v = 0; v < t.nv && fine->boundary_interp == ST_BOUNDARY_NONE; v++)
+        if (t.bnd[v]) {
+            failf(s, "`t interpolateboundary 0` with a boundary (vertex %u): a coarser mesh's boundary holes cover other faces", v + 1);
+            goto done;
+        }
+    if (fine_tags(s, fine)) goto done;
     if (label_all(s, 1e-12 * (diag > 0 ? diag : 1))) goto done;
     uint32_t ncv = 0, ncf = 0;
     for (uint32_t v = 0; v < t.nv; v++) {
@@ -706,22 +961,26 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
     if (s->pattern == ST_UNSUB_POLY_SPLIT) {
         uint32_t *first = malloc(nv * sizeof *first);
         if (!first) { failf(s, "out of memory"); goto done; }
-        int b = build_poly_faces(s, st, vmap, first);
+        int b = build_poly_faces(s, st, vmap, first, corner_fine, coarse_of);
         free(first);
         if (b) goto done;
         if (st->coarse.face_off[ncf] != ncc) { failf(s, "the coarse faces do not cover the fine quads"); goto done; }
         poly_positions(s, st, vmap);
     } else {
-        if (build_tri_faces(s, st, vmap)) goto done;
+        if (build_tri_faces(s, st, vmap, corner_fine, coarse_of)) goto done;
         for (uint32_t cv = 0; cv < ncv; cv++)
             memcpy(st->coarse.pos + 3 * (size_t)cv, fine->pos + 3 * (size_t)st->v_fine[cv], 3 * sizeof(double));
     }
     if (check_coarse(s, st, &next)) goto done;
+    if (carry_tags(s, fine, st, &next, vmap, corner_fine, coarse_of)) { st_unsub_topo_free(&next); memset(&next, 0, sizeof next); goto done; }
     rc = 0;
 done:
+    free(corner_fine); free(coarse_of);
     if (rc) free_step(st);
     free(s->lab); free(s->phase); free(s->queue); free(s->acc); free(s->mark); free(vmap);
     free(s->best_queue); free(s->best_phase);
+    free(s->esharp); free(s->vsharp);
+    s->esharp = s->vsharp = NULL;
     s->lab = s->phase = s->mark = s->best_phase = NULL;
     s->queue = s->best_queue = NULL;
     s->acc = NULL;

@@ -104,6 +104,32 @@ int st_unsub_scheme_fits(const st_unsub *u, const st_scheme *sc);
 int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                         st_hier *h, uint32_t **fine_of, double *residual, st_error *err);
 
+/* Tags and UVs (st_unsubdivide): the cage carries the input's OBJ tags
+ * and UVs so that refinement gives them back.  A crease chain a-E-b of one
+ * sharpness s (both halves of a coarse edge) makes the coarse edge s + 1
+ * per level (OpenSubdiv's uniform rule: s - 1 per level, at or above 10
+ * infinitely sharp and kept; an untagged chain, a smooth coarse edge); a
+ * corner of a coarse vertex likewise; a coarse face is a hole when all its
+ * fine faces are.  Tags no coarser mesh refines into are refused with the
+ * edge, vertex or face (the two halves of a coarse edge of different
+ * sharpness; a sharp edge inside a coarse face or a sharp edge or face
+ * point; a hole beside a non-hole child of one coarse face; a sharpness
+ * that one level coarser would be infinite; semi-sharp creases under
+ * `t creasemethod chaikin`; `t interpolateboundary 0` with a boundary,
+ * whose implied holes a coarser boundary would widen).  st_unsub_build_hier sets the finest level's
+ * sharpness to the input's exactly after checking the refined values agree
+ * (to float rounding of s + k).  UVs: the cage's corner UV at a coarse
+ * vertex is the input's UV at that vertex's fine corner (coarse vertices
+ * persist).  Refined with linear face-varying interpolation (uv_interp
+ * all) an input whose UVs are the linear refinement of its cage's gets
+ * them back; with the smooth options, or UVs edited after refinement, the
+ * refined UVs differ: UVs have no details, so the finest level's UVs are
+ * those refined from the cage.  st_unsub_uv_residual measures it: the
+ * largest difference, per UV coordinate, between the finest level's UVs
+ * and the input's (0 when the input has none; fine_of from
+ * st_unsub_build_hier). */
+double st_unsub_uv_residual(const st_hier *h, const st_mesh *in, const uint32_t *fine_of);
+
 /* The longest detail vector of levels 1..top (0 for an exact subdivision,
  * up to rounding). */
 double st_unsub_max_detail(const st_hier *h);
