@@ -121,10 +121,12 @@ static int grabbing(const st_app *a) { return a->op == ST_OP_GRAB; }
 static int keys_free(const st_app *a) { return a->op == ST_OP_NONE || a->op == ST_OP_ORBIT || a->op == ST_OP_PAN; }
 static int model_keys_free(const st_app *a) { return keys_free(a) && a->doc.loaded; }
 /* The UV checker needs UVs at the displayed level of the model (the
- * interest box's adaptive display has none). */
+ * interest box's adaptive display has none); once on, it can always be
+ * switched off (another model, or a level without UVs, draws plain). */
 static int uv_keys_free(const st_app *a)
 {
-    return model_keys_free(a) && !a->doc.box_on && st_hier_uv(&a->doc.h, st_doc_display_map_level(&a->doc)) != NULL;
+    return model_keys_free(a) &&
+           (a->checker || (!a->doc.box_on && st_hier_uv(&a->doc.h, st_doc_display_map_level(&a->doc)) != NULL));
 }
 
 /* File: the dialogs are the GUI's (ui/gui.cc); a key opens them and shows
