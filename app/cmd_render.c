@@ -1,10 +1,11 @@
 /* strata render IN [--scheme S --levels N --level L] [--boundary B]
  *                  [--view front|back|left|right|top|iso | --orbit AZ,EL,DIST]
- *                  [--mode smooth|flat|wire|cage] [--size WxH] -o OUT.png
+ *                  [--mode smooth|flat|wire|cage|uv] [--size WxH] -o OUT.png
  *                  [--normal-map N.png [--normal-space tangent|object]]
  *
  * Renders level L (default N) of IN's hierarchy headless (OSMesa: no
- * display, no GPU) into a PNG.  Same inputs, same machine: same bytes. */
+ * display, no GPU) into a PNG.  Same inputs, same machine: same bytes.
+ * --mode uv draws a checker through the level's face-varying UVs. */
 #include "cli.h"
 #include "core/adapt/adapt_estimate.h"
 #include "core/base/membudget.h"
@@ -17,6 +18,7 @@
 
 #include "image.h"
 #include "core/adapt/adapt.h"
+#include "core/fvar/fvar.h"
 #include "core/io/session.h"
 #include "offscreen.h"
 #include "render_nmap.h"
@@ -71,7 +73,7 @@ static int parse_orbit(render_opts *r, const char *v)
 static int parse_mode(render_opts *r, const char *v)
 {
     int m = st_render_mode_parse(v);
-    if (m < 0) { fprintf(stderr, "strata render: --mode wants smooth, flat, wire or cage, got '%s'\n", v); return -1; }
+    if (m < 0) { fprintf(stderr, "strata render: --mode wants smooth, flat, wire, cage or uv, got '%s'\n", v); return -1; }
     r->spec.mode = m;
     r->mode_given = 1;
     return 0;
@@ -228,6 +230,7 @@ int st_cmd_render(int argc, char **argv)
     if (r.adaptive) {
         if (o.levels || o.level >= 0) { fprintf(stderr, "strata render: --levels/--level do not go with --box (the box decides the levels)\n"); return 2; }
         if (r.adapt.base_level > r.adapt.max_level) { fprintf(stderr, "strata render: --base-level is above --max-level\n"); return 2; }
+        if (r.spec.mode == ST_MODE_UV) { fprintf(stderr, "strata render: --mode uv draws a level's UVs; it does not go with --box\n"); return 2; }
     }
     if (r.normal_map && (r.adaptive || (r.mode_given && r.spec.mode != ST_MODE_SMOOTH))) {
         fprintf(stderr, "strata render: --normal-map draws a level in smooth mode; it does not go with --box or --mode %s\n",
@@ -241,6 +244,16 @@ int st_cmd_render(int argc, char **argv)
     unsigned level = 0;
     if (!r.adaptive && st_cli_level(&o, &h, "render", &level)) { st_hier_free(&h); return 2; }
     r.spec.level = level;
+    if (r.spec.mode == ST_MODE_UV && !(r.spec.uv = st_hier_uv(&h, level))) {
+        if (level && st_hier_uv(&h, 0))
+            fprintf(stderr, "strata render: %s: level %u has no UVs for --mode uv (this scheme keeps those of level 0 only: try --level 0)\n",
+                    o.in, level);
+        else
+            fprintf(stderr, "strata render: %s: no UVs for --mode uv (the file gives no texture coordinates, or the scheme keeps none)\n",
+                    o.in);
+        st_hier_free(&h);
+        return 1;
+    }
     st_error err;
     st_adapt a;
     memset(&a, 0, sizeof a);

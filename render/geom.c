@@ -243,6 +243,32 @@ int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
     return ST_OK;
 }
 
+/* The dart of face f at vertex-table index s: the face's corners are its
+ * walk from face_dart[f], in order (st_rgeom_build, st_rgeom_patch). */
+static uint32_t face_corner_dart(const st_rgeom *g, const st_level_view *V, uint32_t f, uint32_t s)
+{
+    uint32_t a = g->face_off[f], n = g->face_off[f + 1] - a, d = g->face_dart[f];
+    for (uint32_t k = 0; k < n; k++, d = face_next(V, g->face_embedded, d))
+        if (g->corner[a + k] == s) return d;
+    return ST_NIL;
+}
+
+void st_rgeom_corner_uvs(const st_rgeom *g, const st_map *m, const double *uv, float *out)
+{
+    st_level_view V;
+    st_level_view_init(m, g->level, &V);
+    for (uint32_t t = 0; t < g->ntris; t++) {
+        uint32_t f = g->tri_face[t];
+        int live = f < g->nfaces && g->face_dart[f] != ST_NIL;
+        for (int j = 0; j < 3; j++) {
+            uint32_t d = live ? face_corner_dart(g, &V, f, g->tris[3 * (size_t)t + j]) : ST_NIL;
+            float *o = out + 6 * (size_t)t + 2 * j;
+            o[0] = d != ST_NIL ? (float)uv[2 * (size_t)d] : 0.0f;
+            o[1] = d != ST_NIL ? (float)uv[2 * (size_t)d + 1] : 0.0f;
+        }
+    }
+}
+
 void st_rgeom_refresh_all(st_rgeom *g, const st_map *m)
 {
     st_level_view V;

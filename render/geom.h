@@ -151,6 +151,13 @@ int64_t st_rgeom_log_darts(st_rgeom *g, const st_map *m, const st_map_log *log);
 /* Re-reads every position and recomputes every normal (topology kept). */
 void st_rgeom_refresh_all(st_rgeom *g, const st_map *m);
 
+/* Face-varying texture coordinates per triangle corner: out[6 t + 2 j],
+ * out[6 t + 2 j + 1] is the UV of corner j of triangle t, read from uv (2
+ * doubles per dart id of g's map level, core/fvar/fvar.h: st_hier_uv) at
+ * the dart of that corner's face.  Per corner, not per vertex: a vertex on
+ * a UV seam has one UV in each face.  Removed faces get (0, 0). */
+void st_rgeom_corner_uvs(const st_rgeom *g, const st_map *m, const double *uv, float *out);
+
 void st_range_list_free(st_range_list *l);
 
 #endif

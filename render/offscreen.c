@@ -35,6 +35,11 @@ int st_offscreen_prepare(st_offscreen *o, const st_map *m, const st_render_spec 
     st_headless_begin(&o->hl);
     int rc = st_renderer_set_level(&o->r, m, s->level, err);
     if (rc) return rc;
+    if (s->mode == ST_MODE_UV) {
+        if (!s->uv) return st_fail(err, ST_ERR_INVALID, "render: level %u has no UVs to draw the checker with", s->level);
+        rc = st_renderer_set_uvs(&o->r, m, s->uv, err);
+        if (rc) return rc;
+    }
     if (s->mode == ST_MODE_CAGE) {
         unsigned cl = s->cage_level < 0 ? 0 : (unsigned)s->cage_level;
         if (cl > m->top) cl = m->top;

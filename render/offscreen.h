@@ -23,6 +23,7 @@ typedef struct st_render_spec {
     int view;                 /* enum st_view_preset, or -1: the orbit below */
     float az, el, dist;       /* orbit (degrees, degrees, model units; dist <= 0: fit) */
     int has_box;              /* draw the interest box box[0..2] - box[3..5] */
+    const double *uv;         /* ST_MODE_UV: the displayed level's UVs (core/fvar/fvar.h: st_hier_uv) */
     float box[6];
 } st_render_spec;
 
@@ -40,7 +41,8 @@ typedef struct st_offscreen {
 int st_offscreen_init(st_offscreen *o, int width, int height, st_error *err);
 int st_offscreen_resize(st_offscreen *o, int width, int height, st_error *err);
 /* Builds and uploads the displayed level (and the cage level for
- * ST_MODE_CAGE) of m. */
+ * ST_MODE_CAGE, the UVs s->uv for ST_MODE_UV: ST_ERR_INVALID when NULL)
+ * of m. */
 int st_offscreen_prepare(st_offscreen *o, const st_map *m, const st_render_spec *s, st_error *err);
 /* Frames the camera on what is shown, draws, and reads the image back
  * (width*height*4 bytes, top row first). */

@@ -10,7 +10,7 @@
 
 /* ---- display modes ------------------------------------------------------------ */
 
-static const char *const mode_names[ST_MODE_COUNT] = { "smooth", "flat", "wire", "cage" };
+static const char *const mode_names[ST_MODE_COUNT] = { "smooth", "flat", "wire", "cage", "uv" };
 
 int st_render_mode_parse(const char *name)
 {
@@ -29,6 +29,7 @@ void st_render_mode_opts(int mode, st_draw_opts *o)
     o->shading = mode == ST_MODE_FLAT ? ST_SHADE_FLAT : ST_SHADE_SMOOTH;
     o->wire = mode == ST_MODE_WIRE;
     o->cage = mode == ST_MODE_CAGE;
+    o->checker = mode == ST_MODE_UV;
 }
 
 /* ---- shaders ------------------------------------------------------------------ */
@@ -57,6 +58,24 @@ static GLuint program(const st_gl *gl, const char *vs, const char *gs, const cha
     return 0;
 }
 
+static void surface_uniforms(const st_gl *gl, GLuint p, st_surface_uniforms *u)
+{
+    u->view = gl->GetUniformLocation(p, "u_view");
+    u->proj = gl->GetUniformLocation(p, "u_proj");
+    u->flat = gl->GetUniformLocation(p, "u_flat");
+    u->tri_face = gl->GetUniformLocation(p, "u_tri_face");
+    u->face_normal = gl->GetUniformLocation(p, "u_face_normal");
+    u->front = gl->GetUniformLocation(p, "u_front");
+    u->back = gl->GetUniformLocation(p, "u_back");
+    u->masked = gl->GetUniformLocation(p, "u_masked");
+    u->checker = gl->GetUniformLocation(p, "u_checker");
+    u->tri_uv = gl->GetUniformLocation(p, "u_tri_uv");
+    gl->UseProgram(p);
+    gl->Uniform1i(u->tri_face, 0);
+    gl->Uniform1i(u->face_normal, 1);
+    if (u->tri_uv >= 0) gl->Uniform1i(u->tri_uv, 2);
+}
+
 int st_renderer_init(st_renderer *r, const st_gl *gl, st_error *err)
 {
     memset(r, 0, sizeof *r);
@@ -68,20 +87,11 @@ int st_renderer_init(st_renderer *r, const st_gl *gl, st_error *err)
     r->prog_surface = program(gl, "surface.vert", NULL, "surface.frag", err);
     if (r->prog_surface) r->prog_line = program(gl, "line.vert", "line.geom", "line.frag", err);
     if (r->prog_line) r->prog_point = program(gl, "point.vert", NULL, "point.frag", err);
-    if (!r->prog_point) { st_renderer_free(r); return err ? err->code : ST_ERR_INVALID; }
-    GLuint p = r->prog_surface;
-    r->us.view = gl->GetUniformLocation(p, "u_view");
-    r->us.proj = gl->GetUniformLocation(p, "u_proj");
-    r->us.flat = gl->GetUniformLocation(p, "u_flat");
-    r->us.tri_face = gl->GetUniformLocation(p, "u_tri_face");
-    r->us.face_normal = gl->GetUniformLocation(p, "u_face_normal");
-    r->us.front = gl->GetUniformLocation(p, "u_front");
-    r->us.back = gl->GetUniformLocation(p, "u_back");
-    r->us.masked = gl->GetUniformLocation(p, "u_masked");
-    gl->UseProgram(p);
-    gl->Uniform1i(r->us.tri_face, 0);
-    gl->Uniform1i(r->us.face_normal, 1);
-    p = r->prog_line;
+    if (r->prog_point) r->prog_uv = program(gl, "surface_uv.vert", "surface_uv.geom", "surface.frag", err);
+    if (!r->prog_uv) { st_renderer_free(r); return err ? err->code : ST_ERR_INVALID; }
+    surface_uniforms(gl, r->prog_surface, &r->us);
+    surface_uniforms(gl, r->prog_uv, &r->uu);
+    GLuint p = r->prog_line;
     r->ul.view = gl->GetUniformLocation(p, "u_view");
     r->ul.proj = gl->GetUniformLocation(p, "u_proj");
     r->ul.depth_bias = gl->GetUniformLocation(p, "u_depth_bias");
@@ -183,12 +193,40 @@ int st_renderer_set_level(st_renderer *r, const st_map *m, unsigned l, st_error 
     r->last.ranges = 5;
     r->last.vertices = r->surf.nverts;
     r->has_surf = 1;
+    r->has_uv = 0;
     if (r->has_shade) {
         r->gl->BindVertexArray(r->gsurf.vao);
         r->gl->DisableVertexAttribArray(2);
         r->gl->BindVertexArray(0);
         r->has_shade = 0;
     }
+    return ST_OK;
+}
+
+/* ---- UV checker ------------------------------------------------------------------- */
+
+int st_renderer_set_uvs(st_renderer *r, const st_map *m, const double *uv, st_error *err)
+{
+    const st_gl *gl = r->gl;
+    r->has_uv = 0;
+    if (!uv || !r->has_surf) return ST_OK;
+    const st_rgeom *g = &r->surf;
+    size_t n = 6 * (size_t)(g->ntris ? g->ntris : 1);
+    float *t = malloc(n * sizeof *t);
+    if (!t) return st_fail(err, ST_ERR_MEMORY, "render: out of memory for the UVs of %u triangles", g->ntris);
+    st_rgeom_corner_uvs(g, m, uv, t);
+    if (!r->tbo_uv) {
+        gl->GenBuffers(1, &r->tbo_uv);
+        gl->GenTextures(1, &r->tex_uv);
+    }
+    gl->BindBuffer(GL_TEXTURE_BUFFER, r->tbo_uv);
+    gl->BufferData(GL_TEXTURE_BUFFER, (GLsizeiptr)(n * sizeof *t), t, GL_STATIC_DRAW);
+    gl->BindBuffer(GL_TEXTURE_BUFFER, 0);
+    gl->BindTexture(GL_TEXTURE_BUFFER, r->tex_uv);
+    gl->TexBuffer(GL_TEXTURE_BUFFER, GL_RG32F, r->tbo_uv);
+    gl->BindTexture(GL_TEXTURE_BUFFER, 0);
+    free(t);
+    r->has_uv = 1;
     return ST_OK;
 }
 
@@ -384,6 +422,7 @@ int st_renderer_patch(st_renderer *r, const st_map *m, const st_map_log *log)
      * than to build (bench_render: a box move over a display at base level
      * 0 touches 9k distinct darts of 60k, and patching took 1.3 times a
      * build there; at base level 3, 8k of 800k, it takes 0.05). */
+    r->has_uv = 0; /* UVs are per triangle: set them again */
     int64_t touched = st_rgeom_log_darts(geo, m, log);
     if (touched < 0 || (uint64_t)touched > 4 * (uint64_t)(geo->nfaces - geo->ndead) / 10) return 1;
     st_rgeom_dirty dirty = { 0 };
@@ -535,13 +574,20 @@ void st_renderer_draw(st_renderer *r, const st_camera *cam, int w, int h, const 
         gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     }
     if (r->has_surf && o->shading != ST_SHADE_NONE && r->gsurf.ntris) {
-        gl->UseProgram(r->prog_surface);
-        gl->UniformMatrix4fv(r->us.view, 1, GL_FALSE, view);
-        gl->UniformMatrix4fv(r->us.proj, 1, GL_FALSE, proj);
-        gl->Uniform1i(r->us.flat, o->shading == ST_SHADE_FLAT);
-        gl->Uniform3fv(r->us.front, 1, front);
-        gl->Uniform3fv(r->us.back, 1, back);
-        gl->Uniform1i(r->us.masked, r->has_shade);
+        int checker = o->checker && r->has_uv;
+        const st_surface_uniforms *u = checker ? &r->uu : &r->us;
+        gl->UseProgram(checker ? r->prog_uv : r->prog_surface);
+        gl->UniformMatrix4fv(u->view, 1, GL_FALSE, view);
+        gl->UniformMatrix4fv(u->proj, 1, GL_FALSE, proj);
+        gl->Uniform1i(u->flat, o->shading == ST_SHADE_FLAT);
+        gl->Uniform3fv(u->front, 1, front);
+        gl->Uniform3fv(u->back, 1, back);
+        gl->Uniform1i(u->masked, r->has_shade);
+        gl->Uniform1i(u->checker, checker);
+        if (checker) {
+            gl->ActiveTexture(GL_TEXTURE2);
+            gl->BindTexture(GL_TEXTURE_BUFFER, r->tex_uv);
+        }
         gl->ActiveTexture(GL_TEXTURE0);
         gl->BindTexture(GL_TEXTURE_BUFFER, r->gsurf.tex_tri_face);
         gl->ActiveTexture(GL_TEXTURE1);
@@ -553,6 +599,8 @@ void st_renderer_draw(st_renderer *r, const st_camera *cam, int w, int h, const 
         st_gl_draw_surface_offset(gl, r->gsurf.vao, r->gsurf.ibo_tris, r->gsurf.ntris);
         gl->BindTexture(GL_TEXTURE_BUFFER, 0);
         gl->ActiveTexture(GL_TEXTURE1);
+        gl->BindTexture(GL_TEXTURE_BUFFER, 0);
+        gl->ActiveTexture(GL_TEXTURE2);
         gl->BindTexture(GL_TEXTURE_BUFFER, 0);
         gl->ActiveTexture(GL_TEXTURE0);
     }
@@ -595,6 +643,9 @@ void st_renderer_free(st_renderer *r)
         gpu_mesh_free(gl, &r->gsurf);
         gpu_mesh_free(gl, &r->gcage);
         if (r->vbo_shade) gl->DeleteBuffers(1, &r->vbo_shade);
+        if (r->tbo_uv) gl->DeleteBuffers(1, &r->tbo_uv);
+        if (r->tex_uv) gl->DeleteTextures(1, &r->tex_uv);
+        if (r->prog_uv) gl->DeleteProgram(r->prog_uv);
         if (r->ibo_sel) gl->DeleteBuffers(1, &r->ibo_sel);
         if (r->vbo_box) gl->DeleteBuffers(1, &r->vbo_box);
         if (r->vao_box) gl->DeleteVertexArrays(1, &r->vao_box);

@@ -10,7 +10,9 @@
  *   - the wireframe of the displayed level's polygon edges;
  *   - the control mesh of the editing level as an overlay, its vertices as
  *     points, selected vertices and the hovered vertex highlighted;
- *   - the interest box, a wire box given by two corners.
+ *   - the interest box, a wire box given by two corners;
+ *   - optionally a UV checker on the surface through its face-varying UVs
+ *     (st_renderer_set_uvs, st_draw_opts.checker).
  *
  * Data path: map -> st_rgeom (CPU) -> buffers.  st_renderer_set_level()
  * builds and uploads everything for a level; after an edit that moved
@@ -53,10 +55,11 @@ typedef struct st_draw_opts {
     int clear;                /* clear colour and depth first */
     float line_width;         /* pixels, 0: 1 */
     float point_size;         /* pixels, 0: 6 */
+    int checker;              /* UV checker instead of the plain colours (needs st_renderer_set_uvs) */
 } st_draw_opts;
 
 /* Display modes of `strata render --mode`, as draw options. */
-enum st_render_mode { ST_MODE_SMOOTH, ST_MODE_FLAT, ST_MODE_WIRE, ST_MODE_CAGE, ST_MODE_COUNT };
+enum st_render_mode { ST_MODE_SMOOTH, ST_MODE_FLAT, ST_MODE_WIRE, ST_MODE_CAGE, ST_MODE_UV, ST_MODE_COUNT };
 int st_render_mode_parse(const char *name);             /* -1 if unknown */
 const char *st_render_mode_name(int mode);
 void st_render_mode_opts(int mode, st_draw_opts *o);
@@ -76,12 +79,16 @@ typedef struct st_upload_stats {
     uint32_t vertices;        /* vertices re-uploaded */
 } st_upload_stats;
 
+typedef struct st_surface_uniforms {
+    GLint view, proj, flat, tri_face, face_normal, front, back, masked, checker, tri_uv;
+} st_surface_uniforms;
+
 typedef struct st_renderer {
     const st_gl *gl;
     GLuint prog_surface, prog_line, prog_point;
-    struct {
-        GLint view, proj, flat, tri_face, face_normal, front, back, masked;
-    } us;                     /* surface program uniforms */
+    GLuint prog_uv;           /* the surface program with surface_uv.geom: the UV checker */
+    st_surface_uniforms us;   /* surface program uniforms */
+    st_surface_uniforms uu;   /* the same, of prog_uv */
     struct {
         GLint view, proj, depth_bias, viewport, width, color;
     } ul;                     /* line program uniforms */
@@ -112,6 +119,10 @@ typedef struct st_renderer {
     float *shade;
     uint32_t nshade;
     int has_shade;
+    /* UVs per triangle corner of the surface (st_renderer_set_uvs), a
+     * texture buffer of 3 RG32F texels per triangle. */
+    GLuint tbo_uv, tex_uv;
+    int has_uv;
 } st_renderer;
 
 /* The sculpting mask drawn as darkening of the surface: mask[vid] in [0, 1]
@@ -128,6 +139,13 @@ void st_renderer_free(st_renderer *r);
 
 /* Builds and uploads level l of m as the displayed surface. */
 int st_renderer_set_level(st_renderer *r, const st_map *m, unsigned l, st_error *err);
+/* Uploads the texture coordinates of the displayed surface for the UV
+ * checker: uv holds 2 doubles per dart id of the surface's map level
+ * (core/fvar/fvar.h: st_hier_uv); NULL drops them.  Set them again after
+ * st_renderer_set_level or st_renderer_patch (both drop them: the
+ * triangles change); position refreshes keep them. */
+int st_renderer_set_uvs(st_renderer *r, const st_map *m, const double *uv, st_error *err);
+
 /* Builds and uploads level l of m as the control-mesh overlay; clears the
  * selection and the hover. */
 int st_renderer_set_cage(st_renderer *r, const st_map *m, unsigned l, st_error *err);

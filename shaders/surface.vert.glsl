@@ -11,6 +11,7 @@ uniform int u_masked;
 out vec3 v_pos;        // view space
 out vec3 v_nrm;        // view space, not normalised
 out float v_shade;
+out vec2 v_uv;         // texture coordinates: only surface_uv.geom has them
 
 void main()
 {
@@ -18,5 +19,6 @@ void main()
     v_pos = p.xyz;
     v_nrm = mat3(u_view) * a_nrm;
     v_shade = u_masked != 0 ? a_shade : 1.0;
+    v_uv = vec2(0.0);
     gl_Position = u_proj * p;
 }

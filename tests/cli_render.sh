@@ -2,7 +2,8 @@
 # `strata render` from the command line: headless (no $DISPLAY), from any
 # directory (shaders are embedded), same bytes for the same inputs, the same
 # image as the in-process renderer (compared with a reference under the
-# image metric of tests/test_render_images.c), every mode and view, and
+# image metric of tests/test_render_images.c), every mode and view, the UV
+# checker against its own reference, and
 # clear errors with non-zero exits on bad arguments.
 #
 #   cli_render.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
@@ -10,8 +11,7 @@ set -u
 EXE=$1 MESHES=$2 ASSETS=$3 BIN=$4
 # Absolute paths: the script works from another directory.
 abs() { (cd "$(dirname "$1")" && printf '%s/%s' "$(pwd)" "$(basename "$1")"); }
-EXE=$(abs "$EXE") ASSETS=$(abs "$ASSETS") BIN=$(abs "$BIN")
-: "$MESHES"
+EXE=$(abs "$EXE") ASSETS=$(abs "$ASSETS") BIN=$(abs "$BIN") MESHES=$(abs "$MESHES")
 REF="$ASSETS/../tests/render_ref"
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/strata_cli_render.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
@@ -68,6 +68,27 @@ done
 run 0 "^wrote" render "$ASSETS/open.obj" --levels 2 --mode wire --size 64x48 -o open.png
 # Adaptive display: the top level of an interest-box refinement.
 run 0 "level 3, 126 faces" render "$ASSETS/cube.obj" --box 0,0,0,1,1,1 --size 64x48 -o box.png
+
+# UV checker (--mode uv): a shared mesh with UVs against its reference (made
+# by this script under STRATA_UPDATE_REFS=1: look at it before committing),
+# another view and scheme, and what has no UVs refused.
+UVMESH="$MESHES/catmull_clark/blub_control_mesh.obj"
+run 0 "^wrote uv\.png \(160x120, uv, level 2, 1776 faces, iso view\)" render "$UVMESH" --levels 2 --mode uv --size 160x120 -o uv.png
+run 0 "^wrote" render "$UVMESH" --levels 2 --mode smooth --size 160x120 -o uv_smooth.png
+if cmp -s uv.png uv_smooth.png; then bad "--mode uv drew the same image as --mode smooth"; else ok; fi
+if [ -n "${STRATA_UPDATE_REFS:-}" ]; then
+    cp uv.png "$REF/blub_catmark_l2_uv.png" && echo "updated $REF/blub_catmark_l2_uv.png"
+elif [ -x "$BIN/test_render_images" ]; then
+    if "$BIN/test_render_images" --compare "$REF/blub_catmark_l2_uv.png" uv.png; then ok
+    else bad "--mode uv image differs from tests/render_ref/blub_catmark_l2_uv.png"; fi
+fi
+run 0 "^wrote uvl\.png \(64x48, uv, level 1, 1280 faces, front view\)" render "$MESHES/triangle/sphere_ico.obj" --scheme loop --levels 1 --mode uv --view front --size 64x48 -o uvl.png
+run 1 "no UVs for --mode uv" render "$ASSETS/cube.obj" --levels 1 --mode uv --size 32x24 -o nouv.png
+# √3 keeps the UVs of level 0 only: level 1 is refused, level 0 drawn.
+run 1 "level 1 has no UVs .*try --level 0" render "$MESHES/triangle/sphere_ico.obj" --scheme sqrt3 --levels 1 --mode uv --size 32x24 -o nouv.png
+run 0 "^wrote nouv0\.png \(32x24, uv, level 0" render "$MESHES/triangle/sphere_ico.obj" --scheme sqrt3 --levels 1 --level 0 --mode uv --size 32x24 -o nouv0.png
+run 2 "--mode uv .*does not go with --box" render "$UVMESH" --box 0,0,0,1,1,1 --mode uv -o nouv.png
+if [ ! -e nouv.png ]; then ok; else bad "a refused --mode uv left an output file"; fi
 
 # Bad arguments: exit 2 with a message naming the problem; bad input: exit 1.
 run 2 "--mode wants" render "$ASSETS/cube.obj" --mode shiny -o x.png

@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "core/adapt/adapt.h"
+#include "core/fvar/fvar.h"
 #include "core/multires/edit.h"
 #include "geom.h"
 #include "core/map/map_mesh.h"
@@ -563,8 +564,57 @@ static void test_incremental(void)
     }
 }
 
+/* UVs per triangle corner (st_rgeom_corner_uvs, the UV checker's input):
+ * two quads with a UV seam along their shared edge (x = 1), whose UVs are
+ * u = x / 2 on the left quad and u = 0.6 + 0.4 (x - 1) on the right one,
+ * v = y on both.  Every triangle corner must carry its own face's UV, so
+ * the two seam vertices show u = 0.5 in one face and u = 0.6 in the other. */
+static void test_corner_uvs(void)
+{
+    static const char *obj =
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+        "vt 0 0\nvt 0.5 0\nvt 0.5 1\nvt 0 1\nvt 0.6 0\nvt 0.6 1\nvt 1 0\nvt 1 1\n"
+        "f 1/1 2/2 3/3 4/4\n"
+        "f 2/5 5/7 6/8 3/6\n";
+    st_mesh mesh;
+    st_error err = { 0 };
+    st_mesh_init(&mesh);
+    CHECKF(st_mesh_parse_obj("seam.obj", obj, strlen(obj), &mesh, &err) == 0, "%s", err.msg);
+    st_hier h;
+    CHECKF(st_hier_init(&h, &mesh, &st_scheme_catmark, NULL, &err) == 0, "%s", err.msg);
+    st_mesh_free(&mesh);
+    const double *uv = st_hier_uv(&h, 0);
+    CHECK(uv != NULL);
+    st_rgeom g;
+    st_rgeom_init(&g);
+    CHECK(st_rgeom_build(&g, &h.map, 0, &err) == 0);
+    CHECK(g.ntris == 4);
+    float *t = malloc(6 * (size_t)g.ntris * sizeof *t);
+    st_rgeom_corner_uvs(&g, &h.map, uv, t);
+    int seam_left = 0, seam_right = 0;
+    for (uint32_t i = 0; i < g.ntris; i++) {
+        /* The face is on the right when its centroid is. */
+        double cx = 0;
+        for (int j = 0; j < 3; j++) cx += g.vdata[ST_RGEOM_VSTRIDE * (size_t)g.tris[3 * i + j]] / 3;
+        int right = cx > 1;
+        for (int j = 0; j < 3; j++) {
+            const float *p = g.vdata + ST_RGEOM_VSTRIDE * (size_t)g.tris[3 * i + j];
+            double u = right ? 0.6 + 0.4 * (p[0] - 1) : 0.5 * p[0], v = p[1];
+            CHECKF(fabs(t[6 * i + 2 * j] - u) < 1e-6 && fabs(t[6 * i + 2 * j + 1] - v) < 1e-6,
+                   "triangle %u corner %d at (%g, %g): uv (%g, %g), expected (%g, %g)", i, j, p[0], p[1], t[6 * i + 2 * j],
+                   t[6 * i + 2 * j + 1], u, v);
+            if (p[0] == 1) { seam_left += !right; seam_right += right; }
+        }
+    }
+    CHECK(seam_left > 0 && seam_right > 0);
+    free(t);
+    st_rgeom_free(&g);
+    st_hier_free(&h);
+}
+
 int main(void)
 {
+    test_corner_uvs();
     test_no_cracks();
     test_no_cracks_adaptive();
     test_incremental();

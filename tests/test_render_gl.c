@@ -32,9 +32,9 @@ static void test_loader_failures(void)
 
 static void test_shaders_embedded(void)
 {
-    CHECK(st_shader_count() == 9);
+    CHECK(st_shader_count() == 11);
     static const char *names[] = { "surface.vert", "surface.frag", "line.vert", "line.geom", "line.frag", "point.vert", "point.frag",
-                                   "surface_nmap.vert", "surface_nmap.frag" };
+                                   "surface_nmap.vert", "surface_nmap.frag", "surface_uv.vert", "surface_uv.geom" };
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         const char *s = st_shader_source(names[i]);
         CHECKF(s && !strncmp(s, "#version 330 core\n", 18), "shader %s", names[i]);

@@ -11,6 +11,7 @@
  * `strata --keys` prints the README's table (tests/test_actions.c fails
  * until README.md is updated). */
 #include "actions.h"
+#include "core/fvar/fvar.h"
 
 #include <math.h>
 #include <string.h>
@@ -119,6 +120,14 @@ static void toggle_box(st_app *a)
 static int grabbing(const st_app *a) { return a->op == ST_OP_GRAB; }
 static int keys_free(const st_app *a) { return a->op == ST_OP_NONE || a->op == ST_OP_ORBIT || a->op == ST_OP_PAN; }
 static int model_keys_free(const st_app *a) { return keys_free(a) && a->doc.loaded; }
+/* The UV checker needs UVs at the displayed level of the model (the
+ * interest box's adaptive display has none); once on, it can always be
+ * switched off (another model, or a level without UVs, draws plain). */
+static int uv_keys_free(const st_app *a)
+{
+    return model_keys_free(a) &&
+           (a->checker || (!a->doc.box_on && st_hier_uv(&a->doc.h, st_doc_display_map_level(&a->doc)) != NULL));
+}
 
 /* File: the dialogs are the GUI's (ui/gui.cc); a key opens them and shows
  * the GUI if it was hidden. */
@@ -381,6 +390,7 @@ static void orbit_down(st_app *a) { orbit(a, 0, -15 / 0.4f); }
 static void shading(st_app *a) { a->shading = a->shading == ST_SHADE_SMOOTH ? ST_SHADE_FLAT : ST_SHADE_SMOOTH; }
 static void wireframe(st_app *a) { a->wire = !a->wire; }
 static void cage(st_app *a) { a->cage = !a->cage; st_pick_invalidate(&a->pick); }
+static void uv_checker(st_app *a) { a->checker = !a->checker; st_app_sync(a); }
 static void toggle_gui(st_app *a) { (void)a; st_gui_set_shown(!st_gui_shown()); }
 
 /* Help */
@@ -600,6 +610,8 @@ const st_action st_actions[ST_NACTIONS] = {
     ACT(ST_ACT_WIREFRAME, ST_CAT_VIEW, "Wireframe", "wireframe on / off", wireframe, model_keys_free, KEY(Z, S, A)),
     ACT(ST_ACT_CAGE, ST_CAT_VIEW, "Control mesh", "control mesh overlay on / off", cage, model_keys_free,
         KEY(C, 0, A)),
+    ACT(ST_ACT_UV_CHECKER, ST_CAT_VIEW, "UV checker", "UV checker texture on / off (models with UVs)", uv_checker,
+        uv_keys_free, KEY(U, 0, 0)),
     ACT(ST_ACT_GUI, ST_CAT_VIEW, "Interface", "menus and side panel on / off", toggle_gui, NULL, KEY(F10, 0, 0)),
 
     ACT(ST_ACT_HELP, ST_CAT_HELP, "Key bindings", "show / hide the key list", help, NULL, KEY(F1, 0, ANY)),
@@ -668,6 +680,7 @@ int st_action_checked(const st_action *act, const st_app *a)
     case ST_ACT_SHADING: return a->shading == ST_SHADE_FLAT ? 0 : 1;
     case ST_ACT_WIREFRAME: return a->wire != 0;
     case ST_ACT_CAGE: return a->cage != 0;
+    case ST_ACT_UV_CHECKER: return a->checker != 0;
     case ST_ACT_PROJECTION: return a->cc.cam.ortho ? 0 : 1;
     case ST_ACT_GUI: return st_gui_shown();
     case ST_ACT_HELP: return a->help != 0;

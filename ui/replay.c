@@ -460,6 +460,11 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
     } else if (!strcmp(w, "error")) {
         snprintf(actual, sizeof actual, "%d (%s)", a->msg_error, a->msg);
         ok = a->msg_error == (want != 0);
+    } else if (!strcmp(w, "checker")) {
+        /* The UV checker is drawn: switched on and UVs uploaded. */
+        int on = a->checker && a->r.has_uv;
+        snprintf(actual, sizeof actual, "%d (asked %d)", on, a->checker);
+        ok = on == (want != 0);
     } else if (!strcmp(w, "gui")) {
         snprintf(actual, sizeof actual, "%d", st_gui_shown());
         ok = st_gui_shown() == (want != 0);

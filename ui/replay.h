@@ -30,7 +30,8 @@
  *                               re-tessellating only the touched faces),
  *                               error (0/1: status line is an error),
  *                               message TEXT (status line contains TEXT),
- *                               gui (0/1: the GUI is shown), file PATH (exists,
+ *                               gui (0/1: the GUI is shown), checker (0/1: the UV
+ *                               checker is drawn), file PATH (exists,
  *                               not empty), undo_name / redo_name NAME (what the
  *                               Edit menu's Undo / Redo names, '_' for a space,
  *                               "-" for none: expect undo_name brush_stroke)

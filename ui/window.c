@@ -17,6 +17,7 @@
 #include <GLFW/glfw3.h>
 
 #include "actions.h"
+#include "core/fvar/fvar.h"
 #include "gui.h"
 #include "image.h"
 #include "prefs.h"
@@ -162,6 +163,15 @@ void st_app_sync(st_app *a)
         else st_renderer_set_mask(&a->r, d->mask.v, d->mask.cap, all ? NULL : ch.mask_vids, ch.nmask_vids);
         touched = 1;
     }
+    /* UVs per triangle corner: uploaded again whenever the triangles
+     * change or the checker is switched on (position edits keep them). */
+    int checker = a->checker && dh == &d->h;
+    if (checker != a->shown_checker || (checker && (rebuild || (ch.bits & ST_CHANGE_PATCH)))) {
+        const double *uv = checker ? st_hier_uv(&d->h, disp) : NULL;
+        if (st_renderer_set_uvs(&a->r, &dh->map, uv, &err)) st_app_message(a, 1, "cannot draw the UV checker: %s", err.msg);
+        a->shown_checker = checker;
+        touched = 1;
+    }
     if (rebuild || (ch.bits & ST_CHANGE_SELECTION)) {
         st_renderer_set_selection(&a->r, d->sel, d->nsel);
         touched = 1;
@@ -193,6 +203,7 @@ void st_app_draw(st_app *a)
     o.shading = a->shading;
     o.wire = a->wire;
     o.cage = a->cage;
+    o.checker = a->checker;
     o.box = 1;
     o.clear = 1;
     /* Cage points and lines thinner when the editing level is dense for

@@ -62,6 +62,7 @@ typedef struct st_app {
     int shown_box_on, shown_valid;
     int shading;               /* enum st_shading */
     int wire, cage;
+    int checker, shown_checker;  /* UV checker asked for / uploaded (st_renderer_set_uvs) */
 
     int tool;                  /* ST_TOOL_SELECT or enum st_brush_tool */
     int mask_brush;            /* brush strokes paint the mask (Ctrl: erase), ui/editor_mask.c */
