@@ -8,6 +8,7 @@
 #include "core/map/map_mesh.h"
 #include "core/adapt/adapt.h"
 #include "testlib.h"
+#include "editor_testlib.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -76,46 +77,6 @@ static int snap_equal_pos(const snap *a, const snap *b) { return snap_cmp(a, b, 
 
 static const char *cube = STRATA_ASSETS "/cube.obj";
 
-static void open_ok(st_doc *d, const char *path, const char *scheme, unsigned levels)
-{
-    st_error err;
-    int rc = st_doc_open(d, path, scheme, levels, &err);
-    CHECKF(rc == 0, "open %s: %s", path, err.msg);
-}
-
-/* Vertices of a level, in enumeration order. */
-static uint32_t level_vertices(const st_doc *d, unsigned l, uint32_t **out)
-{
-    uint32_t n = 0, cap = 64, *v = malloc(cap * sizeof *v);
-    st_dart_iter it;
-    for (uint32_t x = st_vertex_first(&d->h.map, l, &it); x != ST_NIL; x = st_vertex_next(&d->h.map, l, &it)) {
-        if (n == cap) v = realloc(v, (cap *= 2) * sizeof *v);
-        v[n++] = x;
-    }
-    *out = v;
-    return n;
-}
-
-/* The editing-level vertex that maximises dot(p, dir). */
-static uint32_t extreme_vertex(st_doc *d, const double dir[3])
-{
-    uint32_t *v, n = level_vertices(d, d->edit_level, &v), best = ST_NIL;
-    double bd = -INFINITY;
-    for (uint32_t i = 0; i < n; i++) {
-        double p[3];
-        st_doc_vertex_pos(d, v[i], p);
-        double s = p[0] * dir[0] + p[1] * dir[1] + p[2] * dir[2];
-        if (s > bd) { bd = s; best = v[i]; }
-    }
-    free(v);
-    return best;
-}
-
-static double dist3(const double *a, const double *b)
-{
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-}
-
 /* ---- open ------------------------------------------------------------------ */
 
 static void test_open(void)
@@ -125,7 +86,7 @@ static void test_open(void)
     st_error err;
     CHECK(st_doc_open(&d, STRATA_ASSETS "/no_such_file.obj", "catmull-clark", 2, &err) != 0);
     CHECK(!d.loaded);
-    open_ok(&d, cube, "catmull-clark", 2);
+    ed_test_open(&d, cube, "catmull-clark", 2);
     CHECK(d.loaded && d.h.map.top == 2 && d.display_level == 2 && d.edit_level == 0);
     snap a, b;
     snap_take(&d, &a);
@@ -148,7 +109,7 @@ static void test_open(void)
     /* A good file replaces the model and clears the history. */
     CHECK(st_doc_add_level(&d, &err) == 0);
     CHECK(d.nundo == 1);
-    open_ok(&d, STRATA_ASSETS "/tetrahedron.obj", "loop", 1);
+    ed_test_open(&d, STRATA_ASSETS "/tetrahedron.obj", "loop", 1);
     CHECK(d.h.map.top == 1 && d.nundo == 0 && d.scheme == st_scheme_find("loop"));
     CHECK(st_doc_undo(&d, &err) == -1);
     snap_free(&a);
@@ -162,7 +123,7 @@ static void test_levels(void)
     st_doc d;
     st_doc_init(&d);
     st_error err;
-    open_ok(&d, cube, "catmull-clark", 2);
+    ed_test_open(&d, cube, "catmull-clark", 2);
     uint64_t rng = 7;
     tl_random_details(&d.h, &rng, 0.02);
     snap s0, s1, s2;
@@ -264,7 +225,7 @@ static void test_undo_names(void)
     st_doc d;
     st_doc_init(&d);
     st_error err;
-    open_ok(&d, cube, "catmull-clark", 2);
+    ed_test_open(&d, cube, "catmull-clark", 2);
     CHECK(st_doc_undo_name(&d) == NULL && st_doc_redo_name(&d) == NULL);
     CHECK(st_doc_add_level(&d, &err) == 0);
     CHECKF(name_is(st_doc_undo_name(&d), "add level"), "%s", st_doc_undo_name(&d));
@@ -276,7 +237,7 @@ static void test_undo_names(void)
     CHECK(st_doc_set_scheme(&d, "quad-triangle", &err) == 0);
     CHECK(name_is(st_doc_undo_name(&d), "scheme change") && st_doc_redo_name(&d) == NULL);
 
-    uint32_t *v, n = level_vertices(&d, 0, &v);
+    uint32_t *v, n = ed_test_level_vertices(&d, 0, &v);
     CHECK(n == 8);
     st_doc_select(&d, v, 1, ST_SELECT_REPLACE);
     free(v);
@@ -323,7 +284,7 @@ static void test_progress(void)
     st_doc d;
     st_doc_init(&d);
     d.progress = on_progress;
-    open_ok(&d, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
     CHECK(g_progress_calls == 3 && g_progress_last == 3);
     st_error err;
     CHECK(st_doc_add_level(&d, &err) == 0);
@@ -336,7 +297,7 @@ static void test_memory_budget(void)
     st_doc d;
     st_doc_init(&d);
     st_error err;
-    open_ok(&d, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
     size_t need = st_doc_add_level_bytes(&d);
     CHECK(need > 0);
     d.mem_budget = st_doc_model_bytes(&d) + need / 2;
@@ -370,9 +331,9 @@ static void test_selection(void)
 {
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, cube, "catmull-clark", 2);
+    ed_test_open(&d, cube, "catmull-clark", 2);
     st_doc_set_edit_level(&d, 1);
-    uint32_t *v, n = level_vertices(&d, 1, &v);
+    uint32_t *v, n = ed_test_level_vertices(&d, 1, &v);
     CHECK(n == 26);
     uint32_t pick[4] = { v[5], v[3], v[5], 999999 };
     st_doc_select(&d, pick, 4, ST_SELECT_REPLACE);
@@ -382,7 +343,7 @@ static void test_selection(void)
     st_doc_select(&d, &v[3], 1, ST_SELECT_REMOVE);
     CHECK(d.nsel == 2);
     /* Vertices of a finer level are not editing-level vertices. */
-    uint32_t *v2, n2 = level_vertices(&d, 2, &v2);
+    uint32_t *v2, n2 = ed_test_level_vertices(&d, 2, &v2);
     uint32_t fine = ST_NIL;
     for (uint32_t i = 0; i < n2; i++) if (d.h.map.verts.ins[v2[i]] == 2) { fine = v2[i]; break; }
     st_doc_select(&d, &fine, 1, ST_SELECT_REPLACE);
@@ -403,15 +364,15 @@ static void test_drag(void)
     st_doc d, r;
     st_doc_init(&d);
     st_doc_init(&r);
-    open_ok(&d, cube, "catmull-clark", 3);
-    open_ok(&r, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
+    ed_test_open(&r, cube, "catmull-clark", 3);
     uint64_t s1 = 11, s2 = 11;
     tl_random_details(&d.h, &s1, 0.02);
     tl_random_details(&r.h, &s2, 0.02);
     snap a;
     snap_take(&d, &a);
     st_doc_set_edit_level(&d, 1);
-    uint32_t *v, n = level_vertices(&d, 1, &v);
+    uint32_t *v, n = ed_test_level_vertices(&d, 1, &v);
     CHECK(n == 26);
     uint32_t sel[2] = { v[2], v[17] };
     st_doc_select(&d, sel, 2, ST_SELECT_REPLACE);
@@ -493,13 +454,13 @@ static void test_drag(void)
 /* Sum over the vertices within R of c of |average of neighbours - p|. */
 static double roughness(st_doc *d, const double c[3], double R)
 {
-    uint32_t *v, n = level_vertices(d, d->edit_level, &v);
+    uint32_t *v, n = ed_test_level_vertices(d, d->edit_level, &v);
     double sum = 0;
     unsigned l = d->edit_level;
     for (uint32_t i = 0; i < n; i++) {
         double p[3];
         st_doc_vertex_pos(d, v[i], p);
-        if (dist3(p, c) >= R) continue;
+        if (ed_test_dist3(p, c) >= R) continue;
         uint32_t x0 = st_doc_vertex_dart(d, v[i]), x = x0;
         double avg[3] = { 0, 0, 0 };
         unsigned k = 0;
@@ -510,7 +471,7 @@ static double roughness(st_doc *d, const double c[3], double R)
             x = st_beta1(&d->h.map, x, l);
         } while (x != x0);
         for (int j = 0; j < 3; j++) avg[j] /= k;
-        sum += dist3(avg, p);
+        sum += ed_test_dist3(avg, p);
     }
     free(v);
     return sum;
@@ -520,17 +481,17 @@ static void test_brushes(void)
 {
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
     st_doc_set_edit_level(&d, 2);
     const double up[3] = { 0, 0, 1 };
-    uint32_t top = extreme_vertex(&d, up);
+    uint32_t top = ed_test_extreme_vertex(&d, up);
     double c[3];
     st_doc_vertex_pos(&d, top, c);
     double R = 0.5;
     d.brush.radius = R;
     d.brush.strength = 0.5;
     d.brush.mirror_x = 0;
-    uint32_t *v, n = level_vertices(&d, 2, &v);
+    uint32_t *v, n = ed_test_level_vertices(&d, 2, &v);
     double (*p0)[3] = malloc(n * sizeof *p0), (*p1)[3] = malloc(n * sizeof *p1);
     st_error err;
 
@@ -547,7 +508,7 @@ static void test_brushes(void)
     uint32_t nmoved = 0;
     for (uint32_t i = 0; i < n; i++) {
         st_doc_vertex_pos(&d, v[i], p1[i]);
-        double r = dist3(p0[i], c);
+        double r = ed_test_dist3(p0[i], c);
         int moved = memcmp(p0[i], p1[i], sizeof p0[i]) != 0;
         if (r >= R && moved) outside_still = 0;
         if (moved) {
@@ -578,7 +539,7 @@ static void test_brushes(void)
         uint32_t *darts = malloc(n * sizeof *darts), m = 0;
         double (*pos)[3] = malloc(n * sizeof *pos);
         for (uint32_t i = 0; i < n; i++) {
-            if (dist3(p0[i], c) >= R) continue;
+            if (ed_test_dist3(p0[i], c) >= R) continue;
             darts[m] = st_doc_vertex_dart(&d, v[i]);
             for (int k = 0; k < 3; k++) pos[m][k] = p0[i][k] + 0.05 * ((double)(tl_rand(&rng) % 2001) / 1000.0 - 1.0);
             m++;
@@ -598,31 +559,31 @@ static void test_brushes(void)
     CHECKF(rough1 < 0.6 * rough0, "smooth: roughness %g -> %g", rough0, rough1);
 
     /* Flatten: distance to the plane of the vertices under the brush drops. */
-    open_ok(&d, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
     st_doc_set_edit_level(&d, 2);
     d.brush.radius = R = 0.8;
     d.brush.tool = ST_BRUSH_FLATTEN;
     d.brush.strength = 1;
     free(v);
-    n = level_vertices(&d, 2, &v);
-    top = extreme_vertex(&d, up);
+    n = ed_test_level_vertices(&d, 2, &v);
+    top = ed_test_extreme_vertex(&d, up);
     st_doc_vertex_pos(&d, top, c);
     double cen[3] = { 0, 0, 0 };
     uint32_t cnt = 0;
     for (uint32_t i = 0; i < n; i++) {
         st_doc_vertex_pos(&d, v[i], p0[i]);
-        if (dist3(p0[i], c) < R) { for (int k = 0; k < 3; k++) cen[k] += p0[i][k]; cnt++; }
+        if (ed_test_dist3(p0[i], c) < R) { for (int k = 0; k < 3; k++) cen[k] += p0[i][k]; cnt++; }
     }
     for (int k = 0; k < 3; k++) cen[k] /= cnt;
     double dist0 = 0, dist1 = 0;
     /* (measured where the falloff is at least 0.56) */
-    for (uint32_t i = 0; i < n; i++) if (dist3(p0[i], c) < R / 2) dist0 += fabs(p0[i][2] - cen[2]);
+    for (uint32_t i = 0; i < n; i++) if (ed_test_dist3(p0[i], c) < R / 2) dist0 += fabs(p0[i][2] - cen[2]);
     CHECK(st_doc_stroke_begin(&d) == 0);
     CHECK(st_doc_stroke_dab(&d, c, up, NULL) == 0);
     st_doc_stroke_end(&d);
     for (uint32_t i = 0; i < n; i++) {
         st_doc_vertex_pos(&d, v[i], p1[i]);
-        if (dist3(p0[i], c) < R / 2) dist1 += fabs(p1[i][2] - cen[2]);
+        if (ed_test_dist3(p0[i], c) < R / 2) dist1 += fabs(p1[i][2] - cen[2]);
     }
     CHECKF(dist1 < 0.5 * dist0, "flatten: distance to the plane %g -> %g", dist0, dist1);
 
@@ -642,7 +603,7 @@ static void test_brushes(void)
     int grab_ok = 1, grab_out = 1;
     for (uint32_t i = 0; i < n; i++) {
         st_doc_vertex_pos(&d, v[i], p1[i]);
-        double w = st_brush_falloff(dist3(p0[i], c), R);
+        double w = st_brush_falloff(ed_test_dist3(p0[i], c), R);
         for (int k = 0; k < 3; k++) {
             double want = p0[i][k] + w * g1[k] + w * g2[k];
             if (fabs(p1[i][k] - want) > 1e-12) grab_ok = 0;
@@ -666,17 +627,17 @@ static void test_brush_grid(void)
 {
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
     st_doc_set_edit_level(&d, 3);
     d.brush.tool = ST_BRUSH_DRAW;
     d.brush.radius = 0.25;
     d.brush.strength = 1;
     d.brush.mirror_x = 0;
     const double dir[3] = { 0.3, 0.2, 1 };
-    uint32_t cv = extreme_vertex(&d, dir);
+    uint32_t cv = ed_test_extreme_vertex(&d, dir);
     double c[3], nrm[3] = { 0, 0, 1 };
     st_doc_vertex_pos(&d, cv, c);
-    uint32_t *v, n = level_vertices(&d, 3, &v);
+    uint32_t *v, n = ed_test_level_vertices(&d, 3, &v);
     double (*p0)[3] = malloc(n * sizeof *p0);
     int same = 1;
     double travel = 0;
@@ -689,10 +650,10 @@ static void test_brush_grid(void)
         for (uint32_t i = 0; i < n; i++) {
             double q[3];
             st_doc_vertex_pos(&d, v[i], q);
-            int inside = dist3(p0[i], c) < d.brush.radius && st_brush_falloff(dist3(p0[i], c), d.brush.radius) > 0;
+            int inside = ed_test_dist3(p0[i], c) < d.brush.radius && st_brush_falloff(ed_test_dist3(p0[i], c), d.brush.radius) > 0;
             int moved = memcmp(q, p0[i], sizeof q) != 0;
             if (inside != moved) same = 0;
-            if (v[i] == cv) travel += dist3(q, p0[i]);
+            if (v[i] == cv) travel += ed_test_dist3(q, p0[i]);
         }
     }
     st_doc_stroke_end(&d);
@@ -716,10 +677,10 @@ static void test_brush_schemes(void)
         st_doc_init(&d);
         char path[512];
         snprintf(path, sizeof path, "%s%s", STRATA_ASSETS, schemes[k][1]);
-        open_ok(&d, path, schemes[k][0], 2);
+        ed_test_open(&d, path, schemes[k][0], 2);
         st_doc_set_edit_level(&d, 1);
         const double up[3] = { 0, 0.1, 1 };
-        uint32_t top = extreme_vertex(&d, up);
+        uint32_t top = ed_test_extreme_vertex(&d, up);
         double c[3], c1[3], c2[3];
         st_doc_vertex_pos(&d, top, c);
         d.brush.tool = ST_BRUSH_DRAW;
@@ -757,9 +718,9 @@ static void test_mirror(void)
     for (int t = 0; t < 4; t++) {
         st_doc d;
         st_doc_init(&d);
-        open_ok(&d, cube, "catmull-clark", 3);
+        ed_test_open(&d, cube, "catmull-clark", 3);
         st_doc_set_edit_level(&d, 2);
-        uint32_t *v, n = level_vertices(&d, 2, &v);
+        uint32_t *v, n = ed_test_level_vertices(&d, 2, &v);
         double (*p)[3] = malloc(n * sizeof *p);
         for (uint32_t i = 0; i < n; i++) st_doc_vertex_pos(&d, v[i], p[i]);
         /* Partners: same position with x negated. */
@@ -777,7 +738,7 @@ static void test_mirror(void)
         d.brush.mirror_x = 1;
         /* Centre off the mirror plane, on the top face. */
         double dir[3] = { 0.5, 0.2, 1 };
-        uint32_t cv = extreme_vertex(&d, dir);
+        uint32_t cv = ed_test_extreme_vertex(&d, dir);
         double c[3], nrm[3] = { 0, 0, 1 }, g[3] = { 0.1, 0.03, 0.05 };
         st_doc_vertex_pos(&d, cv, c);
         CHECK(c[0] > 0.1);
@@ -821,7 +782,7 @@ static void random_op(st_doc *d, uint64_t *rng, int allow_box)
     if (op <= 2) {
         /* drag */
         st_doc_set_edit_level(d, tl_rand(rng) % (top + 1));
-        uint32_t *v, n = level_vertices(d, d->edit_level, &v);
+        uint32_t *v, n = ed_test_level_vertices(d, d->edit_level, &v);
         uint32_t sel[3];
         for (int k = 0; k < 3; k++) sel[k] = v[tl_rand(rng) % n];
         st_doc_select(d, sel, 1 + tl_rand(rng) % 3, ST_SELECT_REPLACE);
@@ -842,7 +803,7 @@ static void random_op(st_doc *d, uint64_t *rng, int allow_box)
         d->brush.radius = 0.3 + 0.5 * (tl_rand(rng) % 100) / 100.0;
         d->brush.strength = 0.2 + 0.8 * (tl_rand(rng) % 100) / 100.0;
         d->brush.mirror_x = tl_rand(rng) % 2;
-        uint32_t *v, n = level_vertices(d, d->edit_level, &v);
+        uint32_t *v, n = ed_test_level_vertices(d, d->edit_level, &v);
         if (st_doc_stroke_begin(d) == 0) {
             for (int s = 0; s < 3; s++) {
                 double c[3], nrm[3] = { 0, 0, 1 }, g[3] = { 0.05, -0.02, 0.03 };
@@ -882,7 +843,7 @@ static void test_undo_random(const char *path, const char *scheme, uint64_t seed
     FILE *f = fopen(path, "rb");
     if (!f) { fprintf(stderr, "skipped: %s is not there\n", path); st_doc_free(&d); return; }
     fclose(f);
-    open_ok(&d, path, scheme, 2);
+    ed_test_open(&d, path, scheme, 2);
     uint64_t rng = seed;
     tl_random_details(&d.h, &rng, 0.02);
     enum { OPS = 40 };
@@ -941,9 +902,9 @@ static void test_undo_budget(void)
 {
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
     st_doc_set_edit_level(&d, 1);
-    uint32_t *v, n = level_vertices(&d, 1, &v);
+    uint32_t *v, n = ed_test_level_vertices(&d, 1, &v);
     snap s[11];
     snap_take(&d, &s[0]);
     size_t first = 0;
@@ -993,12 +954,12 @@ static double display_vs_model(const st_doc *d)
     for (uint32_t i = 0; i < d->display.npairs; i += 3) {
         unsigned L = d->display.pairs[i];
         const double *a = st_pos(&d->display.hier.map, d->display.pairs[i + 1], L), *b = st_pos(&d->h.map, d->display.pairs[i + 2], L);
-        worst = fmax(worst, dist3(a, b));
+        worst = fmax(worst, ed_test_dist3(a, b));
     }
     for (unsigned L = 0; L <= d->display.copied_top; L++) {
         st_dart_iter it;
         for (uint32_t v = st_vertex_first(&d->display.hier.map, L, &it); v != ST_NIL; v = st_vertex_next(&d->display.hier.map, L, &it))
-            worst = fmax(worst, dist3(st_pos(&d->display.hier.map, v, L), st_pos(&d->h.map, v, L)));
+            worst = fmax(worst, ed_test_dist3(st_pos(&d->display.hier.map, v, L), st_pos(&d->h.map, v, L)));
     }
     return worst;
 }
@@ -1063,8 +1024,8 @@ static void test_box(void)
     st_doc d, r;
     st_doc_init(&d);
     st_doc_init(&r);
-    open_ok(&d, cube, "catmull-clark", 3);
-    open_ok(&r, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
+    ed_test_open(&r, cube, "catmull-clark", 3);
     uint64_t s1 = 5, s2 = 5;
     tl_random_details(&d.h, &s1, 0.03);
     tl_random_details(&r.h, &s2, 0.03);
@@ -1107,9 +1068,9 @@ static void test_box(void)
     CHECK(mapped > 0);
 
     /* Edits with the box on act on the model; the display follows. */
-    uint32_t *v, n = level_vertices(&d, 2, &v);
+    uint32_t *v, n = ed_test_level_vertices(&d, 2, &v);
     double dir[3] = { 1, 1, 1 };
-    uint32_t corner = extreme_vertex(&d, dir);
+    uint32_t corner = ed_test_extreme_vertex(&d, dir);
     st_doc_select(&d, &corner, 1, ST_SELECT_REPLACE);
     CHECK(st_doc_drag_begin(&d) == 0);
     double delta[3] = { 0.2, 0.1, -0.1 };
@@ -1222,7 +1183,7 @@ static void test_box(void)
         FILE *f = fopen(STRATA_SHARED_DATA "/triangle/hemisphere.obj", "rb");
         if (f) {
             fclose(f);
-            open_ok(&r, STRATA_SHARED_DATA "/triangle/hemisphere.obj", "sqrt3", 2);
+            ed_test_open(&r, STRATA_SHARED_DATA "/triangle/hemisphere.obj", "sqrt3", 2);
             CHECK(st_doc_set_box(&r, &b, 1, &err) != 0);
             CHECK(!r.box_on && strstr(err.msg, "closed") != NULL);
         }
@@ -1289,14 +1250,14 @@ static void test_box_schemes(void)
         snprintf(path, sizeof path, "%s%s", STRATA_ASSETS, t[i].file);
         st_doc d;
         st_doc_init(&d);
-        open_ok(&d, path, t[i].scheme, 3);
+        ed_test_open(&d, path, t[i].scheme, 3);
         uint64_t rng = 31 + i;
         tl_random_details(&d.h, &rng, 0.03);
         check_whole_box(&d, t[i].scheme);
         /* An edit with the box on, then box off and on: the whole display
          * still shows the model. */
         st_doc_set_edit_level(&d, 1);
-        uint32_t *v, n = level_vertices(&d, 1, &v);
+        uint32_t *v, n = ed_test_level_vertices(&d, 1, &v);
         st_doc_select(&d, &v[n / 2], 1, ST_SELECT_REPLACE);
         free(v);
         CHECK(st_doc_drag_begin(&d) == 0);
@@ -1316,7 +1277,7 @@ static void test_box_schemes(void)
     st_doc d;
     st_error err;
     st_doc_init(&d);
-    open_ok(&d, cube, "catmull-clark", 2);
+    ed_test_open(&d, cube, "catmull-clark", 2);
     st_adapt_params b = d.box;
     b.max_level = 3;
     CHECK(st_doc_set_box(&d, &b, 1, &err) == 0);
@@ -1338,7 +1299,7 @@ static void test_box_pairs_partial(const char *scheme, const char *file)
     snprintf(path, sizeof path, "%s%s", STRATA_ASSETS, file);
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, path, scheme, 3);
+    ed_test_open(&d, path, scheme, 3);
     uint64_t rng = 77;
     unsigned checked = 0;
     for (int k = 0; k < 6; k++) {
@@ -1363,7 +1324,7 @@ static void test_box_pairs_partial(const char *scheme, const char *file)
         double worst = 0;
         for (uint32_t i = 0; i < d.display.npairs; i += 3) {
             unsigned L = d.display.pairs[i];
-            worst = fmax(worst, dist3(st_pos(&c.map, d.display.pairs[i + 1], L), st_pos(&d.h.map, d.display.pairs[i + 2], L)));
+            worst = fmax(worst, ed_test_dist3(st_pos(&c.map, d.display.pairs[i + 1], L), st_pos(&d.h.map, d.display.pairs[i + 2], L)));
             checked++;
         }
         CHECKF(worst < 1e-9, "%s %s box %d: adaptive positions differ from the paired model's by %g", scheme, file, k, worst);
@@ -1379,7 +1340,7 @@ static void test_box_loop(void)
 {
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, STRATA_ASSETS "/octahedron.obj", "loop", 3);
+    ed_test_open(&d, STRATA_ASSETS "/octahedron.obj", "loop", 3);
     uint64_t s = 9;
     tl_random_details(&d.h, &s, 0.02);
     st_error err;
@@ -1394,7 +1355,7 @@ static void test_box_loop(void)
     CHECK(display_vs_model(&d) == 0);
     st_doc_set_edit_level(&d, 3);
     const double dir[3] = { 1, 0, 0 };
-    uint32_t tip = extreme_vertex(&d, dir);
+    uint32_t tip = ed_test_extreme_vertex(&d, dir);
     st_doc_select(&d, &tip, 1, ST_SELECT_REPLACE);
     double far0 = -INFINITY;
     st_dart_iter it;
@@ -1428,7 +1389,7 @@ static void test_bench(void)
 {
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, cube, "catmull-clark", 4);
+    ed_test_open(&d, cube, "catmull-clark", 4);
     st_error err;
     CHECK(st_doc_add_level(&d, &err) == 0);
     snap a, b;

@@ -8,6 +8,7 @@
 #include "editor.h"
 #include "core/multires/hier_internal.h" /* st_hier_detail */
 #include "testlib.h"
+#include "editor_testlib.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -15,44 +16,6 @@
 
 static const char *cube = STRATA_ASSETS "/cube.obj";
 static const char *sphere = STRATA_SHARED_DATA "/triangle/sphere_ico.obj";
-
-static void open_ok(st_doc *d, const char *path, const char *scheme, unsigned levels)
-{
-    st_error err;
-    int rc = st_doc_open(d, path, scheme, levels, &err);
-    CHECKF(rc == 0, "open %s: %s", path, err.msg);
-}
-
-static uint32_t level_vertices(const st_doc *d, unsigned l, uint32_t **out)
-{
-    uint32_t n = 0, cap = 64, *v = calloc(cap, sizeof *v);
-    st_dart_iter it;
-    for (uint32_t x = st_vertex_first(&d->h.map, l, &it); x != ST_NIL; x = st_vertex_next(&d->h.map, l, &it)) {
-        if (n == cap) v = realloc(v, (cap *= 2) * sizeof *v);
-        v[n++] = x;
-    }
-    *out = v;
-    return n;
-}
-
-static uint32_t extreme_vertex(st_doc *d, const double dir[3])
-{
-    uint32_t *v, n = level_vertices(d, d->edit_level, &v), best = ST_NIL;
-    double bd = -INFINITY;
-    for (uint32_t i = 0; i < n; i++) {
-        double p[3];
-        st_doc_vertex_pos(d, v[i], p);
-        double s = p[0] * dir[0] + p[1] * dir[1] + p[2] * dir[2];
-        if (s > bd) { bd = s; best = v[i]; }
-    }
-    free(v);
-    return best;
-}
-
-static double dist3(const double *a, const double *b)
-{
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-}
 
 static double norm3(const double *a) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
@@ -143,7 +106,7 @@ static char grid_path[1024];
 static void open_grid(st_doc *d)
 {
     st_doc_init(d);
-    open_ok(d, grid_path, "catmull-clark", 1);
+    ed_test_open(d, grid_path, "catmull-clark", 1);
     st_doc_set_edit_level(d, 0);
 }
 
@@ -156,7 +119,7 @@ static void test_grid_brushes(void)
         for (int inv = 0; inv < 2; inv++) {
             st_doc d;
             open_grid(&d);
-            uint32_t *v, n = level_vertices(&d, 0, &v);
+            uint32_t *v, n = ed_test_level_vertices(&d, 0, &v);
             double (*p0)[3] = positions(&d, v, n);
             brush_set(&d, tool, R, s, up);
             d.brush.invert = inv;
@@ -167,7 +130,7 @@ static void test_grid_brushes(void)
             double worst = 0;
             int outside_still = 1;
             for (uint32_t i = 0; i < n; i++) {
-                double r = dist3(p0[i], c), w = s * st_brush_falloff(r, R), want[3] = { 0, 0, 0 };
+                double r = ed_test_dist3(p0[i], c), w = s * st_brush_falloff(r, R), want[3] = { 0, 0, 0 };
                 double d3[3] = { p1[i][0] - p0[i][0], p1[i][1] - p0[i][1], p1[i][2] - p0[i][2] };
                 if (r >= R && (d3[0] || d3[1] || d3[2])) outside_still = 0;
                 switch (tool) {
@@ -196,7 +159,7 @@ static void test_grid_brushes(void)
             if (tool == ST_BRUSH_SMOOTH || tool == ST_BRUSH_FLATTEN || tool == ST_BRUSH_RELAX) {
                 /* A regular flat grid is already smooth, flat and relaxed. */
                 double most = 0;
-                for (uint32_t i = 0; i < n; i++) most = fmax(most, dist3(p0[i], p1[i]));
+                for (uint32_t i = 0; i < n; i++) most = fmax(most, ed_test_dist3(p0[i], p1[i]));
                 CHECKF(most < 1e-15, "%s moved a regular flat grid by %g", name, most);
             }
             free(p0);
@@ -214,14 +177,14 @@ static void test_grid_falloffs(void)
     for (int k = 0; k < ST_FALLOFF_COUNT; k++) {
         st_doc d;
         open_grid(&d);
-        uint32_t *v, n = level_vertices(&d, 0, &v);
+        uint32_t *v, n = ed_test_level_vertices(&d, 0, &v);
         double (*p0)[3] = positions(&d, v, n);
         brush_set(&d, ST_BRUSH_DRAW, R, s, up);
         d.brush.falloff = k;
         one_dab(&d, c, up, NULL);
         double (*p1)[3] = positions(&d, v, n), worst = 0;
         for (uint32_t i = 0; i < n; i++)
-            worst = fmax(worst, fabs(p1[i][2] - p0[i][2] - s * st_falloff_eval(k, dist3(p0[i], c), R) * R / 10));
+            worst = fmax(worst, fabs(p1[i][2] - p0[i][2] - s * st_falloff_eval(k, ed_test_dist3(p0[i], c), R) * R / 10));
         CHECKF(worst < 1e-15, "draw with falloff %s: off by %g", st_falloff_name(k), worst);
         free(p0);
         free(p1);
@@ -238,7 +201,7 @@ static void test_grid_build_up(void)
     const double up[3] = { 0, 0, 1 }, c[3] = { 0, 0, 0 }, R = 0.5;
     st_doc d;
     open_grid(&d);
-    uint32_t *v = NULL, n = level_vertices(&d, 0, &v);
+    uint32_t *v = NULL, n = ed_test_level_vertices(&d, 0, &v);
     double (*p0)[3] = positions(&d, v, n);
     /* Clay strips, strength 1, constant falloff: one dab lifts everything
      * under it to z = R/10 exactly: a flat top. */
@@ -247,13 +210,13 @@ static void test_grid_build_up(void)
     one_dab(&d, c, up, NULL);
     double (*p1)[3] = positions(&d, v, n), worst = 0;
     for (uint32_t i = 0; i < n; i++)
-        if (dist3(p0[i], c) < R) worst = fmax(worst, fabs(p1[i][2] - R / 10));
+        if (ed_test_dist3(p0[i], c) < R) worst = fmax(worst, fabs(p1[i][2] - R / 10));
     CHECKF(worst < 1e-15, "clay strips: top not flat at R/10 (off by %g)", worst);
     /* A spike above the clay plane stays where it is. */
     st_error err;
     while (st_doc_undo(&d, &err) == 0) {}
     uint32_t top = ST_NIL;
-    for (uint32_t i = 0; i < n; i++) if (dist3(p0[i], c) == 0) top = v[i];
+    for (uint32_t i = 0; i < n; i++) if (ed_test_dist3(p0[i], c) == 0) top = v[i];
     CHECK(top != ST_NIL);
     uint32_t x = st_doc_vertex_dart(&d, top);
     const double spike[1][3] = { { 0, 0, 0.3 } };
@@ -280,11 +243,11 @@ static void test_grid_build_up(void)
     p1 = positions(&d, v, n);
     worst = 0;
     for (uint32_t i = 0; i < n; i++) {
-        double h = 0.6 * fmax(st_brush_falloff(dist3(p0[i], c), R), st_brush_falloff(dist3(pm[i], q), R)) * R / 10;
+        double h = 0.6 * fmax(st_brush_falloff(ed_test_dist3(p0[i], c), R), st_brush_falloff(ed_test_dist3(pm[i], q), R)) * R / 10;
         /* along the normal each vertex had when the stroke reached it (up
          * at first; tilted where the second dab reached it first) */
-        worst = fmax(worst, fabs(dist3(p1[i], p0[i]) - h));
-        if (dist3(p0[i], c) < R) worst = fmax(worst, fabs(p1[i][2] - h));
+        worst = fmax(worst, fabs(ed_test_dist3(p1[i], p0[i]) - h));
+        if (ed_test_dist3(p0[i], c) < R) worst = fmax(worst, fabs(p1[i][2] - h));
     }
     CHECKF(worst < 1e-15, "layer: heights off the cap by %g", worst);
     free(pm);
@@ -293,7 +256,7 @@ static void test_grid_build_up(void)
     st_doc_vertex_pos(&d, top, cb);
     one_dab(&d, cb, up, NULL);
     st_doc_vertex_pos(&d, top, ct);
-    CHECKF(fabs(dist3(ct, cb) - 0.6 * R / 10) < 1e-15 && ct[2] > cb[2], "layer: second stroke moved %g", dist3(ct, cb));
+    CHECKF(fabs(ed_test_dist3(ct, cb) - 0.6 * R / 10) < 1e-15 && ct[2] > cb[2], "layer: second stroke moved %g", ed_test_dist3(ct, cb));
     st_doc_free(&d);
 
     /* Relax: in-plane jitter evens out, z stays 0 exactly. */
@@ -302,7 +265,7 @@ static void test_grid_build_up(void)
     uint32_t *darts = malloc(n * sizeof *darts), m = 0;
     double (*pos)[3] = malloc(n * sizeof *pos);
     for (uint32_t i = 0; i < n; i++) {
-        if (dist3(p0[i], c) >= R) continue;
+        if (ed_test_dist3(p0[i], c) >= R) continue;
         darts[m] = st_doc_vertex_dart(&d, v[i]);
         pos[m][0] = p0[i][0] + 0.03 * ((double)(tl_rand(&rng) % 2001) / 1000.0 - 1.0);
         pos[m][1] = p0[i][1] + 0.03 * ((double)(tl_rand(&rng) % 2001) / 1000.0 - 1.0);
@@ -313,7 +276,7 @@ static void test_grid_build_up(void)
     free(p1);
     p1 = positions(&d, v, n);
     double err0 = 0, err1 = 0;
-    for (uint32_t i = 0; i < n; i++) if (dist3(p0[i], c) < R / 2) err0 += dist3(p0[i], p1[i]);
+    for (uint32_t i = 0; i < n; i++) if (ed_test_dist3(p0[i], c) < R / 2) err0 += ed_test_dist3(p0[i], p1[i]);
     brush_set(&d, ST_BRUSH_RELAX, R, 1, up);
     CHECK(st_doc_stroke_begin(&d) == 0);
     for (int k = 0; k < 6; k++) CHECK(st_doc_stroke_dab(&d, c, up, NULL) == 0);
@@ -321,7 +284,7 @@ static void test_grid_build_up(void)
     double (*p2)[3] = positions(&d, v, n), zmax = 0;
     for (uint32_t i = 0; i < n; i++) {
         zmax = fmax(zmax, fabs(p2[i][2]));
-        if (dist3(p0[i], c) < R / 2) err1 += dist3(p0[i], p2[i]);
+        if (ed_test_dist3(p0[i], c) < R / 2) err1 += ed_test_dist3(p0[i], p2[i]);
     }
     CHECKF(zmax == 0, "relax left the plane by %g", zmax);
     CHECKF(err1 < 0.5 * err0, "relax: distance to the regular grid %g -> %g", err0, err1);
@@ -345,14 +308,14 @@ static void test_sphere_brushes(void)
     for (int tool = 0; tool < ST_BRUSH_COUNT; tool++) {
         st_doc d;
         st_doc_init(&d);
-        open_ok(&d, sphere, "loop", 1);
+        ed_test_open(&d, sphere, "loop", 1);
         st_doc_set_edit_level(&d, 0);
         const double dir[3] = { 0.1, 0.2, 1 };
-        uint32_t t = extreme_vertex(&d, dir);
+        uint32_t t = ed_test_extreme_vertex(&d, dir);
         double c[3];
         st_doc_vertex_pos(&d, t, c);
         double n[3] = { c[0] / norm3(c), c[1] / norm3(c), c[2] / norm3(c) };
-        uint32_t *v, nv = level_vertices(&d, 0, &v);
+        uint32_t *v, nv = ed_test_level_vertices(&d, 0, &v);
         double (*p0)[3] = positions(&d, v, nv);
         brush_set(&d, tool, R, s, n);
         double g[3] = { 0.05, 0.02, 0.04 };
@@ -367,10 +330,10 @@ static void test_sphere_brushes(void)
         double dr = 0;
         unsigned under = 0, closer = 0, pinched = 0;
         for (uint32_t i = 0; i < nv; i++) {
-            if (dist3(p0[i], c) >= R) continue;
+            if (ed_test_dist3(p0[i], c) >= R) continue;
             under++;
             dr += norm3(p1[i]) - norm3(p0[i]);
-            if (v[i] != t && dist3(p1[i], c) < dist3(p0[i], c) - 1e-9) closer++;
+            if (v[i] != t && ed_test_dist3(p1[i], c) < ed_test_dist3(p0[i], c) - 1e-9) closer++;
             if (v[i] != t) pinched++;
         }
         dr /= under;
@@ -426,13 +389,13 @@ static void test_front_faces(void)
     for (int front = 0; front < 2; front++) {
         st_doc d;
         st_doc_init(&d);
-        open_ok(&d, sphere, "loop", 1);
+        ed_test_open(&d, sphere, "loop", 1);
         st_doc_set_edit_level(&d, 0);
         const double up[3] = { 0, 0, 1 };
-        uint32_t t = extreme_vertex(&d, up);
+        uint32_t t = ed_test_extreme_vertex(&d, up);
         double c[3];
         st_doc_vertex_pos(&d, t, c);
-        uint32_t *v, n = level_vertices(&d, 0, &v);
+        uint32_t *v, n = ed_test_level_vertices(&d, 0, &v);
         double (*p0)[3] = positions(&d, v, n);
         brush_set(&d, ST_BRUSH_INFLATE, 2.5, 1, up);
         d.brush.falloff = ST_FALLOFF_CONSTANT;
@@ -480,7 +443,7 @@ static uint32_t *partners(const st_doc *d, unsigned l, unsigned which, const uin
         for (int k = 0; k < 3; k++) r[k] = which >> k & 1 ? -a[k] : a[k];
         pt[i] = i;
         for (uint32_t j = 0; j < n; j++)
-            if (dist3(r, st_pos(&d->h.map, v[j], l)) < 1e-9) { pt[i] = j; found++; break; }
+            if (ed_test_dist3(r, st_pos(&d->h.map, v[j], l)) < 1e-9) { pt[i] = j; found++; break; }
     }
     CHECKF(found == n, "only %u of %u vertices have a mirror partner", found, n);
     return pt;
@@ -499,9 +462,9 @@ static void test_symmetry(void)
         for (int tool = 0; tool < ST_BRUSH_COUNT; tool++) {
             st_doc d;
             st_doc_init(&d);
-            open_ok(&d, cube, "catmull-clark", 3);
+            ed_test_open(&d, cube, "catmull-clark", 3);
             st_doc_set_edit_level(&d, 2);
-            uint32_t *v, n = level_vertices(&d, 2, &v), *vt, nt = level_vertices(&d, 3, &vt);
+            uint32_t *v, n = ed_test_level_vertices(&d, 2, &v), *vt, nt = ed_test_level_vertices(&d, 3, &vt);
             uint32_t *pe[8] = { 0 }, *pt[8] = { 0 };
             double before = 0;
             for (unsigned m = 1; m < 8; m++) {
@@ -513,7 +476,7 @@ static void test_symmetry(void)
             double (*p0)[3] = positions(&d, v, n);
             /* Off every plane, on the face z = +max, viewed from outside. */
             const double dir[3] = { 0.45, 0.3, 1 };
-            uint32_t cv = extreme_vertex(&d, dir);
+            uint32_t cv = ed_test_extreme_vertex(&d, dir);
             double c[3], nrm[3] = { 0.1, 0.1, 1 }, g[3] = { 0.04, -0.03, 0.05 };
             st_doc_vertex_pos(&d, cv, c);
             brush_set(&d, tool, 0.45, 0.7, nrm);
@@ -588,10 +551,10 @@ static void test_spacing(void)
     /* Path length 10 + 7 + 7 + 5 = 29: a dab every 0.75 gives 38. */
     CHECKF(slow.n == 38 && fast.n == 38, "dabs: %u slow, %u fast, expected 38", slow.n, fast.n);
     double worst = 0;
-    for (unsigned i = 0; i < slow.n && i < fast.n && i < 512; i++) worst = fmax(worst, dist3(slow.p[i], fast.p[i]));
+    for (unsigned i = 0; i < slow.n && i < fast.n && i < 512; i++) worst = fmax(worst, ed_test_dist3(slow.p[i], fast.p[i]));
     CHECKF(worst < 1e-12, "spacing: fast and slow dabs differ by %g", worst);
     /* Consecutive dabs on one edge are `spacing` apart. */
-    CHECK(fabs(dist3(slow.p[0], slow.p[1]) - 0.75) < 1e-12 && fabs(slow.p[0][0] - 0.75) < 1e-12);
+    CHECK(fabs(ed_test_dist3(slow.p[0], slow.p[1]) - 0.75) < 1e-12 && fabs(slow.p[0][0] - 0.75) < 1e-12);
     /* The stabiliser: the brush trails the cursor by 2.  Along a straight
      * path the dabs do not depend on the event rate either (at a corner the
      * trailing brush cuts it, by a path that depends on the events, as a
@@ -609,9 +572,9 @@ static void test_spacing(void)
     }
     CHECKF(lazy_slow.n == 22 && lazy_fast.n == 22, "lazy: %u slow, %u fast, expected 22", lazy_slow.n, lazy_fast.n);
     worst = 0;
-    for (unsigned i = 0; i < lazy_slow.n && i < 512; i++) worst = fmax(worst, dist3(lazy_slow.p[i], lazy_fast.p[i]));
+    for (unsigned i = 0; i < lazy_slow.n && i < 512; i++) worst = fmax(worst, ed_test_dist3(lazy_slow.p[i], lazy_fast.p[i]));
     CHECKF(worst < 1e-12, "stabiliser: fast and slow dabs differ by %g", worst);
-    double dist_end = dist3(sp.brush, b);
+    double dist_end = ed_test_dist3(sp.brush, b);
     CHECKF(fabs(dist_end - 2) < 1e-12, "the stabilised brush is %g behind the cursor, expected 2", dist_end);
     /* Within the stabiliser's distance nothing moves. */
     st_stroke_path_begin(&sp, path_pts[0]);
@@ -620,7 +583,7 @@ static void test_spacing(void)
     /* No spacing: one dab per event, at the cursor. */
     none.n = 0;
     feed(&sp, 3, 0, 0, &none);
-    CHECK(none.n == 12 && dist3(none.p[11], path_pts[4]) == 0);
+    CHECK(none.n == 12 && ed_test_dist3(none.p[11], path_pts[4]) == 0);
 }
 
 /* The same stroke on the grid from fast and slow event sequences: the same
@@ -642,7 +605,7 @@ static void test_spacing_stroke(void)
         st_doc d;
         open_grid(&d);
         free(v);
-        n = level_vertices(&d, 0, &v);
+        n = ed_test_level_vertices(&d, 0, &v);
         const double up[3] = { 0, 0, 1 };
         brush_set(&d, ST_BRUSH_DRAW, 0.3, 0.5, up);
         struct grid_ctx g = { &d };
@@ -661,7 +624,7 @@ static void test_spacing_stroke(void)
         st_doc_free(&d);
     }
     double worst = 0;
-    for (uint32_t i = 0; i < n; i++) worst = fmax(worst, dist3(res[0][i], res[1][i]));
+    for (uint32_t i = 0; i < n; i++) worst = fmax(worst, ed_test_dist3(res[0][i], res[1][i]));
     CHECKF(worst < 1e-12, "a stroke from 40 and from 2 events differs by %g", worst);
     free(res[0]);
     free(res[1]);
@@ -714,12 +677,12 @@ static void test_undo_redo(void)
     for (int tool = 0; tool < ST_BRUSH_COUNT; tool++) {
         st_doc d;
         st_doc_init(&d);
-        open_ok(&d, cube, "catmull-clark", 3);
+        ed_test_open(&d, cube, "catmull-clark", 3);
         st_doc_set_edit_level(&d, 1);
         size_t n0, n1, n2, n3;
         double *before = take(&d, &n0);
         const double dir[3] = { 0.3, 0.4, 1 }, nrm[3] = { 0.2, 0.2, 1 }, g[3] = { 0.05, 0.01, 0.03 };
-        uint32_t cv = extreme_vertex(&d, dir);
+        uint32_t cv = ed_test_extreme_vertex(&d, dir);
         double c[3];
         st_doc_vertex_pos(&d, cv, c);
         brush_set(&d, tool, 0.7, 0.8, nrm);

@@ -12,45 +12,13 @@
 #include "core/io/session.h"
 #include "core/multires/hier_internal.h"
 #include "testlib.h"
+#include "editor_testlib.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 static const char *cube = STRATA_ASSETS "/cube.obj";
-
-static void open_ok(st_doc *d, const char *path, const char *scheme, unsigned levels)
-{
-    st_error err;
-    int rc = st_doc_open(d, path, scheme, levels, &err);
-    CHECKF(rc == 0, "open %s: %s", path, err.msg);
-}
-
-static uint32_t level_vertices(const st_doc *d, unsigned l, uint32_t **out)
-{
-    uint32_t n = 0, cap = 64, *v = malloc(cap * sizeof *v);
-    st_dart_iter it;
-    for (uint32_t x = st_vertex_first(&d->h.map, l, &it); x != ST_NIL; x = st_vertex_next(&d->h.map, l, &it)) {
-        if (n == cap) v = realloc(v, (cap *= 2) * sizeof *v);
-        v[n++] = x;
-    }
-    *out = v;
-    return n;
-}
-
-static uint32_t extreme_vertex(st_doc *d, const double dir[3])
-{
-    uint32_t *v, n = level_vertices(d, d->edit_level, &v), best = ST_NIL;
-    double bd = -INFINITY;
-    for (uint32_t i = 0; i < n; i++) {
-        double p[3];
-        st_doc_vertex_pos(d, v[i], p);
-        double s = p[0] * dir[0] + p[1] * dir[1] + p[2] * dir[2];
-        if (s > bd) { bd = s; best = v[i]; }
-    }
-    free(v);
-    return best;
-}
 
 /* ---- state snapshots: positions and details of every level, the mask,
  * the layer stack (without the active index, which is not undoable) ---- */
@@ -159,11 +127,11 @@ static void test_mask_protects(void)
 {
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
     st_doc_set_edit_level(&d, 2);
     unsigned l = 2;
     const double up[3] = { 0, 0, 1 };
-    uint32_t top = extreme_vertex(&d, up);
+    uint32_t top = ed_test_extreme_vertex(&d, up);
     double c[3];
     st_doc_vertex_pos(&d, top, c);
     d.brush.radius = 0.6;
@@ -172,7 +140,7 @@ static void test_mask_protects(void)
     /* Mask 1 everywhere, then erased around the top: a ring of partial
      * values, the rest stays 1 exactly. */
     CHECK(st_doc_mask_invert(&d) == 0);
-    uint32_t *v, n = level_vertices(&d, l, &v);
+    uint32_t *v, n = ed_test_level_vertices(&d, l, &v);
     int all_one = 1;
     for (uint32_t i = 0; i < n; i++) all_one &= st_doc_mask(&d, v[i]) == 1.0f;
     CHECK(all_one);
@@ -233,9 +201,9 @@ static void test_mask_protects(void)
     CHECK(!st_mask_any(&d.mask));
     st_doc mref;
     st_doc_init(&mref);
-    open_ok(&mref, cube, "catmull-clark", 3);
+    ed_test_open(&mref, cube, "catmull-clark", 3);
     st_doc_set_edit_level(&mref, 2);
-    open_ok(&d, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
     st_doc_set_edit_level(&d, 2);
     for (uint32_t i = 0; i < n; i++) st_mask_set(&d.mask, v[i], 0.5f);
     st_mask_propagate(&d.mask, &d.h, 2, NULL, 0);
@@ -249,7 +217,7 @@ static void test_mask_protects(void)
     /* Displacements: d moved half of mref's, vertex by vertex. */
     st_doc fresh;
     st_doc_init(&fresh);
-    open_ok(&fresh, cube, "catmull-clark", 3);
+    ed_test_open(&fresh, cube, "catmull-clark", 3);
     for (uint32_t i = 0; i < n; i++) {
         const double *p = st_pos(&d.h.map, v[i], l), *q = st_pos(&mref.h.map, v[i], l), *o = st_pos(&fresh.h.map, v[i], l);
         for (int k = 0; k < 3; k++) {
@@ -274,10 +242,10 @@ static void test_mask_levels(void)
 {
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, cube, "catmull-clark", 2);
+    ed_test_open(&d, cube, "catmull-clark", 2);
     st_doc_set_edit_level(&d, 1);
     const double up[3] = { 0, 0, 1 };
-    uint32_t top = extreme_vertex(&d, up);
+    uint32_t top = ed_test_extreme_vertex(&d, up);
     double c[3];
     st_doc_vertex_pos(&d, top, c);
     d.brush.radius = 0.9;
@@ -288,13 +256,13 @@ static void test_mask_levels(void)
     /* One more level: the mask extends to it. */
     st_error err;
     CHECK(st_doc_add_level(&d, &err) == 0);
-    uint32_t *v1, n1 = level_vertices(&d, 1, &v1);
+    uint32_t *v1, n1 = ed_test_level_vertices(&d, 1, &v1);
     float *m1 = malloc(n1 * sizeof *m1);
     for (uint32_t i = 0; i < n1; i++) m1[i] = st_doc_mask(&d, v1[i]);
     /* Every level-3 vertex: the coinciding vertex's value or the stencil
      * average of level 2, which is itself that of level 1. */
     st_hier *h = &d.h;
-    uint32_t *v3, n3 = level_vertices(&d, 3, &v3);
+    uint32_t *v3, n3 = ed_test_level_vertices(&d, 3, &v3);
     uint32_t ones = 0, mids = 0;
     for (uint32_t i = 0; i < n3; i++) {
         float m = st_doc_mask(&d, v3[i]);
@@ -345,7 +313,7 @@ static void test_mask_levels(void)
     st_doc_set_edit_level(&d, 0);
     CHECK(st_doc_mask_invert(&d) == 0);
     CHECK(st_doc_add_level(&d, &err) == 0);
-    uint32_t *v4, n4 = level_vertices(&d, d.h.map.top, &v4);
+    uint32_t *v4, n4 = ed_test_level_vertices(&d, d.h.map.top, &v4);
     int allone = 1;
     for (uint32_t i = 0; i < n4; i++) allone &= st_doc_mask(&d, v4[i]) == 1.0f;
     CHECK(allone);
@@ -357,7 +325,7 @@ static void test_mask_levels(void)
     d.brush.radius = 0.5;
     CHECK(st_doc_mask_stroke_dab(&d, c) == 0);
     st_doc_mask_stroke_end(&d);
-    uint32_t *v2, n2 = level_vertices(&d, 2, &v2);
+    uint32_t *v2, n2 = ed_test_level_vertices(&d, 2, &v2);
     double before = 0, after = 0;
     for (uint32_t i = 0; i < n2; i++) before += st_doc_mask(&d, v2[i]);
     CHECK(st_doc_mask_grow(&d) == 0);
@@ -385,10 +353,10 @@ static void test_mask_cavity(void)
 {
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
     st_doc_set_edit_level(&d, 3);
     const double up[3] = { 0, 0, 1 };
-    uint32_t top = extreme_vertex(&d, up);
+    uint32_t top = ed_test_extreme_vertex(&d, up);
     double c[3];
     st_doc_vertex_pos(&d, top, c);
     d.brush.tool = ST_BRUSH_DRAW;
@@ -400,7 +368,7 @@ static void test_mask_cavity(void)
     CHECK(st_doc_mask_cavity(&d) == 0);
     CHECKF(st_doc_mask(&d, top) > 0.5f, "dent bottom mask %g", st_doc_mask(&d, top));
     const double down[3] = { 0, 0, -1 };
-    uint32_t bottom = extreme_vertex(&d, down);
+    uint32_t bottom = ed_test_extreme_vertex(&d, down);
     CHECKF(st_doc_mask(&d, bottom) == 0.0f, "convex bottom mask %g", st_doc_mask(&d, bottom));
     st_doc_free(&d);
 }
@@ -411,14 +379,14 @@ static void test_mask_cavity(void)
  * a full synthesis (so a recomposition from the details gives them back). */
 static void open_detailed(st_doc *d, double *c)
 {
-    open_ok(d, cube, "catmull-clark", 3);
+    ed_test_open(d, cube, "catmull-clark", 3);
     const double up[3] = { 0, 0, 1 };
     d->brush.tool = ST_BRUSH_DRAW;
     d->brush.radius = 0.5;
     d->brush.strength = 0.5;
     d->brush.mirror_x = 0;
     st_doc_set_edit_level(d, 3);
-    uint32_t top = extreme_vertex(d, up);
+    uint32_t top = ed_test_extreme_vertex(d, up);
     st_doc_vertex_pos(d, top, c);
     dab(d, c, up, NULL);
     st_doc_set_edit_level(d, 2);
@@ -553,11 +521,11 @@ static void test_layer_rides_coarse_motion(void)
     const double up[3] = { 0, 0, 1 };
     d.brush.radius = 0.7;
     dab(&d, c, up, NULL);
-    uint32_t *v3, n3 = level_vertices(&d, 3, &v3);
+    uint32_t *v3, n3 = ed_test_level_vertices(&d, 3, &v3);
     double (*diff)[3] = malloc(n3 * sizeof *diff);
     for (uint32_t i = 0; i < n3; i++)
         for (int k = 0; k < 3; k++) diff[i][k] = st_pos(&d.h.map, v3[i], 3)[k] - st_pos(&e.h.map, v3[i], 3)[k];
-    uint32_t *v2, n2 = level_vertices(&d, 2, &v2);
+    uint32_t *v2, n2 = ed_test_level_vertices(&d, 2, &v2);
     double (*det)[3] = malloc(n2 * sizeof *det);
     for (uint32_t i = 0; i < n2; i++) memcpy(det[i], st_hier_detail(&d.h, 2, v2[i]), sizeof det[i]);
     /* The same translation of level 0 in both. */
@@ -565,7 +533,7 @@ static void test_layer_rides_coarse_motion(void)
     st_doc *docs[2] = { &d, &e };
     for (int k = 0; k < 2; k++) {
         st_doc_set_edit_level(docs[k], 0);
-        uint32_t *v0, n0 = level_vertices(docs[k], 0, &v0);
+        uint32_t *v0, n0 = ed_test_level_vertices(docs[k], 0, &v0);
         st_doc_select(docs[k], v0, n0, ST_SELECT_REPLACE);
         CHECK(st_doc_drag_begin(docs[k]) == 0);
         CHECK(st_doc_drag_update(docs[k], t) == 0);
@@ -662,7 +630,7 @@ static void test_random_undo_redo(void)
 {
     st_doc d;
     st_doc_init(&d);
-    open_ok(&d, cube, "catmull-clark", 3);
+    ed_test_open(&d, cube, "catmull-clark", 3);
     st_doc_set_edit_level(&d, 2);
     d.brush.mirror_x = 0;
     uint64_t rng = 0x5eed1234;
@@ -750,7 +718,7 @@ static void test_session_round_trip(void)
     free(b2);
     /* A small one through a file: save -> load -> save gives the same bytes
      * (also the fuzzer's seed tests/fuzz/corpus/session/cube_cc1_layers_mask.strata). */
-    open_ok(&d, cube, "catmull-clark", 1);
+    ed_test_open(&d, cube, "catmull-clark", 1);
     st_doc_set_edit_level(&d, 1);
     CHECK(st_doc_layer_add(&d, "seed", &err) == 0);
     const double corner[3] = { 0.5, 0.5, 0.5 };

@@ -1,0 +1,48 @@
+/* Helpers shared by the headless document tests (editor_testlib.h). */
+#include "editor_testlib.h"
+#include "testlib.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+void ed_test_open(st_doc *d, const char *path, const char *scheme, unsigned levels)
+{
+    st_error err;
+    int rc = st_doc_open(d, path, scheme, levels, &err);
+    CHECKF(rc == 0, "open %s: %s", path, err.msg);
+}
+
+uint32_t ed_test_level_vertices(const st_doc *d, unsigned l, uint32_t **out)
+{
+    uint32_t n = 0, cap = 64, *v = malloc(cap * sizeof *v);
+    if (!v) abort();
+    st_dart_iter it;
+    for (uint32_t x = st_vertex_first(&d->h.map, l, &it); x != ST_NIL; x = st_vertex_next(&d->h.map, l, &it)) {
+        if (n == cap) {
+            v = realloc(v, (cap *= 2) * sizeof *v);
+            if (!v) abort();
+        }
+        v[n++] = x;
+    }
+    *out = v;
+    return n;
+}
+
+uint32_t ed_test_extreme_vertex(st_doc *d, const double dir[3])
+{
+    uint32_t *v, n = ed_test_level_vertices(d, d->edit_level, &v), best = ST_NIL;
+    double bd = -INFINITY;
+    for (uint32_t i = 0; i < n; i++) {
+        double p[3];
+        st_doc_vertex_pos(d, v[i], p);
+        double s = p[0] * dir[0] + p[1] * dir[1] + p[2] * dir[2];
+        if (s > bd) { bd = s; best = v[i]; }
+    }
+    free(v);
+    return best;
+}
+
+double ed_test_dist3(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}

@@ -1,0 +1,18 @@
+/* Helpers shared by the headless document tests (test_editor*.c). */
+#ifndef ST_EDITOR_TESTLIB_H
+#define ST_EDITOR_TESTLIB_H
+
+#include <stdint.h>
+
+#include "editor.h"
+
+/* st_doc_open, a failed check (with the editor's message) when it fails. */
+void ed_test_open(st_doc *d, const char *path, const char *scheme, unsigned levels);
+/* The vertices of level l in enumeration order (one dart each), into a
+ * malloc'ed *out; returns their number. */
+uint32_t ed_test_level_vertices(const st_doc *d, unsigned l, uint32_t **out);
+/* The editing-level vertex that maximises dot(p, dir). */
+uint32_t ed_test_extreme_vertex(st_doc *d, const double dir[3]);
+double ed_test_dist3(const double *a, const double *b);
+
+#endif
