@@ -367,3 +367,31 @@ void tl_check_analysis(st_scheme_id id, void (*make)(st_mesh *), unsigned levels
     free(fine);
     st_hier_free(&h);
 }
+
+int tl_session_roundtrip(const st_session_ref *r, const char *name, st_session *s)
+{
+    void *b1 = NULL, *b2 = NULL;
+    size_t n1 = 0, n2 = 0;
+    st_error err;
+    st_session_init(s);
+    int rc = st_session_write_mem(r, &b1, &n1, &err);
+    CHECKF(rc == 0, "%s: write: %s", name, err.msg);
+    if (!rc) {
+        rc = st_session_parse(name, b1, n1, s, &err);
+        CHECKF(rc == 0, "%s: %s", name, err.msg);
+    }
+    if (!rc) {
+        st_session_ref r2 = st_session_ref_of(s);
+        rc = st_session_write_mem(&r2, &b2, &n2, &err);
+        CHECKF(rc == 0, "%s: write the loaded session: %s", name, err.msg);
+        if (!rc) {
+            int same = n1 == n2 && memcmp(b1, b2, n1) == 0;
+            CHECKF(same, "%s: save -> load -> save differs (%zu vs %zu bytes)", name, n1, n2);
+            if (!same) rc = -1;
+        }
+        if (rc) st_session_free(s);
+    }
+    free(b1);
+    free(b2);
+    return rc ? -1 : 0;
+}

@@ -59,4 +59,10 @@ void tl_check_analysis(st_scheme_id id, void (*make)(st_mesh *), unsigned levels
 typedef struct tl_posnap { unsigned levels; uint32_t n; double *p; } tl_posnap;
 void tl_snap_pos(const st_hier *h, tl_posnap *s);
 double tl_snap_maxdiff(const tl_posnap *a, const tl_posnap *b);
+/* Save -> load -> save in memory: writes r, parses it into *s (named name
+ * in messages), writes the loaded session again and checks that the two
+ * byte strings are equal.  0 with *s loaded (the caller frees it), or -1
+ * after a failed check (*s freed). */
+#include "core/io/session.h"
+int tl_session_roundtrip(const st_session_ref *r, const char *name, st_session *s);
 #endif
