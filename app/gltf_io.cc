@@ -661,20 +661,29 @@ struct Split {
     ~Split() { st_mesh_free(&m); }
 };
 
+// Unit vertex normals for glTF: core's area-weighted ones
+// (st_mesh_vertex_normals, the one computation every writer uses), replaced
+// by the mesh's own where it has them and they have a length.
+std::vector<double> unit_normals(const st_mesh *m)
+{
+    std::vector<double> n(3 * (size_t)m->nverts);
+    if (st_mesh_vertex_normals(m, n.data())) fail(ST_ERR_MEMORY, "out of memory for normals");
+    for (size_t v = 0; m->normals && v < m->nverts; v++) {
+        const double *g = m->normals + 3 * v;
+        double len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        if (len > 1e-300 && std::isfinite(len))
+            for (int c = 0; c < 3; c++) n[3 * v + (size_t)c] = g[c] / len;
+    }
+    return n;
+}
+
 void split_seams(const st_mesh *m, Split *out)
 {
     uint32_t nc = m->face_off[m->nfaces];
     for (uint32_t c = 0; c < nc; c++)
         if (m->face_idx[c] >= m->nverts || m->face_uv[c] >= m->nuvs)
             fail(ST_ERR_RANGE, "face corner " + std::to_string(c) + " is out of range");
-    std::vector<double> nrm(3 * (size_t)m->nverts);
-    if (st_mesh_vertex_normals(m, nrm.data())) fail(ST_ERR_MEMORY, "out of memory for normals");
-    for (size_t v = 0; m->normals && v < m->nverts; v++) {
-        const double *g = m->normals + 3 * v;
-        double len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-        if (len > 1e-300 && std::isfinite(len))
-            for (int c = 0; c < 3; c++) nrm[3 * v + (size_t)c] = g[c] / len;
-    }
+    std::vector<double> nrm = unit_normals(m);
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> id;
     std::vector<uint32_t> src;  // per new vertex: (vertex, uv) pair's corner
     st_mesh *e = &out->m;
@@ -827,17 +836,7 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model,
         hi[i % 3] = std::max(hi[i % 3], (double)pos[i]);
     }
 
-    // Normals: core's area-weighted unit normals (st_mesh_vertex_normals, the
-    // one computation every writer uses), replaced by the mesh's own where it
-    // has them and they have a length: glTF wants unit normals.
-    std::vector<double> acc(3 * (size_t)m->nverts);
-    if (st_mesh_vertex_normals(m, acc.data())) fail(ST_ERR_MEMORY, "out of memory for normals");
-    for (size_t v = 0; m->normals && v < m->nverts; v++) {
-        const double *g = m->normals + 3 * v;
-        double len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-        if (len > 1e-300 && std::isfinite(len))
-            for (int c = 0; c < 3; c++) acc[3 * v + (size_t)c] = g[c] / len;
-    }
+    std::vector<double> acc = unit_normals(m);
     std::vector<float> nrm(acc.size());
     for (size_t i = 0; i < acc.size(); i++) nrm[i] = (float)acc[i];
 
