@@ -68,7 +68,7 @@ static void state_take(const st_doc *d, state *s, int with_extra)
             put(s, o, sizeof o);
         }
     }
-    for (unsigned l = 1; l <= h->map.top; l++) {
+    for (unsigned l = 0; l <= h->map.top; l++) {
         if (!st_layers_on_level(ls, l)) continue;
         st_dart_iter it;
         for (uint32_t v = st_vertex_first(&h->map, l, &it); v != ST_NIL; v = st_vertex_next(&h->map, l, &it)) {
@@ -417,7 +417,7 @@ static void layer_strength_at(unsigned level)
     CHECK(state_eq(&a, &x));   /* an empty layer changes nothing */
     state_free(&x);
     const double up[3] = { 0, 0, 1 };
-    d.brush.radius = 0.7;
+    d.brush.radius = level ? 0.7 : 1.5;   /* level 0: the cube's corners */
     for (int t = 0; t < ST_BRUSH_COUNT; t++) {
         d.brush.tool = t;
         const double g[3] = { 0, 0, 0.1 };
@@ -486,13 +486,12 @@ static void layer_strength_at(unsigned level)
     /* Deleting both gives back the surface without layers. */
     CHECK(st_doc_layer_delete(&d, 1, &err) == 0);
     CHECK(st_doc_layer_delete(&d, 0, &err) == 0);
-    CHECK(d.layers.n == 0 && !d.layers.base[2] && !d.layers.base[3] && !d.layers.bpos[2] && !d.layers.bpos[3]);
+    CHECK(d.layers.n == 0 && !d.layers.base[level] && !d.layers.base[other] && !d.layers.bpos[level] && !d.layers.bpos[other]);
     state_take(&d, &x, 0);
     CHECK(state_close(&a, &x, level < other ? level : other, tol));
     state_free(&x);
-    /* Layers need a level with details. */
-    st_doc_set_edit_level(&d, 0);
-    CHECK(st_doc_layer_add(&d, "coarse", &err) != 0);
+    /* A layer needs a level of the hierarchy. */
+    CHECK(st_layers_add(&d.layers, &d.h, d.h.map.top + 1, "above", &err) < 0 && d.layers.n == 0);
     state_free(&a);
     state_free(&b);
     st_doc_free(&d);
@@ -502,6 +501,7 @@ static void test_layer_strength(void)
 {
     layer_strength_at(3);   /* the top level: the whole surface bit for bit */
     layer_strength_at(2);
+    layer_strength_at(0);   /* object-space offsets of the control mesh */
 }
 
 /* A rigid translation of level 0 carries the layer: its offsets and the

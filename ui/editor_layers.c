@@ -48,12 +48,13 @@ void ed_model_touch_layers(st_doc *d, st_undo_step *s, unsigned l, const uint32_
     st_layers *ls = &d->layers;
     if (!s || !ls->n) return;
     if (!s->lay) s->lay = ed_step_new(ED_STEP_EDIT);
-    if (l > 0 && st_layers_on_level(ls, l)) {
+    if (st_layers_on_level(ls, l)) {
         int slot = edit_target(d, l);
         for (uint32_t i = 0; i < n; i++) {
             uint32_t v = st_vert(&d->h.map, darts[i], l);
             ed_step_touch_layer(s->lay, ls, slot, l, v);
-            ed_step_touch_layer(s->lay, ls, ST_LAYERS_SLOT_BPOS, l, v);
+            /* Level 0 keeps no positions without layers (layers.h). */
+            if (l > 0) ed_step_touch_layer(s->lay, ls, ST_LAYERS_SLOT_BPOS, l, v);
         }
     }
     /* The positions kept without layers on the levels above, which follow
@@ -87,7 +88,7 @@ void ed_model_edit(st_doc *d, st_undo_step *s, unsigned l, const uint32_t *darts
         cache = d->ecache;
     }
     uint32_t from = d->fp_model.n;
-    if (l > 0 && st_layers_on_level(&d->layers, l))
+    if (st_layers_on_level(&d->layers, l))
         st_layers_edit(&d->layers, &d->h, l, edit_target(d, l), darts, pos, n, &d->fp_model, cache);
     else
         st_hier_edit_cached(&d->h, l, darts, pos, n, &d->fp_model, NULL, NULL, cache);

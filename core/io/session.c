@@ -120,6 +120,10 @@ int st_session_is_path(const char *path)
 #define TAG_BASE TAG('B', 'A', 'S', 'E')
 #define TAG_MASK TAG('m', 'a', 's', 'k')
 #define TAG_LAYR TAG('l', 'a', 'y', 'r')
+/* The same payload as layr when a layer is on level 0, which versions
+ * before level-0 layers refuse in layr: under this tag they skip it as an
+ * unknown ancillary chunk and get the surface with the layers composed. */
+#define TAG_LAY0 TAG('l', 'a', 'y', '0')
 #define TAG_FVAR TAG('F', 'V', 'A', 'R')
 #define TAG_BUVS TAG('B', 'U', 'V', 'S')
 
@@ -288,7 +292,7 @@ static void w_layers(st_bw *w, const st_session_ref *r)
         st_bw_u8(w, y->hidden != 0);
         w_offsets(w, y->off, off_len(y->off, y->cap, end));
     }
-    for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
         if (!st_layers_on_level(ls, l)) continue;
         st_bw_u32(w, l);
         w_offsets(w, ls->base[l], off_len(ls->base[l], ls->base_cap[l], end));
@@ -345,7 +349,8 @@ static unsigned chunk_list(const st_session_ref *r, chunk_def out[10])
     if (r->view) out[n++] = (chunk_def){ TAG_VIEW, w_view };
     if (r->base) out[n++] = (chunk_def){ TAG_BASE, w_base };
     if (r->mask && mask_len(r->mask, r->h->map.verts.end)) out[n++] = (chunk_def){ TAG_MASK, w_mask };
-    if (r->layers && r->layers->n) out[n++] = (chunk_def){ TAG_LAYR, w_layers };
+    if (r->layers && r->layers->n)
+        out[n++] = (chunk_def){ st_layers_on_level(r->layers, 0) ? TAG_LAY0 : TAG_LAYR, w_layers };
     if (r->h->fvar) out[n++] = (chunk_def){ TAG_FVAR, w_fvar };
     if (r->base && r->base->face_uv) out[n++] = (chunk_def){ TAG_BUVS, w_base_uv };
     return n;
@@ -800,7 +805,8 @@ static int r_offsets(load_ctx *c, st_br *r, double **out, uint32_t *cap, const c
     return r->failed ? -1 : 0;
 }
 
-static int r_layers(load_ctx *c, st_br *r)
+/* layr (lowest level 1) or lay0 (0, with a layer there). */
+static int r_layers_from(load_ctx *c, st_br *r, unsigned lowest)
 {
     st_layers *ls = &c->s->layers;
     unsigned top = c->s->h.map.top;
@@ -826,7 +832,9 @@ static int r_layers(load_ctx *c, st_br *r)
         y->strength = st_br_f64(r);
         uint8_t hidden = st_br_u8(r);
         if (r->failed) return -1;
-        if (y->level < 1 || y->level > top) return st_br_fail(r, "layer '%s' at level %u (levels 1..%u)", y->name, y->level, top);
+        if (y->level < lowest || y->level > top)
+            return st_br_fail(r, "layer '%s' at level %u (levels %u..%u%s)", y->name, y->level, lowest, top,
+                              lowest ? "; level 0 in chunk 'lay0'" : "");
         if (!(y->strength >= 0 && y->strength <= ST_LAYER_STRENGTH_MAX))
             return st_br_fail(r, "layer '%s': strength %g not in [0, %g]", y->name, y->strength, ST_LAYER_STRENGTH_MAX);
         if (hidden > 1) return st_br_fail(r, "layer '%s': bad hidden flag %u", y->name, hidden);
@@ -835,16 +843,21 @@ static int r_layers(load_ctx *c, st_br *r)
     }
     /* The details without layers, one array per level with layers, in
      * increasing level order. */
-    for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
+    if (!lowest && !st_layers_on_level(ls, 0)) return st_br_fail(r, "chunk 'lay0' without a layer at level 0");
+    for (unsigned l = lowest; l < ST_MAX_LEVELS; l++) {
         if (!st_layers_on_level(ls, l)) continue;
         uint32_t lev = st_br_u32(r);
         if (r->failed) return -1;
         if (lev != l) return st_br_fail(r, "layers: base details of level %u where level %u was expected", lev, l);
         if (r_offsets(c, r, &ls->base[l], &ls->base_cap[l], "layer base details", 0)) return -1;
         if (r_offsets(c, r, &ls->bpos[l], &ls->bpos_cap[l], "layer base positions", 1)) return -1;
+        if (l == 0 && ls->bpos[0]) return st_br_fail(r, "layers: base positions at level 0 (its base details are its positions)");
     }
     return r->failed ? -1 : 0;
 }
+
+static int r_layers(load_ctx *c, st_br *r) { return r_layers_from(c, r, 1); }
+static int r_layers0(load_ctx *c, st_br *r) { return r_layers_from(c, r, 0); }
 
 static int r_fvar(load_ctx *c, st_br *r)
 {
@@ -1012,6 +1025,7 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
         case TAG_BASE: bit = SEEN_BASE; fn = r_base; break;
         case TAG_MASK: bit = SEEN_MASK; fn = r_mask; after = SEEN_MAP; break;
         case TAG_LAYR: bit = SEEN_LAYR; fn = r_layers; after = SEEN_MAP; break;
+        case TAG_LAY0: bit = SEEN_LAYR; fn = r_layers0; after = SEEN_MAP; break;
         case TAG_FVAR: if (version >= SESSION_VERSION_UV) { bit = SEEN_FVAR; fn = r_fvar; after = SEEN_MAP; } break;
         case TAG_BUVS: if (version >= SESSION_VERSION_UV) { bit = SEEN_BUVS; fn = r_base_uv; after = SEEN_BASE; } break;
         default: break;

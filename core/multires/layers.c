@@ -101,9 +101,8 @@ static void set_name(char *dst, const char *name)
 
 int st_layers_add(st_layers *ls, const st_hier *h, unsigned l, const char *name, st_error *err)
 {
-    if (l < 1 || l > h->map.top)
-        return st_fail(err, ST_ERR_INVALID, "a sculpt layer needs a level from 1 to %u (level 0 has no detail vectors)",
-                       h->map.top), -1;
+    if (l > h->map.top)
+        return st_fail(err, ST_ERR_INVALID, "a sculpt layer needs a level from 0 to %u (not %u)", h->map.top, l), -1;
     if (ls->n >= ST_LAYER_MAX) return st_fail(err, ST_ERR_INVALID, "at most %d sculpt layers", ST_LAYER_MAX), -1;
     if (ls->n == ls->cap) {
         uint32_t cap = ls->cap ? 2 * ls->cap : 8;
@@ -113,14 +112,20 @@ int st_layers_add(st_layers *ls, const st_hier *h, unsigned l, const char *name,
         ls->cap = cap;
     }
     if (!st_layers_on_level(ls, l)) {
-        /* B_l: the level's details as they are now. */
+        /* B_l: the level's details as they are now (level 0: its positions). */
         free(ls->base[l]);
         ls->base[l] = NULL;
         ls->base_cap[l] = 0;
         uint32_t cap = h->map.verts.end;
         grow3(&ls->base[l], &ls->base_cap[l], cap ? cap - 1 : 0, cap);
-        uint32_t n = h->detail[l] ? (h->detail_cap[l] < cap ? h->detail_cap[l] : cap) : 0;
-        if (n) memcpy(ls->base[l], h->detail[l], 3 * (size_t)n * sizeof(double));
+        if (l == 0) {
+            st_dart_iter it;
+            for (uint32_t v = st_vertex_first(&h->map, 0, &it); v != ST_NIL; v = st_vertex_next(&h->map, 0, &it))
+                memcpy(ls->base[0] + 3 * (size_t)v, st_pos(&h->map, v, 0), 3 * sizeof(double));
+        } else {
+            uint32_t n = h->detail[l] ? (h->detail_cap[l] < cap ? h->detail_cap[l] : cap) : 0;
+            if (n) memcpy(ls->base[l], h->detail[l], 3 * (size_t)n * sizeof(double));
+        }
     }
     st_layer *y = &ls->v[ls->n];
     memset(y, 0, sizeof *y);
@@ -234,19 +239,16 @@ void st_layers_follow(st_layers *ls, const st_hier *h, unsigned above, const uin
 
 typedef struct hook_ctx { st_layers *ls; int target; } hook_ctx;
 
-/* st_hier_edit_with's hook for an edit: the change goes into the target,
- * the stored detail is the composition. */
-static void edit_hook(void *ctx, unsigned l, uint32_t v, double det[3], const double pred[3], const double f[3][3],
-                      double pos[3])
+/* The new detail det of v (level 0: its new position) split: the change
+ * goes into the target layer, or into B_l for target -1. */
+static void split_change(st_layers *ls, unsigned l, uint32_t v, int target, const double det[3])
 {
-    hook_ctx *c = ctx;
-    st_layers *ls = c->ls;
-    if (c->target >= 0) {
-        const st_layer *y = &ls->v[c->target];
+    if (target >= 0) {
+        const st_layer *y = &ls->v[target];
         double rest[3], o[3];
-        compose_except(ls, l, v, c->target, rest);
+        compose_except(ls, l, v, target, rest);
         for (int i = 0; i < 3; i++) o[i] = (det[i] - rest[i]) / y->strength;
-        st_layers_set(ls, c->target, l, v, o);
+        st_layers_set(ls, target, l, v, o);
     } else {
         double layers[3], b[3];
         compose_except(ls, l, v, -1, layers);
@@ -255,10 +257,39 @@ static void edit_hook(void *ctx, unsigned l, uint32_t v, double det[3], const do
         /* layers - old = the layers' sum alone, added on top of B_l. */
         for (int i = 0; i < 3; i++) b[i] = det[i] - (layers[i] - old[i]);
         st_layers_set(ls, -1, l, v, b);
-        /* The surface without layers moved here too: P0 is no longer kept. */
-        st_layers_set(ls, ST_LAYERS_SLOT_BPOS, l, v, none3);
     }
+}
+
+/* st_hier_edit_with's hook for an edit: the change goes into the target,
+ * the stored detail is the composition. */
+static void edit_hook(void *ctx, unsigned l, uint32_t v, double det[3], const double pred[3], const double f[3][3],
+                      double pos[3])
+{
+    hook_ctx *c = ctx;
+    st_layers *ls = c->ls;
+    split_change(ls, l, v, c->target, det);
+    /* The surface without layers moved here too: P0 is no longer kept. */
+    if (c->target < 0) st_layers_set(ls, ST_LAYERS_SLOT_BPOS, l, v, none3);
     compose_vertex(ls, l, v, det, pred, f, pos);
+}
+
+/* Level 0 (layers.h): the positions are the composition itself, written
+ * by an ordinary edit of level 0, which re-synthesises above.  pos NULL:
+ * recomposed from the values as they are. */
+static uint64_t edit_level0(st_layers *ls, st_hier *h, int target, const uint32_t *darts, const double (*pos)[3],
+                            uint32_t n, st_footprint *fp, st_edit_cache *cache)
+{
+    if (!n) return 0;
+    double (*composed)[3] = malloc((size_t)n * sizeof *composed);
+    if (!composed) abort(); /* out of memory while editing, as the synthesis does */
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t v = st_vert(&h->map, darts[i], 0);
+        if (pos) split_change(ls, 0, v, target, pos[i]);
+        compose_except(ls, 0, v, -1, composed[i]);
+    }
+    uint64_t r = st_hier_edit_cached(h, 0, darts, (const double(*)[3])composed, n, fp, NULL, NULL, cache);
+    free(composed);
+    return r;
 }
 
 static void recompose_hook(void *ctx, unsigned l, uint32_t v, double det[3], const double pred[3], const double f[3][3],
@@ -271,8 +302,9 @@ static void recompose_hook(void *ctx, unsigned l, uint32_t v, double det[3], con
 uint64_t st_layers_edit(st_layers *ls, st_hier *h, unsigned l, int target, const uint32_t *darts,
                         const double (*pos)[3], uint32_t n, st_footprint *fp, st_edit_cache *cache)
 {
-    if (l == 0 || !st_layers_on_level(ls, l)) return st_hier_edit_cached(h, l, darts, pos, n, fp, NULL, NULL, cache);
+    if (!st_layers_on_level(ls, l)) return st_hier_edit_cached(h, l, darts, pos, n, fp, NULL, NULL, cache);
     if (target >= 0 && ((uint32_t)target >= ls->n || !contributes(&ls->v[target], l))) target = -1;
+    if (l == 0) return edit_level0(ls, h, target, darts, pos, n, fp, cache);
     keep_bpos(ls, h, l, darts, n);
     hook_ctx c = { ls, target };
     return st_hier_edit_cached(h, l, darts, pos, n, fp, edit_hook, &c, cache);
@@ -281,7 +313,8 @@ uint64_t st_layers_edit(st_layers *ls, st_hier *h, unsigned l, int target, const
 uint64_t st_layers_recompose(st_layers *ls, st_hier *h, unsigned l, const uint32_t *darts, uint32_t n,
                              st_footprint *fp)
 {
-    if (l == 0 || !n) return 0;
+    if (!n) return 0;
+    if (l == 0) return edit_level0(ls, h, -1, darts, NULL, n, fp, NULL);
     /* No P0 to keep here: a vertex gets offsets by an edit first
      * (st_layers_edit keeps it then), and the strengths may already have
      * changed, so the current position may hold layers. */
@@ -399,8 +432,9 @@ int st_layers_rebase(st_layers *ls, st_error *err)
 {
     for (uint32_t i = 0; i < ls->n; i++)
         if (ls->v[i].level <= 1)
-            return st_fail(err, ST_ERR_INVALID, "sculpt layer '%s' is on level 1, which would become the control mesh; "
-                                                "merge or delete it first", ls->v[i].name), -1;
+            return st_fail(err, ST_ERR_INVALID, "sculpt layer '%s' is on level %u, which %s; merge or delete it first",
+                           ls->v[i].name, ls->v[i].level,
+                           ls->v[i].level ? "would become the control mesh" : "would be removed"), -1;
     for (uint32_t i = 0; i < ls->n; i++) ls->v[i].level--;
     free(ls->base[0]);
     free(ls->bpos[0]);

@@ -1,8 +1,9 @@
 /* Sculpt layers of a multiresolution hierarchy.
  *
- * A layer lives at one level l >= 1 and holds its own detail offsets
- * O_k(v), one per vertex of level l, in the same local frames F_l(v) as
- * the hierarchy's detail vectors (hier.h; Kraemer 2008 §3.1: frames come
+ * A layer lives at one level l >= 1 (level 0: below) and holds its own
+ * detail offsets O_k(v), one per vertex of level l, in the same local
+ * frames F_l(v) as the hierarchy's detail vectors (hier.h; Kraemer 2008
+ * §3.1: frames come
  * from the coarser surface, so whatever moves level l-1 or below carries
  * the offsets along).  A level with layers keeps its details without any
  * layer, B_l(v), and the hierarchy's detail is always their composition
@@ -28,6 +29,18 @@
  * S(P_{l-1}) + F B_l, equal to the re-synthesis without layers up to the
  * order of the stencil's sum (rounding, 1e-15 relative).
  *
+ * Level 0 (the control mesh) has no coarser level, so no prediction, no
+ * frames and no detail vectors: there a layer's offsets are plain
+ * object-space offsets of the vertices, B_0 holds the positions without
+ * layers and the position is the composition itself,
+ *     P_0(v) = B_0(v) + s_1 O_1(v) + s_2 O_2(v) + ...
+ * (same order and rule as above).  Strength 0 or hidden gives B_0, the
+ * control mesh without the layer, bit for bit (no P0 is needed there);
+ * the same strengths give the same positions bit for bit, and the levels
+ * above are re-synthesised from them as after any edit of level 0.  A
+ * level-0 offset is a fixed vector: it does not turn with the surface
+ * (nothing is coarser to carry it).
+ *
  * Layers at different levels combine: each level composes its own. */
 #ifndef ST_LAYERS_H
 #define ST_LAYERS_H
@@ -45,7 +58,7 @@
 
 typedef struct st_layer {
     char name[ST_LAYER_NAME];  /* NUL-terminated */
-    unsigned level;            /* >= 1 */
+    unsigned level;            /* 0 .. top */
     double strength;           /* 0 .. ST_LAYER_STRENGTH_MAX */
     int hidden;
     double *off;               /* 3 doubles per vertex id below cap (NULL: all zero) */
@@ -56,9 +69,9 @@ typedef struct st_layers {
     st_layer *v;               /* the stack, bottom first */
     uint32_t n, cap;
     int active;                /* index of the layer strokes go into, -1: the level's own details */
-    double *base[ST_MAX_LEVELS];   /* B_l per vertex id (3 doubles), for levels with layers */
+    double *base[ST_MAX_LEVELS];   /* B_l per vertex id (3 doubles), for levels with layers (level 0: positions) */
     uint32_t base_cap[ST_MAX_LEVELS];
-    double *bpos[ST_MAX_LEVELS];   /* P0_l per vertex id (3 doubles; NaN: not kept) */
+    double *bpos[ST_MAX_LEVELS];   /* P0_l per vertex id (3 doubles; NaN: not kept); never for level 0 */
     uint32_t bpos_cap[ST_MAX_LEVELS];
 } st_layers;
 
@@ -70,9 +83,10 @@ size_t st_layers_bytes(const st_layers *ls);
 /* Number of layers at level l. */
 uint32_t st_layers_on_level(const st_layers *ls, unsigned l);
 
-/* A new empty layer on top of the stack at level l (1..top), made active.
- * The first layer of a level takes the level's details as B_l.  Returns
- * its index, or -1 with err filled (level 0 or above top, too many). */
+/* A new empty layer on top of the stack at level l (0..top), made active.
+ * The first layer of a level takes the level's details as B_l (level 0:
+ * its positions).  Returns its index, or -1 with err filled (above top,
+ * too many). */
 int st_layers_add(st_layers *ls, const st_hier *h, unsigned l, const char *name, st_error *err);
 
 /* The composed detail D_l(v) (above). */
@@ -88,8 +102,9 @@ void st_layers_set(st_layers *ls, int slot, unsigned l, uint32_t v, const double
 
 /* An edit at level l (st_hier_edit's arguments) whose change of detail goes
  * into slot `target` (-1: B_l; else a visible layer of level l with a
- * strength != 0): O_t = (D_new - rest) / s_t, then D_l is recomposed.
- * Without layers on level l this is st_hier_edit.  Same footprint as
+ * strength != 0): O_t = (D_new - rest) / s_t, then D_l is recomposed
+ * (level 0: D is the position).  Without layers on level l this is
+ * st_hier_edit.  Same footprint as
  * st_hier_edit; cache as st_hier_edit_cached (may be NULL). */
 uint64_t st_layers_edit(st_layers *ls, st_hier *h, unsigned l, int target, const uint32_t *darts,
                         const double (*pos)[3], uint32_t n, st_footprint *fp, st_edit_cache *cache);
@@ -120,7 +135,8 @@ int st_layers_remove(st_layers *ls, int k, st_error *err);
 int st_layers_rename(st_layers *ls, int k, const char *name, st_error *err);
 
 /* After the coarsest level was removed (st_hier_remove_bottom): levels shift
- * down by one.  Refused (-1) while a layer is on level 1. */
+ * down by one.  Refused (-1) while a layer is on level 0 (it would be lost)
+ * or 1 (its offsets are in frames that level 0 would no longer define). */
 int st_layers_rebase(st_layers *ls, st_error *err);
 
 #endif
