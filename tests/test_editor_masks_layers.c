@@ -4,11 +4,13 @@
  * proportion below 1; masks follow the hierarchy's correspondence across
  * levels and survive added levels and undo; layer strength 0 gives the
  * surface without the layer and strength 1 the surface as sculpted, both
- * bit for bit; layers ride a coarse rigid motion; local recomposition
+ * bit for bit, at level 0 (object-space offsets of the control mesh) as at
+ * finer levels; layers ride a coarse rigid motion; local recomposition
  * equals a full synthesis; a random sequence of strokes, mask and layer
  * operations is undone and redone bit for bit; sessions round-trip. */
 #include "editor.h"
 #include "editor_internal.h" /* ed_hier_clone */
+#include "core/io/map_io_internal.h" /* st_crc32 */
 #include "core/io/session.h"
 #include "core/multires/hier_internal.h"
 #include "testlib.h"
@@ -569,25 +571,96 @@ static void test_layer_rides_coarse_motion(void)
     st_doc_free(&e);
 }
 
+/* A layer on level 0 moves the control mesh; a layer on level 2 rides on
+ * it (its offsets and the level's details stay bit for bit), and strength 0 of the level-0 layer
+ * gives back the control mesh bit for bit.  Removing level 0 is refused
+ * while a layer is on it. */
+static void test_layer_level0_carries_finer(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    double c[3];
+    open_detailed(&d, c);
+    st_error err;
+    const double up[3] = { 0, 0, 1 };
+    CHECK(st_doc_layer_add(&d, "fine", &err) == 0 && d.layers.v[0].level == 2);
+    d.brush.radius = 0.7;
+    dab(&d, c, up, NULL);
+    uint32_t *v0, n0 = ed_test_level_vertices(&d, 0, &v0);
+    uint32_t *v2, n2 = ed_test_level_vertices(&d, 2, &v2);
+    double (*p0)[3] = malloc(n0 * sizeof *p0), (*o2)[3] = malloc(n2 * sizeof *o2), (*det)[3] = malloc(n2 * sizeof *det);
+    for (uint32_t i = 0; i < n0; i++) memcpy(p0[i], st_pos(&d.h.map, v0[i], 0), sizeof p0[i]);
+    for (uint32_t i = 0; i < n2; i++) {
+        st_layers_get(&d.layers, 0, 2, v2[i], o2[i]);
+        memcpy(det[i], st_hier_detail(&d.h, 2, v2[i]), sizeof det[i]);
+    }
+    st_doc_set_edit_level(&d, 0);
+    CHECK(st_doc_layer_add(&d, "coarse", &err) == 0 && d.layers.n == 2 && d.layers.v[1].level == 0);
+    d.brush.radius = 1.5;
+    d.brush.tool = ST_BRUSH_DRAW;
+    dab(&d, c, up, NULL);
+    uint32_t moved = 0;
+    for (uint32_t i = 0; i < n0; i++) moved += memcmp(p0[i], st_pos(&d.h.map, v0[i], 0), sizeof p0[i]) != 0;
+    CHECK(moved > 0);
+    int kept = 1;
+    for (uint32_t i = 0; i < n2; i++) {
+        double o[3];
+        st_layers_get(&d.layers, 0, 2, v2[i], o);
+        kept &= !memcmp(o, o2[i], sizeof o) && !memcmp(det[i], st_hier_detail(&d.h, 2, v2[i]), sizeof det[i]);
+    }
+    CHECK(kept);
+    /* Level 0 takes the offsets as they are: position = B_0 + O. */
+    double worst = 0;
+    for (uint32_t i = 0; i < n0; i++) {
+        double b[3], o[3];
+        st_layers_get(&d.layers, ST_LAYERS_SLOT_BASE, 0, v0[i], b);
+        st_layers_get(&d.layers, 1, 0, v0[i], o);
+        CHECK(!memcmp(b, p0[i], sizeof b));
+        for (int k = 0; k < 3; k++) worst = fmax(worst, fabs(st_pos(&d.h.map, v0[i], 0)[k] - (b[k] + o[k])));
+    }
+    CHECK(worst == 0);
+    CHECK(st_doc_remove_bottom(&d, &err) != 0 && strstr(err.msg, "level 0"));
+    CHECK(st_doc_layer_set_strength(&d, 1, 0, &err) == 0);
+    int back = 1;
+    for (uint32_t i = 0; i < n0; i++) back &= !memcmp(p0[i], st_pos(&d.h.map, v0[i], 0), sizeof p0[i]);
+    CHECK(back);
+    free(v0);
+    free(v2);
+    free(p0);
+    free(o2);
+    free(det);
+    st_doc_free(&d);
+}
+
 /* ---- random sequences, undone and redone ----------------------------------------- */
 
 static double frand(uint64_t *rng) { return (double)tl_rand(rng) / 4294967296.0; }
 
-static void random_op(st_doc *d, uint64_t *rng, int *did)
+/* lowest: the coarsest level the sequence edits and puts layers on. */
+static void random_op(st_doc *d, uint64_t *rng, int *did, unsigned lowest)
 {
     st_error err;
     uint32_t r = tl_rand(rng) % 16;
     *did = 1;
     double c[3] = { 2 * frand(rng) - 1, 2 * frand(rng) - 1, 2 * frand(rng) - 1 };
     double len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    for (int k = 0; k < 3; k++) c[k] = 0.5 * c[k] / (len > 0 ? len : 1);
+    double reach = d->edit_level == 0 ? 1.6 : 0.5;   /* level 0: near the cube's corners */
+    for (int k = 0; k < 3; k++) c[k] = reach * c[k] / (len > 0 ? len : 1);
     const double nrm[3] = { c[0], c[1], c[2] };
     uint32_t nl = d->layers.n;
     int k = nl ? (int)(tl_rand(rng) % nl) : -1;
     switch (r) {
     case 0: case 1: case 2: {
+        /* The level-0 sequence sends half its strokes into a layer on
+         * level 0 when there is one (they are rare otherwise). */
+        for (uint32_t i = 0; lowest == 0 && i < nl; i++)
+            if (d->layers.v[i].level == 0 && tl_rand(rng) % 2) {
+                st_doc_layer_set_active(d, (int)i, &err);
+                break;
+            }
         d->brush.tool = (int)(tl_rand(rng) % ST_BRUSH_COUNT);
         d->brush.radius = 0.2 + 0.4 * frand(rng);
+        if (d->edit_level == 0) d->brush.radius += 0.6;   /* reaches the cube's corners */
         d->brush.strength = 0.2 + 0.6 * frand(rng);
         const double g[3] = { 0.1 * frand(rng), -0.1 * frand(rng), 0.05 };
         CHECK(st_doc_stroke_begin(d) == 0);
@@ -608,7 +681,7 @@ static void random_op(st_doc *d, uint64_t *rng, int *did)
     case 7: st_doc_mask_cavity(d); break;
     case 8: if (tl_rand(rng) % 4 == 0) st_doc_mask_clear(d); else *did = 0; break;
     case 9:
-        if (d->edit_level > 0) st_doc_layer_add(d, NULL, &err);
+        if (d->edit_level >= lowest) st_doc_layer_add(d, NULL, &err);
         else *did = 0;
         break;
     case 10: if (k >= 0) st_doc_layer_set_strength(d, k, 2 * frand(rng), &err); break;
@@ -623,28 +696,34 @@ static void random_op(st_doc *d, uint64_t *rng, int *did)
         break;
     }
     if (r >= 10 && r <= 12 && k < 0) *did = 0;
-    if (tl_rand(rng) % 5 == 0) st_doc_set_edit_level(d, 1 + tl_rand(rng) % d->h.map.top);
+    if (tl_rand(rng) % 5 == 0) st_doc_set_edit_level(d, lowest + tl_rand(rng) % (d->h.map.top + 1 - lowest));
 }
 
-static void test_random_undo_redo(void)
+static void random_undo_redo(unsigned lowest, uint64_t rng)
 {
     st_doc d;
     st_doc_init(&d);
     ed_test_open(&d, cube, "catmull-clark", 3);
     st_doc_set_edit_level(&d, 2);
     d.brush.mirror_x = 0;
-    uint64_t rng = 0x5eed1234;
-    enum { N = 90 };
+    const int N = lowest ? 90 : 240;
     state *s = calloc(N + 1, sizeof *s);
     uint32_t nsteps = 0;
+    int level0_layers_seen = 0;
     state_take(&d, &s[0], 1);
     for (int i = 0; i < N; i++) {
         uint32_t before = d.undo_pos;
         int did;
-        random_op(&d, &rng, &did);
+        random_op(&d, &rng, &did, lowest);
         if (d.undo_pos == before) continue; /* nothing recorded (nothing changed, or refused) */
         CHECK(d.undo_pos == before + 1);
         state_take(&d, &s[++nsteps], 1);
+        for (uint32_t k = 0; k < d.layers.n; k++) {
+            if (d.layers.v[k].level != 0) continue;
+            uint32_t *sup = NULL, cap = 0;
+            level0_layers_seen |= st_layers_support(&d.layers, &d.h, (int)k, &sup, &cap) > 0;
+            free(sup);
+        }
     }
     CHECKF(nsteps > 30, "only %u steps", nsteps);
     st_error err;
@@ -667,7 +746,14 @@ static void test_random_undo_redo(void)
     CHECK(ok);
     for (uint32_t i = 0; i <= nsteps; i++) state_free(&s[i]);
     free(s);
+    if (lowest == 0) CHECKF(level0_layers_seen, "no stroke went into a layer on level 0");
     st_doc_free(&d);
+}
+
+static void test_random_undo_redo(void)
+{
+    random_undo_redo(1, 0x5eed1234);
+    random_undo_redo(0, 0x1e7e11);   /* with strokes and layers at level 0 */
 }
 
 /* ---- sessions ------------------------------------------------------------------- */
@@ -746,6 +832,88 @@ static void test_session_round_trip(void)
     st_doc_free(&d);
 }
 
+/* Offset of the chunk tag t in a session's bytes, or -1. */
+static long find_tag(const unsigned char *b, size_t n, const char *t)
+{
+    for (size_t i = 0; i + 4 <= n; i++)
+        if (!memcmp(b + i, t, 4)) return (long)i;
+    return -1;
+}
+
+/* A layer on level 0 is stored under the tag lay0 (a reader from before
+ * level-0 layers skips it and gets the composed surface); save -> load ->
+ * save gives the same bytes; the loaded layers recompose to the same
+ * surface; lay0 with its layer's level changed to 1.. is still read, and
+ * layr refuses a layer on level 0 with a message. */
+static void test_session_level0(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    double c[3];
+    open_detailed(&d, c);
+    st_error err;
+    const double up[3] = { 0, 0, 1 };
+    st_doc_set_edit_level(&d, 0);
+    CHECK(st_doc_layer_add(&d, "coarse", &err) == 0);
+    d.brush.tool = ST_BRUSH_DRAW;
+    d.brush.radius = 1.5;
+    dab(&d, c, up, NULL);
+    st_doc_set_edit_level(&d, 2);
+    CHECK(st_doc_layer_add(&d, "fine", &err) == 0);
+    d.brush.radius = 0.7;
+    dab(&d, c, up, NULL);
+    CHECK(st_doc_layer_set_strength(&d, 0, 0.75, &err) == 0);
+    st_session_ref r = { .h = &d.h, .edit_level = d.edit_level, .display_level = d.display_level, .layers = &d.layers };
+    unsigned char *b1 = NULL, *b2 = NULL;
+    size_t n1 = 0, n2 = 0;
+    CHECK(st_session_write_mem(&r, (void **)&b1, &n1, &err) == 0);
+    CHECK(find_tag(b1, n1, "lay0") > 0 && find_tag(b1, n1, "layr") < 0);
+    st_session s;
+    int rc = st_session_parse("mem.strata", b1, n1, &s, &err);
+    CHECKF(rc == 0, "%s", err.msg);
+    if (!rc) {
+        CHECK(s.layers.n == 2 && s.layers.v[0].level == 0 && s.layers.v[1].level == 2 && s.layers.v[0].strength == 0.75);
+        st_session_ref r2 = st_session_ref_of(&s);
+        CHECK(st_session_write_mem(&r2, (void **)&b2, &n2, &err) == 0);
+        CHECK(n1 == n2 && !memcmp(b1, b2, n1));
+        /* The loaded stack recomposes as the document's: the level-0 layer
+         * at strength 0 in both gives the same positions of every level
+         * bit for bit. */
+        CHECK(st_doc_layer_set_strength(&d, 0, 0, &err) == 0);
+        uint32_t *sup = NULL, cap = 0;
+        uint32_t ns = st_layers_support(&s.layers, &s.h, 0, &sup, &cap);
+        CHECK(ns > 0);
+        s.layers.v[0].strength = 0;
+        st_layers_recompose(&s.layers, &s.h, 0, sup, ns, NULL);
+        free(sup);
+        int same = 1;
+        for (unsigned l = 0; l <= d.h.map.top; l++) {
+            st_dart_iter it;
+            for (uint32_t v = st_vertex_first(&d.h.map, l, &it); v != ST_NIL; v = st_vertex_next(&d.h.map, l, &it))
+                same &= !memcmp(st_pos(&d.h.map, v, l), st_pos(&s.h.map, v, l), 3 * sizeof(double));
+        }
+        CHECK(same);
+        st_session_free(&s);
+    }
+    free(b2);
+    /* The same bytes with the tag made layr: refused with a message. */
+    long at = find_tag(b1, n1, "lay0");
+    memcpy(b1 + at, "layr", 4);
+    uint32_t crc = st_crc32(0, b1, n1 - 4);
+    for (int k = 0; k < 4; k++) b1[n1 - 4 + k] = (unsigned char)(crc >> (8 * k));
+    rc = st_session_parse("mem.strata", b1, n1, &s, &err);
+    CHECKF(rc != 0 && strstr(err.msg, "level 0 in chunk 'lay0'"), "%s", err.msg);
+    if (!rc) st_session_free(&s);
+    free(b1);
+    /* Without a layer on level 0: layr as before. */
+    CHECK(st_doc_layer_delete(&d, 0, &err) == 0);
+    st_session_ref r3 = { .h = &d.h, .layers = &d.layers };
+    CHECK(st_session_write_mem(&r3, (void **)&b1, &n1, &err) == 0);
+    CHECK(find_tag(b1, n1, "layr") > 0 && find_tag(b1, n1, "lay0") < 0);
+    free(b1);
+    st_doc_free(&d);
+}
+
 int main(void)
 {
     test_mask_protects();
@@ -753,7 +921,9 @@ int main(void)
     test_mask_cavity();
     test_layer_strength();
     test_layer_rides_coarse_motion();
+    test_layer_level0_carries_finer();
     test_random_undo_redo();
     test_session_round_trip();
+    test_session_level0();
     return TEST_END();
 }
