@@ -284,7 +284,7 @@ static int active_layer(st_app *a)
 {
     int k = a->doc.layers.active;
     if (k < 0 || (uint32_t)k >= a->doc.layers.n) {
-        st_app_message(a, 1, "no active layer (Ctrl+L adds one, L picks one)");
+        st_app_message(a, 1, "no active layer (Ctrl+L adds one, V picks one)");
         return -1;
     }
     return k;
@@ -297,7 +297,7 @@ static void layer_add(st_app *a)
                             a->doc.edit_level);
     report(a, rc, &err, "cannot add a layer");
 }
-/* L: the next layer up the stack, then none (the level's own details). */
+/* V: the next layer up the stack, then none (the level's own details). */
 static void layer_next(st_app *a)
 {
     st_layers *ls = &a->doc.layers;
