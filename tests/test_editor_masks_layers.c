@@ -379,6 +379,63 @@ static void test_mask_cavity(void)
 
 /* A document whose levels 2 and 3 carry details and whose positions are
  * a full synthesis (so a recomposition from the details gives them back). */
+/* The mask over the interest box's display (st_doc_display_mask), which
+ * has vertex ids of its own and a level beyond the model's top: every
+ * display vertex paired with a model vertex has that vertex's value, a
+ * constant mask stays constant on the display's finer level, and a painted
+ * one reaches it (values strictly between 0 and 1 there too). */
+static void test_mask_display(void)
+{
+    st_doc d;
+    st_doc_init(&d);
+    ed_test_open(&d, cube, "catmull-clark", 2);
+    st_doc_set_edit_level(&d, 2);
+    CHECK(st_doc_display_mask(&d) == &d.mask);   /* box off: the model's own */
+    st_adapt_params b = d.box;
+    b.base_level = 0;
+    b.max_level = 3;
+    for (int k = 0; k < 3; k++) { b.box_lo[k] = 0; b.box_hi[k] = 1.5; }
+    st_error err;
+    CHECK(st_doc_set_box(&d, &b, 1, &err) == 0);
+    const st_hier *dh = st_doc_display_hier(&d);
+    CHECK(dh != &d.h && dh->map.top == 3);
+    CHECK(st_doc_mask_invert(&d) == 0);   /* 1 everywhere */
+    const st_mask *dm = st_doc_display_mask(&d);
+    CHECK(dm != &d.mask && dm->cap == dh->map.verts.end);
+    st_dart_iter it;
+    int ones = 1;
+    uint32_t beyond = 0;
+    for (uint32_t v = st_vertex_first(&dh->map, 3, &it); v != ST_NIL; v = st_vertex_next(&dh->map, 3, &it)) {
+        ones &= st_mask_get(dm, v) == 1.0f;
+        beyond += st_vertex_level(&dh->map, v) == 3;
+    }
+    CHECK(ones && beyond > 0);
+    /* A spot painted at the box's corner of the cube. */
+    CHECK(st_doc_mask_clear(&d) == 0);
+    CHECK(st_doc_mask_stroke_begin(&d, 0) == 0);
+    d.brush.radius = 0.6;
+    d.brush.strength = 0.5;
+    const double corner[3] = { 0.6, 0.6, 0.6 };
+    st_doc_mask_stroke_dab(&d, corner);
+    st_doc_mask_stroke_end(&d);
+    dm = st_doc_display_mask(&d);
+    int paired_equal = 1;
+    uint32_t paired = 0, partial_beyond = 0;
+    for (uint32_t v = st_vertex_first(&dh->map, 3, &it); v != ST_NIL; v = st_vertex_next(&dh->map, 3, &it)) {
+        uint32_t mv = st_box_display_model_vertex(&d.display, v);
+        float x = st_mask_get(dm, v);
+        if (mv != ST_NIL) {
+            paired++;
+            paired_equal &= x == st_mask_get(&d.mask, mv);
+        } else if (x > 0 && x < 1) {
+            partial_beyond++;
+        }
+    }
+    CHECK(paired_equal && paired > 0);
+    CHECKF(partial_beyond > 0, "no vertex beyond the model's top took the painted mask");
+    st_doc_free(&d);
+}
+
 static void open_detailed(st_doc *d, double *c)
 {
     ed_test_open(d, cube, "catmull-clark", 3);
@@ -919,6 +976,7 @@ int main(void)
     test_mask_protects();
     test_mask_levels();
     test_mask_cavity();
+    test_mask_display();
     test_layer_strength();
     test_layer_rides_coarse_motion();
     test_layer_level0_carries_finer();

@@ -70,6 +70,7 @@ void st_doc_free(st_doc *d)
     ed_brush_state_free(d->bs);
     st_layers_free(&d->layers);
     st_mask_free(&d->mask);
+    st_mask_free(&d->display_mask);
     free(d->change.mask_vids);
     st_edit_cache_free(d->ecache);
     memset(d, 0, sizeof *d);

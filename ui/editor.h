@@ -198,6 +198,7 @@ typedef struct st_doc {
     int mask_all;              /* the pending change covers every vertex */
     int mask_erase;            /* the mask stroke in progress erases */
     uint32_t capmaskv;         /* capacity of change.mask_vids */
+    st_mask display_mask;      /* the mask over the box display's ids (st_doc_display_mask) */
     /* Sculpt layers (core/multires/layers.h); strokes and drags at the
      * active layer's level go into it. */
     st_layers layers;
@@ -386,6 +387,13 @@ int st_doc_mask_cavity(st_doc *d);
 int st_doc_mask_stroke_begin(st_doc *d, int erase);
 int st_doc_mask_stroke_dab(st_doc *d, const double center[3]);
 void st_doc_mask_stroke_end(st_doc *d);
+/* The mask over the vertex ids of st_doc_display_hier(d), for drawing:
+ * the document's own with the box off; with the box on, each display
+ * vertex paired with a model vertex takes that vertex's value and the
+ * vertices of the display's levels beyond the model's top take the
+ * scheme's subdivision of them (as the model's finer levels do).  Valid
+ * until the next change of the document. */
+const st_mask *st_doc_display_mask(st_doc *d);
 
 /* ---- sculpt layers (editor_layers.c) --------------------------------------------
  * Every operation is one undo step; 0, or non-zero with err filled and the

@@ -5,7 +5,9 @@
  * subdivision of the mask (st_mask_propagate: the whole level for the
  * whole-level operations, the region around the dab for the mask brush).
  * Every operation is one undo step holding the mask before and after
- * (4 bytes per vertex id each). */
+ * (4 bytes per vertex id each).  The interest box's display has vertex ids
+ * of its own: st_doc_display_mask carries the mask over to them for
+ * drawing. */
 #include "core/map/geometry.h"
 #include "editor_internal.h"
 
@@ -286,4 +288,65 @@ void st_doc_mask_stroke_end(st_doc *d)
     if (st_mask_copy(&s->mask_new, &d->mask)) abort();
     ed_step_finish(s);
     ed_push_step(d, s);
+}
+
+/* ---- the mask over the box display (st_doc_display_mask) ------------------------ */
+
+typedef struct disp_mask_ctx { st_mask *mk; const st_map *m; unsigned L; } disp_mask_ctx;
+
+/* A vertex inserted at L takes its stencil applied to the values of level
+ * L-1, clamped to [0, 1] (the rule of core/multires/mask.h); a vertex that
+ * lives on from L-1 keeps its value.  A stencil given twice writes the same
+ * value twice. */
+static void disp_mask_sink(void *ctx, const st_stencil *s)
+{
+    disp_mask_ctx *c = ctx;
+    if (st_vertex_level(c->m, s->fine) != c->L) return;
+    double x = 0;
+    for (uint32_t i = 0; i < s->n; i++) x += s->w[i] * st_mask_get(c->mk, s->src[i]);
+    c->mk->v[s->fine] = x < 0 ? 0.0f : x > 1 ? 1.0f : (float)x;
+}
+
+/* Level L of the display from level L-1: the stencils on the faces of
+ * level L-1 subdivided toward L (the faces the display's own synthesis
+ * beyond the model uses, ui/editor_display.c). */
+static void disp_mask_level(st_mask *mk, st_hier *h, unsigned L, st_dart_list *faces)
+{
+    st_map *m = &h->map;
+    faces->n = 0;
+    int fb = st_marker_reserve(m);
+    if (fb < 0) abort();
+    st_dart_iter it;
+    for (uint32_t x = st_dart_first(m, L - 1, &it); x != ST_NIL; x = st_dart_next(m, L - 1, &it)) {
+        if (st_is_boundary(m, x) || st_marked(m, fb, x)) continue;
+        st_mark_face(m, fb, x, L - 1);
+        if (st_face_level(m, x, L - 1) == L - 1 && st_face_is_subdivided(m, x, L - 1)) st_dart_list_push(faces, x);
+    }
+    st_marker_release(m, fb, L - 1);
+    if (!faces->n) return; /* (emit with no face means every vertex of level L) */
+    disp_mask_ctx c = { mk, m, L };
+    h->scheme->emit(h, L, faces->d, faces->n, disp_mask_sink, &c);
+}
+
+const st_mask *st_doc_display_mask(st_doc *d)
+{
+    if (st_doc_display_hier(d) == &d->h) return &d->mask;
+    st_box_display *bd = &d->display;
+    st_hier *h = &bd->hier;
+    st_mask *mk = &d->display_mask;
+    uint32_t n = h->map.verts.end;
+    if (mk->cap < n || !mk->v) {
+        float *p = realloc(mk->v, (size_t)(n ? n : 1) * sizeof *p);
+        if (!p) abort(); /* out of memory while drawing, as the renderer's buffers */
+        mk->v = p;
+    }
+    mk->cap = n;
+    for (uint32_t v = 0; v < n; v++) {
+        uint32_t mv = st_box_display_model_vertex(bd, v);
+        mk->v[v] = mv == ST_NIL ? 0.0f : st_mask_get(&d->mask, mv);
+    }
+    st_dart_list faces = { 0 };
+    for (unsigned L = d->h.map.top + 1; L <= h->map.top; L++) disp_mask_level(mk, h, L, &faces);
+    st_dart_list_free(&faces);
+    return mk;
 }

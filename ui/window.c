@@ -155,12 +155,17 @@ void st_app_sync(st_app *a)
         }
         touched = 1;
     }
-    /* The mask darkens the surface (the regular hierarchy's: the box's
-     * display has other vertex ids and shows none). */
+    /* The mask darkens the surface.  The box's display has its own vertex
+     * ids: it takes the mask over them whole (st_doc_display_mask) when the
+     * mask changed or a box move patched the surface. */
     if (dh == &d->h && (rebuild || (ch.bits & ST_CHANGE_MASK))) {
         int all = rebuild || !ch.nmask_vids;
         if (all && !st_mask_any(&d->mask)) st_renderer_set_mask(&a->r, NULL, 0, NULL, 0);
         else st_renderer_set_mask(&a->r, d->mask.v, d->mask.cap, all ? NULL : ch.mask_vids, ch.nmask_vids);
+        touched = 1;
+    } else if (dh != &d->h && (rebuild || (ch.bits & (ST_CHANGE_MASK | ST_CHANGE_PATCH)))) {
+        const st_mask *dmk = st_mask_any(&d->mask) ? st_doc_display_mask(d) : NULL;
+        st_renderer_set_mask(&a->r, dmk ? dmk->v : NULL, dmk ? dmk->cap : 0, NULL, 0);
         touched = 1;
     }
     /* UVs per triangle corner: uploaded again whenever the triangles
