@@ -73,7 +73,7 @@ run 0 "replay .* passed" win "$EXE" --size 640x480 --levels 2 --replay "$SRC/rep
 # keys; the mask's darkening compared with its reference.
 if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
     win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/masks_layers.txt" --screenshot-dir "$OUT" "$ASSETS/torus.obj"
-    cp "$OUT"/08_mask.png "$REF"/
+    cp "$OUT"/08_mask*.png "$REF"/
 fi
 run 0 "replay .* passed" win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/masks_layers.txt" \
     --screenshot-dir "$OUT" --compare-dir "$REF" "$ASSETS/torus.obj"
@@ -103,7 +103,7 @@ run 0 "replay .* passed" win "$EXE" --size 480x360 --levels 2 --replay "$SRC/rep
 UVMESH="$MESHES/catmull_clark/blub_control_mesh.obj"
 if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
     win "$EXE" --size 480x360 --levels 2 --replay "$SRC/replay/uv_checker.txt" --screenshot-dir "$OUT" "$UVMESH"
-    cp "$OUT"/09_uv_checker.png "$REF"/
+    cp "$OUT"/09_uv_checker*.png "$REF"/
 fi
 run 0 "replay .* passed" win "$EXE" --size 480x360 --levels 2 --replay "$SRC/replay/uv_checker.txt" \
     --screenshot-dir "$OUT" --compare-dir "$REF" "$UVMESH"
