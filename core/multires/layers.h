@@ -3,9 +3,8 @@
  * A layer lives at one level l >= 1 (level 0: below) and holds its own
  * detail offsets O_k(v), one per vertex of level l, in the same local
  * frames F_l(v) as the hierarchy's detail vectors (hier.h; Kraemer 2008
- * §3.1: frames come
- * from the coarser surface, so whatever moves level l-1 or below carries
- * the offsets along).  A level with layers keeps its details without any
+ * §3.1: frames come from the coarser surface, so whatever moves level l-1
+ * or below carries the offsets along).  A level with layers keeps its details without any
  * layer, B_l(v), and the hierarchy's detail is always their composition
  *     D_l(v) = B_l(v) + s_1 O_1(v) + s_2 O_2(v) + ...
  * over the visible layers of level l with a strength s_k != 0, added in
