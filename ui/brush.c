@@ -250,30 +250,33 @@ uint32_t ed_around(const st_map *m, uint32_t x, unsigned l)
     return m->face_embedded ? st_phi1(m, x, l) : st_beta1(m, x, l);
 }
 
-/* Next dart along the surface face of x: φ1, or β1 in the dual encoding. */
-static uint32_t along(const st_map *m, uint32_t x, unsigned l)
+/* Area-weighted normal of the vertex of dart x0 (not normalised): the sum
+ * of the Newell normals of the surface faces around it, one running sum in
+ * the order of the walk (around the vertex, then along each face from the
+ * dart at the vertex).  Through a level view (the level's column pointers
+ * hoisted, map.h) and with each corner's position read once: this runs for
+ * every vertex under every dab.  The dual encoding (Doo-Sabin, map.h)
+ * swaps the roles of β1 and φ1. */
+static void vertex_normal(const st_map *m, const st_level_view *lv, uint32_t x0, double n[3])
 {
-    return m->face_embedded ? st_beta1(m, x, l) : st_phi1(m, x, l);
-}
-
-/* Area-weighted normal of the vertex of dart x0 at level l (not normalised):
- * the sum of the Newell normals of the surface faces around it. */
-static void vertex_normal(const st_map *m, uint32_t x0, unsigned l, double n[3])
-{
+    int dual = m->face_embedded;
     n[0] = n[1] = n[2] = 0;
     uint32_t x = x0;
     unsigned guard = 0;
     do {
         if (!st_is_boundary(m, x)) {
             uint32_t y = x;
+            const double *p = st_v_pos(lv, st_v_vert(lv, y));
             unsigned g2 = 0;
             do {
-                uint32_t z = along(m, y, l);
-                st_newell_add(n, st_dart_pos(m, y, l), st_dart_pos(m, z, l)); /* one running sum */
+                uint32_t z = dual ? st_v_beta1(lv, y) : st_v_phi1(lv, y);
+                const double *q = st_v_pos(lv, st_v_vert(lv, z));
+                st_newell_add(n, p, q);
+                p = q;
                 y = z;
             } while (y != x && ++g2 < 1u << 16);
         }
-        x = ed_around(m, x, l);
+        x = dual ? st_v_phi1(lv, x) : st_v_beta1(lv, x);
     } while (x != x0 && ++guard < 1u << 16);
 }
 
@@ -285,10 +288,17 @@ static int normalize3(double v[3])
     return 0;
 }
 
+static void unit_normal(const st_map *m, const st_level_view *lv, uint32_t x0, const double fallback[3], double n[3])
+{
+    vertex_normal(m, lv, x0, n);
+    if (normalize3(n)) memcpy(n, fallback, 3 * sizeof *n);
+}
+
 void ed_vertex_unit_normal(const st_map *m, uint32_t x0, unsigned l, const double fallback[3], double n[3])
 {
-    vertex_normal(m, x0, l, n);
-    if (normalize3(n)) memcpy(n, fallback, 3 * sizeof *n);
+    st_level_view lv;
+    st_level_view_init(m, l, &lv);
+    unit_normal(m, &lv, x0, fallback, n);
 }
 
 /* ---- the weight of a vertex under a dab ------------------------------------------------ */
@@ -310,21 +320,20 @@ double ed_brush_weight(const st_doc *d, uint32_t v, double r, const double vn[3]
     return f * s;
 }
 
-static void visit_cell(st_doc *d, struct st_brush_state *bs, uint32_t head, const double c[3], const double dn[3],
-                       const double view[3])
+static void visit_cell(st_doc *d, struct st_brush_state *bs, const st_level_view *lv, uint32_t head, const double c[3],
+                       const double dn[3], const double view[3])
 {
     const st_map *m = &d->h.map;
-    unsigned l = bs->level;
     double R = d->brush.radius;
     for (uint32_t v = head; v != ST_NIL; v = bs->next[v]) {
-        const double *p = st_pos(m, v, l);
+        const double *p = st_v_pos(lv, v);
         double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2];
         double r = sqrt(dx * dx + dy * dy + dz * dz);
         if (!(r < R)) continue;
         uint32_t x0 = ed_vertex_dart(d, v);
         if (x0 == ST_NIL) continue;
         double vn[3];
-        ed_vertex_unit_normal(m, x0, l, dn, vn);
+        unit_normal(m, lv, x0, dn, vn);
         double w = ed_brush_weight(d, v, r, vn, view);
         if (w > 0) tmp_push(bs, v, w, vn);
     }
@@ -336,6 +345,8 @@ static void grid_query(st_doc *d, struct st_brush_state *bs, const double c[3], 
 {
     double R = d->brush.radius;
     bs->ntmp = 0;
+    st_level_view lv;
+    st_level_view_init(&d->h.map, bs->level, &lv);
     int64_t lo[3], hi[3];
     double cells = 1;
     for (int k = 0; k < 3; k++) {
@@ -346,14 +357,14 @@ static void grid_query(st_doc *d, struct st_brush_state *bs, const double c[3], 
     if (cells > 2.0 * bs->hn) {
         /* A radius far above the cell size: every occupied cell once. */
         for (uint32_t h = 0; h < bs->hcap; h++)
-            if (bs->hkey[h] != EMPTY_KEY) visit_cell(d, bs, bs->hhead[h], c, dn, view);
+            if (bs->hkey[h] != EMPTY_KEY) visit_cell(d, bs, &lv, bs->hhead[h], c, dn, view);
         return;
     }
     for (int64_t x = lo[0]; x <= hi[0]; x++)
         for (int64_t y = lo[1]; y <= hi[1]; y++)
             for (int64_t z = lo[2]; z <= hi[2]; z++) {
                 int64_t h = grid_cell(bs, cell_key(x, y, z), 0);
-                if (h >= 0) visit_cell(d, bs, bs->hhead[h], c, dn, view);
+                if (h >= 0) visit_cell(d, bs, &lv, bs->hhead[h], c, dn, view);
             }
 }
 
