@@ -28,7 +28,6 @@
  * mesh symmetric about those planes stays symmetric (to the rounding of the
  * additions).
  */
-#include "core/map/geometry.h"
 #include "brush_internal.h"
 
 #include <math.h>
@@ -260,7 +259,9 @@ uint32_t ed_around(const st_map *m, uint32_t x, unsigned l)
 static void vertex_normal(const st_map *m, const st_level_view *lv, uint32_t x0, double n[3])
 {
     int dual = m->face_embedded;
-    n[0] = n[1] = n[2] = 0;
+    /* The sum in locals (st_newell_add's terms, same order): n may alias
+     * nothing, but the compiler cannot know it. */
+    double n0 = 0, n1 = 0, n2 = 0;
     uint32_t x = x0;
     unsigned guard = 0;
     do {
@@ -271,13 +272,18 @@ static void vertex_normal(const st_map *m, const st_level_view *lv, uint32_t x0,
             do {
                 uint32_t z = dual ? st_v_beta1(lv, y) : st_v_phi1(lv, y);
                 const double *q = st_v_pos(lv, st_v_vert(lv, z));
-                st_newell_add(n, p, q);
+                n0 += (p[1] - q[1]) * (p[2] + q[2]);
+                n1 += (p[2] - q[2]) * (p[0] + q[0]);
+                n2 += (p[0] - q[0]) * (p[1] + q[1]);
                 p = q;
                 y = z;
             } while (y != x && ++g2 < 1u << 16);
         }
         x = dual ? st_v_phi1(lv, x) : st_v_beta1(lv, x);
     } while (x != x0 && ++guard < 1u << 16);
+    n[0] = n0;
+    n[1] = n1;
+    n[2] = n2;
 }
 
 static int normalize3(double v[3])
