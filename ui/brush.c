@@ -130,6 +130,8 @@ void ed_brush_state_free(struct st_brush_state *bs)
     free(bs->gv);
     free(bs->gw);
     free(bs->gk);
+    free(bs->ring_at);
+    free(bs->ring);
     free(bs);
 }
 
@@ -249,38 +251,74 @@ uint32_t ed_around(const st_map *m, uint32_t x, unsigned l)
     return m->face_embedded ? st_phi1(m, x, l) : st_beta1(m, x, l);
 }
 
-/* Area-weighted normal of the vertex of dart x0 (not normalised): the sum
- * of the Newell normals of the surface faces around it, one running sum in
- * the order of the walk (around the vertex, then along each face from the
- * dart at the vertex).  Through a level view (the level's column pointers
- * hoisted, map.h) and with each corner's position read once: this runs for
- * every vertex under every dab.  The dual encoding (Doo-Sabin, map.h)
- * swaps the roles of β1 and φ1. */
-static void vertex_normal(const st_map *m, const st_level_view *lv, uint32_t x0, double n[3])
+/* The faces around the vertex v of dart x0, as its normal walks them:
+ * around the vertex (β1; φ1 in the dual encoding, map.h), and along each
+ * surface face from the dart at the vertex (φ1; β1 in the dual), the
+ * corners' vertex ids recorded in bs->ring as [faces, then per face: terms
+ * c, the c + 1 ids of the walk p0 .. pc (pc the start again)].  Recorded
+ * the first time a dab of the stroke needs v's normal: the topology does
+ * not change during a stroke, so later dabs read ids and positions only
+ * instead of walking the darts again (the walk was a quarter of a dab).
+ * Returns the record's offset. */
+static void ring_push(struct st_brush_state *bs, uint32_t x)
 {
+    if (bs->nring == bs->capring) {
+        bs->capring = bs->capring ? 2 * bs->capring : 4096;
+        bs->ring = ed_xrealloc(bs->ring, (size_t)bs->capring * sizeof *bs->ring);
+    }
+    bs->ring[bs->nring++] = x;
+}
+
+static uint32_t ring_of(struct st_brush_state *bs, const st_map *m, const st_level_view *lv, uint32_t v, uint32_t x0)
+{
+    if (bs->ring_at[v]) return bs->ring_at[v] - 1;
     int dual = m->face_embedded;
-    /* The sum in locals (st_newell_add's terms, same order): n may alias
-     * nothing, but the compiler cannot know it. */
-    double n0 = 0, n1 = 0, n2 = 0;
+    uint32_t o = bs->nring;
+    ring_push(bs, 0);
     uint32_t x = x0;
     unsigned guard = 0;
     do {
         if (!st_is_boundary(m, x)) {
+            uint32_t at = bs->nring;
+            ring_push(bs, 0);
+            ring_push(bs, st_v_vert(lv, x));
             uint32_t y = x;
-            const double *p = st_v_pos(lv, st_v_vert(lv, y));
             unsigned g2 = 0;
             do {
                 uint32_t z = dual ? st_v_beta1(lv, y) : st_v_phi1(lv, y);
-                const double *q = st_v_pos(lv, st_v_vert(lv, z));
-                n0 += (p[1] - q[1]) * (p[2] + q[2]);
-                n1 += (p[2] - q[2]) * (p[0] + q[0]);
-                n2 += (p[0] - q[0]) * (p[1] + q[1]);
-                p = q;
+                ring_push(bs, st_v_vert(lv, z));
+                bs->ring[at]++;
                 y = z;
             } while (y != x && ++g2 < 1u << 16);
+            bs->ring[o]++;
         }
         x = dual ? st_v_phi1(lv, x) : st_v_beta1(lv, x);
     } while (x != x0 && ++guard < 1u << 16);
+    bs->ring_at[v] = o + 1;
+    return o;
+}
+
+/* Area-weighted normal of a vertex (not normalised) from its ring record:
+ * the sum of the Newell normals of the surface faces around it, one
+ * running sum (st_newell_add's terms) in the order of the walk. */
+static void ring_normal(const struct st_brush_state *bs, const st_level_view *lv, uint32_t o, double n[3])
+{
+    const uint32_t *r = bs->ring + o;
+    uint32_t nf = *r++;
+    /* The sum in locals: stores through n would not be hoisted. */
+    double n0 = 0, n1 = 0, n2 = 0;
+    for (uint32_t f = 0; f < nf; f++) {
+        uint32_t c = *r++;
+        const double *p = st_v_pos(lv, r[0]);
+        for (uint32_t t = 1; t <= c; t++) {
+            const double *q = st_v_pos(lv, r[t]);
+            n0 += (p[1] - q[1]) * (p[2] + q[2]);
+            n1 += (p[2] - q[2]) * (p[0] + q[0]);
+            n2 += (p[0] - q[0]) * (p[1] + q[1]);
+            p = q;
+        }
+        r += c + 1;
+    }
     n[0] = n0;
     n[1] = n1;
     n[2] = n2;
@@ -294,17 +332,12 @@ static int normalize3(double v[3])
     return 0;
 }
 
-static void unit_normal(const st_map *m, const st_level_view *lv, uint32_t x0, const double fallback[3], double n[3])
+/* Unit normal of vertex v (dart x0) now; `fallback` when it vanishes. */
+static void unit_normal(struct st_brush_state *bs, const st_map *m, const st_level_view *lv, uint32_t v, uint32_t x0,
+                        const double fallback[3], double n[3])
 {
-    vertex_normal(m, lv, x0, n);
+    ring_normal(bs, lv, ring_of(bs, m, lv, v, x0), n);
     if (normalize3(n)) memcpy(n, fallback, 3 * sizeof *n);
-}
-
-void ed_vertex_unit_normal(const st_map *m, uint32_t x0, unsigned l, const double fallback[3], double n[3])
-{
-    st_level_view lv;
-    st_level_view_init(m, l, &lv);
-    unit_normal(m, &lv, x0, fallback, n);
 }
 
 /* ---- the weight of a vertex under a dab ------------------------------------------------ */
@@ -339,7 +372,7 @@ static void visit_cell(st_doc *d, struct st_brush_state *bs, const st_level_view
         uint32_t x0 = ed_vertex_dart(d, v);
         if (x0 == ST_NIL) continue;
         double vn[3];
-        unit_normal(m, lv, x0, dn, vn);
+        unit_normal(bs, m, lv, v, x0, dn, vn);
         double w = ed_brush_weight(d, v, r, vn, view);
         if (w > 0) tmp_push(bs, v, w, vn);
     }
@@ -461,9 +494,12 @@ int st_doc_stroke_begin(st_doc *d)
         bs->slot = ed_xrealloc(bs->slot, (size_t)nv * sizeof *bs->slot);
         bs->lay_o = ed_xrealloc(bs->lay_o, (size_t)nv * sizeof *bs->lay_o);
         bs->lay_n0 = ed_xrealloc(bs->lay_n0, (size_t)nv * sizeof *bs->lay_n0);
+        bs->ring_at = ed_xrealloc(bs->ring_at, (size_t)nv * sizeof *bs->ring_at);
         bs->nv = nv;
     }
     for (uint32_t v = 0; v < bs->nv; v++) { bs->vcell[v] = EMPTY_KEY; bs->mark[v] = 0; bs->lay_o[v] = -1; }
+    memset(bs->ring_at, 0, (size_t)bs->nv * sizeof *bs->ring_at);
+    bs->nring = 0;
     bs->gen = 0;
     for (uint32_t i = 0; i < bs->hcap; i++) bs->hkey[i] = EMPTY_KEY;
     bs->hn = 0;
