@@ -28,7 +28,6 @@
  * mesh symmetric about those planes stays symmetric (to the rounding of the
  * additions).
  */
-#include "core/map/geometry.h"
 #include "brush_internal.h"
 
 #include <math.h>
@@ -131,6 +130,8 @@ void ed_brush_state_free(struct st_brush_state *bs)
     free(bs->gv);
     free(bs->gw);
     free(bs->gk);
+    free(bs->ring_at);
+    free(bs->ring);
     free(bs);
 }
 
@@ -250,31 +251,77 @@ uint32_t ed_around(const st_map *m, uint32_t x, unsigned l)
     return m->face_embedded ? st_phi1(m, x, l) : st_beta1(m, x, l);
 }
 
-/* Next dart along the surface face of x: φ1, or β1 in the dual encoding. */
-static uint32_t along(const st_map *m, uint32_t x, unsigned l)
+/* The faces around the vertex v of dart x0, as its normal walks them:
+ * around the vertex (β1; φ1 in the dual encoding, map.h), and along each
+ * surface face from the dart at the vertex (φ1; β1 in the dual), the
+ * corners' vertex ids recorded in bs->ring as [faces, then per face: terms
+ * c, the c + 1 ids of the walk p0 .. pc (pc the start again)].  Recorded
+ * the first time a dab of the stroke needs v's normal: the topology does
+ * not change during a stroke, so later dabs read ids and positions only
+ * instead of walking the darts again (the walk was a quarter of a dab).
+ * Returns the record's offset. */
+static void ring_push(struct st_brush_state *bs, uint32_t x)
 {
-    return m->face_embedded ? st_beta1(m, x, l) : st_phi1(m, x, l);
+    if (bs->nring == bs->capring) {
+        bs->capring = bs->capring ? 2 * bs->capring : 4096;
+        bs->ring = ed_xrealloc(bs->ring, (size_t)bs->capring * sizeof *bs->ring);
+    }
+    bs->ring[bs->nring++] = x;
 }
 
-/* Area-weighted normal of the vertex of dart x0 at level l (not normalised):
- * the sum of the Newell normals of the surface faces around it. */
-static void vertex_normal(const st_map *m, uint32_t x0, unsigned l, double n[3])
+static uint32_t ring_of(struct st_brush_state *bs, const st_map *m, const st_level_view *lv, uint32_t v, uint32_t x0)
 {
-    n[0] = n[1] = n[2] = 0;
+    if (bs->ring_at[v]) return bs->ring_at[v] - 1;
+    int dual = m->face_embedded;
+    uint32_t o = bs->nring;
+    ring_push(bs, 0);
     uint32_t x = x0;
     unsigned guard = 0;
     do {
         if (!st_is_boundary(m, x)) {
+            uint32_t at = bs->nring;
+            ring_push(bs, 0);
+            ring_push(bs, st_v_vert(lv, x));
             uint32_t y = x;
             unsigned g2 = 0;
             do {
-                uint32_t z = along(m, y, l);
-                st_newell_add(n, st_dart_pos(m, y, l), st_dart_pos(m, z, l)); /* one running sum */
+                uint32_t z = dual ? st_v_beta1(lv, y) : st_v_phi1(lv, y);
+                ring_push(bs, st_v_vert(lv, z));
+                bs->ring[at]++;
                 y = z;
             } while (y != x && ++g2 < 1u << 16);
+            bs->ring[o]++;
         }
-        x = ed_around(m, x, l);
+        x = dual ? st_v_phi1(lv, x) : st_v_beta1(lv, x);
     } while (x != x0 && ++guard < 1u << 16);
+    bs->ring_at[v] = o + 1;
+    return o;
+}
+
+/* Area-weighted normal of a vertex (not normalised) from its ring record:
+ * the sum of the Newell normals of the surface faces around it, one
+ * running sum (st_newell_add's terms) in the order of the walk. */
+static void ring_normal(const struct st_brush_state *bs, const st_level_view *lv, uint32_t o, double n[3])
+{
+    const uint32_t *r = bs->ring + o;
+    uint32_t nf = *r++;
+    /* The sum in locals: stores through n would not be hoisted. */
+    double n0 = 0, n1 = 0, n2 = 0;
+    for (uint32_t f = 0; f < nf; f++) {
+        uint32_t c = *r++;
+        const double *p = st_v_pos(lv, r[0]);
+        for (uint32_t t = 1; t <= c; t++) {
+            const double *q = st_v_pos(lv, r[t]);
+            n0 += (p[1] - q[1]) * (p[2] + q[2]);
+            n1 += (p[2] - q[2]) * (p[0] + q[0]);
+            n2 += (p[0] - q[0]) * (p[1] + q[1]);
+            p = q;
+        }
+        r += c + 1;
+    }
+    n[0] = n0;
+    n[1] = n1;
+    n[2] = n2;
 }
 
 static int normalize3(double v[3])
@@ -285,9 +332,11 @@ static int normalize3(double v[3])
     return 0;
 }
 
-void ed_vertex_unit_normal(const st_map *m, uint32_t x0, unsigned l, const double fallback[3], double n[3])
+/* Unit normal of vertex v (dart x0) now; `fallback` when it vanishes. */
+static void unit_normal(struct st_brush_state *bs, const st_map *m, const st_level_view *lv, uint32_t v, uint32_t x0,
+                        const double fallback[3], double n[3])
 {
-    vertex_normal(m, x0, l, n);
+    ring_normal(bs, lv, ring_of(bs, m, lv, v, x0), n);
     if (normalize3(n)) memcpy(n, fallback, 3 * sizeof *n);
 }
 
@@ -310,21 +359,20 @@ double ed_brush_weight(const st_doc *d, uint32_t v, double r, const double vn[3]
     return f * s;
 }
 
-static void visit_cell(st_doc *d, struct st_brush_state *bs, uint32_t head, const double c[3], const double dn[3],
-                       const double view[3])
+static void visit_cell(st_doc *d, struct st_brush_state *bs, const st_level_view *lv, uint32_t head, const double c[3],
+                       const double dn[3], const double view[3])
 {
     const st_map *m = &d->h.map;
-    unsigned l = bs->level;
     double R = d->brush.radius;
     for (uint32_t v = head; v != ST_NIL; v = bs->next[v]) {
-        const double *p = st_pos(m, v, l);
+        const double *p = st_v_pos(lv, v);
         double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2];
         double r = sqrt(dx * dx + dy * dy + dz * dz);
         if (!(r < R)) continue;
         uint32_t x0 = ed_vertex_dart(d, v);
         if (x0 == ST_NIL) continue;
         double vn[3];
-        ed_vertex_unit_normal(m, x0, l, dn, vn);
+        unit_normal(bs, m, lv, v, x0, dn, vn);
         double w = ed_brush_weight(d, v, r, vn, view);
         if (w > 0) tmp_push(bs, v, w, vn);
     }
@@ -336,6 +384,8 @@ static void grid_query(st_doc *d, struct st_brush_state *bs, const double c[3], 
 {
     double R = d->brush.radius;
     bs->ntmp = 0;
+    st_level_view lv;
+    st_level_view_init(&d->h.map, bs->level, &lv);
     int64_t lo[3], hi[3];
     double cells = 1;
     for (int k = 0; k < 3; k++) {
@@ -346,14 +396,14 @@ static void grid_query(st_doc *d, struct st_brush_state *bs, const double c[3], 
     if (cells > 2.0 * bs->hn) {
         /* A radius far above the cell size: every occupied cell once. */
         for (uint32_t h = 0; h < bs->hcap; h++)
-            if (bs->hkey[h] != EMPTY_KEY) visit_cell(d, bs, bs->hhead[h], c, dn, view);
+            if (bs->hkey[h] != EMPTY_KEY) visit_cell(d, bs, &lv, bs->hhead[h], c, dn, view);
         return;
     }
     for (int64_t x = lo[0]; x <= hi[0]; x++)
         for (int64_t y = lo[1]; y <= hi[1]; y++)
             for (int64_t z = lo[2]; z <= hi[2]; z++) {
                 int64_t h = grid_cell(bs, cell_key(x, y, z), 0);
-                if (h >= 0) visit_cell(d, bs, bs->hhead[h], c, dn, view);
+                if (h >= 0) visit_cell(d, bs, &lv, bs->hhead[h], c, dn, view);
             }
 }
 
@@ -444,9 +494,12 @@ int st_doc_stroke_begin(st_doc *d)
         bs->slot = ed_xrealloc(bs->slot, (size_t)nv * sizeof *bs->slot);
         bs->lay_o = ed_xrealloc(bs->lay_o, (size_t)nv * sizeof *bs->lay_o);
         bs->lay_n0 = ed_xrealloc(bs->lay_n0, (size_t)nv * sizeof *bs->lay_n0);
+        bs->ring_at = ed_xrealloc(bs->ring_at, (size_t)nv * sizeof *bs->ring_at);
         bs->nv = nv;
     }
     for (uint32_t v = 0; v < bs->nv; v++) { bs->vcell[v] = EMPTY_KEY; bs->mark[v] = 0; bs->lay_o[v] = -1; }
+    memset(bs->ring_at, 0, (size_t)bs->nv * sizeof *bs->ring_at);
+    bs->nring = 0;
     bs->gen = 0;
     for (uint32_t i = 0; i < bs->hcap; i++) bs->hkey[i] = EMPTY_KEY;
     bs->hn = 0;

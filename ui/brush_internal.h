@@ -27,6 +27,10 @@ struct st_brush_state {
     double *tmpw;
     double (*tmpn)[3];
     uint32_t ntmp, captmp;
+    /* Ring records (brush.c: ring_of): the corners of the faces around
+     * each vertex in the order its normal sums them, kept for the stroke. */
+    uint32_t *ring_at;         /* per vertex: 1 + offset in ring, 0: not recorded in this stroke */
+    uint32_t *ring, nring, capring;
     /* grab */
     int grabbed;
     uint32_t *gv;
@@ -39,9 +43,6 @@ struct st_brush_state {
 void *ed_xrealloc(void *p, size_t n);
 /* Next dart around the vertex of x at level l (β1; φ1 in the dual encoding). */
 uint32_t ed_around(const st_map *m, uint32_t x, unsigned l);
-/* Unit area-weighted normal of the vertex of dart x0; `fallback` when it
- * vanishes. */
-void ed_vertex_unit_normal(const st_map *m, uint32_t x0, unsigned l, const double fallback[3], double n[3]);
 /* The weight of a vertex under a dab: falloff at distance r times the
  * strength times the front-face test (vn: the vertex's unit normal, view:
  * the view direction of this dab, zero when unknown).  Every brush takes

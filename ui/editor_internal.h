@@ -33,8 +33,8 @@ struct st_undo_step {
     uint32_t n, cap;
     uint64_t *key;
     double (*oldv)[3], (*newv)[3];
-    uint64_t *hkey;            /* open-addressing index while recording */
-    uint32_t *hidx, hcap;
+    struct ed_rec_plane *planes; /* while recording: which keys are in (undo.c) */
+    uint32_t nplanes, capplanes, nindexed, lastplane;
     uint32_t *moved;           /* darts (edit level) of the moved vertices, deduplicated */
     uint32_t nmoved, capmoved;
     /* ED_STEP_HIER: the whole other state (swapped in and out). */

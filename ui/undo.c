@@ -25,6 +25,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+static void rec_index_free(st_undo_step *s);
+
 static double mib(size_t b) { return (double)b / (1024.0 * 1024.0); }
 
 st_undo_step *ed_step_new(int kind)
@@ -57,8 +59,7 @@ void ed_step_free(st_undo_step *s)
     free(s->key);
     free(s->oldv);
     free(s->newv);
-    free(s->hkey);
-    free(s->hidx);
+    rec_index_free(s);
     free(s->moved);
     free(s->vids);
     free(s->vpos);
@@ -74,43 +75,82 @@ void ed_step_free(st_undo_step *s)
     free(s);
 }
 
-static uint64_t hash64(uint64_t k)
-{
-    k ^= k >> 33;
-    k *= 0xff51afd7ed558ccdull;
-    k ^= k >> 33;
-    k *= 0xc4ceb9fe1a85ec53ull;
-    k ^= k >> 33;
-    return k;
-}
+/* ---- recording: which values a step holds already ----------------------------
+ *
+ * A key is a vertex id in its low 32 bits under a "plane" in the high ones
+ * (core/multires/footprint.h: level and kind; ed_layer_key: layer slot and
+ * level).  Each plane the step records in has a bitset over vertex ids, so
+ * "already recorded in this step" is one bit test: no hashing, and a
+ * stroke's recording reads a few small arrays (a level-6 blub's 455k ids
+ * take 57 KB per plane) instead of probing a table of all its keys.  The
+ * bitsets are dropped when the step is finished; keys appended before the
+ * index existed are indexed on the next lookup (nindexed). */
+struct ed_rec_plane {
+    uint32_t plane;            /* key >> 32 */
+    uint32_t nwords;
+    uint64_t *bits;
+};
 
-#define EMPTY_KEY UINT64_MAX
-
-static void rehash(st_undo_step *s, uint32_t cap)
+static struct ed_rec_plane *rec_plane(st_undo_step *s, uint32_t plane)
 {
-    free(s->hkey);
-    free(s->hidx);
-    s->hkey = malloc((size_t)cap * sizeof *s->hkey);
-    s->hidx = malloc((size_t)cap * sizeof *s->hidx);
-    if (!s->hkey || !s->hidx) abort();
-    for (uint32_t i = 0; i < cap; i++) s->hkey[i] = EMPTY_KEY;
-    s->hcap = cap;
-    for (uint32_t i = 0; i < s->n; i++) {
-        uint32_t h = (uint32_t)hash64(s->key[i]) & (cap - 1);
-        while (s->hkey[h] != EMPTY_KEY) h = (h + 1) & (cap - 1);
-        s->hkey[h] = s->key[i];
-        s->hidx[h] = i;
+    if (s->lastplane < s->nplanes && s->planes[s->lastplane].plane == plane) return &s->planes[s->lastplane];
+    for (uint32_t i = 0; i < s->nplanes; i++)
+        if (s->planes[i].plane == plane) {
+            s->lastplane = i;
+            return &s->planes[i];
+        }
+    if (s->nplanes == s->capplanes) {
+        uint32_t cap = s->capplanes ? 2 * s->capplanes : 8;
+        struct ed_rec_plane *p = realloc(s->planes, (size_t)cap * sizeof *p);
+        if (!p) abort();
+        s->planes = p;
+        s->capplanes = cap;
     }
+    struct ed_rec_plane *p = &s->planes[s->nplanes];
+    p->plane = plane;
+    p->nwords = 0;
+    p->bits = NULL;
+    s->lastplane = s->nplanes++;
+    return p;
 }
 
-/* Index of key, inserting it (value: *fresh = 1) when absent. */
+/* Sets the bit of key; returns its previous value. */
+static int rec_test_set(st_undo_step *s, uint64_t key)
+{
+    struct ed_rec_plane *p = rec_plane(s, (uint32_t)(key >> 32));
+    uint32_t vid = (uint32_t)key, w = vid >> 6;
+    if (w >= p->nwords) {
+        /* Geometric growth: ids arrive in any order during a stroke. */
+        uint32_t nw = p->nwords ? 2 * p->nwords : 64;
+        if (nw <= w) nw = w + 1;
+        uint64_t *b = realloc(p->bits, (size_t)nw * sizeof *b);
+        if (!b) abort();
+        memset(b + p->nwords, 0, (size_t)(nw - p->nwords) * sizeof *b);
+        p->bits = b;
+        p->nwords = nw;
+    }
+    uint64_t m = 1ull << (vid & 63);
+    int was = (p->bits[w] & m) != 0;
+    p->bits[w] |= m;
+    return was;
+}
+
+static void rec_index_free(st_undo_step *s)
+{
+    for (uint32_t i = 0; i < s->nplanes; i++) free(s->planes[i].bits);
+    free(s->planes);
+    s->planes = NULL;
+    s->nplanes = s->capplanes = s->nindexed = s->lastplane = 0;
+}
+
+/* Index of key, appending it (value: *fresh = 1) when absent.  Only a fresh
+ * key's index is used (its old value is written there). */
 static uint32_t lookup(st_undo_step *s, uint64_t key, int *fresh)
 {
-    if (2 * (s->n + 1) > s->hcap) rehash(s, s->hcap ? 2 * s->hcap : 1024);
-    uint32_t h = (uint32_t)hash64(key) & (s->hcap - 1);
-    while (s->hkey[h] != EMPTY_KEY) {
-        if (s->hkey[h] == key) { *fresh = 0; return s->hidx[h]; }
-        h = (h + 1) & (s->hcap - 1);
+    while (s->nindexed < s->n) (void)rec_test_set(s, s->key[s->nindexed++]);
+    if (rec_test_set(s, key)) {
+        *fresh = 0;
+        return ST_NIL;
     }
     if (s->n == s->cap) {
         uint32_t cap = s->cap ? 2 * s->cap : 256;
@@ -121,9 +161,8 @@ static uint32_t lookup(st_undo_step *s, uint64_t key, int *fresh)
         s->oldv = o;
         s->cap = cap;
     }
-    s->hkey[h] = key;
-    s->hidx[h] = s->n;
     s->key[s->n] = key;
+    s->nindexed = s->n + 1;
     *fresh = 1;
     return s->n++;
 }
@@ -239,11 +278,7 @@ void ed_step_apply(const st_undo_step *s, st_hier *h, int which, st_footprint *f
 
 void ed_step_finish(st_undo_step *s)
 {
-    free(s->hkey);
-    free(s->hidx);
-    s->hkey = NULL;
-    s->hidx = NULL;
-    s->hcap = 0;
+    rec_index_free(s);
     s->bytes = sizeof *s + (size_t)s->n * (sizeof *s->key + 2 * sizeof *s->oldv) + (size_t)s->nmoved * sizeof *s->moved;
     if (s->kind == ED_STEP_HIER) s->bytes += ed_hier_bytes(&s->snap);
     if (s->lay) {

@@ -346,9 +346,13 @@ static void find_sink(void *ctx, const st_stencil *s)
 
 struct st_edit_cache {
     unsigned level;
-    uint32_t *key, cap, n;     /* open addressing: vertex id + 1 (0: empty) -> entry */
-    uint32_t *entry;
+    /* Per vertex id: entry + 1 (0: none).  A dense index rather than a
+     * hash: a dab looks up thousands of neighbouring vertices, whose ids
+     * share cache lines here, where hashed slots missed the cache for
+     * each (a fifth of a level-6 dab). */
+    uint32_t *at, cap;
     double (*pf)[12];          /* per entry: S(P_{l-1})(v), frame rows */
+    uint32_t *vid;             /* per entry: its vertex id (clearing resets only those) */
     uint32_t nent, capent;
 };
 
@@ -362,64 +366,50 @@ st_edit_cache *st_edit_cache_new(void)
 void st_edit_cache_clear(st_edit_cache *c)
 {
     if (!c) return;
-    if (c->key) memset(c->key, 0, (size_t)c->cap * sizeof *c->key);
-    c->n = 0;
+    for (uint32_t i = 0; i < c->nent; i++) c->at[c->vid[i]] = 0;
     c->nent = 0;
 }
 
 void st_edit_cache_free(st_edit_cache *c)
 {
     if (!c) return;
-    free(c->key);
-    free(c->entry);
+    free(c->at);
     free(c->pf);
+    free(c->vid);
     free(c);
 }
 
-static uint32_t cache_hash(uint32_t v, uint32_t cap) { return (v * 2654435761u) & (cap - 1); }
-
 static double *cache_find(st_edit_cache *c, unsigned l, uint32_t v)
 {
-    if (!c || !c->n || c->level != l) return NULL;
-    for (uint32_t k = cache_hash(v, c->cap); c->key[k]; k = (k + 1) & (c->cap - 1))
-        if (c->key[k] == v + 1) return c->pf[c->entry[k]];
-    return NULL;
+    if (!c || !c->nent || c->level != l || v >= c->cap || !c->at[v]) return NULL;
+    return c->pf[c->at[v] - 1];
 }
 
 static void cache_put(st_edit_cache *c, unsigned l, uint32_t v, const double pred[3], const double f[3][3])
 {
     if (!c) return;
     if (c->level != l) { st_edit_cache_clear(c); c->level = l; }
-    if (2 * (c->n + 1) > c->cap) {
-        uint32_t oc = c->cap, *ok = c->key, *oe = c->entry;
-        c->cap = oc ? 2 * oc : 4096;
-        c->key = calloc(c->cap, sizeof *c->key);
-        c->entry = malloc((size_t)c->cap * sizeof *c->entry);
-        if (!c->key || !c->entry) abort();
-        for (uint32_t i = 0; i < oc; i++)
-            if (ok[i]) {
-                uint32_t k = cache_hash(ok[i] - 1, c->cap);
-                while (c->key[k]) k = (k + 1) & (c->cap - 1);
-                c->key[k] = ok[i];
-                c->entry[k] = oe[i];
-            }
-        free(ok);
-        free(oe);
+    if (v >= c->cap) {
+        uint32_t cap = c->cap ? 2 * c->cap : 4096;
+        if (cap <= v) cap = v + 1;
+        uint32_t *p = realloc(c->at, (size_t)cap * sizeof *p);
+        if (!p) abort();
+        memset(p + c->cap, 0, (size_t)(cap - c->cap) * sizeof *p);
+        c->at = p;
+        c->cap = cap;
     }
     if (c->nent == c->capent) {
         c->capent = c->capent ? 2 * c->capent : 4096;
         double(*p)[12] = realloc(c->pf, (size_t)c->capent * sizeof *p);
-        if (!p) abort();
+        uint32_t *q = realloc(c->vid, (size_t)c->capent * sizeof *q);
+        if (!p || !q) abort();
         c->pf = p;
+        c->vid = q;
     }
-    uint32_t k = cache_hash(v, c->cap);
-    while (c->key[k]) k = (k + 1) & (c->cap - 1);
-    c->key[k] = v + 1;
-    c->entry[k] = c->nent;
+    c->vid[c->nent] = v;
     memcpy(c->pf[c->nent], pred, 3 * sizeof(double));
     memcpy(c->pf[c->nent] + 3, f, 9 * sizeof(double));
-    c->nent++;
-    c->n++;
+    c->at[v] = ++c->nent;
 }
 
 /* S(P_{l-1})(v) and the frame of v's stencil, found from dart d of v. */
