@@ -10,8 +10,7 @@
  *     all its corners (so UVs that are an affine function of the positions
  *     stay one at every level, seams or not further away);
  *   - otherwise each fine face is assigned a home: one coarse face whose
- *     chart it uses (the source face, below, with the smallest face id among
- *     its corners).  A corner at a kept vertex (√3) takes the home face's UV
+ *     chart it uses (faces_of_level).  A corner at a kept vertex (√3) takes the home face's UV
  *     at that vertex.  A corner at a new vertex with source face S (the
  *     coarse face its stencil's frame names: √3's face centre and boundary
  *     points, Doo-Sabin's corner (F, g)) takes the stencil restricted to the
@@ -172,7 +171,11 @@ static void corner_uv(const stencil_uv *s, uint32_t x, uint32_t home, double out
     if (p) { out[0] = p[0]; out[1] = p[1]; }
 }
 
-/* Every real face of level L: its home, then its corners. */
+/* Every real face of level L: its home, then its corners.  The home is the
+ * coarse face of an old dart that the fine face keeps (√3: each fine
+ * triangle keeps one, so the two triangles across a flipped seam edge go
+ * one to each side; Doo-Sabin: the F-faces), else the smallest source face
+ * among its corners (Doo-Sabin's E- and V-faces). */
 static void faces_of_level(stencil_uv *s)
 {
     st_map *m = s->m;
@@ -181,13 +184,15 @@ static void faces_of_level(stencil_uv *s)
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, L, &it); d != ST_NIL; d = st_dart_next(m, L, &it)) {
         if (st_is_boundary(m, d) || st_marked(m, fb, d)) continue;
-        uint32_t home = ST_NIL, x = d;
+        uint32_t home = ST_NIL, source = ST_NIL, x = d;
         do {
             st_mark(m, fb, x);
             uint32_t v = st_vert(m, x, L);
-            if (s->kind[v] == V_SOURCED && (home == ST_NIL || s->src_face[v] < home)) home = s->src_face[v];
+            if (m->darts.ins[x] < L && (home == ST_NIL || s->face[x] < home)) home = s->face[x];
+            if (s->kind[v] == V_SOURCED && (source == ST_NIL || s->src_face[v] < source)) source = s->src_face[v];
             x = face_next(m, x, L);
         } while (x != d);
+        if (home == ST_NIL) home = source;
         do {
             corner_uv(s, x, home, s->out + 2 * (size_t)x);
             x = face_next(m, x, L);
