@@ -36,6 +36,14 @@ int st_bake_walk(st_map *m, uint32_t d, unsigned B, unsigned L, const double *uv
 typedef void (*st_bake_texel_fn)(void *ctx, uint32_t x, uint32_t y, const double w[3]);
 void st_bake_raster_tri(const double t[3][2], uint32_t size, st_bake_texel_fn fn, void *ctx);
 
+/* Triangles of the UV polygon uv (n corners, 2 doubles each) that do not
+ * overlap in UV: corner indices in the polygon's orientation, n-2 of them
+ * written to tri (returned).  The fan from corner 0 when it is valid (every
+ * convex polygon, and a concave quad whose reflex corner is 0 or 2), else
+ * ear clipping (a quad: the diagonal through its reflex corner).  Each
+ * triangle joins three corners of the face, so UV and surface still match. */
+unsigned st_bake_split_polygon(const double *uv, unsigned n, uint32_t (*tri)[3]);
+
 /* Barycentric weights of point p in UV triangle t; 0 if degenerate. */
 int st_bake_barycentric(const double t[3][2], const double p[2], double w[3]);
 

@@ -249,15 +249,21 @@ int st_bake_tangents(st_hier *h, unsigned l, const st_bake_uvs *uvs, double *tan
                       keys[i].u != keys[i - 1].u || keys[i].v != keys[i - 1].v)) g++;
         group[keys[i].corner] = g;
     }
-    /* Fan triangles of each face, as the renderer of the level triangulates
-     * a polygon for a game engine (corner 0 with each later edge). */
-    for (uint32_t f = 0; f < nf; f++) {
+    /* The triangles of each face as the bake rasterises it: the fan from
+     * corner 0 (as the renderer of the level triangulates a polygon for a
+     * game engine) unless that fan folds over in UV (st_bake_split_polygon). */
+    for (uint32_t f = 0; f < nf && !rc; f++) {
         uint32_t a = uvs->corner_off[f], n = uvs->corner_off[f + 1] - a;
-        for (uint32_t t = 0; t + 2 < n; t++) {
-            uint32_t tri[3] = { a, a + t + 1, a + t + 2 };
+        uint32_t local[16][3], (*tris)[3] = n <= 18 ? local : malloc((size_t)n * sizeof *tris);
+        if (!tris) { rc = st_fail(err, ST_ERR_MEMORY, "out of memory computing tangents of level %u", l); break; }
+        unsigned nt = st_bake_split_polygon(uvs->uv + 2 * (size_t)a, n, tris);
+        for (unsigned t = 0; t < nt; t++) {
+            uint32_t tri[3] = { a + tris[t][0], a + tris[t][1], a + tris[t][2] };
             add_triangle_frame(m, l, vert, uvs->uv, group, sum, tri);
         }
+        if (tris != local) free(tris);
     }
+    if (rc) goto done;
     for (size_t c = 0; c < nc; c++) {
         const double *n = vn + 3 * (size_t)vert[c], *s = sum + 6 * (size_t)group[c];
         double *t = tangents + 4 * c;

@@ -236,6 +236,98 @@ static double cross2(const double *a, const double *b, const double *p)
     return (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
 }
 
+/* ---- splitting a UV polygon into triangles ------------------------------- */
+
+static const double *corner_uv(const double *uv, uint32_t i) { return uv + 2 * (size_t)i; }
+
+/* Twice the signed area of the polygon (shoelace). */
+static double polygon_area2(const double *uv, unsigned n)
+{
+    double a = 0;
+    for (unsigned i = 0; i < n; i++) {
+        const double *p = corner_uv(uv, i), *q = corner_uv(uv, i + 1 < n ? i + 1 : 0);
+        a += p[0] * q[1] - q[0] * p[1];
+    }
+    return a;
+}
+
+static unsigned fan(unsigned n, uint32_t (*tri)[3])
+{
+    for (unsigned t = 0; t + 2 < n; t++) {
+        tri[t][0] = 0;
+        tri[t][1] = t + 1;
+        tri[t][2] = t + 2;
+    }
+    return n >= 2 ? n - 2 : 0;
+}
+
+/* The fan from corner 0 covers the polygon once when no fan triangle turns
+ * against the polygon's orientation. */
+static int fan_valid(const double *uv, unsigned n, double orient)
+{
+    for (unsigned t = 0; t + 2 < n; t++)
+        if (cross2(corner_uv(uv, 0), corner_uv(uv, t + 1), corner_uv(uv, t + 2)) * orient < 0) return 0;
+    return 1;
+}
+
+/* Point p inside or on triangle (a, b, c) of orientation orient. */
+static int in_triangle(const double *a, const double *b, const double *c, const double *p, double orient)
+{
+    return cross2(a, b, p) * orient >= 0 && cross2(b, c, p) * orient >= 0 && cross2(c, a, p) * orient >= 0;
+}
+
+/* Corner i of the remaining polygon rest[0..m) is an ear: convex, and no
+ * other remaining corner (at another position) inside its triangle. */
+static int is_ear(const double *uv, const uint32_t *rest, unsigned m, unsigned i, double orient)
+{
+    const double *a = corner_uv(uv, rest[(i + m - 1) % m]), *b = corner_uv(uv, rest[i]), *c = corner_uv(uv, rest[(i + 1) % m]);
+    if (cross2(a, b, c) * orient <= 0) return 0;
+    for (unsigned j = 0; j < m; j++) {
+        const double *p = corner_uv(uv, rest[j]);
+        if (p == a || p == b || p == c) continue;
+        if ((p[0] == a[0] && p[1] == a[1]) || (p[0] == c[0] && p[1] == c[1])) continue;
+        if (in_triangle(a, b, c, p, orient)) return 0;
+    }
+    return 1;
+}
+
+/* Ear clipping (Meisters 1975); rest holds n corner indices.  A polygon
+ * with no ear left (self-intersecting in UV) ends as a fan of the rest. */
+static unsigned ear_clip(const double *uv, unsigned n, double orient, uint32_t *rest, uint32_t (*tri)[3])
+{
+    unsigned m = n, k = 0;
+    for (unsigned i = 0; i < n; i++) rest[i] = i;
+    while (m > 3) {
+        unsigned i = 0;
+        while (i < m && !is_ear(uv, rest, m, i, orient)) i++;
+        if (i == m) break;
+        tri[k][0] = rest[(i + m - 1) % m];
+        tri[k][1] = rest[i];
+        tri[k][2] = rest[(i + 1) % m];
+        k++;
+        memmove(rest + i, rest + i + 1, (m - i - 1) * sizeof *rest);
+        m--;
+    }
+    for (unsigned t = 0; t + 2 < m; t++, k++) {
+        tri[k][0] = rest[0];
+        tri[k][1] = rest[t + 1];
+        tri[k][2] = rest[t + 2];
+    }
+    return k;
+}
+
+unsigned st_bake_split_polygon(const double *uv, unsigned n, uint32_t (*tri)[3])
+{
+    double orient = polygon_area2(uv, n);
+    if (n <= 3 || orient == 0 || !isfinite(orient) || fan_valid(uv, n, orient)) return fan(n, tri);
+    uint32_t local[64];
+    uint32_t *rest = n <= 64 ? local : malloc(n * sizeof *rest);
+    if (!rest) return fan(n, tri);
+    unsigned k = ear_clip(uv, n, orient, rest, tri);
+    if (rest != local) free(rest);
+    return k;
+}
+
 /* The edge function of a→b at p computed with the endpoints in a canonical
  * order, so the two triangles of a shared edge get exactly opposite values
  * and the tie rule below gives a centre on the edge to exactly one. */
