@@ -593,8 +593,49 @@ static void test_concave_quad_bake(void)
     st_mesh_free(&m);
 }
 
+/* Doo-Sabin's dual encoding: the layout of a level (the one glTF export
+ * with a normal map writes) lists st_hier_level_mesh's faces and corner
+ * UVs, and its tangents are unit and orthogonal to the normals. */
+static void test_dual_layout(void)
+{
+    st_mesh m;
+    st_error err;
+    st_mesh_init(&m);
+    CHECK(st_mesh_parse_obj("concave.obj", concave_obj, strlen(concave_obj), &m, &err) == 0 &&
+          st_mesh_repair("concave.obj", &m, NULL, &err) == 0);
+    st_hier h;
+    CHECKF(st_hier_init(&h, &m, &st_scheme_doosabin, NULL, &err) == 0 && st_hier_subdivide_to(&h, 2, &err) == 0, "%s", err.msg);
+    for (unsigned l = 0; l <= 2; l++) {
+        st_mesh lm;
+        st_mesh_init(&lm);
+        st_bake_layout lay;
+        CHECK(st_hier_level_mesh(&h, l, &lm, &err) == 0 && lm.face_uv);
+        CHECKF(st_bake_level_uvs(&h, l, &lay, &err) == ST_OK, "%s", err.msg);
+        int same = lay.nfaces == lm.nfaces && lm.face_uv;
+        for (uint32_t f = 0; same && f < lm.nfaces; f++) same = lay.corner_off[f + 1] == lm.face_off[f + 1];
+        for (uint32_t c = 0; same && c < lm.face_off[lm.nfaces]; c++)
+            same = lay.uv[2 * c] == lm.uv[2 * lm.face_uv[c]] && lay.uv[2 * c + 1] == lm.uv[2 * lm.face_uv[c] + 1];
+        CHECKF(same, "doo-sabin level %u: layout of %u faces against the level's %u", l, lay.nfaces, lm.nfaces);
+        size_t nc = lay.corner_off[lay.nfaces];
+        double *tan = malloc(4 * (nc + 1) * sizeof *tan), *nrm = malloc(3 * (nc + 1) * sizeof *nrm);
+        st_bake_uvs u = st_bake_layout_uvs(&lay);
+        CHECKF(st_bake_tangents(&h, l, &u, tan, nrm, &err) == ST_OK, "%s", err.msg);
+        double worst = 0;
+        for (size_t c = 0; c < nc; c++)
+            worst = fmax(worst, fabs(dot3(tan + 4 * c, tan + 4 * c) - 1) + fabs(dot3(tan + 4 * c, nrm + 3 * c)));
+        CHECKF(worst < 1e-12, "doo-sabin level %u: tangents off unit/orthogonal by %g", l, worst);
+        free(tan);
+        free(nrm);
+        st_bake_layout_free(&lay);
+        st_mesh_free(&lm);
+    }
+    st_hier_free(&h);
+    st_mesh_free(&m);
+}
+
 int main(void)
 {
+    test_dual_layout();
     test_split_polygon();
     test_concave_quad_bake();
     test_walk_tiles();

@@ -7,8 +7,59 @@
 #include <stdlib.h>
 #include <string.h>
 
+unsigned st_bake_face_degree(const st_map *m, uint32_t d, unsigned l)
+{
+    unsigned k = 0;
+    uint32_t x = d;
+    do { k++; x = st_bake_face_next(m, x, l); } while (x != d);
+    return k;
+}
+
+void st_bake_face_newell(const st_map *m, uint32_t d, unsigned l, double n[3])
+{
+    if (!m->face_embedded) { st_face_newell(m, d, l, n); return; }
+    n[0] = n[1] = n[2] = 0;
+    uint32_t x = d;
+    do {
+        uint32_t y = st_bake_face_next(m, x, l);
+        st_newell_add(n, st_dart_pos(m, x, l), st_dart_pos(m, y, l));
+        x = y;
+    } while (x != d);
+}
+
+/* The dual encoding's faces as core/map/map_mesh.c lists them: every β1
+ * orbit, those with a hole dart or under 3 corners left out. */
+static int dual_faces(st_map *m, unsigned l, uint32_t **darts, uint32_t *n, st_error *err)
+{
+    uint32_t cap = 64, k = 0;
+    uint32_t *out = malloc(cap * sizeof *out);
+    int bit = out ? st_marker_reserve(m) : -1;
+    if (bit < 0) { free(out); return st_fail(err, ST_ERR_MEMORY, "out of memory listing the faces of level %u", l); }
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_marked(m, bit, d)) continue;
+        st_mark_vertex(m, bit, d, l);
+        uint32_t x = d, deg = 0;
+        int real = 1;
+        do { real &= !st_is_boundary(m, x); deg++; x = st_beta1(m, x, l); } while (x != d);
+        if (!real || deg < 3) continue;
+        if (k == cap) {
+            uint32_t *g = realloc(out, 2 * (size_t)cap * sizeof *g);
+            if (!g) { st_marker_release(m, bit, l); free(out); return st_fail(err, ST_ERR_MEMORY, "out of memory listing the faces of level %u", l); }
+            out = g;
+            cap *= 2;
+        }
+        out[k++] = d;
+    }
+    st_marker_release(m, bit, l);
+    *darts = out;
+    *n = k;
+    return ST_OK;
+}
+
 int st_bake_level_faces(st_map *m, unsigned l, uint32_t **darts, uint32_t *n, st_error *err)
 {
+    if (m->face_embedded) return dual_faces(m, l, darts, n, err);
     st_level_stats s;
     st_level_stats_compute(m, l, &s);
     uint32_t *out = malloc((size_t)(s.faces ? s.faces : 1) * sizeof *out);
@@ -40,7 +91,7 @@ int st_bake_vertex_normals(const st_map *m, unsigned l, double **out, st_error *
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
         if (st_is_boundary(m, d)) continue;
         double f[3];
-        st_face_newell(m, d, l, f);
+        st_bake_face_newell(m, d, l, f);
         double *t = n + 3 * (size_t)st_vert(m, d, l);
         for (int k = 0; k < 3; k++) t[k] += f[k];
     }
@@ -63,7 +114,7 @@ int st_bake_check_uvs(const st_map *m, unsigned l, const uint32_t *darts, uint32
     if (uvs->corner_off[0] != 0)
         return st_fail(err, ST_ERR_INVALID, "the UVs' corner offsets do not start at 0");
     for (uint32_t f = 0; f < n; f++) {
-        uint32_t deg = st_face_degree(m, darts[f], l);
+        uint32_t deg = st_bake_face_degree(m, darts[f], l);
         if (uvs->corner_off[f + 1] < uvs->corner_off[f] || uvs->corner_off[f + 1] - uvs->corner_off[f] != deg)
             return st_fail(err, ST_ERR_INVALID, "face %u of level %u has %u corners but %d UVs",
                            f + 1, l, deg, (int)(uvs->corner_off[f + 1] - uvs->corner_off[f]));
