@@ -46,7 +46,7 @@ typedef struct stencil_uv {
     uint8_t *kind, *smooth;
     double *suv;
     uint32_t *src_face, *off, *cnt;
-    /* the stencils of V_SOURCED vertices, flat */
+    /* the stencils of V_SOURCED vertices that are not smooth, flat */
     uint32_t *src;
     double *w;
     size_t n, cap;
@@ -113,6 +113,7 @@ static void sink(void *ctx, const st_stencil *st)
     if (st_is_boundary(m, f)) { s->kind[v] = V_NONE; return; }
     s->kind[v] = V_SOURCED;
     s->src_face[v] = s->face[f];
+    if (smooth) return; /* its corners never read the stencil again */
     s->off[v] = (uint32_t)s->n;
     s->cnt[v] = st->n;
     for (uint32_t i = 0; i < st->n && !s->failed; i++)
