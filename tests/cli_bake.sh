@@ -84,6 +84,10 @@ else bad "own UVs ($own) and --auto-uv ($auto) baked the same"; fi
 run 0 "^wrote ir\.png \(96x96, smooth, level 0, 320 faces" render ico.strata --level 0 --normal-map ico_s.png --size 96x96 -o ir.png
 run 0 "^wrote" render ico.strata --level 0 --size 96x96 -o iplain.png
 if ! cmp -s ir.png iplain.png; then ok; else bad "the normal map on the icosphere's UVs did not change the image"; fi
+# blub's control mesh has a quad concave in UV (face 106): split through its
+# reflex corner it bakes on its own UVs (no false "UV islands overlap").
+run 0 "level 3 onto level 0: [0-9]+ texels baked" bake "$MESHES/catmull_clark/blub_control_mesh.obj" --levels 3 --base-level 0 --normal-map blub.png --size 256
+if [ -f blub.png ] && is_png blub.png; then ok; else bad "blub_control_mesh baked no normal map"; fi
 # Overlapping islands (every face of the cube on the same unit square) and
 # tiled UVs (outside [0,1]) are refused with nothing written.
 { grep '^v ' "$ASSETS/cube.obj"; printf 'vt 0.1 0.1\nvt 0.9 0.1\nvt 0.9 0.9\nvt 0.1 0.9\n'

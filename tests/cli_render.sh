@@ -84,9 +84,10 @@ elif [ -x "$BIN/test_render_images" ]; then
 fi
 run 0 "^wrote uvl\.png \(64x48, uv, level 1, 1280 faces, front view\)" render "$MESHES/triangle/sphere_ico.obj" --scheme loop --levels 1 --mode uv --view front --size 64x48 -o uvl.png
 run 1 "no UVs for --mode uv" render "$ASSETS/cube.obj" --levels 1 --mode uv --size 32x24 -o nouv.png
-# √3 keeps the UVs of level 0 only: level 1 is refused, level 0 drawn.
-run 1 "level 1 has no UVs .*try --level 0" render "$MESHES/triangle/sphere_ico.obj" --scheme sqrt3 --levels 1 --mode uv --size 32x24 -o nouv.png
-run 0 "^wrote nouv0\.png \(32x24, uv, level 0" render "$MESHES/triangle/sphere_ico.obj" --scheme sqrt3 --levels 1 --level 0 --mode uv --size 32x24 -o nouv0.png
+# √3 and Doo-Sabin subdivide the UVs too (docs/SUBDIVISION-RULES.md §7b): every level drawn.
+run 0 "^wrote uvs1\.png \(32x24, uv, level 1, 960 faces" render "$MESHES/triangle/sphere_ico.obj" --scheme sqrt3 --levels 1 --mode uv --size 32x24 -o uvs1.png
+run 0 "^wrote uvs0\.png \(32x24, uv, level 0" render "$MESHES/triangle/sphere_ico.obj" --scheme sqrt3 --levels 1 --level 0 --mode uv --size 32x24 -o uvs0.png
+run 0 "^wrote uvds\.png \(32x24, uv, level 2, 1778 faces" render "$UVMESH" --scheme doo-sabin --levels 2 --mode uv --size 32x24 -o uvds.png
 run 2 "--mode uv .*does not go with --box" render "$UVMESH" --box 0,0,0,1,1,1 --mode uv -o nouv.png
 if [ ! -e nouv.png ]; then ok; else bad "a refused --mode uv left an output file"; fi
 

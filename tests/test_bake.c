@@ -3,10 +3,12 @@
  * (within 1 % of its range) on a per-face atlas (cube) and on a seamed
  * toroidal unwrap (torus); level B baked onto itself gives the flat
  * tangent-space normal; tangents follow the UV derivative; bad UVs,
- * overlapping islands and schemes whose faces do not nest are refused. */
+ * overlapping islands and schemes whose faces do not nest are refused; a
+ * face concave in UV is split inside itself (no false overlap). */
 #include "testlib.h"
 
 #include "core/bake/bake_internal.h"
+#include "core/io/mesh.h"
 #include "core/multires/edit.h"
 
 #include <math.h>
@@ -486,8 +488,156 @@ static void test_walk_tiles(void)
     check_tiling("cube onto itself", ST_SCHEME_CATMARK, tl_mesh_cube, 2, 2);
 }
 
+/* ---- faces concave in UV -------------------------------------------------- */
+
+/* The split of a UV polygon: n-2 triangles, each in the polygon's
+ * orientation (none flipped), their areas adding up to the polygon's (so
+ * they cover it once), corner indices in range. */
+static void check_split(const char *what, const double *uv, unsigned n, const uint32_t (*want)[3])
+{
+    uint32_t tri[16][3];
+    unsigned k = st_bake_split_polygon(uv, n, tri);
+    double area = signed_area(uv, n), sum = 0;
+    int flipped = 0, range = 0, differs = 0;
+    for (unsigned t = 0; t < k; t++) {
+        double c[6];
+        for (int j = 0; j < 3; j++) {
+            range |= tri[t][j] >= n;
+            c[2 * j] = uv[2 * tri[t][j] % (2 * n)];
+            c[2 * j + 1] = uv[(2 * tri[t][j] + 1) % (2 * n)];
+            if (want) differs |= tri[t][j] != want[t][j];
+        }
+        double a = signed_area(c, 3);
+        flipped += a * area <= 0;
+        sum += a;
+    }
+    CHECKF(k == n - 2 && !range && !flipped && fabs(sum - area) < 1e-15, "%s: %u triangles, %d flipped, areas %.17g of %.17g",
+           what, k, flipped, sum, area);
+    CHECKF(!differs, "%s: not the expected triangles", what);
+}
+
+static void test_split_polygon(void)
+{
+    /* Convex: the fan from corner 0 (the split every convex face had before). */
+    static const double square[] = { 0, 0, 1, 0, 1, 1, 0, 1 };
+    static const uint32_t fan4[2][3] = { { 0, 1, 2 }, { 0, 2, 3 } };
+    check_split("convex quad", square, 4, fan4);
+    /* Reflex corner 1: the diagonal 1-3 through it, not 0-2 across the notch. */
+    static const double dart1[] = { 0.1, 0.1, 0.5, 0.25, 0.9, 0.1, 0.5, 0.9 };
+    static const uint32_t via1[2][3] = { { 3, 0, 1 }, { 1, 2, 3 } };
+    check_split("quad concave at corner 1", dart1, 4, via1);
+    static const double dart3[] = { 0.5, 0.9, 0.1, 0.1, 0.5, 0.25, 0.9, 0.1 };  /* same shape, reflex corner 2: fan valid */
+    check_split("quad concave at corner 2", dart3, 4, fan4);
+    static const double dart3cw[] = { 0.5, 0.9, 0.9, 0.1, 0.5, 0.25, 0.1, 0.1 };  /* clockwise, reflex corner 2 */
+    check_split("clockwise quad concave at corner 2", dart3cw, 4, fan4);
+    static const double dart_b[] = { 0.9, 0.1, 0.5, 0.9, 0.1, 0.1, 0.5, 0.25 };  /* reflex corner 3 */
+    check_split("quad concave at corner 3", dart_b, 4, NULL);
+    /* n-gons: an L and a comb, concave at several corners. */
+    static const double ell[] = { 0, 0, 1, 0, 1, 0.4, 0.4, 0.4, 0.4, 1, 0, 1 };
+    check_split("L hexagon", ell, 6, NULL);
+    static const double ell_rot[] = { 0.4, 0.4, 0.4, 1, 0, 1, 0, 0, 1, 0, 1, 0.4 };
+    check_split("L hexagon from its reflex corner", ell_rot, 6, NULL);
+    static const double comb[] = { 0, 0, 1, 0, 1, 1, 0.8, 1, 0.7, 0.3, 0.6, 1, 0.4, 1, 0.3, 0.3, 0.2, 1, 0, 1 };
+    check_split("comb decagon", comb, 10, NULL);
+}
+
+/* A quad concave in UV (corner 1 reflex) and the triangle that fills its
+ * notch: their UVs tile the triangle A C D without overlap.  Splitting the
+ * quad across the notch (the fan from corner 0) made it cover the
+ * triangle's texels: a false "UV islands overlap". */
+static const char *concave_obj =
+    "v 0.1 0.1 0\nv 0.5 0.25 0.1\nv 0.9 0.1 0\nv 0.5 0.9 0.05\n"
+    "vt 0.1 0.1\nvt 0.5 0.25\nvt 0.9 0.1\nvt 0.5 0.9\nvt 0.1 0.1\nvt 0.9 0.1\nvt 0.5 0.25\n"
+    "f 1/1 2/2 3/3 4/4\nf 1/5 3/6 2/7\n";
+
+static void test_concave_quad_bake(void)
+{
+    st_mesh m;
+    st_error err;
+    st_mesh_init(&m);
+    CHECKF(st_mesh_parse_obj("concave.obj", concave_obj, strlen(concave_obj), &m, &err) == 0 &&
+           st_mesh_repair("concave.obj", &m, NULL, &err) == 0, "%s", err.msg);
+    st_hier h;
+    CHECKF(st_hier_init(&h, &m, &st_scheme_catmark, NULL, &err) == 0 && st_hier_subdivide_to(&h, 2, &err) == 0, "%s", err.msg);
+    st_bake_layout lay;
+    CHECKF(st_bake_level_uvs(&h, 0, &lay, &err) == ST_OK, "%s", err.msg);
+    st_bake_uvs u = st_bake_layout_uvs(&lay);
+    const uint32_t size = 64;
+    st_bake_opts o = { .base = 0, .level = 0, .size = size, .space = ST_BAKE_TANGENT, .normal = 1, .padding = 0 };
+    /* Texel centres inside A C D (0.1,0.1) (0.9,0.1) (0.5,0.9): what the two faces cover. */
+    uint64_t inside = 0;
+    for (uint32_t y = 0; y < size; y++)
+        for (uint32_t x = 0; x < size; x++) {
+            double p[2] = { (x + 0.5) / size, (y + 0.5) / size };
+            inside += p[1] > 0.1 && p[1] < 0.1 + 2 * (p[0] - 0.1) && p[1] < 0.1 + 2 * (0.9 - p[0]);
+        }
+    for (unsigned level = 0; level <= 2; level += 2) {
+        o.level = level;
+        st_bake_maps maps;
+        int rc = st_bake(&h, &u, &o, &maps, &err);
+        CHECKF(rc == ST_OK, "level %u onto 0: %s", level, rc ? err.msg : "");
+        if (rc) continue;
+        printf("concave quad and its notch, level %u onto 0: %llu texels baked, %llu centres inside\n",
+               level, (unsigned long long)maps.baked, (unsigned long long)inside);
+        CHECK(maps.baked + 2 >= inside && maps.baked <= inside + 2);
+        st_bake_maps_free(&maps);
+    }
+    /* A real overlap is still refused: the triangle's corner B moved into the quad. */
+    CHECK(lay.nfaces == 2 && lay.corner_off[2] == 7);
+    double saved = lay.uv[2 * 6 + 1];
+    lay.uv[2 * 6 + 1] = 0.6;
+    expect_refusal(&h, &u, &o, "UV islands overlap: faces 1 and 2 of level 0");
+    lay.uv[2 * 6 + 1] = saved;
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+    st_mesh_free(&m);
+}
+
+/* Doo-Sabin's dual encoding: the layout of a level (the one glTF export
+ * with a normal map writes) lists st_hier_level_mesh's faces and corner
+ * UVs, and its tangents are unit and orthogonal to the normals. */
+static void test_dual_layout(void)
+{
+    st_mesh m;
+    st_error err;
+    st_mesh_init(&m);
+    CHECK(st_mesh_parse_obj("concave.obj", concave_obj, strlen(concave_obj), &m, &err) == 0 &&
+          st_mesh_repair("concave.obj", &m, NULL, &err) == 0);
+    st_hier h;
+    CHECKF(st_hier_init(&h, &m, &st_scheme_doosabin, NULL, &err) == 0 && st_hier_subdivide_to(&h, 2, &err) == 0, "%s", err.msg);
+    for (unsigned l = 0; l <= 2; l++) {
+        st_mesh lm;
+        st_mesh_init(&lm);
+        st_bake_layout lay;
+        CHECK(st_hier_level_mesh(&h, l, &lm, &err) == 0 && lm.face_uv);
+        CHECKF(st_bake_level_uvs(&h, l, &lay, &err) == ST_OK, "%s", err.msg);
+        int same = lay.nfaces == lm.nfaces && lm.face_uv;
+        for (uint32_t f = 0; same && f < lm.nfaces; f++) same = lay.corner_off[f + 1] == lm.face_off[f + 1];
+        for (uint32_t c = 0; same && c < lm.face_off[lm.nfaces]; c++)
+            same = lay.uv[2 * c] == lm.uv[2 * lm.face_uv[c]] && lay.uv[2 * c + 1] == lm.uv[2 * lm.face_uv[c] + 1];
+        CHECKF(same, "doo-sabin level %u: layout of %u faces against the level's %u", l, lay.nfaces, lm.nfaces);
+        size_t nc = lay.corner_off[lay.nfaces];
+        double *tan = malloc(4 * (nc + 1) * sizeof *tan), *nrm = malloc(3 * (nc + 1) * sizeof *nrm);
+        st_bake_uvs u = st_bake_layout_uvs(&lay);
+        CHECKF(st_bake_tangents(&h, l, &u, tan, nrm, &err) == ST_OK, "%s", err.msg);
+        double worst = 0;
+        for (size_t c = 0; c < nc; c++)
+            worst = fmax(worst, fabs(dot3(tan + 4 * c, tan + 4 * c) - 1) + fabs(dot3(tan + 4 * c, nrm + 3 * c)));
+        CHECKF(worst < 1e-12, "doo-sabin level %u: tangents off unit/orthogonal by %g", l, worst);
+        free(tan);
+        free(nrm);
+        st_bake_layout_free(&lay);
+        st_mesh_free(&lm);
+    }
+    st_hier_free(&h);
+    st_mesh_free(&m);
+}
+
 int main(void)
 {
+    test_dual_layout();
+    test_split_polygon();
+    test_concave_quad_bake();
     test_walk_tiles();
     test_identity_and_tangents();
     test_refusals();

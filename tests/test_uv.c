@@ -216,8 +216,7 @@ static int cmp_pair(const void *a, const void *b)
     return (x[1] > y[1]) - (x[1] < y[1]);
 }
 
-/* Linear rules: quad/triangle on quads gives Catmull-Clark's --uv-interp all;
- * √3 keeps level 0's UVs only. */
+/* Linear rules: quad/triangle on quads gives Catmull-Clark's --uv-interp all. */
 static void test_other_schemes(void)
 {
     st_mesh m;
@@ -246,11 +245,14 @@ static void test_other_schemes(void)
     st_hier_free(&b);
     st_hier_free(&c);
     st_mesh_free(&m);
-    /* √3 on a triangle mesh with UVs: level 0 only. */
+    /* √3 and Doo-Sabin on a mesh with UVs: every level (test_stencil_schemes). */
     CHECK(parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n"
                 "f 1/1 3/3 2/2\nf 1/1 2/2 4/4\nf 2/2 3/3 4/4\nf 3/3 1/1 4/4\n", &m, &err) == 0);
-    CHECK(st_hier_init(&a, &m, &st_scheme_sqrt3, NULL, &err) == 0 && st_hier_subdivide_to(&a, 1, &err) == 0);
-    CHECK(st_hier_uv(&a, 0) != NULL && st_hier_uv(&a, 1) == NULL);
+    CHECK(st_hier_init(&a, &m, &st_scheme_sqrt3, NULL, &err) == 0 && st_hier_subdivide_to(&a, 2, &err) == 0);
+    CHECK(st_hier_uv(&a, 0) != NULL && st_hier_uv(&a, 1) != NULL && st_hier_uv(&a, 2) != NULL);
+    st_hier_free(&a);
+    CHECK(st_hier_init(&a, &m, &st_scheme_doosabin, NULL, &err) == 0 && st_hier_subdivide_to(&a, 2, &err) == 0);
+    CHECK(st_hier_uv(&a, 0) != NULL && st_hier_uv(&a, 1) != NULL && st_hier_uv(&a, 2) != NULL);
     st_hier_free(&a);
     st_mesh_free(&m);
     /* No UVs: no channel. */
@@ -259,6 +261,243 @@ static void test_other_schemes(void)
     CHECK(a.fvar == NULL && st_hier_uv(&a, 0) == NULL);
     st_hier_free(&a);
     st_mesh_free(&m);
+}
+
+/* ---- √3 and Doo-Sabin (core/fvar/fvar_stencil.c) ---------------------------- */
+
+/* A texture coordinate that is an affine function of the position. */
+static void affine_uv(const double p[3], double uv[2])
+{
+    uv[0] = 0.3 * p[0] - 0.1 * p[1] + 0.07 * p[2] + 0.2;
+    uv[1] = 0.05 * p[0] + 0.25 * p[1] - 0.11 * p[2] - 0.4;
+}
+
+/* One UV per vertex (no seam), affine in the position. */
+static void add_affine_uvs(st_mesh *m)
+{
+    uint32_t nc = m->face_off[m->nfaces];
+    m->nuvs = m->nverts;
+    m->uv = malloc(2 * (size_t)m->nverts * sizeof *m->uv);
+    m->face_uv = malloc((size_t)nc * sizeof *m->face_uv);
+    for (uint32_t v = 0; v < m->nverts; v++) affine_uv(m->pos + 3 * (size_t)v, m->uv + 2 * (size_t)v);
+    memcpy(m->face_uv, m->face_idx, (size_t)nc * sizeof *m->face_uv);
+}
+
+/* A flat 5 x 5 grid (z = 0) with uneven spacing, quads or triangles with
+ * alternating diagonals (valences 4 and 8 inside), one UV per vertex. */
+static void flat_grid(st_mesh *m, int tri)
+{
+    char text[8192];
+    size_t k = 0;
+    for (int y = 0; y <= 4; y++)
+        for (int x = 0; x <= 4; x++)
+            k += (size_t)snprintf(text + k, sizeof text - k, "v %.17g %.17g 0\n", x + 0.15 * ((x * 7 + y * 3) % 4), y + 0.1 * ((x * 5 + y) % 3));
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < 4; i++) {
+            int a = j * 5 + i + 1, b = a + 1, c = a + 6, d = a + 5;
+            if (!tri) k += (size_t)snprintf(text + k, sizeof text - k, "f %d %d %d %d\n", a, b, c, d);
+            else if ((i + j) % 2) k += (size_t)snprintf(text + k, sizeof text - k, "f %d %d %d\nf %d %d %d\n", a, b, c, a, c, d);
+            else k += (size_t)snprintf(text + k, sizeof text - k, "f %d %d %d\nf %d %d %d\n", a, b, d, b, c, d);
+        }
+    st_error err = {0};
+    CHECKF(parse(text, m, &err) == 0, "%s", err.msg);
+    add_affine_uvs(m);
+}
+
+/* Every corner of levels 0..levels: its UV is affine_uv of its position. */
+static void check_affine(const st_scheme *scheme, st_mesh *m, unsigned levels, const char *what)
+{
+    st_hier h;
+    st_error err = {0};
+    CHECKF(st_hier_init(&h, m, scheme, NULL, &err) == 0 && st_hier_subdivide_to(&h, levels, &err) == 0, "%s: %s", what, err.msg);
+    for (unsigned l = 0; l <= levels; l++) {
+        const double *uv = st_hier_uv(&h, l);
+        CHECKF(uv != NULL, "%s: level %u has no UVs", what, l);
+        double worst = 0;
+        uint32_t n = 0;
+        st_dart_iter it;
+        for (uint32_t d = st_dart_first(&h.map, l, &it); uv && d != ST_NIL; d = st_dart_next(&h.map, l, &it)) {
+            if (st_is_boundary(&h.map, d)) continue;
+            double e[2];
+            affine_uv(st_dart_pos(&h.map, d, l), e);
+            for (int c = 0; c < 2; c++) worst = fmax(worst, fabs(uv[2 * (size_t)d + c] - e[c]));
+            n++;
+        }
+        CHECKF(n > 0 && worst < 1e-12, "%s level %u: %u corners, UV off the affine map by %g", what, l, n, worst);
+    }
+    st_hier_free(&h);
+}
+
+static void test_stencil_affine(void)
+{
+    st_mesh m;
+    flat_grid(&m, 1);
+    check_affine(&st_scheme_sqrt3, &m, 3, "sqrt3 flat grid");
+    st_mesh_free(&m);
+    flat_grid(&m, 0);
+    check_affine(&st_scheme_doosabin, &m, 3, "doo-sabin flat grid");
+    st_mesh_free(&m);
+    /* Closed and curved: the rules are affine, so a UV affine in 3-D stays so. */
+    tl_mesh_icosa(&m);
+    add_affine_uvs(&m);
+    check_affine(&st_scheme_sqrt3, &m, 3, "sqrt3 icosahedron");
+    st_mesh_free(&m);
+    tl_mesh_cube(&m);
+    add_affine_uvs(&m);
+    check_affine(&st_scheme_doosabin, &m, 3, "doo-sabin cube");
+    st_mesh_free(&m);
+}
+
+/* Each face its own UV island: cell (f % 4, f / 4) of side 1, corners at
+ * 0.1 .. 0.9 inside it (a square's corners for quads). */
+static void island_uvs(st_mesh *m)
+{
+    uint32_t nc = m->face_off[m->nfaces];
+    m->nuvs = nc;
+    m->uv = malloc(2 * (size_t)nc * sizeof *m->uv);
+    m->face_uv = malloc((size_t)nc * sizeof *m->face_uv);
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        uint32_t a = m->face_off[f], n = m->face_off[f + 1] - a;
+        for (uint32_t j = 0; j < n; j++) {
+            double t = 2 * M_PI * j / n;
+            m->face_uv[a + j] = a + j;
+            m->uv[2 * (size_t)(a + j)] = f % 4 + 0.5 + 0.4 * cos(t);
+            m->uv[2 * (size_t)(a + j) + 1] = f / 4 + 0.5 + 0.4 * sin(t);
+        }
+    }
+}
+
+/* The seam grid of seam_grid, triangulated (two islands, x < 2 and x > 2). */
+static void seam_grid_tri(st_mesh *m)
+{
+    seam_grid(m);
+    st_mesh t;
+    st_mesh_init(&t);
+    uint32_t nf = 2 * m->nfaces;
+    uint32_t *off = malloc((nf + 1) * sizeof *off), *idx = malloc(3 * (size_t)nf * sizeof *idx);
+    uint32_t *fuv = malloc(3 * (size_t)nf * sizeof *fuv);
+    static const int pick[2][2][3] = { { { 0, 1, 2 }, { 0, 2, 3 } }, { { 0, 1, 3 }, { 1, 2, 3 } } };
+    for (uint32_t f = 0; f < m->nfaces; f++)
+        for (int h = 0; h < 2; h++)
+            for (int c = 0; c < 3; c++) {
+                uint32_t src = m->face_off[f] + (uint32_t)pick[f % 2][h][c];
+                idx[6 * f + 3 * (uint32_t)h + (uint32_t)c] = m->face_idx[src];
+                fuv[6 * f + 3 * (uint32_t)h + (uint32_t)c] = m->face_uv[src];
+            }
+    for (uint32_t f = 0; f <= nf; f++) off[f] = 3 * f;
+    tl_mesh_make(&t, m->pos, m->nverts, off, idx, nf);
+    t.nuvs = m->nuvs;
+    t.uv = malloc(2 * (size_t)m->nuvs * sizeof *t.uv);
+    memcpy(t.uv, m->uv, 2 * (size_t)m->nuvs * sizeof *t.uv);
+    t.face_uv = fuv;
+    free(off);
+    free(idx);
+    st_mesh_free(m);
+    *m = t;
+}
+
+/* Levels 1..3: every face of the level's soup has all its UVs inside one
+ * island's box (no face straddles a seam), every island is used, and the
+ * seams are still seams (more UVs than vertices). */
+static void check_islands(const st_scheme *scheme, st_mesh *m, const char *what)
+{
+    uint32_t ni = 0;
+    double box[64][4];
+    /* The islands' boxes from level 0: faces joined by shared UV indices. */
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        double lo[2] = { 1e9, 1e9 }, hi[2] = { -1e9, -1e9 };
+        for (uint32_t c = m->face_off[f]; c < m->face_off[f + 1]; c++)
+            for (int k = 0; k < 2; k++) {
+                lo[k] = fmin(lo[k], m->uv[2 * (size_t)m->face_uv[c] + k]);
+                hi[k] = fmax(hi[k], m->uv[2 * (size_t)m->face_uv[c] + k]);
+            }
+        uint32_t i = 0;
+        while (i < ni && !(lo[0] <= box[i][2] && hi[0] >= box[i][0] && lo[1] <= box[i][3] && hi[1] >= box[i][1])) i++;
+        if (i == ni) { box[ni][0] = lo[0]; box[ni][1] = lo[1]; box[ni][2] = hi[0]; box[ni][3] = hi[1]; ni++; }
+        box[i][0] = fmin(box[i][0], lo[0]);
+        box[i][1] = fmin(box[i][1], lo[1]);
+        box[i][2] = fmax(box[i][2], hi[0]);
+        box[i][3] = fmax(box[i][3], hi[1]);
+        if (ni == 64) break;
+    }
+    st_hier h;
+    st_error err = {0};
+    CHECKF(st_hier_init(&h, m, scheme, NULL, &err) == 0 && st_hier_subdivide_to(&h, 3, &err) == 0, "%s: %s", what, err.msg);
+    for (unsigned l = 1; l <= 3; l++) {
+        st_mesh lm;
+        st_mesh_init(&lm);
+        CHECKF(st_hier_level_mesh(&h, l, &lm, &err) == 0 && lm.face_uv, "%s level %u: %s", what, l, err.msg);
+        CHECKF(lm.nuvs > lm.nverts && st_mesh_check("level", &lm, &err) == 0, "%s level %u: %u UVs, %u vertices", what, l, lm.nuvs, lm.nverts);
+        uint32_t used[64] = { 0 }, stray = 0;
+        for (uint32_t f = 0; lm.face_uv && f < lm.nfaces; f++) {
+            uint32_t i = 0, inside = 0;
+            for (; i < ni && !inside; i++) {
+                inside = 1;
+                for (uint32_t c = lm.face_off[f]; c < lm.face_off[f + 1]; c++) {
+                    const double *p = lm.uv + 2 * (size_t)lm.face_uv[c];
+                    if (p[0] < box[i][0] - 1e-12 || p[0] > box[i][2] + 1e-12 || p[1] < box[i][1] - 1e-12 || p[1] > box[i][3] + 1e-12)
+                        inside = 0;
+                }
+            }
+            if (inside) used[i - 1]++;
+            else stray++;
+        }
+        CHECKF(stray == 0, "%s level %u: %u faces straddle islands", what, l, stray);
+        for (uint32_t i = 0; i < ni; i++) CHECKF(used[i] > 0, "%s level %u: island %u unused", what, l, i);
+        st_mesh_free(&lm);
+    }
+    st_hier_free(&h);
+}
+
+static void test_stencil_seams(void)
+{
+    st_mesh m;
+    tl_mesh_octa(&m);
+    island_uvs(&m);
+    check_islands(&st_scheme_sqrt3, &m, "sqrt3 octahedron, 8 islands");
+    check_islands(&st_scheme_doosabin, &m, "doo-sabin octahedron, 8 islands");
+    st_mesh_free(&m);
+    tl_mesh_cube(&m);
+    island_uvs(&m);
+    check_islands(&st_scheme_doosabin, &m, "doo-sabin cube, 6 islands");
+    st_mesh_free(&m);
+    seam_grid(&m);
+    check_islands(&st_scheme_doosabin, &m, "doo-sabin seam grid");
+    st_mesh_free(&m);
+    seam_grid_tri(&m);
+    check_islands(&st_scheme_sqrt3, &m, "sqrt3 seam grid");
+    st_mesh_free(&m);
+}
+
+/* Sessions keep √3's and Doo-Sabin's UVs of every level byte for byte, and
+ * a loaded session refines to the same next level. */
+static void test_stencil_sessions(void)
+{
+    const st_scheme *schemes[2] = { &st_scheme_sqrt3, &st_scheme_doosabin };
+    for (int k = 0; k < 2; k++) {
+        st_mesh m;
+        if (k == 0) seam_grid_tri(&m);
+        else seam_grid(&m);
+        st_hier h;
+        st_error err = {0};
+        CHECK(st_hier_init(&h, &m, schemes[k], NULL, &err) == 0 && st_hier_subdivide_to(&h, 2, &err) == 0);
+        st_session_ref r = { .h = &h, .edit_level = 1, .display_level = 2, .base = &m };
+        st_session s;
+        if (tl_session_roundtrip(&r, schemes[k]->name, &s) == 0) {
+            CHECK(s.h.fvar && s.h.fvar->levels == 3);
+            CHECK(st_hier_subdivide_to(&s.h, 3, &err) == 0 && st_hier_subdivide_to(&h, 3, &err) == 0);
+            for (unsigned l = 0; l <= 3; l++) {
+                uint32_t n0, n1;
+                double *u0 = snap_uv(&h, l, &n0), *u1 = snap_uv(&s.h, l, &n1);
+                CHECKF(n0 == n1 && n0 > 0 && memcmp(u0, u1, 2 * n0 * sizeof *u0) == 0, "%s level %u", schemes[k]->name, l);
+                free(u0);
+                free(u1);
+            }
+            st_session_free(&s);
+        }
+        st_hier_free(&h);
+        st_mesh_free(&m);
+    }
 }
 
 /* Sessions store the UVs of every level and the base mesh's: save -> load
@@ -346,6 +585,9 @@ int main(void)
     test_ply_write_split();
     test_hier_levels();
     test_other_schemes();
+    test_stencil_affine();
+    test_stencil_seams();
+    test_stencil_sessions();
     test_interp_names();
     test_session_roundtrip();
     test_ply_read();

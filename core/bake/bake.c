@@ -23,7 +23,7 @@ size_t st_bake_estimate(const st_hier *h, const st_bake_uvs *uvs, const st_bake_
                      + (o->normal ? 3 * sizeof(float) : 0)
                      + (size_t)o->displacement * sizeof(float);
     size_t corners = uvs && uvs->corner_off ? uvs->corner_off[uvs->nfaces] : 0;
-    size_t per_corner = 7 * sizeof(double) + sizeof(uint32_t);                 /* tangent, normal, vertex */
+    size_t per_corner = 7 * sizeof(double) + 4 * sizeof(uint32_t);             /* tangent, normal, vertex, triangles */
     /* Tangents' scratch: keys, groups, sums. */
     size_t tangent_scratch = corners * (sizeof(double) * 9 + 2 * sizeof(uint32_t));
     size_t normals = 2 * 3 * sizeof(double) * (size_t)h->map.verts.end;        /* levels B and L */
@@ -41,11 +41,34 @@ typedef struct bake_ctx {
     const double *corner_tangent; /* 4 per corner of B */
     const double *corner_normal;  /* 3 per corner of B */
     const uint32_t *corner_vert;  /* vertex id per corner of B */
+    const uint32_t (*tris)[3];    /* B's faces split in UV: face f's from corner_off[f] - 2 f, absolute corners */
     const double *normal_L;       /* per vertex id of level L */
     /* The level-L triangle being rasterised. */
     const double *tri_pos[3], *tri_nrm[3];
     st_bake_maps *out;
+    st_error *err;
 } bake_ctx;
+
+/* ---- the faces of B split into triangles that do not overlap in UV ------- */
+
+static uint32_t first_tri(const st_bake_uvs *u, uint32_t f) { return u->corner_off[f] - 2 * f; }
+
+/* Each face of B split by st_bake_split_polygon, the corners made absolute:
+ * a concave quad in UV is split along the diagonal through its reflex
+ * corner, not across the outside. */
+static uint32_t (*split_base_faces(const st_bake_uvs *u))[3]
+{
+    uint32_t nf = u->nfaces, nt = u->corner_off[nf] >= 2 * nf ? u->corner_off[nf] - 2 * nf : 0;
+    uint32_t (*tris)[3] = malloc(((size_t)nt + 1) * sizeof *tris);
+    if (!tris) return NULL;
+    for (uint32_t f = 0; f < nf; f++) {
+        uint32_t a = u->corner_off[f], n = u->corner_off[f + 1] - a, t0 = first_tri(u, f);
+        unsigned k = st_bake_split_polygon(u->uv + 2 * (size_t)a, n, tris + t0);
+        for (unsigned t = 0; t < k; t++)
+            for (int j = 0; j < 3; j++) tris[t0 + t][j] += a;
+    }
+    return tris;
+}
 
 /* ---- pass 1: which face of B covers each texel, overlaps ------------------ */
 
@@ -69,11 +92,9 @@ static int claim_faces(bake_ctx *c, st_error *err)
     const st_bake_uvs *u = c->uvs;
     for (uint32_t f = 0; f < u->nfaces && c->conflict[0] == ST_NIL; f++) {
         c->face = f;
-        uint32_t a = u->corner_off[f], n = u->corner_off[f + 1] - a;
-        for (uint32_t t = 0; t + 2 < n; t++) {
+        for (uint32_t t = first_tri(u, f); t < first_tri(u, f + 1); t++) {
             double tri[3][2];
-            uint32_t idx[3] = { a, a + t + 1, a + t + 2 };
-            for (int k = 0; k < 3; k++) memcpy(tri[k], u->uv + 2 * (size_t)idx[k], sizeof tri[k]);
+            for (int k = 0; k < 3; k++) memcpy(tri[k], u->uv + 2 * (size_t)c->tris[t][k], sizeof tri[k]);
             st_bake_raster_tri(tri, c->o->size, claim_texel, c);
         }
     }
@@ -96,18 +117,18 @@ static void normalize3(double *v)
         for (int k = 0; k < 3; k++) v[k] /= len;
 }
 
-/* B's point and frame (t, b, n) at UV p inside face c->face: the fan
- * triangle of the face that holds p best (largest smallest weight), its
+/* B's point and frame (t, b, n) at UV p inside face c->face: the
+ * triangle of the face's split that holds p best (largest smallest weight), its
  * corners' positions, normals and tangents interpolated, the tangent made
  * orthogonal to the normal again and b = w · n × t, as a shader does. */
 static void base_point(const bake_ctx *c, const double p[2], double pos[3], double frame[3][3])
 {
     const st_bake_uvs *u = c->uvs;
-    uint32_t a = u->corner_off[c->face], n = u->corner_off[c->face + 1] - a;
+    uint32_t a = u->corner_off[c->face];
     double best = -INFINITY, bw[3] = { 1, 0, 0 };
     uint32_t bi[3] = { a, a, a };
-    for (uint32_t t = 0; t + 2 < n; t++) {
-        uint32_t idx[3] = { a, a + t + 1, a + t + 2 };
+    for (uint32_t t = first_tri(u, c->face); t < first_tri(u, c->face + 1); t++) {
+        const uint32_t *idx = c->tris[t];
         double tri[3][2], w[3];
         for (int k = 0; k < 3; k++) memcpy(tri[k], u->uv + 2 * (size_t)idx[k], sizeof tri[k]);
         if (!st_bake_barycentric(tri, p, w)) continue;
@@ -172,12 +193,17 @@ static void bake_texel(void *pc, uint32_t x, uint32_t y, const double w[3])
     out->mask[i] = 1;
 }
 
+/* A level-L face split as B's faces are (its children of a concave base
+ * face can be concave in UV too). */
 static int bake_fine_face(void *pc, const uint32_t *verts, const double *uv, unsigned n)
 {
     bake_ctx *c = pc;
     unsigned L = c->o->level;
-    for (unsigned t = 0; t + 2 < n; t++) {
-        unsigned idx[3] = { 0, t + 1, t + 2 };
+    uint32_t local[16][3], (*tris)[3] = n <= 18 ? local : malloc((size_t)n * sizeof *tris);
+    if (!tris) return st_fail(c->err, ST_ERR_MEMORY, "out of memory splitting a %u-gon of level %u", n, L);
+    unsigned nt = st_bake_split_polygon(uv, n, tris);
+    for (unsigned t = 0; t < nt; t++) {
+        const uint32_t *idx = tris[t];
         double tri[3][2];
         for (int k = 0; k < 3; k++) {
             tri[k][0] = uv[2 * idx[k]];
@@ -187,6 +213,7 @@ static int bake_fine_face(void *pc, const uint32_t *verts, const double *uv, uns
         }
         st_bake_raster_tri(tri, c->o->size, bake_texel, c);
     }
+    if (tris != local) free(tris);
     return ST_OK;
 }
 
@@ -289,12 +316,14 @@ int st_bake(st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o, st_bake_m
     if (rc) { free(darts); return rc; }
 
     size_t texels = (size_t)o->size * o->size, nc = uvs->corner_off[nf];
-    bake_ctx c = { .m = m, .o = o, .uvs = uvs, .out = out };
+    bake_ctx c = { .m = m, .o = o, .uvs = uvs, .out = out, .err = err };
     c.conflict[0] = c.conflict[1] = ST_NIL;
     uint32_t *owner = malloc(texels * sizeof *owner), *cvert = malloc((nc ? nc : 1) * sizeof *cvert);
     double *ctan = malloc((nc ? nc : 1) * 4 * sizeof *ctan), *cnrm = malloc((nc ? nc : 1) * 3 * sizeof *cnrm);
     double *nL = NULL;
-    if (!owner || !cvert || !ctan || !cnrm) { rc = st_fail(err, ST_ERR_MEMORY, "out of memory baking %ux%u maps", o->size, o->size); goto done; }
+    uint32_t (*tris)[3] = split_base_faces(uvs);
+    c.tris = (const uint32_t (*)[3])tris;
+    if (!owner || !cvert || !ctan || !cnrm || !tris) { rc = st_fail(err, ST_ERR_MEMORY, "out of memory baking %ux%u maps", o->size, o->size); goto done; }
     for (size_t i = 0; i < texels; i++) owner[i] = ST_NIL;
     c.owner = owner;
     rc = claim_faces(&c, err);
@@ -304,7 +333,7 @@ int st_bake(st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o, st_bake_m
     if (rc) goto done;
     for (uint32_t f = 0; f < nf; f++) {
         uint32_t x = darts[f];
-        for (uint32_t k = uvs->corner_off[f]; k < uvs->corner_off[f + 1]; k++, x = st_phi1(m, x, o->base))
+        for (uint32_t k = uvs->corner_off[f]; k < uvs->corner_off[f + 1]; k++, x = st_bake_face_next(m, x, o->base))
             cvert[k] = st_vert(m, x, o->base);
     }
     c.corner_tangent = ctan;
@@ -332,5 +361,6 @@ done:
     free(ctan);
     free(cnrm);
     free(nL);
+    free(tris);
     return rc;
 }

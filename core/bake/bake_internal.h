@@ -8,6 +8,17 @@
 
 #include "core/bake/bake.h"
 
+/* The surface's faces whichever the encoding: φ1 orbits, or β1 orbits in
+ * Doo-Sabin's dual encoding (st_map.face_embedded; scheme_doosabin.c), so
+ * that layouts and tangents follow st_hier_level_mesh's faces. */
+static inline uint32_t st_bake_face_next(const st_map *m, uint32_t d, unsigned l)
+{
+    return m->face_embedded ? st_beta1(m, d, l) : st_phi1(m, d, l);
+}
+unsigned st_bake_face_degree(const st_map *m, uint32_t d, unsigned l);
+/* The Newell vector of the surface face of d (twice its area times its normal). */
+void st_bake_face_newell(const st_map *m, uint32_t d, unsigned l, double n[3]);
+
 /* First dart of every real face of level l, in st_map_to_mesh's order. */
 int st_bake_level_faces(st_map *m, unsigned l, uint32_t **darts, uint32_t *n, st_error *err);
 
@@ -35,6 +46,14 @@ int st_bake_walk(st_map *m, uint32_t d, unsigned B, unsigned L, const double *uv
  * one of them (top-left rule on edges in a canonical order). */
 typedef void (*st_bake_texel_fn)(void *ctx, uint32_t x, uint32_t y, const double w[3]);
 void st_bake_raster_tri(const double t[3][2], uint32_t size, st_bake_texel_fn fn, void *ctx);
+
+/* Triangles of the UV polygon uv (n corners, 2 doubles each) that do not
+ * overlap in UV: corner indices in the polygon's orientation, n-2 of them
+ * written to tri (returned).  The fan from corner 0 when it is valid (every
+ * convex polygon, and a concave quad whose reflex corner is 0 or 2), else
+ * ear clipping (a quad: the diagonal through its reflex corner).  Each
+ * triangle joins three corners of the face, so UV and surface still match. */
+unsigned st_bake_split_polygon(const double *uv, unsigned n, uint32_t (*tri)[3]);
 
 /* Barycentric weights of point p in UV triangle t; 0 if degenerate. */
 int st_bake_barycentric(const double t[3][2], const double p[2], double w[3]);

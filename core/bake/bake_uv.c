@@ -49,9 +49,9 @@ static void any_orthogonal(const double *n, double *t)
 static unsigned face_plane_coords(const st_map *m, uint32_t d, unsigned l, double *xy)
 {
     double n[3], a[3];
-    st_face_newell(m, d, l, n);
+    st_bake_face_newell(m, d, l, n);
     if (!normalize3(n)) { n[0] = n[1] = 0; n[2] = 1; }
-    const double *p0 = st_dart_pos(m, d, l), *p1 = st_dart_pos(m, st_phi1(m, d, l), l);
+    const double *p0 = st_dart_pos(m, d, l), *p1 = st_dart_pos(m, st_bake_face_next(m, d, l), l);
     for (int k = 0; k < 3; k++) a[k] = p1[k] - p0[k];
     double dn = dot3(a, n);
     for (int k = 0; k < 3; k++) a[k] -= dn * n[k];
@@ -66,7 +66,7 @@ static unsigned face_plane_coords(const st_map *m, uint32_t d, unsigned l, doubl
         xy[2 * k] = dot3(r, a);
         xy[2 * k + 1] = dot3(r, b);
         k++;
-        x = st_phi1(m, x, l);
+        x = st_bake_face_next(m, x, l);
     } while (x != d);
     return k;
 }
@@ -83,7 +83,7 @@ int st_bake_auto_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err)
     out->nfaces = nf;
     if (!out->corner_off) { free(darts); return st_fail(err, ST_ERR_MEMORY, "out of memory making UVs of level %u", l); }
     out->corner_off[0] = 0;
-    for (uint32_t f = 0; f < nf; f++) out->corner_off[f + 1] = out->corner_off[f] + st_face_degree(m, darts[f], l);
+    for (uint32_t f = 0; f < nf; f++) out->corner_off[f + 1] = out->corner_off[f] + st_bake_face_degree(m, darts[f], l);
     out->uv = malloc(((size_t)out->corner_off[nf] ? out->corner_off[nf] : 1) * 2 * sizeof *out->uv);
     if (!out->uv) { free(darts); st_bake_layout_free(out); return st_fail(err, ST_ERR_MEMORY, "out of memory making UVs of level %u", l); }
     /* Plane coordinates first, then one scale for every face: the largest
@@ -132,17 +132,17 @@ int st_bake_level_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err
     out->corner_off = malloc(((size_t)nf + 1) * sizeof *out->corner_off);
     if (!out->corner_off) { free(darts); return st_fail(err, ST_ERR_MEMORY, "out of memory reading the UVs of level %u", l); }
     out->corner_off[0] = 0;
-    for (uint32_t f = 0; f < nf; f++) out->corner_off[f + 1] = out->corner_off[f] + st_face_degree(m, darts[f], l);
+    for (uint32_t f = 0; f < nf; f++) out->corner_off[f + 1] = out->corner_off[f] + st_bake_face_degree(m, darts[f], l);
     out->uv = malloc(((size_t)out->corner_off[nf] ? out->corner_off[nf] : 1) * 2 * sizeof *out->uv);
     if (!out->uv) { free(darts); st_bake_layout_free(out); return st_fail(err, ST_ERR_MEMORY, "out of memory reading the UVs of level %u", l); }
-    /* Corners from each face's first dart along φ1: st_hier_uv's order. */
+    /* Corners from each face's first dart along the face: st_hier_uv's order. */
     for (uint32_t f = 0; f < nf; f++) {
         uint32_t d = darts[f], k = out->corner_off[f];
         do {
             out->uv[2 * (size_t)k] = uv[2 * (size_t)d];
             out->uv[2 * (size_t)k + 1] = uv[2 * (size_t)d + 1];
             k++;
-            d = st_phi1(m, d, l);
+            d = st_bake_face_next(m, d, l);
         } while (d != darts[f]);
     }
     free(darts);
@@ -236,7 +236,7 @@ int st_bake_tangents(st_hier *h, unsigned l, const st_bake_uvs *uvs, double *tan
         uint32_t a = uvs->corner_off[f], n = uvs->corner_off[f + 1] - a;
         int side = uv_side(uvs->uv + 2 * (size_t)a, n);
         uint32_t x = darts[f];
-        for (uint32_t c = 0; c < n; c++, x = st_phi1(m, x, l)) {
+        for (uint32_t c = 0; c < n; c++, x = st_bake_face_next(m, x, l)) {
             vert[a + c] = st_vert(m, x, l);
             corner_key k = { vert[a + c], side, uvs->uv[2 * ((size_t)a + c)], uvs->uv[2 * ((size_t)a + c) + 1], a + c };
             keys[a + c] = k;
@@ -249,15 +249,21 @@ int st_bake_tangents(st_hier *h, unsigned l, const st_bake_uvs *uvs, double *tan
                       keys[i].u != keys[i - 1].u || keys[i].v != keys[i - 1].v)) g++;
         group[keys[i].corner] = g;
     }
-    /* Fan triangles of each face, as the renderer of the level triangulates
-     * a polygon for a game engine (corner 0 with each later edge). */
-    for (uint32_t f = 0; f < nf; f++) {
+    /* The triangles of each face as the bake rasterises it: the fan from
+     * corner 0 (as the renderer of the level triangulates a polygon for a
+     * game engine) unless that fan folds over in UV (st_bake_split_polygon). */
+    for (uint32_t f = 0; f < nf && !rc; f++) {
         uint32_t a = uvs->corner_off[f], n = uvs->corner_off[f + 1] - a;
-        for (uint32_t t = 0; t + 2 < n; t++) {
-            uint32_t tri[3] = { a, a + t + 1, a + t + 2 };
+        uint32_t local[16][3], (*tris)[3] = n <= 18 ? local : malloc((size_t)n * sizeof *tris);
+        if (!tris) { rc = st_fail(err, ST_ERR_MEMORY, "out of memory computing tangents of level %u", l); break; }
+        unsigned nt = st_bake_split_polygon(uvs->uv + 2 * (size_t)a, n, tris);
+        for (unsigned t = 0; t < nt; t++) {
+            uint32_t tri[3] = { a + tris[t][0], a + tris[t][1], a + tris[t][2] };
             add_triangle_frame(m, l, vert, uvs->uv, group, sum, tri);
         }
+        if (tris != local) free(tris);
     }
+    if (rc) goto done;
     for (size_t c = 0; c < nc; c++) {
         const double *n = vn + 3 * (size_t)vert[c], *s = sum + 6 * (size_t)group[c];
         double *t = tangents + 4 * c;

@@ -7,8 +7,59 @@
 #include <stdlib.h>
 #include <string.h>
 
+unsigned st_bake_face_degree(const st_map *m, uint32_t d, unsigned l)
+{
+    unsigned k = 0;
+    uint32_t x = d;
+    do { k++; x = st_bake_face_next(m, x, l); } while (x != d);
+    return k;
+}
+
+void st_bake_face_newell(const st_map *m, uint32_t d, unsigned l, double n[3])
+{
+    if (!m->face_embedded) { st_face_newell(m, d, l, n); return; }
+    n[0] = n[1] = n[2] = 0;
+    uint32_t x = d;
+    do {
+        uint32_t y = st_bake_face_next(m, x, l);
+        st_newell_add(n, st_dart_pos(m, x, l), st_dart_pos(m, y, l));
+        x = y;
+    } while (x != d);
+}
+
+/* The dual encoding's faces as core/map/map_mesh.c lists them: every β1
+ * orbit, those with a hole dart or under 3 corners left out. */
+static int dual_faces(st_map *m, unsigned l, uint32_t **darts, uint32_t *n, st_error *err)
+{
+    uint32_t cap = 64, k = 0;
+    uint32_t *out = malloc(cap * sizeof *out);
+    int bit = out ? st_marker_reserve(m) : -1;
+    if (bit < 0) { free(out); return st_fail(err, ST_ERR_MEMORY, "out of memory listing the faces of level %u", l); }
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_marked(m, bit, d)) continue;
+        st_mark_vertex(m, bit, d, l);
+        uint32_t x = d, deg = 0;
+        int real = 1;
+        do { real &= !st_is_boundary(m, x); deg++; x = st_beta1(m, x, l); } while (x != d);
+        if (!real || deg < 3) continue;
+        if (k == cap) {
+            uint32_t *g = realloc(out, 2 * (size_t)cap * sizeof *g);
+            if (!g) { st_marker_release(m, bit, l); free(out); return st_fail(err, ST_ERR_MEMORY, "out of memory listing the faces of level %u", l); }
+            out = g;
+            cap *= 2;
+        }
+        out[k++] = d;
+    }
+    st_marker_release(m, bit, l);
+    *darts = out;
+    *n = k;
+    return ST_OK;
+}
+
 int st_bake_level_faces(st_map *m, unsigned l, uint32_t **darts, uint32_t *n, st_error *err)
 {
+    if (m->face_embedded) return dual_faces(m, l, darts, n, err);
     st_level_stats s;
     st_level_stats_compute(m, l, &s);
     uint32_t *out = malloc((size_t)(s.faces ? s.faces : 1) * sizeof *out);
@@ -40,7 +91,7 @@ int st_bake_vertex_normals(const st_map *m, unsigned l, double **out, st_error *
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
         if (st_is_boundary(m, d)) continue;
         double f[3];
-        st_face_newell(m, d, l, f);
+        st_bake_face_newell(m, d, l, f);
         double *t = n + 3 * (size_t)st_vert(m, d, l);
         for (int k = 0; k < 3; k++) t[k] += f[k];
     }
@@ -63,7 +114,7 @@ int st_bake_check_uvs(const st_map *m, unsigned l, const uint32_t *darts, uint32
     if (uvs->corner_off[0] != 0)
         return st_fail(err, ST_ERR_INVALID, "the UVs' corner offsets do not start at 0");
     for (uint32_t f = 0; f < n; f++) {
-        uint32_t deg = st_face_degree(m, darts[f], l);
+        uint32_t deg = st_bake_face_degree(m, darts[f], l);
         if (uvs->corner_off[f + 1] < uvs->corner_off[f] || uvs->corner_off[f + 1] - uvs->corner_off[f] != deg)
             return st_fail(err, ST_ERR_INVALID, "face %u of level %u has %u corners but %d UVs",
                            f + 1, l, deg, (int)(uvs->corner_off[f + 1] - uvs->corner_off[f]));
@@ -234,6 +285,98 @@ int st_bake_walk(st_map *m, uint32_t d, unsigned B, unsigned L, const double *uv
 static double cross2(const double *a, const double *b, const double *p)
 {
     return (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+}
+
+/* ---- splitting a UV polygon into triangles ------------------------------- */
+
+static const double *corner_uv(const double *uv, uint32_t i) { return uv + 2 * (size_t)i; }
+
+/* Twice the signed area of the polygon (shoelace). */
+static double polygon_area2(const double *uv, unsigned n)
+{
+    double a = 0;
+    for (unsigned i = 0; i < n; i++) {
+        const double *p = corner_uv(uv, i), *q = corner_uv(uv, i + 1 < n ? i + 1 : 0);
+        a += p[0] * q[1] - q[0] * p[1];
+    }
+    return a;
+}
+
+static unsigned fan(unsigned n, uint32_t (*tri)[3])
+{
+    for (unsigned t = 0; t + 2 < n; t++) {
+        tri[t][0] = 0;
+        tri[t][1] = t + 1;
+        tri[t][2] = t + 2;
+    }
+    return n >= 2 ? n - 2 : 0;
+}
+
+/* The fan from corner 0 covers the polygon once when no fan triangle turns
+ * against the polygon's orientation. */
+static int fan_valid(const double *uv, unsigned n, double orient)
+{
+    for (unsigned t = 0; t + 2 < n; t++)
+        if (cross2(corner_uv(uv, 0), corner_uv(uv, t + 1), corner_uv(uv, t + 2)) * orient < 0) return 0;
+    return 1;
+}
+
+/* Point p inside or on triangle (a, b, c) of orientation orient. */
+static int in_triangle(const double *a, const double *b, const double *c, const double *p, double orient)
+{
+    return cross2(a, b, p) * orient >= 0 && cross2(b, c, p) * orient >= 0 && cross2(c, a, p) * orient >= 0;
+}
+
+/* Corner i of the remaining polygon rest[0..m) is an ear: convex, and no
+ * other remaining corner (at another position) inside its triangle. */
+static int is_ear(const double *uv, const uint32_t *rest, unsigned m, unsigned i, double orient)
+{
+    const double *a = corner_uv(uv, rest[(i + m - 1) % m]), *b = corner_uv(uv, rest[i]), *c = corner_uv(uv, rest[(i + 1) % m]);
+    if (cross2(a, b, c) * orient <= 0) return 0;
+    for (unsigned j = 0; j < m; j++) {
+        const double *p = corner_uv(uv, rest[j]);
+        if (p == a || p == b || p == c) continue;
+        if ((p[0] == a[0] && p[1] == a[1]) || (p[0] == c[0] && p[1] == c[1])) continue;
+        if (in_triangle(a, b, c, p, orient)) return 0;
+    }
+    return 1;
+}
+
+/* Ear clipping (Meisters 1975); rest holds n corner indices.  A polygon
+ * with no ear left (self-intersecting in UV) ends as a fan of the rest. */
+static unsigned ear_clip(const double *uv, unsigned n, double orient, uint32_t *rest, uint32_t (*tri)[3])
+{
+    unsigned m = n, k = 0;
+    for (unsigned i = 0; i < n; i++) rest[i] = i;
+    while (m > 3) {
+        unsigned i = 0;
+        while (i < m && !is_ear(uv, rest, m, i, orient)) i++;
+        if (i == m) break;
+        tri[k][0] = rest[(i + m - 1) % m];
+        tri[k][1] = rest[i];
+        tri[k][2] = rest[(i + 1) % m];
+        k++;
+        memmove(rest + i, rest + i + 1, (m - i - 1) * sizeof *rest);
+        m--;
+    }
+    for (unsigned t = 0; t + 2 < m; t++, k++) {
+        tri[k][0] = rest[0];
+        tri[k][1] = rest[t + 1];
+        tri[k][2] = rest[t + 2];
+    }
+    return k;
+}
+
+unsigned st_bake_split_polygon(const double *uv, unsigned n, uint32_t (*tri)[3])
+{
+    double orient = polygon_area2(uv, n);
+    if (n <= 3 || orient == 0 || !isfinite(orient) || fan_valid(uv, n, orient)) return fan(n, tri);
+    uint32_t local[64];
+    uint32_t *rest = n <= 64 ? local : malloc(n * sizeof *rest);
+    if (!rest) return fan(n, tri);
+    unsigned k = ear_clip(uv, n, orient, rest, tri);
+    if (rest != local) free(rest);
+    return k;
 }
 
 /* The edge function of a→b at p computed with the endpoints in a canonical

@@ -90,21 +90,24 @@ void st_fvar_free(st_hier *h)
 
 /* ---- level 0 ---------------------------------------------------------------- */
 
-/* The dart of level 0 leaving u along the real face whose next vertex is w. */
+/* The dart of level 0 leaving u along the real face whose next vertex is w.
+ * In Doo-Sabin's dual encoding a surface face is a β1 orbit and a surface
+ * vertex a φ1 orbit (scheme_doosabin.c): the corner is still one dart. */
 static uint32_t corner_dart(const st_map *m, uint32_t start, uint32_t w)
 {
+    int dual = m->face_embedded;
     uint32_t x = start;
     do {
-        if (!st_is_boundary(m, x) && st_vert(m, st_phi1(m, x, 0), 0) == w) return x;
-        x = st_beta1(m, x, 0);
+        uint32_t next = dual ? st_beta1(m, x, 0) : st_phi1(m, x, 0);
+        if (!st_is_boundary(m, x) && st_vert(m, next, 0) == w) return x;
+        x = dual ? st_phi1(m, x, 0) : st_beta1(m, x, 0);
     } while (x != start);
     return ST_NIL;
 }
 
 int st_fvar_init(st_hier *h, const st_mesh *mesh, int interp, st_error *err)
 {
-    /* Doo-Sabin's dual encoding has no corner darts to carry them. */
-    if (!mesh->face_uv || h->map.face_embedded) return ST_OK;
+    if (!mesh->face_uv) return ST_OK;
     st_map *m = &h->map;
     st_fvar *f = calloc(1, sizeof *f);
     uint32_t *vdart = malloc((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vdart);
@@ -143,7 +146,7 @@ int st_fvar_init(st_hier *h, const st_mesh *mesh, int interp, st_error *err)
 
 /* ---- the children of level l, written into level L ----------------------- */
 
-enum rules { RULES_CATMARK, RULES_LOOP, RULES_LINEAR };
+enum rules { RULES_CATMARK, RULES_LOOP, RULES_LINEAR, RULES_STENCIL };
 
 /* The children are written straight into level L's arrays (no scratch per
  * dart): the vertex child of coarse corner d at d itself, the edge child of
@@ -585,23 +588,33 @@ static int rules_of(const st_hier *h)
     case ST_SCHEME_LOOP: return RULES_LOOP;
     case ST_SCHEME_BUTTERFLY:
     case ST_SCHEME_QUADTRI: return RULES_LINEAR;
+    case ST_SCHEME_SQRT3:
+    case ST_SCHEME_DOOSABIN: return RULES_STENCIL;
     default: return -1;
     }
 }
 
 int st_fvar_continues(const st_hier *h)
 {
-    return h->fvar && h->fvar->levels == h->map.top + 1 && rules_of(h) >= 0 && !h->map.face_embedded;
+    return h->fvar && h->fvar->levels == h->map.top + 1 && rules_of(h) >= 0;
 }
 
 int st_fvar_refine(st_hier *h, st_error *err)
 {
     st_fvar *f = h->fvar;
     unsigned L = h->map.top;
-    if (L == 0 || !f || f->levels != L || rules_of(h) < 0 || h->map.face_embedded) return ST_OK;
+    if (L == 0 || !f || f->levels != L || rules_of(h) < 0) return ST_OK;
     st_map *m = &h->map;
     if (level_alloc(&f->lv[L], m->darts.end))
         return st_fail(err, ST_ERR_MEMORY, "out of memory subdividing texture coordinates to level %u", L);
+    if (rules_of(h) == RULES_STENCIL) {
+        if (st_fvar_refine_stencil(h, &f->lv[L - 1], &f->lv[L])) {
+            level_free(&f->lv[L]);
+            return st_fail(err, ST_ERR_MEMORY, "out of memory subdividing texture coordinates to level %u", L);
+        }
+        f->levels = L + 1;
+        return ST_OK;
+    }
     work w = { .h = h, .m = m, .l = L - 1, .L = L, .interp = f->interp, .rules = rules_of(h) };
     w.uv = f->lv[L - 1].uv;
     w.val = f->lv[L - 1].val;
@@ -684,10 +697,34 @@ static int cmp_key(const void *pa, const void *pb)
     return (a->corner > b->corner) - (a->corner < b->corner);
 }
 
+/* The corners of level l in the face walk of st_map_to_mesh
+ * (core/map/map_mesh.c): φ1 orbits, or in the dual encoding β1 orbits,
+ * faces with a hole dart or under 3 corners left out. */
+static uint32_t level_corners(st_map *m, unsigned l, uint32_t *darts, uint32_t nc)
+{
+    int dual = m->face_embedded, fbit = st_marker_reserve(m);
+    uint32_t c = 0;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL && c < nc; d = st_dart_next(m, l, &it)) {
+        if ((!dual && st_is_boundary(m, d)) || st_marked(m, fbit, d)) continue;
+        uint32_t x = d, start = c;
+        int real = 1;
+        do {
+            st_mark(m, fbit, x);
+            if (st_is_boundary(m, x)) real = 0;
+            else if (c < nc) darts[c++] = x;
+            x = dual ? st_beta1(m, x, l) : st_phi1(m, x, l);
+        } while (x != d);
+        if (dual && (!real || c - start < 3)) c = start;
+    }
+    st_marker_release(m, fbit, l);
+    return c;
+}
+
 int st_fvar_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err)
 {
     const double *uv = st_hier_uv(h, l);
-    if (!uv || h->map.face_embedded) return ST_OK;
+    if (!uv) return ST_OK;
     st_map *m = &h->map;
     const uint32_t *val = h->fvar->lv[l].val;
     uint32_t nc = out->nfaces ? out->face_off[out->nfaces] : 0;
@@ -704,22 +741,8 @@ int st_fvar_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err)
         out->uv = NULL;
         return st_fail(err, ST_ERR_MEMORY, "out of memory extracting the texture coordinates of level %u", l);
     }
-    /* The face walk of st_map_to_mesh (core/map/map_mesh.c). */
-    int fbit = st_marker_reserve(m);
-    uint32_t c = 0;
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL && c < nc; d = st_dart_next(m, l, &it)) {
-        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
-        uint32_t x = d;
-        do {
-            st_mark(m, fbit, x);
-            darts[c] = x;
-            k[c] = (uv_key){ out->face_idx[c], val[x], c };
-            c++;
-            x = st_phi1(m, x, l);
-        } while (x != d && c < nc);
-    }
-    st_marker_release(m, fbit, l);
+    uint32_t c = level_corners(m, l, darts, nc);
+    for (uint32_t i = 0; i < c; i++) k[i] = (uv_key){ out->face_idx[i], val[darts[i]], i };
     /* One texture coordinate per (vertex, value): seams stay seams. */
     qsort(k, c, sizeof *k, cmp_key);
     uint32_t nuv = 0;

@@ -7,8 +7,10 @@
  * face-varying rules and FVarLinearInterpolation options for Catmull-Clark
  * and Loop, linear interpolation for Butterfly and quad/triangle.  UV seams
  * (two corners of a vertex naming different texture coordinates) behave as
- * face-varying boundaries.  √3, Doo-Sabin and progressive hierarchies keep
- * the UVs of level 0 only.  Sculpting never changes UVs.
+ * face-varying boundaries.  √3 and Doo-Sabin apply their own stencils to
+ * the UVs, with seams as boundaries (core/fvar/fvar_stencil.c);
+ * progressive hierarchies keep the UVs of level 0 only.  Sculpting never
+ * changes UVs.
  */
 #ifndef ST_FVAR_H
 #define ST_FVAR_H

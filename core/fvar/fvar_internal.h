@@ -36,6 +36,9 @@ void st_fvar_free(struct st_hier *h);
 /* After level L = top was added by the scheme's refine(): its UVs from
  * level L-1 (primal quadrisection schemes; others leave level L without). */
 int st_fvar_refine(struct st_hier *h, st_error *err);
+/* Level top's UVs and labels for √3 and Doo-Sabin (fvar_stencil.c), from
+ * level top-1's; -1 when out of memory. */
+int st_fvar_refine_stencil(struct st_hier *h, const st_fvar_level *coarse, st_fvar_level *fine);
 /* Whether the next level will get UVs (the estimate of its memory counts
  * ST_FVAR_BYTES_PER_DART per dart of that level then). */
 int st_fvar_continues(const struct st_hier *h);

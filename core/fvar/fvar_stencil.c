@@ -1,0 +1,295 @@
+/* Face-varying UVs for the schemes that are not primal quadrisections:
+ * √3 (Kobbelt 2000; Kraemer 2008 §3.4.2) and Doo-Sabin through its dual
+ * encoding (Kraemer 2008 §3.2.1).  Rules: docs/SUBDIVISION-RULES.md §7b.
+ *
+ * Both schemes describe every vertex of level L by a stencil over level L-1
+ * (st_scheme.emit).  The UVs follow the positions' own stencils wherever
+ * that is well defined, and the surface's charts elsewhere:
+ *   - a fine vertex whose stencil reads only coarse vertices that have one
+ *     face-varying value each takes the stencil applied to those values, on
+ *     all its corners (so UVs that are an affine function of the positions
+ *     stay one at every level, seams or not further away);
+ *   - otherwise each fine face is assigned a home: one coarse face whose
+ *     chart it uses (faces_of_level).  A corner at a kept vertex (√3) takes the home face's UV
+ *     at that vertex.  A corner at a new vertex with source face S (the
+ *     coarse face its stencil's frame names: √3's face centre and boundary
+ *     points, Doo-Sabin's corner (F, g)) takes the stencil restricted to the
+ *     corners of S, renormalised, with S's UVs, when S is the home or meets
+ *     it with equal values at every shared vertex; across a seam it takes
+ *     the stencil restricted to the home's corners instead (the seam acts as
+ *     a boundary: the part of the fine face beyond it is pressed onto it).
+ * Value labels of level L: corners of one vertex with bitwise equal UVs
+ * share one (the smallest of their dart ids).
+ */
+#include "core/fvar/fvar_internal.h"
+#include "core/multires/hier.h"
+#include "core/schemes/scheme.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+enum { V_NONE = 0, V_KEPT, V_SOURCED };
+enum { VALUE_NONE = 0, VALUE_ONE, VALUE_MANY };
+
+typedef struct stencil_uv {
+    st_map *m;
+    unsigned l, L;
+    const double *uv;          /* level l, per dart */
+    const uint32_t *val;
+    double *out;               /* level L, per dart */
+    /* level l, per vertex id: whether its corners share one value, and it */
+    uint8_t *values;
+    double *vuv;
+    uint32_t *vdart;           /* a real corner of the vertex */
+    uint32_t *face;            /* level l, per dart: its face's id (a dart of it) */
+    /* level L, per vertex id */
+    uint8_t *kind, *smooth;
+    double *suv;
+    uint32_t *src_face, *off, *cnt;
+    /* the stencils of V_SOURCED vertices that are not smooth, flat */
+    uint32_t *src;
+    double *w;
+    size_t n, cap;
+    int failed;
+} stencil_uv;
+
+/* The surface's face orbit: φ1, or β1 in the dual encoding. */
+static uint32_t face_next(const st_map *m, uint32_t d, unsigned l)
+{
+    return m->face_embedded ? st_beta1(m, d, l) : st_phi1(m, d, l);
+}
+
+/* The surface's vertex orbit (around vert(d)): β1, or φ1 in the dual encoding. */
+static uint32_t vertex_next(const st_map *m, uint32_t d, unsigned l)
+{
+    return m->face_embedded ? st_phi1(m, d, l) : st_beta1(m, d, l);
+}
+
+/* The corner of face f (a dart of level l) at vertex v, or ST_NIL. */
+static uint32_t corner_at(const stencil_uv *s, uint32_t f, uint32_t v)
+{
+    uint32_t x = f;
+    do {
+        if (st_vert(s->m, x, s->l) == v) return x;
+        x = face_next(s->m, x, s->l);
+    } while (x != f);
+    return ST_NIL;
+}
+
+static int push_entry(stencil_uv *s, uint32_t v, double w)
+{
+    if (s->n == s->cap) {
+        size_t cap = s->cap ? 2 * s->cap : 1024;
+        uint32_t *src = realloc(s->src, cap * sizeof *src);
+        if (src) s->src = src;
+        double *ww = realloc(s->w, cap * sizeof *ww);
+        if (ww) s->w = ww;
+        if (!src || !ww) return -1;
+        s->cap = cap;
+    }
+    s->src[s->n] = v;
+    s->w[s->n++] = w;
+    return 0;
+}
+
+static void sink(void *ctx, const st_stencil *st)
+{
+    stencil_uv *s = ctx;
+    const st_map *m = s->m;
+    uint32_t v = st->fine;
+    double u[2] = { 0, 0 };
+    int smooth = st->n > 0;
+    for (uint32_t i = 0; i < st->n; i++) {
+        uint32_t a = st->src[i];
+        if (s->values[a] != VALUE_ONE) smooth = 0;
+        else for (int k = 0; k < 2; k++) u[k] += st->w[i] * s->vuv[2 * (size_t)a + k];
+    }
+    s->smooth[v] = (uint8_t)smooth;
+    s->suv[2 * (size_t)v] = u[0];
+    s->suv[2 * (size_t)v + 1] = u[1];
+    if (st->frame_cell == ST_CELL_VERTEX) { s->kind[v] = V_KEPT; return; }
+    uint32_t f = st->frame_dart;
+    if (st_is_boundary(m, f)) f = st_beta0(m, f, s->l);
+    if (st_is_boundary(m, f)) { s->kind[v] = V_NONE; return; }
+    s->kind[v] = V_SOURCED;
+    s->src_face[v] = s->face[f];
+    if (smooth) return; /* its corners never read the stencil again */
+    s->off[v] = (uint32_t)s->n;
+    s->cnt[v] = st->n;
+    for (uint32_t i = 0; i < st->n && !s->failed; i++)
+        if (push_entry(s, st->src[i], st->w[i])) s->failed = 1;
+}
+
+/* Vertex v's stencil restricted to the corners of face f, renormalised,
+ * with f's UVs; 0 when no source lies on f. */
+static int restricted(const stencil_uv *s, uint32_t v, uint32_t f, double out[2])
+{
+    double acc[2] = { 0, 0 }, sum = 0;
+    for (uint32_t i = 0; i < s->cnt[v]; i++) {
+        uint32_t c = corner_at(s, f, s->src[s->off[v] + i]);
+        if (c == ST_NIL) continue;
+        double w = s->w[s->off[v] + i];
+        acc[0] += w * s->uv[2 * (size_t)c];
+        acc[1] += w * s->uv[2 * (size_t)c + 1];
+        sum += w;
+    }
+    if (sum <= 0) return 0;
+    out[0] = acc[0] / sum;
+    out[1] = acc[1] / sum;
+    return 1;
+}
+
+/* Faces a and b of level l share a vertex and hold equal values at every
+ * vertex they share (no seam between them). */
+static int continuous(const stencil_uv *s, uint32_t a, uint32_t b)
+{
+    uint32_t x = a, shared = 0;
+    do {
+        uint32_t y = corner_at(s, b, st_vert(s->m, x, s->l));
+        if (y != ST_NIL) {
+            if (s->val[x] != s->val[y]) return 0;
+            shared++;
+        }
+        x = face_next(s->m, x, s->l);
+    } while (x != a);
+    return shared > 0;
+}
+
+static void corner_uv(const stencil_uv *s, uint32_t x, uint32_t home, double out[2])
+{
+    uint32_t v = st_vert(s->m, x, s->L);
+    const double *p = NULL;
+    if (s->smooth[v] || s->kind[v] == V_NONE) {
+        p = s->suv + 2 * (size_t)v;
+    } else if (s->kind[v] == V_KEPT) {
+        uint32_t c = home != ST_NIL ? corner_at(s, home, v) : ST_NIL;
+        p = s->uv + 2 * (size_t)(c != ST_NIL ? c : s->vdart[v]);
+    } else {
+        uint32_t S = s->src_face[v];
+        if (home == ST_NIL || S == home || continuous(s, S, home) || !restricted(s, v, home, out))
+            if (!restricted(s, v, S, out)) p = s->suv + 2 * (size_t)v;
+    }
+    if (p) { out[0] = p[0]; out[1] = p[1]; }
+}
+
+/* Every real face of level L: its home, then its corners.  The home is the
+ * coarse face of an old dart that the fine face keeps (√3: each fine
+ * triangle keeps one, so the two triangles across a flipped seam edge go
+ * one to each side; Doo-Sabin: the F-faces), else the smallest source face
+ * among its corners (Doo-Sabin's E- and V-faces). */
+static void faces_of_level(stencil_uv *s)
+{
+    st_map *m = s->m;
+    unsigned L = s->L;
+    int fb = st_marker_reserve(m);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, L, &it); d != ST_NIL; d = st_dart_next(m, L, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fb, d)) continue;
+        uint32_t home = ST_NIL, source = ST_NIL, x = d;
+        do {
+            st_mark(m, fb, x);
+            uint32_t v = st_vert(m, x, L);
+            if (m->darts.ins[x] < L && (home == ST_NIL || s->face[x] < home)) home = s->face[x];
+            if (s->kind[v] == V_SOURCED && (source == ST_NIL || s->src_face[v] < source)) source = s->src_face[v];
+            x = face_next(m, x, L);
+        } while (x != d);
+        if (home == ST_NIL) home = source;
+        do {
+            corner_uv(s, x, home, s->out + 2 * (size_t)x);
+            x = face_next(m, x, L);
+        } while (x != d);
+    }
+    st_marker_release(m, fb, L);
+}
+
+/* Labels of level L: per vertex, corners with bitwise equal UVs share the
+ * smallest of their dart ids. */
+static void label_level(stencil_uv *s, uint32_t *label)
+{
+    st_map *m = s->m;
+    unsigned L = s->L;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, L, &it); d != ST_NIL; d = st_dart_next(m, L, &it)) {
+        if (st_is_boundary(m, d)) continue;
+        const double *p = s->out + 2 * (size_t)d;
+        uint32_t best = d, y = vertex_next(m, d, L);
+        while (y != d) {
+            const double *q = s->out + 2 * (size_t)y;
+            if (!st_is_boundary(m, y) && y < best && !memcmp(p, q, 2 * sizeof *p)) best = y;
+            y = vertex_next(m, y, L);
+        }
+        label[d] = best;
+    }
+}
+
+/* Per vertex of level l: one value or several; per dart: its face's id. */
+static void classify_level(stencil_uv *s)
+{
+    st_map *m = s->m;
+    unsigned l = s->l;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d)) continue;
+        uint32_t v = st_vert(m, d, l);
+        if (s->values[v] == VALUE_NONE) {
+            s->values[v] = VALUE_ONE;
+            s->vdart[v] = d;
+            s->vuv[2 * (size_t)v] = s->uv[2 * (size_t)d];
+            s->vuv[2 * (size_t)v + 1] = s->uv[2 * (size_t)d + 1];
+        } else if (s->val[s->vdart[v]] != s->val[d]) {
+            s->values[v] = VALUE_MANY;
+        }
+    }
+    int fb = st_marker_reserve(m);
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fb, d)) continue;
+        uint32_t x = d;
+        do { st_mark(m, fb, x); s->face[x] = d; x = face_next(m, x, l); } while (x != d);
+    }
+    st_marker_release(m, fb, l);
+}
+
+static void stencil_free(stencil_uv *s)
+{
+    free(s->values);
+    free(s->vuv);
+    free(s->vdart);
+    free(s->face);
+    free(s->kind);
+    free(s->smooth);
+    free(s->suv);
+    free(s->src_face);
+    free(s->off);
+    free(s->cnt);
+    free(s->src);
+    free(s->w);
+}
+
+int st_fvar_refine_stencil(st_hier *h, const st_fvar_level *coarse, st_fvar_level *fine)
+{
+    st_map *m = &h->map;
+    size_t nv = (size_t)m->verts.end + 1, nd = (size_t)m->darts.end + 1;
+    stencil_uv s = { .m = m, .L = m->top, .l = m->top - 1, .uv = coarse->uv, .val = coarse->val, .out = fine->uv };
+    s.values = calloc(nv, 1);
+    s.vuv = calloc(2 * nv, sizeof *s.vuv);
+    s.vdart = calloc(nv, sizeof *s.vdart);
+    s.face = calloc(nd, sizeof *s.face);
+    s.kind = calloc(nv, 1);
+    s.smooth = calloc(nv, 1);
+    s.suv = calloc(2 * nv, sizeof *s.suv);
+    s.src_face = calloc(nv, sizeof *s.src_face);
+    s.off = calloc(nv, sizeof *s.off);
+    s.cnt = calloc(nv, sizeof *s.cnt);
+    int rc = -1;
+    if (s.values && s.vuv && s.vdart && s.face && s.kind && s.smooth && s.suv && s.src_face && s.off && s.cnt) {
+        classify_level(&s);
+        h->scheme->emit(h, s.L, NULL, 0, sink, &s);
+        if (!s.failed) {
+            faces_of_level(&s);
+            label_level(&s, fine->val);
+            rc = 0;
+        }
+    }
+    stencil_free(&s);
+    return rc;
+}
