@@ -132,7 +132,7 @@ static int uv_keys_free(const st_app *a)
 /* File: the dialogs are the GUI's (ui/gui.cc); a key opens them and shows
  * the GUI if it was hidden. */
 static void open_file(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_OPEN); }
-static void save(st_app *a) { st_app_save(a); }
+static void save(st_app *a) { st_app_request_save(a); }
 static void save_as(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_SAVE_AS); }
 static void export_mesh(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_EXPORT); }
 static void restore_recovery(st_app *a) { st_app_restore_recovery(a); }
@@ -233,7 +233,7 @@ static void edit_level_up(st_app *a) { step_level(a, 0, 1); }
 static void edit_level_down(st_app *a) { step_level(a, 0, 0); }
 static void display_level_up(st_app *a) { step_level(a, 1, 1); }
 static void display_level_down(st_app *a) { step_level(a, 1, 0); }
-static void add_level(st_app *a) { st_app_add_level(a); }
+static void add_level(st_app *a) { st_app_request_add_level(a); }
 static void delete_finest(st_app *a)
 {
     st_error err;
@@ -252,7 +252,7 @@ static void scheme_confirm(st_app *a)
 {
     const char *s = a->pending_scheme;
     a->pending_scheme = NULL;
-    st_app_change_scheme(a, s);
+    st_app_request_scheme(a, s);
 }
 static void scheme_keep(st_app *a)
 {

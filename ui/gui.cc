@@ -652,11 +652,12 @@ void keys_window(st_app *a)
     if (!open) a->help = 0;
 }
 
-/* What the window is doing on its worker thread (jobs.c): the stage and,
- * when the editor reports steps ("step 3 of 6"), how far it is.  A job that
- * can be cancelled (rebuilding the levels) has a Cancel button, as Esc:
- * the worker stops at its next progress report and the model stays as it
- * was (st_doc_rebuild_levels works on a copy). */
+/* What the window is doing on its worker thread (jobs.c): the stage and
+ * how far it is (the fraction the editor reports, else its steps, "step 3
+ * of 6").  Jobs (opening, adding a level, a scheme change, saving,
+ * rebuilding the levels) have a Cancel button, as Esc: the worker stops at
+ * its next progress report and the model stays as it was (editor.h,
+ * st_doc_*_progress). */
 void progress_window(st_app *a)
 {
     if (!a->working[0]) return;
@@ -671,7 +672,9 @@ void progress_window(st_app *a)
     char over[32];
     if (steps) snprintf(over, sizeof over, "step %u of %u", step, steps);
     else snprintf(over, sizeof over, "working...");
-    ImGui::ProgressBar(steps ? (float)step / (float)steps : 0.0f, ImVec2(-1, 0), over);
+    double fraction = st_app_job_fraction();
+    if (fraction >= 0) snprintf(over, sizeof over, "%.0f %%", 100 * fraction);
+    ImGui::ProgressBar(fraction >= 0 ? (float)fraction : steps ? (float)step / (float)steps : 0.0f, ImVec2(-1, 0), over);
     if (st_app_job_cancellable()) {
         bool asked = st_app_job_cancelling();
         if (asked) ImGui::BeginDisabled();
