@@ -127,11 +127,15 @@ typedef struct ed_span {
     int stopped;               /* the callback asked to cancel */
 } ed_span;
 
+/* The point at x of [lo, hi], the ends exactly: a stage's 1 is the next
+ * one's 0, never above it, and the reports never go back. */
+static double span_at(double lo, double hi, double x) { return x <= 0 ? lo : x >= 1 ? hi : lo + x * (hi - lo); }
+
 static int span_report(void *p, double f)
 {
     ed_span *s = p;
     if (!s->fn) return 0;
-    if (s->fn(s->ctx, s->lo + f * (s->hi - s->lo))) s->stopped = 1;
+    if (s->fn(s->ctx, span_at(s->lo, s->hi, f))) s->stopped = 1;
     return s->stopped;
 }
 
@@ -150,7 +154,7 @@ static int build_levels(const st_doc *d, st_hier *h, unsigned levels, size_t bud
                         st_error *err)
 {
     unsigned from = h->map.top;
-    double total = 0, done = 0, lo = sp->lo, width = sp->hi - sp->lo;
+    double total = 0, done = 0;
     for (unsigned l = from + 1; l <= levels; l++) total += ldexp(1.0, 2 * (int)(l - from));
     while (h->map.top < levels) {
         char what[64];
@@ -163,7 +167,7 @@ static int build_levels(const st_doc *d, st_hier *h, unsigned levels, size_t bud
                            "and the memory budget is %.1f MiB",
                            h->map.top + 1, need, mib(need), mib(have), mib(budget));
         double w = ldexp(1.0, 2 * (int)(h->map.top + 1 - from));
-        ed_span level = { sp->fn, sp->ctx, lo + width * done / total, lo + width * (done + w) / total, 0 };
+        ed_span level = { sp->fn, sp->ctx, span_at(sp->lo, sp->hi, done / total), span_at(sp->lo, sp->hi, (done + w) / total), 0 };
         int rc = st_hier_subdivide_to_progress(h, h->map.top + 1, span_report, &level, err);
         sp->stopped |= level.stopped;
         if (rc) return rc;

@@ -23,5 +23,8 @@ int st_doc_save_session(const st_doc *d, const char *path, const st_session_view
         .layers = &d->layers,
         .mask = &d->mask,
     };
+    /* The first report before anything is written (core's come after each
+     * buffer). */
+    if (progress && progress(ctx, 0)) return st_fail(err, ST_ERR_INVALID, "%s: cancelled (the file is as it was)", path);
     return st_session_save_ref_progress(path, &r, progress, ctx, err);
 }

@@ -182,14 +182,16 @@ static int run_job(st_app *a, doc_job *j, const char *what)
     }
     double t0 = st_now_ms(), next = t0 + 150;
     int shown = a->working[0] != 0;   /* show_working() already said it */
-    /* Every job runs from the main loop (st_app_run_requested, the GUI's
-     * pending actions, the start), never from a GLFW callback, so events
-     * can be polled: only Esc and the progress window's Cancel are
-     * listened to, the window's other handlers are off until the job ends
-     * (replays deliver their own events, none during a job, unless real
-     * input is let through: STRATA_REPLAY_LIVE=1, window.c). */
+    /* Jobs run from the main loop (st_app_run_requested, the GUI's pending
+     * actions), never from a GLFW callback, so events can be polled: only
+     * Esc and the progress window's Cancel are listened to, the window's
+     * other handlers are off until the job ends (replays deliver their own
+     * events, none during a job, unless real input is let through:
+     * STRATA_REPLAY_LIVE=1, window.c).  The opening of the file given at
+     * start, before the main loop, is not cancelled: there is no model to
+     * go back to. */
     const char *live = getenv("STRATA_REPLAY_LIVE");
-    int poll = !a->replay || (live && live[0] == '1');
+    int poll = g_loop_started && (!a->replay || (live && live[0] == '1'));
     GLFWkeyfun keyfun = NULL;
     GLFWmousebuttonfun buttonfun = NULL;
     GLFWcursorposfun cursorfun = NULL;
@@ -258,7 +260,7 @@ int st_app_open(st_app *a, const char *path)
     const char *scheme = a->opts.scheme ? a->opts.scheme : (a->doc.loaded && a->doc.scheme ? a->doc.scheme->name : "catmull-clark");
     double t0 = st_now_ms();
     char what[300];
-    snprintf(what, sizeof what, "working... opening %s (Esc cancels)", st_path_base(path));
+    snprintf(what, sizeof what, "working... opening %s%s", st_path_base(path), g_loop_started ? " (Esc cancels)" : "");
     doc_job j = { .kind = JOB_OPEN, .path = path, .scheme = scheme, .levels = levels };
     int rc = run_job(a, &j, what);
     err = j.err;
