@@ -148,14 +148,25 @@ void probe_write(st_app *a)
     if (g.probe_dir.empty()) return;
     const st_doc *d = &a->doc;
     char b[512];
-    snprintf(b, sizeof b, "frame %llu\nbusy %d\nloaded %d\ntop %u\nbox_on %d\nundo %u\nradius %.6g\nbox_size %.6g %.6g %.6g\n",
-             g.frames, a->busy, d->loaded, d->loaded ? d->h.map.top : 0, d->box_on, d->undo_pos, d->brush.radius,
-             d->box.box_hi[0] - d->box.box_lo[0], d->box.box_hi[1] - d->box.box_lo[1], d->box.box_hi[2] - d->box.box_lo[2]);
+    snprintf(b, sizeof b, "frame %llu\nbusy %d\n", g.frames, a->busy);
     std::string text = b;
-    text += "file " + std::string(d->loaded ? st_path_base(d->path) : "-") + "\n";
-    text += "tool " + std::string(a->tool == ST_TOOL_SELECT ? "select" : st_brush_name(a->tool)) + "\n";
-    snprintf(b, sizeof b, "strength %.6g\nscale %g\n", d->brush.strength, g.scale);
+    /* The document's values as of the last frame without a job: a job's
+     * worker thread owns the document meanwhile (jobs.c). */
+    static std::string doc_values;
+    if (!a->busy) {
+        snprintf(b, sizeof b, "loaded %d\ntop %u\nbox_on %d\nundo %u\nradius %.6g\nbox_size %.6g %.6g %.6g\n", d->loaded,
+                 d->loaded ? d->h.map.top : 0, d->box_on, d->undo_pos, d->brush.radius, d->box.box_hi[0] - d->box.box_lo[0],
+                 d->box.box_hi[1] - d->box.box_lo[1], d->box.box_hi[2] - d->box.box_lo[2]);
+        doc_values = b;
+        doc_values += "file " + std::string(d->loaded ? st_path_base(d->path) : "-") + "\n";
+        doc_values += "tool " + std::string(a->tool == ST_TOOL_SELECT ? "select" : st_brush_name(a->tool)) + "\n";
+        snprintf(b, sizeof b, "strength %.6g\n", d->brush.strength);
+        doc_values += b;
+    }
+    text += doc_values;
+    snprintf(b, sizeof b, "scale %g\n", g.scale);
     text += b;
+    text += "message " + std::string(a->msg) + "\n";   /* the last notification (st_app_message) */
     text += "dialog " + std::string(g.dlg_open ? "1" : "0") + "\n";
     text += g.probe;
     std::string path = g.probe_dir + "/gui", tmp = path + ".tmp";
