@@ -277,6 +277,7 @@ int st_app_open(st_app *a, const char *path)
     a->shown_valid = 0;
     a->hover_vid = ST_NIL;
     a->op = ST_OP_NONE;
+    a->untitled = 0;
     st_app_sync(a);
     a->autosave_dirty = 0;   /* opening is not an edit */
     st_app_frame_model(a);
@@ -290,6 +291,29 @@ int st_app_open(st_app *a, const char *path)
     char t[32];
     st_app_message(a, 0, "opened %s (%s, %u levels) in %s", st_path_base(path), a->doc.scheme->name, a->doc.h.map.top,
                    st_app_fmt_ms(a, st_now_ms() - t0, t, sizeof t));
+    return 0;
+}
+
+/* File > Import... (README "Modeller"): Open... opens a document, a
+ * .strata session or a mesh file, which then names it (Save writes
+ * STEM.strata, Open Recent keeps it); Import... reads a mesh format only,
+ * as a new untitled document, as Blender's File > Import: the file is a
+ * source, not the document, so it is not in Open Recent and Save asks
+ * where to write the session. */
+int st_app_import(st_app *a, const char *path)
+{
+    if (st_session_is_path(path)) {
+        st_app_message(a, 1, "cannot import %s: a .strata session opens with File > Open...", st_path_base(path));
+        return -1;
+    }
+    int rc = st_app_open(a, path);
+    if (rc) return rc;
+    a->untitled = 1;
+    char title[512];
+    snprintf(title, sizeof title, "Strata - untitled (imported %s)", st_path_base(path));
+    glfwSetWindowTitle(a->win, title);
+    st_app_message(a, 0, "imported %s as a new document (%s, %u levels): Save asks for a name", st_path_base(path),
+                   a->doc.scheme->name, a->doc.h.map.top);
     return 0;
 }
 

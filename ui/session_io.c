@@ -15,6 +15,7 @@
 #include <GLFW/glfw3.h>
 
 #include "core/io/session.h"
+#include "gui.h"
 
 #define AUTOSAVE_SECONDS 10.0
 #define DEG_PER_RAD 57.29577951308232
@@ -57,6 +58,12 @@ int st_app_save_session(st_app *a, const char *path, int quiet)
  * in the current directory. */
 void st_app_save(st_app *a)
 {
+    /* An imported mesh has no document file yet: ask where (gui.cc). */
+    if (a->untitled) {
+        st_app_message(a, 0, "an imported mesh is untitled: choose where to save the session");
+        st_gui_open_dialog(a, ST_DIALOG_SAVE_AS);
+        return;
+    }
     char path[4200];
     const char *p = a->doc.path;
     if (st_session_is_path(p)) snprintf(path, sizeof path, "%s", p);
@@ -84,6 +91,7 @@ int st_app_restore(st_app *a, const char *path)
         return -1;
     }
     st_doc *d = &a->doc;
+    a->untitled = 0;
     st_brush brush = d->brush;
     st_doc_free(d);
     st_doc_init(d);

@@ -86,6 +86,7 @@ typedef struct st_app {
     st_adapt_params box_start; /* the box when its drag started */
 
     int help;                  /* F1 */
+    int untitled;              /* an imported mesh not saved yet: Save asks for a name (st_app_import) */
     const char *pending_scheme;/* scheme change waiting for Y */
     char msg[ST_MSG_LEN];      /* status line (errors in red) */
     int msg_error;
@@ -137,6 +138,9 @@ void st_app_sync(st_app *a);
 void st_app_draw(st_app *a);
 /* Opens a file (errors keep the current model and show a message). */
 int st_app_open(st_app *a, const char *path);
+/* File > Import...: a mesh (not a session) as a new, untitled document:
+ * not added to Open Recent, and Save asks for a name (ui/jobs.c). */
+int st_app_import(st_app *a, const char *path);
 
 /* Sessions (ui/session_io.c). */
 int st_app_save_session(st_app *a, const char *path, int quiet);
