@@ -136,7 +136,7 @@ static void import_file(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_IMPORT); }
 static void save(st_app *a) { st_app_request_save(a); }
 static void save_as(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_SAVE_AS); }
 static void export_mesh(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_EXPORT); }
-static void restore_recovery(st_app *a) { st_app_restore_recovery(a); }
+static void restore_recovery(st_app *a) { st_app_request_recovery(a); }
 
 /* Edit */
 static void undo_redo(st_app *a, int redo)

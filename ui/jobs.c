@@ -37,7 +37,7 @@ static void show_working(st_app *a, const char *fmt, ...)
 
 /* ---- long document operations on a worker thread ------------------------------------- */
 
-enum { JOB_NONE, JOB_OPEN, JOB_ADD_LEVEL, JOB_SCHEME, JOB_REBUILD, JOB_SAVE };
+enum { JOB_NONE, JOB_OPEN, JOB_ADD_LEVEL, JOB_SCHEME, JOB_REBUILD, JOB_SAVE, JOB_LOAD_SESSION, JOB_RECOVERY };
 
 typedef struct doc_job {
     st_doc *d;
@@ -45,6 +45,7 @@ typedef struct doc_job {
     const char *path, *scheme;
     unsigned levels;
     const st_session_view *view;   /* JOB_SAVE */
+    st_session *session;           /* JOB_LOAD_SESSION: loaded here, the document untouched */
     st_error err;
     int rc;
     atomic_int done;
@@ -101,6 +102,16 @@ static void *job_main(void *p)
     case JOB_ADD_LEVEL: j->rc = st_doc_add_level_progress(j->d, job_cancelled, j, &j->err); break;
     case JOB_REBUILD: j->rc = st_doc_rebuild_levels(j->d, job_cancelled, j, j->msg, sizeof j->msg, &j->err); break;
     case JOB_SAVE: j->rc = st_doc_save_session(j->d, j->path, j->view, job_cancelled, j, &j->err); break;
+    case JOB_LOAD_SESSION:
+        /* Reading a session has no progress of its own: a cancel before it,
+         * or during it (the loaded session is then dropped). */
+        if (job_cancelled(j, 0)) { j->rc = st_fail(&j->err, ST_ERR_INVALID, "cancelled"); break; }
+        j->rc = st_session_load(j->path, j->session, &j->err);
+        if (!j->rc && job_cancelled(j, 1)) {
+            st_session_free(j->session);
+            j->rc = st_fail(&j->err, ST_ERR_INVALID, "cancelled");
+        }
+        break;
     default: j->rc = st_doc_set_scheme_progress(j->d, j->scheme, job_cancelled, j, &j->err); break;
     }
     atomic_store(&j->done, 1);
@@ -209,6 +220,7 @@ static int run_job(st_app *a, doc_job *j, const char *what)
     }
     while (!atomic_load(&j->done)) {
         if (poll) glfwPollEvents();
+        if (poll && glfwWindowShouldClose(a->win)) atomic_store(&j->cancel, 1);   /* closing the window cancels */
         double t = st_now_ms();
         if (t >= next) {
             char el[32];
@@ -356,6 +368,16 @@ void st_app_change_scheme(st_app *a, const char *s)
     else st_app_message(a, 0, "scheme is now %s", s);
 }
 
+int st_app_job_load_session(st_app *a, const char *path, st_session *s, st_error *err)
+{
+    char what[300];
+    snprintf(what, sizeof what, "working... opening %s%s", st_path_base(path), g_loop_started ? " (Esc cancels)" : "");
+    doc_job j = { .kind = JOB_LOAD_SESSION, .path = path, .session = s };
+    int rc = run_job(a, &j, what);
+    if (err) *err = j.err;
+    return job_was_cancelled(&j) ? ST_APP_CANCELLED : rc;
+}
+
 int st_app_job_save(st_app *a, const char *path, const st_session_view *view, st_error *err)
 {
     char what[300];
@@ -380,6 +402,7 @@ static struct {
 void st_app_request_rebuild(st_app *a) { (void)a; g_request.kind = JOB_REBUILD; }
 void st_app_request_add_level(st_app *a) { (void)a; g_request.kind = JOB_ADD_LEVEL; }
 void st_app_request_save(st_app *a) { (void)a; g_request.kind = JOB_SAVE; }
+void st_app_request_recovery(st_app *a) { (void)a; g_request.kind = JOB_RECOVERY; }
 void st_app_request_scheme(st_app *a, const char *scheme)
 {
     (void)a;
@@ -414,6 +437,7 @@ void st_app_run_requested(st_app *a)
     int kind = g_request.kind;
     g_request.kind = JOB_NONE;
     if (kind == JOB_OPEN) { st_app_open(a, g_request.path); return; }
+    if (kind == JOB_RECOVERY) { st_app_restore_recovery(a); return; }
     if (!a->doc.loaded) return;
     switch (kind) {
     case JOB_REBUILD: rebuild_levels(a); break;

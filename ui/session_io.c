@@ -86,7 +86,12 @@ int st_app_restore(st_app *a, const char *path)
 {
     st_session s;
     st_error err;
-    if (st_session_load(path, &s, &err)) {
+    int rc = st_app_job_load_session(a, path, &s, &err);
+    if (rc == ST_APP_CANCELLED) {
+        st_app_message(a, 0, "opening %s cancelled%s", path, a->doc.loaded ? ": the current model is kept" : "");
+        return rc;
+    }
+    if (rc) {
         st_app_message(a, 1, "cannot open %s: %s%s", path, err.msg, a->doc.loaded ? " (the current model is kept)" : "");
         return -1;
     }

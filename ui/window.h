@@ -163,10 +163,14 @@ void st_app_change_scheme(st_app *a, const char *scheme);
 /* A save as a job (st_doc_save_session): 0, ST_APP_CANCELLED (the file as
  * it was), or the editor's error code with err filled. */
 int st_app_job_save(st_app *a, const char *path, const st_session_view *view, st_error *err);
+/* st_session_load as a job (0, ST_APP_CANCELLED: nothing loaded, or the
+ * error code with err filled); the document is not touched. */
+int st_app_job_load_session(st_app *a, const char *path, st_session *s, st_error *err);
 void st_app_request_rebuild(st_app *a);             /* Ctrl+U: st_doc_rebuild_levels */
 void st_app_request_add_level(st_app *a);
 void st_app_request_scheme(st_app *a, const char *scheme);   /* scheme: a static name */
 void st_app_request_save(st_app *a);                /* st_app_save */
+void st_app_request_recovery(st_app *a);            /* st_app_restore_recovery */
 void st_app_request_open(st_app *a, const char *path);       /* path copied */
 void st_app_run_requested(st_app *a);
 /* While a job runs with events polled: whether one does, whether its
