@@ -12,7 +12,9 @@
 #      with its levels, and the preferences written at exit keep the brush
 #      and the recent file.
 #   2. The progress window's Cancel button, clicked during a rebuild of the
-#      levels, stops it and keeps the model.
+#      levels, stops it and keeps the model; clicked while Mesh > Add a
+#      level works, the level count and the undo history stay; clicked
+#      during File > Save session as..., no file is written.
 # Where to click comes from the window itself: STRATA_GUI_PROBE=DIR makes
 # it write DIR/gui every frame (frame number, document values, widget
 # rectangles; ui/gui.cc), and SIGUSR1 takes the screenshot named in
@@ -279,6 +281,38 @@ if finish "cancelled rebuild" && grep -q "rebuild cancelled: the model is unchan
 else
     bad "Cancel button: $(tail -5 "$TMP/strata.log")"
 fi
+
+# ---- 2b. Cancel of a level added from the Mesh menu and of a save ----------
+# Clicked in the window, no replay.  STRATA_JOB_HOLD_S as above: the job
+# waits at its first progress report until the Cancel arrives.
+STRATA_JOB_HOLD_S=60 start --size 1000x700 --ui-scale 1 --levels 1 "$ASSETS/cube.obj"
+until_true "cube.obj loaded" is file cube.obj
+u0=$(value undo)
+click menu:Mesh
+click menu:Mesh/Add_a_level
+until_true "the progress window's Cancel (add a level)" has_rect progress:Cancel
+click progress:Cancel
+until_true "the level job ended" is busy 0
+says() { value message | grep -q "$1"; }
+until_true "the cancel reported" says "adding a level cancelled: the model is unchanged"
+frames_after
+if [ "$(value top)" = 1 ] && [ "$(value undo)" = "$u0" ]; then ok "Cancel of Mesh > Add a level: still 1 level, undo $u0"
+else bad "Cancel of Mesh > Add a level: top $(value top), undo $(value undo) (expected 1, $u0)"; fi
+click menu:File
+click menu:File/Save_session_as
+until_true "the Save dialog" is dialog 1
+type_path "$TMP/work/cancelled.strata"
+until_true "the progress window's Cancel (save)" has_rect progress:Cancel
+click progress:Cancel
+until_true "the save cancelled" says "save cancelled: .*cancelled.strata is as it was"
+frames_after
+if [ ! -e "$TMP/work/cancelled.strata" ] && [ -z "$(ls "$TMP/work" | grep 'cancelled.strata.tmp')" ]; then
+    ok "Cancel of a save: no file, no temporary"
+else bad "Cancel of a save: $(ls "$TMP/work")"; fi
+xdotool key --window "$W" Escape   # the dialog (it stays open after a failed or cancelled save)
+frames_after
+xdotool key --window "$W" ctrl+q
+finish "Ctrl+Q after the cancels" || bad "Ctrl+Q after the cancels: $(tail -3 "$TMP/strata.log")"
 
 # ---- 3. preferences applied at start, a section closed by a click kept ----------
 # The panel 360 wide with Tool closed, the smooth brush at strength 0.3 and

@@ -132,10 +132,11 @@ static int uv_keys_free(const st_app *a)
 /* File: the dialogs are the GUI's (ui/gui.cc); a key opens them and shows
  * the GUI if it was hidden. */
 static void open_file(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_OPEN); }
-static void save(st_app *a) { st_app_save(a); }
+static void import_file(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_IMPORT); }
+static void save(st_app *a) { st_app_request_save(a); }
 static void save_as(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_SAVE_AS); }
 static void export_mesh(st_app *a) { st_gui_open_dialog(a, ST_DIALOG_EXPORT); }
-static void restore_recovery(st_app *a) { st_app_restore_recovery(a); }
+static void restore_recovery(st_app *a) { st_app_request_recovery(a); }
 
 /* Edit */
 static void undo_redo(st_app *a, int redo)
@@ -233,7 +234,7 @@ static void edit_level_up(st_app *a) { step_level(a, 0, 1); }
 static void edit_level_down(st_app *a) { step_level(a, 0, 0); }
 static void display_level_up(st_app *a) { step_level(a, 1, 1); }
 static void display_level_down(st_app *a) { step_level(a, 1, 0); }
-static void add_level(st_app *a) { st_app_add_level(a); }
+static void add_level(st_app *a) { st_app_request_add_level(a); }
 static void delete_finest(st_app *a)
 {
     st_error err;
@@ -252,7 +253,7 @@ static void scheme_confirm(st_app *a)
 {
     const char *s = a->pending_scheme;
     a->pending_scheme = NULL;
-    st_app_change_scheme(a, s);
+    st_app_request_scheme(a, s);
 }
 static void scheme_keep(st_app *a)
 {
@@ -428,6 +429,9 @@ static void cancel(st_app *a)
 const st_action st_actions[ST_NACTIONS] = {
     ACT(ST_ACT_OPEN, ST_CAT_FILE, "Open...", "open a mesh or a .strata session (file dialog)", open_file, keys_free,
         KEY(O, C, 0)),
+    ACT(ST_ACT_IMPORT, ST_CAT_FILE, "Import...",
+        "import a mesh (OBJ, PLY, OFF, glTF/GLB) as a new untitled document (file dialog; Save asks for a name)",
+        import_file, keys_free, KEY(I, C | S, 0)),
     ACT(ST_ACT_SAVE, ST_CAT_FILE, "Save session",
         "save the session as NAME.strata (current directory; a .strata saves over itself)",
         save, model_keys_free, KEY(S, C, S | A)),

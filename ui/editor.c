@@ -114,10 +114,49 @@ static void progress(const st_doc *d, const char *what, unsigned step, unsigned 
     if (d->progress) d->progress(d->progress_ctx, what, step, steps);
 }
 
-/* Refines h to `levels`, refusing a level that would go over the budget
- * (`extra`: bytes already in use besides h). */
-static int build_levels(const st_doc *d, st_hier *h, unsigned levels, size_t budget, size_t extra, st_error *err)
+/* ---- progress and cancellation ------------------------------------------------
+ * Long operations take the caller's int (*progress)(void *ctx, double
+ * fraction), as the rebuild does (editor_rebuild.c): called with the
+ * fraction done, a non-zero return cancels and the document stays as it
+ * was.  A span maps a stage's own 0..1 into its part [lo, hi] of the whole,
+ * so that core's callbacks (st_hier_subdivide_to_progress) report overall
+ * fractions. */
+typedef struct ed_span {
+    int (*fn)(void *ctx, double fraction);
+    void *ctx;
+    double lo, hi;
+    int stopped;               /* the callback asked to cancel */
+} ed_span;
+
+/* The point at x of [lo, hi], the ends exactly: a stage's 1 is the next
+ * one's 0, never above it, and the reports never go back. */
+static double span_at(double lo, double hi, double x) { return x <= 0 ? lo : x >= 1 ? hi : lo + x * (hi - lo); }
+
+static int span_report(void *p, double f)
 {
+    ed_span *s = p;
+    if (!s->fn) return 0;
+    if (s->fn(s->ctx, span_at(s->lo, s->hi, f))) s->stopped = 1;
+    return s->stopped;
+}
+
+/* The callback at fraction f; ST_ERR_INVALID "cancelled" when it says so. */
+static int span_cancelled(ed_span *s, double f, st_error *err)
+{
+    if (!span_report(s, f)) return 0;
+    st_fail(err, ST_ERR_INVALID, "cancelled");
+    return 1;
+}
+
+/* Refines h to `levels`, refusing a level that would go over the budget
+ * (`extra`: bytes already in use besides h).  Progress: the span's range,
+ * each level weighted by 4^k as core weighs it. */
+static int build_levels(const st_doc *d, st_hier *h, unsigned levels, size_t budget, size_t extra, ed_span *sp,
+                        st_error *err)
+{
+    unsigned from = h->map.top;
+    double total = 0, done = 0;
+    for (unsigned l = from + 1; l <= levels; l++) total += ldexp(1.0, 2 * (int)(l - from));
     while (h->map.top < levels) {
         char what[64];
         snprintf(what, sizeof what, "building level %u", h->map.top + 1);
@@ -128,8 +167,12 @@ static int build_levels(const st_doc *d, st_hier *h, unsigned levels, size_t bud
                            "level %u refused: it needs about %zu bytes (%.1f MiB) more, the model uses %.1f MiB "
                            "and the memory budget is %.1f MiB",
                            h->map.top + 1, need, mib(need), mib(have), mib(budget));
-        int rc = st_hier_subdivide_to(h, h->map.top + 1, err);
+        double w = ldexp(1.0, 2 * (int)(h->map.top + 1 - from));
+        ed_span level = { sp->fn, sp->ctx, span_at(sp->lo, sp->hi, done / total), span_at(sp->lo, sp->hi, (done + w) / total), 0 };
+        int rc = st_hier_subdivide_to_progress(h, h->map.top + 1, span_report, &level, err);
+        sp->stopped |= level.stopped;
         if (rc) return rc;
+        done += w;
     }
     return ST_OK;
 }
@@ -163,11 +206,22 @@ static void default_box(st_doc *d)
 
 int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels, st_error *err)
 {
+    return st_doc_open_progress(d, path, scheme, levels, NULL, NULL, err);
+}
+
+/* Opening: reading and level 0 are the first tenth, the levels the rest. */
+#define OPEN_READ_SHARE 0.1
+
+int st_doc_open_progress(st_doc *d, const char *path, const char *scheme, unsigned levels,
+                         int (*fraction)(void *ctx, double f), void *ctx, st_error *err)
+{
+    ed_span sp = { fraction, ctx, 0, 1, 0 };
     const char *name = scheme ? scheme : "catmull-clark";
     const st_scheme *sc = st_scheme_find(name);
     if (!sc) return st_fail(err, ST_ERR_INVALID, "unknown scheme '%s' (catmull-clark, loop, butterfly, quad-triangle, sqrt3, doo-sabin)", name);
     if (levels >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "%u levels: at most %d", levels, ST_MAX_LEVELS - 1);
     if (strlen(path) >= sizeof d->path) return st_fail(err, ST_ERR_RANGE, "path too long");
+    if (span_cancelled(&sp, 0, err)) return ST_ERR_INVALID;
     st_mesh mesh;
     st_mesh_init(&mesh);
     st_notes notes = { 0 };
@@ -175,7 +229,12 @@ int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels
     if (rc) { st_notes_free(&notes); return rc; }
     st_hier h;
     st_hier_opts opts = { .boundary = ST_BOUNDARY_UNSET, .crease_method = ST_CREASE_UNIFORM };
-    rc = st_hier_init(&h, &mesh, sc, &opts, err);
+    rc = span_cancelled(&sp, OPEN_READ_SHARE / 2, err) ? ST_ERR_INVALID : st_hier_init(&h, &mesh, sc, &opts, err);
+    if (rc && sp.stopped) {
+        st_mesh_free(&mesh);
+        st_notes_free(&notes);
+        return rc;
+    }
     if (rc) {
         char msg[sizeof err->msg];
         snprintf(msg, sizeof msg, "%s", err ? err->msg : "");
@@ -184,7 +243,12 @@ int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels
         st_notes_free(&notes);
         return rc;
     }
-    rc = build_levels(d, &h, levels, d->mem_budget, 0, err);
+    sp.lo = OPEN_READ_SHARE;
+    rc = span_cancelled(&sp, 0, err) ? ST_ERR_INVALID : build_levels(d, &h, levels, d->mem_budget, 0, &sp, err);
+    if (!rc) {
+        sp.lo = 0;
+        if (span_cancelled(&sp, 1, err)) rc = ST_ERR_INVALID;
+    }
     if (rc) {
         st_hier_free(&h);
         st_mesh_free(&mesh);
@@ -220,7 +284,15 @@ int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels
 
 int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
 {
+    return st_doc_set_scheme_progress(d, scheme, NULL, NULL, err);
+}
+
+int st_doc_set_scheme_progress(st_doc *d, const char *scheme, int (*fraction)(void *ctx, double f), void *ctx,
+                               st_error *err)
+{
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
+    ed_span sp = { fraction, ctx, 0, 1, 0 };
+    if (span_cancelled(&sp, 0, err)) return ST_ERR_INVALID;
     const st_scheme *sc = st_scheme_find(scheme ? scheme : "");
     if (!sc) return st_fail(err, ST_ERR_INVALID, "unknown scheme '%s'", scheme ? scheme : "");
     ed_finish_active(d);
@@ -257,7 +329,13 @@ int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
     st_mesh_free(&mesh);
     if (rc) return rc;
     /* The old hierarchy stays (in the undo step) while the new one grows. */
-    rc = build_levels(d, &h, d->h.map.top, d->mem_budget, st_doc_model_bytes(d), err);
+    sp.lo = OPEN_READ_SHARE;
+    rc = span_cancelled(&sp, 0, err) ? ST_ERR_INVALID
+                                     : build_levels(d, &h, d->h.map.top, d->mem_budget, st_doc_model_bytes(d), &sp, err);
+    if (!rc) {
+        sp.lo = 0;
+        if (span_cancelled(&sp, 1, err)) rc = ST_ERR_INVALID;
+    }
     if (rc) { st_hier_free(&h); return rc; }
     st_undo_step *s = ed_swap_hier(d, &h);
     ed_topology_changed(d);
@@ -380,7 +458,13 @@ void ed_remove_top_keep_order(st_hier *h)
 
 int st_doc_add_level(st_doc *d, st_error *err)
 {
+    return st_doc_add_level_progress(d, NULL, NULL, err);
+}
+
+int st_doc_add_level_progress(st_doc *d, int (*fraction)(void *ctx, double f), void *ctx, st_error *err)
+{
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
+    ed_span sp = { fraction, ctx, 0, 1, 0 };
     ed_finish_active(d);
     if (d->h.map.top + 1 >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "level %u is beyond the limit", d->h.map.top + 1);
     size_t need = st_doc_add_level_bytes(d), have = st_doc_model_bytes(d);
@@ -394,7 +478,14 @@ int st_doc_add_level(st_doc *d, st_error *err)
     char what[64];
     snprintf(what, sizeof what, "building level %u", top + 1);
     progress(d, what, 1, d->box_on ? 2 : 1);
-    int rc = st_hier_subdivide_to(&d->h, top + 1, err);
+    int rc = st_hier_subdivide_to_progress(&d->h, top + 1, span_report, &sp, err);
+    if (rc && sp.stopped) {
+        /* Cancelled: the level goes as undo removes it (its ids back on
+         * the pools' spare stacks in order), so that the document is the
+         * one before, to the bit, and a later level gets the same ids. */
+        while (d->h.map.top > top) ed_remove_top_keep_order(&d->h);
+        return rc;
+    }
     if (rc) {
         while (d->h.map.top > top) st_hier_remove_top(&d->h);
         ed_topology_changed(d);

@@ -46,6 +46,7 @@
 #include "core/multires/layers.h"
 #include "core/multires/mask.h"
 #include "core/io/mesh.h"
+#include "core/io/session.h"
 #include "editor_display.h"
 
 /* Brushes (brush.c, brush_tools.c).  The order is the order of the panel's
@@ -227,6 +228,26 @@ int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels
  * (level 0 as edited, with the file's crease tags while level 0 is still
  * the loaded one).  Undoable. */
 int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err);
+
+/* The long operations with progress and cancellation: progress (may be
+ * NULL) is called with the fraction done (0 first, 1 last, increasing), a
+ * non-zero return cancels (ST_ERR_INVALID, "cancelled") and the document
+ * stays as it was to the bit: model, levels, ids, undo history.  Open:
+ * reading and level 0, then each level; add a level: its refinement, then
+ * its synthesis (core's st_hier_subdivide_to_progress); scheme change:
+ * level 0, then each level; save: every 64 KiB written (the file at path
+ * stays as it was, or absent: core/io/atomic_file.h).  A cancel takes
+ * effect at the next report: reading a file and one level's refinement or
+ * synthesis are not cut short. */
+int st_doc_open_progress(st_doc *d, const char *path, const char *scheme, unsigned levels,
+                         int (*progress)(void *ctx, double fraction), void *ctx, st_error *err);
+int st_doc_set_scheme_progress(st_doc *d, const char *scheme, int (*progress)(void *ctx, double fraction), void *ctx,
+                               st_error *err);
+int st_doc_add_level_progress(st_doc *d, int (*progress)(void *ctx, double fraction), void *ctx, st_error *err);
+/* Saves the document as a session (core/io/session.h: hierarchy, box,
+ * levels, base mesh, layers, mask; view may be NULL); editor_session.c. */
+int st_doc_save_session(const st_doc *d, const char *path, const st_session_view *view,
+                        int (*progress)(void *ctx, double fraction), void *ctx, st_error *err);
 
 /* Rebuild levels: the finest level (the loaded mesh when there is one
  * level) made into a hierarchy with coarse levels, as `strata rebuild

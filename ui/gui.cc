@@ -148,14 +148,25 @@ void probe_write(st_app *a)
     if (g.probe_dir.empty()) return;
     const st_doc *d = &a->doc;
     char b[512];
-    snprintf(b, sizeof b, "frame %llu\nbusy %d\nloaded %d\ntop %u\nbox_on %d\nundo %u\nradius %.6g\nbox_size %.6g %.6g %.6g\n",
-             g.frames, a->busy, d->loaded, d->loaded ? d->h.map.top : 0, d->box_on, d->undo_pos, d->brush.radius,
-             d->box.box_hi[0] - d->box.box_lo[0], d->box.box_hi[1] - d->box.box_lo[1], d->box.box_hi[2] - d->box.box_lo[2]);
+    snprintf(b, sizeof b, "frame %llu\nbusy %d\n", g.frames, a->busy);
     std::string text = b;
-    text += "file " + std::string(d->loaded ? st_path_base(d->path) : "-") + "\n";
-    text += "tool " + std::string(a->tool == ST_TOOL_SELECT ? "select" : st_brush_name(a->tool)) + "\n";
-    snprintf(b, sizeof b, "strength %.6g\nscale %g\n", d->brush.strength, g.scale);
+    /* The document's values as of the last frame without a job: a job's
+     * worker thread owns the document meanwhile (jobs.c). */
+    static std::string doc_values;
+    if (!a->busy) {
+        snprintf(b, sizeof b, "loaded %d\ntop %u\nbox_on %d\nundo %u\nradius %.6g\nbox_size %.6g %.6g %.6g\n", d->loaded,
+                 d->loaded ? d->h.map.top : 0, d->box_on, d->undo_pos, d->brush.radius, d->box.box_hi[0] - d->box.box_lo[0],
+                 d->box.box_hi[1] - d->box.box_lo[1], d->box.box_hi[2] - d->box.box_lo[2]);
+        doc_values = b;
+        doc_values += "file " + std::string(d->loaded ? st_path_base(d->path) : "-") + "\n";
+        doc_values += "tool " + std::string(a->tool == ST_TOOL_SELECT ? "select" : st_brush_name(a->tool)) + "\n";
+        snprintf(b, sizeof b, "strength %.6g\n", d->brush.strength);
+        doc_values += b;
+    }
+    text += doc_values;
+    snprintf(b, sizeof b, "scale %g\n", g.scale);
     text += b;
+    text += "message " + std::string(a->msg) + "\n";   /* the last notification (st_app_message) */
     text += "dialog " + std::string(g.dlg_open ? "1" : "0") + "\n";
     text += g.probe;
     std::string path = g.probe_dir + "/gui", tmp = path + ".tmp";
@@ -173,8 +184,10 @@ bool ends_with_ci(const char *s, const char *ext)
 
 bool wanted_file(int kind, const char *name)
 {
-    if (kind == ST_DIALOG_OPEN) {
-        for (const char *e : read_exts) if (ends_with_ci(name, e)) return true;
+    if (kind == ST_DIALOG_OPEN || kind == ST_DIALOG_IMPORT) {
+        /* Import: the mesh formats, not sessions. */
+        for (const char *e : read_exts)
+            if (ends_with_ci(name, e) && (kind == ST_DIALOG_OPEN || strcmp(e, ".strata"))) return true;
         return false;
     }
     if (kind == ST_DIALOG_SAVE_AS) return ends_with_ci(name, ".strata");
@@ -248,11 +261,14 @@ void dialog_accept(st_app *a, int kind, const std::string &path)
     int rc;
     if (kind == ST_DIALOG_OPEN) {
         rc = st_app_open(a, path.c_str());
+    } else if (kind == ST_DIALOG_IMPORT) {
+        rc = st_app_import(a, path.c_str());
     } else if (kind == ST_DIALOG_SAVE_AS) {
         rc = st_app_save_session(a, path.c_str(), 0);
         if (!rc && path.size() < sizeof a->doc.path) {
             memcpy(a->doc.path, path.c_str(), path.size() + 1);
             a->autosave_dirty = 0;
+            a->untitled = 0;
         }
     } else {
         rc = st_app_export(a, path.c_str());
@@ -261,7 +277,7 @@ void dialog_accept(st_app *a, int kind, const std::string &path)
         g.dlg_error = a->msg;
         return;
     }
-    if (kind != ST_DIALOG_EXPORT) st_prefs_add_recent(path.c_str());
+    if (kind != ST_DIALOG_EXPORT && kind != ST_DIALOG_IMPORT) st_prefs_add_recent(path.c_str());   /* imports are not documents */
     g.dlg_open = false;
     g.dlg_error.clear();
 }
@@ -277,7 +293,7 @@ void open_dialog(st_app *a, int kind, int format)
     g.path[0] = 0;
     const char *doc = a->doc.loaded ? a->doc.path : "";
     std::string start = doc[0] ? dir_of(doc) : ".";
-    if (kind != ST_DIALOG_OPEN && doc[0]) {
+    if (kind != ST_DIALOG_OPEN && kind != ST_DIALOG_IMPORT && doc[0]) {
         /* The model's name with the extension of what is written. */
         const char *base = st_path_base(doc);
         const char *dot = strrchr(base, '.');
@@ -393,6 +409,7 @@ void action_item(menu_pass &m, const st_action *act)
     bool enabled = st_action_enabled(act, m.a) != 0;
     if (!m_item(m, label, sc[0] ? sc : nullptr, checked > 0, enabled)) return;
     if (act->id == ST_ACT_OPEN) choose_dialog(m, ST_DIALOG_OPEN, 0);
+    else if (act->id == ST_ACT_IMPORT) choose_dialog(m, ST_DIALOG_IMPORT, 0);
     else if (act->id == ST_ACT_SAVE_AS) choose_dialog(m, ST_DIALOG_SAVE_AS, 0);
     else choose_action(m, act->id);
 }
@@ -466,7 +483,8 @@ float menu_height = 0;
 
 void file_dialog(st_app *a)
 {
-    const char *title = g.dlg_kind == ST_DIALOG_OPEN ? "Open###filedialog"
+    const char *title = g.dlg_kind == ST_DIALOG_OPEN     ? "Open###filedialog"
+                        : g.dlg_kind == ST_DIALOG_IMPORT ? "Import a mesh###filedialog"
                         : g.dlg_kind == ST_DIALOG_SAVE_AS ? "Save session as###filedialog"
                                                           : "Export the displayed mesh###filedialog";
     /* (Again after a job: its frames drew no dialog.) */
@@ -485,6 +503,7 @@ void file_dialog(st_app *a)
     if (ImGui::Button("Refresh")) list_dir();
     ImGui::SameLine();
     if (g.dlg_kind == ST_DIALOG_OPEN) ImGui::TextDisabled(".obj .off .ply .gltf .glb .strata");
+    else if (g.dlg_kind == ST_DIALOG_IMPORT) ImGui::TextDisabled(".obj .off .ply .gltf .glb (a new untitled document)");
     else if (g.dlg_kind == ST_DIALOG_SAVE_AS) ImGui::TextDisabled(".strata");
     else ImGui::TextDisabled("%s of the displayed %s", export_exts[g.dlg_format], a->doc.box_on ? "adaptive mesh" : "level");
     float footer = ImGui::GetFrameHeightWithSpacing() * 2 + (g.dlg_error.empty() ? 0 : ImGui::GetTextLineHeightWithSpacing() * 2);
@@ -520,7 +539,10 @@ void file_dialog(st_app *a)
         g.dlg_accept = true;
     probe_item("dialog:path");
     ImGui::SameLine();
-    const char *ok = g.dlg_kind == ST_DIALOG_OPEN ? "Open" : g.dlg_kind == ST_DIALOG_SAVE_AS ? "Save" : "Export";
+    const char *ok = g.dlg_kind == ST_DIALOG_OPEN      ? "Open"
+                     : g.dlg_kind == ST_DIALOG_IMPORT  ? "Import"
+                     : g.dlg_kind == ST_DIALOG_SAVE_AS ? "Save"
+                                                       : "Export";
     if (ImGui::Button(ok, ImVec2(70 * g.scale, 0)) && g.path[0]) g.dlg_accept = true;
     probe_item("dialog:ok");
     ImGui::SameLine();
@@ -535,7 +557,7 @@ void file_dialog(st_app *a)
         struct stat st;
         if (!g.path[0]) g.dlg_accept = false;
         else if (!stat(full.c_str(), &st) && S_ISDIR(st.st_mode)) { set_cwd(full); g.path[0] = 0; g.dlg_accept = false; }
-        else if (g.dlg_kind != ST_DIALOG_OPEN && !g.dlg_confirm && !stat(full.c_str(), &st)) {
+        else if (g.dlg_kind != ST_DIALOG_OPEN && g.dlg_kind != ST_DIALOG_IMPORT && !g.dlg_confirm && !stat(full.c_str(), &st)) {
             g.dlg_confirm = true;   /* asks below; the choice runs on "Overwrite" */
             g.dlg_accept = false;
         }
@@ -652,11 +674,12 @@ void keys_window(st_app *a)
     if (!open) a->help = 0;
 }
 
-/* What the window is doing on its worker thread (jobs.c): the stage and,
- * when the editor reports steps ("step 3 of 6"), how far it is.  A job that
- * can be cancelled (rebuilding the levels) has a Cancel button, as Esc:
- * the worker stops at its next progress report and the model stays as it
- * was (st_doc_rebuild_levels works on a copy). */
+/* What the window is doing on its worker thread (jobs.c): the stage and
+ * how far it is (the fraction the editor reports, else its steps, "step 3
+ * of 6").  Jobs (opening, adding a level, a scheme change, saving,
+ * rebuilding the levels) have a Cancel button, as Esc: the worker stops at
+ * its next progress report and the model stays as it was (editor.h,
+ * st_doc_*_progress). */
 void progress_window(st_app *a)
 {
     if (!a->working[0]) return;
@@ -671,7 +694,9 @@ void progress_window(st_app *a)
     char over[32];
     if (steps) snprintf(over, sizeof over, "step %u of %u", step, steps);
     else snprintf(over, sizeof over, "working...");
-    ImGui::ProgressBar(steps ? (float)step / (float)steps : 0.0f, ImVec2(-1, 0), over);
+    double fraction = st_app_job_fraction();
+    if (fraction >= 0) snprintf(over, sizeof over, "%.0f %%", 100 * fraction);
+    ImGui::ProgressBar(fraction >= 0 ? (float)fraction : steps ? (float)step / (float)steps : 0.0f, ImVec2(-1, 0), over);
     if (st_app_job_cancellable()) {
         bool asked = st_app_job_cancelling();
         if (asked) ImGui::BeginDisabled();

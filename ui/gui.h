@@ -56,7 +56,7 @@ int st_gui_key(int key, int scancode, int action, int mods);
 void st_gui_char(unsigned c);
 
 /* The file dialog (Ctrl+O, Ctrl+Shift+S, Ctrl+E). */
-enum st_gui_dialog { ST_DIALOG_OPEN, ST_DIALOG_SAVE_AS, ST_DIALOG_EXPORT };
+enum st_gui_dialog { ST_DIALOG_OPEN, ST_DIALOG_SAVE_AS, ST_DIALOG_EXPORT, ST_DIALOG_IMPORT };
 void st_gui_open_dialog(struct st_app *a, int kind);
 
 /* Help > About. */

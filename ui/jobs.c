@@ -37,13 +37,15 @@ static void show_working(st_app *a, const char *fmt, ...)
 
 /* ---- long document operations on a worker thread ------------------------------------- */
 
-enum { JOB_OPEN, JOB_ADD_LEVEL, JOB_SCHEME, JOB_REBUILD };
+enum { JOB_NONE, JOB_OPEN, JOB_ADD_LEVEL, JOB_SCHEME, JOB_REBUILD, JOB_SAVE, JOB_LOAD_SESSION, JOB_RECOVERY };
 
 typedef struct doc_job {
     st_doc *d;
     int kind;
     const char *path, *scheme;
     unsigned levels;
+    const st_session_view *view;   /* JOB_SAVE */
+    st_session *session;           /* JOB_LOAD_SESSION: loaded here, the document untouched */
     st_error err;
     int rc;
     atomic_int done;
@@ -51,22 +53,30 @@ typedef struct doc_job {
     pthread_mutex_t mu;
     char stage[160];
     unsigned step, steps;
-    /* JOB_REBUILD: set by the main thread (Esc), read by the rebuild's
-     * progress callback; msg: which method made how many levels. */
+    /* Set by the main thread (Esc, Cancel), read by the editor's fraction
+     * callback (job_cancelled); fraction: the last one reported, -1 none
+     * yet (under mu).  msg (JOB_REBUILD): which method made how many
+     * levels. */
     atomic_int cancel;
+    double fraction;
     char msg[256];
     /* STRATA_JOB_HOLD_S (tests): until when its progress reports wait. */
     double hold_until_ms;
 } doc_job;
 
-/* With STRATA_JOB_HOLD_S=N, a cancellable job's progress reports wait for
- * a cancellation, N seconds at most in all: tests of the Cancel button
- * (tests/cli_gui_xdotool.sh) then do not race a fast machine; a Cancel
- * that does not work lets the job finish after N s and the test fails. */
+/* Test only: with STRATA_JOB_HOLD_S=N, a job's progress reports wait for a
+ * cancellation, N seconds at most in all (the opening at start excepted:
+ * jobs once the main loop runs, g_loop_started): tests of the Cancel
+ * button (tests/cli_gui_xdotool.sh) then do not race a fast machine; a
+ * Cancel that does not work lets the job finish after N s and the test
+ * fails. */
+static int g_loop_started;
 static int job_cancelled(void *ctx, double fraction)
 {
     doc_job *j = ctx;
-    (void)fraction;
+    pthread_mutex_lock(&j->mu);
+    j->fraction = fraction;
+    pthread_mutex_unlock(&j->mu);
     while (!atomic_load(&j->cancel) && st_now_ms() < j->hold_until_ms) {
         struct timespec ts = { 0, 5000000 };
         nanosleep(&ts, NULL);
@@ -88,10 +98,21 @@ static void *job_main(void *p)
 {
     doc_job *j = p;
     switch (j->kind) {
-    case JOB_OPEN: j->rc = st_doc_open(j->d, j->path, j->scheme, j->levels, &j->err); break;
-    case JOB_ADD_LEVEL: j->rc = st_doc_add_level(j->d, &j->err); break;
+    case JOB_OPEN: j->rc = st_doc_open_progress(j->d, j->path, j->scheme, j->levels, job_cancelled, j, &j->err); break;
+    case JOB_ADD_LEVEL: j->rc = st_doc_add_level_progress(j->d, job_cancelled, j, &j->err); break;
     case JOB_REBUILD: j->rc = st_doc_rebuild_levels(j->d, job_cancelled, j, j->msg, sizeof j->msg, &j->err); break;
-    default: j->rc = st_doc_set_scheme(j->d, j->scheme, &j->err); break;
+    case JOB_SAVE: j->rc = st_doc_save_session(j->d, j->path, j->view, job_cancelled, j, &j->err); break;
+    case JOB_LOAD_SESSION:
+        /* Reading a session has no progress of its own: a cancel before it,
+         * or during it (the loaded session is then dropped). */
+        if (job_cancelled(j, 0)) { j->rc = st_fail(&j->err, ST_ERR_INVALID, "cancelled"); break; }
+        j->rc = st_session_load(j->path, j->session, &j->err);
+        if (!j->rc && job_cancelled(j, 1)) {
+            st_session_free(j->session);
+            j->rc = st_fail(&j->err, ST_ERR_INVALID, "cancelled");
+        }
+        break;
+    default: j->rc = st_doc_set_scheme_progress(j->d, j->scheme, job_cancelled, j, &j->err); break;
     }
     atomic_store(&j->done, 1);
     return NULL;
@@ -114,6 +135,14 @@ static void cancel_key(GLFWwindow *w, int key, int sc, int action, int mods)
 }
 
 int st_app_job_cancellable(void) { return g_cancellable != NULL; }
+double st_app_job_fraction(void)
+{
+    if (!g_cancellable) return -1;
+    pthread_mutex_lock(&g_cancellable->mu);
+    double f = g_cancellable->fraction;
+    pthread_mutex_unlock(&g_cancellable->mu);
+    return f;
+}
 int st_app_job_cancelling(void) { return g_cancellable && atomic_load(&g_cancellable->cancel); }
 void st_app_cancel_job(void)
 {
@@ -135,13 +164,21 @@ static void job_button(GLFWwindow *w, int button, int action, int mods)
     st_gui_job_mouse_button(button, action);
 }
 
+/* Whether the job was cancelled (it failed after a cancellation was
+ * asked: the editor's "cancelled", the document as it was). */
+static int job_was_cancelled(doc_job *j) { return j->rc && atomic_load(&j->cancel); }
+
 static int run_job(st_app *a, doc_job *j, const char *what)
 {
     j->d = &a->doc;
     atomic_init(&j->done, 0);
+    atomic_init(&j->cancel, 0);
     pthread_mutex_init(&j->mu, NULL);
     j->stage[0] = 0;
     j->step = j->steps = 0;
+    j->fraction = -1;
+    const char *hold = getenv("STRATA_JOB_HOLD_S");
+    if (hold && atof(hold) > 0 && g_loop_started) j->hold_until_ms = st_now_ms() + 1000 * atof(hold);
     pthread_t th;
     a->doc.progress = job_progress;
     a->doc.progress_ctx = j;
@@ -156,13 +193,16 @@ static int run_job(st_app *a, doc_job *j, const char *what)
     }
     double t0 = st_now_ms(), next = t0 + 150;
     int shown = a->working[0] != 0;   /* show_working() already said it */
-    /* A cancellable job runs from the main loop (st_app_run_requested), not
-     * from a GLFW callback, so events can be polled: only Esc is listened
-     * to, the window's other handlers are off until the job ends (replays
-     * deliver their own events, none during a job, unless real input is let
-     * through: STRATA_REPLAY_LIVE=1, window.c). */
+    /* Jobs run from the main loop (st_app_run_requested, the GUI's pending
+     * actions), never from a GLFW callback, so events can be polled: only
+     * Esc and the progress window's Cancel are listened to, the window's
+     * other handlers are off until the job ends (replays deliver their own
+     * events, none during a job, unless real input is let through:
+     * STRATA_REPLAY_LIVE=1, window.c).  The opening of the file given at
+     * start, before the main loop, is not cancelled: there is no model to
+     * go back to. */
     const char *live = getenv("STRATA_REPLAY_LIVE");
-    int poll = j->kind == JOB_REBUILD && (!a->replay || (live && live[0] == '1'));
+    int poll = g_loop_started && (!a->replay || (live && live[0] == '1'));
     GLFWkeyfun keyfun = NULL;
     GLFWmousebuttonfun buttonfun = NULL;
     GLFWcursorposfun cursorfun = NULL;
@@ -180,6 +220,7 @@ static int run_job(st_app *a, doc_job *j, const char *what)
     }
     while (!atomic_load(&j->done)) {
         if (poll) glfwPollEvents();
+        if (poll && glfwWindowShouldClose(a->win)) atomic_store(&j->cancel, 1);   /* closing the window cancels */
         double t = st_now_ms();
         if (t >= next) {
             char el[32];
@@ -187,7 +228,8 @@ static int run_job(st_app *a, doc_job *j, const char *what)
             else snprintf(el, sizeof el, "%.1f s", (t - t0) / 1000);
             char stage[200] = "";
             pthread_mutex_lock(&j->mu);
-            if (j->stage[0] && j->steps > 1) snprintf(stage, sizeof stage, "%s, step %u of %u, ", j->stage, j->step, j->steps);
+            if (j->fraction >= 0 && j->stage[0]) snprintf(stage, sizeof stage, "%s, %.0f %%, ", j->stage, 100 * j->fraction);
+            else if (j->stage[0] && j->steps > 1) snprintf(stage, sizeof stage, "%s, step %u of %u, ", j->stage, j->step, j->steps);
             else if (j->stage[0]) snprintf(stage, sizeof stage, "%s, ", j->stage);
             pthread_mutex_unlock(&j->mu);
             snprintf(a->working, sizeof a->working, "%s  (%s%s)", what, stage, el);
@@ -220,7 +262,7 @@ static int run_job(st_app *a, doc_job *j, const char *what)
     return j->rc;
 }
 
-/* ---- opening, a level more, another scheme ------------------------------------- */
+/* ---- opening, a level more, another scheme, saving ------------------------------ */
 
 int st_app_open(st_app *a, const char *path)
 {
@@ -230,10 +272,15 @@ int st_app_open(st_app *a, const char *path)
     const char *scheme = a->opts.scheme ? a->opts.scheme : (a->doc.loaded && a->doc.scheme ? a->doc.scheme->name : "catmull-clark");
     double t0 = st_now_ms();
     char what[300];
-    snprintf(what, sizeof what, "working... opening %s", st_path_base(path));
+    snprintf(what, sizeof what, "working... opening %s%s", st_path_base(path), g_loop_started ? " (Esc cancels)" : "");
     doc_job j = { .kind = JOB_OPEN, .path = path, .scheme = scheme, .levels = levels };
     int rc = run_job(a, &j, what);
     err = j.err;
+    if (job_was_cancelled(&j)) {
+        st_app_message(a, 0, "opening %s cancelled%s", st_path_base(path),
+                       a->doc.loaded ? ": the current model is kept" : "");
+        return ST_APP_CANCELLED;
+    }
     if (rc) {
         st_app_message(a, 1, "cannot open %s: %s%s", st_path_base(path), err.msg,
                        a->doc.loaded ? " (the current model is kept)" : "");
@@ -242,6 +289,7 @@ int st_app_open(st_app *a, const char *path)
     a->shown_valid = 0;
     a->hover_vid = ST_NIL;
     a->op = ST_OP_NONE;
+    a->untitled = 0;
     st_app_sync(a);
     a->autosave_dirty = 0;   /* opening is not an edit */
     st_app_frame_model(a);
@@ -258,6 +306,29 @@ int st_app_open(st_app *a, const char *path)
     return 0;
 }
 
+/* File > Import... (README "Modeller"): Open... opens a document, a
+ * .strata session or a mesh file, which then names it (Save writes
+ * STEM.strata, Open Recent keeps it); Import... reads a mesh format only,
+ * as a new untitled document, as Blender's File > Import: the file is a
+ * source, not the document, so it is not in Open Recent and Save asks
+ * where to write the session. */
+int st_app_import(st_app *a, const char *path)
+{
+    if (st_session_is_path(path)) {
+        st_app_message(a, 1, "cannot import %s: a .strata session opens with File > Open...", st_path_base(path));
+        return -1;
+    }
+    int rc = st_app_open(a, path);
+    if (rc) return rc;
+    a->untitled = 1;
+    char title[512];
+    snprintf(title, sizeof title, "Strata - untitled (imported %s)", st_path_base(path));
+    glfwSetWindowTitle(a->win, title);
+    st_app_message(a, 0, "imported %s as a new document (%s, %u levels): Save asks for a name", st_path_base(path),
+                   a->doc.scheme->name, a->doc.h.map.top);
+    return 0;
+}
+
 void st_app_add_level(st_app *a)
 {
     st_doc *d = &a->doc;
@@ -266,15 +337,16 @@ void st_app_add_level(st_app *a)
     double faces = a->r.surf.nfaces;
     for (unsigned l = st_doc_display_map_level(d); l <= d->h.map.top; l++) faces *= 4;
     char what[256];
-    snprintf(what, sizeof what, "working... building level %u (about %.1fM faces, %.0f MB)", d->h.map.top + 1,
-             faces / 1e6, bytes / 1048576.0);
+    snprintf(what, sizeof what, "working... building level %u (about %.1fM faces, %.0f MB; Esc cancels)",
+             d->h.map.top + 1, faces / 1e6, bytes / 1048576.0);
     if (faces > WORKING_FACES) show_working(a, "%s", what);
     double t0 = st_now_ms();
     doc_job j = { .kind = JOB_ADD_LEVEL };
     int rc = run_job(a, &j, what);
     err = j.err;
-    if (rc) { st_app_message(a, 1, "cannot add a level: %s", err.msg); return; }
     st_app_sync(a);
+    if (job_was_cancelled(&j)) { st_app_message(a, 0, "adding a level cancelled: the model is unchanged"); return; }
+    if (rc) { st_app_message(a, 1, "cannot add a level: %s", err.msg); return; }
     uint64_t f = 0, v = 0;
     st_doc_display_counts(d, &f, &v);
     char t[32];
@@ -286,38 +358,71 @@ void st_app_change_scheme(st_app *a, const char *s)
 {
     st_error err;
     char what[128];
-    snprintf(what, sizeof what, "working... rebuilding with %s", s);
+    snprintf(what, sizeof what, "working... rebuilding with %s (Esc cancels)", s);
     doc_job j = { .kind = JOB_SCHEME, .scheme = s };
     int rc = run_job(a, &j, what);
     err = j.err;
-    if (rc) st_app_message(a, 1, "cannot change the scheme: %s", err.msg);
     st_app_sync(a);
-    if (!rc) st_app_message(a, 0, "scheme is now %s", s);
+    if (job_was_cancelled(&j)) { st_app_message(a, 0, "scheme change cancelled: the model is unchanged"); return; }
+    if (rc) st_app_message(a, 1, "cannot change the scheme: %s", err.msg);
+    else st_app_message(a, 0, "scheme is now %s", s);
 }
 
-/* ---- rebuilding the levels ------------------------------------------------------- */
+int st_app_job_load_session(st_app *a, const char *path, st_session *s, st_error *err)
+{
+    char what[300];
+    snprintf(what, sizeof what, "working... opening %s%s", st_path_base(path), g_loop_started ? " (Esc cancels)" : "");
+    doc_job j = { .kind = JOB_LOAD_SESSION, .path = path, .session = s };
+    int rc = run_job(a, &j, what);
+    if (err) *err = j.err;
+    return job_was_cancelled(&j) ? ST_APP_CANCELLED : rc;
+}
 
-/* The action only asks (it may run inside a GLFW key callback, where
- * events cannot be polled for Esc); the main loop runs it next
- * (st_app_run_requested, from st_gui_run_pending). */
-static int g_rebuild_requested;
+int st_app_job_save(st_app *a, const char *path, const st_session_view *view, st_error *err)
+{
+    char what[300];
+    snprintf(what, sizeof what, "working... saving %s (Esc cancels)", st_path_base(path));
+    doc_job j = { .kind = JOB_SAVE, .path = path, .view = view };
+    int rc = run_job(a, &j, what);
+    if (err) *err = j.err;
+    return job_was_cancelled(&j) ? ST_APP_CANCELLED : rc;
+}
 
-void st_app_request_rebuild(st_app *a)
+/* ---- requests: jobs the main loop runs ------------------------------------------
+ * An action may run inside a GLFW key or drop callback, where events cannot
+ * be polled for Esc and the Cancel button: it only asks, and the main loop
+ * runs the job next (st_app_run_requested, from st_gui_run_pending) on the
+ * worker thread.  Replays see the result at their next event. */
+static struct {
+    int kind;                  /* JOB_NONE: nothing asked */
+    const char *scheme;        /* JOB_SCHEME: a scheme's static name */
+    char path[4096];           /* JOB_OPEN */
+} g_request;
+
+void st_app_request_rebuild(st_app *a) { (void)a; g_request.kind = JOB_REBUILD; }
+void st_app_request_add_level(st_app *a) { (void)a; g_request.kind = JOB_ADD_LEVEL; }
+void st_app_request_save(st_app *a) { (void)a; g_request.kind = JOB_SAVE; }
+void st_app_request_recovery(st_app *a) { (void)a; g_request.kind = JOB_RECOVERY; }
+void st_app_request_scheme(st_app *a, const char *scheme)
 {
     (void)a;
-    g_rebuild_requested = 1;
+    g_request.kind = JOB_SCHEME;
+    g_request.scheme = scheme;
+}
+void st_app_request_open(st_app *a, const char *path)
+{
+    if (strlen(path) >= sizeof g_request.path) { st_app_message(a, 1, "cannot open %.200s...: path too long", path); return; }
+    g_request.kind = JOB_OPEN;
+    memcpy(g_request.path, path, strlen(path) + 1);
 }
 
 static void rebuild_levels(st_app *a)
 {
     double t0 = st_now_ms();
     doc_job j = { .kind = JOB_REBUILD };
-    atomic_init(&j.cancel, 0);
-    const char *hold = getenv("STRATA_JOB_HOLD_S");
-    if (hold && atof(hold) > 0) j.hold_until_ms = st_now_ms() + 1000 * atof(hold);
     int rc = run_job(a, &j, "working... rebuilding the levels (Esc cancels)");
     st_app_sync(a);
-    if (rc && atomic_load(&j.cancel)) {
+    if (job_was_cancelled(&j)) {
         st_app_message(a, 0, "rebuild cancelled: the model is unchanged");
         return;
     }
@@ -328,7 +433,17 @@ static void rebuild_levels(st_app *a)
 
 void st_app_run_requested(st_app *a)
 {
-    if (!g_rebuild_requested) return;
-    g_rebuild_requested = 0;
-    if (a->doc.loaded) rebuild_levels(a);
+    g_loop_started = 1;
+    int kind = g_request.kind;
+    g_request.kind = JOB_NONE;
+    if (kind == JOB_OPEN) { st_app_open(a, g_request.path); return; }
+    if (kind == JOB_RECOVERY) { st_app_restore_recovery(a); return; }
+    if (!a->doc.loaded) return;
+    switch (kind) {
+    case JOB_REBUILD: rebuild_levels(a); break;
+    case JOB_ADD_LEVEL: st_app_add_level(a); break;
+    case JOB_SCHEME: st_app_change_scheme(a, g_request.scheme); break;
+    case JOB_SAVE: st_app_save(a); break;
+    default: break;
+    }
 }

@@ -15,13 +15,15 @@
 #include <GLFW/glfw3.h>
 
 #include "core/io/session.h"
+#include "gui.h"
 
 #define AUTOSAVE_SECONDS 10.0
 #define DEG_PER_RAD 57.29577951308232
 
-static void ref_of(st_app *a, st_session_ref *r, st_session_view *v)
+static void view_of(const st_app *a, st_session_view *v)
 {
     const st_camera *c = &a->cc.cam;
+    memset(v, 0, sizeof *v);
     memcpy(v->target, c->target, sizeof v->target);
     v->az = (float)(c->az / DEG_PER_RAD);
     v->el = (float)(c->el / DEG_PER_RAD);
@@ -29,30 +31,22 @@ static void ref_of(st_app *a, st_session_ref *r, st_session_view *v)
     v->fovy = (float)(c->fovy / DEG_PER_RAD);
     v->ortho = c->ortho;
     v->ortho_height = c->ortho_height;
-    memset(r, 0, sizeof *r);
-    r->h = &a->doc.h;
-    /* With the box on, the adaptive state belongs to the display copy, not
-     * to the model: the box and its levels are saved and the display is
-     * rebuilt from them on load. */
-    r->adapt = NULL;
-    r->box = &a->doc.box;
-    r->box_on = a->doc.box_on;
-    r->edit_level = a->doc.edit_level;
-    r->display_level = a->doc.display_level;
-    r->view = v;
-    r->base = a->doc.base.nverts ? &a->doc.base : NULL;
-    r->layers = &a->doc.layers;
-    r->mask = &a->doc.mask;
 }
 
+/* A save the user asked for runs as a job with a Cancel button (jobs.c);
+ * the autosave (quiet) does not. */
 int st_app_save_session(st_app *a, const char *path, int quiet)
 {
     if (!a->doc.loaded) return -1;
-    st_session_ref r;
     st_session_view v;
-    ref_of(a, &r, &v);
+    view_of(a, &v);
     st_error err;
-    if (st_session_save_ref(path, &r, &err)) {
+    int rc = quiet ? st_doc_save_session(&a->doc, path, &v, NULL, NULL, &err) : st_app_job_save(a, path, &v, &err);
+    if (rc == ST_APP_CANCELLED) {
+        st_app_message(a, 0, "save cancelled: %s is as it was", path);
+        return -1;
+    }
+    if (rc) {
         st_app_message(a, 1, "cannot save %s: %s", path, err.msg);
         return -1;
     }
@@ -64,6 +58,12 @@ int st_app_save_session(st_app *a, const char *path, int quiet)
  * in the current directory. */
 void st_app_save(st_app *a)
 {
+    /* An imported mesh has no document file yet: ask where (gui.cc). */
+    if (a->untitled) {
+        st_app_message(a, 0, "an imported mesh is untitled: choose where to save the session");
+        st_gui_open_dialog(a, ST_DIALOG_SAVE_AS);
+        return;
+    }
     char path[4200];
     const char *p = a->doc.path;
     if (st_session_is_path(p)) snprintf(path, sizeof path, "%s", p);
@@ -86,11 +86,17 @@ int st_app_restore(st_app *a, const char *path)
 {
     st_session s;
     st_error err;
-    if (st_session_load(path, &s, &err)) {
+    int rc = st_app_job_load_session(a, path, &s, &err);
+    if (rc == ST_APP_CANCELLED) {
+        st_app_message(a, 0, "opening %s cancelled%s", path, a->doc.loaded ? ": the current model is kept" : "");
+        return rc;
+    }
+    if (rc) {
         st_app_message(a, 1, "cannot open %s: %s%s", path, err.msg, a->doc.loaded ? " (the current model is kept)" : "");
         return -1;
     }
     st_doc *d = &a->doc;
+    a->untitled = 0;
     st_brush brush = d->brush;
     st_doc_free(d);
     st_doc_init(d);

@@ -675,7 +675,7 @@ void st_win_on_drop(GLFWwindow *w, int count, const char **paths)
     if (a->op == ST_OP_DRAG || a->op == ST_OP_GRAB) st_app_drag_finish(a, 1);
     if (a->op == ST_OP_STROKE) stroke_finish(a);
     a->op = ST_OP_NONE;
-    st_app_open(a, paths[0]);
+    st_app_request_open(a, paths[0]);   /* a job: run by the main loop, not in this callback */
 }
 
 void st_win_on_resize(GLFWwindow *w, int width, int height)

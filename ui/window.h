@@ -86,6 +86,7 @@ typedef struct st_app {
     st_adapt_params box_start; /* the box when its drag started */
 
     int help;                  /* F1 */
+    int untitled;              /* an imported mesh not saved yet: Save asks for a name (st_app_import) */
     const char *pending_scheme;/* scheme change waiting for Y */
     char msg[ST_MSG_LEN];      /* status line (errors in red) */
     int msg_error;
@@ -137,6 +138,9 @@ void st_app_sync(st_app *a);
 void st_app_draw(st_app *a);
 /* Opens a file (errors keep the current model and show a message). */
 int st_app_open(st_app *a, const char *path);
+/* File > Import...: a mesh (not a session) as a new, untitled document:
+ * not added to Open Recent, and Save asks for a name (ui/jobs.c). */
+int st_app_import(st_app *a, const char *path);
 
 /* Sessions (ui/session_io.c). */
 int st_app_save_session(st_app *a, const char *path, int quiet);
@@ -146,21 +150,36 @@ void st_app_autosave_tick(st_app *a, int force);    /* recovery file after edits
 void st_app_check_recovery(st_app *a);              /* at start: offer it */
 void st_app_restore_recovery(st_app *a);            /* Ctrl+R */
 
-/* Long operations on a worker thread with a "working..." panel (ui/jobs.c;
- * st_app_open above is one). */
+/* Long operations on a worker thread with a "working..." panel and a
+ * Cancel button, Esc cancelling; a cancelled one leaves the model as it
+ * was (ui/jobs.c; st_app_open above is one and returns ST_APP_CANCELLED
+ * then).  They run from the main loop only (events are polled for the
+ * Cancel): an action, which may run inside a GLFW callback, asks with
+ * st_app_request_*, and the main loop runs the job next
+ * (st_app_run_requested, called by st_gui_run_pending). */
+#define ST_APP_CANCELLED (-2)
 void st_app_add_level(st_app *a);                   /* Ctrl+D */
 void st_app_change_scheme(st_app *a, const char *scheme);
-/* Ctrl+U: asks for a rebuild of the levels (st_doc_rebuild_levels), which
- * the main loop runs next on the worker thread, Esc cancelling
- * (st_app_run_requested, called by st_gui_run_pending). */
-void st_app_request_rebuild(st_app *a);
+/* A save as a job (st_doc_save_session): 0, ST_APP_CANCELLED (the file as
+ * it was), or the editor's error code with err filled. */
+int st_app_job_save(st_app *a, const char *path, const st_session_view *view, st_error *err);
+/* st_session_load as a job (0, ST_APP_CANCELLED: nothing loaded, or the
+ * error code with err filled); the document is not touched. */
+int st_app_job_load_session(st_app *a, const char *path, st_session *s, st_error *err);
+void st_app_request_rebuild(st_app *a);             /* Ctrl+U: st_doc_rebuild_levels */
+void st_app_request_add_level(st_app *a);
+void st_app_request_scheme(st_app *a, const char *scheme);   /* scheme: a static name */
+void st_app_request_save(st_app *a);                /* st_app_save */
+void st_app_request_recovery(st_app *a);            /* st_app_restore_recovery */
+void st_app_request_open(st_app *a, const char *path);       /* path copied */
 void st_app_run_requested(st_app *a);
-/* While a job that can be cancelled runs (the rebuild): whether one does,
- * whether its cancellation was asked, and asking it (the progress window's
- * Cancel button, as Esc; the model stays as it was). */
+/* While a job runs with events polled: whether one does, whether its
+ * cancellation was asked, asking it (the progress window's Cancel button,
+ * as Esc), and the fraction done it last reported (-1: none yet). */
 int st_app_job_cancellable(void);
 int st_app_job_cancelling(void);
 void st_app_cancel_job(void);
+double st_app_job_fraction(void);
 
 /* Keys are looked up in the action table (ui/actions.h). */
 

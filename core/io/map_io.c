@@ -57,6 +57,10 @@ static void bw_reset(st_bw *w)
     w->crc = 0;
     w->failed = 0;
     w->slow_us = 0;
+    w->progress = NULL;
+    w->progress_ctx = NULL;
+    w->progress_total = 0;
+    w->cancelled = 0;
     w->n = 0;
 }
 
@@ -73,6 +77,11 @@ int st_bw_flush(st_bw *w)
             if (w->slow_us > 0) {
                 struct timespec ts = { w->slow_us / 1000000, (w->slow_us % 1000000) * 1000 };
                 nanosleep(&ts, NULL);
+            }
+            if (w->progress && !w->failed && w->progress_total &&
+                w->progress(w->progress_ctx, (double)w->total / (double)w->progress_total)) {
+                w->failed = 1;
+                w->cancelled = 1;
             }
         } else if (w->mem) {
             if (w->outlen + w->n > w->outcap) {

@@ -36,6 +36,12 @@ typedef struct st_bw {
     uint32_t crc;              /* running CRC-32 state (see st_crc32) */
     int failed;                /* a write or an allocation failed */
     long slow_us;              /* test hook: sleep per flushed buffer (file mode) */
+    /* File mode: called after each flushed buffer with total / progress_total;
+     * a non-zero return stops the writing (failed and cancelled set). */
+    int (*progress)(void *ctx, double fraction);
+    void *progress_ctx;
+    uint64_t progress_total;
+    int cancelled;
     size_t n;                  /* bytes in buf */
     unsigned char buf[1 << 16];
 } st_bw;

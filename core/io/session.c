@@ -399,10 +399,12 @@ static void write_all(st_bw *w, const st_session_ref *r)
     for (int k = 0; k < 4; k++) head[8 + k] = (unsigned char)(version >> (8 * k));
     memset(head + 12, 0, 4);
     for (int k = 0; k < 8; k++) head[16 + k] = (unsigned char)(total >> (8 * k));
+    w->progress_total = total;
     uint32_t hc = st_crc32(0, head, 24);
     for (int k = 0; k < 4; k++) head[24 + k] = (unsigned char)(hc >> (8 * k));
     st_bw_bytes(w, head, sizeof head);
     for (unsigned i = 0; i < n; i++) {
+        if (w->failed) return;   /* a write failed or the save was cancelled: the rest is not wanted */
         uint64_t before = w->total;
         st_bw_u32(w, c[i].tag);
         st_bw_u64(w, len[i]);
@@ -440,6 +442,12 @@ int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_
 
 int st_session_save_ref(const char *path, const st_session_ref *r, st_error *err)
 {
+    return st_session_save_ref_progress(path, r, NULL, NULL, err);
+}
+
+int st_session_save_ref_progress(const char *path, const st_session_ref *r, int (*progress)(void *ctx, double fraction),
+                                 void *ctx, st_error *err)
+{
     int rc = check_ref(r, err);
     if (rc) {
         if (err) {
@@ -459,12 +467,15 @@ int st_session_save_ref(const char *path, const st_session_ref *r, st_error *err
      * can kill it in the middle. */
     const char *slow = getenv("STRATA_SAVE_SLOWDOWN");
     if (slow) w->slow_us = strtol(slow, NULL, 10);
+    w->progress = progress;
+    w->progress_ctx = ctx;
     write_all(w, r);
-    int failed = w->failed;
+    int failed = w->failed, cancelled = w->cancelled;
     free(w);
     if (failed) {
         int e = errno;
         st_afile_abort(&af);
+        if (cancelled) return st_fail(err, ST_ERR_INVALID, "%s: cancelled (the file is as it was)", path);
         return st_fail(err, ST_ERR_IO, "%s: write error: %s", path, strerror(e ? e : EIO));
     }
     return st_afile_commit(&af, err);

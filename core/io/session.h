@@ -110,6 +110,12 @@ st_session_ref st_session_ref_of(const st_session *s);
 /* Crash-safe save (see above).  Refused: hierarchies with attributes this
  * format does not know (a map attribute other than the sharpness). */
 int st_session_save_ref(const char *path, const st_session_ref *r, st_error *err);
+/* The same, calling progress(ctx, fraction of the bytes written) after
+ * each buffer written (64 KiB); a non-zero return stops the save
+ * (ST_ERR_INVALID, "cancelled"): the temporary is removed and the file at
+ * path is as it was, or absent if it was.  progress NULL: as above. */
+int st_session_save_ref_progress(const char *path, const st_session_ref *r, int (*progress)(void *ctx, double fraction),
+                                 void *ctx, st_error *err);
 int st_session_save(const char *path, const st_session *s, st_error *err);
 /* The same bytes into a malloc'ed buffer (*data freed by the caller). */
 int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_error *err);

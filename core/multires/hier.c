@@ -263,6 +263,26 @@ int st_hier_refine_primal(st_hier *h, enum st_split_mode mode, st_error *err)
 
 int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err)
 {
+    return st_hier_subdivide_to_progress(h, levels, NULL, NULL, err);
+}
+
+/* The progress callback's answer at fraction f (0: go on). */
+static int cancelled(int (*progress)(void *, double), void *ctx, double f, st_error *err)
+{
+    if (!progress || !progress(ctx, f)) return 0;
+    st_fail(err, ST_ERR_INVALID, "cancelled");
+    return 1;
+}
+
+int st_hier_subdivide_to_progress(st_hier *h, unsigned levels, int (*progress)(void *ctx, double fraction),
+                                  void *ctx, st_error *err)
+{
+    /* Level k of the new ones weighs 4^k (quadrisection's growth): a
+     * fraction that moves evenly with the work. */
+    unsigned from = h->map.top;
+    double total = 0;
+    for (unsigned l = from + 1; l <= levels; l++) total += ldexp(1.0, 2 * (int)(l - from));
+    double done = 0;
     if (levels > h->map.top) {
         /* The memory guard: refused from the counts, before any level. */
         char what[64];
@@ -271,12 +291,17 @@ int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err)
         if (rc) return rc;
     }
     while (h->map.top < levels) {
+        double w = ldexp(1.0, 2 * (int)(h->map.top + 1 - from));
+        if (cancelled(progress, ctx, done / total, err)) return ST_ERR_INVALID;
         int rc = h->scheme->refine(h, err);
         if (!rc) rc = st_fvar_refine(h, err);
         if (rc) return rc;
         drop_caches(h, 0); /* stale now: their memory back before the next level */
+        if (cancelled(progress, ctx, (done + w / 2) / total, err)) return ST_ERR_INVALID;
         st_hier_synthesize(h, h->map.top - 1);
+        done += w;
     }
+    if (total > 0 && cancelled(progress, ctx, 1.0, err)) return ST_ERR_INVALID;
     return ST_OK;
 }
 

@@ -78,6 +78,15 @@ void st_hier_free(st_hier *h);
 
 /* Adds levels by regular refinement until top == levels (zero details). */
 int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err);
+/* The same, calling progress(ctx, fraction) before each level's refinement
+ * and before its synthesis (fraction of the levels to add done, each level
+ * weighted by its share of the new faces; then 1 at the end).  A non-zero
+ * return stops it there: ST_ERR_INVALID "cancelled", h holding the levels
+ * finished and perhaps one refined but not synthesized; as after any
+ * failure, the caller removes what it does not want (st_hier_remove_top).
+ * progress NULL: st_hier_subdivide_to. */
+int st_hier_subdivide_to_progress(st_hier *h, unsigned levels, int (*progress)(void *ctx, double fraction),
+                                  void *ctx, st_error *err);
 /* Deletes the finest level. */
 void st_hier_remove_top(st_hier *h);
 
