@@ -205,9 +205,13 @@ until_true "box on" is box_on 1
 s0=$(value box_size)
 xy=$(point panel:size 0.16 0.5)
 move $xy
+frames_after   # ImGui has seen the pointer over the field
 xdotool mousedown 1
+frames_after   # ...and the press there, so no motion is folded into it
 set -- $xy
-for d in 5 10 15 20 25 30 35 40; do xdotool mousemove --window "$W" $(($1 + d)) "$2"; sleep 0.03; done
+# One frame per step: ImGui adds each frame's motion once past its drag
+# threshold, so folded steps under load would give a different size.
+for d in 5 10 15 20 25 30 35 40; do xdotool mousemove --window "$W" $(($1 + d)) "$2"; frames_after; done
 frames_after
 xdotool mouseup 1
 frames_after
