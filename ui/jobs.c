@@ -52,9 +52,10 @@ typedef struct doc_job {
     char stage[160];
     unsigned step, steps;
     /* JOB_REBUILD: set by the main thread (Esc), read by the rebuild's
-     * progress callback; msg: which method made how many levels. */
+     * progress callback; msg: which method made how many levels, and the
+     * notes on tags and UVs (room left in the status line for the time). */
     atomic_int cancel;
-    char msg[256];
+    char msg[ST_MSG_LEN - 64];
     /* STRATA_JOB_HOLD_S (tests): until when its progress reports wait. */
     double hold_until_ms;
 } doc_job;
