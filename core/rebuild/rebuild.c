@@ -71,8 +71,8 @@ static int build_progressive(const char *name, const st_mesh *mesh, const st_reb
         n += (size_t)snprintf(rep->summary + n, sizeof rep->summary - n, " %.2f", pr.kept[l]);
     if (n < sizeof rep->summary)
         snprintf(rep->summary + n, sizeof rep->summary - n, ", %.1f topology bytes per finest dart", pr.bytes_per_dart);
-    snprintf(rep->brief, sizeof rep->brief, "rebuilt by the progressive method: %u levels, coarsest %llu faces%s",
-             pr.levels, (unsigned long long)pr.faces[0], pr.triangulated ? " (polygons split into triangles)" : "");
+    snprintf(rep->brief, sizeof rep->brief, "rebuilt by the progressive method: %u levels, coarsest %llu faces",
+             pr.levels, (unsigned long long)pr.faces[0]);
     if (pr.triangulated) st_notes_add(&rep->notes, "polygons were split into triangles (fans) first");
     if (pr.note[0]) st_notes_add(&rep->notes, "%s", pr.note);
     progressive_dropped(mesh, &rep->notes);
