@@ -541,14 +541,17 @@ static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
     const st_unsub_topo *t = s->t;
     st_mesh *m = &st->coarse;
     uint32_t nv = m->nverts;
-    double *sum = s->acc;                 /* 3 per fine vertex, read at V vertices: ΣE then ΣF in m->pos */
-    memset(sum, 0, 3 * (size_t)t->nv * sizeof *sum);
+    /* ΣE and ΣF (in m->pos) per coarse vertex: indexed by the coarse
+     * vertex, not the fine one, so that a quarter or so of the scratch is
+     * touched (the first touch of fresh memory is a page fault). */
+    double *sum = s->acc;
+    memset(sum, 0, 3 * (size_t)nv * sizeof *sum);
     memset(m->pos, 0, 3 * (size_t)nv * sizeof *m->pos);
     for (uint32_t q = 0; q < t->nf; q++) {
         uint32_t b = t->foff[q], p = s->phase[q];
         uint32_t V = t->fidx[b + p], E = t->fidx[b + ((p + 1) & 3)], F = t->fidx[b + ((p + 2) & 3)];
         for (int k = 0; k < 3; k++) {
-            sum[3 * (size_t)V + k] += s->pos[3 * (size_t)E + k];
+            sum[3 * (size_t)vmap[V] + k] += s->pos[3 * (size_t)E + k];
             m->pos[3 * (size_t)vmap[V] + k] += s->pos[3 * (size_t)F + k];
         }
     }
@@ -556,7 +559,7 @@ static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
     for (uint32_t cv = 0; cv < nv; cv++) {
         uint32_t V = st->v_fine[cv], n = t->valence[V];
         const double *pv = s->pos + 3 * (size_t)V;
-        double *out = m->pos + 3 * (size_t)cv, *se = sum + 3 * (size_t)V;
+        double *out = m->pos + 3 * (size_t)cv, *se = sum + 3 * (size_t)cv;
         exact[V] = 0;
         /* Crease rules (DeRose et al. 1998; the coarse edges and vertex of
          * a sharp fine chain are at least 1 sharp, unsubdivide.h, so the
