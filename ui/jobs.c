@@ -56,10 +56,11 @@ typedef struct doc_job {
     /* Set by the main thread (Esc, Cancel), read by the editor's fraction
      * callback (job_cancelled); fraction: the last one reported, -1 none
      * yet (under mu).  msg (JOB_REBUILD): which method made how many
-     * levels. */
+     * levels, and the notes on tags and UVs (room left in the status line
+     * for the time). */
     atomic_int cancel;
     double fraction;
-    char msg[256];
+    char msg[ST_MSG_LEN - 64];
     /* STRATA_JOB_HOLD_S (tests): until when its progress reports wait. */
     double hold_until_ms;
 } doc_job;

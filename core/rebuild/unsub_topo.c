@@ -36,26 +36,51 @@ int st_unsub_topo_build(st_unsub_topo *t, const st_mesh *m)
             t->out_off[t->fidx[c] + 1]++;
         }
     for (uint32_t v = 0; v < t->nv; v++) t->out_off[v + 1] += t->out_off[v];
-    /* Counting sort by vertex; valence[] is the fill cursor for now. */
-    memcpy(t->valence, t->out_off, (size_t)t->nv * sizeof *t->valence);
-    for (uint32_t f = 0; f < t->nf; f++)
-        for (uint32_t c = t->foff[f]; c < t->foff[f + 1]; c++) {
-            uint32_t k = t->valence[t->fidx[c]]++;
-            t->out_c[k] = c;
-            t->out_t[k] = t->fidx[c + 1 < t->foff[f + 1] ? c + 1 : t->foff[f]];
-        }
-    /* By vertex: the twins of a's out-going half-edges lie in the out lists
-     * of its neighbours. */
-    for (uint32_t a = 0; a < t->nv; a++)
-        for (uint32_t k = t->out_off[a]; k < t->out_off[a + 1]; k++)
-            t->twin[t->out_c[k]] = st_unsub_find(t, t->out_t[k], a);
-    for (uint32_t v = 0; v < t->nv; v++) {
-        uint32_t deg = t->out_off[v + 1] - t->out_off[v];
-        for (uint32_t k = t->out_off[v]; k < t->out_off[v + 1]; k++)
-            if (t->twin[t->out_c[k]] == ST_NIL) t->bnd[v] = 1;
-        /* A boundary fan has one neighbour more than out-going half-edges. */
-        t->valence[v] = deg + t->bnd[v];
+    /* Counting sort by vertex; valence[] is the fill cursor for now.
+     * Slot k of a's out-going corner c first takes, in one record, c, where
+     * its half-edge ends, the corner before c in its face (the half-edge
+     * coming into a) and where that one starts: one cache line written per
+     * corner, where four arrays would be four (with an arbitrary vertex
+     * order, another program's, the slots of consecutive corners lie far
+     * apart).  a's in-coming half-edges are then all in a's own slots, so
+     * its twins are found there, without reading the slots of a's
+     * neighbours.  (Cachegrind with a 2 MiB last-level cache,
+     * bench_unsubdivide --levels 3 --no-hier: 11.5 M last-level misses in
+     * this function when each twin was looked up in the neighbour's slots,
+     * 5.8 M so.) */
+    struct slot { uint32_t c, t, in_c, in_s; } *slot = malloc(nc * sizeof *slot);
+    if (!slot) {
+        st_unsub_topo_free(t);
+        return -1;
     }
+    memcpy(t->valence, t->out_off, (size_t)t->nv * sizeof *t->valence);
+    for (uint32_t f = 0; f < t->nf; f++) {
+        uint32_t lo = t->foff[f], hi = t->foff[f + 1];
+        for (uint32_t c = lo; c < hi; c++) {
+            uint32_t pc = c > lo ? c - 1 : hi - 1;
+            slot[t->valence[t->fidx[c]]++] = (struct slot){ c, t->fidx[c + 1 < hi ? c + 1 : lo], pc, t->fidx[pc] };
+        }
+    }
+    /* The twin of a -> b is the in-coming half-edge b -> a: one in an
+     * oriented manifold; in a mesh read off a wrong labelling there may be
+     * more, and the smallest corner is taken, as st_unsub_find(b, a) gives
+     * (b's slots are in corner order), so that the manifold check reports
+     * the same vertex either way. */
+    for (uint32_t a = 0; a < t->nv; a++) {
+        uint32_t lo = t->out_off[a], hi = t->out_off[a + 1];
+        for (uint32_t k = lo; k < hi; k++) {
+            uint32_t b = slot[k].t, tw = ST_NIL;
+            for (uint32_t j = lo; j < hi; j++)
+                if (slot[j].in_s == b && slot[j].in_c < tw) tw = slot[j].in_c;
+            t->twin[slot[k].c] = tw;
+            t->out_c[k] = slot[k].c;
+            t->out_t[k] = b;
+            if (tw == ST_NIL) t->bnd[a] = 1;
+        }
+        /* A boundary fan has one neighbour more than out-going half-edges. */
+        t->valence[a] = hi - lo + t->bnd[a];
+    }
+    free(slot);
     return 0;
 }
 

@@ -260,25 +260,20 @@ static double poly_score(step_ctx *s, unsigned swap)
     return n ? sqrt(sum / (double)n) : 0;
 }
 
-/* Quadrilateral coarse faces, counted once per fine face around them. */
-static uint64_t quad_faces(const step_ctx *s, unsigned swap)
+/* A face point of the labelling (swap as above) on the boundary, or ST_NIL:
+ * face points are interior.  When none, *quads: the quadrilateral coarse
+ * faces, counted once per fine face around them.  (One pass for both: the
+ * face points' valence and boundary flag are cache misses in an arbitrary
+ * vertex order.) */
+static uint32_t face_points(const step_ctx *s, unsigned swap, uint64_t *quads)
 {
     uint64_t n = 0;
     for (uint32_t i = 0; i < s->nq; i++) {
-        uint32_t q = s->queue[i];
-        n += s->t->valence[s->t->fidx[s->t->foff[q] + ((vcorner(s, q, swap) + 2) & 3)]] == 4;
-    }
-    return n;
-}
-
-/* A face point of the labelling (swap as above) on the boundary, or ST_NIL:
- * face points are interior. */
-static uint32_t face_point_on_boundary(const step_ctx *s, unsigned swap)
-{
-    for (uint32_t i = 0; i < s->nq; i++) {
         uint32_t q = s->queue[i], F = s->t->fidx[s->t->foff[q] + ((vcorner(s, q, swap) + 2) & 3)];
         if (s->t->bnd[F]) return F;
+        n += s->t->valence[F] == 4;
     }
+    *quads = n;
     return ST_NIL;
 }
 
@@ -332,14 +327,13 @@ static int evaluate(step_ctx *s, unsigned p, double tie, cand *c)
         double r = 0;
         uint64_t q = 0;
         if (poly) {
-            uint32_t fb = face_point_on_boundary(s, swap);
+            uint32_t fb = face_points(s, swap, &q);
             if (fb != ST_NIL) {
                 failf(s, "vertex %u would be a face point but lies on the boundary", fb + 1);
                 note_fail(s, c);
                 continue;
             }
             r = poly_score(s, swap);
-            q = quad_faces(s, swap);
         }
         if (c->seed < 0 || r < c->r - tie || (fabs(r - c->r) <= tie && q > c->q)) {
             c->seed = (int)(p + 2 * swap); c->r = r; c->q = q;
@@ -461,9 +455,15 @@ static void free_step(st_unsub_step *st)
     st_mesh_init(&st->coarse);
 }
 
-/* Coarse faces of the polygon split: one per face point, its corners read
- * around it (each fine quad is (V, E_next, F, E_prev)). */
-static int build_poly_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap, uint32_t *first_face,
+/* Coarse faces of the polygon split: one per face point, in vertex order,
+ * its corners read around it (each fine quad is (V, E_next, F, E_prev))
+ * from its first fine quad.  The offsets come first (a face point's coarse
+ * face has one corner per neighbour), then the faces are read in fine-face
+ * order: the quads around a face point lie near each other in that order,
+ * where face points in vertex order (another program's) jump about.
+ * rank: scratch, per fine vertex.  A face point whose quads do not close
+ * around it is reported, the first in vertex order. */
+static int build_poly_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap, uint32_t *first_face, uint32_t *rank,
                             uint32_t *corner_fine, uint32_t *coarse_of)
 {
     const st_unsub_topo *t = s->t;
@@ -476,25 +476,44 @@ static int build_poly_faces(step_ctx *s, st_unsub_step *st, const uint32_t *vmap
     }
     for (uint32_t F = 0; F < t->nv; F++) {
         if (s->lab[F] != LAB_F) continue;
-        uint32_t q0 = first_face[F], q = q0, n = 0;
-        m->face_off[nf] = nc;
+        rank[F] = nf;
         st->f_fine[nf] = F;
-        do {
-            uint32_t b = t->foff[q], p = s->phase[q];
-            m->face_idx[nc] = vmap[t->fidx[b + p]];
-            corner_fine[nc] = b + p;
-            coarse_of[q] = nf;
-            st->e_fine[nc++] = t->fidx[b + ((p + 1) & 3)];
-            uint32_t tw = t->twin[b + ((p + 1) & 3)];
-            if (tw == ST_NIL || ++n > t->valence[F]) {
-                failf(s, "vertex %u: the faces around this face point do not close", F + 1);
-                return -1;
-            }
-            q = t->face_of[tw];
-        } while (q != q0);
-        nf++;
+        m->face_off[nf++] = nc;
+        nc += t->valence[F];
     }
     m->face_off[nf] = nc;
+    /* Interior face points (face_points): one corner per quad around them,
+     * every quad around one; else the faces would overrun. */
+    if (nc != t->nf) {
+        failf(s, "the coarse faces do not cover the fine quads");
+        return -1;
+    }
+    uint32_t open = ST_NIL;       /* the first face point (vertex order) whose quads do not close */
+    int short_cycle = 0;
+    for (uint32_t q0 = 0; q0 < t->nf; q0++) {
+        uint32_t F = t->fidx[t->foff[q0] + ((s->phase[q0] + 2) & 3)];
+        if (first_face[F] != q0 || (open != ST_NIL && F > open)) continue;
+        uint32_t r = rank[F], c = m->face_off[r], end = m->face_off[r + 1], q = q0, n = 0;
+        do {
+            uint32_t b = t->foff[q], p = s->phase[q];
+            uint32_t tw = t->twin[b + ((p + 1) & 3)];
+            if (tw == ST_NIL || ++n > t->valence[F]) { open = F; break; }
+            m->face_idx[c] = vmap[t->fidx[b + p]];
+            corner_fine[c] = b + p;
+            coarse_of[q] = r;
+            st->e_fine[c++] = t->fidx[b + ((p + 1) & 3)];
+            q = t->face_of[tw];
+        } while (q != q0);
+        if (open != F && c != end) short_cycle = 1;
+    }
+    if (open != ST_NIL) {
+        failf(s, "vertex %u: the faces around this face point do not close", open + 1);
+        return -1;
+    }
+    if (short_cycle) {
+        failf(s, "the coarse faces do not cover the fine quads");
+        return -1;
+    }
     return 0;
 }
 
@@ -541,14 +560,17 @@ static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
     const st_unsub_topo *t = s->t;
     st_mesh *m = &st->coarse;
     uint32_t nv = m->nverts;
-    double *sum = s->acc;                 /* 3 per fine vertex, read at V vertices: ΣE then ΣF in m->pos */
-    memset(sum, 0, 3 * (size_t)t->nv * sizeof *sum);
+    /* ΣE and ΣF (in m->pos) per coarse vertex: indexed by the coarse
+     * vertex, not the fine one, so that a quarter or so of the scratch is
+     * touched (the first touch of fresh memory is a page fault). */
+    double *sum = s->acc;
+    memset(sum, 0, 3 * (size_t)nv * sizeof *sum);
     memset(m->pos, 0, 3 * (size_t)nv * sizeof *m->pos);
     for (uint32_t q = 0; q < t->nf; q++) {
         uint32_t b = t->foff[q], p = s->phase[q];
         uint32_t V = t->fidx[b + p], E = t->fidx[b + ((p + 1) & 3)], F = t->fidx[b + ((p + 2) & 3)];
         for (int k = 0; k < 3; k++) {
-            sum[3 * (size_t)V + k] += s->pos[3 * (size_t)E + k];
+            sum[3 * (size_t)vmap[V] + k] += s->pos[3 * (size_t)E + k];
             m->pos[3 * (size_t)vmap[V] + k] += s->pos[3 * (size_t)F + k];
         }
     }
@@ -556,7 +578,7 @@ static void poly_positions(step_ctx *s, st_unsub_step *st, const uint32_t *vmap)
     for (uint32_t cv = 0; cv < nv; cv++) {
         uint32_t V = st->v_fine[cv], n = t->valence[V];
         const double *pv = s->pos + 3 * (size_t)V;
-        double *out = m->pos + 3 * (size_t)cv, *se = sum + 3 * (size_t)V;
+        double *out = m->pos + 3 * (size_t)cv, *se = sum + 3 * (size_t)cv;
         exact[V] = 0;
         /* Crease rules (DeRose et al. 1998; the coarse edges and vertex of
          * a sharp fine chain are at least 1 sharp, unsubdivide.h, so the
@@ -959,10 +981,11 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
     for (uint32_t v = 0; v < t.nv; v++)
         if (vmap[v] != ST_NIL) st->v_fine[vmap[v]] = v;
     if (s->pattern == ST_UNSUB_POLY_SPLIT) {
-        uint32_t *first = malloc(nv * sizeof *first);
-        if (!first) { failf(s, "out of memory"); goto done; }
-        int b = build_poly_faces(s, st, vmap, first, corner_fine, coarse_of);
+        uint32_t *first = malloc(nv * sizeof *first), *rank = malloc(nv * sizeof *rank);
+        if (!first || !rank) { free(first); free(rank); failf(s, "out of memory"); goto done; }
+        int b = build_poly_faces(s, st, vmap, first, rank, corner_fine, coarse_of);
         free(first);
+        free(rank);
         if (b) goto done;
         if (st->coarse.face_off[ncf] != ncc) { failf(s, "the coarse faces do not cover the fine quads"); goto done; }
         poly_positions(s, st, vmap);
