@@ -329,6 +329,14 @@ static void test_unsubdivide_tags(void)
     st_mesh_free(&lv0);
 
     check_undo_redo(&d, &before);
+    /* A scheme change after the rebuild keeps level 0's creases and corner
+     * (level 0 is no longer the loaded file, whose tags are the fine ones). */
+    CHECKF(st_doc_set_scheme(&d, "quad-triangle", &err) == 0, "%s", err.msg);
+    CHECK(st_rebuild_level_input(&d.h, 0, &lv0, &err) == 0);
+    CHECKF(same_tags(&cage, &lv0, 1e-9), "after a scheme change, level 0: %u creases, %u corners", lv0.ncreases,
+           lv0.ncorners);
+    st_mesh_free(&lv0);
+    CHECK(st_doc_undo(&d, &err) == 0);
     CHECK(st_doc_undo(&d, &err) == 0 && d.h.map.top == 0);
     CHECK(st_rebuild_level_input(&d.h, 0, &fine, &err) == 0 && same_tags(&file, &fine, 0));
     st_mesh_free(&fine);

@@ -17,6 +17,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "editor_internal.h"
+#include "core/rebuild/rebuild.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -297,10 +298,12 @@ int st_doc_set_scheme_progress(st_doc *d, const char *scheme, int (*fraction)(vo
     if (!sc) return st_fail(err, ST_ERR_INVALID, "unknown scheme '%s'", scheme ? scheme : "");
     ed_finish_active(d);
     /* The control mesh as it is now (edits of level 0 kept); the file's
-     * tags are kept while level 0 is still the loaded one. */
+     * tags are kept while level 0 is still the loaded one.  Once it is not
+     * (a rebuild or a removed bottom level made it), level 0's own sharpness
+     * and holes are its tags, read as the rebuild reads a level. */
     st_mesh mesh;
     st_mesh_init(&mesh);
-    int rc = st_hier_level_mesh(&d->h, 0, &mesh, err);
+    int rc = d->rebased ? st_rebuild_level_input(&d->h, 0, &mesh, err) : st_hier_level_mesh(&d->h, 0, &mesh, err);
     if (rc) return rc;
     if (!d->rebased && mesh.nverts == d->base.nverts) {
         const st_mesh *b = &d->base;
