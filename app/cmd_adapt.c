@@ -134,9 +134,10 @@ int st_cmd_adapt(int argc, char **argv)
         if (!rc && sm != &h.map) rc = st_map_validate((st_map *)sm, &err);
         if (!rc) rc = tri ? triangulated(sm, shown, &out, &err) : st_adapt_mesh(&a, &out, &err);
     }
-    if (!rc && st_hier_uv(&h, 0))
-        fprintf(stderr, "strata adapt: note: %s has UVs; adaptive meshes do not carry them yet, %s is written without\n",
-                o.in, o.out);
+    const char *no_uv = access || tri ? NULL : st_adapt_uv_absent(&a);
+    if (!rc && st_hier_uv(&h, 0) && (no_uv || !out.face_uv))
+        fprintf(stderr, "strata adapt: note: %s has UVs; %s, %s is written without\n", o.in,
+                no_uv ? no_uv : access ? "--access does not carry them" : "the triangulation does not carry them", o.out);
     if (!rc) rc = st_any_mesh_save(o.out, &out, &err);
     if (rc) fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
     else printf("%s: %u %s, %u vertices, levels 0..%u\n", o.out, out.nfaces - st_mesh_hole_faces(&out),
