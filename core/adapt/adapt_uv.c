@@ -55,6 +55,7 @@ static int rules_of(const st_hier *h)
 const char *st_adapt_uv_absent(st_adapt *a)
 {
     const st_hier *h = a->h;
+    if (h->map.face_embedded) return "Doo-Sabin carries no UVs";
     if (!st_hier_uv(h, 0)) return "the mesh has no texture coordinates";
     if (st_adapt_is_progressive(a)) return "a progressive hierarchy's adaptive mesh carries no UVs";
     if (rules_of(h) < 0 && h->map.top > 0)
@@ -116,10 +117,23 @@ static int discontinuous(const work *w, uint32_t d)
     return w->val[d] != w->val[st_phi1(w->m, t, w->l)] || w->val[st_phi1(w->m, d, w->l)] != w->val[t];
 }
 
+/* The dart a regular level meets first on the face of d: its smallest id
+ * there, which is its oldest dart (a regular level makes all its darts
+ * after those of the level below; an adaptive map interleaves levels). */
+static uint32_t oldest_dart(const st_map *m, uint32_t d, unsigned l)
+{
+    uint32_t b = d, x = st_phi1(m, d, l);
+    while (x != d) {
+        if (m->darts.ins[x] < m->darts.ins[b] || (m->darts.ins[x] == m->darts.ins[b] && x < b)) b = x;
+        x = st_phi1(m, x, l);
+    }
+    return b;
+}
+
 /* Centroids of every face of map l (the edge and vertex rules of
  * Catmull-Clark read those of faces not subdivided too), face children of
- * the subdivided ones.  The sum starts at the face's first dart in the
- * map's order, as fvar.c's does. */
+ * the subdivided ones.  The sum starts where fvar.c's starts on a regular
+ * level: at the face's oldest dart. */
 static void face_pass(work *w)
 {
     st_map *m = w->m;
@@ -129,6 +143,7 @@ static void face_pass(work *w)
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
         if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
         st_mark_face(m, fbit, d, l);
+        d = oldest_dart(m, d, l);
         double s[2] = { 0, 0 };
         unsigned n = 0;
         uint32_t x = d;
