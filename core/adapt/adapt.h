@@ -243,7 +243,7 @@ typedef struct st_adapt_uv {
 
 /* Why the adaptive mesh of a carries no UVs (NULL: it does): a mesh without
  * UVs, √3 or Doo-Sabin above level 0, a progressive hierarchy. */
-const char *st_adapt_uv_absent(st_adapt *a);
+const char *st_adapt_uv_absent(const st_adapt *a);
 /* Computes them for the map as it is now (O(darts) per level); u->uv stays
  * NULL when st_adapt_uv_absent says why. */
 int st_adapt_uv_build(st_adapt *a, st_adapt_uv *u, st_error *err);

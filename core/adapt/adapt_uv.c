@@ -52,7 +52,7 @@ static int rules_of(const st_hier *h)
     }
 }
 
-const char *st_adapt_uv_absent(st_adapt *a)
+const char *st_adapt_uv_absent(const st_adapt *a)
 {
     const st_hier *h = a->h;
     if (h->map.face_embedded) return "Doo-Sabin carries no UVs";
