@@ -289,6 +289,31 @@ static void check_partial(const uv_case *c)
     st_hier_free(&r);
 }
 
+/* Without the one-level restriction stencils read whatever the
+ * neighbourhood is (as the positions do): UVs still on every corner, finite,
+ * inside the range of level 0's. */
+static void check_unrestricted(const uv_case *c)
+{
+    st_hier h;
+    st_adapt a;
+    st_mesh out;
+    if (load_hier(&h, c->file, c->id, c->interp, 0)) return;
+    const double *uv0 = st_hier_uv(&h, 0);
+    double lo = INFINITY, hi = -INFINITY;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(&h.map, 0, &it); d != ST_NIL; d = st_dart_next(&h.map, 0, &it))
+        if (!st_is_boundary(&h.map, d)) { lo = fmin(lo, fmin(uv0[2 * d], uv0[2 * d + 1])); hi = fmax(hi, fmax(uv0[2 * d], uv0[2 * d + 1])); }
+    st_adapt_params p = { .base_level = 0, .max_level = c->max, .has_box = 1, .no_restriction = 1,
+                          .box_lo = { -1e9, -1e9, -1e9 }, .box_hi = { 0, 1e9, 1e9 } };
+    adapt_mesh(&h, &p, &out, &a);
+    uint32_t bad = 0;
+    for (uint32_t i = 0; out.uv && i < 2 * out.nuvs; i++) bad += !(out.uv[i] >= lo && out.uv[i] <= hi);
+    CHECKF(out.face_uv && out.nuvs > 0 && bad == 0, "%s unrestricted: %u of %u UVs out of [%g, %g]", c->file, bad, out.nuvs, lo, hi);
+    st_mesh_free(&out);
+    st_adapt_free(&a);
+    st_hier_free(&h);
+}
+
 static void check_case(const uv_case *c)
 {
     st_adapt_params none = { .base_level = 0, .max_level = c->max };
@@ -299,6 +324,7 @@ static void check_case(const uv_case *c)
                             .box_lo = { -1e9, -1e9, -1e9 }, .box_hi = { 1e9, 1e9, 1e9 } };
     check_against_level(c, &all, c->max, "box over everything");
     check_partial(c);
+    check_unrestricted(c);
 }
 
 /* √3 and Doo-Sabin: no UVs above level 0, said, nothing fails. */
@@ -328,6 +354,10 @@ int main(void)
         { MESHES "triangle/sphere_ico.obj", ST_SCHEME_LOOP, ST_UV_CORNERS_PLUS1, 2 },
         { MESHES "triangle/sphere_ico.obj", ST_SCHEME_LOOP, ST_UV_CORNERS_PLUS2, 2 },
         { MESHES "triangle/sphere_ico.obj", ST_SCHEME_BUTTERFLY, ST_UV_CORNERS_PLUS1, 2 },
+        /* open: boundary rules, edge-only corners */
+        { MESHES "triangle/cube_no_bottom.obj", ST_SCHEME_LOOP, ST_UV_CORNERS_PLUS1, 3 },
+        { MESHES "triangle/cube_no_bottom.obj", ST_SCHEME_CATMARK, ST_UV_CORNERS_ONLY, 3 },
+        { MESHES "triangle/cube_no_bottom.obj", ST_SCHEME_QUADTRI, ST_UV_ALL, 2 },
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) check_case(&cases[i]);
     check_absent(ST_SCHEME_SQRT3, MESHES "triangle/sphere_ico.obj");
