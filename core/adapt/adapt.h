@@ -239,6 +239,7 @@ typedef struct st_adapt_uv {
     double *uv;        /* 2 per dart; NULL: the adaptive mesh has no UVs */
     uint32_t *val;
     uint8_t *level;
+    uint32_t *rank;    /* a regular level's numbering of the darts above level 0 (adapt_uv.c) */
 } st_adapt_uv;
 
 /* Why the adaptive mesh of a carries no UVs (NULL: it does): a mesh without

@@ -68,6 +68,7 @@ void st_adapt_uv_free(st_adapt_uv *u)
     free(u->uv);
     free(u->val);
     free(u->level);
+    free(u->rank);
     memset(u, 0, sizeof *u);
 }
 
@@ -85,6 +86,8 @@ typedef struct work {
     uint8_t *olevel;        /* the level each corner's value comes from */
     double *cent;           /* per dart of map l: the centroid of its face (the face child) */
     uint8_t *sub;           /* per dart of map l: its face is subdivided toward L */
+    uint32_t *rank;         /* per dart: its place among the darts of its level in a regular
+                               level's numbering (order_children), ST_NIL: none */
     uint32_t *c, *rot;      /* one vertex's corners in β1 order, and scratch */
     uint32_t cap_c, cap_rot;
 } work;
@@ -117,14 +120,18 @@ static int discontinuous(const work *w, uint32_t d)
     return w->val[d] != w->val[st_phi1(w->m, t, w->l)] || w->val[st_phi1(w->m, d, w->l)] != w->val[t];
 }
 
-/* The dart a regular level meets first on the face of d: its smallest id
- * there, which is its oldest dart (a regular level makes all its darts
- * after those of the level below; an adaptive map interleaves levels). */
-static uint32_t oldest_dart(const st_map *m, uint32_t d, unsigned l)
+/* The dart a regular level's scan meets first on the face of d: its oldest
+ * (a regular level makes all its darts after those of the level below; an
+ * adaptive map interleaves levels), then the first in that level's
+ * numbering. */
+static int regular_before(const work *w, uint32_t x, uint32_t y);
+
+static uint32_t oldest_dart(const work *w, uint32_t d, unsigned l)
 {
+    const st_map *m = w->m;
     uint32_t b = d, x = st_phi1(m, d, l);
     while (x != d) {
-        if (m->darts.ins[x] < m->darts.ins[b] || (m->darts.ins[x] == m->darts.ins[b] && x < b)) b = x;
+        if (regular_before(w, x, b)) b = x;
         x = st_phi1(m, x, l);
     }
     return b;
@@ -143,7 +150,7 @@ static void face_pass(work *w)
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
         if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
         st_mark_face(m, fbit, d, l);
-        d = oldest_dart(m, d, l);
+        d = oldest_dart(w, d, l);
         double s[2] = { 0, 0 };
         unsigned n = 0;
         uint32_t x = d;
@@ -417,9 +424,20 @@ static void vertex_child(work *w, const vert *v)
     mismatched_vertex(w, v, nvalues, dependent);
 }
 
+/* x comes before y in the scan of a regular level (st_dart_first/next:
+ * level by level, each in the order the level was made). */
+static int regular_before(const work *w, uint32_t x, uint32_t y)
+{
+    const uint8_t *ins = w->m->darts.ins;
+    if (ins[x] != ins[y]) return ins[x] < ins[y];
+    if (ins[x] == 0 || w->rank[x] == w->rank[y]) return x < y;
+    return w->rank[x] < w->rank[y];
+}
+
 /* The corners of the vertex of d at level l in β1 order, starting after
- * the hole when there is one (fvar.c's gather_vertex); *touches: one of
- * them is a corner of a face subdivided toward L. */
+ * the hole when there is one, else at the corner a regular level meets
+ * first (fvar.c's gather_vertex); *touches: one of them is a corner of a
+ * face subdivided toward L. */
 static int gather_vertex(work *w, uint32_t d, vert *v, int *touches)
 {
     st_map *m = w->m;
@@ -448,6 +466,13 @@ static int gather_vertex(work *w, uint32_t d, vert *v, int *touches)
     }
     uint32_t first = 0, out = 0;
     if (v->hole != ST_NIL) while (w->c[first] != v->hole) first++;
+    else {
+        /* Closed around: from where fvar.c starts on a regular level, the
+         * corner after the one its scan meets first (the sums of the masks
+         * run from there). */
+        for (uint32_t i = 1; i < n; i++)
+            if (regular_before(w, w->c[i], w->c[first])) first = i;
+    }
     for (uint32_t i = 1; i <= n; i++) {
         uint32_t y = w->c[(first + i) % n];
         if (!st_is_boundary(m, y)) w->rot[out++] = y;
@@ -495,6 +520,73 @@ static void inner_triangles(work *w)
     }
 }
 
+/* ---- a regular level's numbering ------------------------------------------------ */
+
+/* The bulk refinement (core/map/refine.c) numbers the darts of level L face
+ * by face of level l, each face from the first of its darts of level l met
+ * (level 0: its smallest id), corner i giving n(d_i), then first(d_i) =
+ * φ1(d_i) at L, then out_i = β0(in_i) (a triangle split: u_i =
+ * β0(first(d_{i+1}))).  Ranking the adaptive map's darts of level L by
+ * (rank of the face, 3 i + role) gives their order there, which the
+ * vertex rules need to sum as fvar.c does on a regular level. */
+typedef struct rank_key { uint32_t face, pos, dart; } rank_key;
+
+static int cmp_rank(const void *pa, const void *pb)
+{
+    const rank_key *a = pa, *b = pb;
+    if (a->face != b->face) return a->face < b->face ? -1 : 1;
+    if (a->pos != b->pos) return a->pos < b->pos ? -1 : 1;
+    return (a->dart > b->dart) - (a->dart < b->dart);
+}
+
+static int order_children(work *w)
+{
+    st_map *m = w->m;
+    unsigned l = w->l, L = w->L;
+    const uint8_t *ins = m->darts.ins;
+    size_t cap = 64, n = 0;
+    rank_key *k = malloc(cap * sizeof *k);
+    if (!k) return -1;
+    int fbit = st_marker_reserve(m);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+        st_mark_face(m, fbit, d, l);
+        if (!w->sub[d]) continue;
+        /* the face's first dart: its newest darts' first in the scan */
+        uint32_t f0 = d, x = st_phi1(m, d, l);
+        while (x != d) {
+            if (ins[x] > ins[f0] || (ins[x] == ins[f0] && regular_before(w, x, f0))) f0 = x;
+            x = st_phi1(m, x, l);
+        }
+        uint32_t face = l ? w->rank[f0] : f0;
+        int tri = st_face_degree(m, f0, L) == 3;
+        uint32_t i = 0;
+        x = f0;
+        do {
+            if (n + 3 > cap) {
+                rank_key *g = realloc(k, 2 * cap * sizeof *k);
+                if (!g) { free(k); st_marker_release(m, fbit, l); return -1; }
+                k = g;
+                cap *= 2;
+            }
+            uint32_t in = st_phi1(m, x, L);
+            uint32_t out = tri ? st_beta0(m, st_phi1(m, st_phi1(m, x, l), L), L) : st_beta0(m, in, L);
+            k[n++] = (rank_key){ face, 3 * i, st_beta0(m, st_beta0(m, x, l), L) };
+            k[n++] = (rank_key){ face, 3 * i + 1, in };
+            k[n++] = (rank_key){ face, 3 * i + 2, out };
+            i++;
+            x = st_phi1(m, x, l);
+        } while (x != f0);
+    }
+    st_marker_release(m, fbit, l);
+    qsort(k, n, sizeof *k, cmp_rank);
+    for (size_t j = 0; j < n; j++)
+        if (ins[k[j].dart] == L) w->rank[k[j].dart] = (uint32_t)j;
+    free(k);
+    return 0;
+}
+
 static int step(work *w)
 {
     st_map *m = w->m;
@@ -506,7 +598,7 @@ static int step(work *w)
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, w->l, &it); d != ST_NIL; d = st_dart_next(m, w->l, &it))
         if (!st_is_boundary(m, d) && st_adapt_edge_split(m, d, w->l)) edge_child(w, d);
-    if (vertex_pass(w)) return -1;
+    if (vertex_pass(w) || order_children(w)) return -1;
     inner_triangles(w);
     return 0;
 }
@@ -525,10 +617,12 @@ int st_adapt_uv_build(st_adapt *a, st_adapt_uv *u, st_error *err)
     double *buf = malloc(2 * n * sizeof *buf), *cent = malloc(2 * n * sizeof *cent);
     uint32_t *vbuf = malloc(n * sizeof *vbuf);
     uint8_t *sub = malloc(n);
+    uint32_t *rank = malloc(n * sizeof *rank);
     u->uv = calloc(2 * n, sizeof *u->uv);
     u->val = calloc(n, sizeof *u->val);
     u->level = calloc(n, 1);
-    int rc = !buf || !cent || !vbuf || !sub || !u->uv || !u->val || !u->level;
+    int rc = !buf || !cent || !vbuf || !sub || !rank || !u->uv || !u->val || !u->level;
+    for (size_t i = 0; !rc && i < n; i++) rank[i] = ST_NIL;
     if (!rc) {
         /* level 0: the hierarchy's own (level-0 darts never change while adapting) */
         uint32_t n0 = f->lv[0].cap < cap ? f->lv[0].cap : cap;
@@ -541,7 +635,7 @@ int st_adapt_uv_build(st_adapt *a, st_adapt_uv *u, st_error *err)
         }
         u->cap = cap;
     }
-    work w = { .h = h, .m = m, .interp = f->interp, .rules = rules_of(h), .cent = cent, .sub = sub, .olevel = u->level };
+    work w = { .h = h, .m = m, .interp = f->interp, .rules = rules_of(h), .cent = cent, .sub = sub, .rank = rank, .olevel = u->level };
     for (unsigned L = 1; !rc && L <= m->top; L++) {
         /* the values so far go to buf/vbuf, the step writes back into u */
         memcpy(buf, u->uv, 2 * (size_t)cap * sizeof *buf);
@@ -560,6 +654,7 @@ int st_adapt_uv_build(st_adapt *a, st_adapt_uv *u, st_error *err)
     free(cent);
     free(vbuf);
     free(sub);
+    u->rank = rank;
     if (rc) {
         st_adapt_uv_free(u);
         return st_fail(err, ST_ERR_MEMORY, "out of memory for the adaptive mesh's texture coordinates");
@@ -569,7 +664,7 @@ int st_adapt_uv_build(st_adapt *a, st_adapt_uv *u, st_error *err)
 
 /* ---- the displayed mesh's texture coordinates ------------------------------------ */
 
-typedef struct uv_key { uint32_t vert, level, label, corner; } uv_key;
+typedef struct uv_key { uint32_t vert, level, label, corner; uint64_t face; } uv_key;
 
 static int cmp_key(const void *pa, const void *pb)
 {
@@ -577,7 +672,16 @@ static int cmp_key(const void *pa, const void *pb)
     if (a->vert != b->vert) return a->vert < b->vert ? -1 : 1;
     if (a->level != b->level) return a->level < b->level ? -1 : 1;
     if (a->label != b->label) return a->label < b->label ? -1 : 1;
+    if (a->face != b->face) return a->face < b->face ? -1 : 1;
     return (a->corner > b->corner) - (a->corner < b->corner);
+}
+
+/* A dart's place in a regular level's scan (level, then numbering). */
+static uint64_t scan_key(const st_map *m, const st_adapt_uv *u, uint32_t x)
+{
+    uint8_t ins = m->darts.ins[x];
+    uint32_t r = ins == 0 ? x : (x < u->cap && u->rank ? u->rank[x] : ST_NIL);
+    return (uint64_t)ins << 32 | r;
 }
 
 int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *err)
@@ -603,18 +707,26 @@ int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, top, &it); d != ST_NIL && c < nc; d = st_dart_next(m, top, &it)) {
         if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+        uint64_t face = UINT64_MAX;
         uint32_t x = d;
+        do {
+            uint64_t s = scan_key(m, u, x);
+            face = s < face ? s : face;
+            x = st_phi1(m, x, top);
+        } while (x != d);
         do {
             st_mark(m, fbit, x);
             darts[c] = x;
-            k[c] = (uv_key){ out->face_idx[c], x < u->cap ? u->level[x] : 0, x < u->cap ? u->val[x] : 0, c };
+            k[c] = (uv_key){ out->face_idx[c], x < u->cap ? u->level[x] : 0, x < u->cap ? u->val[x] : 0, c, face };
             c++;
             x = st_phi1(m, x, top);
         } while (x != d && c < nc);
     }
     st_marker_release(m, fbit, top);
     /* One texture coordinate per (vertex, level, value): seams stay seams,
-     * and corners holding one value share one coordinate. */
+     * and corners holding one value share one coordinate - that of the
+     * face a regular level's walk meets first, as st_hier_level_mesh takes
+     * it (the two sides of a smooth edge may differ in the last bit). */
     qsort(k, c, sizeof *k, cmp_key);
     uint32_t nuv = 0;
     for (uint32_t i = 0; i < c; i++) {
