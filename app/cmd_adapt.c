@@ -157,7 +157,7 @@ int st_cmd_adapt(int argc, char **argv)
         st_adapt_uv_free(&u);
     }
     if (!rc && st_hier_uv(&h, 0) && !out.face_uv) {
-        const char *why = access ? "--access does not carry them" : st_adapt_uv_absent(&a);
+        const char *why = access ? "a level of the regular hierarchy has none" : st_adapt_uv_absent(&a);
         fprintf(stderr, "strata adapt: note: %s has UVs; %s: %s is written without\n", o.in, why ? why : "?", o.out);
     }
     if (!rc) rc = st_any_mesh_save(o.out, &out, &err);

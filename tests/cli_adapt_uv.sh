@@ -3,7 +3,7 @@
 # `strata adapt` writes OBJ vt with f v/t(/n) on every corner, and the OBJ
 # re-reads with the same texture coordinates per corner; glTF gets
 # TEXCOORD_0 and passes the Khronos validator; PLY splits vertices along
-# seams; `strata render --box --mode uv` draws the adaptive checker; √3
+# seams; --access carries the regular levels' UVs; `strata render --box --mode uv` draws the adaptive checker; √3
 # above level 0 and meshes without vt say why nothing is carried (exit 0 /
 # exit 1 for render), without crashing.
 # Usage: cli_adapt_uv.sh STRATA SHARED_MESHES ASSETS BINDIR
@@ -49,6 +49,14 @@ for scheme in catmull-clark quad-triangle loop butterfly; do
         bad "$scheme: adapt failed: $(cat "$W/$scheme.log")"
     fi
 done
+
+# --access reads the same mesh off the regular levels, with their UVs
+if "$S" adapt "$BLUB" --access --max-level 3 $(box) -o "$W/access.obj" >"$W/access.log" 2>&1; then
+    read -r c t < <(corners "$W/access.obj")
+    if [ "$c" -gt 0 ] && [ "$c" = "$t" ]; then ok "--access: $t of $c corners with a vt"; else bad "--access: $t of $c corners with a vt"; fi
+else
+    bad "--access failed: $(cat "$W/access.log")"
+fi
 
 # The box over everything gives the regular level's UVs: the same texture
 # coordinates (as a sorted set of vt lines) as subdivide (quad/triangle and
