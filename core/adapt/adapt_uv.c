@@ -19,15 +19,21 @@
  * which its vertex was computed, in the chart of its face.  With the
  * one-level restriction every stencil reads complete level-l faces (Kraemer
  * 2008 §3.2.2), the same neighbourhood as a regular level; the arithmetic
- * is fvar.c's, term for term.  Without the restriction a stencil reads
- * whatever the neighbourhood is, as the positions do.
+ * is fvar.c's, term for term, and its sums start where fvar.c's start on a
+ * regular level (order_children), so the values are the regular level's
+ * bit for bit.  Without the restriction a stencil reads whatever the
+ * neighbourhood is, as the positions do.
+ *
+ * The rules below are copies of fvar.c's (which keeps them to itself); a
+ * change there must be made here too - tests/test_adapt_uv.c compares the
+ * two bit for bit.
  *
  * Catmull-Clark and Loop follow OpenSubdiv's face-varying rules (the
  * hierarchy's --uv-interp), Butterfly and quad/triangle are linear.  √3's
  * flips and Doo-Sabin's dual encoding have no corner of the level below to
  * interpolate from (as in fvar.c), and progressive hierarchies keep level
- * 0's UVs only: their adaptive meshes carry UVs only where nothing is
- * refined (st_adapt_uv_absent says why). */
+ * 0's UVs only: their adaptive meshes carry none above level 0
+ * (st_adapt_uv_absent says why). */
 #include "core/adapt/adapt_internal.h"
 #include "core/fvar/fvar_internal.h"
 #include "core/map/map_mesh.h"
