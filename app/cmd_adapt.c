@@ -61,8 +61,26 @@ static int parse_adapt(int argc, char **argv, st_adapt_params *p, int *tri, int 
     return 0;
 }
 
-/* The triangles the renderer would draw, as a soup (map positions). */
-static int triangulated(const st_map *m, unsigned level, st_mesh *out, st_error *err)
+/* The renderer's corner UVs (single precision, as it draws them) of the
+ * triangles, one texture coordinate per corner. */
+static int triangle_uvs(const st_rgeom *g, const st_map *m, const double *uv, st_mesh *r)
+{
+    size_t nc = 3 * (size_t)g->ntris;
+    float *f = malloc((2 * nc + 1) * sizeof *f);
+    r->uv = malloc((2 * nc + 1) * sizeof *r->uv);
+    r->face_uv = malloc((nc + 1) * sizeof *r->face_uv);
+    if (!f || !r->uv || !r->face_uv) { free(f); return -1; }
+    st_rgeom_corner_uvs(g, m, uv, f);
+    for (size_t i = 0; i < 2 * nc; i++) r->uv[i] = f[i];
+    for (size_t i = 0; i < nc; i++) r->face_uv[i] = (uint32_t)i;
+    r->nuvs = (uint32_t)nc;
+    free(f);
+    return 0;
+}
+
+/* The triangles the renderer would draw, as a soup (map positions), with
+ * the adaptive mesh's UVs when uv is not NULL. */
+static int triangulated(const st_map *m, unsigned level, const double *uv, st_mesh *out, st_error *err)
 {
     st_rgeom g;
     st_rgeom_init(&g);
@@ -79,6 +97,7 @@ static int triangulated(const st_map *m, unsigned level, st_mesh *out, st_error 
     for (uint32_t v = 0; v < g.nverts; v++) memcpy(r.pos + 3 * (size_t)v, st_pos(m, g.vid[v], level), 3 * sizeof(double));
     for (uint32_t t = 0; t <= g.ntris; t++) r.face_off[t] = 3 * t;
     memcpy(r.face_idx, g.tris, (size_t)g.ntris * 3 * sizeof *r.face_idx);
+    if (uv && triangle_uvs(&g, m, uv, &r)) { st_mesh_free(&r); st_rgeom_free(&g); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
     st_rgeom_free(&g);
     st_mesh_move(out, &r);
     return ST_OK;
@@ -132,11 +151,15 @@ int st_cmd_adapt(int argc, char **argv)
         const st_map *sm = rc ? NULL : st_adapt_display_map(&a, &shown); /* a progressive hierarchy's: its own map */
         if (!rc && !sm) rc = st_fail(&err, ST_ERR_MEMORY, "out of memory for the adaptive mesh");
         if (!rc && sm != &h.map) rc = st_map_validate((st_map *)sm, &err);
-        if (!rc) rc = tri ? triangulated(sm, shown, &out, &err) : st_adapt_mesh(&a, &out, &err);
+        st_adapt_uv u = { 0 };
+        if (!rc && tri) rc = st_adapt_uv_build(&a, &u, &err);
+        if (!rc) rc = tri ? triangulated(sm, shown, u.uv, &out, &err) : st_adapt_mesh(&a, &out, &err);
+        st_adapt_uv_free(&u);
     }
-    if (!rc && st_hier_uv(&h, 0))
-        fprintf(stderr, "strata adapt: note: %s has UVs; adaptive meshes do not carry them yet, %s is written without\n",
-                o.in, o.out);
+    if (!rc && st_hier_uv(&h, 0) && !out.face_uv) {
+        const char *why = access ? "a level of the regular hierarchy has none" : st_adapt_uv_absent(&a);
+        fprintf(stderr, "strata adapt: note: %s has UVs; %s: %s is written without\n", o.in, why ? why : "?", o.out);
+    }
     if (!rc) rc = st_any_mesh_save(o.out, &out, &err);
     if (rc) fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
     else printf("%s: %u %s, %u vertices, levels 0..%u\n", o.out, out.nfaces - st_mesh_hole_faces(&out),

@@ -230,7 +230,6 @@ int st_cmd_render(int argc, char **argv)
     if (r.adaptive) {
         if (o.levels || o.level >= 0) { fprintf(stderr, "strata render: --levels/--level do not go with --box (the box decides the levels)\n"); return 2; }
         if (r.adapt.base_level > r.adapt.max_level) { fprintf(stderr, "strata render: --base-level is above --max-level\n"); return 2; }
-        if (r.spec.mode == ST_MODE_UV) { fprintf(stderr, "strata render: --mode uv draws a level's UVs; it does not go with --box\n"); return 2; }
     }
     if (r.normal_map && (r.adaptive || (r.mode_given && r.spec.mode != ST_MODE_SMOOTH))) {
         fprintf(stderr, "strata render: --normal-map draws a level in smooth mode; it does not go with --box or --mode %s\n",
@@ -244,7 +243,7 @@ int st_cmd_render(int argc, char **argv)
     unsigned level = 0;
     if (!r.adaptive && st_cli_level(&o, &h, "render", &level)) { st_hier_free(&h); return 2; }
     r.spec.level = level;
-    if (r.spec.mode == ST_MODE_UV && !(r.spec.uv = st_hier_uv(&h, level))) {
+    if (r.spec.mode == ST_MODE_UV && !r.adaptive && !(r.spec.uv = st_hier_uv(&h, level))) {
         if (level && st_hier_uv(&h, 0))
             fprintf(stderr, "strata render: %s: level %u has no UVs for --mode uv (this scheme keeps those of level 0 only: try --level 0)\n",
                     o.in, level);
@@ -256,7 +255,9 @@ int st_cmd_render(int argc, char **argv)
     }
     st_error err;
     st_adapt a;
+    st_adapt_uv auv;
     memset(&a, 0, sizeof a);
+    memset(&auv, 0, sizeof auv);
     const st_map *shown = &h.map; /* the adaptive result: h's top level, or a progressive hierarchy's own map */
     if (r.adaptive) {
         rc = st_mem_check(st_adapt_estimate_bytes(&h, &r.adapt), "the adaptive refinement", &err);
@@ -266,6 +267,16 @@ int st_cmd_render(int argc, char **argv)
         shown = st_adapt_display_map(&a, &level);
         if (!shown) { fprintf(stderr, "strata render: %s: out of memory for the adaptive mesh\n", o.in); st_adapt_free(&a); st_hier_free(&h); return 1; }
         r.spec.level = level;
+        /* --mode uv: the adaptive mesh's own UVs (core/adapt/adapt.h) */
+        const char *no_uv = r.spec.mode == ST_MODE_UV ? st_adapt_uv_absent(&a) : NULL;
+        if (no_uv) { fprintf(stderr, "strata render: %s: no UVs for --mode uv: %s\n", o.in, no_uv); st_adapt_free(&a); st_hier_free(&h); return 1; }
+        if (r.spec.mode == ST_MODE_UV && st_adapt_uv_build(&a, &auv, &err)) {
+            fprintf(stderr, "strata render: %s: %s\n", o.in, err.msg);
+            st_adapt_free(&a);
+            st_hier_free(&h);
+            return 1;
+        }
+        r.spec.uv = auv.uv ? auv.uv : r.spec.uv;
         if (shown == &h.map) st_adapt_free(&a);
     }
     st_offscreen off;
@@ -273,6 +284,7 @@ int st_cmd_render(int argc, char **argv)
     rc = st_offscreen_init(&off, r.width, r.height, &err);
     if (rc) {
         fprintf(stderr, "strata render: cannot render headless: %s\n", err.msg);
+        st_adapt_uv_free(&auv);
         st_adapt_free(&a);
         st_hier_free(&h);
         return 1;
@@ -290,6 +302,7 @@ int st_cmd_render(int argc, char **argv)
     if (!rc) rc = st_png_write(o.out, r.width, r.height, rgba, &err);
     st_offscreen_free(&off);
     free(rgba);
+    st_adapt_uv_free(&auv);
     st_adapt_free(&a);
     st_hier_free(&h);
     if (rc) { fprintf(stderr, "strata render: %s\n", err.msg); return 1; }

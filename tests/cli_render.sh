@@ -88,7 +88,16 @@ run 1 "no UVs for --mode uv" render "$ASSETS/cube.obj" --levels 1 --mode uv --si
 run 0 "^wrote uvs1\.png \(32x24, uv, level 1, 960 faces" render "$MESHES/triangle/sphere_ico.obj" --scheme sqrt3 --levels 1 --mode uv --size 32x24 -o uvs1.png
 run 0 "^wrote uvs0\.png \(32x24, uv, level 0" render "$MESHES/triangle/sphere_ico.obj" --scheme sqrt3 --levels 1 --level 0 --mode uv --size 32x24 -o uvs0.png
 run 0 "^wrote uvds\.png \(32x24, uv, level 2, 1778 faces" render "$UVMESH" --scheme doo-sabin --levels 2 --mode uv --size 32x24 -o uvds.png
-run 2 "--mode uv .*does not go with --box" render "$UVMESH" --box 0,0,0,1,1,1 --mode uv -o nouv.png
+# With --box: the adaptive mesh's own UVs (core/adapt/adapt_uv.c), against
+# its reference (made the same way as the one above); no UVs: refused.
+run 0 "^wrote uvbox\.png \(160x120, uv, level 3, 422 faces, iso view\)" render "$UVMESH" --box 0,0,0,0.5,0.5,0.5 --max-level 3 --mode uv --size 160x120 -o uvbox.png
+if [ -n "${STRATA_UPDATE_REFS:-}" ]; then
+    cp uvbox.png "$REF/blub_catmark_box_uv.png" && echo "updated $REF/blub_catmark_box_uv.png"
+elif [ -x "$BIN/test_render_images" ]; then
+    if "$BIN/test_render_images" --compare "$REF/blub_catmark_box_uv.png" uvbox.png; then ok
+    else bad "--box --mode uv image differs from tests/render_ref/blub_catmark_box_uv.png"; fi
+fi
+run 1 "no UVs for --mode uv: the mesh has no texture coordinates" render "$ASSETS/cube.obj" --box 0,0,0,1,1,1 --mode uv -o nouv.png
 if [ ! -e nouv.png ]; then ok; else bad "a refused --mode uv left an output file"; fi
 
 # Bad arguments: exit 2 with a message naming the problem; bad input: exit 1.

@@ -98,8 +98,8 @@ fi
 run 0 "replay .* passed" win "$EXE" --size 480x360 --levels 2 --replay "$SRC/replay/brushes.txt" \
     --screenshot-dir "$OUT" --compare-dir "$REF" "$ASSETS/torus.obj"
 # The UV checker (U, View menu) on a shared mesh with UVs: on, through level
-# changes, a stroke, undo and the interest box; its picture compared with
-# its reference.  On a mesh without UVs the key does nothing.
+# changes, a stroke, undo and the interest box (its adaptive mesh's UVs);
+# its pictures compared with their references.  On a mesh without UVs the key does nothing.
 UVMESH="$MESHES/catmull_clark/blub_control_mesh.obj"
 if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
     win "$EXE" --size 480x360 --levels 2 --replay "$SRC/replay/uv_checker.txt" --screenshot-dir "$OUT" "$UVMESH"

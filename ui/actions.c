@@ -11,6 +11,7 @@
  * `strata --keys` prints the README's table (tests/test_actions.c fails
  * until README.md is updated). */
 #include "actions.h"
+#include "core/adapt/adapt.h"
 #include "core/fvar/fvar.h"
 
 #include <math.h>
@@ -120,13 +121,16 @@ static void toggle_box(st_app *a)
 static int grabbing(const st_app *a) { return a->op == ST_OP_GRAB; }
 static int keys_free(const st_app *a) { return a->op == ST_OP_NONE || a->op == ST_OP_ORBIT || a->op == ST_OP_PAN; }
 static int model_keys_free(const st_app *a) { return keys_free(a) && a->doc.loaded; }
-/* The UV checker needs UVs at the displayed level of the model (the
- * interest box's adaptive display has none); once on, it can always be
- * switched off (another model, or a level without UVs, draws plain). */
+/* The UV checker needs UVs at the displayed level of the model, or on the
+ * interest box's adaptive display (core/adapt/adapt.h: st_adapt_uv_absent);
+ * once on, it can always be switched off (another model, or a level
+ * without UVs, draws plain). */
 static int uv_keys_free(const st_app *a)
 {
-    return model_keys_free(a) &&
-           (a->checker || (!a->doc.box_on && st_hier_uv(&a->doc.h, st_doc_display_map_level(&a->doc)) != NULL));
+    const st_doc *d = &a->doc;
+    int has = d->box_on ? d->display.built && !st_adapt_uv_absent(&d->display.adapt)
+                        : st_hier_uv(&d->h, st_doc_display_map_level(d)) != NULL;
+    return model_keys_free(a) && (a->checker || has);
 }
 
 /* File: the dialogs are the GUI's (ui/gui.cc); a key opens them and shows

@@ -17,6 +17,7 @@
 #include <GLFW/glfw3.h>
 
 #include "actions.h"
+#include "core/adapt/adapt.h"
 #include "core/fvar/fvar.h"
 #include "gui.h"
 #include "image.h"
@@ -170,10 +171,18 @@ void st_app_sync(st_app *a)
     }
     /* UVs per triangle corner: uploaded again whenever the triangles
      * change or the checker is switched on (position edits keep them). */
-    int checker = a->checker && dh == &d->h;
+    int checker = a->checker && (dh == &d->h || d->box_on);
     if (checker != a->shown_checker || (checker && (rebuild || (ch.bits & ST_CHANGE_PATCH)))) {
-        const double *uv = checker ? st_hier_uv(&d->h, disp) : NULL;
+        /* with the interest box: the adaptive mesh's own UVs, computed
+         * again after each box move (core/adapt/adapt.h) */
+        st_adapt_uv auv = { 0 };
+        const double *uv = NULL;
+        if (checker && dh == &d->h) uv = st_hier_uv(&d->h, disp);
+        else if (checker && d->display.built && !st_adapt_uv_absent(&d->display.adapt) &&
+                 st_adapt_uv_build(&d->display.adapt, &auv, &err) == ST_OK)
+            uv = auv.uv;
         if (st_renderer_set_uvs(&a->r, &dh->map, uv, &err)) st_app_message(a, 1, "cannot draw the UV checker: %s", err.msg);
+        st_adapt_uv_free(&auv);
         a->shown_checker = checker;
         touched = 1;
     }

@@ -1,5 +1,6 @@
 /* Adaptive access on a regular hierarchy (access.h; thesis §3.3.2). */
 #include "core/adapt/access.h"
+#include "core/fvar/fvar_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -92,23 +93,28 @@ static void choose_levels(access_ctx *c)
 /* Growable soup under construction. */
 typedef struct soup {
     uint32_t *off, *idx;       /* face offsets, corners as (vertex id) */
+    uint32_t *dart;            /* per corner: the dart leaving it into its face (its UVs at every finer level) */
     uint8_t *lev;              /* per corner: level of the face or midpoint */
     uint32_t nf, nc, capf, capc;
 } soup;
 
-static int soup_corner(soup *s, uint32_t v, unsigned level)
+static int soup_corner(soup *s, uint32_t v, uint32_t dart, unsigned level)
 {
     if (s->nc == s->capc) {
         uint32_t cap = s->capc ? 2 * s->capc : 1024;
         uint32_t *idx = realloc(s->idx, cap * sizeof *idx);
         if (!idx) return -1;
         s->idx = idx;
+        uint32_t *dt = realloc(s->dart, cap * sizeof *dt);
+        if (!dt) return -1;
+        s->dart = dt;
         uint8_t *lev = realloc(s->lev, cap);
         if (!lev) return -1;
         s->lev = lev;
         s->capc = cap;
     }
     s->idx[s->nc] = v;
+    s->dart[s->nc] = dart;
     s->lev[s->nc++] = (uint8_t)level;
     return 0;
 }
@@ -138,7 +144,7 @@ static int side_inner(const access_ctx *c, soup *s, uint32_t x, unsigned j, unsi
     if (st_is_boundary(m, t) || !opened(c, t, j)) return 0;
     uint32_t half = st_beta0(m, t, j + 1);  /* midpoint -> next corner, on this side */
     if (side_inner(c, s, x, j + 1, face_level)) return -1;
-    if (soup_corner(s, st_vert(m, half, j + 1), face_level)) return -1;
+    if (soup_corner(s, st_vert(m, half, j + 1), half, face_level)) return -1;
     return side_inner(c, s, half, j + 1, face_level);
 }
 
@@ -148,7 +154,7 @@ static int emit_face(const access_ctx *c, soup *s, uint32_t d, unsigned j)
     const st_map *m = c->m;
     uint32_t x = d;
     do {
-        if (soup_corner(s, st_vert(m, x, j), j) || side_inner(c, s, x, j, j)) return -1;
+        if (soup_corner(s, st_vert(m, x, j), x, j) || side_inner(c, s, x, j, j)) return -1;
         x = st_phi1(m, x, j);
     } while (x != d);
     return soup_face_end(s);
@@ -175,9 +181,53 @@ static int collect_faces(access_ctx *c, soup *s, st_access_stats *stats)
     return 0;
 }
 
-/* Vertex ids -> 0..n-1, each at the finest level of a shown face around it. */
-static int soup_to_mesh(const st_map *m, const soup *s, st_mesh *out)
+typedef struct uv_key { uint32_t vert, label, corner; } uv_key;
+
+static int cmp_uv_key(const void *pa, const void *pb)
 {
+    const uv_key *a = pa, *b = pb;
+    if (a->vert != b->vert) return a->vert < b->vert ? -1 : 1;
+    if (a->label != b->label) return a->label < b->label ? -1 : 1;
+    return (a->corner > b->corner) - (a->corner < b->corner);
+}
+
+/* The UVs of the soup's corners (r's vertices made, lev the level of each
+ * vertex id): each corner at its vertex's level, in its face's chart (the
+ * regular level's UV of the corner's dart there: the dart stays in the
+ * child face at that corner), one texture coordinate per (vertex, value)
+ * as st_hier_level_mesh gives them.  Nothing when a level lacks UVs. */
+static int soup_uvs(const st_hier *h, const soup *s, const uint8_t *lev, st_mesh *r)
+{
+    for (unsigned l = 0; l <= h->map.top; l++)
+        if (!st_hier_uv(h, l)) return 0;
+    uv_key *k = malloc(((size_t)s->nc + 1) * sizeof *k);
+    r->uv = malloc(2 * ((size_t)s->nc + 1) * sizeof *r->uv);
+    r->face_uv = malloc(((size_t)s->nc + 1) * sizeof *r->face_uv);
+    if (!k || !r->uv || !r->face_uv) { free(k); return -1; }
+    for (uint32_t c = 0; c < s->nc; c++)
+        k[c] = (uv_key){ r->face_idx[c], h->fvar->lv[lev[s->idx[c]]].val[s->dart[c]], c };
+    qsort(k, s->nc, sizeof *k, cmp_uv_key);
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < s->nc; i++) {
+        if (i == 0 || k[i].vert != k[i - 1].vert || k[i].label != k[i - 1].label) {
+            uint32_t c = k[i].corner;
+            const double *uv = st_hier_uv(h, lev[s->idx[c]]) + 2 * (size_t)s->dart[c];
+            r->uv[2 * (size_t)n] = uv[0];
+            r->uv[2 * (size_t)n + 1] = uv[1];
+            n++;
+        }
+        r->face_uv[k[i].corner] = n - 1;
+    }
+    r->nuvs = n;
+    free(k);
+    return 0;
+}
+
+/* Vertex ids -> 0..n-1, each at the finest level of a shown face around
+ * it, with the UVs of that level. */
+static int soup_to_mesh(const st_hier *h, const soup *s, st_mesh *out)
+{
+    const st_map *m = &h->map;
     uint32_t nv = m->verts.end;
     uint32_t *slot = malloc((size_t)nv * sizeof *slot);
     uint8_t *lev = calloc(nv, 1);
@@ -203,6 +253,9 @@ static int soup_to_mesh(const st_map *m, const soup *s, st_mesh *out)
         r.nfaces = s->nf;
         if (s->nf) memcpy(r.face_off, s->off, (size_t)(s->nf + 1) * sizeof *r.face_off);
         else r.face_off[0] = 0;
+        ok = soup_uvs(h, s, lev, &r) == 0;
+    }
+    if (ok) {
         st_mesh_move(out, &r);
     }
     st_mesh_free(&r);
@@ -232,11 +285,12 @@ int st_access_mesh(st_hier *h, const st_adapt_params *p, st_mesh *out, st_access
     choose_levels(&c);
     if (stats) stats->forced = c.forced;
     soup s = { 0 };
-    int rc = collect_faces(&c, &s, stats) || soup_to_mesh(m, &s, out);
+    int rc = collect_faces(&c, &s, stats) || soup_to_mesh(h, &s, out);
     /* Darts of level j+1 carry no B_j: releasing at j clears every mark. */
     for (unsigned j = 0; j < c.maxl; j++) st_marker_release(m, c.bit[j], j);
     free(s.off);
     free(s.idx);
+    free(s.dart);
     free(s.lev);
     return rc ? st_fail(err, ST_ERR_MEMORY, "adaptive access: out of memory") : ST_OK;
 }

@@ -10,8 +10,10 @@
  * level j that are present (parent opened) and not opened; a side whose
  * neighbour is opened shows the midpoint of level j+1, so the mesh has no
  * T-junction; a vertex takes the position of the finest displayed face
- * around it.  Under the restriction, this is the mesh adaptive refinement
- * (adapt.h) builds for the same criteria, read off the regular levels.
+ * around it, and each corner the UV of that level in its face's chart
+ * (core/fvar: the corner's dart stays in the child face at that corner).
+ * Under the restriction, this is the mesh adaptive refinement (adapt.h)
+ * builds for the same criteria, read off the regular levels.
  *
  * Several accesses can coexist: the marks are scratch bits, released at the
  * end.  Primal quadrisection schemes only (Catmull-Clark, Loop, Butterfly,

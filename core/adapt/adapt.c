@@ -151,5 +151,11 @@ int st_adapt_mesh(st_adapt *a, st_mesh *out, st_error *err)
         if (rc) return rc;
         return st_pm_select_mesh(a->pm, a->h, out, err);
     }
-    return st_map_to_mesh(&a->h->map, a->h->map.top, out, err);
+    int rc = st_map_to_mesh(&a->h->map, a->h->map.top, out, err);
+    if (rc || st_adapt_uv_absent(a)) return rc;
+    st_adapt_uv u;
+    rc = st_adapt_uv_build(a, &u, err);
+    if (!rc) rc = st_adapt_uv_mesh(a, &u, out, err);
+    st_adapt_uv_free(&u);
+    return rc;
 }

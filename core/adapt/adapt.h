@@ -216,8 +216,43 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err);
 void st_adapt_synthesize(st_adapt *a, unsigned from);
 
 /* The displayed adaptive mesh: the real faces of the top level, with each
- * vertex at the finest level where it has a position. */
+ * vertex at the finest level where it has a position, and the UVs of
+ * st_adapt_uv_build when the hierarchy carries them there. */
 int st_adapt_mesh(st_adapt *a, st_mesh *out, st_error *err);
+
+/* ---- UVs (adapt_uv.c) ------------------------------------------------------ */
+
+/* Face-varying UVs of the adaptive mesh, per dart id of the top level: the
+ * level-0 UVs carried up the adaptive map with the rules of
+ * docs/SUBDIVISION-RULES.md §7b, on the subdivided faces only.  Every
+ * corner holds the value of the finest level at which its vertex was
+ * computed, in the chart of its face (as st_adapt_mesh shows each vertex at
+ * its finest position): the corners of a face whose vertices all have
+ * level L hold the level-L values of the rules; a face next to finer ones
+ * holds, at its corners and at the split points of its sides, the values
+ * the finer level gives those points on its side of a seam.  So two faces
+ * sharing an edge inside a UV island share the values at its ends.
+ * level[d] is the level of d's value, val[d] its value label (fvar.c:
+ * corners of one vertex with one label hold one value). */
+typedef struct st_adapt_uv {
+    uint32_t cap;      /* dart ids below cap */
+    double *uv;        /* 2 per dart; NULL: the adaptive mesh has no UVs */
+    uint32_t *val;
+    uint8_t *level;
+    uint32_t *rank;    /* a regular level's numbering of the darts above level 0 (adapt_uv.c) */
+} st_adapt_uv;
+
+/* Why the adaptive mesh of a carries no UVs (NULL: it does): a mesh without
+ * UVs, √3 or Doo-Sabin above level 0, a progressive hierarchy. */
+const char *st_adapt_uv_absent(const st_adapt *a);
+/* Computes them for the map as it is now (O(darts) per level); u->uv stays
+ * NULL when st_adapt_uv_absent says why. */
+int st_adapt_uv_build(st_adapt *a, st_adapt_uv *u, st_error *err);
+void st_adapt_uv_free(st_adapt_uv *u);
+/* Sets out's nuvs, uv, face_uv for the mesh st_map_to_mesh made of the top
+ * level (same face walk): one texture coordinate per vertex, level and
+ * value label.  Nothing when u has no UVs. */
+int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *err);
 
 /* ---- local re-synthesis (adapt_resynth.c) -------------------------------- */
 
