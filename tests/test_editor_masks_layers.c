@@ -872,20 +872,7 @@ static void test_session_round_trip(void)
     st_doc_mask_stroke_end(&d);
     st_session_ref r4 = { .h = &d.h, .edit_level = 1, .display_level = 1, .layers = &d.layers, .mask = &d.mask };
     const char *path = STRATA_TMP "/masks_layers_seed.strata", *path2 = STRATA_TMP "/masks_layers_seed2.strata";
-    CHECK(st_session_save_ref(path, &r4, &err) == 0);
-    st_session s4;
-    rc = st_session_load(path, &s4, &err);
-    CHECKF(rc == 0, "%s", err.msg);
-    if (!rc) {
-        st_session_ref r5 = st_session_ref_of(&s4);
-        CHECK(st_session_save_ref(path2, &r5, &err) == 0);
-        size_t na = 0, nb = 0;
-        char *fa = tl_read_file(path, &na), *fb = tl_read_file(path2, &nb);
-        CHECK(fa && fb && na == nb && !memcmp(fa, fb, na));
-        free(fa);
-        free(fb);
-        st_session_free(&s4);
-    }
+    tl_session_file_roundtrip(&r4, path, path2);
     st_doc_free(&d);
 }
 
@@ -982,20 +969,7 @@ static void test_session_level0(void)
     free(sup);
     st_session_ref r4 = { .h = &d.h, .layers = &d.layers };
     const char *path = STRATA_TMP "/masks_layers_level0.strata", *path2 = STRATA_TMP "/masks_layers_level0_2.strata";
-    CHECK(st_session_save_ref(path, &r4, &err) == 0);
-    st_session s4;
-    rc = st_session_load(path, &s4, &err);
-    CHECKF(rc == 0, "%s", err.msg);
-    if (!rc) {
-        st_session_ref r5 = st_session_ref_of(&s4);
-        CHECK(st_session_save_ref(path2, &r5, &err) == 0);
-        size_t na = 0, nb = 0;
-        char *fa = tl_read_file(path, &na), *fb = tl_read_file(path2, &nb);
-        CHECK(fa && fb && na == nb && !memcmp(fa, fb, na));
-        free(fa);
-        free(fb);
-        st_session_free(&s4);
-    }
+    tl_session_file_roundtrip(&r4, path, path2);
     st_doc_free(&d);
 }
 

@@ -395,3 +395,24 @@ int tl_session_roundtrip(const st_session_ref *r, const char *name, st_session *
     free(b2);
     return rc ? -1 : 0;
 }
+
+void tl_session_file_roundtrip(const st_session_ref *r, const char *path, const char *path2)
+{
+    st_error err;
+    int rc = st_session_save_ref(path, r, &err);
+    CHECKF(rc == 0, "%s: %s", path, err.msg);
+    st_session s;
+    if (!rc) {
+        rc = st_session_load(path, &s, &err);
+        CHECKF(rc == 0, "%s: %s", path, err.msg);
+    }
+    if (rc) return;
+    st_session_ref r2 = st_session_ref_of(&s);
+    CHECKF(st_session_save_ref(path2, &r2, &err) == 0, "%s: %s", path2, err.msg);
+    size_t na = 0, nb = 0;
+    char *fa = tl_read_file(path, &na), *fb = tl_read_file(path2, &nb);
+    CHECKF(fa && fb && na == nb && !memcmp(fa, fb, na), "save -> load -> save: %s and %s differ", path, path2);
+    free(fa);
+    free(fb);
+    st_session_free(&s);
+}

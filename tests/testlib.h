@@ -65,4 +65,7 @@ double tl_snap_maxdiff(const tl_posnap *a, const tl_posnap *b);
  * after a failed check (*s freed). */
 #include "core/io/session.h"
 int tl_session_roundtrip(const st_session_ref *r, const char *name, st_session *s);
+/* The same through files: saves r to path, loads it, saves the loaded
+ * session to path2 and checks that the two files have the same bytes. */
+void tl_session_file_roundtrip(const st_session_ref *r, const char *path, const char *path2);
 #endif
