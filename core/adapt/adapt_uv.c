@@ -42,15 +42,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* √3's flips and Doo-Sabin's dual encoding leave no corner of the level
+ * below to carry values from: their adaptive meshes carry none (as yet). */
 static int rules_of(const st_hier *h)
 {
-    switch (h->scheme->id) {
-    case ST_SCHEME_CATMARK: return ST_FVAR_CATMARK;
-    case ST_SCHEME_LOOP: return ST_FVAR_LOOP;
-    case ST_SCHEME_BUTTERFLY:
-    case ST_SCHEME_QUADTRI: return ST_FVAR_LINEAR;
-    default: return -1;
-    }
+    int r = st_fvar_rules_of(h);
+    return r == ST_FVAR_STENCIL ? -1 : r;
 }
 
 const char *st_adapt_uv_absent(const st_adapt *a)
@@ -224,18 +221,6 @@ int st_adapt_uv_build(st_adapt *a, st_adapt_uv *u, st_error *err)
 
 /* ---- the displayed mesh's texture coordinates ------------------------------------ */
 
-typedef struct uv_key { uint32_t vert, level, label, corner; uint64_t face; } uv_key;
-
-static int cmp_key(const void *pa, const void *pb)
-{
-    const uv_key *a = pa, *b = pb;
-    if (a->vert != b->vert) return a->vert < b->vert ? -1 : 1;
-    if (a->level != b->level) return a->level < b->level ? -1 : 1;
-    if (a->label != b->label) return a->label < b->label ? -1 : 1;
-    if (a->face != b->face) return a->face < b->face ? -1 : 1;
-    return (a->corner > b->corner) - (a->corner < b->corner);
-}
-
 /* A dart's place in a regular level's scan (level, then numbering). */
 static uint64_t scan_key(const st_map *m, const st_adapt_uv *u, uint32_t x)
 {
@@ -250,7 +235,7 @@ int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *
     st_map *m = &a->h->map;
     unsigned top = m->top;
     uint32_t nc = out->nfaces ? out->face_off[out->nfaces] : 0;
-    uv_key *k = malloc(((size_t)nc + 1) * sizeof *k);
+    st_fvar_corner_key *k = malloc(((size_t)nc + 1) * sizeof *k);
     uint32_t *darts = malloc(((size_t)nc + 1) * sizeof *darts);
     uint32_t *face_uv = malloc(((size_t)nc + 1) * sizeof *face_uv);
     double *uv = malloc(2 * ((size_t)nc + 1) * sizeof *uv);
@@ -277,7 +262,7 @@ int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *
         do {
             st_mark(m, fbit, x);
             darts[c] = x;
-            k[c] = (uv_key){ out->face_idx[c], x < u->cap ? u->level[x] : 0, x < u->cap ? u->val[x] : 0, c, face };
+            k[c] = (st_fvar_corner_key){ out->face_idx[c], x < u->cap ? u->level[x] : 0, x < u->cap ? u->val[x] : 0, c, face };
             c++;
             x = st_phi1(m, x, top);
         } while (x != d && c < nc);
@@ -287,17 +272,7 @@ int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *
      * and corners holding one value share one coordinate - that of the
      * face a regular level's walk meets first, as st_hier_level_mesh takes
      * it (the two sides of a smooth edge may differ in the last bit). */
-    qsort(k, c, sizeof *k, cmp_key);
-    uint32_t nuv = 0;
-    for (uint32_t i = 0; i < c; i++) {
-        if (i == 0 || k[i].vert != k[i - 1].vert || k[i].level != k[i - 1].level || k[i].label != k[i - 1].label) {
-            uint32_t x = darts[k[i].corner];
-            uv[2 * (size_t)nuv] = x < u->cap ? u->uv[2 * (size_t)x] : 0;
-            uv[2 * (size_t)nuv + 1] = x < u->cap ? u->uv[2 * (size_t)x + 1] : 0;
-            nuv++;
-        }
-        face_uv[k[i].corner] = nuv - 1;
-    }
+    uint32_t nuv = st_fvar_soup_uvs(k, c, darts, u->uv, u->cap, face_uv, uv);
     free(k);
     free(darts);
     free(out->face_uv);

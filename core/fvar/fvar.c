@@ -145,9 +145,7 @@ int st_fvar_init(st_hier *h, const st_mesh *mesh, int interp, st_error *err)
 
 /* Primal quadrisection schemes take the rules of fvar_rules.c; √3 and
  * Doo-Sabin those of fvar_stencil.c. */
-enum { RULES_STENCIL = ST_FVAR_LINEAR + 1 };
-
-static int rules_of(const st_hier *h)
+int st_fvar_rules_of(const st_hier *h)
 {
     switch (h->scheme->id) {
     case ST_SCHEME_CATMARK: return ST_FVAR_CATMARK;
@@ -155,25 +153,25 @@ static int rules_of(const st_hier *h)
     case ST_SCHEME_BUTTERFLY:
     case ST_SCHEME_QUADTRI: return ST_FVAR_LINEAR;
     case ST_SCHEME_SQRT3:
-    case ST_SCHEME_DOOSABIN: return RULES_STENCIL;
+    case ST_SCHEME_DOOSABIN: return ST_FVAR_STENCIL;
     default: return -1;
     }
 }
 
 int st_fvar_continues(const st_hier *h)
 {
-    return h->fvar && h->fvar->levels == h->map.top + 1 && rules_of(h) >= 0;
+    return h->fvar && h->fvar->levels == h->map.top + 1 && st_fvar_rules_of(h) >= 0;
 }
 
 int st_fvar_refine(st_hier *h, st_error *err)
 {
     st_fvar *f = h->fvar;
     unsigned L = h->map.top;
-    if (L == 0 || !f || f->levels != L || rules_of(h) < 0) return ST_OK;
+    if (L == 0 || !f || f->levels != L || st_fvar_rules_of(h) < 0) return ST_OK;
     st_map *m = &h->map;
     if (level_alloc(&f->lv[L], m->darts.end))
         return st_fail(err, ST_ERR_MEMORY, "out of memory subdividing texture coordinates to level %u", L);
-    if (rules_of(h) == RULES_STENCIL) {
+    if (st_fvar_rules_of(h) == ST_FVAR_STENCIL) {
         if (st_fvar_refine_stencil(h, &f->lv[L - 1], &f->lv[L])) {
             level_free(&f->lv[L]);
             return st_fail(err, ST_ERR_MEMORY, "out of memory subdividing texture coordinates to level %u", L);
@@ -181,7 +179,7 @@ int st_fvar_refine(st_hier *h, st_error *err)
         f->levels = L + 1;
         return ST_OK;
     }
-    st_fvar_step w = { .h = h, .m = m, .l = L - 1, .L = L, .interp = f->interp, .rules = rules_of(h) };
+    st_fvar_step w = { .h = h, .m = m, .l = L - 1, .L = L, .interp = f->interp, .rules = st_fvar_rules_of(h) };
     w.uv = f->lv[L - 1].uv;
     w.val = f->lv[L - 1].val;
     w.out_uv = f->lv[L].uv;
@@ -253,14 +251,32 @@ void st_hier_uv_free(st_hier *h)
     st_fvar_free(h);
 }
 
-typedef struct uv_key { uint32_t vert, label, corner; } uv_key;
-
-static int cmp_key(const void *pa, const void *pb)
+static int cmp_corner_key(const void *pa, const void *pb)
 {
-    const uv_key *a = pa, *b = pb;
+    const st_fvar_corner_key *a = pa, *b = pb;
     if (a->vert != b->vert) return a->vert < b->vert ? -1 : 1;
+    if (a->level != b->level) return a->level < b->level ? -1 : 1;
     if (a->label != b->label) return a->label < b->label ? -1 : 1;
+    if (a->face != b->face) return a->face < b->face ? -1 : 1;
     return (a->corner > b->corner) - (a->corner < b->corner);
+}
+
+uint32_t st_fvar_soup_uvs(st_fvar_corner_key *k, uint32_t c, const uint32_t *darts, const double *uv, uint32_t cap,
+                          uint32_t *face_uv, double *out_uv)
+{
+    /* One texture coordinate per (vertex, level, value): seams stay seams. */
+    qsort(k, c, sizeof *k, cmp_corner_key);
+    uint32_t nuv = 0;
+    for (uint32_t i = 0; i < c; i++) {
+        if (i == 0 || k[i].vert != k[i - 1].vert || k[i].level != k[i - 1].level || k[i].label != k[i - 1].label) {
+            uint32_t x = darts[k[i].corner];
+            out_uv[2 * (size_t)nuv] = x < cap ? uv[2 * (size_t)x] : 0;
+            out_uv[2 * (size_t)nuv + 1] = x < cap ? uv[2 * (size_t)x + 1] : 0;
+            nuv++;
+        }
+        face_uv[k[i].corner] = nuv - 1;
+    }
+    return nuv;
 }
 
 /* The corners of level l in the face walk of st_map_to_mesh
@@ -294,7 +310,7 @@ int st_fvar_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err)
     st_map *m = &h->map;
     const uint32_t *val = h->fvar->lv[l].val;
     uint32_t nc = out->nfaces ? out->face_off[out->nfaces] : 0;
-    uv_key *k = malloc(((size_t)nc + 1) * sizeof *k);
+    st_fvar_corner_key *k = malloc(((size_t)nc + 1) * sizeof *k);
     uint32_t *darts = malloc(((size_t)nc + 1) * sizeof *darts);
     out->face_uv = malloc(((size_t)nc + 1) * sizeof *out->face_uv);
     out->uv = malloc(2 * ((size_t)nc + 1) * sizeof *out->uv);
@@ -308,20 +324,8 @@ int st_fvar_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err)
         return st_fail(err, ST_ERR_MEMORY, "out of memory extracting the texture coordinates of level %u", l);
     }
     uint32_t c = level_corners(m, l, darts, nc);
-    for (uint32_t i = 0; i < c; i++) k[i] = (uv_key){ out->face_idx[i], val[darts[i]], i };
-    /* One texture coordinate per (vertex, value): seams stay seams. */
-    qsort(k, c, sizeof *k, cmp_key);
-    uint32_t nuv = 0;
-    for (uint32_t i = 0; i < c; i++) {
-        if (i == 0 || k[i].vert != k[i - 1].vert || k[i].label != k[i - 1].label) {
-            const double *p = uv + 2 * (size_t)darts[k[i].corner];
-            out->uv[2 * (size_t)nuv] = p[0];
-            out->uv[2 * (size_t)nuv + 1] = p[1];
-            nuv++;
-        }
-        out->face_uv[k[i].corner] = nuv - 1;
-    }
-    out->nuvs = nuv;
+    for (uint32_t i = 0; i < c; i++) k[i] = (st_fvar_corner_key){ out->face_idx[i], 0, val[darts[i]], i, 0 };
+    out->nuvs = st_fvar_soup_uvs(k, c, darts, uv, h->fvar->lv[l].cap, out->face_uv, out->uv);
     free(k);
     free(darts);
     return ST_OK;

@@ -49,6 +49,15 @@ void st_fvar_remove_bottom(struct st_hier *h);
 /* Fills out->nuvs, uv, face_uv for the soup st_map_to_mesh made of level
  * l (same face walk): one texture coordinate per (vertex, value label). */
 int st_fvar_level_mesh(struct st_hier *h, unsigned l, st_mesh *out, st_error *err);
+/* One corner of a soup: its vertex, the level and label of its value, its
+ * face's place in a regular level's scan, and its place in the soup. */
+typedef struct st_fvar_corner_key { uint32_t vert, level, label, corner; uint64_t face; } st_fvar_corner_key;
+/* A soup's texture coordinates: one per (vertex, level, label), the value
+ * of the corner met first in (face, corner) order (darts[corner] its dart,
+ * uv per dart, 0 past cap); sorts k[0..c), fills face_uv per corner and
+ * out_uv, and returns their count. */
+uint32_t st_fvar_soup_uvs(st_fvar_corner_key *k, uint32_t c, const uint32_t *darts, const double *uv, uint32_t cap,
+                          uint32_t *face_uv, double *out_uv);
 /* A deep copy of src's channel into dst (dst's map has the same dart ids). */
 int st_fvar_copy(struct st_hier *dst, const struct st_hier *src);
 
@@ -63,7 +72,12 @@ int st_fvar_copy(struct st_hier *dst, const struct st_hier *src);
  * the vertex child of coarse corner d at d itself, the edge child of d's
  * edge on d's side at φ1(d) and at the last corner of the child face of
  * the next coarse corner, the face child at φ1²(d) of each child quad. */
-enum st_fvar_rules { ST_FVAR_CATMARK, ST_FVAR_LOOP, ST_FVAR_LINEAR };
+enum st_fvar_rules {
+    ST_FVAR_CATMARK, ST_FVAR_LOOP, ST_FVAR_LINEAR,
+    ST_FVAR_STENCIL     /* √3 and Doo-Sabin: fvar_stencil.c, not st_fvar_step */
+};
+/* The rules of h's scheme, -1 when its levels above 0 carry no UVs. */
+int st_fvar_rules_of(const struct st_hier *h);
 
 typedef struct st_fvar_step {
     struct st_hier *h;
