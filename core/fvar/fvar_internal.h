@@ -49,7 +49,74 @@ void st_fvar_remove_bottom(struct st_hier *h);
 /* Fills out->nuvs, uv, face_uv for the soup st_map_to_mesh made of level
  * l (same face walk): one texture coordinate per (vertex, value label). */
 int st_fvar_level_mesh(struct st_hier *h, unsigned l, st_mesh *out, st_error *err);
+/* One corner of a soup: its vertex, the level and label of its value, its
+ * face's place in a regular level's scan, and its place in the soup. */
+typedef struct st_fvar_corner_key { uint32_t vert, level, label, corner; uint64_t face; } st_fvar_corner_key;
+/* A soup's texture coordinates: one per (vertex, level, label), the value
+ * of the corner met first in (face, corner) order (darts[corner] its dart,
+ * uv per dart, 0 past cap); sorts k[0..c), fills face_uv per corner and
+ * out_uv, and returns their count. */
+uint32_t st_fvar_soup_uvs(st_fvar_corner_key *k, uint32_t c, const uint32_t *darts, const double *uv, uint32_t cap,
+                          uint32_t *face_uv, double *out_uv);
 /* A deep copy of src's channel into dst (dst's map has the same dart ids). */
 int st_fvar_copy(struct st_hier *dst, const struct st_hier *src);
+
+/* ---- one refinement step of the face-varying rules (fvar_rules.c) ----------- */
+
+/* The rules of docs/SUBDIVISION-RULES.md §7b (OpenSubdiv's face-varying
+ * interpolation) carrying level l's values to level L = l+1.  One copy
+ * serves both a regular level (st_fvar_refine: every face subdivided) and
+ * an adaptive map (core/adapt/adapt_uv.c: only the faces subdivided toward
+ * L, in a map whose darts of several levels interleave).  Children are
+ * written straight into out_uv/out_val at the fine corners that hold them:
+ * the vertex child of coarse corner d at d itself, the edge child of d's
+ * edge on d's side at φ1(d) and at the last corner of the child face of
+ * the next coarse corner, the face child at φ1²(d) of each child quad. */
+enum st_fvar_rules {
+    ST_FVAR_CATMARK, ST_FVAR_LOOP, ST_FVAR_LINEAR,
+    ST_FVAR_STENCIL     /* √3 and Doo-Sabin: fvar_stencil.c, not st_fvar_step */
+};
+/* The rules of h's scheme, -1 when its levels above 0 carry no UVs. */
+int st_fvar_rules_of(const struct st_hier *h);
+
+typedef struct st_fvar_step {
+    struct st_hier *h;
+    st_map *m;
+    unsigned l, L;
+    int interp;                  /* enum st_uv_interp */
+    int rules;                   /* enum st_fvar_rules */
+    const double *uv;            /* level l's values, per dart */
+    const uint32_t *val;         /* level l's value labels, per dart */
+    double *out_uv;              /* the children's values, per dart */
+    uint32_t *out_val;
+    uint8_t *out_level;          /* when not NULL: L at every corner written */
+    /* Adaptive maps only; all NULL on a regular level. */
+    double *cent;                /* per dart of map l: its face's centroid (the
+                                    Catmull-Clark rules read those of faces not
+                                    subdivided too); NULL: read the face child */
+    uint8_t *sub;                /* per dart of map l: its face is subdivided toward L */
+    int (*split_toward)(const st_map *m, uint32_t d, unsigned l); /* fills sub */
+    uint32_t *rank;              /* per dart: its place among its level's darts in a
+                                    regular level's numbering; NULL: the map is one
+                                    regular level, whose scan is that order */
+    uint32_t *c, *rot;           /* one vertex's corners in β1 order, and scratch */
+    uint32_t cap_c, cap_rot;
+} st_fvar_step;
+
+/* The face children (centroids) of the faces of level l split into quads,
+ * each summed from the corner a regular level's scan meets first. */
+void st_fvar_face_children(st_fvar_step *w);
+/* The child of the edge of corner d (a real dart of level l) on d's side. */
+void st_fvar_edge_child(st_fvar_step *w, uint32_t d);
+/* The vertex children of the vertices of level l that are corners of a
+ * subdivided face (all of them on a regular level); -1 when out of memory. */
+int st_fvar_vertex_children(st_fvar_step *w);
+/* The corners of the inner triangles of the triangle splits toward L. */
+void st_fvar_inner_triangles(st_fvar_step *w);
+/* x comes before y in the scan of a regular level (level by level, each in
+ * the order the level was made; w->rank gives that order above level 0). */
+int st_fvar_regular_before(const st_fvar_step *w, uint32_t x, uint32_t y);
+/* Frees the step's scratch (c, rot). */
+void st_fvar_step_free(st_fvar_step *w);
 
 #endif
