@@ -4,7 +4,7 @@
 # re-reads with the same texture coordinates per corner; glTF gets
 # TEXCOORD_0 and passes the Khronos validator; PLY splits vertices along
 # seams; --access carries the regular levels' UVs; `strata render --box --mode uv` draws the adaptive checker; √3
-# above level 0 and meshes without vt say why nothing is carried (exit 0 /
+# carries UVs too; meshes without vt say why nothing is carried (exit 0 /
 # exit 1 for render), without crashing.
 # Usage: cli_adapt_uv.sh STRATA SHARED_MESHES ASSETS BINDIR
 set -euo pipefail
@@ -107,10 +107,11 @@ set -e
 if [ $rc = 1 ] && grep -q "no UVs" "$W/nouv.err" && [ ! -e "$W/nouv.png" ]; then ok "render --box --mode uv without vt: exit 1: $(cat "$W/nouv.err")"
 else bad "render --box --mode uv without vt: exit $rc: $(cat "$W/nouv.err")"; fi
 
-# √3 above level 0: a note, a mesh without vt, exit 0
+# √3 above level 0: vt on every corner, inside level 0's range [0, 1], no note, exit 0
 if "$S" adapt "$ICO" --scheme sqrt3 --max-level 2 $(box) -o "$W/sqrt3.obj" >/dev/null 2>"$W/sqrt3.err" &&
-    grep -q "level 0 only" "$W/sqrt3.err" && ! grep -q '^vt ' "$W/sqrt3.obj"; then
-    ok "sqrt3: $(cat "$W/sqrt3.err")"
+    ! grep -q "note" "$W/sqrt3.err" && grep -q '^vt ' "$W/sqrt3.obj" &&
+    awk '/^vt /{if($2<0||$2>1||$3<0||$3>1)bad++} /^f /{for(i=2;i<=NF;i++)if($i!~/^[0-9]+\/[0-9]+/)bad++} END{exit bad>0}' "$W/sqrt3.obj"; then
+    ok "sqrt3: $(grep -c '^vt ' "$W/sqrt3.obj") vt, every corner with one, all in [0, 1]"
 else
     bad "sqrt3: $(cat "$W/sqrt3.err")"
 fi

@@ -7,8 +7,10 @@
  * two sides differ there on the regular level too); the corners of
  * one vertex all hold values of one level (so faces sharing an edge inside
  * an island share its ends' values: no new seams), and the seams are those
- * of the regular level where everything is refined.  √3 and Doo-Sabin say
- * why they carry none above level 0, without failing. */
+ * of the regular level where everything is refined.  √3 (the stencil
+ * rules of core/fvar/fvar_stencil.c) is checked the same way, but for its
+ * odd triangles, which no regular level has.  Doo-Sabin says why it
+ * carries none above level 0, without failing. */
 #include "testlib.h"
 
 #include "core/adapt/adapt.h"
@@ -339,7 +341,123 @@ static void check_case(const uv_case *c)
     check_unrestricted(c);
 }
 
-/* √3 and Doo-Sabin: no UVs above level 0, said, nothing fails. */
+/* √3 (fvar_stencil.c's rules on the faces subdivided toward each level):
+ * with a box over part of the mesh every corner holds a UV inside level
+ * 0's range, every level has faces, and no vertex holds values of several
+ * levels.  Odd triangles are no faces of a regular level; the faces that
+ * are one hold its UVs. */
+static void check_partial_stencil(const uv_case *c)
+{
+    st_hier h, r;
+    st_adapt a;
+    st_mesh shown;
+    st_error err = { 0 };
+    if (load_hier(&h, c->file, c->id, c->interp, 0) || load_hier(&r, c->file, c->id, c->interp, c->max)) return;
+    const double *uv0 = st_hier_uv(&h, 0);
+    double lo_uv = INFINITY, hi_uv = -INFINITY;
+    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(&h.map, 0, &it); d != ST_NIL; d = st_dart_next(&h.map, 0, &it))
+        if (!st_is_boundary(&h.map, d))
+            for (int k = 0; k < 2; k++) { lo_uv = fmin(lo_uv, uv0[2 * d + k]); hi_uv = fmax(hi_uv, uv0[2 * d + k]); }
+    uint32_t v0 = st_vertex_first(&h.map, 0, &it);
+    for (uint32_t v = v0; v != ST_NIL; v = st_vertex_next(&h.map, 0, &it))
+        for (int k = 0; k < 3; k++) { lo[k] = fmin(lo[k], st_pos(&h.map, v, 0)[k]); hi[k] = fmax(hi[k], st_pos(&h.map, v, 0)[k]); }
+    st_adapt_params p = { .base_level = 0, .max_level = c->max, .has_box = 1 };
+    for (int k = 0; k < 3; k++) {
+        double mid = st_pos(&h.map, v0, 0)[k], half = 0.2 * (hi[k] - lo[k]);
+        p.box_lo[k] = mid - half;
+        p.box_hi[k] = mid + half;
+    }
+    adapt_mesh(&h, &p, &shown, &a);
+    st_adapt_uv u;
+    CHECK(st_adapt_uv_build(&a, &u, &err) == ST_OK);
+    st_mesh want[ST_MAX_LEVELS];
+    index ix[ST_MAX_LEVELS];
+    for (unsigned l = 0; l <= c->max; l++) {
+        st_mesh_init(&want[l]);
+        CHECK(st_hier_level_mesh(&r, l, &want[l], &err) == ST_OK);
+        ix[l] = index_faces(&want[l]);
+    }
+    st_map *m = &h.map;
+    unsigned top = m->top;
+    cmp_stats s = { 0 };
+    uint32_t per_level[ST_MAX_LEVELS] = { 0 }, mixed = 0, outside = 0, corners = 0;
+    int fb = st_marker_reserve(m);
+    for (uint32_t d = st_dart_first(m, top, &it); u.uv && shown.face_uv && d != ST_NIL; d = st_dart_next(m, top, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fb, d)) continue;
+        st_mark_face(m, fb, d, top);
+        unsigned L = u.level[d];
+        int whole = 1;
+        double cen[3] = { 0, 0, 0 };
+        uint32_t x = d;
+        do {
+            whole &= u.level[x] == L;
+            for (int k = 0; k < 2; k++) outside += !(u.uv[2 * (size_t)x + k] >= lo_uv - 1e-12 && u.uv[2 * (size_t)x + k] <= hi_uv + 1e-12);
+            for (int k = 0; k < 3; k++) cen[k] += st_dart_pos(m, x, top)[k] / 3;
+            corners++;
+            x = st_phi1(m, x, top);
+        } while (x != d);
+        if (!whole || L > c->max) continue;
+        per_level[L]++;
+        uint32_t g = find_face(&ix[L], cen, 1e-7);
+        if (g == UINT32_MAX) continue;
+        do {
+            const double *w = corner_uv(&want[L], g, st_dart_pos(m, x, top), 1e-7);
+            if (w) compare_corner(&s, u.uv + 2 * (size_t)x, w);
+            x = st_phi1(m, x, top);
+        } while (x != d);
+    }
+    st_marker_release(m, fb, top);
+    int vb = st_marker_reserve(m);
+    for (uint32_t d = st_dart_first(m, top, &it); u.uv && d != ST_NIL; d = st_dart_next(m, top, &it)) {
+        if (st_marked(m, vb, d)) continue;
+        st_mark_vertex(m, vb, d, top);
+        int lev = -1;
+        uint32_t x = d;
+        do {
+            if (!st_is_boundary(m, x)) {
+                if (lev >= 0 && lev != u.level[x]) { mixed++; break; }
+                lev = u.level[x];
+            }
+            x = st_beta1(m, x, top);
+        } while (x != d);
+    }
+    st_marker_release(m, vb, top);
+    printf("%s %s partial box: faces whole at levels 0..%u:", c->file, st_scheme_get(c->id)->name, c->max);
+    for (unsigned l = 0; l <= c->max; l++) printf(" %u", per_level[l]);
+    printf("; %u corners, %u outside level 0's UV range [%g, %g]; %u corners on faces of a regular level, %u bit-exact, "
+           "worst %.3g; %u seam edges; %u vertices of mixed levels\n", corners, outside, lo_uv, hi_uv, s.corners, s.exact,
+           s.worst, shown.face_uv ? seam_edges(&shown) : 0, mixed);
+    CHECKF(u.uv != NULL && shown.face_uv != NULL, "%s: no UVs", c->file);
+    CHECKF(corners > 0 && outside == 0, "%s: %u UVs outside level 0's range", c->file, outside);
+    for (unsigned l = 0; l <= c->max; l++) CHECKF(per_level[l] > 0, "%s: no whole face of level %u", c->file, l);
+    CHECKF(mixed == 0, "%s: %u vertices hold values of several levels", c->file, mixed);
+    /* the even triangles whose corners all hold level L's values are the
+     * regular level L's, bit for bit (the stencils read complete rings) */
+    CHECKF(s.corners > 0 && s.exact == s.corners, "%s: faces of a regular level: %u of %u corners bit-exact", c->file,
+           s.exact, s.corners);
+    for (unsigned l = 0; l <= c->max; l++) { st_mesh_free(&want[l]); free(ix[l].k); }
+    st_adapt_uv_free(&u);
+    st_mesh_free(&shown);
+    st_adapt_free(&a);
+    st_hier_free(&h);
+    st_hier_free(&r);
+}
+
+static void check_stencil_case(const uv_case *c)
+{
+    st_adapt_params none = { .base_level = 0, .max_level = c->max };
+    check_against_level(c, &none, 0, "empty box, base 0");
+    st_adapt_params base1 = { .base_level = 1, .max_level = c->max };
+    check_against_level(c, &base1, 1, "empty box, base 1");
+    st_adapt_params all = { .base_level = 0, .max_level = c->max, .has_box = 1,
+                            .box_lo = { -1e9, -1e9, -1e9 }, .box_hi = { 1e9, 1e9, 1e9 } };
+    check_against_level(c, &all, c->max, "box over everything");
+    check_partial_stencil(c);
+}
+
+/* Doo-Sabin: no UVs above level 0, said, nothing fails. */
 static void check_absent(st_scheme_id id, const char *file)
 {
     st_hier h;
@@ -372,7 +490,11 @@ int main(void)
         { MESHES "triangle/cube_no_bottom.obj", ST_SCHEME_QUADTRI, ST_UV_ALL, 2 },
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) check_case(&cases[i]);
-    check_absent(ST_SCHEME_SQRT3, MESHES "triangle/sphere_ico.obj");
+    static const uv_case sqrt3[] = {
+        { MESHES "triangle/sphere_ico.obj", ST_SCHEME_SQRT3, ST_UV_CORNERS_PLUS1, 2 },
+        { MESHES "triangle/sphere_ico.obj", ST_SCHEME_SQRT3, ST_UV_CORNERS_PLUS1, 4 },
+    };
+    for (size_t i = 0; i < sizeof sqrt3 / sizeof *sqrt3; i++) check_stencil_case(&sqrt3[i]);
     check_absent(ST_SCHEME_DOOSABIN, MESHES "catmull_clark/blub_control_mesh.obj");
     return TEST_END();
 }

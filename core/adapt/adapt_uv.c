@@ -42,12 +42,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* √3's flips and Doo-Sabin's dual encoding leave no corner of the level
- * below to carry values from: their adaptive meshes carry none (as yet). */
+/* Doo-Sabin's adaptive maps carry no UVs (as yet): the homes of its E-
+ * and V-faces are chosen by dart id, which the adaptive map numbers
+ * otherwise. */
 static int rules_of(const st_hier *h)
 {
     int r = st_fvar_rules_of(h);
-    return r == ST_FVAR_STENCIL ? -1 : r;
+    return r == ST_FVAR_STENCIL && h->map.face_embedded ? -1 : r;
 }
 
 const char *st_adapt_uv_absent(const st_adapt *a)
@@ -160,6 +161,36 @@ static int step(st_fvar_step *w)
     return 0;
 }
 
+/* √3 (fvar_stencil.c's rules): the faces of level l subdivided toward L,
+ * whose stencils give every vertex the step computes. */
+static int stencil_step(st_fvar_step *w)
+{
+    st_map *m = w->m;
+    size_t cap = m->darts.end, n = 0, nf = 64;
+    memcpy(w->out_uv, w->uv, 2 * cap * sizeof *w->out_uv);
+    memcpy(w->out_val, w->val, cap * sizeof *w->out_val);
+    uint32_t *faces = malloc(nf * sizeof *faces);
+    if (!faces) return -1;
+    int fbit = st_marker_reserve(m);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, w->l, &it); d != ST_NIL; d = st_dart_next(m, w->l, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+        st_mark_face(m, fbit, d, w->l);
+        if (!st_face_is_subdivided(m, d, w->l)) continue;
+        if (n == nf) {
+            uint32_t *g = realloc(faces, 2 * nf * sizeof *faces);
+            if (!g) { free(faces); st_marker_release(m, fbit, w->l); return -1; }
+            faces = g;
+            nf *= 2;
+        }
+        faces[n++] = d;
+    }
+    st_marker_release(m, fbit, w->l);
+    int rc = st_fvar_stencil_step(w->h, w->l, w->uv, w->val, faces, (uint32_t)n, w->out_uv, w->out_val, w->out_level);
+    free(faces);
+    return rc;
+}
+
 /* ---- the whole map --------------------------------------------------------------- */
 
 int st_adapt_uv_build(st_adapt *a, st_adapt_uv *u, st_error *err)
@@ -204,7 +235,7 @@ int st_adapt_uv_build(st_adapt *a, st_adapt_uv *u, st_error *err)
         w.val = vbuf;
         w.out_uv = u->uv;
         w.out_val = u->val;
-        rc = step(&w);
+        rc = w.rules == ST_FVAR_STENCIL ? stencil_step(&w) : step(&w);
     }
     st_fvar_step_free(&w);
     free(buf);

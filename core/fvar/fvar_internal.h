@@ -39,6 +39,15 @@ int st_fvar_refine(struct st_hier *h, st_error *err);
 /* Level top's UVs and labels for √3 and Doo-Sabin (fvar_stencil.c), from
  * level top-1's; -1 when out of memory. */
 int st_fvar_refine_stencil(struct st_hier *h, const st_fvar_level *coarse, st_fvar_level *fine);
+/* The same rules for one step l -> l+1 of an adaptive map (core/adapt/
+ * adapt_uv.c), applied to faces[0..n), the faces of level l subdivided
+ * toward l+1: uv/val hold level l's values per dart, out_uv/out_val (a copy
+ * of them) get level l+1's at every corner of the vertices the step
+ * computes (those of the subdivided faces, so faces not subdivided show
+ * their kept corners at the finest value), out_level l+1 there; -1 when out
+ * of memory. */
+int st_fvar_stencil_step(struct st_hier *h, unsigned l, const double *uv, const uint32_t *val, const uint32_t *faces,
+                         uint32_t n, double *out_uv, uint32_t *out_val, uint8_t *out_level);
 /* Whether the next level will get UVs (the estimate of its memory counts
  * ST_FVAR_BYTES_PER_DART per dart of that level then). */
 int st_fvar_continues(const struct st_hier *h);

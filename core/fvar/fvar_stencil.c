@@ -28,7 +28,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { V_NONE = 0, V_KEPT, V_SOURCED };
+/* V_UNSEEN: not computed by this step (an adaptive step computes the
+ * vertices of the faces it subdivides only). */
+enum { V_UNSEEN = 0, V_NONE, V_KEPT, V_SOURCED };
 enum { VALUE_NONE = 0, VALUE_ONE, VALUE_MANY };
 
 typedef struct stencil_uv {
@@ -50,6 +52,11 @@ typedef struct stencil_uv {
     uint32_t *src;
     double *w;
     size_t n, cap;
+    /* scratch: (weight, u, v) terms of one sum, summed in sorted order */
+    double *t;
+    size_t tcap;
+    int adaptive;              /* write only the corners of vertices computed */
+    uint8_t *out_level;        /* when not NULL: L at every corner written */
     int failed;
 } stencil_uv;
 
@@ -92,6 +99,45 @@ static int push_entry(stencil_uv *s, uint32_t v, double w)
     return 0;
 }
 
+static int reserve_terms(stencil_uv *s, size_t n)
+{
+    if (n <= s->tcap) return 0;
+    double *t = realloc(s->t, 3 * n * sizeof *t);
+    if (!t) return -1;
+    s->t = t;
+    s->tcap = n;
+    return 0;
+}
+
+static int cmp_term(const void *pa, const void *pb)
+{
+    const double *a = pa, *b = pb;
+    for (int k = 0; k < 3; k++)
+        if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
+    return 0;
+}
+
+/* Σ w (u, v) over the n terms in s->t, and Σ w, summed in the order of
+ * the terms sorted by (w, u, v): a stencil lists its terms from whichever
+ * dart it was reached by, and the dart ids of an adaptive map are not a
+ * regular level's, so the sum is taken in an order that depends on the
+ * terms alone - an adaptive step then gives a regular level's values bit
+ * for bit (equal terms are interchangeable). */
+static double sorted_sum(stencil_uv *s, size_t n, double out[2])
+{
+    qsort(s->t, n, 3 * sizeof *s->t, cmp_term);
+    double acc[2] = { 0, 0 }, sum = 0;
+    for (size_t i = 0; i < n; i++) {
+        const double *t = s->t + 3 * i;
+        acc[0] += t[0] * t[1];
+        acc[1] += t[0] * t[2];
+        sum += t[0];
+    }
+    out[0] = acc[0];
+    out[1] = acc[1];
+    return sum;
+}
+
 static void sink(void *ctx, const st_stencil *st)
 {
     stencil_uv *s = ctx;
@@ -99,11 +145,17 @@ static void sink(void *ctx, const st_stencil *st)
     uint32_t v = st->fine;
     double u[2] = { 0, 0 };
     int smooth = st->n > 0;
+    if (reserve_terms(s, st->n)) { s->failed = 1; return; }
+    size_t nt = 0;
     for (uint32_t i = 0; i < st->n; i++) {
         uint32_t a = st->src[i];
-        if (s->values[a] != VALUE_ONE) smooth = 0;
-        else for (int k = 0; k < 2; k++) u[k] += st->w[i] * s->vuv[2 * (size_t)a + k];
+        if (s->values[a] != VALUE_ONE) { smooth = 0; continue; }
+        s->t[3 * nt] = st->w[i];
+        s->t[3 * nt + 1] = s->vuv[2 * (size_t)a];
+        s->t[3 * nt + 2] = s->vuv[2 * (size_t)a + 1];
+        nt++;
     }
+    sorted_sum(s, nt, u);
     s->smooth[v] = (uint8_t)smooth;
     s->suv[2 * (size_t)v] = u[0];
     s->suv[2 * (size_t)v + 1] = u[1];
@@ -122,17 +174,20 @@ static void sink(void *ctx, const st_stencil *st)
 
 /* Vertex v's stencil restricted to the corners of face f, renormalised,
  * with f's UVs; 0 when no source lies on f. */
-static int restricted(const stencil_uv *s, uint32_t v, uint32_t f, double out[2])
+static int restricted(stencil_uv *s, uint32_t v, uint32_t f, double out[2])
 {
-    double acc[2] = { 0, 0 }, sum = 0;
+    double acc[2];
+    size_t n = 0;
+    if (reserve_terms(s, s->cnt[v])) { s->failed = 1; return 0; }
     for (uint32_t i = 0; i < s->cnt[v]; i++) {
         uint32_t c = corner_at(s, f, s->src[s->off[v] + i]);
         if (c == ST_NIL) continue;
-        double w = s->w[s->off[v] + i];
-        acc[0] += w * s->uv[2 * (size_t)c];
-        acc[1] += w * s->uv[2 * (size_t)c + 1];
-        sum += w;
+        s->t[3 * n] = s->w[s->off[v] + i];
+        s->t[3 * n + 1] = s->uv[2 * (size_t)c];
+        s->t[3 * n + 2] = s->uv[2 * (size_t)c + 1];
+        n++;
     }
+    double sum = sorted_sum(s, n, acc);
     if (sum <= 0) return 0;
     out[0] = acc[0] / sum;
     out[1] = acc[1] / sum;
@@ -155,11 +210,11 @@ static int continuous(const stencil_uv *s, uint32_t a, uint32_t b)
     return shared > 0;
 }
 
-static void corner_uv(const stencil_uv *s, uint32_t x, uint32_t home, double out[2])
+static void corner_uv(stencil_uv *s, uint32_t x, uint32_t home, double out[2])
 {
     uint32_t v = st_vert(s->m, x, s->L);
     const double *p = NULL;
-    if (s->smooth[v] || s->kind[v] == V_NONE) {
+    if (s->smooth[v] || s->kind[v] <= V_NONE) {
         p = s->suv + 2 * (size_t)v;
     } else if (s->kind[v] == V_KEPT) {
         uint32_t c = home != ST_NIL ? corner_at(s, home, v) : ST_NIL;
@@ -195,7 +250,10 @@ static void faces_of_level(stencil_uv *s)
         } while (x != d);
         if (home == ST_NIL) home = source;
         do {
-            corner_uv(s, x, home, s->out + 2 * (size_t)x);
+            if (!s->adaptive || s->kind[st_vert(m, x, L)] != V_UNSEEN) {
+                corner_uv(s, x, home, s->out + 2 * (size_t)x);
+                if (s->out_level) s->out_level[x] = (uint8_t)L;
+            }
             x = face_next(m, x, L);
         } while (x != d);
     }
@@ -211,6 +269,7 @@ static void label_level(stencil_uv *s, uint32_t *label)
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, L, &it); d != ST_NIL; d = st_dart_next(m, L, &it)) {
         if (st_is_boundary(m, d)) continue;
+        if (s->adaptive && s->kind[st_vert(m, d, L)] == V_UNSEEN) continue;
         const double *p = s->out + 2 * (size_t)d;
         uint32_t best = d, y = vertex_next(m, d, L);
         while (y != d) {
@@ -263,13 +322,19 @@ static void stencil_free(stencil_uv *s)
     free(s->cnt);
     free(s->src);
     free(s->w);
+    free(s->t);
 }
 
-int st_fvar_refine_stencil(st_hier *h, const st_fvar_level *coarse, st_fvar_level *fine)
+/* Level L = l+1's values from level l's: every face of level l when faces
+ * is NULL (a regular level), else the n faces of level l that an adaptive
+ * map subdivides toward L. */
+static int run(st_hier *h, unsigned l, const double *uv, const uint32_t *val, const uint32_t *faces, uint32_t n,
+               double *out_uv, uint32_t *out_val, uint8_t *out_level)
 {
     st_map *m = &h->map;
     size_t nv = (size_t)m->verts.end + 1, nd = (size_t)m->darts.end + 1;
-    stencil_uv s = { .m = m, .L = m->top, .l = m->top - 1, .uv = coarse->uv, .val = coarse->val, .out = fine->uv };
+    stencil_uv s = { .m = m, .L = l + 1, .l = l, .uv = uv, .val = val, .out = out_uv, .adaptive = faces != NULL,
+                     .out_level = out_level };
     s.values = calloc(nv, 1);
     s.vuv = calloc(2 * nv, sizeof *s.vuv);
     s.vdart = calloc(nv, sizeof *s.vdart);
@@ -283,13 +348,28 @@ int st_fvar_refine_stencil(st_hier *h, const st_fvar_level *coarse, st_fvar_leve
     int rc = -1;
     if (s.values && s.vuv && s.vdart && s.face && s.kind && s.smooth && s.suv && s.src_face && s.off && s.cnt) {
         classify_level(&s);
-        h->scheme->emit(h, s.L, NULL, 0, sink, &s);
+        if (faces) {
+            if (n) h->scheme->emit(h, s.L, faces, n, sink, &s);
+        } else {
+            h->scheme->emit(h, s.L, NULL, 0, sink, &s);
+        }
+        if (!s.failed) faces_of_level(&s);
         if (!s.failed) {
-            faces_of_level(&s);
-            label_level(&s, fine->val);
+            label_level(&s, out_val);
             rc = 0;
         }
     }
     stencil_free(&s);
     return rc;
+}
+
+int st_fvar_refine_stencil(st_hier *h, const st_fvar_level *coarse, st_fvar_level *fine)
+{
+    return run(h, h->map.top - 1, coarse->uv, coarse->val, NULL, 0, fine->uv, fine->val, NULL);
+}
+
+int st_fvar_stencil_step(st_hier *h, unsigned l, const double *uv, const uint32_t *val, const uint32_t *faces,
+                         uint32_t n, double *out_uv, uint32_t *out_val, uint8_t *out_level)
+{
+    return run(h, l, uv, val, faces, n, out_uv, out_val, out_level);
 }
