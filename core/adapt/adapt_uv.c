@@ -29,10 +29,13 @@
  * bit.
  *
  * Catmull-Clark and Loop follow OpenSubdiv's face-varying rules (the
- * hierarchy's --uv-interp), Butterfly and quad/triangle are linear.  √3's
- * flips and Doo-Sabin's dual encoding have no corner of the level below to
- * interpolate from (as in fvar.c), and progressive hierarchies keep level
- * 0's UVs only: their adaptive meshes carry none above level 0
+ * hierarchy's --uv-interp), Butterfly and quad/triangle are linear.  √3
+ * runs the stencil rules of core/fvar/fvar_stencil.c on the faces
+ * subdivided toward each level (stencil_step); those sum in an order of
+ * their terms, not of dart ids, so the values are again the regular
+ * level's bit for bit.  Doo-Sabin (whose E- and V-faces choose their home
+ * by dart order, which the adaptive map numbers otherwise) and progressive
+ * hierarchies (level 0's UVs only) carry none above level 0
  * (st_adapt_uv_absent says why). */
 #include "core/adapt/adapt_internal.h"
 #include "core/fvar/fvar_internal.h"
