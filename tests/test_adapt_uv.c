@@ -201,6 +201,31 @@ static void check_against_level(const uv_case *c, const st_adapt_params *p, unsi
 
 /* A box over part of the mesh: faces whose corners all hold values of
  * their own level L against regular level L, one level per vertex. */
+/* Vertices of the adaptive map whose (non-boundary) corners hold values of
+ * more than one level: 0 when faces sharing an edge inside an island hold one
+ * value at its ends. */
+static uint32_t mixed_level_vertices(st_map *m, unsigned top, const uint8_t *level)
+{
+    uint32_t mixed = 0;
+    st_dart_iter it;
+    int vb = st_marker_reserve(m);
+    for (uint32_t d = st_dart_first(m, top, &it); d != ST_NIL; d = st_dart_next(m, top, &it)) {
+        if (st_marked(m, vb, d)) continue;
+        st_mark_vertex(m, vb, d, top);
+        int lev = -1;
+        uint32_t x = d;
+        do {
+            if (!st_is_boundary(m, x)) {
+                if (lev >= 0 && lev != level[x]) { mixed++; break; }
+                lev = level[x];
+            }
+            x = st_beta1(m, x, top);
+        } while (x != d);
+    }
+    st_marker_release(m, vb, top);
+    return mixed;
+}
+
 static void check_partial(const uv_case *c)
 {
     st_hier h, r;
@@ -267,21 +292,7 @@ static void check_partial(const uv_case *c)
     st_marker_release(m, fb, top);
     /* one level per vertex: faces sharing an edge inside an island hold
      * one value at its ends */
-    int vb = st_marker_reserve(m);
-    for (uint32_t d = st_dart_first(m, top, &it); u.uv && d != ST_NIL; d = st_dart_next(m, top, &it)) {
-        if (st_marked(m, vb, d)) continue;
-        st_mark_vertex(m, vb, d, top);
-        int lev = -1;
-        uint32_t x = d;
-        do {
-            if (!st_is_boundary(m, x)) {
-                if (lev >= 0 && lev != u.level[x]) { mixed++; break; }
-                lev = u.level[x];
-            }
-            x = st_beta1(m, x, top);
-        } while (x != d);
-    }
-    st_marker_release(m, vb, top);
+    if (u.uv) mixed += mixed_level_vertices(m, top, u.level);
     printf("%s %s partial box: faces whole at levels 0..%u:", c->file, st_scheme_get(c->id)->name, c->max);
     for (unsigned l = 0; l <= c->max; l++) printf(" %u", per_level[l]);
     printf("; %u corners, %u bit-exact, worst %.3g, %u unmatched; %u seam edges; %u vertices of mixed levels\n", s.corners,
@@ -409,21 +420,7 @@ static void check_partial_stencil(const uv_case *c)
         } while (x != d);
     }
     st_marker_release(m, fb, top);
-    int vb = st_marker_reserve(m);
-    for (uint32_t d = st_dart_first(m, top, &it); u.uv && d != ST_NIL; d = st_dart_next(m, top, &it)) {
-        if (st_marked(m, vb, d)) continue;
-        st_mark_vertex(m, vb, d, top);
-        int lev = -1;
-        uint32_t x = d;
-        do {
-            if (!st_is_boundary(m, x)) {
-                if (lev >= 0 && lev != u.level[x]) { mixed++; break; }
-                lev = u.level[x];
-            }
-            x = st_beta1(m, x, top);
-        } while (x != d);
-    }
-    st_marker_release(m, vb, top);
+    if (u.uv) mixed += mixed_level_vertices(m, top, u.level);
     printf("%s %s partial box: faces whole at levels 0..%u:", c->file, st_scheme_get(c->id)->name, c->max);
     for (unsigned l = 0; l <= c->max; l++) printf(" %u", per_level[l]);
     printf("; %u corners, %u outside level 0's UV range [%g, %g]; %u corners on faces of a regular level, %u bit-exact, "
