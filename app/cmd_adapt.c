@@ -153,6 +153,8 @@ int st_cmd_adapt(int argc, char **argv)
         if (!rc && sm != &h.map) rc = st_map_validate((st_map *)sm, &err);
         st_adapt_uv u = { 0 };
         if (!rc && tri) rc = st_adapt_uv_build(&a, &u, &err);
+        /* the second check, from the adaptive map's counts, before the mesh is made */
+        if (!rc) rc = st_mem_check(st_adapt_estimate_mesh_bytes(&a), "the adaptive mesh", &err);
         if (!rc) rc = tri ? triangulated(sm, shown, u.uv, &out, &err) : st_adapt_mesh(&a, &out, &err);
         st_adapt_uv_free(&u);
     }

@@ -296,7 +296,8 @@ int st_cmd_convert(int argc, char **argv)
     unsigned l = o.level >= 0 ? (unsigned)o.level : s.h.map.top;
     st_mesh out;
     st_mesh_init(&out);
-    rc = adaptive ? st_adapt_mesh(&s.adapt, &out, &err) : st_hier_level_mesh(&s.h, l, &out, &err);
+    rc = adaptive ? st_mem_check(st_adapt_estimate_mesh_bytes(&s.adapt), "the adaptive mesh", &err) : 0;
+    if (!rc) rc = adaptive ? st_adapt_mesh(&s.adapt, &out, &err) : st_hier_level_mesh(&s.h, l, &out, &err);
     if (rc) fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
     if (!rc && o.normals && st_mesh_compute_normals(&out)) {
         fprintf(stderr, "strata: %s: out of memory computing normals\n", o.out);

@@ -4,13 +4,19 @@
  *   - the estimated peak of st_hier_subdivide_to is within 25 % of the
  *     measured peak resident size, on several meshes, schemes and depths
  *     (each case in a child process of its own, so that peaks don't mix);
+ *     likewise the adaptive refinement's two estimates (the update, from
+ *     level 0; the output mesh and its UVs, from the adaptive map), on five
+ *     schemes, boxes large and thin, with and without falloff;
  *   - over the budget, st_hier_subdivide_to refuses at once with
  *     ST_ERR_MEMORY, the estimate and the limit in the message, and leaves
  *     the hierarchy as it was. */
 #include "testlib.h"
 #include "core/base/membudget.h"
 #include "core/multires/estimate.h"
+#include "core/adapt/adapt.h"
+#include "core/adapt/adapt_estimate.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 #include <sys/resource.h>
@@ -58,8 +64,20 @@ static void check_counts(const char *rel, st_scheme_id id, unsigned levels)
     st_hier_free(&h);
 }
 
+/* One peak case: `prepare` loads what the operation starts from, `estimate`
+ * says what it will add, `run` does it; each in a child process of its own,
+ * so that peaks don't mix and a child starts with only its own pages. */
+typedef struct peak_case {
+    const char *rel;
+    st_scheme_id id;
+    unsigned levels;              /* subdivide: the depth; adapt: the maximum level */
+    const st_adapt_params *box;   /* adapt only */
+} peak_case;
+typedef size_t (*estimate_fn)(st_hier *h, const peak_case *c);
+typedef int (*run_fn)(st_hier *h, const peak_case *c);   /* also for `prepare` */
+
 /* In a child: resident size before, the estimate, the peak after. */
-static void check_peak(const char *rel, st_scheme_id id, unsigned levels)
+static void check_peak_of(const char *what, const peak_case *c, run_fn prepare, estimate_fn estimate_of, run_fn run)
 {
     int fd[2];
     if (pipe(fd)) { CHECK(!"pipe"); return; }
@@ -68,11 +86,10 @@ static void check_peak(const char *rel, st_scheme_id id, unsigned levels)
         close(fd[0]);
         double r[3] = { 0, 0, 0 };
         st_hier h;
-        if (!load(&h, rel, id)) {
-            st_error err;
+        if (!load(&h, c->rel, c->id) && (!prepare || prepare(&h, c) == ST_OK)) {
             r[0] = (double)st_mem_resident();
-            r[1] = (double)st_hier_estimate_subdivide(&h, levels, NULL);
-            if (st_hier_subdivide_to(&h, levels, &err) == ST_OK) {
+            r[1] = (double)estimate_of(&h, c);
+            if (run(&h, c) == ST_OK) {
                 struct rusage ru;
                 getrusage(RUSAGE_SELF, &ru);
                 r[2] = (double)ru.ru_maxrss * 1024.0;
@@ -90,14 +107,94 @@ static void check_peak(const char *rel, st_scheme_id id, unsigned levels)
     waitpid(pid, &status, 0);
     CHECK(got == (ssize_t)sizeof r && r[2] > 0);
     double estimate = r[0] + r[1], peak = r[2], ratio = estimate / peak;
-    printf("%-40s %-14s levels %u: resident before %.1f MiB, estimated peak %.1f MiB, measured %.1f MiB (%.2f)\n",
-           rel, st_scheme_get(id)->name, levels, r[0] / 1048576, estimate / 1048576, peak / 1048576, ratio);
+    printf("%-9s %-40s %-14s levels %u: resident before %.1f MiB, estimated peak %.1f MiB, measured %.1f MiB (%.2f)\n",
+           what, c->rel, st_scheme_get(c->id)->name, c->levels, r[0] / 1048576, estimate / 1048576, peak / 1048576,
+           ratio);
 #if defined(__SANITIZE_ADDRESS__)
     (void)ratio; /* the sanitizer's shadow memory and quarantine are not the program's */
 #else
-    CHECKF(ratio > 0.75 && ratio < 1.25, "%s %u levels: estimate %.1f MiB against a peak of %.1f MiB", rel, levels,
-           estimate / 1048576, peak / 1048576);
+    CHECKF(ratio > 0.75 && ratio < 1.25, "%s %s %u levels: estimate %.1f MiB against a peak of %.1f MiB", what, c->rel,
+           c->levels, estimate / 1048576, peak / 1048576);
 #endif
+}
+
+static size_t subdivide_estimate(st_hier *h, const peak_case *c) { return st_hier_estimate_subdivide(h, c->levels, NULL); }
+static int subdivide_run(st_hier *h, const peak_case *c)
+{
+    st_error err;
+    return st_hier_subdivide_to(h, c->levels, &err);
+}
+static void check_peak(const char *rel, st_scheme_id id, unsigned levels)
+{
+    peak_case c = { rel, id, levels, NULL };
+    check_peak_of("subdivide", &c, NULL, subdivide_estimate, subdivide_run);
+}
+
+/* The adaptive refinement as strata adapt runs it, in two steps, each
+ * with its own check (core/adapt/adapt_estimate.h): the update, estimated
+ * from level 0; then the output mesh (with its UVs), estimated from the
+ * adaptive map's counts.  The child's adaptive state lives here. */
+static st_adapt child_adapt;
+static size_t adapt_estimate(st_hier *h, const peak_case *c) { return st_adapt_estimate_bytes(h, c->box); }
+static int adapt_run(st_hier *h, const peak_case *c)
+{
+    st_error err;
+    memset(&child_adapt, 0, sizeof child_adapt);
+    int rc = st_adapt_init(&child_adapt, h, &err);
+    if (!rc) rc = st_adapt_update(&child_adapt, c->box, &err);
+    if (rc) fprintf(stderr, "%s: %s\n", c->rel, err.msg);
+    return rc;
+}
+static size_t adapt_mesh_estimate(st_hier *h, const peak_case *c)
+{
+    (void)h, (void)c;
+    return st_adapt_estimate_mesh_bytes(&child_adapt);
+}
+static int adapt_mesh_run(st_hier *h, const peak_case *c)
+{
+    (void)h;
+    st_error err;
+    st_mesh out;
+    st_mesh_init(&out);
+    int rc = st_adapt_mesh(&child_adapt, &out, &err);
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/test_membudget_%d.obj", (int)getpid());
+    if (!rc) rc = st_mesh_save(path, &out, &err); /* as strata adapt writes it */
+    remove(path);
+    if (rc) fprintf(stderr, "%s: %s\n", c->rel, err.msg);
+    st_mesh_free(&out);
+    return rc;
+}
+/* box: fractions of the mesh's bounding box (lo x, y, z, hi x, y, z) */
+static void check_adapt_peak(const char *rel, st_scheme_id id, unsigned base, unsigned max, const double box[6],
+                             double falloff)
+{
+    st_mesh mesh;
+    st_error err;
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", STRATA_SHARED_DATA, rel);
+    st_mesh_init(&mesh);
+    if (st_mesh_load(path, &mesh, &err)) { CHECKF(0, "%s", err.msg); return; }
+    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (uint32_t v = 0; v < mesh.nverts; v++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], mesh.pos[3 * v + k]);
+            hi[k] = fmax(hi[k], mesh.pos[3 * v + k]);
+        }
+    st_mesh_free(&mesh);
+    st_adapt_params p;
+    memset(&p, 0, sizeof p);
+    p.base_level = base;
+    p.max_level = max;
+    p.has_box = 1;
+    for (int k = 0; k < 3; k++) {
+        p.box_lo[k] = lo[k] + box[k] * (hi[k] - lo[k]);
+        p.box_hi[k] = lo[k] + box[k + 3] * (hi[k] - lo[k]);
+    }
+    p.falloff = falloff * (hi[1] - lo[1]);
+    peak_case c = { rel, id, max, &p };
+    check_peak_of("adapt", &c, NULL, adapt_estimate, adapt_run);
+    check_peak_of("adapt out", &c, adapt_run, adapt_mesh_estimate, adapt_mesh_run);
 }
 
 static void check_refusal(void)
@@ -137,6 +234,19 @@ int main(void)
     check_peak("catmull_clark/blub_control_mesh.obj", ST_SCHEME_DOOSABIN, 6);
     check_peak("triangle/hand_lowres.obj", ST_SCHEME_BUTTERFLY, 5);
     check_peak("catmull_clark/mixed_faring.off", ST_SCHEME_QUADTRI, 4);
+    /* the adaptive refinement (strata adapt, render/convert --box, the window's box) */
+    static const double box[6] = { 0.5, 0.6, 0.3, 0.8, 0.9, 0.7 };
+    check_adapt_peak("catmull_clark/blub_control_mesh.obj", ST_SCHEME_CATMARK, 0, 8, box, 0);
+    check_adapt_peak("catmull_clark/blub_control_mesh.obj", ST_SCHEME_CATMARK, 2, 7, box, 0.05);
+    check_adapt_peak("catmull_clark/spot_quadrangulated.obj", ST_SCHEME_CATMARK, 1, 6, box, 0);
+    check_adapt_peak("triangle/spot_low_resolution.obj", ST_SCHEME_LOOP, 0, 7, box, 0);
+    check_adapt_peak("triangle/spot_low_resolution.obj", ST_SCHEME_BUTTERFLY, 1, 6, box, 0);
+    check_adapt_peak("triangle/spot_low_resolution.obj", ST_SCHEME_SQRT3, 0, 9, box, 0);
+    check_adapt_peak("catmull_clark/blub_control_mesh.obj", ST_SCHEME_DOOSABIN, 0, 7, box, 0);
+    static const double slab[6] = { 0.45, 0, 0, 0.5, 1, 1 }; /* thin: the rings matter */
+    check_adapt_peak("catmull_clark/blub_control_mesh.obj", ST_SCHEME_CATMARK, 0, 8, slab, 0);
+    check_adapt_peak("triangle/spot_low_resolution.obj", ST_SCHEME_LOOP, 1, 7, slab, 0.02);
+    check_adapt_peak("catmull_clark/spot_quadrangulated.obj", ST_SCHEME_DOOSABIN, 0, 6, slab, 0);
 
     check_counts("catmull_clark/dodecahedron_poly.obj", ST_SCHEME_CATMARK, 3);
     check_counts("triangle/cube_no_bottom.obj", ST_SCHEME_CATMARK, 3);

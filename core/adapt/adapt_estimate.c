@@ -1,5 +1,6 @@
 /* Estimate of an adaptive update's memory (adapt_estimate.h). */
 #include "core/adapt/adapt_estimate.h"
+#include "core/adapt/adapt_internal.h"
 #include "core/multires/estimate.h"
 
 #include <math.h>
@@ -31,9 +32,9 @@ size_t st_adapt_estimate_bytes(st_hier *h, const st_adapt_params *p)
     size_t regular = st_hier_estimate_subdivide(h, p->base_level, NULL);
     if (!p->has_box || p->max_level <= p->base_level) return regular;
     st_map *m = &h->map;
-    double g = h->scheme->id == ST_SCHEME_SQRT3 ? 3.0 : 4.0;
-    unsigned bands = p->falloff > 0 ? p->max_level - p->base_level : 0;
-    double faces = 0;
+    st_scheme_id id = h->scheme->id;
+    double g = id == ST_SCHEME_SQRT3 ? 3.0 : 4.0;
+    double darts = 0; /* darts of the levels above the base, all levels together */
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, 0, &it); d != ST_NIL; d = st_dart_next(m, 0, &it)) {
         if (st_is_boundary(m, d)) continue;
@@ -47,18 +48,50 @@ size_t st_adapt_estimate_bytes(st_hier *h, const st_adapt_params *p)
             x = st_phi1(m, x, 0);
         } while (x != d && n < 1u << 20);
         if (min != d) continue; /* each face once, at its smallest dart */
-        double inner = 0;
-        for (unsigned k = 0; k <= bands; k++) {
-            double f = overlap_fraction(lo, hi, p, (double)k * p->falloff);
-            faces += (f - inner) * pow(g, (double)(p->max_level - k));
-            inner = f;
+        double ext = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+        /* Level k holds the faces within the box grown by the falloff bands
+         * of the levels above k, and by the rings the one-level restriction
+         * and the stencils add around the finer levels' faces: about two
+         * faces of level k, each ext / 2^k (√3: ext / 3^(k/2)) wide. */
+        /* children of the face at level 1: a quad per side (polygon split;
+         * quad/triangle splits a triangle into 3 quads, about as many),
+         * 4 triangles (quadrisection), 3 (√3), 4 cells (Doo-Sabin: one of
+         * each kind per face); then g times as many per level */
+        int polysplit = id == ST_SCHEME_CATMARK || id == ST_SCHEME_QUADTRI;
+        double faces_k = 1, sides = polysplit || id == ST_SCHEME_DOOSABIN ? 4.0 : 3.0;
+        for (unsigned k = 1; k <= p->max_level; k++) {
+            faces_k *= k == 1 && polysplit ? (double)n : g;
+            if (k <= p->base_level) continue;
+            double width = ext / pow(id == ST_SCHEME_SQRT3 ? sqrt(3.0) : 2.0, (double)k);
+            double r = (double)(p->max_level - k) * p->falloff + 2.0 * width;
+            darts += overlap_fraction(lo, hi, p, r) * faces_k * sides;
         }
     }
-    /* a face of the finest level: 2 darts per edge, about 2 edges per face
-     * for quads and 1.5 for triangles; about 1 vertex per quad, 1/2 per
-     * triangle; every coarser level adds a third more (1/(1 - 1/g)). */
-    double per_face = 4.0 * 11.8 + 1.0 * 24.8;
-    double bytes = faces * per_face * (g / (g - 1.0)) * 3.2; /* 3.2: measured on blub, max levels 8-12 */
-    double total = (double)regular + bytes;
+    /* bytes per dart with its share of the vertices (a quad mesh has a
+     * vertex per 4 darts, a triangle mesh one per 6) and of the passes'
+     * scratch, measured on the shared meshes (tests/test_membudget.c) */
+    double per_dart = id == ST_SCHEME_CATMARK || id == ST_SCHEME_QUADTRI ? 26.0 : id == ST_SCHEME_DOOSABIN ? 22.0 : 24.0;
+    double total = (double)regular + darts * per_dart;
     return total >= (double)SIZE_MAX ? SIZE_MAX : (size_t)total;
+}
+
+size_t st_adapt_estimate_mesh_bytes(st_adapt *a)
+{
+    st_hier *h = a->h;
+    st_map *m = &h->map;
+    if (st_adapt_is_progressive(a)) /* the selection's mesh: at most the finest level's */
+        return st_estimate_mesh_bytes(m->verts.end, m->darts.end / 3u, m->darts.end);
+    st_level_stats s;
+    st_level_stats_compute(m, m->top, &s);
+    /* extraction (st_map_to_mesh): a vertex index per vertex id and the
+     * marker bits if the map has none yet, then the mesh's positions, face
+     * offsets and corner indices (the writers stream them) */
+    double b = 4.0 * (double)m->verts.end + (m->marks ? 0.0 : 4.0 * (double)m->darts.cap);
+    b += 24.0 * (double)s.vertices + 4.0 * (double)s.faces + 4.0 * (double)(s.darts - s.boundary_edges);
+    /* UVs (adapt_uv.c): per dart id below the pool's end, the value, its
+     * chart, level and rank, and the passes' buffers (62 bytes allocated, about 55 touched); then per
+     * corner of the mesh the sort keys, the texture coordinates and their
+     * indices (40 bytes) */
+    if (!st_adapt_uv_absent(a)) b += 55.0 * (double)m->darts.end + 40.0 * (double)(s.darts - s.boundary_edges);
+    return b >= (double)SIZE_MAX ? SIZE_MAX : (size_t)b;
 }

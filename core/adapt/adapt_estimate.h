@@ -2,14 +2,15 @@
  * (core/base/membudget.h): estimated from level 0 before anything is built.
  *
  * Every face is refined to the base level, so that part is the regular
- * hierarchy's (core/multires/estimate.h).  Inside the interest box faces go
- * to the maximum level, and in each falloff band around it to one level
- * less: a face of level 0 whose bounding box overlaps the box (grown by k
- * band widths) by a fraction f of its extent contributes about
- * f · g^(level - 0) faces at that level, g the scheme's face growth per
- * level (4; 3 for √3).  The restriction's transition rings are a boundary
- * term, small beside the area term, and left out.  Bytes per face come from
- * the same per-dart and per-vertex costs as the regular estimate. */
+ * hierarchy's (core/multires/estimate.h).  Above it, level k holds the
+ * faces inside the box grown by the falloff bands of the levels above k
+ * and by about two faces of level k (the one-level restriction's and the
+ * stencils' rings): a face of level 0 whose bounding box overlaps that
+ * region by a fraction f of its extent contributes f times its children
+ * at level k (g^k of them, g the scheme's face growth per level: 4; 3 for
+ * √3).  Bytes per dart, with their share of vertices and scratch, are
+ * measured per scheme; tests/test_membudget.c holds the estimate to within
+ * 25 % of the measured peak. */
 #ifndef ST_ADAPT_ESTIMATE_H
 #define ST_ADAPT_ESTIMATE_H
 
@@ -19,5 +20,10 @@
 
 /* Bytes st_adapt_update(p) may add to the process, from level 0 of h. */
 size_t st_adapt_estimate_bytes(st_hier *h, const st_adapt_params *p);
+
+/* Bytes st_adapt_mesh(a) and writing its result may add, from the adaptive
+ * map's counts after the update (a second check, before extraction: the
+ * first, from level 0, cannot know how many faces the box really holds). */
+size_t st_adapt_estimate_mesh_bytes(st_adapt *a);
 
 #endif
