@@ -301,6 +301,27 @@ static void ray_rows(st_team *team, unsigned t, void *ctx)
             }
 }
 
+/* How far the lines look for level L when not told: 5 % of the joint
+ * bounding-box diagonal plus the largest gap between the two levels' boxes
+ * (an approximating scheme shrinks a coarse cage: √3's level 4 of an
+ * octahedron lies up to 0.3 of its radius inside level 0), and at least
+ * 1.25 times the farthest of the nearest hits from B's corners along their
+ * normals (a cube-like B under a round L: the boxes agree, the corners do
+ * not), that within a quarter of the diagonal. */
+static double default_reach(const bake_ctx *c, const st_bake_bvh *bvh)
+{
+    double diag, gap, corners = 0;
+    st_bake_level_boxes(c->m, c->o->base, c->o->level, &diag, &gap);
+    size_t nc = c->uvs->corner_off[c->uvs->nfaces];
+    for (size_t k = 0; k < nc; k++) {
+        st_bake_hit hit;
+        const double *p = st_pos(c->m, c->corner_vert[k], c->o->base);
+        if (st_bake_bvh_nearest(bvh, p, c->corner_normal + 3 * k, 0.25 * diag, &hit)) corners = fmax(corners, fabs(hit.t));
+    }
+    double r = fmax(0.05 * diag + gap, 1.25 * corners);
+    return r > 0 && isfinite(r) ? r : 1.0;
+}
+
 static int bake_by_rays(bake_ctx *c, st_hier *h, st_error *err)
 {
     const st_bake_opts *o = c->o;
@@ -313,7 +334,7 @@ static int bake_by_rays(bake_ctx *c, st_hier *h, st_error *err)
     r->c = c;
     r->bvh = &bvh;
     r->normal_L = c->normal_L;
-    r->reach = o->ray_reach > 0 ? o->ray_reach : st_bake_default_reach(&h->map, o->base, o->level);
+    r->reach = o->ray_reach > 0 ? o->ray_reach : default_reach(c, &bvh);
     unsigned threads = st_parallel_threads();
     if (threads > ST_PARALLEL_MAX) threads = ST_PARALLEL_MAX;
     if (threads < 1) threads = 1;

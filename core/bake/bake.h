@@ -17,8 +17,10 @@
  * encoding), so there the bake falls back on what every baker does without
  * a correspondence: from B's point at each texel a line along B's
  * interpolated normal, level L's nearest hit on it in either direction
- * within a reach (default: 5 % of the joint bounding-box diagonal plus the
- * largest gap between the two levels' boxes; st_bake_opts.ray_reach), and
+ * within a reach (st_bake_opts.ray_reach; by default 5 % of the joint
+ * bounding-box diagonal plus the largest gap between the two levels'
+ * boxes, or 1.25 times the farthest hit from B's corners along their
+ * normals if more, at most a quarter of the diagonal), and
  * L's normal interpolated at the hit (core/bake/bake_ray.c: a flat bounding
  * volume hierarchy over L's triangles).  A texel whose line meets nothing
  * takes B's own point and normal (flat) and is counted in

@@ -383,16 +383,16 @@ static void level_box(const st_map *m, unsigned l, double lo[3], double hi[3])
     }
 }
 
-double st_bake_default_reach(const st_map *m, unsigned B, unsigned L)
+void st_bake_level_boxes(const st_map *m, unsigned B, unsigned L, double *diag, double *gap)
 {
-    double lb[3], hb[3], ll[3], hl[3], diag = 0, gap = 0;
+    double lb[3], hb[3], ll[3], hl[3], d2 = 0, g = 0;
     level_box(m, B, lb, hb);
     level_box(m, L, ll, hl);
     for (int k = 0; k < 3; k++) {
         double e = fmax(hb[k], hl[k]) - fmin(lb[k], ll[k]);
-        diag += e * e;
-        gap = fmax(gap, fmax(fabs(lb[k] - ll[k]), fabs(hb[k] - hl[k])));
+        d2 += e * e;
+        g = fmax(g, fmax(fabs(lb[k] - ll[k]), fabs(hb[k] - hl[k])));
     }
-    double r = 0.05 * sqrt(diag) + gap;
-    return isfinite(r) && r > 0 ? r : 1.0;
+    *diag = isfinite(d2) ? sqrt(d2) : 0;
+    *gap = isfinite(g) ? g : 0;
 }

@@ -59,10 +59,9 @@ typedef struct st_bake_hit {
  * the inputs only, not on the traversal order. */
 int st_bake_bvh_nearest(const st_bake_bvh *b, const double o[3], const double d[3], double reach, st_bake_hit *hit);
 
-/* The default reach of the rays between levels B and L: 5 % of the
- * diagonal of their joint bounding box plus the largest gap between their
- * two boxes' faces (an approximating scheme shrinks a coarse cage: √3's
- * level 4 of an octahedron lies up to 0.3 radii inside level 0). */
-double st_bake_default_reach(const st_map *m, unsigned B, unsigned L);
+/* The diagonal of the joint bounding box of levels B and L and the largest
+ * gap between the faces of their two boxes (the default reach of the
+ * rays, core/bake/bake.c, starts from these). */
+void st_bake_level_boxes(const st_map *m, unsigned B, unsigned L, double *diag, double *gap);
 
 #endif
