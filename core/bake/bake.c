@@ -304,21 +304,14 @@ static void ray_rows(st_team *team, unsigned t, void *ctx)
 /* How far the lines look for level L when not told: 5 % of the joint
  * bounding-box diagonal plus the largest gap between the two levels' boxes
  * (an approximating scheme shrinks a coarse cage: √3's level 4 of an
- * octahedron lies up to 0.3 of its radius inside level 0), and at least
- * 1.25 times the farthest of the nearest hits from B's corners along their
- * normals (a cube-like B under a round L: the boxes agree, the corners do
- * not), that within a quarter of the diagonal. */
-static double default_reach(const bake_ctx *c, const st_bake_bvh *bvh)
+ * octahedron lies up to 0.3 of its radius inside level 0).  Farther
+ * searches trade misses for hits on other parts of the surface (a ray from
+ * a fin of blub's Doo-Sabin level 1 meets its body); --ray-reach chooses. */
+static double default_reach(const bake_ctx *c)
 {
-    double diag, gap, corners = 0;
+    double diag, gap;
     st_bake_level_boxes(c->m, c->o->base, c->o->level, &diag, &gap);
-    size_t nc = c->uvs->corner_off[c->uvs->nfaces];
-    for (size_t k = 0; k < nc; k++) {
-        st_bake_hit hit;
-        const double *p = st_pos(c->m, c->corner_vert[k], c->o->base);
-        if (st_bake_bvh_nearest(bvh, p, c->corner_normal + 3 * k, 0.25 * diag, &hit)) corners = fmax(corners, fabs(hit.t));
-    }
-    double r = fmax(0.05 * diag + gap, 1.25 * corners);
+    double r = 0.05 * diag + gap;
     return r > 0 && isfinite(r) ? r : 1.0;
 }
 
@@ -334,7 +327,7 @@ static int bake_by_rays(bake_ctx *c, st_hier *h, st_error *err)
     r->c = c;
     r->bvh = &bvh;
     r->normal_L = c->normal_L;
-    r->reach = o->ray_reach > 0 ? o->ray_reach : default_reach(c, &bvh);
+    r->reach = o->ray_reach > 0 ? o->ray_reach : default_reach(c);
     unsigned threads = st_parallel_threads();
     if (threads > ST_PARALLEL_MAX) threads = ST_PARALLEL_MAX;
     if (threads < 1) threads = 1;

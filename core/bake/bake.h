@@ -19,8 +19,7 @@
  * interpolated normal, level L's nearest hit on it in either direction
  * within a reach (st_bake_opts.ray_reach; by default 5 % of the joint
  * bounding-box diagonal plus the largest gap between the two levels'
- * boxes, or 1.25 times the farthest hit from B's corners along their
- * normals if more, at most a quarter of the diagonal), and
+ * boxes), and
  * L's normal interpolated at the hit (core/bake/bake_ray.c: a flat bounding
  * volume hierarchy over L's triangles).  A texel whose line meets nothing
  * takes B's own point and normal (flat) and is counted in
