@@ -1,11 +1,14 @@
 /* strata bake IN --base-level B [--level L] --normal-map N.png
  *             [--displacement-map D.exr|D.png] [--size 2048] [--space tangent|object]
- *             [--vector] [--padding 8] [--bits 8|16] [--auto-uv]
+ *             [--vector] [--padding 8] [--bits 8|16] [--auto-uv] [--ray-reach D]
  *
  * Bakes the surface of level L (default: the finest) onto the UV layout of
  * level B (core/bake/bake.h): B's own UVs (core/fvar/fvar.h), or with
  * --auto-uv a generated per-face atlas (st_bake_auto_uvs), which a level
  * without UVs needs; without either the command says level B has no UVs.
+ * √3 and Doo-Sabin levels are baked by rays along B's normals (--ray-reach:
+ * how far, in model units; default from the bounding boxes), and the
+ * output says which correspondence was used and how many texels missed.
  * UVs that overlap or leave [0,1] are refused by st_bake.  Every file is
  * written to NAME.tmp.EXT first and renamed once all are written, so a refusal
  * or a failed write leaves nothing.  Exit status: 0 done, 1 refused or a
@@ -18,6 +21,7 @@
 #include "core/fvar/fvar.h"
 #include "core/io/mesh.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,7 +30,8 @@ static int usage(void)
 {
     fprintf(stderr,
             "usage: strata bake IN --base-level B [--level L] --normal-map N.png [--displacement-map D.exr|D.png]\n"
-            "                   [--size 2048] [--space tangent|object] [--vector] [--padding 8] [--bits 8|16] [--auto-uv]\n");
+            "                   [--size 2048] [--space tangent|object] [--vector] [--padding 8] [--bits 8|16] [--auto-uv]\n"
+            "                   [--ray-reach D]\n");
     return 2;
 }
 
@@ -35,6 +40,7 @@ typedef struct bake_args {
     int base;                 /* -1: not given */
     unsigned size, padding;
     int bits, space, vector, auto_uv;
+    double ray_reach;         /* 0: the default */
 } bake_args;
 
 static int parse_unsigned(const char *s, unsigned lo, unsigned hi, unsigned *out)
@@ -74,6 +80,12 @@ static int split_args(int argc, char **argv, bake_args *b, char **rest, int *nre
             if (!strcmp(v, "tangent")) b->space = ST_BAKE_TANGENT;
             else if (!strcmp(v, "object")) b->space = ST_BAKE_OBJECT;
             else { fprintf(stderr, "strata bake: --space wants tangent or object, got '%s'\n", v); return -1; }
+            i++;
+        } else if (!strcmp(a, "--ray-reach") && v) {
+            char *end;
+            double r = strtod(v, &end);
+            if (!*v || *end || !(r > 0) || !isfinite(r)) { fprintf(stderr, "strata bake: --ray-reach wants a distance > 0, got '%s'\n", v); return -1; }
+            b->ray_reach = r;
             i++;
         } else if (!strcmp(a, "--vector")) b->vector = 1;
         else if (!strcmp(a, "--auto-uv")) b->auto_uv = 1;
@@ -169,6 +181,12 @@ static void report(const bake_args *b, const st_bake_opts *o, const st_bake_maps
            (unsigned long long)maps->baked, (unsigned long long)maps->padded);
     if (maps->disp) printf(", displacement %.6g .. %.6g", maps->disp_min, maps->disp_max);
     printf("\n");
+    if (maps->by_rays)
+        printf("correspondence: by rays along level %u's normals: %llu texels, %llu misses (filled flat), reach %.6g\n",
+               o->base, (unsigned long long)maps->baked,
+               (unsigned long long)maps->ray_misses, maps->ray_reach);
+    else
+        printf("correspondence: exact (the faces of level %u nest in those of level %u)\n", o->level, o->base);
 }
 
 int st_cmd_bake(int argc, char **argv)
@@ -194,7 +212,7 @@ int st_cmd_bake(int argc, char **argv)
     char *side = NULL;
     st_bake_opts bo = { .base = (unsigned)b.base, .level = level, .size = b.size, .space = b.space,
                         .normal = b.normal_path != NULL, .displacement = b.disp_path ? (b.vector ? 3 : 1) : 0,
-                        .padding = b.padding };
+                        .padding = b.padding, .ray_reach = b.ray_reach };
     if ((unsigned)b.base > h.map.top || level > h.map.top || (unsigned)b.base > level) {
         fprintf(stderr, "strata bake: %s: cannot bake level %u onto level %d: levels are 0..%u and the base must not be finer\n",
                 o.in, level, b.base, h.map.top);

@@ -35,7 +35,7 @@ static void usage(FILE *f)
         "  filter IN.strata --gains g0,g1,... -o OUT\n"
         "                                      scales the details of each level of a progressive hierarchy\n"
         "  bake IN --base-level B [--level L] --normal-map N.png [--displacement-map D.exr|D.png]\n"
-        "       [--size 2048] [--space tangent|object] [--vector] [--padding 8] [--bits 8|16] [--auto-uv]\n"
+        "       [--size 2048] [--space tangent|object] [--vector] [--padding 8] [--bits 8|16] [--auto-uv] [--ray-reach D]\n"
         "                                      bakes level L onto level B's UV layout as maps\n"
         "  help                                this text\n"
         "every command takes --mem-budget MIB: operations whose estimated memory would exceed it are refused\n"

@@ -3,9 +3,11 @@
 # normal maps (8- and 16-bit PNG), displacement maps (32-bit float EXR, or
 # 16-bit PNG with its JSON scale and offset), same bytes for the same
 # inputs, sessions and meshes as input, on the mesh's own UVs or the
-# --auto-uv atlas, and refusals (no UVs, overlapping or tiled UVs, schemes whose
-# faces do not nest, levels, sizes, extensions, the memory budget) with a
-# message, a non-zero exit and nothing written.
+# --auto-uv atlas, √3 and Doo-Sabin by rays along level B's normals (the
+# rendered map close to level L: test_render_bake --compare), and refusals
+# (no UVs, overlapping or tiled UVs, progressive hierarchies, levels, sizes,
+# extensions, the memory budget) with a message, a non-zero exit and nothing
+# written.
 #
 #   cli_bake.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 set -u
@@ -102,8 +104,10 @@ run 0 "level 1 onto level 0" bake stacked.obj --levels 1 --base-level 0 --normal
 # Refusals: message, exit status, nothing written.
 run 1 "level 1 has no UVs .*--auto-uv" bake cube.strata --base-level 1 --normal-map x.png --size 64
 nothing_written x
-run 1 "sqrt3 faces do not nest" bake "$ASSETS/octahedron.obj" --scheme sqrt3 --levels 2 --base-level 0 --normal-map x.png --auto-uv
-run 1 "doo-sabin faces do not nest" bake "$ASSETS/cube.obj" --scheme doo-sabin --levels 2 --base-level 0 --normal-map x.png --auto-uv
+"$EXE" rebuild "$ASSETS/torus.obj" --method progressive --target-faces 100 -o prog.strata >/dev/null 2>&1
+run 1 "prog\.strata: baking needs a subdivision hierarchy; progressive levels come from edge collapses" \
+    bake prog.strata --base-level 0 --normal-map x.png --auto-uv
+nothing_written x
 run 1 "cannot bake level 3 onto level 4: levels are 0\.\.3" bake cube.strata --base-level 4 --normal-map x.png --auto-uv
 run 1 "cannot bake level 1 onto level 2" bake cube.strata --base-level 2 --level 1 --normal-map x.png --auto-uv
 run 1 "baking and writing the maps needs about [0-9.]+ MiB more .*memory budget is 8\.0 MiB" \
@@ -139,8 +143,35 @@ printf 'not a png\n' > fake.png
 run 1 "fake\.png" render cube.strata --level 1 --normal-map fake.png -o y.png
 run 2 "does not go with --box or --mode wire" render cube.strata --level 1 --normal-map n.png --mode wire -o y.png
 run 2 "--normal-space wants tangent or object" render cube.strata --level 1 --normal-map n.png --normal-space up -o y.png
-run 1 "sqrt3 faces do not nest" render "$ASSETS/octahedron.obj" --scheme sqrt3 --levels 1 --normal-map n.png -o y.png
 nothing_written y
+
+# √3 and Doo-Sabin: the faces do not nest, so the bake casts rays along
+# level B's normals (the open cube of ../shared, its own UVs); the output
+# says so; level B rendered with its map is close to level L (closer than
+# plain level B: test_render_bake's comparison and thresholds).
+CNB="$MESHES/triangle/cube_no_bottom.obj"
+for scheme in sqrt3 doo-sabin; do
+    L=5; [ $scheme = doo-sabin ] && L=4
+    run 0 "" convert "$CNB" $scheme.strata --scheme $scheme --levels $L
+    run 0 "correspondence: by rays along level 1's normals: [0-9]+ texels, [0-9]+ misses \(filled flat\), reach 0\.17" \
+        bake $scheme.strata --base-level 1 --normal-map ${scheme}_n.png --displacement-map ${scheme}_d.exr --size 1024
+    if is_png ${scheme}_n.png && is_exr ${scheme}_d.exr; then ok; else bad "$scheme: no maps written"; fi
+    "$EXE" bake $scheme.strata --base-level 1 --normal-map ${scheme}_n2.png --size 1024 >/dev/null 2>&1
+    if cmp -s ${scheme}_n.png ${scheme}_n2.png; then ok; else bad "$scheme: two bakes by rays gave different maps"; fi
+    run 0 "^wrote" render $scheme.strata --level $L --size 320x320 -o ${scheme}_fine.png
+    run 0 "^wrote" render $scheme.strata --level 1 --normal-map ${scheme}_n.png --size 320x320 -o ${scheme}_mapped.png
+    run 0 "^wrote" render $scheme.strata --level 1 --size 320x320 -o ${scheme}_plain.png
+    if [ -x "$BIN/test_render_bake" ]; then
+        if out=$("$BIN/test_render_bake" --compare ${scheme}_fine.png ${scheme}_mapped.png ${scheme}_plain.png); then ok; echo "$scheme: $out"
+        else bad "$scheme: level 1 with its map is not close to level $L: $out"; fi
+    fi
+done
+# The nesting schemes keep the exact correspondence; --ray-reach is checked.
+run 0 "correspondence: exact \(the faces of level 2 nest in those of level 0\)" \
+    bake "$ASSETS/octahedron.obj" --scheme loop --levels 2 --base-level 0 --normal-map lo2.png --size 64 --auto-uv
+run 0 "misses \(filled flat\), reach 0\.5$" bake sqrt3.strata --base-level 1 --normal-map r5.png --size 64 --ray-reach 0.5
+run 2 "--ray-reach wants a distance > 0" bake sqrt3.strata --base-level 1 --normal-map x.png --ray-reach -1
+nothing_written x
 
 echo "cli_bake: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

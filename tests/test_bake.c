@@ -7,13 +7,19 @@
  * face concave in UV is split inside itself (no false overlap). */
 #include "testlib.h"
 
-#include "core/bake/bake_internal.h"
+#include "core/bake/bake_ray_internal.h"
+#include "core/base/membudget.h"
+#include "core/base/parallel.h"
 #include "core/io/mesh.h"
 #include "core/multires/edit.h"
+#include "core/progressive/progressive.h"
 
+#include <malloc.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
@@ -89,7 +95,7 @@ static void corner_data(base_geo *g)
     CHECKF(st_bake_tangents(g->h, g->B, g->uvs, tan, g->cnormal, &err) == ST_OK, "%s", err.msg);
     for (uint32_t f = 0; f < nf; f++) {
         uint32_t x = darts[f];
-        for (uint32_t k = g->uvs->corner_off[f]; k < g->uvs->corner_off[f + 1]; k++, x = st_phi1(m, x, g->B))
+        for (uint32_t k = g->uvs->corner_off[f]; k < g->uvs->corner_off[f + 1]; k++, x = st_bake_face_next(m, x, g->B))
             g->cvert[k] = st_vert(m, x, g->B);
     }
     free(tan);
@@ -392,16 +398,32 @@ static void test_refusals(void)
     st_bake_layout_free(&lay);
     st_hier_free(&h);
 
-    /* √3 and Doo-Sabin: faces do not nest. */
-    tl_init_hier(&h, tl_mesh_octa, ST_SCHEME_SQRT3, 2);
+    /* Progressive hierarchies (levels by edge collapses) are refused. */
+    tl_init_hier(&h, tl_mesh_icosa, ST_SCHEME_LOOP, 2);
+    st_mesh fine;
+    st_mesh_init(&fine);
+    CHECK(st_hier_level_mesh(&h, 2, &fine, &err) == ST_OK);
+    st_hier_free(&h);
+    st_progressive_opts po = { .target_faces = 40 };
+    CHECKF(st_progressive_build(&fine, &po, &h, NULL, &err) == ST_OK, "%s", err.msg);
     CHECK(st_bake_auto_uvs(&h, 0, &lay, &err) == ST_OK);
     u = st_bake_layout_uvs(&lay);
     o.base = 0;
-    expect_refusal(&h, &u, &o, "faces that nest");
+    o.level = h.map.top;
+    expect_refusal(&h, &u, &o, "edge collapses");
     st_bake_layout_free(&lay);
     st_hier_free(&h);
-    tl_init_hier(&h, tl_mesh_cube, ST_SCHEME_DOOSABIN, 1);
-    expect_refusal(&h, NULL, &o, "faces that nest");
+    st_mesh_free(&fine);
+    /* A reach that is not a distance. */
+    tl_init_hier(&h, tl_mesh_octa, ST_SCHEME_SQRT3, 2);
+    CHECK(st_bake_auto_uvs(&h, 0, &lay, &err) == ST_OK);
+    u = st_bake_layout_uvs(&lay);
+    o.level = 2;
+    o.ray_reach = -1;
+    expect_refusal(&h, &u, &o, "reach");
+    o.ray_reach = NAN;
+    expect_refusal(&h, &u, &o, "reach");
+    st_bake_layout_free(&lay);
     st_hier_free(&h);
 }
 
@@ -633,8 +655,428 @@ static void test_dual_layout(void)
     st_mesh_free(&m);
 }
 
+/* ---- by rays (√3, Doo-Sabin; or asked for) -------------------------------- */
+
+static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
+static double rnd(void)
+{
+    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(rng_state >> 11) / 9007199254740992.0;
+}
+
+/* The nearest facing hit by trying every triangle: the plane's crossing,
+ * then the point's barycentric weights from areas (another formula than
+ * the hierarchy's Möller-Trumbore). */
+static uint32_t brute_nearest(const st_bake_bvh *b, const double o[3], const double d[3], double reach, double *t_out)
+{
+    uint32_t best = ST_NIL;
+    double bt = 0;
+    for (uint32_t t = 0; t < b->ntris; t++) {
+        const double *p[3];
+        for (int k = 0; k < 3; k++) p[k] = st_pos(b->m, b->tri_vert[3 * (size_t)t + k], b->level);
+        double e1[3], e2[3], ng[3];
+        for (int k = 0; k < 3; k++) { e1[k] = p[1][k] - p[0][k]; e2[k] = p[2][k] - p[0][k]; }
+        ng[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        ng[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        ng[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        double dn = dot3(d, ng);
+        if (!(dn > 0)) continue;
+        double r[3] = { p[0][0] - o[0], p[0][1] - o[1], p[0][2] - o[2] };
+        double tt = dot3(r, ng) / dn;
+        if (fabs(tt) > reach) continue;
+        double q[3] = { o[0] + tt * d[0], o[1] + tt * d[1], o[2] + tt * d[2] };
+        int inside = 1;
+        for (int k = 0; k < 3 && inside; k++) {
+            const double *a = p[k], *c = p[(k + 1) % 3];
+            double ea[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] }, qa[3] = { q[0] - a[0], q[1] - a[1], q[2] - a[2] }, x[3];
+            x[0] = ea[1] * qa[2] - ea[2] * qa[1];
+            x[1] = ea[2] * qa[0] - ea[0] * qa[2];
+            x[2] = ea[0] * qa[1] - ea[1] * qa[0];
+            inside = dot3(x, ng) >= 0;
+        }
+        if (!inside) continue;
+        if (best == ST_NIL || fabs(tt) < fabs(bt)) { best = t; bt = tt; }
+    }
+    *t_out = bt;
+    return best;
+}
+
+static uint32_t count_nodes(const st_bake_bvh *b, uint32_t node, uint32_t *leaf_tris)
+{
+    if (b->node_count[node]) { *leaf_tris += b->node_count[node]; return 1; }
+    return 1 + count_nodes(b, b->node_first[node], leaf_tris) + count_nodes(b, b->node_first[node] + 1, leaf_tris);
+}
+
+/* The hierarchy finds the hit that trying every triangle finds, for lines
+ * through random points in random directions; its node and triangle counts
+ * are the formulas the memory estimate uses. */
+static void check_bvh(const char *what, st_scheme_id id, void (*make)(st_mesh *), unsigned L)
+{
+    st_hier h;
+    st_error err;
+    tl_init_hier(&h, make, id, L);
+    st_bake_bvh b;
+    CHECKF(st_bake_bvh_build(&h.map, L, &b, &err) == ST_OK, "%s", err.msg);
+    uint32_t leaf_tris = 0, nodes = count_nodes(&b, 0, &leaf_tris);
+    CHECKF(b.ntris == st_bake_level_triangles(&h.map, L) && nodes == b.nnodes && nodes == st_bake_bvh_nodes(b.ntris) &&
+           leaf_tris == b.ntris, "%s: %u triangles (counted %llu), %u nodes reached of %u (formula %llu)", what, b.ntris,
+           (unsigned long long)st_bake_level_triangles(&h.map, L), nodes, b.nnodes, (unsigned long long)st_bake_bvh_nodes(b.ntris));
+    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (uint32_t t = 0; t < b.ntris; t++)
+        for (int k = 0; k < 3; k++) {
+            const double *p = st_pos(&h.map, b.tri_vert[3 * (size_t)t + k], L);
+            for (int j = 0; j < 3; j++) { lo[j] = fmin(lo[j], p[j]); hi[j] = fmax(hi[j], p[j]); }
+        }
+    unsigned hits = 0, same = 0, rays = 3000;
+    double reach = 0.4 * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    for (unsigned r = 0; r < rays; r++) {
+        double o[3], d[3];
+        for (int k = 0; k < 3; k++) { o[k] = lo[k] + rnd() * (hi[k] - lo[k]); d[k] = 2 * rnd() - 1; }
+        normalize3(d);
+        st_bake_hit hit;
+        double bt;
+        int got = st_bake_bvh_nearest(&b, o, d, reach, &hit);
+        uint32_t want = brute_nearest(&b, o, d, reach, &bt);
+        hits += got;
+        same += (!got && want == ST_NIL) || (got && want == hit.tri && fabs(bt - hit.t) < 1e-9);
+    }
+    printf("%s: %u triangles, %u nodes; %u random lines, %u hits, %u as trying every triangle\n", what, b.ntris, b.nnodes,
+           rays, hits, same);
+    CHECK(hits > rays / 4 && same == rays);
+    st_bake_bvh_free(&b);
+    st_hier_free(&h);
+}
+
+/* Texels whose 5 × 5 neighbourhood is baked in both maps: away from the
+ * islands' borders. */
+static int interior(const st_bake_maps *a, uint32_t x, uint32_t y)
+{
+    int s = (int)a->size;
+    for (int dy = -2; dy <= 2; dy++)
+        for (int dx = -2; dx <= 2; dx++) {
+            int xx = (int)x + dx, yy = (int)y + dy;
+            if (xx < 0 || yy < 0 || xx >= s || yy >= s || a->mask[(size_t)yy * s + xx] != 1) return 0;
+        }
+    return 1;
+}
+
+/* The same level baked by the exact correspondence and by rays: the
+ * displacement within disp_tol of its range and the normals within
+ * mean_tol / max_tol per channel (unit vectors) on interior texels; the
+ * rays on 1 and 3 threads give the same bits. */
+static void compare_paths(const char *what, st_hier *h, unsigned B, unsigned L, const st_bake_uvs *uvs, uint32_t size,
+                          double disp_tol, double mean_tol, double max_tol)
+{
+    st_error err;
+    st_bake_opts o = { .base = B, .level = L, .size = size, .space = ST_BAKE_TANGENT, .normal = 1, .displacement = 1, .padding = 4 };
+    st_bake_maps exact, rays;
+    CHECKF(st_bake(h, uvs, &o, &exact, &err) == ST_OK, "%s", err.msg);
+    o.rays = 1;
+    CHECKF(st_bake(h, uvs, &o, &rays, &err) == ST_OK, "%s", err.msg);
+    CHECK(!exact.by_rays && rays.by_rays && rays.baked == exact.baked);
+    double lo = INFINITY, hi = -INFINITY, worst = 0, nsum = 0, nmax = 0;
+    uint64_t n = 0;
+    for (uint32_t y = 0; y < size; y++)
+        for (uint32_t x = 0; x < size; x++) {
+            size_t i = (size_t)y * size + x;
+            if (!interior(&exact, x, y) || rays.mask[i] != 1) continue;
+            lo = fmin(lo, exact.disp[i]);
+            hi = fmax(hi, exact.disp[i]);
+            worst = fmax(worst, fabs((double)rays.disp[i] - exact.disp[i]));
+            for (int k = 0; k < 3; k++) {
+                double dn = fabs((double)rays.normal[3 * i + k] - exact.normal[3 * i + k]);
+                nsum += dn;
+                nmax = fmax(nmax, dn);
+            }
+            n++;
+        }
+    double range = hi - lo;
+    printf("%s: B=%u L=%u %ux%u, exact vs rays on %llu interior texels of %llu: displacement off by %.3g at most "
+           "(%.3f %% of the range %.4f); normals off by %.2g per channel on average, %.2g at most; %llu misses\n",
+           what, B, L, size, size, (unsigned long long)n, (unsigned long long)exact.baked, worst, 100 * worst / range, range,
+           nsum / (3.0 * (double)n), nmax, (unsigned long long)rays.ray_misses);
+    CHECK(n > exact.baked / 2 && range > 0.05);
+    CHECKF(worst < disp_tol * range, "%s: displacement off by %g, over %g %% of %g", what, worst, 100 * disp_tol, range);
+    CHECKF(nsum / (3.0 * (double)n) < mean_tol && nmax < max_tol, "%s: normals off by %g mean, %g max", what,
+           nsum / (3.0 * (double)n), nmax);
+    CHECK(rays.ray_misses == 0);
+    /* Threads share out rows: 1 and 3 give the bits of the default. */
+    size_t tx = (size_t)size * size;
+    for (unsigned threads = 1; threads <= 3; threads += 2) {
+        st_parallel_set_threads(threads);
+        st_bake_maps again;
+        CHECK(st_bake(h, uvs, &o, &again, &err) == ST_OK);
+        CHECKF(!memcmp(again.disp, rays.disp, tx * sizeof(float)) && !memcmp(again.normal, rays.normal, 3 * tx * sizeof(float)) &&
+               !memcmp(again.mask, rays.mask, tx) && again.disp_min == rays.disp_min && again.disp_max == rays.disp_max,
+               "%s: rays on %u threads differ", what, threads);
+        st_bake_maps_free(&again);
+    }
+    st_parallel_set_threads(0);
+    st_bake_maps_free(&exact);
+    st_bake_maps_free(&rays);
+}
+
+static void displace_by_bump(st_hier *h, unsigned B, unsigned L, const st_bake_uvs *uvs)
+{
+    base_geo g = { .h = h, .B = B, .uvs = uvs };
+    corner_data(&g);
+    displace_level(&g, L);
+    free(g.cvert);
+    free(g.cnormal);
+    free(g.target);
+    free(g.has_target);
+}
+
+static void test_rays_vs_exact(void)
+{
+    st_hier h;
+    st_error err;
+    st_bake_layout lay;
+    tl_init_hier(&h, tl_mesh_icosa, ST_SCHEME_LOOP, 4);
+    CHECKF(st_bake_auto_uvs(&h, 1, &lay, &err) == ST_OK, "%s", err.msg);
+    st_bake_uvs u = st_bake_layout_uvs(&lay);
+    displace_by_bump(&h, 1, 4, &u);
+    compare_paths("icosahedron loop, bump, per-face atlas", &h, 1, 4, &u, 512, 0.005, 0.001, 0.01);
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+
+    tl_init_hier(&h, make_torus, ST_SCHEME_CATMARK, 4);
+    torus_uvs(&h, 0, &lay);
+    u = st_bake_layout_uvs(&lay);
+    displace_by_bump(&h, 0, 4, &u);
+    compare_paths("torus catmull-clark, bump, toroidal unwrap", &h, 0, 4, &u, 256, 0.005, 0.001, 0.01);
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+}
+
+/* ---- √3 and Doo-Sabin: a sphere with known bumps ----------------------------- */
+
+/* Level L is moved onto the surface r = ρ (1 + bump(direction)); the
+ * displacement at a texel is where the line from B's point along B's
+ * normal crosses that surface nearest to B (bisection on a bracket found
+ * by stepping out from t = 0). */
+static double radial_bump(const double *u)
+{
+    return 0.06 * (sin(3.0 * u[0] + 0.5) * cos(2.0 * u[1]) + 0.5 * sin(2.5 * u[2]));
+}
+
+static double sphere_gap(double rho, const double *q)
+{
+    double r = sqrt(dot3(q, q)), u[3] = { q[0] / r, q[1] / r, q[2] / r };
+    return r - rho * (1 + radial_bump(u));
+}
+
+static double move_onto_sphere(st_hier *h, unsigned L)
+{
+    st_map *m = &h->map;
+    uint32_t *vd = malloc(m->verts.end * sizeof *vd), n = 0;
+    double (*pos)[3] = malloc(m->verts.end * sizeof *pos), rho = 0;
+    uint8_t *seen = calloc(m->verts.end, 1);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, L, &it); d != ST_NIL; d = st_dart_next(m, L, &it)) {
+        uint32_t v = st_vert(m, d, L);
+        if (seen[v]) continue;
+        seen[v] = 1;
+        vd[n] = d;
+        memcpy(pos[n], st_pos(m, v, L), sizeof pos[n]);
+        rho += sqrt(dot3(pos[n], pos[n]));
+        n++;
+    }
+    rho /= n;
+    for (uint32_t i = 0; i < n; i++) {
+        double u[3];
+        memcpy(u, pos[i], sizeof u);
+        normalize3(u);
+        for (int k = 0; k < 3; k++) pos[i][k] = rho * (1 + radial_bump(u)) * u[k];
+    }
+    st_hier_move(h, L, vd, (const double (*)[3])pos, n);
+    /* Every vertex of the level is now on the surface. */
+    double worst = 0;
+    for (uint32_t i = 0; i < n; i++) worst = fmax(worst, fabs(sphere_gap(rho, st_pos(m, st_vert(m, vd[i], L), L))));
+    CHECKF(worst < 1e-12 * rho, "level %u off the sphere by %g after the move", L, worst);
+    free(vd);
+    free(pos);
+    free(seen);
+    return rho;
+}
+
+static double crossing(double rho, const double *p, const double *n, double reach)
+{
+    const unsigned steps = 400;
+    double step = reach / steps;
+    for (unsigned k = 0; k < steps; k++)
+        for (int side = 1; side >= -1; side -= 2) {
+            double a = side * step * k, b = side * step * (k + 1);
+            double qa[3], qb[3];
+            for (int j = 0; j < 3; j++) { qa[j] = p[j] + a * n[j]; qb[j] = p[j] + b * n[j]; }
+            double fa = sphere_gap(rho, qa), fb = sphere_gap(rho, qb);
+            if ((fa <= 0) == (fb <= 0)) continue;
+            for (int it = 0; it < 80; it++) {
+                double c = 0.5 * (a + b), qc[3];
+                for (int j = 0; j < 3; j++) qc[j] = p[j] + c * n[j];
+                if ((sphere_gap(rho, qc) <= 0) == (fa <= 0)) a = c; else b = c;
+            }
+            return 0.5 * (a + b);
+        }
+    return NAN;
+}
+
+typedef struct sphere_ctx {
+    base_geo *g;
+    const st_bake_maps *maps;
+    double rho, reach, lo, hi, worst;
+    uint64_t compared, unsolved;
+} sphere_ctx;
+
+static void sphere_texel(void *pc, uint32_t x, uint32_t y, const double w[3])
+{
+    (void)w;
+    sphere_ctx *e = pc;
+    size_t i = (size_t)y * e->maps->size + x;
+    if (e->maps->mask[i] != 1) return;
+    double p[2] = { (x + 0.5) / e->maps->size, (y + 0.5) / e->maps->size }, pos[3], n[3];
+    base_at(e->g, e->g->face, p, pos, n);
+    double want = crossing(e->rho, pos, n, e->reach);
+    if (!isfinite(want)) { e->unsolved++; return; }
+    e->lo = fmin(e->lo, want);
+    e->hi = fmax(e->hi, want);
+    e->worst = fmax(e->worst, fabs(e->maps->disp[i] - want));
+    e->compared++;
+}
+
+static void check_sphere(const char *what, st_scheme_id id, void (*make)(st_mesh *), unsigned B, unsigned L, uint32_t size,
+                         double tol)
+{
+    st_hier h;
+    st_error err;
+    tl_init_hier(&h, make, id, L);
+    double rho = move_onto_sphere(&h, L);
+    st_bake_layout lay;
+    CHECKF(st_bake_auto_uvs(&h, B, &lay, &err) == ST_OK, "%s", err.msg);
+    st_bake_uvs u = st_bake_layout_uvs(&lay);
+    st_bake_opts o = { .base = B, .level = L, .size = size, .space = ST_BAKE_TANGENT, .normal = 1, .displacement = 1, .padding = 4 };
+    CHECK(st_bake_by_rays(&h, &o) && st_bake_estimate(&h, &u, &o) > st_bake_bvh_bytes(st_bake_level_triangles(&h.map, L)));
+    st_bake_maps maps;
+    int rc = st_bake(&h, &u, &o, &maps, &err);
+    CHECKF(rc == ST_OK, "%s: %s", what, rc ? err.msg : "");
+    if (rc) { st_bake_layout_free(&lay); st_hier_free(&h); return; }
+    base_geo g = { .h = &h, .B = B, .uvs = &u };
+    corner_data(&g);
+    sphere_ctx e = { .g = &g, .maps = &maps, .rho = rho, .reach = maps.ray_reach, .lo = INFINITY, .hi = -INFINITY };
+    for (uint32_t f = 0; f < u.nfaces; f++) {
+        g.face = f;
+        uint32_t a = u.corner_off[f], deg = u.corner_off[f + 1] - a;
+        for (uint32_t t = 0; t + 2 < deg; t++) {
+            double tri[3][2];
+            uint32_t idx[3] = { a, a + t + 1, a + t + 2 };
+            for (int k = 0; k < 3; k++) memcpy(tri[k], u.uv + 2 * (size_t)idx[k], sizeof tri[k]);
+            st_bake_raster_tri(tri, size, sphere_texel, &e);
+        }
+    }
+    double range = e.hi - e.lo;
+    printf("%s: B=%u L=%u %ux%u by rays (reach %.4g, radius %.4g): %llu texels, %llu misses, %llu compared; "
+           "displacement range %.5f, max error %.3g (%.3f %% of the range)\n",
+           what, B, L, size, size, maps.ray_reach, rho, (unsigned long long)maps.baked, (unsigned long long)maps.ray_misses,
+           (unsigned long long)e.compared, range, e.worst, 100 * e.worst / range);
+    CHECK(maps.by_rays && maps.ray_misses == 0 && e.unsolved == 0);
+    CHECKF(e.compared > maps.baked * 99 / 100, "%s: %llu of %llu compared", what, (unsigned long long)e.compared,
+           (unsigned long long)maps.baked);
+    CHECKF(range > 0.05 * rho, "%s: range %g", what, range);
+    CHECKF(e.worst < tol * range, "%s: max error %g >= %g %% of range %g", what, e.worst, 100 * tol, range);
+    st_bake_maps_free(&maps);
+    free(g.cvert);
+    free(g.cnormal);
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+}
+
+static void test_rays(void)
+{
+    check_bvh("icosahedron sqrt3 level 3", ST_SCHEME_SQRT3, tl_mesh_icosa, 3);
+    check_bvh("cube doo-sabin level 3", ST_SCHEME_DOOSABIN, tl_mesh_cube, 3);
+    check_bvh("torus catmull-clark level 2", ST_SCHEME_CATMARK, make_torus, 2);
+    test_rays_vs_exact();
+    check_sphere("icosahedron sqrt3 on a bumpy sphere", ST_SCHEME_SQRT3, tl_mesh_icosa, 1, 6, 512, 0.015);
+    check_sphere("icosahedron doo-sabin on a bumpy sphere", ST_SCHEME_DOOSABIN, tl_mesh_icosa, 1, 5, 512, 0.015);
+}
+
+/* ---- the memory estimate against the measured peak -------------------------- */
+
+/* In a child: the hierarchy built, the heap trimmed and the peak resident
+ * size reset (/proc/self/clear_refs), then the bake; its growth (peak
+ * after minus resident before) against st_bake_estimate. */
+static size_t status_kib(const char *key)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    size_t v = 0, n = strlen(key);
+    while (f && fgets(line, sizeof line, f))
+        if (!strncmp(line, key, n)) v = (size_t)strtoull(line + n, NULL, 10);
+    if (f) fclose(f);
+    return v;
+}
+
+static void check_bake_peak(const char *what, st_scheme_id id, unsigned L, uint32_t size)
+{
+    int fd[2];
+    if (pipe(fd)) { CHECK(!"pipe"); return; }
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(fd[0]);
+        double r[4] = { 0, 0, 0, 0 };
+        st_hier h;
+        st_error err;
+        st_bake_layout lay;
+        tl_init_hier(&h, tl_mesh_icosa, id, L);
+        if (st_bake_auto_uvs(&h, 1, &lay, &err) == ST_OK) {
+            st_bake_uvs u = st_bake_layout_uvs(&lay);
+            st_bake_opts o = { .base = 1, .level = L, .size = size, .space = ST_BAKE_TANGENT, .normal = 1, .displacement = 1, .padding = 4 };
+            malloc_trim(0);
+            FILE *cr = fopen("/proc/self/clear_refs", "w");
+            int reset = cr && fputs("5", cr) >= 0;
+            if (cr) reset &= fclose(cr) == 0;
+            r[0] = (double)st_mem_resident();
+            r[1] = (double)st_bake_estimate(&h, &u, &o);
+            r[3] = st_bake_by_rays(&h, &o);
+            st_bake_maps maps;
+            if (reset && st_bake(&h, &u, &o, &maps, &err) == ST_OK) {
+                r[2] = 1024.0 * (double)status_kib("VmHWM:");
+                st_bake_maps_free(&maps);
+            }
+            st_bake_layout_free(&lay);
+        }
+        st_hier_free(&h);
+        ssize_t w = write(fd[1], r, sizeof r);
+        _exit(w == (ssize_t)sizeof r ? 0 : 1);
+    }
+    close(fd[1]);
+    double r[4] = { 0, 0, 0, 0 };
+    ssize_t got = read(fd[0], r, sizeof r);
+    close(fd[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    CHECKF(got == (ssize_t)sizeof r && r[2] > 0, "%s: no peak measured (is /proc/self/clear_refs writable?)", what);
+    double growth = r[2] - r[0], ratio = r[1] / growth;
+    printf("%s (%s): resident before %.1f MiB, bake estimated %.1f MiB, measured growth %.1f MiB (estimate / measured %.2f)\n",
+           what, r[3] ? "by rays" : "exact", r[0] / 1048576, r[1] / 1048576, growth / 1048576, ratio);
+#if defined(__SANITIZE_ADDRESS__)
+    (void)ratio; /* the sanitizer's shadow memory and quarantine are not the program's */
+#else
+    CHECKF(ratio > 0.75 && ratio < 1.3, "%s: estimate %.1f MiB against a growth of %.1f MiB", what, r[1] / 1048576, growth / 1048576);
+#endif
+}
+
+static void test_peaks(void)
+{
+    check_bake_peak("icosahedron sqrt3 level 8 onto level 1, 256x256", ST_SCHEME_SQRT3, 8, 256);
+    check_bake_peak("icosahedron doo-sabin level 6 onto level 1, 256x256", ST_SCHEME_DOOSABIN, 6, 256);
+    check_bake_peak("icosahedron loop level 5 onto level 1, 1024x1024", ST_SCHEME_LOOP, 5, 1024);
+}
+
 int main(void)
 {
+    test_peaks();
     test_dual_layout();
     test_split_polygon();
     test_concave_quad_bake();
@@ -642,5 +1084,6 @@ int main(void)
     test_identity_and_tangents();
     test_refusals();
     test_analytic();
+    test_rays();
     return TEST_END();
 }

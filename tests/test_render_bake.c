@@ -10,7 +10,11 @@
  * normal map cannot change).  Asserted: the mapped image at least 2 times
  * closer than the plain one in mean, at most 4 % of its pixels off by more
  * than 16/255, and at least 4 times fewer such pixels than the plain one.
- * Images are written to STRATA_TMP. */
+ * Images are written to STRATA_TMP.
+ *
+ *     test_render_bake --compare FINE.png MAPPED.png PLAIN.png
+ * applies the same comparison and thresholds to three 320x320 renders
+ * (used by tests/cli_bake.sh on `strata render --normal-map`). */
 #include "testlib.h"
 
 #include "core/bake/bake.h"
@@ -169,8 +173,32 @@ static void make_hier(st_hier *h, st_scheme_id id, void (*make)(st_mesh *), unsi
     CHECKF(st_hier_subdivide_to(h, L, &err) == ST_OK, "%s", err.msg);
 }
 
-int main(void)
+/* The thresholds of check_space on files. */
+static int compare_files(const char *fine_path, const char *with_path, const char *plain_path)
 {
+    const char *paths[3] = { fine_path, with_path, plain_path };
+    unsigned char *img[3] = { NULL, NULL, NULL };
+    st_error err;
+    int ok = 1;
+    for (int k = 0; k < 3 && ok; k++) {
+        int w = 0, h = 0;
+        if (st_png_read(paths[k], &w, &h, &img[k], &err)) { fprintf(stderr, "compare: %s\n", err.msg); ok = 0; }
+        else if (w != W || h != H) { fprintf(stderr, "compare: %s is %dx%d, not %dx%d\n", paths[k], w, h, W, H); ok = 0; }
+    }
+    if (ok) {
+        cmp cw = compare(img[1], img[0]), cp = compare(img[2], img[0]);
+        ok = cw.both > W * H / 8 && cw.mean * 2 < cp.mean && cw.frac <= 0.04 && cw.frac * 4 < cp.frac;
+        printf("compare: %s vs %s: mean %.2f/255, %.2f %% of %llu pixels off by > %d; %s: mean %.2f/255, %.2f %% off: %s\n",
+               with_path, fine_path, cw.mean, 100 * cw.frac, (unsigned long long)cw.both, TOL, plain_path, cp.mean,
+               100 * cp.frac, ok ? "close" : "NOT CLOSE");
+    }
+    for (int k = 0; k < 3; k++) free(img[k]);
+    return ok ? 0 : 1;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc == 5 && !strcmp(argv[1], "--compare")) return compare_files(argv[2], argv[3], argv[4]);
     st_hier h;
     const unsigned B = 2, L = 5;
     make_hier(&h, ST_SCHEME_CATMARK, tl_mesh_cube, L);

@@ -1,7 +1,8 @@
 /* The bake: level L's surface rasterised in level B's UV layout
  * (core/bake/bake.h). */
-#include "core/bake/bake_internal.h"
+#include "core/bake/bake_ray_internal.h"
 #include "core/base/membudget.h"
+#include "core/base/parallel.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -27,7 +28,24 @@ size_t st_bake_estimate(const st_hier *h, const st_bake_uvs *uvs, const st_bake_
     /* Tangents' scratch: keys, groups, sums. */
     size_t tangent_scratch = corners * (sizeof(double) * 9 + 2 * sizeof(uint32_t));
     size_t normals = 2 * 3 * sizeof(double) * (size_t)h->map.verts.end;        /* levels B and L */
-    return texels * per_texel + corners * per_corner + tangent_scratch + normals;
+    /* By rays: the hierarchy over level L's triangles (bake_ray_internal.h). */
+    size_t rays = st_bake_by_rays(h, o) ? st_bake_bvh_bytes(st_bake_level_triangles(&h->map, o->level)) : 0;
+    return texels * per_texel + corners * per_corner + tangent_scratch + normals + rays;
+}
+
+int st_bake_faces_nest(const st_hier *h)
+{
+    switch (h->scheme->id) {
+    case ST_SCHEME_CATMARK: case ST_SCHEME_LOOP: case ST_SCHEME_BUTTERFLY: case ST_SCHEME_QUADTRI:
+        return !h->map.face_embedded;
+    default:
+        return 0;
+    }
+}
+
+int st_bake_by_rays(const st_hier *h, const st_bake_opts *o)
+{
+    return o->rays || !st_bake_faces_nest(h);
 }
 
 typedef struct bake_ctx {
@@ -121,13 +139,13 @@ static void normalize3(double *v)
  * triangle of the face's split that holds p best (largest smallest weight), its
  * corners' positions, normals and tangents interpolated, the tangent made
  * orthogonal to the normal again and b = w · n × t, as a shader does. */
-static void base_point(const bake_ctx *c, const double p[2], double pos[3], double frame[3][3])
+static void base_point(const bake_ctx *c, uint32_t face, const double p[2], double pos[3], double frame[3][3])
 {
     const st_bake_uvs *u = c->uvs;
-    uint32_t a = u->corner_off[c->face];
+    uint32_t a = u->corner_off[face];
     double best = -INFINITY, bw[3] = { 1, 0, 0 };
     uint32_t bi[3] = { a, a, a };
-    for (uint32_t t = first_tri(u, c->face); t < first_tri(u, c->face + 1); t++) {
+    for (uint32_t t = first_tri(u, face); t < first_tri(u, face + 1); t++) {
         const uint32_t *idx = c->tris[t];
         double tri[3][2], w[3];
         for (int k = 0; k < 3; k++) memcpy(tri[k], u->uv + 2 * (size_t)idx[k], sizeof tri[k]);
@@ -157,6 +175,31 @@ static void base_point(const bake_ctx *c, const double p[2], double pos[3], doub
     frame[1][2] = w * (nn[0] * t[1] - nn[1] * t[0]);
 }
 
+/* Writes texel i from level L's point pl and unit normal nl and B's point
+ * pb and frame f; widens [*lo, *hi] by the displacement written. */
+static void write_texel(const bake_ctx *c, size_t i, const double pl[3], const double nl[3], const double pb[3],
+                        const double f[3][3], double *lo, double *hi)
+{
+    int tangent = c->o->space == ST_BAKE_TANGENT;
+    st_bake_maps *out = c->out;
+    if (out->normal) {
+        float *o = out->normal + 3 * i;
+        for (int k = 0; k < 3; k++) o[k] = (float)(tangent ? dot3(nl, f[k]) : nl[k]);
+    }
+    if (out->disp) {
+        double d[3] = { pl[0] - pb[0], pl[1] - pb[1], pl[2] - pb[2] };
+        float *o = out->disp + (size_t)out->disp_channels * i;
+        if (out->disp_channels == 1) o[0] = (float)dot3(d, f[2]);
+        else
+            for (int k = 0; k < 3; k++) o[k] = (float)(tangent ? dot3(d, f[k]) : d[k]);
+        for (unsigned k = 0; k < out->disp_channels; k++) {
+            *lo = fmin(*lo, o[k]);
+            *hi = fmax(*hi, o[k]);
+        }
+    }
+    out->mask[i] = 1;
+}
+
 static void bake_texel(void *pc, uint32_t x, uint32_t y, const double w[3])
 {
     bake_ctx *c = pc;
@@ -171,26 +214,10 @@ static void bake_texel(void *pc, uint32_t x, uint32_t y, const double w[3])
         }
     normalize3(nl);
     double p[2] = { (x + 0.5) / size, (y + 0.5) / size }, pb[3], f[3][3];
-    base_point(c, p, pb, f);
-    int tangent = c->o->space == ST_BAKE_TANGENT;
+    base_point(c, c->face, p, pb, f);
     st_bake_maps *out = c->out;
-    if (out->normal) {
-        float *o = out->normal + 3 * i;
-        for (int k = 0; k < 3; k++) o[k] = (float)(tangent ? dot3(nl, f[k]) : nl[k]);
-    }
-    if (out->disp) {
-        double d[3] = { pl[0] - pb[0], pl[1] - pb[1], pl[2] - pb[2] };
-        float *o = out->disp + (size_t)out->disp_channels * i;
-        if (out->disp_channels == 1) o[0] = (float)dot3(d, f[2]);
-        else
-            for (int k = 0; k < 3; k++) o[k] = (float)(tangent ? dot3(d, f[k]) : d[k]);
-        for (unsigned k = 0; k < out->disp_channels; k++) {
-            out->disp_min = fmin(out->disp_min, o[k]);
-            out->disp_max = fmax(out->disp_max, o[k]);
-        }
-    }
     if (!out->mask[i]) out->baked++;
-    out->mask[i] = 1;
+    write_texel(c, i, pl, nl, pb, f, &out->disp_min, &out->disp_max);
 }
 
 /* A level-L face split as B's faces are (its children of a concave base
@@ -214,6 +241,109 @@ static int bake_fine_face(void *pc, const uint32_t *verts, const double *uv, uns
         st_bake_raster_tri(tri, c->o->size, bake_texel, c);
     }
     if (tris != local) free(tris);
+    return ST_OK;
+}
+
+/* ---- by rays: where the faces do not nest --------------------------------- */
+
+typedef struct ray_pass {
+    const bake_ctx *c;
+    const st_bake_bvh *bvh;
+    const double *normal_L;
+    double reach;
+    double lo[ST_PARALLEL_MAX], hi[ST_PARALLEL_MAX];
+    uint64_t misses[ST_PARALLEL_MAX];
+} ray_pass;
+
+/* Texel i of face f: B's point and frame at the texel centre, the line
+ * through it along B's normal, level L's nearest point on it (either side,
+ * within the reach) and L's normal interpolated there.  A miss takes B's
+ * own point and normal (a flat texel) and is counted. */
+static void ray_texel(ray_pass *r, unsigned t, uint32_t x, uint32_t y, uint32_t f)
+{
+    const bake_ctx *c = r->c;
+    uint32_t size = c->o->size;
+    size_t i = (size_t)y * size + x;
+    double p[2] = { (x + 0.5) / size, (y + 0.5) / size }, pb[3], fr[3][3], pl[3], nl[3] = { 0, 0, 0 };
+    base_point(c, f, p, pb, fr);
+    st_bake_hit hit;
+    if (st_bake_bvh_nearest(r->bvh, pb, fr[2], r->reach, &hit)) {
+        const uint32_t *tv = r->bvh->tri_vert + 3 * (size_t)hit.tri;
+        for (int k = 0; k < 3; k++) pl[k] = pb[k] + hit.t * fr[2][k];
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++) nl[k] += hit.w[j] * r->normal_L[3 * (size_t)tv[j] + k];
+        normalize3(nl);
+    } else {
+        memcpy(pl, pb, sizeof pl);
+        memcpy(nl, fr[2], sizeof nl);
+        r->misses[t]++;
+    }
+    write_texel(c, i, pl, nl, pb, fr, &r->lo[t], &r->hi[t]);
+}
+
+/* Rows of the map shared out among the threads: each texel is written by
+ * one thread from inputs no thread writes, and the sums (misses) and
+ * extremes (displacement range) are the same in any order, so one thread
+ * and many give the same bits. */
+static void ray_rows(st_team *team, unsigned t, void *ctx)
+{
+    ray_pass *r = ctx;
+    const bake_ctx *c = r->c;
+    uint32_t size = c->o->size, y0, y1;
+    r->lo[t] = INFINITY;
+    r->hi[t] = -INFINITY;
+    r->misses[t] = 0;
+    while (st_team_next(team, 0, size, 4, &y0, &y1))
+        for (uint32_t y = y0; y < y1; y++)
+            for (uint32_t x = 0; x < size; x++) {
+                uint32_t f = c->owner[(size_t)y * size + x];
+                if (f != ST_NIL) ray_texel(r, t, x, y, f);
+            }
+}
+
+/* How far the lines look for level L when not told: 5 % of the joint
+ * bounding-box diagonal plus the largest gap between the two levels' boxes
+ * (an approximating scheme shrinks a coarse cage: √3's level 4 of an
+ * octahedron lies up to 0.3 of its radius inside level 0).  Farther
+ * searches trade misses for hits on other parts of the surface (a ray from
+ * a fin of blub's Doo-Sabin level 1 meets its body); --ray-reach chooses. */
+static double default_reach(const bake_ctx *c)
+{
+    double diag, gap;
+    st_bake_level_boxes(c->m, c->o->base, c->o->level, &diag, &gap);
+    double r = 0.05 * diag + gap;
+    return r > 0 && isfinite(r) ? r : 1.0;
+}
+
+static int bake_by_rays(bake_ctx *c, st_hier *h, st_error *err)
+{
+    const st_bake_opts *o = c->o;
+    st_bake_maps *out = c->out;
+    st_bake_bvh bvh;
+    int rc = st_bake_bvh_build(&h->map, o->level, &bvh, err);
+    if (rc) return rc;
+    ray_pass *r = malloc(sizeof *r);
+    if (!r) { st_bake_bvh_free(&bvh); return st_fail(err, ST_ERR_MEMORY, "out of memory casting rays"); }
+    r->c = c;
+    r->bvh = &bvh;
+    r->normal_L = c->normal_L;
+    r->reach = o->ray_reach > 0 ? o->ray_reach : default_reach(c);
+    unsigned threads = st_parallel_threads();
+    if (threads > ST_PARALLEL_MAX) threads = ST_PARALLEL_MAX;
+    if (threads < 1) threads = 1;
+    for (unsigned t = 0; t < ST_PARALLEL_MAX; t++) { r->lo[t] = INFINITY; r->hi[t] = -INFINITY; r->misses[t] = 0; }
+    st_team_run(threads, ray_rows, r);
+    out->by_rays = 1;
+    out->ray_reach = r->reach;
+    for (unsigned t = 0; t < ST_PARALLEL_MAX; t++) {
+        out->disp_min = fmin(out->disp_min, r->lo[t]);
+        out->disp_max = fmax(out->disp_max, r->hi[t]);
+        out->ray_misses += r->misses[t];
+    }
+    size_t texels = (size_t)o->size * o->size;
+    for (size_t i = 0; i < texels; i++) out->baked += out->mask[i] == 1;
+    free(r);
+    st_bake_bvh_free(&bvh);
     return ST_OK;
 }
 
@@ -299,6 +429,8 @@ static int check_opts(const st_hier *h, const st_bake_opts *o, st_error *err)
     if (o->displacement != 0 && o->displacement != 1 && o->displacement != 3)
         return st_fail(err, ST_ERR_INVALID, "a displacement map has 1 or 3 channels, not %d", o->displacement);
     if (!o->normal && !o->displacement) return st_fail(err, ST_ERR_INVALID, "nothing to bake");
+    if (!(o->ray_reach >= 0) || !isfinite(o->ray_reach))
+        return st_fail(err, ST_ERR_RANGE, "the rays' reach %g is not a distance >= 0", o->ray_reach);
     return ST_OK;
 }
 
@@ -340,7 +472,8 @@ int st_bake(st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o, st_bake_m
     c.corner_normal = cnrm;
     c.corner_vert = cvert;
     c.normal_L = nL;
-    for (uint32_t f = 0; f < nf && !rc; f++) {
+    if (st_bake_by_rays(h, o)) rc = bake_by_rays(&c, h, err);
+    for (uint32_t f = 0; f < nf && !rc && !out->by_rays; f++) {
         c.face = f;
         uint32_t a = uvs->corner_off[f];
         rc = st_bake_walk(m, darts[f], o->base, o->level, uvs->uv + 2 * (size_t)a, uvs->corner_off[f + 1] - a,

@@ -10,8 +10,21 @@
  * texture: edge points at the middle of their edge, face points at the
  * centroid of the corners (face-varying "linear" interpolation, OpenSubdiv's
  * default).  The level-L faces are then rasterised in B's UV layout; no ray
- * is cast.  √3 and Doo-Sabin (faces do not nest: edges flip, faces become
- * vertices) and progressive hierarchies (collapses) are refused.
+ * is cast, and the result is exact.
+ *
+ * √3 and Doo-Sabin faces do not nest (√3 flips the old edges, Kobbelt 2000;
+ * Doo-Sabin makes faces of vertices, edges and faces, §3.2.1's dual
+ * encoding), so there the bake falls back on what every baker does without
+ * a correspondence: from B's point at each texel a line along B's
+ * interpolated normal, level L's nearest hit on it in either direction
+ * within a reach (st_bake_opts.ray_reach; by default 5 % of the joint
+ * bounding-box diagonal plus the largest gap between the two levels'
+ * boxes), and
+ * L's normal interpolated at the hit (core/bake/bake_ray.c: a flat bounding
+ * volume hierarchy over L's triangles).  A texel whose line meets nothing
+ * takes B's own point and normal (flat) and is counted in
+ * st_bake_maps.ray_misses.  Progressive hierarchies (levels by edge
+ * collapses, no UVs above level 0) are refused.
  *
  * Tangent frames (MikkTSpace's construction, Mikkelsen 2008): per triangle of
  * B's fan triangulation, the tangent and bitangent from the UV derivatives;
@@ -65,8 +78,11 @@ int st_bake_auto_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err)
  * hierarchy carries none at that level. */
 int st_bake_level_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err);
 
-/* ST_OK when the faces of h nest level to level (see above). */
+/* ST_OK when h can be baked: every subdivision scheme (by its nesting
+ * faces or by rays, see above); progressive hierarchies are refused. */
 int st_bake_check_scheme(const st_hier *h, st_error *err);
+/* 1 when the faces of h nest level to level (the exact correspondence). */
+int st_bake_faces_nest(const st_hier *h);
 
 /* Face-corner tangents of level l for uvs: 4 doubles per corner (unit
  * tangent xyz, orthogonal to the corner normal, and the bitangent sign w =
@@ -84,7 +100,12 @@ typedef struct st_bake_opts {
     int normal;                   /* bake the normal map */
     int displacement;             /* 0: none, 1: scalar along B's normal, 3: vector */
     uint32_t padding;             /* texels of dilation around the islands */
+    double ray_reach;             /* by rays: how far from B the line looks for L; 0: the default above */
+    int rays;                     /* 1: by rays even where the faces nest (to compare the two) */
 } st_bake_opts;
+
+/* 1 when st_bake will cast rays: the faces do not nest, or o->rays. */
+int st_bake_by_rays(const st_hier *h, const st_bake_opts *o);
 
 typedef struct st_bake_maps {
     uint32_t size;
@@ -94,16 +115,21 @@ typedef struct st_bake_maps {
     uint8_t *mask;                /* per texel: 0 background, 1 baked, 2 padded */
     uint64_t baked, padded;       /* texel counts */
     double disp_min, disp_max;    /* over every channel of baked texels */
+    int by_rays;                  /* the correspondence: 0 nesting faces, 1 rays along B's normals */
+    uint64_t ray_misses;          /* by rays: baked texels whose line met no face of L (flat) */
+    double ray_reach;             /* by rays: the reach used */
 } st_bake_maps;
 void st_bake_maps_free(st_bake_maps *m);
 
-/* Bytes a bake needs beyond the hierarchy (the maps and the scratch). */
+/* Bytes a bake needs beyond the hierarchy (the maps and the scratch, and
+ * by rays the bounding volume hierarchy with its build scratch). */
 size_t st_bake_estimate(const st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o);
 
 /* The bake.  Refuses (ST_ERR_INVALID, a message naming faces and UVs) UVs
  * that do not match level B, that are not finite or leave [0,1], islands
- * that overlap, schemes whose faces do not nest; checks the memory budget
- * with st_bake_estimate first.  Nothing is returned on failure. */
+ * that overlap, progressive hierarchies; checks the memory budget with
+ * st_bake_estimate first.  Nothing is returned on failure.  Same inputs,
+ * same bits, on any number of threads (the rays are shared out by rows). */
 int st_bake(st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o, st_bake_maps *out, st_error *err);
 
 #endif

@@ -287,16 +287,8 @@ done:
 
 int st_bake_check_scheme(const st_hier *h, st_error *err)
 {
-    switch (h->scheme->id) {
-    case ST_SCHEME_CATMARK: case ST_SCHEME_LOOP: case ST_SCHEME_BUTTERFLY: case ST_SCHEME_QUADTRI:
-        if (!h->map.face_embedded) return ST_OK;
-        break;
-    default:
-        break;
-    }
+    if (h->scheme->id != ST_SCHEME_PROGRESSIVE) return ST_OK;
     return st_fail(err, ST_ERR_INVALID,
-                   "baking needs faces that nest from level to level (catmull-clark, loop, butterfly, quad-triangle); "
-                   "%s %s, and ray casting is not implemented",
-                   h->scheme->name,
-                   h->scheme->id == ST_SCHEME_PROGRESSIVE ? "levels come from edge collapses" : "faces do not nest");
+                   "baking needs a subdivision hierarchy; %s levels come from edge collapses and carry no UVs above level 0",
+                   h->scheme->name);
 }
