@@ -9,8 +9,11 @@
  * an island share its ends' values: no new seams), and the seams are those
  * of the regular level where everything is refined.  √3 (the stencil
  * rules of core/fvar/fvar_stencil.c) is checked the same way, but for its
- * odd triangles, which no regular level has.  Doo-Sabin says why it
- * carries none above level 0, without failing. */
+ * odd triangles, which no regular level has, and so is Doo-Sabin (the same
+ * rules through its dual encoding: a face is a β1 orbit there, a vertex a
+ * φ1 orbit), whose border polygons mix levels and every other face is a
+ * regular level's.  Both also give, after the box moved (refined,
+ * simplified, refined again), the UVs of the final box applied at once. */
 #include "testlib.h"
 
 #include "core/adapt/adapt.h"
@@ -457,6 +460,47 @@ static void check_partial_stencil(const uv_case *c)
     st_hier_free(&r);
 }
 
+/* A box moved: refined over everything, then updated to a box over part of
+ * the mesh (simplifications free darts that later refinements reuse, so
+ * the map's numbering is not a fresh one's) gives the UVs of that box
+ * applied at once, bit for bit. */
+static void check_moved(const uv_case *c)
+{
+    st_hier h, f;
+    st_adapt a, b;
+    st_mesh moved, fresh;
+    st_error err = { 0 };
+    if (load_hier(&h, c->file, c->id, c->interp, 0) || load_hier(&f, c->file, c->id, c->interp, 0)) return;
+    st_adapt_params all = { .base_level = 0, .max_level = c->max, .has_box = 1,
+                            .box_lo = { -1e9, -1e9, -1e9 }, .box_hi = { 1e9, 1e9, 1e9 } };
+    st_adapt_params part = all;
+    part.box_hi[0] = 0;
+    CHECK(st_adapt_init(&a, &h, &err) == ST_OK);
+    CHECKF(st_adapt_update(&a, &all, &err) == ST_OK, "%s", err.msg);
+    CHECKF(st_adapt_update(&a, &part, &err) == ST_OK, "%s", err.msg);
+    part.box_lo[1] = 0;
+    CHECKF(st_adapt_update(&a, &all, &err) == ST_OK, "%s", err.msg);
+    CHECKF(st_adapt_update(&a, &part, &err) == ST_OK, "%s", err.msg);
+    st_mesh_init(&moved);
+    CHECKF(st_adapt_mesh(&a, &moved, &err) == ST_OK, "%s", err.msg);
+    adapt_mesh(&f, &part, &fresh, &b);
+    CHECKF(moved.face_uv && fresh.face_uv, "%s: moved box: no UVs", c->file);
+    if (moved.face_uv && fresh.face_uv) {
+        cmp_stats s = compare_meshes(&moved, &fresh, 1e-9);
+        printf("%s %s moved box vs the same box at once: %u faces (%u), %u corners, %u bit-exact, worst %.3g, %u unmatched\n",
+               c->file, st_scheme_get(c->id)->name, moved.nfaces, fresh.nfaces, s.corners, s.exact, s.worst, s.unmatched);
+        CHECKF(moved.nfaces == fresh.nfaces && s.unmatched == 0 && s.exact == s.corners && s.corners > 0,
+               "%s: moved box: %u of %u corners bit-exact, %u unmatched", c->file, s.exact, s.corners, s.unmatched);
+        CHECKF(seam_edges(&moved) == seam_edges(&fresh), "%s: moved box: seams differ", c->file);
+    }
+    st_mesh_free(&moved);
+    st_mesh_free(&fresh);
+    st_adapt_free(&a);
+    st_adapt_free(&b);
+    st_hier_free(&h);
+    st_hier_free(&f);
+}
+
 static void check_stencil_case(const uv_case *c)
 {
     st_adapt_params none = { .base_level = 0, .max_level = c->max };
@@ -467,6 +511,7 @@ static void check_stencil_case(const uv_case *c)
                             .box_lo = { -1e9, -1e9, -1e9 }, .box_hi = { 1e9, 1e9, 1e9 } };
     check_against_level(c, &all, c->max, "box over everything");
     check_partial_stencil(c);
+    check_moved(c);
 }
 
 int main(void)
