@@ -30,13 +30,20 @@
  *
  * Catmull-Clark and Loop follow OpenSubdiv's face-varying rules (the
  * hierarchy's --uv-interp), Butterfly and quad/triangle are linear.  √3
- * runs the stencil rules of core/fvar/fvar_stencil.c on the faces
- * subdivided toward each level (stencil_step); those sum in an order of
- * their terms, not of dart ids, so the values are again the regular
- * level's bit for bit.  Doo-Sabin (whose E- and V-faces choose their home
- * by dart order, which the adaptive map numbers otherwise) and progressive
- * hierarchies (level 0's UVs only) carry none above level 0
- * (st_adapt_uv_absent says why). */
+ * and Doo-Sabin run the stencil rules of core/fvar/fvar_stencil.c on the
+ * faces subdivided toward each level (stencil_step); those sum in an order
+ * of their terms, not of dart ids, so the values are again the regular
+ * level's bit for bit.  Doo-Sabin's E- and V-faces take as home the source
+ * face whose first dart a regular level's scan meets first
+ * (docs/SUBDIVISION-RULES.md §7b): a Doo-Sabin step refines M* as
+ * Catmull-Clark refines the surface (Kraemer 2008 §3.2.1), so
+ * order_children ranks the adaptive map's darts of each level in the
+ * regular level's order there too, and the homes are the regular level's.
+ * Where a cell of M* is cut next to one that is not, the border triangle's
+ * corner at the coarser vertex (the dart the split inserted on the uncut
+ * side) shows that vertex as its other corners do, in the triangle's home
+ * chart.  Progressive hierarchies (level 0's UVs only) carry none above
+ * level 0 (st_adapt_uv_absent says why). */
 #include "core/adapt/adapt_internal.h"
 #include "core/fvar/fvar_internal.h"
 #include "core/map/map_mesh.h"

@@ -265,8 +265,9 @@ static void border_corner(stencil_uv *s, uint32_t x, uint32_t home)
 /* Every real face of level L: its home, then its corners.  The home is the
  * coarse face of an old dart that the fine face keeps (√3: each fine
  * triangle keeps one, so the two triangles across a flipped seam edge go
- * one to each side; Doo-Sabin: the F-faces), else the smallest source face
- * among its corners (Doo-Sabin's E- and V-faces). */
+ * one to each side; Doo-Sabin: the F-faces), else the source face among
+ * its corners whose first dart a regular level's scan meets first
+ * (Doo-Sabin's E- and V-faces; dart_before). */
 static void faces_of_level(stencil_uv *s)
 {
     st_map *m = s->m;
