@@ -4,8 +4,10 @@
 # re-reads with the same texture coordinates per corner; glTF gets
 # TEXCOORD_0 and passes the Khronos validator; PLY splits vertices along
 # seams; --access carries the regular levels' UVs; `strata render --box --mode uv` draws the adaptive checker; √3
-# carries UVs too; meshes without vt say why nothing is carried (exit 0 /
-# exit 1 for render), without crashing.
+# and Doo-Sabin carry UVs too (Doo-Sabin's box over everything: the vt of
+# subdivide, bit for bit; --triangulate and render --box --mode uv as well);
+# meshes without vt say why nothing is carried (exit 0 / exit 1 for
+# render), without crashing.
 # Usage: cli_adapt_uv.sh STRATA SHARED_MESHES ASSETS BINDIR
 set -euo pipefail
 S=$1 D=$2 A=$3 B=$4
@@ -114,6 +116,48 @@ if "$S" adapt "$ICO" --scheme sqrt3 --max-level 2 $(box) -o "$W/sqrt3.obj" >/dev
     ok "sqrt3: $(grep -c '^vt ' "$W/sqrt3.obj") vt, every corner with one, all in [0, 1]"
 else
     bad "sqrt3: $(cat "$W/sqrt3.err")"
+fi
+
+# Doo-Sabin above level 0 (the dual encoding): vt on every corner, inside
+# level 0's range, no note, the OBJ re-reads with the same UVs; the box over
+# everything writes the vt of subdivide --levels 2 (bit for bit,
+# test_adapt_uv.c); --triangulate and render --box --mode uv carry them too.
+urange() { awk '$1 == "vt" { print $2; print $3 }' "$1" | sort -g | sed -n '1p;$p' | paste -sd ' '; }
+read -r ulo uhi < <(urange "$BLUB")
+if "$S" adapt "$BLUB" --scheme doo-sabin --max-level 3 $(box) -o "$W/ds.obj" >/dev/null 2>"$W/ds.err" &&
+    ! grep -q "note" "$W/ds.err" && grep -q '^vt ' "$W/ds.obj" &&
+    awk -v lo="$ulo" -v hi="$uhi" '/^vt /{if($2<lo||$2>hi||$3<lo||$3>hi)bad++} /^f /{for(i=2;i<=NF;i++)if($i!~/^[0-9]+\/[0-9]+/)bad++} END{exit bad>0}' "$W/ds.obj"; then
+    read -r c t < <(corners "$W/ds.obj")
+    ok "doo-sabin: $(grep -c '^vt ' "$W/ds.obj") vt, $t of $c corners with one, all in level 0's [$ulo, $uhi]"
+else
+    bad "doo-sabin: $(cat "$W/ds.err")"
+fi
+if "$S" convert "$W/ds.obj" "$W/ds.again.obj" >/dev/null 2>&1 && cmp -s <(corner_uvs "$W/ds.obj") <(corner_uvs "$W/ds.again.obj"); then
+    ok "doo-sabin: the OBJ re-reads with the same UV on every corner"
+else
+    bad "doo-sabin: the re-read OBJ's UVs differ"
+fi
+"$S" adapt "$BLUB" --scheme doo-sabin --max-level 2 --box -1e9,-1e9,-1e9,1e9,1e9,1e9 -o "$W/all_ds.obj" >/dev/null 2>&1
+"$S" subdivide "$BLUB" --scheme doo-sabin --levels 2 -o "$W/reg_ds.obj" >/dev/null 2>&1
+if [ -s "$W/all_ds.obj" ] && grep -q '^vt ' "$W/reg_ds.obj" &&
+    cmp -s <(grep '^vt ' "$W/all_ds.obj" | sort) <(grep '^vt ' "$W/reg_ds.obj" | sort); then
+    ok "doo-sabin: box over everything: the vt of subdivide --levels 2 ($(grep -c '^vt ' "$W/reg_ds.obj"))"
+else
+    bad "doo-sabin: box over everything: vt differ from subdivide --levels 2"
+fi
+if "$S" adapt "$BLUB" --scheme doo-sabin --max-level 3 $(box) --triangulate -o "$W/ds_tri.obj" >/dev/null 2>"$W/ds_tri.err" &&
+    ! grep -q "note" "$W/ds_tri.err"; then
+    read -r c t < <(corners "$W/ds_tri.obj")
+    if [ "$c" -gt 0 ] && [ "$c" = "$t" ]; then ok "doo-sabin --triangulate: $t of $c corners with a vt"
+    else bad "doo-sabin --triangulate: $t of $c corners with a vt"; fi
+else
+    bad "doo-sabin --triangulate: $(cat "$W/ds_tri.err")"
+fi
+if "$S" render "$BLUB" --scheme doo-sabin $(box) --max-level 3 --mode uv --view iso --size 320x240 -o "$W/ds_uv.png" \
+    >"$W/ds_render.log" 2>&1 && [ -s "$W/ds_uv.png" ]; then
+    ok "doo-sabin render --box --mode uv: $(cat "$W/ds_render.log")"
+else
+    bad "doo-sabin render --box --mode uv failed: $(cat "$W/ds_render.log")"
 fi
 
 echo "$((n - fail)) passed, $fail failed"

@@ -107,6 +107,9 @@ if [ "${STRATA_UPDATE_REFS:-0}" = 1 ]; then
 fi
 run 0 "replay .* passed" win "$EXE" --size 480x360 --levels 2 --replay "$SRC/replay/uv_checker.txt" \
     --screenshot-dir "$OUT" --compare-dir "$REF" "$UVMESH"
+# Doo-Sabin's interest box draws the checker through its own UVs too.
+run 0 "replay .* passed" win "$EXE" --size 480x360 --scheme doo-sabin --levels 2 --replay "$SRC/replay/uv_checker_ds.txt" \
+    --screenshot-dir "$OUT" "$UVMESH"
 printf 'wait 1\nkey u\nexpect checker 0\nquit\n' > "$TMP/nouv.txt"
 run 0 "replay .* passed" win "$EXE" --size 320x240 --levels 1 --replay "$TMP/nouv.txt" "$ASSETS/cube.obj"
 # A bad brush setting is refused before a window opens, naming the line.

@@ -9,8 +9,11 @@
  * an island share its ends' values: no new seams), and the seams are those
  * of the regular level where everything is refined.  √3 (the stencil
  * rules of core/fvar/fvar_stencil.c) is checked the same way, but for its
- * odd triangles, which no regular level has.  Doo-Sabin says why it
- * carries none above level 0, without failing. */
+ * odd triangles, which no regular level has, and so is Doo-Sabin (the same
+ * rules through its dual encoding: a face is a β1 orbit there, a vertex a
+ * φ1 orbit), whose border polygons mix levels and every other face is a
+ * regular level's.  Both also give, after the box moved (refined,
+ * simplified, refined again), the UVs of the final box applied at once. */
 #include "testlib.h"
 
 #include "core/adapt/adapt.h"
@@ -199,6 +202,18 @@ static void check_against_level(const uv_case *c, const st_adapt_params *p, unsi
     st_hier_free(&r);
 }
 
+/* The surface's face and vertex orbits: φ1 and β1, or in Doo-Sabin's dual
+ * encoding β1 and φ1 (core/schemes/scheme_doosabin.c). */
+static uint32_t face_next(const st_map *m, uint32_t d, unsigned l)
+{
+    return m->face_embedded ? st_beta1(m, d, l) : st_phi1(m, d, l);
+}
+
+static uint32_t vertex_next(const st_map *m, uint32_t d, unsigned l)
+{
+    return m->face_embedded ? st_phi1(m, d, l) : st_beta1(m, d, l);
+}
+
 /* A box over part of the mesh: faces whose corners all hold values of
  * their own level L against regular level L, one level per vertex. */
 /* Vertices of the adaptive map whose (non-boundary) corners hold values of
@@ -211,15 +226,15 @@ static uint32_t mixed_level_vertices(st_map *m, unsigned top, const uint8_t *lev
     int vb = st_marker_reserve(m);
     for (uint32_t d = st_dart_first(m, top, &it); d != ST_NIL; d = st_dart_next(m, top, &it)) {
         if (st_marked(m, vb, d)) continue;
-        st_mark_vertex(m, vb, d, top);
-        int lev = -1;
+        int lev = -1, counted = 0;
         uint32_t x = d;
         do {
-            if (!st_is_boundary(m, x)) {
-                if (lev >= 0 && lev != level[x]) { mixed++; break; }
+            st_mark(m, vb, x);
+            if (!st_is_boundary(m, x) && !counted) {
+                if (lev >= 0 && lev != level[x]) { mixed++; counted = 1; }
                 lev = level[x];
             }
-            x = st_beta1(m, x, top);
+            x = vertex_next(m, x, top);
         } while (x != d);
     }
     st_marker_release(m, vb, top);
@@ -393,30 +408,30 @@ static void check_partial_stencil(const uv_case *c)
     st_map *m = &h.map;
     unsigned top = m->top;
     cmp_stats s = { 0 };
-    uint32_t per_level[ST_MAX_LEVELS] = { 0 }, mixed = 0, outside = 0, corners = 0;
+    uint32_t per_level[ST_MAX_LEVELS] = { 0 }, mixed = 0, outside = 0, corners = 0, stray = 0;
     int fb = st_marker_reserve(m);
     for (uint32_t d = st_dart_first(m, top, &it); u.uv && shown.face_uv && d != ST_NIL; d = st_dart_next(m, top, &it)) {
         if (st_is_boundary(m, d) || st_marked(m, fb, d)) continue;
-        st_mark_face(m, fb, d, top);
-        unsigned L = u.level[d];
+        unsigned L = u.level[d], n = 0;
         int whole = 1;
         double cen[3] = { 0, 0, 0 };
         uint32_t x = d;
+        do { st_mark(m, fb, x); n++; x = face_next(m, x, top); } while (x != d);
         do {
             whole &= u.level[x] == L;
             for (int k = 0; k < 2; k++) outside += !(u.uv[2 * (size_t)x + k] >= lo_uv - 1e-12 && u.uv[2 * (size_t)x + k] <= hi_uv + 1e-12);
-            for (int k = 0; k < 3; k++) cen[k] += st_dart_pos(m, x, top)[k] / 3;
+            for (int k = 0; k < 3; k++) cen[k] += st_dart_pos(m, x, top)[k] / n;
             corners++;
-            x = st_phi1(m, x, top);
+            x = face_next(m, x, top);
         } while (x != d);
         if (!whole || L > c->max) continue;
         per_level[L]++;
         uint32_t g = find_face(&ix[L], cen, 1e-7);
-        if (g == UINT32_MAX) continue;
+        if (g == UINT32_MAX) { stray++; continue; }
         do {
             const double *w = corner_uv(&want[L], g, st_dart_pos(m, x, top), 1e-7);
             if (w) compare_corner(&s, u.uv + 2 * (size_t)x, w);
-            x = st_phi1(m, x, top);
+            x = face_next(m, x, top);
         } while (x != d);
     }
     st_marker_release(m, fb, top);
@@ -424,8 +439,8 @@ static void check_partial_stencil(const uv_case *c)
     printf("%s %s partial box: faces whole at levels 0..%u:", c->file, st_scheme_get(c->id)->name, c->max);
     for (unsigned l = 0; l <= c->max; l++) printf(" %u", per_level[l]);
     printf("; %u corners, %u outside level 0's UV range [%g, %g]; %u corners on faces of a regular level, %u bit-exact, "
-           "worst %.3g; %u seam edges; %u vertices of mixed levels\n", corners, outside, lo_uv, hi_uv, s.corners, s.exact,
-           s.worst, shown.face_uv ? seam_edges(&shown) : 0, mixed);
+           "worst %.3g; %u whole faces of no regular level; %u seam edges; %u vertices of mixed levels\n", corners, outside,
+           lo_uv, hi_uv, s.corners, s.exact, s.worst, stray, shown.face_uv ? seam_edges(&shown) : 0, mixed);
     CHECKF(u.uv != NULL && shown.face_uv != NULL, "%s: no UVs", c->file);
     CHECKF(corners > 0 && outside == 0, "%s: %u UVs outside level 0's range", c->file, outside);
     for (unsigned l = 0; l <= c->max; l++) CHECKF(per_level[l] > 0, "%s: no whole face of level %u", c->file, l);
@@ -434,12 +449,56 @@ static void check_partial_stencil(const uv_case *c)
      * regular level L's, bit for bit (the stencils read complete rings) */
     CHECKF(s.corners > 0 && s.exact == s.corners, "%s: faces of a regular level: %u of %u corners bit-exact", c->file,
            s.exact, s.corners);
+    /* Doo-Sabin has no odd faces: its border polygons mix levels, and every
+     * face whose corners hold one level's values is a face of that level */
+    CHECKF(!m->face_embedded || stray == 0, "%s: %u whole faces match no face of their level", c->file, stray);
     for (unsigned l = 0; l <= c->max; l++) { st_mesh_free(&want[l]); free(ix[l].k); }
     st_adapt_uv_free(&u);
     st_mesh_free(&shown);
     st_adapt_free(&a);
     st_hier_free(&h);
     st_hier_free(&r);
+}
+
+/* A box moved: refined over everything, then updated to a box over part of
+ * the mesh (simplifications free darts that later refinements reuse, so
+ * the map's numbering is not a fresh one's) gives the UVs of that box
+ * applied at once, bit for bit. */
+static void check_moved(const uv_case *c)
+{
+    st_hier h, f;
+    st_adapt a, b;
+    st_mesh moved, fresh;
+    st_error err = { 0 };
+    if (load_hier(&h, c->file, c->id, c->interp, 0) || load_hier(&f, c->file, c->id, c->interp, 0)) return;
+    st_adapt_params all = { .base_level = 0, .max_level = c->max, .has_box = 1,
+                            .box_lo = { -1e9, -1e9, -1e9 }, .box_hi = { 1e9, 1e9, 1e9 } };
+    st_adapt_params part = all;
+    part.box_hi[0] = 0;
+    CHECK(st_adapt_init(&a, &h, &err) == ST_OK);
+    CHECKF(st_adapt_update(&a, &all, &err) == ST_OK, "%s", err.msg);
+    CHECKF(st_adapt_update(&a, &part, &err) == ST_OK, "%s", err.msg);
+    part.box_lo[1] = 0;
+    CHECKF(st_adapt_update(&a, &all, &err) == ST_OK, "%s", err.msg);
+    CHECKF(st_adapt_update(&a, &part, &err) == ST_OK, "%s", err.msg);
+    st_mesh_init(&moved);
+    CHECKF(st_adapt_mesh(&a, &moved, &err) == ST_OK, "%s", err.msg);
+    adapt_mesh(&f, &part, &fresh, &b);
+    CHECKF(moved.face_uv && fresh.face_uv, "%s: moved box: no UVs", c->file);
+    if (moved.face_uv && fresh.face_uv) {
+        cmp_stats s = compare_meshes(&moved, &fresh, 1e-9);
+        printf("%s %s moved box vs the same box at once: %u faces (%u), %u corners, %u bit-exact, worst %.3g, %u unmatched\n",
+               c->file, st_scheme_get(c->id)->name, moved.nfaces, fresh.nfaces, s.corners, s.exact, s.worst, s.unmatched);
+        CHECKF(moved.nfaces == fresh.nfaces && s.unmatched == 0 && s.exact == s.corners && s.corners > 0,
+               "%s: moved box: %u of %u corners bit-exact, %u unmatched", c->file, s.exact, s.corners, s.unmatched);
+        CHECKF(seam_edges(&moved) == seam_edges(&fresh), "%s: moved box: seams differ", c->file);
+    }
+    st_mesh_free(&moved);
+    st_mesh_free(&fresh);
+    st_adapt_free(&a);
+    st_adapt_free(&b);
+    st_hier_free(&h);
+    st_hier_free(&f);
 }
 
 static void check_stencil_case(const uv_case *c)
@@ -452,23 +511,7 @@ static void check_stencil_case(const uv_case *c)
                             .box_lo = { -1e9, -1e9, -1e9 }, .box_hi = { 1e9, 1e9, 1e9 } };
     check_against_level(c, &all, c->max, "box over everything");
     check_partial_stencil(c);
-}
-
-/* Doo-Sabin: no UVs above level 0, said, nothing fails. */
-static void check_absent(st_scheme_id id, const char *file)
-{
-    st_hier h;
-    st_adapt a;
-    st_mesh out;
-    if (load_hier(&h, file, id, 0, 0)) return;
-    st_adapt_params p = { .base_level = 0, .max_level = 2, .has_box = 1, .box_lo = { -1e9, -1e9, -1e9 }, .box_hi = { 1e9, 1e9, 1e9 } };
-    adapt_mesh(&h, &p, &out, &a);
-    const char *why = st_adapt_uv_absent(&a);
-    CHECKF(why != NULL && out.face_uv == NULL, "%s %s: UVs above level 0", file, st_scheme_get(id)->name);
-    printf("%s %s: %s\n", file, st_scheme_get(id)->name, why ? why : "(has UVs)");
-    st_mesh_free(&out);
-    st_adapt_free(&a);
-    st_hier_free(&h);
+    check_moved(c);
 }
 
 int main(void)
@@ -492,6 +535,12 @@ int main(void)
         { MESHES "triangle/sphere_ico.obj", ST_SCHEME_SQRT3, ST_UV_CORNERS_PLUS1, 4 },
     };
     for (size_t i = 0; i < sizeof sqrt3 / sizeof *sqrt3; i++) check_stencil_case(&sqrt3[i]);
-    check_absent(ST_SCHEME_DOOSABIN, MESHES "catmull_clark/blub_control_mesh.obj");
+    /* Doo-Sabin (fvar_stencil.c's rules through the dual encoding; homes
+     * of E- and V-faces chosen in a regular level's order) */
+    static const uv_case doosabin[] = {
+        { MESHES "catmull_clark/blub_control_mesh.obj", ST_SCHEME_DOOSABIN, ST_UV_CORNERS_PLUS1, 3 },
+        { MESHES "triangle/sphere_ico.obj", ST_SCHEME_DOOSABIN, ST_UV_CORNERS_PLUS1, 3 },
+    };
+    for (size_t i = 0; i < sizeof doosabin / sizeof *doosabin; i++) check_stencil_case(&doosabin[i]);
     return TEST_END();
 }

@@ -239,11 +239,12 @@ typedef struct st_adapt_uv {
     double *uv;        /* 2 per dart; NULL: the adaptive mesh has no UVs */
     uint32_t *val;
     uint8_t *level;
-    uint32_t *rank;    /* a regular level's numbering of the darts above level 0 (adapt_uv.c) */
+    uint32_t *rank;    /* a regular level's numbering of the darts above level 0 (adapt_uv.c; for
+                          Doo-Sabin, of M*'s) */
 } st_adapt_uv;
 
 /* Why the adaptive mesh of a carries no UVs (NULL: it does): a mesh without
- * UVs, √3 or Doo-Sabin above level 0, a progressive hierarchy. */
+ * UVs, a progressive hierarchy. */
 const char *st_adapt_uv_absent(const st_adapt *a);
 /* Computes them for the map as it is now (O(darts) per level); u->uv stays
  * NULL when st_adapt_uv_absent says why. */

@@ -30,13 +30,20 @@
  *
  * Catmull-Clark and Loop follow OpenSubdiv's face-varying rules (the
  * hierarchy's --uv-interp), Butterfly and quad/triangle are linear.  √3
- * runs the stencil rules of core/fvar/fvar_stencil.c on the faces
- * subdivided toward each level (stencil_step); those sum in an order of
- * their terms, not of dart ids, so the values are again the regular
- * level's bit for bit.  Doo-Sabin (whose E- and V-faces choose their home
- * by dart order, which the adaptive map numbers otherwise) and progressive
- * hierarchies (level 0's UVs only) carry none above level 0
- * (st_adapt_uv_absent says why). */
+ * and Doo-Sabin run the stencil rules of core/fvar/fvar_stencil.c on the
+ * faces subdivided toward each level (stencil_step); those sum in an order
+ * of their terms, not of dart ids, so the values are again the regular
+ * level's bit for bit.  Doo-Sabin's E- and V-faces take as home the source
+ * face whose first dart a regular level's scan meets first
+ * (docs/SUBDIVISION-RULES.md §7b): a Doo-Sabin step refines M* as
+ * Catmull-Clark refines the surface (Kraemer 2008 §3.2.1), so
+ * order_children ranks the adaptive map's darts of each level in the
+ * regular level's order there too, and the homes are the regular level's.
+ * Where a cell of M* is cut next to one that is not, the border triangle's
+ * corner at the coarser vertex (the dart the split inserted on the uncut
+ * side) shows that vertex as its other corners do, in the triangle's home
+ * chart.  Progressive hierarchies (level 0's UVs only) carry none above
+ * level 0 (st_adapt_uv_absent says why). */
 #include "core/adapt/adapt_internal.h"
 #include "core/fvar/fvar_internal.h"
 #include "core/map/map_mesh.h"
@@ -45,19 +52,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Doo-Sabin's adaptive maps carry no UVs (as yet): the homes of its E-
- * and V-faces are chosen by dart id, which the adaptive map numbers
- * otherwise. */
-static int rules_of(const st_hier *h)
-{
-    int r = st_fvar_rules_of(h);
-    return r == ST_FVAR_STENCIL && h->map.face_embedded ? -1 : r;
-}
+static int rules_of(const st_hier *h) { return st_fvar_rules_of(h); }
 
 const char *st_adapt_uv_absent(const st_adapt *a)
 {
     const st_hier *h = a->h;
-    if (h->map.face_embedded) return "Doo-Sabin carries no UVs";
     if (!st_hier_uv(h, 0)) return "the mesh has no texture coordinates";
     if (st_adapt_is_progressive(a)) return "a progressive hierarchy's adaptive mesh carries no UVs";
     if (rules_of(h) < 0 && h->map.top > 0)
@@ -164,14 +163,21 @@ static int step(st_fvar_step *w)
     return 0;
 }
 
-/* √3 (fvar_stencil.c's rules): the faces of level l subdivided toward L,
- * whose stencils give every vertex the step computes. */
+/* √3 and Doo-Sabin (fvar_stencil.c's rules): the faces of level l
+ * subdivided toward L, whose stencils give every vertex the step computes.
+ * Doo-Sabin's E- and V-faces take as home the source face a regular
+ * level's scan meets first, so its step also ranks the darts of level L as
+ * a regular level numbers them: Doo-Sabin refines M* as Catmull-Clark
+ * refines the surface (a polygon split, core/map/refine.c), whose order
+ * order_children gives. */
 static int stencil_step(st_fvar_step *w)
 {
     st_map *m = w->m;
     size_t cap = m->darts.end, n = 0, nf = 64;
+    int dual = m->face_embedded;
     memcpy(w->out_uv, w->uv, 2 * cap * sizeof *w->out_uv);
     memcpy(w->out_val, w->val, cap * sizeof *w->out_val);
+    if (dual) memset(w->sub, 0, cap);
     uint32_t *faces = malloc(nf * sizeof *faces);
     if (!faces) return -1;
     int fbit = st_marker_reserve(m);
@@ -179,7 +185,7 @@ static int stencil_step(st_fvar_step *w)
     for (uint32_t d = st_dart_first(m, w->l, &it); d != ST_NIL; d = st_dart_next(m, w->l, &it)) {
         if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
         st_mark_face(m, fbit, d, w->l);
-        if (!st_face_is_subdivided(m, d, w->l)) continue;
+        if (!(dual ? st_adapt_split_toward(m, d, w->l) : st_face_is_subdivided(m, d, w->l))) continue;
         if (n == nf) {
             uint32_t *g = realloc(faces, 2 * nf * sizeof *faces);
             if (!g) { free(faces); st_marker_release(m, fbit, w->l); return -1; }
@@ -187,10 +193,14 @@ static int stencil_step(st_fvar_step *w)
             nf *= 2;
         }
         faces[n++] = d;
+        uint32_t x = d;
+        do { if (dual) w->sub[x] = 1; x = st_phi1(m, x, w->l); } while (x != d);
     }
     st_marker_release(m, fbit, w->l);
-    int rc = st_fvar_stencil_step(w->h, w->l, w->uv, w->val, faces, (uint32_t)n, w->out_uv, w->out_val, w->out_level);
+    int rc = st_fvar_stencil_step(w->h, w->l, w->uv, w->val, faces, (uint32_t)n, dual ? w->rank : NULL, w->out_uv,
+                                  w->out_val, w->out_level);
     free(faces);
+    if (!rc && dual) rc = order_children(w);
     return rc;
 }
 
@@ -280,8 +290,10 @@ int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *
         free(uv);
         return st_fail(err, ST_ERR_MEMORY, "out of memory for the adaptive mesh's texture coordinates");
     }
-    /* The face walk of st_map_to_mesh (core/map/map_mesh.c). */
-    int fbit = st_marker_reserve(m);
+    /* The face walk of st_map_to_mesh (core/map/map_mesh.c): φ1 orbits, or
+     * β1 orbits in Doo-Sabin's dual encoding (no holes: adaptive Doo-Sabin
+     * refuses open meshes). */
+    int dual = m->face_embedded, fbit = st_marker_reserve(m);
     uint32_t c = 0;
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, top, &it); d != ST_NIL && c < nc; d = st_dart_next(m, top, &it)) {
@@ -291,14 +303,14 @@ int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *
         do {
             uint64_t s = scan_key(m, u, x);
             face = s < face ? s : face;
-            x = st_phi1(m, x, top);
+            x = dual ? st_beta1(m, x, top) : st_phi1(m, x, top);
         } while (x != d);
         do {
             st_mark(m, fbit, x);
             darts[c] = x;
             k[c] = (st_fvar_corner_key){ out->face_idx[c], x < u->cap ? u->level[x] : 0, x < u->cap ? u->val[x] : 0, c, face };
             c++;
-            x = st_phi1(m, x, top);
+            x = dual ? st_beta1(m, x, top) : st_phi1(m, x, top);
         } while (x != d && c < nc);
     }
     st_marker_release(m, fbit, top);

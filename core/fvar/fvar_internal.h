@@ -45,9 +45,11 @@ int st_fvar_refine_stencil(struct st_hier *h, const st_fvar_level *coarse, st_fv
  * of them) get level l+1's at every corner of the vertices the step
  * computes (those of the subdivided faces, so faces not subdivided show
  * their kept corners at the finest value), out_level l+1 there; -1 when out
- * of memory. */
+ * of memory.  rank (Doo-Sabin; NULL for √3, whose homes need no order)
+ * gives the darts of levels 1..l their places in a regular level's
+ * numbering, so that homes are chosen as on a regular level. */
 int st_fvar_stencil_step(struct st_hier *h, unsigned l, const double *uv, const uint32_t *val, const uint32_t *faces,
-                         uint32_t n, double *out_uv, uint32_t *out_val, uint8_t *out_level);
+                         uint32_t n, const uint32_t *rank, double *out_uv, uint32_t *out_val, uint8_t *out_level);
 /* Whether the next level will get UVs (the estimate of its memory counts
  * ST_FVAR_BYTES_PER_DART per dart of that level then). */
 int st_fvar_continues(const struct st_hier *h);

@@ -57,6 +57,11 @@ typedef struct stencil_uv {
     size_t tcap;
     int adaptive;              /* write only the corners of vertices computed */
     uint8_t *out_level;        /* when not NULL: L at every corner written */
+    uint32_t *out_val;         /* level L's labels, per dart */
+    /* Adaptive Doo-Sabin: per dart, its place among its level's darts in a
+     * regular level's numbering (core/adapt/adapt_uv.c's order_children);
+     * NULL: the map is one regular level, whose scan is that order. */
+    const uint32_t *rank;
     int failed;
 } stencil_uv;
 
@@ -81,6 +86,18 @@ static uint32_t corner_at(const stencil_uv *s, uint32_t f, uint32_t v)
         x = face_next(s->m, x, s->l);
     } while (x != f);
     return ST_NIL;
+}
+
+/* Dart x comes before dart y in a regular level's scan (level by level,
+ * each in the order the level was made: fvar_rules.c's
+ * st_fvar_regular_before); on a regular level that is id order. */
+static int dart_before(const stencil_uv *s, uint32_t x, uint32_t y)
+{
+    if (!s->rank) return x < y;
+    const uint8_t *ins = s->m->darts.ins;
+    if (ins[x] != ins[y]) return ins[x] < ins[y];
+    if (ins[x] == 0 || s->rank[x] == s->rank[y]) return x < y;
+    return s->rank[x] < s->rank[y];
 }
 
 static int push_entry(stencil_uv *s, uint32_t v, double w)
@@ -227,11 +244,30 @@ static void corner_uv(stencil_uv *s, uint32_t x, uint32_t home, double out[2])
     if (p) { out[0] = p[0]; out[1] = p[1]; }
 }
 
+/* Adaptive Doo-Sabin: the corner x, inserted toward L by the split of an
+ * edge of M* whose other side stays at level l (adapt_doosabin.c), of a
+ * vertex v this step does not compute, in a border triangle (two new
+ * vertices and v).  It shows v as v's other corners do (their value, label
+ * and level), in the chart of the triangle's home, one of the two faces
+ * along the coarse edge, both of which have a corner at v. */
+static void border_corner(stencil_uv *s, uint32_t x, uint32_t home)
+{
+    uint32_t v = st_vert(s->m, x, s->L);
+    uint32_t c = home != ST_NIL ? corner_at(s, home, v) : ST_NIL;
+    if (c == ST_NIL) c = s->values[v] != VALUE_NONE ? s->vdart[v] : ST_NIL;
+    if (c == ST_NIL) return;
+    s->out[2 * (size_t)x] = s->uv[2 * (size_t)c];
+    s->out[2 * (size_t)x + 1] = s->uv[2 * (size_t)c + 1];
+    s->out_val[x] = s->val[c];
+    if (s->out_level) s->out_level[x] = s->out_level[c];
+}
+
 /* Every real face of level L: its home, then its corners.  The home is the
  * coarse face of an old dart that the fine face keeps (√3: each fine
  * triangle keeps one, so the two triangles across a flipped seam edge go
- * one to each side; Doo-Sabin: the F-faces), else the smallest source face
- * among its corners (Doo-Sabin's E- and V-faces). */
+ * one to each side; Doo-Sabin: the F-faces), else the source face among
+ * its corners whose first dart a regular level's scan meets first
+ * (Doo-Sabin's E- and V-faces; dart_before). */
 static void faces_of_level(stencil_uv *s)
 {
     st_map *m = s->m;
@@ -244,8 +280,9 @@ static void faces_of_level(stencil_uv *s)
         do {
             st_mark(m, fb, x);
             uint32_t v = st_vert(m, x, L);
-            if (m->darts.ins[x] < L && (home == ST_NIL || s->face[x] < home)) home = s->face[x];
-            if (s->kind[v] == V_SOURCED && (source == ST_NIL || s->src_face[v] < source)) source = s->src_face[v];
+            if (m->darts.ins[x] < L && (home == ST_NIL || dart_before(s, s->face[x], home))) home = s->face[x];
+            if (s->kind[v] == V_SOURCED && (source == ST_NIL || dart_before(s, s->src_face[v], source)))
+                source = s->src_face[v];
             x = face_next(m, x, L);
         } while (x != d);
         if (home == ST_NIL) home = source;
@@ -253,6 +290,8 @@ static void faces_of_level(stencil_uv *s)
             if (!s->adaptive || s->kind[st_vert(m, x, L)] != V_UNSEEN) {
                 corner_uv(s, x, home, s->out + 2 * (size_t)x);
                 if (s->out_level) s->out_level[x] = (uint8_t)L;
+            } else if (m->face_embedded && m->darts.ins[x] == L) {
+                border_corner(s, x, home);
             }
             x = face_next(m, x, L);
         } while (x != d);
@@ -302,8 +341,12 @@ static void classify_level(stencil_uv *s)
     int fb = st_marker_reserve(m);
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
         if (st_is_boundary(m, d) || st_marked(m, fb, d)) continue;
-        uint32_t x = d;
-        do { st_mark(m, fb, x); s->face[x] = d; x = face_next(m, x, l); } while (x != d);
+        /* the face's id: the dart a regular level's scan meets first */
+        uint32_t id = d, x = face_next(m, d, l);
+        for (; s->rank && x != d; x = face_next(m, x, l))
+            if (dart_before(s, x, id)) id = x;
+        x = d;
+        do { st_mark(m, fb, x); s->face[x] = id; x = face_next(m, x, l); } while (x != d);
     }
     st_marker_release(m, fb, l);
 }
@@ -329,12 +372,12 @@ static void stencil_free(stencil_uv *s)
  * is NULL (a regular level), else the n faces of level l that an adaptive
  * map subdivides toward L. */
 static int run(st_hier *h, unsigned l, const double *uv, const uint32_t *val, const uint32_t *faces, uint32_t n,
-               double *out_uv, uint32_t *out_val, uint8_t *out_level)
+               const uint32_t *rank, double *out_uv, uint32_t *out_val, uint8_t *out_level)
 {
     st_map *m = &h->map;
     size_t nv = (size_t)m->verts.end + 1, nd = (size_t)m->darts.end + 1;
     stencil_uv s = { .m = m, .L = l + 1, .l = l, .uv = uv, .val = val, .out = out_uv, .adaptive = faces != NULL,
-                     .out_level = out_level };
+                     .out_level = out_level, .out_val = out_val, .rank = rank };
     s.values = calloc(nv, 1);
     s.vuv = calloc(2 * nv, sizeof *s.vuv);
     s.vdart = calloc(nv, sizeof *s.vdart);
@@ -365,11 +408,11 @@ static int run(st_hier *h, unsigned l, const double *uv, const uint32_t *val, co
 
 int st_fvar_refine_stencil(st_hier *h, const st_fvar_level *coarse, st_fvar_level *fine)
 {
-    return run(h, h->map.top - 1, coarse->uv, coarse->val, NULL, 0, fine->uv, fine->val, NULL);
+    return run(h, h->map.top - 1, coarse->uv, coarse->val, NULL, 0, NULL, fine->uv, fine->val, NULL);
 }
 
 int st_fvar_stencil_step(st_hier *h, unsigned l, const double *uv, const uint32_t *val, const uint32_t *faces,
-                         uint32_t n, double *out_uv, uint32_t *out_val, uint8_t *out_level)
+                         uint32_t n, const uint32_t *rank, double *out_uv, uint32_t *out_val, uint8_t *out_level)
 {
-    return run(h, l, uv, val, faces, n, out_uv, out_val, out_level);
+    return run(h, l, uv, val, faces, n, rank, out_uv, out_val, out_level);
 }
