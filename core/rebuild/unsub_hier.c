@@ -47,7 +47,10 @@ static int map_level(st_hier *h, unsigned j, const st_unsub_step *st, uint32_t *
 /* Every finest vertex has a distinct input vertex, and every real half-edge
  * of the finest level is one of the input's: corner_of[d] (by dart id)
  * receives the input corner of dart d, so that the passes after this one
- * read it instead of looking the half-edge up again. */
+ * read it instead of looking the half-edge up again.  One half-edge of
+ * each face is looked up; the face's other darts are then its input face's
+ * next corners, each checked by its vertex (the faces of both run
+ * counter-clockwise), and the two faces must close together. */
 static int check_correspondence(st_hier *h, const st_mesh *in, const st_unsub_topo *t, const uint32_t *map,
                                 uint32_t *corner_of, st_error *err)
 {
@@ -62,11 +65,22 @@ static int check_correspondence(st_hier *h, const st_mesh *in, const st_unsub_to
     for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL; v = st_vertex_next(m, k, &it), nv++)
         if (map[v] >= in->nverts || seen[map[v]]++) { rc = st_fail(err, ST_ERR_INVALID, "vertex %u of level %u has no input vertex of its own", v, k); break; }
     if (!rc && nv != in->nverts) rc = st_fail(err, ST_ERR_INVALID, "level %u has %u vertices, the input %u", k, nv, in->nverts);
+    memset(corner_of, 0xff, (size_t)m->darts.end * sizeof *corner_of);   /* ST_NIL */
     for (uint32_t d = st_dart_first(m, k, &it); d != ST_NIL && !rc; d = st_dart_next(m, k, &it)) {
-        if (st_is_boundary(m, d)) { corner_of[d] = ST_NIL; continue; }
+        if (st_is_boundary(m, d)) continue;
         nd++;
-        if ((corner_of[d] = st_unsub_find(t, map[st_vert(m, d, k)], map[st_vert(m, st_phi1(m, d, k), k)])) == ST_NIL)
-            rc = st_fail(err, ST_ERR_INVALID, "level %u: dart %u is no edge of the input", k, d);
+        if (corner_of[d] != ST_NIL) continue;   /* reached from its face's first dart */
+        uint32_t c = st_unsub_find(t, map[st_vert(m, d, k)], map[st_vert(m, st_phi1(m, d, k), k)]);
+        if (c == ST_NIL) { rc = st_fail(err, ST_ERR_INVALID, "level %u: dart %u is no edge of the input", k, d); break; }
+        uint32_t x = d, cx = c, n = t->foff[t->face_of[c] + 1] - t->foff[t->face_of[c]], i = 0;
+        do {
+            if (map[st_vert(m, x, k)] != t->fidx[cx] || i++ == n) break;
+            corner_of[x] = cx;
+            x = st_phi1(m, x, k);
+            cx = st_unsub_next(t, cx);
+        } while (x != d);
+        if (x != d || cx != c || i != n)
+            rc = st_fail(err, ST_ERR_INVALID, "level %u: the face of dart %u is no face of the input", k, d);
     }
     if (!rc && nd != t->nc) rc = st_fail(err, ST_ERR_INVALID, "level %u has %llu face corners, the input %u", k, (unsigned long long)nd, t->nc);
     free(seen);
