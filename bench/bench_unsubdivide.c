@@ -1,14 +1,19 @@
-/* bench_unsubdivide [MESH] [--levels N] [--repeat R]: unsubdivide of a
- * Catmull-Clark mesh (default: spot's quad cage, 2928 faces, subdivided 4
- * times = 749,568 quads; in Strata's vertex order, then shuffled) against Strata subdividing the
- * cage to the same depth.  Prints medians of R runs (default 5) of
- *   - st_unsubdivide limited to N levels (labelling, checks, cage),
- *   - st_unsubdivide with no limit (spot's cage is itself twice split),
- *   - st_unsub_build_hier (cage hierarchy, correspondence, analysis),
- *   - st_hier_init + st_hier_subdivide_to(N) of the cage,
- * and the ratio of the first to the last.  --no-hier leaves out the
- * hierarchy (for callgrind's instruction counts). */
+/* bench_unsubdivide [MESH] [--levels N] [--repeat R] [--no-hier] [--rebuild-only]:
+ * rebuilding the levels of a Catmull-Clark mesh (default: spot's quad cage,
+ * 2928 faces, subdivided 4 times = 749,568 quads, vertex order shuffled as
+ * another program would number) against Strata subdividing the cage to the
+ * same depth.  The operation timed first is the user-visible one, what
+ * `strata rebuild --method unsubdivide --max-levels N` does between loading
+ * the mesh and saving the session: st_rebuild, i.e. recovering the cage
+ * (st_unsubdivide) and building the hierarchy with its levels and details
+ * (st_unsub_build_hier: the cage refined, the input's positions written at
+ * the finest level, the analysis) and the report.  Then its two parts
+ * alone, the same in Strata's vertex order and without a level limit.
+ * Medians of R runs (default 5) of wall-clock and CPU time (CPU time counts
+ * every thread).  --no-hier: unsubdivide and subdivide only (for
+ * callgrind); --rebuild-only: the rebuild alone, R times (for perf). */
 #include "bench_common.h"
+#include "core/rebuild/rebuild.h"
 #include "core/rebuild/unsubdivide.h"
 
 #include <stdio.h>
@@ -45,15 +50,37 @@ static void shuffle_vertices(st_mesh *m)
     free(perm);
 }
 
+/* Wall-clock and CPU time of repeated runs. */
+typedef struct timing { double wall[99], cpu[99]; int n; double w0, c0; } timing;
+static void tic(timing *t) { t->w0 = bench_now(); t->c0 = cpu_now(); }
+static void toc(timing *t) { t->wall[t->n] = bench_now() - t->w0; t->cpu[t->n++] = cpu_now() - t->c0; }
+static double med_wall(timing *t) { return t->n ? 1e3 * bench_median(t->wall, t->n) : 0; }
+static double med_cpu(timing *t) { return t->n ? 1e3 * bench_median(t->cpu, t->n) : 0; }
+
+static void die(const st_error *err) { fprintf(stderr, "bench_unsubdivide: %s\n", err->msg); exit(1); }
+
+/* st_rebuild by unsubdivide, as the CLI calls it. */
+static void rebuild(const st_mesh *fine, unsigned levels, timing *t, st_rebuild_report *rep)
+{
+    st_rebuild_opts o = { .method = ST_REBUILD_UNSUBDIVIDE, .max_levels = levels };
+    st_hier h;
+    st_error err;
+    tic(t);
+    if (st_rebuild("bench", fine, &o, &h, rep, &err)) die(&err);
+    st_hier_free(&h);
+    toc(t);
+}
+
 int main(int argc, char **argv)
 {
     const char *path = STRATA_SHARED_DATA "/catmull_clark/spot_quadrangulated.obj";
     unsigned levels = 4;
-    int repeat = 5, hier = 1;
+    int repeat = 5, hier = 1, only_rebuild = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = (unsigned)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--no-hier")) hier = 0;   /* for callgrind: unsubdivide and subdivide only */
+        else if (!strcmp(argv[i], "--rebuild-only")) only_rebuild = 1;
         else path = argv[i];
     }
     if (repeat < 1 || repeat > 99 || levels < 1 || levels > 8) { fprintf(stderr, "bad arguments\n"); return 2; }
@@ -62,74 +89,81 @@ int main(int argc, char **argv)
     st_mesh cage, fine;
     st_mesh_init(&cage);
     st_mesh_init(&fine);
-    if (st_mesh_load(path, &cage, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-    double t_sub[99], t_unsub[99], t_all[99], t_hier[99], c_sub[99], c_unsub[99];
-    for (int r = 0; r < repeat; r++) {
+    if (st_mesh_load(path, &cage, &err)) die(&err);
+    timing t_sub = { 0 }, t_reb = { 0 }, t_reb_all = { 0 }, t_reb_plain = { 0 }, t_unsub = { 0 }, t_hier = { 0 };
+    {
         st_hier h;
-        double t0 = bench_now(), c0 = cpu_now();
-        if (st_hier_init(&h, &cage, sc, NULL, &err) || st_hier_subdivide_to(&h, levels, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-        t_sub[r] = bench_now() - t0;
-        c_sub[r] = cpu_now() - c0;
-        if (r == 0 && st_hier_level_mesh(&h, levels, &fine, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
+        if (st_hier_init(&h, &cage, sc, NULL, &err) || st_hier_subdivide_to(&h, levels, &err)) die(&err);
+        if (st_hier_level_mesh(&h, levels, &fine, &err)) die(&err);
         st_hier_free(&h);
     }
-    st_unsub u;
-    double t_plain[99];
-    for (int r = 0; r < repeat; r++) {
-        st_unsub_opts o = { .max_levels = levels };
-        double t0 = bench_now();
-        if (st_unsubdivide("bench", &fine, &o, &u, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-        t_plain[r] = bench_now() - t0;
-        st_unsub_free(&u);
+    st_rebuild_report rep;
+    memset(&rep, 0, sizeof rep);
+    if (only_rebuild) {
+        shuffle_vertices(&fine);
+        for (int r = 0; r < repeat; r++) {
+            st_rebuild_report_free(&rep);
+            rebuild(&fine, levels, &t_reb, &rep);
+        }
+        printf("rebuild, %u levels: %8.1f ms wall, %8.1f ms CPU (median of %d): %s\n", levels, med_wall(&t_reb),
+               med_cpu(&t_reb), repeat, rep.summary);
+        st_rebuild_report_free(&rep);
+        st_mesh_free(&fine);
+        st_mesh_free(&cage);
+        return 0;
     }
-    shuffle_vertices(&fine);
-    unsigned found = 0, found_all = 0;
-    uint32_t cage_faces = 0, cage_all = 0;
+    /* Interleaved, so that the load of the machine weighs on each alike. */
+    st_mesh plain;
+    st_mesh_init(&plain);
     for (int r = 0; r < repeat; r++) {
-        st_unsub_opts o = { .max_levels = levels };
-        double t0 = bench_now(), c0 = cpu_now();
-        if (st_unsubdivide("bench", &fine, &o, &u, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-        t_unsub[r] = bench_now() - t0;
-        c_unsub[r] = cpu_now() - c0;
-        found = u.levels;
-        cage_faces = u.step[0].coarse.nfaces;
-        st_unsub_free(&u);
-        o.max_levels = 0;
-        t0 = bench_now();
-        if (st_unsubdivide("bench", &fine, &o, &u, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-        t_all[r] = bench_now() - t0;
-        found_all = u.levels;
-        cage_all = u.step[0].coarse.nfaces;
-        st_unsub_free(&u);
-    }
-    st_unsub_opts o = { .max_levels = levels };
-    if (st_unsubdivide("bench", &fine, &o, &u, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-    int hr = !hier ? 0 : repeat < 3 ? repeat : 3;
-    double detail = 0;
-    for (int r = 0; r < hr; r++) {
         st_hier h;
-        double t0 = bench_now();
-        if (st_unsub_build_hier(&fine, &u, sc, NULL, &h, NULL, NULL, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-        t_hier[r] = bench_now() - t0;
-        detail = st_unsub_max_detail(&h);
+        tic(&t_sub);
+        if (st_hier_init(&h, &cage, sc, NULL, &err) || st_hier_subdivide_to(&h, levels, &err)) die(&err);
+        toc(&t_sub);
+        if (r == 0) {
+            if (st_hier_level_mesh(&h, levels, &plain, &err)) die(&err);
+            shuffle_vertices(&fine);
+        }
         st_hier_free(&h);
+        st_unsub u;
+        st_unsub_opts o = { .max_levels = levels };
+        tic(&t_unsub);
+        if (st_unsubdivide("bench", &fine, &o, &u, &err)) die(&err);
+        toc(&t_unsub);
+        if (hier) {
+            tic(&t_hier);
+            if (st_unsub_build_hier(&fine, &u, sc, NULL, &h, NULL, NULL, &err)) die(&err);
+            toc(&t_hier);
+            st_hier_free(&h);
+        }
+        st_unsub_free(&u);
+        if (!hier) continue;
+        st_rebuild_report_free(&rep);
+        rebuild(&fine, levels, &t_reb, &rep);
+        if (r < 3) {
+            st_rebuild_report_free(&rep);
+            rebuild(&plain, levels, &t_reb_plain, &rep);
+            st_rebuild_report_free(&rep);
+            rebuild(&fine, 0, &t_reb_all, &rep);
+        }
     }
-    st_unsub_free(&u);
-    double ms_sub = 1e3 * bench_median(t_sub, repeat), ms_unsub = 1e3 * bench_median(t_unsub, repeat);
-    double ms_all = 1e3 * bench_median(t_all, repeat), ms_hier = hr ? 1e3 * bench_median(t_hier, hr) : 0;
-    printf("input: %s (%u faces) x%u = %u faces, %u vertices, vertex order shuffled\n", path, cage.nfaces, levels, fine.nfaces, fine.nverts);
-    printf("unsubdivide, %u levels, Strata's vertex order: %8.1f ms  (median of %d)\n", found, 1e3 * bench_median(t_plain, repeat), repeat);
-    printf("unsubdivide, %u levels:        %8.1f ms  (median of %d; cage %u faces)\n", found, ms_unsub, repeat, cage_faces);
-    printf("unsubdivide, no limit (%u):     %8.1f ms  (cage %u faces)\n", found_all, ms_all, cage_all);
-    printf("hierarchy + analysis:          %8.1f ms  (median of %d; longest detail %.3g)\n", ms_hier, hr, detail);
-    printf("subdivide the cage %u levels:   %8.1f ms  (median of %d)\n", levels, ms_sub, repeat);
-    /* The least CPU time too: on a loaded machine the median moves with
-     * the other processes' cache and memory traffic; the minimum less so. */
-    double min_unsub = c_unsub[0];
-    for (int r = 1; r < repeat; r++) if (c_unsub[r] < min_unsub) min_unsub = c_unsub[r];
-    printf("ratio unsubdivide / subdivide: %.2f wall clock, %.2f CPU time (%.1f ms / %.1f ms; unsubdivide's least CPU time %.1f ms)\n",
-           ms_unsub / ms_sub, bench_median(c_unsub, repeat) / bench_median(c_sub, repeat), 1e3 * bench_median(c_unsub, repeat),
-           1e3 * bench_median(c_sub, repeat), 1e3 * min_unsub);
+    printf("input: %s (%u faces) x%u = %u faces, %u vertices\n", path, cage.nfaces, levels, fine.nfaces, fine.nverts);
+    printf("                                           wall ms   CPU ms  (medians)\n");
+    if (hier) {
+        printf("rebuild, %u levels, shuffled order:     %9.1f %8.1f  (%d runs)\n", levels, med_wall(&t_reb), med_cpu(&t_reb), t_reb.n);
+        printf("  of which unsubdivide (cage):         %9.1f %8.1f\n", med_wall(&t_unsub), med_cpu(&t_unsub));
+        printf("  of which hierarchy + analysis:       %9.1f %8.1f\n", med_wall(&t_hier), med_cpu(&t_hier));
+        printf("rebuild, %u levels, Strata's order:     %9.1f %8.1f  (%d runs)\n", levels, med_wall(&t_reb_plain), med_cpu(&t_reb_plain), t_reb_plain.n);
+        printf("rebuild, no limit, shuffled order:     %9.1f %8.1f  (%d runs: %s)\n", med_wall(&t_reb_all), med_cpu(&t_reb_all), t_reb_all.n, rep.summary);
+    } else {
+        printf("unsubdivide, %u levels, shuffled order: %9.1f %8.1f  (%d runs)\n", levels, med_wall(&t_unsub), med_cpu(&t_unsub), t_unsub.n);
+    }
+    printf("subdivide the cage %u levels:           %9.1f %8.1f  (%d runs)\n", levels, med_wall(&t_sub), med_cpu(&t_sub), t_sub.n);
+    timing *num = hier ? &t_reb : &t_unsub;
+    printf("ratio %s / subdivide: %.2f wall clock, %.2f CPU time\n", hier ? "rebuild" : "unsubdivide",
+           med_wall(num) / med_wall(&t_sub), med_cpu(num) / med_cpu(&t_sub));
+    st_rebuild_report_free(&rep);
+    st_mesh_free(&plain);
     st_mesh_free(&fine);
     st_mesh_free(&cage);
     return 0;

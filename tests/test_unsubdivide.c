@@ -5,11 +5,14 @@
  * positions (1e-9 of the diagonal), its details are zero, its finest level
  * is the input bit for bit with the same faces up to vertex order.  Locally
  * re-meshed inputs are refused with the place named; limits and scheme
- * compatibility behave as documented. */
+ * compatibility behave as documented; one thread and two build the same
+ * hierarchy to the bit. */
 #include "testlib.h"
 #include "core/rebuild/unsubdivide.h"
 #include "core/io/session.h"
 #include "core/rebuild/unsub_topo_internal.h"
+#include "core/base/parallel.h"
+#include "core/multires/hier_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -360,6 +363,58 @@ static void check_session(void)
     st_mesh_free(&cage);
 }
 
+/* The hierarchy is built on two threads (the input's adjacency beside the
+ * refinement): one thread and two give the same hierarchy to the bit,
+ * positions and details of every level, and the same correspondence. */
+static void check_threads(void)
+{
+    st_mesh cage, fine, shuffled;
+    st_error err;
+    st_unsub u;
+    st_hier h[2];
+    uint32_t *fine_of[2] = { NULL, NULL }, *corner_of[2] = { NULL, NULL };
+    CHECK(load("catmull_clark/spot_quadrangulated.obj", &cage) == 0);
+    CHECK(subdivided(&cage, ST_SCHEME_CATMARK, 2, &fine) == 0);
+    shuffle(&fine, &shuffled, 4242);
+    CHECK(st_unsubdivide("spot", &shuffled, NULL, &u, &err) == 0);
+    for (unsigned t = 0; t < 2; t++) {
+        st_parallel_set_threads(t + 1);
+        CHECKF(st_unsub_build_hier_corners(&shuffled, &u, st_scheme_find("catmull-clark"), NULL, &h[t], &fine_of[t],
+                                           &corner_of[t], NULL, &err) == 0, "%u thread(s): %s", t + 1, err.msg);
+    }
+    st_parallel_set_threads(0);
+    const st_map *a = &h[0].map, *b = &h[1].map;
+    CHECK(a->top == b->top && a->verts.end == b->verts.end && a->darts.end == b->darts.end);
+    uint64_t differ = 0, n = 0;
+    for (unsigned l = 0; l <= a->top && a->verts.end == b->verts.end; l++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(a, l, &it); v != ST_NIL; v = st_vertex_next(a, l, &it), n++) {
+            differ += memcmp(st_pos(a, v, l), st_pos(b, v, l), 3 * sizeof(double)) != 0;
+            if (l) differ += memcmp(st_hier_detail(&h[0], l, v), st_hier_detail(&h[1], l, v), 3 * sizeof(double)) != 0;
+        }
+    }
+    CHECKF(n > 50000 && differ == 0, "%llu of %llu vertices differ between one thread and two",
+           (unsigned long long)differ, (unsigned long long)n);
+    CHECK(a->verts.end != b->verts.end || !memcmp(fine_of[0], fine_of[1], a->verts.end * sizeof(uint32_t)));
+    uint64_t corners = 0, other = 0;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(a, a->top, &it); d != ST_NIL; d = st_dart_next(a, a->top, &it)) {
+        corners += corner_of[0][d] != ST_NIL;
+        other += corner_of[0][d] != corner_of[1][d];
+    }
+    CHECKF(corners == shuffled.face_off[shuffled.nfaces] && other == 0, "%llu darts with a corner, %u corners, %llu differ",
+           (unsigned long long)corners, shuffled.face_off[shuffled.nfaces], (unsigned long long)other);
+    for (unsigned t = 0; t < 2; t++) {
+        free(fine_of[t]);
+        free(corner_of[t]);
+        st_hier_free(&h[t]);
+    }
+    st_unsub_free(&u);
+    st_mesh_free(&shuffled);
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+}
+
 /* The manifold check that stands in for st_mesh_check on coarse meshes
  * agrees with it on a few cases. */
 static void check_manifold(void)
@@ -673,5 +728,6 @@ int main(void)
     check_refusals();
     check_limits();
     check_session();
+    check_threads();
     return TEST_END();
 }

@@ -138,7 +138,15 @@ static double analyze_level(st_hier *h, unsigned l)
     for (uint32_t v = st_vertex_first(m, l - 1, &it); v != ST_NIL; v = st_vertex_next(m, l - 1, &it))
         memcpy(x + 3 * (size_t)v, st_pos(m, v, l - 1), 3 * sizeof *x);
     for (uint32_t r = 0; r < c.nrows; r++) memcpy(f + 3 * (size_t)r, st_pos(m, c.row_vertex[r], l), 3 * sizeof *f);
-    double res = solve(&c, f, x, n);
+    /* The solve runs over the coarse ids the stencils name, not every
+     * vertex id of the map (the finer levels' ids lie above them when
+     * levels are built coarse to fine): the vectors of the CG shrink
+     * fourfold per level below the top, with the same bits, as the ids
+     * left out have no column and so stay as they were. */
+    uint32_t ncol = 0;
+    for (uint32_t k = 0; k < c.off[c.nrows]; k++)
+        if (c.col[k] >= ncol) ncol = c.col[k] + 1;
+    double res = solve(&c, f, x, ncol ? ncol : 1);
     /* New level l-1, then level l rewritten exactly (it may have inherited
      * from l-1) with details re-expressed against the new coarse surface. */
     for (uint32_t v = st_vertex_first(m, l - 1, &it); v != ST_NIL; v = st_vertex_next(m, l - 1, &it))

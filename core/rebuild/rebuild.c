@@ -97,11 +97,11 @@ static int build_unsubdivided(const char *name, const st_mesh *mesh, const st_un
                        split ? "catmull-clark, or quad-triangle on a cage without triangles" : "loop, butterfly or quad-triangle");
     }
     st_hier_opts ho = { .boundary = ST_BOUNDARY_UNSET, .crease_method = ST_CREASE_UNIFORM, .uv_interp = o->uv_interp };
-    uint32_t *fine_of = NULL;
-    int rc = st_unsub_build_hier(mesh, u, sc, &ho, h, &fine_of, NULL, err);
+    uint32_t *corner_of = NULL;
+    int rc = st_unsub_build_hier_corners(mesh, u, sc, &ho, h, NULL, mesh->face_uv ? &corner_of : NULL, NULL, err);
     if (rc) return named(err, name, rc);
     if (o->progress && o->progress(o->progress_ctx, 1.0)) {
-        free(fine_of);
+        free(corner_of);
         st_hier_free(h);
         return st_fail(err, ST_ERR_INVALID, "cancelled");
     }
@@ -123,8 +123,8 @@ static int build_unsubdivided(const char *name, const st_mesh *mesh, const st_un
     if (mesh->face_uv)
         st_notes_add(&rep->notes, "UVs: cage corners from the input's; refined with --uv-interp %s, the finest level's UVs "
                      "differ from the input's by at most %.3g (UVs have no details)",
-                     st_uv_interp_name(o->uv_interp), st_unsub_uv_residual(h, mesh, fine_of));
-    free(fine_of);
+                     st_uv_interp_name(o->uv_interp), st_unsub_uv_residual_corners(h, mesh, corner_of));
+    free(corner_of);
     return ST_OK;
 }
 

@@ -3,6 +3,7 @@
  * the combinatorial correspondence, analysis down to level 0. */
 #include "core/rebuild/unsubdivide.h"
 #include "core/rebuild/unsub_topo_internal.h"
+#include "core/base/parallel.h"
 #include "core/multires/hier_internal.h"
 
 #include <math.h>
@@ -44,14 +45,19 @@ static int map_level(st_hier *h, unsigned j, const st_unsub_step *st, uint32_t *
 }
 
 /* Every finest vertex has a distinct input vertex, and every real half-edge
- * of the finest level is one of the input's. */
-static int check_correspondence(st_hier *h, const st_mesh *in, const uint32_t *map, st_error *err)
+ * of the finest level is one of the input's: corner_of[d] (by dart id)
+ * receives the input corner of dart d, so that the passes after this one
+ * read it instead of looking the half-edge up again.  One half-edge of
+ * each face is looked up; the face's other darts are then its input face's
+ * next corners, each checked by its vertex (the faces of both run
+ * counter-clockwise), and the two faces must close together. */
+static int check_correspondence(st_hier *h, const st_mesh *in, const st_unsub_topo *t, const uint32_t *map,
+                                uint32_t *corner_of, st_error *err)
 {
     st_map *m = &h->map;
     unsigned k = m->top;
     uint8_t *seen = calloc((size_t)in->nverts + 1, 1);
-    st_unsub_topo t;
-    if (!seen || st_unsub_topo_build(&t, in)) { free(seen); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
+    if (!seen) return st_fail(err, ST_ERR_MEMORY, "out of memory");
     int rc = ST_OK;
     uint32_t nv = 0;
     uint64_t nd = 0;
@@ -59,14 +65,24 @@ static int check_correspondence(st_hier *h, const st_mesh *in, const uint32_t *m
     for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL; v = st_vertex_next(m, k, &it), nv++)
         if (map[v] >= in->nverts || seen[map[v]]++) { rc = st_fail(err, ST_ERR_INVALID, "vertex %u of level %u has no input vertex of its own", v, k); break; }
     if (!rc && nv != in->nverts) rc = st_fail(err, ST_ERR_INVALID, "level %u has %u vertices, the input %u", k, nv, in->nverts);
+    memset(corner_of, 0xff, (size_t)m->darts.end * sizeof *corner_of);   /* ST_NIL */
     for (uint32_t d = st_dart_first(m, k, &it); d != ST_NIL && !rc; d = st_dart_next(m, k, &it)) {
         if (st_is_boundary(m, d)) continue;
         nd++;
-        if (st_unsub_find(&t, map[st_vert(m, d, k)], map[st_vert(m, st_phi1(m, d, k), k)]) == ST_NIL)
-            rc = st_fail(err, ST_ERR_INVALID, "level %u: dart %u is no edge of the input", k, d);
+        if (corner_of[d] != ST_NIL) continue;   /* reached from its face's first dart */
+        uint32_t c = st_unsub_find(t, map[st_vert(m, d, k)], map[st_vert(m, st_phi1(m, d, k), k)]);
+        if (c == ST_NIL) { rc = st_fail(err, ST_ERR_INVALID, "level %u: dart %u is no edge of the input", k, d); break; }
+        uint32_t x = d, cx = c, n = t->foff[t->face_of[c] + 1] - t->foff[t->face_of[c]], i = 0;
+        do {
+            if (map[st_vert(m, x, k)] != t->fidx[cx] || i++ == n) break;
+            corner_of[x] = cx;
+            x = st_phi1(m, x, k);
+            cx = st_unsub_next(t, cx);
+        } while (x != d);
+        if (x != d || cx != c || i != n)
+            rc = st_fail(err, ST_ERR_INVALID, "level %u: the face of dart %u is no face of the input", k, d);
     }
-    if (!rc && nd != t.nc) rc = st_fail(err, ST_ERR_INVALID, "level %u has %llu face corners, the input %u", k, (unsigned long long)nd, t.nc);
-    st_unsub_topo_free(&t);
+    if (!rc && nd != t->nc) rc = st_fail(err, ST_ERR_INVALID, "level %u has %llu face corners, the input %u", k, (unsigned long long)nd, t->nc);
     free(seen);
     return rc;
 }
@@ -77,12 +93,12 @@ static int check_correspondence(st_hier *h, const st_mesh *in, const uint32_t *m
  * the input's to a few ulps; they are then set to the input's exactly, so
  * that the finest level is the input, tags included.  Holes: the finest
  * face of every dart must be a hole exactly when its input face is. */
-static int finest_tags(st_hier *h, const st_mesh *in, const uint32_t *map, st_error *err)
+static int finest_tags(st_hier *h, const st_mesh *in, const st_unsub_topo *tp, const uint32_t *map,
+                       const uint32_t *corner_of, st_error *err)
 {
     st_map *m = &h->map;
     unsigned k = m->top;
-    st_unsub_topo t;
-    if (st_unsub_topo_build(&t, in)) return st_fail(err, ST_ERR_MEMORY, "out of memory");
+    const st_unsub_topo t = *tp;
     float *esharp = calloc((size_t)t.nc + 1, sizeof *esharp), *vsharp = calloc((size_t)in->nverts + 1, sizeof *vsharp);
     int rc = ST_OK;
     if (!esharp || !vsharp) { rc = st_fail(err, ST_ERR_MEMORY, "out of memory"); goto done; }
@@ -95,8 +111,7 @@ static int finest_tags(st_hier *h, const st_mesh *in, const uint32_t *map, st_er
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, k, &it); d != ST_NIL && !rc; d = st_dart_next(m, k, &it)) {
         if (st_is_boundary(m, d)) continue;
-        uint32_t a = map[st_vert(m, d, k)], c = st_unsub_find(&t, a, map[st_vert(m, st_phi1(m, d, k), k)]);
-        if (c == ST_NIL) continue;   /* check_correspondence reports it */
+        uint32_t a = map[st_vert(m, d, k)], c = corner_of[d];   /* check_correspondence found it */
         if (!st_is_hole(m, d) != !(in->face_hole && in->face_hole[t.face_of[c]]))
             rc = st_fail(err, ST_ERR_INVALID, "level %u: face of dart %u is%s a hole, input face %u is%s", k, d,
                          st_is_hole(m, d) ? "" : " not", t.face_of[c] + 1, st_is_hole(m, d) ? " not" : "");
@@ -119,23 +134,70 @@ static int finest_tags(st_hier *h, const st_mesh *in, const uint32_t *map, st_er
 done:
     free(esharp);
     free(vsharp);
-    st_unsub_topo_free(&t);
     return rc;
+}
+
+/* The cage's hierarchy refined to the finest level, and the input's
+ * adjacency (for the correspondence): independent, so two threads run
+ * them side by side; each writes only its own results, so the outcome is
+ * the same on one thread or two. */
+typedef struct refine_job {
+    st_hier *h;
+    const st_mesh *in;
+    const st_unsub *u;
+    const st_scheme *sc;
+    const st_hier_opts *ho;
+    st_error *err;
+    int rc_hier, rc_topo;
+    st_unsub_topo topo;
+} refine_job;
+
+static void refine_task(st_team *team, unsigned t, void *ctx)
+{
+    (void)t;
+    refine_job *j = ctx;
+    uint32_t b, e;
+    while (st_team_next(team, 0, 2, 1, &b, &e)) {
+        if (b == 1) {
+            j->rc_topo = st_unsub_topo_build(&j->topo, j->in);
+            continue;
+        }
+        j->rc_hier = st_hier_init(j->h, &j->u->step[0].coarse, j->sc, j->ho, j->err);
+        if (!j->rc_hier) {
+            j->rc_hier = st_hier_subdivide_to(j->h, j->u->levels, j->err);
+            if (j->rc_hier) st_hier_free(j->h);
+        }
+    }
 }
 
 int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                         st_hier *h, uint32_t **fine_of, double *residual, st_error *err)
 {
+    return st_unsub_build_hier_corners(in, u, sc, ho, h, fine_of, NULL, residual, err);
+}
+
+int st_unsub_build_hier_corners(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
+                                st_hier *h, uint32_t **fine_of, uint32_t **corner_of_out, double *residual, st_error *err)
+{
     if (fine_of) *fine_of = NULL;
+    if (corner_of_out) *corner_of_out = NULL;
     if (residual) *residual = 0;
     if (!u->levels) return st_fail(err, ST_ERR_INVALID, "nothing to rebuild: no level was recovered");
-    int rc = st_hier_init(h, &u->step[0].coarse, sc, ho, err);
-    if (rc) return rc;
-    rc = st_hier_subdivide_to(h, u->levels, err);
-    if (rc) { st_hier_free(h); return rc; }
+    refine_job job = { .h = h, .in = in, .u = u, .sc = sc, .ho = ho, .err = err };
+    st_team_run(st_parallel_threads() < 2 ? 1 : 2, refine_task, &job);
+    if (job.rc_hier) { st_unsub_topo_free(&job.topo); return job.rc_hier; }
+    if (job.rc_topo) { st_hier_free(h); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
+    int rc = ST_OK;
     st_map *m = &h->map;
     uint32_t *map = malloc(((size_t)m->verts.end + 1) * sizeof *map);
-    if (!map) { st_hier_free(h); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
+    uint32_t *corner_of = malloc(((size_t)m->darts.end + 1) * sizeof *corner_of);
+    if (!map || !corner_of) {
+        free(map);
+        free(corner_of);
+        st_unsub_topo_free(&job.topo);
+        st_hier_free(h);
+        return st_fail(err, ST_ERR_MEMORY, "out of memory");
+    }
     for (uint32_t v = 0; v < m->verts.end; v++) map[v] = ST_NIL;
     /* Level 0 was built from the cage in its vertex order. */
     st_dart_iter it;
@@ -143,9 +205,12 @@ int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *s
     for (uint32_t v = st_vertex_first(m, 0, &it); v != ST_NIL; v = st_vertex_next(m, 0, &it)) map[v] = i++;
     if (i != u->step[0].coarse.nverts) rc = st_fail(err, ST_ERR_INVALID, "level 0 has %u vertices, the cage %u", i, u->step[0].coarse.nverts);
     for (unsigned j = 0; j < u->levels && !rc; j++) rc = map_level(h, j, &u->step[j], map, err);
-    if (!rc) rc = check_correspondence(h, in, map, err);
-    if (!rc) rc = finest_tags(h, in, map, err);
-    if (rc) { free(map); st_hier_free(h); return rc; }
+    if (!rc) rc = check_correspondence(h, in, &job.topo, map, corner_of, err);
+    if (!rc) rc = finest_tags(h, in, &job.topo, map, corner_of, err);
+    st_unsub_topo_free(&job.topo);
+    if (rc) { free(map); free(corner_of); st_hier_free(h); return rc; }
+    if (corner_of_out) *corner_of_out = corner_of;
+    else free(corner_of);
     unsigned k = u->levels;
     for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL; v = st_vertex_next(m, k, &it))
         st_hier_write_pos(h, v, k, in->pos + 3 * (size_t)map[v]);
@@ -177,6 +242,26 @@ double st_unsub_max_detail(const st_hier *h)
             double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             if (n > worst) worst = n;
         }
+    }
+    return worst;
+}
+
+double st_unsub_uv_residual_corners(const st_hier *h, const st_mesh *in, const uint32_t *corner_of)
+{
+    const st_map *m = &h->map;
+    unsigned k = m->top;
+    const double *uv = st_hier_uv(h, k);
+    if (!in->face_uv) return 0;
+    if (!uv || !corner_of) return INFINITY;
+    double worst = 0;
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, k, &it); d != ST_NIL; d = st_dart_next(m, k, &it)) {
+        if (st_is_boundary(m, d) || st_is_hole(m, d)) continue;
+        uint32_t c = corner_of[d];
+        if (c == ST_NIL) return INFINITY;
+        const double *w = in->uv + 2 * (size_t)in->face_uv[c];
+        double e = fmax(fabs(uv[2 * (size_t)d] - w[0]), fabs(uv[2 * (size_t)d + 1] - w[1]));
+        if (e > worst) worst = e;
     }
     return worst;
 }
