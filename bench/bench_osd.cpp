@@ -2,14 +2,16 @@
 // input and depth.  C++ only because OpenSubdiv
 // is C++; Strata is called through its C API.
 //
-//   bench_osd [--quick]
+//   bench_osd [--quick] [spot|koala]   (one case alone: no local edit)
 //   bench_osd --profile strata|osd catmark|loop DEPTH [THREADS [REPEAT]]
-//   bench_osd --profile-edit REPEAT
-//       the local edit case alone, with REPEAT more edits before the timed ones
 //       one side's synthesis alone, REPEAT times (wall and processor medians),
 //       for callgrind --toggle-collect / perf; with BENCH_CHECK=1 in the
 //       environment, also a hash of every level's positions and a comparison
 //       of each with its stencil (bit-identity checks across changes)
+//   bench_osd --profile-e2e strata|osd catmark|loop DEPTH [THREADS [REPEAT]]
+//       one side's end to end alone (read, topology, first synthesis)
+//   bench_osd --profile-edit REPEAT
+//       the local edit case alone, with REPEAT more edits before the timed ones
 //
 // Prints, per case: topology refinement time (Strata refine vs
 // Far::TopologyRefinerFactory + RefineUniform), synthesis of all levels
@@ -17,7 +19,10 @@
 // each (VmHWM growth of a forked child that builds and synthesises), and the
 // ratios.  Synthesis is timed on one thread and on two (parallel.h; OpenSubdiv
 // on one thread in both lines), the three runs interleaved, medians of 9;
-// other figures medians of 5 runs.  Then a local edit: one vertex moved at level 2
+// other figures medians of 5 runs.  End to end (each side from the OBJ file
+// to every level's positions: Strata's st_mesh_load, OpenSubdiv's factory
+// after a plain OBJ reader, osd_read_obj) likewise interleaved, wall and
+// processor time.  Then a local edit: one vertex moved at level 2
 // of a depth-6 Catmull-Clark hierarchy, local re-synthesis vs full synthesis.
 extern "C" {
 #include "bench_common.h"
@@ -37,6 +42,7 @@ extern "C" {
 #include <cstring>
 #include <malloc.h>
 #include <string>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
@@ -54,15 +60,67 @@ struct Vec3 {
     void AddWithWeight(Vec3 const &s, float w) { p[0] += w * s.p[0]; p[1] += w * s.p[1]; p[2] += w * s.p[2]; }
 };
 
-Far::TopologyRefiner *osd_refine(const st_mesh &m, Sdc::SchemeType type, int levels)
+// OpenSubdiv has no mesh reader in its library: its side of the end-to-end
+// line reads the OBJ with this plain reader (whole file in one read, `v`
+// and `f` records, corner indices `v`, `v/t`, `v//n`, `v/t/n`, negative
+// ones counting back; no checks beyond the index range), as a program using
+// OpenSubdiv would.
+struct osd_obj {
+    std::vector<double> pos;
+    std::vector<int> counts, idx;
+};
+
+bool osd_read_obj(const char *path, osd_obj &o)
 {
-    std::vector<int> counts(m.nfaces);
-    for (uint32_t f = 0; f < m.nfaces; f++) counts[f] = (int)(m.face_off[f + 1] - m.face_off[f]);
+    FILE *f = fopen(path, "rb");
+    if (!f) return false;
+    std::string text;
+    fseek(f, 0, SEEK_END);
+    long size = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    text.resize((size_t)size);
+    bool ok = fread(&text[0], 1, (size_t)size, f) == (size_t)size;
+    fclose(f);
+    if (!ok) return false;
+    const char *p = text.c_str(), *end = p + text.size();
+    while (p < end) {
+        const char *le = (const char *)memchr(p, '\n', (size_t)(end - p));
+        if (!le) le = end;
+        if (p[0] == 'v' && (p[1] == ' ' || p[1] == '\t')) {
+            char *q = (char *)p + 1;
+            for (int k = 0; k < 3; k++) o.pos.push_back(strtod(q, &q));
+        } else if (p[0] == 'f' && (p[1] == ' ' || p[1] == '\t')) {
+            const char *q = p + 1;
+            int n = 0;
+            for (;;) {
+                while (q < le && (*q == ' ' || *q == '\t' || *q == '\r')) q++;
+                if (q >= le || *q == '#') break;
+                char *e;
+                long v = strtol(q, &e, 10);
+                if (e == q) return false;
+                long nv = (long)(o.pos.size() / 3);
+                v = v < 0 ? nv + v : v - 1;
+                if (v < 0 || v >= nv) return false;
+                o.idx.push_back((int)v);
+                n++;
+                q = e;
+                while (q < le && *q != ' ' && *q != '\t' && *q != '\r') q++; // skip /t/n
+            }
+            o.counts.push_back(n);
+        }
+        p = le + 1;
+    }
+    return true;
+}
+
+Far::TopologyRefiner *osd_refine_desc(int nverts, const std::vector<int> &counts, const int *idx, Sdc::SchemeType type,
+                                      int levels)
+{
     Far::TopologyDescriptor desc;
-    desc.numVertices = (int)m.nverts;
-    desc.numFaces = (int)m.nfaces;
+    desc.numVertices = nverts;
+    desc.numFaces = (int)counts.size();
     desc.numVertsPerFace = counts.data();
-    desc.vertIndicesPerFace = (const int *)m.face_idx;
+    desc.vertIndicesPerFace = idx;
     Sdc::Options opts;
     opts.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
     typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
@@ -71,11 +129,11 @@ Far::TopologyRefiner *osd_refine(const st_mesh &m, Sdc::SchemeType type, int lev
     return r;
 }
 
-// Interpolates every level; returns the buffer of all levels.
-std::vector<Vec3> osd_interpolate(const Far::TopologyRefiner &r, const st_mesh &m)
+// Interpolates every level from the coarse positions `pos`.
+std::vector<Vec3> osd_interpolate_from(const Far::TopologyRefiner &r, const double *pos)
 {
     std::vector<Vec3> buf(r.GetNumVerticesTotal());
-    for (uint32_t v = 0; v < m.nverts; v++) memcpy(buf[v].p, m.pos + 3 * v, sizeof buf[v].p);
+    memcpy(buf.data(), pos, sizeof(Vec3) * (size_t)r.GetLevel(0).GetNumVertices());
     Far::PrimvarRefiner pr(r);
     Vec3 *src = buf.data();
     for (int l = 1; l <= r.GetMaxLevel(); l++) {
@@ -86,6 +144,19 @@ std::vector<Vec3> osd_interpolate(const Far::TopologyRefiner &r, const st_mesh &
     return buf;
 }
 
+Far::TopologyRefiner *osd_refine(const st_mesh &m, Sdc::SchemeType type, int levels)
+{
+    std::vector<int> counts(m.nfaces);
+    for (uint32_t f = 0; f < m.nfaces; f++) counts[f] = (int)(m.face_off[f + 1] - m.face_off[f]);
+    return osd_refine_desc((int)m.nverts, counts, (const int *)m.face_idx, type, levels);
+}
+
+// Interpolates every level; returns the buffer of all levels.
+std::vector<Vec3> osd_interpolate(const Far::TopologyRefiner &r, const st_mesh &m)
+{
+    return osd_interpolate_from(r, m.pos);
+}
+
 int strata_build(st_hier *h, const st_mesh &m, const st_scheme *sc, int levels)
 {
     st_error err;
@@ -94,6 +165,45 @@ int strata_build(st_hier *h, const st_mesh &m, const st_scheme *sc, int levels)
     for (int l = 0; l < levels; l++)
         if (sc->refine(h, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return -1; }
     return 0;
+}
+
+// Processor time of the whole process (all threads, user and system).
+double cpu_now()
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+// End to end, each side from the file to every level's positions: wall and
+// processor time up to the result (freeing comes after the clocks stop).
+struct e2e_time { double wall, cpu; };
+
+e2e_time osd_e2e(const char *path, Sdc::SchemeType type, int levels)
+{
+    double t0 = bench_now(), c0 = cpu_now();
+    osd_obj o;
+    if (!osd_read_obj(path, o)) { fprintf(stderr, "bench_osd: cannot read %s\n", path); exit(1); }
+    Far::TopologyRefiner *r = osd_refine_desc((int)(o.pos.size() / 3), o.counts, o.idx.data(), type, levels);
+    std::vector<Vec3> buf = osd_interpolate_from(*r, o.pos.data());
+    e2e_time t = { bench_now() - t0, cpu_now() - c0 };
+    delete r;
+    return t;
+}
+
+e2e_time strata_e2e(const char *path, const st_scheme *sc, int levels)
+{
+    double t0 = bench_now(), c0 = cpu_now();
+    st_mesh m;
+    st_error err;
+    st_hier h;
+    st_mesh_init(&m);
+    if (st_mesh_load(path, &m, &err) || strata_build(&h, m, sc, levels)) { fprintf(stderr, "bench_osd: %s\n", err.msg); exit(1); }
+    st_hier_synthesize(&h, 0);
+    e2e_time t = { bench_now() - t0, cpu_now() - c0 };
+    st_hier_free(&h);
+    st_mesh_free(&m);
+    return t;
 }
 
 long rss_kb(const char *field)
@@ -146,6 +256,30 @@ template <class F> double median_time(F fn)
     return bench_median(t, RUNS);
 }
 
+// End to end in a fresh process (this program's --profile-e2e, one run), as
+// a user's command meets it: every page of the heap faulted in for the first
+// time.  Returns wall and processor time and the page faults of the process.
+struct e2e_fresh { double wall, cpu, faults; };
+
+e2e_fresh e2e_in_process(bool osd, bool loop, int levels, int threads)
+{
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "/proc/%d/exe --profile-e2e %s %s %d %d 1", (int)getpid(), osd ? "osd" : "strata",
+             loop ? "loop" : "catmark", levels, threads);
+    e2e_fresh r = { -1, -1, -1 };
+    FILE *f = popen(cmd, "r");
+    char line[256];
+    double wall, cpu;
+    long faults;
+    while (f && fgets(line, sizeof line, f))
+        if (sscanf(strstr(line, "end to end") ? strstr(line, "end to end") : line, "end to end %lf ms, cpu %lf ms (medians of 1), %ld",
+                   &wall, &cpu, &faults) == 3)
+            r = { 1e-3 * wall, 1e-3 * cpu, (double)faults };
+    if (f) pclose(f);
+    if (r.wall < 0) { fprintf(stderr, "bench_osd: %s failed\n", cmd); exit(1); }
+    return r;
+}
+
 void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int levels)
 {
     st_mesh m;
@@ -158,10 +292,11 @@ void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int le
     Far::TopologyRefiner *r = osd_refine(m, type, levels);
     st_hier h;
     if (strata_build(&h, m, sc, levels)) return;
-    // The first synthesis after a refinement also builds the tables
-    // (synth_tables.h) that the later ones reuse: timed apart, and added to
-    // the topology's time in a second ratio (OpenSubdiv's RefineUniform
-    // builds its own tables).
+    // The first synthesis after a refinement also builds Catmull-Clark's
+    // tables (synth_tables.h) that the later ones reuse (Loop's first walks
+    // the levels and its second builds them: st_synth_tables_defer): timed
+    // apart, and added to the topology's time in a second ratio
+    // (OpenSubdiv's RefineUniform builds its own tables).
     st_parallel_set_threads(1);
     double t_first0 = bench_now();
     st_hier_synthesize(&h, 0);
@@ -190,13 +325,50 @@ void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int le
            (unsigned long long)st_pool_count(&h.map.verts, levels));
     delete r;
     st_hier_free(&h);
+    // End to end, the three interleaved: OpenSubdiv, Strata on 1 thread, on 2.
+    double ew[3][RUNS], ec[3][RUNS];
+    for (int k = 0; k < RUNS; k++) {
+        e2e_time a = osd_e2e(path, type, levels);
+        st_parallel_set_threads(1);
+        e2e_time b = strata_e2e(path, sc, levels);
+        st_parallel_set_threads(2);
+        e2e_time c = strata_e2e(path, sc, levels);
+        st_parallel_set_threads(1);
+        ew[0][k] = a.wall, ec[0][k] = a.cpu;
+        ew[1][k] = b.wall, ec[1][k] = b.cpu;
+        ew[2][k] = c.wall, ec[2][k] = c.cpu;
+    }
+    double e_osd = bench_median(ew[0], RUNS), e_st = bench_median(ew[1], RUNS), e_st2 = bench_median(ew[2], RUNS);
+    double ec_osd = bench_median(ec[0], RUNS), ec_st = bench_median(ec[1], RUNS);
+    // The same, each run in a fresh process, interleaved.
+    bool loop = type == Sdc::SCHEME_LOOP;
+    double fw[3][RUNS], fc[3][RUNS], ff[3][RUNS];
+    for (int k = 0; k < RUNS; k++) {
+        e2e_fresh a = e2e_in_process(true, loop, levels, 1), b = e2e_in_process(false, loop, levels, 1),
+                  c = e2e_in_process(false, loop, levels, 2);
+        fw[0][k] = a.wall, fc[0][k] = a.cpu, ff[0][k] = a.faults;
+        fw[1][k] = b.wall, fc[1][k] = b.cpu, ff[1][k] = b.faults;
+        fw[2][k] = c.wall, fc[2][k] = c.cpu, ff[2][k] = c.faults;
+    }
+    double f_osd = bench_median(fw[0], RUNS), f_st = bench_median(fw[1], RUNS), f_st2 = bench_median(fw[2], RUNS);
+    double fc_osd = bench_median(fc[0], RUNS), fc_st = bench_median(fc[1], RUNS);
+    double ff_osd = bench_median(ff[0], RUNS), ff_st = bench_median(ff[1], RUNS);
     long mem_osd = peak_bytes([&] { Far::TopologyRefiner *q = osd_refine(m, type, levels); osd_interpolate(*q, m); delete q; });
     long mem_st = peak_bytes([&] { st_hier g; if (!strata_build(&g, m, sc, levels)) { st_hier_synthesize(&g, 0); st_hier_free(&g); } });
     printf("  topology refinement: Strata %.1f ms, OpenSubdiv %.1f ms, ratio %.2f (target <= 1.5)\n",
            1e3 * t_st_topo, 1e3 * t_osd_topo, t_st_topo / t_osd_topo);
-    printf("  first synthesis after refinement (1 thread, builds the tables): Strata %.1f ms; topology + it %.1f ms, "
+    printf("  first synthesis after refinement (1 thread, %s): Strata %.1f ms; topology + it %.1f ms, "
                "ratio %.2f to OpenSubdiv's topology\n",
-               1e3 * t_first, 1e3 * (t_st_topo + t_first), (t_st_topo + t_first) / t_osd_topo);
+               type == Sdc::SCHEME_LOOP ? "walks the levels" : "builds the tables", 1e3 * t_first, 1e3 * (t_st_topo + t_first),
+               (t_st_topo + t_first) / t_osd_topo);
+    printf("  end to end (read OBJ + topology + first synthesis of all levels), fresh process, 1 thread: Strata %.1f ms "
+           "(cpu %.1f, %.0f page faults), OpenSubdiv %.1f ms (cpu %.1f, %.0f page faults), ratio %.2f (cpu %.2f; target <= 0.8)\n",
+           1e3 * f_st, 1e3 * fc_st, ff_st, 1e3 * f_osd, 1e3 * fc_osd, ff_osd, f_st / f_osd, fc_st / fc_osd);
+    printf("  end to end, fresh process, Strata 2 threads: %.1f ms, OpenSubdiv (1 thread) %.1f ms, ratio %.2f\n", 1e3 * f_st2,
+           1e3 * f_osd, f_st2 / f_osd);
+    printf("  end to end in this process (heap reused), 1 thread: Strata %.1f ms (cpu %.1f), OpenSubdiv %.1f ms (cpu %.1f), "
+           "ratio %.2f (cpu %.2f); Strata 2 threads %.1f ms, ratio %.2f\n",
+           1e3 * e_st, 1e3 * ec_st, 1e3 * e_osd, 1e3 * ec_osd, e_st / e_osd, ec_st / ec_osd, 1e3 * e_st2, e_st2 / e_osd);
     printf("  synthesis, all levels, 1 thread: Strata %.1f ms, OpenSubdiv %.1f ms, ratio %.2f (target <= 1.0)\n",
            1e3 * t_st_synth, 1e3 * t_osd_interp, t_st_synth / t_osd_interp);
     printf("  synthesis, all levels, 2 threads: Strata %.1f ms, OpenSubdiv (1 thread) %.1f ms, ratio %.2f (target <= 0.6)\n",
@@ -253,14 +425,6 @@ void local_edit(const char *path, int repeat = 0)
 }
 
 } // namespace
-
-// Processor time of the whole process (all threads).
-double cpu_now()
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 // Compares every position of levels 1..top (after a synthesis) with its
 // stencil evaluated on the level below: prints the count of exact matches
@@ -347,22 +511,49 @@ int profile(int argc, char **argv)
     return 0;
 }
 
+// End to end on one side, for profilers:
+//   bench_osd --profile-e2e strata|osd catmark|loop DEPTH [THREADS [REPEAT]]
+int profile_e2e(int argc, char **argv)
+{
+    if (argc < 5) { fprintf(stderr, "usage: bench_osd --profile-e2e strata|osd catmark|loop DEPTH [THREADS [REPEAT]]\n"); return 2; }
+    bool osd = !strcmp(argv[2], "osd"), loop = !strcmp(argv[3], "loop");
+    int levels = atoi(argv[4]), repeat = argc > 6 ? atoi(argv[6]) : 1;
+    if (repeat < 1) repeat = 1;
+    st_parallel_set_threads(argc > 5 ? (unsigned)atoi(argv[5]) : 1);
+    std::string path = std::string(STRATA_SHARED_DATA) + (loop ? "/large/koala.obj" : "/catmull_clark/spot_quadrangulated.obj");
+    std::vector<double> t(repeat), c(repeat);
+    for (int i = 0; i < repeat; i++) {
+        e2e_time e = osd ? osd_e2e(path.c_str(), loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, levels)
+                         : strata_e2e(path.c_str(), loop ? st_scheme_find("loop") : &st_scheme_catmark, levels);
+        t[i] = e.wall;
+        c[i] = e.cpu;
+    }
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    printf("%s end to end %.2f ms, cpu %.2f ms (medians of %d), %ld page faults\n", osd ? "osd" : "strata",
+           1e3 * bench_median(t.data(), repeat), 1e3 * bench_median(c.data(), repeat), repeat, ru.ru_minflt + ru.ru_majflt);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && !strcmp(argv[1], "--profile-e2e")) return profile_e2e(argc, argv);
     if (argc > 1 && !strcmp(argv[1], "--profile")) return profile(argc, argv);
     if (argc > 2 && !strcmp(argv[1], "--profile-edit")) {
         local_edit((std::string(STRATA_SHARED_DATA) + "/catmull_clark/blub_control_mesh.obj").c_str(), atoi(argv[2]));
         return 0;
     }
-    bool quick = argc > 1 && !strcmp(argv[1], "--quick");
-    std::string dir = STRATA_SHARED_DATA;
-    compare((dir + "/catmull_clark/spot_quadrangulated.obj").c_str(), &st_scheme_catmark, Sdc::SCHEME_CATMARK, quick ? 2 : 4);
-    const st_scheme *loop = st_scheme_find("loop");
-    if (loop && loop->check) {
-        st_mesh probe;
-        st_mesh_init(&probe);
-        compare((dir + "/large/koala.obj").c_str(), loop, Sdc::SCHEME_LOOP, quick ? 1 : 3);
+    bool quick = false, spot = true, koala = true, edit = true;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--quick")) quick = true;
+        else if (!strcmp(argv[i], "spot")) koala = edit = false;
+        else if (!strcmp(argv[i], "koala")) spot = edit = false;
     }
+    std::string dir = STRATA_SHARED_DATA;
+    if (spot) compare((dir + "/catmull_clark/spot_quadrangulated.obj").c_str(), &st_scheme_catmark, Sdc::SCHEME_CATMARK, quick ? 2 : 4);
+    const st_scheme *loop = st_scheme_find("loop");
+    if (koala && loop && loop->check) compare((dir + "/large/koala.obj").c_str(), loop, Sdc::SCHEME_LOOP, quick ? 1 : 3);
+    if (!edit) return 0;
     local_edit((dir + "/catmull_clark/blub_control_mesh.obj").c_str());
     return 0;
 }

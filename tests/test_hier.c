@@ -3,6 +3,7 @@
 #include "core/multires/hier.h"
 #include "core/multires/hier_internal.h"
 #include "core/base/parallel.h"
+#include "core/schemes/synth_tables_internal.h"
 #include "testlib.h"
 
 #include <math.h>
@@ -82,8 +83,9 @@ static void tetra(st_mesh *s) { tl_mesh_tetra(s); }
 /* Catmull-Clark's and Loop's full syntheses read tables cached per level
  * (synth_tables.h) that must follow every change of topology or sharpness:
  * after each change the levels still equal their stencils, one thread and
- * two agree to the bit, and a second synthesis from the cache repeats the
- * first. */
+ * two agree to the bit, and later syntheses repeat the first (Loop's first
+ * synthesis after a change walks the level and the second builds the
+ * tables: st_synth_tables_defer; a third and a fourth read them). */
 static void check_tables(st_scheme_id id, void (*make)(st_mesh *), size_t i)
 {
     {
@@ -103,20 +105,29 @@ static void check_tables(st_scheme_id id, void (*make)(st_mesh *), size_t i)
             }
             st_parallel_set_threads(1);
             st_hier_synthesize(&h, 0);
+            /* Loop's first synthesis leaves marks, its second tables. */
+            const st_synth_table *t = st_synth_tables_if_fresh(&h, 0, id);
+            CHECKF(id != ST_SCHEME_LOOP || (t && t->deferred), "mesh %zu, step %d: level 0 not marked", i, step);
             double gap = stencil_gap(&h);
             CHECKF(gap < 1e-13, "mesh %zu, step %d: levels and stencils differ by %g", i, step, gap);
-            tl_posnap one, again, two;
+            tl_posnap one, again, two, cached;
             tl_snap_pos(&h, &one);
             st_hier_synthesize(&h, 0);
             tl_snap_pos(&h, &again);
+            t = st_synth_tables_if_fresh(&h, 0, id);
+            CHECKF(t && !t->deferred, "mesh %zu, step %d: no tables after the second synthesis", i, step);
             st_parallel_set_threads(2);
             st_hier_synthesize(&h, 0);
             tl_snap_pos(&h, &two);
             st_parallel_set_threads(1);
-            CHECKF(tl_snap_maxdiff(&one, &again) == 0 && tl_snap_maxdiff(&one, &two) == 0, "mesh %zu, step %d", i, step);
+            st_hier_synthesize(&h, 0);
+            tl_snap_pos(&h, &cached);
+            CHECKF(tl_snap_maxdiff(&one, &again) == 0 && tl_snap_maxdiff(&one, &two) == 0 && tl_snap_maxdiff(&one, &cached) == 0,
+                   "mesh %zu, step %d", i, step);
             free(one.p);
             free(again.p);
             free(two.p);
+            free(cached.p);
         }
         st_hier_free(&h);
     }

@@ -240,6 +240,41 @@ static void list_faces(const ctx *x, const soup *s, const edge_rec *e, uint32_t 
     if (n > MAX_LISTED && len < size) snprintf(buf + len, size - len, ", ...");
 }
 
+/* e[0..n) made in corner order (c ascending) into (key, c) order, the order
+ * qsort with cmp_edge gives (a total order: the same array): a stable
+ * least-significant-digit radix sort of the key, 16 bits a pass, skipping
+ * the passes whose digit every key shares.  About a fifth of qsort's
+ * instructions on koala's 300k half-edges.  Small inputs, or no memory for
+ * the scratch, take qsort. */
+static void sort_edges(edge_rec *e, uint32_t n)
+{
+    edge_rec *tmp = n >= 1024 ? malloc((size_t)n * sizeof *tmp) : NULL;
+    uint32_t *count = tmp ? malloc(65536 * sizeof *count) : NULL;
+    if (!count) {
+        free(tmp);
+        qsort(e, n, sizeof *e, cmp_edge);
+        return;
+    }
+    edge_rec *src = e, *dst = tmp;
+    for (unsigned shift = 0; shift < 64; shift += 16) {
+        memset(count, 0, 65536 * sizeof *count);
+        for (uint32_t i = 0; i < n; i++) count[(src[i].key >> shift) & 0xffff]++;
+        if (count[(src[0].key >> shift) & 0xffff] == n) continue;
+        for (uint32_t b = 0, sum = 0; b < 65536; b++) {
+            uint32_t k = count[b];
+            count[b] = sum;
+            sum += k;
+        }
+        for (uint32_t i = 0; i < n; i++) dst[count[(src[i].key >> shift) & 0xffff]++] = src[i];
+        edge_rec *t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != e) memcpy(e, src, (size_t)n * sizeof *e);
+    free(tmp);
+    free(count);
+}
+
 /* The half-edges sorted by undirected key; vertices are first relabelled
  * through relabel when it is not NULL. */
 static edge_rec *sorted_edges(const ctx *x, const soup *s, const uint32_t *relabel)
@@ -254,7 +289,7 @@ static edge_rec *sorted_edges(const ctx *x, const soup *s, const uint32_t *relab
         e[c].key = relabel ? edge_key(relabel[a], relabel[b]) : edge_key(a, b);
         e[c].c = c;
     }
-    qsort(e, s->nc, sizeof *e, cmp_edge);
+    sort_edges(e, s->nc);
     return e;
 }
 

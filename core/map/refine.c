@@ -224,20 +224,27 @@ static void bulk_pointers(bulk *b)
     st_level_view_init(m, b->l, &b->c);
 }
 
-static uint32_t take_id(bulk *b, id_cursor *c, uint32_t (*take_run)(st_map *, unsigned, uint32_t, uint32_t *))
+/* A new run of ids: the slow path of take_id, out of line so that the
+ * common case (the run has ids left) is a compare and an increment where
+ * it is used. */
+static uint32_t take_run_of(bulk *b, id_cursor *c, uint32_t (*take_run)(st_map *, unsigned, uint32_t, uint32_t *))
 {
-    if (c->next == c->end) {
-        uint32_t got, want = c->left > UINT32_MAX ? UINT32_MAX : (uint32_t)c->left;
-        c->next = take_run(b->m, b->L, want ? want : 1, &got);
-        c->end = c->next + got;
-        c->left -= got <= c->left ? got : c->left;
-        bulk_pointers(b);
-    }
+    uint32_t got, want = c->left > UINT32_MAX ? UINT32_MAX : (uint32_t)c->left;
+    c->next = take_run(b->m, b->L, want ? want : 1, &got);
+    c->end = c->next + got;
+    c->left -= got <= c->left ? got : c->left;
+    bulk_pointers(b);
     return c->next++;
 }
 
-static uint32_t take_dart(bulk *b) { return take_id(b, &b->darts, st_dart_take_run); }
-static uint32_t take_vertex(bulk *b) { return take_id(b, &b->verts, st_vertex_take_run); }
+static inline uint32_t take_dart(bulk *b)
+{
+    return b->darts.next != b->darts.end ? b->darts.next++ : take_run_of(b, &b->darts, st_dart_take_run);
+}
+static inline uint32_t take_vertex(bulk *b)
+{
+    return b->verts.next != b->verts.end ? b->verts.next++ : take_run_of(b, &b->verts, st_vertex_take_run);
+}
 
 static int bit(const uint64_t *s, uint32_t d) { return (s[d >> 6] >> (d & 63)) & 1; }
 static void set_bit(uint64_t *s, uint32_t d) { s[d >> 6] |= 1ull << (d & 63); }

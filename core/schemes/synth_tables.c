@@ -38,13 +38,12 @@ const st_synth_table *st_synth_tables_if_fresh(const st_hier *h, unsigned l, int
     return NULL;
 }
 
-const st_synth_table *st_synth_tables_for(st_hier *h, unsigned L, int scheme, st_synth_build build)
+/* An empty table of coarse level l, stamped with the map's state, in the
+ * cache (what it held is freed first: stale). */
+static st_synth_table *table_new(st_hier *h, unsigned l, int scheme)
 {
     st_map *m = &h->map;
-    unsigned l = L - 1;
     st_level_cache *cache = &h->cache[l];
-    const st_synth_table *fresh = st_synth_tables_if_fresh(h, l, scheme);
-    if (fresh) return fresh;
     if (cache->p) cache->free(cache->p); /* stale: freed before the new one grows */
     cache->p = NULL;
     st_synth_table *t = calloc(1, sizeof *t);
@@ -53,9 +52,26 @@ const st_synth_table *st_synth_tables_for(st_hier *h, unsigned L, int scheme, st
                            .top = m->top, .plvl = m->pos.eff[l] };
     cache->p = t;
     cache->free = table_free;
+    return t;
+}
+
+const st_synth_table *st_synth_tables_for(st_hier *h, unsigned L, int scheme, st_synth_build build)
+{
+    st_map *m = &h->map;
+    unsigned l = L - 1;
+    const st_synth_table *fresh = st_synth_tables_if_fresh(h, l, scheme);
+    if (fresh && !fresh->deferred) return fresh;
+    st_synth_table *t = table_new(h, l, scheme);
     /* Refs keep one bit for the column: ids past 2^31 (never in memory
      * today) take the stencils. */
     t->irregular = m->verts.end > REF_ID || build(h, L, t);
     table_shrink(t);
     return t;
+}
+
+int st_synth_tables_defer(st_hier *h, unsigned L, int scheme)
+{
+    if (st_synth_tables_if_fresh(h, L - 1, scheme)) return 0; /* built, or marked by the last synthesis */
+    table_new(h, L - 1, scheme)->deferred = 1;
+    return 1;
 }

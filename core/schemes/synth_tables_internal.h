@@ -84,6 +84,8 @@ typedef struct st_synth_table {
     uint32_t dend, vend;             /* ... and, as a second guard, the pools' ends, */
     unsigned top, plvl;              /* the top level and the coarse positions' column */
     int irregular;                   /* the level is not the split the scheme assumes: stencils */
+    int deferred;                    /* a mark without records: the last synthesis went without tables
+                                        (st_synth_tables_defer), the next builds them */
     u32vec quad, foff, fdata, edge, sedge, v4, voff, vdata, svert, copy;
 } st_synth_table;
 
@@ -96,6 +98,13 @@ typedef int (*st_synth_build)(st_hier *h, unsigned L, st_synth_table *t);
 const st_synth_table *st_synth_tables_if_fresh(const st_hier *h, unsigned l, int scheme);
 /* The same, built now (and cached) when there are none or they are stale. */
 const st_synth_table *st_synth_tables_for(st_hier *h, unsigned L, int scheme, st_synth_build build);
+/* Whether this full synthesis of level L goes without tables: true when
+ * nothing fresh is cached for the coarse level (the first synthesis after a
+ * change), which leaves a mark so that the next synthesis builds them
+ * (st_synth_tables_for).  For a scheme whose walk of the level costs less
+ * than building the tables: a one-shot synthesis (a command that subdivides
+ * and writes) builds no tables it would never read. */
+int st_synth_tables_defer(st_hier *h, unsigned L, int scheme);
 
 static inline uint32_t st_synth_count(const u32vec *off) { return off->n ? (uint32_t)off->n - 1 : 0; }
 
