@@ -7,6 +7,18 @@
 
 #include <stdio.h>
 
+/* The synthesis tables (st_hier.cache) serve later syntheses; the command
+ * writes one level and exits: their memory goes back before the writer
+ * takes its own. */
+static void drop_synthesis_caches(st_hier *h)
+{
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++)
+        if (h->cache[l].p) {
+            h->cache[l].free(h->cache[l].p);
+            h->cache[l].p = NULL;
+        }
+}
+
 int st_cmd_subdivide(int argc, char **argv)
 {
     st_cli_opts o;
@@ -22,6 +34,7 @@ int st_cmd_subdivide(int argc, char **argv)
     unsigned level;
     if (st_cli_level(&o, &h, "subdivide", &level)) { st_hier_free(&h); return 2; }
     st_error err;
+    drop_synthesis_caches(&h);
     if (st_path_has_ext(o.out, ".ply")) {
         /* Straight from the map: no copy of the level (core/io/level_ply.h). */
         rc = st_hier_level_save_ply(&h, level, o.out, &err);
