@@ -2,8 +2,10 @@
  *
  * The soup path (st_map_to_mesh, st_fvar_level_mesh, then the PLY writer's
  * split along UV seams) copies the level three times and sorts its corners
- * twice; this walks the level once, groups the corners by vertex with a
- * counting sort and writes through one buffer.  Its bytes are the soup
+ * twice.  This writes through one buffer from the map: without UVs from
+ * two walks of the faces (one counting, one writing) and no per-corner
+ * array; with UVs from one walk into an array of corners, grouped by
+ * vertex with a counting sort.  Its bytes are the soup
  * path's: the same face walk (darts in st_dart_first/next order, each
  * unvisited face along φ1, boundary darts left out, as st_map_to_mesh), the
  * same vertex order, and with UVs the same PLY vertices: the soup numbers a
@@ -168,17 +170,55 @@ done:
 
 /* ---- the writer ------------------------------------------------------------------- */
 
-/* The checks of mesh_write.c's check_writable, in its order, with its messages. */
-static int check_level(const char *path, const st_map *m, unsigned l, const level_faces *lf, const uint32_t *order,
-                       uint32_t nverts, const st_fvar_level *fl, const uv_groups *g, st_error *err)
+/* What the header and the checks need of the faces: counts, whether a
+ * face has more than 255 corners, the first face under 3 corners. */
+typedef struct face_counts {
+    uint32_t nfaces, nreal, first_short;
+    int wide;
+} face_counts;
+
+static void count_face(face_counts *fc, uint32_t k, int hole)
 {
-    for (uint32_t i = 0; i < nverts; i++) {
-        const double *p = st_pos(m, order[i], l);
-        for (int k = 0; k < 3; k++)
-            if (!isfinite(p[k])) return st_fail(err, ST_ERR_GEOMETRY, "%s: vertex %zu is not finite", path, (size_t)i);
+    if (k < 3 && fc->first_short == UINT32_MAX) fc->first_short = fc->nfaces;
+    fc->nfaces++;
+    if (hole) return;
+    fc->nreal++;
+    fc->wide |= k > 255;
+}
+
+/* Without UVs: one walk that counts, and later one that writes (below),
+ * instead of an array of every corner. */
+static void count_faces_walk(st_map *m, unsigned l, face_counts *fc)
+{
+    int fbit = st_marker_reserve(m);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+        uint32_t k = 0, x = d;
+        do {
+            st_mark(m, fbit, x);
+            k++;
+            x = st_phi1(m, x, l);
+        } while (x != d);
+        count_face(fc, k, st_is_hole(m, d));
     }
-    for (uint32_t f = 0; f < lf->nfaces; f++)
-        if (lf->off[f + 1] - lf->off[f] < 3) return st_fail(err, ST_ERR_INVALID, "%s: face %u has fewer than 3 vertices", path, f);
+    st_marker_release(m, fbit, l);
+}
+
+/* The checks of mesh_write.c's check_writable, in its order, with its
+ * messages: positions in level order, faces, then texture coordinates. */
+static int check_level(const char *path, st_map *m, unsigned l, const face_counts *fc, const st_fvar_level *fl,
+                       const uv_groups *g, st_error *err)
+{
+    st_dart_iter it;
+    size_t i = 0;
+    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it), i++) {
+        const double *p = st_pos(m, v, l);
+        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
+            return st_fail(err, ST_ERR_GEOMETRY, "%s: vertex %zu is not finite", path, i);
+    }
+    if (fc->first_short != UINT32_MAX)
+        return st_fail(err, ST_ERR_INVALID, "%s: face %u has fewer than 3 vertices", path, fc->first_short);
     for (uint32_t t = 0; g && t < g->n; t++) {
         uint32_t x = g->first[t];
         for (int k = 0; x < fl->cap && k < 2; k++)
@@ -188,38 +228,73 @@ static int check_level(const char *path, const st_map *m, unsigned l, const leve
     return 0;
 }
 
-static void write_body(FILE *f, const st_map *m, unsigned l, const level_faces *lf, const uint32_t *order,
-                       const uint32_t *vindex, uint32_t nverts, const st_fvar_level *fl, const uv_groups *g)
+static void write_header(FILE *f, uint32_t nverts, int uv, const face_counts *fc)
 {
-    uint32_t nreal = 0;
-    int wide = 0;
-    for (uint32_t fi = 0; fi < lf->nfaces; fi++) {
-        if (st_is_hole(m, lf->dart[lf->off[fi]])) continue;
-        nreal++;
-        wide |= lf->off[fi + 1] - lf->off[fi] > 255;
-    }
     fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment written by Strata\n"
-               "element vertex %u\nproperty double x\nproperty double y\nproperty double z\n", g ? g->n : nverts);
-    if (g) fprintf(f, "property double u\nproperty double v\n");
-    fprintf(f, "element face %u\nproperty list %s uint vertex_indices\nend_header\n", nreal, wide ? "uint" : "uchar");
+               "element vertex %u\nproperty double x\nproperty double y\nproperty double z\n", nverts);
+    if (uv) fprintf(f, "property double u\nproperty double v\n");
+    fprintf(f, "element face %u\nproperty list %s uint vertex_indices\nend_header\n", fc->nreal,
+            fc->wide ? "uint" : "uchar");
+}
+
+static void write_face_size(ply_out *o, const face_counts *fc, uint32_t k)
+{
+    if (fc->wide) out_u32(o, k);
+    else out_u8(o, k);
+}
+
+/* Without UVs: the level's vertices, then its real faces walked again. */
+static void write_plain(FILE *f, st_map *m, unsigned l, const uint32_t *vindex, uint32_t nverts, const face_counts *fc)
+{
+    write_header(f, nverts, 0, fc);
     ply_out buf, *o = &buf;
     o->f = f;
     o->n = 0;
-    uint32_t nout = g ? g->n : nverts;
-    for (uint32_t i = 0; i < nout; i++) {
-        const double *p = g ? st_dart_pos(m, g->first[i], l) : st_pos(m, order[i], l);
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
+        const double *p = st_pos(m, v, l);
         for (int k = 0; k < 3; k++) out_f64(o, p[k]);
-        if (!g) continue;
+    }
+    int fbit = st_marker_reserve(m);
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+        int real = !st_is_hole(m, d);
+        uint32_t k = 0, x = d;
+        do {
+            k++;
+            x = st_phi1(m, x, l);
+        } while (x != d);
+        if (real) write_face_size(o, fc, k);
+        do {
+            st_mark(m, fbit, x);
+            if (real) out_u32(o, vindex[st_vert(m, x, l)]);
+            x = st_phi1(m, x, l);
+        } while (x != d);
+    }
+    st_marker_release(m, fbit, l);
+    fwrite(o->b, 1, o->n, f);
+}
+
+/* With UVs: one vertex per group, faces from the corner array. */
+static void write_uv(FILE *f, const st_map *m, unsigned l, const level_faces *lf, const face_counts *fc,
+                     const st_fvar_level *fl, const uv_groups *g)
+{
+    write_header(f, g->n, 1, fc);
+    ply_out buf, *o = &buf;
+    o->f = f;
+    o->n = 0;
+    for (uint32_t i = 0; i < g->n; i++) {
         uint32_t x = g->first[i];
+        const double *p = st_dart_pos(m, x, l);
+        for (int k = 0; k < 3; k++) out_f64(o, p[k]);
         out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x] : 0);
         out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x + 1] : 0);
     }
     for (uint32_t fi = 0; fi < lf->nfaces; fi++) {
         uint32_t a = lf->off[fi], b = lf->off[fi + 1];
         if (st_is_hole(m, lf->dart[a])) continue;
-        if (wide) out_u32(o, b - a);
-        else out_u8(o, b - a);
-        for (uint32_t c = a; c < b; c++) out_u32(o, g ? g->corner_t[c] : vindex[st_vert(m, lf->dart[c], l)]);
+        write_face_size(o, fc, b - a);
+        for (uint32_t c = a; c < b; c++) out_u32(o, g->corner_t[c]);
     }
     fwrite(o->b, 1, o->n, f);
 }
@@ -243,29 +318,33 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     level_faces lf = { 0 };
     uv_groups groups = { 0 };
     uv_groups *g = uv ? &groups : NULL;
-    uint32_t *vindex = malloc((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vindex);
-    uint32_t *order = NULL, nverts = 0;
-    int rc = vindex && !faces_walk(m, l, &lf) ? 0 : -1;
+    face_counts fc = { 0, 0, UINT32_MAX, 0 };
+    uint32_t *vindex = malloc((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vindex), nverts = 0;
+    int rc = vindex ? 0 : -1;
     if (!rc) {
         st_dart_iter it;
         for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) vindex[v] = nverts++;
-        order = malloc(((size_t)nverts + 1) * sizeof *order);
-        if (!order) rc = -1;
-        for (uint32_t v = st_vertex_first(m, l, &it); !rc && v != ST_NIL; v = st_vertex_next(m, l, &it)) order[vindex[v]] = v;
     }
-    if (!rc && g) rc = uv_group(&lf, vindex, nverts, m, l, fl->val, g);
+    if (!rc && g) {
+        rc = faces_walk(m, l, &lf);
+        if (!rc) rc = uv_group(&lf, vindex, nverts, m, l, fl->val, g);
+        for (uint32_t fi = 0; !rc && fi < lf.nfaces; fi++)
+            count_face(&fc, lf.off[fi + 1] - lf.off[fi], st_is_hole(m, lf.dart[lf.off[fi]]));
+    } else if (!rc) {
+        count_faces_walk(m, l, &fc);
+    }
     if (rc) rc = st_fail(err, ST_ERR_MEMORY, "%s: out of memory writing level %u", path, l);
-    if (!rc) rc = check_level(path, m, l, &lf, order, nverts, fl, g, err);
+    if (!rc) rc = check_level(path, m, l, &fc, fl, g, err);
     st_afile af;
     if (!rc) rc = st_afile_open(&af, path, err);
     if (!rc) {
-        write_body(af.f, m, l, &lf, order, vindex, nverts, fl, g);
+        if (g) write_uv(af.f, m, l, &lf, &fc, fl, g);
+        else write_plain(af.f, m, l, vindex, nverts, &fc);
         rc = st_afile_commit(&af, err);
     }
     faces_free(&lf);
     free(groups.corner_t);
     free(groups.first);
     free(vindex);
-    free(order);
     return rc;
 }
