@@ -42,6 +42,8 @@ static int faces_walk(st_map *m, unsigned l, level_faces *lf)
     lf->dart = malloc(((size_t)nc + 1) * sizeof *lf->dart);
     lf->off = malloc(((size_t)nc + 2) * sizeof *lf->off);
     if (!lf->dart || !lf->off) return -1;
+    st_level_view lv;
+    st_level_view_init(m, l, &lv);
     int fbit = st_marker_reserve(m);
     uint32_t k = 0, nf = 0;
     lf->off[0] = 0;
@@ -51,7 +53,7 @@ static int faces_walk(st_map *m, unsigned l, level_faces *lf)
         do {
             st_mark(m, fbit, x);
             lf->dart[k++] = x;
-            x = st_phi1(m, x, l);
+            x = st_v_phi1(&lv, x);
         } while (x != d);
         lf->off[++nf] = k;
     }
@@ -190,6 +192,8 @@ static void count_face(face_counts *fc, uint32_t k, int hole)
  * instead of an array of every corner. */
 static void count_faces_walk(st_map *m, unsigned l, face_counts *fc)
 {
+    st_level_view lv;
+    st_level_view_init(m, l, &lv);
     int fbit = st_marker_reserve(m);
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
@@ -198,7 +202,7 @@ static void count_faces_walk(st_map *m, unsigned l, face_counts *fc)
         do {
             st_mark(m, fbit, x);
             k++;
-            x = st_phi1(m, x, l);
+            x = st_v_phi1(&lv, x);
         } while (x != d);
         count_face(fc, k, st_is_hole(m, d));
     }
@@ -250,9 +254,11 @@ static void write_plain(FILE *f, st_map *m, unsigned l, const uint32_t *vindex, 
     ply_out buf, *o = &buf;
     o->f = f;
     o->n = 0;
+    st_level_view lv;
+    st_level_view_init(m, l, &lv);
     st_dart_iter it;
     for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
-        const double *p = st_pos(m, v, l);
+        const double *p = st_v_pos(&lv, v);
         for (int k = 0; k < 3; k++) out_f64(o, p[k]);
     }
     int fbit = st_marker_reserve(m);
@@ -262,13 +268,13 @@ static void write_plain(FILE *f, st_map *m, unsigned l, const uint32_t *vindex, 
         uint32_t k = 0, x = d;
         do {
             k++;
-            x = st_phi1(m, x, l);
+            x = st_v_phi1(&lv, x);
         } while (x != d);
         if (real) write_face_size(o, fc, k);
         do {
             st_mark(m, fbit, x);
-            if (real) out_u32(o, vindex[st_vert(m, x, l)]);
-            x = st_phi1(m, x, l);
+            if (real) out_u32(o, vindex[st_v_vert(&lv, x)]);
+            x = st_v_phi1(&lv, x);
         } while (x != d);
     }
     st_marker_release(m, fbit, l);
