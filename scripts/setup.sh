@@ -28,6 +28,8 @@ PACKAGES=(
   nodejs npm
   # instruction counts for benchmarks
   valgrind
+  # wall time, CPU time and peak memory of whole processes (bench/whole_process.sh)
+  time
 )
 
 say() { printf 'setup: %s\n' "$*"; }

@@ -1,0 +1,356 @@
+/* A level written as binary PLY straight from the map (level_ply.h).
+ *
+ * The soup path (st_map_to_mesh, st_fvar_level_mesh, then the PLY writer's
+ * split along UV seams) copies the level three times and sorts its corners
+ * twice.  This writes through one buffer from the map: without UVs from
+ * two walks of the faces (one counting, one writing) and no per-corner
+ * array; with UVs from one walk into an array of corners, grouped by
+ * vertex with a counting sort.  Its bytes are the soup
+ * path's: the same face walk (darts in st_dart_first/next order, each
+ * unvisited face along φ1, boundary darts left out, as st_map_to_mesh), the
+ * same vertex order, and with UVs the same PLY vertices: the soup numbers a
+ * level's texture coordinates by (vertex, value label) and the writer then
+ * makes one vertex per (vertex, texture coordinate) pair in that same order,
+ * so PLY vertex t is the t-th (vertex, label) pair, with the position of its
+ * vertex and the UV of its first corner. */
+#include "core/io/level_ply.h"
+#include "core/io/atomic_file.h"
+#include "core/fvar/fvar_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Level l's faces: the corners' darts face after face (hole faces
+ * included, as in the soup), face f spanning off[f]..off[f+1]. */
+typedef struct level_faces {
+    uint32_t *dart, *off;
+    uint32_t ncorners, nfaces;
+} level_faces;
+
+static void faces_free(level_faces *lf)
+{
+    free(lf->dart);
+    free(lf->off);
+}
+
+static int faces_walk(st_map *m, unsigned l, level_faces *lf)
+{
+    st_dart_iter it;
+    uint32_t nc = 0;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) nc += !st_is_boundary(m, d);
+    lf->dart = malloc(((size_t)nc + 1) * sizeof *lf->dart);
+    lf->off = malloc(((size_t)nc + 2) * sizeof *lf->off);
+    if (!lf->dart || !lf->off) return -1;
+    st_level_view lv;
+    st_level_view_init(m, l, &lv);
+    int fbit = st_marker_reserve(m);
+    uint32_t k = 0, nf = 0;
+    lf->off[0] = 0;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+        uint32_t x = d;
+        do {
+            st_mark(m, fbit, x);
+            lf->dart[k++] = x;
+            x = st_v_phi1(&lv, x);
+        } while (x != d);
+        lf->off[++nf] = k;
+    }
+    st_marker_release(m, fbit, l);
+    lf->ncorners = k;
+    lf->nfaces = nf;
+    return 0;
+}
+
+/* ---- output through one buffer, little-endian ------------------------------------ */
+
+typedef struct ply_out {
+    FILE *f;
+    size_t n;
+    unsigned char b[1 << 16];
+} ply_out;
+
+static void out_room(ply_out *o, size_t n)
+{
+    if (o->n + n <= sizeof o->b) return;
+    fwrite(o->b, 1, o->n, o->f);
+    o->n = 0;
+}
+
+static void out_u32(ply_out *o, uint32_t v)
+{
+    out_room(o, 4);
+    for (int k = 0; k < 4; k++) o->b[o->n++] = (unsigned char)(v >> (8 * k));
+}
+
+static void out_f64(ply_out *o, double d)
+{
+    uint64_t v;
+    memcpy(&v, &d, sizeof v);
+    out_room(o, 8);
+    for (int k = 0; k < 8; k++) o->b[o->n++] = (unsigned char)(v >> (8 * k));
+}
+
+static void out_u8(ply_out *o, unsigned v)
+{
+    out_room(o, 1);
+    o->b[o->n++] = (unsigned char)v;
+}
+
+/* ---- UV groups: one PLY vertex per (vertex, value label) ------------------------- */
+
+typedef struct uv_groups {
+    uint32_t *corner_t;   /* per corner: its PLY vertex */
+    uint32_t *first;      /* per PLY vertex: the dart of its first corner */
+    uint32_t n;
+} uv_groups;
+
+/* Sorts one vertex's corners (ascending ids) by label, ties kept in id
+ * order: insertion for the usual few, qsort of (label, id) keys past 32. */
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+static void sort_by_label(uint32_t *c, uint32_t k, const uint32_t *dart, const uint32_t *val, uint64_t *scratch)
+{
+    if (k > 32) {
+        for (uint32_t i = 0; i < k; i++) scratch[i] = (uint64_t)val[dart[c[i]]] << 32 | c[i];
+        qsort(scratch, k, sizeof *scratch, cmp_u64);
+        for (uint32_t i = 0; i < k; i++) c[i] = (uint32_t)scratch[i];
+        return;
+    }
+    for (uint32_t i = 1; i < k; i++) {
+        uint32_t x = c[i], lx = val[dart[x]], j = i;
+        for (; j > 0 && val[dart[c[j - 1]]] > lx; j--) c[j] = c[j - 1];
+        c[j] = x;
+    }
+}
+
+static int uv_group(const level_faces *lf, const uint32_t *vindex, uint32_t nverts, const st_map *m, unsigned l,
+                    const uint32_t *val, uv_groups *g)
+{
+    uint32_t nc = lf->ncorners;
+    uint32_t *start = calloc((size_t)nverts + 1, sizeof *start);
+    uint32_t *bucket = malloc(((size_t)nc + 1) * sizeof *bucket);
+    g->corner_t = malloc(((size_t)nc + 1) * sizeof *g->corner_t);
+    g->first = malloc(((size_t)nc + 1) * sizeof *g->first);
+    uint64_t *scratch = NULL;
+    int rc = -1;
+    if (!start || !bucket || !g->corner_t || !g->first) goto done;
+    /* Counting sort of the corners by vertex (corner_t holds the vertex for now). */
+    uint32_t kmax = 0;
+    for (uint32_t c = 0; c < nc; c++) start[(g->corner_t[c] = vindex[st_vert(m, lf->dart[c], l)]) + 1]++;
+    /* start[v + 1]: the beginning of v's bucket, then its end once filled
+     * (start[v] being its beginning). */
+    for (uint32_t v = 0, s = 0; v < nverts; v++) {
+        uint32_t k = start[v + 1];
+        start[v + 1] = s;
+        s += k;
+        if (k > kmax) kmax = k;
+    }
+    for (uint32_t c = 0; c < nc; c++) bucket[start[g->corner_t[c] + 1]++] = c;
+    if (kmax > 32 && !(scratch = malloc((size_t)kmax * sizeof *scratch))) goto done;
+    g->n = 0;
+    for (uint32_t v = 0; v < nverts; v++) {
+        uint32_t *c = bucket + start[v], k = start[v + 1] - start[v];
+        sort_by_label(c, k, lf->dart, val, scratch);
+        for (uint32_t i = 0; i < k; i++) {
+            if (i == 0 || val[lf->dart[c[i]]] != val[lf->dart[c[i - 1]]]) g->first[g->n++] = lf->dart[c[i]];
+            g->corner_t[c[i]] = g->n - 1;
+        }
+    }
+    rc = 0;
+done:
+    free(start);
+    free(bucket);
+    free(scratch);
+    return rc;
+}
+
+/* ---- the writer ------------------------------------------------------------------- */
+
+/* What the header and the checks need of the faces: counts, whether a
+ * face has more than 255 corners, the first face under 3 corners. */
+typedef struct face_counts {
+    uint32_t nfaces, nreal, first_short;
+    int wide;
+} face_counts;
+
+static void count_face(face_counts *fc, uint32_t k, int hole)
+{
+    if (k < 3 && fc->first_short == UINT32_MAX) fc->first_short = fc->nfaces;
+    fc->nfaces++;
+    if (hole) return;
+    fc->nreal++;
+    fc->wide |= k > 255;
+}
+
+/* Without UVs: one walk that counts, and later one that writes (below),
+ * instead of an array of every corner. */
+static void count_faces_walk(st_map *m, unsigned l, face_counts *fc)
+{
+    st_level_view lv;
+    st_level_view_init(m, l, &lv);
+    int fbit = st_marker_reserve(m);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+        uint32_t k = 0, x = d;
+        do {
+            st_mark(m, fbit, x);
+            k++;
+            x = st_v_phi1(&lv, x);
+        } while (x != d);
+        count_face(fc, k, st_is_hole(m, d));
+    }
+    st_marker_release(m, fbit, l);
+}
+
+/* The checks of mesh_write.c's check_writable, in its order, with its
+ * messages: positions in level order, faces, then texture coordinates. */
+static int check_level(const char *path, st_map *m, unsigned l, const face_counts *fc, const st_fvar_level *fl,
+                       const uv_groups *g, st_error *err)
+{
+    st_dart_iter it;
+    size_t i = 0;
+    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it), i++) {
+        const double *p = st_pos(m, v, l);
+        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
+            return st_fail(err, ST_ERR_GEOMETRY, "%s: vertex %zu is not finite", path, i);
+    }
+    if (fc->first_short != UINT32_MAX)
+        return st_fail(err, ST_ERR_INVALID, "%s: face %u has fewer than 3 vertices", path, fc->first_short);
+    for (uint32_t t = 0; g && t < g->n; t++) {
+        uint32_t x = g->first[t];
+        for (int k = 0; x < fl->cap && k < 2; k++)
+            if (!isfinite(fl->uv[2 * (size_t)x + (size_t)k]))
+                return st_fail(err, ST_ERR_GEOMETRY, "%s: texture coordinate %zu is not finite", path, (size_t)t);
+    }
+    return 0;
+}
+
+static void write_header(FILE *f, uint32_t nverts, int uv, const face_counts *fc)
+{
+    fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment written by Strata\n"
+               "element vertex %u\nproperty double x\nproperty double y\nproperty double z\n", nverts);
+    if (uv) fprintf(f, "property double u\nproperty double v\n");
+    fprintf(f, "element face %u\nproperty list %s uint vertex_indices\nend_header\n", fc->nreal,
+            fc->wide ? "uint" : "uchar");
+}
+
+static void write_face_size(ply_out *o, const face_counts *fc, uint32_t k)
+{
+    if (fc->wide) out_u32(o, k);
+    else out_u8(o, k);
+}
+
+/* Without UVs: the level's vertices, then its real faces walked again. */
+static void write_plain(FILE *f, st_map *m, unsigned l, const uint32_t *vindex, uint32_t nverts, const face_counts *fc)
+{
+    write_header(f, nverts, 0, fc);
+    ply_out buf, *o = &buf;
+    o->f = f;
+    o->n = 0;
+    st_level_view lv;
+    st_level_view_init(m, l, &lv);
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
+        const double *p = st_v_pos(&lv, v);
+        for (int k = 0; k < 3; k++) out_f64(o, p[k]);
+    }
+    int fbit = st_marker_reserve(m);
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+        int real = !st_is_hole(m, d);
+        uint32_t k = 0, x = d;
+        do {
+            k++;
+            x = st_v_phi1(&lv, x);
+        } while (x != d);
+        if (real) write_face_size(o, fc, k);
+        do {
+            st_mark(m, fbit, x);
+            if (real) out_u32(o, vindex[st_v_vert(&lv, x)]);
+            x = st_v_phi1(&lv, x);
+        } while (x != d);
+    }
+    st_marker_release(m, fbit, l);
+    fwrite(o->b, 1, o->n, f);
+}
+
+/* With UVs: one vertex per group, faces from the corner array. */
+static void write_uv(FILE *f, const st_map *m, unsigned l, const level_faces *lf, const face_counts *fc,
+                     const st_fvar_level *fl, const uv_groups *g)
+{
+    write_header(f, g->n, 1, fc);
+    ply_out buf, *o = &buf;
+    o->f = f;
+    o->n = 0;
+    for (uint32_t i = 0; i < g->n; i++) {
+        uint32_t x = g->first[i];
+        const double *p = st_dart_pos(m, x, l);
+        for (int k = 0; k < 3; k++) out_f64(o, p[k]);
+        out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x] : 0);
+        out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x + 1] : 0);
+    }
+    for (uint32_t fi = 0; fi < lf->nfaces; fi++) {
+        uint32_t a = lf->off[fi], b = lf->off[fi + 1];
+        if (st_is_hole(m, lf->dart[a])) continue;
+        write_face_size(o, fc, b - a);
+        for (uint32_t c = a; c < b; c++) out_u32(o, g->corner_t[c]);
+    }
+    fwrite(o->b, 1, o->n, f);
+}
+
+static int save_through_soup(st_hier *h, unsigned l, const char *path, st_error *err)
+{
+    st_mesh out;
+    st_mesh_init(&out);
+    int rc = st_hier_level_mesh(h, l, &out, err);
+    if (!rc) rc = st_mesh_save_ply(path, &out, err);
+    st_mesh_free(&out);
+    return rc;
+}
+
+int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *err)
+{
+    st_map *m = &h->map;
+    if (m->face_embedded) return save_through_soup(h, l, path, err);
+    const double *uv = st_hier_uv(h, l);
+    const st_fvar_level *fl = uv ? &h->fvar->lv[l] : NULL;
+    level_faces lf = { 0 };
+    uv_groups groups = { 0 };
+    uv_groups *g = uv ? &groups : NULL;
+    face_counts fc = { 0, 0, UINT32_MAX, 0 };
+    uint32_t *vindex = malloc((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vindex), nverts = 0;
+    int rc = vindex ? 0 : -1;
+    if (!rc) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) vindex[v] = nverts++;
+    }
+    if (!rc && g) {
+        rc = faces_walk(m, l, &lf);
+        if (!rc) rc = uv_group(&lf, vindex, nverts, m, l, fl->val, g);
+        for (uint32_t fi = 0; !rc && fi < lf.nfaces; fi++)
+            count_face(&fc, lf.off[fi + 1] - lf.off[fi], st_is_hole(m, lf.dart[lf.off[fi]]));
+    } else if (!rc) {
+        count_faces_walk(m, l, &fc);
+    }
+    if (rc) rc = st_fail(err, ST_ERR_MEMORY, "%s: out of memory writing level %u", path, l);
+    if (!rc) rc = check_level(path, m, l, &fc, fl, g, err);
+    st_afile af;
+    if (!rc) rc = st_afile_open(&af, path, err);
+    if (!rc) {
+        if (g) write_uv(af.f, m, l, &lf, &fc, fl, g);
+        else write_plain(af.f, m, l, vindex, nverts, &fc);
+        rc = st_afile_commit(&af, err);
+    }
+    faces_free(&lf);
+    free(groups.corner_t);
+    free(groups.first);
+    free(vindex);
+    return rc;
+}

@@ -1,0 +1,17 @@
+/* A level of a hierarchy written as binary PLY straight from the map.
+ *
+ * The same bytes as st_hier_level_mesh followed by st_mesh_save_ply
+ * (core/io/mesh_write.c), without the intermediate soup, its UV soup and
+ * the copy split along UV seams: what `strata subdivide -o X.ply` writes
+ * after the finest level's synthesis, when the whole hierarchy is still in
+ * memory.  Vertices in level order; with UVs, one PLY vertex per vertex and
+ * face-varying value, in the order of (vertex, value label); hole faces are
+ * not written.  Dual maps (Doo-Sabin, √3) go through the soup. */
+#ifndef ST_LEVEL_PLY_H
+#define ST_LEVEL_PLY_H
+
+#include "core/multires/hier.h"
+
+int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *err);
+
+#endif

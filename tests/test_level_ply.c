@@ -1,0 +1,125 @@
+/* st_hier_level_save_ply (core/io/level_ply.h) writes the bytes of the soup
+ * path, st_hier_level_mesh + st_mesh_save_ply: with and without UVs, with
+ * hole faces, on boundaries, at every level, for primal and dual schemes;
+ * and refuses a level with a non-finite position as the soup path does,
+ * with the same message, leaving no file. */
+#include "testlib.h"
+#include "core/io/level_ply.h"
+#include "core/multires/hier.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define MESHES STRATA_SHARED_DATA "/"
+
+static char direct_path[256], soup_path[256];
+
+static int soup_save(st_hier *h, unsigned l, const char *path, st_error *err)
+{
+    st_mesh out;
+    st_mesh_init(&out);
+    int rc = st_hier_level_mesh(h, l, &out, err);
+    if (!rc) rc = st_mesh_save_ply(path, &out, err);
+    st_mesh_free(&out);
+    return rc;
+}
+
+static int same_files(const char *a, const char *b)
+{
+    size_t na, nb;
+    char *x = tl_read_file(a, &na), *y = tl_read_file(b, &nb);
+    int same = x && y && na == nb && !memcmp(x, y, na);
+    free(x);
+    free(y);
+    return same;
+}
+
+/* Builds `levels` levels of the mesh at path and compares both writers at
+ * every level. */
+static void check_mesh(const char *name, const char *path, const char *scheme, unsigned levels)
+{
+    st_mesh mesh;
+    st_error err;
+    st_mesh_init(&mesh);
+    CHECKF(!st_mesh_load(path, &mesh, &err), "%s: %s", name, err.msg);
+    st_hier h;
+    st_hier_opts o = { .boundary = ST_BOUNDARY_UNSET, .crease_method = ST_CREASE_UNIFORM, .uv_interp = ST_UV_CORNERS_PLUS1 };
+    int rc = st_hier_init(&h, &mesh, st_scheme_find(scheme), &o, &err);
+    st_mesh_free(&mesh);
+    CHECKF(!rc, "%s: %s", name, err.msg);
+    if (rc) return;
+    CHECKF(!st_hier_subdivide_to(&h, levels, &err), "%s: %s", name, err.msg);
+    for (unsigned l = 0; l <= h.map.top; l++) {
+        CHECKF(!st_hier_level_save_ply(&h, l, direct_path, &err), "%s level %u: %s", name, l, err.msg);
+        CHECKF(!soup_save(&h, l, soup_path, &err), "%s level %u: %s", name, l, err.msg);
+        CHECKF(same_files(direct_path, soup_path), "%s %s level %u: the two writers differ", name, scheme, l);
+    }
+    st_hier_free(&h);
+}
+
+/* A hole-tagged copy of a mesh with UVs. */
+static const char *with_holes(const char *src)
+{
+    static char path[256];
+    snprintf(path, sizeof path, "/tmp/test_level_ply_%d_holes.obj", (int)getpid());
+    size_t n;
+    char *text = tl_read_file(src, &n);
+    FILE *f = fopen(path, "wb");
+    if (!text || !f) { free(text); if (f) fclose(f); return src; }
+    fwrite(text, 1, n, f);
+    fputs("\nt hole 3/0/0 5 17 200\n", f);
+    fclose(f);
+    free(text);
+    return path;
+}
+
+static void check_not_finite(void)
+{
+    st_mesh mesh;
+    st_error e1, e2;
+    tl_mesh_cube(&mesh);
+    st_hier h;
+    int rc = st_hier_init(&h, &mesh, st_scheme_find("catmull-clark"), NULL, &e1);
+    st_mesh_free(&mesh);
+    CHECK(!rc);
+    if (rc) return;
+    CHECK(!st_hier_subdivide_to(&h, 1, &e1));
+    st_dart_iter it;
+    uint32_t v = st_vertex_first(&h.map, 1, &it);
+    v = st_vertex_next(&h.map, 1, &it);
+    double *p = (double *)st_pos(&h.map, v, 1);
+    p[1] = NAN;
+    remove(direct_path);
+    remove(soup_path);
+    CHECK(st_hier_level_save_ply(&h, 1, direct_path, &e1) != 0);
+    CHECK(soup_save(&h, 1, soup_path, &e2) != 0);
+    CHECK(e1.code == e2.code);
+    CHECKF(!strcmp(e1.msg, e2.msg) || (strstr(e1.msg, "vertex 1 is not finite") && strstr(e2.msg, "vertex 1 is not finite")),
+           "messages '%s' and '%s'", e1.msg, e2.msg);
+    CHECK(access(direct_path, F_OK) != 0);
+    st_hier_free(&h);
+}
+
+int main(void)
+{
+    snprintf(direct_path, sizeof direct_path, "/tmp/test_level_ply_%d_direct.ply", (int)getpid());
+    snprintf(soup_path, sizeof soup_path, "/tmp/test_level_ply_%d_soup.ply", (int)getpid());
+    check_mesh("spot (UVs)", MESHES "catmull_clark/spot_quadrangulated.obj", "catmull-clark", 2);
+    const char *holes = with_holes(MESHES "catmull_clark/spot_quadrangulated.obj");
+    check_mesh("spot with holes (UVs)", holes, "catmull-clark", 2);
+    check_mesh("grid_holes", MESHES "edge_cases/grid_holes.obj", "catmull-clark", 2);
+    check_mesh("plane_holes", MESHES "triangle/plane_holes.obj", "loop", 2);
+    check_mesh("hemisphere", MESHES "triangle/hemisphere.obj", "butterfly", 2);
+    check_mesh("spot_low_resolution", MESHES "triangle/spot_low_resolution.obj", "loop", 2);
+    check_mesh("dodecahedron", MESHES "catmull_clark/dodecahedron_poly.obj", "quad-triangle", 2);
+    check_mesh("dodecahedron", MESHES "catmull_clark/dodecahedron_poly.obj", "doo-sabin", 2);
+    check_mesh("hemisphere", MESHES "triangle/hemisphere.obj", "sqrt3", 2);
+    check_not_finite();
+    remove(holes);
+    remove(direct_path);
+    remove(soup_path);
+    return TEST_END();
+}
