@@ -227,6 +227,7 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
         hier_empty(out);
         rc = materialise(&w, out, o, err);
         pm_work_free(&w); /* before the details: a lower peak of memory */
+        if (!rc) st_map_trim(&out->map); /* per-level blocks overflow the exact reservation */
         if (!rc) rep->inexact = compute_details(out);
         if (rc) st_hier_free(out);
     }
