@@ -197,6 +197,9 @@ static void fill_report(st_hier *h, st_progressive_report *rep, uint64_t target)
             st_map_bytes b;
             st_map_memory(m, &b);
             rep->bytes_per_dart = s.darts ? (double)b.topology / (double)s.darts : 0;
+            size_t det = 0;
+            for (unsigned k = 0; k < ST_MAX_LEVELS; k++) det += (size_t)h->detail_cap[k] * 3 * sizeof(double);
+            rep->detail_bytes_per_dart = s.darts ? (double)det / (double)s.darts : 0;
         }
     }
     rep->target_reached = rep->faces[0] <= target;
@@ -231,6 +234,7 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
         /* Per-level blocks overflow the exact reservation (trim), and a
          * level's splits re-set few darts (sparse form, map.h). */
         if (!rc) st_map_compact(&out->map);
+        if (!rc) st_hier_trim_details(out); /* sized to every vertex id, per level */
         if (rc) st_hier_free(out);
     }
     if (!rc && o->progress && o->progress(o->progress_ctx, 1.0)) {
