@@ -109,40 +109,6 @@ void st_map_trim(st_map *m)
     for (uint32_t i = 0; i < m->nvert_attrs; i++) st_mla_trim(m->vert_attrs[i], &m->verts);
 }
 
-/* Dense columns again before anything writes the topology (map.h, "Sparse
- * form"): the sparse form is read-only. */
-static void thaw_topology(st_map *m)
-{
-    st_mla_thaw(&m->beta0, &m->darts);
-    st_mla_thaw(&m->beta1, &m->darts);
-    st_mla_thaw(&m->vert, &m->darts);
-}
-
-void st_map_compact(st_map *m)
-{
-    st_map_trim(m);
-    st_mla_freeze(&m->beta0, &m->darts); /* out of memory: stays dense */
-    st_mla_freeze(&m->beta1, &m->darts);
-    st_mla_freeze(&m->vert, &m->darts);
-}
-
-void st_map_sparse_stats_compute(const st_map *m, st_map_sparse_stats *st)
-{
-    const st_mla *rel[3] = { &m->beta0, &m->beta1, &m->vert };
-    memset(st, 0, sizeof *st);
-    for (int r = 0; r < 3; r++) {
-        const st_mla_sparse *s = rel[r]->sp;
-        if (!s) continue;
-        st->relations_sparse++;
-        st->pairs += s->npairs;
-        for (uint32_t i = 0; i < s->n; i++) {
-            uint32_t b = s->bbase[i >> ST_POOL_BLOCK_SHIFT] + s->boff[i];
-            uint32_t e = s->bbase[(i + 1) >> ST_POOL_BLOCK_SHIFT] + s->boff[i + 1];
-            if (e - b > st->longest) st->longest = e - b;
-        }
-    }
-}
-
 /* ---- change log ---------------------------------------------------------------- */
 
 void st_map_log_clear(st_map_log *g)
@@ -204,7 +170,6 @@ static const unsigned char zero_attr[64];
 uint32_t st_dart_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got)
 {
     uint32_t grow;
-    thaw_topology(m); /* the caller writes base[] of the new ids directly */
     uint32_t d = st_pool_take_run(&m->darts, l, want, got, &grow);
     if (d == ST_NIL) abort();
     if (grow) grow_dart_arrays(m, grow);
@@ -218,7 +183,6 @@ uint32_t st_dart_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got)
 
 void st_dart_delete(st_map *m, uint32_t d)
 {
-    thaw_topology(m); /* a reused id must not find this one's pairs */
     log_dart(m, d);
     st_pool_release(&m->darts, d);
 }
@@ -305,7 +269,6 @@ void st_level_remove_top(st_map *m)
 {
     if (m->top == 0) return;
     st_map_changed(m);
-    thaw_topology(m);
     unsigned l = m->top;
     st_mla_drop_column(&m->beta0, l);
     st_mla_drop_column(&m->beta1, l);

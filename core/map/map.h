@@ -44,23 +44,6 @@
  * = 15.3 bytes per finest dart; st_map_topology_bytes() reports the exact
  * figure.
  *
- * Sparse form.  In a progressive hierarchy (thesis §4.4) a level's vertex
- * splits re-set the relations of the darts around a few vertices only: a
- * dense column per level would mostly copy the level below (the thesis'
- * redundancy problem, §4.4.5).  st_map_compact() then turns β0, β1 and vert
- * each into the thesis' run-length form (§4.4.5): per dart the (level,
- * value) pairs at which its value changes, found by an offset per dart (a
- * 16-bit offset within its block of ST_POOL_BLOCK ids plus a 32-bit one per
- * block).  A lookup scans that dart's pairs from the finest down: at most
- * one pair per level above its insertion level, and on a progressive
- * hierarchy about one or two (st_map_sparse_stats() measures it).  An
- * attribute keeps its dense columns when the sparse form would not halve
- * them (quadrisection changes β0 for every old dart at every level), so
- * subdivision hierarchies never take that path.  The sparse form is
- * read-only: the first setter, new dart or level change on it turns it
- * back into dense columns, identical to those it came from; sessions store
- * the dense columns either way.
- *
  * Darts (and vertices) are allocated by an st_pool in blocks of
  * ST_POOL_BLOCK ids, each block owned by one insertion level, so the darts
  * of level l are enumerated by visiting the blocks of levels 0..l: time
@@ -105,33 +88,13 @@ typedef struct st_pool {
 } st_pool;
 
 /* ---- st_mla: a multilevel attribute (see "Storage" above) ---------------- */
-/* Sparse form of an attribute whose levels change few ids (see "Sparse
- * form" above): per id, the list of (level, value) pairs at which its value
- * differs from the level below, in increasing level order. */
-typedef struct st_mla_sparse {
-    uint32_t n;                           /* ids covered: [0, n), a multiple of ST_POOL_BLOCK */
-    uint32_t *bbase;                      /* n/ST_POOL_BLOCK + 1: first pair of each block of ids */
-    uint16_t *boff;                       /* n + 1: first pair of each id, from its block's bbase */
-    uint8_t *lvl;                         /* per pair: level from which the value holds */
-    unsigned char *val;                   /* per pair: elem bytes */
-    uint32_t npairs;
-    uint32_t pairs_at[ST_MAX_LEVELS];     /* pairs of each level */
-    /* The dense form it stands for (thawing and the file format use it). */
-    unsigned char has_col[ST_MAX_LEVELS];
-    uint32_t colcap[ST_MAX_LEVELS];
-} st_mla_sparse;
-
-#define ST_MLA_SPARSE 0x80u               /* flag in st_mla.eff[l]: read level l from sp */
-
 typedef struct st_mla {
     uint32_t elem;                        /* bytes per element */
     unsigned char *base;                  /* pool->cap elements: value at insertion level */
     unsigned char *col[ST_MAX_LEVELS];    /* col[l]: level-l values of ids with ins < l, or NULL */
     uint32_t colcap[ST_MAX_LEVELS];       /* elements allocated in col[l] */
-    uint8_t eff[ST_MAX_LEVELS];           /* highest j <= l with col[j] != NULL, 0 if none;
-                                             ST_MLA_SPARSE | l when sp holds level l */
+    uint8_t eff[ST_MAX_LEVELS];           /* highest j <= l with col[j] != NULL, 0 if none */
     uint8_t maxcol;                       /* highest level with a column, 0 if none */
-    st_mla_sparse *sp;                    /* NULL, or the sparse form (then no col[] is allocated) */
 } st_mla;
 
 enum st_dart_flags {
@@ -200,17 +163,11 @@ static inline unsigned st_lvl_clamp(unsigned l)
     return l < ST_MAX_LEVELS ? l : ST_MAX_LEVELS - 1;
 }
 
-/* Level-l value of id i in an attribute in sparse form (ins[i] < l). */
-const void *st_mla_sparse_at(const st_mla *a, const uint8_t *ins, uint32_t i, unsigned l);
-
 static inline const void *st_mla_at(const st_mla *a, const uint8_t *ins, uint32_t i, unsigned l)
 {
     unsigned j = a->eff[st_lvl_clamp(l)];
-    if (j > ins[i]) {
-        if (__builtin_expect(j & ST_MLA_SPARSE, 0)) return st_mla_sparse_at(a, ins, i, j & ~ST_MLA_SPARSE);
-        return a->col[j] + (size_t)i * a->elem;
-    }
-    return a->base + (size_t)i * a->elem;
+    const unsigned char *p = j > ins[i] ? a->col[j] : a->base;
+    return p + (size_t)i * a->elem;
 }
 
 static inline uint32_t st_mla_u32(const st_mla *a, const uint8_t *ins, uint32_t i, unsigned l)
@@ -237,7 +194,7 @@ static inline const double *st_dart_pos(const st_map *m, uint32_t d, unsigned l)
 
 /* Level views: the column pointers of one level hoisted out of a hot loop.
  * Valid until the map changes. */
-typedef struct st_u32_view { const uint32_t *base, *col; unsigned lvl; const st_mla *mla; } st_u32_view;
+typedef struct st_u32_view { const uint32_t *base, *col; unsigned lvl; } st_u32_view;
 typedef struct st_level_view {
     const uint8_t *ins, *vins;
     st_u32_view beta0, beta1, vert;
@@ -248,7 +205,7 @@ typedef struct st_level_view {
 static inline st_u32_view st_u32_view_of(const st_mla *a, unsigned l)
 {
     unsigned j = a->eff[st_lvl_clamp(l)];
-    st_u32_view v = { (const uint32_t *)a->base, (j & ST_MLA_SPARSE) ? NULL : (const uint32_t *)a->col[j], j, a };
+    st_u32_view v = { (const uint32_t *)a->base, (const uint32_t *)a->col[j], j };
     return v;
 }
 
@@ -266,12 +223,7 @@ static inline void st_level_view_init(const st_map *m, unsigned l, st_level_view
 
 static inline uint32_t st_view_get(const st_u32_view *r, const uint8_t *ins, uint32_t d)
 {
-    if (ins[d] < r->lvl) {
-        if (__builtin_expect(r->lvl & ST_MLA_SPARSE, 0))
-            return *(const uint32_t *)st_mla_sparse_at(r->mla, ins, d, r->lvl & ~ST_MLA_SPARSE);
-        return r->col[d];
-    }
-    return r->base[d];
+    return ins[d] < r->lvl ? r->col[d] : r->base[d];
 }
 static inline uint32_t st_v_beta0(const st_level_view *v, uint32_t d) { return st_view_get(&v->beta0, v->ins, d); }
 static inline uint32_t st_v_beta1(const st_level_view *v, uint32_t d) { return st_view_get(&v->beta1, v->ins, d); }
@@ -360,22 +312,6 @@ int st_map_reserve(st_map *m, uint64_t darts, uint64_t verts);
  * the ids handed out, columns to the ids they can hold.  Growth afterwards
  * works as before (the next insertion regrows). */
 void st_map_trim(st_map *m);
-
-/* Trims the map (st_map_trim) and stores β0, β1 and vert in sparse form
- * where that takes less than half their dense columns ("Sparse form"
- * above).  Queries answer the same; the next change to the topology turns
- * them dense again.  Out of memory keeps the dense form. */
-void st_map_compact(st_map *m);
-/* Pairs of the sparse form: total over β0, β1 and vert, and the longest
- * list of one dart in one relation (the bound on a lookup's scan). */
-typedef struct st_map_sparse_stats { uint64_t pairs; unsigned longest; unsigned relations_sparse; } st_map_sparse_stats;
-void st_map_sparse_stats_compute(const st_map *m, st_map_sparse_stats *s);
-
-/* For code that copies an st_mla field by field (undo snapshots): copies
- * src's sparse form into dst->sp (NULL when src has none); -1 when out of
- * memory.  *bytes (may be NULL) grows by what was allocated. */
-int st_mla_sparse_copy(st_mla *dst, const st_mla *src, size_t *bytes);
-void st_mla_sparse_free(st_mla_sparse *s);
 
 /* ---- levels ---------------------------------------------------------------- */
 /* Creates level top+1 as a copy of level top, in O(1): nothing is copied,
