@@ -512,9 +512,9 @@ static int bench_mesh(const char *path, double percent, int repeat)
     printf("\n  kept fraction t per level (vertices l-1 / l):");
     for (unsigned l = 1; l < rep.levels; l++) printf(" %.3f", rep.kept[l]);
     double tmean = rep.levels > 1 ? std::pow((double)rep.vertices[0] / (double)rep.vertices[rep.levels - 1], 1.0 / (rep.levels - 1)) : 1;
-    printf("\n  geometric mean t %.3f; topology %.1f bytes per finest dart; thesis §4.4.8 full arrays: 24/(1-t) = %.1f bytes per "
+    printf("\n  geometric mean t %.3f; topology %.1f bytes per finest dart (details %.1f more); thesis §4.4.8 full arrays: 24/(1-t) = %.1f bytes per "
            "fine vertex = %.1f per dart (6 darts per vertex), classic [Hop98] structure 68 bytes per vertex = 11.3 per dart\n",
-           tmean, rep.bytes_per_dart, 24 / (1 - tmean), 4 / (1 - tmean));
+           tmean, rep.bytes_per_dart, rep.detail_bytes_per_dart, 24 / (1 - tmean), 4 / (1 - tmean));
     printf("  %s; %llu (level, vertex) details miss the input's bits by an ulp or so\n", rep.note,
            (unsigned long long)rep.inexact);
     edits_and_display(&m, target, diag, repeat);

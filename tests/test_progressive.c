@@ -152,6 +152,16 @@ static void check_mesh(const char *what, const st_mesh *in, uint64_t target, int
     }
     CHECKF(rep.faces[0] <= target || !rep.target_reached, "%s", what);
     CHECKF(check_independence(&h.map, what), "%s: independence", what);
+    /* Built to size: no spare pool capacity, and each level's detail array
+     * ends at its last non-zero detail (reads past it give zero). */
+    CHECKF(h.map.darts.cap == h.map.darts.end && h.map.verts.cap == h.map.verts.end, "%s: darts %u of %u, vertices %u of %u",
+           what, h.map.darts.end, h.map.darts.cap, h.map.verts.end, h.map.verts.cap);
+    for (unsigned l = 1; l <= h.map.top; l++) {
+        const double *last = h.detail[l] ? h.detail[l] + 3 * (size_t)(h.detail_cap[l] - 1) : NULL;
+        CHECKF(!last || h.detail_cap[l] == 1 || last[0] != 0 || last[1] != 0 || last[2] != 0 || signbit(last[0]) ||
+               signbit(last[1]) || signbit(last[2]), "%s: level %u's details end with a zero", what, l);
+        CHECKF(!h.detail[l] || h.detail_cap[l] <= h.map.verts.end, "%s: level %u", what, l);
+    }
     /* The finest level is the input, position for position. */
     st_mesh top;
     st_mesh_init(&top);

@@ -91,6 +91,24 @@ int st_map_reserve(st_map *m, uint64_t darts, uint64_t verts)
     return 0;
 }
 
+void st_map_trim(st_map *m)
+{
+    st_pool_trim(&m->darts);
+    st_pool_trim(&m->verts);
+    uint32_t dc = m->darts.cap ? m->darts.cap : 1;
+    uint8_t *fl = realloc(m->flags, dc);
+    if (fl) m->flags = fl;
+    if (m->marks) {
+        uint32_t *mk = realloc(m->marks, (size_t)dc * sizeof *mk);
+        if (mk) m->marks = mk;
+    }
+    st_mla *dart_mla[3] = { &m->beta0, &m->beta1, &m->vert };
+    for (int i = 0; i < 3; i++) st_mla_trim(dart_mla[i], &m->darts);
+    for (uint32_t i = 0; i < m->ndart_attrs; i++) st_mla_trim(m->dart_attrs[i], &m->darts);
+    st_mla_trim(&m->pos, &m->verts);
+    for (uint32_t i = 0; i < m->nvert_attrs; i++) st_mla_trim(m->vert_attrs[i], &m->verts);
+}
+
 /* ---- change log ---------------------------------------------------------------- */
 
 void st_map_log_clear(st_map_log *g)

@@ -308,6 +308,11 @@ void st_map_log_vertex(st_map *m, uint32_t v);
  * (nothing changed that matters: the map stays valid). */
 int st_map_reserve(st_map *m, uint64_t darts, uint64_t verts);
 
+/* Gives back spare capacity once a map is built: pools and their arrays to
+ * the ids handed out, columns to the ids they can hold.  Growth afterwards
+ * works as before (the next insertion regrows). */
+void st_map_trim(st_map *m);
+
 /* ---- levels ---------------------------------------------------------------- */
 /* Creates level top+1 as a copy of level top, in O(1): nothing is copied,
  * the new level inherits until something changes in it. */

@@ -143,6 +143,21 @@ void st_mla_drop_column(st_mla *a, unsigned l)
     refresh_eff(a);
 }
 
+void st_mla_trim(st_mla *a, const st_pool *p)
+{
+    uint32_t cap = p->cap ? p->cap : 1;
+    unsigned char *b = realloc(a->base, (size_t)cap * a->elem);
+    if (b) a->base = b; /* a failed shrink keeps the larger block */
+    for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
+        uint32_t n = st_pool_cover(p, l);
+        if (!a->col[l] || a->colcap[l] <= n) continue;
+        unsigned char *c = realloc(a->col[l], n ? (size_t)n * a->elem : 1);
+        if (!c) continue;
+        a->col[l] = c;
+        a->colcap[l] = n;
+    }
+}
+
 size_t st_mla_bytes(const st_mla *a, uint32_t cap)
 {
     size_t n = (size_t)cap * a->elem;

@@ -51,6 +51,19 @@ static int set_cap(st_pool *p, uint32_t cap)
     return 0;
 }
 
+void st_pool_trim(st_pool *p)
+{
+    if (!p->end || p->end >= p->cap) return;
+    /* A shrinking realloc that fails leaves the larger block, still valid. */
+    uint8_t *ins = realloc(p->ins, p->end);
+    if (ins) p->ins = ins;
+    if (p->next_free) {
+        uint32_t *nf = realloc(p->next_free, (size_t)p->end * sizeof *nf);
+        if (nf) p->next_free = nf;
+    }
+    p->cap = p->end;
+}
+
 uint32_t st_pool_reserve(st_pool *p, uint64_t more)
 {
     uint64_t need = (uint64_t)p->end + ((more + 2 * ST_POOL_BLOCK - 1) & ~(uint64_t)(ST_POOL_BLOCK - 1));

@@ -58,6 +58,11 @@ void st_mla_drop_column(st_mla *a, unsigned l);
 void st_mla_drop_bottom(st_mla *a, const st_pool *p);
 /* Merges levels 0 and 1 and renumbers the levels above one down. */
 void st_pool_drop_bottom(st_pool *p);
+/* Shrinks base to the pool's capacity and each column to the ids it can
+ * hold (st_pool_cover); never fails (a failed shrink keeps the block). */
+void st_mla_trim(st_mla *a, const st_pool *p);
+/* Capacity := end (the ids handed out); attached arrays must follow. */
+void st_pool_trim(st_pool *p);
 size_t st_mla_bytes(const st_mla *a, uint32_t cap);
 
 /* ---- bulk writers (refine.c) ------------------------------------------------

@@ -23,6 +23,13 @@ void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3]);
 /* Detail of v at level l (zero vector when none stored). */
 const double *st_hier_detail(const st_hier *h, unsigned l, uint32_t v);
 void st_hier_set_detail(st_hier *h, unsigned l, uint32_t v, const double d[3]);
+/* Shrinks each level's detail array to its last vertex whose detail is not
+ * all-zero bits (at least one entry is kept: an array stays an array).
+ * Reads past the end give zero, so nothing a synthesis computes changes;
+ * on a progressive hierarchy, where st_hier_set_detail sized every level's
+ * array to all vertex ids, it leaves about the ids of the level's own
+ * vertices (they are numbered coarse to fine). */
+void st_hier_trim_details(st_hier *h);
 
 /* Stencil evaluation: Σ w P_{L-1}(src). */
 void st_stencil_eval(const st_hier *h, unsigned L, const st_stencil *s, double out[3]);

@@ -52,6 +52,19 @@ void st_hier_set_detail(st_hier *h, unsigned l, uint32_t v, const double d[3])
     memcpy(h->detail[l] + 3 * (size_t)v, d, 3 * sizeof *d);
 }
 
+void st_hier_trim_details(st_hier *h)
+{
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        if (!h->detail[l]) continue;
+        uint32_t n = h->detail_cap[l];
+        while (n > 1 && memcmp(h->detail[l] + 3 * (size_t)(n - 1), zero3, sizeof zero3) == 0) n--;
+        if (n == h->detail_cap[l]) continue;
+        double *p = realloc(h->detail[l], 3 * (size_t)n * sizeof *p);
+        if (p) h->detail[l] = p; /* a failed shrink keeps the larger block */
+        h->detail_cap[l] = n;
+    }
+}
+
 /* ---- local frames ------------------------------------------------------------ */
 
 static void sub3(const double *a, const double *b, double *o) { o[0] = a[0] - b[0]; o[1] = a[1] - b[1]; o[2] = a[2] - b[2]; }

@@ -197,6 +197,9 @@ static void fill_report(st_hier *h, st_progressive_report *rep, uint64_t target)
             st_map_bytes b;
             st_map_memory(m, &b);
             rep->bytes_per_dart = s.darts ? (double)b.topology / (double)s.darts : 0;
+            size_t det = 0;
+            for (unsigned k = 0; k < ST_MAX_LEVELS; k++) det += (size_t)h->detail_cap[k] * 3 * sizeof(double);
+            rep->detail_bytes_per_dart = s.darts ? (double)det / (double)s.darts : 0;
         }
     }
     rep->target_reached = rep->faces[0] <= target;
@@ -227,7 +230,9 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
         hier_empty(out);
         rc = materialise(&w, out, o, err);
         pm_work_free(&w); /* before the details: a lower peak of memory */
+        if (!rc) st_map_trim(&out->map); /* per-level blocks overflow the exact reservation */
         if (!rc) rep->inexact = compute_details(out);
+        if (!rc) st_hier_trim_details(out); /* sized to every vertex id, per level */
         if (rc) st_hier_free(out);
     }
     if (!rc && o->progress && o->progress(o->progress_ctx, 1.0)) {

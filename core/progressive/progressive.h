@@ -132,6 +132,7 @@ typedef struct st_progressive_report {
     uint64_t vertices[ST_MAX_LEVELS];      /* vertices of each level */
     double kept[ST_MAX_LEVELS];            /* t of level l >= 1: vertices(l-1) / vertices(l) */
     double bytes_per_dart;                 /* map topology bytes per finest dart */
+    double detail_bytes_per_dart;          /* detail arrays (all levels) per finest dart */
     uint64_t inexact;                      /* (level, vertex) details whose synthesis misses the input's
                                               bits by an ulp or so (progressive.c, compute_details) */
     int triangulated;                      /* the input had polygons: fans were used */

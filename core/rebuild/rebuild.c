@@ -70,7 +70,8 @@ static int build_progressive(const char *name, const st_mesh *mesh, const st_reb
     for (unsigned l = 1; l < pr.levels && n < sizeof rep->summary; l++)
         n += (size_t)snprintf(rep->summary + n, sizeof rep->summary - n, " %.2f", pr.kept[l]);
     if (n < sizeof rep->summary)
-        snprintf(rep->summary + n, sizeof rep->summary - n, ", %.1f topology bytes per finest dart", pr.bytes_per_dart);
+        snprintf(rep->summary + n, sizeof rep->summary - n, ", %.1f topology bytes per finest dart, %.1f of details", pr.bytes_per_dart,
+                 pr.detail_bytes_per_dart);
     snprintf(rep->brief, sizeof rep->brief, "rebuilt by the progressive method: %u levels, coarsest %llu faces",
              pr.levels, (unsigned long long)pr.faces[0]);
     if (pr.triangulated) st_notes_add(&rep->notes, "polygons were split into triangles (fans) first");
