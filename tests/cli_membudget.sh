@@ -44,6 +44,13 @@ refused convert_box "$W/box.obj" "$S" convert "$BLUB" "$W/box.obj" --box 0,0.5,0
 refused rebuild_koala "$W/k.strata" "$S" rebuild "$KOALA" --method progressive --mem-budget 20 -o "$W/k.strata"
 "$S" subdivide "$SPOT" --scheme catmull-clark --levels 3 -o "$W/spot3.obj" >/dev/null
 refused rebuild_spot "$W/s.strata" "$S" rebuild "$W/spot3.obj" --method unsubdivide --mem-budget 20 -o "$W/s.strata"
+# reading: a mesh file (a bound of 7 times its bytes) and a session (4
+# times), before the file is read
+refused load_koala "" "$S" info "$KOALA" --mem-budget 15
+"$S" rebuild "$KOALA" --target-faces 20000 -o "$W/k20.strata" >/dev/null 2>&1
+refused load_session "$W/kf.obj" "$S" filter "$W/k20.strata" --gains 1,0 --mem-budget 12 -o "$W/kf.obj"
+if "$S" filter "$W/k20.strata" --gains 1,0 -o "$W/kf.obj" >/dev/null 2>&1 && [ -s "$W/kf.obj" ]; then
+    ok "filter under the budget"; else bad "filter under the budget"; fi
 
 # Under the budget the same commands run.
 if "$S" info "$SPOT" --levels 2 --mem-budget 500 >/dev/null; then ok "info under the budget"; else bad "info under the budget"; fi
