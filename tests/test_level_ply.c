@@ -17,16 +17,6 @@
 
 static char direct_path[256], soup_path[256];
 
-static int soup_save(st_hier *h, unsigned l, const char *path, st_error *err)
-{
-    st_mesh out;
-    st_mesh_init(&out);
-    int rc = st_hier_level_mesh(h, l, &out, err);
-    if (!rc) rc = st_mesh_save_ply(path, &out, err);
-    st_mesh_free(&out);
-    return rc;
-}
-
 static int same_files(const char *a, const char *b)
 {
     size_t na, nb;
@@ -54,7 +44,7 @@ static void check_mesh(const char *name, const char *path, const char *scheme, u
     CHECKF(!st_hier_subdivide_to(&h, levels, &err), "%s: %s", name, err.msg);
     for (unsigned l = 0; l <= h.map.top; l++) {
         CHECKF(!st_hier_level_save_ply(&h, l, direct_path, &err), "%s level %u: %s", name, l, err.msg);
-        CHECKF(!soup_save(&h, l, soup_path, &err), "%s level %u: %s", name, l, err.msg);
+        CHECKF(!st_hier_level_save_ply_soup(&h, l, soup_path, &err), "%s level %u: %s", name, l, err.msg);
         CHECKF(same_files(direct_path, soup_path), "%s %s level %u: the two writers differ", name, scheme, l);
     }
     st_hier_free(&h);
@@ -95,7 +85,7 @@ static void check_not_finite(void)
     remove(direct_path);
     remove(soup_path);
     CHECK(st_hier_level_save_ply(&h, 1, direct_path, &e1) != 0);
-    CHECK(soup_save(&h, 1, soup_path, &e2) != 0);
+    CHECK(st_hier_level_save_ply_soup(&h, 1, soup_path, &e2) != 0);
     CHECK(e1.code == e2.code);
     CHECKF(!strcmp(e1.msg, e2.msg) || (strstr(e1.msg, "vertex 1 is not finite") && strstr(e2.msg, "vertex 1 is not finite")),
            "messages '%s' and '%s'", e1.msg, e2.msg);

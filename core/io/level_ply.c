@@ -305,7 +305,7 @@ static void write_uv(FILE *f, const st_map *m, unsigned l, const level_faces *lf
     fwrite(o->b, 1, o->n, f);
 }
 
-static int save_through_soup(st_hier *h, unsigned l, const char *path, st_error *err)
+int st_hier_level_save_ply_soup(st_hier *h, unsigned l, const char *path, st_error *err)
 {
     st_mesh out;
     st_mesh_init(&out);
@@ -318,7 +318,7 @@ static int save_through_soup(st_hier *h, unsigned l, const char *path, st_error 
 int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *err)
 {
     st_map *m = &h->map;
-    if (m->face_embedded) return save_through_soup(h, l, path, err);
+    if (m->face_embedded) return st_hier_level_save_ply_soup(h, l, path, err);
     const double *uv = st_hier_uv(h, l);
     const st_fvar_level *fl = uv ? &h->fvar->lv[l] : NULL;
     level_faces lf = { 0 };
