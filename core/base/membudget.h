@@ -24,6 +24,12 @@ size_t st_mem_available(void);
 /* Resident set size of this process now (/proc/self/statm); 0 if unknown. */
 size_t st_mem_resident(void);
 
+/* Reading a file whose bound is smaller than this goes unchecked: the
+ * check guards against large allocations, and a process that is over its
+ * budget for other reasons (a sanitizer's shadow memory, say) can still
+ * read a small file and then be refused the operation that would grow it. */
+#define ST_MEM_CHECK_MIN_BYTES ((size_t)16 << 20)
+
 /* ST_OK when the resident size plus `need` fits the budget; else fails
  * with ST_ERR_MEMORY: "WHAT needs about N MiB more (estimate) ...". */
 int st_mem_check(size_t need, const char *what, st_error *err);

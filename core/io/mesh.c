@@ -201,7 +201,8 @@ static int read_whole_file(const char *path, char **data, size_t *size, st_error
      * on the shared meshes (koala.obj 5.7, a 30 MB OBJ with UVs 2.1). */
     char what[96];
     snprintf(what, sizeof what, "reading a file of %.1f MiB", (double)n / 1048576.0);
-    int rc = st_mem_check(n + 1 + LOAD_BYTES_PER_FILE_BYTE * n, what, err);
+    size_t bound = n + 1 + LOAD_BYTES_PER_FILE_BYTE * n;
+    int rc = bound >= ST_MEM_CHECK_MIN_BYTES ? st_mem_check(bound, what, err) : ST_OK;
     if (rc) {
         fclose(f);
         char msg[sizeof err->msg];

@@ -1085,7 +1085,8 @@ int st_session_load(const char *path, st_session *out, st_error *err)
         size_t n = (size_t)st.st_size;
         char what[96];
         snprintf(what, sizeof what, "reading a session of %.1f MiB", (double)n / 1048576.0);
-        int rc = st_mem_check(n + SESSION_BYTES_PER_FILE_BYTE * n, what, err);
+        size_t bound = n + SESSION_BYTES_PER_FILE_BYTE * n;
+        int rc = bound >= ST_MEM_CHECK_MIN_BYTES ? st_mem_check(bound, what, err) : ST_OK;
         if (rc) {
             fclose(f);
             char msg[sizeof err->msg];
