@@ -63,6 +63,18 @@ int st_mem_check(size_t need, const char *what, st_error *err)
                    what, mib(need), mib(have), mib(limit));
 }
 
+int st_mem_check_read(const char *path, const char *kind, size_t file_bytes, size_t bound, st_error *err)
+{
+    if (bound < ST_MEM_CHECK_MIN_BYTES) return ST_OK;
+    char what[96];
+    snprintf(what, sizeof what, "reading a %s of %.1f MiB", kind, mib(file_bytes));
+    int rc = st_mem_check(bound, what, err);
+    if (!rc) return ST_OK;
+    char msg[sizeof err->msg];
+    snprintf(msg, sizeof msg, "%s", err->msg);
+    return st_fail(err, rc, "%s: %s", path, msg);
+}
+
 int st_mem_parse_mib(const char *s, size_t *bytes)
 {
     char *end;

@@ -34,6 +34,11 @@ size_t st_mem_resident(void);
  * with ST_ERR_MEMORY: "WHAT needs about N MiB more (estimate) ...". */
 int st_mem_check(size_t need, const char *what, st_error *err);
 
+/* The check before reading a file of file_bytes whose parsed form takes at
+ * most `bound` bytes (a bound, not an estimate): skipped under
+ * ST_MEM_CHECK_MIN_BYTES; the message names the path and the kind of file. */
+int st_mem_check_read(const char *path, const char *kind, size_t file_bytes, size_t bound, st_error *err);
+
 /* Parses a budget in MiB ("512", "1.5"); -1 when not a positive number. */
 int st_mem_parse_mib(const char *s, size_t *bytes);
 

@@ -199,15 +199,10 @@ static int read_whole_file(const char *path, char **data, size_t *size, st_error
      * the bytes (digits per number vary), so this is a bound rather than an
      * estimate: LOAD_BYTES_PER_FILE_BYTE times the file, measured at 2 to 6
      * on the shared meshes (koala.obj 5.7, a 30 MB OBJ with UVs 2.1). */
-    char what[96];
-    snprintf(what, sizeof what, "reading a file of %.1f MiB", (double)n / 1048576.0);
-    size_t bound = n + 1 + LOAD_BYTES_PER_FILE_BYTE * n;
-    int rc = bound >= ST_MEM_CHECK_MIN_BYTES ? st_mem_check(bound, what, err) : ST_OK;
+    int rc = st_mem_check_read(path, "file", n, n + 1 + LOAD_BYTES_PER_FILE_BYTE * n, err);
     if (rc) {
         fclose(f);
-        char msg[sizeof err->msg];
-        snprintf(msg, sizeof msg, "%s", err->msg);
-        return st_fail(err, rc, "%s: %s", path, msg);
+        return rc;
     }
     char *buf = malloc(n + 1);
     if (!buf) {

@@ -1083,15 +1083,10 @@ int st_session_load(const char *path, st_session *out, st_error *err)
     struct stat st;
     if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
         size_t n = (size_t)st.st_size;
-        char what[96];
-        snprintf(what, sizeof what, "reading a session of %.1f MiB", (double)n / 1048576.0);
-        size_t bound = n + SESSION_BYTES_PER_FILE_BYTE * n;
-        int rc = bound >= ST_MEM_CHECK_MIN_BYTES ? st_mem_check(bound, what, err) : ST_OK;
+        int rc = st_mem_check_read(path, "session", n, n + SESSION_BYTES_PER_FILE_BYTE * n, err);
         if (rc) {
             fclose(f);
-            char msg[sizeof err->msg];
-            snprintf(msg, sizeof msg, "%s", err->msg);
-            return st_fail(err, rc, "%s: %s", path, msg);
+            return rc;
         }
     }
     unsigned char *buf = NULL;
