@@ -29,6 +29,7 @@
  * Semi-sharp creases inside a face-varying boundary take the plain crease
  * rule (OpenSubdiv blends toward a corner there).
  */
+#include "core/base/hugepage.h"
 #include "core/fvar/fvar_internal.h"
 #include "core/multires/hier.h"
 #include "core/schemes/scheme.h"
@@ -71,6 +72,8 @@ static int level_alloc(st_fvar_level *lv, uint32_t cap)
     lv->cap = cap;
     lv->uv = calloc(2 * (size_t)cap + 2, sizeof *lv->uv);
     lv->val = calloc((size_t)cap + 1, sizeof *lv->val);
+    st_advise_huge(lv->uv, (2 * (size_t)cap + 2) * sizeof *lv->uv);
+    st_advise_huge(lv->val, ((size_t)cap + 1) * sizeof *lv->val);
     if (lv->uv && lv->val) return 0;
     level_free(lv);
     return -1;

@@ -15,6 +15,7 @@
  * vertex and the UV of its first corner. */
 #include "core/io/level_ply.h"
 #include "core/io/atomic_file.h"
+#include "core/base/hugepage.h"
 #include "core/fvar/fvar_internal.h"
 
 #include <math.h>
@@ -39,8 +40,8 @@ static int faces_walk(st_map *m, unsigned l, level_faces *lf)
     st_dart_iter it;
     uint32_t nc = 0;
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) nc += !st_is_boundary(m, d);
-    lf->dart = malloc(((size_t)nc + 1) * sizeof *lf->dart);
-    lf->off = malloc(((size_t)nc + 2) * sizeof *lf->off);
+    lf->dart = st_malloc_huge(((size_t)nc + 1) * sizeof *lf->dart);
+    lf->off = st_malloc_huge(((size_t)nc + 2) * sizeof *lf->off);
     if (!lf->dart || !lf->off) return -1;
     st_level_view lv;
     st_level_view_init(m, l, &lv);
@@ -133,10 +134,10 @@ static int uv_group(const level_faces *lf, const uint32_t *vindex, uint32_t nver
                     const uint32_t *val, uv_groups *g)
 {
     uint32_t nc = lf->ncorners;
-    uint32_t *start = calloc((size_t)nverts + 1, sizeof *start);
-    uint32_t *bucket = malloc(((size_t)nc + 1) * sizeof *bucket);
-    g->corner_t = malloc(((size_t)nc + 1) * sizeof *g->corner_t);
-    g->first = malloc(((size_t)nc + 1) * sizeof *g->first);
+    uint32_t *start = st_calloc_huge((size_t)nverts + 1, sizeof *start);
+    uint32_t *bucket = st_malloc_huge(((size_t)nc + 1) * sizeof *bucket);
+    g->corner_t = st_malloc_huge(((size_t)nc + 1) * sizeof *g->corner_t);
+    g->first = st_malloc_huge(((size_t)nc + 1) * sizeof *g->first);
     uint64_t *scratch = NULL;
     int rc = -1;
     if (!start || !bucket || !g->corner_t || !g->first) goto done;
@@ -325,7 +326,7 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     uv_groups groups = { 0 };
     uv_groups *g = uv ? &groups : NULL;
     face_counts fc = { 0, 0, UINT32_MAX, 0 };
-    uint32_t *vindex = malloc((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vindex), nverts = 0;
+    uint32_t *vindex = st_malloc_huge((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vindex), nverts = 0;
     int rc = vindex ? 0 : -1;
     if (!rc) {
         st_dart_iter it;

@@ -1,4 +1,5 @@
 /* st_map storage, allocation, queries and enumeration (map.h). */
+#include "core/base/hugepage.h"
 #include "core/map/map.h"
 #include "core/map/pool_internal.h"
 
@@ -89,6 +90,21 @@ int st_map_reserve(st_map *m, uint64_t darts, uint64_t verts)
     uint32_t vc = st_pool_reserve(&m->verts, verts);
     if (!vc || grow_vertex_arrays(m, vc)) return -1;
     return 0;
+}
+
+static void advise_tail(st_mla *a, const st_pool *p)
+{
+    st_advise_huge(a->base + (size_t)p->end * a->elem, (size_t)(p->cap - p->end) * a->elem);
+}
+
+void st_map_advise_reserved(st_map *m)
+{
+    st_advise_huge(m->flags + m->darts.end, m->darts.cap - m->darts.end);
+    st_mla *dart_mla[3] = { &m->beta0, &m->beta1, &m->vert };
+    for (int i = 0; i < 3; i++) advise_tail(dart_mla[i], &m->darts);
+    for (uint32_t i = 0; i < m->ndart_attrs; i++) advise_tail(m->dart_attrs[i], &m->darts);
+    advise_tail(&m->pos, &m->verts);
+    for (uint32_t i = 0; i < m->nvert_attrs; i++) advise_tail(m->vert_attrs[i], &m->verts);
 }
 
 void st_map_trim(st_map *m)

@@ -307,6 +307,11 @@ void st_map_log_vertex(st_map *m, uint32_t v);
  * known amount of growth does not double the capacity.  -1: out of memory
  * (nothing changed that matters: the map stays valid). */
 int st_map_reserve(st_map *m, uint64_t darts, uint64_t verts);
+/* Advises huge pages (core/base/hugepage.h) for the ids reserved beyond the
+ * pools' ends: for callers that then write every reserved id in order, as
+ * uniform refinement does.  Adaptive refinement touches its reservations
+ * sparsely and does not call it: a huge page is resident as a whole. */
+void st_map_advise_reserved(st_map *m);
 
 /* Gives back spare capacity once a map is built: pools and their arrays to
  * the ids handed out, columns to the ids they can hold.  Growth afterwards

@@ -2,6 +2,7 @@
  * keys (no hashing; a counting sort by the lower vertex: sorted_keys);
  * holes become boundary faces (map.h). */
 #include "core/map/map_mesh.h"
+#include "core/base/hugepage.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -56,7 +57,7 @@ static int make_corner_darts(build *b)
 static edge_key *sorted_keys(const build *b, uint32_t n)
 {
     uint32_t nv = b->mesh->nverts;
-    edge_key *k = malloc((size_t)(n ? n : 1) * sizeof *k);
+    edge_key *k = st_malloc_huge((size_t)(n ? n : 1) * sizeof *k);
     uint32_t *start = calloc((size_t)nv + 1, sizeof *start);
     if (!k || !start) { free(k); free(start); return NULL; }
     for (uint32_t d = 0; d < n; d++) {
@@ -172,10 +173,10 @@ int st_map_from_mesh(st_map *m, const st_mesh *mesh, st_error *err)
     if (n > UINT32_MAX / 2 - ST_POOL_BLOCK) return st_fail(err, ST_ERR_RANGE, "too many face corners (%u)", n);
     build b = { .m = m, .mesh = mesh, .ndarts = n, .err = err };
     size_t cap = 2 * (size_t)n + 1;
-    b.phi1 = malloc(cap * sizeof *b.phi1);
-    b.phi2 = malloc(cap * sizeof *b.phi2);
-    b.from = malloc(cap * sizeof *b.from);
-    b.to = malloc(cap * sizeof *b.to);
+    b.phi1 = st_malloc_huge(cap * sizeof *b.phi1);
+    b.phi2 = st_malloc_huge(cap * sizeof *b.phi2);
+    b.from = st_malloc_huge(cap * sizeof *b.from);
+    b.to = st_malloc_huge(cap * sizeof *b.to);
     uint32_t total = 0;
     int rc = (!b.phi1 || !b.phi2 || !b.from || !b.to) ? st_fail(err, ST_ERR_MEMORY, "out of memory building the map") : ST_OK;
     if (!rc) rc = make_corner_darts(&b);

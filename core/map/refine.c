@@ -7,6 +7,7 @@
  * Two writers build the same level: the generic operators (st_split_edge,
  * st_cut_face: st_refine_uniform_ops), and a bulk writer for the uniform
  * step at the top level that writes the final relations directly (below). */
+#include "core/base/hugepage.h"
 #include "core/map/refine_internal.h"
 #include "core/map/pool_internal.h"
 
@@ -477,8 +478,10 @@ int st_refine_uniform(st_map *m, enum st_split_mode mode, st_error *err)
         rc = st_fail(err, ST_ERR_MEMORY, "level %u needs %llu more darts: out of memory", L, (unsigned long long)darts);
     if (!rc) rc = st_level_add(m, err);
     if (rc) { bulk_free(&b); return rc; }
+    st_map_advise_reserved(m);
     b.b0L = st_mla_column_for_overwrite(&m->beta0, &m->darts, L);
     if (!b.b0L) abort(); /* level L exists already: no consistent state to return to */
+    st_advise_huge(b.b0L, (size_t)m->beta0.colcap[L] * sizeof *b.b0L);
     b.darts.left = darts;
     b.verts.left = verts;
     bulk_pointers(&b);

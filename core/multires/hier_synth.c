@@ -1,5 +1,6 @@
 /* Synthesis (thesis Algorithm 3), local frames, and local re-synthesis after
  * an edit.  Stencils come from the scheme; this file only applies them. */
+#include "core/base/hugepage.h"
 #include "core/map/geometry.h"
 #include "core/multires/edit.h"
 #include "core/multires/hier_internal.h"
@@ -45,6 +46,7 @@ void st_hier_set_detail(st_hier *h, unsigned l, uint32_t v, const double d[3])
         uint32_t cap = h->map.verts.end > v ? h->map.verts.end : v + 1;
         double *p = realloc(h->detail[l], 3 * (size_t)cap * sizeof *p);
         if (!p) abort();
+        st_advise_huge(p, 3 * (size_t)cap * sizeof *p);
         memset(p + 3 * (size_t)h->detail_cap[l], 0, 3 * (size_t)(cap - h->detail_cap[l]) * sizeof *p);
         h->detail[l] = p;
         h->detail_cap[l] = cap;

@@ -10,6 +10,7 @@
 #endif
 
 #include "core/multires/hier.h"
+#include "core/base/hugepage.h"
 #include "core/base/parallel.h"
 #include "core/schemes/synth_blocks_internal.h"
 
@@ -57,6 +58,7 @@ static inline void vec_reserve(u32vec *v, size_t cap)
     if (cap <= v->cap) return;
     uint32_t *a = realloc(v->a, cap * sizeof *a);
     if (!a) abort(); /* out of memory for the synthesis tables */
+    st_advise_huge(a, cap * sizeof *a);
     v->a = a;
     v->cap = cap;
 }
