@@ -49,6 +49,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Per thread: scratch for the stencil path. */
+typedef struct cc_worker { const cc_eval *x; st_catmark_emitter e; } cc_worker;
+
+static void sink_write(void *ctx, const st_stencil *s)
+{
+    const cc_eval *x = ((cc_worker *)ctx)->x;
+    double *slot = (x->h->map.verts.ins[s->fine] == x->L ? x->pnew : x->pold) + 3 * (size_t)s->fine;
+    st_stencil_eval(x->h, x->L, s, slot);
+}
+
 /* ---- building: walks of the coarse level ---- */
 
 typedef struct builder {
@@ -69,7 +79,8 @@ typedef struct builder {
     u32vec walk;                    /* scratch: a face or a ring */
     int irregular;
     uint64_t covered, holes;        /* darts in the faces found, darts of holes: every dart of level l */
-    cc_table *t;
+    cc_table *t;                    /* the records, when building tables ... */
+    struct cc_worker *w;            /* ... or, walking the level (NULL t), the evaluation they would feed */
 } builder;
 
 static uint32_t c_beta0(const builder *x, uint32_t d)
@@ -104,7 +115,13 @@ static uint32_t centre_of(const builder *x, uint32_t d)
 static void record_face(builder *x, const uint32_t *y, unsigned k, uint32_t centre)
 {
     cc_table *t = x->t;
-    if (k == 4) {
+    if (!t) {
+        /* Walking: the face point now, as st_cc_face_value on the record. */
+        const cc_eval *ev = x->w->x;
+        double f[3] = { 0, 0, 0 };
+        for (unsigned i = 0; i < k; i++) st_cc_face_add(f, st_cc_ref_pos(ev, ref_of(x, c_vert(x, y[i]))));
+        st_cc_face_finish(f, k, ev->pnew + 3 * (size_t)centre);
+    } else if (k == 4) {
         for (unsigned i = 0; i < 4; i++) vec_push(&t->quad, ref_of(x, c_vert(x, y[i])));
         vec_push(&t->quad, centre);
     } else {
@@ -193,6 +210,18 @@ static void faces_sequential(builder *x)
     free(seen);
 }
 
+/* Walking: the edge point of (d, e) now, as st_cc_edge_value on the
+ * record.  Its midpoint must be new at L: the tables prove it for all
+ * edges before they write, a walk writes as it goes. */
+static void walk_edge(builder *x, uint32_t d, uint32_t e)
+{
+    const cc_eval *ev = x->w->x;
+    uint32_t mid = x->vt[x->b0L[d]];
+    if (x->c.vins[mid] != x->L) { x->irregular = 1; return; }
+    st_cc_edge_mix(st_cc_ref_pos(ev, ref_of(x, c_vert(x, d))), st_cc_ref_pos(ev, ref_of(x, c_vert(x, e))),
+                   ev->pnew + 3 * (size_t)x->fc[d], ev->pnew + 3 * (size_t)x->fc[e], ev->pnew + 3 * (size_t)mid);
+}
+
 static void build_edges(builder *x)
 {
     cc_table *t = x->t;
@@ -203,10 +232,12 @@ static void build_edges(builder *x)
             x->holes += is_hole(x, d);
             if (d > e) continue;
             if (is_hole(x, d) || is_hole(x, e) || sharp_edge(x, d) || st_catmark_tri_edge(x->h, d, x->l)) {
-                vec_push(&t->sedge, d);
+                if (t) vec_push(&t->sedge, d);
+                else st_catmark_emit_edge(x->h, x->L, d, &x->w->e, sink_write, x->w);
                 continue;
             }
             if (x->fc[d] == ST_NIL || x->fc[e] == ST_NIL) { x->irregular = 1; return; }
+            if (!t) { walk_edge(x, d, e); if (x->irregular) return; continue; }
             if (t->edge.n + 5 > t->edge.cap) vec_reserve(&t->edge, 2 * t->edge.cap + 5);
             uint32_t *r = t->edge.a + t->edge.n;
             r[0] = ref_of(x, c_vert(x, d));
@@ -226,11 +257,28 @@ static unsigned smallest(const uint32_t *r, unsigned n)
     return m;
 }
 
+/* Walking: the vertex point of v now, as st_cc_vertex_value on the record
+ * (ring r[0..n), summed from r[m], the smallest dart). */
+static void walk_vertex(builder *x, uint32_t v, const uint32_t *r, unsigned n, unsigned m)
+{
+    const cc_eval *ev = x->w->x;
+    double s[3] = { 0, 0, 0 };
+    for (unsigned i = 0, j = m; i < n; i++, j = j + 1 < n ? j + 1 : 0) {
+        if (x->fc[r[j]] == ST_NIL) { x->irregular = 1; return; }
+        st_cc_vertex_add(s, st_cc_ref_pos(ev, ref_of(x, c_vert(x, c_beta0(x, r[j])))), ev->pnew + 3 * (size_t)x->fc[r[j]]);
+    }
+    st_cc_vertex_finish(st_cc_ref_pos(ev, ref_of(x, v)), s, n, ev->pold + 3 * (size_t)v);
+}
+
 static void build_vertex(builder *x, uint32_t v)
 {
     cc_table *t = x->t;
     uint32_t d = x->vd[v];
-    if (d == ST_NIL) { vec_push(&t->copy, ref_of(x, v)); return; }
+    if (d == ST_NIL) {
+        if (t) vec_push(&t->copy, ref_of(x, v));
+        else memcpy(x->w->x->pold + 3 * (size_t)v, st_cc_ref_pos(x->w->x, ref_of(x, v)), 3 * sizeof(double));
+        return;
+    }
     int special = x->h->has_sharpness && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
     x->walk.n = 0;
     uint32_t y = d;
@@ -241,7 +289,9 @@ static void build_vertex(builder *x, uint32_t v)
     } while (y != d);
     const uint32_t *r = x->walk.a;
     unsigned n = (unsigned)x->walk.n, m = smallest(r, n);
+    if (special && !t) { st_catmark_emit_vertex(x->h, x->L, r[m], &x->w->e, sink_write, x->w); return; }
     if (special) { vec_push(&t->svert, r[m]); return; }
+    if (!t) { walk_vertex(x, v, r, n, m); return; }
     u32vec *out = n == 4 ? &t->v4 : &t->vdata;
     vec_push(out, ref_of(x, v));
     for (unsigned i = 0, j = m; i < n; i++, j = j + 1 < n ? j + 1 : 0) {
@@ -294,6 +344,7 @@ static int builder_init(builder *x, st_hier *h, unsigned L, cc_table *t)
     memset(x->vd, 0xff, ((size_t)x->vcover + 1) * sizeof *x->vd);
     if (m->beta0.eff[x->l] == x->l && !(x->dnew = st_block_bits(&m->darts, x->l))) return -1;
     if (m->pos.eff[x->l] == x->l && !(x->vnew = st_block_bits(&m->verts, x->l))) return -1;
+    if (!t) return 0; /* walking: no records */
     /* Sizes of a level of quads (every level >= 1): one allocation each. */
     uint64_t darts = st_pool_count(&m->darts, x->l), verts = st_pool_count(&m->verts, x->l);
     vec_reserve(&t->quad, 5 * (size_t)(darts / 4) + 5);
@@ -313,11 +364,15 @@ static void builder_free(builder *x)
     free(x->walk.a);
 }
 
-/* The Catmull-Clark records of level L's coarse level (st_synth_build). */
-static int build_tables_of(st_hier *h, unsigned L, cc_table *t)
+/* The walks of level L's coarse level: they record t's records, or, with
+ * t NULL, evaluate each record as they meet it for w (the first synthesis
+ * after a change, catmark_walk_level); returns 1 if the level is irregular
+ * (a walk may have written some points by then: the stencils redo them). */
+static int walk_coarse_level(st_hier *h, unsigned L, cc_table *t, cc_worker *w)
 {
     builder x = { 0 };
     if (builder_init(&x, h, L, t)) { builder_free(&x); return 1; } /* no memory for the scratch */
+    x.w = w;
     unsigned l = L - 1;
     if (l > 0)
         for (uint32_t i = 0; i < x.nnew && !x.irregular; i++) face_block(&x, x.blocks[i]);
@@ -331,19 +386,12 @@ static int build_tables_of(st_hier *h, unsigned L, cc_table *t)
     return irregular;
 }
 
+/* The Catmull-Clark records of level L's coarse level (st_synth_build). */
+static int build_tables_of(st_hier *h, unsigned L, cc_table *t) { return walk_coarse_level(h, L, t, NULL); }
+
 const cc_table *st_cc_tables_for(st_hier *h, unsigned L) { return st_synth_tables_for(h, L, ST_SCHEME_CATMARK, build_tables_of); }
 
 /* ---- evaluation ---- */
-
-/* Per thread: scratch for the stencil path. */
-typedef struct cc_worker { const cc_eval *x; st_catmark_emitter e; } cc_worker;
-
-static void sink_write(void *ctx, const st_stencil *s)
-{
-    const cc_eval *x = ((cc_worker *)ctx)->x;
-    double *slot = (x->h->map.verts.ins[s->fine] == x->L ? x->pnew : x->pold) + 3 * (size_t)s->fine;
-    st_stencil_eval(x->h, x->L, s, slot);
-}
 
 static void face_item(const cc_eval *x, uint32_t i)
 {
@@ -425,10 +473,38 @@ static void predict_by_stencils(st_hier *h, unsigned L)
     st_catmark_emit(h, L, NULL, 0, sink_write, &w);
 }
 
+/* Level L by the walks that build the tables, each record evaluated as
+ * met (the same records, the same arithmetic, so the tables' bits) on one
+ * thread; returns 1 if the level is irregular (the stencils' then). */
+static int predict_by_walk(st_hier *h, unsigned L)
+{
+    st_map *m = &h->map;
+    if (m->verts.end > REF_ID) return 1; /* refs keep one bit for the column, as the tables' */
+    cc_eval x = { .h = h, .L = L };
+    x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
+    if (!x.pold) abort(); /* out of memory for a level's positions */
+    x.pnew = (double *)m->pos.base;
+    x.pbase = (const double *)m->pos.base;
+    x.pcol = (const double *)m->pos.col[m->pos.eff[L - 1]];
+    cc_worker w = { .x = &x };
+    int irregular = walk_coarse_level(h, L, NULL, &w);
+    st_stencil_buf_free(&w.e.buf);
+    st_stencil_buf_free(&w.e.tmp);
+    return irregular;
+}
+
 void st_catmark_predict_level(st_hier *h, unsigned L)
 {
     st_map *m = &h->map;
     if (!m->beta0.col[L]) { predict_by_stencils(h, L); return; }
+    /* The first synthesis after a change walks the level instead of
+     * building the tables (which a one-shot synthesis, a command that
+     * subdivides and writes, would never read again); the next builds
+     * them (st_synth_tables_defer). */
+    if (st_synth_tables_defer(h, L, ST_SCHEME_CATMARK)) {
+        if (predict_by_walk(h, L)) predict_by_stencils(h, L);
+        return;
+    }
     const cc_table *t = st_cc_tables_for(h, L);
     if (t->irregular) { predict_by_stencils(h, L); return; }
     cc_eval x = { .h = h, .L = L, .t = t };
