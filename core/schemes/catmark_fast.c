@@ -79,8 +79,12 @@ typedef struct builder {
     u32vec walk;                    /* scratch: a face or a ring */
     int irregular;
     uint64_t covered, holes;        /* darts in the faces found, darts of holes: every dart of level l */
+    const uint8_t *flags;           /* the map's dart flags (holes) */
+    int sharp, tri_smooth;          /* sharpness anywhere; smooth triangles (st_catmark_tri_edge) */
     cc_table *t;                    /* the records, when building tables ... */
-    struct cc_worker *w;            /* ... or, walking the level (NULL t), the evaluation they would feed */
+    cc_worker *w;                   /* ... or, walking the level (NULL t), the evaluation they would feed, */
+    double *P;                      /* with the level-l positions gathered: P + 3v is the position the
+                                       ref of v names (st_synth_ref_pos), read without its select */
 } builder;
 
 static uint32_t c_beta0(const builder *x, uint32_t d)
@@ -95,10 +99,12 @@ static uint32_t c_phi1(const builder *x, uint32_t d) { return c_beta1(x, c_beta0
 /* Dart d of level l was inserted below l. */
 static int c_old(const builder *x, uint32_t d) { return x->dnew ? !st_block_bit(x->dnew, d) : x->c.ins[d] < x->l; }
 static int is_live(const uint8_t *ins, uint32_t id) { return ins[id] != ST_FREE_LEVEL; }
-static int is_hole(const builder *x, uint32_t d) { return (x->h->map.flags[d] & ST_DART_BOUNDARY) != 0; }
-static int sharp_edge(const builder *x, uint32_t d) { return x->h->has_sharpness && st_hier_edge_sharpness(x->h, d, x->l) > 0; }
+static int is_hole(const builder *x, uint32_t d) { return (x->flags[d] & ST_DART_BOUNDARY) != 0; }
+static int sharp_edge(const builder *x, uint32_t d) { return x->sharp && st_hier_edge_sharpness(x->h, d, x->l) > 0; }
 
 static uint32_t ref_of(const builder *x, uint32_t v) { return st_synth_ref(&x->c, x->vnew, v); }
+/* Walking: the level-l position of coarse vertex v. */
+static const double *wpos(const builder *x, uint32_t v) { return x->P + 3 * (size_t)v; }
 
 /* The centre of the face of coarse dart d at level L, or ST_NIL when the
  * chain does not end on a vertex new at L.  Each step reads a live dart
@@ -119,7 +125,7 @@ static void record_face(builder *x, const uint32_t *y, unsigned k, uint32_t cent
         /* Walking: the face point now, as st_cc_face_value on the record. */
         const cc_eval *ev = x->w->x;
         double f[3] = { 0, 0, 0 };
-        for (unsigned i = 0; i < k; i++) st_cc_face_add(f, st_cc_ref_pos(ev, ref_of(x, c_vert(x, y[i]))));
+        for (unsigned i = 0; i < k; i++) st_cc_face_add(f, wpos(x, c_vert(x, y[i])));
         st_cc_face_finish(f, k, ev->pnew + 3 * (size_t)centre);
     } else if (k == 4) {
         for (unsigned i = 0; i < 4; i++) vec_push(&t->quad, ref_of(x, c_vert(x, y[i])));
@@ -218,7 +224,7 @@ static void walk_edge(builder *x, uint32_t d, uint32_t e)
     const cc_eval *ev = x->w->x;
     uint32_t mid = x->vt[x->b0L[d]];
     if (x->c.vins[mid] != x->L) { x->irregular = 1; return; }
-    st_cc_edge_mix(st_cc_ref_pos(ev, ref_of(x, c_vert(x, d))), st_cc_ref_pos(ev, ref_of(x, c_vert(x, e))),
+    st_cc_edge_mix(wpos(x, c_vert(x, d)), wpos(x, c_vert(x, e)),
                    ev->pnew + 3 * (size_t)x->fc[d], ev->pnew + 3 * (size_t)x->fc[e], ev->pnew + 3 * (size_t)mid);
 }
 
@@ -231,7 +237,7 @@ static void build_edges(builder *x)
             uint32_t e = c_beta0(x, d);
             x->holes += is_hole(x, d);
             if (d > e) continue;
-            if (is_hole(x, d) || is_hole(x, e) || sharp_edge(x, d) || st_catmark_tri_edge(x->h, d, x->l)) {
+            if ((is_hole(x, d) | is_hole(x, e)) || sharp_edge(x, d) || (x->tri_smooth && st_catmark_tri_edge(x->h, d, x->l))) {
                 if (t) vec_push(&t->sedge, d);
                 else st_catmark_emit_edge(x->h, x->L, d, &x->w->e, sink_write, x->w);
                 continue;
@@ -249,14 +255,6 @@ static void build_edges(builder *x)
         }
 }
 
-/* Position in r[0..n) of the smallest dart. */
-static unsigned smallest(const uint32_t *r, unsigned n)
-{
-    unsigned m = 0;
-    for (unsigned i = 1; i < n; i++) m = r[i] < r[m] ? i : m;
-    return m;
-}
-
 /* Walking: the vertex point of v now, as st_cc_vertex_value on the record
  * (ring r[0..n), summed from r[m], the smallest dart). */
 static void walk_vertex(builder *x, uint32_t v, const uint32_t *r, unsigned n, unsigned m)
@@ -265,9 +263,9 @@ static void walk_vertex(builder *x, uint32_t v, const uint32_t *r, unsigned n, u
     double s[3] = { 0, 0, 0 };
     for (unsigned i = 0, j = m; i < n; i++, j = j + 1 < n ? j + 1 : 0) {
         if (x->fc[r[j]] == ST_NIL) { x->irregular = 1; return; }
-        st_cc_vertex_add(s, st_cc_ref_pos(ev, ref_of(x, c_vert(x, c_beta0(x, r[j])))), ev->pnew + 3 * (size_t)x->fc[r[j]]);
+        st_cc_vertex_add(s, wpos(x, c_vert(x, c_beta0(x, r[j]))), ev->pnew + 3 * (size_t)x->fc[r[j]]);
     }
-    st_cc_vertex_finish(st_cc_ref_pos(ev, ref_of(x, v)), s, n, ev->pold + 3 * (size_t)v);
+    st_cc_vertex_finish(wpos(x, v), s, n, ev->pold + 3 * (size_t)v);
 }
 
 static void build_vertex(builder *x, uint32_t v)
@@ -276,19 +274,22 @@ static void build_vertex(builder *x, uint32_t v)
     uint32_t d = x->vd[v];
     if (d == ST_NIL) {
         if (t) vec_push(&t->copy, ref_of(x, v));
-        else memcpy(x->w->x->pold + 3 * (size_t)v, st_cc_ref_pos(x->w->x, ref_of(x, v)), 3 * sizeof(double));
+        else memcpy(x->w->x->pold + 3 * (size_t)v, wpos(x, v), 3 * sizeof(double));
         return;
     }
-    int special = x->h->has_sharpness && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
+    int special = x->sharp && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
     x->walk.n = 0;
-    uint32_t y = d;
+    uint32_t y = d, lo = d;
+    unsigned m = 0;
     do {
         special |= is_hole(x, y) | sharp_edge(x, y);
+        m = y < lo ? (unsigned)x->walk.n : m;
+        lo = y < lo ? y : lo;
         vec_push(&x->walk, y);
         y = c_beta1(x, y);
     } while (y != d);
     const uint32_t *r = x->walk.a;
-    unsigned n = (unsigned)x->walk.n, m = smallest(r, n);
+    unsigned n = (unsigned)x->walk.n;
     if (special && !t) { st_catmark_emit_vertex(x->h, x->L, r[m], &x->w->e, sink_write, x->w); return; }
     if (special) { vec_push(&t->svert, r[m]); return; }
     if (!t) { walk_vertex(x, v, r, n, m); return; }
@@ -321,10 +322,25 @@ static uint32_t blocks_cover(const uint32_t *blocks, uint32_t n)
     return cover;
 }
 
-static int builder_init(builder *x, st_hier *h, unsigned L, cc_table *t)
+/* Walking: P, the level-l positions of the vertices of level l, each
+ * copied from where its ref points (the base or the column), so that the
+ * walk reads each without the select (a vertex is read about 13 times). */
+static int gather_positions(builder *x)
+{
+    x->P = malloc(((size_t)x->vcover + 1) * 3 * sizeof *x->P);
+    if (!x->P) return -1;
+    const cc_eval *ev = x->w->x;
+    for (uint32_t i = 0; i < x->nvblocks; i++)
+        for (uint32_t v = x->vblocks[i]; v < x->vblocks[i] + ST_POOL_BLOCK; v++)
+            if (is_live(x->c.vins, v)) memcpy(x->P + 3 * (size_t)v, st_cc_ref_pos(ev, ref_of(x, v)), 3 * sizeof(double));
+    return 0;
+}
+
+static int builder_init(builder *x, st_hier *h, unsigned L, cc_table *t, cc_worker *w)
 {
     st_map *m = &h->map;
-    *x = (builder){ .h = h, .l = L - 1, .L = L, .t = t };
+    *x = (builder){ .h = h, .l = L - 1, .L = L, .t = t, .w = w, .flags = m->flags, .sharp = h->has_sharpness,
+                    .tri_smooth = h->opts.tri_sub == ST_TRI_SUB_SMOOTH };
     x->b0L = (const uint32_t *)m->beta0.col[L];
     x->b0 = (const uint32_t *)m->beta0.base;
     x->b1 = (const uint32_t *)m->beta1.base;
@@ -344,7 +360,7 @@ static int builder_init(builder *x, st_hier *h, unsigned L, cc_table *t)
     memset(x->vd, 0xff, ((size_t)x->vcover + 1) * sizeof *x->vd);
     if (m->beta0.eff[x->l] == x->l && !(x->dnew = st_block_bits(&m->darts, x->l))) return -1;
     if (m->pos.eff[x->l] == x->l && !(x->vnew = st_block_bits(&m->verts, x->l))) return -1;
-    if (!t) return 0; /* walking: no records */
+    if (!t) return gather_positions(x);
     /* Sizes of a level of quads (every level >= 1): one allocation each. */
     uint64_t darts = st_pool_count(&m->darts, x->l), verts = st_pool_count(&m->verts, x->l);
     vec_reserve(&t->quad, 5 * (size_t)(darts / 4) + 5);
@@ -362,6 +378,7 @@ static void builder_free(builder *x)
     free(x->dnew);
     free(x->vnew);
     free(x->walk.a);
+    free(x->P);
 }
 
 /* The walks of level L's coarse level: they record t's records, or, with
@@ -371,8 +388,7 @@ static void builder_free(builder *x)
 static int walk_coarse_level(st_hier *h, unsigned L, cc_table *t, cc_worker *w)
 {
     builder x = { 0 };
-    if (builder_init(&x, h, L, t)) { builder_free(&x); return 1; } /* no memory for the scratch */
-    x.w = w;
+    if (builder_init(&x, h, L, t, w)) { builder_free(&x); return 1; } /* no memory for the scratch */
     unsigned l = L - 1;
     if (l > 0)
         for (uint32_t i = 0; i < x.nnew && !x.irregular; i++) face_block(&x, x.blocks[i]);
