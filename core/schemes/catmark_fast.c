@@ -199,6 +199,33 @@ static void face_block(builder *x, uint32_t first)
     }
 }
 
+/* Walking a level l >= 1 with plain relations and block bits: each face
+ * from its one dart older than l (the blocks below l's hold only such
+ * darts), quad (n, o, y2, y3) with n = φ1(y3), the name face_block gives it
+ * and so the corner the tables start it at.  Returns 0, having recorded
+ * nothing, unless every such face is one that face_block takes as a quad
+ * named by n alone (n new, not a hole, twin old; y2 and y3 new with twins
+ * new): the caller then walks the faces as face_block does.  The selects
+ * vanish: an old dart's β0 is in the column, a new one's in the base. */
+static int faces_from_old(builder *x)
+{
+    const uint32_t *b0 = x->c.beta0.base, *b0c = x->c.beta0.col, *b1 = x->b1, *vt = x->vt, *b0L = x->b0L;
+    const uint64_t *dn = x->dnew;
+    for (uint32_t i = x->nnew; i < x->nblocks; i++)
+        for (uint32_t o = x->blocks[i]; o < x->blocks[i] + ST_POOL_BLOCK; o++) {
+            if (!is_live(x->c.ins, o) || is_hole(x, o)) continue;
+            uint32_t y2 = b1[b0c[o]], e2 = b0[y2], y3 = b1[e2], e3 = b0[y3], n = b1[e3], en = b0[n];
+            unsigned ok = (b1[en] == o) & st_block_bit(dn, y2) & st_block_bit(dn, y3) & st_block_bit(dn, n) &
+                          !st_block_bit(dn, en) & st_block_bit(dn, e2) & st_block_bit(dn, e3) & !is_hole(x, n);
+            if (!ok) { x->covered = 0; return 0; }
+            uint32_t c = vt[b0[b1[b0L[y3]]]]; /* centre_of(y3) */
+            if (x->c.vins[c] != x->L) { x->irregular = 1; return 1; }
+            uint32_t y[4] = { n, o, y2, y3 };
+            record_face(x, y, 4, c);
+        }
+    return 1;
+}
+
 /* Level 0: faces in enumeration order, a visited bit per dart, each from its
  * smallest dart. */
 static void faces_sequential(builder *x)
@@ -231,10 +258,13 @@ static void walk_edge(builder *x, uint32_t d, uint32_t e)
 static void build_edges(builder *x)
 {
     cc_table *t = x->t;
-    for (uint32_t i = 0; i < x->nblocks; i++)
+    for (uint32_t i = 0; i < x->nblocks; i++) {
+        /* With block bits, β0 of a whole block comes from one array: the
+         * base for level l's blocks, the column for older ones (c_beta0). */
+        const uint32_t *b0 = !x->dnew ? NULL : i < x->nnew ? x->c.beta0.base : x->c.beta0.col;
         for (uint32_t d = x->blocks[i]; d < x->blocks[i] + ST_POOL_BLOCK; d++) {
             if (!is_live(x->c.ins, d)) continue;
-            uint32_t e = c_beta0(x, d);
+            uint32_t e = b0 ? b0[d] : c_beta0(x, d);
             x->holes += is_hole(x, d);
             if (d > e) continue;
             if ((is_hole(x, d) | is_hole(x, e)) || sharp_edge(x, d) || (x->tri_smooth && st_catmark_tri_edge(x->h, d, x->l))) {
@@ -253,6 +283,7 @@ static void build_edges(builder *x)
             r[4] = x->vt[x->b0L[d]];
             t->edge.n += 5;
         }
+    }
 }
 
 /* Walking: the vertex point of v now, as st_cc_vertex_value on the record
@@ -390,9 +421,10 @@ static int walk_coarse_level(st_hier *h, unsigned L, cc_table *t, cc_worker *w)
     builder x = { 0 };
     if (builder_init(&x, h, L, t, w)) { builder_free(&x); return 1; } /* no memory for the scratch */
     unsigned l = L - 1;
-    if (l > 0)
-        for (uint32_t i = 0; i < x.nnew && !x.irregular; i++) face_block(&x, x.blocks[i]);
-    else
+    if (l > 0) {
+        int done = !t && x.plain && x.dnew && faces_from_old(&x);
+        for (uint32_t i = 0; i < x.nnew && !x.irregular && !done; i++) face_block(&x, x.blocks[i]);
+    } else
         faces_sequential(&x);
     if (!x.irregular) build_edges(&x);
     if (!x.irregular) build_vertices(&x);
