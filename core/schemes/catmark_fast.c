@@ -337,11 +337,43 @@ static void build_vertex(builder *x, uint32_t v)
     }
 }
 
+/* Walking, plain relations and no sharpness: vertex v's point as
+ * walk_vertex (the ring in a local array, its darts' holes or-ed); rings
+ * longer than RING_LOCAL, a copy and the special ones go to build_vertex. */
+#define RING_LOCAL 64u
+static void walk_vertex_plain(builder *x, uint32_t v)
+{
+    uint32_t d = x->vd[v], r[RING_LOCAL], y = d;
+    unsigned n = 0, m = 0;
+    uint8_t flags = 0;
+    if (d == ST_NIL) { build_vertex(x, v); return; }
+    do {
+        if (n == RING_LOCAL) { build_vertex(x, v); return; }
+        flags |= x->flags[y];
+        m = y < r[m] || !n ? n : m;
+        r[n++] = y;
+        y = x->b1[y];
+    } while (y != d);
+    if (flags & ST_DART_BOUNDARY) { build_vertex(x, v); return; }
+    const cc_eval *ev = x->w->x;
+    double s[3] = { 0, 0, 0 };
+    for (unsigned i = 0, j = m; i < n; i++, j = j + 1 < n ? j + 1 : 0) {
+        uint32_t f = x->fc[r[j]];
+        if (f == ST_NIL) { x->irregular = 1; return; }
+        st_cc_vertex_add(s, wpos(x, x->vt[c_beta0(x, r[j])]), ev->pnew + 3 * (size_t)f);
+    }
+    st_cc_vertex_finish(wpos(x, v), s, n, ev->pold + 3 * (size_t)v);
+}
+
 static void build_vertices(builder *x)
 {
+    int fast = !x->t && x->plain && !x->sharp;
     for (uint32_t i = 0; i < x->nvblocks && !x->irregular; i++)
-        for (uint32_t v = x->vblocks[i]; v < x->vblocks[i] + ST_POOL_BLOCK; v++)
-            if (is_live(x->c.vins, v)) build_vertex(x, v);
+        for (uint32_t v = x->vblocks[i]; v < x->vblocks[i] + ST_POOL_BLOCK; v++) {
+            if (!is_live(x->c.vins, v)) continue;
+            if (fast) walk_vertex_plain(x, v);
+            else build_vertex(x, v);
+        }
 }
 
 /* 1 + the largest id in the blocks. */
