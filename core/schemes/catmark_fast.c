@@ -4,12 +4,18 @@
  * PrimvarRefiner: face points first, then edge and vertex points, each read
  * from flat index tables.  The tables of coarse level l depend on the
  * topology only (and on sharpness, which decides the special cells), so
- * they are built once, on the first synthesis after a change, and kept in
+ * they are built once, on the second synthesis after a change, and kept in
  * h->cache[l] while the map's generation (map.h) stays the same.  Building
- * them walks the 2-map (about the cost of one synthesis by walks); using
- * them reads a few sequential 32-bit indices per fine vertex instead of a
- * chain of dependent loads through β0, β1 and the embedding, which bound
- * the walk by memory latency.
+ * them walks the 2-map; using them reads a few sequential 32-bit indices
+ * per fine vertex instead of a chain of dependent loads through β0, β1 and
+ * the embedding, which bound the walk by memory latency.
+ *
+ * The first synthesis after a change (st_synth_tables_defer) takes the
+ * same walks and evaluates each record as it meets it instead of storing
+ * it: the tables' bits without building them, since a one-shot synthesis
+ * (a command that subdivides and writes) would never read them again.
+ * spot, depth 4, first synthesis: 392 M instructions building the tables
+ * and reading them, 210 M walking (callgrind).
  *
  * Tables of level l (each record in the order the build met it):
  *   quad   5 per quad face: its corners' position refs from the dart new at
