@@ -226,8 +226,17 @@ static int faces_from_old(builder *x)
             if (!ok) { x->covered = 0; return 0; }
             uint32_t c = vt[b0[b1[b0L[y3]]]]; /* centre_of(y3) */
             if (x->c.vins[c] != x->L) { x->irregular = 1; return 1; }
+            /* record_face, walking, on the quad */
             uint32_t y[4] = { n, o, y2, y3 };
-            record_face(x, y, 4, c);
+            double f[3] = { 0, 0, 0 };
+            for (unsigned k = 0; k < 4; k++) {
+                uint32_t v = vt[y[k]];
+                st_cc_face_add(f, wpos(x, v));
+                x->fc[y[k]] = c;
+                x->vd[v] = y[k];
+            }
+            st_cc_face_finish(f, 4, x->w->x->pnew + 3 * (size_t)c);
+            x->covered += 4;
         }
     return 1;
 }
@@ -363,10 +372,10 @@ static void walk_vertex_plain(builder *x, uint32_t v)
     if (flags & ST_DART_BOUNDARY) { build_vertex(x, v); return; }
     const cc_eval *ev = x->w->x;
     double s[3] = { 0, 0, 0 };
-    for (unsigned i = 0, j = m; i < n; i++, j = j + 1 < n ? j + 1 : 0) {
-        uint32_t f = x->fc[r[j]];
+    for (unsigned i = 0; i < n; i++) {
+        uint32_t y = r[i + m < n ? i + m : i + m - n], f = x->fc[y];
         if (f == ST_NIL) { x->irregular = 1; return; }
-        st_cc_vertex_add(s, wpos(x, x->vt[c_beta0(x, r[j])]), ev->pnew + 3 * (size_t)f);
+        st_cc_vertex_add(s, wpos(x, x->vt[c_beta0(x, y)]), ev->pnew + 3 * (size_t)f);
     }
     st_cc_vertex_finish(wpos(x, v), s, n, ev->pold + 3 * (size_t)v);
 }
