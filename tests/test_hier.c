@@ -160,6 +160,14 @@ static void cone20(st_mesh *s)
     tl_mesh_make(s, p, N + 1, off, idx, N + 1);
 }
 
+/* The icosahedron under Catmull-Clark with smooth triangles: every edge
+ * takes the stencil path (st_catmark_tri_edge). */
+static void icosa_smooth_tri(st_mesh *s)
+{
+    tl_mesh_icosa(s);
+    s->tri_sub = ST_TRI_SUB_SMOOTH;
+}
+
 /* The icosahedron with a crease around one vertex's fan and a corner. */
 static void icosa_creased(st_mesh *s)
 {
@@ -214,7 +222,7 @@ static void test_tables(void)
     check_columns(ST_SCHEME_CATMARK, torus_creased);
     check_columns(ST_SCHEME_CATMARK, grid);
     check_columns(ST_SCHEME_LOOP, icosa_creased);
-    void (*quads[])(st_mesh *) = { torus, grid, icosa, tetra, cube_scaled, torus_creased, cone20 };
+    void (*quads[])(st_mesh *) = { torus, grid, icosa, tetra, cube_scaled, torus_creased, cone20, icosa_smooth_tri };
     for (size_t i = 0; i < sizeof quads / sizeof *quads; i++) check_tables(ST_SCHEME_CATMARK, quads[i], i);
     void (*tris[])(st_mesh *) = { icosa, tetra, octa, icosa_creased };
     for (size_t i = 0; i < sizeof tris / sizeof *tris; i++) check_tables(ST_SCHEME_LOOP, tris[i], 100 + i);

@@ -15,7 +15,7 @@
  * it: the tables' bits without building them, since a one-shot synthesis
  * (a command that subdivides and writes) would never read them again.
  * spot, depth 4, first synthesis: 392 M instructions building the tables
- * and reading them, 210 M walking (callgrind).
+ * and reading them, 191 M walking (callgrind).
  *
  * Tables of level l (each record in the order the build met it):
  *   quad   5 per quad face: its corners' position refs from the dart new at
@@ -461,7 +461,7 @@ static void builder_free(builder *x)
 
 /* The walks of level L's coarse level: they record t's records, or, with
  * t NULL, evaluate each record as they meet it for w (the first synthesis
- * after a change, catmark_walk_level); returns 1 if the level is irregular
+ * after a change, predict_by_walk); returns 1 if the level is irregular
  * (a walk may have written some points by then: the stencils redo them). */
 static int walk_coarse_level(st_hier *h, unsigned L, cc_table *t, cc_worker *w)
 {
