@@ -4,12 +4,18 @@
  * PrimvarRefiner: face points first, then edge and vertex points, each read
  * from flat index tables.  The tables of coarse level l depend on the
  * topology only (and on sharpness, which decides the special cells), so
- * they are built once, on the first synthesis after a change, and kept in
+ * they are built once, on the second synthesis after a change, and kept in
  * h->cache[l] while the map's generation (map.h) stays the same.  Building
- * them walks the 2-map (about the cost of one synthesis by walks); using
- * them reads a few sequential 32-bit indices per fine vertex instead of a
- * chain of dependent loads through β0, β1 and the embedding, which bound
- * the walk by memory latency.
+ * them walks the 2-map; using them reads a few sequential 32-bit indices
+ * per fine vertex instead of a chain of dependent loads through β0, β1 and
+ * the embedding, which bound the walk by memory latency.
+ *
+ * The first synthesis after a change (st_synth_tables_defer) takes the
+ * same walks and evaluates each record as it meets it instead of storing
+ * it: the tables' bits without building them, since a one-shot synthesis
+ * (a command that subdivides and writes) would never read them again.
+ * spot, depth 4, first synthesis: 392 M instructions building the tables
+ * and reading them, 191 M walking (callgrind).
  *
  * Tables of level l (each record in the order the build met it):
  *   quad   5 per quad face: its corners' position refs from the dart new at
@@ -49,6 +55,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Per thread: scratch for the stencil path. */
+typedef struct cc_worker { const cc_eval *x; st_catmark_emitter e; } cc_worker;
+
+static void sink_write(void *ctx, const st_stencil *s)
+{
+    const cc_eval *x = ((cc_worker *)ctx)->x;
+    double *slot = (x->h->map.verts.ins[s->fine] == x->L ? x->pnew : x->pold) + 3 * (size_t)s->fine;
+    st_stencil_eval(x->h, x->L, s, slot);
+}
+
 /* ---- building: walks of the coarse level ---- */
 
 typedef struct builder {
@@ -69,7 +85,12 @@ typedef struct builder {
     u32vec walk;                    /* scratch: a face or a ring */
     int irregular;
     uint64_t covered, holes;        /* darts in the faces found, darts of holes: every dart of level l */
-    cc_table *t;
+    const uint8_t *flags;           /* the map's dart flags (holes) */
+    int sharp, tri_smooth;          /* sharpness anywhere; smooth triangles (st_catmark_tri_edge) */
+    cc_table *t;                    /* the records, when building tables ... */
+    cc_worker *w;                   /* ... or, walking the level (NULL t), the evaluation they would feed, */
+    double *P;                      /* with the level-l positions gathered: P + 3v is the position the
+                                       ref of v names (st_synth_ref_pos), read without its select */
 } builder;
 
 static uint32_t c_beta0(const builder *x, uint32_t d)
@@ -84,10 +105,12 @@ static uint32_t c_phi1(const builder *x, uint32_t d) { return c_beta1(x, c_beta0
 /* Dart d of level l was inserted below l. */
 static int c_old(const builder *x, uint32_t d) { return x->dnew ? !st_block_bit(x->dnew, d) : x->c.ins[d] < x->l; }
 static int is_live(const uint8_t *ins, uint32_t id) { return ins[id] != ST_FREE_LEVEL; }
-static int is_hole(const builder *x, uint32_t d) { return (x->h->map.flags[d] & ST_DART_BOUNDARY) != 0; }
-static int sharp_edge(const builder *x, uint32_t d) { return x->h->has_sharpness && st_hier_edge_sharpness(x->h, d, x->l) > 0; }
+static int is_hole(const builder *x, uint32_t d) { return (x->flags[d] & ST_DART_BOUNDARY) != 0; }
+static int sharp_edge(const builder *x, uint32_t d) { return x->sharp && st_hier_edge_sharpness(x->h, d, x->l) > 0; }
 
 static uint32_t ref_of(const builder *x, uint32_t v) { return st_synth_ref(&x->c, x->vnew, v); }
+/* Walking: the level-l position of coarse vertex v. */
+static const double *wpos(const builder *x, uint32_t v) { return x->P + 3 * (size_t)v; }
 
 /* The centre of the face of coarse dart d at level L, or ST_NIL when the
  * chain does not end on a vertex new at L.  Each step reads a live dart
@@ -104,7 +127,13 @@ static uint32_t centre_of(const builder *x, uint32_t d)
 static void record_face(builder *x, const uint32_t *y, unsigned k, uint32_t centre)
 {
     cc_table *t = x->t;
-    if (k == 4) {
+    if (!t) {
+        /* Walking: the face point now, as st_cc_face_value on the record. */
+        const cc_eval *ev = x->w->x;
+        double f[3] = { 0, 0, 0 };
+        for (unsigned i = 0; i < k; i++) st_cc_face_add(f, wpos(x, c_vert(x, y[i])));
+        st_cc_face_finish(f, k, ev->pnew + 3 * (size_t)centre);
+    } else if (k == 4) {
         for (unsigned i = 0; i < 4; i++) vec_push(&t->quad, ref_of(x, c_vert(x, y[i])));
         vec_push(&t->quad, centre);
     } else {
@@ -176,6 +205,42 @@ static void face_block(builder *x, uint32_t first)
     }
 }
 
+/* Walking a level l >= 1 with plain relations and block bits: each face
+ * from its one dart older than l (the blocks below l's hold only such
+ * darts), quad (n, o, y2, y3) with n = φ1(y3), the name face_block gives it
+ * and so the corner the tables start it at.  Returns 0, having recorded
+ * nothing, unless every such face is one that face_block takes as a quad
+ * named by n alone (n new, not a hole, twin old; y2 and y3 new with twins
+ * new): the caller then walks the faces as face_block does.  The selects
+ * vanish: an old dart's β0 is in the column, a new one's in the base. */
+static int faces_from_old(builder *x)
+{
+    const uint32_t *b0 = x->c.beta0.base, *b0c = x->c.beta0.col, *b1 = x->b1, *vt = x->vt, *b0L = x->b0L;
+    const uint64_t *dn = x->dnew;
+    for (uint32_t i = x->nnew; i < x->nblocks; i++)
+        for (uint32_t o = x->blocks[i]; o < x->blocks[i] + ST_POOL_BLOCK; o++) {
+            if (!is_live(x->c.ins, o) || is_hole(x, o)) continue;
+            uint32_t y2 = b1[b0c[o]], e2 = b0[y2], y3 = b1[e2], e3 = b0[y3], n = b1[e3], en = b0[n];
+            unsigned ok = (b1[en] == o) & st_block_bit(dn, y2) & st_block_bit(dn, y3) & st_block_bit(dn, n) &
+                          !st_block_bit(dn, en) & st_block_bit(dn, e2) & st_block_bit(dn, e3) & !is_hole(x, n);
+            if (!ok) { x->covered = 0; return 0; }
+            uint32_t c = vt[b0[b1[b0L[y3]]]]; /* centre_of(y3) */
+            if (x->c.vins[c] != x->L) { x->irregular = 1; return 1; }
+            /* record_face, walking, on the quad */
+            uint32_t y[4] = { n, o, y2, y3 };
+            double f[3] = { 0, 0, 0 };
+            for (unsigned k = 0; k < 4; k++) {
+                uint32_t v = vt[y[k]];
+                st_cc_face_add(f, wpos(x, v));
+                x->fc[y[k]] = c;
+                x->vd[v] = y[k];
+            }
+            st_cc_face_finish(f, 4, x->w->x->pnew + 3 * (size_t)c);
+            x->covered += 4;
+        }
+    return 1;
+}
+
 /* Level 0: faces in enumeration order, a visited bit per dart, each from its
  * smallest dart. */
 static void faces_sequential(builder *x)
@@ -193,20 +258,37 @@ static void faces_sequential(builder *x)
     free(seen);
 }
 
+/* Walking: the edge point of (d, e) now, as st_cc_edge_value on the
+ * record.  Its midpoint must be new at L: the tables prove it for all
+ * edges before they write, a walk writes as it goes. */
+static void walk_edge(builder *x, uint32_t d, uint32_t e)
+{
+    const cc_eval *ev = x->w->x;
+    uint32_t mid = x->vt[x->b0L[d]];
+    if (x->c.vins[mid] != x->L) { x->irregular = 1; return; }
+    st_cc_edge_mix(wpos(x, c_vert(x, d)), wpos(x, c_vert(x, e)),
+                   ev->pnew + 3 * (size_t)x->fc[d], ev->pnew + 3 * (size_t)x->fc[e], ev->pnew + 3 * (size_t)mid);
+}
+
 static void build_edges(builder *x)
 {
     cc_table *t = x->t;
-    for (uint32_t i = 0; i < x->nblocks; i++)
+    for (uint32_t i = 0; i < x->nblocks; i++) {
+        /* With block bits, β0 of a whole block comes from one array: the
+         * base for level l's blocks, the column for older ones (c_beta0). */
+        const uint32_t *b0 = !x->dnew ? NULL : i < x->nnew ? x->c.beta0.base : x->c.beta0.col;
         for (uint32_t d = x->blocks[i]; d < x->blocks[i] + ST_POOL_BLOCK; d++) {
             if (!is_live(x->c.ins, d)) continue;
-            uint32_t e = c_beta0(x, d);
+            uint32_t e = b0 ? b0[d] : c_beta0(x, d);
             x->holes += is_hole(x, d);
             if (d > e) continue;
-            if (is_hole(x, d) || is_hole(x, e) || sharp_edge(x, d) || st_catmark_tri_edge(x->h, d, x->l)) {
-                vec_push(&t->sedge, d);
+            if ((is_hole(x, d) | is_hole(x, e)) || sharp_edge(x, d) || (x->tri_smooth && st_catmark_tri_edge(x->h, d, x->l))) {
+                if (t) vec_push(&t->sedge, d);
+                else st_catmark_emit_edge(x->h, x->L, d, &x->w->e, sink_write, x->w);
                 continue;
             }
             if (x->fc[d] == ST_NIL || x->fc[e] == ST_NIL) { x->irregular = 1; return; }
+            if (!t) { walk_edge(x, d, e); if (x->irregular) return; continue; }
             if (t->edge.n + 5 > t->edge.cap) vec_reserve(&t->edge, 2 * t->edge.cap + 5);
             uint32_t *r = t->edge.a + t->edge.n;
             r[0] = ref_of(x, c_vert(x, d));
@@ -216,32 +298,47 @@ static void build_edges(builder *x)
             r[4] = x->vt[x->b0L[d]];
             t->edge.n += 5;
         }
+    }
 }
 
-/* Position in r[0..n) of the smallest dart. */
-static unsigned smallest(const uint32_t *r, unsigned n)
+/* Walking: the vertex point of v now, as st_cc_vertex_value on the record
+ * (ring r[0..n), summed from r[m], the smallest dart). */
+static void walk_vertex(builder *x, uint32_t v, const uint32_t *r, unsigned n, unsigned m)
 {
-    unsigned m = 0;
-    for (unsigned i = 1; i < n; i++) m = r[i] < r[m] ? i : m;
-    return m;
+    const cc_eval *ev = x->w->x;
+    double s[3] = { 0, 0, 0 };
+    for (unsigned i = 0, j = m; i < n; i++, j = j + 1 < n ? j + 1 : 0) {
+        if (x->fc[r[j]] == ST_NIL) { x->irregular = 1; return; }
+        st_cc_vertex_add(s, wpos(x, c_vert(x, c_beta0(x, r[j]))), ev->pnew + 3 * (size_t)x->fc[r[j]]);
+    }
+    st_cc_vertex_finish(wpos(x, v), s, n, ev->pold + 3 * (size_t)v);
 }
 
 static void build_vertex(builder *x, uint32_t v)
 {
     cc_table *t = x->t;
     uint32_t d = x->vd[v];
-    if (d == ST_NIL) { vec_push(&t->copy, ref_of(x, v)); return; }
-    int special = x->h->has_sharpness && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
+    if (d == ST_NIL) {
+        if (t) vec_push(&t->copy, ref_of(x, v));
+        else memcpy(x->w->x->pold + 3 * (size_t)v, wpos(x, v), 3 * sizeof(double));
+        return;
+    }
+    int special = x->sharp && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
     x->walk.n = 0;
-    uint32_t y = d;
+    uint32_t y = d, lo = d;
+    unsigned m = 0;
     do {
         special |= is_hole(x, y) | sharp_edge(x, y);
+        m = y < lo ? (unsigned)x->walk.n : m;
+        lo = y < lo ? y : lo;
         vec_push(&x->walk, y);
         y = c_beta1(x, y);
     } while (y != d);
     const uint32_t *r = x->walk.a;
-    unsigned n = (unsigned)x->walk.n, m = smallest(r, n);
+    unsigned n = (unsigned)x->walk.n;
+    if (special && !t) { st_catmark_emit_vertex(x->h, x->L, r[m], &x->w->e, sink_write, x->w); return; }
     if (special) { vec_push(&t->svert, r[m]); return; }
+    if (!t) { walk_vertex(x, v, r, n, m); return; }
     u32vec *out = n == 4 ? &t->v4 : &t->vdata;
     vec_push(out, ref_of(x, v));
     for (unsigned i = 0, j = m; i < n; i++, j = j + 1 < n ? j + 1 : 0) {
@@ -255,11 +352,43 @@ static void build_vertex(builder *x, uint32_t v)
     }
 }
 
+/* Walking, plain relations and no sharpness: vertex v's point as
+ * walk_vertex (the ring in a local array, its darts' holes or-ed); rings
+ * longer than RING_LOCAL, a copy and the special ones go to build_vertex. */
+#define RING_LOCAL 64u
+static void walk_vertex_plain(builder *x, uint32_t v)
+{
+    uint32_t d = x->vd[v], r[RING_LOCAL], y = d;
+    unsigned n = 0, m = 0;
+    uint8_t flags = 0;
+    if (d == ST_NIL) { build_vertex(x, v); return; }
+    do {
+        if (n == RING_LOCAL) { build_vertex(x, v); return; }
+        flags |= x->flags[y];
+        m = y < r[m] || !n ? n : m;
+        r[n++] = y;
+        y = x->b1[y];
+    } while (y != d);
+    if (flags & ST_DART_BOUNDARY) { build_vertex(x, v); return; }
+    const cc_eval *ev = x->w->x;
+    double s[3] = { 0, 0, 0 };
+    for (unsigned i = 0; i < n; i++) {
+        uint32_t y = r[i + m < n ? i + m : i + m - n], f = x->fc[y];
+        if (f == ST_NIL) { x->irregular = 1; return; }
+        st_cc_vertex_add(s, wpos(x, x->vt[c_beta0(x, y)]), ev->pnew + 3 * (size_t)f);
+    }
+    st_cc_vertex_finish(wpos(x, v), s, n, ev->pold + 3 * (size_t)v);
+}
+
 static void build_vertices(builder *x)
 {
+    int fast = !x->t && x->plain && !x->sharp;
     for (uint32_t i = 0; i < x->nvblocks && !x->irregular; i++)
-        for (uint32_t v = x->vblocks[i]; v < x->vblocks[i] + ST_POOL_BLOCK; v++)
-            if (is_live(x->c.vins, v)) build_vertex(x, v);
+        for (uint32_t v = x->vblocks[i]; v < x->vblocks[i] + ST_POOL_BLOCK; v++) {
+            if (!is_live(x->c.vins, v)) continue;
+            if (fast) walk_vertex_plain(x, v);
+            else build_vertex(x, v);
+        }
 }
 
 /* 1 + the largest id in the blocks. */
@@ -271,10 +400,25 @@ static uint32_t blocks_cover(const uint32_t *blocks, uint32_t n)
     return cover;
 }
 
-static int builder_init(builder *x, st_hier *h, unsigned L, cc_table *t)
+/* Walking: P, the level-l positions of the vertices of level l, each
+ * copied from where its ref points (the base or the column), so that the
+ * walk reads each without the select (a vertex is read about 13 times). */
+static int gather_positions(builder *x)
+{
+    x->P = malloc(((size_t)x->vcover + 1) * 3 * sizeof *x->P);
+    if (!x->P) return -1;
+    const cc_eval *ev = x->w->x;
+    for (uint32_t i = 0; i < x->nvblocks; i++)
+        for (uint32_t v = x->vblocks[i]; v < x->vblocks[i] + ST_POOL_BLOCK; v++)
+            if (is_live(x->c.vins, v)) memcpy(x->P + 3 * (size_t)v, st_cc_ref_pos(ev, ref_of(x, v)), 3 * sizeof(double));
+    return 0;
+}
+
+static int builder_init(builder *x, st_hier *h, unsigned L, cc_table *t, cc_worker *w)
 {
     st_map *m = &h->map;
-    *x = (builder){ .h = h, .l = L - 1, .L = L, .t = t };
+    *x = (builder){ .h = h, .l = L - 1, .L = L, .t = t, .w = w, .flags = m->flags, .sharp = h->has_sharpness,
+                    .tri_smooth = h->opts.tri_sub == ST_TRI_SUB_SMOOTH };
     x->b0L = (const uint32_t *)m->beta0.col[L];
     x->b0 = (const uint32_t *)m->beta0.base;
     x->b1 = (const uint32_t *)m->beta1.base;
@@ -294,6 +438,7 @@ static int builder_init(builder *x, st_hier *h, unsigned L, cc_table *t)
     memset(x->vd, 0xff, ((size_t)x->vcover + 1) * sizeof *x->vd);
     if (m->beta0.eff[x->l] == x->l && !(x->dnew = st_block_bits(&m->darts, x->l))) return -1;
     if (m->pos.eff[x->l] == x->l && !(x->vnew = st_block_bits(&m->verts, x->l))) return -1;
+    if (!t) return gather_positions(x);
     /* Sizes of a level of quads (every level >= 1): one allocation each. */
     uint64_t darts = st_pool_count(&m->darts, x->l), verts = st_pool_count(&m->verts, x->l);
     vec_reserve(&t->quad, 5 * (size_t)(darts / 4) + 5);
@@ -311,17 +456,22 @@ static void builder_free(builder *x)
     free(x->dnew);
     free(x->vnew);
     free(x->walk.a);
+    free(x->P);
 }
 
-/* The Catmull-Clark records of level L's coarse level (st_synth_build). */
-static int build_tables_of(st_hier *h, unsigned L, cc_table *t)
+/* The walks of level L's coarse level: they record t's records, or, with
+ * t NULL, evaluate each record as they meet it for w (the first synthesis
+ * after a change, predict_by_walk); returns 1 if the level is irregular
+ * (a walk may have written some points by then: the stencils redo them). */
+static int walk_coarse_level(st_hier *h, unsigned L, cc_table *t, cc_worker *w)
 {
     builder x = { 0 };
-    if (builder_init(&x, h, L, t)) { builder_free(&x); return 1; } /* no memory for the scratch */
+    if (builder_init(&x, h, L, t, w)) { builder_free(&x); return 1; } /* no memory for the scratch */
     unsigned l = L - 1;
-    if (l > 0)
-        for (uint32_t i = 0; i < x.nnew && !x.irregular; i++) face_block(&x, x.blocks[i]);
-    else
+    if (l > 0) {
+        int done = !t && x.plain && x.dnew && faces_from_old(&x);
+        for (uint32_t i = 0; i < x.nnew && !x.irregular && !done; i++) face_block(&x, x.blocks[i]);
+    } else
         faces_sequential(&x);
     if (!x.irregular) build_edges(&x);
     if (!x.irregular) build_vertices(&x);
@@ -331,19 +481,12 @@ static int build_tables_of(st_hier *h, unsigned L, cc_table *t)
     return irregular;
 }
 
+/* The Catmull-Clark records of level L's coarse level (st_synth_build). */
+static int build_tables_of(st_hier *h, unsigned L, cc_table *t) { return walk_coarse_level(h, L, t, NULL); }
+
 const cc_table *st_cc_tables_for(st_hier *h, unsigned L) { return st_synth_tables_for(h, L, ST_SCHEME_CATMARK, build_tables_of); }
 
 /* ---- evaluation ---- */
-
-/* Per thread: scratch for the stencil path. */
-typedef struct cc_worker { const cc_eval *x; st_catmark_emitter e; } cc_worker;
-
-static void sink_write(void *ctx, const st_stencil *s)
-{
-    const cc_eval *x = ((cc_worker *)ctx)->x;
-    double *slot = (x->h->map.verts.ins[s->fine] == x->L ? x->pnew : x->pold) + 3 * (size_t)s->fine;
-    st_stencil_eval(x->h, x->L, s, slot);
-}
 
 static void face_item(const cc_eval *x, uint32_t i)
 {
@@ -425,10 +568,38 @@ static void predict_by_stencils(st_hier *h, unsigned L)
     st_catmark_emit(h, L, NULL, 0, sink_write, &w);
 }
 
+/* Level L by the walks that build the tables, each record evaluated as
+ * met (the same records, the same arithmetic, so the tables' bits) on one
+ * thread; returns 1 if the level is irregular (the stencils' then). */
+static int predict_by_walk(st_hier *h, unsigned L)
+{
+    st_map *m = &h->map;
+    if (m->verts.end > REF_ID) return 1; /* refs keep one bit for the column, as the tables' */
+    cc_eval x = { .h = h, .L = L };
+    x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
+    if (!x.pold) abort(); /* out of memory for a level's positions */
+    x.pnew = (double *)m->pos.base;
+    x.pbase = (const double *)m->pos.base;
+    x.pcol = (const double *)m->pos.col[m->pos.eff[L - 1]];
+    cc_worker w = { .x = &x };
+    int irregular = walk_coarse_level(h, L, NULL, &w);
+    st_stencil_buf_free(&w.e.buf);
+    st_stencil_buf_free(&w.e.tmp);
+    return irregular;
+}
+
 void st_catmark_predict_level(st_hier *h, unsigned L)
 {
     st_map *m = &h->map;
     if (!m->beta0.col[L]) { predict_by_stencils(h, L); return; }
+    /* The first synthesis after a change walks the level instead of
+     * building the tables (which a one-shot synthesis, a command that
+     * subdivides and writes, would never read again); the next builds
+     * them (st_synth_tables_defer). */
+    if (st_synth_tables_defer(h, L, ST_SCHEME_CATMARK)) {
+        if (predict_by_walk(h, L)) predict_by_stencils(h, L);
+        return;
+    }
     const cc_table *t = st_cc_tables_for(h, L);
     if (t->irregular) { predict_by_stencils(h, L); return; }
     cc_eval x = { .h = h, .L = L, .t = t };
