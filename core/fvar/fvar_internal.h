@@ -119,6 +119,10 @@ typedef struct st_fvar_step {
     st_level_view vl, vL;
     st_u32_view esharp, vsharp;  /* float bits, when h has sharpness */
     unsigned viewed;             /* l + 1 when the views are level l's */
+    uint32_t tri_splits;         /* faces of level l split into triangles toward L */
+    uint32_t *fchild, cap_fchild; /* per dart of level l (cent NULL): the corner at L
+                                    holding its face's child, for the rules that read it */
+    unsigned faced;              /* l + 1 once st_fvar_face_children counted them */
 } st_fvar_step;
 
 /* The darts of levels from..top (a level's darts are in id order inside

@@ -72,6 +72,7 @@ static void put_child(const st_fvar_step *w, uint32_t x, const double p[2], uint
 static const double *face_child(const st_fvar_step *w, uint32_t d)
 {
     if (w->cent) return at2(w->cent, d);
+    if (w->faced == w->l + 1 && !w->tri_splits) return at2(w->out_uv, w->fchild[d]);  /* all quads: all set */
     return at2(w->out_uv, phi1L(w, phi1L(w, d)));
 }
 
@@ -133,7 +134,7 @@ static void face_child_of(st_fvar_step *w, uint32_t f)
 {
     st_map *m = w->m;
     unsigned l = w->l;
-    if (!w->cent && !quad_child(w, f)) return;  /* a triangle split: no face child */
+    if (!w->cent && !quad_child(w, f)) { w->tri_splits++; return; }  /* a triangle split: no face child */
     uint32_t d = oldest_dart(w, f);
     double s[2] = {0, 0};
     unsigned n = 0;
@@ -153,9 +154,12 @@ static void face_child_of(st_fvar_step *w, uint32_t f)
             x = phi1l(w, x);
         } while (x != d);
     }
-    if (!sub || (w->cent && !quad_child(w, d))) return;
+    if (!sub) return;
+    if (w->cent && !quad_child(w, d)) { w->tri_splits++; return; }
     do {
-        put_child(w, phi1L(w, phi1L(w, x)), c, 0);
+        uint32_t y = phi1L(w, phi1L(w, x));
+        put_child(w, y, c, 0);
+        if (!w->cent) w->fchild[x] = y;
         x = phi1l(w, x);
     } while (x != d);
 }
@@ -167,6 +171,14 @@ int st_fvar_face_children(st_fvar_step *w)
     st_map *m = w->m;
     uint64_t *seen = calloc((size_t)m->darts.end / 64 + 1, sizeof *seen);
     if (!seen) return -1;
+    if (!w->cent && w->cap_fchild < m->darts.end) {
+        uint32_t *g = realloc(w->fchild, (size_t)m->darts.end * sizeof *g);
+        if (!g) { free(seen); return -1; }
+        w->fchild = g;
+        w->cap_fchild = m->darts.end;
+    }
+    w->faced = 0;
+    w->tri_splits = 0;
     st_fvar_scan it;
     st_fvar_scan_init(&it, m, 0, w->l);
     for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
@@ -179,6 +191,7 @@ int st_fvar_face_children(st_fvar_step *w)
         face_child_of(w, d);
     }
     free(seen);
+    w->faced = w->l + 1;
     return 0;
 }
 
@@ -551,6 +564,7 @@ int st_fvar_vertex_children(st_fvar_step *w)
  * φ1(β0(x)), inside the same coarse face. */
 void st_fvar_inner_triangles(st_fvar_step *w)
 {
+    if (w->faced == w->l + 1 && !w->tri_splits) return;  /* every face split into quads (Catmull-Clark) */
     take_views(w);
     const st_map *m = w->m;
     unsigned L = w->L;
@@ -570,8 +584,11 @@ void st_fvar_step_free(st_fvar_step *w)
     free(w->c);
     free(w->rot);
     free(w->sharp);
+    free(w->fchild);
+    w->fchild = NULL;
+    w->cap_fchild = 0;
     w->c = w->rot = NULL;
     w->sharp = NULL;
     w->cap_c = w->cap_rot = 0;
-    w->viewed = 0;
+    w->viewed = w->faced = 0;
 }
