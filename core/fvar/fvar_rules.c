@@ -204,7 +204,7 @@ void st_fvar_edge_child(st_fvar_step *w, uint32_t d)
     const double *a = at2(w->uv, d), *b = at2(w->uv, n);
     double mid[2] = { (a[0] + b[0]) / 2, (a[1] + b[1]) / 2 }, p[2];
     int hole = st_is_boundary(m, t);
-    int disc = !hole && discontinuous(w, d);
+    int disc = !hole && (w->val[d] != w->val[b1l(w, d)] || w->val[n] != w->val[t]);  /* discontinuous(w, d) */
     uint32_t label = disc ? d : (hole || d < t ? d : t);
     float s = hole ? SHARP_INF : sharp_of_edge(w, d);
     if (w->rules == ST_FVAR_LINEAR || w->interp == ST_UV_ALL || hole || disc || s >= 1.0f) {
@@ -347,11 +347,18 @@ static float vertex_sharp(const st_fvar_step *w, const vert *v)
  * vertex rule with its semi-sharp blend (Sdc::Scheme::ComputeVertexVertexMask). */
 static void matched_vertex(st_fvar_step *w, const vert *v)
 {
+    double out[2];
+    if (!w->h->has_sharpness && v->hole == ST_NIL) {
+        /* No sharpness and no boundary edge (it would bring a hole's
+         * corner): the smooth rule at parent and child alike. */
+        smooth_mask(w, v, out);
+        set_all(w, v, out);
+        return;
+    }
     float vs = vertex_sharp(w, v);
     for (uint32_t j = 0; j < v->n; j++) w->sharp[j] = edge_sharp(w, v->c[j]);
     const double *pe[2] = {0, 0}, *ce[2] = {0, 0};
     enum vrule pr = rule_of(w, v, vs, 0, pe), cr = rule_of(w, v, vs, 1, ce);
-    double out[2];
     rule_mask(w, v, pr, pe, out);
     if (pr != cr) {
         double c[2], wp = fractional_weight(w, v, vs);
@@ -510,13 +517,24 @@ static int gather_vertex(st_fvar_step *w, uint32_t d, vert *v, int *touches)
     uint32_t n = 0, x = d;
     v->hole = ST_NIL;
     *touches = !w->sub;
+    /* The walk starts after d and ends at d: the order wanted when there
+     * is no hole and d is where the scan begins.  The hole is the last one
+     * met from d on (several at a vertex whose faces fan out twice). */
     do {
-        if (corner_room(w, n)) return -1;
-        if (st_is_boundary(m, x)) v->hole = x;
-        else if (w->sub) *touches |= w->sub[x];
-        w->c[n++] = x;
         x = b1l(w, x);
+        if (corner_room(w, n)) return -1;
+        if (st_is_boundary(m, x)) {
+            if (x != d || v->hole == ST_NIL) v->hole = x;
+        } else if (w->sub) {
+            *touches |= w->sub[x];
+        }
+        w->c[n++] = x;
     } while (x != d);
+    if (v->hole == ST_NIL && !w->rank) {
+        v->c = w->c;
+        v->n = n;
+        return 0;
+    }
     /* Rotate so that the corners start after the hole, and drop it. */
     uint32_t first = 0, out = 0;
     if (v->hole != ST_NIL) while (w->c[first] != v->hole) first++;
@@ -524,8 +542,9 @@ static int gather_vertex(st_fvar_step *w, uint32_t d, vert *v, int *touches)
         for (uint32_t i = 1; i < n; i++)
             if (st_fvar_regular_before(w, w->c[i], w->c[first])) first = i;
     }
-    for (uint32_t i = 1; i <= n; i++) {
-        uint32_t y = w->c[(first + i) % n];
+    for (uint32_t i = 1, j = first; i <= n; i++) {
+        j = j + 1 < n ? j + 1 : 0;
+        uint32_t y = w->c[j];
         if (!st_is_boundary(m, y)) w->rot[out++] = y;
     }
     memcpy(w->c, w->rot, (size_t)out * sizeof *w->rot);
