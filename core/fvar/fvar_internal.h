@@ -139,6 +139,13 @@ static inline void st_fvar_scan_init(st_fvar_scan *s, const st_map *m, unsigned 
     *s = (st_fvar_scan){ &m->darts, st_lvl_clamp(from), st_lvl_clamp(top), 0, 0, 0 };
 }
 
+/* The same over the vertex ids of levels 0..top: st_vertex_first/next's
+ * order in a map that is not face-embedded. */
+static inline void st_fvar_scan_vertices(st_fvar_scan *s, const st_map *m, unsigned top)
+{
+    *s = (st_fvar_scan){ &m->verts, 0, st_lvl_clamp(top), 0, 0, 0 };
+}
+
 static inline uint32_t st_fvar_scan_next(st_fvar_scan *s)
 {
     for (;;) {

@@ -164,6 +164,31 @@ static void face_child_of(st_fvar_step *w, uint32_t f)
     } while (x != d);
 }
 
+/* face_child_of on a regular level (every face subdivided, the scan's
+ * order its own), in one walk of the face at l that also marks it seen. */
+static void regular_face_child(st_fvar_step *w, uint32_t f, uint64_t *seen)
+{
+    uint32_t cs[16], n = 0, x = f;
+    double s[2] = {0, 0};
+    do {
+        seen[x >> 6] |= 1ull << (x & 63);
+        if (n < 16) cs[n] = x;
+        s[0] += w->uv[2 * (size_t)x];
+        s[1] += w->uv[2 * (size_t)x + 1];
+        n++;
+        x = phi1l(w, x);
+    } while (x != f);
+    if (n > 16) { face_child_of(w, f); return; }
+    uint32_t y = phi1L(w, phi1L(w, f)), z = phi1L(w, y);
+    if (y == f || z == f || phi1L(w, z) != f) { w->tri_splits++; return; }  /* quad_child(w, f) */
+    double c[2] = { s[0] / n, s[1] / n };
+    for (uint32_t i = 0; i < n; i++) {
+        if (i) y = phi1L(w, phi1L(w, cs[i]));
+        put_child(w, y, c, 0);
+        w->fchild[cs[i]] = y;
+    }
+}
+
 /* Faces are met once each: a bit per dart id (no marker to release). */
 int st_fvar_face_children(st_fvar_step *w)
 {
@@ -179,10 +204,12 @@ int st_fvar_face_children(st_fvar_step *w)
     }
     w->faced = 0;
     w->tri_splits = 0;
+    int regular = !w->cent && !w->sub && !w->rank && !w->split_toward;
     st_fvar_scan it;
     st_fvar_scan_init(&it, m, 0, w->l);
     for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
         if (st_is_boundary(m, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
+        if (regular) { regular_face_child(w, d, seen); continue; }
         uint32_t x = d;
         do {
             seen[x >> 6] |= 1ull << (x & 63);
