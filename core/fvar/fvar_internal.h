@@ -120,9 +120,13 @@ typedef struct st_fvar_step {
     st_u32_view esharp, vsharp;  /* float bits, when h has sharpness */
     unsigned viewed;             /* l + 1 when the views are level l's */
     uint32_t tri_splits;         /* faces of level l split into triangles toward L */
-    uint32_t *fchild, cap_fchild; /* per dart of level l (cent NULL): the corner at L
+    uint32_t *fchild, cap_fchild; /* per dart of level l (Catmull-Clark, cent NULL): the corner at L
                                     holding its face's child, for the rules that read it */
     unsigned faced;              /* l + 1 once st_fvar_face_children counted them */
+    uint8_t *disc;               /* per real dart of level l: its edge is a face-varying
+                                    boundary (st_fvar_edge_children), for the vertex pass */
+    uint32_t cap_disc;
+    unsigned edged;              /* l + 1 once st_fvar_edge_children filled disc */
 } st_fvar_step;
 
 /* The darts of levels from..top (a level's darts are in id order inside

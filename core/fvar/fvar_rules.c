@@ -69,10 +69,10 @@ static void put_child(const st_fvar_step *w, uint32_t x, const double p[2], uint
 
 /* The face child of the coarse face of d (Catmull-Clark, quad children);
  * an adaptive map keeps every face's centroid, subdivided or not. */
-static const double *face_child(const st_fvar_step *w, uint32_t d)
+static inline const double *face_child(const st_fvar_step *w, uint32_t d)
 {
+    if (w->faced == w->l + 1 && !w->tri_splits && w->fchild) return at2(w->out_uv, w->fchild[d]);  /* all quads: all set */
     if (w->cent) return at2(w->cent, d);
-    if (w->faced == w->l + 1 && !w->tri_splits) return at2(w->out_uv, w->fchild[d]);  /* all quads: all set */
     return at2(w->out_uv, phi1L(w, phi1L(w, d)));
 }
 
@@ -159,7 +159,7 @@ static void face_child_of(st_fvar_step *w, uint32_t f)
     do {
         uint32_t y = phi1L(w, phi1L(w, x));
         put_child(w, y, c, 0);
-        if (!w->cent) w->fchild[x] = y;
+        if (w->fchild) w->fchild[x] = y;
         x = phi1l(w, x);
     } while (x != d);
 }
@@ -185,7 +185,7 @@ static void regular_face_child(st_fvar_step *w, uint32_t f, uint64_t *seen)
     for (uint32_t i = 0; i < n; i++) {
         if (i) y = phi1L(w, phi1L(w, cs[i]));
         put_child(w, y, c, 0);
-        w->fchild[cs[i]] = y;
+        if (w->fchild) w->fchild[cs[i]] = y;
     }
 }
 
@@ -196,13 +196,15 @@ int st_fvar_face_children(st_fvar_step *w)
     st_map *m = w->m;
     uint64_t *seen = calloc((size_t)m->darts.end / 64 + 1, sizeof *seen);
     if (!seen) return -1;
-    if (!w->cent && w->cap_fchild < m->darts.end) {
+    /* Only the Catmull-Clark rules read face children back; an adaptive
+     * map's are in w->cent. */
+    if (!w->cent && w->rules == ST_FVAR_CATMARK && w->cap_fchild < m->darts.end) {
         uint32_t *g = realloc(w->fchild, (size_t)m->darts.end * sizeof *g);
         if (!g) { free(seen); return -1; }
         w->fchild = g;
         w->cap_fchild = m->darts.end;
     }
-    w->faced = 0;
+    w->faced = w->edged = 0;
     w->tri_splits = 0;
     int regular = !w->cent && !w->sub && !w->rank && !w->split_toward;
     st_fvar_scan it;
@@ -222,10 +224,10 @@ int st_fvar_face_children(st_fvar_step *w)
     return 0;
 }
 
-/* The child of the edge of d on d's side (OpenSubdiv's edge masks). */
-void st_fvar_edge_child(st_fvar_step *w, uint32_t d)
+/* The child of the edge of d on d's side (OpenSubdiv's edge masks); the
+ * edge is a face-varying boundary (discontinuous) or not. */
+static int edge_child(st_fvar_step *w, uint32_t d)
 {
-    if (w->viewed != w->l + 1) take_views(w);
     st_map *m = w->m;
     uint32_t t = b0l(w, d), n = b1l(w, t);
     const double *a = at2(w->uv, d), *b = at2(w->uv, n);
@@ -254,15 +256,35 @@ void st_fvar_edge_child(st_fvar_step *w, uint32_t d)
      * half of d's edge that ends at n's vertex, φ1⁻¹(n) at L. */
     put_child(w, phi1L(w, d), p, label);
     put_child(w, st_v_beta0(&w->vL, t), p, label);
+    return disc;
 }
 
+void st_fvar_edge_child(st_fvar_step *w, uint32_t d)
+{
+    if (w->viewed != w->l + 1) take_views(w);
+    edge_child(w, d);
+}
+
+/* Every real dart's discontinuity is kept for the vertex pass, when the
+ * memory for it is there (else that pass works it out again). */
 void st_fvar_edge_children(st_fvar_step *w)
 {
     take_views(w);
+    st_map *m = w->m;
+    w->edged = 0;
+    if (w->cap_disc < m->darts.end) {
+        free(w->disc);
+        w->disc = malloc(m->darts.end);
+        w->cap_disc = w->disc ? m->darts.end : 0;
+    }
     st_fvar_scan it;
-    st_fvar_scan_init(&it, w->m, 0, w->l);
-    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it))
-        if (!st_is_boundary(w->m, d)) st_fvar_edge_child(w, d);
+    st_fvar_scan_init(&it, m, 0, w->l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+        if (st_is_boundary(m, d)) continue;
+        int disc = edge_child(w, d);
+        if (w->disc) w->disc[d] = (uint8_t)disc;
+    }
+    if (w->disc) w->edged = w->l + 1;
 }
 
 /* ---- vertex children --------------------------------------------------------- */
@@ -493,8 +515,12 @@ static void vertex_child(st_fvar_step *w, const vert *v)
     if (w->rules == ST_FVAR_LINEAR || w->interp == ST_UV_ALL) { keep_all(w, v); return; }
     int boundary = v->hole != ST_NIL;
     int mismatch = 0;
-    for (uint32_t j = 0; j < v->n && !mismatch; j++)
-        if (!st_is_boundary(w->m, b0l(w, v->c[j]))) mismatch = discontinuous(w, v->c[j]);
+    if (w->edged == w->l + 1) {
+        for (uint32_t j = 0; j < v->n && !mismatch; j++) mismatch = w->disc[v->c[j]];  /* hole across: 0 */
+    } else {
+        for (uint32_t j = 0; j < v->n && !mismatch; j++)
+            if (!st_is_boundary(w->m, b0l(w, v->c[j]))) mismatch = discontinuous(w, v->c[j]);
+    }
     if (boundary && !mismatch) {
         int smooth_corners = w->h->opts.boundary != ST_BOUNDARY_EDGE_AND_CORNER && w->interp != ST_UV_NONE;
         if (linear_boundaries(w->interp) || (v->n == 1 && smooth_corners)) mismatch = 1;
@@ -631,10 +657,12 @@ void st_fvar_step_free(st_fvar_step *w)
     free(w->rot);
     free(w->sharp);
     free(w->fchild);
+    free(w->disc);
     w->fchild = NULL;
-    w->cap_fchild = 0;
+    w->disc = NULL;
+    w->cap_fchild = w->cap_disc = 0;
     w->c = w->rot = NULL;
     w->sharp = NULL;
     w->cap_c = w->cap_rot = 0;
-    w->viewed = w->faced = 0;
+    w->viewed = w->faced = w->edged = 0;
 }
