@@ -119,9 +119,6 @@ static uint32_t oldest_dart(const st_fvar_step *w, uint32_t d)
     return b;
 }
 
-/* Centroids of the faces of level l (an adaptive map keeps every face's
- * in w->cent), face children of the subdivided ones split into quads.  The
- * sum starts at the corner a regular level's scan meets first. */
 /* The child face of corner x at L is a quad: φ1 at L comes back after
  * four steps, not before. */
 static int quad_child(const st_fvar_step *w, uint32_t x)
@@ -130,6 +127,9 @@ static int quad_child(const st_fvar_step *w, uint32_t x)
     return b != x && c != x && phi1L(w, c) == x;
 }
 
+/* The centroid of the face of f at level l (an adaptive map keeps every
+ * face's in w->cent), the face child when it is split into quads.  The sum
+ * starts at the corner a regular level's scan meets first. */
 static void face_child_of(st_fvar_step *w, uint32_t f)
 {
     st_map *m = w->m;
