@@ -154,7 +154,7 @@ static int step(st_fvar_step *w)
     memcpy(w->out_uv, w->uv, 2 * cap * sizeof *w->out_uv);
     memcpy(w->out_val, w->val, cap * sizeof *w->out_val);
     memset(w->sub, 0, cap);
-    st_fvar_face_children(w);
+    if (st_fvar_face_children(w)) return -1;
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, w->l, &it); d != ST_NIL; d = st_dart_next(m, w->l, &it))
         if (!st_is_boundary(m, d) && st_adapt_edge_split(m, d, w->l)) st_fvar_edge_child(w, d);

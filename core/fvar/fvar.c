@@ -187,11 +187,9 @@ int st_fvar_refine(st_hier *h, st_error *err)
     w.val = f->lv[L - 1].val;
     w.out_uv = f->lv[L].uv;
     w.out_val = f->lv[L].val;
-    st_fvar_face_children(&w);
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, L - 1, &it); d != ST_NIL; d = st_dart_next(m, L - 1, &it))
-        if (!st_is_boundary(m, d)) st_fvar_edge_child(&w, d);
-    int rc = st_fvar_vertex_children(&w);
+    int rc = st_fvar_face_children(&w);
+    if (!rc) st_fvar_edge_children(&w);
+    if (!rc) rc = st_fvar_vertex_children(&w);
     if (!rc) st_fvar_inner_triangles(&w);
     st_fvar_step_free(&w);
     if (rc) {

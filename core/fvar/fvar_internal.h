@@ -111,14 +111,70 @@ typedef struct st_fvar_step {
                                     regular level's numbering; NULL: the map is one
                                     regular level, whose scan is that order */
     uint32_t *c, *rot;           /* one vertex's corners in β1 order, and scratch */
+    float *sharp;                /* the sharpness of each corner's edge in c */
     uint32_t cap_c, cap_rot;
+    /* The relations of levels l and L and the sharpness of level l hoisted
+     * out of the per-dart lookups (st_level_view); each pass below takes
+     * them afresh (the map may change between steps, never during one). */
+    st_level_view vl, vL;
+    st_u32_view esharp, vsharp;  /* float bits, when h has sharpness */
+    unsigned viewed;             /* l + 1 when the views are level l's */
+    uint32_t tri_splits;         /* faces of level l split into triangles toward L */
+    uint32_t *fchild, cap_fchild; /* per dart of level l (Catmull-Clark, cent NULL): the corner at L
+                                    holding its face's child, for the rules that read it */
+    unsigned faced;              /* l + 1 once st_fvar_face_children counted them */
+    uint8_t *disc;               /* per real dart of level l: its edge is a face-varying
+                                    boundary (st_fvar_edge_children), for the vertex pass */
+    uint32_t cap_disc;
+    unsigned edged;              /* l + 1 once st_fvar_edge_children filled disc */
 } st_fvar_step;
 
+/* The darts of levels from..top (a level's darts are in id order inside
+ * each of its blocks), in the order of st_dart_first/next over level top
+ * when from is 0, without a call per dart. */
+typedef struct st_fvar_scan {
+    const st_pool *p;
+    unsigned lv, top;
+    uint32_t b, d, end;
+} st_fvar_scan;
+
+static inline void st_fvar_scan_init(st_fvar_scan *s, const st_map *m, unsigned from, unsigned top)
+{
+    *s = (st_fvar_scan){ &m->darts, st_lvl_clamp(from), st_lvl_clamp(top), 0, 0, 0 };
+}
+
+/* The same over the vertex ids of levels 0..top: st_vertex_first/next's
+ * order in a map that is not face-embedded. */
+static inline void st_fvar_scan_vertices(st_fvar_scan *s, const st_map *m, unsigned top)
+{
+    *s = (st_fvar_scan){ &m->verts, 0, st_lvl_clamp(top), 0, 0, 0 };
+}
+
+static inline uint32_t st_fvar_scan_next(st_fvar_scan *s)
+{
+    for (;;) {
+        while (s->d < s->end) {
+            uint32_t d = s->d++;
+            if (s->p->ins[d] != ST_FREE_LEVEL) return d;
+        }
+        while (s->b >= s->p->nblocks[s->lv]) {
+            if (s->lv >= s->top) return ST_NIL;
+            s->lv++;
+            s->b = 0;
+        }
+        s->d = s->p->blocks[s->lv][s->b++] << ST_POOL_BLOCK_SHIFT;
+        s->end = s->d + ST_POOL_BLOCK;
+    }
+}
+
 /* The face children (centroids) of the faces of level l split into quads,
- * each summed from the corner a regular level's scan meets first. */
-void st_fvar_face_children(st_fvar_step *w);
+ * each summed from the corner a regular level's scan meets first; the
+ * first pass of a step.  -1 when out of memory. */
+int st_fvar_face_children(st_fvar_step *w);
 /* The child of the edge of corner d (a real dart of level l) on d's side. */
 void st_fvar_edge_child(st_fvar_step *w, uint32_t d);
+/* The children of every edge of level l on each real side (a regular level). */
+void st_fvar_edge_children(st_fvar_step *w);
 /* The vertex children of the vertices of level l that are corners of a
  * subdivided face (all of them on a regular level); -1 when out of memory. */
 int st_fvar_vertex_children(st_fvar_step *w);
@@ -127,7 +183,7 @@ void st_fvar_inner_triangles(st_fvar_step *w);
 /* x comes before y in the scan of a regular level (level by level, each in
  * the order the level was made; w->rank gives that order above level 0). */
 int st_fvar_regular_before(const st_fvar_step *w, uint32_t x, uint32_t y);
-/* Frees the step's scratch (c, rot). */
+/* Frees the step's scratch (c, rot, sharp). */
 void st_fvar_step_free(st_fvar_step *w);
 
 #endif

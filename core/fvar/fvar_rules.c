@@ -22,6 +22,44 @@ static void put2(double *a, uint32_t d, double u, double v)
 
 static const double *at2(const double *a, uint32_t d) { return a + 2 * (size_t)d; }
 
+/* ---- level views ---------------------------------------------------------------- */
+
+static float view_float(const st_u32_view *r, const uint8_t *ins, uint32_t i)
+{
+    uint32_t bits = st_view_get(r, ins, i);
+    float f;
+    memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
+/* Takes the views of levels l and L (fvar_internal.h: st_fvar_step). */
+static void take_views(st_fvar_step *w)
+{
+    st_level_view_init(w->m, w->l, &w->vl);
+    st_level_view_init(w->m, w->L, &w->vL);
+    if (w->h->has_sharpness) {
+        w->esharp = st_u32_view_of(&w->h->edge_sharp, w->l);
+        w->vsharp = st_u32_view_of(&w->h->vertex_sharp, w->l);
+    }
+    w->viewed = w->l + 1;
+}
+
+static uint32_t b0l(const st_fvar_step *w, uint32_t d) { return st_v_beta0(&w->vl, d); }
+static uint32_t b1l(const st_fvar_step *w, uint32_t d) { return st_v_beta1(&w->vl, d); }
+static uint32_t phi1l(const st_fvar_step *w, uint32_t d) { return st_v_phi1(&w->vl, d); }
+static uint32_t phi1L(const st_fvar_step *w, uint32_t d) { return st_v_phi1(&w->vL, d); }
+
+/* st_hier_edge_sharpness and st_hier_vertex_sharpness at level l. */
+static float sharp_of_edge(const st_fvar_step *w, uint32_t d)
+{
+    return w->h->has_sharpness ? view_float(&w->esharp, w->vl.ins, d) : 0;
+}
+
+static float sharp_of_vertex(const st_fvar_step *w, uint32_t v)
+{
+    return w->h->has_sharpness ? view_float(&w->vsharp, w->vl.vins, v) : 0;
+}
+
 static void put_child(const st_fvar_step *w, uint32_t x, const double p[2], uint32_t label)
 {
     put2(w->out_uv, x, p[0], p[1]);
@@ -31,28 +69,30 @@ static void put_child(const st_fvar_step *w, uint32_t x, const double p[2], uint
 
 /* The face child of the coarse face of d (Catmull-Clark, quad children);
  * an adaptive map keeps every face's centroid, subdivided or not. */
-static const double *face_child(const st_fvar_step *w, uint32_t d)
+static inline const double *face_child(const st_fvar_step *w, uint32_t d)
 {
+    if (w->faced == w->l + 1 && !w->tri_splits && w->fchild) return at2(w->out_uv, w->fchild[d]);  /* all quads: all set */
     if (w->cent) return at2(w->cent, d);
-    return at2(w->out_uv, st_phi1(w->m, st_phi1(w->m, d, w->L), w->L));
+    return at2(w->out_uv, phi1L(w, phi1L(w, d)));
 }
 
 static int linear_boundaries(int interp) { return interp == ST_UV_BOUNDARIES || interp == ST_UV_ALL; }
 
 static float edge_sharp(const st_fvar_step *w, uint32_t d)
 {
-    if (st_is_boundary(w->m, st_beta0(w->m, d, w->l))) return SHARP_INF;
-    return st_hier_edge_sharpness(w->h, d, w->l);
+    if (st_is_boundary(w->m, b0l(w, d))) return SHARP_INF;
+    return sharp_of_edge(w, d);
 }
 
 static float decay(float s) { return s >= SHARP_INF ? SHARP_INF : (s > 1.0f ? s - 1.0f : 0.0f); }
 
 /* The edge of corner d is a face-varying boundary: the values at one of
- * its ends differ between its two faces (t = β0(d) real). */
+ * its ends differ between its two faces (t = β0(d) real).  β0 is an
+ * involution, so φ1(t) = β1(d) and φ1(d) = β1(t). */
 static int discontinuous(const st_fvar_step *w, uint32_t d)
 {
-    uint32_t t = st_beta0(w->m, d, w->l);
-    return w->val[d] != w->val[st_phi1(w->m, t, w->l)] || w->val[st_phi1(w->m, d, w->l)] != w->val[t];
+    uint32_t t = b0l(w, d);
+    return w->val[d] != w->val[b1l(w, d)] || w->val[b1l(w, t)] != w->val[t];
 }
 
 /* x comes before y in the scan of a regular level (st_dart_first/next:
@@ -71,68 +111,131 @@ int st_fvar_regular_before(const st_fvar_step *w, uint32_t x, uint32_t y)
 static uint32_t oldest_dart(const st_fvar_step *w, uint32_t d)
 {
     if (!w->rank) return d;
-    const st_map *m = w->m;
-    uint32_t b = d, x = st_phi1(m, d, w->l);
+    uint32_t b = d, x = phi1l(w, d);
     while (x != d) {
         if (st_fvar_regular_before(w, x, b)) b = x;
-        x = st_phi1(m, x, w->l);
+        x = phi1l(w, x);
     }
     return b;
 }
 
-/* Centroids of the faces of level l (an adaptive map keeps every face's
- * in w->cent), face children of the subdivided ones split into quads.  The
- * sum starts at the corner a regular level's scan meets first. */
-void st_fvar_face_children(st_fvar_step *w)
+/* The child face of corner x at L is a quad: φ1 at L comes back after
+ * four steps, not before. */
+static int quad_child(const st_fvar_step *w, uint32_t x)
+{
+    uint32_t b = phi1L(w, phi1L(w, x)), c = phi1L(w, b);
+    return b != x && c != x && phi1L(w, c) == x;
+}
+
+/* The centroid of the face of f at level l (an adaptive map keeps every
+ * face's in w->cent), the face child when it is split into quads.  The sum
+ * starts at the corner a regular level's scan meets first. */
+static void face_child_of(st_fvar_step *w, uint32_t f)
 {
     st_map *m = w->m;
     unsigned l = w->l;
-    int fbit = st_marker_reserve(m);
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
-        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
-        st_mark_face(m, fbit, d, l);
-        if (!w->cent && st_face_degree(m, d, w->L) != 4) continue;  /* a triangle split: no face child */
-        d = oldest_dart(w, d);
-        double s[2] = {0, 0};
-        unsigned n = 0;
-        uint32_t x = d;
+    if (!w->cent && !quad_child(w, f)) { w->tri_splits++; return; }  /* a triangle split: no face child */
+    uint32_t d = oldest_dart(w, f);
+    double s[2] = {0, 0};
+    unsigned n = 0;
+    uint32_t x = d;
+    do {
+        s[0] += w->uv[2 * (size_t)x];
+        s[1] += w->uv[2 * (size_t)x + 1];
+        n++;
+        x = phi1l(w, x);
+    } while (x != d);
+    double c[2] = { s[0] / n, s[1] / n };
+    int sub = w->split_toward ? w->split_toward(m, d, l) : 1;
+    if (w->cent || w->sub) {
         do {
-            s[0] += w->uv[2 * (size_t)x];
-            s[1] += w->uv[2 * (size_t)x + 1];
-            n++;
-            x = st_phi1(m, x, l);
-        } while (x != d);
-        double c[2] = { s[0] / n, s[1] / n };
-        int sub = w->split_toward ? w->split_toward(m, d, l) : 1;
-        if (w->cent || w->sub) {
-            do {
-                if (w->cent) put2(w->cent, x, c[0], c[1]);
-                if (w->sub) w->sub[x] = (uint8_t)sub;
-                x = st_phi1(m, x, l);
-            } while (x != d);
-        }
-        if (!sub || st_face_degree(m, d, w->L) != 4) continue;
-        do {
-            put_child(w, st_phi1(m, st_phi1(m, x, w->L), w->L), c, 0);
-            x = st_phi1(m, x, l);
+            if (w->cent) put2(w->cent, x, c[0], c[1]);
+            if (w->sub) w->sub[x] = (uint8_t)sub;
+            x = phi1l(w, x);
         } while (x != d);
     }
-    st_marker_release(m, fbit, l);
+    if (!sub) return;
+    if (w->cent && !quad_child(w, d)) { w->tri_splits++; return; }
+    do {
+        uint32_t y = phi1L(w, phi1L(w, x));
+        put_child(w, y, c, 0);
+        if (w->fchild) w->fchild[x] = y;
+        x = phi1l(w, x);
+    } while (x != d);
 }
 
-/* The child of the edge of d on d's side (OpenSubdiv's edge masks). */
-void st_fvar_edge_child(st_fvar_step *w, uint32_t d)
+/* face_child_of on a regular level (every face subdivided, the scan's
+ * order its own), in one walk of the face at l that also marks it seen. */
+static void regular_face_child(st_fvar_step *w, uint32_t f, uint64_t *seen)
+{
+    uint32_t cs[16], n = 0, x = f;
+    double s[2] = {0, 0};
+    do {
+        seen[x >> 6] |= 1ull << (x & 63);
+        if (n < 16) cs[n] = x;
+        s[0] += w->uv[2 * (size_t)x];
+        s[1] += w->uv[2 * (size_t)x + 1];
+        n++;
+        x = phi1l(w, x);
+    } while (x != f);
+    if (n > 16) { face_child_of(w, f); return; }
+    uint32_t y = phi1L(w, phi1L(w, f)), z = phi1L(w, y);
+    if (y == f || z == f || phi1L(w, z) != f) { w->tri_splits++; return; }  /* quad_child(w, f) */
+    double c[2] = { s[0] / n, s[1] / n };
+    for (uint32_t i = 0; i < n; i++) {
+        if (i) y = phi1L(w, phi1L(w, cs[i]));
+        put_child(w, y, c, 0);
+        if (w->fchild) w->fchild[cs[i]] = y;
+    }
+}
+
+/* Faces are met once each: a bit per dart id (no marker to release). */
+int st_fvar_face_children(st_fvar_step *w)
+{
+    take_views(w);
+    st_map *m = w->m;
+    uint64_t *seen = calloc((size_t)m->darts.end / 64 + 1, sizeof *seen);
+    if (!seen) return -1;
+    /* Only the Catmull-Clark rules read face children back; an adaptive
+     * map's are in w->cent. */
+    if (!w->cent && w->rules == ST_FVAR_CATMARK && w->cap_fchild < m->darts.end) {
+        uint32_t *g = realloc(w->fchild, (size_t)m->darts.end * sizeof *g);
+        if (!g) { free(seen); return -1; }
+        w->fchild = g;
+        w->cap_fchild = m->darts.end;
+    }
+    w->faced = w->edged = 0;
+    w->tri_splits = 0;
+    int regular = !w->cent && !w->sub && !w->rank && !w->split_toward;
+    st_fvar_scan it;
+    st_fvar_scan_init(&it, m, 0, w->l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+        if (st_is_boundary(m, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
+        if (regular) { regular_face_child(w, d, seen); continue; }
+        uint32_t x = d;
+        do {
+            seen[x >> 6] |= 1ull << (x & 63);
+            x = phi1l(w, x);
+        } while (x != d);
+        face_child_of(w, d);
+    }
+    free(seen);
+    w->faced = w->l + 1;
+    return 0;
+}
+
+/* The child of the edge of d on d's side (OpenSubdiv's edge masks); the
+ * edge is a face-varying boundary (discontinuous) or not. */
+static int edge_child(st_fvar_step *w, uint32_t d)
 {
     st_map *m = w->m;
-    unsigned l = w->l, L = w->L;
-    uint32_t t = st_beta0(m, d, l), n = st_phi1(m, d, l);
+    uint32_t t = b0l(w, d), n = b1l(w, t);
     const double *a = at2(w->uv, d), *b = at2(w->uv, n);
     double mid[2] = { (a[0] + b[0]) / 2, (a[1] + b[1]) / 2 }, p[2];
     int hole = st_is_boundary(m, t);
-    int disc = !hole && discontinuous(w, d);
+    int disc = !hole && (w->val[d] != w->val[b1l(w, d)] || w->val[n] != w->val[t]);  /* discontinuous(w, d) */
     uint32_t label = disc ? d : (hole || d < t ? d : t);
-    float s = hole ? SHARP_INF : st_hier_edge_sharpness(w->h, d, l);
+    float s = hole ? SHARP_INF : sharp_of_edge(w, d);
     if (w->rules == ST_FVAR_LINEAR || w->interp == ST_UV_ALL || hole || disc || s >= 1.0f) {
         p[0] = mid[0];
         p[1] = mid[1];
@@ -141,7 +244,7 @@ void st_fvar_edge_child(st_fvar_step *w, uint32_t d)
             const double *f0 = face_child(w, d), *f1 = face_child(w, t);
             for (int k = 0; k < 2; k++) p[k] = (a[k] + b[k] + f0[k] + f1[k]) / 4;
         } else {
-            const double *o0 = at2(w->uv, st_phi1(m, n, l)), *o1 = at2(w->uv, st_phi1(m, st_phi1(m, t, l), l));
+            const double *o0 = at2(w->uv, phi1l(w, n)), *o1 = at2(w->uv, phi1l(w, b1l(w, d)));
             for (int k = 0; k < 2; k++) p[k] = 0.375 * (a[k] + b[k]) + 0.125 * (o0[k] + o1[k]);
         }
         /* A semi-sharp edge below 1 blends the crease and smooth masks by
@@ -149,8 +252,39 @@ void st_fvar_edge_child(st_fvar_step *w, uint32_t d)
         double wc = s > 0 ? s : 0;
         for (int k = 0; k < 2; k++) p[k] = wc * mid[k] + (1 - wc) * p[k];
     }
-    put_child(w, st_phi1(m, d, L), p, label);
-    put_child(w, st_phi_1(m, n, L), p, label);
+    /* At L, t runs from n's vertex to the midpoint: its β0 there is the
+     * half of d's edge that ends at n's vertex, φ1⁻¹(n) at L. */
+    put_child(w, phi1L(w, d), p, label);
+    put_child(w, st_v_beta0(&w->vL, t), p, label);
+    return disc;
+}
+
+void st_fvar_edge_child(st_fvar_step *w, uint32_t d)
+{
+    if (w->viewed != w->l + 1) take_views(w);
+    edge_child(w, d);
+}
+
+/* Every real dart's discontinuity is kept for the vertex pass, when the
+ * memory for it is there (else that pass works it out again). */
+void st_fvar_edge_children(st_fvar_step *w)
+{
+    take_views(w);
+    st_map *m = w->m;
+    w->edged = 0;
+    if (w->cap_disc < m->darts.end) {
+        free(w->disc);
+        w->disc = malloc(m->darts.end);
+        w->cap_disc = w->disc ? m->darts.end : 0;
+    }
+    st_fvar_scan it;
+    st_fvar_scan_init(&it, m, 0, w->l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+        if (st_is_boundary(m, d)) continue;
+        int disc = edge_child(w, d);
+        if (w->disc) w->disc[d] = (uint8_t)disc;
+    }
+    if (w->disc) w->edged = w->l + 1;
 }
 
 /* ---- vertex children --------------------------------------------------------- */
@@ -167,7 +301,7 @@ typedef struct vert {
 static uint32_t prev_corner(const st_fvar_step *w, const vert *v, uint32_t j)
 {
     uint32_t p = j ? v->c[j - 1] : (v->hole != ST_NIL ? v->hole : v->c[v->n - 1]);
-    return st_beta0(w->m, p, w->l);
+    return b0l(w, p);
 }
 
 /* The vertex child's corners are the coarse corners themselves (old
@@ -190,16 +324,17 @@ static void keep_all(st_fvar_step *w, const vert *v)
 enum vrule { RULE_SMOOTH, RULE_CREASE, RULE_CORNER };
 
 /* The vertex rule from its sharpness and its incident edges' (the
- * parent's, or decayed for the child's), and a crease's two far ends. */
+ * parent's, or decayed for the child's; w->sharp holds edge_sharp of each
+ * corner), and a crease's two far ends. */
 static enum vrule rule_of(const st_fvar_step *w, const vert *v, float vs, int child, const double **ends)
 {
     uint32_t nsharp = 0;
     uint32_t ne = v->n + (v->hole != ST_NIL);
     for (uint32_t j = 0; j < ne; j++) {
-        float s = j < v->n ? edge_sharp(w, v->c[j]) : SHARP_INF;
+        float s = j < v->n ? w->sharp[j] : SHARP_INF;
         if (child) s = decay(s);
         if (s <= 0) continue;
-        if (nsharp < 2) ends[nsharp] = j < v->n ? at2(w->uv, st_phi1(w->m, v->c[j], w->l)) : at2(w->uv, prev_corner(w, v, 0));
+        if (nsharp < 2) ends[nsharp] = j < v->n ? at2(w->uv, phi1l(w, v->c[j])) : at2(w->uv, prev_corner(w, v, 0));
         nsharp++;
     }
     if (child) vs = decay(vs);
@@ -212,7 +347,7 @@ static void smooth_mask(const st_fvar_step *w, const vert *v, double out[2])
     const double *p = at2(w->uv, v->c[0]);
     double n = v->n, se[2] = {0, 0}, sf[2] = {0, 0};
     for (uint32_t j = 0; j < v->n; j++) {
-        const double *e = at2(w->uv, st_phi1(w->m, v->c[j], w->l));
+        const double *e = at2(w->uv, phi1l(w, v->c[j]));
         const double *f = w->rules == ST_FVAR_CATMARK ? face_child(w, v->c[j]) : e;
         for (int k = 0; k < 2; k++) { se[k] += e[k]; sf[k] += f[k]; }
     }
@@ -243,7 +378,7 @@ static double fractional_weight(const st_fvar_step *w, const vert *v, float vs)
     unsigned count = 0;
     if (vs > 0 && decay(vs) <= 0) { sum += vs; count++; }
     for (uint32_t j = 0; j < v->n; j++) {
-        float s = edge_sharp(w, v->c[j]);
+        float s = w->sharp[j];
         if (s > 0 && decay(s) <= 0) { sum += s; count++; }
     }
     if (!count) return 0;
@@ -254,17 +389,25 @@ static double fractional_weight(const st_fvar_step *w, const vert *v, float vs)
 static float vertex_sharp(const st_fvar_step *w, const vert *v)
 {
     if (v->hole != ST_NIL && v->n == 1 && w->h->opts.boundary == ST_BOUNDARY_EDGE_AND_CORNER) return SHARP_INF;
-    return st_hier_vertex_sharpness(w->h, st_vert(w->m, v->c[0], w->l), w->l);
+    return sharp_of_vertex(w, st_v_vert(&w->vl, v->c[0]));
 }
 
 /* A vertex whose face-varying topology matches the mesh's: the scheme's
  * vertex rule with its semi-sharp blend (Sdc::Scheme::ComputeVertexVertexMask). */
 static void matched_vertex(st_fvar_step *w, const vert *v)
 {
+    double out[2];
+    if (!w->h->has_sharpness && v->hole == ST_NIL) {
+        /* No sharpness and no boundary edge (it would bring a hole's
+         * corner): the smooth rule at parent and child alike. */
+        smooth_mask(w, v, out);
+        set_all(w, v, out);
+        return;
+    }
     float vs = vertex_sharp(w, v);
+    for (uint32_t j = 0; j < v->n; j++) w->sharp[j] = edge_sharp(w, v->c[j]);
     const double *pe[2] = {0, 0}, *ce[2] = {0, 0};
     enum vrule pr = rule_of(w, v, vs, 0, pe), cr = rule_of(w, v, vs, 1, ce);
-    double out[2];
     rule_mask(w, v, pr, pe, out);
     if (pr != cr) {
         double c[2], wp = fractional_weight(w, v, vs);
@@ -282,14 +425,14 @@ typedef struct span {
 
 static int interior_edge_breaks(const st_fvar_step *w, const vert *v, uint32_t j)
 {
-    return discontinuous(w, v->c[j]) || st_hier_edge_sharpness(w->h, v->c[j], w->l) >= SHARP_INF;
+    return discontinuous(w, v->c[j]) || sharp_of_edge(w, v->c[j]) >= SHARP_INF;
 }
 
 static void crease_value(st_fvar_step *w, const vert *v, const span *s)
 {
     const double *p = at2(w->uv, v->c[s->first]);
     const double *e0 = at2(w->uv, prev_corner(w, v, s->first));
-    const double *e1 = at2(w->uv, st_phi1(w->m, v->c[s->last], w->l));
+    const double *e1 = at2(w->uv, phi1l(w, v->c[s->last]));
     double out[2];
     for (int k = 0; k < 2; k++) out[k] = 0.75 * p[k] + 0.125 * (e0[k] + e1[k]);
     uint32_t j = s->first;
@@ -339,7 +482,7 @@ static void mismatched_vertex(st_fvar_step *w, const vert *v, uint32_t nvalues, 
         int broken = boundary;
         for (uint32_t j = 0; j < v->n && !boundary; j++) {
             if (discontinuous(w, v->c[j])) { ndisc++; at = j; }
-            else if (st_hier_edge_sharpness(w->h, v->c[j], w->l) >= SHARP_INF) broken = 1;
+            else if (sharp_of_edge(w, v->c[j]) >= SHARP_INF) broken = 1;
         }
         if (broken || ndisc != 1) { keep_all(w, v); return; }
         span s = { 0, v->n, 1, (at + 1) % v->n, at, 0 };
@@ -372,8 +515,12 @@ static void vertex_child(st_fvar_step *w, const vert *v)
     if (w->rules == ST_FVAR_LINEAR || w->interp == ST_UV_ALL) { keep_all(w, v); return; }
     int boundary = v->hole != ST_NIL;
     int mismatch = 0;
-    for (uint32_t j = 0; j < v->n && !mismatch; j++)
-        if (!st_is_boundary(w->m, st_beta0(w->m, v->c[j], w->l))) mismatch = discontinuous(w, v->c[j]);
+    if (w->edged == w->l + 1) {
+        for (uint32_t j = 0; j < v->n && !mismatch; j++) mismatch = w->disc[v->c[j]];  /* hole across: 0 */
+    } else {
+        for (uint32_t j = 0; j < v->n && !mismatch; j++)
+            if (!st_is_boundary(w->m, b0l(w, v->c[j]))) mismatch = discontinuous(w, v->c[j]);
+    }
     if (boundary && !mismatch) {
         int smooth_corners = w->h->opts.boundary != ST_BOUNDARY_EDGE_AND_CORNER && w->interp != ST_UV_NONE;
         if (linear_boundaries(w->interp) || (v->n == 1 && smooth_corners)) mismatch = 1;
@@ -399,41 +546,58 @@ static void vertex_child(st_fvar_step *w, const vert *v)
  * the hole when there is one, else after the corner a regular level's scan
  * meets first (the sums of the masks run from there); *touches: one of
  * them is a corner of a face subdivided toward L. */
+/* Room for n + 1 corners in c, rot and sharp. */
+static int corner_room(st_fvar_step *w, uint32_t n)
+{
+    if (n < w->cap_c) return 0;
+    uint32_t cap = w->cap_c ? 2 * w->cap_c : 16;
+    uint32_t *c = realloc(w->c, cap * sizeof *c);
+    if (!c) return -1;
+    w->c = c;
+    uint32_t *r = realloc(w->rot, cap * sizeof *r);
+    if (!r) return -1;
+    w->rot = r;
+    float *s = realloc(w->sharp, cap * sizeof *s);
+    if (!s) return -1;
+    w->sharp = s;
+    w->cap_c = w->cap_rot = cap;
+    return 0;
+}
+
 static int gather_vertex(st_fvar_step *w, uint32_t d, vert *v, int *touches)
 {
     st_map *m = w->m;
-    unsigned l = w->l;
     uint32_t n = 0, x = d;
     v->hole = ST_NIL;
     *touches = !w->sub;
+    /* The walk starts after d and ends at d: the order wanted when there
+     * is no hole and d is where the scan begins.  The hole is the last one
+     * met from d on (several at a vertex whose faces fan out twice). */
     do {
-        if (n == w->cap_c) {
-            uint32_t cap = w->cap_c ? 2 * w->cap_c : 16;
-            uint32_t *c = realloc(w->c, cap * sizeof *c);
-            if (!c) return -1;
-            w->c = c;
-            w->cap_c = cap;
+        x = b1l(w, x);
+        if (corner_room(w, n)) return -1;
+        if (st_is_boundary(m, x)) {
+            if (x != d || v->hole == ST_NIL) v->hole = x;
+        } else if (w->sub) {
+            *touches |= w->sub[x];
         }
-        if (st_is_boundary(m, x)) v->hole = x;
-        else if (w->sub) *touches |= w->sub[x];
         w->c[n++] = x;
-        x = st_beta1(m, x, l);
     } while (x != d);
-    /* Rotate so that the corners start after the hole, and drop it. */
-    if (w->cap_rot < w->cap_c) {
-        uint32_t *r = realloc(w->rot, (size_t)w->cap_c * sizeof *r);
-        if (!r) return -1;
-        w->rot = r;
-        w->cap_rot = w->cap_c;
+    if (v->hole == ST_NIL && !w->rank) {
+        v->c = w->c;
+        v->n = n;
+        return 0;
     }
+    /* Rotate so that the corners start after the hole, and drop it. */
     uint32_t first = 0, out = 0;
     if (v->hole != ST_NIL) while (w->c[first] != v->hole) first++;
     else if (w->rank) {
         for (uint32_t i = 1; i < n; i++)
             if (st_fvar_regular_before(w, w->c[i], w->c[first])) first = i;
     }
-    for (uint32_t i = 1; i <= n; i++) {
-        uint32_t y = w->c[(first + i) % n];
+    for (uint32_t i = 1, j = first; i <= n; i++) {
+        j = j + 1 < n ? j + 1 : 0;
+        uint32_t y = w->c[j];
         if (!st_is_boundary(m, y)) w->rot[out++] = y;
     }
     memcpy(w->c, w->rot, (size_t)out * sizeof *w->rot);
@@ -444,14 +608,15 @@ static int gather_vertex(st_fvar_step *w, uint32_t d, vert *v, int *touches)
 
 int st_fvar_vertex_children(st_fvar_step *w)
 {
+    take_views(w);
     st_map *m = w->m;
-    unsigned l = w->l;
     uint8_t *done = calloc((size_t)m->verts.end + 1, 1);
     if (!done) return -1;
-    st_dart_iter it;
+    st_fvar_scan it;
+    st_fvar_scan_init(&it, m, 0, w->l);
     int rc = 0;
-    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL && !rc; d = st_dart_next(m, l, &it)) {
-        uint32_t u = st_vert(m, d, l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL && !rc; d = st_fvar_scan_next(&it)) {
+        uint32_t u = st_v_vert(&w->vl, d);
         if (done[u]) continue;
         done[u] = 1;
         vert v;
@@ -471,14 +636,17 @@ int st_fvar_vertex_children(st_fvar_step *w)
  * φ1(β0(x)), inside the same coarse face. */
 void st_fvar_inner_triangles(st_fvar_step *w)
 {
+    if (w->faced == w->l + 1 && !w->tri_splits) return;  /* every face split into quads (Catmull-Clark) */
+    take_views(w);
     const st_map *m = w->m;
     unsigned L = w->L;
-    st_dart_iter it;
-    for (uint32_t x = st_dart_first(m, L, &it); x != ST_NIL; x = st_dart_next(m, L, &it)) {
+    st_fvar_scan it;
+    st_fvar_scan_init(&it, m, L, L);   /* the darts new at L: their blocks only */
+    for (uint32_t x = st_fvar_scan_next(&it); x != ST_NIL; x = st_fvar_scan_next(&it)) {
         if (st_is_boundary(m, x) || m->darts.ins[x] != L) continue;
-        uint32_t a = st_phi1(m, x, L), b = st_phi1(m, a, L);
-        if (st_phi1(m, b, L) != x || m->darts.ins[a] != L || m->darts.ins[b] != L) continue;
-        uint32_t y = st_phi1(m, st_beta0(m, x, L), L);
+        uint32_t a = phi1L(w, x), b = phi1L(w, a);
+        if (phi1L(w, b) != x || m->darts.ins[a] != L || m->darts.ins[b] != L) continue;
+        uint32_t y = phi1L(w, st_v_beta0(&w->vL, x));
         put_child(w, x, at2(w->out_uv, y), w->out_val[y]);
     }
 }
@@ -487,6 +655,14 @@ void st_fvar_step_free(st_fvar_step *w)
 {
     free(w->c);
     free(w->rot);
+    free(w->sharp);
+    free(w->fchild);
+    free(w->disc);
+    w->fchild = NULL;
+    w->disc = NULL;
+    w->cap_fchild = w->cap_disc = 0;
     w->c = w->rot = NULL;
+    w->sharp = NULL;
     w->cap_c = w->cap_rot = 0;
+    w->viewed = w->faced = w->edged = 0;
 }

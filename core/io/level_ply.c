@@ -35,30 +35,38 @@ static void faces_free(level_faces *lf)
     free(lf->off);
 }
 
+/* The darts are scanned block by block (st_fvar_scan: st_dart_first/next's
+ * order without a call per dart) and faces marked seen in a bit per dart
+ * id, which needs no pass to release. */
 static int faces_walk(st_map *m, unsigned l, level_faces *lf)
 {
-    st_dart_iter it;
+    st_fvar_scan it;
     uint32_t nc = 0;
-    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) nc += !st_is_boundary(m, d);
+    st_fvar_scan_init(&it, m, 0, l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) nc += !st_is_boundary(m, d);
     lf->dart = st_malloc_huge(((size_t)nc + 1) * sizeof *lf->dart);
     lf->off = st_malloc_huge(((size_t)nc + 2) * sizeof *lf->off);
-    if (!lf->dart || !lf->off) return -1;
+    uint64_t *seen = calloc((size_t)m->darts.end / 64 + 1, sizeof *seen);
+    if (!lf->dart || !lf->off || !seen) {
+        free(seen);
+        return -1;
+    }
     st_level_view lv;
     st_level_view_init(m, l, &lv);
-    int fbit = st_marker_reserve(m);
     uint32_t k = 0, nf = 0;
     lf->off[0] = 0;
-    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
-        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+    st_fvar_scan_init(&it, m, 0, l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+        if (st_is_boundary(m, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
         uint32_t x = d;
         do {
-            st_mark(m, fbit, x);
+            seen[x >> 6] |= 1ull << (x & 63);
             lf->dart[k++] = x;
             x = st_v_phi1(&lv, x);
         } while (x != d);
         lf->off[++nf] = k;
     }
-    st_marker_release(m, fbit, l);
+    free(seen);
     lf->ncorners = k;
     lf->nfaces = nf;
     return 0;
@@ -79,10 +87,23 @@ static void out_room(ply_out *o, size_t n)
     o->n = 0;
 }
 
+/* n bytes of v, least significant first: one store on a little-endian
+ * machine, where those are v's own bytes. */
+static void put_le(unsigned char *b, uint64_t v, int n)
+{
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    if (n == 8) memcpy(b, &v, 8);
+    else { uint32_t w = (uint32_t)v; memcpy(b, &w, 4); }
+#else
+    for (int k = 0; k < n; k++) b[k] = (unsigned char)(v >> (8 * k));
+#endif
+}
+
 static void out_u32(ply_out *o, uint32_t v)
 {
     out_room(o, 4);
-    for (int k = 0; k < 4; k++) o->b[o->n++] = (unsigned char)(v >> (8 * k));
+    put_le(o->b + o->n, v, 4);
+    o->n += 4;
 }
 
 static void out_f64(ply_out *o, double d)
@@ -90,7 +111,8 @@ static void out_f64(ply_out *o, double d)
     uint64_t v;
     memcpy(&v, &d, sizeof v);
     out_room(o, 8);
-    for (int k = 0; k < 8; k++) o->b[o->n++] = (unsigned char)(v >> (8 * k));
+    put_le(o->b + o->n, v, 8);
+    o->n += 8;
 }
 
 static void out_u8(ply_out *o, unsigned v)
@@ -143,7 +165,9 @@ static int uv_group(const level_faces *lf, const uint32_t *vindex, uint32_t nver
     if (!start || !bucket || !g->corner_t || !g->first) goto done;
     /* Counting sort of the corners by vertex (corner_t holds the vertex for now). */
     uint32_t kmax = 0;
-    for (uint32_t c = 0; c < nc; c++) start[(g->corner_t[c] = vindex[st_vert(m, lf->dart[c], l)]) + 1]++;
+    st_level_view lv;
+    st_level_view_init(m, l, &lv);
+    for (uint32_t c = 0; c < nc; c++) start[(g->corner_t[c] = vindex[st_v_vert(&lv, lf->dart[c])]) + 1]++;
     /* start[v + 1]: the beginning of v's bucket, then its end once filled
      * (start[v] being its beginning). */
     for (uint32_t v = 0, s = 0; v < nverts; v++) {
@@ -215,10 +239,13 @@ static void count_faces_walk(st_map *m, unsigned l, face_counts *fc)
 static int check_level(const char *path, st_map *m, unsigned l, const face_counts *fc, const st_fvar_level *fl,
                        const uv_groups *g, st_error *err)
 {
-    st_dart_iter it;
+    st_fvar_scan it;
+    st_fvar_scan_vertices(&it, m, l);
+    st_level_view lv;
+    st_level_view_init(m, l, &lv);
     size_t i = 0;
-    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it), i++) {
-        const double *p = st_pos(m, v, l);
+    for (uint32_t v = st_fvar_scan_next(&it); v != ST_NIL; v = st_fvar_scan_next(&it), i++) {
+        const double *p = st_v_pos(&lv, v);
         if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
             return st_fail(err, ST_ERR_GEOMETRY, "%s: vertex %zu is not finite", path, i);
     }
@@ -257,11 +284,13 @@ static void write_plain(FILE *f, st_map *m, unsigned l, const uint32_t *vindex, 
     o->n = 0;
     st_level_view lv;
     st_level_view_init(m, l, &lv);
-    st_dart_iter it;
-    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
+    st_fvar_scan vs;
+    st_fvar_scan_vertices(&vs, m, l);
+    for (uint32_t v = st_fvar_scan_next(&vs); v != ST_NIL; v = st_fvar_scan_next(&vs)) {
         const double *p = st_v_pos(&lv, v);
         for (int k = 0; k < 3; k++) out_f64(o, p[k]);
     }
+    st_dart_iter it;
     int fbit = st_marker_reserve(m);
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
         if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
@@ -290,9 +319,11 @@ static void write_uv(FILE *f, const st_map *m, unsigned l, const level_faces *lf
     ply_out buf, *o = &buf;
     o->f = f;
     o->n = 0;
+    st_level_view lv;
+    st_level_view_init(m, l, &lv);
     for (uint32_t i = 0; i < g->n; i++) {
         uint32_t x = g->first[i];
-        const double *p = st_dart_pos(m, x, l);
+        const double *p = st_v_pos(&lv, st_v_vert(&lv, x));
         for (int k = 0; k < 3; k++) out_f64(o, p[k]);
         out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x] : 0);
         out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x + 1] : 0);
@@ -329,8 +360,9 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     uint32_t *vindex = st_malloc_huge((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vindex), nverts = 0;
     int rc = vindex ? 0 : -1;
     if (!rc) {
-        st_dart_iter it;
-        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) vindex[v] = nverts++;
+        st_fvar_scan it;  /* not face-embedded (above): st_vertex_first/next's order */
+        st_fvar_scan_vertices(&it, m, l);
+        for (uint32_t v = st_fvar_scan_next(&it); v != ST_NIL; v = st_fvar_scan_next(&it)) vindex[v] = nverts++;
     }
     if (!rc && g) {
         rc = faces_walk(m, l, &lf);
