@@ -118,14 +118,16 @@ int st_rg_face_case(st_rgeom *g, const st_level_view *V, st_rg_scratch *fs, unsi
     return c;
 }
 
-/* Large arrays of the build: the kernel is asked for huge pages (fewer
- * page faults when they are first written: at 25 M faces the build writes
- * about 3 GB of fresh memory, and a 4 KiB page fault costs more than
- * filling the page). */
+/* Large arrays of the build: the kernel is asked for transparent huge
+ * pages (Linux, where it honours madvise), so that writing them the first
+ * time takes one page fault per 2 MiB instead of one per 4 KiB: at 25 M
+ * faces the build writes about 3 GB of fresh memory.  (Koala, Loop level 3,
+ * one thread: 5.6-6.3 s of CPU per build without, 3.0-5.0 s with, on the
+ * same loaded machine.) */
 static void *big_alloc(size_t bytes)
 {
     void *p = malloc(bytes ? bytes : 1);
-#if defined(MADV_HUGEPAGE) && !defined(NO_THP)
+#ifdef MADV_HUGEPAGE
     if (p && bytes >= ((size_t)8 << 20)) {
         uintptr_t a = ((uintptr_t)p + 4095) & ~(uintptr_t)4095, e = ((uintptr_t)p + bytes) & ~(uintptr_t)4095;
         if (e > a) (void)madvise((void *)a, e - a, MADV_HUGEPAGE);
