@@ -150,6 +150,17 @@ static unsigned build_threads(size_t items)
     return items < PAR_MIN_ITEMS || t < 1 ? 1 : t;
 }
 
+/* st_team_next over n items counted in size_t (3 per triangle may pass
+ * 2^32 on the largest maps): hands out chunks of PAR_CHUNK items. */
+static int next_chunk(st_team *team, unsigned k, size_t n, size_t *begin, size_t *end)
+{
+    uint32_t c0, c1;
+    if (!st_team_next(team, k, (uint32_t)((n + PAR_CHUNK - 1) / PAR_CHUNK), 1, &c0, &c1)) return 0;
+    *begin = (size_t)c0 * PAR_CHUNK;
+    *end = n - *begin < PAR_CHUNK ? n : *begin + PAR_CHUNK;
+    return 1;
+}
+
 /* Pass 2 of the build: vertex ids -> vertex-table indices in the corners and
  * line ends, then corner numbers -> vertex-table indices in the triangles. */
 typedef struct remap_job { st_rgeom *g; size_t ncorner; } remap_job;
@@ -160,15 +171,14 @@ static void remap_part(st_team *team, unsigned t, void *ctx)
     remap_job *j = ctx;
     st_rgeom *g = j->g;
     const uint32_t *slot = g->slot;
-    uint32_t b, e;
-    uint32_t nc = (uint32_t)j->ncorner, nl = 2 * g->nlines, nt = 3 * g->ntris;
-    while (st_team_next(team, 0, nc, PAR_CHUNK, &b, &e))
-        for (uint32_t k = b; k < e; k++) g->corner[k] = slot[g->corner[k]];
-    while (st_team_next(team, 1, nl, PAR_CHUNK, &b, &e))
-        for (uint32_t k = b; k < e; k++) g->lines[k] = slot[g->lines[k]];
+    size_t b, e;
+    while (next_chunk(team, 0, j->ncorner, &b, &e))
+        for (size_t k = b; k < e; k++) g->corner[k] = slot[g->corner[k]];
+    while (next_chunk(team, 1, 2 * (size_t)g->nlines, &b, &e))
+        for (size_t k = b; k < e; k++) g->lines[k] = slot[g->lines[k]];
     st_team_sync(team);
-    while (st_team_next(team, 2, nt, PAR_CHUNK, &b, &e))
-        for (uint32_t k = b; k < e; k++) g->tris[k] = g->corner[g->tris[k]];
+    while (next_chunk(team, 2, 3 * (size_t)g->ntris, &b, &e))
+        for (size_t k = b; k < e; k++) g->tris[k] = g->corner[g->tris[k]];
 }
 
 /* The walk of the face of d: its darts and their β0 in fs (β0 is read by
