@@ -46,13 +46,16 @@ uint32_t st_rg_next_gen(st_rgeom *g);
 /* Scratch for one face walk: its darts, then what the case lookup needs. */
 typedef struct st_rg_scratch {
     uint32_t *darts; size_t cdarts;
+    uint32_t *b0; size_t cb0;         /* β0 of each dart (st_rgeom_build's walk) */
     uint8_t *elev, *vlev; size_t celev, cvlev;
     uint32_t *loc; size_t cloc;
     float *pos; size_t cpos;
 } st_rg_scratch;
 void st_rg_scratch_free(st_rg_scratch *fs);
 /* The case of the face whose n darts are fs->darts and vertex ids vids,
- * its triangles as corner numbers in fs->loc; -2 when out of memory. */
-int st_rg_face_case(st_rgeom *g, const st_level_view *V, st_rg_scratch *fs, unsigned n, const uint32_t *vids);
+ * its triangles as corner numbers in fs->loc; -2 when out of memory.  b0:
+ * the β0 of each dart when the caller has them, else NULL. */
+int st_rg_face_case(st_rgeom *g, const st_level_view *V, st_rg_scratch *fs, unsigned n, const uint32_t *vids,
+                    const uint32_t *b0);
 
 #endif

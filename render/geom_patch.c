@@ -154,7 +154,7 @@ static void add_face(patch *p, unsigned n)
         g->corner[c0 + k] = vertex_index(p, vids[k], y);
         g->dart_face[y] = f;
     }
-    int c = p->oom ? -2 : st_rg_face_case(g, &p->V, &p->fs, n, vids);
+    int c = p->oom ? -2 : st_rg_face_case(g, &p->V, &p->fs, n, vids, NULL);
     if (c == -2) { p->oom = 1; return; }
     g->face_dart[f] = p->fs.darts[0];
     g->face_case[f] = (int16_t)c;

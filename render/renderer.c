@@ -137,6 +137,19 @@ static size_t buffer_data(const st_gl *gl, GLenum target, size_t bytes, const vo
     return cap;
 }
 
+/* Refills the bound buffer of `cap` bytes when the data fits in it and the
+ * buffer is not more than twice the room buffer_data would give: no new
+ * storage (which the driver clears before the copy: llvmpipe's memset of a
+ * fresh buffer costs as much as the copy), e.g. when the same level is
+ * built again.  Draws read only the counts, never past them. */
+static size_t buffer_refill(const st_gl *gl, GLenum target, size_t cap, size_t bytes, const void *data, size_t min)
+{
+    size_t want = bytes + bytes / 4 + min;
+    if (cap < bytes + min || cap > 2 * want) return buffer_data(gl, target, bytes, data, min);
+    if (bytes) gl->BufferSubData(target, 0, (GLsizeiptr)bytes, data);
+    return cap;
+}
+
 static uint64_t gpu_mesh_upload(const st_gl *gl, st_gpu_mesh *g, const st_rgeom *geo)
 {
     if (!g->vao) {
@@ -156,20 +169,20 @@ static uint64_t gpu_mesh_upload(const st_gl *gl, st_gpu_mesh *g, const st_rgeom 
     size_t ob = (size_t)geo->ntris * sizeof(uint32_t);
     gl->BindVertexArray(g->vao);
     gl->BindBuffer(GL_ARRAY_BUFFER, g->vbo);
-    g->cap[0] = buffer_data(gl, GL_ARRAY_BUFFER, vb, geo->vdata, 16);
+    g->cap[0] = buffer_refill(gl, GL_ARRAY_BUFFER, g->cap[0], vb, geo->vdata, 16);
     gl->VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, ST_RGEOM_VSTRIDE * sizeof(float), (const void *)0);
     gl->VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, ST_RGEOM_VSTRIDE * sizeof(float), (const void *)(3 * sizeof(float)));
     gl->EnableVertexAttribArray(0);
     gl->EnableVertexAttribArray(1);
     gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ibo_lines);
-    g->cap[2] = buffer_data(gl, GL_ELEMENT_ARRAY_BUFFER, lb, geo->lines, 16);
+    g->cap[2] = buffer_refill(gl, GL_ELEMENT_ARRAY_BUFFER, g->cap[2], lb, geo->lines, 16);
     gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ibo_tris);
-    g->cap[1] = buffer_data(gl, GL_ELEMENT_ARRAY_BUFFER, tb, geo->tris, 16);
+    g->cap[1] = buffer_refill(gl, GL_ELEMENT_ARRAY_BUFFER, g->cap[1], tb, geo->tris, 16);
     gl->BindVertexArray(0);
     gl->BindBuffer(GL_TEXTURE_BUFFER, g->tbo_face_normal);
-    g->cap[3] = buffer_data(gl, GL_TEXTURE_BUFFER, fb, geo->fnormal, 16);
+    g->cap[3] = buffer_refill(gl, GL_TEXTURE_BUFFER, g->cap[3], fb, geo->fnormal, 16);
     gl->BindBuffer(GL_TEXTURE_BUFFER, g->tbo_tri_face);
-    g->cap[4] = buffer_data(gl, GL_TEXTURE_BUFFER, ob, geo->tri_face, 16);
+    g->cap[4] = buffer_refill(gl, GL_TEXTURE_BUFFER, g->cap[4], ob, geo->tri_face, 16);
     gl->BindBuffer(GL_TEXTURE_BUFFER, 0);
     gl->BindTexture(GL_TEXTURE_BUFFER, g->tex_face_normal);
     gl->TexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, g->tbo_face_normal);
