@@ -1,5 +1,5 @@
 /* CPU-side geometry of a displayed level; see geom.h. */
-#define _DEFAULT_SOURCE /* madvise */
+#include "core/base/hugepage.h"
 #include "core/base/parallel.h"
 #include "core/map/geometry.h"
 #include "geom_internal.h"
@@ -8,7 +8,6 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
 
 void st_range_list_free(st_range_list *l)
 {
@@ -118,23 +117,11 @@ int st_rg_face_case(st_rgeom *g, const st_level_view *V, st_rg_scratch *fs, unsi
     return c;
 }
 
-/* Large arrays of the build: the kernel is asked for transparent huge
- * pages (Linux, where it honours madvise), so that writing them the first
- * time takes one page fault per 2 MiB instead of one per 4 KiB: at 25 M
- * faces the build writes about 3 GB of fresh memory.  (Koala, Loop level 3,
- * one thread: 5.6-6.3 s of CPU per build without, 3.0-5.0 s with, on the
- * same loaded machine.) */
-static void *big_alloc(size_t bytes)
-{
-    void *p = malloc(bytes ? bytes : 1);
-#ifdef MADV_HUGEPAGE
-    if (p && bytes >= ((size_t)8 << 20)) {
-        uintptr_t a = ((uintptr_t)p + 4095) & ~(uintptr_t)4095, e = ((uintptr_t)p + bytes) & ~(uintptr_t)4095;
-        if (e > a) (void)madvise((void *)a, e - a, MADV_HUGEPAGE);
-    }
-#endif
-    return p;
-}
+/* Large arrays of the build go through st_malloc_huge (core/base/
+ * hugepage.h): at 25 M faces the build writes about 3 GB of fresh memory.
+ * (Koala, Loop level 3, one thread: 5.6-6.3 s of CPU per build without huge
+ * pages, 3.0-5.0 s with, on the same loaded machine.) */
+static void *big_alloc(size_t bytes) { return st_malloc_huge(bytes ? bytes : 1); }
 
 /* Worker threads for the passes over whole arrays (core/base/parallel.h):
  * each item is computed by the same code whatever the thread, so the
