@@ -606,13 +606,15 @@ static void test_foreign_map(void)
 /* ---- sparse form of the relations (map.h, "Sparse form") ------------------------------ */
 
 /* β0, β1 and vert of every dart at every level, through the getters and
- * through level views. */
+ * through level views, the walks built on them (map.h: inline, so they take
+ * this file's path, the one that answers both forms), and the cell counts
+ * of every level (st_level_stats_compute has one copy per form). */
 typedef struct rel_snap { uint32_t n; uint32_t *v; } rel_snap;
 
 static void snap_relations(const st_map *m, rel_snap *s)
 {
     s->n = 0;
-    s->v = malloc((size_t)m->darts.end * (m->top + 1) * 6 * sizeof *s->v + 1);
+    s->v = malloc(((size_t)m->darts.end * 10 + 6) * (m->top + 1) * sizeof *s->v + 1);
     for (unsigned l = 0; l <= m->top; l++) {
         st_level_view v;
         st_level_view_init(m, l, &v);
@@ -625,8 +627,22 @@ static void snap_relations(const st_map *m, rel_snap *s)
             o[3] = st_v_beta0(&v, d);
             o[4] = st_v_beta1(&v, d);
             o[5] = st_v_vert(&v, d);
-            s->n += 6;
+            o[6] = st_face_degree(m, d, l);
+            o[7] = st_vertex_degree(m, d, l);
+            o[8] = st_phi_1(m, d, l);
+            o[9] = st_beta1_inv(m, d, l);
+            s->n += 10;
         }
+        st_level_stats ls;
+        st_level_stats_compute((st_map *)m, l, &ls);
+        uint32_t *o = s->v + s->n;
+        o[0] = (uint32_t)ls.darts;
+        o[1] = (uint32_t)ls.vertices;
+        o[2] = (uint32_t)ls.edges;
+        o[3] = (uint32_t)ls.faces;
+        o[4] = (uint32_t)ls.boundary_loops;
+        o[5] = (uint32_t)ls.boundary_edges;
+        s->n += 6;
     }
 }
 

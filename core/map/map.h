@@ -53,7 +53,7 @@
  * 16-bit offset within its block of ST_POOL_BLOCK ids plus a 32-bit one per
  * block).  A lookup scans that dart's pairs from the finest down: at most
  * one pair per level above its insertion level, and on a progressive
- * hierarchy about one or two (st_map_sparse_stats() measures it).  An
+ * hierarchy about one or two (st_map_sparse_stats_compute measures it).  An
  * attribute keeps its dense columns when the sparse form would not halve
  * them (quadrisection changes β0 for every old dart at every level), so
  * subdivision hierarchies never take that path.  The sparse form is
