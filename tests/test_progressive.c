@@ -8,6 +8,7 @@
 #include "core/multires/hier_internal.h"
 #include "core/io/session.h"
 #include "core/map/map_mesh.h"
+#include "core/map/pool_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -602,6 +603,133 @@ static void test_foreign_map(void)
     st_hier_free(&h);
 }
 
+/* ---- sparse form of the relations (map.h, "Sparse form") ------------------------------ */
+
+/* β0, β1 and vert of every dart at every level, through the getters and
+ * through level views, the walks built on them (map.h: inline, so they take
+ * this file's path, the one that answers both forms), and the cell counts
+ * of every level (st_level_stats_compute has one copy per form). */
+typedef struct rel_snap { uint32_t n; uint32_t *v; } rel_snap;
+
+static void snap_relations(const st_map *m, rel_snap *s)
+{
+    s->n = 0;
+    s->v = malloc(((size_t)m->darts.end * 10 + 6) * (m->top + 1) * sizeof *s->v + 1);
+    for (unsigned l = 0; l <= m->top; l++) {
+        st_level_view v;
+        st_level_view_init(m, l, &v);
+        st_dart_iter it;
+        for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+            uint32_t *o = s->v + s->n;
+            o[0] = st_beta0(m, d, l);
+            o[1] = st_beta1(m, d, l);
+            o[2] = st_vert(m, d, l);
+            o[3] = st_v_beta0(&v, d);
+            o[4] = st_v_beta1(&v, d);
+            o[5] = st_v_vert(&v, d);
+            o[6] = st_face_degree(m, d, l);
+            o[7] = st_vertex_degree(m, d, l);
+            o[8] = st_phi_1(m, d, l);
+            o[9] = st_beta1_inv(m, d, l);
+            s->n += 10;
+        }
+        st_level_stats ls;
+        st_level_stats_compute((st_map *)m, l, &ls);
+        uint32_t *o = s->v + s->n;
+        o[0] = (uint32_t)ls.darts;
+        o[1] = (uint32_t)ls.vertices;
+        o[2] = (uint32_t)ls.edges;
+        o[3] = (uint32_t)ls.faces;
+        o[4] = (uint32_t)ls.boundary_loops;
+        o[5] = (uint32_t)ls.boundary_edges;
+        s->n += 6;
+    }
+}
+
+static int same_snap(const rel_snap *a, const rel_snap *b)
+{
+    return a->n == b->n && memcmp(a->v, b->v, (size_t)a->n * sizeof *a->v) == 0;
+}
+
+static void test_sparse_form(const char *name, uint64_t target)
+{
+    st_hier h;
+    if (build(name, &h, target)) return;
+    st_map *m = &h.map;
+    st_map_sparse_stats st;
+    st_map_sparse_stats_compute(m, &st);
+    /* The build leaves all three relations sparse, and a dart's list holds
+     * at most one pair per level above its insertion level. */
+    CHECKF(st.relations_sparse == 3 && st.pairs > 0 && st.longest >= 1 && st.longest <= m->top,
+           "%s: %u sparse relations, %llu pairs, longest %u, top %u", name, st.relations_sparse, (unsigned long long)st.pairs,
+           st.longest, m->top);
+    st_map_bytes sparse_bytes, dense_bytes;
+    st_map_memory(m, &sparse_bytes);
+    rel_snap a, b, c;
+    snap_relations(m, &a);
+    void *f1 = NULL, *f2 = NULL;
+    size_t n1 = 0, n2 = 0;
+    st_error err;
+    st_session_ref r = { .h = &h, .edit_level = 0, .display_level = m->top };
+    CHECK(st_session_write_mem(&r, &f1, &n1, &err) == 0);
+    /* Thawed: the same relations at every level, the same session bytes,
+     * a valid map, and at least twice the memory in columns. */
+    st_mla_thaw(&m->beta0, &m->darts);
+    st_mla_thaw(&m->beta1, &m->darts);
+    st_mla_thaw(&m->vert, &m->darts);
+    st_map_sparse_stats_compute(m, &st);
+    CHECK(st.relations_sparse == 0 && !m->beta0.sp);
+    snap_relations(m, &b);
+    CHECKF(same_snap(&a, &b), "%s: the sparse form answers differently from the dense columns", name);
+    CHECK(st_session_write_mem(&r, &f2, &n2, &err) == 0);
+    CHECKF(n1 == n2 && memcmp(f1, f2, n1) == 0, "%s: sessions differ between the sparse and the dense form", name);
+    CHECKF(st_map_validate(m, &err) == ST_OK, "%s: %s", name, err.msg);
+    st_map_memory(m, &dense_bytes);
+    CHECKF(dense_bytes.topology > sparse_bytes.topology, "%s: topology %zu bytes dense, %zu sparse", name, dense_bytes.topology,
+           sparse_bytes.topology);
+    /* Frozen again, then a setter: it turns the map dense first, and the
+     * write lands as on the dense map. */
+    st_map_compact(m);
+    st_map_sparse_stats_compute(m, &st);
+    CHECK(st.relations_sparse == 3);
+    snap_relations(m, &c);
+    CHECK(same_snap(&a, &c));
+    st_dart_iter it;
+    uint32_t d = st_dart_first(m, 0, &it);
+    uint32_t e = st_beta0(m, d, m->top);
+    st_set_beta0(m, d, m->top, e);
+    CHECK(!m->beta0.sp && m->beta1.sp && st_beta0(m, d, m->top) == e);
+    free(c.v);
+    snap_relations(m, &c);
+    CHECK(same_snap(&a, &c));
+    CHECKF(st_map_validate(m, &err) == ST_OK, "%s: %s", name, err.msg);
+    free(a.v);
+    free(b.v);
+    free(c.v);
+    free(f1);
+    free(f2);
+    st_hier_free(&h);
+}
+
+/* A subdivision hierarchy changes β0 of every old dart at every level:
+ * compacting it keeps the dense columns. */
+static void test_sparse_form_not_for_subdivision(void)
+{
+    st_mesh m;
+    if (load_shared("spot_low_resolution.obj", &m)) return;
+    st_hier h;
+    st_error err;
+    CHECK(st_hier_init(&h, &m, &st_scheme_loop, NULL, &err) == ST_OK);
+    CHECK(st_hier_subdivide_to(&h, 3, &err) == ST_OK);
+    st_map_compact(&h.map);
+    st_map_sparse_stats st;
+    st_map_sparse_stats_compute(&h.map, &st);
+    CHECK(st.relations_sparse == 0 && h.map.beta0.col[1] && h.map.beta0.col[3]);
+    CHECK(st_map_validate(&h.map, &err) == ST_OK);
+    st_hier_free(&h);
+    st_mesh_free(&m);
+}
+
 int main(void)
 {
     test_topology();
@@ -618,6 +746,9 @@ int main(void)
     test_filter("spot_low_resolution.obj");
     test_filter("boot.obj");
     test_foreign_map();
+    test_sparse_form("spot_low_resolution.obj", 30);
+    test_sparse_form("plane_holes.obj", 20);
+    test_sparse_form_not_for_subdivision();
     test_analysis_and_remove_bottom("hand_lowres.obj", 60);
     test_analysis_and_remove_bottom("cube_no_bottom.obj", 4);
     return TEST_END();

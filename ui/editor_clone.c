@@ -52,6 +52,7 @@ static int dup_mla(st_mla *d, const st_mla *s, uint32_t cap, size_t *bytes)
     int rc = dup_bytes((void **)&d->base, s->base, (size_t)cap * s->elem, bytes);
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++)
         rc |= dup_bytes((void **)&d->col[l], s->col[l], (size_t)s->colcap[l] * s->elem, bytes);
+    rc |= st_mla_sparse_copy(d, s, bytes);
     return rc ? -1 : 0;
 }
 
@@ -59,6 +60,7 @@ static void free_mla(st_mla *a)
 {
     free(a->base);
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(a->col[l]);
+    st_mla_sparse_free(a->sp);
     memset(a, 0, sizeof *a);
 }
 

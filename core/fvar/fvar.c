@@ -29,6 +29,9 @@
  * Semi-sharp creases inside a face-varying boundary take the plain crease
  * rule (OpenSubdiv blends toward a corner there).
  */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/base/hugepage.h"
 #include "core/fvar/fvar_internal.h"
 #include "core/multires/hier.h"

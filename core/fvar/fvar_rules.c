@@ -5,6 +5,9 @@
  * mesh's values are the regular level's bit for bit (tests/test_adapt_uv.c).
  * The rules are OpenSubdiv's; fvar.c's opening comment and
  * docs/SUBDIVISION-RULES.md §7b describe them. */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/fvar/fvar_internal.h"
 #include "core/multires/hier.h"
 

@@ -21,6 +21,9 @@
  * Value labels of level L: corners of one vertex with bitwise equal UVs
  * share one (the smallest of their dart ids).
  */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/fvar/fvar_internal.h"
 #include "core/multires/hier.h"
 #include "core/schemes/scheme.h"

@@ -370,15 +370,21 @@ void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p)
     st_bw_u32(w, a->elem);
     for (uint32_t i = 0; i < p->end; i++)
         st_bw_bytes(w, p->ins[i] == ST_FREE_LEVEL ? zeros : a->base + (size_t)i * a->elem, a->elem);
+    /* The sparse form (map.h) is written as the dense columns it stands for. */
+    const st_mla_sparse *sp = a->sp;
     uint32_t mask = 0;
     for (unsigned l = 1; l < ST_MAX_LEVELS; l++)
-        if (a->col[l]) mask |= 1u << l;
+        if (sp ? sp->has_col[l] : a->col[l] != NULL) mask |= 1u << l;
     st_bw_u32(w, mask);
     for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
-        if (!a->col[l]) continue;
-        st_bw_u32(w, a->colcap[l]);
-        for (uint32_t i = 0; i < a->colcap[l]; i++)
-            st_bw_bytes(w, col_readable(p, i, l) ? a->col[l] + (size_t)i * a->elem : zeros, a->elem);
+        if (!(mask >> l & 1u)) continue;
+        uint32_t n = sp ? sp->colcap[l] : a->colcap[l];
+        st_bw_u32(w, n);
+        for (uint32_t i = 0; i < n; i++) {
+            const unsigned char *v = zeros;
+            if (col_readable(p, i, l)) v = sp ? st_mla_sparse_at(a, p->ins, i, l) : a->col[l] + (size_t)i * a->elem;
+            st_bw_bytes(w, v, a->elem);
+        }
     }
 }
 

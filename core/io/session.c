@@ -558,6 +558,8 @@ static int r_map(load_ctx *c, st_br *r)
     if (h->map.face_embedded != dual)
         return st_br_fail(r, "map: the %s scheme needs %s", h->scheme->name,
                           dual ? "the dual (face) embedding" : "the vertex embedding");
+    /* Few darts change per level: the sparse form, as the build leaves it. */
+    if (h->scheme->id == ST_SCHEME_PROGRESSIVE) st_map_compact(&h->map);
     return 0;
 }
 

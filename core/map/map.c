@@ -125,6 +125,40 @@ void st_map_trim(st_map *m)
     for (uint32_t i = 0; i < m->nvert_attrs; i++) st_mla_trim(m->vert_attrs[i], &m->verts);
 }
 
+/* Dense columns again before anything writes the topology (map.h, "Sparse
+ * form"): the sparse form is read-only. */
+static void thaw_topology(st_map *m)
+{
+    st_mla_thaw(&m->beta0, &m->darts);
+    st_mla_thaw(&m->beta1, &m->darts);
+    st_mla_thaw(&m->vert, &m->darts);
+}
+
+void st_map_compact(st_map *m)
+{
+    st_map_trim(m);
+    st_mla_freeze(&m->beta0, &m->darts); /* out of memory: stays dense */
+    st_mla_freeze(&m->beta1, &m->darts);
+    st_mla_freeze(&m->vert, &m->darts);
+}
+
+void st_map_sparse_stats_compute(const st_map *m, st_map_sparse_stats *st)
+{
+    const st_mla *rel[3] = { &m->beta0, &m->beta1, &m->vert };
+    memset(st, 0, sizeof *st);
+    for (int r = 0; r < 3; r++) {
+        const st_mla_sparse *s = rel[r]->sp;
+        if (!s) continue;
+        st->relations_sparse++;
+        st->pairs += s->npairs;
+        for (uint32_t i = 0; i < s->n; i++) {
+            uint32_t b = s->bbase[i >> ST_POOL_BLOCK_SHIFT] + s->boff[i];
+            uint32_t e = s->bbase[(i + 1) >> ST_POOL_BLOCK_SHIFT] + s->boff[i + 1];
+            if (e - b > st->longest) st->longest = e - b;
+        }
+    }
+}
+
 /* ---- change log ---------------------------------------------------------------- */
 
 void st_map_log_clear(st_map_log *g)
@@ -186,6 +220,7 @@ static const unsigned char zero_attr[64];
 uint32_t st_dart_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got)
 {
     uint32_t grow;
+    thaw_topology(m); /* the caller writes base[] of the new ids directly */
     uint32_t d = st_pool_take_run(&m->darts, l, want, got, &grow);
     if (d == ST_NIL) abort();
     if (grow) grow_dart_arrays(m, grow);
@@ -199,6 +234,7 @@ uint32_t st_dart_take_run(st_map *m, unsigned l, uint32_t want, uint32_t *got)
 
 void st_dart_delete(st_map *m, uint32_t d)
 {
+    thaw_topology(m); /* a reused id must not find this one's pairs */
     log_dart(m, d);
     st_pool_release(&m->darts, d);
 }
@@ -285,6 +321,7 @@ void st_level_remove_top(st_map *m)
 {
     if (m->top == 0) return;
     st_map_changed(m);
+    thaw_topology(m);
     unsigned l = m->top;
     st_mla_drop_column(&m->beta0, l);
     st_mla_drop_column(&m->beta1, l);
@@ -310,44 +347,6 @@ void st_level_remove_bottom(st_map *m)
     st_pool_drop_bottom(&m->darts);
     st_pool_drop_bottom(&m->verts);
     m->top--;
-}
-
-/* ---- walks ------------------------------------------------------------------ */
-
-uint32_t st_phi_1(const st_map *m, uint32_t d, unsigned l)
-{
-    uint32_t x = d, n;
-    while ((n = st_phi1(m, x, l)) != d) x = n;
-    return x;
-}
-
-uint32_t st_beta1_inv(const st_map *m, uint32_t d, unsigned l)
-{
-    uint32_t x = d, n;
-    while ((n = st_beta1(m, x, l)) != d) x = n;
-    return x;
-}
-
-unsigned st_face_degree(const st_map *m, uint32_t d, unsigned l)
-{
-    unsigned n = 0;
-    uint32_t x = d;
-    do { n++; x = st_phi1(m, x, l); } while (x != d);
-    return n;
-}
-
-unsigned st_vertex_degree(const st_map *m, uint32_t d, unsigned l)
-{
-    unsigned n = 0;
-    uint32_t x = d;
-    do { n++; x = st_beta1(m, x, l); } while (x != d);
-    return n;
-}
-
-unsigned st_edge_level(const st_map *m, uint32_t d, unsigned l)
-{
-    unsigned a = m->darts.ins[d], b = m->darts.ins[st_beta0(m, d, l)];
-    return a > b ? a : b;
 }
 
 /* ---- enumeration ------------------------------------------------------------- */
@@ -423,18 +422,6 @@ void st_marker_release(st_map *m, int bit, unsigned l)
     m->marks_used &= ~(1u << bit);
 }
 
-void st_mark_face(st_map *m, int bit, uint32_t d, unsigned l)
-{
-    uint32_t x = d;
-    do { st_mark(m, bit, x); x = st_phi1(m, x, l); } while (x != d);
-}
-
-void st_mark_vertex(st_map *m, int bit, uint32_t d, unsigned l)
-{
-    uint32_t x = d;
-    do { st_mark(m, bit, x); x = st_beta1(m, x, l); } while (x != d);
-}
-
 /* ---- statistics and memory ---------------------------------------------------- */
 
 /* Orbits are counted with two transient bits per dart id rather than the
@@ -450,22 +437,41 @@ static void see_bit(uint64_t *s, uint32_t d) { s[d >> 6] |= 1ull << (d & 63); }
 
 /* Cells of the surface: in the dual encoding its vertices are the map's
  * φ1 orbits and its faces (and holes) the β1 orbits. */
-static void count_dart(const st_map *m, orbit_count *c, uint32_t d, st_level_stats *s)
+static inline void count_dart(const st_map *m, orbit_count *c, uint32_t d, st_level_stats *s, int sparse)
 {
     s->darts++;
-    if (d < st_v_beta0(&c->v, d)) s->edges++;
+    if (d < st_v_beta0_kind(&c->v, d, sparse)) s->edges++;
     int bd = st_is_boundary(m, d), dual = m->face_embedded;
     if (bd) s->boundary_edges++;
     if (!seen_bit(c->vseen, d)) {
         s->vertices++;
         uint32_t x = d;
-        do { see_bit(c->vseen, x); x = dual ? st_v_phi1(&c->v, x) : st_v_beta1(&c->v, x); } while (x != d);
+        do {
+            see_bit(c->vseen, x);
+            x = dual ? st_v_phi1_kind(&c->v, x, sparse) : st_v_beta1_kind(&c->v, x, sparse);
+        } while (x != d);
     }
     if (!seen_bit(c->fseen, d)) {
         if (bd) s->boundary_loops++; else s->faces++;
         uint32_t x = d;
-        do { see_bit(c->fseen, x); x = dual ? st_v_beta1(&c->v, x) : st_v_phi1(&c->v, x); } while (x != d);
+        do {
+            see_bit(c->fseen, x);
+            x = dual ? st_v_beta1_kind(&c->v, x, sparse) : st_v_phi1_kind(&c->v, x, sparse);
+        } while (x != d);
     }
+}
+
+/* The darts of levels 0..l, block by block (st_dart_next without a call per
+ * dart); one copy per kind of map (map.h, "Two lookup paths"). */
+static inline void count_darts(const st_map *m, orbit_count *c, unsigned l, st_level_stats *s, int sparse)
+{
+    const st_pool *p = &m->darts;
+    for (unsigned lv = 0; lv <= st_lvl_clamp(l); lv++)
+        for (uint32_t b = 0; b < p->nblocks[lv]; b++) {
+            uint32_t first = p->blocks[lv][b] << ST_POOL_BLOCK_SHIFT;
+            for (uint32_t d = first; d < first + ST_POOL_BLOCK; d++)
+                if (p->ins[d] != ST_FREE_LEVEL) count_dart(m, c, d, s, sparse);
+        }
 }
 
 void st_level_stats_compute(st_map *m, unsigned l, st_level_stats *s)
@@ -477,14 +483,8 @@ void st_level_stats_compute(st_map *m, unsigned l, st_level_stats *s)
     if (!c.vseen) abort(); /* out of memory for two bits per dart */
     c.fseen = c.vseen + words;
     st_level_view_init(m, l, &c.v);
-    /* The darts of levels 0..l, block by block (st_dart_next without a call per dart). */
-    const st_pool *p = &m->darts;
-    for (unsigned lv = 0; lv <= st_lvl_clamp(l); lv++)
-        for (uint32_t b = 0; b < p->nblocks[lv]; b++) {
-            uint32_t first = p->blocks[lv][b] << ST_POOL_BLOCK_SHIFT;
-            for (uint32_t d = first; d < first + ST_POOL_BLOCK; d++)
-                if (p->ins[d] != ST_FREE_LEVEL) count_dart(m, &c, d, s);
-        }
+    if (st_map_is_sparse(m)) count_darts(m, &c, l, s, 1);
+    else count_darts(m, &c, l, s, 0);
     free(c.vseen);
     s->euler = (int64_t)s->vertices - (int64_t)s->edges + (int64_t)s->faces;
 }

@@ -44,6 +44,23 @@
  * = 15.3 bytes per finest dart; st_map_topology_bytes() reports the exact
  * figure.
  *
+ * Sparse form.  In a progressive hierarchy (thesis §4.4) a level's vertex
+ * splits re-set the relations of the darts around a few vertices only: a
+ * dense column per level would mostly copy the level below (the thesis'
+ * redundancy problem, §4.4.5).  st_map_compact() then turns β0, β1 and vert
+ * each into the thesis' run-length form (§4.4.5): per dart the (level,
+ * value) pairs at which its value changes, found by an offset per dart (a
+ * 16-bit offset within its block of ST_POOL_BLOCK ids plus a 32-bit one per
+ * block).  A lookup scans that dart's pairs from the finest down: at most
+ * one pair per level above its insertion level, and on a progressive
+ * hierarchy about one or two (st_map_sparse_stats_compute measures it).  An
+ * attribute keeps its dense columns when the sparse form would not halve
+ * them (quadrisection changes β0 for every old dart at every level), so
+ * subdivision hierarchies never take that path.  The sparse form is
+ * read-only: the first setter, new dart or level change on it turns it
+ * back into dense columns, identical to those it came from; sessions store
+ * the dense columns either way.
+ *
  * Darts (and vertices) are allocated by an st_pool in blocks of
  * ST_POOL_BLOCK ids, each block owned by one insertion level, so the darts
  * of level l are enumerated by visiting the blocks of levels 0..l: time
@@ -60,6 +77,7 @@
 #ifndef ST_MAP_H
 #define ST_MAP_H
 
+#include <assert.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -88,13 +106,33 @@ typedef struct st_pool {
 } st_pool;
 
 /* ---- st_mla: a multilevel attribute (see "Storage" above) ---------------- */
+/* Sparse form of an attribute whose levels change few ids (see "Sparse
+ * form" above): per id, the list of (level, value) pairs at which its value
+ * differs from the level below, in increasing level order. */
+typedef struct st_mla_sparse {
+    uint32_t n;                           /* ids covered: [0, n), a multiple of ST_POOL_BLOCK */
+    uint32_t *bbase;                      /* n/ST_POOL_BLOCK + 1: first pair of each block of ids */
+    uint16_t *boff;                       /* n + 1: first pair of each id, from its block's bbase */
+    uint8_t *lvl;                         /* per pair: level from which the value holds */
+    unsigned char *val;                   /* per pair: elem bytes */
+    uint32_t npairs;
+    uint32_t pairs_at[ST_MAX_LEVELS];     /* pairs of each level */
+    /* The dense form it stands for (thawing and the file format use it). */
+    unsigned char has_col[ST_MAX_LEVELS];
+    uint32_t colcap[ST_MAX_LEVELS];
+} st_mla_sparse;
+
+#define ST_MLA_SPARSE 0x80u               /* flag in st_mla.eff[l]: read level l from sp */
+
 typedef struct st_mla {
     uint32_t elem;                        /* bytes per element */
     unsigned char *base;                  /* pool->cap elements: value at insertion level */
     unsigned char *col[ST_MAX_LEVELS];    /* col[l]: level-l values of ids with ins < l, or NULL */
     uint32_t colcap[ST_MAX_LEVELS];       /* elements allocated in col[l] */
-    uint8_t eff[ST_MAX_LEVELS];           /* highest j <= l with col[j] != NULL, 0 if none */
+    uint8_t eff[ST_MAX_LEVELS];           /* highest j <= l with col[j] != NULL, 0 if none;
+                                             ST_MLA_SPARSE | l when sp holds level l */
     uint8_t maxcol;                       /* highest level with a column, 0 if none */
+    st_mla_sparse *sp;                    /* NULL, or the sparse form (then no col[] is allocated) */
 } st_mla;
 
 enum st_dart_flags {
@@ -163,16 +201,78 @@ static inline unsigned st_lvl_clamp(unsigned l)
     return l < ST_MAX_LEVELS ? l : ST_MAX_LEVELS - 1;
 }
 
-static inline const void *st_mla_at(const st_mla *a, const uint8_t *ins, uint32_t i, unsigned l)
+/* Level-l value of id i in an attribute in sparse form (ins[i] < l). */
+const void *st_mla_sparse_at(const st_mla *a, const uint8_t *ins, uint32_t i, unsigned l);
+
+/* Two lookup paths ("Sparse form" above).  The dense one is the lookup of
+ * "Storage": one comparison and one load.  The other also answers the
+ * sparse form, at the price of a test on every lookup, which costs
+ * subdivision's hot loops 11-35 % more instructions.  So a translation unit
+ * whose loops only ever see dense maps (refinement, the subdivision
+ * schemes, face-varying refinement) defines ST_MAP_DENSE_ONLY before its
+ * first #include: st_mla_at, st_beta0, st_view_get and the others then
+ * take the dense path, and assert (in debug builds) that the attribute is
+ * not sparse.  Everywhere else they take the path that answers both.  A
+ * function that can meet both kinds and is hot on subdivision maps (level
+ * statistics) calls the _kind forms with a constant `sparse` argument, once
+ * per kind (st_map_is_sparse), so that the compiler makes a dense copy
+ * without the test. */
+#ifdef ST_MAP_DENSE_ONLY
+#define ST_MAP_SPARSE_READS 0
+#else
+#define ST_MAP_SPARSE_READS 1
+#endif
+
+static inline const void *st_mla_at_dense(const st_mla *a, const uint8_t *ins, uint32_t i, unsigned l)
 {
+    assert(a->sp == NULL);
     unsigned j = a->eff[st_lvl_clamp(l)];
     const unsigned char *p = j > ins[i] ? a->col[j] : a->base;
     return p + (size_t)i * a->elem;
 }
 
+static inline const void *st_mla_at_any(const st_mla *a, const uint8_t *ins, uint32_t i, unsigned l)
+{
+    unsigned j = a->eff[st_lvl_clamp(l)];
+    if (j > ins[i]) {
+        if (__builtin_expect(j & ST_MLA_SPARSE, 0)) return st_mla_sparse_at(a, ins, i, j & ~ST_MLA_SPARSE);
+        return a->col[j] + (size_t)i * a->elem;
+    }
+    return a->base + (size_t)i * a->elem;
+}
+
+static inline const void *st_mla_at_kind(const st_mla *a, const uint8_t *ins, uint32_t i, unsigned l, int sparse)
+{
+    return sparse ? st_mla_at_any(a, ins, i, l) : st_mla_at_dense(a, ins, i, l);
+}
+
+static inline const void *st_mla_at(const st_mla *a, const uint8_t *ins, uint32_t i, unsigned l)
+{
+    return st_mla_at_kind(a, ins, i, l, ST_MAP_SPARSE_READS);
+}
+
 static inline uint32_t st_mla_u32(const st_mla *a, const uint8_t *ins, uint32_t i, unsigned l)
 {
     return *(const uint32_t *)st_mla_at(a, ins, i, l);
+}
+
+/* Whether one of the relations is in sparse form (st_map_compact). */
+static inline int st_map_is_sparse(const st_map *m)
+{
+    return m->beta0.sp != NULL || m->beta1.sp != NULL || m->vert.sp != NULL;
+}
+
+static inline uint32_t st_beta0_kind(const st_map *m, uint32_t d, unsigned l, int sparse)
+{
+    return *(const uint32_t *)st_mla_at_kind(&m->beta0, m->darts.ins, d, l, sparse);
+}
+static inline uint32_t st_beta1_kind(const st_map *m, uint32_t d, unsigned l, int sparse)
+{
+    return *(const uint32_t *)st_mla_at_kind(&m->beta1, m->darts.ins, d, l, sparse);
+}
+static inline uint32_t st_phi1_kind(const st_map *m, uint32_t d, unsigned l, int sparse)
+{
+    return st_beta1_kind(m, st_beta0_kind(m, d, l, sparse), l, sparse);
 }
 
 static inline uint32_t st_beta0(const st_map *m, uint32_t d, unsigned l) { return st_mla_u32(&m->beta0, m->darts.ins, d, l); }
@@ -188,13 +288,15 @@ static inline int st_is_hole(const st_map *m, uint32_t d) { return (m->flags[d] 
 /* Dart of a face with no surface to draw or export: a boundary or a hole. */
 static inline int st_is_void(const st_map *m, uint32_t d) { return (m->flags[d] & (ST_DART_BOUNDARY | ST_DART_HOLE)) != 0; }
 static inline unsigned st_vertex_level(const st_map *m, uint32_t v) { return m->verts.ins[v]; }
-static inline const double *st_pos(const st_map *m, uint32_t v, unsigned l) { return (const double *)st_mla_at(&m->pos, m->verts.ins, v, l); }
+/* Positions never take the sparse form (st_map_compact leaves them). */
+static inline const double *st_pos(const st_map *m, uint32_t v, unsigned l) { return (const double *)st_mla_at_dense(&m->pos, m->verts.ins, v, l); }
 /* Position of the vertex of dart d at level l. */
 static inline const double *st_dart_pos(const st_map *m, uint32_t d, unsigned l) { return st_pos(m, st_vert(m, d, l), l); }
 
 /* Level views: the column pointers of one level hoisted out of a hot loop.
- * Valid until the map changes. */
-typedef struct st_u32_view { const uint32_t *base, *col; unsigned lvl; } st_u32_view;
+ * Valid until the map changes.  col is NULL when the attribute is sparse
+ * (then lvl carries ST_MLA_SPARSE and mla answers). */
+typedef struct st_u32_view { const uint32_t *base, *col; unsigned lvl; const st_mla *mla; } st_u32_view;
 typedef struct st_level_view {
     const uint8_t *ins, *vins;
     st_u32_view beta0, beta1, vert;
@@ -205,7 +307,7 @@ typedef struct st_level_view {
 static inline st_u32_view st_u32_view_of(const st_mla *a, unsigned l)
 {
     unsigned j = a->eff[st_lvl_clamp(l)];
-    st_u32_view v = { (const uint32_t *)a->base, (const uint32_t *)a->col[j], j };
+    st_u32_view v = { (const uint32_t *)a->base, (j & ST_MLA_SPARSE) ? NULL : (const uint32_t *)a->col[j], j, a };
     return v;
 }
 
@@ -221,26 +323,81 @@ static inline void st_level_view_init(const st_map *m, unsigned l, st_level_view
     v->pcol = (const double *)m->pos.col[v->plvl];
 }
 
+static inline uint32_t st_view_get_dense(const st_u32_view *r, const uint8_t *ins, uint32_t d)
+{
+    assert(!(r->lvl & ST_MLA_SPARSE));
+    return ins[d] < r->lvl ? r->col[d] : r->base[d];
+}
+
+static inline uint32_t st_view_get_any(const st_u32_view *r, const uint8_t *ins, uint32_t d)
+{
+    if (ins[d] < r->lvl) {
+        if (__builtin_expect(r->lvl & ST_MLA_SPARSE, 0))
+            return *(const uint32_t *)st_mla_sparse_at(r->mla, ins, d, r->lvl & ~ST_MLA_SPARSE);
+        return r->col[d];
+    }
+    return r->base[d];
+}
+
+static inline uint32_t st_view_get_kind(const st_u32_view *r, const uint8_t *ins, uint32_t d, int sparse)
+{
+    return sparse ? st_view_get_any(r, ins, d) : st_view_get_dense(r, ins, d);
+}
+
 static inline uint32_t st_view_get(const st_u32_view *r, const uint8_t *ins, uint32_t d)
 {
-    return ins[d] < r->lvl ? r->col[d] : r->base[d];
+    return st_view_get_kind(r, ins, d, ST_MAP_SPARSE_READS);
 }
 static inline uint32_t st_v_beta0(const st_level_view *v, uint32_t d) { return st_view_get(&v->beta0, v->ins, d); }
 static inline uint32_t st_v_beta1(const st_level_view *v, uint32_t d) { return st_view_get(&v->beta1, v->ins, d); }
 static inline uint32_t st_v_phi1(const st_level_view *v, uint32_t d) { return st_v_beta1(v, st_v_beta0(v, d)); }
 static inline uint32_t st_v_vert(const st_level_view *v, uint32_t d) { return st_view_get(&v->vert, v->ins, d); }
+static inline uint32_t st_v_beta0_kind(const st_level_view *v, uint32_t d, int sparse) { return st_view_get_kind(&v->beta0, v->ins, d, sparse); }
+static inline uint32_t st_v_beta1_kind(const st_level_view *v, uint32_t d, int sparse) { return st_view_get_kind(&v->beta1, v->ins, d, sparse); }
+static inline uint32_t st_v_phi1_kind(const st_level_view *v, uint32_t d, int sparse)
+{
+    return st_v_beta1_kind(v, st_v_beta0_kind(v, d, sparse), sparse);
+}
 static inline const double *st_v_pos(const st_level_view *v, uint32_t vid)
 {
     return (v->vins[vid] < v->plvl ? v->pcol : v->pbase) + 3 * (size_t)vid;
 }
 
 /* φ1⁻¹ and β1⁻¹ are not stored (memory): they walk the face / vertex. */
-uint32_t st_phi_1(const st_map *m, uint32_t d, unsigned l);
-uint32_t st_beta1_inv(const st_map *m, uint32_t d, unsigned l);
-unsigned st_face_degree(const st_map *m, uint32_t d, unsigned l);
-unsigned st_vertex_degree(const st_map *m, uint32_t d, unsigned l);
+/* Inline, so that they take the lookup path of the file that calls them
+ * ("Two lookup paths"). */
+static inline uint32_t st_phi_1(const st_map *m, uint32_t d, unsigned l)
+{
+    uint32_t x = d, n;
+    while ((n = st_phi1(m, x, l)) != d) x = n;
+    return x;
+}
+static inline uint32_t st_beta1_inv(const st_map *m, uint32_t d, unsigned l)
+{
+    uint32_t x = d, n;
+    while ((n = st_beta1(m, x, l)) != d) x = n;
+    return x;
+}
+static inline unsigned st_face_degree(const st_map *m, uint32_t d, unsigned l)
+{
+    unsigned n = 0;
+    uint32_t x = d;
+    do { n++; x = st_phi1(m, x, l); } while (x != d);
+    return n;
+}
+static inline unsigned st_vertex_degree(const st_map *m, uint32_t d, unsigned l)
+{
+    unsigned n = 0;
+    uint32_t x = d;
+    do { n++; x = st_beta1(m, x, l); } while (x != d);
+    return n;
+}
 /* Edge level (thesis §3.2.6): max insertion level of its two darts at level l. */
-unsigned st_edge_level(const st_map *m, uint32_t d, unsigned l);
+static inline unsigned st_edge_level(const st_map *m, uint32_t d, unsigned l)
+{
+    unsigned a = m->darts.ins[d], b = m->darts.ins[st_beta0(m, d, l)];
+    return a > b ? a : b;
+}
 
 /* ---- enumeration: time proportional to the size of level l ---------------- */
 /* Calls fn(d, ctx) for every live dart of B^l. */
@@ -270,8 +427,16 @@ void st_marker_release(st_map *m, int bit, unsigned l);
 static inline int st_marked(const st_map *m, int bit, uint32_t d) { return (m->marks[d] >> bit) & 1u; }
 static inline void st_mark(st_map *m, int bit, uint32_t d) { m->marks[d] |= 1u << bit; }
 static inline void st_unmark(st_map *m, int bit, uint32_t d) { m->marks[d] &= ~(1u << bit); }
-void st_mark_face(st_map *m, int bit, uint32_t d, unsigned l);
-void st_mark_vertex(st_map *m, int bit, uint32_t d, unsigned l);
+static inline void st_mark_face(st_map *m, int bit, uint32_t d, unsigned l)
+{
+    uint32_t x = d;
+    do { st_mark(m, bit, x); x = st_phi1(m, x, l); } while (x != d);
+}
+static inline void st_mark_vertex(st_map *m, int bit, uint32_t d, unsigned l)
+{
+    uint32_t x = d;
+    do { st_mark(m, bit, x); x = st_beta1(m, x, l); } while (x != d);
+}
 
 /* ---- base operators (thesis §2.3.1), acting at level l and above ---------- */
 /* New dart inserted at level l with β0 = β1 = itself and vertex v. */
@@ -317,6 +482,22 @@ void st_map_advise_reserved(st_map *m);
  * the ids handed out, columns to the ids they can hold.  Growth afterwards
  * works as before (the next insertion regrows). */
 void st_map_trim(st_map *m);
+
+/* Trims the map (st_map_trim) and stores β0, β1 and vert in sparse form
+ * where that takes less than half their dense columns ("Sparse form"
+ * above).  Queries answer the same; the next change to the topology turns
+ * them dense again.  Out of memory keeps the dense form. */
+void st_map_compact(st_map *m);
+/* Pairs of the sparse form: total over β0, β1 and vert, and the longest
+ * list of one dart in one relation (the bound on a lookup's scan). */
+typedef struct st_map_sparse_stats { uint64_t pairs; unsigned longest; unsigned relations_sparse; } st_map_sparse_stats;
+void st_map_sparse_stats_compute(const st_map *m, st_map_sparse_stats *s);
+
+/* For code that copies an st_mla field by field (undo snapshots): copies
+ * src's sparse form into dst->sp (NULL when src has none); -1 when out of
+ * memory.  *bytes (may be NULL) grows by what was allocated. */
+int st_mla_sparse_copy(st_mla *dst, const st_mla *src, size_t *bytes);
+void st_mla_sparse_free(st_mla_sparse *s);
 
 /* ---- levels ---------------------------------------------------------------- */
 /* Creates level top+1 as a copy of level top, in O(1): nothing is copied,

@@ -63,6 +63,14 @@ void st_pool_drop_bottom(st_pool *p);
 void st_mla_trim(st_mla *a, const st_pool *p);
 /* Capacity := end (the ids handed out); attached arrays must follow. */
 void st_pool_trim(st_pool *p);
+/* Sparse form (map.h, "Sparse form"): 1 when a now holds it, 0 when it
+ * stays dense (no columns, or the sparse form would not halve them), -1
+ * when out of memory (dense, unchanged). */
+int st_mla_freeze(st_mla *a, const st_pool *p);
+/* Back to the dense columns it came from (aborts when out of memory, like
+ * the setters that call it); nothing when a is dense. */
+void st_mla_thaw(st_mla *a, const st_pool *p);
+size_t st_mla_sparse_bytes(const st_mla *a);
 size_t st_mla_bytes(const st_mla *a, uint32_t cap);
 
 /* ---- bulk writers (refine.c) ------------------------------------------------

@@ -7,6 +7,9 @@
  * Two writers build the same level: the generic operators (st_split_edge,
  * st_cut_face: st_refine_uniform_ops), and a bulk writer for the uniform
  * step at the top level that writes the final relations directly (below). */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/base/hugepage.h"
 #include "core/map/refine_internal.h"
 #include "core/map/pool_internal.h"

@@ -17,6 +17,9 @@
  *   split_edge(d, A), split_edge(a, B)   (d a a2 d1 d2): u -> A -> B -> w -> x
  *   cut_face(d2, a), cut_face(z, a2)     triangles (u A x) (A B x) (B w x)
  */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/map/refine_sqrt3_internal.h"
 
 #include <stdlib.h>

@@ -230,8 +230,10 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
         hier_empty(out);
         rc = materialise(&w, out, o, err);
         pm_work_free(&w); /* before the details: a lower peak of memory */
-        if (!rc) st_map_trim(&out->map); /* per-level blocks overflow the exact reservation */
         if (!rc) rep->inexact = compute_details(out);
+        /* Per-level blocks overflow the exact reservation (trim), and a
+         * level's splits re-set few darts (sparse form, map.h). */
+        if (!rc) st_map_compact(&out->map);
         if (!rc) st_hier_trim_details(out); /* sized to every vertex id, per level */
         if (rc) st_hier_free(out);
     }

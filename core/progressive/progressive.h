@@ -89,19 +89,21 @@
  *    filtering, GSS99 §5, thesis §4.4.6): gain 0 on a band leaves the
  *    relaxed, smoother surface.
  *
- * 6. Memory (thesis §4.4.8).  The kernel stores a relation's level-l
- *    values in a dense column over every dart inserted before l (map.h),
+ * 6. Memory (thesis §4.4.8).  The kernel's dense form stores a relation's
+ *    level-l values in a column over every dart inserted before l (map.h),
  *    and a vertex split changes β0, β1 and the vertex of darts of every
- *    earlier level, so each level l >= 1 has three columns of |B^{l-1}|
- *    entries: about 14 + 12/(1-t) bytes per finest dart, t the fraction of
- *    vertices a level keeps.  Koala (100k faces) to 1 % in 17 levels,
- *    t = 0.75: 64.5 bytes per finest dart (bench_progressive).  The
- *    thesis' full φ2 arrays count 4/(1-t) = 16 bytes per dart at that t,
- *    the classic [Hop98] structure 68 bytes per vertex, about 11.3 per
- *    dart; the pair form of §4.4.5 (a column holding only the darts that
- *    change: the darts around the four vertices of each split) would bring
- *    the columns down to a few dozen darts per split, a kernel change this
- *    build does not make.
+ *    earlier level, so each level l >= 1 would have three columns of
+ *    |B^{l-1}| entries: about 14 + 12/(1-t) bytes per finest dart, t the
+ *    fraction of vertices a level keeps (koala to 1 % in 17 levels,
+ *    t = 0.75: 50.6 bytes per finest dart).  The build therefore ends with
+ *    st_map_compact, which stores the three relations in the pair form of
+ *    §4.4.5 (map.h, "Sparse form": per dart the (level, value) pairs at
+ *    which a relation changes): koala 29.2 bytes per finest dart, of which
+ *    15.1 for the pairs and their offsets, against the thesis' full φ2
+ *    arrays, 4/(1-t) = 16 bytes per dart for φ2 alone, and the classic
+ *    [Hop98] structure, 68 bytes per vertex, about 11.3 per dart.  Loading
+ *    a session compacts the same way; any topology edit turns the map
+ *    back into dense columns.
  *
  * 7. Selective display (thesis §4.4.7 leaves it open): the interest box
  *    shows the finest level inside it and a coarse level outside, by

@@ -47,6 +47,9 @@
  * exactly one old dart, faces that miss some dart of the level, a face not
  * split at L) gets a table marked irregular: its synthesis is done by the
  * stencils. */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/schemes/catmark_tables_internal.h"
 #include "core/base/parallel.h"
 #include "core/map/pool_internal.h"

@@ -12,6 +12,9 @@
  * It needs the level's tables (built here when stale, once per topology
  * change): when they are irregular (an adaptive level) it gives up before
  * writing anything, and the stencils do the level. */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/schemes/catmark_tables_internal.h"
 
 /* Regular tables at l (catmark_fast.c) prove that every face of l has its

@@ -39,6 +39,9 @@
  * do not apply to this scheme: OpenMesh has one boundary rule, and there is
  * no sharpness in the butterfly rules.  Tags are kept (refine propagates
  * them) but ignored by the masks. */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/multires/hier_internal.h"
 #include "core/schemes/primal_emit_internal.h"
 

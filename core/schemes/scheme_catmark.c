@@ -4,6 +4,9 @@
  *   edge point   = (v0 + v1 + f0 + f1) / 4, f = adjacent face points;
  *   vertex point = ((n-2) v + Σe/n + Σf/n) / n  (= (Q + 2R + (n-3)S)/n).
  * Topology: polygon quadrisection (refine.c). */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/schemes/catmark_internal.h"
 #include "core/schemes/crease_internal.h"
 

@@ -34,6 +34,9 @@
  *     3/4 v + 1/4 w   (w: the other end of the boundary edge),
  * so the boundary converges to the quadratic B-spline of the boundary
  * polygon (the 1-D Doo-Sabin), while interior masks are unchanged. */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/multires/hier_internal.h"
 
 #include <math.h>

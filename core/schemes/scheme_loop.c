@@ -10,6 +10,9 @@
  * Boundaries: boundary edges are infinitely sharp (midpoints, B-spline
  * boundary curves); with edge-and-corner a boundary vertex with one face is
  * a corner.  Topology: triangle quadrisection (refine.c, ST_SPLIT_TRI). */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/schemes/primal_emit_internal.h"
 #include "core/multires/hier_internal.h"
 #include "core/schemes/synth_blocks_internal.h"

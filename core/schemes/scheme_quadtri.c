@@ -55,6 +55,9 @@
  * (boundary curves are cubic B-splines, the crease mask (a + 6v + b)/8 and
  * the edge midpoint are common to Loop and Catmull-Clark); the smoothing
  * above is the smooth mask. */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/schemes/crease_internal.h"
 #include "core/multires/hier_internal.h"
 #include "core/schemes/primal_emit_internal.h"

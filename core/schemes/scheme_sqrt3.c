@@ -57,6 +57,9 @@
  * boundary point and boundary vertex whose stencil reaches one of its
  * corners.
  */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/multires/hier_internal.h"
 #include "core/map/refine_sqrt3_internal.h"
 

@@ -1,4 +1,7 @@
 /* Cache of synthesis tables per level (synth_tables.h). */
+/* Only subdivision hierarchies (dense maps) reach this file: the dense
+ * lookup path, without the sparse test (map.h, "Two lookup paths"). */
+#define ST_MAP_DENSE_ONLY
 #include "core/schemes/synth_tables_internal.h"
 
 #include <string.h>
