@@ -63,28 +63,41 @@ static void csr_free(csr *c)
     free(c->row_vertex); free(c->off); free(c->col); free(c->w); free(c->frame_dart); free(c->frame_cell);
 }
 
-/* y = S x  (rows = fine vertices, 3 components). */
-static void mul_s(const csr *c, const double *x, double *y)
+/* Row r of S applied to x: the prediction of fine vertex r. */
+static void row_times(const csr *c, uint32_t r, const double *x, double out[3])
 {
-    for (uint32_t r = 0; r < c->nrows; r++) {
-        double a = 0, b = 0, d = 0;
-        for (uint32_t k = c->off[r]; k < c->off[r + 1]; k++) {
-            const double *p = x + 3 * (size_t)c->col[k];
-            a += c->w[k] * p[0]; b += c->w[k] * p[1]; d += c->w[k] * p[2];
-        }
-        y[3 * r] = a; y[3 * r + 1] = b; y[3 * r + 2] = d;
+    double a = 0, b = 0, d = 0;
+    for (uint32_t k = c->off[r]; k < c->off[r + 1]; k++) {
+        const double *p = x + 3 * (size_t)c->col[k];
+        a += c->w[k] * p[0]; b += c->w[k] * p[1]; d += c->w[k] * p[2];
+    }
+    out[0] = a; out[1] = b; out[2] = d;
+}
+
+/* Row r of S transposed, scaled by y, added into x. */
+static void add_row_t(const csr *c, uint32_t r, const double y[3], double *x)
+{
+    for (uint32_t k = c->off[r]; k < c->off[r + 1]; k++) {
+        double *p = x + 3 * (size_t)c->col[k];
+        p[0] += c->w[k] * y[0]; p[1] += c->w[k] * y[1]; p[2] += c->w[k] * y[2];
     }
 }
 
-/* x = S^T y  (x indexed by coarse vertex id, n entries). */
-static void mul_st(const csr *c, const double *y, double *x, uint32_t n)
+/* out = S^T S x (n coarse entries), and, with f, b = S^T f alongside: one
+ * pass over the stencils instead of one for S x and one per S^T.  Each
+ * entry of out and b receives its terms in the order of the rows, as a
+ * product through a stored S x would give, so the sums are the same to
+ * the bit. */
+static void mul_sts(const csr *c, const double *x, double *out, const double *f, double *b, uint32_t n)
 {
-    memset(x, 0, 3 * (size_t)n * sizeof *x);
-    for (uint32_t r = 0; r < c->nrows; r++)
-        for (uint32_t k = c->off[r]; k < c->off[r + 1]; k++) {
-            double *p = x + 3 * (size_t)c->col[k];
-            p[0] += c->w[k] * y[3 * r]; p[1] += c->w[k] * y[3 * r + 1]; p[2] += c->w[k] * y[3 * r + 2];
-        }
+    memset(out, 0, 3 * (size_t)n * sizeof *out);
+    if (f) memset(b, 0, 3 * (size_t)n * sizeof *b);
+    for (uint32_t r = 0; r < c->nrows; r++) {
+        double y[3];
+        row_times(c, r, x, y);
+        add_row_t(c, r, y, out);
+        if (f) add_row_t(c, r, f + 3 * (size_t)r, b);
+    }
 }
 
 static double dot(const double *a, const double *b, size_t n)
@@ -99,27 +112,27 @@ static double dot(const double *a, const double *b, size_t n)
  * iteration count is set by the worst one).  Returns the relative residual. */
 static double solve(const csr *c, const double *f, double *x, uint32_t n)
 {
-    size_t nn = 3 * (size_t)n, nf = 3 * (size_t)c->nrows;
+    size_t nn = 3 * (size_t)n;
     double *b = malloc(nn * sizeof *b), *r = malloc(nn * sizeof *r), *p = malloc(nn * sizeof *p);
-    double *ap = malloc(nn * sizeof *ap), *tmp = malloc((nf ? nf : 1) * sizeof *tmp);
-    if (!b || !r || !p || !ap || !tmp) abort();
-    mul_st(c, f, b, n);
-    mul_s(c, x, tmp);
-    mul_st(c, tmp, r, n);
+    double *ap = malloc(nn * sizeof *ap);
+    if (!b || !r || !p || !ap) abort();
+    mul_sts(c, x, r, f, b, n);
     for (size_t i = 0; i < nn; i++) { r[i] = b[i] - r[i]; p[i] = r[i]; }
     double bb = dot(b, b, nn), rr = dot(r, r, nn);
     for (int it = 0; it < 2000 && rr > 1e-30 * bb && rr > 0; it++) {
-        mul_s(c, p, tmp);
-        mul_st(c, tmp, ap, n);
+        mul_sts(c, p, ap, NULL, NULL, n);
         double pap = dot(p, ap, nn);
         if (pap <= 0) break;
-        double alpha = rr / pap;
-        for (size_t i = 0; i < nn; i++) { x[i] += alpha * p[i]; r[i] -= alpha * ap[i]; }
-        double rr2 = dot(r, r, nn);
+        double alpha = rr / pap, rr2 = 0;
+        for (size_t i = 0; i < nn; i++) {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * ap[i];
+            rr2 += r[i] * r[i];
+        }
         for (size_t i = 0; i < nn; i++) p[i] = r[i] + (rr2 / rr) * p[i];
         rr = rr2;
     }
-    free(b); free(r); free(p); free(ap); free(tmp);
+    free(b); free(r); free(p); free(ap);
     return bb > 0 ? sqrt(rr / bb) : 0;
 }
 
@@ -152,14 +165,15 @@ static double analyze_level(st_hier *h, unsigned l)
     for (uint32_t v = st_vertex_first(m, l - 1, &it); v != ST_NIL; v = st_vertex_next(m, l - 1, &it))
         st_hier_write_pos(h, v, l - 1, x + 3 * (size_t)v);
     for (uint32_t r = 0; r < c.nrows; r++) {
-        st_stencil s = { c.row_vertex[r], c.off[r + 1] - c.off[r], c.col + c.off[r], c.w + c.off[r], c.frame_dart[r], c.frame_cell[r] };
+        /* x is level l-1 as just written (st_stencil_eval would read the
+         * same doubles back and sum them in the same order). */
         double pred[3], fr[3][3], d[3], *target = f + 3 * (size_t)r;
-        st_stencil_eval(h, l, &s, pred);
-        st_hier_frame(h, l - 1, s.frame_dart, s.frame_cell, fr);
+        row_times(&c, r, x, pred);
+        st_hier_frame(h, l - 1, c.frame_dart[r], c.frame_cell[r], fr);
         for (int i = 0; i < 3; i++)
             d[i] = fr[i][0] * (target[0] - pred[0]) + fr[i][1] * (target[1] - pred[1]) + fr[i][2] * (target[2] - pred[2]);
-        st_hier_set_detail(h, l, s.fine, d);
-        st_hier_write_pos(h, s.fine, l, target);
+        st_hier_set_detail(h, l, c.row_vertex[r], d);
+        st_hier_write_pos(h, c.row_vertex[r], l, target);
     }
     free(x);
     free(f);
