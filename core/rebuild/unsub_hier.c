@@ -10,16 +10,28 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* u's adjacency of level l (st_unsubdivide keeps them) when it is that of
+ * mesh m, else NULL (a caller's own st_unsub, or one out of memory). */
+static const st_unsub_topo *kept_topo(const st_unsub *u, unsigned l, const st_mesh *m)
+{
+    const st_unsub_topo *t = u->topo[l];
+    return t && t->foff == m->face_off && t->fidx == m->face_idx && t->nv == m->nverts && t->nf == m->nfaces ? t : NULL;
+}
+
 /* map[v] for the vertices of level j (an index of level j's mesh) becomes
  * that of level j+1, and the vertices new at j+1 get theirs: after a primal
  * split the face of an old dart d at level j+1 runs corner, the edge point
  * of d's edge, then (polygon split) the face point (thesis §3.2.1: old darts
  * keep their vertex, refine_internal.h). */
-static int map_level(st_hier *h, unsigned j, const st_unsub_step *st, uint32_t *map, st_error *err)
+static int map_level(st_hier *h, const st_unsub *u, unsigned j, uint32_t *map, st_error *err)
 {
     st_map *m = &h->map;
-    st_unsub_topo ct;
-    if (st_unsub_topo_build(&ct, &st->coarse)) return st_fail(err, ST_ERR_MEMORY, "out of memory");
+    const st_unsub_step *st = &u->step[j];
+    st_unsub_topo own;
+    memset(&own, 0, sizeof own);
+    const st_unsub_topo *kept = kept_topo(u, j, &st->coarse);
+    if (!kept && st_unsub_topo_build(&own, &st->coarse)) return st_fail(err, ST_ERR_MEMORY, "out of memory");
+    const st_unsub_topo ct = kept ? *kept : own;
     int rc = ST_OK;
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, j, &it); d != ST_NIL && !rc; d = st_dart_next(m, j, &it)) {
@@ -40,7 +52,7 @@ static int map_level(st_hier *h, unsigned j, const st_unsub_step *st, uint32_t *
     }
     for (uint32_t v = st_vertex_first(m, j, &it); v != ST_NIL && !rc; v = st_vertex_next(m, j, &it))
         map[v] = st->v_fine[map[v]];
-    st_unsub_topo_free(&ct);
+    st_unsub_topo_free(&own);
     return rc;
 }
 
@@ -149,7 +161,8 @@ typedef struct refine_job {
     const st_hier_opts *ho;
     st_error *err;
     int rc_hier, rc_topo;
-    st_unsub_topo topo;
+    st_unsub_topo topo;           /* the input's adjacency: u's, or built here (own_topo) */
+    int own_topo;
 } refine_job;
 
 static void refine_task(st_team *team, unsigned t, void *ctx)
@@ -159,7 +172,10 @@ static void refine_task(st_team *team, unsigned t, void *ctx)
     uint32_t b, e;
     while (st_team_next(team, 0, 2, 1, &b, &e)) {
         if (b == 1) {
-            j->rc_topo = st_unsub_topo_build(&j->topo, j->in);
+            const st_unsub_topo *kept = kept_topo(j->u, j->u->levels, j->in);
+            if (kept) j->topo = *kept;
+            else j->rc_topo = st_unsub_topo_build(&j->topo, j->in);
+            j->own_topo = !kept;
             continue;
         }
         j->rc_hier = st_hier_init(j->h, &j->u->step[0].coarse, j->sc, j->ho, j->err);
@@ -184,8 +200,11 @@ int st_unsub_build_hier_corners(const st_mesh *in, const st_unsub *u, const st_s
     if (residual) *residual = 0;
     if (!u->levels) return st_fail(err, ST_ERR_INVALID, "nothing to rebuild: no level was recovered");
     refine_job job = { .h = h, .in = in, .u = u, .sc = sc, .ho = ho, .err = err };
-    st_team_run(st_parallel_threads() < 2 ? 1 : 2, refine_task, &job);
-    if (job.rc_hier) { st_unsub_topo_free(&job.topo); return job.rc_hier; }
+    /* With the input's adjacency kept by st_unsubdivide, the second task
+     * is a copy of a struct: no thread for it. */
+    int kept = kept_topo(u, u->levels, in) != NULL;
+    st_team_run(st_parallel_threads() < 2 || kept ? 1 : 2, refine_task, &job);
+    if (job.rc_hier) { if (job.own_topo) st_unsub_topo_free(&job.topo); return job.rc_hier; }
     if (job.rc_topo) { st_hier_free(h); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
     int rc = ST_OK;
     st_map *m = &h->map;
@@ -194,7 +213,7 @@ int st_unsub_build_hier_corners(const st_mesh *in, const st_unsub *u, const st_s
     if (!map || !corner_of) {
         free(map);
         free(corner_of);
-        st_unsub_topo_free(&job.topo);
+        if (job.own_topo) st_unsub_topo_free(&job.topo);
         st_hier_free(h);
         return st_fail(err, ST_ERR_MEMORY, "out of memory");
     }
@@ -204,10 +223,10 @@ int st_unsub_build_hier_corners(const st_mesh *in, const st_unsub *u, const st_s
     uint32_t i = 0;
     for (uint32_t v = st_vertex_first(m, 0, &it); v != ST_NIL; v = st_vertex_next(m, 0, &it)) map[v] = i++;
     if (i != u->step[0].coarse.nverts) rc = st_fail(err, ST_ERR_INVALID, "level 0 has %u vertices, the cage %u", i, u->step[0].coarse.nverts);
-    for (unsigned j = 0; j < u->levels && !rc; j++) rc = map_level(h, j, &u->step[j], map, err);
+    for (unsigned j = 0; j < u->levels && !rc; j++) rc = map_level(h, u, j, map, err);
     if (!rc) rc = check_correspondence(h, in, &job.topo, map, corner_of, err);
     if (!rc) rc = finest_tags(h, in, &job.topo, map, corner_of, err);
-    st_unsub_topo_free(&job.topo);
+    if (job.own_topo) st_unsub_topo_free(&job.topo);
     if (rc) { free(map); free(corner_of); st_hier_free(h); return rc; }
     if (corner_of_out) *corner_of_out = corner_of;
     else free(corner_of);

@@ -73,6 +73,11 @@ typedef struct st_unsub {
     unsigned levels;            /* k: steps found */
     st_unsub_step step[ST_MAX_LEVELS];   /* step[j]: level j, j = 0 .. k-1 */
     char stop[1024];             /* why no further step was taken (one line) */
+    /* The half-edge adjacency of level j's mesh (j = 0 .. k; level k is
+     * the input), built by the steps and kept for st_unsub_build_hier,
+     * which would otherwise build it again (core-internal; NULL when out
+     * of memory, and then rebuilt). */
+    struct st_unsub_topo *topo[ST_MAX_LEVELS + 1];
 } st_unsub;
 
 void st_unsub_free(st_unsub *u);
