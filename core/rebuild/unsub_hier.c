@@ -296,11 +296,11 @@ double st_unsub_max_detail(const st_hier *h)
         pool_walk it;
         for (uint32_t v = vertex_first(m, l, &it); v != ST_NIL; v = walk_next(&it)) {
             const double *d = st_hier_detail(h, l, v);
-            double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            double n = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             if (n > worst) worst = n;
         }
     }
-    return worst;
+    return sqrt(worst);   /* of the largest square: the same as the largest root (sqrt is monotonic) */
 }
 
 double st_unsub_uv_residual_corners(const st_hier *h, const st_mesh *in, const uint32_t *corner_of)
