@@ -11,6 +11,7 @@
  * solved by conjugate gradients, warm-started from the current P_{l-1}.
  * The stencils of level l are cached in CSR form for the solve. */
 #include "core/multires/hier_internal.h"
+#include "core/base/parallel.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -144,6 +145,36 @@ static double solve(const csr *c, const double *f, double *x, uint32_t n)
     return bb > 0 ? sqrt(rr / bb) : 0;
 }
 
+/* The details of level l: d = F^T (P_l - S P_{l-1}) per row, with F the
+ * frame of level l-1 (positions written, read only here).  Rows are
+ * independent: threads share them, each row's bits the same on any. */
+typedef struct detail_job {
+    const st_hier *h;
+    unsigned l;
+    const csr *c;
+    const double *x, *f;
+    double *d;
+} detail_job;
+
+static void detail_rows(st_team *team, unsigned t, void *ctx)
+{
+    (void)t;
+    const detail_job *j = ctx;
+    uint32_t b, e;
+    while (st_team_next(team, 0, j->c->nrows, 2048, &b, &e))
+        for (uint32_t r = b; r < e; r++) {
+            /* x is level l-1 as just written (st_stencil_eval would read the
+             * same doubles back and sum them in the same order). */
+            double pred[3], fr[3][3];
+            const double *target = j->f + 3 * (size_t)r;
+            row_times(j->c, r, j->x, pred);
+            st_hier_frame(j->h, j->l - 1, j->c->frame_dart[r], j->c->frame_cell[r], fr);
+            for (int i = 0; i < 3; i++)
+                j->d[3 * (size_t)r + i] = fr[i][0] * (target[0] - pred[0]) + fr[i][1] * (target[1] - pred[1])
+                                        + fr[i][2] * (target[2] - pred[2]);
+        }
+}
+
 static double analyze_level(st_hier *h, unsigned l)
 {
     st_map *m = &h->map;
@@ -176,17 +207,16 @@ static double analyze_level(st_hier *h, unsigned l)
      * from l-1) with details re-expressed against the new coarse surface. */
     for (uint32_t v = st_vertex_first(m, l - 1, &it); v != ST_NIL; v = st_vertex_next(m, l - 1, &it))
         st_hier_write_pos(h, v, l - 1, x + 3 * (size_t)v);
+    double *dd = malloc((3 * (size_t)c.nrows + 1) * sizeof *dd);
+    if (!dd) abort();
+    detail_job job = { h, l, &c, x, f, dd };
+    unsigned threads = st_parallel_threads(), most = c.nrows / 8192u;   /* at least 8192 rows a thread */
+    st_team_run(threads < most ? threads : most ? most : 1, detail_rows, &job);
     for (uint32_t r = 0; r < c.nrows; r++) {
-        /* x is level l-1 as just written (st_stencil_eval would read the
-         * same doubles back and sum them in the same order). */
-        double pred[3], fr[3][3], d[3], *target = f + 3 * (size_t)r;
-        row_times(&c, r, x, pred);
-        st_hier_frame(h, l - 1, c.frame_dart[r], c.frame_cell[r], fr);
-        for (int i = 0; i < 3; i++)
-            d[i] = fr[i][0] * (target[0] - pred[0]) + fr[i][1] * (target[1] - pred[1]) + fr[i][2] * (target[2] - pred[2]);
-        st_hier_set_detail(h, l, c.row_vertex[r], d);
-        st_hier_write_pos(h, c.row_vertex[r], l, target);
+        st_hier_set_detail(h, l, c.row_vertex[r], dd + 3 * (size_t)r);
+        st_hier_write_pos(h, c.row_vertex[r], l, f + 3 * (size_t)r);
     }
+    free(dd);
     free(x);
     free(f);
     csr_free(&c);
