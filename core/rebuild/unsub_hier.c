@@ -51,6 +51,16 @@ static const st_unsub_topo *kept_topo(const st_unsub *u, unsigned l, const st_me
     return t && t->foff == m->face_off && t->fidx == m->face_idx && t->nv == m->nverts && t->nf == m->nfaces ? t : NULL;
 }
 
+/* u's adjacencies, read: freed before the analysis. */
+static void release_topologies(st_unsub *u)
+{
+    for (unsigned j = 0; j <= ST_MAX_LEVELS; j++) {
+        if (u->topo[j]) st_unsub_topo_free(u->topo[j]);
+        free(u->topo[j]);
+        u->topo[j] = NULL;
+    }
+}
+
 /* map[v] for the vertices of level j (an index of level j's mesh) becomes
  * that of level j+1, and the vertices new at j+1 get theirs: after a primal
  * split the face of an old dart d at level j+1 runs corner, the edge point
@@ -240,13 +250,13 @@ static void refine_task(st_team *team, unsigned t, void *ctx)
     }
 }
 
-int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
+int st_unsub_build_hier(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                         st_hier *h, uint32_t **fine_of, double *residual, st_error *err)
 {
     return st_unsub_build_hier_corners(in, u, sc, ho, h, fine_of, NULL, residual, err);
 }
 
-int st_unsub_build_hier_corners(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
+int st_unsub_build_hier_corners(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                                 st_hier *h, uint32_t **fine_of, uint32_t **corner_of_out, double *residual, st_error *err)
 {
     if (fine_of) *fine_of = NULL;
@@ -284,6 +294,7 @@ int st_unsub_build_hier_corners(const st_mesh *in, const st_unsub *u, const st_s
     if (!rc) rc = check_correspondence(h, in, &job.topo, map, corner_of, err);
     if (!rc) rc = finest_tags(h, in, &job.topo, map, corner_of, err);
     if (job.own_topo) st_unsub_topo_free(&job.topo);
+    release_topologies(u);
     if (rc) { free(map); free(corner_of); st_hier_free(h); return rc; }
     if (corner_of_out) *corner_of_out = corner_of;
     else free(corner_of);
