@@ -83,7 +83,7 @@ static int build_progressive(const char *name, const st_mesh *mesh, const st_reb
 /* The hierarchy of a recovered cage: the scheme (given, or the one the
  * pattern implies), the cage refined, the input's positions analysed; the
  * report says what was recovered and what of the tags and UVs was kept. */
-static int build_unsubdivided(const char *name, const st_mesh *mesh, const st_unsub *u, const st_rebuild_opts *o,
+static int build_unsubdivided(const char *name, const st_mesh *mesh, st_unsub *u, const st_rebuild_opts *o,
                               st_hier *h, st_rebuild_report *rep, st_error *err)
 {
     rep->method = ST_REBUILD_UNSUBDIVIDE;

@@ -10,38 +10,113 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The live ids of a pool at level l in the order of st_dart_next and
+ * st_vertex_next (levels 0..l, block by block), inline: on the finest
+ * level, a call per id cost more than the loops' own work. */
+typedef struct pool_walk { const st_pool *p; unsigned lv, top; uint32_t b, id, first; } pool_walk;
+
+static inline uint32_t walk_next(pool_walk *w)
+{
+    for (;;) {
+        if (w->id < ST_POOL_BLOCK) {
+            uint32_t i = w->first + w->id++;
+            if (w->p->ins[i] != ST_FREE_LEVEL) return i;
+            continue;
+        }
+        while (w->lv <= w->top && w->b >= w->p->nblocks[w->lv]) { w->lv++; w->b = 0; }
+        if (w->lv > w->top) return ST_NIL;
+        w->first = w->p->blocks[w->lv][w->b++] << ST_POOL_BLOCK_SHIFT;
+        w->id = 0;
+    }
+}
+
+static inline uint32_t walk_first(pool_walk *w, const st_pool *p, unsigned l, unsigned from)
+{
+    *w = (pool_walk){ .p = p, .lv = from, .top = st_lvl_clamp(l), .id = ST_POOL_BLOCK };
+    return walk_next(w);
+}
+
+static inline uint32_t dart_first(const st_map *m, unsigned l, pool_walk *w) { return walk_first(w, &m->darts, l, 0); }
+/* In the dual encoding a surface vertex lives at its own level only (st_vertex_first). */
+static inline uint32_t vertex_first(const st_map *m, unsigned l, pool_walk *w)
+{
+    return walk_first(w, &m->verts, l, m->face_embedded ? st_lvl_clamp(l) : 0);
+}
+
+/* u's adjacency of level l (st_unsubdivide keeps them) when it is that of
+ * mesh m, else NULL (a caller's own st_unsub, or one out of memory). */
+static const st_unsub_topo *kept_topo(const st_unsub *u, unsigned l, const st_mesh *m)
+{
+    const st_unsub_topo *t = u->topo[l];
+    return t && t->foff == m->face_off && t->fidx == m->face_idx && t->nv == m->nverts && t->nf == m->nfaces ? t : NULL;
+}
+
+/* u's adjacencies, read: freed before the analysis. */
+static void release_topologies(st_unsub *u)
+{
+    for (unsigned j = 0; j <= ST_MAX_LEVELS; j++) {
+        if (u->topo[j]) st_unsub_topo_free(u->topo[j]);
+        free(u->topo[j]);
+        u->topo[j] = NULL;
+    }
+}
+
 /* map[v] for the vertices of level j (an index of level j's mesh) becomes
  * that of level j+1, and the vertices new at j+1 get theirs: after a primal
  * split the face of an old dart d at level j+1 runs corner, the edge point
  * of d's edge, then (polygon split) the face point (thesis §3.2.1: old darts
  * keep their vertex, refine_internal.h). */
-static int map_level(st_hier *h, unsigned j, const st_unsub_step *st, uint32_t *map, st_error *err)
+static int map_level(st_hier *h, const st_unsub *u, unsigned j, uint32_t *map, st_error *err)
 {
     st_map *m = &h->map;
-    st_unsub_topo ct;
-    if (st_unsub_topo_build(&ct, &st->coarse)) return st_fail(err, ST_ERR_MEMORY, "out of memory");
+    const st_unsub_step *st = &u->step[j];
+    st_unsub_topo own;
+    memset(&own, 0, sizeof own);
+    const st_unsub_topo *kept = kept_topo(u, j, &st->coarse);
+    if (!kept && st_unsub_topo_build(&own, &st->coarse)) return st_fail(err, ST_ERR_MEMORY, "out of memory");
+    const st_unsub_topo ct = kept ? *kept : own;
     int rc = ST_OK;
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, j, &it); d != ST_NIL && !rc; d = st_dart_next(m, j, &it)) {
+    st_level_view cv, fv_;   /* levels j and j + 1 */
+    st_level_view_init(m, j, &cv);
+    st_level_view_init(m, j + 1, &fv_);
+    pool_walk it;
+    for (uint32_t d = dart_first(m, j, &it); d != ST_NIL && !rc; d = walk_next(&it)) {
         if (st_is_boundary(m, d)) continue;
-        uint32_t a = map[st_vert(m, d, j)], b = map[st_vert(m, st_phi1(m, d, j), j)];
+        uint32_t a = map[st_v_vert(&cv, d)], b = map[st_v_vert(&cv, st_v_phi1(&cv, d))];
         uint32_t c = a < ct.nv && b < ct.nv ? st_unsub_find(&ct, a, b) : ST_NIL;
-        uint32_t x = st_phi1(m, d, j + 1), ev = st_vert(m, x, j + 1);
+        uint32_t x = st_v_phi1(&fv_, d), ev = st_v_vert(&fv_, x);
         if (c == ST_NIL || st_vertex_level(m, ev) != j + 1) {
             rc = st_fail(err, ST_ERR_INVALID, "level %u: dart %u has no counterpart in the recovered mesh", j, d);
             break;
         }
         map[ev] = st->e_fine[c];
         if (st->f_fine) {
-            uint32_t fv = st_vert(m, st_phi1(m, x, j + 1), j + 1);
+            uint32_t fv = st_v_vert(&fv_, st_v_phi1(&fv_, x));
             if (st_vertex_level(m, fv) != j + 1) { rc = st_fail(err, ST_ERR_INVALID, "level %u: no face point after dart %u", j + 1, d); break; }
             map[fv] = st->f_fine[ct.face_of[c]];
         }
     }
-    for (uint32_t v = st_vertex_first(m, j, &it); v != ST_NIL && !rc; v = st_vertex_next(m, j, &it))
+    for (uint32_t v = vertex_first(m, j, &it); v != ST_NIL && !rc; v = walk_next(&it))
         map[v] = st->v_fine[map[v]];
-    st_unsub_topo_free(&ct);
+    st_unsub_topo_free(&own);
     return rc;
+}
+
+/* The analysis' starting point at level j (0 < j < k): the positions
+ * unsubdivide estimated for level j's mesh by inverting the Catmull-Clark
+ * rules on level j+1 (unsubdivide.c), rather than the cage refined j times.
+ * Where level j+1 is an exact subdivision they are the least-squares
+ * solution up to rounding and the conjugate gradients take 0 or 1 steps,
+ * even when the recovered cage itself is no exact subdivision (spot x3,
+ * whose cage recovers two levels below spot's own: the top three levels
+ * took 66, 69 and 74 steps from the refined cage, 0, 0 and 2 from these).
+ * Noisy input (spot x3 moved by up to 1e-4 of its diagonal) takes about
+ * 100 steps a level either way.  map[v]: v's index in level j's mesh. */
+static void start_level(st_hier *h, const st_mesh *mj, unsigned j, const uint32_t *map)
+{
+    pool_walk it;
+    for (uint32_t v = vertex_first(&h->map, j, &it); v != ST_NIL; v = walk_next(&it))
+        st_hier_write_pos(h, v, j, mj->pos + 3 * (size_t)map[v]);
 }
 
 /* Every finest vertex has a distinct input vertex, and every real half-edge
@@ -61,22 +136,24 @@ static int check_correspondence(st_hier *h, const st_mesh *in, const st_unsub_to
     int rc = ST_OK;
     uint32_t nv = 0;
     uint64_t nd = 0;
-    st_dart_iter it;
-    for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL; v = st_vertex_next(m, k, &it), nv++)
+    pool_walk it;
+    for (uint32_t v = vertex_first(m, k, &it); v != ST_NIL; v = walk_next(&it), nv++)
         if (map[v] >= in->nverts || seen[map[v]]++) { rc = st_fail(err, ST_ERR_INVALID, "vertex %u of level %u has no input vertex of its own", v, k); break; }
     if (!rc && nv != in->nverts) rc = st_fail(err, ST_ERR_INVALID, "level %u has %u vertices, the input %u", k, nv, in->nverts);
     memset(corner_of, 0xff, (size_t)m->darts.end * sizeof *corner_of);   /* ST_NIL */
-    for (uint32_t d = st_dart_first(m, k, &it); d != ST_NIL && !rc; d = st_dart_next(m, k, &it)) {
+    st_level_view lv;
+    st_level_view_init(m, k, &lv);
+    for (uint32_t d = dart_first(m, k, &it); d != ST_NIL && !rc; d = walk_next(&it)) {
         if (st_is_boundary(m, d)) continue;
         nd++;
         if (corner_of[d] != ST_NIL) continue;   /* reached from its face's first dart */
-        uint32_t c = st_unsub_find(t, map[st_vert(m, d, k)], map[st_vert(m, st_phi1(m, d, k), k)]);
+        uint32_t c = st_unsub_find(t, map[st_v_vert(&lv, d)], map[st_v_vert(&lv, st_v_phi1(&lv, d))]);
         if (c == ST_NIL) { rc = st_fail(err, ST_ERR_INVALID, "level %u: dart %u is no edge of the input", k, d); break; }
         uint32_t x = d, cx = c, n = t->foff[t->face_of[c] + 1] - t->foff[t->face_of[c]], i = 0;
         do {
-            if (map[st_vert(m, x, k)] != t->fidx[cx] || i++ == n) break;
+            if (map[st_v_vert(&lv, x)] != t->fidx[cx] || i++ == n) break;
             corner_of[x] = cx;
-            x = st_phi1(m, x, k);
+            x = st_v_phi1(&lv, x);
             cx = st_unsub_next(t, cx);
         } while (x != d);
         if (x != d || cx != c || i != n)
@@ -108,10 +185,10 @@ static int finest_tags(st_hier *h, const st_mesh *in, const st_unsub_topo *tp, c
         if ((c = st_unsub_find(&t, b, a)) != ST_NIL) esharp[c] = in->crease_s[i];
     }
     for (uint32_t i = 0; i < in->ncorners; i++) vsharp[in->corner_v[i]] = in->corner_s[i];
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, k, &it); d != ST_NIL && !rc; d = st_dart_next(m, k, &it)) {
+    pool_walk it;
+    for (uint32_t d = dart_first(m, k, &it); d != ST_NIL && !rc; d = walk_next(&it)) {
         if (st_is_boundary(m, d)) continue;
-        uint32_t a = map[st_vert(m, d, k)], c = corner_of[d];   /* check_correspondence found it */
+        uint32_t c = corner_of[d];   /* check_correspondence found it */
         if (!st_is_hole(m, d) != !(in->face_hole && in->face_hole[t.face_of[c]]))
             rc = st_fail(err, ST_ERR_INVALID, "level %u: face of dart %u is%s a hole, input face %u is%s", k, d,
                          st_is_hole(m, d) ? "" : " not", t.face_of[c] + 1, st_is_hole(m, d) ? " not" : "");
@@ -119,11 +196,11 @@ static int finest_tags(st_hier *h, const st_mesh *in, const st_unsub_topo *tp, c
         float got = st_hier_edge_sharpness(h, d, k), want = esharp[c];
         if (fabsf(got - want) > 1e-5f * (1.0f + want))
             rc = st_fail(err, ST_ERR_INVALID, "level %u: edge %u-%u has sharpness %g after refinement, the input %g",
-                         k, a + 1, map[st_vert(m, st_phi1(m, d, k), k)] + 1, (double)got, (double)want);
+                         k, map[st_vert(m, d, k)] + 1, map[st_vert(m, st_phi1(m, d, k), k)] + 1, (double)got, (double)want);
         else if (got != want)
             st_hier_set_edge_sharpness(h, d, k, want);
     }
-    for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL && !rc && in->ncorners; v = st_vertex_next(m, k, &it)) {
+    for (uint32_t v = vertex_first(m, k, &it); v != ST_NIL && !rc && in->ncorners; v = walk_next(&it)) {
         float got = st_hier_vertex_sharpness(h, v, k), want = vsharp[map[v]];
         if (fabsf(got - want) > 1e-5f * (1.0f + want))
             rc = st_fail(err, ST_ERR_INVALID, "level %u: vertex %u has sharpness %g after refinement, the input %g",
@@ -149,7 +226,8 @@ typedef struct refine_job {
     const st_hier_opts *ho;
     st_error *err;
     int rc_hier, rc_topo;
-    st_unsub_topo topo;
+    st_unsub_topo topo;           /* the input's adjacency: u's, or built here (own_topo) */
+    int own_topo;
 } refine_job;
 
 static void refine_task(st_team *team, unsigned t, void *ctx)
@@ -159,7 +237,10 @@ static void refine_task(st_team *team, unsigned t, void *ctx)
     uint32_t b, e;
     while (st_team_next(team, 0, 2, 1, &b, &e)) {
         if (b == 1) {
-            j->rc_topo = st_unsub_topo_build(&j->topo, j->in);
+            const st_unsub_topo *kept = kept_topo(j->u, j->u->levels, j->in);
+            if (kept) j->topo = *kept;
+            else j->rc_topo = st_unsub_topo_build(&j->topo, j->in);
+            j->own_topo = !kept;
             continue;
         }
         j->rc_hier = st_hier_init(j->h, &j->u->step[0].coarse, j->sc, j->ho, j->err);
@@ -170,13 +251,13 @@ static void refine_task(st_team *team, unsigned t, void *ctx)
     }
 }
 
-int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
+int st_unsub_build_hier(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                         st_hier *h, uint32_t **fine_of, double *residual, st_error *err)
 {
     return st_unsub_build_hier_corners(in, u, sc, ho, h, fine_of, NULL, residual, err);
 }
 
-int st_unsub_build_hier_corners(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
+int st_unsub_build_hier_corners(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                                 st_hier *h, uint32_t **fine_of, uint32_t **corner_of_out, double *residual, st_error *err)
 {
     if (fine_of) *fine_of = NULL;
@@ -184,8 +265,11 @@ int st_unsub_build_hier_corners(const st_mesh *in, const st_unsub *u, const st_s
     if (residual) *residual = 0;
     if (!u->levels) return st_fail(err, ST_ERR_INVALID, "nothing to rebuild: no level was recovered");
     refine_job job = { .h = h, .in = in, .u = u, .sc = sc, .ho = ho, .err = err };
-    st_team_run(st_parallel_threads() < 2 ? 1 : 2, refine_task, &job);
-    if (job.rc_hier) { st_unsub_topo_free(&job.topo); return job.rc_hier; }
+    /* With the input's adjacency kept by st_unsubdivide, the second task
+     * is a copy of a struct: no thread for it. */
+    int kept = kept_topo(u, u->levels, in) != NULL;
+    st_team_run(st_parallel_threads() < 2 || kept ? 1 : 2, refine_task, &job);
+    if (job.rc_hier) { if (job.own_topo) st_unsub_topo_free(&job.topo); return job.rc_hier; }
     if (job.rc_topo) { st_hier_free(h); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
     int rc = ST_OK;
     st_map *m = &h->map;
@@ -194,30 +278,34 @@ int st_unsub_build_hier_corners(const st_mesh *in, const st_unsub *u, const st_s
     if (!map || !corner_of) {
         free(map);
         free(corner_of);
-        st_unsub_topo_free(&job.topo);
+        if (job.own_topo) st_unsub_topo_free(&job.topo);
         st_hier_free(h);
         return st_fail(err, ST_ERR_MEMORY, "out of memory");
     }
     for (uint32_t v = 0; v < m->verts.end; v++) map[v] = ST_NIL;
     /* Level 0 was built from the cage in its vertex order. */
-    st_dart_iter it;
+    pool_walk it;
     uint32_t i = 0;
-    for (uint32_t v = st_vertex_first(m, 0, &it); v != ST_NIL; v = st_vertex_next(m, 0, &it)) map[v] = i++;
+    for (uint32_t v = vertex_first(m, 0, &it); v != ST_NIL; v = walk_next(&it)) map[v] = i++;
     if (i != u->step[0].coarse.nverts) rc = st_fail(err, ST_ERR_INVALID, "level 0 has %u vertices, the cage %u", i, u->step[0].coarse.nverts);
-    for (unsigned j = 0; j < u->levels && !rc; j++) rc = map_level(h, j, &u->step[j], map, err);
+    for (unsigned j = 0; j < u->levels && !rc; j++) {
+        if (j > 0 && sc->id == ST_SCHEME_CATMARK) start_level(h, &u->step[j].coarse, j, map);
+        rc = map_level(h, u, j, map, err);
+    }
     if (!rc) rc = check_correspondence(h, in, &job.topo, map, corner_of, err);
     if (!rc) rc = finest_tags(h, in, &job.topo, map, corner_of, err);
-    st_unsub_topo_free(&job.topo);
+    if (job.own_topo) st_unsub_topo_free(&job.topo);
+    release_topologies(u);
     if (rc) { free(map); free(corner_of); st_hier_free(h); return rc; }
     if (corner_of_out) *corner_of_out = corner_of;
     else free(corner_of);
     unsigned k = u->levels;
-    for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL; v = st_vertex_next(m, k, &it))
+    for (uint32_t v = vertex_first(m, k, &it); v != ST_NIL; v = walk_next(&it))
         st_hier_write_pos(h, v, k, in->pos + 3 * (size_t)map[v]);
     double r = st_hier_analyze(h, 0);
     /* The analysis writes the finest level back as given; make sure of it,
      * as the finest level must reproduce the input bit for bit. */
-    for (uint32_t v = st_vertex_first(m, k, &it); v != ST_NIL; v = st_vertex_next(m, k, &it))
+    for (uint32_t v = vertex_first(m, k, &it); v != ST_NIL; v = walk_next(&it))
         if (memcmp(st_pos(m, v, k), in->pos + 3 * (size_t)map[v], 3 * sizeof(double)))
             st_hier_write_pos(h, v, k, in->pos + 3 * (size_t)map[v]);
     if (residual) *residual = r;
@@ -236,14 +324,14 @@ double st_unsub_max_detail(const st_hier *h)
     const st_map *m = &h->map;
     double worst = 0;
     for (unsigned l = 1; l <= m->top; l++) {
-        st_dart_iter it;
-        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
+        pool_walk it;
+        for (uint32_t v = vertex_first(m, l, &it); v != ST_NIL; v = walk_next(&it)) {
             const double *d = st_hier_detail(h, l, v);
-            double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            double n = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             if (n > worst) worst = n;
         }
     }
-    return worst;
+    return sqrt(worst);   /* of the largest square: the same as the largest root (sqrt is monotonic) */
 }
 
 double st_unsub_uv_residual_corners(const st_hier *h, const st_mesh *in, const uint32_t *corner_of)
@@ -254,8 +342,8 @@ double st_unsub_uv_residual_corners(const st_hier *h, const st_mesh *in, const u
     if (!in->face_uv) return 0;
     if (!uv || !corner_of) return INFINITY;
     double worst = 0;
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, k, &it); d != ST_NIL; d = st_dart_next(m, k, &it)) {
+    pool_walk it;
+    for (uint32_t d = dart_first(m, k, &it); d != ST_NIL; d = walk_next(&it)) {
         if (st_is_boundary(m, d) || st_is_hole(m, d)) continue;
         uint32_t c = corner_of[d];
         if (c == ST_NIL) return INFINITY;
@@ -276,8 +364,8 @@ double st_unsub_uv_residual(const st_hier *h, const st_mesh *in, const uint32_t 
     st_unsub_topo t;
     if (st_unsub_topo_build(&t, in)) return INFINITY;
     double worst = 0;
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, k, &it); d != ST_NIL; d = st_dart_next(m, k, &it)) {
+    pool_walk it;
+    for (uint32_t d = dart_first(m, k, &it); d != ST_NIL; d = walk_next(&it)) {
         if (st_is_boundary(m, d) || st_is_hole(m, d)) continue;
         uint32_t c = st_unsub_find(&t, fine_of[st_vert(m, d, k)], fine_of[st_vert(m, st_phi1(m, d, k), k)]);
         if (c == ST_NIL) { worst = INFINITY; break; }

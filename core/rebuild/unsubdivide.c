@@ -916,8 +916,13 @@ static int fine_tags(step_ctx *s, const st_mesh *fine)
 /* One step from `fine` (pattern fixed, or chosen when ST_UNSUB_NONE). */
 /* t: the adjacency of `fine` (built here when empty); on success it is
  * replaced by the coarse mesh's. */
-static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_step *st, st_unsub_topo *topo, double diag)
+/* One step on `fine`, whose adjacency is *topo (built here on the first
+ * step); afterwards *topo is the coarse mesh's (empty on failure) and
+ * *used the fine mesh's, which the caller keeps or frees. */
+static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_step *st, st_unsub_topo *topo, double diag,
+                      st_unsub_topo *used)
 {
+    memset(used, 0, sizeof *used);
     if (*pattern == ST_UNSUB_NONE) {
         int p = pick_pattern(s, fine);
         if (p < 0) return -1;
@@ -1007,7 +1012,7 @@ done:
     s->lab = s->phase = s->mark = s->best_phase = NULL;
     s->queue = s->best_queue = NULL;
     s->acc = NULL;
-    st_unsub_topo_free(&t);
+    *used = t;
     *topo = next;
     return rc;
 }
@@ -1015,6 +1020,11 @@ done:
 void st_unsub_free(st_unsub *u)
 {
     for (unsigned j = 0; j < ST_MAX_LEVELS; j++) free_step(&u->step[j]);
+    for (unsigned j = 0; j <= ST_MAX_LEVELS; j++) {
+        if (u->topo[j]) st_unsub_topo_free(u->topo[j]);
+        free(u->topo[j]);
+        u->topo[j] = NULL;
+    }
     u->levels = 0;
     u->pattern = ST_UNSUB_NONE;
 }
@@ -1024,12 +1034,28 @@ static const char *pattern_name(int p)
     return p == ST_UNSUB_POLY_SPLIT ? "polygon split (Catmull-Clark)" : p == ST_UNSUB_QUADRISECTION ? "triangle quadrisection (Loop, Butterfly)" : "polygon split (Catmull-Clark) or triangle quadrisection (Loop, Butterfly)";
 }
 
+/* adj[i] (the adjacency of step i's fine mesh: level k - i) into
+ * out->topo[k - i], each in its own allocation so that st_unsub stays
+ * a plain struct; one that cannot be allocated is freed (rebuilt later). */
+static void keep_topologies(st_unsub *out, st_unsub_topo *adj, unsigned k)
+{
+    for (unsigned i = 0; i <= k; i++) {
+        st_unsub_topo *t = adj[i].face_of ? malloc(sizeof *t) : NULL;
+        if (t) *t = adj[i];
+        else st_unsub_topo_free(&adj[i]);
+        out->topo[k - i] = t;
+    }
+}
+
 int st_unsubdivide(const char *name, const st_mesh *in, const st_unsub_opts *o, st_unsub *out, st_error *err)
 {
     memset(out, 0, sizeof *out);
     for (unsigned j = 0; j < ST_MAX_LEVELS; j++) st_mesh_init(&out->step[j].coarse);
     st_unsub_step found[ST_MAX_LEVELS];
     memset(found, 0, sizeof found);
+    /* adj[i]: the adjacency of step i's fine mesh (adj[k]: the cage's). */
+    st_unsub_topo adj[ST_MAX_LEVELS + 1];
+    memset(adj, 0, sizeof adj);
     step_ctx s = { 0 };
     int pattern = ST_UNSUB_NONE;
     unsigned k = 0;
@@ -1043,20 +1069,27 @@ int st_unsubdivide(const char *name, const st_mesh *in, const st_unsub_opts *o, 
     for (;;) {
         if (k == max) {
             snprintf(out->stop, sizeof out->stop, "stopped after %u step%s (the most allowed)", k, k == 1 ? "" : "s");
+            adj[k] = topo;   /* the cage's, from the last step */
+            memset(&topo, 0, sizeof topo);
             break;
         }
         st_unsub_step st;
         memset(&st, 0, sizeof st);
         st_mesh_init(&st.coarse);
-        if (unsub_step(&s, cur, &pattern, &st, &topo, diag)) {
+        if (unsub_step(&s, cur, &pattern, &st, &topo, diag, &adj[k])) {
             if (k == 0) {
                 st_unsub_topo_free(&topo);
+                st_unsub_topo_free(&adj[0]);
                 int code = strncmp(s.fail, "out of memory", 13) ? ST_ERR_TOPOLOGY : ST_ERR_MEMORY;
                 return st_fail(err, code, "%s: not a %s of a coarser mesh: %s", name,
                                pattern_name(pattern), s.fail);
             }
             snprintf(out->stop, sizeof out->stop, "level 0 (%u faces) is no %s of a coarser mesh: %s",
                      cur->nfaces, pattern_name(pattern), s.fail);
+            if (!adj[k].face_of) {   /* refused before the step took the cage's adjacency */
+                adj[k] = topo;
+                memset(&topo, 0, sizeof topo);
+            }
             break;
         }
         if (o && o->target_faces && st.coarse.nfaces < o->target_faces && k > 0) {
@@ -1069,6 +1102,7 @@ int st_unsubdivide(const char *name, const st_mesh *in, const st_unsub_opts *o, 
             /* Not even one step fits the target: a refusal like any other. */
             free_step(&st);
             st_unsub_topo_free(&topo);
+            st_unsub_topo_free(&adj[0]);
             return st_fail(err, ST_ERR_INVALID, "%s: one step would leave %u faces, fewer than --target-faces %u",
                            name, st.coarse.nfaces, o->target_faces);
         }
@@ -1079,6 +1113,7 @@ int st_unsubdivide(const char *name, const st_mesh *in, const st_unsub_opts *o, 
     out->pattern = pattern;
     out->levels = k;
     for (unsigned i = 0; i < k; i++) out->step[k - 1 - i] = found[i];
+    keep_topologies(out, adj, k);
     return ST_OK;
 }
 

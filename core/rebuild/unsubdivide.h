@@ -73,6 +73,12 @@ typedef struct st_unsub {
     unsigned levels;            /* k: steps found */
     st_unsub_step step[ST_MAX_LEVELS];   /* step[j]: level j, j = 0 .. k-1 */
     char stop[1024];             /* why no further step was taken (one line) */
+    /* The half-edge adjacency of level j's mesh (j = 0 .. k; level k is
+     * the input), built by the steps and kept for st_unsub_build_hier,
+     * which would otherwise build it again, and which frees it once read
+     * (before the analysis, so that the peak is not raised; a second call
+     * builds it anew).  Core-internal; NULL when out of memory or freed. */
+    struct st_unsub_topo *topo[ST_MAX_LEVELS + 1];
 } st_unsub;
 
 void st_unsub_free(st_unsub *u);
@@ -101,7 +107,7 @@ int st_unsub_scheme_fits(const st_unsub *u, const st_scheme *sc);
  * by the hierarchy's vertex id, ST_NIL for ids not at the finest level)
  * receives the input vertex of each finest vertex; *fine_of is malloc'ed.
  * Returns the analysis' worst relative solver residual in *residual. */
-int st_unsub_build_hier(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
+int st_unsub_build_hier(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                         st_hier *h, uint32_t **fine_of, double *residual, st_error *err);
 
 /* Tags and UVs (st_unsubdivide): the cage carries the input's OBJ tags
@@ -135,7 +141,7 @@ double st_unsub_uv_residual(const st_hier *h, const st_mesh *in, const uint32_t 
  * of each dart of the finest level, ST_NIL for boundary darts; *corner_of
  * is malloc'ed.  st_unsub_uv_residual_corners reads it (what `strata
  * rebuild` does: one adjacency of the input, not two). */
-int st_unsub_build_hier_corners(const st_mesh *in, const st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
+int st_unsub_build_hier_corners(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                                 st_hier *h, uint32_t **fine_of, uint32_t **corner_of, double *residual, st_error *err);
 double st_unsub_uv_residual_corners(const st_hier *h, const st_mesh *in, const uint32_t *corner_of);
 
