@@ -215,23 +215,27 @@ static void count_face(face_counts *fc, uint32_t k, int hole)
 
 /* Without UVs: one walk that counts, and later one that writes (below),
  * instead of an array of every corner. */
-static void count_faces_walk(st_map *m, unsigned l, face_counts *fc)
+static size_t seen_words(const st_map *m) { return (size_t)m->darts.end / 64 + 1; }
+
+/* seen: seen_words(m) words, cleared here; a bit per dart id marks the faces
+ * already walked (no marker to reserve and release). */
+static void count_faces_walk(st_map *m, unsigned l, face_counts *fc, uint64_t *seen)
 {
+    memset(seen, 0, seen_words(m) * sizeof *seen);
     st_level_view lv;
     st_level_view_init(m, l, &lv);
-    int fbit = st_marker_reserve(m);
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
-        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+    st_fvar_scan it;
+    st_fvar_scan_init(&it, m, 0, l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+        if (st_is_boundary(m, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
         uint32_t k = 0, x = d;
         do {
-            st_mark(m, fbit, x);
+            seen[x >> 6] |= 1ull << (x & 63);
             k++;
             x = st_v_phi1(&lv, x);
         } while (x != d);
         count_face(fc, k, st_is_hole(m, d));
     }
-    st_marker_release(m, fbit, l);
 }
 
 /* The checks of mesh_write.c's check_writable, in its order, with its
@@ -276,8 +280,10 @@ static void write_face_size(ply_out *o, const face_counts *fc, uint32_t k)
 }
 
 /* Without UVs: the level's vertices, then its real faces walked again. */
-static void write_plain(FILE *f, st_map *m, unsigned l, const uint32_t *vindex, uint32_t nverts, const face_counts *fc)
+static void write_plain(FILE *f, st_map *m, unsigned l, const uint32_t *vindex, uint32_t nverts, const face_counts *fc,
+                        uint64_t *seen)
 {
+    memset(seen, 0, seen_words(m) * sizeof *seen);
     write_header(f, nverts, 0, fc);
     ply_out buf, *o = &buf;
     o->f = f;
@@ -290,10 +296,10 @@ static void write_plain(FILE *f, st_map *m, unsigned l, const uint32_t *vindex, 
         const double *p = st_v_pos(&lv, v);
         for (int k = 0; k < 3; k++) out_f64(o, p[k]);
     }
-    st_dart_iter it;
-    int fbit = st_marker_reserve(m);
-    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
-        if (st_is_boundary(m, d) || st_marked(m, fbit, d)) continue;
+    st_fvar_scan it;
+    st_fvar_scan_init(&it, m, 0, l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+        if (st_is_boundary(m, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
         int real = !st_is_hole(m, d);
         uint32_t k = 0, x = d;
         do {
@@ -302,12 +308,11 @@ static void write_plain(FILE *f, st_map *m, unsigned l, const uint32_t *vindex, 
         } while (x != d);
         if (real) write_face_size(o, fc, k);
         do {
-            st_mark(m, fbit, x);
+            seen[x >> 6] |= 1ull << (x & 63);
             if (real) out_u32(o, vindex[st_v_vert(&lv, x)]);
             x = st_v_phi1(&lv, x);
         } while (x != d);
     }
-    st_marker_release(m, fbit, l);
     fwrite(o->b, 1, o->n, f);
 }
 
@@ -357,6 +362,7 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     uv_groups groups = { 0 };
     uv_groups *g = uv ? &groups : NULL;
     face_counts fc = { 0, 0, UINT32_MAX, 0 };
+    uint64_t *seen = NULL; /* without UVs: the faces-walked bits of both walks */
     uint32_t *vindex = st_malloc_huge((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vindex), nverts = 0;
     int rc = vindex ? 0 : -1;
     if (!rc) {
@@ -370,7 +376,9 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
         for (uint32_t fi = 0; !rc && fi < lf.nfaces; fi++)
             count_face(&fc, lf.off[fi + 1] - lf.off[fi], st_is_hole(m, lf.dart[lf.off[fi]]));
     } else if (!rc) {
-        count_faces_walk(m, l, &fc);
+        seen = malloc(seen_words(m) * sizeof *seen);
+        if (seen) count_faces_walk(m, l, &fc, seen);
+        else rc = -1;
     }
     if (rc) rc = st_fail(err, ST_ERR_MEMORY, "%s: out of memory writing level %u", path, l);
     if (!rc) rc = check_level(path, m, l, &fc, fl, g, err);
@@ -378,12 +386,13 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     if (!rc) rc = st_afile_open(&af, path, err);
     if (!rc) {
         if (g) write_uv(af.f, m, l, &lf, &fc, fl, g);
-        else write_plain(af.f, m, l, vindex, nverts, &fc);
+        else write_plain(af.f, m, l, vindex, nverts, &fc, seen);
         rc = st_afile_commit(&af, err);
     }
     faces_free(&lf);
     free(groups.corner_t);
     free(groups.first);
     free(vindex);
+    free(seen);
     return rc;
 }
