@@ -50,7 +50,9 @@ void st_rg_face_normal(st_rgeom *g, uint32_t f)
 }
 
 /* Normal of vertex s: sum of the face normals around it, in walk order. */
-void st_rg_vertex_normal(st_rgeom *g, const st_level_view *V, uint32_t s)
+/* One copy per lookup path (core/map/map.h, "Two lookup paths"): the copy
+ * for subdivision maps has no test for the sparse form in its ring walk. */
+static inline void vertex_normal_kind(st_rgeom *g, const st_level_view *V, uint32_t s, int sparse)
 {
     double n[3] = { 0, 0, 0 };
     uint32_t d = g->vdart[s], x = d;
@@ -60,12 +62,18 @@ void st_rg_vertex_normal(st_rgeom *g, const st_level_view *V, uint32_t s)
             const float *fn = g->fnormal + 4 * (size_t)f;
             n[0] += fn[0]; n[1] += fn[1]; n[2] += fn[2];
         }
-        x = vertex_next(V, g->face_embedded, x);
+        x = g->face_embedded ? st_v_phi1_kind(V, x, sparse) : st_v_beta1_kind(V, x, sparse); /* vertex_next */
     } while (x != d);
     double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     float *o = g->vdata + ST_RGEOM_VSTRIDE * (size_t)s + 3;
     if (len > 0 && isfinite(len)) { o[0] = (float)(n[0] / len); o[1] = (float)(n[1] / len); o[2] = (float)(n[2] / len); }
     else { o[0] = 0; o[1] = 0; o[2] = 1; }
+}
+
+void st_rg_vertex_normal(st_rgeom *g, const st_level_view *V, uint32_t s)
+{
+    if (st_level_view_is_sparse(V)) vertex_normal_kind(g, V, s, 1);
+    else vertex_normal_kind(g, V, s, 0);
 }
 
 void st_rg_read_position(st_rgeom *g, const st_level_view *V, uint32_t s)
@@ -172,7 +180,8 @@ static void remap_part(st_team *team, unsigned t, void *ctx)
  * the walk itself in the primal encoding, and by the polygon edges and the
  * case lookup after it); whether a dart of it is void.  Returns the number
  * of darts, 0 when out of memory. */
-static unsigned walk_face(const st_map *m, const st_level_view *V, int fe, st_rg_scratch *fs, uint32_t d, int *real)
+static inline unsigned walk_face_kind(const st_map *m, const st_level_view *V, int fe, st_rg_scratch *fs, uint32_t d,
+                                      int *real, int sparse)
 {
     unsigned n = 0;
     uint32_t x = d;
@@ -183,15 +192,26 @@ static unsigned walk_face(const st_map *m, const st_level_view *V, int fe, st_rg
             GROW(fs->b0, fs->cb0, (size_t)n + 1, oom);
             if (oom) return 0;
         }
-        uint32_t b = st_v_beta0(V, x);
+        uint32_t b = st_v_beta0_kind(V, x, sparse);
         fs->darts[n] = x;
         fs->b0[n] = b;
         n++;
         r &= !st_is_void(m, x); /* a boundary or a hole face: nothing to draw */
-        x = fe ? st_v_beta1(V, x) : st_v_beta1(V, b);
+        x = st_v_beta1_kind(V, fe ? x : b, sparse);
     } while (x != d);
     *real = r;
     return n;
+}
+
+/* One copy per lookup path (core/map/map.h, "Two lookup paths"): the
+ * subdivision maps' walk has no test for the sparse form. */
+static unsigned walk_face_dense(const st_map *m, const st_level_view *V, int fe, st_rg_scratch *fs, uint32_t d, int *real)
+{
+    return walk_face_kind(m, V, fe, fs, d, real, 0);
+}
+static unsigned walk_face_any(const st_map *m, const st_level_view *V, int fe, st_rg_scratch *fs, uint32_t d, int *real)
+{
+    return walk_face_kind(m, V, fe, fs, d, real, 1);
 }
 
 int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
@@ -205,6 +225,7 @@ int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
     const int fe = g->face_embedded;
     st_level_view V;
     st_level_view_init(m, l, &V);
+    const int sparse = st_level_view_is_sparse(&V);
 
     /* Every dart of level l is the corner of exactly one face: the number
      * of darts bounds corners, triangles and polygon edges, and a third of
@@ -243,7 +264,7 @@ int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
     for (uint32_t d = oom ? ST_NIL : st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
         if (g->dart_face[d] != ST_NIL) continue;
         int real;
-        unsigned n = walk_face(m, &V, fe, &fs, d, &real);
+        unsigned n = sparse ? walk_face_any(m, &V, fe, &fs, d, &real) : walk_face_dense(m, &V, fe, &fs, d, &real);
         if (!n) { oom = 1; break; }
         if (!real || n < 3) {
             for (unsigned k = 0; k < n; k++) g->dart_face[fs.darts[k]] = UNDRAWN;
@@ -255,7 +276,7 @@ int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
         g->face_off[f] = (uint32_t)ncorner;
         g->face_line[f] = nl;
         for (unsigned k = 0; k < n; k++) {
-            uint32_t y = fs.darts[k], v = st_v_vert(&V, y);
+            uint32_t y = fs.darts[k], v = st_view_get_kind(&V.vert, V.ins, y, sparse);
             g->dart_face[y] = f;
             cn[k] = v;
             if (g->slot[v] == ST_NIL) g->slot[v] = y;

@@ -311,6 +311,13 @@ static inline st_u32_view st_u32_view_of(const st_mla *a, unsigned l)
     return v;
 }
 
+/* Whether a level view reads a relation in sparse form: the `sparse`
+ * argument of the _kind forms below for the loops that take one view. */
+static inline int st_level_view_is_sparse(const st_level_view *v)
+{
+    return ((v->beta0.lvl | v->beta1.lvl | v->vert.lvl) & ST_MLA_SPARSE) != 0;
+}
+
 static inline void st_level_view_init(const st_map *m, unsigned l, st_level_view *v)
 {
     v->ins = m->darts.ins;
