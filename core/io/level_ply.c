@@ -35,6 +35,9 @@ static void faces_free(level_faces *lf)
     free(lf->off);
 }
 
+/* Words of a bitset with one bit per dart id. */
+static size_t seen_words(const st_map *m) { return (size_t)m->darts.end / 64 + 1; }
+
 /* The darts are scanned block by block (st_fvar_scan: st_dart_first/next's
  * order without a call per dart) and faces marked seen in a bit per dart
  * id, which needs no pass to release. */
@@ -46,7 +49,7 @@ static int faces_walk(st_map *m, unsigned l, level_faces *lf)
     for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) nc += !st_is_boundary(m, d);
     lf->dart = st_malloc_huge(((size_t)nc + 1) * sizeof *lf->dart);
     lf->off = st_malloc_huge(((size_t)nc + 2) * sizeof *lf->off);
-    uint64_t *seen = calloc((size_t)m->darts.end / 64 + 1, sizeof *seen);
+    uint64_t *seen = calloc(seen_words(m), sizeof *seen);
     if (!lf->dart || !lf->off || !seen) {
         free(seen);
         return -1;
@@ -215,8 +218,6 @@ static void count_face(face_counts *fc, uint32_t k, int hole)
 
 /* Without UVs: one walk that counts, and later one that writes (below),
  * instead of an array of every corner. */
-static size_t seen_words(const st_map *m) { return (size_t)m->darts.end / 64 + 1; }
-
 /* seen: seen_words(m) words, cleared here; a bit per dart id marks the faces
  * already walked (no marker to reserve and release). */
 static void count_faces_walk(st_map *m, unsigned l, face_counts *fc, uint64_t *seen)
