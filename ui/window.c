@@ -63,6 +63,7 @@ void st_app_message(st_app *a, int error, const char *fmt, ...)
     va_end(ap);
     a->msg_error = error;
     a->msg_time = glfwGetTime();
+    st_app_want_frames(a);
     if (error || a->opts.replay) fprintf(stderr, "strata: %s\n", a->msg);
 }
 
@@ -93,14 +94,15 @@ static void refresh_all(st_app *a)
     st_renderer_refresh_all(&a->r, ST_TARGET_CAGE, &d->h.map);
 }
 
-void st_app_sync(st_app *a)
+int st_app_sync(st_app *a)
 {
     st_doc *d = &a->doc;
     st_doc_change ch = st_doc_take_change(d);
     if (!d->loaded) {
+        int was_shown = a->shown_valid;
         st_renderer_clear(&a->r, ST_TARGET_MESHES);
         a->shown_valid = 0;
-        return;
+        return was_shown || ch.bits;
     }
     double t0 = now_ms();
     int touched = 0;
@@ -203,6 +205,7 @@ void st_app_sync(st_app *a)
     }
     if (ch.bits & (ST_CHANGE_TOPOLOGY | ST_CHANGE_POSITIONS | ST_CHANGE_ALL_POSITIONS | ST_CHANGE_BOX | ST_CHANGE_MASK))
         a->autosave_dirty = 1;
+    return touched || ch.bits;
 }
 
 /* ---- drawing: the scene, then the overlay (hud_panels.c) ---------------------- */
@@ -729,12 +732,32 @@ static int live_input(GLFWwindow *w)
     return !app_of(w)->replay || live;
 }
 
-static void glfw_key(GLFWwindow *w, int key, int sc, int action, int mods) { if (live_input(w)) st_win_on_key(w, key, sc, action, mods); }
-static void glfw_button(GLFWwindow *w, int b, int action, int mods) { if (live_input(w)) st_win_on_mouse_button(w, b, action, mods); }
-static void glfw_cursor(GLFWwindow *w, double x, double y) { if (live_input(w)) st_win_on_cursor(w, x, y); }
-static void glfw_scroll(GLFWwindow *w, double dx, double dy) { if (live_input(w)) st_win_on_scroll(w, dx, dy); }
-static void glfw_drop(GLFWwindow *w, int n, const char **p) { if (live_input(w)) st_win_on_drop(w, n, p); }
-static void glfw_char(GLFWwindow *w, unsigned c) { if (live_input(w)) st_gui_char(c); }
+/* Any input, and anything that changes what is on screen, owes a few
+ * frames: the GUI sees a press one frame and its release the next, a
+ * window that fits its content is placed from its second frame, and an
+ * action chosen in a menu runs before the frame after the click.  With no
+ * frames owed the loop sleeps until the next event instead of redrawing:
+ * at 25 million triangles a frame takes tens of seconds under a software
+ * rasteriser, and an idle redraw would hold up the input that follows. */
+void st_app_want_frames(st_app *a) { a->frames_owed = 3; }
+
+static int input(GLFWwindow *w)
+{
+    st_app_want_frames(app_of(w));
+    return live_input(w);
+}
+
+static void glfw_key(GLFWwindow *w, int key, int sc, int action, int mods) { if (input(w)) st_win_on_key(w, key, sc, action, mods); }
+static void glfw_button(GLFWwindow *w, int b, int action, int mods) { if (input(w)) st_win_on_mouse_button(w, b, action, mods); }
+static void glfw_cursor(GLFWwindow *w, double x, double y) { if (input(w)) st_win_on_cursor(w, x, y); }
+static void glfw_scroll(GLFWwindow *w, double dx, double dy) { if (input(w)) st_win_on_scroll(w, dx, dy); }
+static void glfw_drop(GLFWwindow *w, int n, const char **p) { if (input(w)) st_win_on_drop(w, n, p); }
+static void glfw_char(GLFWwindow *w, unsigned c) { if (input(w)) st_gui_char(c); }
+static void glfw_resize(GLFWwindow *w, int width, int height) { st_app_want_frames(app_of(w)); st_win_on_resize(w, width, height); }
+/* Uncovered, or focus and pointer coming and going (the GUI's hover). */
+static void glfw_refresh(GLFWwindow *w) { st_app_want_frames(app_of(w)); }
+static void glfw_focus(GLFWwindow *w, int focused) { (void)focused; st_app_want_frames(app_of(w)); }
+static void glfw_enter(GLFWwindow *w, int entered) { (void)entered; st_app_want_frames(app_of(w)); }
 
 /* ---- screenshots ------------------------------------------------------------------ */
 
@@ -968,8 +991,11 @@ int st_window_main(const st_win_opts *o)
     glfwSetCursorPosCallback(a->win, glfw_cursor);
     glfwSetScrollCallback(a->win, glfw_scroll);
     glfwSetDropCallback(a->win, glfw_drop);
-    glfwSetFramebufferSizeCallback(a->win, st_win_on_resize);
+    glfwSetFramebufferSizeCallback(a->win, glfw_resize);
     glfwSetCharCallback(a->win, glfw_char);
+    glfwSetWindowRefreshCallback(a->win, glfw_refresh);
+    glfwSetWindowFocusCallback(a->win, glfw_focus);
+    glfwSetCursorEnterCallback(a->win, glfw_enter);
     /* Replays start with the GUI hidden (their references predate it; the
      * script's `gui on` shows it). */
     st_gui_init(a, !o->no_gui && !rp);
@@ -1002,15 +1028,24 @@ int st_window_main(const st_win_opts *o)
             if (s < 0) { a->exit_code = 1; break; }
             if (s > 0) break;
         } else {
-            if (a->op == ST_OP_NONE) glfwWaitEventsTimeout(0.25);
+            if (a->op == ST_OP_NONE && a->frames_owed <= 0) glfwWaitEventsTimeout(0.25);
             else glfwPollEvents();
         }
         st_gui_run_pending(a);
         glfwGetFramebufferSize(a->win, &a->fb_w, &a->fb_h);
         glfwGetWindowSize(a->win, &a->win_w, &a->win_h);
-        st_app_sync(a);
-        double t0 = now_ms();   /* frame time: drawing and presenting, not the wait for events */
+        if (st_app_sync(a)) st_app_want_frames(a);
         probe_shot_request(a);
+        /* Idle: nothing came in, nothing changed, no drag or stroke going
+         * on.  The timeout still wakes the loop for the recovery save and
+         * the probe's screenshot signal; STRATA_GUI_PROBE keeps the frames
+         * coming, as test scripts count frames to know input was seen. */
+        if (!rp && a->op == ST_OP_NONE && a->frames_owed <= 0 && !a->shot_pending && !probe_dir()) {
+            if (autosave) st_app_autosave_tick(a, 0);
+            continue;
+        }
+        if (a->frames_owed > 0) a->frames_owed--;
+        double t0 = now_ms();   /* frame time: drawing and presenting, not the wait for events */
         st_app_draw(a);
         if (a->shot_pending) {
             a->shot_pending = 0;

@@ -103,6 +103,7 @@ typedef struct st_app {
     double update_ms;          /* last renderer update */
     uint64_t patches;          /* box moves drawn by re-tessellating only the touched faces */
     uint64_t frames;
+    int frames_owed;           /* frames still to draw after the last input or change (window.c, the main loop) */
     int quit;
     int exit_code;
 
@@ -133,7 +134,8 @@ void st_app_message(st_app *a, int error, const char *fmt, ...)
 #endif
     ;
 /* Brings the renderer up to date with the document. */
-void st_app_sync(st_app *a);
+int st_app_sync(st_app *a);               /* nonzero: something on screen changed */
+void st_app_want_frames(st_app *a);        /* input or a change: draw the next few frames */
 /* Renders one frame into the back buffer (no swap). */
 void st_app_draw(st_app *a);
 /* Opens a file (errors keep the current model and show a message). */
