@@ -176,6 +176,15 @@ static void progressive_emit(st_hier *h, unsigned L, const uint32_t *faces, uint
     else emit_faces(h, L, faces, nfaces, sink, ctx);
 }
 
+/* Full synthesis of level L: the ring tables, or the stencils on a map
+ * they do not describe. */
+static void progressive_synth_level(st_hier *h, unsigned L)
+{
+    if (st_progressive_synth_level(h, L)) return;
+    st_synth_ctx c = { .h = h, .L = L };
+    emit_all(h, L, st_synth_sink, &c);
+}
+
 static int progressive_check(st_hier *h, st_error *err)
 {
     st_map *m = &h->map;
@@ -201,4 +210,7 @@ const st_scheme st_scheme_progressive = {
     .check = progressive_check,
     .refine = progressive_refine,
     .emit = progressive_emit,
+    .predict_level = progressive_synth_level,
+    .predict_around = st_progressive_resynth_around,
+    .fast_paths_apply_details = 1,
 };
