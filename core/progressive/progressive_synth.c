@@ -52,6 +52,7 @@ typedef struct pm_ring_table {
     uint32_t nidx;             /* vertex ids [0, nidx) have an entry in off */
     uint32_t *off;             /* nidx + 1: ring of vertex v is [off[v], off[v+1]), empty if v is not at l */
     uint32_t *first;           /* nidx: the smallest dart of v's orbit at l */
+    uint32_t *split_of;        /* nidx, l >= 1: the vertex split from v at l (its frame is v's), or ST_NIL */
     uint32_t *nbr;             /* per ring entry: vertex at the other end of the dart's edge */
     uint8_t *fl;               /* per ring entry: RING_* */
 } pm_ring_table;
@@ -62,6 +63,7 @@ static void table_free(void *p)
     if (!t) return;
     free(t->off);
     free(t->first);
+    free(t->split_of);
     free(t->nbr);
     free(t->fl);
     free(t);
@@ -91,6 +93,8 @@ static void table_fill(st_map *m, unsigned l, pm_ring_table *t)
     t->nidx = nidx;
     t->off = xmalloc(((size_t)nidx + 1) * sizeof *t->off);
     t->first = xmalloc((size_t)(nidx ? nidx : 1) * sizeof *t->first);
+    t->split_of = xmalloc((size_t)(nidx ? nidx : 1) * sizeof *t->split_of);
+    for (uint32_t v = 0; v < nidx; v++) t->split_of[v] = ST_NIL;
     t->nbr = xmalloc((size_t)nd * sizeof *t->nbr);
     t->fl = xmalloc((size_t)nd * sizeof *t->fl);
     uint32_t k = 0;
@@ -121,8 +125,14 @@ static void table_fill(st_map *m, unsigned l, pm_ring_table *t)
         }
         uint32_t j = beg;
         while (j < k && t->nbr[j] != b) j++;
-        if (j == k) t->irregular = 1;
-        else t->fl[j] |= RING_FRAME_V;
+        /* (progressive.h, point 3 (ii): no vertex is the target of two
+         * collapses of one level) */
+        if (j == k || b >= nidx || t->split_of[b] != ST_NIL) {
+            t->irregular = 1;
+            continue;
+        }
+        t->fl[j] |= RING_FRAME_V;
+        t->split_of[b] = v;
     }
     t->off[nidx] = k;
     free(vmin);
@@ -337,17 +347,27 @@ int st_progressive_synth_level(st_hier *h, unsigned L)
     return 1;
 }
 
-/* Recomputes v unless done in this pass; writes it and lists it for level
- * L+1 when its position changed.  Where level L had no position column of
- * its own for v when the pass began (own_cap: the ids it covered), v's
- * position at L was read from L-1 (map.h, "Storage"), and the first write
- * of the pass copies the new values of L-1 into a new column: a vertex
- * that changed at L-1 (moved) then changed at L too, whatever the value
- * read now. */
+/* Bit v of a set of vertex ids, and the range of words touched. */
+typedef struct vset { uint64_t *w; uint32_t lo, hi; } vset;
+
+static void vset_add(vset *s, uint32_t v)
+{
+    uint32_t k = v >> 6;
+    s->w[k] |= 1ull << (v & 63);
+    if (k < s->lo) s->lo = k;
+    if (k + 1 > s->hi) s->hi = k + 1;
+}
+
+static int vset_has(const vset *s, uint32_t v) { return (s->w[v >> 6] >> (v & 63)) & 1; }
+
+/* Recomputes v; writes it and lists it for level L+1 when its position
+ * changed.  Where level L had no position column of its own for v when
+ * the pass began (own_cap: the ids it covered), v's position at L was read
+ * from L-1 (map.h, "Storage"), and the first write of the pass copies the
+ * new values of L-1 into a new column: a vertex that changed at L-1
+ * (moved) then changed at L too, whatever the value read now. */
 static void resynth_one(st_hier *h, const level_pair *lp, uint32_t v, int moved, uint32_t own_cap, st_synth_ctx *out)
 {
-    if (h->stamp[v] == out->gen) return;
-    h->stamp[v] = out->gen;
     double p[3];
     synth_vertex(h, lp, v, p);
     int shared = moved && h->map.verts.ins[v] < lp->L && v >= own_cap;
@@ -355,29 +375,51 @@ static void resynth_one(st_hier *h, const level_pair *lp, uint32_t v, int moved,
     st_synth_put(out, v, lp->fine->first[v], p);
 }
 
+/* The vertices of level L that read a vertex u changed at L-1 (see the
+ * top of this file), into cand. */
+static void readers_of(const level_pair *lp, uint32_t u, vset *cand)
+{
+    const pm_ring_table *ft = lp->fine, *ct = lp->coarse;
+    const uint8_t *ins = lp->m->verts.ins;
+    unsigned L = lp->L;
+    vset_add(cand, u);
+    for (uint32_t j = ft->off[u]; j < ft->off[u + 1]; j++) {
+        uint32_t w = ft->nbr[j];
+        vset_add(cand, w);
+        if (ins[w] != L) continue;
+        for (uint32_t k = ft->off[w]; k < ft->off[w + 1]; k++) vset_add(cand, ft->nbr[k]);
+    }
+    if (ft->split_of[u] != ST_NIL) vset_add(cand, ft->split_of[u]);
+    for (uint32_t j = ct->off[u]; j < ct->off[u + 1]; j++) {
+        uint32_t z = ct->nbr[j];
+        vset_add(cand, z);
+        if (ft->split_of[z] != ST_NIL) vset_add(cand, ft->split_of[z]);
+    }
+}
+
 int st_progressive_resynth_around(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t nseeds, st_synth_ctx *out)
 {
     level_pair lp;
     if (!level_pair_init(h, L, &lp)) return 0;
     st_map *m = &h->map;
-    const pm_ring_table *ft = lp.fine, *ct = lp.coarse;
-    /* The seeds first, before a write of this pass adds a column. */
-    uint32_t own = m->pos.col[L] ? m->pos.colcap[L] : 0;
-    for (uint32_t i = 0; i < nseeds; i++) resynth_one(h, &lp, st_vert(m, seeds[i], L - 1), 1, own, out);
+    uint32_t words = (lp.fine->nidx + 63) >> 6;
+    vset cand = { calloc(words ? words : 1, sizeof(uint64_t)), words, 0 };
+    vset moved = { calloc(words ? words : 1, sizeof(uint64_t)), words, 0 };
+    if (!cand.w || !moved.w) abort(); /* a bit per vertex */
     for (uint32_t i = 0; i < nseeds; i++) {
         uint32_t u = st_vert(m, seeds[i], L - 1);
-        for (uint32_t j = ft->off[u]; j < ft->off[u + 1]; j++) {
-            uint32_t w = ft->nbr[j];
-            resynth_one(h, &lp, w, 0, own, out);
-            if (m->verts.ins[w] != L) continue;
-            for (uint32_t k = ft->off[w]; k < ft->off[w + 1]; k++) resynth_one(h, &lp, ft->nbr[k], 0, own, out);
-        }
-        for (uint32_t j = ct->off[u]; j < ct->off[u + 1]; j++) {
-            uint32_t z = ct->nbr[j];
-            resynth_one(h, &lp, z, 0, own, out);
-            for (uint32_t k = ft->off[z]; k < ft->off[z + 1]; k++)
-                if (m->verts.ins[ft->nbr[k]] == L) resynth_one(h, &lp, ft->nbr[k], 0, own, out);
-        }
+        if (vset_has(&moved, u)) continue;
+        vset_add(&moved, u);
+        readers_of(&lp, u, &cand);
     }
+    /* In id order: the tables and positions are read in their order. */
+    uint32_t own = m->pos.col[L] ? m->pos.colcap[L] : 0;
+    for (uint32_t k = cand.lo; k < cand.hi; k++)
+        for (uint64_t b = cand.w[k]; b; b &= b - 1) {
+            uint32_t v = (k << 6) | (uint32_t)__builtin_ctzll(b);
+            resynth_one(h, &lp, v, vset_has(&moved, v), own, out);
+        }
+    free(cand.w);
+    free(moved.w);
     return 1;
 }
