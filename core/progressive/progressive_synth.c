@@ -44,6 +44,11 @@ enum {
     RING_FRAME_V = 4u,   /* split vertex: this neighbour is the vertex whose frame carries the detail */
 };
 
+enum {
+    VERT_BORDER = 1u,    /* some dart of the orbit is RING_BORDER */
+    VERT_NEAR = 2u,      /* a neighbour was split at l (scheme_progressive.c: near_split) */
+};
+
 typedef struct pm_ring_table {
     uint64_t gen;              /* the map's state it was built from */
     uint32_t dend, vend;
@@ -55,6 +60,8 @@ typedef struct pm_ring_table {
     uint32_t *split_of;        /* nidx, l >= 1: the vertex split from v at l (its frame is v's), or ST_NIL */
     uint32_t *nbr;             /* per ring entry: vertex at the other end of the dart's edge */
     uint8_t *fl;               /* per ring entry: RING_* */
+    uint8_t *vk;               /* nidx: VERT_* */
+    uint32_t *avg_n;           /* nidx: the neighbours a ring average of v reads (ring_average) */
 } pm_ring_table;
 
 static void table_free(void *p)
@@ -64,6 +71,8 @@ static void table_free(void *p)
     free(t->off);
     free(t->first);
     free(t->split_of);
+    free(t->vk);
+    free(t->avg_n);
     free(t->nbr);
     free(t->fl);
     free(t);
@@ -74,6 +83,21 @@ static void *xmalloc(size_t n)
     void *p = malloc(n ? n : 1);
     if (!p) abort(); /* out of memory for a synthesis table, as for the stencils */
     return p;
+}
+
+/* What the stencils test on the ring of v (entries [beg, end)) at l. */
+static void vertex_summary(const st_map *m, unsigned l, pm_ring_table *t, uint32_t v, uint32_t beg, uint32_t end)
+{
+    uint8_t k = 0;
+    for (uint32_t j = beg; j < end; j++) {
+        if (t->fl[j] & RING_BORDER) k |= VERT_BORDER;
+        if (m->verts.ins[t->nbr[j]] == l) k |= VERT_NEAR;
+    }
+    uint32_t n = 0;
+    for (uint32_t j = beg; j < end; j++)
+        n += (!(k & VERT_BORDER) || (t->fl[j] & RING_BORDER)) && m->verts.ins[t->nbr[j]] < l;
+    t->vk[v] = k;
+    t->avg_n[v] = n;
 }
 
 /* Ring of level l of every vertex, in orbit order from the smallest dart. */
@@ -95,6 +119,8 @@ static void table_fill(st_map *m, unsigned l, pm_ring_table *t)
     t->first = xmalloc((size_t)(nidx ? nidx : 1) * sizeof *t->first);
     t->split_of = xmalloc((size_t)(nidx ? nidx : 1) * sizeof *t->split_of);
     for (uint32_t v = 0; v < nidx; v++) t->split_of[v] = ST_NIL;
+    t->vk = xmalloc((size_t)(nidx ? nidx : 1));
+    t->avg_n = xmalloc((size_t)(nidx ? nidx : 1) * sizeof *t->avg_n);
     t->nbr = xmalloc((size_t)nd * sizeof *t->nbr);
     t->fl = xmalloc((size_t)nd * sizeof *t->fl);
     uint32_t k = 0;
@@ -102,6 +128,8 @@ static void table_fill(st_map *m, unsigned l, pm_ring_table *t)
         t->off[v] = k;
         uint32_t c = vmin[v];
         t->first[v] = c;
+        t->vk[v] = 0;
+        t->avg_n[v] = 0;
         if (c == ST_NIL) continue;
         uint32_t x = c, frame = ST_NIL, b = ST_NIL, beg = k;
         do {
@@ -114,6 +142,7 @@ static void table_fill(st_map *m, unsigned l, pm_ring_table *t)
             k++;
             x = st_beta1(m, x, l);
         } while (x != c);
+        vertex_summary(m, l, t, v, beg, k);
         if (l == 0) continue;
         /* The frame vertex at l-1 (st_progressive_stencil's frame dart):
          * the vertex itself unless it was split at l, then its neighbour b. */
@@ -178,24 +207,6 @@ static void acc(const level_pair *lp, double w, uint32_t u, double s[3])
     s[2] += w * p[2];
 }
 
-static int ring_border(const pm_ring_table *t, uint32_t v)
-{
-    for (uint32_t j = t->off[v]; j < t->off[v + 1]; j++)
-        if (t->fl[j] & RING_BORDER) return 1;
-    return 0;
-}
-
-/* The neighbours of v a ring average reads: those of level L-1, on its
- * border if it is on one (scheme_progressive.c: ring_average). */
-static uint32_t ring_count(const level_pair *lp, uint32_t v, int border)
-{
-    const pm_ring_table *t = lp->fine;
-    uint32_t n = 0;
-    for (uint32_t j = t->off[v]; j < t->off[v + 1]; j++)
-        n += (!border || (t->fl[j] & RING_BORDER)) && lp->m->verts.ins[t->nbr[j]] < lp->L;
-    return n;
-}
-
 static void ring_sum(const level_pair *lp, uint32_t v, int border, double w, double s[3])
 {
     const pm_ring_table *t = lp->fine;
@@ -219,21 +230,23 @@ static void predict(const level_pair *lp, uint32_t v, double s[3])
     const pm_ring_table *t = lp->fine;
     unsigned L = lp->L;
     s[0] = s[1] = s[2] = 0;
-    int border = ring_border(t, v), near_split = 0;
-    for (uint32_t j = t->off[v]; j < t->off[v + 1]; j++) near_split |= m->verts.ins[t->nbr[j]] == L;
+    int border = t->vk[v] & VERT_BORDER;
     if (m->verts.ins[v] == L) {
-        uint32_t n = ring_count(lp, v, border);
+        uint32_t n = t->avg_n[v];
         if (n) ring_sum(lp, v, border, 1.0 / n, s);
         else acc(lp, 1.0, split_frame_vertex(t, v), s);
         return;
     }
-    if (!near_split) {
+    if (!(t->vk[v] & VERT_NEAR)) {
         acc(lp, 1.0, v, s);
         return;
     }
     acc(lp, 0.5, v, s);
-    unsigned k = 0;
-    for (uint32_t j = t->off[v]; j < t->off[v + 1]; j++) k += !border || (t->fl[j] & RING_BORDER);
+    unsigned k = t->off[v + 1] - t->off[v];
+    if (border) {
+        k = 0;
+        for (uint32_t j = t->off[v]; j < t->off[v + 1]; j++) k += (t->fl[j] & RING_BORDER) != 0;
+    }
     double wk = 0.5 / k;
     for (uint32_t j = t->off[v]; j < t->off[v + 1]; j++) {
         if (border && !(t->fl[j] & RING_BORDER)) continue;
@@ -242,14 +255,13 @@ static void predict(const level_pair *lp, uint32_t v, double s[3])
             acc(lp, wk, u, s);
             continue;
         }
-        int ub = ring_border(t, u);
-        uint32_t n = ring_count(lp, u, ub);
+        uint32_t n = t->avg_n[u];
         if (!n) {
             acc(lp, 1.0 * wk, v, s);
             continue;
         }
         double wu = 1.0 / n * wk;
-        ring_sum(lp, u, ub, wu, s);
+        ring_sum(lp, u, t->vk[u] & VERT_BORDER, wu, s);
     }
 }
 
@@ -347,16 +359,11 @@ int st_progressive_synth_level(st_hier *h, unsigned L)
     return 1;
 }
 
-/* Bit v of a set of vertex ids, and the range of words touched. */
-typedef struct vset { uint64_t *w; uint32_t lo, hi; } vset;
+/* A set of vertex ids, a bit each (some thirty additions per changed
+ * vertex: no bookkeeping besides the bit). */
+typedef struct vset { uint64_t *w; } vset;
 
-static void vset_add(vset *s, uint32_t v)
-{
-    uint32_t k = v >> 6;
-    s->w[k] |= 1ull << (v & 63);
-    if (k < s->lo) s->lo = k;
-    if (k + 1 > s->hi) s->hi = k + 1;
-}
+static void vset_add(vset *s, uint32_t v) { s->w[v >> 6] |= 1ull << (v & 63); }
 
 static int vset_has(const vset *s, uint32_t v) { return (s->w[v >> 6] >> (v & 63)) & 1; }
 
@@ -403,8 +410,8 @@ int st_progressive_resynth_around(st_hier *h, unsigned L, const uint32_t *seeds,
     if (!level_pair_init(h, L, &lp)) return 0;
     st_map *m = &h->map;
     uint32_t words = (lp.fine->nidx + 63) >> 6;
-    vset cand = { calloc(words ? words : 1, sizeof(uint64_t)), words, 0 };
-    vset moved = { calloc(words ? words : 1, sizeof(uint64_t)), words, 0 };
+    vset cand = { calloc(words ? words : 1, sizeof(uint64_t)) };
+    vset moved = { calloc(words ? words : 1, sizeof(uint64_t)) };
     if (!cand.w || !moved.w) abort(); /* a bit per vertex */
     for (uint32_t i = 0; i < nseeds; i++) {
         uint32_t u = st_vert(m, seeds[i], L - 1);
@@ -414,7 +421,7 @@ int st_progressive_resynth_around(st_hier *h, unsigned L, const uint32_t *seeds,
     }
     /* In id order: the tables and positions are read in their order. */
     uint32_t own = m->pos.col[L] ? m->pos.colcap[L] : 0;
-    for (uint32_t k = cand.lo; k < cand.hi; k++)
+    for (uint32_t k = 0; k < words; k++)
         for (uint64_t b = cand.w[k]; b; b &= b - 1) {
             uint32_t v = (k << 6) | (uint32_t)__builtin_ctzll(b);
             resynth_one(h, &lp, v, vset_has(&moved, v), own, out);
