@@ -19,7 +19,11 @@
  * Everything is read from the map alone (a loaded session has nothing
  * else), and a vertex's stencil is built from the smallest dart of its
  * level-L orbit, so that its order of summation, hence its rounding, is the
- * same whichever dart reached it: local re-synthesis == full synthesis. */
+ * same whichever dart reached it: local re-synthesis == full synthesis.
+ * Synthesis itself, full and local, evaluates the same stencils from flat
+ * ring tables (core/progressive/progressive_synth.c), to the same bits;
+ * emit() serves the analysis, the edits' predictions and maps the tables
+ * do not describe. */
 #include "core/multires/hier_internal.h"
 #include "core/progressive/progressive_internal.h"
 
