@@ -416,6 +416,13 @@ static void edits_and_display(const st_mesh *m, uint64_t target, double diag, in
                l, 1e3 * ml, (unsigned long long)written, (unsigned long long)changed, (unsigned long long)visible,
                (unsigned long long)above, l + 1, top, 1e3 * mf, ml / mf);
     }
+    {
+        st_level_stats s;
+        st_level_stats_compute(mp, top, &s);
+        size_t tb = st_progressive_table_bytes(&h);
+        printf("  synthesis tables (core/progressive/progressive_synth.c): %.1f MB, %.1f bytes per finest dart\n", tb / 1048576.0,
+               s.darts ? (double)tb / (double)s.darts : 0.0);
+    }
     /* the interest box: half-size 2 % of the diagonal around a vertex */
     std::vector<uint32_t> vt = vertex_darts(mp, top);
     const double *c = st_dart_pos(mp, vt[vt.size() / 2], top);

@@ -76,6 +76,9 @@ int st_progressive_stencil(const st_hier *h, unsigned L, uint32_t d, st_stencil_
 struct st_synth_ctx;
 int st_progressive_synth_level(st_hier *h, unsigned L);
 int st_progressive_resynth_around(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t nseeds, struct st_synth_ctx *out);
+/* Bytes the ring tables now held in h->cache take (a transient cache: never
+ * saved, rebuilt after a topology change). */
+size_t st_progressive_table_bytes(const st_hier *h);
 
 /* Half-edge helpers. */
 static inline uint32_t pm_dest(const pm_work *w, uint32_t h) { return w->org[w->next[h]]; }

@@ -430,3 +430,17 @@ int st_progressive_resynth_around(st_hier *h, unsigned L, const uint32_t *seeds,
     free(moved.w);
     return 1;
 }
+
+size_t st_progressive_table_bytes(const st_hier *h)
+{
+    size_t n = 0;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        const pm_ring_table *t = h->cache[l].free == table_free ? h->cache[l].p : NULL;
+        if (!t) continue;
+        size_t entries = t->off ? t->off[t->nidx] : 0;
+        n += sizeof *t + ((size_t)t->nidx + 1) * sizeof *t->off +
+             (size_t)t->nidx * (sizeof *t->first + sizeof *t->split_of + sizeof *t->vk + sizeof *t->avg_n) +
+             entries * (sizeof *t->nbr + sizeof *t->fl);
+    }
+    return n;
+}
