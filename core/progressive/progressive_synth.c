@@ -383,8 +383,9 @@ static void resynth_one(st_hier *h, const level_pair *lp, uint32_t v, int moved,
 }
 
 /* The vertices of level L that read a vertex u changed at L-1 (see the
- * top of this file), into cand. */
-static void readers_of(const level_pair *lp, uint32_t u, vset *cand)
+ * top of this file), into cand; a split vertex's ring once (grown), not
+ * once for each of its changed neighbours. */
+static void readers_of(const level_pair *lp, uint32_t u, vset *cand, vset *grown)
 {
     const pm_ring_table *ft = lp->fine, *ct = lp->coarse;
     const uint8_t *ins = lp->m->verts.ins;
@@ -393,7 +394,8 @@ static void readers_of(const level_pair *lp, uint32_t u, vset *cand)
     for (uint32_t j = ft->off[u]; j < ft->off[u + 1]; j++) {
         uint32_t w = ft->nbr[j];
         vset_add(cand, w);
-        if (ins[w] != L) continue;
+        if (ins[w] != L || vset_has(grown, w)) continue;
+        vset_add(grown, w);
         for (uint32_t k = ft->off[w]; k < ft->off[w + 1]; k++) vset_add(cand, ft->nbr[k]);
     }
     if (ft->split_of[u] != ST_NIL) vset_add(cand, ft->split_of[u]);
@@ -412,12 +414,13 @@ int st_progressive_resynth_around(st_hier *h, unsigned L, const uint32_t *seeds,
     uint32_t words = (lp.fine->nidx + 63) >> 6;
     vset cand = { calloc(words ? words : 1, sizeof(uint64_t)) };
     vset moved = { calloc(words ? words : 1, sizeof(uint64_t)) };
-    if (!cand.w || !moved.w) abort(); /* a bit per vertex */
+    vset grown = { calloc(words ? words : 1, sizeof(uint64_t)) };
+    if (!cand.w || !moved.w || !grown.w) abort(); /* a bit per vertex */
     for (uint32_t i = 0; i < nseeds; i++) {
         uint32_t u = st_vert(m, seeds[i], L - 1);
         if (vset_has(&moved, u)) continue;
         vset_add(&moved, u);
-        readers_of(&lp, u, &cand);
+        readers_of(&lp, u, &cand, &grown);
     }
     /* In id order: the tables and positions are read in their order. */
     uint32_t own = m->pos.col[L] ? m->pos.colcap[L] : 0;
@@ -428,6 +431,7 @@ int st_progressive_resynth_around(st_hier *h, unsigned L, const uint32_t *seeds,
         }
     free(cand.w);
     free(moved.w);
+    free(grown.w);
     return 1;
 }
 
