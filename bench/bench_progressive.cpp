@@ -7,8 +7,10 @@
 // Default meshes: large/koala.obj (100k triangles) and
 // large/sword_quad_dominant.obj (22k faces, 98 % quads, fanned into 44.6k
 // triangles for all three).  After the comparison, on Strata's hierarchy:
-// a one-vertex edit of levels 0, 2 and 4 (local re-synthesis, st_hier_move)
-// against the full synthesis of the levels above, and the interest box's
+// a one-vertex edit of levels 0, 2, 4, 8, 10 and 12 (local re-synthesis,
+// st_hier_move: positions written, changed, and changed by more than 1e-6
+// of the edit's move) against the full synthesis of the levels above,
+// and the interest box's
 // selective display (update time, faces shown).
 //
 // Prints, for each: time (median of N), peak memory (each run once more in a
@@ -370,7 +372,7 @@ static void edits_and_display(const st_mesh *m, uint64_t target, double diag, in
         std::vector<uint32_t> vd = vertex_darts(mp, l);
         uint32_t d = vd[vd.size() / 3];
         std::vector<double> tl, tf;
-        uint64_t written = 0, changed = 0;
+        uint64_t written = 0, changed = 0, visible = 0;
         for (int r = 0; r < std::max(repeat, 3); r++) {
             const double *p = st_dart_pos(mp, d, l);
             double q[1][3] = { { p[0] + 1e-3 * diag * (r & 1 ? -1 : 1), p[1], p[2] + 5e-4 * diag } };
@@ -389,7 +391,13 @@ static void edits_and_display(const st_mesh *m, uint64_t target, double diag, in
                 for (unsigned L = l + 1; L <= top; L++) {
                     st_dart_iter it;
                     for (uint32_t v = st_vertex_first(mp, L, &it); v != ST_NIL; v = st_vertex_next(mp, L, &it), i += 3)
-                        changed += memcmp(&before[i], st_pos(mp, v, L), 3 * sizeof(double)) != 0;
+                    {
+                        const double *a = &before[i], *b = st_pos(mp, v, L);
+                        changed += memcmp(a, b, 3 * sizeof(double)) != 0;
+                        /* moved by more than 1e-6 of the edit's own move */
+                        double dd = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+                        visible += dd > 1e-6 * std::sqrt(1.25) * 1e-3 * diag;
+                    }
                 }
             }
             t0 = cpu_now();
@@ -403,10 +411,17 @@ static void edits_and_display(const st_mesh *m, uint64_t target, double diag, in
             above += s.vertices;
         }
         double ml = bench_median(tl.data(), (int)tl.size()), mf = bench_median(tf.data(), (int)tf.size());
-        printf("  edit of one vertex of level %2u: local %8.3f ms (%llu positions written, %llu changed, of %llu above), full "
-               "synthesis of levels %u..%u %7.2f ms: local / full %.4fx (goal <= 0.05x)\n",
-               l, 1e3 * ml, (unsigned long long)written, (unsigned long long)changed, (unsigned long long)above, l + 1, top,
-               1e3 * mf, ml / mf);
+        printf("  edit of one vertex of level %2u: local %8.3f ms (%llu positions written, %llu changed, %llu by more than 1e-6 of "
+               "the edit's move, of %llu above), full synthesis of levels %u..%u %7.2f ms: local / full %.4fx (goal <= 0.05x)\n",
+               l, 1e3 * ml, (unsigned long long)written, (unsigned long long)changed, (unsigned long long)visible,
+               (unsigned long long)above, l + 1, top, 1e3 * mf, ml / mf);
+    }
+    {
+        st_level_stats s;
+        st_level_stats_compute(mp, top, &s);
+        size_t tb = st_progressive_table_bytes(&h);
+        printf("  synthesis tables (core/progressive/progressive_synth.c): %.1f MB, %.1f bytes per finest dart\n", tb / 1048576.0,
+               s.darts ? (double)tb / (double)s.darts : 0.0);
     }
     /* the interest box: half-size 2 % of the diagonal around a vertex */
     std::vector<uint32_t> vt = vertex_darts(mp, top);

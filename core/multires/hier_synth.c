@@ -228,7 +228,7 @@ void st_synth_sink(void *ctx, const st_stencil *s)
 void st_hier_synthesize(st_hier *h, unsigned from)
 {
     for (unsigned L = from + 1; L <= h->map.top; L++) {
-        if (h->scheme->predict_level && !h->detail[L]) {
+        if (h->scheme->predict_level && (!h->detail[L] || h->scheme->fast_paths_apply_details)) {
             h->scheme->predict_level(h, L);
             continue;
         }
@@ -516,7 +516,7 @@ static uint64_t resynth_above(st_hier *h, unsigned l, const uint32_t *darts, uin
     for (unsigned L = l + 1; L <= m->top; L++) {
         next.n = 0;
         synth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next, .fp = fp };
-        if (write && h->scheme->predict_around && !h->detail[L] && !extra &&
+        if (write && h->scheme->predict_around && (!h->detail[L] || h->scheme->fast_paths_apply_details) && !extra &&
             h->scheme->predict_around(h, L, seeds.d, seeds.n, &c)) {
             count += c.count;
         } else {

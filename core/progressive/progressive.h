@@ -87,7 +87,15 @@
  *    of a coarse level therefore moves the finer levels rigidly, and
  *    st_progressive_filter scales the details per level (multiresolution
  *    filtering, GSS99 §5, thesis §4.4.6): gain 0 on a band leaves the
- *    relaxed, smoother surface.
+ *    relaxed, smoother surface.  Synthesis reads flat per-level ring
+ *    tables rather than the map's pair form (progressive_synth.c), to the
+ *    stencils' bits; a local edit re-synthesises exactly the vertices
+ *    whose position changes, level by level.  That support is the whole
+ *    cone of the relaxation (two rings at each level, so a coarse edit
+ *    reaches much of the finest level, most of it by tiny amounts: koala
+ *    at 1 %, a level-0 edit changes 102090 of the 197876 positions above,
+ *    60 % of them by less than 1e-6 of the edit's move), and it is
+ *    written to the bit so that a local edit equals a full synthesis.
  *
  * 6. Memory (thesis §4.4.8).  The kernel's dense form stores a relation's
  *    level-l values in a column over every dart inserted before l (map.h),

@@ -67,6 +67,19 @@ void pm_undo(pm_work *w, uint32_t i);
  * vertex has no dart of level L-1 (a map this scheme did not build). */
 int st_progressive_stencil(const st_hier *h, unsigned L, uint32_t d, st_stencil_buf *buf, st_stencil *s);
 
+/* Synthesis of level L of a progressive hierarchy from flat ring tables
+ * (progressive_synth.c), to the bits of the stencils: every vertex, or,
+ * after the vertices of the seeds (darts of L-1) changed at L-1, exactly
+ * the vertices of L whose position then changes (scheme.h predict_around).
+ * Both return 0, having written nothing, on a map this scheme did not
+ * build. */
+struct st_synth_ctx;
+int st_progressive_synth_level(st_hier *h, unsigned L);
+int st_progressive_resynth_around(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t nseeds, struct st_synth_ctx *out);
+/* Bytes the ring tables now held in h->cache take (a transient cache: never
+ * saved, rebuilt after a topology change). */
+size_t st_progressive_table_bytes(const st_hier *h);
+
 /* Half-edge helpers. */
 static inline uint32_t pm_dest(const pm_work *w, uint32_t h) { return w->org[w->next[h]]; }
 static inline uint32_t pm_rot(const pm_work *w, uint32_t h) { return w->next[w->twin[h]]; } /* next around org[h] */

@@ -89,6 +89,11 @@ typedef struct st_scheme {
      * level L is not one it handles (the stamps it set must then be
      * forgotten: a new generation). */
     int (*predict_around)(struct st_hier *h, unsigned L, const uint32_t *seeds, uint32_t nseeds, struct st_synth_ctx *out);
+    /* Non-zero: predict_level and predict_around apply the details too
+     * (S(P_{L-1}) + F D, to the bits st_synth_sink writes), so they also
+     * run on levels that carry details; predict_around then writes only
+     * the vertices whose position changes (the progressive scheme). */
+    int fast_paths_apply_details;
 } st_scheme;
 
 /* Lookup by id or CLI name (NULL if unknown). */

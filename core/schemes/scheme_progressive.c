@@ -19,7 +19,11 @@
  * Everything is read from the map alone (a loaded session has nothing
  * else), and a vertex's stencil is built from the smallest dart of its
  * level-L orbit, so that its order of summation, hence its rounding, is the
- * same whichever dart reached it: local re-synthesis == full synthesis. */
+ * same whichever dart reached it: local re-synthesis == full synthesis.
+ * Synthesis itself, full and local, evaluates the same stencils from flat
+ * ring tables (core/progressive/progressive_synth.c), to the same bits;
+ * emit() serves the analysis, the edits' predictions and maps the tables
+ * do not describe. */
 #include "core/multires/hier_internal.h"
 #include "core/progressive/progressive_internal.h"
 
@@ -176,6 +180,15 @@ static void progressive_emit(st_hier *h, unsigned L, const uint32_t *faces, uint
     else emit_faces(h, L, faces, nfaces, sink, ctx);
 }
 
+/* Full synthesis of level L: the ring tables, or the stencils on a map
+ * they do not describe. */
+static void progressive_synth_level(st_hier *h, unsigned L)
+{
+    if (st_progressive_synth_level(h, L)) return;
+    st_synth_ctx c = { .h = h, .L = L };
+    emit_all(h, L, st_synth_sink, &c);
+}
+
 static int progressive_check(st_hier *h, st_error *err)
 {
     st_map *m = &h->map;
@@ -201,4 +214,7 @@ const st_scheme st_scheme_progressive = {
     .check = progressive_check,
     .refine = progressive_refine,
     .emit = progressive_emit,
+    .predict_level = progressive_synth_level,
+    .predict_around = st_progressive_resynth_around,
+    .fast_paths_apply_details = 1,
 };
