@@ -3,10 +3,14 @@
  * the combinatorial correspondence, analysis down to level 0. */
 #include "core/rebuild/unsubdivide.h"
 #include "core/rebuild/unsub_topo_internal.h"
+#include "core/base/membudget.h"
 #include "core/base/parallel.h"
+#include "core/fvar/fvar_internal.h"
+#include "core/multires/estimate.h"
 #include "core/multires/hier_internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -214,6 +218,25 @@ done:
     return rc;
 }
 
+/* The levels' connectivity and UVs without their positions: with
+ * Catmull-Clark every position of levels 1..k is written before anything
+ * reads it (start_level for 0 < j < k, the input at k), so the synthesis
+ * st_hier_subdivide_to would run per level is skipped (a seventh of the
+ * refinement's instructions for spot x4).  The session is the same: a
+ * position column covers the same ids whichever write creates it
+ * (st_pool_cover). */
+static int refine_topology(st_hier *h, unsigned levels, st_error *err)
+{
+    char what[64];
+    snprintf(what, sizeof what, "subdividing to level %u", levels);
+    int rc = levels > h->map.top ? st_mem_check(st_hier_estimate_subdivide(h, levels, NULL), what, err) : ST_OK;
+    while (!rc && h->map.top < levels) {
+        rc = h->scheme->refine(h, err);
+        if (!rc) rc = st_fvar_refine(h, err);
+    }
+    return rc;
+}
+
 /* The cage's hierarchy refined to the finest level, and the input's
  * adjacency (for the correspondence): independent, so two threads run
  * them side by side; each writes only its own results, so the outcome is
@@ -245,7 +268,8 @@ static void refine_task(st_team *team, unsigned t, void *ctx)
         }
         j->rc_hier = st_hier_init(j->h, &j->u->step[0].coarse, j->sc, j->ho, j->err);
         if (!j->rc_hier) {
-            j->rc_hier = st_hier_subdivide_to(j->h, j->u->levels, j->err);
+            j->rc_hier = j->sc->id == ST_SCHEME_CATMARK ? refine_topology(j->h, j->u->levels, j->err)
+                                                        : st_hier_subdivide_to(j->h, j->u->levels, j->err);
             if (j->rc_hier) st_hier_free(j->h);
         }
     }
