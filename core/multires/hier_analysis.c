@@ -11,13 +11,15 @@
  * solved by conjugate gradients, warm-started from the current P_{l-1}.
  * The stencils of level l are cached in CSR form for the solve. */
 #include "core/multires/hier_internal.h"
+#include "core/base/hugepage.h"
+#include "core/map/pool_internal.h"
 #include "core/base/parallel.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct csr {
+typedef struct st_level_stencils {
     uint32_t nrows;           /* fine vertices */
     uint32_t *row_vertex;     /* fine vertex id per row */
     uint32_t *off;            /* nrows + 1 */
@@ -26,12 +28,13 @@ typedef struct csr {
     uint32_t *frame_dart;
     uint8_t *frame_cell;
     uint32_t cap_rows, cap_nz;
-} csr;
+} csr;   /* st_level_stencils */
 
 static void *grow(void *p, size_t n, size_t elem)
 {
     void *q = realloc(p, n * elem);
     if (!q) abort(); /* analysis scratch: out of memory is fatal here */
+    st_advise_huge(q, n * elem);
     return q;
 }
 
@@ -62,6 +65,35 @@ static void csr_sink(void *ctx, const st_stencil *s)
 static void csr_free(csr *c)
 {
     free(c->row_vertex); free(c->off); free(c->col); free(c->w); free(c->frame_dart); free(c->frame_cell);
+}
+
+void st_level_stencils_free(st_level_stencils *c)
+{
+    if (!c) return;
+    csr_free(c);
+    free(c);
+}
+
+/* The stencils of every vertex of level l, in the scheme's order.  The
+ * arrays start at their likely size (a row per vertex id level l can hold,
+ * 8 weights a row: Catmull-Clark averages about 6.3), so that a large
+ * level is not copied by each doubling. */
+st_level_stencils *st_hier_level_stencils(st_hier *h, unsigned l)
+{
+    csr *c = calloc(1, sizeof *c);
+    if (!c) abort();
+    uint32_t rows = st_pool_cover(&h->map.verts, l);
+    c->cap_rows = rows + 2;
+    c->cap_nz = c->cap_rows > UINT32_MAX / 8 ? UINT32_MAX : 8 * c->cap_rows;
+    c->row_vertex = grow(NULL, c->cap_rows, sizeof *c->row_vertex);
+    c->off = grow(NULL, c->cap_rows + 1, sizeof *c->off);
+    c->frame_dart = grow(NULL, c->cap_rows, sizeof *c->frame_dart);
+    c->frame_cell = grow(NULL, c->cap_rows, sizeof *c->frame_cell);
+    c->col = grow(NULL, c->cap_nz, sizeof *c->col);
+    c->w = grow(NULL, c->cap_nz, sizeof *c->w);
+    c->off[0] = 0;
+    h->scheme->emit(h, l, NULL, 0, csr_sink, c);
+    return c;
 }
 
 /* Row r of S applied to x: the prediction of fine vertex r. */
@@ -175,14 +207,26 @@ static void detail_rows(st_team *team, unsigned t, void *ctx)
         }
 }
 
-static double analyze_level(st_hier *h, unsigned l)
+/* Level l's detail array as st_hier_set_detail would size it at the first
+ * non-zero detail (every vertex id of the map), zeroed by calloc's fresh
+ * pages instead of grown from nothing and cleared with memset. */
+static void preallocate_details(st_hier *h, unsigned l, const double *dd, uint32_t nrows)
+{
+    if (h->detail[l]) return;
+    size_t i = 0, n = 3 * (size_t)nrows;
+    while (i < n && dd[i] == 0) i++;
+    if (i == n) return;
+    uint32_t cap = h->map.verts.end;
+    double *p = st_calloc_huge(3 * (size_t)cap, sizeof *p);
+    if (!p) abort(); /* as st_hier_set_detail */
+    h->detail[l] = p;
+    h->detail_cap[l] = cap;
+}
+
+static double analyze_level(st_hier *h, unsigned l, st_level_stencils *given)
 {
     st_map *m = &h->map;
-    csr c = { 0 };
-    c.off = grow(NULL, 1, sizeof *c.off);
-    c.off[0] = 0;
-    c.cap_rows = 0;
-    h->scheme->emit(h, l, NULL, 0, csr_sink, &c);
+    csr *cp = given ? given : st_hier_level_stencils(h, l), c = *cp;
     /* The solve runs over the coarse ids the stencils name, not every
      * vertex id of the map (the finer levels' ids lie above them when
      * levels are built coarse to fine): the vectors of the CG shrink
@@ -212,6 +256,7 @@ static double analyze_level(st_hier *h, unsigned l)
     detail_job job = { h, l, &c, x, f, dd };
     unsigned threads = st_parallel_threads(), most = c.nrows / 8192u;   /* at least 8192 rows a thread */
     st_team_run(threads < most ? threads : most ? most : 1, detail_rows, &job);
+    preallocate_details(h, l, dd, c.nrows);
     for (uint32_t r = 0; r < c.nrows; r++) {
         st_hier_set_detail(h, l, c.row_vertex[r], dd + 3 * (size_t)r);
         st_hier_write_pos(h, c.row_vertex[r], l, f + 3 * (size_t)r);
@@ -219,16 +264,19 @@ static double analyze_level(st_hier *h, unsigned l)
     free(dd);
     free(x);
     free(f);
-    csr_free(&c);
+    st_level_stencils_free(cp);
     return res;
 }
 
-double st_hier_analyze(st_hier *h, unsigned to)
+double st_hier_analyze_with(st_hier *h, unsigned to, st_level_stencils *top)
 {
     double worst = 0;
     for (unsigned l = h->map.top; l > to; l--) {
-        double r = analyze_level(h, l);
+        double r = analyze_level(h, l, l == h->map.top ? top : NULL);
         if (r > worst) worst = r;
     }
+    if (h->map.top <= to) st_level_stencils_free(top);
     return worst;
 }
+
+double st_hier_analyze(st_hier *h, unsigned to) { return st_hier_analyze_with(h, to, NULL); }

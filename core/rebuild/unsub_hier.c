@@ -275,6 +275,54 @@ static void refine_task(st_team *team, unsigned t, void *ctx)
     }
 }
 
+/* The input's vertex for every vertex of the hierarchy (map), level by
+ * level, with Catmull-Clark's starting points written on the way; the
+ * correspondence of the finest level with the input, checked, and the
+ * input's positions written there.  Beside it, on a second thread, the
+ * finest level's stencils for the analysis (st_hier_level_stencils):
+ * they depend on the connectivity only, which is complete, and the
+ * results are the same on one thread or two. */
+typedef struct positions_job {
+    st_hier *h;
+    const st_mesh *in;
+    const st_unsub *u;
+    const st_scheme *sc;
+    const st_unsub_topo *topo;
+    uint32_t *map, *corner_of;
+    st_error *err;
+    int rc;                       /* in: the level-0 check's */
+    st_level_stencils *top;       /* the finest level's stencils */
+} positions_job;
+
+static void write_positions(positions_job *j)
+{
+    st_hier *h = j->h;
+    const st_unsub *u = j->u;
+    int rc = j->rc;
+    for (unsigned l = 0; l < u->levels && !rc; l++) {
+        if (l > 0 && j->sc->id == ST_SCHEME_CATMARK) start_level(h, &u->step[l].coarse, l, j->map);
+        rc = map_level(h, u, l, j->map, j->err);
+    }
+    if (!rc) rc = check_correspondence(h, j->in, j->topo, j->map, j->corner_of, j->err);
+    if (!rc) {
+        pool_walk it;
+        for (uint32_t v = vertex_first(&h->map, u->levels, &it); v != ST_NIL; v = walk_next(&it))
+            st_hier_write_pos(h, v, u->levels, j->in->pos + 3 * (size_t)j->map[v]);
+    }
+    j->rc = rc;
+}
+
+static void positions_task(st_team *team, unsigned t, void *ctx)
+{
+    (void)t;
+    positions_job *j = ctx;
+    uint32_t b, e;
+    while (st_team_next(team, 0, 2, 1, &b, &e)) {
+        if (b == 0) j->top = st_hier_level_stencils(j->h, j->u->levels);
+        else write_positions(j);
+    }
+}
+
 int st_unsub_build_hier(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                         st_hier *h, uint32_t **fine_of, double *residual, st_error *err)
 {
@@ -312,21 +360,20 @@ int st_unsub_build_hier_corners(const st_mesh *in, st_unsub *u, const st_scheme 
     uint32_t i = 0;
     for (uint32_t v = vertex_first(m, 0, &it); v != ST_NIL; v = walk_next(&it)) map[v] = i++;
     if (i != u->step[0].coarse.nverts) rc = st_fail(err, ST_ERR_INVALID, "level 0 has %u vertices, the cage %u", i, u->step[0].coarse.nverts);
-    for (unsigned j = 0; j < u->levels && !rc; j++) {
-        if (j > 0 && sc->id == ST_SCHEME_CATMARK) start_level(h, &u->step[j].coarse, j, map);
-        rc = map_level(h, u, j, map, err);
-    }
-    if (!rc) rc = check_correspondence(h, in, &job.topo, map, corner_of, err);
+    positions_job pj = { .h = h, .in = in, .u = u, .sc = sc, .topo = &job.topo, .map = map, .corner_of = corner_of, .err = err, .rc = rc };
+    /* Catmull-Clark's stencils read the connectivity only, which the other
+     * task leaves alone (it writes positions); other schemes take the two
+     * tasks in turn. */
+    st_team_run(st_parallel_threads() < 2 || sc->id != ST_SCHEME_CATMARK ? 1 : 2, positions_task, &pj);
+    rc = pj.rc;
     if (!rc) rc = finest_tags(h, in, &job.topo, map, corner_of, err);
     if (job.own_topo) st_unsub_topo_free(&job.topo);
     release_topologies(u);
-    if (rc) { free(map); free(corner_of); st_hier_free(h); return rc; }
+    if (rc) { st_level_stencils_free(pj.top); free(map); free(corner_of); st_hier_free(h); return rc; }
     if (corner_of_out) *corner_of_out = corner_of;
     else free(corner_of);
     unsigned k = u->levels;
-    for (uint32_t v = vertex_first(m, k, &it); v != ST_NIL; v = walk_next(&it))
-        st_hier_write_pos(h, v, k, in->pos + 3 * (size_t)map[v]);
-    double r = st_hier_analyze(h, 0);
+    double r = st_hier_analyze_with(h, 0, pj.top);
     /* The analysis writes the finest level back as given; make sure of it,
      * as the finest level must reproduce the input bit for bit. */
     for (uint32_t v = vertex_first(m, k, &it); v != ST_NIL; v = walk_next(&it))
