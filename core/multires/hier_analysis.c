@@ -268,14 +268,14 @@ static double analyze_level(st_hier *h, unsigned l, st_level_stencils *given)
     return res;
 }
 
-double st_hier_analyze_with(st_hier *h, unsigned to, st_level_stencils *top)
+double st_hier_analyze_with(st_hier *h, unsigned to, st_level_stencils **given)
 {
     double worst = 0;
     for (unsigned l = h->map.top; l > to; l--) {
-        double r = analyze_level(h, l, l == h->map.top ? top : NULL);
+        double r = analyze_level(h, l, given ? given[l] : NULL);
+        if (given) given[l] = NULL;
         if (r > worst) worst = r;
     }
-    if (h->map.top <= to) st_level_stencils_free(top);
     return worst;
 }
 
