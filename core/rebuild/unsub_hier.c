@@ -292,6 +292,7 @@ typedef struct positions_job {
     uint32_t *map, *corner_of;
     st_error *err;
     int rc;                       /* in: the level-0 check's */
+    double *uv_residual;          /* NULL: not measured */
     st_level_stencils *stencils[ST_MAX_LEVELS + 1];   /* levels 1..k's, for the analysis */
 } positions_job;
 
@@ -314,6 +315,7 @@ static void write_positions(positions_job *j)
         pool_walk it;
         for (uint32_t v = vertex_first(&h->map, u->levels, &it); v != ST_NIL; v = walk_next(&it))
             st_hier_write_pos(h, v, u->levels, j->in->pos + 3 * (size_t)j->map[v]);
+        if (j->uv_residual) *j->uv_residual = st_unsub_uv_residual_corners(h, j->in, j->corner_of);
     }
     j->rc = rc;
 }
@@ -335,15 +337,17 @@ static void positions_task(st_team *team, unsigned t, void *ctx)
 int st_unsub_build_hier(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
                         st_hier *h, uint32_t **fine_of, double *residual, st_error *err)
 {
-    return st_unsub_build_hier_corners(in, u, sc, ho, h, fine_of, NULL, residual, err);
+    return st_unsub_build_hier_corners(in, u, sc, ho, h, fine_of, NULL, residual, NULL, err);
 }
 
 int st_unsub_build_hier_corners(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
-                                st_hier *h, uint32_t **fine_of, uint32_t **corner_of_out, double *residual, st_error *err)
+                                st_hier *h, uint32_t **fine_of, uint32_t **corner_of_out, double *residual,
+                                double *uv_residual, st_error *err)
 {
     if (fine_of) *fine_of = NULL;
     if (corner_of_out) *corner_of_out = NULL;
     if (residual) *residual = 0;
+    if (uv_residual) *uv_residual = 0;
     if (!u->levels) return st_fail(err, ST_ERR_INVALID, "nothing to rebuild: no level was recovered");
     refine_job job = { .h = h, .in = in, .u = u, .sc = sc, .ho = ho, .err = err };
     /* With the input's adjacency kept by st_unsubdivide, the second task
@@ -369,7 +373,8 @@ int st_unsub_build_hier_corners(const st_mesh *in, st_unsub *u, const st_scheme 
     uint32_t i = 0;
     for (uint32_t v = vertex_first(m, 0, &it); v != ST_NIL; v = walk_next(&it)) map[v] = i++;
     if (i != u->step[0].coarse.nverts) rc = st_fail(err, ST_ERR_INVALID, "level 0 has %u vertices, the cage %u", i, u->step[0].coarse.nverts);
-    positions_job pj = { .h = h, .in = in, .u = u, .sc = sc, .topo = &job.topo, .map = map, .corner_of = corner_of, .err = err, .rc = rc };
+    positions_job pj = { .h = h, .in = in, .u = u, .sc = sc, .topo = &job.topo, .map = map, .corner_of = corner_of, .err = err, .rc = rc,
+                          .uv_residual = uv_residual && in->face_uv ? uv_residual : NULL };
     /* Catmull-Clark's stencils read the connectivity only, which the other
      * task leaves alone (it writes positions); other schemes take the two
      * tasks in turn. */
