@@ -141,6 +141,93 @@ static void mul_sts(const csr *c, const double *x, double *out, const double *f,
     }
 }
 
+/* S^T S x on several threads: thread t owns the coarse entries
+ * [lo[t], lo[t+1]) and goes through the rows that name one of them, in
+ * order, adding only into its own entries.  Every entry receives the same
+ * terms in the same order as from mul_sts, so the sums are the same to
+ * the bit on any number of threads.  The rows of each part are listed
+ * once per level (a row near a part's border is in both lists). */
+#define STS_MAX_PARTS 8
+typedef struct sts_plan {
+    unsigned parts;                        /* 1: mul_sts alone */
+    uint32_t lo[STS_MAX_PARTS + 1];
+    uint32_t *rows[STS_MAX_PARTS], nrows[STS_MAX_PARTS];
+} sts_plan;
+
+/* Levels of fewer rows take one thread: starting threads per product
+ * (st_team_run) costs more than it saves there. */
+#define STS_MIN_ROWS 65536u
+
+static void sts_plan_init(sts_plan *pl, const csr *c, uint32_t n)
+{
+    memset(pl, 0, sizeof *pl);
+    unsigned threads = st_parallel_threads();
+    pl->parts = c->nrows < STS_MIN_ROWS || threads < 2 ? 1 : threads < STS_MAX_PARTS ? threads : STS_MAX_PARTS;
+    if (pl->parts == 1) return;
+    for (unsigned t = 0; t <= pl->parts; t++) pl->lo[t] = (uint32_t)((uint64_t)n * t / pl->parts);
+    for (unsigned t = 0; t < pl->parts; t++) {
+        pl->rows[t] = st_malloc_huge(((size_t)c->nrows + 1) * sizeof *pl->rows[t]);
+        if (!pl->rows[t]) abort(); /* analysis scratch, as grow() */
+    }
+    for (uint32_t r = 0; r < c->nrows; r++)
+        for (unsigned t = 0; t < pl->parts; t++)
+            for (uint32_t k = c->off[r]; k < c->off[r + 1]; k++)
+                if (c->col[k] - pl->lo[t] < pl->lo[t + 1] - pl->lo[t]) {
+                    pl->rows[t][pl->nrows[t]++] = r;
+                    break;
+                }
+}
+
+static void sts_plan_free(sts_plan *pl)
+{
+    for (unsigned t = 0; t < STS_MAX_PARTS; t++) free(pl->rows[t]);
+}
+
+typedef struct sts_job {
+    const csr *c;
+    const sts_plan *pl;
+    const double *x, *f;
+    double *out, *b;
+} sts_job;
+
+static void sts_part(st_team *team, unsigned t, void *ctx)
+{
+    (void)t;
+    const sts_job *j = ctx;
+    const csr *c = j->c;
+    uint32_t part, end;
+    while (st_team_next(team, 0, j->pl->parts, 1, &part, &end)) {
+        uint32_t lo = j->pl->lo[part], span = j->pl->lo[part + 1] - lo;
+        memset(j->out + 3 * (size_t)lo, 0, 3 * (size_t)span * sizeof *j->out);
+        if (j->f) memset(j->b + 3 * (size_t)lo, 0, 3 * (size_t)span * sizeof *j->b);
+        for (uint32_t i = 0; i < j->pl->nrows[part]; i++) {
+            uint32_t r = j->pl->rows[part][i];
+            double y[3];
+            row_times(c, r, j->x, y);
+            const double *g = j->f ? j->f + 3 * (size_t)r : NULL;
+            for (uint32_t k = c->off[r]; k < c->off[r + 1]; k++) {
+                if (c->col[k] - lo >= span) continue;
+                double *p = j->out + 3 * (size_t)c->col[k], w = c->w[k];
+                p[0] += w * y[0]; p[1] += w * y[1]; p[2] += w * y[2];
+                if (!g) continue;
+                double *q = j->b + 3 * (size_t)c->col[k];
+                q[0] += w * g[0]; q[1] += w * g[1]; q[2] += w * g[2];
+            }
+        }
+    }
+}
+
+static void mul_sts_plan(const csr *c, const sts_plan *pl, const double *x, double *out, const double *f, double *b,
+                         uint32_t n)
+{
+    if (pl->parts == 1) {
+        mul_sts(c, x, out, f, b, n);
+        return;
+    }
+    sts_job j = { c, pl, x, f, out, b };
+    st_team_run(pl->parts, sts_part, &j);
+}
+
 static double dot(const double *a, const double *b, size_t n)
 {
     double s = 0;
@@ -157,11 +244,13 @@ static double solve(const csr *c, const double *f, double *x, uint32_t n)
     double *b = malloc(nn * sizeof *b), *r = malloc(nn * sizeof *r), *p = malloc(nn * sizeof *p);
     double *ap = malloc(nn * sizeof *ap);
     if (!b || !r || !p || !ap) abort();
-    mul_sts(c, x, r, f, b, n);
+    sts_plan pl;
+    sts_plan_init(&pl, c, n);
+    mul_sts_plan(c, &pl, x, r, f, b, n);
     for (size_t i = 0; i < nn; i++) { r[i] = b[i] - r[i]; p[i] = r[i]; }
     double bb = dot(b, b, nn), rr = dot(r, r, nn);
     for (int it = 0; it < 2000 && rr > 1e-30 * bb && rr > 0; it++) {
-        mul_sts(c, p, ap, NULL, NULL, n);
+        mul_sts_plan(c, &pl, p, ap, NULL, NULL, n);
         double pap = dot(p, ap, nn);
         if (pap <= 0) break;
         double alpha = rr / pap, rr2 = 0;
@@ -173,6 +262,7 @@ static double solve(const csr *c, const double *f, double *x, uint32_t n)
         for (size_t i = 0; i < nn; i++) p[i] = r[i] + (rr2 / rr) * p[i];
         rr = rr2;
     }
+    sts_plan_free(&pl);
     free(b); free(r); free(p); free(ap);
     return bb > 0 ? sqrt(rr / bb) : 0;
 }
