@@ -1,6 +1,7 @@
 /* Half-edge adjacency for the unsubdivide pass (unsub_topo_internal.h). */
 #include "core/rebuild/unsub_topo_internal.h"
 #include "core/base/hugepage.h"
+#include "core/base/parallel.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,46 @@ void st_unsub_topo_free(st_unsub_topo *t)
     free(t->face_of); free(t->out_off); free(t->out_c); free(t->out_t); free(t->twin); free(t->bnd); free(t->valence);
     memset(t, 0, sizeof *t);
 }
+
+typedef struct topo_slot { uint32_t c, t, in_c, in_s; } topo_slot;
+
+/* The twin of a -> b is the in-coming half-edge b -> a: one in an
+ * oriented manifold; in a mesh read off a wrong labelling there may be
+ * more, and the smallest corner is taken, as st_unsub_find(b, a) gives
+ * (b's slots are in corner order), so that the manifold check reports
+ * the same vertex either way.  Vertices a in [v0, v1): each writes its own
+ * slots' entries and the twins of its own out-going corners only, so
+ * vertex ranges run on separate threads with the same result. */
+static void twins_of(st_unsub_topo *t, const topo_slot *slot, uint32_t v0, uint32_t v1)
+{
+    for (uint32_t a = v0; a < v1; a++) {
+        uint32_t lo = t->out_off[a], hi = t->out_off[a + 1];
+        for (uint32_t k = lo; k < hi; k++) {
+            uint32_t b = slot[k].t, tw = ST_NIL;
+            for (uint32_t j = lo; j < hi; j++)
+                if (slot[j].in_s == b && slot[j].in_c < tw) tw = slot[j].in_c;
+            t->twin[slot[k].c] = tw;
+            t->out_c[k] = slot[k].c;
+            t->out_t[k] = b;
+            if (tw == ST_NIL) t->bnd[a] = 1;
+        }
+        /* A boundary fan has one neighbour more than out-going half-edges. */
+        t->valence[a] = hi - lo + t->bnd[a];
+    }
+}
+
+typedef struct twins_job { st_unsub_topo *t; const topo_slot *slot; } twins_job;
+
+static void twins_task(st_team *team, unsigned th, void *ctx)
+{
+    (void)th;
+    twins_job *j = ctx;
+    uint32_t b, e;
+    while (st_team_next(team, 0, j->t->nv, 16384, &b, &e)) twins_of(j->t, j->slot, b, e);
+}
+
+/* Fewer vertices than this: one thread (starting threads costs more). */
+#define TWINS_MIN_VERTS 65536u
 
 int st_unsub_topo_build(st_unsub_topo *t, const st_mesh *m)
 {
@@ -51,7 +92,7 @@ int st_unsub_topo_build(st_unsub_topo *t, const st_mesh *m)
      * bench_unsubdivide --levels 3 --no-hier: 11.5 M last-level misses in
      * this function when each twin was looked up in the neighbour's slots,
      * 5.8 M so.) */
-    struct slot { uint32_t c, t, in_c, in_s; } *slot = st_malloc_huge(nc * sizeof *slot);
+    topo_slot *slot = st_malloc_huge(nc * sizeof *slot);
     if (!slot) {
         st_unsub_topo_free(t);
         return -1;
@@ -61,28 +102,11 @@ int st_unsub_topo_build(st_unsub_topo *t, const st_mesh *m)
         uint32_t lo = t->foff[f], hi = t->foff[f + 1];
         for (uint32_t c = lo; c < hi; c++) {
             uint32_t pc = c > lo ? c - 1 : hi - 1;
-            slot[t->valence[t->fidx[c]]++] = (struct slot){ c, t->fidx[c + 1 < hi ? c + 1 : lo], pc, t->fidx[pc] };
+            slot[t->valence[t->fidx[c]]++] = (topo_slot){ c, t->fidx[c + 1 < hi ? c + 1 : lo], pc, t->fidx[pc] };
         }
     }
-    /* The twin of a -> b is the in-coming half-edge b -> a: one in an
-     * oriented manifold; in a mesh read off a wrong labelling there may be
-     * more, and the smallest corner is taken, as st_unsub_find(b, a) gives
-     * (b's slots are in corner order), so that the manifold check reports
-     * the same vertex either way. */
-    for (uint32_t a = 0; a < t->nv; a++) {
-        uint32_t lo = t->out_off[a], hi = t->out_off[a + 1];
-        for (uint32_t k = lo; k < hi; k++) {
-            uint32_t b = slot[k].t, tw = ST_NIL;
-            for (uint32_t j = lo; j < hi; j++)
-                if (slot[j].in_s == b && slot[j].in_c < tw) tw = slot[j].in_c;
-            t->twin[slot[k].c] = tw;
-            t->out_c[k] = slot[k].c;
-            t->out_t[k] = b;
-            if (tw == ST_NIL) t->bnd[a] = 1;
-        }
-        /* A boundary fan has one neighbour more than out-going half-edges. */
-        t->valence[a] = hi - lo + t->bnd[a];
-    }
+    twins_job j = { t, slot };
+    st_team_run(t->nv < TWINS_MIN_VERTS ? 1 : st_parallel_threads(), twins_task, &j);
     free(slot);
     return 0;
 }
