@@ -62,7 +62,8 @@ int st_unsub_topo_build(st_unsub_topo *t, const st_mesh *m)
     t->fidx = m->face_idx;
     size_t nc = (size_t)t->nc + 1, nv = (size_t)t->nv + 1;
     /* Written in full right away: huge pages, one fault per 2 MiB
-     * (hugepage.h; page faults were a sixth of a rebuild's system time). */
+     * (hugepage.h; this function took a sixth of bench_unsubdivide's page
+     * faults with 4 KiB pages). */
     t->face_of = st_malloc_huge(nc * sizeof *t->face_of);
     t->out_off = st_calloc_huge(nv + 1, sizeof *t->out_off);
     t->out_c = st_malloc_huge(nc * sizeof *t->out_c);
