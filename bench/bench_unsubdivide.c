@@ -1,4 +1,4 @@
-/* bench_unsubdivide [MESH] [--levels N] [--repeat R] [--no-hier] [--rebuild-only]:
+/* bench_unsubdivide [MESH] [--levels N] [--repeat R] [--no-hier] [--rebuild-only] [--noise F]:
  * rebuilding the levels of a Catmull-Clark mesh (default: spot's quad cage,
  * 2928 faces, subdivided 4 times = 749,568 quads, vertex order shuffled as
  * another program would number) against Strata subdividing the cage to the
@@ -11,11 +11,15 @@
  * alone, the same in Strata's vertex order and without a level limit.
  * Medians of R runs (default 5) of wall-clock and CPU time (CPU time counts
  * every thread).  --no-hier: unsubdivide and subdivide only (for
- * callgrind); --rebuild-only: the rebuild alone, R times (for perf). */
+ * callgrind); --rebuild-only: the rebuild alone, R times (for perf);
+ * --noise F: every vertex of the shuffled input moved by up to F times the bounding-box
+ * diagonal per coordinate (no exact subdivision: the analysis' solver
+ * iterates). */
 #include "bench_common.h"
 #include "core/rebuild/rebuild.h"
 #include "core/rebuild/unsubdivide.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -50,6 +54,21 @@ static void shuffle_vertices(st_mesh *m)
     free(perm);
 }
 
+/* Each coordinate moved by up to f times the bounding-box diagonal. */
+static void add_noise(st_mesh *m, double f)
+{
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; k++) lo[k] = hi[k] = m->nverts ? m->pos[k] : 0;
+    for (uint32_t v = 0; v < m->nverts; v++)
+        for (int k = 0; k < 3; k++) {
+            double x = m->pos[3 * (size_t)v + k];
+            if (x < lo[k]) lo[k] = x;
+            if (x > hi[k]) hi[k] = x;
+        }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    for (size_t i = 0; i < 3 * (size_t)m->nverts; i++) m->pos[i] += f * diag * ((double)rnd() / 4294967295.0 * 2 - 1);
+}
+
 /* Wall-clock and CPU time of repeated runs. */
 typedef struct timing { double wall[99], cpu[99]; int n; double w0, c0; } timing;
 static void tic(timing *t) { t->w0 = bench_now(); t->c0 = cpu_now(); }
@@ -76,14 +95,16 @@ int main(int argc, char **argv)
     const char *path = STRATA_SHARED_DATA "/catmull_clark/spot_quadrangulated.obj";
     unsigned levels = 4;
     int repeat = 5, hier = 1, only_rebuild = 0;
+    double noise = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = (unsigned)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--no-hier")) hier = 0;   /* for callgrind: unsubdivide and subdivide only */
         else if (!strcmp(argv[i], "--rebuild-only")) only_rebuild = 1;
+        else if (!strcmp(argv[i], "--noise") && i + 1 < argc) noise = atof(argv[++i]);
         else path = argv[i];
     }
-    if (repeat < 1 || repeat > 99 || levels < 1 || levels > 8) { fprintf(stderr, "bad arguments\n"); return 2; }
+    if (repeat < 1 || repeat > 99 || levels < 1 || levels > 8 || !(noise >= 0 && noise < 1)) { fprintf(stderr, "bad arguments\n"); return 2; }
     const st_scheme *sc = st_scheme_find("catmull-clark");
     st_error err;
     st_mesh cage, fine;
@@ -97,6 +118,7 @@ int main(int argc, char **argv)
         if (st_hier_level_mesh(&h, levels, &fine, &err)) die(&err);
         st_hier_free(&h);
     }
+    if (noise > 0) add_noise(&fine, noise);
     st_rebuild_report rep;
     memset(&rep, 0, sizeof rep);
     if (only_rebuild) {

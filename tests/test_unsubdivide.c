@@ -380,7 +380,7 @@ static void check_threads(void)
     for (unsigned t = 0; t < 2; t++) {
         st_parallel_set_threads(t + 1);
         CHECKF(st_unsub_build_hier_corners(&shuffled, &u, st_scheme_find("catmull-clark"), NULL, &h[t], &fine_of[t],
-                                           &corner_of[t], NULL, &err) == 0, "%u thread(s): %s", t + 1, err.msg);
+                                           &corner_of[t], NULL, NULL, &err) == 0, "%u thread(s): %s", t + 1, err.msg);
     }
     st_parallel_set_threads(0);
     const st_map *a = &h[0].map, *b = &h[1].map;

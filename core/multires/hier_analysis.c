@@ -11,13 +11,15 @@
  * solved by conjugate gradients, warm-started from the current P_{l-1}.
  * The stencils of level l are cached in CSR form for the solve. */
 #include "core/multires/hier_internal.h"
+#include "core/base/hugepage.h"
+#include "core/map/pool_internal.h"
 #include "core/base/parallel.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct csr {
+typedef struct st_level_stencils {
     uint32_t nrows;           /* fine vertices */
     uint32_t *row_vertex;     /* fine vertex id per row */
     uint32_t *off;            /* nrows + 1 */
@@ -26,12 +28,13 @@ typedef struct csr {
     uint32_t *frame_dart;
     uint8_t *frame_cell;
     uint32_t cap_rows, cap_nz;
-} csr;
+} csr;   /* st_level_stencils */
 
 static void *grow(void *p, size_t n, size_t elem)
 {
     void *q = realloc(p, n * elem);
     if (!q) abort(); /* analysis scratch: out of memory is fatal here */
+    st_advise_huge(q, n * elem);
     return q;
 }
 
@@ -62,6 +65,35 @@ static void csr_sink(void *ctx, const st_stencil *s)
 static void csr_free(csr *c)
 {
     free(c->row_vertex); free(c->off); free(c->col); free(c->w); free(c->frame_dart); free(c->frame_cell);
+}
+
+void st_level_stencils_free(st_level_stencils *c)
+{
+    if (!c) return;
+    csr_free(c);
+    free(c);
+}
+
+/* The stencils of every vertex of level l, in the scheme's order.  The
+ * arrays start at their likely size (a row per vertex id level l can hold,
+ * 8 weights a row: Catmull-Clark averages about 6.3), so that a large
+ * level is not copied by each doubling. */
+st_level_stencils *st_hier_level_stencils(st_hier *h, unsigned l)
+{
+    csr *c = calloc(1, sizeof *c);
+    if (!c) abort();
+    uint32_t rows = st_pool_cover(&h->map.verts, l);
+    c->cap_rows = rows + 2;
+    c->cap_nz = c->cap_rows > UINT32_MAX / 8 ? UINT32_MAX : 8 * c->cap_rows;
+    c->row_vertex = grow(NULL, c->cap_rows, sizeof *c->row_vertex);
+    c->off = grow(NULL, c->cap_rows + 1, sizeof *c->off);
+    c->frame_dart = grow(NULL, c->cap_rows, sizeof *c->frame_dart);
+    c->frame_cell = grow(NULL, c->cap_rows, sizeof *c->frame_cell);
+    c->col = grow(NULL, c->cap_nz, sizeof *c->col);
+    c->w = grow(NULL, c->cap_nz, sizeof *c->w);
+    c->off[0] = 0;
+    h->scheme->emit(h, l, NULL, 0, csr_sink, c);
+    return c;
 }
 
 /* Row r of S applied to x: the prediction of fine vertex r. */
@@ -109,6 +141,93 @@ static void mul_sts(const csr *c, const double *x, double *out, const double *f,
     }
 }
 
+/* S^T S x on several threads: thread t owns the coarse entries
+ * [lo[t], lo[t+1]) and goes through the rows that name one of them, in
+ * order, adding only into its own entries.  Every entry receives the same
+ * terms in the same order as from mul_sts, so the sums are the same to
+ * the bit on any number of threads.  The rows of each part are listed
+ * once per level (a row near a part's border is in both lists). */
+#define STS_MAX_PARTS 8
+typedef struct sts_plan {
+    unsigned parts;                        /* 1: mul_sts alone */
+    uint32_t lo[STS_MAX_PARTS + 1];
+    uint32_t *rows[STS_MAX_PARTS], nrows[STS_MAX_PARTS];
+} sts_plan;
+
+/* Levels of fewer rows take one thread: starting threads per product
+ * (st_team_run) costs more than it saves there. */
+#define STS_MIN_ROWS 65536u
+
+static void sts_plan_init(sts_plan *pl, const csr *c, uint32_t n)
+{
+    memset(pl, 0, sizeof *pl);
+    unsigned threads = st_parallel_threads();
+    pl->parts = c->nrows < STS_MIN_ROWS || threads < 2 ? 1 : threads < STS_MAX_PARTS ? threads : STS_MAX_PARTS;
+    if (pl->parts == 1) return;
+    for (unsigned t = 0; t <= pl->parts; t++) pl->lo[t] = (uint32_t)((uint64_t)n * t / pl->parts);
+    for (unsigned t = 0; t < pl->parts; t++) {
+        pl->rows[t] = st_malloc_huge(((size_t)c->nrows + 1) * sizeof *pl->rows[t]);
+        if (!pl->rows[t]) abort(); /* analysis scratch, as grow() */
+    }
+    for (uint32_t r = 0; r < c->nrows; r++)
+        for (unsigned t = 0; t < pl->parts; t++)
+            for (uint32_t k = c->off[r]; k < c->off[r + 1]; k++)
+                if (c->col[k] - pl->lo[t] < pl->lo[t + 1] - pl->lo[t]) {
+                    pl->rows[t][pl->nrows[t]++] = r;
+                    break;
+                }
+}
+
+static void sts_plan_free(sts_plan *pl)
+{
+    for (unsigned t = 0; t < STS_MAX_PARTS; t++) free(pl->rows[t]);
+}
+
+typedef struct sts_job {
+    const csr *c;
+    const sts_plan *pl;
+    const double *x, *f;
+    double *out, *b;
+} sts_job;
+
+static void sts_part(st_team *team, unsigned t, void *ctx)
+{
+    (void)t;
+    const sts_job *j = ctx;
+    const csr *c = j->c;
+    uint32_t part, end;
+    while (st_team_next(team, 0, j->pl->parts, 1, &part, &end)) {
+        uint32_t lo = j->pl->lo[part], span = j->pl->lo[part + 1] - lo;
+        memset(j->out + 3 * (size_t)lo, 0, 3 * (size_t)span * sizeof *j->out);
+        if (j->f) memset(j->b + 3 * (size_t)lo, 0, 3 * (size_t)span * sizeof *j->b);
+        for (uint32_t i = 0; i < j->pl->nrows[part]; i++) {
+            uint32_t r = j->pl->rows[part][i];
+            double y[3];
+            row_times(c, r, j->x, y);
+            const double *g = j->f ? j->f + 3 * (size_t)r : NULL;
+            for (uint32_t k = c->off[r]; k < c->off[r + 1]; k++) {
+                if (c->col[k] - lo >= span) continue;
+                double *p = j->out + 3 * (size_t)c->col[k], w = c->w[k];
+                p[0] += w * y[0]; p[1] += w * y[1]; p[2] += w * y[2];
+                if (!g) continue;
+                double *q = j->b + 3 * (size_t)c->col[k];
+                q[0] += w * g[0]; q[1] += w * g[1]; q[2] += w * g[2];
+            }
+        }
+    }
+}
+
+static void mul_sts_plan(const csr *c, const sts_plan *pl, const double *x, double *out, const double *f, double *b,
+                         uint32_t n)
+{
+    if (pl->parts == 1) {
+        mul_sts(c, x, out, f, b, n);
+        return;
+    }
+    sts_job j = { c, pl, x, f, out, b };
+    st_team_run(pl->parts, sts_part, &j);
+}
+
 static double dot(const double *a, const double *b, size_t n)
 {
     double s = 0;
@@ -125,11 +244,13 @@ static double solve(const csr *c, const double *f, double *x, uint32_t n)
     double *b = malloc(nn * sizeof *b), *r = malloc(nn * sizeof *r), *p = malloc(nn * sizeof *p);
     double *ap = malloc(nn * sizeof *ap);
     if (!b || !r || !p || !ap) abort();
-    mul_sts(c, x, r, f, b, n);
+    sts_plan pl;
+    sts_plan_init(&pl, c, n);
+    mul_sts_plan(c, &pl, x, r, f, b, n);
     for (size_t i = 0; i < nn; i++) { r[i] = b[i] - r[i]; p[i] = r[i]; }
     double bb = dot(b, b, nn), rr = dot(r, r, nn);
     for (int it = 0; it < 2000 && rr > 1e-30 * bb && rr > 0; it++) {
-        mul_sts(c, p, ap, NULL, NULL, n);
+        mul_sts_plan(c, &pl, p, ap, NULL, NULL, n);
         double pap = dot(p, ap, nn);
         if (pap <= 0) break;
         double alpha = rr / pap, rr2 = 0;
@@ -141,6 +262,7 @@ static double solve(const csr *c, const double *f, double *x, uint32_t n)
         for (size_t i = 0; i < nn; i++) p[i] = r[i] + (rr2 / rr) * p[i];
         rr = rr2;
     }
+    sts_plan_free(&pl);
     free(b); free(r); free(p); free(ap);
     return bb > 0 ? sqrt(rr / bb) : 0;
 }
@@ -175,14 +297,26 @@ static void detail_rows(st_team *team, unsigned t, void *ctx)
         }
 }
 
-static double analyze_level(st_hier *h, unsigned l)
+/* Level l's detail array as st_hier_set_detail would size it at the first
+ * non-zero detail (every vertex id of the map), zeroed by calloc's fresh
+ * pages instead of grown from nothing and cleared with memset. */
+static void preallocate_details(st_hier *h, unsigned l, const double *dd, uint32_t nrows)
+{
+    if (h->detail[l]) return;
+    size_t i = 0, n = 3 * (size_t)nrows;
+    while (i < n && dd[i] == 0) i++;
+    if (i == n) return;
+    uint32_t cap = h->map.verts.end;
+    double *p = st_calloc_huge(3 * (size_t)cap, sizeof *p);
+    if (!p) abort(); /* as st_hier_set_detail */
+    h->detail[l] = p;
+    h->detail_cap[l] = cap;
+}
+
+static double analyze_level(st_hier *h, unsigned l, st_level_stencils *given)
 {
     st_map *m = &h->map;
-    csr c = { 0 };
-    c.off = grow(NULL, 1, sizeof *c.off);
-    c.off[0] = 0;
-    c.cap_rows = 0;
-    h->scheme->emit(h, l, NULL, 0, csr_sink, &c);
+    csr *cp = given ? given : st_hier_level_stencils(h, l), c = *cp;
     /* The solve runs over the coarse ids the stencils name, not every
      * vertex id of the map (the finer levels' ids lie above them when
      * levels are built coarse to fine): the vectors of the CG shrink
@@ -212,6 +346,7 @@ static double analyze_level(st_hier *h, unsigned l)
     detail_job job = { h, l, &c, x, f, dd };
     unsigned threads = st_parallel_threads(), most = c.nrows / 8192u;   /* at least 8192 rows a thread */
     st_team_run(threads < most ? threads : most ? most : 1, detail_rows, &job);
+    preallocate_details(h, l, dd, c.nrows);
     for (uint32_t r = 0; r < c.nrows; r++) {
         st_hier_set_detail(h, l, c.row_vertex[r], dd + 3 * (size_t)r);
         st_hier_write_pos(h, c.row_vertex[r], l, f + 3 * (size_t)r);
@@ -219,16 +354,19 @@ static double analyze_level(st_hier *h, unsigned l)
     free(dd);
     free(x);
     free(f);
-    csr_free(&c);
+    st_level_stencils_free(cp);
     return res;
 }
 
-double st_hier_analyze(st_hier *h, unsigned to)
+double st_hier_analyze_with(st_hier *h, unsigned to, st_level_stencils **given)
 {
     double worst = 0;
     for (unsigned l = h->map.top; l > to; l--) {
-        double r = analyze_level(h, l);
+        double r = analyze_level(h, l, given ? given[l] : NULL);
+        if (given) given[l] = NULL;
         if (r > worst) worst = r;
     }
     return worst;
 }
+
+double st_hier_analyze(st_hier *h, unsigned to) { return st_hier_analyze_with(h, to, NULL); }

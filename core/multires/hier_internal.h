@@ -89,4 +89,14 @@ static inline void st_synth_put(st_synth_ctx *c, uint32_t v, uint32_t d, const d
     else st_dart_list_push(l, d);
 }
 
+/* The analysis in two parts (hier_analysis.c): the stencils of level l
+ * depend on the connectivity only, so a caller may build them while it
+ * writes positions (st_unsubdivide's hierarchy), then analyse with them:
+ * given[l] for the levels to+1..top (NULL: built then), each freed once
+ * used.  Same result as st_hier_analyze. */
+typedef struct st_level_stencils st_level_stencils;
+st_level_stencils *st_hier_level_stencils(st_hier *h, unsigned l);
+void st_level_stencils_free(st_level_stencils *c);
+double st_hier_analyze_with(st_hier *h, unsigned to, st_level_stencils **given);
+
 #endif

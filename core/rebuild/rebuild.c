@@ -98,11 +98,10 @@ static int build_unsubdivided(const char *name, const st_mesh *mesh, st_unsub *u
                        split ? "catmull-clark, or quad-triangle on a cage without triangles" : "loop, butterfly or quad-triangle");
     }
     st_hier_opts ho = { .boundary = ST_BOUNDARY_UNSET, .crease_method = ST_CREASE_UNIFORM, .uv_interp = o->uv_interp };
-    uint32_t *corner_of = NULL;
-    int rc = st_unsub_build_hier_corners(mesh, u, sc, &ho, h, NULL, mesh->face_uv ? &corner_of : NULL, NULL, err);
+    double uv_residual = 0;
+    int rc = st_unsub_build_hier_corners(mesh, u, sc, &ho, h, NULL, NULL, NULL, mesh->face_uv ? &uv_residual : NULL, err);
     if (rc) return named(err, name, rc);
     if (o->progress && o->progress(o->progress_ctx, 1.0)) {
-        free(corner_of);
         st_hier_free(h);
         return st_fail(err, ST_ERR_INVALID, "cancelled");
     }
@@ -124,8 +123,7 @@ static int build_unsubdivided(const char *name, const st_mesh *mesh, st_unsub *u
     if (mesh->face_uv)
         st_notes_add(&rep->notes, "UVs: cage corners from the input's; refined with --uv-interp %s, the finest level's UVs "
                      "differ from the input's by at most %.3g (UVs have no details)",
-                     st_uv_interp_name(o->uv_interp), st_unsub_uv_residual_corners(h, mesh, corner_of));
-    free(corner_of);
+                     st_uv_interp_name(o->uv_interp), uv_residual);
     return ST_OK;
 }
 

@@ -3,6 +3,7 @@
  * coarse mesh off it; steps repeat while the pattern holds. */
 #include "core/rebuild/unsubdivide.h"
 #include "core/rebuild/unsub_topo_internal.h"
+#include "core/base/hugepage.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -438,12 +439,12 @@ static int alloc_step(st_unsub_step *st, uint32_t nv, uint32_t nf, uint32_t nc, 
     st_mesh *m = &st->coarse;
     m->nverts = nv;
     m->nfaces = nf;
-    m->pos = malloc(((size_t)nv + 1) * 3 * sizeof *m->pos);
-    m->face_off = malloc(((size_t)nf + 1) * sizeof *m->face_off);
-    m->face_idx = malloc(((size_t)nc + 1) * sizeof *m->face_idx);
-    st->v_fine = malloc(((size_t)nv + 1) * sizeof *st->v_fine);
-    st->e_fine = malloc(((size_t)nc + 1) * sizeof *st->e_fine);
-    st->f_fine = faces_pts ? malloc(((size_t)nf + 1) * sizeof *st->f_fine) : NULL;
+    m->pos = st_malloc_huge(((size_t)nv + 1) * 3 * sizeof *m->pos);
+    m->face_off = st_malloc_huge(((size_t)nf + 1) * sizeof *m->face_off);
+    m->face_idx = st_malloc_huge(((size_t)nc + 1) * sizeof *m->face_idx);
+    st->v_fine = st_malloc_huge(((size_t)nv + 1) * sizeof *st->v_fine);
+    st->e_fine = st_malloc_huge(((size_t)nc + 1) * sizeof *st->e_fine);
+    st->f_fine = faces_pts ? st_malloc_huge(((size_t)nf + 1) * sizeof *st->f_fine) : NULL;
     return m->pos && m->face_off && m->face_idx && st->v_fine && st->e_fine && (!faces_pts || st->f_fine) ? 0 : -1;
 }
 
@@ -943,18 +944,19 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
     memset(&next, 0, sizeof next);
     s->t = &t;
     size_t nv = (size_t)t.nv + 1, nf = (size_t)t.nf + 1;
-    s->lab = calloc(nv, 1);
-    s->phase = malloc(nf);
-    s->queue = malloc(nf * sizeof *s->queue);
+    /* Large scratch on huge pages (hugepage.h): one fault per 2 MiB. */
+    s->lab = st_calloc_huge(nv, 1);
+    s->phase = st_malloc_huge(nf);
+    s->queue = st_malloc_huge(nf * sizeof *s->queue);
     s->best_queue = malloc(nf * sizeof *s->best_queue);
     s->best_phase = malloc(nf);
-    s->acc = malloc(3 * nv * sizeof *s->acc);
-    s->mark = calloc(nv, 1);
-    uint32_t *vmap = malloc(nv * sizeof *vmap);
+    s->acc = st_malloc_huge(3 * nv * sizeof *s->acc);
+    s->mark = st_calloc_huge(nv, 1);
+    uint32_t *vmap = st_malloc_huge(nv * sizeof *vmap);
     /* Per coarse corner: the fine corner at its coarse vertex; per fine
      * face: its coarse face (tags and UVs, carry_tags). */
-    uint32_t *corner_fine = malloc(((size_t)t.nc + 1) * sizeof *corner_fine);
-    uint32_t *coarse_of = malloc(nf * sizeof *coarse_of);
+    uint32_t *corner_fine = st_malloc_huge(((size_t)t.nc + 1) * sizeof *corner_fine);
+    uint32_t *coarse_of = st_malloc_huge(nf * sizeof *coarse_of);
     int rc = -1;
     if (!s->lab || !s->phase || !s->queue || !s->best_queue || !s->best_phase || !s->acc || !s->mark || !vmap ||
         !corner_fine || !coarse_of) { failf(s, "out of memory"); goto done; }
@@ -986,7 +988,7 @@ static int unsub_step(step_ctx *s, const st_mesh *fine, int *pattern, st_unsub_s
     for (uint32_t v = 0; v < t.nv; v++)
         if (vmap[v] != ST_NIL) st->v_fine[vmap[v]] = v;
     if (s->pattern == ST_UNSUB_POLY_SPLIT) {
-        uint32_t *first = malloc(nv * sizeof *first), *rank = malloc(nv * sizeof *rank);
+        uint32_t *first = st_malloc_huge(nv * sizeof *first), *rank = st_malloc_huge(nv * sizeof *rank);
         if (!first || !rank) { free(first); free(rank); failf(s, "out of memory"); goto done; }
         int b = build_poly_faces(s, st, vmap, first, rank, corner_fine, coarse_of);
         free(first);

@@ -139,10 +139,13 @@ double st_unsub_uv_residual(const st_hier *h, const st_mesh *in, const uint32_t 
 /* The same two without looking half-edges up again: corner_of (optional,
  * darts.end entries by the hierarchy's dart id) receives the input corner
  * of each dart of the finest level, ST_NIL for boundary darts; *corner_of
- * is malloc'ed.  st_unsub_uv_residual_corners reads it (what `strata
- * rebuild` does: one adjacency of the input, not two). */
+ * is malloc'ed.  st_unsub_uv_residual_corners reads it.  uv_residual
+ * (optional) receives st_unsub_uv_residual_corners' value, measured while
+ * the analysis' stencils are built (what `strata rebuild` does: one
+ * adjacency of the input, not two). */
 int st_unsub_build_hier_corners(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
-                                st_hier *h, uint32_t **fine_of, uint32_t **corner_of, double *residual, st_error *err);
+                                st_hier *h, uint32_t **fine_of, uint32_t **corner_of, double *residual,
+                                double *uv_residual, st_error *err);
 double st_unsub_uv_residual_corners(const st_hier *h, const st_mesh *in, const uint32_t *corner_of);
 
 /* The longest detail vector of levels 1..top (0 for an exact subdivision,
