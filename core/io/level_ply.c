@@ -402,11 +402,60 @@ static inline void write_plain_faces(ply_out *o, st_map *m, unsigned l, const pl
     }
 }
 
-/* Without UVs: the level's vertices, then its real faces. */
-static void write_plain(FILE *f, st_map *m, unsigned l, const ply_view *pv, uint32_t nverts, const face_counts *fc,
-                        uint64_t *seen)
+/* Without UVs, in one walk: the face records of the real faces (a uchar
+ * size and the indices, as write_plain_faces writes them) into buf, which
+ * holds 5 bytes per dart of levels 0..l (the most a face record takes per
+ * corner), the counts into fc.  -1 (fc then partial) when a face has more
+ * than 255 corners: the records would need a uint size, known only after
+ * the walk. */
+static inline int faces_to_memory_kind(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen,
+                                       unsigned char *buf, size_t *len, int fast)
 {
     memset(seen, 0, seen_words(m) * sizeof *seen);
+    size_t n = 0;
+    st_fvar_scan it;
+    st_fvar_scan_init(&it, m, 0, l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+        if (st_is_boundary(m, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
+        int hole = st_is_hole(m, d);
+        unsigned char *idx = buf + n + 1;
+        uint32_t k = 0, x = d;
+        do {
+            seen[x >> 6] |= 1ull << (x & 63);
+            if (!hole) put_le(idx + 4 * (size_t)k, pv_index(pv, x, fast), 4);
+            k++;
+            x = pv_phi1(pv, x, fast);
+        } while (x != d);
+        count_face(fc, k, hole);
+        if (hole) continue;
+        if (k > 255) return -1;
+        buf[n] = (unsigned char)k;
+        n += 1 + 4 * (size_t)k;
+    }
+    *len = n;
+    return 0;
+}
+
+static int faces_to_memory(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen,
+                           unsigned char *buf, size_t *len)
+{
+    if (pv->fast) return faces_to_memory_kind(m, l, pv, fc, seen, buf, len, 1);
+    return faces_to_memory_kind(m, l, pv, fc, seen, buf, len, 0);
+}
+
+/* Darts of levels 0..l: the bound faces_to_memory's buffer is sized by. */
+static uint64_t darts_up_to(const st_map *m, unsigned l)
+{
+    uint64_t n = 0;
+    for (unsigned k = 0; k <= l && k < ST_MAX_LEVELS; k++) n += m->darts.live[k];
+    return n;
+}
+
+/* Without UVs: the level's vertices, then its real faces, from recs (len
+ * bytes, faces_to_memory) or else walked again. */
+static void write_plain(FILE *f, st_map *m, unsigned l, const ply_view *pv, uint32_t nverts, const face_counts *fc,
+                        uint64_t *seen, const unsigned char *recs, size_t len)
+{
     write_header(f, nverts, 0, fc);
     ply_out buf, *o = &buf;
     o->f = f;
@@ -417,6 +466,12 @@ static void write_plain(FILE *f, st_map *m, unsigned l, const ply_view *pv, uint
         const double *p = st_v_pos(&pv->lv, v);
         for (int k = 0; k < 3; k++) out_f64(o, p[k]);
     }
+    if (recs) {
+        fwrite(o->b, 1, o->n, f);
+        fwrite(recs, 1, len, f);
+        return;
+    }
+    memset(seen, 0, seen_words(m) * sizeof *seen);
     if (pv->fast) write_plain_faces(o, m, l, pv, fc, seen, 1);
     else write_plain_faces(o, m, l, pv, fc, seen, 0);
     fwrite(o->b, 1, o->n, f);
@@ -468,7 +523,9 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     uv_groups groups = { 0 };
     uv_groups *g = uv ? &groups : NULL;
     face_counts fc = { 0, 0, UINT32_MAX, 0 };
-    uint64_t *seen = NULL; /* without UVs: the faces-walked bits of both walks */
+    uint64_t *seen = NULL; /* without UVs: the faces-walked bits of the walks */
+    unsigned char *recs = NULL; /* without UVs: the face records, when one walk made them */
+    size_t len = 0;
     ply_view pv;
     ply_view_init(&pv, m, l, NULL);
     uint32_t *vindex = NULL, nverts = 0;
@@ -491,8 +548,17 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
             count_face(&fc, lf.off[fi + 1] - lf.off[fi], st_is_hole(m, lf.dart[lf.off[fi]]));
     } else if (!rc) {
         seen = malloc(seen_words(m) * sizeof *seen);
-        if (seen) count_faces_walk(m, l, &pv, &fc, seen);
-        else rc = -1;
+        if (!seen) rc = -1;
+        /* One walk into memory; else (no memory for the records, or a face
+         * over 255 corners) one walk that counts and one that writes. */
+        uint64_t bound = 5 * darts_up_to(m, l);
+        if (!rc && bound <= SIZE_MAX) recs = st_malloc_huge((size_t)bound);
+        if (recs && faces_to_memory(m, l, &pv, &fc, seen, recs, &len)) {
+            free(recs);
+            recs = NULL;
+            fc = (face_counts){ 0, 0, UINT32_MAX, 0 };
+        }
+        if (!rc && !recs) count_faces_walk(m, l, &pv, &fc, seen);
     }
     if (rc) rc = st_fail(err, ST_ERR_MEMORY, "%s: out of memory writing level %u", path, l);
     if (!rc) rc = check_level(path, m, l, &fc, fl, g, err);
@@ -500,7 +566,7 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     if (!rc) rc = st_afile_open(&af, path, err);
     if (!rc) {
         if (g) write_uv(af.f, m, l, &lf, &fc, fl, g);
-        else write_plain(af.f, m, l, &pv, nverts, &fc, seen);
+        else write_plain(af.f, m, l, &pv, nverts, &fc, seen, recs, len);
         rc = st_afile_commit(&af, err);
     }
     faces_free(&lf);
@@ -508,6 +574,7 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     free(groups.first);
     free(vindex);
     free(seen);
+    free(recs);
     ply_view_free(&pv);
     return rc;
 }
