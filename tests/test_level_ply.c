@@ -1,11 +1,13 @@
 /* st_hier_level_save_ply (core/io/level_ply.h) writes the bytes of the soup
  * path, st_hier_level_mesh + st_mesh_save_ply: with and without UVs, with
- * hole faces, on boundaries, at every level, for primal and dual schemes;
- * and refuses a level with a non-finite position as the soup path does,
+ * hole faces, on boundaries, at every level, for primal and dual schemes,
+ * with a face of more than 255 corners, on progressive hierarchies (whose
+ * relations the writer reads through the general lookup path); and refuses a level with a non-finite position as the soup path does,
  * with the same message, leaving no file. */
 #include "testlib.h"
 #include "core/io/level_ply.h"
 #include "core/multires/hier.h"
+#include "core/progressive/progressive.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -27,6 +29,17 @@ static int same_files(const char *a, const char *b)
     return same;
 }
 
+/* Compares both writers at every level of h. */
+static void check_levels(st_hier *h, const char *name, const char *scheme)
+{
+    st_error err;
+    for (unsigned l = 0; l <= h->map.top; l++) {
+        CHECKF(!st_hier_level_save_ply(h, l, direct_path, &err), "%s level %u: %s", name, l, err.msg);
+        CHECKF(!st_hier_level_save_ply_soup(h, l, soup_path, &err), "%s level %u: %s", name, l, err.msg);
+        CHECKF(same_files(direct_path, soup_path), "%s %s level %u: the two writers differ", name, scheme, l);
+    }
+}
+
 /* Builds `levels` levels of the mesh at path and compares both writers at
  * every level. */
 static void check_mesh(const char *name, const char *path, const char *scheme, unsigned levels)
@@ -42,11 +55,42 @@ static void check_mesh(const char *name, const char *path, const char *scheme, u
     CHECKF(!rc, "%s: %s", name, err.msg);
     if (rc) return;
     CHECKF(!st_hier_subdivide_to(&h, levels, &err), "%s: %s", name, err.msg);
-    for (unsigned l = 0; l <= h.map.top; l++) {
-        CHECKF(!st_hier_level_save_ply(&h, l, direct_path, &err), "%s level %u: %s", name, l, err.msg);
-        CHECKF(!st_hier_level_save_ply_soup(&h, l, soup_path, &err), "%s level %u: %s", name, l, err.msg);
-        CHECKF(same_files(direct_path, soup_path), "%s %s level %u: the two writers differ", name, scheme, l);
-    }
+    check_levels(&h, name, scheme);
+    st_hier_free(&h);
+}
+
+/* A disc of one 300-gon (face records with a uint size) with a triangle on
+ * one of its sides. */
+static const char *wide_face(void)
+{
+    static char path[256];
+    snprintf(path, sizeof path, "/tmp/test_level_ply_%d_wide.obj", (int)getpid());
+    FILE *f = fopen(path, "wb");
+    if (!f) return path;
+    for (int i = 0; i < 300; i++) fprintf(f, "v %.17g %.17g 0\n", cos(i * 2 * M_PI / 300), sin(i * 2 * M_PI / 300));
+    fprintf(f, "v 0.5 -0.01 -1\nf");
+    for (int i = 1; i <= 300; i++) fprintf(f, " %d", i);
+    fprintf(f, "\nf 2 1 301\n");
+    fclose(f);
+    return path;
+}
+
+/* Levels made by edge collapses (thesis ch. 4): relations with columns for
+ * β1 and vert. */
+static void check_progressive(void)
+{
+    st_mesh fine;
+    st_error err;
+    st_mesh_init(&fine);
+    CHECKF(!st_mesh_load(MESHES "triangle/hemisphere.obj", &fine, &err), "hemisphere: %s", err.msg);
+    st_hier h;
+    st_progressive_opts po = { .target_faces = 60 };
+    int rc = st_progressive_build(&fine, &po, &h, NULL, &err);
+    st_mesh_free(&fine);
+    CHECKF(rc == ST_OK, "progressive hemisphere: %s", err.msg);
+    if (rc) return;
+    CHECK(h.map.top >= 2);
+    check_levels(&h, "progressive hemisphere", "progressive");
     st_hier_free(&h);
 }
 
@@ -102,6 +146,13 @@ int main(void)
     check_mesh("spot with holes (UVs)", holes, "catmull-clark", 2);
     check_mesh("grid_holes", MESHES "edge_cases/grid_holes.obj", "catmull-clark", 2);
     check_mesh("plane_holes", MESHES "triangle/plane_holes.obj", "loop", 2);
+    const char *tri_holes = with_holes(MESHES "triangle/hemisphere.obj");
+    check_mesh("hemisphere with holes", tri_holes, "loop", 2);
+    remove(tri_holes);
+    const char *wide = wide_face();
+    check_mesh("300-gon", wide, "catmull-clark", 1);
+    remove(wide);
+    check_progressive();
     check_mesh("hemisphere", MESHES "triangle/hemisphere.obj", "butterfly", 2);
     check_mesh("spot_low_resolution", MESHES "triangle/spot_low_resolution.obj", "loop", 2);
     check_mesh("dodecahedron", MESHES "catmull_clark/dodecahedron_poly.obj", "quad-triangle", 2);

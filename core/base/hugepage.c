@@ -2,8 +2,10 @@
 #define _DEFAULT_SOURCE
 #include "core/base/hugepage.h"
 
+#include <malloc.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 #include <sys/mman.h>
 
 #define HUGE_PAGE ((uintptr_t)2 << 20)
@@ -35,4 +37,20 @@ void *st_calloc_huge(size_t count, size_t size)
     void *p = calloc(count, size);
     if (p) st_advise_huge(p, count * size);
     return p;
+}
+
+void *st_realloc_huge(void *p, size_t keep, size_t bytes)
+{
+    if (!p || bytes < ST_HUGE_MIN_BYTES) return realloc(p, bytes);
+    size_t held = malloc_usable_size(p);
+    if (bytes <= held) return realloc(p, bytes); /* shrinking: in place */
+    if (keep > held) keep = held;
+    if (keep > bytes) keep = bytes;
+    /* Aligned to 2 MiB, so that the advice covers the whole array. */
+    void *q = aligned_alloc(HUGE_PAGE, (bytes + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1));
+    if (!q) return NULL;
+    st_advise_huge(q, bytes);
+    memcpy(q, p, keep);
+    free(p);
+    return q;
 }

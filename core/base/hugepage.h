@@ -29,4 +29,13 @@ void st_advise_huge(void *p, size_t bytes);
 void *st_malloc_huge(size_t bytes);
 void *st_calloc_huge(size_t count, size_t size);
 
+/* realloc of an array to `bytes` that keeps only its first `keep` bytes (at
+ * most what p holds).  A large array moves into fresh memory advised as
+ * above before the copy touches it: realloc moves an array that lies in the
+ * heap (under glibc's mmap threshold, which rises to 32 MiB once a large
+ * block is freed) by a copy that faults its new block in 4 KiB pages, which
+ * was half of a Loop refinement's page faults.  Shrinking is realloc's.
+ * NULL when out of memory (p then unchanged). */
+void *st_realloc_huge(void *p, size_t keep, size_t bytes);
+
 #endif

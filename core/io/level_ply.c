@@ -75,6 +75,99 @@ static int faces_walk(st_map *m, unsigned l, level_faces *lf)
     return 0;
 }
 
+/* ---- lookups of the plain writer's walks -------------------------------------------
+ *
+ * The walks of a large level are bound by cache misses, three per dart
+ * through the level view: ins(x) to choose β0's column, ins(β0 x) for β1's,
+ * ins(x) again for vert's, besides the relations themselves and vindex[v].
+ * On a quadrisection hierarchy (thesis §3.2.1: β1 and vert of old darts
+ * never change, so neither has a column) only β0 has a column to choose,
+ * and a dart's insertion level is its block's (map.h: each block is owned
+ * by one level), read from a table of one byte per block that stays in
+ * cache.  When every vertex block's live ids are consecutive, as refinement
+ * leaves them, a vertex's PLY index is its block's first index plus its
+ * offset in the block: a table of one word per block instead of vindex[],
+ * a word per vertex.  Other maps (sparse, rebuilt or edited ones) take the
+ * level view and vindex[]. */
+typedef struct ply_view {
+    st_level_view lv;             /* the general path */
+    const uint32_t *vindex;       /* general path: PLY index per vertex id */
+    int fast;
+    const uint8_t *block_level;   /* fast path: per dart block, its insertion level */
+    const uint32_t *b0base, *b0col, *b1, *vt;
+    unsigned b0lvl;
+    const uint32_t *vblock;       /* fast path: per vertex block, PLY index of its id 0 */
+} ply_view;
+
+static inline uint32_t pv_phi1(const ply_view *v, uint32_t x, int fast)
+{
+    if (!fast) return st_v_phi1(&v->lv, x);
+    uint32_t e = v->block_level[x >> ST_POOL_BLOCK_SHIFT] < v->b0lvl ? v->b0col[x] : v->b0base[x];
+    return v->b1[e];
+}
+
+static inline uint32_t pv_index(const ply_view *v, uint32_t x, int fast)
+{
+    if (!fast) return v->vindex[st_v_vert(&v->lv, x)];
+    uint32_t w = v->vt[x];
+    return v->vblock[w >> ST_POOL_BLOCK_SHIFT] + (w & (ST_POOL_BLOCK - 1));
+}
+
+/* Per vertex block of levels 0..l, the PLY index of its id 0, if the live
+ * ids of every block are consecutive; NULL otherwise (or out of memory). */
+static uint32_t *vertex_blocks(const st_map *m, unsigned l)
+{
+    uint32_t *vb = st_malloc_huge(((size_t)m->verts.end / ST_POOL_BLOCK + 1) * sizeof *vb);
+    if (!vb) return NULL;
+    st_fvar_scan it;
+    st_fvar_scan_vertices(&it, m, l);
+    uint32_t n = 0, prev = ST_NIL;
+    for (uint32_t v = st_fvar_scan_next(&it); v != ST_NIL; v = st_fvar_scan_next(&it), n++) {
+        uint32_t b = v >> ST_POOL_BLOCK_SHIFT;
+        if (prev == ST_NIL || prev >> ST_POOL_BLOCK_SHIFT != b) vb[b] = n - (v & (ST_POOL_BLOCK - 1));
+        else if (v != prev + 1) { free(vb); return NULL; }
+        prev = v;
+    }
+    return vb;
+}
+
+/* Per dart block, the level that owns it. */
+static uint8_t *dart_block_levels(const st_map *m)
+{
+    const st_pool *p = &m->darts;
+    uint8_t *bl = malloc((size_t)p->end / ST_POOL_BLOCK + 1);
+    if (!bl) return NULL;
+    for (unsigned lv = 0; lv < ST_MAX_LEVELS; lv++)
+        for (uint32_t i = 0; i < p->nblocks[lv]; i++) bl[p->blocks[lv][i]] = (uint8_t)lv;
+    return bl;
+}
+
+/* The fast path's tables when the map allows it (above); pv->fast says. */
+static void ply_view_init(ply_view *pv, const st_map *m, unsigned l, const uint32_t *vindex)
+{
+    memset(pv, 0, sizeof *pv);
+    st_level_view_init(m, l, &pv->lv);
+    pv->vindex = vindex;
+    if (st_map_is_sparse(m) || pv->lv.beta1.lvl || pv->lv.vert.lvl) return;
+    uint32_t *vb = vertex_blocks(m, l);
+    uint8_t *bl = vb ? dart_block_levels(m) : NULL;
+    if (!bl) { free(vb); return; }
+    pv->fast = 1;
+    pv->block_level = bl;
+    pv->vblock = vb;
+    pv->b0base = pv->lv.beta0.base;
+    pv->b0col = pv->lv.beta0.col;
+    pv->b0lvl = pv->lv.beta0.lvl;
+    pv->b1 = pv->lv.beta1.base;
+    pv->vt = pv->lv.vert.base;
+}
+
+static void ply_view_free(ply_view *pv)
+{
+    free((void *)pv->block_level);
+    free((void *)pv->vblock);
+}
+
 /* ---- output through one buffer, little-endian ------------------------------------ */
 
 typedef struct ply_out {
@@ -219,12 +312,12 @@ static void count_face(face_counts *fc, uint32_t k, int hole)
 /* Without UVs: one walk that counts, and later one that writes (below),
  * instead of an array of every corner. */
 /* seen: seen_words(m) words, cleared here; a bit per dart id marks the faces
- * already walked (no marker to reserve and release). */
-static void count_faces_walk(st_map *m, unsigned l, face_counts *fc, uint64_t *seen)
+ * already walked (no marker to reserve and release).  `fast`: a constant,
+ * one copy per lookup path (ply_view). */
+static inline void count_faces_walk_kind(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen,
+                                         int fast)
 {
     memset(seen, 0, seen_words(m) * sizeof *seen);
-    st_level_view lv;
-    st_level_view_init(m, l, &lv);
     st_fvar_scan it;
     st_fvar_scan_init(&it, m, 0, l);
     for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
@@ -233,10 +326,16 @@ static void count_faces_walk(st_map *m, unsigned l, face_counts *fc, uint64_t *s
         do {
             seen[x >> 6] |= 1ull << (x & 63);
             k++;
-            x = st_v_phi1(&lv, x);
+            x = pv_phi1(pv, x, fast);
         } while (x != d);
         count_face(fc, k, st_is_hole(m, d));
     }
+}
+
+static void count_faces_walk(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen)
+{
+    if (pv->fast) count_faces_walk_kind(m, l, pv, fc, seen, 1);
+    else count_faces_walk_kind(m, l, pv, fc, seen, 0);
 }
 
 /* The checks of mesh_write.c's check_writable, in its order, with its
@@ -280,23 +379,10 @@ static void write_face_size(ply_out *o, const face_counts *fc, uint32_t k)
     else out_u8(o, k);
 }
 
-/* Without UVs: the level's vertices, then its real faces walked again. */
-static void write_plain(FILE *f, st_map *m, unsigned l, const uint32_t *vindex, uint32_t nverts, const face_counts *fc,
-                        uint64_t *seen)
+/* Without UVs: the level's real faces walked again. */
+static inline void write_plain_faces(ply_out *o, st_map *m, unsigned l, const ply_view *pv, const face_counts *fc,
+                                     uint64_t *seen, int fast)
 {
-    memset(seen, 0, seen_words(m) * sizeof *seen);
-    write_header(f, nverts, 0, fc);
-    ply_out buf, *o = &buf;
-    o->f = f;
-    o->n = 0;
-    st_level_view lv;
-    st_level_view_init(m, l, &lv);
-    st_fvar_scan vs;
-    st_fvar_scan_vertices(&vs, m, l);
-    for (uint32_t v = st_fvar_scan_next(&vs); v != ST_NIL; v = st_fvar_scan_next(&vs)) {
-        const double *p = st_v_pos(&lv, v);
-        for (int k = 0; k < 3; k++) out_f64(o, p[k]);
-    }
     st_fvar_scan it;
     st_fvar_scan_init(&it, m, 0, l);
     for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
@@ -305,15 +391,89 @@ static void write_plain(FILE *f, st_map *m, unsigned l, const uint32_t *vindex, 
         uint32_t k = 0, x = d;
         do {
             k++;
-            x = st_v_phi1(&lv, x);
+            x = pv_phi1(pv, x, fast);
         } while (x != d);
         if (real) write_face_size(o, fc, k);
         do {
             seen[x >> 6] |= 1ull << (x & 63);
-            if (real) out_u32(o, vindex[st_v_vert(&lv, x)]);
-            x = st_v_phi1(&lv, x);
+            if (real) out_u32(o, pv_index(pv, x, fast));
+            x = pv_phi1(pv, x, fast);
         } while (x != d);
     }
+}
+
+/* Without UVs, in one walk: the face records of the real faces (a uchar
+ * size and the indices, as write_plain_faces writes them) into buf, which
+ * holds 5 bytes per dart of levels 0..l (the most a face record takes per
+ * corner), the counts into fc.  -1 (fc then partial) when a face has more
+ * than 255 corners: the records would need a uint size, known only after
+ * the walk. */
+static inline int faces_to_memory_kind(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen,
+                                       unsigned char *buf, size_t *len, int fast)
+{
+    memset(seen, 0, seen_words(m) * sizeof *seen);
+    size_t n = 0;
+    st_fvar_scan it;
+    st_fvar_scan_init(&it, m, 0, l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+        if (st_is_boundary(m, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
+        int hole = st_is_hole(m, d);
+        unsigned char *idx = buf + n + 1;
+        uint32_t k = 0, x = d;
+        do {
+            seen[x >> 6] |= 1ull << (x & 63);
+            if (!hole) put_le(idx + 4 * (size_t)k, pv_index(pv, x, fast), 4);
+            k++;
+            x = pv_phi1(pv, x, fast);
+        } while (x != d);
+        count_face(fc, k, hole);
+        if (hole) continue;
+        if (k > 255) return -1;
+        buf[n] = (unsigned char)k;
+        n += 1 + 4 * (size_t)k;
+    }
+    *len = n;
+    return 0;
+}
+
+static int faces_to_memory(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen,
+                           unsigned char *buf, size_t *len)
+{
+    if (pv->fast) return faces_to_memory_kind(m, l, pv, fc, seen, buf, len, 1);
+    return faces_to_memory_kind(m, l, pv, fc, seen, buf, len, 0);
+}
+
+/* Darts of levels 0..l: the bound faces_to_memory's buffer is sized by. */
+static uint64_t darts_up_to(const st_map *m, unsigned l)
+{
+    uint64_t n = 0;
+    for (unsigned k = 0; k <= l && k < ST_MAX_LEVELS; k++) n += m->darts.live[k];
+    return n;
+}
+
+/* Without UVs: the level's vertices, then its real faces, from recs (len
+ * bytes, faces_to_memory) or else walked again. */
+static void write_plain(FILE *f, st_map *m, unsigned l, const ply_view *pv, uint32_t nverts, const face_counts *fc,
+                        uint64_t *seen, const unsigned char *recs, size_t len)
+{
+    write_header(f, nverts, 0, fc);
+    ply_out buf, *o = &buf;
+    o->f = f;
+    o->n = 0;
+    st_fvar_scan vs;
+    st_fvar_scan_vertices(&vs, m, l);
+    for (uint32_t v = st_fvar_scan_next(&vs); v != ST_NIL; v = st_fvar_scan_next(&vs)) {
+        const double *p = st_v_pos(&pv->lv, v);
+        for (int k = 0; k < 3; k++) out_f64(o, p[k]);
+    }
+    if (recs) {
+        fwrite(o->b, 1, o->n, f);
+        fwrite(recs, 1, len, f);
+        return;
+    }
+    memset(seen, 0, seen_words(m) * sizeof *seen);
+    if (pv->fast) write_plain_faces(o, m, l, pv, fc, seen, 1);
+    else write_plain_faces(o, m, l, pv, fc, seen, 0);
     fwrite(o->b, 1, o->n, f);
 }
 
@@ -363,13 +523,23 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     uv_groups groups = { 0 };
     uv_groups *g = uv ? &groups : NULL;
     face_counts fc = { 0, 0, UINT32_MAX, 0 };
-    uint64_t *seen = NULL; /* without UVs: the faces-walked bits of both walks */
-    uint32_t *vindex = st_malloc_huge((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vindex), nverts = 0;
-    int rc = vindex ? 0 : -1;
+    uint64_t *seen = NULL; /* without UVs: the faces-walked bits of the walks */
+    unsigned char *recs = NULL; /* without UVs: the face records, when one walk made them */
+    size_t len = 0;
+    ply_view pv;
+    ply_view_init(&pv, m, l, NULL);
+    uint32_t *vindex = NULL, nverts = 0;
+    int rc = 0;
+    if (g || !pv.fast) { /* vindex[]: the UV groups' and the general path's */
+        vindex = st_malloc_huge((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vindex);
+        if (!vindex) rc = -1;
+        pv.vindex = vindex;
+    }
     if (!rc) {
         st_fvar_scan it;  /* not face-embedded (above): st_vertex_first/next's order */
         st_fvar_scan_vertices(&it, m, l);
-        for (uint32_t v = st_fvar_scan_next(&it); v != ST_NIL; v = st_fvar_scan_next(&it)) vindex[v] = nverts++;
+        for (uint32_t v = st_fvar_scan_next(&it); v != ST_NIL; v = st_fvar_scan_next(&it), nverts++)
+            if (vindex) vindex[v] = nverts;
     }
     if (!rc && g) {
         rc = faces_walk(m, l, &lf);
@@ -378,8 +548,17 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
             count_face(&fc, lf.off[fi + 1] - lf.off[fi], st_is_hole(m, lf.dart[lf.off[fi]]));
     } else if (!rc) {
         seen = malloc(seen_words(m) * sizeof *seen);
-        if (seen) count_faces_walk(m, l, &fc, seen);
-        else rc = -1;
+        if (!seen) rc = -1;
+        /* One walk into memory; else (no memory for the records, or a face
+         * over 255 corners) one walk that counts and one that writes. */
+        uint64_t bound = 5 * darts_up_to(m, l);
+        if (!rc && bound <= SIZE_MAX) recs = st_malloc_huge((size_t)bound);
+        if (recs && faces_to_memory(m, l, &pv, &fc, seen, recs, &len)) {
+            free(recs);
+            recs = NULL;
+            fc = (face_counts){ 0, 0, UINT32_MAX, 0 };
+        }
+        if (!rc && !recs) count_faces_walk(m, l, &pv, &fc, seen);
     }
     if (rc) rc = st_fail(err, ST_ERR_MEMORY, "%s: out of memory writing level %u", path, l);
     if (!rc) rc = check_level(path, m, l, &fc, fl, g, err);
@@ -387,7 +566,7 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     if (!rc) rc = st_afile_open(&af, path, err);
     if (!rc) {
         if (g) write_uv(af.f, m, l, &lf, &fc, fl, g);
-        else write_plain(af.f, m, l, vindex, nverts, &fc, seen);
+        else write_plain(af.f, m, l, &pv, nverts, &fc, seen, recs, len);
         rc = st_afile_commit(&af, err);
     }
     faces_free(&lf);
@@ -395,5 +574,7 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     free(groups.first);
     free(vindex);
     free(seen);
+    free(recs);
+    ply_view_free(&pv);
     return rc;
 }

@@ -53,14 +53,28 @@ void st_map_free(st_map *m)
 
 /* ---- allocation ------------------------------------------------------------ */
 
-static int try_grow_dart_arrays(st_map *m, uint32_t cap)
+/* One array to cap elements.  `huge`: an exact reservation (st_map_reserve)
+ * about to be filled, moved into fresh huge-page memory keeping the ids in
+ * use (hugepage.h, st_realloc_huge); a doubling for one more id stays with
+ * realloc, since huge pages would round its partly used tail up to 2 MiB. */
+static int grow_array(unsigned char **base, size_t elem, uint32_t used, uint32_t cap, int huge)
 {
-    uint8_t *fl = realloc(m->flags, cap);
-    if (!fl) return -1;
-    m->flags = fl;
-    if (st_mla_grow(&m->beta0, cap) || st_mla_grow(&m->beta1, cap) || st_mla_grow(&m->vert, cap)) return -1;
+    unsigned char *b = huge ? st_realloc_huge(*base, (size_t)used * elem, (size_t)cap * elem)
+                            : realloc(*base, (size_t)cap * elem);
+    if (!b) return -1;
+    *base = b;
+    return 0;
+}
+
+static int try_grow_dart_arrays(st_map *m, uint32_t cap, int huge)
+{
+    uint32_t used = m->darts.end;
+    if (grow_array(&m->flags, 1, used, cap, huge)) return -1;
+    st_mla *rel[3] = { &m->beta0, &m->beta1, &m->vert };
+    for (int i = 0; i < 3; i++)
+        if (grow_array(&rel[i]->base, rel[i]->elem, used, cap, huge)) return -1;
     for (uint32_t i = 0; i < m->ndart_attrs; i++)
-        if (st_mla_grow(m->dart_attrs[i], cap)) return -1;
+        if (grow_array(&m->dart_attrs[i]->base, m->dart_attrs[i]->elem, used, cap, huge)) return -1;
     if (m->marks) {
         uint32_t *mk = realloc(m->marks, (size_t)cap * sizeof *mk);
         if (!mk) return -1;
@@ -71,24 +85,27 @@ static int try_grow_dart_arrays(st_map *m, uint32_t cap)
 
 static void grow_dart_arrays(st_map *m, uint32_t cap)
 {
-    if (try_grow_dart_arrays(m, cap))
+    if (try_grow_dart_arrays(m, cap, 0))
         abort(); /* out of memory in the middle of an operator: no consistent state to return to */
 }
 
-static int grow_vertex_arrays(st_map *m, uint32_t cap)
+static int grow_vertex_arrays_kind(st_map *m, uint32_t cap, int huge)
 {
-    if (st_mla_grow(&m->pos, cap)) return -1;
+    uint32_t used = m->verts.end;
+    if (grow_array(&m->pos.base, m->pos.elem, used, cap, huge)) return -1;
     for (uint32_t i = 0; i < m->nvert_attrs; i++)
-        if (st_mla_grow(m->vert_attrs[i], cap)) return -1;
+        if (grow_array(&m->vert_attrs[i]->base, m->vert_attrs[i]->elem, used, cap, huge)) return -1;
     return 0;
 }
+
+static int grow_vertex_arrays(st_map *m, uint32_t cap) { return grow_vertex_arrays_kind(m, cap, 0); }
 
 int st_map_reserve(st_map *m, uint64_t darts, uint64_t verts)
 {
     uint32_t dc = st_pool_reserve(&m->darts, darts);
-    if (!dc || try_grow_dart_arrays(m, dc)) return -1;
+    if (!dc || try_grow_dart_arrays(m, dc, 1)) return -1;
     uint32_t vc = st_pool_reserve(&m->verts, verts);
-    if (!vc || grow_vertex_arrays(m, vc)) return -1;
+    if (!vc || grow_vertex_arrays_kind(m, vc, 1)) return -1;
     return 0;
 }
 

@@ -2,6 +2,7 @@
  * by one insertion level, so that the ids of levels 0..l can be enumerated in
  * time proportional to their number (thesis §2.4: one dart list per N^i). */
 #include "core/map/pool_internal.h"
+#include "core/base/hugepage.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -37,9 +38,10 @@ static int grow_u32(uint32_t **a, uint32_t *cap, uint32_t need)
     return 0;
 }
 
-static int set_cap(st_pool *p, uint32_t cap)
+/* huge: an exact reservation about to be filled (map.c, grow_array). */
+static int set_cap(st_pool *p, uint32_t cap, int huge)
 {
-    uint8_t *ins = realloc(p->ins, cap);
+    uint8_t *ins = huge ? st_realloc_huge(p->ins, p->end, cap) : realloc(p->ins, cap);
     if (!ins) return -1;
     p->ins = ins;
     if (p->next_free) {
@@ -69,7 +71,7 @@ uint32_t st_pool_reserve(st_pool *p, uint64_t more)
     uint64_t need = (uint64_t)p->end + ((more + 2 * ST_POOL_BLOCK - 1) & ~(uint64_t)(ST_POOL_BLOCK - 1));
     if (need > UINT32_MAX - ST_POOL_BLOCK) return 0;
     if (need <= p->cap) return p->cap;
-    return set_cap(p, (uint32_t)need) ? 0 : p->cap;
+    return set_cap(p, (uint32_t)need, 1) ? 0 : p->cap;
 }
 
 /* Appends a fresh block to level l; returns its first id or ST_NIL. */
@@ -88,7 +90,7 @@ static uint32_t new_block(st_pool *p, unsigned l, uint32_t *grow)
     if (first + ST_POOL_BLOCK > p->cap) {
         uint32_t cap = p->cap ? p->cap : ST_POOL_BLOCK;
         while (cap < first + ST_POOL_BLOCK) cap = cap > UINT32_MAX / 2 ? UINT32_MAX : cap * 2;
-        if (set_cap(p, cap)) return ST_NIL;
+        if (set_cap(p, cap, 0)) return ST_NIL;
         *grow = cap;
     }
     memset(p->ins + first, ST_FREE_LEVEL, ST_POOL_BLOCK);
