@@ -186,19 +186,39 @@ static void changed_append(st_dart_list *l, const uint32_t *d, uint32_t n)
     l->n += n;
 }
 
+/* Positions a plan reads (level L-1: base, column) and writes (level L). */
+typedef struct plan_io { const double *pbase, *pcol; double *wbase, *wcol; } plan_io;
+
+/* A face record of k corners; inline, so that k = 4 (quads, every face
+ * above level 0) unrolls. */
+static inline void replay_face(const plan_io *io, const uint32_t *r, unsigned k)
+{
+    double f[3] = { 0, 0, 0 };
+    for (unsigned i = 0; i < k; i++) st_cc_face_add(f, st_synth_ref_pos(io->pbase, io->pcol, r[2 + i]));
+    st_cc_face_finish(f, k, plan_dst(io->wbase, io->wcol, r[0]));
+}
+
+/* A vertex record of valence n, likewise for n = 4. */
+static inline void replay_vertex(const plan_io *io, const uint32_t *r, unsigned n)
+{
+    double s[3] = { 0, 0, 0 };
+    for (unsigned j = 0; j < n; j++)
+        st_cc_vertex_add(s, st_synth_ref_pos(io->pbase, io->pcol, r[3 + 2 * j]), io->wbase + 3 * (size_t)r[4 + 2 * j]);
+    st_cc_vertex_finish(st_synth_ref_pos(io->pbase, io->pcol, r[2]), s, n, plan_dst(io->wbase, io->wcol, r[1]));
+}
+
 /* The level from its plan: the same records in the same order as the
  * walk, through the same arithmetic. */
 static void plan_replay(st_hier *h, unsigned L, const local_plan *q, st_synth_ctx *out)
 {
     st_map *m = &h->map;
-    const double *pbase = (const double *)m->pos.base, *pcol = (const double *)m->pos.col[q->plvl];
-    double *wbase = (double *)m->pos.base, *wcol = (double *)m->pos.col[L];
+    const plan_io io = { (const double *)m->pos.base, (const double *)m->pos.col[q->plvl], (double *)m->pos.base,
+                         (double *)m->pos.col[L] };
     const uint32_t *r = q->faces.a, *end = r + q->faces.n;
     while (r < end) {
         unsigned k = r[1];
-        double f[3] = { 0, 0, 0 };
-        for (unsigned i = 0; i < k; i++) st_cc_face_add(f, st_synth_ref_pos(pbase, pcol, r[2 + i]));
-        st_cc_face_finish(f, k, plan_dst(wbase, wcol, r[0]));
+        if (k == 4) replay_face(&io, r, 4);
+        else replay_face(&io, r, k);
         r += 2 + k;
     }
     r = q->mixed.a;
@@ -206,14 +226,13 @@ static void plan_replay(st_hier *h, unsigned L, const local_plan *q, st_synth_ct
     while (r < end) {
         unsigned n = r[0];
         if (!n) {
-            st_cc_edge_mix(st_synth_ref_pos(pbase, pcol, r[2]), st_synth_ref_pos(pbase, pcol, r[3]), wbase + 3 * (size_t)r[4],
-                           wbase + 3 * (size_t)r[5], plan_dst(wbase, wcol, r[1]));
+            st_cc_edge_mix(st_synth_ref_pos(io.pbase, io.pcol, r[2]), st_synth_ref_pos(io.pbase, io.pcol, r[3]),
+                           io.wbase + 3 * (size_t)r[4], io.wbase + 3 * (size_t)r[5], plan_dst(io.wbase, io.wcol, r[1]));
             r += 6;
             continue;
         }
-        double s[3] = { 0, 0, 0 };
-        for (unsigned j = 0; j < n; j++) st_cc_vertex_add(s, st_synth_ref_pos(pbase, pcol, r[3 + 2 * j]), wbase + 3 * (size_t)r[4 + 2 * j]);
-        st_cc_vertex_finish(st_synth_ref_pos(pbase, pcol, r[2]), s, n, plan_dst(wbase, wcol, r[1]));
+        if (n == 4) replay_vertex(&io, r, 4);
+        else replay_vertex(&io, r, n);
         r += 3 + 2 * n;
     }
     uint32_t nout = (uint32_t)q->outs.n;
