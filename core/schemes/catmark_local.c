@@ -115,7 +115,7 @@ static const local_plan *plan_for(const st_hier *h, unsigned L, const uint32_t *
     if (!h->local.p || h->local.free != plans_free || m->log) return NULL;
     const local_plan *q = &((const local_plans *)h->local.p)->level[L];
     if (!q->valid || q->gen != m->gen || q->dend != m->darts.end || q->vend != m->verts.end || q->top != m->top ||
-        q->plvl != m->pos.eff[L - 1] || q->seeds.n != n || memcmp(q->seeds.a, seeds, (size_t)n * sizeof *seeds))
+        q->plvl != m->pos.eff[L - 1] || q->seeds.n != n || (n && memcmp(q->seeds.a, seeds, (size_t)n * sizeof *seeds)))
         return NULL;
     /* Writes go where st_synth_put puts them: the column must hold them. */
     const st_mla *a = &m->pos;
@@ -173,6 +173,7 @@ static local_plan *plan_room(direct *x)
  * st_dart_list_push grows it: realloc, doubling). */
 static void changed_append(st_dart_list *l, const uint32_t *d, uint32_t n)
 {
+    if (!n) return;
     if ((uint64_t)l->n + n > l->cap) {
         uint64_t cap = l->cap ? l->cap : 64;
         while (cap < (uint64_t)l->n + n) cap *= 2;
@@ -214,26 +215,25 @@ static void plan_replay(st_hier *h, unsigned L, const local_plan *q, st_synth_ct
     st_map *m = &h->map;
     const plan_io io = { (const double *)m->pos.base, (const double *)m->pos.col[q->plvl], (double *)m->pos.base,
                          (double *)m->pos.col[L] };
-    const uint32_t *r = q->faces.a, *end = r + q->faces.n;
-    while (r < end) {
+    for (size_t i = 0; i < q->faces.n;) {
+        const uint32_t *r = q->faces.a + i;
         unsigned k = r[1];
         if (k == 4) replay_face(&io, r, 4);
         else replay_face(&io, r, k);
-        r += 2 + k;
+        i += 2 + k;
     }
-    r = q->mixed.a;
-    end = r + q->mixed.n;
-    while (r < end) {
+    for (size_t i = 0; i < q->mixed.n;) {
+        const uint32_t *r = q->mixed.a + i;
         unsigned n = r[0];
         if (!n) {
             st_cc_edge_mix(st_synth_ref_pos(io.pbase, io.pcol, r[2]), st_synth_ref_pos(io.pbase, io.pcol, r[3]),
                            io.wbase + 3 * (size_t)r[4], io.wbase + 3 * (size_t)r[5], plan_dst(io.wbase, io.wcol, r[1]));
-            r += 6;
+            i += 6;
             continue;
         }
         if (n == 4) replay_vertex(&io, r, 4);
         else replay_vertex(&io, r, n);
-        r += 3 + 2 * n;
+        i += 3 + 2 * n;
     }
     uint32_t nout = (uint32_t)q->outs.n;
     out->count += nout;
