@@ -2,6 +2,7 @@
  * re-synthesis after edits, for every registered scheme that applies. */
 #include "core/multires/hier.h"
 #include "core/multires/hier_internal.h"
+#include "core/multires/edit.h"
 #include "core/base/parallel.h"
 #include "core/schemes/synth_tables_internal.h"
 #include "testlib.h"
@@ -228,10 +229,86 @@ static void test_tables(void)
     for (size_t i = 0; i < sizeof tris / sizeof *tris; i++) check_tables(ST_SCHEME_LOOP, tris[i], 100 + i);
 }
 
+static int cmp_key(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* One edit of `darts` at level l by `step`: equal to a full synthesis to
+ * the bit, its footprint the one the footprint query finds; returns the
+ * number of positions it recomputed. */
+static uint64_t drag_step(st_hier *h, unsigned l, const uint32_t *darts, uint32_t n, int step, const char *what)
+{
+    double pos[2][3];
+    for (uint32_t k = 0; k < n; k++) {
+        const double *p = st_dart_pos(&h->map, darts[k], l);
+        for (int i = 0; i < 3; i++) pos[k][i] = p[i] + 0.01 * (step % 3 + 1) * (i + 1 + k) * (step % 2 ? -1 : 1);
+    }
+    st_footprint fp = { 0 }, query = { 0 };
+    uint64_t count = st_hier_edit(h, l, darts, (const double (*)[3])pos, n, &fp);
+    tl_posnap local, full;
+    tl_snap_pos(h, &local);
+    st_hier_synthesize(h, l);
+    tl_snap_pos(h, &full);
+    double diff = tl_snap_maxdiff(&local, &full);
+    CHECKF(diff == 0, "drag, %s, step %d: local and full synthesis differ by %g", what, step, diff);
+    st_hier_edit_footprint(h, l, darts, n, &query);
+    qsort(fp.keys, fp.n, sizeof *fp.keys, cmp_key);
+    qsort(query.keys, query.n, sizeof *query.keys, cmp_key);
+    CHECKF(fp.n == query.n && (!fp.n || !memcmp(fp.keys, query.keys, fp.n * sizeof *fp.keys)),
+           "drag, %s, step %d: the edit wrote %u values, the footprint query finds %u", what, step, fp.n, query.n);
+    free(local.p);
+    free(full.p);
+    st_footprint_free(&fp);
+    st_footprint_free(&query);
+    return count;
+}
+
+/* A drag moves the same vertices again and again: Catmull-Clark replays
+ * the plan of the first edit's walk (catmark_local.c) while the topology
+ * and the sharpness stay.  Every step equals a full synthesis to the bit
+ * and reports what it wrote, also after a crease, after the top level went
+ * and came back, and after an edit of other vertices in between. */
+static void check_drag(void (*make)(st_mesh *), unsigned levels, const char *what)
+{
+    st_hier h;
+    st_error err;
+    uint64_t rng = 4242;
+    tl_init_hier(&h, make, ST_SCHEME_CATMARK, levels);
+    unsigned l = 1;
+    uint32_t darts[2], other;
+    darts[0] = tl_random_dart_at(&h.map, l, &rng);
+    do darts[1] = tl_random_dart_at(&h.map, l, &rng);
+    while (st_vert(&h.map, darts[1], l) == st_vert(&h.map, darts[0], l));
+    do other = tl_random_dart_at(&h.map, l, &rng);
+    while (st_vert(&h.map, other, l) == st_vert(&h.map, darts[0], l) || st_vert(&h.map, other, l) == st_vert(&h.map, darts[1], l));
+    uint64_t first = 0;
+    for (int step = 0; step < 9; step++) {
+        /* A crease on the level below the top (finer levels would need
+         * its children's sharpness): the walk of the top level meets it. */
+        if (step == 3) st_hier_set_edge_sharpness(&h, darts[0], levels - 1, 2.0f);
+        if (step == 5) {
+            st_hier_remove_top(&h);
+            CHECK(st_hier_subdivide_to(&h, levels, &err) == ST_OK);
+        }
+        if (step == 7) drag_step(&h, l, &other, 1, step, what);
+        uint64_t count = drag_step(&h, l, darts, 2, step, what);
+        if (step == 0) first = count;
+        if (step < 3) CHECKF(count == first, "drag, %s, step %d: %llu positions, the first edit %llu", what, step,
+                             (unsigned long long)count, (unsigned long long)first);
+        if (step == 0) CHECKF(h.local.p != NULL, "drag, %s: no plan kept after the first edit", what);
+    }
+    st_hier_free(&h);
+}
+
 int main(void)
 {
     test_catmark_cube_values();
     test_tables();
+    check_drag(torus, 4, "torus");
+    check_drag(grid, 3, "grid");
+    check_drag(cube_scaled, 4, "cube");
     struct { st_scheme_id id; void (*make)(st_mesh *); unsigned levels; } cases[] = {
         { ST_SCHEME_CATMARK, torus, 4 },
         { ST_SCHEME_CATMARK, grid, 3 },

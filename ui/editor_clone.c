@@ -107,6 +107,7 @@ int ed_hier_clone(st_hier *dst, const st_hier *src, size_t *bytes_out)
     dst->stamp_cap = 0;
     dst->stamp_gen = 0;
     memset(dst->cache, 0, sizeof dst->cache); /* the copy builds its own */
+    memset(&dst->local, 0, sizeof dst->local);
     dst->fvar = NULL;                         /* UVs: copied below */
     dm->gen_seen = 1;
     st_map_changed(dm); /* a generation of its own */

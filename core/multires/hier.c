@@ -148,6 +148,10 @@ static void drop_caches(st_hier *h, unsigned from)
             h->cache[l].free(h->cache[l].p);
             h->cache[l].p = NULL;
         }
+    if (h->local.p) {
+        h->local.free(h->local.p);
+        h->local.p = NULL;
+    }
 }
 
 void st_hier_free(st_hier *h)

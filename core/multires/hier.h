@@ -64,6 +64,11 @@ typedef struct st_hier {
      * syntheses; the owner checks the map's generation before each use.
      * Transient: never saved; a deep copy starts without it. */
     st_level_cache cache[ST_MAX_LEVELS];
+    /* What the scheme's local re-synthesis derived from the topology for
+     * the last edit's region (Catmull-Clark: its records per level), kept
+     * for the next edit of the same vertices, as in a drag; checked and
+     * transient like cache. */
+    st_level_cache local;
     /* Face-varying UVs per level (core/fvar/fvar.h: st_hier_uv); NULL when
      * the mesh had none.  Edits never change them. */
     struct st_fvar *fvar;
