@@ -268,9 +268,10 @@ static uint64_t drag_step(st_hier *h, unsigned l, const uint32_t *darts, uint32_
 /* A drag moves the same vertices again and again: Catmull-Clark replays
  * the plan of the first edit's walk (catmark_local.c) while the topology
  * and the sharpness stay.  Every step equals a full synthesis to the bit
- * and reports what it wrote, also after a crease, after the top level went
- * and came back, and after an edit of other vertices in between. */
-static void check_drag(void (*make)(st_mesh *), unsigned levels, const char *what)
+ * and reports what it wrote, also after a crease (at crease_level: below
+ * top-1 the finer levels take its children's sharpness), after the top
+ * level went and came back, and after an edit of other vertices in between. */
+static void check_drag(void (*make)(st_mesh *), unsigned levels, unsigned crease_level, const char *what)
 {
     st_hier h;
     st_error err;
@@ -285,9 +286,7 @@ static void check_drag(void (*make)(st_mesh *), unsigned levels, const char *wha
     while (st_vert(&h.map, other, l) == st_vert(&h.map, darts[0], l) || st_vert(&h.map, other, l) == st_vert(&h.map, darts[1], l));
     uint64_t first = 0;
     for (int step = 0; step < 9; step++) {
-        /* A crease on the level below the top (finer levels would need
-         * its children's sharpness): the walk of the top level meets it. */
-        if (step == 3) st_hier_set_edge_sharpness(&h, darts[0], levels - 1, 2.0f);
+        if (step == 3) st_hier_set_edge_sharpness(&h, darts[0], crease_level, 2.0f);
         if (step == 5) {
             st_hier_remove_top(&h);
             CHECK(st_hier_subdivide_to(&h, levels, &err) == ST_OK);
@@ -302,13 +301,48 @@ static void check_drag(void (*make)(st_mesh *), unsigned levels, const char *wha
     st_hier_free(&h);
 }
 
+/* A sharpness set on level 1 of a hierarchy of 4 levels reaches the finer
+ * levels as refinement would have given it (OpenSubdiv's uniform rule: one
+ * less per level, both darts of each child edge alike), and a corner
+ * likewise; setting it back to 0 takes it away again. */
+static void test_crease_below_top(void)
+{
+    st_hier h;
+    uint64_t rng = 77;
+    tl_init_hier(&h, cube_scaled, ST_SCHEME_CATMARK, 4);
+    uint32_t d = tl_random_dart_at(&h.map, 1, &rng), e = st_beta0(&h.map, d, 1);
+    uint32_t v = st_vert(&h.map, d, 1);
+    for (int pass = 0; pass < 2; pass++) {
+        float s = pass ? 0.0f : 2.5f;
+        st_hier_set_edge_sharpness(&h, d, 1, s);
+        st_hier_set_vertex_sharpness(&h, v, 1, s);
+        for (unsigned l = 2; l <= 4; l++) {
+            float want = s - (float)(l - 1) > 0 ? s - (float)(l - 1) : 0.0f;
+            uint32_t halves[2] = { d, e };
+            for (int i = 0; i < 2; i++) {
+                uint32_t x = halves[i], y = st_beta0(&h.map, x, l);
+                CHECKF(st_hier_edge_sharpness(&h, x, l) == want && st_hier_edge_sharpness(&h, y, l) == want,
+                       "crease %g at level 1: level %u child edge has %g / %g, want %g", (double)s, l,
+                       (double)st_hier_edge_sharpness(&h, x, l), (double)st_hier_edge_sharpness(&h, y, l), (double)want);
+            }
+            CHECKF(st_hier_vertex_sharpness(&h, v, l) == want, "corner %g at level 1: level %u has %g, want %g",
+                   (double)s, l, (double)st_hier_vertex_sharpness(&h, v, l), (double)want);
+        }
+    }
+    st_hier_free(&h);
+}
+
 int main(void)
 {
     test_catmark_cube_values();
     test_tables();
-    check_drag(torus, 4, "torus");
-    check_drag(grid, 3, "grid");
-    check_drag(cube_scaled, 4, "cube");
+    check_drag(torus, 4, 3, "torus");
+    check_drag(grid, 3, 2, "grid");
+    check_drag(cube_scaled, 4, 3, "cube");
+    check_drag(torus, 4, 1, "torus, crease at level 1");
+    check_drag(grid, 3, 1, "grid, crease at level 1");
+    check_drag(cube_scaled, 4, 1, "cube, crease at level 1");
+    test_crease_below_top();
     struct { st_scheme_id id; void (*make)(st_mesh *); unsigned levels; } cases[] = {
         { ST_SCHEME_CATMARK, torus, 4 },
         { ST_SCHEME_CATMARK, grid, 3 },

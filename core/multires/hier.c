@@ -191,8 +191,9 @@ float st_hier_vertex_sharpness(const st_hier *h, uint32_t v, unsigned l)
 }
 
 /* Sharpness decides which cells take the crease rules: a cache of the
- * synthesis depends on it as on the topology. */
-void st_hier_set_edge_sharpness(st_hier *h, uint32_t d, unsigned l, float s)
+ * synthesis depends on it as on the topology.  This level only (the
+ * attribute's finer levels that had not diverged follow it as they are). */
+static void store_edge_sharpness(st_hier *h, uint32_t d, unsigned l, float s)
 {
     ensure_sharp(h);
     st_map_changed(&h->map);
@@ -200,11 +201,99 @@ void st_hier_set_edge_sharpness(st_hier *h, uint32_t d, unsigned l, float s)
     st_mla_set(&h->edge_sharp, &h->map.darts, st_beta0(&h->map, d, l), l, &s);
 }
 
-void st_hier_set_vertex_sharpness(st_hier *h, uint32_t v, unsigned l, float s)
+static void store_vertex_sharpness(st_hier *h, uint32_t v, unsigned l, float s)
 {
     ensure_sharp(h);
     st_map_changed(&h->map);
     st_mla_set(&h->vertex_sharp, &h->map.verts, v, l, &s);
+}
+
+/* Whether the edge (d, β0(d)) of level k was split at level k+1 into
+ * (d, β0(d,k+1)) and (e, β0(e,k+1)) around a new midpoint (primal
+ * refinement; an adaptive hierarchy may not have split it). */
+static int edge_split_below(const st_hier *h, uint32_t d, unsigned k)
+{
+    const st_map *m = &h->map;
+    uint32_t e = st_beta0(m, d, k);
+    uint32_t mid = st_vert(m, st_beta0(m, d, k + 1), k + 1);
+    return m->verts.ins[mid] == k + 1 && st_vert(m, st_beta0(m, e, k + 1), k + 1) == mid;
+}
+
+/* The child of the half edge of x (at x's vertex) on level k+1 takes the
+ * sharpness refinement would have given it (DeRose et al. 1998,
+ * OpenSubdiv's Sdc::Crease), from level k.  Returns 0 when that edge was
+ * not split. */
+static int derive_child_edge(st_hier *h, uint32_t x, unsigned k)
+{
+    if (!edge_split_below(h, x, k)) return 0;
+    float c = st_crease_child_edge_sharpness(h, x, k);
+    if (st_hier_edge_sharpness(h, x, k + 1) != c) store_edge_sharpness(h, x, k + 1, c);
+    return 1;
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+static void push_dart(uint32_t **list, uint32_t *n, uint32_t *cap, uint32_t d)
+{
+    if (*n == *cap) {
+        *cap = *cap ? 2 * *cap : 16;
+        *list = realloc(*list, *cap * sizeof **list);
+        if (!*list) abort(); /* out of memory on a few darts */
+    }
+    (*list)[(*n)++] = d;
+}
+
+/* A sharpness set below the top changes what refinement gave the finer
+ * levels: they are derived again, level by level, as refinement would, for
+ * the half edges whose parent may have changed (cur: both darts of each
+ * edge).  Chaikin's rule reads every semi-sharp edge at a vertex, so there
+ * every half edge at their vertices is derived again. */
+static void derive_finer_edge_sharpness(st_hier *h, uint32_t d, unsigned l)
+{
+    const st_map *m = &h->map;
+    int chaikin = h->opts.crease_method == ST_CREASE_CHAIKIN;
+    uint32_t *cur = NULL, *next = NULL, ncur = 0, nnext = 0, capcur = 0, capnext = 0;
+    push_dart(&cur, &ncur, &capcur, d);
+    push_dart(&cur, &ncur, &capcur, st_beta0(m, d, l));
+    for (unsigned k = l; k < m->top && ncur; k++) {
+        if (chaikin) {
+            uint32_t n = ncur;
+            for (uint32_t i = 0; i < n; i++)
+                for (uint32_t x = st_beta1(m, cur[i], k); x != cur[i]; x = st_beta1(m, x, k)) push_dart(&cur, &ncur, &capcur, x);
+        }
+        qsort(cur, ncur, sizeof *cur, cmp_u32);
+        nnext = 0;
+        for (uint32_t i = 0; i < ncur; i++) {
+            if (i && cur[i] == cur[i - 1]) continue;
+            if (!derive_child_edge(h, cur[i], k)) continue;
+            push_dart(&next, &nnext, &capnext, cur[i]);
+            push_dart(&next, &nnext, &capnext, st_beta0(m, cur[i], k + 1));
+        }
+        uint32_t *t = cur; cur = next; next = t;
+        uint32_t tc = capcur; capcur = capnext; capnext = tc;
+        ncur = nnext;
+    }
+    free(cur);
+    free(next);
+}
+
+void st_hier_set_edge_sharpness(st_hier *h, uint32_t d, unsigned l, float s)
+{
+    store_edge_sharpness(h, d, l, s);
+    derive_finer_edge_sharpness(h, d, l);
+}
+
+void st_hier_set_vertex_sharpness(st_hier *h, uint32_t v, unsigned l, float s)
+{
+    store_vertex_sharpness(h, v, l, s);
+    for (unsigned k = l; k < h->map.top; k++) {
+        s = st_crease_decay(s);
+        if (st_hier_vertex_sharpness(h, v, k + 1) != s) store_vertex_sharpness(h, v, k + 1, s);
+    }
 }
 
 /* OpenSubdiv's uniform rule: sharpness decreases by one per level; values
