@@ -332,6 +332,50 @@ static void test_crease_below_top(void)
     st_hier_free(&h);
 }
 
+/* Creases set on level 1 of a hierarchy of 4 levels give every finer level
+ * the sharpness, and the positions, that refining after setting them gives
+ * (to the bit), with either rule; two semi-sharp edges at one vertex make
+ * Chaikin's rule differ from the uniform one. */
+static void creases_on(st_hier *h, uint32_t d, int method)
+{
+    h->opts.crease_method = method;
+    st_hier_set_edge_sharpness(h, d, 1, 2.5f);
+    st_hier_set_edge_sharpness(h, st_beta1(&h->map, d, 1), 1, 1.25f);
+    st_hier_set_vertex_sharpness(h, st_vert(&h->map, st_beta0(&h->map, d, 1), 1), 1, 1.5f);
+}
+
+static void test_crease_matches_refinement(int method)
+{
+    st_hier late, early;
+    st_error err;
+    uint64_t rng = 91;
+    tl_init_hier(&late, torus, ST_SCHEME_CATMARK, 4);
+    tl_init_hier(&early, torus, ST_SCHEME_CATMARK, 1);
+    uint32_t d = tl_random_dart_at(&late.map, 1, &rng);
+    creases_on(&late, d, method);
+    st_hier_synthesize(&late, 1);
+    creases_on(&early, d, method);
+    CHECK(st_hier_subdivide_to(&early, 4, &err) == ST_OK);
+    unsigned bad = 0;
+    for (unsigned l = 1; l <= 4; l++) {
+        st_dart_iter it;
+        for (uint32_t x = st_dart_first(&late.map, l, &it); x != ST_NIL; x = st_dart_next(&late.map, l, &it))
+            bad += st_hier_edge_sharpness(&late, x, l) != st_hier_edge_sharpness(&early, x, l);
+        for (uint32_t v = st_vertex_first(&late.map, l, &it); v != ST_NIL; v = st_vertex_next(&late.map, l, &it))
+            bad += st_hier_vertex_sharpness(&late, v, l) != st_hier_vertex_sharpness(&early, v, l);
+    }
+    CHECKF(bad == 0, "creases at level 1, method %d: %u sharpness values differ from refining after them", method, bad);
+    tl_posnap a, b;
+    tl_snap_pos(&late, &a);
+    tl_snap_pos(&early, &b);
+    double diff = tl_snap_maxdiff(&a, &b);
+    CHECKF(diff == 0, "creases at level 1, method %d: positions differ from refining after them by %g", method, diff);
+    free(a.p);
+    free(b.p);
+    st_hier_free(&late);
+    st_hier_free(&early);
+}
+
 int main(void)
 {
     test_catmark_cube_values();
@@ -343,6 +387,8 @@ int main(void)
     check_drag(grid, 3, 1, "grid, crease at level 1");
     check_drag(cube_scaled, 4, 1, "cube, crease at level 1");
     test_crease_below_top();
+    test_crease_matches_refinement(ST_CREASE_UNIFORM);
+    test_crease_matches_refinement(ST_CREASE_CHAIKIN);
     struct { st_scheme_id id; void (*make)(st_mesh *); unsigned levels; } cases[] = {
         { ST_SCHEME_CATMARK, torus, 4 },
         { ST_SCHEME_CATMARK, grid, 3 },
