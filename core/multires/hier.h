@@ -118,7 +118,10 @@ uint64_t st_hier_move(st_hier *h, unsigned l, const uint32_t *darts, const doubl
 void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[3][3]);
 
 /* Sharpness queries (0 when none; boundary edges are not sharp here: the
- * rules handle boundaries by themselves). */
+ * rules handle boundaries by themselves).  Setting a sharpness on level
+ * l < top also gives the finer levels the child sharpness refinement would
+ * have given them (OpenSubdiv's rules: uniform s-1 per level, or Chaikin's),
+ * as if the levels above l had been refined after it. */
 float st_hier_edge_sharpness(const st_hier *h, uint32_t d, unsigned l);
 float st_hier_vertex_sharpness(const st_hier *h, uint32_t v, unsigned l);
 void st_hier_set_edge_sharpness(st_hier *h, uint32_t d, unsigned l, float s);
