@@ -10,6 +10,7 @@
 #include "core/map/dart_list.h"
 #include "core/map/refine_internal.h"
 
+#include <math.h>
 #include <string.h>
 
 /* Primal refinement with sharpness propagation (OpenSubdiv uniform rule). */
@@ -98,5 +99,41 @@ typedef struct st_level_stencils st_level_stencils;
 st_level_stencils *st_hier_level_stencils(st_hier *h, unsigned l);
 void st_level_stencils_free(st_level_stencils *c);
 double st_hier_analyze_with(st_hier *h, unsigned to, st_level_stencils **given);
+
+/* Three-vector arithmetic shared by the frames of subdivision synthesis
+ * (hier_synth.c) and of progressive synthesis (progressive_synth.c), which
+ * must give the same bits, and by the progressive working copy. */
+static inline void st_sub3(const double *a, const double *b, double *o) { o[0] = a[0] - b[0]; o[1] = a[1] - b[1]; o[2] = a[2] - b[2]; }
+static inline void st_cross3(const double *a, const double *b, double *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+static inline double st_dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* The local frame F(v) (rows t, b, n) from an unnormalised normal n and a
+ * tangent t: Gram-Schmidt, falling back to fixed axes for a degenerate n or
+ * a tangent along n, so that the frame is always defined (uses sqrt and
+ * fabs: the includer includes math.h). */
+static inline void st_frame_orthonormal(double t[3], double n[3], double f[3][3])
+{
+    double ln = sqrt(st_dot3(n, n));
+    if (ln < 1e-300) { n[0] = 0; n[1] = 0; n[2] = 1; ln = 1; }
+    for (int i = 0; i < 3; i++) n[i] /= ln;
+    double k = st_dot3(t, n);
+    for (int i = 0; i < 3; i++) t[i] -= k * n[i];
+    double lt = sqrt(st_dot3(t, t));
+    if (lt < 1e-12) {
+        double ax[3] = { fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0 };
+        k = st_dot3(ax, n);
+        for (int i = 0; i < 3; i++) t[i] = ax[i] - k * n[i];
+        lt = sqrt(st_dot3(t, t));
+    }
+    for (int i = 0; i < 3; i++) t[i] /= lt;
+    double b[3];
+    st_cross3(n, t, b);
+    for (int i = 0; i < 3; i++) { f[0][i] = t[i]; f[1][i] = b[i]; f[2][i] = n[i]; }
+}
 
 #endif

@@ -69,14 +69,6 @@ void st_hier_trim_details(st_hier *h)
 
 /* ---- local frames ------------------------------------------------------------ */
 
-static void sub3(const double *a, const double *b, double *o) { o[0] = a[0] - b[0]; o[1] = a[1] - b[1]; o[2] = a[2] - b[2]; }
-static void cross3(const double *a, const double *b, double *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 static void add3(double *a, const double *b) { a[0] += b[0]; a[1] += b[1]; a[2] += b[2]; }
 
 /* Newell normal of the face of d (unnormalised; zero for boundary faces). */
@@ -96,30 +88,6 @@ static uint32_t min_in_orbit(const st_map *m, uint32_t d, unsigned l, int face)
     return best;
 }
 
-/* Orthonormalises (t, n) into rows t, b = n × t, n; degenerate inputs fall
- * back to fixed axes so that the frame is always defined. */
-static void orthonormal(double t[3], double n[3], double f[3][3])
-{
-    double ln = sqrt(dot3(n, n));
-    if (ln < 1e-300) { n[0] = 0; n[1] = 0; n[2] = 1; ln = 1; }
-    for (int i = 0; i < 3; i++) n[i] /= ln;
-    double k = dot3(t, n);
-    for (int i = 0; i < 3; i++) t[i] -= k * n[i];
-    double lt = sqrt(dot3(t, t));
-    if (lt < 1e-12 * (ln > 0 ? 1 : 1)) {
-        double ax[3] = { fabs(n[0]) < 0.9 ? 1 : 0, fabs(n[0]) < 0.9 ? 0 : 1, 0 };
-        k = dot3(ax, n);
-        for (int i = 0; i < 3; i++) t[i] = ax[i] - k * n[i];
-        lt = sqrt(dot3(t, t));
-    }
-    for (int i = 0; i < 3; i++) t[i] /= lt;
-    double b[3];
-    cross3(n, t, b);
-    memcpy(f[0], t, sizeof f[0]);
-    memcpy(f[1], b, sizeof f[1]);
-    memcpy(f[2], n, sizeof f[2]);
-}
-
 void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[3][3])
 {
     const st_map *m = &h->map;
@@ -130,8 +98,8 @@ void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[
          * whose faces carry the surface's vertices (Newell normal). */
         c = min_in_orbit(m, d, l, 0);
         st_vertex_newell(m, c, l, n);
-        sub3(st_pos(m, st_vert(m, st_beta1(m, c, l), l), l), st_pos(m, st_vert(m, c, l), l), t);
-        orthonormal(t, n, f);
+        st_sub3(st_pos(m, st_vert(m, st_beta1(m, c, l), l), l), st_pos(m, st_vert(m, c, l), l), t);
+        st_frame_orthonormal(t, n, f);
         return;
     }
     if (cell == ST_CELL_FACE) {
@@ -152,16 +120,16 @@ void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[
             uint32_t y = st_beta1(m, x, l);
             if (!st_is_boundary(m, st_beta0(m, x, l))) {
                 double a[3], b[3], cr[3];
-                sub3(p, st_dart_pos(m, st_beta0(m, x, l), l), a);
-                sub3(st_dart_pos(m, st_beta0(m, y, l), l), p, b);
-                cross3(a, b, cr);
+                st_sub3(p, st_dart_pos(m, st_beta0(m, x, l), l), a);
+                st_sub3(st_dart_pos(m, st_beta0(m, y, l), l), p, b);
+                st_cross3(a, b, cr);
                 add3(n, cr);
             }
             x = y;
         } while (x != c);
     }
-    sub3(st_dart_pos(m, st_beta0(m, c, l), l), st_dart_pos(m, c, l), t);
-    orthonormal(t, n, f);
+    st_sub3(st_dart_pos(m, st_beta0(m, c, l), l), st_dart_pos(m, c, l), t);
+    st_frame_orthonormal(t, n, f);
 }
 
 /* ---- stencil application ----------------------------------------------------- */
@@ -473,8 +441,8 @@ static void refresh_detail(st_hier *h, unsigned l, uint32_t d, st_detail_hook ho
         if (!predict_vertex(h, l, d, v, pred, f)) return;
         cache_put(cache, l, v, pred, (const double(*)[3])f);
     }
-    sub3(st_pos(m, v, l), pred, r);
-    for (int i = 0; i < 3; i++) dv[i] = dot3(f[i], r);
+    st_sub3(st_pos(m, v, l), pred, r);
+    for (int i = 0; i < 3; i++) dv[i] = st_dot3(f[i], r);
     if (hook) {
         double p[3];
         hook(hctx, l, v, dv, pred, (const double(*)[3])f, p);

@@ -265,41 +265,10 @@ static void predict(const level_pair *lp, uint32_t v, double s[3])
     }
 }
 
-static void sub3(const double *a, const double *b, double *o) { o[0] = a[0] - b[0]; o[1] = a[1] - b[1]; o[2] = a[2] - b[2]; }
-static void cross3(const double *a, const double *b, double *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-/* The orthonormalisation of st_hier_frame (core/multires/hier_synth.c),
- * operation for operation: a frame must have the same bits whichever path
- * computed it (test_progressive compares both). */
-static void orthonormal(double t[3], double n[3], double f[3][3])
-{
-    double ln = sqrt(dot3(n, n));
-    if (ln < 1e-300) { n[0] = 0; n[1] = 0; n[2] = 1; ln = 1; }
-    for (int i = 0; i < 3; i++) n[i] /= ln;
-    double k = dot3(t, n);
-    for (int i = 0; i < 3; i++) t[i] -= k * n[i];
-    double lt = sqrt(dot3(t, t));
-    if (lt < 1e-12) {
-        double ax[3] = { fabs(n[0]) < 0.9 ? 1 : 0, fabs(n[0]) < 0.9 ? 0 : 1, 0 };
-        k = dot3(ax, n);
-        for (int i = 0; i < 3; i++) t[i] = ax[i] - k * n[i];
-        lt = sqrt(dot3(t, t));
-    }
-    for (int i = 0; i < 3; i++) t[i] /= lt;
-    double b[3];
-    cross3(n, t, b);
-    memcpy(f[0], t, sizeof f[0]);
-    memcpy(f[1], b, sizeof f[1]);
-    memcpy(f[2], n, sizeof f[2]);
-}
-
-/* st_hier_frame's vertex frame of z at L-1, from z's ring at L-1: the sum
+/* st_hier_frame's vertex frame of z at L-1, with its orthonormalisation
+ * (st_frame_orthonormal, hier_internal.h): a frame must have the same bits
+ * whichever path computed it (test_progressive compares both).  From z's
+ * ring at L-1: the sum
  * of its corner normals over real faces, and the tangent to the first
  * neighbour. */
 static void vertex_frame(const level_pair *lp, uint32_t z, double f[3][3])
@@ -312,13 +281,13 @@ static void vertex_frame(const level_pair *lp, uint32_t z, double f[3][3])
         if (t->fl[j] & RING_OPEN) continue;
         uint32_t jn = j + 1 < end ? j + 1 : beg;
         double a[3], b[3], cr[3];
-        sub3(p, st_v_pos(&lp->pv, t->nbr[j]), a);
-        sub3(st_v_pos(&lp->pv, t->nbr[jn]), p, b);
-        cross3(a, b, cr);
+        st_sub3(p, st_v_pos(&lp->pv, t->nbr[j]), a);
+        st_sub3(st_v_pos(&lp->pv, t->nbr[jn]), p, b);
+        st_cross3(a, b, cr);
         n[0] += cr[0]; n[1] += cr[1]; n[2] += cr[2];
     }
-    sub3(st_v_pos(&lp->pv, t->nbr[beg]), p, tg);
-    orthonormal(tg, n, f);
+    st_sub3(st_v_pos(&lp->pv, t->nbr[beg]), p, tg);
+    st_frame_orthonormal(tg, n, f);
 }
 
 /* P_L(v) = S(P_{L-1})(v) + F D_L(v) (st_stencil_apply). */

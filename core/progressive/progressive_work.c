@@ -1,6 +1,7 @@
 /* The working copy of a progressive build: grouped independent half-edge
  * collapses ranked by quadrics (progressive.h, design points 1-3). */
 #include "core/progressive/progressive_internal.h"
+#include "core/multires/hier_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -35,14 +36,6 @@ static double quad_eval(const double *q, const double p[3])
          + q[7] * z * z + 2 * q[8] * z + q[9];
 }
 
-static void sub3(const double *a, const double *b, double *o) { o[0] = a[0] - b[0]; o[1] = a[1] - b[1]; o[2] = a[2] - b[2]; }
-static void cross3(const double *a, const double *b, double *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 /* Plane quadrics of the input (Garland-Heckbert 97 §5: weighted by area),
  * and for each boundary edge the plane through it perpendicular to its
@@ -55,27 +48,27 @@ static void init_quadrics(pm_work *w)
         const double *p0 = w->pos + 3 * (size_t)w->org[h], *p1 = w->pos + 3 * (size_t)w->org[h + 1],
                      *p2 = w->pos + 3 * (size_t)w->org[h + 2];
         double e1[3], e2[3], n[3];
-        sub3(p1, p0, e1);
-        sub3(p2, p0, e2);
-        cross3(e1, e2, n);
-        double len = sqrt(dot3(n, n));
+        st_sub3(p1, p0, e1);
+        st_sub3(p2, p0, e2);
+        st_cross3(e1, e2, n);
+        double len = sqrt(st_dot3(n, n));
         if (len <= 0) continue;
         for (int i = 0; i < 3; i++) n[i] /= len;
-        double area = 0.5 * len, dist = -dot3(n, p0);
+        double area = 0.5 * len, dist = -st_dot3(n, p0);
         for (int k = 0; k < 3; k++) quad_add_plane(w->quad + 10 * (size_t)w->org[h + k], n, dist, area);
         for (int k = 0; k < 3; k++) {
             uint32_t e = h + (uint32_t)k;
             if (!(w->hflags[w->twin[e]] & PM_HE_BOUNDARY)) continue;
             const double *a = w->pos + 3 * (size_t)w->org[e], *b = w->pos + 3 * (size_t)pm_dest(w, e);
             double ed[3], m[3];
-            sub3(b, a, ed);
-            cross3(ed, n, m);
-            double ml = sqrt(dot3(m, m));
+            st_sub3(b, a, ed);
+            st_cross3(ed, n, m);
+            double ml = sqrt(st_dot3(m, m));
             if (ml <= 0) continue;
             for (int i = 0; i < 3; i++) m[i] /= ml;
-            double wgt = boundary_penalty * dot3(ed, ed);
-            quad_add_plane(w->quad + 10 * (size_t)w->org[e], m, -dot3(m, a), wgt);
-            quad_add_plane(w->quad + 10 * (size_t)pm_dest(w, e), m, -dot3(m, a), wgt);
+            double wgt = boundary_penalty * st_dot3(ed, ed);
+            quad_add_plane(w->quad + 10 * (size_t)w->org[e], m, -st_dot3(m, a), wgt);
+            quad_add_plane(w->quad + 10 * (size_t)pm_dest(w, e), m, -st_dot3(m, a), wgt);
         }
     }
 }
@@ -209,9 +202,9 @@ static void tri_normal(const pm_work *w, uint32_t h, uint32_t moved, const doubl
     uint32_t x = h;
     for (int k = 0; k < 3; k++, x = w->next[x]) p[k] = w->org[x] == moved ? q : w->pos + 3 * (size_t)w->org[x];
     double e1[3], e2[3];
-    sub3(p[1], p[0], e1);
-    sub3(p[2], p[0], e2);
-    cross3(e1, e2, n);
+    st_sub3(p[1], p[0], e1);
+    st_sub3(p[2], p[0], e2);
+    st_cross3(e1, e2, n);
 }
 
 /* The topological and geometric conditions of a collapse h = a -> b
@@ -256,7 +249,7 @@ static int collapse_ok(pm_work *w, uint32_t h)
             double n0[3], n1[3];
             tri_normal(w, x, a, w->pos + 3 * (size_t)a, n0);
             tri_normal(w, x, a, q, n1);
-            if (dot3(n0, n1) <= 0) return 0;
+            if (st_dot3(n0, n1) <= 0) return 0;
         }
         x = pm_rot(w, x);
     } while (x != h);
