@@ -34,6 +34,7 @@
 #define ST_MAP_DENSE_ONLY
 #include "core/base/hugepage.h"
 #include "core/fvar/fvar_internal.h"
+#include "core/map/pool_internal.h"
 #include "core/multires/hier.h"
 #include "core/schemes/scheme.h"
 
@@ -169,23 +170,39 @@ int st_fvar_continues(const st_hier *h)
     return h->fvar && h->fvar->levels == h->map.top + 1 && st_fvar_rules_of(h) >= 0;
 }
 
-int st_fvar_refine(st_hier *h, st_error *err)
+/* The dart ids of levels 0..L: a level's arrays need no room for the
+ * darts of finer levels the map may already hold (the same as the map's
+ * ids when L is its top, short of spare blocks). */
+static uint32_t level_darts(const st_map *m, unsigned L)
+{
+    uint32_t c = st_pool_cover(&m->darts, L + 1);
+    return c < m->darts.end ? c : m->darts.end;
+}
+
+static int refine_failed(st_error *err, unsigned L)
+{
+    return st_fail(err, ST_ERR_MEMORY, "out of memory subdividing texture coordinates to level %u", L);
+}
+
+/* Level L's values from level L-1's (f->levels == L, the map at level L
+ * or finer).  Every pass reads the relations of levels L-1 and L only
+ * (st_fvar_step's views), so it gives the same bits whether the map's top
+ * is L or finer. */
+static int refine_level(st_hier *h, unsigned L, st_error *err)
 {
     st_fvar *f = h->fvar;
-    unsigned L = h->map.top;
-    if (L == 0 || !f || f->levels != L || st_fvar_rules_of(h) < 0) return ST_OK;
     st_map *m = &h->map;
-    if (level_alloc(&f->lv[L], m->darts.end))
-        return st_fail(err, ST_ERR_MEMORY, "out of memory subdividing texture coordinates to level %u", L);
-    if (st_fvar_rules_of(h) == ST_FVAR_STENCIL) {
+    int rules = st_fvar_rules_of(h);
+    if (level_alloc(&f->lv[L], level_darts(m, L))) return refine_failed(err, L);
+    if (rules == ST_FVAR_STENCIL) {
         if (st_fvar_refine_stencil(h, &f->lv[L - 1], &f->lv[L])) {
             level_free(&f->lv[L]);
-            return st_fail(err, ST_ERR_MEMORY, "out of memory subdividing texture coordinates to level %u", L);
+            return refine_failed(err, L);
         }
         f->levels = L + 1;
         return ST_OK;
     }
-    st_fvar_step w = { .h = h, .m = m, .l = L - 1, .L = L, .interp = f->interp, .rules = st_fvar_rules_of(h) };
+    st_fvar_step w = { .h = h, .m = m, .l = L - 1, .L = L, .interp = f->interp, .rules = rules };
     w.uv = f->lv[L - 1].uv;
     w.val = f->lv[L - 1].val;
     w.out_uv = f->lv[L].uv;
@@ -197,10 +214,35 @@ int st_fvar_refine(st_hier *h, st_error *err)
     st_fvar_step_free(&w);
     if (rc) {
         level_free(&f->lv[L]);
-        return st_fail(err, ST_ERR_MEMORY, "out of memory subdividing texture coordinates to level %u", L);
+        return refine_failed(err, L);
     }
     f->levels = L + 1;
     return ST_OK;
+}
+
+int st_fvar_refine(st_hier *h, st_error *err)
+{
+    st_fvar *f = h->fvar;
+    unsigned L = h->map.top;
+    if (L == 0 || !f || f->levels != L || st_fvar_rules_of(h) < 0) return ST_OK;
+    return refine_level(h, L, err);
+}
+
+int st_fvar_refine_levels(st_hier *h, unsigned upto, st_error *err)
+{
+    st_fvar *f = h->fvar;
+    int rules = st_fvar_rules_of(h);
+    if (!f || rules < 0 || f->levels > upto) return ST_OK;
+    if (upto > h->map.top)
+        return st_fail(err, ST_ERR_INVALID, "texture coordinates to level %u of a hierarchy of %u levels", upto, h->map.top + 1);
+    /* √3's and Doo-Sabin's stencils come from the scheme's emit(), which
+     * reads the top level, and mark the map's darts: level by level with
+     * the topology only (st_fvar_refine). */
+    if (rules == ST_FVAR_STENCIL && (f->levels != upto || upto != h->map.top))
+        return st_fail(err, ST_ERR_INVALID, "texture coordinates of %s refine with each level, not after", h->scheme->name);
+    int rc = ST_OK;
+    for (unsigned L = f->levels; L <= upto && !rc; L++) rc = refine_level(h, L, err);
+    return rc;
 }
 
 /* ---- levels removed, copies, soups ---------------------------------------------- */

@@ -36,6 +36,25 @@ void st_fvar_free(struct st_hier *h);
 /* After level L = top was added by the scheme's refine(): its UVs from
  * level L-1 (primal quadrisection schemes; others leave level L without). */
 int st_fvar_refine(struct st_hier *h, st_error *err);
+/* The UVs of levels f->levels..upto, each level from the one below, once
+ * the map's topology reaches upto or beyond (the scheme's refine() run
+ * first for every level): the same bits as st_fvar_refine after each
+ * refine(), and each level's arrays sized by the dart ids of levels
+ * 0..L (st_pool_cover), not by the finer map's.  Nothing when h has no
+ * UVs, its scheme carries none above level 0, or they reach upto already;
+ * ST_ERR_INVALID when upto is above the map's top, or for √3 and
+ * Doo-Sabin unless upto is the top and the only level missing (their
+ * stencils read the top level: st_fvar_refine after each refine()).
+ *
+ * Threads: for the primal quadrisection schemes it reads the map's
+ * relations, flags and id pools, the hierarchy's sharpness and options,
+ * and writes h->fvar only (and memory it allocates): it may run beside
+ * readers of the connectivity and a writer of positions and details
+ * (st_hier_write_pos, st_hier_set_detail), never beside anything that
+ * changes the map's topology or sharpness (refine(), level removal), nor
+ * anything that reads h->fvar (st_hier_uv, sessions, level meshes).
+ * Returns ST_OK or the error; out of memory leaves the levels done. */
+int st_fvar_refine_levels(struct st_hier *h, unsigned upto, st_error *err);
 /* Level top's UVs and labels for √3 and Doo-Sabin (fvar_stencil.c), from
  * level top-1's; -1 when out of memory. */
 int st_fvar_refine_stencil(struct st_hier *h, const st_fvar_level *coarse, st_fvar_level *fine);

@@ -9,6 +9,7 @@
  * lookup path, without the sparse test (map.h, "Two lookup paths"). */
 #define ST_MAP_DENSE_ONLY
 #include "core/fvar/fvar_internal.h"
+#include "core/map/pool_internal.h"
 #include "core/multires/hier.h"
 
 #include <math.h>
@@ -35,11 +36,22 @@ static float view_float(const st_u32_view *r, const uint8_t *ins, uint32_t i)
     return f;
 }
 
+/* st_level_view_init without the positions: a step reads connectivity
+ * only, so it may run beside a thread that writes positions (whose first
+ * write at a level materialises the column a view would read). */
+static void connectivity_view(const st_map *m, unsigned l, st_level_view *v)
+{
+    *v = (st_level_view){ .ins = m->darts.ins, .vins = m->verts.ins };
+    v->beta0 = st_u32_view_of(&m->beta0, l);
+    v->beta1 = st_u32_view_of(&m->beta1, l);
+    v->vert = st_u32_view_of(&m->vert, l);
+}
+
 /* Takes the views of levels l and L (fvar_internal.h: st_fvar_step). */
 static void take_views(st_fvar_step *w)
 {
-    st_level_view_init(w->m, w->l, &w->vl);
-    st_level_view_init(w->m, w->L, &w->vL);
+    connectivity_view(w->m, w->l, &w->vl);
+    connectivity_view(w->m, w->L, &w->vL);
     if (w->h->has_sharpness) {
         w->esharp = st_u32_view_of(&w->h->edge_sharp, w->l);
         w->vsharp = st_u32_view_of(&w->h->vertex_sharp, w->l);
@@ -192,20 +204,26 @@ static void regular_face_child(st_fvar_step *w, uint32_t f, uint64_t *seen)
     }
 }
 
+/* The dart ids of levels 0..l: the scratch indexed by level l's darts
+ * needs no room for those of finer levels the map may already hold
+ * (st_fvar_refine_levels). */
+static uint32_t darts_of_level(const st_fvar_step *w) { return st_pool_cover(&w->m->darts, w->l + 1); }
+
 /* Faces are met once each: a bit per dart id (no marker to release). */
 int st_fvar_face_children(st_fvar_step *w)
 {
     take_views(w);
     st_map *m = w->m;
-    uint64_t *seen = calloc((size_t)m->darts.end / 64 + 1, sizeof *seen);
+    uint32_t nd = darts_of_level(w);
+    uint64_t *seen = calloc((size_t)nd / 64 + 1, sizeof *seen);
     if (!seen) return -1;
     /* Only the Catmull-Clark rules read face children back; an adaptive
      * map's are in w->cent. */
-    if (!w->cent && w->rules == ST_FVAR_CATMARK && w->cap_fchild < m->darts.end) {
-        uint32_t *g = realloc(w->fchild, (size_t)m->darts.end * sizeof *g);
+    if (!w->cent && w->rules == ST_FVAR_CATMARK && w->cap_fchild < nd) {
+        uint32_t *g = realloc(w->fchild, (size_t)nd * sizeof *g);
         if (!g) { free(seen); return -1; }
         w->fchild = g;
-        w->cap_fchild = m->darts.end;
+        w->cap_fchild = nd;
     }
     w->faced = w->edged = 0;
     w->tri_splits = 0;
@@ -275,10 +293,11 @@ void st_fvar_edge_children(st_fvar_step *w)
     take_views(w);
     st_map *m = w->m;
     w->edged = 0;
-    if (w->cap_disc < m->darts.end) {
+    uint32_t nd = darts_of_level(w);
+    if (w->cap_disc < nd) {
         free(w->disc);
-        w->disc = malloc(m->darts.end);
-        w->cap_disc = w->disc ? m->darts.end : 0;
+        w->disc = malloc(nd);
+        w->cap_disc = w->disc ? nd : 0;
     }
     st_fvar_scan it;
     st_fvar_scan_init(&it, m, 0, w->l);
@@ -613,7 +632,7 @@ int st_fvar_vertex_children(st_fvar_step *w)
 {
     take_views(w);
     st_map *m = w->m;
-    uint8_t *done = calloc((size_t)m->verts.end + 1, 1);
+    uint8_t *done = calloc((size_t)st_pool_cover(&m->verts, w->l + 1) + 1, 1);  /* level l's vertex ids */
     if (!done) return -1;
     st_fvar_scan it;
     st_fvar_scan_init(&it, m, 0, w->l);
