@@ -142,6 +142,8 @@ typedef struct st_fvar_step {
     uint32_t *fchild, cap_fchild; /* per dart of level l (Catmull-Clark, cent NULL): the corner at L
                                     holding its face's child, for the rules that read it */
     unsigned faced;              /* l + 1 once st_fvar_face_children counted them */
+    const uint32_t *fc;          /* fchild once every face child is set (all quads), else NULL */
+    int has_sharpness;           /* h's, taken with the views */
     uint8_t *disc;               /* per real dart of level l: its edge is a face-varying
                                     boundary (st_fvar_edge_children), for the vertex pass */
     uint32_t cap_disc;

@@ -52,7 +52,8 @@ static void take_views(st_fvar_step *w)
 {
     connectivity_view(w->m, w->l, &w->vl);
     connectivity_view(w->m, w->L, &w->vL);
-    if (w->h->has_sharpness) {
+    w->has_sharpness = w->h->has_sharpness;
+    if (w->has_sharpness) {
         w->esharp = st_u32_view_of(&w->h->edge_sharp, w->l);
         w->vsharp = st_u32_view_of(&w->h->vertex_sharp, w->l);
     }
@@ -67,12 +68,12 @@ static uint32_t phi1L(const st_fvar_step *w, uint32_t d) { return st_v_phi1(&w->
 /* st_hier_edge_sharpness and st_hier_vertex_sharpness at level l. */
 static float sharp_of_edge(const st_fvar_step *w, uint32_t d)
 {
-    return w->h->has_sharpness ? view_float(&w->esharp, w->vl.ins, d) : 0;
+    return w->has_sharpness ? view_float(&w->esharp, w->vl.ins, d) : 0;
 }
 
 static float sharp_of_vertex(const st_fvar_step *w, uint32_t v)
 {
-    return w->h->has_sharpness ? view_float(&w->vsharp, w->vl.vins, v) : 0;
+    return w->has_sharpness ? view_float(&w->vsharp, w->vl.vins, v) : 0;
 }
 
 static void put_child(const st_fvar_step *w, uint32_t x, const double p[2], uint32_t label)
@@ -86,7 +87,7 @@ static void put_child(const st_fvar_step *w, uint32_t x, const double p[2], uint
  * an adaptive map keeps every face's centroid, subdivided or not. */
 static inline const double *face_child(const st_fvar_step *w, uint32_t d)
 {
-    if (w->faced == w->l + 1 && !w->tri_splits && w->fchild) return at2(w->out_uv, w->fchild[d]);  /* all quads: all set */
+    if (w->fc) return at2(w->out_uv, w->fc[d]);  /* all quads: all set */
     if (w->cent) return at2(w->cent, d);
     return at2(w->out_uv, phi1L(w, phi1L(w, d)));
 }
@@ -227,6 +228,7 @@ int st_fvar_face_children(st_fvar_step *w)
     }
     w->faced = w->edged = 0;
     w->tri_splits = 0;
+    w->fc = NULL;
     int regular = !w->cent && !w->sub && !w->rank && !w->split_toward;
     st_fvar_scan it;
     st_fvar_scan_init(&it, m, 0, w->l);
@@ -242,12 +244,13 @@ int st_fvar_face_children(st_fvar_step *w)
     }
     free(seen);
     w->faced = w->l + 1;
+    if (!w->cent && !w->tri_splits) w->fc = w->fchild;
     return 0;
 }
 
 /* The child of the edge of d on d's side (OpenSubdiv's edge masks); the
  * edge is a face-varying boundary (discontinuous) or not. */
-static int edge_child(st_fvar_step *w, uint32_t d)
+static inline __attribute__((always_inline)) int edge_child(const st_fvar_step *w, uint32_t d)
 {
     st_map *m = w->m;
     uint32_t t = b0l(w, d), n = b1l(w, t);
@@ -299,14 +302,18 @@ void st_fvar_edge_children(st_fvar_step *w)
         w->disc = malloc(nd);
         w->cap_disc = w->disc ? nd : 0;
     }
+    /* A copy that the children's stores cannot reach: its fields and
+     * views stay in registers across the loop. */
+    const st_fvar_step s = *w;
+    uint8_t *disc = w->disc;
     st_fvar_scan it;
-    st_fvar_scan_init(&it, m, 0, w->l);
+    st_fvar_scan_init(&it, m, 0, s.l);
     for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
         if (st_is_boundary(m, d)) continue;
-        int disc = edge_child(w, d);
-        if (w->disc) w->disc[d] = (uint8_t)disc;
+        int dc = edge_child(&s, d);
+        if (disc) disc[d] = (uint8_t)dc;
     }
-    if (w->disc) w->edged = w->l + 1;
+    if (disc) w->edged = w->l + 1;
 }
 
 /* ---- vertex children --------------------------------------------------------- */
@@ -680,6 +687,7 @@ void st_fvar_step_free(st_fvar_step *w)
     free(w->sharp);
     free(w->fchild);
     free(w->disc);
+    w->fc = NULL;
     w->fchild = NULL;
     w->disc = NULL;
     w->cap_fchild = w->cap_disc = 0;
