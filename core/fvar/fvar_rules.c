@@ -198,8 +198,13 @@ static void regular_face_child(st_fvar_step *w, uint32_t f, uint64_t *seen)
     uint32_t y = phi1L(w, phi1L(w, f)), z = phi1L(w, y);
     if (y == f || z == f || phi1L(w, z) != f) { w->tri_splits++; return; }  /* quad_child(w, f) */
     double c[2] = { s[0] / n, s[1] / n };
-    for (uint32_t i = 0; i < n; i++) {
-        if (i) y = phi1L(w, phi1L(w, cs[i]));
+    /* The child quads meet at the face child: β1 at L turns around it from
+     * the quad of corner i to that of corner i-1 (their shared inner edge
+     * runs to the midpoint of edge i-1), so one lookup per corner finds
+     * φ1²(cs[i]) at L. */
+    for (uint32_t k = 0; k < n; k++) {
+        uint32_t i = k ? n - k : 0;
+        if (k) y = st_v_beta1(&w->vL, y);
         put_child(w, y, c, 0);
         if (w->fchild) w->fchild[cs[i]] = y;
     }
