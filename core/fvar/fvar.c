@@ -28,6 +28,11 @@
  *     see docs/SUBDIVISION-RULES.md §7b.
  * Semi-sharp creases inside a face-varying boundary take the plain crease
  * rule (OpenSubdiv blends toward a corner there).
+ *
+ * A level's values depend on the relations of levels L-1 and L only, so
+ * they may come with each level (st_fvar_refine after the scheme's
+ * refine()) or once the topology is complete (st_fvar_refine_levels, as a
+ * task of its own beside the positions): the same bits either way.
  */
 /* Only subdivision hierarchies (dense maps) reach this file: the dense
  * lookup path, without the sparse test (map.h, "Two lookup paths"). */
