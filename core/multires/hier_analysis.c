@@ -653,7 +653,8 @@ static double analyze_level(st_hier *h, unsigned l, int may_stream, st_analysis_
         if (rep) { rep->streamed[l] = (uint8_t)ok; rep->row_residual[l] = scale > 0 ? worst / scale : 0; }
         if (ok) { free(x); return scale > 0 ? worst / scale : 0; }
     }
-    csr *cp = h->scheme->id == ST_SCHEME_CATMARK ? catmark_stencils(h, l) : st_hier_level_stencils(h, l), c = *cp;
+    /* stored_only (!may_stream) is the reference: the scheme's emit itself. */
+    csr *cp = may_stream && h->scheme->id == ST_SCHEME_CATMARK ? catmark_stencils(h, l) : st_hier_level_stencils(h, l), c = *cp;
     /* The solve runs over the coarse ids the stencils name, not every
      * vertex id of the map (the finer levels' ids lie above them when
      * levels are built coarse to fine): the vectors of the CG shrink

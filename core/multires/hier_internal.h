@@ -103,8 +103,9 @@ typedef struct st_analysis_report {
                                                 where it stopped early); 0 where not streamed */
 } st_analysis_report;
 /* st_hier_analyze, with the streamed pass of an exact level (Catmull-Clark)
- * unless stored_only: that path alone, as the reference for tests.  rep
- * may be NULL. */
+ * and the stored rows built on several threads; stored_only: the rows from
+ * the scheme's emit on one thread and the solve for every level, the
+ * analysis without either, as the reference for tests.  rep may be NULL. */
 double st_hier_analyze_ex(st_hier *h, unsigned to, int stored_only, st_analysis_report *rep);
 
 /* Three-vector arithmetic shared by the frames of subdivision synthesis
