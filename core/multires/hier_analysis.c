@@ -25,7 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct st_level_stencils {
+typedef struct csr {
     uint32_t nrows;           /* fine vertices */
     uint32_t *row_vertex;     /* fine vertex id per row */
     uint32_t *off;            /* nrows + 1 */
@@ -34,7 +34,7 @@ typedef struct st_level_stencils {
     uint32_t *frame_dart;
     uint8_t *frame_cell;
     uint32_t cap_rows, cap_nz;
-} csr;   /* st_level_stencils */
+} csr;
 
 static void *grow(void *p, size_t n, size_t elem)
 {
@@ -73,7 +73,7 @@ static void csr_free(csr *c)
     free(c->row_vertex); free(c->off); free(c->col); free(c->w); free(c->frame_dart); free(c->frame_cell);
 }
 
-void st_level_stencils_free(st_level_stencils *c)
+static void csr_destroy(csr *c)
 {
     if (!c) return;
     csr_free(c);
@@ -84,7 +84,7 @@ void st_level_stencils_free(st_level_stencils *c)
  * arrays start at their likely size (a row per vertex id level l can hold,
  * 8 weights a row: Catmull-Clark averages about 6.3), so that a large
  * level is not copied by each doubling. */
-st_level_stencils *st_hier_level_stencils(st_hier *h, unsigned l)
+static csr *level_stencils(st_hier *h, unsigned l)
 {
     csr *c = calloc(1, sizeof *c);
     if (!c) abort();
@@ -202,7 +202,7 @@ static unsigned threads_for(uint32_t nblocks)
 /* The stored rows, built piece by piece on several threads: piece i holds
  * the stencils of blocks [i·ORDER_CHUNK, (i+1)·ORDER_CHUNK), and the pieces
  * are joined in order, so that the rows are those of
- * st_hier_level_stencils, in its order, on any number of threads. */
+ * level_stencils, in its order, on any number of threads. */
 typedef struct csr_job {
     const dart_order *o;
     csr *piece;
@@ -267,7 +267,7 @@ static csr *csr_join(csr *piece, uint32_t n)
     return c;
 }
 
-/* st_hier_level_stencils of a Catmull-Clark level, on several threads. */
+/* level_stencils of a Catmull-Clark level, on several threads. */
 static csr *catmark_stencils(st_hier *h, unsigned L)
 {
     dart_order o;
@@ -669,7 +669,7 @@ static double analyze_level(st_hier *h, unsigned l, int may_stream, st_analysis_
         if (ok) { free(x); return scale > 0 ? worst / scale : 0; }
     }
     /* stored_only (!may_stream) is the reference: the scheme's emit itself. */
-    csr *cp = may_stream && h->scheme->id == ST_SCHEME_CATMARK ? catmark_stencils(h, l) : st_hier_level_stencils(h, l), c = *cp;
+    csr *cp = may_stream && h->scheme->id == ST_SCHEME_CATMARK ? catmark_stencils(h, l) : level_stencils(h, l), c = *cp;
     /* The solve runs over the coarse ids the stencils name, not every
      * vertex id of the map (the finer levels' ids lie above them when
      * levels are built coarse to fine): the vectors of the CG shrink
@@ -700,7 +700,7 @@ static double analyze_level(st_hier *h, unsigned l, int may_stream, st_analysis_
     free(dd);
     free(x);
     free(f);
-    st_level_stencils_free(cp);
+    csr_destroy(cp);
     return res;
 }
 

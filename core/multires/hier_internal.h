@@ -90,11 +90,6 @@ static inline void st_synth_put(st_synth_ctx *c, uint32_t v, uint32_t d, const d
     else st_dart_list_push(l, d);
 }
 
-/* The stored stencils of level l (CSR rows, in the scheme's emit order)
- * for the analysis' solve (hier_analysis.c). */
-typedef struct st_level_stencils st_level_stencils;
-st_level_stencils *st_hier_level_stencils(st_hier *h, unsigned l);
-void st_level_stencils_free(st_level_stencils *c);
 /* What st_hier_analyze_ex did per level l (to+1..top). */
 typedef struct st_analysis_report {
     uint8_t streamed[ST_MAX_LEVELS + 1];     /* 1: accepted by the streamed pass, no solve */
