@@ -2,6 +2,7 @@
  * subdivisions, and level switches that change nothing. */
 #include "core/multires/hier.h"
 #include "core/multires/hier_internal.h"
+#include "core/base/parallel.h"
 #include "testlib.h"
 
 #include <math.h>
@@ -179,6 +180,56 @@ static void check_remove_bottom(st_scheme_id id, void (*make)(st_mesh *), unsign
     st_hier_free(&h);
 }
 
+/* Levels whose position or detail differs by a bit somewhere. */
+static unsigned levels_differing(const st_hier *a, const st_hier *b)
+{
+    unsigned n = 0;
+    for (unsigned l = 0; l <= a->map.top; l++) {
+        int differ = 0;
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&a->map, l, &it); v != ST_NIL && !differ; v = st_vertex_next(&a->map, l, &it))
+            differ = memcmp(st_pos(&a->map, v, l), st_pos(&b->map, v, l), 3 * sizeof(double)) ||
+                     memcmp(st_hier_detail(a, l, v), st_hier_detail(b, l, v), 3 * sizeof(double));
+        n += differ;
+    }
+    return n;
+}
+
+/* Catmull-Clark's streamed pass (hier_analysis.c): on an exact subdivision
+ * every level is accepted without stored stencils and gives the bits of
+ * the stored rows and the solve; with details (noise above the rounding)
+ * every level falls back to the solve, the same bits again.  One, two and
+ * four threads agree. */
+static void check_streamed(void (*make)(st_mesh *), unsigned depth, double details)
+{
+    st_hier ref;
+    uint64_t rng = 11;
+    tl_init_hier(&ref, make, ST_SCHEME_CATMARK, depth);
+    if (details > 0) tl_random_details(&ref, &rng, details);
+    st_analysis_report rep;
+    st_hier_analyze_ex(&ref, 0, 1, &rep);
+    for (unsigned l = 1; l <= depth; l++) CHECK(!rep.streamed[l]);
+    static const unsigned threads[3] = { 1, 2, 4 };
+    for (unsigned t = 0; t < 3; t++) {
+        st_hier h;
+        st_parallel_set_threads(threads[t]);
+        rng = 11;
+        tl_init_hier(&h, make, ST_SCHEME_CATMARK, depth);
+        if (details > 0) tl_random_details(&h, &rng, details);
+        st_hier_analyze_ex(&h, 0, 0, &rep);
+        unsigned streamed = 0;
+        for (unsigned l = 1; l <= depth; l++) streamed += rep.streamed[l];
+        CHECKF(streamed == (details > 0 ? 0 : depth), "depth %u, details %g, %u thread(s): %u of %u levels streamed",
+               depth, details, threads[t], streamed, depth);
+        unsigned differ = levels_differing(&ref, &h);
+        CHECKF(differ == 0, "depth %u, details %g, %u thread(s): %u levels differ from the stored rows' analysis",
+               depth, details, threads[t], differ);
+        st_hier_free(&h);
+    }
+    st_parallel_set_threads(0);
+    st_hier_free(&ref);
+}
+
 int main(void)
 {
     report_precision();
@@ -195,5 +246,10 @@ int main(void)
         check_remove_bottom(cases[i].id, cases[i].make, 3);
         check_level_switch(cases[i].id, cases[i].make, cases[i].depth < 4 ? cases[i].depth : 4);
     }
+    check_streamed(grid, 4, 0);          /* boundary rules */
+    check_streamed(grid, 4, 0.01);
+    check_streamed(torus, 4, 0);
+    check_streamed(tl_mesh_cube, 7, 0);  /* 98k quads: level 6's pass on several threads */
+    check_streamed(tl_mesh_cube, 7, 0.01);
     return TEST_END();
 }

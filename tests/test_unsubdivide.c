@@ -415,6 +415,92 @@ static void check_threads(void)
     st_mesh_free(&cage);
 }
 
+/* Vertices of any level whose position or detail differs by a bit. */
+static uint64_t hier_differences(const st_hier *ha, const st_hier *hb)
+{
+    const st_map *a = &ha->map, *b = &hb->map;
+    if (a->top != b->top || a->verts.end != b->verts.end) return UINT64_MAX;
+    uint64_t differ = 0;
+    for (unsigned l = 0; l <= a->top; l++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(a, l, &it); v != ST_NIL; v = st_vertex_next(a, l, &it)) {
+            differ += memcmp(st_pos(a, v, l), st_pos(b, v, l), 3 * sizeof(double)) != 0;
+            if (l) differ += memcmp(st_hier_detail(ha, l, v), st_hier_detail(hb, l, v), 3 * sizeof(double)) != 0;
+        }
+    }
+    return differ;
+}
+
+/* The analysis of an unsubdivided mesh (hier_analysis.c): spot x2,
+ * shuffled, exact or moved by up to `noise` of its diagonal.  One, two and
+ * four threads build the same hierarchy to the bit, whose finest level is
+ * the input.  Exact: every level is accepted by the streamed pass (no
+ * stored stencils), and analysing the result again, streamed or by the
+ * stored rows and the solve, changes no bit: the streamed details are the
+ * stored rows' from the same coarse positions.  Noisy: every level falls
+ * back to the solve. */
+static void check_streamed(double noise)
+{
+    st_mesh cage, fine, in;
+    st_error err;
+    st_unsub u;
+    st_hier h[3];
+    uint32_t *fine_of[3] = { NULL, NULL, NULL };
+    CHECK(load("catmull_clark/spot_quadrangulated.obj", &cage) == 0);
+    CHECK(subdivided(&cage, ST_SCHEME_CATMARK, 2, &fine) == 0);
+    shuffle(&fine, &in, 99);
+    double diag = diagonal(&in);
+    uint64_t rng = 5;
+    for (uint32_t i = 0; noise > 0 && i < 3 * in.nverts; i++)
+        in.pos[i] += noise * diag * ((double)(tl_rand(&rng) % 2001) / 1000.0 - 1.0);
+    st_unsub_opts o = { .max_levels = 2 };
+    int rc = st_unsubdivide("spot x2", &in, &o, &u, &err);
+    CHECKF(rc == 0 && u.levels == 2, "noise %g: %s", noise, rc ? err.msg : "not 2 levels");
+    if (rc || u.levels != 2) { st_mesh_free(&in); st_mesh_free(&fine); st_mesh_free(&cage); if (!rc) st_unsub_free(&u); return; }
+    static const unsigned threads[3] = { 1, 2, 4 };
+    int built = 1;
+    for (unsigned t = 0; t < 3; t++) {
+        st_parallel_set_threads(threads[t]);
+        rc = st_unsub_build_hier(&in, &u, st_scheme_find("catmull-clark"), NULL, &h[t], &fine_of[t], NULL, &err);
+        CHECKF(rc == 0, "noise %g, %u thread(s): %s", noise, threads[t], rc ? err.msg : "");
+        built &= rc == 0;
+        if (rc) fine_of[t] = NULL;
+    }
+    st_parallel_set_threads(0);
+    if (built) {
+        CHECKF(hier_differences(&h[0], &h[1]) == 0 && hier_differences(&h[0], &h[2]) == 0,
+               "noise %g: one, two and four threads differ", noise);
+        uint32_t exact = 1, nv = 0;
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&h[0].map, 2, &it); v != ST_NIL; v = st_vertex_next(&h[0].map, 2, &it), nv++)
+            exact &= memcmp(st_pos(&h[0].map, v, 2), in.pos + 3 * (size_t)fine_of[0][v], 3 * sizeof(double)) == 0;
+        CHECKF(exact && nv == in.nverts, "noise %g: the finest level is not the input", noise);
+        double longest = st_unsub_max_detail(&h[0]);
+        CHECKF(noise > 0 ? longest > 0.1 * noise * diag : longest < 1e-12 * diag, "noise %g: longest detail %.3g", noise, longest);
+        st_analysis_report rep;
+        st_hier_analyze_ex(&h[1], 0, 0, &rep);
+        for (unsigned l = 1; l <= 2; l++)
+            CHECKF(rep.streamed[l] == (noise == 0), "noise %g: level %u %s (row residual %.3g of the scale)", noise, l,
+                   rep.streamed[l] ? "streamed" : "solved", rep.row_residual[l]);
+        if (noise == 0) {
+            CHECKF(hier_differences(&h[0], &h[1]) == 0, "exact: analysing again by the streamed pass changed %llu values",
+                   (unsigned long long)hier_differences(&h[0], &h[1]));
+            st_hier_analyze_ex(&h[2], 0, 1, &rep);
+            CHECK(!rep.streamed[1] && !rep.streamed[2]);
+            CHECKF(hier_differences(&h[0], &h[2]) == 0, "exact: the stored rows and the solve changed %llu values",
+                   (unsigned long long)hier_differences(&h[0], &h[2]));
+        }
+    }
+    for (unsigned t = 0; t < 3; t++) {
+        free(fine_of[t]);
+        if (built || fine_of[t]) st_hier_free(&h[t]);
+    }
+    st_unsub_free(&u);
+    st_mesh_free(&in);
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+}
+
 /* The manifold check that stands in for st_mesh_check on coarse meshes
  * agrees with it on a few cases. */
 static void check_manifold(void)
@@ -729,5 +815,7 @@ int main(void)
     check_limits();
     check_session();
     check_threads();
+    check_streamed(0);
+    check_streamed(1e-4);
     return TEST_END();
 }

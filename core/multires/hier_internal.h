@@ -90,15 +90,18 @@ static inline void st_synth_put(st_synth_ctx *c, uint32_t v, uint32_t d, const d
     else st_dart_list_push(l, d);
 }
 
-/* The analysis in two parts (hier_analysis.c): the stencils of level l
- * depend on the connectivity only, so a caller may build them while it
- * writes positions (st_unsubdivide's hierarchy), then analyse with them:
- * given[l] for the levels to+1..top (NULL: built then), each freed once
- * used.  Same result as st_hier_analyze. */
-typedef struct st_level_stencils st_level_stencils;
-st_level_stencils *st_hier_level_stencils(st_hier *h, unsigned l);
-void st_level_stencils_free(st_level_stencils *c);
-double st_hier_analyze_with(st_hier *h, unsigned to, st_level_stencils **given);
+/* What st_hier_analyze_ex did per level l (to+1..top). */
+typedef struct st_analysis_report {
+    uint8_t streamed[ST_MAX_LEVELS + 1];     /* 1: accepted by the streamed pass, no solve */
+    double row_residual[ST_MAX_LEVELS + 1];  /* Catmull-Clark: the streamed pass' largest |f - S x|
+                                                component over the level's scale (a lower bound
+                                                where it stopped early); 0 where not streamed */
+} st_analysis_report;
+/* st_hier_analyze, with the streamed pass of an exact level (Catmull-Clark)
+ * and the stored rows built on several threads; stored_only: the rows from
+ * the scheme's emit on one thread and the solve for every level, the
+ * analysis without either, as the reference for tests.  rep may be NULL. */
+double st_hier_analyze_ex(st_hier *h, unsigned to, int stored_only, st_analysis_report *rep);
 
 /* Three-vector arithmetic shared by the frames of subdivision synthesis
  * (hier_synth.c) and of progressive synthesis (progressive_synth.c), which

@@ -6,6 +6,7 @@
 #include "core/base/membudget.h"
 #include "core/base/parallel.h"
 #include "core/fvar/fvar_internal.h"
+#include "core/map/pool_internal.h"
 #include "core/multires/estimate.h"
 #include "core/multires/hier_internal.h"
 
@@ -123,13 +124,80 @@ static void start_level(st_hier *h, const st_mesh *mj, unsigned j, const uint32_
         st_hier_write_pos(h, v, j, mj->pos + 3 * (size_t)map[v]);
 }
 
+/* The faces of the finest level against the input's, on several threads:
+ * each face is taken from its smallest dart id, so that every face is
+ * checked once and each writes corner_of of its own darts only; chunk i of
+ * the blocks notes its first failure in enumeration order, and the first
+ * chunk's failure is reported, so the message is the same on any number
+ * of threads. */
+#define CORR_CHUNK 16u
+
+typedef struct corr_job {
+    const st_map *m;
+    const st_unsub_topo *t;
+    const uint32_t *map;
+    uint32_t *corner_of;
+    st_level_view lv;
+    uint32_t *first, nblocks;      /* the finest level's dart blocks, in enumeration order */
+    uint32_t *fail;                /* per chunk: the first dart that fails, ST_NIL if none */
+    uint8_t *no_edge;              /* per chunk: it failed as no edge of the input (else as a face) */
+    uint64_t *nd;                  /* per chunk: real darts */
+} corr_job;
+
+static int smallest_of_face(const st_level_view *lv, uint32_t d)
+{
+    for (uint32_t x = st_v_phi1(lv, d); x != d; x = st_v_phi1(lv, x))
+        if (x < d) return 0;
+    return 1;
+}
+
+/* 0, or 1 if dart d's half-edge is no input half-edge, 2 if its face is no
+ * face of the input; corner_of of the face's darts written on the way. */
+static int check_face(const corr_job *j, uint32_t d)
+{
+    const st_unsub_topo *t = j->t;
+    const st_level_view *lv = &j->lv;
+    uint32_t c = st_unsub_find(t, j->map[st_v_vert(lv, d)], j->map[st_v_vert(lv, st_v_phi1(lv, d))]);
+    if (c == ST_NIL) return 1;
+    uint32_t x = d, cx = c, n = t->foff[t->face_of[c] + 1] - t->foff[t->face_of[c]], i = 0;
+    do {
+        if (j->map[st_v_vert(lv, x)] != t->fidx[cx] || i++ == n) break;
+        j->corner_of[x] = cx;
+        x = st_v_phi1(lv, x);
+        cx = st_unsub_next(t, cx);
+    } while (x != d);
+    return x != d || cx != c || i != n ? 2 : 0;
+}
+
+static void corr_chunks(st_team *team, unsigned tid, void *ctx)
+{
+    (void)tid;
+    corr_job *j = ctx;
+    uint32_t b, e, nchunks = (j->nblocks + CORR_CHUNK - 1) / CORR_CHUNK;
+    while (st_team_next(team, 0, nchunks, 1, &b, &e)) {
+        uint32_t hi = (b + 1) * CORR_CHUNK < j->nblocks ? (b + 1) * CORR_CHUNK : j->nblocks;
+        uint64_t nd = 0;
+        for (uint32_t i = b * CORR_CHUNK; i < hi && j->fail[b] == ST_NIL; i++)
+            for (uint32_t d = j->first[i]; d < j->first[i] + ST_POOL_BLOCK; d++) {
+                if (j->m->darts.ins[d] == ST_FREE_LEVEL || st_is_boundary(j->m, d)) continue;
+                nd++;
+                if (!smallest_of_face(&j->lv, d)) continue;
+                int why = check_face(j, d);
+                if (why) { j->fail[b] = d; j->no_edge[b] = why == 1; break; }
+            }
+        j->nd[b] = nd;
+    }
+}
+
 /* Every finest vertex has a distinct input vertex, and every real half-edge
  * of the finest level is one of the input's: corner_of[d] (by dart id)
  * receives the input corner of dart d, so that the passes after this one
  * read it instead of looking the half-edge up again.  One half-edge of
  * each face is looked up; the face's other darts are then its input face's
  * next corners, each checked by its vertex (the faces of both run
- * counter-clockwise), and the two faces must close together. */
+ * counter-clockwise), and the two faces must close together.  Faces are
+ * independent: the lookups (one cache miss or more each) share the
+ * threads. */
 static int check_correspondence(st_hier *h, const st_mesh *in, const st_unsub_topo *t, const uint32_t *map,
                                 uint32_t *corner_of, st_error *err)
 {
@@ -139,32 +207,41 @@ static int check_correspondence(st_hier *h, const st_mesh *in, const st_unsub_to
     if (!seen) return st_fail(err, ST_ERR_MEMORY, "out of memory");
     int rc = ST_OK;
     uint32_t nv = 0;
-    uint64_t nd = 0;
     pool_walk it;
     for (uint32_t v = vertex_first(m, k, &it); v != ST_NIL; v = walk_next(&it), nv++)
         if (map[v] >= in->nverts || seen[map[v]]++) { rc = st_fail(err, ST_ERR_INVALID, "vertex %u of level %u has no input vertex of its own", v, k); break; }
-    if (!rc && nv != in->nverts) rc = st_fail(err, ST_ERR_INVALID, "level %u has %u vertices, the input %u", k, nv, in->nverts);
-    memset(corner_of, 0xff, (size_t)m->darts.end * sizeof *corner_of);   /* ST_NIL */
-    st_level_view lv;
-    st_level_view_init(m, k, &lv);
-    for (uint32_t d = dart_first(m, k, &it); d != ST_NIL && !rc; d = walk_next(&it)) {
-        if (st_is_boundary(m, d)) continue;
-        nd++;
-        if (corner_of[d] != ST_NIL) continue;   /* reached from its face's first dart */
-        uint32_t c = st_unsub_find(t, map[st_v_vert(&lv, d)], map[st_v_vert(&lv, st_v_phi1(&lv, d))]);
-        if (c == ST_NIL) { rc = st_fail(err, ST_ERR_INVALID, "level %u: dart %u is no edge of the input", k, d); break; }
-        uint32_t x = d, cx = c, n = t->foff[t->face_of[c] + 1] - t->foff[t->face_of[c]], i = 0;
-        do {
-            if (map[st_v_vert(&lv, x)] != t->fidx[cx] || i++ == n) break;
-            corner_of[x] = cx;
-            x = st_v_phi1(&lv, x);
-            cx = st_unsub_next(t, cx);
-        } while (x != d);
-        if (x != d || cx != c || i != n)
-            rc = st_fail(err, ST_ERR_INVALID, "level %u: the face of dart %u is no face of the input", k, d);
-    }
-    if (!rc && nd != t->nc) rc = st_fail(err, ST_ERR_INVALID, "level %u has %llu face corners, the input %u", k, (unsigned long long)nd, t->nc);
     free(seen);
+    if (!rc && nv != in->nverts) rc = st_fail(err, ST_ERR_INVALID, "level %u has %u vertices, the input %u", k, nv, in->nverts);
+    if (rc) return rc;
+    memset(corner_of, 0xff, (size_t)m->darts.end * sizeof *corner_of);   /* ST_NIL */
+    corr_job j = { .m = m, .t = t, .map = map, .corner_of = corner_of };
+    st_level_view_init(m, k, &j.lv);
+    j.nblocks = st_pool_block_list(&m->darts, k, NULL);
+    uint32_t nchunks = (j.nblocks + CORR_CHUNK - 1) / CORR_CHUNK;
+    j.first = malloc(((size_t)j.nblocks + 1) * sizeof *j.first);
+    j.fail = malloc(((size_t)nchunks + 1) * sizeof *j.fail);
+    j.no_edge = calloc((size_t)nchunks + 1, 1);
+    j.nd = calloc((size_t)nchunks + 1, sizeof *j.nd);
+    if (!j.first || !j.fail || !j.no_edge || !j.nd) rc = st_fail(err, ST_ERR_MEMORY, "out of memory");
+    if (!rc) {
+        st_pool_block_list(&m->darts, k, j.first);
+        for (uint32_t i = 0; i < nchunks; i++) j.fail[i] = ST_NIL;
+        unsigned threads = st_parallel_threads(), most = nchunks / 4;   /* at least 4 chunks a thread */
+        st_team_run(threads < most ? threads : most ? most : 1, corr_chunks, &j);
+        uint64_t nd = 0;
+        for (uint32_t i = 0; i < nchunks && !rc; i++) {
+            if (j.fail[i] != ST_NIL && j.no_edge[i])
+                rc = st_fail(err, ST_ERR_INVALID, "level %u: dart %u is no edge of the input", k, j.fail[i]);
+            else if (j.fail[i] != ST_NIL)
+                rc = st_fail(err, ST_ERR_INVALID, "level %u: the face of dart %u is no face of the input", k, j.fail[i]);
+            nd += j.nd[i];
+        }
+        if (!rc && nd != t->nc) rc = st_fail(err, ST_ERR_INVALID, "level %u has %llu face corners, the input %u", k, (unsigned long long)nd, t->nc);
+    }
+    free(j.first);
+    free(j.fail);
+    free(j.no_edge);
+    free(j.nd);
     return rc;
 }
 
@@ -277,12 +354,10 @@ static void refine_task(st_team *team, unsigned t, void *ctx)
 
 /* The input's vertex for every vertex of the hierarchy (map), level by
  * level, with Catmull-Clark's starting points written on the way; the
- * correspondence of the finest level with the input, checked, and the
- * input's positions written there.  Beside it, on a second thread, the
- * levels' stencils for the analysis (st_hier_level_stencils, the finest
- * level's about 3/4 of them): they depend on the connectivity only, which
- * is complete, and the results are the same on one thread or two.  The
- * two sides weigh about the same (spot x4: 0.6 G instructions each). */
+ * correspondence of the finest level with the input, checked (on several
+ * threads), and the input's positions written there.  The analysis needs
+ * no stencils built beforehand: an exact level is checked by a streamed
+ * pass (hier_analysis.c). */
 typedef struct positions_job {
     st_hier *h;
     const st_mesh *in;
@@ -293,13 +368,7 @@ typedef struct positions_job {
     st_error *err;
     int rc;                       /* in: the level-0 check's */
     double *uv_residual;          /* NULL: not measured */
-    st_level_stencils *stencils[ST_MAX_LEVELS + 1];   /* levels 1..k's, for the analysis */
 } positions_job;
-
-static void free_stencils(positions_job *j)
-{
-    for (unsigned l = 0; l <= ST_MAX_LEVELS; l++) st_level_stencils_free(j->stencils[l]);
-}
 
 static void write_positions(positions_job *j)
 {
@@ -318,20 +387,6 @@ static void write_positions(positions_job *j)
         if (j->uv_residual) *j->uv_residual = st_unsub_uv_residual_corners(h, j->in, j->corner_of);
     }
     j->rc = rc;
-}
-
-static void positions_task(st_team *team, unsigned t, void *ctx)
-{
-    (void)t;
-    positions_job *j = ctx;
-    uint32_t b, e;
-    while (st_team_next(team, 0, 2, 1, &b, &e)) {
-        if (b == 1) {
-            write_positions(j);
-            continue;
-        }
-        for (unsigned l = j->u->levels; l >= 1; l--) j->stencils[l] = st_hier_level_stencils(j->h, l);
-    }
 }
 
 int st_unsub_build_hier(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
@@ -375,19 +430,16 @@ int st_unsub_build_hier_corners(const st_mesh *in, st_unsub *u, const st_scheme 
     if (i != u->step[0].coarse.nverts) rc = st_fail(err, ST_ERR_INVALID, "level 0 has %u vertices, the cage %u", i, u->step[0].coarse.nverts);
     positions_job pj = { .h = h, .in = in, .u = u, .sc = sc, .topo = &job.topo, .map = map, .corner_of = corner_of, .err = err, .rc = rc,
                           .uv_residual = uv_residual && in->face_uv ? uv_residual : NULL };
-    /* Catmull-Clark's stencils read the connectivity only, which the other
-     * task leaves alone (it writes positions); other schemes take the two
-     * tasks in turn. */
-    st_team_run(st_parallel_threads() < 2 || sc->id != ST_SCHEME_CATMARK ? 1 : 2, positions_task, &pj);
+    write_positions(&pj);
     rc = pj.rc;
     if (!rc) rc = finest_tags(h, in, &job.topo, map, corner_of, err);
     if (job.own_topo) st_unsub_topo_free(&job.topo);
     release_topologies(u);
-    if (rc) { free_stencils(&pj); free(map); free(corner_of); st_hier_free(h); return rc; }
+    if (rc) { free(map); free(corner_of); st_hier_free(h); return rc; }
     if (corner_of_out) *corner_of_out = corner_of;
     else free(corner_of);
     unsigned k = u->levels;
-    double r = st_hier_analyze_with(h, 0, pj.stencils);
+    double r = st_hier_analyze(h, 0);
     /* The analysis writes the finest level back as given; make sure of it,
      * as the finest level must reproduce the input bit for bit. */
     for (uint32_t v = vertex_first(m, k, &it); v != ST_NIL; v = walk_next(&it))

@@ -17,6 +17,9 @@ typedef struct st_catmark_emitter {
  * point of vert(d), level L from L-1, with the crease and boundary rules. */
 void st_catmark_emit_edge(const st_hier *h, unsigned L, uint32_t d, st_catmark_emitter *e, st_stencil_sink sink, void *ctx);
 void st_catmark_emit_vertex(const st_hier *h, unsigned L, uint32_t d, st_catmark_emitter *e, st_stencil_sink sink, void *ctx);
+/* The stencil of the face point of the face of coarse dart d (its corners
+ * from d on, each 1/k). */
+void st_catmark_emit_face(const st_hier *h, unsigned L, uint32_t d, st_catmark_emitter *e, st_stencil_sink sink, void *ctx);
 /* Whether the edge of d (level l) takes the smooth-triangle edge weights
  * (opts.tri_sub smooth, a triangle on either side): such edges leave the
  * tables for the stencil path. */

@@ -155,7 +155,7 @@ static void smooth_vertex(const st_hier *h, unsigned l, uint32_t d, st_stencil_b
 
 typedef st_catmark_emitter emitter;
 
-static void emit_face(const st_hier *h, unsigned L, uint32_t c, emitter *e, st_stencil_sink sink, void *ctx)
+void st_catmark_emit_face(const st_hier *h, unsigned L, uint32_t c, emitter *e, st_stencil_sink sink, void *ctx)
 {
     const st_map *m = &h->map;
     uint32_t centre = st_vert(m, st_phi1(m, st_phi1(m, c, L), L), L);
@@ -225,7 +225,7 @@ static void emit_all(st_hier *h, unsigned L, emitter *e, st_stencil_sink sink, v
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
         if (!st_marked(m, vb, d)) { st_mark_vertex(m, vb, d, l); st_catmark_emit_vertex(h, L, d, e, sink, ctx); }
         if (d < st_beta0(m, d, l)) st_catmark_emit_edge(h, L, d, e, sink, ctx);
-        if (!st_is_boundary(m, d) && !st_marked(m, fb, d)) { st_mark_face(m, fb, d, l); emit_face(h, L, d, e, sink, ctx); }
+        if (!st_is_boundary(m, d) && !st_marked(m, fb, d)) { st_mark_face(m, fb, d, l); st_catmark_emit_face(h, L, d, e, sink, ctx); }
     }
     st_marker_release(m, fb, l);
     st_marker_release(m, vb, l);
@@ -275,7 +275,7 @@ static void emit_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n
     while (done.mask + 1 < 8 * (uint64_t)n) id_set_grow(&done); /* ~3 fine vertices per quad, half full */
     for (uint32_t i = 0; i < n; i++) {
         uint32_t c = faces[i], x = c;
-        if (id_set_add(&done, st_vert(m, st_phi1(m, st_phi1(m, c, L), L), L))) emit_face(h, L, c, e, sink, ctx);
+        if (id_set_add(&done, st_vert(m, st_phi1(m, st_phi1(m, c, L), L), L))) st_catmark_emit_face(h, L, c, e, sink, ctx);
         do {
             if (id_set_add(&done, st_vert(m, st_beta0(m, x, L), L))) st_catmark_emit_edge(h, L, x, e, sink, ctx);
             if (id_set_add(&done, st_vert(m, x, L - 1))) st_catmark_emit_vertex(h, L, x, e, sink, ctx);
