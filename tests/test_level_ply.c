@@ -2,8 +2,9 @@
  * path, st_hier_level_mesh + st_mesh_save_ply: with and without UVs, with
  * hole faces, on boundaries, at every level, for primal and dual schemes,
  * with a face of more than 255 corners, on progressive hierarchies (whose
- * relations the writer reads through the general lookup path); and refuses a level with a non-finite position as the soup path does,
- * with the same message, leaving no file. */
+ * relations the writer reads through the general lookup path); and refuses
+ * a level with a non-finite position as the soup path does, with the same
+ * message, leaving no file. */
 #include "testlib.h"
 #include "core/io/level_ply.h"
 #include "core/multires/hier.h"

@@ -53,28 +53,15 @@ void st_map_free(st_map *m)
 
 /* ---- allocation ------------------------------------------------------------ */
 
-/* One array to cap elements.  `huge`: an exact reservation (st_map_reserve)
- * about to be filled, moved into fresh huge-page memory keeping the ids in
- * use (hugepage.h, st_realloc_huge); a doubling for one more id stays with
- * realloc, since huge pages would round its partly used tail up to 2 MiB. */
-static int grow_array(unsigned char **base, size_t elem, uint32_t used, uint32_t cap, int huge)
-{
-    unsigned char *b = huge ? st_realloc_huge(*base, (size_t)used * elem, (size_t)cap * elem)
-                            : realloc(*base, (size_t)cap * elem);
-    if (!b) return -1;
-    *base = b;
-    return 0;
-}
-
 static int try_grow_dart_arrays(st_map *m, uint32_t cap, int huge)
 {
     uint32_t used = m->darts.end;
-    if (grow_array(&m->flags, 1, used, cap, huge)) return -1;
+    if (st_array_grow(&m->flags, 1, used, cap, huge)) return -1;
     st_mla *rel[3] = { &m->beta0, &m->beta1, &m->vert };
     for (int i = 0; i < 3; i++)
-        if (grow_array(&rel[i]->base, rel[i]->elem, used, cap, huge)) return -1;
+        if (st_mla_grow(rel[i], used, cap, huge)) return -1;
     for (uint32_t i = 0; i < m->ndart_attrs; i++)
-        if (grow_array(&m->dart_attrs[i]->base, m->dart_attrs[i]->elem, used, cap, huge)) return -1;
+        if (st_mla_grow(m->dart_attrs[i], used, cap, huge)) return -1;
     if (m->marks) {
         uint32_t *mk = realloc(m->marks, (size_t)cap * sizeof *mk);
         if (!mk) return -1;
@@ -92,9 +79,9 @@ static void grow_dart_arrays(st_map *m, uint32_t cap)
 static int grow_vertex_arrays_kind(st_map *m, uint32_t cap, int huge)
 {
     uint32_t used = m->verts.end;
-    if (grow_array(&m->pos.base, m->pos.elem, used, cap, huge)) return -1;
+    if (st_mla_grow(&m->pos, used, cap, huge)) return -1;
     for (uint32_t i = 0; i < m->nvert_attrs; i++)
-        if (grow_array(&m->vert_attrs[i]->base, m->vert_attrs[i]->elem, used, cap, huge)) return -1;
+        if (st_mla_grow(m->vert_attrs[i], used, cap, huge)) return -1;
     return 0;
 }
 
@@ -259,7 +246,7 @@ void st_dart_delete(st_map *m, uint32_t d)
 static int attach(st_mla *a, st_pool *p, st_mla **list, uint32_t *n)
 {
     static const unsigned char zero[64];
-    if (*n >= 4 || a->elem > sizeof zero || st_mla_grow(a, p->cap ? p->cap : 1)) return -1;
+    if (*n >= 4 || a->elem > sizeof zero || st_mla_grow(a, p->end, p->cap ? p->cap : 1, 0)) return -1;
     for (uint32_t i = 0; i < p->end; i++)
         if (p->ins[i] != ST_FREE_LEVEL) st_mla_insert(a, p, i, zero);
     list[(*n)++] = a;

@@ -4,6 +4,7 @@
  * 2.4.6) by per-level columns: no per-dart offset is needed, a lookup is one
  * comparison and one load, and for quadrisection the columns hold exactly
  * the values that change. */
+#include "core/base/hugepage.h"
 #include "core/map/pool_internal.h"
 
 #include <stdlib.h>
@@ -33,12 +34,18 @@ void st_mla_free(st_mla *a)
     st_mla_init(a, a->elem);
 }
 
-int st_mla_grow(st_mla *a, uint32_t cap)
+int st_array_grow(unsigned char **base, size_t elem, uint32_t used, uint32_t cap, int huge)
 {
-    unsigned char *b = realloc(a->base, (size_t)cap * a->elem);
+    unsigned char *b = huge ? st_realloc_huge(*base, (size_t)used * elem, (size_t)cap * elem)
+                            : realloc(*base, (size_t)cap * elem);
     if (!b) return -1;
-    a->base = b;
+    *base = b;
     return 0;
+}
+
+int st_mla_grow(st_mla *a, uint32_t used, uint32_t cap, int huge)
+{
+    return st_array_grow(&a->base, a->elem, used, cap, huge);
 }
 
 static void refresh_eff(st_mla *a)

@@ -2,7 +2,6 @@
  * by one insertion level, so that the ids of levels 0..l can be enumerated in
  * time proportional to their number (thesis §2.4: one dart list per N^i). */
 #include "core/map/pool_internal.h"
-#include "core/base/hugepage.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -38,12 +37,10 @@ static int grow_u32(uint32_t **a, uint32_t *cap, uint32_t need)
     return 0;
 }
 
-/* huge: an exact reservation about to be filled (map.c, grow_array). */
+/* huge: an exact reservation about to be filled (st_array_grow). */
 static int set_cap(st_pool *p, uint32_t cap, int huge)
 {
-    uint8_t *ins = huge ? st_realloc_huge(p->ins, p->end, cap) : realloc(p->ins, cap);
-    if (!ins) return -1;
-    p->ins = ins;
+    if (st_array_grow(&p->ins, 1, p->end, cap, huge)) return -1;
     if (p->next_free) {
         uint32_t *nf = realloc(p->next_free, (size_t)cap * sizeof *nf);
         if (!nf) return -1;

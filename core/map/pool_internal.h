@@ -39,7 +39,16 @@ uint32_t *st_pool_blocks_newest_first(const st_pool *p, unsigned l, uint32_t *n)
 
 void st_mla_init(st_mla *a, uint32_t elem);
 void st_mla_free(st_mla *a);
-int st_mla_grow(st_mla *a, uint32_t cap);
+/* A flat array (`*base`, elem bytes an element) to cap elements, keeping its
+ * first `used`.  huge: an exact reservation (st_map_reserve) about to be
+ * filled, moved into fresh huge-page memory before the elements in use are
+ * copied (hugepage.h, st_realloc_huge); otherwise realloc, which keeps every
+ * element: a doubling for one more id stays with realloc, since huge pages
+ * would round its partly used tail up to 2 MiB.  -1 when out of memory
+ * (*base then unchanged). */
+int st_array_grow(unsigned char **base, size_t elem, uint32_t used, uint32_t cap, int huge);
+/* st_array_grow of a's base array. */
+int st_mla_grow(st_mla *a, uint32_t used, uint32_t cap, int huge);
 /* New id inserted at level l with value v at every level >= l. */
 void st_mla_insert(st_mla *a, const st_pool *p, uint32_t id, const void *v);
 /* Value at level l := v, and at the levels above that still had the old

@@ -1,6 +1,7 @@
 /* Estimates of what an operation will cost (estimate.h). */
 #include "core/multires/estimate.h"
 #include "core/map/map_memory.h"
+#include "core/map/pool_internal.h"
 #include "core/fvar/fvar_internal.h"
 
 /* Measured on the shared meshes (strata info: topology and position bytes
@@ -101,6 +102,14 @@ size_t st_hier_estimate_subdivide(st_hier *h, unsigned levels, st_level_stats *f
     if (finest) *finest = s;
     bytes *= peak_over_map(h->scheme->id);
     return bytes >= (double)SIZE_MAX ? SIZE_MAX : (size_t)bytes;
+}
+
+size_t st_estimate_position_columns(const st_map *m, unsigned from)
+{
+    double n = 0;
+    for (unsigned l = from + 1; l <= m->top && l < ST_MAX_LEVELS; l++)
+        if (!m->pos.col[l]) n += (double)st_pool_cover(&m->verts, l) * (double)m->pos.elem; /* st_mla_column */
+    return n >= (double)SIZE_MAX ? SIZE_MAX : (size_t)n;
 }
 
 size_t st_estimate_mesh_bytes(uint64_t nverts, uint64_t nfaces, uint64_t ncorners)

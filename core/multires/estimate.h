@@ -35,6 +35,14 @@ uint64_t st_level_triangles(const st_map *m, unsigned l);
  * counts of level `levels`. */
 size_t st_hier_estimate_subdivide(st_hier *h, unsigned levels, st_level_stats *finest);
 
+/* Bytes of the position columns that a synthesis of levels from+1..top
+ * creates, on the levels that have none yet: a vertex of a coarser level
+ * that moves there gets the level a column (map.h, "Storage"), as long as
+ * the ids of the levels below.  A progressive hierarchy as rebuilt keeps
+ * its vertices' input positions at every level, so has no column to begin
+ * with. */
+size_t st_estimate_position_columns(const st_map *m, unsigned from);
+
 /* Bytes of an exported soup of nverts vertices and ncorners corners in
  * nfaces faces (positions, normals, indices, the writer's buffers). */
 size_t st_estimate_mesh_bytes(uint64_t nverts, uint64_t nfaces, uint64_t ncorners);

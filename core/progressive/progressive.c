@@ -1,6 +1,7 @@
 /* Progressive multiresolution meshes: the build (working copy -> st_hier)
  * and multiresolution filtering.  Design: progressive.h. */
 #include "core/progressive/progressive_internal.h"
+#include "core/base/membudget.h"
 #include "core/multires/hier_internal.h"
 #include "core/map/pool_internal.h"
 
@@ -253,10 +254,15 @@ int st_progressive_filter(st_hier *h, const double *gains, unsigned n, st_error 
     for (unsigned k = 0; k < n; k++)
         if (!isfinite(gains[k])) return st_fail(err, ST_ERR_INVALID, "filter: gain %u is not finite", k);
     unsigned first = 0;
+    for (unsigned k = 0; k < n && k < h->map.top && !first; k++)
+        if (gains[k] != 1.0) first = k + 1;
+    /* The memory guard (core/base/membudget.h): the synthesis below builds
+     * the ring tables of levels first-1..top. */
+    if (first && st_mem_check(st_progressive_synth_estimate(h, first - 1), "the synthesis of the filtered levels", err))
+        return ST_ERR_MEMORY;
     for (unsigned k = 0; k < n && k < h->map.top; k++) {
         unsigned l = k + 1;
         if (gains[k] == 1.0) continue;
-        if (!first) first = l;
         double *d = h->detail[l];
         for (uint64_t i = 0; d && i < 3 * (uint64_t)h->detail_cap[l]; i++) d[i] *= gains[k];
     }

@@ -79,6 +79,12 @@ int st_progressive_resynth_around(st_hier *h, unsigned L, const uint32_t *seeds,
 /* Bytes the ring tables now held in h->cache take (a transient cache: never
  * saved, rebuilt after a topology change). */
 size_t st_progressive_table_bytes(const st_hier *h);
+/* Bytes a synthesis of the levels above `from` adds to the process: the
+ * ring tables it builds (the levels from..top whose table is not held
+ * now) and the position columns it creates (st_estimate_position_columns),
+ * from the pools' counts; the memory guard's estimate
+ * (core/base/membudget.h) before a filter re-synthesises. */
+size_t st_progressive_synth_estimate(const st_hier *h, unsigned from);
 
 /* Half-edge helpers. */
 static inline uint32_t pm_dest(const pm_work *w, uint32_t h) { return w->org[w->next[h]]; }

@@ -33,6 +33,8 @@
  */
 #include "core/progressive/progressive_internal.h"
 #include "core/multires/hier_internal.h"
+#include "core/map/pool_internal.h"
+#include "core/multires/estimate.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -404,16 +406,47 @@ int st_progressive_resynth_around(st_hier *h, unsigned L, const uint32_t *seeds,
     return 1;
 }
 
+/* Bytes of a table of nidx vertex ids and `entries` ring entries (the
+ * arrays table_fill allocates). */
+static size_t table_bytes(uint64_t nidx, uint64_t entries)
+{
+    const pm_ring_table *t = NULL; /* sizeof only */
+    double n = (double)sizeof *t + (double)(nidx + 1) * (double)sizeof *t->off +
+               (double)nidx * (double)(sizeof *t->first + sizeof *t->split_of + sizeof *t->vk + sizeof *t->avg_n) +
+               (double)entries * (double)(sizeof *t->nbr + sizeof *t->fl);
+    return n >= (double)SIZE_MAX ? SIZE_MAX : (size_t)n;
+}
+
+static const pm_ring_table *cached_table(const st_hier *h, unsigned l)
+{
+    return h->cache[l].free == table_free ? h->cache[l].p : NULL;
+}
+
 size_t st_progressive_table_bytes(const st_hier *h)
 {
     size_t n = 0;
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
-        const pm_ring_table *t = h->cache[l].free == table_free ? h->cache[l].p : NULL;
-        if (!t) continue;
-        size_t entries = t->off ? t->off[t->nidx] : 0;
-        n += sizeof *t + ((size_t)t->nidx + 1) * sizeof *t->off +
-             (size_t)t->nidx * (sizeof *t->first + sizeof *t->split_of + sizeof *t->vk + sizeof *t->avg_n) +
-             entries * (sizeof *t->nbr + sizeof *t->fl);
+        const pm_ring_table *t = cached_table(h, l);
+        if (t) n += table_bytes(t->nidx, t->off ? t->off[t->nidx] : 0);
     }
     return n;
+}
+
+size_t st_progressive_synth_estimate(const st_hier *h, unsigned from)
+{
+    const st_map *m = &h->map;
+    if (from >= m->top) return 0;
+    /* A table of level l has an entry per dart of l (the live darts of
+     * levels 0..l: a progressive hierarchy removes none going finer) and
+     * indexes the vertex ids up to the largest of l, which st_pool_cover
+     * bounds by its block.  Levels from..top: synthesis of L reads the
+     * tables of L and L-1. */
+    double n = 0;
+    for (unsigned l = from; l <= m->top; l++)
+        if (!cached_table(h, l))
+            n += (double)table_bytes(st_pool_cover(&m->verts, l + 1), st_pool_count(&m->darts, l));
+    /* table_fill's scratch, a dart per vertex id, one table at a time;
+     * the position columns the synthesis writes */
+    n += (double)m->verts.end * sizeof(uint32_t) + (double)st_estimate_position_columns(m, from);
+    return n >= (double)SIZE_MAX ? SIZE_MAX : (size_t)n;
 }
