@@ -295,7 +295,7 @@ done:
     return rc;
 }
 
-/* The levels' connectivity and UVs without their positions: with
+/* The levels' connectivity without positions or UVs: with
  * Catmull-Clark every position of levels 1..k is written before anything
  * reads it (start_level for 0 < j < k, the input at k), so the synthesis
  * st_hier_subdivide_to would run per level is skipped (0.19 G of the
@@ -307,10 +307,8 @@ static int refine_topology(st_hier *h, unsigned levels, st_error *err)
     char what[64];
     snprintf(what, sizeof what, "subdividing to level %u", levels);
     int rc = levels > h->map.top ? st_mem_check(st_hier_estimate_subdivide(h, levels, NULL), what, err) : ST_OK;
-    while (!rc && h->map.top < levels) {
-        rc = h->scheme->refine(h, err);
-        if (!rc) rc = st_fvar_refine(h, err);
-    }
+    /* The UVs come later, beside the positions (positions_task). */
+    while (!rc && h->map.top < levels) rc = h->scheme->refine(h, err);
     return rc;
 }
 
@@ -368,6 +366,8 @@ typedef struct positions_job {
     st_error *err;
     int rc;                       /* in: the level-0 check's */
     double *uv_residual;          /* NULL: not measured */
+    int rc_uv;                    /* the UV refinement's, with its own error */
+    st_error uv_err;
 } positions_job;
 
 static void write_positions(positions_job *j)
@@ -384,9 +384,23 @@ static void write_positions(positions_job *j)
         pool_walk it;
         for (uint32_t v = vertex_first(&h->map, u->levels, &it); v != ST_NIL; v = walk_next(&it))
             st_hier_write_pos(h, v, u->levels, j->in->pos + 3 * (size_t)j->map[v]);
-        if (j->uv_residual) *j->uv_residual = st_unsub_uv_residual_corners(h, j->in, j->corner_of);
     }
     j->rc = rc;
+}
+
+/* The positions beside the UVs of levels 1..k (Catmull-Clark's refinement
+ * left them out): st_fvar_refine_levels reads the connectivity and writes
+ * h->fvar only, write_positions writes positions only, so the two run side
+ * by side with the same results on one thread or two. */
+static void positions_task(st_team *team, unsigned t, void *ctx)
+{
+    (void)t;
+    positions_job *j = ctx;
+    uint32_t b, e;
+    while (st_team_next(team, 0, 2, 1, &b, &e)) {
+        if (b == 0) write_positions(j);
+        else j->rc_uv = st_fvar_refine_levels(j->h, j->u->levels, &j->uv_err);
+    }
 }
 
 int st_unsub_build_hier(const st_mesh *in, st_unsub *u, const st_scheme *sc, const st_hier_opts *ho,
@@ -430,8 +444,13 @@ int st_unsub_build_hier_corners(const st_mesh *in, st_unsub *u, const st_scheme 
     if (i != u->step[0].coarse.nverts) rc = st_fail(err, ST_ERR_INVALID, "level 0 has %u vertices, the cage %u", i, u->step[0].coarse.nverts);
     positions_job pj = { .h = h, .in = in, .u = u, .sc = sc, .topo = &job.topo, .map = map, .corner_of = corner_of, .err = err, .rc = rc,
                           .uv_residual = uv_residual && in->face_uv ? uv_residual : NULL };
-    write_positions(&pj);
+    st_team_run(st_parallel_threads() < 2 ? 1 : 2, positions_task, &pj);
     rc = pj.rc;
+    if (!rc && pj.rc_uv) {
+        if (err) *err = pj.uv_err;
+        rc = pj.rc_uv;
+    }
+    if (!rc && pj.uv_residual) *pj.uv_residual = st_unsub_uv_residual_corners(h, in, corner_of);
     if (!rc) rc = finest_tags(h, in, &job.topo, map, corner_of, err);
     if (job.own_topo) st_unsub_topo_free(&job.topo);
     release_topologies(u);
