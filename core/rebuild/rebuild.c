@@ -239,8 +239,8 @@ int st_rebuild(const char *name, const st_mesh *in, const st_rebuild_opts *o, st
     memset(h, 0, sizeof *h);
     if (o->method == ST_REBUILD_PROGRESSIVE) return build_progressive(name, in, o, h, rep, err);
     /* Unsubdivide on the renumbered copy when the input's order is not
-     * coherent.  The levels are then numbered from the copy: any vertex
-     * order of the same faces gives the same hierarchy, whose least-squares
+     * coherent.  The levels are then numbered from the copy: every such
+     * vertex order of the same faces gives the same hierarchy, whose least-squares
      * levels differ in the last bits from those the input's own order would
      * give (sums in another order); the finest level is the input's
      * positions bit for bit either way.  A failure there (but a cancel) is
