@@ -9,6 +9,7 @@
  * hierarchy to the bit. */
 #include "testlib.h"
 #include "core/rebuild/unsubdivide.h"
+#include "core/rebuild/rebuild.h"
 #include "core/io/session.h"
 #include "core/rebuild/unsub_topo_internal.h"
 #include "core/base/parallel.h"
@@ -778,6 +779,202 @@ static void check_tags(const char *rel, st_scheme_id id, unsigned k)
     st_mesh_free(&cage);
 }
 
+/* ---- vertex order: st_rebuild works on the input renumbered by first use --------------------- */
+
+/* The faces' vertices numbered in order of first use (what st_rebuild
+ * does to an input whose order is not coherent); tags follow, UVs are per
+ * corner and stay. */
+static void first_use_order(const st_mesh *in, st_mesh *out, uint32_t *new_of)
+{
+    uint32_t nv = in->nverts, nc = in->face_off[in->nfaces], n = 0;
+    for (uint32_t v = 0; v < nv; v++) new_of[v] = ST_NIL;
+    for (uint32_t c = 0; c < nc; c++)
+        if (new_of[in->face_idx[c]] == ST_NIL) new_of[in->face_idx[c]] = n++;
+    CHECK(n == nv);
+    st_mesh_init(out);
+    *out = *in;
+    out->pos = malloc(3 * (size_t)nv * sizeof *out->pos);
+    out->face_off = malloc(((size_t)in->nfaces + 1) * sizeof *out->face_off);
+    out->face_idx = malloc((size_t)nc * sizeof *out->face_idx);
+    out->normals = NULL;
+    memcpy(out->face_off, in->face_off, ((size_t)in->nfaces + 1) * sizeof *out->face_off);
+    for (uint32_t v = 0; v < nv; v++) memcpy(out->pos + 3 * (size_t)new_of[v], in->pos + 3 * (size_t)v, 3 * sizeof(double));
+    for (uint32_t c = 0; c < nc; c++) out->face_idx[c] = new_of[in->face_idx[c]];
+    out->crease_v = malloc((2 * (size_t)in->ncreases + 1) * sizeof *out->crease_v);
+    out->crease_s = malloc(((size_t)in->ncreases + 1) * sizeof *out->crease_s);
+    for (uint32_t i = 0; i < 2 * in->ncreases; i++) out->crease_v[i] = new_of[in->crease_v[i]];
+    if (in->ncreases) memcpy(out->crease_s, in->crease_s, in->ncreases * sizeof *out->crease_s);
+    out->corner_v = malloc(((size_t)in->ncorners + 1) * sizeof *out->corner_v);
+    out->corner_s = malloc(((size_t)in->ncorners + 1) * sizeof *out->corner_s);
+    for (uint32_t i = 0; i < in->ncorners; i++) out->corner_v[i] = new_of[in->corner_v[i]];
+    if (in->ncorners) memcpy(out->corner_s, in->corner_s, in->ncorners * sizeof *out->corner_s);
+    out->face_hole = NULL;
+    if (in->face_hole) {
+        out->face_hole = malloc(in->nfaces);
+        memcpy(out->face_hole, in->face_hole, in->nfaces);
+    }
+    out->uv = NULL;
+    out->face_uv = NULL;
+    if (in->face_uv) {
+        out->uv = malloc(2 * (size_t)in->nuvs * sizeof *out->uv);
+        out->face_uv = malloc((size_t)nc * sizeof *out->face_uv);
+        memcpy(out->uv, in->uv, 2 * (size_t)in->nuvs * sizeof *out->uv);
+        memcpy(out->face_uv, in->face_uv, (size_t)nc * sizeof *out->face_uv);
+    }
+}
+
+/* The same mesh with its vertices shuffled: faces, their starting corners,
+ * UVs and holes as they were; tags follow their vertices. */
+static void shuffle_vertices_only(const st_mesh *in, st_mesh *out, uint64_t seed)
+{
+    uint32_t nv = in->nverts, *perm = malloc(((size_t)nv + 1) * sizeof *perm), *scratch = malloc(((size_t)nv + 1) * sizeof *perm);
+    uint64_t rng = seed;
+    for (uint32_t i = 0; i < nv; i++) perm[i] = i;
+    for (uint32_t i = nv; i > 1; i--) { uint32_t j = tl_rand(&rng) % i, t = perm[i - 1]; perm[i - 1] = perm[j]; perm[j] = t; }
+    /* first_use_order with new_of = perm: same copy, another numbering. */
+    st_mesh tmp;
+    first_use_order(in, &tmp, scratch);
+    for (uint32_t v = 0; v < nv; v++) memcpy(tmp.pos + 3 * (size_t)perm[v], in->pos + 3 * (size_t)v, 3 * sizeof(double));
+    for (uint32_t c = 0; c < in->face_off[in->nfaces]; c++) tmp.face_idx[c] = perm[in->face_idx[c]];
+    for (uint32_t i = 0; i < 2 * in->ncreases; i++) tmp.crease_v[i] = perm[in->crease_v[i]];
+    for (uint32_t i = 0; i < in->ncorners; i++) tmp.corner_v[i] = perm[in->corner_v[i]];
+    *out = tmp;
+    free(perm);
+    free(scratch);
+}
+
+static int same_array(const void *a, const void *b, size_t n) { return n == 0 || (a && b && !memcmp(a, b, n)); }
+
+/* Level l of both hierarchies as rebuild inputs (faces, positions, UVs,
+ * tags): the same arrays. */
+static void check_same_level(st_hier *a, st_hier *b, unsigned l, const char *what)
+{
+    st_mesh x, y;
+    st_error err;
+    CHECK(st_rebuild_level_input(a, l, &x, &err) == 0);
+    CHECK(st_rebuild_level_input(b, l, &y, &err) == 0);
+    uint32_t nc = x.nfaces ? x.face_off[x.nfaces] : 0;
+    int same = x.nverts == y.nverts && x.nfaces == y.nfaces && x.nuvs == y.nuvs && x.ncreases == y.ncreases &&
+               x.ncorners == y.ncorners && same_array(x.pos, y.pos, 3 * (size_t)x.nverts * sizeof(double)) &&
+               same_array(x.face_off, y.face_off, ((size_t)x.nfaces + 1) * 4) && same_array(x.face_idx, y.face_idx, (size_t)nc * 4) &&
+               same_array(x.uv, y.uv, 2 * (size_t)x.nuvs * sizeof(double)) && same_array(x.face_uv, y.face_uv, (size_t)nc * 4) &&
+               same_array(x.crease_v, y.crease_v, 8 * (size_t)x.ncreases) && same_array(x.crease_s, y.crease_s, 4 * (size_t)x.ncreases) &&
+               same_array(x.corner_v, y.corner_v, 4 * (size_t)x.ncorners) && same_array(x.corner_s, y.corner_s, 4 * (size_t)x.ncorners);
+    CHECKF(same, "%s, level %u: %u/%u vertices, %u/%u faces, %u/%u creases, %u/%u corners; the arrays differ", what, l,
+           x.nverts, y.nverts, x.nfaces, y.nfaces, x.ncreases, y.ncreases, x.ncorners, y.ncorners);
+    st_mesh_free(&x);
+    st_mesh_free(&y);
+}
+
+/* st_rebuild renumbers an input whose vertex order is not coherent by
+ * first use in face order, so a shuffled input gives the levels of the
+ * same input in that order, bit for bit (positions, faces, UVs, tags; a
+ * least-squares cage summed in another order would differ in the last
+ * bits), and its finest level is the input.  Its refusals still name the
+ * input's own vertices: the message of the shuffled input is the one
+ * st_unsubdivide gives on it, not the one of the renumbered copy. */
+static void check_order(void)
+{
+    st_mesh cage, fine;
+    st_error err;
+    CHECK(load("catmull_clark/blub_control_mesh.obj", &cage) == 0);
+    /* Tags on the cage (creases, a corner, a hole) so that the copy's tags
+     * are exercised: the levels' sharpness must come back. */
+    uint32_t *f0 = cage.face_idx + cage.face_off[0];
+    cage.ncreases = 1;
+    cage.crease_v = malloc(2 * sizeof *cage.crease_v);
+    cage.crease_s = malloc(sizeof *cage.crease_s);
+    cage.crease_v[0] = f0[0];
+    cage.crease_v[1] = f0[1];
+    cage.crease_s[0] = 3.5f;
+    cage.ncorners = 1;
+    cage.corner_v = malloc(sizeof *cage.corner_v);
+    cage.corner_s = malloc(sizeof *cage.corner_s);
+    cage.corner_v[0] = cage.nverts - 1;
+    cage.corner_s[0] = 4.25f;
+    cage.face_hole = calloc(cage.nfaces, 1);
+    cage.face_hole[5] = 1;
+    CHECK(st_mesh_check("cage", &cage, &err) == 0);
+    st_hier_opts ho = { .boundary = ST_BOUNDARY_UNSET, .uv_interp = ST_UV_ALL };
+    st_hier h0;
+    CHECK(st_hier_init(&h0, &cage, st_scheme_find("catmull-clark"), &ho, &err) == 0);
+    CHECK(st_hier_subdivide_to(&h0, 3, &err) == 0);
+    tagged_level(&h0, 3, &fine);
+    st_hier_free(&h0);
+    CHECK(fine.nverts > 4096 && fine.face_uv && fine.ncreases && fine.ncorners);
+    uint32_t *new_of = malloc(fine.nverts * sizeof *new_of);
+    st_mesh ordered, shuffled;
+    first_use_order(&fine, &ordered, new_of);
+    shuffle_vertices_only(&ordered, &shuffled, 99);
+    st_rebuild_opts o = { .method = ST_REBUILD_UNSUBDIVIDE, .uv_interp = ST_UV_ALL };
+    st_hier ha, hb;
+    st_rebuild_report ra, rb;
+    int rc_a = st_rebuild("ordered.obj", &ordered, &o, &ha, &ra, &err);
+    CHECKF(rc_a == 0, "ordered: %s", rc_a ? err.msg : "");
+    int rc_b = st_rebuild("shuffled.obj", &shuffled, &o, &hb, &rb, &err);
+    CHECKF(rc_b == 0, "shuffled: %s", rc_b ? err.msg : "");
+    if (!rc_a && !rc_b) {
+        CHECKF(ha.map.top == 3 && hb.map.top == 3, "levels %u and %u", ha.map.top, hb.map.top);
+        CHECKF(!strcmp(ra.summary, rb.summary) && !strcmp(ra.stop, rb.stop), "reports differ:\n%s\n%s", ra.summary, rb.summary);
+        for (unsigned l = 0; l <= ha.map.top && ha.map.top == hb.map.top; l++) check_same_level(&ha, &hb, l, "ordered vs shuffled");
+        /* The finest level is the shuffled input itself, up to vertex order. */
+        st_mesh top;
+        CHECK(st_hier_level_mesh(&hb, hb.map.top, &top, &err) == 0);
+        CHECKF(same_faces(&top, &shuffled), "the finest level is not the shuffled input");
+        st_mesh_free(&top);
+        st_hier_free(&ha);
+        st_hier_free(&hb);
+    }
+    st_rebuild_report_free(&ra);
+    st_rebuild_report_free(&rb);
+    st_mesh_free(&ordered);
+    st_mesh_free(&shuffled);
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+    free(new_of);
+
+    /* A refusal: one edge of a Loop level flipped, vertices shuffled. */
+    CHECK(load("triangle/sphere_ico.obj", &cage) == 0);
+    CHECK(subdivided(&cage, ST_SCHEME_LOOP, 2, &fine) == 0);
+    uint32_t f = 1000, a = fine.face_idx[3 * f], b = fine.face_idx[3 * f + 1], cc = fine.face_idx[3 * f + 2], g = ST_NIL, d = 0;
+    for (uint32_t h = 0; h < fine.nfaces && g == ST_NIL; h++)
+        for (int k = 0; k < 3; k++)
+            if (fine.face_idx[3 * h + k] == b && fine.face_idx[3 * h + (k + 1) % 3] == a) { g = h; d = fine.face_idx[3 * h + (k + 2) % 3]; }
+    CHECK(g != ST_NIL);
+    uint32_t nf[6] = { a, d, cc, d, b, cc };
+    memcpy(fine.face_idx + 3 * f, nf, 3 * sizeof *nf);
+    memcpy(fine.face_idx + 3 * g, nf + 3, 3 * sizeof *nf);
+    CHECK(fine.nverts > 2048 && st_mesh_check("flip", &fine, &err) == 0);
+    shuffle_vertices_only(&fine, &shuffled, 7);
+    new_of = malloc(fine.nverts * sizeof *new_of);
+    first_use_order(&shuffled, &ordered, new_of);
+    st_unsub u;
+    char direct[sizeof err.msg], copy[sizeof err.msg];
+    CHECK(st_unsubdivide("flip.obj", &shuffled, NULL, &u, &err) == ST_ERR_TOPOLOGY);
+    snprintf(direct, sizeof direct, "%s", err.msg);
+    CHECK(st_unsubdivide("flip.obj", &ordered, NULL, &u, &err) == ST_ERR_TOPOLOGY);
+    snprintf(copy, sizeof copy, "%s", err.msg);
+    /* Otherwise the check below would not tell the numberings apart. */
+    CHECKF(strcmp(direct, copy), "the renumbered copy's refusal names the same place: %s", copy);
+    st_hier h;
+    st_rebuild_report r;
+    int rc = st_rebuild("flip.obj", &shuffled, &o, &h, &r, &err);
+    CHECKF(rc == ST_ERR_TOPOLOGY && !strcmp(err.msg, direct), "rebuild refusal: %s\nexpected: %s", rc ? err.msg : "accepted", direct);
+    st_rebuild_report_free(&r);
+    st_rebuild_opts oa = { .method = ST_REBUILD_AUTO };
+    rc = st_rebuild("flip.obj", &shuffled, &oa, &h, &r, &err);
+    CHECKF(rc == 0 && r.method == ST_REBUILD_PROGRESSIVE && !strcmp(r.refusal, direct), "auto: %s; refusal %s",
+           rc ? err.msg : "built", r.refusal);
+    if (!rc) st_hier_free(&h);
+    st_rebuild_report_free(&r);
+    fprintf(stderr, "shuffled flip refused: %s\n", direct);
+    free(new_of);
+    st_mesh_free(&ordered);
+    st_mesh_free(&shuffled);
+    st_mesh_free(&fine);
+    st_mesh_free(&cage);
+}
+
 int main(void)
 {
     static const struct { const char *mesh; st_scheme_id id; unsigned max; } cases[] = {
@@ -817,5 +1014,6 @@ int main(void)
     check_threads();
     check_streamed(0);
     check_streamed(1e-4);
+    check_order();
     return TEST_END();
 }
