@@ -250,10 +250,23 @@ static int check_correspondence(st_hier *h, const st_mesh *in, const st_unsub_to
  * except for the rounding of s + k, so the refined finest values agree with
  * the input's to a few ulps; they are then set to the input's exactly, so
  * that the finest level is the input, tags included.  Holes: the finest
- * face of every dart must be a hole exactly when its input face is. */
+ * face of every dart must be a hole exactly when its input face is.  The
+ * values to set are listed in *fix (beside the UV refinement, which reads
+ * the sharpness) and set by apply_tag_fixes once that is done. */
+typedef struct tag_fixes {
+    uint32_t *id;                 /* darts, then vertices */
+    float *s;
+    uint32_t nedges, n;
+} tag_fixes;
+
 static int finest_tags(st_hier *h, const st_mesh *in, const st_unsub_topo *tp, const uint32_t *map,
-                       const uint32_t *corner_of, st_error *err)
+                       const uint32_t *corner_of, tag_fixes *fix, st_error *err)
 {
+    /* Each input crease edge is at most two darts of the finest level. */
+    size_t most = 2 * (size_t)in->ncreases + in->ncorners + 1;
+    fix->id = malloc(most * sizeof *fix->id);
+    fix->s = malloc(most * sizeof *fix->s);
+    if (!fix->id || !fix->s) return st_fail(err, ST_ERR_MEMORY, "out of memory");
     st_map *m = &h->map;
     unsigned k = m->top;
     const st_unsub_topo t = *tp;
@@ -278,21 +291,34 @@ static int finest_tags(st_hier *h, const st_mesh *in, const st_unsub_topo *tp, c
         if (fabsf(got - want) > 1e-5f * (1.0f + want))
             rc = st_fail(err, ST_ERR_INVALID, "level %u: edge %u-%u has sharpness %g after refinement, the input %g",
                          k, map[st_vert(m, d, k)] + 1, map[st_vert(m, st_phi1(m, d, k), k)] + 1, (double)got, (double)want);
-        else if (got != want)
-            st_hier_set_edge_sharpness(h, d, k, want);
+        else if (got != want && fix->n < most)
+            fix->id[fix->n] = d, fix->s[fix->n++] = want;
     }
+    fix->nedges = fix->n;
     for (uint32_t v = vertex_first(m, k, &it); v != ST_NIL && !rc && in->ncorners; v = walk_next(&it)) {
         float got = st_hier_vertex_sharpness(h, v, k), want = vsharp[map[v]];
         if (fabsf(got - want) > 1e-5f * (1.0f + want))
             rc = st_fail(err, ST_ERR_INVALID, "level %u: vertex %u has sharpness %g after refinement, the input %g",
                          k, map[v] + 1, (double)got, (double)want);
-        else if (got != want)
-            st_hier_set_vertex_sharpness(h, v, k, want);
+        else if (got != want && fix->n < most)
+            fix->id[fix->n] = v, fix->s[fix->n++] = want;
     }
 done:
     free(esharp);
     free(vsharp);
     return rc;
+}
+
+static void apply_tag_fixes(st_hier *h, tag_fixes *fix)
+{
+    unsigned k = h->map.top;
+    for (uint32_t i = 0; i < fix->n; i++) {
+        if (i < fix->nedges) st_hier_set_edge_sharpness(h, fix->id[i], k, fix->s[i]);
+        else st_hier_set_vertex_sharpness(h, fix->id[i], k, fix->s[i]);
+    }
+    free(fix->id);
+    free(fix->s);
+    *fix = (tag_fixes){ 0 };
 }
 
 /* The levels' connectivity without positions or UVs: with
@@ -353,19 +379,20 @@ static void refine_task(st_team *team, unsigned t, void *ctx)
 /* The input's vertex for every vertex of the hierarchy (map), level by
  * level, with Catmull-Clark's starting points written on the way; the
  * correspondence of the finest level with the input, checked (on several
- * threads), and the input's positions written there.  The analysis needs
- * no stencils built beforehand: an exact level is checked by a streamed
- * pass (hier_analysis.c). */
+ * threads), and the input's positions written there; then the tags checked
+ * and the analysis.  The analysis needs no stencils built beforehand: an
+ * exact level is checked by a streamed pass (hier_analysis.c). */
 typedef struct positions_job {
     st_hier *h;
+    st_unsub *u;
     const st_mesh *in;
-    const st_unsub *u;
     const st_scheme *sc;
-    const st_unsub_topo *topo;
+    refine_job *rj;               /* the input's adjacency, freed once read */
     uint32_t *map, *corner_of;
     st_error *err;
     int rc;                       /* in: the level-0 check's */
-    double *uv_residual;          /* NULL: not measured */
+    double residual;              /* the analysis' */
+    tag_fixes fix;                /* finest_tags' */
     int rc_uv;                    /* the UV refinement's, with its own error */
     st_error uv_err;
 } positions_job;
@@ -379,7 +406,7 @@ static void write_positions(positions_job *j)
         if (l > 0 && j->sc->id == ST_SCHEME_CATMARK) start_level(h, &u->step[l].coarse, l, j->map);
         rc = map_level(h, u, l, j->map, j->err);
     }
-    if (!rc) rc = check_correspondence(h, j->in, j->topo, j->map, j->corner_of, j->err);
+    if (!rc) rc = check_correspondence(h, j->in, &j->rj->topo, j->map, j->corner_of, j->err);
     if (!rc) {
         pool_walk it;
         for (uint32_t v = vertex_first(&h->map, u->levels, &it); v != ST_NIL; v = walk_next(&it))
@@ -388,17 +415,39 @@ static void write_positions(positions_job *j)
     j->rc = rc;
 }
 
-/* The positions beside the UVs of levels 1..k (Catmull-Clark's refinement
- * left them out): st_fvar_refine_levels reads the connectivity and writes
- * h->fvar only, write_positions writes positions only, so the two run side
- * by side with the same results on one thread or two. */
+/* The positions, tags checked and analysis, then the finest level made
+ * the input's again (the analysis writes it back as given; the finest
+ * level must reproduce the input bit for bit). */
+static void positions_and_analysis(positions_job *j)
+{
+    st_hier *h = j->h;
+    write_positions(j);
+    if (!j->rc) j->rc = finest_tags(h, j->in, &j->rj->topo, j->map, j->corner_of, &j->fix, j->err);
+    if (j->rj->own_topo) st_unsub_topo_free(&j->rj->topo);
+    j->rj->own_topo = 0;
+    release_topologies(j->u);
+    if (j->rc) return;
+    j->residual = st_hier_analyze(h, 0);
+    unsigned k = j->u->levels;
+    pool_walk it;
+    for (uint32_t v = vertex_first(&h->map, k, &it); v != ST_NIL; v = walk_next(&it))
+        if (memcmp(st_pos(&h->map, v, k), j->in->pos + 3 * (size_t)j->map[v], 3 * sizeof(double)))
+            st_hier_write_pos(h, v, k, j->in->pos + 3 * (size_t)j->map[v]);
+}
+
+/* The above beside the UVs of levels 1..k (Catmull-Clark's refinement left
+ * them out): st_fvar_refine_levels reads the connectivity, sharpness
+ * included, and writes h->fvar only, while the other side writes
+ * positions and details (the sharpness only after both: finest_tags), so
+ * the two run side by side with the same results on one thread or two
+ * (the analysis starts threads of its own). */
 static void positions_task(st_team *team, unsigned t, void *ctx)
 {
     (void)t;
     positions_job *j = ctx;
     uint32_t b, e;
     while (st_team_next(team, 0, 2, 1, &b, &e)) {
-        if (b == 0) write_positions(j);
+        if (b == 0) positions_and_analysis(j);
         else j->rc_uv = st_fvar_refine_levels(j->h, j->u->levels, &j->uv_err);
     }
 }
@@ -442,29 +491,19 @@ int st_unsub_build_hier_corners(const st_mesh *in, st_unsub *u, const st_scheme 
     uint32_t i = 0;
     for (uint32_t v = vertex_first(m, 0, &it); v != ST_NIL; v = walk_next(&it)) map[v] = i++;
     if (i != u->step[0].coarse.nverts) rc = st_fail(err, ST_ERR_INVALID, "level 0 has %u vertices, the cage %u", i, u->step[0].coarse.nverts);
-    positions_job pj = { .h = h, .in = in, .u = u, .sc = sc, .topo = &job.topo, .map = map, .corner_of = corner_of, .err = err, .rc = rc,
-                          .uv_residual = uv_residual && in->face_uv ? uv_residual : NULL };
+    positions_job pj = { .h = h, .u = u, .in = in, .sc = sc, .rj = &job, .map = map, .corner_of = corner_of, .err = err, .rc = rc };
     st_team_run(st_parallel_threads() < 2 ? 1 : 2, positions_task, &pj);
     rc = pj.rc;
     if (!rc && pj.rc_uv) {
         if (err) *err = pj.uv_err;
         rc = pj.rc_uv;
     }
-    if (!rc && pj.uv_residual) *pj.uv_residual = st_unsub_uv_residual_corners(h, in, corner_of);
-    if (!rc) rc = finest_tags(h, in, &job.topo, map, corner_of, err);
-    if (job.own_topo) st_unsub_topo_free(&job.topo);
-    release_topologies(u);
+    apply_tag_fixes(h, &pj.fix);
+    if (!rc && uv_residual && in->face_uv) *uv_residual = st_unsub_uv_residual_corners(h, in, corner_of);
     if (rc) { free(map); free(corner_of); st_hier_free(h); return rc; }
     if (corner_of_out) *corner_of_out = corner_of;
     else free(corner_of);
-    unsigned k = u->levels;
-    double r = st_hier_analyze(h, 0);
-    /* The analysis writes the finest level back as given; make sure of it,
-     * as the finest level must reproduce the input bit for bit. */
-    for (uint32_t v = vertex_first(m, k, &it); v != ST_NIL; v = walk_next(&it))
-        if (memcmp(st_pos(m, v, k), in->pos + 3 * (size_t)map[v], 3 * sizeof(double)))
-            st_hier_write_pos(h, v, k, in->pos + 3 * (size_t)map[v]);
-    if (residual) *residual = r;
+    if (residual) *residual = pj.residual;
     if (fine_of) {
         for (uint32_t v = 0; v < m->verts.end; v++)
             if (m->verts.ins[v] == ST_FREE_LEVEL) map[v] = ST_NIL;
