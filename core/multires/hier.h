@@ -102,8 +102,10 @@ void st_hier_remove_bottom(st_hier *h);
 /* Synthesis of levels from+1..top from level `from` (Algorithm 3). */
 void st_hier_synthesize(st_hier *h, unsigned from);
 /* Analysis of levels top-1..to from the finest level (Algorithm 4):
- * least-squares coarse positions and details.  Returns the final relative
- * residual of the solver. */
+ * least-squares coarse positions and details.  Returns the largest of the
+ * levels' residuals: the solver's final relative residual, or, for a
+ * Catmull-Clark level that the streamed pass accepted as exact
+ * (hier_analysis.c), its largest row residual over the level's scale. */
 double st_hier_analyze(st_hier *h, unsigned to);
 
 /* Editing: sets the level-l positions of the vertices of the darts given

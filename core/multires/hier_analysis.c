@@ -497,16 +497,26 @@ static void detail_rows(st_team *team, unsigned t, void *ctx)
         }
 }
 
-/* Level l's detail array as st_hier_set_detail would size it at the first
- * non-zero detail (every vertex id of the map), zeroed by calloc's fresh
- * pages instead of grown from nothing and cleared with memset. */
+/* The ids a detail array of level l needs: those of the vertices of
+ * levels 0..l (st_hier_detail reads zero past an array's end, and
+ * st_hier_set_detail grows it), rather than every vertex id of the map:
+ * when levels are built coarse to fine the finer levels' ids lie above, and
+ * each coarse level's array would be as long as the finest's (spot x4: 4
+ * arrays of 24 MB, where 32 MB hold them all). */
+static uint32_t detail_ids(const st_hier *h, unsigned l)
+{
+    return st_pool_cover(&h->map.verts, l + 1);
+}
+
+/* Level l's detail array, zeroed by calloc's fresh pages instead of grown
+ * from nothing and cleared with memset. */
 static void preallocate_details(st_hier *h, unsigned l, const double *dd, uint32_t nrows)
 {
     if (h->detail[l]) return;
     size_t i = 0, n = 3 * (size_t)nrows;
     while (i < n && dd[i] == 0) i++;
     if (i == n) return;
-    uint32_t cap = h->map.verts.end;
+    uint32_t cap = detail_ids(h, l);
     double *p = st_calloc_huge(3 * (size_t)cap, sizeof *p);
     if (!p) abort(); /* as st_hier_set_detail */
     h->detail[l] = p;
@@ -578,8 +588,8 @@ static void stream_part(st_team *team, unsigned t, void *ctx)
 }
 
 /* Level L's details by fine vertex id become the level's detail array, as
- * preallocate_details and st_hier_set_detail would leave it (every vertex
- * id of the map, none kept when all are zero). */
+ * preallocate_details would leave it (detail_ids long, none kept when all
+ * are zero). */
 static void install_details(st_hier *h, unsigned L, double *d, uint32_t cap)
 {
     if (!h->detail[L]) {
@@ -605,7 +615,7 @@ static int stream_level(st_hier *h, unsigned L, const double *x, double tol, dou
     dart_order o;
     *worst = 0;
     if (dart_order_init(&o, h, L)) return 0;
-    uint32_t cap = h->map.verts.end;
+    uint32_t cap = detail_ids(h, L);
     double *d = st_calloc_huge(3 * (size_t)cap + 3, sizeof *d);
     stream_job *j = calloc(1, sizeof *j);
     if (!d || !j) { free(d); free(j); dart_order_free(&o); return 0; }
