@@ -213,6 +213,23 @@ static void check_recovery(const char *rel, st_scheme_id id, unsigned levels, ui
 
 /* A subdivided cage whose pattern is broken locally is refused, the
  * message naming a place of the change. */
+/* Flips the first edge of triangle f of a triangle mesh: faces f = (a b c)
+ * and g = (b a d) become (a d c) and (d b c).  Returns g, ST_NIL when f's
+ * edge a-b has no other face; near (if not NULL) receives a, b, c, d. */
+static uint32_t flip_edge(st_mesh *m, uint32_t f, uint32_t near[4])
+{
+    uint32_t a = m->face_idx[3 * f], b = m->face_idx[3 * f + 1], cc = m->face_idx[3 * f + 2], g = ST_NIL, d = 0;
+    for (uint32_t h = 0; h < m->nfaces && g == ST_NIL; h++)
+        for (int k = 0; k < 3; k++)
+            if (m->face_idx[3 * h + k] == b && m->face_idx[3 * h + (k + 1) % 3] == a) { g = h; d = m->face_idx[3 * h + (k + 2) % 3]; }
+    if (g == ST_NIL) return ST_NIL;
+    uint32_t nf[6] = { a, d, cc, d, b, cc };
+    memcpy(m->face_idx + 3 * f, nf, 3 * sizeof *nf);
+    memcpy(m->face_idx + 3 * g, nf + 3, 3 * sizeof *nf);
+    if (near) { near[0] = a; near[1] = b; near[2] = cc; near[3] = d; }
+    return g;
+}
+
 static void check_refusals(void)
 {
     st_mesh cage, fine;
@@ -257,20 +274,12 @@ static void check_refusals(void)
     CHECK(load("triangle/sphere_ico.obj", &cage) == 0);
     CHECK(subdivided(&cage, ST_SCHEME_LOOP, 1, &fine) == 0);
     {
-        /* Faces f = (a b c) and g = (b a d) become (a d c) and (d b c). */
-        uint32_t f = 7, a = fine.face_idx[3 * f], b = fine.face_idx[3 * f + 1], cc = fine.face_idx[3 * f + 2], g = ST_NIL, d = 0;
-        for (uint32_t h = 0; h < fine.nfaces && g == ST_NIL; h++)
-            for (int k = 0; k < 3; k++)
-                if (fine.face_idx[3 * h + k] == b && fine.face_idx[3 * h + (k + 1) % 3] == a) { g = h; d = fine.face_idx[3 * h + (k + 2) % 3]; }
+        uint32_t f = 7, near[4] = { 0 }, g = flip_edge(&fine, f, near);
         CHECK(g != ST_NIL);
-        uint32_t nf[6] = { a, d, cc, d, b, cc };
-        memcpy(fine.face_idx + 3 * f, nf, 3 * sizeof *nf);
-        memcpy(fine.face_idx + 3 * g, nf + 3, 3 * sizeof *nf);
         CHECK(st_mesh_check("flip", &fine, &err) == 0);
         int rc = st_unsubdivide("flip.obj", &fine, NULL, &u, &err);
         CHECKF(rc == ST_ERR_TOPOLOGY, "flipped edge accepted");
         int named = 0;
-        uint32_t near[4] = { a, b, cc, d };
         for (int i = 0; i < 4; i++) {
             char want[48];
             snprintf(want, sizeof want, "vertex %u ", near[i] + 1);
@@ -281,7 +290,7 @@ static void check_refusals(void)
         snprintf(wf[1], sizeof wf[1], "face %u", g + 1);
         if (strstr(err.msg, wf[0]) || strstr(err.msg, wf[1])) named = 1;
         CHECKF(named, "the message does not name the flipped edge's vertices %u %u %u %u or faces %u %u: %s",
-               a + 1, b + 1, cc + 1, d + 1, f + 1, g + 1, err.msg);
+               near[0] + 1, near[1] + 1, near[2] + 1, near[3] + 1, f + 1, g + 1, err.msg);
         fprintf(stderr, "flip refused: %s\n", err.msg);
     }
     st_mesh_free(&fine);
@@ -936,14 +945,7 @@ static void check_order(void)
     /* A refusal: one edge of a Loop level flipped, vertices shuffled. */
     CHECK(load("triangle/sphere_ico.obj", &cage) == 0);
     CHECK(subdivided(&cage, ST_SCHEME_LOOP, 2, &fine) == 0);
-    uint32_t f = 1000, a = fine.face_idx[3 * f], b = fine.face_idx[3 * f + 1], cc = fine.face_idx[3 * f + 2], g = ST_NIL, d = 0;
-    for (uint32_t h = 0; h < fine.nfaces && g == ST_NIL; h++)
-        for (int k = 0; k < 3; k++)
-            if (fine.face_idx[3 * h + k] == b && fine.face_idx[3 * h + (k + 1) % 3] == a) { g = h; d = fine.face_idx[3 * h + (k + 2) % 3]; }
-    CHECK(g != ST_NIL);
-    uint32_t nf[6] = { a, d, cc, d, b, cc };
-    memcpy(fine.face_idx + 3 * f, nf, 3 * sizeof *nf);
-    memcpy(fine.face_idx + 3 * g, nf + 3, 3 * sizeof *nf);
+    CHECK(flip_edge(&fine, 1000, NULL) != ST_NIL);
     CHECK(fine.nverts > 2048 && st_mesh_check("flip", &fine, &err) == 0);
     shuffle_vertices_only(&fine, &shuffled, 7);
     new_of = malloc(fine.nverts * sizeof *new_of);

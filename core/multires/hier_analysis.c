@@ -80,6 +80,20 @@ static void csr_destroy(csr *c)
     free(c);
 }
 
+/* An empty c with room for rows rows and nz weights. */
+static void csr_reserve(csr *c, uint32_t rows, uint32_t nz)
+{
+    c->cap_rows = rows;
+    c->cap_nz = nz;
+    c->row_vertex = grow(NULL, c->cap_rows, sizeof *c->row_vertex);
+    c->off = grow(NULL, c->cap_rows + 1, sizeof *c->off);
+    c->frame_dart = grow(NULL, c->cap_rows, sizeof *c->frame_dart);
+    c->frame_cell = grow(NULL, c->cap_rows, sizeof *c->frame_cell);
+    c->col = grow(NULL, c->cap_nz, sizeof *c->col);
+    c->w = grow(NULL, c->cap_nz, sizeof *c->w);
+    c->off[0] = 0;
+}
+
 /* The stencils of every vertex of level l, in the scheme's order.  The
  * arrays start at their likely size (a row per vertex id level l can hold,
  * 8 weights a row: Catmull-Clark averages about 6.3), so that a large
@@ -88,16 +102,8 @@ static csr *level_stencils(st_hier *h, unsigned l)
 {
     csr *c = calloc(1, sizeof *c);
     if (!c) abort();
-    uint32_t rows = st_pool_cover(&h->map.verts, l);
-    c->cap_rows = rows + 2;
-    c->cap_nz = c->cap_rows > UINT32_MAX / 8 ? UINT32_MAX : 8 * c->cap_rows;
-    c->row_vertex = grow(NULL, c->cap_rows, sizeof *c->row_vertex);
-    c->off = grow(NULL, c->cap_rows + 1, sizeof *c->off);
-    c->frame_dart = grow(NULL, c->cap_rows, sizeof *c->frame_dart);
-    c->frame_cell = grow(NULL, c->cap_rows, sizeof *c->frame_cell);
-    c->col = grow(NULL, c->cap_nz, sizeof *c->col);
-    c->w = grow(NULL, c->cap_nz, sizeof *c->w);
-    c->off[0] = 0;
+    uint32_t rows = st_pool_cover(&h->map.verts, l) + 2;
+    csr_reserve(c, rows, rows > UINT32_MAX / 8 ? UINT32_MAX : 8 * rows);
     h->scheme->emit(h, l, NULL, 0, csr_sink, c);
     return c;
 }
@@ -212,15 +218,8 @@ typedef struct csr_job {
 static void csr_piece_init(csr *c, uint32_t blocks)
 {
     memset(c, 0, sizeof *c);
-    c->cap_rows = blocks * ST_POOL_BLOCK + 2;   /* about a row a dart (a quad's 4 darts: 1 + 2 + 1) */
-    c->cap_nz = 8 * c->cap_rows;
-    c->row_vertex = grow(NULL, c->cap_rows, sizeof *c->row_vertex);
-    c->off = grow(NULL, c->cap_rows + 1, sizeof *c->off);
-    c->frame_dart = grow(NULL, c->cap_rows, sizeof *c->frame_dart);
-    c->frame_cell = grow(NULL, c->cap_rows, sizeof *c->frame_cell);
-    c->col = grow(NULL, c->cap_nz, sizeof *c->col);
-    c->w = grow(NULL, c->cap_nz, sizeof *c->w);
-    c->off[0] = 0;
+    uint32_t rows = blocks * ST_POOL_BLOCK + 2;   /* about a row a dart (a quad's 4 darts: 1 + 2 + 1) */
+    csr_reserve(c, rows, 8 * rows);
 }
 
 static void csr_pieces(st_team *team, unsigned t, void *ctx)
@@ -244,15 +243,7 @@ static csr *csr_join(csr *piece, uint32_t n)
     uint64_t rows = 0, nz = 0;
     for (uint32_t i = 0; i < n; i++) { rows += piece[i].nrows; nz += piece[i].off[piece[i].nrows]; }
     if (nz > UINT32_MAX) abort(); /* as csr_sink's 32-bit offsets */
-    c->cap_rows = (uint32_t)rows + 1;
-    c->cap_nz = (uint32_t)nz + 1;
-    c->row_vertex = grow(NULL, c->cap_rows, sizeof *c->row_vertex);
-    c->off = grow(NULL, c->cap_rows + 1, sizeof *c->off);
-    c->frame_dart = grow(NULL, c->cap_rows, sizeof *c->frame_dart);
-    c->frame_cell = grow(NULL, c->cap_rows, sizeof *c->frame_cell);
-    c->col = grow(NULL, c->cap_nz, sizeof *c->col);
-    c->w = grow(NULL, c->cap_nz, sizeof *c->w);
-    c->off[0] = 0;
+    csr_reserve(c, (uint32_t)rows + 1, (uint32_t)nz + 1);
     for (uint32_t i = 0; i < n; i++) {
         const csr *p = &piece[i];
         uint32_t r0 = c->nrows, z0 = c->off[r0], pz = p->off[p->nrows];
