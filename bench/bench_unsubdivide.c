@@ -57,15 +57,7 @@ static void shuffle_vertices(st_mesh *m)
 /* Each coordinate moved by up to f times the bounding-box diagonal. */
 static void add_noise(st_mesh *m, double f)
 {
-    double lo[3], hi[3];
-    for (int k = 0; k < 3; k++) lo[k] = hi[k] = m->nverts ? m->pos[k] : 0;
-    for (uint32_t v = 0; v < m->nverts; v++)
-        for (int k = 0; k < 3; k++) {
-            double x = m->pos[3 * (size_t)v + k];
-            if (x < lo[k]) lo[k] = x;
-            if (x > hi[k]) hi[k] = x;
-        }
-    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double diag = st_mesh_diagonal(m);
     for (size_t i = 0; i < 3 * (size_t)m->nverts; i++) m->pos[i] += f * diag * ((double)rnd() / 4294967295.0 * 2 - 1);
 }
 

@@ -19,19 +19,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static double diagonal(const st_mesh *m)
-{
-    double lo[3], hi[3];
-    for (int k = 0; k < 3; k++) lo[k] = hi[k] = m->nverts ? m->pos[k] : 0;
-    for (uint32_t v = 0; v < m->nverts; v++)
-        for (int k = 0; k < 3; k++) {
-            double x = m->pos[3 * (size_t)v + k];
-            if (x < lo[k]) lo[k] = x;
-            if (x > hi[k]) hi[k] = x;
-        }
-    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-}
-
 static int load(const char *rel, st_mesh *m)
 {
     char path[1024];
@@ -181,7 +168,7 @@ static void check_recovery(const char *rel, st_scheme_id id, unsigned levels, ui
     rc = st_unsub_build_hier(&in, &u, sc, NULL, &h, &fine_of, &res, &err);
     CHECKF(rc == 0, "%s: %s", rel, rc ? err.msg : "");
     if (!rc) {
-        double diag = diagonal(&in);
+        double diag = st_mesh_diagonal(&in);
         CHECKF(h.map.top == levels, "%s: top %u", rel, h.map.top);
         /* Level 0 is the original cage (a permutation of it). */
         st_mesh l0;
@@ -459,7 +446,7 @@ static void check_streamed(double noise)
     CHECK(load("catmull_clark/spot_quadrangulated.obj", &cage) == 0);
     CHECK(subdivided(&cage, ST_SCHEME_CATMARK, 2, &fine) == 0);
     shuffle(&fine, &in, 99);
-    double diag = diagonal(&in);
+    double diag = st_mesh_diagonal(&in);
     uint64_t rng = 5;
     for (uint32_t i = 0; noise > 0 && i < 3 * in.nverts; i++)
         in.pos[i] += noise * diag * ((double)(tl_rand(&rng) % 2001) / 1000.0 - 1.0);
@@ -559,7 +546,7 @@ static void check_edit(void)
     CHECK(subdivided(&cage, ST_SCHEME_CATMARK, 3, &fine) == 0);
     CHECK(st_unsubdivide("b", &fine, NULL, &u, &err) == 0);
     CHECK(st_unsub_build_hier(&fine, &u, st_scheme_find("catmull-clark"), NULL, &h, &fine_of, NULL, &err) == 0);
-    double diag = diagonal(&fine);
+    double diag = st_mesh_diagonal(&fine);
     st_dart_iter it;
     uint32_t d = st_dart_first(&h.map, 1, &it);
     while (st_is_boundary(&h.map, d)) d = st_dart_next(&h.map, 1, &it);
@@ -702,7 +689,7 @@ static void check_tags(const char *rel, st_scheme_id id, unsigned k)
     if (!rc) rc = st_unsub_build_hier(&fine, &u, sc, &ho, &h1, &fine_of, NULL, &err);
     CHECKF(rc == 0, "%s x%u tagged: %s", rel, k, rc ? err.msg : "");
     if (!rc) {
-        double diag = diagonal(&cage);
+        double diag = st_mesh_diagonal(&cage);
         const st_map *a = &h0.map, *b = &h1.map;
         st_dart_iter it;
         double worst = 0, uvw = 0;

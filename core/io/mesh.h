@@ -90,6 +90,10 @@ int st_mesh_parse_obj(const char *name, const char *data, size_t size, st_mesh *
 int st_mesh_parse_off(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
 int st_mesh_parse_ply(const char *name, const char *data, size_t size, st_mesh *out, st_error *err);
 
+/* Length of the diagonal of the vertices' bounding box (0 for no vertex):
+ * the scale of a mesh's tolerances. */
+double st_mesh_diagonal(const st_mesh *m);
+
 /* Area-weighted smooth unit vertex normals (core/io/mesh_normals.c): into
  * n (3 * m->nverts doubles), or into m->normals (replaced).  -1 when out of
  * memory.  The one normal computation of every writer, glTF's included. */

@@ -49,3 +49,15 @@ int st_mesh_compute_normals(st_mesh *m)
     m->normals = n;
     return 0;
 }
+
+double st_mesh_diagonal(const st_mesh *m)
+{
+    double lo[3] = { 0 }, hi[3] = { 0 };
+    for (uint32_t v = 0; v < m->nverts; v++)
+        for (int k = 0; k < 3; k++) {
+            double x = m->pos[3 * (size_t)v + k];
+            if (v == 0 || x < lo[k]) lo[k] = x;
+            if (v == 0 || x > hi[k]) hi[k] = x;
+        }
+    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}

@@ -162,6 +162,14 @@ static int vertices_coherent(const st_mesh *m)
     return near * 10 >= all * 8;
 }
 
+/* The arrays renumbered made (none while copy->face_idx is the input's). */
+static void free_renumbered(st_mesh *copy, const st_mesh *in)
+{
+    if (copy->face_idx == in->face_idx) return;
+    free(copy->pos); free(copy->face_idx); free(copy->normals); free(copy->crease_v); free(copy->corner_v);
+    *copy = *in;
+}
+
 /* A working copy of `in` with its vertices numbered in order of first use
  * by the faces (meshoptimizer's optimizeVertexFetchRemap): every pass of
  * the rebuild walks the faces in order and then finds each vertex's data
@@ -202,18 +210,10 @@ static int renumbered(const st_mesh *in, st_mesh *out)
     for (uint32_t i = 0; ok && i < in->ncorners; i++) out->corner_v[i] = new_of[in->corner_v[i]];
     free(new_of);
     if (!ok) {
-        free(out->pos); free(out->face_idx); free(out->normals); free(out->crease_v); free(out->corner_v);
-        *out = *in;
+        free_renumbered(out, in);
         return -1;
     }
     return 0;
-}
-
-static void free_renumbered(st_mesh *copy, const st_mesh *in)
-{
-    if (copy->face_idx == in->face_idx) return;
-    free(copy->pos); free(copy->face_idx); free(copy->normals); free(copy->crease_v); free(copy->corner_v);
-    *copy = *in;
 }
 
 /* Unsubdivide and the hierarchy of its cage.  *found: whether a cage was

@@ -901,18 +901,6 @@ static int carry_tags(step_ctx *s, const st_mesh *fine, st_unsub_step *st, const
     return carry_uvs(s, fine, st, corner_fine);
 }
 
-static double bbox_diagonal(const st_mesh *m)
-{
-    double lo[3] = { 0 }, hi[3] = { 0 };
-    for (uint32_t v = 0; v < m->nverts; v++)
-        for (int k = 0; k < 3; k++) {
-            double x = m->pos[3 * (size_t)v + k];
-            if (v == 0 || x < lo[k]) lo[k] = x;
-            if (v == 0 || x > hi[k]) hi[k] = x;
-        }
-    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-}
-
 /* Which pattern the face degrees allow; -1 with the face that breaks it. */
 static int pick_pattern(step_ctx *s, const st_mesh *m)
 {
@@ -1107,7 +1095,7 @@ int st_unsubdivide(const char *name, const st_mesh *in, const st_unsub_opts *o, 
     st_unsub_topo topo;
     memset(&topo, 0, sizeof topo);
     /* One scale for the tie tolerance of every step: the input's. */
-    double diag = bbox_diagonal(in);
+    double diag = st_mesh_diagonal(in);
     unsigned max = o && o->max_levels ? o->max_levels : ST_MAX_LEVELS - 1;
     if (max > ST_MAX_LEVELS - 1) max = ST_MAX_LEVELS - 1;
     for (;;) {
