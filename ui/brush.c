@@ -467,6 +467,11 @@ static void layer_finish(st_doc *d, struct st_brush_state *bs)
 
 int st_doc_stroke_begin(st_doc *d)
 {
+    return ed_stroke_begin(d, 1);
+}
+
+int ed_stroke_begin(st_doc *d, int moves_geometry)
+{
     if (!d->loaded) return -1;
     if (d->active == 1) st_doc_drag_end(d);
     else if (d->active == 2) st_doc_stroke_end(d);
@@ -479,6 +484,7 @@ int st_doc_stroke_begin(st_doc *d)
     }
     const st_map *m = &d->h.map;
     unsigned l = d->edit_level;
+    if (moves_geometry && ed_edit_budget(d, l)) return -1;
     bs->level = l;
     bs->cs = d->brush.radius;
     /* Per-vertex arrays up to the largest id of the editing level only. */

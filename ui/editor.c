@@ -18,6 +18,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "editor_internal.h"
 #include "core/rebuild/rebuild.h"
+#include "core/multires/estimate.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -827,12 +828,25 @@ uint32_t st_doc_display_to_edit_vertex(const st_doc *d, uint32_t dv)
 
 /* ---- drag ---------------------------------------------------------------------------- */
 
+int ed_edit_budget(st_doc *d, unsigned l)
+{
+    size_t need = st_hier_synth_estimate(&d->h, l), have = st_doc_model_bytes(d);
+    d->refusal[0] = 0;
+    if (have + need <= d->mem_budget) return 0;
+    snprintf(d->refusal, sizeof d->refusal,
+             "editing level %u refused: the synthesis of the levels above needs about %.1f MiB more, the model uses "
+             "%.1f MiB and the memory budget is %.1f MiB",
+             l, mib(need), mib(have), mib(d->mem_budget));
+    return -1;
+}
+
 int st_doc_drag_begin(st_doc *d)
 {
     if (!d->loaded) return -1;
     ed_finish_active(d);
     if (!d->nsel) return -1;
     unsigned l = d->edit_level;
+    if (ed_edit_budget(d, l)) return -1;
     st_undo_step *s = ed_step_new(ED_STEP_EDIT);
     s->level = l;
     uint32_t *darts = malloc((size_t)d->nsel * sizeof *darts);

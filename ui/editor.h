@@ -209,6 +209,8 @@ typedef struct st_doc {
     st_edit_cache *ecache;
     uint64_t edit_serial, ecache_serial;
     char note[256];            /* last non-fatal message (undo history dropped, ...) */
+    char refusal[320];         /* why the last drag or stroke begin was refused by the
+                                  memory budget ("" otherwise: ed_edit_budget) */
     /* Long operations (opening at a depth, adding a level, a scheme
      * change, switching the box on) call this, when set, before each
      * stage, e.g. "building level 5", 5, 6: the window can redraw a

@@ -100,6 +100,12 @@ void ed_undo_clear(st_doc *d);
 double ed_now_ms(void);
 /* Ends a drag or a stroke in progress (another operation comes). */
 void ed_finish_active(st_doc *d);
+/* The memory budget before a drag or stroke at level l: the edit
+ * re-synthesises the levels above, which may create their position
+ * columns and, on a progressive hierarchy, the ring tables
+ * (st_hier_synth_estimate).  -1, with d->refusal saying why, when the
+ * model plus that estimate is over d->mem_budget. */
+int ed_edit_budget(st_doc *d, unsigned l);
 /* After any change of h's levels or scheme: selection cleared, levels
  * clamped, the box's display rebuilt, everything redrawn; _done also times
  * the change begun at t0. */
@@ -155,6 +161,11 @@ void ed_layer_values_capture(st_undo_step *s, const st_layers *ls);
 void ed_layer_values_apply(const st_undo_step *s, st_layers *ls, int which);
 /* Whole-stack and mask parts of a step (has_layers / has_mask). */
 void ed_step_apply_extra(st_doc *d, const st_undo_step *s, int which);
+
+/* ---- brush.c ---- */
+/* st_doc_stroke_begin; a mask stroke (moves_geometry 0) skips the memory
+ * budget's check, as it re-synthesises nothing. */
+int ed_stroke_begin(st_doc *d, int moves_geometry);
 
 /* ---- editor_mask.c ---- */
 /* Vertices of the new top level take the mask's subdivision. */

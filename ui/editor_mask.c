@@ -233,7 +233,7 @@ int st_doc_mask_stroke_begin(st_doc *d, int erase)
      * select tool too). */
     int tool = d->brush.tool;
     if (tool < 0 || tool >= ST_BRUSH_COUNT) d->brush.tool = ST_BRUSH_DRAW;
-    int rc = st_doc_stroke_begin(d);
+    int rc = ed_stroke_begin(d, 0); /* paints the mask: no synthesis */
     d->brush.tool = tool;
     if (rc) return -1;
     st_undo_step *s = d->pending;

@@ -329,7 +329,7 @@ void st_app_drag_start(st_app *a, int op)
 {
     st_doc *d = &a->doc;
     if (!d->nsel) return;
-    if (st_doc_drag_begin(d)) { st_app_message(a, 1, "cannot drag the selection"); return; }
+    if (st_doc_drag_begin(d)) { st_app_message(a, 1, d->refusal[0] ? d->refusal : "cannot drag the selection"); return; }
     selection_frame(a, a->drag_anchor, a->drag_normal);
     a->op = op;
     a->op_lx = a->mx;
@@ -388,7 +388,7 @@ static void stroke_start(st_app *a, int mods)
     st_camctl_axes(&a->cc, right, up, back);
     for (int k = 0; k < 3; k++) d->brush.view_dir[k] = -back[k];
     int started = a->mask_brush ? st_doc_mask_stroke_begin(d, (mods & GLFW_MOD_CONTROL) != 0) : st_doc_stroke_begin(d);
-    if (started) { st_app_message(a, 1, "cannot start a stroke"); return; }
+    if (started) { st_app_message(a, 1, d->refusal[0] ? d->refusal : "cannot start a stroke"); return; }
     a->op = ST_OP_STROKE;
     a->op_lx = a->mx;
     a->op_ly = a->my;

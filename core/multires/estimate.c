@@ -112,6 +112,12 @@ size_t st_estimate_position_columns(const st_map *m, unsigned from)
     return n >= (double)SIZE_MAX ? SIZE_MAX : (size_t)n;
 }
 
+size_t st_hier_synth_estimate(const st_hier *h, unsigned from)
+{
+    if (h->scheme && h->scheme->synth_estimate) return h->scheme->synth_estimate(h, from);
+    return st_estimate_position_columns(&h->map, from);
+}
+
 size_t st_estimate_mesh_bytes(uint64_t nverts, uint64_t nfaces, uint64_t ncorners)
 {
     /* positions and normals in double, a uint32 index per corner and an

@@ -43,6 +43,12 @@ size_t st_hier_estimate_subdivide(st_hier *h, unsigned levels, st_level_stats *f
  * with. */
 size_t st_estimate_position_columns(const st_map *m, unsigned from);
 
+/* Bytes a synthesis of the levels above `from` (a full one, or a local
+ * edit's at level `from`, which may write any of them) adds to the
+ * process: the scheme's own estimate where it builds caches for it
+ * (st_scheme.synth_estimate), else the position columns. */
+size_t st_hier_synth_estimate(const st_hier *h, unsigned from);
+
 /* Bytes of an exported soup of nverts vertices and ncorners corners in
  * nfaces faces (positions, normals, indices, the writer's buffers). */
 size_t st_estimate_mesh_bytes(uint64_t nverts, uint64_t nfaces, uint64_t ncorners);

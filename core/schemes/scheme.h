@@ -94,6 +94,11 @@ typedef struct st_scheme {
      * run on levels that carry details; predict_around then writes only
      * the vertices whose position changes (the progressive scheme). */
     int fast_paths_apply_details;
+    /* Optional: bytes a synthesis of the levels above `from` adds to the
+     * process, the caches its fast paths build included (the progressive
+     * ring tables); NULL: the position columns alone
+     * (st_hier_synth_estimate, core/multires/estimate.h). */
+    size_t (*synth_estimate)(const struct st_hier *h, unsigned from);
 } st_scheme;
 
 /* Lookup by id or CLI name (NULL if unknown). */

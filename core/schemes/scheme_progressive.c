@@ -217,4 +217,5 @@ const st_scheme st_scheme_progressive = {
     .predict_level = progressive_synth_level,
     .predict_around = st_progressive_resynth_around,
     .fast_paths_apply_details = 1,
+    .synth_estimate = st_progressive_synth_estimate,
 };
