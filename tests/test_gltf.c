@@ -22,18 +22,6 @@ static const char *tmp_path(const char *name)
 
 /* ---- comparing soups ------------------------------------------------------ */
 
-static double bbox_diag(const st_mesh *m)
-{
-    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
-    for (uint32_t v = 0; v < m->nverts; v++)
-        for (int c = 0; c < 3; c++) {
-            lo[c] = fmin(lo[c], m->pos[3 * v + c]);
-            hi[c] = fmax(hi[c], m->pos[3 * v + c]);
-        }
-    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                (hi[2] - lo[2]) * (hi[2] - lo[2]));
-}
-
 static uint32_t tri_count(const st_mesh *m)
 {
     uint32_t n = 0;
@@ -87,7 +75,7 @@ static void offset_scale(st_mesh *m, double s, double dx)
 
 static void check_round_trip(const char *label, const st_mesh *a)
 {
-    double tol = 1e-6 * bbox_diag(a);
+    double tol = 1e-6 * st_mesh_diagonal(a);
     st_error err;
     for (int binary = 0; binary <= 1; binary++) {
         int sizes[] = { 0, 1, 2, 4 };
