@@ -173,6 +173,16 @@ fi
 run 0 "replay .* passed" win "$EXE" --size 480x360 --scheme loop --levels 0 --replay "$SRC/replay/rebuild_progressive.txt" \
     "$MESHES/triangle/bob_small.ply"
 
+# The memory budget before an edit (ui/editor.c, ed_edit_budget): refused
+# over it, done within it.
+if "$EXE" rebuild "$MESHES/triangle/bob_small.ply" --method progressive -o "$TMP/bob_p.strata" > /dev/null; then
+    run 0 "replay .* passed" win "$EXE" --size 480x360 --mem-budget 1 --replay "$SRC/replay/edit_budget.txt" "$TMP/bob_p.strata"
+    printf 'wait 2\nkey d\nsnapshot\ndrag left 200 200 260 220 6\nexpect moved\nexpect undo_depth 1\nquit\n' > "$TMP/edit_budget_ok.txt"
+    run 0 "replay .* passed" win "$EXE" --size 480x360 --mem-budget 3 --replay "$TMP/edit_budget_ok.txt" "$TMP/bob_p.strata"
+else
+    bad "strata rebuild bob_small.ply failed"
+fi
+
 # Esc cancels a rebuild and keeps the model: real key presses (xdotool,
 # every 50 ms while the replay runs; STRATA_REPLAY_LIVE=1 lets them through)
 # on a 40k-face mesh whose progressive rebuild takes longer than that.

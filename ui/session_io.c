@@ -97,10 +97,15 @@ int st_app_restore(st_app *a, const char *path)
     }
     st_doc *d = &a->doc;
     a->untitled = 0;
+    /* The window's settings outlive the model: the brush, and the budgets
+     * given on the command line (--mem-budget). */
     st_brush brush = d->brush;
+    size_t mem_budget = d->mem_budget, undo_budget = d->undo_budget;
     st_doc_free(d);
     st_doc_init(d);
     d->brush = brush;
+    d->mem_budget = mem_budget;
+    d->undo_budget = undo_budget;
     st_session_move_hier(&d->h, &s.h);
     d->scheme = d->h.scheme;
     d->opts = d->h.opts;
