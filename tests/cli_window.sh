@@ -179,6 +179,10 @@ if "$EXE" rebuild "$MESHES/triangle/bob_small.ply" --method progressive -o "$TMP
     run 0 "replay .* passed" win "$EXE" --size 480x360 --mem-budget 1 --replay "$SRC/replay/edit_budget.txt" "$TMP/bob_p.strata"
     printf 'wait 2\nkey d\nsnapshot\ndrag left 200 200 260 220 6\nexpect moved\nexpect undo_depth 1\nquit\n' > "$TMP/edit_budget_ok.txt"
     run 0 "replay .* passed" win "$EXE" --size 480x360 --mem-budget 3 --replay "$TMP/edit_budget_ok.txt" "$TMP/bob_p.strata"
+    # Multiresolution filtering in the window (the Filter panel), undoable.
+    run 0 "replay .* passed" win "$EXE" --size 640x480 --replay "$SRC/replay/filter.txt" "$TMP/bob_p.strata"
+    printf 'wait 2\nfilter 1,0\nexpect error 1\nexpect message progressive\nexpect undo_depth 0\nquit\n' > "$TMP/filter_loop.txt"
+    run 0 "replay .* passed" win "$EXE" --size 480x360 --levels 2 --replay "$TMP/filter_loop.txt" "$ASSETS/torus.obj"
 else
     bad "strata rebuild bob_small.ply failed"
 fi

@@ -1,6 +1,7 @@
 /* Helpers shared by the headless document tests (editor_testlib.h). */
 #include "editor_testlib.h"
 #include "testlib.h"
+#include "core/multires/edit.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -45,4 +46,26 @@ uint32_t ed_test_extreme_vertex(st_doc *d, const double dir[3])
 double ed_test_dist3(const double *a, const double *b)
 {
     return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+double *ed_test_all_values(const st_hier *h, size_t *n)
+{
+    const st_map *m = &h->map;
+    size_t cap = 0, k = 0;
+    st_dart_iter it;
+    for (unsigned l = 0; l <= m->top; l++)
+        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) cap += l ? 6 : 3;
+    double *p = malloc((cap ? cap : 1) * sizeof *p);
+    if (!p) abort();
+    for (unsigned l = 0; l <= m->top; l++)
+        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
+            st_hier_value(h, st_fp_key(l, ST_FP_POS, v), p + k);
+            k += 3;
+            if (l) {
+                st_hier_value(h, st_fp_key(l, ST_FP_DETAIL, v), p + k);
+                k += 3;
+            }
+        }
+    *n = k;
+    return p;
 }

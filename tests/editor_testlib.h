@@ -14,5 +14,10 @@ uint32_t ed_test_level_vertices(const st_doc *d, unsigned l, uint32_t **out);
 /* The editing-level vertex that maximises dot(p, dir). */
 uint32_t ed_test_extreme_vertex(st_doc *d, const double dir[3]);
 double ed_test_dist3(const double *a, const double *b);
+/* Every value of h: for each level, for each of its vertices in
+ * enumeration order, its position and (above level 0) its detail, 3
+ * doubles each, into a malloc'ed array; *n gets the number of doubles.
+ * Two hierarchies of the same topology compare with memcmp. */
+double *ed_test_all_values(const st_hier *h, size_t *n);
 
 #endif

@@ -8,6 +8,7 @@
  * estimate drops.  A subdivision model whose levels all have their
  * position columns needs nothing more and is never refused. */
 #include "editor.h"
+#include "editor_testlib.h"
 #include "core/multires/estimate.h"
 #include "testlib.h"
 
@@ -15,29 +16,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Every position of every level, in vertex order, level by level. */
-static double *positions(const st_hier *h, size_t *n)
-{
-    const st_map *m = &h->map;
-    size_t cap = 0;
-    st_dart_iter it;
-    for (unsigned l = 0; l <= m->top; l++)
-        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) cap += 3;
-    double *p = malloc((cap ? cap : 1) * sizeof *p);
-    size_t k = 0;
-    for (unsigned l = 0; l <= m->top; l++)
-        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
-            memcpy(p + k, st_pos(m, v, l), 3 * sizeof(double));
-            k += 3;
-        }
-    *n = k;
-    return p;
-}
-
 static int unchanged(const st_hier *h, const double *before, size_t n)
 {
     size_t m;
-    double *now = positions(h, &m);
+    double *now = ed_test_all_values(h, &m);
     int same = m == n && !memcmp(now, before, n * sizeof *now);
     free(now);
     return same;
@@ -65,7 +47,7 @@ static void test_progressive(void)
     /* the tables of every level and the scratch are not built yet */
     CHECKF(need > 0, "progressive synthesis estimate %zu", need);
     size_t n;
-    double *before = positions(&d.h, &n);
+    double *before = ed_test_all_values(&d.h, &n);
     uint32_t nundo = d.nundo;
 
     d.mem_budget = have + need / 2;

@@ -267,6 +267,15 @@ int st_doc_rebuild_levels(st_doc *d, int (*progress)(void *ctx, double fraction)
  * the bytes needed when over mem_budget).  Remove top / bottom: delete the
  * finest / coarsest level (bottom = "rebase": level 1 becomes the control
  * mesh).  All undoable. */
+/* Multiresolution filtering of a progressive model (ui/editor_filter.c;
+ * core's st_progressive_filter, GSS99 §5): the details of level k+1
+ * scaled by gains[k] (k < n; the levels past the list keep theirs: 0
+ * removes that band, 1 keeps it to the bit, above 1 enhances it), the
+ * levels above re-synthesised.  One undo step ("filter"), exact both ways;
+ * all gains 1 change nothing and make no step.  Refused on a model that is
+ * not progressive, with sculpt layers (merge or delete them first), or
+ * over the memory budget. */
+int st_doc_filter(st_doc *d, const double *gains, unsigned n, st_error *err);
 int st_doc_add_level(st_doc *d, st_error *err);
 int st_doc_remove_top(st_doc *d, st_error *err);
 int st_doc_remove_bottom(st_doc *d, st_error *err);

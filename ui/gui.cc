@@ -907,6 +907,44 @@ void layers_section(st_app *a)
     }
 }
 
+/* The Filter section of a progressive model (ui/editor_filter.c): a gain
+ * per band of details, level 1 (coarsest) to the top, and Apply, which
+ * scales the details and re-synthesises as one undo step; the gains then
+ * go back to 1, since the details now carry the change. */
+void filter_section(st_app *a)
+{
+    st_doc *d = &a->doc;
+    static float gains[ST_MAX_LEVELS];
+    static unsigned shown_top = ~0u;
+    unsigned top = d->h.map.top;
+    if (shown_top != top) {
+        for (float &x : gains) x = 1.0f;
+        shown_top = top;
+    }
+    ImGui::TextWrapped("details of each level: 0 removes them (smoother), 1 keeps them, 2 doubles them");
+    for (unsigned l = 1; l <= top; l++) {
+        char label[32];
+        snprintf(label, sizeof label, "level %u", l);
+        ImGui::SliderFloat(label, &gains[l - 1], 0.0f, 2.0f, "%.2f");
+        if (!g.probe_dir.empty()) probe_item(probe_name("panel:filter:", label));
+    }
+    bool any = false;
+    for (unsigned l = 1; l <= top; l++) any |= gains[l - 1] != 1.0f;
+    if (!any) ImGui::BeginDisabled();
+    bool apply = ImGui::Button("Apply");
+    if (!g.probe_dir.empty()) probe_item("panel:filter:apply");
+    ImGui::SameLine();
+    bool reset = ImGui::Button("Reset");
+    if (!any) ImGui::EndDisabled();
+    if (apply && a->op == ST_OP_NONE) {
+        double gd[ST_MAX_LEVELS];
+        for (unsigned k = 0; k < top; k++) gd[k] = gains[k];
+        if (!st_app_filter(a, gd, top)) reset = true;
+    }
+    if (reset)
+        for (float &x : gains) x = 1.0f;
+}
+
 void side_panel(st_app *a)
 {
     ImGuiIO &io = ImGui::GetIO();
@@ -1008,6 +1046,7 @@ void side_panel(st_app *a)
         /* Last, so that the sections above keep their places. */
         if (section("Mask", false)) mask_section(a);
         if (section("Layers", false)) layers_section(a);
+        if (d->scheme == st_scheme_find("progressive") && section("Filter", false)) filter_section(a);
     }
     if (section("Timings")) {
         char t1[32], t2[32], t3[32];

@@ -17,7 +17,7 @@
 
 enum ev_type {
     EV_WAIT, EV_KEY, EV_MOVE, EV_BUTTON, EV_SCROLL, EV_DROP, EV_LEVEL, EV_SNAPSHOT, EV_SHOT, EV_EXPECT, EV_ECHO, EV_QUIT,
-    EV_GUI, EV_MENU, EV_FRAMES, EV_BRUSH
+    EV_GUI, EV_MENU, EV_FRAMES, EV_BRUSH, EV_FILTER
 };
 
 /* `brush SETTING VALUE`: what the panel's tool section sets. */
@@ -41,6 +41,23 @@ struct st_replay {
     int timing_left, ntimes;
     double *times;
 };
+
+/* `filter G0,G1,...`: the gains the Filter panel applies; their number,
+ * or -1 when one is not a finite number or there are too many. */
+static int parse_gains(const char *s, double g[ST_MAX_LEVELS])
+{
+    int n = 0;
+    for (;;) {
+        char *end;
+        if (n == ST_MAX_LEVELS) return -1;
+        g[n] = strtod(s, &end);
+        if (end == s || !isfinite(g[n])) return -1;
+        n++;
+        if (!*end) return n;
+        if (*end != ',') return -1;
+        s = end + 1;
+    }
+}
 
 static ev *push(st_replay *rp, int type, int line)
 {
@@ -309,6 +326,11 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
             if (!end || *end || !(e->x >= 0) || e->x > hi || (k == BR_RADIUS && !(e->x > 0)))
                 BAD("%s:%d: brush %s %s: a number in 0..%g", rp->path, line, what[k], tok[2], hi);
         }
+    } else if (!strcmp(c, "filter")) {
+        double g[ST_MAX_LEVELS];
+        if (nt < 2 || parse_gains(tok[1], g) < 0)
+            BAD("%s:%d: filter G0,G1,... (finite gains, at most %d)", rp->path, line, ST_MAX_LEVELS);
+        if (!(e = push(rp, EV_FILTER, line)) || !(e->text = strdup(tok[1]))) BAD("out of memory");
     } else if (!strcmp(c, "quit")) {
         if (!push(rp, EV_QUIT, line)) BAD("out of memory");
     } else {
@@ -582,6 +604,12 @@ int st_replay_step(st_replay *rp, st_app *a)
         break;
     }
     case EV_GUI: st_gui_set_shown(e->which); break;
+    case EV_FILTER: {
+        double g[ST_MAX_LEVELS];
+        int n = parse_gains(e->text, g);
+        st_app_filter(a, g, n > 0 ? (unsigned)n : 0); /* a refusal is the status line's */
+        break;
+    }
     case EV_FRAMES:
         free(rp->times);
         if (!(rp->times = malloc((size_t)e->which * sizeof *rp->times))) return -1;

@@ -45,6 +45,8 @@
  *                               stabilize on|off [F] (lazy mouse, F radii behind),
  *                               symmetry none|x|y|z|xy|xz|yz|xyz, front on|off
  *                               (front faces only), strength S, radius R
+ *   filter G0,G1,...            the Filter panel's Apply with these gains (details
+ *                               of level k+1 times Gk; st_doc_filter)
  *   gui on | off                show / hide the GUI (menus, side panel; gui.h);
  *                               replays start with it hidden
  *   menu PATH [ARG]             activate a menu item by its labels, as a click

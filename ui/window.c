@@ -336,6 +336,20 @@ void st_app_drag_start(st_app *a, int op)
     a->op_ly = a->my;
 }
 
+int st_app_filter(st_app *a, const double *gains, unsigned n)
+{
+    st_error err;
+    uint32_t depth = a->doc.undo_pos;
+    if (st_doc_filter(&a->doc, gains, n, &err)) {
+        st_app_message(a, 1, "%s", err.msg);
+        return -1;
+    }
+    if (a->doc.undo_pos == depth) st_app_message(a, 0, "filter: every gain is 1, nothing changed");
+    else st_app_message(a, 0, "filter applied (Ctrl+Z undoes it)");
+    st_app_sync(a);
+    return 0;
+}
+
 static void drag_update(st_app *a)
 {
     double dx = a->mx - a->op_x0, dy = a->my - a->op_y0, delta[3];

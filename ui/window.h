@@ -197,6 +197,9 @@ void st_app_frame_model(st_app *a);                 /* Home */
 void st_app_update_hover(st_app *a);                /* hovered vertex or brush point */
 void st_app_select_all(st_app *a, int none);
 void st_app_drag_start(st_app *a, int op);          /* ST_OP_DRAG or ST_OP_GRAB of the selection */
+/* The Filter panel's Apply (st_doc_filter): the result or the refusal in
+ * the status line; 0 when applied. */
+int st_app_filter(st_app *a, const double *gains, unsigned n);
 void st_app_drag_finish(st_app *a, int cancel);
 /* Handle k of the interest box: 0..5 the face centres (-x +x -y +y -z +z), 6 the centre. */
 void st_box_handle_pos(const st_adapt_params *b, int k, double p[3]);
