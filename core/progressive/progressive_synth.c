@@ -357,16 +357,24 @@ static uint32_t vset_list(const vset *s, uint32_t words, uint32_t *out)
 /* ---- memory access of a local pass ------------------------------------------
  *
  * The vertices of an edit's region are numbered by the level that split
- * them (progressive.h), so in id order each one reads table rows and
- * positions that no vertex before it brought into the cache, some twenty
- * lines, where the full pass streams.  One vertex's evaluation is too long
- * for the processor to reach the next one's loads by itself: the local
- * pass ran at a third of the full pass's instructions per second.  So the
- * pass loads a block of vertices' lines first, in short loops whose loads
- * do not depend on each other and overlap (prefetch instructions ahead of
- * each vertex gained half as much on koala), then evaluates the block from
- * the cache.  The readers' walk, short per vertex, prefetches instead. */
-enum { BLOCK = 32, AHEAD_ROWS = 8, AHEAD_RING = 4 };
+ * them (progressive.h), so where they are sparse among the ids each one
+ * reads table rows and positions that no vertex before it brought into
+ * the cache, some fifteen lines, where the full pass streams; and one
+ * vertex's evaluation is too long for the processor to reach the next
+ * one's loads by itself.  The local pass ran at a third of the full
+ * pass's instructions per second.  So a sparse pass loads a block of
+ * vertices' lines first, in short loops whose loads do not depend on each
+ * other and overlap, then evaluates the block from the cache (prefetch
+ * instructions a few vertices ahead gained about half as much on koala).
+ * A dense pass (a coarse edit: one candidate in two ids) streams like the
+ * full pass and loads nothing ahead.  The readers' walk, short per
+ * vertex, prefetches. */
+enum {
+    BLOCK = 32,        /* vertices loaded, then evaluated: some 500 lines, in L1/L2 */
+    SPARSE_GAP = 8,    /* sparse: fewer than one candidate in SPARSE_GAP ids */
+    AHEAD_ROWS = 8,    /* readers' walk: rows of the vertex this far ahead, */
+    AHEAD_RING = 4,    /* then its ring entries */
+};
 
 typedef struct touch_sum { uint64_t x; } touch_sum;   /* keeps the loads */
 
@@ -484,11 +492,14 @@ static void resynth_blocks(st_hier *h, const level_pair *lp, const uint32_t *can
 {
     const st_map *m = &h->map;
     uint32_t own = m->pos.col[lp->L] ? m->pos.colcap[lp->L] : 0;
+    int sparse = (uint64_t)n * SPARSE_GAP < lp->fine->nidx;
     touch_sum ts = { 0 };
     for (uint32_t b = 0; b < n; b += BLOCK) {
         uint32_t e = n - b < BLOCK ? n : b + BLOCK;
-        touch_rows(h, lp, cand + b, e - b, &ts);
-        touch_rings(lp, cand + b, e - b, &ts);
+        if (sparse) {
+            touch_rows(h, lp, cand + b, e - b, &ts);
+            touch_rings(lp, cand + b, e - b, &ts);
+        }
         for (uint32_t i = b; i < e; i++) resynth_one(h, lp, cand[i], vset_has(moved, cand[i]), own, out);
     }
     __asm__ volatile("" ::"r"(ts.x)); /* the loads are not dead */
