@@ -402,7 +402,8 @@ static void touch_rows(const st_hier *h, const level_pair *lp, const uint32_t *v
 }
 
 /* Their rings at L and L-1 and the neighbours' positions at L-1 (the rows
- * are in the cache now). */
+ * are in the cache now).  The coarse ring's neighbours are mostly the fine
+ * ring's: their positions are not loaded twice. */
 static void touch_rings(const level_pair *lp, const uint32_t *v, uint32_t n, touch_sum *t)
 {
     const pm_ring_table *ft = lp->fine, *ct = lp->coarse;
@@ -412,8 +413,7 @@ static void touch_rings(const level_pair *lp, const uint32_t *v, uint32_t n, tou
             t->x ^= ft->fl[j];
             touch(t, st_v_pos(&lp->pv, ft->nbr[j]));
         }
-        if (x < ct->nidx)
-            for (uint32_t j = ct->off[x]; j < ct->off[x + 1]; j++) touch(t, st_v_pos(&lp->pv, ct->nbr[j]));
+        if (x < ct->nidx && ct->off[x] < ct->off[x + 1]) t->x ^= ct->nbr[ct->off[x]];
     }
 }
 
