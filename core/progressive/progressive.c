@@ -1,6 +1,7 @@
 /* Progressive multiresolution meshes: the build (working copy -> st_hier)
  * and multiresolution filtering.  Design: progressive.h. */
 #include "core/progressive/progressive_internal.h"
+#include "core/base/hugepage.h"
 #include "core/base/membudget.h"
 #include "core/multires/hier_internal.h"
 #include "core/map/pool_internal.h"
@@ -138,49 +139,65 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
 }
 
 /* D = F^T (P_l - S(P_{l-1})) for every vertex whose stencil is not itself
- * (the split vertices and their neighbours; every other detail is zero).
- * D is then corrected by the residual of the synthesis itself
- * (st_stencil_apply), with shrinking steps after the second so as not to
- * jump over the target bits, until synthesis gives back the input to the
- * bit: the stored positions are then also what a full synthesis writes.
- * Some bits cannot be reached (a coordinate much smaller than the
- * prediction it is the sum of has finer bits than that sum can hold);
- * those vertices are counted, keep the input as stored position, and a
- * synthesis moves them by an ulp or so (koala to 1 %: 1823 details,
- * bench_progressive). */
-typedef struct detail_ctx { st_hier *h; unsigned l; uint64_t inexact; } detail_ctx;
+ * (the split vertices and their neighbours; every other detail is zero),
+ * corrected until synthesis gives back the input to the bit
+ * (pm_detail_correct): the stored positions are then also what a full
+ * synthesis writes.  Some bits cannot be reached (a coordinate much smaller
+ * than the prediction it is the sum of has finer bits than that sum can
+ * hold); those vertices are counted, keep the input as stored position,
+ * and a synthesis moves them by an ulp or so (koala to 1 %: 1823 details,
+ * bench_progressive).
+ *
+ * The predictions and frames come from the ring tables of synthesis
+ * (progressive_synth.c), which evaluate the stencils' sums in their order
+ * from flat arrays, to the same bits; the stencils (scheme emit) serve a
+ * level the tables do not describe.  A level's detail array is created
+ * whole up front, as st_hier_set_detail would have grown it (every vertex
+ * id), and dropped again if no step of any vertex was non-zero, where
+ * st_hier_set_detail would have created none. */
+typedef struct detail_ctx {
+    st_hier *h;
+    unsigned l;
+    double *d;           /* level l's detail array */
+    uint64_t inexact;
+    int nonzero;
+} detail_ctx;
+
+static void detail_put(void *ctx, uint32_t v, const double pred[3], const double f[3][3])
+{
+    detail_ctx *c = ctx;
+    c->inexact += !pm_detail_correct(st_pos(&c->h->map, v, c->l), pred, f, c->d + 3 * (size_t)v, &c->nonzero);
+}
 
 static void detail_sink(void *ctx, const st_stencil *s)
 {
     detail_ctx *c = ctx;
-    st_hier *h = c->h;
-    unsigned l = c->l;
     if (s->n == 1 && s->src[0] == s->fine && s->w[0] == 1.0) return; /* predicted by itself: zero */
-    double pred[3], f[3][3], r[3], dv[3] = { 0, 0, 0 }, out[3];
-    const double *p = st_pos(&h->map, s->fine, l);
-    st_stencil_eval(h, l, s, pred);
-    st_hier_frame(h, l - 1, s->frame_dart, s->frame_cell, f);
-    for (int j = 0; j < 3; j++) r[j] = p[j] - pred[j];
-    int exact = 0;
-    double step = 1.0;
-    for (int it = 0; it < 16 && !exact; it++, step = it < 2 ? 1.0 : step * 0.75) {
-        for (int j = 0; j < 3; j++) dv[j] += step * (f[j][0] * r[0] + f[j][1] * r[1] + f[j][2] * r[2]);
-        st_hier_set_detail(h, l, s->fine, dv);
-        st_stencil_apply(h, l, s, out);
-        for (int j = 0; j < 3; j++) r[j] = p[j] - out[j];
-        exact = r[0] == 0 && r[1] == 0 && r[2] == 0;
-    }
-    c->inexact += !exact;
+    double pred[3], f[3][3];
+    st_stencil_eval(c->h, c->l, s, pred);
+    st_hier_frame(c->h, c->l - 1, s->frame_dart, s->frame_cell, f);
+    detail_put(c, s->fine, pred, f);
 }
 
 static uint64_t compute_details(st_hier *h)
 {
     uint64_t inexact = 0;
+    uint32_t n = h->map.verts.end ? h->map.verts.end : 1;
     for (unsigned l = 1; l <= h->map.top; l++) {
-        detail_ctx c = { h, l, 0 };
-        h->scheme->emit(h, l, NULL, 0, detail_sink, &c);
+        detail_ctx c = { h, l, st_calloc_huge(3 * (size_t)n, sizeof(double)), 0, 0 };
+        if (!c.d) abort(); /* as st_hier_set_detail */
+        if (!st_progressive_predict_range(h, l, 0, n, detail_put, &c))
+            h->scheme->emit(h, l, NULL, 0, detail_sink, &c);
+        if (c.nonzero) {
+            h->detail[l] = c.d;
+            h->detail_cap[l] = n;
+        } else {
+            free(c.d);
+        }
         inexact += c.inexact;
+        st_progressive_drop_table(h, l - 1); /* the next level reads l and l+1 */
     }
+    st_progressive_drop_table(h, h->map.top);
     return inexact;
 }
 
