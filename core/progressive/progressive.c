@@ -89,8 +89,11 @@ static void relations_around(mat *c, uint32_t v, unsigned l)
 /* Level 0 from the coarsest working copy, then one level per group,
  * coarse to fine: undo the group on the working copy, insert its split
  * vertices and the darts of its restored faces at level l, and re-set the
- * relations of the darts around the four vertices of each split. */
-static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_error *err)
+ * relations of the darts around the four vertices of each split.  Each
+ * level's faces and vertices go to the report as the working copy counts
+ * them (the map's orbits are its triangles and vertices, one to one): no
+ * walk of every level's orbits afterwards. */
+static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_progressive_report *rep, st_error *err)
 {
     st_map *m = &h->map;
     mat c = { w, m, malloc((size_t)w->nhe * sizeof(uint32_t)), malloc((size_t)(w->nv ? w->nv : 1) * sizeof(uint32_t)) };
@@ -105,11 +108,15 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
     for (uint32_t e = 0; e < w->nhe; e++)
         if (!(w->hflags[e] & PM_HE_DEAD)) set_relations(&c, e, 0);
     int rc = ST_OK;
+    rep->faces[0] = w->faces;
+    rep->vertices[0] = w->verts;
     for (unsigned l = 1; l <= w->ngroups && !rc; l++) {
         uint32_t k = w->ngroups - l, beg = w->group_beg[k], end = w->group_beg[k + 1];
         rc = st_level_add(m, err);
         if (rc) break;
         for (uint32_t i = end; i-- > beg;) pm_undo(w, i);
+        rep->faces[l] = w->faces;
+        rep->vertices[l] = w->verts;
         for (uint32_t i = beg; i < end; i++) {
             const pm_collapse *cl = &w->col[i];
             c.vid_of[cl->a] = st_vertex_new(m, l, w->pos + 3 * (size_t)cl->a);
@@ -201,25 +208,22 @@ static uint64_t compute_details(st_hier *h)
     return inexact;
 }
 
+/* The rest of the report; faces and vertices per level are in already
+ * (materialise).  The finest level's darts are all live darts (a
+ * progressive hierarchy removes none going finer). */
 static void fill_report(st_hier *h, st_progressive_report *rep, uint64_t target)
 {
     st_map *m = &h->map;
     rep->levels = m->top + 1;
-    for (unsigned l = 0; l <= m->top; l++) {
-        st_level_stats s;
-        st_level_stats_compute(m, l, &s);
-        rep->faces[l] = s.faces;
-        rep->vertices[l] = s.vertices;
-        rep->kept[l] = l ? (double)rep->vertices[l - 1] / (double)s.vertices : 1.0;
-        if (l == m->top) {
-            st_map_bytes b;
-            st_map_memory(m, &b);
-            rep->bytes_per_dart = s.darts ? (double)b.topology / (double)s.darts : 0;
-            size_t det = 0;
-            for (unsigned k = 0; k < ST_MAX_LEVELS; k++) det += (size_t)h->detail_cap[k] * 3 * sizeof(double);
-            rep->detail_bytes_per_dart = s.darts ? (double)det / (double)s.darts : 0;
-        }
-    }
+    for (unsigned l = 0; l <= m->top; l++)
+        rep->kept[l] = l ? (double)rep->vertices[l - 1] / (double)rep->vertices[l] : 1.0;
+    uint64_t darts = st_pool_count(&m->darts, m->top);
+    st_map_bytes b;
+    st_map_memory(m, &b);
+    rep->bytes_per_dart = darts ? (double)b.topology / (double)darts : 0;
+    size_t det = 0;
+    for (unsigned k = 0; k < ST_MAX_LEVELS; k++) det += (size_t)h->detail_cap[k] * 3 * sizeof(double);
+    rep->detail_bytes_per_dart = darts ? (double)det / (double)darts : 0;
     rep->target_reached = rep->faces[0] <= target;
 }
 
@@ -246,14 +250,18 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
     rc = pm_simplify(&w, o->target_faces, max_levels - 1, o->progress, o->progress_ctx, rep->note, sizeof rep->note, err);
     if (!rc) {
         hier_empty(out);
-        rc = materialise(&w, out, o, err);
+        rc = materialise(&w, out, o, rep, err);
         pm_work_free(&w); /* before the details: a lower peak of memory */
         if (!rc) rep->inexact = compute_details(out);
         /* Per-level blocks overflow the exact reservation (trim), and a
          * level's splits re-set few darts (sparse form, map.h). */
         if (!rc) st_map_compact(&out->map);
         if (!rc) st_hier_trim_details(out); /* sized to every vertex id, per level */
-        if (rc) st_hier_free(out);
+        if (rc) {
+            st_hier_free(out);
+            memset(rep->faces, 0, sizeof rep->faces); /* materialise's counts of a map that is gone */
+            memset(rep->vertices, 0, sizeof rep->vertices);
+        }
     }
     if (!rc && o->progress && o->progress(o->progress_ctx, 1.0)) {
         st_hier_free(out);
