@@ -3,6 +3,7 @@
 #include "core/progressive/progressive_internal.h"
 #include "core/base/hugepage.h"
 #include "core/base/membudget.h"
+#include "core/base/parallel.h"
 #include "core/multires/hier_internal.h"
 #include "core/map/pool_internal.h"
 
@@ -186,15 +187,53 @@ static void detail_sink(void *ctx, const st_stencil *s)
     detail_put(c, s->fine, pred, f);
 }
 
+/* A level's vertices on the threads of a team (core/base/parallel.h):
+ * each vertex writes only its own detail and reads the level's tables and
+ * positions, so the bits do not depend on the threads; each thread counts
+ * its own inexact and nonzero. */
+enum { DETAIL_CHUNK = 4096 };   /* vertex ids per piece of work */
+
+typedef struct detail_job {
+    detail_ctx part[ST_PARALLEL_MAX];
+    uint32_t n;
+} detail_job;
+
+static void detail_part(st_team *team, unsigned t, void *ctx)
+{
+    detail_job *j = ctx;
+    uint32_t b, e;
+    while (st_team_next(team, 0, j->n, DETAIL_CHUNK, &b, &e))
+        st_progressive_predict_range(j->part[t].h, j->part[t].l, b, e, detail_put, &j->part[t]);
+}
+
+/* Level l's details from the ring tables, on `threads` threads; 0 when
+ * the tables do not describe the level. */
+static int details_from_tables(detail_ctx *c, uint32_t n, unsigned threads)
+{
+    if (!st_progressive_predict_range(c->h, c->l, 0, 0, detail_put, c)) return 0; /* builds the tables */
+    if (threads < 2) return st_progressive_predict_range(c->h, c->l, 0, n, detail_put, c);
+    detail_job j;
+    j.n = n;
+    for (unsigned t = 0; t < threads; t++) j.part[t] = *c;
+    st_team_run(threads, detail_part, &j);
+    for (unsigned t = 0; t < threads; t++) {
+        c->inexact += j.part[t].inexact;
+        c->nonzero |= j.part[t].nonzero;
+    }
+    return 1;
+}
+
 static uint64_t compute_details(st_hier *h)
 {
     uint64_t inexact = 0;
     uint32_t n = h->map.verts.end ? h->map.verts.end : 1;
+    unsigned threads = st_parallel_threads(), most = n / (4 * DETAIL_CHUNK);
+    if (threads > most) threads = most ? most : 1;
+    if (threads > ST_PARALLEL_MAX) threads = ST_PARALLEL_MAX;
     for (unsigned l = 1; l <= h->map.top; l++) {
         detail_ctx c = { h, l, st_calloc_huge(3 * (size_t)n, sizeof(double)), 0, 0 };
         if (!c.d) abort(); /* as st_hier_set_detail */
-        if (!st_progressive_predict_range(h, l, 0, n, detail_put, &c))
-            h->scheme->emit(h, l, NULL, 0, detail_sink, &c);
+        if (!details_from_tables(&c, n, threads)) h->scheme->emit(h, l, NULL, 0, detail_sink, &c);
         if (c.nonzero) {
             h->detail[l] = c.d;
             h->detail_cap[l] = n;
