@@ -160,8 +160,8 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
  * (progressive_synth.c), which evaluate the stencils' sums in their order
  * from flat arrays, to the same bits; the stencils (scheme emit) serve a
  * level the tables do not describe.  A level's detail array is created
- * whole up front, as st_hier_set_detail would have grown it (every vertex
- * id), and dropped again if no step of any vertex was non-zero, where
+ * whole up front (its vertices write their own entries, on several
+ * threads), and dropped again if no step of any vertex was non-zero, where
  * st_hier_set_detail would have created none. */
 typedef struct detail_ctx {
     st_hier *h;
@@ -206,12 +206,14 @@ static void detail_part(st_team *team, unsigned t, void *ctx)
         st_progressive_predict_range(j->part[t].h, j->part[t].l, b, e, detail_put, &j->part[t]);
 }
 
-/* Level l's details from the ring tables, on `threads` threads; 0 when
- * the tables do not describe the level. */
-static int details_from_tables(detail_ctx *c, uint32_t n, unsigned threads)
+/* Level l's details from the ring tables, on `threads` threads, for the
+ * vertex ids [0, n); the tables are built already. */
+static void details_from_tables(detail_ctx *c, uint32_t n, unsigned threads)
 {
-    if (!st_progressive_predict_range(c->h, c->l, 0, 0, detail_put, c)) return 0; /* builds the tables */
-    if (threads < 2) return st_progressive_predict_range(c->h, c->l, 0, n, detail_put, c);
+    if (threads < 2) {
+        st_progressive_predict_range(c->h, c->l, 0, n, detail_put, c);
+        return;
+    }
     detail_job j;
     j.n = n;
     for (unsigned t = 0; t < threads; t++) j.part[t] = *c;
@@ -220,23 +222,29 @@ static int details_from_tables(detail_ctx *c, uint32_t n, unsigned threads)
         c->inexact += j.part[t].inexact;
         c->nonzero |= j.part[t].nonzero;
     }
-    return 1;
 }
 
 static uint64_t compute_details(st_hier *h)
 {
     uint64_t inexact = 0;
     uint32_t n = h->map.verts.end ? h->map.verts.end : 1;
-    unsigned threads = st_parallel_threads(), most = n / (4 * DETAIL_CHUNK);
-    if (threads > most) threads = most ? most : 1;
-    if (threads > ST_PARALLEL_MAX) threads = ST_PARALLEL_MAX;
     for (unsigned l = 1; l <= h->map.top; l++) {
-        detail_ctx c = { h, l, st_calloc_huge(3 * (size_t)n, sizeof(double)), 0, 0 };
+        /* With the tables, the ids of levels 0..l (st_pool_cover: the
+         * levels' vertices are numbered coarse to fine) rather than every
+         * id: st_hier_trim_details leaves the same array either way. */
+        int tables = st_progressive_predict_range(h, l, 0, 0, detail_put, NULL); /* builds them */
+        uint32_t cap = n, cover = st_pool_cover(&h->map.verts, l + 1);
+        if (tables && cover && cover < n) cap = cover;
+        unsigned threads = st_parallel_threads(), most = cap / (4 * DETAIL_CHUNK);
+        if (threads > most) threads = most ? most : 1;
+        if (threads > ST_PARALLEL_MAX) threads = ST_PARALLEL_MAX;
+        detail_ctx c = { h, l, st_calloc_huge(3 * (size_t)cap, sizeof(double)), 0, 0 };
         if (!c.d) abort(); /* as st_hier_set_detail */
-        if (!details_from_tables(&c, n, threads)) h->scheme->emit(h, l, NULL, 0, detail_sink, &c);
+        if (tables) details_from_tables(&c, cap, threads);
+        else h->scheme->emit(h, l, NULL, 0, detail_sink, &c);
         if (c.nonzero) {
             h->detail[l] = c.d;
-            h->detail_cap[l] = n;
+            h->detail_cap[l] = cap;
         } else {
             free(c.d);
         }
