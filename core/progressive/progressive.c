@@ -303,7 +303,7 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
         /* Per-level blocks overflow the exact reservation (trim), and a
          * level's splits re-set few darts (sparse form, map.h). */
         if (!rc) st_map_compact(&out->map);
-        if (!rc) st_hier_trim_details(out); /* sized to every vertex id, per level */
+        if (!rc) st_hier_trim_details(out); /* sized to the ids of levels 0..l, per level */
         if (rc) {
             st_hier_free(out);
             memset(rep->faces, 0, sizeof rep->faces); /* materialise's counts of a map that is gone */
