@@ -1,7 +1,9 @@
 /* Progressive multiresolution meshes: the build (working copy -> st_hier)
  * and multiresolution filtering.  Design: progressive.h. */
 #include "core/progressive/progressive_internal.h"
+#include "core/base/hugepage.h"
 #include "core/base/membudget.h"
+#include "core/base/parallel.h"
 #include "core/multires/hier_internal.h"
 #include "core/map/pool_internal.h"
 
@@ -88,8 +90,11 @@ static void relations_around(mat *c, uint32_t v, unsigned l)
 /* Level 0 from the coarsest working copy, then one level per group,
  * coarse to fine: undo the group on the working copy, insert its split
  * vertices and the darts of its restored faces at level l, and re-set the
- * relations of the darts around the four vertices of each split. */
-static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_error *err)
+ * relations of the darts around the four vertices of each split.  Each
+ * level's faces and vertices go to the report as the working copy counts
+ * them (the map's orbits are its triangles and vertices, one to one): no
+ * walk of every level's orbits afterwards. */
+static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_progressive_report *rep, st_error *err)
 {
     st_map *m = &h->map;
     mat c = { w, m, malloc((size_t)w->nhe * sizeof(uint32_t)), malloc((size_t)(w->nv ? w->nv : 1) * sizeof(uint32_t)) };
@@ -104,11 +109,15 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
     for (uint32_t e = 0; e < w->nhe; e++)
         if (!(w->hflags[e] & PM_HE_DEAD)) set_relations(&c, e, 0);
     int rc = ST_OK;
+    rep->faces[0] = w->faces;
+    rep->vertices[0] = w->verts;
     for (unsigned l = 1; l <= w->ngroups && !rc; l++) {
         uint32_t k = w->ngroups - l, beg = w->group_beg[k], end = w->group_beg[k + 1];
         rc = st_level_add(m, err);
         if (rc) break;
         for (uint32_t i = end; i-- > beg;) pm_undo(w, i);
+        rep->faces[l] = w->faces;
+        rep->vertices[l] = w->verts;
         for (uint32_t i = beg; i < end; i++) {
             const pm_collapse *cl = &w->col[i];
             c.vid_of[cl->a] = st_vertex_new(m, l, w->pos + 3 * (size_t)cl->a);
@@ -138,71 +147,130 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
 }
 
 /* D = F^T (P_l - S(P_{l-1})) for every vertex whose stencil is not itself
- * (the split vertices and their neighbours; every other detail is zero).
- * D is then corrected by the residual of the synthesis itself
- * (st_stencil_apply), with shrinking steps after the second so as not to
- * jump over the target bits, until synthesis gives back the input to the
- * bit: the stored positions are then also what a full synthesis writes.
- * Some bits cannot be reached (a coordinate much smaller than the
- * prediction it is the sum of has finer bits than that sum can hold);
- * those vertices are counted, keep the input as stored position, and a
- * synthesis moves them by an ulp or so (koala to 1 %: 1823 details,
- * bench_progressive). */
-typedef struct detail_ctx { st_hier *h; unsigned l; uint64_t inexact; } detail_ctx;
+ * (the split vertices and their neighbours; every other detail is zero),
+ * corrected until synthesis gives back the input to the bit
+ * (pm_detail_correct): the stored positions are then also what a full
+ * synthesis writes.  Some bits cannot be reached (a coordinate much smaller
+ * than the prediction it is the sum of has finer bits than that sum can
+ * hold); those vertices are counted, keep the input as stored position,
+ * and a synthesis moves them by an ulp or so (koala to 1 %: 1823 details,
+ * bench_progressive).
+ *
+ * The predictions and frames come from the ring tables of synthesis
+ * (progressive_synth.c), which evaluate the stencils' sums in their order
+ * from flat arrays, to the same bits; the stencils (scheme emit) serve a
+ * level the tables do not describe.  A level's detail array is created
+ * whole up front (its vertices write their own entries, on several
+ * threads), and dropped again if no step of any vertex was non-zero, where
+ * st_hier_set_detail would have created none. */
+typedef struct detail_ctx {
+    st_hier *h;
+    unsigned l;
+    double *d;           /* level l's detail array */
+    uint64_t inexact;
+    int nonzero;
+} detail_ctx;
+
+static void detail_put(void *ctx, uint32_t v, const double pred[3], const double f[3][3])
+{
+    detail_ctx *c = ctx;
+    c->inexact += !pm_detail_correct(st_pos(&c->h->map, v, c->l), pred, f, c->d + 3 * (size_t)v, &c->nonzero);
+}
 
 static void detail_sink(void *ctx, const st_stencil *s)
 {
     detail_ctx *c = ctx;
-    st_hier *h = c->h;
-    unsigned l = c->l;
     if (s->n == 1 && s->src[0] == s->fine && s->w[0] == 1.0) return; /* predicted by itself: zero */
-    double pred[3], f[3][3], r[3], dv[3] = { 0, 0, 0 }, out[3];
-    const double *p = st_pos(&h->map, s->fine, l);
-    st_stencil_eval(h, l, s, pred);
-    st_hier_frame(h, l - 1, s->frame_dart, s->frame_cell, f);
-    for (int j = 0; j < 3; j++) r[j] = p[j] - pred[j];
-    int exact = 0;
-    double step = 1.0;
-    for (int it = 0; it < 16 && !exact; it++, step = it < 2 ? 1.0 : step * 0.75) {
-        for (int j = 0; j < 3; j++) dv[j] += step * (f[j][0] * r[0] + f[j][1] * r[1] + f[j][2] * r[2]);
-        st_hier_set_detail(h, l, s->fine, dv);
-        st_stencil_apply(h, l, s, out);
-        for (int j = 0; j < 3; j++) r[j] = p[j] - out[j];
-        exact = r[0] == 0 && r[1] == 0 && r[2] == 0;
+    double pred[3], f[3][3];
+    st_stencil_eval(c->h, c->l, s, pred);
+    st_hier_frame(c->h, c->l - 1, s->frame_dart, s->frame_cell, f);
+    detail_put(c, s->fine, pred, f);
+}
+
+/* A level's vertices on the threads of a team (core/base/parallel.h):
+ * each vertex writes only its own detail and reads the level's tables and
+ * positions, so the bits do not depend on the threads; each thread counts
+ * its own inexact and nonzero. */
+enum { DETAIL_CHUNK = 4096 };   /* vertex ids per piece of work */
+
+typedef struct detail_job {
+    detail_ctx part[ST_PARALLEL_MAX];
+    uint32_t n;
+} detail_job;
+
+static void detail_part(st_team *team, unsigned t, void *ctx)
+{
+    detail_job *j = ctx;
+    uint32_t b, e;
+    while (st_team_next(team, 0, j->n, DETAIL_CHUNK, &b, &e))
+        st_progressive_predict_range(j->part[t].h, j->part[t].l, b, e, detail_put, &j->part[t]);
+}
+
+/* Level l's details from the ring tables, on `threads` threads, for the
+ * vertex ids [0, n); the tables are built already. */
+static void details_from_tables(detail_ctx *c, uint32_t n, unsigned threads)
+{
+    if (threads < 2) {
+        st_progressive_predict_range(c->h, c->l, 0, n, detail_put, c);
+        return;
     }
-    c->inexact += !exact;
+    detail_job j;
+    j.n = n;
+    for (unsigned t = 0; t < threads; t++) j.part[t] = *c;
+    st_team_run(threads, detail_part, &j);
+    for (unsigned t = 0; t < threads; t++) {
+        c->inexact += j.part[t].inexact;
+        c->nonzero |= j.part[t].nonzero;
+    }
 }
 
 static uint64_t compute_details(st_hier *h)
 {
     uint64_t inexact = 0;
+    uint32_t n = h->map.verts.end ? h->map.verts.end : 1;
     for (unsigned l = 1; l <= h->map.top; l++) {
-        detail_ctx c = { h, l, 0 };
-        h->scheme->emit(h, l, NULL, 0, detail_sink, &c);
+        /* With the tables, the ids of levels 0..l (st_pool_cover: the
+         * levels' vertices are numbered coarse to fine) rather than every
+         * id: st_hier_trim_details leaves the same array either way. */
+        int tables = st_progressive_predict_range(h, l, 0, 0, detail_put, NULL); /* builds them */
+        uint32_t cap = n, cover = st_pool_cover(&h->map.verts, l + 1);
+        if (tables && cover && cover < n) cap = cover;
+        unsigned threads = st_parallel_threads(), most = cap / (4 * DETAIL_CHUNK);
+        if (threads > most) threads = most ? most : 1;
+        if (threads > ST_PARALLEL_MAX) threads = ST_PARALLEL_MAX;
+        detail_ctx c = { h, l, st_calloc_huge(3 * (size_t)cap, sizeof(double)), 0, 0 };
+        if (!c.d) abort(); /* as st_hier_set_detail */
+        if (tables) details_from_tables(&c, cap, threads);
+        else h->scheme->emit(h, l, NULL, 0, detail_sink, &c);
+        if (c.nonzero) {
+            h->detail[l] = c.d;
+            h->detail_cap[l] = cap;
+        } else {
+            free(c.d);
+        }
         inexact += c.inexact;
+        st_progressive_drop_table(h, l - 1); /* the next level reads l and l+1 */
     }
+    st_progressive_drop_table(h, h->map.top);
     return inexact;
 }
 
+/* The rest of the report; faces and vertices per level are in already
+ * (materialise).  The finest level's darts are all live darts (a
+ * progressive hierarchy removes none going finer). */
 static void fill_report(st_hier *h, st_progressive_report *rep, uint64_t target)
 {
     st_map *m = &h->map;
     rep->levels = m->top + 1;
-    for (unsigned l = 0; l <= m->top; l++) {
-        st_level_stats s;
-        st_level_stats_compute(m, l, &s);
-        rep->faces[l] = s.faces;
-        rep->vertices[l] = s.vertices;
-        rep->kept[l] = l ? (double)rep->vertices[l - 1] / (double)s.vertices : 1.0;
-        if (l == m->top) {
-            st_map_bytes b;
-            st_map_memory(m, &b);
-            rep->bytes_per_dart = s.darts ? (double)b.topology / (double)s.darts : 0;
-            size_t det = 0;
-            for (unsigned k = 0; k < ST_MAX_LEVELS; k++) det += (size_t)h->detail_cap[k] * 3 * sizeof(double);
-            rep->detail_bytes_per_dart = s.darts ? (double)det / (double)s.darts : 0;
-        }
-    }
+    for (unsigned l = 0; l <= m->top; l++)
+        rep->kept[l] = l ? (double)rep->vertices[l - 1] / (double)rep->vertices[l] : 1.0;
+    uint64_t darts = st_pool_count(&m->darts, m->top);
+    st_map_bytes b;
+    st_map_memory(m, &b);
+    rep->bytes_per_dart = darts ? (double)b.topology / (double)darts : 0;
+    size_t det = 0;
+    for (unsigned k = 0; k < ST_MAX_LEVELS; k++) det += (size_t)h->detail_cap[k] * 3 * sizeof(double);
+    rep->detail_bytes_per_dart = darts ? (double)det / (double)darts : 0;
     rep->target_reached = rep->faces[0] <= target;
 }
 
@@ -229,14 +297,18 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
     rc = pm_simplify(&w, o->target_faces, max_levels - 1, o->progress, o->progress_ctx, rep->note, sizeof rep->note, err);
     if (!rc) {
         hier_empty(out);
-        rc = materialise(&w, out, o, err);
+        rc = materialise(&w, out, o, rep, err);
         pm_work_free(&w); /* before the details: a lower peak of memory */
         if (!rc) rep->inexact = compute_details(out);
         /* Per-level blocks overflow the exact reservation (trim), and a
          * level's splits re-set few darts (sparse form, map.h). */
         if (!rc) st_map_compact(&out->map);
-        if (!rc) st_hier_trim_details(out); /* sized to every vertex id, per level */
-        if (rc) st_hier_free(out);
+        if (!rc) st_hier_trim_details(out); /* sized to the ids of levels 0..l, per level */
+        if (rc) {
+            st_hier_free(out);
+            memset(rep->faces, 0, sizeof rep->faces); /* materialise's counts of a map that is gone */
+            memset(rep->vertices, 0, sizeof rep->vertices);
+        }
     }
     if (!rc && o->progress && o->progress(o->progress_ctx, 1.0)) {
         st_hier_free(out);

@@ -86,6 +86,46 @@ size_t st_progressive_table_bytes(const st_hier *h);
  * (core/base/membudget.h) before a filter re-synthesises. */
 size_t st_progressive_synth_estimate(const st_hier *h, unsigned from);
 
+/* The build's details (progressive.c): for each vertex v in [begin, end)
+ * of level L whose stencil is not v itself, fn gets its prediction
+ * S(P_{L-1})(v) and the frame its detail is in, evaluated from the ring
+ * tables to the bits of st_stencil_eval and st_hier_frame.  The first call
+ * of a level builds the tables of L-1 and L into h->cache (not thread-safe:
+ * call it on one thread first, e.g. with an empty range); later calls only
+ * read them.  Returns 0, having called nothing, where the tables do not
+ * describe the map (the stencils then serve).  st_progressive_drop_table
+ * frees the table of level l. */
+typedef void (*pm_predicted_fn)(void *ctx, uint32_t v, const double pred[3], const double f[3][3]);
+int st_progressive_predict_range(st_hier *h, unsigned L, uint32_t begin, uint32_t end, pm_predicted_fn fn, void *ctx);
+void st_progressive_drop_table(st_hier *h, unsigned l);
+
+/* The detail dv of a vertex at p predicted at pred with frame f
+ * (progressive.c compute_details): D = F^T (p - pred), then corrected by
+ * the residual of the synthesis itself (pred + F D, as st_stencil_apply
+ * sums it), with shrinking steps after the second so as not to jump over
+ * the target bits, until it gives back p to the bit.  Returns 1 when it
+ * does; *nonzero is set when some step's dv was not all zero (a detail
+ * array would then have been created). */
+static inline int pm_detail_correct(const double p[3], const double pred[3], const double f[3][3], double dv[3], int *nonzero)
+{
+    double r[3], out[3];
+    dv[0] = dv[1] = dv[2] = 0;
+    for (int j = 0; j < 3; j++) r[j] = p[j] - pred[j];
+    int exact = 0;
+    double step = 1.0;
+    for (int it = 0; it < 16 && !exact; it++, step = it < 2 ? 1.0 : step * 0.75) {
+        for (int j = 0; j < 3; j++) dv[j] += step * (f[j][0] * r[0] + f[j][1] * r[1] + f[j][2] * r[2]);
+        for (int j = 0; j < 3; j++) out[j] = pred[j];
+        if (dv[0] != 0 || dv[1] != 0 || dv[2] != 0) {
+            *nonzero = 1;
+            for (int i = 0; i < 3; i++) out[i] += dv[0] * f[0][i] + dv[1] * f[1][i] + dv[2] * f[2][i];
+        }
+        for (int j = 0; j < 3; j++) r[j] = p[j] - out[j];
+        exact = r[0] == 0 && r[1] == 0 && r[2] == 0;
+    }
+    return exact;
+}
+
 /* Half-edge helpers. */
 static inline uint32_t pm_dest(const pm_work *w, uint32_t h) { return w->org[w->next[h]]; }
 static inline uint32_t pm_rot(const pm_work *w, uint32_t h) { return w->next[w->twin[h]]; } /* next around org[h] */

@@ -579,3 +579,33 @@ size_t st_progressive_synth_estimate(const st_hier *h, unsigned from)
     n += (double)m->verts.end * sizeof(uint32_t) + (double)st_estimate_position_columns(m, from);
     return n >= (double)SIZE_MAX ? SIZE_MAX : (size_t)n;
 }
+
+/* ---- the build's details (progressive_internal.h) ---------------------------- */
+
+int st_progressive_predict_range(st_hier *h, unsigned L, uint32_t begin, uint32_t end, pm_predicted_fn fn, void *ctx)
+{
+    level_pair lp;
+    if (!level_pair_init(h, L, &lp)) return 0;
+    const pm_ring_table *t = lp.fine;
+    const uint8_t *ins = lp.m->verts.ins;
+    if (end > t->nidx) end = t->nidx;
+    for (uint32_t v = begin; v < end; v++) {
+        if (t->off[v] == t->off[v + 1]) continue;
+        int split = ins[v] == L;
+        if (!split && !(t->vk[v] & VERT_NEAR)) continue; /* predicted by itself: st_progressive_stencil's (v, 1) */
+        double pred[3], f[3][3];
+        predict(&lp, v, pred);
+        vertex_frame(&lp, split ? split_frame_vertex(t, v) : v, f);
+        fn(ctx, v, pred, f);
+    }
+    return 1;
+}
+
+void st_progressive_drop_table(st_hier *h, unsigned l)
+{
+    st_level_cache *cache = &h->cache[l];
+    if (cache->free != table_free) return;
+    table_free(cache->p);
+    cache->p = NULL;
+    cache->free = NULL;
+}
