@@ -148,7 +148,10 @@ static void check_mesh(const char *what, const st_mesh *in, uint64_t target, int
         st_level_stats_compute(&h.map, l, &s);
         CHECKF(s.euler == euler && s.boundary_loops == loops, "%s: level %u: Euler %lld (input %lld), %llu loops (input %llu)",
                what, l, (long long)s.euler, (long long)euler, (unsigned long long)s.boundary_loops, (unsigned long long)loops);
-        CHECK(s.faces == rep.faces[l]);
+        /* the report counts on the working copy: the map's walked counts */
+        CHECKF(s.faces == rep.faces[l] && s.vertices == rep.vertices[l], "%s: level %u: report %llu faces %llu vertices, map %llu %llu",
+               what, l, (unsigned long long)rep.faces[l], (unsigned long long)rep.vertices[l], (unsigned long long)s.faces,
+               (unsigned long long)s.vertices);
         if (l) CHECKF(rep.faces[l] > rep.faces[l - 1] && rep.kept[l] < 1.0, "%s: level %u", what, l);
     }
     CHECKF(rep.faces[0] <= target || !rep.target_reached, "%s", what);
