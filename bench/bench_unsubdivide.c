@@ -16,6 +16,7 @@
  * diagonal per coordinate (no exact subdivision: the analysis' solver
  * iterates). */
 #include "bench_common.h"
+#include "core/base/hugepage.h"
 #include "core/rebuild/rebuild.h"
 #include "core/rebuild/unsubdivide.h"
 
@@ -113,6 +114,7 @@ int main(int argc, char **argv)
         else path = argv[i];
     }
     if (repeat < 1 || repeat > 99 || levels < 1 || levels > 8 || !(noise >= 0 && noise < 1)) { fprintf(stderr, "bad arguments\n"); return 2; }
+    st_malloc_keep_freed();   /* as `strata rebuild` does */
     const st_scheme *sc = st_scheme_find("catmull-clark");
     st_error err;
     st_mesh cage, fine;
