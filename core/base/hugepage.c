@@ -33,6 +33,14 @@ void st_malloc_keep_freed(void)
     (void)mallopt(M_MMAP_MAX, 0);
     (void)mallopt(M_TRIM_THRESHOLD, INT_MAX);
 #endif
+#ifdef M_ARENA_MAX
+    /* One heap for every thread: a worker's arrays (a rebuild's UVs,
+     * refined beside the positions) reuse what the main thread freed
+     * instead of faulting in an arena of their own.  Arrays are flat and
+     * allocated a few at a time, not per element, so the shared lock is
+     * taken rarely. */
+    (void)mallopt(M_ARENA_MAX, 1);
+#endif
 }
 
 void *st_malloc_huge(size_t bytes)
