@@ -21,6 +21,7 @@
  * (nothing written), 2 bad usage. */
 #include "cli.h"
 #include "mesh_any.h"
+#include "core/base/hugepage.h"
 #include "core/io/session.h"
 #include "core/rebuild/rebuild.h"
 
@@ -124,6 +125,10 @@ int st_cmd_rebuild(int argc, char **argv)
 {
     rebuild_opts o;
     if (parse(argc, argv, &o)) return usage();
+    /* Read, rebuild, save: each stage reuses what the one before freed
+     * (spot x4 shuffled with UVs: 73k page faults instead of 119k,
+     * hugepage.h). */
+    st_malloc_keep_freed();
     st_error err;
     st_notes notes = { 0 };
     st_mesh mesh;

@@ -2,6 +2,7 @@
 #define _DEFAULT_SOURCE
 #include "core/base/hugepage.h"
 
+#include <limits.h>
 #include <malloc.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -20,6 +21,25 @@ void st_advise_huge(void *p, size_t bytes)
 #else
     (void)p;
     (void)bytes;
+#endif
+}
+
+void st_malloc_keep_freed(void)
+{
+#if defined(M_MMAP_MAX) && defined(M_TRIM_THRESHOLD)
+    /* Blocks over the mmap threshold are unmapped when freed, so the next
+     * large array faults its pages in again; the heap's top is trimmed
+     * once over the trim threshold. */
+    (void)mallopt(M_MMAP_MAX, 0);
+    (void)mallopt(M_TRIM_THRESHOLD, INT_MAX);
+#endif
+#ifdef M_ARENA_MAX
+    /* One heap for every thread: a worker's arrays (a rebuild's UVs,
+     * refined beside the positions) reuse what the main thread freed
+     * instead of faulting in an arena of their own.  Arrays are flat and
+     * allocated a few at a time, not per element, so the shared lock is
+     * taken rarely. */
+    (void)mallopt(M_ARENA_MAX, 1);
 #endif
 }
 

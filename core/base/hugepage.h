@@ -38,4 +38,15 @@ void *st_calloc_huge(size_t count, size_t size);
  * NULL when out of memory (p then unchanged). */
 void *st_realloc_huge(void *p, size_t keep, size_t bytes);
 
+/* Keeps the memory the process frees for its own later allocations instead
+ * of handing it back to the system (glibc: no mmap'd blocks, no trimming of
+ * the heap).  For a command that runs large stages one after another in a
+ * fresh process (read a mesh, rebuild its levels, save a session): a stage
+ * then reuses pages the one before touched, where fresh pages cost a fault
+ * each (microseconds on a virtual machine) and a huge page's zeroing.  The
+ * cost is resident memory: what was freed stays resident until it is
+ * reused, so peak memory can grow by what fragmentation leaves unused.
+ * Nothing where the C library has no such settings. */
+void st_malloc_keep_freed(void);
+
 #endif

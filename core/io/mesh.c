@@ -6,6 +6,7 @@
  * moved into *out, so a failed load leaves the caller's model untouched.
  */
 #include "core/io/mesh_internal.h"
+#include "core/base/hugepage.h"
 #include "core/base/membudget.h"
 
 #include <errno.h>
@@ -204,7 +205,9 @@ static int read_whole_file(const char *path, char **data, size_t *size, st_error
         fclose(f);
         return rc;
     }
-    char *buf = malloc(n + 1);
+    /* Written in full by the read: huge pages, one fault per 2 MiB
+     * (hugepage.h; a 120 MB OBJ took 30 thousand faults in 4 KiB pages). */
+    char *buf = st_malloc_huge(n + 1);
     if (!buf) {
         fclose(f);
         return st_fail(err, ST_ERR_MEMORY, "%s: out of memory reading %zu bytes", path, n);

@@ -31,6 +31,7 @@
  * mesh is left as it was.
  */
 #include "core/io/mesh_internal.h"
+#include "core/base/hugepage.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -248,7 +249,7 @@ static void list_faces(const ctx *x, const soup *s, const edge_rec *e, uint32_t 
  * the scratch, take qsort. */
 static void sort_edges(edge_rec *e, uint32_t n)
 {
-    edge_rec *tmp = n >= 1024 ? malloc((size_t)n * sizeof *tmp) : NULL;
+    edge_rec *tmp = n >= 1024 ? st_malloc_huge((size_t)n * sizeof *tmp) : NULL;  /* written in full: hugepage.h */
     uint32_t *count = tmp ? malloc(65536 * sizeof *count) : NULL;
     if (!count) {
         free(tmp);
@@ -279,7 +280,7 @@ static void sort_edges(edge_rec *e, uint32_t n)
  * through relabel when it is not NULL. */
 static edge_rec *sorted_edges(const ctx *x, const soup *s, const uint32_t *relabel)
 {
-    edge_rec *e = malloc(((size_t)s->nc + 1) * sizeof *e);
+    edge_rec *e = st_malloc_huge(((size_t)s->nc + 1) * sizeof *e);  /* written in full: hugepage.h */
     if (!e) {
         out_of_memory(x);
         return NULL;
