@@ -10,16 +10,6 @@
 
 /* ---- construction ------------------------------------------------------------ */
 
-typedef struct edge_key { uint64_t key; uint32_t he; } edge_key;
-
-static int cmp_key(const void *x, const void *y)
-{
-    const edge_key *a = x, *b = y;
-    return a->key < b->key ? -1 : a->key > b->key ? 1 : (a->he < b->he ? -1 : a->he > b->he);
-}
-
-static uint64_t dkey(uint32_t u, uint32_t v) { return (uint64_t)u << 32 | v; }
-
 static void quad_add_plane(double *q, const double n[3], double dist, double wgt)
 {
     double a = n[0], b = n[1], c = n[2], d = dist;
@@ -81,6 +71,49 @@ void pm_work_free(pm_work *w)
     memset(w, 0, sizeof *w);
 }
 
+static uint32_t stamp_next(pm_work *w)
+{
+    if (++w->stamp_gen == 0) {
+        memset(w->stamp, 0, w->nv * sizeof *w->stamp);
+        w->stamp_gen = 1;
+    }
+    return w->stamp_gen;
+}
+
+/* Twins of the input's half-edges: u -> v meets the half-edge v -> u among
+ * those leaving v, grouped by origin by one counting pass (first[v + 1]
+ * holds v's out-degree on entry), instead of a sort of all directed
+ * edges.  A directed edge used twice is reported as a sort would find it
+ * first: the smallest origin, then the smallest destination. */
+static int match_twins(pm_work *w, uint32_t *first, uint32_t *outs, st_error *err)
+{
+    for (uint32_t v = 0; v < w->nv; v++) first[v + 1] += first[v];
+    for (uint32_t h = 0; h < w->nreal; h++) outs[first[w->org[h]]++] = h;
+    for (uint32_t v = w->nv; v > 0; v--) first[v] = first[v - 1]; /* the fill advanced each start to the next's */
+    first[0] = 0;
+    for (uint32_t u = 0; u < w->nv; u++) {
+        uint32_t g = stamp_next(w), twice = ST_NIL;
+        for (uint32_t i = first[u]; i < first[u + 1]; i++) {
+            uint32_t v = pm_dest(w, outs[i]);
+            if (w->stamp[v] == g && v < twice) twice = v;
+            w->stamp[v] = g;
+        }
+        if (twice != ST_NIL)
+            return st_fail(err, ST_ERR_TOPOLOGY, "progressive: edge %u-%u is used twice in one direction (not a manifold)", u, twice);
+    }
+    for (uint32_t h = 0; h < w->nreal; h++) {
+        if (w->twin[h] != ST_NIL) continue;
+        uint32_t u = w->org[h], v = pm_dest(w, h);
+        for (uint32_t i = first[v]; i < first[v + 1]; i++)
+            if (pm_dest(w, outs[i]) == u) {
+                w->twin[h] = outs[i];
+                w->twin[outs[i]] = h;
+                break;
+            }
+    }
+    return ST_OK;
+}
+
 int pm_work_init(pm_work *w, const double *pos, uint32_t nv, const uint32_t *tri, uint32_t nt, st_error *err)
 {
     memset(w, 0, sizeof *w);
@@ -101,11 +134,13 @@ int pm_work_init(pm_work *w, const double *pos, uint32_t nv, const uint32_t *tri
     w->stamp = calloc(nv ? nv : 1, sizeof *w->stamp);
     w->indep = calloc(nv ? nv : 1, 1);
     w->vbound = calloc(nv ? nv : 1, 1);
-    edge_key *keys = malloc(w->nreal * sizeof *keys);
+    /* outs[first[v] .. first[v + 1]): the half-edges leaving v, in id order */
+    uint32_t *first = calloc((size_t)nv + 1, sizeof *first);
+    uint32_t *outs = malloc(w->nreal * sizeof *outs);
     uint32_t *bout = malloc((size_t)(nv ? nv : 1) * sizeof *bout);
     int rc = ST_OK;
     if (!w->twin || !w->next || !w->prev || !w->org || !w->hflags || !w->vhe || !w->vdead || !w->quad || !w->stamp ||
-        !w->indep || !w->vbound || !keys || !bout) {
+        !w->indep || !w->vbound || !first || !outs || !bout) {
         rc = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for %u triangles", nt);
         goto done;
     }
@@ -119,30 +154,10 @@ int pm_work_init(pm_work *w, const double *pos, uint32_t nv, const uint32_t *tri
             w->prev[h] = 3 * f + (k + 2) % 3;
             w->twin[h] = ST_NIL;
             w->vhe[u] = h;
-            keys[h].key = dkey(u, v);
-            keys[h].he = h;
+            first[u + 1]++;
         }
-    qsort(keys, w->nreal, sizeof *keys, cmp_key);
-    for (uint32_t i = 0; i + 1 < w->nreal; i++)
-        if (keys[i].key == keys[i + 1].key) {
-            rc = st_fail(err, ST_ERR_TOPOLOGY, "progressive: edge %u-%u is used twice in one direction (not a manifold)",
-                         (uint32_t)(keys[i].key >> 32), (uint32_t)keys[i].key);
-            goto done;
-        }
-    for (uint32_t h = 0; h < w->nreal; h++) {
-        if (w->twin[h] != ST_NIL) continue;
-        edge_key probe = { dkey(w->org[w->next[h]], w->org[h]), 0 };
-        /* binary search for the opposite direction */
-        uint32_t lo = 0, hi = w->nreal;
-        while (lo < hi) {
-            uint32_t mid = lo + (hi - lo) / 2;
-            if (keys[mid].key < probe.key) lo = mid + 1; else hi = mid;
-        }
-        if (lo < w->nreal && keys[lo].key == probe.key) {
-            w->twin[h] = keys[lo].he;
-            w->twin[keys[lo].he] = h;
-        }
-    }
+    rc = match_twins(w, first, outs, err);
+    if (rc) goto done;
     /* Holes: one boundary half-edge opposite each unmatched one. */
     w->nhe = w->nreal;
     for (uint32_t h = 0; h < w->nreal; h++) {
@@ -170,22 +185,14 @@ int pm_work_init(pm_work *w, const double *pos, uint32_t nv, const uint32_t *tri
     w->faces = nt;
     init_quadrics(w);
 done:
-    free(keys);
+    free(first);
+    free(outs);
     free(bout);
     if (rc) pm_work_free(w);
     return rc;
 }
 
 /* ---- checks ------------------------------------------------------------------ */
-
-static uint32_t stamp_next(pm_work *w)
-{
-    if (++w->stamp_gen == 0) {
-        memset(w->stamp, 0, w->nv * sizeof *w->stamp);
-        w->stamp_gen = 1;
-    }
-    return w->stamp_gen;
-}
 
 static unsigned valence(const pm_work *w, uint32_t v)
 {
@@ -355,13 +362,45 @@ void pm_undo(pm_work *w, uint32_t i)
 
 /* ---- grouped simplification ------------------------------------------------------ */
 
-typedef struct cand { double cost; uint32_t he; } cand;
+typedef struct cand { uint64_t key; uint32_t he; } cand;
 
-static int cmp_cand(const void *x, const void *y)
+/* The order of costs as unsigned integers: the bits of a non-negative
+ * double rank as its value; a negative one (rounding) ranks below them,
+ * reversed; -0 counts as +0, so that equal costs tie, to be ranked by
+ * half-edge. */
+static uint64_t cost_key(double cost)
 {
-    const cand *a = x, *b = y;
-    if (a->cost != b->cost) return a->cost < b->cost ? -1 : 1;
-    return a->he < b->he ? -1 : a->he > b->he;
+    uint64_t u;
+    if (cost == 0) cost = 0;
+    memcpy(&u, &cost, sizeof u);
+    return u >> 63 ? ~u : u | UINT64_C(1) << 63;
+}
+
+enum { RADIX_BITS = 11, RADIX_PASSES = 6 }; /* 66 >= 64 bits */
+
+/* Sorts cs[0, n) by key, stably (equal keys keep the half-edge order they
+ * were gathered in): a least-significant-digit radix sort, which skips the
+ * digits every key shares (the sign and high exponent bits, mostly), in
+ * place of a comparison sort (qsort took 4/5 of the grouped collapses'
+ * instructions).  tmp holds n more. */
+static void sort_cands(cand *cs, cand *tmp, uint32_t n)
+{
+    static const uint32_t nb = 1u << RADIX_BITS;
+    uint32_t count[RADIX_PASSES][1u << RADIX_BITS];
+    memset(count, 0, sizeof count);
+    for (uint32_t i = 0; i < n; i++)
+        for (unsigned p = 0; p < RADIX_PASSES; p++) count[p][(cs[i].key >> (p * RADIX_BITS)) & (nb - 1)]++;
+    cand *src = cs, *dst = tmp;
+    for (unsigned p = 0; p < RADIX_PASSES && n; p++) {
+        unsigned shift = p * RADIX_BITS;
+        uint32_t *c = count[p];
+        if (c[(src[0].key >> shift) & (nb - 1)] == n) continue; /* one digit for all: already in order */
+        uint32_t sum = 0;
+        for (uint32_t d = 0; d < nb; d++) { uint32_t k = c[d]; c[d] = sum; sum += k; }
+        for (uint32_t i = 0; i < n; i++) dst[c[(src[i].key >> shift) & (nb - 1)]++] = src[i];
+        cand *t = src; src = dst; dst = t;
+    }
+    if (src != cs) memcpy(cs, src, (size_t)n * sizeof *cs);
 }
 
 /* Marker bits of the independence rule (progressive.h, point 3), per
@@ -390,10 +429,11 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
                 char *note, size_t notesz, st_error *err)
 {
     uint64_t start_faces = w->faces;
-    cand *cs = malloc((size_t)w->nreal * sizeof *cs);
+    cand *cs = malloc((size_t)w->nreal * sizeof *cs), *tmp = malloc((size_t)w->nreal * sizeof *tmp);
     w->group_beg = malloc(((size_t)max_groups + 1) * sizeof *w->group_beg);
-    if (!cs || !w->group_beg) {
+    if (!cs || !tmp || !w->group_beg) {
         free(cs);
+        free(tmp);
         return st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
     }
     snprintf(note, notesz, "reached the target of %llu faces", (unsigned long long)target);
@@ -416,9 +456,9 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
             uint32_t a = w->org[h], b = pm_dest(w, h);
             if (w->vbound[a] && !(w->hflags[w->twin[h]] & PM_HE_BOUNDARY)) continue;
             const double *pb = w->pos + 3 * (size_t)b;
-            cs[nc++] = (cand){ quad_eval(w->quad + 10 * (size_t)a, pb) + quad_eval(w->quad + 10 * (size_t)b, pb), h };
+            cs[nc++] = (cand){ cost_key(quad_eval(w->quad + 10 * (size_t)a, pb) + quad_eval(w->quad + 10 * (size_t)b, pb)), h };
         }
-        qsort(cs, nc, sizeof *cs, cmp_cand);
+        sort_cands(cs, tmp, nc);
         uint32_t before = w->ncol;
         /* Quality: a group takes its collapses among the cheapest 40 % of
          * the candidate half-edges only, so that it does not pay for its
@@ -448,5 +488,6 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
         }
     }
     free(cs);
+    free(tmp);
     return rc;
 }
