@@ -430,10 +430,12 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
 {
     uint64_t start_faces = w->faces;
     cand *cs = malloc((size_t)w->nreal * sizeof *cs), *tmp = malloc((size_t)w->nreal * sizeof *tmp);
+    uint64_t *hkey = malloc((size_t)w->nreal * sizeof *hkey); /* per real half-edge: its cost's key, kept across groups */
     w->group_beg = malloc(((size_t)max_groups + 1) * sizeof *w->group_beg);
-    if (!cs || !tmp || !w->group_beg) {
+    if (!cs || !tmp || !hkey || !w->group_beg) {
         free(cs);
         free(tmp);
+        free(hkey);
         return st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
     }
     snprintf(note, notesz, "reached the target of %llu faces", (unsigned long long)target);
@@ -447,17 +449,24 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
             break;
         }
         memset(w->vbound, 0, w->nv);
-        memset(w->indep, 0, w->nv);
         for (uint32_t h = w->nreal; h < w->nhe; h++)
             if (!(w->hflags[h] & PM_HE_DEAD)) w->vbound[w->org[h]] = 1;
+        /* A half-edge's cost changes only when its origin or destination is
+         * the target b of a collapse of the previous group: b's quadric grew,
+         * and the half-edges of the removed vertex now start or end at b.
+         * Those targets still carry IND_TARGET from that group's claims. */
         uint32_t nc = 0;
         for (uint32_t h = 0; h < w->nreal; h++) {
             if (w->hflags[h] & PM_HE_DEAD) continue;
             uint32_t a = w->org[h], b = pm_dest(w, h);
+            if (w->ngroups == 0 || ((w->indep[a] | w->indep[b]) & IND_TARGET)) {
+                const double *pb = w->pos + 3 * (size_t)b;
+                hkey[h] = cost_key(quad_eval(w->quad + 10 * (size_t)a, pb) + quad_eval(w->quad + 10 * (size_t)b, pb));
+            }
             if (w->vbound[a] && !(w->hflags[w->twin[h]] & PM_HE_BOUNDARY)) continue;
-            const double *pb = w->pos + 3 * (size_t)b;
-            cs[nc++] = (cand){ cost_key(quad_eval(w->quad + 10 * (size_t)a, pb) + quad_eval(w->quad + 10 * (size_t)b, pb)), h };
+            cs[nc++] = (cand){ hkey[h], h };
         }
+        memset(w->indep, 0, w->nv);
         sort_cands(cs, tmp, nc);
         uint32_t before = w->ncol;
         /* Quality: a group takes its collapses among the cheapest 40 % of
@@ -489,5 +498,6 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
     }
     free(cs);
     free(tmp);
+    free(hkey);
     return rc;
 }
