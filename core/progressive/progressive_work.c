@@ -466,13 +466,16 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
     uint64_t start_faces = w->faces;
     cand *cs = malloc((size_t)w->nreal * sizeof *cs), *tmp = malloc((size_t)w->nreal * sizeof *tmp);
     uint64_t *hkey = malloc((size_t)w->nreal * sizeof *hkey); /* per real half-edge: its cost's key, kept across groups */
+    uint32_t *live = malloc((size_t)w->nreal * sizeof *live), nlive = w->nreal; /* real half-edges not dead before the group, in order */
     w->group_beg = malloc(((size_t)max_groups + 1) * sizeof *w->group_beg);
-    if (!cs || !tmp || !hkey || !w->group_beg) {
+    if (!cs || !tmp || !hkey || !live || !w->group_beg) {
         free(cs);
         free(tmp);
         free(hkey);
+        free(live);
         return st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
     }
+    for (uint32_t h = 0; h < w->nreal; h++) live[h] = h;
     snprintf(note, notesz, "reached the target of %llu faces", (unsigned long long)target);
     int rc = ST_OK;
     w->ngroups = 0;
@@ -490,9 +493,11 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
          * the target b of a collapse of the previous group: b's quadric grew,
          * and the half-edges of the removed vertex now start or end at b.
          * Those targets still carry IND_TARGET from that group's claims. */
-        uint32_t nc = 0;
-        for (uint32_t h = 0; h < w->nreal; h++) {
+        uint32_t nc = 0, nalive = 0;
+        for (uint32_t i = 0; i < nlive; i++) {
+            uint32_t h = live[i];
             if (w->hflags[h] & PM_HE_DEAD) continue;
+            live[nalive++] = h;
             uint32_t a = w->org[h], b = pm_dest(w, h);
             if (w->ngroups == 0 || ((w->indep[a] | w->indep[b]) & IND_TARGET)) {
                 const double *pb = w->pos + 3 * (size_t)b;
@@ -501,6 +506,7 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
             if (w->vbound[a] && !(w->hflags[w->twin[h]] & PM_HE_BOUNDARY)) continue;
             cs[nc++] = (cand){ hkey[h], h };
         }
+        nlive = nalive;
         memset(w->indep, 0, w->nv);
         ranking rk;
         rank_begin(&rk, cs, tmp, nc);
@@ -535,5 +541,6 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
     free(cs);
     free(tmp);
     free(hkey);
+    free(live);
     return rc;
 }
