@@ -2,6 +2,7 @@
  * collapses ranked by quadrics (progressive.h, design points 1-3). */
 #include "core/progressive/progressive_internal.h"
 #include "core/multires/hier_internal.h"
+#include "core/base/parallel.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -460,6 +461,40 @@ static void claim(pm_work *w, uint32_t h)
     } while (x != h);
 }
 
+/* The cost keys of the half-edges live[0, n) whose cost changed (all of
+ * them when `all`), on several threads: each key is written by one
+ * thread, from state no thread writes, so the keys are the same bits on
+ * any number of threads.  A half-edge's cost changes only when its origin
+ * or destination is the target b of a collapse of the previous group: b's
+ * quadric grew, and the half-edges of the removed vertex now start or end
+ * at b.  Those targets still carry IND_TARGET from that group's claims. */
+typedef struct cost_job {
+    const pm_work *w;
+    const uint32_t *live;
+    uint32_t n;
+    uint64_t *hkey;
+    int all;
+} cost_job;
+
+enum { COST_CHUNK = 4096 }; /* half-edges per piece; a thread for every 4 pieces at most */
+
+static void update_costs(st_team *team, unsigned t, void *ctx)
+{
+    (void)t;
+    const cost_job *j = ctx;
+    const pm_work *w = j->w;
+    uint32_t beg, end;
+    while (st_team_next(team, 0, j->n, COST_CHUNK, &beg, &end))
+        for (uint32_t i = beg; i < end; i++) {
+            uint32_t h = j->live[i];
+            if (w->hflags[h] & PM_HE_DEAD) continue;
+            uint32_t a = w->org[h], b = pm_dest(w, h);
+            if (!j->all && !((w->indep[a] | w->indep[b]) & IND_TARGET)) continue;
+            const double *pb = w->pos + 3 * (size_t)b;
+            j->hkey[h] = cost_key(quad_eval(w->quad + 10 * (size_t)a, pb) + quad_eval(w->quad + 10 * (size_t)b, pb));
+        }
+}
+
 int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress)(void *, double), void *ctx,
                 char *note, size_t notesz, st_error *err)
 {
@@ -489,20 +524,15 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
         memset(w->vbound, 0, w->nv);
         for (uint32_t h = w->nreal; h < w->nhe; h++)
             if (!(w->hflags[h] & PM_HE_DEAD)) w->vbound[w->org[h]] = 1;
-        /* A half-edge's cost changes only when its origin or destination is
-         * the target b of a collapse of the previous group: b's quadric grew,
-         * and the half-edges of the removed vertex now start or end at b.
-         * Those targets still carry IND_TARGET from that group's claims. */
+        cost_job job = { w, live, nlive, hkey, w->ngroups == 0 };
+        unsigned threads = st_parallel_threads(), most = nlive / (4 * COST_CHUNK);
+        st_team_run(threads < most ? threads : most ? most : 1, update_costs, &job);
         uint32_t nc = 0, nalive = 0;
         for (uint32_t i = 0; i < nlive; i++) {
             uint32_t h = live[i];
             if (w->hflags[h] & PM_HE_DEAD) continue;
             live[nalive++] = h;
-            uint32_t a = w->org[h], b = pm_dest(w, h);
-            if (w->ngroups == 0 || ((w->indep[a] | w->indep[b]) & IND_TARGET)) {
-                const double *pb = w->pos + 3 * (size_t)b;
-                hkey[h] = cost_key(quad_eval(w->quad + 10 * (size_t)a, pb) + quad_eval(w->quad + 10 * (size_t)b, pb));
-            }
+            uint32_t a = w->org[h];
             if (w->vbound[a] && !(w->hflags[w->twin[h]] & PM_HE_BOUNDARY)) continue;
             cs[nc++] = (cand){ hkey[h], h };
         }
