@@ -366,9 +366,10 @@ void pm_undo(pm_work *w, uint32_t i)
 typedef struct cand { uint64_t key; uint32_t he; } cand;
 
 /* The order of costs as unsigned integers: the bits of a non-negative
- * double rank as its value; a negative one (rounding) ranks below them,
- * reversed; -0 counts as +0, so that equal costs tie, to be ranked by
- * half-edge. */
+ * double, with the sign bit set, rank as its value; a negative one (a
+ * rounding below zero) has all its bits flipped, so that it ranks below
+ * them and by its value too; -0 counts as +0, so that equal costs tie and
+ * are ranked by half-edge, as the comparison sort ranked them. */
 static uint64_t cost_key(double cost)
 {
     uint64_t u;
@@ -404,9 +405,9 @@ static cand *radix_sort(cand *a, cand *b, uint32_t n, unsigned lo, unsigned bits
  * they were gathered in), in place of a comparison sort (qsort took 4/5 of
  * the grouped collapses' instructions): a radix sort by the high 32 bits
  * (sign, exponent, 20 bits of mantissa) at once, and by the low 32 bits
- * run by run (runs of equal high halves are short: costs equal to about a
- * millionth, or equal costs, already in order), as the group reaches them:
- * a group looks at its cheapest 40 % or so only. */
+ * run by run as the group reaches them (a group looks at its cheapest
+ * 40 % or so only): runs of equal high halves are short (costs that agree
+ * to a millionth), or hold equal costs, already in order. */
 typedef struct ranking { cand *cs, *tmp; uint32_t n, sorted; } ranking;
 
 static void rank_begin(ranking *r, cand *cs, cand *tmp, uint32_t n)
