@@ -363,7 +363,7 @@ void pm_undo(pm_work *w, uint32_t i)
 
 /* ---- grouped simplification ------------------------------------------------------ */
 
-typedef struct cand { uint64_t key; uint32_t he; } cand;
+typedef struct cand { uint32_t hi, lo, he; } cand; /* a cost key's halves (cost_key), 12 bytes */
 
 /* The order of costs as unsigned integers: the bits of a non-negative
  * double, with the sign bit set, rank as its value; a negative one (a
@@ -378,24 +378,26 @@ static uint64_t cost_key(double cost)
     return u >> 63 ? ~u : u | UINT64_C(1) << 63;
 }
 
-/* Stable least-significant-digit radix sort of a[0, n) by the key bits
- * [lo, lo + passes * bits) (passes << bits <= 3 << 11), skipping the
- * digits every key shares; b holds n more.  Returns a or b: the one that
- * holds the result. */
-static cand *radix_sort(cand *a, cand *b, uint32_t n, unsigned lo, unsigned bits, unsigned passes)
+static uint32_t key_half(const cand *c, int low) { return low ? c->lo : c->hi; }
+
+/* Stable least-significant-digit radix sort of a[0, n) by the low or the
+ * high half of the key, in `passes` digits of `bits` (passes * bits >= 32,
+ * passes << bits <= 3 << 11), skipping the digits every key shares; b
+ * holds n more.  Returns a or b: the one that holds the result. */
+static cand *radix_sort(cand *a, cand *b, uint32_t n, int low, unsigned bits, unsigned passes)
 {
     uint32_t count[3u << 11];
     const uint32_t nb = 1u << bits, mask = nb - 1;
     memset(count, 0, (size_t)passes * nb * sizeof *count);
     for (uint32_t i = 0; i < n; i++)
-        for (unsigned p = 0; p < passes; p++) count[p * nb + ((a[i].key >> (lo + p * bits)) & mask)]++;
+        for (unsigned p = 0; p < passes; p++) count[p * nb + ((key_half(&a[i], low) >> (p * bits)) & mask)]++;
     for (unsigned p = 0; p < passes && n; p++) {
-        unsigned shift = lo + p * bits;
+        unsigned shift = p * bits;
         uint32_t *c = count + p * nb;
-        if (c[(a[0].key >> shift) & mask] == n) continue; /* one digit for all: already in order */
+        if (c[(key_half(&a[0], low) >> shift) & mask] == n) continue; /* one digit for all: already in order */
         uint32_t sum = 0;
         for (uint32_t d = 0; d < nb; d++) { uint32_t k = c[d]; c[d] = sum; sum += k; }
-        for (uint32_t i = 0; i < n; i++) b[c[(a[i].key >> shift) & mask]++] = a[i];
+        for (uint32_t i = 0; i < n; i++) b[c[(key_half(&a[i], low) >> shift) & mask]++] = a[i];
         cand *t = a; a = b; b = t;
     }
     return a;
@@ -412,7 +414,7 @@ typedef struct ranking { cand *cs, *tmp; uint32_t n, sorted; } ranking;
 
 static void rank_begin(ranking *r, cand *cs, cand *tmp, uint32_t n)
 {
-    r->cs = radix_sort(cs, tmp, n, 32, 11, 3);
+    r->cs = radix_sort(cs, tmp, n, 0, 11, 3);
     r->tmp = r->cs == cs ? tmp : cs;
     r->n = n;
     r->sorted = 0;
@@ -423,16 +425,16 @@ static uint32_t rank_get(ranking *r, uint32_t i)
 {
     cand *cs = r->cs;
     if (i == r->sorted) { /* the next run of equal high halves: order it by the low half */
-        uint32_t j = i + 1, hi = (uint32_t)(cs[i].key >> 32);
-        while (j < r->n && (uint32_t)(cs[j].key >> 32) == hi) j++;
+        uint32_t j = i + 1;
+        while (j < r->n && cs[j].hi == cs[i].hi) j++;
         if (j - i > 16) {
-            cand *res = radix_sort(cs + i, r->tmp, j - i, 0, 8, 4);
+            cand *res = radix_sort(cs + i, r->tmp, j - i, 1, 8, 4);
             if (res != cs + i) memcpy(cs + i, res, (size_t)(j - i) * sizeof *cs);
         } else
             for (uint32_t k = i + 1; k < j; k++) { /* insertion, stable */
                 cand c = cs[k];
                 uint32_t m = k;
-                for (; m > i && cs[m - 1].key > c.key; m--) cs[m] = cs[m - 1];
+                for (; m > i && cs[m - 1].lo > c.lo; m--) cs[m] = cs[m - 1];
                 cs[m] = c;
             }
         r->sorted = j;
@@ -535,7 +537,7 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
             live[nalive++] = h;
             uint32_t a = w->org[h];
             if (w->vbound[a] && !(w->hflags[w->twin[h]] & PM_HE_BOUNDARY)) continue;
-            cs[nc++] = (cand){ hkey[h], h };
+            cs[nc++] = (cand){ (uint32_t)(hkey[h] >> 32), (uint32_t)hkey[h], h };
         }
         nlive = nalive;
         memset(w->indep, 0, w->nv);
