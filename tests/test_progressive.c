@@ -5,6 +5,7 @@
 #include "testlib.h"
 
 #include "core/progressive/progressive_internal.h"
+#include "core/base/parallel.h"
 #include "core/multires/hier_internal.h"
 #include "core/io/session.h"
 #include "core/map/map_mesh.h"
@@ -793,6 +794,31 @@ static void test_sparse_form_not_for_subdivision(void)
     st_mesh_free(&m);
 }
 
+/* The grouped collapses are the same on one thread and on three (the
+ * changed cost keys are computed in pieces on the worker threads,
+ * core/base/parallel.h): the same collapses, in the same groups. */
+static void test_threads(const char *name, uint64_t target)
+{
+    st_mesh m;
+    if (load_shared(name, &m)) return;
+    CHECK(m.face_off[m.nfaces] == 3 * m.nfaces); /* a triangle mesh: pm_work_init takes it as it is */
+    pm_work w[2];
+    st_error err;
+    char note[256];
+    for (int k = 0; k < 2; k++) {
+        st_parallel_set_threads(k ? 3 : 1);
+        CHECK(pm_work_init(&w[k], m.pos, m.nverts, m.face_idx, m.nfaces, &err) == ST_OK);
+        CHECK(pm_simplify(&w[k], target, ST_MAX_LEVELS - 1, NULL, NULL, note, sizeof note, &err) == ST_OK);
+    }
+    st_parallel_set_threads(0);
+    CHECK(w[0].ncol > 1000 && w[0].ncol == w[1].ncol && w[0].ngroups == w[1].ngroups);
+    CHECK(memcmp(w[0].col, w[1].col, (size_t)w[0].ncol * sizeof *w[0].col) == 0);
+    CHECK(memcmp(w[0].group_beg, w[1].group_beg, ((size_t)w[0].ngroups + 1) * sizeof *w[0].group_beg) == 0);
+    pm_work_free(&w[0]);
+    pm_work_free(&w[1]);
+    st_mesh_free(&m);
+}
+
 int main(void)
 {
     test_topology();
@@ -817,5 +843,6 @@ int main(void)
     test_sparse_form_not_for_subdivision();
     test_analysis_and_remove_bottom("hand_lowres.obj", 60);
     test_analysis_and_remove_bottom("cube_no_bottom.obj", 4);
+    test_threads("plane_holes.obj", 20);
     return TEST_END();
 }
