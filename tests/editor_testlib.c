@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 void ed_test_open(st_doc *d, const char *path, const char *scheme, unsigned levels)
 {
@@ -68,4 +69,13 @@ double *ed_test_all_values(const st_hier *h, size_t *n)
         }
     *n = k;
     return p;
+}
+
+int ed_test_same_values(const st_hier *h, const double *v, size_t n)
+{
+    size_t m;
+    double *now = ed_test_all_values(h, &m);
+    int same = m == n && !memcmp(now, v, n * sizeof *v);
+    free(now);
+    return same;
 }

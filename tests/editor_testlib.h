@@ -19,5 +19,7 @@ double ed_test_dist3(const double *a, const double *b);
  * doubles each, into a malloc'ed array; *n gets the number of doubles.
  * Two hierarchies of the same topology compare with memcmp. */
 double *ed_test_all_values(const st_hier *h, size_t *n);
+/* h's values now are the n doubles of v (ed_test_all_values), bit for bit. */
+int ed_test_same_values(const st_hier *h, const double *v, size_t n);
 
 #endif

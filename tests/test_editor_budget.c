@@ -16,15 +16,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int unchanged(const st_hier *h, const double *before, size_t n)
-{
-    size_t m;
-    double *now = ed_test_all_values(h, &m);
-    int same = m == n && !memcmp(now, before, n * sizeof *now);
-    free(now);
-    return same;
-}
-
 static void select_first(st_doc *d, unsigned l)
 {
     st_dart_iter it;
@@ -57,14 +48,14 @@ static void test_progressive(void)
     d.brush.radius = 0.5;
     CHECK(st_doc_stroke_begin(&d) != 0);
     CHECK(d.refusal[0] != 0);
-    CHECK(unchanged(&d.h, before, n) && d.nundo == nundo && d.active == 0);
+    CHECK(ed_test_same_values(&d.h, before, n) && d.nundo == nundo && d.active == 0);
     printf("bob_small progressive: an edit of level 0 needs %.3f MiB; refused with %.3f MiB to spare: %s\n",
            need / 1048576.0, need / 2 / 1048576.0, d.refusal);
 
     /* a mask stroke synthesises nothing: not refused */
     CHECK(st_doc_mask_stroke_begin(&d, 0) == 0);
     st_doc_mask_stroke_end(&d);
-    CHECK(unchanged(&d.h, before, n));
+    CHECK(ed_test_same_values(&d.h, before, n));
 
     /* within the budget: the drag moves the model, then the tables are held */
     d.mem_budget = st_doc_model_bytes(&d) + need + ((size_t)1 << 20);
@@ -74,7 +65,7 @@ static void test_progressive(void)
     double delta[3] = { 0.02, -0.01, 0.03 };
     CHECK(st_doc_drag_update(&d, delta) == 0);
     st_doc_drag_end(&d);
-    CHECK(!unchanged(&d.h, before, n));
+    CHECK(!ed_test_same_values(&d.h, before, n));
     size_t after = st_hier_synth_estimate(&d.h, 0);
     CHECKF(after < need, "estimate after the edit %zu, before %zu", after, need);
     free(before);

@@ -25,15 +25,6 @@ static void open_progressive(st_doc *d)
     CHECK(d->scheme == st_scheme_find("progressive") && d->h.map.top >= 4);
 }
 
-static int same_values(const st_hier *h, const double *v, size_t n)
-{
-    size_t m;
-    double *now = ed_test_all_values(h, &m);
-    int same = m == n && !memcmp(now, v, n * sizeof *v);
-    free(now);
-    return same;
-}
-
 static void test_filter_undo_redo(void)
 {
     st_doc d, ref;
@@ -43,14 +34,14 @@ static void test_filter_undo_redo(void)
     unsigned top = d.h.map.top;
     size_t n;
     double *before = ed_test_all_values(&d.h, &n);
-    CHECK(same_values(&ref.h, before, n)); /* the rebuild is deterministic */
+    CHECK(ed_test_same_values(&ref.h, before, n)); /* the rebuild is deterministic */
 
     /* gains of 1: nothing, no step */
     double ones[ST_MAX_LEVELS];
     for (unsigned k = 0; k < ST_MAX_LEVELS; k++) ones[k] = 1.0;
     uint32_t nundo = d.nundo;
     CHECK(st_doc_filter(&d, ones, top, &err) == 0);
-    CHECK(d.nundo == nundo && same_values(&d.h, before, n));
+    CHECK(d.nundo == nundo && ed_test_same_values(&d.h, before, n));
 
     /* the three finest bands removed, level 2's doubled */
     double g[ST_MAX_LEVELS];
@@ -63,16 +54,16 @@ static void test_filter_undo_redo(void)
     size_t na;
     double *after = ed_test_all_values(&ref.h, &na);
     CHECK(na == n && memcmp(after, before, n * sizeof *after) != 0);
-    CHECKF(same_values(&d.h, after, na), "the document's filter differs from core's");
+    CHECKF(ed_test_same_values(&d.h, after, na), "the document's filter differs from core's");
     st_doc_change ch = st_doc_take_change(&d);
     CHECK(ch.bits & ST_CHANGE_ALL_POSITIONS);
 
     CHECK(st_doc_undo(&d, &err) == 0);
-    CHECKF(same_values(&d.h, before, n), "undo of the filter is not exact");
+    CHECKF(ed_test_same_values(&d.h, before, n), "undo of the filter is not exact");
     CHECK(st_doc_redo(&d, &err) == 0);
-    CHECKF(same_values(&d.h, after, na), "redo of the filter is not exact");
+    CHECKF(ed_test_same_values(&d.h, after, na), "redo of the filter is not exact");
     CHECK(st_doc_undo(&d, &err) == 0);
-    CHECK(same_values(&d.h, before, n));
+    CHECK(ed_test_same_values(&d.h, before, n));
     printf("bob_small, %u levels: filter, undo and redo exact (%zu values)\n", top + 1, n);
 
     /* over the budget: refused, nothing changed */
@@ -80,7 +71,7 @@ static void test_filter_undo_redo(void)
     nundo = d.nundo;
     CHECK(st_doc_filter(&d, g, top, &err) == ST_ERR_MEMORY);
     CHECKF(strstr(err.msg, "filter refused"), "message: %s", err.msg);
-    CHECK(same_values(&d.h, before, n) && d.nundo == nundo);
+    CHECK(ed_test_same_values(&d.h, before, n) && d.nundo == nundo);
     free(before);
     free(after);
     st_doc_free(&d);
@@ -98,7 +89,7 @@ static void test_refusals(void)
     double *before = ed_test_all_values(&d.h, &n);
     CHECK(st_doc_filter(&d, g, 2, &err) == ST_ERR_INVALID);
     CHECKF(strstr(err.msg, "progressive"), "message: %s", err.msg);
-    CHECK(same_values(&d.h, before, n) && d.nundo == 0);
+    CHECK(ed_test_same_values(&d.h, before, n) && d.nundo == 0);
     free(before);
     st_doc_free(&d);
 
@@ -108,7 +99,7 @@ static void test_refusals(void)
     before = ed_test_all_values(&d.h, &n);
     CHECK(st_doc_filter(&d, g, 2, &err) == ST_ERR_INVALID);
     CHECKF(strstr(err.msg, "sculpt layer"), "message: %s", err.msg);
-    CHECK(same_values(&d.h, before, n) && d.nundo == nundo);
+    CHECK(ed_test_same_values(&d.h, before, n) && d.nundo == nundo);
     double bad[2] = { 1.0, 0.0 / 0.0 };
     CHECK(st_doc_layer_delete(&d, 0, &err) == 0);
     CHECK(st_doc_filter(&d, bad, 2, &err) == ST_ERR_INVALID);
