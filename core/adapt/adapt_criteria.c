@@ -43,8 +43,11 @@ unsigned st_adapt_box_want(const double lo[3], const double hi[3], const st_adap
         }
         unsigned w = p->max_level;
         if (gap > 0) {
-            unsigned steps = p->falloff > 0 ? (unsigned)ceil(gap / p->falloff) : p->max_level;
-            w = steps >= p->max_level ? 0 : p->max_level - steps;
+            /* Compared in double: a box far away (or a tiny falloff, as a
+             * damaged session may hold) gives more steps than an unsigned
+             * holds, and converting those would be undefined. */
+            double steps = p->falloff > 0 ? ceil(gap / p->falloff) : (double)p->max_level;
+            w = steps >= (double)p->max_level ? 0 : p->max_level - (unsigned)steps;
         }
         if (w > want) want = w;
     }
