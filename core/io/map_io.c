@@ -56,6 +56,7 @@ static void bw_reset(st_bw *w)
     w->total = 0;
     w->crc = 0;
     w->failed = 0;
+    w->refused_value = 0;
     w->slow_us = 0;
     w->progress = NULL;
     w->progress_ctx = NULL;
@@ -125,8 +126,22 @@ static inline void bw_le(st_bw *w, uint64_t v, unsigned k)
 void st_bw_u8(st_bw *w, uint8_t v) { bw_le(w, v, 1); }
 void st_bw_u32(st_bw *w, uint32_t v) { bw_le(w, v, 4); }
 void st_bw_u64(st_bw *w, uint64_t v) { bw_le(w, v, 8); }
-void st_bw_f32(st_bw *w, float v) { uint32_t u; memcpy(&u, &v, 4); bw_le(w, u, 4); }
-void st_bw_f64(st_bw *w, double v) { uint64_t u; memcpy(&u, &v, 8); bw_le(w, u, 8); }
+/* Every reader of these formats refuses a non-finite number. */
+void st_bw_f32(st_bw *w, float v)
+{
+    if (!isfinite(v)) w->refused_value = 1;
+    uint32_t u;
+    memcpy(&u, &v, 4);
+    bw_le(w, u, 4);
+}
+
+void st_bw_f64(st_bw *w, double v)
+{
+    if (!isfinite(v)) w->refused_value = 1;
+    uint64_t u;
+    memcpy(&u, &v, 8);
+    bw_le(w, u, 8);
+}
 
 /* ---- reader -------------------------------------------------------------------- */
 
@@ -365,11 +380,14 @@ static inline int col_readable(const st_pool *p, uint32_t i, unsigned l)
     return i < p->end && p->ins[i] != ST_FREE_LEVEL && p->ins[i] < l;
 }
 
-void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p)
+void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p, st_mla_value_check check)
 {
     st_bw_u32(w, a->elem);
-    for (uint32_t i = 0; i < p->end; i++)
-        st_bw_bytes(w, p->ins[i] == ST_FREE_LEVEL ? zeros : a->base + (size_t)i * a->elem, a->elem);
+    for (uint32_t i = 0; i < p->end; i++) {
+        const unsigned char *v = p->ins[i] == ST_FREE_LEVEL ? zeros : a->base + (size_t)i * a->elem;
+        if (check && v != zeros && !check(v)) w->refused_value = 1;
+        st_bw_bytes(w, v, a->elem);
+    }
     /* The sparse form (map.h) is written as the dense columns it stands for. */
     const st_mla_sparse *sp = a->sp;
     uint32_t mask = 0;
@@ -382,7 +400,10 @@ void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p)
         st_bw_u32(w, n);
         for (uint32_t i = 0; i < n; i++) {
             const unsigned char *v = zeros;
-            if (col_readable(p, i, l)) v = sp ? st_mla_sparse_at(a, p->ins, i, l) : a->col[l] + (size_t)i * a->elem;
+            if (col_readable(p, i, l)) {
+                v = sp ? st_mla_sparse_at(a, p->ins, i, l) : a->col[l] + (size_t)i * a->elem;
+                if (check && !check(v)) w->refused_value = 1;
+            }
             st_bw_bytes(w, v, a->elem);
         }
     }
@@ -454,11 +475,11 @@ void st_map_write(st_bw *w, const st_map *m)
     st_bw_u8(w, m->face_embedded);
     pool_write(w, &m->darts);
     pool_write(w, &m->verts);
-    st_mla_write(w, &m->beta0, &m->darts);
-    st_mla_write(w, &m->beta1, &m->darts);
-    st_mla_write(w, &m->vert, &m->darts);
+    st_mla_write(w, &m->beta0, &m->darts, NULL);
+    st_mla_write(w, &m->beta1, &m->darts, NULL);
+    st_mla_write(w, &m->vert, &m->darts, NULL);
     for (uint32_t i = 0; i < m->darts.end; i++) st_bw_u8(w, m->darts.ins[i] == ST_FREE_LEVEL ? 0 : m->flags[i]);
-    st_mla_write(w, &m->pos, &m->verts);
+    st_mla_write(w, &m->pos, &m->verts, st_value_finite_f64x3);
 }
 
 /* Every relation of every level stays inside the level (what the validator

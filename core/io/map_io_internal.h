@@ -35,6 +35,12 @@ typedef struct st_bw {
     uint64_t total;            /* bytes written so far (all modes) */
     uint32_t crc;              /* running CRC-32 state (see st_crc32) */
     int failed;                /* a write or an allocation failed */
+    /* A value its reader would refuse was written: a non-finite number
+     * through st_bw_f32/st_bw_f64, or a value failing st_mla_write's check.
+     * Set in every mode; the session writer measures its chunks in count
+     * mode first and refuses the save when this is set, so that it never
+     * writes a file it would not read back. */
+    int refused_value;
     long slow_us;              /* test hook: sleep per flushed buffer (file mode) */
     /* File mode: called after each flushed buffer with total / progress_total;
      * a non-zero return stops the writing (failed and cancelled set). */
@@ -98,16 +104,18 @@ void st_map_write(st_bw *w, const st_map *m);
  * caller does, once the attributes are attached).  0 or -1 with r->err set. */
 int st_map_read(st_br *r, st_map *m);
 
-/* One multilevel attribute over pool p (darts or vertices of m). */
-void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p);
+/* One multilevel attribute over pool p (darts or vertices of m); values of
+ * readable entries failing check (NULL: any) set w->refused_value, the
+ * check st_mla_read applies to them. */
+typedef int (*st_mla_value_check)(const void *value);
+void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p, st_mla_value_check check);
 /* Reads an attribute of elem bytes per element over pool p of a map of top
  * level `top`; values of readable entries must pass check (NULL: any); the
  * result has the pool's capacity, ready to be attached. */
-typedef int (*st_mla_value_check)(const void *value);
 int st_mla_read(st_br *r, st_mla *a, const st_pool *p, unsigned top, uint32_t elem,
                 st_mla_value_check check, const char *what);
 
-/* Value checks for st_mla_read. */
+/* Value checks for st_mla_read and st_mla_write. */
 int st_value_finite_f64x3(const void *v);
 int st_value_sharpness_f32(const void *v);
 

@@ -152,8 +152,8 @@ static void w_map(st_bw *w, const st_session_ref *r) { st_map_write(w, &r->h->ma
 
 static void w_sharp(st_bw *w, const st_session_ref *r)
 {
-    st_mla_write(w, &r->h->edge_sharp, &r->h->map.darts);
-    st_mla_write(w, &r->h->vertex_sharp, &r->h->map.verts);
+    st_mla_write(w, &r->h->edge_sharp, &r->h->map.darts, st_value_sharpness_f32);
+    st_mla_write(w, &r->h->vertex_sharp, &r->h->map.verts, st_value_sharpness_f32);
 }
 
 static void w_detail(st_bw *w, const st_session_ref *r)
@@ -278,6 +278,25 @@ static void w_offsets(st_bw *w, const double *a, uint32_t n)
     for (size_t i = 0; i < 3 * (size_t)n; i++) st_bw_f64(w, a[i]);
 }
 
+/* The kept positions: an entry is three finite numbers, or three NaNs for
+ * none (r_offsets reads them so); the NaNs are written as they are. */
+static void w_kept_positions(st_bw *w, const double *a, uint32_t n)
+{
+    st_bw_u32(w, n);
+    for (size_t i = 0; i < (size_t)n; i++) {
+        const double *e = a + 3 * i;
+        if (isnan(e[0]) && isnan(e[1]) && isnan(e[2])) {
+            for (int k = 0; k < 3; k++) {
+                uint64_t u;
+                memcpy(&u, &e[k], 8);
+                st_bw_u64(w, u);
+            }
+        } else {
+            for (int k = 0; k < 3; k++) st_bw_f64(w, e[k]);
+        }
+    }
+}
+
 static void w_layers(st_bw *w, const st_session_ref *r)
 {
     const st_layers *ls = r->layers;
@@ -301,7 +320,7 @@ static void w_layers(st_bw *w, const st_session_ref *r)
         /* The positions kept without layers (NaN: none), up to the last kept. */
         uint32_t n = ls->bpos[l] ? (ls->bpos_cap[l] < end ? ls->bpos_cap[l] : end) : 0;
         while (n && isnan(ls->bpos[l][3 * (size_t)n - 3])) n--;
-        w_offsets(w, ls->bpos[l], n);
+        w_kept_positions(w, ls->bpos[l], n);
     }
 }
 
@@ -380,38 +399,77 @@ static int check_ref(const st_session_ref *r, st_error *err)
     return ST_OK;
 }
 
-/* Writes the whole file to w (counting pass first for the lengths). */
-static void write_all(st_bw *w, const st_session_ref *r)
+/* What a chunk holds, for messages. */
+static const char *chunk_words(uint32_t tag)
 {
+    switch (tag) {
+    case TAG_MAP: return "positions";
+    case TAG_SHRP: return "sharpness values";
+    case TAG_DETL: return "details";
+    case TAG_ADPT: return "adaptive state";
+    case TAG_EDIT: return "interest box";
+    case TAG_VIEW: return "view";
+    case TAG_BASE: return "base mesh";
+    case TAG_MASK: return "mask";
+    case TAG_LAY0: case TAG_LAYR: return "sculpt layers";
+    case TAG_FVAR: return "UVs";
+    case TAG_BUVS: return "base mesh's UVs";
+    default: return "values";
+    }
+}
+
+/* The chunks of r and their lengths, by a counting pass.  Refuses a model
+ * holding a value the reader would refuse (a position or detail an edit
+ * or a synthesis carried past the double range, say): the file would not
+ * load again, so nothing is written. */
+typedef struct chunk_plan {
     chunk_def c[10];
-    unsigned n = chunk_list(r, c);
-    uint64_t len[10], total = HEADER_BYTES + TRAILER_BYTES;
+    uint64_t len[10];
+    unsigned n;
+    uint64_t total;
+} chunk_plan;
+
+static int plan_chunks(const st_session_ref *r, chunk_plan *pl, st_error *err)
+{
+    pl->n = chunk_list(r, pl->c);
+    pl->total = HEADER_BYTES + TRAILER_BYTES;
     st_bw *cnt = malloc(sizeof *cnt);
-    if (!cnt) { w->failed = 1; return; }
-    for (unsigned i = 0; i < n; i++) {
+    if (!cnt) return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
+    for (unsigned i = 0; i < pl->n; i++) {
         st_bw_init_count(cnt);
-        c[i].fn(cnt, r);
-        len[i] = cnt->total;
-        total += CHUNK_HEAD + len[i];
+        pl->c[i].fn(cnt, r);
+        if (cnt->refused_value) {
+            free(cnt);
+            return st_fail(err, ST_ERR_INVALID, "session: the %s hold a number that is not finite (an edit overflowed?); nothing was written",
+                           chunk_words(pl->c[i].tag));
+        }
+        pl->len[i] = cnt->total;
+        pl->total += CHUNK_HEAD + pl->len[i];
     }
     free(cnt);
+    return ST_OK;
+}
+
+/* Writes the whole file to w, as planned. */
+static void write_all(st_bw *w, const st_session_ref *r, const chunk_plan *pl)
+{
     unsigned char head[HEADER_BYTES];
     memcpy(head, ST_SESSION_MAGIC, 8);
     uint32_t version = version_of(r);
     for (int k = 0; k < 4; k++) head[8 + k] = (unsigned char)(version >> (8 * k));
     memset(head + 12, 0, 4);
-    for (int k = 0; k < 8; k++) head[16 + k] = (unsigned char)(total >> (8 * k));
-    w->progress_total = total;
+    for (int k = 0; k < 8; k++) head[16 + k] = (unsigned char)(pl->total >> (8 * k));
+    w->progress_total = pl->total;
     uint32_t hc = st_crc32(0, head, 24);
     for (int k = 0; k < 4; k++) head[24 + k] = (unsigned char)(hc >> (8 * k));
     st_bw_bytes(w, head, sizeof head);
-    for (unsigned i = 0; i < n; i++) {
+    for (unsigned i = 0; i < pl->n; i++) {
         if (w->failed) return;   /* a write failed or the save was cancelled: the rest is not wanted */
         uint64_t before = w->total;
-        st_bw_u32(w, c[i].tag);
-        st_bw_u64(w, len[i]);
-        c[i].fn(w, r);
-        if (w->total - before != CHUNK_HEAD + len[i]) w->failed = 1; /* cannot happen: same writer twice */
+        st_bw_u32(w, pl->c[i].tag);
+        st_bw_u64(w, pl->len[i]);
+        pl->c[i].fn(w, r);
+        if (w->total - before != CHUNK_HEAD + pl->len[i]) w->failed = 1; /* cannot happen: same writer twice */
     }
     st_bw_flush(w);
     uint32_t crc = w->crc;
@@ -425,12 +483,14 @@ int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_
 {
     *data = NULL;
     *size = 0;
+    chunk_plan pl;
     int rc = check_ref(r, err);
+    if (!rc) rc = plan_chunks(r, &pl, err);
     if (rc) return rc;
     st_bw *w = malloc(sizeof *w);
     if (!w) return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
     st_bw_init_mem(w);
-    write_all(w, r);
+    write_all(w, r, &pl);
     if (w->failed) {
         free(w->out);
         free(w);
@@ -450,7 +510,9 @@ int st_session_save_ref(const char *path, const st_session_ref *r, st_error *err
 int st_session_save_ref_progress(const char *path, const st_session_ref *r, int (*progress)(void *ctx, double fraction),
                                  void *ctx, st_error *err)
 {
+    chunk_plan pl;
     int rc = check_ref(r, err);
+    if (!rc) rc = plan_chunks(r, &pl, err);
     if (rc) {
         if (err) {
             char msg[sizeof err->msg];
@@ -471,7 +533,7 @@ int st_session_save_ref_progress(const char *path, const st_session_ref *r, int 
     if (slow) w->slow_us = strtol(slow, NULL, 10);
     w->progress = progress;
     w->progress_ctx = ctx;
-    write_all(w, r);
+    write_all(w, r, &pl);
     int failed = w->failed, cancelled = w->cancelled;
     free(w);
     if (failed) {
