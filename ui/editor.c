@@ -109,8 +109,6 @@ size_t st_doc_add_level_bytes(const st_doc *d)
     return d->loaded ? level_bytes_for(&d->h) : 0;
 }
 
-static double mib(size_t b) { return (double)b / (1024.0 * 1024.0); }
-
 static void progress(const st_doc *d, const char *what, unsigned step, unsigned steps)
 {
     if (d->progress) d->progress(d->progress_ctx, what, step, steps);
@@ -168,7 +166,7 @@ static int build_levels(const st_doc *d, st_hier *h, unsigned levels, size_t bud
             return st_fail(err, ST_ERR_MEMORY,
                            "level %u refused: it needs about %zu bytes (%.1f MiB) more, the model uses %.1f MiB "
                            "and the memory budget is %.1f MiB",
-                           h->map.top + 1, need, mib(need), mib(have), mib(budget));
+                           h->map.top + 1, need, st_mib(need), st_mib(have), st_mib(budget));
         double w = ldexp(1.0, 2 * (int)(h->map.top + 1 - from));
         ed_span level = { sp->fn, sp->ctx, span_at(sp->lo, sp->hi, done / total), span_at(sp->lo, sp->hi, (done + w) / total), 0 };
         int rc = st_hier_subdivide_to_progress(h, h->map.top + 1, span_report, &level, err);
@@ -476,7 +474,7 @@ int st_doc_add_level_progress(st_doc *d, int (*fraction)(void *ctx, double f), v
         return st_fail(err, ST_ERR_MEMORY,
                        "level %u refused: it needs about %zu bytes (%.1f MiB) more, the model uses %.1f MiB "
                        "and the memory budget is %.1f MiB",
-                       d->h.map.top + 1, need, mib(need), mib(have), mib(d->mem_budget));
+                       d->h.map.top + 1, need, st_mib(need), st_mib(have), st_mib(d->mem_budget));
     double t0 = ed_now_ms();
     unsigned top = d->h.map.top;
     char what[64];
@@ -836,7 +834,7 @@ int ed_edit_budget(st_doc *d, unsigned l)
     snprintf(d->refusal, sizeof d->refusal,
              "editing level %u refused: the synthesis of the levels above needs about %.1f MiB more, the model uses "
              "%.1f MiB and the memory budget is %.1f MiB",
-             l, mib(need), mib(have), mib(d->mem_budget));
+             l, st_mib(need), st_mib(have), st_mib(d->mem_budget));
     return -1;
 }
 
@@ -962,7 +960,7 @@ static int display_build(st_doc *d, const st_adapt_params *p, st_error *err)
         return st_fail(err, ST_ERR_MEMORY,
                        "interest box refused: its display needs about %zu bytes (%.1f MiB) more, the model uses "
                        "%.1f MiB and the memory budget is %.1f MiB",
-                       need, mib(need), mib(have), mib(d->mem_budget));
+                       need, st_mib(need), st_mib(have), st_mib(d->mem_budget));
     progress(d, "refining the interest box", 1, 1);
     int rc = st_box_display_build(&d->display, &d->h, p, err);
     if (!rc) d->box = *p;

@@ -17,8 +17,6 @@
 #include <math.h>
 #include <stdio.h>
 
-static double mib(size_t b) { return (double)b / (1024.0 * 1024.0); }
-
 /* The first level whose details change (gain k applies to level k+1), or
  * 0 when every gain up to the top is 1. */
 static unsigned first_changed(const double *gains, unsigned n, unsigned top)
@@ -80,7 +78,7 @@ int st_doc_filter(st_doc *d, const double *gains, unsigned n, st_error *err)
         return st_fail(err, ST_ERR_MEMORY,
                        "filter refused: it needs about %.1f MiB more, the model uses %.1f MiB and the memory budget "
                        "is %.1f MiB",
-                       mib(need), mib(have), mib(d->mem_budget));
+                       st_mib(need), st_mib(have), st_mib(d->mem_budget));
     double t0 = ed_now_ms();
     st_undo_step *s = ed_step_new(ED_STEP_EDIT);
     s->name = "filter";

@@ -8,6 +8,7 @@
 #include "core/multires/edit.h"
 #include "core/multires/layers.h"
 #include "core/multires/mask.h"
+#include "core/base/membudget.h"
 
 /* ---- editor_clone.c ---- */
 /* Bit-exact deep copy (ids and allocation state included); -1 when out of

@@ -27,8 +27,6 @@
 
 static void rec_index_free(st_undo_step *s);
 
-static double mib(size_t b) { return (double)b / (1024.0 * 1024.0); }
-
 st_undo_step *ed_step_new(int kind)
 {
     st_undo_step *s = calloc(1, sizeof *s);
@@ -329,7 +327,7 @@ void ed_push_step(st_doc *d, st_undo_step *s)
         d->nundo -= drop;
         d->undo_pos -= drop;
         snprintf(d->note, sizeof d->note, "undo history: %u oldest step%s dropped (budget %.1f MiB)", drop,
-                 drop > 1 ? "s" : "", mib(d->undo_budget));
+                 drop > 1 ? "s" : "", st_mib(d->undo_budget));
     }
 }
 

@@ -51,8 +51,6 @@ size_t st_mem_budget(void)
     return b;
 }
 
-static double mib(size_t b) { return (double)b / 1048576.0; }
-
 int st_mem_check(size_t need, const char *what, st_error *err)
 {
     size_t have = st_mem_resident(), limit = st_mem_budget();
@@ -60,14 +58,14 @@ int st_mem_check(size_t need, const char *what, st_error *err)
     return st_fail(err, ST_ERR_MEMORY,
                    "%s needs about %.1f MiB more (estimate); the process uses %.1f MiB and the memory budget is "
                    "%.1f MiB (--mem-budget MIB; default: 3/4 of the memory available at start)",
-                   what, mib(need), mib(have), mib(limit));
+                   what, st_mib(need), st_mib(have), st_mib(limit));
 }
 
 int st_mem_check_read(const char *path, const char *kind, size_t file_bytes, size_t bound, st_error *err)
 {
     if (bound < ST_MEM_CHECK_MIN_BYTES) return ST_OK;
     char what[96];
-    snprintf(what, sizeof what, "reading a %s of %.1f MiB", kind, mib(file_bytes));
+    snprintf(what, sizeof what, "reading a %s of %.1f MiB", kind, st_mib(file_bytes));
     int rc = st_mem_check(bound, what, err);
     if (!rc) return ST_OK;
     char msg[sizeof err->msg];

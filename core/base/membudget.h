@@ -39,6 +39,9 @@ int st_mem_check(size_t need, const char *what, st_error *err);
  * ST_MEM_CHECK_MIN_BYTES; the message names the path and the kind of file. */
 int st_mem_check_read(const char *path, const char *kind, size_t file_bytes, size_t bound, st_error *err);
 
+/* Bytes as MiB, for messages. */
+static inline double st_mib(size_t bytes) { return (double)bytes / 1048576.0; }
+
 /* Parses a budget in MiB ("512", "1.5"); -1 when not a positive number. */
 int st_mem_parse_mib(const char *s, size_t *bytes);
 
