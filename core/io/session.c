@@ -440,7 +440,7 @@ static int plan_chunks(const st_session_ref *r, chunk_plan *pl, st_error *err)
         pl->c[i].fn(cnt, r);
         if (cnt->refused_value) {
             free(cnt);
-            return st_fail(err, ST_ERR_INVALID, "session: the %s hold a number that is not finite (an edit overflowed?); nothing was written",
+            return st_fail(err, ST_ERR_INVALID, "session: a number in the %s is not finite (an edit overflowed?); nothing was written",
                            chunk_words(pl->c[i].tag));
         }
         pl->len[i] = cnt->total;
