@@ -402,7 +402,24 @@ static void toggle_gui(st_app *a) { (void)a; st_gui_set_shown(!st_gui_shown()); 
 static void help(st_app *a) { a->help = !a->help; }
 static void about(st_app *a) { (void)a; st_gui_set_shown(1); st_gui_show_about(); }
 static void preferences(st_app *a) { (void)a; st_gui_set_shown(1); st_gui_show_prefs(); }
-static void quit(st_app *a) { a->quit = 1; }
+static void quit(st_app *a) { st_app_request_quit(a); }
+/* The quit question's answers. */
+static void quit_save(st_app *a)
+{
+    a->quit_asking = 0;
+    a->quit_after_save = 1;
+    st_app_request_save(a);
+}
+static void quit_discard(st_app *a)
+{
+    a->quit_asking = 0;
+    a->quit = 1;
+}
+static void quit_cancel(st_app *a)
+{
+    a->quit_asking = 0;
+    st_app_message(a, 0, "quit cancelled");
+}
 /* Esc closes the help, else cancels what the mouse is doing. */
 static void cancel(st_app *a)
 {
@@ -429,6 +446,7 @@ static void cancel(st_app *a)
 #define KEY(k, mods, tolerate) { GLFW_KEY_##k, mods, tolerate }
 #define ACT(id, cat, name, help, run, enabled, ...) [id] = { id, name, cat, ST_KEYS_WINDOW, { __VA_ARGS__ }, help, run, enabled }
 #define ASK(id, name, help, run, ...) [id] = { id, name, ST_CAT_MESH, ST_KEYS_SCHEME_QUESTION, { __VA_ARGS__ }, help, run, NULL }
+#define ASK_QUIT(id, name, help, run, ...) [id] = { id, name, ST_CAT_FILE, ST_KEYS_QUIT_QUESTION, { __VA_ARGS__ }, help, run, NULL }
 
 const st_action st_actions[ST_NACTIONS] = {
     ACT(ST_ACT_OPEN, ST_CAT_FILE, "Open...", "open a mesh or a .strata session (file dialog)", open_file, keys_free,
@@ -631,6 +649,12 @@ const st_action st_actions[ST_NACTIONS] = {
     ASK(ST_ACT_SCHEME_CONFIRM, "Rebuild", "rebuild the hierarchy with it (its details are lost)", scheme_confirm,
         KEY(Y, 0, ANY), KEY(ENTER, 0, ANY)),
     ASK(ST_ACT_SCHEME_KEEP, "Keep the scheme", "keep the scheme (any other key too)", scheme_keep, KEY(N, 0, ANY)),
+
+    ASK_QUIT(ST_ACT_QUIT_SAVE, "Save", "save the changes, then quit", quit_save, KEY(S, 0, ANY), KEY(ENTER, 0, ANY)),
+    ASK_QUIT(ST_ACT_QUIT_DISCARD, "Don't save", "quit without saving (the recovery file keeps the changes)",
+             quit_discard, KEY(D, 0, ANY)),
+    ASK_QUIT(ST_ACT_QUIT_CANCEL, "Cancel", "keep working (any other key too)", quit_cancel, KEY(ESCAPE, 0, ANY),
+             KEY(C, 0, ANY)),
 };
 
 const st_gesture st_gestures[] = {
@@ -698,10 +722,12 @@ int st_action_checked(const st_action *act, const st_app *a)
 
 const st_action *st_app_key(st_app *a, int key, int mods)
 {
-    int context = a->pending_scheme ? ST_KEYS_SCHEME_QUESTION : ST_KEYS_WINDOW;
+    int context = a->quit_asking ? ST_KEYS_QUIT_QUESTION : a->pending_scheme ? ST_KEYS_SCHEME_QUESTION : ST_KEYS_WINDOW;
     const st_action *act = st_action_for_key(context, key, mods);
-    /* Any other key answers the scheme question with no. */
+    /* Any other key answers the scheme question with no, and the quit
+     * question with cancel. */
     if (!act && context == ST_KEYS_SCHEME_QUESTION) act = &st_actions[ST_ACT_SCHEME_KEEP];
+    if (!act && context == ST_KEYS_QUIT_QUESTION) act = &st_actions[ST_ACT_QUIT_CANCEL];
     if (!act || !st_action_enabled(act, a)) return NULL;
     act->run(a);
     return act;

@@ -267,8 +267,9 @@ void dialog_accept(st_app *a, int kind, const std::string &path)
         rc = st_app_save_session(a, path.c_str(), 0);
         if (!rc && path.size() < sizeof a->doc.path) {
             memcpy(a->doc.path, path.c_str(), path.size() + 1);
-            a->autosave_dirty = 0;
+            st_app_saved(a);
             a->untitled = 0;
+            if (a->quit_after_save) a->quit = 1;
         }
     } else {
         rc = st_app_export(a, path.c_str());
@@ -284,6 +285,7 @@ void dialog_accept(st_app *a, int kind, const std::string &path)
 
 void open_dialog(st_app *a, int kind, int format)
 {
+    a->quit_after_save = 0;
     g.dlg_open = true;
     g.dlg_popup = true;
     g.dlg_confirm = false;
@@ -292,7 +294,11 @@ void open_dialog(st_app *a, int kind, int format)
     g.dlg_error.clear();
     g.path[0] = 0;
     const char *doc = a->doc.loaded ? a->doc.path : "";
-    std::string start = doc[0] ? dir_of(doc) : ".";
+    /* The open document's folder, or the working directory: not the
+     * folder of the default model shown at start (assets/), which is not
+     * the user's. */
+    bool own = doc[0] && strcmp(doc, a->default_path) != 0;
+    std::string start = own ? dir_of(doc) : ".";
     if (kind != ST_DIALOG_OPEN && kind != ST_DIALOG_IMPORT && doc[0]) {
         /* The model's name with the extension of what is written. */
         const char *base = st_path_base(doc);
@@ -570,8 +576,31 @@ void file_dialog(st_app *a)
         ImGui::SameLine();
         if (ImGui::Button("Keep it")) g.dlg_confirm = false;
     }
+    if (!open) a->quit_after_save = 0;   /* closed without saving: no quit */
     if (!g.dlg_open || !open) { g.dlg_open = false; ImGui::CloseCurrentPopup(); }
     ImGui::EndPopup();
+}
+
+/* Quitting with unsaved changes (st_app_request_quit): S, D and any other
+ * key answer it too (actions.c). */
+void quit_window(st_app *a)
+{
+    if (!a->quit_asking) return;
+    ImGuiIO &io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::Begin("Quit Strata?", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
+    probe_item("quit:window");
+    ImGui::Text("Save the changes to %s before quitting?", a->untitled ? "the untitled model" : st_path_base(a->doc.path));
+    ImGui::TextDisabled("Without saving, the last changes stay only in the recovery file.");
+    if (ImGui::Button("Save")) g.pending_action = ST_ACT_QUIT_SAVE;
+    probe_item("quit:Save");
+    ImGui::SameLine();
+    if (ImGui::Button("Don't save")) g.pending_action = ST_ACT_QUIT_DISCARD;
+    probe_item("quit:Don't save");
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) g.pending_action = ST_ACT_QUIT_CANCEL;
+    probe_item("quit:Cancel");
+    ImGui::End();
 }
 
 /* The scheme question of K (or the Scheme menu): Y / Enter, K, N still work. */
@@ -1136,6 +1165,7 @@ void st_gui_frame(st_app *a)
         }
         side_panel(a);
         scheme_window(a);
+        quit_window(a);
         about_window();
         prefs_window(a);
         keys_window(a);

@@ -772,6 +772,13 @@ static void glfw_resize(GLFWwindow *w, int width, int height) { st_app_want_fram
 static void glfw_refresh(GLFWwindow *w) { st_app_want_frames(app_of(w)); }
 static void glfw_focus(GLFWwindow *w, int focused) { (void)focused; st_app_want_frames(app_of(w)); }
 static void glfw_enter(GLFWwindow *w, int entered) { (void)entered; st_app_want_frames(app_of(w)); }
+/* The window manager's close button asks like Ctrl+Q. */
+static void glfw_close(GLFWwindow *w)
+{
+    st_app *a = app_of(w);
+    st_app_request_quit(a);
+    if (!a->quit) glfwSetWindowShouldClose(w, GLFW_FALSE);
+}
 
 /* ---- screenshots ------------------------------------------------------------------ */
 
@@ -1010,6 +1017,7 @@ int st_window_main(const st_win_opts *o)
     glfwSetWindowRefreshCallback(a->win, glfw_refresh);
     glfwSetWindowFocusCallback(a->win, glfw_focus);
     glfwSetCursorEnterCallback(a->win, glfw_enter);
+    glfwSetWindowCloseCallback(a->win, glfw_close);
     /* Replays start with the GUI hidden (their references predate it; the
      * script's `gui on` shows it). */
     st_gui_init(a, !o->no_gui && !rp);

@@ -154,6 +154,13 @@ static void drop_caches(st_hier *h, unsigned from)
     }
 }
 
+char *st_levels_phrase(unsigned top, char *buf, size_t n)
+{
+    if (top == 0) snprintf(buf, n, "1 level (0)");
+    else snprintf(buf, n, "%u levels (0..%u)", top + 1, top);
+    return buf;
+}
+
 void st_hier_free(st_hier *h)
 {
     st_map_free(&h->map);

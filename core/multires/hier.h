@@ -80,6 +80,10 @@ typedef struct st_hier {
  * triangles only).  h is left empty on failure. */
 int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const st_hier_opts *opts, st_error *err);
 void st_hier_free(st_hier *h);
+/* The one wording of a hierarchy's depth, for every command and the
+ * window: top 16 is "17 levels (0..16)", top 0 "1 level (0)".  Levels are
+ * numbered from 0, so the count is top + 1.  Returns buf. */
+char *st_levels_phrase(unsigned top, char *buf, size_t n);
 
 /* Adds levels by regular refinement until top == levels (zero details). */
 int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err);
