@@ -87,29 +87,55 @@ static void box_levels(st_app *a, int base, int dir)
     if (!rc) st_app_message(a, 0, "box levels %u..%u", d->box.base_level, d->box.max_level);
 }
 
+/* The first time the box is shown on a model it goes where the user
+ * looks: a cube of a fifth of the model's size around the surface point
+ * under the cursor, or else the half of the model's bounding box that
+ * faces the camera (along the axis closest to the view), so that the
+ * visible side is refined, not the inside of the body.  Its levels: from
+ * 0 to the displayed level + 1. */
+static void place_box(st_app *a, st_adapt_params *b)
+{
+    const float *bb = a->cc.bbox;
+    double p[3];
+    if (st_app_surface_at_cursor(a, p)) {
+        for (int k = 0; k < 3; k++) {
+            double h = 0.1 * (bb[k + 3] - bb[k]);
+            b->box_lo[k] = p[k] - h;
+            b->box_hi[k] = p[k] + h;
+        }
+    } else {
+        double right[3], up[3], back[3];
+        st_camctl_axes(&a->cc, right, up, back);
+        int axis = 0;
+        for (int k = 1; k < 3; k++)
+            if (fabs(back[k]) > fabs(back[axis])) axis = k;
+        for (int k = 0; k < 3; k++) {
+            b->box_lo[k] = bb[k];
+            b->box_hi[k] = bb[k + 3];
+        }
+        /* A little past the middle, so that the box crosses the surface of
+         * a thin model too. */
+        double mid = 0.5 * (bb[axis] + bb[axis + 3]), past = 0.05 * (bb[axis + 3] - bb[axis]);
+        if (back[axis] > 0) b->box_lo[axis] = mid - past;
+        else b->box_hi[axis] = mid + past;
+    }
+    b->has_box = 1;
+    b->base_level = 0;
+    unsigned shown = st_doc_display_map_level(&a->doc);
+    b->max_level = shown + 1 < ST_MAX_LEVELS ? shown + 1 : shown;
+}
+
 static void toggle_box(st_app *a)
 {
     st_doc *d = &a->doc;
     st_adapt_params b = d->box;
-    if (!b.has_box || (b.box_lo[0] == b.box_hi[0] && b.box_lo[1] == b.box_hi[1])) {
-        const float *bb = a->cc.bbox;
-        for (int k = 0; k < 3; k++) {
-            double c = 0.5 * (bb[k] + bb[k + 3]), h = 0.2 * (bb[k + 3] - bb[k]);
-            b.box_lo[k] = c - h;
-            b.box_hi[k] = c + h;
-        }
-        /* Start the box on the right half, so that it is not all inside. */
-        double sx = 0.3 * (bb[3] - bb[0]);
-        b.box_lo[0] += sx;
-        b.box_hi[0] += sx;
-        b.has_box = 1;
-        if (b.max_level == 0) { b.base_level = 0; b.max_level = d->h.map.top + 1; }
-    }
+    if (!d->box_on && !a->box_placed) place_box(a, &b);
     st_error err;
     double t0 = st_now_ms();
     int rc = st_doc_set_box(d, &b, !d->box_on, &err);
     report(a, rc, &err, "cannot change the interest box");
     if (!rc) {
+        a->box_placed = 1;
         char t[32];
         st_app_message(a, 0, "interest box %s (%s)", d->box_on ? "on" : "off", st_app_fmt_ms(a, st_now_ms() - t0, t, sizeof t));
     }

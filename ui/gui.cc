@@ -59,6 +59,8 @@ struct gui_state {
     /* The pointer as the window's events carried it (window coordinates). */
     float mx = -FLT_MAX, my = -FLT_MAX;
     bool down[3] = {}, pressed[3] = {};
+    bool fed_down[3] = {};     /* io.MouseDown as the last frame had it */
+    float held_wheel[2] = {};  /* a wheel that waits for the frame after a press (st_gui_frame) */
     /* Keys pressed since the last frame, and releases held back until a
      * frame has seen them down (ImGui 1.86 reads key states, not events: a
      * press and release between two frames, such as a fast typist's Enter
@@ -1147,8 +1149,27 @@ void st_gui_frame(st_app *a)
     ImGui_ImplGlfw_NewFrame();
     ImGuiIO &io = ImGui::GetIO();
     io.MousePos = ImVec2(g.mx, g.my);
-    for (int i = 0; i < 5; i++) io.MouseDown[i] = i < 3 && (g.down[i] || g.pressed[i]);
-    for (bool &p : g.pressed) p = false;
+    /* What you click is what you see: ImGui applies a wheel's scroll in
+     * the frame that reads it, so a press read in the same frame would hit
+     * the item under the pointer after the scroll, which no frame has shown
+     * (the list drawn at the old position, the click on another folder).
+     * The user clicked what the last frame showed: a new press that comes
+     * with an unshown wheel is read first, and the wheel in the next frame. */
+    io.MouseWheel += g.held_wheel[0];
+    io.MouseWheelH += g.held_wheel[1];
+    g.held_wheel[0] = g.held_wheel[1] = 0;
+    bool new_press = false;
+    for (int i = 0; i < 5; i++) {
+        bool want = i < 3 && (g.down[i] || g.pressed[i]);
+        new_press = new_press || (want && !g.fed_down[i]);
+        io.MouseDown[i] = want;
+        if (i < 3) { g.fed_down[i] = want; g.pressed[i] = false; }
+    }
+    if (new_press && (io.MouseWheel != 0 || io.MouseWheelH != 0)) {
+        g.held_wheel[0] = io.MouseWheel;
+        g.held_wheel[1] = io.MouseWheelH;
+        io.MouseWheel = io.MouseWheelH = 0;
+    }
     if (a->masked_times) io.DeltaTime = 1.0f / 60;   /* replays: the same frames whatever the clock */
     ImGui::NewFrame();
     g.probe.clear();
@@ -1216,6 +1237,13 @@ void st_gui_job_mouse_button(int button, int action)
     if (!st_gui_shown() || button < 0 || button >= 3) return;
     if (action == GLFW_RELEASE) g.down[button] = false;
     else g.down[button] = g.pressed[button] = true;
+}
+
+int st_gui_wants_frames(void)
+{
+    if (!g.init || !g.shown) return 0;
+    ImGuiIO &io = ImGui::GetIO();
+    return g.held_wheel[0] != 0 || g.held_wheel[1] != 0 || io.MouseWheel != 0 || io.MouseWheelH != 0;
 }
 
 int st_gui_scroll(double dx, double dy)

@@ -273,6 +273,13 @@ static uint32_t pick_vertex(st_app *a, double x, double y)
     return slot != ST_NIL && slot < a->r.cage.nverts ? a->r.cage.vid[slot] : ST_NIL;
 }
 
+int st_app_surface_at_cursor(st_app *a, double pos[3])
+{
+    double n[3];
+    return a->doc.loaded && !a->busy && !ensure_pick(a) &&
+           st_pick_surface(&a->pick, &a->cc, (int)floor(a->mx), (int)floor(a->my), pos, n);
+}
+
 void st_app_update_hover(st_app *a)
 {
     if (a->tool == ST_TOOL_SELECT) {
@@ -1056,7 +1063,7 @@ int st_window_main(const st_win_opts *o)
         st_gui_run_pending(a);
         glfwGetFramebufferSize(a->win, &a->fb_w, &a->fb_h);
         glfwGetWindowSize(a->win, &a->win_w, &a->win_h);
-        if (st_app_sync(a)) st_app_want_frames(a);
+        if (st_app_sync(a) || st_gui_wants_frames()) st_app_want_frames(a);
         probe_shot_request(a);
         /* Idle: nothing came in, nothing changed, no drag or stroke going
          * on.  The timeout still wakes the loop for the recovery save and
