@@ -28,11 +28,21 @@
 static const char *const scheme_cycle[] = { "catmull-clark", "loop", "butterfly", "quad-triangle", "sqrt3", "doo-sabin" };
 #define NSCHEMES (sizeof scheme_cycle / sizeof scheme_cycle[0])
 
-static const char *next_scheme(const char *cur)
+/* The scheme after cur in the cycle that the control mesh can take and is
+ * not the model's own (Loop, Butterfly and sqrt3 are skipped on quads, as
+ * the Scheme menu greys them out); cur itself when there is none. */
+static const char *next_scheme(st_app *a, const char *cur)
 {
+    unsigned at = NSCHEMES - 1;
     for (unsigned i = 0; i < NSCHEMES; i++)
-        if (cur && !strcmp(cur, scheme_cycle[i])) return scheme_cycle[(i + 1) % NSCHEMES];
-    return scheme_cycle[0];
+        if (cur && !strcmp(cur, scheme_cycle[i])) at = i;
+    const char *own = a->doc.scheme ? a->doc.scheme->name : "";
+    for (unsigned k = 1; k <= NSCHEMES; k++) {
+        const char *s = scheme_cycle[(at + k) % NSCHEMES];
+        st_error err;
+        if (strcmp(s, own) && !st_doc_scheme_accepts(&a->doc, s, &err)) return s;
+    }
+    return cur;
 }
 
 static void report(st_app *a, int rc, const st_error *err, const char *what)
@@ -276,9 +286,15 @@ static void delete_coarsest(st_app *a)
     report(a, st_doc_remove_bottom(&a->doc, &err), &err, "cannot delete the coarsest level");
 }
 /* K asks first (the rebuild loses the details): the scheme question. */
-static void change_scheme(st_app *a) { a->pending_scheme = next_scheme(a->doc.scheme ? a->doc.scheme->name : NULL); }
+static void change_scheme(st_app *a)
+{
+    const char *own = a->doc.scheme ? a->doc.scheme->name : NULL;
+    const char *s = next_scheme(a, own);
+    if (s && s != own) a->pending_scheme = s;
+    else st_app_message(a, 0, "no other scheme can take this control mesh");
+}
 static void rebuild_levels(st_app *a) { st_app_request_rebuild(a); }
-static void scheme_next(st_app *a) { a->pending_scheme = next_scheme(a->pending_scheme); }
+static void scheme_next(st_app *a) { a->pending_scheme = next_scheme(a, a->pending_scheme); }
 static void scheme_confirm(st_app *a)
 {
     const char *s = a->pending_scheme;

@@ -284,6 +284,19 @@ int st_doc_open_progress(st_doc *d, const char *path, const char *scheme, unsign
     return ST_OK;
 }
 
+int st_doc_scheme_accepts(st_doc *d, const char *scheme, st_error *err)
+{
+    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
+    const st_scheme *sc = st_scheme_find(scheme ? scheme : "");
+    if (!sc) return st_fail(err, ST_ERR_INVALID, "unknown scheme '%s'", scheme ? scheme : "");
+    st_mesh m;
+    st_mesh_init(&m);
+    int rc = st_hier_level_mesh(&d->h, 0, &m, err);
+    if (!rc) rc = st_scheme_accepts(sc, &m, err);
+    st_mesh_free(&m);
+    return rc;
+}
+
 int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)
 {
     return st_doc_set_scheme_progress(d, scheme, NULL, NULL, err);

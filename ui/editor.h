@@ -241,6 +241,10 @@ int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels
  * (level 0 as edited, with the file's crease tags while level 0 is still
  * the loaded one).  Undoable. */
 int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err);
+/* Whether st_doc_set_scheme(scheme) can rebuild the control mesh as it is
+ * (level 0 as edited): ST_OK, or why not in err (core's
+ * st_scheme_accepts: loop on quads, sqrt3 with holes, ...). */
+int st_doc_scheme_accepts(st_doc *d, const char *scheme, st_error *err);
 
 /* The long operations with progress and cancellation: progress (may be
  * NULL) is called with the fraction done (0 first, 1 last, increasing), a

@@ -60,7 +60,10 @@ struct gui_state {
     float mx = -FLT_MAX, my = -FLT_MAX;
     bool down[3] = {}, pressed[3] = {};
     bool fed_down[3] = {};     /* io.MouseDown as the last frame had it */
-    float held_wheel[2] = {};  /* a wheel that waits for the frame after a press (st_gui_frame) */
+    float held_wheel[2] = {};
+    std::string scheme_refusal[6];   /* per entry of schemes[]: why not, "" when it can */
+    uint64_t scheme_refusal_rev = 0; /* st_doc.revision + 1 they were computed for (0: never) */
+    std::string scheme_refusal_path;  /* a wheel that waits for the frame after a press (st_gui_frame) */
     /* Keys pressed since the last frame, and releases held back until a
      * frame has seen them down (ImGui 1.86 reads key states, not events: a
      * press and release between two frames, such as a fast typist's Enter
@@ -434,6 +437,20 @@ void export_menu(menu_pass &m, const st_action *act)
     m_end(m);
 }
 
+/* Which schemes the control mesh cannot take, and why (greyed out in the
+ * Scheme menu, the reason as a tooltip): asked of the document again only
+ * when the model changed. */
+void scheme_refusals_update(st_app *a)
+{
+    if (g.scheme_refusal_rev == a->doc.revision + 1 && g.scheme_refusal_path == a->doc.path) return;
+    g.scheme_refusal_rev = a->doc.revision + 1;
+    g.scheme_refusal_path = a->doc.path;
+    for (size_t i = 0; i < sizeof schemes / sizeof schemes[0]; i++) {
+        st_error err;
+        g.scheme_refusal[i] = st_doc_scheme_accepts(&a->doc, schemes[i], &err) ? err.msg : "";
+    }
+}
+
 /* The scheme submenu proposes a scheme; the question (scheme_window)
  * confirms it, as K then Y do. */
 void scheme_menu(menu_pass &m, const st_action *act)
@@ -441,8 +458,14 @@ void scheme_menu(menu_pass &m, const st_action *act)
     bool enabled = st_action_enabled(act, m.a) != 0;
     if (!m_begin(m, "Scheme", enabled)) return;
     const char *cur = m.a->doc.scheme ? m.a->doc.scheme->name : "";
-    for (const char *s : schemes) {
-        if (m_item(m, s, nullptr, !strcmp(cur, s), strcmp(cur, s) != 0)) {
+    scheme_refusals_update(m.a);
+    for (size_t i = 0; i < sizeof schemes / sizeof schemes[0]; i++) {
+        const char *s = schemes[i];
+        bool takes = g.scheme_refusal[i].empty();
+        bool clicked = m_item(m, s, nullptr, !strcmp(cur, s), strcmp(cur, s) != 0 && takes);
+        if (m.draw && !takes && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+            ImGui::SetTooltip("%s", g.scheme_refusal[i].c_str());
+        if (clicked) {
             m.a->pending_scheme = s;
             if (!m.draw && m.arg && !strcmp(m.arg, "confirm")) st_actions[ST_ACT_SCHEME_CONFIRM].run(m.a);
         }
