@@ -420,7 +420,7 @@ static void box_base_down(st_app *a) { box_levels(a, 1, -1); }
 
 /* View */
 static void frame_all(st_app *a) { st_app_frame_model(a); }
-static void view(st_app *a, int v) { st_camctl_view(&a->cc, v, st_app_aspect(a)); st_pick_invalidate(&a->pick); }
+static void view(st_app *a, int v) { st_app_view(a, v); }
 static void view_front(st_app *a) { view(a, ST_CV_FRONT); }
 static void view_back(st_app *a) { view(a, ST_CV_BACK); }
 static void view_right(st_app *a) { view(a, ST_CV_RIGHT); }

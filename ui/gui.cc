@@ -302,7 +302,7 @@ void open_dialog(st_app *a, int kind, int format)
     /* The open document's folder, or the working directory: not the
      * folder of the default model shown at start (assets/), which is not
      * the user's. */
-    bool own = doc[0] && strcmp(doc, a->default_path) != 0;
+    bool own = doc[0] && !a->showing_default;
     std::string start = own ? dir_of(doc) : ".";
     if (kind != ST_DIALOG_OPEN && kind != ST_DIALOG_IMPORT && doc[0]) {
         /* The model's name with the extension of what is written. */
@@ -1260,6 +1260,13 @@ void st_gui_job_mouse_button(int button, int action)
     if (!st_gui_shown() || button < 0 || button >= 3) return;
     if (action == GLFW_RELEASE) g.down[button] = false;
     else g.down[button] = g.pressed[button] = true;
+}
+
+float st_gui_panel_pixels(int win_w)
+{
+    if (!g.init || !g.shown) return 0;
+    float lo = 200 * g.scale, hi = std::max(lo, (float)win_w * 0.6f);   /* panel_width() before the first frame */
+    return std::min(hi, std::max(lo, g.panel_w));
 }
 
 int st_gui_wants_frames(void)

@@ -290,6 +290,7 @@ int st_app_open(st_app *a, const char *path)
     a->hover_vid = ST_NIL;
     a->op = ST_OP_NONE;
     a->untitled = 0;
+    a->showing_default = 0;
     a->box_placed = 0;
     st_app_sync(a);
     a->autosave_dirty = 0;   /* opening is not an edit */

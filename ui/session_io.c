@@ -123,6 +123,7 @@ int st_app_restore(st_app *a, const char *path)
     }
     st_doc *d = &a->doc;
     a->untitled = 0;
+    a->showing_default = 0;
     /* The window's settings outlive the model: the brush, and the budgets
      * given on the command line (--mem-budget). */
     st_brush brush = d->brush;

@@ -248,11 +248,27 @@ void st_app_draw(st_app *a)
 
 /* ---- camera -------------------------------------------------------------------- */
 
-void st_app_frame_model(st_app *a)
+/* Framing fits the model into the part of the window the side panel
+ * leaves free, and centres it there: the fit uses that part's aspect, and
+ * a pan of half the panel's width moves the model to its centre. */
+static void centre_in_free_part(st_app *a, int view)
 {
-    if (a->r.has_surf && a->r.surf.nverts) st_camctl_frame_all(&a->cc, a->r.surf.bbox, st_app_aspect(a));
+    int panel = a->win_w > 0 ? (int)lround(st_gui_panel_pixels(a->win_w) * a->fb_w / a->win_w) : 0;
+    int free_w = a->fb_w - panel > a->fb_w / 4 ? a->fb_w - panel : a->fb_w;
+    float aspect = a->fb_h > 0 ? (float)free_w / (float)a->fb_h : 1;
+    if (view < 0) st_camctl_frame_all(&a->cc, a->r.surf.bbox, aspect);
+    else st_camctl_view(&a->cc, view, aspect);
+    if (free_w < a->fb_w) st_camctl_pan(&a->cc, -0.5f * (float)(a->fb_w - free_w), 0, a->fb_w, a->fb_h);
     st_pick_invalidate(&a->pick);
 }
+
+void st_app_frame_model(st_app *a)
+{
+    if (a->r.has_surf && a->r.surf.nverts) centre_in_free_part(a, -1);
+    st_pick_invalidate(&a->pick);
+}
+
+void st_app_view(st_app *a, int view) { centre_in_free_part(a, view); }
 
 /* ---- picking helpers ---------------------------------------------------------- */
 
@@ -1033,12 +1049,14 @@ int st_window_main(const st_win_opts *o)
     st_camctl_init(&a->cc, bb, st_app_aspect(a));
 
     const char *path = o->file ? o->file : a->default_path;
-    if (st_app_open(a, path) && o->file && !rp) {
+    int opened = st_app_open(a, path);
+    a->showing_default = !o->file && !opened;
+    if (opened && o->file && !rp) {
         /* The file given on the command line failed: say so, fall back to
          * the default asset so that the window still opens. */
         char keep[ST_MSG_LEN];
         memcpy(keep, a->msg, sizeof keep);
-        st_app_open(a, a->default_path);
+        a->showing_default = !st_app_open(a, a->default_path);
         memcpy(a->msg, keep, sizeof keep);
         a->msg_error = 1;
     }

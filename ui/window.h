@@ -102,6 +102,7 @@ typedef struct st_app {
      * recovery file at once (session_io.c), and quitting with
      * revision != saved_revision asks first (st_app_request_quit). */
     uint64_t saved_revision, recovery_revision;
+    int showing_default;       /* the model shown is the default one, opened because no file was given */
     int box_placed;            /* the interest box was placed (by the user, a session, or its first I) */
     int quit_asking;           /* the question "save before quitting?" is up */
     int quit_after_save;       /* its Save opened Save As (untitled): quit once that saves */
@@ -160,6 +161,9 @@ int st_app_save(st_app *a);                        /* Ctrl+S; 0 saved */
 void st_app_request_quit(st_app *a);
 void st_app_saved(st_app *a);                       /* after a save the user asked for */
 int st_app_unsaved(const st_app *a);
+/* Home and the numbered views: the model fitted and centred in the part of
+ * the window the side panel leaves free (view: ST_CV_*). */
+void st_app_view(st_app *a, int view);
 /* The displayed surface's point under the cursor (picking); 0: none. */
 int st_app_surface_at_cursor(st_app *a, double pos[3]);
 int st_app_restore(st_app *a, const char *path);   /* opens a .strata session */
