@@ -213,8 +213,8 @@ fi
 rm -f "$STRATA_RECOVERY"
 out=$(win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/quit.txt" "$ASSETS/torus.obj" 2>&1); rc=$?
 if [ "$rc" -eq 0 ] && grep -q "replay .* passed" <<<"$out" && ! grep -q NOT_QUIT <<<"$out" && [ -s "$STRATA_RECOVERY" ] &&
-   "$EXE" convert "$STRATA_RECOVERY" --level 2 -o "$TMP/rec2.obj" > /dev/null &&
-   "$EXE" convert "$ASSETS/torus.obj" --levels 2 --level 2 -o "$TMP/orig2.obj" > /dev/null &&
+   "$EXE" convert "$STRATA_RECOVERY" "$TMP/rec2.obj" --level 2 > /dev/null &&
+   "$EXE" convert "$ASSETS/torus.obj" "$TMP/orig2.obj" --levels 2 --level 2 > /dev/null &&
    ! cmp -s "$TMP/rec2.obj" "$TMP/orig2.obj"; then ok
 else bad "quit question (quit.txt): exit $rc, recovery $(ls -l "$STRATA_RECOVERY" 2>&1): $(tail -5 <<<"$out")"; fi
 mkdir -p "$TMP/quitsave" && cp "$ASSETS/torus.obj" "$TMP/quitsave/"
@@ -244,8 +244,10 @@ run 2 "--size wants" "$EXE" --size 12 "$ASSETS/cube.obj"
 # recovery file, which Ctrl+R restores at the next start.
 (
     cd "$TMP" || exit 1
-    printf 'wait 1\nkey ctrl+d\nlevel edit 1\nkey ctrl+s\nexpect message saved\nquit\n' > save.txt
-    printf 'wait 1\nexpect top 2\nexpect edit_level 1\nquit\n' > load.txt
+    # The session keeps the tool, its strength and falloff, the mirror
+    # axes and the display toggles (wireframe on, cage off).
+    printf 'wait 1\nkey ctrl+d\nlevel edit 1\nkey shift+c\nbrush strength 0.3\nbrush falloff sharp\nbrush symmetry xz\nkey alt+shift+z\nkey alt+c\nexpect wire 1\nexpect cage 0\nkey ctrl+s\nexpect message saved\nquit\n' > save.txt
+    printf 'wait 1\nexpect top 2\nexpect edit_level 1\nexpect tool crease\nexpect brush_strength 30\nexpect falloff sharp\nexpect symmetry xz\nexpect wire 1\nexpect cage 0\nexpect undo_depth 0\nquit\n' > load.txt
     printf 'wait 1\nkey ctrl+d\nkey ctrl+d\nquit\n' > edit.txt
     printf 'wait 1\nexpect top 1\nkey ctrl+r\nexpect top 3\nexpect message opened\nquit\n' > recover.txt
 ) || bad "cannot write the session scripts"

@@ -207,7 +207,7 @@ static void test_levels_scheme_open(void)
 /* ---- saving ------------------------------------------------------------------ */
 
 static const char *g_save_path;
-static int op_save(st_doc *d, watcher *w, st_error *err) { return st_doc_save_session(d, g_save_path, NULL, watch, w, err); }
+static int op_save(st_doc *d, watcher *w, st_error *err) { return st_doc_save_session(d, g_save_path, NULL, NULL, watch, w, err); }
 
 /* Files in STRATA_TMP whose name starts with `stem` (temporaries). */
 static int count_files(const char *stem)

@@ -263,7 +263,7 @@ int st_doc_set_scheme_progress(st_doc *d, const char *scheme, int (*progress)(vo
 int st_doc_add_level_progress(st_doc *d, int (*progress)(void *ctx, double fraction), void *ctx, st_error *err);
 /* Saves the document as a session (core/io/session.h: hierarchy, box,
  * levels, base mesh, layers, mask; view may be NULL); editor_session.c. */
-int st_doc_save_session(const st_doc *d, const char *path, const st_session_view *view,
+int st_doc_save_session(const st_doc *d, const char *path, const st_session_view *view, const st_session_tool *tool,
                         int (*progress)(void *ctx, double fraction), void *ctx, st_error *err);
 
 /* Rebuild levels: the finest level (the loaded mesh when there is one

@@ -4,7 +4,7 @@
 
 #include "core/io/session.h"
 
-int st_doc_save_session(const st_doc *d, const char *path, const st_session_view *view,
+int st_doc_save_session(const st_doc *d, const char *path, const st_session_view *view, const st_session_tool *tool,
                         int (*progress)(void *ctx, double fraction), void *ctx, st_error *err)
 {
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
@@ -22,6 +22,7 @@ int st_doc_save_session(const st_doc *d, const char *path, const st_session_view
         .base = d->base.nverts ? &d->base : NULL,
         .layers = &d->layers,
         .mask = &d->mask,
+        .tool = tool,
     };
     /* The first report before anything is written (core's come after each
      * buffer). */

@@ -44,6 +44,7 @@ typedef struct doc_job {
     const char *path, *scheme;
     unsigned levels;
     const st_session_view *view;   /* JOB_SAVE */
+    const st_session_tool *tool;   /* JOB_SAVE */
     st_session *session;           /* JOB_LOAD_SESSION: loaded here, the document untouched */
     st_error err;
     int rc;
@@ -101,7 +102,7 @@ static void *job_main(void *p)
     case JOB_OPEN: j->rc = st_doc_open_progress(j->d, j->path, j->scheme, j->levels, job_cancelled, j, &j->err); break;
     case JOB_ADD_LEVEL: j->rc = st_doc_add_level_progress(j->d, job_cancelled, j, &j->err); break;
     case JOB_REBUILD: j->rc = st_doc_rebuild_levels(j->d, job_cancelled, j, j->msg, sizeof j->msg, &j->err); break;
-    case JOB_SAVE: j->rc = st_doc_save_session(j->d, j->path, j->view, job_cancelled, j, &j->err); break;
+    case JOB_SAVE: j->rc = st_doc_save_session(j->d, j->path, j->view, j->tool, job_cancelled, j, &j->err); break;
     case JOB_LOAD_SESSION:
         /* Reading a session has no progress of its own: a cancel before it,
          * or during it (the loaded session is then dropped). */
@@ -389,11 +390,11 @@ int st_app_job_load_session(st_app *a, const char *path, st_session *s, st_error
     return job_was_cancelled(&j) ? ST_APP_CANCELLED : rc;
 }
 
-int st_app_job_save(st_app *a, const char *path, const st_session_view *view, st_error *err)
+int st_app_job_save(st_app *a, const char *path, const st_session_view *view, const st_session_tool *tool, st_error *err)
 {
     char what[300];
     snprintf(what, sizeof what, "working... saving %s (Esc cancels)", st_path_base(path));
-    doc_job j = { .kind = JOB_SAVE, .path = path, .view = view };
+    doc_job j = { .kind = JOB_SAVE, .path = path, .view = view, .tool = tool };
     int rc = run_job(a, &j, what);
     if (err) *err = j.err;
     return job_was_cancelled(&j) ? ST_APP_CANCELLED : rc;

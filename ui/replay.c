@@ -450,6 +450,15 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
         snprintf(actual, sizeof actual, "%s", a->tool == ST_TOOL_SELECT ? "select" : st_brush_name(a->tool));
         for (char *q = actual; *q; q++) if (*q == ' ') *q = '_';
         ok = e->arg && !strcasecmp(actual, e->arg);
+    } else if (!strcmp(w, "wire") || !strcmp(w, "cage")) {
+        int on = !strcmp(w, "wire") ? a->wire : a->cage;
+        snprintf(actual, sizeof actual, "%d", on);
+        ok = on == (want != 0);
+    } else if (!strcmp(w, "brush_strength")) {
+        /* In hundredths: expect brush_strength 30 */
+        long got = lround(100 * d->brush.strength);
+        snprintf(actual, sizeof actual, "%ld", got);
+        ok = got == want;
     } else if (!strcmp(w, "falloff")) {
         snprintf(actual, sizeof actual, "%s", st_falloff_name(d->brush.falloff));
         ok = e->arg && !strcmp(actual, e->arg);

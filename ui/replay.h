@@ -33,6 +33,8 @@
  *                               dialog quit|scheme|none (the question that is up),
  *                               unsaved 0/1 (changes since the last open or save),
  *                               recovery 0/1 (the recovery file holds the last step),
+ *                               wire 0/1, cage 0/1 (display toggles),
+ *                               brush_strength N (hundredths),
  *                               centred (the model's centre projects to the middle
  *                               of the part of the window the side panel leaves free),
  *                               gui (0/1: the GUI is shown), checker (0/1: the UV

@@ -4,6 +4,7 @@
  * open like meshes (command line or drop). */
 #include "window.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +34,39 @@ static void view_of(const st_app *a, st_session_view *v)
     v->ortho_height = c->ortho_height;
 }
 
+/* The window's settings that a session keeps (core/io/session.h). */
+static void tool_of(const st_app *a, st_session_tool *t)
+{
+    const st_brush *b = &a->doc.brush;
+    memset(t, 0, sizeof *t);
+    t->tool = a->tool == ST_TOOL_SELECT ? ST_SESSION_NO_TOOL : (uint32_t)a->tool;
+    t->radius = b->radius > 0 && isfinite(b->radius) ? b->radius : 1;
+    t->strength = b->strength < 0 ? 0 : b->strength > 1 ? 1 : b->strength;
+    t->falloff = (uint32_t)b->falloff;
+    t->mirror = (b->mirror_x ? 1u : 0) | (b->mirror_y ? 2u : 0) | (b->mirror_z ? 4u : 0);
+    t->show = (a->cage ? ST_SESSION_SHOW_CAGE : 0) | (a->wire ? ST_SESSION_SHOW_WIRE : 0) |
+              (a->shading == ST_SHADE_FLAT ? ST_SESSION_SHOW_FLAT : 0) | (a->checker ? ST_SESSION_SHOW_CHECKER : 0);
+}
+
+/* Back from a session: the tool through the action that picks it (so the
+ * brush's per-tool settings follow), then the values saved. */
+static void tool_apply(st_app *a, const st_session_tool *t)
+{
+    st_brush *b = &a->doc.brush;
+    if (t->tool == ST_SESSION_NO_TOOL) a->tool = ST_TOOL_SELECT;
+    else if (t->tool < ST_BRUSH_COUNT) { st_brush_set_tool(b, (int)t->tool); a->tool = (int)t->tool; }
+    b->radius = t->radius;
+    b->strength = t->strength;
+    if (t->falloff < ST_FALLOFF_COUNT) b->falloff = (int)t->falloff;
+    b->mirror_x = (t->mirror & 1) != 0;
+    b->mirror_y = (t->mirror & 2) != 0;
+    b->mirror_z = (t->mirror & 4) != 0;
+    a->cage = (t->show & ST_SESSION_SHOW_CAGE) != 0;
+    a->wire = (t->show & ST_SESSION_SHOW_WIRE) != 0;
+    a->shading = t->show & ST_SESSION_SHOW_FLAT ? ST_SHADE_FLAT : ST_SHADE_SMOOTH;
+    a->checker = (t->show & ST_SESSION_SHOW_CHECKER) != 0;
+}
+
 /* A save the user asked for runs as a job with a Cancel button (jobs.c);
  * the autosave (quiet) does not. */
 int st_app_save_session(st_app *a, const char *path, int quiet)
@@ -40,8 +74,10 @@ int st_app_save_session(st_app *a, const char *path, int quiet)
     if (!a->doc.loaded) return -1;
     st_session_view v;
     view_of(a, &v);
+    st_session_tool t;
+    tool_of(a, &t);
     st_error err;
-    int rc = quiet ? st_doc_save_session(&a->doc, path, &v, NULL, NULL, &err) : st_app_job_save(a, path, &v, &err);
+    int rc = quiet ? st_doc_save_session(&a->doc, path, &v, &t, NULL, NULL, &err) : st_app_job_save(a, path, &v, &t, &err);
     if (rc == ST_APP_CANCELLED) {
         st_app_message(a, 0, "save cancelled: %s is as it was", path);
         return -1;
@@ -180,6 +216,7 @@ int st_app_restore(st_app *a, const char *path)
     } else {
         st_camctl_frame_all(&a->cc, a->r.surf.bbox, a->fb_h > 0 ? (float)a->fb_w / a->fb_h : 1);
     }
+    if (s.has_tool) tool_apply(a, &s.tool);
     st_pick_invalidate(&a->pick);
     st_session_free(&s);
     char lv[48];

@@ -183,7 +183,7 @@ void st_app_add_level(st_app *a);                   /* Ctrl+D */
 void st_app_change_scheme(st_app *a, const char *scheme);
 /* A save as a job (st_doc_save_session): 0, ST_APP_CANCELLED (the file as
  * it was), or the editor's error code with err filled. */
-int st_app_job_save(st_app *a, const char *path, const st_session_view *view, st_error *err);
+int st_app_job_save(st_app *a, const char *path, const st_session_view *view, const st_session_tool *tool, st_error *err);
 /* st_session_load as a job (0, ST_APP_CANCELLED: nothing loaded, or the
  * error code with err filled); the document is not touched. */
 int st_app_job_load_session(st_app *a, const char *path, st_session *s, st_error *err);

@@ -77,6 +77,8 @@ static void move_raw(st_session *dst, st_session *src)
     dst->base = src->base;
     dst->layers = src->layers;
     dst->mask = src->mask;
+    dst->has_tool = src->has_tool;
+    dst->tool = src->tool;
     st_mesh_init(&src->base);
     st_session_init(src);
 }
@@ -101,6 +103,7 @@ st_session_ref st_session_ref_of(const st_session *s)
     r.base = s->has_base ? &s->base : NULL;
     r.layers = &s->layers;
     r.mask = &s->mask;
+    r.tool = s->has_tool ? &s->tool : NULL;
     return r;
 }
 
@@ -121,6 +124,7 @@ int st_session_is_path(const char *path)
 #define TAG_VIEW TAG('V', 'I', 'E', 'W')
 #define TAG_BASE TAG('B', 'A', 'S', 'E')
 #define TAG_MASK TAG('m', 'a', 's', 'k')
+#define TAG_TOOL TAG('t', 'o', 'o', 'l')
 #define TAG_LAYR TAG('l', 'a', 'y', 'r')
 /* The same payload as layr when a layer is on level 0, which versions
  * before level-0 layers refuse in layr: under this tag they skip it as an
@@ -224,6 +228,17 @@ static void w_view(st_bw *w, const st_session_ref *r)
     st_bw_f32(w, v->fovy);
     st_bw_u32(w, (uint32_t)v->ortho);
     st_bw_f32(w, v->ortho_height);
+}
+
+static void w_tool(st_bw *w, const st_session_ref *r)
+{
+    const st_session_tool *t = r->tool;
+    st_bw_u32(w, t->tool);
+    st_bw_f64(w, t->radius);
+    st_bw_f64(w, t->strength);
+    st_bw_u32(w, t->falloff);
+    st_bw_u32(w, t->mirror);
+    st_bw_u32(w, t->show);
 }
 
 static void w_base(st_bw *w, const st_session_ref *r)
@@ -356,9 +371,12 @@ static void w_base_uv(st_bw *w, const st_session_ref *r)
 }
 
 typedef struct chunk_def { uint32_t tag; chunk_fn fn; } chunk_def;
+/* Every tag at most once: HIER MAP SHRP DETL ADPT EDIT VIEW BASE mask tool
+ * layr FVAR BUVS. */
+#define ST_SESSION_MAX_CHUNKS 13
 
 /* The chunks of r, in file order. */
-static unsigned chunk_list(const st_session_ref *r, chunk_def out[10])
+static unsigned chunk_list(const st_session_ref *r, chunk_def out[ST_SESSION_MAX_CHUNKS])
 {
     unsigned n = 0;
     out[n++] = (chunk_def){ TAG_HIER, w_hier };
@@ -370,6 +388,7 @@ static unsigned chunk_list(const st_session_ref *r, chunk_def out[10])
     if (r->view) out[n++] = (chunk_def){ TAG_VIEW, w_view };
     if (r->base) out[n++] = (chunk_def){ TAG_BASE, w_base };
     if (r->mask && mask_len(r->mask, r->h->map.verts.end)) out[n++] = (chunk_def){ TAG_MASK, w_mask };
+    if (r->tool) out[n++] = (chunk_def){ TAG_TOOL, w_tool };
     if (r->layers && r->layers->n)
         out[n++] = (chunk_def){ st_layers_on_level(r->layers, 0) ? TAG_LAY0 : TAG_LAYR, w_layers };
     if (r->h->fvar) out[n++] = (chunk_def){ TAG_FVAR, w_fvar };
@@ -411,6 +430,7 @@ static const char *chunk_words(uint32_t tag)
     case TAG_VIEW: return "view";
     case TAG_BASE: return "base mesh";
     case TAG_MASK: return "mask";
+    case TAG_TOOL: return "tool settings";
     case TAG_LAY0: case TAG_LAYR: return "sculpt layers";
     case TAG_FVAR: return "UVs";
     case TAG_BUVS: return "base mesh's UVs";
@@ -423,14 +443,18 @@ static const char *chunk_words(uint32_t tag)
  * or a synthesis carried past the double range, say): the file would not
  * load again, so nothing is written. */
 typedef struct chunk_plan {
-    chunk_def c[10];
-    uint64_t len[10];
+    chunk_def c[ST_SESSION_MAX_CHUNKS];
+    uint64_t len[ST_SESSION_MAX_CHUNKS];
     unsigned n;
     uint64_t total;
 } chunk_plan;
 
+static const char *tool_refusal(const st_session_tool *t);
+
 static int plan_chunks(const st_session_ref *r, chunk_plan *pl, st_error *err)
 {
+    if (r->tool && tool_refusal(r->tool))
+        return st_fail(err, ST_ERR_INVALID, "session: bad %s in the tool settings; nothing was written", tool_refusal(r->tool));
     pl->n = chunk_list(r, pl->c);
     pl->total = HEADER_BYTES + TRAILER_BYTES;
     st_bw *cnt = malloc(sizeof *cnt);
@@ -563,7 +587,7 @@ typedef struct load_ctx {
 
 enum { SEEN_HIER = 1, SEEN_MAP = 2, SEEN_SHRP = 4, SEEN_DETL = 8, SEEN_ADPT = 16, SEEN_EDIT = 32, SEEN_VIEW = 64, SEEN_BASE = 128,
        SEEN_MASK = 256, SEEN_LAYR = 512,
-       SEEN_FVAR = 1024, SEEN_BUVS = 2048 };
+       SEEN_FVAR = 1024, SEEN_BUVS = 2048, SEEN_TOOL = 4096 };
 
 static int r_hier(load_ctx *c, st_br *r)
 {
@@ -770,6 +794,35 @@ static int r_view(load_ctx *c, st_br *r)
     for (int k = 0; k < 8; k++) ok &= isfinite(f[k]) != 0;
     if (!ok) return st_br_fail(r, "view: bad value");
     c->s->has_view = 1;
+    return 0;
+}
+
+/* The one rule for the `tool` chunk's values, for the writer (which
+ * writes nothing the reader would refuse) and the reader. */
+static const char *tool_refusal(const st_session_tool *t)
+{
+    if (t->tool != ST_SESSION_NO_TOOL && t->tool > 255) return "tool index";
+    if (!(isfinite(t->radius) && t->radius > 0)) return "radius";
+    if (!(t->strength >= 0 && t->strength <= 1)) return "strength";
+    if (t->falloff > 255) return "falloff";
+    if (t->mirror > 7) return "mirror axes";
+    if (t->show > 15) return "display toggles";
+    return NULL;
+}
+
+static int r_tool(load_ctx *c, st_br *r)
+{
+    st_session_tool *t = &c->s->tool;
+    t->tool = st_br_u32(r);
+    t->radius = st_br_f64(r);
+    t->strength = st_br_f64(r);
+    t->falloff = st_br_u32(r);
+    t->mirror = st_br_u32(r);
+    t->show = st_br_u32(r);
+    if (r->failed) return -1;
+    const char *bad = tool_refusal(t);
+    if (bad) return st_br_fail(r, "tool settings: bad %s", bad);
+    c->s->has_tool = 1;
     return 0;
 }
 
@@ -1101,6 +1154,7 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
         case TAG_VIEW: bit = SEEN_VIEW; fn = r_view; break;
         case TAG_BASE: bit = SEEN_BASE; fn = r_base; break;
         case TAG_MASK: bit = SEEN_MASK; fn = r_mask; after = SEEN_MAP; break;
+        case TAG_TOOL: bit = SEEN_TOOL; fn = r_tool; break;
         case TAG_LAYR: bit = SEEN_LAYR; fn = r_layers; after = SEEN_MAP; break;
         case TAG_LAY0: bit = SEEN_LAYR; fn = r_layers0; after = SEEN_MAP; break;
         case TAG_FVAR: if (version >= SESSION_VERSION_UV) { bit = SEEN_FVAR; fn = r_fvar; after = SEEN_MAP; } break;

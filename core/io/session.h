@@ -67,6 +67,23 @@ typedef struct st_session_view {
     float ortho_height;
 } st_session_view;
 
+/* The window's settings a user expects back with the model (as Blender
+ * keeps a file's tool settings and overlays): the brush tool (an index,
+ * ST_SESSION_NO_TOOL for selection), its radius in object units, strength
+ * and falloff, the mirror axes (bits 1 x, 2 y, 4 z) and the display toggles
+ * (bits ST_SESSION_SHOW_*).  Core stores the numbers; ui gives them
+ * meaning.  Ancillary chunk `tool`: older readers skip it. */
+#define ST_SESSION_NO_TOOL 0xffffffffu
+enum { ST_SESSION_SHOW_CAGE = 1, ST_SESSION_SHOW_WIRE = 2, ST_SESSION_SHOW_FLAT = 4, ST_SESSION_SHOW_CHECKER = 8 };
+typedef struct st_session_tool {
+    uint32_t tool;                 /* < 256, or ST_SESSION_NO_TOOL */
+    double radius;                 /* finite, > 0 */
+    double strength;               /* finite, 0..1 */
+    uint32_t falloff;              /* < 256 */
+    uint32_t mirror;               /* bits 1 x, 2 y, 4 z */
+    uint32_t show;                 /* ST_SESSION_SHOW_* bits */
+} st_session_tool;
+
 /* A loaded session; owns everything in it. */
 typedef struct st_session {
     st_hier h;                     /* always valid after a successful load */
@@ -81,6 +98,8 @@ typedef struct st_session {
     st_mesh base;                  /* the control mesh as loaded, if stored */
     st_layers layers;              /* sculpt layers (empty when none were stored) */
     st_mask mask;                  /* sculpting mask (zero when none was stored) */
+    int has_tool;
+    st_session_tool tool;          /* the window's settings (has_tool: stored) */
 } st_session;
 
 /* What to save, by reference (nothing is copied). */
@@ -94,6 +113,7 @@ typedef struct st_session_ref {
     const st_mesh *base;           /* NULL: none */
     const st_layers *layers;       /* NULL or empty: none (must belong to h) */
     const st_mask *mask;           /* NULL or all zero: none */
+    const st_session_tool *tool;   /* NULL: none */
 } st_session_ref;
 
 void st_session_init(st_session *s);
