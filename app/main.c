@@ -2,6 +2,7 @@
 #include "cli.h"
 #include "core/base/membudget.h"
 
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -71,6 +72,10 @@ static int take_mem_budget(int *argc, char **argv, int keep)
 
 int main(int argc, char **argv)
 {
+    /* A write past the file-size limit (ulimit -f) fails with EFBIG and is
+     * reported, the old file kept (core/io/atomic_file.h), instead of the
+     * signal killing the process with a half-written temporary. */
+    signal(SIGXFSZ, SIG_IGN);
     if (argc < 2) return st_cmd_window(0, argv + 1);
     const char *cmd = argv[1];
     static const char *const subcommands[] = { "info", "subdivide", "adapt", "render", "convert", "filter", "rebuild", "bake", "deform", "help" };
