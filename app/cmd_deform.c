@@ -137,13 +137,14 @@ static int64_t apply_bump(st_session *s, unsigned l, const bump *b)
     uint32_t *darts = malloc((size_t)(nv ? nv : 1) * sizeof *darts);
     double (*pos)[3] = malloc((size_t)(nv ? nv : 1) * sizeof *pos);
     if (!vd || !darts || !pos) { free(vd); free(darts); free(pos); return -1; }
-    double r2 = b->r * b->r;
     for (uint32_t v = 0; v < nv; v++) {
         if (vd[v] == ST_NIL) continue;
         const double *p = st_pos(&h->map, v, l);
-        double q2 = 0, w, np[3];
+        double q2 = 0, np[3];
         for (int k = 0; k < 3; k++) q2 += (p[k] - b->c[k]) * (p[k] - b->c[k]);
-        w = exp(-q2 / r2);
+        /* (|v-C|/R)², not |v-C|²/R²: a tiny R whose square underflows
+         * gives 0/R = 0 at C and +inf elsewhere, never 0/0. */
+        double t = sqrt(q2) / b->r, w = exp(-t * t);
         for (int k = 0; k < 3; k++) np[k] = p[k] + b->d[k] * w;
         if (np[0] == p[0] && np[1] == p[1] && np[2] == p[2]) continue;
         darts[n] = vd[v];
@@ -209,7 +210,8 @@ int st_cmd_deform(int argc, char **argv)
     if (!rc) {
         s.edit_level = l;
         if (st_session_save(o.out, &s, &err)) { fprintf(stderr, "strata: %s\n", err.msg); rc = 1; }
-        else printf("%s: %lld vertices of level %u moved (levels 0..%u)\n", o.out, (long long)moved, l, s.h.map.top);
+        else printf("%s: %lld %s of level %u moved (levels 0..%u)\n", o.out, (long long)moved,
+                    moved == 1 ? "vertex" : "vertices", l, s.h.map.top);
     }
     st_session_free(&s);
     return rc;

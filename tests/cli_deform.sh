@@ -81,6 +81,15 @@ else bad "the finest level: largest move $top |D|, $fartop for the $nfar farther
 if cmp -s "$W/out.strata" "$W/out2.strata"; then ok "the deformed session re-saves byte-identically"
 else bad "the deformed session re-saves differently"; fi
 
+# A radius whose square underflows: the vertex at C moves by D, no other.
+"$S" deform "$W/in.strata" --level 1 --bump "$C,1e-200,$DX,$DY,$DZ" -o "$W/tiny.strata" > "$W/tiny.txt" 2> "$W/tiny.err" \
+    || bad "deform with R = 1e-200 failed: $(cat "$W/tiny.err")"
+level_obj "$W/tiny.strata" "$W/tiny1.obj" 1
+read -r emax near far <<< "$(check_bump "$W/in1.obj" "$W/tiny1.obj" ${C//,/ } 1e-200 $DX $DY $DZ)"
+if grep -q ": 1 vertex of level 1 moved" "$W/tiny.txt" && awk -v m="$near" 'BEGIN { exit !(m > 0.999999 && m < 1.000001) }'; then
+    ok "R = 1e-200: only the vertex at C moved, by D ($(cat "$W/tiny.txt"))"
+else bad "R = 1e-200: $(cat "$W/tiny.txt"), the vertex at C by $near |D|"; fi
+
 # ---- a mesh input: built with --scheme/--levels, a bump at level 0 ----------
 C0=$(vertex_of "$W/in0.obj" 7)
 if "$S" deform "$D/catmull_clark/blub_control_mesh.obj" --scheme catmull-clark --levels 2 --level 0 \
@@ -123,6 +132,12 @@ refuse "not a number" "--bump wants 7 numbers .*number 3 is not a number" "$W/in
 refuse "no bump" "--bump CX,CY,CZ,R,DX,DY,DZ is required" "$W/in.strata" --level 1
 refuse "unknown scheme" "unknown scheme 'nope'" "$D/catmull_clark/blub_control_mesh.obj" --scheme nope --level 0 --bump "0,0,0,1,0,0,1"
 refuse "missing input" "missing.obj" "$W/missing.obj" --level 0 --bump "0,0,0,1,0,0,1"
+# Over the memory budget: refused from the estimate, exit 1, nothing written.
+rc=0; "$S" deform "$D/catmull_clark/spot_quadrangulated.obj" --levels 5 --level 0 --bump "0,0,0,1,0,0,1" --mem-budget 50 \
+    -o "$W/budget.strata" > /dev/null 2> "$W/budget.err" || rc=$?
+if [ $rc -eq 1 ] && grep -q "needs about .* MiB more (estimate).*memory budget is 50.0 MiB" "$W/budget.err" && [ ! -e "$W/budget.strata" ]; then
+    ok "over --mem-budget refused: $(head -c 160 "$W/budget.err")"
+else bad "over --mem-budget: exit $rc, $(cat "$W/budget.err")"; fi
 rc=0; "$S" deform "$W/in.strata" --level 1 --bump "0,0,0,1,0,0,1" > /dev/null 2> "$W/noout.err" || rc=$?
 if [ $rc -ne 0 ] && grep -q -e "-o OUT.strata is required" "$W/noout.err"; then ok "missing -o refused (exit $rc): $(head -1 "$W/noout.err")"
 else bad "missing -o: exit $rc, $(cat "$W/noout.err")"; fi
