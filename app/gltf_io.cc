@@ -19,6 +19,7 @@
 extern "C" {
 #include "core/base/membudget.h"
 #include "core/io/atomic_file.h"
+#include "core/io/file_open.h"
 }
 
 #include <fcntl.h>
@@ -81,9 +82,15 @@ std::string one_line(std::string s)
 
 bool read_file(const std::string &path, std::vector<unsigned char> *out, std::string *why)
 {
-    FILE *f = fopen(path.c_str(), "rb");
+    st_error e;
+    FILE *f = st_open_input(path.c_str(), &e);
     if (!f) {
-        *why = strerror(errno);
+        // Its message names the path, and says "cannot open", which the
+        // caller says too: the reason alone.
+        std::string m = e.msg;
+        for (const std::string &pre : {path + ": ", std::string("cannot open: ")})
+            if (m.compare(0, pre.size(), pre) == 0) m = m.substr(pre.size());
+        *why = m;
         return false;
     }
     std::vector<unsigned char> buf;

@@ -1,5 +1,6 @@
 #include "image.h"
 #include "core/io/atomic_file.h"
+#include "core/io/file_open.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -81,8 +82,8 @@ size_t st_png_write_bytes(int w, int h)
 
 int st_png_read(const char *path, int *w, int *h, unsigned char **rgba, st_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return st_fail(err, ST_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *f = st_open_input(path, err);
+    if (!f) return err ? err->code : ST_ERR_IO;
     unsigned char *buf = NULL;
     size_t n = 0, cap = 0;
     for (;;) {

@@ -12,7 +12,9 @@
 #  - glTF external buffers are confined to the glTF's folder: a FIFO, a
 #    ../ escape, an absolute path, a symlink out, a file larger than its
 #    byteLength, one over --mem-budget are refused within a second with the
-#    glTF and the URI named; a good external buffer and data: URIs load.
+#    glTF and the URI named; a good external buffer and data: URIs load;
+#  - an input that is a FIFO or a device (a mesh, a session, a glTF, a
+#    normal map) is refused within a second, not waited on.
 # Usage: cli_safety.sh STRATA SHARED_MESHES ASSETS BINDIR
 set -uo pipefail
 S=$1 D=$2 A=$3 B=$4
@@ -166,6 +168,29 @@ b64=$(base64 -w0 "$G/in/cube.bin")
 variant data "data:application/octet-stream;base64,$b64"
 if "$S" info "$G/in/data.gltf" > /dev/null 2> "$W/data.err"; then ok "a data: URI loads"
 else bad "data: URI: $(cat "$W/data.err")"; fi
+
+# ---- inputs that are not regular files: refused at once, never waited on -------
+mkdir -p "$W/fifo"
+for f in in.obj in.strata in.gltf in.glb nm.png; do mkfifo "$W/fifo/$f"; done
+ln -s /dev/zero "$W/fifo/zero.obj"
+# at_once TAG PATTERN CMD...: exit 1 within a second with PATTERN.
+at_once() {
+    local tag=$1 pat=$2
+    shift 2
+    local t0 t1 rc=0
+    t0=$(now_ms)
+    timeout 10 "$@" > /dev/null 2> "$W/$tag.err" || rc=$?
+    t1=$(now_ms)
+    if [ $rc -eq 1 ] && grep -q -- "$pat" "$W/$tag.err" && [ $((t1 - t0)) -lt 1000 ]; then
+        ok "$tag refused in $((t1 - t0)) ms: $(head -1 "$W/$tag.err")"
+    else bad "$tag: exit $rc after $((t1 - t0)) ms: $(cat "$W/$tag.err")"; fi
+}
+at_once fifo_obj "fifo/in.obj: a FIFO, not a regular file" "$S" info "$W/fifo/in.obj"
+at_once fifo_session "fifo/in.strata: a FIFO, not a regular file" "$S" info "$W/fifo/in.strata"
+at_once fifo_gltf "fifo/in.gltf: cannot read: a FIFO, not a regular file" "$S" info "$W/fifo/in.gltf"
+at_once fifo_glb "fifo/in.glb: cannot read: a FIFO, not a regular file" "$S" info "$W/fifo/in.glb"
+at_once device_obj "fifo/zero.obj: a device, not a regular file" "$S" info "$W/fifo/zero.obj"
+at_once fifo_normal_map "fifo/nm.png: a FIFO, not a regular file" "$S" render "$A/cube.obj" --normal-map "$W/fifo/nm.png" -o "$W/fifo/r.png"
 
 echo "$((n - fail)) passed, $fail failed"
 [ $fail -eq 0 ]
