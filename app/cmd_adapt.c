@@ -164,8 +164,11 @@ int st_cmd_adapt(int argc, char **argv)
     }
     if (!rc) rc = st_any_mesh_save(o.out, &out, &err);
     if (rc) fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
-    else printf("%s: %u %s, %u vertices, levels 0..%u\n", o.out, out.nfaces - st_mesh_hole_faces(&out),
-                tri ? "triangles" : "faces", out.nverts, h.map.top);
+    else {
+        char lv[48];
+        printf("%s: %u %s, %u vertices, %s\n", o.out, out.nfaces - st_mesh_hole_faces(&out),
+               tri ? "triangles" : "faces", out.nverts, st_levels_phrase(h.map.top, lv, sizeof lv));
+    }
     st_mesh_free(&out);
     st_adapt_free(&a);
     st_hier_free(&h);

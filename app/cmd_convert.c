@@ -280,8 +280,9 @@ int st_cmd_convert(int argc, char **argv)
             long size = -1;
             if (f && fseek(f, 0, SEEK_END) == 0) size = ftell(f);
             if (f) fclose(f);
-            printf("%s: session, scheme %s, levels 0..%u%s, %ld bytes\n", o.out, s.h.scheme->name, s.h.map.top,
-                   s.has_adapt ? " (adaptive)" : "", size);
+            char lv[48];
+            printf("%s: session, scheme %s, %s%s, %ld bytes\n", o.out, s.h.scheme->name,
+                   st_levels_phrase(s.h.map.top, lv, sizeof lv), s.has_adapt ? " (adaptive)" : "", size);
         }
         st_session_free(&s);
         return rc;

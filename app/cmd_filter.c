@@ -82,7 +82,11 @@ int st_cmd_filter(int argc, char **argv)
         st_mesh_free(&m);
     }
     if (rc) fprintf(stderr, "strata: %s\n", err.msg);
-    else printf("%s: %u gain%s applied to %s (levels 0..%u)\n", out, ngains, ngains == 1 ? "" : "s", in, s.h.map.top);
+    else {
+        char lv[48];
+        printf("%s: %u gain%s applied to %s (%s)\n", out, ngains, ngains == 1 ? "" : "s", in,
+               st_levels_phrase(s.h.map.top, lv, sizeof lv));
+    }
     st_session_free(&s);
     return rc ? 1 : 0;
 }

@@ -15,7 +15,8 @@ int st_cmd_info(int argc, char **argv)
     int rc = st_cli_load(&o, &h, "info");
     if (rc) return rc;
     st_map *m = &h.map;
-    printf("%s: scheme %s, %u level%s\n", o.in, h.scheme->name, m->top, m->top == 1 ? "" : "s");
+    char lv[48];
+    printf("%s: scheme %s, %s\n", o.in, h.scheme->name, st_levels_phrase(m->top, lv, sizeof lv));
     printf("%5s %10s %10s %10s %8s %6s %14s %14s\n", "level", "vertices", "edges", "faces", "holes", "euler",
            "topology B", "positions B");
     /* Levels refined here from a mesh are whole refinements of the level

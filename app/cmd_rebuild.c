@@ -156,7 +156,7 @@ int st_cmd_rebuild(int argc, char **argv)
     } else if (rep.method == ST_REBUILD_PROGRESSIVE) {
         print_report(o.in, &rep);
         rc = save_hier(&o, &h);
-        if (!rc) printf("%s: session, levels 0..%u\n", o.out, h.map.top);
+        { char lv[48]; if (!rc) printf("%s: session, %s\n", o.out, st_levels_phrase(h.map.top, lv, sizeof lv)); }
     } else {
         rc = save_hier(&o, &h);
         if (!rc) print_report(o.out, &rep);

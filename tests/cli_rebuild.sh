@@ -206,7 +206,7 @@ if [ -x "$OSD" ]; then
                   for (j = 1; j <= n; j++) { split(P[j], p, " "); d = (p[1]-q[1])^2 + (p[2]-q[2])^2 + (p[3]-q[3])^2; if (d < best) best = d }
                   if (sqrt(best) > worst) worst = sqrt(best) }
               printf "%.3g", worst }' "$W/tcage.obj" "$W/osd_tags_cage.obj")
-    if grep -q "levels 0..2, cage 4 faces and 9 vertices" "$W/osd_tags.out" && grep -q "tags kept: cage 2 crease edges" "$W/osd_tags.out" \
+    if grep -q "3 levels (0..2), cage 4 faces and 9 vertices" "$W/osd_tags.out" && grep -q "tags kept: cage 2 crease edges" "$W/osd_tags.out" \
        && grep -Eq "longest detail ([0-9.]+e-(1[0-9]|[2-9][0-9])|0)$" "$W/osd_tags.out" && awk -v d="$dev" 'BEGIN { exit !(d <= 3e-9) }'; then
         ok "OpenSubdiv-refined creased cage: cage back within $dev (diagonal ~3), $(grep -o "longest detail.*" "$W/osd_tags.out")"
     else bad "OpenSubdiv-refined creased cage: off by $dev, $(cat "$W/osd_tags.out")"; fi

@@ -133,7 +133,7 @@ run 0 "replay .* passed" win "$EXE" --size 640x480 --levels 2 --replay "$SRC/rep
 printf 'wait 1\nexpect scheme catmull-clark\nexpect faces 1536\nquit\n' > "$TMP/default.txt"
 run 0 "opened torus.obj" win "$EXE" --size 320x240 --levels 2 --replay "$TMP/default.txt"
 printf 'wait 1\nexpect scheme loop\nexpect top 3\nexpect faces 512\nquit\n' > "$TMP/loop.txt"
-run 0 "opened octahedron.obj \(loop, 3 levels\)" win "$EXE" --size 320x240 --scheme loop --levels 3 --replay "$TMP/loop.txt" "$ASSETS/octahedron.obj"
+run 0 "opened octahedron.obj \(loop, 4 levels \(0..3\)\)" win "$EXE" --size 320x240 --scheme loop --levels 3 --replay "$TMP/loop.txt" "$ASSETS/octahedron.obj"
 
 # An operation over the memory budget is refused with the bytes it needs,
 # and the model stays as it was.
@@ -206,6 +206,21 @@ if command -v xdotool > /dev/null 2>&1; then
 else
     echo "cli_window: no xdotool: Esc cancelling a rebuild not checked"
 fi
+
+# 1b. Quitting with unsaved changes asks (ui/session_io.c): Esc cancels, D
+# quits without saving, S saves STEM.strata then quits; the recovery file
+# holds the stroke as soon as it ends (expect recovery 1) and after D.
+rm -f "$STRATA_RECOVERY"
+out=$(win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/quit.txt" "$ASSETS/torus.obj" 2>&1); rc=$?
+if [ "$rc" -eq 0 ] && grep -q "replay .* passed" <<<"$out" && ! grep -q NOT_QUIT <<<"$out" && [ -s "$STRATA_RECOVERY" ] &&
+   "$EXE" convert "$STRATA_RECOVERY" --level 2 -o "$TMP/rec2.obj" > /dev/null &&
+   "$EXE" convert "$ASSETS/torus.obj" --levels 2 --level 2 -o "$TMP/orig2.obj" > /dev/null &&
+   ! cmp -s "$TMP/rec2.obj" "$TMP/orig2.obj"; then ok
+else bad "quit question (quit.txt): exit $rc, recovery $(ls -l "$STRATA_RECOVERY" 2>&1): $(tail -5 <<<"$out")"; fi
+mkdir -p "$TMP/quitsave" && cp "$ASSETS/torus.obj" "$TMP/quitsave/"
+out=$(cd "$TMP/quitsave" && win "$EXE" --size 640x480 --levels 1 --replay "$SRC/replay/quit_save.txt" torus.obj 2>&1); rc=$?
+if [ "$rc" -eq 0 ] && ! grep -q NOT_QUIT <<<"$out" && [ -s "$TMP/quitsave/torus.strata" ] && [ ! -e "$STRATA_RECOVERY" ]; then ok
+else bad "quit question, Save (quit_save.txt): exit $rc, $(ls "$TMP/quitsave"): $(tail -5 <<<"$out")"; fi
 
 # 2. A failing expectation exits non-zero and says which line.
 printf 'wait 2\nexpect top 99\nquit\n' > "$TMP/fail.txt"

@@ -1409,8 +1409,53 @@ static void test_bench(void)
     st_doc_free(&d);
 }
 
+/* The first hour (README "Modeller"): a scheme the control mesh cannot
+ * take is refused before anything is rebuilt, with the reason the Scheme
+ * menu shows as a tooltip; for every scheme, the answer agrees with what
+ * st_doc_set_scheme then does.  A dense mesh opens at level 0 with the
+ * automatic depth, a small cage gets two levels; --levels overrides.  The
+ * revision counts completed steps (the window's "unsaved changes?"). */
+static void test_first_hour(void)
+{
+    static const char *const schemes[] = { "catmull-clark", "loop", "butterfly", "quad-triangle", "sqrt3", "doo-sabin" };
+    static const char *const meshes[] = { "/cube.obj", "/octahedron.obj", "/mixed.obj", "/open.obj" };
+    for (size_t mi = 0; mi < sizeof meshes / sizeof meshes[0]; mi++)
+        for (size_t si = 0; si < sizeof schemes / sizeof schemes[0]; si++) {
+            char path[1024];
+            snprintf(path, sizeof path, "%s%s", STRATA_ASSETS, meshes[mi]);
+            st_doc d;
+            st_doc_init(&d);
+            ed_test_open(&d, path, "catmull-clark", 1);
+            st_error e1, e2;
+            int takes = st_doc_scheme_accepts(&d, schemes[si], &e1) == ST_OK;
+            int rebuilt = st_doc_set_scheme(&d, schemes[si], &e2) == ST_OK;
+            CHECKF(takes == rebuilt, "%s with %s: accepts %d (%s), set_scheme %d (%s)", meshes[mi], schemes[si], takes,
+                   takes ? "" : e1.msg, rebuilt, rebuilt ? "" : e2.msg);
+            if (!strcmp(meshes[mi], "/cube.obj") && !strcmp(schemes[si], "loop"))
+                CHECKF(!takes && strstr(e1.msg, "triangle"), "cube with loop: %s", e1.msg);
+            st_doc_free(&d);
+        }
+    st_doc d;
+    st_doc_init(&d);
+    st_error err;
+    CHECK(st_doc_open(&d, STRATA_ASSETS "/cube.obj", NULL, ST_DOC_LEVELS_AUTO, &err) == 0);
+    CHECKF(d.h.map.top == ST_DOC_DEFAULT_LEVELS, "cube opened with %u levels above it", d.h.map.top);
+    uint64_t r0 = d.revision;
+    CHECK(st_doc_add_level(&d, &err) == 0 && d.revision == r0 + 1);
+    CHECK(st_doc_undo(&d, &err) == 0 && d.revision == r0 + 2);
+    CHECK(st_doc_redo(&d, &err) == 0 && d.revision == r0 + 3);
+    CHECK(st_doc_undo(&d, &err) == 0 && d.nundo == 1);
+    st_doc_forget_history(&d);
+    CHECK(d.nundo == 0 && d.undo_pos == 0 && st_doc_undo(&d, &err) == -1);
+    CHECK(st_doc_open(&d, STRATA_SHARED_DATA "/large/koala.obj", NULL, ST_DOC_LEVELS_AUTO, &err) == 0);
+    CHECKF(d.h.map.top == 0 && d.base.nfaces > ST_DOC_DENSE_FACES, "koala: top %u, %u faces", d.h.map.top, d.base.nfaces);
+    CHECK(st_doc_open(&d, STRATA_SHARED_DATA "/triangle/bob_small.ply", "loop", 1, &err) == 0 && d.h.map.top == 1);
+    st_doc_free(&d);
+}
+
 int main(void)
 {
+    test_first_hour();
     test_open();
     test_levels();
     test_undo_names();

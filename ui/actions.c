@@ -28,11 +28,21 @@
 static const char *const scheme_cycle[] = { "catmull-clark", "loop", "butterfly", "quad-triangle", "sqrt3", "doo-sabin" };
 #define NSCHEMES (sizeof scheme_cycle / sizeof scheme_cycle[0])
 
-static const char *next_scheme(const char *cur)
+/* The scheme after cur in the cycle that the control mesh can take and is
+ * not the model's own (Loop, Butterfly and sqrt3 are skipped on quads, as
+ * the Scheme menu greys them out); cur itself when there is none. */
+static const char *next_scheme(st_app *a, const char *cur)
 {
+    unsigned at = NSCHEMES - 1;
     for (unsigned i = 0; i < NSCHEMES; i++)
-        if (cur && !strcmp(cur, scheme_cycle[i])) return scheme_cycle[(i + 1) % NSCHEMES];
-    return scheme_cycle[0];
+        if (cur && !strcmp(cur, scheme_cycle[i])) at = i;
+    const char *own = a->doc.scheme ? a->doc.scheme->name : "";
+    for (unsigned k = 1; k <= NSCHEMES; k++) {
+        const char *s = scheme_cycle[(at + k) % NSCHEMES];
+        st_error err;
+        if (strcmp(s, own) && !st_doc_scheme_accepts(&a->doc, s, &err)) return s;
+    }
+    return cur;
 }
 
 static void report(st_app *a, int rc, const st_error *err, const char *what)
@@ -87,29 +97,55 @@ static void box_levels(st_app *a, int base, int dir)
     if (!rc) st_app_message(a, 0, "box levels %u..%u", d->box.base_level, d->box.max_level);
 }
 
+/* The first time the box is shown on a model it goes where the user
+ * looks: a cube of a fifth of the model's size around the surface point
+ * under the cursor, or else the half of the model's bounding box that
+ * faces the camera (along the axis closest to the view), so that the
+ * visible side is refined, not the inside of the body.  Its levels: from
+ * 0 to the displayed level + 1. */
+static void place_box(st_app *a, st_adapt_params *b)
+{
+    const float *bb = a->cc.bbox;
+    double p[3];
+    if (st_app_surface_at_cursor(a, p)) {
+        for (int k = 0; k < 3; k++) {
+            double h = 0.1 * (bb[k + 3] - bb[k]);
+            b->box_lo[k] = p[k] - h;
+            b->box_hi[k] = p[k] + h;
+        }
+    } else {
+        double right[3], up[3], back[3];
+        st_camctl_axes(&a->cc, right, up, back);
+        int axis = 0;
+        for (int k = 1; k < 3; k++)
+            if (fabs(back[k]) > fabs(back[axis])) axis = k;
+        for (int k = 0; k < 3; k++) {
+            b->box_lo[k] = bb[k];
+            b->box_hi[k] = bb[k + 3];
+        }
+        /* A little past the middle, so that the box crosses the surface of
+         * a thin model too. */
+        double mid = 0.5 * (bb[axis] + bb[axis + 3]), past = 0.05 * (bb[axis + 3] - bb[axis]);
+        if (back[axis] > 0) b->box_lo[axis] = mid - past;
+        else b->box_hi[axis] = mid + past;
+    }
+    b->has_box = 1;
+    b->base_level = 0;
+    unsigned shown = st_doc_display_map_level(&a->doc);
+    b->max_level = shown + 1 < ST_MAX_LEVELS ? shown + 1 : shown;
+}
+
 static void toggle_box(st_app *a)
 {
     st_doc *d = &a->doc;
     st_adapt_params b = d->box;
-    if (!b.has_box || (b.box_lo[0] == b.box_hi[0] && b.box_lo[1] == b.box_hi[1])) {
-        const float *bb = a->cc.bbox;
-        for (int k = 0; k < 3; k++) {
-            double c = 0.5 * (bb[k] + bb[k + 3]), h = 0.2 * (bb[k + 3] - bb[k]);
-            b.box_lo[k] = c - h;
-            b.box_hi[k] = c + h;
-        }
-        /* Start the box on the right half, so that it is not all inside. */
-        double sx = 0.3 * (bb[3] - bb[0]);
-        b.box_lo[0] += sx;
-        b.box_hi[0] += sx;
-        b.has_box = 1;
-        if (b.max_level == 0) { b.base_level = 0; b.max_level = d->h.map.top + 1; }
-    }
+    if (!d->box_on && !a->box_placed) place_box(a, &b);
     st_error err;
     double t0 = st_now_ms();
     int rc = st_doc_set_box(d, &b, !d->box_on, &err);
     report(a, rc, &err, "cannot change the interest box");
     if (!rc) {
+        a->box_placed = 1;
         char t[32];
         st_app_message(a, 0, "interest box %s (%s)", d->box_on ? "on" : "off", st_app_fmt_ms(a, st_now_ms() - t0, t, sizeof t));
     }
@@ -250,9 +286,15 @@ static void delete_coarsest(st_app *a)
     report(a, st_doc_remove_bottom(&a->doc, &err), &err, "cannot delete the coarsest level");
 }
 /* K asks first (the rebuild loses the details): the scheme question. */
-static void change_scheme(st_app *a) { a->pending_scheme = next_scheme(a->doc.scheme ? a->doc.scheme->name : NULL); }
+static void change_scheme(st_app *a)
+{
+    const char *own = a->doc.scheme ? a->doc.scheme->name : NULL;
+    const char *s = next_scheme(a, own);
+    if (s && s != own) a->pending_scheme = s;
+    else st_app_message(a, 0, "no other scheme can take this control mesh");
+}
 static void rebuild_levels(st_app *a) { st_app_request_rebuild(a); }
-static void scheme_next(st_app *a) { a->pending_scheme = next_scheme(a->pending_scheme); }
+static void scheme_next(st_app *a) { a->pending_scheme = next_scheme(a, a->pending_scheme); }
 static void scheme_confirm(st_app *a)
 {
     const char *s = a->pending_scheme;
@@ -378,7 +420,7 @@ static void box_base_down(st_app *a) { box_levels(a, 1, -1); }
 
 /* View */
 static void frame_all(st_app *a) { st_app_frame_model(a); }
-static void view(st_app *a, int v) { st_camctl_view(&a->cc, v, st_app_aspect(a)); st_pick_invalidate(&a->pick); }
+static void view(st_app *a, int v) { st_app_view(a, v); }
 static void view_front(st_app *a) { view(a, ST_CV_FRONT); }
 static void view_back(st_app *a) { view(a, ST_CV_BACK); }
 static void view_right(st_app *a) { view(a, ST_CV_RIGHT); }
@@ -402,7 +444,24 @@ static void toggle_gui(st_app *a) { (void)a; st_gui_set_shown(!st_gui_shown()); 
 static void help(st_app *a) { a->help = !a->help; }
 static void about(st_app *a) { (void)a; st_gui_set_shown(1); st_gui_show_about(); }
 static void preferences(st_app *a) { (void)a; st_gui_set_shown(1); st_gui_show_prefs(); }
-static void quit(st_app *a) { a->quit = 1; }
+static void quit(st_app *a) { st_app_request_quit(a); }
+/* The quit question's answers. */
+static void quit_save(st_app *a)
+{
+    a->quit_asking = 0;
+    a->quit_after_save = 1;
+    st_app_request_save(a);
+}
+static void quit_discard(st_app *a)
+{
+    a->quit_asking = 0;
+    a->quit = 1;
+}
+static void quit_cancel(st_app *a)
+{
+    a->quit_asking = 0;
+    st_app_message(a, 0, "quit cancelled");
+}
 /* Esc closes the help, else cancels what the mouse is doing. */
 static void cancel(st_app *a)
 {
@@ -429,6 +488,7 @@ static void cancel(st_app *a)
 #define KEY(k, mods, tolerate) { GLFW_KEY_##k, mods, tolerate }
 #define ACT(id, cat, name, help, run, enabled, ...) [id] = { id, name, cat, ST_KEYS_WINDOW, { __VA_ARGS__ }, help, run, enabled }
 #define ASK(id, name, help, run, ...) [id] = { id, name, ST_CAT_MESH, ST_KEYS_SCHEME_QUESTION, { __VA_ARGS__ }, help, run, NULL }
+#define ASK_QUIT(id, name, help, run, ...) [id] = { id, name, ST_CAT_FILE, ST_KEYS_QUIT_QUESTION, { __VA_ARGS__ }, help, run, NULL }
 
 const st_action st_actions[ST_NACTIONS] = {
     ACT(ST_ACT_OPEN, ST_CAT_FILE, "Open...", "open a mesh or a .strata session (file dialog)", open_file, keys_free,
@@ -631,6 +691,12 @@ const st_action st_actions[ST_NACTIONS] = {
     ASK(ST_ACT_SCHEME_CONFIRM, "Rebuild", "rebuild the hierarchy with it (its details are lost)", scheme_confirm,
         KEY(Y, 0, ANY), KEY(ENTER, 0, ANY)),
     ASK(ST_ACT_SCHEME_KEEP, "Keep the scheme", "keep the scheme (any other key too)", scheme_keep, KEY(N, 0, ANY)),
+
+    ASK_QUIT(ST_ACT_QUIT_SAVE, "Save", "save the changes, then quit", quit_save, KEY(S, 0, ANY), KEY(ENTER, 0, ANY)),
+    ASK_QUIT(ST_ACT_QUIT_DISCARD, "Don't save", "quit without saving (the recovery file keeps the changes)",
+             quit_discard, KEY(D, 0, ANY)),
+    ASK_QUIT(ST_ACT_QUIT_CANCEL, "Cancel", "keep working (any other key too)", quit_cancel, KEY(ESCAPE, 0, ANY),
+             KEY(C, 0, ANY)),
 };
 
 const st_gesture st_gestures[] = {
@@ -698,10 +764,12 @@ int st_action_checked(const st_action *act, const st_app *a)
 
 const st_action *st_app_key(st_app *a, int key, int mods)
 {
-    int context = a->pending_scheme ? ST_KEYS_SCHEME_QUESTION : ST_KEYS_WINDOW;
+    int context = a->quit_asking ? ST_KEYS_QUIT_QUESTION : a->pending_scheme ? ST_KEYS_SCHEME_QUESTION : ST_KEYS_WINDOW;
     const st_action *act = st_action_for_key(context, key, mods);
-    /* Any other key answers the scheme question with no. */
+    /* Any other key answers the scheme question with no, and the quit
+     * question with cancel. */
     if (!act && context == ST_KEYS_SCHEME_QUESTION) act = &st_actions[ST_ACT_SCHEME_KEEP];
+    if (!act && context == ST_KEYS_QUIT_QUESTION) act = &st_actions[ST_ACT_QUIT_CANCEL];
     if (!act || !st_action_enabled(act, a)) return NULL;
     act->run(a);
     return act;

@@ -26,9 +26,11 @@ struct st_app;
 /* Modifier bits, GLFW's values (GLFW_MOD_SHIFT, _CONTROL, _ALT). */
 enum { ST_MOD_SHIFT = 0x1, ST_MOD_CTRL = 0x2, ST_MOD_ALT = 0x4, ST_MODS = 0x7 };
 
-/* Where a shortcut applies: the window, or the question a pending scheme
- * change asks (K cycles, Y rebuilds, any other key keeps the scheme). */
-enum st_key_context { ST_KEYS_WINDOW, ST_KEYS_SCHEME_QUESTION, ST_NKEY_CONTEXTS };
+/* Where a shortcut applies: the window, the question a pending scheme
+ * change asks (K cycles, Y rebuilds, any other key keeps the scheme), or
+ * the question quitting with unsaved changes asks (S saves, D discards,
+ * any other key cancels). */
+enum st_key_context { ST_KEYS_WINDOW, ST_KEYS_SCHEME_QUESTION, ST_KEYS_QUIT_QUESTION, ST_NKEY_CONTEXTS };
 
 /* Menu categories, in menu order. */
 enum st_action_category {
@@ -80,6 +82,7 @@ enum st_action_id {
     ST_ACT_SHADING, ST_ACT_WIREFRAME, ST_ACT_CAGE, ST_ACT_UV_CHECKER, ST_ACT_GUI,
     ST_ACT_HELP, ST_ACT_ABOUT, ST_ACT_PREFERENCES, ST_ACT_CANCEL,
     ST_ACT_SCHEME_NEXT, ST_ACT_SCHEME_CONFIRM, ST_ACT_SCHEME_KEEP,
+    ST_ACT_QUIT_SAVE, ST_ACT_QUIT_DISCARD, ST_ACT_QUIT_CANCEL,
     ST_NACTIONS
 };
 

@@ -219,7 +219,8 @@ int st_doc_open_progress(st_doc *d, const char *path, const char *scheme, unsign
     const char *name = scheme ? scheme : "catmull-clark";
     const st_scheme *sc = st_scheme_find(name);
     if (!sc) return st_fail(err, ST_ERR_INVALID, "unknown scheme '%s' (catmull-clark, loop, butterfly, quad-triangle, sqrt3, doo-sabin)", name);
-    if (levels >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "%u levels: at most %d", levels, ST_MAX_LEVELS - 1);
+    if (levels != ST_DOC_LEVELS_AUTO && levels >= ST_MAX_LEVELS)
+        return st_fail(err, ST_ERR_RANGE, "%u levels: at most %d", levels, ST_MAX_LEVELS - 1);
     if (strlen(path) >= sizeof d->path) return st_fail(err, ST_ERR_RANGE, "path too long");
     if (span_cancelled(&sp, 0, err)) return ST_ERR_INVALID;
     st_mesh mesh;
@@ -243,6 +244,7 @@ int st_doc_open_progress(st_doc *d, const char *path, const char *scheme, unsign
         st_notes_free(&notes);
         return rc;
     }
+    if (levels == ST_DOC_LEVELS_AUTO) levels = mesh.nfaces > ST_DOC_DENSE_FACES ? 0 : ST_DOC_DEFAULT_LEVELS;
     sp.lo = OPEN_READ_SHARE;
     rc = span_cancelled(&sp, 0, err) ? ST_ERR_INVALID : build_levels(d, &h, levels, d->mem_budget, 0, &sp, err);
     if (!rc) {
@@ -280,6 +282,19 @@ int st_doc_open_progress(st_doc *d, const char *path, const char *scheme, unsign
     default_box(d);
     ed_topology_changed(d);
     return ST_OK;
+}
+
+int st_doc_scheme_accepts(st_doc *d, const char *scheme, st_error *err)
+{
+    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
+    const st_scheme *sc = st_scheme_find(scheme ? scheme : "");
+    if (!sc) return st_fail(err, ST_ERR_INVALID, "unknown scheme '%s'", scheme ? scheme : "");
+    st_mesh m;
+    st_mesh_init(&m);
+    int rc = st_hier_level_mesh(&d->h, 0, &m, err);
+    if (!rc) rc = st_scheme_accepts(sc, &m, err);
+    st_mesh_free(&m);
+    return rc;
 }
 
 int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err)

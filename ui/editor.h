@@ -167,6 +167,11 @@ typedef struct st_doc {
 
     st_undo_step **undo;       /* oldest first */
     uint32_t nundo, capundo, undo_pos;  /* undo_pos steps are done; the rest can be redone */
+    /* Counts the model's completed changes: +1 for every step pushed,
+     * undone or redone (0 after opening).  The window compares it with
+     * the revision it last saved ("unsaved changes?") and last wrote to
+     * the recovery file (a step ended: write it now). */
+    uint64_t revision;
     size_t undo_bytes, undo_budget;     /* oldest steps dropped beyond the budget */
 
     size_t mem_budget;         /* refuse operations that would need more (bytes) */
@@ -223,13 +228,23 @@ void st_doc_init(st_doc *d);
 void st_doc_free(st_doc *d);
 
 /* Opens a mesh file with a scheme and a depth (levels >= 0).  On failure d
- * is unchanged.  Clears the undo history. */
+ * is unchanged.  Clears the undo history.  levels ST_DOC_LEVELS_AUTO: a
+ * dense mesh (more than ST_DOC_DENSE_FACES faces, a scan) opens as it is,
+ * at level 0 alone (its coarse levels come from Mesh > Rebuild levels);
+ * a smaller cage gets ST_DOC_DEFAULT_LEVELS levels above it. */
+#define ST_DOC_LEVELS_AUTO 0xffffffffu
+#define ST_DOC_DENSE_FACES 20000u
+#define ST_DOC_DEFAULT_LEVELS 2u
 int st_doc_open(st_doc *d, const char *path, const char *scheme, unsigned levels, st_error *err);
 /* Rebuilds the hierarchy with another scheme (same depth, details dropped;
  * the caller asks for confirmation first) from the current control mesh
  * (level 0 as edited, with the file's crease tags while level 0 is still
  * the loaded one).  Undoable. */
 int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err);
+/* Whether st_doc_set_scheme(scheme) can rebuild the control mesh as it is
+ * (level 0 as edited): ST_OK, or why not in err (core's
+ * st_scheme_accepts: loop on quads, sqrt3 with holes, ...). */
+int st_doc_scheme_accepts(st_doc *d, const char *scheme, st_error *err);
 
 /* The long operations with progress and cancellation: progress (may be
  * NULL) is called with the fraction done (0 first, 1 last, increasing), a
@@ -347,6 +362,8 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
 void st_doc_box_begin(st_doc *d);
 void st_doc_box_end(st_doc *d);
 
+/* Empties the undo history (what opening a file leaves). */
+void st_doc_forget_history(st_doc *d);
 /* Undo and redo; 0 when done, -1 when there is nothing to undo/redo. */
 int st_doc_undo(st_doc *d, st_error *err);
 int st_doc_redo(st_doc *d, st_error *err);

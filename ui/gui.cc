@@ -59,6 +59,11 @@ struct gui_state {
     /* The pointer as the window's events carried it (window coordinates). */
     float mx = -FLT_MAX, my = -FLT_MAX;
     bool down[3] = {}, pressed[3] = {};
+    bool fed_down[3] = {};     /* io.MouseDown as the last frame had it */
+    float held_wheel[2] = {};
+    std::string scheme_refusal[6];   /* per entry of schemes[]: why not, "" when it can */
+    uint64_t scheme_refusal_rev = 0; /* st_doc.revision + 1 they were computed for (0: never) */
+    std::string scheme_refusal_path;  /* a wheel that waits for the frame after a press (st_gui_frame) */
     /* Keys pressed since the last frame, and releases held back until a
      * frame has seen them down (ImGui 1.86 reads key states, not events: a
      * press and release between two frames, such as a fast typist's Enter
@@ -267,8 +272,9 @@ void dialog_accept(st_app *a, int kind, const std::string &path)
         rc = st_app_save_session(a, path.c_str(), 0);
         if (!rc && path.size() < sizeof a->doc.path) {
             memcpy(a->doc.path, path.c_str(), path.size() + 1);
-            a->autosave_dirty = 0;
+            st_app_saved(a);
             a->untitled = 0;
+            if (a->quit_after_save) a->quit = 1;
         }
     } else {
         rc = st_app_export(a, path.c_str());
@@ -284,6 +290,7 @@ void dialog_accept(st_app *a, int kind, const std::string &path)
 
 void open_dialog(st_app *a, int kind, int format)
 {
+    a->quit_after_save = 0;
     g.dlg_open = true;
     g.dlg_popup = true;
     g.dlg_confirm = false;
@@ -292,7 +299,11 @@ void open_dialog(st_app *a, int kind, int format)
     g.dlg_error.clear();
     g.path[0] = 0;
     const char *doc = a->doc.loaded ? a->doc.path : "";
-    std::string start = doc[0] ? dir_of(doc) : ".";
+    /* The open document's folder, or the working directory: not the
+     * folder of the default model shown at start (assets/), which is not
+     * the user's. */
+    bool own = doc[0] && !a->showing_default;
+    std::string start = own ? dir_of(doc) : ".";
     if (kind != ST_DIALOG_OPEN && kind != ST_DIALOG_IMPORT && doc[0]) {
         /* The model's name with the extension of what is written. */
         const char *base = st_path_base(doc);
@@ -426,6 +437,20 @@ void export_menu(menu_pass &m, const st_action *act)
     m_end(m);
 }
 
+/* Which schemes the control mesh cannot take, and why (greyed out in the
+ * Scheme menu, the reason as a tooltip): asked of the document again only
+ * when the model changed. */
+void scheme_refusals_update(st_app *a)
+{
+    if (g.scheme_refusal_rev == a->doc.revision + 1 && g.scheme_refusal_path == a->doc.path) return;
+    g.scheme_refusal_rev = a->doc.revision + 1;
+    g.scheme_refusal_path = a->doc.path;
+    for (size_t i = 0; i < sizeof schemes / sizeof schemes[0]; i++) {
+        st_error err;
+        g.scheme_refusal[i] = st_doc_scheme_accepts(&a->doc, schemes[i], &err) ? err.msg : "";
+    }
+}
+
 /* The scheme submenu proposes a scheme; the question (scheme_window)
  * confirms it, as K then Y do. */
 void scheme_menu(menu_pass &m, const st_action *act)
@@ -433,8 +458,14 @@ void scheme_menu(menu_pass &m, const st_action *act)
     bool enabled = st_action_enabled(act, m.a) != 0;
     if (!m_begin(m, "Scheme", enabled)) return;
     const char *cur = m.a->doc.scheme ? m.a->doc.scheme->name : "";
-    for (const char *s : schemes) {
-        if (m_item(m, s, nullptr, !strcmp(cur, s), strcmp(cur, s) != 0)) {
+    scheme_refusals_update(m.a);
+    for (size_t i = 0; i < sizeof schemes / sizeof schemes[0]; i++) {
+        const char *s = schemes[i];
+        bool takes = g.scheme_refusal[i].empty();
+        bool clicked = m_item(m, s, nullptr, !strcmp(cur, s), strcmp(cur, s) != 0 && takes);
+        if (m.draw && !takes && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+            ImGui::SetTooltip("%s", g.scheme_refusal[i].c_str());
+        if (clicked) {
             m.a->pending_scheme = s;
             if (!m.draw && m.arg && !strcmp(m.arg, "confirm")) st_actions[ST_ACT_SCHEME_CONFIRM].run(m.a);
         }
@@ -570,8 +601,31 @@ void file_dialog(st_app *a)
         ImGui::SameLine();
         if (ImGui::Button("Keep it")) g.dlg_confirm = false;
     }
+    if (!open) a->quit_after_save = 0;   /* closed without saving: no quit */
     if (!g.dlg_open || !open) { g.dlg_open = false; ImGui::CloseCurrentPopup(); }
     ImGui::EndPopup();
+}
+
+/* Quitting with unsaved changes (st_app_request_quit): S, D and any other
+ * key answer it too (actions.c). */
+void quit_window(st_app *a)
+{
+    if (!a->quit_asking) return;
+    ImGuiIO &io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::Begin("Quit Strata?", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
+    probe_item("quit:window");
+    ImGui::Text("Save the changes to %s before quitting?", a->untitled ? "the untitled model" : st_path_base(a->doc.path));
+    ImGui::TextDisabled("Without saving, the last changes stay only in the recovery file.");
+    if (ImGui::Button("Save")) g.pending_action = ST_ACT_QUIT_SAVE;
+    probe_item("quit:Save");
+    ImGui::SameLine();
+    if (ImGui::Button("Don't save")) g.pending_action = ST_ACT_QUIT_DISCARD;
+    probe_item("quit:Don't save");
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) g.pending_action = ST_ACT_QUIT_CANCEL;
+    probe_item("quit:Cancel");
+    ImGui::End();
 }
 
 /* The scheme question of K (or the Scheme menu): Y / Enter, K, N still work. */
@@ -1118,8 +1172,27 @@ void st_gui_frame(st_app *a)
     ImGui_ImplGlfw_NewFrame();
     ImGuiIO &io = ImGui::GetIO();
     io.MousePos = ImVec2(g.mx, g.my);
-    for (int i = 0; i < 5; i++) io.MouseDown[i] = i < 3 && (g.down[i] || g.pressed[i]);
-    for (bool &p : g.pressed) p = false;
+    /* What you click is what you see: ImGui applies a wheel's scroll in
+     * the frame that reads it, so a press read in the same frame would hit
+     * the item under the pointer after the scroll, which no frame has shown
+     * (the list drawn at the old position, the click on another folder).
+     * The user clicked what the last frame showed: a new press that comes
+     * with an unshown wheel is read first, and the wheel in the next frame. */
+    io.MouseWheel += g.held_wheel[0];
+    io.MouseWheelH += g.held_wheel[1];
+    g.held_wheel[0] = g.held_wheel[1] = 0;
+    bool new_press = false;
+    for (int i = 0; i < 5; i++) {
+        bool want = i < 3 && (g.down[i] || g.pressed[i]);
+        new_press = new_press || (want && !g.fed_down[i]);
+        io.MouseDown[i] = want;
+        if (i < 3) { g.fed_down[i] = want; g.pressed[i] = false; }
+    }
+    if (new_press && (io.MouseWheel != 0 || io.MouseWheelH != 0)) {
+        g.held_wheel[0] = io.MouseWheel;
+        g.held_wheel[1] = io.MouseWheelH;
+        io.MouseWheel = io.MouseWheelH = 0;
+    }
     if (a->masked_times) io.DeltaTime = 1.0f / 60;   /* replays: the same frames whatever the clock */
     ImGui::NewFrame();
     g.probe.clear();
@@ -1136,6 +1209,7 @@ void st_gui_frame(st_app *a)
         }
         side_panel(a);
         scheme_window(a);
+        quit_window(a);
         about_window();
         prefs_window(a);
         keys_window(a);
@@ -1186,6 +1260,20 @@ void st_gui_job_mouse_button(int button, int action)
     if (!st_gui_shown() || button < 0 || button >= 3) return;
     if (action == GLFW_RELEASE) g.down[button] = false;
     else g.down[button] = g.pressed[button] = true;
+}
+
+float st_gui_panel_pixels(int win_w)
+{
+    if (!g.init || !g.shown) return 0;
+    float lo = 200 * g.scale, hi = std::max(lo, (float)win_w * 0.6f);   /* panel_width() before the first frame */
+    return std::min(hi, std::max(lo, g.panel_w));
+}
+
+int st_gui_wants_frames(void)
+{
+    if (!g.init || !g.shown) return 0;
+    ImGuiIO &io = ImGui::GetIO();
+    return g.held_wheel[0] != 0 || g.held_wheel[1] != 0 || io.MouseWheel != 0 || io.MouseWheelH != 0;
 }
 
 int st_gui_scroll(double dx, double dy)

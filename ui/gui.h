@@ -52,6 +52,12 @@ int st_gui_mouse_button(struct st_app *a, int button, int action, int mods);
  * progress window is the only thing that takes input then. */
 void st_gui_job_mouse_button(int button, int action);
 int st_gui_scroll(double dx, double dy);
+/* Input the GUI has not shown the effect of yet (a wheel, a press held
+ * for the frame after a wheel): the window draws on. */
+int st_gui_wants_frames(void);
+/* Width of the side panel on the right, in window coordinates (0 when the
+ * GUI is hidden): framing centres the model in what it leaves free. */
+float st_gui_panel_pixels(int win_w);
 int st_gui_key(int key, int scancode, int action, int mods);
 void st_gui_char(unsigned c);
 

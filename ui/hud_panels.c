@@ -156,7 +156,8 @@ void st_app_draw_hud(st_app *a)
         uint64_t faces = 0, verts = 0;
         st_doc_display_counts(d, &faces, &verts);
         snprintf(line[n++], 256, "%s   %s", st_path_base(d->path), d->scheme ? d->scheme->name : "?");
-        snprintf(line[n++], 256, "levels 0..%u   editing %u   displayed %s%u", d->h.map.top, d->edit_level,
+        char lv[48];
+        snprintf(line[n++], 256, "%s   editing %u   displayed %s%u", st_levels_phrase(d->h.map.top, lv, sizeof lv), d->edit_level,
                  d->box_on ? "adaptive " : "", st_doc_display_map_level(d));
         snprintf(line[n++], 256, "faces %llu   vertices %llu   editing-level vertices %u",
                  (unsigned long long)faces, (unsigned long long)verts, a->r.has_cage ? a->r.cage.nverts : 0);
@@ -197,7 +198,10 @@ void st_app_draw_hud(st_app *a)
     /* Status line and questions at the bottom. */
     const char *msg = a->msg;
     char ask[256];
-    if (a->pending_scheme) {
+    if (a->quit_asking) {
+        snprintf(ask, sizeof ask, "Save the changes before quitting? S: save, D: don't save, any other key: cancel");
+        msg = ask;
+    } else if (a->pending_scheme) {
         snprintf(ask, sizeof ask, "Change the scheme to %s? The hierarchy is rebuilt, details are lost. Y: yes, K: next scheme, N: no",
                  a->pending_scheme);
         msg = ask;
@@ -237,7 +241,7 @@ void st_app_draw_hud(st_app *a)
         float y = (float)a->fb_h - nl * HUD_LINE - 6;
         st_hud_rect(u, 0, y - 4, wmax + 16, (float)a->fb_h, C_PANEL);
         for (int i = 0; i < nl; i++)
-            st_hud_text(u, 8, y + i * HUD_LINE, HUD_SCALE, a->pending_scheme ? C_TEXT : a->msg_error ? C_ERR : C_OK, lines[i]);
+            st_hud_text(u, 8, y + i * HUD_LINE, HUD_SCALE, a->pending_scheme || a->quit_asking ? C_TEXT : a->msg_error ? C_ERR : C_OK, lines[i]);
     }
 
     if (a->help && panel) draw_help(a);   /* with the GUI: its Keys window */

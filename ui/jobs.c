@@ -19,7 +19,6 @@
 #include "core/io/session.h"
 #include "gui.h"
 
-#define DEFAULT_LEVELS 2
 #define WORKING_FACES 150000         /* show a "working" frame above this */
 
 /* A frame saying what is being done, drawn before a long operation starts. */
@@ -269,7 +268,7 @@ int st_app_open(st_app *a, const char *path)
 {
     st_error err;
     if (st_session_is_path(path)) return st_app_restore(a, path);
-    unsigned levels = a->opts.levels >= 0 ? (unsigned)a->opts.levels : DEFAULT_LEVELS;
+    unsigned levels = a->opts.levels >= 0 ? (unsigned)a->opts.levels : ST_DOC_LEVELS_AUTO;
     const char *scheme = a->opts.scheme ? a->opts.scheme : (a->doc.loaded && a->doc.scheme ? a->doc.scheme->name : "catmull-clark");
     double t0 = st_now_ms();
     char what[300];
@@ -291,6 +290,8 @@ int st_app_open(st_app *a, const char *path)
     a->hover_vid = ST_NIL;
     a->op = ST_OP_NONE;
     a->untitled = 0;
+    a->showing_default = 0;
+    a->box_placed = 0;
     st_app_sync(a);
     a->autosave_dirty = 0;   /* opening is not an edit */
     st_app_frame_model(a);
@@ -301,9 +302,16 @@ int st_app_open(st_app *a, const char *path)
     char title[512];
     snprintf(title, sizeof title, "Strata - %s", st_path_base(path));
     glfwSetWindowTitle(a->win, title);
-    char t[32];
-    st_app_message(a, 0, "opened %s (%s, %u levels) in %s", st_path_base(path), a->doc.scheme->name, a->doc.h.map.top,
-                   st_app_fmt_ms(a, st_now_ms() - t0, t, sizeof t));
+    char t[32], lv[48];
+    st_app_fmt_ms(a, st_now_ms() - t0, t, sizeof t);
+    st_levels_phrase(a->doc.h.map.top, lv, sizeof lv);
+    a->saved_revision = a->recovery_revision = a->doc.revision;
+    uint32_t nf = a->doc.base.nfaces;
+    if (levels == ST_DOC_LEVELS_AUTO && a->doc.h.map.top == 0 && nf > ST_DOC_DENSE_FACES)
+        st_app_message(a, 0, "opened %s as it is (%u faces, %s) in %s: a dense mesh gets no level added; "
+                       "Mesh > Rebuild levels makes coarse levels to sculpt", st_path_base(path), nf, lv, t);
+    else
+        st_app_message(a, 0, "opened %s (%s, %s) in %s", st_path_base(path), a->doc.scheme->name, lv, t);
     return 0;
 }
 
@@ -325,8 +333,10 @@ int st_app_import(st_app *a, const char *path)
     char title[512];
     snprintf(title, sizeof title, "Strata - untitled (imported %s)", st_path_base(path));
     glfwSetWindowTitle(a->win, title);
-    st_app_message(a, 0, "imported %s as a new document (%s, %u levels): Save asks for a name", st_path_base(path),
-                   a->doc.scheme->name, a->doc.h.map.top);
+    char lv[48];
+    st_levels_phrase(a->doc.h.map.top, lv, sizeof lv);
+    st_app_message(a, 0, "imported %s as a new document (%s, %s): Save asks for a name", st_path_base(path),
+                   a->doc.scheme->name, lv);
     return 0;
 }
 
@@ -444,7 +454,11 @@ void st_app_run_requested(st_app *a)
     case JOB_REBUILD: rebuild_levels(a); break;
     case JOB_ADD_LEVEL: st_app_add_level(a); break;
     case JOB_SCHEME: st_app_change_scheme(a, g_request.scheme); break;
-    case JOB_SAVE: st_app_save(a); break;
+    case JOB_SAVE:
+        /* The quit question's Save quits once saved; a failed save stays. */
+        if (!st_app_save(a) && a->quit_after_save) a->quit = 1;
+        else if (!a->untitled) a->quit_after_save = 0;
+        break;
     default: break;
     }
 }

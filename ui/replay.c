@@ -12,6 +12,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include "core/io/session.h"
 #include "gui.h"
 #include "window.h"
 
@@ -487,6 +488,31 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
         int on = a->checker && a->r.has_uv;
         snprintf(actual, sizeof actual, "%d (asked %d)", on, a->checker);
         ok = on == (want != 0);
+    } else if (!strcmp(w, "dialog")) {
+        /* The question up: quit (save before quitting?), scheme, or none. */
+        const char *up = a->quit_asking ? "quit" : a->pending_scheme ? "scheme" : "none";
+        snprintf(actual, sizeof actual, "%s", up);
+        ok = e->arg && !strcmp(e->arg, up);
+    } else if (!strcmp(w, "centred")) {
+        /* The model's bounding-box centre projects to the middle of the part
+         * of the window the side panel leaves free (within 2 % of its width). */
+        const float *bb = a->r.surf.bbox;
+        double c[3] = { 0.5 * (bb[0] + bb[3]), 0.5 * (bb[1] + bb[4]), 0.5 * (bb[2] + bb[5]) }, s[2];
+        double panel = a->win_w > 0 ? st_gui_panel_pixels(a->win_w) * a->fb_w / a->win_w : 0;
+        double free_w = a->fb_w - panel;
+        int in = st_camctl_project(&a->cc, a->fb_w, a->fb_h, c, s, NULL) != 0;
+        snprintf(actual, sizeof actual, "centre at x %.1f of a free part 0..%.1f", in ? s[0] : -1, free_w);
+        ok = in && fabs(s[0] - 0.5 * free_w) <= 0.02 * free_w;
+    } else if (!strcmp(w, "recovery")) {
+        /* The recovery file holds every completed step (session_io.c). */
+        char rec[4096];
+        struct stat st;
+        int held = !st_session_recovery_path(rec, sizeof rec) && !stat(rec, &st) && a->recovery_revision == d->revision;
+        snprintf(actual, sizeof actual, "%d", held);
+        ok = held == (want != 0);
+    } else if (!strcmp(w, "unsaved")) {
+        snprintf(actual, sizeof actual, "%d", st_app_unsaved(a));
+        ok = st_app_unsaved(a) == (want != 0);
     } else if (!strcmp(w, "gui")) {
         snprintf(actual, sizeof actual, "%d", st_gui_shown());
         ok = st_gui_shown() == (want != 0);

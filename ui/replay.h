@@ -30,6 +30,11 @@
  *                               re-tessellating only the touched faces),
  *                               error (0/1: status line is an error),
  *                               message TEXT (status line contains TEXT),
+ *                               dialog quit|scheme|none (the question that is up),
+ *                               unsaved 0/1 (changes since the last open or save),
+ *                               recovery 0/1 (the recovery file holds the last step),
+ *                               centred (the model's centre projects to the middle
+ *                               of the part of the window the side panel leaves free),
  *                               gui (0/1: the GUI is shown), checker (0/1: the UV
  *                               checker is drawn), file PATH (exists,
  *                               not empty), undo_name / redo_name NAME (what the

@@ -56,13 +56,15 @@ int st_app_save_session(st_app *a, const char *path, int quiet)
 
 /* Ctrl+S: a .strata model saves over itself; a mesh saves as STEM.strata
  * in the current directory. */
-void st_app_save(st_app *a)
+int st_app_save(st_app *a)
 {
     /* An imported mesh has no document file yet: ask where (gui.cc). */
     if (a->untitled) {
         st_app_message(a, 0, "an imported mesh is untitled: choose where to save the session");
+        int keep = a->quit_after_save;   /* opening the dialog forgets it */
         st_gui_open_dialog(a, ST_DIALOG_SAVE_AS);
-        return;
+        a->quit_after_save = keep;
+        return -1;
     }
     char path[4200];
     const char *p = a->doc.path;
@@ -74,12 +76,36 @@ void st_app_save(st_app *a)
         int n = dot ? (int)(dot - b) : (int)strlen(b);
         snprintf(path, sizeof path, "%.*s.strata", n, b[0] ? b : "model");
     }
-    if (!st_app_save_session(a, path, 0)) {
-        if (strlen(path) < sizeof a->doc.path) memcpy(a->doc.path, path, strlen(path) + 1);
-        a->autosave_dirty = 0;
-        char rec[4096];
-        if (!st_session_recovery_path(rec, sizeof rec)) unlink(rec);
-    }
+    if (st_app_save_session(a, path, 0)) return -1;
+    if (strlen(path) < sizeof a->doc.path) memcpy(a->doc.path, path, strlen(path) + 1);
+    st_app_saved(a);
+    return 0;
+}
+
+/* The document was saved where the user asked: nothing is unsaved, and the
+ * recovery file, older than the save, goes. */
+void st_app_saved(st_app *a)
+{
+    a->autosave_dirty = 0;
+    a->saved_revision = a->recovery_revision = a->doc.revision;
+    char rec[4096];
+    if (!st_session_recovery_path(rec, sizeof rec)) unlink(rec);
+}
+
+int st_app_unsaved(const st_app *a)
+{
+    return a->doc.loaded && a->doc.revision != a->saved_revision;
+}
+
+/* Blender, GIMP and every editor ask before quitting with unsaved work;
+ * the answer is the quit question (gui.cc's window, or the status line
+ * and S / D / any key without the GUI). */
+void st_app_request_quit(st_app *a)
+{
+    if (a->busy) return;
+    if (!st_app_unsaved(a)) { a->quit = 1; return; }
+    a->quit_asking = 1;
+    st_app_want_frames(a);
 }
 
 int st_app_restore(st_app *a, const char *path)
@@ -97,6 +123,7 @@ int st_app_restore(st_app *a, const char *path)
     }
     st_doc *d = &a->doc;
     a->untitled = 0;
+    a->showing_default = 0;
     /* The window's settings outlive the model: the brush, and the budgets
      * given on the command line (--mem-budget). */
     st_brush brush = d->brush;
@@ -126,13 +153,19 @@ int st_app_restore(st_app *a, const char *path)
     st_doc_set_display_level(d, s.display_level);
     if (d->display_level > top) { d->display_level = top + 1; st_doc_set_display_level(d, top); }
     if (s.box.has_box || s.box.max_level) d->box = s.box;
+    a->box_placed = s.box_on;
     if (s.box_on && st_doc_set_box(d, &d->box, 1, &err))
         st_app_message(a, 1, "interest box of %s: %s", path, err.msg);
     a->shown_valid = 0;
     a->hover_vid = ST_NIL;
     a->op = ST_OP_NONE;
     st_app_sync(a);
-    a->autosave_dirty = 0;   /* opening is not an edit */
+    /* Opening is not an edit: switching the file's box on above is part of
+     * the file, not a step to undo (Ctrl+Z right after opening would turn
+     * it off), and nothing is unsaved. */
+    st_doc_forget_history(d);
+    a->autosave_dirty = 0;
+    a->saved_revision = a->recovery_revision = d->revision;
     if (s.has_view) {
         st_camctl_frame_all(&a->cc, a->r.surf.bbox, a->fb_h > 0 ? (float)a->fb_w / a->fb_h : 1);
         st_camera *c = &a->cc.cam;
@@ -149,13 +182,18 @@ int st_app_restore(st_app *a, const char *path)
     }
     st_pick_invalidate(&a->pick);
     st_session_free(&s);
-    st_app_message(a, 0, "opened session %s (%s, levels 0..%u)", path, d->scheme->name, top);
+    char lv[48];
+    st_app_message(a, 0, "opened session %s (%s, %s)", path, d->scheme->name, st_levels_phrase(top, lv, sizeof lv));
     return 0;
 }
 
 void st_app_autosave_tick(st_app *a, int force)
 {
-    if (!a->autosave_dirty || !a->doc.loaded || a->op != ST_OP_NONE) return;
+    /* A completed step (a stroke, a drag, an undo) is written at once, so
+     * that the recovery file holds every step however soon the process
+     * ends; other changes (the box, the view) wait for the timer. */
+    if (a->doc.loaded && a->doc.revision != a->recovery_revision) { a->autosave_dirty = 1; force = 1; }
+    if (!a->autosave_dirty || !a->doc.loaded || a->op != ST_OP_NONE || a->doc.active) return;
     double t = glfwGetTime();
     if (!force && t - a->autosave_t < AUTOSAVE_SECONDS) return;
     char rec[4096];
@@ -164,8 +202,14 @@ void st_app_autosave_tick(st_app *a, int force)
     char keep[ST_MSG_LEN];
     int keep_err = a->msg_error;
     memcpy(keep, a->msg, sizeof keep);
-    if (!st_app_save_session(a, rec, 1)) a->autosave_dirty = 0;
-    else { memcpy(a->msg, keep, sizeof keep); a->msg_error = keep_err; fprintf(stderr, "strata: autosave to %s failed\n", rec); }
+    if (!st_app_save_session(a, rec, 1)) { a->autosave_dirty = 0; a->recovery_revision = a->doc.revision; }
+    else {
+        /* Not retried before the timer: a full disk would fail every frame. */
+        a->recovery_revision = a->doc.revision;
+        memcpy(a->msg, keep, sizeof keep);
+        a->msg_error = keep_err;
+        fprintf(stderr, "strata: autosave to %s failed\n", rec);
+    }
 }
 
 void st_app_check_recovery(st_app *a)

@@ -94,7 +94,8 @@ const char *st_category_name(int category)
 
 const char *st_context_name(int context)
 {
-    static const char *const names[ST_NKEY_CONTEXTS] = { "Window", "Scheme question (after K)" };
+    static const char *const names[ST_NKEY_CONTEXTS] = { "Window", "Scheme question (after K)",
+                                                                 "Quit question (quitting with unsaved changes)" };
     return context >= 0 && context < ST_NKEY_CONTEXTS ? names[context] : NULL;
 }
 

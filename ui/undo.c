@@ -297,6 +297,12 @@ void ed_undo_clear(st_doc *d)
     d->undo_bytes = 0;
 }
 
+void st_doc_forget_history(st_doc *d)
+{
+    ed_finish_active(d);
+    ed_undo_clear(d);
+}
+
 void ed_push_step(st_doc *d, st_undo_step *s)
 {
     /* The redo tail goes. */
@@ -314,6 +320,7 @@ void ed_push_step(st_doc *d, st_undo_step *s)
     }
     d->undo[d->nundo++] = s;
     d->undo_pos = d->nundo;
+    d->revision++;
     d->undo_bytes += s->bytes;
     /* Bounded memory: the oldest steps go first. */
     uint32_t drop = 0;
@@ -481,6 +488,7 @@ int st_doc_undo(st_doc *d, st_error *err)
     int rc = apply_step(d, s, 0, err);
     if (rc) return rc;
     d->undo_pos--;
+    d->revision++;
     return 0;
 }
 
@@ -492,5 +500,6 @@ int st_doc_redo(st_doc *d, st_error *err)
     int rc = apply_step(d, s, 1, err);
     if (rc) return rc;
     d->undo_pos++;
+    d->revision++;
     return 0;
 }

@@ -248,11 +248,27 @@ void st_app_draw(st_app *a)
 
 /* ---- camera -------------------------------------------------------------------- */
 
-void st_app_frame_model(st_app *a)
+/* Framing fits the model into the part of the window the side panel
+ * leaves free, and centres it there: the fit uses that part's aspect, and
+ * a pan of half the panel's width moves the model to its centre. */
+static void centre_in_free_part(st_app *a, int view)
 {
-    if (a->r.has_surf && a->r.surf.nverts) st_camctl_frame_all(&a->cc, a->r.surf.bbox, st_app_aspect(a));
+    int panel = a->win_w > 0 ? (int)lround(st_gui_panel_pixels(a->win_w) * a->fb_w / a->win_w) : 0;
+    int free_w = a->fb_w - panel > a->fb_w / 4 ? a->fb_w - panel : a->fb_w;
+    float aspect = a->fb_h > 0 ? (float)free_w / (float)a->fb_h : 1;
+    if (view < 0) st_camctl_frame_all(&a->cc, a->r.surf.bbox, aspect);
+    else st_camctl_view(&a->cc, view, aspect);
+    if (free_w < a->fb_w) st_camctl_pan(&a->cc, -0.5f * (float)(a->fb_w - free_w), 0, a->fb_w, a->fb_h);
     st_pick_invalidate(&a->pick);
 }
+
+void st_app_frame_model(st_app *a)
+{
+    if (a->r.has_surf && a->r.surf.nverts) centre_in_free_part(a, -1);
+    st_pick_invalidate(&a->pick);
+}
+
+void st_app_view(st_app *a, int view) { centre_in_free_part(a, view); }
 
 /* ---- picking helpers ---------------------------------------------------------- */
 
@@ -271,6 +287,13 @@ static uint32_t pick_vertex(st_app *a, double x, double y)
     if (!a->doc.loaded || !a->r.has_cage || !a->cage || ensure_pick(a)) return ST_NIL;
     uint32_t slot = st_pick_at(&a->pick, (int)floor(x), (int)floor(y));
     return slot != ST_NIL && slot < a->r.cage.nverts ? a->r.cage.vid[slot] : ST_NIL;
+}
+
+int st_app_surface_at_cursor(st_app *a, double pos[3])
+{
+    double n[3];
+    return a->doc.loaded && !a->busy && !ensure_pick(a) &&
+           st_pick_surface(&a->pick, &a->cc, (int)floor(a->mx), (int)floor(a->my), pos, n);
 }
 
 void st_app_update_hover(st_app *a)
@@ -772,6 +795,13 @@ static void glfw_resize(GLFWwindow *w, int width, int height) { st_app_want_fram
 static void glfw_refresh(GLFWwindow *w) { st_app_want_frames(app_of(w)); }
 static void glfw_focus(GLFWwindow *w, int focused) { (void)focused; st_app_want_frames(app_of(w)); }
 static void glfw_enter(GLFWwindow *w, int entered) { (void)entered; st_app_want_frames(app_of(w)); }
+/* The window manager's close button asks like Ctrl+Q. */
+static void glfw_close(GLFWwindow *w)
+{
+    st_app *a = app_of(w);
+    st_app_request_quit(a);
+    if (!a->quit) glfwSetWindowShouldClose(w, GLFW_FALSE);
+}
 
 /* ---- screenshots ------------------------------------------------------------------ */
 
@@ -1010,6 +1040,7 @@ int st_window_main(const st_win_opts *o)
     glfwSetWindowRefreshCallback(a->win, glfw_refresh);
     glfwSetWindowFocusCallback(a->win, glfw_focus);
     glfwSetCursorEnterCallback(a->win, glfw_enter);
+    glfwSetWindowCloseCallback(a->win, glfw_close);
     /* Replays start with the GUI hidden (their references predate it; the
      * script's `gui on` shows it). */
     st_gui_init(a, !o->no_gui && !rp);
@@ -1018,12 +1049,14 @@ int st_window_main(const st_win_opts *o)
     st_camctl_init(&a->cc, bb, st_app_aspect(a));
 
     const char *path = o->file ? o->file : a->default_path;
-    if (st_app_open(a, path) && o->file && !rp) {
+    int opened = st_app_open(a, path);
+    a->showing_default = !o->file && !opened;
+    if (opened && o->file && !rp) {
         /* The file given on the command line failed: say so, fall back to
          * the default asset so that the window still opens. */
         char keep[ST_MSG_LEN];
         memcpy(keep, a->msg, sizeof keep);
-        st_app_open(a, a->default_path);
+        a->showing_default = !st_app_open(a, a->default_path);
         memcpy(a->msg, keep, sizeof keep);
         a->msg_error = 1;
     }
@@ -1048,7 +1081,7 @@ int st_window_main(const st_win_opts *o)
         st_gui_run_pending(a);
         glfwGetFramebufferSize(a->win, &a->fb_w, &a->fb_h);
         glfwGetWindowSize(a->win, &a->win_w, &a->win_h);
-        if (st_app_sync(a)) st_app_want_frames(a);
+        if (st_app_sync(a) || st_gui_wants_frames()) st_app_want_frames(a);
         probe_shot_request(a);
         /* Idle: nothing came in, nothing changed, no drag or stroke going
          * on.  The timeout still wakes the loop for the recovery save and

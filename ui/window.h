@@ -97,6 +97,15 @@ typedef struct st_app {
     int masked_times;          /* replay, STRATA_GUI_PROBE: times shown as "--" (screenshots stay comparable) */
     double brush_radius_frac;  /* brush radius at open, times the model's half-diagonal (preference) */
     int autosave_dirty;        /* edits since the last recovery save */
+    /* st_doc.revision when the document was last opened or saved, and when
+     * the recovery file was last written: a completed step writes the
+     * recovery file at once (session_io.c), and quitting with
+     * revision != saved_revision asks first (st_app_request_quit). */
+    uint64_t saved_revision, recovery_revision;
+    int showing_default;       /* the model shown is the default one, opened because no file was given */
+    int box_placed;            /* the interest box was placed (by the user, a session, or its first I) */
+    int quit_asking;           /* the question "save before quitting?" is up */
+    int quit_after_save;       /* its Save opened Save As (untitled): quit once that saves */
     double autosave_t;
 
     double frame_ms;           /* drawing + presenting the last frame */
@@ -146,7 +155,17 @@ int st_app_import(st_app *a, const char *path);
 
 /* Sessions (ui/session_io.c). */
 int st_app_save_session(st_app *a, const char *path, int quiet);
-void st_app_save(st_app *a);                       /* Ctrl+S */
+int st_app_save(st_app *a);                        /* Ctrl+S; 0 saved */
+/* Quit (Ctrl+Q, File > Quit, the window's close button): at once when
+ * nothing is unsaved, else the question Save / Don't save / Cancel. */
+void st_app_request_quit(st_app *a);
+void st_app_saved(st_app *a);                       /* after a save the user asked for */
+int st_app_unsaved(const st_app *a);
+/* Home and the numbered views: the model fitted and centred in the part of
+ * the window the side panel leaves free (view: ST_CV_*). */
+void st_app_view(st_app *a, int view);
+/* The displayed surface's point under the cursor (picking); 0: none. */
+int st_app_surface_at_cursor(st_app *a, double pos[3]);
 int st_app_restore(st_app *a, const char *path);   /* opens a .strata session */
 void st_app_autosave_tick(st_app *a, int force);    /* recovery file after edits */
 void st_app_check_recovery(st_app *a);              /* at start: offer it */

@@ -74,6 +74,27 @@ static int mesh_has_holes(const st_mesh *mesh)
     return 0;
 }
 
+static int triangles_only(const st_scheme *scheme)
+{
+    return scheme->id == ST_SCHEME_LOOP || scheme->id == ST_SCHEME_BUTTERFLY || scheme->id == ST_SCHEME_SQRT3 ||
+           scheme->id == ST_SCHEME_PROGRESSIVE;
+}
+
+int st_scheme_accepts(const st_scheme *scheme, const st_mesh *mesh, st_error *err)
+{
+    if (triangles_only(scheme))
+        for (uint32_t f = 0; f < mesh->nfaces; f++) {
+            uint32_t n = mesh->face_off[f + 1] - mesh->face_off[f];
+            if (n != 3 && !(mesh->face_hole && mesh->face_hole[f]))
+                return st_fail(err, ST_ERR_TOPOLOGY, "the %s scheme needs a triangle mesh, but the mesh has a face with %u sides",
+                               scheme->name, n);
+        }
+    if ((mesh->boundary_interp == ST_BOUNDARY_NONE || mesh_has_holes(mesh)) && !holes_supported(scheme))
+        return st_fail(err, ST_ERR_INVALID, "the %s scheme has no hole faces: holes need a face-splitting scheme "
+                       "(catmull-clark, loop, butterfly, quad-triangle)", scheme->name);
+    return ST_OK;
+}
+
 /* Every real face around the vertex of d (level 0) becomes a hole. */
 static void hole_faces_around(st_map *m, uint32_t d)
 {
@@ -152,6 +173,13 @@ static void drop_caches(st_hier *h, unsigned from)
         h->local.free(h->local.p);
         h->local.p = NULL;
     }
+}
+
+char *st_levels_phrase(unsigned top, char *buf, size_t n)
+{
+    if (top == 0) snprintf(buf, n, "1 level (0)");
+    else snprintf(buf, n, "%u levels (0..%u)", top + 1, top);
+    return buf;
 }
 
 void st_hier_free(st_hier *h)

@@ -80,6 +80,16 @@ typedef struct st_hier {
  * triangles only).  h is left empty on failure. */
 int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const st_hier_opts *opts, st_error *err);
 void st_hier_free(st_hier *h);
+/* Whether scheme can build on mesh, before building anything: loop,
+ * butterfly and sqrt3 need triangles, holes (hole faces, or a mesh that
+ * interpolates no boundary) need a face-splitting scheme.  ST_OK, or the
+ * reason in err (the words st_hier_init would fail with).  The window
+ * greys out the schemes a model cannot take (ui/gui.cc). */
+int st_scheme_accepts(const st_scheme *scheme, const st_mesh *mesh, st_error *err);
+/* The one wording of a hierarchy's depth, for every command and the
+ * window: top 16 is "17 levels (0..16)", top 0 "1 level (0)".  Levels are
+ * numbered from 0, so the count is top + 1.  Returns buf. */
+char *st_levels_phrase(unsigned top, char *buf, size_t n);
 
 /* Adds levels by regular refinement until top == levels (zero details). */
 int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err);

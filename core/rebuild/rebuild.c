@@ -64,17 +64,19 @@ static int build_progressive(const char *name, const st_mesh *mesh, const st_reb
     if (rc) return named(err, name, rc);
     rep->levels = pr.levels;
     rep->cage_faces = (uint32_t)pr.faces[0];
-    size_t n = (size_t)snprintf(rep->summary, sizeof rep->summary, "progressive, %u levels (faces", pr.levels);
+    char lv[48];
+    st_levels_phrase(pr.levels - 1, lv, sizeof lv);
+    size_t n = (size_t)snprintf(rep->summary, sizeof rep->summary, "progressive, %s, faces", lv);
     for (unsigned l = 0; l < pr.levels && n < sizeof rep->summary; l++)
         n += (size_t)snprintf(rep->summary + n, sizeof rep->summary - n, " %llu", (unsigned long long)pr.faces[l]);
-    if (n < sizeof rep->summary) n += (size_t)snprintf(rep->summary + n, sizeof rep->summary - n, "), kept per level t =");
+    if (n < sizeof rep->summary) n += (size_t)snprintf(rep->summary + n, sizeof rep->summary - n, ", kept per level t =");
     for (unsigned l = 1; l < pr.levels && n < sizeof rep->summary; l++)
         n += (size_t)snprintf(rep->summary + n, sizeof rep->summary - n, " %.2f", pr.kept[l]);
     if (n < sizeof rep->summary)
         snprintf(rep->summary + n, sizeof rep->summary - n, ", %.1f topology bytes per finest dart, %.1f of details", pr.bytes_per_dart,
                  pr.detail_bytes_per_dart);
-    snprintf(rep->brief, sizeof rep->brief, "rebuilt by the progressive method: %u levels, coarsest %llu faces",
-             pr.levels, (unsigned long long)pr.faces[0]);
+    snprintf(rep->brief, sizeof rep->brief, "rebuilt by the progressive method: %s, coarsest %llu faces", lv,
+             (unsigned long long)pr.faces[0]);
     if (pr.triangulated) st_notes_add(&rep->notes, "polygons were split into triangles (fans) first");
     if (pr.note[0]) st_notes_add(&rep->notes, "%s", pr.note);
     progressive_dropped(mesh, &rep->notes);
@@ -108,14 +110,14 @@ static int build_unsubdivided(const char *name, const st_mesh *mesh, st_unsub *u
         return st_fail(err, ST_ERR_INVALID, "cancelled");
     }
     const st_mesh *c = &u->step[0].coarse;
+    char lv[48];
     rep->levels = h->map.top + 1;
     rep->cage_faces = c->nfaces;
     snprintf(rep->summary, sizeof rep->summary,
-             "unsubdivide, %s, scheme %s: levels 0..%u, cage %u faces and %u vertices, finest %u faces, longest detail %.3g",
-             split ? "polygon split" : "triangle quadrisection", sc->name, h->map.top, c->nfaces, c->nverts,
-             mesh->nfaces, st_unsub_max_detail(h));
-    snprintf(rep->brief, sizeof rep->brief, "rebuilt by unsubdivide (%s): %u levels, cage %u faces", sc->name,
-             h->map.top + 1, c->nfaces);
+             "unsubdivide, %s, scheme %s: %s, cage %u faces and %u vertices, finest %u faces, longest detail %.3g",
+             split ? "polygon split" : "triangle quadrisection", sc->name, st_levels_phrase(h->map.top, lv, sizeof lv),
+             c->nfaces, c->nverts, mesh->nfaces, st_unsub_max_detail(h));
+    snprintf(rep->brief, sizeof rep->brief, "rebuilt by unsubdivide (%s): %s, cage %u faces", sc->name, lv, c->nfaces);
     snprintf(rep->stop, sizeof rep->stop, "%s", u->stop);
     if (mesh->ncreases || mesh->ncorners || mesh->face_hole) {
         uint32_t holes = st_mesh_hole_faces(c);
