@@ -175,7 +175,9 @@ static int check_input(const st_cli_opts *o, const st_session *s, unsigned l)
         return 2;
     }
     if (l > s->h.map.top) {
-        fprintf(stderr, "strata deform: --level %u does not exist in %s (levels 0..%u)\n", l, o->in, s->h.map.top);
+        char lv[48];
+        fprintf(stderr, "strata deform: --level %u does not exist in %s (%s)\n", l, o->in,
+                st_levels_phrase(s->h.map.top, lv, sizeof lv));
         return 2;
     }
     return 0;
@@ -210,8 +212,11 @@ int st_cmd_deform(int argc, char **argv)
     if (!rc) {
         s.edit_level = l;
         if (st_session_save(o.out, &s, &err)) { fprintf(stderr, "strata: %s\n", err.msg); rc = 1; }
-        else printf("%s: %lld %s of level %u moved (levels 0..%u)\n", o.out, (long long)moved,
-                    moved == 1 ? "vertex" : "vertices", l, s.h.map.top);
+        else {
+            char lv[48];
+            printf("%s: %lld %s of level %u moved, %s\n", o.out, (long long)moved, moved == 1 ? "vertex" : "vertices", l,
+                   st_levels_phrase(s.h.map.top, lv, sizeof lv));
+        }
     }
     st_session_free(&s);
     return rc;

@@ -101,7 +101,7 @@ read -r emax near far <<< "$(check_bump "$W/in0.obj" "$W/mesh0.obj" ${C0//,/ } 0
 if awk -v e="$emax" -v m="$near" 'BEGIN { exit !(e < 1e-9 && m > 0.999999 && m < 1.000001) }'; then
     ok "mesh input: level 0 moved as the formula says (error $emax, the vertex at C by $near |D|)"
 else bad "mesh input: error $emax, the vertex at C by $near |D|"; fi
-if "$S" info "$W/mesh.strata" | grep -q "scheme catmull-clark, 2 levels"; then ok "mesh input built to --levels 2"
+if "$S" info "$W/mesh.strata" | grep -q "scheme catmull-clark, 3 levels (0..2)"; then ok "mesh input built to --levels 2"
 else bad "mesh input: $("$S" info "$W/mesh.strata" | head -1)"; fi
 
 # ---- refusals: argument named, non-zero exit, nothing written, OUT kept ------
