@@ -129,6 +129,7 @@ refuse "negative radius" "--bump: the radius R .* must be > 0" "$W/in.strata" --
 refuse "six numbers" "--bump wants 7 numbers .* got 6" "$W/in.strata" --level 1 --bump "0,0,0,1,0,0"
 refuse "eight numbers" "--bump wants 7 numbers .* got 8" "$W/in.strata" --level 1 --bump "0,0,0,1,0,0,1,2"
 refuse "not a number" "--bump wants 7 numbers .*number 3 is not a number" "$W/in.strata" --level 1 --bump "0,0,z,1,0,0,1"
+refuse "an edit past the double range" "a number in the positions is not finite" "$W/in.strata" --level 1 --bump "0,0,0,10,1e308,1e308,1e308"
 refuse "no bump" "--bump CX,CY,CZ,R,DX,DY,DZ is required" "$W/in.strata" --level 1
 refuse "unknown scheme" "unknown scheme 'nope'" "$D/catmull_clark/blub_control_mesh.obj" --scheme nope --level 0 --bump "0,0,0,1,0,0,1"
 refuse "missing input" "missing.obj" "$W/missing.obj" --level 0 --bump "0,0,0,1,0,0,1"
