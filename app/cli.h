@@ -14,5 +14,7 @@ int st_cmd_window(int argc, char **argv);
 int st_cmd_rebuild(int argc, char **argv);
 /* app/cmd_bake.c: normal and displacement maps of a level onto a coarser one. */
 int st_cmd_bake(int argc, char **argv);
+/* app/cmd_deform.c: a scripted edit (a Gaussian bump at one level). */
+int st_cmd_deform(int argc, char **argv);
 
 #endif

@@ -63,37 +63,37 @@ int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd)
     return 0;
 }
 
-/* A session file (.strata) as input: its hierarchy as saved (details,
- * edits, levels), refined further when --levels asks for more. */
-static int load_session(const st_cli_opts *o, st_hier *h, const char *cmd)
+/* A session file (.strata) as input: every chunk as saved (details, edits,
+ * levels, layers, view), refined further when --levels asks for more. */
+static int load_session(const st_cli_opts *o, st_session *s, const char *cmd)
 {
-    st_session s;
     st_error err;
-    if (st_session_load(o->in, &s, &err)) { fprintf(stderr, "strata: %s\n", err.msg); return 1; }
-    if (o->scheme && st_scheme_find(o->scheme) != s.h.scheme) {
+    if (st_session_load(o->in, s, &err)) { fprintf(stderr, "strata: %s\n", err.msg); return 1; }
+    if (o->scheme && st_scheme_find(o->scheme) != s->h.scheme) {
         fprintf(stderr, "strata %s: %s is a %s session; --scheme %s does not apply (strata convert rebuilds with another scheme from a mesh)\n",
-                cmd, o->in, s.h.scheme->name, o->scheme);
-        st_session_free(&s);
+                cmd, o->in, s->h.scheme->name, o->scheme);
+        st_session_free(s);
         return 2;
     }
-    if (o->levels > s.h.map.top && s.has_adapt && s.box_on) {
+    if (o->levels > s->h.map.top && s->has_adapt && s->box_on) {
         fprintf(stderr, "strata %s: %s shows an adaptive mesh (interest box on); --levels cannot refine it further\n", cmd, o->in);
-        st_session_free(&s);
+        st_session_free(s);
         return 2;
     }
-    st_session_move_hier(h, &s.h);
-    st_session_free(&s);
-    if (o->levels > h->map.top && st_hier_subdivide_to(h, o->levels, &err)) {
+    if (o->levels > s->h.map.top && st_hier_subdivide_to(&s->h, o->levels, &err)) {
         fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);
-        st_hier_free(h);
+        st_session_free(s);
         return 1;
     }
     return 0;
 }
 
-int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
+/* A mesh as input: the hierarchy built with --scheme to --levels.  With
+ * keep_base the control mesh as loaded stays in s->base (a session written
+ * from it stores it, as strata convert's does); without, it is freed before
+ * the levels are refined, so it does not add to their peak. */
+static int load_mesh(const st_cli_opts *o, st_session *s, const char *cmd, int keep_base)
 {
-    if (st_session_is_path(o->in)) return load_session(o, h, cmd);
     const char *name = o->scheme ? o->scheme : "catmull-clark";
     const st_scheme *sc = st_scheme_find(name);
     if (!sc) { fprintf(stderr, "strata %s: unknown scheme '%s' (catmull-clark, loop, butterfly, quad-triangle, sqrt3, doo-sabin)\n", cmd, name); return 2; }
@@ -106,14 +106,39 @@ int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
     for (uint32_t i = 0; i < notes.count; i++) fprintf(stderr, "strata: %s\n", notes.lines[i]);
     st_notes_free(&notes);
     st_hier_opts ho = { .boundary = o->boundary, .crease_method = ST_CREASE_UNIFORM, .uv_interp = o->uv_interp };
-    int rc = st_hier_init(h, &mesh, sc, &ho, &err);
-    st_mesh_free(&mesh);
-    if (rc) { fprintf(stderr, "strata: %s: %s\n", o->in, err.msg); return 1; }
-    if (st_hier_subdivide_to(h, o->levels, &err)) {
+    st_session_init(s);
+    int rc = st_hier_init(&s->h, &mesh, sc, &ho, &err);
+    if (rc) {
+        st_mesh_free(&mesh);
+        st_session_init(s);
         fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);
-        st_hier_free(h);
         return 1;
     }
+    if (keep_base) {
+        st_mesh_move(&s->base, &mesh);
+        s->has_base = 1;
+    } else st_mesh_free(&mesh);
+    if (st_hier_subdivide_to(&s->h, o->levels, &err)) {
+        fprintf(stderr, "strata: %s: %s\n", o->in, err.msg);
+        st_session_free(s);
+        return 1;
+    }
+    s->display_level = s->h.map.top;
+    return 0;
+}
+
+int st_cli_load_session(const st_cli_opts *o, st_session *s, const char *cmd)
+{
+    return st_session_is_path(o->in) ? load_session(o, s, cmd) : load_mesh(o, s, cmd, 1);
+}
+
+int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd)
+{
+    st_session s;
+    int rc = st_session_is_path(o->in) ? load_session(o, &s, cmd) : load_mesh(o, &s, cmd, 0);
+    if (rc) return rc;
+    st_session_move_hier(h, &s.h);
+    st_session_free(&s);
     return 0;
 }
 

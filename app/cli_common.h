@@ -2,6 +2,7 @@
 #define ST_CLI_COMMON_H
 
 #include "core/multires/hier.h"
+#include "core/io/session.h"
 
 typedef struct st_cli_opts {
     const char *in, *out, *scheme;
@@ -15,6 +16,10 @@ typedef struct st_cli_opts {
 int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd);
 /* Loads o->in and builds the hierarchy to o->levels; prints errors. */
 int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd);
+/* Loads o->in as a whole session: a session file with every chunk it
+ * holds, or a mesh built as st_cli_load builds it, its control mesh kept as
+ * the session's base.  Prints errors; s is empty on failure. */
+int st_cli_load_session(const st_cli_opts *o, st_session *s, const char *cmd);
 /* --uv-interp NAME into *out (enum st_uv_interp); -1 with a message. */
 int st_cli_parse_uv_interp(const char *v, int *out, const char *cmd);
 

@@ -10,8 +10,10 @@
  * how far, in model units; default from the bounding boxes), and the
  * output says which correspondence was used and how many texels missed.
  * UVs that overlap or leave [0,1] are refused by st_bake.  Every file is
- * written to NAME.tmp.EXT first and renamed once all are written, so a refusal
- * or a failed write leaves nothing.  Exit status: 0 done, 1 refused or a
+ * written to its temporary (core/io/atomic_file.h) and the temporaries are
+ * renamed only once all are written and synced, so a refusal or a failed
+ * write leaves the old files, and a kill leaves the old maps or the new
+ * ones, except in the few microseconds between the renames.  Exit status: 0 done, 1 refused or a
  * file could not be read or written, 2 bad usage. */
 #include "bake_images.h"
 #include "cli.h"
@@ -118,41 +120,32 @@ static char *sidecar_path(const char *png)
     return s;
 }
 
-/* NAME.tmp.EXT: the writers pick the format by the extension. */
-static char *tmp_path(const char *p)
-{
-    size_t n = strlen(p), dot = n - 4;
-    char *s = malloc(n + 5);
-    if (!s) return NULL;
-    memcpy(s, p, dot);
-    memcpy(s + dot, ".tmp", 4);
-    strcpy(s + dot + 4, p + dot);
-    return s;
-}
-
-/* Writes the maps to their .tmp names, then renames them all; on any
- * failure removes what was written. */
+/* Writes every map to its temporary and finishes them all (every write
+ * that can fail is then done), then places them: the maps appear together
+ * (core/io/atomic_file.h st_afile_finish).  On any failure before the
+ * placing, every temporary is removed and the old files stay. */
 static int write_outputs(const bake_args *b, const st_bake_maps *maps, char *side, st_error *err)
 {
     const char *final[3] = { b->normal_path, b->disp_path, side };
-    char *tmp[3] = { NULL, NULL, NULL };
+    st_afile af[3];
+    memset(af, 0, sizeof af);
     int rc = ST_OK;
     for (int k = 0; k < 3 && !rc; k++)
-        if (final[k] && !(tmp[k] = tmp_path(final[k]))) rc = st_fail(err, ST_ERR_MEMORY, "out of memory");
+        if (final[k]) rc = st_afile_open(&af[k], final[k], err);
     double offset = 0, scale = 1;
-    if (!rc && b->normal_path) rc = st_bake_write_normal_png(tmp[0], maps, b->bits, err);
-    if (!rc && b->disp_path) rc = st_bake_write_disp(tmp[1], maps, &offset, &scale, err);
+    if (!rc && b->normal_path) rc = st_bake_write_normal_png(&af[0], maps, b->bits, err);
+    if (!rc && b->disp_path) rc = st_bake_write_disp(&af[1], maps, &offset, &scale, err);
     if (!rc && side) {
         const char *meaning = !b->vector ? "displacement along the base level's interpolated normal"
                             : b->space == ST_BAKE_TANGENT ? "displacement vector in tangent space (tangent, bitangent, normal)"
                                                          : "displacement vector in object space (x, y, z)";
-        rc = st_bake_write_sidecar(tmp[2], b->disp_path, maps, meaning, offset, scale, err);
+        rc = st_bake_write_sidecar(&af[2], b->disp_path, maps, meaning, offset, scale, err);
     }
     for (int k = 0; k < 3 && !rc; k++)
-        if (tmp[k] && rename(tmp[k], final[k])) rc = st_fail(err, ST_ERR_IO, "%s: cannot rename into place", final[k]);
+        if (af[k].f) rc = st_afile_finish(&af[k], err);
     for (int k = 0; k < 3; k++) {
-        if (rc && tmp[k]) remove(tmp[k]);
-        free(tmp[k]);
+        if (rc) { st_afile_abort(&af[k]); continue; }
+        if (af[k].tmp && st_afile_place(&af[k], err)) rc = 1;
     }
     return rc;
 }

@@ -206,6 +206,20 @@ static int split_args(int argc, char **argv, render_opts *r, char **rest, int *n
     return 0;
 }
 
+/* The image's memory against --mem-budget before it is allocated: the
+ * offscreen framebuffers, the pixels read back, the PNG encoder's. */
+static int check_image_budget(const render_opts *r, const char *out)
+{
+    size_t px = (size_t)r->width * (size_t)r->height;
+    size_t need = st_offscreen_bytes(r->width, r->height) + px * 4 + st_png_write_bytes(r->width, r->height);
+    char what[96];
+    snprintf(what, sizeof what, "a %dx%d image", r->width, r->height);
+    st_error err;
+    if (!st_mem_check(need, what, &err)) return 0;
+    fprintf(stderr, "strata render: %s: %s\n", out, err.msg);
+    return -1;
+}
+
 int st_cmd_render(int argc, char **argv)
 {
     render_opts r;
@@ -226,6 +240,8 @@ int st_cmd_render(int argc, char **argv)
         fprintf(stderr, "strata render: --level %d is above --levels %u\n", o.level, o.levels);
         return 2;
     }
+    /* At once, before the model is read; again once it is in memory. */
+    if (check_image_budget(&r, o.out)) return 1;
     r.spec.cage_level = 0;
     if (r.adaptive) {
         if (o.levels || o.level >= 0) { fprintf(stderr, "strata render: --levels/--level do not go with --box (the box decides the levels)\n"); return 2; }
@@ -281,6 +297,12 @@ int st_cmd_render(int argc, char **argv)
     }
     st_offscreen off;
     unsigned char *rgba = NULL;
+    if (check_image_budget(&r, o.out)) {
+        st_adapt_uv_free(&auv);
+        st_adapt_free(&a);
+        st_hier_free(&h);
+        return 1;
+    }
     rc = st_offscreen_init(&off, r.width, r.height, &err);
     if (rc) {
         fprintf(stderr, "strata render: cannot render headless: %s\n", err.msg);

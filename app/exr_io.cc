@@ -11,7 +11,8 @@
 #include <cstring>
 #include <vector>
 
-extern "C" int st_exr_write(const char *path, const float *pixels, int w, int h, int channels, char *msg, unsigned msg_size)
+extern "C" int st_exr_encode(const float *pixels, int w, int h, int channels, unsigned char **out, size_t *size, char *msg,
+                             unsigned msg_size)
 {
     if (channels != 1 && channels != 3) {
         std::snprintf(msg, msg_size, "an EXR map has 1 or 3 channels, not %d", channels);
@@ -46,9 +47,15 @@ extern "C" int st_exr_write(const char *path, const float *pixels, int w, int h,
     header.requested_pixel_types = types.data();
     header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
     const char *err = nullptr;
-    int rc = SaveEXRImageToFile(&image, &header, path, &err);
-    if (rc == TINYEXR_SUCCESS) return 0;
-    std::snprintf(msg, msg_size, "%s", err ? err : "tinyexr could not write the file");
+    unsigned char *mem = nullptr;
+    // tinyexr allocates the result with malloc; 0 bytes is its failure.
+    size_t bytes = SaveEXRImageToMemory(&image, &header, &mem, &err);
+    if (bytes > 0 && mem) {
+        *out = mem;
+        *size = bytes;
+        return 0;
+    }
+    std::snprintf(msg, msg_size, "%s", err ? err : "tinyexr could not encode the image");
     if (err) FreeEXRErrorMessage(err);
     return -1;
 }

@@ -7,9 +7,15 @@
 extern "C" {
 #endif
 
-/* Writes w × h pixels of `channels` (1 or 3) floats, row 0 first; returns
- * 0, or -1 with a message of at most msg_size bytes in msg. */
-int st_exr_write(const char *path, const float *pixels, int w, int h, int channels, char *msg, unsigned msg_size);
+#include <stddef.h>
+
+/* Encodes w × h pixels of `channels` (1 or 3) floats, row 0 first, as an
+ * EXR file in memory (*out, malloc'ed: the caller frees; *size bytes), so
+ * that the caller writes it where and how it writes every file (atomically,
+ * core/io/atomic_file.h).  Returns 0, or -1 with a message of at most
+ * msg_size bytes in msg. */
+int st_exr_encode(const float *pixels, int w, int h, int channels, unsigned char **out, size_t *size, char *msg,
+                  unsigned msg_size);
 
 #ifdef __cplusplus
 }

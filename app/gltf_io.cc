@@ -15,6 +15,17 @@
 
 #include "gltf_io.h"
 
+// core's headers are C without extern "C" guards.
+extern "C" {
+#include "core/base/membudget.h"
+#include "core/io/atomic_file.h"
+#include "core/io/file_open.h"
+}
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -42,13 +53,16 @@ const int kMaxJsonDepth = 256;
 
 const int kModePoints = 0, kModeTriangles = 4, kModeStrip = 5, kModeFan = 6;
 
-// The error type: a message without the file name ("what: problem").
+// The error type: a message without the file name ("what: problem"), or,
+// when named, one that names its file itself (a writer's second file).
 struct Failure {
     int code;
     std::string msg;
+    bool named;
 };
 
-[[noreturn]] void fail(int code, const std::string &msg) { throw Failure{code, msg}; }
+[[noreturn]] void fail(int code, const std::string &msg) { throw Failure{code, msg, false}; }
+[[noreturn]] void fail_named(int code, const std::string &msg) { throw Failure{code, msg, true}; }
 
 std::string one_line(std::string s)
 {
@@ -68,9 +82,15 @@ std::string one_line(std::string s)
 
 bool read_file(const std::string &path, std::vector<unsigned char> *out, std::string *why)
 {
-    FILE *f = fopen(path.c_str(), "rb");
+    st_error e;
+    FILE *f = st_open_input(path.c_str(), &e);
     if (!f) {
-        *why = strerror(errno);
+        // Its message names the path, and says "cannot open", which the
+        // caller says too: the reason alone.
+        std::string m = e.msg;
+        for (const std::string &pre : {path + ": ", std::string("cannot open: ")})
+            if (m.compare(0, pre.size(), pre) == 0) m = m.substr(pre.size());
+        *why = m;
         return false;
     }
     std::vector<unsigned char> buf;
@@ -94,20 +114,129 @@ bool read_file(const std::string &path, std::vector<unsigned char> *out, std::st
     return ok;
 }
 
-// tinygltf's file-system callbacks.  user_data: non-null when parsing from
-// memory, where every external URI is refused with our message.
-bool fs_exists(const std::string &, void *) { return true; }
-std::string fs_expand(const std::string &path, void *) { return path; }
-bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *in_memory)
+// Where external buffers may come from: tinygltf's file-system callbacks
+// get this as user_data.  Only regular files inside the glTF's own folder
+// are read (no absolute URI, no ".." or symlink out of it, no FIFO or
+// device, which could hang or never end), after their size was checked
+// against the buffer's byteLength and --mem-budget.
+struct BufferFs {
+    bool in_memory = false;      // parsing from memory: every external URI is refused
+    std::string base;            // the folder as handed to tinygltf (the prefix of its paths)
+    std::string real_base;       // its realpath
+    std::map<std::string, size_t> byte_length;  // decoded URI -> largest byteLength naming it
+    std::string refusal;         // the first refusal: "buffer 'URI': problem"
+    int code = ST_ERR_PARSE;
+};
+
+bool refuse(BufferFs *fs, std::string *err, const std::string &uri, const std::string &why, int code)
 {
-    if (in_memory) {
-        if (err) *err = "external URIs cannot be resolved when parsing from memory (only data: URIs)";
-        return false;
-    }
-    std::string why;
-    if (read_file(path, out, &why)) return true;
-    if (err) *err = why;
+    std::string msg = "buffer '" + uri + "': " + why;
+    if (fs->refusal.empty()) fs->refusal = msg, fs->code = code;
+    if (err) *err = msg;
     return false;
+}
+
+// The URI tinygltf joined to the folder (tinygltf's JoinPath).
+std::string uri_of(const BufferFs *fs, const std::string &path)
+{
+    if (fs->base.empty()) return path;
+    std::string prefix = fs->base.back() == '/' ? fs->base : fs->base + "/";
+    return path.compare(0, prefix.size(), prefix) == 0 ? path.substr(prefix.size()) : path;
+}
+
+std::string real_path(const std::string &p)
+{
+    char *r = realpath(p.c_str(), nullptr);
+    if (!r) return std::string();
+    std::string s = r;
+    free(r);
+    return s;
+}
+
+const char *file_kind(mode_t m)
+{
+    return S_ISFIFO(m) ? "a FIFO" : S_ISCHR(m) || S_ISBLK(m) ? "a device" : S_ISDIR(m) ? "a folder" : S_ISSOCK(m) ? "a socket" : "not a regular file";
+}
+
+// Reads the regular file real (checked by the caller) of `size` bytes:
+// opened without blocking and checked again once open, so that a file
+// swapped for a FIFO in between is refused, not waited on.
+bool read_checked(BufferFs *fs, std::string *err, const std::string &uri, const std::string &real, size_t size,
+                  std::vector<unsigned char> *out)
+{
+    int fd = open(real.c_str(), O_RDONLY | O_NONBLOCK | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) return refuse(fs, err, uri, std::string("cannot open: ") + strerror(errno), ST_ERR_IO);
+    struct stat st;
+    if (fstat(fd, &st) || !S_ISREG(st.st_mode) || (size_t)st.st_size != size) {
+        close(fd);
+        return refuse(fs, err, uri, "changed while it was being opened", ST_ERR_IO);
+    }
+    std::vector<unsigned char> buf(size);
+    size_t got = 0;
+    while (got < size) {
+        ssize_t r = read(fd, buf.data() + got, size - got);
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) {
+            int e = r < 0 ? errno : 0;
+            close(fd);
+            return refuse(fs, err, uri, e ? std::string("cannot read: ") + strerror(e) : "shorter than when it was opened", ST_ERR_IO);
+        }
+        got += (size_t)r;
+    }
+    close(fd);
+    out->swap(buf);
+    return true;
+}
+
+bool fs_exists(const std::string &, void *) { return true; }  // fs_read decides, with the reason
+std::string fs_expand(const std::string &path, void *) { return path; }
+bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *user)
+{
+    BufferFs *fs = static_cast<BufferFs *>(user);
+    std::string uri = uri_of(fs, path);
+    if (fs->in_memory) return refuse(fs, err, uri, "external URIs cannot be resolved when parsing from memory (only data: URIs)", ST_ERR_PARSE);
+    if (uri.empty()) return refuse(fs, err, uri, "an empty URI", ST_ERR_PARSE);
+    if (uri[0] == '/') return refuse(fs, err, uri, "an absolute path: external buffers must lie in the glTF's folder", ST_ERR_PARSE);
+    std::string real = real_path(path);
+    if (real.empty()) return refuse(fs, err, uri, std::string("cannot open: ") + strerror(errno), ST_ERR_IO);
+    std::string inside = fs->real_base == "/" ? "/" : fs->real_base + "/";
+    if (fs->real_base.empty() || real.compare(0, inside.size(), inside) != 0)
+        return refuse(fs, err, uri, "outside the glTF's folder (it resolves to " + real + ")", ST_ERR_PARSE);
+    struct stat st;
+    if (stat(real.c_str(), &st)) return refuse(fs, err, uri, std::string("cannot open: ") + strerror(errno), ST_ERR_IO);
+    if (!S_ISREG(st.st_mode)) return refuse(fs, err, uri, std::string(file_kind(st.st_mode)) + ", not a regular file", ST_ERR_PARSE);
+    size_t size = (size_t)st.st_size;
+    auto bl = fs->byte_length.find(uri);
+    if (bl != fs->byte_length.end() && size > bl->second)
+        return refuse(fs, err, uri, std::to_string(size) + " bytes, more than the buffer's byteLength " + std::to_string(bl->second), ST_ERR_PARSE);
+    if (size > kMaxFileBytes) return refuse(fs, err, uri, "larger than 2 GiB", ST_ERR_MEMORY);
+    st_error e;
+    if (size >= ST_MEM_CHECK_MIN_BYTES && st_mem_check(size, "reading it", &e)) return refuse(fs, err, uri, e.msg, ST_ERR_MEMORY);
+    return read_checked(fs, err, uri, real, size, out);
+}
+
+// The byteLength of each buffer with an external URI, from the JSON alone
+// (tinygltf checks a file's size only after reading all of it).  Members
+// other than "buffers" are dropped while parsing; malformed JSON leaves the
+// table empty (tinygltf then says what is wrong).
+void collect_byte_lengths(const unsigned char *text, size_t n, BufferFs *fs)
+{
+    using nlohmann::json;
+    json::parser_callback_t keep = [](int depth, json::parse_event_t ev, json &parsed) {
+        return !(depth == 1 && ev == json::parse_event_t::key && parsed != "buffers");
+    };
+    json j = json::parse(text, text + n, keep, false);
+    if (!j.is_object() || !j.contains("buffers") || !j["buffers"].is_array()) return;
+    for (const json &b : j["buffers"]) {
+        if (!b.is_object() || !b.contains("uri") || !b["uri"].is_string() || !b.contains("byteLength") ||
+            !b["byteLength"].is_number_unsigned())
+            continue;
+        std::string uri = b["uri"].get<std::string>();
+        if (tinygltf::IsDataURI(uri)) continue;
+        size_t len = b["byteLength"].get<size_t>();
+        size_t &have = fs->byte_length[tinygltf::dlib::urldecode(uri)];
+        if (len > have) have = len;
+    }
 }
 bool fs_write(std::string *err, const std::string &, const std::vector<unsigned char> &, void *)
 {
@@ -167,9 +296,15 @@ void parse_model(const unsigned char *d, size_t n, const char *base_dir, tinyglt
     if (json_depth(json, json_n) > kMaxJsonDepth)
         fail(ST_ERR_PARSE, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
 
+    BufferFs bfs;
+    bfs.in_memory = !base_dir;
+    if (base_dir) {
+        bfs.base = base_dir;
+        bfs.real_base = real_path(base_dir);
+        collect_byte_lengths(json, json_n, &bfs);
+    }
     tinygltf::TinyGLTF loader;
-    tinygltf::FsCallbacks fs = {fs_exists, fs_expand, fs_read, fs_write,
-                                base_dir ? nullptr : (void *)1};
+    tinygltf::FsCallbacks fs = {fs_exists, fs_expand, fs_read, fs_write, &bfs};
     loader.SetFsCallbacks(fs);
     loader.SetImageLoader(no_image, nullptr);
     std::string err, warn;
@@ -177,6 +312,7 @@ void parse_model(const unsigned char *d, size_t n, const char *base_dir, tinyglt
                   ? loader.LoadBinaryFromMemory(model, &err, &warn, d, (unsigned)n, base_dir ? base_dir : "")
                   : loader.LoadASCIIFromString(model, &err, &warn, (const char *)d, (unsigned)n,
                                                base_dir ? base_dir : "");
+    if (!ok && !bfs.refusal.empty()) fail(bfs.code, bfs.refusal);
     if (!ok) fail(ST_ERR_PARSE, one_line(err.empty() ? "tinygltf could not parse it" : err));
 }
 
@@ -966,22 +1102,60 @@ std::string to_bytes(const tinygltf::Model &model, bool binary)
     return os.str();
 }
 
-// Writes bytes to path through path.tmp and a rename, so that a failed
-// write never leaves a half file under the real name.
+// A file written atomically (core/io/atomic_file.h): its temporary is
+// removed unless it was placed.  Failures name the file (fail_named), so
+// that a .gltf's .bin is named as itself.
+struct OutFile {
+    st_afile af{};
+    bool open = false;
+    OutFile() = default;
+    OutFile(const OutFile &) = delete;
+    OutFile &operator=(const OutFile &) = delete;
+    ~OutFile()
+    {
+        if (open) st_afile_abort(&af);
+    }
+};
+
+void out_open(OutFile *o, const std::string &path)
+{
+    st_error e;
+    if (st_afile_open(&o->af, path.c_str(), &e)) fail_named(ST_ERR_IO, e.msg);
+    o->open = true;
+}
+
+void out_write(OutFile *o, const std::string &bytes)
+{
+    if (st_afile_write(&o->af, bytes.data(), bytes.size()))
+        fail_named(ST_ERR_IO, std::string(o->af.path) + ": write error: " + strerror(o->af.werr));
+}
+
+// Every write that can fail is done once this returns.
+void out_finish(OutFile *o)
+{
+    st_error e;
+    if (st_afile_finish(&o->af, &e)) {
+        o->open = false;
+        fail_named(ST_ERR_IO, e.msg);
+    }
+}
+
+void out_place(OutFile *o)
+{
+    st_error e;
+    o->open = false;
+    if (st_afile_place(&o->af, &e)) fail_named(ST_ERR_IO, e.msg);
+}
+
+// Writes bytes to path atomically: a failed write never leaves a half file
+// under the real name, and keeps the old one.
 void write_file(const std::string &path, const std::string &bytes)
 {
-    std::string tmp = path + ".tmp";
-    FILE *f = fopen(tmp.c_str(), "wb");
-    if (!f) fail(ST_ERR_IO, "cannot create " + tmp + ": " + strerror(errno));
-    bool ok = fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-    ok = (fflush(f) == 0) && ok;
-    int e = errno;
-    ok = (fclose(f) == 0) && ok;
-    if (!ok || rename(tmp.c_str(), path.c_str()) != 0) {
-        if (ok) e = errno;
-        remove(tmp.c_str());
-        fail(ST_ERR_IO, "cannot write " + path + ": " + strerror(e));
-    }
+    OutFile o;
+    out_open(&o, path);
+    out_write(&o, bytes);
+    out_finish(&o);
+    out_place(&o);
 }
 
 // Percent-encodes what a URI path segment may not hold.
@@ -1011,8 +1185,19 @@ void save_gltf_json(const std::string &path, const tinygltf::Model &model)
     std::string bin = (dot == std::string::npos ? base : base.substr(0, dot)) + ".bin";
     j["buffers"][0]["uri"] = uri_encode(bin);
     const std::vector<unsigned char> &data = model.buffers[0].data;
-    write_file(dir + bin, std::string(data.begin(), data.end()));
-    write_file(path, j.dump(2) + "\n");
+    // Both written and finished before either is placed, the .bin first: a
+    // kill leaves the old pair or the new one (but for the window between
+    // the two renames, atomic_file.h), and an old .gltf never names a .bin
+    // that is not there.
+    OutFile fb, fj;
+    out_open(&fb, dir + bin);
+    out_open(&fj, path);
+    out_write(&fb, std::string(data.begin(), data.end()));
+    out_write(&fj, j.dump(2) + "\n");
+    out_finish(&fb);
+    out_finish(&fj);
+    out_place(&fb);
+    out_place(&fj);
 }
 
 // The URI of png as seen from the folder of the .gltf at path: a relative
@@ -1059,6 +1244,7 @@ int st_gltf_save_mapped(const char *path, const st_mesh *m, const st_gltf_materi
         else save_gltf_json(path, model);
         return 0;
     } catch (const Failure &f) {
+        if (f.named) return st_fail(err, f.code, "%s", f.msg.c_str());
         return st_fail(err, f.code, "%s: %s", path, f.msg.c_str());
     } catch (const std::exception &e) {
         return st_fail(err, ST_ERR_IO, "%s: %s", path, one_line(e.what()).c_str());
@@ -1138,6 +1324,7 @@ int st_gltf_save(const char *path, const st_mesh *m, st_error *err)
         else save_gltf_json(path, model);
         return 0;
     } catch (const Failure &f) {
+        if (f.named) return st_fail(err, f.code, "%s", f.msg.c_str());
         return st_fail(err, f.code, "%s: %s", path, f.msg.c_str());
     } catch (const std::exception &e) {
         return st_fail(err, ST_ERR_IO, "%s: %s", path, one_line(e.what()).c_str());

@@ -2,6 +2,7 @@
 #include "cli.h"
 #include "core/base/membudget.h"
 
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -32,6 +33,9 @@ static void usage(FILE *f)
         "  [--compare-dir D] [--mem-budget MIB] [--bench-interaction] [FILE]\n"
         "                                      the modeller window on FILE (default: assets/torus.obj);\n"
         "                                      F1 in the window lists the keys\n"
+        "  deform IN --level L --bump CX,CY,CZ,R,DX,DY,DZ [--scheme S --levels N] -o OUT.strata\n"
+        "                                      moves each vertex v of level L by D*exp(-|v-C|^2/R^2), one edit\n"
+        "                                      as in the window (finer levels keep their details)\n"
         "  filter IN.strata --gains g0,g1,... -o OUT\n"
         "                                      scales the details of each level of a progressive hierarchy\n"
         "  bake IN --base-level B [--level L] --normal-map N.png [--displacement-map D.exr|D.png]\n"
@@ -68,9 +72,13 @@ static int take_mem_budget(int *argc, char **argv, int keep)
 
 int main(int argc, char **argv)
 {
+    /* A write past the file-size limit (ulimit -f) fails with EFBIG and is
+     * reported, the old file kept (core/io/atomic_file.h), instead of the
+     * signal killing the process with a half-written temporary. */
+    signal(SIGXFSZ, SIG_IGN);
     if (argc < 2) return st_cmd_window(0, argv + 1);
     const char *cmd = argv[1];
-    static const char *const subcommands[] = { "info", "subdivide", "adapt", "render", "convert", "filter", "rebuild", "bake", "help" };
+    static const char *const subcommands[] = { "info", "subdivide", "adapt", "render", "convert", "filter", "rebuild", "bake", "deform", "help" };
     int window = 1;
     for (size_t i = 0; i < sizeof subcommands / sizeof subcommands[0]; i++)
         if (!strcmp(cmd, subcommands[i])) window = 0;
@@ -83,6 +91,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "filter")) return st_cmd_filter(argc - 2, argv + 2);
     if (!strcmp(cmd, "rebuild")) return st_cmd_rebuild(argc - 2, argv + 2);
     if (!strcmp(cmd, "bake")) return st_cmd_bake(argc - 2, argv + 2);
+    if (!strcmp(cmd, "deform")) return st_cmd_deform(argc - 2, argv + 2);
     if (!strcmp(cmd, "help") || !strcmp(cmd, "--help") || !strcmp(cmd, "-h")) { usage(stdout); return 0; }
     /* Anything else is the modeller: `strata [options] [FILE]`. */
     if (cmd[0] == '-' || access(cmd, F_OK) == 0) return st_cmd_window(argc - 1, argv + 1);

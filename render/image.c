@@ -1,4 +1,6 @@
 #include "image.h"
+#include "core/io/atomic_file.h"
+#include "core/io/file_open.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -59,19 +61,29 @@ int st_png_write(const char *path, int w, int h, const unsigned char *rgba, st_e
     int ok = stbi_write_png_to_func(sink_write, &s, w, h, 3, rgb, w * 3);
     free(rgb);
     if (!ok || s.oom) { free(s.p); return st_fail(err, ST_ERR_MEMORY, "%s: cannot encode the PNG", path); }
-    FILE *f = fopen(path, "wb");
-    if (!f) { int e = errno; free(s.p); return st_fail(err, ST_ERR_IO, "%s: cannot write: %s", path, strerror(e)); }
-    size_t wr = fwrite(s.p, 1, s.n, f);
-    int cl = fclose(f);
+    /* Through a temporary renamed over path (core/io/atomic_file.h): a
+     * failed write (a full disk) keeps the old file and says why. */
+    st_afile af;
+    int rc = st_afile_open(&af, path, err);
+    if (!rc) {
+        st_afile_write(&af, s.p, s.n);
+        rc = st_afile_commit(&af, err);
+    }
     free(s.p);
-    if (wr != s.n || cl) return st_fail(err, ST_ERR_IO, "%s: write failed", path);
-    return ST_OK;
+    return rc;
+}
+
+size_t st_png_write_bytes(int w, int h)
+{
+    /* RGB copy 3, filtered rows 3 (+1 per row), the deflate stream of at
+     * most about the filtered size held in a sink up to twice that: 6. */
+    return (size_t)w * (size_t)h * 12 + (size_t)h;
 }
 
 int st_png_read(const char *path, int *w, int *h, unsigned char **rgba, st_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return st_fail(err, ST_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *f = st_open_input(path, err);
+    if (!f) return err ? err->code : ST_ERR_IO;
     unsigned char *buf = NULL;
     size_t n = 0, cap = 0;
     for (;;) {

@@ -18,12 +18,19 @@
 
 #include "core/base/st_error.h"
 
+#include <stddef.h>
+
 #define ST_IMAGE_TOL 4
 #define ST_IMAGE_MAX_FRACTION 0.003
 
 /* Writes an RGB PNG (alpha dropped).  Deterministic: the same pixels give
- * the same bytes. */
+ * the same bytes.  Atomic (core/io/atomic_file.h): on failure the old file
+ * stays and the message names path and the reason. */
 int st_png_write(const char *path, int w, int h, const unsigned char *rgba, st_error *err);
+/* Bytes st_png_write takes beside the pixels it is given, at most: the RGB
+ * copy, stb's filtered rows, the compressed stream in a buffer that grows
+ * by doubling. */
+size_t st_png_write_bytes(int w, int h);
 /* Reads a PNG into a malloc'ed RGBA buffer (caller frees). */
 int st_png_read(const char *path, int *w, int *h, unsigned char **rgba, st_error *err);
 

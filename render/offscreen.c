@@ -11,12 +11,27 @@ st_render_spec st_render_spec_default(void)
     return s;
 }
 
+/* Multisampling up to 4 Mpixels; larger images (up to 8192x8192) are
+ * drawn without it rather than asking llvmpipe for gigabytes. */
+static int samples_for(int width, int height)
+{
+    return (long long)width * height <= ST_OFFSCREEN_MSAA_MAX_PIXELS ? ST_OFFSCREEN_SAMPLES : 1;
+}
+
+size_t st_offscreen_bytes(int width, int height)
+{
+    /* Per pixel: OSMesa's RGBA buffer, the driver's own colour and 32-bit
+     * depth surfaces it renders into, 4 bytes each; with multisampling,
+     * colour and depth once per sample on top. */
+    size_t px = (size_t)width * (size_t)height;
+    int s = samples_for(width, height);
+    return px * 12 + (s > 1 ? px * 8 * (size_t)s : 0);
+}
+
 int st_offscreen_init(st_offscreen *o, int width, int height, st_error *err)
 {
     memset(o, 0, sizeof *o);
-    /* Multisampling up to 4 Mpixels; larger images (up to 8192x8192) are
-     * drawn without it rather than asking llvmpipe for gigabytes. */
-    int samples = (long long)width * height <= ST_OFFSCREEN_MSAA_MAX_PIXELS ? ST_OFFSCREEN_SAMPLES : 1;
+    int samples = samples_for(width, height);
     int rc = st_headless_init(&o->hl, width, height, samples, err);
     if (rc) return rc;
     rc = st_renderer_init(&o->r, &o->hl.gl, err);

@@ -33,6 +33,9 @@ refused info_koala7 "" "$S" info "$KOALA" --scheme loop --levels 7
 refused subdivide_koala6 "$W/k6.ply" "$S" subdivide "$KOALA" --scheme loop --levels 6 -o "$W/k6.ply"
 refused convert_spot "$W/spot.strata" "$S" convert "$SPOT" "$W/spot.strata" --levels 4 --mem-budget 64
 refused render_spot "$W/spot.png" "$S" render "$SPOT" --levels 5 --mem-budget 100 -o "$W/spot.png"
+# render's image: framebuffers, pixels and the PNG encoder, counted before
+# anything is read or allocated (8192x8192: about 1.8 GiB).
+refused render_8k "$W/big.png" "$S" render "$A/cube.obj" --size 8192x8192 --mem-budget 30 -o "$W/big.png"
 refused adapt_blub12 "$W/blub12.obj" "$S" adapt "$BLUB" --scheme catmull-clark --base-level 0 --max-level 12 \
     --box 0,0.5,0,0.2,0.7,0.2 --mem-budget 500 -o "$W/blub12.obj"
 refused render_box "$W/box.png" "$S" render "$BLUB" --box 0,0.5,0,0.2,0.7,0.2 --base-level 0 --max-level 12 \

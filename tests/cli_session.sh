@@ -81,8 +81,12 @@ wait $pid 2>/dev/null
 if [ "$partial" -gt 0 ] && cmp -s "$W/keep.strata" "$W/keep.orig"; then
     ok "save killed with SIGKILL after $partial bytes of the temporary: previous file intact ($(size_of "$W/keep.strata") bytes, same bytes)"
 else bad "killed save: partial=$partial, previous file changed or no temporary seen"; fi
-if "$S" convert "$W/keep.strata" "$W/keep.obj" > /dev/null; then ok "previous file still loads"; else bad "previous file no longer loads"; fi
+# The partial temporary is kept aside first: the next command writing into
+# this folder removes the temporaries of dead processes (atomic_file.h).
 [ -f "$tmp" ] && cp "$tmp" "$W/partial.strata"
+if "$S" convert "$W/keep.strata" "$W/keep.obj" > /dev/null; then ok "previous file still loads"; else bad "previous file no longer loads"; fi
+if [ ! -e "$tmp" ]; then ok "the killed save's temporary removed by the next command writing there"
+else bad "the killed save's temporary $tmp stays after another write into its folder"; fi
 if [ ! -f "$W/partial.strata" ]; then bad "no partial temporary to check"
 elif "$S" convert "$W/partial.strata" "$W/x.obj" > /dev/null 2> "$W/tmp_err.txt"; then bad "the partial temporary loads?"
 else ok "the partial temporary is refused: $(head -1 "$W/tmp_err.txt")"; fi

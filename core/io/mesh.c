@@ -8,6 +8,7 @@
 #include "core/io/mesh_internal.h"
 #include "core/base/hugepage.h"
 #include "core/base/membudget.h"
+#include "core/io/file_open.h"
 
 #include <errno.h>
 #include <stdarg.h>
@@ -182,8 +183,8 @@ int st_mesh_parse_int(const char *s, size_t len, int64_t *out)
 /* Reads path into a malloc'ed buffer (NUL-terminated for convenience). */
 static int read_whole_file(const char *path, char **data, size_t *size, st_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return st_fail(err, ST_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *f = st_open_input(path, err);
+    if (!f) return err ? err->code : ST_ERR_IO;
     struct stat st;
     if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
         fclose(f);

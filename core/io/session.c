@@ -2,6 +2,7 @@
 #include "core/io/session.h"
 #include "core/base/membudget.h"
 #include "core/io/atomic_file.h"
+#include "core/io/file_open.h"
 #include "core/io/map_io_internal.h"
 #include "core/map/pool_internal.h"
 #include "core/fvar/fvar_internal.h"
@@ -1192,8 +1193,8 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
 
 int st_session_load(const char *path, st_session *out, st_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return st_fail(err, ST_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *f = st_open_input(path, err);
+    if (!f) return err ? err->code : ST_ERR_IO;
     /* The memory guard (core/base/membudget.h): the file, then the
      * hierarchy parsed from it, a bound of SESSION_BYTES_PER_FILE_BYTE
      * times the file (measured at 2.0 to 2.8 on sessions of koala's
