@@ -975,11 +975,17 @@ void filter_section(st_app *a)
         for (float &x : gains) x = 1.0f;
         shown_top = top;
     }
-    ImGui::TextWrapped("details of each level: 0 removes them (smoother), 1 keeps them, 2 doubles them");
-    for (unsigned l = 1; l <= top; l++) {
-        char label[32];
-        snprintf(label, sizeof label, "level %u", l);
-        ImGui::SliderFloat(label, &gains[l - 1], 0.0f, 2.0f, "%.2f");
+    /* Presets first (what most users want), Apply and Reset next to them,
+     * the per-level gains below for whoever wants them. */
+    for (int p = 0; p < ST_FILTER_NPRESETS; p++) {
+        if (p % 2) ImGui::SameLine();
+        char label[48];
+        snprintf(label, sizeof label, "%s", st_filter_preset_name(p));
+        if (ImGui::Button(label)) {
+            double gd[ST_MAX_LEVELS];
+            st_filter_preset_gains(p, top, gd);
+            for (unsigned k = 0; k < top; k++) gains[k] = (float)gd[k];
+        }
         if (!g.probe_dir.empty()) probe_item(probe_name("panel:filter:", label));
     }
     bool any = false;
@@ -990,6 +996,16 @@ void filter_section(st_app *a)
     ImGui::SameLine();
     bool reset = ImGui::Button("Reset");
     if (!any) ImGui::EndDisabled();
+    if (ImGui::TreeNode("gains per level")) {
+        ImGui::TextWrapped("details of each level: 0 removes them (smoother), 1 keeps them, 2 doubles them");
+        for (unsigned l = 1; l <= top; l++) {
+            char label[32];
+            snprintf(label, sizeof label, "level %u", l);
+            ImGui::SliderFloat(label, &gains[l - 1], 0.0f, 2.0f, "%.2f");
+            if (!g.probe_dir.empty()) probe_item(probe_name("panel:filter:", label));
+        }
+        ImGui::TreePop();
+    }
     if (apply && a->op == ST_OP_NONE) {
         double gd[ST_MAX_LEVELS];
         for (unsigned k = 0; k < top; k++) gd[k] = gains[k];
