@@ -63,7 +63,12 @@ struct gui_state {
     float held_wheel[2] = {};
     std::string scheme_refusal[6];   /* per entry of schemes[]: why not, "" when it can */
     uint64_t scheme_refusal_rev = 0; /* st_doc.revision + 1 they were computed for (0: never) */
-    std::string scheme_refusal_path;  /* a wheel that waits for the frame after a press (st_gui_frame) */
+    std::string scheme_refusal_path;
+    bool box_pending = false;        /* a level slider moved: applied after the frame that shows it */
+    st_adapt_params box_next = {};
+    st_adapt_params box_allowed_for = {};
+    uint64_t box_allowed_rev = 0;
+    unsigned box_allowed = 0;        /* st_doc_box_max_level_allowed of box_allowed_for */  /* a wheel that waits for the frame after a press (st_gui_frame) */
     /* Keys pressed since the last frame, and releases held back until a
      * frame has seen them down (ImGui 1.86 reads key states, not events: a
      * press and release between two frames, such as a fast typist's Enter
@@ -847,8 +852,20 @@ void box_section(st_app *a)
     probe_item("panel:size");
     active |= ImGui::IsItemActive();
     int base = (int)b.base_level, mx = (int)b.max_level, top = (int)d->h.map.top + 3;
+    if (g.box_pending) { base = (int)g.box_next.base_level; mx = (int)g.box_next.max_level; }
+    /* The maximum level stops where the memory budget does (the display's
+     * estimate, as st_doc_set_box checks it), asked again only when the
+     * box or the model changed. */
+    if (g.box_allowed_rev != d->revision + 1 || memcmp(&g.box_allowed_for, &b, sizeof b)) {
+        g.box_allowed_for = b;
+        g.box_allowed_rev = d->revision + 1;
+        g.box_allowed = st_doc_box_max_level_allowed(d, &b);
+    }
+    int allowed = std::max((int)g.box_allowed, mx);
     bool lv = ImGui::SliderInt("base level", &base, 0, top);
-    lv |= ImGui::SliderInt("max level", &mx, 0, top);
+    lv |= ImGui::SliderInt("max level", &mx, 0, std::min(top, allowed));
+    if (allowed < top && ImGui::IsItemHovered())
+        ImGui::SetTooltip("levels above %d would go over the memory budget (--mem-budget)", allowed);
     /* A drag of the fields is one box operation, as a handle drag. */
     if (active && !g.box_dragging) { st_doc_box_begin(d); g.box_dragging = 1; }
     if ((changed || lv) && a->op == ST_OP_NONE) {
@@ -856,9 +873,17 @@ void box_section(st_app *a)
         if (base > mx) { if (lv && base != (int)d->box.base_level) mx = base; else base = mx; }
         b.base_level = (unsigned)base;
         b.max_level = (unsigned)mx;
-        st_error err;
-        if (st_doc_set_box(d, &b, 1, &err)) st_app_message(a, 1, "cannot change the box: %s", err.msg);
-        st_app_sync(a);
+        if (lv) {
+            /* A level change can take seconds: the frame that shows the
+             * slider's new value is presented first, and the display is
+             * computed before the next one (st_gui_run_pending). */
+            g.box_next = b;
+            g.box_pending = true;
+        } else {
+            st_error err;
+            if (st_doc_set_box(d, &b, 1, &err)) st_app_message(a, 1, "cannot change the box: %s", err.msg);
+            st_app_sync(a);
+        }
     }
     if (!active && g.box_dragging) { st_doc_box_end(d); g.box_dragging = 0; st_app_sync(a); }
 }
@@ -1242,6 +1267,13 @@ void st_gui_frame(st_app *a)
 
 void st_gui_run_pending(st_app *a)
 {
+    if (g.box_pending) {
+        g.box_pending = false;
+        st_error err;
+        if (a->doc.loaded && st_doc_set_box(&a->doc, &g.box_next, 1, &err))
+            st_app_message(a, 1, "cannot change the box: %s", err.msg);
+        st_app_sync(a);
+    }
     if (g.pending_action >= 0) {
         int id = g.pending_action;
         g.pending_action = -1;
@@ -1289,7 +1321,7 @@ int st_gui_wants_frames(void)
 {
     if (!g.init || !g.shown) return 0;
     ImGuiIO &io = ImGui::GetIO();
-    return g.held_wheel[0] != 0 || g.held_wheel[1] != 0 || io.MouseWheel != 0 || io.MouseWheelH != 0;
+    return g.box_pending || g.held_wheel[0] != 0 || g.held_wheel[1] != 0 || io.MouseWheel != 0 || io.MouseWheelH != 0;
 }
 
 int st_gui_scroll(double dx, double dy)
