@@ -1,7 +1,7 @@
 /* bench_transfer: how far a coarse edit reaches the finest level (issue 30,
  * point 2), on subdivision and progressive hierarchies.
  *
- *   bench_transfer [--centres N] [--koala PATH]
+ *   bench_transfer [--centres N] [--koala PATH] [--no-cc]
  *
  * A bump applied at level L through st_hier_edit (the core path of the
  * window's drag and brushes): every vertex v of level L moves by
@@ -198,17 +198,18 @@ static int load(const char *path, st_mesh *m)
     return 0;
 }
 
-static int progressive(const st_mesh *fine, st_hier *h, const char *name)
+static int progressive(const st_mesh *fine, st_hier *h, const char *name, int predictor)
 {
     st_error err;
-    st_progressive_opts o = { .target_faces = fine->nfaces / 100 };
+    st_progressive_opts o = { .target_faces = fine->nfaces / 100, .predictor = predictor };
     st_progressive_report rep;
     double t0 = bench_now();
     if (st_progressive_build(fine, &o, h, &rep, &err)) {
         fprintf(stderr, "bench_transfer: %s: %s\n", name, err.msg);
         return 1;
     }
-    printf("%s: progressive build %.2f s, %u levels, %llu -> %llu vertices\n", name, bench_now() - t0, rep.levels,
+    printf("%s, predictor %s: progressive build %.2f s, %u levels, %llu -> %llu vertices\n", name,
+           predictor == ST_PM_LIGHT ? "light (1/8)" : "relaxed (1/2)", bench_now() - t0, rep.levels,
            (unsigned long long)rep.vertices[0], (unsigned long long)rep.vertices[rep.levels - 1]);
     return 0;
 }
@@ -216,12 +217,14 @@ static int progressive(const st_mesh *fine, st_hier *h, const char *name)
 int main(int argc, char **argv)
 {
     unsigned ncentres = 4;
+    int cc_too = 1;
     char koala[1024];
     snprintf(koala, sizeof koala, "%s/large/koala.obj", STRATA_SHARED_DATA);
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--centres") && i + 1 < argc) ncentres = (unsigned)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--koala") && i + 1 < argc) snprintf(koala, sizeof koala, "%s", argv[++i]);
-        else { fprintf(stderr, "usage: bench_transfer [--centres N] [--koala PATH]\n"); return 2; }
+        else if (!strcmp(argv[i], "--no-cc")) cc_too = 0; /* the progressive hierarchies only */
+        else { fprintf(stderr, "usage: bench_transfer [--centres N] [--koala PATH] [--no-cc]\n"); return 2; }
     }
     if (ncentres == 0) ncentres = 1;
     char spot[1024];
@@ -243,25 +246,31 @@ int main(int argc, char **argv)
     st_unsub u;
     st_hier cc, pm;
     st_unsub_opts uo = { .max_levels = 3 };
-    if (st_unsubdivide("spot x3", &fine, &uo, &u, &err) ||
-        st_unsub_build_hier(&fine, &u, st_scheme_find("catmull-clark"), NULL, &cc, NULL, NULL, &err)) {
+    if (cc_too && (st_unsubdivide("spot x3", &fine, &uo, &u, &err) ||
+        st_unsub_build_hier(&fine, &u, st_scheme_find("catmull-clark"), NULL, &cc, NULL, NULL, &err))) {
         fprintf(stderr, "bench_transfer: spot x3: %s\n", err.msg);
         return 1;
     }
-    st_unsub_free(&u);
-    printf("spot x3: %u faces, Catmull-Clark hierarchy of %u levels\n", fine.nfaces, cc.map.top + 1);
-    measure(&cc, "spot x3 catmull-clark", ncentres);
-    st_hier_free(&cc);
-    if (progressive(&fine, &pm, "spot x3 triangulated")) return 1;
-    measure(&pm, "spot x3 progressive", ncentres);
-    st_hier_free(&pm);
+    if (cc_too) {
+        st_unsub_free(&u);
+        printf("spot x3: %u faces, Catmull-Clark hierarchy of %u levels\n", fine.nfaces, cc.map.top + 1);
+        measure(&cc, "spot x3 catmull-clark", ncentres);
+        st_hier_free(&cc);
+    }
+    for (int p = 0; p < 2; p++) {
+        if (progressive(&fine, &pm, "spot x3 triangulated", p)) return 1;
+        measure(&pm, p ? "spot x3 progressive light" : "spot x3 progressive", ncentres);
+        st_hier_free(&pm);
+    }
     st_mesh_free(&fine);
     st_mesh_free(&cage);
     st_mesh k;
     if (load(koala, &k)) return 1;
-    if (progressive(&k, &pm, "koala")) return 1;
-    measure(&pm, "koala progressive", ncentres);
-    st_hier_free(&pm);
+    for (int p = 0; p < 2; p++) {
+        if (progressive(&k, &pm, "koala", p)) return 1;
+        measure(&pm, p ? "koala progressive light" : "koala progressive", ncentres);
+        st_hier_free(&pm);
+    }
     st_mesh_free(&k);
     return 0;
 }

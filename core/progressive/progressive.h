@@ -127,9 +127,19 @@
 
 #include "core/multires/hier.h"
 
+/* The prediction of a progressive hierarchy (st_hier_opts.pm_predictor,
+ * tagged in sessions: docs/SESSION-FORMAT.md, HIER; point 5 says which
+ * and why). */
+typedef enum st_pm_predictor {
+    ST_PM_RELAXED = 0,         /* a split's old neighbours relaxed with weight 1/2: the default, and
+                                  sessions written before the tag */
+    ST_PM_LIGHT = 1,           /* the same relaxation with weight 1/8 */
+} st_pm_predictor;
+
 typedef struct st_progressive_opts {
     uint64_t target_faces;     /* stop at or just above this many faces; 0: as far as possible */
     unsigned max_levels;       /* most levels in all (level 0 included); 0: ST_MAX_LEVELS */
+    int predictor;             /* enum st_pm_predictor; 0: ST_PM_RELAXED */
     /* Called after each level with the fraction of the work done; a
      * non-zero return cancels the build (ST_ERR_INVALID, "cancelled"). */
     int (*progress)(void *ctx, double fraction);

@@ -126,6 +126,13 @@ static inline int pm_detail_correct(const double p[3], const double pred[3], con
     return exact;
 }
 
+/* The weight mu of the relaxation of a split's old neighbours at a level
+ * (progressive.h, point 5): P(v) = (1 - mu) v + mu avg(ring). */
+static inline double pm_relax_weight(const st_hier *h)
+{
+    return h->opts.pm_predictor == ST_PM_LIGHT ? 0.125 : 0.5;
+}
+
 /* Half-edge helpers. */
 static inline uint32_t pm_dest(const pm_work *w, uint32_t h) { return w->org[w->next[h]]; }
 static inline uint32_t pm_rot(const pm_work *w, uint32_t h) { return w->next[w->twin[h]]; } /* next around org[h] */
