@@ -97,6 +97,34 @@
  *    60 % of them by less than 1e-6 of the edit's move), and it is
  *    written to the bit so that a local edit equals a full synthesis.
  *
+ *    The predictor (st_progressive_opts.predictor, tagged in sessions):
+ *    the relaxation above has weight mu = 1/2 (ST_PM_RELAXED, the default
+ *    and every session written before the tag) or 1/8 (ST_PM_LIGHT):
+ *    P(v) = (1 - mu) v + mu avg(ring).  Chosen by bench/bench_transfer.c
+ *    (issue 30: a bump applied at level L, measured at the finest level;
+ *    4 centres; figures at levels 0 / middle / top-1):
+ *      - Catmull-Clark levels of spot x3: one vertex moved alone keeps
+ *        0.45 / 0.49 / 0.58 of its move; smooth bump peak 0.93-0.97,
+ *        RMS error 0.009-0.023;
+ *      - mu = 1/2, spot x3 (20 levels) and koala (17): one vertex 0.10 /
+ *        0.15 / 0.77 and 0.12 / 0.15 / 0.53; smooth peak 0.83-0.99, RMS
+ *        0.009-0.065;
+ *      - mu = 1/8: one vertex 0.41 / 0.55 / 0.96 and 0.45 / 0.57 / 0.91;
+ *        smooth peak 0.95-1.00, RMS 0.006-0.035 (issue 30's goals met);
+ *      - mu = 0 (old vertices interpolated, the split vertex from its
+ *        ring): 1.00 everywhere, RMS 0.006-0.031, but a coarse vertex
+ *        then stays a cone tip at every finer level.
+ *    A weaker relaxation damps a coarse edit less because each octave of
+ *    resolution is some five levels here (t = 0.75-0.8) against one for
+ *    Catmull-Clark, and the damping compounds per level.  But removing
+ *    the finest bands (st_progressive_filter, gain 0) only smooths
+ *    through the relaxation of the old vertices, which keep their input
+ *    positions otherwise: spot_low_resolution's mean dihedral angle goes
+ *    0.243 -> below 0.231 with the 3 finest bands removed at mu = 1/2,
+ *    but -> 0.270 at 1/8 and -> 0.295 at 0 (tests/test_progressive.c,
+ *    test_filter, asks for 5 % smoother).  So the default stays 1/2 and
+ *    1/8 is an option; no single uniform weight meets both.
+ *
  * 6. Memory (thesis §4.4.8).  The kernel's dense form stores a relation's
  *    level-l values in a column over every dart inserted before l (map.h),
  *    and a vertex split changes β0, β1 and the vertex of darts of every
