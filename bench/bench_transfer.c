@@ -1,7 +1,7 @@
 /* bench_transfer: how far a coarse edit reaches the finest level (issue 30,
  * point 2), on subdivision and progressive hierarchies.
  *
- *   bench_transfer [--centres N] [--koala PATH] [--no-cc]
+ *   bench_transfer [--centres N] [--koala PATH] [--no-cc] [--predictor P] [--no-koala]
  *
  * A bump applied at level L through st_hier_edit (the core path of the
  * window's drag and brushes): every vertex v of level L moves by
@@ -209,7 +209,7 @@ static int progressive(const st_mesh *fine, st_hier *h, const char *name, int pr
         return 1;
     }
     printf("%s, predictor %s: progressive build %.2f s, %u levels, %llu -> %llu vertices\n", name,
-           predictor == ST_PM_LIGHT ? "light (1/8)" : "relaxed (1/2)", bench_now() - t0, rep.levels,
+           predictor == ST_PM_LIGHT ? "light (1/8)" : predictor == ST_PM_GRADED ? "graded (1/2 on the 2 finest, 1/10 below)" : "relaxed (1/2)", bench_now() - t0, rep.levels,
            (unsigned long long)rep.vertices[0], (unsigned long long)rep.vertices[rep.levels - 1]);
     return 0;
 }
@@ -217,14 +217,19 @@ static int progressive(const st_mesh *fine, st_hier *h, const char *name, int pr
 int main(int argc, char **argv)
 {
     unsigned ncentres = 4;
-    int cc_too = 1;
+    int cc_too = 1, only = -1, koala_too = 1;
     char koala[1024];
     snprintf(koala, sizeof koala, "%s/large/koala.obj", STRATA_SHARED_DATA);
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--centres") && i + 1 < argc) ncentres = (unsigned)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--koala") && i + 1 < argc) snprintf(koala, sizeof koala, "%s", argv[++i]);
         else if (!strcmp(argv[i], "--no-cc")) cc_too = 0; /* the progressive hierarchies only */
-        else { fprintf(stderr, "usage: bench_transfer [--centres N] [--koala PATH] [--no-cc]\n"); return 2; }
+        else if (!strcmp(argv[i], "--no-koala")) koala_too = 0;
+        else if (!strcmp(argv[i], "--predictor") && i + 1 < argc) only = atoi(argv[++i]); /* that one only */
+        else {
+            fprintf(stderr, "usage: bench_transfer [--centres N] [--koala PATH] [--no-cc] [--predictor P] [--no-koala]\n");
+            return 2;
+        }
     }
     if (ncentres == 0) ncentres = 1;
     char spot[1024];
@@ -257,18 +262,23 @@ int main(int argc, char **argv)
         measure(&cc, "spot x3 catmull-clark", ncentres);
         st_hier_free(&cc);
     }
-    for (int p = 0; p < 2; p++) {
+    static const char *const spot_names[] = { "spot x3 progressive", "spot x3 progressive light", "spot x3 progressive graded" };
+    static const char *const koala_names[] = { "koala progressive", "koala progressive light", "koala progressive graded" };
+    for (int p = 0; p < 3; p++) {
+        if (only >= 0 && p != only) continue;
         if (progressive(&fine, &pm, "spot x3 triangulated", p)) return 1;
-        measure(&pm, p ? "spot x3 progressive light" : "spot x3 progressive", ncentres);
+        measure(&pm, spot_names[p], ncentres);
         st_hier_free(&pm);
     }
     st_mesh_free(&fine);
     st_mesh_free(&cage);
+    if (!koala_too) return 0;
     st_mesh k;
     if (load(koala, &k)) return 1;
-    for (int p = 0; p < 2; p++) {
+    for (int p = 0; p < 3; p++) {
+        if (only >= 0 && p != only) continue;
         if (progressive(&k, &pm, "koala", p)) return 1;
-        measure(&pm, p ? "koala progressive light" : "koala progressive", ncentres);
+        measure(&pm, koala_names[p], ncentres);
         st_hier_free(&pm);
     }
     st_mesh_free(&k);

@@ -538,13 +538,14 @@ static size_t hier_word_at(const unsigned char *c, size_t n)
 }
 
 /* Sessions in the format from before the predictor tag (bits 16-23 of the
- * HIER word zero) open with the relaxation and synthesise as before: the
- * default build writes exactly that format, byte for byte, and a light
- * build tags itself, loads with its predictor and saves back the same
- * bytes.  An unknown predictor is refused. */
+ * HIER word zero) open with the relaxation and synthesise as before: a
+ * relaxed build (a zero st_progressive_opts) writes exactly that format,
+ * byte for byte, and a light or graded build tags itself, loads with its
+ * predictor and saves back the same bytes.  An unknown predictor is
+ * refused. */
 static void test_session_predictor(const char *name)
 {
-    for (int pred = ST_PM_RELAXED; pred <= ST_PM_LIGHT; pred++) {
+    for (int pred = ST_PM_RELAXED; pred <= ST_PM_GRADED; pred++) {
         g_predictor = pred;
         st_hier h;
         if (build(name, &h, 30)) { g_predictor = ST_PM_RELAXED; return; }
@@ -934,6 +935,20 @@ int main(void)
     test_tables_match_stencils("plane_holes.obj", 20);
     test_session("spot_low_resolution.obj");
     test_threads("plane_holes.obj", 20);
+    /* So does the graded one, new builds' default (ST_PM_DEFAULT), and
+     * removing its finest bands still smooths (its weight there is 1/2). */
+    g_predictor = ST_PM_GRADED;
+    test_rigid_motion("spot_low_resolution.obj");
+    test_rigid_motion("hemisphere.obj");
+    test_local_edit("spot_low_resolution.obj", 0);
+    test_local_edit("blub_open.obj", 3);
+    test_local_edit("boot.obj", 2);
+    test_tables_match_stencils("spot_low_resolution.obj", 30);
+    test_tables_match_stencils("plane_holes.obj", 20);
+    test_session("spot_low_resolution.obj");
+    test_threads("plane_holes.obj", 20);
+    test_filter("spot_low_resolution.obj");
+    test_filter("boot.obj");
     g_predictor = ST_PM_RELAXED;
     test_filter("spot_low_resolution.obj");
     test_filter("boot.obj");

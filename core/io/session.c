@@ -591,7 +591,7 @@ static int r_hier(load_ctx *c, st_br *r)
         return st_br_fail(r, "bad boundary option %u", boundary);
     if (crease != ST_CREASE_UNIFORM && crease != ST_CREASE_CHAIKIN) return st_br_fail(r, "bad crease method %u", crease);
     if (tri_sub != ST_TRI_SUB_CATMARK && tri_sub != ST_TRI_SUB_SMOOTH) return st_br_fail(r, "bad triangle rule %u", tri_sub);
-    if (predictor > ST_PM_LIGHT || (predictor && sc->id != ST_SCHEME_PROGRESSIVE))
+    if (predictor > ST_PM_GRADED || (predictor && sc->id != ST_SCHEME_PROGRESSIVE))
         return st_br_fail(r, "bad progressive predictor %u for the %s scheme", predictor, sc->name);
     if (sharp > 1) return st_br_fail(r, "bad sharpness flag %u", sharp);
     c->s->h.scheme = sc;

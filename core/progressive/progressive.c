@@ -283,7 +283,7 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
     memset(out, 0, sizeof *out);
-    if (o->predictor != ST_PM_RELAXED && o->predictor != ST_PM_LIGHT)
+    if (o->predictor != ST_PM_RELAXED && o->predictor != ST_PM_LIGHT && o->predictor != ST_PM_GRADED)
         return st_fail(err, ST_ERR_INVALID, "progressive: unknown predictor %d", o->predictor);
     for (uint64_t i = 0; i < 3 * (uint64_t)fine->nverts; i++)
         if (!isfinite(fine->pos[i]))

@@ -164,12 +164,16 @@ typedef enum st_pm_predictor {
     ST_PM_RELAXED = 0,         /* a split's old neighbours relaxed with weight 1/2: the default, and
                                   sessions written before the tag */
     ST_PM_LIGHT = 1,           /* the same relaxation with weight 1/8 */
+    ST_PM_GRADED = 2,          /* weight 1/2 on the two finest levels, 1/10 below: new builds' default */
 } st_pm_predictor;
+/* What new builds get (st_rebuild, hence `strata rebuild` and the window);
+ * a zero st_progressive_opts keeps ST_PM_RELAXED. */
+#define ST_PM_DEFAULT ST_PM_GRADED
 
 typedef struct st_progressive_opts {
     uint64_t target_faces;     /* stop at or just above this many faces; 0: as far as possible */
     unsigned max_levels;       /* most levels in all (level 0 included); 0: ST_MAX_LEVELS */
-    int predictor;             /* enum st_pm_predictor; 0: ST_PM_RELAXED */
+    int predictor;             /* enum st_pm_predictor; 0: ST_PM_RELAXED (ST_PM_DEFAULT is new builds') */
     /* Called after each level with the fraction of the work done; a
      * non-zero return cancels the build (ST_ERR_INVALID, "cancelled"). */
     int (*progress)(void *ctx, double fraction);

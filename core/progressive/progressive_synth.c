@@ -178,7 +178,7 @@ static const pm_ring_table *ring_table(st_hier *h, unsigned l)
     st_level_cache *cache = &h->cache[l];
     pm_ring_table *t = cache->free == table_free ? cache->p : NULL;
     uint64_t gen = st_map_generation(m);
-    double mu = pm_relax_weight(h);
+    double mu = pm_relax_weight(h, l);
     if (t && t->gen == gen && t->dend == m->darts.end && t->vend == m->verts.end && t->top == m->top && t->mu == mu)
         return t;
     if (cache->p) cache->free(cache->p);
@@ -613,3 +613,4 @@ void st_progressive_drop_table(st_hier *h, unsigned l)
     cache->p = NULL;
     cache->free = NULL;
 }
+

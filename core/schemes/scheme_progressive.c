@@ -73,7 +73,7 @@ int st_progressive_stencil(const st_hier *h, unsigned L, uint32_t d, st_stencil_
         x = st_beta1(m, x, L);
     } while (x != c);
     if (frame == ST_NIL) return 0; /* no dart of level L-1 here: not a map this scheme built */
-    double mu = pm_relax_weight(h);
+    double mu = pm_relax_weight(h, L);
     st_stencil_buf_clear(buf);
     if (m->verts.ins[v] == L) {
         ring_average(m, c, L, border, 1.0, buf);
