@@ -127,7 +127,7 @@
  *        0.32 / 0.53, smooth peak >= 0.91, RMS <= 0.038; filter 0.2190
  *        (spot's middle level 0.75x Catmull-Clark's: short of 0.8x);
  *      - graded (1/10 below, 1/2 on the 2 finest): 0.40 / 0.43 / 0.77 and
- *        0.40 / 0.38 / 0.53, that is 0.90x / 0.87x / 1.33x Catmull-Clark's
+ *        0.395 / 0.38 / 0.53, that is 0.90x / 0.87x / 1.33x Catmull-Clark's
  *        on spot; smooth peak 0.92-0.99, RMS 0.009-0.036; filter 0.2257
  *        (boot 0.2488 -> 0.1424).  Issue 30's goals met;
  *      - 1/20 below, 1/2 on the 2 finest: 0.60 / 0.52 / 0.77 and 0.51 /
