@@ -222,6 +222,9 @@ out=$(cd "$TMP/quitsave" && win "$EXE" --size 640x480 --levels 1 --replay "$SRC/
 if [ "$rc" -eq 0 ] && ! grep -q NOT_QUIT <<<"$out" && [ -s "$TMP/quitsave/torus.strata" ] && [ ! -e "$STRATA_RECOVERY" ]; then ok
 else bad "quit question, Save (quit_save.txt): exit $rc, $(ls "$TMP/quitsave"): $(tail -5 <<<"$out")"; fi
 
+# 1c. A stroke pressed off the surface starts where the pointer reaches it.
+run 0 "replay .* passed" win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/stroke_offsurface.txt" "$ASSETS/torus.obj"
+
 # 2. A failing expectation exits non-zero and says which line.
 printf 'wait 2\nexpect top 99\nquit\n' > "$TMP/fail.txt"
 run 1 "fail.txt:2: expect top 99 failed: actual 2" win "$EXE" --size 320x240 --levels 2 --replay "$TMP/fail.txt" "$ASSETS/cube.obj"

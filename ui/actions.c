@@ -469,7 +469,7 @@ static void cancel(st_app *a)
     st_error err;
     if (a->help) a->help = 0;
     else if (a->op == ST_OP_DRAG || a->op == ST_OP_GRAB) st_app_drag_finish(a, 1);
-    else if (a->op == ST_OP_RECT) a->op = ST_OP_NONE;
+    else if (a->op == ST_OP_RECT || a->op == ST_OP_STROKE_WAIT) a->op = ST_OP_NONE;
     else if (a->op == ST_OP_BOX) {
         st_doc_set_box(d, &a->box_start, 1, &err);
         st_doc_box_end(d);
