@@ -225,6 +225,10 @@ else bad "quit question, Save (quit_save.txt): exit $rc, $(ls "$TMP/quitsave"): 
 # 1c. A stroke pressed off the surface starts where the pointer reaches it.
 run 0 "replay .* passed" win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/stroke_offsurface.txt" "$ASSETS/torus.obj"
 
+# 1d. A click right after a wheel turn opens the folder drawn under the pointer.
+mkdir -p "$TMP/dirs" && for i in $(seq -w 0 39); do mkdir -p "$TMP/dirs/d$i"; done && cp "$ASSETS/cube.obj" "$TMP/dirs/"
+run 0 "replay .* passed" win bash -c 'cd "$1" && "$2" --size 640x480 --replay "$3" cube.obj' _ "$TMP/dirs" "$EXE" "$SRC/replay/dialog_scroll.txt"
+
 # 2. A failing expectation exits non-zero and says which line.
 printf 'wait 2\nexpect top 99\nquit\n' > "$TMP/fail.txt"
 run 1 "fail.txt:2: expect top 99 failed: actual 2" win "$EXE" --size 320x240 --levels 2 --replay "$TMP/fail.txt" "$ASSETS/cube.obj"

@@ -1217,19 +1217,20 @@ void st_gui_frame(st_app *a)
      * the frame that reads it, so a press read in the same frame would hit
      * the item under the pointer after the scroll, which no frame has shown
      * (the list drawn at the old position, the click on another folder).
-     * The user clicked what the last frame showed: a new press that comes
-     * with an unshown wheel is read first, and the wheel in the next frame. */
+     * The user clicked what the last frame showed: while a button is down,
+     * and in the frame of its release (ImGui's click is a press and a
+     * release on the same item), a wheel waits, and scrolls the frame after. */
     io.MouseWheel += g.held_wheel[0];
     io.MouseWheelH += g.held_wheel[1];
     g.held_wheel[0] = g.held_wheel[1] = 0;
-    bool new_press = false;
+    bool clicking = false;
     for (int i = 0; i < 5; i++) {
         bool want = i < 3 && (g.down[i] || g.pressed[i]);
-        new_press = new_press || (want && !g.fed_down[i]);
+        clicking = clicking || want || (i < 3 && g.fed_down[i]);
         io.MouseDown[i] = want;
         if (i < 3) { g.fed_down[i] = want; g.pressed[i] = false; }
     }
-    if (new_press && (io.MouseWheel != 0 || io.MouseWheelH != 0)) {
+    if (clicking && (io.MouseWheel != 0 || io.MouseWheelH != 0)) {
         g.held_wheel[0] = io.MouseWheel;
         g.held_wheel[1] = io.MouseWheelH;
         io.MouseWheel = io.MouseWheelH = 0;
@@ -1308,6 +1309,12 @@ void st_gui_job_mouse_button(int button, int action)
     if (!st_gui_shown() || button < 0 || button >= 3) return;
     if (action == GLFW_RELEASE) g.down[button] = false;
     else g.down[button] = g.pressed[button] = true;
+}
+
+const char *st_gui_dialog_dir(void)
+{
+    size_t k = g.cwd.find_last_of('/');
+    return k == std::string::npos ? g.cwd.c_str() : g.cwd.c_str() + k + 1;
 }
 
 float st_gui_panel_pixels(int win_w)
