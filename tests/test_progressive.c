@@ -512,18 +512,6 @@ static void test_session(const char *name)
     st_hier_free(&h);
 }
 
-/* Fixes header size, header CRC and trailer CRC of a mutated session
- * (as test_session.c does). */
-static void fix_crc(unsigned char *c, size_t n)
-{
-    if (n < 32) return;
-    for (int k = 0; k < 8; k++) c[16 + k] = (unsigned char)((uint64_t)n >> (8 * k));
-    uint32_t hc = st_crc32(0, c, 24);
-    for (int k = 0; k < 4; k++) c[24 + k] = (unsigned char)(hc >> (8 * k));
-    uint32_t crc = st_crc32(0, c, n - 4);
-    for (int k = 0; k < 4; k++) c[n - 4 + k] = (unsigned char)(crc >> (8 * k));
-}
-
 /* The HIER chunk's third word (crease method | triangle rule << 8 |
  * predictor << 16) in a session's bytes: its offset, 0 if not found. */
 static size_t hier_word_at(const unsigned char *c, size_t n)
@@ -587,7 +575,7 @@ static void test_session_predictor(const char *name)
         if (at) {
             unsigned char *c = f1;
             c[at + 2] = 7;
-            fix_crc(c, n1);
+            tl_session_fix_crc(c, n1);
             CHECK(st_session_parse(name, c, n1, &s, &err) != 0 && strstr(err.msg, "predictor"));
         }
         free(f1);

@@ -287,17 +287,6 @@ static void check_damage(void)
     st_hier_free(&h);
 }
 
-/* Fixes header size, header CRC and trailer CRC of a mutated buffer. */
-static void fix_crc(unsigned char *c, size_t n)
-{
-    if (n < 32) return;
-    for (int k = 0; k < 8; k++) c[16 + k] = (unsigned char)((uint64_t)n >> (8 * k));
-    uint32_t hc = st_crc32(0, c, 24);
-    for (int k = 0; k < 4; k++) c[24 + k] = (unsigned char)(hc >> (8 * k));
-    uint32_t crc = st_crc32(0, c, n - 4);
-    for (int k = 0; k < 4; k++) c[n - 4 + k] = (unsigned char)(crc >> (8 * k));
-}
-
 /* Crafted files with valid checksums: random byte changes must be refused
  * or give a session that validates (no crash: run under ASan). */
 static void check_crafted(st_scheme_id id, void (*make)(st_mesh *), int adaptive)
@@ -324,7 +313,7 @@ static void check_crafted(st_scheme_id id, void (*make)(st_mesh *), int adaptive
             size_t at = 28 + tl_rand(&rng) % (n - 32);
             c[at] = (tl_rand(&rng) & 1) ? (unsigned char)tl_rand(&rng) : (unsigned char)(c[at] ^ (1u << (tl_rand(&rng) % 8)));
         }
-        fix_crc(c, n);
+        tl_session_fix_crc(c, n);
         st_session s;
         if (st_session_parse("crafted.strata", c, n, &s, &err) == ST_OK) {
             accepted++;
