@@ -240,6 +240,9 @@ run 0 "replay .* passed" win "$EXE" --size 320x240 --levels 1 --replay "$TMP/den
 printf 'gui on\nwait 2\nkey ctrl+o\nwait 2\nexpect dialog_dir dirs\nquit\n' > "$TMP/dlgcwd.txt"
 run 0 "replay .* passed" win bash -c 'cd "$1" && "$2" --size 640x480 --replay "$3"' _ "$TMP/dirs" "$EXE" "$TMP/dlgcwd.txt"
 
+# 1g. The box's max level slider shows its new value before the display is computed.
+run 0 "replay .* passed" win "$EXE" --size 640x700 --levels 2 --replay "$SRC/replay/box_slider.txt" "$ASSETS/torus.obj"
+
 # 2. A failing expectation exits non-zero and says which line.
 printf 'wait 2\nexpect top 99\nquit\n' > "$TMP/fail.txt"
 run 1 "fail.txt:2: expect top 99 failed: actual 2" win "$EXE" --size 320x240 --levels 2 --replay "$TMP/fail.txt" "$ASSETS/cube.obj"
@@ -263,9 +266,10 @@ run 2 "--size wants" "$EXE" --size 12 "$ASSETS/cube.obj"
 (
     cd "$TMP" || exit 1
     # The session keeps the tool, its strength and falloff, the mirror
-    # axes and the display toggles (wireframe on, cage off).
-    printf 'wait 1\nkey ctrl+d\nlevel edit 1\nkey shift+c\nbrush strength 0.3\nbrush falloff sharp\nbrush symmetry xz\nkey alt+shift+z\nkey alt+c\nexpect wire 1\nexpect cage 0\nkey ctrl+s\nexpect message saved\nquit\n' > save.txt
-    printf 'wait 1\nexpect top 2\nexpect edit_level 1\nexpect tool crease\nexpect brush_strength 30\nexpect falloff sharp\nexpect symmetry xz\nexpect wire 1\nexpect cage 0\nexpect undo_depth 0\nquit\n' > load.txt
+    # axes, the display toggles (wireframe on, cage off) and the box (on), and
+    # opens with an empty undo history (the box is not a step to undo).
+    printf 'wait 1\nkey ctrl+d\nlevel edit 1\nkey shift+c\nbrush strength 0.3\nbrush falloff sharp\nbrush symmetry xz\nkey alt+shift+z\nkey alt+c\nexpect wire 1\nexpect cage 0\nkey i\nexpect box_on 1\nkey ctrl+s\nexpect message saved\nquit\n' > save.txt
+    printf 'wait 1\nexpect top 2\nexpect edit_level 1\nexpect tool crease\nexpect brush_strength 30\nexpect falloff sharp\nexpect symmetry xz\nexpect wire 1\nexpect cage 0\nexpect box_on 1\nexpect undo_depth 0\nexpect undo_name -\nquit\n' > load.txt
     printf 'wait 1\nkey ctrl+d\nkey ctrl+d\nquit\n' > edit.txt
     printf 'wait 1\nexpect top 1\nkey ctrl+r\nexpect top 3\nexpect message opened\nquit\n' > recover.txt
 ) || bad "cannot write the session scripts"

@@ -501,6 +501,11 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
         int on = a->checker && a->r.has_uv;
         snprintf(actual, sizeof actual, "%d (asked %d)", on, a->checker);
         ok = on == (want != 0);
+    } else if (!strcmp(w, "box_max")) {
+        /* The document's box maximum level (what is computed, not what a
+         * slider shows). */
+        snprintf(actual, sizeof actual, "%u", d->box.max_level);
+        ok = (long)d->box.max_level == want;
     } else if (!strcmp(w, "dialog_dir")) {
         /* The file dialog's folder (its last component). */
         snprintf(actual, sizeof actual, "%s", st_gui_dialog_dir());

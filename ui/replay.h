@@ -34,6 +34,7 @@
  *                               message TEXT (status line contains TEXT),
  *                               dialog quit|scheme|none (the question that is up),
  *                               dialog_dir NAME (the file dialog's folder, last component),
+ *                               box_max N (the document's box maximum level),
  *                               unsaved 0/1 (changes since the last open or save),
  *                               recovery 0/1 (the recovery file holds the last step),
  *                               wire 0/1, cage 0/1 (display toggles),
