@@ -1,6 +1,7 @@
 /* strata bake IN --base-level B [--level L] --normal-map N.png
  *             [--displacement-map D.exr|D.png] [--size 2048] [--space tangent|object]
  *             [--vector] [--padding 8] [--bits 8|16] [--auto-uv] [--ray-reach D]
+ *             [--udim auto|on|off]
  *
  * Bakes the surface of level L (default: the finest) onto the UV layout of
  * level B (core/bake/bake.h): B's own UVs (core/fvar/fvar.h), or with
@@ -9,7 +10,14 @@
  * √3 and Doo-Sabin levels are baked by rays along B's normals (--ray-reach:
  * how far, in model units; default from the bounding boxes), and the
  * output says which correspondence was used and how many texels missed.
- * UVs that overlap or leave [0,1] are refused by st_bake.  Every file is
+ * UVs may lie in any tile (core/bake/bake.h: tiles and wrap-around): with
+ * --udim auto (the default) a layout whose faces are at home in tiles other
+ * than 1001 alone, all with UDIM numbers, is baked one image per tile,
+ * NAME.1001.png, NAME.1002.png ... (1001 + u + 10 v, Mari's and Blender's
+ * numbering; a literal <UDIM> in the name is replaced instead); --udim off
+ * wraps every face into the one image; --udim on insists on tiles.  Corners
+ * outside their tile are counted in a note and baked with wrap-around.
+ * Islands that overlap are refused by st_bake.  Every file is
  * written to its temporary (core/io/atomic_file.h) and the temporaries are
  * renamed only once all are written and synced, so a refusal or a failed
  * write leaves the old files, and a kill leaves the old maps or the new
@@ -33,7 +41,7 @@ static int usage(void)
     fprintf(stderr,
             "usage: strata bake IN --base-level B [--level L] --normal-map N.png [--displacement-map D.exr|D.png]\n"
             "                   [--size 2048] [--space tangent|object] [--vector] [--padding 8] [--bits 8|16] [--auto-uv]\n"
-            "                   [--ray-reach D]\n");
+            "                   [--ray-reach D] [--udim auto|on|off]\n");
     return 2;
 }
 
@@ -42,6 +50,7 @@ typedef struct bake_args {
     int base;                 /* -1: not given */
     unsigned size, padding;
     int bits, space, vector, auto_uv;
+    int udim;                 /* -1 auto, 0 off, 1 on */
     double ray_reach;         /* 0: the default */
 } bake_args;
 
@@ -89,6 +98,12 @@ static int split_args(int argc, char **argv, bake_args *b, char **rest, int *nre
             if (!*v || *end || !(r > 0) || !isfinite(r)) { fprintf(stderr, "strata bake: --ray-reach wants a distance > 0, got '%s'\n", v); return -1; }
             b->ray_reach = r;
             i++;
+        } else if (!strcmp(a, "--udim") && v) {
+            if (!strcmp(v, "auto")) b->udim = -1;
+            else if (!strcmp(v, "on")) b->udim = 1;
+            else if (!strcmp(v, "off")) b->udim = 0;
+            else { fprintf(stderr, "strata bake: --udim wants auto, on or off, got '%s'\n", v); return -1; }
+            i++;
         } else if (!strcmp(a, "--vector")) b->vector = 1;
         else if (!strcmp(a, "--auto-uv")) b->auto_uv = 1;
         else rest[(*nrest)++] = argv[i];
@@ -120,15 +135,35 @@ static char *sidecar_path(const char *png)
     return s;
 }
 
-/* Writes every map to its temporary and finishes them all (every write
- * that can fail is then done), then places them: the maps appear together
- * (core/io/atomic_file.h st_afile_finish).  On any failure before the
- * placing, every temporary is removed and the old files stay. */
-static int write_outputs(const bake_args *b, const st_bake_maps *maps, char *side, st_error *err)
+/* The path of one tile's map: a literal <UDIM> replaced by the tile's
+ * number, else the number put before the extension (NAME.1001.png);
+ * udim 0 (one image): the path as given, <UDIM> read as 1001. */
+static char *tile_path(const char *path, unsigned udim)
 {
-    const char *final[3] = { b->normal_path, b->disp_path, side };
-    st_afile af[3];
-    memset(af, 0, sizeof af);
+    size_t n = strlen(path);
+    char *s = malloc(n + 16);
+    if (!s) return NULL;
+    const char *tok = strstr(path, "<UDIM>");
+    if (tok) {
+        snprintf(s, n + 16, "%.*s%u%s", (int)(tok - path), path, udim ? udim : 1001u, tok + 6);
+    } else if (udim) {
+        const char *dot = strrchr(path, '.');
+        snprintf(s, n + 16, "%.*s.%u%s", (int)(dot - path), path, udim, dot);
+    } else {
+        memcpy(s, path, n + 1);
+    }
+    return s;
+}
+
+/* Writes every map to its temporary and finishes them all (every write
+ * that can fail is then done); the caller places them once every tile is
+ * written, so the maps appear together (core/io/atomic_file.h
+ * st_afile_finish).  On any failure every temporary of this call is
+ * removed; the caller aborts those of earlier tiles, and the old files stay. */
+static int write_outputs(const bake_args *b, const char *const final[3], const st_bake_maps *maps, st_afile af[3], st_error *err)
+{
+    const char *side = final[2];
+    memset(af, 0, 3 * sizeof *af);
     int rc = ST_OK;
     for (int k = 0; k < 3 && !rc; k++)
         if (final[k]) rc = st_afile_open(&af[k], final[k], err);
@@ -139,14 +174,12 @@ static int write_outputs(const bake_args *b, const st_bake_maps *maps, char *sid
         const char *meaning = !b->vector ? "displacement along the base level's interpolated normal"
                             : b->space == ST_BAKE_TANGENT ? "displacement vector in tangent space (tangent, bitangent, normal)"
                                                          : "displacement vector in object space (x, y, z)";
-        rc = st_bake_write_sidecar(&af[2], b->disp_path, maps, meaning, offset, scale, err);
+        rc = st_bake_write_sidecar(&af[2], final[1], maps, meaning, offset, scale, err);
     }
     for (int k = 0; k < 3 && !rc; k++)
         if (af[k].f) rc = st_afile_finish(&af[k], err);
-    for (int k = 0; k < 3; k++) {
-        if (rc) { st_afile_abort(&af[k]); continue; }
-        if (af[k].tmp && st_afile_place(&af[k], err)) rc = 1;
-    }
+    if (rc)
+        for (int k = 0; k < 3; k++) st_afile_abort(&af[k]);
     return rc;
 }
 
@@ -161,15 +194,17 @@ static size_t writer_bytes(const bake_args *b, const st_bake_opts *o)
     return w > d ? w : d;
 }
 
-static void report(const bake_args *b, const st_bake_opts *o, const st_bake_maps *maps, const char *side)
+static void report(const bake_args *b, const char *const final[3], const st_bake_opts *o, const st_bake_maps *maps)
 {
+    const char *side = final[2];
     if (b->normal_path)
-        printf("wrote %s (%ux%u, %s-space normals, %d-bit RGB)\n", b->normal_path, o->size, o->size,
+        printf("wrote %s (%ux%u, %s-space normals, %d-bit RGB)\n", final[0], o->size, o->size,
                o->space == ST_BAKE_TANGENT ? "tangent" : "object", b->bits);
     if (b->disp_path)
-        printf("wrote %s (%ux%u, %s displacement, %s)%s%s\n", b->disp_path, o->size, o->size,
+        printf("wrote %s (%ux%u, %s displacement, %s)%s%s\n", final[1], o->size, o->size,
                b->vector ? "vector" : "scalar", st_path_has_ext(b->disp_path, ".exr") ? "32-bit float EXR" : "16-bit PNG",
                side ? ", scale and offset in " : "", side ? side : "");
+    if (o->udim) printf("tile %u (%u faces): ", st_bake_udim(o->tile), maps->faces);
     printf("level %u onto level %u: %llu texels baked, %llu padded", o->level, o->base,
            (unsigned long long)maps->baked, (unsigned long long)maps->padded);
     if (maps->disp) printf(", displacement %.6g .. %.6g", maps->disp_min, maps->disp_max);
@@ -184,7 +219,7 @@ static void report(const bake_args *b, const st_bake_opts *o, const st_bake_maps
 
 int st_cmd_bake(int argc, char **argv)
 {
-    bake_args b = { .base = -1, .size = 2048, .padding = 8, .bits = 8, .space = ST_BAKE_TANGENT };
+    bake_args b = { .base = -1, .size = 2048, .padding = 8, .bits = 8, .space = ST_BAKE_TANGENT, .udim = -1 };
     char **rest = malloc((size_t)(argc ? argc : 1) * sizeof *rest);
     int nrest = 0;
     st_cli_opts o;
@@ -202,7 +237,10 @@ int st_cmd_bake(int argc, char **argv)
     st_error err;
     st_bake_layout lay = { 0 };
     st_bake_maps maps = { 0 };
-    char *side = NULL;
+    st_bake_tiles tiles = { 0 };
+    st_afile *af = NULL;
+    char **names = NULL;
+    uint32_t nt = 0;              /* maps written: tiles, or 1 */
     st_bake_opts bo = { .base = (unsigned)b.base, .level = level, .size = b.size, .space = b.space,
                         .normal = b.normal_path != NULL, .displacement = b.disp_path ? (b.vector ? 3 : 1) : 0,
                         .padding = b.padding, .ray_reach = b.ray_reach };
@@ -227,12 +265,66 @@ int st_cmd_bake(int argc, char **argv)
         rc = 1;
         goto done;
     }
-    if (st_bake(&h, &uvs, &bo, &maps, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
-    if (b.disp_path && st_path_has_ext(b.disp_path, ".png") && !(side = sidecar_path(b.disp_path))) { rc = 1; goto done; }
-    if (write_outputs(&b, &maps, side, &err)) { fprintf(stderr, "strata: %s\n", err.msg); rc = 1; goto done; }
-    report(&b, &bo, &maps, side);
+    if (st_bake_uv_tiles(&uvs, bo.size, &tiles, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
+    int udim = b.udim;
+    if (udim == 1 && tiles.first_non_udim != UINT32_MAX) {
+        uint32_t f = tiles.first_non_udim, a = uvs.corner_off[f];
+        int32_t t[2];
+        st_bake_face_tile(uvs.uv + 2 * (size_t)a, uvs.corner_off[f + 1] - a, t);
+        fprintf(stderr, "strata bake: %s: face %u of level %d lies in UV tile (%d, %d), which has no UDIM number "
+                        "(u tiles 0..9, v tiles 0..99); --udim off wraps every face into one map\n",
+                o.in, f + 1, b.base, t[0], t[1]);
+        rc = 1;
+        goto done;
+    }
+    if (udim < 0)
+        udim = tiles.first_non_udim == UINT32_MAX && !(tiles.ntiles == 1 && tiles.tile[0][0] == 0 && tiles.tile[0][1] == 0);
+    if (tiles.corners_outside)
+        printf("note: %llu of %u corners of level %d lie outside their face's UV tile: baked with wrap-around (texture repeat)\n",
+               (unsigned long long)tiles.corners_outside, uvs.corner_off[uvs.nfaces], b.base);
+    if (tiles.faces_crossing)
+        printf("note: %u faces cross their tile's border by more than a texel and a quarter of the face (first: face %u): "
+               "wrapped as well\n", tiles.faces_crossing, tiles.first_crossing + 1);
+    if (!udim && tiles.ntiles > 1) printf("note: faces at home in %u UV tiles wrapped into one map (--udim off)\n", tiles.ntiles);
+    nt = udim ? tiles.ntiles : 1;
+    af = calloc(3 * (size_t)nt, sizeof *af);
+    names = calloc(3 * (size_t)nt, sizeof *names);
+    if (!af || !names) { rc = 1; goto done; }
+    /* Each tile baked and written to its temporaries in turn (one tile's
+     * maps held at a time); all placed together at the end. */
+    for (uint32_t t = 0; t < nt && !rc; t++) {
+        unsigned number = 0;
+        if (udim) {
+            bo.udim = 1;
+            bo.tile[0] = tiles.tile[t][0];
+            bo.tile[1] = tiles.tile[t][1];
+            number = st_bake_udim(bo.tile);
+        }
+        char **fin = names + 3 * (size_t)t;
+        if (b.normal_path && !(fin[0] = tile_path(b.normal_path, number))) rc = 1;
+        if (!rc && b.disp_path && !(fin[1] = tile_path(b.disp_path, number))) rc = 1;
+        if (!rc && fin[1] && st_path_has_ext(fin[1], ".png") && !(fin[2] = sidecar_path(fin[1]))) rc = 1;
+        if (rc) { fprintf(stderr, "strata bake: out of memory\n"); break; }
+        if (st_bake(&h, &uvs, &bo, &maps, &err)) {
+            if (udim) fprintf(stderr, "strata bake: %s: tile %u: %s\n", o.in, number, err.msg);
+            else fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg);
+            rc = 1;
+            break;
+        }
+        if (write_outputs(&b, (const char *const *)fin, &maps, af + 3 * (size_t)t, &err)) { fprintf(stderr, "strata: %s\n", err.msg); rc = 1; }
+        else report(&b, (const char *const *)fin, &bo, &maps);
+        st_bake_maps_free(&maps);
+    }
+    for (size_t k = 0; af && k < 3 * (size_t)nt; k++) {
+        if (rc) { st_afile_abort(&af[k]); continue; }
+        if (af[k].tmp && st_afile_place(&af[k], &err)) { fprintf(stderr, "strata: %s\n", err.msg); rc = 1; }
+    }
+    if (!rc && udim) printf("UDIM: %u tiles written\n", nt);
 done:
-    free(side);
+    for (size_t k = 0; names && k < 3 * (size_t)nt; k++) free(names[k]);
+    free(names);
+    free(af);
+    st_bake_tiles_free(&tiles);
     st_bake_maps_free(&maps);
     st_bake_layout_free(&lay);
     st_hier_free(&h);

@@ -1071,8 +1071,19 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model,
             img.uri = nmap->uri;
         }
         model->images.push_back(img);
+        // Sampled with repeat, as strata bake wrapped the faces that
+        // overshoot their UV tile (core/bake/bake.h: tiles and
+        // wrap-around); said explicitly although glTF 2.0 §5.26 makes
+        // repeat the default of a texture without a sampler.
+        tinygltf::Sampler smp;
+        smp.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+        smp.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+        smp.wrapS = TINYGLTF_TEXTURE_WRAP_REPEAT;
+        smp.wrapT = TINYGLTF_TEXTURE_WRAP_REPEAT;
+        model->samplers.push_back(smp);
         tinygltf::Texture t;
         t.source = 0;
+        t.sampler = 0;
         model->textures.push_back(t);
         tinygltf::Material mt;
         mt.name = "strata";

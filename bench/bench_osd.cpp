@@ -160,7 +160,11 @@ std::vector<Vec3> osd_interpolate(const Far::TopologyRefiner &r, const st_mesh &
 int strata_build(st_hier *h, const st_mesh &m, const st_scheme *sc, int levels)
 {
     st_error err;
-    st_hier_opts o = { ST_BOUNDARY_EDGE_ONLY, ST_CREASE_UNIFORM, ST_TRI_SUB_CATMARK, ST_UV_CORNERS_PLUS1 };
+    st_hier_opts o = {};
+    o.boundary = ST_BOUNDARY_EDGE_ONLY;
+    o.crease_method = ST_CREASE_UNIFORM;
+    o.tri_sub = ST_TRI_SUB_CATMARK;
+    o.uv_interp = ST_UV_CORNERS_PLUS1;
     if (st_hier_init(h, &m, sc, &o, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return -1; }
     for (int l = 0; l < levels; l++)
         if (sc->refine(h, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return -1; }

@@ -79,6 +79,7 @@ static Tri run_strata(const st_mesh *m, uint64_t target, st_progressive_report *
     st_error err;
     st_progressive_opts o = {};
     o.target_faces = target;
+    o.predictor = ST_PM_DEFAULT; /* what new builds use (progressive.h, point 5) */
     Tri t;
     if (st_progressive_build(m, &o, &h, rep, &err)) {
         fprintf(stderr, "strata: %s\n", err.msg);
@@ -366,6 +367,7 @@ static void edits_and_display(const st_mesh *m, uint64_t target, double diag, in
     st_error err;
     st_progressive_opts o = {};
     o.target_faces = target;
+    o.predictor = ST_PM_DEFAULT; /* what new builds use (progressive.h, point 5) */
     if (st_progressive_build(m, &o, &h, nullptr, &err)) { fprintf(stderr, "strata: %s\n", err.msg); return; }
     st_map *mp = &h.map;
     st_hier_synthesize(&h, 0); /* (as after any first edit) */

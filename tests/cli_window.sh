@@ -222,6 +222,24 @@ out=$(cd "$TMP/quitsave" && win "$EXE" --size 640x480 --levels 1 --replay "$SRC/
 if [ "$rc" -eq 0 ] && ! grep -q NOT_QUIT <<<"$out" && [ -s "$TMP/quitsave/torus.strata" ] && [ ! -e "$STRATA_RECOVERY" ]; then ok
 else bad "quit question, Save (quit_save.txt): exit $rc, $(ls "$TMP/quitsave"): $(tail -5 <<<"$out")"; fi
 
+# 1c. A stroke pressed off the surface starts where the pointer reaches it.
+run 0 "replay .* passed" win "$EXE" --size 640x480 --levels 2 --replay "$SRC/replay/stroke_offsurface.txt" "$ASSETS/torus.obj"
+
+# 1d. A click right after a wheel turn opens the folder drawn under the pointer.
+mkdir -p "$TMP/dirs" && for i in $(seq -w 0 39); do mkdir -p "$TMP/dirs/d$i"; done && cp "$ASSETS/cube.obj" "$TMP/dirs/"
+run 0 "replay .* passed" win bash -c 'cd "$1" && "$2" --size 640x480 --replay "$3" cube.obj' _ "$TMP/dirs" "$EXE" "$SRC/replay/dialog_scroll.txt"
+
+# 1e. A dense mesh (koala, 125k faces) opens as it is, at level 0, with the
+# note that points at Mesh > Rebuild levels; --levels still wins.
+printf 'wait 1\nexpect top 0\nexpect message Rebuild levels\nquit\n' > "$TMP/dense.txt"
+run 0 "replay .* passed" win "$EXE" --size 320x240 --replay "$TMP/dense.txt" "$MESHES/large/koala.obj"
+printf 'wait 1\nexpect top 1\nquit\n' > "$TMP/dense1.txt"
+run 0 "replay .* passed" win "$EXE" --size 320x240 --levels 1 --replay "$TMP/dense1.txt" "$MESHES/large/koala.obj"
+# 1f. With the default model (no file given), File > Open starts in the
+# working directory, not in assets/.
+printf 'gui on\nwait 2\nkey ctrl+o\nwait 2\nexpect dialog_dir dirs\nquit\n' > "$TMP/dlgcwd.txt"
+run 0 "replay .* passed" win bash -c 'cd "$1" && "$2" --size 640x480 --replay "$3"' _ "$TMP/dirs" "$EXE" "$TMP/dlgcwd.txt"
+
 # 2. A failing expectation exits non-zero and says which line.
 printf 'wait 2\nexpect top 99\nquit\n' > "$TMP/fail.txt"
 run 1 "fail.txt:2: expect top 99 failed: actual 2" win "$EXE" --size 320x240 --levels 2 --replay "$TMP/fail.txt" "$ASSETS/cube.obj"

@@ -384,8 +384,15 @@ static void test_refusals(void)
     memcpy(lay.uv + 8, saved, sizeof saved);
     lay.uv[5] = NAN;
     expect_refusal(&h, &u, &o, "face 1 of level 0: corner 3 has no UV");
+    /* A corner beyond the tile is no refusal any more (issue 31; overshoots
+     * are baked with wrap-around, test_udim_tiles), but face 1 stretched to
+     * v = 1.5 lies across face 4's cell inside its own tile: an overlap. */
     lay.uv[5] = 1.5;
-    expect_refusal(&h, &u, &o, "outside [0,1]");
+    expect_refusal(&h, &u, &o, "UV islands overlap: faces 1 and 4 of level 0");
+    lay.uv[5] = 3e6;
+    expect_refusal(&h, &u, &o, "face 1 of level 0: corner 3 has UV (0.");
+    lay.uv[5] = 9.5;
+    expect_refusal(&h, &u, &o, "face 1 of level 0 spans 1 x 10 UV tiles");
     memcpy(lay.uv + 8, saved, sizeof saved);
     lay.uv[5] = lay.uv[3];
     u.nfaces = 5;
@@ -1074,8 +1081,85 @@ static void test_peaks(void)
     check_bake_peak("icosahedron loop level 5 onto level 1, 1024x1024", ST_SCHEME_LOOP, 5, 1024);
 }
 
+/* ---- UV tiles and wrap-around (issue 31) ----------------------------------- */
+
+/* The cube's per-face atlas with faces 1-3 moved one tile right (u + 1):
+ * a UDIM layout on tiles 1001 and 1002.  Baked per tile, each tile holds
+ * three faces and the two tiles together hold every texel the unmoved
+ * atlas bakes; --udim off wraps both tiles into one map, the texels the
+ * unmoved atlas bakes.  Moving by whole tiles changes UVs by an ulp at most
+ * ((u + 1) - 1), so the texel counts agree exactly and the normals to 1e-6. */
+static void test_udim_tiles(void)
+{
+    st_hier h;
+    st_error err;
+    tl_init_hier(&h, tl_mesh_cube, ST_SCHEME_CATMARK, 2);
+    st_bake_layout lay;
+    CHECK(st_bake_auto_uvs(&h, 0, &lay, &err) == ST_OK);
+    st_bake_uvs u = st_bake_layout_uvs(&lay);
+    st_bake_opts o = { .base = 0, .level = 2, .size = 64, .normal = 1, .padding = 0 };
+    st_bake_maps plain, wrapped, tile[2];
+    CHECKF(st_bake(&h, &u, &o, &plain, &err) == ST_OK, "%s", err.msg);
+    for (uint32_t c = lay.corner_off[0]; c < lay.corner_off[3]; c++) lay.uv[2 * c] += 1;
+    st_bake_tiles t;
+    CHECK(st_bake_uv_tiles(&u, o.size, &t, &err) == ST_OK);
+    CHECKF(t.ntiles == 2 && st_bake_udim(t.tile[0]) == 1001 && st_bake_udim(t.tile[1]) == 1002 && t.faces[0] == 3 &&
+           t.faces[1] == 3 && t.corners_outside == 0 && t.faces_crossing == 0 && t.first_non_udim == UINT32_MAX,
+           "tiles: %u, corners outside %llu", t.ntiles, (unsigned long long)t.corners_outside);
+    CHECKF(st_bake(&h, &u, &o, &wrapped, &err) == ST_OK, "%s", err.msg);
+    o.udim = 1;
+    for (int k = 0; k < 2; k++) {
+        o.tile[0] = t.tile[k][0];
+        o.tile[1] = t.tile[k][1];
+        CHECKF(st_bake(&h, &u, &o, &tile[k], &err) == ST_OK, "%s", err.msg);
+        CHECKF(tile[k].faces == 3 && tile[k].corners_outside == 0, "tile %d: %u faces", k, tile[k].faces);
+    }
+    uint64_t texels = (uint64_t)o.size * o.size, both = 0;
+    double worst = 0;
+    for (uint64_t i = 0; i < texels; i++) {
+        both += tile[0].mask[i] && tile[1].mask[i];
+        const st_bake_maps *from = tile[0].mask[i] ? &tile[0] : &tile[1];
+        if (!plain.mask[i]) continue;
+        for (int k = 0; k < 3; k++) {
+            worst = fmax(worst, fabs(plain.normal[3 * i + k] - wrapped.normal[3 * i + k]));
+            worst = fmax(worst, fabs(plain.normal[3 * i + k] - from->normal[3 * i + k]));
+        }
+    }
+    printf("udim: plain %llu texels, wrapped %llu, tiles 1001 %llu + 1002 %llu, normals within %.3g\n",
+           (unsigned long long)plain.baked, (unsigned long long)wrapped.baked, (unsigned long long)tile[0].baked,
+           (unsigned long long)tile[1].baked, worst);
+    CHECK(wrapped.baked == plain.baked && tile[0].baked + tile[1].baked == plain.baked && both == 0);
+    CHECKF(worst < 1e-6, "normals differ by %g", worst);
+    st_bake_maps_free(&plain);
+    st_bake_maps_free(&wrapped);
+    st_bake_maps_free(&tile[0]);
+    st_bake_maps_free(&tile[1]);
+
+    /* An overshoot: face 4's corner 3 pulled to u = -0.02 (its cell starts
+     * at u >= 0), baked with wrap-around: counted, no overlap, and the
+     * texels it wraps onto lie at the map's right edge. */
+    o.udim = 0;
+    for (uint32_t c = lay.corner_off[0]; c < lay.corner_off[3]; c++) lay.uv[2 * c] -= 1;
+    double *p = lay.uv + 2 * ((size_t)lay.corner_off[3] + 2);
+    double saved = p[0];
+    p[0] = -0.02;
+    CHECK(st_bake_uv_tiles(&u, o.size, &t, &err) == ST_OK && t.corners_outside == 1 && t.ntiles == 1);
+    CHECKF(st_bake(&h, &u, &o, &wrapped, &err) == ST_OK, "%s", err.msg);
+    uint64_t right = 0;
+    for (uint32_t y = 0; y < o.size; y++) right += wrapped.mask[(size_t)y * o.size + o.size - 1] == 1;
+    printf("udim: overshoot to u = -0.02: %llu corner outside, %llu texels in the map's last column\n",
+           (unsigned long long)wrapped.corners_outside, (unsigned long long)right);
+    CHECK(wrapped.corners_outside == 1 && right > 0);
+    p[0] = saved;
+    st_bake_maps_free(&wrapped);
+    st_bake_tiles_free(&t);
+    st_bake_layout_free(&lay);
+    st_hier_free(&h);
+}
+
 int main(void)
 {
+    test_udim_tiles();
     test_peaks();
     test_dual_layout();
     test_split_polygon();

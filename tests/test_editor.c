@@ -1447,6 +1447,22 @@ static void test_first_hour(void)
     CHECK(st_doc_undo(&d, &err) == 0 && d.nundo == 1);
     st_doc_forget_history(&d);
     CHECK(d.nundo == 0 && d.undo_pos == 0 && st_doc_undo(&d, &err) == -1);
+    /* The box's maximum level stops where the memory budget does: the
+     * level the slider allows is accepted, the next one refused. */
+    st_adapt_params b = d.box;
+    b.base_level = 0;
+    for (int k = 0; k < 3; k++) { b.box_lo[k] = -2; b.box_hi[k] = 2; }   /* the whole cube */
+    unsigned roomy = st_doc_box_max_level_allowed(&d, &b);
+    CHECKF(roomy == d.h.map.top + 3, "default budget: box levels up to %u", roomy);
+    d.mem_budget = st_doc_model_bytes(&d) + ((size_t)256 << 10);
+    unsigned allowed = st_doc_box_max_level_allowed(&d, &b);
+    CHECKF(allowed >= 1 && allowed < roomy, "256 KiB over the model: box levels up to %u", allowed);
+    b.max_level = allowed;
+    CHECKF(st_doc_set_box(&d, &b, 1, &err) == 0, "box at its allowed level %u: %s", allowed, err.msg);
+    b.max_level = allowed + 1;
+    CHECK(st_doc_set_box(&d, &b, 1, &err) == ST_ERR_MEMORY && strstr(err.msg, "memory budget"));
+    CHECK(d.box.max_level == allowed);
+    d.mem_budget = (size_t)4 << 30;
     CHECK(st_doc_open(&d, STRATA_SHARED_DATA "/large/koala.obj", NULL, ST_DOC_LEVELS_AUTO, &err) == 0);
     CHECKF(d.h.map.top == 0 && d.base.nfaces > ST_DOC_DENSE_FACES, "koala: top %u, %u faces", d.h.map.top, d.base.nfaces);
     CHECK(st_doc_open(&d, STRATA_SHARED_DATA "/triangle/bob_small.ply", "loop", 1, &err) == 0 && d.h.map.top == 1);

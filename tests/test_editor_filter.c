@@ -107,8 +107,46 @@ static void test_refusals(void)
     st_doc_free(&d);
 }
 
+/* The Filter panel's presets: the gains they give, and what applying
+ * them does to the details (a band at gain 0 holds no detail after it). */
+static int band_is_zero(const st_hier *h, unsigned l)
+{
+    for (size_t i = 0; i < 3 * (size_t)h->detail_cap[l]; i++)
+        if (h->detail[l][i] != 0) return 0;
+    return 1;
+}
+
+static void test_presets(void)
+{
+    double g[ST_MAX_LEVELS];
+    st_filter_preset_gains(ST_FILTER_SMOOTH, 9, g);
+    CHECK(g[8] == 0 && g[6] == 0 && g[5] == 0.5 && g[3] == 0.5 && g[2] == 1 && g[0] == 1);
+    st_filter_preset_gains(ST_FILTER_SHARPEN, 9, g);
+    CHECK(g[8] == 1.5 && g[5] == 1.5 && g[4] == 1 && g[0] == 1);
+    st_filter_preset_gains(ST_FILTER_KEEP_COARSE, 9, g);
+    CHECK(g[0] == 1 && g[2] == 1 && g[3] == 0 && g[8] == 0);
+    st_filter_preset_gains(ST_FILTER_KEEP_FINE, 9, g);
+    CHECK(g[0] == 0 && g[2] == 0 && g[3] == 1 && g[8] == 1);
+    st_filter_preset_gains(ST_FILTER_SMOOTH, 1, g);
+    CHECK(g[0] == 0);   /* a shallow hierarchy still smooths */
+    for (int p = 0; p < ST_FILTER_NPRESETS; p++) CHECK(strcmp(st_filter_preset_name(p), "?") != 0);
+
+    st_doc d;
+    st_error err;
+    open_progressive(&d);
+    unsigned top = d.h.map.top;
+    uint32_t steps = d.nundo;
+    st_filter_preset_gains(ST_FILTER_SMOOTH, top, g);
+    CHECKF(st_doc_filter(&d, g, top, &err) == 0, "smooth preset: %s", err.msg);
+    for (unsigned l = 1; l <= top; l++)
+        if (g[l - 1] == 0) CHECKF(band_is_zero(&d.h, l), "smooth: level %u keeps details", l);
+    CHECK(d.nundo == steps + 1);
+    st_doc_free(&d);
+}
+
 int main(void)
 {
+    test_presets();
     test_filter_undo_redo();
     test_refusals();
     return TEST_END();

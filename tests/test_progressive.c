@@ -8,6 +8,7 @@
 #include "core/base/parallel.h"
 #include "core/multires/hier_internal.h"
 #include "core/io/session.h"
+#include "core/io/map_io_internal.h"
 #include "core/map/map_mesh.h"
 #include "core/map/pool_internal.h"
 
@@ -281,12 +282,16 @@ static void test_progress_and_bad_input(void)
 
 /* ---- geometry ------------------------------------------------------------------------ */
 
+/* The predictor the builds below use (progressive.h, enum st_pm_predictor):
+ * the exactness tests run under each. */
+static int g_predictor = ST_PM_RELAXED;
+
 static int build(const char *name, st_hier *h, uint64_t target)
 {
     st_mesh m;
     if (load_shared(name, &m)) return -1;
     st_error err;
-    st_progressive_opts o = { .target_faces = target };
+    st_progressive_opts o = { .target_faces = target, .predictor = g_predictor };
     int rc = st_progressive_build(&m, &o, h, NULL, &err);
     CHECKF(rc == ST_OK, "%s: %s", name, err.msg);
     st_mesh_free(&m);
@@ -505,6 +510,78 @@ static void test_session(const char *name)
         st_session_free(&s);
     }
     st_hier_free(&h);
+}
+
+/* The HIER chunk's third word (crease method | triangle rule << 8 |
+ * predictor << 16) in a session's bytes: its offset, 0 if not found. */
+static size_t hier_word_at(const unsigned char *c, size_t n)
+{
+    for (size_t i = 0; i + 16 < n; i++)
+        if (!memcmp(c + i, "HIER", 4)) {
+            uint32_t len = (uint32_t)c[i + 12] | (uint32_t)c[i + 13] << 8 | (uint32_t)c[i + 14] << 16 | (uint32_t)c[i + 15] << 24;
+            size_t at = i + 12 + 4 + len + 4; /* tag, payload length, name length, name, boundary */
+            return at + 4 <= n ? at : 0;
+        }
+    return 0;
+}
+
+/* Sessions in the format from before the predictor tag (bits 16-23 of the
+ * HIER word zero) open with the relaxation and synthesise as before: a
+ * relaxed build (a zero st_progressive_opts) writes exactly that format,
+ * byte for byte, and a light or graded build tags itself, loads with its
+ * predictor and saves back the same bytes.  An unknown predictor is
+ * refused. */
+static void test_session_predictor(const char *name)
+{
+    for (int pred = ST_PM_RELAXED; pred <= ST_PM_GRADED; pred++) {
+        g_predictor = pred;
+        st_hier h;
+        if (build(name, &h, 30)) { g_predictor = ST_PM_RELAXED; return; }
+        st_session_ref r = { .h = &h, .edit_level = 0, .display_level = h.map.top };
+        st_error err;
+        void *f1 = NULL, *f2 = NULL;
+        size_t n1 = 0, n2 = 0;
+        CHECK(st_session_write_mem(&r, &f1, &n1, &err) == 0);
+        size_t at = hier_word_at(f1, n1);
+        CHECKF(at != 0, "%s: no HIER chunk", name);
+        unsigned tag = at ? ((unsigned char *)f1)[at + 2] : 99;
+        CHECKF(tag == (unsigned)pred, "%s: predictor %d written as %u", name, pred, tag);
+        st_session s;
+        if (st_session_parse(name, f1, n1, &s, &err) == 0) {
+            CHECKF(s.h.opts.pm_predictor == pred, "%s: predictor %d loaded as %d", name, pred, s.h.opts.pm_predictor);
+            /* the same synthesis, from level 0, on both */
+            tl_posnap a, b;
+            st_hier_synthesize(&h, 0);
+            st_hier_synthesize(&s.h, 0);
+            tl_snap_pos(&h, &a);
+            tl_snap_pos(&s.h, &b);
+            CHECKF(a.n == b.n && tl_snap_maxdiff(&a, &b) == 0, "%s, predictor %d: the loaded session synthesises otherwise",
+                   name, pred);
+            free(a.p);
+            free(b.p);
+            st_hier_synthesize(&s.h, 0);
+            r.h = &h;
+            st_session_ref r2 = { .h = &s.h, .edit_level = 0, .display_level = s.h.map.top };
+            free(f1);
+            CHECK(st_session_write_mem(&r, &f1, &n1, &err) == 0);
+            CHECK(st_session_write_mem(&r2, &f2, &n2, &err) == 0);
+            CHECKF(n1 == n2 && memcmp(f1, f2, n1) == 0, "%s, predictor %d: save, load, save differ", name, pred);
+            free(f2);
+            st_session_free(&s);
+        } else {
+            CHECKF(0, "%s: %s", name, err.msg);
+        }
+        /* an unknown predictor: refused, with a message that says so */
+        if (at) {
+            unsigned char *c = f1;
+            c[at + 2] = 7;
+            tl_session_fix_crc(c, n1);
+            CHECK(st_session_parse(name, c, n1, &s, &err) != 0 && strstr(err.msg, "predictor"));
+        }
+        free(f1);
+        st_hier_free(&h);
+    }
+    g_predictor = ST_PM_RELAXED;
 }
 
 /* ---- filtering ------------------------------------------------------------------------ */
@@ -835,6 +912,32 @@ int main(void)
     test_tables_match_stencils("plane_holes.obj", 20);
     test_session("spot_low_resolution.obj");
     test_session("cube_no_bottom.obj");
+    test_session_predictor("spot_low_resolution.obj");
+    test_session_predictor("cube_no_bottom.obj");
+    /* The light predictor keeps every exactness property (progressive.h,
+     * point 5). */
+    g_predictor = ST_PM_LIGHT;
+    test_rigid_motion("spot_low_resolution.obj");
+    test_local_edit("spot_low_resolution.obj", 0);
+    test_local_edit("blub_open.obj", 3);
+    test_tables_match_stencils("plane_holes.obj", 20);
+    test_session("spot_low_resolution.obj");
+    test_threads("plane_holes.obj", 20);
+    /* So does the graded one, new builds' default (ST_PM_DEFAULT), and
+     * removing its finest bands still smooths (its weight there is 1/2). */
+    g_predictor = ST_PM_GRADED;
+    test_rigid_motion("spot_low_resolution.obj");
+    test_rigid_motion("hemisphere.obj");
+    test_local_edit("spot_low_resolution.obj", 0);
+    test_local_edit("blub_open.obj", 3);
+    test_local_edit("boot.obj", 2);
+    test_tables_match_stencils("spot_low_resolution.obj", 30);
+    test_tables_match_stencils("plane_holes.obj", 20);
+    test_session("spot_low_resolution.obj");
+    test_threads("plane_holes.obj", 20);
+    test_filter("spot_low_resolution.obj");
+    test_filter("boot.obj");
+    g_predictor = ST_PM_RELAXED;
     test_filter("spot_low_resolution.obj");
     test_filter("boot.obj");
     test_foreign_map();

@@ -287,17 +287,6 @@ static void check_damage(void)
     st_hier_free(&h);
 }
 
-/* Fixes header size, header CRC and trailer CRC of a mutated buffer. */
-static void fix_crc(unsigned char *c, size_t n)
-{
-    if (n < 32) return;
-    for (int k = 0; k < 8; k++) c[16 + k] = (unsigned char)((uint64_t)n >> (8 * k));
-    uint32_t hc = st_crc32(0, c, 24);
-    for (int k = 0; k < 4; k++) c[24 + k] = (unsigned char)(hc >> (8 * k));
-    uint32_t crc = st_crc32(0, c, n - 4);
-    for (int k = 0; k < 4; k++) c[n - 4 + k] = (unsigned char)(crc >> (8 * k));
-}
-
 /* Crafted files with valid checksums: random byte changes must be refused
  * or give a session that validates (no crash: run under ASan). */
 static void check_crafted(st_scheme_id id, void (*make)(st_mesh *), int adaptive)
@@ -324,7 +313,7 @@ static void check_crafted(st_scheme_id id, void (*make)(st_mesh *), int adaptive
             size_t at = 28 + tl_rand(&rng) % (n - 32);
             c[at] = (tl_rand(&rng) & 1) ? (unsigned char)tl_rand(&rng) : (unsigned char)(c[at] ^ (1u << (tl_rand(&rng) % 8)));
         }
-        fix_crc(c, n);
+        tl_session_fix_crc(c, n);
         st_session s;
         if (st_session_parse("crafted.strata", c, n, &s, &err) == ST_OK) {
             accepted++;
@@ -521,8 +510,63 @@ static void check_normals(void)
     st_hier_free(&h);
 }
 
+/* The window's settings (ancillary chunk 'tool'): kept through save, load
+ * and save to the byte; a session without them loads without; a value the
+ * reader would refuse is refused by the writer, nothing written; a reader
+ * meeting a bad value in the file names the chunk. */
+static void check_tool(void)
+{
+    st_hier h;
+    build(&h, tl_mesh_cube, ST_SCHEME_CATMARK, 2, NULL);
+    st_session_tool t = { .tool = 4, .radius = 0.25, .strength = 0.3, .falloff = 3, .mirror = 5,
+                          .show = ST_SESSION_SHOW_WIRE | ST_SESSION_SHOW_FLAT };
+    st_session_ref r = { .h = &h, .edit_level = 1, .display_level = 2, .tool = &t };
+    st_session s;
+    void *bytes;
+    size_t n;
+    round_trip("tool settings", &r, &s, &bytes, &n);
+    if (bytes) {
+        CHECK(s.has_tool && s.tool.tool == 4 && s.tool.radius == 0.25 && s.tool.strength == 0.3 && s.tool.falloff == 3 &&
+              s.tool.mirror == 5 && s.tool.show == (ST_SESSION_SHOW_WIRE | ST_SESSION_SHOW_FLAT));
+        /* A bad value in the file: refused, the chunk named. */
+        unsigned char *c = bytes;
+        size_t at = 0;
+        for (size_t i = 0; i + 4 <= n; i++)
+            if (!memcmp(c + i, "tool", 4)) at = i;
+        CHECK(at > 0);
+        if (at) {
+            double bad = 2.0;   /* strength */
+            memcpy(c + at + 4 + 8 + 4 + 8, &bad, 8);
+            tl_session_fix_crc(c, n);
+            st_session s3;
+            st_error err;
+            st_session_init(&s3);
+            CHECK(st_session_parse("mem.strata", c, n, &s3, &err) != ST_OK);
+            CHECKF(strstr(err.msg, "tool settings") && strstr(err.msg, "strength"), "bad strength: %s", err.msg);
+            st_session_free(&s3);
+        }
+        free(bytes);
+        st_session_free(&s);
+    }
+    st_session_ref none = { .h = &h, .edit_level = 0, .display_level = 2 };
+    round_trip("no tool settings", &none, &s, &bytes, &n);
+    if (bytes) {
+        CHECK(!s.has_tool);
+        free(bytes);
+        st_session_free(&s);
+    }
+    t.strength = 1.5;
+    void *data = NULL;
+    size_t nd = 0;
+    st_error err;
+    CHECK(st_session_write_mem(&r, &data, &nd, &err) != ST_OK && strstr(err.msg, "strength"));
+    free(data);
+    st_hier_free(&h);
+}
+
 int main(void)
 {
+    check_tool();
     check_regular(ST_SCHEME_CATMARK, creased_cube);
     check_regular(ST_SCHEME_CATMARK, torus);
     check_regular(ST_SCHEME_LOOP, tl_mesh_octa);

@@ -157,6 +157,7 @@ uint32_t tl_rand(uint64_t *s)
 /* ---- multiresolution checks shared by the scheme tests ---- */
 #include "core/multires/hier.h"
 #include "core/multires/hier_internal.h"
+#include "core/io/map_io_internal.h"
 
 void tl_init_hier(st_hier *h, void (*make)(st_mesh *), st_scheme_id id, unsigned levels)
 {
@@ -434,4 +435,17 @@ void tl_session_file_roundtrip(const st_session_ref *r, const char *path, const 
     free(fa);
     free(fb);
     st_session_free(&s);
+}
+
+/* Fixes the header size, header CRC and trailer CRC of a session's bytes
+ * that a test mutated (docs/SESSION-FORMAT.md), so that the reader gets
+ * past the checksums to the mutation. */
+void tl_session_fix_crc(unsigned char *c, size_t n)
+{
+    if (n < 32) return;
+    for (int k = 0; k < 8; k++) c[16 + k] = (unsigned char)((uint64_t)n >> (8 * k));
+    uint32_t hc = st_crc32(0, c, 24);
+    for (int k = 0; k < 4; k++) c[24 + k] = (unsigned char)(hc >> (8 * k));
+    uint32_t crc = st_crc32(0, c, n - 4);
+    for (int k = 0; k < 4; k++) c[n - 4 + k] = (unsigned char)(crc >> (8 * k));
 }

@@ -80,4 +80,7 @@ int tl_session_roundtrip(const st_session_ref *r, const char *name, st_session *
 /* The same through files: saves r to path, loads it, saves the loaded
  * session to path2 and checks that the two files have the same bytes. */
 void tl_session_file_roundtrip(const st_session_ref *r, const char *path, const char *path2);
+/* Header size and CRCs of mutated session bytes made right again. */
+void tl_session_fix_crc(unsigned char *c, size_t n);
+
 #endif

@@ -469,7 +469,7 @@ static void cancel(st_app *a)
     st_error err;
     if (a->help) a->help = 0;
     else if (a->op == ST_OP_DRAG || a->op == ST_OP_GRAB) st_app_drag_finish(a, 1);
-    else if (a->op == ST_OP_RECT) a->op = ST_OP_NONE;
+    else if (a->op == ST_OP_RECT || a->op == ST_OP_STROKE_WAIT) a->op = ST_OP_NONE;
     else if (a->op == ST_OP_BOX) {
         st_doc_set_box(d, &a->box_start, 1, &err);
         st_doc_box_end(d);
@@ -692,10 +692,10 @@ const st_action st_actions[ST_NACTIONS] = {
         KEY(Y, 0, ANY), KEY(ENTER, 0, ANY)),
     ASK(ST_ACT_SCHEME_KEEP, "Keep the scheme", "keep the scheme (any other key too)", scheme_keep, KEY(N, 0, ANY)),
 
-    ASK_QUIT(ST_ACT_QUIT_SAVE, "Save", "save the changes, then quit", quit_save, KEY(S, 0, ANY), KEY(ENTER, 0, ANY)),
-    ASK_QUIT(ST_ACT_QUIT_DISCARD, "Don't save", "quit without saving (the recovery file keeps the changes)",
+    ASK_QUIT(ST_ACT_QUIT_SAVE, "Save and quit", "save the changes, then quit", quit_save, KEY(S, 0, ANY), KEY(ENTER, 0, ANY)),
+    ASK_QUIT(ST_ACT_QUIT_DISCARD, "Quit without saving", "quit without saving (the recovery file keeps the changes)",
              quit_discard, KEY(D, 0, ANY)),
-    ASK_QUIT(ST_ACT_QUIT_CANCEL, "Cancel", "keep working (any other key too)", quit_cancel, KEY(ESCAPE, 0, ANY),
+    ASK_QUIT(ST_ACT_QUIT_CANCEL, "Keep working", "keep working (any other key too)", quit_cancel, KEY(ESCAPE, 0, ANY),
              KEY(C, 0, ANY)),
 };
 

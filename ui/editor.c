@@ -19,6 +19,7 @@
 #include "editor_internal.h"
 #include "core/rebuild/rebuild.h"
 #include "core/multires/estimate.h"
+#include "core/adapt/adapt_estimate.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -964,18 +965,47 @@ void ed_finish_active(st_doc *d)
 
 /* ---- interest box -------------------------------------------------------------------------- */
 
+/* Bytes the box's display of p needs beside the model: a copy of the
+ * model (cut to the base), then the adaptive refinement inside the box
+ * (core/adapt/adapt_estimate.h, estimated from level 0). */
+static size_t box_display_bytes(st_doc *d, const st_adapt_params *p)
+{
+    return ed_hier_bytes(&d->h) + st_adapt_estimate_bytes(&d->h, p);
+}
+
+unsigned st_doc_box_max_level_allowed(st_doc *d, const st_adapt_params *p)
+{
+    if (!d->loaded) return p->base_level;
+    size_t have = ed_hier_bytes(&d->h);   /* the model; a display being replaced does not count */
+    unsigned limit = d->h.map.top + 3 < ST_MAX_LEVELS ? d->h.map.top + 3 : ST_MAX_LEVELS - 1;
+    st_adapt_params q = *p;
+    unsigned m = p->base_level;
+    for (unsigned l = p->base_level + 1; l <= limit; l++) {
+        q.max_level = l;
+        if (have + box_display_bytes(d, &q) > d->mem_budget) break;
+        m = l;
+    }
+    return m;
+}
+
+/* The box's display of p within the memory budget, whether it is built
+ * anew or moved in place (the display it replaces does not count). */
+static int box_budget_check(st_doc *d, const st_adapt_params *p, st_error *err)
+{
+    size_t have = ed_hier_bytes(&d->h), need = box_display_bytes(d, p);
+    if (have + need <= d->mem_budget) return ST_OK;
+    return st_fail(err, ST_ERR_MEMORY,
+                   "interest box refused: its display up to level %u needs about %zu bytes (%.1f MiB) more, the "
+                   "model uses %.1f MiB and the memory budget is %.1f MiB",
+                   p->max_level, need, st_mib(need), st_mib(have), st_mib(d->mem_budget));
+}
+
 /* Builds the box's display for p within the memory budget; d->box = p on
  * success. */
 static int display_build(st_doc *d, const st_adapt_params *p, st_error *err)
 {
     st_box_display_drop(&d->display);
-    /* The display starts as a copy of the model (then cut to the base). */
-    size_t have = st_doc_model_bytes(d), need = ed_hier_bytes(&d->h);
-    if (have + need > d->mem_budget)
-        return st_fail(err, ST_ERR_MEMORY,
-                       "interest box refused: its display needs about %zu bytes (%.1f MiB) more, the model uses "
-                       "%.1f MiB and the memory budget is %.1f MiB",
-                       need, st_mib(need), st_mib(have), st_mib(d->mem_budget));
+    if (box_budget_check(d, p, err)) return ST_ERR_MEMORY;
     progress(d, "refining the interest box", 1, 1);
     int rc = st_box_display_build(&d->display, &d->h, p, err);
     if (!rc) d->box = *p;
@@ -996,6 +1026,7 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
     if ((on != 0) == (old_on != 0) && (!on || d->display.built) && !memcmp(&old, &p, sizeof p)) return ST_OK;
     double t0 = ed_now_ms();
     int rc = ST_OK, patched = 0;
+    if (on && box_budget_check(d, &p, err)) return ST_ERR_MEMORY;
     if (on) {
         unsigned N = d->h.map.top;
         unsigned ob = old.base_level < N ? old.base_level : N, nb = p.base_level < N ? p.base_level : N;

@@ -291,6 +291,17 @@ int st_doc_rebuild_levels(st_doc *d, int (*progress)(void *ctx, double fraction)
  * not progressive, with sculpt layers (merge or delete them first), or
  * over the memory budget. */
 int st_doc_filter(st_doc *d, const double *gains, unsigned n, st_error *err);
+/* The Filter panel's presets (GSS99 §5's band gains, as an audio
+ * equaliser's presets): the gains of levels 1..top in gains[0..top-1].
+ * Bands are split in thirds by level: smooth removes the finest third and
+ * halves the middle one; sharpen enhances the finest half (x1.5); keep
+ * coarse shape removes every band above the coarsest third; keep fine
+ * detail removes the coarsest third (large bumps go, texture stays). */
+enum st_filter_preset {
+    ST_FILTER_SMOOTH, ST_FILTER_SHARPEN, ST_FILTER_KEEP_COARSE, ST_FILTER_KEEP_FINE, ST_FILTER_NPRESETS
+};
+const char *st_filter_preset_name(int preset);
+void st_filter_preset_gains(int preset, unsigned top, double *gains);
 int st_doc_add_level(st_doc *d, st_error *err);
 int st_doc_remove_top(st_doc *d, st_error *err);
 int st_doc_remove_bottom(st_doc *d, st_error *err);
@@ -362,6 +373,10 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
 void st_doc_box_begin(st_doc *d);
 void st_doc_box_end(st_doc *d);
 
+/* The highest maximum level the box p can have within the memory budget
+ * (its display estimated as st_doc_set_box checks it), at most the top +
+ * 3; the box panel's slider stops there. */
+unsigned st_doc_box_max_level_allowed(st_doc *d, const st_adapt_params *p);
 /* Empties the undo history (what opening a file leaves). */
 void st_doc_forget_history(st_doc *d);
 /* Undo and redo; 0 when done, -1 when there is nothing to undo/redo. */

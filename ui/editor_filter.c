@@ -98,3 +98,28 @@ int st_doc_filter(st_doc *d, const double *gains, unsigned n, st_error *err)
     d->change.bits |= ST_CHANGE_ALL_POSITIONS;
     return ST_OK;
 }
+
+const char *st_filter_preset_name(int preset)
+{
+    static const char *const names[ST_FILTER_NPRESETS] = { "smooth", "sharpen", "keep coarse shape", "keep fine detail" };
+    return preset >= 0 && preset < ST_FILTER_NPRESETS ? names[preset] : "?";
+}
+
+void st_filter_preset_gains(int preset, unsigned top, double *gains)
+{
+    /* Band k + 1 (gains[k]) by its place among levels 1..top: a third of
+     * the bands at least one, so that a shallow hierarchy still filters. */
+    unsigned third = top / 3 ? top / 3 : 1, half = top / 2 ? top / 2 : 1;
+    for (unsigned k = 0; k < top; k++) {
+        unsigned from_top = top - 1 - k;   /* 0: the finest band */
+        double g = 1;
+        switch (preset) {
+        case ST_FILTER_SMOOTH: g = from_top < third ? 0.0 : from_top < 2 * third ? 0.5 : 1.0; break;
+        case ST_FILTER_SHARPEN: g = from_top < half ? 1.5 : 1.0; break;
+        case ST_FILTER_KEEP_COARSE: g = k < third ? 1.0 : 0.0; break;
+        case ST_FILTER_KEEP_FINE: g = k < third ? 0.0 : 1.0; break;
+        default: break;
+        }
+        gains[k] = g;
+    }
+}

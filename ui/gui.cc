@@ -63,7 +63,12 @@ struct gui_state {
     float held_wheel[2] = {};
     std::string scheme_refusal[6];   /* per entry of schemes[]: why not, "" when it can */
     uint64_t scheme_refusal_rev = 0; /* st_doc.revision + 1 they were computed for (0: never) */
-    std::string scheme_refusal_path;  /* a wheel that waits for the frame after a press (st_gui_frame) */
+    std::string scheme_refusal_path;
+    bool box_pending = false;        /* a level slider moved: applied after the frame that shows it */
+    st_adapt_params box_next = {};
+    st_adapt_params box_allowed_for = {};
+    uint64_t box_allowed_rev = 0;
+    unsigned box_allowed = 0;        /* st_doc_box_max_level_allowed of box_allowed_for */  /* a wheel that waits for the frame after a press (st_gui_frame) */
     /* Keys pressed since the last frame, and releases held back until a
      * frame has seen them down (ImGui 1.86 reads key states, not events: a
      * press and release between two frames, such as a fast typist's Enter
@@ -847,8 +852,20 @@ void box_section(st_app *a)
     probe_item("panel:size");
     active |= ImGui::IsItemActive();
     int base = (int)b.base_level, mx = (int)b.max_level, top = (int)d->h.map.top + 3;
+    if (g.box_pending) { base = (int)g.box_next.base_level; mx = (int)g.box_next.max_level; }
+    /* The maximum level stops where the memory budget does (the display's
+     * estimate, as st_doc_set_box checks it), asked again only when the
+     * box or the model changed. */
+    if (g.box_allowed_rev != d->revision + 1 || memcmp(&g.box_allowed_for, &b, sizeof b)) {
+        g.box_allowed_for = b;
+        g.box_allowed_rev = d->revision + 1;
+        g.box_allowed = st_doc_box_max_level_allowed(d, &b);
+    }
+    int allowed = std::max((int)g.box_allowed, mx);
     bool lv = ImGui::SliderInt("base level", &base, 0, top);
-    lv |= ImGui::SliderInt("max level", &mx, 0, top);
+    lv |= ImGui::SliderInt("max level", &mx, 0, std::min(top, allowed));
+    if (allowed < top && ImGui::IsItemHovered())
+        ImGui::SetTooltip("levels above %d would go over the memory budget (--mem-budget)", allowed);
     /* A drag of the fields is one box operation, as a handle drag. */
     if (active && !g.box_dragging) { st_doc_box_begin(d); g.box_dragging = 1; }
     if ((changed || lv) && a->op == ST_OP_NONE) {
@@ -856,9 +873,17 @@ void box_section(st_app *a)
         if (base > mx) { if (lv && base != (int)d->box.base_level) mx = base; else base = mx; }
         b.base_level = (unsigned)base;
         b.max_level = (unsigned)mx;
-        st_error err;
-        if (st_doc_set_box(d, &b, 1, &err)) st_app_message(a, 1, "cannot change the box: %s", err.msg);
-        st_app_sync(a);
+        if (lv) {
+            /* A level change can take seconds: the frame that shows the
+             * slider's new value is presented first, and the display is
+             * computed before the next one (st_gui_run_pending). */
+            g.box_next = b;
+            g.box_pending = true;
+        } else {
+            st_error err;
+            if (st_doc_set_box(d, &b, 1, &err)) st_app_message(a, 1, "cannot change the box: %s", err.msg);
+            st_app_sync(a);
+        }
     }
     if (!active && g.box_dragging) { st_doc_box_end(d); g.box_dragging = 0; st_app_sync(a); }
 }
@@ -975,11 +1000,17 @@ void filter_section(st_app *a)
         for (float &x : gains) x = 1.0f;
         shown_top = top;
     }
-    ImGui::TextWrapped("details of each level: 0 removes them (smoother), 1 keeps them, 2 doubles them");
-    for (unsigned l = 1; l <= top; l++) {
-        char label[32];
-        snprintf(label, sizeof label, "level %u", l);
-        ImGui::SliderFloat(label, &gains[l - 1], 0.0f, 2.0f, "%.2f");
+    /* Presets first (what most users want), Apply and Reset next to them,
+     * the per-level gains below for whoever wants them. */
+    for (int p = 0; p < ST_FILTER_NPRESETS; p++) {
+        if (p % 2) ImGui::SameLine();
+        char label[48];
+        snprintf(label, sizeof label, "%s", st_filter_preset_name(p));
+        if (ImGui::Button(label)) {
+            double gd[ST_MAX_LEVELS];
+            st_filter_preset_gains(p, top, gd);
+            for (unsigned k = 0; k < top; k++) gains[k] = (float)gd[k];
+        }
         if (!g.probe_dir.empty()) probe_item(probe_name("panel:filter:", label));
     }
     bool any = false;
@@ -990,6 +1021,16 @@ void filter_section(st_app *a)
     ImGui::SameLine();
     bool reset = ImGui::Button("Reset");
     if (!any) ImGui::EndDisabled();
+    if (ImGui::TreeNode("gains per level")) {
+        ImGui::TextWrapped("details of each level: 0 removes them (smoother), 1 keeps them, 2 doubles them");
+        for (unsigned l = 1; l <= top; l++) {
+            char label[32];
+            snprintf(label, sizeof label, "level %u", l);
+            ImGui::SliderFloat(label, &gains[l - 1], 0.0f, 2.0f, "%.2f");
+            if (!g.probe_dir.empty()) probe_item(probe_name("panel:filter:", label));
+        }
+        ImGui::TreePop();
+    }
     if (apply && a->op == ST_OP_NONE) {
         double gd[ST_MAX_LEVELS];
         for (unsigned k = 0; k < top; k++) gd[k] = gains[k];
@@ -1176,19 +1217,20 @@ void st_gui_frame(st_app *a)
      * the frame that reads it, so a press read in the same frame would hit
      * the item under the pointer after the scroll, which no frame has shown
      * (the list drawn at the old position, the click on another folder).
-     * The user clicked what the last frame showed: a new press that comes
-     * with an unshown wheel is read first, and the wheel in the next frame. */
+     * The user clicked what the last frame showed: while a button is down,
+     * and in the frame of its release (ImGui's click is a press and a
+     * release on the same item), a wheel waits, and scrolls the frame after. */
     io.MouseWheel += g.held_wheel[0];
     io.MouseWheelH += g.held_wheel[1];
     g.held_wheel[0] = g.held_wheel[1] = 0;
-    bool new_press = false;
+    bool clicking = false;
     for (int i = 0; i < 5; i++) {
         bool want = i < 3 && (g.down[i] || g.pressed[i]);
-        new_press = new_press || (want && !g.fed_down[i]);
+        clicking = clicking || want || (i < 3 && g.fed_down[i]);
         io.MouseDown[i] = want;
         if (i < 3) { g.fed_down[i] = want; g.pressed[i] = false; }
     }
-    if (new_press && (io.MouseWheel != 0 || io.MouseWheelH != 0)) {
+    if (clicking && (io.MouseWheel != 0 || io.MouseWheelH != 0)) {
         g.held_wheel[0] = io.MouseWheel;
         g.held_wheel[1] = io.MouseWheelH;
         io.MouseWheel = io.MouseWheelH = 0;
@@ -1226,6 +1268,13 @@ void st_gui_frame(st_app *a)
 
 void st_gui_run_pending(st_app *a)
 {
+    if (g.box_pending) {
+        g.box_pending = false;
+        st_error err;
+        if (a->doc.loaded && st_doc_set_box(&a->doc, &g.box_next, 1, &err))
+            st_app_message(a, 1, "cannot change the box: %s", err.msg);
+        st_app_sync(a);
+    }
     if (g.pending_action >= 0) {
         int id = g.pending_action;
         g.pending_action = -1;
@@ -1262,6 +1311,12 @@ void st_gui_job_mouse_button(int button, int action)
     else g.down[button] = g.pressed[button] = true;
 }
 
+const char *st_gui_dialog_dir(void)
+{
+    size_t k = g.cwd.find_last_of('/');
+    return k == std::string::npos ? g.cwd.c_str() : g.cwd.c_str() + k + 1;
+}
+
 float st_gui_panel_pixels(int win_w)
 {
     if (!g.init || !g.shown) return 0;
@@ -1273,7 +1328,7 @@ int st_gui_wants_frames(void)
 {
     if (!g.init || !g.shown) return 0;
     ImGuiIO &io = ImGui::GetIO();
-    return g.held_wheel[0] != 0 || g.held_wheel[1] != 0 || io.MouseWheel != 0 || io.MouseWheelH != 0;
+    return g.box_pending || g.held_wheel[0] != 0 || g.held_wheel[1] != 0 || io.MouseWheel != 0 || io.MouseWheelH != 0;
 }
 
 int st_gui_scroll(double dx, double dy)

@@ -58,6 +58,8 @@ int st_gui_wants_frames(void);
 /* Width of the side panel on the right, in window coordinates (0 when the
  * GUI is hidden): framing centres the model in what it leaves free. */
 float st_gui_panel_pixels(int win_w);
+/* The file dialog's folder, its last component ("" when none): replays. */
+const char *st_gui_dialog_dir(void);
 int st_gui_key(int key, int scancode, int action, int mods);
 void st_gui_char(unsigned c);
 

@@ -18,7 +18,7 @@
 
 enum ev_type {
     EV_WAIT, EV_KEY, EV_MOVE, EV_BUTTON, EV_SCROLL, EV_DROP, EV_LEVEL, EV_SNAPSHOT, EV_SHOT, EV_EXPECT, EV_ECHO, EV_QUIT,
-    EV_GUI, EV_MENU, EV_FRAMES, EV_BRUSH, EV_FILTER
+    EV_GUI, EV_MENU, EV_FRAMES, EV_BRUSH, EV_FILTER, EV_SCROLL_CLICK
 };
 
 /* `brush SETTING VALUE`: what the panel's tool section sets. */
@@ -262,6 +262,10 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
         if (!(e = push(rp, EV_SCROLL, line))) NOMEM();
         e->y = atof(tok[1]);
         if (push_mods(rp, line, mods, GLFW_RELEASE)) NOMEM();
+    } else if (!strcmp(c, "scroll_click")) {
+        if (nt != 2) BAD("%s:%d: scroll_click DY", rp->path, line);
+        if (!(e = push(rp, EV_SCROLL_CLICK, line))) NOMEM();
+        e->y = atof(tok[1]);
     } else if (!strcmp(c, "drop") || !strcmp(c, "screenshot") || !strcmp(c, "echo")) {
         if (nt < 2) BAD("%s:%d: %s needs an argument", rp->path, line, c);
         if (!(e = push(rp, !strcmp(c, "drop") ? EV_DROP : !strcmp(c, "echo") ? EV_ECHO : EV_SHOT, line))) NOMEM();
@@ -534,6 +538,10 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
         int on = a->checker && a->r.has_uv;
         snprintf(actual, sizeof actual, "%d (asked %d)", on, a->checker);
         ok = on == (want != 0);
+    } else if (!strcmp(w, "dialog_dir")) {
+        /* The file dialog's folder (its last component). */
+        snprintf(actual, sizeof actual, "%s", st_gui_dialog_dir());
+        ok = e->arg && !strcmp(actual, e->arg);
     } else if (!strcmp(w, "dialog")) {
         /* The question up: quit (save before quitting?), scheme, or none. */
         const char *up = a->quit_asking ? "quit" : a->pending_scheme ? "scheme" : "none";
@@ -644,6 +652,12 @@ int st_replay_step(st_replay *rp, st_app *a)
     case EV_MOVE: st_win_on_cursor(w, e->x, e->y); break;
     case EV_BUTTON: st_win_on_mouse_button(w, e->button, e->action, e->mods); break;
     case EV_SCROLL: st_win_on_scroll(w, 0, e->y); break;
+    case EV_SCROLL_CLICK:
+        /* What a slow frame receives when a click follows a wheel at once. */
+        st_win_on_scroll(w, 0, e->y);
+        st_win_on_mouse_button(w, GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, 0);
+        st_win_on_mouse_button(w, GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, 0);
+        break;
     case EV_DROP: { const char *p[1] = { e->text }; st_win_on_drop(w, 1, p); break; }
     case EV_LEVEL:
         if (e->which) st_doc_set_display_level(&a->doc, (unsigned)e->x);

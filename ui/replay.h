@@ -14,6 +14,8 @@
  *   drag BUTTON X0 Y0 X1 Y1 STEPS [MODS]
  *                               move to X0 Y0, press, STEPS moves to X1 Y1, release
  *   scroll DY [MODS]            wheel (MODS held around it through key events)
+ *   scroll_click DY             a wheel turn, then a left press and release, in one
+ *                               frame (a click right after a scroll on a slow frame)
  *   drop PATH                   a file dropped on the window (relative: to the events file)
  *   level edit N | level display N
  *                               set a level directly (document call)
@@ -31,6 +33,7 @@
  *                               error (0/1: status line is an error),
  *                               message TEXT (status line contains TEXT),
  *                               dialog quit|scheme|none (the question that is up),
+ *                               dialog_dir NAME (the file dialog's folder, last component),
  *                               unsaved 0/1 (changes since the last open or save),
  *                               recovery 0/1 (the recovery file holds the last step),
  *                               wire 0/1, cage 0/1 (display toggles),

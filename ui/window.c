@@ -412,12 +412,14 @@ static void stroke_dab_at(void *ctx, const double s[3])
     else if (st_doc_stroke_dab(&a->doc, p, nrm, zero)) st_app_message(a, 1, "brush dab failed");
 }
 
-static void stroke_start(st_app *a, int mods)
+/* Starts a stroke at the surface under the pointer; 0 when there is none
+ * (the caller waits for the pointer to reach the surface, as Blender does). */
+static int stroke_start(st_app *a, int mods)
 {
     st_doc *d = &a->doc;
-    if (ensure_pick(a)) return;
+    if (ensure_pick(a)) return 1;
     double p[3], nrm[3];
-    if (!st_pick_surface(&a->pick, &a->cc, (int)floor(a->mx), (int)floor(a->my), p, nrm)) return;
+    if (!st_pick_surface(&a->pick, &a->cc, (int)floor(a->mx), (int)floor(a->my), p, nrm)) return 0;
     st_brush_set_tool(&d->brush, a->tool);
     d->brush.invert = (mods & GLFW_MOD_CONTROL) != 0;
     /* Front faces only: the direction the view looks. */
@@ -425,7 +427,11 @@ static void stroke_start(st_app *a, int mods)
     st_camctl_axes(&a->cc, right, up, back);
     for (int k = 0; k < 3; k++) d->brush.view_dir[k] = -back[k];
     int started = a->mask_brush ? st_doc_mask_stroke_begin(d, (mods & GLFW_MOD_CONTROL) != 0) : st_doc_stroke_begin(d);
-    if (started) { st_app_message(a, 1, d->refusal[0] ? d->refusal : "cannot start a stroke"); return; }
+    if (started) {
+        st_app_message(a, 1, "%s", d->refusal[0] ? d->refusal : "cannot start a stroke");
+        a->op = ST_OP_NONE;
+        return 1;
+    }
     a->op = ST_OP_STROKE;
     a->op_lx = a->mx;
     a->op_ly = a->my;
@@ -439,6 +445,7 @@ static void stroke_start(st_app *a, int mods)
     if (a->mask_brush) st_doc_mask_stroke_dab(d, p);
     else if (a->tool != ST_BRUSH_GRAB && st_doc_stroke_dab(d, p, nrm, zero)) st_app_message(a, 1, "brush dab failed");
     st_app_sync(a);
+    return 1;
 }
 
 static void stroke_move(st_app *a)
@@ -635,6 +642,9 @@ void st_win_on_cursor(GLFWwindow *w, double x, double y)
     case ST_OP_STROKE:
         stroke_move(a);
         break;
+    case ST_OP_STROKE_WAIT:
+        stroke_start(a, a->op_mods);
+        break;
     case ST_OP_RECT:
         break;
     case ST_OP_BOX:
@@ -680,8 +690,8 @@ void st_win_on_mouse_button(GLFWwindow *w, int button, int action, int mods)
                 a->hover_vid = pick_vertex(a, a->mx, a->my);
                 st_renderer_set_hover(&a->r, a->hover_vid);
                 a->op = ST_OP_CLICK;
-            } else {
-                stroke_start(a, mods);
+            } else if (!stroke_start(a, mods)) {
+                a->op = ST_OP_STROKE_WAIT;
             }
         }
         return;
@@ -692,6 +702,7 @@ void st_win_on_mouse_button(GLFWwindow *w, int button, int action, int mods)
     case ST_OP_RECT: a->op = ST_OP_NONE; select_rect(a); break;
     case ST_OP_DRAG: st_app_drag_finish(a, 0); break;
     case ST_OP_STROKE: stroke_finish(a); break;
+    case ST_OP_STROKE_WAIT: a->op = ST_OP_NONE; break;
     case ST_OP_BOX:
         st_doc_box_end(&a->doc);
         a->op = ST_OP_NONE;

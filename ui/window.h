@@ -41,7 +41,8 @@ typedef struct st_win_opts {
 enum st_tool { ST_TOOL_SELECT = -1 };   /* else an st_brush_tool */
 
 enum st_mouse_op {
-    ST_OP_NONE, ST_OP_ORBIT, ST_OP_PAN, ST_OP_CLICK, ST_OP_RECT, ST_OP_DRAG, ST_OP_STROKE, ST_OP_GRAB, ST_OP_BOX
+    ST_OP_NONE, ST_OP_ORBIT, ST_OP_PAN, ST_OP_CLICK, ST_OP_RECT, ST_OP_DRAG, ST_OP_STROKE, ST_OP_GRAB, ST_OP_BOX,
+    ST_OP_STROKE_WAIT          /* a brush pressed off the surface: the stroke starts where the pointer reaches it */
 };
 
 #define ST_MSG_LEN 512

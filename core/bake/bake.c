@@ -20,7 +20,7 @@ void st_bake_maps_free(st_bake_maps *m)
 size_t st_bake_estimate(const st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o)
 {
     size_t texels = (size_t)o->size * o->size;
-    size_t per_texel = sizeof(uint32_t) + 2 * sizeof(uint8_t)                 /* owner, mask, ring */
+    size_t per_texel = sizeof(uint32_t) + 3 * sizeof(uint8_t)                 /* owner, mask, ring, edge */
                      + (o->normal ? 3 * sizeof(float) : 0)
                      + (size_t)o->displacement * sizeof(float);
     size_t corners = uvs && uvs->corner_off ? uvs->corner_off[uvs->nfaces] : 0;
@@ -53,9 +53,13 @@ typedef struct bake_ctx {
     const st_bake_opts *o;
     const st_bake_uvs *uvs;
     uint32_t face;                /* level-B face being baked */
+    int32_t shift[2];             /* the tile being rasterised: texel centre q serves UV q + shift */
+    int32_t k0[2], k1[2];         /* the tiles face `face` touches: [k0, k1) per axis */
     uint32_t *owner;              /* per texel: the level-B face covering it, ST_NIL */
+    uint8_t *edge;                /* per texel, while claiming: 1 when its owner holds it only on an edge */
     uint32_t conflict[2];         /* faces found overlapping, ST_NIL */
     uint32_t conflict_texel[2];
+    int32_t conflict_shift[2];
     const double *corner_tangent; /* 4 per corner of B */
     const double *corner_normal;  /* 3 per corner of B */
     const uint32_t *corner_vert;  /* vertex id per corner of B */
@@ -88,40 +92,122 @@ static uint32_t (*split_base_faces(const st_bake_uvs *u))[3]
     return tris;
 }
 
+/* ---- tiles (bake.h: tiles and wrap-around) --------------------------------- */
+
+/* Widest face, in tiles per axis: a layout that repeats one face more often
+ * is not a tiling. */
+#define MAX_FACE_TILES 4
+
+/* The tiles face f touches, [k0, k1) per axis. */
+static void face_tiles(const st_bake_uvs *u, uint32_t f, int32_t k0[2], int32_t k1[2])
+{
+    double lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
+    for (uint32_t c = u->corner_off[f]; c < u->corner_off[f + 1]; c++)
+        for (int k = 0; k < 2; k++) {
+            lo[k] = fmin(lo[k], u->uv[2 * (size_t)c + k]);
+            hi[k] = fmax(hi[k], u->uv[2 * (size_t)c + k]);
+        }
+    for (int k = 0; k < 2; k++) {
+        k0[k] = (int32_t)floor(lo[k]);
+        k1[k] = (int32_t)ceil(hi[k]);
+        if (k1[k] <= k0[k]) k1[k] = k0[k] + 1;
+    }
+}
+
+static void face_home(const st_bake_uvs *u, uint32_t f, int32_t t[2])
+{
+    st_bake_face_tile(u->uv + 2 * (size_t)u->corner_off[f], u->corner_off[f + 1] - u->corner_off[f], t);
+}
+
+/* Face f is baked into this map: every face, or in a UDIM bake those at
+ * home in the tile. */
+static int face_on(const bake_ctx *c, uint32_t f)
+{
+    if (!c->o->udim) return 1;
+    int32_t t[2];
+    face_home(c->uvs, f, t);
+    return t[0] == c->o->tile[0] && t[1] == c->o->tile[1];
+}
+
+/* Triangle tri (global UVs) rasterised at tile k: moved by -k into the map. */
+static void raster_at(bake_ctx *c, const double tri[3][2], const int32_t k[2], st_bake_texel_fn fn)
+{
+    double s[3][2];
+    for (int j = 0; j < 3; j++) {
+        s[j][0] = tri[j][0] - k[0];
+        s[j][1] = tri[j][1] - k[1];
+    }
+    c->shift[0] = k[0];
+    c->shift[1] = k[1];
+    st_bake_raster_tri(s, c->o->size, fn, c);
+}
+
 /* ---- pass 1: which face of B covers each texel, overlaps ------------------ */
+
+/* A texel centre this close to a face's edge (in barycentric weight) is on
+ * the edge: islands meeting there touch, they do not overlap.  Layouts
+ * moved by whole tiles round their shared edges apart by an ulp or so
+ * ((u + 1) − 1 ≠ u in doubles), which must not read as an overlap. */
+#define EDGE_WEIGHT 1e-9
 
 static void claim_texel(void *pc, uint32_t x, uint32_t y, const double w[3])
 {
-    (void)w;
     bake_ctx *c = pc;
     size_t i = (size_t)y * c->o->size + x;
     uint32_t f = c->owner[i];
-    if (f == ST_NIL) { c->owner[i] = c->face; return; }
-    if (f != c->face && c->conflict[0] == ST_NIL) {
+    int on_edge = fmin(w[0], fmin(w[1], w[2])) < EDGE_WEIGHT;
+    if (f == ST_NIL) { c->owner[i] = c->face; c->edge[i] = (uint8_t)on_edge; return; }
+    if (f == c->face || on_edge) return;
+    if (c->edge[i]) { c->owner[i] = c->face; c->edge[i] = 0; return; }
+    if (c->conflict[0] == ST_NIL) {
         c->conflict[0] = f;
         c->conflict[1] = c->face;
         c->conflict_texel[0] = x;
         c->conflict_texel[1] = y;
+        c->conflict_shift[0] = c->shift[0];
+        c->conflict_shift[1] = c->shift[1];
     }
 }
 
+/* An overshoot (a face's part outside its home tile, wrapped) takes only
+ * texels no home part holds. */
+static void claim_free_texel(void *pc, uint32_t x, uint32_t y, const double w[3])
+{
+    (void)w;
+    bake_ctx *c = pc;
+    size_t i = (size_t)y * c->o->size + x;
+    if (c->owner[i] == ST_NIL) c->owner[i] = c->face;
+}
+
+/* Home parts first, checked for overlaps; then the overshoots. */
 static int claim_faces(bake_ctx *c, st_error *err)
 {
     const st_bake_uvs *u = c->uvs;
-    for (uint32_t f = 0; f < u->nfaces && c->conflict[0] == ST_NIL; f++) {
-        c->face = f;
-        for (uint32_t t = first_tri(u, f); t < first_tri(u, f + 1); t++) {
-            double tri[3][2];
-            for (int k = 0; k < 3; k++) memcpy(tri[k], u->uv + 2 * (size_t)c->tris[t][k], sizeof tri[k]);
-            st_bake_raster_tri(tri, c->o->size, claim_texel, c);
+    for (int pass = 0; pass < 2 && c->conflict[0] == ST_NIL; pass++)
+        for (uint32_t f = 0; f < u->nfaces && c->conflict[0] == ST_NIL; f++) {
+            if (!face_on(c, f)) continue;
+            c->face = f;
+            int32_t home[2], k0[2], k1[2], k[2];
+            face_home(u, f, home);
+            face_tiles(u, f, k0, k1);
+            for (k[1] = k0[1]; k[1] < k1[1]; k[1]++)
+                for (k[0] = k0[0]; k[0] < k1[0]; k[0]++) {
+                    int at_home = k[0] == home[0] && k[1] == home[1];
+                    if (at_home != (pass == 0)) continue;
+                    for (uint32_t t = first_tri(u, f); t < first_tri(u, f + 1); t++) {
+                        double tri[3][2];
+                        for (int j = 0; j < 3; j++) memcpy(tri[j], u->uv + 2 * (size_t)c->tris[t][j], sizeof tri[j]);
+                        raster_at(c, tri, k, pass == 0 ? claim_texel : claim_free_texel);
+                    }
+                }
         }
-    }
     if (c->conflict[0] == ST_NIL) return ST_OK;
     double s = c->o->size;
     return st_fail(err, ST_ERR_INVALID,
                    "UV islands overlap: faces %u and %u of level %u both cover texel (%u, %u) at UV (%.4f, %.4f) of a %ux%u map",
                    c->conflict[0] + 1, c->conflict[1] + 1, c->o->base, c->conflict_texel[0], c->conflict_texel[1],
-                   (c->conflict_texel[0] + 0.5) / s, (c->conflict_texel[1] + 0.5) / s, c->o->size, c->o->size);
+                   (c->conflict_texel[0] + 0.5) / s + c->conflict_shift[0], (c->conflict_texel[1] + 0.5) / s + c->conflict_shift[1],
+                   c->o->size, c->o->size);
 }
 
 /* ---- pass 2: level-L faces ------------------------------------------------- */
@@ -139,7 +225,7 @@ static void normalize3(double *v)
  * triangle of the face's split that holds p best (largest smallest weight), its
  * corners' positions, normals and tangents interpolated, the tangent made
  * orthogonal to the normal again and b = w · n × t, as a shader does. */
-static void base_point(const bake_ctx *c, uint32_t face, const double p[2], double pos[3], double frame[3][3])
+static double base_point(const bake_ctx *c, uint32_t face, const double p[2], double pos[3], double frame[3][3])
 {
     const st_bake_uvs *u = c->uvs;
     uint32_t a = u->corner_off[face];
@@ -173,6 +259,27 @@ static void base_point(const bake_ctx *c, uint32_t face, const double p[2], doub
     frame[1][0] = w * (nn[1] * t[2] - nn[2] * t[1]);
     frame[1][1] = w * (nn[2] * t[0] - nn[0] * t[2]);
     frame[1][2] = w * (nn[0] * t[1] - nn[1] * t[0]);
+    return best;
+}
+
+/* base_point at texel centre q of a map, for a face that may touch several
+ * tiles: the tile whose copy of q lies best inside the face (a face inside
+ * one tile has one candidate, so the result is base_point's). */
+static void base_point_wrapped(const bake_ctx *c, uint32_t face, const double q[2], double pos[3], double frame[3][3])
+{
+    int32_t k0[2], k1[2], k[2];
+    face_tiles(c->uvs, face, k0, k1);
+    double best = -INFINITY;
+    for (k[1] = k0[1]; k[1] < k1[1]; k[1]++)
+        for (k[0] = k0[0]; k[0] < k1[0]; k[0]++) {
+            double p[2] = { q[0] + k[0], q[1] + k[1] }, tp[3], tf[3][3];
+            double b = base_point(c, face, p, tp, tf);
+            if (b > best || best == -INFINITY) {
+                best = b;
+                memcpy(pos, tp, sizeof tp);
+                memcpy(frame, tf, sizeof tf);
+            }
+        }
 }
 
 /* Writes texel i from level L's point pl and unit normal nl and B's point
@@ -213,7 +320,7 @@ static void bake_texel(void *pc, uint32_t x, uint32_t y, const double w[3])
             nl[k] += w[j] * c->tri_nrm[j][k];
         }
     normalize3(nl);
-    double p[2] = { (x + 0.5) / size, (y + 0.5) / size }, pb[3], f[3][3];
+    double p[2] = { (x + 0.5) / size + c->shift[0], (y + 0.5) / size + c->shift[1] }, pb[3], f[3][3];
     base_point(c, c->face, p, pb, f);
     st_bake_maps *out = c->out;
     if (!out->mask[i]) out->baked++;
@@ -238,7 +345,9 @@ static int bake_fine_face(void *pc, const uint32_t *verts, const double *uv, uns
             c->tri_pos[k] = st_pos(c->m, verts[idx[k]], L);
             c->tri_nrm[k] = c->normal_L + 3 * (size_t)verts[idx[k]];
         }
-        st_bake_raster_tri(tri, c->o->size, bake_texel, c);
+        int32_t k[2];
+        for (k[1] = c->k0[1]; k[1] < c->k1[1]; k[1]++)
+            for (k[0] = c->k0[0]; k[0] < c->k1[0]; k[0]++) raster_at(c, tri, k, bake_texel);
     }
     if (tris != local) free(tris);
     return ST_OK;
@@ -265,7 +374,7 @@ static void ray_texel(ray_pass *r, unsigned t, uint32_t x, uint32_t y, uint32_t 
     uint32_t size = c->o->size;
     size_t i = (size_t)y * size + x;
     double p[2] = { (x + 0.5) / size, (y + 0.5) / size }, pb[3], fr[3][3], pl[3], nl[3] = { 0, 0, 0 };
-    base_point(c, f, p, pb, fr);
+    base_point_wrapped(c, f, p, pb, fr);
     st_bake_hit hit;
     if (st_bake_bvh_nearest(r->bvh, pb, fr[2], r->reach, &hit)) {
         const uint32_t *tv = r->bvh->tri_vert + 3 * (size_t)hit.tri;
@@ -395,6 +504,35 @@ static void pad(st_bake_maps *out, uint32_t passes, uint8_t *ring)
 
 /* ---- the bake ------------------------------------------------------------ */
 
+/* Refuses a face wider than MAX_FACE_TILES tiles (not a tiling: its copies
+ * would cover the map several times over). */
+static int check_tiles(bake_ctx *c, uint32_t nf)
+{
+    for (uint32_t f = 0; f < nf; f++) {
+        int32_t k0[2], k1[2];
+        face_tiles(c->uvs, f, k0, k1);
+        if (k1[0] - k0[0] > MAX_FACE_TILES || k1[1] - k0[1] > MAX_FACE_TILES)
+            return st_fail(c->err, ST_ERR_INVALID, "face %u of level %u spans %d x %d UV tiles (at most %d a side: not a tiled layout)",
+                           f + 1, c->o->base, k1[0] - k0[0], k1[1] - k0[1], MAX_FACE_TILES);
+    }
+    return ST_OK;
+}
+
+/* The faces baked into this map and their corners outside its tile. */
+static void count_faces(bake_ctx *c, uint32_t nf)
+{
+    const st_bake_uvs *u = c->uvs;
+    double t[2] = { c->o->udim ? c->o->tile[0] : 0, c->o->udim ? c->o->tile[1] : 0 };
+    for (uint32_t f = 0; f < nf; f++) {
+        if (!face_on(c, f)) continue;
+        c->out->faces++;
+        for (uint32_t k = u->corner_off[f]; k < u->corner_off[f + 1]; k++) {
+            const double *p = u->uv + 2 * (size_t)k;
+            c->out->corners_outside += p[0] < t[0] || p[0] > t[0] + 1 || p[1] < t[1] || p[1] > t[1] + 1;
+        }
+    }
+}
+
 static int alloc_maps(const st_bake_opts *o, st_bake_maps *out, st_error *err)
 {
     size_t texels = (size_t)o->size * o->size;
@@ -458,11 +596,17 @@ int st_bake(st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o, st_bake_m
     if (!owner || !cvert || !ctan || !cnrm || !tris) { rc = st_fail(err, ST_ERR_MEMORY, "out of memory baking %ux%u maps", o->size, o->size); goto done; }
     for (size_t i = 0; i < texels; i++) owner[i] = ST_NIL;
     c.owner = owner;
+    rc = check_tiles(&c, nf);
+    if (rc) goto done;
+    if (!(c.edge = calloc(texels, 1))) { rc = st_fail(err, ST_ERR_MEMORY, "out of memory baking %ux%u maps", o->size, o->size); goto done; }
     rc = claim_faces(&c, err);
+    free(c.edge);
+    c.edge = NULL;
     if (!rc) rc = st_bake_tangents(h, o->base, uvs, ctan, cnrm, err);
     if (!rc) rc = st_bake_vertex_normals(m, o->level, &nL, err);
     if (!rc) rc = alloc_maps(o, out, err);
     if (rc) goto done;
+    count_faces(&c, nf);
     for (uint32_t f = 0; f < nf; f++) {
         uint32_t x = darts[f];
         for (uint32_t k = uvs->corner_off[f]; k < uvs->corner_off[f + 1]; k++, x = st_bake_face_next(m, x, o->base))
@@ -474,7 +618,9 @@ int st_bake(st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o, st_bake_m
     c.normal_L = nL;
     if (st_bake_by_rays(h, o)) rc = bake_by_rays(&c, h, err);
     for (uint32_t f = 0; f < nf && !rc && !out->by_rays; f++) {
+        if (!face_on(&c, f)) continue;
         c.face = f;
+        face_tiles(uvs, f, c.k0, c.k1);
         uint32_t a = uvs->corner_off[f];
         rc = st_bake_walk(m, darts[f], o->base, o->level, uvs->uv + 2 * (size_t)a, uvs->corner_off[f + 1] - a,
                           bake_fine_face, &c, err);

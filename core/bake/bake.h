@@ -37,6 +37,20 @@
  * Texel (x, y) of a size × size map has its centre at UV ((x + ½)/size,
  * (y + ½)/size); maps are stored row y = 0 first, so written as images the
  * first row is v = 0 (glTF's convention: UV (0,0) is the image's first pixel).
+ *
+ * Tiles and wrap-around.  UVs need not lie in [0,1].  Every face has a home
+ * tile, the integer square that holds the mean of its corner UVs
+ * (st_bake_face_tile).  The map is sampled with repeat (GL_REPEAT, glTF's
+ * default sampler wrap 10497), so a texel serves UV q + (i, j) for every
+ * integer (i, j): a face is rasterised once per tile it touches, shifted
+ * into the map, and the part of it that overshoots its home tile lands on
+ * the opposite side of the map (wrap-around).  The home parts claim their
+ * texels first and are the only ones checked for overlaps; an overshoot
+ * takes only the texels no home part holds, so UV tools' small overshoots
+ * (spot's u = −0.052) never read as overlapping islands.  UDIM layouts
+ * (Mari's and Blender's numbering: tile (u, v) is 1001 + u + 10 v) are
+ * baked one tile at a time (st_bake_opts.udim): only the faces at home in
+ * that tile, overshoots wrapped inside it.
  */
 #ifndef ST_BAKE_H
 #define ST_BAKE_H
@@ -91,6 +105,28 @@ int st_bake_faces_nest(const st_hier *h);
  * vertex normals of the level. */
 int st_bake_tangents(st_hier *h, unsigned l, const st_bake_uvs *uvs, double *tangents, double *normals, st_error *err);
 
+/* The home tile of a face (corners uv, 2 per corner): the floor of the mean
+ * of its corner UVs. */
+void st_bake_face_tile(const double *uv, unsigned n, int32_t tile[2]);
+
+/* The UDIM number of tile (u, v), 1001 + u + 10 v, or 0 when the tile has
+ * none (u outside 0..9, v outside 0..99). */
+unsigned st_bake_udim(const int32_t tile[2]);
+
+/* How a layout sits on the tiles, for a map of `size` texels per side. */
+typedef struct st_bake_tiles {
+    uint32_t ntiles;              /* home tiles in use */
+    int32_t (*tile)[2];           /* ntiles, by UDIM order (v, then u) */
+    uint32_t *faces;              /* ntiles: faces at home in each */
+    uint64_t corners_outside;     /* corners outside their face's home tile */
+    uint32_t faces_crossing;      /* faces overshooting their home tile by more than a
+                                     texel and more than a quarter of their UV extent */
+    uint32_t first_crossing;      /* the first such face (from 0), or UINT32_MAX */
+    uint32_t first_non_udim;      /* the first face whose home tile has no UDIM number, or UINT32_MAX */
+} st_bake_tiles;
+int st_bake_uv_tiles(const st_bake_uvs *uvs, uint32_t size, st_bake_tiles *out, st_error *err);
+void st_bake_tiles_free(st_bake_tiles *t);
+
 enum st_bake_space { ST_BAKE_TANGENT, ST_BAKE_OBJECT };
 
 typedef struct st_bake_opts {
@@ -102,6 +138,8 @@ typedef struct st_bake_opts {
     uint32_t padding;             /* texels of dilation around the islands */
     double ray_reach;             /* by rays: how far from B the line looks for L; 0: the default above */
     int rays;                     /* 1: by rays even where the faces nest (to compare the two) */
+    int udim;                     /* 0: every face, wrapped into one map; 1: the faces at home in `tile` */
+    int32_t tile[2];              /* with udim: the tile baked (u, v) */
 } st_bake_opts;
 
 /* 1 when st_bake will cast rays: the faces do not nest, or o->rays. */
@@ -118,6 +156,8 @@ typedef struct st_bake_maps {
     int by_rays;                  /* the correspondence: 0 nesting faces, 1 rays along B's normals */
     uint64_t ray_misses;          /* by rays: baked texels whose line met no face of L (flat) */
     double ray_reach;             /* by rays: the reach used */
+    uint64_t corners_outside;     /* corners of the faces baked outside the map's tile ([0,1]² or opts.tile), wrapped */
+    uint32_t faces;               /* faces of level B baked (all, or those at home in the tile) */
 } st_bake_maps;
 void st_bake_maps_free(st_bake_maps *m);
 
@@ -126,8 +166,9 @@ void st_bake_maps_free(st_bake_maps *m);
 size_t st_bake_estimate(const st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o);
 
 /* The bake.  Refuses (ST_ERR_INVALID, a message naming faces and UVs) UVs
- * that do not match level B, that are not finite or leave [0,1], islands
- * that overlap, progressive hierarchies; checks the memory budget with
+ * that do not match level B, that are not finite or lie beyond ±2^20, a face
+ * spanning more than 4 tiles, islands whose home parts overlap, progressive
+ * hierarchies; checks the memory budget with
  * st_bake_estimate first.  Nothing is returned on failure.  Same inputs,
  * same bits, on any number of threads (the rays are shared out by rows). */
 int st_bake(st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o, st_bake_maps *out, st_error *err);

@@ -28,7 +28,8 @@ int st_bake_level_faces(st_map *m, unsigned l, uint32_t **darts, uint32_t *n, st
 int st_bake_vertex_normals(const st_map *m, unsigned l, double **out, st_error *err);
 
 /* ST_OK when uvs describe the faces (darts, n) of level l: same face count,
- * same corner counts, finite UVs inside [0,1]. */
+ * same corner counts, finite UVs within ±2^20 (ST_BAKE_UV_MAX; any tile). */
+#define ST_BAKE_UV_MAX 1048576.0
 int st_bake_check_uvs(const st_map *m, unsigned l, const uint32_t *darts, uint32_t n, const st_bake_uvs *uvs, st_error *err);
 
 /* A level-L face inside a level-B face: vertex ids and UVs of its corners. */

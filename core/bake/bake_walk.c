@@ -122,10 +122,101 @@ int st_bake_check_uvs(const st_map *m, unsigned l, const uint32_t *darts, uint32
             const double *uv = uvs->uv + 2 * ((size_t)uvs->corner_off[f] + c);
             if (!isfinite(uv[0]) || !isfinite(uv[1]))
                 return st_fail(err, ST_ERR_INVALID, "face %u of level %u: corner %u has no UV", f + 1, l, c + 1);
-            if (uv[0] < 0 || uv[0] > 1 || uv[1] < 0 || uv[1] > 1)
-                return st_fail(err, ST_ERR_INVALID,
-                               "face %u of level %u: corner %u has UV (%g, %g) outside [0,1] (tiled UVs cannot be baked)",
-                               f + 1, l, c + 1, uv[0], uv[1]);
+            /* Any tile is baked (bake.h: tiles and wrap-around); the bound
+             * only keeps tile numbers exact in 32-bit integers. */
+            if (fabs(uv[0]) > ST_BAKE_UV_MAX || fabs(uv[1]) > ST_BAKE_UV_MAX)
+                return st_fail(err, ST_ERR_INVALID, "face %u of level %u: corner %u has UV (%g, %g) beyond ±%g",
+                               f + 1, l, c + 1, uv[0], uv[1], ST_BAKE_UV_MAX);
+        }
+    }
+    return ST_OK;
+}
+
+/* ---- tiles ----------------------------------------------------------------- */
+
+void st_bake_face_tile(const double *uv, unsigned n, int32_t tile[2])
+{
+    double s[2] = { 0, 0 };
+    for (unsigned c = 0; c < n; c++) { s[0] += uv[2 * c]; s[1] += uv[2 * c + 1]; }
+    for (int k = 0; k < 2; k++) {
+        double t = n ? floor(s[k] / n) : 0;
+        tile[k] = isfinite(t) && fabs(t) <= ST_BAKE_UV_MAX ? (int32_t)t : 0;
+    }
+}
+
+unsigned st_bake_udim(const int32_t tile[2])
+{
+    if (tile[0] < 0 || tile[0] > 9 || tile[1] < 0 || tile[1] > 99) return 0;
+    return 1001u + (unsigned)tile[0] + 10u * (unsigned)tile[1];
+}
+
+void st_bake_tiles_free(st_bake_tiles *t)
+{
+    free(t->tile);
+    free(t->faces);
+    memset(t, 0, sizeof *t);
+}
+
+/* Tiles in UDIM order: v, then u (1001, 1002, ..., 1011, ...). */
+static int tile_before(const int32_t a[2], const int32_t b[2])
+{
+    return a[1] != b[1] ? a[1] < b[1] : a[0] < b[0];
+}
+
+int st_bake_uv_tiles(const st_bake_uvs *uvs, uint32_t size, st_bake_tiles *out, st_error *err)
+{
+    memset(out, 0, sizeof *out);
+    out->first_crossing = out->first_non_udim = UINT32_MAX;
+    uint32_t cap = 0;
+    for (uint32_t f = 0; f < uvs->nfaces; f++) {
+        uint32_t a = uvs->corner_off[f], n = uvs->corner_off[f + 1] - a;
+        const double *uv = uvs->uv + 2 * (size_t)a;
+        int32_t t[2];
+        st_bake_face_tile(uv, n, t);
+        uint32_t i = 0;
+        while (i < out->ntiles && (out->tile[i][0] != t[0] || out->tile[i][1] != t[1])) i++;
+        if (i == out->ntiles) {
+            if (i == cap) {
+                uint32_t nc = cap ? 2 * cap : 8;
+                int32_t (*g)[2] = realloc(out->tile, nc * sizeof *g);
+                if (g) out->tile = g;
+                uint32_t *h = g ? realloc(out->faces, nc * sizeof *h) : NULL;
+                if (!h) { st_bake_tiles_free(out); return st_fail(err, ST_ERR_MEMORY, "out of memory listing UV tiles"); }
+                out->faces = h;
+                cap = nc;
+            }
+            /* Insertion in UDIM order. */
+            while (i > 0 && tile_before(t, out->tile[i - 1])) {
+                memcpy(out->tile[i], out->tile[i - 1], sizeof *out->tile);
+                out->faces[i] = out->faces[i - 1];
+                i--;
+            }
+            out->tile[i][0] = t[0];
+            out->tile[i][1] = t[1];
+            out->faces[i] = 0;
+            out->ntiles++;
+        }
+        out->faces[i]++;
+        if (!st_bake_udim(t) && out->first_non_udim == UINT32_MAX) out->first_non_udim = f;
+        /* How far the face leaves its tile, against its own UV extent: an
+         * overshoot under a texel or a quarter of the face is a UV tool's
+         * slack, more is a face laid across the border. */
+        double over = 0, lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
+        for (uint32_t c = 0; c < n; c++) {
+            int outside = 0;
+            for (int k = 0; k < 2; k++) {
+                double x = uv[2 * c + k];
+                lo[k] = fmin(lo[k], x);
+                hi[k] = fmax(hi[k], x);
+                double o = fmax(t[k] - x, x - (t[k] + 1.0));
+                if (o > 0) { outside = 1; over = fmax(over, o); }
+            }
+            out->corners_outside += (uint64_t)outside;
+        }
+        double extent = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+        if (over > 1.0 / size && over > 0.25 * extent) {
+            if (!out->faces_crossing) out->first_crossing = f;
+            out->faces_crossing++;
         }
     }
     return ST_OK;

@@ -5,6 +5,7 @@
 #include "core/io/file_open.h"
 #include "core/io/map_io_internal.h"
 #include "core/map/pool_internal.h"
+#include "core/progressive/progressive.h"
 #include "core/fvar/fvar_internal.h"
 
 #include <errno.h>
@@ -148,8 +149,11 @@ static void w_hier(st_bw *w, const st_session_ref *r)
     st_bw_bytes(w, name, n);
     st_bw_u32(w, (uint32_t)r->h->opts.boundary);
     /* Bit 8: smooth triangles (0 in sessions written before the option, so
-     * they load unchanged). */
-    st_bw_u32(w, (uint32_t)r->h->opts.crease_method | (uint32_t)r->h->opts.tri_sub << 8);
+     * they load unchanged).  Bits 16-23: the progressive predictor (0, the
+     * relaxation, in sessions written before the tag, which load with it;
+     * core/progressive/progressive.h, point 5). */
+    st_bw_u32(w, (uint32_t)r->h->opts.crease_method | (uint32_t)r->h->opts.tri_sub << 8 |
+                     (uint32_t)r->h->opts.pm_predictor << 16);
     st_bw_u8(w, r->h->has_sharpness != 0);
 }
 
@@ -598,7 +602,7 @@ static int r_hier(load_ctx *c, st_br *r)
     char name[65];
     st_br_bytes(r, name, n);
     name[n] = 0;
-    uint32_t boundary = st_br_u32(r), crease = st_br_u32(r), tri_sub = crease >> 8;
+    uint32_t boundary = st_br_u32(r), crease = st_br_u32(r), tri_sub = (crease >> 8) & 0xff, predictor = crease >> 16;
     crease &= 0xff;
     uint8_t sharp = st_br_u8(r);
     if (r->failed) return -1;
@@ -612,11 +616,14 @@ static int r_hier(load_ctx *c, st_br *r)
         return st_br_fail(r, "bad boundary option %u", boundary);
     if (crease != ST_CREASE_UNIFORM && crease != ST_CREASE_CHAIKIN) return st_br_fail(r, "bad crease method %u", crease);
     if (tri_sub != ST_TRI_SUB_CATMARK && tri_sub != ST_TRI_SUB_SMOOTH) return st_br_fail(r, "bad triangle rule %u", tri_sub);
+    if (predictor > ST_PM_GRADED || (predictor && sc->id != ST_SCHEME_PROGRESSIVE))
+        return st_br_fail(r, "bad progressive predictor %u for the %s scheme", predictor, sc->name);
     if (sharp > 1) return st_br_fail(r, "bad sharpness flag %u", sharp);
     c->s->h.scheme = sc;
     c->s->h.opts.boundary = (int)boundary;
     c->s->h.opts.crease_method = (int)crease;
     c->s->h.opts.tri_sub = (int)tri_sub;
+    c->s->h.opts.pm_predictor = (int)predictor;
     c->has_sharpness = sharp;
     return 0;
 }

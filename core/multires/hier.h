@@ -36,6 +36,8 @@ typedef struct st_hier_opts {
     int crease_method;         /* enum st_crease_method (OpenSubdiv's default: uniform) */
     int tri_sub;               /* enum st_tri_sub (Catmull-Clark only; default catmark) */
     int uv_interp;             /* enum st_uv_interp (core/fvar/fvar.h); 0 is OpenSubdiv's default */
+    int pm_predictor;          /* progressive scheme only: enum st_pm_predictor (core/progressive/
+                                  progressive.h); 0, the relaxation, in sessions written before it */
 } st_hier_opts;
 
 typedef struct st_level_cache {

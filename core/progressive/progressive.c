@@ -283,6 +283,8 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
     memset(out, 0, sizeof *out);
+    if (o->predictor != ST_PM_RELAXED && o->predictor != ST_PM_LIGHT && o->predictor != ST_PM_GRADED)
+        return st_fail(err, ST_ERR_INVALID, "progressive: unknown predictor %d", o->predictor);
     for (uint64_t i = 0; i < 3 * (uint64_t)fine->nverts; i++)
         if (!isfinite(fine->pos[i]))
             return st_fail(err, ST_ERR_GEOMETRY, "progressive: vertex %llu has a non-finite coordinate", (unsigned long long)(i / 3));
@@ -297,6 +299,7 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
     rc = pm_simplify(&w, o->target_faces, max_levels - 1, o->progress, o->progress_ctx, rep->note, sizeof rep->note, err);
     if (!rc) {
         hier_empty(out);
+        out->opts.pm_predictor = o->predictor;
         rc = materialise(&w, out, o, rep, err);
         pm_work_free(&w); /* before the details: a lower peak of memory */
         if (!rc) rep->inexact = compute_details(out);

@@ -97,6 +97,63 @@
  *    60 % of them by less than 1e-6 of the edit's move), and it is
  *    written to the bit so that a local edit equals a full synthesis.
  *
+ *    The predictor (st_progressive_opts.predictor, tagged in sessions):
+ *    the relaxation above, P(v) = (1 - mu) v + mu avg(ring), with weight
+ *    mu = 1/2 at every level (ST_PM_RELAXED: every session written before
+ *    the tag, and a zero st_progressive_opts), 1/8 (ST_PM_LIGHT), or
+ *    graded (ST_PM_GRADED, ST_PM_DEFAULT: what st_rebuild, hence `strata
+ *    rebuild` and the window, build): mu = 1/2 on the two finest levels,
+ *    1/10 below.  Chosen by bench/bench_transfer.c (issue 30: a bump
+ *    applied at level L, measured at the finest level; 4 centres; figures
+ *    at levels 0 / middle / top-1) and by tests/test_progressive.c,
+ *    test_filter (spot_low_resolution's mean dihedral angle, 0.2432, must
+ *    fall below 0.2310 with the 3 finest bands at gain 0):
+ *      - Catmull-Clark levels of spot x3: one vertex moved alone keeps
+ *        0.45 / 0.49 / 0.58 of its move; smooth bump peak 0.93-0.97,
+ *        RMS error 0.009-0.023;
+ *      - mu = 1/2, spot x3 (20 levels) and koala (17): one vertex 0.10 /
+ *        0.15 / 0.77 and 0.12 / 0.15 / 0.53; smooth peak 0.83-0.99, RMS
+ *        0.009-0.065; filter 0.2190;
+ *      - mu = 1/8: 0.34 / 0.48 / 0.94 and 0.39 / 0.50 / 0.88; smooth
+ *        peak 0.93-1.00, RMS 0.006-0.037; filter 0.2652 (fails);
+ *      - mu = 0 (old vertices interpolated): 1.00 everywhere, RMS
+ *        0.006-0.031, but a coarse vertex stays a cone tip at every finer
+ *        level; filter 0.295 (rougher than the input);
+ *      - mu from 1/10 at level 1 to 1/2 at the top, as ((L-1)/(top-1))^4:
+ *        0.35 / 0.31 / 0.77 and 0.36 / 0.29 / 0.53, RMS up to 0.042;
+ *        filter 0.2236 (the fine levels' strong relaxation still damps
+ *        a middle level's edit);
+ *      - 1/10 below, 1/2 on the 3 finest: 0.40 / 0.37 / 0.77 and 0.38 /
+ *        0.32 / 0.53, smooth peak >= 0.91, RMS <= 0.038; filter 0.2190
+ *        (spot's middle level 0.75x Catmull-Clark's: short of 0.8x);
+ *      - graded (1/10 below, 1/2 on the 2 finest): 0.40 / 0.43 / 0.77 and
+ *        0.395 / 0.38 / 0.53, that is 0.90x / 0.87x / 1.33x Catmull-Clark's
+ *        on spot; smooth peak 0.92-0.99, RMS 0.009-0.036; filter 0.2257
+ *        (boot 0.2488 -> 0.1424).  Issue 30's goals met;
+ *      - 1/20 below, 1/2 on the 2 finest: 0.60 / 0.52 / 0.77 and 0.51 /
+ *        0.44 / 0.53, filter 0.2266: more than Catmull-Clark keeps, so a
+ *        sharper tip than its levels give; 1/10 is the closer match.
+ *      - 1/2 on the finest level only (1/10 below): filter 0.2357 (fails).
+ *    Why graded: a coarse edit crosses many levels, some five per octave
+ *    of resolution here (t = 0.75-0.8) against one for Catmull-Clark, and
+ *    the damping compounds per level, so the weight below must be small
+ *    (1/10 damps about as Catmull-Clark's steps do over the same octaves).
+ *    But removing the finest bands (st_progressive_filter, gain 0) smooths
+ *    only through the relaxation of the old vertices of those levels,
+ *    which keep their input positions otherwise, so the finest levels keep
+ *    1/2; there a coarse edit has become a bump many fine edges wide,
+ *    which a relaxation barely lowers.  Rendered (koala, a level-0 vertex
+ *    on an ear moved alone by two level-0 edge lengths): a smooth raised
+ *    ear, no spike or ripple.  The weight depends only on L and the top
+ *    level, so removing the coarsest level keeps every level's predictor.
+ *    The stencils are those of mu = 1/2, so the build costs the same
+ *    (bench_progressive, koala: 0.43-0.44 s CPU graded, 0.41-0.46 s
+ *    relaxed, on a shared 2-core machine).
+ *    GSS99's non-uniform weights (thesis §4.3) and a wider split
+ *    prediction (butterfly-like) were not tried: the old vertices'
+ *    relaxation weight, not the shape of its stencil, is what both
+ *    figures turn on.
+ *
  * 6. Memory (thesis §4.4.8).  The kernel's dense form stores a relation's
  *    level-l values in a column over every dart inserted before l (map.h),
  *    and a vertex split changes β0, β1 and the vertex of darts of every
@@ -127,9 +184,23 @@
 
 #include "core/multires/hier.h"
 
+/* The prediction of a progressive hierarchy (st_hier_opts.pm_predictor,
+ * tagged in sessions: docs/SESSION-FORMAT.md, HIER; point 5 says which
+ * and why). */
+typedef enum st_pm_predictor {
+    ST_PM_RELAXED = 0,         /* a split's old neighbours relaxed with weight 1/2: the default, and
+                                  sessions written before the tag */
+    ST_PM_LIGHT = 1,           /* the same relaxation with weight 1/8 */
+    ST_PM_GRADED = 2,          /* weight 1/2 on the two finest levels, 1/10 below: new builds' default */
+} st_pm_predictor;
+/* What new builds get (st_rebuild, hence `strata rebuild` and the window);
+ * a zero st_progressive_opts keeps ST_PM_RELAXED. */
+#define ST_PM_DEFAULT ST_PM_GRADED
+
 typedef struct st_progressive_opts {
     uint64_t target_faces;     /* stop at or just above this many faces; 0: as far as possible */
     unsigned max_levels;       /* most levels in all (level 0 included); 0: ST_MAX_LEVELS */
+    int predictor;             /* enum st_pm_predictor; 0: ST_PM_RELAXED (ST_PM_DEFAULT is new builds') */
     /* Called after each level with the fraction of the work done; a
      * non-zero return cancels the build (ST_ERR_INVALID, "cancelled"). */
     int (*progress)(void *ctx, double fraction);

@@ -126,6 +126,20 @@ static inline int pm_detail_correct(const double p[3], const double pred[3], con
     return exact;
 }
 
+/* The weight mu of the relaxation of a split's old neighbours at level L
+ * (progressive.h, point 5): P(v) = (1 - mu) v + mu avg(ring).  Graded:
+ * 1/2 on the two finest levels (their bands hold the input's noise, which
+ * st_progressive_filter removes by relaxing), 1/10 below (a coarse edit
+ * crosses many levels, some five per octave, and keeps its amplitude). */
+static inline double pm_relax_weight(const st_hier *h, unsigned L)
+{
+    switch (h->opts.pm_predictor) {
+    case ST_PM_LIGHT: return 0.125;
+    case ST_PM_GRADED: return L + 2 > h->map.top ? 0.5 : 0.1;
+    default: return 0.5;
+    }
+}
+
 /* Half-edge helpers. */
 static inline uint32_t pm_dest(const pm_work *w, uint32_t h) { return w->org[w->next[h]]; }
 static inline uint32_t pm_rot(const pm_work *w, uint32_t h) { return w->next[w->twin[h]]; } /* next around org[h] */

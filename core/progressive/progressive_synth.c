@@ -56,6 +56,7 @@ typedef struct pm_ring_table {
     uint32_t dend, vend;
     unsigned top;
     int irregular;             /* not a map this scheme built: use the stencils */
+    double mu;                 /* the relaxation's weight (pm_relax_weight) */
     uint32_t nidx;             /* vertex ids [0, nidx) have an entry in off */
     uint32_t *off;             /* nidx + 1: ring of vertex v is [off[v], off[v+1]), empty if v is not at l */
     uint32_t *first;           /* nidx: the smallest dart of v's orbit at l */
@@ -177,7 +178,9 @@ static const pm_ring_table *ring_table(st_hier *h, unsigned l)
     st_level_cache *cache = &h->cache[l];
     pm_ring_table *t = cache->free == table_free ? cache->p : NULL;
     uint64_t gen = st_map_generation(m);
-    if (t && t->gen == gen && t->dend == m->darts.end && t->vend == m->verts.end && t->top == m->top) return t;
+    double mu = pm_relax_weight(h, l);
+    if (t && t->gen == gen && t->dend == m->darts.end && t->vend == m->verts.end && t->top == m->top && t->mu == mu)
+        return t;
     if (cache->p) cache->free(cache->p);
     cache->p = NULL;
     t = calloc(1, sizeof *t);
@@ -186,6 +189,7 @@ static const pm_ring_table *ring_table(st_hier *h, unsigned l)
     t->dend = m->darts.end;
     t->vend = m->verts.end;
     t->top = m->top;
+    t->mu = mu;
     table_fill(m, l, t);
     cache->p = t;
     cache->free = table_free;
@@ -243,13 +247,13 @@ static void predict(const level_pair *lp, uint32_t v, double s[3])
         acc(lp, 1.0, v, s);
         return;
     }
-    acc(lp, 0.5, v, s);
+    acc(lp, 1.0 - t->mu, v, s);
     unsigned k = t->off[v + 1] - t->off[v];
     if (border) {
         k = 0;
         for (uint32_t j = t->off[v]; j < t->off[v + 1]; j++) k += (t->fl[j] & RING_BORDER) != 0;
     }
-    double wk = 0.5 / k;
+    double wk = t->mu / k;
     for (uint32_t j = t->off[v]; j < t->off[v + 1]; j++) {
         if (border && !(t->fl[j] & RING_BORDER)) continue;
         uint32_t u = t->nbr[j];
@@ -609,3 +613,4 @@ void st_progressive_drop_table(st_hier *h, unsigned l)
     cache->p = NULL;
     cache->free = NULL;
 }
+

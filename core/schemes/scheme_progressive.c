@@ -73,6 +73,7 @@ int st_progressive_stencil(const st_hier *h, unsigned L, uint32_t d, st_stencil_
         x = st_beta1(m, x, L);
     } while (x != c);
     if (frame == ST_NIL) return 0; /* no dart of level L-1 here: not a map this scheme built */
+    double mu = pm_relax_weight(h, L);
     st_stencil_buf_clear(buf);
     if (m->verts.ins[v] == L) {
         ring_average(m, c, L, border, 1.0, buf);
@@ -83,7 +84,7 @@ int st_progressive_stencil(const st_hier *h, unsigned L, uint32_t d, st_stencil_
         /* A neighbour of a split vertex: half its own position, half the
          * average of its neighbours, a split one at its own prediction
          * (GSS99 §3: the neighbours are relaxed too). */
-        st_stencil_buf_add(buf, v, 0.5);
+        st_stencil_buf_add(buf, v, 1.0 - mu);
         unsigned k = 0;
         x = c;
         do {
@@ -96,7 +97,7 @@ int st_progressive_stencil(const st_hier *h, unsigned L, uint32_t d, st_stencil_
             uint32_t e = st_beta0(m, x, L), u = st_vert(m, e, L);
             if (!border || on_border(m, x, L)) {
                 if (m->verts.ins[u] < L) {
-                    st_stencil_buf_add(buf, u, 0.5 / k);
+                    st_stencil_buf_add(buf, u, mu / k);
                 } else {
                     uint32_t ce = orbit_min(m, e, L), y = ce;
                     int ub = 0;
@@ -104,7 +105,7 @@ int st_progressive_stencil(const st_hier *h, unsigned L, uint32_t d, st_stencil_
                     st_stencil_buf_clear(&sub);
                     ring_average(m, ce, L, ub, 1.0, &sub);
                     if (sub.n == 0) st_stencil_buf_add(&sub, v, 1.0);
-                    st_stencil_buf_add_scaled(buf, &sub, 0.5 / k);
+                    st_stencil_buf_add_scaled(buf, &sub, mu / k);
                 }
             }
             x = st_beta1(m, x, L);
