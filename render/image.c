@@ -1,4 +1,5 @@
 #include "image.h"
+#include "core/base/membudget.h"
 #include "core/io/atomic_file.h"
 #include "core/io/file_open.h"
 
@@ -98,16 +99,62 @@ int st_png_read(const char *path, int *w, int *h, unsigned char **rgba, st_error
         if (r == 0) break;
     }
     fclose(f);
-    if (n > 0x7fffffff) { free(buf); return st_fail(err, ST_ERR_RANGE, "%s: file too large", path); }
-    int comp = 0;
-    unsigned char *px = stbi_load_from_memory(buf, (int)n, w, h, &comp, 4);
+    int rc = st_png_decode(path, buf, n, w, h, rgba, err);
     free(buf);
-    if (!px) return st_fail(err, ST_ERR_PARSE, "%s: not a PNG this reader understands (%s)", path, stbi_failure_reason());
+    return rc;
+}
+
+/* stb's reason, printable: for an unknown chunk it copies the chunk's type
+ * bytes from the file into the message, newlines and escapes included
+ * (fuzz_nmap). */
+static const char *png_reason(char *buf, size_t n)
+{
+    const char *r = stbi_failure_reason();
+    snprintf(buf, n, "%s", r ? r : "unknown");
+    for (char *c = buf; *c; c++)
+        if ((unsigned char)*c < 0x20 || (unsigned char)*c > 0x7e) *c = '?';
+    return buf;
+}
+
+/* Whether the first IDAT chunk is empty: stb then adds 0 to its NULL
+ * buffer and copies 0 bytes to it, undefined behaviour that UBSan stops on
+ * (fuzz_nmap), so such a file is refused before stb sees it.  Encoders
+ * write no empty IDAT. */
+static int first_idat_empty(const unsigned char *d, size_t n)
+{
+    size_t at = 8;
+    while (n >= 12 && at <= n - 12) {
+        uint32_t len = (uint32_t)d[at] << 24 | (uint32_t)d[at + 1] << 16 | (uint32_t)d[at + 2] << 8 | d[at + 3];
+        if (!memcmp(d + at + 4, "IDAT", 4)) return len == 0;
+        if (len > n - at - 12) return 0; /* truncated: stb says so */
+        at += 12 + (size_t)len;
+    }
+    return 0;
+}
+
+int st_png_decode(const char *name, const void *data, size_t n, int *w, int *h, unsigned char **rgba, st_error *err)
+{
+    if (n > 0x7fffffff) return st_fail(err, ST_ERR_RANGE, "%s: file too large", name);
+    /* The size the header claims, checked before stb allocates for it. */
+    int iw = 0, ih = 0, comp = 0;
+    char why[64];
+    if (!stbi_info_from_memory(data, (int)n, &iw, &ih, &comp))
+        return st_fail(err, ST_ERR_PARSE, "%s: not a PNG this reader understands (%s)", name, png_reason(why, sizeof why));
+    if (first_idat_empty(data, n)) return st_fail(err, ST_ERR_PARSE, "%s: an empty IDAT chunk before the image data", name);
+    if (iw > ST_PNG_MAX_SIDE || ih > ST_PNG_MAX_SIDE)
+        return st_fail(err, ST_ERR_RANGE, "%s: %dx%d pixels, more than %d a side", name, iw, ih, ST_PNG_MAX_SIDE);
+    /* stb holds the inflated rows (up to 16 bits a channel) and the RGBA result. */
+    size_t bytes = (size_t)iw * (size_t)ih * 4;
+    st_error e;
+    if (3 * bytes >= ST_MEM_CHECK_MIN_BYTES && st_mem_check(3 * bytes, "decoding it", &e))
+        return st_fail(err, ST_ERR_MEMORY, "%s: %s", name, e.msg);
+    unsigned char *px = stbi_load_from_memory(data, (int)n, w, h, &comp, 4);
+    if (!px) return st_fail(err, ST_ERR_PARSE, "%s: not a PNG this reader understands (%s)", name, png_reason(why, sizeof why));
     /* Hand back memory from malloc (stb's allocator is malloc too, but the
      * caller should not need to know). */
-    size_t bytes = (size_t)*w * (size_t)*h * 4;
+    bytes = (size_t)*w * (size_t)*h * 4;
     unsigned char *out = malloc(bytes ? bytes : 1);
-    if (!out) { stbi_image_free(px); return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path); }
+    if (!out) { stbi_image_free(px); return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", name); }
     memcpy(out, px, bytes);
     stbi_image_free(px);
     *rgba = out;

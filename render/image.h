@@ -33,6 +33,11 @@ int st_png_write(const char *path, int w, int h, const unsigned char *rgba, st_e
 size_t st_png_write_bytes(int w, int h);
 /* Reads a PNG into a malloc'ed RGBA buffer (caller frees). */
 int st_png_read(const char *path, int *w, int *h, unsigned char **rgba, st_error *err);
+/* The same from n bytes in memory (fuzz_nmap); name stands for the file in
+ * messages.  Images over ST_PNG_MAX_SIDE pixels a side, or over the memory
+ * budget (core/base/membudget.h), are refused before they are decoded. */
+#define ST_PNG_MAX_SIDE 16384
+int st_png_decode(const char *name, const void *data, size_t n, int *w, int *h, unsigned char **rgba, st_error *err);
 
 typedef struct st_image_diff {
     uint64_t differing;       /* pixels with a channel off by more than tol */

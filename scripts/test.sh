@@ -11,7 +11,11 @@
 # Every stage runs even if an earlier one failed; the exit status is non-zero
 # if any stage failed. The last line is "N passed, N failed": the ctest counts
 # of all stages plus one test per fuzzer (plus one failure for each stage that
-# failed outside ctest's count, e.g. a compile error or a stage time-out).
+# failed outside ctest's count, e.g. a compile error or a stage time-out),
+# with ", N skipped" after it when tests were skipped.  A test skips (exit
+# 77, ctest's SKIP_RETURN_CODE) when its data (../shared/data) or OSMesa is
+# missing; a skip is not a pass.  With CI=true any skip fails the run (CI
+# has the data), and the skipped tests are named.
 #
 # Environment knobs:
 #   STRATA_STAGES   which stages, default "release asan fuzz"
@@ -39,6 +43,8 @@ LOGDIR="$ROOT/build/logs"
 
 TOTAL_PASSED=0
 TOTAL_FAILED=0
+TOTAL_SKIPPED=0
+SKIPPED_TESTS=()
 FAILED_STAGES=()
 STAGE_RESULTS=()
 
@@ -82,8 +88,14 @@ run_ctest() {
     local failed total
     failed="$(sed -E 's/^[0-9]+% tests passed, ([0-9]+) tests? failed out of ([0-9]+).*/\1/' <<<"$line")"
     total="$(sed -E 's/^[0-9]+% tests passed, ([0-9]+) tests? failed out of ([0-9]+).*/\2/' <<<"$line")"
-    TOTAL_PASSED=$((TOTAL_PASSED + total - failed))
+    # ctest counts a skipped test (SKIP_RETURN_CODE) among the passed ones
+    # in this line and names it under "The following tests did not run".
+    local skipped=() t
+    while IFS= read -r t; do skipped+=("$name: $t"); done < <(sed -nE 's/^[[:space:]]*[0-9]+ - ([^ ]+) \(Skipped\)$/\1/p' "$logf")
+    TOTAL_PASSED=$((TOTAL_PASSED + total - failed - ${#skipped[@]}))
     TOTAL_FAILED=$((TOTAL_FAILED + failed))
+    TOTAL_SKIPPED=$((TOTAL_SKIPPED + ${#skipped[@]}))
+    SKIPPED_TESTS+=(${skipped[@]+"${skipped[@]}"})
     if [ "$rc" -ne 0 ] && [ "$failed" -eq 0 ]; then
       TOTAL_FAILED=$((TOTAL_FAILED + 1))   # ctest failed without a failed test
     fi
@@ -215,8 +227,20 @@ done
 
 log "summary ($((SECONDS - START))s)"
 for r in "${STAGE_RESULTS[@]}"; do echo "  $r"; done
+if [ "$TOTAL_SKIPPED" -ne 0 ]; then
+  echo "  skipped (data or OSMesa missing):"
+  for t in "${SKIPPED_TESTS[@]}"; do echo "    $t"; done
+  if [ "${CI:-}" = true ]; then
+    echo "  CI=true: CI has the data, so no test may skip"
+    FAILED_STAGES+=("skips")
+  fi
+fi
 if [ "${#FAILED_STAGES[@]}" -ne 0 ] && [ "$TOTAL_FAILED" -eq 0 ]; then
   TOTAL_FAILED=${#FAILED_STAGES[@]}
 fi
-echo "$TOTAL_PASSED passed, $TOTAL_FAILED failed"
+if [ "$TOTAL_SKIPPED" -ne 0 ]; then
+  echo "$TOTAL_PASSED passed, $TOTAL_FAILED failed, $TOTAL_SKIPPED skipped"
+else
+  echo "$TOTAL_PASSED passed, $TOTAL_FAILED failed"
+fi
 [ "${#FAILED_STAGES[@]}" -eq 0 ]

@@ -10,7 +10,8 @@
 #   cli_oracle_quadtri.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 #
 # Comparisons as point sets (tests/oracle_lib.sh).  Skips (exit 0, with a
-# note) only when osd_oracle or pointset_diff is not built.
+# note) when osd_oracle or pointset_diff is not built; exits 77 (skipped)
+# when a mesh of ../shared/data is missing.
 set -u
 . "$(dirname "$0")/oracle_lib.sh"
 oracle_init quadtri "$@"

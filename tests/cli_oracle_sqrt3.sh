@@ -10,8 +10,9 @@
 # which checks the flips.  Closed meshes, open meshes (boundary rule: see
 # core/schemes/scheme_sqrt3.c) and generated bipyramids with valence-16 and
 # valence-64 apexes (OpenMesh's weight table stops at 50; the oracle widens
-# it).  Prints the measured errors.  Skips (exit 0, with a note) only when an
-# oracle program is missing.
+# it).  Prints the measured errors.  Skips (exit 0, with a note) when an
+# oracle program is missing; exits 77 (skipped) when a mesh of ../shared/data
+# is missing.
 set -u
 . "$(dirname "$0")/oracle_lib.sh"
 oracle_init sqrt3 "$@"

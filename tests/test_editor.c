@@ -841,7 +841,7 @@ static void test_undo_random(const char *path, const char *scheme, uint64_t seed
     st_doc d;
     st_doc_init(&d);
     FILE *f = fopen(path, "rb");
-    if (!f) { fprintf(stderr, "skipped: %s is not there\n", path); st_doc_free(&d); return; }
+    if (!f) { tl_skip("%s is not there", path); st_doc_free(&d); return; }
     fclose(f);
     ed_test_open(&d, path, scheme, 2);
     uint64_t rng = seed;

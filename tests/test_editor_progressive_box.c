@@ -65,7 +65,7 @@ static void test_box(void)
     st_error err;
     const char *path = STRATA_SHARED_DATA "/triangle/bob_small.ply";
     if (st_doc_open(&d, path, "loop", 0, &err)) {
-        printf("note: %s not opened (%s): skipped\n", path, err.msg);
+        tl_skip("%s not opened (%s)", path, err.msg);
         st_doc_free(&d);
         return;
     }

@@ -436,7 +436,7 @@ static void test_round_trip_file(const char *path)
     st_mesh_init(&a);
     st_mesh_init(&b);
     if (st_mesh_load(path, &a, &e)) {
-        printf("skipping round trip of %s: %s\n", path, e.msg);
+        tl_skip("round trip of %s: %s", path, e.msg);
         return;
     }
     CHECK(st_mesh_save(tmp_path("io_trip.obj"), &a, &e) == 0);

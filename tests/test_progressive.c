@@ -25,7 +25,7 @@ static int load_shared(const char *name, st_mesh *m)
     st_error err;
     st_mesh_init(m);
     if (st_mesh_load(path, m, &err)) {
-        printf("note: %s not loaded (%s): skipped\n", path, err.msg);
+        tl_skip("%s not loaded (%s)", path, err.msg);
         return -1;
     }
     return 0;

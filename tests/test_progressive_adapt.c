@@ -24,7 +24,7 @@ static int build(const char *name, st_hier *h, uint64_t target, int64_t *euler, 
     st_mesh m;
     st_mesh_init(&m);
     if (st_mesh_load(path, &m, &err)) {
-        printf("note: %s not loaded (%s): skipped\n", path, err.msg);
+        tl_skip("%s not loaded (%s)", path, err.msg);
         return -1;
     }
     st_map t;

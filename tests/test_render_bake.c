@@ -206,7 +206,7 @@ int main(int argc, char **argv)
     st_error err;
     st_offscreen off;
     if (st_offscreen_init(&off, W, H, &err)) {
-        printf("note: no headless OpenGL (%s): skipped\n", err.msg);
+        tl_skip("no headless OpenGL (%s)", err.msg);
         st_hier_free(&h);
         return TEST_END();
     }

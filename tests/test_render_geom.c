@@ -162,7 +162,7 @@ static int load_hier(st_hier *h, const mesh_case *c, char *name, size_t namesz)
     st_error err;
     st_mesh_init(&mesh);
     if (st_mesh_load(path, &mesh, &err)) {
-        if (c->shared) { printf("note: %s not available, skipped (%s)\n", path, err.msg); return -1; }
+        if (c->shared) { tl_skip("%s not available (%s)", path, err.msg); return -1; }
         CHECKF(0, "%s", err.msg);
         return -1;
     }

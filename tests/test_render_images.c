@@ -126,7 +126,7 @@ static int load(const img_case *c, st_hier *h, float box[6])
     st_error err;
     st_mesh_init(&mesh);
     if (st_mesh_load(path, &mesh, &err)) {
-        if (c->shared) { printf("note: %s not available: %s skipped\n", path, c->name); return 1; }
+        if (c->shared) { tl_skip("%s not available: %s", path, c->name); return 1; }
         CHECKF(0, "%s", err.msg);
         return -1;
     }

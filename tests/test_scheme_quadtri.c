@@ -226,7 +226,7 @@ static void test_chamfer_cube(void)
     st_mesh s;
     st_error err;
     if (load_file(&s, STRATA_SHARED_DATA "/catmull_clark/chamfer_cube.off")) {
-        printf("note: chamfer_cube.off missing, test skipped\n");
+        tl_skip("chamfer_cube.off missing");
         return;
     }
     st_hier h;

@@ -384,7 +384,7 @@ static void test_lagrange_sphere(void)
     st_mesh_init(&r);
     st_mesh_init(&out);
     if (st_mesh_load(in, &s, &err) || st_mesh_load(ref, &r, &err)) {
-        printf("  SKIP lagrange sphere: %s\n", err.msg);
+        tl_skip("lagrange sphere: %s", err.msg);
         st_mesh_free(&s);
         return;
     }

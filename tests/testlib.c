@@ -1,13 +1,32 @@
 #include "testlib.h"
 
+#include <stdarg.h>
 #include <stdlib.h>
 
-int tl_passed, tl_failed;
+int tl_passed, tl_failed, tl_skipped;
+
+void tl_skip(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    printf("skipped: ");
+    vprintf(fmt, ap);
+    putchar('\n');
+    va_end(ap);
+    tl_skipped++;
+}
 
 int tl_report(const char *file)
 {
-    printf("%s: %d passed, %d failed\n", file, tl_passed, tl_failed);
-    return tl_failed ? 1 : 0;
+    if (tl_skipped) printf("%s: %d passed, %d failed, %d skipped\n", file, tl_passed, tl_failed, tl_skipped);
+    else printf("%s: %d passed, %d failed\n", file, tl_passed, tl_failed);
+    fflush(stdout);
+    if (tl_failed) return 1;
+    if (!tl_passed && !tl_skipped) {
+        fprintf(stderr, "%s: no check ran: a test that checks nothing fails\n", file);
+        return 1;
+    }
+    return tl_skipped ? TL_SKIP_CODE : 0;
 }
 
 char *tl_read_file(const char *path, size_t *size)

@@ -1,12 +1,12 @@
 /* Minimal test harness: CHECK records a failure and continues; every test
  * program ends with TEST_END, which prints "N passed, N failed" and returns
- * non-zero on any failure. */
+ * non-zero on any failure, on no check at all, or (77) on a skipped part. */
 #ifndef ST_TESTLIB_H
 #define ST_TESTLIB_H
 
 #include <stdio.h>
 
-extern int tl_passed, tl_failed;
+extern int tl_passed, tl_failed, tl_skipped;
 
 #define CHECK(cond) do { if (cond) tl_passed++; else { tl_failed++; \
     fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond); } } while (0)
@@ -15,6 +15,18 @@ extern int tl_passed, tl_failed;
     fprintf(stderr, __VA_ARGS__); fputc('\n', stderr); } } while (0)
 #define TEST_END() tl_report(__FILE__)
 
+/* A part of the test that cannot run here (its data in ../shared/data or
+ * OSMesa is missing): prints "skipped: WHY" and counts it. */
+void tl_skip(const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+/* Prints "N passed, N failed" (", N skipped" when some part was skipped)
+ * and returns the exit status: 1 on a failure or when nothing was checked
+ * at all, else 77 (TL_SKIP_CODE: ctest's SKIP_RETURN_CODE) when a part was
+ * skipped, else 0. */
+#define TL_SKIP_CODE 77
 int tl_report(const char *file);
 /* Reads a whole file into a malloc'ed NUL-terminated buffer; NULL on error. */
 char *tl_read_file(const char *path, size_t *size);

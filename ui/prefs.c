@@ -169,6 +169,18 @@ int st_prefs_load(void)
     return rc;
 }
 
+int st_prefs_parse(const char *name, const char *data, size_t size)
+{
+    clear_recent();
+    clear_settings();
+    FILE *f = size ? fmemopen((void *)data, size, "r") : NULL;
+    int rc = f ? load_file(f, name) : -1;
+    if (f) fclose(f);
+    else fprintf(stderr, "strata: %s: %s; preferences ignored\n", name, size ? "cannot read it" : "empty");
+    if (rc) { clear_recent(); clear_settings(); }
+    return rc;
+}
+
 int st_prefs_save(void)
 {
     char path[PATH_MAX];
@@ -179,14 +191,17 @@ int st_prefs_save(void)
         fprintf(stderr, "strata: cannot write the preferences %s: %s\n", path, strerror(errno));
         return -1;
     }
+    /* Exact digits (9 for a float, 17 for a double): a value near a limit
+     * (panel_width 99999.99) must not round onto it and be refused at the
+     * next start (fuzz_prefs). */
     fprintf(af.f, "strata-prefs 1\n");
     if (win_w > 0 && win_h > 0) fprintf(af.f, "window %d %d\n", win_w, win_h);
-    fprintf(af.f, "ui_scale %g\n", ui_scale);
-    if (panel_w > 0) fprintf(af.f, "panel_width %g\n", panel_w);
+    fprintf(af.f, "ui_scale %.9g\n", ui_scale);
+    if (panel_w > 0) fprintf(af.f, "panel_width %.9g\n", panel_w);
     for (int i = 0; i < nsections; i++) fprintf(af.f, "section %s %d\n", sections[i].name, sections[i].open);
     if (brush_tool[0]) fprintf(af.f, "brush_tool %s\n", brush_tool);
-    if (brush_radius > 0) fprintf(af.f, "brush_radius %.9g\n", brush_radius);
-    if (brush_strength > 0) fprintf(af.f, "brush_strength %.9g\n", brush_strength);
+    if (brush_radius > 0) fprintf(af.f, "brush_radius %.17g\n", brush_radius);
+    if (brush_strength > 0) fprintf(af.f, "brush_strength %.17g\n", brush_strength);
     for (int i = 0; i < ST_PREFS_RECENT && recent[i]; i++) fprintf(af.f, "recent %s\n", recent[i]);
     if (st_afile_commit(&af, &err)) { fprintf(stderr, "strata: cannot write the preferences %s: %s\n", path, err.msg); return -1; }
     return 0;

@@ -17,6 +17,8 @@
 #ifndef ST_PREFS_H
 #define ST_PREFS_H
 
+#include <stddef.h>
+
 #define ST_PREFS_RECENT 8
 
 /* Where the file is (buf), 0; -1 when neither variable is set. */
@@ -24,6 +26,8 @@ int st_prefs_path(char *buf, unsigned long n);
 /* Reads the file (a missing one is no error); 0, or -1 with the message
  * printed and the defaults kept. */
 int st_prefs_load(void);
+/* The same from memory (fuzz_prefs): name stands for the file in messages. */
+int st_prefs_parse(const char *name, const char *data, size_t size);
 /* Writes the file; 0 or -1 (message printed). */
 int st_prefs_save(void);
 

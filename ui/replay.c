@@ -10,7 +10,7 @@
 #include <sys/stat.h>
 
 #define GLFW_INCLUDE_NONE
-#include <GLFW/glfw3.h>
+#include <GLFW/glfw3.h> /* key and button codes; ST_REPLAY_PARSE_ONLY (fuzz_replay) links no GLFW */
 
 #include "core/io/session.h"
 #include "gui.h"
@@ -60,8 +60,12 @@ static int parse_gains(const char *s, double g[ST_MAX_LEVELS])
     }
 }
 
+/* Events a replay may hold: ~64 MB, hours of frames. */
+#define MAX_EVENTS (1u << 20)
+
 static ev *push(st_replay *rp, int type, int line)
 {
+    if (rp->n >= MAX_EVENTS) return NULL;
     if (rp->n == rp->cap) {
         size_t cap = rp->cap ? 2 * rp->cap : 64;
         ev *e = realloc(rp->e, cap * sizeof *e);
@@ -202,32 +206,33 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
     const char *c = tok[0];
     ev *e;
 #define BAD(...) return st_fail(err, ST_ERR_PARSE, __VA_ARGS__)
+#define NOMEM() return st_fail(err, ST_ERR_MEMORY, "%s:%d: out of memory or more than %u events", rp->path, line, MAX_EVENTS)
     if (!strcmp(c, "wait")) {
         int n = nt > 1 ? atoi(tok[1]) : 1;
         if (n < 0 || n > 100000) BAD("%s:%d: wait wants a frame count", rp->path, line);
-        for (int i = 0; i < n; i++) if (!push(rp, EV_WAIT, line)) BAD("out of memory");
+        for (int i = 0; i < n; i++) if (!push(rp, EV_WAIT, line)) NOMEM();
     } else if (!strcmp(c, "key") || !strcmp(c, "press") || !strcmp(c, "release")) {
         int key, mods;
         if (nt < 2 || parse_key(tok[1], &key, &mods)) BAD("%s:%d: unknown key '%s'", rp->path, line, nt > 1 ? tok[1] : "");
         int full = !strcmp(c, "key");
-        if (full && push_mods(rp, line, mods, GLFW_PRESS)) BAD("out of memory");
+        if (full && push_mods(rp, line, mods, GLFW_PRESS)) NOMEM();
         if (full || !strcmp(c, "press")) {
-            if (!(e = push(rp, EV_KEY, line))) BAD("out of memory");
+            if (!(e = push(rp, EV_KEY, line))) NOMEM();
             e->key = key; e->action = GLFW_PRESS; e->mods = mods;
         }
         if (full || !strcmp(c, "release")) {
-            if (!(e = push(rp, EV_KEY, line))) BAD("out of memory");
+            if (!(e = push(rp, EV_KEY, line))) NOMEM();
             e->key = key; e->action = GLFW_RELEASE; e->mods = mods;
         }
-        if (full && push_mods(rp, line, mods, GLFW_RELEASE)) BAD("out of memory");
+        if (full && push_mods(rp, line, mods, GLFW_RELEASE)) NOMEM();
     } else if (!strcmp(c, "mouse_move")) {
         if (nt < 3) BAD("%s:%d: mouse_move X Y", rp->path, line);
-        if (!(e = push(rp, EV_MOVE, line))) BAD("out of memory");
+        if (!(e = push(rp, EV_MOVE, line))) NOMEM();
         e->x = atof(tok[1]); e->y = atof(tok[2]);
     } else if (!strcmp(c, "mouse_down") || !strcmp(c, "mouse_up")) {
         int b = parse_button(nt > 1 ? tok[1] : NULL), mods;
         if (b < 0 || parse_mods(nt > 2 ? tok[2] : NULL, &mods)) BAD("%s:%d: %s left|middle|right [MODS]", rp->path, line, c);
-        if (!(e = push(rp, EV_BUTTON, line))) BAD("out of memory");
+        if (!(e = push(rp, EV_BUTTON, line))) NOMEM();
         e->button = b; e->mods = mods; e->action = !strcmp(c, "mouse_down") ? GLFW_PRESS : GLFW_RELEASE;
     } else if (!strcmp(c, "drag")) {
         int b = parse_button(nt > 1 ? tok[1] : NULL), mods;
@@ -236,33 +241,34 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
         double x0 = atof(tok[2]), y0 = atof(tok[3]), x1 = atof(tok[4]), y1 = atof(tok[5]);
         int steps = atoi(tok[6]);
         if (steps < 1) steps = 1;
-        if (!(e = push(rp, EV_MOVE, line))) BAD("out of memory");
+        if (steps > 100000) BAD("%s:%d: drag: STEPS 1..100000", rp->path, line);
+        if (!(e = push(rp, EV_MOVE, line))) NOMEM();
         e->x = x0; e->y = y0;
-        if (push_mods(rp, line, mods, GLFW_PRESS)) BAD("out of memory");
-        if (!(e = push(rp, EV_BUTTON, line))) BAD("out of memory");
+        if (push_mods(rp, line, mods, GLFW_PRESS)) NOMEM();
+        if (!(e = push(rp, EV_BUTTON, line))) NOMEM();
         e->button = b; e->mods = mods; e->action = GLFW_PRESS;
         for (int i = 1; i <= steps; i++) {
-            if (!(e = push(rp, EV_MOVE, line))) BAD("out of memory");
+            if (!(e = push(rp, EV_MOVE, line))) NOMEM();
             e->x = x0 + (x1 - x0) * i / steps;
             e->y = y0 + (y1 - y0) * i / steps;
         }
-        if (!(e = push(rp, EV_BUTTON, line))) BAD("out of memory");
+        if (!(e = push(rp, EV_BUTTON, line))) NOMEM();
         e->button = b; e->mods = mods; e->action = GLFW_RELEASE;
-        if (push_mods(rp, line, mods, GLFW_RELEASE)) BAD("out of memory");
+        if (push_mods(rp, line, mods, GLFW_RELEASE)) NOMEM();
     } else if (!strcmp(c, "scroll")) {
         int mods;
         if (nt < 2 || parse_mods(nt > 2 ? tok[2] : NULL, &mods)) BAD("%s:%d: scroll DY [MODS]", rp->path, line);
-        if (push_mods(rp, line, mods, GLFW_PRESS)) BAD("out of memory");
-        if (!(e = push(rp, EV_SCROLL, line))) BAD("out of memory");
+        if (push_mods(rp, line, mods, GLFW_PRESS)) NOMEM();
+        if (!(e = push(rp, EV_SCROLL, line))) NOMEM();
         e->y = atof(tok[1]);
-        if (push_mods(rp, line, mods, GLFW_RELEASE)) BAD("out of memory");
+        if (push_mods(rp, line, mods, GLFW_RELEASE)) NOMEM();
     } else if (!strcmp(c, "scroll_click")) {
         if (nt != 2) BAD("%s:%d: scroll_click DY", rp->path, line);
-        if (!(e = push(rp, EV_SCROLL_CLICK, line))) BAD("out of memory");
+        if (!(e = push(rp, EV_SCROLL_CLICK, line))) NOMEM();
         e->y = atof(tok[1]);
     } else if (!strcmp(c, "drop") || !strcmp(c, "screenshot") || !strcmp(c, "echo")) {
         if (nt < 2) BAD("%s:%d: %s needs an argument", rp->path, line, c);
-        if (!(e = push(rp, !strcmp(c, "drop") ? EV_DROP : !strcmp(c, "echo") ? EV_ECHO : EV_SHOT, line))) BAD("out of memory");
+        if (!(e = push(rp, !strcmp(c, "drop") ? EV_DROP : !strcmp(c, "echo") ? EV_ECHO : EV_SHOT, line))) NOMEM();
         if (e->type == EV_DROP && tok[1][0] != '/') {
             /* Relative dropped paths are relative to the events file. */
             const char *slash = strrchr(rp->path, '/');
@@ -272,33 +278,33 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
         } else {
             e->text = strdup(tok[1]);
         }
-        if (!e->text) BAD("out of memory");
+        if (!e->text) NOMEM();
     } else if (!strcmp(c, "level")) {
         if (nt < 3 || (strcmp(tok[1], "edit") && strcmp(tok[1], "display"))) BAD("%s:%d: level edit|display N", rp->path, line);
-        if (!(e = push(rp, EV_LEVEL, line))) BAD("out of memory");
+        if (!(e = push(rp, EV_LEVEL, line))) NOMEM();
         e->which = !strcmp(tok[1], "display");
         e->x = atof(tok[2]);
     } else if (!strcmp(c, "snapshot")) {
-        if (!push(rp, EV_SNAPSHOT, line)) BAD("out of memory");
+        if (!push(rp, EV_SNAPSHOT, line)) NOMEM();
     } else if (!strcmp(c, "expect")) {
         if (nt < 2) BAD("%s:%d: expect WHAT [VALUE]", rp->path, line);
-        if (!(e = push(rp, EV_EXPECT, line))) BAD("out of memory");
+        if (!(e = push(rp, EV_EXPECT, line))) NOMEM();
         e->text = strdup(tok[1]);
         e->arg = nt > 2 ? strdup(tok[2]) : NULL;
     } else if (!strcmp(c, "time_frames")) {
         if (nt < 2 || atoi(tok[1]) < 1 || atoi(tok[1]) > 100000) BAD("%s:%d: time_frames N (1..100000)", rp->path, line);
-        if (!(e = push(rp, EV_FRAMES, line))) BAD("out of memory");
+        if (!(e = push(rp, EV_FRAMES, line))) NOMEM();
         e->which = atoi(tok[1]);
     } else if (!strcmp(c, "gui")) {
         if (nt < 2 || (strcmp(tok[1], "on") && strcmp(tok[1], "off"))) BAD("%s:%d: gui on|off", rp->path, line);
-        if (!(e = push(rp, EV_GUI, line))) BAD("out of memory");
+        if (!(e = push(rp, EV_GUI, line))) NOMEM();
         e->which = !strcmp(tok[1], "on");
     } else if (!strcmp(c, "menu")) {
         if (nt < 2) BAD("%s:%d: menu PATH [ARG] (e.g. menu File/Export/glTF out.gltf)", rp->path, line);
-        if (!(e = push(rp, EV_MENU, line))) BAD("out of memory");
+        if (!(e = push(rp, EV_MENU, line))) NOMEM();
         e->text = strdup(tok[1]);
         e->arg = nt > 2 ? strdup(tok[2]) : NULL;
-        if (!e->text || (nt > 2 && !e->arg)) BAD("out of memory");
+        if (!e->text || (nt > 2 && !e->arg)) NOMEM();
     } else if (!strcmp(c, "brush")) {
         static const char *const what[] = { "falloff", "spacing", "stabilize", "symmetry", "front", "strength", "radius" };
         int k = -1;
@@ -307,7 +313,7 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
         if (k < 0)
             BAD("%s:%d: brush falloff NAME | spacing F | stabilize on|off [F] | symmetry none|x|y|z|xy|xz|yz|xyz | "
                 "front on|off | strength S | radius R", rp->path, line);
-        if (!(e = push(rp, EV_BRUSH, line))) BAD("out of memory");
+        if (!(e = push(rp, EV_BRUSH, line))) NOMEM();
         e->which = k;
         char *end = NULL;
         if (k == BR_FALLOFF) {
@@ -335,13 +341,14 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
         double g[ST_MAX_LEVELS];
         if (nt < 2 || parse_gains(tok[1], g) < 0)
             BAD("%s:%d: filter G0,G1,... (finite gains, at most %d)", rp->path, line, ST_MAX_LEVELS);
-        if (!(e = push(rp, EV_FILTER, line)) || !(e->text = strdup(tok[1]))) BAD("out of memory");
+        if (!(e = push(rp, EV_FILTER, line)) || !(e->text = strdup(tok[1]))) NOMEM();
     } else if (!strcmp(c, "quit")) {
-        if (!push(rp, EV_QUIT, line)) BAD("out of memory");
+        if (!push(rp, EV_QUIT, line)) NOMEM();
     } else {
         BAD("%s:%d: unknown event '%s'", rp->path, line, c);
     }
 #undef BAD
+#undef NOMEM
     return 0;
 }
 
@@ -355,28 +362,58 @@ void st_replay_free(st_replay *rp)
     free(rp);
 }
 
-int st_replay_load(st_replay **out, const char *path, st_error *err)
+int st_replay_parse(st_replay **out, const char *name, const char *data, size_t size, st_error *err)
 {
     *out = NULL;
-    FILE *f = fopen(path, "r");
-    if (!f) return st_fail(err, ST_ERR_IO, "cannot open %s", path);
     st_replay *rp = calloc(1, sizeof *rp);
-    if (!rp) { fclose(f); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
-    snprintf(rp->path, sizeof rp->path, "%s", path);
+    if (!rp) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", name);
+    snprintf(rp->path, sizeof rp->path, "%s", name);
     char line[2048];
     int ln = 0, rc = 0;
-    while (!rc && fgets(line, sizeof line, f)) {
+    for (size_t at = 0; !rc && at < size;) {
+        const char *nl = memchr(data + at, '\n', size - at);
+        size_t len = nl ? (size_t)(nl - (data + at)) : size - at;
         ln++;
+        if (len >= sizeof line) {
+            rc = st_fail(err, ST_ERR_PARSE, "%s:%d: line longer than %zu characters", name, ln, sizeof line - 1);
+            break;
+        }
+        memcpy(line, data + at, len);
+        line[len] = 0;
+        at += len + 1;
         char *h = strchr(line, '#');
         if (h) *h = 0;
         rc = parse_line(rp, line, ln, err);
     }
-    fclose(f);
     if (rc) { st_replay_free(rp); return rc; }
     *out = rp;
     return 0;
 }
 
+int st_replay_load(st_replay **out, const char *path, st_error *err)
+{
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f) return st_fail(err, ST_ERR_IO, "cannot open %s", path);
+    char *buf = NULL;
+    size_t n = 0, cap = 0, r;
+    do {
+        if (n == cap) {
+            char *q = cap < (64u << 20) ? realloc(buf, cap = cap ? 2 * cap : 65536) : NULL;
+            if (!q) { free(buf); fclose(f); return st_fail(err, ST_ERR_MEMORY, "%s: out of memory or larger than 64 MB", path); }
+            buf = q;
+        }
+        r = fread(buf + n, 1, cap - n, f);
+        n += r;
+    } while (r);
+    int bad = ferror(f);
+    fclose(f);
+    int rc = bad ? st_fail(err, ST_ERR_IO, "cannot read %s", path) : st_replay_parse(out, path, buf, n, err);
+    free(buf);
+    return rc;
+}
+
+#ifndef ST_REPLAY_PARSE_ONLY
 /* ---- running ------------------------------------------------------------------ */
 
 static void snapshot(st_replay *rp, const st_app *a)
@@ -682,3 +719,5 @@ int st_replay_step(st_replay *rp, st_app *a)
     }
     return 0;
 }
+
+#endif /* ST_REPLAY_PARSE_ONLY */

@@ -81,10 +81,15 @@
 
 #include "core/base/st_error.h"
 
+#include <stddef.h>
+
 typedef struct st_replay st_replay;
 struct st_app;
 
 int st_replay_load(st_replay **out, const char *path, st_error *err);
+/* The same from memory (fuzz_replay); name stands for the file in messages
+ * and relative dropped paths. */
+int st_replay_parse(st_replay **out, const char *name, const char *data, size_t size, st_error *err);
 void st_replay_free(st_replay *rp);
 /* Delivers the next event: 0 continue, 1 finished, -1 an expect failed. */
 int st_replay_step(st_replay *rp, struct st_app *a);
