@@ -89,12 +89,50 @@ void st_brush_defaults(st_brush *b, double radius)
     b->falloff = ST_FALLOFF_SMOOTH;
     b->front_only = 1;
     b->spacing = 0.1;          /* Blender's default spacing: 10 % of the radius */
+    b->space_atten = 1;        /* Blender: "Adjust Strength for Spacing", on by default */
+    b->fade = 1.0;             /* strength reaches full after one radius of path */
     b->stabilize_dist = 0.5;
     for (int t = 0; t < ST_BRUSH_COUNT; t++) {
         b->tool_strength[t] = t == ST_BRUSH_GRAB ? 1.0 : 0.5;
         b->tool_falloff[t] = ST_FALLOFF_SMOOTH;
     }
+    /* Auto-smooth where the anchors keep the surface even under the brush:
+     * Blender's crease and pinch leave a clean groove only with
+     * Auto-Smooth raised, ZBrush's Clay and Standard brushes smooth as they
+     * build; strength-1 strokes fold without it (test_editor_brush_hold). */
+    b->tool_autosmooth[ST_BRUSH_DRAW] = 0.3;
+    b->tool_autosmooth[ST_BRUSH_CLAY_STRIPS] = 0.3;
+    b->tool_autosmooth[ST_BRUSH_INFLATE] = 0.3;
+    b->tool_autosmooth[ST_BRUSH_CREASE] = 0.5;
+    b->tool_autosmooth[ST_BRUSH_PINCH] = 0.5;
+    b->tool_autosmooth[ST_BRUSH_FLATTEN] = 0.2;
+    b->tool_autosmooth[ST_BRUSH_LAYER] = 0.2;
     b->strength = b->tool_strength[b->tool];
+    b->autosmooth = b->tool_autosmooth[b->tool];
+}
+
+void st_brush_raw(st_brush *b)
+{
+    b->space_atten = 0;
+    b->fade = 0;
+    b->autosmooth = 0;
+    for (int t = 0; t < ST_BRUSH_COUNT; t++) b->tool_autosmooth[t] = 0;
+}
+
+/* Blender's integrate_overlap (paint_stroke / sculpt.c): the largest sum,
+ * over a point of the path, of the falloffs of the dabs `spacing` radii
+ * apart that cover it. */
+double st_brush_overlap_scale(int falloff, double spacing)
+{
+    if (!(spacing > 0)) return 1;
+    if (spacing < 0.01) spacing = 0.01;
+    double most = 0;
+    for (int i = 0; i < 10; i++) {
+        double x = spacing * i / 10, sum = 0;
+        for (double p = x - floor((x + 1) / spacing) * spacing; p < 1; p += spacing) sum += st_falloff_eval(falloff, fabs(p), 1);
+        if (sum > most) most = sum;
+    }
+    return most > 1 ? 1 / most : 1;
 }
 
 void st_brush_set_tool(st_brush *b, int tool)
@@ -103,10 +141,12 @@ void st_brush_set_tool(st_brush *b, int tool)
     if (b->tool >= 0 && b->tool < ST_BRUSH_COUNT) {
         b->tool_strength[b->tool] = b->strength;
         b->tool_falloff[b->tool] = b->falloff;
+        b->tool_autosmooth[b->tool] = b->autosmooth;
     }
     b->tool = tool;
     b->strength = b->tool_strength[tool];
     b->falloff = b->tool_falloff[tool];
+    b->autosmooth = b->tool_autosmooth[tool];
 }
 
 void ed_brush_state_free(struct st_brush_state *bs)
@@ -132,6 +172,9 @@ void ed_brush_state_free(struct st_brush_state *bs)
     free(bs->gk);
     free(bs->ring_at);
     free(bs->ring);
+    free(bs->accw);
+    free(bs->disp2);
+    free(bs->tmpa);
     free(bs);
 }
 
@@ -229,16 +272,18 @@ static void grid_insert(struct st_brush_state *bs, uint32_t v, const double *p)
     bs->vcell[v] = key;
 }
 
-static void tmp_push(struct st_brush_state *bs, uint32_t v, double w, const double n[3])
+static void tmp_push(struct st_brush_state *bs, uint32_t v, double w, const double n[3], double area)
 {
     if (bs->ntmp == bs->captmp) {
         bs->captmp = bs->captmp ? 2 * bs->captmp : 256;
         bs->tmp = ed_xrealloc(bs->tmp, (size_t)bs->captmp * sizeof *bs->tmp);
         bs->tmpw = ed_xrealloc(bs->tmpw, (size_t)bs->captmp * sizeof *bs->tmpw);
         bs->tmpn = ed_xrealloc(bs->tmpn, (size_t)bs->captmp * sizeof *bs->tmpn);
+        bs->tmpa = ed_xrealloc(bs->tmpa, (size_t)bs->captmp * sizeof *bs->tmpa);
     }
     bs->tmp[bs->ntmp] = v;
     bs->tmpw[bs->ntmp] = w;
+    bs->tmpa[bs->ntmp] = area;
     memcpy(bs->tmpn[bs->ntmp++], n, sizeof bs->tmpn[0]);
 }
 
@@ -332,12 +377,15 @@ static int normalize3(double v[3])
     return 0;
 }
 
-/* Unit normal of vertex v (dart x0) now; `fallback` when it vanishes. */
-static void unit_normal(struct st_brush_state *bs, const st_map *m, const st_level_view *lv, uint32_t v, uint32_t x0,
-                        const double fallback[3], double n[3])
+/* Unit normal of vertex v (dart x0) now; `fallback` when it vanishes.
+ * Returns the length of the area-weighted normal (twice the area around v). */
+static double unit_normal(struct st_brush_state *bs, const st_map *m, const st_level_view *lv, uint32_t v, uint32_t x0,
+                          const double fallback[3], double n[3])
 {
     ring_normal(bs, lv, ring_of(bs, m, lv, v, x0), n);
+    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (normalize3(n)) memcpy(n, fallback, 3 * sizeof *n);
+    return len;
 }
 
 /* ---- the weight of a vertex under a dab ------------------------------------------------ */
@@ -349,21 +397,23 @@ double ed_brush_weight(const st_doc *d, uint32_t v, double r, const double vn[3]
      * together and a vertex masked 1 is left out to the bit. */
     (void)v;
     const st_brush *b = &d->brush;
-    double f = st_falloff_eval(b->falloff, r, b->radius);
+    /* In a stroke: its radius (st_doc_brush_reach) and fade-in. */
+    int stroke = d->bs && d->active;
+    double f = st_falloff_eval(b->falloff, r, stroke ? d->bs->R : b->radius);
     if (!(f > 0)) return 0;
     int known = view[0] != 0 || view[1] != 0 || view[2] != 0;
     if (b->front_only && known && !(vn[0] * view[0] + vn[1] * view[1] + vn[2] * view[2] < 0)) return 0;
     double s = b->strength;
     if (!(s > 0)) return 0;
     if (s > 1) s = 1;
-    return f * s;
+    return f * s * (stroke ? d->bs->fadek : 1);
 }
 
 static void visit_cell(st_doc *d, struct st_brush_state *bs, const st_level_view *lv, uint32_t head, const double c[3],
                        const double dn[3], const double view[3])
 {
     const st_map *m = &d->h.map;
-    double R = d->brush.radius;
+    double R = bs->R;
     for (uint32_t v = head; v != ST_NIL; v = bs->next[v]) {
         const double *p = st_v_pos(lv, v);
         double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2];
@@ -371,10 +421,9 @@ static void visit_cell(st_doc *d, struct st_brush_state *bs, const st_level_view
         if (!(r < R)) continue;
         uint32_t x0 = ed_vertex_dart(d, v);
         if (x0 == ST_NIL) continue;
-        double vn[3];
-        unit_normal(bs, m, lv, v, x0, dn, vn);
+        double vn[3], area = unit_normal(bs, m, lv, v, x0, dn, vn);
         double w = ed_brush_weight(d, v, r, vn, view);
-        if (w > 0) tmp_push(bs, v, w, vn);
+        if (w > 0) tmp_push(bs, v, w, vn, area);
     }
 }
 
@@ -382,7 +431,7 @@ static void visit_cell(st_doc *d, struct st_brush_state *bs, const st_level_view
  * their weights and unit normals, into tmp. */
 static void grid_query(st_doc *d, struct st_brush_state *bs, const double c[3], const double dn[3], const double view[3])
 {
-    double R = d->brush.radius;
+    double R = bs->R;
     bs->ntmp = 0;
     st_level_view lv;
     st_level_view_init(&d->h.map, bs->level, &lv);
@@ -419,14 +468,23 @@ static uint32_t acc_slot(struct st_brush_state *bs, uint32_t v)
             bs->list = ed_xrealloc(bs->list, (size_t)bs->caplist * sizeof *bs->list);
             bs->disp = ed_xrealloc(bs->disp, (size_t)bs->caplist * sizeof *bs->disp);
             bs->lay_t = ed_xrealloc(bs->lay_t, (size_t)bs->caplist * sizeof *bs->lay_t);
+            bs->accw = ed_xrealloc(bs->accw, (size_t)bs->caplist * sizeof *bs->accw);
+            bs->disp2 = ed_xrealloc(bs->disp2, (size_t)bs->caplist * sizeof *bs->disp2);
         }
         uint32_t i = bs->nlist++;
         bs->slot[v] = i;
         bs->list[i] = v;
         bs->disp[i][0] = bs->disp[i][1] = bs->disp[i][2] = 0;
         bs->lay_t[i] = 0;
+        bs->accw[i] = 0;
     }
     return bs->slot[v];
+}
+
+void ed_brush_acc_weight(struct st_brush_state *bs, uint32_t v, double w)
+{
+    uint32_t i = acc_slot(bs, v);
+    if (w > bs->accw[i]) bs->accw[i] = w;
 }
 
 void ed_brush_acc(struct st_brush_state *bs, uint32_t v, const double dv[3])
@@ -463,6 +521,85 @@ static void layer_finish(st_doc *d, struct st_brush_state *bs)
     }
 }
 
+/* ---- auto-smooth ----------------------------------------------------------------------- */
+
+/* Blender's Auto-Smooth (sculpt.c, do_brush_action: a smooth pass over the
+ * brush's vertices after each dab, autosmooth_factor times the falloff):
+ * every vertex this dab moves goes toward the average of its one-ring as
+ * the dab leaves them (positions plus the dab's displacements), by
+ * a * its weight.  The result goes to disp2 and then replaces disp, so the
+ * order of the vertices does not matter and a symmetric dab stays
+ * symmetric. */
+static void autosmooth(st_doc *d, struct st_brush_state *bs, double a)
+{
+    const st_map *m = &d->h.map;
+    unsigned l = bs->level;
+    for (uint32_t i = 0; i < bs->nlist; i++) {
+        uint32_t v = bs->list[i], x0 = ed_vertex_dart(d, v);
+        double *o = bs->disp2[i];
+        memcpy(o, bs->disp[i], sizeof bs->disp2[0]);
+        double k = a * bs->accw[i];
+        if (x0 == ST_NIL || !(k > 0)) continue;
+        const double *p = st_pos(m, v, l);
+        double avg[3] = { 0, 0, 0 };
+        unsigned cnt = 0;
+        uint32_t x = x0;
+        do {
+            uint32_t u = st_vert(m, st_beta0(m, x, l), l);
+            const double *q = st_pos(m, u, l);
+            int moved = bs->mark[u] == bs->gen;
+            for (int j = 0; j < 3; j++) avg[j] += q[j] + (moved ? bs->disp[bs->slot[u]][j] : 0);
+            cnt++;
+            x = ed_around(m, x, l);
+        } while (x != x0 && cnt < 1u << 16);
+        for (int j = 0; j < 3; j++) o[j] += k * (avg[j] / cnt - p[j] - bs->disp[i][j]);
+    }
+    for (uint32_t i = 0; i < bs->nlist; i++) memcpy(bs->disp[i], bs->disp2[i], sizeof bs->disp[0]);
+}
+
+/* ---- reach at coarse levels ---------------------------------------------------------- */
+
+/* Mean length of the edges of level l (each edge once: the dart of the
+ * smaller id of its two, β0 the opposite dart).  In the dual encoding
+ * (Doo-Sabin) the darts join face centres, a length of the same order. */
+static double edge_mean(const st_map *m, unsigned l)
+{
+    double sum = 0;
+    uint64_t n = 0;
+    st_dart_iter it;
+    for (uint32_t x = st_dart_first(m, l, &it); x != ST_NIL; x = st_dart_next(m, l, &it)) {
+        uint32_t y = st_beta0(m, x, l);
+        if (y < x) continue;
+        const double *p = st_dart_pos(m, x, l), *q = st_dart_pos(m, y, l);
+        double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+        sum += sqrt(dx * dx + dy * dy + dz * dz);
+        n++;
+    }
+    return n ? sum / (double)n : 0;
+}
+
+double st_doc_brush_reach(st_doc *d)
+{
+    double R = d->brush.radius;
+    if (!d->loaded) return R;
+    struct st_brush_state *bs = d->bs;
+    if (!bs) {
+        bs = calloc(1, sizeof *bs);
+        if (!bs) abort();
+        d->bs = bs;
+    }
+    /* Taken again when the level or the map's vertex count changes; the
+     * lengths drift little under brushes, which do not change topology. */
+    uint32_t key = d->h.map.verts.end + 1;
+    if (bs->edge_key != key || bs->edge_level != d->edit_level) {
+        bs->edge_mean = edge_mean(&d->h.map, d->edit_level);
+        bs->edge_level = d->edit_level;
+        bs->edge_key = key;
+    }
+    double e = ST_BRUSH_REACH_EDGES * bs->edge_mean;
+    return e > R ? e : R;
+}
+
 /* ---- strokes -------------------------------------------------------------------------- */
 
 int st_doc_stroke_begin(st_doc *d)
@@ -486,7 +623,17 @@ int ed_stroke_begin(st_doc *d, int moves_geometry)
     unsigned l = d->edit_level;
     if (moves_geometry && ed_edit_budget(d, l)) return -1;
     bs->level = l;
-    bs->cs = d->brush.radius;
+    bs->R = st_doc_brush_reach(d);
+    bs->cs = bs->R;
+    /* Spacing attenuation (Blender's BRUSH_SPACE_ATTEN): fractions (pinch,
+     * flatten, ...) by 1 / overlap, heights (draw, inflate, crease) so that
+     * a stroke at the default spacing deposits what it did before. */
+    double sp = d->brush.space_atten ? d->brush.spacing : 0;
+    bs->fscale = st_brush_overlap_scale(d->brush.falloff, sp);
+    bs->hscale = bs->fscale / st_brush_overlap_scale(d->brush.falloff, sp > 0 ? 0.1 : 0);
+    bs->path = 0;
+    bs->ndabs = 0;
+    bs->fadek = 1;
     /* Per-vertex arrays up to the largest id of the editing level only. */
     uint32_t nv = 0;
     st_dart_iter it;
@@ -567,6 +714,19 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
     if (normalize3(nn)) memcpy(nn, up, sizeof nn);
     uint8_t which[8];
     unsigned nsym = symmetry_set(&d->brush, which);
+    /* Fade-in: the strength rises smoothly over the first fade * R of the
+     * dab centres' path, so a crease or draw stroke starts tapered instead
+     * of with a full-strength dab (ZBrush's stroke taper, Blender's
+     * "stroke" tapering in its curve strokes). */
+    if (bs->ndabs++) bs->path += sqrt((center[0] - bs->last_c[0]) * (center[0] - bs->last_c[0]) +
+                                      (center[1] - bs->last_c[1]) * (center[1] - bs->last_c[1]) +
+                                      (center[2] - bs->last_c[2]) * (center[2] - bs->last_c[2]));
+    memcpy(bs->last_c, center, sizeof bs->last_c);
+    bs->fadek = 1;
+    if (d->brush.fade > 0 && d->brush.tool != ST_BRUSH_GRAB) {
+        double t = bs->path / (d->brush.fade * bs->R);
+        if (t < 1) bs->fadek = 0.1 + 0.9 * t * t * (3 - 2 * t);
+    }
     if (++bs->gen == 0) {
         for (uint32_t v = 0; v < bs->nv; v++) bs->mark[v] = 0;
         bs->gen = 1;
@@ -601,6 +761,8 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
             if (bs->ntmp) ed_brush_tool_dab(d, bs, mc, mn);
         }
         if (d->brush.tool == ST_BRUSH_LAYER) layer_finish(d, bs);
+        int smoother = d->brush.tool == ST_BRUSH_SMOOTH || d->brush.tool == ST_BRUSH_RELAX;
+        if (!smoother && d->brush.autosmooth > 0) autosmooth(d, bs, fmin(d->brush.autosmooth, 1));
     }
     if (!bs->nlist) return 0;
     uint32_t *darts = ed_xrealloc(NULL, (size_t)bs->nlist * sizeof *darts);

@@ -49,19 +49,29 @@ static void laplacian(const st_map *m, uint32_t x0, unsigned l, const double p[3
     for (int k = 0; k < 3; k++) lap[k] = avg[k] / cnt - p[k];
 }
 
-/* The plane of flatten and clay strips: the mean position of the vertices
- * under the dab and their mean normal (the dab's when it vanishes). */
+/* The plane of the area under the dab, as Blender's
+ * calc_area_normal_and_center and ZBrush's brushes take it: the centroid of
+ * the vertices under the dab weighted by their brush weights, and the sum
+ * of their area-weighted normals times those weights, normalised.  One
+ * vertex's normal (or the pick's, under the cursor) swings from dab to dab
+ * on a bumpy or freshly drawn surface and pushes the surface sideways
+ * until it folds; the area's does not.  The dab's normal n when the area's
+ * vanishes or faces away from it. */
 static void dab_plane(const st_map *m, unsigned l, const struct st_brush_state *bs, const double n[3], double c0[3],
                       double pn[3])
 {
     c0[0] = c0[1] = c0[2] = 0;
     pn[0] = pn[1] = pn[2] = 0;
+    double ws = 0;
     for (uint32_t i = 0; i < bs->ntmp; i++) {
         const double *p = st_pos(m, bs->tmp[i], l);
-        for (int k = 0; k < 3; k++) { c0[k] += p[k] / bs->ntmp; pn[k] += bs->tmpn[i][k]; }
+        double w = bs->tmpw[i], wa = w * bs->tmpa[i];
+        ws += w;
+        for (int k = 0; k < 3; k++) { c0[k] += w * p[k]; pn[k] += wa * bs->tmpn[i][k]; }
     }
+    if (ws > 0) for (int k = 0; k < 3; k++) c0[k] /= ws;
     double len = sqrt(dot3(pn, pn));
-    if (len > 0) for (int k = 0; k < 3; k++) pn[k] /= len;
+    if (len > 0 && dot3(pn, n) > 0) for (int k = 0; k < 3; k++) pn[k] /= len;
     else memcpy(pn, n, sizeof *pn * 3);
 }
 
@@ -70,13 +80,15 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
     const st_map *m = &d->h.map;
     unsigned l = bs->level;
     int tool = d->brush.tool;
-    double R = d->brush.radius, sgn = d->brush.invert ? -1 : 1;
+    double R = bs->R, sgn = d->brush.invert ? -1 : 1;
+    /* Spacing attenuation (brush.c): heights and fractions per dab. */
+    double hs = bs->hscale, fs = bs->fscale;
     double c0[3] = { 0, 0, 0 }, pn[3] = { 0, 0, 0 };
-    if (tool == ST_BRUSH_FLATTEN || tool == ST_BRUSH_CLAY_STRIPS) {
-        dab_plane(m, l, bs, n, c0, pn);
-        if (tool == ST_BRUSH_CLAY_STRIPS)
-            for (int k = 0; k < 3; k++) c0[k] += sgn * 0.1 * R * pn[k];
-    }
+    dab_plane(m, l, bs, n, c0, pn);
+    if (tool == ST_BRUSH_CLAY_STRIPS)
+        for (int k = 0; k < 3; k++) c0[k] += sgn * 0.1 * R * pn[k];
+    /* draw, crease and pinch work in the area's plane too */
+    n = pn;
     for (uint32_t i = 0; i < bs->ntmp; i++) {
         uint32_t v = bs->tmp[i];
         double w = bs->tmpw[i], dv[3] = { 0, 0, 0 };
@@ -84,11 +96,12 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
         const double *p = st_pos(m, v, l);
         uint32_t x0 = ed_vertex_dart(d, v);
         if (x0 == ST_NIL) continue;
+        ed_brush_acc_weight(bs, v, w);
         switch (tool) {
         case ST_BRUSH_DRAW:
         case ST_BRUSH_INFLATE: {
             const double *dir = tool == ST_BRUSH_DRAW ? n : vn;
-            double a = sgn * w * R * 0.1;
+            double a = sgn * w * R * 0.1 * hs;
             for (int k = 0; k < 3; k++) dv[k] = a * dir[k];
             break;
         }
@@ -109,17 +122,17 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
         case ST_BRUSH_CLAY_STRIPS: {
             double hgt = (p[0] - c0[0]) * pn[0] + (p[1] - c0[1]) * pn[1] + (p[2] - c0[2]) * pn[2];
             if (tool == ST_BRUSH_CLAY_STRIPS && !(sgn * hgt < 0)) break;
-            for (int k = 0; k < 3; k++) dv[k] = -w * hgt * pn[k];
+            for (int k = 0; k < 3; k++) dv[k] = -w * fs * hgt * pn[k];
             break;
         }
         case ST_BRUSH_CREASE:
         case ST_BRUSH_PINCH: {
             double to[3] = { c[0] - p[0], c[1] - p[1], c[2] - p[2] };
             double along_n = dot3(to, n);
-            double f = tool == ST_BRUSH_PINCH ? sgn * 0.5 * w : 0.5 * w;
+            double f = (tool == ST_BRUSH_PINCH ? sgn * 0.5 * w : 0.5 * w) * fs;
             for (int k = 0; k < 3; k++) dv[k] = f * (to[k] - along_n * n[k]);
             if (tool == ST_BRUSH_CREASE)
-                for (int k = 0; k < 3; k++) dv[k] -= sgn * w * R * 0.1 * n[k];
+                for (int k = 0; k < 3; k++) dv[k] -= sgn * w * R * 0.1 * hs * n[k];
             break;
         }
         case ST_BRUSH_LAYER: ed_brush_acc_layer(bs, v, w * R * 0.1, vn); continue;
