@@ -175,6 +175,7 @@ void ed_brush_state_free(struct st_brush_state *bs)
     free(bs->accw);
     free(bs->disp2);
     free(bs->tmpa);
+    free(bs->fn);
     free(bs);
 }
 
@@ -299,8 +300,10 @@ uint32_t ed_around(const st_map *m, uint32_t x, unsigned l)
 /* The faces around the vertex v of dart x0, as its normal walks them:
  * around the vertex (β1; φ1 in the dual encoding, map.h), and along each
  * surface face from the dart at the vertex (φ1; β1 in the dual), the
- * corners' vertex ids recorded in bs->ring as [faces, then per face: terms
- * c, the c + 1 ids of the walk p0 .. pc (pc the start again)].  Recorded
+ * corners' vertex ids recorded in bs->ring as [faces, index of the first
+ * face's normal in bs->fn, then per face: terms c, the c + 1 ids of the
+ * walk p0 .. pc (pc the start again)], and each face's Newell normal as it
+ * is then in bs->fn (the reference hold_faces keeps faces near).  Recorded
  * the first time a dab of the stroke needs v's normal: the topology does
  * not change during a stroke, so later dabs read ids and positions only
  * instead of walking the darts again (the walk was a quarter of a dab).
@@ -314,12 +317,44 @@ static void ring_push(struct st_brush_state *bs, uint32_t x)
     bs->ring[bs->nring++] = x;
 }
 
+/* The Newell normal of the face record r (terms c, then c + 1 ids) now,
+ * with each vertex moved by its displacement in this dab when `moved`. */
+static void face_normal(const struct st_brush_state *bs, const st_level_view *lv, const uint32_t *r, int moved,
+                        double n[3])
+{
+    uint32_t c = r[0];
+    double n0 = 0, n1 = 0, n2 = 0, p[3], q[3];
+    const uint32_t *id = r + 1;
+    for (uint32_t t = 0; t <= c; t++) {
+        const double *a = st_v_pos(lv, id[t]);
+        int in = moved && bs->mark[id[t]] == bs->gen;
+        for (int k = 0; k < 3; k++) q[k] = a[k] + (in ? bs->disp[bs->slot[id[t]]][k] : 0);
+        if (t) {
+            n0 += (p[1] - q[1]) * (p[2] + q[2]);
+            n1 += (p[2] - q[2]) * (p[0] + q[0]);
+            n2 += (p[0] - q[0]) * (p[1] + q[1]);
+        }
+        memcpy(p, q, sizeof p);
+    }
+    n[0] = n0; n[1] = n1; n[2] = n2;
+}
+
+static void fn_push(struct st_brush_state *bs, const st_level_view *lv, const uint32_t *r)
+{
+    if (bs->nfn == bs->capfn) {
+        bs->capfn = bs->capfn ? 2 * bs->capfn : 4096;
+        bs->fn = ed_xrealloc(bs->fn, (size_t)bs->capfn * sizeof *bs->fn);
+    }
+    face_normal(bs, lv, r, 0, bs->fn[bs->nfn++]);
+}
+
 static uint32_t ring_of(struct st_brush_state *bs, const st_map *m, const st_level_view *lv, uint32_t v, uint32_t x0)
 {
     if (bs->ring_at[v]) return bs->ring_at[v] - 1;
     int dual = m->face_embedded;
     uint32_t o = bs->nring;
     ring_push(bs, 0);
+    ring_push(bs, bs->nfn);
     uint32_t x = x0;
     unsigned guard = 0;
     do {
@@ -336,6 +371,7 @@ static uint32_t ring_of(struct st_brush_state *bs, const st_map *m, const st_lev
                 y = z;
             } while (y != x && ++g2 < 1u << 16);
             bs->ring[o]++;
+            fn_push(bs, lv, bs->ring + at);
         }
         x = dual ? st_v_phi1(lv, x) : st_v_beta1(lv, x);
     } while (x != x0 && ++guard < 1u << 16);
@@ -350,6 +386,7 @@ static void ring_normal(const struct st_brush_state *bs, const st_level_view *lv
 {
     const uint32_t *r = bs->ring + o;
     uint32_t nf = *r++;
+    r++; /* the faces' normals */
     /* The sum in locals: stores through n would not be hoisted. */
     double n0 = 0, n1 = 0, n2 = 0;
     for (uint32_t f = 0; f < nf; f++) {
@@ -557,6 +594,55 @@ static void autosmooth(st_doc *d, struct st_brush_state *bs, double a)
     for (uint32_t i = 0; i < bs->nlist; i++) memcpy(bs->disp[i], bs->disp2[i], sizeof bs->disp[0]);
 }
 
+/* ---- holding the surface --------------------------------------------------------------- */
+
+/* A face turned by more than HOLD_TURN from its normal when the stroke
+ * first reached it, or shrunk below HOLD_AREA of its area then, is held:
+ * issue 30 asks that no face flip (turn past 90 degrees) under any brush
+ * at full strength, and that none collapse. */
+#define HOLD_COS 0.766 /* cos 40 degrees */
+#define HOLD_AREA 0.1
+
+static int face_held(const struct st_brush_state *bs, const st_level_view *lv, const uint32_t *r, const double n0[3])
+{
+    double n[3];
+    face_normal(bs, lv, r, 1, n);
+    double a = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), a0 = sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]);
+    return !(n[0] * n0[0] + n[1] * n0[1] + n[2] * n0[2] > HOLD_COS * a * a0) || !(a >= HOLD_AREA * a0);
+}
+
+/* The clamp that makes the guarantee: after the brush and its auto-smooth,
+ * every face around a vertex the dab moves is checked against its
+ * reference; the displacements of the corners of a face that would be
+ * held are halved, then (after three passes) taken back, until none is.
+ * A face whose corners all stay where they were is as it was before the
+ * dab, which held, so this ends (at worst with the dab taken back). */
+static void hold_faces(st_doc *d, struct st_brush_state *bs)
+{
+    st_level_view lv;
+    st_level_view_init(&d->h.map, bs->level, &lv);
+    for (unsigned pass = 0; pass < 64; pass++) {
+        double k = pass < 3 ? 0.5 : 0;
+        unsigned held = 0;
+        for (uint32_t i = 0; i < bs->nlist; i++) {
+            uint32_t v = bs->list[i];
+            if (!bs->ring_at[v]) continue;
+            const uint32_t *r = bs->ring + bs->ring_at[v] - 1;
+            uint32_t nf = r[0], f0 = r[1];
+            r += 2;
+            for (uint32_t f = 0; f < nf; f++, r += r[0] + 2) {
+                if (!face_held(bs, &lv, r, bs->fn[f0 + f])) continue;
+                held++;
+                for (uint32_t t = 1; t <= r[0]; t++)
+                    if (bs->mark[r[t]] == bs->gen)
+                        for (int j = 0; j < 3; j++) bs->disp[bs->slot[r[t]]][j] *= k;
+            }
+        }
+        if (!held) return;
+    }
+    for (uint32_t i = 0; i < bs->nlist; i++) bs->disp[i][0] = bs->disp[i][1] = bs->disp[i][2] = 0;
+}
+
 /* ---- reach at coarse levels ---------------------------------------------------------- */
 
 /* Mean length of the edges of level l (each edge once: the dart of the
@@ -653,6 +739,7 @@ int ed_stroke_begin(st_doc *d, int moves_geometry)
     for (uint32_t v = 0; v < bs->nv; v++) { bs->vcell[v] = EMPTY_KEY; bs->mark[v] = 0; bs->lay_o[v] = -1; }
     memset(bs->ring_at, 0, (size_t)bs->nv * sizeof *bs->ring_at);
     bs->nring = 0;
+    bs->nfn = 0;
     bs->gen = 0;
     for (uint32_t i = 0; i < bs->hcap; i++) bs->hkey[i] = EMPTY_KEY;
     bs->hn = 0;
@@ -763,6 +850,7 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
         if (d->brush.tool == ST_BRUSH_LAYER) layer_finish(d, bs);
         int smoother = d->brush.tool == ST_BRUSH_SMOOTH || d->brush.tool == ST_BRUSH_RELAX;
         if (!smoother && d->brush.autosmooth > 0) autosmooth(d, bs, fmin(d->brush.autosmooth, 1));
+        hold_faces(d, bs);
     }
     if (!bs->nlist) return 0;
     uint32_t *darts = ed_xrealloc(NULL, (size_t)bs->nlist * sizeof *darts);

@@ -42,6 +42,8 @@ struct st_brush_state {
      * each vertex in the order its normal sums them, kept for the stroke. */
     uint32_t *ring_at;         /* per vertex: 1 + offset in ring, 0: not recorded in this stroke */
     uint32_t *ring, nring, capring;
+    double (*fn)[3];           /* per face of a ring record: its Newell normal when recorded (hold_faces) */
+    uint32_t nfn, capfn;
     /* grab */
     int grabbed;
     uint32_t *gv;
