@@ -180,6 +180,7 @@ static void test_mesh(const char *label, const char *path)
     st_doc d;
     st_doc_init(&d);
     ed_test_open(&d, path, "catmull-clark", 3);
+    st_brush_defaults(&d.brush, d.brush.radius); /* every default, auto-smooth included */
     unsigned l = 3;
     st_doc_set_edit_level(&d, l);
     uint32_t *v, nv = ed_test_level_vertices(&d, l, &v);

@@ -91,6 +91,9 @@ void st_brush_defaults(st_brush *b, double radius)
     b->spacing = 0.1;          /* Blender's default spacing: 10 % of the radius */
     b->space_atten = 1;        /* Blender: "Adjust Strength for Spacing", on by default */
     b->fade = 1.0;             /* strength reaches full after one radius of path */
+    b->reach_edges = ST_BRUSH_REACH_EDGES;
+    b->area_plane = 1;
+    b->hold = 1;
     b->stabilize_dist = 0.5;
     for (int t = 0; t < ST_BRUSH_COUNT; t++) {
         b->tool_strength[t] = t == ST_BRUSH_GRAB ? 1.0 : 0.5;
@@ -115,6 +118,9 @@ void st_brush_raw(st_brush *b)
 {
     b->space_atten = 0;
     b->fade = 0;
+    b->reach_edges = 0;
+    b->area_plane = 0;
+    b->hold = 0;
     b->autosmooth = 0;
     for (int t = 0; t < ST_BRUSH_COUNT; t++) b->tool_autosmooth[t] = 0;
 }
@@ -667,7 +673,7 @@ static double edge_mean(const st_map *m, unsigned l)
 double st_doc_brush_reach(st_doc *d)
 {
     double R = d->brush.radius;
-    if (!d->loaded) return R;
+    if (!d->loaded || !(d->brush.reach_edges > 0)) return R;
     struct st_brush_state *bs = d->bs;
     if (!bs) {
         bs = calloc(1, sizeof *bs);
@@ -682,7 +688,7 @@ double st_doc_brush_reach(st_doc *d)
         bs->edge_level = d->edit_level;
         bs->edge_key = key;
     }
-    double e = ST_BRUSH_REACH_EDGES * bs->edge_mean;
+    double e = d->brush.reach_edges * bs->edge_mean;
     return e > R ? e : R;
 }
 
@@ -850,7 +856,7 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
         if (d->brush.tool == ST_BRUSH_LAYER) layer_finish(d, bs);
         int smoother = d->brush.tool == ST_BRUSH_SMOOTH || d->brush.tool == ST_BRUSH_RELAX;
         if (!smoother && d->brush.autosmooth > 0) autosmooth(d, bs, fmin(d->brush.autosmooth, 1));
-        hold_faces(d, bs);
+        if (d->brush.hold) hold_faces(d, bs);
     }
     if (!bs->nlist) return 0;
     uint32_t *darts = ed_xrealloc(NULL, (size_t)bs->nlist * sizeof *darts);

@@ -75,6 +75,23 @@ static void dab_plane(const st_map *m, unsigned l, const struct st_brush_state *
     else memcpy(pn, n, sizeof *pn * 3);
 }
 
+/* Without the area plane (st_brush.area_plane 0): flatten's and clay
+ * strips' plane through the plain mean of the vertices under the dab, its
+ * normal their mean normal (the dab's when it vanishes). */
+static void mean_plane(const st_map *m, unsigned l, const struct st_brush_state *bs, const double n[3], double c0[3],
+                       double pn[3])
+{
+    c0[0] = c0[1] = c0[2] = 0;
+    pn[0] = pn[1] = pn[2] = 0;
+    for (uint32_t i = 0; i < bs->ntmp; i++) {
+        const double *p = st_pos(m, bs->tmp[i], l);
+        for (int k = 0; k < 3; k++) { c0[k] += p[k] / bs->ntmp; pn[k] += bs->tmpn[i][k]; }
+    }
+    double len = sqrt(dot3(pn, pn));
+    if (len > 0) for (int k = 0; k < 3; k++) pn[k] /= len;
+    else memcpy(pn, n, sizeof *pn * 3);
+}
+
 void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], const double n[3])
 {
     const st_map *m = &d->h.map;
@@ -84,11 +101,14 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
     /* Spacing attenuation (brush.c): heights and fractions per dab. */
     double hs = bs->hscale, fs = bs->fscale;
     double c0[3] = { 0, 0, 0 }, pn[3] = { 0, 0, 0 };
-    dab_plane(m, l, bs, n, c0, pn);
+    if (d->brush.area_plane) {
+        dab_plane(m, l, bs, n, c0, pn);
+        n = pn; /* draw, crease and pinch work in the area's plane too */
+    } else if (tool == ST_BRUSH_FLATTEN || tool == ST_BRUSH_CLAY_STRIPS) {
+        mean_plane(m, l, bs, n, c0, pn);
+    }
     if (tool == ST_BRUSH_CLAY_STRIPS)
         for (int k = 0; k < 3; k++) c0[k] += sgn * 0.1 * R * pn[k];
-    /* draw, crease and pinch work in the area's plane too */
-    n = pn;
     for (uint32_t i = 0; i < bs->ntmp; i++) {
         uint32_t v = bs->tmp[i];
         double w = bs->tmpw[i], dv[3] = { 0, 0, 0 };

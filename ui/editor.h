@@ -95,6 +95,13 @@ typedef struct st_brush {
                                   at `spacing`, so a stroke deposits the same whatever the spacing */
     double fade;               /* strength fades in over the first fade * radius of a stroke's path
                                   (0: none), so a stroke does not start with a full-strength dab */
+    double reach_edges;        /* a dab takes in at least this many mean edge lengths of the editing
+                                  level (st_doc_brush_reach; 0: the radius only) */
+    int area_plane;            /* draw, crease, pinch, flatten and clay strips work in the plane of the
+                                  area under the dab (Blender's default Sculpt Plane "Area Plane"); 0:
+                                  along the normal given with the dab, flatten in the plain mean */
+    int hold;                  /* clamp each dab so that no face turns more than 40 degrees or shrinks
+                                  below 10 % of its area within a stroke (brush.c: hold_faces) */
     double autosmooth;         /* of the current tool, 0..1: after each dab the vertices under it
                                   are smoothed by autosmooth * weight (Blender's Auto-Smooth) */
     int stabilize;             /* lazy mouse: the brush trails the cursor by stabilize_dist * radius */
@@ -112,7 +119,8 @@ void st_brush_defaults(st_brush *b, double radius);
  * auto-smooth and takes the new one's. */
 void st_brush_set_tool(st_brush *b, int tool);
 /* The raw dab of every tool: no auto-smooth, no spacing attenuation, no
- * fade (what the brush formulas of brush_tools.c give for one dab). */
+ * fade, no coarse-level reach, no area plane, no hold (what the brush formulas of brush_tools.c
+ * give for one dab; the document tests written for them pin it). */
 void st_brush_raw(st_brush *b);
 /* Multiplier of a dab's strength for dabs `spacing` radii apart with the
  * falloff preset `falloff`: 1 / the largest sum of overlapping falloffs
@@ -334,8 +342,8 @@ void st_doc_drag_cancel(st_doc *d);
  * grab_delta may be NULL (zero). */
 int st_doc_stroke_begin(st_doc *d);
 /* The radius brushes take in at the editing level: the brush radius, or
- * ST_BRUSH_REACH_EDGES times the mean edge length of the editing level when
- * that is larger, so that at a coarse level a dab takes in at least the
+ * brush.reach_edges (default ST_BRUSH_REACH_EDGES) times the mean edge
+ * length of the editing level when that is larger, so that at a coarse level a dab takes in at least the
  * vertices of the faces under the cursor (issue 30: a coarse level barely
  * responded when few coarse vertices lay inside the radius).  The window's
  * panel shows it when it differs from the radius. */
