@@ -692,6 +692,66 @@ double st_doc_brush_reach(st_doc *d)
     return e > R ? e : R;
 }
 
+/* Mean length of the edges at vertex v (dart x0) of level l. */
+static double vertex_edge_mean(const st_map *m, uint32_t x0, unsigned l)
+{
+    const double *p = st_dart_pos(m, x0, l);
+    double sum = 0;
+    unsigned cnt = 0;
+    uint32_t x = x0;
+    do {
+        const double *q = st_dart_pos(m, st_beta0(m, x, l), l);
+        double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+        sum += sqrt(dx * dx + dy * dy + dz * dz);
+        cnt++;
+        x = ed_around(m, x, l);
+    } while (x != x0 && cnt < 1u << 16);
+    return sum / cnt;
+}
+
+/* The vertex of the grid nearest to c, searching cubes of cells of growing
+ * size (a vertex within k cells of c is inside the cube of k cells around
+ * c's cell); ST_NIL when none is within 8 cells. */
+static uint32_t grid_nearest(const struct st_brush_state *bs, const st_level_view *lv, const double c[3])
+{
+    int64_t at[3];
+    for (int k = 0; k < 3; k++) at[k] = cell_coord(c[k], bs->cs);
+    uint32_t best = ST_NIL;
+    double bd = INFINITY;
+    for (int64_t g = 1; g <= 8; g++) {
+        for (int64_t x = at[0] - g; x <= at[0] + g; x++)
+            for (int64_t y = at[1] - g; y <= at[1] + g; y++)
+                for (int64_t z = at[2] - g; z <= at[2] + g; z++) {
+                    int64_t h = grid_cell((struct st_brush_state *)bs, cell_key(x, y, z), 0);
+                    if (h < 0) continue;
+                    for (uint32_t v = bs->hhead[h]; v != ST_NIL; v = bs->next[v]) {
+                        const double *p = st_v_pos(lv, v);
+                        double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2], r = dx * dx + dy * dy + dz * dz;
+                        if (r < bd) { bd = r; best = v; }
+                    }
+                }
+        if (best != ST_NIL && sqrt(bd) < (double)g * bs->cs) break;
+    }
+    return best;
+}
+
+/* This dab's radius: the brush radius, or reach_edges times the mean edge
+ * length at the editing-level vertex nearest to the centre when that is
+ * larger (st_doc_brush_reach: a coarse level takes in the vertices of the
+ * faces under the cursor).  The edges there, not the level's mean: a
+ * coarse cage's faces differ in size by several times (blub's fins). */
+static double dab_reach(st_doc *d, struct st_brush_state *bs, const double c[3])
+{
+    double R = d->brush.radius;
+    if (!(d->brush.reach_edges > 0)) return R;
+    st_level_view lv;
+    st_level_view_init(&d->h.map, bs->level, &lv);
+    uint32_t v = grid_nearest(bs, &lv, c), x0 = v == ST_NIL ? ST_NIL : ed_vertex_dart(d, v);
+    if (x0 == ST_NIL) return bs->R;
+    double e = d->brush.reach_edges * vertex_edge_mean(&d->h.map, x0, bs->level);
+    return e > R ? e : R;
+}
+
 /* ---- strokes -------------------------------------------------------------------------- */
 
 int st_doc_stroke_begin(st_doc *d)
@@ -807,6 +867,7 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
     if (normalize3(nn)) memcpy(nn, up, sizeof nn);
     uint8_t which[8];
     unsigned nsym = symmetry_set(&d->brush, which);
+    if (d->brush.tool != ST_BRUSH_GRAB || !bs->grabbed) bs->R = dab_reach(d, bs, center);
     /* Fade-in: the strength rises smoothly over the first fade * R of the
      * dab centres' path, so a crease or draw stroke starts tapered instead
      * of with a full-strength dab (ZBrush's stroke taper, Blender's

@@ -347,7 +347,7 @@ int st_doc_stroke_begin(st_doc *d);
  * vertices of the faces under the cursor (issue 30: a coarse level barely
  * responded when few coarse vertices lay inside the radius).  The window's
  * panel shows it when it differs from the radius. */
-#define ST_BRUSH_REACH_EDGES 1.5
+#define ST_BRUSH_REACH_EDGES 3.0
 double st_doc_brush_reach(st_doc *d);
 int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3], const double grab_delta[3]);
 void st_doc_stroke_end(st_doc *d);
