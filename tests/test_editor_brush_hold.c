@@ -213,13 +213,23 @@ static void test_mesh(const char *label, const char *path)
                 st_doc_vertex_pos(&d, v[i], p);
                 if (fabs(p[0]) < 0.35 * scale + 2 * R && fabs(p[2] - zmid) < 0.5 * scale + 2 * R) c.cand[c.ncand++] = v[i];
             }
+            double (*p0)[3] = malloc((size_t)c.ncand * sizeof *p0);
+            for (uint32_t i = 0; i < c.ncand; i++) st_doc_vertex_pos(&d, c.cand[i], p0[i]);
             unsigned n1 = run_stroke(&c, scale, zmid), n2 = run_stroke(&c, scale, zmid);
+            /* How far the brush went: it must hold the surface, not stop. */
+            double most = 0;
+            for (uint32_t i = 0; i < c.ncand; i++) {
+                double q[3];
+                st_doc_vertex_pos(&d, c.cand[i], q);
+                most = fmax(most, ed_test_dist3(q, p0[i]));
+            }
+            free(p0);
             unsigned flipped, collapsed;
             faces_count(&d, l, &f, &flipped, &collapsed);
             const char *name = st_brush_name(tool);
             int pulls = tool == ST_BRUSH_CREASE || tool == ST_BRUSH_PINCH;
-            printf("%s level 3, mirror x %u, %-11s: %u + %u dabs, flipped %u, collapsed %u (of %u faces)\n", label,
-                   mirror, name, n1, n2, flipped, collapsed, f.n);
+            printf("%s level 3, mirror x %u, %-11s: %u + %u dabs, flipped %u, collapsed %u (of %u faces), "
+                   "moved up to %.3f R\n", label, mirror, name, n1, n2, flipped, collapsed, f.n, most / R);
             CHECKF(n1 == 40 && n2 == 40, "%s %s: %u and %u dabs", label, name, n1, n2);
             CHECKF(flipped == 0, "%s %s mirror %u: %u faces flipped", label, name, mirror, flipped);
             CHECKF(pulls || collapsed == 0, "%s %s mirror %u: %u faces collapsed", label, name, mirror, collapsed);

@@ -872,9 +872,14 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
      * dab centres' path, so a crease or draw stroke starts tapered instead
      * of with a full-strength dab (ZBrush's stroke taper, Blender's
      * "stroke" tapering in its curve strokes). */
-    if (bs->ndabs++) bs->path += sqrt((center[0] - bs->last_c[0]) * (center[0] - bs->last_c[0]) +
-                                      (center[1] - bs->last_c[1]) * (center[1] - bs->last_c[1]) +
-                                      (center[2] - bs->last_c[2]) * (center[2] - bs->last_c[2]));
+    if (bs->ndabs++) {
+        double step[3] = { center[0] - bs->last_c[0], center[1] - bs->last_c[1], center[2] - bs->last_c[2] };
+        double len = sqrt(step[0] * step[0] + step[1] * step[1] + step[2] * step[2]);
+        bs->path += len;
+        if (len > 0) for (int k = 0; k < 3; k++) bs->dir[k] = step[k] / len;
+    } else {
+        bs->dir[0] = bs->dir[1] = bs->dir[2] = 0;
+    }
     memcpy(bs->last_c, center, sizeof bs->last_c);
     bs->fadek = 1;
     if (d->brush.fade > 0 && d->brush.tool != ST_BRUSH_GRAB) {
@@ -911,6 +916,7 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
             reflect(which[s], center, mc);
             reflect(which[s], nn, mn);
             reflect(which[s], d->brush.view_dir, mv);
+            reflect(which[s], bs->dir, bs->dab_dir);
             grid_query(d, bs, mc, mn, mv);
             if (bs->ntmp) ed_brush_tool_dab(d, bs, mc, mn);
         }

@@ -11,6 +11,8 @@ struct st_brush_state {
     double R;                  /* this stroke's radius: st_doc_brush_reach at stroke begin */
     double hscale, fscale;     /* spacing attenuation of heights and of fractions (brush.c) */
     double path, last_c[3];    /* path length of the dab centres so far, the last centre (fade) */
+    double dir[3];             /* unit direction from the last dab's centre to this one's, 0: none yet */
+    double dab_dir[3];         /* dir reflected with the mirrored dab being applied */
     unsigned ndabs;
     double fadek;              /* this dab's fade-in factor */
     double edge_mean;          /* mean edge length of edge_level (cache of st_doc_brush_reach) */

@@ -109,6 +109,23 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
     }
     if (tool == ST_BRUSH_CLAY_STRIPS)
         for (int k = 0; k < 3; k++) c0[k] += sgn * 0.1 * R * pn[k];
+    /* Crease and pinch in a stroke pull across it only: in the middle of a
+     * stroke the pulls along it of the dabs before and after a vertex
+     * cancel, so dropping them changes little there; at the ends nothing
+     * cancels them, and a crease ended in a star of faces pulled in from
+     * every side (issue 30).  The stroke's direction in the dab's plane;
+     * none for the first dab or a dab in place (radial, as before). */
+    double along[3] = { 0, 0, 0 };
+    const double *stroke_dir = NULL;
+    if (tool == ST_BRUSH_CREASE || tool == ST_BRUSH_PINCH) {
+        double dn = dot3(bs->dab_dir, n);
+        for (int k = 0; k < 3; k++) along[k] = bs->dab_dir[k] - dn * n[k];
+        double len = sqrt(dot3(along, along));
+        if (len > 1e-6) {
+            for (int k = 0; k < 3; k++) along[k] /= len;
+            stroke_dir = along;
+        }
+    }
     for (uint32_t i = 0; i < bs->ntmp; i++) {
         uint32_t v = bs->tmp[i];
         double w = bs->tmpw[i], dv[3] = { 0, 0, 0 };
@@ -151,6 +168,11 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
             double along_n = dot3(to, n);
             double f = (tool == ST_BRUSH_PINCH ? sgn * 0.5 * w : 0.5 * w) * fs;
             for (int k = 0; k < 3; k++) dv[k] = f * (to[k] - along_n * n[k]);
+            if (stroke_dir) {
+                /* only across the stroke (see stroke_dir above) */
+                double a = dot3(dv, stroke_dir);
+                for (int k = 0; k < 3; k++) dv[k] -= a * stroke_dir[k];
+            }
             if (tool == ST_BRUSH_CREASE)
                 for (int k = 0; k < 3; k++) dv[k] -= sgn * w * R * 0.1 * hs * n[k];
             break;
