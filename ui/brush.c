@@ -103,13 +103,13 @@ void st_brush_defaults(st_brush *b, double radius)
      * Blender's crease and pinch leave a clean groove only with
      * Auto-Smooth raised, ZBrush's Clay and Standard brushes smooth as they
      * build; strength-1 strokes fold without it (test_editor_brush_hold). */
-    b->tool_autosmooth[ST_BRUSH_DRAW] = 0.3;
-    b->tool_autosmooth[ST_BRUSH_CLAY_STRIPS] = 0.3;
-    b->tool_autosmooth[ST_BRUSH_INFLATE] = 0.3;
-    b->tool_autosmooth[ST_BRUSH_CREASE] = 0.5;
-    b->tool_autosmooth[ST_BRUSH_PINCH] = 0.5;
-    b->tool_autosmooth[ST_BRUSH_FLATTEN] = 0.2;
-    b->tool_autosmooth[ST_BRUSH_LAYER] = 0.2;
+    b->tool_autosmooth[ST_BRUSH_DRAW] = 0.15;
+    b->tool_autosmooth[ST_BRUSH_CLAY_STRIPS] = 0.15;
+    b->tool_autosmooth[ST_BRUSH_INFLATE] = 0.15;
+    b->tool_autosmooth[ST_BRUSH_CREASE] = 0.2;
+    b->tool_autosmooth[ST_BRUSH_PINCH] = 0.2;
+    b->tool_autosmooth[ST_BRUSH_FLATTEN] = 0.1;
+    b->tool_autosmooth[ST_BRUSH_LAYER] = 0.1;
     b->strength = b->tool_strength[b->tool];
     b->autosmooth = b->tool_autosmooth[b->tool];
 }
@@ -602,19 +602,21 @@ static void autosmooth(st_doc *d, struct st_brush_state *bs, double a)
 
 /* ---- holding the surface --------------------------------------------------------------- */
 
-/* A face turned by more than HOLD_TURN from its normal when the stroke
- * first reached it, or shrunk below HOLD_AREA of its area then, is held:
+/* A face turned by more than acos HOLD_COS from its normal when the stroke
+ * first reached it, or (but under crease and pinch) shrunk below HOLD_AREA
+ * of its area then, is held:
  * issue 30 asks that no face flip (turn past 90 degrees) under any brush
  * at full strength, and that none collapse. */
 #define HOLD_COS 0.766 /* cos 40 degrees */
 #define HOLD_AREA 0.1
 
-static int face_held(const struct st_brush_state *bs, const st_level_view *lv, const uint32_t *r, const double n0[3])
+static int face_held(const struct st_brush_state *bs, const st_level_view *lv, const uint32_t *r, const double n0[3],
+                     int shrinks)
 {
     double n[3];
     face_normal(bs, lv, r, 1, n);
     double a = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), a0 = sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]);
-    return !(n[0] * n0[0] + n[1] * n0[1] + n[2] * n0[2] > HOLD_COS * a * a0) || !(a >= HOLD_AREA * a0);
+    return !(n[0] * n0[0] + n[1] * n0[1] + n[2] * n0[2] > HOLD_COS * a * a0) || (!shrinks && !(a >= HOLD_AREA * a0));
 }
 
 /* The clamp that makes the guarantee: after the brush and its auto-smooth,
@@ -627,6 +629,8 @@ static void hold_faces(st_doc *d, struct st_brush_state *bs)
 {
     st_level_view lv;
     st_level_view_init(&d->h.map, bs->level, &lv);
+    /* Crease and pinch pull vertices together: their faces may shrink. */
+    int shrinks = d->brush.tool == ST_BRUSH_CREASE || d->brush.tool == ST_BRUSH_PINCH;
     for (unsigned pass = 0; pass < 64; pass++) {
         double k = pass < 3 ? 0.5 : 0;
         unsigned held = 0;
@@ -637,7 +641,7 @@ static void hold_faces(st_doc *d, struct st_brush_state *bs)
             uint32_t nf = r[0], f0 = r[1];
             r += 2;
             for (uint32_t f = 0; f < nf; f++, r += r[0] + 2) {
-                if (!face_held(bs, &lv, r, bs->fn[f0 + f])) continue;
+                if (!face_held(bs, &lv, r, bs->fn[f0 + f], shrinks)) continue;
                 held++;
                 for (uint32_t t = 1; t <= r[0]; t++)
                     if (bs->mark[r[t]] == bs->gen)

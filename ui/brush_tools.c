@@ -166,7 +166,11 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
         case ST_BRUSH_PINCH: {
             double to[3] = { c[0] - p[0], c[1] - p[1], c[2] - p[2] };
             double along_n = dot3(to, n);
-            double f = (tool == ST_BRUSH_PINCH ? sgn * 0.5 * w : 0.5 * w) * fs;
+            /* Raw: half the offset per dab; attenuated for spacing, the
+             * whole offset over the overlap as Blender's pinch (its
+             * do_pinch_brush moves by the offset times the fade). */
+            double pk = d->brush.space_atten ? 1.0 : 0.5;
+            double f = (tool == ST_BRUSH_PINCH ? sgn * pk * w : pk * w) * fs;
             for (int k = 0; k < 3; k++) dv[k] = f * (to[k] - along_n * n[k]);
             if (stroke_dir) {
                 /* only across the stroke (see stroke_dir above) */
