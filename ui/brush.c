@@ -1,7 +1,10 @@
 /* Brush strokes at the editing level (editor.h): the spatial grid, the
  * per-vertex weight, symmetry and the stroke itself; what each brush does
  * under a dab is in brush_tools.c, the spacing of dabs along the cursor's
- * path in brush_stroke.c.
+ * path in brush_stroke.c.  Around the brushes, so that full strength holds
+ * (issue 30, tests/test_editor_brush_hold.c): the dab's reach at coarse
+ * levels (dab_reach), the stroke's fade-in, the spacing attenuation
+ * (st_brush_overlap_scale), auto-smooth and the hold (hold_faces).
  *
  * Finding the vertices under a dab: a uniform grid (hashed cells) of the
  * editing level's vertex positions, built at stroke begin with the cell

@@ -1,21 +1,26 @@
 /* What each brush does under one dab (editor.h, brush.c).
  *
- * Input: the dab's centre c and unit normal n (the surface normal under the
- * cursor), and the vertices under it with their weights w (falloff times
- * strength times the front-face test, ed_brush_weight) and unit normals vn.
- * R is the radius, sgn -1 when the stroke is inverted (Ctrl), else 1.  All
+ * Input: the dab's centre c and unit normal n, and the vertices under it
+ * with their weights w (falloff times strength times the front-face test
+ * times the stroke's fade-in, ed_brush_weight), unit normals vn and areas.
+ * With st_brush.area_plane (the default) n is the normal of the area under
+ * the dab and the plane of flatten and clay strips goes through its
+ * weighted centroid (dab_plane); without, n is the normal given with the
+ * dab (the pick's under the cursor) and the plane the plain mean's.
+ * R is the dab's radius (st_doc_brush_reach), sgn -1 when the stroke is
+ * inverted (Ctrl), else 1.  Heights below are times hs and fractions times
+ * fs, the spacing attenuation (brush.c; both 1 without it).  All
  * displacements are computed from the positions before the dab:
  *
  *   draw         along n by sgn * w * R/10 (Blender's draw: the area normal)
  *   smooth       toward the one-ring average by w
- *   flatten      toward the plane through the mean of the vertices under the
- *                dab, normal their mean normal, by w of the distance
+ *   flatten      toward the plane, by w of the distance
  *   crease       into the surface (sgn: out) along n by w * R/10, and toward
- *                the dab's axis in the plane of n by w/2 of the offset: a
- *                sharp groove whose sides are pinched together (Blender's
- *                crease, pinch factor 0.5)
- *   pinch        toward the dab's axis in the plane of n by w/2 of the offset
- *                (sgn: away)
+ *                the dab's axis in the plane of n by w/2 of the offset (w
+ *                with the attenuation, as Blender's pinch): a sharp groove
+ *                whose sides are pinched together (Blender's crease, pinch
+ *                factor 0.5); within a stroke only across it
+ *   pinch        the pinch of crease alone (sgn: away)
  *   inflate      along the vertex's own normal vn by sgn * w * R/10
  *   clay strips  toward the plane of flatten raised by sgn * R/10, only the
  *                vertices below it (sgn: above), by w of the distance: a

@@ -332,7 +332,10 @@ void st_doc_drag_cancel(st_doc *d);
  * Grab captures the vertices under its first dab and moves them by weight *
  * delta at every dab; the other brushes (brush_tools.c: draw, smooth,
  * flatten, crease, pinch, inflate, clay strips, layer, relax) displace
- * from the positions before the dab, proportionally to weight and R/10.
+ * from the positions before the dab, proportionally to weight and R/10,
+ * in the plane of the area under the dab, then auto-smooth and the hold
+ * (st_brush's settings; st_brush_raw turns them off).  R is the dab's
+ * reach (st_doc_brush_reach).
  * Symmetry (mirror_x, _y, _z, any combination) repeats the dab reflected
  * across the enabled planes of object space (up to 8 dabs, displacements
  * all from the same positions, added), so a symmetric mesh stays
