@@ -578,26 +578,34 @@ static void layer_finish(st_doc *d, struct st_brush_state *bs)
  * symmetric. */
 static void autosmooth(st_doc *d, struct st_brush_state *bs, double a)
 {
-    const st_map *m = &d->h.map;
-    unsigned l = bs->level;
+    st_level_view lv;
+    st_level_view_init(&d->h.map, bs->level, &lv);
     for (uint32_t i = 0; i < bs->nlist; i++) {
-        uint32_t v = bs->list[i], x0 = ed_vertex_dart(d, v);
+        uint32_t v = bs->list[i];
         double *o = bs->disp2[i];
         memcpy(o, bs->disp[i], sizeof bs->disp2[0]);
         double k = a * bs->accw[i];
-        if (x0 == ST_NIL || !(k > 0)) continue;
-        const double *p = st_pos(m, v, l);
+        if (!(k > 0)) continue;
+        const double *p = st_v_pos(&lv, v);
         double avg[3] = { 0, 0, 0 };
         unsigned cnt = 0;
-        uint32_t x = x0;
-        do {
-            uint32_t u = st_vert(m, st_beta0(m, x, l), l);
-            const double *q = st_pos(m, u, l);
-            int moved = bs->mark[u] == bs->gen;
-            for (int j = 0; j < 3; j++) avg[j] += q[j] + (moved ? bs->disp[bs->slot[u]][j] : 0);
-            cnt++;
-            x = ed_around(m, x, l);
-        } while (x != x0 && cnt < 1u << 16);
+        if (bs->ring_at[v]) {
+            /* The neighbours from v's ring record (every vertex a dab moves
+             * has one): the corner after v on each face around it, one per
+             * edge at v (the edge of a boundary vertex along the hole is
+             * left out); no dart walk. */
+            const uint32_t *r = bs->ring + bs->ring_at[v] - 1;
+            uint32_t nf = r[0];
+            r += 2;
+            for (uint32_t f = 0; f < nf; f++, r += r[0] + 2) {
+                uint32_t u = r[2];
+                const double *q = st_v_pos(&lv, u);
+                int moved = bs->mark[u] == bs->gen;
+                for (int j = 0; j < 3; j++) avg[j] += q[j] + (moved ? bs->disp[bs->slot[u]][j] : 0);
+                cnt++;
+            }
+        }
+        if (!cnt) continue;
         for (int j = 0; j < 3; j++) o[j] += k * (avg[j] / cnt - p[j] - bs->disp[i][j]);
     }
     for (uint32_t i = 0; i < bs->nlist; i++) memcpy(bs->disp[i], bs->disp2[i], sizeof bs->disp[0]);
@@ -644,7 +652,12 @@ static void hold_faces(st_doc *d, struct st_brush_state *bs)
             uint32_t nf = r[0], f0 = r[1];
             r += 2;
             for (uint32_t f = 0; f < nf; f++, r += r[0] + 2) {
-                if (!face_held(bs, &lv, r, bs->fn[f0 + f], shrinks)) continue;
+                /* Each face once per pass: from its moved corner of the
+                 * smallest id (v is one; ids only, no positions). */
+                int first = 1;
+                for (uint32_t t = 1; t < r[0] && first; t++)
+                    if (r[t + 1] < v && bs->mark[r[t + 1]] == bs->gen && bs->ring_at[r[t + 1]]) first = 0;
+                if (!first || !face_held(bs, &lv, r, bs->fn[f0 + f], shrinks)) continue;
                 held++;
                 for (uint32_t t = 1; t <= r[0]; t++)
                     if (bs->mark[r[t]] == bs->gen)
@@ -751,6 +764,10 @@ static double dab_reach(st_doc *d, struct st_brush_state *bs, const double c[3])
 {
     double R = d->brush.radius;
     if (!(d->brush.reach_edges > 0)) return R;
+    /* A fine level (the level's mean edge far below the radius): no search
+     * (the grid's cells there hold thousands of vertices each).  Local
+     * edges of a cage differ from the mean by a few times, hence 8. */
+    if (8 * d->brush.reach_edges * bs->edge_mean < R) return R;
     st_level_view lv;
     st_level_view_init(&d->h.map, bs->level, &lv);
     uint32_t v = grid_nearest(bs, &lv, c), x0 = v == ST_NIL ? ST_NIL : ed_vertex_dart(d, v);
