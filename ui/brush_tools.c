@@ -119,10 +119,11 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
      * cancel, so dropping them changes little there; at the ends nothing
      * cancels them, and a crease ended in a star of faces pulled in from
      * every side (issue 30).  The stroke's direction in the dab's plane;
-     * none for the first dab or a dab in place (radial, as before). */
+     * none for the first dab or a dab in place (radial, as before).  With
+     * the stroke's fade (st_brush.fade > 0): both taper a stroke's ends. */
     double along[3] = { 0, 0, 0 };
     const double *stroke_dir = NULL;
-    if (tool == ST_BRUSH_CREASE || tool == ST_BRUSH_PINCH) {
+    if ((tool == ST_BRUSH_CREASE || tool == ST_BRUSH_PINCH) && d->brush.fade > 0) {
         double dn = dot3(bs->dab_dir, n);
         for (int k = 0; k < 3; k++) along[k] = bs->dab_dir[k] - dn * n[k];
         double len = sqrt(dot3(along, along));

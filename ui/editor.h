@@ -94,7 +94,9 @@ typedef struct st_brush {
                                   default): each dab's strength is divided by how many dabs overlap
                                   at `spacing`, so a stroke deposits the same whatever the spacing */
     double fade;               /* strength fades in over the first fade * radius of a stroke's path
-                                  (0: none), so a stroke does not start with a full-strength dab */
+                                  (0: none), so a stroke does not start with a full-strength dab;
+                                  with it crease and pinch pull across the stroke only, so its end
+                                  is not a star (brush_tools.c) */
     double reach_edges;        /* a dab takes in at least this many mean edge lengths of the editing
                                   level (st_doc_brush_reach; 0: the radius only) */
     int area_plane;            /* draw, crease, pinch, flatten and clay strips work in the plane of the
