@@ -170,6 +170,7 @@ void ed_brush_state_free(struct st_brush_state *bs)
     free(bs->slot);
     free(bs->lay_o);
     free(bs->lay_n0);
+    free(bs->held);
     free(bs->list);
     free(bs->disp);
     free(bs->lay_t);
@@ -618,7 +619,7 @@ static void autosmooth(st_doc *d, struct st_brush_state *bs, double a)
  * of its area then, is held:
  * issue 30 asks that no face flip (turn past 90 degrees) under any brush
  * at full strength, and that none collapse. */
-#define HOLD_COS 0.766 /* cos 40 degrees */
+#define HOLD_COS 0.719 /* cos 44 degrees: two strokes stay under 90 */
 #define HOLD_AREA 0.1
 
 static int face_held(const struct st_brush_state *bs, const st_level_view *lv, const uint32_t *r, const double n0[3],
@@ -632,19 +633,59 @@ static int face_held(const struct st_brush_state *bs, const st_level_view *lv, c
 
 /* The clamp that makes the guarantee: after the brush and its auto-smooth,
  * every face around a vertex the dab moves is checked against its
- * reference; the displacements of the corners of a face that would be
- * held are halved, then (after three passes) taken back, until none is.
- * A face whose corners all stay where they were is as it was before the
- * dab, which held, so this ends (at worst with the dab taken back). */
+ * reference.  Around the faces that would be held the dab is damped
+ * smoothly: each moved vertex's displacement is scaled by
+ * 1 - k K(d / rho), K the smooth falloff, d its distance to the nearest
+ * held face's first corner, rho half the dab's radius, k = 1/2, pass after
+ * pass (the displacement stays a smooth field: halving the corners of the
+ * held faces alone left the surface crumpled, and so did slowing each
+ * vertex by its own normal's turn).  After HOLD_SMOOTH passes the corners
+ * of faces still held are taken back, until none is: a face whose
+ * corners all stay where they were is as it was before the dab, which
+ * held, so this ends (at worst with the dab taken back). */
+#define HOLD_SMOOTH 8
+
+/* Records a held face by its first corner p, unless a point within
+ * `merge` is recorded already (a held region is a few points apart, not
+ * one per face: hold_damp visits every moved vertex per point). */
+static void hold_push(struct st_brush_state *bs, const double p[3], double merge)
+{
+    for (uint32_t h = 0; h < bs->nheld; h++) {
+        double dx = p[0] - bs->held[h][0], dy = p[1] - bs->held[h][1], dz = p[2] - bs->held[h][2];
+        if (dx * dx + dy * dy + dz * dz < merge * merge) return;
+    }
+    if (bs->nheld == bs->capheld) {
+        bs->capheld = bs->capheld ? 2 * bs->capheld : 64;
+        bs->held = ed_xrealloc(bs->held, (size_t)bs->capheld * sizeof *bs->held);
+    }
+    memcpy(bs->held[bs->nheld++], p, sizeof bs->held[0]);
+}
+
+/* Scales every displacement by 1 - k K(distance to the nearest held point / rho). */
+static void hold_damp(struct st_brush_state *bs, const st_level_view *lv, double rho, double k)
+{
+    for (uint32_t i = 0; i < bs->nlist; i++) {
+        const double *p = st_v_pos(lv, bs->list[i]);
+        double near = INFINITY;
+        for (uint32_t h = 0; h < bs->nheld; h++) {
+            double dx = p[0] - bs->held[h][0], dy = p[1] - bs->held[h][1], dz = p[2] - bs->held[h][2];
+            double r2 = dx * dx + dy * dy + dz * dz;
+            if (r2 < near) near = r2;
+        }
+        double f = 1 - k * st_falloff_eval(ST_FALLOFF_SMOOTH, sqrt(near), rho);
+        for (int j = 0; j < 3; j++) bs->disp[i][j] *= f;
+    }
+}
+
 static void hold_faces(st_doc *d, struct st_brush_state *bs)
 {
     st_level_view lv;
     st_level_view_init(&d->h.map, bs->level, &lv);
     /* Crease and pinch pull vertices together: their faces may shrink. */
     int shrinks = d->brush.tool == ST_BRUSH_CREASE || d->brush.tool == ST_BRUSH_PINCH;
-    for (unsigned pass = 0; pass < 64; pass++) {
-        double k = pass < 3 ? 0.5 : 0;
-        unsigned held = 0;
+    for (unsigned pass = 0; pass < HOLD_SMOOTH + 64; pass++) {
+        int hard = pass >= HOLD_SMOOTH;
+        bs->nheld = 0;
         for (uint32_t i = 0; i < bs->nlist; i++) {
             uint32_t v = bs->list[i];
             if (!bs->ring_at[v]) continue;
@@ -658,13 +699,15 @@ static void hold_faces(st_doc *d, struct st_brush_state *bs)
                 for (uint32_t t = 1; t < r[0] && first; t++)
                     if (r[t + 1] < v && bs->mark[r[t + 1]] == bs->gen && bs->ring_at[r[t + 1]]) first = 0;
                 if (!first || !face_held(bs, &lv, r, bs->fn[f0 + f], shrinks)) continue;
-                held++;
-                for (uint32_t t = 1; t <= r[0]; t++)
-                    if (bs->mark[r[t]] == bs->gen)
-                        for (int j = 0; j < 3; j++) bs->disp[bs->slot[r[t]]][j] *= k;
+                hold_push(bs, st_v_pos(&lv, r[1]), 0.125 * bs->R);
+                if (hard)
+                    for (uint32_t t = 1; t <= r[0]; t++)
+                        if (bs->mark[r[t]] == bs->gen)
+                            for (int j = 0; j < 3; j++) bs->disp[bs->slot[r[t]]][j] = 0;
             }
         }
-        if (!held) return;
+        if (!bs->nheld) return;
+        if (!hard) hold_damp(bs, &lv, 0.5 * bs->R, 0.5);
     }
     for (uint32_t i = 0; i < bs->nlist; i++) bs->disp[i][0] = bs->disp[i][1] = bs->disp[i][2] = 0;
 }
