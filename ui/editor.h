@@ -102,7 +102,7 @@ typedef struct st_brush {
     int area_plane;            /* draw, crease, pinch, flatten and clay strips work in the plane of the
                                   area under the dab (Blender's default Sculpt Plane "Area Plane"); 0:
                                   along the normal given with the dab, flatten in the plain mean */
-    int hold;                  /* clamp each dab so that no face turns more than 40 degrees or shrinks
+    int hold;                  /* damp each dab so that no face turns more than 44 degrees or shrinks
                                   below 10 % of its area within a stroke (brush.c: hold_faces) */
     double autosmooth;         /* of the current tool, 0..1: after each dab the vertices under it
                                   are smoothed by autosmooth * weight (Blender's Auto-Smooth) */
