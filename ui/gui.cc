@@ -1003,12 +1003,14 @@ void side_panel(st_app *a)
             }
             float r = (float)d->brush.radius, s = (float)d->brush.strength;
             float rmax = (float)a->cc.radius;
-            if (ImGui::SliderFloat("radius", &r, 0.002f * rmax, rmax, "%.4g", ImGuiSliderFlags_Logarithmic)) d->brush.radius = r;
-            probe_item("panel:radius");
             /* At a coarse level a dab takes in at least the faces under the
-             * cursor (st_doc_brush_reach): say so when that is more. */
+             * cursor (st_doc_brush_reach): the slider says so when that is
+             * more (in its text, so that the panel's rows stay put). */
             double reach = a->tool != ST_TOOL_SELECT && d->loaded ? st_doc_brush_reach(d) : d->brush.radius;
-            if (reach > d->brush.radius) ImGui::TextDisabled("reach at this level %.4g (its faces)", reach);
+            char rfmt[48] = "%.4g";
+            if (reach > d->brush.radius) snprintf(rfmt, sizeof rfmt, "%%.4g (reach %.3g)", reach);
+            if (ImGui::SliderFloat("radius", &r, 0.002f * rmax, rmax, rfmt, ImGuiSliderFlags_Logarithmic)) d->brush.radius = r;
+            probe_item("panel:radius");
             if (ImGui::SliderFloat("strength", &s, 0.02f, 1.0f, "%.2f")) d->brush.strength = s;
             /* Symmetry in the model's axes (brush.c). */
             bool mx = d->brush.mirror_x != 0, my = d->brush.mirror_y != 0, mz = d->brush.mirror_z != 0;
