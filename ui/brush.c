@@ -171,6 +171,7 @@ void ed_brush_state_free(struct st_brush_state *bs)
     free(bs->lay_o);
     free(bs->lay_n0);
     free(bs->held);
+    free(bs->heldr);
     free(bs->list);
     free(bs->disp);
     free(bs->lay_t);
@@ -612,6 +613,22 @@ static void autosmooth(st_doc *d, struct st_brush_state *bs, double a)
     for (uint32_t i = 0; i < bs->nlist; i++) memcpy(bs->disp[i], bs->disp2[i], sizeof bs->disp[0]);
 }
 
+/* v reflected across the planes of the set bits of `which` (1 x, 2 y, 4 z). */
+static void reflect(uint8_t which, const double v[3], double out[3])
+{
+    for (int k = 0; k < 3; k++) out[k] = which >> k & 1 ? -v[k] : v[k];
+}
+
+/* The mirrored dabs of the brush's symmetry: every subset of the enabled
+ * planes (0 is the dab itself); returns how many. */
+static unsigned symmetry_set(const st_brush *b, uint8_t which[8])
+{
+    unsigned mask = (b->mirror_x ? 1u : 0) | (b->mirror_y ? 2u : 0) | (b->mirror_z ? 4u : 0), n = 0;
+    for (unsigned s = 0; s < 8; s++)
+        if (!(s & ~mask)) which[n++] = (uint8_t)s;
+    return n;
+}
+
 /* ---- holding the surface --------------------------------------------------------------- */
 
 /* A face turned by more than acos HOLD_COS from its normal when the stroke
@@ -636,29 +653,72 @@ static int face_held(const struct st_brush_state *bs, const st_level_view *lv, c
  * reference.  Around the faces that would be held the dab is damped
  * smoothly: each moved vertex's displacement is scaled by
  * 1 - k K(d / rho), K the smooth falloff, d its distance to the nearest
- * held face's first corner, rho half the dab's radius, k = 1/2, pass after
+ * held face (its centroid on a lattice of R/8, hold_push), rho half
+ * the dab's radius, k = 1/2, pass after
  * pass (the displacement stays a smooth field: halving the corners of the
  * held faces alone left the surface crumpled, and so did slowing each
  * vertex by its own normal's turn).  After HOLD_SMOOTH passes the corners
- * of faces still held are taken back, until none is: a face whose
+ * of faces still held (and their mirror images) are taken back, until
+ * none is: a face whose
  * corners all stay where they were is as it was before the dab, which
  * held, so this ends (at worst with the dab taken back). */
 #define HOLD_SMOOTH 8
 
-/* Records a held face by its first corner p, unless a point within
- * `merge` is recorded already (a held region is a few points apart, not
- * one per face: hold_damp visits every moved vertex per point). */
-static void hold_push(struct st_brush_state *bs, const double p[3], double merge)
+/* Records a held face by its centroid c snapped to the lattice of spacing
+ * h, unless that lattice point is recorded already (a held region is a
+ * few points, not one per face: hold_damp visits every moved vertex per
+ * point).  round() is odd, so the lattice points of mirrored faces are
+ * mirrored and a symmetric dab stays symmetric. */
+static void hold_point(struct st_brush_state *bs, const double p[3], double reach)
 {
-    for (uint32_t h = 0; h < bs->nheld; h++) {
-        double dx = p[0] - bs->held[h][0], dy = p[1] - bs->held[h][1], dz = p[2] - bs->held[h][2];
-        if (dx * dx + dy * dy + dz * dz < merge * merge) return;
-    }
+    for (uint32_t i = 0; i < bs->nheld; i++)
+        if (bs->held[i][0] == p[0] && bs->held[i][1] == p[1] && bs->held[i][2] == p[2]) {
+            if (reach > bs->heldr[i]) bs->heldr[i] = reach;
+            return;
+        }
     if (bs->nheld == bs->capheld) {
         bs->capheld = bs->capheld ? 2 * bs->capheld : 64;
         bs->held = ed_xrealloc(bs->held, (size_t)bs->capheld * sizeof *bs->held);
+        bs->heldr = ed_xrealloc(bs->heldr, (size_t)bs->capheld * sizeof *bs->heldr);
     }
+    bs->heldr[bs->nheld] = reach;
     memcpy(bs->held[bs->nheld++], p, sizeof bs->held[0]);
+}
+
+/* ... with its reflections across the brush's symmetry planes too: a held
+ * face and its mirror image damp alike even where rounding held only one
+ * of them (their normals are summed in opposite orders). */
+static void hold_push(struct st_brush_state *bs, const st_brush *b, const double c[3], double corner, double h)
+{
+    uint8_t which[8];
+    unsigned nsym = symmetry_set(b, which);
+    double p[3], q[3], off = 0;
+    for (int k = 0; k < 3; k++) {
+        p[k] = round(c[k] / h) * h;
+        off += (p[k] - c[k]) * (p[k] - c[k]);
+    }
+    /* reach: every corner of the face is within it of p */
+    double reach = corner + sqrt(off) + 1e-9 * h;
+    for (unsigned s = 0; s < nsym; s++) {
+        reflect(which[s], p, q);
+        hold_point(bs, q, reach);
+    }
+}
+
+/* The hard pass: every moved vertex within a held point's reach (so every
+ * corner of every held face, and their mirror images) is taken back. */
+static void hold_zero(struct st_brush_state *bs, const st_level_view *lv)
+{
+    for (uint32_t i = 0; i < bs->nlist; i++) {
+        const double *p = st_v_pos(lv, bs->list[i]);
+        for (uint32_t h = 0; h < bs->nheld; h++) {
+            double dx = p[0] - bs->held[h][0], dy = p[1] - bs->held[h][1], dz = p[2] - bs->held[h][2];
+            if (dx * dx + dy * dy + dz * dz <= bs->heldr[h] * bs->heldr[h]) {
+                bs->disp[i][0] = bs->disp[i][1] = bs->disp[i][2] = 0;
+                break;
+            }
+        }
+    }
 }
 
 /* Scales every displacement by 1 - k K(distance to the nearest held point / rho). */
@@ -693,21 +753,27 @@ static void hold_faces(st_doc *d, struct st_brush_state *bs)
             uint32_t nf = r[0], f0 = r[1];
             r += 2;
             for (uint32_t f = 0; f < nf; f++, r += r[0] + 2) {
-                /* Each face once per pass: from its moved corner of the
-                 * smallest id (v is one; ids only, no positions). */
-                int first = 1;
-                for (uint32_t t = 1; t < r[0] && first; t++)
-                    if (r[t + 1] < v && bs->mark[r[t + 1]] == bs->gen && bs->ring_at[r[t + 1]]) first = 0;
-                if (!first || !face_held(bs, &lv, r, bs->fn[f0 + f], shrinks)) continue;
-                hold_push(bs, st_v_pos(&lv, r[1]), 0.125 * bs->R);
-                if (hard)
-                    for (uint32_t t = 1; t <= r[0]; t++)
-                        if (bs->mark[r[t]] == bs->gen)
-                            for (int j = 0; j < 3; j++) bs->disp[bs->slot[r[t]]][j] = 0;
+                /* A face is checked from each moved corner, against the
+                 * reference that corner's ring recorded: mirrored faces
+                 * then get mirrored decisions (checking it once, from one
+                 * corner chosen by id, did not: ids are not mirrored). */
+                if (!face_held(bs, &lv, r, bs->fn[f0 + f], shrinks)) continue;
+                double c[3] = { 0, 0, 0 }, corner = 0;
+                for (uint32_t t = 1; t <= r[0]; t++) {
+                    const double *q = st_v_pos(&lv, r[t]);
+                    for (int j = 0; j < 3; j++) c[j] += q[j] / r[0];
+                }
+                for (uint32_t t = 1; t <= r[0]; t++) {
+                    const double *q = st_v_pos(&lv, r[t]);
+                    double e = sqrt((q[0] - c[0]) * (q[0] - c[0]) + (q[1] - c[1]) * (q[1] - c[1]) + (q[2] - c[2]) * (q[2] - c[2]));
+                    if (e > corner) corner = e;
+                }
+                hold_push(bs, &d->brush, c, corner, 0.125 * bs->R);
             }
         }
         if (!bs->nheld) return;
-        if (!hard) hold_damp(bs, &lv, 0.5 * bs->R, 0.5);
+        if (hard) hold_zero(bs, &lv);
+        else hold_damp(bs, &lv, 0.5 * bs->R, 0.5);
     }
     for (uint32_t i = 0; i < bs->nlist; i++) bs->disp[i][0] = bs->disp[i][1] = bs->disp[i][2] = 0;
 }
@@ -902,22 +968,6 @@ static void grab_capture(st_doc *d, struct st_brush_state *bs, const double c[3]
         bs->gw[bs->ng] = bs->tmpw[i];
         bs->gk[bs->ng++] = which;
     }
-}
-
-/* v reflected across the planes of the set bits of `which` (1 x, 2 y, 4 z). */
-static void reflect(uint8_t which, const double v[3], double out[3])
-{
-    for (int k = 0; k < 3; k++) out[k] = which >> k & 1 ? -v[k] : v[k];
-}
-
-/* The mirrored dabs of the brush's symmetry: every subset of the enabled
- * planes (0 is the dab itself); returns how many. */
-static unsigned symmetry_set(const st_brush *b, uint8_t which[8])
-{
-    unsigned mask = (b->mirror_x ? 1u : 0) | (b->mirror_y ? 2u : 0) | (b->mirror_z ? 4u : 0), n = 0;
-    for (unsigned s = 0; s < 8; s++)
-        if (!(s & ~mask)) which[n++] = (uint8_t)s;
-    return n;
 }
 
 int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3], const double grab_delta[3])

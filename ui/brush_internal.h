@@ -45,7 +45,8 @@ struct st_brush_state {
     uint32_t *ring_at;         /* per vertex: 1 + offset in ring, 0: not recorded in this stroke */
     uint32_t *ring, nring, capring;
     double (*fn)[3];           /* per face of a ring record: its Newell normal when recorded (hold_faces) */
-    double (*held)[3];         /* hold_faces: a corner of each face held in this pass */
+    double (*held)[3];         /* hold_faces: the faces held in this pass (lattice points, mirrored) */
+    double *heldr;             /* ... and the distance from each within which their corners lie */
     uint32_t nheld, capheld;
     uint32_t nfn, capfn;
     /* grab */
