@@ -102,10 +102,11 @@ void st_brush_defaults(st_brush *b, double radius)
         b->tool_strength[t] = t == ST_BRUSH_GRAB ? 1.0 : 0.5;
         b->tool_falloff[t] = ST_FALLOFF_SMOOTH;
     }
-    /* Auto-smooth where the anchors keep the surface even under the brush:
-     * Blender's crease and pinch leave a clean groove only with
-     * Auto-Smooth raised, ZBrush's Clay and Standard brushes smooth as they
-     * build; strength-1 strokes fold without it (test_editor_brush_hold). */
+    /* Auto-smooth (Blender's per-brush Auto-Smooth, sculpt.c
+     * do_brush_action, which ships at 0 and which sculptors raise for
+     * crease and pinch): on here for the brushes whose strength-1 strokes
+     * pile up sharp ridges and creases without it (test_editor_brush_hold),
+     * low enough that a crease stays a crease. */
     b->tool_autosmooth[ST_BRUSH_DRAW] = 0.15;
     b->tool_autosmooth[ST_BRUSH_CLAY_STRIPS] = 0.15;
     b->tool_autosmooth[ST_BRUSH_INFLATE] = 0.15;
