@@ -564,9 +564,26 @@ static void layer_finish(st_doc *d, struct st_brush_state *bs)
     for (uint32_t i = 0; i < bs->nlist; i++) {
         uint32_t v = bs->list[i];
         double step = bs->lay_t[i] - bs->lay_o[v];
+        bs->lay_t[i] = -1; /* from here: the height before this dab, -1 none asked */
         if (!(step > 0)) continue;
-        bs->lay_o[v] = bs->lay_t[i];
+        bs->lay_t[i] = bs->lay_o[v];
+        bs->lay_o[v] += step;
         for (int k = 0; k < 3; k++) bs->disp[i][k] = sgn * step * bs->lay_n0[v][k];
+    }
+}
+
+/* After auto-smooth and the hold changed the layer's steps: the height
+ * each vertex reached is what moved it along its layer direction, so a
+ * held vertex rises the rest of the way in a later dab if it can. */
+static void layer_settle(st_doc *d, struct st_brush_state *bs)
+{
+    double sgn = d->brush.invert ? -1 : 1;
+    for (uint32_t i = 0; i < bs->nlist; i++) {
+        if (bs->lay_t[i] < 0) continue;
+        uint32_t v = bs->list[i];
+        const double *n = bs->lay_n0[v], *dv = bs->disp[i];
+        double got = sgn * (dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2]);
+        bs->lay_o[v] = bs->lay_t[i] + (got > 0 ? fmin(got, bs->lay_o[v] - bs->lay_t[i]) : 0);
     }
 }
 
@@ -1042,6 +1059,7 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
         int smoother = d->brush.tool == ST_BRUSH_SMOOTH || d->brush.tool == ST_BRUSH_RELAX;
         if (!smoother && d->brush.autosmooth > 0) autosmooth(d, bs, fmin(d->brush.autosmooth, 1));
         if (d->brush.hold) hold_faces(d, bs);
+        if (d->brush.tool == ST_BRUSH_LAYER && (d->brush.hold || d->brush.autosmooth > 0)) layer_settle(d, bs);
     }
     if (!bs->nlist) return 0;
     uint32_t *darts = ed_xrealloc(NULL, (size_t)bs->nlist * sizeof *darts);
