@@ -12,6 +12,10 @@ void ed_test_open(st_doc *d, const char *path, const char *scheme, unsigned leve
     st_error err;
     int rc = st_doc_open(d, path, scheme, levels, &err);
     CHECKF(rc == 0, "open %s: %s", path, err.msg);
+    /* The brush tests written for the formulas of one dab run the raw dab
+     * (no auto-smooth, spacing attenuation, fade or coarse reach);
+     * test_editor_brush_hold and test_editor_coarse_grab run the defaults. */
+    st_brush_raw(&d->brush);
 }
 
 uint32_t ed_test_level_vertices(const st_doc *d, unsigned l, uint32_t **out)

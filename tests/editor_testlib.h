@@ -6,7 +6,8 @@
 
 #include "editor.h"
 
-/* st_doc_open, a failed check (with the editor's message) when it fails. */
+/* st_doc_open, a failed check (with the editor's message) when it fails;
+ * the brush set to the raw dab (st_brush_raw). */
 void ed_test_open(st_doc *d, const char *path, const char *scheme, unsigned levels);
 /* The vertices of level l in enumeration order (one dart each), into a
  * malloc'ed *out; returns their number. */

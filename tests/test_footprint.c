@@ -276,6 +276,10 @@ static void check_document(st_headless *hl, const char *path, const char *scheme
     d.brush.tool = ST_BRUSH_DRAW;
     d.brush.radius = 0.4;
     d.brush.strength = 0.5;
+    /* A dab of this radius, local: the coarse-level reach (3 edges of
+     * level 1, st_doc_brush_reach) would take in the whole 18-vertex
+     * level, and this checks the footprint of part of it. */
+    d.brush.reach_edges = 0;
     double c[3], n[3] = { 0, 0, 1 };
     st_doc_vertex_pos(&d, r.cage.vid[r.cage.nverts / 2], c);
     CHECK(st_doc_stroke_begin(&d) == 0);

@@ -8,6 +8,19 @@
 
 struct st_brush_state {
     unsigned level;
+    double R;                  /* this stroke's radius: st_doc_brush_reach at stroke begin */
+    double hscale, fscale;     /* spacing attenuation of heights and of fractions (brush.c) */
+    double path, last_c[3];    /* path length of the dab centres so far, the last centre (fade) */
+    double dir[3];             /* unit direction from the last dab's centre to this one's, 0: none yet */
+    double dab_dir[3];         /* dir reflected with the mirrored dab being applied */
+    unsigned ndabs;
+    double fadek;              /* this dab's fade-in factor */
+    double edge_mean;          /* mean edge length of edge_level (cache of st_doc_brush_reach) */
+    unsigned edge_level;
+    uint32_t edge_key;         /* verts.end of the map when edge_mean was taken, 0: none */
+    double *accw;              /* per list slot: the largest weight a dab gave the vertex (auto-smooth) */
+    double (*disp2)[3];        /* auto-smooth's result, per list slot */
+    double *tmpa;              /* per tmp entry: the vertex's area (length of its area-weighted normal) */
     double cs;                 /* cell size */
     uint64_t *hkey;            /* cell hash: key -> first vertex */
     uint32_t *hhead, hcap, hn;
@@ -31,6 +44,11 @@ struct st_brush_state {
      * each vertex in the order its normal sums them, kept for the stroke. */
     uint32_t *ring_at;         /* per vertex: 1 + offset in ring, 0: not recorded in this stroke */
     uint32_t *ring, nring, capring;
+    double (*fn)[3];           /* per face of a ring record: its Newell normal when recorded (hold_faces) */
+    double (*held)[3];         /* hold_faces: the faces held in this pass (lattice points, mirrored) */
+    double *heldr;             /* ... and the distance from each within which their corners lie */
+    uint32_t nheld, capheld;
+    uint32_t nfn, capfn;
     /* grab */
     int grabbed;
     uint32_t *gv;
@@ -50,6 +68,9 @@ uint32_t ed_around(const st_map *m, uint32_t x, unsigned l);
 double ed_brush_weight(const st_doc *d, uint32_t v, double r, const double vn[3], const double view[3]);
 /* Adds a displacement of v into this dab's accumulator. */
 void ed_brush_acc(struct st_brush_state *bs, uint32_t v, const double dv[3]);
+/* Records the weight w of v under this dab (the largest counts): the
+ * strength of auto-smooth there. */
+void ed_brush_acc_weight(struct st_brush_state *bs, uint32_t v, double w);
 /* Layer: the height h (>= 0) the dab raises v to; the largest over the
  * mirrored dabs counts.  n: v's unit normal now, kept as the direction of
  * the layer at v when the stroke first reaches it. */

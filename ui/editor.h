@@ -90,19 +90,44 @@ typedef struct st_brush {
     double view_dir[3];        /* direction the view looks in object space, set by the window at
                                   stroke begin; zero: unknown (no front-face test) */
     double spacing;            /* dabs every spacing * radius along the path (window strokes) */
+    int space_atten;           /* Blender's "Adjust Strength for Spacing" (BRUSH_SPACE_ATTEN, on by
+                                  default): each dab's strength is divided by how many dabs overlap
+                                  at `spacing`, so a stroke deposits the same whatever the spacing */
+    double fade;               /* strength fades in over the first fade * radius of a stroke's path
+                                  (0: none), so a stroke does not start with a full-strength dab;
+                                  with it crease and pinch pull across the stroke only, so its end
+                                  is not a star (brush_tools.c) */
+    double reach_edges;        /* a dab takes in at least this many mean edge lengths of the editing
+                                  level (st_doc_brush_reach; 0: the radius only) */
+    int area_plane;            /* draw, crease, pinch, flatten and clay strips work in the plane of the
+                                  area under the dab (Blender's default Sculpt Plane "Area Plane"); 0:
+                                  along the normal given with the dab, flatten in the plain mean */
+    int hold;                  /* damp each dab so that no face turns more than 44 degrees or shrinks
+                                  below 10 % of its area within a stroke (brush.c: hold_faces) */
+    double autosmooth;         /* of the current tool, 0..1: after each dab the vertices under it
+                                  are smoothed by autosmooth * weight (Blender's Auto-Smooth) */
     int stabilize;             /* lazy mouse: the brush trails the cursor by stabilize_dist * radius */
     double stabilize_dist;
     /* Each tool's own strength and falloff, kept while another tool is
      * active (st_brush_set_tool). */
     double tool_strength[ST_BRUSH_COUNT];
     int tool_falloff[ST_BRUSH_COUNT];
+    double tool_autosmooth[ST_BRUSH_COUNT];
 } st_brush;
 
 /* Default settings of every brush (radius r). */
 void st_brush_defaults(st_brush *b, double radius);
-/* Makes `tool` current: keeps the current tool's strength and falloff and
- * takes the new one's. */
+/* Makes `tool` current: keeps the current tool's strength, falloff and
+ * auto-smooth and takes the new one's. */
 void st_brush_set_tool(st_brush *b, int tool);
+/* The raw dab of every tool: no auto-smooth, no spacing attenuation, no
+ * fade, no coarse-level reach, no area plane, no hold (what the brush formulas of brush_tools.c
+ * give for one dab; the document tests written for them pin it). */
+void st_brush_raw(st_brush *b);
+/* Multiplier of a dab's strength for dabs `spacing` radii apart with the
+ * falloff preset `falloff`: 1 / the largest sum of overlapping falloffs
+ * (Blender's integrate_overlap); 1 for spacing <= 0. */
+double st_brush_overlap_scale(int falloff, double spacing);
 
 /* What the last operations changed, for the renderer (accumulated until
  * st_doc_take_change()). */
@@ -335,7 +360,10 @@ void st_doc_drag_cancel(st_doc *d);
  * Grab captures the vertices under its first dab and moves them by weight *
  * delta at every dab; the other brushes (brush_tools.c: draw, smooth,
  * flatten, crease, pinch, inflate, clay strips, layer, relax) displace
- * from the positions before the dab, proportionally to weight and R/10.
+ * from the positions before the dab, proportionally to weight and R/10,
+ * in the plane of the area under the dab, then auto-smooth and the hold
+ * (st_brush's settings; st_brush_raw turns them off).  R is the dab's
+ * reach (st_doc_brush_reach).
  * Symmetry (mirror_x, _y, _z, any combination) repeats the dab reflected
  * across the enabled planes of object space (up to 8 dabs, displacements
  * all from the same positions, added), so a symmetric mesh stays
@@ -344,6 +372,14 @@ void st_doc_drag_cancel(st_doc *d);
  * re-inserting every moved vertex (brush.c).  Normal may be NULL (+z);
  * grab_delta may be NULL (zero). */
 int st_doc_stroke_begin(st_doc *d);
+/* The radius brushes take in at the editing level: the brush radius, or
+ * brush.reach_edges (default ST_BRUSH_REACH_EDGES) times the mean edge
+ * length of the editing level when that is larger, so that at a coarse level a dab takes in at least the
+ * vertices of the faces under the cursor (issue 30: a coarse level barely
+ * responded when few coarse vertices lay inside the radius).  The window's
+ * panel shows it when it differs from the radius. */
+#define ST_BRUSH_REACH_EDGES 3.0
+double st_doc_brush_reach(st_doc *d);
 int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3], const double grab_delta[3]);
 void st_doc_stroke_end(st_doc *d);
 

@@ -1098,7 +1098,13 @@ void side_panel(st_app *a)
             }
             float r = (float)d->brush.radius, s = (float)d->brush.strength;
             float rmax = (float)a->cc.radius;
-            if (ImGui::SliderFloat("radius", &r, 0.002f * rmax, rmax, "%.4g", ImGuiSliderFlags_Logarithmic)) d->brush.radius = r;
+            /* At a coarse level a dab takes in at least the faces under the
+             * cursor (st_doc_brush_reach): the slider says so when that is
+             * more (in its text, so that the panel's rows stay put). */
+            double reach = a->tool != ST_TOOL_SELECT && d->loaded ? st_doc_brush_reach(d) : d->brush.radius;
+            char rfmt[48] = "%.4g";
+            if (reach > d->brush.radius) snprintf(rfmt, sizeof rfmt, "%%.4g (reach %.3g)", reach);
+            if (ImGui::SliderFloat("radius", &r, 0.002f * rmax, rmax, rfmt, ImGuiSliderFlags_Logarithmic)) d->brush.radius = r;
             probe_item("panel:radius");
             if (ImGui::SliderFloat("strength", &s, 0.02f, 1.0f, "%.2f")) d->brush.strength = s;
             /* Symmetry in the model's axes (brush.c). */
@@ -1118,6 +1124,15 @@ void side_panel(st_app *a)
                 }
                 float sp = (float)d->brush.spacing;
                 if (ImGui::SliderFloat("spacing", &sp, 0.0f, 1.0f, "%.2f radius")) d->brush.spacing = sp;
+                /* Per brush (brush.c: autosmooth); the stroke's fade-in,
+                 * spacing attenuation and hold for every brush. */
+                float as = (float)d->brush.autosmooth, fade = (float)d->brush.fade;
+                if (ImGui::SliderFloat("auto-smooth", &as, 0.0f, 1.0f, "%.2f")) d->brush.autosmooth = as;
+                if (ImGui::SliderFloat("fade-in", &fade, 0.0f, 4.0f, "%.2f radius")) d->brush.fade = fade;
+                bool atten = d->brush.space_atten != 0, hold = d->brush.hold != 0;
+                if (ImGui::Checkbox("strength for spacing", &atten)) d->brush.space_atten = atten;
+                ImGui::SameLine();
+                if (ImGui::Checkbox("hold the surface", &hold)) d->brush.hold = hold;
                 bool lazy = d->brush.stabilize != 0;
                 if (ImGui::Checkbox("stabiliser", &lazy)) d->brush.stabilize = lazy;
                 ImGui::SameLine();
