@@ -183,7 +183,7 @@ static void save_session(const st_doc *d, const char *label, const char *name, u
     snprintf(path, sizeof path, "%s/%s_%s.strata", dir, label, name);
     for (char *p = path + strlen(dir) + 1; *p; p++) if (*p == ' ') *p = '_';
     st_error err;
-    CHECKF(st_doc_save_session(d, path, NULL, NULL, NULL, &err) == 0, "save %s: %s", path, err.msg);
+    CHECKF(st_doc_save_session(d, path, NULL, NULL, NULL, NULL, &err) == 0, "save %s: %s", path, err.msg);
 }
 
 /* ---- symmetry ---------------------------------------------------------------------------- */
