@@ -10,6 +10,7 @@ typedef struct st_cli_opts {
     int level;          /* -1: not given */
     int boundary;       /* ST_BOUNDARY_UNSET unless --boundary */
     int uv_interp;      /* enum st_uv_interp: --uv-interp, else OpenSubdiv's default (corners-plus1) */
+    unsigned read_flags; /* st_mesh_repair_flags: ST_MESH_STRICT with --strict */
 } st_cli_opts;
 
 /* Parses the common options; prints a message and returns -1 on error. */
