@@ -385,10 +385,12 @@ static int split_crowded_edges(const ctx *x, soup *s, const edge_rec *e, uint32_
     uint32_t *copy = malloc(((size_t)s->nc + 1) * sizeof *copy);     /* per corner: its copy, or NONE */
     uint8_t *split = calloc((size_t)s->nv + 1, 1);                    /* per input vertex: copied */
     uint32_t *of = malloc(((size_t)s->nc + 1) * sizeof *of);          /* per copy: its input vertex */
-    if (!copy || !split || !of) {
+    uint8_t *moved = calloc((size_t)s->nf + 1, 1);                    /* per face: detached somewhere */
+    if (!copy || !split || !of || !moved) {
         free(copy);
         free(split);
         free(of);
+        free(moved);
         return out_of_memory(x);
     }
     for (uint32_t c = 0; c < s->nc; c++) copy[c] = NONE;
@@ -401,7 +403,8 @@ static int split_crowded_edges(const ctx *x, soup *s, const edge_rec *e, uint32_
         for (uint32_t k = 1; k < j - i && !rc; k++) {
             if (k == keep) continue;
             uint32_t ends[2] = {e[i + k].c, next_corner(s, e[i + k].c)};
-            nmoved++;
+            nmoved += !moved[s->face_of[ends[0]]];
+            moved[s->face_of[ends[0]]] = 1;
             for (int t = 0; t < 2 && !rc; t++) {
                 uint32_t c = ends[t];
                 if (copy[c] != NONE) continue;
@@ -430,6 +433,7 @@ static int split_crowded_edges(const ctx *x, soup *s, const edge_rec *e, uint32_
     free(copy);
     free(split);
     free(of);
+    free(moved);
     return rc;
 }
 
