@@ -1,7 +1,7 @@
 /* strata convert IN OUT [--scheme S] [--levels N] [--level L] [--boundary B]
  *                       [--box x0,y0,z0,x1,y1,z1 [--base-level B] [--max-level M]
  *                        [--falloff W] [--no-restriction]]
- *                       [--normals | --no-normals] [--normal-map N.png]
+ *                       [--normals | --no-normals] [--normal-map N.png] [--strict]
  *
  * IN: a mesh (.obj .off .ply .gltf .glb, app/mesh_any.h) or a session
  * (.strata).  OUT: a mesh (.obj .ply .gltf .glb) or a session (.strata).

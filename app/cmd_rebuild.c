@@ -1,5 +1,5 @@
 /* strata rebuild IN [--method auto|unsubdivide|progressive] [--scheme S]
- *                   [--target-faces N] [--max-levels L] [--uv-interp I] -o OUT.strata
+ *                   [--target-faces N] [--max-levels L] [--uv-interp I] [--strict] -o OUT.strata
  *
  * Makes a dense mesh into a hierarchy with coarse editing levels and saves
  * it as a session (core/io/session.h).
