@@ -374,11 +374,13 @@ static void note_edge_splits(const ctx *x, const soup *s, const edge_rec *e, uin
  * further on two crowded edges through one vertex copies that corner once),
  * numbered from s->nv up; afterwards no edge has more than two faces,
  * because every copy belongs to one corner.  The vertex a copy leaves may
- * now form several fans: split_vertices splits it as any pinch (the same
- * OpenSubdiv instead keeps such an edge and tags it and its vertices
- * non-manifold (opensubdiv/vtr/level.h, ETag/VTag _nonManifold), refining
+ * now form several fans: split_vertices splits it as any pinch.  A face
+ * that keeps one crowded edge may still lose a corner to another one; the
+ * edge it kept is then a boundary of the other keeper, still manifold.
+ * (OpenSubdiv instead keeps such an edge and tags it and its vertices
+ * non-manifold, opensubdiv/vtr/level.h ETag/VTag _nonManifold, refining
  * them like sharp features; the map here needs a 2-manifold, hence the
- * split).  Positions, normals and corner tags follow the copies (renumber:
+ * split.)  Positions, normals and corner tags follow the copies (renumber:
  * orig). */
 static int split_crowded_edges(const ctx *x, soup *s, const edge_rec *e, uint32_t nedges)
 {
