@@ -54,7 +54,8 @@ int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd)
         } else if (!strcmp(a, "--uv-interp") && v) {
             if (st_cli_parse_uv_interp(v, &o->uv_interp, cmd)) return -1;
             i++;
-        } else if (!strcmp(a, "-o") && v) { o->out = v; i++; }
+        } else if (!strcmp(a, "--strict")) o->read_flags |= ST_MESH_STRICT;
+        else if (!strcmp(a, "-o") && v) { o->out = v; i++; }
         else if (a[0] == '-' && a[1]) { fprintf(stderr, "strata %s: unknown or incomplete option '%s'\n", cmd, a); return -1; }
         else if (!o->in) o->in = a;
         else { fprintf(stderr, "strata %s: unexpected argument '%s'\n", cmd, a); return -1; }
@@ -101,7 +102,7 @@ static int load_mesh(const st_cli_opts *o, st_session *s, const char *cmd, int k
     st_error err;
     st_notes notes = { 0 };
     st_mesh_init(&mesh);
-    if (st_any_mesh_load(o->in, &mesh, &notes, &err)) { fprintf(stderr, "strata: %s\n", err.msg); st_notes_free(&notes); return 1; }
+    if (st_any_mesh_load(o->in, &mesh, o->read_flags, &notes, &err)) { fprintf(stderr, "strata: %s\n", err.msg); st_notes_free(&notes); return 1; }
     /* Repairs are made, and said. */
     for (uint32_t i = 0; i < notes.count; i++) fprintf(stderr, "strata: %s\n", notes.lines[i]);
     st_notes_free(&notes);

@@ -10,9 +10,12 @@ typedef struct st_cli_opts {
     int level;          /* -1: not given */
     int boundary;       /* ST_BOUNDARY_UNSET unless --boundary */
     int uv_interp;      /* enum st_uv_interp: --uv-interp, else OpenSubdiv's default (corners-plus1) */
+    unsigned read_flags; /* st_mesh_repair_flags: ST_MESH_STRICT with --strict */
 } st_cli_opts;
 
-/* Parses the common options; prints a message and returns -1 on error. */
+/* Parses the common options (--strict: refuse edges with 3+ faces rather
+ * than split them, core/io/mesh.h's ST_MESH_STRICT); prints a message and
+ * returns -1 on error. */
 int st_cli_parse(int argc, char **argv, st_cli_opts *o, const char *cmd);
 /* Loads o->in and builds the hierarchy to o->levels; prints errors. */
 int st_cli_load(const st_cli_opts *o, st_hier *h, const char *cmd);

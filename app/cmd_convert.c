@@ -1,7 +1,7 @@
 /* strata convert IN OUT [--scheme S] [--levels N] [--level L] [--boundary B]
  *                       [--box x0,y0,z0,x1,y1,z1 [--base-level B] [--max-level M]
  *                        [--falloff W] [--no-restriction]]
- *                       [--normals | --no-normals] [--normal-map N.png]
+ *                       [--normals | --no-normals] [--normal-map N.png] [--strict]
  *
  * IN: a mesh (.obj .off .ply .gltf .glb, app/mesh_any.h) or a session
  * (.strata).  OUT: a mesh (.obj .ply .gltf .glb) or a session (.strata).
@@ -43,6 +43,7 @@ typedef struct conv_opts {
     int level;                 /* -1: not given */
     int boundary;
     int uv_interp;     /* enum st_uv_interp (--uv-interp) */
+    unsigned read_flags; /* ST_MESH_STRICT with --strict */
     int normals;
     const char *normal_map;    /* --normal-map N.png: NULL when not given */
     st_adapt_params box;
@@ -70,7 +71,7 @@ static int usage(void)
     fprintf(stderr, "usage: strata convert IN OUT [--scheme S] [--levels N] [--level L] [--boundary edge-only|edge-and-corner]\n"
                     "                      [--uv-interp none|corners-only|corners-plus1|corners-plus2|boundaries|all]\n"
                     "                      [--box x0,y0,z0,x1,y1,z1 [--base-level B] [--max-level M] [--falloff W] [--no-restriction]]\n"
-                    "                      [--normals | --no-normals] [--normal-map N.png (glTF output)]\n"
+                    "                      [--normals | --no-normals] [--normal-map N.png (glTF output)] [--strict]\n"
                     "  IN: .obj .off .ply .gltf .glb or .strata; OUT: .obj .ply .gltf .glb or .strata\n");
     return 2;
 }
@@ -123,6 +124,7 @@ static int parse(int argc, char **argv, conv_opts *o)
         } else if (!strcmp(a, "--no-restriction")) { o->box.no_restriction = 1; o->has_adapt_opt = 1; }
         else if (!strcmp(a, "--normals")) o->normals = 1;
         else if (!strcmp(a, "--no-normals")) o->normals = 0;
+        else if (!strcmp(a, "--strict")) o->read_flags |= ST_MESH_STRICT;
         else if (!strcmp(a, "--normal-map") && v) { o->normal_map = v; i++; }
         else if (a[0] == '-' && a[1]) { fprintf(stderr, "strata convert: unknown or incomplete option '%s'\n", a); return -1; }
         else if (!o->in) o->in = a;
@@ -159,7 +161,7 @@ static int load_mesh(const conv_opts *o, st_session *s)
     st_notes notes = { 0 };
     st_mesh mesh;
     st_mesh_init(&mesh);
-    if (st_any_mesh_load(o->in, &mesh, &notes, &err)) {
+    if (st_any_mesh_load(o->in, &mesh, o->read_flags, &notes, &err)) {
         fprintf(stderr, "strata: %s\n", err.msg);
         st_notes_free(&notes);
         return 1;

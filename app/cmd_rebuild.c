@@ -1,5 +1,5 @@
 /* strata rebuild IN [--method auto|unsubdivide|progressive] [--scheme S]
- *                   [--target-faces N] [--max-levels L] [--uv-interp I] -o OUT.strata
+ *                   [--target-faces N] [--max-levels L] [--uv-interp I] [--strict] -o OUT.strata
  *
  * Makes a dense mesh into a hierarchy with coarse editing levels and saves
  * it as a session (core/io/session.h).
@@ -33,6 +33,7 @@ typedef struct rebuild_opts {
     const char *in, *out, *scheme;
     int method;
     int uv_interp;             /* enum st_uv_interp */
+    unsigned read_flags;       /* ST_MESH_STRICT with --strict */
     unsigned max_levels;       /* 0: no limit */
     uint32_t target_faces;     /* 0: none */
 } rebuild_opts;
@@ -40,7 +41,7 @@ typedef struct rebuild_opts {
 static int usage(void)
 {
     fprintf(stderr, "usage: strata rebuild IN [--method auto|unsubdivide|progressive] [--scheme S]\n"
-                    "                     [--target-faces N] [--max-levels L] [--uv-interp I] -o OUT.strata\n");
+                    "                     [--target-faces N] [--max-levels L] [--uv-interp I] [--strict] -o OUT.strata\n");
     return 2;
 }
 
@@ -61,6 +62,7 @@ static int parse(int argc, char **argv, rebuild_opts *o)
         unsigned long n;
         if (!strcmp(a, "-o") && v) { o->out = v; i++; }
         else if (!strcmp(a, "--scheme") && v) { o->scheme = v; i++; }
+        else if (!strcmp(a, "--strict")) o->read_flags |= ST_MESH_STRICT;
         else if (!strcmp(a, "--uv-interp") && v) {
             if ((o->uv_interp = st_uv_interp_find(v)) < 0) {
                 fprintf(stderr, "strata rebuild: --uv-interp wants none, corners-only, corners-plus1, corners-plus2, boundaries or all, got '%s'\n", v);
@@ -133,7 +135,7 @@ int st_cmd_rebuild(int argc, char **argv)
     st_notes notes = { 0 };
     st_mesh mesh;
     st_mesh_init(&mesh);
-    if (st_any_mesh_load(o.in, &mesh, &notes, &err)) {
+    if (st_any_mesh_load(o.in, &mesh, o.read_flags, &notes, &err)) {
         fprintf(stderr, "strata: %s\n", err.msg);
         st_notes_free(&notes);
         return 1;

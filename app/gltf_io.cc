@@ -1272,7 +1272,7 @@ int st_gltf_parse(const char *name, const void *data, size_t size, st_mesh *out,
     return parse_impl(name, (const unsigned char *)data, size, nullptr, out, nullptr, err);
 }
 
-int st_gltf_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error *err)
+int st_gltf_load_notes(const char *path, st_mesh *out, unsigned flags, st_notes *notes, st_error *err)
 {
     std::vector<unsigned char> bytes;
     std::string dir;
@@ -1291,7 +1291,7 @@ int st_gltf_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error
     int rc = parse_impl(path, bytes.data(), bytes.size(), dir.c_str(), &m, notes ? &local : nullptr, err);
     /* The parser's notes (welded vertices and the like), then the repair's;
      * *notes gets them only on success. */
-    if (!rc) rc = st_mesh_finish_load(path, &m, nullptr, out, notes ? &local : nullptr, err);
+    if (!rc) rc = st_mesh_finish_load(path, &m, nullptr, flags, out, notes ? &local : nullptr, err);
     else st_mesh_free(&m);
     if (!rc)
         for (uint32_t i = 0; i < local.count; i++) st_notes_add(notes, "%s", local.lines[i]);
@@ -1301,7 +1301,7 @@ int st_gltf_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error
 
 int st_gltf_load(const char *path, st_mesh *out, st_error *err)
 {
-    return st_gltf_load_notes(path, out, nullptr, err);
+    return st_gltf_load_notes(path, out, 0, nullptr, err);
 }
 
 int st_gltf_write_mem(const st_mesh *m, int binary, int index_bytes, void **data, size_t *size, st_error *err)

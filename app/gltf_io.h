@@ -51,9 +51,10 @@ extern "C" {
 
 /* Reads path (.gltf with external or data: buffers, or .glb: chosen by the
  * file's magic, not its name), then st_mesh_repair() like core's loaders.
- * The _notes variant also returns the repair notes (may be NULL). */
+ * The _notes variant takes the repair flags (ST_MESH_STRICT) and also
+ * returns the repair notes (may be NULL). */
 int st_gltf_load(const char *path, st_mesh *out, st_error *err);
-int st_gltf_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error *err);
+int st_gltf_load_notes(const char *path, st_mesh *out, unsigned flags, st_notes *notes, st_error *err);
 
 /* Parses glTF from memory (GLB when it starts with "glTF", else JSON) without
  * repairing (call st_mesh_repair next), for fuzzers and tests.  name is used

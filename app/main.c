@@ -42,6 +42,8 @@ static void usage(FILE *f)
         "       [--size 2048] [--space tangent|object] [--vector] [--padding 8] [--bits 8|16] [--auto-uv] [--ray-reach D]\n"
         "                                      bakes level L onto level B's UV layout as maps\n"
         "  help                                this text\n"
+        "every command that reads a mesh takes --strict: refuse an edge shared by 3 or more faces (by default\n"
+        "it is split: the faces beyond the first two get their own copies of its vertices, with a note)\n"
         "every command takes --mem-budget MIB: operations whose estimated memory would exceed it are refused\n"
         "(default: 3/4 of the memory available at start)\n"
         "schemes: catmull-clark, loop, butterfly, quad-triangle, sqrt3, doo-sabin\n");

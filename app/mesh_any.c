@@ -13,11 +13,11 @@ static int is_gltf(const char *path)
     return st_path_has_ext(path, ".gltf") || st_path_has_ext(path, ".glb");
 }
 
-int st_any_mesh_load(const char *path, st_mesh *out, st_notes *notes, st_error *err)
+int st_any_mesh_load(const char *path, st_mesh *out, unsigned flags, st_notes *notes, st_error *err)
 {
-    if (!is_gltf(path)) return st_mesh_load_notes(path, out, notes, err);
+    if (!is_gltf(path)) return st_mesh_load_flags(path, out, flags, notes, err);
 #if defined(STRATA_GLTF_BUILT)
-    return st_gltf_load_notes(path, out, notes, err);
+    return st_gltf_load_notes(path, out, flags, notes, err);
 #else
     return st_fail(err, ST_ERR_PARSE, "%s: glTF support was not built (needs libtinygltf-dev)", path);
 #endif

@@ -7,7 +7,8 @@
 # Re-meshed input is refused by --method unsubdivide with the place named;
 # auto falls back to the progressive method; the progressive method and
 # strata filter on an open triangle mesh; bad
-# input is refused with the file named and nothing written.
+# input is refused with the file named and nothing written; an edge with
+# three faces opens split, and is refused with --strict.
 # Usage: cli_rebuild.sh STRATA SHARED_MESHES ASSETS BINDIR
 set -uo pipefail
 S=$1 D=$2 A=$3 B=$4
@@ -236,13 +237,33 @@ else bad "auto with mixed holes: exit $rc, $(cat "$W/mix_auto.out" "$W/mix_auto.
 
 # ---- bad input ---------------------------------------------------------------------
 : > "$W/empty.obj"
-for f in "$D/edge_cases/nonmanifold_edge.obj" "$D/edge_cases/moebius_quad.obj" "$W/empty.obj" "$W/missing.obj"; do
+for f in "$D/edge_cases/moebius_quad.obj" "$W/empty.obj" "$W/missing.obj"; do
     "$S" rebuild "$f" --method unsubdivide -o "$W/bad.strata" > /dev/null 2> "$W/bad.err"
     rc=$?
     if [ $rc -ne 0 ] && grep -q "$(basename "$f")" "$W/bad.err" && [ ! -e "$W/bad.strata" ]; then
         ok "bad input $(basename "$f") refused (exit $rc): $(head -1 "$W/bad.err")"
     else bad "bad input $(basename "$f"): exit $rc, $(cat "$W/bad.err")"; fi
 done
+
+# An edge shared by three faces: rebuild reads through the same reader, so
+# the mesh opens split (the note on stderr) and the progressive method
+# rebuilds it; unsubdivide refuses it for what it is (no polygon split), not
+# for the edge; --strict refuses it at the line, nothing written.
+NM=$D/edge_cases/nonmanifold_edge.obj
+rc=0; "$S" rebuild "$NM" -o "$W/nm.strata" > "$W/nm.out" 2> "$W/nm.err" || rc=$?
+if [ $rc -eq 0 ] && [ -s "$W/nm.strata" ] && grep -q "nonmanifold_edge.obj: repaired: split 1 non-manifold edge" "$W/nm.err" \
+   && grep -q "using the progressive method" "$W/nm.err"; then
+    ok "nonmanifold_edge.obj opens split and rebuilds (progressive): $(grep 'split 1' "$W/nm.err")"
+else bad "nonmanifold_edge.obj: exit $rc, $(cat "$W/nm.out" "$W/nm.err")"; fi
+rc=0; "$S" rebuild "$NM" --method unsubdivide -o "$W/nm_u.strata" > /dev/null 2> "$W/nm_u.err" || rc=$?
+if [ $rc -eq 1 ] && grep -q "not a polygon split" "$W/nm_u.err" && ! grep -q "faces share it" "$W/nm_u.err" && [ ! -e "$W/nm_u.strata" ]; then
+    ok "nonmanifold_edge.obj: unsubdivide refuses it as no polygon split: $(tail -1 "$W/nm_u.err")"
+else bad "nonmanifold_edge.obj unsubdivide: exit $rc, $(cat "$W/nm_u.err")"; fi
+rc=0; "$S" rebuild "$NM" --strict -o "$W/nm_s.strata" > /dev/null 2> "$W/nm_s.err" || rc=$?
+if [ $rc -eq 1 ] && grep -q "nonmanifold_edge.obj:22: non-manifold edge between vertices 4 and 6: 3 faces share it (lines 20, 21, 22)" "$W/nm_s.err" \
+   && [ ! -e "$W/nm_s.strata" ]; then
+    ok "nonmanifold_edge.obj refused with --strict: $(cat "$W/nm_s.err")"
+else bad "nonmanifold_edge.obj --strict: exit $rc, $(cat "$W/nm_s.err")"; fi
 
 if "$S" help | grep -qE '^[[:space:]]*rebuild[[:space:]]'; then ok "help lists rebuild"; else bad "help does not list rebuild"; fi
 

@@ -66,7 +66,8 @@ static void load_good(st_mesh *m)
 
 /* Writes data to file name, loads it over a good mesh, expects refusal with
  * the name, loc (":4:" or "byte 12") and what in the message. */
-static void refused_bytes(const char *name, const void *data, size_t size, const char *loc, const char *what)
+static void refused_bytes_flags(const char *name, const void *data, size_t size, unsigned flags,
+                                const char *loc, const char *what)
 {
     st_mesh m;
     snapshot s;
@@ -75,7 +76,7 @@ static void refused_bytes(const char *name, const void *data, size_t size, const
     take(&s, &m);
     const char *path = tmp_path(name);
     if (data) tl_write_file(path, data, size);
-    int rc = st_mesh_load(path, &m, &e);
+    int rc = st_mesh_load_flags(path, &m, flags, NULL, &e);
     CHECKF(rc != 0, "%s loaded but should be refused", name);
     CHECKF(strstr(e.msg, name) != NULL, "%s: message lacks the file name: %s", name, e.msg);
     CHECKF(!loc || strstr(e.msg, loc) != NULL, "%s: message lacks '%s': %s", name, loc, e.msg);
@@ -83,6 +84,11 @@ static void refused_bytes(const char *name, const void *data, size_t size, const
     CHECKF(unchanged(&s, &m), "%s: the previous mesh was changed", name);
     drop(&s);
     st_mesh_free(&m);
+}
+
+static void refused_bytes(const char *name, const void *data, size_t size, const char *loc, const char *what)
+{
+    refused_bytes_flags(name, data, size, 0, loc, what);
 }
 
 static void refused(const char *name, const char *text, const char *loc, const char *what)
@@ -375,18 +381,39 @@ static const char fins[] = "v 0 0 0\nv 0 0 1\nv 1 0 0\nv -1 0 0\nv 0 1 0\n"
 static const char moebius[] = "v 0 0 1\nv 1 0 1\nv 2 0 1\nv 0 0 0\nv 1 0 0\nv 2 0 0\n"
                               "f 1 2 5 4\nf 2 3 6 5\nf 3 4 1 6\n";
 
+/* An edge with 3+ faces is split on reading (core/io/mesh_repair.c: the
+ * third fin gets its own copies of 1 and 2, the face count is kept) and
+ * refused, as before the split existed, with ST_MESH_STRICT (--strict). */
 static void test_non_manifold_edge(void)
 {
-    refused("bad_fins.obj", fins, ":8:", "non-manifold edge between vertices 1 and 2: 3 faces share it (lines 6, 7, 8)");
-    refused("bad_fins.off", "OFF\n5 3 0\n0 0 0\n0 0 1\n1 0 0\n-1 0 0\n0 1 0\n3 0 1 2\n3 1 0 3\n3 0 1 4\n",
-            ":10:", "non-manifold edge between vertices 0 and 1");
+    static const char fins_off[] = "OFF\n5 3 0\n0 0 0\n0 0 1\n1 0 0\n-1 0 0\n0 1 0\n3 0 1 2\n3 1 0 3\n3 0 1 4\n";
+    st_mesh m;
+    repaired("fins.obj", fins, "edge between vertices 1 and 2 split into 2 (lines 6, 7, 8; line 6 and line 7 keep it)", &m);
+    CHECK(m.nfaces == 3 && m.nverts == 7);
+    st_mesh_free(&m);
+    repaired("fins.off", fins_off, "edge between vertices 0 and 1 split into 2 (lines 8, 9, 10; line 8 and line 9 keep it)", &m);
+    CHECK(m.nfaces == 3 && m.nverts == 7);
+    st_mesh_free(&m);
+    refused_bytes_flags("bad_fins.obj", fins, strlen(fins), ST_MESH_STRICT, ":8:",
+                        "non-manifold edge between vertices 1 and 2: 3 faces share it (lines 6, 7, 8)");
+    refused_bytes_flags("bad_fins.off", fins_off, strlen(fins_off), ST_MESH_STRICT,
+                        ":10:", "non-manifold edge between vertices 0 and 1");
     buf b;   /* the tetrahedron's faces plus a fourth triangle on edge 0-1 */
     tet_ply(&b, 4, 5, 4, 5);
     size_t last = b.n - 5 - 13;
     memcpy(b.b + last + 1, (int32_t[]){0, 1, 3}, 12);
     char loc[32];
     snprintf(loc, sizeof loc, "byte %zu", last);
-    refused_bytes("bad_fins.ply", b.b, b.n, loc, "3 faces share it");
+    refused_bytes_flags("bad_fins.ply", b.b, b.n, ST_MESH_STRICT, loc, "3 faces share it");
+    /* The same file without the flag opens: the fifth face repeats a face
+     * of the tetrahedron (every triple of its vertices is one), so it is
+     * the third face on its three edges and gets copies of all three. */
+    st_error e = {0};
+    st_mesh_init(&m);
+    CHECKF(st_mesh_load(tmp_path("bad_fins.ply"), &m, &e) == 0, "%s", e.msg);
+    CHECKF(m.nfaces == 5 && m.nverts == 7, "bad_fins.ply: V %u F %u", m.nverts, m.nfaces);
+    CHECKF(st_mesh_check("bad_fins.ply", &m, &e) == 0, "%s", e.msg);
+    st_mesh_free(&m);
 }
 
 static void test_non_orientable(void)

@@ -1,7 +1,9 @@
 /* Every mesh of the shared test set (STRATA_SHARED_DATA, see its SOURCES.md)
  * loads with the vertex, face, boundary-edge and face-size counts measured
  * there, or is repaired or refused as decided in core/io/mesh_repair.c:
- *   fan3, nonmanifold_edge        refused: an edge with 3 faces
+ *   fan3, nonmanifold_edge        an edge with 3 faces split: the third
+ *                                 face gets 2 vertex copies (V +2, F kept);
+ *                                 refused with ST_MESH_STRICT (--strict)
  *   moebius_quad                  refused: non-orientable
  *   nonoriented_edge              1 face flipped
  *   nonmanifold_vertex            1 pinch vertex split in 2  (V 7 -> 8)
@@ -46,9 +48,11 @@ static const expect meshes[] = {
     {"triangle/plane_holes.obj", 8519, 16747, 341, -25, "tri", NULL, NULL},
     {"triangle/sphere_ico.obj", 162, 320, 0, 2, "tri", NULL, NULL},
     {"triangle/spot_low_resolution.obj", 829, 1654, 0, 2, "tri", NULL, NULL},
-    {"edge_cases/fan3.obj", 0, 0, 0, 0, NULL, NULL, "fan3.obj:8: non-manifold edge between vertices 3 and 5: 3 faces share it"},
-    {"edge_cases/nonmanifold_edge.obj", 0, 0, 0, 0, NULL, NULL,
-     "nonmanifold_edge.obj:22: non-manifold edge between vertices 4 and 6: 3 faces share it (lines 20, 21, 22)"},
+    {"edge_cases/fan3.obj", 7, 3, 7, 2, "tri",
+     "split 1 non-manifold edge (3 or more faces on one edge): 1 further face given its own copies of the "
+     "edge's vertices (2 vertices split into 2 copies)", NULL},
+    {"edge_cases/nonmanifold_edge.obj", 10, 3, 10, 2, "quad",
+     "edge between vertices 4 and 6 split into 2 (lines 20, 21, 22; line 20 and line 22 keep it)", NULL},
     {"edge_cases/moebius_quad.obj", 0, 0, 0, 0, NULL, NULL, "non-orientable surface: cannot orient consistently (face "},
     {"edge_cases/nonmanifold_vertex.obj", 8, 2, 8, 2, "quad", "vertex 4 split into 2", NULL},
     {"edge_cases/grid_holes.obj", 300, 494, 110, -2, "tri",
@@ -106,6 +110,33 @@ static int face_sizes_match(const st_mesh *m, const char *want)
             p = *end ? end + 1 : end;
         }
     return memcmp(hist, expect_hist, sizeof hist) == 0;
+}
+
+/* With ST_MESH_STRICT (--strict) the crowded edges are refused as before
+ * the split existed, naming the file, the line and the faces. */
+static const struct { const char *file, *refuse; } strict_refused[] = {
+    {"edge_cases/fan3.obj", "fan3.obj:8: non-manifold edge between vertices 3 and 5: 3 faces share it (lines 6, 7, 8)"},
+    {"edge_cases/nonmanifold_edge.obj",
+     "nonmanifold_edge.obj:22: non-manifold edge between vertices 4 and 6: 3 faces share it (lines 20, 21, 22)"},
+};
+
+static void check_strict(void)
+{
+    char path[2048];
+    for (size_t i = 0; i < sizeof strict_refused / sizeof strict_refused[0]; i++) {
+        st_mesh m;
+        st_error e = {0};
+        st_notes n = {0};
+        snprintf(path, sizeof path, "%s/%s", STRATA_SHARED_DATA, strict_refused[i].file);
+        st_mesh_init(&m);
+        int rc = st_mesh_load_flags(path, &m, ST_MESH_STRICT, &n, &e);
+        printf("%-45s --strict: %s\n", strict_refused[i].file, rc ? e.msg : "loaded");
+        CHECKF(rc == ST_ERR_TOPOLOGY && strstr(e.msg, strict_refused[i].refuse) && strstr(e.msg, path),
+               "%s strict: %s", strict_refused[i].file, rc ? e.msg : "loaded");
+        CHECK(m.nfaces == 0 && n.count == 0);
+        st_notes_free(&n);
+        st_mesh_free(&m);
+    }
 }
 
 static double now(void)
@@ -174,5 +205,6 @@ int main(void)
         st_notes_free(&n);
         st_mesh_free(&m);
     }
+    check_strict();
     return TEST_END();
 }

@@ -262,7 +262,7 @@ static int parse_as(enum mesh_format fmt, const char *name, const char *data, si
 
 /* Read, parse, repair into scratch; move into *out only on full success.
  * Notes are collected separately and appended only on success too. */
-static int load_as(enum mesh_format fmt, const char *path, st_mesh *out,
+static int load_as(enum mesh_format fmt, const char *path, st_mesh *out, unsigned flags,
                    st_notes *notes, st_error *err)
 {
     if (fmt == FMT_UNKNOWN) return parse_as(fmt, path, NULL, 0, NULL, NULL, err);
@@ -276,16 +276,16 @@ static int load_as(enum mesh_format fmt, const char *path, st_mesh *out,
     rc = parse_as(fmt, path, data, size, &m, &src, err);
     free(data);
     if (rc) st_mesh_free(&m);
-    else rc = st_mesh_finish_load(path, &m, &src, out, notes, err);
+    else rc = st_mesh_finish_load(path, &m, &src, flags, out, notes, err);
     st_mesh_src_free(&src);
     return rc;
 }
 
-int st_mesh_finish_load(const char *name, st_mesh *parsed, const st_mesh_src *src, st_mesh *out,
-                        st_notes *notes, st_error *err)
+int st_mesh_finish_load(const char *name, st_mesh *parsed, const st_mesh_src *src, unsigned flags,
+                        st_mesh *out, st_notes *notes, st_error *err)
 {
     st_notes local = {0};
-    int rc = st_mesh_repair_src(name, parsed, src, notes ? &local : NULL, err);
+    int rc = st_mesh_repair_src(name, parsed, src, flags, notes ? &local : NULL, err);
     if (rc) {
         st_mesh_free(parsed);
         st_notes_free(&local);
@@ -299,27 +299,32 @@ int st_mesh_finish_load(const char *name, st_mesh *parsed, const st_mesh_src *sr
 
 int st_mesh_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error *err)
 {
-    return load_as(format_of(path), path, out, notes, err);
+    return load_as(format_of(path), path, out, 0, notes, err);
+}
+
+int st_mesh_load_flags(const char *path, st_mesh *out, unsigned flags, st_notes *notes, st_error *err)
+{
+    return load_as(format_of(path), path, out, flags, notes, err);
 }
 
 int st_mesh_load(const char *path, st_mesh *out, st_error *err)
 {
-    return load_as(format_of(path), path, out, NULL, err);
+    return load_as(format_of(path), path, out, 0, NULL, err);
 }
 
 int st_mesh_load_obj(const char *path, st_mesh *out, st_error *err)
 {
-    return load_as(FMT_OBJ, path, out, NULL, err);
+    return load_as(FMT_OBJ, path, out, 0, NULL, err);
 }
 
 int st_mesh_load_off(const char *path, st_mesh *out, st_error *err)
 {
-    return load_as(FMT_OFF, path, out, NULL, err);
+    return load_as(FMT_OFF, path, out, 0, NULL, err);
 }
 
 int st_mesh_load_ply(const char *path, st_mesh *out, st_error *err)
 {
-    return load_as(FMT_PLY, path, out, NULL, err);
+    return load_as(FMT_PLY, path, out, 0, NULL, err);
 }
 
 int st_mesh_parse_obj(const char *name, const char *data, size_t size, st_mesh *out, st_error *err)
@@ -339,7 +344,12 @@ int st_mesh_parse_ply(const char *name, const char *data, size_t size, st_mesh *
 
 int st_mesh_repair(const char *name, st_mesh *m, st_notes *notes, st_error *err)
 {
-    return st_mesh_repair_src(name, m, NULL, notes, err);
+    return st_mesh_repair_src(name, m, NULL, 0, notes, err);
+}
+
+int st_mesh_repair_flags(const char *name, st_mesh *m, unsigned flags, st_notes *notes, st_error *err)
+{
+    return st_mesh_repair_src(name, m, NULL, flags, notes, err);
 }
 
 int st_mesh_fail_at(st_error *err, int code, const char *name, int binary, uint64_t loc,

@@ -108,11 +108,15 @@ int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err);
 /* Topological check and repair, run by st_mesh_load() after parsing.
  * Makes the soup an oriented 2-manifold (possibly with boundary) or fails.
  * Repairs it performs are appended to *notes (one line each, may be NULL).
- * Repaired: inconsistent winding (faces flipped), bow-tie vertices (one copy
- * per fan), unreferenced vertices (dropped; tags follow their vertices).
- * Faces keep their order; a flipped face's UV indices are flipped with its
- * vertices, so face_uv stays parallel to face_idx.
- * Refused: edges with 3+ faces, non-orientable surfaces, degenerate faces.
+ * Repaired: edges with 3+ faces (two faces keep the edge, every further
+ * face gets its own copies of its two vertices, as OpenMesh's importer
+ * detaches such faces), inconsistent winding (faces flipped), bow-tie
+ * vertices (one copy per fan), unreferenced vertices (dropped; tags follow
+ * their vertices).  Faces keep their order and count; a flipped face's UV
+ * indices are flipped with its vertices, so face_uv stays parallel to
+ * face_idx.
+ * Refused: non-orientable surfaces, degenerate faces, and with
+ * ST_MESH_STRICT edges with 3+ faces (as before the split existed).
  * On failure m is unchanged.  See core/io/mesh_repair.c for the rules. */
 typedef struct st_notes {
     char **lines;
@@ -120,10 +124,18 @@ typedef struct st_notes {
 } st_notes;
 void st_notes_free(st_notes *n);
 int st_mesh_repair(const char *name, st_mesh *m, st_notes *notes, st_error *err);
+/* Flags of the _flags variants (0: st_mesh_repair's behaviour).
+ * ST_MESH_STRICT refuses an edge with 3+ faces ("non-manifold edge between
+ * vertices A and B: N faces share it (lines ...)") instead of splitting it:
+ * the commands' --strict. */
+#define ST_MESH_STRICT 1u
+int st_mesh_repair_flags(const char *name, st_mesh *m, unsigned flags, st_notes *notes, st_error *err);
 
 /* st_mesh_load() that also returns the repair notes ("file: repaired: ...",
  * one per line; notes may be NULL).  st_mesh_load() drops them. */
 int st_mesh_load_notes(const char *path, st_mesh *out, st_notes *notes, st_error *err);
+/* st_mesh_load_notes() with repair flags (ST_MESH_STRICT). */
+int st_mesh_load_flags(const char *path, st_mesh *out, unsigned flags, st_notes *notes, st_error *err);
 
 /* Checks what st_mesh_repair() promises, without changing m: indices in
  * range, faces of 3+ distinct vertices, finite positions, every vertex used,
@@ -138,11 +150,11 @@ int st_mesh_check(const char *name, const st_mesh *m, st_error *err);
 /* Where each face of a parsed mesh came from (core/io/mesh_internal.h). */
 typedef struct st_mesh_src st_mesh_src;
 /* The end of every loader: repairs the freshly parsed mesh (src may be
- * NULL), then moves it into *out and appends the repair notes to *notes (may
- * be NULL).  On failure *out and *notes are untouched; *parsed is freed
- * either way. */
-int st_mesh_finish_load(const char *name, st_mesh *parsed, const st_mesh_src *src, st_mesh *out,
-                        st_notes *notes, st_error *err);
+ * NULL; flags as st_mesh_repair_flags), then moves it into *out and appends
+ * the repair notes to *notes (may be NULL).  On failure *out and *notes are
+ * untouched; *parsed is freed either way. */
+int st_mesh_finish_load(const char *name, st_mesh *parsed, const st_mesh_src *src, unsigned flags,
+                        st_mesh *out, st_notes *notes, st_error *err);
 /* Appends one printf-style line to notes (ignored when notes is NULL). */
 int st_notes_add(st_notes *notes, const char *fmt, ...)
 #if defined(__GNUC__)

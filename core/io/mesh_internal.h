@@ -29,8 +29,8 @@ int st_mesh_parse_off_src(const char *name, const char *data, size_t size,
                           st_mesh *out, st_mesh_src *src, st_error *err);
 int st_mesh_parse_ply_src(const char *name, const char *data, size_t size,
                           st_mesh *out, st_mesh_src *src, st_error *err);
-/* st_mesh_repair() naming lines/offsets from src (may be NULL). */
-int st_mesh_repair_src(const char *name, st_mesh *m, const st_mesh_src *src,
+/* st_mesh_repair_flags() naming lines/offsets from src (may be NULL). */
+int st_mesh_repair_src(const char *name, st_mesh *m, const st_mesh_src *src, unsigned flags,
                        st_notes *notes, st_error *err);
 
 /* A vertex that occurs twice in idx[0..n), or UINT32_MAX when all differ.

@@ -9,7 +9,14 @@
  *   structural garbage (index out of range, face of < 3 or repeated
  *     vertices, non-finite position)       refuse (parsers already refuse
  *                                          these with the line)
- *   edge used by 3+ faces                  refuse: no split is canonical
+ *   edge used by 3+ faces                  repair (refuse with ST_MESH_STRICT):
+ *                                          the first face on the edge (file
+ *                                          order) and the first later one
+ *                                          running the other way (else the
+ *                                          second) keep it; every further face
+ *                                          gets its own copies of the edge's
+ *                                          two vertices, which detaches it
+ *                                          there (split_crowded_edges)
  *   inconsistent winding                   repair: breadth-first search over
  *                                          faces across manifold edges, flip
  *                                          the faces whose winding disagrees
@@ -48,6 +55,7 @@ typedef struct ctx {
     st_notes *notes;
     st_error *err;
     uint32_t base;          /* vertex numbering of the file in messages: 0 or 1 */
+    int strict;             /* ST_MESH_STRICT: refuse edges with 3+ faces instead of splitting */
 } ctx;
 
 /* The corner (half-edge) view of the faces: corner c of face f sits at
@@ -59,6 +67,9 @@ typedef struct soup {
     uint32_t *face_of;      /* nc face of each corner */
     uint32_t *partner;      /* nc other corner on the same undirected edge, or NONE */
     uint32_t *uv;           /* nc UV index per corner (a working copy in repair), or NULL */
+    uint32_t nv_in;         /* vertices of the input; nv - nv_in are copies made by edge splits */
+    uint32_t *ecopy_of;     /* nv - nv_in: the input vertex of each edge-split copy */
+    uint8_t *ecopied;       /* nv_in flags: the vertex has edge-split copies (NULL: no split) */
 } soup;
 
 typedef struct edge_rec {
@@ -206,12 +217,15 @@ static void soup_free(soup *s)
 {
     free(s->face_of);
     free(s->partner);
-    s->face_of = s->partner = NULL;
+    free(s->ecopy_of);
+    free(s->ecopied);
+    s->face_of = s->partner = s->ecopy_of = NULL;
+    s->ecopied = NULL;
 }
 
 static int soup_init(const ctx *x, soup *s, const st_mesh *m, uint32_t *idx)
 {
-    s->nv = m->nverts;
+    s->nv = s->nv_in = m->nverts;
     s->nf = m->nfaces;
     s->nc = m->face_off[m->nfaces];
     s->off = m->face_off;
@@ -306,18 +320,141 @@ static const edge_rec *find_edge(const edge_rec *e, uint32_t n, uint64_t key)
     return lo < n && e[lo].key == key ? &e[lo] : NULL;
 }
 
+static const char *vertices_word(uint32_t n)
+{
+    return n == 1 ? "vertex" : "vertices";
+}
+
+/* Of the half-edges e[0..n) of one crowded edge (sorted by corner, i.e. in
+ * file order of their faces), the second that keeps the edge: the first
+ * that runs against e[0] (the two then agree in orientation), else e[1]
+ * (the orientation pass flips one of the two). */
+static uint32_t second_keeper(const soup *s, const edge_rec *e, uint32_t n)
+{
+    for (uint32_t k = 1; k < n; k++)
+        if (s->idx[e[k].c] != s->idx[e[0].c]) return k;
+    return 1;
+}
+
+/* The note for the crowded edges split: a summary, then the first few
+ * edges with their faces ("lines 20, 21, 22") and the two that kept it. */
+static void note_edge_splits(const ctx *x, const soup *s, const edge_rec *e, uint32_t nedges,
+                             uint32_t nmoved, uint32_t nverts, uint32_t ncopies)
+{
+    st_notes_add(x->notes, "%s: repaired: split %u non-manifold %s (3 or more faces on one edge): "
+                 "%u further %s given %s own copies of the edge's vertices (%u %s split into %u copies)",
+                 x->name, nedges, nedges == 1 ? "edge" : "edges", nmoved, nmoved == 1 ? "face" : "faces",
+                 nmoved == 1 ? "its" : "their", nverts, vertices_word(nverts), ncopies);
+    uint32_t listed = 0;
+    for (uint32_t i = 0, j; i < s->nc && listed < MAX_LISTED; i = j) {
+        for (j = i + 1; j < s->nc && e[j].key == e[i].key; j++) {}
+        if (j - i < 3) continue;
+        char faces[512], a[48], b[48];
+        list_faces(x, s, e + i, j - i, faces, sizeof faces);
+        face_where(x, s->face_of[e[i].c], a, sizeof a);
+        face_where(x, s->face_of[e[i + second_keeper(s, e + i, j - i)].c], b, sizeof b);
+        st_notes_add(x->notes, "%s: repaired: edge between vertices %u and %u split into %u (%s; %s and %s keep it)",
+                     x->name, (uint32_t)(e[i].key >> 32) + x->base, (uint32_t)e[i].key + x->base, j - i - 1,
+                     faces, a, b);
+        listed++;
+    }
+    if (nedges > listed)
+        st_notes_add(x->notes, "%s: repaired: ... and %u more split edges", x->name, nedges - listed);
+}
+
+/* Splits every edge that 3+ faces share (e: the sorted half-edges) into
+ * manifold pieces.  OpenMesh's importer (OpenMesh/Core/IO/importer/
+ * ImporterT.hh, add_face) meets a face it cannot add without a complex edge
+ * by adding it on fresh copies of all its vertices; here only the corners
+ * on the crowded edge are copied, so the further face stays attached to
+ * the rest of the mesh everywhere else.  Two faces keep the edge: the first
+ * in file order and the first after it that runs the other way (else the
+ * second), so that a consistently oriented pair keeps it when there is one.
+ * Each further face gets its own copy of each end (one per corner: a face
+ * further on two crowded edges through one vertex copies that corner once),
+ * numbered from s->nv up; afterwards no edge has more than two faces,
+ * because every copy belongs to one corner.  The vertex a copy leaves may
+ * now form several fans: split_vertices splits it as any pinch.  A face
+ * that keeps one crowded edge may still lose a corner to another one; the
+ * edge it kept is then a boundary of the other keeper, still manifold.
+ * (OpenSubdiv instead keeps such an edge and tags it and its vertices
+ * non-manifold, opensubdiv/vtr/level.h ETag/VTag _nonManifold, refining
+ * them like sharp features; the map here needs a 2-manifold, hence the
+ * split.)  Positions, normals and corner tags follow the copies (renumber:
+ * orig). */
+static int split_crowded_edges(const ctx *x, soup *s, const edge_rec *e, uint32_t nedges)
+{
+    uint32_t *copy = malloc(((size_t)s->nc + 1) * sizeof *copy);     /* per corner: its copy, or NONE */
+    uint8_t *split = calloc((size_t)s->nv + 1, 1);                    /* per input vertex: copied */
+    uint32_t *of = malloc(((size_t)s->nc + 1) * sizeof *of);          /* per copy: its input vertex */
+    uint8_t *moved = calloc((size_t)s->nf + 1, 1);                    /* per face: detached somewhere */
+    if (!copy || !split || !of || !moved) {
+        free(copy);
+        free(split);
+        free(of);
+        free(moved);
+        return out_of_memory(x);
+    }
+    for (uint32_t c = 0; c < s->nc; c++) copy[c] = NONE;
+    uint32_t ncopies = 0, nmoved = 0, nverts = 0;
+    int rc = 0;
+    for (uint32_t i = 0, j; i < s->nc && !rc; i = j) {
+        for (j = i + 1; j < s->nc && e[j].key == e[i].key; j++) {}
+        if (j - i < 3) continue;
+        uint32_t keep = second_keeper(s, e + i, j - i);
+        for (uint32_t k = 1; k < j - i && !rc; k++) {
+            if (k == keep) continue;
+            uint32_t ends[2] = {e[i + k].c, next_corner(s, e[i + k].c)};
+            nmoved += !moved[s->face_of[ends[0]]];
+            moved[s->face_of[ends[0]]] = 1;
+            for (int t = 0; t < 2 && !rc; t++) {
+                uint32_t c = ends[t];
+                if (copy[c] != NONE) continue;
+                if ((uint64_t)s->nv + ncopies >= ST_MESH_MAX_VERTS) {
+                    rc = st_fail(x->err, ST_ERR_RANGE, "%s: splitting non-manifold edges would exceed "
+                                 "%u vertices", x->name, ST_MESH_MAX_VERTS);
+                    break;
+                }
+                of[ncopies] = s->idx[c];
+                copy[c] = s->nv + ncopies++;
+                nverts += !split[s->idx[c]];
+                split[s->idx[c]] = 1;
+            }
+        }
+    }
+    if (!rc) {
+        note_edge_splits(x, s, e, nedges, nmoved, nverts, ncopies);
+        for (uint32_t c = 0; c < s->nc; c++)
+            if (copy[c] != NONE) s->idx[c] = copy[c];
+        s->nv += ncopies;
+        s->ecopy_of = of;
+        s->ecopied = split;
+        of = NULL;
+        split = NULL;
+    }
+    free(copy);
+    free(split);
+    free(of);
+    free(moved);
+    return rc;
+}
+
 /* Pairs up the half-edges of each undirected edge.  An edge with 3+
- * half-edges is refused, naming its vertices and its faces. */
-static int pair_edges(const ctx *x, soup *s)
+ * half-edges is split when may_split (then paired again: none is left with
+ * 3+), else refused, naming its vertices and its faces. */
+static int pair_edges(const ctx *x, soup *s, int may_split)
 {
     edge_rec *e = sorted_edges(x, s, NULL);
     if (!e) return ST_ERR_MEMORY;
     int rc = 0;
+    uint32_t crowded = 0;
     for (uint32_t i = 0, j; i < s->nc && !rc; i = j) {
         for (j = i + 1; j < s->nc && e[j].key == e[i].key; j++) {}
         s->partner[e[i].c] = j - i == 2 ? e[i + 1].c : NONE;
         if (j - i == 2) s->partner[e[i + 1].c] = e[i].c;
-        if (j - i >= 3) {
+        if (j - i >= 3 && may_split) {
+            crowded++;
+        } else if (j - i >= 3) {
             char faces[512];
             list_faces(x, s, e + i, j - i, faces, sizeof faces);
             rc = fail_face(x, ST_ERR_TOPOLOGY, s->face_of[e[i + 2].c],
@@ -325,7 +462,9 @@ static int pair_edges(const ctx *x, soup *s)
                            (uint32_t)(e[i].key >> 32) + x->base, (uint32_t)e[i].key + x->base, j - i, faces);
         }
     }
+    if (!rc && crowded) rc = split_crowded_edges(x, s, e, crowded);
     free(e);
+    if (!rc && crowded) rc = pair_edges(x, s, 0);
     return rc;
 }
 
@@ -428,7 +567,7 @@ static int repair_orientation(const ctx *x, soup *s)
         face_where(x, first, w, sizeof w);
         st_notes_add(x->notes, "%s: repaired: flipped %u of %u faces to orient the surface "
                      "consistently (first: %s)", x->name, nflip, s->nf, w);
-        rc = pair_edges(x, s);  /* corners moved: pair them again */
+        rc = pair_edges(x, s, 0);  /* corners moved: pair them again */
     }
     free(state);
     return rc;
@@ -468,11 +607,6 @@ static uint32_t *fan_roots(const ctx *x, const soup *s)
         if (s->partner[c] != NONE) uf_union(parent, c, next_corner(s, s->partner[c]));
     for (uint32_t c = 0; c < s->nc; c++) parent[c] = uf_find(parent, c);
     return parent;
-}
-
-static const char *vertices_word(uint32_t n)
-{
-    return n == 1 ? "vertex" : "vertices";
 }
 
 /* Fans per original vertex, and the copies made for the extra fans. */
@@ -561,17 +695,31 @@ static void fixed_free(fixed *r)
     free(r->corner_s);
 }
 
-static void note_dropped(const ctx *x, const vmap *vm, uint32_t ndropped)
+/* An input vertex no corner uses any more and that was unreferenced in the
+ * file: one whose corners all moved to edge-split copies was used, and is
+ * dropped without a note (its copies carry it on). */
+static int dropped_unused(const soup *s, const vmap *vm, uint32_t v)
+{
+    return v < s->nv_in && vm->nfans[v] == 0 && !(s->ecopied && s->ecopied[v]);
+}
+
+static void note_dropped(const ctx *x, const soup *s, const vmap *vm, uint32_t ndropped)
 {
     char list[256];
     size_t len = 0;
     uint32_t listed = 0;
     list[0] = 0;
-    for (uint32_t v = 0; v < vm->nv && listed < MAX_LISTED; v++)
-        if (vm->nfans[v] == 0)
+    for (uint32_t v = 0; v < s->nv_in && listed < MAX_LISTED; v++)
+        if (dropped_unused(s, vm, v))
             len += (size_t)snprintf(list + len, sizeof list - len, "%s%u", listed++ ? ", " : "", v + x->base);
     st_notes_add(x->notes, "%s: repaired: dropped %u unreferenced %s (%s%s)", x->name, ndropped,
                  vertices_word(ndropped), list, ndropped > listed ? ", ..." : "");
+}
+
+/* The input vertex of vertex v of the soup (v itself or an edge copy's). */
+static uint32_t input_vertex(const soup *s, uint32_t v)
+{
+    return v < s->nv_in ? v : s->ecopy_of[v - s->nv_in];
 }
 
 /* Numbers the used vertices in order (copies after the originals), drops
@@ -588,11 +736,14 @@ static int renumber(const ctx *x, soup *s, const vmap *vm, fixed *out)
     for (uint32_t e = 0; e < vm->next; e++) {
         int used = e >= vm->nv || vm->nfans[e] > 0;
         newid[e] = used ? n : NONE;
-        if (used) out->orig[n++] = e < vm->nv ? e : vm->copy_of[e - vm->nv];
+        if (used) out->orig[n++] = input_vertex(s, e < vm->nv ? e : vm->copy_of[e - vm->nv]);
     }
     for (uint32_t c = 0; c < s->nc; c++) s->idx[c] = newid[s->idx[c]];
     out->nverts = n;
-    if (n < vm->next) note_dropped(x, vm, vm->next - n);
+    uint32_t ndropped = 0;
+    if (n < vm->next)
+        for (uint32_t v = 0; v < s->nv_in; v++) ndropped += dropped_unused(s, vm, v);
+    if (ndropped) note_dropped(x, s, vm, ndropped);
     free(newid);
     return 0;
 }
@@ -615,7 +766,10 @@ static int gather_vertices(const ctx *x, const st_mesh *m, fixed *out)
 
 /* A crease names an input edge; it goes to the output edge whose ends come
  * from the same input vertices (unique: both faces of an edge lie in the
- * same fan of each end).  Creases on no edge of the mesh are dropped. */
+ * same fan of each end; of a split crowded edge, the first record in
+ * (key, corner) order is the first face's, one of the two that keep the
+ * edge, so the crease stays there and the detached faces' copies go
+ * without).  Creases on no edge of the mesh are dropped. */
 static int remap_creases(const ctx *x, const soup *s, const st_mesh *m, fixed *out)
 {
     if (!m->ncreases) return 0;
@@ -718,7 +872,7 @@ static void commit(st_mesh *m, uint32_t *idx, uint32_t *uvidx, fixed *r)
 static int repair_steps(const ctx *x, const st_mesh *m, soup *s, fixed *out)
 {
     vmap vm = {0};
-    int rc = pair_edges(x, s);
+    int rc = pair_edges(x, s, !x->strict);
     if (!rc) rc = repair_orientation(x, s);
     if (!rc) rc = split_vertices(x, s, &vm);
     if (!rc) rc = renumber(x, s, &vm, out);
@@ -729,11 +883,12 @@ static int repair_steps(const ctx *x, const st_mesh *m, soup *s, fixed *out)
     return rc;
 }
 
-int st_mesh_repair_src(const char *name, st_mesh *m, const st_mesh_src *src,
+int st_mesh_repair_src(const char *name, st_mesh *m, const st_mesh_src *src, unsigned flags,
                        st_notes *notes, st_error *err)
 {
     st_notes local = {0};
-    ctx x = {name, src, notes ? &local : NULL, err, src ? (uint32_t)src->index_base : 0};
+    ctx x = {name, src, notes ? &local : NULL, err, src ? (uint32_t)src->index_base : 0,
+             (flags & ST_MESH_STRICT) != 0};
     int rc = validate(&x, m);
     if (rc) return rc;
     size_t nc = m->face_off[m->nfaces];
@@ -812,12 +967,12 @@ static int check_creases(const ctx *x, const soup *s, const st_mesh *m)
 
 int st_mesh_check(const char *name, const st_mesh *m, st_error *err)
 {
-    ctx x = {name, NULL, NULL, err, 0};
+    ctx x = {name, NULL, NULL, err, 0, 1};
     int rc = validate(&x, m);
     if (rc) return rc;
     soup s = {0};
     rc = soup_init(&x, &s, m, m->face_idx);
-    if (!rc) rc = pair_edges(&x, &s);
+    if (!rc) rc = pair_edges(&x, &s, 0);
     if (!rc) rc = check_orientation(&x, &s);
     if (!rc) rc = check_fans(&x, &s);
     if (!rc) rc = check_creases(&x, &s, m);
