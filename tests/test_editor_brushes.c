@@ -528,6 +528,15 @@ static void record(void *ctx, const double p[3])
     r->n++;
 }
 
+typedef struct tail_rec { double p[64][3], k[64]; unsigned n; } tail_rec;
+
+static void record_tail(void *ctx, const double p[3], double k)
+{
+    tail_rec *r = ctx;
+    if (r->n < 64) { memcpy(r->p[r->n], p, sizeof r->p[0]); r->k[r->n] = k; }
+    r->n++;
+}
+
 /* A polyline with corners, as events: `per_edge` events per edge. */
 static const double path_pts[][3] = { { 0, 0, 0 }, { 10, 0, 0 }, { 10, 7, 0 }, { 3, 7, 0 }, { 3, 12, 0 } };
 
@@ -576,6 +585,19 @@ static void test_spacing(void)
     CHECKF(worst < 1e-12, "stabiliser: fast and slow dabs differ by %g", worst);
     double dist_end = ed_test_dist3(sp.brush, b);
     CHECKF(fabs(dist_end - 2) < 1e-12, "the stabilised brush is %g behind the cursor, expected 2", dist_end);
+    /* The end of the trailing stroke (fade-out): the dabs still due between
+     * the brush point and the cursor, spaced as before, with factors falling
+     * from about 1 to 0.1, and the whole path covered: 22 + 4 = 26 dabs at
+     * 0.5 over 13. */
+    tail_rec tail = { 0 };
+    unsigned nt = st_stroke_path_end(&sp, b, 0.5, record_tail, &tail);
+    CHECKF(nt == 4 && tail.n == 4, "tail: %u dabs, expected 4", nt);
+    int falling = 1;
+    for (unsigned i = 1; i < tail.n && i < 64; i++) falling &= tail.k[i] < tail.k[i - 1];
+    CHECKF(falling && tail.k[0] > 0.7 && tail.k[0] <= 1 && tail.k[3] >= 0.1 && tail.k[3] < 0.2,
+           "tail factors %g %g %g %g", tail.k[0], tail.k[1], tail.k[2], tail.k[3]);
+    CHECK(fabs(ed_test_dist3(tail.p[3], b)) < 1e-12 && ed_test_dist3(sp.brush, b) == 0);
+    CHECK(fabs(ed_test_dist3(tail.p[0], lazy_slow.p[21]) - 0.5) < 1e-12);
     /* Within the stabiliser's distance nothing moves. */
     st_stroke_path_begin(&sp, path_pts[0]);
     const double near[3] = { 1.5, 0.5, 0 };
@@ -626,6 +648,49 @@ static void test_spacing_stroke(void)
     double worst = 0;
     for (uint32_t i = 0; i < n; i++) worst = fmax(worst, ed_test_dist3(res[0][i], res[1][i]));
     CHECKF(worst < 1e-12, "a stroke from 40 and from 2 events differs by %g", worst);
+    free(res[0]);
+    free(res[1]);
+    free(v);
+}
+
+/* The fade-out (st_doc_stroke_fade_out): the same stroke whose last dabs
+ * get factors 0.8 .. 0.1 moves the surface there less than at full
+ * strength, and nothing else changes (before them the surfaces are equal). */
+static void test_fade_out(void)
+{
+    double (*res[2])[3] = { 0 };
+    uint32_t *v = NULL, n = 0;
+    static const double ks[4] = { 0.8, 0.5, 0.25, 0.1 };
+    for (int r = 0; r < 2; r++) {
+        st_doc d;
+        open_grid(&d);
+        free(v);
+        n = ed_test_level_vertices(&d, 0, &v);
+        const double up[3] = { 0, 0, 1 };
+        brush_set(&d, ST_BRUSH_DRAW, 0.3, 0.5, up);
+        d.brush.fade = 1;
+        CHECK(st_doc_stroke_begin(&d) == 0);
+        for (int k = 0; k <= 12; k++) {
+            double p[3] = { -0.6 + 0.1 * k, 0, 0 };
+            if (k >= 9 && r) st_doc_stroke_fade_out(&d, ks[k - 9]);
+            CHECK(st_doc_stroke_dab(&d, p, up, NULL) == 0);
+        }
+        st_doc_stroke_end(&d);
+        res[r] = positions(&d, v, n);
+        st_doc_free(&d);
+    }
+    /* Heights (z) at the stroke's end (x = 0.6) and at its start (x = -0.6). */
+    double end_full = 0, end_faded = 0, start_diff = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        if (fabs(res[0][i][0] - 0.6) < 0.05 && fabs(res[0][i][1]) < 0.05) {
+            end_full = fmax(end_full, res[0][i][2]);
+            end_faded = fmax(end_faded, res[1][i][2]);
+        }
+        if (res[0][i][0] < -0.55) start_diff = fmax(start_diff, ed_test_dist3(res[0][i], res[1][i]));
+    }
+    CHECKF(end_faded < 0.6 * end_full && end_faded > 0, "fade-out: the end raised %g against %g at full strength", end_faded,
+           end_full);
+    CHECKF(start_diff == 0, "fade-out changed the stroke's start by %g", start_diff);
     free(res[0]);
     free(res[1]);
     free(v);
@@ -724,6 +789,7 @@ int main(void)
     test_symmetry();
     test_spacing();
     test_spacing_stroke();
+    test_fade_out();
     test_tool_settings();
     test_undo_redo();
     return TEST_END();

@@ -937,6 +937,7 @@ int ed_stroke_begin(st_doc *d, int moves_geometry)
     bs->path = 0;
     bs->ndabs = 0;
     bs->fadek = 1;
+    bs->outk = 1;
     /* Per-vertex arrays up to the largest id of the editing level only. */
     uint32_t nv = 0;
     st_dart_iter it;
@@ -1020,6 +1021,7 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
     if (d->brush.fade > 0 && d->brush.tool != ST_BRUSH_GRAB) {
         double t = bs->path / (d->brush.fade * bs->R);
         if (t < 1) bs->fadek = 0.1 + 0.9 * t * t * (3 - 2 * t);
+        bs->fadek *= bs->outk;
     }
     if (++bs->gen == 0) {
         for (uint32_t v = 0; v < bs->nv; v++) bs->mark[v] = 0;
@@ -1104,6 +1106,11 @@ uint32_t ed_brush_query(st_doc *d, const double c[3], double R, const uint32_t *
     *vids = bs->tmp;
     *w = bs->tmpw;
     return bs->ntmp;
+}
+
+void st_doc_stroke_fade_out(st_doc *d, double k)
+{
+    if (d->active == 2 && d->bs) d->bs->outk = k < 0 ? 0 : k > 1 ? 1 : k;
 }
 
 void st_doc_stroke_end(st_doc *d)

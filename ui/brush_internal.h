@@ -14,7 +14,8 @@ struct st_brush_state {
     double dir[3];             /* unit direction from the last dab's centre to this one's, 0: none yet */
     double dab_dir[3];         /* dir reflected with the mirrored dab being applied */
     unsigned ndabs;
-    double fadek;              /* this dab's fade-in factor */
+    double fadek;              /* this dab's fade factor: the fade-in times outk */
+    double outk;               /* the fade-out's factor (st_doc_stroke_fade_out), 1 until the stroke's end */
     double edge_mean;          /* mean edge length of edge_level (cache of st_doc_brush_reach) */
     unsigned edge_level;
     uint32_t edge_key;         /* verts.end of the map when edge_mean was taken, 0: none */

@@ -56,3 +56,25 @@ unsigned st_stroke_path_move(st_stroke_path *sp, const double cursor[3], double 
     memcpy(sp->brush, to, sizeof sp->brush);
     return n;
 }
+
+unsigned st_stroke_path_end(st_stroke_path *sp, const double cursor[3], double spacing,
+                            void (*dab)(void *ctx, const double p[3], double k), void *ctx)
+{
+    double dir[3], from[3];
+    for (int k = 0; k < 3; k++) dir[k] = cursor[k] - sp->brush[k];
+    double len = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    if (!(len > 0) || !(spacing > 0)) return 0;
+    memcpy(from, sp->brush, sizeof from);
+    unsigned n = 0;
+    double at = spacing - sp->since;
+    for (; at <= len; at += spacing) {
+        double t = at / len, p[3];
+        for (int k = 0; k < 3; k++) p[k] = from[k] + dir[k] * t;
+        double u = 1 - t;   /* 1 at the brush point, 0 at the cursor */
+        dab(ctx, p, 0.1 + 0.9 * u * u * (3 - 2 * u));
+        n++;
+    }
+    sp->since = len - (at - spacing);
+    memcpy(sp->brush, cursor, sizeof sp->brush);
+    return n;
+}

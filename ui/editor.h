@@ -381,6 +381,11 @@ int st_doc_stroke_begin(st_doc *d);
 #define ST_BRUSH_REACH_EDGES 3.0
 double st_doc_brush_reach(st_doc *d);
 int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3], const double grab_delta[3]);
+/* The fade-out of the stroke's end: the next dabs' strength times k (0..1;
+ * 1 again at the next stroke).  The window's stroke trails the cursor by
+ * the fade length and, when the button comes up, lays the trailing part
+ * with k falling to 0.1 (st_stroke_path_end), as the fade-in rises. */
+void st_doc_stroke_fade_out(st_doc *d, double k);
 void st_doc_stroke_end(st_doc *d);
 
 /* Where the dabs of a stroke go (brush_stroke.c), in any space of up to
@@ -401,6 +406,12 @@ void st_stroke_path_begin(st_stroke_path *sp, const double cursor[3]);
  * returns how many. */
 unsigned st_stroke_path_move(st_stroke_path *sp, const double cursor[3], double spacing, double lazy,
                              void (*dab)(void *ctx, const double p[3]), void *ctx);
+/* The end of a stroke that trailed the cursor: the dabs still due between
+ * the brush point and the cursor, each called with the factor k of its
+ * place, from 1 near the brush point down to 0.1 at the cursor (smoothstep,
+ * the fade-in's curve mirrored).  Returns how many. */
+unsigned st_stroke_path_end(st_stroke_path *sp, const double cursor[3], double spacing,
+                            void (*dab)(void *ctx, const double p[3], double k), void *ctx);
 
 /* Interest box: corners, levels, on/off.  Refines or coarsens the display
  * incrementally (st_adapt_update).  Undoable (a box drag is one step when

@@ -398,6 +398,22 @@ void st_app_drag_finish(st_app *a, int cancel)
 
 /* ---- brush strokes ------------------------------------------------------------ */
 
+/* The brush radius in pixels at the brush point. */
+static double stroke_radius_px(st_app *a)
+{
+    double px = st_camctl_pixel_size(&a->cc, a->fb_w, a->fb_h, a->brush_pos);
+    return a->doc.brush.radius / (px > 0 ? px : 1);
+}
+
+/* Strokes whose strength fades out at the end: every sculpt brush with a
+ * fade (grab moves what it holds; the mask brush paints).  The brush point
+ * trails the cursor by the fade length, so that the end is known when the
+ * button comes up (ZBrush's and Blender's stroke taper at both ends). */
+static int fades_out(const st_app *a)
+{
+    return !a->mask_brush && a->tool != ST_BRUSH_GRAB && a->doc.brush.fade > 0 && a->doc.brush.spacing > 0;
+}
+
 /* A dab of a spaced stroke at screen point s (brush_stroke.c): the surface
  * under it from the ID buffer. */
 static void stroke_dab_at(void *ctx, const double s[3])
@@ -469,9 +485,9 @@ static void stroke_move(st_app *a)
             st_app_sync(a);
             if (ensure_pick(a)) return;
         }
-        double px = st_camctl_pixel_size(&a->cc, a->fb_w, a->fb_h, a->brush_pos);
-        double rpx = d->brush.radius / (px > 0 ? px : 1);
+        double rpx = stroke_radius_px(a);
         double lazy = d->brush.stabilize ? d->brush.stabilize_dist * rpx : 0;
+        if (fades_out(a) && d->brush.fade * rpx > lazy) lazy = d->brush.fade * rpx;
         const double cursor[3] = { a->mx, a->my, 0 };
         st_stroke_path_move(&a->stroke_path, cursor, d->brush.spacing * rpx, lazy, stroke_dab_at, a);
     }
@@ -480,8 +496,22 @@ static void stroke_move(st_app *a)
     st_app_sync(a);
 }
 
+/* The tail of a stroke that trailed the cursor: laid at the end with the
+ * strength fading out (st_stroke_path_end). */
+static void stroke_tail_dab(void *ctx, const double s[3], double k)
+{
+    st_app *a = ctx;
+    st_doc_stroke_fade_out(&a->doc, k);
+    stroke_dab_at(a, s);
+}
+
 static void stroke_finish(st_app *a)
 {
+    st_doc *d = &a->doc;
+    if (d->active == 2 && fades_out(a) && !ensure_pick(a)) {
+        const double cursor[3] = { a->mx, a->my, 0 };
+        st_stroke_path_end(&a->stroke_path, cursor, d->brush.spacing * stroke_radius_px(a), stroke_tail_dab, a);
+    }
     if (a->doc.active == 3) st_doc_mask_stroke_end(&a->doc);
     else st_doc_stroke_end(&a->doc);
     a->doc.brush.invert = 0;
