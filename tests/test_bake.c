@@ -1134,6 +1134,7 @@ static void test_udim_tiles(void)
     st_bake_maps_free(&wrapped);
     st_bake_maps_free(&tile[0]);
     st_bake_maps_free(&tile[1]);
+    st_bake_tiles_free(&t);
 
     /* An overshoot: face 4's corner 3 pulled to u = -0.02 (its cell starts
      * at u >= 0), baked with wrap-around: counted, no overlap, and the
