@@ -37,10 +37,12 @@ static const char *next_scheme(st_app *a, const char *cur)
     for (unsigned i = 0; i < NSCHEMES; i++)
         if (cur && !strcmp(cur, scheme_cycle[i])) at = i;
     const char *own = a->doc.scheme ? a->doc.scheme->name : "";
+    int rc[NSCHEMES];
+    st_error err[NSCHEMES];
+    st_doc_schemes_accepted(&a->doc, scheme_cycle, NSCHEMES, rc, err);
     for (unsigned k = 1; k <= NSCHEMES; k++) {
-        const char *s = scheme_cycle[(at + k) % NSCHEMES];
-        st_error err;
-        if (strcmp(s, own) && !st_doc_scheme_accepts(&a->doc, s, &err)) return s;
+        unsigned i = (at + k) % NSCHEMES;
+        if (strcmp(scheme_cycle[i], own) && rc[i] == ST_OK) return scheme_cycle[i];
     }
     return cur;
 }

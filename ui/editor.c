@@ -285,16 +285,28 @@ int st_doc_open_progress(st_doc *d, const char *path, const char *scheme, unsign
     return ST_OK;
 }
 
-int st_doc_scheme_accepts(st_doc *d, const char *scheme, st_error *err)
+unsigned st_doc_schemes_accepted(st_doc *d, const char *const *schemes, unsigned n, int *rc, st_error *errs)
 {
-    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
-    const st_scheme *sc = st_scheme_find(scheme ? scheme : "");
-    if (!sc) return st_fail(err, ST_ERR_INVALID, "unknown scheme '%s'", scheme ? scheme : "");
+    unsigned ok = 0;
     st_mesh m;
     st_mesh_init(&m);
-    int rc = st_hier_level_mesh(&d->h, 0, &m, err);
-    if (!rc) rc = st_scheme_accepts(sc, &m, err);
+    st_error merr;
+    int mrc = d->loaded ? st_hier_level_mesh(&d->h, 0, &m, &merr) : st_fail(&merr, ST_ERR_INVALID, "no model");
+    for (unsigned i = 0; i < n; i++) {
+        const st_scheme *sc = st_scheme_find(schemes[i] ? schemes[i] : "");
+        if (mrc) { rc[i] = mrc; errs[i] = merr; }
+        else if (!sc) rc[i] = st_fail(&errs[i], ST_ERR_INVALID, "unknown scheme '%s'", schemes[i] ? schemes[i] : "");
+        else rc[i] = st_scheme_accepts(sc, &m, &errs[i]);
+        ok += rc[i] == ST_OK;
+    }
     st_mesh_free(&m);
+    return ok;
+}
+
+int st_doc_scheme_accepts(st_doc *d, const char *scheme, st_error *err)
+{
+    int rc;
+    st_doc_schemes_accepted(d, &scheme, 1, &rc, err);
     return rc;
 }
 

@@ -270,6 +270,9 @@ int st_doc_set_scheme(st_doc *d, const char *scheme, st_error *err);
  * (level 0 as edited): ST_OK, or why not in err (core's
  * st_scheme_accepts: loop on quads, sqrt3 with holes, ...). */
 int st_doc_scheme_accepts(st_doc *d, const char *scheme, st_error *err);
+/* The same for n schemes at once, level 0 read once: rc[i] and errs[i]
+ * for schemes[i]; returns how many it takes. */
+unsigned st_doc_schemes_accepted(st_doc *d, const char *const *schemes, unsigned n, int *rc, st_error *errs);
 
 /* The long operations with progress and cancellation: progress (may be
  * NULL) is called with the fraction done (0 first, 1 last, increasing), a

@@ -60,15 +60,15 @@ struct gui_state {
     float mx = -FLT_MAX, my = -FLT_MAX;
     bool down[3] = {}, pressed[3] = {};
     bool fed_down[3] = {};     /* io.MouseDown as the last frame had it */
-    float held_wheel[2] = {};
-    std::string scheme_refusal[6];   /* per entry of schemes[]: why not, "" when it can */
+    float held_wheel[2] = {};  /* a wheel that waits for the frame after a click (st_gui_frame) */
+    std::string scheme_refusal[sizeof schemes / sizeof schemes[0]];   /* why not, "" when it can */
     uint64_t scheme_refusal_rev = 0; /* st_doc.revision + 1 they were computed for (0: never) */
     std::string scheme_refusal_path;
     bool box_pending = false;        /* a level slider moved: applied after the frame that shows it */
     st_adapt_params box_next = {};
     st_adapt_params box_allowed_for = {};
     uint64_t box_allowed_rev = 0;
-    unsigned box_allowed = 0;        /* st_doc_box_max_level_allowed of box_allowed_for */  /* a wheel that waits for the frame after a press (st_gui_frame) */
+    unsigned box_allowed = 0;        /* st_doc_box_max_level_allowed of box_allowed_for */
     /* Keys pressed since the last frame, and releases held back until a
      * frame has seen them down (ImGui 1.86 reads key states, not events: a
      * press and release between two frames, such as a fast typist's Enter
@@ -450,10 +450,11 @@ void scheme_refusals_update(st_app *a)
     if (g.scheme_refusal_rev == a->doc.revision + 1 && g.scheme_refusal_path == a->doc.path) return;
     g.scheme_refusal_rev = a->doc.revision + 1;
     g.scheme_refusal_path = a->doc.path;
-    for (size_t i = 0; i < sizeof schemes / sizeof schemes[0]; i++) {
-        st_error err;
-        g.scheme_refusal[i] = st_doc_scheme_accepts(&a->doc, schemes[i], &err) ? err.msg : "";
-    }
+    const unsigned n = sizeof schemes / sizeof schemes[0];
+    int rc[n];
+    st_error err[n];
+    st_doc_schemes_accepted(&a->doc, schemes, n, rc, err);
+    for (unsigned i = 0; i < n; i++) g.scheme_refusal[i] = rc[i] ? err[i].msg : "";
 }
 
 /* The scheme submenu proposes a scheme; the question (scheme_window)
@@ -1124,11 +1125,11 @@ void side_panel(st_app *a)
                 }
                 float sp = (float)d->brush.spacing;
                 if (ImGui::SliderFloat("spacing", &sp, 0.0f, 1.0f, "%.2f radius")) d->brush.spacing = sp;
-                /* Per brush (brush.c: autosmooth); the stroke's fade-in,
+                /* Per brush (brush.c: autosmooth); the stroke's fade (in and out),
                  * spacing attenuation and hold for every brush. */
                 float as = (float)d->brush.autosmooth, fade = (float)d->brush.fade;
                 if (ImGui::SliderFloat("auto-smooth", &as, 0.0f, 1.0f, "%.2f")) d->brush.autosmooth = as;
-                if (ImGui::SliderFloat("fade-in", &fade, 0.0f, 4.0f, "%.2f radius")) d->brush.fade = fade;
+                if (ImGui::SliderFloat("fade", &fade, 0.0f, 4.0f, "%.2f radius each end")) d->brush.fade = fade;
                 bool atten = d->brush.space_atten != 0, hold = d->brush.hold != 0;
                 if (ImGui::Checkbox("strength for spacing", &atten)) d->brush.space_atten = atten;
                 ImGui::SameLine();

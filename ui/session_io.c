@@ -48,8 +48,9 @@ static void tool_of(const st_app *a, st_session_tool *t)
               (a->shading == ST_SHADE_FLAT ? ST_SESSION_SHOW_FLAT : 0) | (a->checker ? ST_SESSION_SHOW_CHECKER : 0);
 }
 
-/* Back from a session: the tool through the action that picks it (so the
- * brush's per-tool settings follow), then the values saved. */
+/* Back from a session: the tool made current as its button does
+ * (st_brush_set_tool, so the per-tool settings follow), then the values
+ * saved. */
 static void tool_apply(st_app *a, const st_session_tool *t)
 {
     st_brush *b = &a->doc.brush;
