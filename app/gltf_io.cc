@@ -128,9 +128,20 @@ struct BufferFs {
     int code = ST_ERR_PARSE;
 };
 
+// A URI as a message shows it: one line (control bytes as '?', a file's
+// URI may hold a newline), at most 80 bytes and "..." (a data: URI may be
+// megabytes).
+std::string uri_for_message(const std::string &uri)
+{
+    std::string s = uri.substr(0, 80);
+    for (char &c : s)
+        if ((unsigned char)c < 0x20 || c == 0x7f) c = '?';
+    return uri.size() > 80 ? s + "..." : s;
+}
+
 bool refuse(BufferFs *fs, std::string *err, const std::string &uri, const std::string &why, int code)
 {
-    std::string msg = "buffer '" + uri + "': " + why;
+    std::string msg = "buffer '" + uri_for_message(uri) + "': " + why;
     if (fs->refusal.empty()) fs->refusal = msg, fs->code = code;
     if (err) *err = msg;
     return false;
