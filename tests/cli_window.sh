@@ -195,10 +195,13 @@ if command -v xdotool > /dev/null 2>&1; then
     STRATA_REPLAY_LIVE=1 ASAN_OPTIONS="$WINDOW_ASAN" timeout 300 "$EXE" --size 320x240 --scheme loop --levels 0 \
         --replay "$TMP/cancel.txt" "$MESHES/triangle/boot.obj" > "$TMP/cancel.log" 2>&1 &
     pid=$!
+    # Until the window exists, look for it every 0.5 s only: a search every
+    # 50 ms opens 20 X connections a second while strata opens its own, and
+    # strata twice failed to open the display then (CI's ASan stage).
+    w=
     while kill -0 "$pid" 2> /dev/null; do
-        w=$(xdotool search --name '^Strata' 2> /dev/null | head -1)
-        [ -n "$w" ] && xdotool key --window "$w" Escape 2> /dev/null
-        sleep 0.05
+        [ -n "$w" ] || w=$(xdotool search --name '^Strata' 2> /dev/null | head -1)
+        if [ -n "$w" ]; then xdotool key --window "$w" Escape 2> /dev/null; sleep 0.05; else sleep 0.5; fi
     done
     rc=0; wait "$pid" || rc=$?
     if [ "$rc" -eq 0 ] && grep -q "rebuild cancelled: the model is unchanged" "$TMP/cancel.log"; then ok
