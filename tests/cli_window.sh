@@ -192,15 +192,16 @@ fi
 # on a 40k-face mesh whose progressive rebuild takes longer than that.
 if command -v xdotool > /dev/null 2>&1; then
     printf 'wait 1\nexpect top 0\nkey ctrl+u\nwait 1\nexpect message cancelled\nexpect top 0\nexpect undo_depth 0\nquit\n' > "$TMP/cancel.txt"
-    STRATA_REPLAY_LIVE=1 ASAN_OPTIONS="$WINDOW_ASAN" timeout 300 "$EXE" --size 320x240 --scheme loop --levels 0 \
+    # STRATA_JOB_HOLD_S: the rebuild's reports wait up to 20 s for the Esc,
+    # so that the slower search below cannot come too late.
+    STRATA_JOB_HOLD_S=20 STRATA_REPLAY_LIVE=1 ASAN_OPTIONS="$WINDOW_ASAN" timeout 300 "$EXE" --size 320x240 --scheme loop --levels 0 \
         --replay "$TMP/cancel.txt" "$MESHES/triangle/boot.obj" > "$TMP/cancel.log" 2>&1 &
     pid=$!
-    # Until the window exists, look for it every 0.5 s only: a search every
-    # 50 ms opens 20 X connections a second while strata opens its own, and
-    # strata twice failed to open the display then (CI's ASan stage).
-    w=
+    # Until a window exists, look every 0.5 s only: a search every 50 ms
+    # opens 20 X connections a second while strata opens its own, and strata
+    # twice failed to open the display then (CI's ASan stage).
     while kill -0 "$pid" 2> /dev/null; do
-        [ -n "$w" ] || w=$(xdotool search --name '^Strata' 2> /dev/null | head -1)
+        w=$(xdotool search --name '^Strata' 2> /dev/null | head -1)
         if [ -n "$w" ]; then xdotool key --window "$w" Escape 2> /dev/null; sleep 0.05; else sleep 0.5; fi
     done
     rc=0; wait "$pid" || rc=$?
