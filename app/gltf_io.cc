@@ -199,6 +199,28 @@ bool read_checked(BufferFs *fs, std::string *err, const std::string &uri, const 
     return true;
 }
 
+// Whether a relative URI's '..' segments climb above the folder it starts
+// in, read from the text alone: such a URI is refused whether or not the
+// place it names exists (realpath() fails on a missing file, and the
+// message must not depend on how deep the glTF's folder lies).
+bool climbs_above(const std::string &uri)
+{
+    long depth = 0;
+    size_t i = 0;
+    while (i <= uri.size()) {
+        size_t j = uri.find('/', i);
+        if (j == std::string::npos) j = uri.size();
+        std::string seg = uri.substr(i, j - i);
+        if (seg == "..") {
+            if (--depth < 0) return true;
+        } else if (!seg.empty() && seg != ".") {
+            depth++;
+        }
+        i = j + 1;
+    }
+    return false;
+}
+
 bool fs_exists(const std::string &, void *) { return true; }  // fs_read decides, with the reason
 std::string fs_expand(const std::string &path, void *) { return path; }
 bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *user)
@@ -208,6 +230,7 @@ bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::strin
     if (fs->in_memory) return refuse(fs, err, uri, "external URIs cannot be resolved when parsing from memory (only data: URIs)", ST_ERR_PARSE);
     if (uri.empty()) return refuse(fs, err, uri, "an empty URI", ST_ERR_PARSE);
     if (uri[0] == '/') return refuse(fs, err, uri, "an absolute path: external buffers must lie in the glTF's folder", ST_ERR_PARSE);
+    if (climbs_above(uri)) return refuse(fs, err, uri, "outside the glTF's folder (its '..' segments climb above it)", ST_ERR_PARSE);
     std::string real = real_path(path);
     if (real.empty()) return refuse(fs, err, uri, std::string("cannot open: ") + strerror(errno), ST_ERR_IO);
     std::string inside = fs->real_base == "/" ? "/" : fs->real_base + "/";
