@@ -153,6 +153,7 @@ void st_br_init(st_br *r, const char *name, const void *p, size_t size, st_error
     r->name = name;
     r->err = err;
     r->failed = 0;
+    r->trimmed = 0;
 }
 
 int st_br_fail(st_br *r, const char *fmt, ...)
@@ -372,7 +373,6 @@ out:
 
 /* ---- multilevel attributes -------------------------------------------------------- */
 
-static const unsigned char zeros[64];
 
 /* Whether entry i of column l (l >= 1) can be read: an id inserted below l. */
 static inline int col_readable(const st_pool *p, uint32_t i, unsigned l)
@@ -380,30 +380,59 @@ static inline int col_readable(const st_pool *p, uint32_t i, unsigned l)
     return i < p->end && p->ins[i] != ST_FREE_LEVEL && p->ins[i] < l;
 }
 
+/* below[l], l = 0..ST_MAX_LEVELS: 1 + the largest id inserted at a level < l
+ * (0 when none), non-decreasing in l: the entries column l can be read at. */
+static void ids_below(const st_pool *p, uint32_t below[ST_MAX_LEVELS + 1])
+{
+    memset(below, 0, (ST_MAX_LEVELS + 1) * sizeof *below);
+    for (uint32_t i = 0; i < p->end; i++)
+        if (p->ins[i] != ST_FREE_LEVEL && i + 1 > below[p->ins[i] + 1]) below[p->ins[i] + 1] = i + 1;
+    for (unsigned l = 1; l <= ST_MAX_LEVELS; l++)
+        if (below[l - 1] > below[l]) below[l] = below[l - 1];
+}
+
+/* Live ids of p (all levels), and ids readable in the column of each level
+ * l (inserted below l): how many values format 3 stores. */
+static uint32_t live_ids(const st_pool *p)
+{
+    uint32_t n = 0;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) n += p->live[l];
+    return n;
+}
+
+static uint32_t ids_readable_at(const st_pool *p, unsigned l)
+{
+    uint32_t n = 0;
+    for (unsigned k = 0; k < l && k < ST_MAX_LEVELS; k++) n += p->live[k];
+    return n;
+}
+
+/* Format 3: values of live ids only (base) and of ids inserted below the
+ * column's level (columns), in id order; the reader knows which from the
+ * pool, and everything else is zero. */
 void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p, st_mla_value_check check)
 {
     st_bw_u32(w, a->elem);
     for (uint32_t i = 0; i < p->end; i++) {
-        const unsigned char *v = p->ins[i] == ST_FREE_LEVEL ? zeros : a->base + (size_t)i * a->elem;
-        if (check && v != zeros && !check(v)) w->refused_value = 1;
+        if (p->ins[i] == ST_FREE_LEVEL) continue;
+        const unsigned char *v = a->base + (size_t)i * a->elem;
+        if (check && !check(v)) w->refused_value = 1;
         st_bw_bytes(w, v, a->elem);
     }
     /* The sparse form (map.h) is written as the dense columns it stands for. */
     const st_mla_sparse *sp = a->sp;
+    uint32_t below[ST_MAX_LEVELS + 1];
+    ids_below(p, below);
     uint32_t mask = 0;
     for (unsigned l = 1; l < ST_MAX_LEVELS; l++)
         if (sp ? sp->has_col[l] : a->col[l] != NULL) mask |= 1u << l;
     st_bw_u32(w, mask);
     for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
         if (!(mask >> l & 1u)) continue;
-        uint32_t n = sp ? sp->colcap[l] : a->colcap[l];
-        st_bw_u32(w, n);
-        for (uint32_t i = 0; i < n; i++) {
-            const unsigned char *v = zeros;
-            if (col_readable(p, i, l)) {
-                v = sp ? st_mla_sparse_at(a, p->ins, i, l) : a->col[l] + (size_t)i * a->elem;
-                if (check && !check(v)) w->refused_value = 1;
-            }
+        for (uint32_t i = 0; i < below[l]; i++) {
+            if (!col_readable(p, i, l)) continue;
+            const unsigned char *v = sp ? st_mla_sparse_at(a, p->ins, i, l) : a->col[l] + (size_t)i * a->elem;
+            if (check && !check(v)) w->refused_value = 1;
             st_bw_bytes(w, v, a->elem);
         }
     }
@@ -416,21 +445,21 @@ int st_mla_read(st_br *r, st_mla *a, const st_pool *p, unsigned top, uint32_t el
     uint32_t e = st_br_u32(r);
     if (r->failed) return -1;
     if (e != elem) return st_br_fail(r, "%s: element size %u, expected %u", what, e, elem);
-    if (st_br_need(r, p->end, elem, what)) return -1;
-    a->base = malloc(p->end ? (size_t)p->end * elem : elem);
+    /* Format 3 stores live ids only; older formats every id. */
+    if (st_br_need(r, r->trimmed ? live_ids(p) : p->end, elem, what)) return -1;
+    a->base = calloc(p->end ? p->end : 1, elem);
     if (!a->base) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory", r->name); r->failed = 1; return -1; }
-    st_br_bytes(r, a->base, (size_t)p->end * elem);
+    if (!r->trimmed) st_br_bytes(r, a->base, (size_t)p->end * elem);
+    else
+        for (uint32_t i = 0; i < p->end; i++)
+            if (p->ins[i] != ST_FREE_LEVEL) st_br_bytes(r, a->base + (size_t)i * elem, elem);
     for (uint32_t i = 0; check && i < p->end; i++)
         if (p->ins[i] != ST_FREE_LEVEL && !check(a->base + (size_t)i * elem)) {
             st_br_fail(r, "%s: bad value for id %u", what, i);
             goto fail;
         }
-    /* Largest id inserted below each level, +1. */
-    uint32_t below[ST_MAX_LEVELS + 1] = { 0 };
-    for (uint32_t i = 0; i < p->end; i++)
-        if (p->ins[i] != ST_FREE_LEVEL && i + 1 > below[p->ins[i] + 1]) below[p->ins[i] + 1] = i + 1;
-    for (unsigned l = 1; l <= ST_MAX_LEVELS; l++)
-        if (below[l - 1] > below[l]) below[l] = below[l - 1];
+    uint32_t below[ST_MAX_LEVELS + 1];
+    ids_below(p, below);
     uint32_t mask = st_br_u32(r);
     if (r->failed) goto fail;
     if (mask & 1u || mask >> ST_MAX_LEVELS || (top + 1 < ST_MAX_LEVELS && mask >> (top + 1))) {
@@ -439,14 +468,28 @@ int st_mla_read(st_br *r, st_mla *a, const st_pool *p, unsigned top, uint32_t el
     }
     for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
         if (!(mask >> l & 1u)) continue;
-        uint32_t n = st_br_u32(r);
-        if (r->failed || st_br_need(r, n, elem, what)) goto fail;
-        /* below[l]: 1 + largest id inserted at a level < l. */
-        if (n < below[l]) { st_br_fail(r, "%s: column %u holds %u entries, needs %u", what, l, n, below[l]); goto fail; }
-        a->col[l] = malloc(n ? (size_t)n * elem : 1);
+        /* Format 3: the values of the ids inserted below l, held with the
+         * capacity the pool's blocks cover, as a column made in memory
+         * (mla.c, materialize); older formats: a stored capacity n >=
+         * below[l] (1 + largest id inserted below l), then n entries. */
+        uint32_t n, cap;
+        if (r->trimmed) {
+            n = ids_readable_at(p, l);
+            cap = st_pool_cover(p, l);
+            if (cap < below[l]) cap = below[l];
+        } else {
+            n = cap = st_br_u32(r);
+            if (r->failed) goto fail;
+            if (n < below[l]) { st_br_fail(r, "%s: column %u holds %u entries, needs %u", what, l, n, below[l]); goto fail; }
+        }
+        if (st_br_need(r, n, elem, what)) goto fail;
+        a->col[l] = calloc(cap ? cap : 1, elem);
         if (!a->col[l]) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory", r->name); r->failed = 1; goto fail; }
-        a->colcap[l] = n;
-        st_br_bytes(r, a->col[l], (size_t)n * elem);
+        a->colcap[l] = cap;
+        if (!r->trimmed) st_br_bytes(r, a->col[l], (size_t)n * elem);
+        else
+            for (uint32_t i = 0; i < below[l]; i++)
+                if (col_readable(p, i, l)) st_br_bytes(r, a->col[l] + (size_t)i * elem, elem);
         for (uint32_t i = 0; check && i < n; i++)
             if (col_readable(p, i, l) && !check(a->col[l] + (size_t)i * elem)) {
                 st_br_fail(r, "%s: bad value for id %u at level %u", what, i, l);
@@ -478,7 +521,8 @@ void st_map_write(st_bw *w, const st_map *m)
     st_mla_write(w, &m->beta0, &m->darts, NULL);
     st_mla_write(w, &m->beta1, &m->darts, NULL);
     st_mla_write(w, &m->vert, &m->darts, NULL);
-    for (uint32_t i = 0; i < m->darts.end; i++) st_bw_u8(w, m->darts.ins[i] == ST_FREE_LEVEL ? 0 : m->flags[i]);
+    for (uint32_t i = 0; i < m->darts.end; i++)
+        if (m->darts.ins[i] != ST_FREE_LEVEL) st_bw_u8(w, m->flags[i]);
     st_mla_write(w, &m->pos, &m->verts, st_value_finite_f64x3);
 }
 
@@ -515,10 +559,13 @@ int st_map_read(st_br *r, st_map *m)
         st_mla_read(r, &m->beta1, &m->darts, top, 4, NULL, "beta1") ||
         st_mla_read(r, &m->vert, &m->darts, top, 4, NULL, "vertex relation"))
         goto fail;
-    if (st_br_need(r, m->darts.end, 1, "dart flags")) goto fail;
-    m->flags = malloc(m->darts.end ? m->darts.end : 1);
+    if (st_br_need(r, r->trimmed ? live_ids(&m->darts) : m->darts.end, 1, "dart flags")) goto fail;
+    m->flags = calloc(m->darts.end ? m->darts.end : 1, 1);
     if (!m->flags) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory", r->name); r->failed = 1; goto fail; }
-    st_br_bytes(r, m->flags, m->darts.end);
+    if (!r->trimmed) st_br_bytes(r, m->flags, m->darts.end);
+    else
+        for (uint32_t i = 0; i < m->darts.end; i++)
+            if (m->darts.ins[i] != ST_FREE_LEVEL) m->flags[i] = st_br_u8(r);
     for (uint32_t i = 0; i < m->darts.end; i++)
         if ((m->flags[i] & ~(uint8_t)(ST_DART_BOUNDARY | ST_DART_HOLE)) ||
             m->flags[i] == (uint8_t)(ST_DART_BOUNDARY | ST_DART_HOLE)) {

@@ -76,6 +76,10 @@ typedef struct st_br {
     const char *name;          /* file name for messages */
     st_error *err;
     int failed;                /* first failure recorded in err */
+    /* Session format 3 and later: attribute arrays stop at the last live id
+     * and columns at the last id inserted below their level (the rest are
+     * zeros, not stored).  Set by the session reader from the version. */
+    int trimmed;
 } st_br;
 
 void st_br_init(st_br *r, const char *name, const void *p, size_t size, st_error *err);

@@ -135,9 +135,11 @@ int st_session_is_path(const char *path)
 #define TAG_FVAR TAG('F', 'V', 'A', 'R')
 #define TAG_BUVS TAG('B', 'U', 'V', 'S')
 
-/* Version 2 added the UV chunks (FVAR, BUVS); a session without UVs is
- * still written as version 1, byte for byte what it was. */
+/* Version 2 added the UV chunks (FVAR, BUVS); version 3 trims the map's
+ * attribute arrays (map_io_internal.h, st_br.trimmed) and is what every
+ * session is written as. */
 #define SESSION_VERSION_UV 2u
+#define SESSION_VERSION_TRIMMED 3u
 
 typedef void (*chunk_fn)(st_bw *w, const st_session_ref *r);
 
@@ -172,8 +174,14 @@ static void w_detail(st_bw *w, const st_session_ref *r)
         int present = h->detail[l] != NULL;
         st_bw_u8(w, (uint8_t)present);
         if (!present) continue;
-        st_bw_u32(w, h->detail_cap[l]);
-        for (size_t i = 0; i < 3 * (size_t)h->detail_cap[l]; i++) st_bw_f64(w, h->detail[l][i]);
+        /* Up to the last detail whose bits are not all zero (at least one):
+         * the rest read as +0 (st_hier_detail), as st_hier_trim_details
+         * trims; -0 is kept, its bits are not zero. */
+        static const double zero3[3];
+        uint32_t n = h->detail_cap[l];
+        while (n > 1 && !memcmp(h->detail[l] + 3 * (size_t)(n - 1), zero3, sizeof zero3)) n--;
+        st_bw_u32(w, n);
+        for (size_t i = 0; i < 3 * (size_t)n; i++) st_bw_f64(w, h->detail[l][i]);
     }
 }
 
@@ -401,10 +409,6 @@ static unsigned chunk_list(const st_session_ref *r, chunk_def out[ST_SESSION_MAX
     return n;
 }
 
-static uint32_t version_of(const st_session_ref *r)
-{
-    return (r->h->fvar || (r->base && r->base->face_uv)) ? SESSION_VERSION_UV : 1u;
-}
 
 static int check_ref(const st_session_ref *r, st_error *err)
 {
@@ -484,7 +488,7 @@ static void write_all(st_bw *w, const st_session_ref *r, const chunk_plan *pl)
 {
     unsigned char head[HEADER_BYTES];
     memcpy(head, ST_SESSION_MAGIC, 8);
-    uint32_t version = version_of(r);
+    uint32_t version = ST_SESSION_VERSION;
     for (int k = 0; k < 4; k++) head[8 + k] = (unsigned char)(version >> (8 * k));
     memset(head + 12, 0, 4);
     for (int k = 0; k < 8; k++) head[16 + k] = (unsigned char)(pl->total >> (8 * k));
@@ -1122,10 +1126,15 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
         return st_fail(err, ST_ERR_PARSE, "%s: %s: %zu bytes, the header says %llu", name,
                        size < total ? "truncated session file" : "session file with trailing data", size,
                        (unsigned long long)total);
+#ifndef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+    /* Fuzz builds (CMakeLists.txt, STRATA_FUZZ) leave the whole-file
+     * checksum out, as the usual libFuzzer convention does, so that every
+     * mutation reaches the structural checks (test_session checks this one). */
     uint32_t crc = 0;
     for (int k = 0; k < 4; k++) crc |= (uint32_t)p[size - 4 + k] << (8 * k);
     if (st_crc32(0, p, size - 4) != crc)
         return st_fail(err, ST_ERR_PARSE, "%s: damaged session file (checksum mismatch)", name);
+#endif
 
     st_session *s = malloc(sizeof *s);
     if (!s) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", name);
@@ -1149,6 +1158,7 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
         st_br r;
         st_br_init(&r, name, p, hr.off + (size_t)len, err);
         r.off = hr.off;
+        r.trimmed = version >= SESSION_VERSION_TRIMMED;
         unsigned bit = 0;
         int (*fn)(load_ctx *, st_br *) = NULL;
         unsigned after = 0;   /* chunks that must come first */

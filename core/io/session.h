@@ -53,9 +53,10 @@
 #include "core/multires/mask.h"
 #include "core/io/mesh.h"
 
-/* The newest version read and written (2: face-varying UVs; files without
- * UVs are still written as version 1). */
-#define ST_SESSION_VERSION 2u
+/* The version written, and the newest read: 1 the first; 2 added
+ * face-varying UVs; 3 stores attribute arrays only up to the last live id
+ * (docs/SESSION-FORMAT.md).  Versions 1 and 2 are still read. */
+#define ST_SESSION_VERSION 3u
 #define ST_SESSION_MAGIC "STRATASN"
 
 /* The camera, as the window's render camera describes it (orbit around
