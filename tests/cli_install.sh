@@ -3,7 +3,8 @@
 # "Install"): `cpack -G DEB` builds the package; it declares the packages of
 # every shared library the executable needs, and unpacked into a staging
 # folder (dpkg -x) it works from there:
-#   - strata info and strata render run from the staging folder;
+#   - strata info and strata render run from the staging folder, and its
+#     window opens the installed default model;
 #   - the man page strata(1) formats without a warning and names every
 #     command `strata help` lists;
 #   - the .desktop entry passes desktop-file-validate, runs strata, and its
@@ -74,6 +75,17 @@ if "$EXE" render "$ST/usr/share/strata/assets/torus.obj" --levels 1 --size 64x64
    [ "$(head -c 8 "$W/torus.png" | od -An -tx1 | tr -d ' ')" = 89504e470d0a1a0a ]; then
     ok "staged strata render of the installed torus.obj"
 else bad "staged strata render"; fi
+
+# The window with no FILE opens the installed torus.obj, found from the
+# executable's place (ui/window.c): a cube put in its stead shows 96 faces.
+cp "$SRC/assets/cube.obj" "$ST/usr/share/strata/assets/torus.obj"
+printf 'wait 2\nexpect error 0\nexpect faces 96\n' > "$W/default.txt"
+xvfb=()
+[ -n "${DISPLAY:-}" ] || xvfb=(xvfb-run -a -s "-screen 0 1280x800x24")
+if env -u STRATA_ASSETS -u XDG_CONFIG_HOME -u XDG_STATE_HOME HOME="$W/home" timeout 120 \
+       ${xvfb[@]+"${xvfb[@]}"} "$EXE" --replay "$W/default.txt" > "$W/window.log" 2>&1; then
+    ok "staged window opens the installed default model"
+else cat "$W/window.log"; bad "staged window's default model"; fi
 
 # ---- man page -----------------------------------------------------------------
 MAN=$ST/usr/share/man/man1/strata.1.gz
