@@ -24,8 +24,13 @@ if(STRATA_UI_SOURCES AND TARGET strata_editor AND EXISTS ${CMAKE_SOURCE_DIR}/ui/
   target_include_directories(strata_ui PUBLIC ${CMAKE_SOURCE_DIR}/ui
                                        PRIVATE ${STRATA_GL_INCLUDE} ${STRATA_STB_INCLUDE})
   target_link_libraries(strata_ui PUBLIC strata_render strata_core PkgConfig::GLFW3)
-  # The default model of `strata` with no FILE (overridable by $STRATA_ASSETS).
-  target_compile_definitions(strata_ui PRIVATE STRATA_ASSETS="${CMAKE_SOURCE_DIR}/assets")
+  # The default model of `strata` with no FILE (overridable by $STRATA_ASSETS):
+  # the installed copy (cmake/install.cmake), found relative to the
+  # executable, else the source tree's.
+  file(RELATIVE_PATH STRATA_INSTALLED_ASSETS ${CMAKE_INSTALL_FULL_BINDIR}
+       ${CMAKE_INSTALL_FULL_DATADIR}/strata/assets)
+  target_compile_definitions(strata_ui PRIVATE STRATA_ASSETS="${CMAKE_SOURCE_DIR}/assets"
+                                               STRATA_INSTALLED_ASSETS="${STRATA_INSTALLED_ASSETS}")
   if(TARGET strata_editor)
     target_link_libraries(strata_ui PUBLIC strata_editor)
   endif()

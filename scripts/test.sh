@@ -5,6 +5,8 @@
 #
 # Stages (each in its own build folder under the repo root):
 #   release  Release build, -Werror, ctest                         build/release
+#            then the kernel alone (STRATA_CORE_ONLY): configure with
+#            no GL/window/image package looked for, build, quick tests  build/core-only
 #   asan     Debug (-O1) build with ASan+UBSan, -Werror, ctest     build/asan
 #   fuzz     clang + libFuzzer (+ASan/UBSan), every tests/fuzz/fuzz_*.c
 #            run for FUZZ_SECONDS each on a copy of its seed corpus build/fuzz
@@ -117,13 +119,57 @@ run_ctest() {
   return "$rc"
 }
 
+# ccache for the release and core-only builds: with CCACHE_BASEDIR at the
+# repo root their commands for core's sources are the same (paths relative
+# to build folders of the same depth), so the core-only build gets core from
+# the cache instead of compiling it a second time.
+CCACHE_ARGS=()
+if command -v ccache >/dev/null 2>&1; then
+  CCACHE_ARGS=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$ROOT}"
+fi
+
 stage_release() {
-  local dir="$ROOT/build/release"
+  local dir="$ROOT/build/release" rc=0
   log "[release] configure"
-  configure "$dir" -DCMAKE_BUILD_TYPE=Release -DSTRATA_WERROR=ON || { TOTAL_FAILED=$((TOTAL_FAILED + 1)); return 1; }
+  configure "$dir" -DCMAKE_BUILD_TYPE=Release -DSTRATA_WERROR=ON ${CCACHE_ARGS[@]+"${CCACHE_ARGS[@]}"} ||
+    { TOTAL_FAILED=$((TOTAL_FAILED + 1)); return 1; }
   log "[release] build (-j$JOBS)"
   cmake --build "$dir" -j"$JOBS" || { TOTAL_FAILED=$((TOTAL_FAILED + 1)); return 1; }
-  run_ctest release "$dir" "$RELEASE_CTEST_LIMIT"
+  run_ctest release "$dir" "$RELEASE_CTEST_LIMIT" || rc=$?
+  core_only || rc=1
+  return "$rc"
+}
+
+# The kernel alone, as a machine without OpenGL, GLFW, ImGui or the image
+# libraries builds it (-DSTRATA_CORE_ONLY=ON): the find_package calls those
+# would need are disabled, and the cache must hold none of their find
+# results afterwards; core, its tests and examples/ build with -Werror; the
+# tests run except the long ones, which the release build has just run on
+# the same sources.  About half a minute with core from ccache.
+CORE_ONLY_LONG='^(test_membudget|test_adapt_uv|test_progressive_adapt|test_progressive|test_bake|test_unsubdivide|test_analysis|test_adapt_sqrt3)$'
+core_only() {
+  local dir="$ROOT/build/core-only" t0=$SECONDS
+  log "[release] core only: configure"
+  configure "$dir" -DCMAKE_BUILD_TYPE=Release -DSTRATA_WERROR=ON -DSTRATA_CORE_ONLY=ON -DSTRATA_ORACLES=OFF \
+    -DCMAKE_DISABLE_FIND_PACKAGE_OpenGL=ON -DCMAKE_DISABLE_FIND_PACKAGE_glfw3=ON \
+    -DCMAKE_DISABLE_FIND_PACKAGE_PNG=ON -DCMAKE_DISABLE_FIND_PACKAGE_PkgConfig=ON \
+    ${CCACHE_ARGS[@]+"${CCACHE_ARGS[@]}"} || { TOTAL_FAILED=$((TOTAL_FAILED + 1)); return 1; }
+  local found
+  found="$(grep -E '^(STRATA_(GL|OSMESA|STB|TINYEXR|TINYGLTF)_[A-Z]+|PNG_[A-Z_]+|GLFW3_[A-Z_]+|IMGUI_[A-Z_]+|OPENGL_[A-Z_]+|PKG_CONFIG_[A-Z_]+)(:|=)' "$dir/CMakeCache.txt" || true)"
+  if [ -n "$found" ]; then
+    echo "[release] core only: the configure looked for libraries core does not need:"
+    echo "$found"
+    TOTAL_FAILED=$((TOTAL_FAILED + 1)); return 1
+  fi
+  log "[release] core only: build (-j$JOBS)"
+  cmake --build "$dir" -j"$JOBS" || { TOTAL_FAILED=$((TOTAL_FAILED + 1)); return 1; }
+  local saved=(${CTEST_EXTRA[@]+"${CTEST_EXTRA[@]}"}) rc=0
+  CTEST_EXTRA=(-E "$CORE_ONLY_LONG" ${saved[@]+"${saved[@]}"})
+  run_ctest core-only "$dir" "$RELEASE_CTEST_LIMIT" || rc=$?
+  CTEST_EXTRA=(${saved[@]+"${saved[@]}"})
+  echo "[release] core only: $((SECONDS - t0))s"
+  return "$rc"
 }
 
 stage_asan() {

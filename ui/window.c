@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -26,6 +27,9 @@
 
 #ifndef STRATA_ASSETS
 #define STRATA_ASSETS "assets"
+#endif
+#ifndef STRATA_INSTALLED_ASSETS
+#define STRATA_INSTALLED_ASSETS "../share/strata/assets"
 #endif
 #define DEFAULT_ASSET "torus.obj"
 #define DRAG_THRESHOLD 4.0           /* pixels before a press becomes a drag */
@@ -1011,10 +1015,32 @@ static void brush_prefs_keep(const st_app *a)
     st_prefs_set_brush(a->tool == ST_TOOL_SELECT ? "select" : st_brush_name(a->tool), frac, a->doc.brush.strength);
 }
 
+/* The default model's folder: $STRATA_ASSETS; else the installed copy,
+ * found from the executable's own place (<prefix>/bin/strata ->
+ * <prefix>/share/strata/assets, STRATA_INSTALLED_ASSETS from
+ * cmake/ui.cmake), so an installed or unpacked tree (dpkg -x) finds it
+ * wherever it lies; else the assets/ of the source tree the build was made
+ * from (a build run in place). */
 static void default_asset(st_app *a)
 {
     const char *dir = getenv("STRATA_ASSETS");
-    snprintf(a->default_path, sizeof a->default_path, "%s/%s", dir && dir[0] ? dir : STRATA_ASSETS, DEFAULT_ASSET);
+    if (dir && dir[0]) {
+        snprintf(a->default_path, sizeof a->default_path, "%s/%s", dir, DEFAULT_ASSET);
+        return;
+    }
+    char exe[2048];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    char *slash = NULL;
+    if (n > 0) {
+        exe[n] = 0;
+        slash = strrchr(exe, '/');
+    }
+    if (slash) {
+        *slash = 0;
+        int w = snprintf(a->default_path, sizeof a->default_path, "%s/%s/%s", exe, STRATA_INSTALLED_ASSETS, DEFAULT_ASSET);
+        if (w > 0 && (size_t)w < sizeof a->default_path && access(a->default_path, R_OK) == 0) return;
+    }
+    snprintf(a->default_path, sizeof a->default_path, "%s/%s", STRATA_ASSETS, DEFAULT_ASSET);
 }
 
 int st_window_main(const st_win_opts *o)
