@@ -62,20 +62,7 @@ if grep -aq '"wrapS":10497' spot.glb && grep -aq '"wrapT":10497' spot.glb; then 
 
 # The UDIM mesh: each face moved by whole tiles (the %.17g keeps shared
 # corners of faces in one tile bit-equal).
-awk '
-/^v / { nv++; X[nv] = $2; Z[nv] = $4; print; next }
-/^vt / { nt++; U[nt] = $2; V[nt] = $3; next }
-/^f / {
-    cx = 0; cz = 0
-    for (i = 2; i <= NF; i++) { split($i, p, "/"); cx += X[p[1]]; cz += Z[p[1]]; vi[i] = p[1]; ti[i] = p[2] }
-    t = (cx >= 0 ? 1 : 0) + (cz >= 0 ? 2 : 0); line = "f"
-    for (i = 2; i <= NF; i++) line = line " " vi[i] "/" (ti[i] + t * nt)
-    F[++nf] = line; next
-}
-END {
-    for (t = 0; t < 4; t++) for (i = 1; i <= nt; i++) printf "vt %.17g %.17g\n", U[i] + t % 2, V[i] + int(t / 2)
-    for (i = 1; i <= nf; i++) print F[i]
-}' "$SPOT" > spot_udim.obj
+awk -f "$R/tests/spot_udim.awk" "$SPOT" > spot_udim.obj
 for B in 0 1; do
     run 0 "UDIM: 4 tiles written" bake spot_udim.obj --levels 3 --base-level $B --normal-map u$B.png --displacement-map d$B.exr --size 256
     for n in 1001 1002 1011 1012; do [ -f u$B.$n.png ] && [ -f d$B.$n.exr ] && ok || bad "base $B: tile $n not written"; done
