@@ -772,7 +772,7 @@ void bake_window(st_app *a)
     probe_item("bake:normal");
     ImGui::SameLine();
     ImGui::SetNextItemWidth(w + 40 * g.scale);
-    ImGui::InputText("##normal_path", b->normal, sizeof b->normal);
+    ImGui::InputText("##normal_path", b->normal, sizeof b->normal, ImGuiInputTextFlags_AutoSelectAll);
     probe_item("bake:normal_path");
     ImGui::RadioButton("Tangent space", &b->space, ST_BAKE_TANGENT);
     ImGui::SameLine();
@@ -785,7 +785,7 @@ void bake_window(st_app *a)
     probe_item("bake:disp");
     ImGui::SameLine();
     ImGui::SetNextItemWidth(w + 40 * g.scale);
-    ImGui::InputText("##disp_path", b->disp, sizeof b->disp);
+    ImGui::InputText("##disp_path", b->disp, sizeof b->disp, ImGuiInputTextFlags_AutoSelectAll);
     ImGui::TextDisabled(".exr (float) or .png (16-bit, scale in NAME.json)");
     on = b->vector != 0;
     if (ImGui::Checkbox("Vector displacement", &on)) b->vector = on;
