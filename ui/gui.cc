@@ -548,25 +548,11 @@ void file_dialog(st_app *a)
     else if (g.dlg_kind == ST_DIALOG_IMPORT) ImGui::TextDisabled(".obj .off .ply .gltf .glb (a new untitled document)");
     else if (g.dlg_kind == ST_DIALOG_SAVE_AS) ImGui::TextDisabled(".strata");
     else ImGui::TextDisabled("%s of the displayed %s", export_exts[g.dlg_format], a->doc.box_on ? "adaptive mesh" : "level");
-    /* glTF can carry the last baked normal map (normalTexture, TANGENT);
-     * a mesh file cannot.  Opening can refuse non-manifold edges. */
-    if (g.dlg_kind == ST_DIALOG_EXPORT && g.dlg_format >= 2) {
-        bool can = st_app_can_show_baked(a) != 0, on = can && a->bake.attach;
-        if (!can) ImGui::BeginDisabled();
-        if (ImGui::Checkbox("Attach the baked normal map", &on)) a->bake.attach = on;
-        if (!can) ImGui::EndDisabled();
-        probe_item("dialog:attach");
-        ImGui::SameLine();
-        if (can) ImGui::TextDisabled("(writes level %u with %s)", a->bake.have_base, st_path_base(a->bake.have_map));
-        else ImGui::TextDisabled("(Bake > Bake maps... makes one)");
-    }
-    if (g.dlg_kind == ST_DIALOG_OPEN || g.dlg_kind == ST_DIALOG_IMPORT) {
-        bool strict = (a->doc.read_flags & ST_MESH_STRICT) != 0;
-        if (ImGui::Checkbox("Refuse non-manifold edges (--strict; else they are split)", &strict))
-            a->doc.read_flags = strict ? a->doc.read_flags | ST_MESH_STRICT : a->doc.read_flags & ~ST_MESH_STRICT;
-        probe_item("dialog:strict");
-    }
-    float footer = ImGui::GetFrameHeightWithSpacing() * 2 + (g.dlg_error.empty() ? 0 : ImGui::GetTextLineHeightWithSpacing() * 2);
+    /* A row of options under the list (the list's top and the path row
+     * stay where they were: replays click there). */
+    bool options = (g.dlg_kind == ST_DIALOG_EXPORT && g.dlg_format >= 2) || g.dlg_kind == ST_DIALOG_OPEN || g.dlg_kind == ST_DIALOG_IMPORT;
+    float footer = ImGui::GetFrameHeightWithSpacing() * (options ? 3 : 2) +
+                   (g.dlg_error.empty() ? 0 : ImGui::GetTextLineHeightWithSpacing() * 2);
     ImGui::BeginChild("entries", ImVec2(0, -footer), true);
     std::string go;
     for (const file_entry &e : g.entries) {
@@ -587,6 +573,24 @@ void file_dialog(st_app *a)
     }
     ImGui::EndChild();
     if (!go.empty()) set_cwd(g.cwd + "/" + go);
+    /* glTF can carry the last baked normal map (normalTexture, TANGENT);
+     * a mesh file cannot.  Opening can refuse non-manifold edges. */
+    if (g.dlg_kind == ST_DIALOG_EXPORT && g.dlg_format >= 2) {
+        bool can = st_app_can_show_baked(a) != 0, on = can && a->bake.attach;
+        if (!can) ImGui::BeginDisabled();
+        if (ImGui::Checkbox("Attach the baked normal map", &on)) a->bake.attach = on;
+        if (!can) ImGui::EndDisabled();
+        probe_item("dialog:attach");
+        ImGui::SameLine();
+        if (can) ImGui::TextDisabled("(writes level %u with %s)", a->bake.have_base, st_path_base(a->bake.have_map));
+        else ImGui::TextDisabled("(Bake > Bake maps... makes one)");
+    }
+    if (g.dlg_kind == ST_DIALOG_OPEN || g.dlg_kind == ST_DIALOG_IMPORT) {
+        bool strict = (a->doc.read_flags & ST_MESH_STRICT) != 0;
+        if (ImGui::Checkbox("Refuse non-manifold edges (--strict; else they are split)", &strict))
+            a->doc.read_flags = strict ? a->doc.read_flags | ST_MESH_STRICT : a->doc.read_flags & ~ST_MESH_STRICT;
+        probe_item("dialog:strict");
+    }
     if (!g.dlg_error.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
         ImGui::TextWrapped("%s", g.dlg_error.c_str());
