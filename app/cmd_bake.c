@@ -23,12 +23,10 @@
  * write leaves the old files, and a kill leaves the old maps or the new
  * ones, except in the few microseconds between the renames.  Exit status: 0 done, 1 refused or a
  * file could not be read or written, 2 bad usage. */
-#include "bake_images.h"
+#include "bake_run.h"
 #include "cli.h"
 #include "cli_common.h"
 #include "core/bake/bake.h"
-#include "core/base/membudget.h"
-#include "core/fvar/fvar.h"
 #include "core/io/mesh.h"
 
 #include <math.h>
@@ -124,97 +122,10 @@ static int check_paths(const bake_args *b)
     return 0;
 }
 
-/* NAME.json beside a displacement PNG: NAME.png with its extension replaced. */
-static char *sidecar_path(const char *png)
+static void print_line(void *ctx, const char *line)
 {
-    size_t n = strlen(png);
-    char *s = malloc(n + 6);
-    if (!s) return NULL;
-    memcpy(s, png, n - 4);
-    strcpy(s + n - 4, ".json");
-    return s;
-}
-
-/* The path of one tile's map: a literal <UDIM> replaced by the tile's
- * number, else the number put before the extension (NAME.1001.png);
- * udim 0 (one image): the path as given, <UDIM> read as 1001. */
-static char *tile_path(const char *path, unsigned udim)
-{
-    size_t n = strlen(path);
-    char *s = malloc(n + 16);
-    if (!s) return NULL;
-    const char *tok = strstr(path, "<UDIM>");
-    if (tok) {
-        snprintf(s, n + 16, "%.*s%u%s", (int)(tok - path), path, udim ? udim : 1001u, tok + 6);
-    } else if (udim) {
-        const char *dot = strrchr(path, '.');
-        snprintf(s, n + 16, "%.*s.%u%s", (int)(dot - path), path, udim, dot);
-    } else {
-        memcpy(s, path, n + 1);
-    }
-    return s;
-}
-
-/* Writes every map to its temporary and finishes them all (every write
- * that can fail is then done); the caller places them once every tile is
- * written, so the maps appear together (core/io/atomic_file.h
- * st_afile_finish).  On any failure every temporary of this call is
- * removed; the caller aborts those of earlier tiles, and the old files stay. */
-static int write_outputs(const bake_args *b, const char *const final[3], const st_bake_maps *maps, st_afile af[3], st_error *err)
-{
-    const char *side = final[2];
-    memset(af, 0, 3 * sizeof *af);
-    int rc = ST_OK;
-    for (int k = 0; k < 3 && !rc; k++)
-        if (final[k]) rc = st_afile_open(&af[k], final[k], err);
-    double offset = 0, scale = 1;
-    if (!rc && b->normal_path) rc = st_bake_write_normal_png(&af[0], maps, b->bits, err);
-    if (!rc && b->disp_path) rc = st_bake_write_disp(&af[1], maps, &offset, &scale, err);
-    if (!rc && side) {
-        const char *meaning = !b->vector ? "displacement along the base level's interpolated normal"
-                            : b->space == ST_BAKE_TANGENT ? "displacement vector in tangent space (tangent, bitangent, normal)"
-                                                         : "displacement vector in object space (x, y, z)";
-        rc = st_bake_write_sidecar(&af[2], final[1], maps, meaning, offset, scale, err);
-    }
-    for (int k = 0; k < 3 && !rc; k++)
-        if (af[k].f) rc = st_afile_finish(&af[k], err);
-    if (rc)
-        for (int k = 0; k < 3; k++) st_afile_abort(&af[k]);
-    return rc;
-}
-
-/* Bytes the writers add while the maps are held: the PNG rows (8/16-bit
- * samples), the EXR planes and tinyexr's own copy (about as much again,
- * measured: 2048², 3 channels, 84 MiB over the maps). */
-static size_t writer_bytes(const bake_args *b, const st_bake_opts *o)
-{
-    size_t texels = (size_t)o->size * o->size, ch = b->vector ? 3 : 1, w = 0, d = 0;
-    if (b->normal_path) w = texels * 3 * (size_t)(b->bits / 8);
-    if (b->disp_path) d = st_path_has_ext(b->disp_path, ".exr") ? 2 * texels * ch * sizeof(float) : texels * ch * 2;
-    return w > d ? w : d;
-}
-
-static void report(const bake_args *b, const char *const final[3], const st_bake_opts *o, const st_bake_maps *maps)
-{
-    const char *side = final[2];
-    if (b->normal_path)
-        printf("wrote %s (%ux%u, %s-space normals, %d-bit RGB)\n", final[0], o->size, o->size,
-               o->space == ST_BAKE_TANGENT ? "tangent" : "object", b->bits);
-    if (b->disp_path)
-        printf("wrote %s (%ux%u, %s displacement, %s)%s%s\n", final[1], o->size, o->size,
-               b->vector ? "vector" : "scalar", st_path_has_ext(b->disp_path, ".exr") ? "32-bit float EXR" : "16-bit PNG",
-               side ? ", scale and offset in " : "", side ? side : "");
-    if (o->udim) printf("tile %u (%u faces): ", st_bake_udim(o->tile), maps->faces);
-    printf("level %u onto level %u: %llu texels baked, %llu padded", o->level, o->base,
-           (unsigned long long)maps->baked, (unsigned long long)maps->padded);
-    if (maps->disp) printf(", displacement %.6g .. %.6g", maps->disp_min, maps->disp_max);
-    printf("\n");
-    if (maps->by_rays)
-        printf("correspondence: by rays along level %u's normals: %llu texels, %llu misses (filled flat), reach %.6g\n",
-               o->base, (unsigned long long)maps->baked,
-               (unsigned long long)maps->ray_misses, maps->ray_reach);
-    else
-        printf("correspondence: exact (the faces of level %u nest in those of level %u)\n", o->level, o->base);
+    (void)ctx;
+    printf("%s\n", line);
 }
 
 int st_cmd_bake(int argc, char **argv)
@@ -233,100 +144,15 @@ int st_cmd_bake(int argc, char **argv)
     st_hier h;
     int rc = st_cli_load(&o, &h, "bake");
     if (rc) return rc;
-    unsigned level = o.level >= 0 ? (unsigned)o.level : h.map.top;
+    st_bake_request r = { .normal_path = b.normal_path, .disp_path = b.disp_path, .base = (unsigned)b.base,
+                          .level = o.level >= 0 ? (unsigned)o.level : h.map.top, .size = b.size, .padding = b.padding,
+                          .bits = b.bits, .space = b.space, .vector = b.vector, .auto_uv = b.auto_uv, .udim = b.udim,
+                          .ray_reach = b.ray_reach, .say = print_line };
+    st_bake_result res;
     st_error err;
-    st_bake_layout lay = { 0 };
-    st_bake_maps maps = { 0 };
-    st_bake_tiles tiles = { 0 };
-    st_afile *af = NULL;
-    char **names = NULL;
-    uint32_t nt = 0;              /* maps written: tiles, or 1 */
-    st_bake_opts bo = { .base = (unsigned)b.base, .level = level, .size = b.size, .space = b.space,
-                        .normal = b.normal_path != NULL, .displacement = b.disp_path ? (b.vector ? 3 : 1) : 0,
-                        .padding = b.padding, .ray_reach = b.ray_reach };
-    if ((unsigned)b.base > h.map.top || level > h.map.top || (unsigned)b.base > level) {
-        fprintf(stderr, "strata bake: %s: cannot bake level %u onto level %d: levels are 0..%u and the base must not be finer\n",
-                o.in, level, b.base, h.map.top);
-        rc = 1;
-        goto done;
-    }
-    if (st_bake_check_scheme(&h, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
-    if (!b.auto_uv && !st_hier_uv(&h, (unsigned)b.base)) {
-        fprintf(stderr, "strata bake: %s: level %d has no UVs (the mesh it was made from had none); "
-                        "--auto-uv lays out a per-face atlas\n", o.in, b.base);
-        rc = 1;
-        goto done;
-    }
-    rc = b.auto_uv ? st_bake_auto_uvs(&h, (unsigned)b.base, &lay, &err) : st_bake_level_uvs(&h, (unsigned)b.base, &lay, &err);
-    if (rc) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
-    st_bake_uvs uvs = st_bake_layout_uvs(&lay);
-    if (st_mem_check(st_bake_estimate(&h, &uvs, &bo) + writer_bytes(&b, &bo), "baking and writing the maps", &err)) {
-        fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg);
-        rc = 1;
-        goto done;
-    }
-    if (st_bake_uv_tiles(&uvs, bo.size, &tiles, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
-    int udim = b.udim;
-    if (udim == 1 && tiles.first_non_udim != UINT32_MAX) {
-        uint32_t f = tiles.first_non_udim, a = uvs.corner_off[f];
-        int32_t t[2];
-        st_bake_face_tile(uvs.uv + 2 * (size_t)a, uvs.corner_off[f + 1] - a, t);
-        fprintf(stderr, "strata bake: %s: face %u of level %d lies in UV tile (%d, %d), which has no UDIM number "
-                        "(u tiles 0..9, v tiles 0..99); --udim off wraps every face into one map\n",
-                o.in, f + 1, b.base, t[0], t[1]);
-        rc = 1;
-        goto done;
-    }
-    if (udim < 0)
-        udim = tiles.first_non_udim == UINT32_MAX && !(tiles.ntiles == 1 && tiles.tile[0][0] == 0 && tiles.tile[0][1] == 0);
-    if (tiles.corners_outside)
-        printf("note: %llu of %u corners of level %d lie outside their face's UV tile: baked with wrap-around (texture repeat)\n",
-               (unsigned long long)tiles.corners_outside, uvs.corner_off[uvs.nfaces], b.base);
-    if (tiles.faces_crossing)
-        printf("note: %u faces cross their tile's border by more than a texel and a quarter of the face (first: face %u): "
-               "wrapped as well\n", tiles.faces_crossing, tiles.first_crossing + 1);
-    if (!udim && tiles.ntiles > 1) printf("note: faces at home in %u UV tiles wrapped into one map (--udim off)\n", tiles.ntiles);
-    nt = udim ? tiles.ntiles : 1;
-    af = calloc(3 * (size_t)nt, sizeof *af);
-    names = calloc(3 * (size_t)nt, sizeof *names);
-    if (!af || !names) { rc = 1; goto done; }
-    /* Each tile baked and written to its temporaries in turn (one tile's
-     * maps held at a time); all placed together at the end. */
-    for (uint32_t t = 0; t < nt && !rc; t++) {
-        unsigned number = 0;
-        if (udim) {
-            bo.udim = 1;
-            bo.tile[0] = tiles.tile[t][0];
-            bo.tile[1] = tiles.tile[t][1];
-            number = st_bake_udim(bo.tile);
-        }
-        char **fin = names + 3 * (size_t)t;
-        if (b.normal_path && !(fin[0] = tile_path(b.normal_path, number))) rc = 1;
-        if (!rc && b.disp_path && !(fin[1] = tile_path(b.disp_path, number))) rc = 1;
-        if (!rc && fin[1] && st_path_has_ext(fin[1], ".png") && !(fin[2] = sidecar_path(fin[1]))) rc = 1;
-        if (rc) { fprintf(stderr, "strata bake: out of memory\n"); break; }
-        if (st_bake(&h, &uvs, &bo, &maps, &err)) {
-            if (udim) fprintf(stderr, "strata bake: %s: tile %u: %s\n", o.in, number, err.msg);
-            else fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg);
-            rc = 1;
-            break;
-        }
-        if (write_outputs(&b, (const char *const *)fin, &maps, af + 3 * (size_t)t, &err)) { fprintf(stderr, "strata: %s\n", err.msg); rc = 1; }
-        else report(&b, (const char *const *)fin, &bo, &maps);
-        st_bake_maps_free(&maps);
-    }
-    for (size_t k = 0; af && k < 3 * (size_t)nt; k++) {
-        if (rc) { st_afile_abort(&af[k]); continue; }
-        if (af[k].tmp && st_afile_place(&af[k], &err)) { fprintf(stderr, "strata: %s\n", err.msg); rc = 1; }
-    }
-    if (!rc && udim) printf("UDIM: %u tiles written\n", nt);
-done:
-    for (size_t k = 0; names && k < 3 * (size_t)nt; k++) free(names[k]);
-    free(names);
-    free(af);
-    st_bake_tiles_free(&tiles);
-    st_bake_maps_free(&maps);
-    st_bake_layout_free(&lay);
+    rc = st_bake_run(&h, &r, &res, &err);
+    if (rc && res.file_error) fprintf(stderr, "strata: %s\n", err.msg);
+    else if (rc) fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg);
     st_hier_free(&h);
-    return rc;
+    return rc ? 1 : 0;
 }

@@ -191,25 +191,7 @@ static int load_mesh(const conv_opts *o, st_session *s)
  * used for l (see the header comment). */
 static int save_mapped(st_hier *h, unsigned l, const st_mesh *m, const conv_opts *o, st_error *err)
 {
-    st_bake_layout lay;
-    int rc = st_hier_uv(h, l) ? st_bake_level_uvs(h, l, &lay, err) : st_bake_auto_uvs(h, l, &lay, err);
-    if (rc) return rc;
-    size_t nc = lay.corner_off[lay.nfaces];
-    double *tan = malloc((nc ? nc : 1) * 4 * sizeof *tan), *nrm = malloc((nc ? nc : 1) * 3 * sizeof *nrm);
-    st_bake_uvs uvs = st_bake_layout_uvs(&lay);
-    if (!tan || !nrm) rc = st_fail(err, ST_ERR_MEMORY, "out of memory for the tangents of level %u", l);
-    else if (lay.nfaces != m->nfaces || nc != m->face_off[m->nfaces])
-        rc = st_fail(err, ST_ERR_INVALID, "level %u: %u faces, %zu corners in its UV layout; the mesh has %u and %u", l, lay.nfaces, nc,
-                     m->nfaces, m->face_off[m->nfaces]);
-    if (!rc) rc = st_bake_tangents(h, l, &uvs, tan, nrm, err);
-    if (!rc) {
-        st_gltf_material mat = { lay.uv, tan, nrm, o->normal_map };
-        rc = st_gltf_save_mapped(o->out, m, &mat, err);
-    }
-    free(tan);
-    free(nrm);
-    st_bake_layout_free(&lay);
-    return rc;
+    return st_gltf_save_level_mapped(o->out, h, l, m, 0, o->normal_map, err);
 }
 
 int st_cmd_convert(int argc, char **argv)

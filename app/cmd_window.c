@@ -21,10 +21,11 @@
 static void usage(FILE *f)
 {
     fprintf(f,
-        "usage: strata [--scheme S] [--levels N] [--size WxH] [--replay EVENTS.txt]\n"
+        "usage: strata [--scheme S] [--levels N] [--size WxH] [--strict] [--replay EVENTS.txt]\n"
         "              [--screenshot-dir DIR] [--compare-dir DIR] [--mem-budget MIB] [--bench-interaction [--bench-steps N]] [FILE]\n"
         "  opens the modeller window on FILE (default: the torus asset); F1 in the window lists the keys\n"
         "  --no-gui            start with the menus and side panel hidden (F10 shows them)\n"
+        "  --strict            refuse meshes with non-manifold edges instead of splitting them (as the commands' --strict)\n"
         "  --ui-scale S        size of the menus and panel (0.5..4; default: the preference, else the monitor's scale)\n"
         "  --replay F          drive the window by the scripted events of F (see ui/replay.h), exit 1 if an expect fails\n"
         "  --screenshot-dir D  where the replay's screenshots go (default .)\n"
@@ -53,6 +54,7 @@ int st_cmd_window(int argc, char **argv)
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) { usage(stdout); return 0; }
         if (!strcmp(a, "--bench-interaction")) { o.bench = 1; continue; }
         if (!strcmp(a, "--no-gui")) { o.no_gui = 1; continue; }
+        if (!strcmp(a, "--strict")) { o.strict = 1; continue; }
         if (!strcmp(a, "--keys")) { st_actions_markdown(stdout); return 0; }
         if (a[0] != '-') {
             if (o.file) { fprintf(stderr, "strata: one file at a time ('%s' and '%s')\n", o.file, a); return 2; }

@@ -17,6 +17,10 @@
 
 // core's headers are C without extern "C" guards.
 extern "C" {
+extern "C" {
+#include "core/bake/bake.h"
+#include "core/fvar/fvar.h"
+}
 #include "core/base/membudget.h"
 #include "core/io/atomic_file.h"
 #include "core/io/file_open.h"
@@ -955,13 +959,19 @@ void split_mapped(const st_mesh *m, const st_gltf_material *mat, Split *out, std
 struct NormalMap {
     std::vector<unsigned char> png;
     std::string uri;
+    std::string name;   // a UDIM tile's number
 };
 
 // Builds the tinygltf model of m (checked first); with mat, the tangents,
-// UVs and normals of mat and a material whose normalTexture is nmap.
+// UVs and normals of mat and a material whose normalTexture is nmap[0].
+// With groups (a UDIM export): face f goes to primitive group[f], whose
+// material's normalTexture is nmap[group[f]] (nmap then has one map per group).
 void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model,
-                   const st_gltf_material *mat = nullptr, const NormalMap *nmap = nullptr)
+                   const st_gltf_material *mat = nullptr, const std::vector<NormalMap> *nmaps = nullptr,
+                   const std::vector<uint32_t> *group = nullptr)
 {
+    const NormalMap *nmap = nmaps && !nmaps->empty() ? &(*nmaps)[0] : nullptr;
+    size_t ngroups = group && nmaps ? nmaps->size() : 1;
     Split split;
     std::vector<float> tan;
     if (mat) {
@@ -1019,25 +1029,38 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model,
     buf.insert(buf.end(), (const unsigned char *)nrm.data(), (const unsigned char *)nrm.data() + vbytes);
     if (tbytes) buf.insert(buf.end(), (const unsigned char *)tex.data(), (const unsigned char *)tex.data() + tbytes);
     if (gbytes) buf.insert(buf.end(), (const unsigned char *)tan.data(), (const unsigned char *)tan.data() + gbytes);
-    for (uint32_t f = 0; f < m->nfaces; f++) {
-        uint32_t a = m->face_off[f], b = m->face_off[f + 1];
-        if (m->face_hole && m->face_hole[f]) continue;
-        for (uint32_t k = a + 1; k + 1 < b; k++) {  // fan from the first corner
-            uint32_t c[3] = {m->face_idx[a], m->face_idx[k], m->face_idx[k + 1]};
-            for (uint32_t v : c) {
-                if (index_bytes == 1) put(&buf, (uint8_t)v);
-                else if (index_bytes == 2) put(&buf, (uint16_t)v);
-                else put(&buf, (uint32_t)v);
+    // The indices of group 0, then of group 1 ... (each group's own view,
+    // 4-byte aligned).
+    std::vector<size_t> g_at(ngroups), g_tri(ngroups);
+    for (size_t gi = 0; gi < ngroups; gi++) {
+        while (gi && buf.size() % 4) buf.push_back(0);
+        g_at[gi] = buf.size();
+        for (uint32_t f = 0; f < m->nfaces; f++) {
+            uint32_t a = m->face_off[f], b = m->face_off[f + 1];
+            if (m->face_hole && m->face_hole[f]) continue;
+            if (ngroups > 1 && (*group)[f] != gi) continue;
+            for (uint32_t k = a + 1; k + 1 < b; k++) {  // fan from the first corner
+                uint32_t c[3] = {m->face_idx[a], m->face_idx[k], m->face_idx[k + 1]};
+                g_tri[gi]++;
+                for (uint32_t v : c) {
+                    if (index_bytes == 1) put(&buf, (uint8_t)v);
+                    else if (index_bytes == 2) put(&buf, (uint16_t)v);
+                    else put(&buf, (uint32_t)v);
+                }
             }
         }
     }
+    for (size_t gi = 0; gi < ngroups; gi++)
+        if (!g_tri[gi]) fail(ST_ERR_INVALID, "UV tile group " + std::to_string(gi) + " has no triangle");
 
-    size_t ibytes = 3 * ntri * (size_t)index_bytes, png_at = 0;
-    if (nmap && !nmap->png.empty()) {
-        while (buf.size() % 4) buf.push_back(0);
-        png_at = buf.size();
-        buf.insert(buf.end(), nmap->png.begin(), nmap->png.end());
-    }
+    size_t ibytes = 3 * g_tri[0] * (size_t)index_bytes;
+    std::vector<size_t> png_at(ngroups, 0);
+    for (size_t gi = 0; nmaps && gi < ngroups; gi++)
+        if (!(*nmaps)[gi].png.empty()) {
+            while (buf.size() % 4) buf.push_back(0);
+            png_at[gi] = buf.size();
+            buf.insert(buf.end(), (*nmaps)[gi].png.begin(), (*nmaps)[gi].png.end());
+        }
 
     model->asset.version = "2.0";
     model->asset.generator = "Strata";
@@ -1066,7 +1089,7 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model,
                        : index_bytes == 2 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
                                           : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
     ai.type = TINYGLTF_TYPE_SCALAR;
-    ai.count = 3 * ntri;
+    ai.count = 3 * g_tri[0];
     model->accessors = {ap, an, ai};
     if (tbytes) {
         tinygltf::Accessor at;
@@ -1092,19 +1115,45 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model,
     if (gbytes) prim.attributes["TANGENT"] = 4;
     prim.indices = 2;
     prim.mode = kModeTriangles;
-    if (nmap) {
+    // Groups 1.. (UDIM tiles): their own index views and accessors, after
+    // everything above, so that a one-group model is laid out as before.
+    std::vector<tinygltf::Primitive> prims(1, prim);
+    for (size_t gi = 1; gi < ngroups; gi++) {
+        add_view(model, g_at[gi], 3 * g_tri[gi] * (size_t)index_bytes, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+        tinygltf::Accessor ax = ai;
+        ax.bufferView = (int)model->bufferViews.size() - 1;
+        ax.count = 3 * g_tri[gi];
+        model->accessors.push_back(ax);
+        tinygltf::Primitive px = prim;
+        px.indices = (int)model->accessors.size() - 1;
+        prims.push_back(px);
+    }
+    for (size_t gi = 0; nmap && gi < ngroups; gi++) {
+        const NormalMap *nm = &(*nmaps)[gi];
         // The normal map: image (embedded bytes or a URI), texture, and a
         // material that uses it through TEXCOORD_0 and the TANGENT above.
         tinygltf::Image img;
-        img.name = "normal";
-        if (!nmap->png.empty()) {
-            add_view(model, png_at, nmap->png.size(), 0);
+        img.name = ngroups > 1 ? "normal." + nm->name : "normal";
+        if (!nm->png.empty()) {
+            add_view(model, png_at[gi], nm->png.size(), 0);
             img.bufferView = (int)model->bufferViews.size() - 1;
             img.mimeType = "image/png";
         } else {
-            img.uri = nmap->uri;
+            img.uri = nm->uri;
         }
         model->images.push_back(img);
+        if (gi) {
+            tinygltf::Texture t;
+            t.source = (int)gi;
+            t.sampler = 0;
+            model->textures.push_back(t);
+            tinygltf::Material mt;
+            mt.name = "strata." + nm->name;
+            mt.normalTexture.index = (int)gi;
+            model->materials.push_back(mt);
+            prims[gi].material = (int)gi;
+            continue;
+        }
         // Sampled with repeat, as strata bake wrapped the faces that
         // overshoot their UV tile (core/bake/bake.h: tiles and
         // wrap-around); said explicitly although glTF 2.0 §5.26 makes
@@ -1122,12 +1171,13 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model,
         tinygltf::Material mt;
         mt.name = "strata";
         mt.normalTexture.index = 0;
+        if (ngroups > 1) mt.name += "." + nm->name;
         model->materials.push_back(mt);
-        prim.material = 0;
+        prims[0].material = 0;
     }
     tinygltf::Mesh mesh;
     mesh.name = "strata";
-    mesh.primitives.push_back(prim);
+    mesh.primitives = prims;
     model->meshes.push_back(mesh);
     tinygltf::Node node;
     node.mesh = 0;
@@ -1269,9 +1319,79 @@ void load_normal_map(const std::string &path, const std::string &png, bool glb, 
     else out->uri = relative_uri(path, png);
 }
 
+// A UDIM set NAME.<UDIM>.png: each face goes to the group of its home UV
+// tile (core/bake/bake.h: st_bake_face_tile), groups in UDIM order, each
+// with the tile's PNG; the face's UVs are moved by its home tile into
+// [0,1] (give or take its overshoot, read with repeat), as strata bake
+// baked the tile's image.
+void udim_groups(const char *path, const st_mesh *m, const st_gltf_material *mat, bool glb, std::vector<NormalMap> *nmaps,
+                 std::vector<uint32_t> *group, std::vector<double> *shifted)
+{
+    if (!m->nfaces || !m->face_off) fail(ST_ERR_INVALID, "the mesh is empty");
+    uint32_t nc = m->face_off[m->nfaces];
+    shifted->assign(mat->corner_uv, mat->corner_uv + 2 * (size_t)nc);
+    group->assign(m->nfaces, 0);
+    std::vector<unsigned> number(m->nfaces, 0);
+    std::map<unsigned, uint32_t> used;   // UDIM number -> group, in UDIM order
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        uint32_t a = m->face_off[f], n = m->face_off[f + 1] - a;
+        if (!n) continue;
+        int32_t t[2];
+        st_bake_face_tile(mat->corner_uv + 2 * (size_t)a, n, t);
+        number[f] = st_bake_udim(t);
+        if (!number[f])
+            fail(ST_ERR_INVALID, "face " + std::to_string(f + 1) + " lies in UV tile (" + std::to_string(t[0]) + ", " +
+                                     std::to_string(t[1]) + "), which has no UDIM number (u tiles 0..9, v tiles 0..99)");
+        for (uint32_t k = a; k < a + n; k++) {
+            (*shifted)[2 * (size_t)k] -= t[0];
+            (*shifted)[2 * (size_t)k + 1] -= t[1];
+        }
+        if (!(m->face_hole && m->face_hole[f])) used[number[f]] = 0;
+    }
+    if (used.size() > 64) fail(ST_ERR_INVALID, "the faces use " + std::to_string(used.size()) + " UDIM tiles; at most 64 are written");
+    uint32_t gi = 0;
+    for (auto &u : used) u.second = gi++;
+    for (uint32_t f = 0; f < m->nfaces; f++) {
+        auto it = used.find(number[f]);
+        (*group)[f] = it == used.end() ? 0 : it->second;   // a hole face is written in no group
+    }
+    nmaps->assign(used.size(), NormalMap());
+    std::string p = mat->normal_map;
+    size_t at = p.find("<UDIM>");
+    for (const auto &u : used) {
+        std::string one = p.substr(0, at) + std::to_string(u.first) + p.substr(at + 6);
+        load_normal_map(path, one, glb, &(*nmaps)[u.second]);
+        (*nmaps)[u.second].name = std::to_string(u.first);
+    }
+}
+
 }  // namespace
 
 extern "C" {
+
+int st_gltf_save_level_mapped(const char *path, st_hier *h, unsigned l, const st_mesh *m, int auto_uv, const char *normal_map,
+                              st_error *err)
+{
+    st_bake_layout lay;
+    int rc = !auto_uv && st_hier_uv(h, l) ? st_bake_level_uvs(h, l, &lay, err) : st_bake_auto_uvs(h, l, &lay, err);
+    if (rc) return rc;
+    size_t nc = lay.corner_off[lay.nfaces];
+    double *tan = (double *)malloc((nc ? nc : 1) * 4 * sizeof *tan), *nrm = (double *)malloc((nc ? nc : 1) * 3 * sizeof *nrm);
+    st_bake_uvs uvs = st_bake_layout_uvs(&lay);
+    if (!tan || !nrm) rc = st_fail(err, ST_ERR_MEMORY, "out of memory for the tangents of level %u", l);
+    else if (lay.nfaces != m->nfaces || nc != m->face_off[m->nfaces])
+        rc = st_fail(err, ST_ERR_INVALID, "level %u: %u faces, %zu corners in its UV layout; the mesh has %u and %u", l, lay.nfaces, nc,
+                     m->nfaces, m->face_off[m->nfaces]);
+    if (!rc) rc = st_bake_tangents(h, l, &uvs, tan, nrm, err);
+    if (!rc) {
+        st_gltf_material mat = { lay.uv, tan, nrm, normal_map };
+        rc = st_gltf_save_mapped(path, m, &mat, err);
+    }
+    free(tan);
+    free(nrm);
+    st_bake_layout_free(&lay);
+    return rc;
+}
 
 int st_gltf_save_mapped(const char *path, const st_mesh *m, const st_gltf_material *mat, st_error *err)
 {
@@ -1281,10 +1401,16 @@ int st_gltf_save_mapped(const char *path, const st_mesh *m, const st_gltf_materi
             return st_fail(err, ST_ERR_PARSE, "%s: not a glTF file name (expected .gltf or .glb)", path);
         if (!mat || !mat->corner_uv || !mat->corner_tangent || !mat->corner_normal || !mat->normal_map)
             return st_fail(err, ST_ERR_INVALID, "%s: a normal-mapped export needs UVs, tangents, normals and a map", path);
-        NormalMap nmap;
-        load_normal_map(path, mat->normal_map, glb, &nmap);
+        std::vector<NormalMap> nmaps(1);
+        std::vector<uint32_t> group;
+        std::vector<double> shifted;
+        st_gltf_material one = *mat;
+        const char *tok = strstr(mat->normal_map, "<UDIM>");
+        if (tok) udim_groups(path, m, mat, glb, &nmaps, &group, &shifted);
+        else load_normal_map(path, mat->normal_map, glb, &nmaps[0]);
+        if (tok) one.corner_uv = shifted.data();
         tinygltf::Model model;
-        mesh_to_model(m, 0, &model, mat, &nmap);
+        mesh_to_model(m, 0, &model, &one, &nmaps, tok ? &group : nullptr);
         if (glb) write_file(path, to_bytes(model, true));
         else save_gltf_json(path, model);
         return 0;

@@ -48,6 +48,7 @@ extern "C" {
 #endif
 
 #include "core/io/mesh.h"
+#include "core/multires/hier.h"
 
 /* Reads path (.gltf with external or data: buffers, or .glb: chosen by the
  * file's magic, not its name), then st_mesh_repair() like core's loaders.
@@ -80,8 +81,24 @@ typedef struct st_gltf_material {
  * vertices split wherever two corners of a vertex differ in any of them,
  * and a material whose normalTexture is mat->normal_map: embedded in a .glb
  * (bufferView, image/png), referenced by a relative URI from a .gltf (the
- * PNG is not copied).  m's own UVs and normals are not used. */
+ * PNG is not copied).  m's own UVs and normals are not used.
+ *
+ * UDIM: a normal_map with a literal <UDIM> (NAME.<UDIM>.png, strata bake's
+ * tiles) gives one primitive per UV tile that the faces are at home in
+ * (core/bake/bake.h: st_bake_face_tile), in UDIM order, all sharing the
+ * vertex accessors; each has its own material whose normalTexture is the
+ * tile's PNG (NAME.1001.png ...), and each face's UVs are moved by its home
+ * tile into [0,1] (an overshoot stays outside and is read with repeat, as
+ * the bake wrapped it).  A face in a tile without a UDIM number, or a
+ * missing tile image, is refused. */
 int st_gltf_save_mapped(const char *path, const st_mesh *m, const st_gltf_material *mat, st_error *err);
+
+/* Level l of h, as the mesh m (st_hier_level_mesh), written by
+ * st_gltf_save_mapped with the layout and tangents strata bake used: l's
+ * own UVs, or the atlas of st_bake_auto_uvs when auto_uv or when l has none
+ * (strata convert --normal-map, the window's export of a baked map). */
+int st_gltf_save_level_mapped(const char *path, st_hier *h, unsigned l, const st_mesh *m, int auto_uv, const char *normal_map,
+                              st_error *err);
 
 /* Writes m to memory: binary != 0 gives a GLB, else JSON with the buffer as
  * a data: URI.  index_bytes: 0 picks u16/u32 as st_gltf_save does; 1, 2 or 4

@@ -9,37 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* A UDIM set's tile path: the literal <UDIM> in path replaced by number. */
-static int tile_path(const char *path, const char *tok, unsigned number, char *out, size_t n)
-{
-    int k = snprintf(out, n, "%.*s%u%s", (int)(tok - path), path, number, tok + 6);
-    return k > 0 && (size_t)k < n;
-}
-
-/* Every tile of a UDIM set NAME.<UDIM>.png that the mesh's faces use, read
- * and given to nm; a used tile without a UDIM number or without its file is
- * an error naming it. */
-static int load_udim(st_nmap *nm, const st_nmap_mesh *mesh, const char *path, const char *tok, st_error *err)
-{
-    if (mesh->ntiles > 64)
-        return st_fail(err, ST_ERR_INVALID, "%s: the level's faces use %u UV tiles; at most 64 are drawn", path, mesh->ntiles);
-    for (uint32_t i = 0; i < mesh->ntiles; i++) {
-        unsigned number = st_bake_udim(mesh->tile[i]);
-        if (!number)
-            return st_fail(err, ST_ERR_INVALID, "%s: the level has faces in UV tile (%d, %d), which has no UDIM number",
-                           path, mesh->tile[i][0], mesh->tile[i][1]);
-        char one[4096];
-        if (!tile_path(path, tok, number, one, sizeof one)) return st_fail(err, ST_ERR_INVALID, "%s: path too long", path);
-        int tw = 0, th = 0;
-        unsigned char *tex = NULL;
-        int rc = st_png_read(one, &tw, &th, &tex, err);
-        if (rc) return rc;
-        st_nmap_set_tile_map(nm, i, tex, tw, th);
-        free(tex);
-    }
-    return ST_OK;
-}
-
 int st_render_normal_mapped(st_offscreen *off, st_hier *h, const st_render_spec *spec, const char *map_path,
                             int object_space, unsigned char *rgba, uint32_t *faces, st_error *err)
 {
@@ -68,7 +37,7 @@ int st_render_normal_mapped(st_offscreen *off, st_hier *h, const st_render_spec 
     if (!rc) {
         st_headless_begin(&off->hl);
         st_nmap_set_mesh(&nm, &mesh);
-        if (tok) rc = load_udim(&nm, &mesh, map_path, tok, err);
+        if (tok) rc = st_nmap_load_map(&nm, &mesh, map_path, err);
         else st_nmap_set_map(&nm, tex, tw, th);
     }
     if (!rc) {

@@ -39,7 +39,7 @@ if(STRATA_UI_SOURCES AND TARGET strata_editor AND EXISTS ${CMAKE_SOURCE_DIR}/ui/
   # OpenGL 3 backends; the OpenGL 3 backend loads libGL by itself (dlopen).
   # Export writes glTF through strata_gltf (cmake/gltf.cmake).
   pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
-  target_link_libraries(strata_ui PUBLIC PkgConfig::IMGUI ${CMAKE_DL_LIBS} strata_gltf)
+  target_link_libraries(strata_ui PUBLIC PkgConfig::IMGUI ${CMAKE_DL_LIBS} strata_gltf strata_bakeio)
   target_include_directories(strata_ui PRIVATE ${CMAKE_SOURCE_DIR}/app)
   target_compile_definitions(strata_ui PRIVATE STRATA_VERSION="${PROJECT_VERSION}")
 endif()

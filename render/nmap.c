@@ -1,9 +1,11 @@
 /* A level drawn with a normal map (render/nmap.h). */
 #include "nmap.h"
 #include "gl_program.h"
+#include "image.h"
 #include "shaders.h"
 #include "core/io/mesh.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -210,4 +212,48 @@ void st_nmap_free(st_nmap *n)
     if (n->vao) gl->DeleteVertexArrays(1, &n->vao);
     if (n->prog) gl->DeleteProgram(n->prog);
     memset(n, 0, sizeof *n);
+}
+
+/* A UDIM set's tile path: the literal <UDIM> in path replaced by number. */
+static int tile_path(const char *path, const char *tok, unsigned number, char *out, size_t n)
+{
+    int k = snprintf(out, n, "%.*s%u%s", (int)(tok - path), path, number, tok + 6);
+    return k > 0 && (size_t)k < n;
+}
+
+/* Every tile of a UDIM set NAME.<UDIM>.png that the mesh's faces use, read
+ * and given to n; a used tile without a UDIM number or without its file is
+ * an error naming it. */
+static int load_udim(st_nmap *nm, const st_nmap_mesh *mesh, const char *path, const char *tok, st_error *err)
+{
+    if (mesh->ntiles > 64)
+        return st_fail(err, ST_ERR_INVALID, "%s: the level's faces use %u UV tiles; at most 64 are drawn", path, mesh->ntiles);
+    for (uint32_t i = 0; i < mesh->ntiles; i++) {
+        unsigned number = st_bake_udim(mesh->tile[i]);
+        if (!number)
+            return st_fail(err, ST_ERR_INVALID, "%s: the level has faces in UV tile (%d, %d), which has no UDIM number",
+                           path, mesh->tile[i][0], mesh->tile[i][1]);
+        char one[4096];
+        if (!tile_path(path, tok, number, one, sizeof one)) return st_fail(err, ST_ERR_INVALID, "%s: path too long", path);
+        int tw = 0, th = 0;
+        unsigned char *tex = NULL;
+        int rc = st_png_read(one, &tw, &th, &tex, err);
+        if (rc) return rc;
+        st_nmap_set_tile_map(nm, i, tex, tw, th);
+        free(tex);
+    }
+    return ST_OK;
+}
+
+int st_nmap_load_map(st_nmap *n, const st_nmap_mesh *mesh, const char *path, st_error *err)
+{
+    const char *tok = strstr(path, "<UDIM>");
+    if (tok) return load_udim(n, mesh, path, tok, err);
+    int tw = 0, th = 0;
+    unsigned char *tex = NULL;
+    int rc = st_png_read(path, &tw, &th, &tex, err);
+    if (rc) return rc;
+    st_nmap_set_map(n, tex, tw, th);
+    free(tex);
+    return ST_OK;
 }

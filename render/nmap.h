@@ -61,6 +61,11 @@ void st_nmap_set_map(st_nmap *n, const unsigned char *rgba, int w, int h);
 /* The texture of the mesh's tile i (a UDIM set; at most 64 tiles); tiles
  * without one are drawn with st_nmap_set_map's, or without a map. */
 void st_nmap_set_tile_map(st_nmap *n, uint32_t i, const unsigned char *rgba, int w, int h);
+/* The map in the PNG at path (st_nmap_set_map), or with a literal <UDIM>
+ * in path one PNG per tile of the mesh (NAME.1001.png ...,
+ * st_nmap_set_tile_map; at most 64).  A missing or unreadable file, or a
+ * used tile without a UDIM number, is an error naming it. */
+int st_nmap_load_map(st_nmap *n, const st_nmap_mesh *mesh, const char *path, st_error *err);
 /* Clears to the renderer's background and draws. */
 void st_nmap_draw(st_nmap *n, const st_camera *cam, int w, int h, int mode);
 void st_nmap_free(st_nmap *n);

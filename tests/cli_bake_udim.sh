@@ -62,20 +62,7 @@ if grep -aq '"wrapS":10497' spot.glb && grep -aq '"wrapT":10497' spot.glb; then 
 
 # The UDIM mesh: each face moved by whole tiles (the %.17g keeps shared
 # corners of faces in one tile bit-equal).
-awk '
-/^v / { nv++; X[nv] = $2; Z[nv] = $4; print; next }
-/^vt / { nt++; U[nt] = $2; V[nt] = $3; next }
-/^f / {
-    cx = 0; cz = 0
-    for (i = 2; i <= NF; i++) { split($i, p, "/"); cx += X[p[1]]; cz += Z[p[1]]; vi[i] = p[1]; ti[i] = p[2] }
-    t = (cx >= 0 ? 1 : 0) + (cz >= 0 ? 2 : 0); line = "f"
-    for (i = 2; i <= NF; i++) line = line " " vi[i] "/" (ti[i] + t * nt)
-    F[++nf] = line; next
-}
-END {
-    for (t = 0; t < 4; t++) for (i = 1; i <= nt; i++) printf "vt %.17g %.17g\n", U[i] + t % 2, V[i] + int(t / 2)
-    for (i = 1; i <= nf; i++) print F[i]
-}' "$SPOT" > spot_udim.obj
+awk -f "$R/tests/spot_udim.awk" "$SPOT" > spot_udim.obj
 for B in 0 1; do
     run 0 "UDIM: 4 tiles written" bake spot_udim.obj --levels 3 --base-level $B --normal-map u$B.png --displacement-map d$B.exr --size 256
     for n in 1001 1002 1011 1012; do [ -f u$B.$n.png ] && [ -f d$B.$n.exr ] && ok || bad "base $B: tile $n not written"; done
@@ -87,7 +74,34 @@ echo "spot_udim: $cmpout"
 m=$(sed -nE 's/.*vs fine\.png: mean ([0-9.]+)\/255.*/\1/p' <<<"$cmpout")
 if [ -n "$m" ] && awk -v m="$m" -v p="$p" 'BEGIN { exit !(m < p) }'; then ok; else bad "spot_udim mapped ($m) not closer to level 3 than plain ($p)"; fi
 
+# UDIM glTF: one primitive and material per used tile, UVs moved into
+# [0,1], each tile's image its normalTexture; GLB (embedded) and .gltf
+# (URIs to the tile PNGs) validator-clean.
+run 0 "normal map" convert spot_udim.obj udim.glb --levels 3 --level 0 --normal-map 'u0.<UDIM>.png'
+if node "$R/tests/gltf_validate.js" udim.glb >val.txt 2>&1 && grep -q ': 0 errors' val.txt; then ok; else bad "validator on udim.glb: $(cat val.txt)"; fi
+cat val.txt
+json=$(node -e '
+const b = require("fs").readFileSync(process.argv[1]); const n = b.readUInt32LE(12);
+const j = JSON.parse(b.slice(20, 20 + n).toString());
+const uv = j.meshes[0].primitives.map(p => j.accessors[p.attributes.TEXCOORD_0]);
+console.log(j.meshes[0].primitives.length, j.materials.length, j.images.length,
+            j.materials.map(m => m.name).join(","), j.textures.map(t => t.source).join(","));' udim.glb 2>&1)
+echo "udim.glb: primitives materials images: $json"
+[ "$json" = "4 4 4 strata.1001,strata.1002,strata.1011,strata.1012 0,1,2,3" ] && ok || bad "udim.glb: $json"
+run 0 "normal map" convert spot_udim.obj udim.gltf --levels 3 --level 0 --normal-map 'u0.<UDIM>.png'
+if node "$R/tests/gltf_validate.js" udim.gltf >val.txt 2>&1 && grep -q ': 0 errors' val.txt; then ok; else bad "validator on udim.gltf: $(cat val.txt)"; fi
+for n in 1001 1002 1011 1012; do grep -q "\"u0.$n.png\"" udim.gltf && ok || bad "udim.gltf does not reference u0.$n.png"; done
+# UVs in [0,1] give or take spot's overshoot (u down to -0.052).
+uvr=$(node -e '
+const b = require("fs").readFileSync(process.argv[1]); const n = b.readUInt32LE(12);
+const j = JSON.parse(b.slice(20, 20 + n).toString()); const bin = b.slice(20 + n + 8);
+const a = j.accessors[j.meshes[0].primitives[0].attributes.TEXCOORD_0], v = j.bufferViews[a.bufferView];
+const f = new Float32Array(bin.buffer.slice(bin.byteOffset + v.byteOffset, bin.byteOffset + v.byteOffset + v.byteLength));
+console.log(Math.min(...f) > -0.1 && Math.max(...f) < 1.1 ? "in" : "out " + Math.min(...f) + " " + Math.max(...f));' udim.glb 2>&1)
+[ "$uvr" = in ] && ok || bad "udim.glb UVs not moved into [0,1]: $uvr"
+
 rm u0.1012.png
+run 1 "u0\.1012\.png" convert spot_udim.obj x.glb --levels 1 --level 0 --normal-map 'u0.<UDIM>.png'
 run 1 "u0\.1012\.png" render spot_udim.obj --levels 1 --level 0 --normal-map 'u0.<UDIM>.png' --size 64x64 -o x.png
 # --udim off: the four tiles wrapped into one map, as many texels as spot's own.
 run 0 "faces at home in 4 UV tiles wrapped into one map" bake spot_udim.obj --levels 3 --base-level 0 --normal-map w.png --size 512 --udim off

@@ -14,7 +14,10 @@
 #   2. The progress window's Cancel button, clicked during a rebuild of the
 #      levels, stops it and keeps the model; clicked while Mesh > Add a
 #      level works, the level count and the undo history stay; clicked
-#      during File > Save session as..., no file is written.
+#      during File > Save session as..., no file is written; clicked during
+#      a bake (Bake > Bake maps...), no map is written.  Then a bake by
+#      mouse, View > Show baked map, and a GLB exported with the map
+#      attached, which passes the validator.
 # Where to click comes from the window itself: STRATA_GUI_PROBE=DIR makes
 # it write DIR/gui every frame (frame number, document values, widget
 # rectangles; ui/gui.cc), and SIGUSR1 takes the screenshot named in
@@ -317,6 +320,69 @@ xdotool key --window "$W" Escape   # the dialog (it stays open after a failed or
 frames_after
 xdotool key --window "$W" ctrl+q
 finish "Ctrl+Q after the cancels" || bad "Ctrl+Q after the cancels: $(tail -3 "$TMP/strata.log")"
+
+# ---- 2c. Baking from the window (Bake > Bake maps...) --------------------------
+# The torus has no UVs: the dialog bakes onto the per-face atlas (its Auto
+# UVs box ticked and greyed).  First with STRATA_JOB_HOLD_S: the progress
+# window's Cancel stops the bake and no map (nor temporary) is written.
+# Then a bake to its end, View > Show baked map, and File > Export > GLB...
+# with "Attach the baked normal map" ticked: the GLB passes the validator.
+# A pause of 0.3 s between a move and its click (ImGui 1.86 folds a move
+# and a click that arrive in one frame).  Screenshots: 3*_xdo_bake_*.png.
+mkdir -p "$TMP/bake"
+cd "$TMP/bake" || exit 1
+bake_click() { local xy; xy=$(point "$1" "${2:-0.5}" 0.5); move $xy; sleep 0.3; xdotool click 1; frames_after; }
+# bake_path NAME TEXT: a path field of the Bake dialog clicked (selects it), typed over.
+bake_path() { bake_click "$1" 0.5; xdotool key --window "$W" ctrl+a; xdotool type --window "$W" --delay 5 "$2"; frames_after; }
+STRATA_JOB_HOLD_S=60 start --size 1000x700 --ui-scale 1 --levels 2 "$ASSETS/torus.obj"
+until_true "torus.obj loaded" is file torus.obj
+bake_click menu:Bake
+bake_click menu:Bake/Bake_maps
+until_true "the Bake dialog" has_rect bake:run
+bake_path bake:normal_path "$TMP/bake/cancelled_n.png"
+bake_click bake:run
+until_true "the progress window's Cancel (bake)" has_rect progress:Cancel
+bake_click progress:Cancel
+until_true "the bake ended" is busy 0
+until_true "the bake cancel reported" says "bake cancelled: the maps on disk are as they were"
+if [ -z "$(ls "$TMP/bake")" ]; then ok "Cancel of a bake: no map, no temporary"; else bad "Cancel of a bake left: $(ls "$TMP/bake")"; fi
+xdotool key --window "$W" ctrl+q
+finish "Ctrl+Q after the bake cancel" || bad "Ctrl+Q after the bake cancel: $(tail -3 "$TMP/strata.log")"
+
+start --size 1000x700 --ui-scale 1 --levels 2 --screenshot-dir "$OUT" "$ASSETS/torus.obj"
+until_true "torus.obj loaded" is file torus.obj
+bake_click menu:Bake
+bake_click menu:Bake/Bake_maps
+until_true "the Bake dialog" has_rect bake:run
+bake_path bake:normal_path "$TMP/bake/torus_n.png"
+move 300 650
+sleep 0.3
+shot 30_xdo_bake_dialog.png
+bake_click bake:run
+until_true "the bake done" says "baked level 2 onto level 0: torus_n.png"
+no_rect() { ! has_rect "$1"; }
+until_true "the Bake dialog closed" no_rect bake:run
+[ -s "$TMP/bake/torus_n.png" ] && ok "Bake > Bake maps...: torus_n.png written" || bad "the bake wrote no torus_n.png: $(ls "$TMP/bake")"
+bake_click menu:View
+bake_click menu:View/Show_baked_map
+until_true "the baked map shown" says "showing level 0 with the baked map torus_n.png"
+move 300 650
+sleep 0.3
+shot 31_xdo_bake_view.png
+bake_click menu:File
+bake_click menu:File/Export
+bake_click menu:File/Export/GLB
+until_true "the Export dialog" is dialog 1
+bake_click dialog:attach 0.05
+shot 32_xdo_bake_export.png
+type_path "$TMP/bake/torus_mapped.glb"
+until_true "the GLB exported with the map" says "exported torus_mapped.glb (level 0, .*) with the baked normal map torus_n.png"
+if GLTF_VALIDATOR="$VALIDATOR" node "$SRC/gltf_validate.js" "$TMP/bake/torus_mapped.glb" > "$TMP/val_bake.txt" 2>&1 && grep -q ': 0 errors' "$TMP/val_bake.txt"; then
+    ok "the GLB with the baked map: $(cat "$TMP/val_bake.txt")"
+else bad "validator on torus_mapped.glb: $(cat "$TMP/val_bake.txt")"; fi
+xdotool key --window "$W" ctrl+q
+finish "Ctrl+Q after the bake" || bad "Ctrl+Q after the bake: $(tail -3 "$TMP/strata.log")"
+cd "$TMP/work" || exit 1
 
 # ---- 3. preferences applied at start, a section closed by a click kept ----------
 # The panel 360 wide with Tool closed, the smooth brush at strength 0.3 and

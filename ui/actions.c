@@ -163,6 +163,9 @@ static int model_keys_free(const st_app *a) { return keys_free(a) && a->doc.load
  * interest box's adaptive display (core/adapt/adapt.h: st_adapt_uv_absent);
  * once on, it can always be switched off (another model, or a level
  * without UVs, draws plain). */
+/* Show baked map: once something was baked for this model (and can
+ * always be switched off). */
+static int baked_keys_free(const st_app *a) { return model_keys_free(a) && (a->bake.show || st_app_can_show_baked(a)); }
 static int uv_keys_free(const st_app *a)
 {
     const st_doc *d = &a->doc;
@@ -440,6 +443,12 @@ static void shading(st_app *a) { a->shading = a->shading == ST_SHADE_SMOOTH ? ST
 static void wireframe(st_app *a) { a->wire = !a->wire; }
 static void cage(st_app *a) { a->cage = !a->cage; st_pick_invalidate(&a->pick); }
 static void uv_checker(st_app *a) { a->checker = !a->checker; st_app_sync(a); }
+static void bake_maps(st_app *a) { st_gui_show_bake(a); }
+static void show_baked(st_app *a)
+{
+    a->bake.show = !a->bake.show;
+    if (a->bake.show) st_app_message(a, 0, "showing level %u with the baked map %s", a->bake.have_base, st_path_base(a->bake.have_map));
+}
 static void toggle_gui(st_app *a) { (void)a; st_gui_set_shown(!st_gui_shown()); }
 
 /* Help */
@@ -655,6 +664,10 @@ const st_action st_actions[ST_NACTIONS] = {
     ACT(ST_ACT_BOX_BASE_DOWN, ST_CAT_BOX, "Box base level down", "box base level up / down", box_base_down,
         model_keys_free, KEY(COMMA, S, A)),
 
+    ACT(ST_ACT_BAKE_MAPS, ST_CAT_BAKE, "Bake maps...",
+        "bake normal / displacement maps of a fine level onto a coarse one's UVs (Esc cancels)", bake_maps,
+        model_keys_free, KEY(B, C, 0)),
+
     ACT(ST_ACT_FRAME_ALL, ST_CAT_VIEW, "Frame all", "frame all", frame_all, keys_free, KEY(HOME, 0, ANY)),
     ACT(ST_ACT_VIEW_FRONT, ST_CAT_VIEW, "Front view", "front / back view", view_front, keys_free,
         KEY(KP_1, 0, S | A), KEY(1, 0, S | A)),
@@ -682,6 +695,8 @@ const st_action st_actions[ST_NACTIONS] = {
         KEY(C, 0, A)),
     ACT(ST_ACT_UV_CHECKER, ST_CAT_VIEW, "UV checker", "UV checker texture on / off (models with UVs)", uv_checker,
         uv_keys_free, KEY(U, 0, 0)),
+    ACT(ST_ACT_SHOW_BAKED, ST_CAT_VIEW, "Show baked map", "the bake's base level with its normal map on / off",
+        show_baked, baked_keys_free, KEY(B, C | S, 0)),
     ACT(ST_ACT_GUI, ST_CAT_VIEW, "Interface", "menus and side panel on / off", toggle_gui, NULL, KEY(F10, 0, 0)),
 
     ACT(ST_ACT_HELP, ST_CAT_HELP, "Key bindings", "show / hide the key list", help, NULL, KEY(F1, 0, ANY)),
@@ -757,6 +772,7 @@ int st_action_checked(const st_action *act, const st_app *a)
     case ST_ACT_WIREFRAME: return a->wire != 0;
     case ST_ACT_CAGE: return a->cage != 0;
     case ST_ACT_UV_CHECKER: return a->checker != 0;
+    case ST_ACT_SHOW_BAKED: return a->bake.show != 0;
     case ST_ACT_PROJECTION: return a->cc.cam.ortho ? 0 : 1;
     case ST_ACT_GUI: return st_gui_shown();
     case ST_ACT_HELP: return a->help != 0;

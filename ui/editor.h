@@ -200,6 +200,7 @@ typedef struct st_doc {
     size_t undo_bytes, undo_budget;     /* oldest steps dropped beyond the budget */
 
     size_t mem_budget;         /* refuse operations that would need more (bytes) */
+    unsigned read_flags;       /* st_mesh_load_flags flags of st_doc_open: ST_MESH_STRICT (the window's --strict) */
 
     st_doc_change change;
 

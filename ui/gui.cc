@@ -11,6 +11,7 @@ extern "C" {
 #include "core/io/mesh.h"
 #include "core/io/session.h"
 #include "core/multires/hier.h"
+#include "core/fvar/fvar.h"
 #include "gltf_io.h"
 }
 
@@ -87,6 +88,10 @@ struct gui_state {
     std::string dlg_error;
     bool about = false;
     bool prefs = false;
+    /* Bake > Bake maps...: the dialog (its settings are st_app.bake), its
+     * Bake button (run after the frame: a job), its last refusal. */
+    bool bake = false, bake_go = false;
+    std::string bake_error;
     int box_dragging = 0;
     /* Side panel width (window units; a preference, the left edge drags it). */
     float panel_w = 0;
@@ -543,7 +548,11 @@ void file_dialog(st_app *a)
     else if (g.dlg_kind == ST_DIALOG_IMPORT) ImGui::TextDisabled(".obj .off .ply .gltf .glb (a new untitled document)");
     else if (g.dlg_kind == ST_DIALOG_SAVE_AS) ImGui::TextDisabled(".strata");
     else ImGui::TextDisabled("%s of the displayed %s", export_exts[g.dlg_format], a->doc.box_on ? "adaptive mesh" : "level");
-    float footer = ImGui::GetFrameHeightWithSpacing() * 2 + (g.dlg_error.empty() ? 0 : ImGui::GetTextLineHeightWithSpacing() * 2);
+    /* A row of options under the list (the list's top and the path row
+     * stay where they were: replays click there). */
+    bool options = (g.dlg_kind == ST_DIALOG_EXPORT && g.dlg_format >= 2) || g.dlg_kind == ST_DIALOG_OPEN || g.dlg_kind == ST_DIALOG_IMPORT;
+    float footer = ImGui::GetFrameHeightWithSpacing() * (options ? 3 : 2) +
+                   (g.dlg_error.empty() ? 0 : ImGui::GetTextLineHeightWithSpacing() * 2);
     ImGui::BeginChild("entries", ImVec2(0, -footer), true);
     std::string go;
     for (const file_entry &e : g.entries) {
@@ -564,6 +573,24 @@ void file_dialog(st_app *a)
     }
     ImGui::EndChild();
     if (!go.empty()) set_cwd(g.cwd + "/" + go);
+    /* glTF can carry the last baked normal map (normalTexture, TANGENT);
+     * a mesh file cannot.  Opening can refuse non-manifold edges. */
+    if (g.dlg_kind == ST_DIALOG_EXPORT && g.dlg_format >= 2) {
+        bool can = st_app_can_show_baked(a) != 0, on = can && a->bake.attach;
+        if (!can) ImGui::BeginDisabled();
+        if (ImGui::Checkbox("Attach the baked normal map", &on)) a->bake.attach = on;
+        if (!can) ImGui::EndDisabled();
+        probe_item("dialog:attach");
+        ImGui::SameLine();
+        if (can) ImGui::TextDisabled("(writes level %u with %s)", a->bake.have_base, st_path_base(a->bake.have_map));
+        else ImGui::TextDisabled("(Bake > Bake maps... makes one)");
+    }
+    if (g.dlg_kind == ST_DIALOG_OPEN || g.dlg_kind == ST_DIALOG_IMPORT) {
+        bool strict = (a->doc.read_flags & ST_MESH_STRICT) != 0;
+        if (ImGui::Checkbox("Refuse non-manifold edges (--strict; else they are split)", &strict))
+            a->doc.read_flags = strict ? a->doc.read_flags | ST_MESH_STRICT : a->doc.read_flags & ~ST_MESH_STRICT;
+        probe_item("dialog:strict");
+    }
     if (!g.dlg_error.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
         ImGui::TextWrapped("%s", g.dlg_error.c_str());
@@ -701,6 +728,97 @@ void prefs_window(st_app *a)
         }
         probe_item("prefs:save");
     }
+    ImGui::End();
+}
+
+/* A path the user typed, relative to the working directory, made absolute
+ * (the job's messages and the view read it later). */
+void absolute_path(char *p, size_t n)
+{
+    if (!p[0] || p[0] == '/') return;
+    char cwd[4096];
+    if (!getcwd(cwd, sizeof cwd)) return;
+    std::string full = std::string(cwd) + "/" + p;
+    if (full.size() < n) memcpy(p, full.c_str(), full.size() + 1);
+}
+
+/* Bake > Bake maps...: strata bake's options (bakeio/bake_run.h); Bake
+ * runs the job (progress, Esc or Cancel) after this frame. */
+void bake_window(st_app *a)
+{
+    if (!g.bake) return;
+    if (!a->doc.loaded) { g.bake = false; return; }
+    st_app_bake *b = &a->bake;
+    st_app_bake_defaults(a);
+    int top = (int)a->doc.h.map.top;
+    ImGuiIO &io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.4f, io.DisplaySize.y * 0.45f), ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    if (!ImGui::Begin("Bake maps", &g.bake, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse)) { ImGui::End(); return; }
+    ImGui::TextDisabled("level %d's surface onto level %d's UVs (strata bake)", b->level, b->base);
+    float w = 260 * g.scale;
+    ImGui::SetNextItemWidth(w);
+    ImGui::SliderInt("Base level (gets the maps)", &b->base, 0, top);
+    probe_item("bake:base");
+    if (b->level < b->base) b->level = b->base;
+    ImGui::SetNextItemWidth(w);
+    ImGui::SliderInt("Detail level", &b->level, b->base, top);
+    probe_item("bake:level");
+    static const int sizes[] = { 256, 512, 1024, 2048, 4096, 8192 };
+    static const char *const size_names[] = { "256", "512", "1024", "2048", "4096", "8192" };
+    int si = 2;
+    for (int i = 0; i < 6; i++) if (sizes[i] == b->size) si = i;
+    ImGui::SetNextItemWidth(w);
+    if (ImGui::Combo("Resolution", &si, size_names, 6)) b->size = sizes[si];
+    probe_item("bake:size");
+    ImGui::Separator();
+    bool on = b->want_normal != 0;
+    if (ImGui::Checkbox("Normal map", &on)) b->want_normal = on;
+    probe_item("bake:normal");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(w + 40 * g.scale);
+    ImGui::InputText("##normal_path", b->normal, sizeof b->normal, ImGuiInputTextFlags_AutoSelectAll);
+    probe_item("bake:normal_path");
+    ImGui::RadioButton("Tangent space", &b->space, ST_BAKE_TANGENT);
+    ImGui::SameLine();
+    ImGui::RadioButton("Object space", &b->space, ST_BAKE_OBJECT);
+    ImGui::SameLine();
+    on = b->bits16 != 0;
+    if (ImGui::Checkbox("16-bit", &on)) b->bits16 = on;
+    on = b->want_disp != 0;
+    if (ImGui::Checkbox("Displacement", &on)) b->want_disp = on;
+    probe_item("bake:disp");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(w + 40 * g.scale);
+    ImGui::InputText("##disp_path", b->disp, sizeof b->disp, ImGuiInputTextFlags_AutoSelectAll);
+    ImGui::TextDisabled(".exr (float) or .png (16-bit, scale in NAME.json)");
+    on = b->vector != 0;
+    if (ImGui::Checkbox("Vector displacement", &on)) b->vector = on;
+    ImGui::Separator();
+    static const char *const udims[] = { "auto", "off (one map)", "on (one map per tile)" };
+    int ui = b->udim < 0 ? 0 : b->udim == 0 ? 1 : 2;
+    ImGui::SetNextItemWidth(w);
+    if (ImGui::Combo("UDIM tiles", &ui, udims, 3)) b->udim = ui == 0 ? -1 : ui == 1 ? 0 : 1;
+    probe_item("bake:udim");
+    ImGui::SetNextItemWidth(w);
+    ImGui::SliderInt("Padding (texels)", &b->padding, 0, 64);
+    bool has_uv = st_hier_uv(&a->doc.h, (unsigned)b->base) != nullptr;
+    on = b->auto_uv != 0 || !has_uv;
+    if (!has_uv) ImGui::BeginDisabled();
+    if (ImGui::Checkbox("Auto UVs (a per-face atlas)", &on)) b->auto_uv = on;
+    if (!has_uv) { ImGui::EndDisabled(); ImGui::SameLine(); ImGui::TextDisabled("level %d has no UVs", b->base); }
+    probe_item("bake:auto_uv");
+    if (!g.bake_error.empty()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
+        ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 520 * g.scale);
+        ImGui::TextWrapped("%s", g.bake_error.c_str());
+        ImGui::PopTextWrapPos();
+        ImGui::PopStyleColor();
+    }
+    if (ImGui::Button("Bake", ImVec2(90 * g.scale, 0))) g.bake_go = true;
+    probe_item("bake:run");
+    ImGui::SameLine();
+    if (ImGui::Button("Close", ImVec2(90 * g.scale, 0))) g.bake = false;
+    probe_item("bake:close");
     ImGui::End();
 }
 
@@ -1270,6 +1388,7 @@ void st_gui_frame(st_app *a)
         quit_window(a);
         about_window();
         prefs_window(a);
+        bake_window(a);
         keys_window(a);
         if (g.dlg_open) file_dialog(a);
         toasts(a);
@@ -1297,6 +1416,14 @@ void st_gui_run_pending(st_app *a)
         if (st_action_enabled(&st_actions[id], a)) st_actions[id].run(a);
     }
     st_app_run_requested(a);
+    if (g.bake_go) {
+        g.bake_go = false;
+        absolute_path(a->bake.normal, sizeof a->bake.normal);
+        absolute_path(a->bake.disp, sizeof a->bake.disp);
+        int rc = st_app_bake_maps(a);
+        if (rc == 0) { g.bake = false; g.bake_error.clear(); }
+        else g.bake_error = rc == ST_APP_CANCELLED ? "" : a->msg;
+    }
     if (g.dlg_accept) {
         g.dlg_accept = false;
         g.dlg_confirm = false;
@@ -1381,6 +1508,75 @@ void st_gui_char(unsigned c)
 void st_gui_open_dialog(st_app *a, int kind) { open_dialog(a, kind, 0); }
 void st_gui_show_about(void) { g.about = true; }
 void st_gui_show_prefs(void) { g.prefs = true; }
+void st_gui_show_bake(st_app *a)
+{
+    st_app_bake_defaults(a);
+    g.bake = true;
+    g.bake_error.clear();
+    g.shown = true;
+}
+int st_gui_bake_shown(void) { return g.bake; }
+
+int st_gui_bake_set(st_app *a, const char *what, const char *value, char *msg, size_t n)
+{
+    st_app_bake *b = &a->bake;
+    if (!a->doc.loaded) { snprintf(msg, n, "no model"); return -1; }
+    st_app_bake_defaults(a);
+    auto flag = [&](int *f) {
+        if (!value || (strcmp(value, "on") && strcmp(value, "off"))) { snprintf(msg, n, "bake %s on|off", what); return -1; }
+        *f = !strcmp(value, "on");
+        return 0;
+    };
+    auto number = [&](int *f, long lo, long hi) {
+        char *end = nullptr;
+        long v = value ? strtol(value, &end, 10) : -1;
+        if (!value || !*value || *end || v < lo || v > hi) { snprintf(msg, n, "bake %s: a number in %ld..%ld", what, lo, hi); return -1; }
+        *f = (int)v;
+        return 0;
+    };
+    auto path = [&](char *p, size_t pn, int *want) {
+        if (!value) { snprintf(msg, n, "bake %s PATH|none", what); return -1; }
+        *want = strcmp(value, "none") != 0;
+        if (*want) {
+            if (strlen(value) >= pn) { snprintf(msg, n, "bake %s: path too long", what); return -1; }
+            snprintf(p, pn, "%s", value);
+            absolute_path(p, pn);
+        }
+        return 0;
+    };
+    int top = (int)a->doc.h.map.top;
+    if (!strcmp(what, "base")) return number(&b->base, 0, top);
+    if (!strcmp(what, "level")) return number(&b->level, 0, top);
+    if (!strcmp(what, "size")) return number(&b->size, 1, 16384);
+    if (!strcmp(what, "padding")) return number(&b->padding, 0, 254);
+    if (!strcmp(what, "normal")) return path(b->normal, sizeof b->normal, &b->want_normal);
+    if (!strcmp(what, "disp")) return path(b->disp, sizeof b->disp, &b->want_disp);
+    if (!strcmp(what, "vector")) return flag(&b->vector);
+    if (!strcmp(what, "bits16")) return flag(&b->bits16);
+    if (!strcmp(what, "auto_uv")) return flag(&b->auto_uv);
+    if (!strcmp(what, "attach")) return flag(&b->attach);
+    if (!strcmp(what, "space")) {
+        if (!value || (strcmp(value, "tangent") && strcmp(value, "object"))) { snprintf(msg, n, "bake space tangent|object"); return -1; }
+        b->space = !strcmp(value, "object") ? ST_BAKE_OBJECT : ST_BAKE_TANGENT;
+        return 0;
+    }
+    if (!strcmp(what, "udim")) {
+        if (!value || (strcmp(value, "auto") && strcmp(value, "on") && strcmp(value, "off"))) { snprintf(msg, n, "bake udim auto|on|off"); return -1; }
+        b->udim = !strcmp(value, "auto") ? -1 : !strcmp(value, "on");
+        return 0;
+    }
+    if (!strcmp(what, "run")) {
+        /* The dialog's Bake button: a refusal is the status line's error
+         * (expect error 1), as in the dialog. */
+        g.bake_go = false;
+        int rc = st_app_bake_maps(a);
+        if (rc == 0) { g.bake = false; g.bake_error.clear(); }
+        else g.bake_error = rc == ST_APP_CANCELLED ? "" : a->msg;
+        return 0;
+    }
+    snprintf(msg, n, "bake %s: not one of base, level, size, padding, normal, disp, vector, bits16, auto_uv, space, udim, attach, run", what);
+    return -1;
+}
 
 int st_app_export(st_app *a, const char *path)
 {
@@ -1392,9 +1588,16 @@ int st_app_export(st_app *a, const char *path)
     /* The displayed hierarchy: the model's, or the adaptive one with the box on. */
     st_hier *h = (st_hier *)st_doc_display_hier(d);
     unsigned l = st_doc_display_map_level(d);
+    /* With the baked normal map: the bake's base level of the model, its
+     * UVs (or the bake's atlas) and tangents (strata convert --normal-map). */
+    int mapped = st_gltf_is_gltf_path(path) && a->bake.attach && st_app_can_show_baked(a);
+    if (mapped) { h = &d->h; l = a->bake.have_base; }
     int rc = st_hier_level_mesh(h, l, &m, &err);
-    if (!rc) rc = st_gltf_is_gltf_path(path) ? st_gltf_save(path, &m, &err) : st_mesh_save(path, &m, &err);
+    if (!rc && mapped) rc = st_gltf_save_level_mapped(path, h, l, &m, a->bake.have_auto_uv, a->bake.have_map, &err);
+    else if (!rc) rc = st_gltf_is_gltf_path(path) ? st_gltf_save(path, &m, &err) : st_mesh_save(path, &m, &err);
     if (rc) st_app_message(a, 1, "cannot export %s: %s", st_path_base(path), err.msg);
+    else if (mapped) st_app_message(a, 0, "exported %s (level %u, %u faces) with the baked normal map %s", st_path_base(path), l,
+                                    (unsigned)m.nfaces, st_path_base(a->bake.have_map));
     else st_app_message(a, 0, "exported %s (%s %u, %u faces)", st_path_base(path), d->box_on ? "adaptive mesh at level" : "level", l,
                         (unsigned)m.nfaces);
     st_mesh_free(&m);

@@ -71,6 +71,16 @@ void st_gui_open_dialog(struct st_app *a, int kind);
 void st_gui_show_about(void);
 /* Edit > Preferences: the preferences window (ui/prefs.h). */
 void st_gui_show_prefs(void);
+/* Bake > Bake maps...: the Bake dialog (ui/bake_ui.c holds its settings);
+ * whether it is up. */
+void st_gui_show_bake(struct st_app *a);
+int st_gui_bake_shown(void);
+/* The replay's `bake SETTING VALUE`: a field of the Bake dialog (base,
+ * level, size, padding N; normal, disp PATH|none; vector, bits16, auto_uv
+ * on|off; space tangent|object; udim auto|on|off), the export dialog's
+ * "attach" on|off, or `bake run`: its Bake button.  0, or -1 with the
+ * reason in msg. */
+int st_gui_bake_set(struct st_app *a, const char *what, const char *value, char *msg, size_t n);
 
 /* Writes the displayed mesh (the displayed level, or the adaptive mesh
  * while the interest box is on) by extension: .obj .ply .gltf .glb. */

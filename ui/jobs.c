@@ -16,6 +16,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include "bake_run.h"
 #include "core/io/session.h"
 #include "gui.h"
 
@@ -36,7 +37,7 @@ static void show_working(st_app *a, const char *fmt, ...)
 
 /* ---- long document operations on a worker thread ------------------------------------- */
 
-enum { JOB_NONE, JOB_OPEN, JOB_ADD_LEVEL, JOB_SCHEME, JOB_REBUILD, JOB_SAVE, JOB_LOAD_SESSION, JOB_RECOVERY };
+enum { JOB_NONE, JOB_OPEN, JOB_ADD_LEVEL, JOB_SCHEME, JOB_REBUILD, JOB_SAVE, JOB_LOAD_SESSION, JOB_RECOVERY, JOB_BAKE };
 
 typedef struct doc_job {
     st_doc *d;
@@ -46,6 +47,8 @@ typedef struct doc_job {
     const st_session_view *view;   /* JOB_SAVE */
     const st_session_tool *tool;   /* JOB_SAVE */
     st_session *session;           /* JOB_LOAD_SESSION: loaded here, the document untouched */
+    st_bake_request *bake;         /* JOB_BAKE: st_bake_run on the model (progress and say filled here) */
+    st_bake_result bake_res;
     st_error err;
     int rc;
     atomic_int done;
@@ -95,6 +98,15 @@ static void job_progress(void *ctx, const char *what, unsigned step, unsigned st
     pthread_mutex_unlock(&j->mu);
 }
 
+/* The bake's notes (wrap-around, tiles): the first one kept for the
+ * status line, every line on stderr as strata bake prints them. */
+static void bake_say(void *ctx, const char *line)
+{
+    doc_job *j = ctx;
+    fprintf(stderr, "strata: bake: %s\n", line);
+    if (!strncmp(line, "note: ", 6) && !j->msg[0]) snprintf(j->msg, sizeof j->msg, "%s", line + 6);
+}
+
 static void *job_main(void *p)
 {
     doc_job *j = p;
@@ -112,6 +124,14 @@ static void *job_main(void *p)
             st_session_free(j->session);
             j->rc = st_fail(&j->err, ST_ERR_INVALID, "cancelled");
         }
+        break;
+    case JOB_BAKE:
+        job_progress(j, "baking", 0, 0);
+        j->bake->progress = job_cancelled;
+        j->bake->progress_ctx = j;
+        j->bake->say = bake_say;
+        j->bake->say_ctx = j;
+        j->rc = st_bake_run(&j->d->h, j->bake, &j->bake_res, &j->err);
         break;
     default: j->rc = st_doc_set_scheme_progress(j->d, j->scheme, job_cancelled, j, &j->err); break;
     }
@@ -291,6 +311,7 @@ int st_app_open(st_app *a, const char *path)
     a->hover_vid = ST_NIL;
     a->op = ST_OP_NONE;
     a->untitled = 0;
+    st_app_bake_forget(a);      /* the last bake was of another model */
     a->showing_default = 0;
     a->box_placed = 0;
     st_app_sync(a);
@@ -412,6 +433,7 @@ static struct {
 } g_request;
 
 void st_app_request_rebuild(st_app *a) { (void)a; g_request.kind = JOB_REBUILD; }
+void st_app_request_bake(st_app *a) { (void)a; g_request.kind = JOB_BAKE; }
 void st_app_request_add_level(st_app *a) { (void)a; g_request.kind = JOB_ADD_LEVEL; }
 void st_app_request_save(st_app *a) { (void)a; g_request.kind = JOB_SAVE; }
 void st_app_request_recovery(st_app *a) { (void)a; g_request.kind = JOB_RECOVERY; }
@@ -443,6 +465,56 @@ static void rebuild_levels(st_app *a)
     st_app_message(a, 0, "%s, in %s", j.msg, st_app_fmt_ms(a, st_now_ms() - t0, t, sizeof t));
 }
 
+/* The Bake dialog's settings as strata bake's request; the maps written
+ * atomically (bakeio/bake_run.h), the old ones kept on a refusal or a
+ * cancellation. */
+int st_app_bake_maps(st_app *a)
+{
+    st_app_bake *b = &a->bake;
+    if (!a->doc.loaded) { st_app_message(a, 1, "nothing to bake"); return -1; }
+    st_app_bake_defaults(a);
+    st_bake_request r = { .normal_path = b->want_normal ? b->normal : NULL, .disp_path = b->want_disp ? b->disp : NULL,
+                          .base = (unsigned)b->base, .level = (unsigned)b->level, .size = (uint32_t)b->size,
+                          .padding = (uint32_t)b->padding, .bits = b->bits16 ? 16 : 8, .space = b->space,
+                          .vector = b->want_disp && b->vector, .auto_uv = b->auto_uv, .udim = b->udim };
+    st_error err;
+    if (st_bake_request_check(&r, &err)) { st_app_message(a, 1, "cannot bake: %s", err.msg); return -1; }
+    double t0 = st_now_ms();
+    char what[300];
+    snprintf(what, sizeof what, "working... baking level %d onto level %d, %dx%d (Esc cancels)", b->level, b->base, b->size, b->size);
+    doc_job j = { .kind = JOB_BAKE, .bake = &r };
+    int rc = run_job(a, &j, what);
+    if (job_was_cancelled(&j) || (rc && j.bake_res.cancelled)) {
+        st_app_message(a, 0, "bake cancelled: the maps on disk are as they were");
+        return ST_APP_CANCELLED;
+    }
+    if (rc) { st_app_message(a, 1, "cannot bake: %s", j.err.msg); return rc; }
+    const st_bake_result *res = &j.bake_res;
+    if (r.normal_path) {
+        /* What the view and the export read: the map, or its UDIM set. */
+        b->have = 1;
+        b->have_base = r.base;
+        b->have_auto_uv = r.auto_uv;
+        b->have_space = r.space;
+        const char *tok = strstr(r.normal_path, "<UDIM>"), *dot = strrchr(r.normal_path, '.');
+        if (res->udim && !tok) snprintf(b->have_map, sizeof b->have_map, "%.*s.<UDIM>%s", (int)(dot - r.normal_path), r.normal_path, dot);
+        else if (!res->udim && tok) {
+            char *one = st_bake_tile_path(r.normal_path, 0);
+            snprintf(b->have_map, sizeof b->have_map, "%s", one ? one : r.normal_path);
+            free(one);
+        } else snprintf(b->have_map, sizeof b->have_map, "%s", r.normal_path);
+        b->serial++;
+    }
+    char t[32], maps[64] = "";
+    if (res->udim) snprintf(maps, sizeof maps, ", %u UDIM tiles", res->maps);
+    const char *name = st_path_base(r.normal_path ? b->have_map : r.disp_path);
+    st_app_message(a, 0, "baked level %u onto level %u: %s%s%s (%llu texels%s) in %s%s%s", r.level, r.base, name,
+                   r.normal_path && r.disp_path ? " and the displacement" : "", maps, (unsigned long long)res->baked,
+                   res->by_rays ? ", by rays" : "", st_app_fmt_ms(a, st_now_ms() - t0, t, sizeof t),
+                   j.msg[0] ? "; " : "", j.msg);
+    return 0;
+}
+
 void st_app_run_requested(st_app *a)
 {
     g_loop_started = 1;
@@ -453,6 +525,7 @@ void st_app_run_requested(st_app *a)
     if (!a->doc.loaded) return;
     switch (kind) {
     case JOB_REBUILD: rebuild_levels(a); break;
+    case JOB_BAKE: st_app_bake_maps(a); break;
     case JOB_ADD_LEVEL: st_app_add_level(a); break;
     case JOB_SCHEME: st_app_change_scheme(a, g_request.scheme); break;
     case JOB_SAVE:

@@ -18,7 +18,7 @@
 
 enum ev_type {
     EV_WAIT, EV_KEY, EV_MOVE, EV_BUTTON, EV_SCROLL, EV_DROP, EV_LEVEL, EV_SNAPSHOT, EV_SHOT, EV_EXPECT, EV_ECHO, EV_QUIT,
-    EV_GUI, EV_MENU, EV_FRAMES, EV_BRUSH, EV_FILTER, EV_SCROLL_CLICK
+    EV_GUI, EV_MENU, EV_FRAMES, EV_BRUSH, EV_FILTER, EV_SCROLL_CLICK, EV_BAKE
 };
 
 /* `brush SETTING VALUE`: what the panel's tool section sets. */
@@ -337,6 +337,12 @@ static int parse_line(st_replay *rp, char *s, int line, st_error *err)
             if (!end || *end || !(e->x >= 0) || e->x > hi || (k == BR_RADIUS && !(e->x > 0)))
                 BAD("%s:%d: brush %s %s: a number in 0..%g", rp->path, line, what[k], tok[2], hi);
         }
+    } else if (!strcmp(c, "bake")) {
+        if (nt < 2) BAD("%s:%d: bake SETTING VALUE | bake run (see ui/gui.h st_gui_bake_set)", rp->path, line);
+        if (!(e = push(rp, EV_BAKE, line))) NOMEM();
+        e->text = strdup(tok[1]);
+        e->arg = nt > 2 ? strdup(tok[2]) : NULL;
+        if (!e->text || (nt > 2 && !e->arg)) NOMEM();
     } else if (!strcmp(c, "filter")) {
         double g[ST_MAX_LEVELS];
         if (nt < 2 || parse_gains(tok[1], g) < 0)
@@ -549,9 +555,14 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
         ok = e->arg && !strcmp(actual, e->arg);
     } else if (!strcmp(w, "dialog")) {
         /* The question up: quit (save before quitting?), scheme, or none. */
-        const char *up = a->quit_asking ? "quit" : a->pending_scheme ? "scheme" : "none";
+        const char *up = a->quit_asking ? "quit" : a->pending_scheme ? "scheme" : st_gui_bake_shown() ? "bake" : "none";
         snprintf(actual, sizeof actual, "%s", up);
         ok = e->arg && !strcmp(e->arg, up);
+    } else if (!strcmp(w, "baked") || !strcmp(w, "baked_view")) {
+        /* A normal map baked for this model / the view showing it. */
+        int on = !strcmp(w, "baked") ? st_app_can_show_baked(a) : a->bake.show && st_app_can_show_baked(a);
+        snprintf(actual, sizeof actual, "%d", on);
+        ok = on == (want != 0);
     } else if (!strcmp(w, "centred")) {
         /* The model's bounding-box centre projects to the middle of the part
          * of the window the side panel leaves free (within 2 % of its width). */
@@ -707,6 +718,14 @@ int st_replay_step(st_replay *rp, st_app *a)
         rp->ntimes = 0;
         rp->timing_left = e->which;
         break;
+    case EV_BAKE: {
+        char msg[512];
+        if (st_gui_bake_set(a, e->text, e->arg, msg, sizeof msg)) {
+            fprintf(stderr, "strata: %s:%d: bake %s: %s\n", rp->path, e->line, e->text, msg);
+            return -1;
+        }
+        break;
+    }
     case EV_MENU: {
         char msg[512];
         if (st_gui_menu_activate(a, e->text, e->arg, msg, sizeof msg)) {

@@ -32,7 +32,9 @@
  *                               re-tessellating only the touched faces),
  *                               error (0/1: status line is an error),
  *                               message TEXT (status line contains TEXT),
- *                               dialog quit|scheme|none (the question that is up),
+ *                               dialog quit|scheme|bake|none (the question or dialog that is up),
+ *                               baked 0/1 (a normal map was baked for this model),
+ *                               baked_view 0/1 (View > Show baked map draws it),
  *                               dialog_dir NAME (the file dialog's folder, last component),
  *                               box_max N (the document's box maximum level),
  *                               unsaved 0/1 (changes since the last open or save),
@@ -68,6 +70,13 @@
  *                               once); for items that open the file dialog ARG
  *                               is the file (relative: to the working directory):
  *                               menu File/Export/glTF out.gltf, menu File/Open x.obj
+ *   bake SETTING VALUE          the Bake dialog's fields (Bake > Bake maps...): base N,
+ *                               level N, size N, padding N, normal PATH|none,
+ *                               disp PATH|none, vector / bits16 / auto_uv on|off,
+ *                               space tangent|object, udim auto|on|off; attach
+ *                               on|off (the export dialog's "Attach the baked
+ *                               normal map"); bake run: the Bake button (the job;
+ *                               a refusal is the status line's error)
  *   time_frames N               print the median and mean of the next N frames'
  *                               times (drawing + presenting, a->frame_ms)
  *   echo TEXT                   print

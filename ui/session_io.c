@@ -161,6 +161,7 @@ int st_app_restore(st_app *a, const char *path)
     st_doc *d = &a->doc;
     a->untitled = 0;
     a->showing_default = 0;
+    st_app_bake_forget(a);      /* the last bake was of another model */
     /* The window's settings outlive the model: the brush, and the budgets
      * given on the command line (--mem-budget). */
     st_brush brush = d->brush;

@@ -88,7 +88,7 @@ int st_shortcut_format(const st_shortcut *s, char *buf, size_t n)
 
 const char *st_category_name(int category)
 {
-    static const char *const names[ST_NCATEGORIES] = { "File", "Edit", "Tools", "Mesh", "Box", "View", "Help" };
+    static const char *const names[ST_NCATEGORIES] = { "File", "Edit", "Tools", "Mesh", "Box", "Bake", "View", "Help" };
     return category >= 0 && category < ST_NCATEGORIES ? names[category] : NULL;
 }
 

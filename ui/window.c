@@ -233,7 +233,10 @@ void st_app_draw(st_app *a)
     o.point_size = fminf(7.0f, fmaxf(2.5f, 0.45f * spacing));
     o.line_width = spacing < 12 ? 0.8f : 1.2f;
     int scene = a->r.has_surf && (a->busy || a->doc.loaded);   /* busy: the worker owns the document */
-    if (scene) st_renderer_draw(&a->r, &a->cc.cam, a->fb_w, a->fb_h, &o);
+    /* View > Show baked map: the bake's base level with its normal map. */
+    int baked = scene && !a->busy && a->bake.show && st_app_draw_baked(a);
+    if (baked) { /* drawn */ }
+    else if (scene) st_renderer_draw(&a->r, &a->cc.cam, a->fb_w, a->fb_h, &o);
     else {
         gl->ClearColor(a->r.background[0], a->r.background[1], a->r.background[2], 1);
         gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -1057,6 +1060,7 @@ int st_window_main(const st_win_opts *o)
     a->brush_radius_frac = 0.125;
     st_doc_init(&a->doc);
     if (o->mem_budget_mb > 0) a->doc.mem_budget = (size_t)(o->mem_budget_mb * 1048576.0);
+    if (o->strict) a->doc.read_flags |= ST_MESH_STRICT;
     default_asset(a);
 
     /* Preferences (recent files, window size, UI scale): not in replays,
@@ -1186,6 +1190,7 @@ int st_window_main(const st_win_opts *o)
     st_gui_shutdown();
     st_replay_free(rp);
     st_hud_free(&a->hud);
+    st_app_bake_free(a);
     st_pick_free(&a->pick);
     st_renderer_free(&a->r);
     glfwDestroyWindow(a->win);

@@ -17,6 +17,7 @@
 #include "camera_ctl.h"
 #include "editor.h"
 #include "hud.h"
+#include "nmap.h"
 #include "pick.h"
 #include "renderer.h"
 
@@ -36,6 +37,7 @@ typedef struct st_win_opts {
     int no_gui;                /* start with the GUI (gui.h) hidden */
     int size_given;            /* --size: the preferences' window size does not apply */
     float ui_scale;            /* --ui-scale: > 0 overrides the preference and the monitor's */
+    int strict;                /* --strict: refuse non-manifold meshes instead of splitting them (ST_MESH_STRICT) */
 } st_win_opts;
 
 enum st_tool { ST_TOOL_SELECT = -1 };   /* else an st_brush_tool */
@@ -46,6 +48,30 @@ enum st_mouse_op {
 };
 
 #define ST_MSG_LEN 512
+
+/* Baking from the window (ui/bake_ui.c): the Bake dialog's settings, the
+ * last bake's normal map, and the view that draws the base level with it. */
+typedef struct st_app_bake {
+    /* The dialog (what strata bake takes; bakeio/bake_run.h). */
+    int base, level;           /* -1: not chosen yet (0 and the finest level) */
+    int size, padding;
+    int bits16, space, vector, auto_uv, udim;   /* udim: -1 auto, 0 off, 1 on */
+    int want_normal, want_disp;
+    char normal[4096], disp[4096];
+    /* The last bake that wrote a normal map. */
+    int have;
+    unsigned have_base;
+    int have_auto_uv, have_space;
+    char have_map[4096];       /* the map, or its UDIM set NAME.<UDIM>.png */
+    unsigned serial;           /* bakes done: the view rebuilds when it changes */
+    int show;                  /* View > Show baked map */
+    int attach;                /* the export dialog's "attach the baked normal map" */
+    /* The view's GL state (built on demand, for serial and the document's revision). */
+    st_nmap nm;
+    int nm_init, nm_ok;
+    unsigned nm_serial;
+    uint64_t nm_revision;
+} st_app_bake;
 
 typedef struct st_app {
     st_win_opts opts;
@@ -123,6 +149,7 @@ typedef struct st_app {
     int shot_probe;            /* asked by SIGUSR1 (STRATA_GUI_PROBE, window.c) */
 
     void *replay;              /* st_replay */
+    st_app_bake bake;          /* ui/bake_ui.c */
 } st_app;
 
 /* Entry points (app/cmd_window.c). */
@@ -223,6 +250,20 @@ int st_app_filter(st_app *a, const double *gains, unsigned n);
 void st_app_drag_finish(st_app *a, int cancel);
 /* Handle k of the interest box: 0..5 the face centres (-x +x -y +y -z +z), 6 the centre. */
 void st_box_handle_pos(const st_adapt_params *b, int k, double p[3]);
+
+/* Baking (ui/bake_ui.c; the job in ui/jobs.c). */
+void st_app_bake_defaults(st_app *a);              /* the dialog's settings for the open model */
+void st_app_request_bake(st_app *a);               /* the Bake dialog's Bake: a job */
+/* The bake job (st_bake_run on the model): 0, ST_APP_CANCELLED (the old
+ * maps kept), or an error with the message in the status line. */
+int st_app_bake_maps(st_app *a);
+/* Draws the base level with the last baked normal map instead of the
+ * surface; 0 when it cannot (nothing baked, or the map unreadable: the
+ * message says why and the view goes back to the surface). */
+int st_app_draw_baked(st_app *a);
+int st_app_can_show_baked(const st_app *a);
+void st_app_bake_forget(st_app *a);                /* another model: no baked map */
+void st_app_bake_free(st_app *a);                  /* GL objects, before the context goes */
 
 /* The overlay (ui/hud_panels.c). */
 void st_app_draw_hud(st_app *a);                    /* panel, status line, F1 help */

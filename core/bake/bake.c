@@ -360,6 +360,7 @@ typedef struct ray_pass {
     const st_bake_bvh *bvh;
     const double *normal_L;
     double reach;
+    uint32_t row0, row1;          /* the rows of this pass (the progress reports between passes) */
     double lo[ST_PARALLEL_MAX], hi[ST_PARALLEL_MAX];
     uint64_t misses[ST_PARALLEL_MAX];
 } ray_pass;
@@ -399,11 +400,8 @@ static void ray_rows(st_team *team, unsigned t, void *ctx)
     ray_pass *r = ctx;
     const bake_ctx *c = r->c;
     uint32_t size = c->o->size, y0, y1;
-    r->lo[t] = INFINITY;
-    r->hi[t] = -INFINITY;
-    r->misses[t] = 0;
-    while (st_team_next(team, 0, size, 4, &y0, &y1))
-        for (uint32_t y = y0; y < y1; y++)
+    while (st_team_next(team, 0, r->row1 - r->row0, 4, &y0, &y1))
+        for (uint32_t y = r->row0 + y0; y < r->row0 + y1; y++)
             for (uint32_t x = 0; x < size; x++) {
                 uint32_t f = c->owner[(size_t)y * size + x];
                 if (f != ST_NIL) ray_texel(r, t, x, y, f);
@@ -441,7 +439,16 @@ static int bake_by_rays(bake_ctx *c, st_hier *h, st_error *err)
     if (threads > ST_PARALLEL_MAX) threads = ST_PARALLEL_MAX;
     if (threads < 1) threads = 1;
     for (unsigned t = 0; t < ST_PARALLEL_MAX; t++) { r->lo[t] = INFINITY; r->hi[t] = -INFINITY; r->misses[t] = 0; }
-    st_team_run(threads, ray_rows, r);
+    /* Passes of 64 rows: the progress callback (main thread) between them. */
+    rc = ST_OK;
+    for (uint32_t y = 0; y < o->size && !rc; y += 64) {
+        r->row0 = y;
+        r->row1 = o->size - y < 64 ? o->size : y + 64;
+        st_team_run(threads, ray_rows, r);
+        if (o->progress && o->progress(o->progress_ctx, (double)r->row1 / o->size))
+            rc = st_fail(err, ST_ERR_INVALID, "cancelled");
+    }
+    if (rc) { free(r); st_bake_bvh_free(&bvh); return rc; }
     out->by_rays = 1;
     out->ray_reach = r->reach;
     for (unsigned t = 0; t < ST_PARALLEL_MAX; t++) {
@@ -619,6 +626,10 @@ int st_bake(st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o, st_bake_m
     if (st_bake_by_rays(h, o)) rc = bake_by_rays(&c, h, err);
     for (uint32_t f = 0; f < nf && !rc && !out->by_rays; f++) {
         if (!face_on(&c, f)) continue;
+        if (o->progress && (f & 255) == 0 && o->progress(o->progress_ctx, (double)f / nf)) {
+            rc = st_fail(err, ST_ERR_INVALID, "cancelled");
+            break;
+        }
         c.face = f;
         face_tiles(uvs, f, c.k0, c.k1);
         uint32_t a = uvs->corner_off[f];

@@ -140,6 +140,10 @@ typedef struct st_bake_opts {
     int rays;                     /* 1: by rays even where the faces nest (to compare the two) */
     int udim;                     /* 0: every face, wrapped into one map; 1: the faces at home in `tile` */
     int32_t tile[2];              /* with udim: the tile baked (u, v) */
+    /* Optional, on the calling thread: the fraction of the faces (or of the
+     * rows, by rays) done; non-zero cancels (st_bake fails with "cancelled"). */
+    int (*progress)(void *ctx, double fraction);
+    void *progress_ctx;
 } st_bake_opts;
 
 /* 1 when st_bake will cast rays: the faces do not nest, or o->rays. */
