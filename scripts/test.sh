@@ -9,7 +9,8 @@
 #            no GL/window/image package looked for, build, quick tests  build/core-only
 #   asan     Debug (-O1) build with ASan+UBSan, -Werror, ctest     build/asan
 #   fuzz     clang + libFuzzer (+ASan/UBSan), every tests/fuzz/fuzz_*.c
-#            run for FUZZ_SECONDS each on a copy of its seed corpus build/fuzz
+#            run for FUZZ_SECONDS each on a copy of its seed corpus, as
+#            many at once as there are cores                      build/fuzz
 # Every stage runs even if an earlier one failed; the exit status is non-zero
 # if any stage failed. The last line is "N passed, N failed": the ctest counts
 # of all stages plus one test per fuzzer (plus one failure for each stage that
@@ -214,11 +215,15 @@ stage_fuzz() {
   local status=0 exe seed work art rc dict
   rm -rf "$dir/artifacts"
   mkdir -p "$dir/artifacts"
-  for n in "${names[@]}"; do
+  # The fuzzers run $JOBS at a time (each is one process on one core), each
+  # into its own log; results are printed in the order of the names.
+  local pids=() logs=() works=() i j
+  for ((i = 0; i < ${#names[@]}; i++)); do
+    n="${names[$i]}"
     exe="$(find "$dir" -type f -name "$n" -perm -u+x | head -n 1)"
     if [ -z "$exe" ]; then
       echo "[fuzz] $n: executable not found after build"
-      TOTAL_FAILED=$((TOTAL_FAILED + 1)); status=1; continue
+      TOTAL_FAILED=$((TOTAL_FAILED + 1)); status=1; pids+=(""); works+=(""); continue
     fi
     # Work on a copy of the seed corpus so the repo is never modified.
     work="$(mktemp -d "${TMPDIR:-/tmp}/strata-$n.XXXXXX")"
@@ -231,8 +236,15 @@ stage_fuzz() {
     if [ -f "$ROOT/tests/fuzz/$n.dict" ]; then
       dict=(-dict="$ROOT/tests/fuzz/$n.dict")
     fi
+    # At most $JOBS running: wait for the oldest still running.
+    local running=0
+    for ((j = 0; j < i; j++)); do [ -n "${pids[$j]}" ] && kill -0 "${pids[$j]}" 2>/dev/null && running=$((running + 1)); done
+    while [ "$running" -ge "$JOBS" ]; do
+      sleep 1
+      running=0
+      for ((j = 0; j < i; j++)); do [ -n "${pids[$j]}" ] && kill -0 "${pids[$j]}" 2>/dev/null && running=$((running + 1)); done
+    done
     log "[fuzz] $n for ${FUZZ_SECONDS}s ($(find "$work" -type f | wc -l) seed inputs)"
-    rc=0
     (
       cd "$dir"
       ASAN_OPTIONS="detect_leaks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
@@ -240,7 +252,16 @@ stage_fuzz() {
       timeout --kill-after=30 "$((FUZZ_SECONDS + 300))" \
         "$exe" -max_total_time="$FUZZ_SECONDS" -timeout=20 -rss_limit_mb=4096 \
           -print_final_stats=1 -artifact_prefix="$art" ${dict[@]+"${dict[@]}"} "$work" </dev/null
-    ) > "$LOGDIR/$n.log" 2>&1 || rc=$?
+    ) > "$LOGDIR/$n.log" 2>&1 &
+    pids+=("$!")
+    works+=("$work")
+  done
+  for ((i = 0; i < ${#names[@]}; i++)); do
+    [ -n "${pids[$i]}" ] || continue
+    n="${names[$i]}"
+    rc=0
+    wait "${pids[$i]}" || rc=$?
+    log "[fuzz] $n"
     tail -n 20 "$LOGDIR/$n.log"
     if [ "$rc" -eq 0 ]; then
       echo "[fuzz] $n: passed"
@@ -249,7 +270,7 @@ stage_fuzz() {
       echo "[fuzz] $n: FAILED (exit $rc); full log $LOGDIR/$n.log, inputs in $dir/artifacts/"
       TOTAL_FAILED=$((TOTAL_FAILED + 1)); status=1
     fi
-    rm -rf "$work"
+    rm -rf "${works[$i]}"
   done
   return "$status"
 }
