@@ -295,8 +295,9 @@ static int pool_read(st_br *r, st_pool *p, unsigned top, const char *what)
         if (r->failed) break;
         if (n > nb) { st_br_fail(r, "%s: level %u owns %u blocks of %u", what, l, n, nb); break; }
         if (n && l > top) { st_br_fail(r, "%s: level %u above the top level owns blocks", what, l); break; }
-        p->blocks[l] = read_u32_array(r, n, what);
-        if (!p->blocks[l]) break;
+        /* a level without blocks keeps NULL, as in a pool made in memory */
+        p->blocks[l] = n ? read_u32_array(r, n, what) : NULL;
+        if (n && !p->blocks[l]) break;
         p->nblocks[l] = p->capblocks[l] = n;
         for (uint32_t b = 0; b < n; b++) {
             uint32_t k = p->blocks[l][b];
@@ -308,15 +309,15 @@ static int pool_read(st_br *r, st_pool *p, unsigned top, const char *what)
         nchain[l] = st_br_u32(r);
         if (r->failed) break;
         if (nchain[l] > end) { st_br_fail(r, "%s: free list of level %u is longer than the pool", what, l); break; }
-        chains[l] = read_u32_array(r, nchain[l], what);
-        if (!chains[l]) break;
+        chains[l] = nchain[l] ? read_u32_array(r, nchain[l], what) : NULL;
+        if (nchain[l] && !chains[l]) break;
     }
     if (r->failed) goto out;
     uint32_t nspare = st_br_u32(r);
     if (r->failed) goto out;
     if (nspare > nb) { st_br_fail(r, "%s: %u spare blocks of %u", what, nspare, nb); goto out; }
-    p->spare = read_u32_array(r, nspare, what);
-    if (!p->spare) goto out;
+    p->spare = nspare ? read_u32_array(r, nspare, what) : NULL;
+    if (nspare && !p->spare) goto out;
     p->nspare = p->capspare = nspare;
     for (uint32_t i = 0; i < nspare; i++) {
         uint32_t k = p->spare[i];
