@@ -19,11 +19,12 @@
  *      chart is split and both halves flattened again.
  *   3. packing (uv_pack.c): each chart turned to its minimal-area bounding
  *      box (Freeman and Shapira 1975: one side lies along a hull edge), then
- *      a skyline bottom-left packing of the boxes (Jylänki 2010, "A Thousand
- *      Ways to Pack the Bin", §4) at the largest scale that fits the unit
- *      square, found by bisection, with `padding` texels of a size×size map
- *      between any two charts' boxes (half of it at the square's border, so
- *      that the repeat wrap keeps it too).
+ *      the charts themselves rasterised conservatively into a grid of cells
+ *      and put at the first free place in row order (xatlas's brute-force
+ *      raster packing), each dilated by `padding` texels of a size×size map
+ *      so that any two charts are at least that far apart (half of it at
+ *      the square's border, so that the repeat wrap keeps it too), at the
+ *      largest scale that fits the unit square, found by bisection.
  *   4. figures (uv_stats.c): texel coverage, overlap between charts,
  *      distortion (L2 stretch of Sander et al. 2001, angle and area errors).
  *

@@ -4,15 +4,9 @@
  * box has a side along an edge of the chart's convex hull (Freeman and
  * Shapira, "Determining the minimum-area encasing rectangle for an
  * arbitrary closed curve", CACM 1975), so every hull edge (Andrew's monotone
- * chain) is tried; then laid flat (width >= height).
- *
- * The boxes, tallest first, go into a size × size grid of texels by the
- * skyline bottom-left rule (Jylänki 2010, "A Thousand Ways to Pack the Bin",
- * §4: each box where its top is lowest, upright or turned a quarter), each
- * box widened by `padding` texels so that any two charts are at least that
- * far apart, half of it on each side so that the square's border keeps it
- * across the repeat wrap.  The scale (texels per model unit, the same for
- * every chart) is the largest that fits, by bisection. */
+ * chain) is tried; then laid flat (width >= height).  The charts, longest
+ * first, are then packed by their shapes (below), at the largest scale that
+ * fits the square, found by bisection; one scale for every chart. */
 #include "core/uv/uv_internal.h"
 
 #include <math.h>
@@ -50,105 +44,140 @@ static uint32_t hull(pt *p, uint32_t n, pt *h)
 typedef struct box {
     double w, h;                  /* model units, after turning */
     uint32_t chart;
-    int32_t x, y;                 /* texel position of the padded box */
+    int32_t x, y;                 /* cell position of the chart's mask */
     int rot;                      /* turned a quarter by the packer */
 } box;
 
+/* Longest box side first, then the other side, then the chart. */
 static int box_cmp(const void *pa, const void *pb)
 {
     const box *a = pa, *b = pb;
-    if (a->h != b->h) return a->h > b->h ? -1 : 1;
     if (a->w != b->w) return a->w > b->w ? -1 : 1;
+    if (a->h != b->h) return a->h > b->h ? -1 : 1;
     return a->chart < b->chart ? -1 : a->chart > b->chart;
 }
 
-typedef struct skyline {
-    int32_t *x, *y, *w;
-    uint32_t n;
-} skyline;
+/* ---- packing by shape ----------------------------------------------------------
+ *
+ * Boxes waste the room between irregular charts, so the charts themselves
+ * are packed, as xatlas does (its "bruteforce" raster packer): each chart
+ * rasterised conservatively (every cell its triangles touch: the edge
+ * functions offset by half a cell's L1 extent) into a grid of cells of
+ * `cell` texels, put at the first free place in row order (bottom-left
+ * first fit), upright or turned a quarter, whichever lands lower; the grid
+ * then holds the chart dilated by the padding in cells, so another chart's
+ * cells are at least padding + 1 cells away on some axis, i.e. its points
+ * at least `padding` texels away. */
 
-/* The lowest top for a W × H box at segment i, or INT32_MAX. */
-static int32_t fit_at(const skyline *s, uint32_t i, int32_t W, int32_t H, int32_t N, int32_t *yout)
-{
-    int32_t x = s->x[i];
-    if (x + W > N) return INT32_MAX;
-    int32_t y = 0, left = W;
-    for (uint32_t j = i; left > 0; j++) {
-        if (j >= s->n) return INT32_MAX;
-        if (s->y[j] > y) y = s->y[j];
-        left -= s->w[j];
-    }
-    if (y + H > N) return INT32_MAX;
-    *yout = y;
-    return y + H;
-}
+typedef struct raster_ctx {
+    const st_uv_mesh *m;
+    const uint32_t *chart_off, *chart_faces;
+    const double *uv;
+    uint32_t (*tris)[3];
+    int32_t G, cell, pad;         /* grid side in cells, texels per cell, padding in cells */
+    uint8_t *grid;                /* G * G: 1 taken (charts dilated, border) */
+    uint8_t *mask;                /* scratch: one chart's cells */
+    size_t mask_cap;
+} raster_ctx;
 
-static void place(skyline *s, uint32_t i, int32_t W, int32_t H, int32_t y)
+/* The chart's cells at scale sc (cells per model unit), turned or not;
+ * returns 0 when the mask does not fit the scratch. */
+static int chart_mask(raster_ctx *r, const box *b, double sc, int rot, int32_t *W, int32_t *H)
 {
-    int32_t x = s->x[i];
-    /* Insert the new segment at i, then trim what it covers. */
-    memmove(s->x + i + 1, s->x + i, (s->n - i) * sizeof *s->x);
-    memmove(s->y + i + 1, s->y + i, (s->n - i) * sizeof *s->y);
-    memmove(s->w + i + 1, s->w + i, (s->n - i) * sizeof *s->w);
-    s->n++;
-    s->x[i] = x; s->y[i] = y + H; s->w[i] = W;
-    for (uint32_t j = i + 1; j < s->n;) {
-        int32_t end = x + W;
-        if (s->x[j] >= end) break;
-        int32_t cut = end - s->x[j];
-        if (cut >= s->w[j]) {
-            memmove(s->x + j, s->x + j + 1, (s->n - j - 1) * sizeof *s->x);
-            memmove(s->y + j, s->y + j + 1, (s->n - j - 1) * sizeof *s->y);
-            memmove(s->w + j, s->w + j + 1, (s->n - j - 1) * sizeof *s->w);
-            s->n--;
-        } else {
-            s->x[j] += cut;
-            s->w[j] -= cut;
-            break;
-        }
-    }
-    /* Merge equal heights. */
-    for (uint32_t j = 0; j + 1 < s->n;) {
-        if (s->y[j] == s->y[j + 1]) {
-            s->w[j] += s->w[j + 1];
-            memmove(s->x + j + 1, s->x + j + 2, (s->n - j - 2) * sizeof *s->x);
-            memmove(s->y + j + 1, s->y + j + 2, (s->n - j - 2) * sizeof *s->y);
-            memmove(s->w + j + 1, s->w + j + 2, (s->n - j - 2) * sizeof *s->w);
-            s->n--;
-        } else j++;
-    }
-}
-
-/* Texels of a box side at scale sc, padding included. */
-static int32_t side(double len, double sc, uint32_t pad)
-{
-    double t = ceil(len * sc - 1e-9);
-    return (int32_t)(t < 1 ? 1 : t) + (int32_t)pad;
-}
-
-/* Packs every box at scale sc; 1 when all fit. */
-static int try_pack(box *b, uint32_t nb, double sc, uint32_t pad, int32_t N, skyline *s)
-{
-    s->n = 1;
-    s->x[0] = 0; s->y[0] = 0; s->w[0] = N;
-    for (uint32_t k = 0; k < nb; k++) {
-        int32_t W = side(b[k].w, sc, pad), H = side(b[k].h, sc, pad);
-        if (W > N && H > N) return 0;
-        int32_t best = INT32_MAX, by = 0, bx = 0;
-        uint32_t bi = 0;
-        int brot = 0;
-        for (int rot = 0; rot < 2; rot++) {
-            int32_t w = rot ? H : W, h = rot ? W : H;
-            for (uint32_t i = 0; i < s->n; i++) {
-                int32_t y = 0, top = fit_at(s, i, w, h, N, &y);
-                if (top < best || (top == best && s->x[i] < bx)) { best = top; by = y; bx = s->x[i]; bi = i; brot = rot; }
+    double w = rot ? b->h : b->w, h = rot ? b->w : b->h;
+    *W = (int32_t)ceil(w * sc) + 1;
+    *H = (int32_t)ceil(h * sc) + 1;
+    if (*W > r->G || *H > r->G || (size_t)*W * (size_t)*H > r->mask_cap) return 0;
+    memset(r->mask, 0, (size_t)*W * (size_t)*H);
+    const st_uv_mesh *m = r->m;
+    for (uint32_t i = r->chart_off[b->chart]; i < r->chart_off[b->chart + 1]; i++) {
+        uint32_t f = r->chart_faces[i];
+        unsigned nt = st_uv_face_triangles(m, f, r->tris);
+        for (unsigned t = 0; t < nt; t++) {
+            double P[3][2];
+            for (int j = 0; j < 3; j++) {
+                double u = r->uv[2 * (size_t)r->tris[t][j]], v = r->uv[2 * (size_t)r->tris[t][j] + 1];
+                if (rot) { double tmp = u; u = b->h - v; v = tmp; }
+                P[j][0] = u * sc;
+                P[j][1] = v * sc;
             }
+            double area = (P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[2][0] - P[0][0]) * (P[1][1] - P[0][1]);
+            if (area < 0) for (int k = 0; k < 2; k++) { double tmp = P[1][k]; P[1][k] = P[2][k]; P[2][k] = tmp; }
+            int32_t x0 = (int32_t)floor(fmin(P[0][0], fmin(P[1][0], P[2][0]))), x1 = (int32_t)floor(fmax(P[0][0], fmax(P[1][0], P[2][0])));
+            int32_t y0 = (int32_t)floor(fmin(P[0][1], fmin(P[1][1], P[2][1]))), y1 = (int32_t)floor(fmax(P[0][1], fmax(P[1][1], P[2][1])));
+            if (x0 < 0) x0 = 0;
+            if (y0 < 0) y0 = 0;
+            if (x1 > *W - 1) x1 = *W - 1;
+            if (y1 > *H - 1) y1 = *H - 1;
+            for (int32_t y = y0; y <= y1; y++)
+                for (int32_t x = x0; x <= x1; x++) {
+                    double cx = x + 0.5, cy = y + 0.5;
+                    int in = 1;
+                    for (int e = 0; e < 3 && in; e++) {
+                        const double *a = P[e], *q = P[(e + 1) % 3];
+                        double nx = -(q[1] - a[1]), ny = q[0] - a[0];
+                        double ev = nx * (cx - a[0]) + ny * (cy - a[1]);
+                        in = ev + 0.5 * (fabs(nx) + fabs(ny)) >= 0;
+                    }
+                    if (in) r->mask[(size_t)y * (size_t)*W + (size_t)x] = 1;
+                }
         }
-        if (best == INT32_MAX) return 0;
+    }
+    return 1;
+}
+
+/* The first place in row order where the mask's cells are all free. */
+static int first_fit(const raster_ctx *r, int32_t W, int32_t H, int32_t *X, int32_t *Y)
+{
+    for (int32_t y = 0; y + H <= r->G; y++)
+        for (int32_t x = 0; x + W <= r->G; x++) {
+            int ok = 1;
+            for (int32_t j = 0; j < H && ok; j++) {
+                const uint8_t *mr = r->mask + (size_t)j * (size_t)W, *gr = r->grid + (size_t)(y + j) * (size_t)r->G + (size_t)x;
+                for (int32_t i = 0; i < W; i++)
+                    if (mr[i] && gr[i]) { ok = 0; break; }
+            }
+            if (ok) { *X = x; *Y = y; return 1; }
+        }
+    return 0;
+}
+
+static int try_raster(raster_ctx *r, box *b, uint32_t nb, double sc)
+{
+    int32_t G = r->G, ph = r->pad / 2;
+    memset(r->grid, 0, (size_t)G * (size_t)G);
+    for (int32_t y = 0; y < G; y++)
+        for (int32_t x = 0; x < G; x++)
+            if (x < ph || y < ph || x >= G - (r->pad - ph) || y >= G - (r->pad - ph)) r->grid[(size_t)y * (size_t)G + (size_t)x] = 1;
+    for (uint32_t k = 0; k < nb; k++) {
+        int32_t best_top = INT32_MAX, bx = 0, by = 0, bw = 0, bh = 0;
+        int brot = -1;
+        for (int rot = 0; rot < 2; rot++) {
+            int32_t W, H, X, Y;
+            if (!chart_mask(r, &b[k], sc, rot, &W, &H)) continue;
+            if (!first_fit(r, W, H, &X, &Y)) continue;
+            if (Y + H < best_top) { best_top = Y + H; bx = X; by = Y; bw = W; bh = H; brot = rot; }
+        }
+        if (brot < 0) return 0;
+        int32_t W, H;
+        chart_mask(r, &b[k], sc, brot, &W, &H);
+        (void)bw; (void)bh;
         b[k].x = bx;
         b[k].y = by;
         b[k].rot = brot;
-        place(s, bi, brot ? H : W, brot ? W : H, by);
+        /* The chart dilated by the padding (a square of cells). */
+        for (int32_t j = 0; j < H; j++)
+            for (int32_t i = 0; i < W; i++) {
+                if (!r->mask[(size_t)j * (size_t)W + (size_t)i]) continue;
+                for (int32_t dy = -r->pad; dy <= r->pad; dy++) {
+                    int32_t y = by + j + dy;
+                    if (y < 0 || y >= G) continue;
+                    for (int32_t dx = -r->pad; dx <= r->pad; dx++) {
+                        int32_t x = bx + i + dx;
+                        if (x >= 0 && x < G) r->grid[(size_t)y * (size_t)G + (size_t)x] = 1;
+                    }
+                }
+            }
     }
     return 1;
 }
@@ -160,10 +189,8 @@ int uv_pack(uv_ctx *c, uint32_t nch, const uint32_t *chart_off, const uint32_t *
     size_t nc1 = c->nc ? c->nc : 1;
     pt *pts = malloc(nc1 * sizeof *pts), *hl = malloc(2 * (nc1 + 1) * sizeof *hl);
     box *b = malloc((size_t)nch * sizeof *b);
-    skyline s = { malloc((2 * (size_t)nch + 2) * sizeof(int32_t)), malloc((2 * (size_t)nch + 2) * sizeof(int32_t)),
-                  malloc((2 * (size_t)nch + 2) * sizeof(int32_t)), 0 };
     int rc = ST_OK;
-    if (!pts || !hl || !b || !s.x || !s.y || !s.w) { rc = st_fail(err, ST_ERR_MEMORY, "out of memory packing %u UV charts", nch); goto done; }
+    if (!pts || !hl || !b) { rc = st_fail(err, ST_ERR_MEMORY, "out of memory packing %u UV charts", nch); goto done; }
     /* Turn each chart to its least-area box, flat, its corner at the origin. */
     for (uint32_t k = 0; k < nch; k++) {
         uint32_t np = 0;
@@ -207,26 +234,42 @@ int uv_pack(uv_ctx *c, uint32_t nch, const uint32_t *chart_off, const uint32_t *
         b[k].h = flat ? hi[0] - lo[0] : hi[1] - lo[1];
         b[k].chart = k;
     }
+    /* Longest first: the small charts then fill the room round the big ones. */
     qsort(b, nch, sizeof *b, box_cmp);
     /* The largest scale that packs, by bisection between one that fits
-     * and one that does not (the boxes' area bounds it above). */
-    int32_t N = (int32_t)c->o.size;
+     * and one that does not (the charts' area bounds it above). */
+    int32_t N = (int32_t)c->o.size, cell = N >= 512 ? N / 256 : 1;
     uint32_t pad = c->o.padding;
+    raster_ctx r = { m, chart_off, chart_faces, uv, c->ftris, N / cell, cell, (int32_t)((pad + (uint32_t)cell - 1) / (uint32_t)cell), NULL, NULL, 0 };
+    r.grid = malloc((size_t)r.G * (size_t)r.G);
+    r.mask_cap = (size_t)r.G * (size_t)r.G;
+    r.mask = malloc(r.mask_cap);
+    if (!r.grid || !r.mask) { free(r.grid); free(r.mask); rc = st_fail(err, ST_ERR_MEMORY, "out of memory packing %u UV charts", nch); goto done; }
     double area = 0;
-    for (uint32_t k = 0; k < nch; k++) area += b[k].w * b[k].h;
-    double hi_s = area > 0 ? (double)N / sqrt(area) : 1, lo_s = hi_s / 2;
-    for (int it = 0; it < 60 && !try_pack(b, nch, lo_s, pad, N, &s); it++) { hi_s = lo_s; lo_s /= 2; }
-    if (try_pack(b, nch, hi_s, pad, N, &s)) lo_s = hi_s;
-    for (int it = 0; it < 24 && hi_s > lo_s * (1 + 1e-4); it++) {
-        double mid = 0.5 * (lo_s + hi_s);
-        if (try_pack(b, nch, mid, pad, N, &s)) lo_s = mid; else hi_s = mid;
+    for (uint32_t i = 0; i < chart_off[nch]; i++) {
+        uint32_t f = chart_faces[i], a0 = m->face_off[f], a1 = m->face_off[f + 1];
+        for (uint32_t q = a0; q < a1; q++) {
+            const double *p = uv + 2 * (size_t)q, *p2 = uv + 2 * (size_t)(q + 1 < a1 ? q + 1 : a0);
+            area += 0.5 * (p[0] * p2[1] - p2[0] * p[1]);
+        }
     }
-    if (!try_pack(b, nch, lo_s, pad, N, &s)) {
-        /* More charts with padding than texels: the boxes overlap rather
+    /* sc: cells per model unit. */
+    double hi_s = area > 0 ? (double)r.G / sqrt(area) : 1, lo_s = hi_s / 2;
+    int fits = 0;
+    for (int it = 0; it < 60 && !(fits = try_raster(&r, b, nch, lo_s)); it++) { hi_s = lo_s; lo_s /= 2; }
+    for (int it = 0; it < 14 && fits && hi_s > lo_s * (1 + 1e-3); it++) {
+        double mid = 0.5 * (lo_s + hi_s);
+        if (try_raster(&r, b, nch, mid)) lo_s = mid; else hi_s = mid;
+    }
+    if (fits) fits = try_raster(&r, b, nch, lo_s);
+    free(r.grid);
+    free(r.mask);
+    if (!fits) {
+        /* More charts with padding than cells: the charts overlap rather
          * than fail (a map too small for the mesh). */
         for (uint32_t k = 0; k < nch; k++) { b[k].x = b[k].y = 0; b[k].rot = 0; }
     }
-    double sc = lo_s, half = (double)(pad / 2);
+    double sc = lo_s;
     for (uint32_t k = 0; k < nch; k++) {
         uint32_t ch = b[k].chart;
         for (uint32_t i = chart_off[ch]; i < chart_off[ch + 1]; i++) {
@@ -234,12 +277,12 @@ int uv_pack(uv_ctx *c, uint32_t nch, const uint32_t *chart_off, const uint32_t *
             for (uint32_t q = m->face_off[f]; q < m->face_off[f + 1]; q++) {
                 double *p = uv + 2 * (size_t)q, u = p[0], v = p[1];
                 if (b[k].rot) { double t = u; u = b[k].h - v; v = t; }
-                p[0] = (b[k].x + half + u * sc) / N;
-                p[1] = (b[k].y + half + v * sc) / N;
+                p[0] = (b[k].x + u * sc) * cell / N;
+                p[1] = (b[k].y + v * sc) * cell / N;
             }
         }
     }
 done:
-    free(pts); free(hl); free(b); free(s.x); free(s.y); free(s.w);
+    free(pts); free(hl); free(b);
     return rc;
 }
