@@ -5,8 +5,11 @@
  *
  * Bakes the surface of level L (default: the finest) onto the UV layout of
  * level B (core/bake/bake.h): B's own UVs (core/fvar/fvar.h), or with
- * --auto-uv a generated per-face atlas (st_bake_auto_uvs), which a level
- * without UVs needs; without either the command says level B has no UVs.
+ * --auto-uv a generated atlas of charts (st_bake_chart_uvs, core/uv/uv.h:
+ * charts of similar normal flattened by LSCM, packed for --size with
+ * --padding texels between them; a note gives its charts and distortion),
+ * which a level without UVs needs; without either the command says level B
+ * has no UVs.  Every bake prints the texels it wrote as a share of the map.
  * √3 and Doo-Sabin levels are baked by rays along B's normals (--ray-reach:
  * how far, in model units; default from the bounding boxes), and the
  * output says which correspondence was used and how many texels missed.
@@ -209,6 +212,8 @@ static void report(const bake_args *b, const char *const final[3], const st_bake
            (unsigned long long)maps->baked, (unsigned long long)maps->padded);
     if (maps->disp) printf(", displacement %.6g .. %.6g", maps->disp_min, maps->disp_max);
     printf("\n");
+    printf("coverage: %llu of %llu texels baked (%.1f %%)\n", (unsigned long long)maps->baked,
+           (unsigned long long)o->size * o->size, 100.0 * (double)maps->baked / ((double)o->size * o->size));
     if (maps->by_rays)
         printf("correspondence: by rays along level %u's normals: %llu texels, %llu misses (filled flat), reach %.6g\n",
                o->base, (unsigned long long)maps->baked,
@@ -253,12 +258,19 @@ int st_cmd_bake(int argc, char **argv)
     if (st_bake_check_scheme(&h, &err)) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
     if (!b.auto_uv && !st_hier_uv(&h, (unsigned)b.base)) {
         fprintf(stderr, "strata bake: %s: level %d has no UVs (the mesh it was made from had none); "
-                        "--auto-uv lays out a per-face atlas\n", o.in, b.base);
+                        "--auto-uv lays out an atlas of charts\n", o.in, b.base);
         rc = 1;
         goto done;
     }
-    rc = b.auto_uv ? st_bake_auto_uvs(&h, (unsigned)b.base, &lay, &err) : st_bake_level_uvs(&h, (unsigned)b.base, &lay, &err);
+    st_uv_stats us;
+    rc = b.auto_uv ? st_bake_chart_uvs(&h, (unsigned)b.base, b.size, b.padding, &lay, &us, &err)
+                   : st_bake_level_uvs(&h, (unsigned)b.base, &lay, &err);
     if (rc) { fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg); rc = 1; goto done; }
+    if (b.auto_uv)
+        printf("note: auto UVs of level %d: %u charts (%u flattened by projection, %u splits), L2 stretch %.4f, "
+               "angle error %.2f deg, area ratio %.3f..%.3f (5th..95th percentile), %.1f %% of the square\n",
+               b.base, us.ncharts, us.fallback_charts, us.splits, us.l2_stretch, us.angle_err_deg, us.area_p5, us.area_p95,
+               100 * us.uv_area);
     st_bake_uvs uvs = st_bake_layout_uvs(&lay);
     if (st_mem_check(st_bake_estimate(&h, &uvs, &bo) + writer_bytes(&b, &bo), "baking and writing the maps", &err)) {
         fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg);

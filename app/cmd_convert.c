@@ -24,6 +24,7 @@
  * Exit status: 0 done, 1 a file could not be read or written, 2 bad usage. */
 #include "core/adapt/adapt.h"
 #include "cli.h"
+#include "image.h"
 #include "core/adapt/adapt_estimate.h"
 #include "core/base/membudget.h"
 #include "cli_common.h"
@@ -192,7 +193,19 @@ static int load_mesh(const conv_opts *o, st_session *s)
 static int save_mapped(st_hier *h, unsigned l, const st_mesh *m, const conv_opts *o, st_error *err)
 {
     st_bake_layout lay;
-    int rc = st_hier_uv(h, l) ? st_bake_level_uvs(h, l, &lay, err) : st_bake_auto_uvs(h, l, &lay, err);
+    int rc;
+    if (st_hier_uv(h, l)) rc = st_bake_level_uvs(h, l, &lay, err);
+    else {
+        /* strata bake --auto-uv's atlas, made again for the map's size and
+         * bake's default padding (a map that cannot be read: bake's default
+         * size, 2048). */
+        int w = 0, hh = 0;
+        unsigned char *px = NULL;
+        st_error ignored;
+        if (st_png_read(o->normal_map, &w, &hh, &px, &ignored)) w = 0;
+        free(px);
+        rc = st_bake_chart_uvs(h, l, w > 0 ? (uint32_t)w : 2048, ST_BAKE_AUTO_PADDING, &lay, NULL, err);
+    }
     if (rc) return rc;
     size_t nc = lay.corner_off[lay.nfaces];
     double *tan = malloc((nc ? nc : 1) * 4 * sizeof *tan), *nrm = malloc((nc ? nc : 1) * 3 * sizeof *nrm);
