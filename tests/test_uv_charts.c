@@ -23,8 +23,8 @@
 
 /* Bounds the acceptance meshes must meet (at their defaults: cone 60°,
  * crease 80°, 1024², padding 8). */
-#define MAX_L2_STRETCH 1.20
-#define MAX_ANGLE_ERR_DEG 6.0
+#define MAX_L2_STRETCH 1.05
+#define MAX_ANGLE_ERR_DEG 3.0
 #define MIN_COVERAGE 0.55
 
 typedef struct ekey { uint64_t key; uint32_t chart; } ekey;
@@ -176,8 +176,8 @@ static double min_gap_texels(const st_uv_mesh *m, const double *uv, const uint32
     return best;
 }
 
-/* Everything above on one mesh; with bake_h the coverage of a 1024² bake
- * of level 0 onto itself.  Returns the figures' line for the log. */
+/* Everything above on one mesh, its figures printed; with bake_h the
+ * coverage of a 1024² bake of level 0 onto itself. */
 static void check_mesh(const char *what, const st_mesh *mesh, st_hier *bake_h, int acceptance)
 {
     const uint32_t size = 1024, pad = 8;
@@ -196,7 +196,7 @@ static void check_mesh(const char *what, const st_mesh *mesh, st_hier *bake_h, i
     for (size_t i = 0; i < 2 * (size_t)mesh->face_off[mesh->nfaces]; i++) inside &= a.uv[i] >= 0 && a.uv[i] <= 1;
     const st_uv_stats *s = &a.stats;
     printf("%s: %u faces, %u charts (%u by projection, %u splits); %u not disks, %u flipped, %llu texels of two charts, %llu folded, "
-           "texels of two charts >= %.2f apart; L2 stretch %.4f, angle error %.3f deg, area ratio %.3f..%.3f (5th..95th %%); "
+           "nearest texels of two charts %.2f apart (inf: none within the padding); L2 stretch %.4f, angle error %.3f deg, area ratio %.3f..%.3f (5th..95th %%); "
            "UV area %.1f %%, texels %.1f %%\n",
            what, mesh->nfaces, a.ncharts, s->fallback_charts, s->splits, nd, fl, (unsigned long long)overlap, (unsigned long long)folded, gap, s->l2_stretch,
            s->angle_err_deg, s->area_p5, s->area_p95, 100 * s->uv_area, 100.0 * (double)covered / ((double)size * size));
