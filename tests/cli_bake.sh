@@ -202,6 +202,12 @@ if [ -f "$SPOT" ] && [ -f "$BLUB" ] && [ -f "$KOALA" ]; then
     coverage_at_least "koala progressive level 0" 55 bake koala_p0.obj --levels 1 --base-level 0 --normal-map cov_koala.png --size 1024 --auto-uv
     # The map's own size and the default padding give render the bake's layout.
     run 0 "^wrote" render "$BLUB" --levels 2 --level 0 --normal-map cov_blub.png --size 96x96 -o cov_blub_r.png
+    # The UV checker through the atlas (--mode uv --auto-uv); without
+    # --auto-uv a mesh without UVs is refused and pointed to it.
+    run 0 "^wrote cov_uv\.png \(96x96, uv, level 0, 112 faces" render "$BLUB" --level 0 --mode uv --auto-uv --size 96x96 -o cov_uv.png
+    run 1 "no UVs for --mode uv .*--auto-uv" render koala_p0.obj --level 0 --mode uv --size 96x96 -o cov_none.png
+    run 2 "--auto-uv applies to --mode uv" render "$BLUB" --level 0 --auto-uv --size 96x96 -o cov_none.png
+    nothing_written cov_none
 else
     echo "skipped: spot, blub or koala missing under $MESHES"; skipped=1
 fi

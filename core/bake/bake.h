@@ -100,6 +100,12 @@ int st_bake_auto_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err)
 int st_bake_chart_uvs(st_hier *h, unsigned l, uint32_t size, uint32_t padding, st_bake_layout *out, st_uv_stats *stats,
                       st_error *err);
 
+/* A layout of level l as st_hier_uv gives UVs: 2 doubles per dart,
+ * indexed by dart (m->darts.end of them, 0 for darts of no face of level
+ * l), each face's corners in the layout's order; what the renderer's UV
+ * checker (--mode uv) reads.  *out is the caller's to free. */
+int st_bake_layout_dart_uvs(st_hier *h, unsigned l, const st_bake_uvs *uvs, double **out, st_error *err);
+
 /* The mesh's own UVs of level l (core/fvar/fvar.h: st_hier_uv) as a layout
  * in the order above.  ST_ERR_INVALID with "level l has no UVs" when the
  * hierarchy carries none at that level. */

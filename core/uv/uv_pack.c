@@ -45,7 +45,7 @@ typedef struct box {
     double w, h;                  /* model units, after turning */
     uint32_t chart;
     int32_t x, y;                 /* cell position of the chart's mask */
-    int rot;                      /* turned a quarter by the packer */
+    int rot;                      /* quarter turns the packer gave it */
 } box;
 
 /* Longest box side first, then the other side, then the chart. */
@@ -64,7 +64,7 @@ static int box_cmp(const void *pa, const void *pb)
  * rasterised conservatively (every cell its triangles touch: the edge
  * functions offset by half a cell's L1 extent) into a grid of cells of
  * `cell` texels, put at the first free place in row order (bottom-left
- * first fit), upright or turned a quarter, whichever lands lower; the grid
+ * first fit), in whichever of its four quarter turns lands lowest; the grid
  * then holds the chart dilated by the padding in cells, so another chart's
  * cells are at least padding + 1 cells away on some axis, i.e. its points
  * at least `padding` texels away. */
@@ -76,15 +76,30 @@ typedef struct raster_ctx {
     uint32_t (*tris)[3];
     int32_t G, cell, pad;         /* grid side in cells, texels per cell, padding in cells */
     uint8_t *grid;                /* G * G: 1 taken (charts dilated, border) */
+    int32_t *run;                 /* G * G: free cells from this one rightwards in its row (0: taken) */
     uint8_t *mask;                /* scratch: one chart's cells */
+    int32_t *span;                /* 3 * G scratch: per mask row its first and last cell (-1: none), 1 when solid between */
     size_t mask_cap;
 } raster_ctx;
+
+/* A chart turned by rot quarter turns counter-clockwise inside its box
+ * (a rotation: orientation kept), its corner back at the origin. */
+static void turn_uv(const box *b, int rot, double *u, double *v)
+{
+    double x = *u, y = *v;
+    switch (rot) {
+    case 1: *u = b->h - y; *v = x; break;
+    case 2: *u = b->w - x; *v = b->h - y; break;
+    case 3: *u = y; *v = b->w - x; break;
+    default: break;
+    }
+}
 
 /* The chart's cells at scale sc (cells per model unit), turned or not;
  * returns 0 when the mask does not fit the scratch. */
 static int chart_mask(raster_ctx *r, const box *b, double sc, int rot, int32_t *W, int32_t *H)
 {
-    double w = rot ? b->h : b->w, h = rot ? b->w : b->h;
+    double w = rot & 1 ? b->h : b->w, h = rot & 1 ? b->w : b->h;
     *W = (int32_t)ceil(w * sc) + 1;
     *H = (int32_t)ceil(h * sc) + 1;
     if (*W > r->G || *H > r->G || (size_t)*W * (size_t)*H > r->mask_cap) return 0;
@@ -97,7 +112,7 @@ static int chart_mask(raster_ctx *r, const box *b, double sc, int rot, int32_t *
             double P[3][2];
             for (int j = 0; j < 3; j++) {
                 double u = r->uv[2 * (size_t)r->tris[t][j]], v = r->uv[2 * (size_t)r->tris[t][j] + 1];
-                if (rot) { double tmp = u; u = b->h - v; v = tmp; }
+                turn_uv(b, rot, &u, &v);
                 P[j][0] = u * sc;
                 P[j][1] = v * sc;
             }
@@ -126,15 +141,43 @@ static int chart_mask(raster_ctx *r, const box *b, double sc, int rot, int32_t *
     return 1;
 }
 
-/* The first place in row order where the mask's cells are all free. */
-static int first_fit(const raster_ctx *r, int32_t W, int32_t H, int32_t *X, int32_t *Y)
+/* The free runs of rows y0..y1 of the grid. */
+static void update_runs(raster_ctx *r, int32_t y0, int32_t y1)
 {
+    if (y0 < 0) y0 = 0;
+    if (y1 > r->G - 1) y1 = r->G - 1;
+    for (int32_t y = y0; y <= y1; y++) {
+        const uint8_t *g = r->grid + (size_t)y * (size_t)r->G;
+        int32_t *run = r->run + (size_t)y * (size_t)r->G, n = 0;
+        for (int32_t x = r->G - 1; x >= 0; x--) run[x] = n = g[x] ? 0 : n + 1;
+    }
+}
+
+/* The first place in row order where the mask's cells are all free.  A
+ * mask row that is solid between its first and last cell is checked by
+ * the free run at its first cell; other rows cell by cell (the same
+ * answer as testing every cell). */
+static int first_fit(raster_ctx *r, int32_t W, int32_t H, int32_t *X, int32_t *Y)
+{
+    int32_t *sp = r->span;
+    for (int32_t j = 0; j < H; j++) {
+        const uint8_t *mr = r->mask + (size_t)j * (size_t)W;
+        int32_t lo = -1, hi = -1, solid = 1;
+        for (int32_t i = 0; i < W; i++)
+            if (mr[i]) { if (lo < 0) lo = i; hi = i; }
+        for (int32_t i = lo; lo >= 0 && i <= hi; i++) solid &= mr[i] != 0;
+        sp[3 * j] = lo; sp[3 * j + 1] = hi; sp[3 * j + 2] = solid;
+    }
     for (int32_t y = 0; y + H <= r->G; y++)
         for (int32_t x = 0; x + W <= r->G; x++) {
             int ok = 1;
             for (int32_t j = 0; j < H && ok; j++) {
+                int32_t lo = sp[3 * j], hi = sp[3 * j + 1];
+                if (lo < 0) continue;
+                const int32_t *run = r->run + (size_t)(y + j) * (size_t)r->G + (size_t)x;
+                if (sp[3 * j + 2]) { ok = run[lo] > hi - lo; continue; }
                 const uint8_t *mr = r->mask + (size_t)j * (size_t)W, *gr = r->grid + (size_t)(y + j) * (size_t)r->G + (size_t)x;
-                for (int32_t i = 0; i < W; i++)
+                for (int32_t i = lo; i <= hi; i++)
                     if (mr[i] && gr[i]) { ok = 0; break; }
             }
             if (ok) { *X = x; *Y = y; return 1; }
@@ -149,14 +192,15 @@ static int try_raster(raster_ctx *r, box *b, uint32_t nb, double sc)
     for (int32_t y = 0; y < G; y++)
         for (int32_t x = 0; x < G; x++)
             if (x < ph || y < ph || x >= G - (r->pad - ph) || y >= G - (r->pad - ph)) r->grid[(size_t)y * (size_t)G + (size_t)x] = 1;
+    update_runs(r, 0, G - 1);
     for (uint32_t k = 0; k < nb; k++) {
         int32_t best_top = INT32_MAX, bx = 0, by = 0, bw = 0, bh = 0;
         int brot = -1;
-        for (int rot = 0; rot < 2; rot++) {
+        for (int rot = 0; rot < 4; rot++) {
             int32_t W, H, X, Y;
             if (!chart_mask(r, &b[k], sc, rot, &W, &H)) continue;
             if (!first_fit(r, W, H, &X, &Y)) continue;
-            if (Y + H < best_top) { best_top = Y + H; bx = X; by = Y; bw = W; bh = H; brot = rot; }
+            if (Y + H < best_top || (Y + H == best_top && X < bx)) { best_top = Y + H; bx = X; by = Y; bw = W; bh = H; brot = rot; }
         }
         if (brot < 0) return 0;
         int32_t W, H;
@@ -178,6 +222,7 @@ static int try_raster(raster_ctx *r, box *b, uint32_t nb, double sc)
                     }
                 }
             }
+        update_runs(r, by - r->pad, by + H + r->pad);
     }
     return 1;
 }
@@ -240,11 +285,13 @@ int uv_pack(uv_ctx *c, uint32_t nch, const uint32_t *chart_off, const uint32_t *
      * and one that does not (the charts' area bounds it above). */
     int32_t N = (int32_t)c->o.size, cell = N >= 512 ? N / 256 : 1;
     uint32_t pad = c->o.padding;
-    raster_ctx r = { m, chart_off, chart_faces, uv, c->ftris, N / cell, cell, (int32_t)((pad + (uint32_t)cell - 1) / (uint32_t)cell), NULL, NULL, 0 };
+    raster_ctx r = { m, chart_off, chart_faces, uv, c->ftris, N / cell, cell, (int32_t)((pad + (uint32_t)cell - 1) / (uint32_t)cell), NULL, NULL, NULL, NULL, 0 };
     r.grid = malloc((size_t)r.G * (size_t)r.G);
+    r.run = malloc((size_t)r.G * (size_t)r.G * sizeof *r.run);
     r.mask_cap = (size_t)r.G * (size_t)r.G;
     r.mask = malloc(r.mask_cap);
-    if (!r.grid || !r.mask) { free(r.grid); free(r.mask); rc = st_fail(err, ST_ERR_MEMORY, "out of memory packing %u UV charts", nch); goto done; }
+    r.span = malloc(3 * (size_t)r.G * sizeof *r.span);
+    if (!r.grid || !r.run || !r.mask || !r.span) { free(r.grid); free(r.run); free(r.mask); free(r.span); rc = st_fail(err, ST_ERR_MEMORY, "out of memory packing %u UV charts", nch); goto done; }
     double area = 0;
     for (uint32_t i = 0; i < chart_off[nch]; i++) {
         uint32_t f = chart_faces[i], a0 = m->face_off[f], a1 = m->face_off[f + 1];
@@ -263,7 +310,9 @@ int uv_pack(uv_ctx *c, uint32_t nch, const uint32_t *chart_off, const uint32_t *
     }
     if (fits) fits = try_raster(&r, b, nch, lo_s);
     free(r.grid);
+    free(r.run);
     free(r.mask);
+    free(r.span);
     if (!fits) {
         /* More charts with padding than cells: the charts overlap rather
          * than fail (a map too small for the mesh). */
@@ -276,7 +325,7 @@ int uv_pack(uv_ctx *c, uint32_t nch, const uint32_t *chart_off, const uint32_t *
             uint32_t f = chart_faces[i];
             for (uint32_t q = m->face_off[f]; q < m->face_off[f + 1]; q++) {
                 double *p = uv + 2 * (size_t)q, u = p[0], v = p[1];
-                if (b[k].rot) { double t = u; u = b[k].h - v; v = t; }
+                turn_uv(&b[k], b[k].rot, &u, &v);
                 p[0] = (b[k].x + u * sc) * cell / N;
                 p[1] = (b[k].y + v * sc) * cell / N;
             }
