@@ -14,9 +14,10 @@
  *      Ray, Maillot, "Least Squares Conformal Maps for Automatic Texture
  *      Atlas Generation", SIGGRAPH 2002, §3), two pinned vertices, solved as
  *      sparse least squares by conjugate gradients on the normal equations
- *      (CGLS, Björck 1996 §7.4).  A chart whose map flips a triangle falls
- *      back to the projection on its mean plane; when that flips too, the
- *      chart is split and both halves flattened again.
+ *      (CGLS, Björck 1996 §7.4).  A chart whose map flips a triangle or
+ *      whose border crosses itself falls back to the projection on its mean
+ *      plane; when that fails too, the chart is split and both halves
+ *      flattened again.
  *   3. packing (uv_pack.c): each chart turned to its minimal-area bounding
  *      box (Freeman and Shapira 1975: one side lies along a hull edge), then
  *      the charts themselves rasterised conservatively into a grid of cells
