@@ -5,8 +5,11 @@
  *
  * Bakes the surface of level L (default: the finest) onto the UV layout of
  * level B (core/bake/bake.h): B's own UVs (core/fvar/fvar.h), or with
- * --auto-uv a generated per-face atlas (st_bake_auto_uvs), which a level
- * without UVs needs; without either the command says level B has no UVs.
+ * --auto-uv a generated atlas of charts (st_bake_chart_uvs, core/uv/uv.h:
+ * charts of similar normal flattened by LSCM, packed for --size with
+ * --padding texels between them; a note gives its charts and distortion),
+ * which a level without UVs needs; without either the command says level B
+ * has no UVs.  Every bake prints the texels it wrote as a share of the map.
  * √3 and Doo-Sabin levels are baked by rays along B's normals (--ray-reach:
  * how far, in model units; default from the bounding boxes), and the
  * output says which correspondence was used and how many texels missed.

@@ -32,6 +32,7 @@
 #include "core/bake/bake.h"
 #include "core/fvar/fvar.h"
 #include "gltf_io.h"
+#include "image.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -191,7 +192,15 @@ static int load_mesh(const conv_opts *o, st_session *s)
  * used for l (see the header comment). */
 static int save_mapped(st_hier *h, unsigned l, const st_mesh *m, const conv_opts *o, st_error *err)
 {
-    return st_gltf_save_level_mapped(o->out, h, l, m, 0, o->normal_map, err);
+    /* A level without UVs: strata bake --auto-uv's atlas, made again for
+     * the map's size and bake's default padding (a map that cannot be
+     * read, or a UDIM set: bake's default size, 2048). */
+    int w = 0, hh = 0;
+    unsigned char *px = NULL;
+    st_error ignored;
+    if (st_hier_uv(h, l) || strstr(o->normal_map, "<UDIM>") || st_png_read(o->normal_map, &w, &hh, &px, &ignored)) w = 0;
+    free(px);
+    return st_gltf_save_level_mapped(o->out, h, l, m, 0, w > 0 ? (uint32_t)w : 2048, ST_BAKE_AUTO_PADDING, o->normal_map, err);
 }
 
 int st_cmd_convert(int argc, char **argv)

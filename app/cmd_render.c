@@ -1,12 +1,15 @@
 /* strata render IN [--scheme S --levels N --level L] [--boundary B]
  *                  [--view front|back|left|right|top|iso | --orbit AZ,EL,DIST]
  *                  [--mode smooth|flat|wire|cage|uv] [--size WxH] -o OUT.png
- *                  [--normal-map N.png [--normal-space tangent|object]]
+ *                  [--normal-map N.png [--normal-space tangent|object]] [--auto-uv]
  *
  * Renders level L (default N) of IN's hierarchy headless (OSMesa: no
  * display, no GPU) into a PNG.  Same inputs, same machine: same bytes.
- * --mode uv draws a checker through the level's face-varying UVs. */
+ * --mode uv draws a checker through the level's face-varying UVs, or with
+ * --auto-uv through the atlas strata bake --auto-uv lays out for a 1024²
+ * map with the default padding (st_bake_chart_uvs). */
 #include "cli.h"
+#include "core/bake/bake.h"
 #include "core/adapt/adapt_estimate.h"
 #include "core/base/membudget.h"
 #include "cli_common.h"
@@ -35,6 +38,7 @@ typedef struct render_opts {
     const char *normal_map;     /* --normal-map N.png (app/render_nmap.h) */
     int normal_object;          /* --normal-space object */
     int mode_given;
+    int auto_uv;                /* --auto-uv: --mode uv through st_bake_chart_uvs */
 } render_opts;
 
 /* ---- render-only options ---------------------------------------------------- */
@@ -188,6 +192,7 @@ static int split_args(int argc, char **argv, render_opts *r, char **rest, int *n
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
         int handled = 0;
+        if (!strcmp(a, "--auto-uv")) { r->auto_uv = 1; continue; }
         for (size_t k = 0; k < sizeof render_options / sizeof render_options[0]; k++) {
             if (strcmp(a, render_options[k].name)) continue;
             if (i + 1 >= argc) { fprintf(stderr, "strata render: %s needs a value\n", a); return -1; }
@@ -259,12 +264,30 @@ int st_cmd_render(int argc, char **argv)
     unsigned level = 0;
     if (!r.adaptive && st_cli_level(&o, &h, "render", &level)) { st_hier_free(&h); return 2; }
     r.spec.level = level;
-    if (r.spec.mode == ST_MODE_UV && !r.adaptive && !(r.spec.uv = st_hier_uv(&h, level))) {
+    double *auto_uv = NULL;
+    if (r.auto_uv && (r.spec.mode != ST_MODE_UV || r.adaptive)) {
+        fprintf(stderr, "strata render: --auto-uv applies to --mode uv of a level (not adaptive)\n");
+        st_hier_free(&h);
+        return 2;
+    }
+    if (r.auto_uv) {
+        st_error e;
+        st_bake_layout lay;
+        int arc = st_bake_chart_uvs(&h, level, 1024, ST_BAKE_AUTO_PADDING, &lay, NULL, &e);
+        if (!arc) {
+            st_bake_uvs u = st_bake_layout_uvs(&lay);
+            arc = st_bake_layout_dart_uvs(&h, level, &u, &auto_uv, &e);
+            st_bake_layout_free(&lay);
+        }
+        if (arc) { fprintf(stderr, "strata render: %s: %s\n", o.in, e.msg); st_hier_free(&h); return 1; }
+        r.spec.uv = auto_uv;
+    } else if (r.spec.mode == ST_MODE_UV && !r.adaptive && !(r.spec.uv = st_hier_uv(&h, level))) {
         if (level && st_hier_uv(&h, 0))
             fprintf(stderr, "strata render: %s: level %u has no UVs for --mode uv (this scheme keeps those of level 0 only: try --level 0)\n",
                     o.in, level);
         else
-            fprintf(stderr, "strata render: %s: no UVs for --mode uv (the file gives no texture coordinates, or the scheme keeps none)\n",
+            fprintf(stderr, "strata render: %s: no UVs for --mode uv (the file gives no texture coordinates, or the scheme keeps none; "
+                            "--auto-uv draws the checker through an atlas of charts)\n",
                     o.in);
         st_hier_free(&h);
         return 1;
@@ -298,6 +321,7 @@ int st_cmd_render(int argc, char **argv)
     st_offscreen off;
     unsigned char *rgba = NULL;
     if (check_image_budget(&r, o.out)) {
+        free(auto_uv);
         st_adapt_uv_free(&auv);
         st_adapt_free(&a);
         st_hier_free(&h);
@@ -306,6 +330,7 @@ int st_cmd_render(int argc, char **argv)
     rc = st_offscreen_init(&off, r.width, r.height, &err);
     if (rc) {
         fprintf(stderr, "strata render: cannot render headless: %s\n", err.msg);
+        free(auto_uv);
         st_adapt_uv_free(&auv);
         st_adapt_free(&a);
         st_hier_free(&h);
@@ -324,6 +349,7 @@ int st_cmd_render(int argc, char **argv)
     if (!rc) rc = st_png_write(o.out, r.width, r.height, rgba, &err);
     st_offscreen_free(&off);
     free(rgba);
+    free(auto_uv);
     st_adapt_uv_free(&auv);
     st_adapt_free(&a);
     st_hier_free(&h);

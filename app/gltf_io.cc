@@ -1369,11 +1369,12 @@ void udim_groups(const char *path, const st_mesh *m, const st_gltf_material *mat
 
 extern "C" {
 
-int st_gltf_save_level_mapped(const char *path, st_hier *h, unsigned l, const st_mesh *m, int auto_uv, const char *normal_map,
-                              st_error *err)
+int st_gltf_save_level_mapped(const char *path, st_hier *h, unsigned l, const st_mesh *m, int auto_uv, uint32_t atlas_size,
+                              uint32_t atlas_padding, const char *normal_map, st_error *err)
 {
     st_bake_layout lay;
-    int rc = !auto_uv && st_hier_uv(h, l) ? st_bake_level_uvs(h, l, &lay, err) : st_bake_auto_uvs(h, l, &lay, err);
+    int rc = !auto_uv && st_hier_uv(h, l) ? st_bake_level_uvs(h, l, &lay, err)
+                                          : st_bake_chart_uvs(h, l, atlas_size, atlas_padding, &lay, NULL, err);
     if (rc) return rc;
     size_t nc = lay.corner_off[lay.nfaces];
     double *tan = (double *)malloc((nc ? nc : 1) * 4 * sizeof *tan), *nrm = (double *)malloc((nc ? nc : 1) * 3 * sizeof *nrm);

@@ -95,10 +95,12 @@ int st_gltf_save_mapped(const char *path, const st_mesh *m, const st_gltf_materi
 
 /* Level l of h, as the mesh m (st_hier_level_mesh), written by
  * st_gltf_save_mapped with the layout and tangents strata bake used: l's
- * own UVs, or the atlas of st_bake_auto_uvs when auto_uv or when l has none
- * (strata convert --normal-map, the window's export of a baked map). */
-int st_gltf_save_level_mapped(const char *path, st_hier *h, unsigned l, const st_mesh *m, int auto_uv, const char *normal_map,
-                              st_error *err);
+ * own UVs, or when auto_uv or when l has none the atlas of
+ * st_bake_chart_uvs for a map of atlas_size texels with atlas_padding (what
+ * the bake used: strata convert --normal-map passes the map's width and
+ * bake's default padding, the window its last bake's). */
+int st_gltf_save_level_mapped(const char *path, st_hier *h, unsigned l, const st_mesh *m, int auto_uv, uint32_t atlas_size,
+                              uint32_t atlas_padding, const char *normal_map, st_error *err);
 
 /* Writes m to memory: binary != 0 gives a GLB, else JSON with the buffer as
  * a data: URI.  index_bytes: 0 picks u16/u32 as st_gltf_save does; 1, 2 or 4

@@ -21,11 +21,13 @@ int st_render_normal_mapped(st_offscreen *off, st_hier *h, const st_render_spec 
     if (!tok) rc = st_png_read(map_path, &tw, &th, &tex, err);
     if (rc) return rc;
     /* The layout strata bake used: the level's own UVs, or for a level
-     * without UVs the atlas of strata bake --auto-uv. */
+     * without UVs the atlas of strata bake --auto-uv, made again for the
+     * map's size and bake's default padding (st_bake_chart_uvs). */
     st_bake_layout lay;
     st_nmap_mesh mesh = { 0 };
     st_nmap nm = { 0 };
-    rc = st_hier_uv(h, spec->level) ? st_bake_level_uvs(h, spec->level, &lay, err) : st_bake_auto_uvs(h, spec->level, &lay, err);
+    rc = st_hier_uv(h, spec->level) ? st_bake_level_uvs(h, spec->level, &lay, err)
+                                    : st_bake_chart_uvs(h, spec->level, tw > 0 ? (uint32_t)tw : 2048, ST_BAKE_AUTO_PADDING, &lay, NULL, err);
     if (rc) { free(tex); return rc; }
     st_bake_uvs uvs = st_bake_layout_uvs(&lay);
     *faces = lay.nfaces;

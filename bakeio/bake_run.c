@@ -130,6 +130,8 @@ static void report(const st_bake_request *b, const char *const final[3], const s
     if (maps->disp && n < (int)sizeof line)
         snprintf(line + n, sizeof line - (size_t)n, ", displacement %.6g .. %.6g", maps->disp_min, maps->disp_max);
     say(b, "%s", line);
+    say(b, "coverage: %llu of %llu texels baked (%.1f %%)", (unsigned long long)maps->baked,
+        (unsigned long long)o->size * o->size, 100.0 * (double)maps->baked / ((double)o->size * o->size));
     if (maps->by_rays)
         say(b, "correspondence: by rays along level %u's normals: %llu texels, %llu misses (filled flat), reach %.6g",
             o->base, (unsigned long long)maps->baked, (unsigned long long)maps->ray_misses, maps->ray_reach);
@@ -176,11 +178,18 @@ int st_bake_run(st_hier *h, const st_bake_request *b, st_bake_result *res, st_er
     if ((rc = st_bake_check_scheme(h, err))) goto done;
     if (!b->auto_uv && !st_hier_uv(h, b->base)) {
         rc = st_fail(err, ST_ERR_INVALID, "level %u has no UVs (the mesh it was made from had none); "
-                                          "--auto-uv lays out a per-face atlas", b->base);
+                                          "--auto-uv lays out an atlas of charts", b->base);
         goto done;
     }
-    rc = b->auto_uv ? st_bake_auto_uvs(h, b->base, &lay, err) : st_bake_level_uvs(h, b->base, &lay, err);
+    st_uv_stats us;
+    rc = b->auto_uv ? st_bake_chart_uvs(h, b->base, b->size, b->padding, &lay, &us, err)
+                    : st_bake_level_uvs(h, b->base, &lay, err);
     if (rc) goto done;
+    if (b->auto_uv)
+        say(b, "note: auto UVs of level %u: %u charts (%u flattened by projection, %u splits), L2 stretch %.4f, "
+               "angle error %.2f deg, area ratio %.3f..%.3f (5th..95th percentile), %.1f %% of the square",
+            b->base, us.ncharts, us.fallback_charts, us.splits, us.l2_stretch, us.angle_err_deg, us.area_p5, us.area_p95,
+            100 * us.uv_area);
     st_bake_uvs uvs = st_bake_layout_uvs(&lay);
     if ((rc = st_mem_check(st_bake_estimate(h, &uvs, &bo) + writer_bytes(b, &bo), "baking and writing the maps", err))) goto done;
     if ((rc = st_bake_uv_tiles(&uvs, bo.size, &tiles, err))) goto done;

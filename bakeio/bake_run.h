@@ -1,8 +1,8 @@
 /* The bake from a hierarchy to files: what `strata bake` does after parsing
  * its arguments, and what the window's Bake menu runs as a job (ui/jobs.c).
  *
- * st_bake_run lays out level B's UVs (its own, or the per-face atlas of
- * st_bake_auto_uvs), decides the UDIM tiles (core/bake/bake.h: tiles and
+ * st_bake_run lays out level B's UVs (its own, or the atlas of charts of
+ * st_bake_chart_uvs for the size and padding), decides the UDIM tiles (core/bake/bake.h: tiles and
  * wrap-around), bakes each tile in turn (one tile's maps held at a time)
  * and writes every map to its temporary (core/io/atomic_file.h); the
  * temporaries are renamed only once all are written and synced, so a
@@ -29,7 +29,7 @@ typedef struct st_bake_request {
     int bits;                     /* the normal map's 8 or 16 bits per channel */
     int space;                    /* enum st_bake_space */
     int vector;                   /* the displacement as a vector (3 channels) */
-    int auto_uv;                  /* bake onto st_bake_auto_uvs instead of B's own UVs */
+    int auto_uv;                  /* bake onto st_bake_chart_uvs instead of B's own UVs */
     int udim;                     /* -1 auto (tiles when every face is at home in a UDIM tile and
                                      not all in 1001), 0 one map, 1 tiles (refused when a face has none) */
     double ray_reach;             /* 0: the default (core/bake/bake.h) */

@@ -177,5 +177,41 @@ run 0 "misses \(filled flat\), reach 0\.5$" bake sqrt3.strata --base-level 1 --n
 run 2 "--ray-reach wants a distance > 0" bake sqrt3.strata --base-level 1 --normal-map x.png --ray-reach -1
 nothing_written x
 
+# --auto-uv's atlas of charts (core/uv) uses the map: at least 55 % of a
+# 1024² map's texels baked on spot's cage, blub's cage and koala's
+# progressive level 0 (strata rebuild --method progressive, written out as
+# a mesh: progressive hierarchies are not baked), with a note giving the
+# charts and their distortion.
+coverage_at_least() { # LABEL PERCENT args...: the bake's "coverage:" line at PERCENT or more
+    local label=$1 want=$2 out pct
+    shift 2
+    if ! out=$("$EXE" "$@" 2>&1); then bad "$label: strata $* failed: $out"; return; fi
+    pct=$(sed -n 's/^coverage: [0-9]* of [0-9]* texels baked (\([0-9.]*\) %)$/\1/p' <<<"$out")
+    if ! grep -qE '^note: auto UVs of level 0: [0-9]+ charts .*L2 stretch [0-9.]+, angle error [0-9.]+ deg' <<<"$out"; then
+        bad "$label: no auto-UV note: $out"; return; fi
+    if [ -n "$pct" ] && awk -v p="$pct" -v w="$want" 'BEGIN { exit !(p >= w) }'; then ok; echo "$label: $pct % of the texels baked"
+    else bad "$label: coverage '$pct' % under $want %: $out"; fi
+}
+skipped=0
+SPOT="$MESHES/catmull_clark/spot_quadrangulated.obj" BLUB="$MESHES/catmull_clark/blub_control_mesh.obj" KOALA="$MESHES/large/koala.obj"
+if [ -f "$SPOT" ] && [ -f "$BLUB" ] && [ -f "$KOALA" ]; then
+    coverage_at_least "spot cage" 55 bake "$SPOT" --levels 1 --base-level 0 --normal-map cov_spot.png --size 1024 --auto-uv
+    coverage_at_least "blub cage" 55 bake "$BLUB" --levels 2 --base-level 0 --normal-map cov_blub.png --size 1024 --auto-uv
+    run 0 "" rebuild "$KOALA" --method progressive -o koala_p.strata
+    run 0 "" convert koala_p.strata koala_p0.obj --level 0
+    coverage_at_least "koala progressive level 0" 55 bake koala_p0.obj --levels 1 --base-level 0 --normal-map cov_koala.png --size 1024 --auto-uv
+    # The map's own size and the default padding give render the bake's layout.
+    run 0 "^wrote" render "$BLUB" --levels 2 --level 0 --normal-map cov_blub.png --size 96x96 -o cov_blub_r.png
+    # The UV checker through the atlas (--mode uv --auto-uv); without
+    # --auto-uv a mesh without UVs is refused and pointed to it.
+    run 0 "^wrote cov_uv\.png \(96x96, uv, level 0, 112 faces" render "$BLUB" --level 0 --mode uv --auto-uv --size 96x96 -o cov_uv.png
+    run 1 "no UVs for --mode uv .*--auto-uv" render koala_p0.obj --level 0 --mode uv --size 96x96 -o cov_none.png
+    run 2 "--auto-uv applies to --mode uv" render "$BLUB" --level 0 --auto-uv --size 96x96 -o cov_none.png
+    nothing_written cov_none
+else
+    echo "skipped: spot, blub or koala missing under $MESHES"; skipped=1
+fi
+
 echo "cli_bake: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+[ "$failed" -eq 0 ] || exit 1
+[ "$skipped" -eq 0 ] || exit 77

@@ -804,7 +804,7 @@ void bake_window(st_app *a)
     bool has_uv = st_hier_uv(&a->doc.h, (unsigned)b->base) != nullptr;
     on = b->auto_uv != 0 || !has_uv;
     if (!has_uv) ImGui::BeginDisabled();
-    if (ImGui::Checkbox("Auto UVs (a per-face atlas)", &on)) b->auto_uv = on;
+    if (ImGui::Checkbox("Auto UVs (an atlas of charts)", &on)) b->auto_uv = on;
     if (!has_uv) { ImGui::EndDisabled(); ImGui::SameLine(); ImGui::TextDisabled("level %d has no UVs", b->base); }
     probe_item("bake:auto_uv");
     if (!g.bake_error.empty()) {
@@ -1593,7 +1593,8 @@ int st_app_export(st_app *a, const char *path)
     int mapped = st_gltf_is_gltf_path(path) && a->bake.attach && st_app_can_show_baked(a);
     if (mapped) { h = &d->h; l = a->bake.have_base; }
     int rc = st_hier_level_mesh(h, l, &m, &err);
-    if (!rc && mapped) rc = st_gltf_save_level_mapped(path, h, l, &m, a->bake.have_auto_uv, a->bake.have_map, &err);
+    if (!rc && mapped) rc = st_gltf_save_level_mapped(path, h, l, &m, a->bake.have_auto_uv, a->bake.have_size, a->bake.have_padding,
+                                                         a->bake.have_map, &err);
     else if (!rc) rc = st_gltf_is_gltf_path(path) ? st_gltf_save(path, &m, &err) : st_mesh_save(path, &m, &err);
     if (rc) st_app_message(a, 1, "cannot export %s: %s", st_path_base(path), err.msg);
     else if (mapped) st_app_message(a, 0, "exported %s (level %u, %u faces) with the baked normal map %s", st_path_base(path), l,

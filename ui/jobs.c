@@ -495,6 +495,8 @@ int st_app_bake_maps(st_app *a)
         b->have = 1;
         b->have_base = r.base;
         b->have_auto_uv = r.auto_uv;
+        b->have_size = r.size;
+        b->have_padding = r.padding;
         b->have_space = r.space;
         const char *tok = strstr(r.normal_path, "<UDIM>"), *dot = strrchr(r.normal_path, '.');
         if (res->udim && !tok) snprintf(b->have_map, sizeof b->have_map, "%.*s.<UDIM>%s", (int)(dot - r.normal_path), r.normal_path, dot);

@@ -62,6 +62,7 @@ typedef struct st_app_bake {
     int have;
     unsigned have_base;
     int have_auto_uv, have_space;
+    uint32_t have_size, have_padding;   /* the atlas's, for auto UVs */
     char have_map[4096];       /* the map, or its UDIM set NAME.<UDIM>.png */
     unsigned serial;           /* bakes done: the view rebuilds when it changes */
     int show;                  /* View > Show baked map */

@@ -59,6 +59,7 @@
 #include <stdint.h>
 
 #include "core/multires/hier.h"
+#include "core/uv/uv.h"
 
 /* UVs of the faces of a level, in the order st_hier_level_mesh lists them,
  * each face's corners from its first dart along φ1 (the same order). */
@@ -84,8 +85,28 @@ static inline st_bake_uvs st_bake_layout_uvs(const st_bake_layout *l)
 /* A per-face atlas of level l: each face projected on its own plane (shape
  * kept, one scale for all faces so texel density is uniform), in its own
  * cell of a square grid with a margin of 1/8 cell around it.  Islands never
- * overlap.  For when the mesh carries no UVs. */
+ * overlap.  Simple and predictable (one island per face, in face order), it
+ * is the tests' fixture; it uses about 5 % of a map's texels, so strata
+ * bake --auto-uv lays out st_bake_chart_uvs instead. */
 int st_bake_auto_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err);
+
+/* An atlas of charts of level l (core/uv/uv.h: charts of similar normal,
+ * each a disk flattened by LSCM, packed into [0,1]² at one texel density)
+ * for a size × size map with at least `padding` texels between charts:
+ * what strata bake --auto-uv bakes on.  The layout is a function of the
+ * level, size and padding alone (same inputs, same bits), so strata render
+ * and convert --normal-map make it again from the map's size and bake's
+ * default padding (ST_BAKE_AUTO_PADDING).  `stats` (optional) receives its
+ * figures. */
+#define ST_BAKE_AUTO_PADDING 8
+int st_bake_chart_uvs(st_hier *h, unsigned l, uint32_t size, uint32_t padding, st_bake_layout *out, st_uv_stats *stats,
+                      st_error *err);
+
+/* A layout of level l as st_hier_uv gives UVs: 2 doubles per dart,
+ * indexed by dart (m->darts.end of them, 0 for darts of no face of level
+ * l), each face's corners in the layout's order; what the renderer's UV
+ * checker (--mode uv) reads.  *out is the caller's to free. */
+int st_bake_layout_dart_uvs(st_hier *h, unsigned l, const st_bake_uvs *uvs, double **out, st_error *err);
 
 /* The mesh's own UVs of level l (core/fvar/fvar.h: st_hier_uv) as a layout
  * in the order above.  ST_ERR_INVALID with "level l has no UVs" when the

@@ -116,6 +116,67 @@ int st_bake_auto_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err)
     return ST_OK;
 }
 
+/* ---- the chart atlas (core/uv) ------------------------------------------------ */
+
+int st_bake_chart_uvs(st_hier *h, unsigned l, uint32_t size, uint32_t padding, st_bake_layout *out, st_uv_stats *stats,
+                      st_error *err)
+{
+    memset(out, 0, sizeof *out);
+    st_map *m = &h->map;
+    if (l > m->top) return st_fail(err, ST_ERR_RANGE, "level %u does not exist (top level %u)", l, m->top);
+    st_mesh mesh;
+    st_mesh_init(&mesh);
+    int rc = st_hier_level_mesh(h, l, &mesh, err);
+    if (rc) return rc;
+    uint32_t *darts = NULL, nf = 0;
+    rc = st_bake_level_faces(m, l, &darts, &nf, err);
+    free(darts);
+    if (!rc && nf != mesh.nfaces)
+        rc = st_fail(err, ST_ERR_INVALID, "level %u: %u faces to bake but %u in its mesh", l, nf, mesh.nfaces);
+    st_uv_atlas atlas = { 0 };
+    if (!rc) {
+        st_uv_mesh um = { mesh.nverts, mesh.pos, mesh.nfaces, mesh.face_off, mesh.face_idx };
+        st_uv_opts uo = { .size = size, .padding = padding };
+        rc = st_uv_make_atlas(&um, &uo, &atlas, err);
+    }
+    if (!rc) {
+        out->nfaces = mesh.nfaces;
+        out->corner_off = mesh.face_off; /* taken over */
+        mesh.face_off = NULL;
+        out->uv = atlas.uv;
+        atlas.uv = NULL;
+        if (stats) *stats = atlas.stats;
+    }
+    st_uv_atlas_free(&atlas);
+    st_mesh_free(&mesh);
+    return rc;
+}
+
+int st_bake_layout_dart_uvs(st_hier *h, unsigned l, const st_bake_uvs *uvs, double **out, st_error *err)
+{
+    *out = NULL;
+    st_map *m = &h->map;
+    if (l > m->top) return st_fail(err, ST_ERR_RANGE, "level %u does not exist (top level %u)", l, m->top);
+    uint32_t *darts, nf;
+    int rc = st_bake_level_faces(m, l, &darts, &nf, err);
+    if (!rc) rc = st_bake_check_uvs(m, l, darts, nf, uvs, err);
+    if (rc) { free(darts); return rc; }
+    double *uv = calloc(2 * (size_t)(m->darts.end ? m->darts.end : 1), sizeof *uv);
+    if (!uv) { free(darts); return st_fail(err, ST_ERR_MEMORY, "out of memory for the UVs of level %u", l); }
+    for (uint32_t f = 0; f < nf; f++) {
+        uint32_t d = darts[f], k = uvs->corner_off[f];
+        do {
+            uv[2 * (size_t)d] = uvs->uv[2 * (size_t)k];
+            uv[2 * (size_t)d + 1] = uvs->uv[2 * (size_t)k + 1];
+            k++;
+            d = st_bake_face_next(m, d, l);
+        } while (d != darts[f]);
+    }
+    free(darts);
+    *out = uv;
+    return ST_OK;
+}
+
 /* ---- the mesh's own UVs ----------------------------------------------------- */
 
 int st_bake_level_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err)
