@@ -35,7 +35,7 @@ static void usage(FILE *f)
         "  [--scheme S] [--levels N] [--size WxH] [--replay EVENTS.txt] [--screenshot-dir D]\n"
         "  [--compare-dir D] [--mem-budget MIB] [--no-gui] [--ui-scale S] [--bench-interaction] [FILE]\n"
         "                                      the modeller window on FILE (default: assets/torus.obj);\n"
-        "                                      F1 in the window lists the keys; strata --help has the details\n"
+        "                                      F1 in the window lists the keys, as strata --keys does\n"
         "  deform IN --level L --bump CX,CY,CZ,R,DX,DY,DZ [--scheme S --levels N] -o OUT.strata\n"
         "                                      moves each vertex v of level L by D*exp(-|v-C|^2/R^2), one edit\n"
         "                                      as in the window (finer levels keep their details)\n"
