@@ -22,7 +22,9 @@ static void usage(FILE *f)
 {
     fprintf(f,
         "usage: strata [--scheme S] [--levels N] [--size WxH] [--strict] [--replay EVENTS.txt]\n"
-        "              [--screenshot-dir DIR] [--compare-dir DIR] [--mem-budget MIB] [--bench-interaction [--bench-steps N]] [FILE]\n"
+        "              [--screenshot-dir DIR] [--compare-dir DIR] [--mem-budget MIB] [--no-gui] [--ui-scale S]\n"
+        "              [--bench-interaction [--bench-steps N]] [FILE]\n"
+        "       strata --keys\n"
         "  opens the modeller window on FILE (default: the torus asset); F1 in the window lists the keys\n"
         "  --no-gui            start with the menus and side panel hidden (F10 shows them)\n"
         "  --strict            refuse meshes with non-manifold edges instead of splitting them (as the commands' --strict)\n"
@@ -30,9 +32,9 @@ static void usage(FILE *f)
         "  --replay F          drive the window by the scripted events of F (see ui/replay.h), exit 1 if an expect fails\n"
         "  --screenshot-dir D  where the replay's screenshots go (default .)\n"
         "  --compare-dir D     compare each screenshot with D/NAME.png (exit 1 on a mismatch)\n"
-        "  --mem-budget MIB    refuse operations that would make the model larger (default: half the memory)\n"
+        "  --mem-budget MIB    refuse operations that would make the model larger (default: half the physical memory)\n"
         "  --bench-interaction time a drag of one level-2 vertex on a depth-6 hierarchy (default --levels 6)\n"
-        "  --keys              print the key table (README.md's, from ui/actions.c) as markdown\n");
+        "  --keys              print the key table (docs/MODELLER.md's, from ui/actions.c) as markdown\n");
 }
 
 int st_cmd_window(int argc, char **argv)

@@ -1,7 +1,7 @@
 /* bench_render [MESH] [--levels N] [--edit-level L] [--scheme S] [--reps R]
  *
  * Buffer update after a one-vertex edit vs a full rebuild of the buffers
- * (README "Benchmarks"): a hierarchy of depth N (default 6) is displayed at its finest
+ * (bench/RESULTS.md): a hierarchy of depth N (default 6) is displayed at its finest
  * level on a headless (OSMesa) context; one vertex of level L (default 2) is
  * moved with st_hier_edit, which reports what it wrote (its footprint), then
  *

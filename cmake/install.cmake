@@ -1,5 +1,5 @@
 # What `cmake --install` puts in place and `cpack -G DEB` packages
-# (README "Install"), in Debian's layout (GNUInstallDirs), included from the
+# (README.md, "Install"), in Debian's layout (GNUInstallDirs), included from the
 # top-level CMakeLists.txt:
 #
 #   bin/strata                                  the executable (shaders are

@@ -1,5 +1,5 @@
 /* strata_example: Strata's kernel (libstrata_core) through its installed
- * public API alone (README "Install").  Build it against an installed
+ * public API alone (README.md, "Install").  Build it against an installed
  * strata with pkg-config:
  *
  *   cc strata_example.c $(pkg-config --cflags --libs strata) -o strata_example

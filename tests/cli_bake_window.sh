@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Baking from the window (README "Baking"; ui/bake_ui.c, the job in
+# Baking from the window (docs/BAKING.md, docs/MODELLER.md; ui/bake_ui.c, the job in
 # ui/jobs.c, bakeio/bake_run.h shared with strata bake), under Xvfb:
 # - tests/replay/bake_window.txt on spot (2 levels): Bake > Bake maps...,
 #   the bake as a job, the maps on disk, View > Show baked map, and

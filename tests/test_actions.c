@@ -2,7 +2,7 @@
  * every action complete, no two shortcuts of a context matching the same
  * press, every shortcut reaching its action, the bindings of the former
  * if-chain (key, modifiers -> what ran) unchanged, the F1 rows covering
- * every action and gesture, README.md's key table equal to the generated
+ * every action and gesture, docs/MODELLER.md's key table equal to the generated
  * one, and the key dispatch of a window state (contexts, enabled-when). */
 #include "actions.h"
 #include "window.h"
@@ -237,10 +237,10 @@ static void test_help_rows(void)
     CHECKF(!strcmp(keys, "`Ctrl+Z` / `Ctrl+Shift+Z` (or `Ctrl+Y`)"), "'%s'", keys);
 }
 
-/* README.md's key table is what `strata --keys` prints. */
+/* docs/MODELLER.md's key table is what `strata --keys` prints. */
 static void test_readme(void)
 {
-    const char *path = STRATA_ASSETS "/../README.md";
+    const char *path = STRATA_ASSETS "/../docs/MODELLER.md";
     char *readme = tl_read_file(path, NULL);
     CHECKF(readme != NULL, "cannot read %s", path);
     if (!readme) return;
@@ -264,9 +264,9 @@ static void test_readme(void)
             const char *p = begin, *q = want;
             while (p < end && *q && *p == *q) p++, q++;
             while (p > begin && p[-1] != '\n') p--, q--;
-            fprintf(stderr, "README.md: %.*s\nexpected:  %.*s\n", (int)strcspn(p, "\n"), p, (int)strcspn(q, "\n"), q);
+            fprintf(stderr, "docs/MODELLER.md: %.*s\nexpected:  %.*s\n", (int)strcspn(p, "\n"), p, (int)strcspn(q, "\n"), q);
         }
-        CHECKF(same, "README.md's key table differs from ui/actions.c: "
+        CHECKF(same, "docs/MODELLER.md's key table differs from ui/actions.c: "
                      "replace it by the output of `strata --keys`");
     }
     free(want);

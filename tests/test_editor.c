@@ -1409,7 +1409,7 @@ static void test_bench(void)
     st_doc_free(&d);
 }
 
-/* The first hour (README "Modeller"): a scheme the control mesh cannot
+/* The first hour (docs/MODELLER.md): a scheme the control mesh cannot
  * take is refused before anything is rebuilt, with the reason the Scheme
  * menu shows as a tooltip; for every scheme, the answer agrees with what
  * st_doc_set_scheme then does.  A dense mesh opens at level 0 with the

@@ -171,7 +171,7 @@ static unsigned run_stroke(stroke_ctx *c, double len_scale, double zmid)
 }
 
 /* With STRATA_BRUSH_SESSIONS=DIR set, the model after the two strokes is
- * saved as DIR/MESH_BRUSH.strata (no mirror), for `strata render` (README's
+ * saved as DIR/MESH_BRUSH.strata (no mirror), for `strata render` (docs/MODELLER.md's
  * pictures per brush); with STRATA_BRUSH_RAW=1 set too, the brushes run
  * raw (st_brush_raw: the dab as it was before issue 30), for the pictures
  * of before. */

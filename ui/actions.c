@@ -4,12 +4,12 @@
  * Not in the table: pointer input (orbit, pan, zoom, clicks, rectangles,
  * drags, brush strokes, box handles, dropped files), which is continuous and
  * stays in the window's pointer handlers (window.c); it is listed for F1
- * and the README in st_gestures below.  Modifier keys pressed alone are
+ * and the key table in st_gestures below.  Modifier keys pressed alone are
  * state (held modifiers change a drag), not actions (window.c).
  *
  * Adding a key: an id in actions.h, an entry below; F1 follows, and
- * `strata --keys` prints the README's table (tests/test_actions.c fails
- * until README.md is updated). */
+ * `strata --keys` prints docs/MODELLER.md's key table (tests/test_actions.c fails
+ * until docs/MODELLER.md is updated). */
 #include "actions.h"
 #include "core/adapt/adapt.h"
 #include "core/fvar/fvar.h"

@@ -1,4 +1,4 @@
-/* Baking from the window (README "Baking", window.h st_app_bake): the Bake
+/* Baking from the window (docs/MODELLER.md, docs/BAKING.md; window.h st_app_bake): the Bake
  * dialog's settings (ui/gui.cc draws them), what the last bake wrote, and
  * View > Show baked map, which draws the bake's base level with its normal
  * map (render/nmap.h, as `strata render --normal-map`) instead of the

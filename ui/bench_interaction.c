@@ -1,5 +1,5 @@
 /* strata --bench-interaction FILE: the cost of one drag step against a full
- * rebuild, on a depth-6 hierarchy (README "Modeller").
+ * rebuild, on a depth-6 hierarchy (docs/MODELLER.md).
  *
  * One vertex of level 2 is selected and dragged in --bench-steps steps
  * through the same calls the window makes (st_doc_drag_update, then

@@ -2,7 +2,7 @@
  * level, changing the scheme and rebuilding the levels (which Esc or the
  * progress window's Cancel button cancels).  The main thread keeps drawing a
  * "working..." panel (hud_panels.c) with the stage the editor's progress
- * callback reports and the elapsed time; see README.md "Modeller". */
+ * callback reports and the elapsed time; see docs/MODELLER.md. */
 #include "window.h"
 
 #include <pthread.h>
@@ -337,7 +337,7 @@ int st_app_open(st_app *a, const char *path)
     return 0;
 }
 
-/* File > Import... (README "Modeller"): Open... opens a document, a
+/* File > Import... (docs/MODELLER.md): Open... opens a document, a
  * .strata session or a mesh file, which then names it (Save writes
  * STEM.strata, Open Recent keeps it); Import... reads a mesh format only,
  * as a new untitled document, as Blender's File > Import: the file is a

@@ -1,5 +1,5 @@
 /* Shortcuts of the action table: matching a key press, printable names, and
- * the F1 rows and README table generated from st_actions; see actions.h.
+ * the F1 rows and the key table of docs/MODELLER.md generated from st_actions; see actions.h.
  * Reads the table only: nothing here needs a window. */
 #include "actions.h"
 
