@@ -16,7 +16,9 @@
 // Prints, per case: topology refinement time (Strata refine vs
 // Far::TopologyRefinerFactory + RefineUniform), synthesis of all levels
 // (st_hier_synthesize vs Far::PrimvarRefiner::Interpolate), peak memory of
-// each (VmHWM growth of a forked child that builds and synthesises), and the
+// each (VmHWM growth of a forked child that builds and synthesises, its
+// high-water mark reset first; and each side's whole-process peak end to
+// end in a fresh process, ru_maxrss), and the
 // ratios.  Synthesis is timed on one thread and on two (parallel.h; OpenSubdiv
 // on one thread in both lines), the three runs interleaved, medians of 9;
 // other figures medians of 5 runs.  End to end (each side from the OBJ file
@@ -234,6 +236,14 @@ template <class F> long peak_bytes(F fn)
         // with the blocks freed) would be reused without growing the
         // resident set: give it back first, so the growth is all counted.
         malloc_trim(0);
+        // A forked child inherits its parent's high-water mark (VmHWM):
+        // without a reset both sides printed the parent's peak, the same
+        // figure (spot: 299.8 / 299.8 MB).  Writing 5 to clear_refs sets
+        // it to the current resident size (proc(5)).
+        if (FILE *cr = fopen("/proc/self/clear_refs", "w")) {
+            fputs("5", cr);
+            fclose(cr);
+        }
         long base = rss_kb("VmRSS:");
         fn();
         long peak = rss_kb("VmHWM:");
@@ -263,22 +273,22 @@ template <class F> double median_time(F fn)
 // End to end in a fresh process (this program's --profile-e2e, one run), as
 // a user's command meets it: every page of the heap faulted in for the first
 // time.  Returns wall and processor time and the page faults of the process.
-struct e2e_fresh { double wall, cpu, faults; };
+struct e2e_fresh { double wall, cpu, faults, peak; };
 
 e2e_fresh e2e_in_process(bool osd, bool loop, int levels, int threads)
 {
     char cmd[256];
     snprintf(cmd, sizeof cmd, "/proc/%d/exe --profile-e2e %s %s %d %d 1", (int)getpid(), osd ? "osd" : "strata",
              loop ? "loop" : "catmark", levels, threads);
-    e2e_fresh r = { -1, -1, -1 };
+    e2e_fresh r = { -1, -1, -1, -1 };
     FILE *f = popen(cmd, "r");
     char line[256];
     double wall, cpu;
-    long faults;
+    long faults, kib;
     while (f && fgets(line, sizeof line, f))
-        if (sscanf(strstr(line, "end to end") ? strstr(line, "end to end") : line, "end to end %lf ms, cpu %lf ms (medians of 1), %ld",
-                   &wall, &cpu, &faults) == 3)
-            r = { 1e-3 * wall, 1e-3 * cpu, (double)faults };
+        if (sscanf(strstr(line, "end to end") ? strstr(line, "end to end") : line,
+                   "end to end %lf ms, cpu %lf ms (medians of 1), %ld page faults, peak %ld KiB", &wall, &cpu, &faults, &kib) == 4)
+            r = { 1e-3 * wall, 1e-3 * cpu, (double)faults, 1024.0 * (double)kib };
     if (f) pclose(f);
     if (r.wall < 0) { fprintf(stderr, "bench_osd: %s failed\n", cmd); exit(1); }
     return r;
@@ -347,17 +357,18 @@ void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int le
     double ec_osd = bench_median(ec[0], RUNS), ec_st = bench_median(ec[1], RUNS);
     // The same, each run in a fresh process, interleaved.
     bool loop = type == Sdc::SCHEME_LOOP;
-    double fw[3][RUNS], fc[3][RUNS], ff[3][RUNS];
+    double fw[3][RUNS], fc[3][RUNS], ff[3][RUNS], fp[2][RUNS];
     for (int k = 0; k < RUNS; k++) {
         e2e_fresh a = e2e_in_process(true, loop, levels, 1), b = e2e_in_process(false, loop, levels, 1),
                   c = e2e_in_process(false, loop, levels, 2);
-        fw[0][k] = a.wall, fc[0][k] = a.cpu, ff[0][k] = a.faults;
-        fw[1][k] = b.wall, fc[1][k] = b.cpu, ff[1][k] = b.faults;
+        fw[0][k] = a.wall, fc[0][k] = a.cpu, ff[0][k] = a.faults, fp[0][k] = a.peak;
+        fw[1][k] = b.wall, fc[1][k] = b.cpu, ff[1][k] = b.faults, fp[1][k] = b.peak;
         fw[2][k] = c.wall, fc[2][k] = c.cpu, ff[2][k] = c.faults;
     }
     double f_osd = bench_median(fw[0], RUNS), f_st = bench_median(fw[1], RUNS), f_st2 = bench_median(fw[2], RUNS);
     double fc_osd = bench_median(fc[0], RUNS), fc_st = bench_median(fc[1], RUNS);
     double ff_osd = bench_median(ff[0], RUNS), ff_st = bench_median(ff[1], RUNS);
+    double fp_osd = bench_median(fp[0], RUNS), fp_st = bench_median(fp[1], RUNS);
     long mem_osd = peak_bytes([&] { Far::TopologyRefiner *q = osd_refine(m, type, levels); osd_interpolate(*q, m); delete q; });
     long mem_st = peak_bytes([&] { st_hier g; if (!strata_build(&g, m, sc, levels)) { st_hier_synthesize(&g, 0); st_hier_free(&g); } });
     printf("  topology refinement: Strata %.1f ms, OpenSubdiv %.1f ms, ratio %.2f (target <= 1.5)\n",
@@ -377,8 +388,12 @@ void compare(const char *path, const st_scheme *sc, Sdc::SchemeType type, int le
            1e3 * t_st_synth, 1e3 * t_osd_interp, t_st_synth / t_osd_interp);
     printf("  synthesis, all levels, 2 threads: Strata %.1f ms, OpenSubdiv (1 thread) %.1f ms, ratio %.2f (target <= 0.6)\n",
            1e3 * t_st_synth2, 1e3 * t_osd_interp, t_st_synth2 / t_osd_interp);
-    printf("  peak memory (refine + synthesis): Strata %.1f MB, OpenSubdiv %.1f MB, ratio %.2f (target <= 1.0)\n",
+    printf("  peak memory (refine + synthesis, growth in a forked child): Strata %.1f MB, OpenSubdiv %.1f MB, ratio %.2f "
+           "(target <= 1.0)\n",
            mem_st / 1e6, mem_osd / 1e6, (double)mem_st / (double)mem_osd);
+    printf("  peak memory, end to end in a fresh process (its own ru_maxrss, as /usr/bin/time reads it), 1 thread: "
+           "Strata %.1f MB, OpenSubdiv %.1f MB, ratio %.2f\n",
+           fp_st / 1e6, fp_osd / 1e6, fp_st / fp_osd);
     st_mesh_free(&m);
 }
 
@@ -576,8 +591,9 @@ int profile_e2e(int argc, char **argv)
     }
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
-    printf("%s end to end %.2f ms, cpu %.2f ms (medians of %d), %ld page faults\n", osd ? "osd" : "strata",
-           1e3 * bench_median(t.data(), repeat), 1e3 * bench_median(c.data(), repeat), repeat, ru.ru_minflt + ru.ru_majflt);
+    printf("%s end to end %.2f ms, cpu %.2f ms (medians of %d), %ld page faults, peak %ld KiB\n", osd ? "osd" : "strata",
+           1e3 * bench_median(t.data(), repeat), 1e3 * bench_median(c.data(), repeat), repeat, ru.ru_minflt + ru.ru_majflt,
+           ru.ru_maxrss);
     return 0;
 }
 
