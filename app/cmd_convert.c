@@ -1,7 +1,7 @@
 /* strata convert IN OUT [--scheme S] [--levels N] [--level L] [--boundary B]
  *                       [--box x0,y0,z0,x1,y1,z1 [--base-level B] [--max-level M]
  *                        [--falloff W] [--no-restriction]]
- *                       [--normals | --no-normals] [--normal-map N.png] [--strict]
+ *                       [--normals | --no-normals] [--normal-map N.png [--auto-uv]] [--strict]
  *
  * IN: a mesh (.obj .off .ply .gltf .glb, app/mesh_any.h) or a session
  * (.strata).  OUT: a mesh (.obj .ply .gltf .glb) or a session (.strata).
@@ -19,7 +19,8 @@
  * ny nz) unless --no-normals; glTF files always have them (app/gltf_io.h).
  * --normal-map N.png (glTF output of a level): TEXCOORD_0, TANGENT and
  * NORMAL exactly as strata bake used them (core/bake/bake.h: the level's own
- * UVs, or the --auto-uv atlas for a level without UVs; st_bake_tangents) and
+ * UVs, or the --auto-uv atlas for a level without UVs or with --auto-uv,
+ * for a map baked with it; st_bake_tangents) and
  * a material whose normalTexture is N.png (app/gltf_io.h st_gltf_save_mapped).
  * Exit status: 0 done, 1 a file could not be read or written, 2 bad usage. */
 #include "core/adapt/adapt.h"
@@ -47,6 +48,7 @@ typedef struct conv_opts {
     unsigned read_flags; /* ST_MESH_STRICT with --strict */
     int normals;
     const char *normal_map;    /* --normal-map N.png: NULL when not given */
+    int auto_uv;               /* --auto-uv: the map was baked on the --auto-uv atlas */
     st_adapt_params box;
     int has_box, has_adapt_opt;
 } conv_opts;
@@ -72,7 +74,7 @@ static int usage(void)
     fprintf(stderr, "usage: strata convert IN OUT [--scheme S] [--levels N] [--level L] [--boundary edge-only|edge-and-corner]\n"
                     "                      [--uv-interp none|corners-only|corners-plus1|corners-plus2|boundaries|all]\n"
                     "                      [--box x0,y0,z0,x1,y1,z1 [--base-level B] [--max-level M] [--falloff W] [--no-restriction]]\n"
-                    "                      [--normals | --no-normals] [--normal-map N.png (glTF output)] [--strict]\n"
+                    "                      [--normals | --no-normals] [--normal-map N.png [--auto-uv] (glTF output)] [--strict]\n"
                     "  IN: .obj .off .ply .gltf .glb or .strata; OUT: .obj .ply .gltf .glb or .strata\n");
     return 2;
 }
@@ -127,6 +129,7 @@ static int parse(int argc, char **argv, conv_opts *o)
         else if (!strcmp(a, "--no-normals")) o->normals = 0;
         else if (!strcmp(a, "--strict")) o->read_flags |= ST_MESH_STRICT;
         else if (!strcmp(a, "--normal-map") && v) { o->normal_map = v; i++; }
+        else if (!strcmp(a, "--auto-uv")) o->auto_uv = 1;
         else if (a[0] == '-' && a[1]) { fprintf(stderr, "strata convert: unknown or incomplete option '%s'\n", a); return -1; }
         else if (!o->in) o->in = a;
         else if (!o->out) o->out = a;
@@ -136,6 +139,7 @@ static int parse(int argc, char **argv, conv_opts *o)
     if (o->has_adapt_opt && !o->has_box) { fprintf(stderr, "strata convert: --base-level, --max-level, --falloff and --no-restriction go with --box\n"); return -1; }
     if (o->has_box && (o->levels >= 0 || o->level >= 0)) { fprintf(stderr, "strata convert: --box is an alternative to --levels / --level\n"); return -1; }
     if (o->box.base_level > o->box.max_level) { fprintf(stderr, "strata convert: --base-level is above --max-level\n"); return -1; }
+    if (o->auto_uv && !o->normal_map) { fprintf(stderr, "strata convert: --auto-uv goes with --normal-map (the map's layout)\n"); return -1; }
     if (o->normal_map) {
         if (!st_path_has_ext(o->out, ".gltf") && !st_path_has_ext(o->out, ".glb")) { fprintf(stderr, "strata convert: --normal-map writes a material into glTF output (.gltf or .glb), not %s\n", o->out); return -1; }
         if (o->has_box) { fprintf(stderr, "strata convert: --normal-map applies to a level (--level), not to --box\n"); return -1; }
@@ -198,9 +202,10 @@ static int save_mapped(st_hier *h, unsigned l, const st_mesh *m, const conv_opts
     int w = 0, hh = 0;
     unsigned char *px = NULL;
     st_error ignored;
-    if (st_hier_uv(h, l) || strstr(o->normal_map, "<UDIM>") || st_png_read(o->normal_map, &w, &hh, &px, &ignored)) w = 0;
+    if ((!o->auto_uv && st_hier_uv(h, l)) || strstr(o->normal_map, "<UDIM>") || st_png_read(o->normal_map, &w, &hh, &px, &ignored))
+        w = 0;
     free(px);
-    return st_gltf_save_level_mapped(o->out, h, l, m, 0, w > 0 ? (uint32_t)w : 2048, ST_BAKE_AUTO_PADDING, o->normal_map, err);
+    return st_gltf_save_level_mapped(o->out, h, l, m, o->auto_uv, w > 0 ? (uint32_t)w : 2048, ST_BAKE_AUTO_PADDING, o->normal_map, err);
 }
 
 int st_cmd_convert(int argc, char **argv)

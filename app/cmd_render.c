@@ -7,7 +7,9 @@
  * display, no GPU) into a PNG.  Same inputs, same machine: same bytes.
  * --mode uv draws a checker through the level's face-varying UVs, or with
  * --auto-uv through the atlas strata bake --auto-uv lays out for a 1024²
- * map with the default padding (st_bake_chart_uvs). */
+ * map with the default padding (st_bake_chart_uvs).  With --normal-map,
+ * --auto-uv reads the map on that atlas (made for the map's size) even
+ * where the level has UVs of its own: a map baked with --auto-uv. */
 #include "cli.h"
 #include "core/bake/bake.h"
 #include "core/adapt/adapt_estimate.h"
@@ -265,12 +267,12 @@ int st_cmd_render(int argc, char **argv)
     if (!r.adaptive && st_cli_level(&o, &h, "render", &level)) { st_hier_free(&h); return 2; }
     r.spec.level = level;
     double *auto_uv = NULL;
-    if (r.auto_uv && (r.spec.mode != ST_MODE_UV || r.adaptive)) {
-        fprintf(stderr, "strata render: --auto-uv applies to --mode uv of a level (not adaptive)\n");
+    if (r.auto_uv && ((r.spec.mode != ST_MODE_UV && !r.normal_map) || r.adaptive)) {
+        fprintf(stderr, "strata render: --auto-uv applies to --mode uv or --normal-map of a level (not adaptive)\n");
         st_hier_free(&h);
         return 2;
     }
-    if (r.auto_uv) {
+    if (r.auto_uv && !r.normal_map) {
         st_error e;
         st_bake_layout lay;
         int arc = st_bake_chart_uvs(&h, level, 1024, ST_BAKE_AUTO_PADDING, &lay, NULL, &e);
@@ -340,7 +342,7 @@ int st_cmd_render(int argc, char **argv)
     if (!rgba) rc = st_fail(&err, ST_ERR_MEMORY, "out of memory for a %dx%d image", r.width, r.height);
     uint32_t faces = 0;
     if (r.normal_map) {
-        if (!rc) rc = st_render_normal_mapped(&off, &h, &r.spec, r.normal_map, r.normal_object, rgba, &faces, &err);
+        if (!rc) rc = st_render_normal_mapped(&off, &h, &r.spec, r.normal_map, r.normal_object, r.auto_uv, rgba, &faces, &err);
     } else {
         if (!rc) rc = st_offscreen_prepare(&off, shown, &r.spec, &err);
         faces = off.r.surf.nfaces;
