@@ -8,6 +8,7 @@
  * screenshot comparison failed, or a runtime error), 2 (usage), 3 (no
  * display / no OpenGL 3.3 context). */
 #include "cli.h"
+#include "mesh_any.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -50,6 +51,7 @@ int st_cmd_window(int argc, char **argv)
     o.width = 1100;
     o.height = 750;
     o.bench_steps = 40;
+    o.load_mesh = st_any_mesh_load;   /* .gltf and .glb as well as .obj .off .ply */
     for (int i = 0; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;

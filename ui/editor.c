@@ -227,7 +227,8 @@ int st_doc_open_progress(st_doc *d, const char *path, const char *scheme, unsign
     st_mesh mesh;
     st_mesh_init(&mesh);
     st_notes notes = { 0 };
-    int rc = st_mesh_load_flags(path, &mesh, d->read_flags, &notes, err);
+    int rc = d->load_mesh ? d->load_mesh(path, &mesh, d->read_flags, &notes, err)
+                          : st_mesh_load_flags(path, &mesh, d->read_flags, &notes, err);
     if (rc) { st_notes_free(&notes); return rc; }
     st_hier h;
     st_hier_opts opts = { .boundary = ST_BOUNDARY_UNSET, .crease_method = ST_CREASE_UNIFORM };

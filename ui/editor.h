@@ -201,6 +201,11 @@ typedef struct st_doc {
 
     size_t mem_budget;         /* refuse operations that would need more (bytes) */
     unsigned read_flags;       /* st_mesh_load_flags flags of st_doc_open: ST_MESH_STRICT (the window's --strict) */
+    /* Reads a mesh file for st_doc_open; NULL: core's OBJ/OFF/PLY readers
+     * (st_mesh_load_flags).  The program gives one that reads glTF too
+     * (app/cmd_window.c: st_any_mesh_load), so that this library needs no
+     * glTF reader of its own.  Same contract as st_mesh_load_flags. */
+    int (*load_mesh)(const char *path, st_mesh *out, unsigned flags, st_notes *notes, st_error *err);
 
     st_doc_change change;
 

@@ -1061,6 +1061,7 @@ int st_window_main(const st_win_opts *o)
     st_doc_init(&a->doc);
     if (o->mem_budget_mb > 0) a->doc.mem_budget = (size_t)(o->mem_budget_mb * 1048576.0);
     if (o->strict) a->doc.read_flags |= ST_MESH_STRICT;
+    a->doc.load_mesh = o->load_mesh;
     default_asset(a);
 
     /* Preferences (recent files, window size, UI scale): not in replays,

@@ -38,6 +38,9 @@ typedef struct st_win_opts {
     int size_given;            /* --size: the preferences' window size does not apply */
     float ui_scale;            /* --ui-scale: > 0 overrides the preference and the monitor's */
     int strict;                /* --strict: refuse non-manifold meshes instead of splitting them (ST_MESH_STRICT) */
+    /* The document's mesh reader (st_doc.load_mesh): the program's, which
+     * reads glTF as well; NULL: core's OBJ/OFF/PLY readers. */
+    int (*load_mesh)(const char *path, st_mesh *out, unsigned flags, st_notes *notes, st_error *err);
 } st_win_opts;
 
 enum st_tool { ST_TOOL_SELECT = -1 };   /* else an st_brush_tool */
