@@ -452,7 +452,7 @@ static inline void count_dart(const st_map *m, orbit_count *c, uint32_t d, st_le
         uint32_t x = d;
         do {
             see_bit(c->vseen, x);
-            x = dual ? st_v_phi1_kind(&c->v, x, sparse) : st_v_beta1_kind(&c->v, x, sparse);
+            x = st_v_vertex_step_kind(&c->v, dual, x, sparse);
         } while (x != d);
     }
     if (!seen_bit(c->fseen, d)) {
@@ -460,7 +460,7 @@ static inline void count_dart(const st_map *m, orbit_count *c, uint32_t d, st_le
         uint32_t x = d;
         do {
             see_bit(c->fseen, x);
-            x = dual ? st_v_beta1_kind(&c->v, x, sparse) : st_v_phi1_kind(&c->v, x, sparse);
+            x = st_v_face_step_kind(&c->v, dual, x, sparse);
         } while (x != d);
     }
 }

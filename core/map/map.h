@@ -370,6 +370,40 @@ static inline const double *st_v_pos(const st_level_view *v, uint32_t vid)
     return (v->vins[vid] < v->plvl ? v->pcol : v->pbase) + 3 * (size_t)vid;
 }
 
+/* Walks of the surface's cells, whichever the encoding.  A surface face is
+ * a φ1 orbit and a surface vertex a β1 orbit, except in Doo-Sabin's dual
+ * encoding (st_map.face_embedded, Kraemer 2008 §3.2.1; scheme_doosabin.c),
+ * where a surface face is a β1 orbit and a surface vertex a φ1 orbit.
+ * Either way one dart is one corner: st_face_step gives the next corner of
+ * d's face (the next vertex along it), st_vertex_step the next corner
+ * around d's vertex (each in another face).  Code that means the surface
+ * walks with these; st_phi1 / st_beta1 name the map's own orbits.  The view
+ * forms take the encoding as `dual` (m->face_embedded). */
+static inline uint32_t st_face_step(const st_map *m, uint32_t d, unsigned l)
+{
+    return m->face_embedded ? st_beta1(m, d, l) : st_phi1(m, d, l);
+}
+static inline uint32_t st_vertex_step(const st_map *m, uint32_t d, unsigned l)
+{
+    return m->face_embedded ? st_phi1(m, d, l) : st_beta1(m, d, l);
+}
+static inline uint32_t st_v_face_step_kind(const st_level_view *v, int dual, uint32_t d, int sparse)
+{
+    return dual ? st_v_beta1_kind(v, d, sparse) : st_v_phi1_kind(v, d, sparse);
+}
+static inline uint32_t st_v_vertex_step_kind(const st_level_view *v, int dual, uint32_t d, int sparse)
+{
+    return dual ? st_v_phi1_kind(v, d, sparse) : st_v_beta1_kind(v, d, sparse);
+}
+static inline uint32_t st_v_face_step(const st_level_view *v, int dual, uint32_t d)
+{
+    return st_v_face_step_kind(v, dual, d, ST_MAP_SPARSE_READS);
+}
+static inline uint32_t st_v_vertex_step(const st_level_view *v, int dual, uint32_t d)
+{
+    return st_v_vertex_step_kind(v, dual, d, ST_MAP_SPARSE_READS);
+}
+
 /* φ1⁻¹ and β1⁻¹ are not stored (memory): they walk the face / vertex. */
 /* Inline, so that they take the lookup path of the file that calls them
  * ("Two lookup paths"). */

@@ -97,7 +97,7 @@ void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[
         /* Face of a dual-encoded surface: the vertex orbit of the map,
          * whose faces carry the surface's vertices (Newell normal). */
         c = min_in_orbit(m, d, l, 0);
-        st_vertex_newell(m, c, l, n);
+        st_face_newell(m, c, l, n);
         st_sub3(st_pos(m, st_vert(m, st_beta1(m, c, l), l), l), st_pos(m, st_vert(m, c, l), l), t);
         st_frame_orthonormal(t, n, f);
         return;
