@@ -441,10 +441,7 @@ static inline unsigned st_edge_level(const st_map *m, uint32_t d, unsigned l)
 }
 
 /* ---- enumeration: time proportional to the size of level l ---------------- */
-/* Calls fn(d, ctx) for every live dart of B^l. */
-typedef void (*st_dart_fn)(uint32_t d, void *ctx);
-void st_foreach_dart(const st_map *m, unsigned l, st_dart_fn fn, void *ctx);
-/* Iterator form: d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it) */
+/* Every live dart of B^l: d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it) */
 typedef struct st_dart_iter { unsigned level; uint32_t block; uint32_t id; } st_dart_iter; /* id: offset in block */
 uint32_t st_dart_first(const st_map *m, unsigned l, st_dart_iter *it);
 uint32_t st_dart_next(const st_map *m, unsigned l, st_dart_iter *it);
@@ -489,8 +486,6 @@ void st_set_beta1(st_map *m, uint32_t d, unsigned l, uint32_t e);
 void st_set_vert(st_map *m, uint32_t d, unsigned l, uint32_t v);
 /* Sews d and e by β0 at level l (both directions). */
 void st_sew0(st_map *m, uint32_t d, uint32_t e, unsigned l);
-/* Vertex embedding of a whole vertex orbit at level l. */
-void st_embed_vertex(st_map *m, uint32_t d, unsigned l, uint32_t v);
 
 /* Attaches an attribute owned by the caller: it is grown with the pool and
  * every new id gets the value zero (elem bytes of zeros) at all levels.
