@@ -62,7 +62,7 @@ static inline void vertex_normal_kind(st_rgeom *g, const st_level_view *V, uint3
             const float *fn = g->fnormal + 4 * (size_t)f;
             n[0] += fn[0]; n[1] += fn[1]; n[2] += fn[2];
         }
-        x = g->face_embedded ? st_v_phi1_kind(V, x, sparse) : st_v_beta1_kind(V, x, sparse); /* vertex_next */
+        x = st_v_vertex_step_kind(V, g->face_embedded, x, sparse);
     } while (x != d);
     double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     float *o = g->vdata + ST_RGEOM_VSTRIDE * (size_t)s + 3;
@@ -351,7 +351,7 @@ int st_rgeom_build(st_rgeom *g, const st_map *m, unsigned l, st_error *err)
 static uint32_t face_corner_dart(const st_rgeom *g, const st_level_view *V, uint32_t f, uint32_t s)
 {
     uint32_t a = g->face_off[f], n = g->face_off[f + 1] - a, d = g->face_dart[f];
-    for (uint32_t k = 0; k < n; k++, d = face_next(V, g->face_embedded, d))
+    for (uint32_t k = 0; k < n; k++, d = st_v_face_step(V, g->face_embedded, d))
         if (g->corner[a + k] == s) return d;
     return ST_NIL;
 }
@@ -603,7 +603,7 @@ int st_rgeom_refresh(st_rgeom *g, const st_map *m, const uint32_t *vids, uint32_
                 st_rg_face_normal(g, f);
                 rc |= st_rg_push(&faces, f);
             }
-            x = vertex_next(&V, fe, x);
+            x = st_v_vertex_step(&V, fe, x);
         } while (x != d);
     }
     /* ...and so do all the corners of those faces. */

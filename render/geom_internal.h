@@ -22,17 +22,6 @@ static inline void *st_rg_grow(void *p, size_t *cap, size_t need, size_t elem, i
 }
 #define GROW(ptr, cap, need, oom) ((ptr) = st_rg_grow((ptr), &(cap), (need), sizeof *(ptr), &(oom)))
 
-/* Next corner of a face. */
-static inline uint32_t face_next(const st_level_view *V, int fe, uint32_t d)
-{
-    return fe ? st_v_beta1(V, d) : st_v_phi1(V, d);
-}
-/* Next dart around a (surface) vertex: each lies in another face. */
-static inline uint32_t vertex_next(const st_level_view *V, int fe, uint32_t d)
-{
-    return fe ? st_v_phi1(V, d) : st_v_beta1(V, d);
-}
-
 typedef struct u32_list { uint32_t *d; size_t n, cap; } u32_list;
 int st_rg_push(u32_list *l, uint32_t v);
 int st_rg_to_ranges(u32_list *idx, st_range_list *out);   /* sorts idx */

@@ -219,7 +219,7 @@ static void visit_face(patch *p, uint32_t x, uint32_t gen)
         if (st_is_void(m, y)) real = 0;
         uint32_t f = g->dart_face[y];
         if (f < p->nfaces0) kill_face(p, f);
-        y = face_next(&p->V, g->face_embedded, y);
+        y = st_v_face_step(&p->V, g->face_embedded, y);
     } while (y != x && n <= m->darts.end);
     if (!real || n < 3) {
         for (unsigned k = 0; k < n; k++) g->dart_face[p->fs.darts[k]] = UNDRAWN;

@@ -63,3 +63,23 @@ void st_gl_draw_surface_offset(const st_gl *gl, GLuint vao, GLuint ibo_tris, uin
     gl->DrawElements(GL_TRIANGLES, (GLsizei)(3 * ntris), GL_UNSIGNED_INT, (const void *)0);
     gl->Disable(GL_POLYGON_OFFSET_FILL);
 }
+
+const float st_gl_surface_front[3] = { 0.70f, 0.73f, 0.78f }, st_gl_surface_back[3] = { 0.78f, 0.48f, 0.36f };
+const float st_gl_background[3] = { 0.93f, 0.94f, 0.96f };
+
+void st_gl_scene_state(const st_gl *gl, int w, int h)
+{
+    gl->Viewport(0, 0, w, h);
+    gl->Enable(GL_DEPTH_TEST);
+    gl->DepthFunc(GL_LEQUAL);
+    gl->DepthMask(GL_TRUE);
+    gl->Disable(GL_CULL_FACE);
+    gl->Disable(GL_BLEND);
+}
+
+void st_gl_clear(const st_gl *gl, float r, float g, float b, float a)
+{
+    gl->ClearColor(r, g, b, a);
+    gl->ClearDepth(1);
+    gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+}

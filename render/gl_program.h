@@ -37,4 +37,12 @@ GLuint st_gl_program(const st_gl *gl, const char *vs_src, const char *fs_src, co
  * caller's. */
 void st_gl_draw_surface_offset(const st_gl *gl, GLuint vao, GLuint ibo_tris, uint32_t ntris);
 
+/* What the passes that draw a scene share (render/renderer.c, render/nmap.c):
+ * the surface's front and back colours and the background; the state a
+ * pass starts from (viewport w x h, depth test LEQUAL with depth writes, no
+ * culling, no blending); clearing colour (r, g, b, a) and depth (to 1). */
+extern const float st_gl_surface_front[3], st_gl_surface_back[3], st_gl_background[3];
+void st_gl_scene_state(const st_gl *gl, int w, int h);
+void st_gl_clear(const st_gl *gl, float r, float g, float b, float a);
+
 #endif

@@ -159,25 +159,17 @@ void st_nmap_set_tile_map(st_nmap *n, uint32_t i, const unsigned char *rgba, int
 void st_nmap_draw(st_nmap *n, const st_camera *cam, int w, int h, int mode)
 {
     const st_gl *gl = n->gl;
-    /* The renderer's surface colours and background (render/renderer.c). */
-    static const float front[3] = { 0.70f, 0.73f, 0.78f }, back[3] = { 0.78f, 0.48f, 0.36f };
     float view[16], proj[16];
     st_camera_view(cam, view);
     st_camera_proj(cam, h > 0 ? (float)w / (float)h : 1, proj);
-    gl->Viewport(0, 0, w, h);
-    gl->Enable(GL_DEPTH_TEST);
-    gl->DepthFunc(GL_LEQUAL);
-    gl->DepthMask(GL_TRUE);
-    gl->Disable(GL_CULL_FACE);
-    gl->Disable(GL_BLEND);
-    gl->ClearColor(0.93f, 0.94f, 0.96f, 1);
-    gl->ClearDepth(1);
-    gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    /* The renderer's state, surface colours and background (gl_program.h). */
+    st_gl_scene_state(gl, w, h);
+    st_gl_clear(gl, st_gl_background[0], st_gl_background[1], st_gl_background[2], 1);
     gl->UseProgram(n->prog);
     gl->UniformMatrix4fv(n->u_view, 1, GL_FALSE, view);
     gl->UniformMatrix4fv(n->u_proj, 1, GL_FALSE, proj);
-    gl->Uniform3fv(n->u_front, 1, front);
-    gl->Uniform3fv(n->u_back, 1, back);
+    gl->Uniform3fv(n->u_front, 1, st_gl_surface_front);
+    gl->Uniform3fv(n->u_back, 1, st_gl_surface_back);
     int use = mode != ST_NMAP_NONE;
     gl->Uniform1i(n->u_use_map, use);
     gl->Uniform1i(n->u_object, mode == ST_NMAP_OBJECT);

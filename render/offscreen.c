@@ -40,11 +40,6 @@ int st_offscreen_init(st_offscreen *o, int width, int height, st_error *err)
     return ST_OK;
 }
 
-int st_offscreen_resize(st_offscreen *o, int width, int height, st_error *err)
-{
-    return st_headless_resize(&o->hl, width, height, err);
-}
-
 int st_offscreen_prepare(st_offscreen *o, const st_map *m, const st_render_spec *s, st_error *err)
 {
     st_headless_begin(&o->hl);

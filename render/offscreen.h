@@ -42,7 +42,6 @@ int st_offscreen_init(st_offscreen *o, int width, int height, st_error *err);
 /* Bytes st_offscreen_init(o, width, height) takes for its framebuffers, at
  * most (an estimate for --mem-budget, before anything is allocated). */
 size_t st_offscreen_bytes(int width, int height);
-int st_offscreen_resize(st_offscreen *o, int width, int height, st_error *err);
 /* Builds and uploads the displayed level (and the cage level for
  * ST_MODE_CAGE, the UVs s->uv for ST_MODE_UV: ST_ERR_INVALID when NULL)
  * of m. */

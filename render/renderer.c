@@ -81,7 +81,7 @@ int st_renderer_init(st_renderer *r, const st_gl *gl, st_error *err)
     memset(r, 0, sizeof *r);
     r->gl = gl;
     r->hover = ST_NIL;
-    r->background[0] = 0.93f; r->background[1] = 0.94f; r->background[2] = 0.96f;
+    memcpy(r->background, st_gl_background, sizeof r->background);
     st_rgeom_init(&r->surf);
     st_rgeom_init(&r->cage);
     r->prog_surface = program(gl, "surface.vert", NULL, "surface.frag", err);
@@ -561,7 +561,6 @@ static void point_pass(st_renderer *r, const float view[16], const float proj[16
 void st_renderer_draw(st_renderer *r, const st_camera *cam, int w, int h, const st_draw_opts *o)
 {
     const st_gl *gl = r->gl;
-    static const float front[3] = { 0.70f, 0.73f, 0.78f }, back[3] = { 0.78f, 0.48f, 0.36f };
     static const float wire_color[4] = { 0.10f, 0.11f, 0.14f, 1 };
     static const float cage_color[4] = { 0.85f, 0.42f, 0.05f, 1 };
     static const float sel_color[4] = { 1.00f, 0.80f, 0.10f, 1 };
@@ -574,18 +573,9 @@ void st_renderer_draw(st_renderer *r, const st_camera *cam, int w, int h, const 
     float lw = o->line_width > 0 ? o->line_width : 1.0f;
     float ps = o->point_size > 0 ? o->point_size : 6.0f;
 
-    gl->Viewport(0, 0, w, h);
-    gl->Enable(GL_DEPTH_TEST);
-    gl->DepthFunc(GL_LEQUAL);
-    gl->DepthMask(GL_TRUE);
-    gl->Disable(GL_CULL_FACE);
-    gl->Disable(GL_BLEND);
+    st_gl_scene_state(gl, w, h);
     gl->Enable(GL_PROGRAM_POINT_SIZE);
-    if (o->clear) {
-        gl->ClearColor(r->background[0], r->background[1], r->background[2], 1);
-        gl->ClearDepth(1);
-        gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    }
+    if (o->clear) st_gl_clear(gl, r->background[0], r->background[1], r->background[2], 1);
     if (r->has_surf && o->shading != ST_SHADE_NONE && r->gsurf.ntris) {
         int checker = o->checker && r->has_uv;
         const st_surface_uniforms *u = checker ? &r->uu : &r->us;
@@ -593,8 +583,8 @@ void st_renderer_draw(st_renderer *r, const st_camera *cam, int w, int h, const 
         gl->UniformMatrix4fv(u->view, 1, GL_FALSE, view);
         gl->UniformMatrix4fv(u->proj, 1, GL_FALSE, proj);
         gl->Uniform1i(u->flat, o->shading == ST_SHADE_FLAT);
-        gl->Uniform3fv(u->front, 1, front);
-        gl->Uniform3fv(u->back, 1, back);
+        gl->Uniform3fv(u->front, 1, st_gl_surface_front);
+        gl->Uniform3fv(u->back, 1, st_gl_surface_back);
         gl->Uniform1i(u->masked, r->has_shade);
         gl->Uniform1i(u->checker, checker);
         if (checker) {

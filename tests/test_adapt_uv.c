@@ -202,18 +202,6 @@ static void check_against_level(const uv_case *c, const st_adapt_params *p, unsi
     st_hier_free(&r);
 }
 
-/* The surface's face and vertex orbits: φ1 and β1, or in Doo-Sabin's dual
- * encoding β1 and φ1 (core/schemes/scheme_doosabin.c). */
-static uint32_t face_next(const st_map *m, uint32_t d, unsigned l)
-{
-    return m->face_embedded ? st_beta1(m, d, l) : st_phi1(m, d, l);
-}
-
-static uint32_t vertex_next(const st_map *m, uint32_t d, unsigned l)
-{
-    return m->face_embedded ? st_phi1(m, d, l) : st_beta1(m, d, l);
-}
-
 /* A box over part of the mesh: faces whose corners all hold values of
  * their own level L against regular level L, one level per vertex. */
 /* Vertices of the adaptive map whose (non-boundary) corners hold values of
@@ -234,7 +222,7 @@ static uint32_t mixed_level_vertices(st_map *m, unsigned top, const uint8_t *lev
                 if (lev >= 0 && lev != level[x]) { mixed++; counted = 1; }
                 lev = level[x];
             }
-            x = vertex_next(m, x, top);
+            x = st_vertex_step(m, x, top);
         } while (x != d);
     }
     st_marker_release(m, vb, top);
@@ -416,13 +404,13 @@ static void check_partial_stencil(const uv_case *c)
         int whole = 1;
         double cen[3] = { 0, 0, 0 };
         uint32_t x = d;
-        do { st_mark(m, fb, x); n++; x = face_next(m, x, top); } while (x != d);
+        do { st_mark(m, fb, x); n++; x = st_face_step(m, x, top); } while (x != d);
         do {
             whole &= u.level[x] == L;
             for (int k = 0; k < 2; k++) outside += !(u.uv[2 * (size_t)x + k] >= lo_uv - 1e-12 && u.uv[2 * (size_t)x + k] <= hi_uv + 1e-12);
             for (int k = 0; k < 3; k++) cen[k] += st_dart_pos(m, x, top)[k] / n;
             corners++;
-            x = face_next(m, x, top);
+            x = st_face_step(m, x, top);
         } while (x != d);
         if (!whole || L > c->max) continue;
         per_level[L]++;
@@ -431,7 +419,7 @@ static void check_partial_stencil(const uv_case *c)
         do {
             const double *w = corner_uv(&want[L], g, st_dart_pos(m, x, top), 1e-7);
             if (w) compare_corner(&s, u.uv + 2 * (size_t)x, w);
-            x = face_next(m, x, top);
+            x = st_face_step(m, x, top);
         } while (x != d);
     }
     st_marker_release(m, fb, top);

@@ -95,7 +95,7 @@ static void corner_data(base_geo *g)
     CHECKF(st_bake_tangents(g->h, g->B, g->uvs, tan, g->cnormal, &err) == ST_OK, "%s", err.msg);
     for (uint32_t f = 0; f < nf; f++) {
         uint32_t x = darts[f];
-        for (uint32_t k = g->uvs->corner_off[f]; k < g->uvs->corner_off[f + 1]; k++, x = st_bake_face_next(m, x, g->B))
+        for (uint32_t k = g->uvs->corner_off[f]; k < g->uvs->corner_off[f + 1]; k++, x = st_face_step(m, x, g->B))
             g->cvert[k] = st_vert(m, x, g->B);
     }
     free(tan);

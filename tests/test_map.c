@@ -1,9 +1,12 @@
 /* Kernel tests: building, levels, queries, enumeration, memory. */
+#include "core/map/geometry.h"
 #include "core/map/map.h"
 #include "core/map/map_mesh.h"
 #include "core/map/refine_internal.h"
+#include "core/multires/hier.h"
 #include "testlib.h"
 
+#include <math.h>
 #include <string.h>
 
 static void build(st_map *m, void (*make)(st_mesh *))
@@ -180,8 +183,109 @@ static void test_validator_catches(void)
     st_map_free(&m);
 }
 
+/* The surface walks (st_face_step, st_vertex_step) on both encodings.
+ * Primal cube: they are φ1 and β1.  Doo-Sabin on the unit cube, levels
+ * 0..2 (dual encoding: surface faces are β1 orbits, surface vertices φ1
+ * orbits): for every face of st_hier_level_mesh, the dart at its first
+ * corner followed by st_face_step visits its corners in order and comes
+ * back after as many steps; st_vertex_step stays on one surface vertex and
+ * goes round it in as many steps as faces hold that vertex; st_face_newell
+ * is the Newell sum written out here over the mesh's corners, to the bit
+ * (level 0: the cube's faces, 2 x area = 2 along the outward axis).  The
+ * view forms answer as the map forms. */
+static void check_views(st_map *m, unsigned l)
+{
+    st_level_view V;
+    st_level_view_init(m, l, &V);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
+        CHECK(st_v_face_step(&V, m->face_embedded, d) == st_face_step(m, d, l));
+        CHECK(st_v_vertex_step(&V, m->face_embedded, d) == st_vertex_step(m, d, l));
+    }
+}
+
+static int same_point(const double *a, const double *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
+
+static void test_surface_walks(void)
+{
+    st_map pm;
+    build(&pm, tl_mesh_cube);
+    st_dart_iter it;
+    for (uint32_t d = st_dart_first(&pm, 0, &it); d != ST_NIL; d = st_dart_next(&pm, 0, &it))
+        CHECK(st_face_step(&pm, d, 0) == st_phi1(&pm, d, 0) && st_vertex_step(&pm, d, 0) == st_beta1(&pm, d, 0));
+    check_views(&pm, 0);
+    st_map_free(&pm);
+
+    st_mesh cube;
+    st_error err;
+    tl_mesh_cube(&cube);
+    st_hier h;
+    CHECKF(st_hier_init(&h, &cube, st_scheme_find("doo-sabin"), NULL, &err) == ST_OK, "%s", err.msg);
+    st_mesh_free(&cube);
+    CHECKF(st_hier_subdivide_to(&h, 2, &err) == ST_OK, "%s", err.msg);
+    st_map *m = &h.map;
+    CHECK(m->face_embedded);
+    for (unsigned l = 0; l <= 2; l++) {
+        st_mesh s;
+        st_mesh_init(&s);
+        CHECKF(st_hier_level_mesh(&h, l, &s, &err) == ST_OK, "%s", err.msg);
+        static const uint32_t faces_at[] = { 6, 26, 98 };   /* F + E + V of the level below */
+        CHECKF(s.nfaces == faces_at[l], "level %u: %u faces", l, s.nfaces);
+        uint32_t found = 0;
+        for (uint32_t f = 0; f < s.nfaces; f++) {
+            uint32_t o = s.face_off[f], n = s.face_off[f + 1] - o;
+            const double *c0 = s.pos + 3 * (size_t)s.face_idx[o], *c1 = s.pos + 3 * (size_t)s.face_idx[o + 1];
+            /* The dart at corner 0 whose next corner is corner 1. */
+            uint32_t d = ST_NIL;
+            for (uint32_t x = st_dart_first(m, l, &it); x != ST_NIL && d == ST_NIL; x = st_dart_next(m, l, &it))
+                if (same_point(st_dart_pos(m, x, l), c0) && same_point(st_dart_pos(m, st_face_step(m, x, l), l), c1)) d = x;
+            CHECKF(d != ST_NIL, "level %u face %u: no dart from corner 0 to corner 1", l, f);
+            if (d == ST_NIL) continue;
+            found++;
+            uint32_t x = d;
+            for (uint32_t k = 0; k < n; k++, x = st_face_step(m, x, l))
+                CHECKF(same_point(st_dart_pos(m, x, l), s.pos + 3 * (size_t)s.face_idx[o + k]) && (k == 0 || x != d),
+                       "level %u face %u: corner %u", l, f, k);
+            CHECKF(x == d, "level %u face %u: the walk does not close after %u corners", l, f, n);
+            /* Around each corner: one surface vertex, once round in as many
+             * steps as faces hold it. */
+            for (uint32_t k = 0; k < n; k++, x = st_face_step(m, x, l)) {
+                uint32_t v = s.face_idx[o + k], holding = 0, steps = 0, y = x;
+                for (uint32_t i = 0; i < s.face_off[s.nfaces]; i++) holding += s.face_idx[i] == v;
+                do {
+                    CHECK(st_vert(m, y, l) == st_vert(m, x, l));
+                    steps++;
+                    y = st_vertex_step(m, y, l);
+                } while (y != x && steps <= holding);
+                CHECKF(steps == holding, "level %u face %u corner %u: %u steps round, %u faces", l, f, k, steps, holding);
+            }
+            double want[3] = { 0, 0, 0 }, got[3];
+            for (uint32_t k = 0; k < n; k++) {
+                const double *p = s.pos + 3 * (size_t)s.face_idx[o + k], *q = s.pos + 3 * (size_t)s.face_idx[o + (k + 1) % n];
+                want[0] += (p[1] - q[1]) * (p[2] + q[2]);
+                want[1] += (p[2] - q[2]) * (p[0] + q[0]);
+                want[2] += (p[0] - q[0]) * (p[1] + q[1]);
+            }
+            st_face_newell(m, d, l, got);
+            CHECKF(memcmp(got, want, sizeof got) == 0, "level %u face %u: Newell (%g %g %g), by hand (%g %g %g)", l, f,
+                   got[0], got[1], got[2], want[0], want[1], want[2]);
+            if (l == 0) {
+                int axis = got[0] != 0 ? 0 : got[1] != 0 ? 1 : 2;
+                CHECKF(fabs(got[axis]) == 2 && got[(axis + 1) % 3] == 0 && got[(axis + 2) % 3] == 0 &&
+                           got[axis] * (c0[axis] - 0.5) > 0,
+                       "level 0 face %u: (%g %g %g)", f, got[0], got[1], got[2]);
+            }
+        }
+        CHECK(found == s.nfaces);
+        check_views(m, l);
+        st_mesh_free(&s);
+    }
+    st_hier_free(&h);
+}
+
 int main(void)
 {
+    test_surface_walks();
     test_validator_catches();
     test_cube_readings();
     test_open_grid();

@@ -159,10 +159,10 @@ static double angle(const double a[3], const double b[3])
 static double ring_bend(const st_map *m, uint32_t d, unsigned l)
 {
     double first[3], prev[3], cur[3], worst = 0;
-    st_vertex_newell(m, d, l, first);
+    st_face_newell(m, d, l, first);
     memcpy(prev, first, sizeof prev);
     for (uint32_t x = st_phi1(m, d, l); x != d; x = st_phi1(m, x, l)) {
-        st_vertex_newell(m, x, l, cur);
+        st_face_newell(m, x, l, cur);
         worst = fmax(worst, angle(prev, cur));
         memcpy(prev, cur, sizeof prev);
     }

@@ -46,38 +46,43 @@ void st_hier_resynth_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32
     h->scheme->emit(h, L, faces, n, resynth_sink, &c);
 }
 
+typedef struct around_ctx {
+    st_hier *h;
+    st_footprint *fp;
+    unsigned extra;            /* more rings: a vertex was lost at the level below */
+    st_dart_list faces, kept;
+} around_ctx;
+
+static int around_step(void *ctx, unsigned L, const st_dart_list *seeds, st_dart_list *next)
+{
+    around_ctx *a = ctx;
+    st_hier *h = a->h;
+    st_map *m = &h->map;
+    if (!seeds->n) return 1;
+    a->faces.n = 0;
+    st_region_faces(m, L - 1, seeds->d, seeds->n, h->scheme->support_rings + 1 + a->extra, &a->faces);
+    a->kept.n = 0;
+    for (uint32_t i = 0; i < a->faces.n; i++)
+        if (st_face_level(m, a->faces.d[i], L - 1) == L - 1 && st_face_is_subdivided(m, a->faces.d[i], L - 1))
+            st_dart_list_push(&a->kept, a->faces.d[i]);
+    resynth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = next, .fp = a->fp };
+    if (a->kept.n) h->scheme->emit(h, L, a->kept.d, a->kept.n, resynth_sink, &c);
+    a->extra = c.lost;
+    /* A vertex not found on its frame cell: every dart of the kept faces
+     * seeds the next level, with one more ring. */
+    if (c.lost) {
+        next->n = 0;
+        st_dart_list_push_faces(next, m, L - 1, a->kept.d, a->kept.n);
+    }
+    return 0;
+}
+
 void st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds0, uint32_t n, st_footprint *fp)
 {
-    st_map *m = &h->map;
-    st_dart_list seeds = { 0 }, next = { 0 }, faces = { 0 }, kept = { 0 };
+    st_dart_list seeds = { 0 };
     for (uint32_t i = 0; i < n; i++) st_dart_list_push(&seeds, seeds0[i]);
-    unsigned extra = 0;
-    for (unsigned L = from + 1; L <= m->top && seeds.n; L++) {
-        faces.n = 0;
-        st_region_faces(m, L - 1, seeds.d, seeds.n, h->scheme->support_rings + 1 + extra, &faces);
-        kept.n = 0;
-        for (uint32_t i = 0; i < faces.n; i++)
-            if (st_face_level(m, faces.d[i], L - 1) == L - 1 && st_face_is_subdivided(m, faces.d[i], L - 1))
-                st_dart_list_push(&kept, faces.d[i]);
-        next.n = 0;
-        resynth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next, .fp = fp };
-        if (kept.n) h->scheme->emit(h, L, kept.d, kept.n, resynth_sink, &c);
-        extra = c.lost;
-        /* A vertex not found on its frame cell: every dart of the kept
-         * faces seeds the next level, with one more ring. */
-        if (c.lost) {
-            next.n = 0;
-            for (uint32_t i = 0; i < kept.n; i++) {
-                uint32_t x = kept.d[i];
-                do { st_dart_list_push(&next, x); x = st_phi1(m, x, L - 1); } while (x != kept.d[i]);
-            }
-        }
-        st_dart_list t = seeds;
-        seeds = next;
-        next = t;
-    }
-    st_dart_list_free(&seeds);
-    st_dart_list_free(&next);
-    st_dart_list_free(&faces);
-    st_dart_list_free(&kept);
+    around_ctx a = { .h = h, .fp = fp };
+    st_hier_levels_up(h, from, &seeds, around_step, &a);
+    st_dart_list_free(&a.faces);
+    st_dart_list_free(&a.kept);
 }

@@ -290,10 +290,9 @@ int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *
         free(uv);
         return st_fail(err, ST_ERR_MEMORY, "out of memory for the adaptive mesh's texture coordinates");
     }
-    /* The face walk of st_map_to_mesh (core/map/map_mesh.c): φ1 orbits, or
-     * β1 orbits in Doo-Sabin's dual encoding (no holes: adaptive Doo-Sabin
-     * refuses open meshes). */
-    int dual = m->face_embedded, fbit = st_marker_reserve(m);
+    /* The face walk of st_map_to_mesh (core/map/map_mesh.c): st_face_step
+     * (no holes: adaptive Doo-Sabin refuses open meshes). */
+    int fbit = st_marker_reserve(m);
     uint32_t c = 0;
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, top, &it); d != ST_NIL && c < nc; d = st_dart_next(m, top, &it)) {
@@ -303,14 +302,14 @@ int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *
         do {
             uint64_t s = scan_key(m, u, x);
             face = s < face ? s : face;
-            x = dual ? st_beta1(m, x, top) : st_phi1(m, x, top);
+            x = st_face_step(m, x, top);
         } while (x != d);
         do {
             st_mark(m, fbit, x);
             darts[c] = x;
             k[c] = (st_fvar_corner_key){ out->face_idx[c], x < u->cap ? u->level[x] : 0, x < u->cap ? u->val[x] : 0, c, face };
             c++;
-            x = dual ? st_beta1(m, x, top) : st_phi1(m, x, top);
+            x = st_face_step(m, x, top);
         } while (x != d && c < nc);
     }
     st_marker_release(m, fbit, top);

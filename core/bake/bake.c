@@ -616,7 +616,7 @@ int st_bake(st_hier *h, const st_bake_uvs *uvs, const st_bake_opts *o, st_bake_m
     count_faces(&c, nf);
     for (uint32_t f = 0; f < nf; f++) {
         uint32_t x = darts[f];
-        for (uint32_t k = uvs->corner_off[f]; k < uvs->corner_off[f + 1]; k++, x = st_bake_face_next(m, x, o->base))
+        for (uint32_t k = uvs->corner_off[f]; k < uvs->corner_off[f + 1]; k++, x = st_face_step(m, x, o->base))
             cvert[k] = st_vert(m, x, o->base);
     }
     c.corner_tangent = ctan;

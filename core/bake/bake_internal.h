@@ -8,16 +8,10 @@
 
 #include "core/bake/bake.h"
 
-/* The surface's faces whichever the encoding: φ1 orbits, or β1 orbits in
- * Doo-Sabin's dual encoding (st_map.face_embedded; scheme_doosabin.c), so
- * that layouts and tangents follow st_hier_level_mesh's faces. */
-static inline uint32_t st_bake_face_next(const st_map *m, uint32_t d, unsigned l)
-{
-    return m->face_embedded ? st_beta1(m, d, l) : st_phi1(m, d, l);
-}
+/* The bake walks the surface's faces whichever the encoding (st_face_step,
+ * core/map/map.h), so that layouts and tangents follow st_hier_level_mesh's
+ * faces; their Newell vectors are st_face_newell's. */
 unsigned st_bake_face_degree(const st_map *m, uint32_t d, unsigned l);
-/* The Newell vector of the surface face of d (twice its area times its normal). */
-void st_bake_face_newell(const st_map *m, uint32_t d, unsigned l, double n[3]);
 
 /* First dart of every real face of level l, in st_map_to_mesh's order. */
 int st_bake_level_faces(st_map *m, unsigned l, uint32_t **darts, uint32_t *n, st_error *err);

@@ -18,7 +18,7 @@ static int face_leader(const st_map *m, uint32_t d, unsigned l, unsigned *deg)
     do {
         lead &= x >= d;
         k++;
-        x = st_bake_face_next(m, x, l);
+        x = st_face_step(m, x, l);
     } while (x != d && k < 1u << 20);
     *deg = k;
     return lead;
@@ -194,14 +194,14 @@ static uint32_t fill_triangles(st_bake_bvh *b, st_map *m, unsigned l, const uint
     for (uint32_t f = 0; f < nf; f++) {
         if (!m->face_embedded && st_is_hole(m, darts[f])) continue;
         uint32_t d = darts[f], v0 = st_vert(m, d, l);
-        uint32_t x = st_bake_face_next(m, d, l), y = st_bake_face_next(m, x, l);
+        uint32_t x = st_face_step(m, d, l), y = st_face_step(m, x, l);
         while (y != d) {
             uint32_t *tv = b->tri_vert + 3 * (size_t)t++;
             tv[0] = v0;
             tv[1] = st_vert(m, x, l);
             tv[2] = st_vert(m, y, l);
             x = y;
-            y = st_bake_face_next(m, y, l);
+            y = st_face_step(m, y, l);
         }
     }
     return t;

@@ -49,9 +49,9 @@ static void any_orthogonal(const double *n, double *t)
 static unsigned face_plane_coords(const st_map *m, uint32_t d, unsigned l, double *xy)
 {
     double n[3], a[3];
-    st_bake_face_newell(m, d, l, n);
+    st_face_newell(m, d, l, n);
     if (!normalize3(n)) { n[0] = n[1] = 0; n[2] = 1; }
-    const double *p0 = st_dart_pos(m, d, l), *p1 = st_dart_pos(m, st_bake_face_next(m, d, l), l);
+    const double *p0 = st_dart_pos(m, d, l), *p1 = st_dart_pos(m, st_face_step(m, d, l), l);
     for (int k = 0; k < 3; k++) a[k] = p1[k] - p0[k];
     double dn = dot3(a, n);
     for (int k = 0; k < 3; k++) a[k] -= dn * n[k];
@@ -66,7 +66,7 @@ static unsigned face_plane_coords(const st_map *m, uint32_t d, unsigned l, doubl
         xy[2 * k] = dot3(r, a);
         xy[2 * k + 1] = dot3(r, b);
         k++;
-        x = st_bake_face_next(m, x, l);
+        x = st_face_step(m, x, l);
     } while (x != d);
     return k;
 }
@@ -203,7 +203,7 @@ int st_bake_level_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err
             out->uv[2 * (size_t)k] = uv[2 * (size_t)d];
             out->uv[2 * (size_t)k + 1] = uv[2 * (size_t)d + 1];
             k++;
-            d = st_bake_face_next(m, d, l);
+            d = st_face_step(m, d, l);
         } while (d != darts[f]);
     }
     free(darts);
@@ -297,7 +297,7 @@ int st_bake_tangents(st_hier *h, unsigned l, const st_bake_uvs *uvs, double *tan
         uint32_t a = uvs->corner_off[f], n = uvs->corner_off[f + 1] - a;
         int side = uv_side(uvs->uv + 2 * (size_t)a, n);
         uint32_t x = darts[f];
-        for (uint32_t c = 0; c < n; c++, x = st_bake_face_next(m, x, l)) {
+        for (uint32_t c = 0; c < n; c++, x = st_face_step(m, x, l)) {
             vert[a + c] = st_vert(m, x, l);
             corner_key k = { vert[a + c], side, uvs->uv[2 * ((size_t)a + c)], uvs->uv[2 * ((size_t)a + c) + 1], a + c };
             keys[a + c] = k;

@@ -11,20 +11,8 @@ unsigned st_bake_face_degree(const st_map *m, uint32_t d, unsigned l)
 {
     unsigned k = 0;
     uint32_t x = d;
-    do { k++; x = st_bake_face_next(m, x, l); } while (x != d);
+    do { k++; x = st_face_step(m, x, l); } while (x != d);
     return k;
-}
-
-void st_bake_face_newell(const st_map *m, uint32_t d, unsigned l, double n[3])
-{
-    if (!m->face_embedded) { st_face_newell(m, d, l, n); return; }
-    n[0] = n[1] = n[2] = 0;
-    uint32_t x = d;
-    do {
-        uint32_t y = st_bake_face_next(m, x, l);
-        st_newell_add(n, st_dart_pos(m, x, l), st_dart_pos(m, y, l));
-        x = y;
-    } while (x != d);
 }
 
 /* The dual encoding's faces as core/map/map_mesh.c lists them: every β1
@@ -91,7 +79,7 @@ int st_bake_vertex_normals(const st_map *m, unsigned l, double **out, st_error *
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
         if (st_is_boundary(m, d)) continue;
         double f[3];
-        st_bake_face_newell(m, d, l, f);
+        st_face_newell(m, d, l, f);
         double *t = n + 3 * (size_t)st_vert(m, d, l);
         for (int k = 0; k < 3; k++) t[k] += f[k];
     }

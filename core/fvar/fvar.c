@@ -104,12 +104,10 @@ void st_fvar_free(st_hier *h)
  * vertex a φ1 orbit (scheme_doosabin.c): the corner is still one dart. */
 static uint32_t corner_dart(const st_map *m, uint32_t start, uint32_t w)
 {
-    int dual = m->face_embedded;
     uint32_t x = start;
     do {
-        uint32_t next = dual ? st_beta1(m, x, 0) : st_phi1(m, x, 0);
-        if (!st_is_boundary(m, x) && st_vert(m, next, 0) == w) return x;
-        x = dual ? st_phi1(m, x, 0) : st_beta1(m, x, 0);
+        if (!st_is_boundary(m, x) && st_vert(m, st_face_step(m, x, 0), 0) == w) return x;
+        x = st_vertex_step(m, x, 0);
     } while (x != start);
     return ST_NIL;
 }
@@ -346,7 +344,7 @@ static uint32_t level_corners(st_map *m, unsigned l, uint32_t *darts, uint32_t n
             st_mark(m, fbit, x);
             if (st_is_boundary(m, x)) real = 0;
             else if (c < nc) darts[c++] = x;
-            x = dual ? st_beta1(m, x, l) : st_phi1(m, x, l);
+            x = st_face_step(m, x, l);
         } while (x != d);
         if (dual && (!real || c - start < 3)) c = start;
     }

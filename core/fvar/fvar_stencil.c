@@ -68,25 +68,13 @@ typedef struct stencil_uv {
     int failed;
 } stencil_uv;
 
-/* The surface's face orbit: φ1, or β1 in the dual encoding. */
-static uint32_t face_next(const st_map *m, uint32_t d, unsigned l)
-{
-    return m->face_embedded ? st_beta1(m, d, l) : st_phi1(m, d, l);
-}
-
-/* The surface's vertex orbit (around vert(d)): β1, or φ1 in the dual encoding. */
-static uint32_t vertex_next(const st_map *m, uint32_t d, unsigned l)
-{
-    return m->face_embedded ? st_phi1(m, d, l) : st_beta1(m, d, l);
-}
-
 /* The corner of face f (a dart of level l) at vertex v, or ST_NIL. */
 static uint32_t corner_at(const stencil_uv *s, uint32_t f, uint32_t v)
 {
     uint32_t x = f;
     do {
         if (st_vert(s->m, x, s->l) == v) return x;
-        x = face_next(s->m, x, s->l);
+        x = st_face_step(s->m, x, s->l);
     } while (x != f);
     return ST_NIL;
 }
@@ -225,7 +213,7 @@ static int continuous(const stencil_uv *s, uint32_t a, uint32_t b)
             if (s->val[x] != s->val[y]) return 0;
             shared++;
         }
-        x = face_next(s->m, x, s->l);
+        x = st_face_step(s->m, x, s->l);
     } while (x != a);
     return shared > 0;
 }
@@ -286,7 +274,7 @@ static void faces_of_level(stencil_uv *s)
             if (m->darts.ins[x] < L && (home == ST_NIL || dart_before(s, s->face[x], home))) home = s->face[x];
             if (s->kind[v] == V_SOURCED && (source == ST_NIL || dart_before(s, s->src_face[v], source)))
                 source = s->src_face[v];
-            x = face_next(m, x, L);
+            x = st_face_step(m, x, L);
         } while (x != d);
         if (home == ST_NIL) home = source;
         do {
@@ -296,7 +284,7 @@ static void faces_of_level(stencil_uv *s)
             } else if (m->face_embedded && m->darts.ins[x] == L) {
                 border_corner(s, x, home);
             }
-            x = face_next(m, x, L);
+            x = st_face_step(m, x, L);
         } while (x != d);
     }
     st_marker_release(m, fb, L);
@@ -313,11 +301,11 @@ static void label_level(stencil_uv *s, uint32_t *label)
         if (st_is_boundary(m, d)) continue;
         if (s->adaptive && s->kind[st_vert(m, d, L)] == V_UNSEEN) continue;
         const double *p = s->out + 2 * (size_t)d;
-        uint32_t best = d, y = vertex_next(m, d, L);
+        uint32_t best = d, y = st_vertex_step(m, d, L);
         while (y != d) {
             const double *q = s->out + 2 * (size_t)y;
             if (!st_is_boundary(m, y) && y < best && !memcmp(p, q, 2 * sizeof *p)) best = y;
-            y = vertex_next(m, y, L);
+            y = st_vertex_step(m, y, L);
         }
         label[d] = best;
     }
@@ -345,11 +333,11 @@ static void classify_level(stencil_uv *s)
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
         if (st_is_boundary(m, d) || st_marked(m, fb, d)) continue;
         /* the face's id: the dart a regular level's scan meets first */
-        uint32_t id = d, x = face_next(m, d, l);
-        for (; s->rank && x != d; x = face_next(m, x, l))
+        uint32_t id = d, x = st_face_step(m, d, l);
+        for (; s->rank && x != d; x = st_face_step(m, x, l))
             if (dart_before(s, x, id)) id = x;
         x = d;
-        do { st_mark(m, fb, x); s->face[x] = id; x = face_next(m, x, l); } while (x != d);
+        do { st_mark(m, fb, x); s->face[x] = id; x = st_face_step(m, x, l); } while (x != d);
     }
     st_marker_release(m, fb, l);
 }

@@ -580,9 +580,3 @@ fail:
     st_map_free(m);
     return -1;
 }
-
-void st_map_move(st_map *dst, st_map *src)
-{
-    *dst = *src;
-    st_map_init(src);
-}

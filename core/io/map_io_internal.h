@@ -123,8 +123,4 @@ int st_mla_read(st_br *r, st_mla *a, const st_pool *p, unsigned top, uint32_t el
 int st_value_finite_f64x3(const void *v);
 int st_value_sharpness_f32(const void *v);
 
-/* Moves a map (and nothing attached to it: the caller re-points
- * dart_attrs / vert_attrs).  src is left empty. */
-void st_map_move(st_map *dst, st_map *src);
-
 #endif

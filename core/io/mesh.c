@@ -379,3 +379,48 @@ void *st_mesh_grow(void *p, size_t *cap, size_t need, size_t elem)
     if (q) *cap = n;
     return q;
 }
+
+int st_mesh_build_reserve(st_mesh_build *b, size_t need)
+{
+    if (need <= b->cap_tmp) return ST_OK;
+    size_t cap = b->cap_tmp, cap2 = b->cap_tmp;
+    uint32_t *t = st_mesh_grow(b->tmp, &cap, need, sizeof *t);
+    if (!t) return ST_ERR_MEMORY;
+    b->tmp = t;
+    uint32_t *s = st_mesh_grow(b->scratch, &cap2, need, sizeof *s);
+    if (!s) return ST_ERR_MEMORY;
+    b->scratch = s;
+    b->cap_tmp = cap < cap2 ? cap : cap2;
+    return ST_OK;
+}
+
+int st_mesh_build_face(st_mesh_build *b, uint32_t f, uint32_t n, uint64_t loc)
+{
+    uint32_t nc = b->m.face_off[f];
+    if ((uint64_t)nc + n > UINT32_MAX) return ST_ERR_RANGE;
+    uint32_t *idx = st_mesh_grow(b->m.face_idx, &b->cap_idx, (size_t)nc + n, sizeof *idx);
+    if (!idx) return ST_ERR_MEMORY;
+    b->m.face_idx = idx;
+    memcpy(idx + nc, b->tmp, (size_t)n * sizeof *idx);
+    b->m.face_off[f + 1] = nc + n;
+    if (b->face_loc) b->face_loc[f] = loc;
+    return ST_OK;
+}
+
+int st_mesh_build_end(st_mesh_build *b, int rc, st_mesh *out, st_mesh_src *src, int binary, int index_base)
+{
+    if (!rc) {
+        if (src) {
+            src->face_loc = b->face_loc;
+            src->binary = binary;
+            src->index_base = index_base;
+            b->face_loc = NULL;
+        }
+        st_mesh_move(out, &b->m);
+    }
+    free(b->face_loc);
+    free(b->tmp);
+    free(b->scratch);
+    st_mesh_free(&b->m);
+    return rc;
+}

@@ -61,4 +61,27 @@ int st_mesh_fail_at(st_error *err, int code, const char *name, int binary, uint6
  * geometrically; returns the (new) array, or NULL with p still valid. */
 void *st_mesh_grow(void *p, size_t *cap, size_t need, size_t elem);
 
+/* What every reader (OBJ, OFF, PLY) builds: the mesh, where its faces came
+ * from, and one face's corners while they are checked. */
+typedef struct st_mesh_build {
+    st_mesh m;              /* result under construction */
+    size_t cap_idx;         /* capacity of m.face_idx */
+    uint64_t *face_loc;     /* per face: line (text) or byte offset (binary); OBJ: NULL unless asked */
+    uint32_t *tmp;          /* one face's corners (OBJ: or one tag's integers) */
+    uint32_t *scratch;      /* for st_mesh_face_repeat, same capacity as tmp */
+    size_t cap_tmp;
+} st_mesh_build;
+/* Room for need values in tmp and scratch: ST_OK, or ST_ERR_MEMORY (the
+ * caller words the message). */
+int st_mesh_build_reserve(st_mesh_build *b, size_t need);
+/* Appends tmp[0..n) as the corners of face f (face_off[f] set already),
+ * sets face_off[f + 1] and, when face_loc is kept, face_loc[f] = loc.
+ * ST_OK, ST_ERR_RANGE (more than 2^32 corners) or ST_ERR_MEMORY (nothing
+ * appended); the caller words the message. */
+int st_mesh_build_face(st_mesh_build *b, uint32_t f, uint32_t n, uint64_t loc);
+/* Ends a parse that returned rc: when rc is ST_OK, moves the mesh into out
+ * and the face locations into src (may be NULL) as binary / index_base
+ * describe them; frees the rest either way.  Returns rc. */
+int st_mesh_build_end(st_mesh_build *b, int rc, st_mesh *out, st_mesh_src *src, int binary, int index_base);
+
 #endif

@@ -50,13 +50,8 @@ typedef struct obj_reader {
     uint32_t nvt_total;     /* `vt` lines in the whole file (first pass) */
     int faces_without_uv;   /* some face gave no t index: the channel is dropped */
     size_t cap_uv, cap_face_uv;
-    st_mesh m;              /* result under construction */
-    size_t cap_idx;         /* capacity of m.face_idx */
+    st_mesh_build b;        /* result under construction; face_loc: line of each face */
     size_t cap_crease, cap_corner;
-    uint64_t *face_loc;     /* nf_total entries: line of each face */
-    uint32_t *tmp;          /* one face's corners or one tag's integers */
-    size_t cap_tmp;
-    uint32_t *scratch;      /* for st_mesh_face_repeat, same capacity as tmp */
 } obj_reader;
 
 /* Fails naming the current line. */
@@ -79,16 +74,7 @@ static int token_is(const char *tok, size_t len, const char *word)
 
 static int ensure_tmp(obj_reader *r, size_t need)
 {
-    if (need <= r->cap_tmp) return 0;
-    size_t cap = r->cap_tmp, cap2 = r->cap_tmp;
-    uint32_t *t = st_mesh_grow(r->tmp, &cap, need, sizeof *t);
-    if (!t) return FAIL(r, ST_ERR_MEMORY, "out of memory");
-    r->tmp = t;
-    uint32_t *s = st_mesh_grow(r->scratch, &cap2, need, sizeof *s);
-    if (!s) return FAIL(r, ST_ERR_MEMORY, "out of memory");
-    r->scratch = s;
-    r->cap_tmp = cap < cap2 ? cap : cap2;
-    return 0;
+    return st_mesh_build_reserve(&r->b, need) ? FAIL(r, ST_ERR_MEMORY, "out of memory") : 0;
 }
 
 /* ---- first pass ------------------------------------------------------------ */
@@ -135,7 +121,7 @@ static int count_records(obj_reader *r, const char *data, size_t size)
 
 static int parse_vertex(obj_reader *r)
 {
-    double *xyz = r->m.pos + 3 * (size_t)r->m.nverts;
+    double *xyz = r->b.m.pos + 3 * (size_t)r->b.m.nverts;
     for (int k = 0; k < 3; k++) {
         const char *tok;
         size_t len;
@@ -149,18 +135,18 @@ static int parse_vertex(obj_reader *r)
                         st_text_quote(q, sizeof q, tok, len));
     }
     /* Further values (w, or the r g b of some exporters) are ignored. */
-    r->m.nverts++;
+    r->b.m.nverts++;
     return 0;
 }
 
 /* `vt u v [w]`: the first two numbers. */
 static int parse_texcoord(obj_reader *r)
 {
-    if (r->m.nuvs >= r->nvt_total) return FAIL(r, ST_ERR_RANGE, "too many texture coordinates");
-    double *uv = st_mesh_grow(r->m.uv, &r->cap_uv, 2 * ((size_t)r->m.nuvs + 1), sizeof *uv);
+    if (r->b.m.nuvs >= r->nvt_total) return FAIL(r, ST_ERR_RANGE, "too many texture coordinates");
+    double *uv = st_mesh_grow(r->b.m.uv, &r->cap_uv, 2 * ((size_t)r->b.m.nuvs + 1), sizeof *uv);
     if (!uv) return FAIL(r, ST_ERR_MEMORY, "out of memory for texture coordinates");
-    r->m.uv = uv;
-    uv += 2 * (size_t)r->m.nuvs;
+    r->b.m.uv = uv;
+    uv += 2 * (size_t)r->b.m.nuvs;
     for (int k = 0; k < 2; k++) {
         const char *tok;
         size_t len;
@@ -174,7 +160,7 @@ static int parse_texcoord(obj_reader *r)
         if (!isfinite(uv[k]))
             return FAIL(r, ST_ERR_GEOMETRY, "non-finite texture coordinate '%s'", st_text_quote(q, sizeof q, tok, len));
     }
-    r->m.nuvs++;
+    r->b.m.nuvs++;
     return 0;
 }
 
@@ -190,10 +176,10 @@ static int parse_corner_uv(obj_reader *r, const char *tok, size_t len, const cha
     if (i > 0 && (uint64_t)i > r->nvt_total)
         return FAIL(r, ST_ERR_RANGE, "face references texture coordinate %lld but the file has %u",
                     (long long)i, r->nvt_total);
-    if (i < 0 && -i > (int64_t)r->m.nuvs)
+    if (i < 0 && -i > (int64_t)r->b.m.nuvs)
         return FAIL(r, ST_ERR_RANGE, "relative texture coordinate index %lld reaches before the first one "
-                    "(%u defined so far)", (long long)i, r->m.nuvs);
-    *t = i > 0 ? (uint32_t)(i - 1) : (uint32_t)((int64_t)r->m.nuvs + i);
+                    "(%u defined so far)", (long long)i, r->b.m.nuvs);
+    *t = i > 0 ? (uint32_t)(i - 1) : (uint32_t)((int64_t)r->b.m.nuvs + i);
     return 0;
 }
 
@@ -225,29 +211,29 @@ static int parse_corner(obj_reader *r, const char *tok, size_t len, uint32_t *v,
     if (i > 0 && (uint64_t)i > r->nv_total)
         return FAIL(r, ST_ERR_RANGE, "face references vertex %lld but the file has %u vertices",
                     (long long)i, r->nv_total);
-    if (i < 0 && -i > (int64_t)r->m.nverts)
+    if (i < 0 && -i > (int64_t)r->b.m.nverts)
         return FAIL(r, ST_ERR_RANGE, "relative index %lld reaches before the first vertex "
-                    "(%u vertices defined so far)", (long long)i, r->m.nverts);
-    *v = i > 0 ? (uint32_t)(i - 1) : (uint32_t)((int64_t)r->m.nverts + i);
+                    "(%u vertices defined so far)", (long long)i, r->b.m.nverts);
+    *v = i > 0 ? (uint32_t)(i - 1) : (uint32_t)((int64_t)r->b.m.nverts + i);
     return 0;
 }
 
-/* The face's texture coordinate indices (r->scratch[0..n)) into m.face_uv,
+/* The face's texture coordinate indices (r->b.scratch[0..n)) into m.face_uv,
  * parallel to face_idx; a face without them drops the channel. */
 static int store_face_uv(obj_reader *r, uint32_t nc, uint32_t n, int with_uv)
 {
     if (!with_uv) r->faces_without_uv = 1;
     if (r->faces_without_uv || r->nvt_total == 0) return 0;
-    uint32_t *fu = st_mesh_grow(r->m.face_uv, &r->cap_face_uv, (size_t)nc + n, sizeof *fu);
+    uint32_t *fu = st_mesh_grow(r->b.m.face_uv, &r->cap_face_uv, (size_t)nc + n, sizeof *fu);
     if (!fu) return FAIL(r, ST_ERR_MEMORY, "out of memory for %u face corners", nc + n);
-    r->m.face_uv = fu;
-    memcpy(fu + nc, r->scratch, (size_t)n * sizeof *fu);
+    r->b.m.face_uv = fu;
+    memcpy(fu + nc, r->b.scratch, (size_t)n * sizeof *fu);
     return 0;
 }
 
 static int parse_face(obj_reader *r)
 {
-    st_mesh *m = &r->m;
+    st_mesh *m = &r->b.m;
     const char *tok;
     size_t len;
     uint32_t n = 0, with_uv = 0;
@@ -256,9 +242,9 @@ static int parse_face(obj_reader *r)
             return FAIL(r, ST_ERR_RANGE, "face has more than %u vertices", ST_MESH_MAX_DEGREE);
         int rc = ensure_tmp(r, (size_t)n + 1);
         uint32_t t = UINT32_MAX;
-        if (!rc) rc = parse_corner(r, tok, len, &r->tmp[n], &t);
+        if (!rc) rc = parse_corner(r, tok, len, &r->b.tmp[n], &t);
         if (rc) return rc;
-        r->scratch[n] = t;  /* kept until the repeat check below reuses scratch */
+        r->b.scratch[n] = t;  /* kept until the repeat check below reuses scratch */
         with_uv += t != UINT32_MAX;
         n++;
     }
@@ -267,18 +253,13 @@ static int parse_face(obj_reader *r)
     int urc = store_face_uv(r, m->face_off[m->nfaces], n, with_uv != 0);
     if (urc) return urc;
     if (n < 3) return FAIL(r, ST_ERR_TOPOLOGY, "face has %u vertices; a face needs at least 3", n);
-    uint32_t dup = st_mesh_face_repeat(r->tmp, n, r->scratch);
+    uint32_t dup = st_mesh_face_repeat(r->b.tmp, n, r->b.scratch);
     if (dup != UINT32_MAX)
         return FAIL(r, ST_ERR_TOPOLOGY, "face uses vertex %u more than once", dup + 1);
-    uint32_t nc = m->face_off[m->nfaces];
-    if ((uint64_t)nc + n > UINT32_MAX || m->nfaces >= r->nf_total)
-        return FAIL(r, ST_ERR_RANGE, "too many face corners");
-    uint32_t *idx = st_mesh_grow(m->face_idx, &r->cap_idx, (size_t)nc + n, sizeof *idx);
-    if (!idx) return FAIL(r, ST_ERR_MEMORY, "out of memory for %u face corners", nc + n);
-    m->face_idx = idx;
-    memcpy(idx + nc, r->tmp, (size_t)n * sizeof *idx);
-    if (r->face_loc) r->face_loc[m->nfaces] = r->line;
-    m->face_off[++m->nfaces] = nc + n;
+    int frc = m->nfaces >= r->nf_total ? ST_ERR_RANGE : st_mesh_build_face(&r->b, m->nfaces, n, r->line);
+    if (frc == ST_ERR_RANGE) return FAIL(r, ST_ERR_RANGE, "too many face corners");
+    if (frc) return FAIL(r, ST_ERR_MEMORY, "out of memory for %u face corners", m->face_off[m->nfaces] + n);
+    m->nfaces++;
     return 0;
 }
 
@@ -351,7 +332,7 @@ static int check_tag_shape(obj_reader *r, const tag_head *h)
     return 0;
 }
 
-/* Reads the integers of a tag into r->tmp, range-checked for its kind. */
+/* Reads the integers of a tag into r->b.tmp, range-checked for its kind. */
 static int read_tag_ints(obj_reader *r, const tag_head *h)
 {
     int rc = ensure_tmp(r, (size_t)h->nint);
@@ -378,10 +359,10 @@ static int read_tag_ints(obj_reader *r, const tag_head *h)
             return FAIL(r, ST_ERR_RANGE, "tag references vertex %lld but the file has %u vertices "
                         "(tag indices start at 0)", (long long)v, r->nv_total);
         }
-        if (h->kind == TAG_CREASE && i % 2 && r->tmp[i - 1] == (uint32_t)v)
+        if (h->kind == TAG_CREASE && i % 2 && r->b.tmp[i - 1] == (uint32_t)v)
             return FAIL(r, ST_ERR_TOPOLOGY, "crease tag pairs vertex %lld with itself (pair %lld)",
                         (long long)v, (long long)(i / 2 + 1));
-        r->tmp[i] = (uint32_t)v;
+        r->b.tmp[i] = (uint32_t)v;
     }
     return 0;
 }
@@ -402,7 +383,7 @@ static int read_sharpness(obj_reader *r, float *s)
 
 static int push_crease(obj_reader *r, uint32_t a, uint32_t b, float s)
 {
-    st_mesh *m = &r->m;
+    st_mesh *m = &r->b.m;
     size_t cap_s = r->cap_crease, cap_v = r->cap_crease * 2;
     float *cs = st_mesh_grow(m->crease_s, &cap_s, (size_t)m->ncreases + 1, sizeof *cs);
     if (cs) m->crease_s = cs;
@@ -418,7 +399,7 @@ static int push_crease(obj_reader *r, uint32_t a, uint32_t b, float s)
 
 static int push_corner(obj_reader *r, uint32_t v, float s)
 {
-    st_mesh *m = &r->m;
+    st_mesh *m = &r->b.m;
     size_t cap_s = r->cap_corner, cap_v = r->cap_corner;
     float *cs = st_mesh_grow(m->corner_s, &cap_s, (size_t)m->ncorners + 1, sizeof *cs);
     if (cs) m->corner_s = cs;
@@ -443,8 +424,8 @@ static int apply_tag_floats(obj_reader *r, const tag_head *h)
     for (int64_t j = 0; j < items; j++) {
         int rc = 0;
         if (j == 0 || h->nfloat > 1) rc = read_sharpness(r, &s);
-        if (!rc && h->kind == TAG_CREASE) rc = push_crease(r, r->tmp[2 * j], r->tmp[2 * j + 1], s);
-        if (!rc && h->kind == TAG_CORNER) rc = push_corner(r, r->tmp[j], s);
+        if (!rc && h->kind == TAG_CREASE) rc = push_crease(r, r->b.tmp[2 * j], r->b.tmp[2 * j + 1], s);
+        if (!rc && h->kind == TAG_CORNER) rc = push_corner(r, r->b.tmp[j], s);
         if (rc) return rc;
     }
     return 0;
@@ -457,7 +438,7 @@ static int check_tag_string(obj_reader *r, const tag_head *h, const char *tok, s
     char q[48];
     int creasing = h->kind == TAG_CREASEMETHOD;
     const char *ours = creasing ? "normal" : "catmark", *other = creasing ? "chaikin" : "smooth";
-    int *field = creasing ? &r->m.crease_method : &r->m.tri_sub;
+    int *field = creasing ? &r->b.m.crease_method : &r->b.m.tri_sub;
     if (token_is(tok, len, ours)) {
         *field = 0;
         return 0;
@@ -482,13 +463,13 @@ static int parse_tag(obj_reader *r)
     if (!rc) rc = check_tag_shape(r, &h);
     if (!rc) rc = read_tag_ints(r, &h);
     if (rc) return rc;
-    if (h.kind == TAG_INTERP) r->m.boundary_interp = (int)r->tmp[0];
+    if (h.kind == TAG_INTERP) r->b.m.boundary_interp = (int)r->b.tmp[0];
     if (h.kind == TAG_HOLE) {
         /* Flags for the faces of the whole file (a tag may name a face
          * defined further down). */
-        if (!r->m.face_hole) r->m.face_hole = calloc(r->nf_total ? r->nf_total : 1, 1);
-        if (!r->m.face_hole) return FAIL(r, ST_ERR_MEMORY, "out of memory for hole tags");
-        for (int64_t j = 0; j < h.nint; j++) r->m.face_hole[r->tmp[j]] = 1;
+        if (!r->b.m.face_hole) r->b.m.face_hole = calloc(r->nf_total ? r->nf_total : 1, 1);
+        if (!r->b.m.face_hole) return FAIL(r, ST_ERR_MEMORY, "out of memory for hole tags");
+        for (int64_t j = 0; j < h.nint; j++) r->b.m.face_hole[r->b.tmp[j]] = 1;
     }
     if (h.kind == TAG_CREASE || h.kind == TAG_CORNER) {
         rc = apply_tag_floats(r, &h);
@@ -512,21 +493,21 @@ static int parse_tag(obj_reader *r)
 
 static int grow_vertex(obj_reader *r, size_t *cap)
 {
-    double *p = st_mesh_grow(r->m.pos, cap, 3 * ((size_t)r->m.nverts + 1), sizeof *p);
+    double *p = st_mesh_grow(r->b.m.pos, cap, 3 * ((size_t)r->b.m.nverts + 1), sizeof *p);
     if (!p) return FAIL(r, ST_ERR_MEMORY, "out of memory for vertices");
-    r->m.pos = p;
+    r->b.m.pos = p;
     return 0;
 }
 
 static int grow_face(obj_reader *r, size_t *cap, size_t *cap_loc)
 {
-    uint32_t *off = st_mesh_grow(r->m.face_off, cap, (size_t)r->m.nfaces + 2, sizeof *off);
+    uint32_t *off = st_mesh_grow(r->b.m.face_off, cap, (size_t)r->b.m.nfaces + 2, sizeof *off);
     if (!off) return FAIL(r, ST_ERR_MEMORY, "out of memory for faces");
-    r->m.face_off = off;
+    r->b.m.face_off = off;
     if (!cap_loc) return 0;
-    uint64_t *loc = st_mesh_grow(r->face_loc, cap_loc, (size_t)r->m.nfaces + 1, sizeof *loc);
+    uint64_t *loc = st_mesh_grow(r->b.face_loc, cap_loc, (size_t)r->b.m.nfaces + 1, sizeof *loc);
     if (!loc) return FAIL(r, ST_ERR_MEMORY, "out of memory for faces");
-    r->face_loc = loc;
+    r->b.face_loc = loc;
     return 0;
 }
 
@@ -536,7 +517,7 @@ static int parse_line(obj_reader *r, size_t *cap_pos, size_t *cap_off, size_t *c
     size_t len;
     if (!next_token(r, &tok, &len)) return 0;
     if (token_is(tok, len, "v")) {
-        if (r->m.nverts >= r->nv_total) return FAIL(r, ST_ERR_RANGE, "too many vertices");
+        if (r->b.m.nverts >= r->nv_total) return FAIL(r, ST_ERR_RANGE, "too many vertices");
         int rc = grow_vertex(r, cap_pos);
         return rc ? rc : parse_vertex(r);
     }
@@ -554,7 +535,7 @@ static int parse_lines(obj_reader *r, const char *data, size_t size, int want_lo
     size_t cap_pos = 0, cap_off = 0, cap_loc = 0;
     int rc = grow_face(r, &cap_off, want_loc ? &cap_loc : NULL);
     if (rc) return rc;
-    r->m.face_off[0] = 0;
+    r->b.m.face_off[0] = 0;
     const char *p = data, *end = data + size;
     while (p < end && !rc) {
         const char *le = memchr(p, '\n', (size_t)(end - p));
@@ -575,31 +556,18 @@ int st_mesh_parse_obj_src(const char *name, const char *data, size_t size,
     memset(&r, 0, sizeof r);
     r.name = name;
     r.err = err;
-    st_mesh_init(&r.m);
+    st_mesh_init(&r.b.m);
     if (size == 0) return st_fail(err, ST_ERR_PARSE, "%s: empty file", name);
     int rc = count_records(&r, data, size);
     if (!rc && r.nf_total == 0) rc = st_fail(err, ST_ERR_TOPOLOGY, "%s: no faces (no 'f' lines)", name);
     if (!rc) rc = parse_lines(&r, data, size, src != NULL);
-    if (!rc && (r.faces_without_uv || !r.m.face_uv)) {
+    if (!rc && (r.faces_without_uv || !r.b.m.face_uv)) {
         /* No face, or not every face, names texture coordinates: no channel. */
-        free(r.m.uv);
-        free(r.m.face_uv);
-        r.m.uv = NULL;
-        r.m.face_uv = NULL;
-        r.m.nuvs = 0;
+        free(r.b.m.uv);
+        free(r.b.m.face_uv);
+        r.b.m.uv = NULL;
+        r.b.m.face_uv = NULL;
+        r.b.m.nuvs = 0;
     }
-    if (!rc) {
-        if (src) {
-            src->face_loc = r.face_loc;
-            src->binary = 0;
-            src->index_base = 1;
-            r.face_loc = NULL;
-        }
-        st_mesh_move(out, &r.m);
-    }
-    free(r.face_loc);
-    free(r.tmp);
-    free(r.scratch);
-    st_mesh_free(&r.m);
-    return rc;
+    return st_mesh_build_end(&r.b, rc, out, src, 0, 1);
 }

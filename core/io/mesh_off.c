@@ -25,11 +25,7 @@ typedef struct off_reader {
     const char *p, *end;    /* unread part of the file */
     uint64_t line;          /* line of the current record */
     const char *q, *le;     /* token cursor and end of the current line */
-    st_mesh m;
-    size_t cap_idx;
-    uint64_t *face_loc;     /* nfaces entries or NULL */
-    uint32_t *tmp, *scratch;
-    size_t cap_tmp;
+    st_mesh_build b;        /* result under construction; face_loc: line of each face */
 } off_reader;
 
 #define FAIL(r, code, ...) st_mesh_fail_at((r)->err, (code), (r)->name, 0, (r)->line, __VA_ARGS__)
@@ -120,22 +116,22 @@ static int parse_counts(off_reader *r)
     if (need > (uint64_t)(r->end - r->p))
         return FAIL(r, ST_ERR_RANGE, "header announces %lld vertices and %lld faces but only "
                     "%zu bytes follow", (long long)nv, (long long)nf, (size_t)(r->end - r->p));
-    r->m.pos = malloc(3 * (size_t)nv * sizeof *r->m.pos + 1);
-    r->m.face_off = malloc(((size_t)nf + 1) * sizeof *r->m.face_off);
-    r->face_loc = malloc((size_t)nf * sizeof *r->face_loc);
-    if (!r->m.pos || !r->m.face_off || !r->face_loc)
+    r->b.m.pos = malloc(3 * (size_t)nv * sizeof *r->b.m.pos + 1);
+    r->b.m.face_off = malloc(((size_t)nf + 1) * sizeof *r->b.m.face_off);
+    r->b.face_loc = malloc((size_t)nf * sizeof *r->b.face_loc);
+    if (!r->b.m.pos || !r->b.m.face_off || !r->b.face_loc)
         return FAIL(r, ST_ERR_MEMORY, "out of memory for %lld vertices", (long long)nv);
-    r->m.nverts = (uint32_t)nv;
-    r->m.nfaces = (uint32_t)nf;
-    r->m.face_off[0] = 0;
+    r->b.m.nverts = (uint32_t)nv;
+    r->b.m.nfaces = (uint32_t)nf;
+    r->b.m.face_off[0] = 0;
     return 0;
 }
 
 static int parse_vertices(off_reader *r)
 {
-    for (uint32_t v = 0; v < r->m.nverts; v++) {
+    for (uint32_t v = 0; v < r->b.m.nverts; v++) {
         if (!next_record(r))
-            return FAIL(r, ST_ERR_PARSE, "file ends after %u of %u vertices", v, r->m.nverts);
+            return FAIL(r, ST_ERR_PARSE, "file ends after %u of %u vertices", v, r->b.m.nverts);
         for (int k = 0; k < 3; k++) {
             const char *tok;
             size_t len;
@@ -148,7 +144,7 @@ static int parse_vertices(off_reader *r)
             if (!isfinite(x))
                 return FAIL(r, ST_ERR_GEOMETRY, "non-finite vertex coordinate '%s' (nan, inf or overflow)",
                             st_text_quote(q, sizeof q, tok, len));
-            r->m.pos[3 * (size_t)v + (size_t)k] = x;
+            r->b.m.pos[3 * (size_t)v + (size_t)k] = x;
         }
     }
     return 0;
@@ -166,13 +162,7 @@ static int read_face_size(off_reader *r, uint32_t *n)
     if (v < 3) return FAIL(r, ST_ERR_TOPOLOGY, "face has %lld vertices; a face needs at least 3", (long long)v);
     if (v > ST_MESH_MAX_DEGREE)
         return FAIL(r, ST_ERR_RANGE, "face has %lld vertices (limit %u)", (long long)v, ST_MESH_MAX_DEGREE);
-    size_t cap = r->cap_tmp, cap2 = r->cap_tmp;
-    uint32_t *t = st_mesh_grow(r->tmp, &cap, (size_t)v, sizeof *t);
-    if (t) r->tmp = t;
-    uint32_t *s = t ? st_mesh_grow(r->scratch, &cap2, (size_t)v, sizeof *s) : NULL;
-    if (!t || !s) return FAIL(r, ST_ERR_MEMORY, "out of memory");
-    r->scratch = s;
-    r->cap_tmp = cap < cap2 ? cap : cap2;
+    if (st_mesh_build_reserve(&r->b, (size_t)v)) return FAIL(r, ST_ERR_MEMORY, "out of memory");
     *n = (uint32_t)v;
     return 0;
 }
@@ -191,35 +181,30 @@ static int parse_face(off_reader *r, uint32_t f)
             return FAIL(r, ST_ERR_PARSE, "face announces %u vertices but lists %u", n, k);
         if (st_mesh_parse_int(tok, len, &v))
             return FAIL(r, ST_ERR_PARSE, "bad vertex index '%s'", st_text_quote(q, sizeof q, tok, len));
-        if (v < 0 || v >= (int64_t)r->m.nverts)
+        if (v < 0 || v >= (int64_t)r->b.m.nverts)
             return FAIL(r, ST_ERR_RANGE, "face references vertex %lld but the file has %u vertices "
-                        "(OFF indices start at 0)", (long long)v, r->m.nverts);
-        r->tmp[k] = (uint32_t)v;
+                        "(OFF indices start at 0)", (long long)v, r->b.m.nverts);
+        r->b.tmp[k] = (uint32_t)v;
     }
-    uint32_t dup = st_mesh_face_repeat(r->tmp, n, r->scratch);
+    uint32_t dup = st_mesh_face_repeat(r->b.tmp, n, r->b.scratch);
     if (dup != UINT32_MAX) return FAIL(r, ST_ERR_TOPOLOGY, "face uses vertex %u more than once", dup);
-    uint32_t nc = r->m.face_off[f];
-    if ((uint64_t)nc + n > UINT32_MAX) return FAIL(r, ST_ERR_RANGE, "too many face corners");
-    uint32_t *idx = st_mesh_grow(r->m.face_idx, &r->cap_idx, (size_t)nc + n, sizeof *idx);
-    if (!idx) return FAIL(r, ST_ERR_MEMORY, "out of memory for face corners");
-    r->m.face_idx = idx;
-    memcpy(idx + nc, r->tmp, (size_t)n * sizeof *idx);
-    r->m.face_off[f + 1] = nc + n;
-    r->face_loc[f] = r->line;
+    int frc = st_mesh_build_face(&r->b, f, n, r->line);
+    if (frc == ST_ERR_RANGE) return FAIL(r, ST_ERR_RANGE, "too many face corners");
+    if (frc) return FAIL(r, ST_ERR_MEMORY, "out of memory for face corners");
     return 0;
 }
 
 static int parse_faces(off_reader *r)
 {
-    for (uint32_t f = 0; f < r->m.nfaces; f++) {
+    for (uint32_t f = 0; f < r->b.m.nfaces; f++) {
         if (!next_record(r))
-            return FAIL(r, ST_ERR_PARSE, "file ends after %u of %u faces", f, r->m.nfaces);
+            return FAIL(r, ST_ERR_PARSE, "file ends after %u of %u faces", f, r->b.m.nfaces);
         int rc = parse_face(r, f);
         if (rc) return rc;
     }
     if (next_record(r))
         return FAIL(r, ST_ERR_PARSE, "more data than the header announced (%u vertices, %u faces)",
-                    r->m.nverts, r->m.nfaces);
+                    r->b.m.nverts, r->b.m.nfaces);
     return 0;
 }
 
@@ -232,23 +217,10 @@ int st_mesh_parse_off_src(const char *name, const char *data, size_t size,
     r.err = err;
     r.p = data;
     r.end = data + size;
-    st_mesh_init(&r.m);
+    st_mesh_init(&r.b.m);
     int rc = size == 0 ? st_fail(err, ST_ERR_PARSE, "%s: empty file", name) : parse_keyword(&r);
     if (!rc) rc = parse_counts(&r);
     if (!rc) rc = parse_vertices(&r);
     if (!rc) rc = parse_faces(&r);
-    if (!rc) {
-        if (src) {
-            src->face_loc = r.face_loc;
-            src->binary = 0;
-            src->index_base = 0;
-            r.face_loc = NULL;
-        }
-        st_mesh_move(out, &r.m);
-    }
-    free(r.face_loc);
-    free(r.tmp);
-    free(r.scratch);
-    st_mesh_free(&r.m);
-    return rc;
+    return st_mesh_build_end(&r.b, rc, out, src, 0, 0);
 }

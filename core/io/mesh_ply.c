@@ -60,11 +60,7 @@ typedef struct ply_reader {
     uint64_t mark;          /* binary body: offset of the value being read */
     const ply_elem *ctx;    /* element being read and record number, for messages */
     uint64_t ctx_index;
-    st_mesh m;
-    size_t cap_idx;
-    uint64_t *face_loc;
-    uint32_t *tmp, *scratch;
-    size_t cap_tmp;
+    st_mesh_build b;        /* result under construction; face_loc: line or byte offset of each face */
 } ply_reader;
 
 /* Problems name the line in the header and in an ascii body, and the byte
@@ -254,8 +250,8 @@ static int header_roles(ply_reader *r)
                        r->name, (unsigned long long)ev->count, (unsigned long long)ef->count,
                        ST_MESH_MAX_VERTS, ST_MESH_MAX_FACES);
     if (ef->count == 0) return st_fail(r->err, ST_ERR_TOPOLOGY, "%s: no faces", r->name);
-    r->m.nverts = (uint32_t)ev->count;
-    r->m.nfaces = (uint32_t)ef->count;
+    r->b.m.nverts = (uint32_t)ev->count;
+    r->b.m.nfaces = (uint32_t)ef->count;
     return 0;
 }
 
@@ -442,7 +438,7 @@ static int read_vertex(ply_reader *r, const ply_elem *e, uint32_t v)
             if (rc) return rc;
             if (!isfinite(x))
                 return FAIL(r, ST_ERR_GEOMETRY, "vertex %u has a non-finite texture coordinate", v);
-            r->m.uv[2 * (size_t)v + (size_t)t] = x;
+            r->b.m.uv[2 * (size_t)v + (size_t)t] = x;
             continue;
         }
         if (a < 0) {
@@ -456,24 +452,17 @@ static int read_vertex(ply_reader *r, const ply_elem *e, uint32_t v)
         if (rc) return rc;
         if (!isfinite(x))
             return FAIL(r, ST_ERR_GEOMETRY, "vertex %u has a non-finite coordinate (nan, inf or overflow)", v);
-        r->m.pos[3 * (size_t)v + (size_t)a] = x;
+        r->b.m.pos[3 * (size_t)v + (size_t)a] = x;
     }
     return 0;
 }
 
 static int ensure_tmp(ply_reader *r, size_t n)
 {
-    size_t cap = r->cap_tmp, cap2 = r->cap_tmp;
-    uint32_t *t = st_mesh_grow(r->tmp, &cap, n, sizeof *t);
-    if (t) r->tmp = t;
-    uint32_t *s = t ? st_mesh_grow(r->scratch, &cap2, n, sizeof *s) : NULL;
-    if (!t || !s) return FAIL(r, ST_ERR_MEMORY, "out of memory");
-    r->scratch = s;
-    r->cap_tmp = cap < cap2 ? cap : cap2;
-    return 0;
+    return st_mesh_build_reserve(&r->b, n) ? FAIL(r, ST_ERR_MEMORY, "out of memory") : 0;
 }
 
-/* Reads n vertex indices into r->tmp, each checked against the vertex count. */
+/* Reads n vertex indices into r->b.tmp, each checked against the vertex count. */
 static int read_indices(ply_reader *r, const ply_prop *p, uint32_t n)
 {
     if (r->format != F_ASCII && n > (r->size - r->pos) / type_size[p->type]) {
@@ -487,10 +476,10 @@ static int read_indices(ply_reader *r, const ply_prop *p, uint32_t n)
         double d;
         rc = read_value(r, p->type, &v, &d);
         if (rc) return rc;
-        if (v < 0 || v >= (int64_t)r->m.nverts)
+        if (v < 0 || v >= (int64_t)r->b.m.nverts)
             return FAIL(r, ST_ERR_RANGE, "face %llu references vertex %lld but the file has %u vertices",
-                        (unsigned long long)r->ctx_index, (long long)v, r->m.nverts);
-        r->tmp[k] = (uint32_t)v;
+                        (unsigned long long)r->ctx_index, (long long)v, r->b.m.nverts);
+        r->b.tmp[k] = (uint32_t)v;
     }
     return 0;
 }
@@ -506,18 +495,13 @@ static int read_face_list(ply_reader *r, const ply_prop *p, uint32_t f)
         return FAIL(r, ST_ERR_RANGE, "face %u has %lld vertices (limit %u)", f, (long long)n, ST_MESH_MAX_DEGREE);
     rc = read_indices(r, p, (uint32_t)n);
     if (rc) return rc;
-    uint32_t dup = st_mesh_face_repeat(r->tmp, (uint32_t)n, r->scratch);
+    uint32_t dup = st_mesh_face_repeat(r->b.tmp, (uint32_t)n, r->b.scratch);
     if (dup != UINT32_MAX)
         return st_mesh_fail_at(r->err, ST_ERR_TOPOLOGY, r->name, binary_body(r), loc,
                                "face %u uses vertex %u more than once", f, dup);
-    uint32_t nc = r->m.face_off[f];
-    if ((uint64_t)nc + (uint64_t)n > UINT32_MAX) return FAIL(r, ST_ERR_RANGE, "too many face corners");
-    uint32_t *idx = st_mesh_grow(r->m.face_idx, &r->cap_idx, (size_t)nc + (size_t)n, sizeof *idx);
-    if (!idx) return FAIL(r, ST_ERR_MEMORY, "out of memory for face corners");
-    r->m.face_idx = idx;
-    memcpy(idx + nc, r->tmp, (size_t)n * sizeof *idx);
-    r->m.face_off[f + 1] = nc + (uint32_t)n;
-    r->face_loc[f] = loc;
+    rc = st_mesh_build_face(&r->b, f, (uint32_t)n, loc);
+    if (rc == ST_ERR_RANGE) return FAIL(r, ST_ERR_RANGE, "too many face corners");
+    if (rc) return FAIL(r, ST_ERR_MEMORY, "out of memory for face corners");
     return 0;
 }
 
@@ -574,11 +558,11 @@ static int read_magic(ply_reader *r)
 
 static int alloc_mesh(ply_reader *r)
 {
-    st_mesh *m = &r->m;
+    st_mesh *m = &r->b.m;
     m->pos = malloc(3 * (size_t)m->nverts * sizeof *m->pos + 1);
     m->face_off = malloc(((size_t)m->nfaces + 1) * sizeof *m->face_off);
-    r->face_loc = malloc((size_t)m->nfaces * sizeof *r->face_loc);
-    if (!m->pos || !m->face_off || !r->face_loc)
+    r->b.face_loc = malloc((size_t)m->nfaces * sizeof *r->b.face_loc);
+    if (!m->pos || !m->face_off || !r->b.face_loc)
         return st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory for %u vertices and %u faces",
                        r->name, m->nverts, m->nfaces);
     m->face_off[0] = 0;
@@ -597,7 +581,7 @@ static int alloc_mesh(ply_reader *r)
  * value (no seams: PLY has none). */
 static int uv_corners(ply_reader *r)
 {
-    st_mesh *m = &r->m;
+    st_mesh *m = &r->b.m;
     if (!m->uv || m->nverts == 0) {
         free(m->uv);
         m->uv = NULL;
@@ -621,7 +605,7 @@ int st_mesh_parse_ply_src(const char *name, const char *data, size_t size,
     r->err = err;
     r->data = (const unsigned char *)data;
     r->size = size;
-    st_mesh_init(&r->m);
+    st_mesh_init(&r->b.m);
     int rc = read_magic(r);
     if (!rc) rc = header_lines(r);
     r->line++;      /* an ascii body starts on the line after end_header */
@@ -630,19 +614,7 @@ int st_mesh_parse_ply_src(const char *name, const char *data, size_t size,
     if (!rc) rc = alloc_mesh(r);
     if (!rc) rc = read_body(r);
     if (!rc) rc = uv_corners(r);
-    if (!rc) {
-        if (src) {
-            src->face_loc = r->face_loc;
-            src->binary = r->format != F_ASCII;
-            src->index_base = 0;
-            r->face_loc = NULL;
-        }
-        st_mesh_move(out, &r->m);
-    }
-    free(r->face_loc);
-    free(r->tmp);
-    free(r->scratch);
-    st_mesh_free(&r->m);
+    rc = st_mesh_build_end(&r->b, rc, out, src, r->format != F_ASCII, 0);
     free(r);
     return rc;
 }

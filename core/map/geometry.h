@@ -55,16 +55,17 @@ static inline void st_newell_indexed(const double *pos, const uint32_t *idx, uin
         st_newell_add(n, pos + 3 * (size_t)idx[c], pos + 3 * (size_t)idx[c + 1 < count ? c + 1 : 0]);
 }
 
-/* Newell vector of the face of dart d at level l: the positions of the
- * darts of its φ1 = β1∘β0 orbit, starting at d (a face is that orbit,
- * Kraemer 2008 §1.2.2).  Boundary faces are polygons too: callers that want
- * no normal for them test st_is_boundary first. */
+/* Newell vector of the surface face of dart d at level l: the positions of
+ * its corners along st_face_step from d (core/map/map.h), that is its
+ * φ1 = β1∘β0 orbit (a face is that orbit, Kraemer 2008 §1.2.2), or its β1
+ * orbit in Doo-Sabin's dual encoding (§3.2.1, figs 3.19-3.20).  Boundary
+ * faces are polygons too: callers that want no normal for them test
+ * st_is_boundary first. */
 void st_face_newell(const st_map *m, uint32_t d, unsigned l, double n[3]);
 
 /* Newell vector of the polygon through the positions of the darts of d's β1
- * orbit at level l, starting at d: on a surface in dual encoding
- * (Doo-Sabin, Kraemer 2008 §3.2.1, figs 3.19-3.20) that orbit, a vertex of
- * the map, is a face of the surface. */
+ * orbit at level l, starting at d, whatever the encoding (zero on a primal
+ * map: the orbit is one vertex).  A surface face is st_face_newell's. */
 void st_vertex_newell(const st_map *m, uint32_t d, unsigned l, double n[3]);
 
 #endif

@@ -301,15 +301,6 @@ void st_sew0(st_map *m, uint32_t d, uint32_t e, unsigned l)
     st_set_beta0(m, e, l, d);
 }
 
-void st_embed_vertex(st_map *m, uint32_t d, unsigned l, uint32_t v)
-{
-    uint32_t x = d;
-    do {
-        st_set_vert(m, x, l, v);
-        x = st_beta1(m, x, l);
-    } while (x != d);
-}
-
 /* ---- levels ---------------------------------------------------------------- */
 
 int st_level_add(st_map *m, st_error *err)
@@ -396,12 +387,6 @@ uint32_t st_vertex_first(const st_map *m, unsigned l, st_dart_iter *it)
 
 uint32_t st_vertex_next(const st_map *m, unsigned l, st_dart_iter *it) { return pool_scan(&m->verts, l, it); }
 
-void st_foreach_dart(const st_map *m, unsigned l, st_dart_fn fn, void *ctx)
-{
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) fn(d, ctx);
-}
-
 /* ---- markers ------------------------------------------------------------------ */
 
 int st_marker_reserve(st_map *m)
@@ -452,7 +437,7 @@ static inline void count_dart(const st_map *m, orbit_count *c, uint32_t d, st_le
         uint32_t x = d;
         do {
             see_bit(c->vseen, x);
-            x = dual ? st_v_phi1_kind(&c->v, x, sparse) : st_v_beta1_kind(&c->v, x, sparse);
+            x = st_v_vertex_step_kind(&c->v, dual, x, sparse);
         } while (x != d);
     }
     if (!seen_bit(c->fseen, d)) {
@@ -460,7 +445,7 @@ static inline void count_dart(const st_map *m, orbit_count *c, uint32_t d, st_le
         uint32_t x = d;
         do {
             see_bit(c->fseen, x);
-            x = dual ? st_v_beta1_kind(&c->v, x, sparse) : st_v_phi1_kind(&c->v, x, sparse);
+            x = st_v_face_step_kind(&c->v, dual, x, sparse);
         } while (x != d);
     }
 }

@@ -370,6 +370,40 @@ static inline const double *st_v_pos(const st_level_view *v, uint32_t vid)
     return (v->vins[vid] < v->plvl ? v->pcol : v->pbase) + 3 * (size_t)vid;
 }
 
+/* Walks of the surface's cells, whichever the encoding.  A surface face is
+ * a φ1 orbit and a surface vertex a β1 orbit, except in Doo-Sabin's dual
+ * encoding (st_map.face_embedded, Kraemer 2008 §3.2.1; scheme_doosabin.c),
+ * where a surface face is a β1 orbit and a surface vertex a φ1 orbit.
+ * Either way one dart is one corner: st_face_step gives the next corner of
+ * d's face (the next vertex along it), st_vertex_step the next corner
+ * around d's vertex (each in another face).  Code that means the surface
+ * walks with these; st_phi1 / st_beta1 name the map's own orbits.  The view
+ * forms take the encoding as `dual` (m->face_embedded). */
+static inline uint32_t st_face_step(const st_map *m, uint32_t d, unsigned l)
+{
+    return m->face_embedded ? st_beta1(m, d, l) : st_phi1(m, d, l);
+}
+static inline uint32_t st_vertex_step(const st_map *m, uint32_t d, unsigned l)
+{
+    return m->face_embedded ? st_phi1(m, d, l) : st_beta1(m, d, l);
+}
+static inline uint32_t st_v_face_step_kind(const st_level_view *v, int dual, uint32_t d, int sparse)
+{
+    return dual ? st_v_beta1_kind(v, d, sparse) : st_v_phi1_kind(v, d, sparse);
+}
+static inline uint32_t st_v_vertex_step_kind(const st_level_view *v, int dual, uint32_t d, int sparse)
+{
+    return dual ? st_v_phi1_kind(v, d, sparse) : st_v_beta1_kind(v, d, sparse);
+}
+static inline uint32_t st_v_face_step(const st_level_view *v, int dual, uint32_t d)
+{
+    return st_v_face_step_kind(v, dual, d, ST_MAP_SPARSE_READS);
+}
+static inline uint32_t st_v_vertex_step(const st_level_view *v, int dual, uint32_t d)
+{
+    return st_v_vertex_step_kind(v, dual, d, ST_MAP_SPARSE_READS);
+}
+
 /* φ1⁻¹ and β1⁻¹ are not stored (memory): they walk the face / vertex. */
 /* Inline, so that they take the lookup path of the file that calls them
  * ("Two lookup paths"). */
@@ -407,10 +441,7 @@ static inline unsigned st_edge_level(const st_map *m, uint32_t d, unsigned l)
 }
 
 /* ---- enumeration: time proportional to the size of level l ---------------- */
-/* Calls fn(d, ctx) for every live dart of B^l. */
-typedef void (*st_dart_fn)(uint32_t d, void *ctx);
-void st_foreach_dart(const st_map *m, unsigned l, st_dart_fn fn, void *ctx);
-/* Iterator form: d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it) */
+/* Every live dart of B^l: d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it) */
 typedef struct st_dart_iter { unsigned level; uint32_t block; uint32_t id; } st_dart_iter; /* id: offset in block */
 uint32_t st_dart_first(const st_map *m, unsigned l, st_dart_iter *it);
 uint32_t st_dart_next(const st_map *m, unsigned l, st_dart_iter *it);
@@ -455,8 +486,6 @@ void st_set_beta1(st_map *m, uint32_t d, unsigned l, uint32_t e);
 void st_set_vert(st_map *m, uint32_t d, unsigned l, uint32_t v);
 /* Sews d and e by β0 at level l (both directions). */
 void st_sew0(st_map *m, uint32_t d, uint32_t e, unsigned l);
-/* Vertex embedding of a whole vertex orbit at level l. */
-void st_embed_vertex(st_map *m, uint32_t d, unsigned l, uint32_t v);
 
 /* Attaches an attribute owned by the caller: it is grown with the pool and
  * every new id gets the value zero (elem bytes of zeros) at all levels.

@@ -40,8 +40,6 @@ static inline void st_footprint_add(st_footprint *f, uint64_t key)
     if (f->n < f->cap) f->keys[f->n++] = key; /* no call while there is room */
     else st_footprint_add_slow(f, key);
 }
-void st_footprint_append(st_footprint *dst, const st_footprint *src);
-void st_footprint_clear(st_footprint *f);   /* empties it (keeps the memory) */
 void st_footprint_free(st_footprint *f);
 
 #endif

@@ -22,24 +22,6 @@ void st_footprint_add_slow(st_footprint *f, uint64_t key)
     f->keys[f->n++] = key;
 }
 
-void st_footprint_append(st_footprint *dst, const st_footprint *src)
-{
-    if (!src->n) return;
-    if ((uint64_t)dst->n + src->n > dst->cap) {
-        uint64_t cap = dst->cap ? dst->cap : 256;
-        while (cap < (uint64_t)dst->n + src->n) cap *= 2;
-        if (cap > UINT32_MAX) abort();
-        uint64_t *k = realloc(dst->keys, (size_t)cap * sizeof *k);
-        if (!k) abort();
-        dst->keys = k;
-        dst->cap = (uint32_t)cap;
-    }
-    memcpy(dst->keys + dst->n, src->keys, (size_t)src->n * sizeof *src->keys);
-    dst->n += src->n;
-}
-
-void st_footprint_clear(st_footprint *f) { f->n = 0; }
-
 void st_footprint_free(st_footprint *f)
 {
     free(f->keys);

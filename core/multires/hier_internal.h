@@ -40,6 +40,18 @@ void st_stencil_apply(const st_hier *h, unsigned L, const st_stencil *s, double 
 /* Faces of level l within `rings` vertex rings of the seed darts' vertices,
  * one dart per face (real faces only), into a growable list. */
 void st_region_faces(st_map *m, unsigned l, const uint32_t *seeds, uint32_t nseeds, unsigned rings, st_dart_list *faces);
+/* Pushes every dart of the faces (one dart each, of level l) onto list. */
+void st_dart_list_push_faces(st_dart_list *list, const st_map *m, unsigned l, const uint32_t *faces, uint32_t n);
+
+/* Local work up the levels (the local synthesis of Kraemer 2008 §3.1 and
+ * the passes built like it: re-synthesis, mask propagation): level L is
+ * recomputed around the seeds (darts of level L-1), and what changed there
+ * seeds level L+1.  For L = from+1 .. top: next is emptied, then
+ * step(ctx, L, seeds, next) works on level L and fills next, which becomes
+ * the seeds; a non-zero return stops before level L is touched by anything
+ * else.  Takes seeds over (frees it). */
+typedef int (*st_level_step_fn)(void *ctx, unsigned L, const st_dart_list *seeds, st_dart_list *next);
+void st_hier_levels_up(const st_hier *h, unsigned from, st_dart_list *seeds, st_level_step_fn step, void *ctx);
 
 /* A dart of level L carrying fine vertex v, found on the frame cell of its
  * stencil (dart d of level L-1): d itself for a vertex cell; for an edge or

@@ -97,7 +97,7 @@ void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[
         /* Face of a dual-encoded surface: the vertex orbit of the map,
          * whose faces carry the surface's vertices (Newell normal). */
         c = min_in_orbit(m, d, l, 0);
-        st_vertex_newell(m, c, l, n);
+        st_face_newell(m, c, l, n);
         st_sub3(st_pos(m, st_vert(m, st_beta1(m, c, l), l), l), st_pos(m, st_vert(m, c, l), l), t);
         st_frame_orthonormal(t, n, f);
         return;
@@ -220,6 +220,28 @@ void st_dart_list_push(st_dart_list *l, uint32_t d)
 }
 
 void st_dart_list_free(st_dart_list *l) { free(l->d); memset(l, 0, sizeof *l); }
+
+void st_dart_list_push_faces(st_dart_list *list, const st_map *m, unsigned l, const uint32_t *faces, uint32_t n)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t x = faces[i];
+        do { st_dart_list_push(list, x); x = st_phi1(m, x, l); } while (x != faces[i]);
+    }
+}
+
+void st_hier_levels_up(const st_hier *h, unsigned from, st_dart_list *seeds, st_level_step_fn step, void *ctx)
+{
+    st_dart_list next = { 0 };
+    for (unsigned L = from + 1; L <= h->map.top; L++) {
+        next.n = 0;
+        if (step(ctx, L, seeds, &next)) break;
+        st_dart_list t = *seeds;
+        *seeds = next;
+        next = t;
+    }
+    st_dart_list_free(seeds);
+    st_dart_list_free(&next);
+}
 
 /* Breadth-first over vertex rings with two marker bits; the marks are
  * cleared from the lists afterwards, so the cost is proportional to the
@@ -468,48 +490,51 @@ static void dry_sink(void *ctx, const st_stencil *s)
 /* The levels above l after the vertices of `darts` changed at l, written
  * (write != 0) or only recorded in fp: one walk for the edit and for its
  * footprint query, so that both give the same set. */
+/* Level L is recomputed on the faces of level L-1 whose children can see a
+ * vertex that changed at L-1 (support_rings rings around it); the vertices
+ * written at L seed level L+1.  Should a written vertex not be found on its
+ * frame cell, the next level takes every dart of the region as seed, with
+ * one more ring (the children of the region lie within it). */
+typedef struct above_ctx {
+    st_hier *h;
+    int write;
+    st_footprint *fp;
+    unsigned extra;            /* more rings: a vertex was lost at the level below */
+    uint64_t count;
+    st_dart_list faces;
+} above_ctx;
+
+static int above_step(void *ctx, unsigned L, const st_dart_list *seeds, st_dart_list *next)
+{
+    above_ctx *a = ctx;
+    st_hier *h = a->h;
+    synth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = next, .fp = a->fp };
+    if (a->write && h->scheme->predict_around && (!h->detail[L] || h->scheme->fast_paths_apply_details) && !a->extra &&
+        h->scheme->predict_around(h, L, seeds->d, seeds->n, &c)) {
+        a->count += c.count;
+        return 0;
+    }
+    a->faces.n = 0;
+    st_region_faces(&h->map, L - 1, seeds->d, seeds->n, h->scheme->support_rings + a->extra, &a->faces);
+    c.gen = st_hier_stamp_begin(h);
+    h->scheme->emit(h, L, a->faces.d, a->faces.n, a->write ? st_synth_sink : dry_sink, &c);
+    a->count += c.count;
+    a->extra = c.lost;
+    if (c.lost) {
+        next->n = 0;
+        st_dart_list_push_faces(next, &h->map, L - 1, a->faces.d, a->faces.n);
+    }
+    return 0;
+}
+
 static uint64_t resynth_above(st_hier *h, unsigned l, const uint32_t *darts, uint32_t n, int write, st_footprint *fp)
 {
-    st_map *m = &h->map;
-    /* Level L is recomputed on the faces of level L-1 whose children can
-     * see a vertex that changed at L-1 (support_rings rings around it);
-     * the vertices written at L seed level L+1.  Should a written vertex
-     * not be found on its frame cell, the next level takes every dart of
-     * the region as seed, with one more ring (the children of the region
-     * lie within it). */
-    st_dart_list seeds = { 0 }, next = { 0 }, faces = { 0 };
-    for (uint32_t i = 0; i < n; i++) st_dart_list_push(&seeds, real_seed(m, darts[i], l));
-    unsigned extra = 0;
-    uint64_t count = 0;
-    for (unsigned L = l + 1; L <= m->top; L++) {
-        next.n = 0;
-        synth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next, .fp = fp };
-        if (write && h->scheme->predict_around && (!h->detail[L] || h->scheme->fast_paths_apply_details) && !extra &&
-            h->scheme->predict_around(h, L, seeds.d, seeds.n, &c)) {
-            count += c.count;
-        } else {
-            faces.n = 0;
-            st_region_faces(m, L - 1, seeds.d, seeds.n, h->scheme->support_rings + extra, &faces);
-            c.gen = st_hier_stamp_begin(h);
-            h->scheme->emit(h, L, faces.d, faces.n, write ? st_synth_sink : dry_sink, &c);
-            count += c.count;
-            extra = c.lost;
-            if (c.lost) {
-                next.n = 0;
-                for (uint32_t i = 0; i < faces.n; i++) {
-                    uint32_t x = faces.d[i];
-                    do { st_dart_list_push(&next, x); x = st_phi1(m, x, L - 1); } while (x != faces.d[i]);
-                }
-            }
-        }
-        st_dart_list t = seeds;
-        seeds = next;
-        next = t;
-    }
-    st_dart_list_free(&seeds);
-    st_dart_list_free(&next);
-    st_dart_list_free(&faces);
-    return count;
+    st_dart_list seeds = { 0 };
+    for (uint32_t i = 0; i < n; i++) st_dart_list_push(&seeds, real_seed(&h->map, darts[i], l));
+    above_ctx a = { .h = h, .write = write, .fp = fp };
+    st_hier_levels_up(h, l, &seeds, above_step, &a);
+    st_dart_list_free(&a.faces);
+    return a.count;
 }
 
 /* The level-l values of an edit: positions, and details for l >= 1. */

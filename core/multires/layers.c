@@ -190,11 +190,6 @@ static int compose_except(const st_layers *ls, unsigned l, uint32_t v, int skip,
     return terms;
 }
 
-void st_layers_compose(const st_layers *ls, unsigned l, uint32_t v, double out[3])
-{
-    compose_except(ls, l, v, -1, out);
-}
-
 /* The detail of v composed into det, and its position: P0 where no layer
  * contributes and P0 is kept, else as a synthesis computes it. */
 static void compose_vertex(const st_layers *ls, unsigned l, uint32_t v, double det[3], const double pred[3],

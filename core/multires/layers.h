@@ -88,9 +88,6 @@ uint32_t st_layers_on_level(const st_layers *ls, unsigned l);
  * too many). */
 int st_layers_add(st_layers *ls, const st_hier *h, unsigned l, const char *name, st_error *err);
 
-/* The composed detail D_l(v) (above). */
-void st_layers_compose(const st_layers *ls, unsigned l, uint32_t v, double out[3]);
-
 /* One stored value: slot -1 is B_l(v), slot -2 is P0_l(v) (NaN when not
  * kept), slot k >= 0 is O_k(v) (l ignored).  Set grows the arrays; undo
  * writes values back with it. */

@@ -85,6 +85,27 @@ static void prop_sink(void *ctx, const st_stencil *s)
     }
 }
 
+/* One level of the local propagation (propagate below). */
+typedef struct up_ctx {
+    prop_ctx c;                /* L, gen and next set per level */
+    st_dart_list faces;
+} up_ctx;
+
+static int up_step(void *ctx, unsigned L, const st_dart_list *seeds, st_dart_list *next)
+{
+    up_ctx *u = ctx;
+    st_hier *h = u->c.h;
+    u->faces.n = 0;
+    st_region_faces(&h->map, L - 1, seeds->d, seeds->n, 1, &u->faces);
+    u->c.L = L;
+    u->c.gen = st_hier_stamp_begin(h);
+    u->c.next = next;
+    h->scheme->emit(h, L, u->faces.d, u->faces.n, prop_sink, &u->c);
+    /* Old seeds stay seeds where their vertex lives on at L. */
+    for (uint32_t i = 0; i < seeds->n; i++) st_dart_list_push(next, seeds->d[i]);
+    return 0;
+}
+
 static void propagate(st_mask *mk, st_hier *h, unsigned l, const uint32_t *darts, uint32_t n, uint32_t **out,
                       uint32_t *nout, uint32_t *cap)
 {
@@ -99,23 +120,11 @@ static void propagate(st_mask *mk, st_hier *h, unsigned l, const uint32_t *darts
     /* Local: the vertices of level L whose stencils lie on the faces of
      * level L-1 around the seeds; a vertex that keeps its id from L-1 to L
      * seeds level L+1 too (its neighbours at L+1 may have changed). */
-    st_dart_list seeds = { 0 }, next = { 0 }, faces = { 0 };
+    st_dart_list seeds = { 0 };
     for (uint32_t i = 0; i < n; i++) st_dart_list_push(&seeds, darts[i]);
-    for (unsigned L = l + 1; L <= m->top; L++) {
-        faces.n = 0;
-        st_region_faces(m, L - 1, seeds.d, seeds.n, 1, &faces);
-        next.n = 0;
-        prop_ctx c = { h, mk, L, st_hier_stamp_begin(h), &next, out, nout, cap };
-        h->scheme->emit(h, L, faces.d, faces.n, prop_sink, &c);
-        /* Old seeds stay seeds where their vertex lives on at L. */
-        for (uint32_t i = 0; i < seeds.n; i++) st_dart_list_push(&next, seeds.d[i]);
-        st_dart_list t = seeds;
-        seeds = next;
-        next = t;
-    }
-    st_dart_list_free(&seeds);
-    st_dart_list_free(&next);
-    st_dart_list_free(&faces);
+    up_ctx u = { { h, mk, 0, 0, NULL, out, nout, cap }, { 0 } };
+    st_hier_levels_up(h, l, &seeds, up_step, &u);
+    st_dart_list_free(&u.faces);
 }
 
 void st_mask_propagate(st_mask *mk, st_hier *h, unsigned l, const uint32_t *darts, uint32_t n)
