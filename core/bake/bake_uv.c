@@ -169,7 +169,7 @@ int st_bake_layout_dart_uvs(st_hier *h, unsigned l, const st_bake_uvs *uvs, doub
             uv[2 * (size_t)d] = uvs->uv[2 * (size_t)k];
             uv[2 * (size_t)d + 1] = uvs->uv[2 * (size_t)k + 1];
             k++;
-            d = st_bake_face_next(m, d, l);
+            d = st_face_step(m, d, l);
         } while (d != darts[f]);
     }
     free(darts);
