@@ -1,6 +1,6 @@
 /* Shared option parsing and loading for the subcommands. */
 #include "cli_common.h"
-#include "mesh_any.h"
+#include "formats/mesh_any.h"
 #include "core/io/session.h"
 
 #include <math.h>

@@ -10,7 +10,7 @@
 #include "core/adapt/adapt_estimate.h"
 #include "core/base/membudget.h"
 #include "cli_common.h"
-#include "mesh_any.h"
+#include "formats/mesh_any.h"
 #include "geom.h"
 
 #include <stdio.h>

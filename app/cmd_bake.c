@@ -26,7 +26,7 @@
  * write leaves the old files, and a kill leaves the old maps or the new
  * ones, except in the few microseconds between the renames.  Exit status: 0 done, 1 refused or a
  * file could not be read or written, 2 bad usage. */
-#include "bake_run.h"
+#include "formats/bake_run.h"
 #include "cli.h"
 #include "cli_common.h"
 #include "core/bake/bake.h"

@@ -3,7 +3,7 @@
  *                        [--falloff W] [--no-restriction]]
  *                       [--normals | --no-normals] [--normal-map N.png [--auto-uv]] [--strict]
  *
- * IN: a mesh (.obj .off .ply .gltf .glb, app/mesh_any.h) or a session
+ * IN: a mesh (.obj .off .ply .gltf .glb, formats/mesh_any.h) or a session
  * (.strata).  OUT: a mesh (.obj .ply .gltf .glb) or a session (.strata).
  *   - mesh -> session: builds the hierarchy (--scheme, default catmull-clark;
  *     --levels, default 0) or, with --box, the adaptive hierarchy, and saves
@@ -16,23 +16,23 @@
  *   - mesh -> mesh: subdivision to --levels and export, like `strata
  *     subdivide`, or the adaptive mesh with --box.
  * Mesh output carries smooth vertex normals (OBJ `vn` with `f v//vn`, PLY nx
- * ny nz) unless --no-normals; glTF files always have them (app/gltf_io.h).
+ * ny nz) unless --no-normals; glTF files always have them (formats/gltf_io.h).
  * --normal-map N.png (glTF output of a level): TEXCOORD_0, TANGENT and
  * NORMAL exactly as strata bake used them (core/bake/bake.h: the level's own
  * UVs, or the --auto-uv atlas for a level without UVs or with --auto-uv,
  * for a map baked with it; st_bake_tangents) and
- * a material whose normalTexture is N.png (app/gltf_io.h st_gltf_save_mapped).
+ * a material whose normalTexture is N.png (formats/gltf_io.h st_gltf_save_mapped).
  * Exit status: 0 done, 1 a file could not be read or written, 2 bad usage. */
 #include "core/adapt/adapt.h"
 #include "cli.h"
 #include "core/adapt/adapt_estimate.h"
 #include "core/base/membudget.h"
 #include "cli_common.h"
-#include "mesh_any.h"
+#include "formats/mesh_any.h"
 #include "core/io/session.h"
 #include "core/bake/bake.h"
 #include "core/fvar/fvar.h"
-#include "gltf_io.h"
+#include "formats/gltf_io.h"
 #include "image.h"
 
 #include <stdio.h>

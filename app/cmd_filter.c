@@ -8,7 +8,7 @@
  * level (.obj .ply .gltf .glb).  Exit status: 0 done, 1 a file could not be
  * read or written or the hierarchy cannot be filtered, 2 bad usage. */
 #include "cli.h"
-#include "mesh_any.h"
+#include "formats/mesh_any.h"
 #include "core/io/session.h"
 #include "core/progressive/progressive.h"
 

@@ -20,7 +20,7 @@
  * Exit status: 0 done, 1 unreadable input, refusal or unwritable output
  * (nothing written), 2 bad usage. */
 #include "cli.h"
-#include "mesh_any.h"
+#include "formats/mesh_any.h"
 #include "core/base/hugepage.h"
 #include "core/io/session.h"
 #include "core/rebuild/rebuild.h"

@@ -1,7 +1,7 @@
 /* strata subdivide IN --scheme S --levels N [--level L] [--boundary B] -o OUT */
 #include "cli.h"
 #include "cli_common.h"
-#include "mesh_any.h"
+#include "formats/mesh_any.h"
 #include "core/io/level_ply.h"
 #include "core/io/session.h"
 

@@ -8,7 +8,7 @@
  * screenshot comparison failed, or a runtime error), 2 (usage), 3 (no
  * display / no OpenGL 3.3 context). */
 #include "cli.h"
-#include "mesh_any.h"
+#include "formats/mesh_any.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -37,9 +37,10 @@ if(STRATA_UI_SOURCES AND TARGET strata_editor AND EXISTS ${CMAKE_SOURCE_DIR}/ui/
   # The GUI (ui/gui.cc, the one C++ file of ui/): Dear ImGui 1.86 from
   # Debian's libimgui-dev, whose static libimgui.a holds the GLFW and
   # OpenGL 3 backends; the OpenGL 3 backend loads libGL by itself (dlopen).
-  # Export writes glTF through strata_gltf (cmake/gltf.cmake).
+  # Export writes glTF, and Bake writes maps, through strata_formats
+  # (cmake/formats.cmake).
   pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
-  target_link_libraries(strata_ui PUBLIC PkgConfig::IMGUI ${CMAKE_DL_LIBS} strata_gltf strata_bakeio)
+  target_link_libraries(strata_ui PUBLIC PkgConfig::IMGUI ${CMAKE_DL_LIBS} strata_formats)
   target_include_directories(strata_ui PRIVATE ${CMAKE_SOURCE_DIR}/app)
   target_compile_definitions(strata_ui PRIVATE STRATA_VERSION="${PROJECT_VERSION}")
 endif()

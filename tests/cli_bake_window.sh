@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Baking from the window (docs/BAKING.md, docs/MODELLER.md; ui/bake_ui.c, the job in
-# ui/jobs.c, bakeio/bake_run.h shared with strata bake), under Xvfb:
+# ui/jobs.c, formats/bake_run.h shared with strata bake), under Xvfb:
 # - tests/replay/bake_window.txt on spot (2 levels): Bake > Bake maps...,
 #   the bake as a job, the maps on disk, View > Show baked map, and
 #   File > Export > GLB with "Attach the baked normal map"; the GLB is
@@ -17,7 +17,7 @@ set -u
 if [ -z "${DISPLAY:-}" ] && [ -z "${STRATA_CLI_WINDOW_XVFB:-}" ]; then
     if command -v xvfb-run >/dev/null 2>&1; then
         export STRATA_CLI_WINDOW_XVFB=1
-        exec xvfb-run -a -s "-screen 0 1280x800x24" bash "$0" "$@"
+        exec xvfb-run -a -n $((100 + RANDOM % 800)) -s "-screen 0 1280x800x24" bash "$0" "$@"
     fi
     echo "FAIL: no \$DISPLAY and no xvfb-run: the window cannot be tested (install xvfb)"
     exit 1

@@ -34,7 +34,7 @@ set -u
 if [ -z "${STRATA_CLI_XDO_XVFB:-}" ]; then
     if command -v xvfb-run > /dev/null 2>&1; then
         export STRATA_CLI_XDO_XVFB=1
-        exec xvfb-run -a -s "-screen 0 1280x800x24" bash "$0" "$@"
+        exec xvfb-run -a -n $((100 + RANDOM % 800)) -s "-screen 0 1280x800x24" bash "$0" "$@"
     fi
     if [ -z "${DISPLAY:-}" ]; then
         echo "FAIL: no \$DISPLAY and no xvfb-run: the window cannot be tested (install xvfb)"

@@ -81,7 +81,7 @@ else bad "staged strata render"; fi
 cp "$SRC/assets/cube.obj" "$ST/usr/share/strata/assets/torus.obj"
 printf 'wait 2\nexpect error 0\nexpect faces 96\n' > "$W/default.txt"
 xvfb=()
-[ -n "${DISPLAY:-}" ] || xvfb=(xvfb-run -a -s "-screen 0 1280x800x24")
+[ -n "${DISPLAY:-}" ] || xvfb=(xvfb-run -a -n $((100 + RANDOM % 800)) -s "-screen 0 1280x800x24")
 if env -u STRATA_ASSETS -u XDG_CONFIG_HOME -u XDG_STATE_HOME HOME="$W/home" timeout 120 \
        ${xvfb[@]+"${xvfb[@]}"} "$EXE" --replay "$W/default.txt" > "$W/window.log" 2>&1; then
     ok "staged window opens the installed default model"

@@ -47,7 +47,7 @@ if head -c 400 "$W/cc1.ply" | grep -q 'property double nx' && "$S" info "$W/cc1.
 "$S" convert "$W/cc.strata" "$W/cc1n.obj" --level 1 --no-normals > /dev/null
 if ! grep -q '^vn ' "$W/cc1n.obj"; then ok "--no-normals"; else bad "--no-normals still writes vn"; fi
 "$S" convert "$CAGE" "$W/direct.ply" --levels 2 > /dev/null && ok "mesh -> mesh (PLY, level 2)" || bad "mesh -> mesh"
-# glTF through app/mesh_any.h, when the build has it.
+# glTF through formats/mesh_any.h, when the build has it.
 if "$S" convert "$W/cc.strata" "$W/cc1.glb" --level 1 > /dev/null 2> "$W/gltf_err.txt"; then
     if "$S" convert "$W/cc1.glb" "$W/from_glb.strata" --levels 1 > /dev/null; then ok "session -> .glb -> session"; else bad "a .glb export does not convert back"; fi
 else echo "skip glTF: $(head -1 "$W/gltf_err.txt")"; fi

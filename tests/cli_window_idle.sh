@@ -14,7 +14,7 @@ set -u
 if [ -z "${STRATA_CLI_IDLE_XVFB:-}" ]; then
     if command -v xvfb-run > /dev/null 2>&1; then
         export STRATA_CLI_IDLE_XVFB=1
-        exec xvfb-run -a -s "-screen 0 1280x800x24" bash "$0" "$@"
+        exec xvfb-run -a -n $((100 + RANDOM % 800)) -s "-screen 0 1280x800x24" bash "$0" "$@"
     fi
     echo "FAIL: no xvfb-run: the window cannot be tested (install xvfb)"
     exit 1

@@ -1,11 +1,11 @@
-/* glTF import/export (app/gltf_io.h): export -> import round trips (files
+/* glTF import/export (formats/gltf_io.h): export -> import round trips (files
  * and memory, .gltf and .glb, u8/u16/u32 indices), hand-made files for what
  * the exporter never writes (non-indexed primitives, several primitives and
  * meshes, node transforms, mirroring, strips and fans), and bad input: each
  * refusal returns non-zero, names the file, is one line, and leaves the
  * output mesh exactly as it was.  Also every prefix and many bit flips of a
  * small GLB: a clean load or a clean refusal, never a crash. */
-#include "gltf_io.h"
+#include "formats/gltf_io.h"
 #include "testlib.h"
 
 #include <math.h>

@@ -3,7 +3,7 @@
  * View > Show baked map, which draws the bake's base level with its normal
  * map (render/nmap.h, as `strata render --normal-map`) instead of the
  * surface.  The bake itself runs as a job (ui/jobs.c, st_app_bake_maps)
- * through bakeio/bake_run.h, the driver strata bake uses. */
+ * through formats/bake_run.h, the driver strata bake uses. */
 #include "window.h"
 
 #include <stdio.h>

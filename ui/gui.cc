@@ -12,7 +12,7 @@ extern "C" {
 #include "core/io/session.h"
 #include "core/multires/hier.h"
 #include "core/fvar/fvar.h"
-#include "gltf_io.h"
+#include "formats/gltf_io.h"
 }
 
 #include <dirent.h>
@@ -46,7 +46,7 @@ struct file_entry {
     long long size;
 };
 
-/* The formats Strata reads (core/io/mesh.h, app/gltf_io.h, sessions) and
+/* The formats Strata reads (core/io/mesh.h, formats/gltf_io.h, sessions) and
  * writes (sessions, and the exporters). */
 const char *const read_exts[] = { ".obj", ".off", ".ply", ".gltf", ".glb", ".strata" };
 const char *const export_exts[] = { ".obj", ".ply", ".gltf", ".glb" };
@@ -742,7 +742,7 @@ void absolute_path(char *p, size_t n)
     if (full.size() < n) memcpy(p, full.c_str(), full.size() + 1);
 }
 
-/* Bake > Bake maps...: strata bake's options (bakeio/bake_run.h); Bake
+/* Bake > Bake maps...: strata bake's options (formats/bake_run.h); Bake
  * runs the job (progress, Esc or Cancel) after this frame. */
 void bake_window(st_app *a)
 {

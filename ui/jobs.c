@@ -16,7 +16,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include "bake_run.h"
+#include "formats/bake_run.h"
 #include "core/io/session.h"
 #include "gui.h"
 
@@ -466,7 +466,7 @@ static void rebuild_levels(st_app *a)
 }
 
 /* The Bake dialog's settings as strata bake's request; the maps written
- * atomically (bakeio/bake_run.h), the old ones kept on a refusal or a
+ * atomically (formats/bake_run.h), the old ones kept on a refusal or a
  * cancellation. */
 int st_app_bake_maps(st_app *a)
 {

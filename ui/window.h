@@ -55,7 +55,7 @@ enum st_mouse_op {
 /* Baking from the window (ui/bake_ui.c): the Bake dialog's settings, the
  * last bake's normal map, and the view that draws the base level with it. */
 typedef struct st_app_bake {
-    /* The dialog (what strata bake takes; bakeio/bake_run.h). */
+    /* The dialog (what strata bake takes; formats/bake_run.h). */
     int base, level;           /* -1: not chosen yet (0 and the finest level) */
     int size, padding;
     int bits16, space, vector, auto_uv, udim;   /* udim: -1 auto, 0 off, 1 on */

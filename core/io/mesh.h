@@ -145,7 +145,7 @@ int st_mesh_load_flags(const char *path, st_mesh *out, unsigned flags, st_notes 
  * Returns 0 or fills err (ST_ERR_INVALID / ST_ERR_TOPOLOGY). */
 int st_mesh_check(const char *name, const st_mesh *m, st_error *err);
 
-/* ---- For loaders outside core (the glTF reader in app/gltf_io.cc). */
+/* ---- For loaders outside core (the glTF reader in formats/gltf_io.cc). */
 
 /* Where each face of a parsed mesh came from (core/io/mesh_internal.h). */
 typedef struct st_mesh_src st_mesh_src;

@@ -1,10 +1,10 @@
-/* libFuzzer target for the glTF reader (app/gltf_io.h, fuzz_harness.h):
+/* libFuzzer target for the glTF reader (formats/gltf_io.h, fuzz_harness.h):
  * GLB or JSON glTF from memory, repaired and checked when it parses.
  * Inputs above 1 MiB are skipped: the reader's own limits (2 GiB files,
  * buffers no larger than the input) would let libFuzzer spend its time on
  * copying, not on finding bugs. */
 #include "fuzz_harness.h"
-#include "gltf_io.h"
+#include "formats/gltf_io.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

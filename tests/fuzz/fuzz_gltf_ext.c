@@ -1,5 +1,5 @@
 /* libFuzzer target for glTF external buffers read from files
- * (app/gltf_io.h st_gltf_load): the fuzzed bytes are written as
+ * (formats/gltf_io.h st_gltf_load): the fuzzed bytes are written as
  * g/fuzz.gltf into a private temporary folder R next to a fixed
  * tetrahedron g/tet.bin (and g/sub/tet.bin), and loaded.  Beside them lie
  * what a hostile URI could reach for: R/outside.bin, a symlink g/link.bin
@@ -10,7 +10,7 @@
  * one line naming the file; a load passes st_mesh_check.
  *   fuzz_gltf_ext -max_total_time=60 /tmp/corpus_gltf_ext   (a copy of
  *   tests/fuzz/corpus/gltf_ext: the fuzzer writes into its corpus folder) */
-#include "gltf_io.h"
+#include "formats/gltf_io.h"
 
 #include <fcntl.h>
 #include <limits.h>

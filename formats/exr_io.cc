@@ -1,4 +1,4 @@
-// OpenEXR writing through tinyexr (bakeio/exr_io.h).  The shared library
+// OpenEXR writing through tinyexr (formats/exr_io.h).  The shared library
 // carries tinyexr's implementation: TINYEXR_IMPLEMENTATION is not defined.
 // SaveEXR would name a single channel "A" (alpha); a displacement map is
 // luminance, so the header is filled here: "Y", or "B" "G" "R" (OpenEXR

@@ -1,5 +1,5 @@
 /* Mesh files of every format the app knows: glTF (.gltf, .glb) through
- * app/gltf_io.h, everything else through core's st_mesh_load/st_mesh_save
+ * formats/gltf_io.h, everything else through core's st_mesh_load/st_mesh_save
  * (.obj .off .ply).  Same contract as core's loaders: repaired on load,
  * notes returned, *out untouched on failure, err "file: problem"; flags as
  * st_mesh_repair_flags (ST_MESH_STRICT: --strict). */

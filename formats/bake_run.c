@@ -1,4 +1,4 @@
-/* The bake from a hierarchy to files (bakeio/bake_run.h). */
+/* The bake from a hierarchy to files (formats/bake_run.h). */
 #include "bake_run.h"
 #include "bake_images.h"
 #include "core/base/membudget.h"

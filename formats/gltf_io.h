@@ -1,6 +1,6 @@
 /* glTF 2.0 import and export (.gltf + .bin, .glb) through tinygltf, behind a
- * C API: app/gltf_io.cc is the one C++ translation unit that compiles
- * tinygltf.  core stays C and knows nothing of it; app/mesh_any.c picks this
+ * C API: formats/gltf_io.cc is the one C++ translation unit that compiles
+ * tinygltf.  core stays C and knows nothing of it; formats/mesh_any.c picks this
  * reader/writer or core's by extension.
  *
  * Export (st_gltf_save, st_gltf_write_mem): one mesh, one primitive of

@@ -1,6 +1,6 @@
 /* Writers of baked maps (core/bake/bake.h): PNG through libpng (8- or
  * 16-bit, RGB or grey) and 32-bit float OpenEXR through tinyexr
- * (bakeio/exr_io.cc, the one C++ translation unit behind bakeio/exr_io.h). */
+ * (formats/exr_io.cc, the one C++ translation unit behind formats/exr_io.h). */
 #ifndef ST_BAKE_IMAGES_H
 #define ST_BAKE_IMAGES_H
 

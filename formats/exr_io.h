@@ -1,5 +1,5 @@
 /* 32-bit float OpenEXR files through tinyexr (Debian libtinyexr-dev), behind
- * a C API: bakeio/exr_io.cc is its one C++ translation unit. */
+ * a C API: formats/exr_io.cc is its one C++ translation unit. */
 #ifndef ST_EXR_IO_H
 #define ST_EXR_IO_H
 

@@ -1,4 +1,4 @@
-/* Writers of baked maps (bakeio/bake_images.h). */
+/* Writers of baked maps (formats/bake_images.h). */
 #include "bake_images.h"
 #include "exr_io.h"
 #include "core/io/mesh.h"
