@@ -410,7 +410,11 @@ static uint32_t ids_readable_at(const st_pool *p, unsigned l)
 
 /* Format 3: values of live ids only (base) and of ids inserted below the
  * column's level (columns), in id order; the reader knows which from the
- * pool, and everything else is zero. */
+ * pool, and everything else is zero.  A column is written whole (mode 0)
+ * or, when that is smaller, as the list of the ids whose value differs
+ * from their value one level down (mode 1: u32 count, then u32 id and the
+ * value each): a progressive hierarchy changes few positions and relations
+ * per level, a subdivision level nearly all. */
 void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p, st_mla_value_check check)
 {
     st_bw_u32(w, a->elem);
@@ -430,13 +434,56 @@ void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p, st_mla_value_chec
     st_bw_u32(w, mask);
     for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
         if (!(mask >> l & 1u)) continue;
+        uint64_t readable = 0, changed = 0;
         for (uint32_t i = 0; i < below[l]; i++) {
             if (!col_readable(p, i, l)) continue;
             const unsigned char *v = sp ? st_mla_sparse_at(a, p->ins, i, l) : a->col[l] + (size_t)i * a->elem;
             if (check && !check(v)) w->refused_value = 1;
+            readable++;
+            changed += memcmp(v, st_mla_at_any(a, p->ins, i, l - 1), a->elem) != 0;
+        }
+        int delta = changed * (4 + (uint64_t)a->elem) < readable * a->elem;
+        st_bw_u8(w, (uint8_t)delta);
+        if (delta) st_bw_u32(w, (uint32_t)changed);
+        for (uint32_t i = 0; i < below[l]; i++) {
+            if (!col_readable(p, i, l)) continue;
+            const unsigned char *v = sp ? st_mla_sparse_at(a, p->ins, i, l) : a->col[l] + (size_t)i * a->elem;
+            if (delta) {
+                if (!memcmp(v, st_mla_at_any(a, p->ins, i, l - 1), a->elem)) continue;
+                st_bw_u32(w, i);
+            }
             st_bw_bytes(w, v, a->elem);
         }
     }
+}
+
+/* Format 3, a column written as changes (mode 1): every id inserted below l
+ * takes its value one level down (the last column below l that exists, else
+ * its base value), then the listed ids, strictly increasing and each
+ * readable at l, take theirs. */
+static int read_column_changes(st_br *r, st_mla *a, const st_pool *p, unsigned l, uint32_t below, uint32_t readable,
+                               const char *what)
+{
+    uint32_t elem = a->elem, n = st_br_u32(r);
+    if (r->failed) return -1;
+    if (n > readable) return st_br_fail(r, "%s: column %u lists %u changes of %u values", what, l, n, readable);
+    if (st_br_need(r, n, 4 + (uint64_t)elem, what)) return -1;
+    unsigned prev = 0;
+    for (unsigned k = l - 1; k >= 1 && !prev; k--)
+        if (a->col[k]) prev = k;
+    for (uint32_t i = 0; i < below; i++)
+        if (col_readable(p, i, l))
+            memcpy(a->col[l] + (size_t)i * elem, (prev > p->ins[i] ? a->col[prev] : a->base) + (size_t)i * elem, elem);
+    uint64_t last = UINT64_MAX;
+    for (uint32_t k = 0; k < n; k++) {
+        uint32_t id = st_br_u32(r);
+        if (r->failed) return -1;
+        if (id >= below || !col_readable(p, id, l) || (last != UINT64_MAX && id <= last))
+            return st_br_fail(r, "%s: column %u: id %u cannot change there", what, l, id);
+        last = id;
+        st_br_bytes(r, a->col[l] + (size_t)id * elem, elem);
+    }
+    return r->failed ? -1 : 0;
 }
 
 int st_mla_read(st_br *r, st_mla *a, const st_pool *p, unsigned top, uint32_t elem,
@@ -483,15 +530,24 @@ int st_mla_read(st_br *r, st_mla *a, const st_pool *p, unsigned top, uint32_t el
             if (r->failed) goto fail;
             if (n < below[l]) { st_br_fail(r, "%s: column %u holds %u entries, needs %u", what, l, n, below[l]); goto fail; }
         }
-        if (st_br_need(r, n, elem, what)) goto fail;
+        uint8_t mode = 0;
+        if (r->trimmed) {
+            mode = st_br_u8(r);
+            if (r->failed) goto fail;
+            if (mode > 1) { st_br_fail(r, "%s: column %u: unknown mode %u", what, l, mode); goto fail; }
+        }
+        if (!mode && st_br_need(r, n, elem, what)) goto fail;
         a->col[l] = calloc(cap ? cap : 1, elem);
         if (!a->col[l]) { st_fail(r->err, ST_ERR_MEMORY, "%s: out of memory", r->name); r->failed = 1; goto fail; }
         a->colcap[l] = cap;
         if (!r->trimmed) st_br_bytes(r, a->col[l], (size_t)n * elem);
-        else
+        else if (mode) {
+            if (read_column_changes(r, a, p, l, below[l], n, what)) goto fail;
+        } else
             for (uint32_t i = 0; i < below[l]; i++)
                 if (col_readable(p, i, l)) st_br_bytes(r, a->col[l] + (size_t)i * elem, elem);
-        for (uint32_t i = 0; check && i < n; i++)
+        /* every readable entry (format 3: below[l] ids; older: n >= below[l]) */
+        for (uint32_t i = 0; check && i < (r->trimmed ? below[l] : n); i++)
             if (col_readable(p, i, l) && !check(a->col[l] + (size_t)i * elem)) {
                 st_br_fail(r, "%s: bad value for id %u at level %u", what, i, l);
                 goto fail;

@@ -167,6 +167,18 @@ static void w_sharp(st_bw *w, const st_session_ref *r)
     st_mla_write(w, &r->h->vertex_sharp, &r->h->map.verts, st_value_sharpness_f32);
 }
 
+/* Version 3: each level's details up to the last one whose bits are not all
+ * zero (at least one), written whole (mode 0) or, when that is smaller, as
+ * the list of those not all zero (mode 1: u32 count, then u32 vertex id and
+ * the three doubles each): a level of a fresh subdivision holds zeros only,
+ * a sculpted one nonzero details where it was sculpted.  The rest read as
+ * +0 (st_hier_detail), as st_hier_trim_details trims; -0 is kept. */
+static int detail_zero(const double *d)
+{
+    static const double zero3[3];
+    return !memcmp(d, zero3, sizeof zero3);
+}
+
 static void w_detail(st_bw *w, const st_session_ref *r)
 {
     const st_hier *h = r->h;
@@ -174,14 +186,21 @@ static void w_detail(st_bw *w, const st_session_ref *r)
         int present = h->detail[l] != NULL;
         st_bw_u8(w, (uint8_t)present);
         if (!present) continue;
-        /* Up to the last detail whose bits are not all zero (at least one):
-         * the rest read as +0 (st_hier_detail), as st_hier_trim_details
-         * trims; -0 is kept, its bits are not zero. */
-        static const double zero3[3];
-        uint32_t n = h->detail_cap[l];
-        while (n > 1 && !memcmp(h->detail[l] + 3 * (size_t)(n - 1), zero3, sizeof zero3)) n--;
+        uint32_t n = h->detail_cap[l], nonzero = 0;
+        while (n > 1 && detail_zero(h->detail[l] + 3 * (size_t)(n - 1))) n--;
+        for (uint32_t i = 0; i < n; i++) nonzero += !detail_zero(h->detail[l] + 3 * (size_t)i);
+        /* (the reader bounds a list's cap by the vertex ids: a dense array
+         * is bounded by its own bytes) */
+        int list = (uint64_t)nonzero * 28 < (uint64_t)n * 24 && n <= h->map.verts.end;
         st_bw_u32(w, n);
-        for (size_t i = 0; i < 3 * (size_t)n; i++) st_bw_f64(w, h->detail[l][i]);
+        st_bw_u8(w, (uint8_t)list);
+        if (list) st_bw_u32(w, nonzero);
+        for (uint32_t i = 0; i < n; i++) {
+            const double *d = h->detail[l] + 3 * (size_t)i;
+            if (list && detail_zero(d)) continue;
+            if (list) st_bw_u32(w, i);
+            for (int k = 0; k < 3; k++) st_bw_f64(w, d[k]);
+        }
     }
 }
 
@@ -681,14 +700,38 @@ static int r_detail(load_ctx *c, st_br *r)
         if (!present) continue;
         if (l == 0 || l > h->map.top) return st_br_fail(r, "details at level %u (levels 1..%u have details)", l, h->map.top);
         uint32_t cap = st_br_u32(r);
-        if (st_br_need(r, cap, 24, "details")) return -1;
+        uint8_t list = 0;
+        if (r->trimmed) list = st_br_u8(r);   /* version 3 (w_detail) */
+        if (r->failed) return -1;
+        if (list > 1) return st_br_fail(r, "details of level %u: unknown mode %u", l, list);
+        if (!list && st_br_need(r, cap, 24, "details")) return -1;
         if (cap == 0) return st_br_fail(r, "details of level %u: empty array", l);
-        h->detail[l] = malloc((size_t)cap * 24);
+        /* a list names ids below cap, and cap is what its bytes allow */
+        if (list && cap > c->s->h.map.verts.end) return st_br_fail(r, "details of level %u: %u of %u vertex ids", l, cap, c->s->h.map.verts.end);
+        h->detail[l] = calloc((size_t)cap, 24);
         if (!h->detail[l]) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
         h->detail_cap[l] = cap;
-        for (size_t i = 0; i < 3 * (size_t)cap; i++) {
-            h->detail[l][i] = st_br_f64(r);
-            if (!isfinite(h->detail[l][i])) return st_br_fail(r, "details of level %u: vertex %zu is not finite", l, i / 3);
+        if (!list) {
+            for (size_t i = 0; i < 3 * (size_t)cap; i++) {
+                h->detail[l][i] = st_br_f64(r);
+                if (!isfinite(h->detail[l][i])) return st_br_fail(r, "details of level %u: vertex %zu is not finite", l, i / 3);
+            }
+            continue;
+        }
+        uint32_t n = st_br_u32(r);
+        if (r->failed) return -1;
+        if (n > cap || st_br_need(r, n, 28, "details")) return n > cap ? st_br_fail(r, "details of level %u: %u listed of %u", l, n, cap) : -1;
+        uint64_t last = UINT64_MAX;
+        for (uint32_t k = 0; k < n; k++) {
+            uint32_t id = st_br_u32(r);
+            if (id >= cap || (last != UINT64_MAX && id <= last))
+                return st_br_fail(r, "details of level %u: vertex %u out of order or range", l, id);
+            last = id;
+            for (int j = 0; j < 3; j++) {
+                double v = st_br_f64(r);
+                if (!isfinite(v)) return st_br_fail(r, "details of level %u: vertex %u is not finite", l, id);
+                h->detail[l][3 * (size_t)id + j] = v;
+            }
         }
     }
     return r->failed ? -1 : 0;
