@@ -6,6 +6,7 @@
  * Cases: spot_quadrangulated.obj, Catmull-Clark, base 0, max 5; koala.obj,
  * Loop, base 0, max 3.  The box (a tenth of the model's extent, around the
  * vertex of largest x) is moved by 5 % of its size along x.  Medians of 9. */
+#include "core/io/mesh.h"
 #include "core/adapt/adapt.h"
 #include "bench_common.h"
 #include "core/multires/hier.h"

@@ -33,6 +33,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/io/mesh.h"
 #include "core/adapt/adapt.h"
 #include "core/multires/edit.h"
 #include "bench_common.h"

@@ -8,7 +8,7 @@
 
 #include "core/fvar/fvar.h"
 #include "core/base/st_error.h"
-#include "core/io/mesh.h"
+#include "core/base/mesh.h"
 #include "core/map/map.h"
 
 /* One level: per dart id below cap, the corner's UV and a value label.

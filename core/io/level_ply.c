@@ -13,6 +13,7 @@
  * makes one vertex per (vertex, texture coordinate) pair in that same order,
  * so PLY vertex t is the t-th (vertex, label) pair, with the position of its
  * vertex and the UV of its first corner. */
+#include "core/io/mesh.h"
 #include "core/io/level_ply.h"
 #include "core/io/atomic_file.h"
 #include "core/base/hugepage.h"

@@ -1,10 +1,10 @@
-/* st_mesh: a polygon soup, the interchange form between files and the map.
+/* Mesh files: st_mesh (core/base/mesh.h), a polygon soup, read from and
+ * written to OBJ, OFF and PLY.
  *
  * Loaders fill it, the repair/check pass makes it a consistently oriented
  * 2-manifold (or refuses it with a message), st_map_from_mesh() builds the
  * level-0 map from it, and st_map_to_mesh() extracts any level back into it
- * for the writers.  Flat arrays, counts-and-offsets for faces (OpenSubdiv's
- * vtr layout).  Vertex and face indices are 0-based.
+ * for the writers.
  */
 #ifndef ST_MESH_H
 #define ST_MESH_H
@@ -12,60 +12,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/base/mesh.h"
 #include "core/base/st_error.h"
-
-/* OBJ `t interpolateboundary` values as written in files (OpenSubdiv's
- * regression/common/far_utils.h: 0 none, 1 edge-and-corner, 2 edge-only; no tag means edge-only). */
-enum st_boundary_interp {
-    ST_BOUNDARY_UNSET = -1,
-    ST_BOUNDARY_NONE = 0,
-    ST_BOUNDARY_EDGE_AND_CORNER = 1,
-    ST_BOUNDARY_EDGE_ONLY = 2,
-};
-
-typedef struct st_mesh {
-    uint32_t nverts;
-    double *pos;            /* 3 * nverts */
-    uint32_t nfaces;
-    uint32_t *face_off;     /* nfaces + 1 offsets into face_idx */
-    uint32_t *face_idx;     /* face_off[nfaces] vertex indices, counter-clockwise */
-    /* Optional per-vertex normals (writers only; NULL when absent). */
-    double *normals;        /* 3 * nverts or NULL */
-    /* OpenSubdiv tags from OBJ `t` lines, kept for the schemes. */
-    uint32_t ncreases;
-    uint32_t *crease_v;     /* 2 * ncreases vertex indices (an edge) */
-    float *crease_s;        /* ncreases sharpness values */
-    uint32_t ncorners;
-    uint32_t *corner_v;     /* ncorners vertex indices */
-    float *corner_s;        /* ncorners sharpness values */
-    int boundary_interp;    /* enum st_boundary_interp */
-    int crease_method;      /* `t creasemethod`: 0 uniform ("normal"), 1 chaikin (enum st_crease_method) */
-    int tri_sub;            /* `t smoothtriangles`: 0 catmark, 1 smooth (enum st_tri_sub) */
-    /* Hole faces (OBJ `t hole`): nfaces flags, 1 for a hole, or NULL when
-     * none.  A hole is a face for the rules of its vertices, with no surface:
-     * the writers leave it out. */
-    uint8_t *face_hole;
-    /* Optional face-varying texture coordinates (OBJ vt, PLY u v, glTF
-     * TEXCOORD_0): face_uv is parallel to face_idx and names, per face
-     * corner, one of the nuvs values in uv.  Two corners of one vertex with
-     * different indices are on a UV seam, even when their values are equal
-     * (OpenSubdiv's face-varying topology is by index).  NULL when absent. */
-    uint32_t nuvs;
-    double *uv;             /* 2 * nuvs */
-    uint32_t *face_uv;      /* face_off[nfaces] indices into uv, or NULL */
-} st_mesh;
-
-void st_mesh_init(st_mesh *m);
-/* Hole faces in m (face_hole set): the writers leave them out. */
-uint32_t st_mesh_hole_faces(const st_mesh *m);
-void st_mesh_free(st_mesh *m);
-/* Moves src into dst (dst freed first); src is left empty. */
-void st_mesh_move(st_mesh *dst, st_mesh *src);
-
-/* Limits that keep an unchecked count in a file from driving an allocation. */
-#define ST_MESH_MAX_VERTS   (1u << 27)
-#define ST_MESH_MAX_FACES   (1u << 27)
-#define ST_MESH_MAX_DEGREE  (1u << 16)
 
 /* Whether path ends in ext (".obj", ...), ignoring ASCII case: the one
  * extension test every loader, writer and command uses. */
@@ -118,11 +66,6 @@ int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err);
  * Refused: non-orientable surfaces, degenerate faces, and with
  * ST_MESH_STRICT edges with 3+ faces (as before the split existed).
  * On failure m is unchanged.  See core/io/mesh_repair.c for the rules. */
-typedef struct st_notes {
-    char **lines;
-    uint32_t count;
-} st_notes;
-void st_notes_free(st_notes *n);
 int st_mesh_repair(const char *name, st_mesh *m, st_notes *notes, st_error *err);
 /* Flags of the _flags variants (0: st_mesh_repair's behaviour).
  * ST_MESH_STRICT refuses an edge with 3+ faces ("non-manifold edge between
@@ -155,11 +98,5 @@ typedef struct st_mesh_src st_mesh_src;
  * untouched; *parsed is freed either way. */
 int st_mesh_finish_load(const char *name, st_mesh *parsed, const st_mesh_src *src, unsigned flags,
                         st_mesh *out, st_notes *notes, st_error *err);
-/* Appends one printf-style line to notes (ignored when notes is NULL). */
-int st_notes_add(st_notes *notes, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
 
 #endif

@@ -3,7 +3,7 @@
 #define ST_MAP_MESH_H
 
 #include "core/map/map.h"
-#include "core/io/mesh.h"
+#include "core/base/mesh.h"
 
 /* Builds level 0 of an empty map from a manifold, consistently oriented soup
  * (st_mesh_repair's output).  Holes become boundary faces.  Fails with a

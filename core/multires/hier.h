@@ -21,7 +21,7 @@
 #define ST_HIER_H
 
 #include "core/map/map.h"
-#include "core/io/mesh.h"
+#include "core/base/mesh.h"
 #include "core/schemes/scheme.h"
 #include "core/fvar/fvar.h"
 

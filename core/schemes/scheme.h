@@ -14,7 +14,7 @@
 #define ST_SCHEME_H
 
 #include "core/map/map.h"
-#include "core/io/mesh.h"
+#include "core/base/mesh.h"
 
 typedef enum st_scheme_id {
     ST_SCHEME_CATMARK,      /* Catmull-Clark, any polygon mesh */
