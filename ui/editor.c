@@ -692,31 +692,28 @@ void st_doc_vertex_pos(const st_doc *d, uint32_t vid, double p[3])
     memcpy(p, st_pos(&d->h.map, vid, d->edit_level), 3 * sizeof *p);
 }
 
-uint32_t ed_vertex_dart(st_doc *d, uint32_t vid)
+const uint32_t *ed_vertex_darts(st_doc *d, uint32_t *n)
 {
-    if (!d->loaded || !edit_vertex_ok(d, vid)) return ST_NIL;
-    st_map *m = &d->h.map;
     unsigned l = d->edit_level;
     if (d->vdart_level != (int)l) {
         /* Sized by the largest vertex id of the level, not of the map: the
-         * ids of finer levels come later. */
-        uint32_t nv = 0;
-        st_dart_iter it;
-        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it))
-            if (v + 1 > nv) nv = v + 1;
+         * ids of finer levels come later.  A real face's dart preferred
+         * (core/sculpt/sculpt.h). */
         free(d->vdart);
-        d->nvdart = nv;
-        d->vdart = malloc((size_t)(nv ? nv : 1) * sizeof *d->vdart);
+        d->vdart = st_sculpt_vertex_darts(&d->h.map, l, &d->nvdart);
         if (!d->vdart) abort();
-        for (uint32_t v = 0; v < nv; v++) d->vdart[v] = ST_NIL;
-        for (uint32_t x = st_dart_first(m, l, &it); x != ST_NIL; x = st_dart_next(m, l, &it)) {
-            uint32_t v = st_vert(m, x, l), cur = d->vdart[v];
-            if (cur == ST_NIL || (st_is_boundary(m, cur) && !st_is_boundary(m, x))) d->vdart[v] = x;
-        }
         d->vdart_level = (int)l;
     }
-    if (vid >= d->nvdart) return ST_NIL;
-    return d->vdart[vid];
+    *n = d->nvdart;
+    return d->vdart;
+}
+
+uint32_t ed_vertex_dart(st_doc *d, uint32_t vid)
+{
+    if (!d->loaded || !edit_vertex_ok(d, vid)) return ST_NIL;
+    uint32_t n;
+    const uint32_t *vd = ed_vertex_darts(d, &n);
+    return vid < n ? vd[vid] : ST_NIL;
 }
 
 uint32_t st_doc_vertex_dart(st_doc *d, uint32_t vid) { return ed_vertex_dart(d, vid); }
