@@ -4,7 +4,7 @@
  * A scripted coarse edit: every vertex v of level L moves by
  * D·exp(−|v−C|²/R²), as one edit through the path the window's drag and
  * brushes take (st_hier_edit, core/multires/edit.h; st_layers_edit when the
- * level has sculpt layers, as ui/editor_layers.c does), so the finer levels
+ * level has sculpt layers, as ui/doc/editor_layers.c does), so the finer levels
  * keep their details exactly as after the same edit in the window.  Not a
  * brush of core/sculpt: the bump's weight is a Gaussian with no edge (every
  * vertex of L moves, by however little), where the brushes' falloffs end at
@@ -96,7 +96,7 @@ static int take_bump(int *argc, char **argv, bump *b)
 }
 
 /* The slot the edit goes into on a layered level: the active layer when it
- * lives on l and shows (ui/editor_layers.c edit_target), else the level's
+ * lives on l and shows (ui/doc/editor_layers.c edit_target), else the level's
  * own details. */
 static int layer_target(const st_layers *ls, unsigned l)
 {

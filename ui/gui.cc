@@ -1028,7 +1028,7 @@ float panel_width(void)
 }
 
 /* The Mask section: the mask brush and the whole-level operations
- * (ui/editor_mask.c), as actions so that keys, menus and this agree. */
+ * (ui/doc/editor_mask.c), as actions so that keys, menus and this agree. */
 void mask_section(st_app *a)
 {
     bool on = a->mask_brush != 0;
@@ -1045,7 +1045,7 @@ void mask_section(st_app *a)
     action_button(a, ST_ACT_MASK_CAVITY, "Mask cavities");
 }
 
-/* The Layers section (ui/editor_layers.c): the stack top first; a click
+/* The Layers section (ui/doc/editor_layers.c): the stack top first; a click
  * makes a layer active (and its level the editing level); visibility,
  * strength (one undo step when the slider is released) and the active
  * layer's name. */
@@ -1105,7 +1105,7 @@ void layers_section(st_app *a)
     }
 }
 
-/* The Filter section of a progressive model (ui/editor_filter.c): a gain
+/* The Filter section of a progressive model (ui/doc/editor_filter.c): a gain
  * per band of details, level 1 (coarsest) to the top, and Apply, which
  * scales the details and re-synthesises as one undo step; the gains then
  * go back to 1, since the details now carry the change. */

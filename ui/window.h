@@ -92,7 +92,7 @@ typedef struct st_app {
     int checker, shown_checker;  /* UV checker asked for / uploaded (st_renderer_set_uvs) */
 
     int tool;                  /* ST_TOOL_SELECT or enum st_brush_tool */
-    int mask_brush;            /* brush strokes paint the mask (Ctrl: erase), ui/editor_mask.c */
+    int mask_brush;            /* brush strokes paint the mask (Ctrl: erase), ui/doc/editor_mask.c */
     int mods;                  /* GLFW_MOD_* held, from the key events */
     double mx, my;             /* cursor, framebuffer pixels */
     int op;                    /* enum st_mouse_op */

@@ -5,7 +5,7 @@
  * sculpt_hold.c.  Around the tools, so that full strength holds (issue 30,
  * tests/test_editor_brush_hold.c): the dab's reach at coarse levels
  * (st_sculpt_dab_radius), the stroke's fade (a factor given with each dab
- * by the document, ui/brush.c), the spacing attenuation
+ * by the document, ui/doc/brush.c), the spacing attenuation
  * (st_brush_overlap_scale), auto-smooth and the hold (sc_hold_faces).
  *
  * Finding the vertices under a dab: a uniform grid (hashed cells) of the

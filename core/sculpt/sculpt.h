@@ -15,7 +15,7 @@
  * edit, or st_sculpt_apply here) and tells the kernel they moved
  * (st_sculpt_moved), so the next dab sees them.
  *
- * The window's document (ui/brush.c) keeps what belongs to the input:
+ * The window's document (ui/doc/brush.c) keeps what belongs to the input:
  * the stroke's path and spacing, its fade (a factor per dab), the undo
  * step and the renderer's refresh.  Units are object space; R, the dab's
  * radius, is st_sculpt_dab_radius's. */

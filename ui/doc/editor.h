@@ -287,7 +287,7 @@ int st_doc_rebuild_levels(st_doc *d, int (*progress)(void *ctx, double fraction)
  * the bytes needed when over mem_budget).  Remove top / bottom: delete the
  * finest / coarsest level (bottom = "rebase": level 1 becomes the control
  * mesh).  All undoable. */
-/* Multiresolution filtering of a progressive model (ui/editor_filter.c;
+/* Multiresolution filtering of a progressive model (ui/doc/editor_filter.c;
  * core's st_progressive_filter, GSS99 §5): the details of level k+1
  * scaled by gains[k] (k < n; the levels past the list keep theirs: 0
  * removes that band, 1 keeps it to the bit, above 1 enhances it), the

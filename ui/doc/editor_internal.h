@@ -1,5 +1,5 @@
-/* Shared between ui/editor*.c, ui/brush*.c and ui/undo*.c; not part of the
- * window's API. */
+/* Shared between the files of ui/doc/ (the document: editor*.c, brush*.c,
+ * undo.c); not part of the window's API. */
 #ifndef ST_EDITOR_INTERNAL_H
 #define ST_EDITOR_INTERNAL_H
 
