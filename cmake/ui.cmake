@@ -33,7 +33,7 @@ if(STRATA_UI_SOURCES AND TARGET strata_editor AND EXISTS ${CMAKE_SOURCE_DIR}/ui/
   if(TARGET strata_editor)
     target_link_libraries(strata_ui PUBLIC strata_editor)
   endif()
-  # The GUI (ui/gui.cc, the one C++ file of ui/): Dear ImGui 1.86 from
+  # The GUI (ui/gui*.cc and ui/file_browser.cc, the C++ files of ui/): Dear ImGui 1.86 from
   # Debian's libimgui-dev, whose static libimgui.a holds the GLFW and
   # OpenGL 3 backends; the OpenGL 3 backend loads libGL by itself (dlopen).
   # Export writes glTF through strata_gltf (cmake/gltf.cmake).
