@@ -14,6 +14,11 @@ endif()
 
 # The window: ui/*.c and ui/*.cc (the folders below are libraries of their own).
 file(GLOB STRATA_UI_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/ui/*.c ${CMAKE_SOURCE_DIR}/ui/*.cc)
+# `strata --bench-interaction` (st_window_bench): the benchmark's driver
+# lives in bench/ but needs the window's document, renderer and context.
+if(STRATA_UI_SOURCES)
+  list(APPEND STRATA_UI_SOURCES ${CMAKE_SOURCE_DIR}/bench/interaction.c)
+endif()
 # The window needs the document (ui/doc/editor.c): without it strata_ui is not
 # built and `strata` without a subcommand says the window is missing.
 if(STRATA_UI_SOURCES AND TARGET strata_editor AND EXISTS ${CMAKE_SOURCE_DIR}/ui/doc/editor.c)
