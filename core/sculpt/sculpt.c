@@ -125,6 +125,7 @@ void st_sculpt_free(st_sculpt *bs)
     free(bs->accw);
     free(bs->disp2);
     free(bs->tmpa);
+    free(bs->fn);
     free(bs->own_vdart);
     free(bs->odarts);
     free(bs->opos);
