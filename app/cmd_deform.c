@@ -4,8 +4,13 @@
  * A scripted coarse edit: every vertex v of level L moves by
  * D·exp(−|v−C|²/R²), as one edit through the path the window's drag and
  * brushes take (st_hier_edit, core/multires/edit.h; st_layers_edit when the
- * level has sculpt layers, as ui/editor_layers.c does), so the finer levels
- * keep their details exactly as after the same edit in the window.  IN is a
+ * level has sculpt layers, as ui/doc/editor_layers.c does), so the finer levels
+ * keep their details exactly as after the same edit in the window.  Not a
+ * brush of core/sculpt: the bump's weight is a Gaussian with no edge (every
+ * vertex of L moves, by however little), where the brushes' falloffs end at
+ * their radius and grab moves what its first dab captured; what it shares
+ * with them is the vertex -> dart table (st_sculpt_vertex_darts), so it
+ * edits the vertices through the same darts the window's picking gives.  IN is a
  * session, every chunk kept, or a mesh built with --scheme/--levels as
  * `strata info` builds it (app/cli_common.h).  OUT is written atomically
  * (core/io/atomic_file.h) and only after everything was checked, so a
@@ -18,6 +23,7 @@
 #include "core/multires/edit.h"
 #include "core/multires/estimate.h"
 #include "core/multires/layers.h"
+#include "core/sculpt/sculpt.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -89,27 +95,8 @@ static int take_bump(int *argc, char **argv, bump *b)
     return found;
 }
 
-/* One dart per vertex of level l, indexed by vertex id (ST_NIL: none),
- * a dart of a real face preferred, as the window's picking gives
- * (ui/editor.c ed_vertex_dart).  NULL when out of memory. */
-static uint32_t *vertex_darts(const st_map *m, unsigned l, uint32_t *nv)
-{
-    st_dart_iter it;
-    *nv = 0;
-    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it))
-        if (v + 1 > *nv) *nv = v + 1;
-    uint32_t *vd = malloc((size_t)(*nv ? *nv : 1) * sizeof *vd);
-    if (!vd) return NULL;
-    for (uint32_t v = 0; v < *nv; v++) vd[v] = ST_NIL;
-    for (uint32_t x = st_dart_first(m, l, &it); x != ST_NIL; x = st_dart_next(m, l, &it)) {
-        uint32_t v = st_vert(m, x, l), cur = vd[v];
-        if (cur == ST_NIL || (st_is_boundary(m, cur) && !st_is_boundary(m, x))) vd[v] = x;
-    }
-    return vd;
-}
-
 /* The slot the edit goes into on a layered level: the active layer when it
- * lives on l and shows (ui/editor_layers.c edit_target), else the level's
+ * lives on l and shows (ui/doc/editor_layers.c edit_target), else the level's
  * own details. */
 static int layer_target(const st_layers *ls, unsigned l)
 {
@@ -133,7 +120,7 @@ static int64_t apply_bump(st_session *s, unsigned l, const bump *b)
 {
     st_hier *h = &s->h;
     uint32_t nv, n = 0;
-    uint32_t *vd = vertex_darts(&h->map, l, &nv);
+    uint32_t *vd = st_sculpt_vertex_darts(&h->map, l, &nv);
     uint32_t *darts = malloc((size_t)(nv ? nv : 1) * sizeof *darts);
     double (*pos)[3] = malloc((size_t)(nv ? nv : 1) * sizeof *pos);
     if (!vd || !darts || !pos) { free(vd); free(darts); free(pos); return -1; }

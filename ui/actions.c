@@ -312,7 +312,7 @@ static void scheme_keep(st_app *a)
     st_app_message(a, 0, "scheme unchanged");
 }
 
-/* Mask (ui/editor_mask.c) */
+/* Mask (ui/doc/editor_mask.c) */
 static void mask_brush(st_app *a)
 {
     a->mask_brush = !a->mask_brush;
@@ -331,7 +331,7 @@ static void mask_shrink(st_app *a) { mask_done(a, st_doc_mask_shrink(&a->doc), "
 static void mask_smooth(st_app *a) { mask_done(a, st_doc_mask_smooth(&a->doc), "mask smoothed"); }
 static void mask_cavity(st_app *a) { mask_done(a, st_doc_mask_cavity(&a->doc), "mask by cavity"); }
 
-/* Sculpt layers (ui/editor_layers.c): the active one. */
+/* Sculpt layers (ui/doc/editor_layers.c): the active one. */
 static int active_layer(st_app *a)
 {
     int k = a->doc.layers.active;

@@ -6,7 +6,7 @@
  *
  * Pointer input (orbit, pan, zoom, clicks, drags, brush strokes, box
  * handles, dropped files) is continuous, not a discrete action: it stays in
- * the window's pointer handlers (window.c) and is listed, for F1 and the
+ * the window's pointer handlers (controller.c) and is listed, for F1 and the
  * key table, in st_gestures (actions.c).
  *
  * Shortcuts and modifiers.  A shortcut is a key, the modifiers it needs and

@@ -1,9 +1,9 @@
 /* The window's interface drawn with Dear ImGui (libimgui-dev 1.86, C++):
  * a menu bar generated from the action table (actions.h), a side panel,
  * a file dialog, the scheme question and a progress window for long jobs.
- * Dear ImGui stays in ui/gui.cc; this is its C API.
+ * Dear ImGui stays in ui/gui*.cc and ui/file_browser.cc; this is their C API.
  *
- * Input: the window's GLFW handlers (window.c), which the replay calls too,
+ * Input: the window's GLFW handlers (window.c, controller.c), which the replay calls too,
  * pass every event here first.  A press, a wheel turn or a key goes to the
  * GUI alone when ImGui wants it (io.WantCaptureMouse / WantCaptureKeyboard:
  * the pointer is over a menu or panel, a text field is active, a dialog is

@@ -124,11 +124,6 @@ float st_hud_text_width(const char *text, float scale)
     return (float)stb_easy_font_width((char *)text) * scale;
 }
 
-float st_hud_text_height(const char *text, float scale)
-{
-    return (float)stb_easy_font_height((char *)text) * scale;
-}
-
 float st_hud_text(st_hud *u, float x, float y, float scale, const float c[4], const char *text)
 {
     /* stb_easy_font writes quads: 4 vertices of x, y, z, colour (16 bytes). */

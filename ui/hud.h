@@ -25,7 +25,6 @@ void st_hud_begin(st_hud *u, int w, int h);
  * the text's width in pixels. */
 float st_hud_text(st_hud *u, float x, float y, float scale, const float rgba[4], const char *text);
 float st_hud_text_width(const char *text, float scale);
-float st_hud_text_height(const char *text, float scale);
 void st_hud_rect(st_hud *u, float x0, float y0, float x1, float y1, const float rgba[4]);
 void st_hud_line(st_hud *u, float x0, float y0, float x1, float y1, float width, const float rgba[4]);
 void st_hud_circle(st_hud *u, float cx, float cy, float r, float width, const float rgba[4]);

@@ -270,7 +270,7 @@ void st_app_draw_overlays(st_app *a)
             float rad = (float)(a->doc.brush.radius / (px > 0 ? px : 1));
             if (st_camctl_project(&a->cc, a->fb_w, a->fb_h, p, s, NULL))
                 st_hud_circle(u, (float)s[0], (float)s[1], rad, 2, C_BRUSH);
-            /* The mirrored dabs of the symmetry (brush.c). */
+            /* The mirrored dabs of the symmetry (core/sculpt/sculpt.c). */
             unsigned sym = (a->doc.brush.mirror_x ? 1u : 0) | (a->doc.brush.mirror_y ? 2u : 0) |
                            (a->doc.brush.mirror_z ? 4u : 0);
             for (unsigned m = 1; m < 8; m++) {

@@ -96,7 +96,7 @@ typedef struct st_app {
     int checker, shown_checker;  /* UV checker asked for / uploaded (st_renderer_set_uvs) */
 
     int tool;                  /* ST_TOOL_SELECT or enum st_brush_tool */
-    int mask_brush;            /* brush strokes paint the mask (Ctrl: erase), ui/editor_mask.c */
+    int mask_brush;            /* brush strokes paint the mask (Ctrl: erase), ui/doc/editor_mask.c */
     int mods;                  /* GLFW_MOD_* held, from the key events */
     double mx, my;             /* cursor, framebuffer pixels */
     int op;                    /* enum st_mouse_op */
@@ -236,7 +236,7 @@ double st_app_job_fraction(void);
 
 /* Keys are looked up in the action table (ui/actions.h). */
 
-/* ---- shared by the window's files (window.c, actions.c, jobs.c, hud_panels.c) ---- */
+/* ---- shared by the window's files (window.c, controller.c, actions.c, jobs.c, hud_panels.c) ---- */
 
 double st_now_ms(void);
 const char *st_path_base(const char *path);        /* the file name of a path */
@@ -252,6 +252,8 @@ void st_app_drag_start(st_app *a, int op);          /* ST_OP_DRAG or ST_OP_GRAB 
  * the status line; 0 when applied. */
 int st_app_filter(st_app *a, const double *gains, unsigned n);
 void st_app_drag_finish(st_app *a, int cancel);
+/* The drag follows the cursor and the modifiers (ui/controller.c). */
+void st_app_drag_update(st_app *a);
 /* Handle k of the interest box: 0..5 the face centres (-x +x -y +y -z +z), 6 the centre. */
 void st_box_handle_pos(const st_adapt_params *b, int k, double p[3]);
 

@@ -1,6 +1,6 @@
 /* Rebuild levels: a dense mesh made into a hierarchy with coarse editing
  * levels, by one of two methods, the same for `strata rebuild`
- * (app/cmd_rebuild.c) and the window's "rebuild levels" (ui/editor_rebuild.c):
+ * (app/cmd_rebuild.c) and the window's "rebuild levels" (ui/doc/editor_rebuild.c):
  *   - unsubdivide (core/rebuild/unsubdivide.h): the mesh has subdivision
  *     connectivity; the cage and the depth are recovered, positions by the
  *     analysis; OBJ tags (creases, corners, holes) and UVs are carried to

@@ -309,7 +309,7 @@ static void disp_mask_sink(void *ctx, const st_stencil *s)
 
 /* Level L of the display from level L-1: the stencils on the faces of
  * level L-1 subdivided toward L (the faces the display's own synthesis
- * beyond the model uses, ui/editor_display.c). */
+ * beyond the model uses, ui/doc/editor_display.c). */
 static void disp_mask_level(st_mask *mk, st_hier *h, unsigned L, st_dart_list *faces)
 {
     st_map *m = &h->map;

@@ -418,7 +418,7 @@ static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
         if (s->lay) ed_layer_values_apply(s->lay, &d->layers, redo);
         ed_step_apply_extra(d, s, redo);
         ed_geometry_changed(d, s->level, s->moved, s->nmoved, t0, from);
-        /* No vertex of its own level moved (a filter, ui/editor_filter.c):
+        /* No vertex of its own level moved (a filter, ui/doc/editor_filter.c):
          * the levels above changed everywhere, not around moved vertices. */
         if (!s->nmoved && s->n) d->change.bits |= ST_CHANGE_ALL_POSITIONS;
         return ST_OK;

@@ -1,5 +1,5 @@
 /* The document's interaction benchmark (st_doc_bench_drag, editor.h): the
- * geometry half of `strata --bench-interaction` (bench_interaction.c adds
+ * geometry half of `strata --bench-interaction` (bench/interaction.c adds
  * the window's buffer updates); in strata_editor, with no GL, so that the
  * headless tests run it too. */
 #include "editor_internal.h"

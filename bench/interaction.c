@@ -1,6 +1,13 @@
 /* strata --bench-interaction FILE: the cost of one drag step against a full
  * rebuild, on a depth-6 hierarchy (docs/MODELLER.md).
  *
+ * Here with the other benchmarks, but not a program of its own as
+ * bench/bench_*.c are: it drives the window's document, renderer and GL
+ * context, so cmake/ui.cmake compiles it into strata_ui and `strata`
+ * keeps the option (app/cmd_window.c: st_window_bench, window.h).  The
+ * document's half, st_doc_bench_drag, stays in ui/doc/editor_bench.c,
+ * where the headless tests run it (tests/test_editor.c).
+ *
  * One vertex of level 2 is selected and dragged in --bench-steps steps
  * through the same calls the window makes (st_doc_drag_update, then
  * st_renderer_refresh with the footprint core reported); each step is timed as geometry

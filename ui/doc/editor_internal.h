@@ -1,5 +1,5 @@
-/* Shared between ui/editor*.c, ui/brush*.c and ui/undo*.c; not part of the
- * window's API. */
+/* Shared between the files of ui/doc/ (the document: editor*.c, brush*.c,
+ * undo.c); not part of the window's API. */
 #ifndef ST_EDITOR_INTERNAL_H
 #define ST_EDITOR_INTERNAL_H
 
@@ -125,6 +125,10 @@ void ed_remove_top_keep_order(st_hier *h);
  * synced in full. */
 void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0, uint32_t from);
 uint32_t ed_vertex_dart(st_doc *d, uint32_t vid);
+/* The table behind ed_vertex_dart: one dart per vertex id of the editing
+ * level (ST_NIL: none), *n entries, built on demand and kept while the
+ * topology holds (d->vdart_level). */
+const uint32_t *ed_vertex_darts(st_doc *d, uint32_t *n);
 /* The pending step of the drag (active 1) or stroke (2) in progress, taken
  * (the document is left idle); NULL when no such operation is active or it
  * has no step. */

@@ -47,34 +47,14 @@
 #include "core/multires/mask.h"
 #include "core/io/mesh.h"
 #include "core/io/session.h"
+#include "core/sculpt/sculpt.h"
 #include "editor_display.h"
 
-/* Brushes (brush.c, brush_tools.c).  The order is the order of the panel's
- * buttons; a mask brush (another module) takes the next slot. */
-enum st_brush_tool {
-    ST_BRUSH_GRAB, ST_BRUSH_DRAW, ST_BRUSH_SMOOTH, ST_BRUSH_FLATTEN,
-    ST_BRUSH_CREASE, ST_BRUSH_PINCH, ST_BRUSH_INFLATE, ST_BRUSH_CLAY_STRIPS, ST_BRUSH_LAYER, ST_BRUSH_RELAX,
-    ST_BRUSH_COUNT
-};
+/* Brushes: the tools (enum st_brush_tool) and falloff presets (enum
+ * st_falloff, st_falloff_eval) are the sculpting kernel's
+ * (core/sculpt/sculpt.h); the document keeps the settings (st_brush) and
+ * the stroke (brush.c). */
 const char *st_brush_name(int tool);
-
-/* Falloff presets, with t = 1 - r/R (Blender's BKE_brush_curve_strength,
- * except smooth, which is Strata's (1 - (r/R)^2)^2 as before). */
-enum st_falloff {
-    ST_FALLOFF_SMOOTH,         /* (1 - q^2)^2, q = r/R */
-    ST_FALLOFF_SPHERE,         /* sqrt(2t - t^2) = sqrt(1 - q^2) */
-    ST_FALLOFF_ROOT,           /* sqrt(t) */
-    ST_FALLOFF_SHARP,          /* t^2 */
-    ST_FALLOFF_LINEAR,         /* t */
-    ST_FALLOFF_CONSTANT,       /* 1 */
-    ST_FALLOFF_COUNT
-};
-const char *st_falloff_name(int falloff);
-/* The preset whose name is `name`, -1 if none. */
-int st_falloff_by_name(const char *name);
-/* Falloff `kind` at distance r of a brush of radius R: in [0, 1], 0 for
- * r >= R. */
-double st_falloff_eval(int kind, double r, double radius);
 
 typedef struct st_brush {
     int tool;                  /* enum st_brush_tool */
@@ -96,14 +76,14 @@ typedef struct st_brush {
     double fade;               /* strength fades in over the first fade * radius of a stroke's path
                                   (0: none), so a stroke does not start with a full-strength dab;
                                   with it crease and pinch pull across the stroke only, so its end
-                                  is not a star (brush_tools.c) */
+                                  is not a star (core/sculpt/sculpt_tools.c) */
     double reach_edges;        /* a dab takes in at least this many mean edge lengths of the editing
                                   level (st_doc_brush_reach; 0: the radius only) */
     int area_plane;            /* draw, crease, pinch, flatten and clay strips work in the plane of the
                                   area under the dab (Blender's default Sculpt Plane "Area Plane"); 0:
                                   along the normal given with the dab, flatten in the plain mean */
     int hold;                  /* damp each dab so that no face turns more than 44 degrees or shrinks
-                                  below 10 % of its area within a stroke (brush.c: hold_faces) */
+                                  below 10 % of its area within a stroke (core/sculpt/sculpt_hold.c) */
     double autosmooth;         /* of the current tool, 0..1: after each dab the vertices under it
                                   are smoothed by autosmooth * weight (Blender's Auto-Smooth) */
     int stabilize;             /* lazy mouse: the brush trails the cursor by stabilize_dist * radius */
@@ -121,13 +101,9 @@ void st_brush_defaults(st_brush *b, double radius);
  * auto-smooth and takes the new one's. */
 void st_brush_set_tool(st_brush *b, int tool);
 /* The raw dab of every tool: no auto-smooth, no spacing attenuation, no
- * fade, no coarse-level reach, no area plane, no hold (what the brush formulas of brush_tools.c
+ * fade, no coarse-level reach, no area plane, no hold (what the brush formulas of core/sculpt/sculpt_tools.c
  * give for one dab; the document tests written for them pin it). */
 void st_brush_raw(st_brush *b);
-/* Multiplier of a dab's strength for dabs `spacing` radii apart with the
- * falloff preset `falloff`: 1 / the largest sum of overlapping falloffs
- * (Blender's integrate_overlap); 1 for spacing <= 0. */
-double st_brush_overlap_scale(int falloff, double spacing);
 
 /* What the last operations changed, for the renderer (accumulated until
  * st_doc_take_change()). */
@@ -135,7 +111,7 @@ enum st_change_bits {
     ST_CHANGE_TOPOLOGY = 1,    /* levels, scheme, adaptive refinement: rebuild buffers */
     ST_CHANGE_POSITIONS = 2,   /* vertices of h moved: `footprint` holds what core wrote, e.g.
                                   st_renderer_refresh(r, targets, &d->h.map, footprint); moved_level /
-                                  moved_darts: the moved vertices of the editing level (darts of h);
+                                  nmoved: the level and the count of the vertices moved there;
                                   with the box on the display moved too: ST_CHANGE_DISPLAY */
     ST_CHANGE_SELECTION = 4,
     ST_CHANGE_BOX = 8,
@@ -153,9 +129,8 @@ enum st_change_bits {
 
 typedef struct st_doc_change {
     unsigned bits;             /* enum st_change_bits */
-    unsigned moved_level;      /* the level the moved darts are on */
-    uint32_t *moved_darts;     /* one dart per moved vertex (owned by the doc) */
-    uint32_t nmoved;
+    unsigned moved_level;      /* the level the moved vertices are on */
+    uint32_t nmoved;           /* vertices moved there (which ones: the footprint) */
     uint32_t *disp_vids;       /* ST_CHANGE_DISPLAY: vertex ids of the display hierarchy (owned by the doc) */
     uint32_t ndisp;
     const st_map_log *patch;   /* ST_CHANGE_PATCH: the display map's changes (owned by the doc) */
@@ -215,7 +190,6 @@ typedef struct st_doc {
     double last_update_ms;     /* how long the last geometry update took (edit, undo, level, box), ms,
                                   monotonic clock; its time stamp is last_update_at_ms */
     double last_update_at_ms;  /* monotonic time stamp of the last geometry update */
-    uint32_t capmoved;         /* capacity of change.moved_darts */
     st_footprint fp_model;     /* values of h written since the last st_doc_take_change (core appends) */
     st_footprint fp_query;     /* scratch: an edit's footprint asked before it (undo) */
     st_footprint fp_taken[2];  /* model and display footprints handed out by st_doc_take_change */
@@ -316,7 +290,7 @@ int st_doc_rebuild_levels(st_doc *d, int (*progress)(void *ctx, double fraction)
  * the bytes needed when over mem_budget).  Remove top / bottom: delete the
  * finest / coarsest level (bottom = "rebase": level 1 becomes the control
  * mesh).  All undoable. */
-/* Multiresolution filtering of a progressive model (ui/editor_filter.c;
+/* Multiresolution filtering of a progressive model (ui/doc/editor_filter.c;
  * core's st_progressive_filter, GSS99 §5): the details of level k+1
  * scaled by gains[k] (k < n; the levels past the list keep theirs: 0
  * removes that band, 1 keeps it to the bit, above 1 enhances it), the
@@ -367,7 +341,7 @@ void st_doc_drag_cancel(st_doc *d);
  * view_dir set: a vertex whose normal faces away from the viewer is not
  * touched).
  * Grab captures the vertices under its first dab and moves them by weight *
- * delta at every dab; the other brushes (brush_tools.c: draw, smooth,
+ * delta at every dab; the other brushes (core/sculpt/sculpt_tools.c: draw, smooth,
  * flatten, crease, pinch, inflate, clay strips, layer, relax) displace
  * from the positions before the dab, proportionally to weight and R/10,
  * in the plane of the area under the dab, then auto-smooth and the hold
@@ -378,7 +352,7 @@ void st_doc_drag_cancel(st_doc *d);
  * all from the same positions, added), so a symmetric mesh stays
  * symmetric.  Vertices under a dab come from a uniform grid of
  * the editing level built at stroke begin (cell = radius), kept exact by
- * re-inserting every moved vertex (brush.c).  Normal may be NULL (+z);
+ * re-inserting every moved vertex (core/sculpt/sculpt.c).  Normal may be NULL (+z);
  * grab_delta may be NULL (zero). */
 int st_doc_stroke_begin(st_doc *d);
 /* The radius brushes take in at the editing level: the brush radius, or
@@ -445,9 +419,8 @@ int st_doc_redo(st_doc *d, st_error *err);
 const char *st_doc_undo_name(const st_doc *d);
 const char *st_doc_redo_name(const st_doc *d);
 
-/* Returns the accumulated change and resets it (moved_darts and disp_vids
- * stay valid until the next operation, the footprints until the next
- * take). */
+/* Returns the accumulated change and resets it (disp_vids stays valid
+ * until the next operation, the footprints until the next take). */
 st_doc_change st_doc_take_change(st_doc *d);
 
 /* Counts of the displayed mesh, for the HUD. */

@@ -1,15 +1,15 @@
-/* What each brush does under one dab (editor.h, brush.c).
+/* What each tool does under one dab (core/sculpt/sculpt.h, sculpt.c).
  *
  * Input: the dab's centre c and unit normal n, and the vertices under it
  * with their weights w (falloff times strength times the front-face test
- * times the stroke's fade-in, ed_brush_weight), unit normals vn and areas.
- * With st_brush.area_plane (the default) n is the normal of the area under
+ * times the stroke's fade, sc_weight), unit normals vn and areas.
+ * With st_sculpt_brush.area_plane (the document's default) n is the normal of the area under
  * the dab and the plane of flatten and clay strips goes through its
  * weighted centroid (dab_plane); without, n is the normal given with the
  * dab (the pick's under the cursor) and the plane the plain mean's.
- * R is the dab's radius (st_doc_brush_reach), sgn -1 when the stroke is
- * inverted (Ctrl), else 1.  Heights below are times hs and fractions times
- * fs, the spacing attenuation (brush.c; both 1 without it).  All
+ * R is the dab's radius (st_sculpt_dab_radius), sgn -1 when the stroke is
+ * inverted, else 1.  Heights below are times hs and fractions times
+ * fs, the spacing attenuation (st_sculpt_begin; both 1 without it).  All
  * displacements are computed from the positions before the dab:
  *
  *   draw         along n by sgn * w * R/10 (Blender's draw: the area normal)
@@ -27,12 +27,12 @@
  *                flat-bottomed build-up whose top stops at the raised plane
  *   layer        up to the height w * R/10 along vn (as it was when the
  *                stroke reached the vertex), the largest any dab of the
- *                stroke asked, never more (brush.c: layer_finish)
+ *                stroke asked, never more (sculpt_hold.c: sc_layer_finish)
  *   relax        by w times the Laplacian (one-ring average minus position)
  *                less its component along vn: the vertices slide along the
  *                surface toward even spacing and the shape stays
  */
-#include "brush_internal.h"
+#include "core/sculpt/sculpt_internal.h"
 
 #include <math.h>
 #include <string.h>
@@ -49,7 +49,7 @@ static void laplacian(const st_map *m, uint32_t x0, unsigned l, const double p[3
         const double *q = st_dart_pos(m, st_beta0(m, x, l), l);
         for (int k = 0; k < 3; k++) avg[k] += q[k];
         cnt++;
-        x = ed_around(m, x, l);
+        x = st_vertex_step(m, x, l);
     } while (x != x0 && cnt < 1u << 16);
     for (int k = 0; k < 3; k++) lap[k] = avg[k] / cnt - p[k];
 }
@@ -62,7 +62,7 @@ static void laplacian(const st_map *m, uint32_t x0, unsigned l, const double p[3
  * on a bumpy or freshly drawn surface and pushes the surface sideways
  * until it folds; the area's does not.  The dab's normal n when the area's
  * vanishes or faces away from it. */
-static void dab_plane(const st_map *m, unsigned l, const struct st_brush_state *bs, const double n[3], double c0[3],
+static void dab_plane(const st_map *m, unsigned l, const st_sculpt *bs, const double n[3], double c0[3],
                       double pn[3])
 {
     c0[0] = c0[1] = c0[2] = 0;
@@ -80,10 +80,10 @@ static void dab_plane(const st_map *m, unsigned l, const struct st_brush_state *
     else memcpy(pn, n, sizeof *pn * 3);
 }
 
-/* Without the area plane (st_brush.area_plane 0): flatten's and clay
+/* Without the area plane (st_sculpt_brush.area_plane 0): flatten's and clay
  * strips' plane through the plain mean of the vertices under the dab, its
  * normal their mean normal (the dab's when it vanishes). */
-static void mean_plane(const st_map *m, unsigned l, const struct st_brush_state *bs, const double n[3], double c0[3],
+static void mean_plane(const st_map *m, unsigned l, const st_sculpt *bs, const double n[3], double c0[3],
                        double pn[3])
 {
     c0[0] = c0[1] = c0[2] = 0;
@@ -97,16 +97,15 @@ static void mean_plane(const st_map *m, unsigned l, const struct st_brush_state 
     else memcpy(pn, n, sizeof *pn * 3);
 }
 
-void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], const double n[3])
+void sc_tool_dab(st_sculpt *bs, const st_map *m, const st_sculpt_brush *b, const double c[3], const double n[3])
 {
-    const st_map *m = &d->h.map;
     unsigned l = bs->level;
-    int tool = d->brush.tool;
-    double R = bs->R, sgn = d->brush.invert ? -1 : 1;
-    /* Spacing attenuation (brush.c): heights and fractions per dab. */
+    int tool = b->tool;
+    double R = bs->R, sgn = b->invert ? -1 : 1;
+    /* Spacing attenuation (st_sculpt_begin): heights and fractions per dab. */
     double hs = bs->hscale, fs = bs->fscale;
     double c0[3] = { 0, 0, 0 }, pn[3] = { 0, 0, 0 };
-    if (d->brush.area_plane) {
+    if (b->area_plane) {
         dab_plane(m, l, bs, n, c0, pn);
         n = pn; /* draw, crease and pinch work in the area's plane too */
     } else if (tool == ST_BRUSH_FLATTEN || tool == ST_BRUSH_CLAY_STRIPS) {
@@ -120,10 +119,10 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
      * cancels them, and a crease ended in a star of faces pulled in from
      * every side (issue 30).  The stroke's direction in the dab's plane;
      * none for the first dab or a dab in place (radial, as before).  With
-     * the stroke's fade (st_brush.fade > 0): both taper a stroke's ends. */
+     * the stroke's fade (st_sculpt_brush.fade > 0): both taper a stroke's ends. */
     double along[3] = { 0, 0, 0 };
     const double *stroke_dir = NULL;
-    if ((tool == ST_BRUSH_CREASE || tool == ST_BRUSH_PINCH) && d->brush.fade > 0) {
+    if ((tool == ST_BRUSH_CREASE || tool == ST_BRUSH_PINCH) && b->fade > 0) {
         double dn = dot3(bs->dab_dir, n);
         for (int k = 0; k < 3; k++) along[k] = bs->dab_dir[k] - dn * n[k];
         double len = sqrt(dot3(along, along));
@@ -137,9 +136,9 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
         double w = bs->tmpw[i], dv[3] = { 0, 0, 0 };
         const double *vn = bs->tmpn[i];
         const double *p = st_pos(m, v, l);
-        uint32_t x0 = ed_vertex_dart(d, v);
+        uint32_t x0 = sc_vertex_dart(bs, v);
         if (x0 == ST_NIL) continue;
-        ed_brush_acc_weight(bs, v, w);
+        sc_acc_weight(bs, v, w);
         switch (tool) {
         case ST_BRUSH_DRAW:
         case ST_BRUSH_INFLATE: {
@@ -175,7 +174,7 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
             /* Raw: half the offset per dab; attenuated for spacing, the
              * whole offset over the overlap as Blender's pinch (its
              * do_pinch_brush moves by the offset times the fade). */
-            double pk = d->brush.space_atten ? 1.0 : 0.5;
+            double pk = b->space_atten ? 1.0 : 0.5;
             double f = (tool == ST_BRUSH_PINCH ? sgn * pk * w : pk * w) * fs;
             for (int k = 0; k < 3; k++) dv[k] = f * (to[k] - along_n * n[k]);
             if (stroke_dir) {
@@ -187,9 +186,9 @@ void ed_brush_tool_dab(st_doc *d, struct st_brush_state *bs, const double c[3], 
                 for (int k = 0; k < 3; k++) dv[k] -= sgn * w * R * 0.1 * hs * n[k];
             break;
         }
-        case ST_BRUSH_LAYER: ed_brush_acc_layer(bs, v, w * R * 0.1, vn); continue;
+        case ST_BRUSH_LAYER: sc_acc_layer(bs, v, w * R * 0.1, vn); continue;
         default: continue;
         }
-        ed_brush_acc(bs, v, dv);
+        sc_acc(bs, v, dv);
     }
 }
