@@ -82,9 +82,18 @@ static void layout(st_adapt_grid *g)
     double want = g->nfaces / 2.0 + 1, side = dims ? pow(vol / want, 1.0 / dims) : 1;
     for (int k = 0; k < 3; k++) {
         double r = ext[k] > 0 ? ceil(ext[k] / side) : 1;
-        g->res[k] = r < 1 ? 1 : r > 1024 ? 1024 : (unsigned)r;
-        g->cell[k] = ext[k] > 0 ? ext[k] / g->res[k] : 1;
+        /* NaN (an infinite extent over an infinite side) counts as 1 */
+        g->res[k] = !(r >= 1) ? 1 : !(r <= 1024) ? 1024 : (unsigned)r;
     }
+    /* At most about four cells a face whatever the extents: extents of
+     * 1e300 overflow the volume and the side, and the clamps above alone
+     * allowed 1024^3 cells (4 GiB of counts, found by fuzz_session).  A
+     * mesh of ordinary size has about one cell for two faces, untouched. */
+    while ((uint64_t)g->res[0] * g->res[1] * g->res[2] > 4 * (uint64_t)g->nfaces + 1024) {
+        int k = g->res[0] >= g->res[1] && g->res[0] >= g->res[2] ? 0 : g->res[1] >= g->res[2] ? 1 : 2;
+        g->res[k] = (g->res[k] + 1) / 2;
+    }
+    for (int k = 0; k < 3; k++) g->cell[k] = ext[k] > 0 && isfinite(ext[k]) ? ext[k] / g->res[k] : 1;
 }
 
 st_adapt_grid *st_adapt_grid_build(const st_map *m, const st_dart_list *base,
