@@ -1,4 +1,7 @@
 /* Topological check and repair of a polygon soup (st_mesh_repair, st_mesh_check).
+ * (Just over 900 lines, one file on purpose: each repair below leaves the
+ * soup in the state the next one assumes, in this order, and the check at
+ * the end restates all of them.)
  *
  * Goal: an oriented 2-manifold, possibly with boundary.  Every undirected
  * edge is used by one face (boundary) or two faces that traverse it in

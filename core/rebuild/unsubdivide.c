@@ -1,6 +1,12 @@
 /* Unsubdivide (unsubdivide.h): one step labels the vertices of the fine
  * mesh by propagation over its faces, checks the labelling, and reads the
- * coarse mesh off it; steps repeat while the pattern holds. */
+ * coarse mesh off it; steps repeat while the pattern holds.
+ *
+ * Over 900 lines, one file on purpose: the labelling, its check and the
+ * coarse mesh read off it share the step's context (step_ctx) and its
+ * invariants (a label per vertex, a phase per face, the component being
+ * labelled), which are this file's private state; the recognition of the
+ * topology alone (unsub_topo.c) and the hierarchy (unsub_hier.c) are apart. */
 #include "core/rebuild/unsubdivide.h"
 #include "core/rebuild/unsub_topo_internal.h"
 #include "core/base/hugepage.h"

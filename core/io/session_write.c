@@ -1,0 +1,480 @@
+/* Session files, the writer (session.h, docs/SESSION-FORMAT.md): the
+ * chunks planned, measured and written. */
+#include "core/io/session_internal.h"
+#include "core/base/membudget.h"
+#include "core/io/atomic_file.h"
+#include "core/io/file_open.h"
+#include "core/io/map_io_internal.h"
+#include "core/map/pool_internal.h"
+#include "core/progressive/progressive.h"
+#include "core/fvar/fvar_internal.h"
+
+#include <errno.h>
+#include <sys/stat.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- chunk writers --------------------------------------------------------------- */
+
+typedef void (*chunk_fn)(st_bw *w, const st_session_ref *r);
+
+static void w_hier(st_bw *w, const st_session_ref *r)
+{
+    const char *name = r->h->scheme->name;
+    uint32_t n = (uint32_t)strlen(name);
+    st_bw_u32(w, n);
+    st_bw_bytes(w, name, n);
+    st_bw_u32(w, (uint32_t)r->h->opts.boundary);
+    /* Bit 8: smooth triangles (0 in sessions written before the option, so
+     * they load unchanged).  Bits 16-23: the progressive predictor (0, the
+     * relaxation, in sessions written before the tag, which load with it;
+     * core/progressive/progressive.h, point 5). */
+    st_bw_u32(w, (uint32_t)r->h->opts.crease_method | (uint32_t)r->h->opts.tri_sub << 8 |
+                     (uint32_t)r->h->opts.pm_predictor << 16);
+    st_bw_u8(w, r->h->has_sharpness != 0);
+}
+
+static void w_map(st_bw *w, const st_session_ref *r) { st_map_write(w, &r->h->map); }
+
+static void w_sharp(st_bw *w, const st_session_ref *r)
+{
+    st_mla_write(w, &r->h->edge_sharp, &r->h->map.darts, st_value_sharpness_f32);
+    st_mla_write(w, &r->h->vertex_sharp, &r->h->map.verts, st_value_sharpness_f32);
+}
+
+/* Version 3: each level's details up to the last one whose bits are not all
+ * zero (at least one), written whole (mode 0) or, when that is smaller, as
+ * the list of those not all zero (mode 1: u32 count, then u32 vertex id and
+ * the three doubles each): a level of a fresh subdivision holds zeros only,
+ * a sculpted one nonzero details where it was sculpted.  The rest read as
+ * +0 (st_hier_detail), as st_hier_trim_details trims; -0 is kept. */
+static int detail_zero(const double *d)
+{
+    static const double zero3[3];
+    return !memcmp(d, zero3, sizeof zero3);
+}
+
+static void w_detail(st_bw *w, const st_session_ref *r)
+{
+    const st_hier *h = r->h;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        int present = h->detail[l] != NULL;
+        st_bw_u8(w, (uint8_t)present);
+        if (!present) continue;
+        uint32_t n = h->detail_cap[l], nonzero = 0;
+        while (n > 1 && detail_zero(h->detail[l] + 3 * (size_t)(n - 1))) n--;
+        for (uint32_t i = 0; i < n; i++) nonzero += !detail_zero(h->detail[l] + 3 * (size_t)i);
+        /* (the reader bounds a list's cap by the vertex ids: a dense array
+         * is bounded by its own bytes) */
+        int list = (uint64_t)nonzero * 28 < (uint64_t)n * 24 && n <= h->map.verts.end;
+        st_bw_u32(w, n);
+        st_bw_u8(w, (uint8_t)list);
+        if (list) st_bw_u32(w, nonzero);
+        for (uint32_t i = 0; i < n; i++) {
+            const double *d = h->detail[l] + 3 * (size_t)i;
+            if (list && detail_zero(d)) continue;
+            if (list) st_bw_u32(w, i);
+            for (int k = 0; k < 3; k++) st_bw_f64(w, d[k]);
+        }
+    }
+}
+
+static void w_params(st_bw *w, const st_adapt_params *p)
+{
+    static const st_adapt_params none;
+    if (!p) p = &none;
+    st_bw_u32(w, p->base_level);
+    st_bw_u32(w, p->max_level);
+    for (int k = 0; k < 3; k++) st_bw_f64(w, p->box_lo[k]);
+    for (int k = 0; k < 3; k++) st_bw_f64(w, p->box_hi[k]);
+    st_bw_u8(w, p->has_box != 0);
+    st_bw_f64(w, p->falloff);
+    st_bw_f64(w, p->flatness);
+    st_bw_u8(w, p->no_restriction != 0);
+}
+
+static void w_store(st_bw *w, const st_adapt_saved *e, uint32_t n)
+{
+    st_bw_u32(w, n);
+    for (uint32_t i = 0; i < n; i++) {
+        st_bw_u64(w, e[i].path);
+        st_bw_u32(w, e[i].meta);
+        for (int k = 0; k < 3; k++) st_bw_f64(w, e[i].d[k]);
+    }
+}
+
+static void w_adapt(st_bw *w, const st_session_ref *r)
+{
+    const st_adapt *a = r->adapt;
+    w_store(w, a->saved, a->nsaved);
+    w_store(w, a->parked, a->nparked);
+    st_bw_u32(w, a->base_faces.n);
+    for (uint32_t i = 0; i < a->base_faces.n; i++) st_bw_u32(w, a->base_faces.d[i]);
+    w_params(w, &a->prev);
+    st_bw_u8(w, a->has_prev != 0);
+    st_bw_u64(w, a->touched);
+    st_bw_u64(w, a->forced);
+}
+
+static void w_edit(st_bw *w, const st_session_ref *r)
+{
+    unsigned top = r->h->map.top;
+    w_params(w, r->box);
+    st_bw_u8(w, r->box_on != 0);
+    st_bw_u32(w, r->edit_level <= top ? r->edit_level : top);
+    st_bw_u32(w, r->display_level <= top ? r->display_level : top);
+}
+
+static void w_view(st_bw *w, const st_session_ref *r)
+{
+    const st_session_view *v = r->view;
+    for (int k = 0; k < 3; k++) st_bw_f32(w, v->target[k]);
+    st_bw_f32(w, v->az);
+    st_bw_f32(w, v->el);
+    st_bw_f32(w, v->dist);
+    st_bw_f32(w, v->fovy);
+    st_bw_u32(w, (uint32_t)v->ortho);
+    st_bw_f32(w, v->ortho_height);
+}
+
+static void w_tool(st_bw *w, const st_session_ref *r)
+{
+    const st_session_tool *t = r->tool;
+    st_bw_u32(w, t->tool);
+    st_bw_f64(w, t->radius);
+    st_bw_f64(w, t->strength);
+    st_bw_u32(w, t->falloff);
+    st_bw_u32(w, t->mirror);
+    st_bw_u32(w, t->show);
+}
+
+static void w_base(st_bw *w, const st_session_ref *r)
+{
+    const st_mesh *m = r->base;
+    st_bw_u32(w, m->nverts);
+    for (size_t i = 0; i < 3 * (size_t)m->nverts; i++) st_bw_f64(w, m->pos[i]);
+    st_bw_u32(w, m->nfaces);
+    for (uint32_t f = 0; f < m->nfaces; f++) st_bw_u32(w, m->face_off[f + 1] - m->face_off[f]);
+    uint32_t nidx = m->nfaces ? m->face_off[m->nfaces] : 0;
+    for (uint32_t i = 0; i < nidx; i++) st_bw_u32(w, m->face_idx[i]);
+    st_bw_u32(w, m->ncreases);
+    for (uint32_t i = 0; i < m->ncreases; i++) {
+        st_bw_u32(w, m->crease_v[2 * i]);
+        st_bw_u32(w, m->crease_v[2 * i + 1]);
+        st_bw_f32(w, m->crease_s[i]);
+    }
+    st_bw_u32(w, m->ncorners);
+    for (uint32_t i = 0; i < m->ncorners; i++) {
+        st_bw_u32(w, m->corner_v[i]);
+        st_bw_f32(w, m->corner_s[i]);
+    }
+    st_bw_u32(w, (uint32_t)m->boundary_interp);
+}
+
+/* Values up to the last non-zero one (so that load -> save keeps the
+ * length). */
+static uint32_t mask_len(const st_mask *mk, uint32_t end)
+{
+    uint32_t n = mk->v ? (mk->cap < end ? mk->cap : end) : 0;
+    while (n && mk->v[n - 1] == 0) n--;
+    return n;
+}
+
+static void w_mask(st_bw *w, const st_session_ref *r)
+{
+    uint32_t n = mask_len(r->mask, r->h->map.verts.end);
+    st_bw_u32(w, n);
+    for (uint32_t i = 0; i < n; i++) st_bw_f32(w, r->mask->v[i]);
+}
+
+static uint32_t off_len(const double *a, uint32_t cap, uint32_t end)
+{
+    uint32_t n = a ? (cap < end ? cap : end) : 0;
+    while (n && a[3 * (size_t)n - 1] == 0 && a[3 * (size_t)n - 2] == 0 && a[3 * (size_t)n - 3] == 0) n--;
+    return n;
+}
+
+static void w_offsets(st_bw *w, const double *a, uint32_t n)
+{
+    st_bw_u32(w, n);
+    for (size_t i = 0; i < 3 * (size_t)n; i++) st_bw_f64(w, a[i]);
+}
+
+/* The kept positions: an entry is three finite numbers, or three NaNs for
+ * none (r_offsets reads them so); the NaNs are written as they are. */
+static void w_kept_positions(st_bw *w, const double *a, uint32_t n)
+{
+    st_bw_u32(w, n);
+    for (size_t i = 0; i < (size_t)n; i++) {
+        const double *e = a + 3 * i;
+        if (isnan(e[0]) && isnan(e[1]) && isnan(e[2])) {
+            for (int k = 0; k < 3; k++) {
+                uint64_t u;
+                memcpy(&u, &e[k], 8);
+                st_bw_u64(w, u);
+            }
+        } else {
+            for (int k = 0; k < 3; k++) st_bw_f64(w, e[k]);
+        }
+    }
+}
+
+static void w_layers(st_bw *w, const st_session_ref *r)
+{
+    const st_layers *ls = r->layers;
+    uint32_t end = r->h->map.verts.end;
+    st_bw_u32(w, ls->active < 0 ? UINT32_MAX : (uint32_t)ls->active);
+    st_bw_u32(w, ls->n);
+    for (uint32_t i = 0; i < ls->n; i++) {
+        const st_layer *y = &ls->v[i];
+        uint32_t len = (uint32_t)strlen(y->name);
+        st_bw_u32(w, len);
+        st_bw_bytes(w, y->name, len);
+        st_bw_u32(w, y->level);
+        st_bw_f64(w, y->strength);
+        st_bw_u8(w, y->hidden != 0);
+        w_offsets(w, y->off, off_len(y->off, y->cap, end));
+    }
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        if (!st_layers_on_level(ls, l)) continue;
+        st_bw_u32(w, l);
+        w_offsets(w, ls->base[l], off_len(ls->base[l], ls->base_cap[l], end));
+        /* The positions kept without layers (NaN: none), up to the last kept. */
+        uint32_t n = ls->bpos[l] ? (ls->bpos_cap[l] < end ? ls->bpos_cap[l] : end) : 0;
+        while (n && isnan(ls->bpos[l][3 * (size_t)n - 3])) n--;
+        w_kept_positions(w, ls->bpos[l], n);
+    }
+}
+
+/* The face-varying UVs: the option, the levels that carry them, then per
+ * level the UV and value label of every real dart in st_dart_first order. */
+static void w_fvar(st_bw *w, const st_session_ref *r)
+{
+    const st_hier *h = r->h;
+    const st_fvar *f = h->fvar;
+    unsigned levels = f->levels <= h->map.top + 1 ? f->levels : h->map.top + 1;
+    st_bw_u32(w, (uint32_t)f->interp);
+    st_bw_u32(w, levels);
+    for (unsigned l = 0; l < levels; l++) {
+        st_dart_iter it;
+        for (uint32_t d = st_dart_first(&h->map, l, &it); d != ST_NIL; d = st_dart_next(&h->map, l, &it)) {
+            if (st_is_boundary(&h->map, d)) continue;
+            int in = d < f->lv[l].cap;
+            st_bw_f64(w, in ? f->lv[l].uv[2 * (size_t)d] : 0);
+            st_bw_f64(w, in ? f->lv[l].uv[2 * (size_t)d + 1] : 0);
+            st_bw_u32(w, in ? f->lv[l].val[d] : 0);
+        }
+    }
+}
+
+/* The base mesh's UVs (mesh.h: uv, face_uv parallel to face_idx). */
+static void w_base_uv(st_bw *w, const st_session_ref *r)
+{
+    const st_mesh *m = r->base;
+    st_bw_u32(w, m->nuvs);
+    for (size_t i = 0; i < 2 * (size_t)m->nuvs; i++) st_bw_f64(w, m->uv[i]);
+    uint32_t nidx = m->nfaces ? m->face_off[m->nfaces] : 0;
+    for (uint32_t i = 0; i < nidx; i++) st_bw_u32(w, m->face_uv[i]);
+}
+
+typedef struct chunk_def { uint32_t tag; chunk_fn fn; } chunk_def;
+/* Every tag at most once: HIER MAP SHRP DETL ADPT EDIT VIEW BASE mask tool
+ * layr FVAR BUVS. */
+#define ST_SESSION_MAX_CHUNKS 13
+
+/* The chunks of r, in file order. */
+static unsigned chunk_list(const st_session_ref *r, chunk_def out[ST_SESSION_MAX_CHUNKS])
+{
+    unsigned n = 0;
+    out[n++] = (chunk_def){ TAG_HIER, w_hier };
+    out[n++] = (chunk_def){ TAG_MAP, w_map };
+    if (r->h->has_sharpness) out[n++] = (chunk_def){ TAG_SHRP, w_sharp };
+    out[n++] = (chunk_def){ TAG_DETL, w_detail };
+    if (r->adapt) out[n++] = (chunk_def){ TAG_ADPT, w_adapt };
+    out[n++] = (chunk_def){ TAG_EDIT, w_edit };
+    if (r->view) out[n++] = (chunk_def){ TAG_VIEW, w_view };
+    if (r->base) out[n++] = (chunk_def){ TAG_BASE, w_base };
+    if (r->mask && mask_len(r->mask, r->h->map.verts.end)) out[n++] = (chunk_def){ TAG_MASK, w_mask };
+    if (r->tool) out[n++] = (chunk_def){ TAG_TOOL, w_tool };
+    if (r->layers && r->layers->n)
+        out[n++] = (chunk_def){ st_layers_on_level(r->layers, 0) ? TAG_LAY0 : TAG_LAYR, w_layers };
+    if (r->h->fvar) out[n++] = (chunk_def){ TAG_FVAR, w_fvar };
+    if (r->base && r->base->face_uv) out[n++] = (chunk_def){ TAG_BUVS, w_base_uv };
+    return n;
+}
+
+
+static int check_ref(const st_session_ref *r, st_error *err)
+{
+    if (!r || !r->h || !r->h->scheme) return st_fail(err, ST_ERR_INVALID, "session: no hierarchy to save");
+    const st_hier *h = r->h;
+    const st_map *m = &h->map;
+    for (uint32_t i = 0; i < m->ndart_attrs; i++)
+        if (m->dart_attrs[i] != &h->edge_sharp)
+            return st_fail(err, ST_ERR_INVALID, "session: the map carries a per-dart attribute the session format does not know");
+    for (uint32_t i = 0; i < m->nvert_attrs; i++)
+        if (m->vert_attrs[i] != &h->vertex_sharp)
+            return st_fail(err, ST_ERR_INVALID, "session: the map carries a per-vertex attribute the session format does not know");
+    if (r->adapt && r->adapt->h != h)
+        return st_fail(err, ST_ERR_INVALID, "session: the adaptive state belongs to another hierarchy");
+    if (r->base && st_mesh_check("base mesh", r->base, err)) return err ? err->code : ST_ERR_INVALID;
+    return ST_OK;
+}
+
+/* What a chunk holds, for messages. */
+static const char *chunk_words(uint32_t tag)
+{
+    switch (tag) {
+    case TAG_MAP: return "positions";
+    case TAG_SHRP: return "sharpness values";
+    case TAG_DETL: return "details";
+    case TAG_ADPT: return "adaptive state";
+    case TAG_EDIT: return "interest box";
+    case TAG_VIEW: return "view";
+    case TAG_BASE: return "base mesh";
+    case TAG_MASK: return "mask";
+    case TAG_TOOL: return "tool settings";
+    case TAG_LAY0: case TAG_LAYR: return "sculpt layers";
+    case TAG_FVAR: return "UVs";
+    case TAG_BUVS: return "base mesh's UVs";
+    default: return "values";
+    }
+}
+
+/* The chunks of r and their lengths, by a counting pass.  Refuses a model
+ * holding a value the reader would refuse (a position or detail an edit
+ * or a synthesis carried past the double range, say): the file would not
+ * load again, so nothing is written. */
+typedef struct chunk_plan {
+    chunk_def c[ST_SESSION_MAX_CHUNKS];
+    uint64_t len[ST_SESSION_MAX_CHUNKS];
+    unsigned n;
+    uint64_t total;
+} chunk_plan;
+
+
+static int plan_chunks(const st_session_ref *r, chunk_plan *pl, st_error *err)
+{
+    if (r->tool && st_session_tool_refusal(r->tool))
+        return st_fail(err, ST_ERR_INVALID, "session: bad %s in the tool settings; nothing was written", st_session_tool_refusal(r->tool));
+    pl->n = chunk_list(r, pl->c);
+    pl->total = HEADER_BYTES + TRAILER_BYTES;
+    st_bw *cnt = malloc(sizeof *cnt);
+    if (!cnt) return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
+    for (unsigned i = 0; i < pl->n; i++) {
+        st_bw_init_count(cnt);
+        pl->c[i].fn(cnt, r);
+        if (cnt->refused_value) {
+            free(cnt);
+            return st_fail(err, ST_ERR_INVALID, "session: a number in the %s is not finite (an edit overflowed?); nothing was written",
+                           chunk_words(pl->c[i].tag));
+        }
+        pl->len[i] = cnt->total;
+        pl->total += CHUNK_HEAD + pl->len[i];
+    }
+    free(cnt);
+    return ST_OK;
+}
+
+/* Writes the whole file to w, as planned. */
+static void write_all(st_bw *w, const st_session_ref *r, const chunk_plan *pl)
+{
+    unsigned char head[HEADER_BYTES];
+    memcpy(head, ST_SESSION_MAGIC, 8);
+    uint32_t version = ST_SESSION_VERSION;
+    for (int k = 0; k < 4; k++) head[8 + k] = (unsigned char)(version >> (8 * k));
+    memset(head + 12, 0, 4);
+    for (int k = 0; k < 8; k++) head[16 + k] = (unsigned char)(pl->total >> (8 * k));
+    w->progress_total = pl->total;
+    uint32_t hc = st_crc32(0, head, 24);
+    for (int k = 0; k < 4; k++) head[24 + k] = (unsigned char)(hc >> (8 * k));
+    st_bw_bytes(w, head, sizeof head);
+    for (unsigned i = 0; i < pl->n; i++) {
+        if (w->failed) return;   /* a write failed or the save was cancelled: the rest is not wanted */
+        uint64_t before = w->total;
+        st_bw_u32(w, pl->c[i].tag);
+        st_bw_u64(w, pl->len[i]);
+        pl->c[i].fn(w, r);
+        if (w->total - before != CHUNK_HEAD + pl->len[i]) w->failed = 1; /* cannot happen: same writer twice */
+    }
+    st_bw_flush(w);
+    uint32_t crc = w->crc;
+    unsigned char t[4];
+    for (int k = 0; k < 4; k++) t[k] = (unsigned char)(crc >> (8 * k));
+    st_bw_bytes(w, t, 4);
+    st_bw_flush(w);
+}
+
+int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_error *err)
+{
+    *data = NULL;
+    *size = 0;
+    chunk_plan pl;
+    int rc = check_ref(r, err);
+    if (!rc) rc = plan_chunks(r, &pl, err);
+    if (rc) return rc;
+    st_bw *w = malloc(sizeof *w);
+    if (!w) return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
+    st_bw_init_mem(w);
+    write_all(w, r, &pl);
+    if (w->failed) {
+        free(w->out);
+        free(w);
+        return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
+    }
+    *data = w->out;
+    *size = w->outlen;
+    free(w);
+    return ST_OK;
+}
+
+int st_session_save_ref(const char *path, const st_session_ref *r, st_error *err)
+{
+    return st_session_save_ref_progress(path, r, NULL, NULL, err);
+}
+
+int st_session_save_ref_progress(const char *path, const st_session_ref *r, int (*progress)(void *ctx, double fraction),
+                                 void *ctx, st_error *err)
+{
+    chunk_plan pl;
+    int rc = check_ref(r, err);
+    if (!rc) rc = plan_chunks(r, &pl, err);
+    if (rc) {
+        if (err) {
+            char msg[sizeof err->msg];
+            snprintf(msg, sizeof msg, "%s", err->msg);
+            st_fail(err, rc, "%s: %s", path, msg);
+        }
+        return rc;
+    }
+    st_bw *w = malloc(sizeof *w);
+    if (!w) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path);
+    st_afile af;
+    rc = st_afile_open(&af, path, err);
+    if (rc) { free(w); return rc; }
+    st_bw_init_file(w, af.f);
+    /* Test hook (tests/cli_session.sh): slow the save down so that a test
+     * can kill it in the middle. */
+    const char *slow = getenv("STRATA_SAVE_SLOWDOWN");
+    if (slow) w->slow_us = strtol(slow, NULL, 10);
+    w->progress = progress;
+    w->progress_ctx = ctx;
+    write_all(w, r, &pl);
+    int failed = w->failed, cancelled = w->cancelled;
+    free(w);
+    if (failed) {
+        int e = errno;
+        st_afile_abort(&af);
+        if (cancelled) return st_fail(err, ST_ERR_INVALID, "%s: cancelled (the file is as it was)", path);
+        return st_fail(err, ST_ERR_IO, "%s: write error: %s", path, strerror(e ? e : EIO));
+    }
+    return st_afile_commit(&af, err);
+}
+
+int st_session_save(const char *path, const st_session *s, st_error *err)
+{
+    st_session_ref r = st_session_ref_of(s);
+    return st_session_save_ref(path, &r, err);
+}
