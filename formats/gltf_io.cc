@@ -11,9 +11,9 @@
 // Over 900 lines, one file on purpose: tinygltf's implementation and the
 // nlohmann::json templates it pulls in are the slowest code of the build to
 // compile (its slowest object, about 48 s under ASan), and every further
-// unit including tiny_gltf.h would compile those headers again.  The
-// reader, the writer (seams split, UDIM tiles, maps attached) and the C API
-// are its sections, in that order.
+// unit including tiny_gltf.h would compile those headers again.  It holds
+// the reader, the writer (seams split, UDIM tiles, maps attached) and the
+// C API.
 #define TINYGLTF_IMPLEMENTATION
 #define TINYGLTF_NO_STB_IMAGE
 #define TINYGLTF_NO_STB_IMAGE_WRITE
