@@ -1372,6 +1372,28 @@ void udim_groups(const char *path, const st_mesh *m, const st_gltf_material *mat
     }
 }
 
+// The frame of every file export: the name's extension picks GLB or JSON,
+// build(glb, &model) fills the model, and a failure becomes "PATH: why"
+// (or the message alone when it names its file already).
+template <class Build> int save_model(const char *path, st_error *err, Build build)
+{
+    try {
+        bool glb = st_path_has_ext(path, ".glb");
+        if (!glb && !st_path_has_ext(path, ".gltf"))
+            return st_fail(err, ST_ERR_PARSE, "%s: not a glTF file name (expected .gltf or .glb)", path);
+        tinygltf::Model model;
+        build(glb, &model);
+        if (glb) write_file(path, to_bytes(model, true));
+        else save_gltf_json(path, model);
+        return 0;
+    } catch (const Failure &f) {
+        if (f.named) return st_fail(err, f.code, "%s", f.msg.c_str());
+        return st_fail(err, f.code, "%s: %s", path, f.msg.c_str());
+    } catch (const std::exception &e) {
+        return st_fail(err, ST_ERR_IO, "%s: %s", path, one_line(e.what()).c_str());
+    }
+}
+
 }  // namespace
 
 extern "C" {
@@ -1403,12 +1425,11 @@ int st_gltf_save_level_mapped(const char *path, st_hier *h, unsigned l, const st
 
 int st_gltf_save_mapped(const char *path, const st_mesh *m, const st_gltf_material *mat, st_error *err)
 {
-    try {
-        bool glb = st_path_has_ext(path, ".glb");
-        if (!glb && !st_path_has_ext(path, ".gltf"))
-            return st_fail(err, ST_ERR_PARSE, "%s: not a glTF file name (expected .gltf or .glb)", path);
-        if (!mat || !mat->corner_uv || !mat->corner_tangent || !mat->corner_normal || !mat->normal_map)
-            return st_fail(err, ST_ERR_INVALID, "%s: a normal-mapped export needs UVs, tangents, normals and a map", path);
+    if (!mat || !mat->corner_uv || !mat->corner_tangent || !mat->corner_normal || !mat->normal_map)
+        return st_gltf_is_gltf_path(path)
+                   ? st_fail(err, ST_ERR_INVALID, "%s: a normal-mapped export needs UVs, tangents, normals and a map", path)
+                   : st_fail(err, ST_ERR_PARSE, "%s: not a glTF file name (expected .gltf or .glb)", path);
+    return save_model(path, err, [&](bool glb, tinygltf::Model *model) {
         std::vector<NormalMap> nmaps(1);
         std::vector<uint32_t> group;
         std::vector<double> shifted;
@@ -1417,17 +1438,8 @@ int st_gltf_save_mapped(const char *path, const st_mesh *m, const st_gltf_materi
         if (tok) udim_groups(path, m, mat, glb, &nmaps, &group, &shifted);
         else load_normal_map(path, mat->normal_map, glb, &nmaps[0]);
         if (tok) one.corner_uv = shifted.data();
-        tinygltf::Model model;
-        mesh_to_model(m, 0, &model, &one, &nmaps, tok ? &group : nullptr);
-        if (glb) write_file(path, to_bytes(model, true));
-        else save_gltf_json(path, model);
-        return 0;
-    } catch (const Failure &f) {
-        if (f.named) return st_fail(err, f.code, "%s", f.msg.c_str());
-        return st_fail(err, f.code, "%s: %s", path, f.msg.c_str());
-    } catch (const std::exception &e) {
-        return st_fail(err, ST_ERR_IO, "%s: %s", path, one_line(e.what()).c_str());
-    }
+        mesh_to_model(m, 0, model, &one, &nmaps, tok ? &group : nullptr);
+    });
 }
 
 int st_gltf_is_gltf_path(const char *path)
@@ -1493,21 +1505,7 @@ int st_gltf_write_mem(const st_mesh *m, int binary, int index_bytes, void **data
 
 int st_gltf_save(const char *path, const st_mesh *m, st_error *err)
 {
-    try {
-        bool glb = st_path_has_ext(path, ".glb");
-        if (!glb && !st_path_has_ext(path, ".gltf"))
-            return st_fail(err, ST_ERR_PARSE, "%s: not a glTF file name (expected .gltf or .glb)", path);
-        tinygltf::Model model;
-        mesh_to_model(m, 0, &model);
-        if (glb) write_file(path, to_bytes(model, true));
-        else save_gltf_json(path, model);
-        return 0;
-    } catch (const Failure &f) {
-        if (f.named) return st_fail(err, f.code, "%s", f.msg.c_str());
-        return st_fail(err, f.code, "%s: %s", path, f.msg.c_str());
-    } catch (const std::exception &e) {
-        return st_fail(err, ST_ERR_IO, "%s: %s", path, one_line(e.what()).c_str());
-    }
+    return save_model(path, err, [&](bool, tinygltf::Model *model) { mesh_to_model(m, 0, model); });
 }
 
 }  // extern "C"

@@ -6,19 +6,14 @@
 
 #include "gltf_io.h"
 
-static int is_gltf(const char *path)
-{
-    return st_path_has_ext(path, ".gltf") || st_path_has_ext(path, ".glb");
-}
-
 int st_any_mesh_load(const char *path, st_mesh *out, unsigned flags, st_notes *notes, st_error *err)
 {
-    if (!is_gltf(path)) return st_mesh_load_flags(path, out, flags, notes, err);
+    if (!st_gltf_is_gltf_path(path)) return st_mesh_load_flags(path, out, flags, notes, err);
     return st_gltf_load_notes(path, out, flags, notes, err);
 }
 
 int st_any_mesh_save(const char *path, const st_mesh *m, st_error *err)
 {
-    if (!is_gltf(path)) return st_mesh_save(path, m, err);
+    if (!st_gltf_is_gltf_path(path)) return st_mesh_save(path, m, err);
     return st_gltf_save(path, m, err);
 }
