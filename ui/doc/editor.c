@@ -382,16 +382,23 @@ int st_doc_set_scheme_progress(st_doc *d, const char *scheme, int (*fraction)(vo
 /* A new hierarchy for the document, the old one moved into a hierarchy undo
  * step (with the scheme, levels and box that went with it): a scheme change
  * and a rebuild of levels both replace the model so. */
-st_undo_step *ed_swap_hier(st_doc *d, st_hier *h)
+/* What a hierarchy step restores besides the hierarchy: the scheme, the
+ * levels shown and edited, the rebase flag, the box. */
+static void keep_view(st_undo_step *s, const st_doc *d)
 {
-    st_undo_step *s = ed_step_new(ED_STEP_HIER);
-    s->snap = d->h;
-    ed_hier_fix(&s->snap);
     s->scheme = d->scheme;
     s->edit_level = d->edit_level;
     s->display_level = d->display_level;
     s->rebased = d->rebased;
     s->box_old = d->box;
+}
+
+st_undo_step *ed_swap_hier(st_doc *d, st_hier *h)
+{
+    st_undo_step *s = ed_step_new(ED_STEP_HIER);
+    s->snap = d->h;
+    ed_hier_fix(&s->snap);
+    keep_view(s, d);
     /* The layers and the mask go with the old hierarchy (the new one has
      * other vertices). */
     s->has_layers = 1;
@@ -429,11 +436,7 @@ static st_undo_step *hier_step_begin(st_doc *d, st_error *err)
         st_fail(err, ST_ERR_MEMORY, "out of memory keeping the undo copy");
         return NULL;
     }
-    s->scheme = d->scheme;
-    s->edit_level = d->edit_level;
-    s->display_level = d->display_level;
-    s->rebased = d->rebased;
-    s->box_old = d->box;
+    keep_view(s, d);
     s->has_layers = 1;
     st_layers_init(&s->layers_new);
     if (st_layers_copy(&s->layers_old, &d->layers) || st_mask_copy(&s->mask_old, &d->mask)) {
