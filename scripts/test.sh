@@ -191,6 +191,13 @@ stage_asan() {
   run_ctest asan "$dir" "$ASAN_CTEST_LIMIT" "${env[@]}"
 }
 
+# running_fuzzers PID...: how many of these (empty ones skipped) still run.
+running_fuzzers() {
+  local n=0 p
+  for p in "$@"; do [ -n "$p" ] && kill -0 "$p" 2>/dev/null && n=$((n + 1)); done
+  echo "$n"
+}
+
 stage_fuzz() {
   local dir="$ROOT/build/fuzz"
   local srcs=() names=() s n
@@ -217,7 +224,7 @@ stage_fuzz() {
   mkdir -p "$dir/artifacts"
   # The fuzzers run $JOBS at a time (each is one process on one core), each
   # into its own log; results are printed in the order of the names.
-  local pids=() logs=() works=() i j
+  local pids=() works=() i
   for ((i = 0; i < ${#names[@]}; i++)); do
     n="${names[$i]}"
     exe="$(find "$dir" -type f -name "$n" -perm -u+x | head -n 1)"
@@ -236,14 +243,8 @@ stage_fuzz() {
     if [ -f "$ROOT/tests/fuzz/$n.dict" ]; then
       dict=(-dict="$ROOT/tests/fuzz/$n.dict")
     fi
-    # At most $JOBS running: wait for the oldest still running.
-    local running=0
-    for ((j = 0; j < i; j++)); do [ -n "${pids[$j]}" ] && kill -0 "${pids[$j]}" 2>/dev/null && running=$((running + 1)); done
-    while [ "$running" -ge "$JOBS" ]; do
-      sleep 1
-      running=0
-      for ((j = 0; j < i; j++)); do [ -n "${pids[$j]}" ] && kill -0 "${pids[$j]}" 2>/dev/null && running=$((running + 1)); done
-    done
+    # At most $JOBS running at once.
+    while [ "$(running_fuzzers "${pids[@]}")" -ge "$JOBS" ]; do sleep 1; done
     log "[fuzz] $n for ${FUZZ_SECONDS}s ($(find "$work" -type f | wc -l) seed inputs)"
     (
       cd "$dir"
