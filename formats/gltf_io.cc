@@ -858,6 +858,27 @@ std::vector<double> unit_normals(const st_mesh *m)
     return n;
 }
 
+// A split copy's faces: m's face sizes (face_off), with face_idx to be
+// renumbered into the split vertices; `what` names the split in messages.
+void split_faces_begin(const st_mesh *m, st_mesh *e, const char *what)
+{
+    uint32_t nc = m->face_off[m->nfaces];
+    e->face_idx = (uint32_t *)malloc(((size_t)nc + 1) * sizeof(uint32_t));
+    e->face_off = (uint32_t *)malloc(((size_t)m->nfaces + 1) * sizeof(uint32_t));
+    if (!e->face_idx || !e->face_off) fail(ST_ERR_MEMORY, std::string("out of memory ") + what);
+    memcpy(e->face_off, m->face_off, ((size_t)m->nfaces + 1) * sizeof(uint32_t));
+    e->nfaces = m->nfaces;
+}
+
+// The split copy's n vertices: positions and normals, to be filled.
+void split_verts_alloc(st_mesh *e, size_t n, const char *what)
+{
+    e->nverts = (uint32_t)n;
+    e->pos = (double *)malloc(3 * (n + 1) * sizeof(double));
+    e->normals = (double *)malloc(3 * (n + 1) * sizeof(double));
+    if (!e->pos || !e->normals) fail(ST_ERR_MEMORY, std::string("out of memory ") + what);
+}
+
 void split_seams(const st_mesh *m, Split *out)
 {
     uint32_t nc = m->face_off[m->nfaces];
@@ -868,11 +889,7 @@ void split_seams(const st_mesh *m, Split *out)
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> id;
     std::vector<uint32_t> src;  // per new vertex: (vertex, uv) pair's corner
     st_mesh *e = &out->m;
-    e->face_idx = (uint32_t *)malloc(((size_t)nc + 1) * sizeof(uint32_t));
-    e->face_off = (uint32_t *)malloc(((size_t)m->nfaces + 1) * sizeof(uint32_t));
-    if (!e->face_idx || !e->face_off) fail(ST_ERR_MEMORY, "out of memory splitting UV seams");
-    memcpy(e->face_off, m->face_off, ((size_t)m->nfaces + 1) * sizeof(uint32_t));
-    e->nfaces = m->nfaces;
+    split_faces_begin(m, e, "splitting UV seams");
     for (uint32_t c = 0; c < nc; c++) {
         auto key = std::make_pair(m->face_idx[c], m->face_uv[c]);
         auto it = id.find(key);
@@ -882,10 +899,7 @@ void split_seams(const st_mesh *m, Split *out)
         }
         e->face_idx[c] = it->second;
     }
-    e->nverts = (uint32_t)src.size();
-    e->pos = (double *)malloc(3 * (src.size() + 1) * sizeof(double));
-    e->normals = (double *)malloc(3 * (src.size() + 1) * sizeof(double));
-    if (!e->pos || !e->normals) fail(ST_ERR_MEMORY, "out of memory splitting UV seams");
+    split_verts_alloc(e, src.size(), "splitting UV seams");
     out->texcoord.resize(2 * src.size());
     for (size_t i = 0; i < src.size(); i++) {
         uint32_t v = m->face_idx[src[i]], t = m->face_uv[src[i]];
@@ -913,11 +927,7 @@ void split_mapped(const st_mesh *m, const st_gltf_material *mat, Split *out, std
     std::vector<float> attr;  // 9 per new vertex: u, v, tangent xyzw, normal xyz
     std::vector<uint32_t> vert;
     st_mesh *e = &out->m;
-    e->face_idx = (uint32_t *)malloc(((size_t)nc + 1) * sizeof(uint32_t));
-    e->face_off = (uint32_t *)malloc(((size_t)m->nfaces + 1) * sizeof(uint32_t));
-    if (!e->face_idx || !e->face_off) fail(ST_ERR_MEMORY, "out of memory splitting vertices");
-    memcpy(e->face_off, m->face_off, ((size_t)m->nfaces + 1) * sizeof(uint32_t));
-    e->nfaces = m->nfaces;
+    split_faces_begin(m, e, "splitting vertices");
     if (m->face_hole) {
         e->face_hole = (uint8_t *)malloc((size_t)m->nfaces);
         if (!e->face_hole) fail(ST_ERR_MEMORY, "out of memory splitting vertices");
@@ -945,10 +955,7 @@ void split_mapped(const st_mesh *m, const st_gltf_material *mat, Split *out, std
         }
         e->face_idx[c] = it->second;
     }
-    e->nverts = (uint32_t)vert.size();
-    e->pos = (double *)malloc(3 * (vert.size() + 1) * sizeof(double));
-    e->normals = (double *)malloc(3 * (vert.size() + 1) * sizeof(double));
-    if (!e->pos || !e->normals) fail(ST_ERR_MEMORY, "out of memory splitting vertices");
+    split_verts_alloc(e, vert.size(), "splitting vertices");
     out->texcoord.resize(2 * vert.size());
     tangent->resize(4 * vert.size());
     for (size_t i = 0; i < vert.size(); i++) {

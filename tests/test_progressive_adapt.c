@@ -67,9 +67,8 @@ static void tris_of_level(st_map *m, unsigned l, level_tris *out)
     out->n = 0;
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
-        if (st_is_boundary(m, d)) continue;
-        uint32_t x = st_phi1(m, d, l), y = st_phi1(m, x, l);
-        if (x < d || y < d) continue;
+        uint32_t x, y;
+        if (!st_tri_first_dart(m, d, l, &x, &y)) continue;
         out->t[out->n++] = canon(st_vert(m, d, l), st_vert(m, x, l), st_vert(m, y, l));
     }
     qsort(out->t, out->n, sizeof *out->t, cmp_tri3);
@@ -208,9 +207,8 @@ static uint32_t check_selection(const char *what, st_hier *h, st_adapt *a, const
     uint64_t inside = 0, missing = 0, moved = 0;
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, M, &it); d != ST_NIL; d = st_dart_next(m, M, &it)) {
-        if (st_is_boundary(m, d)) continue;
-        uint32_t x = st_phi1(m, d, M), y = st_phi1(m, x, M);
-        if (x < d || y < d) continue;
+        uint32_t x, y;
+        if (!st_tri_first_dart(m, d, M, &x, &y)) continue;
         double lo[3], hi[3];
         st_adapt_face_bbox(m, d, M, lo, hi);
         if (!p->has_box || !bbox_meets(lo, hi, p)) continue;

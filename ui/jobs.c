@@ -224,20 +224,10 @@ static int run_job(st_app *a, doc_job *j, const char *what)
      * go back to. */
     const char *live = getenv("STRATA_REPLAY_LIVE");
     int poll = g_loop_started && (!a->replay || (live && live[0] == '1'));
-    GLFWkeyfun keyfun = NULL;
-    GLFWmousebuttonfun buttonfun = NULL;
-    GLFWcursorposfun cursorfun = NULL;
-    GLFWscrollfun scrollfun = NULL;
-    GLFWdropfun dropfun = NULL;
-    GLFWcharfun charfun = NULL;
+    st_win_input outside = { 0 };
     if (poll) {
         g_cancellable = j;
-        keyfun = glfwSetKeyCallback(a->win, cancel_key);
-        buttonfun = glfwSetMouseButtonCallback(a->win, job_button);
-        cursorfun = glfwSetCursorPosCallback(a->win, job_cursor);
-        scrollfun = glfwSetScrollCallback(a->win, NULL);
-        dropfun = glfwSetDropCallback(a->win, NULL);
-        charfun = glfwSetCharCallback(a->win, NULL);
+        outside = st_win_swap_input(a->win, (st_win_input){ cancel_key, job_button, job_cursor, NULL, NULL, NULL });
     }
     while (!atomic_load(&j->done)) {
         if (poll) glfwPollEvents();
@@ -268,12 +258,7 @@ static int run_job(st_app *a, doc_job *j, const char *what)
     pthread_join(th, NULL);
     if (poll) {
         g_cancellable = NULL;
-        glfwSetKeyCallback(a->win, keyfun);
-        glfwSetMouseButtonCallback(a->win, buttonfun);
-        glfwSetCursorPosCallback(a->win, cursorfun);
-        glfwSetScrollCallback(a->win, scrollfun);
-        glfwSetDropCallback(a->win, dropfun);
-        glfwSetCharCallback(a->win, charfun);
+        st_win_swap_input(a->win, outside);
     }
     a->doc.progress = NULL;
     a->doc.progress_ctx = NULL;

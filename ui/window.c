@@ -340,6 +340,18 @@ static void glfw_cursor(GLFWwindow *w, double x, double y) { if (input(w)) st_wi
 static void glfw_scroll(GLFWwindow *w, double dx, double dy) { if (input(w)) st_win_on_scroll(w, dx, dy); }
 static void glfw_drop(GLFWwindow *w, int n, const char **p) { if (input(w)) st_win_on_drop(w, n, p); }
 static void glfw_char(GLFWwindow *w, unsigned c) { if (input(w)) st_gui_char(c); }
+
+st_win_input st_win_swap_input(GLFWwindow *w, st_win_input in)
+{
+    st_win_input was;
+    was.key = glfwSetKeyCallback(w, in.key);
+    was.button = glfwSetMouseButtonCallback(w, in.button);
+    was.cursor = glfwSetCursorPosCallback(w, in.cursor);
+    was.scroll = glfwSetScrollCallback(w, in.scroll);
+    was.drop = glfwSetDropCallback(w, in.drop);
+    was.chr = glfwSetCharCallback(w, in.chr);
+    return was;
+}
 static void glfw_resize(GLFWwindow *w, int width, int height) { st_app_want_frames(app_of(w)); st_win_on_resize(w, width, height); }
 /* Uncovered, or focus and pointer coming and going (the GUI's hover). */
 static void glfw_refresh(GLFWwindow *w) { st_app_want_frames(app_of(w)); }
@@ -604,13 +616,8 @@ int st_window_main(const st_win_opts *o)
         free(a);
         return 1;
     }
-    glfwSetKeyCallback(a->win, glfw_key);
-    glfwSetMouseButtonCallback(a->win, glfw_button);
-    glfwSetCursorPosCallback(a->win, glfw_cursor);
-    glfwSetScrollCallback(a->win, glfw_scroll);
-    glfwSetDropCallback(a->win, glfw_drop);
+    st_win_swap_input(a->win, (st_win_input){ glfw_key, glfw_button, glfw_cursor, glfw_scroll, glfw_drop, glfw_char });
     glfwSetFramebufferSizeCallback(a->win, glfw_resize);
-    glfwSetCharCallback(a->win, glfw_char);
     glfwSetWindowRefreshCallback(a->win, glfw_refresh);
     glfwSetWindowFocusCallback(a->win, glfw_focus);
     glfwSetCursorEnterCallback(a->win, glfw_enter);

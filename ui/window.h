@@ -160,6 +160,19 @@ typedef struct st_app {
 int st_window_main(const st_win_opts *o);
 int st_window_bench(const st_win_opts *o);
 
+/* The window's input handlers, as GLFW takes them (a job swaps in its own
+ * while it runs: jobs.c). */
+typedef struct st_win_input {
+    void (*key)(GLFWwindow *w, int key, int scancode, int action, int mods);
+    void (*button)(GLFWwindow *w, int button, int action, int mods);
+    void (*cursor)(GLFWwindow *w, double x, double y);
+    void (*scroll)(GLFWwindow *w, double dx, double dy);
+    void (*drop)(GLFWwindow *w, int count, const char **paths);
+    void (*chr)(GLFWwindow *w, unsigned codepoint);
+} st_win_input;
+/* Installs in's handlers on w; returns the ones they replace. */
+st_win_input st_win_swap_input(GLFWwindow *w, st_win_input in);
+
 /* The GLFW callbacks (also called by the replay). */
 void st_win_on_key(GLFWwindow *w, int key, int scancode, int action, int mods);
 void st_win_on_mouse_button(GLFWwindow *w, int button, int action, int mods);

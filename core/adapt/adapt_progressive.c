@@ -140,9 +140,8 @@ static void vertex_wants(st_pm_select *s, const st_map *m, unsigned M, const st_
     memset(s->want, 0, s->cache_nv);
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, M, &it); d != ST_NIL; d = st_dart_next(m, M, &it)) {
-        if (st_is_boundary(m, d)) continue;
-        uint32_t x = st_phi1(m, d, M), y = st_phi1(m, x, M);
-        if (x < d || y < d) continue;
+        uint32_t x, y;
+        if (!st_tri_first_dart(m, d, M, &x, &y)) continue;
         double lo[3], hi[3];
         st_adapt_face_bbox(m, d, M, lo, hi);
         unsigned w = st_adapt_box_want(lo, hi, p);

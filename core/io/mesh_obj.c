@@ -164,6 +164,30 @@ static int parse_texcoord(obj_reader *r)
     return 0;
 }
 
+/* The words of a face corner's index in messages: vertex or texture
+ * coordinate. */
+typedef struct obj_index_kind {
+    const char *noun, *count_unit, *relative_noun, *first;
+} obj_index_kind;
+
+/* An OBJ index i into 0-based: i > 0 counts from the file's first element
+ * (total in the file, counted beforehand), i < 0 back from the last one
+ * defined so far (OBJ's relative indices); 0 is invalid. */
+static int resolve_index(obj_reader *r, const obj_index_kind *k, int64_t i, uint32_t total, uint32_t so_far,
+                         uint32_t *out)
+{
+    if (i == 0)
+        return FAIL(r, ST_ERR_RANGE, "%s index 0 in a face (OBJ indices start at 1)", k->noun);
+    if (i > 0 && (uint64_t)i > total)
+        return FAIL(r, ST_ERR_RANGE, "face references %s %lld but the file has %u%s", k->noun, (long long)i, total,
+                    k->count_unit);
+    if (i < 0 && -i > (int64_t)so_far)
+        return FAIL(r, ST_ERR_RANGE, "relative %sindex %lld reaches before the first %s (%u%s defined so far)",
+                    k->relative_noun, (long long)i, k->first, so_far, k->count_unit);
+    *out = i > 0 ? (uint32_t)(i - 1) : (uint32_t)((int64_t)so_far + i);
+    return 0;
+}
+
 /* The t of a corner "v/t" or "v/t/n" ([tok, tok+len) is "t"): 0-based. */
 static int parse_corner_uv(obj_reader *r, const char *tok, size_t len, const char *corner, size_t clen, uint32_t *t)
 {
@@ -171,16 +195,8 @@ static int parse_corner_uv(obj_reader *r, const char *tok, size_t len, const cha
     int64_t i;
     if (st_mesh_parse_int(tok, len, &i))
         return FAIL(r, ST_ERR_PARSE, "bad face corner '%s'", st_text_quote(q, sizeof q, corner, clen));
-    if (i == 0)
-        return FAIL(r, ST_ERR_RANGE, "texture coordinate index 0 in a face (OBJ indices start at 1)");
-    if (i > 0 && (uint64_t)i > r->nvt_total)
-        return FAIL(r, ST_ERR_RANGE, "face references texture coordinate %lld but the file has %u",
-                    (long long)i, r->nvt_total);
-    if (i < 0 && -i > (int64_t)r->b.m.nuvs)
-        return FAIL(r, ST_ERR_RANGE, "relative texture coordinate index %lld reaches before the first one "
-                    "(%u defined so far)", (long long)i, r->b.m.nuvs);
-    *t = i > 0 ? (uint32_t)(i - 1) : (uint32_t)((int64_t)r->b.m.nuvs + i);
-    return 0;
+    static const obj_index_kind uv = { "texture coordinate", "", "texture coordinate ", "one" };
+    return resolve_index(r, &uv, i, r->nvt_total, r->b.m.nuvs, t);
 }
 
 /* One face corner "v", "v/t", "v//n" or "v/t/n": the 0-based vertex, and
@@ -206,16 +222,8 @@ static int parse_corner(obj_reader *r, const char *tok, size_t len, uint32_t *v,
         int rc = parse_corner_uv(r, tok + vlen + 1, tlen, tok, len, t);
         if (rc) return rc;
     }
-    if (i == 0)
-        return FAIL(r, ST_ERR_RANGE, "vertex index 0 in a face (OBJ indices start at 1)");
-    if (i > 0 && (uint64_t)i > r->nv_total)
-        return FAIL(r, ST_ERR_RANGE, "face references vertex %lld but the file has %u vertices",
-                    (long long)i, r->nv_total);
-    if (i < 0 && -i > (int64_t)r->b.m.nverts)
-        return FAIL(r, ST_ERR_RANGE, "relative index %lld reaches before the first vertex "
-                    "(%u vertices defined so far)", (long long)i, r->b.m.nverts);
-    *v = i > 0 ? (uint32_t)(i - 1) : (uint32_t)((int64_t)r->b.m.nverts + i);
-    return 0;
+    static const obj_index_kind vertex = { "vertex", " vertices", "", "vertex" };
+    return resolve_index(r, &vertex, i, r->nv_total, r->b.m.nverts, v);
 }
 
 /* The face's texture coordinate indices (r->b.scratch[0..n)) into m.face_uv,
@@ -552,10 +560,7 @@ static int parse_lines(obj_reader *r, const char *data, size_t size, int want_lo
 int st_mesh_parse_obj_src(const char *name, const char *data, size_t size,
                           st_mesh *out, st_mesh_src *src, st_error *err)
 {
-    obj_reader r;
-    memset(&r, 0, sizeof r);
-    r.name = name;
-    r.err = err;
+    obj_reader r = { .name = name, .err = err };
     st_mesh_init(&r.b.m);
     if (size == 0) return st_fail(err, ST_ERR_PARSE, "%s: empty file", name);
     int rc = count_records(&r, data, size);

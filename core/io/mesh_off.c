@@ -211,12 +211,7 @@ static int parse_faces(off_reader *r)
 int st_mesh_parse_off_src(const char *name, const char *data, size_t size,
                           st_mesh *out, st_mesh_src *src, st_error *err)
 {
-    off_reader r;
-    memset(&r, 0, sizeof r);
-    r.name = name;
-    r.err = err;
-    r.p = data;
-    r.end = data + size;
+    off_reader r = { .name = name, .err = err, .p = data, .end = data + size };
     st_mesh_init(&r.b.m);
     int rc = size == 0 ? st_fail(err, ST_ERR_PARSE, "%s: empty file", name) : parse_keyword(&r);
     if (!rc) rc = parse_counts(&r);

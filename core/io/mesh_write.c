@@ -159,20 +159,26 @@ static void obj_body(FILE *f, const st_mesh *m)
     if (m->tri_sub == 1) fputs("t smoothtriangles 0/0/1 smooth\n", f);
 }
 
-int st_mesh_save_obj(const char *path, const st_mesh *m, st_error *err)
+/* Writes the surface faces of m (surface_view) with body, atomically. */
+static int write_surface(const char *path, const st_mesh *m, void (*body)(FILE *f, const st_mesh *v), st_error *err)
 {
-    int rc = check_writable(path, m, err);
     st_mesh v;
-    if (!rc) rc = surface_view(path, m, &v, err);
+    int rc = surface_view(path, m, &v, err);
     if (rc) return rc;
     out_file o;
     rc = out_open(&o, path, err);
     if (!rc) {
-        obj_body(o.f, &v);
+        body(o.f, &v);
         rc = out_close(&o, path, err);
     }
     surface_done(m, &v);
     return rc;
+}
+
+int st_mesh_save_obj(const char *path, const st_mesh *m, st_error *err)
+{
+    int rc = check_writable(path, m, err);
+    return rc ? rc : write_surface(path, m, obj_body, err);
 }
 
 /* ---- PLY ------------------------------------------------------------------------ */
@@ -287,6 +293,18 @@ static int split_uv_seams(const st_mesh *m, st_mesh *e)
     return 0;
 }
 
+/* Binary little-endian PLY; faces of more than 255 corners widen the list
+ * count to uint. */
+static void ply_body(FILE *f, const st_mesh *v)
+{
+    int wide = 0;
+    for (uint32_t fi = 0; fi < v->nfaces; fi++)
+        wide |= v->face_off[fi + 1] - v->face_off[fi] > 255;
+    ply_header(f, v, wide);
+    ply_vertices(f, v);
+    ply_faces(f, v, wide);
+}
+
 int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err)
 {
     int rc = check_writable(path, m, err);
@@ -297,22 +315,7 @@ int st_mesh_save_ply(const char *path, const st_mesh *m, st_error *err)
         st_mesh_free(&split);
         return rc;
     }
-    st_mesh v;
-    if (!rc) rc = surface_view(path, m, &v, err);
-    if (rc) return rc;
-    out_file o;
-    rc = out_open(&o, path, err);
-    if (!rc) {
-        int wide = 0;
-        for (uint32_t fi = 0; fi < v.nfaces; fi++)
-            wide |= v.face_off[fi + 1] - v.face_off[fi] > 255;
-        ply_header(o.f, &v, wide);
-        ply_vertices(o.f, &v);
-        ply_faces(o.f, &v, wide);
-        rc = out_close(&o, path, err);
-    }
-    surface_done(m, &v);
-    return rc;
+    return rc ? rc : write_surface(path, m, ply_body, err);
 }
 
 /* ---- dispatch ------------------------------------------------------------------- */

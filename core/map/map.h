@@ -387,6 +387,16 @@ static inline uint32_t st_vertex_step(const st_map *m, uint32_t d, unsigned l)
 {
     return m->face_embedded ? st_phi1(m, d, l) : st_beta1(m, d, l);
 }
+/* Visiting each real triangle of level l once (triangle meshes: the
+ * progressive levels): whether d is its triangle's smallest dart, not a
+ * boundary dart; x and y get the triangle's next two darts. */
+static inline int st_tri_first_dart(const st_map *m, uint32_t d, unsigned l, uint32_t *x, uint32_t *y)
+{
+    if (st_is_boundary(m, d)) return 0;
+    *x = st_phi1(m, d, l);
+    *y = st_phi1(m, *x, l);
+    return *x > d && *y > d;
+}
 static inline uint32_t st_v_face_step_kind(const st_level_view *v, int dual, uint32_t d, int sparse)
 {
     return dual ? st_v_beta1_kind(v, d, sparse) : st_v_phi1_kind(v, d, sparse);

@@ -158,15 +158,20 @@ static void op_touch(st_doc *d, st_undo_step *s, unsigned l, const dart_set *ds)
     if (ds->n) ed_step_touch_move(s, &d->h, l, ds->d, ds->n, &d->fp_query);
 }
 
+/* Writes level l's sums again over ds's vertices, and tells the document. */
+static void recompose(st_doc *d, unsigned l, const dart_set *ds, double t0)
+{
+    if (!ds->n) return;
+    uint32_t from = d->fp_model.n;
+    st_layers_recompose(&d->layers, &d->h, l, ds->d, ds->n, &d->fp_model);
+    st_layers_follow(&d->layers, &d->h, l, d->fp_model.keys + from, d->fp_model.n - from);
+    ed_geometry_changed(d, l, ds->d, ds->n, t0, from);
+}
+
 /* Recomposes, then pushes the step with the stack after. */
 static int op_end(st_doc *d, st_undo_step *s, unsigned l, dart_set *ds, double t0, st_error *err)
 {
-    if (ds->n) {
-        uint32_t from = d->fp_model.n;
-        st_layers_recompose(&d->layers, &d->h, l, ds->d, ds->n, &d->fp_model);
-        st_layers_follow(&d->layers, &d->h, l, d->fp_model.keys + from, d->fp_model.n - from);
-        ed_geometry_changed(d, l, ds->d, ds->n, t0, from);
-    }
+    recompose(d, l, ds, t0);
     free(ds->d);
     ds->d = NULL;
     ed_step_capture_new(s, &d->h);
@@ -262,21 +267,32 @@ static void level_support(st_doc *d, unsigned l, dart_set *ds)
         if (d->layers.v[i].level == l) support_of(d, (int)i, ds);
 }
 
+/* An operation that changes the sums of all of layer k's level: begun,
+ * with what it will write recorded for undo. */
+typedef struct level_op { st_undo_step *s; unsigned l; dart_set ds; double t0; } level_op;
+
+static int level_op_begin(st_doc *d, int k, const char *name, level_op *op, st_error *err)
+{
+    op->t0 = ed_now_ms();
+    op->s = op_begin(d, name, err);
+    if (!op->s) return ST_ERR_MEMORY;
+    op->l = d->layers.v[k].level;
+    op->ds = (dart_set){ 0 };
+    level_support(d, op->l, &op->ds);
+    op_touch(d, op->s, op->l, &op->ds);
+    return ST_OK;
+}
+
 int st_doc_layer_move(st_doc *d, int k, int to, st_error *err)
 {
     int rc = check_layer(d, k, err);
     if (!rc) rc = check_layer(d, to, err);
     if (rc) return rc;
     if (k == to) return ST_OK;
-    double t0 = ed_now_ms();
-    st_undo_step *s = op_begin(d, "reorder layers", err);
-    if (!s) return ST_ERR_MEMORY;
-    unsigned l = d->layers.v[k].level;
-    dart_set ds = { 0 };
-    level_support(d, l, &ds);
-    op_touch(d, s, l, &ds);
+    level_op op;
+    if (level_op_begin(d, k, "reorder layers", &op, err)) return ST_ERR_MEMORY;
     st_layers_move(&d->layers, k, to, err);
-    return op_end(d, s, l, &ds, t0, err);
+    return op_end(d, op.s, op.l, &op.ds, op.t0, err);
 }
 
 int st_doc_layer_merge_down(st_doc *d, int k, st_error *err)
@@ -287,19 +303,14 @@ int st_doc_layer_merge_down(st_doc *d, int k, st_error *err)
     if (d->layers.v[k].level != d->layers.v[k - 1].level)
         return st_fail(err, ST_ERR_INVALID, "layers '%s' and '%s' are on different levels (%u, %u)", d->layers.v[k].name,
                        d->layers.v[k - 1].name, d->layers.v[k].level, d->layers.v[k - 1].level);
-    double t0 = ed_now_ms();
-    st_undo_step *s = op_begin(d, "merge layers", err);
-    if (!s) return ST_ERR_MEMORY;
-    unsigned l = d->layers.v[k].level;
-    dart_set ds = { 0 };
-    level_support(d, l, &ds);
-    op_touch(d, s, l, &ds);
+    level_op op;
+    if (level_op_begin(d, k, "merge layers", &op, err)) return ST_ERR_MEMORY;
     if (st_layers_merge_down(&d->layers, k, err)) {
-        free(ds.d);
-        ed_step_free(s);
+        free(op.ds.d);
+        ed_step_free(op.s);
         return ST_ERR_INVALID;
     }
-    return op_end(d, s, l, &ds, t0, err);
+    return op_end(d, op.s, op.l, &op.ds, op.t0, err);
 }
 
 int st_doc_layer_delete(st_doc *d, int k, st_error *err)
@@ -316,12 +327,7 @@ int st_doc_layer_delete(st_doc *d, int k, st_error *err)
     /* Recomposed without it first (D_l = B_l where it was the only one),
      * then taken out of the stack. */
     d->layers.v[k].hidden = 1;
-    if (ds.n) {
-        uint32_t from = d->fp_model.n;
-        st_layers_recompose(&d->layers, &d->h, l, ds.d, ds.n, &d->fp_model);
-        st_layers_follow(&d->layers, &d->h, l, d->fp_model.keys + from, d->fp_model.n - from);
-        ed_geometry_changed(d, l, ds.d, ds.n, t0, from);
-    }
+    recompose(d, l, &ds, t0);
     st_layers_remove(&d->layers, k, err);
     ds.n = 0;
     return op_end(d, s, l, &ds, t0, err);
