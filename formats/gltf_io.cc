@@ -816,6 +816,18 @@ int parse_impl(const char *name, const unsigned char *d, size_t n, const char *b
 
 // ---- writing -----------------------------------------------------------
 
+// An accessor of float vectors (type: TINYGLTF_TYPE_VEC2..4) over a whole
+// buffer view, one per vertex.
+tinygltf::Accessor float_accessor(int view, int type, size_t count)
+{
+    tinygltf::Accessor a;
+    a.bufferView = view;
+    a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    a.type = type;
+    a.count = count;
+    return a;
+}
+
 void add_view(tinygltf::Model *model, size_t offset, size_t length, int target)
 {
     tinygltf::BufferView v;
@@ -1087,17 +1099,11 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model,
     add_view(model, 2 * vbytes + tbytes + gbytes, ibytes, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     if (gbytes) add_view(model, 2 * vbytes + tbytes, gbytes, TINYGLTF_TARGET_ARRAY_BUFFER);
 
-    tinygltf::Accessor ap, an, ai;
-    ap.bufferView = 0;
-    ap.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-    ap.type = TINYGLTF_TYPE_VEC3;
-    ap.count = m->nverts;
+    tinygltf::Accessor ap = float_accessor(0, TINYGLTF_TYPE_VEC3, m->nverts);
     ap.minValues.assign(lo, lo + 3);
     ap.maxValues.assign(hi, hi + 3);
-    an.bufferView = 1;
-    an.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-    an.type = TINYGLTF_TYPE_VEC3;
-    an.count = m->nverts;
+    tinygltf::Accessor an = float_accessor(1, TINYGLTF_TYPE_VEC3, m->nverts);
+    tinygltf::Accessor ai;
     ai.bufferView = tbytes ? 3 : 2;
     ai.componentType = index_bytes == 1   ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE
                        : index_bytes == 2 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
@@ -1105,22 +1111,8 @@ void mesh_to_model(const st_mesh *m, int index_bytes, tinygltf::Model *model,
     ai.type = TINYGLTF_TYPE_SCALAR;
     ai.count = 3 * g_tri[0];
     model->accessors = {ap, an, ai};
-    if (tbytes) {
-        tinygltf::Accessor at;
-        at.bufferView = 2;
-        at.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-        at.type = TINYGLTF_TYPE_VEC2;
-        at.count = m->nverts;
-        model->accessors.push_back(at);
-    }
-    if (gbytes) {
-        tinygltf::Accessor ag;
-        ag.bufferView = 4;
-        ag.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-        ag.type = TINYGLTF_TYPE_VEC4;
-        ag.count = m->nverts;
-        model->accessors.push_back(ag);
-    }
+    if (tbytes) model->accessors.push_back(float_accessor(2, TINYGLTF_TYPE_VEC2, m->nverts));
+    if (gbytes) model->accessors.push_back(float_accessor(4, TINYGLTF_TYPE_VEC4, m->nverts));
 
     tinygltf::Primitive prim;
     prim.attributes["POSITION"] = 0;
