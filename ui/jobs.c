@@ -292,7 +292,7 @@ int st_app_open(st_app *a, const char *path)
                        a->doc.loaded ? " (the current model is kept)" : "");
         return rc;
     }
-    a->shown_valid = 0;
+    a->shown.valid = 0;
     a->hover_vid = ST_NIL;
     a->op = ST_OP_NONE;
     a->untitled = 0;

@@ -194,7 +194,7 @@ int st_app_restore(st_app *a, const char *path)
     a->box_placed = s.box_on;
     if (s.box_on && st_doc_set_box(d, &d->box, 1, &err))
         st_app_message(a, 1, "interest box of %s: %s", path, err.msg);
-    a->shown_valid = 0;
+    a->shown.valid = 0;
     a->hover_vid = ST_NIL;
     a->op = ST_OP_NONE;
     st_app_sync(a);

@@ -85,17 +85,18 @@ float st_app_aspect(const st_app *a) { return a->fb_h > 0 ? (float)a->fb_w / (fl
 
 /* ---- document -> renderer ----------------------------------------------------- */
 
-static unsigned shown_level(const st_doc *d) { return st_doc_display_map_level(d); }
-
-/* Every position changed: the surface is read from the displayed hierarchy
- * (the adaptive one when the box is on) and the cage from the model. */
-static void refresh_all(st_app *a)
+/* The document's change in the renderer's words (render/scene_sync.h). */
+static st_scene_change scene_change(const st_doc_change *ch)
 {
-    const st_doc *d = &a->doc;
-    const st_hier *dh = st_doc_display_hier(d);
-    if (dh == &d->h) { st_renderer_refresh_all(&a->r, ST_TARGET_MESHES, &d->h.map); return; }
-    st_renderer_refresh_all(&a->r, ST_TARGET_SURFACE, &dh->map);
-    st_renderer_refresh_all(&a->r, ST_TARGET_CAGE, &d->h.map);
+    static const struct { unsigned doc, scene; } bit[] = {
+        { ST_CHANGE_TOPOLOGY, ST_SCENE_TOPOLOGY }, { ST_CHANGE_POSITIONS, ST_SCENE_POSITIONS },
+        { ST_CHANGE_ALL_POSITIONS, ST_SCENE_ALL_POSITIONS }, { ST_CHANGE_DISPLAY, ST_SCENE_DISPLAY },
+        { ST_CHANGE_PATCH, ST_SCENE_PATCH },
+    };
+    st_scene_change c = { 0, ch->nmoved, ch->footprint, ch->disp_footprint, ch->patch };
+    for (size_t i = 0; i < sizeof bit / sizeof bit[0]; i++)
+        if (ch->bits & bit[i].doc) c.bits |= bit[i].scene;
+    return c;
 }
 
 int st_app_sync(st_app *a)
@@ -103,65 +104,23 @@ int st_app_sync(st_app *a)
     st_doc *d = &a->doc;
     st_doc_change ch = st_doc_take_change(d);
     if (!d->loaded) {
-        int was_shown = a->shown_valid;
+        int was_shown = a->shown.valid;
         st_renderer_clear(&a->r, ST_TARGET_MESHES);
-        a->shown_valid = 0;
+        a->shown.valid = 0;
         return was_shown || ch.bits;
     }
     double t0 = now_ms();
-    int touched = 0;
-    unsigned disp = shown_level(d);
+    unsigned disp = st_doc_display_map_level(d);
     const st_hier *dh = st_doc_display_hier(d);
-    int rebuild = !a->shown_valid || (ch.bits & ST_CHANGE_TOPOLOGY) || disp != a->shown_display ||
-                  d->edit_level != a->shown_edit || d->h.map.top != a->shown_top || d->box_on != a->shown_box_on;
+    st_scene scene = { &d->h.map, &dh->map, disp, d->edit_level, d->box_on };
+    st_scene_change sc = scene_change(&ch);
     st_error err;
-    if (rebuild) {
-        if (st_renderer_set_level(&a->r, &dh->map, disp, &err) ||
-            st_renderer_set_cage(&a->r, &d->h.map, d->edit_level, &err))
-            st_app_message(a, 1, "cannot draw the model: %s", err.msg);
-        a->shown_display = disp;
-        a->shown_edit = d->edit_level;
-        a->shown_top = d->h.map.top;
-        a->shown_box_on = d->box_on;
-        a->shown_valid = 1;
-        a->hover_vid = ST_NIL;
-        touched = 1;
-    }
-    if (!rebuild && (ch.bits & ST_CHANGE_PATCH)) {
-        /* A box move: only the touched faces are re-tessellated. */
-        if (st_renderer_patch(&a->r, &dh->map, ch.patch)) {
-            if (st_renderer_set_level(&a->r, &dh->map, disp, &err))
-                st_app_message(a, 1, "cannot draw the model: %s", err.msg);
-        } else {
-            a->patches++;
-        }
-        a->hover_vid = ST_NIL;
-        touched = 1;
-    }
-    if (rebuild) {
-        /* (the buffers were just built from the current positions) */
-    } else if ((ch.bits & ST_CHANGE_ALL_POSITIONS) ||
-               ((ch.bits & ST_CHANGE_POSITIONS) && dh != &d->h && !(ch.bits & ST_CHANGE_DISPLAY))) {
-        refresh_all(a);
-        touched = 1;
-    } else if (dh != &d->h && (ch.bits & (ST_CHANGE_POSITIONS | ST_CHANGE_DISPLAY))) {
-        /* Box on: what core wrote in the display hierarchy for the
-         * surface, what it wrote in the model for the cage. */
-        int rc = 0;
-        if (ch.bits & ST_CHANGE_DISPLAY)
-            rc |= st_renderer_refresh(&a->r, ST_TARGET_SURFACE, &dh->map, ch.disp_footprint);
-        if (ch.bits & ST_CHANGE_POSITIONS) rc |= st_renderer_refresh(&a->r, ST_TARGET_CAGE, &d->h.map, ch.footprint);
-        if (rc) refresh_all(a);
-        touched = 1;
-    } else if ((ch.bits & ST_CHANGE_POSITIONS) && ch.nmoved) {
-        if (st_renderer_refresh(&a->r, ST_TARGET_MESHES, &d->h.map, ch.footprint)) {
-            /* Out of memory for the incremental path: rebuild. */
-            st_renderer_set_level(&a->r, &dh->map, disp, &err);
-            st_renderer_set_cage(&a->r, &d->h.map, d->edit_level, &err);
-            rebuild = 1;
-        }
-        touched = 1;
-    }
+    unsigned done = st_renderer_show(&a->r, &a->shown, &scene, &sc, &err);
+    if (done & ST_SCENE_FAILED) st_app_message(a, 1, "cannot draw the model: %s", err.msg);
+    if (done & ST_SCENE_PATCHED) a->patches++;
+    if ((done & ST_SCENE_REBUILT) || (ch.bits & ST_CHANGE_PATCH)) a->hover_vid = ST_NIL;
+    int rebuild = (done & ST_SCENE_REBUILT) != 0;
+    int touched = (done & ST_SCENE_TOUCHED) != 0;
     /* The mask darkens the surface.  The box's display has its own vertex
      * ids: it takes the mask over them whole (st_doc_display_mask) when the
      * mask changed or a box move patched the surface. */

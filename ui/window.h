@@ -20,6 +20,7 @@
 #include "nmap.h"
 #include "pick.h"
 #include "renderer.h"
+#include "scene_sync.h"
 
 typedef struct GLFWwindow GLFWwindow;
 
@@ -89,8 +90,7 @@ typedef struct st_app {
     int fb_w, fb_h, win_w, win_h;
 
     /* What the renderer shows (to know when to rebuild). */
-    unsigned shown_display, shown_edit, shown_top;
-    int shown_box_on, shown_valid;
+    st_scene_shown shown;      /* what the renderer's buffers were built from (render/scene_sync.h) */
     int shading;               /* enum st_shading */
     int wire, cage;
     int checker, shown_checker;  /* UV checker asked for / uploaded (st_renderer_set_uvs) */
