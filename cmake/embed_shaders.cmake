@@ -1,6 +1,7 @@
 # Embeds GLSL sources into C: run as
 #   cmake -DSHADER_DIR=<dir> -DOUT=<file.c> -P embed_shaders.cmake
-# For every <dir>/NAME.glsl it writes a string constant holding the file
+# For every <dir>/NAME.glsl (with its '#include "X"' lines replaced by
+# <dir>/X) it writes a string constant holding the file
 # byte for byte, and st_shader_source("NAME") returning it (render/shaders.h),
 # so the strata executable never reads shaders at run time and runs from any
 # directory.
@@ -16,6 +17,17 @@ foreach(f IN LISTS shader_files)
   get_filename_component(name "${f}" NAME)
   string(REGEX REPLACE "\\.glsl$" "" name "${name}")
   file(READ "${f}" text)
+  # A line '#include "FILE"' is replaced by SHADER_DIR/FILE (one level:
+  # shared statements such as lighting.glsl.inc; GLSL itself has none).
+  string(REGEX MATCHALL "#include \"[^\"]+\"" includes "${text}")
+  foreach(inc IN LISTS includes)
+    string(REGEX REPLACE "#include \"([^\"]+)\"" "\\1" inc_name "${inc}")
+    if(NOT EXISTS "${SHADER_DIR}/${inc_name}")
+      message(FATAL_ERROR "embed_shaders.cmake: ${f} includes ${inc_name}, which is not in ${SHADER_DIR}")
+    endif()
+    file(READ "${SHADER_DIR}/${inc_name}" inc_text)
+    string(REPLACE "${inc}\n" "${inc_text}" text "${text}")
+  endforeach()
   string(REPLACE "\\" "\\\\" text "${text}")
   string(REPLACE "\"" "\\\"" text "${text}")
   string(REPLACE "\r" "" text "${text}")

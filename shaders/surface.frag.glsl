@@ -41,17 +41,6 @@ void main()
         base = mod(q.x + q.y, 2.0) < 0.5 ? vec3(0.93, 0.93, 0.90) : dark;
         if (!gl_FrontFacing) base *= 0.6;
     }
-    vec3 v = normalize(-v_pos);
-    // A key light above left, a weaker fill from the right, a headlight
-    // (surfaces facing the viewer never go dark) and a rim of sky.
-    vec3 l1 = normalize(vec3(-0.40, 0.55, 0.75));
-    vec3 l2 = normalize(vec3(0.75, -0.15, 0.65));
-    float d1 = max(dot(n, l1), 0.0);
-    float d2 = max(dot(n, l2), 0.0);
-    float dh = max(n.z, 0.0);
-    float sky = 0.5 + 0.5 * n.y;
-    vec3 h1 = normalize(l1 + v);
-    float s1 = pow(max(dot(n, h1), 0.0), 48.0);
-    vec3 c = base * (0.12 + 0.14 * sky + 0.50 * d1 + 0.16 * d2 + 0.25 * dh) + vec3(0.18) * s1;
+#include "lighting.glsl.inc"
     o_color = vec4(clamp(c * v_shade, 0.0, 1.0), 1.0);
 }

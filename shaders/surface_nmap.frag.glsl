@@ -1,6 +1,6 @@
 #version 330 core
-// The smooth shading of surface.frag.glsl (same lights and weights: keep the
-// two in step) with the normal taken from a normal map: tangent space
+// The smooth shading of surface.frag.glsl (the same lights: lighting.glsl.inc)
+// with the normal taken from a normal map: tangent space
 // (n = T·m.x + B·m.y + N·m.z, B = w · N × T, the frame glTF and MikkTSpace
 // define) or object space.
 in vec3 v_pos;
@@ -37,15 +37,6 @@ void main()
     n = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
     vec3 base = u_front;
     if (!gl_FrontFacing) { n = -n; base = u_back; }
-    vec3 v = normalize(-v_pos);
-    vec3 l1 = normalize(vec3(-0.40, 0.55, 0.75));
-    vec3 l2 = normalize(vec3(0.75, -0.15, 0.65));
-    float d1 = max(dot(n, l1), 0.0);
-    float d2 = max(dot(n, l2), 0.0);
-    float dh = max(n.z, 0.0);
-    float sky = 0.5 + 0.5 * n.y;
-    vec3 h1 = normalize(l1 + v);
-    float s1 = pow(max(dot(n, h1), 0.0), 48.0);
-    vec3 c = base * (0.12 + 0.14 * sky + 0.50 * d1 + 0.16 * d2 + 0.25 * dh) + vec3(0.18) * s1;
+#include "lighting.glsl.inc"
     o_color = vec4(clamp(c, 0.0, 1.0), 1.0);
 }
