@@ -21,7 +21,7 @@ int st_cmd_info(int argc, char **argv)
            "topology B", "positions B");
     /* Levels refined here from a mesh are whole refinements of the level
      * below: their counts follow by arithmetic (core/multires/estimate.h,
-     * equal to the walked counts on every scheme: tests/test_membudget.c),
+     * equal to the walked counts on every scheme: tests/core/test_membudget.c),
      * which costs nothing beside refinement.  A session's levels may be
      * adaptive or rebased: walked. */
     int arithmetic = !st_session_is_path(o.in);

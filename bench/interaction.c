@@ -6,7 +6,7 @@
  * context, so cmake/ui.cmake compiles it into strata_ui and `strata`
  * keeps the option (app/cmd_window.c: st_window_bench, window.h).  The
  * document's half, st_doc_bench_drag, stays in ui/doc/editor_bench.c,
- * where the headless tests run it (tests/test_editor.c).
+ * where the headless tests run it (tests/ui/test_editor.c).
  *
  * One vertex of level 2 is selected and dragged in --bench-steps steps
  * through the same calls the window makes (st_doc_drag_update, then

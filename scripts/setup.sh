@@ -14,7 +14,7 @@ PACKAGES=(
   # toolchain
   build-essential cmake ninja-build pkg-config git
   ccache                              # the release stage's kernel, compiled once for its core-only build too
-  # packaging (cpack -G DEB, tests/cli_install.sh): dpkg-shlibdeps, the .desktop
+  # packaging (cpack -G DEB, tests/cli/cli_install.sh): dpkg-shlibdeps, the .desktop
   # validator, groff to format the man page
   dpkg-dev desktop-file-utils groff-base
   clang libclang-rt-14-dev            # libFuzzer + LeakSanitizer runtime for clang

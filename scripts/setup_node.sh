@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Khronos glTF Validator (npm package gltf-validator, pinned) into
-# build/node/ for tests/gltf_validate.js and tests/cli_gltf.sh.
+# build/node/ for tests/cli/gltf_validate.js and tests/cli/cli_gltf.sh.
 #
 #   bash scripts/setup_node.sh      (safe to run again: does nothing when the
 #                                    pinned version is already there)

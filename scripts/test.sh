@@ -54,7 +54,7 @@ STAGE_RESULTS=()
 log() { printf '\n==> %s\n' "$*"; }
 
 bash "$ROOT/scripts/setup.sh"
-bash "$ROOT/scripts/setup_node.sh" || echo "setup_node.sh failed: no glTF validator, tests/cli_gltf.sh will fail"
+bash "$ROOT/scripts/setup_node.sh" || echo "setup_node.sh failed: no glTF validator, tests/cli/cli_gltf.sh will fail"
 mkdir -p "$LOGDIR"
 
 # configure BUILD_DIR [cmake args...]: Ninja build folder; a folder configured

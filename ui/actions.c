@@ -8,7 +8,7 @@
  * state (held modifiers change a drag), not actions (window.c).
  *
  * Adding a key: an id in actions.h, an entry below; F1 follows, and
- * `strata --keys` prints docs/MODELLER.md's key table (tests/test_actions.c fails
+ * `strata --keys` prints docs/MODELLER.md's key table (tests/ui/test_actions.c fails
  * until docs/MODELLER.md is updated). */
 #include "actions.h"
 #include "core/adapt/adapt.h"

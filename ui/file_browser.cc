@@ -4,7 +4,7 @@
  * written extension, an overwrite question, and the choice run outside
  * the frame (opening is a job, ui/jobs.c).  Its state is gui_state's
  * dlg_* fields (gui_internal.h); STRATA_GUI_PROBE names its widgets for
- * tests/cli_gui_xdotool.sh. */
+ * tests/cli/cli_gui_xdotool.sh. */
 #include "gui_internal.h"
 
 extern "C" {

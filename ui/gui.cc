@@ -60,7 +60,7 @@ void release_held_keys(void)
  * With STRATA_GUI_PROBE=DIR, every frame writes DIR/gui (atomically: a
  * temporary renamed over it) with the frame number, a few document values
  * and the rectangles (window coordinates) of the widgets a test clicks,
- * so that tests/cli_gui_xdotool.sh computes where to click instead of
+ * so that tests/cli/cli_gui_xdotool.sh computes where to click instead of
  * guessing pixels.  Names have '_' for spaces and no trailing "...". */
 
 std::string probe_name(const std::string &prefix, const char *label)

@@ -17,7 +17,7 @@
  *
  * Tests: with STRATA_GUI_PROBE=DIR each frame writes DIR/gui (frame
  * number, document values, the rectangles of the widgets a test clicks:
- * "rect menu:File/Open x0 y0 x1 y1"), so that tests/cli_gui_xdotool.sh
+ * "rect menu:File/Open x0 y0 x1 y1"), so that tests/cli/cli_gui_xdotool.sh
  * clicks where the widgets are. */
 #ifndef ST_GUI_H
 #define ST_GUI_H

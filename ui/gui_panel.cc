@@ -2,7 +2,7 @@
  * interest box, the brush (tool, radius, strength, falloff, symmetry,
  * auto-smooth, stroke), the mask, sculpt layers, the filter of a
  * progressive model and the timings; a drag of its left edge sets its
- * width (a preference).  Its widgets are named for tests/cli_gui_xdotool.sh
+ * width (a preference).  Its widgets are named for tests/cli/cli_gui_xdotool.sh
  * (STRATA_GUI_PROBE). */
 #include "gui_internal.h"
 

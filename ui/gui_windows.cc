@@ -1,7 +1,7 @@
 /* The window's windows besides the file dialog and the side panel (Dear
  * ImGui): the unsaved-changes question on quit, the scheme question,
  * About, Preferences, Bake maps, the key list and the progress window of
- * a job with its Cancel.  Widgets named for tests/cli_gui_xdotool.sh
+ * a job with its Cancel.  Widgets named for tests/cli/cli_gui_xdotool.sh
  * (STRATA_GUI_PROBE). */
 #include "gui_internal.h"
 

@@ -71,7 +71,7 @@ typedef struct doc_job {
 /* Test only: with STRATA_JOB_HOLD_S=N, a job's progress reports wait for a
  * cancellation, N seconds at most in all (the opening at start excepted:
  * jobs once the main loop runs, g_loop_started): tests of the Cancel
- * button (tests/cli_gui_xdotool.sh) then do not race a fast machine; a
+ * button (tests/cli/cli_gui_xdotool.sh) then do not race a fast machine; a
  * Cancel that does not work lets the job finish after N s and the test
  * fails. */
 static int g_loop_started;

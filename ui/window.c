@@ -434,7 +434,7 @@ static int make_window(st_app *a, int visible)
     return 0;
 }
 
-/* ---- tests driving the real window (tests/cli_gui_xdotool.sh) ------------------
+/* ---- tests driving the real window (tests/cli/cli_gui_xdotool.sh) ------------------
  * With STRATA_GUI_PROBE=DIR (gui.cc writes DIR/gui, the widget rectangles),
  * SIGUSR1 asks for a screenshot: the name in DIR/shot, taken from the next
  * frame (under --screenshot-dir, compared under --compare-dir as a replay's)

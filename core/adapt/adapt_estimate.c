@@ -69,7 +69,7 @@ size_t st_adapt_estimate_bytes(st_hier *h, const st_adapt_params *p)
     }
     /* bytes per dart with its share of the vertices (a quad mesh has a
      * vertex per 4 darts, a triangle mesh one per 6) and of the passes'
-     * scratch, measured on the shared meshes (tests/test_membudget.c) */
+     * scratch, measured on the shared meshes (tests/core/test_membudget.c) */
     double per_dart = id == ST_SCHEME_CATMARK || id == ST_SCHEME_QUADTRI ? 26.0 : id == ST_SCHEME_DOOSABIN ? 22.0 : 24.0;
     double total = (double)regular + darts * per_dart;
     return total >= (double)SIZE_MAX ? SIZE_MAX : (size_t)total;

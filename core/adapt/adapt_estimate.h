@@ -9,7 +9,7 @@
  * region by a fraction f of its extent contributes f times its children
  * at level k (g^k of them, g the scheme's face growth per level: 4; 3 for
  * √3).  Bytes per dart, with their share of vertices and scratch, are
- * measured per scheme; tests/test_membudget.c holds the estimate to within
+ * measured per scheme; tests/core/test_membudget.c holds the estimate to within
  * 25 % of the measured peak. */
 #ifndef ST_ADAPT_ESTIMATE_H
 #define ST_ADAPT_ESTIMATE_H

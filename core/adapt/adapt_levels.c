@@ -14,7 +14,7 @@
  * The general readings hold for every family; the O(1) ones
  * (st_adapt_split_toward, st_adapt_face_of_level: inline, in
  * adapt_internal.h) hold for the maps Algorithm 1 builds (all but √3, whose
- * flips re-link old darts), and tests/adapt_testlib.c checks them against
+ * flips re-link old darts), and tests/core/adapt_testlib.c checks them against
  * the general ones. */
 #include "core/adapt/adapt_internal.h"
 

@@ -381,7 +381,7 @@ static int no_central_child(unsigned n) { (void)n; return 0; }
  * i, so the lower neighbours of odd triangles two faces away are forced: up
  * to about two faces of level i-1 per level, and faces shrink by √3 (not
  * 2) per level, a reach under 2 / (1 - 1/√3) < 5 base faces.  Six rings
- * leave a margin (tests/test_adapt_sqrt3.c compares with full updates). */
+ * leave a margin (tests/core/test_adapt_sqrt3.c compares with full updates). */
 #ifndef SQRT3_RINGS
 #define SQRT3_RINGS 6
 #endif

@@ -5,7 +5,7 @@
  *
  * Invariant: the result of an update is the same whatever came before and
  * whichever path computed it - a full update and an incremental one give
- * the same map (tests/adapt_testlib.c compares them along random walks of
+ * the same map (tests/core/adapt_testlib.c compares them along random walks of
  * the box).  The passes only ask the family's table (adapt_internal.h)
  * what to subdivide, what may be simplified and how a face's level reads. */
 #include "core/adapt/adapt_internal.h"

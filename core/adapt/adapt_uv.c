@@ -25,7 +25,7 @@
  * neighbourhood is, as the positions do.
  *
  * The rules are core/fvar/fvar_rules.c's, the one copy that fvar.c's
- * regular levels use too; tests/test_adapt_uv.c compares the two bit for
+ * regular levels use too; tests/core/test_adapt_uv.c compares the two bit for
  * bit.
  *
  * Catmull-Clark and Loop follow OpenSubdiv's face-varying rules (the

@@ -2,7 +2,7 @@
  * st_fvar_step), shared by the regular levels (fvar.c) and the adaptive
  * meshes (core/adapt/adapt_uv.c), so that both compute every child with
  * the same arithmetic, term for term and in the same order: an adaptive
- * mesh's values are the regular level's bit for bit (tests/test_adapt_uv.c).
+ * mesh's values are the regular level's bit for bit (tests/core/test_adapt_uv.c).
  * The rules are OpenSubdiv's; fvar.c's opening comment and
  * docs/SUBDIVISION-RULES.md §7b describe them. */
 /* Only subdivision hierarchies (dense maps) reach this file: the dense

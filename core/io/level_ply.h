@@ -15,7 +15,7 @@
 int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *err);
 
 /* The same file through the soup (st_hier_level_mesh, st_mesh_save_ply): the
- * dual maps' path, and the reference tests/test_level_ply.c compares the
+ * dual maps' path, and the reference tests/core/test_level_ply.c compares the
  * direct path with. */
 int st_hier_level_save_ply_soup(st_hier *h, unsigned l, const char *path, st_error *err);
 

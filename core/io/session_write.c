@@ -455,7 +455,7 @@ int st_session_save_ref_progress(const char *path, const st_session_ref *r, int 
     rc = st_afile_open(&af, path, err);
     if (rc) { free(w); return rc; }
     st_bw_init_file(w, af.f);
-    /* Test hook (tests/cli_session.sh): slow the save down so that a test
+    /* Test hook (tests/cli/cli_session.sh): slow the save down so that a test
      * can kill it in the middle. */
     const char *slow = getenv("STRATA_SAVE_SLOWDOWN");
     if (slow) w->slow_us = strtol(slow, NULL, 10);

@@ -10,7 +10,7 @@
 #define TOPOLOGY_BYTES_PER_DART 11.8
 #define POSITION_BYTES_PER_VERTEX 24.8
 /* Peak resident growth over the map's own bytes (synthesis tables, scratch,
- * allocator slack), per scheme: measured by tests/test_membudget.c on the
+ * allocator slack), per scheme: measured by tests/core/test_membudget.c on the
  * shared meshes (Doo-Sabin's dual encoding and √3's flips keep the most). */
 static double peak_over_map(st_scheme_id id)
 {

@@ -14,7 +14,7 @@
  * and columns; positions: a new point per vertex of the level), and a factor
  * for what the passes keep besides the map (synthesis tables, scratch),
  * measured on the shared meshes and tested against the peak resident size
- * (tests/test_membudget.c). */
+ * (tests/core/test_membudget.c). */
 #ifndef ST_ESTIMATE_H
 #define ST_ESTIMATE_H
 

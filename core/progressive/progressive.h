@@ -105,7 +105,7 @@
  *    rebuild` and the window, build): mu = 1/2 on the two finest levels,
  *    1/10 below.  Chosen by bench/bench_transfer.c (issue 30: a bump
  *    applied at level L, measured at the finest level; 4 centres; figures
- *    at levels 0 / middle / top-1) and by tests/test_progressive.c,
+ *    at levels 0 / middle / top-1) and by tests/core/test_progressive.c,
  *    test_filter (spot_low_resolution's mean dihedral angle, 0.2432, must
  *    fall below 0.2310 with the 3 finest bands at gain 0):
  *      - Catmull-Clark levels of spot x3: one vertex moved alone keeps

@@ -53,7 +53,7 @@
  * so the vertices changed at level L can sit two boundary edges outside the
  * region, and the next level's region (grown from the region's darts) needs
  * the second ring (found by moving every vertex of an open grid, one at a
- * time: tests/test_scheme_sqrt3.c).  emit() on a face also emits every
+ * time: tests/core/test_scheme_sqrt3.c).  emit() on a face also emits every
  * boundary point and boundary vertex whose stencil reaches one of its
  * corners.
  */

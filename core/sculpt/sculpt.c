@@ -3,7 +3,7 @@
  * levels and the dab itself; what each tool does under a dab is in
  * sculpt_tools.c, the layer's heights, auto-smooth and the hold in
  * sculpt_hold.c.  Around the tools, so that full strength holds (issue 30,
- * tests/test_editor_brush_hold.c): the dab's reach at coarse levels
+ * tests/ui/test_editor_brush_hold.c): the dab's reach at coarse levels
  * (st_sculpt_dab_radius), the stroke's fade (a factor given with each dab
  * by the document, ui/doc/brush.c), the spacing attenuation
  * (st_brush_overlap_scale), auto-smooth and the hold (sc_hold_faces).

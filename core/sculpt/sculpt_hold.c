@@ -1,7 +1,7 @@
 /* What a dab does after its tools (core/sculpt/sculpt.h): the layer
  * brush's heights, auto-smooth and the hold that keeps faces from flipping
  * or collapsing (issue 30: full strength must hold on any brush,
- * tests/test_editor_brush_hold.c). */
+ * tests/ui/test_editor_brush_hold.c). */
 #include "core/sculpt/sculpt_internal.h"
 
 #include <math.h>

@@ -14,7 +14,7 @@
 #   cli_bake_udim.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 set -u
 EXE=$1 MESHES=$2 BIN=$4
-R="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+R="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/strata_cli_bake_udim.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 cd "$TMP" || exit 1
@@ -56,13 +56,13 @@ if [ -n "$m" ] && [ -n "$p" ] && awk -v m="$m" -v p="$p" 'BEGIN { exit !(m < p) 
 VALIDATOR="${GLTF_VALIDATOR:-$R/build/node/node_modules/gltf-validator}"
 export GLTF_VALIDATOR="$VALIDATOR"
 run 0 "normal map" convert "$SPOT" spot.glb --levels 3 --level 0 --normal-map s0.png
-if node "$R/tests/gltf_validate.js" spot.glb >val.txt 2>&1 && grep -q ': 0 errors, 0 warnings' val.txt; then ok; else bad "validator on spot.glb: $(cat val.txt)"; fi
+if node "$R/tests/cli/gltf_validate.js" spot.glb >val.txt 2>&1 && grep -q ': 0 errors, 0 warnings' val.txt; then ok; else bad "validator on spot.glb: $(cat val.txt)"; fi
 cat val.txt
 if grep -aq '"wrapS":10497' spot.glb && grep -aq '"wrapT":10497' spot.glb; then ok; else bad "spot.glb's sampler does not repeat"; fi
 
 # The UDIM mesh: each face moved by whole tiles (the %.17g keeps shared
 # corners of faces in one tile bit-equal).
-awk -f "$R/tests/spot_udim.awk" "$SPOT" > spot_udim.obj
+awk -f "$R/tests/cli/spot_udim.awk" "$SPOT" > spot_udim.obj
 for B in 0 1; do
     run 0 "UDIM: 4 tiles written" bake spot_udim.obj --levels 3 --base-level $B --normal-map u$B.png --displacement-map d$B.exr --size 256
     for n in 1001 1002 1011 1012; do [ -f u$B.$n.png ] && [ -f d$B.$n.exr ] && ok || bad "base $B: tile $n not written"; done
@@ -78,7 +78,7 @@ if [ -n "$m" ] && awk -v m="$m" -v p="$p" 'BEGIN { exit !(m < p) }'; then ok; el
 # [0,1], each tile's image its normalTexture; GLB (embedded) and .gltf
 # (URIs to the tile PNGs) validator-clean.
 run 0 "normal map" convert spot_udim.obj udim.glb --levels 3 --level 0 --normal-map 'u0.<UDIM>.png'
-if node "$R/tests/gltf_validate.js" udim.glb >val.txt 2>&1 && grep -q ': 0 errors' val.txt; then ok; else bad "validator on udim.glb: $(cat val.txt)"; fi
+if node "$R/tests/cli/gltf_validate.js" udim.glb >val.txt 2>&1 && grep -q ': 0 errors' val.txt; then ok; else bad "validator on udim.glb: $(cat val.txt)"; fi
 cat val.txt
 json=$(node -e '
 const b = require("fs").readFileSync(process.argv[1]); const n = b.readUInt32LE(12);
@@ -89,7 +89,7 @@ console.log(j.meshes[0].primitives.length, j.materials.length, j.images.length,
 echo "udim.glb: primitives materials images: $json"
 [ "$json" = "4 4 4 strata.1001,strata.1002,strata.1011,strata.1012 0,1,2,3" ] && ok || bad "udim.glb: $json"
 run 0 "normal map" convert spot_udim.obj udim.gltf --levels 3 --level 0 --normal-map 'u0.<UDIM>.png'
-if node "$R/tests/gltf_validate.js" udim.gltf >val.txt 2>&1 && grep -q ': 0 errors' val.txt; then ok; else bad "validator on udim.gltf: $(cat val.txt)"; fi
+if node "$R/tests/cli/gltf_validate.js" udim.gltf >val.txt 2>&1 && grep -q ': 0 errors' val.txt; then ok; else bad "validator on udim.gltf: $(cat val.txt)"; fi
 for n in 1001 1002 1011 1012; do grep -q "\"u0.$n.png\"" udim.gltf && ok || bad "udim.gltf does not reference u0.$n.png"; done
 # UVs in [0,1] give or take spot's overshoot (u down to -0.052).
 uvr=$(node -e '

@@ -2,7 +2,7 @@
 // Validates glTF files with the Khronos glTF Validator (npm gltf-validator,
 // installed by scripts/setup_node.sh into build/node/).
 //
-//   node tests/gltf_validate.js FILE.gltf|FILE.glb ...
+//   node tests/cli/gltf_validate.js FILE.gltf|FILE.glb ...
 //
 // Prints one summary line per file and every error and warning message;
 // exits 1 if any file has an error (warnings are printed, not fatal), 2 when
@@ -14,7 +14,7 @@ const path = require('path');
 
 let validator;
 const where = process.env.GLTF_VALIDATOR ||
-  path.join(__dirname, '..', 'build', 'node', 'node_modules', 'gltf-validator');
+  path.join(__dirname, '..', '..', 'build', 'node', 'node_modules', 'gltf-validator');
 try {
   validator = require(where);
 } catch (e) {
@@ -52,7 +52,7 @@ async function validate(file) {
 async function main() {
   const files = process.argv.slice(2);
   if (files.length === 0) {
-    console.error('usage: node tests/gltf_validate.js FILE.gltf|FILE.glb ...');
+    console.error('usage: node tests/cli/gltf_validate.js FILE.gltf|FILE.glb ...');
     process.exit(2);
   }
   let bad = 0;

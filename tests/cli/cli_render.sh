@@ -2,7 +2,7 @@
 # `strata render` from the command line: headless (no $DISPLAY), from any
 # directory (shaders are embedded), same bytes for the same inputs, the same
 # image as the in-process renderer (compared with a reference under the
-# image metric of tests/test_render_images.c), every mode and view, the UV
+# image metric of tests/render/test_render_images.c), every mode and view, the UV
 # checker against its own reference, and
 # clear errors with non-zero exits on bad arguments.
 #

@@ -3,7 +3,7 @@
  * smooth) reach the hierarchy, change the surface, keep local edits equal
  * to a full synthesis bit for bit, and survive a session round trip byte
  * for byte (old sessions, without them, load as uniform/catmark).  The
- * positions against OpenSubdiv are in tests/cli_oracle_catmark.sh and
+ * positions against OpenSubdiv are in tests/cli/cli_oracle_catmark.sh and
  * cli_oracle_loop.sh. */
 #include "testlib.h"
 

@@ -4,7 +4,7 @@
  * children are holes at every level; extraction marks them, the writers
  * leave them out, sessions keep them byte for byte; schemes that do not
  * split faces refuse them.  The positions against OpenSubdiv are in
- * tests/cli_oracle_catmark.sh and cli_oracle_loop.sh. */
+ * tests/cli/cli_oracle_catmark.sh and cli_oracle_loop.sh. */
 #include "testlib.h"
 
 #include "core/io/session.h"

@@ -9,7 +9,7 @@
 #
 #   cli_oracle_quadtri.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 #
-# Comparisons as point sets (tests/oracle_lib.sh).  Skips (exit 0, with a
+# Comparisons as point sets (tests/cli/oracle_lib.sh).  Skips (exit 0, with a
 # note) when osd_oracle or pointset_diff is not built; exits 77 (skipped)
 # when a mesh of ../shared/data is missing.
 set -u
@@ -82,7 +82,7 @@ for b in edge-only edge-and-corner; do
     run_case "$T/cube_no_bottom.obj" 3 "$b" loop
     run_case "$TMP/tri_grid.obj" 3 "$b" loop
 done
-# Mixed meshes: no oracle (tests/test_scheme_quadtri.c checks values).
+# Mixed meshes: no oracle (tests/core/test_scheme_quadtri.c checks values).
 mixed_case "$ASSETS/mixed.obj" 3
 mixed_case "$C/chamfer_cube.off" 3
 mixed_case "$C/blub_control_mesh.obj" 2

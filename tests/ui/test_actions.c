@@ -275,7 +275,7 @@ static void test_readme(void)
 
 /* The dispatch on a window state without a window: the context (scheme
  * question or not) and enabled-when (no model, a drag under way).  Only
- * handlers that touch no GL run here; the replays of tests/cli_window.sh
+ * handlers that touch no GL run here; the replays of tests/cli/cli_window.sh
  * run the others through the real window. */
 static void test_dispatch(void)
 {

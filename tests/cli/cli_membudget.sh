@@ -3,7 +3,7 @@
 # over the budget is refused from the counts, within a second, with the
 # estimate and the limit in the message, exit status 1, and nothing written;
 # under the budget the same command runs.  (The estimates themselves are
-# checked against measured peaks by tests/test_membudget.c.)
+# checked against measured peaks by tests/core/test_membudget.c.)
 # Usage: cli_membudget.sh STRATA SHARED_MESHES ASSETS BINDIR
 set -euo pipefail
 S=$1 D=$2 A=$3 B=$4

@@ -1,8 +1,8 @@
-# spot_udim.obj from spot (tests/cli_bake_udim.sh, tests/cli_bake_window.sh):
+# spot_udim.obj from spot (tests/cli/cli_bake_udim.sh, tests/cli/cli_bake_window.sh):
 # each face moved whole UV tiles by the quadrant of its 3D centroid (tiles
 # 1001, 1002, 1011, 1012); the %.17g keeps shared corners of faces in one
 # tile bit-equal.
-#   awk -f tests/spot_udim.awk spot_quadrangulated.obj > spot_udim.obj
+#   awk -f tests/cli/spot_udim.awk spot_quadrangulated.obj > spot_udim.obj
 
 /^v / { nv++; X[nv] = $2; Z[nv] = $4; print; next }
 /^vt / { nt++; U[nt] = $2; V[nt] = $3; next }

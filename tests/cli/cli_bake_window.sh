@@ -7,7 +7,7 @@
 #   validator-clean (0 errors) with TEXCOORD_0, TANGENT and a normalTexture
 #   and the one exported without the checkbox has no material; the map
 #   view differs from the surface view.
-# - tests/replay/bake_udim.txt on spot_udim.obj (tests/spot_udim.awk): one
+# - tests/replay/bake_udim.txt on spot_udim.obj (tests/cli/spot_udim.awk): one
 #   map per UDIM tile, and a GLB with one primitive per tile, validator-clean.
 # - --strict: the window refuses a non-manifold edge on open (the commands'
 #   --strict), and splits it without.
@@ -24,7 +24,7 @@ if [ -z "${DISPLAY:-}" ] && [ -z "${STRATA_CLI_WINDOW_XVFB:-}" ]; then
 fi
 abs() { (cd "$(dirname "$1")" && printf '%s/%s' "$(pwd)" "$(basename "$1")"); }
 EXE=$(abs "$1") MESHES=$(abs "$2") ASSETS=$(abs "$3") BIN=$(abs "$4")
-R="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+R="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 SPOT="$MESHES/catmull_clark/spot_quadrangulated.obj"
 [ -f "$SPOT" ] || { echo "note: $SPOT not found: skipped"; exit 77; }
 OUT="$BIN/bake_window_out"
@@ -33,7 +33,7 @@ mkdir -p "$OUT"
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/strata_cli_bake_window.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 export STRATA_RECOVERY="$TMP/recovery.strata"
-# Leak checks off for processes that open a window (tests/cli_window.sh says why).
+# Leak checks off for processes that open a window (tests/cli/cli_window.sh says why).
 WINDOW_ASAN="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 VALIDATOR="${GLTF_VALIDATOR:-$R/build/node/node_modules/gltf-validator}"
 export GLTF_VALIDATOR="$VALIDATOR"
@@ -51,7 +51,7 @@ run_in() {
     ok
 }
 validate() {
-    if node "$R/tests/gltf_validate.js" "$1" > "$TMP/val.txt" 2>&1 && grep -q ': 0 errors' "$TMP/val.txt"; then ok
+    if node "$R/tests/cli/gltf_validate.js" "$1" > "$TMP/val.txt" 2>&1 && grep -q ': 0 errors' "$TMP/val.txt"; then ok
     else bad "validator on $1: $(cat "$TMP/val.txt")"; fi
     cat "$TMP/val.txt"
 }
@@ -86,7 +86,7 @@ cmp -s "$OUT/baked_view.png" "$OUT/surface_view.png" && bad "Show baked map drew
 
 # 2. UDIM: spot's faces in four tiles.
 mkdir -p "$TMP/udim"
-awk -f "$R/tests/spot_udim.awk" "$SPOT" > "$TMP/udim/spot_udim.obj"
+awk -f "$R/tests/cli/spot_udim.awk" "$SPOT" > "$TMP/udim/spot_udim.obj"
 run_in "$TMP/udim" 0 "replay .* passed" "$EXE" --size 800x600 --levels 2 --replay "$R/tests/replay/bake_udim.txt" \
     --screenshot-dir "$OUT" "$TMP/udim/spot_udim.obj"
 validate "$TMP/udim/udim_mapped.glb"

@@ -10,7 +10,7 @@
 # Usage: cli_gltf.sh STRATA SHARED_MESHES ASSETS BINDIR
 set -euo pipefail
 S=$1 D=$2 A=$3 B=$4
-R="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+R="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 W=$B/cli_gltf
 rm -rf "$W"
 mkdir -p "$W"
@@ -58,7 +58,7 @@ else
 fi
 
 # The validator, on every file written.
-if node "$R/tests/gltf_validate.js" "${files[@]}" >"$W/validator.txt" 2>&1; then
+if node "$R/tests/cli/gltf_validate.js" "${files[@]}" >"$W/validator.txt" 2>&1; then
     ok "glTF Validator: ${#files[@]} files, no errors"
 else
     bad "glTF Validator found errors"
@@ -110,7 +110,7 @@ for spec in "ico.strata maps/ico_n.png ico_mapped.glb" "ico.strata maps/ico_n.pn
         bad "$3: $(cat "$W/mapped.out")"
     fi
 done
-if node "$R/tests/gltf_validate.js" "${mapped[@]}" >"$W/validator_mapped.txt" 2>&1 &&
+if node "$R/tests/cli/gltf_validate.js" "${mapped[@]}" >"$W/validator_mapped.txt" 2>&1 &&
    [ "$(grep -c ': 0 errors, 0 warnings' "$W/validator_mapped.txt")" = "${#mapped[@]}" ]; then
     ok "glTF Validator: ${#mapped[@]} normal-mapped files, no errors, no warnings"
 else

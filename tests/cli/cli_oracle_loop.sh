@@ -5,7 +5,7 @@
 #
 #   cli_oracle_loop.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 #
-# Each case compares levels 1..N as point sets (tests/oracle_lib.sh).  Skips
+# Each case compares levels 1..N as point sets (tests/cli/oracle_lib.sh).  Skips
 # (exit 0, with a note) when osd_oracle or pointset_diff is not built;
 # exits 77 (skipped) when a mesh of ../shared/data is missing.
 set -u

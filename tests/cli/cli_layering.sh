@@ -9,7 +9,7 @@
 # Usage: cli_layering.sh STRATA SHARED_MESHES ASSETS BINDIR
 set -uo pipefail
 B=$4
-ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 INC=$B/../include
 CC=${CC:-cc}
 fail=0 n=0

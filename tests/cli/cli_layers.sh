@@ -10,9 +10,9 @@
 #     (schemes -> multires/progressive: the scheme table takes st_hier;
 #     fvar -> multires), which may not grow: a new include of that kind,
 #     or any other include upward, fails.
-#   bash tests/cli_layers.sh [ignored arguments of the cli_*.sh tests]
+#   bash tests/cli/cli_layers.sh [ignored arguments of the cli_*.sh tests]
 set -u
-R="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+R="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 cd "$R"
 n=0 fail=0
 ok() { n=$((n + 1)); echo "ok   $*"; }
@@ -45,7 +45,7 @@ declare -A rank
 for i in "${!order[@]}"; do rank[${order[$i]}]=$i; done
 for d in core/*/; do
     d=${d%/}; d=${d#core/}
-    [ -n "${rank[$d]:-}" ] || bad "core/$d is not in the order (add it to tests/cli_layers.sh and docs/ARCHITECTURE.md)"
+    [ -n "${rank[$d]:-}" ] || bad "core/$d is not in the order (add it to tests/cli/cli_layers.sh and docs/ARCHITECTURE.md)"
 done
 upward=$(for d in "${order[@]}"; do
     [ -d "core/$d" ] || continue

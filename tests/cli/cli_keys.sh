@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `strata --keys` prints the key table generated from the modeller's action
 # table (ui/actions.c), and docs/MODELLER.md holds exactly that table
-# (tests/test_actions.c checks the same through the library).
+# (tests/ui/test_actions.c checks the same through the library).
 #
 #   cli_keys.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 set -u

@@ -47,7 +47,7 @@ void tl_mesh_torus(st_mesh *m, unsigned nu, unsigned nv); /* closed quad torus *
 void tl_mesh_make(st_mesh *m, const double *pos, uint32_t nv, const uint32_t *off, const uint32_t *idx, uint32_t nf);
 /* Deterministic xorshift generator for randomized tests. */
 uint32_t tl_rand(uint64_t *state);
-/* Multiresolution checks, for any scheme (tests/testlib.c):
+/* Multiresolution checks, for any scheme (tests/lib/testlib.c):
  * builds `levels` levels on the fixture, validates the map. */
 #include "core/multires/hier.h"
 void tl_init_hier(st_hier *h, void (*make)(st_mesh *), st_scheme_id id, unsigned levels);

@@ -5,7 +5,7 @@
 #   bash cli_oracle_sqrt3.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 #
 # For every mesh and level, `strata subdivide --scheme sqrt3 --levels L` is
-# compared with both libraries as point sets (tests/oracle_lib.sh), and up to
+# compared with both libraries as point sets (tests/cli/oracle_lib.sh), and up to
 # 10000 faces their edge sets are compared (vertices matched by position),
 # which checks the flips.  Closed meshes, open meshes (boundary rule: see
 # core/schemes/scheme_sqrt3.c) and generated bipyramids with valence-16 and

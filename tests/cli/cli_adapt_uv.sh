@@ -11,7 +11,7 @@
 # Usage: cli_adapt_uv.sh STRATA SHARED_MESHES ASSETS BINDIR
 set -euo pipefail
 S=$1 D=$2 A=$3 B=$4
-R="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+R="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 W=$B/cli_adapt_uv
 rm -rf "$W"
 mkdir -p "$W"
@@ -82,7 +82,7 @@ VALIDATOR="${GLTF_VALIDATOR:-$R/build/node/node_modules/gltf-validator}"
 if grep -q TEXCOORD_0 "$W/blub.gltf"; then ok "glTF: TEXCOORD_0 written"; else bad "glTF: no TEXCOORD_0"; fi
 if ! command -v node >/dev/null 2>&1 || ! node -e 'require(process.argv[1])' "$VALIDATOR" 2>/dev/null; then
     bad "gltf-validator not found at $VALIDATOR (bash scripts/setup_node.sh)"
-elif GLTF_VALIDATOR="$VALIDATOR" node "$R/tests/gltf_validate.js" "$W/blub.gltf" "$W/blub.glb" >"$W/validator.txt" 2>&1; then
+elif GLTF_VALIDATOR="$VALIDATOR" node "$R/tests/cli/gltf_validate.js" "$W/blub.gltf" "$W/blub.glb" >"$W/validator.txt" 2>&1; then
     ok "glTF: the validator reports no error ($(grep -c . "$W/validator.txt") lines)"
 else
     bad "glTF: validator: $(cat "$W/validator.txt")"

@@ -7,8 +7,8 @@
 #      its size field dragged; File > Export > glTF... and File > Save
 #      session as... through the dialog; File > Quit.  A screenshot after
 #      each step is compared with tests/window_ref/2*_xdo_*.png (the metric
-#      of render/image.h, as tests/cli_window.sh).  Then the glTF passes the
-#      Khronos validator (tests/gltf_validate.js), the session opens again
+#      of render/image.h, as tests/cli/cli_window.sh).  Then the glTF passes the
+#      Khronos validator (tests/cli/gltf_validate.js), the session opens again
 #      with its levels, and the preferences written at exit keep the brush
 #      and the recent file.
 #   2. The progress window's Cancel button, clicked during a rebuild of the
@@ -29,7 +29,7 @@
 # Runs itself under its own xvfb-run even when $DISPLAY is set: the pointer
 # and the keyboard are the X server's, and other tests on the same server
 # (ctest -j, cli_window.sh's Esc presses) would take or send them.  To
-# accept new references: STRATA_UPDATE_REFS=1 bash tests/cli_gui_xdotool.sh ...
+# accept new references: STRATA_UPDATE_REFS=1 bash tests/cli/cli_gui_xdotool.sh ...
 set -u
 if [ -z "${STRATA_CLI_XDO_XVFB:-}" ]; then
     if command -v xvfb-run > /dev/null 2>&1; then
@@ -258,7 +258,7 @@ if finish "File > Quit"; then ok "File > Quit: exit 0"; else bad "File > Quit: e
 VALIDATOR="${GLTF_VALIDATOR:-${GLTF_VALIDATOR_DIR:+$GLTF_VALIDATOR_DIR/node_modules/gltf-validator}}"
 VALIDATOR="${VALIDATOR:-$SRC/../build/node/node_modules/gltf-validator}"
 if ! command -v node > /dev/null 2>&1; then bad "node is not installed: the glTF cannot be validated (bash scripts/setup_node.sh)"
-elif GLTF_VALIDATOR="$VALIDATOR" node "$SRC/gltf_validate.js" "$TMP/work/exported.gltf" > "$TMP/validator.txt" 2>&1; then
+elif GLTF_VALIDATOR="$VALIDATOR" node "$SRC/cli/gltf_validate.js" "$TMP/work/exported.gltf" > "$TMP/validator.txt" 2>&1; then
     ok "exported.gltf passes the glTF validator"
 else
     bad "exported.gltf: $(cat "$TMP/validator.txt")"
@@ -377,7 +377,7 @@ bake_click dialog:attach 0.05
 shot 32_xdo_bake_export.png
 type_path "$TMP/bake/torus_mapped.glb"
 until_true "the GLB exported with the map" says "exported torus_mapped.glb (level 0, .*) with the baked normal map torus_n.png"
-if GLTF_VALIDATOR="$VALIDATOR" node "$SRC/gltf_validate.js" "$TMP/bake/torus_mapped.glb" > "$TMP/val_bake.txt" 2>&1 && grep -q ': 0 errors' "$TMP/val_bake.txt"; then
+if GLTF_VALIDATOR="$VALIDATOR" node "$SRC/cli/gltf_validate.js" "$TMP/bake/torus_mapped.glb" > "$TMP/val_bake.txt" 2>&1 && grep -q ': 0 errors' "$TMP/val_bake.txt"; then
     ok "the GLB with the baked map: $(cat "$TMP/val_bake.txt")"
 else bad "validator on torus_mapped.glb: $(cat "$TMP/val_bake.txt")"; fi
 xdotool key --window "$W" ctrl+q

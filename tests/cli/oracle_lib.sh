@@ -1,4 +1,4 @@
-# What the tests/cli_oracle_*.sh scripts share (sourced).  A script says
+# What the tests/cli/cli_oracle_*.sh scripts share (sourced).  A script says
 # only what differs: its meshes, levels, boundary rules and oracles.
 #
 #   . "$(dirname "$0")/oracle_lib.sh"

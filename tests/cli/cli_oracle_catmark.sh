@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Catmull-Clark against OpenSubdiv 3.5 (osd_oracle: Far::TopologyRefiner +
-# PrimvarRefiner): levels 1..4 as point sets (tests/oracle_lib.sh) on closed
+# PrimvarRefiner): levels 1..4 as point sets (tests/cli/oracle_lib.sh) on closed
 # and open meshes, both boundary conventions, creases and corners, n-gons,
 # high valence; and OpenSubdiv's OBJ tags as its regression harness reads
 # them (regression/common/far_utils.h): crease integers are vertex pairs,

@@ -13,7 +13,7 @@
 #   cli_window.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 #
 # Runs itself under xvfb-run when $DISPLAY is unset.  To accept new
-# references: STRATA_UPDATE_REFS=1 bash tests/cli_window.sh ... (copies the
+# references: STRATA_UPDATE_REFS=1 bash tests/cli/cli_window.sh ... (copies the
 # screenshots into tests/window_ref/).
 set -u
 if [ -z "${DISPLAY:-}" ] && [ -z "${STRATA_CLI_WINDOW_XVFB:-}" ]; then
@@ -121,7 +121,7 @@ run 2 "badbrush.txt:1: brush falloff wobbly: not one of smooth" "$EXE" --replay 
 # A menu path that names no item fails the replay, naming the line.
 printf 'gui on\nwait 1\nmenu File/No_such_item\n' > "$TMP/badmenu.txt"
 run 1 "badmenu.txt:3: menu File/No_such_item: no such menu item" win "$EXE" --size 320x240 --replay "$TMP/badmenu.txt" "$ASSETS/cube.obj"
-# (Its own references: 0*.png; 2*_xdo_*.png are tests/cli_gui_xdotool.sh's.)
+# (Its own references: 0*.png; 2*_xdo_*.png are tests/cli/cli_gui_xdotool.sh's.)
 for f in "$REF"/0*.png; do
     [ -f "$OUT/$(basename "$f")" ] && ok || bad "screenshot $(basename "$f") was not taken"
 done

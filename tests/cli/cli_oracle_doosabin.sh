@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Doo-Sabin against CGAL 5.5 Subdivision_method_3::DooSabin_subdivision
-# (original weights): levels 1..4 as point sets (tests/oracle_lib.sh) on
+# (original weights): levels 1..4 as point sets (tests/cli/oracle_lib.sh) on
 # closed meshes (CGAL drops the faces along a boundary); open meshes by
 # Strata's boundary rule.
 #
@@ -26,7 +26,7 @@ run_case "$MESHES/catmull_clark/hexa_sphere.off" 2
 run_case "$MESHES/triangle/bob_small.ply" 2
 run_case "$ASSETS/torus.obj" 3
 run_case "$ASSETS/tetrahedron.obj" 4
-# Open meshes (Strata's boundary rule, tests/test_doosabin_open.c checks the
+# Open meshes (Strata's boundary rule, tests/core/test_doosabin_open.c checks the
 # formulas): subdivided, with one face per face, edge and vertex below and the
 # hole kept; adaptive Doo-Sabin refuses them with a message.
 cases=$((cases + 1))
