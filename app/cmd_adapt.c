@@ -11,7 +11,7 @@
 #include "core/base/membudget.h"
 #include "cli_common.h"
 #include "formats/mesh_any.h"
-#include "geom.h"
+#include "render/geom.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -33,7 +33,7 @@
 #include "core/bake/bake.h"
 #include "core/fvar/fvar.h"
 #include "formats/gltf_io.h"
-#include "image.h"
+#include "render/image.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -21,11 +21,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "image.h"
+#include "render/image.h"
 #include "core/adapt/adapt.h"
 #include "core/fvar/fvar.h"
 #include "core/io/session.h"
-#include "offscreen.h"
+#include "render/offscreen.h"
 #include "render_nmap.h"
 
 #define DEFAULT_W 800

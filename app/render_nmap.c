@@ -1,7 +1,7 @@
 /* `strata render --normal-map` (app/render_nmap.h). */
 #include "render_nmap.h"
-#include "image.h"
-#include "nmap.h"
+#include "render/image.h"
+#include "render/nmap.h"
 #include "core/bake/bake.h"
 #include "core/fvar/fvar.h"
 

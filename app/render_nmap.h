@@ -5,7 +5,7 @@
 #ifndef ST_RENDER_NMAP_H
 #define ST_RENDER_NMAP_H
 
-#include "offscreen.h"
+#include "render/offscreen.h"
 #include "core/multires/hier.h"
 
 /* Draws level `level` of h with the map in map_path (PNG, any size, row 0 =

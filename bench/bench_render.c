@@ -37,9 +37,9 @@
 #include "core/adapt/adapt.h"
 #include "core/multires/edit.h"
 #include "bench_common.h"
-#include "headless.h"
+#include "render/headless.h"
 #include "core/map/map_mesh.h"
-#include "renderer.h"
+#include "render/renderer.h"
 
 #ifndef STRATA_ASSETS
 #define STRATA_ASSETS "assets"

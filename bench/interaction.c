@@ -29,7 +29,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include "headless.h"
+#include "render/headless.h"
 
 static double now_ms(void)
 {

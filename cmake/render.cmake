@@ -25,9 +25,14 @@ add_custom_command(
   COMMENT "Embedding shaders/*.glsl"
   VERBATIM)
 
+# Its headers are included as "render/<header>.h" from an include root that
+# holds render alone (a link made here), as core's and formats' are.
 file(GLOB STRATA_RENDER_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/render/*.c)
+set(STRATA_RENDER_INCLUDE ${CMAKE_BINARY_DIR}/include-render)
+file(MAKE_DIRECTORY ${STRATA_RENDER_INCLUDE})
+file(CREATE_LINK ${CMAKE_SOURCE_DIR}/render ${STRATA_RENDER_INCLUDE}/render SYMBOLIC)
 add_library(strata_render STATIC ${STRATA_RENDER_SOURCES} ${STRATA_SHADER_C})
-target_include_directories(strata_render PUBLIC ${CMAKE_SOURCE_DIR}/render
+target_include_directories(strata_render PUBLIC ${STRATA_RENDER_INCLUDE}
                                          PRIVATE ${STRATA_GL_INCLUDE} ${STRATA_OSMESA_INCLUDE} ${STRATA_STB_INCLUDE})
 # OSMesa is opened with dlopen on first use (render/headless.c), not linked.
 target_link_libraries(strata_render PUBLIC strata_core ${CMAKE_DL_LIBS})

@@ -1,5 +1,5 @@
 /* Offscreen framebuffer objects; see framebuffer.h. */
-#include "framebuffer.h"
+#include "render/framebuffer.h"
 
 /* Storage for the bound renderbuffer, multisampled or not. */
 static void storage(const st_gl *gl, int samples, GLenum format, int w, int h)

@@ -5,7 +5,7 @@
 #ifndef ST_FRAMEBUFFER_H
 #define ST_FRAMEBUFFER_H
 
-#include "gl_loader.h"
+#include "render/gl_loader.h"
 
 typedef struct st_framebuffer {
     GLuint fbo, color_rb, depth_rb;    /* all 0 when there is none */

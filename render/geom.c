@@ -2,7 +2,7 @@
 #include "core/base/hugepage.h"
 #include "core/base/parallel.h"
 #include "core/map/geometry.h"
-#include "geom_internal.h"
+#include "render/geom_internal.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -40,7 +40,7 @@
 #include "core/map/map.h"
 #include "core/multires/footprint.h"
 #include "core/base/st_error.h"
-#include "triangulate.h"
+#include "render/triangulate.h"
 
 #define ST_RGEOM_VSTRIDE 6            /* floats per vertex: position, normal */
 

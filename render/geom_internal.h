@@ -2,7 +2,7 @@
 #ifndef ST_GEOM_INTERNAL_H
 #define ST_GEOM_INTERNAL_H
 
-#include "geom.h"
+#include "render/geom.h"
 
 #include <stdlib.h>
 

@@ -16,7 +16,7 @@
  * removed or added face go through st_rgeom_refresh, which re-reads their
  * positions, recomputes the face normals around them and the vertex normals
  * of those faces' corners. */
-#include "geom_internal.h"
+#include "render/geom_internal.h"
 
 #include <math.h>
 #include <string.h>

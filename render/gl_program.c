@@ -1,5 +1,5 @@
 /* GLSL compile and link helpers; see gl_program.h. */
-#include "gl_program.h"
+#include "render/gl_program.h"
 
 #include <stddef.h>
 

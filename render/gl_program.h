@@ -17,7 +17,7 @@
 
 #include <stdint.h>
 
-#include "gl_loader.h"
+#include "render/gl_loader.h"
 
 /* One shader stage of the given type (GL_VERTEX_SHADER, ...) from src. */
 GLuint st_gl_shader(const st_gl *gl, GLenum type, const char *src, const char *what, st_error *err);

@@ -20,8 +20,8 @@
 #ifndef ST_HEADLESS_H
 #define ST_HEADLESS_H
 
-#include "framebuffer.h"
-#include "gl_loader.h"
+#include "render/framebuffer.h"
+#include "render/gl_loader.h"
 
 #define ST_HEADLESS_MAX_SIZE 8192
 

@@ -1,4 +1,4 @@
-#include "image.h"
+#include "render/image.h"
 #include "core/base/membudget.h"
 #include "core/io/atomic_file.h"
 #include "core/io/file_open.h"

@@ -1,8 +1,8 @@
 /* A level drawn with a normal map (render/nmap.h). */
-#include "nmap.h"
-#include "gl_program.h"
-#include "image.h"
-#include "shaders.h"
+#include "render/nmap.h"
+#include "render/gl_program.h"
+#include "render/image.h"
+#include "render/shaders.h"
 #include "core/io/mesh.h"
 
 #include <stdio.h>

@@ -16,8 +16,8 @@
 #ifndef ST_NMAP_H
 #define ST_NMAP_H
 
-#include "camera.h"
-#include "gl_loader.h"
+#include "render/camera.h"
+#include "render/gl_loader.h"
 #include "core/bake/bake.h"
 
 #define ST_NMAP_FLOATS 12     /* per corner: pos 3, normal 3, tangent 4, uv 2 */

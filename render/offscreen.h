@@ -13,8 +13,8 @@
 #ifndef ST_OFFSCREEN_H
 #define ST_OFFSCREEN_H
 
-#include "headless.h"
-#include "renderer.h"
+#include "render/headless.h"
+#include "render/renderer.h"
 
 typedef struct st_render_spec {
     unsigned level;           /* displayed level */

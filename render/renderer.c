@@ -1,12 +1,12 @@
 /* The OpenGL 3.3 core renderer; see renderer.h. */
-#include "renderer.h"
+#include "render/renderer.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "gl_program.h"
-#include "shaders.h"
+#include "render/gl_program.h"
+#include "render/shaders.h"
 
 /* ---- display modes ------------------------------------------------------------ */
 

@@ -36,9 +36,9 @@
 #ifndef ST_RENDERER_H
 #define ST_RENDERER_H
 
-#include "camera.h"
-#include "geom.h"
-#include "gl_loader.h"
+#include "render/camera.h"
+#include "render/geom.h"
+#include "render/gl_loader.h"
 #include "core/multires/footprint.h"
 
 /* What an update applies to: the displayed surface, the control-mesh

@@ -1,5 +1,5 @@
 /* The renderer's choice of refresh after a model change (scene_sync.h). */
-#include "scene_sync.h"
+#include "render/scene_sync.h"
 
 /* Every position again: the surface from the display's map, the cage from
  * the model. */

@@ -18,7 +18,7 @@
 #ifndef ST_SCENE_SYNC_H
 #define ST_SCENE_SYNC_H
 
-#include "renderer.h"
+#include "render/renderer.h"
 
 /* What is shown now. */
 typedef struct st_scene {

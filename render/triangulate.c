@@ -1,6 +1,6 @@
 /* Case tables for the triangulation of adaptive faces; see triangulate.h
  * for how a face's case is read from its edge levels. */
-#include "triangulate.h"
+#include "render/triangulate.h"
 
 #include "core/map/geometry.h"
 

@@ -7,7 +7,7 @@
 #ifndef ST_CAMERA_CTL_H
 #define ST_CAMERA_CTL_H
 
-#include "camera.h"
+#include "render/camera.h"
 
 typedef struct st_camctl {
     st_camera cam;

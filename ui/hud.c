@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gl_program.h"
+#include "render/gl_program.h"
 
 #if defined(__GNUC__)
 #pragma GCC diagnostic push

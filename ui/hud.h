@@ -6,7 +6,7 @@
 #ifndef ST_HUD_H
 #define ST_HUD_H
 
-#include "gl_loader.h"
+#include "render/gl_loader.h"
 
 typedef struct st_hud {
     const st_gl *gl;

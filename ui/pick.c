@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gl_program.h"
+#include "render/gl_program.h"
 
 static const char *const pick_vs =
     "#version 330 core\n"

@@ -17,8 +17,8 @@
 #include <stdint.h>
 
 #include "camera_ctl.h"
-#include "framebuffer.h"
-#include "renderer.h"
+#include "render/framebuffer.h"
+#include "render/renderer.h"
 
 #define ST_PICK_RADIUS 10      /* pixels around the cursor searched for a vertex */
 

@@ -23,7 +23,7 @@
 #include "core/adapt/adapt.h"
 #include "core/fvar/fvar.h"
 #include "gui.h"
-#include "image.h"
+#include "render/image.h"
 #include "prefs.h"
 #include "replay.h"
 

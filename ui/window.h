@@ -17,10 +17,10 @@
 #include "camera_ctl.h"
 #include "editor.h"
 #include "hud.h"
-#include "nmap.h"
+#include "render/nmap.h"
 #include "pick.h"
-#include "renderer.h"
-#include "scene_sync.h"
+#include "render/renderer.h"
+#include "render/scene_sync.h"
 
 typedef struct GLFWwindow GLFWwindow;
 

@@ -6,7 +6,7 @@
  * limit.
  *   fuzz_nmap -max_total_time=60 /tmp/corpus_nmap   (a copy of
  *   tests/fuzz/corpus/nmap: the fuzzer writes into its corpus folder) */
-#include "image.h"
+#include "render/image.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -19,8 +19,8 @@
 
 #include "core/multires/edit.h"
 #include "editor.h"
-#include "headless.h"
-#include "renderer.h"
+#include "render/headless.h"
+#include "render/renderer.h"
 
 /* ---- key sets ------------------------------------------------------------------ */
 

@@ -18,9 +18,9 @@
 #include "testlib.h"
 
 #include "core/bake/bake.h"
-#include "image.h"
-#include "nmap.h"
-#include "offscreen.h"
+#include "render/image.h"
+#include "render/nmap.h"
+#include "render/offscreen.h"
 
 #include <math.h>
 #include <stdlib.h>

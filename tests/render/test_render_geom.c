@@ -25,7 +25,7 @@
 #include "core/adapt/adapt.h"
 #include "core/fvar/fvar.h"
 #include "core/multires/edit.h"
-#include "geom.h"
+#include "render/geom.h"
 #include "core/map/map_mesh.h"
 
 typedef struct edge { uint32_t a, b; } edge;

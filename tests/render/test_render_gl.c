@@ -10,9 +10,9 @@
 
 #include "core/adapt/adapt.h"
 #include "core/multires/edit.h"
-#include "headless.h"
-#include "renderer.h"
-#include "shaders.h"
+#include "render/headless.h"
+#include "render/renderer.h"
+#include "render/shaders.h"
 
 static st_gl_proc null_get(const char *name) { (void)name; return NULL; }
 

@@ -28,8 +28,8 @@
 #include <sys/stat.h>
 
 #include "core/adapt/adapt.h"
-#include "image.h"
-#include "offscreen.h"
+#include "render/image.h"
+#include "render/offscreen.h"
 
 #define W 160
 #define H 120

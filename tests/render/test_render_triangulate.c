@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "triangulate.h"
+#include "render/triangulate.h"
 
 static st_tri_index IX;
 
