@@ -1,7 +1,8 @@
 /* Compiling and linking GLSL programs through the st_gl table, shared by the
- * renderer (render/renderer.c) and the window's overlays (ui/hud.c,
- * ui/pick.c); also the surface draw that the ID buffer of ui/pick.c must
- * repeat exactly (same depth offset) to see what the renderer shows.
+ * renderer (render/renderer.c), the normal-map pass (render/nmap.c) and
+ * the window's overlays (render/overlay.c, render/idbuffer.c); also the
+ * surface draw that the ID buffer (render/idbuffer.c) must repeat exactly
+ * (same depth offset) to see what the renderer shows.
  *
  * Errors: a failing call returns 0, deletes what it created and fills err
  * with "<what> does not compile: <info log>" or "<what> does not link:

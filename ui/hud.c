@@ -5,8 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/gl_program.h"
-
 #if defined(__GNUC__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wsign-compare"
@@ -18,49 +16,15 @@
 #pragma GCC diagnostic pop
 #endif
 
-static const char *const hud_vs =
-    "#version 330 core\n"
-    "layout(location = 0) in vec2 a_pos;\n"
-    "layout(location = 1) in vec4 a_color;\n"
-    "uniform vec2 u_viewport;\n"
-    "out vec4 v_color;\n"
-    "void main() {\n"
-    "    gl_Position = vec4(a_pos.x / u_viewport.x * 2.0 - 1.0, 1.0 - a_pos.y / u_viewport.y * 2.0, 0.0, 1.0);\n"
-    "    v_color = a_color;\n"
-    "}\n";
-static const char *const hud_fs =
-    "#version 330 core\n"
-    "in vec4 v_color;\n"
-    "out vec4 o_color;\n"
-    "void main() { o_color = v_color; }\n";
-
 int st_hud_init(st_hud *u, const st_gl *gl, st_error *err)
 {
     memset(u, 0, sizeof *u);
-    u->gl = gl;
-    u->prog = st_gl_program(gl, hud_vs, hud_fs, "hud: shader", "hud: program", err);
-    if (!u->prog) { st_hud_free(u); return ST_ERR_INVALID; }
-    u->u_viewport = gl->GetUniformLocation(u->prog, "u_viewport");
-    gl->GenVertexArrays(1, &u->vao);
-    gl->GenBuffers(1, &u->vbo);
-    gl->BindVertexArray(u->vao);
-    gl->BindBuffer(GL_ARRAY_BUFFER, u->vbo);
-    gl->VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (const void *)0);
-    gl->VertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (const void *)(2 * sizeof(float)));
-    gl->EnableVertexAttribArray(0);
-    gl->EnableVertexAttribArray(1);
-    gl->BindVertexArray(0);
-    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-    return ST_OK;
+    return st_overlay_init(&u->ov, gl, err);
 }
 
 void st_hud_free(st_hud *u)
 {
-    if (u->gl) {
-        if (u->vbo) u->gl->DeleteBuffers(1, &u->vbo);
-        if (u->vao) u->gl->DeleteVertexArrays(1, &u->vao);
-        if (u->prog) u->gl->DeleteProgram(u->prog);
-    }
+    st_overlay_free(&u->ov);
     free(u->v);
     memset(u, 0, sizeof *u);
 }
@@ -76,12 +40,12 @@ static void vert(st_hud *u, float x, float y, const float c[4])
 {
     if (u->nv == u->capv) {
         unsigned cap = u->capv ? 2 * u->capv : 4096;
-        float *nvp = realloc(u->v, (size_t)cap * 6 * sizeof *nvp);
+        float *nvp = realloc(u->v, (size_t)cap * ST_OVERLAY_VFLOATS * sizeof *nvp);
         if (!nvp) return;
         u->v = nvp;
         u->capv = cap;
     }
-    float *p = u->v + 6 * (size_t)u->nv++;
+    float *p = u->v + ST_OVERLAY_VFLOATS * (size_t)u->nv++;
     p[0] = x; p[1] = y;
     p[2] = c[0]; p[3] = c[1]; p[4] = c[2]; p[5] = c[3];
 }
@@ -144,22 +108,6 @@ float st_hud_text(st_hud *u, float x, float y, float scale, const float c[4], co
 
 void st_hud_flush(st_hud *u)
 {
-    const st_gl *gl = u->gl;
-    if (!u->nv) return;
-    gl->Viewport(0, 0, u->w, u->h);
-    gl->Disable(GL_DEPTH_TEST);
-    gl->Enable(GL_BLEND);
-    gl->BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    gl->UseProgram(u->prog);
-    gl->Uniform2f(u->u_viewport, (float)u->w, (float)u->h);
-    gl->BindVertexArray(u->vao);
-    gl->BindBuffer(GL_ARRAY_BUFFER, u->vbo);
-    gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)u->nv * 6 * sizeof(float)), u->v, GL_STREAM_DRAW);
-    gl->DrawArrays(GL_TRIANGLES, 0, (GLsizei)u->nv);
-    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-    gl->BindVertexArray(0);
-    gl->UseProgram(0);
-    gl->Disable(GL_BLEND);
-    gl->Enable(GL_DEPTH_TEST);
+    st_overlay_draw(&u->ov, u->v, u->nv, u->w, u->h);
     u->nv = 0;
 }

@@ -1,18 +1,17 @@
-/* HUD: 2D overlay of the modeller window drawn with its own small GL
- * program (text from stb_easy_font, filled rectangles, lines: the brush
- * circle and the selection rectangle).  Coordinates are framebuffer pixels,
- * origin at the top left.  Calls between begin and flush only queue
- * triangles; flush draws them all at once, blended, without depth. */
+/* HUD: 2D overlay of the modeller window (text from stb_easy_font, filled
+ * rectangles, lines: the brush circle and the selection rectangle), laid
+ * out here as triangles and drawn by render's overlay (render/overlay.h).
+ * Coordinates are framebuffer pixels, origin at the top left.  Calls
+ * between begin and flush only queue triangles; flush draws them all at
+ * once, blended, without depth. */
 #ifndef ST_HUD_H
 #define ST_HUD_H
 
-#include "render/gl_loader.h"
+#include "render/overlay.h"
 
 typedef struct st_hud {
-    const st_gl *gl;
-    GLuint prog, vao, vbo;
-    GLint u_viewport;
-    float *v;                  /* x y r g b a per vertex, 3 per triangle */
+    st_overlay ov;
+    float *v;                  /* x y r g b a per vertex (ST_OVERLAY_VFLOATS), 3 per triangle */
     unsigned nv, capv;
     int w, h;
 } st_hud;

@@ -5,120 +5,25 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/gl_program.h"
-
-static const char *const pick_vs =
-    "#version 330 core\n"
-    "layout(location = 0) in vec3 a_pos;\n"
-    "uniform mat4 u_view;\n"
-    "uniform mat4 u_proj;\n"
-    "uniform float u_size;\n"
-    "uniform float u_bias;\n"
-    "flat out uint v_id;\n"
-    "void main() {\n"
-    "    vec4 p = u_proj * (u_view * vec4(a_pos, 1.0));\n"
-    "    p.z -= u_bias * p.w;\n"
-    "    gl_Position = p;\n"
-    "    gl_PointSize = u_size;\n"
-    "    v_id = uint(gl_VertexID) + 1u;\n"
-    "}\n";
-static const char *const pick_fs =
-    "#version 330 core\n"
-    "flat in uint v_id;\n"
-    "uniform int u_mode;\n"
-    "out vec4 o_id;\n"
-    "void main() {\n"
-    "    uint v = u_mode == 0 ? 0u : v_id;\n"
-    "    o_id = vec4(float(v & 255u), float((v >> 8) & 255u), float((v >> 16) & 255u), float(v >> 24)) / 255.0;\n"
-    "}\n";
-
-#define PICK_POINT_SIZE 7.0f
-#define PICK_POINT_BIAS 1e-3f
-
 int st_pick_init(st_pick *p, const st_gl *gl, st_error *err)
 {
     memset(p, 0, sizeof *p);
-    p->gl = gl;
-    p->prog = st_gl_program(gl, pick_vs, pick_fs, "pick: shader", "pick: program", err);
-    if (!p->prog) { st_pick_free(p); return ST_ERR_INVALID; }
-    p->u_view = gl->GetUniformLocation(p->prog, "u_view");
-    p->u_proj = gl->GetUniformLocation(p->prog, "u_proj");
-    p->u_size = gl->GetUniformLocation(p->prog, "u_size");
-    p->u_bias = gl->GetUniformLocation(p->prog, "u_bias");
-    p->u_mode = gl->GetUniformLocation(p->prog, "u_mode");
-    return ST_OK;
-}
-
-static void destroy_target(st_pick *p)
-{
-    st_framebuffer_destroy(&p->target, p->gl);
-    p->w = p->h = 0;
+    return st_idbuffer_init(&p->ids, gl, err);
 }
 
 void st_pick_free(st_pick *p)
 {
-    if (p->gl) {
-        destroy_target(p);
-        if (p->prog) p->gl->DeleteProgram(p->prog);
-    }
+    st_idbuffer_free(&p->ids);
     free(p->scratch);
     memset(p, 0, sizeof *p);
-}
-
-static int make_target(st_pick *p, int w, int h, st_error *err)
-{
-    destroy_target(p);
-    int rc = st_framebuffer_create(&p->target, p->gl, w, h, 1, "pick: ID", err);
-    if (rc) return rc;
-    p->w = w;
-    p->h = h;
-    return ST_OK;
 }
 
 int st_pick_render(st_pick *p, const st_renderer *r, const st_camctl *c, int w, int h, st_error *err)
 {
     if (w < 1 || h < 1) return ST_OK;
-    if (p->valid && p->w == w && p->h == h) return ST_OK;
-    const st_gl *gl = p->gl;
-    if (p->w != w || p->h != h || !p->target.fbo) {
-        int rc = make_target(p, w, h, err);
-        if (rc) return rc;
-    }
-    float view[16], proj[16];
-    st_camera_view(&c->cam, view);
-    st_camera_proj(&c->cam, (float)w / (float)h, proj);
-    gl->BindFramebuffer(GL_FRAMEBUFFER, p->target.fbo);
-    gl->Viewport(0, 0, w, h);
-    gl->Disable(GL_BLEND);
-    gl->Enable(GL_DEPTH_TEST);
-    gl->DepthFunc(GL_LEQUAL);
-    gl->DepthMask(GL_TRUE);
-    gl->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    gl->ClearColor(0, 0, 0, 0);
-    gl->ClearDepth(1);
-    gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    gl->UseProgram(p->prog);
-    gl->UniformMatrix4fv(p->u_view, 1, GL_FALSE, view);
-    gl->UniformMatrix4fv(p->u_proj, 1, GL_FALSE, proj);
-    if (r->has_surf && r->gsurf.ntris) {
-        gl->Uniform1i(p->u_mode, 0);
-        gl->Uniform1f(p->u_bias, 0);
-        gl->Uniform1f(p->u_size, 1);
-        st_gl_draw_surface_offset(gl, r->gsurf.vao, r->gsurf.ibo_tris, r->gsurf.ntris);
-    }
-    if (r->has_cage && r->gcage.nverts) {
-        gl->Enable(GL_PROGRAM_POINT_SIZE);
-        gl->DepthMask(GL_FALSE);
-        gl->Uniform1i(p->u_mode, 1);
-        gl->Uniform1f(p->u_bias, PICK_POINT_BIAS);
-        gl->Uniform1f(p->u_size, PICK_POINT_SIZE);
-        gl->BindVertexArray(r->gcage.vao);
-        gl->DrawArrays(GL_POINTS, 0, (GLsizei)r->gcage.nverts);
-        gl->DepthMask(GL_TRUE);
-    }
-    gl->BindVertexArray(0);
-    gl->UseProgram(0);
-    gl->BindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (p->valid && p->ids.w == w && p->ids.h == h) return ST_OK;
+    int rc = st_idbuffer_draw(&p->ids, r, &c->cam, w, h, err);
+    if (rc) return rc;
     p->valid = 1;
     p->renders++;
     return ST_OK;
@@ -141,18 +46,13 @@ static unsigned char *read_ids(st_pick *p, int *x0, int *y0, int *x1, int *y1)
 {
     if (*x0 < 0) *x0 = 0;
     if (*y0 < 0) *y0 = 0;
-    if (*x1 > p->w) *x1 = p->w;
-    if (*y1 > p->h) *y1 = p->h;
-    if (*x1 <= *x0 || *y1 <= *y0 || !p->target.fbo) return NULL;
+    if (*x1 > p->ids.w) *x1 = p->ids.w;
+    if (*y1 > p->ids.h) *y1 = p->ids.h;
+    if (*x1 <= *x0 || *y1 <= *y0 || !p->ids.target.fbo) return NULL;
     int rw = *x1 - *x0, rh = *y1 - *y0;
     unsigned char *px = scratch(p, (size_t)rw * rh * 4);
     if (!px) return NULL;
-    const st_gl *gl = p->gl;
-    gl->BindFramebuffer(GL_READ_FRAMEBUFFER, p->target.fbo);
-    gl->ReadBuffer(GL_COLOR_ATTACHMENT0);
-    gl->PixelStorei(GL_PACK_ALIGNMENT, 1);
-    gl->ReadPixels(*x0, p->h - *y1, rw, rh, GL_RGBA, GL_UNSIGNED_BYTE, px);
-    gl->BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    st_idbuffer_read_ids(&p->ids, *x0, p->ids.h - *y1, rw, rh, px);
     return px;
 }
 
@@ -211,21 +111,17 @@ int64_t st_pick_rect(st_pick *p, int ax, int ay, int bx, int by, uint32_t **out)
 
 static int read_depth(st_pick *p, int x, int y, float *z)
 {
-    if (x < 0 || y < 0 || x >= p->w || y >= p->h) return 0;
-    const st_gl *gl = p->gl;
-    gl->BindFramebuffer(GL_READ_FRAMEBUFFER, p->target.fbo);
-    gl->PixelStorei(GL_PACK_ALIGNMENT, 1);
-    gl->ReadPixels(x, p->h - 1 - y, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, z);
-    gl->BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    if (x < 0 || y < 0 || x >= p->ids.w || y >= p->ids.h) return 0;
+    *z = st_idbuffer_read_depth(&p->ids, x, p->ids.h - 1 - y);
     return *z < 1.0f;
 }
 
 int st_pick_surface(st_pick *p, const st_camctl *c, int x, int y, double pos[3], double nrm[3])
 {
-    if (!p->target.fbo) return 0;
+    if (!p->ids.target.fbo) return 0;
     float z = 1;
     if (!read_depth(p, x, y, &z)) return 0;
-    st_camctl_unproject(c, p->w, p->h, x + 0.5, y + 0.5, z, pos);
+    st_camctl_unproject(c, p->ids.w, p->ids.h, x + 0.5, y + 0.5, z, pos);
     double r[3], u[3], b[3];
     st_camctl_axes(c, r, u, b);
     /* Normal from the depths of two neighbours (central differences where
@@ -237,7 +133,7 @@ int st_pick_surface(st_pick *p, const st_camctl *c, int x, int y, double pos[3],
     for (int i = 0; i < 4; i++) {
         float zi = 1;
         ok[i] = read_depth(p, x + off[i][0], y + off[i][1], &zi);
-        if (ok[i]) st_camctl_unproject(c, p->w, p->h, x + off[i][0] + 0.5, y + off[i][1] + 0.5, zi, q[i]);
+        if (ok[i]) st_camctl_unproject(c, p->ids.w, p->ids.h, x + off[i][0] + 0.5, y + off[i][1] + 0.5, zi, q[i]);
     }
     double dx[3], dy[3];
     for (int i = 0; i < 3; i++) {

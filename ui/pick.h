@@ -1,33 +1,29 @@
 /* Picking through an ID buffer (no scan of the vertices per mouse move).
  *
- * st_pick_render() draws, into an offscreen framebuffer the size of the
- * window: the displayed surface (depth only) and then the editing level's
- * control vertices as small square points whose colour encodes their index
- * in the renderer's cage table + 1, depth-tested against the surface (a
- * vertex behind the surface is not pickable, as it is not visible) without
- * writing depth.  The buffer is redrawn only when the view or the geometry
- * changed (st_pick_invalidate); a mouse move then reads back only the
- * pixels around the cursor (st_pick_at), a dragged rectangle the pixels of
- * the rectangle (st_pick_rect), and brushes the surface depth around the
- * cursor (st_pick_surface).  Coordinates: framebuffer pixels, origin top
- * left. */
+ * st_pick_render() draws, through render's ID buffer (render/idbuffer.h)
+ * the size of the window: the displayed surface (depth only) and then the
+ * editing level's control vertices as small square points whose colour
+ * encodes their index in the renderer's cage table + 1, depth-tested
+ * against the surface (a vertex behind the surface is not pickable, as it
+ * is not visible) without writing depth.  The buffer is redrawn only when
+ * the view or the geometry changed (st_pick_invalidate); a mouse move then
+ * reads back only the pixels around the cursor (st_pick_at), a dragged
+ * rectangle the pixels of the rectangle (st_pick_rect), and brushes the
+ * surface depth around the cursor (st_pick_surface).  Coordinates:
+ * framebuffer pixels, origin top left. */
 #ifndef ST_PICK_H
 #define ST_PICK_H
 
 #include <stdint.h>
 
 #include "camera_ctl.h"
-#include "render/framebuffer.h"
+#include "render/idbuffer.h"
 #include "render/renderer.h"
 
 #define ST_PICK_RADIUS 10      /* pixels around the cursor searched for a vertex */
 
 typedef struct st_pick {
-    const st_gl *gl;
-    GLuint prog;
-    st_framebuffer target;     /* the ID buffer: RGBA8 colour, 24-bit depth */
-    GLint u_view, u_proj, u_size, u_bias, u_mode;
-    int w, h;                  /* size of the buffers */
+    st_idbuffer ids;           /* the ID buffer, its size ids.w x ids.h */
     int valid;                 /* the buffer shows the current view and geometry */
     unsigned char *scratch;
     size_t scratch_cap;
