@@ -25,8 +25,13 @@ add_custom_command(
   COMMENT "Embedding shaders/*.glsl"
   VERBATIM)
 
-# Its headers are included as "render/<header>.h" from an include root that
-# holds render alone (a link made here), as core's and formats' are.
+# Public headers (docs/ARCHITECTURE.md) are included as "render/<header>.h"
+# from an include root that holds render alone (a link made here), as
+# core's and formats' are.  The GL plumbing (shader programs, framebuffer
+# objects, the embedded shaders) and the tessellator's case tables are
+# render's own: those headers refuse to compile unless STRATA_RENDER_INTERNAL
+# is defined, which only render itself and the tests that check its
+# internals (strata_render_internal) define.
 file(GLOB STRATA_RENDER_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/render/*.c)
 set(STRATA_RENDER_INCLUDE ${CMAKE_BINARY_DIR}/include-render)
 file(MAKE_DIRECTORY ${STRATA_RENDER_INCLUDE})
@@ -34,6 +39,11 @@ file(CREATE_LINK ${CMAKE_SOURCE_DIR}/render ${STRATA_RENDER_INCLUDE}/render SYMB
 add_library(strata_render STATIC ${STRATA_RENDER_SOURCES} ${STRATA_SHADER_C})
 target_include_directories(strata_render PUBLIC ${STRATA_RENDER_INCLUDE}
                                          PRIVATE ${STRATA_GL_INCLUDE} ${STRATA_OSMESA_INCLUDE} ${STRATA_STB_INCLUDE})
+target_compile_definitions(strata_render PRIVATE STRATA_RENDER_INTERNAL=1)
+# For the tests that check render's internals (the case tables, the shaders).
+add_library(strata_render_internal INTERFACE)
+target_compile_definitions(strata_render_internal INTERFACE STRATA_RENDER_INTERNAL=1)
+target_link_libraries(strata_render_internal INTERFACE strata_render)
 # OSMesa is opened with dlopen on first use (render/headless.c), not linked.
 target_link_libraries(strata_render PUBLIC strata_core ${CMAKE_DL_LIBS})
 target_compile_definitions(strata_render PRIVATE STRATA_OSMESA_PATH="${STRATA_OSMESA_LIB}")

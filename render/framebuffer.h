@@ -1,15 +1,15 @@
-/* An offscreen framebuffer object: one RGBA8 colour and one 24-bit depth
+/* Creating and deleting offscreen framebuffer objects (st_framebuffer,
+ * render/gl_loader.h): one RGBA8 colour and one 24-bit depth
  * renderbuffer, multisampled when samples > 1.  The headless context draws
  * into one (MSAA, resolved into OSMesa's buffer) and picking into another
- * (the ID buffer, read back pixel by pixel). */
+ * (the ID buffer, render/idbuffer.h, read back pixel by pixel). */
 #ifndef ST_FRAMEBUFFER_H
 #define ST_FRAMEBUFFER_H
+#ifndef STRATA_RENDER_INTERNAL
+#error "internal to render: ui/, app/ and bench/ use render's public headers (docs/ARCHITECTURE.md)"
+#endif
 
 #include "render/gl_loader.h"
-
-typedef struct st_framebuffer {
-    GLuint fbo, color_rb, depth_rb;    /* all 0 when there is none */
-} st_framebuffer;
 
 /* Creates fb (width x height; samples <= 1: single-sampled, else at most
  * GL_MAX_SAMPLES) in the current context and leaves no framebuffer or

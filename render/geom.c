@@ -18,7 +18,7 @@ void st_range_list_free(st_range_list *l)
 void st_rgeom_init(st_rgeom *g)
 {
     memset(g, 0, sizeof *g);
-    st_tri_index_init(&g->tix);
+    g->tix = st_tri_index_shared();
 }
 
 void st_rgeom_free(st_rgeom *g)
@@ -27,7 +27,7 @@ void st_rgeom_free(st_rgeom *g)
     free(g->face_dart); free(g->face_off); free(g->corner); free(g->fnormal); free(g->face_case); free(g->face_line);
     free(g->dart_face); free(g->tris); free(g->tri_face); free(g->lines);
     free(g->dstamp_v); free(g->dstamp_f); free(g->vstamp); free(g->fstamp); free(g->reread);
-    st_tri_index tix = g->tix;
+    const st_tri_index *tix = g->tix;
     memset(g, 0, sizeof *g);
     g->tix = tix;
 }
@@ -113,7 +113,7 @@ int st_rg_face_case(st_rgeom *g, const st_level_view *V, st_rg_scratch *fs, unsi
     }
     /* The case tables read the walk only (the dual encoding has no
      * meaningful vertex levels: only edge levels there). */
-    int c = st_tri_face(&g->tix, n, fs->elev, g->face_embedded ? NULL : fs->vlev, NULL, fs->loc);
+    int c = st_tri_face(g->tix, n, fs->elev, g->face_embedded ? NULL : fs->vlev, NULL, fs->loc);
     if (c == ST_TRI_FALLBACK) {
         if (GROW(fs->pos, fs->cpos, 3 * (size_t)n, oom), oom) return -2;
         for (unsigned k = 0; k < n; k++) {

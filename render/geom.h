@@ -40,9 +40,11 @@
 #include "core/map/map.h"
 #include "core/multires/footprint.h"
 #include "core/base/st_error.h"
-#include "render/triangulate.h"
 
 #define ST_RGEOM_VSTRIDE 6            /* floats per vertex: position, normal */
+
+/* The case tables of the triangulation are render's own (triangulate.h). */
+struct st_tri_index;
 
 typedef struct st_range { uint32_t first, count; } st_range;
 
@@ -97,7 +99,7 @@ typedef struct st_rgeom {
     uint32_t gen;
     uint32_t *reread;                 /* vertex indices the last st_rgeom_refresh re-read */
     uint32_t nreread;
-    st_tri_index tix;                 /* case lookup */
+    const struct st_tri_index *tix;   /* case lookup (render/triangulate.c: built once, shared) */
 } st_rgeom;
 
 void st_rgeom_init(st_rgeom *g);

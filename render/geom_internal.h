@@ -1,8 +1,12 @@
 /* Internals shared by geom.c (build, refresh) and geom_patch.c. */
 #ifndef ST_GEOM_INTERNAL_H
 #define ST_GEOM_INTERNAL_H
+#ifndef STRATA_RENDER_INTERNAL
+#error "internal to render: ui/, app/ and bench/ use render's public headers (docs/ARCHITECTURE.md)"
+#endif
 
 #include "render/geom.h"
+#include "render/triangulate.h"
 
 #include <stdlib.h>
 

@@ -109,6 +109,13 @@ typedef struct st_gl {
     int major, minor;          /* context version, read after loading */
 } st_gl;
 
+/* An offscreen framebuffer object, as public structs hold one (st_headless,
+ * st_idbuffer); only render creates and deletes them (its private
+ * framebuffer.h), so the type lives here. */
+typedef struct st_framebuffer {
+    GLuint fbo, color_rb, depth_rb;    /* all 0 when there is none */
+} st_framebuffer;
+
 /* Fills every entry from get(name) for the context current on this thread.
  * Fails (ST_ERR_INVALID, naming the first missing function) if one is
  * missing or the context is older than 3.3; gl is zeroed then. */

@@ -15,6 +15,9 @@
  */
 #ifndef ST_GL_PROGRAM_H
 #define ST_GL_PROGRAM_H
+#ifndef STRATA_RENDER_INTERNAL
+#error "internal to render: ui/, app/ and bench/ use render's public headers (docs/ARCHITECTURE.md)"
+#endif
 
 #include <stdint.h>
 

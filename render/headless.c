@@ -1,4 +1,5 @@
 #include "render/headless.h"
+#include "render/framebuffer.h"
 
 #include <GL/osmesa.h>
 #include <dlfcn.h>

@@ -20,7 +20,6 @@
 #ifndef ST_HEADLESS_H
 #define ST_HEADLESS_H
 
-#include "render/framebuffer.h"
 #include "render/gl_loader.h"
 
 #define ST_HEADLESS_MAX_SIZE 8192

@@ -19,7 +19,6 @@
 #define ST_IDBUFFER_H
 
 #include "render/camera.h"
-#include "render/framebuffer.h"
 #include "render/gl_loader.h"
 #include "render/renderer.h"
 

@@ -2,6 +2,9 @@
  * cmake/embed_shaders.cmake (the generated shaders_embedded.c). */
 #ifndef ST_SHADERS_H
 #define ST_SHADERS_H
+#ifndef STRATA_RENDER_INTERNAL
+#error "internal to render: ui/, app/ and bench/ use render's public headers (docs/ARCHITECTURE.md)"
+#endif
 
 /* Source of shaders/NAME.glsl (e.g. "surface.vert"), NULL if unknown. */
 const char *st_shader_source(const char *name);

@@ -5,6 +5,7 @@
 #include "core/map/geometry.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <string.h>
 
 /* The table.  Corner numbers follow the face walk (counter-clockwise seen
@@ -125,6 +126,16 @@ void st_tri_index_init(st_tri_index *ix)
             if (ix->icase[n][mask] < 0) { ix->icase[n][mask] = (int16_t)i; ix->rot[n][mask] = (uint8_t)r; }
         }
     }
+}
+
+static st_tri_index shared_index;
+static pthread_once_t shared_once = PTHREAD_ONCE_INIT;
+static void shared_index_init(void) { st_tri_index_init(&shared_index); }
+
+const st_tri_index *st_tri_index_shared(void)
+{
+    pthread_once(&shared_once, shared_index_init);
+    return &shared_index;
 }
 
 int st_tri_classify(unsigned n, const uint8_t *e, const uint8_t *v, uint32_t *mmask)

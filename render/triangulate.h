@@ -55,6 +55,9 @@
  */
 #ifndef ST_TRIANGULATE_H
 #define ST_TRIANGULATE_H
+#ifndef STRATA_RENDER_INTERNAL
+#error "internal to render: ui/, app/ and bench/ use render's public headers (docs/ARCHITECTURE.md)"
+#endif
 
 #include <stdint.h>
 
@@ -80,6 +83,9 @@ typedef struct st_tri_index {
     uint8_t rot[ST_TRI_TABLE_MAX_SIDES + 1][1u << ST_TRI_TABLE_MAX_SIDES];
 } st_tri_index;
 void st_tri_index_init(st_tri_index *ix);
+/* One index for the whole process, built on first use (thread-safe): what
+ * every st_rgeom reads. */
+const st_tri_index *st_tri_index_shared(void);
 
 /* Corner kinds of a face of n <= ST_TRI_TABLE_MAX_SIDES sides: elev[k] is
  * the level of side k (corner k to corner k+1), vlev[k] the insertion level

@@ -26,6 +26,7 @@
 #include "core/fvar/fvar.h"
 #include "core/multires/edit.h"
 #include "render/geom.h"
+#include "render/triangulate.h"    /* the case ids of st_rgeom.face_case (render internal) */
 #include "core/map/map_mesh.h"
 
 typedef struct edge { uint32_t a, b; } edge;
