@@ -5,7 +5,10 @@
 #   - every public core header compiles on its own from the include root
 #     that render/, ui/ and app/ get (which holds core/ alone);
 #   - render/, ui/ and app/ include no internal core header, core/ includes
-#     nothing from render/, ui/ or app/, and render/ nothing from ui/.
+#     nothing from render/, ui/ or app/, and render/ nothing from ui/;
+#   - render's private headers (the GL plumbing, the case tables) refuse to
+#     compile without STRATA_RENDER_INTERNAL and compile with it; its public
+#     ones compile on their own from render's and core's include roots.
 # Usage: cli_layering.sh STRATA SHARED_MESHES ASSETS BINDIR
 set -uo pipefail
 B=$4
@@ -33,5 +36,16 @@ hits=$(grep -rln '#include "\(render\|ui\|app\)/\|#include "\(renderer\|window\|
 [ -z "$hits" ] && ok || bad "core includes render/ui/app headers: $hits"
 hits=$(grep -ln '#include "\(editor\|window\|actions\|hud\|pick\|replay\|camera_ctl\)[a-z_]*\.h"' render/*.c render/*.h || true)
 [ -z "$hits" ] && ok || bad "render includes ui headers: $hits"
+RINC=$B/../include-render
+if [ -d "$RINC" ]; then
+    [ "$(ls "$RINC")" = render ] && ok || bad "render's include root $RINC holds more than render/: $(ls "$RINC")"
+    for h in render/*.h; do
+        if grep -q '^#ifndef STRATA_RENDER_INTERNAL' "$h"; then
+            if compiles "$h" "-I$RINC"; then bad "$h compiles without STRATA_RENDER_INTERNAL"; else ok; fi
+            if compiles "$h" "-I$RINC -DSTRATA_RENDER_INTERNAL=1"; then ok; else bad "$h does not compile with STRATA_RENDER_INTERNAL"; fi
+        elif compiles "$h" "-I$RINC"; then ok
+        else bad "public header $h does not compile on its own from the include roots"; fi
+    done
+fi
 echo "$((n - fail)) passed, $fail failed"
 [ "$fail" = 0 ]

@@ -39,6 +39,33 @@ app_headers=$(cd app && ls *.h | tr '\n' '|' | sed 's/|$//')
 out=$(includes $(find ui -name '*.[ch]' -o -name '*.cc' | sort) | awk -v re="^(app/)?($app_headers)\$" '$2 ~ re' | sort -u)
 if [ -z "$out" ]; then ok "ui/ includes no header of app/"; else bad "ui/ includes app/'s: $out"; fi
 
+# Render's API: ui/, app/, bench/ and examples/ include render's headers as
+# "render/<header>.h" (the include root holds render/ alone: a bare name is
+# not found) and only its public ones; a private header (one that refuses
+# to compile without STRATA_RENDER_INTERNAL) is included outside render/
+# only by a test built with that definition (test_render_*.c:
+# tests/CMakeLists.txt) or one that defines it itself.
+render_private=$(grep -l '^#ifndef STRATA_RENDER_INTERNAL' render/*.h | xargs -n1 basename | sort)
+render_all=$(cd render && ls *.h | sort)
+[ -n "$render_private" ] && ok "render's private headers: $(tr '\n' ' ' <<<"$render_private")" ||
+    bad "render/ has no private header (none refuses to compile without STRATA_RENDER_INTERNAL)"
+render_re="($(tr '\n' '|' <<<"$render_all" | sed 's/|$//; s/\./\\./g'))"
+private_re="^render/($(tr '\n' '|' <<<"$render_private" | sed 's/|$//; s/\./\\./g'))\$"
+for d in ui app bench examples; do
+    [ -d "$d" ] || continue
+    files=$(find "$d" -name '*.[ch]' -o -name '*.cc' -o -name '*.cpp' | sort)
+    bare=$(includes $files | awk -v re="^$render_re\$" '$2 ~ re' | sort -u)
+    priv=$(includes $files | awk -v re="$private_re" '$2 ~ re' | sort -u)
+    if [ -z "$bare$priv" ]; then ok "$d/ includes render's public headers only, as render/<header>.h"
+    else bad "$d/ includes render headers bare or private: $(tr '\n' ' ' <<<"$bare$priv")"; fi
+done
+out=$(includes $(find tests -name '*.[ch]' | sort) | awk -v re="$private_re" '$2 ~ re' | while read -r file inc; do
+    case ${file##*/} in test_render_*.c) continue ;; esac
+    grep -q '^#define STRATA_RENDER_INTERNAL' "$file" || echo "$file: $inc"
+done | sort -u)
+if [ -z "$out" ]; then ok "tests/ include render's private headers only where STRATA_RENDER_INTERNAL is defined"
+else bad "tests/ include render's private headers without STRATA_RENDER_INTERNAL: $(tr '\n' ' ' <<<"$out")"; fi
+
 # Core's folders, bottom first.
 order=(base map schemes fvar multires progressive adapt uv bake sculpt io rebuild)
 declare -A rank
