@@ -14,7 +14,7 @@
  *
  *     test_render_bake --compare FINE.png MAPPED.png PLAIN.png
  * applies the same comparison and thresholds to three 320x320 renders
- * (used by tests/cli_bake.sh on `strata render --normal-map`). */
+ * (used by tests/cli/cli_bake.sh on `strata render --normal-map`). */
 #include "testlib.h"
 
 #include "core/bake/bake.h"

@@ -19,7 +19,7 @@
  * noise passes, and a missing face or a camera moved by 2 degrees fail.
  *
  *     test_render_images --compare EXPECTED.png ACTUAL.png
- * compares two files with the same metric (used by tests/cli_render.sh). */
+ * compares two files with the same metric (used by tests/cli/cli_render.sh). */
 #include "testlib.h"
 
 #include <math.h>
