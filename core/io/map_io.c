@@ -583,6 +583,59 @@ void st_map_write(st_bw *w, const st_map *m)
     st_mla_write(w, &m->pos, &m->verts, st_value_finite_f64x3);
 }
 
+/* The pool as level 0 left it, when every later level took fresh blocks
+ * from `end` on (st_hier_regenerable): level 0's own records, no other
+ * level, no spare block.  A view: it shares p's arrays.  -1 when p is not
+ * in that state (a block of level 0 at or past end, or one below end
+ * owned by another level). */
+static int pool_level0_view(const st_pool *p, uint32_t end, st_pool *v)
+{
+    if (end > p->end || (end & (ST_POOL_BLOCK - 1)) || p->nspare) return -1;
+    *v = *p;
+    v->end = end;
+    for (uint32_t b = 0; b < p->nblocks[0]; b++)
+        if (p->blocks[0][b] >= end >> ST_POOL_BLOCK_SHIFT) return -1;
+    for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
+        for (uint32_t b = 0; b < p->nblocks[l]; b++)
+            if (p->blocks[l][b] < end >> ST_POOL_BLOCK_SHIFT) return -1;
+        v->blocks[l] = NULL;
+        v->nblocks[l] = v->capblocks[l] = 0;
+        v->fill[l] = ST_NIL;
+        v->freehead[l] = ST_NIL;
+        v->live[l] = 0;
+    }
+    return 0;
+}
+
+/* An attribute's level-0 values: its base values, no column. */
+static st_mla mla_level0_view(const st_mla *a)
+{
+    st_mla v = *a;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        v.col[l] = NULL;
+        v.colcap[l] = 0;
+        v.eff[l] = 0;
+    }
+    v.maxcol = 0;
+    v.sp = NULL;
+    return v;
+}
+
+int st_map_level0_view(const st_map *m, const uint32_t end[2], st_map *v)
+{
+    if (m->beta0.sp || m->beta1.sp || m->vert.sp || m->pos.sp) return -1;
+    *v = *m;
+    v->top = 0;
+    if (pool_level0_view(&m->darts, end[0], &v->darts) || pool_level0_view(&m->verts, end[1], &v->verts)) return -1;
+    v->beta0 = mla_level0_view(&m->beta0);
+    v->beta1 = mla_level0_view(&m->beta1);
+    v->vert = mla_level0_view(&m->vert);
+    v->pos = mla_level0_view(&m->pos);
+    return 0;
+}
+
+st_mla st_mla_level0_view(const st_mla *a) { return mla_level0_view(a); }
+
 /* Every relation of every level stays inside the level (what the validator
  * assumes before it follows relations). */
 static int check_ranges(st_br *r, const st_map *m)

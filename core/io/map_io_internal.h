@@ -119,6 +119,16 @@ void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p, st_mla_value_chec
 int st_mla_read(st_br *r, st_mla *a, const st_pool *p, unsigned top, uint32_t elem,
                 st_mla_value_check check, const char *what);
 
+/* Level 0 of m as a map of its own, for writing (st_map_write, then
+ * st_mla_write of the attributes over its pools): m as level 0 left it,
+ * its pools ending at end[0] (darts) and end[1] (vertices), no column.  A
+ * view sharing m's arrays, valid while m is unchanged.  -1 when m's pools
+ * are not in the state a regeneration of levels 1..top from level 0 would
+ * start from (st_hier_regenerable, core/multires/hier.h), or it is sparse. */
+int st_map_level0_view(const st_map *m, const uint32_t end[2], st_map *v);
+/* An attribute's level-0 values (base values, no column), as a view. */
+st_mla st_mla_level0_view(const st_mla *a);
+
 /* Value checks for st_mla_read and st_mla_write. */
 int st_value_finite_f64x3(const void *v);
 int st_value_sharpness_f32(const void *v);
