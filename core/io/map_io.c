@@ -9,6 +9,8 @@
 #include <string.h>
 #include <time.h>
 
+#include <xxhash.h>
+
 /* ---- CRC-32 ------------------------------------------------------------------ */
 
 static uint32_t crc_table[8][256];
@@ -47,6 +49,14 @@ uint32_t st_crc32(uint32_t crc, const void *data, size_t n)
 
 /* ---- writer -------------------------------------------------------------------- */
 
+uint32_t st_session_checksum(const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    if (n < 16) return 0;
+    uint32_t version = (uint32_t)b[8] | (uint32_t)b[9] << 8 | (uint32_t)b[10] << 16 | (uint32_t)b[11] << 24;
+    return version >= 4 ? (uint32_t)XXH3_64bits(p, n - 4) : st_crc32(0, p, n - 4);
+}
+
 static void bw_reset(st_bw *w)
 {
     w->f = NULL;
@@ -54,7 +64,7 @@ static void bw_reset(st_bw *w)
     w->out = NULL;
     w->outlen = w->outcap = 0;
     w->total = 0;
-    w->crc = 0;
+    w->xxh = NULL;
     w->failed = 0;
     w->refused_value = 0;
     w->slow_us = 0;
@@ -66,13 +76,40 @@ static void bw_reset(st_bw *w)
 }
 
 void st_bw_init_count(st_bw *w) { bw_reset(w); }
-void st_bw_init_file(st_bw *w, FILE *f) { bw_reset(w); w->f = f; }
-void st_bw_init_mem(st_bw *w) { bw_reset(w); w->mem = 1; }
+
+static int bw_hash_start(st_bw *w)
+{
+    w->xxh = XXH3_createState();
+    if (!w->xxh || XXH3_64bits_reset(w->xxh) != XXH_OK) w->failed = 1;
+    return w->failed ? -1 : 0;
+}
+
+int st_bw_init_file(st_bw *w, FILE *f)
+{
+    bw_reset(w);
+    w->f = f;
+    return bw_hash_start(w);
+}
+
+int st_bw_init_mem(st_bw *w)
+{
+    bw_reset(w);
+    w->mem = 1;
+    return bw_hash_start(w);
+}
+
+void st_bw_free(st_bw *w)
+{
+    if (w->xxh) XXH3_freeState(w->xxh);
+    w->xxh = NULL;
+}
+
+uint32_t st_bw_checksum(const st_bw *w) { return w->xxh ? (uint32_t)XXH3_64bits_digest(w->xxh) : 0; }
 
 int st_bw_flush(st_bw *w)
 {
     if (w->n && !w->failed) {
-        w->crc = st_crc32(w->crc, w->buf, w->n);
+        if (w->xxh) XXH3_64bits_update(w->xxh, w->buf, w->n);
         if (w->f) {
             if (fwrite(w->buf, 1, w->n, w->f) != w->n) w->failed = 1;
             if (w->slow_us > 0) {

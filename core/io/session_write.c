@@ -454,7 +454,7 @@ static void write_all(st_bw *w, const st_session_ref *r, const chunk_plan *pl)
         if (w->total - before != CHUNK_HEAD + pl->len[i]) w->failed = 1; /* cannot happen: same writer twice */
     }
     st_bw_flush(w);
-    uint32_t crc = w->crc;
+    uint32_t crc = st_bw_checksum(w);   /* version 4: XXH3 (st_session_checksum) */
     unsigned char t[4];
     for (int k = 0; k < 4; k++) t[k] = (unsigned char)(crc >> (8 * k));
     st_bw_bytes(w, t, 4);
@@ -475,11 +475,13 @@ int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_
     write_all(w, r, &pl);
     if (w->failed) {
         free(w->out);
+        st_bw_free(w);
         free(w);
         return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
     }
     *data = w->out;
     *size = w->outlen;
+    st_bw_free(w);
     free(w);
     return ST_OK;
 }
@@ -517,6 +519,7 @@ int st_session_save_ref_progress(const char *path, const st_session_ref *r, int 
     w->progress_ctx = ctx;
     write_all(w, r, &pl);
     int failed = w->failed, cancelled = w->cancelled;
+    st_bw_free(w);
     free(w);
     if (failed) {
         int e = errno;
