@@ -13,6 +13,7 @@ set -euo pipefail
 PACKAGES=(
   # toolchain
   build-essential cmake ninja-build pkg-config git
+  libxxhash-dev                       # the session files' checksum (XXH3, core/io/map_io.c)
   ccache                              # the release stage's kernel, compiled once for its core-only build too
   # packaging (cpack -G DEB, tests/cli/cli_install.sh): dpkg-shlibdeps, the .desktop
   # validator, groff to format the man page

@@ -9,6 +9,8 @@
 #include <string.h>
 #include <time.h>
 
+#include <xxhash.h>
+
 /* ---- CRC-32 ------------------------------------------------------------------ */
 
 static uint32_t crc_table[8][256];
@@ -47,6 +49,14 @@ uint32_t st_crc32(uint32_t crc, const void *data, size_t n)
 
 /* ---- writer -------------------------------------------------------------------- */
 
+uint32_t st_session_checksum(const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    if (n < 16) return 0;
+    uint32_t version = (uint32_t)b[8] | (uint32_t)b[9] << 8 | (uint32_t)b[10] << 16 | (uint32_t)b[11] << 24;
+    return version >= 4 ? (uint32_t)XXH3_64bits(p, n - 4) : st_crc32(0, p, n - 4);
+}
+
 static void bw_reset(st_bw *w)
 {
     w->f = NULL;
@@ -54,7 +64,7 @@ static void bw_reset(st_bw *w)
     w->out = NULL;
     w->outlen = w->outcap = 0;
     w->total = 0;
-    w->crc = 0;
+    w->xxh = NULL;
     w->failed = 0;
     w->refused_value = 0;
     w->slow_us = 0;
@@ -66,13 +76,40 @@ static void bw_reset(st_bw *w)
 }
 
 void st_bw_init_count(st_bw *w) { bw_reset(w); }
-void st_bw_init_file(st_bw *w, FILE *f) { bw_reset(w); w->f = f; }
-void st_bw_init_mem(st_bw *w) { bw_reset(w); w->mem = 1; }
+
+static int bw_hash_start(st_bw *w)
+{
+    w->xxh = XXH3_createState();
+    if (!w->xxh || XXH3_64bits_reset(w->xxh) != XXH_OK) w->failed = 1;
+    return w->failed ? -1 : 0;
+}
+
+int st_bw_init_file(st_bw *w, FILE *f)
+{
+    bw_reset(w);
+    w->f = f;
+    return bw_hash_start(w);
+}
+
+int st_bw_init_mem(st_bw *w)
+{
+    bw_reset(w);
+    w->mem = 1;
+    return bw_hash_start(w);
+}
+
+void st_bw_free(st_bw *w)
+{
+    if (w->xxh) XXH3_freeState(w->xxh);
+    w->xxh = NULL;
+}
+
+uint32_t st_bw_checksum(const st_bw *w) { return w->xxh ? (uint32_t)XXH3_64bits_digest(w->xxh) : 0; }
 
 int st_bw_flush(st_bw *w)
 {
     if (w->n && !w->failed) {
-        w->crc = st_crc32(w->crc, w->buf, w->n);
+        if (w->xxh) XXH3_64bits_update(w->xxh, w->buf, w->n);
         if (w->f) {
             if (fwrite(w->buf, 1, w->n, w->f) != w->n) w->failed = 1;
             if (w->slow_us > 0) {
@@ -582,6 +619,59 @@ void st_map_write(st_bw *w, const st_map *m)
         if (m->darts.ins[i] != ST_FREE_LEVEL) st_bw_u8(w, m->flags[i]);
     st_mla_write(w, &m->pos, &m->verts, st_value_finite_f64x3);
 }
+
+/* The pool as level 0 left it, when every later level took fresh blocks
+ * from `end` on (st_hier_regenerable): level 0's own records, no other
+ * level, no spare block.  A view: it shares p's arrays.  -1 when p is not
+ * in that state (a block of level 0 at or past end, or one below end
+ * owned by another level). */
+static int pool_level0_view(const st_pool *p, uint32_t end, st_pool *v)
+{
+    if (end > p->end || (end & (ST_POOL_BLOCK - 1)) || p->nspare) return -1;
+    *v = *p;
+    v->end = end;
+    for (uint32_t b = 0; b < p->nblocks[0]; b++)
+        if (p->blocks[0][b] >= end >> ST_POOL_BLOCK_SHIFT) return -1;
+    for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
+        for (uint32_t b = 0; b < p->nblocks[l]; b++)
+            if (p->blocks[l][b] < end >> ST_POOL_BLOCK_SHIFT) return -1;
+        v->blocks[l] = NULL;
+        v->nblocks[l] = v->capblocks[l] = 0;
+        v->fill[l] = ST_NIL;
+        v->freehead[l] = ST_NIL;
+        v->live[l] = 0;
+    }
+    return 0;
+}
+
+/* An attribute's level-0 values: its base values, no column. */
+static st_mla mla_level0_view(const st_mla *a)
+{
+    st_mla v = *a;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        v.col[l] = NULL;
+        v.colcap[l] = 0;
+        v.eff[l] = 0;
+    }
+    v.maxcol = 0;
+    v.sp = NULL;
+    return v;
+}
+
+int st_map_level0_view(const st_map *m, const uint32_t end[2], st_map *v)
+{
+    if (m->beta0.sp || m->beta1.sp || m->vert.sp || m->pos.sp) return -1;
+    *v = *m;
+    v->top = 0;
+    if (pool_level0_view(&m->darts, end[0], &v->darts) || pool_level0_view(&m->verts, end[1], &v->verts)) return -1;
+    v->beta0 = mla_level0_view(&m->beta0);
+    v->beta1 = mla_level0_view(&m->beta1);
+    v->vert = mla_level0_view(&m->vert);
+    v->pos = mla_level0_view(&m->pos);
+    return 0;
+}
+
+st_mla st_mla_level0_view(const st_mla *a) { return mla_level0_view(a); }
 
 /* Every relation of every level stays inside the level (what the validator
  * assumes before it follows relations). */

@@ -33,7 +33,7 @@ typedef struct st_bw {
     unsigned char *out;
     size_t outlen, outcap;
     uint64_t total;            /* bytes written so far (all modes) */
-    uint32_t crc;              /* running CRC-32 state (see st_crc32) */
+    struct XXH3_state_s *xxh;  /* file and memory modes: the running checksum (st_bw_checksum) */
     int failed;                /* a write or an allocation failed */
     /* A value its reader would refuse was written: a non-finite number
      * through st_bw_f32/st_bw_f64, or a value failing st_mla_write's check.
@@ -52,10 +52,16 @@ typedef struct st_bw {
     unsigned char buf[1 << 16];
 } st_bw;
 
-/* Counting writer: nothing stored, only total (and the CRC) advance. */
+/* Counting writer: nothing stored or hashed, only total advances. */
 void st_bw_init_count(st_bw *w);
-void st_bw_init_file(st_bw *w, FILE *f);
-void st_bw_init_mem(st_bw *w);
+/* File and memory writers hash what they write; -1 (and w->failed) when
+ * the checksum's state cannot be allocated.  st_bw_free releases it. */
+int st_bw_init_file(st_bw *w, FILE *f);
+int st_bw_init_mem(st_bw *w);
+void st_bw_free(st_bw *w);
+/* The checksum of everything written and flushed so far: the low 32 bits
+ * of XXH3-64 (the session trailer of version 4, st_session_checksum). */
+uint32_t st_bw_checksum(const st_bw *w);
 /* Flushes buf (CRC, then file or memory).  Returns -1 once anything failed. */
 int st_bw_flush(st_bw *w);
 void st_bw_bytes(st_bw *w, const void *p, size_t n);
@@ -66,8 +72,14 @@ void st_bw_f32(st_bw *w, float v);
 void st_bw_f64(st_bw *w, double v);
 
 /* CRC-32 (IEEE 802.3, reflected, polynomial 0xEDB88320), as zlib's crc32():
- * st_crc32(0, p, n) is the CRC of n bytes; chains across calls. */
+ * st_crc32(0, p, n) is the CRC of n bytes; chains across calls.  The
+ * session header's checksum, and the whole file's up to version 3. */
 uint32_t st_crc32(uint32_t crc, const void *p, size_t n);
+/* The trailer checksum of a session file of n bytes (trailer included:
+ * the bytes before the last 4), by its version (bytes 8..11): CRC-32 up to
+ * version 3, the low 32 bits of XXH3-64 from version 4 (a tenth of
+ * CRC-32's time). */
+uint32_t st_session_checksum(const void *p, size_t n);
 
 /* ---- bounded reader over a buffer ----------------------------------------- */
 typedef struct st_br {
@@ -118,6 +130,16 @@ void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p, st_mla_value_chec
  * result has the pool's capacity, ready to be attached. */
 int st_mla_read(st_br *r, st_mla *a, const st_pool *p, unsigned top, uint32_t elem,
                 st_mla_value_check check, const char *what);
+
+/* Level 0 of m as a map of its own, for writing (st_map_write, then
+ * st_mla_write of the attributes over its pools): m as level 0 left it,
+ * its pools ending at end[0] (darts) and end[1] (vertices), no column.  A
+ * view sharing m's arrays, valid while m is unchanged.  -1 when m's pools
+ * are not in the state a regeneration of levels 1..top from level 0 would
+ * start from (st_hier_regenerable, core/multires/hier.h), or it is sparse. */
+int st_map_level0_view(const st_map *m, const uint32_t end[2], st_map *v);
+/* An attribute's level-0 values (base values, no column), as a view. */
+st_mla st_mla_level0_view(const st_mla *a);
 
 /* Value checks for st_mla_read and st_mla_write. */
 int st_value_finite_f64x3(const void *v);

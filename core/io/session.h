@@ -56,7 +56,7 @@
 /* The version written, and the newest read: 1 the first; 2 added
  * face-varying UVs; 3 stores attribute arrays only up to the last live id
  * (docs/SESSION-FORMAT.md).  Versions 1 and 2 are still read. */
-#define ST_SESSION_VERSION 3u
+#define ST_SESSION_VERSION 4u
 #define ST_SESSION_MAGIC "STRATASN"
 
 /* The camera, as the window's render camera describes it (orbit around
@@ -115,6 +115,10 @@ typedef struct st_session_ref {
     const st_layers *layers;       /* NULL or empty: none (must belong to h) */
     const st_mask *mask;           /* NULL or all zero: none */
     const st_session_tool *tool;   /* NULL: none */
+    /* Non-zero: every level's topology and UVs written out (MAP), even when
+     * the reader could regenerate them from level 0 (LVL0, POSN): for
+     * tests that compare what a load gives, level by level. */
+    int whole_map;
 } st_session_ref;
 
 void st_session_init(st_session *s);

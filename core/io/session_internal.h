@@ -31,12 +31,19 @@
 #define TAG_LAY0 TAG('l', 'a', 'y', '0')
 #define TAG_FVAR TAG('F', 'V', 'A', 'R')
 #define TAG_BUVS TAG('B', 'U', 'V', 'S')
+/* Version 4, a hierarchy whose levels 1..top are the scheme's refinement
+ * of level 0 (st_hier_regenerable): LVL0 holds level 0 as a map of its own
+ * and the number of levels, POSN the positions of every level, read once
+ * the reader has regenerated the levels; they replace MAP. */
+#define TAG_LVL0 TAG('L', 'V', 'L', '0')
+#define TAG_POSN TAG('P', 'O', 'S', 'N')
 
 /* Version 2 added the UV chunks (FVAR, BUVS); version 3 trims the map's
- * attribute arrays (map_io_internal.h, st_br.trimmed) and is what every
- * session is written as. */
+ * attribute arrays (map_io_internal.h, st_br.trimmed); version 4 adds
+ * LVL0 and POSN, and is what every session is written as. */
 #define SESSION_VERSION_UV 2u
 #define SESSION_VERSION_TRIMMED 3u
+#define SESSION_VERSION_RECIPE 4u
 
 /* Moves src into dst without freeing dst, whose content is garbage or
  * already freed (session.c). */

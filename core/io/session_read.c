@@ -7,6 +7,7 @@
 #include "core/io/map_io_internal.h"
 #include "core/map/pool_internal.h"
 #include "core/progressive/progressive.h"
+#include "core/multires/estimate.h"
 #include "core/fvar/fvar_internal.h"
 
 #include <errno.h>
@@ -24,11 +25,14 @@ typedef struct load_ctx {
     st_error *err;
     unsigned seen;         /* bit per chunk kind */
     int has_sharpness;
+    unsigned regen_top;    /* LVL0: the levels to regenerate */
+    uint32_t regen_end[2]; /* LVL0: its pools' ends */
 } load_ctx;
 
+/* SEEN_MAP: the whole map is there (MAP, or LVL0 then POSN). */
 enum { SEEN_HIER = 1, SEEN_MAP = 2, SEEN_SHRP = 4, SEEN_DETL = 8, SEEN_ADPT = 16, SEEN_EDIT = 32, SEEN_VIEW = 64, SEEN_BASE = 128,
        SEEN_MASK = 256, SEEN_LAYR = 512,
-       SEEN_FVAR = 1024, SEEN_BUVS = 2048, SEEN_TOOL = 4096 };
+       SEEN_FVAR = 1024, SEEN_BUVS = 2048, SEEN_TOOL = 4096, SEEN_LVL0 = 8192, SEEN_POSN = 16384 };
 
 static int r_hier(load_ctx *c, st_br *r)
 {
@@ -82,6 +86,7 @@ static int faces_are_triangles(st_map *m, unsigned l)
 static int r_map(load_ctx *c, st_br *r)
 {
     st_hier *h = &c->s->h;
+    if (c->seen & SEEN_POSN) return st_br_fail(r, "a map in a session that regenerates its levels");
     st_map_free(&h->map);
     if (st_map_read(r, &h->map)) return -1;
     int dual = h->scheme->id == ST_SCHEME_DOOSABIN;
@@ -93,10 +98,102 @@ static int r_map(load_ctx *c, st_br *r)
     return 0;
 }
 
+/* Sharpness comes after MAP, or between LVL0 and POSN: level 0's, which
+ * the regeneration refines with the levels. */
+static int r_level0(load_ctx *c, st_br *r)
+{
+    if (c->seen & SEEN_MAP) return st_br_fail(r, "level 0 in a session that has its map");
+    uint32_t top = st_br_u32(r);
+    if (r->failed) return -1;
+    if (top >= ST_MAX_LEVELS) return st_br_fail(r, "%u levels to regenerate (at most %d)", top, ST_MAX_LEVELS - 1);
+    if (r_map(c, r)) return -1;
+    st_map *m = &c->s->h.map;
+    if (m->top != 0) return st_br_fail(r, "level 0 is a map of %u levels", m->top);
+    if (c->s->h.scheme->id == ST_SCHEME_PROGRESSIVE) return st_br_fail(r, "progressive levels cannot be regenerated");
+    c->regen_top = top;
+    c->regen_end[0] = m->darts.end;
+    c->regen_end[1] = m->verts.end;
+    return 0;
+}
+
+/* Live ids of a pool, all levels. */
+static uint64_t live_ids_of(const st_pool *p)
+{
+    uint64_t n = 0;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) n += p->live[l];
+    return n;
+}
+
+/* Levels 1..regen_top from level 0, by the scheme's refinement, as they
+ * were built.  Level 0 is checked first as finish() checks a whole map.
+ * The work is bounded by the file: POSN stores 24 bytes for each vertex
+ * the levels have, so a level is refined only while the vertices so far
+ * fit in what is left of the chunk (and the memory guard allows it). */
+static int regenerate(load_ctx *c, st_br *r)
+{
+    st_hier *h = &c->s->h;
+    st_map *m = &h->map;
+    if (c->has_sharpness) {
+        m->dart_attrs[0] = &h->edge_sharp;
+        m->vert_attrs[0] = &h->vertex_sharp;
+        m->ndart_attrs = m->nvert_attrs = 1;
+        h->has_sharpness = 1;
+    }
+    st_error e2;
+    if (st_map_validate(m, &e2)) return st_br_fail(r, "level 0: invalid map: %s", e2.msg);
+    st_scheme_id id = h->scheme->id;
+    if ((id == ST_SCHEME_LOOP || id == ST_SCHEME_BUTTERFLY || id == ST_SCHEME_SQRT3) && !faces_are_triangles(m, 0))
+        return st_br_fail(r, "the %s scheme needs a triangle control mesh", h->scheme->name);
+    if (h->scheme->check && h->scheme->check(h, &e2)) return st_br_fail(r, "level 0: %s", e2.msg);
+    if (c->regen_top) {
+        char what[64];
+        snprintf(what, sizeof what, "regenerating %u levels", c->regen_top);
+        if (st_mem_check(st_hier_estimate_subdivide(h, c->regen_top, NULL), what, &e2)) {
+            st_fail(c->err, e2.code, "%s: %s", c->name, e2.msg);
+            r->failed = 1;
+            return -1;
+        }
+    }
+    while (m->top < c->regen_top) {
+        if (live_ids_of(&m->verts) * 24 > r->size - r->off)
+            return st_br_fail(r, "positions: %u vertices at level %u, more than the chunk holds", (unsigned)live_ids_of(&m->verts), m->top);
+        if (h->scheme->refine(h, &e2)) {
+            st_fail(c->err, e2.code, "%s: regenerating level %u: %s", c->name, m->top + 1, e2.msg);
+            r->failed = 1;
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static int r_positions(load_ctx *c, st_br *r)
+{
+    st_hier *h = &c->s->h;
+    st_map *m = &h->map;
+    if (c->has_sharpness && !(c->seen & SEEN_SHRP)) return st_br_fail(r, "positions before the sharpness of level 0");
+    if (regenerate(c, r)) return -1;
+    st_mla pos;
+    if (st_mla_read(r, &pos, &m->verts, m->top, 3 * sizeof(double), st_value_finite_f64x3, "positions")) return -1;
+    /* The refinement grew the pool past its end: the attached arrays have
+     * its capacity. */
+    if (m->verts.cap > m->verts.end) {
+        unsigned char *b = realloc(pos.base, (size_t)m->verts.cap * pos.elem);
+        if (!b) { st_mla_free(&pos); st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+        memset(b + (size_t)m->verts.end * pos.elem, 0, (size_t)(m->verts.cap - m->verts.end) * pos.elem);
+        pos.base = b;
+    }
+    st_mla_free(&m->pos);
+    m->pos = pos;
+    c->seen |= SEEN_MAP;
+    return 0;
+}
+
 static int r_sharp(load_ctx *c, st_br *r)
 {
     st_hier *h = &c->s->h;
     if (!c->has_sharpness) return st_br_fail(r, "sharpness chunk in a session without sharpness");
+    if (!(c->seen & (SEEN_MAP | SEEN_LVL0))) return st_br_fail(r, "sharpness before the map");
+    if (c->seen & SEEN_POSN) return st_br_fail(r, "sharpness after the positions of the regenerated levels");
     if (st_mla_read(r, &h->edge_sharp, &h->map.darts, h->map.top, sizeof(float), st_value_sharpness_f32, "edge sharpness") ||
         st_mla_read(r, &h->vertex_sharp, &h->map.verts, h->map.top, sizeof(float), st_value_sharpness_f32, "vertex sharpness"))
         return -1;
@@ -488,7 +585,20 @@ static int r_fvar(load_ctx *c, st_br *r)
                 return st_br_fail(r, "UVs: a texture coordinate of level %u is not finite", l);
         }
     }
-    return r->failed ? -1 : 0;
+    if (r->failed) return -1;
+    /* A session with regenerated levels stores level 0's UVs alone when
+     * the rest refine after the topology (session_write.c, w_fvar). */
+    if ((c->seen & SEEN_LVL0) && levels == 1 && h->map.top > 0) {
+        int rules = st_fvar_rules_of(h);
+        if (rules < 0 || rules == ST_FVAR_STENCIL) return st_br_fail(r, "UVs: level 0 alone for the %s scheme", h->scheme->name);
+        st_error e2;
+        if (st_fvar_refine_levels(h, h->map.top, &e2)) {
+            st_fail(c->err, e2.code, "%s: regenerating the UVs: %s", c->name, e2.msg);
+            r->failed = 1;
+            return -1;
+        }
+    }
+    return 0;
 oom:
     st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name);
     r->failed = 1;
@@ -536,7 +646,10 @@ static int finish(load_ctx *c)
         h->has_sharpness = 1;
     }
     st_error e2;
-    if (st_map_validate(m, &e2)) return st_fail(c->err, ST_ERR_INVALID, "%s: invalid map: %s", name, e2.msg);
+    /* Regenerated levels are the refinement of a level 0 checked before
+     * it ran (regenerate()); a map read whole is checked here. */
+    if (!(c->seen & SEEN_LVL0) && st_map_validate(m, &e2))
+        return st_fail(c->err, ST_ERR_INVALID, "%s: invalid map: %s", name, e2.msg);
     st_scheme_id id = h->scheme->id;
     if ((id == ST_SCHEME_LOOP || id == ST_SCHEME_BUTTERFLY || id == ST_SCHEME_SQRT3) && !faces_are_triangles(m, 0))
         return st_fail(c->err, ST_ERR_INVALID, "%s: the %s scheme needs a triangle control mesh", name, h->scheme->name);
@@ -588,7 +701,7 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
      * mutation reaches the structural checks (test_session checks this one). */
     uint32_t crc = 0;
     for (int k = 0; k < 4; k++) crc |= (uint32_t)p[size - 4 + k] << (8 * k);
-    if (st_crc32(0, p, size - 4) != crc)
+    if (st_session_checksum(p, size) != crc)
         return st_fail(err, ST_ERR_PARSE, "%s: damaged session file (checksum mismatch)", name);
 #endif
 
@@ -621,7 +734,9 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
         switch (tag) {
         case TAG_HIER: bit = SEEN_HIER; fn = r_hier; break;
         case TAG_MAP:  bit = SEEN_MAP;  fn = r_map;  after = SEEN_HIER; break;
-        case TAG_SHRP: bit = SEEN_SHRP; fn = r_sharp; after = SEEN_MAP; break;
+        case TAG_SHRP: bit = SEEN_SHRP; fn = r_sharp; after = SEEN_HIER; break;
+        case TAG_LVL0: if (version >= SESSION_VERSION_RECIPE) { bit = SEEN_LVL0; fn = r_level0; after = SEEN_HIER; } break;
+        case TAG_POSN: if (version >= SESSION_VERSION_RECIPE) { bit = SEEN_POSN; fn = r_positions; after = SEEN_LVL0; } break;
         case TAG_DETL: bit = SEEN_DETL; fn = r_detail; after = SEEN_MAP; break;
         case TAG_ADPT: bit = SEEN_ADPT; fn = r_adapt; after = SEEN_MAP; break;
         case TAG_EDIT: bit = SEEN_EDIT; fn = r_edit; after = SEEN_MAP; break;
@@ -650,6 +765,9 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
         off = hr.off + (size_t)len;
     }
     if (!rc) rc = finish(&c);
+    /* Regenerated from level 0 as it was built: the next save can store
+     * level 0 alone again. */
+    if (!rc && (c.seen & SEEN_LVL0)) st_hier_mark_regenerable(&s->h, c.regen_end);
     if (rc) {
         if (err && !err->code) st_fail(err, ST_ERR_PARSE, "%s: invalid session", name);
         st_session_free(s);

@@ -7,6 +7,7 @@
 #include "core/io/map_io_internal.h"
 #include "core/map/pool_internal.h"
 #include "core/progressive/progressive.h"
+#include "core/multires/hier.h"
 #include "core/fvar/fvar_internal.h"
 
 #include <errno.h>
@@ -42,6 +43,39 @@ static void w_sharp(st_bw *w, const st_session_ref *r)
 {
     st_mla_write(w, &r->h->edge_sharp, &r->h->map.darts, st_value_sharpness_f32);
     st_mla_write(w, &r->h->vertex_sharp, &r->h->map.verts, st_value_sharpness_f32);
+}
+
+/* The compact form (version 4): level 0 alone, then every level's
+ * positions; the reader regenerates the topology of levels 1..top (and
+ * their sharpness) by the scheme's refinement, exactly as it was built. */
+static int level0_of(const st_session_ref *r, st_map *v)
+{
+    /* Doo-Sabin's levels are in the dual encoding and its level 0 is not a
+     * map of its own there: stored whole. */
+    if (r->whole_map || r->h->map.face_embedded || !st_hier_regenerable(r->h)) return -1;
+    return st_map_level0_view(&r->h->map, r->h->regen_end, v);
+}
+
+static void w_level0(st_bw *w, const st_session_ref *r)
+{
+    st_map v;
+    if (level0_of(r, &v)) { w->failed = 1; return; }   /* chunk_list checked it */
+    st_bw_u32(w, r->h->map.top);
+    st_map_write(w, &v);
+}
+
+static void w_sharp_level0(st_bw *w, const st_session_ref *r)
+{
+    st_map v;
+    if (level0_of(r, &v)) { w->failed = 1; return; }
+    st_mla e = st_mla_level0_view(&r->h->edge_sharp), x = st_mla_level0_view(&r->h->vertex_sharp);
+    st_mla_write(w, &e, &v.darts, st_value_sharpness_f32);
+    st_mla_write(w, &x, &v.verts, st_value_sharpness_f32);
+}
+
+static void w_positions(st_bw *w, const st_session_ref *r)
+{
+    st_mla_write(w, &r->h->map.pos, &r->h->map.verts, st_value_finite_f64x3);
 }
 
 /* Version 3: each level's details up to the last one whose bits are not all
@@ -250,11 +284,23 @@ static void w_layers(st_bw *w, const st_session_ref *r)
 
 /* The face-varying UVs: the option, the levels that carry them, then per
  * level the UV and value label of every real dart in st_dart_first order. */
+/* Whether the UVs of levels 1..top can be left to the reader: the levels
+ * are regenerated (LVL0) and the UVs refine after the topology, level by
+ * level from level 0, as they were built (st_fvar_refine_levels). */
+static int fvar_regenerable(const st_session_ref *r)
+{
+    st_map v;
+    const st_fvar *f = r->h->fvar;
+    int rules = st_fvar_rules_of(r->h);
+    return !level0_of(r, &v) && f->levels == r->h->map.top + 1 && rules >= 0 && rules != ST_FVAR_STENCIL;
+}
+
 static void w_fvar(st_bw *w, const st_session_ref *r)
 {
     const st_hier *h = r->h;
     const st_fvar *f = h->fvar;
     unsigned levels = f->levels <= h->map.top + 1 ? f->levels : h->map.top + 1;
+    if (fvar_regenerable(r)) levels = 1;
     st_bw_u32(w, (uint32_t)f->interp);
     st_bw_u32(w, levels);
     for (unsigned l = 0; l < levels; l++) {
@@ -280,17 +326,24 @@ static void w_base_uv(st_bw *w, const st_session_ref *r)
 }
 
 typedef struct chunk_def { uint32_t tag; chunk_fn fn; } chunk_def;
-/* Every tag at most once: HIER MAP SHRP DETL ADPT EDIT VIEW BASE mask tool
- * layr FVAR BUVS. */
-#define ST_SESSION_MAX_CHUNKS 13
+/* Every tag at most once: HIER, MAP or LVL0 and POSN, SHRP DETL ADPT EDIT
+ * VIEW BASE mask tool layr FVAR BUVS. */
+#define ST_SESSION_MAX_CHUNKS 14
 
 /* The chunks of r, in file order. */
 static unsigned chunk_list(const st_session_ref *r, chunk_def out[ST_SESSION_MAX_CHUNKS])
 {
     unsigned n = 0;
     out[n++] = (chunk_def){ TAG_HIER, w_hier };
-    out[n++] = (chunk_def){ TAG_MAP, w_map };
-    if (r->h->has_sharpness) out[n++] = (chunk_def){ TAG_SHRP, w_sharp };
+    st_map v;
+    if (!level0_of(r, &v)) {
+        out[n++] = (chunk_def){ TAG_LVL0, w_level0 };
+        if (r->h->has_sharpness) out[n++] = (chunk_def){ TAG_SHRP, w_sharp_level0 };
+        out[n++] = (chunk_def){ TAG_POSN, w_positions };
+    } else {
+        out[n++] = (chunk_def){ TAG_MAP, w_map };
+        if (r->h->has_sharpness) out[n++] = (chunk_def){ TAG_SHRP, w_sharp };
+    }
     out[n++] = (chunk_def){ TAG_DETL, w_detail };
     if (r->adapt) out[n++] = (chunk_def){ TAG_ADPT, w_adapt };
     out[n++] = (chunk_def){ TAG_EDIT, w_edit };
@@ -327,7 +380,8 @@ static int check_ref(const st_session_ref *r, st_error *err)
 static const char *chunk_words(uint32_t tag)
 {
     switch (tag) {
-    case TAG_MAP: return "positions";
+    case TAG_MAP: case TAG_POSN: return "positions";
+    case TAG_LVL0: return "positions of level 0";
     case TAG_SHRP: return "sharpness values";
     case TAG_DETL: return "details";
     case TAG_ADPT: return "adaptive state";
@@ -400,7 +454,7 @@ static void write_all(st_bw *w, const st_session_ref *r, const chunk_plan *pl)
         if (w->total - before != CHUNK_HEAD + pl->len[i]) w->failed = 1; /* cannot happen: same writer twice */
     }
     st_bw_flush(w);
-    uint32_t crc = w->crc;
+    uint32_t crc = st_bw_checksum(w);   /* version 4: XXH3 (st_session_checksum) */
     unsigned char t[4];
     for (int k = 0; k < 4; k++) t[k] = (unsigned char)(crc >> (8 * k));
     st_bw_bytes(w, t, 4);
@@ -421,11 +475,13 @@ int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_
     write_all(w, r, &pl);
     if (w->failed) {
         free(w->out);
+        st_bw_free(w);
         free(w);
         return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
     }
     *data = w->out;
     *size = w->outlen;
+    st_bw_free(w);
     free(w);
     return ST_OK;
 }
@@ -463,6 +519,7 @@ int st_session_save_ref_progress(const char *path, const st_session_ref *r, int 
     w->progress_ctx = ctx;
     write_all(w, r, &pl);
     int failed = w->failed, cancelled = w->cancelled;
+    st_bw_free(w);
     free(w);
     if (failed) {
         int e = errno;

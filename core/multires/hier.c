@@ -157,7 +157,25 @@ int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const
     h->opts.uv_interp = opts ? opts->uv_interp : ST_UV_CORNERS_PLUS1;
     if (!rc) rc = st_fvar_init(h, mesh, h->opts.uv_interp, err);
     if (rc) st_hier_free(h);
+    else if (scheme->id != ST_SCHEME_PROGRESSIVE) {
+        uint32_t end[2] = { h->map.darts.end, h->map.verts.end };
+        st_hier_mark_regenerable(h, end);
+    }
     return rc;
+}
+
+int st_hier_regenerable(const st_hier *h)
+{
+    /* The generation was handed out when it was marked (st_map_generation),
+     * so any later change of the topology replaced it. */
+    return h->regen_gen != 0 && h->regen_gen == h->map.gen;
+}
+
+void st_hier_mark_regenerable(st_hier *h, const uint32_t end[2])
+{
+    h->regen_gen = st_map_generation(&h->map);
+    h->regen_end[0] = end[0];
+    h->regen_end[1] = end[1];
 }
 
 /* Drops the caches of levels from..: they describe levels that moved or
@@ -411,6 +429,7 @@ int st_hier_subdivide_to_progress(st_hier *h, unsigned levels, int (*progress)(v
         int rc = st_mem_check(st_hier_estimate_subdivide(h, levels, NULL), what, err);
         if (rc) return rc;
     }
+    int regen = st_hier_regenerable(h);
     while (h->map.top < levels) {
         double w = ldexp(1.0, 2 * (int)(h->map.top + 1 - from));
         if (cancelled(progress, ctx, done / total, err)) return ST_ERR_INVALID;
@@ -421,6 +440,8 @@ int st_hier_subdivide_to_progress(st_hier *h, unsigned levels, int (*progress)(v
         if (cancelled(progress, ctx, (done + w / 2) / total, err)) return ST_ERR_INVALID;
         st_hier_synthesize(h, h->map.top - 1);
         done += w;
+        /* A refinement of a regenerable hierarchy is one too. */
+        if (regen) st_hier_mark_regenerable(h, h->regen_end);
     }
     if (total > 0 && cancelled(progress, ctx, 1.0, err)) return ST_ERR_INVALID;
     return ST_OK;

@@ -74,6 +74,14 @@ typedef struct st_hier {
     /* Face-varying UVs per level (core/fvar/fvar.h: st_hier_uv); NULL when
      * the mesh had none.  Edits never change them. */
     struct st_fvar *fvar;
+    /* Whether levels 1..top can be regenerated from level 0 alone (the
+     * compact session, docs/SESSION-FORMAT.md): non-zero, the map's
+     * topology generation (st_map_generation) when level 0 was built and
+     * every level above it added by the scheme's refinement since, with
+     * the pools' ends as level 0 left them; any other change of the
+     * topology gives the map a new generation, so the mark lapses. */
+    uint64_t regen_gen;
+    uint32_t regen_end[2];     /* darts.end, verts.end after level 0 */
 } st_hier;
 
 /* Builds level 0 from a repaired soup: topology, positions, OBJ tags
@@ -105,6 +113,14 @@ int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err);
 int st_hier_subdivide_to_progress(st_hier *h, unsigned levels, int (*progress)(void *ctx, double fraction),
                                   void *ctx, st_error *err);
 /* Deletes the finest level. */
+/* Whether levels 1..top are the scheme's refinement of level 0 as it is
+ * (regen_gen above): a session may then store level 0 and regenerate the
+ * rest (core/io/session.h). */
+int st_hier_regenerable(const st_hier *h);
+/* Marks h as regenerable now, level 0 having left the pools' ends at
+ * end[0] (darts) and end[1] (vertices): the session reader, after it
+ * regenerated the levels. */
+void st_hier_mark_regenerable(st_hier *h, const uint32_t end[2]);
 void st_hier_remove_top(st_hier *h);
 
 /* Deletes the coarsest level: level 1 becomes the control mesh; finer

@@ -500,9 +500,10 @@ static void test_stencil_sessions(void)
     }
 }
 
-/* Sessions store the UVs of every level and the base mesh's: save -> load
- * -> save gives the same bytes, in version 3 (ST_SESSION_VERSION), with
- * or without UVs. */
+/* Sessions store the UVs of every level (or of level 0, the rest refined
+ * again on loading) and the base mesh's: save -> load -> save gives the
+ * same bytes, in the current version (ST_SESSION_VERSION), with or without
+ * UVs. */
 static void test_session_roundtrip(void)
 {
     st_mesh m;
@@ -530,6 +531,16 @@ static void test_session_roundtrip(void)
     st_session_ref r2 = st_session_ref_of(&s);
     CHECK(st_session_write_mem(&r2, &b, &nb, &err) == 0);
     CHECK(na == nb && memcmp(a, b, na) == 0);
+    free(b);
+    /* Saved compact (version 4): level 0's UVs alone, the rest refined on
+     * loading; written whole, both give the same bytes. */
+    st_session_ref w1 = r, w2 = r2;
+    void *c = NULL;
+    size_t nc = 0;
+    w1.whole_map = w2.whole_map = 1;
+    CHECK(st_session_write_mem(&w1, &b, &nb, &err) == 0 && st_session_write_mem(&w2, &c, &nc, &err) == 0);
+    CHECKF(nb == nc && memcmp(b, c, nb) == 0 && nb > na, "UV levels regenerated: whole %zu and %zu bytes, compact %zu", nb, nc, na);
+    free(c);
     /* A loaded session refines further with its option: level 3 as the original's. */
     CHECK(st_hier_subdivide_to(&s.h, 3, &err) == 0 && st_hier_subdivide_to(&h, 3, &err) == 0);
     uint32_t n0, n1;

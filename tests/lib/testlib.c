@@ -446,6 +446,6 @@ void tl_session_fix_crc(unsigned char *c, size_t n)
     for (int k = 0; k < 8; k++) c[16 + k] = (unsigned char)((uint64_t)n >> (8 * k));
     uint32_t hc = st_crc32(0, c, 24);
     for (int k = 0; k < 4; k++) c[24 + k] = (unsigned char)(hc >> (8 * k));
-    uint32_t crc = st_crc32(0, c, n - 4);
+    uint32_t crc = st_session_checksum(c, n);
     for (int k = 0; k < 4; k++) c[n - 4 + k] = (unsigned char)(crc >> (8 * k));
 }

@@ -10,7 +10,7 @@
  * operations is undone and redone bit for bit; sessions round-trip. */
 #include "editor.h"
 #include "editor_internal.h" /* ed_hier_clone */
-#include "core/io/map_io_internal.h" /* st_crc32 */
+#include "core/io/map_io_internal.h" /* st_session_checksum */
 #include "core/io/session.h"
 #include "core/multires/hier_internal.h"
 #include "testlib.h"
@@ -943,7 +943,7 @@ static void test_session_level0(void)
     /* The same bytes with the tag made layr: refused with a message. */
     long at = find_tag(b1, n1, "lay0");
     memcpy(b1 + at, "layr", 4);
-    uint32_t crc = st_crc32(0, b1, n1 - 4);
+    uint32_t crc = st_session_checksum(b1, n1);
     for (int k = 0; k < 4; k++) b1[n1 - 4 + k] = (unsigned char)(crc >> (8 * k));
     rc = st_session_parse("mem.strata", b1, n1, &s, &err);
     CHECKF(rc != 0 && strstr(err.msg, "level 0 in chunk 'lay0'"), "%s", err.msg);
