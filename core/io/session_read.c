@@ -789,7 +789,9 @@ int st_session_load(const char *path, st_session *out, st_error *err)
     /* The memory guard (core/base/membudget.h): the file, then the
      * hierarchy parsed from it, a bound of SESSION_BYTES_PER_FILE_BYTE
      * times the file (measured at 2.0 to 2.8 on sessions of koala's
-     * progressive hierarchy and of blub's Catmull-Clark levels). */
+     * progressive hierarchy and of blub's Catmull-Clark levels, stored
+     * whole); a compact file regenerates more than that, and checks the
+     * estimate of the levels it regenerates before it does (regenerate()). */
     struct stat st;
     if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
         size_t n = (size_t)st.st_size;
