@@ -333,8 +333,12 @@ static int refine_topology(st_hier *h, unsigned levels, st_error *err)
     char what[64];
     snprintf(what, sizeof what, "subdividing to level %u", levels);
     int rc = levels > h->map.top ? st_mem_check(st_hier_estimate_subdivide(h, levels, NULL), what, err) : ST_OK;
-    /* The UVs come later, beside the positions (positions_task). */
+    /* The UVs come later, beside the positions (positions_task), by
+     * st_fvar_refine_levels: what a session's reader does too. */
+    int regen = st_hier_regenerable(h);
     while (!rc && h->map.top < levels) rc = h->scheme->refine(h, err);
+    /* The levels are the cage's refinement, as st_hier_subdivide_to's. */
+    if (!rc && regen) st_hier_mark_regenerable(h, h->regen_end);
     return rc;
 }
 

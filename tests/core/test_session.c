@@ -7,6 +7,7 @@
 #include "core/io/map_io_internal.h"
 #include "core/io/session.h"
 #include "testlib.h"
+#include "core/rebuild/rebuild.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -697,6 +698,37 @@ static void check_old_versions(void)
     }
 }
 
+/* A hierarchy rebuilt by unsubdivide (the cage refined, positions from the
+ * input, UVs refined with the levels) is saved compact and loads back as
+ * itself; one rebuilt by progressive simplification is saved whole. */
+static void check_rebuilt(void)
+{
+    for (int method = ST_REBUILD_UNSUBDIVIDE; method <= ST_REBUILD_PROGRESSIVE; method++) {
+        st_hier fine, h;
+        st_mesh in;
+        st_error err;
+        build(&fine, torus, ST_SCHEME_CATMARK, 2, NULL);
+        uint64_t rng = 3;
+        tl_random_details(&fine, &rng, 0.01);
+        st_hier_synthesize(&fine, 0);
+        st_mesh_init(&in);
+        CHECK(st_rebuild_level_input(&fine, 2, &in, &err) == ST_OK);
+        st_rebuild_opts o = { .method = method };
+        st_rebuild_report rep;
+        int rc = st_rebuild("torus.obj", &in, &o, &h, &rep, &err);
+        CHECKF(rc == ST_OK, "%s", err.msg);
+        if (!rc) {
+            st_session_ref r = { .h = &h, .display_level = h.map.top };
+            check_compact_form(method == ST_REBUILD_UNSUBDIVIDE ? "rebuilt by unsubdivide" : "rebuilt by progressive", &r,
+                               method == ST_REBUILD_UNSUBDIVIDE);
+            st_hier_free(&h);
+        }
+        st_rebuild_report_free(&rep);
+        st_mesh_free(&in);
+        st_hier_free(&fine);
+    }
+}
+
 int main(void)
 {
     check_tool();
@@ -719,6 +751,7 @@ int main(void)
     check_crafted(ST_SCHEME_DOOSABIN, tl_mesh_cube, 0);
     check_files();
     check_old_versions();
+    check_rebuilt();
     check_non_finite();
     check_normals();
     return TEST_END();
