@@ -5,7 +5,7 @@
 #error "internal to core: render/, ui/ and app/ use core's public headers (docs/ARCHITECTURE.md)"
 #endif
 
-#include "core/multires/footprint.h"
+#include "core/map/footprint.h"
 #include "core/multires/hier.h"
 #include "core/map/dart_list.h"
 #include "core/map/refine_internal.h"
@@ -16,10 +16,8 @@
 /* Primal refinement with sharpness propagation (OpenSubdiv uniform rule). */
 int st_hier_refine_primal(st_hier *h, enum st_split_mode mode, st_error *err);
 
-/* Writable position slot of v at level l: base when v was inserted at l,
- * else the level-l column; the column is created only when p differs from
- * the inherited value ("stored only where it differs"). */
-void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3]);
+/* Writable position slot of v at level l (st_map_write_pos, map.h). */
+static inline void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3]) { st_map_write_pos(&h->map, v, l, p); }
 
 /* Detail of v at level l (zero vector when none stored). */
 const double *st_hier_detail(const st_hier *h, unsigned l, uint32_t v);

@@ -12,25 +12,6 @@
 
 /* ---- positions and details -------------------------------------------------- */
 
-void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3])
-{
-    st_map *m = &h->map;
-    st_mla *a = &m->pos;
-    if (m->log) st_map_log_vertex(m, v); /* a call per vertex written otherwise */
-    if (m->verts.ins[v] == l) {
-        memcpy(a->base + (size_t)v * a->elem, p, 3 * sizeof(double)); /* elem: 3 doubles */
-        return;
-    }
-    if (a->col[l] && v < a->colcap[l]) {
-        memcpy(a->col[l] + (size_t)v * a->elem, p, 3 * sizeof(double));
-        return;
-    }
-    if (!a->col[l] && memcmp(st_pos(m, v, l), p, a->elem) == 0) return;
-    double *col = st_mla_column(a, &m->verts, l);
-    if (!col) abort(); /* out of memory for a level's positions */
-    memcpy(col + 3 * (size_t)v, p, a->elem);
-}
-
 static const double zero3[3];
 
 const double *st_hier_detail(const st_hier *h, unsigned l, uint32_t v)
@@ -206,20 +187,6 @@ void st_hier_synthesize(st_hier *h, unsigned from)
 }
 
 /* ---- regions ------------------------------------------------------------------ */
-
-void st_dart_list_push(st_dart_list *l, uint32_t d)
-{
-    if (l->n == l->cap) {
-        uint32_t cap = l->cap ? 2 * l->cap : 64;
-        uint32_t *p = realloc(l->d, cap * sizeof *p);
-        if (!p) abort();
-        l->d = p;
-        l->cap = cap;
-    }
-    l->d[l->n++] = d;
-}
-
-void st_dart_list_free(st_dart_list *l) { free(l->d); memset(l, 0, sizeof *l); }
 
 void st_dart_list_push_faces(st_dart_list *list, const st_map *m, unsigned l, const uint32_t *faces, uint32_t n)
 {
