@@ -39,6 +39,7 @@
 #include "bench_common.h"
 #include "headless.h"
 #include "core/map/map_mesh.h"
+#include "core/progressive/scheme_registry.h"
 #include "renderer.h"
 
 #ifndef STRATA_ASSETS

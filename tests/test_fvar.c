@@ -127,8 +127,8 @@ static void check_mesh(const st_mesh *m, const st_scheme *sc, unsigned k, const 
         CHECKF(st_hier_init(&b, m, sc, &o, &err) == 0, "%s: %s", what, err.msg);
         CHECKF(st_hier_init(&c, m, sc, &o, &err) == 0, "%s: %s", what, err.msg);
         for (unsigned l = 0; l < k; l++) {
-            CHECK(sc->refine(&b, &err) == 0);
-            CHECK(sc->refine(&c, &err) == 0);
+            CHECK(st_hier_refine_topology(&b, &err) == 0);
+            CHECK(st_hier_refine_topology(&c, &err) == 0);
         }
         CHECKF(a.fvar && b.fvar && a.fvar->levels == k + 1 && b.fvar->levels == 1, "%s", what);
         /* Beyond the map's top: refused, nothing done. */
@@ -198,10 +198,10 @@ static void test_stencil_schemes(void)
         st_error err = {0};
         CHECKF(st_hier_init(&a, &m, schemes[s], NULL, &err) == 0 && st_hier_subdivide_to(&a, 2, &err) == 0, "%s", err.msg);
         CHECKF(st_hier_init(&b, &m, schemes[s], NULL, &err) == 0, "%s", err.msg);
-        CHECK(schemes[s]->refine(&b, &err) == 0 && st_fvar_refine_levels(&b, 1, &err) == 0);
-        CHECK(schemes[s]->refine(&b, &err) == 0);
+        CHECK(st_hier_refine_topology(&b, &err) == 0 && st_fvar_refine_levels(&b, 1, &err) == 0);
+        CHECK(st_hier_refine_topology(&b, &err) == 0);
         CHECK(st_fvar_refine_levels(&b, 1, &err) == 0 && b.fvar->levels == 2);  /* there already */
-        CHECK(schemes[s]->refine(&b, &err) == 0);
+        CHECK(st_hier_refine_topology(&b, &err) == 0);
         CHECKF(st_fvar_refine_levels(&b, 3, &err) == ST_ERR_INVALID && strstr(err.msg, schemes[s]->name), "%s", err.msg);
         CHECK(b.fvar->levels == 2);
         st_hier_remove_top(&b);

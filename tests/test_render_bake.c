@@ -18,6 +18,7 @@
 #include "testlib.h"
 
 #include "core/bake/bake.h"
+#include "core/progressive/scheme_registry.h"
 #include "image.h"
 #include "nmap.h"
 #include "offscreen.h"

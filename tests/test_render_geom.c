@@ -27,6 +27,7 @@
 #include "core/multires/edit.h"
 #include "geom.h"
 #include "core/map/map_mesh.h"
+#include "core/progressive/scheme_registry.h"
 
 typedef struct edge { uint32_t a, b; } edge;
 

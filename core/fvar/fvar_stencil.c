@@ -383,9 +383,9 @@ static int run(st_hier *h, unsigned l, const double *uv, const uint32_t *val, co
     if (s.values && s.vuv && s.vdart && s.face && s.kind && s.smooth && s.suv && s.src_face && s.off && s.cnt) {
         classify_level(&s);
         if (faces) {
-            if (n) h->scheme->emit(h, s.L, faces, n, sink, &s);
+            if (n) st_hier_emit(h, s.L, faces, n, sink, &s);
         } else {
-            h->scheme->emit(h, s.L, NULL, 0, sink, &s);
+            st_hier_emit(h, s.L, NULL, 0, sink, &s);
         }
         if (!s.failed) faces_of_level(&s);
         if (!s.failed) {

@@ -8,6 +8,7 @@
 #include "core/map/pool_internal.h"
 #include "core/progressive/progressive.h"
 #include "core/fvar/fvar_internal.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <errno.h>
 #include <sys/stat.h>

@@ -114,7 +114,10 @@ size_t st_estimate_position_columns(const st_map *m, unsigned from)
 
 size_t st_hier_synth_estimate(const st_hier *h, unsigned from)
 {
-    if (h->scheme && h->scheme->synth_estimate) return h->scheme->synth_estimate(h, from);
+    if (h->scheme && h->scheme->synth_estimate) {
+        st_subdiv_view v = st_hier_view((st_hier *)h); /* an estimate reads only */
+        return h->scheme->synth_estimate(&v, from);
+    }
     return st_estimate_position_columns(&h->map, from);
 }
 

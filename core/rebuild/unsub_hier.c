@@ -334,7 +334,7 @@ static int refine_topology(st_hier *h, unsigned levels, st_error *err)
     snprintf(what, sizeof what, "subdividing to level %u", levels);
     int rc = levels > h->map.top ? st_mem_check(st_hier_estimate_subdivide(h, levels, NULL), what, err) : ST_OK;
     /* The UVs come later, beside the positions (positions_task). */
-    while (!rc && h->map.top < levels) rc = h->scheme->refine(h, err);
+    while (!rc && h->map.top < levels) rc = st_hier_refine_topology(h, err);
     return rc;
 }
 

@@ -18,6 +18,7 @@
  *     levels beyond the model around them only. */
 #include "editor_display.h"
 #include "editor_internal.h"
+#include "core/progressive/progressive.h"
 
 #include <stdlib.h>
 #include <string.h>
