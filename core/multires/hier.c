@@ -158,7 +158,7 @@ int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const
     if (!rc) rc = load_tags(h, mesh, err);
     if (!rc && none) boundary_none_holes(h);
     h->opts.uv_interp = opts ? opts->uv_interp : ST_UV_CORNERS_PLUS1;
-    if (!rc) rc = st_fvar_init(h, mesh, h->opts.uv_interp, err);
+    if (!rc) rc = st_fvar_init(&h->fvar, &h->map, mesh, h->opts.uv_interp, err);
     if (rc) st_hier_free(h);
     return rc;
 }
@@ -193,7 +193,7 @@ void st_hier_free(st_hier *h)
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(h->detail[l]);
     drop_caches(h, 0);
     free(h->stamp.v);
-    st_fvar_free(h);
+    st_hier_uv_free(h);
     memset(h, 0, sizeof *h);
 }
 
@@ -378,7 +378,10 @@ int st_hier_subdivide_to_progress(st_hier *h, unsigned levels, int (*progress)(v
         double w = ldexp(1.0, 2 * (int)(h->map.top + 1 - from));
         if (cancelled(progress, ctx, done / total, err)) return ST_ERR_INVALID;
         int rc = st_hier_refine_topology(h, err);
-        if (!rc) rc = st_fvar_refine(h, err);
+        if (!rc) {
+            st_subdiv_view v = st_hier_view(h);
+            rc = st_fvar_refine(h->fvar, &v, h->scheme, err);
+        }
         if (rc) return rc;
         drop_caches(h, 0); /* stale now: their memory back before the next level */
         if (cancelled(progress, ctx, (done + w / 2) / total, err)) return ST_ERR_INVALID;
@@ -397,7 +400,7 @@ void st_hier_remove_top(st_hier *h)
     free(h->detail[l]);
     h->detail[l] = NULL;
     h->detail_cap[l] = 0;
-    st_fvar_remove_top(h);
+    st_fvar_remove_top(h->fvar, l);
     st_level_remove_top(&h->map);
 }
 
@@ -420,13 +423,13 @@ void st_hier_remove_bottom(st_hier *h)
         for (uint32_t v = st_vertex_first(&h->map, 0, &it); v != ST_NIL; v = st_vertex_next(&h->map, 0, &it))
             st_vertex_delete(&h->map, v);
     }
-    st_fvar_remove_bottom(h);
+    st_fvar_remove_bottom(&h->fvar, h->map.top);
     st_level_remove_bottom(&h->map);
 }
 
 int st_hier_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err)
 {
     int rc = st_map_to_mesh(&h->map, l, out, err);
-    if (!rc) rc = st_fvar_level_mesh(h, l, out, err);
+    if (!rc) rc = st_fvar_level_mesh(h->fvar, &h->map, l, out, err);
     return rc;
 }

@@ -17,6 +17,10 @@
 /* Writable position slot of v at level l (st_map_write_pos, map.h). */
 static inline void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3]) { st_map_write_pos(&h->map, v, l, p); }
 
+/* The UVs of levels up to upto (st_fvar_refine_levels, fvar_internal.h,
+ * for the threads it may run beside) once the topology reaches it. */
+int st_hier_uv_refine_levels(st_hier *h, unsigned upto, st_error *err);
+
 /* Detail of v at level l (zero vector when none stored). */
 const double *st_hier_detail(const st_hier *h, unsigned l, uint32_t v);
 void st_hier_set_detail(st_hier *h, unsigned l, uint32_t v, const double d[3]);

@@ -448,7 +448,7 @@ static void positions_task(st_team *team, unsigned t, void *ctx)
     uint32_t b, e;
     while (st_team_next(team, 0, 2, 1, &b, &e)) {
         if (b == 0) positions_and_analysis(j);
-        else j->rc_uv = st_fvar_refine_levels(j->h, j->u->levels, &j->uv_err);
+        else j->rc_uv = st_hier_uv_refine_levels(j->h, j->u->levels, &j->uv_err);
     }
 }
 
