@@ -231,12 +231,12 @@ const st_scheme st_scheme_progressive = {
     .name = "progressive",
     .id = ST_SCHEME_PROGRESSIVE,
     .interpolating = 0,               /* the neighbours of a split are relaxed */
-    .support_rings = 2,
-    .check = progressive_check,
-    .refine = progressive_refine,
-    .emit = progressive_emit,
-    .predict_level = progressive_synth_level,
-    .predict_around = progressive_predict_around,
-    .fast_paths_apply_details = 1,
-    .synth_estimate = progressive_synth_estimate,
+    .support_rings = 2,               /* a stencil reads two rings (emit_faces) */
+    /* Triangles in; levels come from simplification, never from refine(). */
+    .check = progressive_check, .refine = progressive_refine,
+    .emit = progressive_emit,         /* the analysis, the edits' predictions, maps without tables */
+    /* The hierarchy's own fast paths: ring tables, details applied with
+     * the prediction (progressive_synth.c), and what their tables cost. */
+    .predict_level = progressive_synth_level, .predict_around = progressive_predict_around,
+    .fast_paths_apply_details = 1, .synth_estimate = progressive_synth_estimate,
 };

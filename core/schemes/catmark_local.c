@@ -1,12 +1,14 @@
 /* Catmull-Clark local re-synthesis of one level (scheme.h predict_around,
- * called by st_hier_move) when the level has no details: the points of the
- * faces around the changed vertices, with the arithmetic of the full-level
- * synthesis (catmark_tables.h) and from the same start darts, so that a
- * local edit and a full synthesis give the same bits.
+ * called by st_hier_move through core/multires) when the level has no
+ * details: the points of the faces around the changed vertices, with the
+ * arithmetic of the full-level synthesis (catmark_tables.h) and from the
+ * same start darts, so that a local edit and a full synthesis give the
+ * same bits.
  *
  * It reads the face points of faces outside the region from level L itself:
- * with no details at L, P_L = S(P_{L-1}) (hier.h), and those faces' corners
- * did not change (the region holds every face around a changed vertex).
+ * with no details at L, P_L = S(P_{L-1}) (core/multires/hier.h), and those
+ * faces' corners did not change (the region holds every face around a
+ * changed vertex).
  * Faces are told apart by their points' stamps: no marks to set and clear.
  *
  * It needs the level's tables (built here when stale, once per topology
@@ -32,6 +34,7 @@ typedef struct direct {
     const st_map *m;
     unsigned l, L;
     uint32_t gen;
+    const uint32_t *stamp;              /* sv->stamp->v: it does not move during the pass */
     st_level_view c;
     const uint32_t *b0L, *b1, *b0, *vt; /* β0 column of L; base relations (darts new at L, plain ones) */
     int plain;                          /* β1 and vert have no column at l (primal splits keep them) */
@@ -267,7 +270,7 @@ static unsigned direct_start(const direct *x, const uint32_t *y, unsigned k)
 static void direct_face(direct *x, uint32_t c)
 {
     uint32_t cd = direct_centre_dart(x, c), centre = x->vt[cd];
-    if (x->sv->stamp->v[centre] == x->gen) return;
+    if (x->stamp[centre] == x->gen) return;
     uint32_t z = c;
     x->walk.n = 0;
     do { vec_push(&x->walk, z); z = d_phi1(x, z); } while (z != c);
@@ -290,7 +293,7 @@ static void direct_face(direct *x, uint32_t c)
 static void direct_edge(direct *x, uint32_t d, uint32_t centre)
 {
     uint32_t md = x->b0L[d], mid = x->vt[md];
-    if (x->sv->stamp->v[mid] == x->gen) return;
+    if (x->stamp[mid] == x->gen) return;
     uint32_t e = st_v_beta0(&x->c, d);
     if (direct_hole(x, d) || direct_hole(x, e) || direct_sharp(x, d) || st_catmark_tri_edge(x->sv, d, x->l)) {
         /* from the smaller dart, as the tables: the stencil's order, its bits */
@@ -312,7 +315,7 @@ static void direct_edge(direct *x, uint32_t d, uint32_t centre)
 static void direct_vertex(direct *x, uint32_t d)
 {
     uint32_t v = d_vert(x, d);
-    if (x->sv->stamp->v[v] == x->gen) return;
+    if (x->stamp[v] == x->gen) return;
     int special = x->sv->has_sharpness && st_subdiv_vertex_sharpness(x->sv, v, x->l) > 0;
     uint32_t y = d;
     unsigned n = 0, lo = 0;
@@ -351,7 +354,7 @@ static void direct_vertex(direct *x, uint32_t d)
 static void predict_direct(const st_subdiv_view *sv, unsigned L, const uint32_t *seeds, uint32_t n, st_synth_ctx *out)
 {
     const st_map *m = sv->map;
-    direct x = { .sv = sv, .m = m, .l = L - 1, .L = L, .gen = out->gen, .out = out };
+    direct x = { .sv = sv, .m = m, .l = L - 1, .L = L, .gen = out->gen, .stamp = sv->stamp->v, .out = out };
     /* No plan where the map logs its writes (a replay would not). */
     if (!m->log) x.rec = plan_start(sv, L, seeds, n);
     st_level_view_init(m, x.l, &x.c);

@@ -35,7 +35,7 @@ float st_crease_edge_sharpness(const st_subdiv_view *sv, uint32_t d, unsigned l)
 float st_crease_vertex_sharpness(const st_subdiv_view *sv, uint32_t d, unsigned l);
 float st_crease_decay(float s);
 /* Sharpness of the child at the vertex of d of the edge of d (level l), by
- * the hierarchy's crease method: what refinement stores at level l + 1. */
+ * the view's crease method: what refinement stores at level l + 1. */
 float st_crease_child_edge_sharpness(const st_subdiv_view *sv, uint32_t d, unsigned l);
 
 typedef void (*st_vertex_mask_fn)(const st_subdiv_view *sv, unsigned l, uint32_t d, st_stencil_buf *out);

@@ -157,7 +157,7 @@ static void loop_predict_views(const st_subdiv_view *sv, unsigned L)
     if (!x.pold) abort(); /* out of memory for a level's positions */
     st_level_view_init(m, L - 1, &x.c);
     st_level_view_init(m, L, &x.f);
-    uint32_t gen = st_subdiv_stamp_begin(sv);
+    uint32_t gen = st_subdiv_stamp_begin(sv), *stamp = sv->stamp->v;
     const st_pool *p = &m->darts;
     for (unsigned lv = L; lv-- > 0;)
         for (uint32_t b = 0; b < p->nblocks[lv]; b++) {
@@ -166,7 +166,7 @@ static void loop_predict_views(const st_subdiv_view *sv, unsigned L)
                 if (p->ins[d] == ST_FREE_LEVEL) continue;
                 uint32_t e = st_v_beta0(&x.c, d), v = st_v_vert(&x.c, d);
                 if (d < e) fast_edge(&x, d, e);
-                if (sv->stamp->v[v] != gen) { sv->stamp->v[v] = gen; fast_vertex(&x, d); }
+                if (stamp[v] != gen) { stamp[v] = gen; fast_vertex(&x, d); }
             }
         }
     st_stencil_buf_free(&x.buf);

@@ -1,8 +1,9 @@
 /* Index tables of a scheme's full-level synthesis, cached per coarse level
- * in st_hier.cache (the design: catmark_fast.c).  They depend on the
- * topology (and sharpness) only, and are stale when the map's generation
- * (map.h) or, as a second guard, the pools, the top level or the column of
- * the coarse positions changed since they were built. */
+ * in the view's cache (st_subdiv_view.cache: the hierarchy's; the design:
+ * catmark_fast.c).  They depend on the topology (and sharpness) only, and
+ * are stale when the map's generation (map.h) or, as a second guard, the
+ * pools, the top level or the column of the coarse positions changed since
+ * they were built. */
 #ifndef ST_SYNTH_TABLES_H
 #define ST_SYNTH_TABLES_H
 #ifndef STRATA_CORE_INTERNAL
