@@ -59,8 +59,9 @@ typedef struct st_hier {
      * for the next edit of the same vertices, as in a drag; checked and
      * transient like cache. */
     st_level_cache local;
-    /* Face-varying UVs per level (core/fvar/fvar.h: st_hier_uv); NULL when
-     * the mesh had none.  Edits never change them. */
+    /* Face-varying UVs per level (core/fvar/fvar_internal.h; read through
+     * st_hier_uv below); NULL when the mesh had none.  Edits never change
+     * them. */
     struct st_fvar *fvar;
 } st_hier;
 
@@ -100,7 +101,7 @@ int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err);
 int st_hier_subdivide_to_progress(st_hier *h, unsigned levels, int (*progress)(void *ctx, double fraction),
                                   void *ctx, st_error *err);
 /* Adds level top+1 by the scheme's refine() alone: topology and sharpness,
- * no positions synthesized, no UVs (st_fvar_refine_levels adds them). */
+ * no positions synthesized, no UVs (st_hier_uv_refine_levels adds them). */
 int st_hier_refine_topology(st_hier *h, st_error *err);
 /* Deletes the finest level. */
 void st_hier_remove_top(st_hier *h);

@@ -1,4 +1,5 @@
-/* Internal helpers shared by hier*.c and the schemes. */
+/* Internal helpers shared by hier*.c and the layers above (the schemes below
+ * see the hierarchy only through st_subdiv_view, core/schemes/view.h). */
 #ifndef ST_HIER_INTERNAL_H
 #define ST_HIER_INTERNAL_H
 #ifndef STRATA_CORE_INTERNAL
@@ -12,7 +13,6 @@
 
 #include <math.h>
 #include <string.h>
-
 
 /* Writable position slot of v at level l (st_map_write_pos, map.h). */
 static inline void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3]) { st_map_write_pos(&h->map, v, l, p); }
