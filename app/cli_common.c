@@ -2,6 +2,7 @@
 #include "cli_common.h"
 #include "formats/mesh_any.h"
 #include "core/io/session.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -32,6 +32,7 @@
 #include "core/io/session.h"
 #include "core/bake/bake.h"
 #include "core/fvar/fvar.h"
+#include "core/progressive/scheme_registry.h"
 #include "formats/gltf_io.h"
 #include "render/image.h"
 

@@ -24,6 +24,7 @@
 #include "core/base/hugepage.h"
 #include "core/io/session.h"
 #include "core/rebuild/rebuild.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <stdio.h>
 #include <stdlib.h>

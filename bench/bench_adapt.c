@@ -10,6 +10,7 @@
 #include "core/adapt/adapt.h"
 #include "bench_common.h"
 #include "core/multires/hier.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <math.h>
 #include <stdio.h>

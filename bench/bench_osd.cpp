@@ -33,6 +33,7 @@ extern "C" {
 #include "core/base/parallel.h"
 #include "core/map/pool_internal.h"
 #include "core/io/mesh.h"
+#include "core/progressive/scheme_registry.h"
 }
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
@@ -169,7 +170,7 @@ int strata_build(st_hier *h, const st_mesh &m, const st_scheme *sc, int levels)
     o.uv_interp = ST_UV_CORNERS_PLUS1;
     if (st_hier_init(h, &m, sc, &o, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return -1; }
     for (int l = 0; l < levels; l++)
-        if (sc->refine(h, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return -1; }
+        if (st_hier_refine_topology(h, &err)) { fprintf(stderr, "bench_osd: %s\n", err.msg); return -1; }
     return 0;
 }
 
@@ -496,7 +497,7 @@ void check_sink(void *ctx, const st_stencil *s)
 {
     check_ctx *c = (check_ctx *)ctx;
     double p[3];
-    st_stencil_eval(c->h, c->L, s, p);
+    st_stencil_eval(&c->h->map, c->L, s, p);
     const double *q = st_pos(&c->h->map, s->fine, c->L);
     c->n++;
     c->exact += !memcmp(p, q, sizeof p);
@@ -519,7 +520,7 @@ void check_stencils(st_hier *h)
     printf("  positions of all levels: FNV-1a %016llx\n", (unsigned long long)hash);
     for (unsigned L = 1; L <= h->map.top; L++) {
         check_ctx c = { h, L, 0, 0, 0 };
-        h->scheme->emit(h, L, nullptr, 0, check_sink, &c);
+        st_hier_emit(h, L, nullptr, 0, check_sink, &c);
         printf("  level %u: %llu stencils, %llu exact, worst relative difference %.3g\n", L, (unsigned long long)c.n,
                (unsigned long long)c.exact, c.worst);
     }

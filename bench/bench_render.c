@@ -39,6 +39,7 @@
 #include "bench_common.h"
 #include "render/headless.h"
 #include "core/map/map_mesh.h"
+#include "core/progressive/scheme_registry.h"
 #include "render/renderer.h"
 
 #ifndef STRATA_ASSETS

@@ -18,6 +18,7 @@
 #include "core/io/mesh.h"
 #include "core/io/session.h"
 #include "core/multires/hier.h"
+#include "core/progressive/scheme_registry.h"
 
 #ifndef STRATA_SHARED_DATA
 #define STRATA_SHARED_DATA "../shared/data/meshes"

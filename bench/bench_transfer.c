@@ -28,6 +28,7 @@
 #include "core/multires/hier.h"
 #include "core/progressive/progressive.h"
 #include "core/rebuild/unsubdivide.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <math.h>
 #include <stdio.h>

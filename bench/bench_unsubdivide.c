@@ -19,6 +19,7 @@
 #include "core/base/hugepage.h"
 #include "core/rebuild/rebuild.h"
 #include "core/rebuild/unsubdivide.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <math.h>
 #include <stdio.h>

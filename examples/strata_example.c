@@ -14,6 +14,7 @@
 #include "core/io/mesh.h"
 #include "core/multires/edit.h"
 #include "core/multires/hier.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <stdio.h>
 #include <string.h>

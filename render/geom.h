@@ -25,7 +25,7 @@
  * refreshes, so an incremental update gives bit-identical buffers.
  *
  * Incremental updates (an edit moves some vertices, topology unchanged):
- * core reports which values the edit wrote (core/multires/footprint.h);
+ * core reports which values the edit wrote (core/map/footprint.h);
  * st_rgeom_footprint_vids() takes the vertices of the drawn level among
  * them, st_rgeom_refresh() re-reads those positions and recomputes the
  * normals that depend on them, and reports the dirty vertex and face ranges
@@ -38,7 +38,7 @@
 #include <stdint.h>
 
 #include "core/map/map.h"
-#include "core/multires/footprint.h"
+#include "core/map/footprint.h"
 #include "core/base/st_error.h"
 
 #define ST_RGEOM_VSTRIDE 6            /* floats per vertex: position, normal */

@@ -17,7 +17,7 @@
  * Data path: map -> st_rgeom (CPU) -> buffers.  st_renderer_set_level()
  * builds and uploads everything for a level; after an edit that moved
  * vertices, st_renderer_refresh() with the footprint core reported for it
- * (core/multires/footprint.h) recomputes only those positions and the
+ * (core/map/footprint.h) recomputes only those positions and the
  * normals around them and re-uploads only their ranges with
  * glBufferSubData.  Updates name their targets (enum st_render_target): the
  * surface and the cage may come from different maps (the interest box's
@@ -39,7 +39,7 @@
 #include "render/camera.h"
 #include "render/geom.h"
 #include "render/gl_loader.h"
-#include "core/multires/footprint.h"
+#include "core/map/footprint.h"
 
 /* What an update applies to: the displayed surface, the control-mesh
  * overlay (the cage, with its selection and hover), or both. */

@@ -10,6 +10,7 @@ extern "C" {
 #include "actions.h"
 #include "prefs.h"
 #include "core/multires/hier.h"
+#include "core/progressive/scheme_registry.h"
 }
 
 #include <algorithm>

@@ -108,8 +108,8 @@ typedef struct resynth_ctx { st_hier *h; unsigned L; uint32_t gen; } resynth_ctx
 static void resynth_sink(void *ctx, const st_stencil *s)
 {
     resynth_ctx *c = ctx;
-    if (c->h->stamp[s->fine] == c->gen) return;
-    c->h->stamp[s->fine] = c->gen;
+    if (c->h->stamp.v[s->fine] == c->gen) return;
+    c->h->stamp.v[s->fine] = c->gen;
     double p[3];
     st_stencil_apply(c->h, c->L, s, p);
     st_set_pos(&c->h->map, s->fine, c->L, p);
@@ -137,7 +137,7 @@ void st_adapt_synthesize(st_adapt *a, unsigned from)
             if (st_face_is_subdivided(m, faces.d[k], L - 1)) st_dart_list_push(&sub, faces.d[k]);
         if (!sub.n) continue; /* (emit with no face means every vertex of level L) */
         resynth_ctx c = { h, L, st_hier_stamp_begin(h) };
-        h->scheme->emit(h, L, sub.d, sub.n, resynth_sink, &c);
+        st_hier_emit(h, L, sub.d, sub.n, resynth_sink, &c);
     }
     st_dart_list_free(&faces);
     st_dart_list_free(&sub);

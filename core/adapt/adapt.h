@@ -100,7 +100,7 @@
 
 #include "core/multires/hier.h"
 #include "core/map/dart_list.h"
-#include "core/multires/footprint.h"
+#include "core/map/footprint.h"
 
 int st_edge_is_split(const st_map *m, uint32_t d, unsigned i);
 /* Subdivision level of the face of d in the map of level l. */

@@ -222,7 +222,7 @@ static int ds_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, st_
     }
     for (uint32_t k = 0; k < ng; k++) st_vertex_delete(m, garbage[k]);
     st_adapt_place_ctx c = { a, L, created, n };
-    h->scheme->emit(h, L, &d, 1, st_adapt_place_sink, &c);
+    st_hier_emit(h, L, &d, 1, st_adapt_place_sink, &c);
     a->touched++;
     return ST_OK;
 }

@@ -64,7 +64,7 @@
  * left out, so (d) keeps every coarser collapse of it).  A vertex takes its
  * position of level λ = (the lowest level of an applied collapse whose V
  * holds it) - 1, or M: positions change from level l-1 to l only for the
- * vertices of V(c) of the group of l (scheme_progressive.c), so a vertex far
+ * vertices of V(c) of the group of l (progressive_scheme.c), so a vertex far
  * from the box has exactly its level-B position, one a box face touches
  * exactly its level-M position, and every face of C is a triangle of some
  * level (no triangulation is needed: the renderer draws C as is).

@@ -27,8 +27,8 @@ static void resynth_sink(void *ctx, const st_stencil *s)
 {
     resynth_ctx *c = ctx;
     st_hier *h = c->h;
-    if (h->stamp[s->fine] == c->gen) return;
-    h->stamp[s->fine] = c->gen;
+    if (h->stamp.v[s->fine] == c->gen) return;
+    h->stamp.v[s->fine] = c->gen;
     double p[3];
     st_stencil_apply(h, c->L, s, p);
     st_set_pos(&h->map, s->fine, c->L, p);
@@ -43,7 +43,7 @@ void st_hier_resynth_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32
 {
     if (!n) return;
     resynth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h) };
-    h->scheme->emit(h, L, faces, n, resynth_sink, &c);
+    st_hier_emit(h, L, faces, n, resynth_sink, &c);
 }
 
 typedef struct around_ctx {
@@ -66,7 +66,7 @@ static int around_step(void *ctx, unsigned L, const st_dart_list *seeds, st_dart
         if (st_face_level(m, a->faces.d[i], L - 1) == L - 1 && st_face_is_subdivided(m, a->faces.d[i], L - 1))
             st_dart_list_push(&a->kept, a->faces.d[i]);
     resynth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = next, .fp = a->fp };
-    if (a->kept.n) h->scheme->emit(h, L, a->kept.d, a->kept.n, resynth_sink, &c);
+    if (a->kept.n) st_hier_emit(h, L, a->kept.d, a->kept.n, resynth_sink, &c);
     a->extra = c.lost;
     /* A vertex not found on its frame cell: every dart of the kept faces
      * seeds the next level, with one more ring. */

@@ -44,7 +44,8 @@ static void decay_sharpness(st_hier *h, uint32_t d, unsigned L)
     float s = st_hier_edge_sharpness(h, d, L - 1);
     uint32_t e = st_beta0(&h->map, d, L - 1);
     if (s > 0) {
-        float cd = st_crease_child_edge_sharpness(h, d, L - 1), ce = st_crease_child_edge_sharpness(h, e, L - 1);
+        st_subdiv_view v = st_hier_view(h);
+        float cd = st_crease_child_edge_sharpness(&v, d, L - 1), ce = st_crease_child_edge_sharpness(&v, e, L - 1);
         st_hier_set_edge_sharpness(h, d, L, cd);
         st_hier_set_edge_sharpness(h, e, L, ce);
     }
@@ -121,7 +122,7 @@ static int split_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, 
         created[ncreated++] = st_vert(m, st_phi1(m, st_phi1(m, d, L), L), L);
     }
     st_adapt_place_ctx c = { a, L, created, ncreated };
-    h->scheme->emit(h, L, &d, 1, st_adapt_place_sink, &c);
+    st_hier_emit(h, L, &d, 1, st_adapt_place_sink, &c);
     a->touched++;
     return ST_OK;
 }

@@ -200,7 +200,7 @@ static int sqrt3_subdivide(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     /* Positions: the centre rule and the even rule over the corners'
      * level-i rings (complete by the restriction), as the regular scheme. */
     st_adapt_place_ctx pc = { a, L, &c, 1 };
-    h->scheme->emit(h, L, &d, 1, st_adapt_place_sink, &pc);
+    st_hier_emit(h, L, &d, 1, st_adapt_place_sink, &pc);
     a->touched++;
     return ST_OK;
 }

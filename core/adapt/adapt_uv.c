@@ -52,7 +52,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int rules_of(const st_hier *h) { return st_fvar_rules_of(h); }
+static int rules_of(const st_hier *h) { return st_fvar_rules_of(h->scheme); }
 
 const char *st_adapt_uv_absent(const st_adapt *a)
 {
@@ -197,7 +197,7 @@ static int stencil_step(st_fvar_step *w)
         do { if (dual) w->sub[x] = 1; x = st_phi1(m, x, w->l); } while (x != d);
     }
     st_marker_release(m, fbit, w->l);
-    int rc = st_fvar_stencil_step(w->h, w->l, w->uv, w->val, faces, (uint32_t)n, dual ? w->rank : NULL, w->out_uv,
+    int rc = st_fvar_stencil_step(&w->sv, w->scheme, w->l, w->uv, w->val, faces, (uint32_t)n, dual ? w->rank : NULL, w->out_uv,
                                   w->out_val, w->out_level);
     free(faces);
     if (!rc && dual) rc = order_children(w);
@@ -236,7 +236,7 @@ int st_adapt_uv_build(st_adapt *a, st_adapt_uv *u, st_error *err)
         }
         u->cap = cap;
     }
-    st_fvar_step w = { .h = h, .m = m, .interp = f->interp, .rules = rules_of(h), .out_level = u->level,
+    st_fvar_step w = { .sv = st_hier_view(h), .scheme = h->scheme, .m = m, .interp = f->interp, .rules = rules_of(h), .out_level = u->level,
                        .cent = cent, .sub = sub, .split_toward = split_toward, .rank = rank };
     for (unsigned L = 1; !rc && L <= m->top; L++) {
         /* the values so far go to buf/vbuf, the step writes back into u */

@@ -40,7 +40,6 @@
 #include "core/base/hugepage.h"
 #include "core/fvar/fvar_internal.h"
 #include "core/map/pool_internal.h"
-#include "core/multires/hier.h"
 #include "core/schemes/scheme.h"
 
 #include <stdlib.h>
@@ -62,13 +61,6 @@ const char *st_uv_interp_name(int interp)
     return interp >= 0 && interp < ST_UV_INTERP_COUNT ? interp_names[interp] : "?";
 }
 
-const double *st_hier_uv(const st_hier *h, unsigned l)
-{
-    const st_fvar *f = h->fvar;
-    if (!f || l >= f->levels || l > h->map.top) return NULL;
-    return f->lv[l].uv;
-}
-
 static void level_free(st_fvar_level *lv)
 {
     free(lv->uv);
@@ -88,13 +80,11 @@ static int level_alloc(st_fvar_level *lv, uint32_t cap)
     return -1;
 }
 
-void st_fvar_free(st_hier *h)
+void st_fvar_free(st_fvar *f)
 {
-    st_fvar *f = h->fvar;
     if (!f) return;
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) level_free(&f->lv[l]);
     free(f);
-    h->fvar = NULL;
 }
 
 /* ---- level 0 ---------------------------------------------------------------- */
@@ -112,10 +102,10 @@ static uint32_t corner_dart(const st_map *m, uint32_t start, uint32_t w)
     return ST_NIL;
 }
 
-int st_fvar_init(st_hier *h, const st_mesh *mesh, int interp, st_error *err)
+int st_fvar_init(st_fvar **out, const st_map *m, const st_mesh *mesh, int interp, st_error *err)
 {
+    *out = NULL;
     if (!mesh->face_uv) return ST_OK;
-    st_map *m = &h->map;
     st_fvar *f = calloc(1, sizeof *f);
     uint32_t *vdart = malloc((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vdart);
     if (!f || !vdart || level_alloc(&f->lv[0], m->darts.end)) {
@@ -146,8 +136,8 @@ int st_fvar_init(st_hier *h, const st_mesh *mesh, int interp, st_error *err)
     }
     free(vdart);
     f->levels = 1;
-    h->fvar = f;
-    if (rc) st_fvar_free(h);
+    if (rc) st_fvar_free(f);
+    else *out = f;
     return rc;
 }
 
@@ -155,9 +145,9 @@ int st_fvar_init(st_hier *h, const st_mesh *mesh, int interp, st_error *err)
 
 /* Primal quadrisection schemes take the rules of fvar_rules.c; √3 and
  * Doo-Sabin those of fvar_stencil.c. */
-int st_fvar_rules_of(const st_hier *h)
+int st_fvar_rules_of(const st_scheme *scheme)
 {
-    switch (h->scheme->id) {
+    switch (scheme->id) {
     case ST_SCHEME_CATMARK: return ST_FVAR_CATMARK;
     case ST_SCHEME_LOOP: return ST_FVAR_LOOP;
     case ST_SCHEME_BUTTERFLY:
@@ -168,9 +158,9 @@ int st_fvar_rules_of(const st_hier *h)
     }
 }
 
-int st_fvar_continues(const st_hier *h)
+int st_fvar_continues(const st_fvar *f, unsigned top, const st_scheme *scheme)
 {
-    return h->fvar && h->fvar->levels == h->map.top + 1 && st_fvar_rules_of(h) >= 0;
+    return f && f->levels == top + 1 && st_fvar_rules_of(scheme) >= 0;
 }
 
 /* The dart ids of levels 0..L: a level's arrays need no room for the
@@ -191,21 +181,20 @@ static int refine_failed(st_error *err, unsigned L)
  * or finer).  Every pass reads the relations of levels L-1 and L only
  * (st_fvar_step's views), so it gives the same bits whether the map's top
  * is L or finer. */
-static int refine_level(st_hier *h, unsigned L, st_error *err)
+static int refine_level(st_fvar *f, const st_subdiv_view *sv, const st_scheme *scheme, unsigned L, st_error *err)
 {
-    st_fvar *f = h->fvar;
-    st_map *m = &h->map;
-    int rules = st_fvar_rules_of(h);
+    st_map *m = sv->map;
+    int rules = st_fvar_rules_of(scheme);
     if (level_alloc(&f->lv[L], level_darts(m, L))) return refine_failed(err, L);
     if (rules == ST_FVAR_STENCIL) {
-        if (st_fvar_refine_stencil(h, &f->lv[L - 1], &f->lv[L])) {
+        if (st_fvar_refine_stencil(sv, scheme, &f->lv[L - 1], &f->lv[L])) {
             level_free(&f->lv[L]);
             return refine_failed(err, L);
         }
         f->levels = L + 1;
         return ST_OK;
     }
-    st_fvar_step w = { .h = h, .m = m, .l = L - 1, .L = L, .interp = f->interp, .rules = rules };
+    st_fvar_step w = { .sv = *sv, .m = m, .l = L - 1, .L = L, .interp = f->interp, .rules = rules };
     w.uv = f->lv[L - 1].uv;
     w.val = f->lv[L - 1].val;
     w.out_uv = f->lv[L].uv;
@@ -223,81 +212,68 @@ static int refine_level(st_hier *h, unsigned L, st_error *err)
     return ST_OK;
 }
 
-int st_fvar_refine(st_hier *h, st_error *err)
+int st_fvar_refine(st_fvar *f, const st_subdiv_view *sv, const st_scheme *scheme, st_error *err)
 {
-    st_fvar *f = h->fvar;
-    unsigned L = h->map.top;
-    if (L == 0 || !f || f->levels != L || st_fvar_rules_of(h) < 0) return ST_OK;
-    return refine_level(h, L, err);
+    unsigned L = sv->map->top;
+    if (L == 0 || !f || f->levels != L || st_fvar_rules_of(scheme) < 0) return ST_OK;
+    return refine_level(f, sv, scheme, L, err);
 }
 
-int st_fvar_refine_levels(st_hier *h, unsigned upto, st_error *err)
+int st_fvar_refine_levels(st_fvar *f, const st_subdiv_view *sv, const st_scheme *scheme, unsigned upto, st_error *err)
 {
-    st_fvar *f = h->fvar;
-    int rules = st_fvar_rules_of(h);
+    int rules = st_fvar_rules_of(scheme);
+    unsigned top = sv->map->top;
     if (!f || rules < 0 || f->levels > upto) return ST_OK;
-    if (upto > h->map.top)
-        return st_fail(err, ST_ERR_INVALID, "texture coordinates to level %u of a hierarchy of %u levels", upto, h->map.top + 1);
+    if (upto > top)
+        return st_fail(err, ST_ERR_INVALID, "texture coordinates to level %u of a hierarchy of %u levels", upto, top + 1);
     /* √3's and Doo-Sabin's stencils come from the scheme's emit(), which
      * reads the top level, and mark the map's darts: level by level with
      * the topology only (st_fvar_refine). */
-    if (rules == ST_FVAR_STENCIL && (f->levels != upto || upto != h->map.top))
-        return st_fail(err, ST_ERR_INVALID, "texture coordinates of %s refine with each level, not after", h->scheme->name);
+    if (rules == ST_FVAR_STENCIL && (f->levels != upto || upto != top))
+        return st_fail(err, ST_ERR_INVALID, "texture coordinates of %s refine with each level, not after", scheme->name);
     int rc = ST_OK;
-    for (unsigned L = f->levels; L <= upto && !rc; L++) rc = refine_level(h, L, err);
+    for (unsigned L = f->levels; L <= upto && !rc; L++) rc = refine_level(f, sv, scheme, L, err);
     return rc;
 }
 
 /* ---- levels removed, copies, soups ---------------------------------------------- */
 
-void st_fvar_remove_top(st_hier *h)
+void st_fvar_remove_top(st_fvar *f, unsigned top)
 {
-    st_fvar *f = h->fvar;
-    unsigned top = h->map.top;
     if (!f || top == 0 || f->levels <= top) return;
     level_free(&f->lv[top]);
     f->levels = top;
 }
 
-void st_fvar_remove_bottom(st_hier *h)
+void st_fvar_remove_bottom(st_fvar **fp, unsigned top)
 {
-    st_fvar *f = h->fvar;
-    if (!f || h->map.top == 0) return;
+    st_fvar *f = *fp;
+    if (!f || top == 0) return;
     level_free(&f->lv[0]);
     memmove(&f->lv[0], &f->lv[1], (ST_MAX_LEVELS - 1) * sizeof f->lv[0]);
     memset(&f->lv[ST_MAX_LEVELS - 1], 0, sizeof f->lv[0]);
     if (f->levels) f->levels--;
-    if (!f->levels) st_fvar_free(h);
+    if (!f->levels) {
+        st_fvar_free(f);
+        *fp = NULL;
+    }
 }
 
-int st_fvar_copy(st_hier *dst, const st_hier *src)
+int st_fvar_copy(st_fvar **dst, const st_fvar *f)
 {
-    dst->fvar = NULL;
-    const st_fvar *f = src->fvar;
+    *dst = NULL;
     if (!f) return 0;
     st_fvar *g = calloc(1, sizeof *g);
     if (!g) return -1;
     g->interp = f->interp;
     g->levels = f->levels;
-    dst->fvar = g;
     for (unsigned l = 0; l < f->levels; l++) {
-        if (level_alloc(&g->lv[l], f->lv[l].cap)) { st_fvar_free(dst); return -1; }
+        if (level_alloc(&g->lv[l], f->lv[l].cap)) { st_fvar_free(g); return -1; }
         memcpy(g->lv[l].uv, f->lv[l].uv, 2 * (size_t)f->lv[l].cap * sizeof *g->lv[l].uv);
         memcpy(g->lv[l].val, f->lv[l].val, (size_t)f->lv[l].cap * sizeof *g->lv[l].val);
     }
+    *dst = g;
     return 0;
-}
-
-int st_hier_uv_copy(st_hier *dst, const st_hier *src, size_t *bytes)
-{
-    if (st_fvar_copy(dst, src)) return -1;
-    for (unsigned l = 0; bytes && dst->fvar && l < dst->fvar->levels; l++) *bytes += 20 * (size_t)dst->fvar->lv[l].cap;
-    return 0;
-}
-
-void st_hier_uv_free(st_hier *h)
-{
-    st_fvar_free(h);
 }
 
 static int cmp_corner_key(const void *pa, const void *pb)
@@ -352,12 +328,11 @@ static uint32_t level_corners(st_map *m, unsigned l, uint32_t *darts, uint32_t n
     return c;
 }
 
-int st_fvar_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err)
+int st_fvar_level_mesh(const st_fvar *f, st_map *m, unsigned l, st_mesh *out, st_error *err)
 {
-    const double *uv = st_hier_uv(h, l);
-    if (!uv) return ST_OK;
-    st_map *m = &h->map;
-    const uint32_t *val = h->fvar->lv[l].val;
+    if (!f || l >= f->levels) return ST_OK;
+    const double *uv = f->lv[l].uv;
+    const uint32_t *val = f->lv[l].val;
     uint32_t nc = out->nfaces ? out->face_off[out->nfaces] : 0;
     st_fvar_corner_key *k = malloc(((size_t)nc + 1) * sizeof *k);
     uint32_t *darts = malloc(((size_t)nc + 1) * sizeof *darts);
@@ -374,7 +349,7 @@ int st_fvar_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err)
     }
     uint32_t c = level_corners(m, l, darts, nc);
     for (uint32_t i = 0; i < c; i++) k[i] = (st_fvar_corner_key){ out->face_idx[i], 0, val[darts[i]], i, 0 };
-    out->nuvs = st_fvar_soup_uvs(k, c, darts, uv, h->fvar->lv[l].cap, out->face_uv, out->uv);
+    out->nuvs = st_fvar_soup_uvs(k, c, darts, uv, f->lv[l].cap, out->face_uv, out->uv);
     free(k);
     free(darts);
     return ST_OK;

@@ -10,7 +10,8 @@
  * face-varying boundaries.  √3 and Doo-Sabin apply their own stencils to
  * the UVs, with seams as boundaries (core/fvar/fvar_stencil.c);
  * progressive hierarchies keep the UVs of level 0 only.  Sculpting never
- * changes UVs.
+ * changes UVs.  A hierarchy's UVs are read through core/multires/hier.h
+ * (st_hier_uv).
  */
 #ifndef ST_FVAR_H
 #define ST_FVAR_H
@@ -34,23 +35,5 @@ enum st_uv_interp {
  * "boundaries", "all"; -1 when unknown. */
 int st_uv_interp_find(const char *name);
 const char *st_uv_interp_name(int interp);
-
-struct st_hier;
-
-/* The UVs of level l: 2 doubles per dart id, uv[2 d], uv[2 d + 1] being the
- * texture coordinate of the face corner of dart d (the real face on d's
- * left, at d's vertex), for every dart of a real face of level l.  Walking
- * a level's faces as st_hier_level_mesh does (darts in st_dart_first/next
- * order, each unvisited real face along φ1) and reading uv at each dart
- * gives the corners in the order of that mesh's face_idx.  NULL when the
- * hierarchy has no UVs at level l. */
-const double *st_hier_uv(const struct st_hier *h, unsigned l);
-
-/* For code that copies an st_hier field by field (the editor's undo
- * snapshots): dst->fvar becomes a deep copy of src's UVs (NULL when none),
- * *bytes (may be NULL) grows by what it allocated; -1 when out of memory
- * (dst->fvar NULL then).  st_hier_uv_free releases dst's. */
-int st_hier_uv_copy(struct st_hier *dst, const struct st_hier *src, size_t *bytes);
-void st_hier_uv_free(struct st_hier *h);
 
 #endif

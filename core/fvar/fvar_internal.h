@@ -1,5 +1,8 @@
 /* The face-varying UV channel of a hierarchy, for core/multires/hier*.c,
- * sessions and tests (core/fvar/fvar.h is the public side). */
+ * sessions and tests (core/fvar/fvar.h is the public side).  It sits below
+ * the hierarchy, as the scheme rules do: it reads the map and the view its
+ * scheme's rules read (core/schemes/view.h), and core/multires/hier_fvar.c
+ * keeps the channel of an st_hier (st_hier.fvar) through it. */
 #ifndef ST_FVAR_INTERNAL_H
 #define ST_FVAR_INTERNAL_H
 #ifndef STRATA_CORE_INTERNAL
@@ -10,6 +13,7 @@
 #include "core/base/st_error.h"
 #include "core/base/mesh.h"
 #include "core/map/map.h"
+#include "core/schemes/scheme.h"
 
 /* One level: per dart id below cap, the corner's UV and a value label.
  * Labels say which corners of one vertex share a face-varying value
@@ -27,37 +31,38 @@ typedef struct st_fvar {
     st_fvar_level lv[ST_MAX_LEVELS];
 } st_fvar;
 
-struct st_hier;
-
-/* Level 0's UVs from the soup the hierarchy was built from (h->map level 0
- * made by st_map_from_mesh from mesh); nothing when mesh has none. */
-int st_fvar_init(struct st_hier *h, const st_mesh *mesh, int interp, st_error *err);
-void st_fvar_free(struct st_hier *h);
-/* After level L = top was added by the scheme's refine(): its UVs from
- * level L-1 (primal quadrisection schemes; others leave level L without). */
-int st_fvar_refine(struct st_hier *h, st_error *err);
+/* Level 0's UVs from the soup the hierarchy was built from (level 0 of m
+ * made by st_map_from_mesh from mesh) into *out; *out NULL when mesh has
+ * none, or on failure. */
+int st_fvar_init(st_fvar **out, const st_map *m, const st_mesh *mesh, int interp, st_error *err);
+void st_fvar_free(st_fvar *f);
+/* After level L = top of sv's map was added by the scheme's refine(): its
+ * UVs from level L-1 (primal quadrisection schemes; others leave level L
+ * without).  Nothing when f is NULL. */
+int st_fvar_refine(st_fvar *f, const st_subdiv_view *sv, const st_scheme *scheme, st_error *err);
 /* The UVs of levels f->levels..upto, each level from the one below, once
  * the map's topology reaches upto or beyond (the scheme's refine() run
  * first for every level): the same bits as st_fvar_refine after each
  * refine(), and each level's arrays sized by the dart ids of levels
- * 0..L (st_pool_cover), not by the finer map's.  Nothing when h has no
- * UVs, its scheme carries none above level 0, or they reach upto already;
+ * 0..L (st_pool_cover), not by the finer map's.  Nothing when f is NULL,
+ * the scheme carries none above level 0, or they reach upto already;
  * ST_ERR_INVALID when upto is above the map's top, or for √3 and
  * Doo-Sabin unless upto is the top and the only level missing (their
  * stencils read the top level: st_fvar_refine after each refine()).
  *
  * Threads: for the primal quadrisection schemes it reads the map's
- * relations, flags and id pools, the hierarchy's sharpness and options,
- * and writes h->fvar only (and memory it allocates): it may run beside
+ * relations, flags and id pools, the view's sharpness and options, and
+ * writes f only (and memory it allocates): it may run beside
  * readers of the connectivity and a writer of positions and details
  * (st_hier_write_pos, st_hier_set_detail), never beside anything that
  * changes the map's topology or sharpness (refine(), level removal), nor
  * anything that reads h->fvar (st_hier_uv, sessions, level meshes).
  * Returns ST_OK or the error; out of memory leaves the levels done. */
-int st_fvar_refine_levels(struct st_hier *h, unsigned upto, st_error *err);
+int st_fvar_refine_levels(st_fvar *f, const st_subdiv_view *sv, const st_scheme *scheme, unsigned upto, st_error *err);
 /* Level top's UVs and labels for √3 and Doo-Sabin (fvar_stencil.c), from
- * level top-1's; -1 when out of memory. */
-int st_fvar_refine_stencil(struct st_hier *h, const st_fvar_level *coarse, st_fvar_level *fine);
+ * level top-1's, by the scheme's stencils; -1 when out of memory. */
+int st_fvar_refine_stencil(const st_subdiv_view *sv, const st_scheme *scheme, const st_fvar_level *coarse,
+                           st_fvar_level *fine);
 /* The same rules for one step l -> l+1 of an adaptive map (core/adapt/
  * adapt_uv.c), applied to faces[0..n), the faces of level l subdivided
  * toward l+1: uv/val hold level l's values per dart, out_uv/out_val (a copy
@@ -67,18 +72,22 @@ int st_fvar_refine_stencil(struct st_hier *h, const st_fvar_level *coarse, st_fv
  * of memory.  rank (Doo-Sabin; NULL for √3, whose homes need no order)
  * gives the darts of levels 1..l their places in a regular level's
  * numbering, so that homes are chosen as on a regular level. */
-int st_fvar_stencil_step(struct st_hier *h, unsigned l, const double *uv, const uint32_t *val, const uint32_t *faces,
-                         uint32_t n, const uint32_t *rank, double *out_uv, uint32_t *out_val, uint8_t *out_level);
-/* Whether the next level will get UVs (the estimate of its memory counts
- * ST_FVAR_BYTES_PER_DART per dart of that level then). */
-int st_fvar_continues(const struct st_hier *h);
+int st_fvar_stencil_step(const st_subdiv_view *sv, const st_scheme *scheme, unsigned l, const double *uv,
+                         const uint32_t *val, const uint32_t *faces, uint32_t n, const uint32_t *rank, double *out_uv,
+                         uint32_t *out_val, uint8_t *out_level);
+/* Whether the next level of a map at top will get UVs (the estimate of its
+ * memory counts ST_FVAR_BYTES_PER_DART per dart of that level then). */
+int st_fvar_continues(const st_fvar *f, unsigned top, const st_scheme *scheme);
 #define ST_FVAR_BYTES_PER_DART 20.0
-/* Level bookkeeping mirroring st_hier_remove_top / st_hier_remove_bottom. */
-void st_fvar_remove_top(struct st_hier *h);
-void st_fvar_remove_bottom(struct st_hier *h);
+/* Level bookkeeping mirroring st_hier_remove_top / st_hier_remove_bottom
+ * of a map at top (before the removal); the last level gone, *f is freed
+ * and NULL. */
+void st_fvar_remove_top(st_fvar *f, unsigned top);
+void st_fvar_remove_bottom(st_fvar **f, unsigned top);
 /* Fills out->nuvs, uv, face_uv for the soup st_map_to_mesh made of level
- * l (same face walk): one texture coordinate per (vertex, value label). */
-int st_fvar_level_mesh(struct st_hier *h, unsigned l, st_mesh *out, st_error *err);
+ * l of m (same face walk): one texture coordinate per (vertex, value
+ * label); nothing when f has no UVs at l. */
+int st_fvar_level_mesh(const st_fvar *f, st_map *m, unsigned l, st_mesh *out, st_error *err);
 /* One corner of a soup: its vertex, the level and label of its value, its
  * face's place in a regular level's scan, and its place in the soup. */
 typedef struct st_fvar_corner_key { uint32_t vert, level, label, corner; uint64_t face; } st_fvar_corner_key;
@@ -88,8 +97,9 @@ typedef struct st_fvar_corner_key { uint32_t vert, level, label, corner; uint64_
  * out_uv, and returns their count. */
 uint32_t st_fvar_soup_uvs(st_fvar_corner_key *k, uint32_t c, const uint32_t *darts, const double *uv, uint32_t cap,
                           uint32_t *face_uv, double *out_uv);
-/* A deep copy of src's channel into dst (dst's map has the same dart ids). */
-int st_fvar_copy(struct st_hier *dst, const struct st_hier *src);
+/* A deep copy of src (NULL: none) into *dst, for a map with the same dart
+ * ids; -1 when out of memory (*dst NULL then). */
+int st_fvar_copy(st_fvar **dst, const st_fvar *src);
 
 /* ---- one refinement step of the face-varying rules (fvar_rules.c) ----------- */
 
@@ -106,11 +116,12 @@ enum st_fvar_rules {
     ST_FVAR_CATMARK, ST_FVAR_LOOP, ST_FVAR_LINEAR,
     ST_FVAR_STENCIL     /* √3 and Doo-Sabin: fvar_stencil.c, not st_fvar_step */
 };
-/* The rules of h's scheme, -1 when its levels above 0 carry no UVs. */
-int st_fvar_rules_of(const struct st_hier *h);
+/* The rules of a scheme, -1 when its levels above 0 carry no UVs. */
+int st_fvar_rules_of(const st_scheme *scheme);
 
 typedef struct st_fvar_step {
-    struct st_hier *h;
+    st_subdiv_view sv;           /* the hierarchy's, as its scheme's rules read it */
+    const st_scheme *scheme;     /* adaptive maps: the scheme whose stencils st_fvar_stencil_step applies */
     st_map *m;
     unsigned l, L;
     int interp;                  /* enum st_uv_interp */

@@ -10,7 +10,6 @@
 #define ST_MAP_DENSE_ONLY
 #include "core/fvar/fvar_internal.h"
 #include "core/map/pool_internal.h"
-#include "core/multires/hier.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -52,10 +51,10 @@ static void take_views(st_fvar_step *w)
 {
     connectivity_view(w->m, w->l, &w->vl);
     connectivity_view(w->m, w->L, &w->vL);
-    w->has_sharpness = w->h->has_sharpness;
+    w->has_sharpness = w->sv.has_sharpness;
     if (w->has_sharpness) {
-        w->esharp = st_u32_view_of(&w->h->edge_sharp, w->l);
-        w->vsharp = st_u32_view_of(&w->h->vertex_sharp, w->l);
+        w->esharp = st_u32_view_of(w->sv.edge_sharp, w->l);
+        w->vsharp = st_u32_view_of(w->sv.vertex_sharp, w->l);
     }
     w->viewed = w->l + 1;
 }
@@ -65,7 +64,7 @@ static uint32_t b1l(const st_fvar_step *w, uint32_t d) { return st_v_beta1(&w->v
 static uint32_t phi1l(const st_fvar_step *w, uint32_t d) { return st_v_phi1(&w->vl, d); }
 static uint32_t phi1L(const st_fvar_step *w, uint32_t d) { return st_v_phi1(&w->vL, d); }
 
-/* st_hier_edge_sharpness and st_hier_vertex_sharpness at level l. */
+/* st_subdiv_edge_sharpness and st_subdiv_vertex_sharpness at level l. */
 static float sharp_of_edge(const st_fvar_step *w, uint32_t d)
 {
     return w->has_sharpness ? view_float(&w->esharp, w->vl.ins, d) : 0;
@@ -422,7 +421,7 @@ static double fractional_weight(const st_fvar_step *w, const vert *v, float vs)
 
 static float vertex_sharp(const st_fvar_step *w, const vert *v)
 {
-    if (v->hole != ST_NIL && v->n == 1 && w->h->opts.boundary == ST_BOUNDARY_EDGE_AND_CORNER) return SHARP_INF;
+    if (v->hole != ST_NIL && v->n == 1 && w->sv.opts.boundary == ST_BOUNDARY_EDGE_AND_CORNER) return SHARP_INF;
     return sharp_of_vertex(w, st_v_vert(&w->vl, v->c[0]));
 }
 
@@ -431,7 +430,7 @@ static float vertex_sharp(const st_fvar_step *w, const vert *v)
 static void matched_vertex(st_fvar_step *w, const vert *v)
 {
     double out[2];
-    if (!w->h->has_sharpness && v->hole == ST_NIL) {
+    if (!w->sv.has_sharpness && v->hole == ST_NIL) {
         /* No sharpness and no boundary edge (it would bring a hole's
          * corner): the smooth rule at parent and child alike. */
         smooth_mask(w, v, out);
@@ -556,7 +555,7 @@ static void vertex_child(st_fvar_step *w, const vert *v)
             if (!st_is_boundary(w->m, b0l(w, v->c[j]))) mismatch = discontinuous(w, v->c[j]);
     }
     if (boundary && !mismatch) {
-        int smooth_corners = w->h->opts.boundary != ST_BOUNDARY_EDGE_AND_CORNER && w->interp != ST_UV_NONE;
+        int smooth_corners = w->sv.opts.boundary != ST_BOUNDARY_EDGE_AND_CORNER && w->interp != ST_UV_NONE;
         if (linear_boundaries(w->interp) || (v->n == 1 && smooth_corners)) mismatch = 1;
     }
     if (!mismatch) { matched_vertex(w, v); return; }

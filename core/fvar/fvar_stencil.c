@@ -25,7 +25,6 @@
  * lookup path, without the sparse test (map.h, "Two lookup paths"). */
 #define ST_MAP_DENSE_ONLY
 #include "core/fvar/fvar_internal.h"
-#include "core/multires/hier.h"
 #include "core/schemes/scheme.h"
 
 #include <stdlib.h>
@@ -362,10 +361,11 @@ static void stencil_free(stencil_uv *s)
 /* Level L = l+1's values from level l's: every face of level l when faces
  * is NULL (a regular level), else the n faces of level l that an adaptive
  * map subdivides toward L. */
-static int run(st_hier *h, unsigned l, const double *uv, const uint32_t *val, const uint32_t *faces, uint32_t n,
-               const uint32_t *rank, double *out_uv, uint32_t *out_val, uint8_t *out_level)
+static int run(const st_subdiv_view *sv, const st_scheme *scheme, unsigned l, const double *uv, const uint32_t *val,
+               const uint32_t *faces, uint32_t n, const uint32_t *rank, double *out_uv, uint32_t *out_val,
+               uint8_t *out_level)
 {
-    st_map *m = &h->map;
+    st_map *m = sv->map;
     size_t nv = (size_t)m->verts.end + 1, nd = (size_t)m->darts.end + 1;
     stencil_uv s = { .m = m, .L = l + 1, .l = l, .uv = uv, .val = val, .out = out_uv, .adaptive = faces != NULL,
                      .out_level = out_level, .out_val = out_val, .rank = rank };
@@ -383,9 +383,9 @@ static int run(st_hier *h, unsigned l, const double *uv, const uint32_t *val, co
     if (s.values && s.vuv && s.vdart && s.face && s.kind && s.smooth && s.suv && s.src_face && s.off && s.cnt) {
         classify_level(&s);
         if (faces) {
-            if (n) h->scheme->emit(h, s.L, faces, n, sink, &s);
+            if (n) scheme->emit(sv, s.L, faces, n, sink, &s);
         } else {
-            h->scheme->emit(h, s.L, NULL, 0, sink, &s);
+            scheme->emit(sv, s.L, NULL, 0, sink, &s);
         }
         if (!s.failed) faces_of_level(&s);
         if (!s.failed) {
@@ -397,13 +397,15 @@ static int run(st_hier *h, unsigned l, const double *uv, const uint32_t *val, co
     return rc;
 }
 
-int st_fvar_refine_stencil(st_hier *h, const st_fvar_level *coarse, st_fvar_level *fine)
+int st_fvar_refine_stencil(const st_subdiv_view *sv, const st_scheme *scheme, const st_fvar_level *coarse,
+                           st_fvar_level *fine)
 {
-    return run(h, h->map.top - 1, coarse->uv, coarse->val, NULL, 0, NULL, fine->uv, fine->val, NULL);
+    return run(sv, scheme, sv->map->top - 1, coarse->uv, coarse->val, NULL, 0, NULL, fine->uv, fine->val, NULL);
 }
 
-int st_fvar_stencil_step(st_hier *h, unsigned l, const double *uv, const uint32_t *val, const uint32_t *faces,
-                         uint32_t n, const uint32_t *rank, double *out_uv, uint32_t *out_val, uint8_t *out_level)
+int st_fvar_stencil_step(const st_subdiv_view *sv, const st_scheme *scheme, unsigned l, const double *uv,
+                         const uint32_t *val, const uint32_t *faces, uint32_t n, const uint32_t *rank, double *out_uv,
+                         uint32_t *out_val, uint8_t *out_level)
 {
-    return run(h, l, uv, val, faces, n, rank, out_uv, out_val, out_level);
+    return run(sv, scheme, l, uv, val, faces, n, rank, out_uv, out_val, out_level);
 }

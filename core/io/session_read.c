@@ -8,7 +8,9 @@
 #include "core/map/pool_internal.h"
 #include "core/progressive/progressive.h"
 #include "core/multires/estimate.h"
+#include "core/multires/hier_internal.h"
 #include "core/fvar/fvar_internal.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <errno.h>
 #include <sys/stat.h>
@@ -144,7 +146,8 @@ static int regenerate(load_ctx *c, st_br *r)
     st_scheme_id id = h->scheme->id;
     if ((id == ST_SCHEME_LOOP || id == ST_SCHEME_BUTTERFLY || id == ST_SCHEME_SQRT3) && !faces_are_triangles(m, 0))
         return st_br_fail(r, "the %s scheme needs a triangle control mesh", h->scheme->name);
-    if (h->scheme->check && h->scheme->check(h, &e2)) return st_br_fail(r, "level 0: %s", e2.msg);
+    st_subdiv_view sv = st_hier_view(h);
+    if (h->scheme->check && h->scheme->check(&sv, &e2)) return st_br_fail(r, "level 0: %s", e2.msg);
     if (c->regen_top) {
         char what[64];
         snprintf(what, sizeof what, "regenerating %u levels", c->regen_top);
@@ -157,7 +160,7 @@ static int regenerate(load_ctx *c, st_br *r)
     while (m->top < c->regen_top) {
         if (live_ids_of(&m->verts) * 24 > r->size - r->off)
             return st_br_fail(r, "positions: %u vertices at level %u, more than the chunk holds", (unsigned)live_ids_of(&m->verts), m->top);
-        if (h->scheme->refine(h, &e2)) {
+        if (st_hier_refine_topology(h, &e2)) {
             st_fail(c->err, e2.code, "%s: regenerating level %u: %s", c->name, m->top + 1, e2.msg);
             r->failed = 1;
             return -1;
@@ -589,10 +592,10 @@ static int r_fvar(load_ctx *c, st_br *r)
     /* A session with regenerated levels stores level 0's UVs alone when
      * the rest refine after the topology (session_write.c, w_fvar). */
     if ((c->seen & SEEN_LVL0) && levels == 1 && h->map.top > 0) {
-        int rules = st_fvar_rules_of(h);
+        int rules = st_fvar_rules_of(h->scheme);
         if (rules < 0 || rules == ST_FVAR_STENCIL) return st_br_fail(r, "UVs: level 0 alone for the %s scheme", h->scheme->name);
         st_error e2;
-        if (st_fvar_refine_levels(h, h->map.top, &e2)) {
+        if (st_hier_uv_refine_levels(h, h->map.top, &e2)) {
             st_fail(c->err, e2.code, "%s: regenerating the UVs: %s", c->name, e2.msg);
             r->failed = 1;
             return -1;

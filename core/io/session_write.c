@@ -291,7 +291,7 @@ static int fvar_regenerable(const st_session_ref *r)
 {
     st_map v;
     const st_fvar *f = r->h->fvar;
-    int rules = st_fvar_rules_of(r->h);
+    int rules = st_fvar_rules_of(r->h->scheme);
     return !level0_of(r, &v) && f->levels == r->h->map.top + 1 && rules >= 0 && rules != ST_FVAR_STENCIL;
 }
 

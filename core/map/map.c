@@ -295,6 +295,24 @@ void st_set_beta1(st_map *m, uint32_t d, unsigned l, uint32_t e) { log_dart(m, d
 void st_set_vert(st_map *m, uint32_t d, unsigned l, uint32_t v) { log_dart(m, d); st_mla_set(&m->vert, &m->darts, d, l, &v); }
 void st_set_pos(st_map *m, uint32_t v, unsigned l, const double p[3]) { st_map_log_vertex(m, v); st_mla_set(&m->pos, &m->verts, v, l, p); }
 
+void st_map_write_pos(st_map *m, uint32_t v, unsigned l, const double p[3])
+{
+    st_mla *a = &m->pos;
+    if (m->log) st_map_log_vertex(m, v); /* a call per vertex written otherwise */
+    if (m->verts.ins[v] == l) {
+        memcpy(a->base + (size_t)v * a->elem, p, 3 * sizeof(double)); /* elem: 3 doubles */
+        return;
+    }
+    if (a->col[l] && v < a->colcap[l]) {
+        memcpy(a->col[l] + (size_t)v * a->elem, p, 3 * sizeof(double));
+        return;
+    }
+    if (!a->col[l] && memcmp(st_pos(m, v, l), p, a->elem) == 0) return;
+    double *col = st_mla_column(a, &m->verts, l);
+    if (!col) abort(); /* out of memory for a level's positions */
+    memcpy(col + 3 * (size_t)v, p, a->elem);
+}
+
 void st_sew0(st_map *m, uint32_t d, uint32_t e, unsigned l)
 {
     st_set_beta0(m, d, l, e);

@@ -511,6 +511,12 @@ void st_vertex_delete(st_map *m, uint32_t v);
  * old level-l position).  Positions are stored per level only from the first
  * level at which some vertex differs from the level below. */
 void st_set_pos(st_map *m, uint32_t v, unsigned l, const double p[3]);
+/* Writable position slot of v at level l, for the synthesis passes: base
+ * when v was inserted at l, else the level-l column; the column is created
+ * only when p differs from the inherited value ("stored only where it
+ * differs"), so that a synthesis writing every vertex of a level leaves
+ * no column where the level adds nothing. */
+void st_map_write_pos(st_map *m, uint32_t v, unsigned l, const double p[3]);
 /* Records v in m->log when one is set (the setters above do it themselves). */
 void st_map_log_vertex(st_map *m, uint32_t v);
 

@@ -9,7 +9,7 @@
 #ifndef ST_EDIT_H
 #define ST_EDIT_H
 
-#include "core/multires/footprint.h"
+#include "core/map/footprint.h"
 #include "core/multires/hier.h"
 
 /* st_hier_move, appending to fp (NULL: nothing) every value it wrote:

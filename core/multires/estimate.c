@@ -92,7 +92,7 @@ size_t st_hier_estimate_subdivide(st_hier *h, unsigned levels, st_level_stats *f
     uint64_t triangles = h->scheme->id == ST_SCHEME_QUADTRI && levels > m->top ? st_level_triangles(m, m->top) : 0;
     double bytes = 0;
     /* Face-varying UVs: a UV and a label per dart id of each new level. */
-    double uv_per_dart = st_fvar_continues(h) ? ST_FVAR_BYTES_PER_DART : 0;
+    double uv_per_dart = st_fvar_continues(h->fvar, h->map.top, h->scheme) ? ST_FVAR_BYTES_PER_DART : 0;
     for (unsigned l = m->top; l < levels; l++) {
         st_level_stats next;
         st_estimate_next_level(h->scheme->id, l + 1, &s, &triangles, &next);
@@ -114,7 +114,10 @@ size_t st_estimate_position_columns(const st_map *m, unsigned from)
 
 size_t st_hier_synth_estimate(const st_hier *h, unsigned from)
 {
-    if (h->scheme && h->scheme->synth_estimate) return h->scheme->synth_estimate(h, from);
+    if (h->scheme && h->scheme->synth_estimate) {
+        st_subdiv_view v = st_hier_view((st_hier *)h); /* an estimate reads only */
+        return h->scheme->synth_estimate(&v, from);
+    }
     return st_estimate_position_columns(&h->map, from);
 }
 

@@ -151,11 +151,14 @@ int st_hier_init(st_hier *h, const st_mesh *mesh, const st_scheme *scheme, const
                      "holes need a face-splitting scheme (catmull-clark, loop, butterfly, quad-triangle)",
                      scheme->name);
     if (!rc) rc = st_map_from_mesh(&h->map, mesh, err);
-    if (!rc && scheme->check) rc = scheme->check(h, err);
+    if (!rc && scheme->check) {
+        st_subdiv_view v = st_hier_view(h);
+        rc = scheme->check(&v, err);
+    }
     if (!rc) rc = load_tags(h, mesh, err);
     if (!rc && none) boundary_none_holes(h);
     h->opts.uv_interp = opts ? opts->uv_interp : ST_UV_CORNERS_PLUS1;
-    if (!rc) rc = st_fvar_init(h, mesh, h->opts.uv_interp, err);
+    if (!rc) rc = st_fvar_init(&h->fvar, &h->map, mesh, h->opts.uv_interp, err);
     if (rc) st_hier_free(h);
     else if (scheme->id != ST_SCHEME_PROGRESSIVE) {
         uint32_t end[2] = { h->map.darts.end, h->map.verts.end };
@@ -207,9 +210,19 @@ void st_hier_free(st_hier *h)
     st_mla_free(&h->vertex_sharp);
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(h->detail[l]);
     drop_caches(h, 0);
-    free(h->stamp);
-    st_fvar_free(h);
+    free(h->stamp.v);
+    st_hier_uv_free(h);
     memset(h, 0, sizeof *h);
+}
+
+st_subdiv_view st_hier_view(st_hier *h)
+{
+    return (st_subdiv_view){
+        .map = &h->map, .edge_sharp = &h->edge_sharp, .vertex_sharp = &h->vertex_sharp,
+        .has_sharpness = h->has_sharpness,
+        .opts = { .boundary = h->opts.boundary, .crease_method = h->opts.crease_method, .tri_sub = h->opts.tri_sub },
+        .stamp = &h->stamp, .cache = h->cache, .local = &h->local, .owner = h,
+    };
 }
 
 /* ---- sharpness ------------------------------------------------------------- */
@@ -236,22 +249,21 @@ float st_hier_vertex_sharpness(const st_hier *h, uint32_t v, unsigned l)
     return *(const float *)st_mla_at(&h->vertex_sharp, h->map.verts.ins, v, l);
 }
 
-/* Sharpness decides which cells take the crease rules: a cache of the
- * synthesis depends on it as on the topology.  This level only (the
- * attribute's finer levels that had not diverged follow it as they are). */
+/* This level only (the attribute's finer levels that had not diverged
+ * follow it as they are); st_subdiv_store_* mark the map changed, as
+ * sharpness decides which cells take the crease rules. */
 static void store_edge_sharpness(st_hier *h, uint32_t d, unsigned l, float s)
 {
     ensure_sharp(h);
-    st_map_changed(&h->map);
-    st_mla_set(&h->edge_sharp, &h->map.darts, d, l, &s);
-    st_mla_set(&h->edge_sharp, &h->map.darts, st_beta0(&h->map, d, l), l, &s);
+    st_subdiv_view v = st_hier_view(h);
+    st_subdiv_store_edge_sharpness(&v, d, l, s);
 }
 
 static void store_vertex_sharpness(st_hier *h, uint32_t v, unsigned l, float s)
 {
     ensure_sharp(h);
-    st_map_changed(&h->map);
-    st_mla_set(&h->vertex_sharp, &h->map.verts, v, l, &s);
+    st_subdiv_view sv = st_hier_view(h);
+    st_subdiv_store_vertex_sharpness(&sv, v, l, s);
 }
 
 /* Whether the edge (d, β0(d)) of level k was split at level k+1 into
@@ -272,7 +284,8 @@ static int edge_split_below(const st_hier *h, uint32_t d, unsigned k)
 static int derive_child_edge(st_hier *h, uint32_t x, unsigned k)
 {
     if (!edge_split_below(h, x, k)) return 0;
-    float c = st_crease_child_edge_sharpness(h, x, k);
+    st_subdiv_view v = st_hier_view(h);
+    float c = st_crease_child_edge_sharpness(&v, x, k);
     if (st_hier_edge_sharpness(h, x, k + 1) != c) store_edge_sharpness(h, x, k + 1, c);
     return 1;
 }
@@ -342,63 +355,13 @@ void st_hier_set_vertex_sharpness(st_hier *h, uint32_t v, unsigned l, float s)
     }
 }
 
-/* OpenSubdiv's uniform rule: sharpness decreases by one per level; values
- * at or above 10 are infinitely sharp and stay (Sdc::Crease). */
-static float child_sharpness(float s)
-{
-    if (s >= 10.0f) return 10.0f;
-    return s > 1.0f ? s - 1.0f : 0.0f;
-}
-
-/* A coarse edge (d, e) of level L-1 splits into (d, β0(d,L)) and
- * (e, β0(e,L)) at level L (st_split_edge). */
-typedef struct sharp_edge { uint32_t d, e; float cd, ce; } sharp_edge;
-
-static sharp_edge *collect_sharp_edges(st_hier *h, unsigned l, uint32_t *n)
-{
-    *n = 0;
-    if (!h->has_sharpness) return NULL;
-    st_map *m = &h->map;
-    uint32_t cap = 16;
-    sharp_edge *out = malloc(cap * sizeof *out);
-    if (!out) abort();
-    st_dart_iter it;
-    for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
-        uint32_t e = st_beta0(m, d, l);
-        float s = st_hier_edge_sharpness(h, d, l);
-        if (d > e || s <= 0) continue;
-        if (*n == cap) { cap *= 2; out = realloc(out, cap * sizeof *out); if (!out) abort(); }
-        out[(*n)++] = (sharp_edge){ d, e, st_crease_child_edge_sharpness(h, d, l), st_crease_child_edge_sharpness(h, e, l) };
-    }
-    return out;
-}
-
-static void propagate_sharpness(st_hier *h, unsigned L, const sharp_edge *edges, uint32_t n)
-{
-    if (!h->has_sharpness) return;
-    st_map *m = &h->map;
-    for (uint32_t i = 0; i < n; i++) {
-        st_hier_set_edge_sharpness(h, edges[i].d, L, edges[i].cd);
-        st_hier_set_edge_sharpness(h, edges[i].e, L, edges[i].ce);
-    }
-    st_dart_iter it;
-    for (uint32_t v = st_vertex_first(m, L - 1, &it); v != ST_NIL; v = st_vertex_next(m, L - 1, &it)) {
-        float s = st_hier_vertex_sharpness(h, v, L - 1);
-        if (s > 0) st_hier_set_vertex_sharpness(h, v, L, child_sharpness(s));
-    }
-}
-
-int st_hier_refine_primal(st_hier *h, enum st_split_mode mode, st_error *err)
-{
-    uint32_t n;
-    sharp_edge *edges = collect_sharp_edges(h, h->map.top, &n);
-    int rc = st_refine_uniform(&h->map, mode, err);
-    if (!rc) propagate_sharpness(h, h->map.top, edges, n);
-    free(edges);
-    return rc;
-}
-
 /* ---- levels ---------------------------------------------------------------- */
+
+int st_hier_refine_topology(st_hier *h, st_error *err)
+{
+    st_subdiv_view v = st_hier_view(h);
+    return h->scheme->refine(&v, err);
+}
 
 int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err)
 {
@@ -433,8 +396,11 @@ int st_hier_subdivide_to_progress(st_hier *h, unsigned levels, int (*progress)(v
     while (h->map.top < levels) {
         double w = ldexp(1.0, 2 * (int)(h->map.top + 1 - from));
         if (cancelled(progress, ctx, done / total, err)) return ST_ERR_INVALID;
-        int rc = h->scheme->refine(h, err);
-        if (!rc) rc = st_fvar_refine(h, err);
+        int rc = st_hier_refine_topology(h, err);
+        if (!rc) {
+            st_subdiv_view v = st_hier_view(h);
+            rc = st_fvar_refine(h->fvar, &v, h->scheme, err);
+        }
         if (rc) return rc;
         drop_caches(h, 0); /* stale now: their memory back before the next level */
         if (cancelled(progress, ctx, (done + w / 2) / total, err)) return ST_ERR_INVALID;
@@ -455,7 +421,7 @@ void st_hier_remove_top(st_hier *h)
     free(h->detail[l]);
     h->detail[l] = NULL;
     h->detail_cap[l] = 0;
-    st_fvar_remove_top(h);
+    st_fvar_remove_top(h->fvar, l);
     st_level_remove_top(&h->map);
 }
 
@@ -478,13 +444,13 @@ void st_hier_remove_bottom(st_hier *h)
         for (uint32_t v = st_vertex_first(&h->map, 0, &it); v != ST_NIL; v = st_vertex_next(&h->map, 0, &it))
             st_vertex_delete(&h->map, v);
     }
-    st_fvar_remove_bottom(h);
+    st_fvar_remove_bottom(&h->fvar, h->map.top);
     st_level_remove_bottom(&h->map);
 }
 
 int st_hier_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err)
 {
     int rc = st_map_to_mesh(&h->map, l, out, err);
-    if (!rc) rc = st_fvar_level_mesh(h, l, out, err);
+    if (!rc) rc = st_fvar_level_mesh(h->fvar, &h->map, l, out, err);
     return rc;
 }

@@ -25,25 +25,14 @@
 #include "core/schemes/scheme.h"
 #include "core/fvar/fvar.h"
 
-enum st_crease_method { ST_CREASE_UNIFORM, ST_CREASE_CHAIKIN };
-/* Catmull-Clark's edge points next to triangles (Sdc::Options
- * TriangleSubdivision, OBJ `t smoothtriangles`): its own rule, or the
- * smoother weights of TRI_SUB_SMOOTH. */
-enum st_tri_sub { ST_TRI_SUB_CATMARK, ST_TRI_SUB_SMOOTH };
-
 typedef struct st_hier_opts {
     int boundary;              /* ST_BOUNDARY_EDGE_ONLY or ST_BOUNDARY_EDGE_AND_CORNER */
-    int crease_method;         /* enum st_crease_method (OpenSubdiv's default: uniform) */
-    int tri_sub;               /* enum st_tri_sub (Catmull-Clark only; default catmark) */
+    int crease_method;         /* enum st_crease_method (core/schemes/view.h; OpenSubdiv's default: uniform) */
+    int tri_sub;               /* enum st_tri_sub (view.h; Catmull-Clark only; default catmark) */
     int uv_interp;             /* enum st_uv_interp (core/fvar/fvar.h); 0 is OpenSubdiv's default */
     int pm_predictor;          /* progressive scheme only: enum st_pm_predictor (core/progressive/
                                   progressive.h); 0, the relaxation, in sessions written before it */
 } st_hier_opts;
-
-typedef struct st_level_cache {
-    void *p;                   /* NULL, or owned data ... */
-    void (*free)(void *p);     /* ... freed by this */
-} st_level_cache;
 
 typedef struct st_hier {
     st_map map;
@@ -59,8 +48,7 @@ typedef struct st_hier {
     double *detail[ST_MAX_LEVELS];
     uint32_t detail_cap[ST_MAX_LEVELS];
     /* Scratch reused by the passes. */
-    uint32_t *stamp;           /* per vertex id */
-    uint32_t stamp_cap, stamp_gen;
+    st_stamps stamp;           /* per vertex id */
     /* Per coarse level, what a scheme's full-level synthesis derives from
      * the topology alone (Catmull-Clark: its tables), kept between
      * syntheses; the owner checks the map's generation before each use.
@@ -71,8 +59,9 @@ typedef struct st_hier {
      * for the next edit of the same vertices, as in a drag; checked and
      * transient like cache. */
     st_level_cache local;
-    /* Face-varying UVs per level (core/fvar/fvar.h: st_hier_uv); NULL when
-     * the mesh had none.  Edits never change them. */
+    /* Face-varying UVs per level (core/fvar/fvar_internal.h; read through
+     * st_hier_uv below); NULL when the mesh had none.  Edits never change
+     * them. */
     struct st_fvar *fvar;
     /* Whether levels 1..top can be regenerated from level 0 alone (the
      * compact session, docs/SESSION-FORMAT.md): non-zero, the map's
@@ -83,6 +72,13 @@ typedef struct st_hier {
     uint64_t regen_gen;
     uint32_t regen_end[2];     /* darts.end, verts.end after level 0 */
 } st_hier;
+
+/* What h's scheme reads and writes of it (core/schemes/view.h): a view
+ * into h, valid while h's sharpness attributes, stamps and caches stay
+ * where they are (build one per call into the scheme, not per vertex). */
+st_subdiv_view st_hier_view(st_hier *h);
+/* h's scheme's emit() (scheme.h) of level L, through st_hier_view. */
+void st_hier_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces, st_stencil_sink sink, void *ctx);
 
 /* Builds level 0 from a repaired soup: topology, positions, OBJ tags
  * (creases, corners, interpolateboundary unless opts overrides it).
@@ -112,6 +108,9 @@ int st_hier_subdivide_to(st_hier *h, unsigned levels, st_error *err);
  * progress NULL: st_hier_subdivide_to. */
 int st_hier_subdivide_to_progress(st_hier *h, unsigned levels, int (*progress)(void *ctx, double fraction),
                                   void *ctx, st_error *err);
+/* Adds level top+1 by the scheme's refine() alone: topology and sharpness,
+ * no positions synthesized, no UVs (st_hier_uv_refine_levels adds them). */
+int st_hier_refine_topology(st_hier *h, st_error *err);
 /* Deletes the finest level. */
 /* Whether levels 1..top are the scheme's refinement of level 0 as it is
  * (regen_gen above): a session may then store level 0 and regenerate the
@@ -161,5 +160,23 @@ void st_hier_set_vertex_sharpness(st_hier *h, uint32_t v, unsigned l, float s);
  * UVs (face_uv, one texture coordinate per vertex and UV value) when it
  * has some. */
 int st_hier_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err);
+
+/* ---- face-varying UVs (core/fvar/fvar.h; hier_fvar.c) ---- */
+
+/* The UVs of level l: 2 doubles per dart id, uv[2 d], uv[2 d + 1] being the
+ * texture coordinate of the face corner of dart d (the real face on d's
+ * left, at d's vertex), for every dart of a real face of level l.  Walking
+ * a level's faces as st_hier_level_mesh does (darts in st_dart_first/next
+ * order, each unvisited real face along φ1) and reading uv at each dart
+ * gives the corners in the order of that mesh's face_idx.  NULL when the
+ * hierarchy has no UVs at level l. */
+const double *st_hier_uv(const st_hier *h, unsigned l);
+
+/* For code that copies an st_hier field by field (the editor's undo
+ * snapshots): dst->fvar becomes a deep copy of src's UVs (NULL when none),
+ * *bytes (may be NULL) grows by what it allocated; -1 when out of memory
+ * (dst->fvar NULL then).  st_hier_uv_free releases dst's. */
+int st_hier_uv_copy(st_hier *dst, const st_hier *src, size_t *bytes);
+void st_hier_uv_free(st_hier *h);
 
 #endif

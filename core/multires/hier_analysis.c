@@ -104,7 +104,7 @@ static csr *level_stencils(st_hier *h, unsigned l)
     if (!c) abort();
     uint32_t rows = st_pool_cover(&h->map.verts, l) + 2;
     csr_reserve(c, rows, rows > UINT32_MAX / 8 ? UINT32_MAX : 8 * rows);
-    h->scheme->emit(h, l, NULL, 0, csr_sink, c);
+    st_hier_emit(h, l, NULL, 0, csr_sink, c);
     return c;
 }
 
@@ -122,6 +122,7 @@ static csr *level_stencils(st_hier *h, unsigned l)
  * the other ranges. */
 typedef struct dart_order {
     const st_hier *h;
+    st_subdiv_view sv;             /* h's, for the scheme's stencils (read only here) */
     unsigned L;
     st_level_view v;               /* the coarse level l = L-1 */
     const uint8_t *ins;
@@ -140,6 +141,7 @@ static int dart_order_init(dart_order *o, const st_hier *h, unsigned L)
     const st_pool *p = &h->map.darts;
     memset(o, 0, sizeof *o);
     o->h = h;
+    o->sv = st_hier_view((st_hier *)h); /* the analysis only reads what the view points to */
     o->L = L;
     o->ins = p->ins;
     st_level_view_init(&h->map, L - 1, &o->v);
@@ -182,9 +184,9 @@ static void emit_blocks(const dart_order *o, uint32_t b, uint32_t e, st_catmark_
     for (uint32_t i = b; i < e; i++)
         for (uint32_t d = o->first[i]; d < o->first[i] + ST_POOL_BLOCK; d++) {
             if (o->ins[d] == ST_FREE_LEVEL) continue;
-            if (first_of_vertex(o, d)) st_catmark_emit_vertex(o->h, o->L, d, em, sink, ctx);
-            if (d < st_v_beta0(&o->v, d)) st_catmark_emit_edge(o->h, o->L, d, em, sink, ctx);
-            if (!st_is_boundary(m, d) && first_of_face(o, d)) st_catmark_emit_face(o->h, o->L, d, em, sink, ctx);
+            if (first_of_vertex(o, d)) st_catmark_emit_vertex(&o->sv, o->L, d, em, sink, ctx);
+            if (d < st_v_beta0(&o->v, d)) st_catmark_emit_edge(&o->sv, o->L, d, em, sink, ctx);
+            if (!st_is_boundary(m, d) && first_of_face(o, d)) st_catmark_emit_face(&o->sv, o->L, d, em, sink, ctx);
         }
 }
 

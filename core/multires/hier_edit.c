@@ -1,5 +1,5 @@
-/* Footprints of local edits and values by key (edit.h, footprint.h).  The
- * region growth of an edit itself is in hier_synth.c, next to the synthesis
+/* Values by key of local edits' footprints (edit.h; the footprint itself is
+ * core/map/footprint.h).  The region growth of an edit itself is in hier_synth.c, next to the synthesis
  * it drives; the local re-synthesis of adaptive hierarchies is in
  * core/adapt/adapt_resynth.c. */
 #include "core/multires/edit.h"
@@ -7,26 +7,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-
-/* ---- footprints ---------------------------------------------------------------- */
-
-void st_footprint_add_slow(st_footprint *f, uint64_t key)
-{
-    if (f->n == f->cap) {
-        uint32_t cap = f->cap ? 2 * f->cap : 256;
-        uint64_t *k = realloc(f->keys, (size_t)cap * sizeof *k);
-        if (!k) abort(); /* out of memory during a synthesis pass */
-        f->keys = k;
-        f->cap = cap;
-    }
-    f->keys[f->n++] = key;
-}
-
-void st_footprint_free(st_footprint *f)
-{
-    free(f->keys);
-    memset(f, 0, sizeof *f);
-}
 
 /* ---- values by key ----------------------------------------------------------------- */
 

@@ -1,25 +1,25 @@
-/* Internal helpers shared by hier*.c and the schemes. */
+/* Internal helpers shared by hier*.c and the layers above (the schemes below
+ * see the hierarchy only through st_subdiv_view, core/schemes/view.h). */
 #ifndef ST_HIER_INTERNAL_H
 #define ST_HIER_INTERNAL_H
 #ifndef STRATA_CORE_INTERNAL
 #error "internal to core: render/, ui/ and app/ use core's public headers (docs/ARCHITECTURE.md)"
 #endif
 
-#include "core/multires/footprint.h"
 #include "core/multires/hier.h"
+#include "core/schemes/synth_internal.h"
 #include "core/map/dart_list.h"
 #include "core/map/refine_internal.h"
 
 #include <math.h>
 #include <string.h>
 
-/* Primal refinement with sharpness propagation (OpenSubdiv uniform rule). */
-int st_hier_refine_primal(st_hier *h, enum st_split_mode mode, st_error *err);
+/* Writable position slot of v at level l (st_map_write_pos, map.h). */
+static inline void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3]) { st_map_write_pos(&h->map, v, l, p); }
 
-/* Writable position slot of v at level l: base when v was inserted at l,
- * else the level-l column; the column is created only when p differs from
- * the inherited value ("stored only where it differs"). */
-void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3]);
+/* The UVs of levels up to upto (st_fvar_refine_levels, fvar_internal.h,
+ * for the threads it may run beside) once the topology reaches it. */
+int st_hier_uv_refine_levels(st_hier *h, unsigned upto, st_error *err);
 
 /* Detail of v at level l (zero vector when none stored). */
 const double *st_hier_detail(const st_hier *h, unsigned l, uint32_t v);
@@ -32,8 +32,6 @@ void st_hier_set_detail(st_hier *h, unsigned l, uint32_t v, const double d[3]);
  * vertices (they are numbered coarse to fine). */
 void st_hier_trim_details(st_hier *h);
 
-/* Stencil evaluation: Σ w P_{L-1}(src). */
-void st_stencil_eval(const st_hier *h, unsigned L, const st_stencil *s, double out[3]);
 /* Predicted position plus frame · detail. */
 void st_stencil_apply(const st_hier *h, unsigned L, const st_stencil *s, double out[3]);
 
@@ -60,46 +58,20 @@ void st_hier_levels_up(const st_hier *h, unsigned from, st_dart_list *seeds, st_
 uint32_t st_dart_on_cell(const st_map *m, uint32_t v, uint32_t d, unsigned L);
 
 /* Per-vertex generation stamps for deduplication within one pass. */
-uint32_t st_hier_stamp_begin(st_hier *h);
+static inline uint32_t st_hier_stamp_begin(st_hier *h) { return st_stamps_begin(&h->stamp, h->map.verts.end); }
 
-/* The output of a synthesis pass of level L (hier_synth.c): positions are
- * written at L; a local pass (gen != 0) writes each vertex once (h->stamp)
- * and lists a dart of level L of each, which seeds level L+1. */
-typedef struct st_synth_ctx {
-    st_hier *h;
-    unsigned L;
-    uint32_t gen;          /* stamp generation for local passes, 0 for full */
-    uint64_t count;        /* vertices written */
-    st_dart_list *changed; /* local passes: a dart of level L of each vertex written */
-    int lost;              /* some written vertex had no dart found on its frame cell */
-    st_footprint *fp;      /* NULL, or where (L, position, vertex) of each vertex written goes */
-} st_synth_ctx;
-
-/* Sink for stencils (scheme.h emit), ctx an st_synth_ctx: applies, with
- * the detail, and writes. */
+/* The sink of the synthesis passes (scheme.h emit; st_synth_ctx,
+ * core/schemes/synth_internal.h), ctx an st_synth_ctx whose owner is the
+ * st_hier: applies the stencil, with the detail, and writes. */
 void st_synth_sink(void *ctx, const st_stencil *s);
 
-/* The same for a point a scheme computed itself (predict_around), whose
- * dart at L is known and whose stamp it checked; inline, as it runs once
- * per vertex of a local edit. */
-static inline void st_synth_put(st_synth_ctx *c, uint32_t v, uint32_t d, const double p[3])
+/* An st_synth_ctx of level L writing into h, full (gen 0, nothing listed):
+ * the caller sets gen (after st_hier_stamp_begin), changed and fp for a
+ * local pass. */
+static inline st_synth_ctx st_hier_synth_ctx(st_hier *h, unsigned L)
 {
-    st_map *m = &c->h->map;
-    st_mla *a = &m->pos;
-    c->h->stamp[v] = c->gen;
-    if (m->verts.ins[v] != c->L && !(a->col[c->L] && v < a->colcap[c->L])) {
-        st_hier_write_pos(c->h, v, c->L, p); /* no column yet */
-    } else {
-        if (m->log) st_map_log_vertex(m, v);
-        unsigned char *slot = m->verts.ins[v] == c->L ? a->base : a->col[c->L];
-        memcpy(slot + (size_t)v * 3 * sizeof(double), p, 3 * sizeof(double));
-    }
-    c->count++;
-    if (c->fp) st_footprint_add(c->fp, st_fp_key(c->L, ST_FP_POS, v));
-    st_dart_list *l = c->changed;
-    if (!l) return;
-    if (l->n < l->cap) l->d[l->n++] = d; /* no call while there is room */
-    else st_dart_list_push(l, d);
+    return (st_synth_ctx){ .m = &h->map, .stamp = &h->stamp, .L = L, .gen = 0, .count = 0, .changed = NULL, .lost = 0,
+                           .fp = NULL, .sink = st_synth_sink, .owner = h };
 }
 
 /* What st_hier_analyze_ex did per level l (to+1..top). */

@@ -12,25 +12,6 @@
 
 /* ---- positions and details -------------------------------------------------- */
 
-void st_hier_write_pos(st_hier *h, uint32_t v, unsigned l, const double p[3])
-{
-    st_map *m = &h->map;
-    st_mla *a = &m->pos;
-    if (m->log) st_map_log_vertex(m, v); /* a call per vertex written otherwise */
-    if (m->verts.ins[v] == l) {
-        memcpy(a->base + (size_t)v * a->elem, p, 3 * sizeof(double)); /* elem: 3 doubles */
-        return;
-    }
-    if (a->col[l] && v < a->colcap[l]) {
-        memcpy(a->col[l] + (size_t)v * a->elem, p, 3 * sizeof(double));
-        return;
-    }
-    if (!a->col[l] && memcmp(st_pos(m, v, l), p, a->elem) == 0) return;
-    double *col = st_mla_column(a, &m->verts, l);
-    if (!col) abort(); /* out of memory for a level's positions */
-    memcpy(col + 3 * (size_t)v, p, a->elem);
-}
-
 static const double zero3[3];
 
 const double *st_hier_detail(const st_hier *h, unsigned l, uint32_t v)
@@ -134,23 +115,9 @@ void st_hier_frame(const st_hier *h, unsigned l, uint32_t d, int cell, double f[
 
 /* ---- stencil application ----------------------------------------------------- */
 
-void st_stencil_eval(const st_hier *h, unsigned L, const st_stencil *s, double out[3])
-{
-    st_level_view v;
-    st_level_view_init(&h->map, L - 1, &v);
-    double x = 0, y = 0, z = 0;
-    for (uint32_t i = 0; i < s->n; i++) {
-        const double *p = st_v_pos(&v, s->src[i]);
-        x += s->w[i] * p[0];
-        y += s->w[i] * p[1];
-        z += s->w[i] * p[2];
-    }
-    out[0] = x; out[1] = y; out[2] = z;
-}
-
 void st_stencil_apply(const st_hier *h, unsigned L, const st_stencil *s, double out[3])
 {
-    st_stencil_eval(h, L, s, out);
+    st_stencil_eval(&h->map, L, s, out);
     const double *d = st_hier_detail(h, L, s->fine);
     if (d[0] == 0 && d[1] == 0 && d[2] == 0) return;
     double f[3][3];
@@ -178,48 +145,41 @@ void st_synth_sink(void *ctx, const st_stencil *s)
 {
     synth_ctx *c = ctx;
     if (c->gen) {
-        if (c->h->stamp[s->fine] == c->gen) return;
-        c->h->stamp[s->fine] = c->gen;
+        if (c->stamp->v[s->fine] == c->gen) return;
+        c->stamp->v[s->fine] = c->gen;
     }
     double p[3];
-    st_stencil_apply(c->h, c->L, s, p);
-    st_hier_write_pos(c->h, s->fine, c->L, p);
+    st_stencil_apply(c->owner, c->L, s, p);
+    st_map_write_pos(c->m, s->fine, c->L, p);
     c->count++;
     if (c->fp) st_footprint_add(c->fp, st_fp_key(c->L, ST_FP_POS, s->fine));
     if (c->changed) {
-        uint32_t d = st_dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
+        uint32_t d = st_dart_on_cell(c->m, s->fine, s->frame_dart, c->L);
         if (d == ST_NIL) c->lost = 1;
         else st_dart_list_push(c->changed, d);
     }
 }
 
+void st_hier_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces, st_stencil_sink sink, void *ctx)
+{
+    st_subdiv_view v = st_hier_view(h);
+    h->scheme->emit(&v, L, faces, nfaces, sink, ctx);
+}
+
 void st_hier_synthesize(st_hier *h, unsigned from)
 {
+    st_subdiv_view v = st_hier_view(h);
     for (unsigned L = from + 1; L <= h->map.top; L++) {
         if (h->scheme->predict_level && (!h->detail[L] || h->scheme->fast_paths_apply_details)) {
-            h->scheme->predict_level(h, L);
+            h->scheme->predict_level(&v, L);
             continue;
         }
-        synth_ctx c = { .h = h, .L = L };
-        h->scheme->emit(h, L, NULL, 0, st_synth_sink, &c);
+        synth_ctx c = st_hier_synth_ctx(h, L);
+        h->scheme->emit(&v, L, NULL, 0, st_synth_sink, &c);
     }
 }
 
 /* ---- regions ------------------------------------------------------------------ */
-
-void st_dart_list_push(st_dart_list *l, uint32_t d)
-{
-    if (l->n == l->cap) {
-        uint32_t cap = l->cap ? 2 * l->cap : 64;
-        uint32_t *p = realloc(l->d, cap * sizeof *p);
-        if (!p) abort();
-        l->d = p;
-        l->cap = cap;
-    }
-    l->d[l->n++] = d;
-}
-
-void st_dart_list_free(st_dart_list *l) { free(l->d); memset(l, 0, sizeof *l); }
 
 void st_dart_list_push_faces(st_dart_list *list, const st_map *m, unsigned l, const uint32_t *faces, uint32_t n)
 {
@@ -283,23 +243,6 @@ void st_region_faces(st_map *m, unsigned l, const uint32_t *seeds, uint32_t nsee
     }
     m->marks_used &= ~((1u << fb) | (1u << vb));
     st_dart_list_free(&verts);
-}
-
-uint32_t st_hier_stamp_begin(st_hier *h)
-{
-    uint32_t need = h->map.verts.end;
-    if (h->stamp_cap < need) {
-        uint32_t *p = realloc(h->stamp, (size_t)need * sizeof *p);
-        if (!p) abort();
-        memset(p + h->stamp_cap, 0, (size_t)(need - h->stamp_cap) * sizeof *p);
-        h->stamp = p;
-        h->stamp_cap = need;
-    }
-    if (++h->stamp_gen == 0) {
-        memset(h->stamp, 0, (size_t)h->stamp_cap * sizeof *h->stamp);
-        h->stamp_gen = 1;
-    }
-    return h->stamp_gen;
 }
 
 /* ---- editing ------------------------------------------------------------------ */
@@ -428,16 +371,16 @@ static int predict_vertex(st_hier *h, unsigned l, uint32_t d, uint32_t v, double
      * ring below would give first, at a ninth of the cost; the ring of
      * faces around the seed when a scheme puts v elsewhere. */
     find_ctx c = { .v = v };
-    if (!st_is_boundary(m, seed)) h->scheme->emit(h, l, &seed, 1, find_sink, &c);
+    if (!st_is_boundary(m, seed)) st_hier_emit(h, l, &seed, 1, find_sink, &c);
     if (!c.found) {
         st_dart_list faces = { 0 };
         st_region_faces(m, l - 1, &seed, 1, 1, &faces);
-        h->scheme->emit(h, l, faces.d, faces.n, find_sink, &c);
+        st_hier_emit(h, l, faces.d, faces.n, find_sink, &c);
         st_dart_list_free(&faces);
     }
     if (c.found) {
         st_stencil s = { v, c.buf.n, c.buf.src, c.buf.w, c.frame_dart, c.frame_cell };
-        st_stencil_eval(h, l, &s, pred);
+        st_stencil_eval(&h->map, l, &s, pred);
         st_hier_frame(h, l - 1, s.frame_dart, s.frame_cell, f);
     }
     st_stencil_buf_free(&c.buf);
@@ -478,11 +421,11 @@ static void refresh_detail(st_hier *h, unsigned l, uint32_t d, st_detail_hook ho
 static void dry_sink(void *ctx, const st_stencil *s)
 {
     synth_ctx *c = ctx;
-    if (c->h->stamp[s->fine] == c->gen) return;
-    c->h->stamp[s->fine] = c->gen;
+    if (c->stamp->v[s->fine] == c->gen) return;
+    c->stamp->v[s->fine] = c->gen;
     c->count++;
     if (c->fp) st_footprint_add(c->fp, st_fp_key(c->L, ST_FP_POS, s->fine));
-    uint32_t d = st_dart_on_cell(&c->h->map, s->fine, s->frame_dart, c->L);
+    uint32_t d = st_dart_on_cell(c->m, s->fine, s->frame_dart, c->L);
     if (d == ST_NIL) c->lost = 1;
     else st_dart_list_push(c->changed, d);
 }
@@ -508,16 +451,21 @@ static int above_step(void *ctx, unsigned L, const st_dart_list *seeds, st_dart_
 {
     above_ctx *a = ctx;
     st_hier *h = a->h;
-    synth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = next, .fp = a->fp };
+    st_subdiv_view v = st_hier_view(h);
+    synth_ctx c = st_hier_synth_ctx(h, L);
+    c.gen = st_hier_stamp_begin(h);
+    c.changed = next;
+    c.fp = a->fp;
+    if (!a->write) c.sink = dry_sink;
     if (a->write && h->scheme->predict_around && (!h->detail[L] || h->scheme->fast_paths_apply_details) && !a->extra &&
-        h->scheme->predict_around(h, L, seeds->d, seeds->n, &c)) {
+        h->scheme->predict_around(&v, L, seeds->d, seeds->n, &c)) {
         a->count += c.count;
         return 0;
     }
     a->faces.n = 0;
     st_region_faces(&h->map, L - 1, seeds->d, seeds->n, h->scheme->support_rings + a->extra, &a->faces);
     c.gen = st_hier_stamp_begin(h);
-    h->scheme->emit(h, L, a->faces.d, a->faces.n, a->write ? st_synth_sink : dry_sink, &c);
+    h->scheme->emit(&v, L, a->faces.d, a->faces.n, c.sink, &c);
     a->count += c.count;
     a->extra = c.lost;
     if (c.lost) {

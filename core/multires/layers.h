@@ -111,7 +111,7 @@ uint64_t st_layers_recompose(st_layers *ls, st_hier *h, unsigned l, const uint32
                              st_footprint *fp);
 
 /* After an edit at level l reported its footprint (keys,
- * core/multires/footprint.h): P0 of the vertices it rewrote on layered
+ * core/map/footprint.h): P0 of the vertices it rewrote on layered
  * levels above l follows where no layer contributes, else is forgotten. */
 void st_layers_follow(st_layers *ls, const st_hier *h, unsigned l, const uint64_t *keys, uint32_t n);
 

@@ -62,8 +62,8 @@ static void prop_sink(void *ctx, const st_stencil *s)
     const st_map *m = &c->h->map;
     if (m->verts.ins[s->fine] != c->L) return; /* a coinciding vertex keeps its value */
     if (c->gen) {
-        if (c->h->stamp[s->fine] == c->gen) return;
-        c->h->stamp[s->fine] = c->gen;
+        if (c->h->stamp.v[s->fine] == c->gen) return;
+        c->h->stamp.v[s->fine] = c->gen;
     }
     double x = 0;
     for (uint32_t i = 0; i < s->n; i++) x += s->w[i] * st_mask_get(c->mk, s->src[i]);
@@ -100,7 +100,7 @@ static int up_step(void *ctx, unsigned L, const st_dart_list *seeds, st_dart_lis
     u->c.L = L;
     u->c.gen = st_hier_stamp_begin(h);
     u->c.next = next;
-    h->scheme->emit(h, L, u->faces.d, u->faces.n, prop_sink, &u->c);
+    st_hier_emit(h, L, u->faces.d, u->faces.n, prop_sink, &u->c);
     /* Old seeds stay seeds where their vertex lives on at L. */
     for (uint32_t i = 0; i < seeds->n; i++) st_dart_list_push(next, seeds->d[i]);
     return 0;
@@ -113,7 +113,7 @@ static void propagate(st_mask *mk, st_hier *h, unsigned l, const uint32_t *darts
     if (!darts) {
         for (unsigned L = l + 1; L <= m->top; L++) {
             prop_ctx c = { h, mk, L, 0, NULL, NULL, NULL, NULL };
-            h->scheme->emit(h, L, NULL, 0, prop_sink, &c);
+            st_hier_emit(h, L, NULL, 0, prop_sink, &c);
         }
         return;
     }

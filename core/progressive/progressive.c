@@ -182,7 +182,7 @@ static void detail_sink(void *ctx, const st_stencil *s)
     detail_ctx *c = ctx;
     if (s->n == 1 && s->src[0] == s->fine && s->w[0] == 1.0) return; /* predicted by itself: zero */
     double pred[3], f[3][3];
-    st_stencil_eval(c->h, c->l, s, pred);
+    st_stencil_eval(&c->h->map, c->l, s, pred);
     st_hier_frame(c->h, c->l - 1, s->frame_dart, s->frame_cell, f);
     detail_put(c, s->fine, pred, f);
 }
@@ -241,7 +241,7 @@ static uint64_t compute_details(st_hier *h)
         detail_ctx c = { h, l, st_calloc_huge(3 * (size_t)cap, sizeof(double)), 0, 0 };
         if (!c.d) abort(); /* as st_hier_set_detail */
         if (tables) details_from_tables(&c, cap, threads);
-        else h->scheme->emit(h, l, NULL, 0, detail_sink, &c);
+        else st_hier_emit(h, l, NULL, 0, detail_sink, &c);
         if (c.nonzero) {
             h->detail[l] = c.d;
             h->detail_cap[l] = cap;

@@ -54,7 +54,7 @@
  *      (ii) no vertex is the target b of two collapses: b keeps at level L
  *           a dart of level L-1 (an interior b has valence >= 3 at L and
  *           only two of its darts are new; point 2 keeps one for a
- *           boundary b), on which its detail frame sits (scheme_progressive.c).
+ *           boundary b), on which its detail frame sits (progressive_scheme.c).
  *    (i) also means a removed vertex is never a target (b ∈ N(a)), so no
  *    chain a -> b -> b' within a level.  Both are kept with two marker bits
  *    per vertex, set on a's ring before each collapse (tests/
@@ -74,7 +74,7 @@
  *    §4.4.2: φ1 of the real faces never changes; β1 = φ1∘β0 changes where
  *    β0 does, and along the hole whose length changed).
  *
- * 5. Geometry: the "progressive" scheme (core/schemes/scheme_progressive.c)
+ * 5. Geometry: the "progressive" scheme (core/progressive/progressive_scheme.c)
  *    predicts, at level L, each split vertex a by the average of the
  *    level-(L-1) positions of its level-L neighbours (its two boundary
  *    neighbours on a border), each neighbour of a split vertex by half its
@@ -183,6 +183,10 @@
 #define ST_PROGRESSIVE_H
 
 #include "core/multires/hier.h"
+
+/* The progressive scheme's table (progressive_scheme.c): the prediction of
+ * point 5, the synthesis of the ring tables. */
+extern const st_scheme st_scheme_progressive;
 
 /* The prediction of a progressive hierarchy (st_hier_opts.pm_predictor,
  * tagged in sessions: docs/SESSION-FORMAT.md, HIER; point 5 says which

@@ -63,7 +63,7 @@ int pm_simplify(pm_work *w, uint64_t target, unsigned max_groups, int (*progress
 void pm_undo(pm_work *w, uint32_t i);
 
 /* The stencil of the vertex of dart d at level L >= 1 of a progressive
- * hierarchy (core/schemes/scheme_progressive.c), built in buf; 0 when the
+ * hierarchy (progressive_scheme.c), built in buf; 0 when the
  * vertex has no dart of level L-1 (a map this scheme did not build). */
 int st_progressive_stencil(const st_hier *h, unsigned L, uint32_t d, st_stencil_buf *buf, st_stencil *s);
 

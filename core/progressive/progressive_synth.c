@@ -1,10 +1,10 @@
 /* Synthesis of a progressive hierarchy from flat per-level ring tables
  * (the scheme's predict_level and predict_around, core/schemes/
- * scheme_progressive.c).
+ * progressive_scheme.c).
  *
  * Why tables: the map of a progressive hierarchy is in the pair form of
  * thesis §4.4.5 (st_map_compact), where each β0, β1 or vertex lookup scans
- * a dart's (level, value) pairs.  The stencils of scheme_progressive.c walk
+ * a dart's (level, value) pairs.  The stencils of progressive_scheme.c walk
  * a vertex's orbit four or five times, the split neighbours' orbits again,
  * and the frame walks the coarse orbit: some twenty lookups per dart, 43 %
  * of a full synthesis of koala.  A table of level l lists, once, each
@@ -41,14 +41,14 @@
 #include <string.h>
 
 enum {
-    RING_BORDER = 1u,    /* the dart or its β0 is on a hole (scheme_progressive.c: on_border) */
+    RING_BORDER = 1u,    /* the dart or its β0 is on a hole (progressive_scheme.c: on_border) */
     RING_OPEN = 2u,      /* its β0 is on a hole: the frame's corner there is left out (st_hier_frame) */
     RING_FRAME_V = 4u,   /* split vertex: this neighbour is the vertex whose frame carries the detail */
 };
 
 enum {
     VERT_BORDER = 1u,    /* some dart of the orbit is RING_BORDER */
-    VERT_NEAR = 2u,      /* a neighbour was split at l (scheme_progressive.c: near_split) */
+    VERT_NEAR = 2u,      /* a neighbour was split at l (progressive_scheme.c: near_split) */
 };
 
 typedef struct pm_ring_table {
@@ -397,7 +397,7 @@ static void touch_rows(const st_hier *h, const level_pair *lp, const uint32_t *v
     unsigned L = lp->L;
     for (uint32_t i = 0; i < n; i++) {
         uint32_t x = v[i];
-        t->x ^= ft->off[x + 1] ^ ft->vk[x] ^ ft->avg_n[x] ^ ft->first[x] ^ h->stamp[x];
+        t->x ^= ft->off[x + 1] ^ ft->vk[x] ^ ft->avg_n[x] ^ ft->first[x] ^ h->stamp.v[x];
         if (x < ct->nidx) t->x ^= ct->off[x + 1];
         if (x < h->detail_cap[L]) touch(t, h->detail[L] + 3 * (size_t)x);
         touch(t, st_pos(lp->m, x, L));

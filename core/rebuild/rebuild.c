@@ -6,6 +6,7 @@
 #include "core/fvar/fvar.h"
 #include "core/progressive/progressive.h"
 #include "core/rebuild/unsubdivide.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -336,7 +336,7 @@ static int refine_topology(st_hier *h, unsigned levels, st_error *err)
     /* The UVs come later, beside the positions (positions_task), by
      * st_fvar_refine_levels: what a session's reader does too. */
     int regen = st_hier_regenerable(h);
-    while (!rc && h->map.top < levels) rc = h->scheme->refine(h, err);
+    while (!rc && h->map.top < levels) rc = st_hier_refine_topology(h, err);
     /* The levels are the cage's refinement, as st_hier_subdivide_to's. */
     if (!rc && regen) st_hier_mark_regenerable(h, h->regen_end);
     return rc;
@@ -452,7 +452,7 @@ static void positions_task(st_team *team, unsigned t, void *ctx)
     uint32_t b, e;
     while (st_team_next(team, 0, 2, 1, &b, &e)) {
         if (b == 0) positions_and_analysis(j);
-        else j->rc_uv = st_fvar_refine_levels(j->h, j->u->levels, &j->uv_err);
+        else j->rc_uv = st_hier_uv_refine_levels(j->h, j->u->levels, &j->uv_err);
     }
 }
 

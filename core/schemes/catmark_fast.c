@@ -5,7 +5,7 @@
  * from flat index tables.  The tables of coarse level l depend on the
  * topology only (and on sharpness, which decides the special cells), so
  * they are built once, on the second synthesis after a change, and kept in
- * h->cache[l] while the map's generation (map.h) stays the same.  Building
+ * sv->cache[l] while the map's generation (map.h) stays the same.  Building
  * them walks the 2-map; using them reads a few sequential 32-bit indices
  * per fine vertex instead of a chain of dependent loads through β0, β1 and
  * the embedding, which bound the walk by memory latency.
@@ -64,14 +64,14 @@ typedef struct cc_worker { const cc_eval *x; st_catmark_emitter e; } cc_worker;
 static void sink_write(void *ctx, const st_stencil *s)
 {
     const cc_eval *x = ((cc_worker *)ctx)->x;
-    double *slot = (x->h->map.verts.ins[s->fine] == x->L ? x->pnew : x->pold) + 3 * (size_t)s->fine;
-    st_stencil_eval(x->h, x->L, s, slot);
+    double *slot = (x->sv->map->verts.ins[s->fine] == x->L ? x->pnew : x->pold) + 3 * (size_t)s->fine;
+    st_stencil_eval(x->sv->map, x->L, s, slot);
 }
 
 /* ---- building: walks of the coarse level ---- */
 
 typedef struct builder {
-    st_hier *h;
+    const st_subdiv_view *sv;
     unsigned l, L;
     st_level_view c;                /* coarse level l */
     int plain;                      /* β1 and vert have no column at level l: read the base */
@@ -109,7 +109,7 @@ static uint32_t c_phi1(const builder *x, uint32_t d) { return c_beta1(x, c_beta0
 static int c_old(const builder *x, uint32_t d) { return x->dnew ? !st_block_bit(x->dnew, d) : x->c.ins[d] < x->l; }
 static int is_live(const uint8_t *ins, uint32_t id) { return ins[id] != ST_FREE_LEVEL; }
 static int is_hole(const builder *x, uint32_t d) { return (x->flags[d] & ST_DART_BOUNDARY) != 0; }
-static int sharp_edge(const builder *x, uint32_t d) { return x->sharp && st_hier_edge_sharpness(x->h, d, x->l) > 0; }
+static int sharp_edge(const builder *x, uint32_t d) { return x->sharp && st_subdiv_edge_sharpness(x->sv, d, x->l) > 0; }
 
 static uint32_t ref_of(const builder *x, uint32_t v) { return st_synth_ref(&x->c, x->vnew, v); }
 /* Walking: the level-l position of coarse vertex v. */
@@ -285,9 +285,9 @@ static void build_edges(builder *x)
             uint32_t e = b0 ? b0[d] : c_beta0(x, d);
             x->holes += is_hole(x, d);
             if (d > e) continue;
-            if ((is_hole(x, d) | is_hole(x, e)) || sharp_edge(x, d) || (x->tri_smooth && st_catmark_tri_edge(x->h, d, x->l))) {
+            if ((is_hole(x, d) | is_hole(x, e)) || sharp_edge(x, d) || (x->tri_smooth && st_catmark_tri_edge(x->sv, d, x->l))) {
                 if (t) vec_push(&t->sedge, d);
-                else st_catmark_emit_edge(x->h, x->L, d, &x->w->e, sink_write, x->w);
+                else st_catmark_emit_edge(x->sv, x->L, d, &x->w->e, sink_write, x->w);
                 continue;
             }
             if (x->fc[d] == ST_NIL || x->fc[e] == ST_NIL) { x->irregular = 1; return; }
@@ -326,7 +326,7 @@ static void build_vertex(builder *x, uint32_t v)
         else memcpy(x->w->x->pold + 3 * (size_t)v, wpos(x, v), 3 * sizeof(double));
         return;
     }
-    int special = x->sharp && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
+    int special = x->sharp && st_subdiv_vertex_sharpness(x->sv, v, x->l) > 0;
     x->walk.n = 0;
     uint32_t y = d, lo = d;
     unsigned m = 0;
@@ -339,7 +339,7 @@ static void build_vertex(builder *x, uint32_t v)
     } while (y != d);
     const uint32_t *r = x->walk.a;
     unsigned n = (unsigned)x->walk.n;
-    if (special && !t) { st_catmark_emit_vertex(x->h, x->L, r[m], &x->w->e, sink_write, x->w); return; }
+    if (special && !t) { st_catmark_emit_vertex(x->sv, x->L, r[m], &x->w->e, sink_write, x->w); return; }
     if (special) { vec_push(&t->svert, r[m]); return; }
     if (!t) { walk_vertex(x, v, r, n, m); return; }
     u32vec *out = n == 4 ? &t->v4 : &t->vdata;
@@ -417,11 +417,11 @@ static int gather_positions(builder *x)
     return 0;
 }
 
-static int builder_init(builder *x, st_hier *h, unsigned L, cc_table *t, cc_worker *w)
+static int builder_init(builder *x, const st_subdiv_view *sv, unsigned L, cc_table *t, cc_worker *w)
 {
-    st_map *m = &h->map;
-    *x = (builder){ .h = h, .l = L - 1, .L = L, .t = t, .w = w, .flags = m->flags, .sharp = h->has_sharpness,
-                    .tri_smooth = h->opts.tri_sub == ST_TRI_SUB_SMOOTH };
+    st_map *m = sv->map;
+    *x = (builder){ .sv = sv, .l = L - 1, .L = L, .t = t, .w = w, .flags = m->flags, .sharp = sv->has_sharpness,
+                    .tri_smooth = sv->opts.tri_sub == ST_TRI_SUB_SMOOTH };
     x->b0L = (const uint32_t *)m->beta0.col[L];
     x->b0 = (const uint32_t *)m->beta0.base;
     x->b1 = (const uint32_t *)m->beta1.base;
@@ -466,10 +466,10 @@ static void builder_free(builder *x)
  * t NULL, evaluate each record as they meet it for w (the first synthesis
  * after a change, predict_by_walk); returns 1 if the level is irregular
  * (a walk may have written some points by then: the stencils redo them). */
-static int walk_coarse_level(st_hier *h, unsigned L, cc_table *t, cc_worker *w)
+static int walk_coarse_level(const st_subdiv_view *sv, unsigned L, cc_table *t, cc_worker *w)
 {
     builder x = { 0 };
-    if (builder_init(&x, h, L, t, w)) { builder_free(&x); return 1; } /* no memory for the scratch */
+    if (builder_init(&x, sv, L, t, w)) { builder_free(&x); return 1; } /* no memory for the scratch */
     unsigned l = L - 1;
     if (l > 0) {
         int done = !t && x.plain && x.dnew && faces_from_old(&x);
@@ -479,15 +479,15 @@ static int walk_coarse_level(st_hier *h, unsigned L, cc_table *t, cc_worker *w)
     if (!x.irregular) build_edges(&x);
     if (!x.irregular) build_vertices(&x);
     /* Every dart of level l must lie in a face found or in a hole. */
-    int irregular = x.irregular || (l > 0 && x.covered + x.holes != st_pool_count(&h->map.darts, l));
+    int irregular = x.irregular || (l > 0 && x.covered + x.holes != st_pool_count(&sv->map->darts, l));
     builder_free(&x);
     return irregular;
 }
 
 /* The Catmull-Clark records of level L's coarse level (st_synth_build). */
-static int build_tables_of(st_hier *h, unsigned L, cc_table *t) { return walk_coarse_level(h, L, t, NULL); }
+static int build_tables_of(const st_subdiv_view *sv, unsigned L, cc_table *t) { return walk_coarse_level(sv, L, t, NULL); }
 
-const cc_table *st_cc_tables_for(st_hier *h, unsigned L) { return st_synth_tables_for(h, L, ST_SCHEME_CATMARK, build_tables_of); }
+const cc_table *st_cc_tables_for(const st_subdiv_view *sv, unsigned L) { return st_synth_tables_for(sv, L, ST_SCHEME_CATMARK, build_tables_of); }
 
 /* ---- evaluation ---- */
 
@@ -510,7 +510,7 @@ static void edge_item(cc_worker *w, uint32_t i)
     const cc_eval *x = w->x;
     const cc_table *t = x->t;
     uint32_t nedge = (uint32_t)(t->edge.n / 5);
-    if (i >= nedge) { st_catmark_emit_edge(x->h, x->L, t->sedge.a[i - nedge], &w->e, sink_write, w); return; }
+    if (i >= nedge) { st_catmark_emit_edge(x->sv, x->L, t->sedge.a[i - nedge], &w->e, sink_write, w); return; }
     const uint32_t *r = t->edge.a + 5 * (size_t)i;
     st_cc_edge_value(x, r, x->pnew + 3 * (size_t)r[4]);
 }
@@ -532,7 +532,7 @@ static void vertex_item(cc_worker *w, uint32_t i)
         return;
     }
     i -= nn;
-    if (i < ns) { st_catmark_emit_vertex(x->h, x->L, t->svert.a[i], &w->e, sink_write, w); return; }
+    if (i < ns) { st_catmark_emit_vertex(x->sv, x->L, t->svert.a[i], &w->e, sink_write, w); return; }
     i -= ns;
     uint32_t r = t->copy.a[i];
     memcpy(x->pold + 3 * (size_t)(r & REF_ID), st_cc_ref_pos(x, r), 3 * sizeof(double));
@@ -561,51 +561,51 @@ static void eval_passes(st_team *team, unsigned tid, void *ctx)
 /* ---- the level ---- */
 
 /* Every vertex of level L by its stencil (a level the tables do not fit). */
-static void predict_by_stencils(st_hier *h, unsigned L)
+static void predict_by_stencils(const st_subdiv_view *sv, unsigned L)
 {
-    cc_eval x = { .h = h, .L = L };
-    x.pold = st_mla_column_for_overwrite(&h->map.pos, &h->map.verts, L);
-    x.pnew = (double *)h->map.pos.base;
+    cc_eval x = { .sv = sv, .L = L };
+    x.pold = st_mla_column_for_overwrite(&sv->map->pos, &sv->map->verts, L);
+    x.pnew = (double *)sv->map->pos.base;
     if (!x.pold) abort(); /* out of memory for a level's positions */
     cc_worker w = { .x = &x };
-    st_catmark_emit(h, L, NULL, 0, sink_write, &w);
+    st_catmark_emit(sv, L, NULL, 0, sink_write, &w);
 }
 
 /* Level L by the walks that build the tables, each record evaluated as
  * met (the same records, the same arithmetic, so the tables' bits) on one
  * thread; returns 1 if the level is irregular (the stencils' then). */
-static int predict_by_walk(st_hier *h, unsigned L)
+static int predict_by_walk(const st_subdiv_view *sv, unsigned L)
 {
-    st_map *m = &h->map;
+    st_map *m = sv->map;
     if (m->verts.end > REF_ID) return 1; /* refs keep one bit for the column, as the tables' */
-    cc_eval x = { .h = h, .L = L };
+    cc_eval x = { .sv = sv, .L = L };
     x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
     if (!x.pold) abort(); /* out of memory for a level's positions */
     x.pnew = (double *)m->pos.base;
     x.pbase = (const double *)m->pos.base;
     x.pcol = (const double *)m->pos.col[m->pos.eff[L - 1]];
     cc_worker w = { .x = &x };
-    int irregular = walk_coarse_level(h, L, NULL, &w);
+    int irregular = walk_coarse_level(sv, L, NULL, &w);
     st_stencil_buf_free(&w.e.buf);
     st_stencil_buf_free(&w.e.tmp);
     return irregular;
 }
 
-void st_catmark_predict_level(st_hier *h, unsigned L)
+void st_catmark_predict_level(const st_subdiv_view *sv, unsigned L)
 {
-    st_map *m = &h->map;
-    if (!m->beta0.col[L]) { predict_by_stencils(h, L); return; }
+    st_map *m = sv->map;
+    if (!m->beta0.col[L]) { predict_by_stencils(sv, L); return; }
     /* The first synthesis after a change walks the level instead of
      * building the tables (which a one-shot synthesis, a command that
      * subdivides and writes, would never read again); the next builds
      * them (st_synth_tables_defer). */
-    if (st_synth_tables_defer(h, L, ST_SCHEME_CATMARK)) {
-        if (predict_by_walk(h, L)) predict_by_stencils(h, L);
+    if (st_synth_tables_defer(sv, L, ST_SCHEME_CATMARK)) {
+        if (predict_by_walk(sv, L)) predict_by_stencils(sv, L);
         return;
     }
-    const cc_table *t = st_cc_tables_for(h, L);
-    if (t->irregular) { predict_by_stencils(h, L); return; }
-    cc_eval x = { .h = h, .L = L, .t = t };
+    const cc_table *t = st_cc_tables_for(sv, L);
+    if (t->irregular) { predict_by_stencils(sv, L); return; }
+    cc_eval x = { .sv = sv, .L = L, .t = t };
     x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
     if (!x.pold) abort(); /* out of memory for a level's positions */
     x.pnew = (double *)m->pos.base;

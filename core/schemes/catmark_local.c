@@ -1,12 +1,14 @@
 /* Catmull-Clark local re-synthesis of one level (scheme.h predict_around,
- * called by st_hier_move) when the level has no details: the points of the
- * faces around the changed vertices, with the arithmetic of the full-level
- * synthesis (catmark_tables.h) and from the same start darts, so that a
- * local edit and a full synthesis give the same bits.
+ * called by st_hier_move through core/multires) when the level has no
+ * details: the points of the faces around the changed vertices, with the
+ * arithmetic of the full-level synthesis (catmark_tables.h) and from the
+ * same start darts, so that a local edit and a full synthesis give the
+ * same bits.
  *
  * It reads the face points of faces outside the region from level L itself:
- * with no details at L, P_L = S(P_{L-1}) (hier.h), and those faces' corners
- * did not change (the region holds every face around a changed vertex).
+ * with no details at L, P_L = S(P_{L-1}) (core/multires/hier.h), and those
+ * faces' corners did not change (the region holds every face around a
+ * changed vertex).
  * Faces are told apart by their points' stamps: no marks to set and clear.
  *
  * It needs the level's tables (built here when stale, once per topology
@@ -28,10 +30,11 @@
  * computed and written at once, face points first (edges and vertices read
  * them back from level L). */
 typedef struct direct {
-    st_hier *h;
+    const st_subdiv_view *sv;
     const st_map *m;
     unsigned l, L;
     uint32_t gen;
+    const uint32_t *stamp;              /* sv->stamp->v: it does not move during the pass */
     st_level_view c;
     const uint32_t *b0L, *b1, *b0, *vt; /* β0 column of L; base relations (darts new at L, plain ones) */
     int plain;                          /* β1 and vert have no column at l (primal splits keep them) */
@@ -83,19 +86,19 @@ static void plans_free(void *p)
 }
 
 /* Level L's plan slot, emptied and stamped with the map's state. */
-static local_plan *plan_start(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n)
+static local_plan *plan_start(const st_subdiv_view *sv, unsigned L, const uint32_t *seeds, uint32_t n)
 {
-    if (h->local.p && h->local.free != plans_free) {
-        h->local.free(h->local.p);
-        h->local.p = NULL;
+    if (sv->local->p && sv->local->free != plans_free) {
+        sv->local->free(sv->local->p);
+        sv->local->p = NULL;
     }
-    if (!h->local.p) {
-        h->local.p = calloc(1, sizeof(local_plans));
-        if (!h->local.p) return NULL; /* no plan: the walk alone */
-        h->local.free = plans_free;
+    if (!sv->local->p) {
+        sv->local->p = calloc(1, sizeof(local_plans));
+        if (!sv->local->p) return NULL; /* no plan: the walk alone */
+        sv->local->free = plans_free;
     }
-    st_map *m = &h->map;
-    local_plan *q = &((local_plans *)h->local.p)->level[L];
+    st_map *m = sv->map;
+    local_plan *q = &((local_plans *)sv->local->p)->level[L];
     q->valid = 1;
     q->gen = st_map_generation(m);
     q->dend = m->darts.end;
@@ -109,11 +112,11 @@ static local_plan *plan_start(st_hier *h, unsigned L, const uint32_t *seeds, uin
 }
 
 /* Level L's plan when it was made for these seeds on the map as it is. */
-static const local_plan *plan_for(const st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n)
+static const local_plan *plan_for(const st_subdiv_view *sv, unsigned L, const uint32_t *seeds, uint32_t n)
 {
-    const st_map *m = &h->map;
-    if (!h->local.p || h->local.free != plans_free || m->log) return NULL;
-    const local_plan *q = &((const local_plans *)h->local.p)->level[L];
+    const st_map *m = sv->map;
+    if (!sv->local->p || sv->local->free != plans_free || m->log) return NULL;
+    const local_plan *q = &((const local_plans *)sv->local->p)->level[L];
     if (!q->valid || q->gen != m->gen || q->dend != m->darts.end || q->vend != m->verts.end || q->top != m->top ||
         q->plvl != m->pos.eff[L - 1] || q->seeds.n != n || (n && memcmp(q->seeds.a, seeds, (size_t)n * sizeof *seeds)))
         return NULL;
@@ -210,9 +213,9 @@ static inline void replay_vertex(const plan_io *io, const uint32_t *r, unsigned 
 
 /* The level from its plan: the same records in the same order as the
  * walk, through the same arithmetic. */
-static void plan_replay(st_hier *h, unsigned L, const local_plan *q, st_synth_ctx *out)
+static void plan_replay(const st_subdiv_view *sv, unsigned L, const local_plan *q, st_synth_ctx *out)
 {
-    st_map *m = &h->map;
+    st_map *m = sv->map;
     const plan_io io = { (const double *)m->pos.base, (const double *)m->pos.col[q->plvl], (double *)m->pos.base,
                          (double *)m->pos.col[L] };
     for (size_t i = 0; i < q->faces.n;) {
@@ -248,7 +251,7 @@ static uint32_t d_beta1(const direct *x, uint32_t d) { return x->plain ? x->b1[d
 static uint32_t d_vert(const direct *x, uint32_t d) { return x->plain ? x->vt[d] : st_v_vert(&x->c, d); }
 static uint32_t d_phi1(const direct *x, uint32_t d) { return d_beta1(x, st_v_beta0(&x->c, d)); }
 static int direct_hole(const direct *x, uint32_t d) { return (x->m->flags[d] & ST_DART_BOUNDARY) != 0; }
-static int direct_sharp(const direct *x, uint32_t d) { return x->h->has_sharpness && st_hier_edge_sharpness(x->h, d, x->l) > 0; }
+static int direct_sharp(const direct *x, uint32_t d) { return x->sv->has_sharpness && st_subdiv_edge_sharpness(x->sv, d, x->l) > 0; }
 
 /* The corner the tables start a face at (catmark_fast.c), in the face's
  * corners y[0..k): on a level l >= 1 of the polygon split (which regular
@@ -267,7 +270,7 @@ static unsigned direct_start(const direct *x, const uint32_t *y, unsigned k)
 static void direct_face(direct *x, uint32_t c)
 {
     uint32_t cd = direct_centre_dart(x, c), centre = x->vt[cd];
-    if (x->h->stamp[centre] == x->gen) return;
+    if (x->stamp[centre] == x->gen) return;
     uint32_t z = c;
     x->walk.n = 0;
     do { vec_push(&x->walk, z); z = d_phi1(x, z); } while (z != c);
@@ -290,11 +293,11 @@ static void direct_face(direct *x, uint32_t c)
 static void direct_edge(direct *x, uint32_t d, uint32_t centre)
 {
     uint32_t md = x->b0L[d], mid = x->vt[md];
-    if (x->h->stamp[mid] == x->gen) return;
+    if (x->stamp[mid] == x->gen) return;
     uint32_t e = st_v_beta0(&x->c, d);
-    if (direct_hole(x, d) || direct_hole(x, e) || direct_sharp(x, d) || st_catmark_tri_edge(x->h, d, x->l)) {
+    if (direct_hole(x, d) || direct_hole(x, e) || direct_sharp(x, d) || st_catmark_tri_edge(x->sv, d, x->l)) {
         /* from the smaller dart, as the tables: the stencil's order, its bits */
-        st_catmark_emit_edge(x->h, x->L, d < e ? d : e, &x->e, st_synth_sink, x->out);
+        st_catmark_emit_edge(x->sv, x->L, d < e ? d : e, &x->e, x->out->sink, x->out);
         plan_drop(x);
         return;
     }
@@ -312,8 +315,8 @@ static void direct_edge(direct *x, uint32_t d, uint32_t centre)
 static void direct_vertex(direct *x, uint32_t d)
 {
     uint32_t v = d_vert(x, d);
-    if (x->h->stamp[v] == x->gen) return;
-    int special = x->h->has_sharpness && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
+    if (x->stamp[v] == x->gen) return;
+    int special = x->sv->has_sharpness && st_subdiv_vertex_sharpness(x->sv, v, x->l) > 0;
     uint32_t y = d;
     unsigned n = 0, lo = 0;
     x->walk.n = 0;
@@ -326,7 +329,7 @@ static void direct_vertex(direct *x, uint32_t d)
     } while (y != d);
     const uint32_t *r = x->walk.a;
     if (special) {
-        st_catmark_emit_vertex(x->h, x->L, r[lo], &x->e, st_synth_sink, x->out);
+        st_catmark_emit_vertex(x->sv, x->L, r[lo], &x->e, x->out->sink, x->out);
         plan_drop(x);
         return;
     }
@@ -348,12 +351,12 @@ static void direct_vertex(direct *x, uint32_t d)
     }
 }
 
-static void predict_direct(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n, st_synth_ctx *out)
+static void predict_direct(const st_subdiv_view *sv, unsigned L, const uint32_t *seeds, uint32_t n, st_synth_ctx *out)
 {
-    const st_map *m = &h->map;
-    direct x = { .h = h, .m = m, .l = L - 1, .L = L, .gen = out->gen, .out = out };
+    const st_map *m = sv->map;
+    direct x = { .sv = sv, .m = m, .l = L - 1, .L = L, .gen = out->gen, .stamp = sv->stamp->v, .out = out };
     /* No plan where the map logs its writes (a replay would not). */
-    if (!m->log) x.rec = plan_start(h, L, seeds, n);
+    if (!m->log) x.rec = plan_start(sv, L, seeds, n);
     st_level_view_init(m, x.l, &x.c);
     x.b0L = (const uint32_t *)m->beta0.col[L];
     x.b0 = (const uint32_t *)m->beta0.base;
@@ -382,11 +385,11 @@ static void predict_direct(st_hier *h, unsigned L, const uint32_t *seeds, uint32
     st_stencil_buf_free(&x.e.tmp);
 }
 
-int st_catmark_predict_around(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t n, st_synth_ctx *out)
+int st_catmark_predict_around(const st_subdiv_view *sv, unsigned L, const uint32_t *seeds, uint32_t n, st_synth_ctx *out)
 {
-    if (!h->map.beta0.col[L] || st_cc_tables_for(h, L)->irregular) return 0;
-    const local_plan *q = plan_for(h, L, seeds, n);
-    if (q) plan_replay(h, L, q, out);
-    else predict_direct(h, L, seeds, n, out);
+    if (!sv->map->beta0.col[L] || st_cc_tables_for(sv, L)->irregular) return 0;
+    const local_plan *q = plan_for(sv, L, seeds, n);
+    if (q) plan_replay(sv, L, q, out);
+    else predict_direct(sv, L, seeds, n, out);
     return 1;
 }

@@ -20,7 +20,7 @@ typedef st_synth_table cc_table;
 /* The Catmull-Clark tables of level L's coarse level, built now if stale
  * (catmark_fast.c).  Tables that are not irregular prove that level L is
  * the whole polygon split of level L-1. */
-const cc_table *st_cc_tables_for(st_hier *h, unsigned L);
+const cc_table *st_cc_tables_for(const st_subdiv_view *sv, unsigned L);
 
 static inline uint32_t st_cc_nfaces_general(const cc_table *t) { return st_synth_count(&t->foff); }
 static inline uint32_t st_cc_nverts_general(const cc_table *t) { return st_synth_count(&t->voff); }
@@ -28,7 +28,7 @@ static inline uint32_t st_cc_nverts_general(const cc_table *t) { return st_synth
 /* ---- evaluation of a record ---- */
 
 typedef struct cc_eval {
-    st_hier *h;
+    const st_subdiv_view *sv;
     unsigned L;
     const cc_table *t;
     const double *pbase, *pcol;     /* level-l positions: base, column */

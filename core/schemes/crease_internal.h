@@ -24,27 +24,36 @@
 #error "internal to core: render/, ui/ and app/ use core's public headers (docs/ARCHITECTURE.md)"
 #endif
 
-#include "core/multires/hier.h"
+#include "core/schemes/scheme.h"
+#include "core/map/refine_internal.h"
 
 #define ST_SHARP_INFINITE 10.0f
 
 /* Sharpness of the edge of d at level l, infinite on boundaries. */
-float st_crease_edge_sharpness(const st_hier *h, uint32_t d, unsigned l);
+float st_crease_edge_sharpness(const st_subdiv_view *sv, uint32_t d, unsigned l);
 /* Sharpness of the vertex of d at level l, with the edge-and-corner rule. */
-float st_crease_vertex_sharpness(const st_hier *h, uint32_t d, unsigned l);
+float st_crease_vertex_sharpness(const st_subdiv_view *sv, uint32_t d, unsigned l);
 float st_crease_decay(float s);
 /* Sharpness of the child at the vertex of d of the edge of d (level l), by
- * the hierarchy's crease method: what refinement stores at level l + 1. */
-float st_crease_child_edge_sharpness(const st_hier *h, uint32_t d, unsigned l);
+ * the view's crease method: what refinement stores at level l + 1. */
+float st_crease_child_edge_sharpness(const st_subdiv_view *sv, uint32_t d, unsigned l);
 
-typedef void (*st_vertex_mask_fn)(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out);
-typedef void (*st_edge_mask_fn)(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out);
+typedef void (*st_vertex_mask_fn)(const st_subdiv_view *sv, unsigned l, uint32_t d, st_stencil_buf *out);
+typedef void (*st_edge_mask_fn)(const st_subdiv_view *sv, unsigned l, uint32_t d, st_stencil_buf *out);
 
 /* Stencil of the child of the vertex of d (level l) into out. */
-void st_crease_vertex_point(const st_hier *h, unsigned l, uint32_t d, st_vertex_mask_fn smooth,
+void st_crease_vertex_point(const st_subdiv_view *sv, unsigned l, uint32_t d, st_vertex_mask_fn smooth,
                             st_stencil_buf *out, st_stencil_buf *tmp);
 /* Stencil of the point splitting the edge of d (level l) into out. */
-void st_crease_edge_point(const st_hier *h, unsigned l, uint32_t d, st_edge_mask_fn smooth,
+void st_crease_edge_point(const st_subdiv_view *sv, unsigned l, uint32_t d, st_edge_mask_fn smooth,
                           st_stencil_buf *out, st_stencil_buf *tmp);
+
+/* Stores sharpness s at level l on the edge of d (both its darts) / on
+ * vertex v, this level only; the attributes must exist (has_sharpness). */
+void st_subdiv_store_edge_sharpness(const st_subdiv_view *sv, uint32_t d, unsigned l, float s);
+void st_subdiv_store_vertex_sharpness(const st_subdiv_view *sv, uint32_t v, unsigned l, float s);
+/* Adds level top+1 by a primal split of the map (refine_internal.h) and
+ * gives its child edges and vertices their sharpness (refine_primal.c). */
+int st_subdiv_refine_primal(const st_subdiv_view *sv, enum st_split_mode mode, st_error *err);
 
 #endif

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 
 typedef struct emitter {
-    st_hier *h;
+    const st_subdiv_view *sv;
     unsigned L;
     const st_primal_rules *r;
     st_stencil_buf buf, tmp;
@@ -29,7 +29,7 @@ static void emit(emitter *e, uint32_t fine, uint32_t dart, int cell)
  * corner dart at level L (refine.c's polygon split). */
 static void emit_face(emitter *e, uint32_t c)
 {
-    const st_map *m = &e->h->map;
+    const st_map *m = e->sv->map;
     st_stencil_buf_clear(&e->buf);
     st_add_face_centroid(m, e->L - 1, c, 1.0, &e->buf);
     emit(e, st_vert(m, st_phi1(m, st_phi1(m, c, e->L), e->L), e->L), c, ST_CELL_FACE);
@@ -38,32 +38,32 @@ static void emit_face(emitter *e, uint32_t c)
 /* Edge point: the vertex splitting the edge of d is the vertex of β0(d, L). */
 static void emit_edge(emitter *e, uint32_t d)
 {
-    const st_map *m = &e->h->map;
-    if (e->r->creases) st_crease_edge_point(e->h, e->L - 1, d, e->r->edge, &e->buf, &e->tmp);
-    else { st_stencil_buf_clear(&e->buf); e->r->edge(e->h, e->L - 1, d, &e->buf); }
+    const st_map *m = e->sv->map;
+    if (e->r->creases) st_crease_edge_point(e->sv, e->L - 1, d, e->r->edge, &e->buf, &e->tmp);
+    else { st_stencil_buf_clear(&e->buf); e->r->edge(e->sv, e->L - 1, d, &e->buf); }
     emit(e, st_vert(m, st_beta0(m, d, e->L), e->L), d, ST_CELL_EDGE);
 }
 
 static void emit_vertex(emitter *e, uint32_t d)
 {
-    uint32_t v = st_vert(&e->h->map, d, e->L - 1);
+    uint32_t v = st_vert(e->sv->map, d, e->L - 1);
     st_stencil_buf_clear(&e->buf);
     if (!e->r->vertex) st_stencil_buf_add(&e->buf, v, 1.0);
-    else if (e->r->creases) st_crease_vertex_point(e->h, e->L - 1, d, e->r->vertex, &e->buf, &e->tmp);
-    else e->r->vertex(e->h, e->L - 1, d, &e->buf);
+    else if (e->r->creases) st_crease_vertex_point(e->sv, e->L - 1, d, e->r->vertex, &e->buf, &e->tmp);
+    else e->r->vertex(e->sv, e->L - 1, d, &e->buf);
     emit(e, v, d, ST_CELL_VERTEX);
 }
 
 static int has_face_point(const emitter *e, uint32_t d)
 {
     int fp = e->r->face_points;
-    return fp == ST_FACE_POINTS_ALL || (fp == ST_FACE_POINTS_NON_TRIANGLES && st_face_degree(&e->h->map, d, e->L - 1) != 3);
+    return fp == ST_FACE_POINTS_ALL || (fp == ST_FACE_POINTS_NON_TRIANGLES && st_face_degree(e->sv->map, d, e->L - 1) != 3);
 }
 
 /* Every fine vertex once: vertices and faces by marker, edges by d < β0(d). */
 static void emit_all(emitter *e)
 {
-    st_map *m = &e->h->map;
+    st_map *m = e->sv->map;
     unsigned l = e->L - 1;
     int fb = st_marker_reserve(m), vb = st_marker_reserve(m);
     if (fb < 0 || vb < 0) abort(); /* programmer error: markers leaked */
@@ -84,7 +84,7 @@ static void emit_all(emitter *e)
  * corners (a vertex may come several times; the caller dedupes). */
 static void emit_faces(emitter *e, const uint32_t *faces, uint32_t n)
 {
-    const st_map *m = &e->h->map;
+    const st_map *m = e->sv->map;
     for (uint32_t i = 0; i < n; i++) {
         uint32_t c = faces[i], x = c;
         if (has_face_point(e, c)) emit_face(e, c);
@@ -96,26 +96,26 @@ static void emit_faces(emitter *e, const uint32_t *faces, uint32_t n)
     }
 }
 
-void st_primal_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx,
+void st_primal_emit(const st_subdiv_view *sv, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx,
                     const st_primal_rules *r)
 {
-    emitter e = { .h = h, .L = L, .r = r, .sink = sink, .ctx = ctx };
+    emitter e = { .sv = sv, .L = L, .r = r, .sink = sink, .ctx = ctx };
     if (faces) emit_faces(&e, faces, n);
     else emit_all(&e);
     st_stencil_buf_free(&e.buf);
     st_stencil_buf_free(&e.tmp);
 }
 
-int st_check_triangles(const st_hier *h, st_error *err)
+int st_check_triangles(const st_subdiv_view *sv, const char *scheme, st_error *err)
 {
-    const st_map *m = &h->map;
+    const st_map *m = sv->map;
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, 0, &it); d != ST_NIL; d = st_dart_next(m, 0, &it)) {
         if (st_is_boundary(m, d)) continue;
         unsigned n = st_face_degree(m, d, 0);
         if (n != 3)
             return st_fail(err, ST_ERR_TOPOLOGY, "the %s scheme needs a triangle mesh, but the mesh has a face with %u sides",
-                           h->scheme->name, n);
+                           scheme, n);
     }
     return ST_OK;
 }

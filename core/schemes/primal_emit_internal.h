@@ -10,7 +10,7 @@
 #endif
 
 #include "core/schemes/crease_internal.h"
-#include "core/multires/hier.h"
+#include "core/schemes/scheme.h"
 
 enum st_face_points { ST_FACE_POINTS_NONE, ST_FACE_POINTS_NON_TRIANGLES, ST_FACE_POINTS_ALL };
 
@@ -22,14 +22,14 @@ typedef struct st_primal_rules {
 } st_primal_rules;
 
 /* The scheme's emit(), given its rules (scheme.h for the contract). */
-void st_primal_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx,
+void st_primal_emit(const st_subdiv_view *sv, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx,
                     const st_primal_rules *r);
 
 /* Adds w · (centroid of d's face at level l) as vertex weights. */
 void st_add_face_centroid(const st_map *m, unsigned l, uint32_t d, double w, st_stencil_buf *out);
 
-/* check() of the triangle-only schemes: names the side count of the first
- * other face. */
-int st_check_triangles(const st_hier *h, st_error *err);
+/* check() of the triangle-only schemes: names the scheme and the side count
+ * of the first other face. */
+int st_check_triangles(const st_subdiv_view *sv, const char *scheme, st_error *err);
 
 #endif

@@ -42,7 +42,8 @@
 /* Only subdivision hierarchies (dense maps) reach this file: the dense
  * lookup path, without the sparse test (map.h, "Two lookup paths"). */
 #define ST_MAP_DENSE_ONLY
-#include "core/multires/hier_internal.h"
+#include "core/schemes/crease_internal.h"
+#include "core/schemes/synth_internal.h"
 #include "core/schemes/primal_emit_internal.h"
 
 #include <math.h>
@@ -142,23 +143,23 @@ static void edge_point(const st_map *m, unsigned l, uint32_t d, st_stencil_buf *
     if (x1) extraordinary(m, l, e, k1, s, out);
 }
 
-static void butterfly_edge(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out)
+static void butterfly_edge(const st_subdiv_view *sv, unsigned l, uint32_t d, st_stencil_buf *out)
 {
-    edge_point(&h->map, l, d, out);
+    edge_point(sv->map, l, d, out);
 }
 
 /* Interpolating: even vertices keep their position (vertex mask NULL);
  * crease tags are carried but not used, as in OpenMesh. */
 static const st_primal_rules butterfly_rules = { NULL, butterfly_edge, 0, ST_FACE_POINTS_NONE };
 
-static void butterfly_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
+static void butterfly_emit(const st_subdiv_view *sv, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
 {
-    st_primal_emit(h, L, faces, n, sink, ctx, &butterfly_rules);
+    st_primal_emit(sv, L, faces, n, sink, ctx, &butterfly_rules);
 }
 
-static int butterfly_check(st_hier *h, st_error *err) { return st_check_triangles(h, err); }
+static int butterfly_check(const st_subdiv_view *sv, st_error *err) { return st_check_triangles(sv, "butterfly", err); }
 
-static int butterfly_refine(st_hier *h, st_error *err) { return st_hier_refine_primal(h, ST_SPLIT_TRI, err); }
+static int butterfly_refine(const st_subdiv_view *sv, st_error *err) { return st_subdiv_refine_primal(sv, ST_SPLIT_TRI, err); }
 
 const st_scheme st_scheme_butterfly = {
     .name = "butterfly",

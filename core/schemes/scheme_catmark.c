@@ -78,10 +78,10 @@ static unsigned face_degree(const st_level_view *v, uint32_t d)
  * assignSmoothMaskForEdge, after Hbr). */
 #define TRI_SMOOTH_FACE_WEIGHT 0.470
 
-int st_catmark_tri_edge(const st_hier *h, uint32_t d, unsigned l)
+int st_catmark_tri_edge(const st_subdiv_view *sv, uint32_t d, unsigned l)
 {
-    if (h->opts.tri_sub != ST_TRI_SUB_SMOOTH) return 0;
-    const st_map *m = &h->map;
+    if (sv->opts.tri_sub != ST_TRI_SUB_SMOOTH) return 0;
+    const st_map *m = sv->map;
     uint32_t e = st_beta0(m, d, l);
     if (st_is_boundary(m, d) || st_is_boundary(m, e)) return 0;
     st_level_view v;
@@ -93,13 +93,13 @@ int st_catmark_tri_edge(const st_hier *h, uint32_t d, unsigned l)
  * smooth triangles an edge next to a triangle weighs both face points by
  * fw = (w0 + w1) / 2 (w = 0.47 for a triangle, 1/4 else) and its ends by
  * (1 - 2 fw) / 2. */
-static void smooth_edge(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out)
+static void smooth_edge(const st_subdiv_view *sv, unsigned l, uint32_t d, st_stencil_buf *out)
 {
     st_level_view v;
-    st_level_view_init(&h->map, l, &v);
+    st_level_view_init(sv->map, l, &v);
     uint32_t e = st_v_beta0(&v, d);
     double vw = 0.25, fw = 0.25;
-    if (h->opts.tri_sub == ST_TRI_SUB_SMOOTH) {
+    if (sv->opts.tri_sub == ST_TRI_SUB_SMOOTH) {
         unsigned nd = face_degree(&v, d), ne = face_degree(&v, e);
         if (nd == 3 || ne == 3) {
             double w0 = nd == 3 ? TRI_SMOOTH_FACE_WEIGHT : 0.25, w1 = ne == 3 ? TRI_SMOOTH_FACE_WEIGHT : 0.25;
@@ -119,10 +119,10 @@ static void smooth_edge(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf
 /* Vertex point ((n-2) v + Σ neighbours / n + Σ face centroids / n) / n.  The
  * face of ring dart x runs v, u(x), ..., u(x') with u(x) = vert(β0 x) and x'
  * the ring dart before x, so u(x) lies on the faces of x and of β1(x). */
-static void smooth_vertex(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out)
+static void smooth_vertex(const st_subdiv_view *sv, unsigned l, uint32_t d, st_stencil_buf *out)
 {
     st_level_view v;
-    st_level_view_init(&h->map, l, &v);
+    st_level_view_init(sv->map, l, &v);
     unsigned n = 0;
     uint32_t x = d;
     do { n++; x = st_v_beta1(&v, x); } while (x != d);
@@ -155,9 +155,9 @@ static void smooth_vertex(const st_hier *h, unsigned l, uint32_t d, st_stencil_b
 
 typedef st_catmark_emitter emitter;
 
-void st_catmark_emit_face(const st_hier *h, unsigned L, uint32_t c, emitter *e, st_stencil_sink sink, void *ctx)
+void st_catmark_emit_face(const st_subdiv_view *sv, unsigned L, uint32_t c, emitter *e, st_stencil_sink sink, void *ctx)
 {
-    const st_map *m = &h->map;
+    const st_map *m = sv->map;
     uint32_t centre = st_vert(m, st_phi1(m, st_phi1(m, c, L), L), L);
     st_level_view v;
     st_level_view_init(m, L - 1, &v);
@@ -169,17 +169,17 @@ void st_catmark_emit_face(const st_hier *h, unsigned L, uint32_t c, emitter *e, 
 
 /* Without sharpness, a cell off the boundary takes the smooth mask: the
  * crease rules (crease.c) would pick it after the same checks. */
-static int plain_edge(const st_hier *h, uint32_t d, unsigned l)
+static int plain_edge(const st_subdiv_view *sv, uint32_t d, unsigned l)
 {
-    const st_map *m = &h->map;
-    return !h->has_sharpness && !st_is_boundary(m, d) && !st_is_boundary(m, st_beta0(m, d, l));
+    const st_map *m = sv->map;
+    return !sv->has_sharpness && !st_is_boundary(m, d) && !st_is_boundary(m, st_beta0(m, d, l));
 }
 
 
-static int plain_vertex(const st_hier *h, uint32_t d, unsigned l)
+static int plain_vertex(const st_subdiv_view *sv, uint32_t d, unsigned l)
 {
-    if (h->has_sharpness) return 0;
-    const st_map *m = &h->map;
+    if (sv->has_sharpness) return 0;
+    const st_map *m = sv->map;
     uint32_t x = d;
     do {
         if (st_is_boundary(m, x) || st_is_boundary(m, st_beta0(m, x, l))) return 0;
@@ -188,44 +188,44 @@ static int plain_vertex(const st_hier *h, uint32_t d, unsigned l)
     return 1;
 }
 
-void st_catmark_emit_edge(const st_hier *h, unsigned L, uint32_t d, emitter *e, st_stencil_sink sink, void *ctx)
+void st_catmark_emit_edge(const st_subdiv_view *sv, unsigned L, uint32_t d, emitter *e, st_stencil_sink sink, void *ctx)
 {
-    const st_map *m = &h->map;
+    const st_map *m = sv->map;
     uint32_t mid = st_vert(m, st_beta0(m, d, L), L);
-    if (plain_edge(h, d, L - 1)) {
+    if (plain_edge(sv, d, L - 1)) {
         st_stencil_buf_clear(&e->buf);
-        smooth_edge(h, L - 1, d, &e->buf);
+        smooth_edge(sv, L - 1, d, &e->buf);
     } else {
-        st_crease_edge_point(h, L - 1, d, smooth_edge, &e->buf, &e->tmp);
+        st_crease_edge_point(sv, L - 1, d, smooth_edge, &e->buf, &e->tmp);
     }
     st_stencil s = { mid, e->buf.n, e->buf.src, e->buf.w, d, ST_CELL_EDGE };
     sink(ctx, &s);
 }
 
-void st_catmark_emit_vertex(const st_hier *h, unsigned L, uint32_t d, emitter *e, st_stencil_sink sink, void *ctx)
+void st_catmark_emit_vertex(const st_subdiv_view *sv, unsigned L, uint32_t d, emitter *e, st_stencil_sink sink, void *ctx)
 {
-    if (plain_vertex(h, d, L - 1)) {
+    if (plain_vertex(sv, d, L - 1)) {
         st_stencil_buf_clear(&e->buf);
-        smooth_vertex(h, L - 1, d, &e->buf);
+        smooth_vertex(sv, L - 1, d, &e->buf);
     } else {
-        st_crease_vertex_point(h, L - 1, d, smooth_vertex, &e->buf, &e->tmp);
+        st_crease_vertex_point(sv, L - 1, d, smooth_vertex, &e->buf, &e->tmp);
     }
-    st_stencil s = { st_vert(&h->map, d, L - 1), e->buf.n, e->buf.src, e->buf.w, d, ST_CELL_VERTEX };
+    st_stencil s = { st_vert(sv->map, d, L - 1), e->buf.n, e->buf.src, e->buf.w, d, ST_CELL_VERTEX };
     sink(ctx, &s);
 }
 
 /* Every fine vertex once: faces and vertices by marker, edges by d < β0(d). */
-static void emit_all(st_hier *h, unsigned L, emitter *e, st_stencil_sink sink, void *ctx)
+static void emit_all(const st_subdiv_view *sv, unsigned L, emitter *e, st_stencil_sink sink, void *ctx)
 {
-    st_map *m = &h->map;
+    st_map *m = sv->map;
     unsigned l = L - 1;
     int fb = st_marker_reserve(m), vb = st_marker_reserve(m);
     if (fb < 0 || vb < 0) abort();
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, l, &it); d != ST_NIL; d = st_dart_next(m, l, &it)) {
-        if (!st_marked(m, vb, d)) { st_mark_vertex(m, vb, d, l); st_catmark_emit_vertex(h, L, d, e, sink, ctx); }
-        if (d < st_beta0(m, d, l)) st_catmark_emit_edge(h, L, d, e, sink, ctx);
-        if (!st_is_boundary(m, d) && !st_marked(m, fb, d)) { st_mark_face(m, fb, d, l); st_catmark_emit_face(h, L, d, e, sink, ctx); }
+        if (!st_marked(m, vb, d)) { st_mark_vertex(m, vb, d, l); st_catmark_emit_vertex(sv, L, d, e, sink, ctx); }
+        if (d < st_beta0(m, d, l)) st_catmark_emit_edge(sv, L, d, e, sink, ctx);
+        if (!st_is_boundary(m, d) && !st_marked(m, fb, d)) { st_mark_face(m, fb, d, l); st_catmark_emit_face(sv, L, d, e, sink, ctx); }
     }
     st_marker_release(m, fb, l);
     st_marker_release(m, vb, l);
@@ -268,33 +268,33 @@ static int id_set_add(id_set *s, uint32_t v)
 
 /* Fine vertices of the given faces, each once: centre, edge points,
  * corners (in that order, from the first face that holds them). */
-static void emit_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, emitter *e, st_stencil_sink sink, void *ctx)
+static void emit_faces(const st_subdiv_view *sv, unsigned L, const uint32_t *faces, uint32_t n, emitter *e, st_stencil_sink sink, void *ctx)
 {
-    const st_map *m = &h->map;
+    const st_map *m = sv->map;
     id_set done = { 0 };
     while (done.mask + 1 < 8 * (uint64_t)n) id_set_grow(&done); /* ~3 fine vertices per quad, half full */
     for (uint32_t i = 0; i < n; i++) {
         uint32_t c = faces[i], x = c;
-        if (id_set_add(&done, st_vert(m, st_phi1(m, st_phi1(m, c, L), L), L))) st_catmark_emit_face(h, L, c, e, sink, ctx);
+        if (id_set_add(&done, st_vert(m, st_phi1(m, st_phi1(m, c, L), L), L))) st_catmark_emit_face(sv, L, c, e, sink, ctx);
         do {
-            if (id_set_add(&done, st_vert(m, st_beta0(m, x, L), L))) st_catmark_emit_edge(h, L, x, e, sink, ctx);
-            if (id_set_add(&done, st_vert(m, x, L - 1))) st_catmark_emit_vertex(h, L, x, e, sink, ctx);
+            if (id_set_add(&done, st_vert(m, st_beta0(m, x, L), L))) st_catmark_emit_edge(sv, L, x, e, sink, ctx);
+            if (id_set_add(&done, st_vert(m, x, L - 1))) st_catmark_emit_vertex(sv, L, x, e, sink, ctx);
             x = st_phi1(m, x, L - 1);
         } while (x != c);
     }
     free(done.slot);
 }
 
-void st_catmark_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
+void st_catmark_emit(const st_subdiv_view *sv, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
 {
     emitter e = { 0 };
-    if (faces) emit_faces(h, L, faces, n, &e, sink, ctx);
-    else emit_all(h, L, &e, sink, ctx);
+    if (faces) emit_faces(sv, L, faces, n, &e, sink, ctx);
+    else emit_all(sv, L, &e, sink, ctx);
     st_stencil_buf_free(&e.buf);
     st_stencil_buf_free(&e.tmp);
 }
 
-static int catmark_refine(st_hier *h, st_error *err) { return st_hier_refine_primal(h, ST_SPLIT_POLY, err); }
+static int catmark_refine(const st_subdiv_view *sv, st_error *err) { return st_subdiv_refine_primal(sv, ST_SPLIT_POLY, err); }
 
 
 const st_scheme st_scheme_catmark = {

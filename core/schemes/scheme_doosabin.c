@@ -37,14 +37,15 @@
 /* Only subdivision hierarchies (dense maps) reach this file: the dense
  * lookup path, without the sparse test (map.h, "Two lookup paths"). */
 #define ST_MAP_DENSE_ONLY
-#include "core/multires/hier_internal.h"
+#include "core/schemes/crease_internal.h"
+#include "core/schemes/synth_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 
-static int ds_prepare(st_hier *h, st_error *err)
+static int ds_prepare(const st_subdiv_view *sv, st_error *err)
 {
-    st_map *m = &h->map;
+    st_map *m = sv->map;
     st_dart_iter it;
     /* A hole face of the primal map becomes a vertex H of M*: its darts keep
      * their flag.  β1* = φ1 = β1∘β0, computed for every dart before any is
@@ -84,9 +85,9 @@ static void cut_hole_corner(st_map *m, uint32_t D, unsigned L)
  * vertex per face of the new level; the vertices that the primal split
  * created for M*'s edges and faces mean nothing in the dual encoding and are
  * released. */
-static int ds_refine(st_hier *h, st_error *err)
+static int ds_refine(const st_subdiv_view *sv, st_error *err)
 {
-    st_map *m = &h->map;
+    st_map *m = sv->map;
     st_dart_list holes = { 0 };
     holes_off(m, m->top, &holes);
     int rc = st_refine_uniform(m, ST_SPLIT_POLY, err);
@@ -117,9 +118,9 @@ static int ds_refine(st_hier *h, st_error *err)
 }
 
 /* Stencil of the level-L vertex on the face that contains the old dart c. */
-static void emit_corner(const st_hier *h, unsigned L, uint32_t c, st_stencil_buf *buf, st_stencil_sink sink, void *ctx)
+static void emit_corner(const st_subdiv_view *sv, unsigned L, uint32_t c, st_stencil_buf *buf, st_stencil_sink sink, void *ctx)
 {
-    const st_map *m = &h->map;
+    const st_map *m = sv->map;
     unsigned l = L - 1, n = st_vertex_degree(m, c, l), j = 0;
     st_stencil_buf_clear(buf);
     uint32_t x = c;
@@ -138,9 +139,9 @@ static void emit_corner(const st_hier *h, unsigned L, uint32_t c, st_stencil_buf
  * face across the cut, toward the other end of the boundary edge before it
  * around the hole (e, β1(e) = D at level l).  Frames: those of the real
  * faces along the two boundary edges. */
-static void emit_hole_corner(const st_hier *h, unsigned L, uint32_t D, st_stencil_buf *buf, st_stencil_sink sink, void *ctx)
+static void emit_hole_corner(const st_subdiv_view *sv, unsigned L, uint32_t D, st_stencil_buf *buf, st_stencil_sink sink, void *ctx)
 {
-    const st_map *m = &h->map;
+    const st_map *m = sv->map;
     unsigned l = L - 1;
     uint32_t v = st_vert(m, D, l), e = st_beta1_inv(m, D, l);
     uint32_t x = st_beta0(m, st_phi_1(m, D, L), L); /* the cut's dart at H: before D around the hole at L */
@@ -155,26 +156,26 @@ static void emit_hole_corner(const st_hier *h, unsigned L, uint32_t D, st_stenci
     }
 }
 
-static void emit_dart(const st_hier *h, unsigned L, uint32_t c, st_stencil_buf *buf, st_stencil_sink sink, void *ctx)
+static void emit_dart(const st_subdiv_view *sv, unsigned L, uint32_t c, st_stencil_buf *buf, st_stencil_sink sink, void *ctx)
 {
-    if (st_is_boundary(&h->map, c)) emit_hole_corner(h, L, c, buf, sink, ctx);
-    else emit_corner(h, L, c, buf, sink, ctx);
+    if (st_is_boundary(sv->map, c)) emit_hole_corner(sv, L, c, buf, sink, ctx);
+    else emit_corner(sv, L, c, buf, sink, ctx);
 }
 
-static void ds_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces, st_stencil_sink sink, void *ctx)
+static void ds_emit(const st_subdiv_view *sv, unsigned L, const uint32_t *faces, uint32_t nfaces, st_stencil_sink sink, void *ctx)
 {
-    st_map *m = &h->map;
+    st_map *m = sv->map;
     st_stencil_buf buf = { 0 };
     if (!faces) {
         /* Each face of level L holds exactly one dart of level L-1, but for
          * the cut hole corners (two faces per old hole dart). */
         st_dart_iter it;
         for (uint32_t d = st_dart_first(m, L - 1, &it); d != ST_NIL; d = st_dart_next(m, L - 1, &it))
-            emit_dart(h, L, d, &buf, sink, ctx);
+            emit_dart(sv, L, d, &buf, sink, ctx);
     } else {
         for (uint32_t i = 0; i < nfaces; i++) {
             uint32_t x = faces[i];
-            do { emit_dart(h, L, x, &buf, sink, ctx); x = st_phi1(m, x, L - 1); } while (x != faces[i]);
+            do { emit_dart(sv, L, x, &buf, sink, ctx); x = st_phi1(m, x, L - 1); } while (x != faces[i]);
         }
     }
     st_stencil_buf_free(&buf);

@@ -14,10 +14,10 @@
  * lookup path, without the sparse test (map.h, "Two lookup paths"). */
 #define ST_MAP_DENSE_ONLY
 #include "core/schemes/primal_emit_internal.h"
-#include "core/multires/hier_internal.h"
+#include "core/schemes/crease_internal.h"
+#include "core/schemes/synth_internal.h"
 #include "core/schemes/synth_blocks_internal.h"
 #include "core/schemes/synth_tables_internal.h"
-
 #include "core/base/parallel.h"
 #include "core/map/pool_internal.h"
 
@@ -32,9 +32,9 @@ static uint32_t opposite(const st_map *m, uint32_t d, unsigned l)
 }
 
 /* Only called for edges with two real faces (boundary edges are sharp). */
-static void smooth_edge(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out)
+static void smooth_edge(const st_subdiv_view *sv, unsigned l, uint32_t d, st_stencil_buf *out)
 {
-    const st_map *m = &h->map;
+    const st_map *m = sv->map;
     uint32_t e = st_beta0(m, d, l);
     st_stencil_buf_add(out, st_vert(m, d, l), 0.375);
     st_stencil_buf_add(out, st_vert(m, e, l), 0.375);
@@ -54,9 +54,9 @@ static void loop_weights(unsigned n, double *vw, double *ew)
 }
 
 /* Smooth (and dart) vertices are interior: every face around is real. */
-static void smooth_vertex(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out)
+static void smooth_vertex(const st_subdiv_view *sv, unsigned l, uint32_t d, st_stencil_buf *out)
 {
-    const st_map *m = &h->map;
+    const st_map *m = sv->map;
     unsigned n = st_vertex_degree(m, d, l);
     double vw, ew;
     loop_weights(n, &vw, &ew);
@@ -73,7 +73,7 @@ static void smooth_vertex(const st_hier *h, unsigned l, uint32_t d, st_stencil_b
  * no stencil buffers; boundary and sharp cells take the stencil path. */
 
 typedef struct loop_fast {
-    st_hier *h;
+    const st_subdiv_view *sv;
     unsigned L;
     st_level_view c, f;           /* coarse level L-1, fine level L */
     double *pnew, *pold;          /* level-L positions: new vertices, old vertices */
@@ -88,14 +88,14 @@ static double *slot(const loop_fast *x, uint32_t v)
 static void write_stencil(loop_fast *x, uint32_t fine, uint32_t dart, int cell)
 {
     st_stencil s = { fine, x->buf.n, x->buf.src, x->buf.w, dart, (uint8_t)cell };
-    st_stencil_eval(x->h, x->L, &s, slot(x, fine));
+    st_stencil_eval(x->sv->map, x->L, &s, slot(x, fine));
 }
 
 static int sharp_edge(const loop_fast *x, uint32_t d, uint32_t e)
 {
-    const st_map *m = &x->h->map;
+    const st_map *m = x->sv->map;
     return st_is_boundary(m, d) || st_is_boundary(m, e) ||
-           (x->h->has_sharpness && st_hier_edge_sharpness(x->h, d, x->L - 1) > 0);
+           (x->sv->has_sharpness && st_subdiv_edge_sharpness(x->sv, d, x->L - 1) > 0);
 }
 
 static void axpy(double *acc, double w, const double *p)
@@ -107,7 +107,7 @@ static void fast_edge(loop_fast *x, uint32_t d, uint32_t e)
 {
     uint32_t mid = st_v_vert(&x->f, st_v_beta0(&x->f, d));
     if (sharp_edge(x, d, e)) {
-        st_crease_edge_point(x->h, x->L - 1, d, smooth_edge, &x->buf, &x->tmp);
+        st_crease_edge_point(x->sv, x->L - 1, d, smooth_edge, &x->buf, &x->tmp);
         write_stencil(x, mid, d, ST_CELL_EDGE);
         return;
     }
@@ -125,14 +125,14 @@ static void fast_vertex(loop_fast *x, uint32_t d)
     const st_level_view *c = &x->c;
     uint32_t v = st_v_vert(c, d), y = d;
     unsigned n = 0;
-    int smooth = !x->h->has_sharpness || st_hier_vertex_sharpness(x->h, v, x->L - 1) <= 0;
+    int smooth = !x->sv->has_sharpness || st_subdiv_vertex_sharpness(x->sv, v, x->L - 1) <= 0;
     do {
         if (sharp_edge(x, y, st_v_beta0(c, y))) smooth = 0;
         n++;
         y = st_v_beta1(c, y);
     } while (y != d);
     if (!smooth) {
-        st_crease_vertex_point(x->h, x->L - 1, d, smooth_vertex, &x->buf, &x->tmp);
+        st_crease_vertex_point(x->sv, x->L - 1, d, smooth_vertex, &x->buf, &x->tmp);
         write_stencil(x, v, d, ST_CELL_VERTEX);
         return;
     }
@@ -148,16 +148,16 @@ static void fast_vertex(loop_fast *x, uint32_t d)
 
 /* Level views and a stamp per vertex: any map (used when the tables below
  * do not apply). */
-static void loop_predict_views(st_hier *h, unsigned L)
+static void loop_predict_views(const st_subdiv_view *sv, unsigned L)
 {
-    st_map *m = &h->map;
-    loop_fast x = { .h = h, .L = L };
+    st_map *m = sv->map;
+    loop_fast x = { .sv = sv, .L = L };
     x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
     x.pnew = (double *)m->pos.base;
     if (!x.pold) abort(); /* out of memory for a level's positions */
     st_level_view_init(m, L - 1, &x.c);
     st_level_view_init(m, L, &x.f);
-    uint32_t gen = st_hier_stamp_begin(h);
+    uint32_t gen = st_subdiv_stamp_begin(sv), *stamp = sv->stamp->v;
     const st_pool *p = &m->darts;
     for (unsigned lv = L; lv-- > 0;)
         for (uint32_t b = 0; b < p->nblocks[lv]; b++) {
@@ -166,7 +166,7 @@ static void loop_predict_views(st_hier *h, unsigned L)
                 if (p->ins[d] == ST_FREE_LEVEL) continue;
                 uint32_t e = st_v_beta0(&x.c, d), v = st_v_vert(&x.c, d);
                 if (d < e) fast_edge(&x, d, e);
-                if (h->stamp[v] != gen) { h->stamp[v] = gen; fast_vertex(&x, d); }
+                if (stamp[v] != gen) { stamp[v] = gen; fast_vertex(&x, d); }
             }
         }
     st_stencil_buf_free(&x.buf);
@@ -193,7 +193,7 @@ static void loop_predict_views(st_hier *h, unsigned L)
 #define RING_MAX 32u          /* valences with precomputed weights */
 
 typedef struct lbuild {
-    st_hier *h;
+    const st_subdiv_view *sv;
     unsigned l, L;
     st_level_view c;                 /* coarse level l */
     const uint32_t *b0L, *b1, *vt;   /* β0 column of L; base β1 and vert (no column at l) */
@@ -206,21 +206,21 @@ typedef struct lbuild {
 
 static uint32_t lref(const lbuild *x, uint32_t v) { return st_synth_ref(&x->c, x->vnew, v); }
 
-static int ring_sharp(const st_hier *h, uint32_t d, unsigned l) { return h->has_sharpness && st_hier_edge_sharpness(h, d, l) > 0; }
+static int ring_sharp(const st_subdiv_view *sv, uint32_t d, unsigned l) { return sv->has_sharpness && st_subdiv_edge_sharpness(sv, d, l) > 0; }
 
 static void build_vertex(lbuild *x, uint32_t v)
 {
     st_synth_table *t = x->t;
-    const uint8_t *flags = x->h->map.flags;
+    const uint8_t *flags = x->sv->map->flags;
     uint32_t d = x->vd[v];
     if (d == ST_NIL) { vec_push(&t->copy, lref(x, v)); return; }
     x->ring.n = x->twin.n = 0;
-    int special = x->h->has_sharpness && st_hier_vertex_sharpness(x->h, v, x->l) > 0;
+    int special = x->sv->has_sharpness && st_subdiv_vertex_sharpness(x->sv, v, x->l) > 0;
     uint32_t y = d;
     do {
         /* The face of β0(y_j) is that of y_{j+1}: the ring darts' flags say
          * which edges touch a hole. */
-        special |= (flags[y] & ST_DART_BOUNDARY) || ring_sharp(x->h, y, x->l);
+        special |= (flags[y] & ST_DART_BOUNDARY) || ring_sharp(x->sv, y, x->l);
         vec_push(&x->ring, y);
         vec_push(&x->twin, st_v_beta0(&x->c, y));
         y = x->b1[y];
@@ -241,7 +241,7 @@ static void build_vertex(lbuild *x, uint32_t v)
         unsigned jn = j + 1 < n ? j + 1 : 0, jp = j ? j - 1 : n - 1;
         uint32_t mid = x->vt[x->b0L[r[j]]];
         if (x->c.vins[mid] != x->L) { x->irregular = 1; return; }
-        if (special && (((flags[r[j]] | flags[r[jn]]) & ST_DART_BOUNDARY) || ring_sharp(x->h, r[j], x->l))) {
+        if (special && (((flags[r[j]] | flags[r[jn]]) & ST_DART_BOUNDARY) || ring_sharp(x->sv, r[j], x->l))) {
             vec_push(&t->sedge, r[j]);
             continue;
         }
@@ -258,11 +258,11 @@ static int tables_apply(const st_map *m, unsigned L)
     return m->beta0.col[L] && !m->beta1.eff[l] && !m->vert.eff[l] && m->beta0.eff[l] == l;
 }
 
-static int loop_build(st_hier *h, unsigned L, st_synth_table *t)
+static int loop_build(const st_subdiv_view *sv, unsigned L, st_synth_table *t)
 {
-    st_map *m = &h->map;
+    st_map *m = sv->map;
     if (!tables_apply(m, L)) return 1;
-    lbuild x = { .h = h, .l = L - 1, .L = L, .t = t };
+    lbuild x = { .sv = sv, .l = L - 1, .L = L, .t = t };
     x.b0L = (const uint32_t *)m->beta0.col[L];
     x.b1 = (const uint32_t *)m->beta1.base;
     x.vt = (const uint32_t *)m->vert.base;
@@ -294,7 +294,7 @@ static int loop_build(st_hier *h, unsigned L, st_synth_table *t)
 }
 
 typedef struct leval {
-    st_hier *h;
+    const st_subdiv_view *sv;
     unsigned l, L;
     const st_synth_table *t;
     const double *pbase, *pcol;      /* level-l positions: base, column */
@@ -326,7 +326,7 @@ static void vertex_item(lworker *w, uint32_t i)
     if (i < ns) {
         loop_fast *s = &w->s;
         uint32_t d = t->svert.a[i];
-        st_crease_vertex_point(s->h, x->l, d, smooth_vertex, &s->buf, &s->tmp);
+        st_crease_vertex_point(s->sv, x->l, d, smooth_vertex, &s->buf, &s->tmp);
         write_stencil(s, st_v_vert(&s->c, d), d, ST_CELL_VERTEX);
         return;
     }
@@ -351,7 +351,7 @@ static void edge_item(lworker *w, uint32_t i)
     }
     loop_fast *s = &w->s;
     uint32_t d = t->sedge.a[i - ne];
-    st_crease_edge_point(s->h, x->l, d, smooth_edge, &s->buf, &s->tmp);
+    st_crease_edge_point(s->sv, x->l, d, smooth_edge, &s->buf, &s->tmp);
     write_stencil(s, st_v_vert(&s->f, st_v_beta0(&s->f, d)), d, ST_CELL_EDGE);
 }
 
@@ -361,9 +361,9 @@ static void eval_passes(st_team *team, unsigned tid, void *ctx)
     (void)tid;
     const leval *x = ctx;
     const st_synth_table *t = x->t;
-    lworker w = { .x = x, .s = { .h = x->h, .L = x->L, .pnew = x->pnew, .pold = x->pold } };
-    st_level_view_init(&x->h->map, x->l, &w.s.c);
-    st_level_view_init(&x->h->map, x->L, &w.s.f);
+    lworker w = { .x = x, .s = { .sv = x->sv, .L = x->L, .pnew = x->pnew, .pold = x->pold } };
+    st_level_view_init(x->sv->map, x->l, &w.s.c);
+    st_level_view_init(x->sv->map, x->L, &w.s.f);
     uint32_t b, e, nv = st_synth_count(&t->voff) + (uint32_t)(t->svert.n + t->copy.n), ne = (uint32_t)(t->edge.n / 5 + t->sedge.n);
     while (st_team_next(team, 0, nv, ST_SYNTH_CHUNK, &b, &e))
         for (uint32_t i = b; i < e; i++) vertex_item(&w, i);
@@ -373,17 +373,17 @@ static void eval_passes(st_team *team, unsigned tid, void *ctx)
     st_stencil_buf_free(&w.s.tmp);
 }
 
-static void loop_predict_level(st_hier *h, unsigned L)
+static void loop_predict_level(const st_subdiv_view *sv, unsigned L)
 {
-    st_map *m = &h->map;
+    st_map *m = sv->map;
     /* The first synthesis after a change walks the level (the same bits as
      * the tables, above): building the tables costs more than the walk
      * (koala, Loop depth 3: first synthesis 1.47 s -> 1.24 s of processor
      * time, medians under load), and the next synthesis builds them. */
-    if (st_synth_tables_defer(h, L, ST_SCHEME_LOOP)) { loop_predict_views(h, L); return; }
-    const st_synth_table *t = st_synth_tables_for(h, L, ST_SCHEME_LOOP, loop_build);
-    if (t->irregular) { loop_predict_views(h, L); return; }
-    leval x = { .h = h, .l = L - 1, .L = L, .t = t };
+    if (st_synth_tables_defer(sv, L, ST_SCHEME_LOOP)) { loop_predict_views(sv, L); return; }
+    const st_synth_table *t = st_synth_tables_for(sv, L, ST_SCHEME_LOOP, loop_build);
+    if (t->irregular) { loop_predict_views(sv, L); return; }
+    leval x = { .sv = sv, .l = L - 1, .L = L, .t = t };
     x.pold = st_mla_column_for_overwrite(&m->pos, &m->verts, L);
     if (!x.pold) abort(); /* out of memory for a level's positions */
     x.pnew = (double *)m->pos.base;
@@ -396,14 +396,14 @@ static void loop_predict_level(st_hier *h, unsigned L)
 
 static const st_primal_rules loop_rules = { smooth_vertex, smooth_edge, 1, ST_FACE_POINTS_NONE };
 
-static void loop_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
+static void loop_emit(const st_subdiv_view *sv, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
 {
-    st_primal_emit(h, L, faces, n, sink, ctx, &loop_rules);
+    st_primal_emit(sv, L, faces, n, sink, ctx, &loop_rules);
 }
 
-static int loop_check(st_hier *h, st_error *err) { return st_check_triangles(h, err); }
+static int loop_check(const st_subdiv_view *sv, st_error *err) { return st_check_triangles(sv, "loop", err); }
 
-static int loop_refine(st_hier *h, st_error *err) { return st_hier_refine_primal(h, ST_SPLIT_TRI, err); }
+static int loop_refine(const st_subdiv_view *sv, st_error *err) { return st_subdiv_refine_primal(sv, ST_SPLIT_TRI, err); }
 
 const st_scheme st_scheme_loop = {
     .name = "loop",

@@ -59,7 +59,7 @@
  * lookup path, without the sparse test (map.h, "Two lookup paths"). */
 #define ST_MAP_DENSE_ONLY
 #include "core/schemes/crease_internal.h"
-#include "core/multires/hier_internal.h"
+#include "core/schemes/synth_internal.h"
 #include "core/schemes/primal_emit_internal.h"
 
 #include <math.h>
@@ -80,9 +80,9 @@ static double omega(unsigned nq, unsigned nt)
 
 /* Edge point of the interior edge of d (both faces real: boundary edges are
  * sharp and never reach the smooth mask). */
-static void smooth_edge(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out)
+static void smooth_edge(const st_subdiv_view *sv, unsigned l, uint32_t d, st_stencil_buf *out)
 {
-    const st_map *m = &h->map;
+    const st_map *m = sv->map;
     uint32_t side[2] = { d, st_beta0(m, d, l) };
     uint32_t a = st_vert(m, side[0], l), b = st_vert(m, side[1], l);
     unsigned nq = 0, nt = 0;
@@ -111,9 +111,9 @@ static void smooth_edge(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf
 }
 
 /* Vertex point of the interior vertex of d. */
-static void smooth_vertex(const st_hier *h, unsigned l, uint32_t d, st_stencil_buf *out)
+static void smooth_vertex(const st_subdiv_view *sv, unsigned l, uint32_t d, st_stencil_buf *out)
 {
-    const st_map *m = &h->map;
+    const st_map *m = sv->map;
     unsigned nq = 0, nt = 0;
     uint32_t x = d;
     do {
@@ -146,12 +146,12 @@ static void smooth_vertex(const st_hier *h, unsigned l, uint32_t d, st_stencil_b
 
 static const st_primal_rules quadtri_rules = { smooth_vertex, smooth_edge, 1, ST_FACE_POINTS_NON_TRIANGLES };
 
-static void quadtri_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
+static void quadtri_emit(const st_subdiv_view *sv, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
 {
-    st_primal_emit(h, L, faces, n, sink, ctx, &quadtri_rules);
+    st_primal_emit(sv, L, faces, n, sink, ctx, &quadtri_rules);
 }
 
-static int quadtri_refine(st_hier *h, st_error *err) { return st_hier_refine_primal(h, ST_SPLIT_MIXED, err); }
+static int quadtri_refine(const st_subdiv_view *sv, st_error *err) { return st_subdiv_refine_primal(sv, ST_SPLIT_MIXED, err); }
 
 const st_scheme st_scheme_quadtri = {
     .name = "quad-triangle",

@@ -60,7 +60,8 @@
 /* Only subdivision hierarchies (dense maps) reach this file: the dense
  * lookup path, without the sparse test (map.h, "Two lookup paths"). */
 #define ST_MAP_DENSE_ONLY
-#include "core/multires/hier_internal.h"
+#include "core/schemes/crease_internal.h"
+#include "core/schemes/synth_internal.h"
 #include "core/map/refine_sqrt3_internal.h"
 
 #include <math.h>
@@ -108,7 +109,7 @@ static void edge_point_stencil(const st_map *m, unsigned l, uint32_t y, st_stenc
 }
 
 typedef struct emitter {
-    st_hier *h;
+    const st_subdiv_view *sv;
     unsigned L;
     st_stencil_sink sink;
     void *ctx;
@@ -117,7 +118,7 @@ typedef struct emitter {
 
 static void emit_vertex(emitter *e, uint32_t d)
 {
-    const st_map *m = &e->h->map;
+    const st_map *m = e->sv->map;
     vertex_stencil(m, e->L, d, &e->buf);
     st_stencil s = { st_vert(m, d, e->L - 1), e->buf.n, e->buf.src, e->buf.w, d, ST_CELL_VERTEX };
     e->sink(e->ctx, &s);
@@ -125,7 +126,7 @@ static void emit_vertex(emitter *e, uint32_t d)
 
 static void emit_centre(emitter *e, uint32_t f)
 {
-    const st_map *m = &e->h->map;
+    const st_map *m = e->sv->map;
     unsigned l = e->L - 1;
     uint32_t c = st_sqrt3_centre(m, f, e->L);
     if (c == ST_NIL) return;
@@ -138,7 +139,7 @@ static void emit_centre(emitter *e, uint32_t f)
 
 static void emit_edge_point(emitter *e, uint32_t y)
 {
-    const st_map *m = &e->h->map;
+    const st_map *m = e->sv->map;
     edge_point_stencil(m, e->L - 1, y, &e->buf);
     st_stencil s = { st_sqrt3_edge_point(m, y, e->L), e->buf.n, e->buf.src, e->buf.w, y, ST_CELL_EDGE };
     e->sink(e->ctx, &s);
@@ -148,7 +149,7 @@ static void emit_edge_point(emitter *e, uint32_t y)
  * boundary points from the hole darts (one per boundary edge). */
 static void emit_all(emitter *e)
 {
-    st_map *m = &e->h->map;
+    st_map *m = e->sv->map;
     unsigned l = e->L - 1;
     int boundary_step = st_sqrt3_boundary_step(e->L);
     int fb = st_marker_reserve(m), vb = st_marker_reserve(m);
@@ -173,7 +174,7 @@ static void emit_all(emitter *e)
  * to p on p-p' and next to q on q-q', and the vertices p and q. */
 static void emit_boundary_corner(emitter *e, uint32_t d)
 {
-    const st_map *m = &e->h->map;
+    const st_map *m = e->sv->map;
     unsigned l = e->L - 1;
     uint32_t hole, real, hole_p, real_p;
     if (!st_sqrt3_vertex_boundary(m, d, l, &hole, &real)) return;
@@ -190,7 +191,7 @@ static void emit_boundary_corner(emitter *e, uint32_t d)
 
 static void emit_faces(emitter *e, const uint32_t *faces, uint32_t n)
 {
-    const st_map *m = &e->h->map;
+    const st_map *m = e->sv->map;
     unsigned l = e->L - 1;
     int boundary_step = st_sqrt3_boundary_step(e->L);
     for (uint32_t i = 0; i < n; i++) {
@@ -204,17 +205,17 @@ static void emit_faces(emitter *e, const uint32_t *faces, uint32_t n)
     }
 }
 
-static void sqrt3_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
+static void sqrt3_emit(const st_subdiv_view *sv, unsigned L, const uint32_t *faces, uint32_t n, st_stencil_sink sink, void *ctx)
 {
-    emitter e = { h, L, sink, ctx, { 0 } };
+    emitter e = { sv, L, sink, ctx, { 0 } };
     if (faces) emit_faces(&e, faces, n);
     else emit_all(&e);
     st_stencil_buf_free(&e.buf);
 }
 
-static int sqrt3_check(st_hier *h, st_error *err)
+static int sqrt3_check(const st_subdiv_view *sv, st_error *err)
 {
-    st_map *m = &h->map;
+    st_map *m = sv->map;
     int fb = st_marker_reserve(m);
     if (fb < 0) return st_fail(err, ST_ERR_MEMORY, "no marker bit left");
     int rc = ST_OK;
@@ -231,7 +232,7 @@ static int sqrt3_check(st_hier *h, st_error *err)
     return rc;
 }
 
-static int sqrt3_refine(st_hier *h, st_error *err) { return st_refine_sqrt3(&h->map, err); }
+static int sqrt3_refine(const st_subdiv_view *sv, st_error *err) { return st_refine_sqrt3(sv->map, err); }
 
 const st_scheme st_scheme_sqrt3 = {
     .name = "sqrt3",

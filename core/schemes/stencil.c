@@ -1,5 +1,5 @@
-/* Stencil scratch buffers and the scheme registry. */
-#include "core/schemes/scheme.h"
+/* Stencil scratch buffers, their evaluation, and the stamps of the passes. */
+#include "core/schemes/synth_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -33,23 +33,32 @@ void st_stencil_buf_add_scaled(st_stencil_buf *b, const st_stencil_buf *o, doubl
     for (uint32_t i = 0; i < o->n; i++) st_stencil_buf_add(b, o->src[i], o->w[i] * s);
 }
 
-static const st_scheme *const all_schemes[] = {
-    &st_scheme_catmark, &st_scheme_loop, &st_scheme_butterfly,
-    &st_scheme_quadtri, &st_scheme_sqrt3, &st_scheme_doosabin,
-    &st_scheme_progressive,
-};
-
-const st_scheme *st_scheme_get(st_scheme_id id)
+void st_stencil_eval(const st_map *m, unsigned L, const st_stencil *s, double out[3])
 {
-    for (size_t i = 0; i < sizeof all_schemes / sizeof *all_schemes; i++)
-        if (all_schemes[i]->id == id) return all_schemes[i];
-    return NULL;
+    st_level_view v;
+    st_level_view_init(m, L - 1, &v);
+    double x = 0, y = 0, z = 0;
+    for (uint32_t i = 0; i < s->n; i++) {
+        const double *p = st_v_pos(&v, s->src[i]);
+        x += s->w[i] * p[0];
+        y += s->w[i] * p[1];
+        z += s->w[i] * p[2];
+    }
+    out[0] = x; out[1] = y; out[2] = z;
 }
 
-const st_scheme *st_scheme_find(const char *name)
+uint32_t st_stamps_begin(st_stamps *s, uint32_t need)
 {
-    for (size_t i = 0; i < sizeof all_schemes / sizeof *all_schemes; i++)
-        if (!strcmp(all_schemes[i]->name, name)) return all_schemes[i];
-    if (!strcmp(name, "catmark") || !strcmp(name, "cc")) return st_scheme_get(ST_SCHEME_CATMARK);
-    return NULL;
+    if (s->cap < need) {
+        uint32_t *p = realloc(s->v, (size_t)need * sizeof *p);
+        if (!p) abort();
+        memset(p + s->cap, 0, (size_t)(need - s->cap) * sizeof *p);
+        s->v = p;
+        s->cap = need;
+    }
+    if (++s->gen == 0) {
+        memset(s->v, 0, (size_t)s->cap * sizeof *s->v);
+        s->gen = 1;
+    }
+    return s->gen;
 }

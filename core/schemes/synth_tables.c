@@ -31,11 +31,11 @@ static void table_shrink(st_synth_table *t)
     }
 }
 
-const st_synth_table *st_synth_tables_if_fresh(const st_hier *h, unsigned l, int scheme)
+const st_synth_table *st_synth_tables_if_fresh(const st_subdiv_view *sv, unsigned l, int scheme)
 {
-    const st_map *m = &h->map;
-    const st_synth_table *t = h->cache[l].p;
-    if (t && h->cache[l].free == table_free && t->scheme == scheme && t->gen == m->gen && t->dend == m->darts.end &&
+    const st_map *m = sv->map;
+    const st_synth_table *t = sv->cache[l].p;
+    if (t && sv->cache[l].free == table_free && t->scheme == scheme && t->gen == m->gen && t->dend == m->darts.end &&
         t->vend == m->verts.end && t->top == m->top && t->plvl == m->pos.eff[l])
         return t;
     return NULL;
@@ -43,10 +43,10 @@ const st_synth_table *st_synth_tables_if_fresh(const st_hier *h, unsigned l, int
 
 /* An empty table of coarse level l, stamped with the map's state, in the
  * cache (what it held is freed first: stale). */
-static st_synth_table *table_new(st_hier *h, unsigned l, int scheme)
+static st_synth_table *table_new(const st_subdiv_view *sv, unsigned l, int scheme)
 {
-    st_map *m = &h->map;
-    st_level_cache *cache = &h->cache[l];
+    st_map *m = sv->map;
+    st_level_cache *cache = &sv->cache[l];
     if (cache->p) cache->free(cache->p); /* stale: freed before the new one grows */
     cache->p = NULL;
     st_synth_table *t = calloc(1, sizeof *t);
@@ -58,23 +58,23 @@ static st_synth_table *table_new(st_hier *h, unsigned l, int scheme)
     return t;
 }
 
-const st_synth_table *st_synth_tables_for(st_hier *h, unsigned L, int scheme, st_synth_build build)
+const st_synth_table *st_synth_tables_for(const st_subdiv_view *sv, unsigned L, int scheme, st_synth_build build)
 {
-    st_map *m = &h->map;
+    st_map *m = sv->map;
     unsigned l = L - 1;
-    const st_synth_table *fresh = st_synth_tables_if_fresh(h, l, scheme);
+    const st_synth_table *fresh = st_synth_tables_if_fresh(sv, l, scheme);
     if (fresh && !fresh->deferred) return fresh;
-    st_synth_table *t = table_new(h, l, scheme);
+    st_synth_table *t = table_new(sv, l, scheme);
     /* Refs keep one bit for the column: ids past 2^31 (never in memory
      * today) take the stencils. */
-    t->irregular = m->verts.end > REF_ID || build(h, L, t);
+    t->irregular = m->verts.end > REF_ID || build(sv, L, t);
     table_shrink(t);
     return t;
 }
 
-int st_synth_tables_defer(st_hier *h, unsigned L, int scheme)
+int st_synth_tables_defer(const st_subdiv_view *sv, unsigned L, int scheme)
 {
-    if (st_synth_tables_if_fresh(h, L - 1, scheme)) return 0; /* built, or marked by the last synthesis */
-    table_new(h, L - 1, scheme)->deferred = 1;
+    if (st_synth_tables_if_fresh(sv, L - 1, scheme)) return 0; /* built, or marked by the last synthesis */
+    table_new(sv, L - 1, scheme)->deferred = 1;
     return 1;
 }

@@ -1,15 +1,16 @@
 /* Index tables of a scheme's full-level synthesis, cached per coarse level
- * in st_hier.cache (the design: catmark_fast.c).  They depend on the
- * topology (and sharpness) only, and are stale when the map's generation
- * (map.h) or, as a second guard, the pools, the top level or the column of
- * the coarse positions changed since they were built. */
+ * in the view's cache (st_subdiv_view.cache: the hierarchy's; the design:
+ * catmark_fast.c).  They depend on the topology (and sharpness) only, and
+ * are stale when the map's generation (map.h) or, as a second guard, the
+ * pools, the top level or the column of the coarse positions changed since
+ * they were built. */
 #ifndef ST_SYNTH_TABLES_H
 #define ST_SYNTH_TABLES_H
 #ifndef STRATA_CORE_INTERNAL
 #error "internal to core: render/, ui/ and app/ use core's public headers (docs/ARCHITECTURE.md)"
 #endif
 
-#include "core/multires/hier.h"
+#include "core/schemes/scheme.h"
 #include "core/base/hugepage.h"
 #include "core/base/parallel.h"
 #include "core/schemes/synth_blocks_internal.h"
@@ -93,20 +94,20 @@ typedef struct st_synth_table {
 
 /* Builds t's records for level L from L-1; returns 1 if the level is
  * irregular (t's records are then unused). */
-typedef int (*st_synth_build)(st_hier *h, unsigned L, st_synth_table *t);
+typedef int (*st_synth_build)(const st_subdiv_view *sv, unsigned L, st_synth_table *t);
 
 /* The tables of coarse level l built by `scheme` for the map as it is now,
  * else NULL. */
-const st_synth_table *st_synth_tables_if_fresh(const st_hier *h, unsigned l, int scheme);
+const st_synth_table *st_synth_tables_if_fresh(const st_subdiv_view *sv, unsigned l, int scheme);
 /* The same, built now (and cached) when there are none or they are stale. */
-const st_synth_table *st_synth_tables_for(st_hier *h, unsigned L, int scheme, st_synth_build build);
+const st_synth_table *st_synth_tables_for(const st_subdiv_view *sv, unsigned L, int scheme, st_synth_build build);
 /* Whether this full synthesis of level L goes without tables: true when
  * nothing fresh is cached for the coarse level (the first synthesis after a
  * change), which leaves a mark so that the next synthesis builds them
  * (st_synth_tables_for).  For a scheme whose walk of the level costs less
  * than building the tables: a one-shot synthesis (a command that subdivides
  * and writes) builds no tables it would never read. */
-int st_synth_tables_defer(st_hier *h, unsigned L, int scheme);
+int st_synth_tables_defer(const st_subdiv_view *sv, unsigned L, int scheme);
 
 static inline uint32_t st_synth_count(const u32vec *off) { return off->n ? (uint32_t)off->n - 1 : 0; }
 

@@ -23,7 +23,7 @@
 #define ST_SCULPT_H
 
 #include "core/map/map.h"
-#include "core/multires/footprint.h"
+#include "core/map/footprint.h"
 #include "core/multires/hier.h"
 #include "core/multires/mask.h"
 

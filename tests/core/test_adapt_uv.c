@@ -21,6 +21,7 @@
 #include "core/io/mesh.h"
 #include "core/multires/hier.h"
 #include "core/schemes/scheme.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -10,6 +10,7 @@
  * motions, details) on an open grid. */
 #include "core/multires/hier.h"
 #include "core/multires/hier_internal.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 
 #include <math.h>

@@ -9,7 +9,7 @@
 #include "core/fvar/fvar_internal.h"
 #include "core/io/mesh.h"
 #include "core/map/map.h"
-#include "core/multires/hier.h"
+#include "core/multires/hier_internal.h"
 #include "core/schemes/scheme.h"
 
 #include <stdlib.h>
@@ -127,18 +127,18 @@ static void check_mesh(const st_mesh *m, const st_scheme *sc, unsigned k, const 
         CHECKF(st_hier_init(&b, m, sc, &o, &err) == 0, "%s: %s", what, err.msg);
         CHECKF(st_hier_init(&c, m, sc, &o, &err) == 0, "%s: %s", what, err.msg);
         for (unsigned l = 0; l < k; l++) {
-            CHECK(sc->refine(&b, &err) == 0);
-            CHECK(sc->refine(&c, &err) == 0);
+            CHECK(st_hier_refine_topology(&b, &err) == 0);
+            CHECK(st_hier_refine_topology(&c, &err) == 0);
         }
         CHECKF(a.fvar && b.fvar && a.fvar->levels == k + 1 && b.fvar->levels == 1, "%s", what);
         /* Beyond the map's top: refused, nothing done. */
-        CHECK(st_fvar_refine_levels(&b, k + 1, &err) == ST_ERR_INVALID && b.fvar->levels == 1);
-        CHECKF(st_fvar_refine_levels(&b, k, &err) == 0, "%s: %s", what, err.msg);
+        CHECK(st_hier_uv_refine_levels(&b, k + 1, &err) == ST_ERR_INVALID && b.fvar->levels == 1);
+        CHECKF(st_hier_uv_refine_levels(&b, k, &err) == 0, "%s: %s", what, err.msg);
         CHECK(b.fvar->levels == k + 1);
         unsigned j = k / 2;
-        CHECKF(st_fvar_refine_levels(&c, j, &err) == 0 && c.fvar->levels == j + 1, "%s: %s", what, err.msg);
-        CHECKF(st_fvar_refine_levels(&c, k, &err) == 0 && c.fvar->levels == k + 1, "%s: %s", what, err.msg);
-        CHECK(st_fvar_refine_levels(&c, k, &err) == 0 && c.fvar->levels == k + 1);  /* there already */
+        CHECKF(st_hier_uv_refine_levels(&c, j, &err) == 0 && c.fvar->levels == j + 1, "%s: %s", what, err.msg);
+        CHECKF(st_hier_uv_refine_levels(&c, k, &err) == 0 && c.fvar->levels == k + 1, "%s: %s", what, err.msg);
+        CHECK(st_hier_uv_refine_levels(&c, k, &err) == 0 && c.fvar->levels == k + 1);  /* there already */
         for (unsigned l = 0; l <= k; l++) {
             same_level(&a, &b, l, what);
             same_level(&a, &c, l, what);
@@ -198,14 +198,14 @@ static void test_stencil_schemes(void)
         st_error err = {0};
         CHECKF(st_hier_init(&a, &m, schemes[s], NULL, &err) == 0 && st_hier_subdivide_to(&a, 2, &err) == 0, "%s", err.msg);
         CHECKF(st_hier_init(&b, &m, schemes[s], NULL, &err) == 0, "%s", err.msg);
-        CHECK(schemes[s]->refine(&b, &err) == 0 && st_fvar_refine_levels(&b, 1, &err) == 0);
-        CHECK(schemes[s]->refine(&b, &err) == 0);
-        CHECK(st_fvar_refine_levels(&b, 1, &err) == 0 && b.fvar->levels == 2);  /* there already */
-        CHECK(schemes[s]->refine(&b, &err) == 0);
-        CHECKF(st_fvar_refine_levels(&b, 3, &err) == ST_ERR_INVALID && strstr(err.msg, schemes[s]->name), "%s", err.msg);
+        CHECK(st_hier_refine_topology(&b, &err) == 0 && st_hier_uv_refine_levels(&b, 1, &err) == 0);
+        CHECK(st_hier_refine_topology(&b, &err) == 0);
+        CHECK(st_hier_uv_refine_levels(&b, 1, &err) == 0 && b.fvar->levels == 2);  /* there already */
+        CHECK(st_hier_refine_topology(&b, &err) == 0);
+        CHECKF(st_hier_uv_refine_levels(&b, 3, &err) == ST_ERR_INVALID && strstr(err.msg, schemes[s]->name), "%s", err.msg);
         CHECK(b.fvar->levels == 2);
         st_hier_remove_top(&b);
-        CHECK(st_fvar_refine_levels(&b, 2, &err) == 0 && b.fvar->levels == 3);
+        CHECK(st_hier_uv_refine_levels(&b, 2, &err) == 0 && b.fvar->levels == 3);
         for (unsigned l = 0; l <= 2; l++) same_level(&a, &b, l, schemes[s]->name);
         st_hier_free(&a);
         st_hier_free(&b);

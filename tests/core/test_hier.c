@@ -44,7 +44,7 @@ static void gap_sink(void *ctx, const st_stencil *s)
 {
     gap_ctx *c = ctx;
     double p[3];
-    st_stencil_eval(c->h, c->L, s, p);
+    st_stencil_eval(&c->h->map, c->L, s, p);
     const double *q = st_pos(&c->h->map, s->fine, c->L);
     for (int k = 0; k < 3; k++) c->worst = fmax(c->worst, fabs(p[k] - q[k]));
     c->n++;
@@ -53,7 +53,7 @@ static void gap_sink(void *ctx, const st_stencil *s)
 static double stencil_gap(st_hier *h)
 {
     gap_ctx c = { .h = h };
-    for (c.L = 1; c.L <= h->map.top; c.L++) h->scheme->emit(h, c.L, NULL, 0, gap_sink, &c);
+    for (c.L = 1; c.L <= h->map.top; c.L++) st_hier_emit(h, c.L, NULL, 0, gap_sink, &c);
     CHECK(c.n > 0);
     return c.worst;
 }
@@ -107,7 +107,8 @@ static void check_tables(st_scheme_id id, void (*make)(st_mesh *), size_t i)
             st_parallel_set_threads(1);
             st_hier_synthesize(&h, 0);
             /* The first synthesis leaves marks, the second tables. */
-            const st_synth_table *t = st_synth_tables_if_fresh(&h, 0, id);
+            st_subdiv_view v = st_hier_view(&h);
+            const st_synth_table *t = st_synth_tables_if_fresh(&v, 0, id);
             CHECKF(t && t->deferred, "mesh %zu, step %d: level 0 not marked", i, step);
             double gap = stencil_gap(&h);
             CHECKF(gap < 1e-13, "mesh %zu, step %d: levels and stencils differ by %g", i, step, gap);
@@ -115,7 +116,7 @@ static void check_tables(st_scheme_id id, void (*make)(st_mesh *), size_t i)
             tl_snap_pos(&h, &one);
             st_hier_synthesize(&h, 0);
             tl_snap_pos(&h, &again);
-            t = st_synth_tables_if_fresh(&h, 0, id);
+            t = st_synth_tables_if_fresh(&v, 0, id);
             CHECKF(t && !t->deferred, "mesh %zu, step %d: no tables after the second synthesis", i, step);
             st_parallel_set_threads(2);
             st_hier_synthesize(&h, 0);

@@ -9,6 +9,7 @@
 
 #include "core/io/session.h"
 #include "core/map/map.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <stdlib.h>
 #include <string.h>

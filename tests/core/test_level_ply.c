@@ -9,6 +9,7 @@
 #include "core/io/level_ply.h"
 #include "core/multires/hier.h"
 #include "core/progressive/progressive.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <math.h>
 #include <stdio.h>

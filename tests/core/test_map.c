@@ -4,6 +4,7 @@
 #include "core/map/map_mesh.h"
 #include "core/map/refine_internal.h"
 #include "core/multires/hier.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 
 #include <math.h>

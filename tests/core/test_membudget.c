@@ -22,6 +22,7 @@
 #include "core/io/session.h"
 #include "core/multires/hier_internal.h"
 #include "core/progressive/progressive_internal.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <malloc.h>
 #include <math.h>

@@ -19,6 +19,7 @@
 #include "core/io/mesh.h"
 #include "core/map/map.h"
 #include "core/multires/hier.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 
 #include <math.h>

@@ -421,8 +421,8 @@ static void test_local_edit(const char *name, unsigned k)
 static void synthesize_by_stencils(st_hier *h)
 {
     for (unsigned L = 1; L <= h->map.top; L++) {
-        st_synth_ctx c = { .h = h, .L = L };
-        h->scheme->emit(h, L, NULL, 0, st_synth_sink, &c);
+        st_synth_ctx c = st_hier_synth_ctx(h, L);
+        st_hier_emit(h, L, NULL, 0, st_synth_sink, &c);
     }
 }
 

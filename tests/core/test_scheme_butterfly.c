@@ -5,6 +5,7 @@
  * OpenMesh on real meshes is cli_oracle_butterfly.sh. */
 #include "core/multires/hier.h"
 #include "core/multires/hier_internal.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 
 #include <math.h>

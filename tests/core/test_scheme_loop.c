@@ -4,6 +4,7 @@
 #include "core/schemes/crease_internal.h"
 #include "core/multires/hier.h"
 #include "core/multires/hier_internal.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 
 #include <math.h>

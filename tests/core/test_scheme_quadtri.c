@@ -6,6 +6,7 @@
  * reductions with OpenSubdiv on real meshes. */
 #include "core/multires/hier.h"
 #include "core/multires/hier_internal.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 
 #include <math.h>

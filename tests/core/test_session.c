@@ -6,6 +6,7 @@
 #include "core/multires/hier_internal.h"
 #include "core/io/map_io_internal.h"
 #include "core/io/session.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 #include "core/rebuild/rebuild.h"
 

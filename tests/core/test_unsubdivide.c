@@ -14,6 +14,7 @@
 #include "core/rebuild/unsub_topo_internal.h"
 #include "core/base/parallel.h"
 #include "core/multires/hier_internal.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <math.h>
 #include <stdlib.h>

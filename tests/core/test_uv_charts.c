@@ -16,6 +16,7 @@
 #include "core/io/mesh.h"
 #include "core/progressive/progressive.h"
 #include "core/uv/uv.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <math.h>
 #include <stdlib.h>

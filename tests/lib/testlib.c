@@ -158,6 +158,7 @@ uint32_t tl_rand(uint64_t *s)
 #include "core/multires/hier.h"
 #include "core/multires/hier_internal.h"
 #include "core/io/map_io_internal.h"
+#include "core/progressive/scheme_registry.h"
 
 void tl_init_hier(st_hier *h, void (*make)(st_mesh *), st_scheme_id id, unsigned levels)
 {

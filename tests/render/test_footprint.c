@@ -1,4 +1,4 @@
-/* One footprint for every change (core/multires/footprint.h, edit.h).
+/* One footprint for every change (core/map/footprint.h, edit.h).
  *
  * Core: for every scheme, with and without details, the footprint
  * st_hier_edit reports is the set its query st_hier_edit_footprint gives

@@ -18,6 +18,7 @@
 #include "testlib.h"
 
 #include "core/bake/bake.h"
+#include "core/progressive/scheme_registry.h"
 #include "render/image.h"
 #include "render/nmap.h"
 #include "render/offscreen.h"

@@ -28,6 +28,7 @@
 #include "render/geom.h"
 #include "render/triangulate.h"    /* the case ids of st_rgeom.face_case (render internal) */
 #include "core/map/map_mesh.h"
+#include "core/progressive/scheme_registry.h"
 
 typedef struct edge { uint32_t a, b; } edge;
 

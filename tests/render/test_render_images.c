@@ -28,6 +28,7 @@
 #include <sys/stat.h>
 
 #include "core/adapt/adapt.h"
+#include "core/progressive/scheme_registry.h"
 #include "render/image.h"
 #include "render/offscreen.h"
 

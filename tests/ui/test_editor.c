@@ -7,6 +7,7 @@
 #include "core/multires/hier_internal.h"
 #include "core/map/map_mesh.h"
 #include "core/adapt/adapt.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 #include "editor_testlib.h"
 
@@ -977,8 +978,8 @@ typedef struct ref_ctx { st_hier *h; unsigned L; uint32_t gen; } ref_ctx;
 static void ref_sink(void *ctx, const st_stencil *s)
 {
     ref_ctx *c = ctx;
-    if (c->h->stamp[s->fine] == c->gen) return;
-    c->h->stamp[s->fine] = c->gen;
+    if (c->h->stamp.v[s->fine] == c->gen) return;
+    c->h->stamp.v[s->fine] = c->gen;
     double p[3];
     st_stencil_apply(c->h, c->L, s, p);
     st_set_pos(&c->h->map, s->fine, c->L, p);
@@ -998,7 +999,7 @@ static void full_adaptive_synth(st_hier *h, unsigned from)
         }
         st_marker_release(m, fb, L - 1);
         ref_ctx c = { h, L, st_hier_stamp_begin(h) };
-        if (sub.n) h->scheme->emit(h, L, sub.d, sub.n, ref_sink, &c);
+        if (sub.n) st_hier_emit(h, L, sub.d, sub.n, ref_sink, &c);
         st_dart_list_free(&sub);
     }
 }

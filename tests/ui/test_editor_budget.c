@@ -10,6 +10,7 @@
 #include "editor.h"
 #include "editor_testlib.h"
 #include "core/multires/estimate.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 
 #include <stdio.h>

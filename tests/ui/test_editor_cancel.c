@@ -13,6 +13,7 @@
 #include "editor.h"
 #include "editor_testlib.h"
 #include "testlib.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <dirent.h>
 #include <stdio.h>

@@ -7,6 +7,7 @@
 #include "editor.h"
 #include "editor_testlib.h"
 #include "core/progressive/progressive.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 
 #include <stdio.h>

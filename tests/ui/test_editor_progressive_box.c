@@ -5,6 +5,7 @@
  * maps its vertices to the model's. */
 #include "editor.h"
 #include "core/map/map_mesh.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 
 #include <math.h>

@@ -9,6 +9,7 @@
 #include "editor.h"
 #include "core/map/map_mesh.h"
 #include "core/rebuild/rebuild.h"
+#include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 
 #include <math.h>

@@ -25,6 +25,7 @@
 #include "core/rebuild/rebuild.h"
 #include "core/multires/estimate.h"
 #include "core/adapt/adapt_estimate.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -79,7 +79,7 @@ static void free_partial(st_hier *h)
     free_mla(&h->edge_sharp);
     free_mla(&h->vertex_sharp);
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) free(h->detail[l]);
-    free(h->stamp);
+    free(h->stamp.v);
     st_hier_uv_free(h);
     memset(h, 0, sizeof *h);
 }
@@ -103,9 +103,7 @@ int ed_hier_clone(st_hier *dst, const st_hier *src, size_t *bytes_out)
     memset(&dst->edge_sharp, 0, sizeof dst->edge_sharp);
     memset(&dst->vertex_sharp, 0, sizeof dst->vertex_sharp);
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) dst->detail[l] = NULL;
-    dst->stamp = NULL;
-    dst->stamp_cap = 0;
-    dst->stamp_gen = 0;
+    dst->stamp = (st_stamps){ 0 };
     memset(dst->cache, 0, sizeof dst->cache); /* the copy builds its own */
     memset(&dst->local, 0, sizeof dst->local);
     dst->fvar = NULL;                         /* UVs: copied below */

@@ -14,10 +14,11 @@
  *     edit, box off, box on always shows the model (no detail is ever lost
  *     or rotated by coarsening: the model never coarsens).
  *   - After a local edit the display copies exactly the positions core
- *     reported writing (core/multires/footprint.h) and re-synthesises its
+ *     reported writing (core/map/footprint.h) and re-synthesises its
  *     levels beyond the model around them only. */
 #include "editor_display.h"
 #include "editor_internal.h"
+#include "core/progressive/progressive.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -320,7 +321,7 @@ static void pm_sync_vertex(st_box_display *bd, const st_hier *model, uint32_t i,
 }
 
 /* After a local edit: the display vertices whose level-and-vertex the edit
- * wrote (keys: core/multires/footprint.h). */
+ * wrote (keys: core/map/footprint.h). */
 static void pm_follow_edit(st_box_display *bd, const st_hier *model, const uint64_t *keys, uint32_t nkeys)
 {
     const st_pm_select *s = bd->adapt.pm;

@@ -13,6 +13,7 @@
 #include "editor_internal.h"
 #include "core/multires/estimate.h"
 #include "core/progressive/progressive.h"
+#include "core/progressive/scheme_registry.h"
 
 #include <math.h>
 #include <stdio.h>

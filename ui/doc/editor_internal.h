@@ -27,7 +27,7 @@ struct st_undo_step {
     const char *name;          /* what the step was, for menus: "move", "brush stroke", ... (static) */
     size_t bytes;
     /* ED_STEP_EDIT: values before and after, keyed by (level, kind, vid)
-     * as core's footprints (core/multires/footprint.h: st_fp_key): positions
+     * as core's footprints (core/map/footprint.h: st_fp_key): positions
      * of every vertex st_hier_edit rewrote (every level >= the edit level)
      * and the edit level's details of the moved vertices. */
     unsigned level;

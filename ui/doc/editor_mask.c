@@ -325,7 +325,7 @@ static void disp_mask_level(st_mask *mk, st_hier *h, unsigned L, st_dart_list *f
     st_marker_release(m, fb, L - 1);
     if (!faces->n) return; /* (emit with no face means every vertex of level L) */
     disp_mask_ctx c = { mk, m, L };
-    h->scheme->emit(h, L, faces->d, faces->n, disp_mask_sink, &c);
+    st_hier_emit(h, L, faces->d, faces->n, disp_mask_sink, &c);
 }
 
 const st_mask *st_doc_display_mask(st_doc *d)

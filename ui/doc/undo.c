@@ -76,7 +76,7 @@ void ed_step_free(st_undo_step *s)
 /* ---- recording: which values a step holds already ----------------------------
  *
  * A key is a vertex id in its low 32 bits under a "plane" in the high ones
- * (core/multires/footprint.h: level and kind; ed_layer_key: layer slot and
+ * (core/map/footprint.h: level and kind; ed_layer_key: layer slot and
  * level).  Each plane the step records in has a bitset over vertex ids, so
  * "already recorded in this step" is one bit test: no hashing, and a
  * stroke's recording reads a few small arrays (a level-6 blub's 455k ids

@@ -1,5 +1,11 @@
 /* "progressive": the prediction of a progressive multiresolution mesh
- * (core/progressive/progressive.h, point 5; thesis §4.4.6, GSS99 §3).
+ * (progressive.h, point 5; thesis §4.4.6, GSS99 §3).
+ *
+ * Its table lives here, above core/multires, not with the subdivision
+ * schemes of core/schemes: its fast paths are the progressive hierarchy's
+ * own (ring tables cached in the st_hier, details applied with the
+ * prediction, the pm_predictor option), so it reads the hierarchy through
+ * the view's owner, where the rules of core/schemes read the view alone.
  *
  * The levels come from simplification, so refine() refuses.  At level L:
  *   - a vertex that exists at L-1 is predicted by its own level-(L-1)
@@ -21,7 +27,7 @@
  * level-L orbit, so that its order of summation, hence its rounding, is the
  * same whichever dart reached it: local re-synthesis == full synthesis.
  * Synthesis itself, full and local, evaluates the same stencils from flat
- * ring tables (core/progressive/progressive_synth.c), to the same bits;
+ * ring tables (progressive_synth.c), to the same bits;
  * emit() serves the analysis, the edits' predictions and maps the tables
  * do not describe. */
 #include "core/multires/hier_internal.h"
@@ -174,8 +180,10 @@ static void emit_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32_t n
     st_stencil_buf_free(&buf);
 }
 
-static void progressive_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces, st_stencil_sink sink, void *ctx)
+static void progressive_emit(const st_subdiv_view *sv, unsigned L, const uint32_t *faces, uint32_t nfaces,
+                             st_stencil_sink sink, void *ctx)
 {
+    st_hier *h = sv->owner;
     if (L == 0 || L > h->map.top) return;
     if (!faces) emit_all(h, L, sink, ctx);
     else emit_faces(h, L, faces, nfaces, sink, ctx);
@@ -183,16 +191,28 @@ static void progressive_emit(st_hier *h, unsigned L, const uint32_t *faces, uint
 
 /* Full synthesis of level L: the ring tables, or the stencils on a map
  * they do not describe. */
-static void progressive_synth_level(st_hier *h, unsigned L)
+static void progressive_synth_level(const st_subdiv_view *sv, unsigned L)
 {
+    st_hier *h = sv->owner;
     if (st_progressive_synth_level(h, L)) return;
-    st_synth_ctx c = { .h = h, .L = L };
+    st_synth_ctx c = st_hier_synth_ctx(h, L);
     emit_all(h, L, st_synth_sink, &c);
 }
 
-static int progressive_check(st_hier *h, st_error *err)
+static int progressive_predict_around(const st_subdiv_view *sv, unsigned L, const uint32_t *seeds, uint32_t nseeds,
+                                      st_synth_ctx *out)
 {
-    st_map *m = &h->map;
+    return st_progressive_resynth_around(sv->owner, L, seeds, nseeds, out);
+}
+
+static size_t progressive_synth_estimate(const st_subdiv_view *sv, unsigned from)
+{
+    return st_progressive_synth_estimate(sv->owner, from);
+}
+
+static int progressive_check(const st_subdiv_view *sv, st_error *err)
+{
+    const st_map *m = sv->map;
     st_dart_iter it;
     for (uint32_t d = st_dart_first(m, 0, &it); d != ST_NIL; d = st_dart_next(m, 0, &it))
         if (!st_is_boundary(m, d) && st_face_degree(m, d, 0) != 3)
@@ -200,9 +220,9 @@ static int progressive_check(st_hier *h, st_error *err)
     return ST_OK;
 }
 
-static int progressive_refine(st_hier *h, st_error *err)
+static int progressive_refine(const st_subdiv_view *sv, st_error *err)
 {
-    (void)h;
+    (void)sv;
     return st_fail(err, ST_ERR_INVALID,
                    "a progressive hierarchy is built by simplification (st_progressive_build) and cannot be refined");
 }
@@ -211,12 +231,12 @@ const st_scheme st_scheme_progressive = {
     .name = "progressive",
     .id = ST_SCHEME_PROGRESSIVE,
     .interpolating = 0,               /* the neighbours of a split are relaxed */
-    .support_rings = 2,
-    .check = progressive_check,
-    .refine = progressive_refine,
-    .emit = progressive_emit,
-    .predict_level = progressive_synth_level,
-    .predict_around = st_progressive_resynth_around,
-    .fast_paths_apply_details = 1,
-    .synth_estimate = st_progressive_synth_estimate,
+    .support_rings = 2,               /* a stencil reads two rings (emit_faces) */
+    /* Triangles in; levels come from simplification, never from refine(). */
+    .check = progressive_check, .refine = progressive_refine,
+    .emit = progressive_emit,         /* the analysis, the edits' predictions, maps without tables */
+    /* The hierarchy's own fast paths: ring tables, details applied with
+     * the prediction (progressive_synth.c), and what their tables cost. */
+    .predict_level = progressive_synth_level, .predict_around = progressive_predict_around,
+    .fast_paths_apply_details = 1, .synth_estimate = progressive_synth_estimate,
 };
