@@ -13,6 +13,7 @@
 #include "core/progressive/scheme_registry.h"
 
 #include <errno.h>
+#include <stdarg.h>
 #include <sys/stat.h>
 #include <math.h>
 #include <stdio.h>
@@ -35,6 +36,25 @@ typedef struct load_ctx {
 enum { SEEN_HIER = 1, SEEN_MAP = 2, SEEN_SHRP = 4, SEEN_DETL = 8, SEEN_ADPT = 16, SEEN_EDIT = 32, SEEN_VIEW = 64, SEEN_BASE = 128,
        SEEN_MASK = 256, SEEN_LAYR = 512,
        SEEN_FVAR = 1024, SEEN_BUVS = 2048, SEEN_TOOL = 4096, SEEN_LVL0 = 8192, SEEN_POSN = 16384 };
+
+/* A failure that is not the file's bytes (memory, the budget, a
+ * regeneration): "FILE: what", the chunk's reader stopped. */
+static int load_fail(load_ctx *c, st_br *r, int code, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+static int load_fail(load_ctx *c, st_br *r, int code, const char *fmt, ...)
+{
+    char what[sizeof c->err->msg];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    st_fail(c->err, code, "%s: %s", c->name, what);
+    r->failed = 1;
+    return -1;
+}
 
 static int r_hier(load_ctx *c, st_br *r)
 {
@@ -118,6 +138,30 @@ static int r_level0(load_ctx *c, st_br *r)
     return 0;
 }
 
+/* The sharpness read, as the map's attached attributes. */
+static void attach_sharpness(load_ctx *c)
+{
+    st_hier *h = &c->s->h;
+    if (!c->has_sharpness) return;
+    h->map.dart_attrs[0] = &h->edge_sharp;
+    h->map.vert_attrs[0] = &h->vertex_sharp;
+    h->map.ndart_attrs = h->map.nvert_attrs = 1;
+    h->has_sharpness = 1;
+}
+
+/* The map's checks before anything works on it: the validator (when
+ * `validate`) and the scheme's need of triangles at level 0. */
+static int check_map(load_ctx *c, int validate, st_error *e)
+{
+    st_hier *h = &c->s->h;
+    st_error e2;
+    if (validate && st_map_validate(&h->map, &e2)) return st_fail(e, ST_ERR_INVALID, "invalid map: %s", e2.msg);
+    st_scheme_id id = h->scheme->id;
+    if ((id == ST_SCHEME_LOOP || id == ST_SCHEME_BUTTERFLY || id == ST_SCHEME_SQRT3) && !faces_are_triangles(&h->map, 0))
+        return st_fail(e, ST_ERR_INVALID, "the %s scheme needs a triangle control mesh", h->scheme->name);
+    return 0;
+}
+
 /* Live ids of a pool, all levels. */
 static uint64_t live_ids_of(const st_pool *p)
 {
@@ -135,36 +179,22 @@ static int regenerate(load_ctx *c, st_br *r)
 {
     st_hier *h = &c->s->h;
     st_map *m = &h->map;
-    if (c->has_sharpness) {
-        m->dart_attrs[0] = &h->edge_sharp;
-        m->vert_attrs[0] = &h->vertex_sharp;
-        m->ndart_attrs = m->nvert_attrs = 1;
-        h->has_sharpness = 1;
-    }
+    attach_sharpness(c);
     st_error e2;
-    if (st_map_validate(m, &e2)) return st_br_fail(r, "level 0: invalid map: %s", e2.msg);
-    st_scheme_id id = h->scheme->id;
-    if ((id == ST_SCHEME_LOOP || id == ST_SCHEME_BUTTERFLY || id == ST_SCHEME_SQRT3) && !faces_are_triangles(m, 0))
-        return st_br_fail(r, "the %s scheme needs a triangle control mesh", h->scheme->name);
+    if (check_map(c, 1, &e2)) return st_br_fail(r, "level 0: %s", e2.msg);
     st_subdiv_view sv = st_hier_view(h);
     if (h->scheme->check && h->scheme->check(&sv, &e2)) return st_br_fail(r, "level 0: %s", e2.msg);
     if (c->regen_top) {
         char what[64];
         snprintf(what, sizeof what, "regenerating %u levels", c->regen_top);
-        if (st_mem_check(st_hier_estimate_subdivide(h, c->regen_top, NULL), what, &e2)) {
-            st_fail(c->err, e2.code, "%s: %s", c->name, e2.msg);
-            r->failed = 1;
-            return -1;
-        }
+        if (st_mem_check(st_hier_estimate_subdivide(h, c->regen_top, NULL), what, &e2))
+            return load_fail(c, r, e2.code, "%s", e2.msg);
     }
     while (m->top < c->regen_top) {
         if (live_ids_of(&m->verts) * 24 > r->size - r->off)
             return st_br_fail(r, "positions: %u vertices at level %u, more than the chunk holds", (unsigned)live_ids_of(&m->verts), m->top);
-        if (st_hier_refine_topology(h, &e2)) {
-            st_fail(c->err, e2.code, "%s: regenerating level %u: %s", c->name, m->top + 1, e2.msg);
-            r->failed = 1;
-            return -1;
-        }
+        if (st_hier_refine_topology(h, &e2))
+            return load_fail(c, r, e2.code, "regenerating level %u: %s", m->top + 1, e2.msg);
     }
     return 0;
 }
@@ -181,7 +211,7 @@ static int r_positions(load_ctx *c, st_br *r)
      * its capacity. */
     if (m->verts.cap > m->verts.end) {
         unsigned char *b = realloc(pos.base, (size_t)m->verts.cap * pos.elem);
-        if (!b) { st_mla_free(&pos); st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+        if (!b) { st_mla_free(&pos); return load_fail(c, r, ST_ERR_MEMORY, "out of memory"); }
         memset(b + (size_t)m->verts.end * pos.elem, 0, (size_t)(m->verts.cap - m->verts.end) * pos.elem);
         pos.base = b;
     }
@@ -222,7 +252,7 @@ static int r_detail(load_ctx *c, st_br *r)
         /* a list names ids below cap, and cap is what its bytes allow */
         if (list && cap > c->s->h.map.verts.end) return st_br_fail(r, "details of level %u: %u of %u vertex ids", l, cap, c->s->h.map.verts.end);
         h->detail[l] = calloc((size_t)cap, 24);
-        if (!h->detail[l]) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+        if (!h->detail[l]) return load_fail(c, r, ST_ERR_MEMORY, "out of memory");
         h->detail_cap[l] = cap;
         if (!list) {
             for (size_t i = 0; i < 3 * (size_t)cap; i++) {
@@ -279,7 +309,7 @@ static int r_store(load_ctx *c, st_br *r, st_adapt_saved **out, uint32_t *nout, 
     uint32_t n = st_br_u32(r);
     if (st_br_need(r, n, 36, what)) return -1;
     st_adapt_saved *a = malloc((size_t)(n ? n : 1) * sizeof *a);
-    if (!a) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+    if (!a) return load_fail(c, r, ST_ERR_MEMORY, "out of memory");
     *out = a;
     *cap = n ? n : 1;
     for (uint32_t i = 0; i < n; i++) {
@@ -457,9 +487,7 @@ static int r_base(load_ctx *c, st_br *r)
     if (st_mesh_check("base mesh", m, &e2)) return st_br_fail(r, "%s", e2.msg);
     return 0;
 oom:
-    st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name);
-    r->failed = 1;
-    return -1;
+    return load_fail(c, r, ST_ERR_MEMORY, "out of memory");
 }
 
 static int r_mask(load_ctx *c, st_br *r)
@@ -470,7 +498,7 @@ static int r_mask(load_ctx *c, st_br *r)
     if (n > c->s->h.map.verts.end) return st_br_fail(r, "mask of %u vertices; the map has %u vertex ids", n, c->s->h.map.verts.end);
     if (!n) return st_br_fail(r, "empty mask");
     mk->v = malloc((size_t)n * sizeof *mk->v);
-    if (!mk->v) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+    if (!mk->v) return load_fail(c, r, ST_ERR_MEMORY, "out of memory");
     mk->cap = n;
     for (uint32_t i = 0; i < n; i++) {
         float x = st_br_f32(r);
@@ -488,7 +516,7 @@ static int r_offsets(load_ctx *c, st_br *r, double **out, uint32_t *cap, const c
     if (n > c->s->h.map.verts.end) return st_br_fail(r, "%s: %u vertices; the map has %u vertex ids", what, n, c->s->h.map.verts.end);
     if (!n) return 0;
     double *a = malloc((size_t)n * 24);
-    if (!a) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+    if (!a) return load_fail(c, r, ST_ERR_MEMORY, "out of memory");
     *out = a;
     *cap = n;
     for (size_t i = 0; i < 3 * (size_t)n; i++) {
@@ -513,7 +541,7 @@ static int r_layers_from(load_ctx *c, st_br *r, unsigned lowest)
     if (n > ST_LAYER_MAX) return st_br_fail(r, "%u sculpt layers (at most %d)", n, ST_LAYER_MAX);
     if (active != UINT32_MAX && active >= n) return st_br_fail(r, "active layer %u of %u", active, n);
     ls->v = calloc(n ? n : 1, sizeof *ls->v);
-    if (!ls->v) { st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name); r->failed = 1; return -1; }
+    if (!ls->v) return load_fail(c, r, ST_ERR_MEMORY, "out of memory");
     ls->cap = n;
     ls->active = active == UINT32_MAX ? -1 : (int)active;
     for (uint32_t i = 0; i < n; i++) {
@@ -557,6 +585,20 @@ static int r_layers_from(load_ctx *c, st_br *r, unsigned lowest)
 static int r_layers(load_ctx *c, st_br *r) { return r_layers_from(c, r, 1); }
 static int r_layers0(load_ctx *c, st_br *r) { return r_layers_from(c, r, 0); }
 
+/* A session with regenerated levels stores level 0's UVs alone when the
+ * rest refine after the topology (session_write.c, w_fvar): they are
+ * refined again here, as they were built. */
+static int regenerate_uvs(load_ctx *c, st_br *r)
+{
+    st_hier *h = &c->s->h;
+    if (!(c->seen & SEEN_LVL0) || h->map.top == 0) return 0;
+    int rules = st_fvar_rules_of(h->scheme);
+    if (rules < 0 || rules == ST_FVAR_STENCIL) return st_br_fail(r, "UVs: level 0 alone for the %s scheme", h->scheme->name);
+    st_error e2;
+    if (st_hier_uv_refine_levels(h, h->map.top, &e2)) return load_fail(c, r, e2.code, "regenerating the UVs: %s", e2.msg);
+    return 0;
+}
+
 static int r_fvar(load_ctx *c, st_br *r)
 {
     st_hier *h = &c->s->h;
@@ -589,23 +631,9 @@ static int r_fvar(load_ctx *c, st_br *r)
         }
     }
     if (r->failed) return -1;
-    /* A session with regenerated levels stores level 0's UVs alone when
-     * the rest refine after the topology (session_write.c, w_fvar). */
-    if ((c->seen & SEEN_LVL0) && levels == 1 && h->map.top > 0) {
-        int rules = st_fvar_rules_of(h->scheme);
-        if (rules < 0 || rules == ST_FVAR_STENCIL) return st_br_fail(r, "UVs: level 0 alone for the %s scheme", h->scheme->name);
-        st_error e2;
-        if (st_hier_uv_refine_levels(h, h->map.top, &e2)) {
-            st_fail(c->err, e2.code, "%s: regenerating the UVs: %s", c->name, e2.msg);
-            r->failed = 1;
-            return -1;
-        }
-    }
-    return 0;
+    return levels == 1 ? regenerate_uvs(c, r) : 0;
 oom:
-    st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name);
-    r->failed = 1;
-    return -1;
+    return load_fail(c, r, ST_ERR_MEMORY, "out of memory");
 }
 
 static int r_base_uv(load_ctx *c, st_br *r)
@@ -617,11 +645,7 @@ static int r_base_uv(load_ctx *c, st_br *r)
     uint32_t nidx = m->nfaces ? m->face_off[m->nfaces] : 0;
     m->uv = malloc(2 * (size_t)n * sizeof *m->uv);
     m->face_uv = malloc(((size_t)nidx + 1) * sizeof *m->face_uv);
-    if (!m->uv || !m->face_uv) {
-        st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", c->name);
-        r->failed = 1;
-        return -1;
-    }
+    if (!m->uv || !m->face_uv) return load_fail(c, r, ST_ERR_MEMORY, "out of memory");
     m->nuvs = n;
     for (size_t i = 0; i < 2 * (size_t)n; i++) m->uv[i] = st_br_f64(r);
     if (st_br_need(r, nidx, 4, "base mesh UV corners")) return -1;
@@ -642,20 +666,11 @@ static int finish(load_ctx *c)
     unsigned need = SEEN_HIER | SEEN_MAP | SEEN_DETL | SEEN_EDIT;
     if ((c->seen & need) != need) return st_fail(c->err, ST_ERR_PARSE, "%s: a required part of the session is missing", name);
     if (c->has_sharpness && !(c->seen & SEEN_SHRP)) return st_fail(c->err, ST_ERR_PARSE, "%s: the sharpness is missing", name);
-    if (c->has_sharpness) {
-        m->dart_attrs[0] = &h->edge_sharp;
-        m->vert_attrs[0] = &h->vertex_sharp;
-        m->ndart_attrs = m->nvert_attrs = 1;
-        h->has_sharpness = 1;
-    }
+    attach_sharpness(c);
     st_error e2;
     /* Regenerated levels are the refinement of a level 0 checked before
      * it ran (regenerate()); a map read whole is checked here. */
-    if (!(c->seen & SEEN_LVL0) && st_map_validate(m, &e2))
-        return st_fail(c->err, ST_ERR_INVALID, "%s: invalid map: %s", name, e2.msg);
-    st_scheme_id id = h->scheme->id;
-    if ((id == ST_SCHEME_LOOP || id == ST_SCHEME_BUTTERFLY || id == ST_SCHEME_SQRT3) && !faces_are_triangles(m, 0))
-        return st_fail(c->err, ST_ERR_INVALID, "%s: the %s scheme needs a triangle control mesh", name, h->scheme->name);
+    if (check_map(c, !(c->seen & SEEN_LVL0), &e2)) return st_fail(c->err, ST_ERR_INVALID, "%s: %s", name, e2.msg);
     if (s->has_adapt) {
         /* The scheme must have adaptive refinement in this build. */
         st_adapt probe;
