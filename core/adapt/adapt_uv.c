@@ -279,17 +279,10 @@ int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *
     st_map *m = &a->h->map;
     unsigned top = m->top;
     uint32_t nc = out->nfaces ? out->face_off[out->nfaces] : 0;
-    st_fvar_corner_key *k = malloc(((size_t)nc + 1) * sizeof *k);
-    uint32_t *darts = malloc(((size_t)nc + 1) * sizeof *darts);
-    uint32_t *face_uv = malloc(((size_t)nc + 1) * sizeof *face_uv);
-    double *uv = malloc(2 * ((size_t)nc + 1) * sizeof *uv);
-    if (!k || !darts || !face_uv || !uv) {
-        free(k);
-        free(darts);
-        free(face_uv);
-        free(uv);
-        return st_fail(err, ST_ERR_MEMORY, "out of memory for the adaptive mesh's texture coordinates");
-    }
+    st_fvar_soup so;
+    if (st_fvar_soup_alloc(&so, nc)) return st_fail(err, ST_ERR_MEMORY, "out of memory for the adaptive mesh's texture coordinates");
+    st_fvar_corner_key *k = so.k;
+    uint32_t *darts = so.darts;
     /* The face walk of st_map_to_mesh (core/map/map_mesh.c): st_face_step
      * (no holes: adaptive Doo-Sabin refuses open meshes). */
     int fbit = st_marker_reserve(m);
@@ -317,13 +310,6 @@ int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *
      * and corners holding one value share one coordinate - that of the
      * face a regular level's walk meets first, as st_hier_level_mesh takes
      * it (the two sides of a smooth edge may differ in the last bit). */
-    uint32_t nuv = st_fvar_soup_uvs(k, c, darts, u->uv, u->cap, face_uv, uv);
-    free(k);
-    free(darts);
-    free(out->face_uv);
-    free(out->uv);
-    out->face_uv = face_uv;
-    out->uv = uv;
-    out->nuvs = nuv;
+    st_fvar_soup_install(&so, out, st_fvar_soup_uvs(k, c, darts, u->uv, u->cap, so.face_uv, so.uv));
     return ST_OK;
 }

@@ -328,29 +328,44 @@ static uint32_t level_corners(st_map *m, unsigned l, uint32_t *darts, uint32_t n
     return c;
 }
 
+int st_fvar_soup_alloc(st_fvar_soup *s, uint32_t nc)
+{
+    s->k = malloc(((size_t)nc + 1) * sizeof *s->k);
+    s->darts = malloc(((size_t)nc + 1) * sizeof *s->darts);
+    s->face_uv = malloc(((size_t)nc + 1) * sizeof *s->face_uv);
+    s->uv = malloc(2 * ((size_t)nc + 1) * sizeof *s->uv);
+    if (s->k && s->darts && s->face_uv && s->uv) return 0;
+    free(s->k);
+    free(s->darts);
+    free(s->face_uv);
+    free(s->uv);
+    *s = (st_fvar_soup){ 0 };
+    return -1;
+}
+
+void st_fvar_soup_install(st_fvar_soup *s, st_mesh *out, uint32_t nuvs)
+{
+    free(s->k);
+    free(s->darts);
+    free(out->face_uv);
+    free(out->uv);
+    out->face_uv = s->face_uv;
+    out->uv = s->uv;
+    out->nuvs = nuvs;
+    *s = (st_fvar_soup){ 0 };
+}
+
 int st_fvar_level_mesh(const st_fvar *f, st_map *m, unsigned l, st_mesh *out, st_error *err)
 {
     if (!f || l >= f->levels) return ST_OK;
     const double *uv = f->lv[l].uv;
     const uint32_t *val = f->lv[l].val;
     uint32_t nc = out->nfaces ? out->face_off[out->nfaces] : 0;
-    st_fvar_corner_key *k = malloc(((size_t)nc + 1) * sizeof *k);
-    uint32_t *darts = malloc(((size_t)nc + 1) * sizeof *darts);
-    out->face_uv = malloc(((size_t)nc + 1) * sizeof *out->face_uv);
-    out->uv = malloc(2 * ((size_t)nc + 1) * sizeof *out->uv);
-    if (!k || !darts || !out->face_uv || !out->uv) {
-        free(k);
-        free(darts);
-        free(out->face_uv);
-        free(out->uv);
-        out->face_uv = NULL;
-        out->uv = NULL;
+    st_fvar_soup s;
+    if (st_fvar_soup_alloc(&s, nc))
         return st_fail(err, ST_ERR_MEMORY, "out of memory extracting the texture coordinates of level %u", l);
-    }
-    uint32_t c = level_corners(m, l, darts, nc);
-    for (uint32_t i = 0; i < c; i++) k[i] = (st_fvar_corner_key){ out->face_idx[i], 0, val[darts[i]], i, 0 };
-    out->nuvs = st_fvar_soup_uvs(k, c, darts, uv, f->lv[l].cap, out->face_uv, out->uv);
-    free(k);
-    free(darts);
+    uint32_t c = level_corners(m, l, s.darts, nc);
+    for (uint32_t i = 0; i < c; i++) s.k[i] = (st_fvar_corner_key){ out->face_idx[i], 0, val[s.darts[i]], i, 0 };
+    st_fvar_soup_install(&s, out, st_fvar_soup_uvs(s.k, c, s.darts, uv, f->lv[l].cap, s.face_uv, s.uv));
     return ST_OK;
 }

@@ -97,6 +97,18 @@ typedef struct st_fvar_corner_key { uint32_t vert, level, label, corner; uint64_
  * out_uv, and returns their count. */
 uint32_t st_fvar_soup_uvs(st_fvar_corner_key *k, uint32_t c, const uint32_t *darts, const double *uv, uint32_t cap,
                           uint32_t *face_uv, double *out_uv);
+/* The arrays a soup's texture coordinates are made in, for nc corners:
+ * keys and darts (scratch), and the result, face_uv per corner and uv.
+ * st_fvar_soup_alloc: -1 (nothing kept) when out of memory.
+ * st_fvar_soup_install: the result into out (its UVs before freed), the
+ * scratch freed. */
+typedef struct st_fvar_soup {
+    st_fvar_corner_key *k;
+    uint32_t *darts, *face_uv;
+    double *uv;
+} st_fvar_soup;
+int st_fvar_soup_alloc(st_fvar_soup *s, uint32_t nc);
+void st_fvar_soup_install(st_fvar_soup *s, st_mesh *out, uint32_t nuvs);
 /* A deep copy of src (NULL: none) into *dst, for a map with the same dart
  * ids; -1 when out of memory (*dst NULL then). */
 int st_fvar_copy(st_fvar **dst, const st_fvar *src);
