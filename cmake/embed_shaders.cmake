@@ -26,6 +26,8 @@ foreach(f IN LISTS shader_files)
       message(FATAL_ERROR "embed_shaders.cmake: ${f} includes ${inc_name}, which is not in ${SHADER_DIR}")
     endif()
     file(READ "${SHADER_DIR}/${inc_name}" inc_text)
+    # The included file's leading comment lines stay out of the shader.
+    string(REGEX REPLACE "^(//[^\n]*\n)+" "" inc_text "${inc_text}")
     string(REPLACE "${inc}\n" "${inc_text}" text "${text}")
   endforeach()
   string(REPLACE "\\" "\\\\" text "${text}")

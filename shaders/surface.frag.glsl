@@ -41,6 +41,9 @@ void main()
         base = mod(q.x + q.y, 2.0) < 0.5 ? vec3(0.93, 0.93, 0.90) : dark;
         if (!gl_FrontFacing) base *= 0.6;
     }
+    vec3 v = normalize(-v_pos);
+    // A key light above left, a weaker fill from the right, a headlight
+    // (surfaces facing the viewer never go dark) and a rim of sky.
 #include "lighting.glsl.inc"
     o_color = vec4(clamp(c * v_shade, 0.0, 1.0), 1.0);
 }

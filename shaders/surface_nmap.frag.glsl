@@ -1,6 +1,6 @@
 #version 330 core
-// The smooth shading of surface.frag.glsl (the same lights: lighting.glsl.inc)
-// with the normal taken from a normal map: tangent space
+// The smooth shading of surface.frag.glsl (same lights and weights: keep the
+// two in step) with the normal taken from a normal map: tangent space
 // (n = T·m.x + B·m.y + N·m.z, B = w · N × T, the frame glTF and MikkTSpace
 // define) or object space.
 in vec3 v_pos;
@@ -37,6 +37,7 @@ void main()
     n = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
     vec3 base = u_front;
     if (!gl_FrontFacing) { n = -n; base = u_back; }
+    vec3 v = normalize(-v_pos);
 #include "lighting.glsl.inc"
     o_color = vec4(clamp(c, 0.0, 1.0), 1.0);
 }
