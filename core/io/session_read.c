@@ -2,6 +2,7 @@
  * chunk checked before anything is kept. */
 #include "core/io/session_internal.h"
 #include "core/base/membudget.h"
+#include "core/base/parallel.h"
 #include "core/io/atomic_file.h"
 #include "core/io/file_open.h"
 #include "core/io/map_io_internal.h"
@@ -13,6 +14,7 @@
 #include "core/progressive/scheme_registry.h"
 
 #include <errno.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <sys/stat.h>
 #include <math.h>
@@ -29,6 +31,7 @@ typedef struct load_ctx {
     unsigned seen;         /* bit per chunk kind */
     int has_sharpness;
     unsigned regen_top;    /* LVL0: the levels to regenerate */
+    int uv_pending;        /* FVAR read before POSN: level 0's UVs, the rest to refine */
     uint32_t regen_end[2]; /* LVL0: its pools' ends */
 } load_ctx;
 
@@ -184,10 +187,14 @@ static int regenerate(load_ctx *c, st_br *r)
     if (check_map(c, 1, &e2)) return st_br_fail(r, "level 0: %s", e2.msg);
     st_subdiv_view sv = st_hier_view(h);
     if (h->scheme->check && h->scheme->check(&sv, &e2)) return st_br_fail(r, "level 0: %s", e2.msg);
-    if (c->regen_top) {
+    /* The budget's check, as for the file read (st_mem_check_read): a small
+     * model is read even by a process over its budget for other reasons
+     * (a sanitizer's shadow memory), which is refused what would grow it. */
+    size_t need = c->regen_top ? st_hier_estimate_subdivide(h, c->regen_top, NULL) : 0;
+    if (need >= ST_MEM_CHECK_MIN_BYTES) {
         char what[64];
         snprintf(what, sizeof what, "regenerating %u levels", c->regen_top);
-        if (st_mem_check(st_hier_estimate_subdivide(h, c->regen_top, NULL), what, &e2))
+        if (st_mem_check(need, what, &e2))
             return load_fail(c, r, e2.code, "%s", e2.msg);
     }
     while (m->top < c->regen_top) {
@@ -199,14 +206,45 @@ static int regenerate(load_ctx *c, st_br *r)
     return 0;
 }
 
+/* The UVs of levels 1..top refined from level 0's, on a thread of their
+ * own while the positions are read: they read the regenerated topology
+ * and sharpness only, and the positions go to an attribute of their own
+ * until both are done. */
+typedef struct uv_job {
+    st_hier *h;
+    int rc;
+    st_error err;
+} uv_job;
+
+static void *uv_job_run(void *p)
+{
+    uv_job *j = p;
+    j->rc = st_hier_uv_refine_levels(j->h, j->h->map.top, &j->err);
+    return NULL;
+}
+
 static int r_positions(load_ctx *c, st_br *r)
 {
     st_hier *h = &c->s->h;
     st_map *m = &h->map;
     if (c->has_sharpness && !(c->seen & SEEN_SHRP)) return st_br_fail(r, "positions before the sharpness of level 0");
     if (regenerate(c, r)) return -1;
+    uv_job job = { .h = h };
+    pthread_t th;
+    int threaded = 0;
+    if (c->uv_pending) {
+        threaded = st_parallel_threads() > 1 && pthread_create(&th, NULL, uv_job_run, &job) == 0;
+        if (!threaded) uv_job_run(&job);
+    }
     st_mla pos;
-    if (st_mla_read(r, &pos, &m->verts, m->top, 3 * sizeof(double), st_value_finite_f64x3, "positions")) return -1;
+    int rc = st_mla_read(r, &pos, &m->verts, m->top, 3 * sizeof(double), st_value_finite_f64x3, "positions");
+    if (threaded) pthread_join(th, NULL);
+    if (rc) return -1;
+    if (c->uv_pending && job.rc) {
+        st_mla_free(&pos);
+        return load_fail(c, r, job.err.code, "regenerating the UVs: %s", job.err.msg);
+    }
+    c->uv_pending = 0;
     /* The refinement grew the pool past its end: the attached arrays have
      * its capacity. */
     if (m->verts.cap > m->verts.end) {
@@ -602,6 +640,9 @@ static int regenerate_uvs(load_ctx *c, st_br *r)
 static int r_fvar(load_ctx *c, st_br *r)
 {
     st_hier *h = &c->s->h;
+    /* After the map, or (compact, level 0 alone) between LVL0 and POSN. */
+    int early = (c->seen & SEEN_LVL0) && !(c->seen & SEEN_POSN);
+    if (!(c->seen & SEEN_MAP) && !early) return st_br_fail(r, "UVs before the map");
     uint32_t interp = st_br_u32(r), levels = st_br_u32(r);
     if (r->failed) return -1;
     if (interp >= ST_UV_INTERP_COUNT) return st_br_fail(r, "UVs: bad interpolation option %u", interp);
@@ -631,6 +672,10 @@ static int r_fvar(load_ctx *c, st_br *r)
         }
     }
     if (r->failed) return -1;
+    if (early) {
+        c->uv_pending = 1;   /* refined beside the positions (r_positions) */
+        return 0;
+    }
     return levels == 1 ? regenerate_uvs(c, r) : 0;
 oom:
     return load_fail(c, r, ST_ERR_MEMORY, "out of memory");
@@ -764,7 +809,7 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
         case TAG_TOOL: bit = SEEN_TOOL; fn = r_tool; break;
         case TAG_LAYR: bit = SEEN_LAYR; fn = r_layers; after = SEEN_MAP; break;
         case TAG_LAY0: bit = SEEN_LAYR; fn = r_layers0; after = SEEN_MAP; break;
-        case TAG_FVAR: if (version >= SESSION_VERSION_UV) { bit = SEEN_FVAR; fn = r_fvar; after = SEEN_MAP; } break;
+        case TAG_FVAR: if (version >= SESSION_VERSION_UV) { bit = SEEN_FVAR; fn = r_fvar; after = SEEN_HIER; } break;
         case TAG_BUVS: if (version >= SESSION_VERSION_UV) { bit = SEEN_BUVS; fn = r_base_uv; after = SEEN_BASE; } break;
         default: break;
         }

@@ -339,6 +339,9 @@ static unsigned chunk_list(const st_session_ref *r, chunk_def out[ST_SESSION_MAX
     if (!level0_of(r, &v)) {
         out[n++] = (chunk_def){ TAG_LVL0, w_level0 };
         if (r->h->has_sharpness) out[n++] = (chunk_def){ TAG_SHRP, w_sharp_level0 };
+        /* Level 0's UVs before the positions: the reader refines them on a
+         * second thread while it reads the positions (session_read.c). */
+        if (r->h->fvar && fvar_regenerable(r)) out[n++] = (chunk_def){ TAG_FVAR, w_fvar };
         out[n++] = (chunk_def){ TAG_POSN, w_positions };
     } else {
         out[n++] = (chunk_def){ TAG_MAP, w_map };
@@ -353,7 +356,7 @@ static unsigned chunk_list(const st_session_ref *r, chunk_def out[ST_SESSION_MAX
     if (r->tool) out[n++] = (chunk_def){ TAG_TOOL, w_tool };
     if (r->layers && r->layers->n)
         out[n++] = (chunk_def){ st_layers_on_level(r->layers, 0) ? TAG_LAY0 : TAG_LAYR, w_layers };
-    if (r->h->fvar) out[n++] = (chunk_def){ TAG_FVAR, w_fvar };
+    if (r->h->fvar && !(!level0_of(r, &v) && fvar_regenerable(r))) out[n++] = (chunk_def){ TAG_FVAR, w_fvar };
     if (r->base && r->base->face_uv) out[n++] = (chunk_def){ TAG_BUVS, w_base_uv };
     return n;
 }
