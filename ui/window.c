@@ -395,10 +395,26 @@ static int take_screenshot(st_app *a, const char *name)
 
 /* ---- set-up and the loop ------------------------------------------------------------ */
 
+/* glfwInit, tried again for about 2 s when $DISPLAY is set: an X server
+ * with other clients connecting at once (Xvfb under a test run's xdotool
+ * searches) can turn a connection away; without $DISPLAY there is nothing
+ * to wait for. */
+static int init_glfw(void)
+{
+    const char *display = getenv("DISPLAY");
+    int tries = display && display[0] ? 10 : 1;
+    for (int i = 0; i < tries; i++) {
+        if (glfwInit()) return 1;
+        struct timespec ts = { 0, 200000000 };
+        if (i + 1 < tries) nanosleep(&ts, NULL);
+    }
+    return 0;
+}
+
 static int make_window(st_app *a, int visible)
 {
     glfwSetErrorCallback(on_glfw_error);
-    if (!glfwInit()) {
+    if (!init_glfw()) {
         fprintf(stderr, "strata: cannot open a window: %s\n"
                         "strata: (no display? set DISPLAY or run under xvfb-run; `strata render` draws without a display)\n",
                 glfw_error[0] ? glfw_error : "glfwInit failed");
