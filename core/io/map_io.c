@@ -645,7 +645,7 @@ static int pool_level0_view(const st_pool *p, uint32_t end, st_pool *v)
 }
 
 /* An attribute's level-0 values: its base values, no column. */
-static st_mla mla_level0_view(const st_mla *a)
+st_mla st_mla_level0_view(const st_mla *a)
 {
     st_mla v = *a;
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
@@ -664,14 +664,13 @@ int st_map_level0_view(const st_map *m, const uint32_t end[2], st_map *v)
     *v = *m;
     v->top = 0;
     if (pool_level0_view(&m->darts, end[0], &v->darts) || pool_level0_view(&m->verts, end[1], &v->verts)) return -1;
-    v->beta0 = mla_level0_view(&m->beta0);
-    v->beta1 = mla_level0_view(&m->beta1);
-    v->vert = mla_level0_view(&m->vert);
-    v->pos = mla_level0_view(&m->pos);
+    v->beta0 = st_mla_level0_view(&m->beta0);
+    v->beta1 = st_mla_level0_view(&m->beta1);
+    v->vert = st_mla_level0_view(&m->vert);
+    v->pos = st_mla_level0_view(&m->pos);
     return 0;
 }
 
-st_mla st_mla_level0_view(const st_mla *a) { return mla_level0_view(a); }
 
 /* Every relation of every level stays inside the level (what the validator
  * assumes before it follows relations). */

@@ -356,7 +356,7 @@ static unsigned chunk_list(const st_session_ref *r, chunk_def out[ST_SESSION_MAX
     if (r->tool) out[n++] = (chunk_def){ TAG_TOOL, w_tool };
     if (r->layers && r->layers->n)
         out[n++] = (chunk_def){ st_layers_on_level(r->layers, 0) ? TAG_LAY0 : TAG_LAYR, w_layers };
-    if (r->h->fvar && !(!level0_of(r, &v) && fvar_regenerable(r))) out[n++] = (chunk_def){ TAG_FVAR, w_fvar };
+    if (r->h->fvar && !fvar_regenerable(r)) out[n++] = (chunk_def){ TAG_FVAR, w_fvar };   /* else above */
     if (r->base && r->base->face_uv) out[n++] = (chunk_def){ TAG_BUVS, w_base_uv };
     return n;
 }
