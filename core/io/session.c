@@ -27,6 +27,9 @@ void st_session_init(st_session *s)
     st_map_init(&s->h.map);
     st_mla_init(&s->h.edge_sharp, sizeof(float));
     st_mla_init(&s->h.vertex_sharp, sizeof(float));
+    st_map_init(&s->hd.map);
+    st_mla_init(&s->hd.edge_sharp, sizeof(float));
+    st_mla_init(&s->hd.vertex_sharp, sizeof(float));
     st_mesh_init(&s->base);
 }
 
@@ -34,6 +37,8 @@ void st_session_free(st_session *s)
 {
     if (s->has_adapt) st_adapt_free(&s->adapt);
     st_hier_free(&s->h);
+    if (s->has_hd) st_adapt_free(&s->hd_adapt);
+    st_hier_free(&s->hd);
     st_mesh_free(&s->base);
     st_layers_free(&s->layers);
     st_mask_free(&s->mask);
@@ -80,6 +85,11 @@ void st_session_move_raw(st_session *dst, st_session *src)
     dst->mask = src->mask;
     dst->has_tool = src->has_tool;
     dst->tool = src->tool;
+    st_session_move_hier(&dst->hd, &src->hd);
+    dst->has_hd = src->has_hd;
+    dst->hd_from = src->hd_from;
+    if (src->has_hd) st_session_move_adapt(&dst->hd_adapt, &src->hd_adapt, &dst->hd);
+    else memset(&dst->hd_adapt, 0, sizeof dst->hd_adapt);
     st_mesh_init(&src->base);
     st_session_init(src);
 }
@@ -105,6 +115,11 @@ st_session_ref st_session_ref_of(const st_session *s)
     r.layers = &s->layers;
     r.mask = &s->mask;
     r.tool = s->has_tool ? &s->tool : NULL;
+    if (s->has_hd) {
+        r.hd = &s->hd;
+        r.hd_adapt = &s->hd_adapt;
+        r.hd_from = s->hd_from;
+    }
     return r;
 }
 

@@ -35,6 +35,9 @@
  *         st_session_move_hier(&doc->h, &s.h);      // re-points attributes
  *         if (s.has_adapt) st_session_move_adapt(&doc->adapt, &s.adapt, &doc->h);
  *         ... copy box, levels, view; st_mesh_move(&doc->base, &s.base) ...
+ *         (s.has_hd: the HD hierarchy, moved the same way with
+ *          st_session_move_hier(&doc->hd, &s.hd) and
+ *          st_session_move_adapt(&doc->hd_adapt, &s.hd_adapt, &doc->hd))
  *         st_session_free(&s);
  *     }
  * An st_hier or st_adapt must not be copied with memcpy/assignment: the map
@@ -101,6 +104,15 @@ typedef struct st_session {
     st_mask mask;                  /* sculpting mask (zero when none was stored) */
     int has_tool;
     st_session_tool tool;          /* the window's settings (has_tool: stored) */
+    /* The HD hierarchy (ancillary chunk `hdlv`, docs/SESSION-FORMAT.md): an
+     * adaptive hierarchy whose levels 0..hd_from are copies of h's (same
+     * dart and vertex ids, same positions) and whose levels above are
+     * refined only where the user sculpted.  has_hd 0: none (hd is then an
+     * empty hierarchy and hd_adapt zero). */
+    int has_hd;
+    unsigned hd_from;              /* h's top level when the HD hierarchy was made */
+    st_hier hd;
+    st_adapt hd_adapt;             /* hd_adapt.h == &hd (st_session_move keeps it so) */
 } st_session;
 
 /* What to save, by reference (nothing is copied). */
@@ -119,6 +131,11 @@ typedef struct st_session_ref {
      * the reader could regenerate them from level 0 (LVL0, POSN): for
      * tests that compare what a load gives, level by level. */
     int whole_map;
+    /* The HD hierarchy (see st_session): NULL, no `hdlv` chunk.  hd_adapt
+     * must belong to hd, hd must have h's scheme and hd_from be h's top. */
+    const st_hier *hd;
+    const st_adapt *hd_adapt;
+    unsigned hd_from;
 } st_session_ref;
 
 void st_session_init(st_session *s);

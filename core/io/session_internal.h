@@ -29,6 +29,9 @@
  * before level-0 layers refuse in layr: under this tag they skip it as an
  * unknown ancillary chunk and get the surface with the layers composed. */
 #define TAG_LAY0 TAG('l', 'a', 'y', '0')
+/* The HD hierarchy (session.h, st_session.hd): u32 hd_from, then a whole
+ * nested session image of it, written and read by this writer and reader. */
+#define TAG_HDLV TAG('h', 'd', 'l', 'v')
 #define TAG_FVAR TAG('F', 'V', 'A', 'R')
 #define TAG_BUVS TAG('B', 'U', 'V', 'S')
 /* Version 4, a hierarchy whose levels 1..top are the scheme's refinement

@@ -38,7 +38,7 @@ typedef struct load_ctx {
 /* SEEN_MAP: the whole map is there (MAP, or LVL0 then POSN). */
 enum { SEEN_HIER = 1, SEEN_MAP = 2, SEEN_SHRP = 4, SEEN_DETL = 8, SEEN_ADPT = 16, SEEN_EDIT = 32, SEEN_VIEW = 64, SEEN_BASE = 128,
        SEEN_MASK = 256, SEEN_LAYR = 512,
-       SEEN_FVAR = 1024, SEEN_BUVS = 2048, SEEN_TOOL = 4096, SEEN_LVL0 = 8192, SEEN_POSN = 16384 };
+       SEEN_FVAR = 1024, SEEN_BUVS = 2048, SEEN_TOOL = 4096, SEEN_LVL0 = 8192, SEEN_POSN = 16384, SEEN_HDLV = 32768 };
 
 /* A failure that is not the file's bytes (memory, the budget, a
  * regeneration): "FILE: what", the chunk's reader stopped. */
@@ -701,6 +701,79 @@ static int r_base_uv(load_ctx *c, st_br *r)
     return 0;
 }
 
+/* ---- hdlv: the HD hierarchy ----------------------------------------------- */
+
+/* Why a parsed HD image does not go with the model h, or NULL.  The
+ * comparison of the shared levels is a cheap consistency check, not a proof
+ * that they are copies: the number of live darts and vertices inserted at
+ * each level 0..hd_from (O(levels), not a walk over the map). */
+static const char *hd_mismatch(const st_hier *h, const st_session *in, unsigned hd_from, char *why, size_t n)
+{
+    static const st_adapt_params none;
+    if (!in->has_adapt) return "it has no adaptive state";
+    if (in->h.scheme != h->scheme) {
+        snprintf(why, n, "its scheme is %s, the model's %s", in->h.scheme->name, h->scheme->name);
+        return why;
+    }
+    if (hd_from != h->map.top) {
+        snprintf(why, n, "hd_from is %u, the model's top is %u", hd_from, h->map.top);
+        return why;
+    }
+    if (in->h.map.top < hd_from) {
+        snprintf(why, n, "its top level %u is below the model's %u", in->h.map.top, hd_from);
+        return why;
+    }
+    for (unsigned l = 0; l <= hd_from; l++) {
+        const st_map *a = &h->map, *b = &in->h.map;
+        if (a->darts.live[l] != b->darts.live[l] || a->verts.live[l] != b->verts.live[l]) {
+            snprintf(why, n, "level %u has %u darts and %u vertices, the model's %u and %u", l, b->darts.live[l],
+                     b->verts.live[l], a->darts.live[l], a->verts.live[l]);
+            return why;
+        }
+    }
+    /* The writer stores the hierarchy and its adaptive state alone: anything
+     * else would not be written back (load -> save would change the bytes). */
+    if (in->has_view || in->has_base || in->has_tool || in->layers.n || in->mask.v || in->box_on || in->edit_level ||
+        in->display_level || memcmp(&in->box, &none, sizeof none))
+        return "its image holds more than a hierarchy and its adaptive state";
+    return NULL;
+}
+
+static int r_hd(load_ctx *c, st_br *r)
+{
+    st_session *s = c->s;
+    uint32_t from = st_br_u32(r);
+    if (r->failed) return -1;
+    char name[512], why[160];
+    snprintf(name, sizeof name, "%s: chunk 'hdlv'", c->name);
+    st_session *in = malloc(sizeof *in);
+    if (!in) return load_fail(c, r, ST_ERR_MEMORY, "chunk 'hdlv': out of memory");
+    /* The nested image's messages name the file and the chunk, and give
+     * offsets inside the image. */
+    if (st_session_parse(name, r->p + r->off, r->size - r->off, in, c->err)) {
+        free(in);
+        r->failed = 1;
+        return -1;
+    }
+    const char *bad = hd_mismatch(&s->h, in, from, why, sizeof why);
+    if (bad) {
+        st_session_free(in);
+        free(in);
+        st_fail(c->err, ST_ERR_PARSE, "%s: %s", name, bad);
+        r->failed = 1;
+        return -1;
+    }
+    st_session_move_hier(&s->hd, &in->h);
+    st_session_move_adapt(&s->hd_adapt, &in->adapt, &s->hd);
+    in->has_adapt = 0;
+    s->has_hd = 1;
+    s->hd_from = from;
+    st_session_free(in);
+    free(in);
+    r->off = r->size;
+    return 0;
+}
+
 /* After every chunk: attributes attached, whole-map checks. */
 static int finish(load_ctx *c)
 {
@@ -811,6 +884,7 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
         case TAG_LAY0: bit = SEEN_LAYR; fn = r_layers0; after = SEEN_MAP; break;
         case TAG_FVAR: if (version >= SESSION_VERSION_UV) { bit = SEEN_FVAR; fn = r_fvar; after = SEEN_HIER; } break;
         case TAG_BUVS: if (version >= SESSION_VERSION_UV) { bit = SEEN_BUVS; fn = r_base_uv; after = SEEN_BASE; } break;
+        case TAG_HDLV: bit = SEEN_HDLV; fn = r_hd; after = SEEN_MAP | SEEN_DETL; break;
         default: break;
         }
         if (!fn) {

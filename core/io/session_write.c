@@ -325,10 +325,39 @@ static void w_base_uv(st_bw *w, const st_session_ref *r)
     for (uint32_t i = 0; i < nidx; i++) st_bw_u32(w, m->face_uv[i]);
 }
 
+/* The HD hierarchy as a nested session image (the reference holding the
+ * HD hierarchy and its adaptive state, nothing else), made by this very
+ * writer so that the format and its checks are those of a session.  The
+ * image is made once per pass (the counting pass and the write), which
+ * costs a second image's time but no file format of its own. */
+static st_session_ref hd_ref(const st_session_ref *r)
+{
+    st_session_ref n = { .h = r->hd, .adapt = r->hd_adapt, .whole_map = 1 };
+    return n;
+}
+
+static void w_hd(st_bw *w, const st_session_ref *r)
+{
+    st_session_ref n = hd_ref(r);
+    void *img = NULL;
+    size_t len = 0;
+    st_error e;
+    st_bw_u32(w, r->hd_from);
+    if (st_session_write_mem(&n, &img, &len, &e)) {
+        /* A value the reader would refuse is reported as for the main
+         * hierarchy (plan_chunks); anything else is a failed write. */
+        if (e.code == ST_ERR_INVALID) w->refused_value = 1;
+        else w->failed = 1;
+        return;
+    }
+    st_bw_bytes(w, img, len);
+    free(img);
+}
+
 typedef struct chunk_def { uint32_t tag; chunk_fn fn; } chunk_def;
 /* Every tag at most once: HIER, MAP or LVL0 and POSN, SHRP DETL ADPT EDIT
- * VIEW BASE mask tool layr FVAR BUVS. */
-#define ST_SESSION_MAX_CHUNKS 14
+ * VIEW BASE mask tool layr FVAR BUVS hdlv. */
+#define ST_SESSION_MAX_CHUNKS 15
 
 /* The chunks of r, in file order. */
 static unsigned chunk_list(const st_session_ref *r, chunk_def out[ST_SESSION_MAX_CHUNKS])
@@ -358,9 +387,33 @@ static unsigned chunk_list(const st_session_ref *r, chunk_def out[ST_SESSION_MAX
         out[n++] = (chunk_def){ st_layers_on_level(r->layers, 0) ? TAG_LAY0 : TAG_LAYR, w_layers };
     if (r->h->fvar && !fvar_regenerable(r)) out[n++] = (chunk_def){ TAG_FVAR, w_fvar };   /* else above */
     if (r->base && r->base->face_uv) out[n++] = (chunk_def){ TAG_BUVS, w_base_uv };
+    /* Last: after every chunk of the main hierarchy, which the reader
+     * compares it with. */
+    if (r->hd) out[n++] = (chunk_def){ TAG_HDLV, w_hd };
     return n;
 }
 
+
+static int check_ref(const st_session_ref *r, st_error *err);
+
+/* The HD hierarchy: what the reader checks (session_read.c, r_hd), so that
+ * nothing is written that would not load again. */
+static int check_hd(const st_session_ref *r, st_error *err)
+{
+    const st_hier *h = r->h, *hd = r->hd;
+    if (!r->hd_adapt || r->hd_adapt->h != hd)
+        return st_fail(err, ST_ERR_INVALID, "session: the HD hierarchy has no adaptive state of its own");
+    if (hd->scheme != h->scheme)
+        return st_fail(err, ST_ERR_INVALID, "session: the HD hierarchy's scheme is %s, the model's %s",
+                       hd->scheme ? hd->scheme->name : "none", h->scheme->name);
+    if (r->hd_from != h->map.top || hd->map.top < r->hd_from)
+        return st_fail(err, ST_ERR_INVALID, "session: the HD hierarchy starts at level %u, the model's top is %u", r->hd_from, h->map.top);
+    for (unsigned l = 0; l <= r->hd_from; l++)
+        if (hd->map.darts.live[l] != h->map.darts.live[l] || hd->map.verts.live[l] != h->map.verts.live[l])
+            return st_fail(err, ST_ERR_INVALID, "session: the HD hierarchy's level %u is not the model's", l);
+    st_session_ref n = hd_ref(r);
+    return check_ref(&n, err);
+}
 
 static int check_ref(const st_session_ref *r, st_error *err)
 {
@@ -376,6 +429,7 @@ static int check_ref(const st_session_ref *r, st_error *err)
     if (r->adapt && r->adapt->h != h)
         return st_fail(err, ST_ERR_INVALID, "session: the adaptive state belongs to another hierarchy");
     if (r->base && st_mesh_check("base mesh", r->base, err)) return err ? err->code : ST_ERR_INVALID;
+    if (r->hd) return check_hd(r, err);
     return ST_OK;
 }
 
@@ -396,6 +450,7 @@ static const char *chunk_words(uint32_t tag)
     case TAG_LAY0: case TAG_LAYR: return "sculpt layers";
     case TAG_FVAR: return "UVs";
     case TAG_BUVS: return "base mesh's UVs";
+    case TAG_HDLV: return "HD hierarchy";
     default: return "values";
     }
 }

@@ -1,0 +1,428 @@
+/* The HD hierarchy in a session (ancillary chunk `hdlv`, core/io/session.h,
+ * docs/SESSION-FORMAT.md): bit-equal round trips and the same bytes on a
+ * second save; the chunk adds nothing else to the file (deleting it gives
+ * the bytes of the session without HD, and a reader that does not know it
+ * loads the uniform model); a damaged or foreign chunk fails the whole load
+ * with the chunk named, leaving the output untouched.
+ *
+ * Also a generator for other tests:
+ *   test_session_hd --write OUT.strata   a cube, model to level 2, HD to 4
+ *                                        (tests/cli/cli_session_hd.sh)
+ *   test_session_hd --seed OUT.strata    a cube, model to level 1, HD to 3
+ *                                        (the fuzzer's seed
+ *                                        tests/fuzz/corpus/session/cube_cc1_hd.strata) */
+#include "core/adapt/adapt.h"
+#include "core/multires/hier_internal.h"
+#include "core/io/map_io_internal.h"
+#include "core/io/session.h"
+#include "core/progressive/scheme_registry.h"
+#include "testlib.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A model (main hierarchy) and an HD hierarchy made from it. */
+typedef struct hd_doc {
+    st_hier h;
+    st_session copy;   /* the HD hierarchy: copy.h, its adaptive state copy.adapt */
+} hd_doc;
+
+static void *write_mem(const st_session_ref *r, size_t *n)
+{
+    void *data = NULL;
+    st_error err;
+    int rc = st_session_write_mem(r, &data, n, &err);
+    CHECKF(rc == ST_OK, "%s", err.msg);
+    return data;
+}
+
+/* The model: make() refined by `scheme` to `levels`. */
+static int build_model(st_hier *h, void (*make)(st_mesh *), st_scheme_id id, unsigned levels)
+{
+    st_mesh s;
+    st_error err;
+    make(&s);
+    int rc = st_hier_init(h, &s, st_scheme_get(id), NULL, &err);
+    CHECKF(rc == ST_OK, "%s", err.msg);
+    if (!rc) {
+        rc = st_hier_subdivide_to(h, levels, &err);
+        CHECKF(rc == ST_OK, "%s", err.msg);
+        if (rc) st_hier_free(h);
+    }
+    st_mesh_free(&s);
+    return rc;
+}
+
+/* A copy of h with the same ids: its saved bytes parsed again. */
+static int copy_hier(const st_hier *h, st_session *out)
+{
+    st_session_ref r = { .h = h, .whole_map = 1 };
+    size_t n = 0;
+    void *b = write_mem(&r, &n);
+    st_error err;
+    int rc = b ? st_session_parse("copy", b, n, out, &err) : -1;
+    CHECKF(rc == ST_OK, "copy: %s", b ? err.msg : "not written");
+    free(b);
+    return rc;
+}
+
+/* The HD hierarchy: the model copied, refined adaptively from its top to
+ * max_level inside the box, a few non-zero details set at the two finest
+ * levels and the levels above the model synthesised. */
+static int make_hd(hd_doc *d, void (*make)(st_mesh *), unsigned levels, unsigned max_level, const double lo[3], const double hi[3])
+{
+    if (build_model(&d->h, make, ST_SCHEME_CATMARK, levels)) return -1;
+    if (copy_hier(&d->h, &d->copy)) { st_hier_free(&d->h); return -1; }
+    st_session *c = &d->copy;
+    st_error err;
+    int rc = st_adapt_init(&c->adapt, &c->h, &err);
+    CHECKF(rc == ST_OK, "%s", err.msg);
+    if (rc) goto fail;
+    c->has_adapt = 1;
+    st_adapt_params p = { .base_level = levels, .max_level = max_level, .has_box = 1 };
+    memcpy(p.box_lo, lo, sizeof p.box_lo);
+    memcpy(p.box_hi, hi, sizeof p.box_hi);
+    rc = st_adapt_update(&c->adapt, &p, &err);
+    CHECKF(rc == ST_OK, "%s", err.msg);
+    if (rc) goto fail;
+    CHECKF(c->h.map.top == max_level, "HD top %u, wanted %u", c->h.map.top, max_level);
+    unsigned set = 0;
+    for (unsigned l = max_level - 1; l <= max_level; l++) {
+        st_dart_iter it;
+        unsigned k = 0;
+        for (uint32_t v = st_vertex_first(&c->h.map, l, &it); v != ST_NIL; v = st_vertex_next(&c->h.map, l, &it)) {
+            if (c->h.map.verts.ins[v] != l || k++ % 3) continue;
+            double dd[3] = { 0.001 * (v % 7), -0.002 * (l % 3 + 1), 0.0005 * (double)(k % 5) + 0.0001 };
+            st_hier_set_detail(&c->h, l, v, dd);
+            set++;
+        }
+    }
+    CHECKF(set > 3, "details set on %u vertices", set);
+    st_adapt_synthesize(&c->adapt, levels);
+    return 0;
+fail:
+    st_session_free(c);
+    st_hier_free(&d->h);
+    return -1;
+}
+
+static void free_hd(hd_doc *d)
+{
+    st_session_free(&d->copy);
+    st_hier_free(&d->h);
+}
+
+static st_session_ref ref_of(hd_doc *d, int with_hd)
+{
+    st_session_ref r = { .h = &d->h, .display_level = d->h.map.top };
+    if (with_hd) {
+        r.hd = &d->copy.h;
+        r.hd_adapt = &d->copy.adapt;
+        r.hd_from = d->h.map.top;
+    }
+    return r;
+}
+
+/* Detail of vertex v at level l, +0 past the array (as st_hier_detail). */
+static const double *detail_at(const st_hier *h, unsigned l, uint32_t v)
+{
+    static const double zero[3];
+    return h->detail[l] && v < h->detail_cap[l] ? h->detail[l] + 3 * (size_t)v : zero;
+}
+
+/* Same topology counts, positions of every level and details, bit for bit. */
+static int hier_same(const st_hier *a, const st_hier *b)
+{
+    const st_map *x = &a->map, *y = &b->map;
+    if (x->top != y->top || x->darts.end != y->darts.end || x->verts.end != y->verts.end) return 0;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++)
+        if (x->darts.live[l] != y->darts.live[l] || x->verts.live[l] != y->verts.live[l]) return 0;
+    tl_posnap p, q;
+    tl_snap_pos(a, &p);
+    tl_snap_pos(b, &q);
+    int eq = p.levels == q.levels && p.n == q.n && !memcmp(p.p, q.p, (size_t)p.levels * p.n * 3 * sizeof *p.p);
+    free(p.p);
+    free(q.p);
+    for (unsigned l = 1; eq && l <= x->top; l++)
+        for (uint32_t v = 0; eq && v < x->verts.end; v++) eq = !memcmp(detail_at(a, l, v), detail_at(b, l, v), 3 * sizeof(double));
+    return eq;
+}
+
+/* Offset of the chunk `tag` in session bytes, or 0. */
+static size_t chunk_at(const unsigned char *b, size_t n, const char tag[4], uint64_t *len)
+{
+    size_t off = 28;
+    while (off + 12 <= n - 4) {
+        uint64_t l = 0;
+        for (int k = 0; k < 8; k++) l |= (uint64_t)b[off + 4 + k] << (8 * k);
+        if (!memcmp(b + off, tag, 4)) { *len = l; return off; }
+        off += 12 + (size_t)l;
+    }
+    return 0;
+}
+
+/* The bytes with `cut` bytes of the chunk at off taken out from its
+ * payload's end (the whole chunk when cut is its length plus 12), the
+ * chunk's length and the checksums made right again. */
+static unsigned char *cut_chunk(const unsigned char *b, size_t n, size_t off, uint64_t len, size_t cut, size_t *out_n)
+{
+    unsigned char *c = malloc(n);
+    size_t end = off + 12 + (size_t)len;
+    memcpy(c, b, end - cut);
+    memcpy(c + end - cut, b + end, n - end);
+    *out_n = n - cut;
+    if (cut < len + 12) {
+        uint64_t nl = len - cut;
+        for (int k = 0; k < 8; k++) c[off + 4 + k] = (unsigned char)(nl >> (8 * k));
+    }
+    tl_session_fix_crc(c, *out_n);
+    return c;
+}
+
+/* Session bytes of `base` (no hdlv) with an hdlv chunk of hd_from and the
+ * image appended: what a writer would make of any image. */
+static unsigned char *splice_hd(const unsigned char *base, size_t n, uint32_t from, const void *img, size_t ni, size_t *out_n)
+{
+    size_t m = n + 12 + 4 + ni;
+    unsigned char *c = malloc(m);
+    memcpy(c, base, n - 4);
+    unsigned char *q = c + n - 4;
+    memcpy(q, "hdlv", 4);
+    uint64_t len = 4 + ni;
+    for (int k = 0; k < 8; k++) q[4 + k] = (unsigned char)(len >> (8 * k));
+    for (int k = 0; k < 4; k++) q[12 + k] = (unsigned char)(from >> (8 * k));
+    memcpy(q + 16, img, ni);
+    tl_session_fix_crc(c, m);
+    *out_n = m;
+    return c;
+}
+
+/* Refused, naming the chunk (and `what` when given), *out untouched. */
+static void check_refused(const char *label, const unsigned char *b, size_t n, const char *what)
+{
+    st_session out;
+    memset(&out, 0x5a, sizeof out);
+    unsigned char sentinel[sizeof out];
+    memset(sentinel, 0x5a, sizeof sentinel);
+    st_error err = { 0 };
+    int rc = st_session_parse("x.strata", b, n, &out, &err);
+    CHECKF(rc != ST_OK, "%s: accepted", label);
+    if (rc == ST_OK) { st_session_free(&out); return; }
+    CHECKF(strstr(err.msg, "x.strata: chunk 'hdlv'") != NULL, "%s: message '%s' does not name the chunk", label, err.msg);
+    CHECKF(!what || strstr(err.msg, what), "%s: message '%s' lacks '%s'", label, err.msg, what);
+    CHECKF(!memcmp(&out, sentinel, sizeof out), "%s: output touched", label);
+    printf("%s: %s\n", label, err.msg);
+}
+
+static void check_round_trip(const char *label, hd_doc *d)
+{
+    st_session_ref r = ref_of(d, 1), r0 = ref_of(d, 0);
+    size_t n = 0, n0 = 0, n2 = 0;
+    unsigned char *b = write_mem(&r, &n), *b0 = write_mem(&r0, &n0);
+    if (!b || !b0) { free(b); free(b0); return; }
+    printf("%s: %zu bytes, %zu without HD\n", label, n, n0);
+    st_session s;
+    st_error err;
+    int rc = st_session_parse(label, b, n, &s, &err);
+    CHECKF(rc == ST_OK, "%s: %s", label, err.msg);
+    if (!rc) {
+        CHECKF(s.has_hd && s.hd_from == d->h.map.top, "%s: has_hd %d from %u", label, s.has_hd, s.hd_from);
+        CHECKF(s.hd_adapt.h == &s.hd, "%s: the HD adaptive state is not the HD hierarchy's", label);
+        CHECKF(hier_same(&s.hd, &d->copy.h), "%s: HD hierarchy differs after loading", label);
+        CHECKF(hier_same(&s.h, &d->h), "%s: model differs after loading", label);
+        CHECKF(s.hd_adapt.nsaved == d->copy.adapt.nsaved && s.hd_adapt.base_faces.n == d->copy.adapt.base_faces.n,
+               "%s: HD adaptive state differs", label);
+        /* Moved, the HD hierarchy keeps its adaptive state. */
+        st_session moved;
+        st_session_init(&moved);
+        st_session_move(&moved, &s);
+        CHECK(moved.has_hd && moved.hd_adapt.h == &moved.hd && !s.has_hd);
+        st_session_ref r2 = st_session_ref_of(&moved);
+        CHECK(r2.hd == &moved.hd && r2.hd_adapt == &moved.hd_adapt && r2.hd_from == moved.hd_from);
+        unsigned char *b2 = write_mem(&r2, &n2);
+        CHECKF(b2 && n2 == n && !memcmp(b, b2, n), "%s: save -> load -> save changed the bytes", label);
+        free(b2);
+        /* The adaptive hierarchy loaded works: one more update and its mesh. */
+        st_mesh m;
+        st_mesh_init(&m);
+        CHECKF(st_adapt_mesh(&moved.hd_adapt, &m, &err) == ST_OK && m.nfaces > 0, "%s: adaptive mesh: %s", label, err.msg);
+        st_mesh_free(&m);
+        st_session_free(&moved);
+        st_session_free(&s);
+    }
+    /* Without the chunk: the bytes of the session without HD. */
+    uint64_t len = 0;
+    size_t off = chunk_at(b, n, "hdlv", &len), nc = 0;
+    CHECKF(off > 0 && off + 12 + len == n - 4, "%s: hdlv is not the last chunk", label);
+    if (off) {
+        unsigned char *c = cut_chunk(b, n, off, len, (size_t)len + 12, &nc);
+        CHECKF(nc == n0 && !memcmp(c, b0, n0), "%s: deleting hdlv does not give the session without HD", label);
+        free(c);
+        /* A reader that does not know the tag skips it (any unknown
+         * lower-case tag): the uniform model. */
+        c = malloc(n);
+        memcpy(c, b, n);
+        c[off + 3] = 'z';
+        tl_session_fix_crc(c, n);
+        rc = st_session_parse(label, c, n, &s, &err);
+        CHECKF(rc == ST_OK, "%s: skipped chunk: %s", label, err.msg);
+        if (!rc) {
+            CHECKF(!s.has_hd && hier_same(&s.h, &d->h), "%s: a reader skipping hdlv gets another model", label);
+            st_session_free(&s);
+        }
+        free(c);
+    }
+    free(b);
+    free(b0);
+}
+
+static void check_cube(void)
+{
+    hd_doc d;
+    static const double lo[3] = { 0.6, 0.6, 0.6 }, hi[3] = { 1.2, 1.2, 1.2 };
+    if (make_hd(&d, tl_mesh_cube, 2, 5, lo, hi)) return;
+    check_round_trip("cube, model 2, HD 5", &d);
+    free_hd(&d);
+}
+
+static void spot(st_mesh *m)
+{
+    st_error err;
+    int rc = st_mesh_load(STRATA_SHARED_DATA "/catmull_clark/spot_quadrangulated.obj", m, &err);
+    CHECKF(rc == ST_OK, "%s", err.msg);
+}
+
+static void check_spot(void)
+{
+    FILE *f = fopen(STRATA_SHARED_DATA "/catmull_clark/spot_quadrangulated.obj", "rb");
+    if (!f) { printf("note: spot_quadrangulated.obj not found: not checked\n"); return; }
+    fclose(f);
+    hd_doc d;
+    static const double lo[3] = { 0.2, 0.2, 0.2 }, hi[3] = { 0.5, 0.6, 0.6 };
+    if (make_hd(&d, spot, 2, 4, lo, hi)) return;
+    check_round_trip("spot, model 2, HD 4", &d);
+    free_hd(&d);
+}
+
+/* Damaged and foreign chunks, and the writer's refusals. */
+static void check_damage(void)
+{
+    hd_doc d;
+    static const double lo[3] = { 0.6, 0.6, 0.6 }, hi[3] = { 1.2, 1.2, 1.2 };
+    if (make_hd(&d, tl_mesh_cube, 2, 4, lo, hi)) return;
+    st_session_ref r = ref_of(&d, 1), r0 = ref_of(&d, 0);
+    size_t n = 0, n0 = 0, nc = 0;
+    unsigned char *b = write_mem(&r, &n), *b0 = write_mem(&r0, &n0);
+    uint64_t len = 0;
+    size_t off = b ? chunk_at(b, n, "hdlv", &len) : 0;
+    CHECK(off > 0);
+    if (!off || !b0) goto done;
+    /* Truncated nested image. */
+    unsigned char *c = cut_chunk(b, n, off, len, 100, &nc);
+    check_refused("truncated image", c, nc, NULL);
+    free(c);
+    /* Only hd_from, no image. */
+    c = cut_chunk(b, n, off, len, (size_t)len - 4, &nc);
+    check_refused("empty image", c, nc, "too short");
+    free(c);
+    /* A flipped byte inside the image, the outer checksum made right: the
+     * image's own checksum refuses it. */
+    c = malloc(n);
+    memcpy(c, b, n);
+    c[off + 16 + (size_t)len / 2] ^= 0x10;
+    tl_session_fix_crc(c, n);
+    check_refused("flipped byte", c, n, "checksum");
+    free(c);
+    /* Foreign images spliced in as a writer would (it refuses to make them). */
+    st_session_ref hr = { .h = &d.copy.h, .adapt = &d.copy.adapt, .whole_map = 1 };
+    size_t ni = 0;
+    unsigned char *img = write_mem(&hr, &ni);
+    c = splice_hd(b0, n0, 1, img, ni, &nc);
+    check_refused("wrong hd_from", c, nc, "the model's top is 2");
+    free(c);
+    /* The splice of the right values is the writer's file. */
+    c = splice_hd(b0, n0, 2, img, ni, &nc);
+    CHECKF(nc == n && !memcmp(c, b, n), "splice: not the writer's bytes");
+    free(c);
+    free(img);
+    hr.adapt = NULL;
+    img = write_mem(&hr, &ni);
+    c = splice_hd(b0, n0, 2, img, ni, &nc);
+    check_refused("no adaptive state", c, nc, "no adaptive state");
+    free(c);
+    free(img);
+    /* A Loop hierarchy for a Catmull-Clark model. */
+    st_hier lh;
+    st_adapt la;
+    st_error err;
+    if (!build_model(&lh, tl_mesh_octa, ST_SCHEME_LOOP, 2)) {
+        CHECK(st_adapt_init(&la, &lh, &err) == ST_OK);
+        st_session_ref lr = { .h = &lh, .adapt = &la, .whole_map = 1 };
+        img = write_mem(&lr, &ni);
+        c = splice_hd(b0, n0, 2, img, ni, &nc);
+        check_refused("wrong scheme", c, nc, "its scheme is loop, the model's catmull-clark");
+        free(c);
+        free(img);
+        /* The writer refuses it too. */
+        st_session_ref bad = r;
+        bad.hd = &lh;
+        bad.hd_adapt = &la;
+        void *data = NULL;
+        size_t nd = 0;
+        CHECK(st_session_write_mem(&bad, &data, &nd, &err) != ST_OK && !data);
+        st_adapt_free(&la);
+        st_hier_free(&lh);
+    }
+    /* A model of other levels (the counts of level 1 differ). */
+    st_hier other;
+    if (!build_model(&other, tl_mesh_tetra, ST_SCHEME_CATMARK, 2)) {
+        st_session_ref orf = { .h = &other, .display_level = 2 };
+        size_t no = 0;
+        unsigned char *bo = write_mem(&orf, &no);
+        img = write_mem(&(st_session_ref){ .h = &d.copy.h, .adapt = &d.copy.adapt, .whole_map = 1 }, &ni);
+        c = splice_hd(bo, no, 2, img, ni, &nc);
+        check_refused("another model", c, nc, "level 0 has");
+        free(c);
+        free(img);
+        free(bo);
+        st_hier_free(&other);
+    }
+    /* The writer refuses an hd_from other than the model's top. */
+    st_session_ref bad = r;
+    bad.hd_from = 1;
+    void *data = NULL;
+    size_t nd = 0;
+    CHECK(st_session_write_mem(&bad, &data, &nd, &err) != ST_OK && !data);
+done:
+    free(b);
+    free(b0);
+    free_hd(&d);
+}
+
+/* Writes a cube session with HD for other tests (see the header). */
+static int write_file(const char *path, unsigned levels, unsigned max_level, const double lo[3], const double hi[3])
+{
+    hd_doc d;
+    if (make_hd(&d, tl_mesh_cube, levels, max_level, lo, hi)) return 1;
+    st_session_ref r = ref_of(&d, 1);
+    st_error err;
+    int rc = st_session_save_ref(path, &r, &err);
+    if (rc) fprintf(stderr, "%s\n", err.msg);
+    free_hd(&d);
+    return rc ? 1 : 0;
+}
+
+int main(int argc, char **argv)
+{
+    /* A corner of the cube; for the seed, the middle of one face (fewer
+     * faces refined: a smaller file). */
+    static const double lo[3] = { 0.6, 0.6, 0.6 }, hi[3] = { 1.2, 1.2, 1.2 };
+    static const double slo[3] = { 0.4, 0.4, 0.6 }, shi[3] = { 0.6, 0.6, 1.1 };
+    if (argc == 3 && !strcmp(argv[1], "--write")) return write_file(argv[2], 2, 4, lo, hi);
+    if (argc == 3 && !strcmp(argv[1], "--seed")) return write_file(argv[2], 1, 3, slo, shi);
+    check_cube();
+    check_spot();
+    check_damage();
+    return TEST_END();
+}
