@@ -10,7 +10,16 @@
  *     it with the base mesh; the displayed level is the top.
  *   - session -> mesh: writes level --level, by default the top level, or
  *     the adaptive mesh when the session's interest box is on (or --box is
- *     given, which re-runs the adaptive refinement with that box).
+ *     given, which re-runs the adaptive refinement with that box).  A
+ *     session with an HD hierarchy (core/io/session.h) gives, without
+ *     --level, the HD adaptive mesh (the model's top level plus the HD
+ *     faces, crack-free, with UVs when the model has them); with --level L
+ *     above the model's top and at most the HD top, the uniform level L with
+ *     the HD detail (the HD hierarchy refined everywhere to L, when the
+ *     memory budget allows); with --level L up to the model's top, the
+ *     model's level L.  --box works on the model, as for any session.
+ *     Session output keeps the HD hierarchy; --levels above the model's top
+ *     and --box are refused there (the HD levels start at the model's top).
  *   - session -> session: re-saves it (the same bytes unless options change
  *     it); --levels N adds regular levels up to N.
  *   - mesh -> mesh: subdivision to --levels and export, like `strata
@@ -209,6 +218,41 @@ static int save_mapped(st_hier *h, unsigned l, const st_mesh *m, const conv_opts
     return st_gltf_save_level_mapped(o->out, h, l, m, o->auto_uv, w > 0 ? (uint32_t)w : 2048, ST_BAKE_AUTO_PADDING, o->normal_map, err);
 }
 
+/* What a session with an HD hierarchy cannot do: the HD levels start at
+ * the model's top level, so neither new regular levels nor an adaptive
+ * model may be saved beside them (nor --levels given for a mesh: --level
+ * reads the HD levels).  Says why and returns -1. */
+static int hd_refusal(const conv_opts *o, const st_session *s)
+{
+    if (!s->has_hd) return 0;
+    if (o->levels >= 0 && (unsigned)o->levels > s->h.map.top) {
+        fprintf(stderr, "strata convert: %s holds an HD hierarchy above level %u; --levels cannot add levels to the model "
+                        "(--level L up to %u writes an HD level)\n", o->in, s->h.map.top, s->hd.map.top);
+        return -1;
+    }
+    if (o->has_box && st_session_is_path(o->out)) {
+        fprintf(stderr, "strata convert: %s holds an HD hierarchy; --box would refine the model it starts from\n", o->in);
+        return -1;
+    }
+    return 0;
+}
+
+/* The uniform level l of the HD hierarchy (above the model's top): every
+ * face refined to l, the HD details kept where they are, when the memory
+ * budget allows it (the estimate of st_adapt_update, from level 0, given in
+ * the refusal).  The session's HD hierarchy is refined in place: a mesh is
+ * written from it, the session is not saved. */
+static int hd_uniform_level(st_session *s, unsigned l, st_error *err)
+{
+    st_adapt_params p = { .base_level = l, .max_level = l };
+    char what[96];
+    snprintf(what, sizeof what, "HD level %u everywhere", l);
+    if (st_mem_check(st_adapt_estimate_bytes(&s->hd, &p), what, err)) return -1;
+    if (st_adapt_update(&s->hd_adapt, &p, err)) return -1;
+    st_adapt_synthesize(&s->hd_adapt, s->hd_from);
+    return 0;
+}
+
 int st_cmd_convert(int argc, char **argv)
 {
     conv_opts o;
@@ -227,6 +271,10 @@ int st_cmd_convert(int argc, char **argv)
             return 2;
         }
         if (st_session_load(o.in, &s, &err)) { fprintf(stderr, "strata: %s\n", err.msg); return 1; }
+        if (hd_refusal(&o, &s)) {
+            st_session_free(&s);
+            return 2;
+        }
         if (o.levels >= 0 && (unsigned)o.levels > s.h.map.top) {
             if (s.has_adapt) {
                 fprintf(stderr, "strata convert: %s holds an adaptive hierarchy; --levels applies to regular ones\n", o.in);
@@ -280,33 +328,42 @@ int st_cmd_convert(int argc, char **argv)
             if (f && fseek(f, 0, SEEK_END) == 0) size = ftell(f);
             if (f) fclose(f);
             char lv[48];
-            printf("%s: session, scheme %s, %s%s, %ld bytes\n", o.out, s.h.scheme->name,
-                   st_levels_phrase(s.h.map.top, lv, sizeof lv), s.has_adapt ? " (adaptive)" : "", size);
+            char hd[48] = "";
+            if (s.has_hd) snprintf(hd, sizeof hd, ", HD levels up to %u", s.hd.map.top);
+            printf("%s: session, scheme %s, %s%s%s, %ld bytes\n", o.out, s.h.scheme->name,
+                   st_levels_phrase(s.h.map.top, lv, sizeof lv), s.has_adapt ? " (adaptive)" : "", hd, size);
         }
         st_session_free(&s);
         return rc;
     }
-    /* Mesh output. */
-    int adaptive = o.level < 0 && s.has_adapt && s.box_on;
-    if (o.level >= 0 && (unsigned)o.level > s.h.map.top) {
-        fprintf(stderr, "strata convert: --level %d: %s has levels 0..%u\n", o.level, o.in, s.h.map.top);
+    /* Mesh output: the model's level or adaptive mesh, or the HD
+     * hierarchy's (see the header comment). */
+    int hd_mesh = s.has_hd && o.level < 0 && !o.has_box;
+    int hd_level = s.has_hd && o.level >= 0 && (unsigned)o.level > s.h.map.top && (unsigned)o.level <= s.hd.map.top;
+    int adaptive = o.level < 0 && s.has_adapt && s.box_on && !hd_mesh;
+    if (o.level >= 0 && (unsigned)o.level > s.h.map.top && !hd_level) {
+        if (s.has_hd) fprintf(stderr, "strata convert: --level %d: %s has levels 0..%u (HD levels up to %u)\n", o.level, o.in, s.h.map.top, s.hd.map.top);
+        else fprintf(stderr, "strata convert: --level %d: %s has levels 0..%u\n", o.level, o.in, s.h.map.top);
         st_session_free(&s);
         return 2;
     }
-    unsigned l = o.level >= 0 ? (unsigned)o.level : s.h.map.top;
+    unsigned l = o.level >= 0 ? (unsigned)o.level : hd_mesh ? s.hd.map.top : s.h.map.top;
+    st_hier *src = hd_level ? &s.hd : &s.h;   /* the hierarchy level l is taken from */
+    st_adapt *shown = hd_mesh ? &s.hd_adapt : &s.adapt;
     st_mesh out;
     st_mesh_init(&out);
-    rc = adaptive ? st_mem_check(st_adapt_estimate_mesh_bytes(&s.adapt), "the adaptive mesh", &err) : 0;
-    if (!rc) rc = adaptive ? st_adapt_mesh(&s.adapt, &out, &err) : st_hier_level_mesh(&s.h, l, &out, &err);
+    rc = adaptive || hd_mesh ? st_mem_check(st_adapt_estimate_mesh_bytes(shown), hd_mesh ? "the HD mesh" : "the adaptive mesh", &err) : 0;
+    if (!rc && hd_level) rc = hd_uniform_level(&s, l, &err);
+    if (!rc) rc = adaptive || hd_mesh ? st_adapt_mesh(shown, &out, &err) : st_hier_level_mesh(src, l, &out, &err);
     if (rc) fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
     if (!rc && o.normals && st_mesh_compute_normals(&out)) {
         fprintf(stderr, "strata: %s: out of memory computing normals\n", o.out);
         rc = 1;
     }
-    if (!rc && o.normal_map && adaptive) {
+    if (!rc && o.normal_map && (adaptive || hd_mesh)) {
         fprintf(stderr, "strata convert: %s shows an adaptive mesh; --normal-map applies to a level: give --level\n", o.in);
         rc = 1;
-    } else if (!rc && o.normal_map && save_mapped(&s.h, l, &out, &o, &err)) {
+    } else if (!rc && o.normal_map && save_mapped(src, l, &out, &o, &err)) {
         fprintf(stderr, "strata: %s: %s\n", o.in, err.msg);
         rc = 1;
     } else if (!rc && !o.normal_map && st_any_mesh_save(o.out, &out, &err)) {
@@ -314,7 +371,8 @@ int st_cmd_convert(int argc, char **argv)
         rc = 1;
     }
     if (!rc)
-        printf("%s: %u faces, %u vertices, %s %u%s%s%s\n", o.out, out.nfaces - st_mesh_hole_faces(&out), out.nverts, adaptive ? "adaptive, levels 0.." : "level", l,
+        printf("%s: %u faces, %u vertices, %s %u%s%s%s\n", o.out, out.nfaces - st_mesh_hole_faces(&out), out.nverts,
+               hd_mesh ? "HD adaptive, levels 0.." : adaptive ? "adaptive, levels 0.." : hd_level ? "HD level" : "level", l,
                o.normals || st_path_has_ext(o.out, ".gltf") || st_path_has_ext(o.out, ".glb") ? ", with normals" : "",
                o.normal_map ? ", UVs, tangents and a material with normal map " : "", o.normal_map ? o.normal_map : "");
     st_mesh_free(&out);
