@@ -11,8 +11,10 @@
  *
  * The corpus holds version-3 sessions of small models (a few KB: format 3
  * stores live ids only), version-4 ones in the compact form (LVL0, POSN:
- * the reader regenerates the levels; *_v4.strata) and one each of
- * versions 1 and 2.
+ * the reader regenerates the levels; *_v4.strata), one each of
+ * versions 1 and 2, and one with an HD hierarchy (cube_cc1_hd.strata: the
+ * chunk 'hdlv' and its nested image; made by tests/core/test_session_hd
+ * --seed).
  *   fuzz_session -max_total_time=60 /tmp/corpus_session   (a copy of
  *   tests/fuzz/corpus/session: the fuzzer writes into its corpus folder) */
 #include "core/io/map_io_internal.h"
