@@ -33,7 +33,10 @@ typedef struct load_ctx {
     unsigned regen_top;    /* LVL0: the levels to regenerate */
     int uv_pending;        /* FVAR read before POSN: level 0's UVs, the rest to refine */
     uint32_t regen_end[2]; /* LVL0: its pools' ends */
+    int nested;            /* reading the image inside an hdlv chunk */
 } load_ctx;
+
+static int parse_image(const char *name, const void *data, size_t size, st_session *out, st_error *err, int nested);
 
 /* SEEN_MAP: the whole map is there (MAP, or LVL0 then POSN). */
 enum { SEEN_HIER = 1, SEEN_MAP = 2, SEEN_SHRP = 4, SEEN_DETL = 8, SEEN_ADPT = 16, SEEN_EDIT = 32, SEEN_VIEW = 64, SEEN_BASE = 128,
@@ -742,6 +745,9 @@ static const char *hd_mismatch(const st_hier *h, const st_session *in, unsigned 
 static int r_hd(load_ctx *c, st_br *r)
 {
     st_session *s = c->s;
+    /* The writer never nests them; a crafted file could, as deep as its
+     * bytes allow, and each level is a reader's frame on the stack. */
+    if (c->nested) return st_br_fail(r, "an HD hierarchy inside an HD hierarchy");
     uint32_t from = st_br_u32(r);
     if (r->failed) return -1;
     char name[512], why[160];
@@ -750,7 +756,7 @@ static int r_hd(load_ctx *c, st_br *r)
     if (!in) return load_fail(c, r, ST_ERR_MEMORY, "chunk 'hdlv': out of memory");
     /* The nested image's messages name the file and the chunk, and give
      * offsets inside the image. */
-    if (st_session_parse(name, r->p + r->off, r->size - r->off, in, c->err)) {
+    if (parse_image(name, r->p + r->off, r->size - r->off, in, c->err, 1)) {
         free(in);
         r->failed = 1;
         return -1;
@@ -810,6 +816,12 @@ static int finish(load_ctx *c)
 
 int st_session_parse(const char *name, const void *data, size_t size, st_session *out, st_error *err)
 {
+    return parse_image(name, data, size, out, err, 0);
+}
+
+/* st_session_parse; nested: the image inside an hdlv chunk (r_hd). */
+static int parse_image(const char *name, const void *data, size_t size, st_session *out, st_error *err, int nested)
+{
     const unsigned char *p = data;
     if (size < HEADER_BYTES + TRAILER_BYTES)
         return st_fail(err, ST_ERR_PARSE, "%s: %s (%zu bytes)", name,
@@ -844,7 +856,7 @@ int st_session_parse(const char *name, const void *data, size_t size, st_session
     st_session *s = malloc(sizeof *s);
     if (!s) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", name);
     st_session_init(s);
-    load_ctx c = { .s = s, .name = name, .err = err };
+    load_ctx c = { .s = s, .name = name, .err = err, .nested = nested };
     size_t off = HEADER_BYTES, end = size - TRAILER_BYTES;
     int rc = 0;
     while (off < end && !rc) {

@@ -289,6 +289,7 @@ static void check_cube(void)
 static void spot(st_mesh *m)
 {
     st_error err;
+    st_mesh_init(m);   /* st_mesh_load replaces what out holds */
     int rc = st_mesh_load(STRATA_SHARED_DATA "/catmull_clark/spot_quadrangulated.obj", m, &err);
     CHECKF(rc == ST_OK, "%s", err.msg);
 }
@@ -344,6 +345,10 @@ static void check_damage(void)
     /* The splice of the right values is the writer's file. */
     c = splice_hd(b0, n0, 2, img, ni, &nc);
     CHECKF(nc == n && !memcmp(c, b, n), "splice: not the writer's bytes");
+    free(c);
+    /* An image holding an hdlv chunk of its own (the whole file as image). */
+    c = splice_hd(b0, n0, 2, b, n, &nc);
+    check_refused("nested hdlv", c, nc, "an HD hierarchy inside an HD hierarchy");
     free(c);
     free(img);
     hr.adapt = NULL;
