@@ -268,7 +268,8 @@ void st_hier_resynth_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32
  * ring more (a face next to a moved vertex may be unsubdivided while a
  * corner of it is a corner of a subdivided face one ring further, whose
  * stencils read the moved vertex).  Appends (L, ST_FP_POS) of every vertex
- * written to fp (NULL: nothing). */
-void st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds, uint32_t n, st_footprint *fp);
+ * written to fp (NULL: nothing).  Returns the number of positions written
+ * (a vertex once per level). */
+uint64_t st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds, uint32_t n, st_footprint *fp);
 
 #endif
