@@ -143,6 +143,9 @@ typedef struct st_adapt {
                                        the scheme by st_adapt_init (or on first use): never saved */
     struct st_pm_select *pm; /* progressive hierarchies: the selection (below); NULL otherwise; never saved */
     st_map *pm_view;         /* progressive hierarchies: the selected mesh as a one-level map; never saved */
+    unsigned keep_above;     /* 0: off; else no face is simplified that would drop a non-zero detail
+                                of a level > keep_above (sculpted HD detail; see "HD levels" below).
+                                Polygon split family only; st_adapt_init sets 0; not saved by sessions */
 } st_adapt;
 
 /* Selective display of a progressive hierarchy (see "Progressive hierarchies"
