@@ -136,6 +136,7 @@ void st_adapt_synthesize(st_adapt *a, unsigned from)
         for (uint32_t k = 0; k < faces.n; k++)
             if (st_face_is_subdivided(m, faces.d[k], L - 1)) st_dart_list_push(&sub, faces.d[k]);
         if (!sub.n) continue; /* (emit with no face means every vertex of level L) */
+        st_adapt_canonical_faces(h, L - 1, &sub); /* the same stencils as a local pass (adapt_resynth.c) */
         resynth_ctx c = { h, L, st_hier_stamp_begin(h) };
         st_hier_emit(h, L, sub.d, sub.n, resynth_sink, &c);
     }

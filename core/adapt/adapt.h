@@ -101,6 +101,7 @@
 #include "core/multires/hier.h"
 #include "core/map/dart_list.h"
 #include "core/map/footprint.h"
+#include "core/multires/edit.h"
 
 int st_edge_is_split(const st_map *m, uint32_t d, unsigned i);
 /* Subdivision level of the face of d in the map of level l. */
@@ -143,6 +144,9 @@ typedef struct st_adapt {
                                        the scheme by st_adapt_init (or on first use): never saved */
     struct st_pm_select *pm; /* progressive hierarchies: the selection (below); NULL otherwise; never saved */
     st_map *pm_view;         /* progressive hierarchies: the selected mesh as a one-level map; never saved */
+    unsigned keep_above;     /* 0: off; else no face is simplified that would drop a non-zero detail
+                                of a level > keep_above (sculpted HD detail; see "HD levels" below).
+                                Polygon split family only; st_adapt_init sets 0; not saved by sessions */
 } st_adapt;
 
 /* Selective display of a progressive hierarchy (see "Progressive hierarchies"
@@ -220,6 +224,52 @@ void st_adapt_synthesize(st_adapt *a, unsigned from);
  * st_adapt_uv_build when the hierarchy carries them there. */
 int st_adapt_mesh(st_adapt *a, st_mesh *out, st_error *err);
 
+/* ---- HD levels (adapt_hd.c) ------------------------------------------------
+ * "HD sculpting": levels 0..N of the hierarchy are uniform (adapt params
+ * base_level = N) and the levels above N are refined only inside the
+ * interest box; the user sculpts at levels > N.  Edits at such a level go
+ * through st_adapt_edit (the regular edit's region growth, st_hier_edit,
+ * would visit unsubdivided faces); a brush only moves the vertices
+ * st_adapt_vertex_editable accepts; keep_above (st_adapt) keeps sculpted
+ * regions refined when the box moves on.  Polygon split schemes only
+ * (Catmull-Clark, Loop, Butterfly, quad/triangle): the caller refuses HD
+ * for √3, Doo-Sabin and progressive hierarchies. */
+
+/* An edit at level l of an adaptive hierarchy: the darts' vertices get the
+ * positions pos at level l (l >= 1: the detail D = F^T (P - S(P_{l-1})) is
+ * stored and the position is written as st_hier_apply_detail(S(P_{l-1}),
+ * F, D), so that a full synthesis from l-1 (st_adapt_synthesize) gives the
+ * same bits; levels above l where the vertex only inherits its level-l
+ * position follow), then levels l+1..top are re-synthesised around the
+ * darts (st_hier_resynth_around).  fp (NULL: nothing) gets the level-l keys
+ * of st_hier_edit_level, the inherited positions above l that followed,
+ * and the re-synthesised positions.  cache: st_hier_edit_cached's (NULL:
+ * none).  For l >= 1 the darts' vertices should be editable
+ * (st_adapt_vertex_editable): S(P_{l-1}) is then the one a synthesis takes
+ * (adapt_resynth.c, canonical stencils), so the result equals a full
+ * st_adapt_synthesize from l-1 or lower bit for bit, given a hierarchy
+ * that did before.  Returns the number of positions written above l
+ * (followed plus re-synthesised; a vertex once per level and pass). */
+uint64_t st_adapt_edit(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                       st_footprint *fp, st_edit_cache *cache);
+
+/* Non-zero when L >= 1 and every real face around the vertex of d at level L
+ * is a face of subdivision level L (holes around it are allowed): only such
+ * a vertex has a level-L prediction S(P_{L-1}) from a complete
+ * neighbourhood, so only it may be moved at level L (a vertex on the
+ * border of the refined region shows a coarser face's corner). */
+int st_adapt_vertex_editable(st_map *m, uint32_t d, unsigned L);
+
+/* Per level L = from+1..top of a polygon split map: faces[L] the real faces
+ * of subdivision level L stored at L, bytes[L] an estimate of what level L
+ * costs: st_map_level_memory's bytes (darts and vertices inserted at L,
+ * the level-L columns of the relations and positions) plus one detail
+ * (3 doubles) per vertex inserted at L.  Levels <= from and above top are
+ * set to 0.  (The details of older vertices at L, kept in the hierarchy's
+ * dense per-level arrays, are not counted: the map alone does not know
+ * them.) */
+void st_adapt_hd_levels(const st_map *m, unsigned from, uint64_t faces[ST_MAX_LEVELS], uint64_t bytes[ST_MAX_LEVELS]);
+
 /* ---- UVs (adapt_uv.c) ------------------------------------------------------ */
 
 /* Face-varying UVs of the adaptive mesh, per dart id of the top level: the
@@ -268,7 +318,8 @@ void st_hier_resynth_faces(st_hier *h, unsigned L, const uint32_t *faces, uint32
  * ring more (a face next to a moved vertex may be unsubdivided while a
  * corner of it is a corner of a subdivided face one ring further, whose
  * stencils read the moved vertex).  Appends (L, ST_FP_POS) of every vertex
- * written to fp (NULL: nothing). */
-void st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds, uint32_t n, st_footprint *fp);
+ * written to fp (NULL: nothing).  Returns the number of positions written
+ * (a vertex once per level). */
+uint64_t st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds, uint32_t n, st_footprint *fp);
 
 #endif

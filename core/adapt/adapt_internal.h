@@ -138,6 +138,18 @@ static inline int st_adapt_face_of_level(const st_map *m, uint32_t y, unsigned i
 /* One dart per real face of map l whose subdivision level is l. */
 void st_adapt_faces_of_level(st_map *m, unsigned l, st_dart_list *out);
 
+/* ---- canonical stencils (adapt_resynth.c) ------------------------------------ */
+
+/* Polygon split family: each listed face of map l by its smallest dart, in
+ * increasing order, so that a fine vertex takes the stencil of the same
+ * face in a full and a local synthesis (bit for bit).  Other families: the
+ * list as it is. */
+void st_adapt_canonical_faces(const st_hier *h, unsigned l, st_dart_list *faces);
+/* S(P_{L-1}) of the vertex of d (map L, on faces of level L only) with the
+ * stencil a synthesis of level L gives it (the canonical face's); 0 when
+ * not found (other families, a vertex of more than 64 faces). */
+int st_adapt_canonical_pred(st_hier *h, unsigned L, uint32_t d, double pred[3]);
+
 /* ---- details (adapt_details.c) -------------------------------------------- */
 
 /* Context of st_adapt_place_sink: the vertices a subdivision just created

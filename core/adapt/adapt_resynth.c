@@ -4,12 +4,152 @@
  * copies the model's edited positions and re-synthesises its own finer
  * adaptive levels around them.  Kept in core/adapt because it reads the
  * cells' subdivision levels (Kraemer 2008 §3.3.1). */
-#include "core/adapt/adapt.h"
+#include "core/adapt/adapt_internal.h"
 #include "core/multires/edit.h"
 #include "core/multires/hier_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
+
+/* ---- canonical stencils ----------------------------------------------------------
+ * A fine vertex shared by several subdivided faces takes its stencil from
+ * the first listed face that holds it (the scheme's emit), and two faces
+ * sum the same weights in different orders: the results may differ in the
+ * last bit.  So that a local re-synthesis and st_adapt_synthesize give the
+ * same bits (an HD edit, adapt_hd.c, is checked against a full synthesis),
+ * both list the faces of a level by their smallest dart, in increasing
+ * order; the canonical face of a fine vertex is then the listed face with
+ * the smallest dart, which a full synthesis always meets first.  A local
+ * pass that meets a vertex first on another face (the canonical one lies
+ * outside its region: a vertex at the region's edge, whose value does not
+ * change) takes the stencil of the canonical face instead.  Polygon split
+ * family only (its O(1) subdivision reading, adapt_internal.h); the other
+ * families keep the listing order. */
+
+static int canonical_family(const st_hier *h)
+{
+    switch (h->scheme->id) {
+    case ST_SCHEME_CATMARK:
+    case ST_SCHEME_LOOP:
+    case ST_SCHEME_BUTTERFLY:
+    case ST_SCHEME_QUADTRI: return 1;
+    default: return 0;
+    }
+}
+
+static uint32_t face_min(const st_map *m, uint32_t d, unsigned l)
+{
+    uint32_t best = d;
+    for (uint32_t x = st_phi1(m, d, l); x != d; x = st_phi1(m, x, l))
+        if (x < best) best = x;
+    return best;
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Each face by its smallest dart of level l, in increasing order (the
+ * sort only when the list is not in order already: a full level listed by
+ * the pools mostly is). */
+static void canonical_order(const st_map *m, unsigned l, uint32_t *faces, uint32_t n)
+{
+    int sorted = 1;
+    for (uint32_t k = 0; k < n; k++) {
+        faces[k] = face_min(m, faces[k], l);
+        if (k && faces[k] < faces[k - 1]) sorted = 0;
+    }
+    if (!sorted) qsort(faces, n, sizeof *faces, cmp_u32);
+}
+
+void st_adapt_canonical_faces(const st_hier *h, unsigned l, st_dart_list *faces)
+{
+    if (canonical_family(h)) canonical_order(&h->map, l, faces->d, faces->n);
+}
+
+/* The face of d (map l) is a real face subdivided toward l+1: one that a
+ * synthesis of level l+1 lists. */
+static int listed(const st_map *m, uint32_t d, unsigned l)
+{
+    return !st_is_boundary(m, d) && st_adapt_split_toward(m, d, l);
+}
+
+/* The canonical face (its smallest dart, map L-1) of the fine vertex of
+ * stencil s; ST_NIL when the cell is not one the family reads. */
+static uint32_t canonical_face(const st_map *m, const st_stencil *s, unsigned L)
+{
+    unsigned l = L - 1;
+    uint32_t d = s->frame_dart, best = ST_NIL;
+    if (s->frame_cell == ST_CELL_FACE) return face_min(m, d, l);
+    if (s->frame_cell == ST_CELL_EDGE) {
+        uint32_t e = st_beta0(m, d, l);
+        if (listed(m, d, l)) best = face_min(m, d, l);
+        if (listed(m, e, l)) { uint32_t f = face_min(m, e, l); if (f < best) best = f; }
+        return best;
+    }
+    if (s->frame_cell != ST_CELL_VERTEX) return ST_NIL;
+    uint32_t x = d;
+    do {
+        if (listed(m, x, l)) { uint32_t f = face_min(m, x, l); if (f < best) best = f; }
+        x = st_beta1(m, x, l);
+    } while (x != d);
+    return best;
+}
+
+/* The stencil of one fine vertex, taken from one face's emission. */
+typedef struct capture_ctx {
+    const st_hier *h;
+    unsigned L;
+    uint32_t v;
+    int apply;                 /* 1: with the detail (st_stencil_apply); 0: S(P_{L-1}) only */
+    int found;
+    double p[3];
+} capture_ctx;
+
+static void capture_sink(void *ctx, const st_stencil *s)
+{
+    capture_ctx *c = ctx;
+    if (c->found || s->fine != c->v) return;
+    if (c->apply) st_stencil_apply(c->h, c->L, s, c->p);
+    else st_stencil_eval(&c->h->map, c->L, s, c->p);
+    c->found = 1;
+}
+
+int st_adapt_canonical_pred(st_hier *h, unsigned L, uint32_t d, double pred[3])
+{
+    const st_map *m = &h->map;
+    if (!canonical_family(h) || L < 1) return 0;
+    /* The parents (map L-1) of the faces around the vertex: each face of
+     * level L holds a dart of its parent (a corner, or for the central
+     * triangle of a triangle split none: its neighbours' parents are the
+     * same face).  Valence is bounded by the local array. */
+    enum { MAXP = 64 };
+    uint32_t par[MAXP], n = 0, x = d;
+    do {
+        if (!st_is_boundary(m, x)) {
+            uint32_t y = x;
+            do {
+                if (m->darts.ins[y] < L) break;
+                y = st_phi1(m, y, L);
+            } while (y != x);
+            if (m->darts.ins[y] < L && listed(m, y, L - 1)) {
+                if (n == MAXP) return 0;
+                par[n++] = y;
+            }
+        }
+        x = st_beta1(m, x, L);
+    } while (x != d);
+    canonical_order(m, L - 1, par, n);
+    capture_ctx c = { .h = h, .L = L, .v = st_vert(m, d, L) };
+    for (uint32_t k = 0; k < n && !c.found; k++)
+        if (!k || par[k] != par[k - 1]) st_hier_emit(h, L, &par[k], 1, capture_sink, &c);
+    if (c.found) for (int i = 0; i < 3; i++) pred[i] = c.p[i];
+    return c.found;
+}
+
+/* ---- passes ---------------------------------------------------------------------- */
 
 typedef struct resynth_ctx {
     st_hier *h;
@@ -17,7 +157,10 @@ typedef struct resynth_ctx {
     uint32_t gen;
     st_dart_list *changed;   /* NULL: no seeds for a next level */
     int lost;
+    int canonical;           /* the faces are in canonical order: vertices met off their canonical face
+                                take its stencil */
     st_footprint *fp;
+    uint64_t count;          /* positions written */
 } resynth_ctx;
 
 /* Applies stencil s at level L unless its fine vertex was already written
@@ -30,8 +173,17 @@ static void resynth_sink(void *ctx, const st_stencil *s)
     if (h->stamp.v[s->fine] == c->gen) return;
     h->stamp.v[s->fine] = c->gen;
     double p[3];
-    st_stencil_apply(h, c->L, s, p);
+    uint32_t canon = c->canonical ? canonical_face(&h->map, s, c->L) : ST_NIL;
+    if (canon != ST_NIL && canon != face_min(&h->map, s->frame_dart, c->L - 1)) {
+        /* (an emission of one face, for the few vertices at the region's edge) */
+        capture_ctx cap = { .h = h, .L = c->L, .v = s->fine, .apply = 1 };
+        st_hier_emit(h, c->L, &canon, 1, capture_sink, &cap);
+        if (cap.found) memcpy(p, cap.p, sizeof p);
+        else st_stencil_apply(h, c->L, s, p);
+    } else
+        st_stencil_apply(h, c->L, s, p);
     st_set_pos(&h->map, s->fine, c->L, p);
+    c->count++;
     if (c->fp) st_footprint_add(c->fp, st_fp_key(c->L, ST_FP_POS, s->fine));
     if (!c->changed) return;
     uint32_t x = st_dart_on_cell(&h->map, s->fine, s->frame_dart, c->L);
@@ -50,6 +202,7 @@ typedef struct around_ctx {
     st_hier *h;
     st_footprint *fp;
     unsigned extra;            /* more rings: a vertex was lost at the level below */
+    uint64_t count;            /* positions written, all levels */
     st_dart_list faces, kept;
 } around_ctx;
 
@@ -65,9 +218,12 @@ static int around_step(void *ctx, unsigned L, const st_dart_list *seeds, st_dart
     for (uint32_t i = 0; i < a->faces.n; i++)
         if (st_face_level(m, a->faces.d[i], L - 1) == L - 1 && st_face_is_subdivided(m, a->faces.d[i], L - 1))
             st_dart_list_push(&a->kept, a->faces.d[i]);
-    resynth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = next, .fp = a->fp };
+    st_adapt_canonical_faces(h, L - 1, &a->kept);
+    resynth_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = next, .fp = a->fp,
+                      .canonical = canonical_family(h) };
     if (a->kept.n) st_hier_emit(h, L, a->kept.d, a->kept.n, resynth_sink, &c);
     a->extra = c.lost;
+    a->count += c.count;
     /* A vertex not found on its frame cell: every dart of the kept faces
      * seeds the next level, with one more ring. */
     if (c.lost) {
@@ -77,7 +233,7 @@ static int around_step(void *ctx, unsigned L, const st_dart_list *seeds, st_dart
     return 0;
 }
 
-void st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds0, uint32_t n, st_footprint *fp)
+uint64_t st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds0, uint32_t n, st_footprint *fp)
 {
     st_dart_list seeds = { 0 };
     for (uint32_t i = 0; i < n; i++) st_dart_list_push(&seeds, seeds0[i]);
@@ -85,4 +241,5 @@ void st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds0, u
     st_hier_levels_up(h, from, &seeds, around_step, &a);
     st_dart_list_free(&a.faces);
     st_dart_list_free(&a.kept);
+    return a.count;
 }

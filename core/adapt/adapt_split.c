@@ -207,6 +207,54 @@ int st_adapt_split_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restric
     return 1;
 }
 
+/* Sculpted detail is kept (st_adapt.keep_above, adapt.h "HD levels"): a
+ * face of level i with i+1 > keep_above stays subdivided while a vertex of
+ * its level-(i+1) subdivision - its corners, the points of its sides, its
+ * centre - has a non-zero detail at any level from i+1 to the top.
+ * Simplification would keep such details (adapt_details.c), but the
+ * surface would no longer show them, and an HD sculpt is meant to stay
+ * visible when the interest box moves on.  The corners make it
+ * conservative: the faces around a sculpted vertex older than its level
+ * stay refined too (one ring more than the detail's own support), which
+ * the one-level restriction needs around the kept faces anyway.  Details
+ * at levels <= keep_above (the uniform levels) never hold a face.  The
+ * update's result then depends on the sculpting done, as it must, no
+ * longer on the criteria alone. */
+static int holds_detail(const st_hier *h, uint32_t v, unsigned L)
+{
+    for (unsigned k = L; k <= h->map.top; k++) {
+        const double *d = st_hier_detail(h, k, v);
+        if (d[0] != 0 || d[1] != 0 || d[2] != 0) return 1;
+    }
+    return 0;
+}
+
+static int keeps_sculpt(const st_adapt *a, const outline *o, unsigned i, int tri)
+{
+    const st_hier *h = a->h;
+    const st_map *m = &h->map;
+    unsigned L = i + 1;
+    if (!a->keep_above || L <= a->keep_above) return 0;
+    for (uint32_t k = 0; k < o->n; k++)
+        if (holds_detail(h, st_vert(m, o->d[k], L), L) || holds_detail(h, st_vert(m, half_after(m, o->d[k], i), L), L))
+            return 1;
+    return !tri && holds_detail(h, st_vert(m, st_phi1(m, st_phi1(m, o->d[0], L), L), L), L);
+}
+
+/* The polygon split family's test: the shared one (Doo-Sabin's too), then
+ * the sculpt kept (the dual family does not take part in HD sculpting). */
+static int split_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
+{
+    if (!st_adapt_split_can_simplify(a, d, i, restricted)) return 0;
+    if (!a->keep_above) return 1;
+    st_map *m = &a->h->map;
+    unsigned deg = st_face_degree(m, d, i);
+    uint32_t buf[256];
+    outline o = { buf, 0 };
+    get_outline(m, d, i, &o);
+    return !keeps_sculpt(a, &o, i, st_adapt_ops_of(a)->central_child(deg));
+}
+
 /* Before the level-(i+1) structure of a face is taken apart: park the
  * level-(i+2) details of every vertex it has at level i+1 - corners, edge
  * points, centre - since their vertex cells of level i+1 change
@@ -330,7 +378,7 @@ enum { SPLIT_RINGS = 3 };
 #define SPLIT_OPS(central)                                                                     \
     {                                                                                          \
         .family = "polygon split", .check = NULL, .subdivide = split_subdivide,                \
-        .can_simplify = st_adapt_split_can_simplify, .simplify = split_simplify,               \
+        .can_simplify = split_can_simplify, .simplify = split_simplify,                        \
         .wanted = st_adapt_wanted_level, .cell_bbox = st_adapt_face_bbox,                      \
         .subdivided = split_subdivided, .face_of_level = split_face_of_level,                  \
         .still_listed = NULL, .central_child = central,                                        \

@@ -53,6 +53,18 @@ void st_edit_cache_free(st_edit_cache *c);
 uint64_t st_hier_edit_cached(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
                              st_footprint *fp, st_detail_hook hook, void *ctx, st_edit_cache *cache);
 
+/* The level-l part of st_hier_edit_cached alone: writes the positions (pos
+ * NULL: none), refreshes the details of the darts' vertices for l >= 1
+ * (with the hook, as st_hier_edit_with), and appends (l, ST_FP_POS) and,
+ * for l >= 1, (l, ST_FP_DETAIL) of each to fp (NULL: nothing).  Nothing
+ * above l is re-synthesised: the caller does it, e.g. an adaptive
+ * hierarchy, whose region growth must keep to the subdivided faces
+ * (core/adapt: st_adapt_edit).  Returns the number of values named at l
+ * (n positions, and n details for l >= 1; a vertex given twice counts
+ * twice). */
+uint64_t st_hier_edit_level(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                            st_footprint *fp, st_detail_hook hook, void *ctx, st_edit_cache *cache);
+
 /* The position a synthesis gives from a prediction, a frame and a detail:
  * pred + F^T det, summed as st_stencil_apply sums it. */
 static inline void st_hier_apply_detail(const double pred[3], const double f[3][3], const double det[3], double out[3])

@@ -502,8 +502,8 @@ uint64_t st_hier_edit_with(st_hier *h, unsigned l, const uint32_t *darts, const 
     return st_hier_edit_cached(h, l, darts, pos, n, fp, hook, hctx, NULL);
 }
 
-uint64_t st_hier_edit_cached(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
-                             st_footprint *fp, st_detail_hook hook, void *hctx, st_edit_cache *cache)
+uint64_t st_hier_edit_level(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                            st_footprint *fp, st_detail_hook hook, void *hctx, st_edit_cache *cache)
 {
     st_map *m = &h->map;
     if (pos)
@@ -511,6 +511,13 @@ uint64_t st_hier_edit_cached(st_hier *h, unsigned l, const uint32_t *darts, cons
     if (l > 0)
         for (uint32_t i = 0; i < n; i++) refresh_detail(h, l, real_seed(m, darts[i], l), hook, hctx, cache);
     edit_level_keys(m, l, darts, n, fp);
+    return l > 0 ? 2 * (uint64_t)n : n;
+}
+
+uint64_t st_hier_edit_cached(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
+                             st_footprint *fp, st_detail_hook hook, void *hctx, st_edit_cache *cache)
+{
+    st_hier_edit_level(h, l, darts, pos, n, fp, hook, hctx, cache);
     return resynth_above(h, l, darts, n, 1, fp);
 }
 
