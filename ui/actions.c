@@ -261,15 +261,15 @@ static void step_level(st_app *a, int display, int up)
     st_doc *d = &a->doc;
     int down = !up;
     if (display) {
-        if (d->box_on) { st_app_message(a, 0, "the interest box decides the display: I hides it"); return; }
+        if (st_doc_display_adaptive(d)) { st_app_message(a, 0, "the interest box decides the display: I hides it"); return; }
         unsigned l = d->display_level;
         if (down && l > d->edit_level) l--;
         if (up && l < d->h.map.top) l++;
         st_doc_set_display_level(d, l);
     } else {
-        unsigned l = d->edit_level;
+        unsigned l = st_doc_sculpt_level(d);
         if (down && l > 0) l--;
-        if (up && l < d->h.map.top) l++;
+        if (up && l < st_doc_level_limit(d)) l++;
         st_doc_set_edit_level(d, l);
     }
     st_app_sync(a);

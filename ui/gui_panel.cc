@@ -23,10 +23,12 @@ namespace stgui {
 void slider_level(st_app *a, const char *label, int display)
 {
     st_doc *d = &a->doc;
-    int top = (int)d->h.map.top;
-    int v = display ? (int)d->display_level : (int)d->edit_level;
+    /* The editing level goes above the top into the HD levels when the
+     * interest box allows them (editor.h, "HD levels"). */
+    int top = display ? (int)d->h.map.top : (int)st_doc_level_limit(d);
+    int v = display ? (int)d->display_level : (int)st_doc_sculpt_level(d);
     int lo = display ? (int)d->edit_level : 0;
-    bool off = display && d->box_on;
+    bool off = display && st_doc_display_adaptive(d);
     if (off) ImGui::BeginDisabled();
     if (ImGui::SliderInt(label, &v, lo, top) && a->op == ST_OP_NONE) {
         if (display) st_doc_set_display_level(d, (unsigned)v);

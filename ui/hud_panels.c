@@ -157,8 +157,9 @@ void st_app_draw_hud(st_app *a)
         st_doc_display_counts(d, &faces, &verts);
         snprintf(line[n++], 256, "%s   %s", st_path_base(d->path), d->scheme ? d->scheme->name : "?");
         char lv[48];
-        snprintf(line[n++], 256, "%s   editing %u   displayed %s%u", st_levels_phrase(d->h.map.top, lv, sizeof lv), d->edit_level,
-                 d->box_on ? "adaptive " : "", st_doc_display_map_level(d));
+        snprintf(line[n++], 256, "%s   editing %s%u   displayed %s%u", st_levels_phrase(d->h.map.top, lv, sizeof lv),
+                 d->hd_level ? "HD " : "", st_doc_sculpt_level(d), st_doc_display_adaptive(d) ? "adaptive " : "",
+                 st_doc_display_map_level(d));
         snprintf(line[n++], 256, "faces %llu   vertices %llu   editing-level vertices %u",
                  (unsigned long long)faces, (unsigned long long)verts, a->r.has_cage ? a->r.cage.nverts : 0);
         if (a->tool == ST_TOOL_SELECT)

@@ -483,7 +483,13 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
     long want = e->arg ? strtol(e->arg, NULL, 10) : 0;
     uint64_t faces = 0, verts = 0;
     if (d->loaded) st_doc_display_counts(d, &faces, &verts);
-    if (!strcmp(w, "edit_level")) { snprintf(actual, sizeof actual, "%u", d->edit_level); ok = (long)d->edit_level == want; }
+    if (!strcmp(w, "edit_level")) { snprintf(actual, sizeof actual, "%u", st_doc_sculpt_level(d)); ok = (long)st_doc_sculpt_level(d) == want; }
+    else if (!strcmp(w, "hd_faces")) {
+        /* faces stored at the HD levels; "+": at least one */
+        uint64_t hf = d->loaded ? st_doc_hd_faces(d) : 0;
+        snprintf(actual, sizeof actual, "%llu", (unsigned long long)hf);
+        ok = e->arg && !strcmp(e->arg, "+") ? hf > 0 : (long)hf == want;
+    }
     else if (!strcmp(w, "display_level")) { snprintf(actual, sizeof actual, "%u", d->display_level); ok = (long)d->display_level == want; }
     else if (!strcmp(w, "top") || !strcmp(w, "levels")) { snprintf(actual, sizeof actual, "%u", d->h.map.top); ok = (long)d->h.map.top == want; }
     else if (!strcmp(w, "selected")) { snprintf(actual, sizeof actual, "%u", d->nsel); ok = (long)d->nsel == want; }

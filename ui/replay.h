@@ -18,7 +18,8 @@
  *                               frame (a click right after a scroll on a slow frame)
  *   drop PATH                   a file dropped on the window (relative: to the events file)
  *   level edit N | level display N
- *                               set a level directly (document call)
+ *                               set a level directly (document call); edit N above
+ *                               the top is an HD level when the interest box is on
  *   snapshot                    remember the displayed positions (also taken after loading)
  *   screenshot NAME.png         read the next frame from the framebuffer
  *   expect WHAT [VALUE]         assertion; WHAT: edit_level, display_level, top,
@@ -51,7 +52,9 @@
  *                               layers N (sculpt layers), active_layer K (-1: none),
  *                               layer_strength S (the active layer's, in hundredths),
  *                               masked N (editing-level vertices with a mask above 0;
- *                               "masked +": at least one)
+ *                               "masked +": at least one),
+ *                               hd_faces N (faces stored at the HD levels, above the
+ *                               model's top; "hd_faces +": at least one)
  *   brush SETTING VALUE         the brush settings of the panel's tool section:
  *                               falloff smooth|sphere|root|sharp|linear|constant,
  *                               spacing F (dabs every F radii; 0: one per event),

@@ -112,7 +112,7 @@ int st_app_sync(st_app *a)
     double t0 = now_ms();
     unsigned disp = st_doc_display_map_level(d);
     const st_hier *dh = st_doc_display_hier(d);
-    st_scene scene = { &d->h.map, &dh->map, disp, d->edit_level, d->box_on };
+    st_scene scene = { &d->h.map, &dh->map, disp, d->edit_level, st_doc_display_adaptive(d) };
     st_scene_change sc = scene_change(&ch);
     st_error err;
     unsigned done = st_renderer_show(&a->r, &a->shown, &scene, &sc, &err);
@@ -136,7 +136,7 @@ int st_app_sync(st_app *a)
     }
     /* UVs per triangle corner: uploaded again whenever the triangles
      * change or the checker is switched on (position edits keep them). */
-    int checker = a->checker && (dh == &d->h || d->box_on);
+    int checker = a->checker && (dh == &d->h || st_doc_display_adaptive(d));
     if (checker != a->shown_checker || (checker && (rebuild || (ch.bits & ST_CHANGE_PATCH)))) {
         /* with the interest box: the adaptive mesh's own UVs, computed
          * again after each box move (core/adapt/adapt.h) */

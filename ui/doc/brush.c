@@ -12,6 +12,7 @@
 #include "core/sculpt/sculpt.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -171,22 +172,43 @@ int ed_stroke_begin(st_doc *d, int moves_geometry)
     if (!(d->brush.radius > 0) || d->brush.tool < 0 || d->brush.tool >= ST_BRUSH_COUNT) return -1;
     struct st_brush_state *bs = brush_state(d);
     unsigned l = d->edit_level;
-    if (moves_geometry && ed_edit_budget(d, l)) return -1;
+    if (d->hd_level && !moves_geometry) {
+        snprintf(d->note, sizeof d->note, "the mask is painted at the model's levels (0..%u), not at HD levels",
+                 d->h.map.top);
+        return -1;
+    }
+    if (d->hd_level) {
+        /* An HD level: the box's display is sculpted (editor_hd.c). */
+        if (ed_hd_stroke_begin(d)) return -1;
+        l = d->hd_level;
+    } else if (moves_geometry && ed_edit_budget(d, l)) {
+        return -1;
+    }
     st_sculpt_brush b;
     sculpt_brush(&d->brush, &b);
     st_sculpt_stroke st = { 0 };
     st.level = l;
-    st.reach = st_doc_brush_reach(d);
-    st.edge_mean = bs->edge_mean;
-    /* The document's vertex -> dart table of the editing level (kept while
-     * the topology holds, which a stroke does not change). */
-    st.vertex_darts = ed_vertex_darts(d, &st.nvertex_darts);
-    st_sculpt_begin(bs->sc, &d->h.map, &b, &st);
+    if (d->hd_level) {
+        /* At an HD level the brush radius is the reach: the level's mean
+         * edge is mostly the coarse faces' outside the HD region. */
+        b.reach_edges = 0;
+        st.reach = d->brush.radius;
+        st.vertex_darts = d->hd_vdart;
+        st.nvertex_darts = d->nhd_vdart;
+    } else {
+        st.reach = st_doc_brush_reach(d);
+        st.edge_mean = bs->edge_mean;
+        /* The document's vertex -> dart table of the editing level (kept while
+         * the topology holds, which a stroke does not change). */
+        st.vertex_darts = ed_vertex_darts(d, &st.nvertex_darts);
+    }
+    st_sculpt_begin(bs->sc, d->hd_level ? &d->display.hier.map : &d->h.map, &b, &st);
     bs->path = 0;
     bs->ndabs = 0;
     bs->outk = 1;
     st_undo_step *s = ed_step_new(ED_STEP_EDIT);
     s->level = l;
+    s->hd = d->hd_level != 0;
     d->pending = s;
     d->active = 2;
     return 0;
@@ -198,10 +220,12 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
     struct st_brush_state *bs = d->bs;
     if (!(d->brush.radius > 0)) return -1;
     double t0 = ed_now_ms();
-    st_hier *h = &d->h;
+    int hd = d->pending->hd;
+    st_hier *h = hd ? &d->display.hier : &d->h;
     unsigned l = d->pending->level;
     st_sculpt_brush b;
     sculpt_brush(&d->brush, &b);
+    if (hd) b.reach_edges = 0;
     st_sculpt_dab dab = { .normal = { 0, 0, 1 }, .fade = 1 };
     memcpy(dab.center, center, sizeof dab.center);
     if (normal) memcpy(dab.normal, normal, sizeof dab.normal);
@@ -229,8 +253,11 @@ int st_doc_stroke_dab(st_doc *d, const double center[3], const double normal[3],
     }
     const uint32_t *darts;
     const double(*pos)[3];
-    uint32_t n = st_sculpt_dab_run(bs->sc, &h->map, &b, &dab, &d->mask, &darts, &pos);
-    if (n) {
+    uint32_t n = st_sculpt_dab_run(bs->sc, &h->map, &b, &dab, hd ? &d->hd_mask : &d->mask, &darts, &pos);
+    if (n && hd) {
+        ed_hd_dab_write(d, d->pending, darts, pos, n, t0);
+        st_sculpt_moved(bs->sc, &h->map, darts, n);
+    } else if (n) {
         /* Old values of what core will write (also the layers'), then the
          * edit, which reports what it wrote for the display and the renderer. */
         uint32_t from = d->fp_model.n;

@@ -67,6 +67,9 @@ void st_doc_free(st_doc *d)
     ed_undo_clear(d);
     free(d->undo);
     st_box_display_free(&d->display);
+    free(d->hd_vdart);
+    st_mask_free(&d->hd_mask);
+    st_edit_cache_free(d->hd_cache);
     if (d->loaded) st_hier_free(&d->h);
     st_mesh_free(&d->base);
     free(d->sel);
@@ -269,6 +272,8 @@ int st_doc_open_progress(st_doc *d, const char *path, const char *scheme, unsign
     ed_undo_clear(d);
     st_box_display_drop(&d->display);
     d->box_on = 0;
+    d->hd = 0;
+    d->hd_level = 0;
     if (d->loaded) st_hier_free(&d->h);
     d->h = h;
     ed_hier_fix(&d->h);
@@ -329,6 +334,7 @@ int st_doc_set_scheme_progress(st_doc *d, const char *scheme, int (*fraction)(vo
     if (span_cancelled(&sp, 0, err)) return ST_ERR_INVALID;
     const st_scheme *sc = st_scheme_find(scheme ? scheme : "");
     if (!sc) return st_fail(err, ST_ERR_INVALID, "unknown scheme '%s'", scheme ? scheme : "");
+    if (ed_hd_blocks(d, "a scheme change", err)) return ST_ERR_INVALID;
     ed_finish_active(d);
     /* The control mesh as it is now (edits of level 0 kept); the file's
      * tags are kept while level 0 is still the loaded one.  Once it is not
@@ -505,6 +511,7 @@ int st_doc_add_level_progress(st_doc *d, int (*fraction)(void *ctx, double f), v
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
     ed_span sp = { fraction, ctx, 0, 1, 0 };
     ed_finish_active(d);
+    if (ed_hd_blocks(d, "adding a level", err)) return ST_ERR_INVALID;
     if (d->h.map.top + 1 >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "level %u is beyond the limit", d->h.map.top + 1);
     size_t need = st_doc_add_level_bytes(d), have = st_doc_model_bytes(d);
     if (have + need > d->mem_budget)
@@ -549,6 +556,7 @@ static int removal_begin(st_doc *d, st_error *err)
 {
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
     if (d->h.map.top == 0) return st_fail(err, ST_ERR_INVALID, "only the control mesh is left");
+    if (ed_hd_blocks(d, "deleting a level", err)) return ST_ERR_INVALID;
     ed_finish_active(d);
     return ST_OK;
 }
@@ -622,9 +630,28 @@ void st_doc_set_edit_level(st_doc *d, unsigned l)
 {
     if (!d->loaded) return;
     ed_finish_active(d);
-    if (l > d->h.map.top) l = d->h.map.top;
-    if (l != d->edit_level || d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
+    unsigned top = d->h.map.top, hd = 0;
+    if (l > top) {
+        /* An HD level (editor_hd.c): the box's base becomes the top, so
+         * that the display is the model's top outside the HD region. */
+        unsigned lim = st_doc_level_limit(d);
+        if (l > lim) l = lim;
+        if (l > top && d->box.base_level != top) {
+            st_adapt_params p = d->box;
+            p.base_level = top;
+            st_error e;
+            if (st_doc_set_box(d, &p, 1, &e)) {
+                snprintf(d->note, sizeof d->note, "HD level %u refused: %.200s", l, e.msg);
+                l = top;
+            }
+        }
+        if (l > top) hd = l;
+        else if (!d->note[0]) snprintf(d->note, sizeof d->note, "%s", st_doc_hd_refusal(d) ? st_doc_hd_refusal(d) : "");
+        l = top;
+    }
+    if (l != d->edit_level || hd != d->hd_level || d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
     d->edit_level = l;
+    d->hd_level = hd;
     d->nsel = 0;
     if (d->display_level < l) {
         d->display_level = l;
@@ -745,7 +772,7 @@ static void change_add_darts(st_doc *d, unsigned l, const uint32_t *darts, uint3
 
 void ed_geometry_changed(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0, uint32_t from)
 {
-    if (d->box_on && d->display.built) {
+    if (ed_display_on(d)) {
         if (from <= d->fp_model.n) {
             st_box_display_follow_edit(&d->display, &d->h, d->fp_model.keys + from, d->fp_model.n - from);
             d->change.bits |= ST_CHANGE_DISPLAY;
@@ -787,12 +814,12 @@ st_doc_change st_doc_take_change(st_doc *d)
     return c;
 }
 
-static void count_display(st_doc *d)
+void ed_count_display(st_doc *d)
 {
     d->disp_faces = d->disp_verts = 0;
     if (!d->loaded) return;
     st_level_stats s;
-    if (d->box_on && d->display.built) st_level_stats_compute(&d->display.hier.map, d->display.hier.map.top, &s);
+    if (ed_display_on(d)) st_level_stats_compute(&d->display.hier.map, d->display.hier.map.top, &s);
     else st_level_stats_compute(&d->h.map, d->display_level, &s);
     d->disp_faces = s.faces;
     d->disp_verts = s.vertices;
@@ -808,6 +835,13 @@ void ed_topology_changed(st_doc *d)
     if (d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
     d->nsel = 0;
     if (d->loaded) clamp_levels(d);
+    /* The model's levels changed: the display is built again, without the
+     * HD state (the operations that would drop HD detail are refused
+     * first, ed_hd_blocks). */
+    if (d->hd) {
+        ed_hd_forget(d);
+        if (!d->box_on) st_box_display_drop(&d->display);
+    }
     if (d->box_on) {
         st_error err;
         if (display_build(d, &d->box, &err)) {
@@ -816,14 +850,14 @@ void ed_topology_changed(st_doc *d)
             snprintf(d->note, sizeof d->note, "interest box off: %.200s", err.msg);
         }
     }
-    count_display(d);
+    ed_count_display(d);
 }
 
 /* The displayed level changed, the model did not. */
 static void display_changed(st_doc *d)
 {
     d->change.bits |= ST_CHANGE_TOPOLOGY | ST_CHANGE_ALL_POSITIONS;
-    count_display(d);
+    ed_count_display(d);
 }
 
 void st_doc_display_counts(const st_doc *d, uint64_t *faces, uint64_t *verts)
@@ -834,18 +868,18 @@ void st_doc_display_counts(const st_doc *d, uint64_t *faces, uint64_t *verts)
 
 const st_hier *st_doc_display_hier(const st_doc *d)
 {
-    return d->box_on && d->display.built ? &d->display.hier : &d->h;
+    return ed_display_on(d) ? &d->display.hier : &d->h;
 }
 
 unsigned st_doc_display_map_level(const st_doc *d)
 {
-    return d->box_on && d->display.built ? d->display.hier.map.top : d->display_level;
+    return ed_display_on(d) ? d->display.hier.map.top : d->display_level;
 }
 
 uint32_t st_doc_display_to_edit_vertex(const st_doc *d, uint32_t dv)
 {
     if (!d->loaded) return ST_NIL;
-    if (!(d->box_on && d->display.built)) return edit_vertex_ok(d, dv) ? dv : ST_NIL;
+    if (!ed_display_on(d)) return edit_vertex_ok(d, dv) ? dv : ST_NIL;
     uint32_t v = st_box_display_model_vertex(&d->display, dv);
     return v != ST_NIL && edit_vertex_ok(d, v) ? v : ST_NIL;
 }
@@ -908,6 +942,8 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
     if (p.base_level > p.max_level) p.base_level = p.max_level;
     for (int k = 0; k < 3; k++)
         if (p.box_lo[k] > p.box_hi[k]) { double t = p.box_lo[k]; p.box_lo[k] = p.box_hi[k]; p.box_hi[k] = t; }
+    /* With HD levels the display's base stays the model's top (editor_hd.c). */
+    if (d->hd) p.base_level = d->h.map.top;
     st_adapt_params old = d->box;
     int old_on = d->box_on;
     if ((on != 0) == (old_on != 0) && (!on || d->display.built) && !memcmp(&old, &p, sizeof p)) return ST_OK;
@@ -917,7 +953,7 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
     if (on) {
         unsigned N = d->h.map.top;
         unsigned ob = old.base_level < N ? old.base_level : N, nb = p.base_level < N ? p.base_level : N;
-        if (!d->box_on || !d->display.built || ob != nb || d->h.scheme->id == ST_SCHEME_PROGRESSIVE) {
+        if (!ed_display_on(d) || ob != nb || d->h.scheme->id == ST_SCHEME_PROGRESSIVE) {
             rc = display_build(d, &p, err);
         } else {
             /* In place: the renderer re-tessellates what the map's log
@@ -935,10 +971,25 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
             d->box = old;
             d->box_on = old_on;
             if (old_on && display_build(d, &old, &e2)) d->box_on = 0;
-            count_display(d);
+            ed_count_display(d);
             return rc;
         }
+    } else if (ed_hd_detail_present(d)) {
+        /* Box off over HD detail: the display stays, the model's top
+         * everywhere except the faces that carry the detail. */
+        st_adapt_params q = p;
+        q.has_box = 0;
+        q.flatness = 0;
+        q.base_level = q.max_level = d->h.map.top;
+        rc = st_box_display_move(&d->display, &d->h, &q, (d->change.bits & ST_CHANGE_PATCH) != 0, err);
+        if (rc) {
+            ed_hd_forget(d);
+            st_box_display_drop(&d->display);
+        } else {
+            patched = 1;
+        }
     } else {
+        ed_hd_forget(d);
         st_box_display_drop(&d->display);
     }
     d->box = p;
@@ -950,7 +1001,7 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
         d->change.bits = (d->change.bits & ~(unsigned)ST_CHANGE_PATCH) | ST_CHANGE_BOX | ST_CHANGE_TOPOLOGY |
                          ST_CHANGE_ALL_POSITIONS;
     }
-    count_display(d);
+    ed_count_display(d);
     d->last_update_at_ms = ed_now_ms();
     d->last_update_ms = d->last_update_at_ms - t0;
     if (!d->box_recording && (old_on != d->box_on || memcmp(&old, &p, sizeof p))) {

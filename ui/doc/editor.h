@@ -159,6 +159,17 @@ typedef struct st_doc {
     st_box_display display;
 
     unsigned edit_level, display_level;
+    /* HD levels (editor_hd.c): hd_level > 0 when strokes go to that level
+     * of the box's display, above the model's top (edit_level then stays
+     * the model's top, so that everything reading edit_level on h holds);
+     * hd: the display holds HD levels (its base is the model's top and
+     * faces carrying sculpted detail are never coarsened,
+     * display.adapt.keep_above), so it stays shown with the box off. */
+    unsigned hd_level;
+    int hd;
+    uint32_t *hd_vdart, nhd_vdart;   /* hd_level: one dart per display vertex id (st_sculpt_vertex_darts) */
+    st_mask hd_mask;           /* hd_level: 1 where a vertex cannot move at hd_level, else the display mask */
+    st_edit_cache *hd_cache;   /* predictions of the HD stroke in progress */
 
     uint32_t *sel;             /* selected vertex ids of the editing level, sorted */
     uint32_t nsel, capsel;
@@ -315,7 +326,10 @@ int st_doc_remove_top(st_doc *d, st_error *err);
 int st_doc_remove_bottom(st_doc *d, st_error *err);
 /* Bytes a new top level would need (estimate from the current top). */
 size_t st_doc_add_level_bytes(const st_doc *d);
-void st_doc_set_edit_level(st_doc *d, unsigned l);     /* clamped; clears the selection */
+/* Clamped; clears the selection.  Above the model's top: an HD level
+ * (editor_hd.c, st_doc_hd_refusal), where brushes sculpt the box's display
+ * itself; when HD levels are not available, the top. */
+void st_doc_set_edit_level(st_doc *d, unsigned l);
 void st_doc_set_display_level(st_doc *d, unsigned l);  /* clamped to edit..top */
 
 /* Selection of editing-level vertices (ids).  mode: 0 replace, 1 add,
@@ -499,6 +513,36 @@ int st_doc_layer_rename(st_doc *d, int k, const char *name, st_error *err);
 int st_doc_layer_move(st_doc *d, int k, int to, st_error *err);
 int st_doc_layer_merge_down(st_doc *d, int k, st_error *err);
 int st_doc_layer_delete(st_doc *d, int k, st_error *err);
+
+/* ---- HD levels (editor_hd.c) -----------------------------------------------------
+ * With the interest box on, brushes can sculpt above the model's top, up to
+ * the box's maximum level (ZBrush's HD geometry): the adaptive display
+ * becomes part of the model there.  Its base is the model's top; strokes
+ * write detail vectors at the HD level of its vertices (core's
+ * st_adapt_edit, local frames, levels above re-synthesised), edits of the
+ * uniform levels carry them along (the display follows the model), and
+ * faces that carry HD detail never coarsen when the box moves or goes off
+ * (st_adapt.keep_above): memory grows with what is sculpted.  Undo and redo
+ * restore the HD level's values bit for bit.  Sessions keep them (chunk
+ * hdlv).  Not at HD levels: the drag of a selection, mask painting and
+ * sculpt layers (refused with a message); operations that would rebuild the
+ * model's levels (add or delete a level, scheme change, rebuild levels,
+ * filter) are refused while HD detail exists. */
+/* Why HD levels cannot be used now (NULL: they can). */
+const char *st_doc_hd_refusal(const st_doc *d);
+/* The level strokes sculpt: hd_level when set, else edit_level. */
+unsigned st_doc_sculpt_level(const st_doc *d);
+/* The highest level st_doc_set_edit_level accepts now. */
+unsigned st_doc_level_limit(const st_doc *d);
+/* The display is the adaptive hierarchy (box on, or HD levels kept). */
+int st_doc_display_adaptive(const st_doc *d);
+/* Faces stored at the HD levels (above the model's top) of the display,
+ * 0 when it has none. */
+uint64_t st_doc_hd_faces(const st_doc *d);
+/* A session's HD levels (its chunk hdlv: hd and hd_adapt, taken) become
+ * the display, kept like sculpted HD levels; the model must be the
+ * session's.  Refused, nothing taken, when they do not match it. */
+int st_doc_adopt_hd(st_doc *d, st_hier *hd, st_adapt *hd_adapt, st_error *err);
 
 /* Brush falloff of the smooth preset: (1 - (r/R)^2)^2 for r < R, else 0. */
 double st_brush_falloff(double r, double radius);

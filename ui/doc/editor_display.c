@@ -18,6 +18,7 @@
  *     levels beyond the model around them only. */
 #include "editor_display.h"
 #include "editor_internal.h"
+#include "core/io/session.h"
 #include "core/progressive/progressive.h"
 
 #include <stdlib.h>
@@ -498,4 +499,32 @@ void st_box_display_free(st_box_display *bd)
     st_map_log_free(&bd->patch_log);
     st_footprint_free(&bd->written);
     memset(bd, 0, sizeof *bd);
+}
+
+void st_box_display_written(st_box_display *bd, uint32_t from)
+{
+    for (uint32_t i = from; i < bd->written.n; i++)
+        if (st_fp_kind(bd->written.keys[i]) == ST_FP_POS) disp_moved(bd, st_fp_vid(bd->written.keys[i]));
+}
+
+int st_box_display_adopt(st_box_display *bd, const st_hier *model, st_hier *hier, st_adapt *adapt, st_error *err)
+{
+    const st_map *hm = &hier->map, *mm = &model->map;
+    unsigned N = mm->top;
+    if (is_progressive(model) || hier->scheme != model->scheme || hm->top < N)
+        return st_fail(err, ST_ERR_INVALID, "the HD levels do not belong to this model");
+    for (unsigned L = 0; L <= N; L++) {
+        st_level_stats a, b;
+        st_level_stats_compute((st_map *)hm, L, &a);
+        st_level_stats_compute((st_map *)mm, L, &b);
+        if (a.faces != b.faces || a.vertices != b.vertices)
+            return st_fail(err, ST_ERR_INVALID, "the HD levels' level %u differs from the model's", L);
+    }
+    st_box_display_drop(bd);
+    st_session_move_hier(&bd->hier, hier);
+    st_session_move_adapt(&bd->adapt, adapt, &bd->hier);
+    bd->built = 1;
+    pairs_build(bd, model, N);
+    sync_from_model(bd, model, 0, 0);
+    return ST_OK;
 }

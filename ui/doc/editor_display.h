@@ -90,6 +90,15 @@ void st_box_display_follow_edit(st_box_display *bd, const st_hier *model, const 
  * position again, and a full synthesis beyond the model. */
 void st_box_display_follow_model(st_box_display *bd, const st_hier *model, unsigned from);
 
+/* The display wrote written.keys[from..] itself (an HD edit, its undo):
+ * their vertices are reported as moved. */
+void st_box_display_written(st_box_display *bd, uint32_t from);
+/* Takes hier and adapt (a session's HD levels: an adaptive hierarchy whose
+ * levels 0..model top are the model's, same ids) as the display, paired
+ * with the model and synced to it.  Refused (nothing taken) when its
+ * scheme or its levels up to the model's top do not match. */
+int st_box_display_adopt(st_box_display *bd, const st_hier *model, st_hier *hier, st_adapt *adapt, st_error *err);
+
 /* The model vertex shown as display vertex dv (ST_NIL: none). */
 uint32_t st_box_display_model_vertex(const st_box_display *bd, uint32_t dv);
 

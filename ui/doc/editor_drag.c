@@ -31,6 +31,11 @@ int st_doc_drag_begin(st_doc *d)
     if (!d->loaded) return -1;
     ed_finish_active(d);
     if (!d->nsel) return -1;
+    if (d->hd_level) {
+        snprintf(d->refusal, sizeof d->refusal, "at HD levels the grab brush moves vertices; a selection is dragged at "
+                                                "the model's levels (0..%u)", d->h.map.top);
+        return -1;
+    }
     unsigned l = d->edit_level;
     if (ed_edit_budget(d, l)) return -1;
     st_undo_step *s = ed_step_new(ED_STEP_EDIT);
@@ -100,7 +105,7 @@ st_undo_step *ed_take_pending(st_doc *d, int active)
 
 void ed_push_edit(st_doc *d, st_undo_step *s)
 {
-    ed_step_capture_new(s, &d->h);
+    ed_step_capture_new(s, s->hd ? &d->display.hier : &d->h);
     if (s->lay) ed_layer_values_capture(s->lay, &d->layers);
     /* Nothing moved (no update, or back where it started): no step. */
     int same = 1;

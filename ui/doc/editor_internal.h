@@ -24,6 +24,7 @@ enum ed_step_kind { ED_STEP_EDIT, ED_STEP_HIER, ED_STEP_BOX, ED_STEP_ADD, ED_STE
 
 struct st_undo_step {
     int kind;
+    int hd;                    /* ED_STEP_EDIT of an HD level: the keys are the box display's (editor_hd.c) */
     const char *name;          /* what the step was, for menus: "move", "brush stroke", ... (static) */
     size_t bytes;
     /* ED_STEP_EDIT: values before and after, keyed by (level, kind, vid)
@@ -171,6 +172,27 @@ void ed_step_apply_extra(st_doc *d, const st_undo_step *s, int which);
 /* st_doc_stroke_begin; a mask stroke (moves_geometry 0) skips the memory
  * budget's check, as it re-synthesises nothing. */
 int ed_stroke_begin(st_doc *d, int moves_geometry);
+
+/* Recounts the displayed mesh's faces and vertices (st_doc_display_counts). */
+void ed_count_display(st_doc *d);
+
+/* ---- editor_hd.c ---- */
+/* The display is shown instead of h: box on, or HD levels kept. */
+int ed_display_on(const st_doc *d);
+/* Non-zero detail at a level above the model's top in the display. */
+int ed_hd_detail_present(const st_doc *d);
+/* Operations that rebuild the model's levels call this first: refused
+ * (err says why) while the HD levels hold sculpted detail. */
+int ed_hd_blocks(st_doc *d, const char *what, st_error *err);
+/* The display was dropped or rebuilt: the HD state goes with it, and the
+ * HD steps of the history, which name its ids. */
+void ed_hd_forget(st_doc *d);
+/* Stroke parts at hd_level (brush.c calls them): the map, vertex darts and
+ * mask the kernel reads, the write of a dab's result with its undo
+ * record, and undo / redo of an HD step. */
+int ed_hd_stroke_begin(st_doc *d);
+void ed_hd_dab_write(st_doc *d, st_undo_step *s, const uint32_t *darts, const double (*pos)[3], uint32_t n, double t0);
+void ed_hd_step_apply(st_doc *d, const st_undo_step *s, int redo);
 
 /* ---- editor_mask.c ---- */
 /* Vertices of the new top level take the mask's subdivision. */

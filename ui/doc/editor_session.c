@@ -24,6 +24,13 @@ int st_doc_save_session(const st_doc *d, const char *path, const st_session_view
         .mask = &d->mask,
         .tool = tool,
     };
+    /* HD levels with sculpted detail: the display itself, in chunk hdlv
+     * (older readers skip it and get the uniform model). */
+    if (ed_hd_detail_present(d)) {
+        r.hd = &d->display.hier;
+        r.hd_adapt = &d->display.adapt;
+        r.hd_from = d->h.map.top;
+    }
     /* The first report before anything is written (core's come after each
      * buffer). */
     if (progress && progress(ctx, 0)) return st_fail(err, ST_ERR_INVALID, "%s: cancelled (the file is as it was)", path);

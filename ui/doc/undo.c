@@ -412,6 +412,10 @@ static int apply_step(st_doc *d, st_undo_step *s, int redo, st_error *err)
 {
     switch (s->kind) {
     case ED_STEP_EDIT: {
+        if (s->hd) {
+            ed_hd_step_apply(d, s, redo);
+            return ST_OK;
+        }
         double t0 = ed_now_ms();
         uint32_t from = d->fp_model.n;
         ed_step_apply(s, &d->h, redo, &d->fp_model);

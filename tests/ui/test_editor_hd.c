@@ -1,0 +1,223 @@
+/* HD levels through the document (ui/doc/editor_hd.c; editor.h, "HD
+ * levels"), headless: a Catmull-Clark cube of depth 2 with the interest box
+ * over one corner and HD levels to 6.
+ *   - the editing level goes above the top only with the box on, and the
+ *     box's base becomes the top;
+ *   - a draw stroke at HD level 5 moves the display, never the model, and
+ *     equals a full adaptive re-synthesis bit for bit;
+ *   - undo and redo give back the display's values bit for bit;
+ *   - the box moved away, and then off: the sculpted faces stay refined,
+ *     the others coarsen, the display stays shown;
+ *   - a coarse stroke at level 1 carries the HD detail (the display still
+ *     equals its full re-synthesis, the HD vertex moved);
+ *   - adding a level is refused while HD detail exists;
+ *   - a session keeps the HD levels (chunk hdlv) and a document opened
+ *     from it shows the same display values;
+ *   - HD levels are refused for a scheme without them. */
+#include "editor.h"
+#include "editor_testlib.h"
+#include "testlib.h"
+#include "core/adapt/adapt.h"
+#include "core/io/session.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+int ed_hier_clone(st_hier *dst, const st_hier *src, size_t *bytes); /* ui/doc/editor_clone.c */
+
+/* The display equals a full adaptive synthesis of its levels above `from`
+ * (core's st_adapt_synthesize on a copy), bit for bit. */
+static int display_is_synthesis(st_doc *d, unsigned from)
+{
+    st_hier c;
+    if (ed_hier_clone(&c, &d->display.hier, NULL)) return 0;
+    st_adapt a = d->display.adapt; /* read only: its arrays stay the display's */
+    a.h = &c;
+    st_adapt_synthesize(&a, from);
+    size_t n1, n2;
+    double *v1 = ed_test_all_values(&d->display.hier, &n1), *v2 = ed_test_all_values(&c, &n2);
+    int same = n1 == n2 && !memcmp(v1, v2, n1 * sizeof *v1);
+    free(v1);
+    free(v2);
+    st_hier_free(&c);
+    return same;
+}
+
+/* The editable vertex of the display's level L nearest to the centroid of
+ * the editable ones (the middle of the HD region), its dart in *dart. */
+static uint32_t hd_middle_vertex(st_doc *d, unsigned L, uint32_t *dart)
+{
+    st_map *m = &d->display.hier.map;
+    double c[3] = { 0, 0, 0 };
+    uint32_t n = 0, best = ST_NIL;
+    st_dart_iter it;
+    for (uint32_t x = st_dart_first(m, L, &it); x != ST_NIL; x = st_dart_next(m, L, &it)) {
+        if (st_is_boundary(m, x) || !st_adapt_vertex_editable(m, x, L)) continue;
+        const double *p = st_pos(m, st_vert(m, x, L), L);
+        for (int k = 0; k < 3; k++) c[k] += p[k];
+        n++;
+    }
+    if (!n) return ST_NIL;
+    for (int k = 0; k < 3; k++) c[k] /= n;
+    double bd = INFINITY;
+    for (uint32_t x = st_dart_first(m, L, &it); x != ST_NIL; x = st_dart_next(m, L, &it)) {
+        if (st_is_boundary(m, x) || !st_adapt_vertex_editable(m, x, L)) continue;
+        double dd = ed_test_dist3(st_pos(m, st_vert(m, x, L), L), c);
+        if (dd < bd) { bd = dd; best = st_vert(m, x, L); *dart = x; }
+    }
+    return best;
+}
+
+static void stroke_at(st_doc *d, int tool, const double c[3], double radius, double strength)
+{
+    st_brush_set_tool(&d->brush, tool);
+    d->brush.radius = radius;
+    d->brush.strength = strength;
+    double len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    const double nrm[3] = { c[0] / len, c[1] / len, c[2] / len };
+    const double g[3] = { 0.1 * nrm[0], 0.1 * nrm[1], 0.1 * nrm[2] };
+    CHECK(st_doc_stroke_begin(d) == 0);
+    CHECK(st_doc_stroke_dab(d, c, nrm, tool == ST_BRUSH_GRAB ? g : NULL) == 0);
+    st_doc_stroke_end(d);
+}
+
+static void set_box(st_doc *d, double lo, double hi, int on)
+{
+    st_adapt_params p = d->box;
+    for (int k = 0; k < 3; k++) { p.box_lo[k] = lo; p.box_hi[k] = hi; }
+    p.has_box = 1;
+    st_error err;
+    CHECKF(st_doc_set_box(d, &p, on, &err) == 0, "box: %s", err.msg);
+}
+
+int main(void)
+{
+    char obj[64], ses[64];
+    snprintf(obj, sizeof obj, "/tmp/strata_hd_%d.obj", (int)getpid());
+    snprintf(ses, sizeof ses, "/tmp/strata_hd_%d.strata", (int)getpid());
+    st_mesh cube;
+    st_error err;
+    tl_mesh_cube(&cube);
+    CHECK(st_mesh_save(obj, &cube, &err) == 0);
+    st_mesh_free(&cube);
+
+    st_doc d;
+    st_doc_init(&d);
+    ed_test_open(&d, obj, "catmull-clark", 2);
+    const unsigned N = 2, L = 5;
+    CHECK(d.h.map.top == N);
+
+    /* Without the box: no HD level, the top at most. */
+    st_doc_set_edit_level(&d, L);
+    CHECK(st_doc_sculpt_level(&d) == N && d.hd_level == 0);
+
+    d.box.base_level = 0;
+    d.box.max_level = 6;
+    set_box(&d, 0.2, 2.0, 1);
+    st_doc_set_edit_level(&d, L);
+    CHECK(st_doc_sculpt_level(&d) == L && d.hd_level == L && d.edit_level == N);
+    CHECK(d.box.base_level == N);
+    CHECK(st_doc_level_limit(&d) == 6);
+    uint64_t faces_box = 0, verts;
+    st_doc_display_counts(&d, &faces_box, &verts);
+
+    size_t nm0, nd0;
+    double *model0 = ed_test_all_values(&d.h, &nm0);
+    double *disp0 = ed_test_all_values(&d.display.hier, &nd0);
+    uint32_t dart = ST_NIL, hv = hd_middle_vertex(&d, L, &dart);
+    CHECK(hv != ST_NIL);
+    double c[3], before[3];
+    memcpy(c, st_pos(&d.display.hier.map, hv, L), sizeof c);
+    memcpy(before, st_pos(&d.display.hier.map, hv, 6), sizeof before);
+
+    stroke_at(&d, ST_BRUSH_DRAW, c, 0.15, 1.0);
+    CHECK(ed_test_same_values(&d.h, model0, nm0));          /* the model did not move */
+    CHECK(!ed_test_same_values(&d.display.hier, disp0, nd0));
+    CHECK(ed_test_dist3(st_pos(&d.display.hier.map, hv, 6), before) > 1e-4); /* the finer level followed */
+    CHECK(display_is_synthesis(&d, N));
+    CHECK(st_doc_hd_faces(&d) > 0);
+    size_t nd1;
+    double *disp1 = ed_test_all_values(&d.display.hier, &nd1);
+
+    /* Undo, redo: bit for bit. */
+    CHECK(st_doc_undo(&d, &err) == 0);
+    CHECK(ed_test_same_values(&d.display.hier, disp0, nd0));
+    CHECK(st_doc_redo(&d, &err) == 0);
+    CHECK(ed_test_same_values(&d.display.hier, disp1, nd1));
+
+    /* The box moves to the opposite corner: the sculpted faces stay. */
+    double sculpted[3];
+    memcpy(sculpted, st_pos(&d.display.hier.map, hv, L), sizeof sculpted);
+    set_box(&d, -2.0, -0.2, 1);
+    CHECK(st_doc_hd_faces(&d) > 0);
+    CHECK(!memcmp(st_pos(&d.display.hier.map, hv, L), sculpted, sizeof sculpted));
+    /* Box off: the display stays, with the sculpted faces only. */
+    set_box(&d, -2.0, -0.2, 0);
+    CHECK(!d.box_on && st_doc_display_adaptive(&d));
+    uint64_t faces_off = 0;
+    st_doc_display_counts(&d, &faces_off, &verts);
+    CHECK(st_doc_hd_faces(&d) > 0);
+    CHECK(faces_off < faces_box);
+    CHECK(!memcmp(st_pos(&d.display.hier.map, hv, L), sculpted, sizeof sculpted));
+    /* A box update places the vertices it creates with the stencil of the
+     * face that made them, which may round differently from a full
+     * synthesis (core/adapt/adapt.h, "HD levels"): the display is
+     * synthesised once here, so that the coarse edit below is compared
+     * with a full re-synthesis bit for bit. */
+    st_adapt_synthesize(&d.display.adapt, N);
+    CHECK(display_is_synthesis(&d, N));
+
+    /* A coarse stroke at level 1 carries the HD detail. */
+    st_doc_set_edit_level(&d, 1);
+    CHECK(d.hd_level == 0 && d.edit_level == 1);
+    stroke_at(&d, ST_BRUSH_GRAB, c, 1.0, 1.0);
+    CHECK(ed_test_dist3(st_pos(&d.display.hier.map, hv, L), sculpted) > 1e-3);
+    CHECK(display_is_synthesis(&d, N));
+    CHECK(st_doc_hd_faces(&d) > 0);
+
+    /* Operations that rebuild the model's levels are refused. */
+    CHECK(st_doc_add_level(&d, &err) != 0);
+    CHECK(strstr(err.msg, "HD") != NULL);
+    CHECK(d.h.map.top == N);
+
+    /* A session keeps them. */
+    size_t ndv;
+    double *dispv = ed_test_all_values(&d.display.hier, &ndv);
+    CHECKF(st_doc_save_session(&d, ses, NULL, NULL, NULL, NULL, &err) == 0, "save: %s", err.msg);
+    st_session s;
+    CHECKF(st_session_load(ses, &s, &err) == 0, "load: %s", err.msg);
+    CHECK(s.has_hd);
+    st_doc e;
+    st_doc_init(&e);
+    ed_test_open(&e, obj, "catmull-clark", 0);
+    st_hier_free(&e.h);
+    st_session_move_hier(&e.h, &s.h);
+    e.scheme = e.h.scheme;
+    if (s.has_hd) CHECKF(st_doc_adopt_hd(&e, &s.hd, &s.hd_adapt, &err) == 0, "adopt: %s", err.msg);
+    CHECK(st_doc_display_adaptive(&e));
+    CHECK(e.display.built && ed_test_same_values(&e.display.hier, dispv, ndv));
+    CHECK(st_doc_hd_faces(&e) == st_doc_hd_faces(&d));
+    st_session_free(&s);
+    st_doc_free(&e);
+
+    free(model0);
+    free(disp0);
+    free(disp1);
+    free(dispv);
+    st_doc_free(&d);
+
+    /* A scheme without HD levels. */
+    st_doc_init(&d);
+    ed_test_open(&d, obj, "doo-sabin", 2);
+    set_box(&d, 0.2, 2.0, 1);
+    st_doc_set_edit_level(&d, 4);
+    CHECK(d.hd_level == 0 && st_doc_sculpt_level(&d) == d.h.map.top);
+    CHECK(st_doc_hd_refusal(&d) && strstr(st_doc_hd_refusal(&d), "quadrisection"));
+    st_doc_free(&d);
+    unlink(obj);
+    unlink(ses);
+    return TEST_END();
+}

@@ -1,0 +1,215 @@
+/* HD levels (editor.h, "HD levels"): sculpting above the model's top in
+ * the interest box's adaptive display (Kraemer 2008 §3.2-3.3: adaptive
+ * multiresolution maps, detail vectors at local levels, kept when a region
+ * coarsens).
+ *
+ * Decisions (where the requirements leave a choice):
+ *   - The display is the HD model: its levels 0..N (N the model's top)
+ *     stay copies of the model's, its levels above N hold the HD details.
+ *     Entering an HD level sets the box's base level to N (ZBrush shows the
+ *     top subdivision level around HD geometry) and st_adapt's keep_above
+ *     to N, so a face carrying HD detail never coarsens: only unsculpted
+ *     faces follow the box.  With the box off the display stays shown
+ *     (base N everywhere, HD faces where there is detail).
+ *   - A stroke at HD level L moves only the vertices whose faces around
+ *     them at L are all of level L (st_adapt_vertex_editable): the others
+ *     get the mask value 1, so the brush kernel leaves them alone and the
+ *     border of the refined region stays where the box's faces are.
+ *   - Undo of an HD stroke keeps the level-L positions and details of the
+ *     moved vertices only: writing them back and re-synthesising the levels
+ *     above around them (st_hier_resynth_around) gives the same bits, since
+ *     every position above an edited level is a synthesis (st_adapt_edit).
+ *   - Not at HD levels (refused with a message): the drag of a selection
+ *     (the grab brush moves vertices there), mask painting, sculpt layers.
+ *     Operations that rebuild the model's levels are refused while HD
+ *     detail exists; when the display is rebuilt anyway (undo past a level
+ *     change, which first undoes every HD stroke after it), the HD state
+ *     and the history's HD steps go (ed_hd_forget). */
+#include "editor_internal.h"
+#include "core/adapt/adapt.h"
+#include "core/sculpt/sculpt.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int ed_display_on(const st_doc *d)
+{
+    return (d->box_on || d->hd) && d->display.built;
+}
+
+int st_doc_display_adaptive(const st_doc *d) { return ed_display_on(d); }
+
+unsigned st_doc_sculpt_level(const st_doc *d) { return d->hd_level ? d->hd_level : d->edit_level; }
+
+static int scheme_has_hd(const st_scheme *sc)
+{
+    return sc && (sc->id == ST_SCHEME_CATMARK || sc->id == ST_SCHEME_LOOP || sc->id == ST_SCHEME_BUTTERFLY ||
+                  sc->id == ST_SCHEME_QUADTRI);
+}
+
+const char *st_doc_hd_refusal(const st_doc *d)
+{
+    if (!d->loaded) return "no model";
+    if (!scheme_has_hd(d->h.scheme))
+        return "HD levels need a quadrisection scheme (Catmull-Clark, Loop, Butterfly, quad/triangle)";
+    if (!ed_display_on(d)) return "HD levels are refined inside the interest box: switch it on (I) first";
+    return NULL;
+}
+
+unsigned st_doc_level_limit(const st_doc *d)
+{
+    if (!d->loaded) return 0;
+    unsigned top = d->h.map.top;
+    if (st_doc_hd_refusal(d)) return top;
+    unsigned t = d->display.hier.map.top;
+    return t > top ? t : top;
+}
+
+int ed_hd_detail_present(const st_doc *d)
+{
+    if (!d->hd || !d->display.built) return 0;
+    const st_hier *h = &d->display.hier;
+    for (unsigned L = d->h.map.top + 1; L <= h->map.top; L++) {
+        const double *p = h->detail[L];
+        for (size_t i = 0; p && i < 3 * (size_t)h->detail_cap[L]; i++)
+            if (p[i] != 0) return 1;
+    }
+    return 0;
+}
+
+uint64_t st_doc_hd_faces(const st_doc *d)
+{
+    if (!ed_display_on(d)) return 0;
+    uint64_t faces[ST_MAX_LEVELS] = { 0 }, bytes[ST_MAX_LEVELS];
+    st_adapt_hd_levels(&d->display.hier.map, d->h.map.top, faces, bytes);
+    uint64_t n = 0;
+    for (unsigned L = d->h.map.top + 1; L < ST_MAX_LEVELS; L++) n += faces[L];
+    return n;
+}
+
+int ed_hd_blocks(st_doc *d, const char *what, st_error *err)
+{
+    if (!ed_hd_detail_present(d)) return ST_OK;
+    return st_fail(err, ST_ERR_INVALID,
+                   "%s would drop the sculpted detail of the HD levels above level %u (undo the HD strokes, or "
+                   "export the adaptive mesh, first)",
+                   what, d->h.map.top);
+}
+
+void ed_hd_forget(st_doc *d)
+{
+    if (!d->hd && !d->hd_level) return;
+    d->hd = 0;
+    d->hd_level = 0;
+    uint32_t k = 0, dropped = 0, pos = d->undo_pos;
+    for (uint32_t i = 0; i < d->nundo; i++) {
+        st_undo_step *s = d->undo[i];
+        if (s->kind == ED_STEP_EDIT && s->hd) {
+            d->undo_bytes -= s->bytes;
+            ed_step_free(s);
+            if (i < d->undo_pos) pos--;
+            dropped++;
+            continue;
+        }
+        d->undo[k++] = s;
+    }
+    d->nundo = k;
+    d->undo_pos = pos;
+    if (dropped)
+        snprintf(d->note, sizeof d->note, "the HD levels were rebuilt: %u HD stroke%s left the history", dropped,
+                 dropped > 1 ? "s" : "");
+}
+
+/* ---- strokes ------------------------------------------------------------------------ */
+
+/* The kernel's mask at hd_level: 1 on the vertices that cannot move there,
+ * the display's mask (the model's, subdivided) elsewhere. */
+static void hd_mask_build(st_doc *d, const st_map *m, unsigned L)
+{
+    const st_mask *dmk = st_mask_any(&d->mask) ? st_doc_display_mask(d) : NULL;
+    st_mask *mk = &d->hd_mask;
+    if (mk->cap < d->nhd_vdart) {
+        float *p = realloc(mk->v, (size_t)d->nhd_vdart * sizeof *p);
+        if (!p) abort();
+        mk->v = p;
+        mk->cap = d->nhd_vdart;
+    }
+    for (uint32_t v = 0; v < mk->cap; v++) {
+        uint32_t x = v < d->nhd_vdart ? d->hd_vdart[v] : ST_NIL;
+        int free_vertex = x != ST_NIL && st_adapt_vertex_editable((st_map *)m, x, L);
+        mk->v[v] = free_vertex ? (dmk ? st_mask_get(dmk, v) : 0.0f) : 1.0f;
+    }
+}
+
+int ed_hd_stroke_begin(st_doc *d)
+{
+    const char *why = st_doc_hd_refusal(d);
+    if (!why && d->hd_level > d->display.hier.map.top) why = "the HD level is above the interest box's maximum level";
+    if (why) {
+        snprintf(d->refusal, sizeof d->refusal, "%s", why);
+        return -1;
+    }
+    st_box_display *bd = &d->display;
+    const st_map *m = &bd->hier.map;
+    unsigned L = d->hd_level;
+    free(d->hd_vdart);
+    d->hd_vdart = st_sculpt_vertex_darts(m, L, &d->nhd_vdart);
+    if (!d->hd_vdart) abort();
+    hd_mask_build(d, m, L);
+    if (!d->hd_cache) d->hd_cache = st_edit_cache_new();
+    st_edit_cache_clear(d->hd_cache);
+    bd->adapt.keep_above = d->h.map.top;
+    d->hd = 1;
+    d->refusal[0] = 0;
+    return 0;
+}
+
+void ed_hd_dab_write(st_doc *d, st_undo_step *s, const uint32_t *darts, const double (*pos)[3], uint32_t n, double t0)
+{
+    st_box_display *bd = &d->display;
+    st_hier *dh = &bd->hier;
+    unsigned L = s->level;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t v = st_vert(&dh->map, darts[i], L);
+        if (ed_step_touch_pos(s, dh, L, v)) ed_step_add_moved(s, &dh->map, L, darts[i]);
+        ed_step_touch_detail(s, dh, L, v);
+    }
+    uint32_t from = bd->written.n;
+    st_adapt_edit(dh, L, darts, pos, n, &bd->written, d->hd_cache);
+    st_box_display_written(bd, from);
+    d->change.bits |= ST_CHANGE_DISPLAY;
+    double now = ed_now_ms();
+    d->last_update_ms = now - t0;
+    d->last_update_at_ms = now;
+}
+
+void ed_hd_step_apply(st_doc *d, const st_undo_step *s, int redo)
+{
+    if (!d->display.built) return; /* (ed_hd_forget removes the steps before the display goes) */
+    double t0 = ed_now_ms();
+    st_box_display *bd = &d->display;
+    const double(*v)[3] = redo ? (const double(*)[3])s->newv : (const double(*)[3])s->oldv;
+    uint32_t from = bd->written.n;
+    if (v) st_hier_restore(&bd->hier, s->key, v, s->n, &bd->written);
+    st_hier_resynth_around(&bd->hier, s->level, s->moved, s->nmoved, &bd->written);
+    st_box_display_written(bd, from);
+    d->change.bits |= ST_CHANGE_DISPLAY;
+    double now = ed_now_ms();
+    d->last_update_ms = now - t0;
+    d->last_update_at_ms = now;
+}
+
+int st_doc_adopt_hd(st_doc *d, st_hier *hd, st_adapt *hd_adapt, st_error *err)
+{
+    if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
+    if (!scheme_has_hd(d->h.scheme)) return st_fail(err, ST_ERR_INVALID, "%s", st_doc_hd_refusal(d));
+    int rc = st_box_display_adopt(&d->display, &d->h, hd, hd_adapt, err);
+    if (rc) return rc;
+    d->display.adapt.keep_above = d->h.map.top;
+    d->hd = 1;
+    d->box.base_level = d->h.map.top;
+    d->change.bits |= ST_CHANGE_TOPOLOGY | ST_CHANGE_ALL_POSITIONS;
+    ed_count_display(d);
+    return ST_OK;
+}
