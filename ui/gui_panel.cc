@@ -75,6 +75,7 @@ void box_section(st_app *a)
         g.box_allowed = st_doc_box_max_level_allowed(d, &b);
     }
     int allowed = std::max((int)g.box_allowed, mx);
+    top = std::max(top, allowed); /* HD levels: as high as the budget allows */
     bool lv = ImGui::SliderInt("base level", &base, 0, top);
     lv |= ImGui::SliderInt("max level", &mx, 0, std::min(top, allowed));
     if (allowed < top && ImGui::IsItemHovered())

@@ -898,7 +898,9 @@ unsigned st_doc_box_max_level_allowed(st_doc *d, const st_adapt_params *p)
 {
     if (!d->loaded) return p->base_level;
     size_t have = ed_hier_bytes(&d->h);   /* the model; a display being replaced does not count */
-    unsigned limit = d->h.map.top + 3 < ST_MAX_LEVELS ? d->h.map.top + 3 : ST_MAX_LEVELS - 1;
+    /* As high as the map's level limit and the budget allow: HD levels
+     * (editor_hd.c) sculpt up to the box's maximum level. */
+    unsigned limit = ST_MAX_LEVELS - 1;
     st_adapt_params q = *p;
     unsigned m = p->base_level;
     for (unsigned l = p->base_level + 1; l <= limit; l++) {
