@@ -206,8 +206,8 @@ int main(int argc, char **argv)
         if (st_doc_sculpt_level(&d) != L) { fprintf(stderr, "bench_hd: HD level %u refused: %s\n", L, d.note); return 1; }
         double len = sqrt(centre[k][0] * centre[k][0] + centre[k][1] * centre[k][1] + centre[k][2] * centre[k][2]);
         double nrm[3] = { centre[k][0] / len, centre[k][1] / len, centre[k][2] / len };
-        /* the dab: a tenth of the region's radius */
-        double rd = 0.3 * half[k];
+        /* the dab: about 2000 vertices of level L under it */
+        double rd = radius_for(&d.display.hier.map, L, centre[k], 2000, half[k]);
         double tm = dab_median(&d, centre[k], nrm, rd);
         if (k == K - 1 || k == 7) {
             dab_hd = tm;

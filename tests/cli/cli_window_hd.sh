@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# HD levels in the window (tests/replay/hd_sculpt.txt): spot's cage rebuilt
+# from spot_quadrangulated.obj (unsubdivide) with a uniform level added,
+# then sculpted at HD level 8 through the real window under Xvfb; the
+# replay's expects (edit_level, box_max, hd_faces, box_on) must hold, the
+# screenshots must exist, and a session saved from it must list HD levels
+# in `strata info`.
+#
+#   cli_window_hd.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
+set -u
+if [ -z "${DISPLAY:-}" ] && [ -z "${STRATA_CLI_WINDOW_XVFB:-}" ]; then
+    if command -v xvfb-run >/dev/null 2>&1; then
+        export STRATA_CLI_WINDOW_XVFB=1
+        exec xvfb-run -a -n $((100 + RANDOM % 800)) -s "-screen 0 1280x800x24" bash "$0" "$@"
+    fi
+    echo "FAIL: no \$DISPLAY and no xvfb-run: the window cannot be tested (install xvfb)"
+    exit 1
+fi
+EXE=$1 MESHES=$2 ASSETS=$3
+SPOT="$MESHES/catmull_clark/spot_quadrangulated.obj"
+[ -f "$SPOT" ] || { echo "skipped: $SPOT is missing"; exit 77; }
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/strata_cli_window_hd.XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0"
+export STRATA_RECOVERY="$TMP/recovery.strata"
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { echo "FAIL: $*"; fail=$((fail + 1)); }
+"$EXE" rebuild "$SPOT" --method unsubdivide -o "$TMP/cage.strata" >/dev/null 2>&1 || bad "rebuild spot's cage"
+"$EXE" convert "$TMP/cage.strata" "$TMP/spot3.strata" --levels 3 >/dev/null || bad "spot's cage to level 3"
+cp "$ASSETS/../tests/replay/hd_sculpt.txt" "$TMP/hd.txt"
+printf 'menu File/Save_session_as %s\n' "$TMP/hd_saved.strata" >> "$TMP/hd.txt"
+(cd "$TMP" && timeout 600 "$EXE" --size 640x480 --replay "$TMP/hd.txt" "$TMP/spot3.strata") >"$TMP/log" 2>&1
+if grep -q "replay .* passed" "$TMP/log"; then ok; else bad "the HD replay: $(tail -3 "$TMP/log")"; fi
+for s in hd_before hd_after hd_boxoff; do
+    if [ -s "$TMP/$s.png" ]; then ok; else bad "screenshot $s.png"; fi
+done
+if [ -s "$TMP/hd_saved.strata" ] && "$EXE" info "$TMP/hd_saved.strata" 2>&1 | grep -q "HD hierarchy"; then ok
+else bad "the saved session lists no HD levels: $("$EXE" info "$TMP/hd_saved.strata" 2>&1 | tail -3)"; fi
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
