@@ -121,6 +121,14 @@ int main(void)
     CHECK(st_doc_sculpt_level(&d) == L && d.hd_level == L && d.edit_level == N);
     CHECK(d.box.base_level == N);
     CHECK(st_doc_level_limit(&d) == 6);
+    {
+        /* The box's maximum level: past the top + 3 only with its base at
+         * the top (HD levels), within the budget. */
+        st_adapt_params q = d.box;
+        CHECK(st_doc_box_max_level_allowed(&d, &q) > N + 3);
+        q.base_level = 0;
+        CHECK(st_doc_box_max_level_allowed(&d, &q) == N + 3);
+    }
     uint64_t faces_box = 0, verts;
     st_doc_display_counts(&d, &faces_box, &verts);
 
@@ -161,6 +169,12 @@ int main(void)
     st_doc_display_counts(&d, &faces_off, &verts);
     CHECK(st_doc_hd_faces(&d) > 0);
     CHECK(faces_off < faces_box);
+    {
+        /* the document's counts (without a walk) are the map's */
+        st_level_stats ls;
+        st_level_stats_compute(&d.display.hier.map, d.display.hier.map.top, &ls);
+        CHECK(faces_off == ls.faces && verts == ls.vertices);
+    }
     CHECK(!memcmp(st_pos(&d.display.hier.map, hv, L), sculpted, sizeof sculpted));
     /* A box update places the vertices it creates with the stencil of the
      * face that made them, which may round differently from a full

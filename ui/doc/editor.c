@@ -814,13 +814,39 @@ st_doc_change st_doc_take_change(st_doc *d)
     return c;
 }
 
+/* The counts of the box's display at its top level without a walk: an
+ * adaptive refinement of level 0 keeps its surface, so V - E + F (real
+ * faces) and the holes are level 0's, every live dart and vertex is there
+ * at the top, and each edge has two darts (hole faces included): F =
+ * euler - V + D / 2.  A walk of a million-face display took a third of a
+ * box move (bench_hd). */
+static int display_counts_fast(st_doc *d, st_level_stats *s)
+{
+    if (d->h.scheme->id == ST_SCHEME_PROGRESSIVE) return 0;
+    const st_map *m = &d->display.hier.map;
+    st_level_stats z;
+    st_level_stats_compute(&d->h.map, 0, &z);
+    uint64_t darts = 0, verts = 0;
+    for (unsigned l = 0; l <= m->top; l++) {
+        darts += m->darts.live[l];
+        verts += m->verts.live[l];
+    }
+    memset(s, 0, sizeof *s);
+    s->vertices = verts;
+    s->faces = (uint64_t)(z.euler - (int64_t)verts + (int64_t)(darts / 2));
+    return 1;
+}
+
 void ed_count_display(st_doc *d)
 {
     d->disp_faces = d->disp_verts = 0;
     if (!d->loaded) return;
     st_level_stats s;
-    if (ed_display_on(d)) st_level_stats_compute(&d->display.hier.map, d->display.hier.map.top, &s);
-    else st_level_stats_compute(&d->h.map, d->display_level, &s);
+    if (ed_display_on(d)) {
+        if (!display_counts_fast(d, &s)) st_level_stats_compute(&d->display.hier.map, d->display.hier.map.top, &s);
+    } else {
+        st_level_stats_compute(&d->h.map, d->display_level, &s);
+    }
     d->disp_faces = s.faces;
     d->disp_verts = s.vertices;
 }
@@ -898,14 +924,21 @@ unsigned st_doc_box_max_level_allowed(st_doc *d, const st_adapt_params *p)
 {
     if (!d->loaded) return p->base_level;
     size_t have = ed_hier_bytes(&d->h);   /* the model; a display being replaced does not count */
-    /* As high as the map's level limit and the budget allow: HD levels
-     * (editor_hd.c) sculpt up to the box's maximum level. */
-    unsigned limit = ST_MAX_LEVELS - 1;
+    /* Three levels past the top; with the base at the top (HD levels,
+     * editor_hd.c: the box then only adds levels where it is) as high as
+     * the map's level limit and the budget allow, with the estimate
+     * doubled past the three: at a dozen levels it is the least sure, and
+     * a box over a whole model reaches the budget there. */
+    unsigned top = d->h.map.top, three = top + 3 < ST_MAX_LEVELS ? top + 3 : ST_MAX_LEVELS - 1;
+    int hd = p->base_level >= top && !st_doc_hd_refusal(d);
+    unsigned limit = hd ? ST_MAX_LEVELS - 1 : three;
     st_adapt_params q = *p;
     unsigned m = p->base_level;
     for (unsigned l = p->base_level + 1; l <= limit; l++) {
         q.max_level = l;
-        if (have + box_display_bytes(d, &q) > d->mem_budget) break;
+        size_t need = box_display_bytes(d, &q);
+        if (l > three) need = need > SIZE_MAX / 2 ? SIZE_MAX : 2 * need;
+        if (need > d->mem_budget || have + need > d->mem_budget) break;
         m = l;
     }
     return m;

@@ -418,8 +418,10 @@ void st_doc_box_begin(st_doc *d);
 void st_doc_box_end(st_doc *d);
 
 /* The highest maximum level the box p can have within the memory budget
- * (its display estimated as st_doc_set_box checks it), at most the map's
- * level limit; the box panel's slider stops there. */
+ * (its display estimated as st_doc_set_box checks it), at most the top +
+ * 3, or with p's base level at the top (HD levels) at most the map's level
+ * limit, the estimate doubled past the top + 3; the box panel's slider
+ * stops there. */
 unsigned st_doc_box_max_level_allowed(st_doc *d, const st_adapt_params *p);
 /* Empties the undo history (what opening a file leaves). */
 void st_doc_forget_history(st_doc *d);

@@ -158,6 +158,33 @@ static void sqrt3_pair_children(st_box_display *bd, const st_hier *model, uint32
  * dual map M* (Catmull-Clark topology; the darts of a face of M* carry its
  * surface vertex, a fresh id per quad in both maps, so pair_face pairs the
  * Doo-Sabin vertices).  √3: sqrt3_pair_children. */
+/* pairs_build after a box move when the display's base is the model's
+ * top (HD levels, editor_hd.c): nothing above the base is paired and the
+ * levels up to it never change, so only the ids the move added need their
+ * entries (a vertex above the base: no model vertex, no level bit, no
+ * dart of the model's top).  Ids freed and reused lie above the base and
+ * already hold those values.  Returns 0 when the full build is needed. */
+static int pairs_extend(st_box_display *bd, const st_hier *model, unsigned b)
+{
+    st_map *dm = &bd->hier.map;
+    if (b != model->map.top || bd->copied_top != b || bd->npairs || bd->nmodel_to_disp != model->map.verts.end ||
+        bd->ndisp_to_model != bd->ndisp_vertices || dm->verts.end < bd->ndisp_vertices)
+        return 0;
+    uint32_t n0 = bd->ndisp_vertices, n = dm->verts.end;
+    if (n == n0) return 1;
+    uint32_t *dc = realloc(bd->disp_to_model_vertex, (size_t)n * sizeof *dc);
+    uint32_t *lv = realloc(bd->levels_of_disp_vertex, (size_t)n * sizeof *lv);
+    uint32_t *vd = realloc(bd->dart_of_disp_vertex, (size_t)n * sizeof *vd);
+    if (!dc || !lv || !vd) abort();
+    for (uint32_t v = n0; v < n; v++) { dc[v] = ST_NIL; lv[v] = 0; vd[v] = ST_NIL; }
+    bd->disp_to_model_vertex = dc;
+    bd->levels_of_disp_vertex = lv;
+    bd->dart_of_disp_vertex = vd;
+    bd->ndisp_to_model = bd->ndisp_vertices = n;
+    bd->subdivided_faces_ok = 0;
+    return 1;
+}
+
 static void pairs_build(st_box_display *bd, const st_hier *model, unsigned base_level)
 {
     st_map *dm = &bd->hier.map;
@@ -462,7 +489,8 @@ int st_box_display_move(st_box_display *bd, const st_hier *model, const st_adapt
     bd->hier.map.log = &bd->patch_log;
     int rc = st_adapt_update(&bd->adapt, p, err);
     if (!rc) {
-        pairs_build(bd, model, p->base_level);
+        if (!pairs_extend(bd, model, p->base_level < model->map.top ? p->base_level : model->map.top))
+            pairs_build(bd, model, p->base_level);
         /* Box updates never touch the levels up to the base. */
         sync_from_model(bd, model, bd->copied_top + 1, 1);
     }
