@@ -248,8 +248,10 @@ static int check_hd_input(const st_cli_opts *o, const st_session *s, unsigned l,
         return 2;
     }
     if (!has_box) {
-        fprintf(stderr, "strata deform: --level %u is above %s's top level %u (an HD level): give --box x0,y0,z0,x1,y1,z1, "
-                        "the region refined to level %u\n", l, o->in, s->h.map.top, l);
+        char lv[48];
+        fprintf(stderr, "strata deform: --level %u does not exist in %s (%s); above the top it is an HD level: "
+                        "give --box x0,y0,z0,x1,y1,z1, the region refined to level %u\n", l, o->in,
+                st_levels_phrase(s->h.map.top, lv, sizeof lv), l);
         return 2;
     }
     if (!scheme_has_hd(s->h.scheme)) {
