@@ -25,7 +25,16 @@
  * renamed only once all are written and synced, so a refusal or a failed
  * write leaves the old files, and a kill leaves the old maps or the new
  * ones, except in the few microseconds between the renames.  Exit status: 0 done, 1 refused or a
- * file could not be read or written, 2 bad usage. */
+ * file could not be read or written, 2 bad usage.
+ *
+ * HD levels (core/io/session.h): a session holding them is baked from its
+ * HD hierarchy when no --level is given (its top: the finest existing face
+ * at each texel) or when --level is above the model's top N (an HD level,
+ * refused above the HD top).  Its levels 0..N are copies of the model's,
+ * same ids and UVs, so level B there is the model's level B and the whole
+ * bake runs on the HD hierarchy: the nested walk takes each face where it
+ * stopped being subdivided (core/bake/bake.h), so HD detail leaves as
+ * normal and displacement maps and everything else bakes as from level N. */
 #include "formats/bake_run.h"
 #include "cli.h"
 #include "cli_common.h"
@@ -125,6 +134,34 @@ static int check_paths(const bake_args *b)
     return 0;
 }
 
+/* The hierarchy and level baked from s (see above), or NULL after a
+ * message. */
+static st_hier *bake_source(const st_cli_opts *o, st_session *s, unsigned *level)
+{
+    unsigned N = s->h.map.top;
+    int hd = s->has_hd && (o->level < 0 || (unsigned)o->level > N);
+    if (hd && s->hd_from != N) {
+        /* --levels refined the model past the level the HD levels grew from. */
+        fprintf(stderr, "strata bake: note: %s's HD levels grow from level %u, the model is now refined to %u: baked without them\n",
+                o->in, s->hd_from, N);
+        hd = 0;
+    }
+    if (!hd) {
+        *level = o->level >= 0 ? (unsigned)o->level : N;
+        return &s->h;
+    }
+    unsigned top = s->hd.map.top;
+    if (o->level >= 0 && (unsigned)o->level > top) {
+        fprintf(stderr, "strata bake: --level %d does not exist in %s: its model has levels 0..%u and its HD levels go up to %u\n",
+                o->level, o->in, N, top);
+        return NULL;
+    }
+    *level = o->level >= 0 ? (unsigned)o->level : top;
+    printf("%s: baking from the HD levels (%u..%u above the model's 0..%u): level %u, each texel from the finest face there\n",
+           o->in, N + 1, top, N, *level);
+    return &s->hd;
+}
+
 static void print_line(void *ctx, const char *line)
 {
     (void)ctx;
@@ -144,18 +181,21 @@ int st_cmd_bake(int argc, char **argv)
     }
     free(rest);
     if (o.out) { fprintf(stderr, "strata bake: -o does not apply: name the maps with --normal-map and --displacement-map\n"); return usage(); }
-    st_hier h;
-    int rc = st_cli_load(&o, &h, "bake");
+    st_session s;
+    int rc = st_cli_load_session(&o, &s, "bake");
     if (rc) return rc;
+    unsigned level = 0;
+    st_hier *h = bake_source(&o, &s, &level);
+    if (!h) { st_session_free(&s); return 1; }
     st_bake_request r = { .normal_path = b.normal_path, .disp_path = b.disp_path, .base = (unsigned)b.base,
-                          .level = o.level >= 0 ? (unsigned)o.level : h.map.top, .size = b.size, .padding = b.padding,
+                          .level = level, .size = b.size, .padding = b.padding,
                           .bits = b.bits, .space = b.space, .vector = b.vector, .auto_uv = b.auto_uv, .udim = b.udim,
                           .ray_reach = b.ray_reach, .say = print_line };
     st_bake_result res;
     st_error err;
-    rc = st_bake_run(&h, &r, &res, &err);
+    rc = st_bake_run(h, &r, &res, &err);
     if (rc && res.file_error) fprintf(stderr, "strata: %s\n", err.msg);
     else if (rc) fprintf(stderr, "strata bake: %s: %s\n", o.in, err.msg);
-    st_hier_free(&h);
+    st_session_free(&s);
     return rc ? 1 : 0;
 }

@@ -10,7 +10,11 @@
  * texture: edge points at the middle of their edge, face points at the
  * centroid of the corners (face-varying "linear" interpolation, OpenSubdiv's
  * default).  The level-L faces are then rasterised in B's UV layout; no ray
- * is cast, and the result is exact.
+ * is cast, and the result is exact.  An adaptive hierarchy (HD levels,
+ * core/adapt/adapt.h) is walked the same way: where a face was not
+ * subdivided, the face as level L's map holds it (its corners and the
+ * points finer neighbours put on its sides) is rasterised, so each texel
+ * takes the finest existing face there.
  *
  * √3 and Doo-Sabin faces do not nest (√3 flips the old edges, Kobbelt 2000;
  * Doo-Sabin makes faces of vertices, edges and faces, §3.2.1's dual

@@ -31,7 +31,11 @@ typedef int (*st_bake_face_fn)(void *ctx, const uint32_t *verts, const double *u
 
 /* Calls fn for every level-L face inside the level-B face of dart d, whose
  * corner UVs are uv (2 per corner, corners from d along φ1).  Fails with a
- * message when the faces do not nest. */
+ * message when the faces do not nest.  In an adaptive map (HD levels) a
+ * face not subdivided toward the next level is a leaf: fn gets it as the
+ * map of level L holds it, its corners and the vertices finer neighbours
+ * put on its sides (UVs at the middles of the halved sides), so every
+ * point of the level-B face is baked from the finest face there. */
 int st_bake_walk(st_map *m, uint32_t d, unsigned B, unsigned L, const double *uv, unsigned n,
                  st_bake_face_fn fn, void *ctx, st_error *err);
 

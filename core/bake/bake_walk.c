@@ -1,6 +1,7 @@
 /* Level faces, normals, UV checks, the nested walk and the UV rasteriser of
  * the bake (core/bake/bake.h). */
 #include "core/bake/bake_internal.h"
+#include "core/adapt/adapt.h"
 #include "core/map/geometry.h"
 
 #include <math.h>
@@ -326,9 +327,88 @@ static int walk_children(walk_ctx *w, uint32_t d, unsigned l, const uint32_t *id
     return ST_OK;
 }
 
+/* ---- leaves of an adaptive map (HD levels, core/adapt/adapt.h) ---------- */
+
+/* A face of an adaptive map that is not subdivided below level L, as the
+ * map of level L holds it: its corners and, on its sides, the vertices that
+ * finer neighbours inserted there. */
+typedef struct leaf_poly {
+    uint32_t *id;
+    double *uv;
+    unsigned n, cap;
+} leaf_poly;
+
+static int leaf_push(walk_ctx *w, leaf_poly *p, uint32_t id, const double *uv)
+{
+    if (p->n == p->cap) {
+        unsigned cap = p->cap ? 2 * p->cap : 16;
+        uint32_t *i = realloc(p->id, cap * sizeof *i);
+        if (i) p->id = i;
+        double *u = i ? realloc(p->uv, 2 * (size_t)cap * sizeof *u) : NULL;
+        if (!u) return st_fail(w->err, ST_ERR_MEMORY, "out of memory listing the sides of an adaptive face");
+        p->uv = u;
+        p->cap = cap;
+    }
+    p->id[p->n] = id;
+    p->uv[2 * (size_t)p->n] = uv[0];
+    p->uv[2 * (size_t)p->n + 1] = uv[1];
+    p->n++;
+    return ST_OK;
+}
+
+/* The points inside the side of dart x (level j) from UV a to UV b, in
+ * order along φ1.  A split at j+1 puts the midpoint's dart (inserted at
+ * j+1) after x; an edge not split at j+1 never is later (faces of level
+ * j+1 have only split or new sides), so the recursion stops there.  Each
+ * point takes the middle of its half-side in UV, as walk_children does. */
+static int leaf_side(walk_ctx *w, leaf_poly *p, uint32_t x, unsigned j, const double *a, const double *b)
+{
+    if (j >= w->L) return ST_OK;
+    uint32_t y = st_phi1(w->m, x, j + 1);
+    if (w->m->darts.ins[y] != j + 1) return ST_OK;
+    double mid[2] = { 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]) };
+    int rc = leaf_side(w, p, x, j + 1, a, mid);
+    if (!rc) rc = leaf_push(w, p, st_vert(w->m, y, j + 1), mid);
+    if (!rc) rc = leaf_side(w, p, y, j + 1, mid, b);
+    return rc;
+}
+
+/* Bakes the leaf face of d (level l < L) as the level-L map shows it. */
+static int walk_leaf(walk_ctx *w, uint32_t d, unsigned l, const uint32_t *ids, const double *uv, unsigned n)
+{
+    leaf_poly p = { NULL, NULL, 0, 0 };
+    int rc = ST_OK;
+    uint32_t x = d;
+    for (unsigned i = 0; i < n && !rc; i++) {
+        unsigned j = i + 1 < n ? i + 1 : 0;
+        rc = leaf_push(w, &p, ids[i], uv + 2 * i);
+        if (!rc) rc = leaf_side(w, &p, x, l, uv + 2 * i, uv + 2 * j);
+        x = st_phi1(w->m, x, l);
+    }
+    if (!rc) rc = w->fn(w->ctx, p.id, p.uv, p.n);
+    free(p.id);
+    free(p.uv);
+    return rc;
+}
+
+/* Whether the face of d (level l < L) is subdivided toward l+1.  In a
+ * uniform hierarchy always; the quick test reads it from the two darts
+ * after d at l+1 (a split side, then an inner edge: both inserted at l+1;
+ * a face left alone has an old dart there), and the adaptive reading of
+ * the face's level (st_face_is_subdivided) confirms a "no", so a uniform
+ * walk never pays for it. */
+static int is_subdivided(st_map *m, uint32_t d, unsigned l)
+{
+    unsigned f = l + 1;
+    uint32_t y = st_phi1(m, d, f);
+    if (m->darts.ins[y] == f && m->darts.ins[st_phi1(m, y, f)] == f) return 1;
+    return st_face_is_subdivided(m, d, l);
+}
+
 static int walk_face(walk_ctx *w, uint32_t d, unsigned l, const uint32_t *ids, const double *uv, unsigned n)
 {
     if (l == w->L) return w->fn(w->ctx, ids, uv, n);
+    if (!is_subdivided(w->m, d, l)) return walk_leaf(w, d, l, ids, uv, n);
     if (n <= 4) {
         uint32_t tid[9];
         double tuv[18];

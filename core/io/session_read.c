@@ -774,6 +774,9 @@ static int r_hd(load_ctx *c, st_br *r)
     in->has_adapt = 0;
     s->has_hd = 1;
     s->hd_from = from;
+    /* keep_above is not stored: sculpted HD faces must never coarsen after
+     * a load, whatever the next update's box says. */
+    s->hd_adapt.keep_above = from;
     st_session_free(in);
     free(in);
     r->off = r->size;

@@ -248,6 +248,17 @@ static void check_round_trip(const char *label, hd_doc *d)
         st_mesh_init(&m);
         CHECKF(st_adapt_mesh(&moved.hd_adapt, &m, &err) == ST_OK && m.nfaces > 0, "%s: adaptive mesh: %s", label, err.msg);
         st_mesh_free(&m);
+        /* keep_above is not in the file: the load sets it to hd_from, so the
+         * sculpted faces stay refined when the box goes off. */
+        CHECKF(moved.hd_adapt.keep_above == moved.hd_from, "%s: keep_above %u after a load, hd_from %u", label,
+               moved.hd_adapt.keep_above, moved.hd_from);
+        st_adapt_params off = { .base_level = moved.hd_from, .max_level = moved.hd_from };
+        CHECKF(st_adapt_update(&moved.hd_adapt, &off, &err) == ST_OK, "%s: box-off update: %s", label, err.msg);
+        uint64_t faces[ST_MAX_LEVELS], bytes[ST_MAX_LEVELS], above = 0;
+        st_adapt_hd_levels(&moved.hd.map, moved.hd_from, faces, bytes);
+        for (unsigned l = moved.hd_from + 1; l < ST_MAX_LEVELS; l++) above += faces[l];
+        printf("%s: %llu HD faces after the box went off\n", label, (unsigned long long)above);
+        CHECKF(above > 0, "%s: the box going off after a load coarsened the sculpted HD faces", label);
         st_session_free(&moved);
         st_session_free(&s);
     }
