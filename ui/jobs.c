@@ -47,7 +47,8 @@ typedef struct doc_job {
     const st_session_view *view;   /* JOB_SAVE */
     const st_session_tool *tool;   /* JOB_SAVE */
     st_session *session;           /* JOB_LOAD_SESSION: loaded here, the document untouched */
-    st_bake_request *bake;         /* JOB_BAKE: st_bake_run on the model (progress and say filled here) */
+    st_bake_request *bake;         /* JOB_BAKE: st_bake_run on bake_src (progress and say filled here) */
+    st_hier *bake_src;             /* JOB_BAKE: the model, or its HD levels (st_doc_hd_bake_source) */
     st_bake_result bake_res;
     st_error err;
     int rc;
@@ -131,7 +132,7 @@ static void *job_main(void *p)
         j->bake->progress_ctx = j;
         j->bake->say = bake_say;
         j->bake->say_ctx = j;
-        j->rc = st_bake_run(&j->d->h, j->bake, &j->bake_res, &j->err);
+        j->rc = st_bake_run(j->bake_src ? j->bake_src : &j->d->h, j->bake, &j->bake_res, &j->err);
         break;
     default: j->rc = st_doc_set_scheme_progress(j->d, j->scheme, job_cancelled, j, &j->err); break;
     }
@@ -467,7 +468,9 @@ int st_app_bake_maps(st_app *a)
     double t0 = st_now_ms();
     char what[300];
     snprintf(what, sizeof what, "working... baking level %d onto level %d, %dx%d (Esc cancels)", b->level, b->base, b->size, b->size);
-    doc_job j = { .kind = JOB_BAKE, .bake = &r };
+    /* With HD detail, the top level bakes from the HD levels: each texel
+     * from the finest face there (as strata bake on such a session). */
+    doc_job j = { .kind = JOB_BAKE, .bake = &r, .bake_src = st_doc_hd_bake_source(&a->doc, &r.level) };
     int rc = run_job(a, &j, what);
     if (job_was_cancelled(&j) || (rc && j.bake_res.cancelled)) {
         st_app_message(a, 0, "bake cancelled: the maps on disk are as they were");

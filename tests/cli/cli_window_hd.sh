@@ -35,6 +35,9 @@ if grep -q "replay .* passed" "$TMP/log"; then ok; else bad "the HD replay: $(ta
 for s in hd_before hd_after hd_boxoff; do
     if [ -s "$TMP/$s.png" ]; then ok; else bad "screenshot $s.png"; fi
 done
+# The window's bake of the top level reads the HD levels (st_doc_hd_bake_source).
+if grep -q "baked level 8 onto level 0" "$TMP/log" && [ -s "$TMP/hd_normal.png" ]; then ok
+else bad "the window's bake did not read HD level 8: $(grep -i bake "$TMP/log" | tail -2)"; fi
 if [ -s "$TMP/hd_saved.strata" ] && "$EXE" info "$TMP/hd_saved.strata" 2>&1 | grep -q "HD hierarchy"; then ok
 else bad "the saved session lists no HD levels: $("$EXE" info "$TMP/hd_saved.strata" 2>&1 | tail -3)"; fi
 echo "$pass passed, $fail failed"

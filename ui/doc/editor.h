@@ -541,6 +541,11 @@ int st_doc_display_adaptive(const st_doc *d);
 /* Faces stored at the HD levels (above the model's top) of the display,
  * 0 when it has none. */
 uint64_t st_doc_hd_faces(const st_doc *d);
+/* What a bake of `*level` reads: the HD levels at their top when *level is
+ * the model's top and HD detail exists (*level set to their top; their
+ * levels 0..top are the model's, same ids and UVs), else NULL (the
+ * model). */
+st_hier *st_doc_hd_bake_source(st_doc *d, unsigned *level);
 /* A session's HD levels (its chunk hdlv: hd and hd_adapt, taken) become
  * the display, kept like sculpted HD levels; the model must be the
  * session's.  Refused, nothing taken, when they do not match it. */

@@ -213,3 +213,10 @@ int st_doc_adopt_hd(st_doc *d, st_hier *hd, st_adapt *hd_adapt, st_error *err)
     ed_count_display(d);
     return ST_OK;
 }
+
+st_hier *st_doc_hd_bake_source(st_doc *d, unsigned *level)
+{
+    if (!d->loaded || *level != d->h.map.top || !ed_hd_detail_present(d)) return NULL;
+    *level = d->display.hier.map.top;
+    return &d->display.hier;
+}
