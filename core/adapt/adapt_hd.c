@@ -23,6 +23,7 @@ typedef struct hd_edit {
     uint32_t dart;             /* the vertex being edited */
     const double *target;      /* the position the edit asks for */
     st_footprint *fp;
+    st_edit_cache *cache;      /* NULL, or the edit sequence's predictions (edit.h) */
     uint64_t followed;         /* inherited positions above l that followed */
 } hd_edit;
 
@@ -58,7 +59,11 @@ static void hd_hook(void *ctx, unsigned l, uint32_t v, double det[3], const doub
 {
     hd_edit *c = ctx;
     double r[3], pred[3];
-    if (!st_adapt_canonical_pred(c->h, l, c->dart, pred)) memcpy(pred, pred0, sizeof pred);
+    /* The canonical prediction once per vertex and edit sequence: the
+     * cache gives it back as pred0 afterwards. */
+    if (st_edit_cache_pred_fixed(c->cache, l, v)) memcpy(pred, pred0, sizeof pred);
+    else if (st_adapt_canonical_pred(c->h, l, c->dart, pred)) st_edit_cache_set_pred(c->cache, l, v, pred);
+    else memcpy(pred, pred0, sizeof pred);
     st_sub3(c->target, pred, r);
     for (int i = 0; i < 3; i++) det[i] = st_dot3(f[i], r);
     st_hier_apply_detail(pred, f, det, pos);
@@ -69,7 +74,7 @@ uint64_t st_adapt_edit(st_hier *h, unsigned l, const uint32_t *darts, const doub
                        st_footprint *fp, st_edit_cache *cache)
 {
     st_map *m = &h->map;
-    hd_edit c = { .h = h, .fp = fp };
+    hd_edit c = { .h = h, .fp = fp, .cache = cache };
     /* One vertex per call, the hook's target being that vertex's position:
      * the hook is given the vertex id, not the index in darts.  pos NULL in
      * the call, so that the old level-l position is still there for the

@@ -49,6 +49,12 @@ typedef struct st_edit_cache st_edit_cache;
 st_edit_cache *st_edit_cache_new(void);
 void st_edit_cache_clear(st_edit_cache *c);
 void st_edit_cache_free(st_edit_cache *c);
+/* A caller that takes another prediction for v than the edit's (core/adapt's
+ * HD edits take the canonical face's, adapt_resynth.c) puts it in the
+ * cache once, for the next edits of the sequence, whose hook then gets it
+ * as `pred`; st_edit_cache_pred_fixed tells whether it was put there. */
+void st_edit_cache_set_pred(st_edit_cache *c, unsigned l, uint32_t v, const double pred[3]);
+int st_edit_cache_pred_fixed(const st_edit_cache *c, unsigned l, uint32_t v);
 /* st_hier_edit_with using the cache (NULL: none). */
 uint64_t st_hier_edit_cached(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
                              st_footprint *fp, st_detail_hook hook, void *ctx, st_edit_cache *cache);

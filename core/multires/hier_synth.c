@@ -301,6 +301,7 @@ struct st_edit_cache {
     uint32_t *at, cap;
     double (*pf)[12];          /* per entry: S(P_{l-1})(v), frame rows */
     uint32_t *vid;             /* per entry: its vertex id (clearing resets only those) */
+    uint8_t *fixed;            /* per entry: the prediction was replaced (st_edit_cache_set_pred) */
     uint32_t nent, capent;
 };
 
@@ -324,6 +325,7 @@ void st_edit_cache_free(st_edit_cache *c)
     free(c->at);
     free(c->pf);
     free(c->vid);
+    free(c->fixed);
     free(c);
 }
 
@@ -350,14 +352,31 @@ static void cache_put(st_edit_cache *c, unsigned l, uint32_t v, const double pre
         c->capent = c->capent ? 2 * c->capent : 4096;
         double(*p)[12] = realloc(c->pf, (size_t)c->capent * sizeof *p);
         uint32_t *q = realloc(c->vid, (size_t)c->capent * sizeof *q);
-        if (!p || !q) abort();
+        uint8_t *f = realloc(c->fixed, (size_t)c->capent * sizeof *f);
+        if (!p || !q || !f) abort();
         c->pf = p;
         c->vid = q;
+        c->fixed = f;
     }
+    c->fixed[c->nent] = 0;
     c->vid[c->nent] = v;
     memcpy(c->pf[c->nent], pred, 3 * sizeof(double));
     memcpy(c->pf[c->nent] + 3, f, 9 * sizeof(double));
     c->at[v] = ++c->nent;
+}
+
+int st_edit_cache_pred_fixed(const st_edit_cache *c, unsigned l, uint32_t v)
+{
+    if (!c || !c->nent || c->level != l || v >= c->cap || !c->at[v]) return 0;
+    return c->fixed[c->at[v] - 1];
+}
+
+void st_edit_cache_set_pred(st_edit_cache *c, unsigned l, uint32_t v, const double pred[3])
+{
+    double *e = cache_find(c, l, v);
+    if (!e) return;
+    memcpy(e, pred, 3 * sizeof *e);
+    c->fixed[c->at[v] - 1] = 1;
 }
 
 /* S(P_{l-1})(v) and the frame of v's stencil, found from dart d of v. */
