@@ -65,6 +65,7 @@ void st_adapt_free(st_adapt *a)
     st_dart_list_free(&a->base_faces);
     st_adapt_grid_free(a->grid);
     st_dart_list_free(&a->forced_faces);
+    st_dart_list_free(&a->canon_faces);
     memset(a, 0, sizeof *a);
 }
 

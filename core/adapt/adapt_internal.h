@@ -149,6 +149,14 @@ void st_adapt_canonical_faces(const st_hier *h, unsigned l, st_dart_list *faces)
  * stencil a synthesis of level L gives it (the canonical face's); 0 when
  * not found (other families, a vertex of more than 64 faces). */
 int st_adapt_canonical_pred(st_hier *h, unsigned L, uint32_t d, double pred[3]);
+/* During an update with a->canon_track set: records that the face of d
+ * (level i) was subdivided toward i+1 or simplified back to i. */
+void st_adapt_canon_record(st_adapt *a, uint32_t d, unsigned i);
+/* The end of an update (polygon split family): re-places canonically what
+ * the recorded faces may have left otherwise, so that every position is
+ * the one st_adapt_synthesize from the base level gives (bit for bit,
+ * given a hierarchy that was so before).  Returns the positions changed. */
+uint64_t st_adapt_canon_update(st_adapt *a);
 
 /* ---- details (adapt_details.c) -------------------------------------------- */
 

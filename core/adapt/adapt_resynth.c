@@ -243,3 +243,162 @@ uint64_t st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds
     st_dart_list_free(&a.kept);
     return a.count;
 }
+
+/* ---- after an update -------------------------------------------------------------
+ * An update (adapt_update.c) places the vertices of each face it subdivides
+ * with that face's stencils, in the order it happens to subdivide faces,
+ * and re-places the vertices the face shares with older ones: a vertex may
+ * end with another face's stencil than its canonical one (last bit), or
+ * with a stencil read before a coarser neighbour forced later re-placed a
+ * vertex of its support.  So the polygon split family records the faces
+ * an update subdivides or simplifies (st_adapt_canon_record), and the
+ * update ends with a canonical local pass over them, level by level from
+ * the coarsest recorded one, which leaves every position as
+ * st_adapt_synthesize from the base level would (given a hierarchy that
+ * was so before the update):
+ *   - level L is re-emitted, in canonical order and with canonical
+ *     stencils, on the subdivided faces of level L-1 within one ring of a
+ *     face recorded at L-1 (the vertices it created or re-placed, or that
+ *     a simplification left with another canonical face) and within the
+ *     support (support_rings + 1, as an edit's growth) of the vertices of
+ *     level L-1 that may differ from before the update: those of the
+ *     faces recorded at L-2 (placed or fallen back by the update, and the
+ *     topology of map L-1 around them) and those the pass changed, at
+ *     L-1 or below (a write at a lower level follows up the levels that
+ *     inherited it: they are carried upward);
+ *   - a vertex is written only where its value changes; then it seeds the
+ *     next levels.
+ * A vertex that no recorded face reaches and whose support did not change
+ * keeps its value, which was the canonical one.  Cost: the recorded faces,
+ * one ring around them and the support around what moved, per level. */
+
+void st_adapt_canon_record(st_adapt *a, uint32_t d, unsigned i)
+{
+    if (!a->canon_track) return;
+    st_dart_list_push(&a->canon_faces, d);
+    st_dart_list_push(&a->canon_faces, i);
+}
+
+typedef struct canon_ctx {
+    st_hier *h;
+    unsigned L;
+    uint32_t gen;
+    st_dart_list *changed;     /* darts of level L of the vertices written */
+    int lost;
+    uint64_t count;
+} canon_ctx;
+
+/* The canonical stencil's value (resynth_sink's choice), written where it
+ * differs from the vertex's position. */
+static void canon_sink(void *ctx, const st_stencil *s)
+{
+    canon_ctx *c = ctx;
+    st_hier *h = c->h;
+    st_map *m = &h->map;
+    if (h->stamp.v[s->fine] == c->gen) return;
+    h->stamp.v[s->fine] = c->gen;
+    double p[3];
+    uint32_t canon = canonical_face(m, s, c->L);
+    if (canon != ST_NIL && canon != face_min(m, s->frame_dart, c->L - 1)) {
+        capture_ctx cap = { .h = h, .L = c->L, .v = s->fine, .apply = 1 };
+        st_hier_emit(h, c->L, &canon, 1, capture_sink, &cap);
+        if (cap.found) memcpy(p, cap.p, sizeof p);
+        else st_stencil_apply(h, c->L, s, p);
+    } else
+        st_stencil_apply(h, c->L, s, p);
+    if (!memcmp(st_pos(m, s->fine, c->L), p, sizeof p)) return;
+    st_set_pos(m, s->fine, c->L, p); /* (the levels above that inherited it follow) */
+    c->count++;
+    uint32_t x = st_dart_on_cell(m, s->fine, s->frame_dart, c->L);
+    if (x == ST_NIL) c->lost = 1;
+    else st_dart_list_push(c->changed, x);
+}
+
+/* A record (d, i) still names a face of map i: d not removed by a coarser
+ * simplification of the same update (that one's record covers it). */
+static int record_live(const st_map *m, uint32_t d, unsigned i)
+{
+    return st_dart_in_level(m, d, i) && !st_is_boundary(m, d);
+}
+
+/* The darts at map l = i+1 of the face recorded at (d, i): each corner's
+ * face at l (a subdivided face's corner sub-faces: corners, side points,
+ * centre; a simplified face: the face itself, once per corner). */
+static void push_record_darts(const st_map *m, uint32_t d, unsigned i, st_dart_list *out)
+{
+    unsigned l = i + 1, n = 0;
+    uint32_t x = d;
+    do {
+        uint32_t y = x;
+        unsigned k = 0;
+        do { st_dart_list_push(out, y); y = st_phi1(m, y, l); } while (y != x && ++k < 1024);
+        x = st_phi1(m, x, i);
+    } while (x != d && ++n < 1024);
+}
+
+/* Keeps one dart per vertex (stamps of a new generation). */
+static void unique_vertices(st_hier *h, unsigned l, st_dart_list *list)
+{
+    uint32_t gen = st_hier_stamp_begin(h), n = 0;
+    for (uint32_t k = 0; k < list->n; k++) {
+        uint32_t v = st_vert(&h->map, list->d[k], l);
+        if (h->stamp.v[v] == gen) continue;
+        h->stamp.v[v] = gen;
+        list->d[n++] = list->d[k];
+    }
+    list->n = n;
+}
+
+uint64_t st_adapt_canon_update(st_adapt *a)
+{
+    st_hier *h = a->h;
+    st_map *m = &h->map;
+    const st_dart_list *rec = &a->canon_faces;
+    if (rec->n < 2 || !canonical_family(h)) return 0;
+    unsigned lo = ~0u;
+    for (uint32_t k = 0; k + 1 < rec->n; k += 2)
+        if (rec->d[k + 1] < lo) lo = rec->d[k + 1];
+    st_dart_list chg = { 0 }, next = { 0 }, seeds = { 0 }, faces = { 0 }, kept = { 0 };
+    unsigned extra = 0;
+    uint64_t count = 0;
+    for (unsigned L = lo + 1; L <= m->top; L++) {
+        unsigned l = L - 1;
+        seeds.n = 0;
+        for (uint32_t k = 0; k + 1 < rec->n; k += 2) {
+            uint32_t d = rec->d[k];
+            unsigned i = rec->d[k + 1];
+            if (i + 1 == l && record_live(m, d, i)) push_record_darts(m, d, i, &chg);
+            if (i == l && record_live(m, d, i)) {
+                uint32_t x = d;
+                do { st_dart_list_push(&seeds, x); x = st_phi1(m, x, l); } while (x != d);
+            }
+        }
+        unique_vertices(h, l, &chg);
+        faces.n = 0;
+        if (chg.n) st_region_faces(m, l, chg.d, chg.n, h->scheme->support_rings + 1 + extra, &faces);
+        if (seeds.n) st_region_faces(m, l, seeds.d, seeds.n, 1, &faces);
+        kept.n = 0;
+        for (uint32_t k = 0; k < faces.n; k++)
+            if (st_adapt_face_of_level(m, faces.d[k], l) && listed(m, faces.d[k], l)) st_dart_list_push(&kept, faces.d[k]);
+        canonical_order(m, l, kept.d, kept.n);
+        uint32_t nk = 0; /* (the two regions may share faces) */
+        for (uint32_t k = 0; k < kept.n; k++)
+            if (!nk || kept.d[k] != kept.d[nk - 1]) kept.d[nk++] = kept.d[k];
+        kept.n = nk;
+        next.n = 0;
+        canon_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next };
+        if (kept.n) st_hier_emit(h, L, kept.d, kept.n, canon_sink, &c);
+        count += c.count;
+        extra = c.lost;
+        if (c.lost) st_dart_list_push_faces(&next, m, l, kept.d, kept.n);
+        /* carried up: darts of map l are darts of map L, on the same vertices */
+        for (uint32_t k = 0; k < chg.n; k++) st_dart_list_push(&next, chg.d[k]);
+        st_dart_list t = chg; chg = next; next = t;
+    }
+    st_dart_list_free(&chg);
+    st_dart_list_free(&next);
+    st_dart_list_free(&seeds);
+    st_dart_list_free(&faces);
+    st_dart_list_free(&kept);
+    return count;
+}

@@ -182,6 +182,9 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
         a->grid = p->has_box ? st_adapt_grid_build(m, &a->base_faces, ops->cell_bbox) : NULL;
     }
     a->touched = 0;
+    /* (the polygon split family's faces, for the canonical pass at the end) */
+    a->canon_track = ops == &st_adapt_ops_quads || ops == &st_adapt_ops_triangles || ops == &st_adapt_ops_quadtri;
+    a->canon_faces.n = 0;
     int rc = ST_OK;
     /* Algorithm 5: refine, coarse to fine; again while the restriction
      * forced faces at levels already passed. */
@@ -222,6 +225,11 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
             rc = ops->simplify(a, d, i, err);
         }
     }
+    /* Positions as a full synthesis from the base level gives them
+     * (adapt_resynth.c, "after an update"). */
+    if (!rc) (void)st_adapt_canon_update(a);
+    a->canon_track = 0;
+    st_dart_list_free(&a->canon_faces);
     if (lists)
         for (unsigned i = 0; i < 2 * nl; i++) st_dart_list_free(&lists[i]);
     free(lists);
