@@ -65,7 +65,6 @@ void st_adapt_free(st_adapt *a)
     st_dart_list_free(&a->base_faces);
     st_adapt_grid_free(a->grid);
     st_dart_list_free(&a->forced_faces);
-    st_dart_list_free(&a->canon_faces);
     memset(a, 0, sizeof *a);
 }
 

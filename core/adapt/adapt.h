@@ -136,9 +136,8 @@ typedef struct st_adapt {
     uint64_t touched;        /* faces subdivided or simplified by the last update */
     uint64_t forced;         /* coarser faces subdivided by the restriction in the current pass */
     st_dart_list forced_faces; /* those faces, as (dart, level) pairs (adapt_update.c; during an update only) */
-    st_dart_list canon_faces;  /* faces subdivided or simplified by the current update, as (dart, level)
-                                  pairs, for its canonical pass (adapt_resynth.c; during an update only) */
-    int canon_track;           /* canon_faces is being recorded (polygon split family, during an update) */
+    struct st_adapt_canon *canon; /* what the current update changed, for its canonical pass (adapt_resynth.c):
+                                     polygon split family, during an update only; NULL otherwise */
     st_adapt_params prev;    /* criteria of the last update */
     int has_prev;            /* prev is valid and the geometry has not changed since */
     st_dart_list base_faces; /* one dart per base face */
