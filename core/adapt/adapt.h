@@ -136,6 +136,8 @@ typedef struct st_adapt {
     uint64_t touched;        /* faces subdivided or simplified by the last update */
     uint64_t forced;         /* coarser faces subdivided by the restriction in the current pass */
     st_dart_list forced_faces; /* those faces, as (dart, level) pairs (adapt_update.c; during an update only) */
+    struct st_adapt_canon *canon; /* what the current update changed, for its canonical pass (adapt_resynth.c):
+                                     polygon split family, during an update only; NULL otherwise */
     st_adapt_params prev;    /* criteria of the last update */
     int has_prev;            /* prev is valid and the geometry has not changed since */
     st_dart_list base_faces; /* one dart per base face */
@@ -212,7 +214,13 @@ unsigned st_adapt_wanted_level(const st_map *m, uint32_t d, unsigned l, const st
  * faces near the old or the new box are visited (incremental update: base
  * faces found through a grid, faces deep inside both boxes not entered,
  * later passes only below the faces the restriction forced); the result is
- * the same as a full update. */
+ * the same as a full update.  Polygon split family (Catmull-Clark, Loop,
+ * Butterfly, quad/triangle): the update ends with a canonical local pass
+ * over the faces it subdivided or simplified (adapt_resynth.c), so that
+ * every position is the one st_adapt_synthesize(a, p->base_level) would
+ * give, bit for bit, given a hierarchy that was so before (one that only
+ * updates, st_adapt_edit and st_adapt_synthesize made); its cost follows
+ * what the update touched. */
 int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err);
 
 /* Synthesis of an adaptive hierarchy from level `from`: every vertex of a

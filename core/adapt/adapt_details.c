@@ -337,7 +337,9 @@ void st_adapt_place_sink(void *ctx, const st_stencil *s)
 {
     st_adapt_place_ctx *c = ctx;
     st_hier *h = c->a->h;
-    if (was_created(c, s->fine)) {
+    int created = was_created(c, s->fine);
+    if (c->a->canon) st_adapt_canon_write(c->a, s->fine, c->L, created);
+    if (created) {
         int kind = s->frame_cell == ST_CELL_EDGE ? KIND_EDGE : s->frame_cell == ST_CELL_DUAL_FACE ? KIND_CORNER : KIND_CENTRE;
         restore_details(c->a, s, c->L, kind);
     } else {

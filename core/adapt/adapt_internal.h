@@ -149,6 +149,32 @@ void st_adapt_canonical_faces(const st_hier *h, unsigned l, st_dart_list *faces)
  * stencil a synthesis of level L gives it (the canonical face's); 0 when
  * not found (other families, a vertex of more than 64 faces). */
 int st_adapt_canonical_pred(st_hier *h, unsigned L, uint32_t d, double pred[3]);
+/* What an update of the polygon split family changed (a->canon during
+ * the update): the faces it subdivided or simplified, and the level-L
+ * position of each vertex before its first write at L (or that it was
+ * created there). */
+typedef struct st_adapt_canon_pos {
+    uint32_t v, level, seq, created;
+    double p[3];
+} st_adapt_canon_pos;
+typedef struct st_adapt_canon {
+    st_dart_list faces;        /* (dart, level) pairs */
+    st_adapt_canon_pos *pos;
+    uint32_t npos, cappos;
+    int restricted;            /* the update keeps the one-level restriction */
+} st_adapt_canon;
+/* With a->canon set: the face of d (level i) was subdivided toward i+1 or
+ * simplified back to i. */
+void st_adapt_canon_record(st_adapt *a, uint32_t d, unsigned i, int simplified);
+/* With a->canon set: vertex v is about to be written at level L (created:
+ * by the subdivision that made it). */
+void st_adapt_canon_write(st_adapt *a, uint32_t v, unsigned L, int created);
+void st_adapt_canon_free(st_adapt_canon *c);
+/* The end of an update (polygon split family): re-places canonically what
+ * the recorded faces may have left otherwise, so that every position is
+ * the one st_adapt_synthesize from the base level gives (bit for bit,
+ * given a hierarchy that was so before).  Returns the positions changed. */
+uint64_t st_adapt_canon_update(st_adapt *a);
 
 /* ---- details (adapt_details.c) -------------------------------------------- */
 

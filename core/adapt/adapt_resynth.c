@@ -243,3 +243,252 @@ uint64_t st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds
     st_dart_list_free(&a.kept);
     return a.count;
 }
+
+/* ---- after an update -------------------------------------------------------------
+ * An update (adapt_update.c) places the vertices of each face it subdivides
+ * with that face's stencils, in the order it happens to subdivide faces,
+ * and re-places the vertices the face shares with older ones: a vertex may
+ * end with another face's stencil than its canonical one (last bit), or
+ * with a stencil read before a coarser neighbour forced later re-placed a
+ * vertex of its support.  So the polygon split family records what an
+ * update changes (a->canon: the faces it subdivides or simplifies, the
+ * positions its writes replace), and the update ends with a canonical
+ * local pass, level by level from the coarsest recorded face, which leaves
+ * every position as st_adapt_synthesize from the base level would (given
+ * a hierarchy that was so before the update):
+ *   - level L is re-emitted, in canonical order and with canonical
+ *     stencils, on the faces of level L-1 subdivided by the update (the
+ *     vertices they created or re-placed, whose canonical face may be
+ *     theirs now), on the subdivided faces within one ring of a face
+ *     simplified (the vertices it left with another canonical face), and
+ *     on the subdivided faces within the
+ *     support (support_rings + 1, as an edit's growth) of the vertices of
+ *     level L-1 whose value differs from before the update;
+ *   - a vertex is written where its value changes.  It differs from
+ *     before the update when its new value is not the one it had before
+ *     the update's first write at its level (or before the pass, for a
+ *     vertex the update did not write there); it is then carried upward
+ *     while the level above shows the value of the level below (the
+ *     setter carried the write there: it stops at the first level that
+ *     diverged, and a level that diverged was written itself or kept its
+ *     value).
+ * With the one-level restriction a vertex the update created needs no
+ * support region: whatever reads it at the next level is a face that the
+ * same update subdivided (every face around a face subdivided toward L
+ * was of level L-1 before it, and the created vertex's faces were not),
+ * and a fallen-back corner of a simplified face is read by no subdivided
+ * face.  Without it, every vertex of a recorded face counts as changed.
+ * A vertex that no recorded face reaches and whose support did not
+ * change keeps its value, which was the canonical one.  Cost: the
+ * recorded faces and one ring around them, plus the support of what
+ * really moved, per level. */
+
+enum { SIMPLIFIED = 1u << 31 };
+
+void st_adapt_canon_record(st_adapt *a, uint32_t d, unsigned i, int simplified)
+{
+    if (!a->canon) return;
+    st_dart_list_push(&a->canon->faces, d);
+    st_dart_list_push(&a->canon->faces, i | (simplified ? SIMPLIFIED : 0));
+}
+
+void st_adapt_canon_write(st_adapt *a, uint32_t v, unsigned L, int created)
+{
+    st_adapt_canon *c = a->canon;
+    if (!c) return;
+    if (c->npos == c->cappos) {
+        c->cappos = c->cappos ? 2 * c->cappos : 256;
+        c->pos = realloc(c->pos, c->cappos * sizeof *c->pos);
+        if (!c->pos) abort(); /* (as st_dart_list_push) */
+    }
+    st_adapt_canon_pos *r = &c->pos[c->npos];
+    r->v = v;
+    r->level = L;
+    r->seq = c->npos++;
+    r->created = (uint32_t)created;
+    memcpy(r->p, st_pos(&a->h->map, v, L), sizeof r->p);
+}
+
+void st_adapt_canon_free(st_adapt_canon *c)
+{
+    st_dart_list_free(&c->faces);
+    free(c->pos);
+    memset(c, 0, sizeof *c);
+}
+
+typedef struct canon_ctx {
+    st_hier *h;
+    unsigned L;
+    uint32_t gen;
+    st_dart_list *changed;           /* darts of level L of the vertices that differ from before the update */
+    const st_adapt_canon_pos *pos;   /* the update's writes (a->canon) */
+    const uint32_t *slot;            /* open addressing by vertex: index into pos of the first write at L, or ST_NIL */
+    uint32_t mask;
+    int lost;
+    uint64_t count;
+} canon_ctx;
+
+static uint32_t hash_v(uint32_t v) { return v * 2654435761u; }
+
+static const st_adapt_canon_pos *find_before(const canon_ctx *c, uint32_t v)
+{
+    if (!c->slot) return NULL;
+    for (uint32_t k = hash_v(v) & c->mask;; k = (k + 1) & c->mask) {
+        uint32_t s = c->slot[k];
+        if (s == ST_NIL) return NULL;
+        if (c->pos[s].v == v) return &c->pos[s];
+    }
+}
+
+/* The canonical stencil's value (resynth_sink's choice), written where it
+ * differs from the vertex's position. */
+static void canon_sink(void *ctx, const st_stencil *s)
+{
+    canon_ctx *c = ctx;
+    st_hier *h = c->h;
+    st_map *m = &h->map;
+    if (h->stamp.v[s->fine] == c->gen) return;
+    h->stamp.v[s->fine] = c->gen;
+    double p[3];
+    uint32_t canon = canonical_face(m, s, c->L);
+    if (canon != ST_NIL && canon != face_min(m, s->frame_dart, c->L - 1)) {
+        capture_ctx cap = { .h = h, .L = c->L, .v = s->fine, .apply = 1 };
+        st_hier_emit(h, c->L, &canon, 1, capture_sink, &cap);
+        if (cap.found) memcpy(p, cap.p, sizeof p);
+        else st_stencil_apply(h, c->L, s, p);
+    } else
+        st_stencil_apply(h, c->L, s, p);
+    const double *cur = st_pos(m, s->fine, c->L);
+    const st_adapt_canon_pos *b = find_before(c, s->fine);
+    int differs = b ? !b->created && memcmp(b->p, p, sizeof p) : memcmp(cur, p, sizeof p);
+    if (memcmp(cur, p, sizeof p)) {
+        st_set_pos(m, s->fine, c->L, p); /* (the levels above that showed the old value follow) */
+        c->count++;
+    }
+    if (!differs) return;
+    uint32_t x = st_dart_on_cell(m, s->fine, s->frame_dart, c->L);
+    if (x == ST_NIL) c->lost = 1;
+    else st_dart_list_push(c->changed, x);
+}
+
+/* A record (d, i) still names a face of map i: d not removed by a coarser
+ * simplification of the same update (that one's record covers it). */
+static int record_live(const st_map *m, uint32_t d, unsigned i)
+{
+    return st_dart_in_level(m, d, i) && !st_is_boundary(m, d);
+}
+
+/* The darts at map l = i+1 of the face recorded at (d, i): each corner's
+ * face at l (a subdivided face's corner sub-faces: corners, side points,
+ * centre; a simplified face: the face itself, once per corner). */
+static void push_record_darts(const st_map *m, uint32_t d, unsigned i, st_dart_list *out)
+{
+    unsigned l = i + 1, n = 0;
+    uint32_t x = d;
+    do {
+        uint32_t y = x;
+        unsigned k = 0;
+        do { st_dart_list_push(out, y); y = st_phi1(m, y, l); } while (y != x && ++k < 1024);
+        x = st_phi1(m, x, i);
+    } while (x != d && ++n < 1024);
+}
+
+/* Keeps one dart per vertex (stamps of a new generation). */
+static void unique_vertices(st_hier *h, unsigned l, st_dart_list *list)
+{
+    uint32_t gen = st_hier_stamp_begin(h), n = 0;
+    for (uint32_t k = 0; k < list->n; k++) {
+        uint32_t v = st_vert(&h->map, list->d[k], l);
+        if (h->stamp.v[v] == gen) continue;
+        h->stamp.v[v] = gen;
+        list->d[n++] = list->d[k];
+    }
+    list->n = n;
+}
+
+uint64_t st_adapt_canon_update(st_adapt *a)
+{
+    st_hier *h = a->h;
+    st_map *m = &h->map;
+    const st_adapt_canon *cn = a->canon;
+    const st_dart_list *rec = &cn->faces;
+    if (rec->n < 2 || !canonical_family(h)) return 0;
+    unsigned lo = ~0u;
+    for (uint32_t k = 0; k + 1 < rec->n; k += 2)
+        if ((rec->d[k + 1] & ~SIMPLIFIED) < lo) lo = rec->d[k + 1] & ~SIMPLIFIED;
+    st_dart_list chg = { 0 }, next = { 0 }, seeds = { 0 }, faces = { 0 }, kept = { 0 };
+    uint32_t *slot = NULL, cap = 0;
+    unsigned extra = 0;
+    uint64_t count = 0;
+    for (unsigned L = lo + 1; L <= m->top; L++) {
+        unsigned l = L - 1;
+        seeds.n = 0;
+        faces.n = 0;
+        for (uint32_t k = 0; k + 1 < rec->n; k += 2) {
+            uint32_t d = rec->d[k];
+            unsigned i = rec->d[k + 1] & ~SIMPLIFIED;
+            if (!cn->restricted && i + 1 == l && record_live(m, d, i)) push_record_darts(m, d, i, &chg);
+            if (i != l || !record_live(m, d, i)) continue;
+            if (!(rec->d[k + 1] & SIMPLIFIED)) {
+                /* (its fine vertices are all its own: the face itself) */
+                st_dart_list_push(&faces, d);
+                continue;
+            }
+            uint32_t x = d;
+            do { st_dart_list_push(&seeds, x); x = st_phi1(m, x, l); } while (x != d);
+        }
+        unique_vertices(h, l, &chg);
+        if (chg.n) st_region_faces(m, l, chg.d, chg.n, h->scheme->support_rings + 1 + extra, &faces);
+        if (seeds.n) st_region_faces(m, l, seeds.d, seeds.n, 1, &faces);
+        kept.n = 0;
+        for (uint32_t k = 0; k < faces.n; k++)
+            if (st_adapt_face_of_level(m, faces.d[k], l) && listed(m, faces.d[k], l)) st_dart_list_push(&kept, faces.d[k]);
+        canonical_order(m, l, kept.d, kept.n);
+        uint32_t nk = 0; /* (the two regions may share faces) */
+        for (uint32_t k = 0; k < kept.n; k++)
+            if (!nk || kept.d[k] != kept.d[nk - 1]) kept.d[nk++] = kept.d[k];
+        kept.n = nk;
+        /* the update's first write of each vertex at L, by vertex */
+        uint32_t nb = 0, mask = 0;
+        for (uint32_t k = 0; k < cn->npos; k++) nb += cn->pos[k].level == L;
+        if (nb) {
+            uint32_t want = 16;
+            while (want < 2 * nb) want *= 2;
+            if (want > cap) {
+                free(slot);
+                slot = malloc(want * sizeof *slot);
+                if (!slot) abort();
+                cap = want;
+            }
+            mask = want - 1;
+            memset(slot, 0xff, want * sizeof *slot); /* ST_NIL */
+            for (uint32_t k = 0; k < cn->npos; k++) {
+                if (cn->pos[k].level != L) continue;
+                uint32_t j = hash_v(cn->pos[k].v) & mask;
+                while (slot[j] != ST_NIL && cn->pos[slot[j]].v != cn->pos[k].v) j = (j + 1) & mask;
+                if (slot[j] == ST_NIL) slot[j] = k; /* (the first write wins) */
+            }
+        }
+        next.n = 0;
+        canon_ctx c = { .h = h, .L = L, .gen = st_hier_stamp_begin(h), .changed = &next, .pos = cn->pos,
+                        .slot = nb ? slot : NULL, .mask = mask };
+        if (kept.n) st_hier_emit(h, L, kept.d, kept.n, canon_sink, &c);
+        count += c.count;
+        extra = c.lost;
+        if (c.lost) st_dart_list_push_faces(&next, m, l, kept.d, kept.n);
+        /* Carried up where level L shows the level-l value; darts of map l
+         * are darts of map L, on the same vertices. */
+        for (uint32_t k = 0; k < chg.n; k++) {
+            uint32_t v = st_vert(m, chg.d[k], l);
+            if (!memcmp(st_pos(m, v, l), st_pos(m, v, L), 3 * sizeof(double))) st_dart_list_push(&next, chg.d[k]);
+        }
+        st_dart_list t = chg; chg = next; next = t;
+    }
+    free(slot);
+    st_dart_list_free(&chg);
+    st_dart_list_free(&next);
+    st_dart_list_free(&seeds);
+    st_dart_list_free(&faces);
+    st_dart_list_free(&kept);
+    return count;
+}

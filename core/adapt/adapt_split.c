@@ -123,6 +123,7 @@ static int split_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, 
     }
     st_adapt_place_ctx c = { a, L, created, ncreated };
     st_hier_emit(h, L, &d, 1, st_adapt_place_sink, &c);
+    st_adapt_canon_record(a, d, i, 0);
     a->touched++;
     return ST_OK;
 }
@@ -351,6 +352,7 @@ static int split_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     /* Corners no longer on a face of level L fall back to their level-i
      * position (their level-L detail stays for a later refinement)... */
     for (uint32_t k = 0; k < o.n; k++) st_adapt_corner_fallback(a, o.d[k], i);
+    st_adapt_canon_record(a, d, i, 1);
     a->touched++;
     return ST_OK;
 }

@@ -182,6 +182,10 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
         a->grid = p->has_box ? st_adapt_grid_build(m, &a->base_faces, ops->cell_bbox) : NULL;
     }
     a->touched = 0;
+    /* (what the polygon split family's passes change, for the canonical
+     * pass at the end) */
+    st_adapt_canon canon = { .restricted = restricted };
+    a->canon = ops == &st_adapt_ops_quads || ops == &st_adapt_ops_triangles || ops == &st_adapt_ops_quadtri ? &canon : NULL;
     int rc = ST_OK;
     /* Algorithm 5: refine, coarse to fine; again while the restriction
      * forced faces at levels already passed. */
@@ -222,6 +226,11 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
             rc = ops->simplify(a, d, i, err);
         }
     }
+    /* Positions as a full synthesis from the base level gives them
+     * (adapt_resynth.c, "after an update"). */
+    if (!rc && a->canon) (void)st_adapt_canon_update(a);
+    a->canon = NULL;
+    st_adapt_canon_free(&canon);
     if (lists)
         for (unsigned i = 0; i < 2 * nl; i++) st_dart_list_free(&lists[i]);
     free(lists);

@@ -4,7 +4,9 @@
  * synthesis bit for bit and changes only the edited vertices at its level
  * and below; a coarse edit carries the HD detail; keep_above keeps the
  * sculpted faces refined when the box leaves; which vertices are editable;
- * the per-level counts. */
+ * the per-level counts; box updates (incremental, simplifying, forced by
+ * the restriction) equal a full synthesis from the base bit for bit, for
+ * Catmull-Clark, Loop and Butterfly. */
 #include "adapt_testlib.h"
 #include "core/adapt/adapt_internal.h" /* st_adapt_faces_of_level */
 #include "core/io/session.h"
@@ -32,12 +34,8 @@ static void fixture_init(fixture *f)
     f->box = at_box(1, 1, 1, 0.35, N, TOP);
     CHECKF(st_adapt_update(&f->a, &f->box, &err) == ST_OK, "%s", err.msg);
     CHECK(f->h.map.top == TOP);
-    /* The update placed each new vertex with the stencil of the face it
-     * was subdividing, which for a vertex shared with a face subdivided
-     * later may differ in the last bit from the canonical one a synthesis
-     * takes (adapt_resynth.c); the checks below compare edits against full
-     * syntheses, so they start from one. */
-    st_adapt_synthesize(&f->a, N);
+    /* (the update leaves every position as a full synthesis gives it: the
+     * checks below compare edits against full syntheses) */
 }
 
 static void fixture_free(fixture *f)
@@ -334,8 +332,172 @@ static void check_hd_levels(fixture *f)
     }
 }
 
+
+/* g: positions after st_adapt_update equal a full adaptive synthesis from
+ * the base level bit for bit (adapt_resynth.c, "updates"): a hierarchy of
+ * UNI uniform levels with random details, made canonical once (the
+ * uniform synthesis is not the adaptive one), then a box update, random
+ * details at every level (made canonical again), box moves (incremental
+ * updates: regions refined, re-refined with their kept details,
+ * simplified), a small far box where the restriction forces coarser
+ * neighbours, and the first box again.  After each, a session copy is
+ * synthesised from base and compared, every position of every level. */
+typedef struct canon_case {
+    const char *name;
+    st_scheme_id id;
+    void (*make)(st_mesh *);
+    unsigned base, max;
+    double c[3], r, far[3];
+    int no_restriction;       /* the one-level restriction off (the pass then counts every vertex of a
+                                 face the update touched as moved) */
+} canon_case;
+
+enum { UNI = 2 };
+
+static void set_random_details(st_hier *h, unsigned from, uint64_t *rng, double scale)
+{
+    for (unsigned l = from + 1; l <= h->map.top; l++) {
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&h->map, l, &it); v != ST_NIL; v = st_vertex_next(&h->map, l, &it)) {
+            double d[3];
+            for (int i = 0; i < 3; i++) d[i] = scale * ((double)(tl_rand(rng) % 2001) / 1000.0 - 1.0);
+            st_hier_set_detail(h, l, v, d);
+        }
+    }
+}
+
+/* Faces the restriction subdivided: subdivided faces of level l whose own
+ * criteria want no more than l. */
+static uint32_t forced_faces(st_map *m, const st_adapt_params *p)
+{
+    uint32_t n = 0;
+    st_dart_list faces = { 0 };
+    for (unsigned l = p->base_level; l < m->top; l++) {
+        st_adapt_faces_of_level(m, l, &faces);
+        for (uint32_t k = 0; k < faces.n; k++)
+            if (st_face_is_subdivided(m, faces.d[k], l) && st_adapt_wanted_level(m, faces.d[k], l, p) <= l) n++;
+    }
+    st_dart_list_free(&faces);
+    return n;
+}
+
+static int canon_same(const canon_case *cc, st_hier *h, st_adapt *a, const st_adapt_params *box, const char *step)
+{
+    st_session_ref r = { .h = h, .adapt = a, .box = box, .box_on = 1, .whole_map = 1, .display_level = h->map.top };
+    void *bytes;
+    size_t n;
+    st_error err;
+    if (st_session_write_mem(&r, &bytes, &n, &err) != ST_OK) { CHECKF(0, "%s", err.msg); return 0; }
+    st_session s;
+    st_session_init(&s);
+    int rc = st_session_parse("canon.strata", bytes, n, &s, &err);
+    free(bytes);
+    CHECKF(rc == ST_OK && s.has_adapt, "%s", rc ? err.msg : "no adaptive state");
+    if (rc || !s.has_adapt) return 0;
+    int same = same_positions(h, &s.h);
+    CHECKF(same, "%s, %s: the session copy differs", cc->name, step);
+    st_adapt_synthesize(&s.adapt, cc->base);
+    same = same && same_positions(h, &s.h);
+    CHECKF(same, "%s, %s: the update differs from a full synthesis from level %u", cc->name, step, cc->base);
+    st_session_free(&s);
+    return same;
+}
+
+/* The position at level l of the vertex nearest to c (the boxes sit on
+ * the surface whatever the scheme's shrinkage); mid: the midpoint of the
+ * two nearest (off every vertex: a small box there is not symmetric about
+ * a vertex, so the restriction has work). */
+static void on_surface(st_map *m, unsigned l, const double c[3], int mid, double out[3])
+{
+    double best[2] = { INFINITY, INFINITY }, p[2][3] = { { 0 } };
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
+        double e = dist3(st_pos(m, v, l), c);
+        if (e < best[0]) {
+            best[1] = best[0];
+            memcpy(p[1], p[0], sizeof p[1]);
+            best[0] = e;
+            memcpy(p[0], st_pos(m, v, l), sizeof p[0]);
+        } else if (e < best[1]) {
+            best[1] = e;
+            memcpy(p[1], st_pos(m, v, l), sizeof p[1]);
+        }
+    }
+    for (int k = 0; k < 3; k++) out[k] = mid ? 0.5 * (p[0][k] + p[1][k]) : p[0][k];
+}
+
+static void check_update_canonical(const canon_case *cc)
+{
+    st_hier h;
+    st_adapt a;
+    st_error err;
+    uint64_t rng = 0x5eed0001u + cc->id;
+    tl_init_hier(&h, cc->make, cc->id, UNI);
+    set_random_details(&h, 0, &rng, 0.02);
+    CHECK(st_adapt_init(&a, &h, &err) == ST_OK);
+    st_adapt_synthesize(&a, 0);
+    double c[3], fc[3];
+    on_surface(&h.map, UNI, cc->c, 0, c);
+    on_surface(&h.map, UNI, cc->far, 1, fc);
+    st_adapt_params box = at_box(c[0], c[1], c[2], cc->r, cc->base, cc->max);
+    box.no_restriction = cc->no_restriction;
+    CHECKF(st_adapt_update(&a, &box, &err) == ST_OK, "%s", err.msg);
+    CHECKF(h.map.top == cc->max, "%s: top %u", cc->name, h.map.top);
+    canon_same(cc, &h, &a, &box, "first update");
+    /* Details at every level, then the moves start from a canonical state. */
+    set_random_details(&h, cc->base, &rng, 0.01);
+    st_adapt_synthesize(&a, cc->base);
+    CHECKF(st_adapt_update(&a, &box, &err) == ST_OK, "%s", err.msg);
+    unsigned moves = 0;
+    for (int i = 0; i < 6; i++) {
+        st_adapt_params p = box;
+        double step = (i % 3 == 2 ? -0.15 : 0.2) * cc->r;
+        for (int k = 0; k < 3; k++) {
+            p.box_lo[k] += step * (k + 1) * (i + 1) / 4;
+            p.box_hi[k] += step * (k + 1) * (i + 1) / 4;
+        }
+        CHECKF(st_adapt_update(&a, &p, &err) == ST_OK, "%s", err.msg);
+        at_valid(&h.map, cc->name);
+        char what[64];
+        snprintf(what, sizeof what, "box move %d (%llu faces touched)", i, (unsigned long long)a.touched);
+        moves += a.touched > 0;
+        canon_same(cc, &h, &a, &p, what);
+    }
+    CHECKF(moves >= 4, "%s: only %u box moves changed the map", cc->name, moves);
+    st_adapt_params far = at_box(fc[0], fc[1], fc[2], 0.1 * cc->r, cc->base, cc->max);
+    far.no_restriction = cc->no_restriction;
+    CHECKF(st_adapt_update(&a, &far, &err) == ST_OK, "%s", err.msg);
+    uint32_t forced = forced_faces(&h.map, &far);
+    CHECKF(forced > 0 || cc->no_restriction, "%s: the restriction forced no face", cc->name);
+    CHECK(cc->no_restriction || at_restriction_holds(&h.map));
+    canon_same(cc, &h, &a, &far, "far box (restriction)");
+    CHECKF(st_adapt_update(&a, &box, &err) == ST_OK, "%s", err.msg);
+    canon_same(cc, &h, &a, &box, "first box again");
+    printf("%s: base %u, max %u: %u faces forced by the far box\n", cc->name, cc->base,
+           cc->max, forced);
+    st_adapt_free(&a);
+    st_hier_free(&h);
+}
+
+static void check_updates_canonical(void)
+{
+    static const canon_case cases[] = {
+        { "catmull-clark cube", ST_SCHEME_CATMARK, tl_mesh_cube, UNI, UNI + 3, { 1, 1, 1 }, 0.35, { -1, -0.3, 0.2 }, 0 },
+        { "catmull-clark cube, base 0", ST_SCHEME_CATMARK, tl_mesh_cube, 0, 4, { 1, 0.5, 1 }, 0.4, { -1, -0.3, 0.2 }, 0 },
+        { "catmull-clark cube, no restriction", ST_SCHEME_CATMARK, tl_mesh_cube, UNI, UNI + 3, { 1, 1, 1 }, 0.35,
+          { -1, -0.3, 0.2 }, 1 },
+        { "loop octahedron, no restriction", ST_SCHEME_LOOP, tl_mesh_octa, 0, 4, { 0.4, 0.4, 0.3 }, 0.3,
+          { -0.4, -0.3, -0.3 }, 1 },
+        { "loop octahedron", ST_SCHEME_LOOP, tl_mesh_octa, UNI, UNI + 3, { 0.4, 0.4, 0.3 }, 0.3, { -0.4, -0.3, -0.3 }, 0 },
+        { "loop icosahedron, base 0", ST_SCHEME_LOOP, tl_mesh_icosa, 0, 4, { -0.9, 0.9, 0.9 }, 0.5, { 0.9, -0.9, -0.9 }, 0 },
+        { "butterfly icosahedron", ST_SCHEME_BUTTERFLY, tl_mesh_icosa, UNI, UNI + 3, { -0.9, 0.9, 0.9 }, 0.5, { 1.0, -1.3, -0.4 }, 0 },
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) check_update_canonical(&cases[k]);
+}
+
 int main(void)
 {
+    check_updates_canonical();
     fixture f;
     fixture_init(&f);
     check_editable(&f);

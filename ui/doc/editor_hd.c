@@ -18,7 +18,8 @@
  *   - Undo of an HD stroke keeps the level-L positions and details of the
  *     moved vertices only: writing them back and re-synthesising the levels
  *     above around them (st_hier_resynth_around) gives the same bits, since
- *     every position above an edited level is a synthesis (st_adapt_edit).
+ *     every position above an edited level is a synthesis (st_adapt_edit;
+ *     box updates leave one too, st_adapt_update).
  *   - Not at HD levels (refused with a message): the drag of a selection
  *     (the grab brush moves vertices there), mask painting, sculpt layers.
  *     Operations that rebuild the model's levels are refused while HD
