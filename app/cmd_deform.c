@@ -311,6 +311,7 @@ static int hd_deform(const st_cli_opts *o, st_session *s, unsigned l, const st_a
     /* Sculpted faces never coarsen, whatever the box (a loaded session sets
      * it too; a new hierarchy starts at 0). */
     s->hd_adapt.keep_above = N;
+    s->hd_adapt.exact = 1;
     if (!rc) rc = st_adapt_update(&s->hd_adapt, &p, &err);
     if (rc) { fprintf(stderr, "strata deform: %s: HD levels: %s\n", o->in, err.msg); return 1; }
     uint32_t n = 0, *darts;

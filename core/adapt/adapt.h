@@ -149,6 +149,12 @@ typedef struct st_adapt {
     unsigned keep_above;     /* 0: off; else no face is simplified that would drop a non-zero detail
                                 of a level > keep_above (sculpted HD detail; see "HD levels" below).
                                 Polygon split family only; st_adapt_init sets 0; not saved by sessions */
+    int exact;               /* 1: every update ends with the canonical pass (adapt_resynth.c, "after an
+                                update"), so that positions stay what st_adapt_synthesize(a, base) gives
+                                bit for bit, as HD edits need (their local edits are compared with a
+                                full re-synthesis); it costs box moves 10 to 85 % (bench_adapt,
+                                bench_hd).  Only from a state that already is a full synthesis.
+                                Polygon split family only; st_adapt_init sets 0; not saved */
 } st_adapt;
 
 /* Selective display of a progressive hierarchy (see "Progressive hierarchies"

@@ -185,7 +185,8 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
     /* (what the polygon split family's passes change, for the canonical
      * pass at the end) */
     st_adapt_canon canon = { .restricted = restricted };
-    a->canon = ops == &st_adapt_ops_quads || ops == &st_adapt_ops_triangles || ops == &st_adapt_ops_quadtri ? &canon : NULL;
+    a->canon = a->exact && (ops == &st_adapt_ops_quads || ops == &st_adapt_ops_triangles || ops == &st_adapt_ops_quadtri)
+                   ? &canon : NULL;
     int rc = ST_OK;
     /* Algorithm 5: refine, coarse to fine; again while the restriction
      * forced faces at levels already passed. */

@@ -777,6 +777,7 @@ static int r_hd(load_ctx *c, st_br *r)
     /* keep_above is not stored: sculpted HD faces must never coarsen after
      * a load, whatever the next update's box says. */
     s->hd_adapt.keep_above = from;
+    s->hd_adapt.exact = 1; /* saved from an exact state (adapt.h): updates keep it */
     st_session_free(in);
     free(in);
     r->off = r->size;
