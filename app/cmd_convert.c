@@ -247,7 +247,10 @@ static int hd_uniform_level(st_session *s, unsigned l, st_error *err)
     st_adapt_params p = { .base_level = l, .max_level = l };
     char what[96];
     snprintf(what, sizeof what, "HD level %u everywhere", l);
-    if (st_mem_check(st_adapt_estimate_bytes(&s->hd, &p), what, err)) return -1;
+    /* (from the model, whose level 0 is the HD hierarchy's: the estimate
+     * counts the regular levels a hierarchy lacks above its top, and the
+     * HD hierarchy's top already is l, so from it the estimate was 0) */
+    if (st_mem_check(st_adapt_estimate_bytes(&s->h, &p), what, err)) return -1;
     if (st_adapt_update(&s->hd_adapt, &p, err)) return -1;
     st_adapt_synthesize(&s->hd_adapt, s->hd_from);
     return 0;

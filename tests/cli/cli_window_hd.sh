@@ -40,5 +40,10 @@ if grep -q "baked level 8 onto level 0" "$TMP/log" && [ -s "$TMP/hd_normal.png" 
 else bad "the window's bake did not read HD level 8: $(grep -i bake "$TMP/log" | tail -2)"; fi
 if [ -s "$TMP/hd_saved.strata" ] && "$EXE" info "$TMP/hd_saved.strata" 2>&1 | grep -q "HD hierarchy"; then ok
 else bad "the saved session lists no HD levels: $("$EXE" info "$TMP/hd_saved.strata" 2>&1 | tail -3)"; fi
+# HD level 8 made uniform on spot: about 3 GB; refused under a 64 MiB budget
+# before anything is allocated (the estimate was 0 from the HD hierarchy).
+out=$(timeout 60 "$EXE" convert "$TMP/hd_saved.strata" "$TMP/l8.obj" --level 8 --mem-budget 64 2>&1); rc=$?
+if [ "$rc" = 1 ] && echo "$out" | grep -q "HD level 8 everywhere needs about" && [ ! -e "$TMP/l8.obj" ]; then ok
+else bad "convert --level 8 --mem-budget 64 not refused (rc $rc): $out"; fi
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
