@@ -6,6 +6,7 @@
  *   - a draw stroke at HD level 5 moves the display, never the model, and
  *     equals a full adaptive re-synthesis bit for bit;
  *   - undo and redo give back the display's values bit for bit;
+ *   - a stroke at a lower HD level carries the detail of a finer one;
  *   - the box moved away, and then off: the sculpted faces stay refined,
  *     the others coarsen, the display stays shown;
  *   - a coarse stroke at level 1 carries the HD detail (the display still
@@ -155,6 +156,27 @@ int main(void)
     CHECK(ed_test_same_values(&d.display.hier, disp0, nd0));
     CHECK(st_doc_redo(&d, &err) == 0);
     CHECK(ed_test_same_values(&d.display.hier, disp1, nd1));
+
+    /* A stroke at HD level 6, then one at the lower HD level 5 over it: the
+     * level-6 detail is carried along (the fine vertex moves, the display
+     * stays a full re-synthesis); two undos give the state before both. */
+    st_doc_set_edit_level(&d, 6);
+    CHECK(d.hd_level == 6);
+    uint32_t fdart = ST_NIL, fv = hd_middle_vertex(&d, 6, &fdart);
+    CHECK(fv != ST_NIL);
+    double fc[3], fine[3];
+    memcpy(fc, st_pos(&d.display.hier.map, fv, 6), sizeof fc);
+    stroke_at(&d, ST_BRUSH_DRAW, fc, 0.05, 0.5);
+    memcpy(fine, st_pos(&d.display.hier.map, fv, 6), sizeof fine);
+    CHECK(ed_test_dist3(fine, fc) > 1e-6);
+    CHECK(display_is_synthesis(&d, N));
+    st_doc_set_edit_level(&d, 5);
+    stroke_at(&d, ST_BRUSH_GRAB, fc, 0.3, 1.0);
+    CHECK(ed_test_dist3(st_pos(&d.display.hier.map, fv, 6), fine) > 1e-3);
+    CHECK(display_is_synthesis(&d, N));
+    CHECK(st_doc_undo(&d, &err) == 0 && st_doc_undo(&d, &err) == 0);
+    CHECK(ed_test_same_values(&d.display.hier, disp1, nd1));
+    st_doc_set_edit_level(&d, L);
 
     /* The box moves to the opposite corner: the sculpted faces stay. */
     double sculpted[3];
