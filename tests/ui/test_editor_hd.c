@@ -7,6 +7,8 @@
  *     equals a full adaptive re-synthesis bit for bit;
  *   - undo and redo give back the display's values bit for bit;
  *   - a stroke at a lower HD level carries the detail of a finer one;
+ *   - the mask brush at an HD level paints the model's top, which the HD
+ *     strokes then respect;
  *   - the box moved away, and then off: the sculpted faces stay refined,
  *     the others coarsen, the display stays shown;
  *   - a coarse stroke at level 1 carries the HD detail (the display still
@@ -177,6 +179,28 @@ int main(void)
     CHECK(st_doc_undo(&d, &err) == 0 && st_doc_undo(&d, &err) == 0);
     CHECK(ed_test_same_values(&d.display.hier, disp1, nd1));
     st_doc_set_edit_level(&d, L);
+
+    /* The mask brush at an HD level paints the model's top; the HD level
+     * takes its subdivision: a draw stroke over the mask moves less. */
+    {
+        double p0[3], moved[2];
+        memcpy(p0, st_pos(&d.display.hier.map, hv, L), sizeof p0);
+        d.brush.radius = 0.6;
+        d.brush.strength = 1;
+        CHECK(st_doc_mask_stroke_begin(&d, 0) == 0);
+        for (int k = 0; k < 3; k++) CHECK(st_doc_mask_stroke_dab(&d, c) == 0);
+        st_doc_mask_stroke_end(&d);
+        CHECK(st_mask_any(&d.mask));
+        CHECK(d.hd_level == L);
+        for (int pass = 0; pass < 2; pass++) {
+            stroke_at(&d, ST_BRUSH_DRAW, c, 0.15, 1.0);
+            moved[pass] = ed_test_dist3(st_pos(&d.display.hier.map, hv, L), p0);
+            CHECK(st_doc_undo(&d, &err) == 0);
+            if (!pass) CHECK(st_doc_undo(&d, &err) == 0 && !st_mask_any(&d.mask)); /* the mask goes */
+        }
+        CHECKF(moved[0] < 0.5 * moved[1], "masked %g, free %g", moved[0], moved[1]);
+        CHECK(ed_test_same_values(&d.display.hier, disp1, nd1));
+    }
 
     /* The box moves to the opposite corner: the sculpted faces stay. */
     double sculpted[3];

@@ -172,12 +172,10 @@ int ed_stroke_begin(st_doc *d, int moves_geometry)
     if (!(d->brush.radius > 0) || d->brush.tool < 0 || d->brush.tool >= ST_BRUSH_COUNT) return -1;
     struct st_brush_state *bs = brush_state(d);
     unsigned l = d->edit_level;
-    if (d->hd_level && !moves_geometry) {
-        snprintf(d->note, sizeof d->note, "the mask is painted at the model's levels (0..%u), not at HD levels",
-                 d->h.map.top);
-        return -1;
-    }
-    if (d->hd_level) {
+    /* At an HD level the mask brush paints the model's top (edit_level
+     * stays there): the HD levels take its subdivision (hd_mask_build). */
+    int hd = d->hd_level && moves_geometry;
+    if (hd) {
         /* An HD level: the box's display is sculpted (editor_hd.c). */
         if (ed_hd_stroke_begin(d)) return -1;
         l = d->hd_level;
@@ -188,7 +186,7 @@ int ed_stroke_begin(st_doc *d, int moves_geometry)
     sculpt_brush(&d->brush, &b);
     st_sculpt_stroke st = { 0 };
     st.level = l;
-    if (d->hd_level) {
+    if (hd) {
         /* At an HD level the brush radius is the reach: the level's mean
          * edge is mostly the coarse faces' outside the HD region. */
         b.reach_edges = 0;
@@ -202,13 +200,13 @@ int ed_stroke_begin(st_doc *d, int moves_geometry)
          * the topology holds, which a stroke does not change). */
         st.vertex_darts = ed_vertex_darts(d, &st.nvertex_darts);
     }
-    st_sculpt_begin(bs->sc, d->hd_level ? &d->display.hier.map : &d->h.map, &b, &st);
+    st_sculpt_begin(bs->sc, hd ? &d->display.hier.map : &d->h.map, &b, &st);
     bs->path = 0;
     bs->ndabs = 0;
     bs->outk = 1;
     st_undo_step *s = ed_step_new(ED_STEP_EDIT);
     s->level = l;
-    s->hd = d->hd_level != 0;
+    s->hd = hd;
     d->pending = s;
     d->active = 2;
     return 0;

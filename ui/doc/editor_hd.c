@@ -18,10 +18,14 @@
  *   - Undo of an HD stroke keeps the level-L positions and details of the
  *     moved vertices only: writing them back and re-synthesising the levels
  *     above around them (st_hier_resynth_around) gives the same bits, since
- *     every position above an edited level is a synthesis (st_adapt_edit;
- *     box updates leave one too, st_adapt_update).
+ *     every position above an edited level is a synthesis (st_adapt_edit).
+ *     Where a box update placed a vertex there with another face's stencil
+ *     (st_adapt.exact is off here), the undo gives the synthesis' bits,
+ *     which may differ in the last bit from the update's.
+ *   - The mask brush at an HD level paints the model's top level (the
+ *     editing level stays there); the HD levels take its subdivision.
  *   - Not at HD levels (refused with a message): the drag of a selection
- *     (the grab brush moves vertices there), mask painting, sculpt layers.
+ *     (the grab brush moves vertices there), sculpt layers.
  *     Operations that rebuild the model's levels are refused while HD
  *     detail exists; when the display is rebuilt anyway (undo past a level
  *     change, which first undoes every HD stroke after it), the HD state
