@@ -163,6 +163,25 @@ typedef struct resynth_ctx {
     uint64_t count;          /* positions written */
 } resynth_ctx;
 
+
+/* The level-L position of s's fine vertex as its canonical face's stencil
+ * gives it (canonical: 0, s's own), st_stencil_apply's sum: the face that
+ * emitted s may not be the canonical one at a region's edge, and then one
+ * emission of the canonical face finds the vertex's stencil there. */
+static void canonical_apply(st_hier *h, unsigned L, const st_stencil *s, int canonical, double p[3])
+{
+    uint32_t canon = canonical ? canonical_face(&h->map, s, L) : ST_NIL;
+    if (canon != ST_NIL && canon != face_min(&h->map, s->frame_dart, L - 1)) {
+        capture_ctx cap = { .h = h, .L = L, .v = s->fine, .apply = 1 };
+        st_hier_emit(h, L, &canon, 1, capture_sink, &cap);
+        if (cap.found) {
+            memcpy(p, cap.p, 3 * sizeof *p);
+            return;
+        }
+    }
+    st_stencil_apply(h, L, s, p);
+}
+
 /* Applies stencil s at level L unless its fine vertex was already written
  * in this pass (stamp gen); st_set_pos writes the level's column as
  * st_adapt_synthesize does. */
@@ -173,15 +192,7 @@ static void resynth_sink(void *ctx, const st_stencil *s)
     if (h->stamp.v[s->fine] == c->gen) return;
     h->stamp.v[s->fine] = c->gen;
     double p[3];
-    uint32_t canon = c->canonical ? canonical_face(&h->map, s, c->L) : ST_NIL;
-    if (canon != ST_NIL && canon != face_min(&h->map, s->frame_dart, c->L - 1)) {
-        /* (an emission of one face, for the few vertices at the region's edge) */
-        capture_ctx cap = { .h = h, .L = c->L, .v = s->fine, .apply = 1 };
-        st_hier_emit(h, c->L, &canon, 1, capture_sink, &cap);
-        if (cap.found) memcpy(p, cap.p, sizeof p);
-        else st_stencil_apply(h, c->L, s, p);
-    } else
-        st_stencil_apply(h, c->L, s, p);
+    canonical_apply(h, c->L, s, c->canonical, p);
     st_set_pos(&h->map, s->fine, c->L, p);
     c->count++;
     if (c->fp) st_footprint_add(c->fp, st_fp_key(c->L, ST_FP_POS, s->fine));
@@ -350,14 +361,7 @@ static void canon_sink(void *ctx, const st_stencil *s)
     if (h->stamp.v[s->fine] == c->gen) return;
     h->stamp.v[s->fine] = c->gen;
     double p[3];
-    uint32_t canon = canonical_face(m, s, c->L);
-    if (canon != ST_NIL && canon != face_min(m, s->frame_dart, c->L - 1)) {
-        capture_ctx cap = { .h = h, .L = c->L, .v = s->fine, .apply = 1 };
-        st_hier_emit(h, c->L, &canon, 1, capture_sink, &cap);
-        if (cap.found) memcpy(p, cap.p, sizeof p);
-        else st_stencil_apply(h, c->L, s, p);
-    } else
-        st_stencil_apply(h, c->L, s, p);
+    canonical_apply(h, c->L, s, 1, p);
     const double *cur = st_pos(m, s->fine, c->L);
     const st_adapt_canon_pos *b = find_before(c, s->fine);
     int differs = b ? !b->created && memcmp(b->p, p, sizeof p) : memcmp(cur, p, sizeof p);

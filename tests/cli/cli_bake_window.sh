@@ -14,14 +14,8 @@
 # Needs node and gltf-validator (scripts/setup_node.sh) and xvfb-run.
 #   cli_bake_window.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 set -u
-if [ -z "${DISPLAY:-}" ] && [ -z "${STRATA_CLI_WINDOW_XVFB:-}" ]; then
-    if command -v xvfb-run >/dev/null 2>&1; then
-        export STRATA_CLI_WINDOW_XVFB=1
-        exec xvfb-run -a -n $((100 + RANDOM % 800)) -s "-screen 0 1280x800x24" bash "$0" "$@"
-    fi
-    echo "FAIL: no \$DISPLAY and no xvfb-run: the window cannot be tested (install xvfb)"
-    exit 1
-fi
+. "$(dirname "$0")/window_lib.sh"
+need_display "$0" "$@"
 abs() { (cd "$(dirname "$1")" && printf '%s/%s' "$(pwd)" "$(basename "$1")"); }
 EXE=$(abs "$1") MESHES=$(abs "$2") ASSETS=$(abs "$3") BIN=$(abs "$4")
 R="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"

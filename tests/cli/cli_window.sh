@@ -16,17 +16,8 @@
 # references: STRATA_UPDATE_REFS=1 bash tests/cli/cli_window.sh ... (copies the
 # screenshots into tests/window_ref/).
 set -u
-if [ -z "${DISPLAY:-}" ] && [ -z "${STRATA_CLI_WINDOW_XVFB:-}" ]; then
-    if command -v xvfb-run >/dev/null 2>&1; then
-        export STRATA_CLI_WINDOW_XVFB=1
-        # -n: a random first display number, so that window tests started
-        # at once (ctest -j2, other builds) do not race for :99 (xvfb-run -a
-        # looks for a free number, then starts the server: two can pick one).
-        exec xvfb-run -a -n $((100 + RANDOM % 800)) -s "-screen 0 1280x800x24" bash "$0" "$@"
-    fi
-    echo "FAIL: no \$DISPLAY and no xvfb-run: the window cannot be tested (install xvfb)"
-    exit 1
-fi
+. "$(dirname "$0")/window_lib.sh"
+need_display "$0" "$@"
 EXE=$1 MESHES=$2 ASSETS=$3 BIN=$4
 abs() { (cd "$(dirname "$1")" && printf '%s/%s' "$(pwd)" "$(basename "$1")"); }
 EXE=$(abs "$EXE") ASSETS=$(abs "$ASSETS") BIN=$(abs "$BIN") MESHES=$(abs "$MESHES")

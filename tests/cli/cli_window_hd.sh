@@ -8,14 +8,8 @@
 #
 #   cli_window_hd.sh STRATA_EXE SHARED_MESH_DIR ASSETS_DIR BINARY_TEST_DIR
 set -u
-if [ -z "${DISPLAY:-}" ] && [ -z "${STRATA_CLI_WINDOW_XVFB:-}" ]; then
-    if command -v xvfb-run >/dev/null 2>&1; then
-        export STRATA_CLI_WINDOW_XVFB=1
-        exec xvfb-run -a -n $((100 + RANDOM % 800)) -s "-screen 0 1280x800x24" bash "$0" "$@"
-    fi
-    echo "FAIL: no \$DISPLAY and no xvfb-run: the window cannot be tested (install xvfb)"
-    exit 1
-fi
+. "$(dirname "$0")/window_lib.sh"
+need_display "$0" "$@"
 EXE=$1 MESHES=$2 ASSETS=$3
 SPOT="$MESHES/catmull_clark/spot_quadrangulated.obj"
 [ -f "$SPOT" ] || { echo "skipped: $SPOT is missing"; exit 77; }

@@ -51,14 +51,6 @@ static void build(st_hier *h, void (*make)(st_mesh *), st_scheme_id id, unsigned
     st_mesh_free(&s);
 }
 
-static void *write_mem(const st_session_ref *r, size_t *n)
-{
-    void *data = NULL;
-    st_error err;
-    int rc = st_session_write_mem(r, &data, n, &err);
-    CHECKF(rc == ST_OK, "%s", err.msg);
-    return data;
-}
 
 static int snaps_equal(const st_hier *a, const st_hier *b)
 {
@@ -109,7 +101,7 @@ static st_adapt_params box_at(double x, unsigned max)
 static void round_trip(const char *what, const st_session_ref *r, st_session *out, void **bytes, size_t *nbytes)
 {
     size_t n1, n2;
-    void *b1 = write_mem(r, &n1);
+    void *b1 = tl_session_bytes(r, &n1);
     st_error err;
     st_session_init(out);
     int rc = st_session_parse("mem.strata", b1, n1, out, &err);
@@ -117,7 +109,7 @@ static void round_trip(const char *what, const st_session_ref *r, st_session *ou
     if (rc) { free(b1); *bytes = NULL; return; }
     CHECKF(st_map_validate(&out->h.map, &err) == ST_OK, "%s: %s", what, err.msg);
     st_session_ref r2 = st_session_ref_of(out);
-    void *b2 = write_mem(&r2, &n2);
+    void *b2 = tl_session_bytes(&r2, &n2);
     CHECKF(n1 == n2 && !memcmp(b1, b2, n1), "%s: load -> save differs (%zu vs %zu bytes)", what, n1, n2);
     CHECKF(snaps_equal(r->h, &out->h), "%s: positions differ after loading", what);
     CHECK(out->h.scheme == r->h->scheme);
@@ -148,7 +140,7 @@ static int has_chunk(const unsigned char *b, size_t n, const char tag[4])
 static void check_compact_form(const char *what, const st_session_ref *r, int compact)
 {
     size_t n1, nw1, nw2;
-    unsigned char *b1 = write_mem(r, &n1);
+    unsigned char *b1 = tl_session_bytes(r, &n1);
     CHECKF(has_chunk(b1, n1, "LVL0") == compact && has_chunk(b1, n1, "MAP ") == !compact,
            "%s: saved %s", what, compact ? "whole, not compact" : "compact, but it cannot be regenerated");
     st_session s;
@@ -158,7 +150,7 @@ static void check_compact_form(const char *what, const st_session_ref *r, int co
     if (!rc) {
         st_session_ref w1 = *r, w2 = st_session_ref_of(&s);
         w1.whole_map = w2.whole_map = 1;
-        void *a = write_mem(&w1, &nw1), *b = write_mem(&w2, &nw2);
+        void *a = tl_session_bytes(&w1, &nw1), *b = tl_session_bytes(&w2, &nw2);
         CHECKF(nw1 == nw2 && !memcmp(a, b, nw1), "%s: the regenerated levels differ from the saved ones", what);
         CHECKF(!compact || nw1 > n1, "%s: compact %zu bytes, whole %zu", what, n1, nw1);
         CHECKF(st_hier_regenerable(&s.h) == compact, "%s: regenerable after loading: %d", what, st_hier_regenerable(&s.h));
@@ -286,7 +278,7 @@ static void check_adaptive(st_scheme_id id, void (*make)(st_mesh *))
     st_session_ref r2 = st_session_ref_of(&s);
     r2.box = &p;
     size_t n1, n2;
-    void *x1 = write_mem(&r1, &n1), *x2 = write_mem(&r2, &n2);
+    void *x1 = tl_session_bytes(&r1, &n1), *x2 = tl_session_bytes(&r2, &n2);
     CHECKF(n1 == n2 && !memcmp(x1, x2, n1), "%s: sessions differ after the same box moves", what);
     free(x1);
     free(x2);
@@ -303,7 +295,7 @@ static void check_damage(void)
     build(&h, tl_mesh_cube, ST_SCHEME_CATMARK, 1, NULL);
     st_session_ref r = { .h = &h, .display_level = 1 };
     size_t n;
-    unsigned char *b = write_mem(&r, &n);
+    unsigned char *b = tl_session_bytes(&r, &n);
     st_session s;
     st_error err;
     int refused = 0, named = 0, total = 0;
@@ -356,7 +348,7 @@ static void check_crafted(st_scheme_id id, void (*make)(st_mesh *), int adaptive
     }
     st_session_ref r = { .h = &h, .adapt = adaptive ? &a : NULL, .box = &p, .box_on = adaptive };
     size_t n;
-    unsigned char *b = write_mem(&r, &n);
+    unsigned char *b = tl_session_bytes(&r, &n);
     unsigned char *c = malloc(n);
     uint64_t rng = 4242 + id;
     int accepted = 0;
@@ -509,7 +501,7 @@ static void check_non_finite(void)
     CHECKF(strstr(err.msg, "details") != NULL, "%s", err.msg);
     h.detail[1][0] = 1e300;
     size_t nb = 0;
-    void *bytes = write_mem(&r, &nb);
+    void *bytes = tl_session_bytes(&r, &nb);
     st_session s;
     CHECKF(st_session_parse("large.strata", bytes, nb, &s, &err) == ST_OK, "%s", err.msg);
     CHECK(s.h.detail[1] && s.h.detail[1][0] == 1e300);
@@ -671,7 +663,7 @@ static void check_old_versions(void)
         if (rc) { free(old); continue; }
         st_session_ref ra = st_session_ref_of(&a);
         size_t n1, n2;
-        void *b1 = write_mem(&ra, &n1);
+        void *b1 = tl_session_bytes(&ra, &n1);
         CHECKF(b1 && ((unsigned char *)b1)[8] == ST_SESSION_VERSION, "%s: saved as version %u", names[k],
                b1 ? ((unsigned char *)b1)[8] : 0);
         CHECKF(b1 && st_session_parse("v3.strata", b1, n1, &b, &err) == ST_OK, "%s: %s", names[k], err.msg);
@@ -679,7 +671,7 @@ static void check_old_versions(void)
         CHECKF(maps_equal(&a.h.map, &b.h.map), "%s: the map differs after version 3", names[k]);
         CHECKF(snaps_equal(&a.h, &b.h), "%s: positions differ after version 3", names[k]);
         st_session_ref rb = st_session_ref_of(&b);
-        void *b2 = write_mem(&rb, &n2);
+        void *b2 = tl_session_bytes(&rb, &n2);
         CHECKF(n1 == n2 && !memcmp(b1, b2, n1), "%s: version 3 load -> save differs", names[k]);
         CHECKF(n1 < nold, "%s: version 3 is %zu bytes, version %u was %zu", names[k], n1, old[8], nold);
         printf("%s: version %u %zu bytes -> version 3 %zu bytes (%.2fx)\n", names[k], old[8], nold, n1, (double)n1 / nold);

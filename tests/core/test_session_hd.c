@@ -28,14 +28,6 @@ typedef struct hd_doc {
     st_session copy;   /* the HD hierarchy: copy.h, its adaptive state copy.adapt */
 } hd_doc;
 
-static void *write_mem(const st_session_ref *r, size_t *n)
-{
-    void *data = NULL;
-    st_error err;
-    int rc = st_session_write_mem(r, &data, n, &err);
-    CHECKF(rc == ST_OK, "%s", err.msg);
-    return data;
-}
 
 /* The model: make() refined by `scheme` to `levels`. */
 static int build_model(st_hier *h, void (*make)(st_mesh *), st_scheme_id id, unsigned levels)
@@ -59,7 +51,7 @@ static int copy_hier(const st_hier *h, st_session *out)
 {
     st_session_ref r = { .h = h, .whole_map = 1 };
     size_t n = 0;
-    void *b = write_mem(&r, &n);
+    void *b = tl_session_bytes(&r, &n);
     st_error err;
     int rc = b ? st_session_parse("copy", b, n, out, &err) : -1;
     CHECKF(rc == ST_OK, "copy: %s", b ? err.msg : "not written");
@@ -219,7 +211,7 @@ static void check_round_trip(const char *label, hd_doc *d)
 {
     st_session_ref r = ref_of(d, 1), r0 = ref_of(d, 0);
     size_t n = 0, n0 = 0, n2 = 0;
-    unsigned char *b = write_mem(&r, &n), *b0 = write_mem(&r0, &n0);
+    unsigned char *b = tl_session_bytes(&r, &n), *b0 = tl_session_bytes(&r0, &n0);
     if (!b || !b0) { free(b); free(b0); return; }
     printf("%s: %zu bytes, %zu without HD\n", label, n, n0);
     st_session s;
@@ -240,7 +232,7 @@ static void check_round_trip(const char *label, hd_doc *d)
         CHECK(moved.has_hd && moved.hd_adapt.h == &moved.hd && !s.has_hd);
         st_session_ref r2 = st_session_ref_of(&moved);
         CHECK(r2.hd == &moved.hd && r2.hd_adapt == &moved.hd_adapt && r2.hd_from == moved.hd_from);
-        unsigned char *b2 = write_mem(&r2, &n2);
+        unsigned char *b2 = tl_session_bytes(&r2, &n2);
         CHECKF(b2 && n2 == n && !memcmp(b, b2, n), "%s: save -> load -> save changed the bytes", label);
         free(b2);
         /* The adaptive hierarchy loaded works: one more update and its mesh. */
@@ -325,7 +317,7 @@ static void check_damage(void)
     if (make_hd(&d, tl_mesh_cube, 2, 4, lo, hi)) return;
     st_session_ref r = ref_of(&d, 1), r0 = ref_of(&d, 0);
     size_t n = 0, n0 = 0, nc = 0;
-    unsigned char *b = write_mem(&r, &n), *b0 = write_mem(&r0, &n0);
+    unsigned char *b = tl_session_bytes(&r, &n), *b0 = tl_session_bytes(&r0, &n0);
     uint64_t len = 0;
     size_t off = b ? chunk_at(b, n, "hdlv", &len) : 0;
     CHECK(off > 0);
@@ -349,7 +341,7 @@ static void check_damage(void)
     /* Foreign images spliced in as a writer would (it refuses to make them). */
     st_session_ref hr = { .h = &d.copy.h, .adapt = &d.copy.adapt, .whole_map = 1 };
     size_t ni = 0;
-    unsigned char *img = write_mem(&hr, &ni);
+    unsigned char *img = tl_session_bytes(&hr, &ni);
     c = splice_hd(b0, n0, 1, img, ni, &nc);
     check_refused("wrong hd_from", c, nc, "the model's top is 2");
     free(c);
@@ -363,7 +355,7 @@ static void check_damage(void)
     free(c);
     free(img);
     hr.adapt = NULL;
-    img = write_mem(&hr, &ni);
+    img = tl_session_bytes(&hr, &ni);
     c = splice_hd(b0, n0, 2, img, ni, &nc);
     check_refused("no adaptive state", c, nc, "no adaptive state");
     free(c);
@@ -375,7 +367,7 @@ static void check_damage(void)
     if (!build_model(&lh, tl_mesh_octa, ST_SCHEME_LOOP, 2)) {
         CHECK(st_adapt_init(&la, &lh, &err) == ST_OK);
         st_session_ref lr = { .h = &lh, .adapt = &la, .whole_map = 1 };
-        img = write_mem(&lr, &ni);
+        img = tl_session_bytes(&lr, &ni);
         c = splice_hd(b0, n0, 2, img, ni, &nc);
         check_refused("wrong scheme", c, nc, "its scheme is loop, the model's catmull-clark");
         free(c);
@@ -395,8 +387,8 @@ static void check_damage(void)
     if (!build_model(&other, tl_mesh_tetra, ST_SCHEME_CATMARK, 2)) {
         st_session_ref orf = { .h = &other, .display_level = 2 };
         size_t no = 0;
-        unsigned char *bo = write_mem(&orf, &no);
-        img = write_mem(&(st_session_ref){ .h = &d.copy.h, .adapt = &d.copy.adapt, .whole_map = 1 }, &ni);
+        unsigned char *bo = tl_session_bytes(&orf, &no);
+        img = tl_session_bytes(&(st_session_ref){ .h = &d.copy.h, .adapt = &d.copy.adapt, .whole_map = 1 }, &ni);
         c = splice_hd(bo, no, 2, img, ni, &nc);
         check_refused("another model", c, nc, "level 0 has");
         free(c);

@@ -389,6 +389,15 @@ void tl_check_analysis(st_scheme_id id, void (*make)(st_mesh *), unsigned levels
     st_hier_free(&h);
 }
 
+void *tl_session_bytes(const st_session_ref *r, size_t *n)
+{
+    void *data = NULL;
+    st_error err;
+    int rc = st_session_write_mem(r, &data, n, &err);
+    CHECKF(rc == ST_OK, "%s", err.msg);
+    return data;
+}
+
 int tl_session_roundtrip(const st_session_ref *r, const char *name, st_session *s)
 {
     void *b1 = NULL, *b2 = NULL;

@@ -77,6 +77,8 @@ double tl_snap_maxdiff(const tl_posnap *a, const tl_posnap *b);
  * after a failed check (*s freed). */
 #include "core/io/session.h"
 int tl_session_roundtrip(const st_session_ref *r, const char *name, st_session *s);
+/* st_session_write_mem's bytes (a failed check when it fails: NULL). */
+void *tl_session_bytes(const st_session_ref *r, size_t *n);
 /* The same through files: saves r to path, loads it, saves the loaded
  * session to path2 and checks that the two files have the same bytes. */
 void tl_session_file_roundtrip(const st_session_ref *r, const char *path, const char *path2);
