@@ -38,6 +38,12 @@ static unsigned refresh_positions(st_renderer *r, const st_scene *s, const st_sc
         if (rc) refresh_all(r, s);
         return ST_SCENE_TOUCHED;
     }
+    if (!boxed && (c->bits & ST_SCENE_DISPLAY)) {
+        /* The cage is the display's own map (an HD level, ui/doc/editor_hd.c):
+         * what the display wrote refreshes both. */
+        if (st_renderer_refresh(r, ST_TARGET_MESHES, s->display, c->disp_footprint)) refresh_all(r, s);
+        return ST_SCENE_TOUCHED;
+    }
     if ((c->bits & ST_SCENE_POSITIONS) && c->nmoved) {
         if (st_renderer_refresh(r, ST_TARGET_MESHES, s->model, c->footprint)) {
             /* Out of memory for the incremental path: rebuild. */

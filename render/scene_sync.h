@@ -34,7 +34,7 @@ enum st_scene_change_bits {
     ST_SCENE_TOPOLOGY = 1,       /* levels, scheme, adaptive refinement */
     ST_SCENE_POSITIONS = 2,      /* vertices of the model moved: footprint */
     ST_SCENE_ALL_POSITIONS = 4,  /* everything moved */
-    ST_SCENE_DISPLAY = 8,        /* box on: the display's map moved too: disp_footprint */
+    ST_SCENE_DISPLAY = 8,        /* box on: the display's map moved too: disp_footprint (the cage too when it is the display's, an HD level) */
     ST_SCENE_PATCH = 16          /* the box moved, the display's map changed in place: patch */
 };
 typedef struct st_scene_change {

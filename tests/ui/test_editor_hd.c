@@ -9,6 +9,8 @@
  *   - a stroke at a lower HD level carries the detail of a finer one;
  *   - the mask brush at an HD level paints the model's top, which the HD
  *     strokes then respect;
+ *   - a selected HD vertex is dragged where the drag puts it, undone bit
+ *     for bit; a vertex at the HD region's border cannot be selected;
  *   - the box moved away, and then off: the sculpted faces stay refined,
  *     the others coarsen, the display stays shown;
  *   - a coarse stroke at level 1 carries the HD detail (the display still
@@ -200,6 +202,39 @@ int main(void)
         }
         CHECKF(moved[0] < 0.5 * moved[1], "masked %g, free %g", moved[0], moved[1]);
         CHECK(ed_test_same_values(&d.display.hier, disp1, nd1));
+    }
+
+    /* A drag of a selected HD vertex: the selection holds display ids of
+     * the HD level; the vertex goes where the drag puts it (to rounding),
+     * the display stays a full re-synthesis, undo gives the bits back. */
+    {
+        st_doc_select(&d, &hv, 1, ST_SELECT_REPLACE);
+        CHECK(d.nsel == 1 && d.sel[0] == hv);
+        double p0[3], p1[3], q[3];
+        st_doc_vertex_pos(&d, hv, p0);
+        CHECK(!memcmp(p0, st_pos(&d.display.hier.map, hv, L), sizeof p0));
+        const double delta[3] = { 0.01, 0.02, -0.01 };
+        CHECK(st_doc_drag_begin(&d) == 0);
+        CHECK(st_doc_drag_update(&d, delta) == 0);
+        st_doc_drag_end(&d);
+        memcpy(p1, st_pos(&d.display.hier.map, hv, L), sizeof p1);
+        for (int k = 0; k < 3; k++) q[k] = p0[k] + delta[k];
+        CHECK(ed_test_dist3(p1, q) < 1e-12);
+        CHECK(ed_test_same_values(&d.h, model0, nm0)); /* the model did not move */
+        CHECK(display_is_synthesis(&d, N));
+        CHECK(st_doc_undo_name(&d) && !strcmp(st_doc_undo_name(&d), "move"));
+        CHECK(st_doc_undo(&d, &err) == 0);
+        CHECK(ed_test_same_values(&d.display.hier, disp1, nd1));
+        /* a vertex at the border of the HD region cannot be selected */
+        uint32_t border = ST_NIL;
+        st_dart_iter it;
+        st_map *dm = &d.display.hier.map;
+        for (uint32_t x = st_dart_first(dm, L, &it); x != ST_NIL && border == ST_NIL; x = st_dart_next(dm, L, &it))
+            if (!st_is_boundary(dm, x) && st_face_level(dm, x, L) == L && !st_adapt_vertex_editable(dm, x, L))
+                border = st_vert(dm, x, L);
+        CHECK(border != ST_NIL);
+        st_doc_select(&d, &border, 1, ST_SELECT_REPLACE);
+        CHECK(d.nsel == 0);
     }
 
     /* The box moves to the opposite corner: the sculpted faces stay. */

@@ -653,6 +653,7 @@ void st_doc_set_edit_level(st_doc *d, unsigned l)
     d->edit_level = l;
     d->hd_level = hd;
     d->nsel = 0;
+    ed_hd_tables(d);
     if (d->display_level < l) {
         d->display_level = l;
         display_changed(d);
@@ -680,6 +681,7 @@ static int cmp_u32(const void *a, const void *b)
 
 static int edit_vertex_ok(const st_doc *d, uint32_t v)
 {
+    if (d->hd_level) return ed_hd_vertex_ok(d, v); /* a display vertex of the HD level */
     const st_map *m = &d->h.map;
     return v < m->verts.end && m->verts.ins[v] != ST_FREE_LEVEL && m->verts.ins[v] <= d->edit_level;
 }
@@ -725,7 +727,8 @@ void st_doc_select(st_doc *d, const uint32_t *vids, uint32_t n, int mode)
 void st_doc_vertex_pos(const st_doc *d, uint32_t vid, double p[3])
 {
     if (!d->loaded || !edit_vertex_ok(d, vid)) { p[0] = p[1] = p[2] = 0; return; }
-    memcpy(p, st_pos(&d->h.map, vid, d->edit_level), 3 * sizeof *p);
+    if (d->hd_level) memcpy(p, st_pos(&d->display.hier.map, vid, d->hd_level), 3 * sizeof *p);
+    else memcpy(p, st_pos(&d->h.map, vid, d->edit_level), 3 * sizeof *p);
 }
 
 const uint32_t *ed_vertex_darts(st_doc *d, uint32_t *n)
@@ -747,6 +750,7 @@ const uint32_t *ed_vertex_darts(st_doc *d, uint32_t *n)
 uint32_t ed_vertex_dart(st_doc *d, uint32_t vid)
 {
     if (!d->loaded || !edit_vertex_ok(d, vid)) return ST_NIL;
+    if (d->hd_level) return d->hd_vdart[vid];
     uint32_t n;
     const uint32_t *vd = ed_vertex_darts(d, &n);
     return vid < n ? vd[vid] : ST_NIL;
@@ -905,7 +909,7 @@ unsigned st_doc_display_map_level(const st_doc *d)
 uint32_t st_doc_display_to_edit_vertex(const st_doc *d, uint32_t dv)
 {
     if (!d->loaded) return ST_NIL;
-    if (!ed_display_on(d)) return edit_vertex_ok(d, dv) ? dv : ST_NIL;
+    if (!ed_display_on(d) || d->hd_level) return edit_vertex_ok(d, dv) ? dv : ST_NIL;
     uint32_t v = st_box_display_model_vertex(&d->display, dv);
     return v != ST_NIL && edit_vertex_ok(d, v) ? v : ST_NIL;
 }
@@ -1029,6 +1033,12 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
     }
     d->box = p;
     d->box_on = on != 0;
+    if (d->hd_level) {
+        /* The display's ids changed where the box went: HD selections go. */
+        if (d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
+        d->nsel = 0;
+        ed_hd_tables(d);
+    }
     if (patched && !(d->change.bits & ST_CHANGE_TOPOLOGY)) {
         d->change.bits |= ST_CHANGE_BOX | ST_CHANGE_PATCH;
         d->change.patch = &d->display.patch_log;

@@ -526,9 +526,10 @@ int st_doc_layer_delete(st_doc *d, int k, st_error *err);
  * faces that carry HD detail never coarsen when the box moves or goes off
  * (st_adapt.keep_above): memory grows with what is sculpted.  Undo and redo
  * restore the HD level's values bit for bit.  Sessions keep them (chunk
- * hdlv).  The mask brush paints the model's top level, which the HD levels
- * take subdivided.  Not at HD levels: the drag of a selection and sculpt
- * layers (refused with a message); operations that would rebuild the
+ * hdlv).  The selection holds the display's vertex ids of the HD level and
+ * drags move them.  The mask brush paints the model's top level, which the
+ * HD levels take subdivided.  Not at HD levels: sculpt layers (refused with
+ * a message); operations that would rebuild the
  * model's levels (add or delete a level, scheme change, rebuild levels,
  * filter) are refused while HD detail exists. */
 /* Why HD levels cannot be used now (NULL: they can). */

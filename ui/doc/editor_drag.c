@@ -26,16 +26,41 @@ int ed_edit_budget(st_doc *d, unsigned l)
     return -1;
 }
 
+/* A drag at an HD level (editor_hd.c): the selection holds display
+ * vertices of hd_level; their level values are recorded once, then every
+ * update writes old + (1 - mask) delta through st_adapt_edit. */
+static int hd_drag_begin(st_doc *d)
+{
+    const char *why = st_doc_hd_refusal(d);
+    if (why) {
+        snprintf(d->refusal, sizeof d->refusal, "%s", why);
+        return -1;
+    }
+    ed_hd_tables(d);
+    st_undo_step *s = ed_step_new(ED_STEP_EDIT);
+    s->level = d->hd_level;
+    s->hd = 1;
+    uint32_t *darts = malloc((size_t)d->nsel * sizeof *darts);
+    if (!darts) abort();
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < d->nsel; i++)
+        if (ed_hd_vertex_ok(d, d->sel[i])) darts[n++] = d->hd_vdart[d->sel[i]];
+    if (!n) { free(darts); ed_step_free(s); return -1; }
+    ed_hd_record(d, s, darts, n);
+    free(darts);
+    if (!d->hd_cache) d->hd_cache = st_edit_cache_new();
+    st_edit_cache_clear(d->hd_cache);
+    d->pending = s;
+    d->active = 1;
+    return 0;
+}
+
 int st_doc_drag_begin(st_doc *d)
 {
     if (!d->loaded) return -1;
     ed_finish_active(d);
     if (!d->nsel) return -1;
-    if (d->hd_level) {
-        snprintf(d->refusal, sizeof d->refusal, "at HD levels the grab brush moves vertices; a selection is dragged at "
-                                                "the model's levels (0..%u)", d->h.map.top);
-        return -1;
-    }
+    if (d->hd_level) return hd_drag_begin(d);
     unsigned l = d->edit_level;
     if (ed_edit_budget(d, l)) return -1;
     st_undo_step *s = ed_step_new(ED_STEP_EDIT);
@@ -69,7 +94,8 @@ int st_doc_drag_update(st_doc *d, const double delta[3])
     double t0 = ed_now_ms();
     double(*pos)[3] = malloc((size_t)(s->nmoved ? s->nmoved : 1) * sizeof *pos);
     if (!pos) abort();
-    const st_map *m = &d->h.map;
+    const st_map *m = s->hd ? &d->display.hier.map : &d->h.map;
+    const st_mask *mk = s->hd ? &d->hd_mask : &d->mask;
     /* The first nmoved entries of the step are the moved vertices' level-l
      * positions (and details when l > 0), in the order of s->moved. */
     uint32_t k = 0;
@@ -80,9 +106,14 @@ int st_doc_drag_update(st_doc *d, const double delta[3])
         uint32_t vid = (uint32_t)s->key[i];
         if (vid != st_vert(m, s->moved[k], l)) continue;
         /* The mask protects in proportion: the displacement times 1 - mask. */
-        double keep = 1.0 - (double)st_mask_get(&d->mask, vid);
+        double keep = 1.0 - (double)st_mask_get(mk, vid);
         for (int c = 0; c < 3; c++) pos[k][c] = s->oldv[i][c] + keep * delta[c];
         k++;
+    }
+    if (s->hd) {
+        ed_hd_dab_write(d, NULL, s->moved, (const double(*)[3])pos, k, t0);
+        free(pos);
+        return 0;
     }
     uint32_t from = d->fp_model.n;
     ed_model_edit(d, NULL, l, s->moved, (const double(*)[3])pos, k);
@@ -126,6 +157,11 @@ void st_doc_drag_cancel(st_doc *d)
 {
     st_undo_step *s = ed_take_pending(d, 1);
     if (!s) return;
+    if (s->hd) {
+        ed_hd_step_apply(d, s, 0);
+        ed_step_free(s);
+        return;
+    }
     double t0 = ed_now_ms();
     uint32_t from = d->fp_model.n;
     ed_step_apply(s, &d->h, 0, &d->fp_model);

@@ -24,8 +24,11 @@
  *     which may differ in the last bit from the update's.
  *   - The mask brush at an HD level paints the model's top level (the
  *     editing level stays there); the HD levels take its subdivision.
- *   - Not at HD levels (refused with a message): the drag of a selection
- *     (the grab brush moves vertices there), sculpt layers.
+ *   - At an HD level the selection holds display vertex ids of that level
+ *     (those a brush may move: ed_hd_vertex_ok) and a drag writes them as
+ *     a dab does; the window's cage and picking are that level's
+ *     (ui/window.c).  A box move clears such a selection (ids change).
+ *   - Not at HD levels (refused with a message): sculpt layers.
  *     Operations that rebuild the model's levels are refused while HD
  *     detail exists; when the display is rebuilt anyway (undo past a level
  *     change, which first undoes every HD stroke after it), the HD state
@@ -147,6 +150,22 @@ static void hd_mask_build(st_doc *d, const st_map *m, unsigned L)
     }
 }
 
+void ed_hd_tables(st_doc *d)
+{
+    if (!d->hd_level || !d->display.built || d->hd_level > d->display.hier.map.top) return;
+    const st_map *m = &d->display.hier.map;
+    free(d->hd_vdart);
+    d->hd_vdart = st_sculpt_vertex_darts(m, d->hd_level, &d->nhd_vdart);
+    if (!d->hd_vdart) abort();
+    hd_mask_build(d, m, d->hd_level);
+}
+
+int ed_hd_vertex_ok(const st_doc *d, uint32_t v)
+{
+    return d->hd_level && d->display.built && v < d->nhd_vdart && d->hd_vdart[v] != ST_NIL &&
+           v < d->hd_mask.cap && d->hd_mask.v[v] < 1.0f;
+}
+
 int ed_hd_stroke_begin(st_doc *d)
 {
     const char *why = st_doc_hd_refusal(d);
@@ -156,12 +175,7 @@ int ed_hd_stroke_begin(st_doc *d)
         return -1;
     }
     st_box_display *bd = &d->display;
-    const st_map *m = &bd->hier.map;
-    unsigned L = d->hd_level;
-    free(d->hd_vdart);
-    d->hd_vdart = st_sculpt_vertex_darts(m, L, &d->nhd_vdart);
-    if (!d->hd_vdart) abort();
-    hd_mask_build(d, m, L);
+    ed_hd_tables(d);
     if (!d->hd_cache) d->hd_cache = st_edit_cache_new();
     st_edit_cache_clear(d->hd_cache);
     bd->adapt.keep_above = d->h.map.top;
@@ -174,16 +188,23 @@ int ed_hd_stroke_begin(st_doc *d)
     return 0;
 }
 
-void ed_hd_dab_write(st_doc *d, st_undo_step *s, const uint32_t *darts, const double (*pos)[3], uint32_t n, double t0)
+void ed_hd_record(st_doc *d, st_undo_step *s, const uint32_t *darts, uint32_t n)
 {
-    st_box_display *bd = &d->display;
-    st_hier *dh = &bd->hier;
+    st_hier *dh = &d->display.hier;
     unsigned L = s->level;
     for (uint32_t i = 0; i < n; i++) {
         uint32_t v = st_vert(&dh->map, darts[i], L);
         if (ed_step_touch_pos(s, dh, L, v)) ed_step_add_moved(s, &dh->map, L, darts[i]);
         ed_step_touch_detail(s, dh, L, v);
     }
+}
+
+void ed_hd_dab_write(st_doc *d, st_undo_step *s, const uint32_t *darts, const double (*pos)[3], uint32_t n, double t0)
+{
+    st_box_display *bd = &d->display;
+    st_hier *dh = &bd->hier;
+    unsigned L = d->hd_level;
+    if (s) ed_hd_record(d, s, darts, n);
     uint32_t from = bd->written.n;
     st_adapt_edit(dh, L, darts, pos, n, &bd->written, d->hd_cache);
     st_box_display_written(bd, from);

@@ -191,6 +191,15 @@ void ed_hd_forget(st_doc *d);
  * mask the kernel reads, the write of a dab's result with its undo
  * record, and undo / redo of an HD step. */
 int ed_hd_stroke_begin(st_doc *d);
+/* hd_level's vertex -> dart table and the kernel's mask (1 where a vertex
+ * cannot move at hd_level), built again after the display changed. */
+void ed_hd_tables(st_doc *d);
+/* v is a display vertex that hd_level's selection and drags may move. */
+int ed_hd_vertex_ok(const st_doc *d, uint32_t v);
+/* Records the old level values of the darts' vertices in s (an HD step). */
+void ed_hd_record(st_doc *d, st_undo_step *s, const uint32_t *darts, uint32_t n);
+/* Writes the darts' vertices at hd_level (st_adapt_edit), recording in s
+ * first when s is not NULL; the display reports what it wrote. */
 void ed_hd_dab_write(st_doc *d, st_undo_step *s, const uint32_t *darts, const double (*pos)[3], uint32_t n, double t0);
 void ed_hd_step_apply(st_doc *d, const st_undo_step *s, int redo);
 

@@ -254,7 +254,9 @@ int st_doc_mask_stroke_dab(st_doc *d, const double center[3])
     unsigned l = d->pending->level;
     uint32_t *darts = malloc((size_t)n * sizeof *darts), *changed = malloc((size_t)n * sizeof *changed);
     if (!darts || !changed) abort();
-    uint32_t nd = 0, nc = 0;
+    uint32_t nd = 0, nc = 0, nvd;
+    /* (the model's table: at an HD level the mask is painted at the top) */
+    const uint32_t *vd = ed_vertex_darts(d, &nvd);
     for (uint32_t i = 0; i < n; i++) {
         float m0 = st_mask_get(&d->mask, vids[i]);
         double f = w[i]; /* falloff times strength (ed_brush_weight) */
@@ -262,7 +264,7 @@ int st_doc_mask_stroke_dab(st_doc *d, const double center[3])
         float x = m1 <= 0 ? 0.0f : m1 >= 1 ? 1.0f : (float)m1;
         if (x == m0) continue;
         st_mask_set(&d->mask, vids[i], x);
-        uint32_t dart = ed_vertex_dart(d, vids[i]);
+        uint32_t dart = vids[i] < nvd ? vd[vids[i]] : ST_NIL;
         changed[nc++] = vids[i];
         if (dart != ST_NIL) darts[nd++] = dart;
     }
