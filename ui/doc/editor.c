@@ -653,7 +653,7 @@ void st_doc_set_edit_level(st_doc *d, unsigned l)
     d->edit_level = l;
     d->hd_level = hd;
     d->nsel = 0;
-    ed_hd_tables(d);
+    d->hd_tables_ok = 0;
     if (d->display_level < l) {
         d->display_level = l;
         display_changed(d);
@@ -1034,10 +1034,11 @@ int st_doc_set_box(st_doc *d, const st_adapt_params *box, int on, st_error *err)
     d->box = p;
     d->box_on = on != 0;
     if (d->hd_level) {
-        /* The display's ids changed where the box went: HD selections go. */
+        /* The display's ids changed where the box went: HD selections go,
+         * the HD tables are made again when next asked. */
         if (d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
         d->nsel = 0;
-        ed_hd_tables(d);
+        d->hd_tables_ok = 0;
     }
     if (patched && !(d->change.bits & ST_CHANGE_TOPOLOGY)) {
         d->change.bits |= ST_CHANGE_BOX | ST_CHANGE_PATCH;

@@ -169,6 +169,7 @@ typedef struct st_doc {
     int hd;
     uint32_t *hd_vdart, nhd_vdart;   /* hd_level: one dart per display vertex id (st_sculpt_vertex_darts) */
     st_mask hd_mask;           /* hd_level: 1 where a vertex cannot move at hd_level, else the display mask */
+    int hd_tables_ok;          /* hd_vdart and hd_mask are those of the display now (ed_hd_tables) */
     st_edit_cache *hd_cache;   /* predictions of the HD stroke in progress */
 
     uint32_t *sel;             /* selected vertex ids of the editing level, sorted */

@@ -152,7 +152,9 @@ static void hd_mask_build(st_doc *d, const st_map *m, unsigned L)
 
 void ed_hd_tables(st_doc *d)
 {
+    d->hd_tables_ok = 0;
     if (!d->hd_level || !d->display.built || d->hd_level > d->display.hier.map.top) return;
+    d->hd_tables_ok = 1;
     const st_map *m = &d->display.hier.map;
     free(d->hd_vdart);
     d->hd_vdart = st_sculpt_vertex_darts(m, d->hd_level, &d->nhd_vdart);
@@ -162,6 +164,10 @@ void ed_hd_tables(st_doc *d)
 
 int ed_hd_vertex_ok(const st_doc *d, uint32_t v)
 {
+    /* The tables are a cache of the display, built when first asked after
+     * a change (a box move would otherwise pay a walk of the whole
+     * display for them); const as far as the document's state goes. */
+    if (!d->hd_tables_ok) ed_hd_tables((st_doc *)d);
     return d->hd_level && d->display.built && v < d->nhd_vdart && d->hd_vdart[v] != ST_NIL &&
            v < d->hd_mask.cap && d->hd_mask.v[v] < 1.0f;
 }
