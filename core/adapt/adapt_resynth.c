@@ -410,21 +410,6 @@ static void unique_vertices(st_hier *h, unsigned l, st_dart_list *list)
     list->n = n;
 }
 
-/* Whether a face of level l around the vertex of x is still subdivided
- * toward l+1: only there can a vertex of level l+1 remain whose canonical
- * face a simplification changed.  Inside a large coarsened region none is,
- * and seeding its every dart made a box jump across a level-10 model take
- * nine times as long (bench_hd: 21 s against 2.3 s). */
-static int near_subdivided(st_map *m, uint32_t x, unsigned l)
-{
-    uint32_t y = x;
-    do {
-        if (!st_is_boundary(m, y) && st_face_level(m, y, l) == l && st_face_is_subdivided(m, y, l)) return 1;
-        y = st_beta1(m, y, l);
-    } while (y != x);
-    return 0;
-}
-
 uint64_t st_adapt_canon_update(st_adapt *a)
 {
     st_hier *h = a->h;
@@ -454,10 +439,7 @@ uint64_t st_adapt_canon_update(st_adapt *a)
                 continue;
             }
             uint32_t x = d;
-            do {
-                if (near_subdivided(m, x, l)) st_dart_list_push(&seeds, x);
-                x = st_phi1(m, x, l);
-            } while (x != d);
+            do { st_dart_list_push(&seeds, x); x = st_phi1(m, x, l); } while (x != d);
         }
         unique_vertices(h, l, &chg);
         if (chg.n) st_region_faces(m, l, chg.d, chg.n, h->scheme->support_rings + 1 + extra, &faces);
