@@ -646,7 +646,7 @@ void st_doc_set_edit_level(st_doc *d, unsigned l)
             }
         }
         if (l > top) hd = l;
-        else if (!d->note[0]) snprintf(d->note, sizeof d->note, "%s", st_doc_hd_refusal(d) ? st_doc_hd_refusal(d) : "");
+        else if (st_doc_hd_refusal(d)) snprintf(d->note, sizeof d->note, "%s", st_doc_hd_refusal(d));
         l = top;
     }
     if (l != d->edit_level || hd != d->hd_level || d->nsel) d->change.bits |= ST_CHANGE_SELECTION;
@@ -820,7 +820,7 @@ st_doc_change st_doc_take_change(st_doc *d)
 
 /* The counts of the box's display at its top level without a walk: an
  * adaptive refinement of level 0 keeps its surface, so V - E + F (real
- * faces) and the holes are level 0's, every live dart and vertex is there
+ * faces, taken once when the display was built) and the holes are level 0's, every live dart and vertex is there
  * at the top, and each edge has two darts (hole faces included): F =
  * euler - V + D / 2.  A walk of a million-face display took a third of a
  * box move (bench_hd). */
@@ -828,8 +828,6 @@ static int display_counts_fast(st_doc *d, st_level_stats *s)
 {
     if (d->h.scheme->id == ST_SCHEME_PROGRESSIVE) return 0;
     const st_map *m = &d->display.hier.map;
-    st_level_stats z;
-    st_level_stats_compute(&d->h.map, 0, &z);
     uint64_t darts = 0, verts = 0;
     for (unsigned l = 0; l <= m->top; l++) {
         darts += m->darts.live[l];
@@ -837,7 +835,7 @@ static int display_counts_fast(st_doc *d, st_level_stats *s)
     }
     memset(s, 0, sizeof *s);
     s->vertices = verts;
-    s->faces = (uint64_t)(z.euler - (int64_t)verts + (int64_t)(darts / 2));
+    s->faces = (uint64_t)(d->display.euler0 - (int64_t)verts + (int64_t)(darts / 2));
     return 1;
 }
 

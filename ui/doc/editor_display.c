@@ -455,6 +455,15 @@ void st_box_display_follow_edit(st_box_display *bd, const st_hier *model, const 
     bd->adapt.has_prev = 0;
 }
 
+/* V - E + F of the model's level 0 (real faces), which every adaptive
+ * refinement of it keeps (st_box_display.euler0). */
+static int64_t level0_euler(const st_hier *model)
+{
+    st_level_stats z;
+    st_level_stats_compute((st_map *)&model->map, 0, &z);
+    return z.euler;
+}
+
 int st_box_display_build(st_box_display *bd, const st_hier *model, const st_adapt_params *p, st_error *err)
 {
     st_box_display_drop(bd);
@@ -469,6 +478,7 @@ int st_box_display_build(st_box_display *bd, const st_hier *model, const st_adap
     rc = st_adapt_update(&bd->adapt, p, err);
     if (rc) { st_box_display_drop(bd); return rc; }
     pairs_build(bd, model, p->base_level);
+    bd->euler0 = level0_euler(model);
     sync_from_model(bd, model, 0, 0);
     return ST_OK;
 }
@@ -553,6 +563,7 @@ int st_box_display_adopt(st_box_display *bd, const st_hier *model, st_hier *hier
     st_session_move_adapt(&bd->adapt, adapt, &bd->hier);
     bd->built = 1;
     pairs_build(bd, model, N);
+    bd->euler0 = level0_euler(model);
     sync_from_model(bd, model, 0, 0);
     return ST_OK;
 }

@@ -22,6 +22,8 @@ typedef struct st_box_display {
     st_hier hier;              /* the adaptive display hierarchy (valid when built) */
     st_adapt adapt;            /* st_adapt's state on hier */
     int built;                 /* hier and adapt are built */
+    int64_t euler0;            /* V - E + F of the model's level 0 when built (not for a progressive model):
+                                  the display's counts without a walk (editor.c) */
     unsigned copied_top;       /* levels 0..copied_top of hier are copies of the model's (same ids) */
 
     /* Display vertex id -> model vertex id at the levels both have
