@@ -233,11 +233,6 @@ static int64_t apply_bump(st_session *s, unsigned l, const bump *b)
 
 /* ---- HD levels ------------------------------------------------------------ */
 
-static int scheme_has_hd(const st_scheme *sc)
-{
-    return sc->id == ST_SCHEME_CATMARK || sc->id == ST_SCHEME_LOOP || sc->id == ST_SCHEME_BUTTERFLY ||
-           sc->id == ST_SCHEME_QUADTRI;
-}
 
 /* What an edit at HD level l (above the model's top) needs before anything
  * is computed: a box, a quadrisection scheme, no adaptive model. */
@@ -254,7 +249,7 @@ static int check_hd_input(const st_cli_opts *o, const st_session *s, unsigned l,
                 st_levels_phrase(s->h.map.top, lv, sizeof lv), l);
         return 2;
     }
-    if (!scheme_has_hd(s->h.scheme)) {
+    if (!st_adapt_scheme_has_hd(s->h.scheme)) {
         fprintf(stderr, "strata deform: %s: HD levels (--level %u above the top level %u) need a quadrisection scheme "
                         "(catmull-clark, loop, butterfly, quad-triangle), not %s\n", o->in, l, s->h.map.top, s->h.scheme->name);
         return 2;

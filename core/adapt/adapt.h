@@ -273,6 +273,11 @@ uint64_t st_adapt_edit(st_hier *h, unsigned l, const uint32_t *darts, const doub
  * neighbourhood, so only it may be moved at level L (a vertex on the
  * border of the refined region shows a coarser face's corner). */
 int st_adapt_vertex_editable(st_map *m, uint32_t d, unsigned L);
+/* Whether hierarchies of scheme sc have HD levels: the polygon split
+ * family (Catmull-Clark, Loop, Butterfly, quad/triangle), whose
+ * syntheses take canonical stencils (adapt_resynth.c); √3, Doo-Sabin and
+ * progressive ones do not. */
+int st_adapt_scheme_has_hd(const st_scheme *sc);
 
 /* Per level L = from+1..top of a polygon split map: faces[L] the real faces
  * of subdivision level L stored at L, bytes[L] an estimate of what level L

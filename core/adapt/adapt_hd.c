@@ -88,6 +88,18 @@ uint64_t st_adapt_edit(st_hier *h, unsigned l, const uint32_t *darts, const doub
     return c.followed + st_hier_resynth_around(h, l, darts, n, fp);
 }
 
+int st_adapt_scheme_has_hd(const st_scheme *sc)
+{
+    if (!sc) return 0;
+    switch (sc->id) {
+    case ST_SCHEME_CATMARK:
+    case ST_SCHEME_LOOP:
+    case ST_SCHEME_BUTTERFLY:
+    case ST_SCHEME_QUADTRI: return 1;
+    default: return 0;
+    }
+}
+
 /* ---- which vertices a level-L brush may move ------------------------------------ */
 
 int st_adapt_vertex_editable(st_map *m, uint32_t d, unsigned L)

@@ -26,16 +26,7 @@
  * family only (its O(1) subdivision reading, adapt_internal.h); the other
  * families keep the listing order. */
 
-static int canonical_family(const st_hier *h)
-{
-    switch (h->scheme->id) {
-    case ST_SCHEME_CATMARK:
-    case ST_SCHEME_LOOP:
-    case ST_SCHEME_BUTTERFLY:
-    case ST_SCHEME_QUADTRI: return 1;
-    default: return 0;
-    }
-}
+static int canonical_family(const st_hier *h) { return st_adapt_scheme_has_hd(h->scheme); }
 
 static uint32_t face_min(const st_map *m, uint32_t d, unsigned l)
 {

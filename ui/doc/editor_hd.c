@@ -50,16 +50,11 @@ int st_doc_display_adaptive(const st_doc *d) { return ed_display_on(d); }
 
 unsigned st_doc_sculpt_level(const st_doc *d) { return d->hd_level ? d->hd_level : d->edit_level; }
 
-static int scheme_has_hd(const st_scheme *sc)
-{
-    return sc && (sc->id == ST_SCHEME_CATMARK || sc->id == ST_SCHEME_LOOP || sc->id == ST_SCHEME_BUTTERFLY ||
-                  sc->id == ST_SCHEME_QUADTRI);
-}
 
 const char *st_doc_hd_refusal(const st_doc *d)
 {
     if (!d->loaded) return "no model";
-    if (!scheme_has_hd(d->h.scheme))
+    if (!st_adapt_scheme_has_hd(d->h.scheme))
         return "HD levels need a quadrisection scheme (Catmull-Clark, Loop, Butterfly, quad/triangle)";
     if (!ed_display_on(d)) return "HD levels are refined inside the interest box: switch it on (I) first";
     return NULL;
@@ -239,7 +234,7 @@ void ed_hd_step_apply(st_doc *d, const st_undo_step *s, int redo)
 int st_doc_adopt_hd(st_doc *d, st_hier *hd, st_adapt *hd_adapt, st_error *err)
 {
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
-    if (!scheme_has_hd(d->h.scheme)) return st_fail(err, ST_ERR_INVALID, "%s", st_doc_hd_refusal(d));
+    if (!st_adapt_scheme_has_hd(d->h.scheme)) return st_fail(err, ST_ERR_INVALID, "%s", st_doc_hd_refusal(d));
     int rc = st_box_display_adopt(&d->display, &d->h, hd, hd_adapt, err);
     if (rc) return rc;
     d->display.adapt.keep_above = d->h.map.top;
