@@ -50,7 +50,6 @@ int st_doc_display_adaptive(const st_doc *d) { return ed_display_on(d); }
 
 unsigned st_doc_sculpt_level(const st_doc *d) { return d->hd_level ? d->hd_level : d->edit_level; }
 
-
 const char *st_doc_hd_refusal(const st_doc *d)
 {
     if (!d->loaded) return "no model";
