@@ -535,11 +535,9 @@ static int expect(st_replay *rp, st_app *a, const ev *e)
         /* The renderer's incrementally updated buffers equal a fresh build
          * of the displayed and editing levels (positions and normals). */
         double ds = a->r.has_surf ? rgeom_drift(&a->r.surf, &st_doc_display_hier(d)->map, st_doc_display_map_level(d)) : 0;
-        /* (at an HD level the cage is the display's level, ui/window.c) */
-        int hdc = d->hd_level && st_doc_display_hier(d) != &d->h;
-        double dc = a->r.has_cage ? rgeom_drift(&a->r.cage, hdc ? &st_doc_display_hier(d)->map : &d->h.map,
-                                                hdc ? d->hd_level : d->edit_level)
-                                  : 0;
+        unsigned cl;
+        const st_map *cm = st_doc_cage_map(d, &cl);
+        double dc = a->r.has_cage ? rgeom_drift(&a->r.cage, cm, cl) : 0;
         snprintf(actual, sizeof actual, "surface off by %g, cage off by %g", ds, dc);
         ok = ds >= 0 && dc >= 0 && ds < 1e-5 && dc < 1e-5;
     } else if (!strcmp(w, "patched")) {

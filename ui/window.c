@@ -112,16 +112,14 @@ int st_app_sync(st_app *a)
     double t0 = now_ms();
     unsigned disp = st_doc_display_map_level(d);
     const st_hier *dh = st_doc_display_hier(d);
-    st_scene scene = { &d->h.map, &dh->map, disp, d->edit_level, st_doc_display_adaptive(d) };
+    unsigned cage_level;
+    const st_map *cage = st_doc_cage_map(d, &cage_level);
+    st_scene scene = { cage, &dh->map, disp, cage_level, st_doc_display_adaptive(d) };
     st_scene_change sc = scene_change(&ch);
-    if (d->hd_level && dh != &d->h) {
-        /* An HD level: the cage, the picking and the selection are the
-         * display's vertices of that level; a box move changed the cage's
-         * map too, so it is built again rather than patched. */
-        scene.model = &dh->map;
-        scene.edit_level = d->hd_level;
-        if (sc.bits & ST_SCENE_PATCH) sc.bits = (sc.bits & ~(unsigned)ST_SCENE_PATCH) | ST_SCENE_TOPOLOGY;
-    }
+    /* At an HD level the cage is the display's (st_doc_cage_map): a box
+     * move changed its map too, so it is built again rather than patched. */
+    if (cage == &dh->map && (sc.bits & ST_SCENE_PATCH))
+        sc.bits = (sc.bits & ~(unsigned)ST_SCENE_PATCH) | ST_SCENE_TOPOLOGY;
     st_error err;
     unsigned done = st_renderer_show(&a->r, &a->shown, &scene, &sc, &err);
     if (done & ST_SCENE_FAILED) st_app_message(a, 1, "cannot draw the model: %s", err.msg);

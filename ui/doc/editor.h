@@ -541,6 +541,10 @@ unsigned st_doc_sculpt_level(const st_doc *d);
 unsigned st_doc_level_limit(const st_doc *d);
 /* The display is the adaptive hierarchy (box on, or HD levels kept). */
 int st_doc_display_adaptive(const st_doc *d);
+/* The map and level whose vertices the cage shows and picking and the
+ * selection use: the model's editing level, or at an HD level the
+ * display's vertices of that level. */
+const st_map *st_doc_cage_map(const st_doc *d, unsigned *level);
 /* Faces stored at the HD levels (above the model's top) of the display,
  * 0 when it has none. */
 uint64_t st_doc_hd_faces(const st_doc *d);

@@ -59,6 +59,13 @@ const char *st_doc_hd_refusal(const st_doc *d)
     return NULL;
 }
 
+const st_map *st_doc_cage_map(const st_doc *d, unsigned *level)
+{
+    int hd = d->hd_level && ed_display_on(d);
+    *level = hd ? d->hd_level : d->edit_level;
+    return hd ? &d->display.hier.map : &d->h.map;
+}
+
 unsigned st_doc_level_limit(const st_doc *d)
 {
     if (!d->loaded) return 0;
