@@ -306,6 +306,7 @@ static int hd_deform(const st_cli_opts *o, st_session *s, unsigned l, const st_a
     /* Sculpted faces never coarsen, whatever the box (a loaded session sets
      * it too; a new hierarchy starts at 0). */
     s->hd_adapt.keep_above = N;
+    s->hd_adapt.keep_layers = &s->hd_layers; /* (and the faces the HD layers cover) */
     s->hd_adapt.exact = 1;
     if (!rc) rc = st_adapt_update(&s->hd_adapt, &p, &err);
     if (rc) { fprintf(stderr, "strata deform: %s: HD levels: %s\n", o->in, err.msg); return 1; }
@@ -315,7 +316,10 @@ static int hd_deform(const st_cli_opts *o, st_session *s, unsigned l, const st_a
         fprintf(stderr, "strata deform: %s: out of memory for the edit\n", o->in);
         return 1;
     }
-    if (n) st_adapt_edit(&s->hd, l, darts, (const double (*)[3])pos, n, NULL, NULL);
+    /* Into the active HD layer when it is on l, as the window's strokes. */
+    if (n)
+        st_adapt_edit_layered(&s->hd, &s->hd_layers, layer_target(&s->hd_layers, l), l, darts, (const double (*)[3])pos, n,
+                              NULL, NULL);
     free(darts);
     free(pos);
     /* The box goes off, as in the window: only the faces holding detail

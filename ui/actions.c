@@ -345,8 +345,11 @@ static void layer_add(st_app *a)
 {
     st_error err;
     int rc = st_doc_layer_add(&a->doc, NULL, &err);
-    if (!rc) st_app_message(a, 0, "layer '%s' on level %u: strokes go into it", a->doc.layers.v[a->doc.layers.active].name,
-                            a->doc.edit_level);
+    if (!rc) {
+        const st_layer *y = &a->doc.layers.v[a->doc.layers.active];
+        st_app_message(a, 0, "layer '%s' on %slevel %u: strokes go into it", y->name,
+                       y->level > a->doc.h.map.top ? "HD " : "", y->level);
+    }
     report(a, rc, &err, "cannot add a layer");
 }
 /* V: the next layer up the stack, then none (the level's own details). */

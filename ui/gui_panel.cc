@@ -163,7 +163,7 @@ void layers_section(st_app *a)
         }
         ImGui::SameLine();
         char label[ST_LAYER_NAME + 32];
-        snprintf(label, sizeof label, "%s  (level %u)", y->name, y->level);
+        snprintf(label, sizeof label, "%s  (%slevel %u)", y->name, y->level > d->h.map.top ? "HD " : "", y->level);
         if (ImGui::Selectable(label, ls->active == k, 0, ImVec2(120 * g.scale, 0))) {
             st_doc_layer_set_active(d, k, &err);
             st_app_sync(a);

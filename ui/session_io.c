@@ -193,7 +193,7 @@ int st_app_restore(st_app *a, const char *path)
     if (s.box.has_box || s.box.max_level) d->box = s.box;
     /* HD levels (chunk hdlv) become the display before the box is set, so
      * that the box moves over them in place. */
-    if (s.has_hd && st_doc_adopt_hd(d, &s.hd, &s.hd_adapt, &err))
+    if (s.has_hd && st_doc_adopt_hd(d, &s.hd, &s.hd_adapt, &s.hd_layers, &err))
         st_app_message(a, 1, "HD levels of %s not loaded: %s", path, err.msg);
     a->box_placed = s.box_on;
     if (s.box_on && st_doc_set_box(d, &d->box, 1, &err))

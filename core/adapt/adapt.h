@@ -149,6 +149,10 @@ typedef struct st_adapt {
     unsigned keep_above;     /* 0: off; else no face is simplified that would drop a non-zero detail
                                 of a level > keep_above (sculpted HD detail; see "HD levels" below).
                                 Polygon split family only; st_adapt_init sets 0; not saved by sessions */
+    const struct st_layers *keep_layers; /* NULL, or sculpt layers whose levels > keep_above belong to this
+                                hierarchy: with keep_above, a face is kept refined as for a detail while a
+                                vertex of its subdivision holds anything of them (st_layers_holds), so the
+                                vertex ids they index stay; st_adapt_init sets NULL; not saved */
     int exact;               /* 1: every update ends with the canonical pass (adapt_resynth.c, "after an
                                 update"), so that positions stay what st_adapt_synthesize(a, base) gives
                                 bit for bit, as HD edits need (their local edits are compared with a
@@ -266,6 +270,17 @@ int st_adapt_mesh(st_adapt *a, st_mesh *out, st_error *err);
  * (followed plus re-synthesised; a vertex once per level and pass). */
 uint64_t st_adapt_edit(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
                        st_footprint *fp, st_edit_cache *cache);
+
+/* st_adapt_edit with sculpt layers on level l (core/multires/layers.h, the
+ * part "for callers that compute the details themselves"): the change of
+ * detail goes into the stack's slot `target` (st_layers_edit_target) and
+ * the detail stored is the composition.  pos NULL: no change, the darts'
+ * vertices get the composition as it is now (after a change of strengths,
+ * visibility, order or offsets).  ls NULL or without a layer on l, with
+ * pos: st_adapt_edit.  The same bits as a full synthesis, as there. */
+struct st_layers;
+uint64_t st_adapt_edit_layered(st_hier *h, struct st_layers *ls, int target, unsigned l, const uint32_t *darts,
+                               const double (*pos)[3], uint32_t n, st_footprint *fp, st_edit_cache *cache);
 
 /* Non-zero when L >= 1 and every real face around the vertex of d at level L
  * is a face of subdivision level L (holes around it are allowed): only such

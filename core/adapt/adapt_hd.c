@@ -13,6 +13,7 @@
 #include "core/map/map_memory.h"
 #include "core/multires/edit.h"
 #include "core/multires/hier_internal.h"
+#include "core/multires/layers.h"
 
 #include <string.h>
 
@@ -24,6 +25,8 @@ typedef struct hd_edit {
     const double *target;      /* the position the edit asks for */
     st_footprint *fp;
     st_edit_cache *cache;      /* NULL, or the edit sequence's predictions (edit.h) */
+    st_layers *ls;             /* NULL, or the sculpt layers of the edited level */
+    int slot;                  /* where the change goes (st_layers_edit_target) */
     uint64_t followed;         /* inherited positions above l that followed */
 } hd_edit;
 
@@ -64,8 +67,13 @@ static void hd_hook(void *ctx, unsigned l, uint32_t v, double det[3], const doub
     if (st_edit_cache_pred_fixed(c->cache, l, v)) memcpy(pred, pred0, sizeof pred);
     else if (st_adapt_canonical_pred(c->h, l, c->dart, pred)) st_edit_cache_set_pred(c->cache, l, v, pred);
     else memcpy(pred, pred0, sizeof pred);
-    st_sub3(c->target, pred, r);
-    for (int i = 0; i < 3; i++) det[i] = st_dot3(f[i], r);
+    if (!c->target) {
+        st_layers_compose(c->ls, l, v, det); /* a recomposition */
+    } else {
+        st_sub3(c->target, pred, r);
+        for (int i = 0; i < 3; i++) det[i] = st_dot3(f[i], r);
+        if (c->ls) st_layers_take(c->ls, l, v, c->slot, det);
+    }
     st_hier_apply_detail(pred, f, det, pos);
     set_following(c, v, l, pos);
 }
@@ -73,16 +81,24 @@ static void hd_hook(void *ctx, unsigned l, uint32_t v, double det[3], const doub
 uint64_t st_adapt_edit(st_hier *h, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n,
                        st_footprint *fp, st_edit_cache *cache)
 {
+    return st_adapt_edit_layered(h, NULL, -1, l, darts, pos, n, fp, cache);
+}
+
+uint64_t st_adapt_edit_layered(st_hier *h, st_layers *ls, int target, unsigned l, const uint32_t *darts,
+                               const double (*pos)[3], uint32_t n, st_footprint *fp, st_edit_cache *cache)
+{
     st_map *m = &h->map;
-    hd_edit c = { .h = h, .fp = fp, .cache = cache };
+    if (ls && (!l || !st_layers_on_level(ls, l))) ls = NULL; /* (level 0 is never an HD level) */
+    if (!ls && !pos) return 0;
+    hd_edit c = { .h = h, .fp = fp, .cache = cache, .ls = ls, .slot = ls ? st_layers_edit_target(ls, l, target) : -1 };
     /* One vertex per call, the hook's target being that vertex's position:
      * the hook is given the vertex id, not the index in darts.  pos NULL in
      * the call, so that the old level-l position is still there for the
      * levels above to follow (set_following). */
     for (uint32_t i = 0; i < n; i++) {
         c.dart = darts[i];
-        c.target = pos[i];
-        if (l == 0) set_following(&c, st_vert(m, darts[i], 0), 0, pos[i]); /* no detail at level 0 */
+        c.target = pos ? pos[i] : NULL;
+        if (l == 0) set_following(&c, st_vert(m, darts[i], 0), 0, pos[i]); /* no detail (nor layer) at level 0 */
         st_hier_edit_level(h, l, &darts[i], NULL, 1, fp, l ? hd_hook : NULL, &c, cache);
     }
     return c.followed + st_hier_resynth_around(h, l, darts, n, fp);

@@ -22,6 +22,7 @@
  *     taken over whatever the neighbourhood is (positions then differ from
  *     the regular ones near depth borders). */
 #include "core/adapt/adapt_internal.h"
+#include "core/multires/layers.h"
 #include "core/multires/hier_internal.h"
 #include "core/map/refine_internal.h"
 #include "core/schemes/crease_internal.h"
@@ -221,25 +222,28 @@ int st_adapt_split_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restric
  * at levels <= keep_above (the uniform levels) never hold a face.  The
  * update's result then depends on the sculpting done, as it must, no
  * longer on the criteria alone. */
-static int holds_detail(const st_hier *h, uint32_t v, unsigned L)
+static int holds_detail(const st_adapt *a, uint32_t v, unsigned L)
 {
+    const st_hier *h = a->h;
     for (unsigned k = L; k <= h->map.top; k++) {
         const double *d = st_hier_detail(h, k, v);
         if (d[0] != 0 || d[1] != 0 || d[2] != 0) return 1;
+        /* A layer's offsets (its B_l and P0 too) count as detail: at
+         * strength 0 the detail may be zero where the layer is not. */
+        if (a->keep_layers && st_layers_holds(a->keep_layers, k, v)) return 1;
     }
     return 0;
 }
 
 static int keeps_sculpt(const st_adapt *a, const outline *o, unsigned i, int tri)
 {
-    const st_hier *h = a->h;
-    const st_map *m = &h->map;
+    const st_map *m = &a->h->map;
     unsigned L = i + 1;
     if (!a->keep_above || L <= a->keep_above) return 0;
     for (uint32_t k = 0; k < o->n; k++)
-        if (holds_detail(h, st_vert(m, o->d[k], L), L) || holds_detail(h, st_vert(m, half_after(m, o->d[k], i), L), L))
+        if (holds_detail(a, st_vert(m, o->d[k], L), L) || holds_detail(a, st_vert(m, half_after(m, o->d[k], i), L), L))
             return 1;
-    return !tri && holds_detail(h, st_vert(m, st_phi1(m, st_phi1(m, o->d[0], L), L), L), L);
+    return !tri && holds_detail(a, st_vert(m, st_phi1(m, st_phi1(m, o->d[0], L), L), L), L);
 }
 
 /* The polygon split family's test: the shared one (Doo-Sabin's too), then

@@ -24,6 +24,7 @@ void st_session_init(st_session *s)
 {
     memset(s, 0, sizeof *s);
     st_layers_init(&s->layers);
+    st_layers_init(&s->hd_layers);
     st_map_init(&s->h.map);
     st_mla_init(&s->h.edge_sharp, sizeof(float));
     st_mla_init(&s->h.vertex_sharp, sizeof(float));
@@ -41,6 +42,7 @@ void st_session_free(st_session *s)
     st_hier_free(&s->hd);
     st_mesh_free(&s->base);
     st_layers_free(&s->layers);
+    st_layers_free(&s->hd_layers);
     st_mask_free(&s->mask);
     st_session_init(s);
 }
@@ -88,6 +90,7 @@ void st_session_move_raw(st_session *dst, st_session *src)
     st_session_move_hier(&dst->hd, &src->hd);
     dst->has_hd = src->has_hd;
     dst->hd_from = src->hd_from;
+    dst->hd_layers = src->hd_layers;
     if (src->has_hd) st_session_move_adapt(&dst->hd_adapt, &src->hd_adapt, &dst->hd);
     else memset(&dst->hd_adapt, 0, sizeof dst->hd_adapt);
     st_mesh_init(&src->base);
@@ -119,6 +122,7 @@ st_session_ref st_session_ref_of(const st_session *s)
         r.hd = &s->hd;
         r.hd_adapt = &s->hd_adapt;
         r.hd_from = s->hd_from;
+        r.hd_layers = &s->hd_layers;
     }
     return r;
 }

@@ -113,6 +113,8 @@ typedef struct st_session {
     unsigned hd_from;              /* h's top level when the HD hierarchy was made */
     st_hier hd;
     st_adapt hd_adapt;             /* hd_adapt.h == &hd (st_session_move keeps it so) */
+    st_layers hd_layers;           /* sculpt layers of the HD levels (each above hd_from; offsets by hd's
+                                      vertex ids), stored in the hdlv image; empty when none */
 } st_session;
 
 /* What to save, by reference (nothing is copied). */
@@ -136,6 +138,7 @@ typedef struct st_session_ref {
     const st_hier *hd;
     const st_adapt *hd_adapt;
     unsigned hd_from;
+    const st_layers *hd_layers;    /* NULL or empty: none; else layers of hd's levels above hd_from only */
 } st_session_ref;
 
 void st_session_init(st_session *s);

@@ -736,9 +736,16 @@ static const char *hd_mismatch(const st_hier *h, const st_session *in, unsigned 
     }
     /* The writer stores the hierarchy and its adaptive state alone: anything
      * else would not be written back (load -> save would change the bytes). */
-    if (in->has_view || in->has_base || in->has_tool || in->layers.n || in->mask.v || in->box_on || in->edit_level ||
+    if (in->has_view || in->has_base || in->has_tool || in->mask.v || in->box_on || in->edit_level ||
         in->display_level || memcmp(&in->box, &none, sizeof none))
-        return "its image holds more than a hierarchy and its adaptive state";
+        return "its image holds more than a hierarchy, its adaptive state and its layers";
+    /* Its layers are the HD levels' (the model's are in the outer file). */
+    for (uint32_t i = 0; i < in->layers.n; i++)
+        if (in->layers.v[i].level <= hd_from) {
+            snprintf(why, n, "its layer '%s' is on level %u, not above the model's top %u", in->layers.v[i].name,
+                     in->layers.v[i].level, hd_from);
+            return why;
+        }
     return NULL;
 }
 
@@ -772,6 +779,8 @@ static int r_hd(load_ctx *c, st_br *r)
     st_session_move_hier(&s->hd, &in->h);
     st_session_move_adapt(&s->hd_adapt, &in->adapt, &s->hd);
     in->has_adapt = 0;
+    s->hd_layers = in->layers;
+    st_layers_init(&in->layers);
     s->has_hd = 1;
     s->hd_from = from;
     /* keep_above is not stored: sculpted HD faces must never coarsen after

@@ -332,7 +332,7 @@ static void w_base_uv(st_bw *w, const st_session_ref *r)
  * costs a second image's time but no file format of its own. */
 static st_session_ref hd_ref(const st_session_ref *r)
 {
-    st_session_ref n = { .h = r->hd, .adapt = r->hd_adapt, .whole_map = 1 };
+    st_session_ref n = { .h = r->hd, .adapt = r->hd_adapt, .whole_map = 1, .layers = r->hd_layers };
     return n;
 }
 

@@ -3,6 +3,7 @@
  * through st_hier_edit_with, whose hook sees each moved vertex's new detail
  * and stores the composition instead. */
 #include "core/multires/layers.h"
+#include "core/multires/hier_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -118,13 +119,13 @@ int st_layers_add(st_layers *ls, const st_hier *h, unsigned l, const char *name,
         ls->base_cap[l] = 0;
         uint32_t cap = h->map.verts.end;
         grow3(&ls->base[l], &ls->base_cap[l], cap ? cap - 1 : 0, cap);
-        if (l == 0) {
-            st_dart_iter it;
-            for (uint32_t v = st_vertex_first(&h->map, 0, &it); v != ST_NIL; v = st_vertex_next(&h->map, 0, &it))
-                memcpy(ls->base[0] + 3 * (size_t)v, st_pos(&h->map, v, 0), 3 * sizeof(double));
-        } else {
-            uint32_t n = h->detail[l] ? (h->detail_cap[l] < cap ? h->detail_cap[l] : cap) : 0;
-            if (n) memcpy(ls->base[l], h->detail[l], 3 * (size_t)n * sizeof(double));
+        /* Only the vertices of level l: an adaptive hierarchy's free ids
+         * may hold stale values, and a vertex made there later must start
+         * with B_l = 0 (st_layers_holds). */
+        st_dart_iter it;
+        for (uint32_t v = st_vertex_first(&h->map, l, &it); v != ST_NIL; v = st_vertex_next(&h->map, l, &it)) {
+            const double *src = l == 0 ? st_pos(&h->map, v, 0) : st_hier_detail(h, l, v);
+            memcpy(ls->base[l] + 3 * (size_t)v, src, 3 * sizeof(double));
         }
     }
     st_layer *y = &ls->v[ls->n];
@@ -232,6 +233,30 @@ void st_layers_follow(st_layers *ls, const st_hier *h, unsigned above, const uin
     }
 }
 
+int st_layers_edit_target(const st_layers *ls, unsigned l, int target)
+{
+    return target >= 0 && (uint32_t)target < ls->n && contributes(&ls->v[target], l) ? target : -1;
+}
+
+void st_layers_compose(const st_layers *ls, unsigned l, uint32_t v, double det[3])
+{
+    compose_except(ls, l, v, -1, det);
+}
+
+static int nonzero3(const double *p) { return p[0] != 0 || p[1] != 0 || p[2] != 0; }
+
+int st_layers_holds(const st_layers *ls, unsigned l, uint32_t v)
+{
+    if (l >= ST_MAX_LEVELS) return 0;
+    if (ls->base[l] && v < ls->base_cap[l] && nonzero3(ls->base[l] + 3 * (size_t)v)) return 1;
+    if (ls->bpos[l] && v < ls->bpos_cap[l] && !isnan(ls->bpos[l][3 * (size_t)v])) return 1;
+    for (uint32_t i = 0; i < ls->n; i++) {
+        const st_layer *y = &ls->v[i];
+        if (y->level == l && y->off && v < y->cap && nonzero3(y->off + 3 * (size_t)v)) return 1;
+    }
+    return 0;
+}
+
 typedef struct hook_ctx { st_layers *ls; int target; } hook_ctx;
 
 /* The new detail det of v (level 0: its new position) split: the change
@@ -253,6 +278,12 @@ static void split_change(st_layers *ls, unsigned l, uint32_t v, int target, cons
         for (int i = 0; i < 3; i++) b[i] = det[i] - (layers[i] - old[i]);
         st_layers_set(ls, -1, l, v, b);
     }
+}
+
+void st_layers_take(st_layers *ls, unsigned l, uint32_t v, int target, double det[3])
+{
+    split_change(ls, l, v, target, det);
+    compose_except(ls, l, v, -1, det);
 }
 
 /* st_hier_edit_with's hook for an edit: the change goes into the target,
@@ -298,7 +329,7 @@ uint64_t st_layers_edit(st_layers *ls, st_hier *h, unsigned l, int target, const
                         const double (*pos)[3], uint32_t n, st_footprint *fp, st_edit_cache *cache)
 {
     if (!st_layers_on_level(ls, l)) return st_hier_edit_cached(h, l, darts, pos, n, fp, NULL, NULL, cache);
-    if (target >= 0 && ((uint32_t)target >= ls->n || !contributes(&ls->v[target], l))) target = -1;
+    target = st_layers_edit_target(ls, l, target);
     if (l == 0) return edit_level0(ls, h, target, darts, pos, n, fp, cache);
     keep_bpos(ls, h, l, darts, n);
     hook_ctx c = { ls, target };
@@ -443,5 +474,37 @@ int st_layers_rebase(st_layers *ls, st_error *err)
     ls->base_cap[ST_MAX_LEVELS - 1] = 0;
     ls->bpos[ST_MAX_LEVELS - 1] = NULL;
     ls->bpos_cap[ST_MAX_LEVELS - 1] = 0;
+    return 0;
+}
+
+int st_layers_append(st_layers *dst, st_layers *src, st_error *err)
+{
+    for (uint32_t i = 0; i < src->n; i++)
+        if (st_layers_on_level(dst, src->v[i].level))
+            return st_fail(err, ST_ERR_INVALID, "level %u has sculpt layers on both sides", src->v[i].level), -1;
+    if (dst->n + src->n > ST_LAYER_MAX) return st_fail(err, ST_ERR_INVALID, "at most %d sculpt layers", ST_LAYER_MAX), -1;
+    if (!src->n) return 0;
+    if (dst->n + src->n > dst->cap) {
+        st_layer *p = realloc(dst->v, (size_t)(dst->n + src->n) * sizeof *p);
+        if (!p) return st_fail(err, ST_ERR_MEMORY, "out of memory"), -1;
+        dst->v = p;
+        dst->cap = dst->n + src->n;
+    }
+    memcpy(dst->v + dst->n, src->v, (size_t)src->n * sizeof *src->v);
+    if (dst->active < 0 && src->active >= 0) dst->active = (int)dst->n + src->active;
+    dst->n += src->n;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        if (!src->base[l] && !src->bpos[l]) continue;
+        /* (a level of src's layers: dst has none there, so no arrays) */
+        free(dst->base[l]);
+        free(dst->bpos[l]);
+        dst->base[l] = src->base[l];
+        dst->base_cap[l] = src->base_cap[l];
+        dst->bpos[l] = src->bpos[l];
+        dst->bpos_cap[l] = src->bpos_cap[l];
+        src->base[l] = src->bpos[l] = NULL;
+    }
+    free(src->v);
+    st_layers_init(src);
     return 0;
 }

@@ -115,6 +115,26 @@ uint64_t st_layers_recompose(st_layers *ls, st_hier *h, unsigned l, const uint32
  * levels above l follows where no layer contributes, else is forgotten. */
 void st_layers_follow(st_layers *ls, const st_hier *h, unsigned l, const uint64_t *keys, uint32_t n);
 
+/* The parts of an edit for callers that compute the details themselves:
+ * core/adapt's HD edits (adapt.h, "HD levels"), whose positions are always
+ * S(P_{l-1}) + F D (st_adapt_edit), so that D alone gives a position back
+ * and these keep no P0: strength 0 or hidden gives S(P_{l-1}) + F B_l,
+ * which is the surface without the layer bit for bit.
+ * st_layers_edit_target: the slot an edit of level l into `target` goes
+ * to (-1: B_l; a hidden layer, one at strength 0 or one of another level
+ * takes nothing).  st_layers_take: the new detail det of v split into that
+ * slot (O_t = (det - rest) / s_t, or B_l = det - the layers' sum), then det
+ * becomes the composition D_l(v).  st_layers_compose: D_l(v) into det. */
+int st_layers_edit_target(const st_layers *ls, unsigned l, int target);
+void st_layers_take(st_layers *ls, unsigned l, uint32_t v, int target, double det[3]);
+void st_layers_compose(const st_layers *ls, unsigned l, uint32_t v, double det[3]);
+
+/* Whether v holds anything of the layers of level l: a non-zero B_l or
+ * offset, or a kept P0.  An adaptive hierarchy keeps the faces around such
+ * vertices refined (st_adapt.keep_layers), so that vertex ids the layers
+ * index are never freed and re-used. */
+int st_layers_holds(const st_layers *ls, unsigned l, uint32_t v);
+
 /* Darts of the layer's level (one per vertex) of the vertices where layer
  * k has a non-zero offset, into *darts (grown; *cap its capacity).
  * Returns their number. */
@@ -129,6 +149,13 @@ int st_layers_move(st_layers *ls, int k, int to, st_error *err);
 int st_layers_merge_down(st_layers *ls, int k, st_error *err);
 int st_layers_remove(st_layers *ls, int k, st_error *err);
 int st_layers_rename(st_layers *ls, int k, const char *name, st_error *err);
+
+/* Moves every layer of src (with its levels' B_l and P0) on top of dst's
+ * stack; src is left empty.  Their levels must hold no layer of dst (a
+ * session's HD layers join the model's).  dst's active layer stays, or
+ * becomes src's when dst had none.  -1 with err filled: a level shared,
+ * too many layers, out of memory (both unchanged). */
+int st_layers_append(st_layers *dst, st_layers *src, st_error *err);
 
 /* After the coarsest level was removed (st_hier_remove_bottom): levels shift
  * down by one.  Refused (-1) while a layer is on level 0 (it would be lost)

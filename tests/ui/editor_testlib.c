@@ -2,6 +2,7 @@
 #include "editor_testlib.h"
 #include "testlib.h"
 #include "core/multires/edit.h"
+#include "core/adapt/adapt.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -82,4 +83,49 @@ int ed_test_same_values(const st_hier *h, const double *v, size_t n)
     int same = m == n && !memcmp(now, v, n * sizeof *v);
     free(now);
     return same;
+}
+
+int ed_hier_clone(st_hier *dst, const st_hier *src, size_t *bytes); /* ui/doc/editor_clone.c */
+
+/* (test_editor_hd*.c) The display equals a full adaptive synthesis of its levels above `from`
+ * (core's st_adapt_synthesize on a copy), bit for bit. */
+int ed_test_display_is_synthesis(st_doc *d, unsigned from)
+{
+    st_hier c;
+    if (ed_hier_clone(&c, &d->display.hier, NULL)) return 0;
+    st_adapt a = d->display.adapt; /* read only: its arrays stay the display's */
+    a.h = &c;
+    st_adapt_synthesize(&a, from);
+    size_t n1, n2;
+    double *v1 = ed_test_all_values(&d->display.hier, &n1), *v2 = ed_test_all_values(&c, &n2);
+    int same = n1 == n2 && !memcmp(v1, v2, n1 * sizeof *v1);
+    free(v1);
+    free(v2);
+    st_hier_free(&c);
+    return same;
+}
+
+/* The editable vertex of the display's level L nearest to the centroid of
+ * the editable ones (the middle of the HD region), its dart in *dart. */
+uint32_t ed_test_hd_middle_vertex(st_doc *d, unsigned L, uint32_t *dart)
+{
+    st_map *m = &d->display.hier.map;
+    double c[3] = { 0, 0, 0 };
+    uint32_t n = 0, best = ST_NIL;
+    st_dart_iter it;
+    for (uint32_t x = st_dart_first(m, L, &it); x != ST_NIL; x = st_dart_next(m, L, &it)) {
+        if (st_is_boundary(m, x) || !st_adapt_vertex_editable(m, x, L)) continue;
+        const double *p = st_pos(m, st_vert(m, x, L), L);
+        for (int k = 0; k < 3; k++) c[k] += p[k];
+        n++;
+    }
+    if (!n) return ST_NIL;
+    for (int k = 0; k < 3; k++) c[k] /= n;
+    double bd = INFINITY;
+    for (uint32_t x = st_dart_first(m, L, &it); x != ST_NIL; x = st_dart_next(m, L, &it)) {
+        if (st_is_boundary(m, x) || !st_adapt_vertex_editable(m, x, L)) continue;
+        double dd = ed_test_dist3(st_pos(m, st_vert(m, x, L), L), c);
+        if (dd < bd) { bd = dd; best = st_vert(m, x, L); *dart = x; }
+    }
+    return best;
 }

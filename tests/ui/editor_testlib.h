@@ -23,4 +23,11 @@ double *ed_test_all_values(const st_hier *h, size_t *n);
 /* h's values now are the n doubles of v (ed_test_all_values), bit for bit. */
 int ed_test_same_values(const st_hier *h, const double *v, size_t n);
 
+/* HD levels (editor_hd.c): the display equals a full adaptive synthesis of
+ * its levels above `from` (st_adapt_synthesize on a copy), bit for bit;
+ * the editable vertex of the display's level L nearest to the centroid of
+ * the editable ones (the middle of the HD region), its dart in *dart. */
+int ed_test_display_is_synthesis(st_doc *d, unsigned from);
+uint32_t ed_test_hd_middle_vertex(st_doc *d, unsigned L, uint32_t *dart);
+
 #endif

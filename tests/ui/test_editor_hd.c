@@ -31,51 +31,6 @@
 #include <string.h>
 #include <unistd.h>
 
-int ed_hier_clone(st_hier *dst, const st_hier *src, size_t *bytes); /* ui/doc/editor_clone.c */
-
-/* The display equals a full adaptive synthesis of its levels above `from`
- * (core's st_adapt_synthesize on a copy), bit for bit. */
-static int display_is_synthesis(st_doc *d, unsigned from)
-{
-    st_hier c;
-    if (ed_hier_clone(&c, &d->display.hier, NULL)) return 0;
-    st_adapt a = d->display.adapt; /* read only: its arrays stay the display's */
-    a.h = &c;
-    st_adapt_synthesize(&a, from);
-    size_t n1, n2;
-    double *v1 = ed_test_all_values(&d->display.hier, &n1), *v2 = ed_test_all_values(&c, &n2);
-    int same = n1 == n2 && !memcmp(v1, v2, n1 * sizeof *v1);
-    free(v1);
-    free(v2);
-    st_hier_free(&c);
-    return same;
-}
-
-/* The editable vertex of the display's level L nearest to the centroid of
- * the editable ones (the middle of the HD region), its dart in *dart. */
-static uint32_t hd_middle_vertex(st_doc *d, unsigned L, uint32_t *dart)
-{
-    st_map *m = &d->display.hier.map;
-    double c[3] = { 0, 0, 0 };
-    uint32_t n = 0, best = ST_NIL;
-    st_dart_iter it;
-    for (uint32_t x = st_dart_first(m, L, &it); x != ST_NIL; x = st_dart_next(m, L, &it)) {
-        if (st_is_boundary(m, x) || !st_adapt_vertex_editable(m, x, L)) continue;
-        const double *p = st_pos(m, st_vert(m, x, L), L);
-        for (int k = 0; k < 3; k++) c[k] += p[k];
-        n++;
-    }
-    if (!n) return ST_NIL;
-    for (int k = 0; k < 3; k++) c[k] /= n;
-    double bd = INFINITY;
-    for (uint32_t x = st_dart_first(m, L, &it); x != ST_NIL; x = st_dart_next(m, L, &it)) {
-        if (st_is_boundary(m, x) || !st_adapt_vertex_editable(m, x, L)) continue;
-        double dd = ed_test_dist3(st_pos(m, st_vert(m, x, L), L), c);
-        if (dd < bd) { bd = dd; best = st_vert(m, x, L); *dart = x; }
-    }
-    return best;
-}
-
 static void stroke_at(st_doc *d, int tool, const double c[3], double radius, double strength)
 {
     st_brush_set_tool(&d->brush, tool);
@@ -140,7 +95,7 @@ int main(void)
     size_t nm0, nd0;
     double *model0 = ed_test_all_values(&d.h, &nm0);
     double *disp0 = ed_test_all_values(&d.display.hier, &nd0);
-    uint32_t dart = ST_NIL, hv = hd_middle_vertex(&d, L, &dart);
+    uint32_t dart = ST_NIL, hv = ed_test_hd_middle_vertex(&d, L, &dart);
     CHECK(hv != ST_NIL);
     double c[3], before[3];
     memcpy(c, st_pos(&d.display.hier.map, hv, L), sizeof c);
@@ -150,7 +105,7 @@ int main(void)
     CHECK(ed_test_same_values(&d.h, model0, nm0));          /* the model did not move */
     CHECK(!ed_test_same_values(&d.display.hier, disp0, nd0));
     CHECK(ed_test_dist3(st_pos(&d.display.hier.map, hv, 6), before) > 1e-4); /* the finer level followed */
-    CHECK(display_is_synthesis(&d, N));
+    CHECK(ed_test_display_is_synthesis(&d, N));
     CHECK(st_doc_hd_faces(&d) > 0);
     size_t nd1;
     double *disp1 = ed_test_all_values(&d.display.hier, &nd1);
@@ -166,18 +121,18 @@ int main(void)
      * stays a full re-synthesis); two undos give the state before both. */
     st_doc_set_edit_level(&d, 6);
     CHECK(d.hd_level == 6);
-    uint32_t fdart = ST_NIL, fv = hd_middle_vertex(&d, 6, &fdart);
+    uint32_t fdart = ST_NIL, fv = ed_test_hd_middle_vertex(&d, 6, &fdart);
     CHECK(fv != ST_NIL);
     double fc[3], fine[3];
     memcpy(fc, st_pos(&d.display.hier.map, fv, 6), sizeof fc);
     stroke_at(&d, ST_BRUSH_DRAW, fc, 0.05, 0.5);
     memcpy(fine, st_pos(&d.display.hier.map, fv, 6), sizeof fine);
     CHECK(ed_test_dist3(fine, fc) > 1e-6);
-    CHECK(display_is_synthesis(&d, N));
+    CHECK(ed_test_display_is_synthesis(&d, N));
     st_doc_set_edit_level(&d, 5);
     stroke_at(&d, ST_BRUSH_GRAB, fc, 0.3, 1.0);
     CHECK(ed_test_dist3(st_pos(&d.display.hier.map, fv, 6), fine) > 1e-3);
-    CHECK(display_is_synthesis(&d, N));
+    CHECK(ed_test_display_is_synthesis(&d, N));
     CHECK(st_doc_undo(&d, &err) == 0 && st_doc_undo(&d, &err) == 0);
     CHECK(ed_test_same_values(&d.display.hier, disp1, nd1));
     st_doc_set_edit_level(&d, L);
@@ -221,7 +176,7 @@ int main(void)
         for (int k = 0; k < 3; k++) q[k] = p0[k] + delta[k];
         CHECK(ed_test_dist3(p1, q) < 1e-12);
         CHECK(ed_test_same_values(&d.h, model0, nm0)); /* the model did not move */
-        CHECK(display_is_synthesis(&d, N));
+        CHECK(ed_test_display_is_synthesis(&d, N));
         CHECK(st_doc_undo_name(&d) && !strcmp(st_doc_undo_name(&d), "move"));
         CHECK(st_doc_undo(&d, &err) == 0);
         CHECK(ed_test_same_values(&d.display.hier, disp1, nd1));
@@ -264,14 +219,14 @@ int main(void)
      * for bit.  (core/adapt's exact updates: tests/core/test_adapt_hd.c) */
     CHECK(!d.display.adapt.exact);
     st_adapt_synthesize(&d.display.adapt, N);
-    CHECK(display_is_synthesis(&d, N));
+    CHECK(ed_test_display_is_synthesis(&d, N));
 
     /* A coarse stroke at level 1 carries the HD detail. */
     st_doc_set_edit_level(&d, 1);
     CHECK(d.hd_level == 0 && d.edit_level == 1);
     stroke_at(&d, ST_BRUSH_GRAB, c, 1.0, 1.0);
     CHECK(ed_test_dist3(st_pos(&d.display.hier.map, hv, L), sculpted) > 1e-3);
-    CHECK(display_is_synthesis(&d, N));
+    CHECK(ed_test_display_is_synthesis(&d, N));
     CHECK(st_doc_hd_faces(&d) > 0);
 
     /* Operations that rebuild the model's levels are refused. */
@@ -292,7 +247,7 @@ int main(void)
     st_hier_free(&e.h);
     st_session_move_hier(&e.h, &s.h);
     e.scheme = e.h.scheme;
-    if (s.has_hd) CHECKF(st_doc_adopt_hd(&e, &s.hd, &s.hd_adapt, &err) == 0, "adopt: %s", err.msg);
+    if (s.has_hd) CHECKF(st_doc_adopt_hd(&e, &s.hd, &s.hd_adapt, &s.hd_layers, &err) == 0, "adopt: %s", err.msg);
     CHECK(st_doc_display_adaptive(&e));
     CHECK(e.display.built && ed_test_same_values(&e.display.hier, dispv, ndv));
     CHECK(st_doc_hd_faces(&e) == st_doc_hd_faces(&d));

@@ -553,10 +553,12 @@ uint64_t st_doc_hd_faces(const st_doc *d);
  * levels 0..top are the model's, same ids and UVs), else NULL (the
  * model). */
 st_hier *st_doc_hd_bake_source(st_doc *d, unsigned *level);
-/* A session's HD levels (its chunk hdlv: hd and hd_adapt, taken) become
- * the display, kept like sculpted HD levels; the model must be the
- * session's.  Refused, nothing taken, when they do not match it. */
-int st_doc_adopt_hd(st_doc *d, st_hier *hd, st_adapt *hd_adapt, st_error *err);
+/* A session's HD levels (its chunk hdlv: hd, hd_adapt and the HD levels'
+ * sculpt layers, taken; hd_layers may be NULL) become the display, kept
+ * like sculpted HD levels, and the layers join the document's stack; the
+ * model must be the session's.  Refused, nothing taken, when they do not
+ * match it. */
+int st_doc_adopt_hd(st_doc *d, st_hier *hd, st_adapt *hd_adapt, st_layers *hd_layers, st_error *err);
 
 /* Brush falloff of the smooth preset: (1 - (r/R)^2)^2 for r < R, else 0. */
 double st_brush_falloff(double r, double radius);

@@ -28,8 +28,11 @@
  *     (those a brush may move: ed_hd_vertex_ok) and a drag writes them as
  *     a dab does; the window's cage and picking are that level's
  *     (ui/window.c).  A box move clears such a selection (ids change).
- *   - Not at HD levels (refused with a message): sculpt layers.
- *     Operations that rebuild the model's levels are refused while HD
+ *   - Sculpt layers at HD levels are in the document's one stack
+ *     (editor_layers.c): their offsets index the display's vertices, the
+ *     faces they cover stay refined (st_adapt.keep_layers) and they keep
+ *     no P0 (core/multires/layers.h: an HD position is always a synthesis).
+ *   - Operations that rebuild the model's levels are refused while HD
  *     detail exists; when the display is rebuilt anyway (undo past a level
  *     change, which first undoes every HD stroke after it), the HD state
  *     and the history's HD steps go (ed_hd_forget). */
@@ -75,9 +78,18 @@ unsigned st_doc_level_limit(const st_doc *d)
     return t > top ? t : top;
 }
 
+/* A sculpt layer on a level above the model's top. */
+static int hd_layers_present(const st_layers *ls, unsigned top)
+{
+    for (uint32_t i = 0; i < ls->n; i++)
+        if (ls->v[i].level > top) return 1;
+    return 0;
+}
+
 int ed_hd_detail_present(const st_doc *d)
 {
     if (!d->hd || !d->display.built) return 0;
+    if (hd_layers_present(&d->layers, d->h.map.top)) return 1;
     const st_hier *h = &d->display.hier;
     for (unsigned L = d->h.map.top + 1; L <= h->map.top; L++) {
         const double *p = h->detail[L];
@@ -106,14 +118,33 @@ int ed_hd_blocks(st_doc *d, const char *what, st_error *err)
                    what, d->h.map.top);
 }
 
+/* The layers of levels above top out of a stack (their ids were the old
+ * display's). */
+static uint32_t strip_hd_layers(st_layers *ls, unsigned top)
+{
+    uint32_t dropped = 0;
+    for (uint32_t k = ls->n; k-- > 0;)
+        if (ls->v[k].level > top) {
+            st_layers_remove(ls, (int)k, NULL);
+            dropped++;
+        }
+    return dropped;
+}
+
 void ed_hd_forget(st_doc *d)
 {
     if (!d->hd && !d->hd_level) return;
     d->hd = 0;
     d->hd_level = 0;
+    unsigned top = d->h.map.top;
+    uint32_t lost = strip_hd_layers(&d->layers, top);
     uint32_t k = 0, dropped = 0, pos = d->undo_pos;
     for (uint32_t i = 0; i < d->nundo; i++) {
         st_undo_step *s = d->undo[i];
+        if (s->has_layers) {
+            strip_hd_layers(&s->layers_old, top);
+            strip_hd_layers(&s->layers_new, top);
+        }
         if (s->kind == ED_STEP_EDIT && s->hd) {
             d->undo_bytes -= s->bytes;
             ed_step_free(s);
@@ -125,9 +156,9 @@ void ed_hd_forget(st_doc *d)
     }
     d->nundo = k;
     d->undo_pos = pos;
-    if (dropped)
-        snprintf(d->note, sizeof d->note, "the HD levels were rebuilt: %u HD stroke%s left the history", dropped,
-                 dropped > 1 ? "s" : "");
+    if (dropped || lost)
+        snprintf(d->note, sizeof d->note, "the HD levels were rebuilt: %u HD step%s left the history, %u HD layer%s went",
+                 dropped, dropped == 1 ? "" : "s", lost, lost == 1 ? "" : "s");
 }
 
 /* ---- strokes ------------------------------------------------------------------------ */
@@ -173,7 +204,7 @@ int ed_hd_vertex_ok(const st_doc *d, uint32_t v)
            v < d->hd_mask.cap && d->hd_mask.v[v] < 1.0f;
 }
 
-int ed_hd_stroke_begin(st_doc *d)
+int ed_hd_enter(st_doc *d)
 {
     const char *why = st_doc_hd_refusal(d);
     if (!why && d->hd_level > d->display.hier.map.top) why = "the HD level is above the interest box's maximum level";
@@ -182,10 +213,8 @@ int ed_hd_stroke_begin(st_doc *d)
         return -1;
     }
     st_box_display *bd = &d->display;
-    ed_hd_tables(d);
-    if (!d->hd_cache) d->hd_cache = st_edit_cache_new();
-    st_edit_cache_clear(d->hd_cache);
     bd->adapt.keep_above = d->h.map.top;
+    bd->adapt.keep_layers = &d->layers;
     /* (st_adapt.exact stays off: its canonical pass made a box jump
      * across a level-10 model nine times as slow, bench_hd 21 s against
      * 2.3 s; box updates then place new vertices with the stencil of the
@@ -195,7 +224,16 @@ int ed_hd_stroke_begin(st_doc *d)
     return 0;
 }
 
-void ed_hd_record(st_doc *d, st_undo_step *s, const uint32_t *darts, uint32_t n)
+int ed_hd_stroke_begin(st_doc *d)
+{
+    if (ed_hd_enter(d)) return -1;
+    ed_hd_tables(d);
+    if (!d->hd_cache) d->hd_cache = st_edit_cache_new();
+    st_edit_cache_clear(d->hd_cache);
+    return 0;
+}
+
+void ed_hd_record_values(st_doc *d, st_undo_step *s, const uint32_t *darts, uint32_t n)
 {
     st_hier *dh = &d->display.hier;
     unsigned L = s->level;
@@ -206,6 +244,31 @@ void ed_hd_record(st_doc *d, st_undo_step *s, const uint32_t *darts, uint32_t n)
     }
 }
 
+void ed_hd_record(st_doc *d, st_undo_step *s, const uint32_t *darts, uint32_t n)
+{
+    ed_hd_record_values(d, s, darts, n);
+    unsigned L = s->level;
+    if (!st_layers_on_level(&d->layers, L)) return;
+    /* The one slot the edit changes (B_L or the active layer's offsets);
+     * no P0 at HD levels. */
+    if (!s->lay) s->lay = ed_step_new(ED_STEP_EDIT);
+    int slot = ed_layer_target(d, L);
+    for (uint32_t i = 0; i < n; i++)
+        ed_step_touch_layer(s->lay, &d->layers, slot, L, st_vert(&d->display.hier.map, darts[i], L));
+}
+
+void ed_hd_recompose(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0)
+{
+    st_box_display *bd = &d->display;
+    uint32_t from = bd->written.n;
+    st_adapt_edit_layered(&bd->hier, &d->layers, -1, l, darts, NULL, n, &bd->written, NULL);
+    st_box_display_written(bd, from);
+    d->change.bits |= ST_CHANGE_DISPLAY;
+    double now = ed_now_ms();
+    d->last_update_ms = now - t0;
+    d->last_update_at_ms = now;
+}
+
 void ed_hd_dab_write(st_doc *d, st_undo_step *s, const uint32_t *darts, const double (*pos)[3], uint32_t n, double t0)
 {
     st_box_display *bd = &d->display;
@@ -213,12 +276,26 @@ void ed_hd_dab_write(st_doc *d, st_undo_step *s, const uint32_t *darts, const do
     unsigned L = d->hd_level;
     if (s) ed_hd_record(d, s, darts, n);
     uint32_t from = bd->written.n;
-    st_adapt_edit(dh, L, darts, pos, n, &bd->written, d->hd_cache);
+    int slot = st_layers_on_level(&d->layers, L) ? ed_layer_target(d, L) : -1;
+    st_adapt_edit_layered(dh, &d->layers, slot, L, darts, pos, n, &bd->written, d->hd_cache);
     st_box_display_written(bd, from);
     d->change.bits |= ST_CHANGE_DISPLAY;
     double now = ed_now_ms();
     d->last_update_ms = now - t0;
     d->last_update_at_ms = now;
+}
+
+/* st_hier_restore as an HD edit writes (st_adapt_edit): a position with
+ * st_set_pos, so that the levels above that still show the value being
+ * replaced follow it back (a vertex whose finer faces coarsened away keeps
+ * columns there that only inherit). */
+static void hd_restore(st_hier *h, const uint64_t *keys, const double (*v)[3], uint32_t n, st_footprint *fp)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        if (st_fp_kind(keys[i]) == ST_FP_POS) st_set_pos(&h->map, st_fp_vid(keys[i]), st_fp_level(keys[i]), v[i]);
+        else st_hier_set_value(h, keys[i], v[i]);
+        st_footprint_add(fp, keys[i]);
+    }
 }
 
 void ed_hd_step_apply(st_doc *d, const st_undo_step *s, int redo)
@@ -228,7 +305,11 @@ void ed_hd_step_apply(st_doc *d, const st_undo_step *s, int redo)
     st_box_display *bd = &d->display;
     const double(*v)[3] = redo ? (const double(*)[3])s->newv : (const double(*)[3])s->oldv;
     uint32_t from = bd->written.n;
-    if (v) st_hier_restore(&bd->hier, s->key, v, s->n, &bd->written);
+    if (v) hd_restore(&bd->hier, s->key, v, s->n, &bd->written);
+    /* The layers' values go back with the level's (the composed details
+     * just restored are their sums). */
+    if (s->lay) ed_layer_values_apply(s->lay, &d->layers, redo);
+    ed_step_apply_extra(d, s, redo);
     st_hier_resynth_around(&bd->hier, s->level, s->moved, s->nmoved, &bd->written);
     st_box_display_written(bd, from);
     d->change.bits |= ST_CHANGE_DISPLAY;
@@ -237,13 +318,23 @@ void ed_hd_step_apply(st_doc *d, const st_undo_step *s, int redo)
     d->last_update_at_ms = now;
 }
 
-int st_doc_adopt_hd(st_doc *d, st_hier *hd, st_adapt *hd_adapt, st_error *err)
+int st_doc_adopt_hd(st_doc *d, st_hier *hd, st_adapt *hd_adapt, st_layers *hd_layers, st_error *err)
 {
     if (!d->loaded) return st_fail(err, ST_ERR_INVALID, "no model");
     if (!st_adapt_scheme_has_hd(d->h.scheme)) return st_fail(err, ST_ERR_INVALID, "%s", st_doc_hd_refusal(d));
+    for (uint32_t i = 0; hd_layers && i < hd_layers->n; i++)
+        if (hd_layers->v[i].level <= d->h.map.top || hd_layers->v[i].level > hd->map.top)
+            return st_fail(err, ST_ERR_INVALID, "HD layer '%s' is on level %u, outside the HD levels %u..%u",
+                           hd_layers->v[i].name, hd_layers->v[i].level, d->h.map.top + 1, hd->map.top);
+    if (hd_layers && d->layers.n + hd_layers->n > ST_LAYER_MAX)
+        return st_fail(err, ST_ERR_INVALID, "%u sculpt layers with the HD levels' (at most %d)", d->layers.n + hd_layers->n,
+                       ST_LAYER_MAX);
     int rc = st_box_display_adopt(&d->display, &d->h, hd, hd_adapt, err);
     if (rc) return rc;
+    /* (the levels differ from the model's layers', checked above) */
+    if (hd_layers && st_layers_append(&d->layers, hd_layers, err)) return ST_ERR_MEMORY;
     d->display.adapt.keep_above = d->h.map.top;
+    d->display.adapt.keep_layers = &d->layers;
     d->display.adapt.exact = 0; /* (as ed_hd_stroke_begin says) */
     d->hd = 1;
     d->box.base_level = d->h.map.top;

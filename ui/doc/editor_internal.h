@@ -157,6 +157,10 @@ static inline uint64_t ed_layer_key(int slot, unsigned level, uint32_t vid)
  * level l into the active layer when it is on l (else the level's own
  * details; st_layers_edit). */
 void ed_model_edit(st_doc *d, st_undo_step *s, unsigned l, const uint32_t *darts, const double (*pos)[3], uint32_t n);
+/* The slot a stroke or drag at level l goes into: the active layer when it
+ * is on l, visible and at a strength != 0, else -1 (the level's own
+ * details; d->note says why when the active layer could not take it). */
+int ed_layer_target(st_doc *d, unsigned l);
 /* Records the layer value (slot, level, vid) as "old" in s unless present. */
 void ed_step_touch_layer(st_undo_step *s, const st_layers *ls, int slot, unsigned level, uint32_t vid);
 /* ed_model_edit's recording part alone for the layers (a drag records
@@ -179,7 +183,8 @@ void ed_count_display(st_doc *d);
 /* ---- editor_hd.c ---- */
 /* The display is shown instead of h: box on, or HD levels kept. */
 int ed_display_on(const st_doc *d);
-/* Non-zero detail at a level above the model's top in the display. */
+/* Non-zero detail at a level above the model's top in the display, or a
+ * sculpt layer there. */
 int ed_hd_detail_present(const st_doc *d);
 /* Operations that rebuild the model's levels call this first: refused
  * (err says why) while the HD levels hold sculpted detail. */
@@ -196,8 +201,18 @@ int ed_hd_stroke_begin(st_doc *d);
 void ed_hd_tables(st_doc *d);
 /* v is a display vertex that hd_level's selection and drags may move. */
 int ed_hd_vertex_ok(const st_doc *d, uint32_t v);
-/* Records the old level values of the darts' vertices in s (an HD step). */
+/* Records the old level values of the darts' vertices in s (an HD step,
+ * level s->level), and with _values alone not the values of the layers
+ * a stroke or drag there writes (s->lay). */
 void ed_hd_record(st_doc *d, st_undo_step *s, const uint32_t *darts, uint32_t n);
+void ed_hd_record_values(st_doc *d, st_undo_step *s, const uint32_t *darts, uint32_t n);
+/* HD mode on for what comes (a stroke, a layer): the box's display kept
+ * with the box off, sculpted faces and layers kept refined.  -1 with
+ * d->refusal saying why when HD levels are not possible now. */
+int ed_hd_enter(st_doc *d);
+/* Recomposes the layers of HD level l over the darts' vertices
+ * (st_adapt_edit_layered) and tells the display. */
+void ed_hd_recompose(st_doc *d, unsigned l, const uint32_t *darts, uint32_t n, double t0);
 /* Writes the darts' vertices at hd_level (st_adapt_edit), recording in s
  * first when s is not NULL; the display reports what it wrote. */
 void ed_hd_dab_write(st_doc *d, st_undo_step *s, const uint32_t *darts, const double (*pos)[3], uint32_t n, double t0);

@@ -11,15 +11,21 @@
  * hierarchy's (st_undo_step.lay, keyed (slot, level, vertex)); a layer
  * operation records the hierarchy's values it rewrites and the whole layer
  * stack before and after (copies: a layer costs 24 bytes per vertex of its
- * level in each). */
+ * level in each).
+ *
+ * Layers at HD levels (above the model's top, editor_hd.c) live in the same
+ * stack: their offsets are indexed by the box display's vertex ids, they
+ * are edited and recomposed through core/adapt's st_adapt_edit_layered,
+ * and their steps are HD steps (st_undo_step.hd).  The display keeps the
+ * faces they cover refined (st_adapt.keep_layers). */
 #include "editor_internal.h"
+#include "core/adapt/adapt.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* The slot strokes at level l go into. */
-static int edit_target(st_doc *d, unsigned l)
+int ed_layer_target(st_doc *d, unsigned l)
 {
     const st_layers *ls = &d->layers;
     int a = ls->active;
@@ -49,7 +55,7 @@ void ed_model_touch_layers(st_doc *d, st_undo_step *s, unsigned l, const uint32_
     if (!s || !ls->n) return;
     if (!s->lay) s->lay = ed_step_new(ED_STEP_EDIT);
     if (st_layers_on_level(ls, l)) {
-        int slot = edit_target(d, l);
+        int slot = ed_layer_target(d, l);
         for (uint32_t i = 0; i < n; i++) {
             uint32_t v = st_vert(&d->h.map, darts[i], l);
             ed_step_touch_layer(s->lay, ls, slot, l, v);
@@ -89,7 +95,7 @@ void ed_model_edit(st_doc *d, st_undo_step *s, unsigned l, const uint32_t *darts
     }
     uint32_t from = d->fp_model.n;
     if (st_layers_on_level(&d->layers, l))
-        st_layers_edit(&d->layers, &d->h, l, edit_target(d, l), darts, pos, n, &d->fp_model, cache);
+        st_layers_edit(&d->layers, &d->h, l, ed_layer_target(d, l), darts, pos, n, &d->fp_model, cache);
     else
         st_hier_edit_cached(&d->h, l, darts, pos, n, &d->fp_model, NULL, NULL, cache);
     if (layers_above(&d->layers, l)) st_layers_follow(&d->layers, &d->h, l, d->fp_model.keys + from, d->fp_model.n - from);
@@ -136,10 +142,17 @@ static st_undo_step *op_begin(st_doc *d, const char *name, st_error *err)
  * an offset, deduplicated by vertex. */
 typedef struct dart_set { uint32_t *d, n, cap; } dart_set;
 
+/* The hierarchy holding level l's layers: the model's, or the box
+ * display's for an HD level. */
+static st_hier *layer_hier(st_doc *d, unsigned l)
+{
+    return l > d->h.map.top ? &d->display.hier : &d->h;
+}
+
 static void support_of(st_doc *d, int k, dart_set *out)
 {
     uint32_t *tmp = NULL, cap = 0;
-    uint32_t n = st_layers_support(&d->layers, &d->h, k, &tmp, &cap);
+    uint32_t n = st_layers_support(&d->layers, layer_hier(d, d->layers.v[k].level), k, &tmp, &cap);
     if (out->n + n > out->cap) {
         out->cap = out->n + n;
         uint32_t *p = realloc(out->d, (size_t)(out->cap ? out->cap : 1) * sizeof *p);
@@ -155,6 +168,13 @@ static void support_of(st_doc *d, int k, dart_set *out)
 static void op_touch(st_doc *d, st_undo_step *s, unsigned l, const dart_set *ds)
 {
     s->level = l;
+    if (l > d->h.map.top) {
+        /* An HD step: the level's values, the levels above re-synthesise
+         * around them on undo (ed_hd_step_apply). */
+        s->hd = 1;
+        ed_hd_record_values(d, s, ds->d, ds->n);
+        return;
+    }
     if (ds->n) ed_step_touch_move(s, &d->h, l, ds->d, ds->n, &d->fp_query);
 }
 
@@ -162,6 +182,10 @@ static void op_touch(st_doc *d, st_undo_step *s, unsigned l, const dart_set *ds)
 static void recompose(st_doc *d, unsigned l, const dart_set *ds, double t0)
 {
     if (!ds->n) return;
+    if (l > d->h.map.top) {
+        ed_hd_recompose(d, l, ds->d, ds->n, t0);
+        return;
+    }
     uint32_t from = d->fp_model.n;
     st_layers_recompose(&d->layers, &d->h, l, ds->d, ds->n, &d->fp_model);
     st_layers_follow(&d->layers, &d->h, l, d->fp_model.keys + from, d->fp_model.n - from);
@@ -174,7 +198,7 @@ static int op_end(st_doc *d, st_undo_step *s, unsigned l, dart_set *ds, double t
     recompose(d, l, ds, t0);
     free(ds->d);
     ds->d = NULL;
-    ed_step_capture_new(s, &d->h);
+    ed_step_capture_new(s, layer_hier(d, l));
     if (st_layers_copy(&s->layers_new, &d->layers)) {
         /* The operation is done but cannot be undone: no step. */
         ed_step_free(s);
@@ -195,12 +219,19 @@ int st_doc_layer_add(st_doc *d, const char *name, st_error *err)
         snprintf(auto_name, sizeof auto_name, "Layer %u", d->layers.n + 1);
         name = auto_name;
     }
-    if (st_layers_add(&d->layers, &d->h, d->edit_level, name, err) < 0) {
+    /* At an HD level the layer goes on the display's level (editor_hd.c):
+     * HD mode on, so that what it covers stays refined. */
+    unsigned l = st_doc_sculpt_level(d);
+    if (l > d->h.map.top && ed_hd_enter(d)) {
+        ed_step_free(s);
+        return st_fail(err, ST_ERR_INVALID, "%s", d->refusal);
+    }
+    if (st_layers_add(&d->layers, layer_hier(d, l), l, name, err) < 0) {
         ed_step_free(s);
         return ST_ERR_INVALID;
     }
     dart_set ds = { 0 };
-    return op_end(d, s, d->edit_level, &ds, ed_now_ms(), err);
+    return op_end(d, s, l, &ds, ed_now_ms(), err);
 }
 
 int st_doc_layer_set_active(st_doc *d, int k, st_error *err)
