@@ -56,6 +56,11 @@ static void print_hd(st_session *s)
     }
     printf("HD bytes: darts and vertices inserted at the level (topology, positions) and its details; uniform faces: "
            "level %u's faces x %llu per level (an estimate, exact for Catmull-Clark on quads)\n", n, (unsigned long long)g);
+    for (uint32_t i = 0; i < s->hd_layers.n; i++) {
+        const st_layer *y = &s->hd_layers.v[i];
+        printf("HD sculpt layer '%s': level %u, strength %.2f%s\n", y->name, y->level, y->strength,
+               y->hidden ? ", hidden" : "");
+    }
 }
 
 int st_cmd_info(int argc, char **argv)

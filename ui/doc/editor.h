@@ -529,10 +529,11 @@ int st_doc_layer_delete(st_doc *d, int k, st_error *err);
  * restore the HD level's values bit for bit.  Sessions keep them (chunk
  * hdlv).  The selection holds the display's vertex ids of the HD level and
  * drags move them.  The mask brush paints the model's top level, which the
- * HD levels take subdivided.  Not at HD levels: sculpt layers (refused with
- * a message); operations that would rebuild the
- * model's levels (add or delete a level, scheme change, rebuild levels,
- * filter) are refused while HD detail exists. */
+ * HD levels take subdivided.  Sculpt layers added at an HD level live on
+ * the display's level (editor_layers.c) and keep their faces refined
+ * (st_adapt.keep_layers).  Operations that would rebuild the model's
+ * levels (add or delete a level, scheme change, rebuild levels, filter)
+ * are refused while HD detail or an HD layer exists. */
 /* Why HD levels cannot be used now (NULL: they can). */
 const char *st_doc_hd_refusal(const st_doc *d);
 /* The level strokes sculpt: hd_level when set, else edit_level. */
