@@ -10,6 +10,8 @@
  *   - hidden, the layer's faces carry no detail, yet they stay refined when
  *     the box moves away and goes off (st_adapt.keep_layers): shown again,
  *     the sculpt is back;
+ *   - coarse strokes at HD level 4 and uniform level 1 carry the layer's
+ *     sculpt (the display stays a full re-synthesis, the offsets stay);
  *   - adding a uniform level is refused while the HD layer exists;
  *   - a session keeps it: a model layer at level 1 goes into the file's
  *     layers, the HD one into the HD image, and the document opened from
@@ -169,6 +171,28 @@ int main(void)
     st_adapt_synthesize(&d.display.adapt, N);
     CHECK(ed_test_display_is_synthesis(&d, N));
 
+    /* Coarse strokes, at the lower HD level 4 and at uniform level 1, carry
+     * the layer's sculpt: the vertex moves, the display stays its full
+     * re-synthesis, and the layer's offsets (local frames) are unchanged. */
+    {
+        double o0[3], o1[3], p0[3];
+        st_layers_get(&d.layers, 1, L, hv, o0);
+        memcpy(p0, st_pos(&d.display.hier.map, hv, L), sizeof p0);
+        st_doc_set_edit_level(&d, 4);
+        CHECK(d.hd_level == 4);
+        stroke_at(&d, c, 0.4, 1.0);
+        CHECK(ed_test_display_is_synthesis(&d, N));
+        st_doc_set_edit_level(&d, 1);
+        CHECK(d.hd_level == 0 && d.edit_level == 1);
+        stroke_at(&d, c, 1.0, 1.0);
+        CHECK(ed_test_display_is_synthesis(&d, N));
+        CHECK(ed_test_dist3(st_pos(&d.display.hier.map, hv, L), p0) > 1e-4);
+        st_layers_get(&d.layers, 1, L, hv, o1);
+        CHECK(!memcmp(o0, o1, sizeof o0));
+        st_doc_set_edit_level(&d, L);
+        CHECK(d.hd_level == L);
+    }
+
     /* Level changes are refused while the HD layer exists. */
     CHECK(st_doc_add_level(&d, &err) != 0 && strstr(err.msg, "HD"));
     CHECK(d.h.map.top == N);
@@ -201,8 +225,14 @@ int main(void)
     check_refused_layer_level(&d, ses, N);
 
     /* Deleted: the sculpt goes; undo brings it back. */
+    CHECK(st_doc_layer_set_hidden(&d, 1, 1, &err) == 0);
+    size_t nh;
+    double *hidden = ed_test_all_values(&d.display.hier, &nh);
+    CHECK(st_doc_layer_set_hidden(&d, 1, 0, &err) == 0);
+    CHECK(ed_test_same_values(&d.display.hier, dispv, nv));
     CHECK(st_doc_layer_delete(&d, 1, &err) == 0 && d.layers.n == 1);
-    CHECK(ed_test_dist3(st_pos(&d.display.hier.map, hv, L), c) < 1e-12);
+    CHECK(ed_test_same_values(&d.display.hier, hidden, nh));
+    free(hidden);
     CHECK(st_doc_undo(&d, &err) == 0 && d.layers.n == 2);
     CHECK(ed_test_same_values(&d.display.hier, dispv, nv));
 
