@@ -121,7 +121,11 @@ static int refine_lists(st_adapt *a, const st_adapt_ops *ops, st_dart_list *list
             if (!listed_face(m, ops, d, i) || ops->subdivided(m, d, i)) continue;
             if (ops->wanted(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
         }
-        children(a, ops, cur->d, cur->n, i, prune ? p : NULL, &lists[i + 1]);
+        /* lists[max_level] is never read: refinement stops below max_level
+         * and the simplification starts at max_level - 1.  Listing it cost
+         * the incremental update a subdivided and settled test on every
+         * face of the finest band (the most numerous). */
+        if (i + 1 < p->max_level) children(a, ops, cur->d, cur->n, i, prune ? p : NULL, &lists[i + 1]);
     }
     return rc;
 }
@@ -140,7 +144,7 @@ static int refine_forced(st_adapt *a, const st_adapt_ops *ops, const st_dart_lis
     for (uint32_t k = 0; k + 1 < forced->n; k += 2) {
         uint32_t z = forced->d[k];
         unsigned j = forced->d[k + 1];
-        if (j + 1 > p->max_level) continue;
+        if (j + 1 >= p->max_level) continue; /* (nothing to refine at max_level: refine_lists) */
         children(a, ops, &z, 1, j, NULL, &lists[j + 1]);
         if (j + 1 < from) from = j + 1;
     }
