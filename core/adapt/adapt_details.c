@@ -253,8 +253,14 @@ static void save_detail(st_adapt *a, unsigned L, int kind, uint32_t dart, uint32
         if (!a->h->detail[at]) continue;
         double w[3];
         if (at == L) {
+            /* A zero detail is a zero vector in any frame (frames of finite
+             * positions are finite: st_stencil_apply skips them the same
+             * way), so it is skipped before its frame is built - most
+             * removed vertices of a box move carry none. */
+            const double *dl = st_hier_detail(a->h, L, v);
+            if (dl[0] == 0 && dl[1] == 0 && dl[2] == 0) continue;
             int cell = kind == KIND_EDGE ? ST_CELL_EDGE : kind == KIND_CORNER ? ST_CELL_DUAL_FACE : ST_CELL_FACE;
-            to_world(a->h, L - 1, dart, cell, st_hier_detail(a->h, L, v), w);
+            to_world(a->h, L - 1, dart, cell, dl, w);
         } else if (!store_take(parked_store(a), park_key(v, at), w)) {
             /* Never used (no face of level at-1 around v was subdivided
              * since it was set): kept as it is. */

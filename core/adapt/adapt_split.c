@@ -179,17 +179,31 @@ static void get_outline(const st_map *m, uint32_t d, unsigned i, outline *o)
     do { o->d[o->n++] = x; x = st_phi1(m, x, i); } while (x != d);
 }
 
-int st_adapt_split_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
+/* The face's darts at level i in o (room for 256), in one walk; 0 when it
+ * has more sides than that. */
+static int get_outline_max(const st_map *m, uint32_t d, unsigned i, outline *o)
+{
+    o->n = 0;
+    uint32_t x = d;
+    do {
+        if (o->n == 256) return 0;
+        o->d[o->n++] = x;
+        x = st_phi1(m, x, i);
+    } while (x != d);
+    return 1;
+}
+
+/* st_adapt_split_can_simplify, leaving the face's outline at level i in o
+ * (room for 256 darts) for the tests that follow it (the sculpt kept):
+ * one walk instead of three. */
+static int can_simplify_outline(st_adapt *a, uint32_t d, unsigned i, int restricted, outline *o)
 {
     st_map *m = &a->h->map;
     unsigned L = i + 1;
     if (!st_adapt_split_toward(m, d, i)) return 0;
-    unsigned deg = st_face_degree(m, d, i);
-    uint32_t buf[2 * 256], subs[256 + 1];
-    if (deg > 256) return 0;
-    outline o = { buf, 0 };
-    get_outline(m, d, i, &o);
-    uint32_t n = sub_faces(m, &o, i, subs);
+    if (!get_outline_max(m, d, i, o)) return 0;
+    uint32_t subs[256 + 1];
+    uint32_t n = sub_faces(m, o, i, subs);
     for (uint32_t k = 0; k < n; k++)
         if (st_adapt_split_toward(m, subs[k], L)) return 0;
     if (!restricted) return 1;
@@ -199,14 +213,21 @@ int st_adapt_split_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restric
      * the top map finer than L holds such a vertex c, of level <= L, exactly
      * when one of the level-L faces around c is subdivided toward L+1: its
      * corner sub-face at c is the ancestor of the finer face.) */
-    for (uint32_t k = 0; k < 2 * o.n; k++) {
-        uint32_t c = k < o.n ? o.d[k] : half_after(m, o.d[k - o.n], i), y = c;
+    for (uint32_t k = 0; k < 2 * o->n; k++) {
+        uint32_t c = k < o->n ? o->d[k] : half_after(m, o->d[k - o->n], i), y = c;
         do {
             if (!st_is_boundary(m, y) && st_adapt_split_toward(m, y, L)) return 0;
             y = st_beta1(m, y, L);
         } while (y != c);
     }
     return 1;
+}
+
+int st_adapt_split_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
+{
+    uint32_t buf[256];
+    outline o = { buf, 0 };
+    return can_simplify_outline(a, d, i, restricted, &o);
 }
 
 /* Sculpted detail is kept (st_adapt.keep_above, adapt.h "HD levels"): a
@@ -250,14 +271,11 @@ static int keeps_sculpt(const st_adapt *a, const outline *o, unsigned i, int tri
  * the sculpt kept (the dual family does not take part in HD sculpting). */
 static int split_can_simplify(st_adapt *a, uint32_t d, unsigned i, int restricted)
 {
-    if (!st_adapt_split_can_simplify(a, d, i, restricted)) return 0;
-    if (!a->keep_above) return 1;
-    st_map *m = &a->h->map;
-    unsigned deg = st_face_degree(m, d, i);
     uint32_t buf[256];
     outline o = { buf, 0 };
-    get_outline(m, d, i, &o);
-    return !keeps_sculpt(a, &o, i, st_adapt_ops_of(a)->central_child(deg));
+    if (!can_simplify_outline(a, d, i, restricted, &o)) return 0;
+    if (!a->keep_above) return 1;
+    return !keeps_sculpt(a, &o, i, st_adapt_ops_of(a)->central_child(o.n));
 }
 
 /* Before the level-(i+1) structure of a face is taken apart: park the

@@ -90,14 +90,16 @@ static int settled(const st_adapt *a, const st_adapt_ops *ops, uint32_t d, unsig
  * the face of each of the three darts at lev+1 is one sub-face each - odd,
  * or the even triangle of its flipped edge); a triangle quadrisection adds
  * the central triangle, across the corner triangle's inner edge.  With p
- * (an incremental update), settled faces are left out. */
+ * (an incremental update), settled faces are left out.  known (NULL, or
+ * one flag per face of cur: refine_lists) says which are subdivided, so
+ * that their level-(lev+1) relations are not read again. */
 static void children(st_adapt *a, const st_adapt_ops *ops, const uint32_t *cur, uint32_t ncur, unsigned lev,
-                     const st_adapt_params *p, st_dart_list *out)
+                     const st_adapt_params *p, const uint32_t *known, st_dart_list *out)
 {
     st_map *m = &a->h->map;
     for (uint32_t k = 0; k < ncur; k++) {
         uint32_t d = cur[k];
-        if (!listed_face(m, ops, d, lev) || !ops->subdivided(m, d, lev)) continue;
+        if (known ? !known[k] : !listed_face(m, ops, d, lev) || !ops->subdivided(m, d, lev)) continue;
         if (p && settled(a, ops, d, lev, p)) continue;
         unsigned n = 0;
         uint32_t x = d;
@@ -106,22 +108,48 @@ static void children(st_adapt *a, const st_adapt_ops *ops, const uint32_t *cur, 
     }
 }
 
+/* Subdivided flags (refine_lists' `known`) hold for the families whose
+ * forced steps leave the faces already examined as they are
+ * (forced_children_only): while the faces of level i are examined, only
+ * the face examined is subdivided (the restriction forces coarser faces
+ * only), and until the simplification reaches level i nothing undoes a
+ * subdivision of level i.  A flag 1 stays true from the end of level i's
+ * examination to its simplification (a face listed twice excepted, which
+ * the family's can_simplify, testing the subdivision first, turns down as
+ * before); a flag 0 may turn true through later forced steps, so those
+ * faces are tested again. */
+
 /* Algorithm 5 over listed faces: level by level from `from`, each face of
  * lists[i] (level i) wanting more is subdivided, and the children of the
- * subdivided ones join lists[i+1] (lists has max_level + 1 entries). */
+ * subdivided ones join lists[i+1] (lists has max_level + 1 entries).
+ * known (NULL, or as many lists): known[i] gets a flag per face of
+ * lists[i], 1 where it is subdivided once level i is done. */
 static int refine_lists(st_adapt *a, const st_adapt_ops *ops, st_dart_list *lists, unsigned from,
-                        const st_adapt_params *p, int prune, st_error *err)
+                        const st_adapt_params *p, int prune, st_dart_list *known, st_error *err)
 {
     st_map *m = &a->h->map;
     int rc = ST_OK;
     for (unsigned i = from; i < p->max_level && i <= m->top && !rc; i++) {
-        st_dart_list *cur = &lists[i];
+        st_dart_list *cur = &lists[i], *kn = known ? &known[i] : NULL;
+        if (kn) kn->n = 0;
         for (uint32_t k = 0; k < cur->n && !rc; k++) {
             uint32_t d = cur->d[k];
-            if (!listed_face(m, ops, d, i) || ops->subdivided(m, d, i)) continue;
-            if (ops->wanted(m, d, i, p) > i) rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
+            int sub = 0;
+            if (listed_face(m, ops, d, i)) {
+                sub = ops->subdivided(m, d, i);
+                if (!sub && ops->wanted(m, d, i, p) > i) {
+                    rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
+                    sub = !rc && ops->subdivided(m, d, i); /* (hot: just written) */
+                }
+            }
+            if (kn) st_dart_list_push(kn, (uint32_t)sub);
         }
-        children(a, ops, cur->d, cur->n, i, prune ? p : NULL, &lists[i + 1]);
+        /* lists[max_level] is never read: refinement stops below max_level
+         * and the simplification starts at max_level - 1.  Listing it cost
+         * the incremental update a subdivided and settled test on every
+         * face of the finest band (the most numerous). */
+        if (i + 1 < p->max_level && !rc)
+            children(a, ops, cur->d, cur->n, i, prune ? p : NULL, kn ? kn->d : NULL, &lists[i + 1]);
     }
     return rc;
 }
@@ -140,11 +168,11 @@ static int refine_forced(st_adapt *a, const st_adapt_ops *ops, const st_dart_lis
     for (uint32_t k = 0; k + 1 < forced->n; k += 2) {
         uint32_t z = forced->d[k];
         unsigned j = forced->d[k + 1];
-        if (j + 1 > p->max_level) continue;
-        children(a, ops, &z, 1, j, NULL, &lists[j + 1]);
+        if (j + 1 >= p->max_level) continue; /* (nothing to refine at max_level: refine_lists) */
+        children(a, ops, &z, 1, j, NULL, NULL, &lists[j + 1]);
         if (j + 1 < from) from = j + 1;
     }
-    int rc = refine_lists(a, ops, lists, from, p, 0, err);
+    int rc = refine_lists(a, ops, lists, from, p, 0, NULL, err);
     for (unsigned i = 0; i <= p->max_level; i++) lists[i].n = 0;
     return rc;
 }
@@ -191,10 +219,12 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
     /* Algorithm 5: refine, coarse to fine; again while the restriction
      * forced faces at levels already passed. */
     /* (region: lists holds the region's faces of each level after the first
-     * pass, which the simplification below reuses; more holds the faces of
-     * the later passes.) */
+     * pass, which the simplification below reuses, and known their
+     * subdivided flags where the family keeps them true (refine_lists);
+     * more holds the faces of the later passes.) */
     unsigned nl = p->max_level + 1;
-    st_dart_list *lists = calloc(2 * (size_t)nl, sizeof *lists), *more = lists + nl, forced = { 0 };
+    st_dart_list *lists = calloc(3 * (size_t)nl, sizeof *lists), *more = lists + nl, forced = { 0 };
+    st_dart_list *known = region && ops->forced_children_only && lists ? lists + 2 * nl : NULL;
     if (!lists) rc = st_fail(err, ST_ERR_MEMORY, "adapt: out of memory");
     for (int pass = 0; !rc; pass++) {
         a->forced = 0;
@@ -203,7 +233,7 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
         else if (region) {
             for (unsigned i = 0; i < nl; i++) lists[i].n = 0;
             for (uint32_t k = 0; k < region->n; k++) st_dart_list_push(&lists[0], region->d[k]);
-            rc = refine_lists(a, ops, lists, 0, p, 1, err);
+            rc = refine_lists(a, ops, lists, 0, p, 1, known, err);
         } else
             rc = refine_all(a, ops, p, &faces, err);
         if (!a->forced) break;
@@ -220,9 +250,10 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
     for (unsigned i = region && m->top >= nl ? nl - 1 : m->top; i-- > 0 && !rc;) {
         if (!region) st_adapt_faces_of_level(m, i, &faces);
         const st_dart_list *cur = region ? &lists[i] : &faces;
+        const uint32_t *kn = known && known[i].n == cur->n ? known[i].d : NULL;
         for (uint32_t k = 0; k < cur->n && !rc; k++) {
             uint32_t d = cur->d[k];
-            if (!listed_face(m, ops, d, i) || !ops->subdivided(m, d, i)) continue;
+            if (!(kn && kn[k]) && (!listed_face(m, ops, d, i) || !ops->subdivided(m, d, i))) continue;
             if (ops->wanted(m, d, i, p) > i || !ops->can_simplify(a, d, i, restricted)) continue;
             rc = ops->simplify(a, d, i, err);
         }
@@ -233,7 +264,7 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
     a->canon = NULL;
     st_adapt_canon_free(&canon);
     if (lists)
-        for (unsigned i = 0; i < 2 * nl; i++) st_dart_list_free(&lists[i]);
+        for (unsigned i = 0; i < 3 * nl; i++) st_dart_list_free(&lists[i]);
     free(lists);
     st_dart_list_free(&faces);
     st_dart_list_free(&roots);
