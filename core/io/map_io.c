@@ -447,7 +447,7 @@ static uint32_t ids_readable_at(const st_pool *p, unsigned l)
 
 /* Which ids an attribute is written for, and where their values are read:
  * id j of q (the pool written) is id old_of[j] of p (the map's pool), the
- * identity when old_of is NULL (q == p).  Under a renumbering (renumber.h)
+ * identity when old_of is NULL (q == p).  Under a renumbering (renumber_internal.h)
  * q is the renumbered pool. */
 typedef struct ids_view { const st_pool *p, *q; const uint32_t *old_of; } ids_view;
 

@@ -11,7 +11,7 @@
  * ids inserted at or above the column's level, capacity beyond the last id)
  * are written as zeros, so equal maps give equal bytes.  (A map can also
  * be written under a renumbering of its ids, st_map_write_renumbered: the
- * same format, the ids then those of core/map/renumber.h.)
+ * same format, the ids then those of core/map/renumber_internal.h.)
  *
  * Everything is little-endian.  Readers are bounded: every count is checked
  * against the bytes that remain before anything is allocated, and a map
@@ -27,7 +27,7 @@
 #include <stdio.h>
 
 #include "core/map/map.h"
-#include "core/map/renumber.h"
+#include "core/map/renumber_internal.h"
 
 /* ---- byte writer: to a FILE, to memory, or counting only ----------------- */
 typedef struct st_bw {
@@ -118,7 +118,7 @@ void st_br_bytes(st_br *r, void *out, size_t n);
 /* Writes the map (pools, β0, β1, vertex, flags, positions; not the attached
  * attributes, which their owner writes with st_mla_write). */
 void st_map_write(st_bw *w, const st_map *m);
-/* The same map under a renumbering of its ids (core/map/renumber.h): the
+/* The same map under a renumbering of its ids (core/map/renumber_internal.h): the
  * renumbered pools, every value in the new ids' order and every relation
  * value translated, so that the bytes are those of the map the
  * renumbering describes (st_map_read gives it back; its ids are then the

@@ -109,7 +109,7 @@ typedef struct st_session {
      * dart and vertex ids, same positions) and whose levels above are
      * refined only where the user sculpted.  The ids of the levels above
      * are those of the file, packed (the writer renumbers them,
-     * core/map/renumber.h), not those of the document that saved it.
+     * core/map/renumber_internal.h), not those of the document that saved it.
      * has_hd 0: none (hd is then an empty hierarchy and hd_adapt zero). */
     int has_hd;
     unsigned hd_from;              /* h's top level when the HD hierarchy was made */

@@ -20,10 +20,10 @@
 /* ---- chunk writers --------------------------------------------------------------- */
 
 /* What the chunk writers read: the reference; for a nested HD image the
- * renumbering its hierarchy's ids are written under (core/map/renumber.h:
- * the image holds live ids only); for the outer file the HD image itself,
- * made once before the counting pass, so that both passes take the same
- * bytes and the image is not made twice. */
+ * renumbering its hierarchy's ids are written under
+ * (core/map/renumber_internal.h: the image holds live ids only); for the
+ * outer file the HD image itself, made once before the counting pass, so
+ * that both passes take the same bytes and the image is not made twice. */
 typedef struct wsrc {
     const st_session_ref *r;
     const st_map_renumber *ids;   /* NULL: the ids as they are */
@@ -624,9 +624,10 @@ static int write_mem(const wsrc *src, void **data, size_t *size, st_error *err)
 /* The HD hierarchy as a nested session image (the reference holding the
  * HD hierarchy and its adaptive state, nothing else), made by this very
  * writer so that the format and its checks are those of a session.  Its
- * ids are written renumbered (core/map/renumber.h): the live ones only,
- * the model's levels 0..hd_from keeping theirs, so that the image's bytes
- * follow the faces stored and not the ids the box's coarsenings freed.
+ * ids are written renumbered (core/map/renumber_internal.h): the live
+ * ones only, the model's levels 0..hd_from keeping theirs, so that the
+ * image's bytes follow the faces stored and not the ids the box's
+ * coarsenings freed.
  * The document's hierarchy is only read: the renumbering is two tables
  * beside it (4 bytes per id each way), not a copy of the map. */
 static int hd_image(const st_session_ref *r, void **img, size_t *len, st_error *err)

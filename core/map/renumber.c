@@ -1,5 +1,5 @@
-/* Dense renumbering of a map's ids (renumber.h). */
-#include "core/map/renumber.h"
+/* Dense renumbering of a map's ids (renumber_internal.h). */
+#include "core/map/renumber_internal.h"
 #include "core/map/pool_internal.h"
 
 #include <stdlib.h>

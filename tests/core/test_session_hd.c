@@ -14,7 +14,7 @@
 #include "core/adapt/adapt.h"
 #include "core/multires/hier_internal.h"
 #include "core/io/map_io_internal.h"
-#include "core/map/renumber.h"
+#include "core/map/renumber_internal.h"
 #include "core/io/session.h"
 #include "core/progressive/scheme_registry.h"
 #include "testlib.h"

@@ -27,8 +27,8 @@
  *     that no level owns become the spare list (increasing);
  *   - it is idempotent: a map already in this form gets the identity, so
  *     that a map read back from the written bytes writes the same bytes. */
-#ifndef ST_RENUMBER_H
-#define ST_RENUMBER_H
+#ifndef ST_RENUMBER_INTERNAL_H
+#define ST_RENUMBER_INTERNAL_H
 #ifndef STRATA_CORE_INTERNAL
 #error "internal to core: render/, ui/ and app/ use core's public headers (docs/ARCHITECTURE.md)"
 #endif
