@@ -445,26 +445,65 @@ static uint32_t ids_readable_at(const st_pool *p, unsigned l)
     return n;
 }
 
+/* Which ids an attribute is written for, and where their values are read:
+ * id j of q (the pool written) is id old_of[j] of p (the map's pool), the
+ * identity when old_of is NULL (q == p).  Under a renumbering (renumber_internal.h)
+ * q is the renumbered pool. */
+typedef struct ids_view { const st_pool *p, *q; const uint32_t *old_of; } ids_view;
+
+static ids_view ids_same(const st_pool *p)
+{
+    ids_view x = { p, p, NULL };
+    return x;
+}
+
+static ids_view ids_renumbered(const st_pool *p, const st_pool_renumber *r)
+{
+    ids_view x = { p, &r->pool, r->old_of };
+    return x;
+}
+
+static inline uint32_t old_id(const ids_view *x, uint32_t j) { return x->old_of ? x->old_of[j] : j; }
+
+/* A value as written: elem bytes, or (relations under a renumbering, elem
+ * 4) the id it holds translated by new_of, which is defined on every id a
+ * readable relation value can hold (live ids). */
+static void put_value(st_bw *w, const unsigned char *v, uint32_t elem, const uint32_t *new_of)
+{
+    if (!new_of) { st_bw_bytes(w, v, elem); return; }
+    uint32_t u;
+    memcpy(&u, v, 4);
+    st_bw_u32(w, new_of[u]);
+}
+
+/* Value of old id i at column level l (dense or sparse form). */
+static inline const unsigned char *col_value(const st_mla *a, const st_pool *p, uint32_t i, unsigned l)
+{
+    return a->sp ? st_mla_sparse_at(a, p->ins, i, l) : a->col[l] + (size_t)i * a->elem;
+}
+
 /* Format 3: values of live ids only (base) and of ids inserted below the
  * column's level (columns), in id order; the reader knows which from the
  * pool, and everything else is zero.  A column is written whole (mode 0)
  * or, when that is smaller, as the list of the ids whose value differs
  * from their value one level down (mode 1: u32 count, then u32 id and the
  * value each): a progressive hierarchy changes few positions and relations
- * per level, a subdivision level nearly all. */
-void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p, st_mla_value_check check)
+ * per level, a subdivision level nearly all.  Ids, order and readability
+ * are those of x->q; new_of (NULL: none) translates relation values. */
+static void mla_write(st_bw *w, const st_mla *a, const ids_view *x, const uint32_t *new_of, st_mla_value_check check)
 {
+    const st_pool *p = x->p, *q = x->q;
     st_bw_u32(w, a->elem);
-    for (uint32_t i = 0; i < p->end; i++) {
-        if (p->ins[i] == ST_FREE_LEVEL) continue;
-        const unsigned char *v = a->base + (size_t)i * a->elem;
+    for (uint32_t j = 0; j < q->end; j++) {
+        if (q->ins[j] == ST_FREE_LEVEL) continue;
+        const unsigned char *v = a->base + (size_t)old_id(x, j) * a->elem;
         if (check && !check(v)) w->refused_value = 1;
-        st_bw_bytes(w, v, a->elem);
+        put_value(w, v, a->elem, new_of);
     }
     /* The sparse form (map.h) is written as the dense columns it stands for. */
     const st_mla_sparse *sp = a->sp;
     uint32_t below[ST_MAX_LEVELS + 1];
-    ids_below(p, below);
+    ids_below(q, below);
     uint32_t mask = 0;
     for (unsigned l = 1; l < ST_MAX_LEVELS; l++)
         if (sp ? sp->has_col[l] : a->col[l] != NULL) mask |= 1u << l;
@@ -472,26 +511,42 @@ void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p, st_mla_value_chec
     for (unsigned l = 1; l < ST_MAX_LEVELS; l++) {
         if (!(mask >> l & 1u)) continue;
         uint64_t readable = 0, changed = 0;
-        for (uint32_t i = 0; i < below[l]; i++) {
-            if (!col_readable(p, i, l)) continue;
-            const unsigned char *v = sp ? st_mla_sparse_at(a, p->ins, i, l) : a->col[l] + (size_t)i * a->elem;
+        for (uint32_t j = 0; j < below[l]; j++) {
+            if (!col_readable(q, j, l)) continue;
+            uint32_t i = old_id(x, j);
+            const unsigned char *v = col_value(a, p, i, l);
             if (check && !check(v)) w->refused_value = 1;
             readable++;
+            /* (old values compared: new_of is one-to-one on live ids) */
             changed += memcmp(v, st_mla_at_any(a, p->ins, i, l - 1), a->elem) != 0;
         }
         int delta = changed * (4 + (uint64_t)a->elem) < readable * a->elem;
         st_bw_u8(w, (uint8_t)delta);
         if (delta) st_bw_u32(w, (uint32_t)changed);
-        for (uint32_t i = 0; i < below[l]; i++) {
-            if (!col_readable(p, i, l)) continue;
-            const unsigned char *v = sp ? st_mla_sparse_at(a, p->ins, i, l) : a->col[l] + (size_t)i * a->elem;
+        for (uint32_t j = 0; j < below[l]; j++) {
+            if (!col_readable(q, j, l)) continue;
+            uint32_t i = old_id(x, j);
+            const unsigned char *v = col_value(a, p, i, l);
             if (delta) {
                 if (!memcmp(v, st_mla_at_any(a, p->ins, i, l - 1), a->elem)) continue;
-                st_bw_u32(w, i);
+                st_bw_u32(w, j);
             }
-            st_bw_bytes(w, v, a->elem);
+            put_value(w, v, a->elem, new_of);
         }
     }
+}
+
+void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p, st_mla_value_check check)
+{
+    ids_view x = ids_same(p);
+    mla_write(w, a, &x, NULL, check);
+}
+
+void st_mla_write_renumbered(st_bw *w, const st_mla *a, const st_pool *p, const st_pool_renumber *r,
+                             st_mla_value_check check)
+{
+    ids_view x = ids_renumbered(p, r);
+    mla_write(w, a, &x, NULL, check);
 }
 
 /* Format 3, a column written as changes (mode 1): every id inserted below l
@@ -606,18 +661,33 @@ fail:
 
 /* ---- map ---------------------------------------------------------------------------- */
 
-void st_map_write(st_bw *w, const st_map *m)
+/* The map with its darts and vertices numbered as dq and vq say (ids_view)
+ * and its relations' values translated by dnew / vnew (NULL: as they are). */
+static void map_write(st_bw *w, const st_map *m, const ids_view *dq, const ids_view *vq, const uint32_t *dnew,
+                      const uint32_t *vnew)
 {
     st_bw_u32(w, m->top);
     st_bw_u8(w, m->face_embedded);
-    pool_write(w, &m->darts);
-    pool_write(w, &m->verts);
-    st_mla_write(w, &m->beta0, &m->darts, NULL);
-    st_mla_write(w, &m->beta1, &m->darts, NULL);
-    st_mla_write(w, &m->vert, &m->darts, NULL);
-    for (uint32_t i = 0; i < m->darts.end; i++)
-        if (m->darts.ins[i] != ST_FREE_LEVEL) st_bw_u8(w, m->flags[i]);
-    st_mla_write(w, &m->pos, &m->verts, st_value_finite_f64x3);
+    pool_write(w, dq->q);
+    pool_write(w, vq->q);
+    mla_write(w, &m->beta0, dq, dnew, NULL);
+    mla_write(w, &m->beta1, dq, dnew, NULL);
+    mla_write(w, &m->vert, dq, vnew, NULL);
+    for (uint32_t j = 0; j < dq->q->end; j++)
+        if (dq->q->ins[j] != ST_FREE_LEVEL) st_bw_u8(w, m->flags[old_id(dq, j)]);
+    mla_write(w, &m->pos, vq, NULL, st_value_finite_f64x3);
+}
+
+void st_map_write(st_bw *w, const st_map *m)
+{
+    ids_view d = ids_same(&m->darts), v = ids_same(&m->verts);
+    map_write(w, m, &d, &v, NULL, NULL);
+}
+
+void st_map_write_renumbered(st_bw *w, const st_map *m, const st_map_renumber *rn)
+{
+    ids_view d = ids_renumbered(&m->darts, &rn->darts), v = ids_renumbered(&m->verts, &rn->verts);
+    map_write(w, m, &d, &v, rn->darts.new_of, rn->verts.new_of);
 }
 
 /* The pool as level 0 left it, when every later level took fresh blocks

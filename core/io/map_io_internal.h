@@ -9,7 +9,9 @@
  * which depend on dart ids) behaves exactly as it would have on the
  * original.  Entries nothing can read (values of free ids, column slots of
  * ids inserted at or above the column's level, capacity beyond the last id)
- * are written as zeros, so equal maps give equal bytes.
+ * are written as zeros, so equal maps give equal bytes.  (A map can also
+ * be written under a renumbering of its ids, st_map_write_renumbered: the
+ * same format, the ids then those of core/map/renumber_internal.h.)
  *
  * Everything is little-endian.  Readers are bounded: every count is checked
  * against the bytes that remain before anything is allocated, and a map
@@ -25,6 +27,7 @@
 #include <stdio.h>
 
 #include "core/map/map.h"
+#include "core/map/renumber_internal.h"
 
 /* ---- byte writer: to a FILE, to memory, or counting only ----------------- */
 typedef struct st_bw {
@@ -115,6 +118,12 @@ void st_br_bytes(st_br *r, void *out, size_t n);
 /* Writes the map (pools, β0, β1, vertex, flags, positions; not the attached
  * attributes, which their owner writes with st_mla_write). */
 void st_map_write(st_bw *w, const st_map *m);
+/* The same map under a renumbering of its ids (core/map/renumber_internal.h): the
+ * renumbered pools, every value in the new ids' order and every relation
+ * value translated, so that the bytes are those of the map the
+ * renumbering describes (st_map_read gives it back; its ids are then the
+ * new ones).  Reads m only. */
+void st_map_write_renumbered(st_bw *w, const st_map *m, const st_map_renumber *rn);
 /* Reads a map into m (initialised here; freed again on failure).  Checks
  * pools, relation ranges and positions; does not run st_map_validate (the
  * caller does, once the attributes are attached).  0 or -1 with r->err set. */
@@ -125,6 +134,10 @@ int st_map_read(st_br *r, st_map *m);
  * check st_mla_read applies to them. */
 typedef int (*st_mla_value_check)(const void *value);
 void st_mla_write(st_bw *w, const st_mla *a, const st_pool *p, st_mla_value_check check);
+/* The same under the renumbering r of p (an attribute of values, not of
+ * ids: nothing translated). */
+void st_mla_write_renumbered(st_bw *w, const st_mla *a, const st_pool *p, const st_pool_renumber *r,
+                             st_mla_value_check check);
 /* Reads an attribute of elem bytes per element over pool p of a map of top
  * level `top`; values of readable entries must pass check (NULL: any); the
  * result has the pool's capacity, ready to be attached. */

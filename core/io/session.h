@@ -107,8 +107,10 @@ typedef struct st_session {
     /* The HD hierarchy (ancillary chunk `hdlv`, docs/SESSION-FORMAT.md): an
      * adaptive hierarchy whose levels 0..hd_from are copies of h's (same
      * dart and vertex ids, same positions) and whose levels above are
-     * refined only where the user sculpted.  has_hd 0: none (hd is then an
-     * empty hierarchy and hd_adapt zero). */
+     * refined only where the user sculpted.  The ids of the levels above
+     * are those of the file, packed (the writer renumbers them,
+     * core/map/renumber_internal.h), not those of the document that saved it.
+     * has_hd 0: none (hd is then an empty hierarchy and hd_adapt zero). */
     int has_hd;
     unsigned hd_from;              /* h's top level when the HD hierarchy was made */
     st_hier hd;

@@ -19,10 +19,23 @@
 
 /* ---- chunk writers --------------------------------------------------------------- */
 
-typedef void (*chunk_fn)(st_bw *w, const st_session_ref *r);
+/* What the chunk writers read: the reference; for a nested HD image the
+ * renumbering its hierarchy's ids are written under
+ * (core/map/renumber_internal.h: the image holds live ids only); for the
+ * outer file the HD image itself, made once before the counting pass, so
+ * that both passes take the same bytes and the image is not made twice. */
+typedef struct wsrc {
+    const st_session_ref *r;
+    const st_map_renumber *ids;   /* NULL: the ids as they are */
+    const void *hd_img;           /* chunk hdlv's image (after hd_from), when r->hd */
+    size_t hd_len;
+} wsrc;
 
-static void w_hier(st_bw *w, const st_session_ref *r)
+typedef void (*chunk_fn)(st_bw *w, const wsrc *src);
+
+static void w_hier(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     const char *name = r->h->scheme->name;
     uint32_t n = (uint32_t)strlen(name);
     st_bw_u32(w, n);
@@ -37,12 +50,23 @@ static void w_hier(st_bw *w, const st_session_ref *r)
     st_bw_u8(w, r->h->has_sharpness != 0);
 }
 
-static void w_map(st_bw *w, const st_session_ref *r) { st_map_write(w, &r->h->map); }
-
-static void w_sharp(st_bw *w, const st_session_ref *r)
+static void w_map(st_bw *w, const wsrc *src)
 {
-    st_mla_write(w, &r->h->edge_sharp, &r->h->map.darts, st_value_sharpness_f32);
-    st_mla_write(w, &r->h->vertex_sharp, &r->h->map.verts, st_value_sharpness_f32);
+    if (src->ids) st_map_write_renumbered(w, &src->r->h->map, src->ids);
+    else st_map_write(w, &src->r->h->map);
+}
+
+static void w_sharp(st_bw *w, const wsrc *src)
+{
+    const st_session_ref *r = src->r;
+    const st_map *m = &r->h->map;
+    if (src->ids) {
+        st_mla_write_renumbered(w, &r->h->edge_sharp, &m->darts, &src->ids->darts, st_value_sharpness_f32);
+        st_mla_write_renumbered(w, &r->h->vertex_sharp, &m->verts, &src->ids->verts, st_value_sharpness_f32);
+        return;
+    }
+    st_mla_write(w, &r->h->edge_sharp, &m->darts, st_value_sharpness_f32);
+    st_mla_write(w, &r->h->vertex_sharp, &m->verts, st_value_sharpness_f32);
 }
 
 /* The compact form (version 4): level 0 alone, then every level's
@@ -56,16 +80,18 @@ static int level0_of(const st_session_ref *r, st_map *v)
     return st_map_level0_view(&r->h->map, r->h->regen_end, v);
 }
 
-static void w_level0(st_bw *w, const st_session_ref *r)
+static void w_level0(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     st_map v;
     if (level0_of(r, &v)) { w->failed = 1; return; }   /* chunk_list checked it */
     st_bw_u32(w, r->h->map.top);
     st_map_write(w, &v);
 }
 
-static void w_sharp_level0(st_bw *w, const st_session_ref *r)
+static void w_sharp_level0(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     st_map v;
     if (level0_of(r, &v)) { w->failed = 1; return; }
     st_mla e = st_mla_level0_view(&r->h->edge_sharp), x = st_mla_level0_view(&r->h->vertex_sharp);
@@ -73,8 +99,9 @@ static void w_sharp_level0(st_bw *w, const st_session_ref *r)
     st_mla_write(w, &x, &v.verts, st_value_sharpness_f32);
 }
 
-static void w_positions(st_bw *w, const st_session_ref *r)
+static void w_positions(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     st_mla_write(w, &r->h->map.pos, &r->h->map.verts, st_value_finite_f64x3);
 }
 
@@ -90,24 +117,37 @@ static int detail_zero(const double *d)
     return !memcmp(d, zero3, sizeof zero3);
 }
 
-static void w_detail(st_bw *w, const st_session_ref *r)
+/* Detail of level l of the vertex written as id j (the renumbering's new
+ * id, or j itself), +0 past the array and for a free id. */
+static const double *detail_of(const wsrc *src, unsigned l, uint32_t j)
 {
-    const st_hier *h = r->h;
+    static const double zero3[3];
+    const st_hier *h = src->r->h;
+    uint32_t i = src->ids ? src->ids->verts.old_of[j] : j;
+    return i < h->detail_cap[l] ? h->detail[l] + 3 * (size_t)i : zero3;
+}
+
+static void w_detail(st_bw *w, const wsrc *src)
+{
+    const st_hier *h = src->r->h;
+    /* Under a renumbering the ids run over the renumbered pool (a free id,
+     * ST_NIL in old_of, reads as zero: a free vertex has no detail to keep). */
+    uint32_t ids_end = src->ids ? src->ids->verts.pool.end : h->map.verts.end;
     for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
         int present = h->detail[l] != NULL;
         st_bw_u8(w, (uint8_t)present);
         if (!present) continue;
-        uint32_t n = h->detail_cap[l], nonzero = 0;
-        while (n > 1 && detail_zero(h->detail[l] + 3 * (size_t)(n - 1))) n--;
-        for (uint32_t i = 0; i < n; i++) nonzero += !detail_zero(h->detail[l] + 3 * (size_t)i);
+        uint32_t n = src->ids ? ids_end : h->detail_cap[l], nonzero = 0;
+        while (n > 1 && detail_zero(detail_of(src, l, n - 1))) n--;
+        for (uint32_t i = 0; i < n; i++) nonzero += !detail_zero(detail_of(src, l, i));
         /* (the reader bounds a list's cap by the vertex ids: a dense array
          * is bounded by its own bytes) */
-        int list = (uint64_t)nonzero * 28 < (uint64_t)n * 24 && n <= h->map.verts.end;
+        int list = (uint64_t)nonzero * 28 < (uint64_t)n * 24 && n <= ids_end;
         st_bw_u32(w, n);
         st_bw_u8(w, (uint8_t)list);
         if (list) st_bw_u32(w, nonzero);
         for (uint32_t i = 0; i < n; i++) {
-            const double *d = h->detail[l] + 3 * (size_t)i;
+            const double *d = detail_of(src, l, i);
             if (list && detail_zero(d)) continue;
             if (list) st_bw_u32(w, i);
             for (int k = 0; k < 3; k++) st_bw_f64(w, d[k]);
@@ -139,21 +179,57 @@ static void w_store(st_bw *w, const st_adapt_saved *e, uint32_t n)
     }
 }
 
-static void w_adapt(st_bw *w, const st_session_ref *r)
+static int parked_less(const void *x, const void *y)
 {
+    const st_adapt_saved *a = x, *b = y;
+    if (a->path != b->path) return a->path < b->path ? -1 : 1;
+    return a->meta < b->meta ? -1 : a->meta > b->meta;
+}
+
+/* The parked store under a renumbering: its keys are vertex ids (path =
+ * vertex id, core/adapt/adapt.h), translated, and sorted again by (path,
+ * meta) as the reader requires (the renumbering keeps the order within a
+ * level only).  An entry of a free vertex id cannot be taken by any vertex
+ * of the map (a vertex takes its entries when it goes) and is left out. */
+static void w_parked_renumbered(st_bw *w, const st_adapt *a, const st_map_renumber *ids)
+{
+    st_adapt_saved *e = malloc(((size_t)a->nparked + 1) * sizeof *e);
+    if (!e) { w->failed = 1; return; }
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < a->nparked; i++) {
+        uint64_t v = a->parked[i].path;
+        if (v >= a->h->map.verts.end) continue;   /* (not a vertex id of the map) */
+        e[n] = a->parked[i];
+        e[n].path = ids->verts.new_of[v];
+        n += e[n].path != ST_NIL;
+    }
+    qsort(e, n, sizeof *e, parked_less);
+    w_store(w, e, n);
+    free(e);
+}
+
+static void w_adapt(st_bw *w, const wsrc *src)
+{
+    const st_session_ref *r = src->r;
     const st_adapt *a = r->adapt;
     w_store(w, a->saved, a->nsaved);
-    w_store(w, a->parked, a->nparked);
+    if (src->ids) w_parked_renumbered(w, a, src->ids);
+    else w_store(w, a->parked, a->nparked);
     st_bw_u32(w, a->base_faces.n);
-    for (uint32_t i = 0; i < a->base_faces.n; i++) st_bw_u32(w, a->base_faces.d[i]);
+    /* (darts of level 0: kept by a renumbering, translated all the same) */
+    for (uint32_t i = 0; i < a->base_faces.n; i++) {
+        uint32_t d = a->base_faces.d[i];
+        st_bw_u32(w, src->ids ? src->ids->darts.new_of[d] : d);
+    }
     w_params(w, &a->prev);
     st_bw_u8(w, a->has_prev != 0);
     st_bw_u64(w, a->touched);
     st_bw_u64(w, a->forced);
 }
 
-static void w_edit(st_bw *w, const st_session_ref *r)
+static void w_edit(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     unsigned top = r->h->map.top;
     w_params(w, r->box);
     st_bw_u8(w, r->box_on != 0);
@@ -161,8 +237,9 @@ static void w_edit(st_bw *w, const st_session_ref *r)
     st_bw_u32(w, r->display_level <= top ? r->display_level : top);
 }
 
-static void w_view(st_bw *w, const st_session_ref *r)
+static void w_view(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     const st_session_view *v = r->view;
     for (int k = 0; k < 3; k++) st_bw_f32(w, v->target[k]);
     st_bw_f32(w, v->az);
@@ -173,8 +250,9 @@ static void w_view(st_bw *w, const st_session_ref *r)
     st_bw_f32(w, v->ortho_height);
 }
 
-static void w_tool(st_bw *w, const st_session_ref *r)
+static void w_tool(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     const st_session_tool *t = r->tool;
     st_bw_u32(w, t->tool);
     st_bw_f64(w, t->radius);
@@ -184,8 +262,9 @@ static void w_tool(st_bw *w, const st_session_ref *r)
     st_bw_u32(w, t->show);
 }
 
-static void w_base(st_bw *w, const st_session_ref *r)
+static void w_base(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     const st_mesh *m = r->base;
     st_bw_u32(w, m->nverts);
     for (size_t i = 0; i < 3 * (size_t)m->nverts; i++) st_bw_f64(w, m->pos[i]);
@@ -216,8 +295,9 @@ static uint32_t mask_len(const st_mask *mk, uint32_t end)
     return n;
 }
 
-static void w_mask(st_bw *w, const st_session_ref *r)
+static void w_mask(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     uint32_t n = mask_len(r->mask, r->h->map.verts.end);
     st_bw_u32(w, n);
     for (uint32_t i = 0; i < n; i++) st_bw_f32(w, r->mask->v[i]);
@@ -255,10 +335,11 @@ static void w_kept_positions(st_bw *w, const double *a, uint32_t n)
     }
 }
 
-static void w_layers(st_bw *w, const st_session_ref *r)
+static void w_layers(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     const st_layers *ls = r->layers;
-    uint32_t end = r->h->map.verts.end;
+    uint32_t end = src->ids ? src->ids->verts.pool.end : r->h->map.verts.end;
     st_bw_u32(w, ls->active < 0 ? UINT32_MAX : (uint32_t)ls->active);
     st_bw_u32(w, ls->n);
     for (uint32_t i = 0; i < ls->n; i++) {
@@ -295,17 +376,28 @@ static int fvar_regenerable(const st_session_ref *r)
     return !level0_of(r, &v) && f->levels == r->h->map.top + 1 && rules >= 0 && rules != ST_FVAR_STENCIL;
 }
 
-static void w_fvar(st_bw *w, const st_session_ref *r)
+static void w_fvar(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     const st_hier *h = r->h;
     const st_fvar *f = h->fvar;
     unsigned levels = f->levels <= h->map.top + 1 ? f->levels : h->map.top + 1;
     if (fvar_regenerable(r)) levels = 1;
     st_bw_u32(w, (uint32_t)f->interp);
     st_bw_u32(w, levels);
+    /* Under a renumbering the darts come in the order the renumbered map
+     * enumerates them (the reader's order): a map view holding only the
+     * renumbered dart pool, which is all st_dart_first reads. */
+    st_map order;
+    if (src->ids) {
+        memset(&order, 0, sizeof order);
+        order.darts = src->ids->darts.pool;
+    }
+    const st_map *om = src->ids ? &order : &h->map;
     for (unsigned l = 0; l < levels; l++) {
         st_dart_iter it;
-        for (uint32_t d = st_dart_first(&h->map, l, &it); d != ST_NIL; d = st_dart_next(&h->map, l, &it)) {
+        for (uint32_t j = st_dart_first(om, l, &it); j != ST_NIL; j = st_dart_next(om, l, &it)) {
+            uint32_t d = src->ids ? src->ids->darts.old_of[j] : j;
             if (st_is_boundary(&h->map, d)) continue;
             int in = d < f->lv[l].cap;
             st_bw_f64(w, in ? f->lv[l].uv[2 * (size_t)d] : 0);
@@ -316,8 +408,9 @@ static void w_fvar(st_bw *w, const st_session_ref *r)
 }
 
 /* The base mesh's UVs (mesh.h: uv, face_uv parallel to face_idx). */
-static void w_base_uv(st_bw *w, const st_session_ref *r)
+static void w_base_uv(st_bw *w, const wsrc *src)
 {
+    const st_session_ref *r = src->r;
     const st_mesh *m = r->base;
     st_bw_u32(w, m->nuvs);
     for (size_t i = 0; i < 2 * (size_t)m->nuvs; i++) st_bw_f64(w, m->uv[i]);
@@ -325,33 +418,17 @@ static void w_base_uv(st_bw *w, const st_session_ref *r)
     for (uint32_t i = 0; i < nidx; i++) st_bw_u32(w, m->face_uv[i]);
 }
 
-/* The HD hierarchy as a nested session image (the reference holding the
- * HD hierarchy and its adaptive state, nothing else), made by this very
- * writer so that the format and its checks are those of a session.  The
- * image is made once per pass (the counting pass and the write), which
- * costs a second image's time but no file format of its own. */
+/* The reference a nested HD image is made from (hd_image, below). */
 static st_session_ref hd_ref(const st_session_ref *r)
 {
     st_session_ref n = { .h = r->hd, .adapt = r->hd_adapt, .whole_map = 1, .layers = r->hd_layers };
     return n;
 }
 
-static void w_hd(st_bw *w, const st_session_ref *r)
+static void w_hd(st_bw *w, const wsrc *src)
 {
-    st_session_ref n = hd_ref(r);
-    void *img = NULL;
-    size_t len = 0;
-    st_error e;
-    st_bw_u32(w, r->hd_from);
-    if (st_session_write_mem(&n, &img, &len, &e)) {
-        /* A value the reader would refuse is reported as for the main
-         * hierarchy (plan_chunks); anything else is a failed write. */
-        if (e.code == ST_ERR_INVALID) w->refused_value = 1;
-        else w->failed = 1;
-        return;
-    }
-    st_bw_bytes(w, img, len);
-    free(img);
+    st_bw_u32(w, src->r->hd_from);
+    st_bw_bytes(w, src->hd_img, src->hd_len);   /* made by hd_image before the counting pass */
 }
 
 typedef struct chunk_def { uint32_t tag; chunk_fn fn; } chunk_def;
@@ -467,8 +544,9 @@ typedef struct chunk_plan {
 } chunk_plan;
 
 
-static int plan_chunks(const st_session_ref *r, chunk_plan *pl, st_error *err)
+static int plan_chunks(const wsrc *src, chunk_plan *pl, st_error *err)
 {
+    const st_session_ref *r = src->r;
     if (r->tool && st_session_tool_refusal(r->tool))
         return st_fail(err, ST_ERR_INVALID, "session: bad %s in the tool settings; nothing was written", st_session_tool_refusal(r->tool));
     pl->n = chunk_list(r, pl->c);
@@ -477,7 +555,7 @@ static int plan_chunks(const st_session_ref *r, chunk_plan *pl, st_error *err)
     if (!cnt) return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
     for (unsigned i = 0; i < pl->n; i++) {
         st_bw_init_count(cnt);
-        pl->c[i].fn(cnt, r);
+        pl->c[i].fn(cnt, src);
         if (cnt->refused_value) {
             free(cnt);
             return st_fail(err, ST_ERR_INVALID, "session: a number in the %s is not finite (an edit overflowed?); nothing was written",
@@ -491,7 +569,7 @@ static int plan_chunks(const st_session_ref *r, chunk_plan *pl, st_error *err)
 }
 
 /* Writes the whole file to w, as planned. */
-static void write_all(st_bw *w, const st_session_ref *r, const chunk_plan *pl)
+static void write_all(st_bw *w, const wsrc *src, const chunk_plan *pl)
 {
     unsigned char head[HEADER_BYTES];
     memcpy(head, ST_SESSION_MAGIC, 8);
@@ -508,7 +586,7 @@ static void write_all(st_bw *w, const st_session_ref *r, const chunk_plan *pl)
         uint64_t before = w->total;
         st_bw_u32(w, pl->c[i].tag);
         st_bw_u64(w, pl->len[i]);
-        pl->c[i].fn(w, r);
+        pl->c[i].fn(w, src);
         if (w->total - before != CHUNK_HEAD + pl->len[i]) w->failed = 1; /* cannot happen: same writer twice */
     }
     st_bw_flush(w);
@@ -519,18 +597,17 @@ static void write_all(st_bw *w, const st_session_ref *r, const chunk_plan *pl)
     st_bw_flush(w);
 }
 
-int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_error *err)
+static int write_mem(const wsrc *src, void **data, size_t *size, st_error *err)
 {
     *data = NULL;
     *size = 0;
     chunk_plan pl;
-    int rc = check_ref(r, err);
-    if (!rc) rc = plan_chunks(r, &pl, err);
+    int rc = plan_chunks(src, &pl, err);
     if (rc) return rc;
     st_bw *w = malloc(sizeof *w);
     if (!w) return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
     st_bw_init_mem(w);
-    write_all(w, r, &pl);
+    write_all(w, src, &pl);
     if (w->failed) {
         free(w->out);
         st_bw_free(w);
@@ -544,6 +621,111 @@ int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_
     return ST_OK;
 }
 
+/* The HD hierarchy as a nested session image (the reference holding the
+ * HD hierarchy and its adaptive state, nothing else), made by this very
+ * writer so that the format and its checks are those of a session.  Its
+ * ids are written renumbered (core/map/renumber_internal.h): the live
+ * ones only, the model's levels 0..hd_from keeping theirs, so that the
+ * image's bytes follow the faces stored and not the ids the box's
+ * coarsenings freed.
+ * The document's hierarchy is only read: the renumbering is two tables
+ * beside it (4 bytes per id each way), not a copy of the map. */
+/* One per-vertex array (3 doubles per id, `fill` past its end) under the
+ * renumbering v: entry j is the old id old_of[j]'s. */
+static double *renumber3(const double *a, uint32_t cap, const st_pool_renumber *v, double fill, int *oom)
+{
+    if (!a) return NULL;
+    uint32_t end = v->pool.end;
+    double *q = malloc(3 * (size_t)(end ? end : 1) * sizeof *q);
+    if (!q) { *oom = 1; return NULL; }
+    for (uint32_t j = 0; j < end; j++) {
+        uint32_t o = v->old_of[j];
+        for (int k = 0; k < 3; k++) q[3 * (size_t)j + k] = o != ST_NIL && o < cap ? a[3 * (size_t)o + k] : fill;
+    }
+    return q;
+}
+
+/* The HD levels' sculpt layers with their vertex arrays under the
+ * image's renumbering (the offsets, B_l and P0 index vertex ids).  -1:
+ * out of memory (dst freed). */
+static int renumber_layers(const st_layers *src, const st_pool_renumber *v, st_layers *dst)
+{
+    st_layers_init(dst);
+    int oom = 0;
+    dst->v = malloc((size_t)(src->n ? src->n : 1) * sizeof *dst->v);
+    if (!dst->v) return -1;
+    dst->cap = src->n;
+    dst->active = src->active;
+    for (uint32_t i = 0; i < src->n; i++) {
+        dst->v[i] = src->v[i];
+        dst->v[i].off = renumber3(src->v[i].off, src->v[i].cap, v, 0, &oom);
+        dst->v[i].cap = dst->v[i].off ? v->pool.end : 0;
+        dst->n = i + 1;
+    }
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        dst->base[l] = renumber3(src->base[l], src->base_cap[l], v, 0, &oom);
+        dst->base_cap[l] = dst->base[l] ? v->pool.end : 0;
+        dst->bpos[l] = renumber3(src->bpos[l], src->bpos_cap[l], v, NAN, &oom);
+        dst->bpos_cap[l] = dst->bpos[l] ? v->pool.end : 0;
+    }
+    if (oom) st_layers_free(dst);
+    return oom ? -1 : 0;
+}
+
+static int hd_image(const st_session_ref *r, void **img, size_t *len, st_error *err)
+{
+    st_map_renumber ids;
+    if (st_map_renumber_make(&r->hd->map, r->hd_from, &ids)) return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
+    st_session_ref n = hd_ref(r);
+    st_layers layers;
+    st_layers_init(&layers);
+    if (n.layers && n.layers->n) {
+        if (renumber_layers(n.layers, &ids.verts, &layers)) {
+            st_map_renumber_free(&ids);
+            return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
+        }
+        n.layers = &layers;
+    }
+    wsrc nested = { .r = &n, .ids = &ids };
+    st_error e;
+    int rc = write_mem(&nested, img, len, &e);
+    st_map_renumber_free(&ids);
+    st_layers_free(&layers);
+    /* A value the reader would refuse is reported as for the main
+     * hierarchy (plan_chunks); anything else is out of memory. */
+    if (rc == ST_ERR_INVALID)
+        return st_fail(err, rc, "session: a number in the %s is not finite (an edit overflowed?); nothing was written",
+                       chunk_words(TAG_HDLV));
+    if (rc) return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
+    return ST_OK;
+}
+
+/* Checks r and makes what the chunk writers read (wsrc); src->hd_img is
+ * freed by the caller. */
+static int prepare(const st_session_ref *r, wsrc *src, st_error *err)
+{
+    memset(src, 0, sizeof *src);
+    src->r = r;
+    int rc = check_ref(r, err);
+    if (!rc && r->hd) {
+        void *img = NULL;
+        rc = hd_image(r, &img, &src->hd_len, err);
+        src->hd_img = img;
+    }
+    return rc;
+}
+
+int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_error *err)
+{
+    *data = NULL;
+    *size = 0;
+    wsrc src;
+    int rc = prepare(r, &src, err);
+    if (!rc) rc = write_mem(&src, data, size, err);
+    free((void *)src.hd_img);
+    return rc;
+}
+
 int st_session_save_ref(const char *path, const st_session_ref *r, st_error *err)
 {
     return st_session_save_ref_progress(path, r, NULL, NULL, err);
@@ -553,9 +735,11 @@ int st_session_save_ref_progress(const char *path, const st_session_ref *r, int 
                                  void *ctx, st_error *err)
 {
     chunk_plan pl;
-    int rc = check_ref(r, err);
-    if (!rc) rc = plan_chunks(r, &pl, err);
+    wsrc src;
+    int rc = prepare(r, &src, err);
+    if (!rc) rc = plan_chunks(&src, &pl, err);
     if (rc) {
+        free((void *)src.hd_img);
         if (err) {
             char msg[sizeof err->msg];
             snprintf(msg, sizeof msg, "%s", err->msg);
@@ -564,10 +748,10 @@ int st_session_save_ref_progress(const char *path, const st_session_ref *r, int 
         return rc;
     }
     st_bw *w = malloc(sizeof *w);
-    if (!w) return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path);
+    if (!w) { free((void *)src.hd_img); return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path); }
     st_afile af;
     rc = st_afile_open(&af, path, err);
-    if (rc) { free(w); return rc; }
+    if (rc) { free(w); free((void *)src.hd_img); return rc; }
     st_bw_init_file(w, af.f);
     /* Test hook (tests/cli/cli_session.sh): slow the save down so that a test
      * can kill it in the middle. */
@@ -575,7 +759,8 @@ int st_session_save_ref_progress(const char *path, const st_session_ref *r, int 
     if (slow) w->slow_us = strtol(slow, NULL, 10);
     w->progress = progress;
     w->progress_ctx = ctx;
-    write_all(w, r, &pl);
+    write_all(w, &src, &pl);
+    free((void *)src.hd_img);
     int failed = w->failed, cancelled = w->cancelled;
     st_bw_free(w);
     free(w);

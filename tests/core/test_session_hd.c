@@ -14,6 +14,7 @@
 #include "core/adapt/adapt.h"
 #include "core/multires/hier_internal.h"
 #include "core/io/map_io_internal.h"
+#include "core/map/renumber_internal.h"
 #include "core/io/session.h"
 #include "core/progressive/scheme_registry.h"
 #include "testlib.h"
@@ -408,6 +409,232 @@ done:
     free_hd(&d);
 }
 
+/* ---- ids freed by the box: the image holds live ids only ------------------ */
+
+/* Details on the vertices of levels max-1 and max within `radius` of the
+ * first vertex inserted at level max inside the box: a sculpted spot,
+ * whose faces the box going away leaves refined (keep_above). */
+static unsigned sculpt_spot(st_session *c, unsigned max_level, const double lo[3], const double hi[3], double radius)
+{
+    const st_map *m = &c->h.map;
+    const double *ctr = NULL;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(m, max_level, &it); v != ST_NIL && !ctr; v = st_vertex_next(m, max_level, &it)) {
+        const double *p = st_pos(m, v, max_level);
+        int in = m->verts.ins[v] == max_level;
+        for (int k = 0; k < 3; k++) in &= p[k] >= lo[k] && p[k] <= hi[k];
+        if (in) ctr = p;
+    }
+    if (!ctr) return 0;
+    double cc[3] = { ctr[0], ctr[1], ctr[2] };
+    unsigned set = 0;
+    for (unsigned l = max_level - 1; l <= max_level; l++)
+        for (uint32_t v = st_vertex_first(m, l, &it); v != ST_NIL; v = st_vertex_next(m, l, &it)) {
+            const double *p = st_pos(m, v, l);
+            double dx = p[0] - cc[0], dy = p[1] - cc[1], dz = p[2] - cc[2];
+            if (m->verts.ins[v] != l || dx * dx + dy * dy + dz * dz > radius * radius) continue;
+            double dd[3] = { 0.001 * (v % 7), -0.002 * (l % 3 + 1), 0.0005 * (double)(set % 5) + 0.0001 };
+            st_hier_set_detail(&c->h, l, v, dd);
+            set++;
+        }
+    return set;
+}
+
+static int box_update(st_session *c, unsigned base, unsigned max_level, const double lo[3], const double hi[3])
+{
+    st_adapt_params p = { .base_level = base, .max_level = lo ? max_level : base, .has_box = lo != NULL };
+    if (lo) {
+        memcpy(p.box_lo, lo, sizeof p.box_lo);
+        memcpy(p.box_hi, hi, sizeof p.box_hi);
+    }
+    st_error err;
+    int rc = st_adapt_update(&c->adapt, &p, &err);
+    CHECKF(rc == ST_OK, "box update: %s", err.msg);
+    return rc;
+}
+
+/* The cube's model to level 2; HD to level 5 in a box at one corner, a spot
+ * sculpted there; the box moved to the opposite corner, a spot sculpted
+ * there; the box off.  Both spots stay refined (keep_above), the rest of
+ * both boxes coarsens: the pools keep the ids it freed. */
+static int make_hd_coarsened(hd_doc *d)
+{
+    static const double alo[3] = { 0.6, 0.6, 0.6 }, ahi[3] = { 1.2, 1.2, 1.2 };
+    static const double blo[3] = { -0.2, -0.2, -0.2 }, bhi[3] = { 0.4, 0.4, 0.4 };
+    if (make_hd(d, tl_mesh_cube, 2, 5, alo, ahi)) return -1;
+    st_session *c = &d->copy;
+    c->adapt.keep_above = 2;
+    unsigned set = sculpt_spot(c, 5, alo, ahi, 0.1);
+    st_adapt_synthesize(&c->adapt, 2);
+    if (box_update(c, 2, 5, blo, bhi)) goto fail;
+    set += sculpt_spot(c, 5, blo, bhi, 0.1);
+    st_adapt_synthesize(&c->adapt, 2);
+    if (box_update(c, 2, 5, NULL, NULL)) goto fail;
+    CHECKF(set > 10 && c->h.map.top == 5, "%u details set, HD top %u", set, c->h.map.top);
+    return 0;
+fail:
+    free_hd(d);
+    return -1;
+}
+
+/* Ids of p handed out but not live, at levels above `from`. */
+static uint64_t dead_ids(const st_pool *p, unsigned from)
+{
+    uint64_t n = 0;
+    for (unsigned l = from + 1; l < ST_MAX_LEVELS; l++) n += (uint64_t)p->nblocks[l] * ST_POOL_BLOCK - p->live[l];
+    return n + (uint64_t)p->nspare * ST_POOL_BLOCK;
+}
+
+/* Every level above `from` of p packed: one partly used block at most,
+ * no free list, no spare block, and the end right after the blocks. */
+static int pool_packed(const st_pool *p, unsigned from)
+{
+    uint64_t blocks = p->nspare;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        blocks += p->nblocks[l];
+        if (l <= from) continue;
+        if (p->nblocks[l] != (p->live[l] + ST_POOL_BLOCK - 1) / ST_POOL_BLOCK || p->freehead[l] != ST_NIL) return 0;
+    }
+    return p->nspare == 0 && (uint64_t)p->end == blocks * ST_POOL_BLOCK;
+}
+
+/* The loaded map b is a under the renumbering rn: same insertion levels
+ * and flags, the relations of every level translated, the positions and
+ * details of every level bit for bit; within a level the new ids keep the
+ * old ids' order.  0 when all hold. */
+static int same_under(const st_hier *ha, const st_hier *hb, const st_map_renumber *rn)
+{
+    const st_map *a = &ha->map, *b = &hb->map;
+    const uint32_t *dn = rn->darts.new_of, *vn = rn->verts.new_of;
+    uint32_t last[ST_MAX_LEVELS];
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) last[l] = ST_NIL;
+    for (uint32_t d = 0; d < a->darts.end; d++) {
+        unsigned i = a->darts.ins[d];
+        if (i == ST_FREE_LEVEL) continue;
+        uint32_t e = dn[d];
+        if (e >= b->darts.end || b->darts.ins[e] != i || b->flags[e] != a->flags[d]) return 1;
+        if (last[i] != ST_NIL && e <= last[i]) return 2;
+        last[i] = e;
+        for (unsigned l = i; l <= a->top; l++)
+            if (dn[st_beta0(a, d, l)] != st_beta0(b, e, l) || dn[st_beta1(a, d, l)] != st_beta1(b, e, l) ||
+                vn[st_vert(a, d, l)] != st_vert(b, e, l))
+                return 3;
+    }
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) last[l] = ST_NIL;
+    for (uint32_t v = 0; v < a->verts.end; v++) {
+        unsigned i = a->verts.ins[v];
+        if (i == ST_FREE_LEVEL) continue;
+        uint32_t w = vn[v];
+        if (w >= b->verts.end || b->verts.ins[w] != i) return 4;
+        if (last[i] != ST_NIL && w <= last[i]) return 5;
+        last[i] = w;
+        for (unsigned l = i; l <= a->top; l++) {
+            if (memcmp(st_pos(a, v, l), st_pos(b, w, l), 3 * sizeof(double))) return 6;
+            if (memcmp(detail_at(ha, l, v), detail_at(hb, l, w), 3 * sizeof(double))) return 7;
+        }
+    }
+    return 0;
+}
+
+static int cmp_u64(const void *x, const void *y)
+{
+    uint64_t a = *(const uint64_t *)x, b = *(const uint64_t *)y;
+    return a < b ? -1 : a > b;
+}
+
+/* The displayed surface, whatever the ids: the vertex positions' bits and
+ * each face's corners (an order-free hash of their bits), both sorted. */
+static uint64_t *surface_keys(st_adapt *a, uint32_t *n)
+{
+    st_mesh m;
+    st_error err;
+    st_mesh_init(&m);
+    if (st_adapt_mesh(a, &m, &err)) { CHECKF(0, "adaptive mesh: %s", err.msg); return NULL; }
+    *n = m.nverts + m.nfaces;
+    uint64_t *k = malloc(((size_t)*n + 1) * sizeof *k);
+    uint64_t *vh = malloc(((size_t)m.nverts + 1) * sizeof *vh);
+    for (uint32_t v = 0; v < m.nverts; v++) {
+        uint64_t h = 1469598103934665603ull;
+        const unsigned char *b = (const unsigned char *)(m.pos + 3 * (size_t)v);
+        for (size_t i = 0; i < 3 * sizeof(double); i++) h = (h ^ b[i]) * 1099511628211ull;
+        k[v] = vh[v] = h;
+    }
+    for (uint32_t f = 0; f < m.nfaces; f++) {
+        uint64_t h = m.face_off[f + 1] - m.face_off[f];
+        for (uint32_t c = m.face_off[f]; c < m.face_off[f + 1]; c++) h += vh[m.face_idx[c]] * 0x9e3779b97f4a7c15ull;
+        k[m.nverts + f] = h;
+    }
+    qsort(k, m.nverts, sizeof *k, cmp_u64);
+    qsort(k + m.nverts, m.nfaces, sizeof *k, cmp_u64);
+    free(vh);
+    st_mesh_free(&m);
+    return k;
+}
+
+static void check_coarsened(void)
+{
+    hd_doc d;
+    if (make_hd_coarsened(&d)) return;
+    const char *label = "cube, HD regions coarsened";
+    const st_map *om = &d.copy.h.map;
+    uint64_t dead = dead_ids(&om->darts, 2) + dead_ids(&om->verts, 2);
+    printf("%s: %u darts and %u vertex ids handed out, %llu of the HD levels' not live\n", label, om->darts.end,
+           om->verts.end, (unsigned long long)dead);
+    CHECKF(dead > 0, "%s: the box going off freed no id (the test needs some)", label);
+    st_session_ref r = ref_of(&d, 1);
+    size_t n = 0, n2 = 0;
+    unsigned char *b = tl_session_bytes(&r, &n);
+    st_session s;
+    st_error err;
+    int rc = b ? st_session_parse(label, b, n, &s, &err) : -1;
+    CHECKF(rc == ST_OK, "%s: %s", label, b ? err.msg : "not written");
+    if (rc) goto done;
+    const st_map *lm = &s.hd.map;
+    /* (a) No dead slot: the HD levels packed, and the hdlv image is what
+     * the loaded hierarchy (no freed id) gives written as it is, smaller
+     * than the image of the original's pools by the freed ids. */
+    CHECKF(pool_packed(&lm->darts, 2) && pool_packed(&lm->verts, 2), "%s: the loaded pools are not packed", label);
+    CHECKF(lm->darts.end < om->darts.end && lm->verts.end < om->verts.end, "%s: ends %u/%u, were %u/%u", label,
+           lm->darts.end, lm->verts.end, om->darts.end, om->verts.end);
+    uint64_t len = 0;
+    size_t off = chunk_at(b, n, "hdlv", &len), ni = 0, no = 0;
+    st_session_ref lr = { .h = &s.hd, .adapt = &s.hd_adapt, .whole_map = 1 };
+    st_session_ref orr = { .h = &d.copy.h, .adapt = &d.copy.adapt, .whole_map = 1 };
+    unsigned char *img = tl_session_bytes(&lr, &ni), *oimg = tl_session_bytes(&orr, &no);
+    CHECKF(off && img && len == 4 + ni && !memcmp(b + off + 16, img, ni),
+           "%s: the hdlv image is not the loaded hierarchy's own image", label);
+    printf("%s: hdlv image %zu bytes; the original's pools as they are: %zu bytes\n", label, ni, no);
+    CHECKF(ni < no, "%s: the image is not smaller than with the freed ids", label);
+    free(img);
+    free(oimg);
+    /* (b) The loaded hierarchy is the original under the renumbering, bit
+     * for bit, and its displayed surface the same whatever the ids. */
+    st_map_renumber rn;
+    CHECK(st_map_renumber_make(om, 2, &rn) == 0);
+    int why = same_under(&d.copy.h, &s.hd, &rn);
+    CHECKF(why == 0, "%s: the loaded HD hierarchy is not the original renumbered (check %d)", label, why);
+    CHECKF(!st_map_renumber_is_identity(&rn), "%s: the renumbering changed no id", label);
+    st_map_renumber_free(&rn);
+    CHECK(st_map_renumber_make(lm, 2, &rn) == 0);
+    CHECKF(st_map_renumber_is_identity(&rn), "%s: the loaded map is renumbered again", label);
+    st_map_renumber_free(&rn);
+    CHECKF(hier_same(&s.h, &d.h), "%s: model differs after loading", label);
+    uint32_t ka = 0, kb = 0;
+    uint64_t *sa = surface_keys(&d.copy.adapt, &ka), *sb = surface_keys(&s.hd_adapt, &kb);
+    CHECKF(sa && sb && ka == kb && !memcmp(sa, sb, (size_t)ka * sizeof *sa), "%s: the displayed surface differs", label);
+    free(sa);
+    free(sb);
+    /* (c) save -> load -> save: the same bytes. */
+    st_session_ref r2 = st_session_ref_of(&s);
+    unsigned char *b2 = tl_session_bytes(&r2, &n2);
+    CHECKF(b2 && n2 == n && !memcmp(b, b2, n), "%s: save -> load -> save changed the bytes", label);
+    free(b2);
+    st_session_free(&s);
+done:
+    free(b);
+    free_hd(&d);
+}
+
 /* Writes a cube session with HD for other tests (see the header). */
 static int write_file(const char *path, unsigned levels, unsigned max_level, const double lo[3], const double hi[3])
 {
@@ -431,6 +658,7 @@ int main(int argc, char **argv)
     if (argc == 3 && !strcmp(argv[1], "--seed")) return write_file(argv[2], 1, 3, slo, shi);
     check_cube();
     check_spot();
+    check_coarsened();
     check_damage();
     return TEST_END();
 }
