@@ -10,12 +10,15 @@
  *                                        (tests/cli/cli_session_hd.sh)
  *   test_session_hd --seed OUT.strata    a cube, model to level 1, HD to 3
  *                                        (the fuzzer's seed
- *                                        tests/fuzz/corpus/session/cube_cc1_hd.strata) */
+ *                                        tests/fuzz/corpus/session/cube_cc1_hd.strata)
+ *   test_session_hd --seed-layer OUT.strata   the same with a sculpt layer
+ *                                        at HD level 3 (cube_cc1_hd_layer.strata) */
 #include "core/adapt/adapt.h"
 #include "core/multires/hier_internal.h"
 #include "core/io/map_io_internal.h"
 #include "core/map/renumber_internal.h"
 #include "core/io/session.h"
+#include "core/multires/layers.h"
 #include "core/progressive/scheme_registry.h"
 #include "testlib.h"
 
@@ -636,14 +639,97 @@ done:
 }
 
 /* Writes a cube session with HD for other tests (see the header). */
-static int write_file(const char *path, unsigned levels, unsigned max_level, const double lo[3], const double hi[3])
+/* A sculpt layer at HD level l of d's HD hierarchy: an offset on every
+ * vertex of that level with a non-zero detail there (the values need not
+ * be a composition: the file's checks do not recompute one). */
+static uint32_t add_hd_layer(hd_doc *d, st_layers *hl, unsigned l)
+{
+    st_error err;
+    st_layers_init(hl);
+    CHECKF(st_layers_add(hl, &d->copy.h, l, "hd layer", &err) == 0, "%s", err.msg);
+    hl->v[0].strength = 0.5;
+    uint32_t n = 0;
+    st_dart_iter it;
+    for (uint32_t v = st_vertex_first(&d->copy.h.map, l, &it); v != ST_NIL; v = st_vertex_next(&d->copy.h.map, l, &it)) {
+        const double *det = detail_at(&d->copy.h, l, v);
+        if (det[0] == 0 && det[1] == 0 && det[2] == 0) continue;
+        const double o[3] = { 0.25 * det[0], -det[1], 0.001 * (double)(v % 11) };
+        st_layers_set(hl, 0, l, v, o);
+        n++;
+    }
+    return n;
+}
+
+/* HD sculpt layers travel in the hdlv image (session_write.c), their
+ * vertex arrays under the image's renumbering: after the box freed ids,
+ * every offset is found at the renumbered id, the layer's name, level and
+ * strength are kept, and a second save gives the same bytes. */
+static void check_layers(void)
+{
+    hd_doc d;
+    if (make_hd_coarsened(&d)) return;
+    st_layers hl;
+    uint32_t set = add_hd_layer(&d, &hl, 5);
+    CHECKF(set > 10, "%u offsets", set);
+    st_session_ref r = ref_of(&d, 1);
+    r.hd_layers = &hl;
+    void *b1 = NULL, *b2 = NULL;
+    size_t n1 = 0, n2 = 0;
+    st_error err;
+    CHECKF(st_session_write_mem(&r, &b1, &n1, &err) == ST_OK, "%s", err.msg);
+    st_session s;
+    CHECKF(st_session_parse("layers.strata", b1, n1, &s, &err) == ST_OK, "%s", err.msg);
+    CHECK(s.has_hd && s.layers.n == 0 && s.hd_layers.n == 1);
+    if (s.hd_layers.n == 1) {
+        const st_layer *y = &s.hd_layers.v[0];
+        CHECK(y->level == 5 && y->strength == 0.5 && !strcmp(y->name, "hd layer") && s.hd_layers.active == 0);
+        st_map_renumber rn;
+        CHECK(st_map_renumber_make(&d.copy.h.map, 2, &rn) == 0);
+        CHECK(!st_map_renumber_is_identity(&rn)); /* the box freed ids */
+        uint32_t same = 0, nz = 0;
+        for (uint32_t j = 0; j < rn.verts.pool.end; j++) {
+            uint32_t o = rn.verts.old_of[j];
+            double a[3], b[3];
+            st_layers_get(&s.hd_layers, 0, 5, j, a);
+            if (o == ST_NIL) { nz += a[0] != 0 || a[1] != 0 || a[2] != 0; continue; }
+            st_layers_get(&hl, 0, 5, o, b);
+            same += !memcmp(a, b, sizeof a);
+            st_layers_get(&s.hd_layers, ST_LAYERS_SLOT_BASE, 5, j, a);
+            st_layers_get(&hl, ST_LAYERS_SLOT_BASE, 5, o, b);
+            same += !memcmp(a, b, sizeof a);
+        }
+        CHECKF(!nz, "%u offsets on free ids", nz);
+        uint32_t live = 0;
+        for (uint32_t j = 0; j < rn.verts.pool.end; j++) live += rn.verts.old_of[j] != ST_NIL;
+        CHECKF(same == 2 * live, "%u of %u values at their renumbered ids", same, 2 * live);
+        st_map_renumber_free(&rn);
+    }
+    st_session_ref r2 = st_session_ref_of(&s);
+    CHECKF(st_session_write_mem(&r2, &b2, &n2, &err) == ST_OK, "%s", err.msg);
+    CHECK(n1 == n2 && b1 && b2 && !memcmp(b1, b2, n1));
+    st_session_free(&s);
+    free(b1);
+    free(b2);
+    st_layers_free(&hl);
+    free_hd(&d);
+}
+
+static int write_file(const char *path, unsigned levels, unsigned max_level, const double lo[3], const double hi[3],
+                      int layer)
 {
     hd_doc d;
     if (make_hd(&d, tl_mesh_cube, levels, max_level, lo, hi)) return 1;
     st_session_ref r = ref_of(&d, 1);
+    st_layers hl;
+    st_layers_init(&hl);
+    if (layer) {
+        add_hd_layer(&d, &hl, max_level);
+        r.hd_layers = &hl;
+    }
     st_error err;
     int rc = st_session_save_ref(path, &r, &err);
     if (rc) fprintf(stderr, "%s\n", err.msg);
+    st_layers_free(&hl);
     free_hd(&d);
     return rc ? 1 : 0;
 }
@@ -654,11 +740,13 @@ int main(int argc, char **argv)
      * faces refined: a smaller file). */
     static const double lo[3] = { 0.6, 0.6, 0.6 }, hi[3] = { 1.2, 1.2, 1.2 };
     static const double slo[3] = { 0.4, 0.4, 0.6 }, shi[3] = { 0.6, 0.6, 1.1 };
-    if (argc == 3 && !strcmp(argv[1], "--write")) return write_file(argv[2], 2, 4, lo, hi);
-    if (argc == 3 && !strcmp(argv[1], "--seed")) return write_file(argv[2], 1, 3, slo, shi);
+    if (argc == 3 && !strcmp(argv[1], "--write")) return write_file(argv[2], 2, 4, lo, hi, 0);
+    if (argc == 3 && !strcmp(argv[1], "--seed")) return write_file(argv[2], 1, 3, slo, shi, 0);
+    if (argc == 3 && !strcmp(argv[1], "--seed-layer")) return write_file(argv[2], 1, 3, slo, shi, 1);
     check_cube();
     check_spot();
     check_coarsened();
     check_damage();
+    check_layers();
     return TEST_END();
 }
