@@ -37,6 +37,10 @@ else bad "the saved session lists no HD levels: $("$EXE" info "$TMP/hd_saved.str
 # ... and the sculpt layer of HD level 8, in the HD image.
 if "$EXE" info "$TMP/hd_saved.strata" 2>&1 | grep -q "HD sculpt layer 'Layer 1': level 8, strength 0.75"; then ok
 else bad "the saved session lists no HD layer: $("$EXE" info "$TMP/hd_saved.strata" 2>&1 | grep -i layer)"; fi
+# The saved session opened again in the window (tests/replay/hd_reopen.txt):
+# the HD layer and faces are back and take a stroke.
+(cd "$TMP" && timeout 300 "$EXE" --size 640x480 --replay "$ASSETS/../tests/replay/hd_reopen.txt" "$TMP/hd_saved.strata") >"$TMP/log2" 2>&1
+if grep -q "replay .* passed" "$TMP/log2"; then ok; else bad "the saved session reopened: $(tail -3 "$TMP/log2")"; fi
 # HD level 8 made uniform on spot: about 3 GB; refused under a 64 MiB budget
 # before anything is allocated (the estimate was 0 from the HD hierarchy).
 out=$(timeout 60 "$EXE" convert "$TMP/hd_saved.strata" "$TMP/l8.obj" --level 8 --mem-budget 64 2>&1); rc=$?
