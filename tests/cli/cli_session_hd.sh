@@ -6,7 +6,9 @@
 # count), the model's own levels, refuses a level above the HD top and a
 # refinement over the memory budget (the estimate in the message, no
 # file), and re-saves the session byte for byte.  The input is made by
-# test_session_hd --write (a cube: model levels 0..2, HD up to 4).
+# test_session_hd --write (a cube: model levels 0..2, HD up to 4); with
+# --write-layer, a sculpt layer at HD level 4 that info lists and that
+# strata deform at level 4 keeps (its active layer takes the change).
 # Usage: cli_session_hd.sh STRATA SHARED_MESHES ASSETS BINDIR
 set -euo pipefail
 S=$1 B=$4
@@ -67,6 +69,20 @@ set +e
 "$S" convert "$W/hd.strata" "$W/more.strata" --levels 3 2> /dev/null; rc=$?
 set -e
 [ $rc = 2 ] && ok "--levels above the model refused" || bad "--levels: rc $rc"
+
+# A sculpt layer at HD level 4 (test_session_hd --write-layer): info lists
+# it; strata deform at level 4 edits the session (its active layer takes the
+# change, app/cmd_deform.c) and writes it back with the layer.
+"$B/test_session_hd" --write-layer "$W/hdl.strata"
+if "$S" info "$W/hdl.strata" | grep -q "HD sculpt layer 'hd layer': level 4, strength 0.50"; then ok "info: the HD layer"
+else bad "info: no HD layer: $("$S" info "$W/hdl.strata" | tail -2)"; fi
+"$S" convert "$W/hdl.strata" "$W/hdl_a.obj" > /dev/null
+if "$S" deform "$W/hdl.strata" --level 4 --box 0.3,0.3,0.3,1.3,1.3,1.3 --bump 0.7,0.7,0.7,0.3,0,0,0.05 -o "$W/hdl2.strata" > "$W/dl.txt" &&
+   grep -q "[1-9][0-9]* vertices of HD level 4 moved" "$W/dl.txt" &&
+   "$S" info "$W/hdl2.strata" | grep -q "HD sculpt layer 'hd layer': level 4" &&
+   "$S" convert "$W/hdl2.strata" "$W/hdl_b.obj" > /dev/null && ! cmp -s "$W/hdl_a.obj" "$W/hdl_b.obj"; then
+    ok "deform --level 4 with an HD layer: $(cat "$W/dl.txt")"
+else bad "deform with an HD layer: $(cat "$W/dl.txt" 2>/dev/null)"; fi
 
 echo "$n checks, $fail failed"
 [ $fail = 0 ]

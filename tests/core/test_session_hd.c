@@ -11,6 +11,8 @@
  *   test_session_hd --seed OUT.strata    a cube, model to level 1, HD to 3
  *                                        (the fuzzer's seed
  *                                        tests/fuzz/corpus/session/cube_cc1_hd.strata)
+ *   test_session_hd --write-layer OUT.strata  the --write cube with a sculpt
+ *                                        layer at HD level 4 (cli_session_hd.sh)
  *   test_session_hd --seed-layer OUT.strata   the same with a sculpt layer
  *                                        at HD level 3 (cube_cc1_hd_layer.strata) */
 #include "core/adapt/adapt.h"
@@ -742,6 +744,7 @@ int main(int argc, char **argv)
     static const double slo[3] = { 0.4, 0.4, 0.6 }, shi[3] = { 0.6, 0.6, 1.1 };
     if (argc == 3 && !strcmp(argv[1], "--write")) return write_file(argv[2], 2, 4, lo, hi, 0);
     if (argc == 3 && !strcmp(argv[1], "--seed")) return write_file(argv[2], 1, 3, slo, shi, 0);
+    if (argc == 3 && !strcmp(argv[1], "--write-layer")) return write_file(argv[2], 2, 4, lo, hi, 1);
     if (argc == 3 && !strcmp(argv[1], "--seed-layer")) return write_file(argv[2], 1, 3, slo, shi, 1);
     check_cube();
     check_spot();
