@@ -3,6 +3,7 @@
 #include "testlib.h"
 #include "core/multires/edit.h"
 #include "core/adapt/adapt.h"
+#include "core/io/session.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -128,4 +129,28 @@ uint32_t ed_test_hd_middle_vertex(st_doc *d, unsigned L, uint32_t *dart)
         if (dd < bd) { bd = dd; best = st_vert(m, x, L); *dart = x; }
     }
     return best;
+}
+
+void ed_test_set_box(st_doc *d, double lo, double hi, int on)
+{
+    st_adapt_params p = d->box;
+    for (int k = 0; k < 3; k++) { p.box_lo[k] = lo; p.box_hi[k] = hi; }
+    p.has_box = 1;
+    st_error err;
+    CHECKF(st_doc_set_box(d, &p, on, &err) == 0, "box: %s", err.msg);
+}
+
+void ed_test_open_hd_session(st_doc *e, const char *obj, st_session *s)
+{
+    st_error err;
+    CHECK(s->has_hd);
+    st_doc_init(e);
+    ed_test_open(e, obj, "catmull-clark", 0);
+    st_hier_free(&e->h);
+    st_session_move_hier(&e->h, &s->h);
+    e->scheme = e->h.scheme;
+    st_layers_free(&e->layers);
+    e->layers = s->layers;
+    st_layers_init(&s->layers);
+    if (s->has_hd) CHECKF(st_doc_adopt_hd(e, &s->hd, &s->hd_adapt, &s->hd_layers, &err) == 0, "adopt: %s", err.msg);
 }

@@ -29,5 +29,13 @@ int ed_test_same_values(const st_hier *h, const double *v, size_t n);
  * the editable ones (the middle of the HD region), its dart in *dart. */
 int ed_test_display_is_synthesis(st_doc *d, unsigned from);
 uint32_t ed_test_hd_middle_vertex(st_doc *d, unsigned L, uint32_t *dart);
+/* The interest box set to the cube [lo, hi]^3 (its levels as they are),
+ * shown (on 1) or not; a failed check when refused. */
+void ed_test_set_box(st_doc *d, double lo, double hi, int on);
+/* A document of the session s as the window opens one (ui/session_io.c):
+ * s's model and its layers taken, its HD levels adopted (a failed check
+ * when it has none or they are refused); obj: any mesh, to open first. */
+struct st_session;
+void ed_test_open_hd_session(st_doc *e, const char *obj, struct st_session *s);
 
 #endif

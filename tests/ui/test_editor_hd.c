@@ -44,15 +44,6 @@ static void stroke_at(st_doc *d, int tool, const double c[3], double radius, dou
     st_doc_stroke_end(d);
 }
 
-static void set_box(st_doc *d, double lo, double hi, int on)
-{
-    st_adapt_params p = d->box;
-    for (int k = 0; k < 3; k++) { p.box_lo[k] = lo; p.box_hi[k] = hi; }
-    p.has_box = 1;
-    st_error err;
-    CHECKF(st_doc_set_box(d, &p, on, &err) == 0, "box: %s", err.msg);
-}
-
 int main(void)
 {
     char obj[64], ses[64];
@@ -76,7 +67,7 @@ int main(void)
 
     d.box.base_level = 0;
     d.box.max_level = 6;
-    set_box(&d, 0.2, 2.0, 1);
+    ed_test_set_box(&d, 0.2, 2.0, 1);
     st_doc_set_edit_level(&d, L);
     CHECK(st_doc_sculpt_level(&d) == L && d.hd_level == L && d.edit_level == N);
     CHECK(d.box.base_level == N);
@@ -195,11 +186,11 @@ int main(void)
     /* The box moves to the opposite corner: the sculpted faces stay. */
     double sculpted[3];
     memcpy(sculpted, st_pos(&d.display.hier.map, hv, L), sizeof sculpted);
-    set_box(&d, -2.0, -0.2, 1);
+    ed_test_set_box(&d, -2.0, -0.2, 1);
     CHECK(st_doc_hd_faces(&d) > 0);
     CHECK(!memcmp(st_pos(&d.display.hier.map, hv, L), sculpted, sizeof sculpted));
     /* Box off: the display stays, with the sculpted faces only. */
-    set_box(&d, -2.0, -0.2, 0);
+    ed_test_set_box(&d, -2.0, -0.2, 0);
     CHECK(!d.box_on && st_doc_display_adaptive(&d));
     uint64_t faces_off = 0;
     st_doc_display_counts(&d, &faces_off, &verts);
@@ -242,12 +233,7 @@ int main(void)
     CHECKF(st_session_load(ses, &s, &err) == 0, "load: %s", err.msg);
     CHECK(s.has_hd);
     st_doc e;
-    st_doc_init(&e);
-    ed_test_open(&e, obj, "catmull-clark", 0);
-    st_hier_free(&e.h);
-    st_session_move_hier(&e.h, &s.h);
-    e.scheme = e.h.scheme;
-    if (s.has_hd) CHECKF(st_doc_adopt_hd(&e, &s.hd, &s.hd_adapt, &s.hd_layers, &err) == 0, "adopt: %s", err.msg);
+    ed_test_open_hd_session(&e, obj, &s);
     CHECK(st_doc_display_adaptive(&e));
     CHECK(e.display.built && ed_test_same_values(&e.display.hier, dispv, ndv));
     CHECK(st_doc_hd_faces(&e) == st_doc_hd_faces(&d));
@@ -263,7 +249,7 @@ int main(void)
     /* A scheme without HD levels. */
     st_doc_init(&d);
     ed_test_open(&d, obj, "doo-sabin", 2);
-    set_box(&d, 0.2, 2.0, 1);
+    ed_test_set_box(&d, 0.2, 2.0, 1);
     st_doc_set_edit_level(&d, 4);
     CHECK(d.hd_level == 0 && st_doc_sculpt_level(&d) == d.h.map.top);
     CHECK(st_doc_hd_refusal(&d) && strstr(st_doc_hd_refusal(&d), "quadrisection"));

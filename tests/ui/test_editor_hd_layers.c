@@ -42,15 +42,6 @@ static void stroke_at(st_doc *d, const double c[3], double radius, double streng
     st_doc_stroke_end(d);
 }
 
-static void set_box(st_doc *d, double lo, double hi, int on)
-{
-    st_adapt_params p = d->box;
-    for (int k = 0; k < 3; k++) { p.box_lo[k] = lo; p.box_hi[k] = hi; }
-    p.has_box = 1;
-    st_error err;
-    CHECKF(st_doc_set_box(d, &p, on, &err) == 0, "box: %s", err.msg);
-}
-
 static int offset_nonzero(const st_layers *ls, int k, uint32_t v)
 {
     double o[3];
@@ -105,7 +96,7 @@ int main(void)
     CHECK(st_doc_layer_add(&d, "coarse", &err) == 0 && d.layers.v[0].level == 1);
     d.box.base_level = 0;
     d.box.max_level = 6;
-    set_box(&d, 0.2, 2.0, 1);
+    ed_test_set_box(&d, 0.2, 2.0, 1);
     st_doc_set_edit_level(&d, L);
     CHECK(d.hd_level == L);
 
@@ -159,8 +150,8 @@ int main(void)
     CHECK(st_doc_layer_set_hidden(&d, 1, 1, &err) == 0);
     CHECK(ed_test_same_values(&d.display.hier, disp0, n0));
     CHECK(!hd_details_nonzero(&d.display.hier, N));
-    set_box(&d, -2.0, -0.2, 1);
-    set_box(&d, -2.0, -0.2, 0);
+    ed_test_set_box(&d, -2.0, -0.2, 1);
+    ed_test_set_box(&d, -2.0, -0.2, 0);
     CHECK(st_doc_display_adaptive(&d) && st_doc_hd_faces(&d) > 0);
     CHECK(st_vert(&d.display.hier.map, dart, L) == hv && offset_nonzero(&d.layers, 1, hv));
     CHECK(st_doc_layer_set_hidden(&d, 1, 0, &err) == 0);
@@ -207,15 +198,7 @@ int main(void)
     CHECK(s.hd_layers.n == 1 && s.hd_layers.v[0].level == L && !strcmp(s.hd_layers.v[0].name, "pores"));
     CHECK(s.hd_layers.active == 0 && s.layers.active == -1);
     st_doc e;
-    st_doc_init(&e);
-    ed_test_open(&e, obj, "catmull-clark", 0);
-    st_hier_free(&e.h);
-    st_session_move_hier(&e.h, &s.h);
-    e.scheme = e.h.scheme;
-    st_layers_free(&e.layers);
-    e.layers = s.layers;
-    st_layers_init(&s.layers);
-    CHECKF(st_doc_adopt_hd(&e, &s.hd, &s.hd_adapt, &s.hd_layers, &err) == 0, "adopt: %s", err.msg);
+    ed_test_open_hd_session(&e, obj, &s);
     CHECK(e.layers.n == 2 && e.layers.v[1].level == L && e.layers.active == 1);
     CHECK(e.display.adapt.keep_layers == &e.layers);
     CHECK(ed_test_same_values(&e.display.hier, dispv, nv));
