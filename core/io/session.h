@@ -57,9 +57,11 @@
 #include "core/io/mesh.h"
 
 /* The version written, and the newest read: 1 the first; 2 added
- * face-varying UVs; 3 stores attribute arrays only up to the last live id
- * (docs/SESSION-FORMAT.md).  Versions 1 and 2 are still read. */
-#define ST_SESSION_VERSION 4u
+ * face-varying UVs; 3 stores attribute arrays only up to the last live id;
+ * 4 regenerates subdivision levels from level 0 (LVL0), 5 progressive
+ * levels from their splits (PMRC) (docs/SESSION-FORMAT.md).  Versions 1
+ * to 4 are still read. */
+#define ST_SESSION_VERSION 5u
 #define ST_SESSION_MAGIC "STRATASN"
 
 /* The camera, as the window's render camera describes it (orbit around

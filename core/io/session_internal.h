@@ -40,13 +40,20 @@
  * the reader has regenerated the levels; they replace MAP. */
 #define TAG_LVL0 TAG('L', 'V', 'L', '0')
 #define TAG_POSN TAG('P', 'O', 'S', 'N')
+/* Version 5, a progressive hierarchy as its build left it
+ * (st_progressive_recipe, core/progressive/progressive.h): level 0's darts
+ * and the vertex splits of every level, replayed by the reader; then POSN
+ * as after LVL0.  It replaces MAP. */
+#define TAG_PMRC TAG('P', 'M', 'R', 'C')
 
 /* Version 2 added the UV chunks (FVAR, BUVS); version 3 trims the map's
  * attribute arrays (map_io_internal.h, st_br.trimmed); version 4 adds
- * LVL0 and POSN, and is what every session is written as. */
+ * LVL0 and POSN; version 5 adds PMRC, and is what every session is
+ * written as. */
 #define SESSION_VERSION_UV 2u
 #define SESSION_VERSION_TRIMMED 3u
 #define SESSION_VERSION_RECIPE 4u
+#define SESSION_VERSION_PMRC 5u
 
 /* Moves src into dst without freeing dst, whose content is garbage or
  * already freed (session.c). */

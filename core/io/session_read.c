@@ -41,7 +41,8 @@ static int parse_image(const char *name, const void *data, size_t size, st_sessi
 /* SEEN_MAP: the whole map is there (MAP, or LVL0 then POSN). */
 enum { SEEN_HIER = 1, SEEN_MAP = 2, SEEN_SHRP = 4, SEEN_DETL = 8, SEEN_ADPT = 16, SEEN_EDIT = 32, SEEN_VIEW = 64, SEEN_BASE = 128,
        SEEN_MASK = 256, SEEN_LAYR = 512,
-       SEEN_FVAR = 1024, SEEN_BUVS = 2048, SEEN_TOOL = 4096, SEEN_LVL0 = 8192, SEEN_POSN = 16384, SEEN_HDLV = 32768 };
+       SEEN_FVAR = 1024, SEEN_BUVS = 2048, SEEN_TOOL = 4096, SEEN_LVL0 = 8192, SEEN_POSN = 16384, SEEN_HDLV = 32768,
+       SEEN_PMRC = 65536 };
 
 /* A failure that is not the file's bytes (memory, the budget, a
  * regeneration): "FILE: what", the chunk's reader stopped. */
@@ -114,7 +115,7 @@ static int faces_are_triangles(st_map *m, unsigned l)
 static int r_map(load_ctx *c, st_br *r)
 {
     st_hier *h = &c->s->h;
-    if (c->seen & SEEN_POSN) return st_br_fail(r, "a map in a session that regenerates its levels");
+    if (c->seen & (SEEN_POSN | SEEN_PMRC)) return st_br_fail(r, "a map in a session that regenerates its levels");
     st_map_free(&h->map);
     if (st_map_read(r, &h->map)) return -1;
     int dual = h->scheme->id == ST_SCHEME_DOOSABIN;
@@ -142,6 +143,93 @@ static int r_level0(load_ctx *c, st_br *r)
     c->regen_end[0] = m->darts.end;
     c->regen_end[1] = m->verts.end;
     return 0;
+}
+
+/* An unsigned LEB128 number of at most 32 bits (session_write.c w_varint). */
+static uint32_t r_varint(st_br *r)
+{
+    uint32_t v = 0;
+    for (unsigned shift = 0; shift < 35; shift += 7) {
+        uint8_t b = st_br_u8(r);
+        if (r->failed) return 0;
+        if (shift == 28 && b > 0x0f) break;
+        v |= (uint32_t)(b & 0x7f) << shift;
+        if (!(b & 0x80)) return v;
+    }
+    st_br_fail(r, "a number of more than 32 bits");
+    return 0;
+}
+
+/* A progressive hierarchy's recipe (version 5, session_write.c w_recipe):
+ * replayed at once (st_progressive_regenerate checks every record), so
+ * POSN finds the levels there, as after LVL0's regeneration.  The map the
+ * replay makes grows with the splits, about 250 bytes for each 6 of the
+ * file: the memory guard is asked first. */
+static int r_recipe(load_ctx *c, st_br *r)
+{
+    st_hier *h = &c->s->h;
+    if (c->seen & SEEN_MAP) return st_br_fail(r, "progressive levels in a session that has its map");
+    if (h->scheme->id != ST_SCHEME_PROGRESSIVE) return st_br_fail(r, "progressive levels for the %s scheme", h->scheme->name);
+    if (c->has_sharpness) return st_br_fail(r, "progressive levels with sharpness");
+    st_pm_recipe pm;
+    memset(&pm, 0, sizeof pm);
+    pm.top = st_br_u32(r);
+    pm.nverts0 = st_br_u32(r);
+    pm.ndarts0 = st_br_u32(r);
+    if (r->failed) return -1;
+    if (pm.top >= ST_MAX_LEVELS) return st_br_fail(r, "%u progressive levels (at most %d)", pm.top + 1, ST_MAX_LEVELS);
+    if (st_br_need(r, pm.ndarts0, 13, "level 0's darts")) return -1;
+    if (pm.nverts0 > pm.ndarts0) return st_br_fail(r, "level 0: %u vertices for %u darts", pm.nverts0, pm.ndarts0);
+    size_t nd = pm.ndarts0 ? pm.ndarts0 : 1;
+    pm.beta0 = malloc(nd * sizeof *pm.beta0);
+    pm.beta1 = malloc(nd * sizeof *pm.beta1);
+    pm.vert = malloc(nd * sizeof *pm.vert);
+    pm.boundary = malloc(nd);
+    int rc = 0;
+    if (!pm.beta0 || !pm.beta1 || !pm.vert || !pm.boundary) { rc = load_fail(c, r, ST_ERR_MEMORY, "out of memory"); goto done; }
+    for (uint32_t d = 0; d < pm.ndarts0; d++) {
+        pm.beta0[d] = st_br_u32(r);
+        pm.beta1[d] = st_br_u32(r);
+        pm.vert[d] = st_br_u32(r);
+        pm.boundary[d] = st_br_u8(r);
+    }
+    /* Each level's count, checked against the bytes left, then its splits. */
+    uint64_t total = 0;
+    size_t cap = 0;
+    for (unsigned l = 1; l <= pm.top && !r->failed; l++) {
+        pm.nsplits[l] = st_br_u32(r);
+        if (r->failed || st_br_need(r, pm.nsplits[l], 6, "splits")) { rc = -1; goto done; }
+        if (total + pm.nsplits[l] > cap) {
+            size_t want = (size_t)(total + pm.nsplits[l]) * 2;
+            st_pm_split *p = realloc(pm.split, want * sizeof *p);
+            if (!p) { rc = load_fail(c, r, ST_ERR_MEMORY, "out of memory"); goto done; }
+            pm.split = p;
+            cap = want;
+        }
+        for (uint32_t i = 0; i < pm.nsplits[l]; i++) {
+            st_pm_split *s = &pm.split[total + i];
+            s->b = st_br_u32(r);
+            s->c = r_varint(r);
+            uint32_t d = r_varint(r);
+            s->d = d ? d - 1 : ST_NIL;
+        }
+        total += pm.nsplits[l];
+    }
+    if (r->failed) { rc = -1; goto done; }
+    st_error e2;
+    size_t need = ((size_t)pm.ndarts0 + 6 * (size_t)total) * 64 + ((size_t)pm.nverts0 + (size_t)total) * 64;
+    if (need >= ST_MEM_CHECK_MIN_BYTES && st_mem_check(need, "regenerating the progressive levels", &e2)) {
+        rc = load_fail(c, r, e2.code, "%s", e2.msg);
+        goto done;
+    }
+    if (st_progressive_regenerate(h, &pm, &e2)) { rc = load_fail(c, r, e2.code, "progressive levels: %s", e2.msg); goto done; }
+    c->regen_top = pm.top;
+    c->regen_end[0] = pm.ndarts0;
+    c->regen_end[1] = pm.nverts0;
+    c->seen |= SEEN_LVL0;   /* POSN follows, as after LVL0 */
+done:
+    st_pm_recipe_free(&pm);
+    return rc;
 }
 
 /* The sharpness read, as the map's attached attributes. */
@@ -185,6 +273,7 @@ static int regenerate(load_ctx *c, st_br *r)
 {
     st_hier *h = &c->s->h;
     st_map *m = &h->map;
+    if (c->seen & SEEN_PMRC) return 0;   /* replayed by r_recipe, every split checked */
     attach_sharpness(c);
     st_error e2;
     if (check_map(c, 1, &e2)) return st_br_fail(r, "level 0: %s", e2.msg);
@@ -898,6 +987,7 @@ static int parse_image(const char *name, const void *data, size_t size, st_sessi
         case TAG_SHRP: bit = SEEN_SHRP; fn = r_sharp; after = SEEN_HIER; break;
         case TAG_LVL0: if (version >= SESSION_VERSION_RECIPE) { bit = SEEN_LVL0; fn = r_level0; after = SEEN_HIER; } break;
         case TAG_POSN: if (version >= SESSION_VERSION_RECIPE) { bit = SEEN_POSN; fn = r_positions; after = SEEN_LVL0; } break;
+        case TAG_PMRC: if (version >= SESSION_VERSION_PMRC) { bit = SEEN_PMRC; fn = r_recipe; after = SEEN_HIER; } break;
         case TAG_DETL: bit = SEEN_DETL; fn = r_detail; after = SEEN_MAP; break;
         case TAG_ADPT: bit = SEEN_ADPT; fn = r_adapt; after = SEEN_MAP; break;
         case TAG_EDIT: bit = SEEN_EDIT; fn = r_edit; after = SEEN_MAP; break;

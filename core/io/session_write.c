@@ -29,6 +29,7 @@ typedef struct wsrc {
     const st_map_renumber *ids;   /* NULL: the ids as they are */
     const void *hd_img;           /* chunk hdlv's image (after hd_from), when r->hd */
     size_t hd_len;
+    const st_pm_recipe *pm;       /* chunk PMRC's recipe, when the hierarchy has one */
 } wsrc;
 
 typedef void (*chunk_fn)(st_bw *w, const wsrc *src);
@@ -77,6 +78,7 @@ static int level0_of(const st_session_ref *r, st_map *v)
     /* Doo-Sabin's levels are in the dual encoding and its level 0 is not a
      * map of its own there: stored whole. */
     if (r->whole_map || r->h->map.face_embedded || !st_hier_regenerable(r->h)) return -1;
+    if (r->h->scheme->id == ST_SCHEME_PROGRESSIVE) return -1;   /* its recipe instead (PMRC) */
     return st_map_level0_view(&r->h->map, r->h->regen_end, v);
 }
 
@@ -97,6 +99,43 @@ static void w_sharp_level0(st_bw *w, const wsrc *src)
     st_mla e = st_mla_level0_view(&r->h->edge_sharp), x = st_mla_level0_view(&r->h->vertex_sharp);
     st_mla_write(w, &e, &v.darts, st_value_sharpness_f32);
     st_mla_write(w, &x, &v.verts, st_value_sharpness_f32);
+}
+
+/* An unsigned LEB128 number: 7 bits a byte, low first (a fan rank takes
+ * one byte). */
+static void w_varint(st_bw *w, uint32_t v)
+{
+    while (v >= 0x80) {
+        st_bw_u8(w, (uint8_t)(v | 0x80));
+        v >>= 7;
+    }
+    st_bw_u8(w, (uint8_t)v);
+}
+
+/* A progressive hierarchy's recipe (version 5): level 0's darts, then each
+ * level's splits (b, then the ranks of c and of d + 1, 0 for a boundary
+ * edge); the reader replays them (progressive_recipe.c). */
+static void w_recipe(st_bw *w, const wsrc *src)
+{
+    const st_pm_recipe *pm = src->pm;
+    st_bw_u32(w, pm->top);
+    st_bw_u32(w, pm->nverts0);
+    st_bw_u32(w, pm->ndarts0);
+    for (uint32_t d = 0; d < pm->ndarts0; d++) {
+        st_bw_u32(w, pm->beta0[d]);
+        st_bw_u32(w, pm->beta1[d]);
+        st_bw_u32(w, pm->vert[d]);
+        st_bw_u8(w, pm->boundary[d]);
+    }
+    const st_pm_split *s = pm->split;
+    for (unsigned l = 1; l <= pm->top; l++) {
+        st_bw_u32(w, pm->nsplits[l]);
+        for (uint32_t i = 0; i < pm->nsplits[l]; i++, s++) {
+            st_bw_u32(w, s->b);
+            w_varint(w, s->c);
+            w_varint(w, s->d == ST_NIL ? 0 : s->d + 1);
+        }
+    }
 }
 
 static void w_positions(st_bw *w, const wsrc *src)
@@ -436,13 +475,17 @@ typedef struct chunk_def { uint32_t tag; chunk_fn fn; } chunk_def;
  * VIEW BASE mask tool layr FVAR BUVS hdlv. */
 #define ST_SESSION_MAX_CHUNKS 15
 
-/* The chunks of r, in file order. */
-static unsigned chunk_list(const st_session_ref *r, chunk_def out[ST_SESSION_MAX_CHUNKS])
+/* The chunks of src's reference, in file order. */
+static unsigned chunk_list(const wsrc *src, chunk_def out[ST_SESSION_MAX_CHUNKS])
 {
+    const st_session_ref *r = src->r;
     unsigned n = 0;
     out[n++] = (chunk_def){ TAG_HIER, w_hier };
     st_map v;
-    if (!level0_of(r, &v)) {
+    if (src->pm) {
+        out[n++] = (chunk_def){ TAG_PMRC, w_recipe };
+        out[n++] = (chunk_def){ TAG_POSN, w_positions };
+    } else if (!level0_of(r, &v)) {
         out[n++] = (chunk_def){ TAG_LVL0, w_level0 };
         if (r->h->has_sharpness) out[n++] = (chunk_def){ TAG_SHRP, w_sharp_level0 };
         /* Level 0's UVs before the positions: the reader refines them on a
@@ -516,6 +559,7 @@ static const char *chunk_words(uint32_t tag)
     switch (tag) {
     case TAG_MAP: case TAG_POSN: return "positions";
     case TAG_LVL0: return "positions of level 0";
+    case TAG_PMRC: return "progressive levels";
     case TAG_SHRP: return "sharpness values";
     case TAG_DETL: return "details";
     case TAG_ADPT: return "adaptive state";
@@ -549,7 +593,7 @@ static int plan_chunks(const wsrc *src, chunk_plan *pl, st_error *err)
     const st_session_ref *r = src->r;
     if (r->tool && st_session_tool_refusal(r->tool))
         return st_fail(err, ST_ERR_INVALID, "session: bad %s in the tool settings; nothing was written", st_session_tool_refusal(r->tool));
-    pl->n = chunk_list(r, pl->c);
+    pl->n = chunk_list(src, pl->c);
     pl->total = HEADER_BYTES + TRAILER_BYTES;
     st_bw *cnt = malloc(sizeof *cnt);
     if (!cnt) return st_fail(err, ST_ERR_MEMORY, "session: out of memory");
@@ -700,13 +744,36 @@ static int hd_image(const st_session_ref *r, void **img, size_t *len, st_error *
     return ST_OK;
 }
 
-/* Checks r and makes what the chunk writers read (wsrc); src->hd_img is
- * freed by the caller. */
+/* A progressive hierarchy as its build left it is stored as its recipe
+ * (PMRC); anything else, or out of memory, is stored whole. */
+static const st_pm_recipe *recipe_of(const st_session_ref *r)
+{
+    if (r->whole_map || r->h->has_sharpness || r->h->scheme->id != ST_SCHEME_PROGRESSIVE) return NULL;
+    st_pm_recipe *pm = malloc(sizeof *pm);
+    if (pm && st_progressive_recipe(r->h, pm) == 0) return pm;
+    free(pm);
+    return NULL;
+}
+
+static void release(wsrc *src)
+{
+    free((void *)src->hd_img);
+    if (src->pm) {
+        st_pm_recipe_free((st_pm_recipe *)src->pm);
+        free((void *)src->pm);
+    }
+    src->hd_img = NULL;
+    src->pm = NULL;
+}
+
+/* Checks r and makes what the chunk writers read (wsrc); the caller
+ * releases it. */
 static int prepare(const st_session_ref *r, wsrc *src, st_error *err)
 {
     memset(src, 0, sizeof *src);
     src->r = r;
     int rc = check_ref(r, err);
+    if (!rc) src->pm = recipe_of(r);
     if (!rc && r->hd) {
         void *img = NULL;
         rc = hd_image(r, &img, &src->hd_len, err);
@@ -722,7 +789,7 @@ int st_session_write_mem(const st_session_ref *r, void **data, size_t *size, st_
     wsrc src;
     int rc = prepare(r, &src, err);
     if (!rc) rc = write_mem(&src, data, size, err);
-    free((void *)src.hd_img);
+    release(&src);
     return rc;
 }
 
@@ -739,7 +806,7 @@ int st_session_save_ref_progress(const char *path, const st_session_ref *r, int 
     int rc = prepare(r, &src, err);
     if (!rc) rc = plan_chunks(&src, &pl, err);
     if (rc) {
-        free((void *)src.hd_img);
+        release(&src);
         if (err) {
             char msg[sizeof err->msg];
             snprintf(msg, sizeof msg, "%s", err->msg);
@@ -748,10 +815,10 @@ int st_session_save_ref_progress(const char *path, const st_session_ref *r, int 
         return rc;
     }
     st_bw *w = malloc(sizeof *w);
-    if (!w) { free((void *)src.hd_img); return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path); }
+    if (!w) { release(&src); return st_fail(err, ST_ERR_MEMORY, "%s: out of memory", path); }
     st_afile af;
     rc = st_afile_open(&af, path, err);
-    if (rc) { free(w); free((void *)src.hd_img); return rc; }
+    if (rc) { free(w); release(&src); return rc; }
     st_bw_init_file(w, af.f);
     /* Test hook (tests/cli/cli_session.sh): slow the save down so that a test
      * can kill it in the middle. */
@@ -760,7 +827,7 @@ int st_session_save_ref_progress(const char *path, const st_session_ref *r, int 
     w->progress = progress;
     w->progress_ctx = ctx;
     write_all(w, &src, &pl);
-    free((void *)src.hd_img);
+    release(&src);
     int failed = w->failed, cancelled = w->cancelled;
     st_bw_free(w);
     free(w);

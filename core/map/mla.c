@@ -195,6 +195,71 @@ int st_mla_freeze(st_mla *a, const st_pool *p)
     return 1;
 }
 
+static void set_u32(st_mla *a, const st_pool *p, uint32_t id, unsigned l, uint32_t v);
+
+/* st_mla_freeze's choice and result, from the changes themselves: the
+ * columns set_u32 would make are those of the levels changed, each of
+ * st_pool_cover's size once trimmed; walk_changes would find exactly
+ * these pairs, per id in level order (the input's order, kept by the
+ * counting sort below). */
+int st_mla_set_changes(st_mla *a, const st_pool *p, const uint32_t *id, const uint8_t *lvl, const uint32_t *val,
+                       uint64_t n)
+{
+    if (a->elem != sizeof(uint32_t) || a->sp || a->maxcol) return -1;
+    unsigned char has[ST_MAX_LEVELS] = { 0 };
+    for (uint64_t k = 0; k < n; k++) has[lvl[k]] = 1;
+    size_t dense = 0;
+    for (unsigned l = 1; l < ST_MAX_LEVELS; l++) dense += has[l] ? (size_t)st_pool_cover(p, l) * a->elem : 0;
+    uint32_t ids = p->end;
+    size_t want = sizeof(st_mla_sparse) + ((size_t)(ids >> ST_POOL_BLOCK_SHIFT) + 1) * 4 + ((size_t)ids + 1) * 2 + n * (1 + a->elem);
+    if (n == 0) return 0;
+    if (want * 2 > dense || n > UINT32_MAX) {
+        for (uint64_t k = 0; k < n; k++) set_u32(a, p, id[k], lvl[k], val[k]);
+        return 0;
+    }
+    st_mla_sparse *s = calloc(1, sizeof *s);
+    uint32_t *next = calloc((size_t)ids + 1, sizeof *next);
+    if (s) {
+        s->bbase = malloc(((size_t)(ids >> ST_POOL_BLOCK_SHIFT) + 1) * sizeof *s->bbase);
+        s->boff = malloc(((size_t)ids + 1) * sizeof *s->boff);
+        s->lvl = malloc(n);
+        s->val = malloc(n * a->elem);
+    }
+    if (!s || !next || !s->bbase || !s->boff || !s->lvl || !s->val) {
+        if (s) st_mla_sparse_free(s);
+        free(next);
+        return -1;
+    }
+    s->n = ids;
+    s->npairs = (uint32_t)n;
+    for (uint64_t k = 0; k < n; k++) next[id[k]]++;
+    uint32_t at = 0;
+    for (uint32_t i = 0; i <= ids; i++) {
+        if ((i & (ST_POOL_BLOCK - 1)) == 0) s->bbase[i >> ST_POOL_BLOCK_SHIFT] = at;
+        s->boff[i] = (uint16_t)(at - s->bbase[i >> ST_POOL_BLOCK_SHIFT]);
+        uint32_t c = next[i];
+        next[i] = at;
+        at += c;
+    }
+    for (uint64_t k = 0; k < n; k++) {
+        uint32_t j = next[id[k]]++;
+        s->lvl[j] = lvl[k];
+        memcpy(s->val + (size_t)j * a->elem, &val[k], a->elem);
+        s->pairs_at[lvl[k]]++;
+    }
+    free(next);
+    unsigned last = 0;
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        s->has_col[l] = has[l];
+        s->colcap[l] = has[l] ? st_pool_cover(p, l) : 0;
+        if (has[l]) last = l;
+        a->eff[l] = last ? (uint8_t)(ST_MLA_SPARSE | l) : 0;
+    }
+    a->maxcol = (uint8_t)last;
+    a->sp = s;
+    return 0;
+}
+
 void st_mla_thaw(st_mla *a, const st_pool *p)
 {
     st_mla_sparse *s = a->sp;

@@ -79,6 +79,17 @@ int st_mla_freeze(st_mla *a, const st_pool *p);
 /* Back to the dense columns it came from (aborts when out of memory, like
  * the setters that call it); nothing when a is dense. */
 void st_mla_thaw(st_mla *a, const st_pool *p);
+/* A 4-byte attribute with no column (its base values written) takes the
+ * n changes (id[k], lvl[k], val[k]), in increasing level order, each the
+ * value of an id inserted below lvl[k] at that level, differing from its
+ * value one level down, an id at most once a level: a ends as the map
+ * after st_mla_set of each change and st_map_compact would leave it,
+ * sparse form, column marks and capacities included, without making the
+ * dense columns when the sparse form is chosen (a progressive map
+ * replayed from its recipe, core/progressive/progressive_recipe.c).
+ * -1: out of memory (a may hold some changes; the caller frees it). */
+int st_mla_set_changes(st_mla *a, const st_pool *p, const uint32_t *id, const uint8_t *lvl, const uint32_t *val,
+                       uint64_t n);
 size_t st_mla_sparse_bytes(const st_mla *a);
 size_t st_mla_bytes(const st_mla *a, uint32_t cap);
 

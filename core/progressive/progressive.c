@@ -306,6 +306,12 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
         /* Per-level blocks overflow the exact reservation (trim), and a
          * level's splits re-set few darts (sparse form, map.h). */
         if (!rc) st_map_compact(&out->map);
+        /* A session may store the recipe of this map (progressive_recipe.c)
+         * until its topology changes. */
+        if (!rc) {
+            uint32_t end[2] = { out->map.darts.live[0], out->map.verts.live[0] };
+            st_hier_mark_regenerable(out, end);
+        }
         if (!rc) st_hier_trim_details(out); /* sized to the ids of levels 0..l, per level */
         if (rc) {
             st_hier_free(out);

@@ -239,4 +239,47 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
  * rounding).  Fails on a hierarchy of another scheme or a non-finite gain. */
 int st_progressive_filter(st_hier *h, const double *gains, unsigned n, st_error *err);
 
+/* The recipe of a progressive hierarchy's topology (progressive_recipe.c;
+ * the session's PMRC chunk, docs/SESSION-FORMAT.md): level 0's darts and
+ * vertex count, then per level its vertex splits in the order the build
+ * made them.  Replaying it (st_progressive_regenerate) gives the map the
+ * build made, ids included: a session stores this instead of every level's
+ * relations.
+ *
+ * A split of level L is the undo of one collapse a -> b (point 4 above):
+ * the new vertex a takes from b the fan of b's half-edges after b -> d up
+ * to and including b -> c (interior edge), or from b's outgoing boundary
+ * half-edge up to b -> c (d = ST_NIL, boundary edge); a's id and the darts
+ * of the two restored triangles are the next ids of level L.  The darts
+ * b -> c and b -> d are given by their rank in b's fan at level L-1, in
+ * β1 order from b's dart of smallest id: a few bits where vertex ids
+ * would take 32 (a session's bytes). */
+typedef struct st_pm_split { uint32_t b, c, d; } st_pm_split;   /* b a vertex id; c, d ranks */
+
+typedef struct st_pm_recipe {
+    unsigned top;
+    uint32_t nverts0, ndarts0;              /* level 0: vertex ids [0, nverts0), dart ids [0, ndarts0) */
+    uint32_t *beta0, *beta1, *vert;         /* per level-0 dart */
+    uint8_t *boundary;                      /* per level-0 dart: fills a hole */
+    uint32_t nsplits[ST_MAX_LEVELS];        /* splits of level l (l >= 1) */
+    st_pm_split *split;                     /* every level's, level 1 first */
+} st_pm_recipe;
+
+/* The recipe of h, read from its map: -1 when h is not as a progressive
+ * build (or a regeneration) left it (st_hier_regenerable, the pools'
+ * layout) or memory runs out; nothing to free then. */
+int st_progressive_recipe(const st_hier *h, st_pm_recipe *out);
+void st_pm_recipe_free(st_pm_recipe *r);
+/* Splits in all (sum of nsplits). */
+uint64_t st_pm_recipe_splits(const st_pm_recipe *r);
+/* Builds h's map (h: scheme and options set, its map replaced) from r:
+ * the topology of every level, positions zero (the caller reads them),
+ * then marks h regenerable.  Checks every record first as the build
+ * would have made it (level 0 a manifold triangle mesh with boundary
+ * loops, at most one hole per vertex; each split's b, c, d existing
+ * vertices around b, the groups' rules of point 3), so the levels are
+ * valid maps by construction; a refused recipe leaves h's map empty and
+ * names the level and split in err. */
+int st_progressive_regenerate(st_hier *h, const st_pm_recipe *r, st_error *err);
+
 #endif

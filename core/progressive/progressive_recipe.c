@@ -1,0 +1,530 @@
+/* The recipe of a progressive hierarchy's topology: read from the map
+ * (st_progressive_recipe) and replayed into a map (st_progressive_
+ * regenerate), so that a session stores level 0 and the vertex splits
+ * instead of every level's relations (progressive.h, docs/SESSION-FORMAT.md
+ * PMRC).
+ *
+ * Why the replay gives the build's map, ids included (progressive.c,
+ * materialise): the build creates level 0's vertices and darts in id order
+ * and sets their relations; then, per level L, for each collapse of the
+ * group in order, the vertex a and the darts h (a->b), next(h), prev(h),
+ * t (b->a) and, on an interior edge, next(t), prev(t), each with the
+ * vertex it leaves at level L and t's hole flag; then the relations of the
+ * darts around a, b, c, d of every split.  The replay makes the same calls
+ * in the same order on a half-edge copy indexed by dart and vertex ids,
+ * where each split is the exact inverse of the collapse (progressive_work.c
+ * collapse): the level-L state is the same, so are the values set.  The
+ * writer reads the splits back from the darts of each level in allocation
+ * order, which is the order the build made them in. */
+#include "core/progressive/progressive_internal.h"
+#include "core/multires/hier_internal.h"
+#include "core/map/pool_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void st_pm_recipe_free(st_pm_recipe *r)
+{
+    free(r->beta0);
+    free(r->beta1);
+    free(r->vert);
+    free(r->boundary);
+    free(r->split);
+    memset(r, 0, sizeof *r);
+}
+
+uint64_t st_pm_recipe_splits(const st_pm_recipe *r)
+{
+    uint64_t n = 0;
+    for (unsigned l = 1; l <= r->top && l < ST_MAX_LEVELS; l++) n += r->nsplits[l];
+    return n;
+}
+
+/* ---- reading the recipe from a map ------------------------------------------------ */
+
+/* Ids of level l of pool p in allocation order: its blocks in list order,
+ * each block's ids of level l ascending (a build takes them in that
+ * order and frees none). */
+typedef struct id_walk { const st_pool *p; unsigned l; uint32_t blk, id, end; } id_walk;
+
+static uint32_t id_next(id_walk *w)
+{
+    for (;;) {
+        while (w->id < w->end) {
+            uint32_t i = w->id++;
+            if (w->p->ins[i] == w->l) return i;
+        }
+        if (w->blk >= w->p->nblocks[w->l]) return ST_NIL;
+        w->id = w->p->blocks[w->l][w->blk++] << ST_POOL_BLOCK_SHIFT;
+        w->end = w->id + ST_POOL_BLOCK;
+        if (w->end > w->p->end) w->end = w->p->end;
+    }
+}
+
+static uint32_t face_next(const st_map *m, uint32_t x, unsigned l) { return st_beta1(m, st_beta0(m, x, l), l); }
+
+/* The rank of neighbour w among v's at level l: v's darts in β1 order
+ * from its dart of smallest id (ids the replay reproduces), x any dart of
+ * v at l.  ST_NIL when w is not a neighbour. */
+static uint32_t neighbour_rank(const st_map *m, uint32_t x, unsigned l, uint32_t w)
+{
+    uint32_t lo = x, k = 0, y = x;
+    do { if (y < lo) lo = y; y = st_beta1(m, y, l); } while (y != x && ++k < m->darts.end);
+    y = lo;
+    k = 0;
+    do {
+        if (st_vert(m, st_beta0(m, y, l), l) == w) return k;
+        k++;
+        y = st_beta1(m, y, l);
+    } while (y != lo && k < m->darts.end);
+    return ST_NIL;
+}
+
+/* The splits of level l, in the build's order: each new vertex a comes
+ * with the darts h, next(h), prev(h), t = β0(h) and, on an interior edge,
+ * next(t), prev(t), the next ones of the level; b is t's vertex, c
+ * prev(h)'s, d prev(t)'s.  c and d are recorded by their rank among b's
+ * neighbours at level l - 1, from one of b's darts of that level (b keeps
+ * one, point 3 (ii)). */
+static int splits_of_level(const st_map *m, unsigned l, st_pm_split *out)
+{
+    id_walk vw = { &m->verts, l, 0, 0, 0 }, dw = { &m->darts, l, 0, 0, 0 };
+    uint32_t n = 0;
+    for (uint32_t a = id_next(&vw); a != ST_NIL; a = id_next(&vw), n++) {
+        uint32_t h = id_next(&dw), h1 = id_next(&dw), h2 = id_next(&dw), t = id_next(&dw);
+        if (t == ST_NIL || st_vert(m, h, l) != a || st_beta0(m, h, l) != t || face_next(m, h, l) != h1 ||
+            face_next(m, h1, l) != h2 || face_next(m, h2, l) != h)
+            return -1;
+        uint32_t b = st_vert(m, t, l), old = h1, k = 0;
+        while (m->darts.ins[old] >= l && ++k < m->darts.end) old = st_beta1(m, old, l);
+        if (m->darts.ins[old] >= l || st_vert(m, old, l - 1) != b) return -1;
+        st_pm_split s = { b, neighbour_rank(m, old, l - 1, st_vert(m, h2, l)), ST_NIL };
+        if (s.c == ST_NIL) return -1;
+        if (!st_is_boundary(m, t)) {
+            uint32_t t1 = id_next(&dw), t2 = id_next(&dw);
+            if (t2 == ST_NIL || face_next(m, t, l) != t1 || face_next(m, t1, l) != t2) return -1;
+            s.d = neighbour_rank(m, old, l - 1, st_vert(m, t2, l));
+            if (s.d == ST_NIL) return -1;
+        }
+        out[n] = s;
+    }
+    return n == m->verts.live[l] && id_next(&dw) == ST_NIL ? 0 : -1;
+}
+
+int st_progressive_recipe(const st_hier *h, st_pm_recipe *out)
+{
+    const st_map *m = &h->map;
+    memset(out, 0, sizeof *out);
+    if (h->scheme != &st_scheme_progressive || !st_hier_regenerable(h) || m->face_embedded) return -1;
+    uint32_t nd = m->darts.live[0], nv = m->verts.live[0];
+    /* Level 0 holds the first ids, every one live (the build's level 0). */
+    for (uint32_t d = 0; d < nd; d++) if (d >= m->darts.end || m->darts.ins[d] != 0) return -1;
+    for (uint32_t v = 0; v < nv; v++) if (v >= m->verts.end || m->verts.ins[v] != 0) return -1;
+    uint64_t total = 0;
+    for (unsigned l = 1; l <= m->top; l++) total += m->verts.live[l];
+    out->top = m->top;
+    out->ndarts0 = nd;
+    out->nverts0 = nv;
+    out->beta0 = malloc((size_t)(nd ? nd : 1) * sizeof *out->beta0);
+    out->beta1 = malloc((size_t)(nd ? nd : 1) * sizeof *out->beta1);
+    out->vert = malloc((size_t)(nd ? nd : 1) * sizeof *out->vert);
+    out->boundary = malloc(nd ? nd : 1);
+    out->split = malloc((size_t)(total ? total : 1) * sizeof *out->split);
+    if (!out->beta0 || !out->beta1 || !out->vert || !out->boundary || !out->split) goto fail;
+    for (uint32_t d = 0; d < nd; d++) {
+        out->beta0[d] = st_beta0(m, d, 0);
+        out->beta1[d] = st_beta1(m, d, 0);
+        out->vert[d] = st_vert(m, d, 0);
+        out->boundary[d] = st_is_boundary(m, d);
+    }
+    uint64_t at = 0;
+    for (unsigned l = 1; l <= m->top; l++) {
+        out->nsplits[l] = m->verts.live[l];
+        if (!out->nsplits[l] || splits_of_level(m, l, out->split + at)) goto fail;
+        at += out->nsplits[l];
+    }
+    return 0;
+fail:
+    st_pm_recipe_free(out);
+    return -1;
+}
+
+/* ---- the replay --------------------------------------------------------------------- */
+
+/* The half-edge copy of the level being built, indexed by dart and vertex
+ * ids (the build's working copy under its map's numbering). */
+/* The changes of one relation at the levels above an id's insertion, in
+ * level order (st_mla_set_changes). */
+typedef struct changes { uint32_t *id, *val; uint8_t *lvl; uint64_t n, cap; } changes;
+
+typedef struct replay {
+    st_map *m;
+    uint32_t *cur[3];                       /* per dart id: β0, β1, vert at the level being built */
+    changes ch[3];
+    int oom;
+    uint32_t *twin, *next, *prev, *org;    /* per dart id */
+    uint8_t *hole;                          /* per dart id: ST_DART_BOUNDARY */
+    uint32_t *vhe;                          /* per vertex id: an outgoing dart */
+    uint32_t *stamp;                        /* per vertex id: scratch of the level-0 checks */
+    uint32_t *touched;                      /* darts whose relations the level's splits changed */
+    uint64_t ntouched, cap_touched;
+    uint32_t *target;                       /* per vertex id: level + 1 at which it was a target b */
+    uint32_t cap_d, cap_v;
+    st_error *err;
+} replay;
+
+static uint32_t rot(const replay *r, uint32_t x) { return r->next[r->twin[x]]; }   /* next dart around org[x] */
+static uint32_t dest(const replay *r, uint32_t x) { return r->org[r->next[x]]; }
+
+static int grow_u32(uint32_t **a, uint32_t old, uint32_t cap)
+{
+    uint32_t *p = realloc(*a, (size_t)cap * sizeof *p);
+    if (!p) return -1;
+    memset(p + old, 0, (size_t)(cap - old) * sizeof *p);
+    *a = p;
+    return 0;
+}
+
+/* Arrays for the ids the map has handed out so far. */
+static int replay_fit(replay *r)
+{
+    uint32_t nd = r->m->darts.end, nv = r->m->verts.end;
+    if (nd > r->cap_d) {
+        uint32_t c = nd + nd / 2 + ST_POOL_BLOCK;
+        uint8_t *hp = realloc(r->hole, c);
+        if (!hp) return -1;
+        memset(hp + r->cap_d, 0, c - r->cap_d);
+        r->hole = hp;
+        if (grow_u32(&r->twin, r->cap_d, c) || grow_u32(&r->next, r->cap_d, c) || grow_u32(&r->prev, r->cap_d, c) ||
+            grow_u32(&r->org, r->cap_d, c) || grow_u32(&r->cur[0], r->cap_d, c) || grow_u32(&r->cur[1], r->cap_d, c) ||
+            grow_u32(&r->cur[2], r->cap_d, c))
+            return -1;
+        r->cap_d = c;
+    }
+    if (nv > r->cap_v) {
+        uint32_t c = nv + nv / 2 + ST_POOL_BLOCK;
+        if (grow_u32(&r->vhe, r->cap_v, c) || grow_u32(&r->stamp, r->cap_v, c) || grow_u32(&r->target, r->cap_v, c))
+            return -1;
+        r->cap_v = c;
+    }
+    return 0;
+}
+
+static void replay_free(replay *r)
+{
+    free(r->twin); free(r->next); free(r->prev); free(r->org); free(r->hole);
+    free(r->vhe); free(r->stamp); free(r->target); free(r->touched);
+    for (int k = 0; k < 3; k++) {
+        free(r->cur[k]);
+        free(r->ch[k].id);
+        free(r->ch[k].val);
+        free(r->ch[k].lvl);
+    }
+}
+
+static void push_change(replay *r, changes *c, uint32_t id, unsigned l, uint32_t v)
+{
+    if (c->n == c->cap) {
+        uint64_t cap = c->cap ? 2 * c->cap : 4096;
+        uint32_t *i = realloc(c->id, cap * sizeof *i), *w = i ? realloc(c->val, cap * sizeof *w) : NULL;
+        if (i) c->id = i;
+        if (w) c->val = w;
+        uint8_t *lv = w ? realloc(c->lvl, cap) : NULL;
+        if (!lv) { r->oom = 1; return; }
+        c->lvl = lv;
+        c->cap = cap;
+    }
+    c->id[c->n] = id;
+    c->val[c->n] = v;
+    c->lvl[c->n] = (uint8_t)l;
+    c->n++;
+}
+
+/* The level-l relations of dart x from the copy (progressive.c
+ * set_relations, which sets them where they differ): a dart of level l
+ * takes them as its base values, an older one records a change where its
+ * value at l differs from the one it had (st_mla_set_changes makes the
+ * map's form of them once every level is in). */
+static void set_relations(replay *r, uint32_t x, unsigned l)
+{
+    st_map *m = r->m;
+    uint32_t v[3] = { r->twin[x], rot(r, x), r->org[x] };
+    st_mla *rel[3] = { &m->beta0, &m->beta1, &m->vert };
+    int fresh = m->darts.ins[x] == l;
+    for (int k = 0; k < 3; k++) {
+        if (fresh) ((uint32_t *)rel[k]->base)[x] = v[k];
+        else if (r->cur[k][x] != v[k]) push_change(r, &r->ch[k], x, l, v[k]);
+        r->cur[k][x] = v[k];
+    }
+}
+
+/* Dart x's relations changed in a split: set again once the level is
+ * complete. */
+static void touch(replay *r, uint32_t x)
+{
+    if (r->ntouched == r->cap_touched) {
+        uint64_t cap = r->cap_touched ? 2 * r->cap_touched : 4096;
+        uint32_t *p = realloc(r->touched, cap * sizeof *p);
+        if (!p) { r->oom = 1; return; }
+        r->touched = p;
+        r->cap_touched = cap;
+    }
+    r->touched[r->ntouched++] = x;
+}
+
+/* ---- level 0 ---- */
+
+/* Level 0's records as the build makes them: a closed triangle mesh whose
+ * holes are loops of hole darts, each vertex one fan with at most one
+ * hole and no two darts to the same neighbour. */
+static int check_level0(const st_pm_recipe *rc, uint32_t *seen, st_error *err)
+{
+    uint32_t nd = rc->ndarts0, nv = rc->nverts0;
+    for (uint32_t d = 0; d < nd; d++) {
+        uint32_t b0 = rc->beta0[d], b1 = rc->beta1[d];
+        if (b0 >= nd || b1 >= nd || rc->vert[d] >= nv || rc->boundary[d] > 1)
+            return st_fail(err, ST_ERR_TOPOLOGY, "level 0, dart %u: relation out of range", d);
+        if (b0 == d || rc->beta0[b0] != d) return st_fail(err, ST_ERR_TOPOLOGY, "level 0, dart %u: β0 is not an involution", d);
+        if (rc->vert[b1] != rc->vert[d]) return st_fail(err, ST_ERR_TOPOLOGY, "level 0, dart %u: β1 leaves its vertex", d);
+        if (rc->boundary[d] && rc->boundary[b0]) return st_fail(err, ST_ERR_TOPOLOGY, "level 0, dart %u: two holes meet", d);
+        seen[b1]++;
+    }
+    for (uint32_t d = 0; d < nd; d++)
+        if (seen[d] != 1) return st_fail(err, ST_ERR_TOPOLOGY, "level 0, dart %u: β1 is not a permutation", d);
+    for (uint32_t d = 0; d < nd; d++) {
+        uint32_t n1 = rc->beta1[rc->beta0[d]], n2 = rc->beta1[rc->beta0[n1]], n3 = rc->beta1[rc->beta0[n2]];
+        if (rc->boundary[n1] != rc->boundary[d]) return st_fail(err, ST_ERR_TOPOLOGY, "level 0, dart %u: a face half a hole", d);
+        if (!rc->boundary[d] && (n3 != d || n1 == d || n2 == d))
+            return st_fail(err, ST_ERR_TOPOLOGY, "level 0, dart %u: a face that is not a triangle", d);
+        if (rc->vert[n1] == rc->vert[d]) return st_fail(err, ST_ERR_TOPOLOGY, "level 0, dart %u: an edge from a vertex to itself", d);
+    }
+    return ST_OK;
+}
+
+static int build_level0(replay *r, const st_pm_recipe *rc)
+{
+    st_map *m = r->m;
+    static const double zero[3];
+    for (uint32_t v = 0; v < rc->nverts0; v++) st_vertex_new(m, 0, zero);
+    for (uint32_t d = 0; d < rc->ndarts0; d++) st_dart_new(m, 0, rc->vert[d], rc->boundary[d] ? ST_DART_BOUNDARY : 0);
+    if (replay_fit(r)) return st_fail(r->err, ST_ERR_MEMORY, "progressive: out of memory for level 0");
+    for (uint32_t v = 0; v < rc->nverts0; v++) r->vhe[v] = ST_NIL;
+    for (uint32_t d = 0; d < rc->ndarts0; d++) {
+        r->twin[d] = rc->beta0[d];
+        r->next[d] = rc->beta1[rc->beta0[d]];   /* φ1 = β1 ∘ β0 */
+        r->org[d] = rc->vert[d];
+        r->hole[d] = rc->boundary[d];
+        r->vhe[rc->vert[d]] = d;
+    }
+    for (uint32_t d = 0; d < rc->ndarts0; d++) r->prev[r->next[d]] = d;
+    /* Each vertex one fan (a manifold vertex), at most one hole dart and
+     * no neighbour twice in it. */
+    uint64_t around = 0;
+    for (uint32_t v = 0; v < rc->nverts0; v++) {
+        if (r->vhe[v] == ST_NIL) return st_fail(r->err, ST_ERR_TOPOLOGY, "level 0, vertex %u has no dart", v);
+        unsigned holes = 0;
+        uint32_t x = r->vhe[v];
+        do {
+            holes += r->hole[x];
+            uint32_t w = dest(r, x);
+            if (r->stamp[w] == v + 1) return st_fail(r->err, ST_ERR_TOPOLOGY, "level 0, vertex %u: two edges to vertex %u", v, w);
+            r->stamp[w] = v + 1;
+            around++;
+            x = rot(r, x);
+        } while (x != r->vhe[v] && around <= rc->ndarts0);
+        if (holes > 1) return st_fail(r->err, ST_ERR_TOPOLOGY, "level 0, vertex %u touches two holes", v);
+    }
+    if (around != rc->ndarts0) return st_fail(r->err, ST_ERR_TOPOLOGY, "level 0: a vertex has more than one fan");
+    for (uint32_t v = 0; v < rc->nverts0; v++) r->stamp[v] = 0;
+    for (uint32_t d = 0; d < rc->ndarts0; d++) set_relations(r, d, 0);
+    return ST_OK;
+}
+
+/* ---- the splits ---- */
+
+/* b's darts to c and to d (or its hole dart when d is ST_NIL), in one
+ * walk of b's fan. */
+static int find_fan(const replay *r, uint32_t b, uint32_t c, uint32_t d, uint32_t *ec, uint32_t *ed)
+{
+    *ec = *ed = ST_NIL;
+    uint32_t x = r->vhe[b], n = 0;
+    do {
+        uint32_t w = dest(r, x);
+        if (w == c) *ec = x;
+        if (d == ST_NIL ? r->hole[x] != 0 : w == d) *ed = x;
+        x = rot(r, x);
+    } while (x != r->vhe[b] && ++n < r->m->darts.end);
+    return *ec == ST_NIL || *ed == ST_NIL ? -1 : 0;
+}
+
+/* Split k's neighbours c and d as vertex ids, from their ranks in b's fan
+ * (progressive.h), on the copy as level l - 1 left it (no split of the
+ * level applied yet).  Each b once a level (point 3 (ii)), so the walks
+ * take one pass over the level's fans. */
+static int resolve(replay *r, unsigned l, uint64_t k, const st_pm_split *in, st_pm_split *out)
+{
+    st_map *m = r->m;
+    uint32_t b = in->b;
+#define REFUSE(what) st_fail(r->err, ST_ERR_TOPOLOGY, "level %u, split %llu: %s", l, (unsigned long long)k, what)
+    if (b >= m->verts.end || m->verts.ins[b] >= l) return REFUSE("a vertex that does not exist at the level below");
+    if (r->target[b] == l + 1) return REFUSE("a vertex split twice in one level");
+    r->target[b] = l + 1;
+    if (in->c == in->d) return REFUSE("c and d are one neighbour");
+    uint32_t x = r->vhe[b], lo = x, n = 0;
+    do { if (x < lo) lo = x; x = rot(r, x); } while (x != r->vhe[b] && ++n < m->darts.end);
+    *out = (st_pm_split){ b, ST_NIL, ST_NIL };
+    uint32_t j = 0;
+    x = lo;
+    do {
+        if (j == in->c) out->c = dest(r, x);
+        if (j == in->d) out->d = dest(r, x);
+        j++;
+        x = rot(r, x);
+    } while (x != lo && j <= n);
+    if (out->c == ST_NIL || (in->d != ST_NIL && out->d == ST_NIL)) return REFUSE("a neighbour rank past b's fan");
+#undef REFUSE
+    return ST_OK;
+}
+
+/* The split s of level l (the inverse of progressive_work.c collapse):
+ * checks it as the build's group rules allow (progressive.h point 3),
+ * then creates a and the darts in the build's order and re-links the
+ * copy. */
+static int split(replay *r, unsigned l, uint64_t k, const st_pm_split *s)
+{
+    st_map *m = r->m;
+    uint32_t b = s->b, c = s->c, d = s->d;
+    int bedge = d == ST_NIL;
+#define REFUSE(what) st_fail(r->err, ST_ERR_TOPOLOGY, "level %u, split %llu: %s", l, (unsigned long long)k, what)
+    if (m->verts.ins[c] >= l || (!bedge && m->verts.ins[d] >= l)) return REFUSE("two split vertices are neighbours");
+    uint32_t ec, ed;
+    if (find_fan(r, b, c, d, &ec, &ed)) return REFUSE(bedge ? "b is not on a hole, or c not around b" : "c or d not around b");
+    /* The darts a takes: after ed up to ec (interior edge), or from the
+     * hole dart ed up to ec; b keeps at least one (its detail frame's,
+     * point 3 (ii)), a interior unless the edge is on the hole, and every
+     * neighbour of a from the level below (point 3 (i)). */
+    uint32_t first = bedge ? ed : rot(r, ed), x = first;
+    for (;;) {
+        if (x == ed && !bedge) return REFUSE("c is not after d around b");
+        if (!bedge && r->hole[x]) return REFUSE("an interior split would put a on a hole");
+        if (m->verts.ins[dest(r, x)] >= l) return REFUSE("two split vertices are neighbours");
+        if (x == ec) break;
+        x = rot(r, x);
+        if (x == first) return REFUSE("c is not around b");
+    }
+    if (bedge && rot(r, ec) == ed) return REFUSE("b would keep no dart of the level below");
+    static const double zero[3];
+    uint32_t a = st_vertex_new(m, l, zero);
+    uint32_t h = st_dart_new(m, l, a, 0), h1 = st_dart_new(m, l, b, 0), h2 = st_dart_new(m, l, c, 0);
+    uint32_t t = st_dart_new(m, l, b, bedge ? ST_DART_BOUNDARY : 0);
+    uint32_t t1 = bedge ? ST_NIL : st_dart_new(m, l, a, 0), t2 = bedge ? ST_NIL : st_dart_new(m, l, d, 0);
+    if (replay_fit(r)) return st_fail(r->err, ST_ERR_MEMORY, "progressive: out of memory for level %u", l);
+    for (x = first;; x = rot(r, x)) {
+        r->org[x] = a;
+        touch(r, x);
+        if (x == ec) break;
+    }
+#undef REFUSE
+    /* What changes: the new darts; the movers' vertex (above); the twins
+     * o1..o4 of the new darts (their β0, and β1 = φ1 ∘ β0 of a twin); on
+     * a hole, the dart whose β1 is the one before t (φ1 of p changes). */
+    uint32_t o1 = r->twin[ec], o2 = ec;
+    r->org[h] = a; r->next[h] = h1; r->prev[h] = h2; r->twin[h] = t; r->hole[h] = 0;
+    r->org[h1] = b; r->next[h1] = h2; r->prev[h1] = h; r->twin[h1] = o1; r->hole[h1] = 0;
+    r->org[h2] = c; r->next[h2] = h; r->prev[h2] = h1; r->twin[h2] = o2; r->hole[h2] = 0;
+    r->twin[o1] = h1;
+    r->twin[o2] = h2;
+    r->org[t] = b; r->twin[t] = h;
+    if (bedge) {
+        /* t joins the hole between the dart ending at b and a's hole dart. */
+        uint32_t n = ed, p = r->prev[ed];
+        r->hole[t] = 1;
+        r->next[t] = n; r->prev[t] = p;
+        r->next[p] = t; r->prev[n] = t;
+    } else {
+        uint32_t o3 = r->twin[ed], o4 = ed;
+        r->hole[t] = 0; r->next[t] = t1; r->prev[t] = t2;
+        r->org[t1] = a; r->next[t1] = t2; r->prev[t1] = t; r->twin[t1] = o3; r->hole[t1] = 0;
+        r->org[t2] = d; r->next[t2] = t; r->prev[t2] = t1; r->twin[t2] = o4; r->hole[t2] = 0;
+        r->twin[o3] = t1;
+        r->twin[o4] = t2;
+    }
+    r->vhe[a] = h;
+    r->vhe[b] = h1;
+    uint32_t changed[10] = { h, h1, h2, t, o1, o2 }, nc = 6;
+    if (bedge) {
+        changed[nc++] = r->twin[r->prev[t]];
+    } else {
+        changed[nc++] = t1;
+        changed[nc++] = t2;
+        changed[nc++] = r->twin[t1];
+        changed[nc++] = r->twin[t2];
+    }
+    for (uint32_t i = 0; i < nc; i++) touch(r, changed[i]);
+    return ST_OK;
+}
+
+/* Level l from its n splits `in` (ranks), s: room for n resolved ones. */
+static int replay_level(replay *r, unsigned l, const st_pm_split *in, st_pm_split *s, uint32_t n, uint64_t first)
+{
+    st_map *m = r->m;
+    if (n == 0) return st_fail(r->err, ST_ERR_TOPOLOGY, "level %u has no split", l);
+    for (uint32_t i = 0; i < n; i++) {
+        int rc = resolve(r, l, first + i, &in[i], &s[i]);
+        if (rc) return rc;
+    }
+    if (st_level_add(m, r->err)) return r->err ? r->err->code : ST_ERR_INVALID;
+    for (uint32_t i = 0; i < n; i++) {
+        int rc = split(r, l, first + i, &s[i]);
+        if (rc) return rc;
+    }
+    /* The level's relations once every split is in (materialise's second
+     * loop sets those of every dart around a, b, c, d where they differ:
+     * the same values, on the darts the splits changed). */
+    for (uint64_t i = 0; i < r->ntouched; i++) set_relations(r, r->touched[i], l);
+    r->ntouched = 0;
+    return ST_OK;
+}
+
+int st_progressive_regenerate(st_hier *h, const st_pm_recipe *rc, st_error *err)
+{
+    st_map *m = &h->map;
+    st_map_free(m);
+    st_map_init(m);
+    if (rc->top >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "progressive: %u levels", rc->top + 1);
+    if (!rc->nverts0 || !rc->ndarts0) return st_fail(err, ST_ERR_TOPOLOGY, "progressive: level 0 is empty");
+    uint64_t splits = st_pm_recipe_splits(rc);
+    replay r = { .m = m, .err = err };
+    uint32_t *seen = calloc(rc->ndarts0, sizeof *seen);
+    if (!seen) return st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
+    int res = check_level0(rc, seen, err);
+    free(seen);
+    if (!res && st_map_reserve(m, (uint64_t)rc->ndarts0 + 6 * splits, (uint64_t)rc->nverts0 + splits))
+        res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for the map");
+    if (!res) res = build_level0(&r, rc);
+    uint32_t most = 0;
+    for (unsigned l = 1; l <= rc->top; l++) if (rc->nsplits[l] > most) most = rc->nsplits[l];
+    st_pm_split *resolved = res ? NULL : malloc((size_t)(most ? most : 1) * sizeof *resolved);
+    if (!res && !resolved) res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
+    uint64_t at = 0;
+    for (unsigned l = 1; l <= rc->top && !res; l++) {
+        res = replay_level(&r, l, rc->split + at, resolved, rc->nsplits[l], at);
+        at += rc->nsplits[l];
+    }
+    free(resolved);
+    if (!res && r.oom) res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
+    st_mla *rel[3] = { &m->beta0, &m->beta1, &m->vert };
+    for (int k = 0; k < 3 && !res; k++)
+        if (st_mla_set_changes(rel[k], &m->darts, r.ch[k].id, r.ch[k].lvl, r.ch[k].val, r.ch[k].n))
+            res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
+    replay_free(&r);
+    if (res) {
+        st_map_free(m);
+        st_map_init(m);
+        return res;
+    }
+    st_map_compact(m);
+    uint32_t end[2] = { rc->ndarts0, rc->nverts0 };
+    st_hier_mark_regenerable(h, end);
+    return ST_OK;
+}
