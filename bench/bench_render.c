@@ -68,6 +68,27 @@ static void box_at(const st_map *m, double shift, st_adapt_params *p)
     p->has_box = 1;
 }
 
+/* The faces of the display (level l of m) that a move re-made: those
+ * holding a dart the move logged (new, or with a changed relation) --
+ * what any patch must re-tessellate, whatever else it keeps. */
+static uint32_t faces_remade(const st_map *m, unsigned l, const st_map_log *log)
+{
+    uint8_t *seen = calloc(m->darts.end ? m->darts.end : 1, 1);
+    uint32_t n = 0;
+    for (uint32_t i = 0; seen && i < log->ndarts; i++) {
+        uint32_t d = log->darts[i];
+        if (d >= m->darts.end || seen[d] || !st_dart_in_level(m, d, l) || st_is_void(m, d)) continue;
+        n++;
+        uint32_t x = d, k = 0;
+        do {
+            seen[x] = 1;
+            x = st_beta1(m, st_beta0(m, x, l), l);
+        } while (x != d && ++k < m->darts.end);
+    }
+    free(seen);
+    return n;
+}
+
 /* Adaptive part (see the header) on `path` with Catmull-Clark to `depth`. */
 static void bench_adaptive(st_renderer *r, st_headless *hl, const char *path, unsigned base_level, unsigned depth,
                            int reps)
@@ -92,7 +113,7 @@ static void bench_adaptive(st_renderer *r, st_headless *hl, const char *path, un
         return;
     }
     int rebuilt = 0;
-    uint32_t touched = 0;
+    uint32_t touched = 0, remade = 0;
     st_upload_stats last = { 0 };
     for (int k = 0; k < reps; k++) {
         box_at(&h.map, (k % 2) ? 0.0 : 0.05, &p);
@@ -101,6 +122,7 @@ static void bench_adaptive(st_renderer *r, st_headless *hl, const char *path, un
         unsigned top = h.map.top;
         if (st_adapt_update(&a, &p, &err)) { fprintf(stderr, "bench_render: adaptive: %s\n", err.msg); return; }
         h.map.log = NULL;
+        remade = faces_remade(&h.map, h.map.top, &log);
         double t0 = bench_now();
         if (h.map.top != top || st_renderer_patch(r, &h.map, &log)) {
             rebuilt++;
@@ -125,6 +147,10 @@ static void bench_adaptive(st_renderer *r, st_headless *hl, const char *path, un
     printf("touched faces re-tessellated: %8.3f ms  (%u glBufferSubData ranges, %.1f KB; %d of %d moves rebuilt "
            "instead: a large change, or compaction)\n", 1e3 * mp, last.ranges, last.bytes / 1024.0, rebuilt, reps);
     printf("ratio patch / full:           %8.4f\n", mp / mf);
+    uint32_t shown = r->surf.nfaces - r->surf.ndead;
+    printf("faces the move re-made:       %u of %u shown (%.1f%%): a patch re-tessellates at least these, so at the\n"
+           "                              cost per face of a rebuild it cannot go below %.3f of one\n",
+           remade, shown, 100.0 * remade / (shown ? shown : 1), (double)remade / (shown ? shown : 1));
     free(tp);
     free(tf);
     st_map_log_free(&log);
