@@ -137,6 +137,10 @@ if cmp -s <(canon "$W/p_top.obj") <(canon "$W/hemi_in.obj"); then ok "progressiv
 else bad "progressive: finest level differs from the input"; fi
 "$S" convert "$W/p.strata" "$W/p2.strata" > /dev/null
 if cmp -s "$W/p.strata" "$W/p2.strata"; then ok "progressive: load -> save byte-identical"; else bad "progressive: re-save differs"; fi
+# Stored as its recipe (level 0 and the vertex splits, docs/SESSION-FORMAT.md
+# PMRC), not as every level's relations (MAP).
+if grep -qa "PMRC" "$W/p.strata" && ! grep -qa "MAP " "$W/p.strata"; then ok "progressive: the session holds the recipe ($(stat -c %s "$W/p.strata") bytes)"
+else bad "progressive: the session holds no recipe"; fi
 ones=$(printf '1,%.0s' $(seq 1 "$ptop")); ones=${ones%,}
 "$S" filter "$W/p.strata" --gains "$ones" -o "$W/f1.obj" > /dev/null
 "$S" convert "$W/f1.obj" "$W/f1c.obj" --no-normals > /dev/null
