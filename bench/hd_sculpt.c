@@ -1,7 +1,7 @@
 /* bench_hd: HD levels (ui/doc/editor_hd.c) on spot's cage, headless
  * through the document, as the HD sculpting issue measures them:
  *
- *   bench_hd [--level L] [--share S] [--regions K] [--out DIR]
+ *   bench_hd [--level L] [--share S] [--regions K] [--out DIR] [--profile-moves N]
  *
  * spot_quadrangulated.obj rebuilt to its 180-face cage (Mesh > Rebuild
  * levels: unsubdivide), one uniform level added (levels 0..3), then K
@@ -19,6 +19,7 @@
  *     face stored;
  *   - exactness: the display after every stroke equals a full adaptive
  *     re-synthesis bit for bit.
+ * --profile-moves N: after the regions, N box moves alone (for profilers).
  * Figures, not pass/fail: bench/RESULTS.md keeps them. */
 #include "editor.h"
 #include "bench_common.h"
@@ -137,6 +138,7 @@ static long file_size(const char *p)
 int main(int argc, char **argv)
 {
     unsigned L = 10, K = 3;
+    int profile_moves = 0;
     double share = 0.01;
     const char *dir = "/tmp";
     for (int i = 1; i < argc; i++) {
@@ -144,7 +146,8 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--share") && i + 1 < argc) share = atof(argv[++i]);
         else if (!strcmp(argv[i], "--regions") && i + 1 < argc) K = (unsigned)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--out") && i + 1 < argc) dir = argv[++i];
-        else { fprintf(stderr, "usage: bench_hd [--level L] [--share S] [--regions K] [--out DIR]\n"); return 2; }
+        else if (!strcmp(argv[i], "--profile-moves") && i + 1 < argc) profile_moves = atoi(argv[++i]);
+        else { fprintf(stderr, "usage: bench_hd [--level L] [--share S] [--regions K] [--out DIR] [--profile-moves N]\n"); return 2; }
     }
     st_doc d;
     st_error err;
@@ -229,6 +232,14 @@ int main(int argc, char **argv)
     unsigned last = (K < 8 ? K : 8) - 1;
     /* Box move over the last sculpted region: a tenth of its size, there
      * and back, against a display built anew for the same box. */
+    if (profile_moves > 0) {
+        /* For profilers: the box moves alone, there and back. */
+        for (int i = 0; i < profile_moves; i++) {
+            double c[3] = { centre[last][0] + (i % 2 ? 0 : 0.1 * half[last]), centre[last][1], centre[last][2] };
+            box_at(&d, c, half[last], L, 1);
+        }
+        return 0;
+    }
     double tmv[5], tbd[5];
     for (int i = 0; i < 5; i++) {
         double c[3] = { centre[last][0] + (i % 2 ? 0 : 0.1 * half[last]), centre[last][1], centre[last][2] };
