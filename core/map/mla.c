@@ -260,6 +260,44 @@ int st_mla_set_changes(st_mla *a, const st_pool *p, const uint32_t *id, const ui
     return 0;
 }
 
+/* The dense columns set_u32 would leave after the same changes made in
+ * level order (materialize's copy of level l - 1 for the ids inserted
+ * below l, of st_pool_cover's size, then the level's changes), built a
+ * column at a time instead of a change at a time. */
+int st_mla_columns_from_changes(st_mla *a, const st_pool *p, const uint32_t *id, const uint8_t *lvl, const uint32_t *val,
+                                uint64_t n)
+{
+    if (a->elem != sizeof(uint32_t) || a->sp || a->maxcol) return -1;
+    const uint32_t *base = (const uint32_t *)a->base;
+    unsigned prev = 0;          /* the last column made, 0: none (base) */
+    for (uint64_t k = 0; k < n;) {
+        unsigned l = lvl[k];
+        uint32_t cap = st_pool_cover(p, l);
+        uint32_t *c = malloc((size_t)(cap ? cap : 1) * sizeof *c);
+        if (!c) return -1;
+        const uint32_t *pc = prev ? (const uint32_t *)a->col[prev] : NULL;
+        for (uint32_t i = 0; i < cap; i++)
+            if (p->ins[i] < l) c[i] = pc && prev > p->ins[i] ? pc[i] : base[i];
+        for (; k < n && lvl[k] == l; k++) c[id[k]] = val[k];
+        a->col[l] = (unsigned char *)c;
+        a->colcap[l] = cap;
+        prev = l;
+    }
+    refresh_eff(a);
+    return 0;
+}
+
+/* Back to no column (what st_mla_set_changes starts from). */
+void st_mla_drop_columns(st_mla *a)
+{
+    for (unsigned l = 0; l < ST_MAX_LEVELS; l++) {
+        free(a->col[l]);
+        a->col[l] = NULL;
+        a->colcap[l] = 0;
+    }
+    refresh_eff(a);
+}
+
 void st_mla_thaw(st_mla *a, const st_pool *p)
 {
     st_mla_sparse *s = a->sp;

@@ -90,6 +90,14 @@ void st_mla_thaw(st_mla *a, const st_pool *p);
  * -1: out of memory (a may hold some changes; the caller frees it). */
 int st_mla_set_changes(st_mla *a, const st_pool *p, const uint32_t *id, const uint8_t *lvl, const uint32_t *val,
                        uint64_t n);
+/* The same changes as the dense columns st_mla_set of each would make
+ * (before any st_map_compact): for a builder that reads the levels before
+ * compacting them; st_mla_drop_columns then st_mla_set_changes turns them
+ * into what st_map_compact would, without comparing the columns.  -1: out
+ * of memory (a may hold some columns; the caller frees it). */
+int st_mla_columns_from_changes(st_mla *a, const st_pool *p, const uint32_t *id, const uint8_t *lvl, const uint32_t *val,
+                                uint64_t n);
+void st_mla_drop_columns(st_mla *a);
 size_t st_mla_sparse_bytes(const st_mla *a);
 size_t st_mla_bytes(const st_mla *a, uint32_t cap);
 

@@ -52,98 +52,101 @@ static void hier_empty(st_hier *h)
     h->opts.crease_method = ST_CREASE_UNIFORM;
 }
 
-typedef struct mat {
-    pm_work *w;
-    st_map *m;
-    uint32_t *dart_of;   /* per half-edge */
-    uint32_t *vid_of;    /* per working vertex */
-} mat;
-
-/* Level-l relations of the dart of half-edge e, from the working copy as
- * it is at level l (set only where they differ from the level below). */
-static void set_relations(mat *c, uint32_t e, unsigned l)
+/* Level 0's records from the coarsest working copy (the recipe's level-0
+ * arrays, progressive.h): live vertices and half-edges in index order
+ * take the ids 0, 1, ...; vid_of gets each live vertex's id. */
+static int level0_recipe(const pm_work *w, uint32_t *vid_of, st_pm_recipe *rc)
 {
-    pm_work *w = c->w;
-    st_map *m = c->m;
-    uint32_t d = c->dart_of[e];
-    uint32_t b0 = c->dart_of[w->twin[e]], b1 = c->dart_of[pm_rot(w, e)], v = c->vid_of[w->org[e]];
-    if (st_beta0(m, d, l) != b0) st_set_beta0(m, d, l, b0);
-    if (st_beta1(m, d, l) != b1) st_set_beta1(m, d, l, b1);
-    if (st_vert(m, d, l) != v) st_set_vert(m, d, l, v);
-}
-
-static void new_dart(mat *c, uint32_t e, unsigned l)
-{
-    c->dart_of[e] = st_dart_new(c->m, l, c->vid_of[c->w->org[e]], (c->w->hflags[e] & PM_HE_BOUNDARY) ? ST_DART_BOUNDARY : 0);
-}
-
-static void relations_around(mat *c, uint32_t v, unsigned l)
-{
-    pm_work *w = c->w;
-    uint32_t h = w->vhe[v], x = h;
-    do {
-        set_relations(c, x, l);
-        x = pm_rot(w, x);
-    } while (x != h);
-}
-
-/* Level 0 from the coarsest working copy, then one level per group,
- * coarse to fine: undo the group on the working copy, insert its split
- * vertices and the darts of its restored faces at level l, and re-set the
- * relations of the darts around the four vertices of each split.  Each
- * level's faces and vertices go to the report as the working copy counts
- * them (the map's orbits are its triangles and vertices, one to one): no
- * walk of every level's orbits afterwards. */
-static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_progressive_report *rep, st_error *err)
-{
-    st_map *m = &h->map;
-    mat c = { w, m, malloc((size_t)w->nhe * sizeof(uint32_t)), malloc((size_t)(w->nv ? w->nv : 1) * sizeof(uint32_t)) };
-    if (!c.dart_of || !c.vid_of || st_map_reserve(m, w->nhe, w->nv)) {
-        free(c.dart_of);
-        free(c.vid_of);
-        return st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for the map");
+    uint32_t *dart_of = malloc((size_t)w->nhe * sizeof *dart_of);
+    uint32_t nv = 0, nd = 0;
+    for (uint32_t v = 0; v < w->nv; v++) vid_of[v] = w->vdead[v] ? ST_NIL : nv++;
+    for (uint32_t e = 0; dart_of && e < w->nhe; e++) dart_of[e] = (w->hflags[e] & PM_HE_DEAD) ? ST_NIL : nd++;
+    rc->nverts0 = nv;
+    rc->ndarts0 = nd;
+    rc->beta0 = malloc((size_t)(nd ? nd : 1) * sizeof *rc->beta0);
+    rc->beta1 = malloc((size_t)(nd ? nd : 1) * sizeof *rc->beta1);
+    rc->vert = malloc((size_t)(nd ? nd : 1) * sizeof *rc->vert);
+    rc->boundary = malloc(nd ? nd : 1);
+    if (!dart_of || !rc->beta0 || !rc->beta1 || !rc->vert || !rc->boundary) {
+        free(dart_of);
+        return -1;
     }
-    for (uint32_t v = 0; v < w->nv; v++)
-        c.vid_of[v] = w->vdead[v] ? ST_NIL : st_vertex_new(m, 0, w->pos + 3 * (size_t)v);
-    for (uint32_t e = 0; e < w->nhe; e++) c.dart_of[e] = (w->hflags[e] & PM_HE_DEAD) ? ST_NIL : (new_dart(&c, e, 0), c.dart_of[e]);
-    for (uint32_t e = 0; e < w->nhe; e++)
-        if (!(w->hflags[e] & PM_HE_DEAD)) set_relations(&c, e, 0);
-    int rc = ST_OK;
+    for (uint32_t e = 0; e < w->nhe; e++) {
+        uint32_t d = dart_of[e];
+        if (d == ST_NIL) continue;
+        rc->beta0[d] = dart_of[w->twin[e]];
+        rc->beta1[d] = dart_of[pm_rot(w, e)];
+        rc->vert[d] = vid_of[w->org[e]];
+        rc->boundary[d] = (w->hflags[e] & PM_HE_BOUNDARY) != 0;
+    }
+    free(dart_of);
+    return 0;
+}
+
+/* The map from the working copy, as the recipe's replay makes it
+ * (progressive_recipe.c): level 0 from the coarsest working copy, then
+ * one level per group, coarse to fine, each collapse a -> b of the group
+ * undone as the vertex split (b, c, d) (point 4 of progressive.h; a
+ * session's replay of the same recipe makes the same map, ids included).
+ * The relations stay in dense columns for the details; *out is the
+ * replay, for pm_replay_sparsify once they are computed.  Each level's
+ * faces and vertices go to the report from the working copy's counts:
+ * no walk of every level's orbits afterwards. */
+static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_progressive_report *rep,
+                       pm_replay **out, st_error *err)
+{
+    *out = NULL;
+    st_pm_recipe rc;
+    memset(&rc, 0, sizeof rc);
+    rc.top = w->ngroups;
+    uint32_t most = 0;
+    for (unsigned l = 1; l <= w->ngroups; l++) {
+        rc.nsplits[l] = w->group_beg[w->ngroups - l + 1] - w->group_beg[w->ngroups - l];
+        if (rc.nsplits[l] > most) most = rc.nsplits[l];
+    }
+    uint32_t *vid_of = malloc((size_t)(w->nv ? w->nv : 1) * sizeof *vid_of);
+    st_pm_split *s = malloc((size_t)(most ? most : 1) * sizeof *s);
+    int res = !vid_of || !s || level0_recipe(w, vid_of, &rc) ? st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for the map") : ST_OK;
+    /* The splits name vertices only: the working copy's half-edges, its
+     * quadrics and its undo log go before the map grows (a lower peak). */
+    pm_work_drop_topology(w);
+    pm_replay *r = NULL;
+    if (!res) res = pm_replay_begin(&r, h, &rc, err);
     rep->faces[0] = w->faces;
     rep->vertices[0] = w->verts;
-    for (unsigned l = 1; l <= w->ngroups && !rc; l++) {
+    uint64_t at = 0;
+    for (unsigned l = 1; l <= w->ngroups && !res; l++) {
         uint32_t k = w->ngroups - l, beg = w->group_beg[k], end = w->group_beg[k + 1];
-        rc = st_level_add(m, err);
-        if (rc) break;
-        for (uint32_t i = end; i-- > beg;) pm_undo(w, i);
-        rep->faces[l] = w->faces;
-        rep->vertices[l] = w->verts;
+        uint64_t faces = rep->faces[l - 1];
         for (uint32_t i = beg; i < end; i++) {
             const pm_collapse *cl = &w->col[i];
-            c.vid_of[cl->a] = st_vertex_new(m, l, w->pos + 3 * (size_t)cl->a);
-            uint32_t t = w->twin[cl->h];
-            new_dart(&c, cl->h, l);
-            new_dart(&c, w->next[cl->h], l);
-            new_dart(&c, w->prev[cl->h], l);
-            new_dart(&c, t, l);
-            if (cl->d != ST_NIL) {
-                new_dart(&c, w->next[t], l);
-                new_dart(&c, w->prev[t], l);
-            }
+            s[i - beg] = (st_pm_split){ vid_of[cl->b], vid_of[cl->c], cl->d == ST_NIL ? ST_NIL : vid_of[cl->d] };
+            faces += cl->d == ST_NIL ? 1 : 2;
         }
-        for (uint32_t i = beg; i < end; i++) {
-            const pm_collapse *cl = &w->col[i];
-            relations_around(&c, cl->a, l);
-            relations_around(&c, cl->b, l);
-            relations_around(&c, cl->c, l);
-            if (cl->d != ST_NIL) relations_around(&c, cl->d, l);
-        }
+        res = pm_replay_level(r, l, s, end - beg, at);
+        if (res) break;
+        const uint32_t *made = pm_replay_new_vertices(r);
+        for (uint32_t i = beg; i < end; i++) vid_of[w->col[i].a] = made[i - beg];
+        at += end - beg;
+        rep->faces[l] = faces;
+        rep->vertices[l] = rep->vertices[l - 1] + (end - beg);
         if (o->progress && o->progress(o->progress_ctx, 0.8 + 0.15 * l / w->ngroups))
-            rc = st_fail(err, ST_ERR_INVALID, "progressive: cancelled");
+            res = st_fail(err, ST_ERR_INVALID, "progressive: cancelled");
     }
-    free(c.dart_of);
-    free(c.vid_of);
-    return rc;
+    if (!res) res = pm_replay_relations(r, 1);
+    if (!res) {
+        /* Every vertex keeps its input position at every level (point 1):
+         * its base value, no column. */
+        st_map *m = &h->map;
+        for (uint32_t v = 0; v < w->nv; v++)
+            if (vid_of[v] != ST_NIL) memcpy(m->pos.base + (size_t)vid_of[v] * m->pos.elem, w->pos + 3 * (size_t)v, 3 * sizeof(double));
+    }
+    st_pm_recipe_free(&rc);
+    free(vid_of);
+    free(s);
+    if (res) pm_replay_free(r);
+    else *out = r;
+    return res;
 }
 
 /* D = F^T (P_l - S(P_{l-1})) for every vertex whose stencil is not itself
@@ -300,18 +303,17 @@ int st_progressive_build(const st_mesh *fine, const st_progressive_opts *o, st_h
     if (!rc) {
         hier_empty(out);
         out->opts.pm_predictor = o->predictor;
-        rc = materialise(&w, out, o, rep, err);
+        pm_replay *rp = NULL;
+        rc = materialise(&w, out, o, rep, &rp, err);
         pm_work_free(&w); /* before the details: a lower peak of memory */
         if (!rc) rep->inexact = compute_details(out);
-        /* Per-level blocks overflow the exact reservation (trim), and a
-         * level's splits re-set few darts (sparse form, map.h). */
-        if (!rc) st_map_compact(&out->map);
-        /* A session may store the recipe of this map (progressive_recipe.c)
-         * until its topology changes. */
-        if (!rc) {
-            uint32_t end[2] = { out->map.darts.live[0], out->map.verts.live[0] };
-            st_hier_mark_regenerable(out, end);
-        }
+        /* A level's splits re-set few darts: the sparse form (map.h) from
+         * the replay's changes, then the pools trimmed (per-level blocks
+         * overflow the reservation); a session may store the recipe of
+         * this map until its topology changes. */
+        if (!rc) rc = pm_replay_sparsify(rp);
+        if (!rc) pm_replay_finish(rp);
+        pm_replay_free(rp);
         if (!rc) st_hier_trim_details(out); /* sized to the ids of levels 0..l, per level */
         if (rc) {
             st_hier_free(out);

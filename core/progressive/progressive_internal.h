@@ -51,6 +51,10 @@ typedef struct pm_work {
 /* Builds the working copy of a triangle soup (3 indices per face). */
 int pm_work_init(pm_work *w, const double *pos, uint32_t nv, const uint32_t *tri, uint32_t nt, st_error *err);
 void pm_work_free(pm_work *w);
+/* Frees the half-edges, quadrics, scratch and undo log, keeping the
+ * collapses, their groups and vdead (all a replay of the groups reads);
+ * pm_undo cannot run after it. */
+void pm_work_drop_topology(pm_work *w);
 
 /* Simplifies by groups of independent collapses down to target faces or
  * max_groups groups; progress as in st_progressive_opts.  Returns ST_OK
@@ -139,6 +143,25 @@ static inline double pm_relax_weight(const st_hier *h, unsigned L)
     default: return 0.5;
     }
 }
+
+/* The replay of a recipe (progressive_recipe.c): st_progressive_regenerate
+ * and the build (progressive.c materialise) make a map the same way.
+ * begin checks and builds level 0 from rc (its level-0 arrays, top and
+ * nsplits; rc->split is not read) into h's map; each pm_replay_level adds
+ * level l from its n splits with b, c and d as vertex ids, in order, and
+ * pm_replay_new_vertices gives the vertices those splits made; then
+ * pm_replay_relations puts the relations' per-level changes in (dense
+ * columns, for a reader before compaction, then pm_replay_sparsify; or
+ * the form st_map_compact leaves), and pm_replay_finish compacts the map
+ * and marks h regenerable.  Refusals name the level and the split. */
+typedef struct pm_replay pm_replay;
+int pm_replay_begin(pm_replay **out, st_hier *h, const st_pm_recipe *rc, st_error *err);
+int pm_replay_level(pm_replay *r, unsigned l, const st_pm_split *resolved, uint32_t n, uint64_t first);
+const uint32_t *pm_replay_new_vertices(const pm_replay *r);
+int pm_replay_relations(pm_replay *r, int dense);
+int pm_replay_sparsify(pm_replay *r);
+void pm_replay_finish(pm_replay *r);
+void pm_replay_free(pm_replay *r);
 
 /* Half-edge helpers. */
 static inline uint32_t pm_dest(const pm_work *w, uint32_t h) { return w->org[w->next[h]]; }

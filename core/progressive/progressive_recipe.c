@@ -157,8 +157,11 @@ fail:
  * level order (st_mla_set_changes). */
 typedef struct changes { uint32_t *id, *val; uint8_t *lvl; uint64_t n, cap; } changes;
 
-typedef struct replay {
+struct pm_replay {
     st_map *m;
+    st_hier *h;
+    uint32_t end0[2];                       /* the pools' ends after level 0 (st_hier_mark_regenerable) */
+    uint32_t *new_a, na, cap_a;             /* the vertices the last level's splits made, in order */
     uint32_t *cur[3];                       /* per dart id: β0, β1, vert at the level being built */
     changes ch[3];
     int oom;
@@ -171,7 +174,8 @@ typedef struct replay {
     uint32_t *target;                       /* per vertex id: level + 1 at which it was a target b */
     uint32_t cap_d, cap_v;
     st_error *err;
-} replay;
+};
+typedef struct pm_replay replay;
 
 static uint32_t rot(const replay *r, uint32_t x) { return r->next[r->twin[x]]; }   /* next dart around org[x] */
 static uint32_t dest(const replay *r, uint32_t x) { return r->org[r->next[x]]; }
@@ -210,12 +214,23 @@ static int replay_fit(replay *r)
     return 0;
 }
 
-static void replay_free(replay *r)
+/* The half-edge copy, once every level is in (the changes stay). */
+static void free_copy(replay *r)
 {
     free(r->twin); free(r->next); free(r->prev); free(r->org); free(r->hole);
-    free(r->vhe); free(r->stamp); free(r->target); free(r->touched);
+    free(r->vhe); free(r->stamp); free(r->target); free(r->touched); free(r->new_a);
+    for (int k = 0; k < 3; k++) free(r->cur[k]);
+    r->twin = r->next = r->prev = r->org = r->vhe = r->stamp = r->target = r->touched = r->new_a = NULL;
+    r->hole = NULL;
+    r->cur[0] = r->cur[1] = r->cur[2] = NULL;
+    r->cap_d = r->cap_v = r->cap_a = 0;
+    r->cap_touched = 0;
+}
+
+static void replay_free(replay *r)
+{
+    free_copy(r);
     for (int k = 0; k < 3; k++) {
-        free(r->cur[k]);
         free(r->ch[k].id);
         free(r->ch[k].val);
         free(r->ch[k].lvl);
@@ -396,6 +411,8 @@ static int split(replay *r, unsigned l, uint64_t k, const st_pm_split *s)
     uint32_t b = s->b, c = s->c, d = s->d;
     int bedge = d == ST_NIL;
 #define REFUSE(what) st_fail(r->err, ST_ERR_TOPOLOGY, "level %u, split %llu: %s", l, (unsigned long long)k, what)
+    if (b >= m->verts.end || c >= m->verts.end || (!bedge && d >= m->verts.end) || m->verts.ins[b] >= l)
+        return REFUSE("a vertex that does not exist at the level below");
     if (m->verts.ins[c] >= l || (!bedge && m->verts.ins[d] >= l)) return REFUSE("two split vertices are neighbours");
     uint32_t ec, ed;
     if (find_fan(r, b, c, d, &ec, &ed)) return REFUSE(bedge ? "b is not on a hole, or c not around b" : "c or d not around b");
@@ -415,6 +432,13 @@ static int split(replay *r, unsigned l, uint64_t k, const st_pm_split *s)
     if (bedge && rot(r, ec) == ed) return REFUSE("b would keep no dart of the level below");
     static const double zero[3];
     uint32_t a = st_vertex_new(m, l, zero);
+    if (r->na == r->cap_a) {
+        uint32_t cap = r->cap_a ? 2 * r->cap_a : 1024, *p = realloc(r->new_a, (size_t)cap * sizeof *p);
+        if (!p) return st_fail(r->err, ST_ERR_MEMORY, "progressive: out of memory for level %u", l);
+        r->new_a = p;
+        r->cap_a = cap;
+    }
+    r->new_a[r->na++] = a;
     uint32_t h = st_dart_new(m, l, a, 0), h1 = st_dart_new(m, l, b, 0), h2 = st_dart_new(m, l, c, 0);
     uint32_t t = st_dart_new(m, l, b, bedge ? ST_DART_BOUNDARY : 0);
     uint32_t t1 = bedge ? ST_NIL : st_dart_new(m, l, a, 0), t2 = bedge ? ST_NIL : st_dart_new(m, l, d, 0);
@@ -464,16 +488,13 @@ static int split(replay *r, unsigned l, uint64_t k, const st_pm_split *s)
     return ST_OK;
 }
 
-/* Level l from its n splits `in` (ranks), s: room for n resolved ones. */
-static int replay_level(replay *r, unsigned l, const st_pm_split *in, st_pm_split *s, uint32_t n, uint64_t first)
+/* Level l from its n splits, b, c and d as vertex ids (resolved). */
+int pm_replay_level(pm_replay *r, unsigned l, const st_pm_split *s, uint32_t n, uint64_t first)
 {
     st_map *m = r->m;
     if (n == 0) return st_fail(r->err, ST_ERR_TOPOLOGY, "level %u has no split", l);
-    for (uint32_t i = 0; i < n; i++) {
-        int rc = resolve(r, l, first + i, &in[i], &s[i]);
-        if (rc) return rc;
-    }
     if (st_level_add(m, r->err)) return r->err ? r->err->code : ST_ERR_INVALID;
+    r->na = 0;
     for (uint32_t i = 0; i < n; i++) {
         int rc = split(r, l, first + i, &s[i]);
         if (rc) return rc;
@@ -483,48 +504,107 @@ static int replay_level(replay *r, unsigned l, const st_pm_split *in, st_pm_spli
      * the same values, on the darts the splits changed). */
     for (uint64_t i = 0; i < r->ntouched; i++) set_relations(r, r->touched[i], l);
     r->ntouched = 0;
-    return ST_OK;
+    return r->oom ? st_fail(r->err, ST_ERR_MEMORY, "progressive: out of memory") : ST_OK;
 }
 
-int st_progressive_regenerate(st_hier *h, const st_pm_recipe *rc, st_error *err)
+const uint32_t *pm_replay_new_vertices(const pm_replay *r) { return r->new_a; }
+
+int pm_replay_begin(pm_replay **out, st_hier *h, const st_pm_recipe *rc, st_error *err)
 {
+    *out = NULL;
     st_map *m = &h->map;
     st_map_free(m);
     st_map_init(m);
     if (rc->top >= ST_MAX_LEVELS) return st_fail(err, ST_ERR_RANGE, "progressive: %u levels", rc->top + 1);
     if (!rc->nverts0 || !rc->ndarts0) return st_fail(err, ST_ERR_TOPOLOGY, "progressive: level 0 is empty");
-    uint64_t splits = st_pm_recipe_splits(rc);
-    replay r = { .m = m, .err = err };
+    uint64_t splits = 0;
+    for (unsigned l = 1; l <= rc->top; l++) splits += rc->nsplits[l];
+    replay *r = calloc(1, sizeof *r);
     uint32_t *seen = calloc(rc->ndarts0, sizeof *seen);
-    if (!seen) return st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
+    if (!r || !seen) {
+        free(r);
+        free(seen);
+        return st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
+    }
+    r->m = m;
+    r->h = h;
+    r->err = err;
+    r->end0[0] = rc->ndarts0;
+    r->end0[1] = rc->nverts0;
     int res = check_level0(rc, seen, err);
     free(seen);
     if (!res && st_map_reserve(m, (uint64_t)rc->ndarts0 + 6 * splits, (uint64_t)rc->nverts0 + splits))
         res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for the map");
-    if (!res) res = build_level0(&r, rc);
+    if (!res) res = build_level0(r, rc);
+    if (res) {
+        pm_replay_free(r);
+        return res;
+    }
+    *out = r;
+    return ST_OK;
+}
+
+/* The relations' changes into the map: as dense columns (dense: a builder
+ * that reads the levels before pm_replay_sparsify), or in the form
+ * st_map_compact would leave. */
+int pm_replay_relations(pm_replay *r, int dense)
+{
+    st_map *m = r->m;
+    free_copy(r);   /* no level comes after: the memory back before the columns */
+    st_mla *rel[3] = { &m->beta0, &m->beta1, &m->vert };
+    for (int k = 0; k < 3; k++) {
+        const changes *c = &r->ch[k];
+        int bad = dense ? st_mla_columns_from_changes(rel[k], &m->darts, c->id, c->lvl, c->val, c->n)
+                        : st_mla_set_changes(rel[k], &m->darts, c->id, c->lvl, c->val, c->n);
+        if (bad) return st_fail(r->err, ST_ERR_MEMORY, "progressive: out of memory");
+    }
+    return ST_OK;
+}
+
+int pm_replay_sparsify(pm_replay *r)
+{
+    st_map *m = r->m;
+    st_mla *rel[3] = { &m->beta0, &m->beta1, &m->vert };
+    for (int k = 0; k < 3; k++) st_mla_drop_columns(rel[k]);
+    return pm_replay_relations(r, 0);
+}
+
+/* The map as st_map_compact leaves a built one, marked regenerable. */
+void pm_replay_finish(pm_replay *r)
+{
+    st_map_compact(r->m);
+    st_hier_mark_regenerable(r->h, r->end0);
+}
+
+void pm_replay_free(pm_replay *r)
+{
+    if (!r) return;
+    replay_free(r);
+    free(r);
+}
+
+int st_progressive_regenerate(st_hier *h, const st_pm_recipe *rc, st_error *err)
+{
+    pm_replay *r;
+    int res = pm_replay_begin(&r, h, rc, err);
+    if (res) return res;
     uint32_t most = 0;
     for (unsigned l = 1; l <= rc->top; l++) if (rc->nsplits[l] > most) most = rc->nsplits[l];
-    st_pm_split *resolved = res ? NULL : malloc((size_t)(most ? most : 1) * sizeof *resolved);
-    if (!res && !resolved) res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
+    st_pm_split *resolved = malloc((size_t)(most ? most : 1) * sizeof *resolved);
+    if (!resolved) res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
     uint64_t at = 0;
     for (unsigned l = 1; l <= rc->top && !res; l++) {
-        res = replay_level(&r, l, rc->split + at, resolved, rc->nsplits[l], at);
+        for (uint32_t i = 0; i < rc->nsplits[l] && !res; i++) res = resolve(r, l, at + i, &rc->split[at + i], &resolved[i]);
+        if (!res) res = pm_replay_level(r, l, resolved, rc->nsplits[l], at);
         at += rc->nsplits[l];
     }
     free(resolved);
-    if (!res && r.oom) res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
-    st_mla *rel[3] = { &m->beta0, &m->beta1, &m->vert };
-    for (int k = 0; k < 3 && !res; k++)
-        if (st_mla_set_changes(rel[k], &m->darts, r.ch[k].id, r.ch[k].lvl, r.ch[k].val, r.ch[k].n))
-            res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory");
-    replay_free(&r);
+    if (!res) res = pm_replay_relations(r, 0);
+    if (!res) pm_replay_finish(r);
+    pm_replay_free(r);
     if (res) {
-        st_map_free(m);
-        st_map_init(m);
-        return res;
+        st_map_free(&h->map);
+        st_map_init(&h->map);
     }
-    st_map_compact(m);
-    uint32_t end[2] = { rc->ndarts0, rc->nverts0 };
-    st_hier_mark_regenerable(h, end);
-    return ST_OK;
+    return res;
 }

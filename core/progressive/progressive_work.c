@@ -72,6 +72,17 @@ void pm_work_free(pm_work *w)
     memset(w, 0, sizeof *w);
 }
 
+void pm_work_drop_topology(pm_work *w)
+{
+    free(w->twin); free(w->next); free(w->prev); free(w->org); free(w->hflags);
+    free(w->vhe); free(w->quad); free(w->stamp); free(w->indep); free(w->vbound); free(w->log);
+    w->twin = w->next = w->prev = w->org = w->vhe = w->stamp = NULL;
+    w->hflags = w->indep = w->vbound = NULL;
+    w->quad = NULL;
+    w->log = NULL;
+    w->nlog = w->caplog = 0;
+}
+
 static uint32_t stamp_next(pm_work *w)
 {
     if (++w->stamp_gen == 0) {

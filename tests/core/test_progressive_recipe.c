@@ -10,7 +10,7 @@
  * small progressive session with a hole, in the PMRC form). */
 #include "testlib.h"
 
-#include "core/progressive/progressive.h"
+#include "core/progressive/progressive_internal.h"
 #include "core/multires/hier_internal.h"
 #include "core/io/session.h"
 #include "core/map/pool_internal.h"
@@ -339,10 +339,102 @@ static void check_damaged_file(const char *what, st_hier *h)
     free(b);
 }
 
+/* ---- the build against a reference ---------------------------------------------
+ * The map as the build made it before it went through the replay
+ * (progressive.c before version 5 of the session format): level 0 from
+ * the coarsest working copy, then per group the collapses undone on the
+ * working copy (pm_undo) and the darts of the restored triangles inserted,
+ * every relation around a, b, c, d set through the map's setters, then
+ * st_map_compact.  The build must give the same map, ids, pools, sparse
+ * form and positions included. */
+typedef struct ref { pm_work *w; st_map *m; uint32_t *dart_of, *vid_of; } ref;
+
+static void ref_relations(ref *c, uint32_t e, unsigned l)
+{
+    pm_work *w = c->w;
+    st_map *m = c->m;
+    uint32_t d = c->dart_of[e];
+    uint32_t b0 = c->dart_of[w->twin[e]], b1 = c->dart_of[pm_rot(w, e)], v = c->vid_of[w->org[e]];
+    if (st_beta0(m, d, l) != b0) st_set_beta0(m, d, l, b0);
+    if (st_beta1(m, d, l) != b1) st_set_beta1(m, d, l, b1);
+    if (st_vert(m, d, l) != v) st_set_vert(m, d, l, v);
+}
+
+static void ref_dart(ref *c, uint32_t e, unsigned l)
+{
+    c->dart_of[e] = st_dart_new(c->m, l, c->vid_of[c->w->org[e]], (c->w->hflags[e] & PM_HE_BOUNDARY) ? ST_DART_BOUNDARY : 0);
+}
+
+static void ref_around(ref *c, uint32_t v, unsigned l)
+{
+    uint32_t h = c->w->vhe[v], x = h;
+    do { ref_relations(c, x, l); x = pm_rot(c->w, x); } while (x != h);
+}
+
+static int reference_map(const st_mesh *in, uint64_t target, st_map *m)
+{
+    st_error err;
+    pm_work w;
+    for (uint32_t f = 0; f < in->nfaces; f++) if (in->face_off[f + 1] - in->face_off[f] != 3) return -1;
+    if (pm_work_init(&w, in->pos, in->nverts, in->face_idx, in->nfaces, &err)) return -1;
+    char note[256];
+    if (pm_simplify(&w, target, ST_MAX_LEVELS - 1, NULL, NULL, note, sizeof note, &err)) { pm_work_free(&w); return -1; }
+    st_map_init(m);
+    ref c = { &w, m, malloc((size_t)w.nhe * 4), malloc((size_t)w.nv * 4) };
+    for (uint32_t v = 0; v < w.nv; v++) c.vid_of[v] = w.vdead[v] ? ST_NIL : st_vertex_new(m, 0, w.pos + 3 * (size_t)v);
+    for (uint32_t e = 0; e < w.nhe; e++) c.dart_of[e] = (w.hflags[e] & PM_HE_DEAD) ? ST_NIL : (ref_dart(&c, e, 0), c.dart_of[e]);
+    for (uint32_t e = 0; e < w.nhe; e++) if (!(w.hflags[e] & PM_HE_DEAD)) ref_relations(&c, e, 0);
+    for (unsigned l = 1; l <= w.ngroups; l++) {
+        uint32_t k = w.ngroups - l, beg = w.group_beg[k], end = w.group_beg[k + 1];
+        st_level_add(m, &err);
+        for (uint32_t i = end; i-- > beg;) pm_undo(&w, i);
+        for (uint32_t i = beg; i < end; i++) {
+            const pm_collapse *cl = &w.col[i];
+            c.vid_of[cl->a] = st_vertex_new(m, l, w.pos + 3 * (size_t)cl->a);
+            uint32_t t = w.twin[cl->h];
+            ref_dart(&c, cl->h, l);
+            ref_dart(&c, w.next[cl->h], l);
+            ref_dart(&c, w.prev[cl->h], l);
+            ref_dart(&c, t, l);
+            if (cl->d != ST_NIL) {
+                ref_dart(&c, w.next[t], l);
+                ref_dart(&c, w.prev[t], l);
+            }
+        }
+        for (uint32_t i = beg; i < end; i++) {
+            const pm_collapse *cl = &w.col[i];
+            ref_around(&c, cl->a, l);
+            ref_around(&c, cl->b, l);
+            ref_around(&c, cl->c, l);
+            if (cl->d != ST_NIL) ref_around(&c, cl->d, l);
+        }
+    }
+    st_map_compact(m);
+    free(c.dart_of);
+    free(c.vid_of);
+    pm_work_free(&w);
+    return 0;
+}
+
+static void check_against_reference(const char *what, const st_mesh *in, uint64_t target, const st_hier *h)
+{
+    st_map ref_m;
+    if (reference_map(in, target, &ref_m)) return;   /* polygons: the build fans them, the reference does not */
+    int same = same_topology(&ref_m, &h->map);
+    uint32_t bad = 0;
+    for (uint32_t v = 0; v < ref_m.verts.end && same; v++)
+        if (ref_m.verts.ins[v] != ST_FREE_LEVEL && memcmp(st_pos(&ref_m, v, ref_m.verts.ins[v]), st_pos(&h->map, v, ref_m.verts.ins[v]), 24))
+            bad++;
+    CHECKF(same && bad == 0, "%s: the build's map differs from the reference materialisation (topology %d, %u positions)", what,
+           same, bad);
+    st_map_free(&ref_m);
+}
+
 static void check_mesh(const char *what, const st_mesh *m, uint64_t target)
 {
     st_hier h;
     if (build(m, &h, target, what)) return;
+    check_against_reference(what, m, target, &h);
     check_replay(what, &h);
     check_damage(what, &h);
     check_damaged_file(what, &h);
