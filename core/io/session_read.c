@@ -171,6 +171,7 @@ static int r_recipe(load_ctx *c, st_br *r)
     if (c->seen & SEEN_MAP) return st_br_fail(r, "progressive levels in a session that has its map");
     if (h->scheme->id != ST_SCHEME_PROGRESSIVE) return st_br_fail(r, "progressive levels for the %s scheme", h->scheme->name);
     if (c->has_sharpness) return st_br_fail(r, "progressive levels with sharpness");
+    size_t start = r->off;
     st_pm_recipe pm;
     memset(&pm, 0, sizeof pm);
     pm.top = st_br_u32(r);
@@ -223,6 +224,11 @@ static int r_recipe(load_ctx *c, st_br *r)
         goto done;
     }
     if (st_progressive_regenerate(h, &pm, &e2)) { rc = load_fail(c, r, e2.code, "progressive levels: %s", e2.msg); goto done; }
+    /* The payload kept: the next save writes it again as it is. */
+    h->pm_recipe = malloc(r->off - start);
+    if (!h->pm_recipe) { rc = load_fail(c, r, ST_ERR_MEMORY, "out of memory"); goto done; }
+    memcpy(h->pm_recipe, r->p + start, r->off - start);
+    h->pm_recipe_len = r->off - start;
     c->regen_top = pm.top;
     c->regen_end[0] = pm.ndarts0;
     c->regen_end[1] = pm.nverts0;

@@ -29,7 +29,9 @@ typedef struct wsrc {
     const st_map_renumber *ids;   /* NULL: the ids as they are */
     const void *hd_img;           /* chunk hdlv's image (after hd_from), when r->hd */
     size_t hd_len;
-    const st_pm_recipe *pm;       /* chunk PMRC's recipe, when the hierarchy has one */
+    const unsigned char *pm;      /* chunk PMRC's payload, when the hierarchy has a recipe */
+    size_t pm_len;
+    unsigned char *pm_owned;      /* pm when derived for this save (freed by release) */
 } wsrc;
 
 typedef void (*chunk_fn)(st_bw *w, const wsrc *src);
@@ -101,41 +103,12 @@ static void w_sharp_level0(st_bw *w, const wsrc *src)
     st_mla_write(w, &x, &v.verts, st_value_sharpness_f32);
 }
 
-/* An unsigned LEB128 number: 7 bits a byte, low first (a fan rank takes
- * one byte). */
-static void w_varint(st_bw *w, uint32_t v)
-{
-    while (v >= 0x80) {
-        st_bw_u8(w, (uint8_t)(v | 0x80));
-        v >>= 7;
-    }
-    st_bw_u8(w, (uint8_t)v);
-}
-
 /* A progressive hierarchy's recipe (version 5): level 0's darts, then each
- * level's splits (b, then the ranks of c and of d + 1, 0 for a boundary
- * edge); the reader replays them (progressive_recipe.c). */
+ * level's splits (st_pm_recipe_encode); the reader replays them
+ * (core/progressive/progressive_recipe.c). */
 static void w_recipe(st_bw *w, const wsrc *src)
 {
-    const st_pm_recipe *pm = src->pm;
-    st_bw_u32(w, pm->top);
-    st_bw_u32(w, pm->nverts0);
-    st_bw_u32(w, pm->ndarts0);
-    for (uint32_t d = 0; d < pm->ndarts0; d++) {
-        st_bw_u32(w, pm->beta0[d]);
-        st_bw_u32(w, pm->beta1[d]);
-        st_bw_u32(w, pm->vert[d]);
-        st_bw_u8(w, pm->boundary[d]);
-    }
-    const st_pm_split *s = pm->split;
-    for (unsigned l = 1; l <= pm->top; l++) {
-        st_bw_u32(w, pm->nsplits[l]);
-        for (uint32_t i = 0; i < pm->nsplits[l]; i++, s++) {
-            st_bw_u32(w, s->b);
-            w_varint(w, s->c);
-            w_varint(w, s->d == ST_NIL ? 0 : s->d + 1);
-        }
-    }
+    st_bw_bytes(w, src->pm, src->pm_len);
 }
 
 static void w_positions(st_bw *w, const wsrc *src)
@@ -745,25 +718,36 @@ static int hd_image(const st_session_ref *r, void **img, size_t *len, st_error *
 }
 
 /* A progressive hierarchy as its build left it is stored as its recipe
- * (PMRC); anything else, or out of memory, is stored whole. */
-static const st_pm_recipe *recipe_of(const st_session_ref *r)
+ * (PMRC): the bytes the build or the reader kept (st_hier.pm_recipe), else
+ * read back from the map; anything else, or out of memory, is stored
+ * whole. */
+static void recipe_of(const st_session_ref *r, wsrc *src)
 {
-    if (r->whole_map || r->h->has_sharpness || r->h->scheme->id != ST_SCHEME_PROGRESSIVE) return NULL;
-    st_pm_recipe *pm = malloc(sizeof *pm);
-    if (pm && st_progressive_recipe(r->h, pm) == 0) return pm;
-    free(pm);
-    return NULL;
+    const st_hier *h = r->h;
+    if (r->whole_map || h->has_sharpness || h->scheme->id != ST_SCHEME_PROGRESSIVE || !st_hier_regenerable(h)) return;
+    if (h->pm_recipe) {
+        src->pm = h->pm_recipe;
+        src->pm_len = h->pm_recipe_len;
+        return;
+    }
+    st_pm_recipe pm;
+    if (st_progressive_recipe(h, &pm)) return;
+    size_t n = st_pm_recipe_encode(&pm, NULL);
+    unsigned char *b = malloc(n);
+    if (b) {
+        st_pm_recipe_encode(&pm, b);
+        src->pm = src->pm_owned = b;
+        src->pm_len = n;
+    }
+    st_pm_recipe_free(&pm);
 }
 
 static void release(wsrc *src)
 {
     free((void *)src->hd_img);
-    if (src->pm) {
-        st_pm_recipe_free((st_pm_recipe *)src->pm);
-        free((void *)src->pm);
-    }
+    free(src->pm_owned);
     src->hd_img = NULL;
-    src->pm = NULL;
+    src->pm = src->pm_owned = NULL;
 }
 
 /* Checks r and makes what the chunk writers read (wsrc); the caller
@@ -773,7 +757,7 @@ static int prepare(const st_session_ref *r, wsrc *src, st_error *err)
     memset(src, 0, sizeof *src);
     src->r = r;
     int rc = check_ref(r, err);
-    if (!rc) src->pm = recipe_of(r);
+    if (!rc) recipe_of(r, src);
     if (!rc && r->hd) {
         void *img = NULL;
         rc = hd_image(r, &img, &src->hd_len, err);

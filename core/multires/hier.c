@@ -212,6 +212,7 @@ void st_hier_free(st_hier *h)
     drop_caches(h, 0);
     free(h->stamp.v);
     st_hier_uv_free(h);
+    free(h->pm_recipe);
     memset(h, 0, sizeof *h);
 }
 

@@ -71,6 +71,13 @@ typedef struct st_hier {
      * topology gives the map a new generation, so the mark lapses. */
     uint64_t regen_gen;
     uint32_t regen_end[2];     /* darts.end, verts.end after level 0 */
+    /* A progressive hierarchy's recipe as a session stores it (the PMRC
+     * chunk's payload, core/progressive/progressive_recipe.c), kept by the
+     * build and the reader so that a save need not read it back from the
+     * map; it describes the map only while st_hier_regenerable.  NULL:
+     * none kept (a save derives it). */
+    unsigned char *pm_recipe;
+    size_t pm_recipe_len;
 } st_hier;
 
 /* What h's scheme reads and writes of it (core/schemes/view.h): a view

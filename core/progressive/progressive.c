@@ -112,6 +112,7 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
     pm_work_drop_topology(w);
     pm_replay *r = NULL;
     if (!res) res = pm_replay_begin(&r, h, &rc, err);
+    if (!res) pm_replay_record(r);
     rep->faces[0] = w->faces;
     rep->vertices[0] = w->verts;
     uint64_t at = 0;
@@ -133,6 +134,7 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
         if (o->progress && o->progress(o->progress_ctx, 0.8 + 0.15 * l / w->ngroups))
             res = st_fail(err, ST_ERR_INVALID, "progressive: cancelled");
     }
+    if (!res) res = pm_replay_keep_recipe(r, &rc);
     if (!res) res = pm_replay_relations(r, 1);
     if (!res) {
         /* Every vertex keeps its input position at every level (point 1):

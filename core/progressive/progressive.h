@@ -272,6 +272,9 @@ int st_progressive_recipe(const st_hier *h, st_pm_recipe *out);
 void st_pm_recipe_free(st_pm_recipe *r);
 /* Splits in all (sum of nsplits). */
 uint64_t st_pm_recipe_splits(const st_pm_recipe *r);
+/* The recipe as the session's PMRC chunk holds it (docs/SESSION-FORMAT.md)
+ * into out, NULL: nothing written; returns the bytes. */
+size_t st_pm_recipe_encode(const st_pm_recipe *r, unsigned char *out);
 /* Builds h's map (h: scheme and options set, its map replaced) from r:
  * the topology of every level, positions zero (the caller reads them),
  * then marks h regenerable.  Checks every record first as the build

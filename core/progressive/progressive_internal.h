@@ -158,6 +158,11 @@ typedef struct pm_replay pm_replay;
 int pm_replay_begin(pm_replay **out, st_hier *h, const st_pm_recipe *rc, st_error *err);
 int pm_replay_level(pm_replay *r, unsigned l, const st_pm_split *resolved, uint32_t n, uint64_t first);
 const uint32_t *pm_replay_new_vertices(const pm_replay *r);
+/* The build: the splits are also kept as the recipe's ranks, and
+ * pm_replay_keep_recipe (level 0 as given to begin) stores the session's
+ * bytes of the recipe in h->pm_recipe. */
+void pm_replay_record(pm_replay *r);
+int pm_replay_keep_recipe(pm_replay *r, const st_pm_recipe *level0);
 int pm_replay_relations(pm_replay *r, int dense);
 int pm_replay_sparsify(pm_replay *r);
 void pm_replay_finish(pm_replay *r);

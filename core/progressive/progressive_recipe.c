@@ -40,6 +40,50 @@ uint64_t st_pm_recipe_splits(const st_pm_recipe *r)
     return n;
 }
 
+/* ---- the session's bytes ------------------------------------------------------------ */
+
+static size_t put_u32(unsigned char *out, size_t at, uint32_t v)
+{
+    if (out) for (int k = 0; k < 4; k++) out[at + k] = (unsigned char)(v >> (8 * k));
+    return at + 4;
+}
+
+/* An unsigned LEB128 number: 7 bits a byte, low first. */
+static size_t put_varint(unsigned char *out, size_t at, uint32_t v)
+{
+    while (v >= 0x80) {
+        if (out) out[at] = (unsigned char)(v | 0x80);
+        at++;
+        v >>= 7;
+    }
+    if (out) out[at] = (unsigned char)v;
+    return at + 1;
+}
+
+size_t st_pm_recipe_encode(const st_pm_recipe *rc, unsigned char *out)
+{
+    size_t at = put_u32(out, 0, rc->top);
+    at = put_u32(out, at, rc->nverts0);
+    at = put_u32(out, at, rc->ndarts0);
+    for (uint32_t d = 0; d < rc->ndarts0; d++) {
+        at = put_u32(out, at, rc->beta0[d]);
+        at = put_u32(out, at, rc->beta1[d]);
+        at = put_u32(out, at, rc->vert[d]);
+        if (out) out[at] = rc->boundary[d];
+        at++;
+    }
+    const st_pm_split *sp = rc->split;
+    for (unsigned l = 1; l <= rc->top; l++) {
+        at = put_u32(out, at, rc->nsplits[l]);
+        for (uint32_t i = 0; i < rc->nsplits[l]; i++, sp++) {
+            at = put_u32(out, at, sp->b);
+            at = put_varint(out, at, sp->c);
+            at = put_varint(out, at, sp->d == ST_NIL ? 0 : sp->d + 1);
+        }
+    }
+    return at;
+}
+
 /* ---- reading the recipe from a map ------------------------------------------------ */
 
 /* Ids of level l of pool p in allocation order: its blocks in list order,
@@ -162,6 +206,10 @@ struct pm_replay {
     st_hier *h;
     uint32_t end0[2];                       /* the pools' ends after level 0 (st_hier_mark_regenerable) */
     uint32_t *new_a, na, cap_a;             /* the vertices the last level's splits made, in order */
+    int record;                             /* keep the splits as ranks (pm_replay_recipe) */
+    st_pm_split *rec;                       /* every level's splits so far, c and d as ranks */
+    uint64_t nrec, cap_rec;
+    uint32_t rec_n[ST_MAX_LEVELS];
     uint32_t *cur[3];                       /* per dart id: β0, β1, vert at the level being built */
     changes ch[3];
     int oom;
@@ -230,6 +278,7 @@ static void free_copy(replay *r)
 static void replay_free(replay *r)
 {
     free_copy(r);
+    free(r->rec);
     for (int k = 0; k < 3; k++) {
         free(r->ch[k].id);
         free(r->ch[k].val);
@@ -488,11 +537,51 @@ static int split(replay *r, unsigned l, uint64_t k, const st_pm_split *s)
     return ST_OK;
 }
 
+/* The inverse of resolve: c and d of a split with vertex ids as their ranks
+ * among b's neighbours, on the copy as level l - 1 left it. */
+static int ranks_of(const replay *r, const st_pm_split *in, st_pm_split *out)
+{
+    uint32_t b = in->b, x = r->vhe[b], lo = x, n = 0;
+    do { if (x < lo) lo = x; x = rot(r, x); } while (x != r->vhe[b] && ++n < r->m->darts.end);
+    *out = (st_pm_split){ b, ST_NIL, ST_NIL };
+    uint32_t j = 0;
+    x = lo;
+    do {
+        uint32_t w = dest(r, x);
+        if (w == in->c) out->c = j;
+        if (in->d != ST_NIL && w == in->d) out->d = j;
+        j++;
+        x = rot(r, x);
+    } while (x != lo && j <= n);
+    return out->c == ST_NIL || (in->d != ST_NIL && out->d == ST_NIL) ? -1 : 0;
+}
+
+static int record_ranks(replay *r, unsigned l, const st_pm_split *s, uint32_t n)
+{
+    if (r->nrec + n > r->cap_rec) {
+        uint64_t cap = 2 * (r->nrec + n);
+        st_pm_split *p = realloc(r->rec, cap * sizeof *p);
+        if (!p) return st_fail(r->err, ST_ERR_MEMORY, "progressive: out of memory");
+        r->rec = p;
+        r->cap_rec = cap;
+    }
+    for (uint32_t i = 0; i < n; i++)
+        if (s[i].b >= r->m->verts.end || ranks_of(r, &s[i], &r->rec[r->nrec + i]))
+            return st_fail(r->err, ST_ERR_TOPOLOGY, "level %u, split %u: c or d not around b", l, i);
+    r->nrec += n;
+    r->rec_n[l] = n;
+    return ST_OK;
+}
+
 /* Level l from its n splits, b, c and d as vertex ids (resolved). */
 int pm_replay_level(pm_replay *r, unsigned l, const st_pm_split *s, uint32_t n, uint64_t first)
 {
     st_map *m = r->m;
     if (n == 0) return st_fail(r->err, ST_ERR_TOPOLOGY, "level %u has no split", l);
+    if (r->record) {
+        int rc = record_ranks(r, l, s, n);
+        if (rc) return rc;
+    }
     if (st_level_add(m, r->err)) return r->err ? r->err->code : ST_ERR_INVALID;
     r->na = 0;
     for (uint32_t i = 0; i < n; i++) {
@@ -508,6 +597,23 @@ int pm_replay_level(pm_replay *r, unsigned l, const st_pm_split *s, uint32_t n, 
 }
 
 const uint32_t *pm_replay_new_vertices(const pm_replay *r) { return r->new_a; }
+
+void pm_replay_record(pm_replay *r) { r->record = 1; }
+
+int pm_replay_keep_recipe(pm_replay *r, const st_pm_recipe *level0)
+{
+    st_pm_recipe rc = *level0;
+    memcpy(rc.nsplits, r->rec_n, sizeof rc.nsplits);
+    rc.split = r->rec;
+    size_t n = st_pm_recipe_encode(&rc, NULL);
+    unsigned char *b = malloc(n);
+    if (!b) return st_fail(r->err, ST_ERR_MEMORY, "progressive: out of memory");
+    st_pm_recipe_encode(&rc, b);
+    free(r->h->pm_recipe);
+    r->h->pm_recipe = b;
+    r->h->pm_recipe_len = n;
+    return ST_OK;
+}
 
 int pm_replay_begin(pm_replay **out, st_hier *h, const st_pm_recipe *rc, st_error *err)
 {

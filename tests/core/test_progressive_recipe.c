@@ -112,6 +112,13 @@ static void check_replay(const char *what, st_hier *h)
     st_pm_recipe rc;
     CHECKF(st_progressive_recipe(h, &rc) == 0, "%s: no recipe", what);
     if (!rc.split) return;
+    /* The bytes the build kept are the recipe read back from its map. */
+    size_t nb = st_pm_recipe_encode(&rc, NULL);
+    unsigned char *enc = malloc(nb);
+    if (enc) st_pm_recipe_encode(&rc, enc);
+    CHECKF(enc && h->pm_recipe && h->pm_recipe_len == nb && !memcmp(enc, h->pm_recipe, nb),
+           "%s: the build's recipe bytes are not its map's recipe", what);
+    free(enc);
     CHECK(rc.top == h->map.top && rc.ndarts0 == h->map.darts.live[0] && rc.nverts0 == h->map.verts.live[0]);
     CHECK(st_pm_recipe_splits(&rc) == st_pool_count(&h->map.verts, h->map.top) - rc.nverts0);
     st_hier g;
@@ -139,6 +146,8 @@ static void check_replay(const char *what, st_hier *h)
         free(b1);
         return;
     }
+    CHECKF(s.h.pm_recipe && s.h.pm_recipe_len == h->pm_recipe_len && !memcmp(s.h.pm_recipe, h->pm_recipe, h->pm_recipe_len),
+           "%s: the loaded hierarchy does not keep the file's recipe", what);
     st_session_ref w1 = sr, w2 = st_session_ref_of(&s);
     w1.whole_map = w2.whole_map = 1;
     unsigned char *a = tl_session_bytes(&w1, &nw1), *b = tl_session_bytes(&w2, &nw2);

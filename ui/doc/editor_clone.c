@@ -107,6 +107,8 @@ int ed_hier_clone(st_hier *dst, const st_hier *src, size_t *bytes_out)
     memset(dst->cache, 0, sizeof dst->cache); /* the copy builds its own */
     memset(&dst->local, 0, sizeof dst->local);
     dst->fvar = NULL;                         /* UVs: copied below */
+    dst->pm_recipe = NULL;                    /* the copy's map has a generation of its own: not regenerable */
+    dst->pm_recipe_len = 0;
     dm->gen_seen = 1;
     st_map_changed(dm); /* a generation of its own */
     int rc = dup_pool(&dm->darts, &sm->darts, &bytes);
