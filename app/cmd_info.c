@@ -7,8 +7,10 @@
 #include "core/map/map_memory.h"
 #include "core/multires/estimate.h"
 #include "core/io/session.h"
+#include "core/progressive/progressive.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 
 /* Faces the adaptive map stores at level l: real faces of the map of
  * level l whose subdivision level there is l, each counted once. */
@@ -84,16 +86,21 @@ int st_cmd_info(int argc, char **argv)
     printf("%s: scheme %s, %s\n", o.in, h.scheme->name, st_levels_phrase(m->top, lv, sizeof lv));
     printf("%5s %10s %10s %10s %8s %6s %14s %14s\n", "level", "vertices", "edges", "faces", "holes", "euler",
            "topology B", "positions B");
-    /* Levels refined here from a mesh are whole refinements of the level
-     * below: their counts follow by arithmetic (core/multires/estimate.h,
-     * equal to the walked counts on every scheme: tests/core/test_membudget.c),
-     * which costs nothing beside refinement.  A session's levels may be
-     * adaptive or rebased: walked. */
-    int arithmetic = !st_session_is_path(o.in);
+    /* Levels refined here from a mesh, or regenerated from a session's
+     * level 0, are whole refinements of the level below: their counts
+     * follow by arithmetic (core/multires/estimate.h, equal to the walked
+     * counts on every scheme: tests/core/test_membudget.c), which costs
+     * nothing beside refinement; a progressive hierarchy's as its build
+     * left it follow from its pools (st_progressive_level_counts).  Other
+     * sessions' levels may be adaptive or rebased: walked. */
+    st_level_stats *pm = malloc(((size_t)m->top + 1) * sizeof *pm);
+    int counted = pm && st_progressive_level_counts(&h, pm) == 0;
+    int arithmetic = !counted && (!st_session_is_path(o.in) || st_hier_regenerable(&h));
     uint64_t triangles = arithmetic ? st_level_triangles(m, 0) : 0;
     st_level_stats s, top;
     for (unsigned l = 0; l <= m->top; l++) {
-        if (l == 0 || !arithmetic) st_level_stats_compute(m, l, &s);
+        if (counted) s = pm[l];
+        else if (l == 0 || !arithmetic) st_level_stats_compute(m, l, &s);
         else { st_level_stats prev = s; st_estimate_next_level(h.scheme->id, l, &prev, &triangles, &s); }
         st_map_bytes lb;
         st_map_level_memory(m, l, &lb);
@@ -107,6 +114,7 @@ int st_cmd_info(int argc, char **argv)
     printf("memory, all levels (allocated): topology %zu bytes (%.2f per finest dart), positions %zu bytes\n", b.topology,
            top.darts ? (double)b.topology / (double)top.darts : 0.0, b.positions);
     if (sess.has_hd) print_hd(&sess);
+    free(pm);
     st_session_free(&sess);
     st_hier_free(&h);
     return 0;

@@ -272,6 +272,13 @@ int st_progressive_recipe(const st_hier *h, st_pm_recipe *out);
 void st_pm_recipe_free(st_pm_recipe *r);
 /* Splits in all (sum of nsplits). */
 uint64_t st_pm_recipe_splits(const st_pm_recipe *r);
+/* The counts of every level 0..top of a progressive hierarchy as its build
+ * or a replay left it (st_hier_regenerable), without walking the levels
+ * (st_level_stats_compute does): no level deletes a vertex or a dart, its
+ * real faces are triangles and its holes keep their number (point 2), so
+ * the pools' live counts and the hole darts give them.  out: top + 1
+ * entries.  -1, nothing written, for any other hierarchy. */
+int st_progressive_level_counts(const st_hier *h, st_level_stats *out);
 /* The recipe as the session's PMRC chunk holds it (docs/SESSION-FORMAT.md)
  * into out, NULL: nothing written; returns the bytes. */
 size_t st_pm_recipe_encode(const st_pm_recipe *r, unsigned char *out);

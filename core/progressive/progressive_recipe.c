@@ -84,6 +84,46 @@ size_t st_pm_recipe_encode(const st_pm_recipe *rc, unsigned char *out)
     return at;
 }
 
+/* ---- counts ---------------------------------------------------------------------- */
+
+int st_progressive_level_counts(const st_hier *h, st_level_stats *out)
+{
+    const st_map *m = &h->map;
+    if (h->scheme != &st_scheme_progressive || !st_hier_regenerable(h) || m->face_embedded) return -1;
+    uint64_t holes_at[ST_MAX_LEVELS] = { 0 };
+    for (uint32_t d = 0; d < m->darts.end; d++)
+        if (m->darts.ins[d] != ST_FREE_LEVEL && st_is_boundary(m, d)) holes_at[m->darts.ins[d]]++;
+    /* The hole loops of level 0, whose number every level keeps. */
+    uint64_t loops = 0;
+    uint8_t *seen = calloc(m->darts.end ? m->darts.end : 1, 1);
+    if (!seen) return -1;
+    for (uint32_t d = 0; d < m->darts.end; d++) {
+        if (m->darts.ins[d] != 0 || !st_is_boundary(m, d) || seen[d]) continue;
+        loops++;
+        uint32_t x = d, k = 0;
+        do {
+            seen[x] = 1;
+            x = st_beta1(m, st_beta0(m, x, 0), 0);
+        } while (x != d && ++k < m->darts.end);
+    }
+    free(seen);
+    uint64_t darts = 0, verts = 0, bnd = 0;
+    for (unsigned l = 0; l <= m->top; l++) {
+        darts += m->darts.live[l];
+        verts += m->verts.live[l];
+        bnd += holes_at[l];
+        st_level_stats *s = &out[l];
+        s->darts = darts;
+        s->vertices = verts;
+        s->edges = darts / 2;
+        s->boundary_edges = bnd;
+        s->faces = (darts - bnd) / 3;
+        s->boundary_loops = loops;
+        s->euler = (int64_t)s->vertices - (int64_t)s->edges + (int64_t)s->faces;
+    }
+    return 0;
+}
+
 /* ---- reading the recipe from a map ------------------------------------------------ */
 
 /* Ids of level l of pool p in allocation order: its blocks in list order,

@@ -106,6 +106,8 @@ static int has_chunk(const unsigned char *b, size_t n, const char *tag)
     return 0;
 }
 
+static void check_counts(const char *what, st_hier *h);
+
 /* Recipe -> regenerated map == the build's; the session round trip. */
 static void check_replay(const char *what, st_hier *h)
 {
@@ -148,6 +150,7 @@ static void check_replay(const char *what, st_hier *h)
     }
     CHECKF(s.h.pm_recipe && s.h.pm_recipe_len == h->pm_recipe_len && !memcmp(s.h.pm_recipe, h->pm_recipe, h->pm_recipe_len),
            "%s: the loaded hierarchy does not keep the file's recipe", what);
+    check_counts(what, &s.h);
     st_session_ref w1 = sr, w2 = st_session_ref_of(&s);
     w1.whole_map = w2.whole_map = 1;
     unsigned char *a = tl_session_bytes(&w1, &nw1), *b = tl_session_bytes(&w2, &nw2);
@@ -198,6 +201,8 @@ static void check_lapse(const char *what, st_hier *h)
     }
     st_hier_remove_top(h);
     CHECKF(st_progressive_recipe(h, &rc) != 0, "%s: a recipe after the top level went", what);
+    st_level_stats one;
+    CHECKF(st_progressive_level_counts(h, &one) != 0, "%s: counts from the pools after the top level went", what);
     size_t n;
     unsigned char *b = tl_session_bytes(&sr, &n);
     CHECKF(b && has_chunk(b, n, "MAP ") && !has_chunk(b, n, "PMRC"), "%s: a changed topology saved as a recipe", what);
@@ -439,10 +444,27 @@ static void check_against_reference(const char *what, const st_mesh *in, uint64_
     st_map_free(&ref_m);
 }
 
+/* st_progressive_level_counts gives every level's walked counts. */
+static void check_counts(const char *what, st_hier *h)
+{
+    st_level_stats *c = malloc(((size_t)h->map.top + 1) * sizeof *c);
+    CHECKF(c && st_progressive_level_counts(h, c) == 0, "%s: no counts", what);
+    int same = 1;
+    for (unsigned l = 0; c && l <= h->map.top; l++) {
+        st_level_stats w;
+        st_level_stats_compute(&h->map, l, &w);
+        same &= w.darts == c[l].darts && w.vertices == c[l].vertices && w.edges == c[l].edges && w.faces == c[l].faces &&
+                w.boundary_loops == c[l].boundary_loops && w.boundary_edges == c[l].boundary_edges && w.euler == c[l].euler;
+    }
+    CHECKF(same, "%s: the counts from the pools differ from the walked ones", what);
+    free(c);
+}
+
 static void check_mesh(const char *what, const st_mesh *m, uint64_t target)
 {
     st_hier h;
     if (build(m, &h, target, what)) return;
+    check_counts(what, &h);
     check_against_reference(what, m, target, &h);
     check_replay(what, &h);
     check_damage(what, &h);
