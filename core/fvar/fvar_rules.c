@@ -10,6 +10,7 @@
 #define ST_MAP_DENSE_ONLY
 #include "core/fvar/fvar_internal.h"
 #include "core/map/pool_internal.h"
+#include "core/base/parallel.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -293,8 +294,42 @@ void st_fvar_edge_child(st_fvar_step *w, uint32_t d)
     edge_child(w, d);
 }
 
+/* The edge pass over the blocks [begin, end) of a list of first ids (the
+ * scan's blocks): each real dart's edge child on its side, and its
+ * discontinuity. */
+static void edge_children_of_blocks(const st_fvar_step *s, const uint32_t *first, uint32_t begin, uint32_t end, uint8_t *disc)
+{
+    const st_map *m = s->m;
+    for (uint32_t b = begin; b < end; b++)
+        for (uint32_t d = first[b]; d < first[b] + ST_POOL_BLOCK && d < m->darts.end; d++) {
+            if (m->darts.ins[d] == ST_FREE_LEVEL || st_is_boundary(m, d)) continue;
+            int dc = edge_child(s, d);
+            if (disc) disc[d] = (uint8_t)dc;
+        }
+}
+
+typedef struct edge_job {
+    const st_fvar_step *s;
+    const uint32_t *first;
+    uint32_t nblocks;
+    uint8_t *disc;
+} edge_job;
+
+enum { EDGE_CHUNK = 16 };   /* blocks of ST_POOL_BLOCK darts per piece of work */
+
+static void edge_part(st_team *team, unsigned t, void *ctx)
+{
+    (void)t;
+    edge_job *j = ctx;
+    uint32_t b, e;
+    while (st_team_next(team, 0, j->nblocks, EDGE_CHUNK, &b, &e)) edge_children_of_blocks(j->s, j->first, b, e, j->disc);
+}
+
 /* Every real dart's discontinuity is kept for the vertex pass, when the
- * memory for it is there (else that pass works it out again). */
+ * memory for it is there (else that pass works it out again).  Each dart
+ * writes its own two children and its own flag from level l's values
+ * only, so the pass runs on the threads of a team (core/base/parallel.h)
+ * with the same bits on any number of them; a small level stays on one. */
 void st_fvar_edge_children(st_fvar_step *w)
 {
     take_views(w);
@@ -310,13 +345,25 @@ void st_fvar_edge_children(st_fvar_step *w)
      * views stay in registers across the loop. */
     const st_fvar_step s = *w;
     uint8_t *disc = w->disc;
-    st_fvar_scan it;
-    st_fvar_scan_init(&it, m, 0, s.l);
-    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
-        if (st_is_boundary(m, d)) continue;
-        int dc = edge_child(&s, d);
-        if (disc) disc[d] = (uint8_t)dc;
+    uint32_t nb = st_pool_block_list(&m->darts, s.l, NULL);
+    uint32_t *first = malloc((size_t)(nb ? nb : 1) * sizeof *first);
+    unsigned threads = st_parallel_threads(), most = nb / (4 * EDGE_CHUNK);
+    if (threads > most) threads = most ? most : 1;
+    if (threads > ST_PARALLEL_MAX) threads = ST_PARALLEL_MAX;
+    if (first && threads > 1) {
+        st_pool_block_list(&m->darts, s.l, first);
+        edge_job j = { &s, first, nb, disc };
+        st_team_run(threads, edge_part, &j);
+    } else {
+        st_fvar_scan it;
+        st_fvar_scan_init(&it, m, 0, s.l);
+        for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+            if (st_is_boundary(m, d)) continue;
+            int dc = edge_child(&s, d);
+            if (disc) disc[d] = (uint8_t)dc;
+        }
     }
+    free(first);
     if (disc) w->edged = w->l + 1;
 }
 
