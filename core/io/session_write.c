@@ -105,7 +105,7 @@ static void w_sharp_level0(st_bw *w, const wsrc *src)
 
 /* A progressive hierarchy's recipe (version 5): level 0's darts, then each
  * level's splits (st_pm_recipe_encode); the reader replays them
- * (core/progressive/progressive_recipe.c). */
+ * (core/progressive/progressive_replay.c). */
 static void w_recipe(st_bw *w, const wsrc *src)
 {
     st_bw_bytes(w, src->pm, src->pm_len);

@@ -86,7 +86,7 @@ void st_mla_thaw(st_mla *a, const st_pool *p);
  * after st_mla_set of each change and st_map_compact would leave it,
  * sparse form, column marks and capacities included, without making the
  * dense columns when the sparse form is chosen (a progressive map
- * replayed from its recipe, core/progressive/progressive_recipe.c).
+ * replayed from its recipe, core/progressive/progressive_replay.c).
  * -1: out of memory (a may hold some changes; the caller frees it). */
 int st_mla_set_changes(st_mla *a, const st_pool *p, const uint32_t *id, const uint8_t *lvl, const uint32_t *val,
                        uint64_t n);

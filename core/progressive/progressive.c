@@ -84,7 +84,7 @@ static int level0_recipe(const pm_work *w, uint32_t *vid_of, st_pm_recipe *rc)
 }
 
 /* The map from the working copy, as the recipe's replay makes it
- * (progressive_recipe.c): level 0 from the coarsest working copy, then
+ * (progressive_replay.c): level 0 from the coarsest working copy, then
  * one level per group, coarse to fine, each collapse a -> b of the group
  * undone as the vertex split (b, c, d) (point 4 of progressive.h; a
  * session's replay of the same recipe makes the same map, ids included).

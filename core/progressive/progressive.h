@@ -282,7 +282,8 @@ int st_progressive_level_counts(const st_hier *h, st_level_stats *out);
 /* The recipe as the session's PMRC chunk holds it (docs/SESSION-FORMAT.md)
  * into out, NULL: nothing written; returns the bytes. */
 size_t st_pm_recipe_encode(const st_pm_recipe *r, unsigned char *out);
-/* Builds h's map (h: scheme and options set, its map replaced) from r:
+/* Builds h's map (h: scheme and options set, its map replaced) from r
+ * (progressive_replay.c, which the build makes its map with too):
  * the topology of every level, positions zero (the caller reads them),
  * then marks h regenerable.  Checks every record first as the build
  * would have made it (level 0 a manifold triangle mesh with boundary

@@ -144,7 +144,7 @@ static inline double pm_relax_weight(const st_hier *h, unsigned L)
     }
 }
 
-/* The replay of a recipe (progressive_recipe.c): st_progressive_regenerate
+/* The replay of a recipe (progressive_replay.c): st_progressive_regenerate
  * and the build (progressive.c materialise) make a map the same way.
  * begin checks and builds level 0 from rc (its level-0 arrays, top and
  * nsplits; rc->split is not read) into h's map; each pm_replay_level adds
