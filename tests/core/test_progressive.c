@@ -18,18 +18,7 @@
 
 /* ---- fixtures ------------------------------------------------------------------ */
 
-static int load_shared(const char *name, st_mesh *m)
-{
-    char path[1024];
-    snprintf(path, sizeof path, "%s/triangle/%s", STRATA_SHARED_DATA, name);
-    st_error err;
-    st_mesh_init(m);
-    if (st_mesh_load(path, m, &err)) {
-        tl_skip("%s not loaded (%s)", path, err.msg);
-        return -1;
-    }
-    return 0;
-}
+static int load_shared(const char *name, st_mesh *m) { return tl_load_shared("triangle", name, m); }
 
 /* Euler characteristic and boundary loops of a soup, through a map. */
 static void soup_topology(const st_mesh *s, int64_t *euler, uint64_t *loops)

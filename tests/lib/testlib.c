@@ -1,6 +1,7 @@
 #include "testlib.h"
 
 #include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 int tl_passed, tl_failed, tl_skipped;
@@ -14,6 +15,23 @@ void tl_skip(const char *fmt, ...)
     putchar('\n');
     va_end(ap);
     tl_skipped++;
+}
+
+#ifndef STRATA_SHARED_DATA
+#define STRATA_SHARED_DATA "../shared/data/meshes"
+#endif
+
+int tl_load_shared(const char *subdir, const char *name, st_mesh *m)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s/%s", STRATA_SHARED_DATA, subdir, name);
+    st_error err;
+    st_mesh_init(m);
+    if (st_mesh_load(path, m, &err)) {
+        tl_skip("%s not loaded (%s)", path, err.msg);
+        return -1;
+    }
+    return 0;
 }
 
 int tl_report(const char *file)

@@ -37,6 +37,10 @@ int tl_write_file(const char *path, const void *data, size_t size);
 
 /* Literal fixtures (counter-clockwise, outward). */
 #include "core/io/mesh.h"
+/* Loads the shared test mesh STRATA_SHARED_DATA/SUBDIR/NAME into m
+ * (st_mesh_load); when it is missing or unreadable, counts a skip
+ * (tl_skip) and returns -1, m left empty. */
+int tl_load_shared(const char *subdir, const char *name, st_mesh *m);
 void tl_mesh_cube(st_mesh *m);              /* 8 v, 6 quads */
 void tl_mesh_tetra(st_mesh *m);             /* 4 v, 4 triangles */
 void tl_mesh_octa(st_mesh *m);              /* 6 v, 8 triangles, valence 4 */
