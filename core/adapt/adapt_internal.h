@@ -50,7 +50,10 @@ typedef struct st_adapt_ops {
      * details of the vertices it removes. */
     int (*simplify)(st_adapt *a, uint32_t d, unsigned i, st_error *err);
     /* The level the criteria p want for the cell of d at level l, as the
-     * updates read it. */
+     * updates read it.  With p->flatness 0, the families with
+     * forced_children_only read the cell's box only: the smaller of
+     * st_adapt_box_want(cell_bbox) and max_level (the incremental update
+     * computes it so, with the box it also tests: adapt_update.c). */
     unsigned (*wanted)(const st_map *m, uint32_t d, unsigned l, const st_adapt_params *p);
     /* The region the cell of d (level l) covers: its bounding box.  The
      * incremental update tests it against the boxes (settled cells, the

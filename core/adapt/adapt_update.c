@@ -67,22 +67,44 @@ static void region_roots(st_adapt *a, const st_adapt_ops *ops, const st_adapt_pa
     st_dart_list_free(&seeds);
 }
 
-/* A face deep inside both the old and the new box (its bounding box grown
- * by its own size on every side, which covers the neighbourhood its
+/* A face deep inside both the old and the new box (its bounding box lo..hi
+ * grown by its own size on every side, which covers the neighbourhood its
  * descendants' stencils read) is settled: the last update refined all its
  * descendants to max_level, they all still want max_level, and nothing
  * coarser around it is simplified into it (the restriction only spreads
  * refinement outward).  An incremental update need not look inside it, so
  * the visit costs the band where the boxes differ, not the whole box. */
-static int settled(const st_adapt *a, const st_adapt_ops *ops, uint32_t d, unsigned lev, const st_adapt_params *p)
+static int settled_bbox(const st_adapt *a, const double lo[3], const double hi[3], const st_adapt_params *p)
 {
     const st_adapt_params *q = &a->prev;
-    double lo[3], hi[3], size = 0;
-    ops->cell_bbox(&a->h->map, d, lev, lo, hi);
+    double size = 0;
     for (int k = 0; k < 3; k++) size = fmax(size, hi[k] - lo[k]);
     for (int k = 0; k < 3; k++)
         if (lo[k] - size < fmax(q->box_lo[k], p->box_lo[k]) || hi[k] + size > fmin(q->box_hi[k], p->box_hi[k])) return 0;
     return 1;
+}
+
+static int settled(const st_adapt *a, const st_adapt_ops *ops, uint32_t d, unsigned lev, const st_adapt_params *p)
+{
+    double lo[3], hi[3];
+    ops->cell_bbox(&a->h->map, d, lev, lo, hi);
+    return settled_bbox(a, lo, hi, p);
+}
+
+/* What an incremental update reads of a listed face (refine_lists'
+ * `known`), packed in one word so that the face's bounding box is walked
+ * once, not up to three times (the wanted level for the refinement, the
+ * settled test for its children, the wanted level again for the
+ * simplification: a tenth of a box move).  Both depend only on the face's
+ * own level-i positions and the boxes, which neither pass changes. */
+enum { KN_SUB = 1, KN_SETTLED = 2, KN_READ = 4, KN_WANT_SHIFT = 3 };
+
+/* read: the face was listed (listed_face) and its box read; else only
+ * `sub` (0) is meaningful. */
+static uint32_t known_word(int read, int sub, int settled_face, unsigned want)
+{
+    if (!read) return 0;
+    return KN_READ | (sub ? KN_SUB : 0) | (settled_face ? KN_SETTLED : 0) | (uint32_t)want << KN_WANT_SHIFT;
 }
 
 /* Appends to out the sub-faces (level lev+1) of the subdivided faces of
@@ -91,16 +113,17 @@ static int settled(const st_adapt *a, const st_adapt_ops *ops, uint32_t d, unsig
  * or the even triangle of its flipped edge); a triangle quadrisection adds
  * the central triangle, across the corner triangle's inner edge.  With p
  * (an incremental update), settled faces are left out.  known (NULL, or
- * one flag per face of cur: refine_lists) says which are subdivided, so
- * that their level-(lev+1) relations are not read again. */
+ * one word per face of cur: refine_lists) says which are subdivided, so
+ * that their level-(lev+1) relations are not read again, and which are
+ * settled. */
 static void children(st_adapt *a, const st_adapt_ops *ops, const uint32_t *cur, uint32_t ncur, unsigned lev,
                      const st_adapt_params *p, const uint32_t *known, st_dart_list *out)
 {
     st_map *m = &a->h->map;
     for (uint32_t k = 0; k < ncur; k++) {
         uint32_t d = cur[k];
-        if (known ? !known[k] : !listed_face(m, ops, d, lev) || !ops->subdivided(m, d, lev)) continue;
-        if (p && settled(a, ops, d, lev, p)) continue;
+        if (known ? !(known[k] & KN_SUB) : !listed_face(m, ops, d, lev) || !ops->subdivided(m, d, lev)) continue;
+        if (p && (known ? (known[k] & KN_SETTLED) != 0 : settled(a, ops, d, lev, p))) continue;
         unsigned n = 0;
         uint32_t x = d;
         do { st_dart_list_push(out, x); n++; x = st_phi1(m, x, lev); } while (x != d);
@@ -122,8 +145,12 @@ static void children(st_adapt *a, const st_adapt_ops *ops, const uint32_t *cur, 
 /* Algorithm 5 over listed faces: level by level from `from`, each face of
  * lists[i] (level i) wanting more is subdivided, and the children of the
  * subdivided ones join lists[i+1] (lists has max_level + 1 entries).
- * known (NULL, or as many lists): known[i] gets a flag per face of
- * lists[i], 1 where it is subdivided once level i is done. */
+ * known (NULL, or as many lists; only with prune): known[i] gets a word
+ * per face of lists[i] (known_word): subdivided once level i is done,
+ * settled, and its wanted level.  That reading of the wanted level holds
+ * for the families with subdivided flags, whose `wanted` reads only the
+ * cell's bounding box when p->flatness is 0 (as in every incremental
+ * update: boxes_only_moved). */
 static int refine_lists(st_adapt *a, const st_adapt_ops *ops, st_dart_list *lists, unsigned from,
                         const st_adapt_params *p, int prune, st_dart_list *known, st_error *err)
 {
@@ -134,15 +161,26 @@ static int refine_lists(st_adapt *a, const st_adapt_ops *ops, st_dart_list *list
         if (kn) kn->n = 0;
         for (uint32_t k = 0; k < cur->n && !rc; k++) {
             uint32_t d = cur->d[k];
-            int sub = 0;
+            int sub = 0, settled_face = 0, read = 0;
+            unsigned want = 0;
             if (listed_face(m, ops, d, i)) {
+                read = 1;
                 sub = ops->subdivided(m, d, i);
-                if (!sub && ops->wanted(m, d, i, p) > i) {
+                if (kn) {
+                    double lo[3], hi[3];
+                    ops->cell_bbox(m, d, i, lo, hi);
+                    want = st_adapt_box_want(lo, hi, p);
+                    if (want > p->max_level) want = p->max_level;
+                    settled_face = settled_bbox(a, lo, hi, p);
+                } else if (!sub) {
+                    want = ops->wanted(m, d, i, p);
+                }
+                if (!sub && want > i) {
                     rc = st_adapt_subdivide_face(a, d, i, !p->no_restriction, err);
                     sub = !rc && ops->subdivided(m, d, i); /* (hot: just written) */
                 }
             }
-            if (kn) st_dart_list_push(kn, (uint32_t)sub);
+            if (kn) st_dart_list_push(kn, known_word(read, sub, settled_face, want));
         }
         /* lists[max_level] is never read: refinement stops below max_level
          * and the simplification starts at max_level - 1.  Listing it cost
@@ -253,8 +291,9 @@ int st_adapt_update(st_adapt *a, const st_adapt_params *p, st_error *err)
         const uint32_t *kn = known && known[i].n == cur->n ? known[i].d : NULL;
         for (uint32_t k = 0; k < cur->n && !rc; k++) {
             uint32_t d = cur->d[k];
-            if (!(kn && kn[k]) && (!listed_face(m, ops, d, i) || !ops->subdivided(m, d, i))) continue;
-            if (ops->wanted(m, d, i, p) > i || !ops->can_simplify(a, d, i, restricted)) continue;
+            if (!(kn && (kn[k] & KN_SUB)) && (!listed_face(m, ops, d, i) || !ops->subdivided(m, d, i))) continue;
+            unsigned want = kn && (kn[k] & KN_READ) ? kn[k] >> KN_WANT_SHIFT : ops->wanted(m, d, i, p);
+            if (want > i || !ops->can_simplify(a, d, i, restricted)) continue;
             rc = ops->simplify(a, d, i, err);
         }
     }
