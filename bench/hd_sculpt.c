@@ -19,7 +19,8 @@
  *     face stored;
  *   - exactness: the display after every stroke equals a full adaptive
  *     re-synthesis bit for bit.
- * --profile-moves N: after the regions, N box moves alone (for profilers).
+ * --profile-moves N: after the regions, N box moves alone (for profilers),
+ * and their median time.
  * Figures, not pass/fail: bench/RESULTS.md keeps them. */
 #include "editor.h"
 #include "bench_common.h"
@@ -27,6 +28,9 @@
 #include "core/multires/estimate.h"
 
 #include <math.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,8 +43,14 @@
 
 int ed_hier_clone(st_hier *dst, const st_hier *src, size_t *bytes); /* ui/doc/editor_clone.c */
 
+/* Resident size, after handing freed heap pages back (glibc keeps the
+ * pages of freed blocks mapped: the box-move figure's fresh displays and
+ * the exactness check's clone would otherwise count as the model's). */
 static double rss_mib(void)
 {
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
     FILE *f = fopen("/proc/self/statm", "r");
     long pages = 0, res = 0;
     if (f) {
@@ -234,10 +244,15 @@ int main(int argc, char **argv)
      * and back, against a display built anew for the same box. */
     if (profile_moves > 0) {
         /* For profilers: the box moves alone, there and back. */
+        double *tm = malloc((size_t)profile_moves * sizeof *tm);
         for (int i = 0; i < profile_moves; i++) {
             double c[3] = { centre[last][0] + (i % 2 ? 0 : 0.1 * half[last]), centre[last][1], centre[last][2] };
+            double t0 = bench_now();
             box_at(&d, c, half[last], L, 1);
+            if (tm) tm[i] = bench_now() - t0;
         }
+        if (tm) printf("  %d box moves alone: median %.2f ms\n", profile_moves, 1e3 * bench_median(tm, profile_moves));
+        free(tm);
         return 0;
     }
     double tmv[5], tbd[5];
@@ -298,6 +313,10 @@ int main(int argc, char **argv)
         double nrm[3] = { c[0] / l2, c[1] / l2, c[2] / l2 };
         dab_median(&d, c, nrm, 0.3 * half[last]);
     }
+    /* The model's memory, before the exactness check's clone (which
+     * touches the whole capacity of the display's arrays and leaves part
+     * of it resident after it is freed). */
+    double rss = rss_mib();
     int exact = display_is_synthesis(&d);
 
     double t0 = bench_now();
@@ -307,7 +326,6 @@ int main(int argc, char **argv)
     uint64_t facesK = st_doc_hd_faces(&d);
     uint64_t faces = 0, verts = 0;
     st_doc_display_counts(&d, &faces, &verts);
-    double rss = rss_mib();
 
     printf("\nHD level %u, %u regions of %.2f %% of the surface each:\n", L, last + 1, 100.0 * want / nv3);
     printf("  memory: %.1f MiB resident for the whole model (displayed %llu faces, %llu stored at HD levels); "
