@@ -24,6 +24,16 @@ void st_advise_huge(void *p, size_t bytes)
 #endif
 }
 
+size_t st_usable_bytes(void *p)
+{
+#ifdef __GLIBC__
+    return p ? malloc_usable_size(p) : 0;
+#else
+    (void)p;
+    return 0;
+#endif
+}
+
 void st_malloc_keep_freed(void)
 {
 #if defined(M_MMAP_MAX) && defined(M_TRIM_THRESHOLD)

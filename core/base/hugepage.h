@@ -38,6 +38,12 @@ void *st_calloc_huge(size_t count, size_t size);
  * NULL when out of memory (p then unchanged). */
 void *st_realloc_huge(void *p, size_t keep, size_t bytes);
 
+/* The bytes the block p (from malloc, calloc, realloc or the functions
+ * above; NULL: 0) can hold: at least what was asked for, so that an array
+ * grown by half again can fill that room before it moves.  Where the C
+ * library cannot tell, what was asked for is unknown and 0 is returned. */
+size_t st_usable_bytes(void *p);
+
 /* Keeps the memory the process frees for its own later allocations instead
  * of handing it back to the system (glibc: no mmap'd blocks, no trimming of
  * the heap).  For a command that runs large stages one after another in a

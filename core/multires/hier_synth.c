@@ -25,11 +25,23 @@ void st_hier_set_detail(st_hier *h, unsigned l, uint32_t v, const double d[3])
     if (v >= h->detail_cap[l]) {
         if (!h->detail[l] && d[0] == 0 && d[1] == 0 && d[2] == 0) return;
         uint32_t cap = h->map.verts.end > v ? h->map.verts.end : v + 1;
-        double *p = realloc(h->detail[l], 3 * (size_t)cap * sizeof *p);
-        if (!p) abort();
-        st_advise_huge(p, 3 * (size_t)cap * sizeof *p);
-        memset(p + 3 * (size_t)h->detail_cap[l], 0, 3 * (size_t)(cap - h->detail_cap[l]) * sizeof *p);
-        h->detail[l] = p;
+        /* The array covers the ids up to the map's end, which an adaptive
+         * refinement moves a pool block at a time: when the block must
+         * move it takes half again as much room, so that it is not copied
+         * once per pool block (a quadratic copy that took three quarters
+         * of an HD box jump where realloc could not grow in place).  The
+         * room past detail_cap is neither read nor zeroed before the cap
+         * reaches it. */
+        size_t room = st_usable_bytes(h->detail[l]) / (3 * sizeof(double));
+        if (cap > room) {
+            size_t want = (size_t)cap + cap / 2;
+            if (want > UINT32_MAX) want = UINT32_MAX;
+            double *p = realloc(h->detail[l], 3 * want * sizeof *p);
+            if (!p) abort();
+            st_advise_huge(p, 3 * want * sizeof *p);
+            h->detail[l] = p;
+        }
+        memset(h->detail[l] + 3 * (size_t)h->detail_cap[l], 0, 3 * (size_t)(cap - h->detail_cap[l]) * sizeof(double));
         h->detail_cap[l] = cap;
     }
     memcpy(h->detail[l] + 3 * (size_t)v, d, 3 * sizeof *d);
