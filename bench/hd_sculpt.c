@@ -21,6 +21,10 @@
  *     re-synthesis bit for bit.
  * --profile-moves N: after the regions, N box moves alone (for profilers),
  * and their median time.
+ * --heap-mapped: every block of 4 MiB or more in a mapping of its own
+ * (glibc's mmap threshold fixed, where by default it rises to 32 MiB once
+ * a large block is freed), for the comparison in bench/RESULTS.md: the
+ * window keeps glibc's default.
  * Figures, not pass/fail: bench/RESULTS.md keeps them. */
 #include "editor.h"
 #include "bench_common.h"
@@ -148,7 +152,7 @@ static long file_size(const char *p)
 int main(int argc, char **argv)
 {
     unsigned L = 10, K = 3;
-    int profile_moves = 0;
+    int profile_moves = 0, heap_mapped = 0;
     double share = 0.01;
     const char *dir = "/tmp";
     for (int i = 1; i < argc; i++) {
@@ -157,8 +161,13 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--regions") && i + 1 < argc) K = (unsigned)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--out") && i + 1 < argc) dir = argv[++i];
         else if (!strcmp(argv[i], "--profile-moves") && i + 1 < argc) profile_moves = atoi(argv[++i]);
-        else { fprintf(stderr, "usage: bench_hd [--level L] [--share S] [--regions K] [--out DIR] [--profile-moves N]\n"); return 2; }
+        else if (!strcmp(argv[i], "--heap-mapped")) heap_mapped = 1;
+        else { fprintf(stderr, "usage: bench_hd [--level L] [--share S] [--regions K] [--out DIR] [--profile-moves N] [--heap-mapped]\n"); return 2; }
     }
+#if defined(__GLIBC__) && defined(M_MMAP_THRESHOLD)
+    if (heap_mapped) (void)mallopt(M_MMAP_THRESHOLD, 4 << 20);
+#endif
+    if (heap_mapped) printf("heap: blocks of 4 MiB or more mapped on their own (--heap-mapped; the window keeps glibc's default)\n");
     st_doc d;
     st_error err;
     st_doc_init(&d);
