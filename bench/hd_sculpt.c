@@ -2,6 +2,7 @@
  * through the document, as the HD sculpting issue measures them:
  *
  *   bench_hd [--level L] [--share S] [--regions K] [--out DIR] [--profile-moves N]
+ *            [--profile-step S] [--heap-mapped]
  *
  * spot_quadrangulated.obj rebuilt to its 180-face cage (Mesh > Rebuild
  * levels: unsubdivide), one uniform level added (levels 0..3), then K
@@ -13,14 +14,16 @@
  *   - dab time at level L against a dab at level 3 with about the same
  *     number of vertices under the brush (7 alternating rounds of a 9-dab
  *     stroke at each, the median of the strokes' medians);
- *   - a small box move over a sculpted region against building the
- *     adaptive display anew for the same box (medians of 5);
+ *   - a small box move over a sculpted region (5 % of the box's width,
+ *     there and back) against building the adaptive display anew for the
+ *     same box (medians of 5), and moves of 2.5 % and 10 % against it;
  *   - the session: bytes and save time after 1 region and after K, per
  *     face stored;
  *   - exactness: the display after every stroke equals a full adaptive
  *     re-synthesis bit for bit.
  * --profile-moves N: after the regions, N box moves alone (for profilers),
- * and their median time.
+ * and their median time; --profile-step S: each a move by S times the
+ * box's half-size (default 0.1: 5 % of its width).
  * --heap-mapped: every block of 4 MiB or more in a mapping of its own
  * (glibc's mmap threshold fixed, where by default it rises to 32 MiB once
  * a large block is freed), for the comparison in bench/RESULTS.md: the
@@ -153,6 +156,7 @@ int main(int argc, char **argv)
 {
     unsigned L = 10, K = 3;
     int profile_moves = 0, heap_mapped = 0;
+    double profile_step = 0.1;
     double share = 0.01;
     const char *dir = "/tmp";
     for (int i = 1; i < argc; i++) {
@@ -162,7 +166,8 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--out") && i + 1 < argc) dir = argv[++i];
         else if (!strcmp(argv[i], "--profile-moves") && i + 1 < argc) profile_moves = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--heap-mapped")) heap_mapped = 1;
-        else { fprintf(stderr, "usage: bench_hd [--level L] [--share S] [--regions K] [--out DIR] [--profile-moves N] [--heap-mapped]\n"); return 2; }
+        else if (!strcmp(argv[i], "--profile-step") && i + 1 < argc) profile_step = atof(argv[++i]);
+        else { fprintf(stderr, "usage: bench_hd [--level L] [--share S] [--regions K] [--out DIR] [--profile-moves N] [--profile-step S] [--heap-mapped]\n"); return 2; }
     }
 #if defined(__GLIBC__) && defined(M_MMAP_THRESHOLD)
     if (heap_mapped) (void)mallopt(M_MMAP_THRESHOLD, 4 << 20);
@@ -255,7 +260,7 @@ int main(int argc, char **argv)
         /* For profilers: the box moves alone, there and back. */
         double *tm = malloc((size_t)profile_moves * sizeof *tm);
         for (int i = 0; i < profile_moves; i++) {
-            double c[3] = { centre[last][0] + (i % 2 ? 0 : 0.1 * half[last]), centre[last][1], centre[last][2] };
+            double c[3] = { centre[last][0] + (i % 2 ? 0 : profile_step * half[last]), centre[last][1], centre[last][2] };
             double t0 = bench_now();
             box_at(&d, c, half[last], L, 1);
             if (tm) tm[i] = bench_now() - t0;
@@ -279,6 +284,26 @@ int main(int argc, char **argv)
     }
     move_t = bench_median(tmv, 5);
     build_t = bench_median(tbd, 5);
+    /* The same move by half and by twice the step: a move refines the
+     * slice the box enters and coarsens the one it leaves, so its cost
+     * follows the distance (the step above, 0.1 of the half-size, is 5 %
+     * of the box's width). */
+    static const double steps[2] = { 0.05, 0.2 };
+    double step_t[2];
+    for (int j = 0; j < 2; j++) {
+        double t[5];
+        for (int i = 0; i < 5; i++) {
+            double c[3] = { centre[last][0] + (i % 2 ? 0 : steps[j] * half[last]), centre[last][1], centre[last][2] };
+            double t0 = bench_now();
+            box_at(&d, c, half[last], L, 1);
+            t[i] = bench_now() - t0;
+        }
+        step_t[j] = bench_median(t, 5);
+    }
+    {   /* back where the figures below were measured */
+        double c[3] = { centre[last][0] + 0.1 * half[last], centre[last][1], centre[last][2] };
+        box_at(&d, c, half[last], L, 1);
+    }
 
     /* A dab at level 3 with about as many vertices under it, away from the
      * HD regions (the farthest level-3 vertex from them). */
@@ -345,6 +370,8 @@ int main(int argc, char **argv)
            1e3 * dab_hd, under_hd, N, 1e3 * dab3, under3, dab_hd / dab3);
     printf("  box move over a sculpted region: %.2f ms, display built anew: %.2f ms: ratio %.4f\n", 1e3 * move_t,
            1e3 * build_t, move_t / build_t);
+    printf("  box move by 2.5 %% / 5 %% / 10 %% of the box's width: %.2f / %.2f / %.2f ms: ratios %.4f / %.4f / %.4f\n",
+           1e3 * step_t[0], 1e3 * move_t, 1e3 * step_t[1], step_t[0] / build_t, move_t / build_t, step_t[1] / build_t);
     printf("  session: 1 region %ld bytes, %.3f s (%llu HD faces, %.1f bytes/face); %u regions %ld bytes, %.3f s "
            "(%llu HD faces, %.1f bytes/face)\n",
            ses1, save1, (unsigned long long)faces1, faces1 ? (double)ses1 / faces1 : 0, last + 1, sesK, saveK,
