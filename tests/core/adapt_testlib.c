@@ -396,6 +396,40 @@ void at_check_incremental(const at_case *c, uint64_t seed, int steps, double r)
     at_pair_free(&q);
 }
 
+void at_check_drag(const at_case *c, uint64_t seed, int steps, double r, unsigned max)
+{
+    at_pair q;
+    st_error err;
+    double extent = c->extent;
+    at_pair_init(&q, c, 0);
+    uint64_t rng = seed;
+    /* from a vertex of the surface (the box starts on it) */
+    double x[3];
+    uint32_t v0 = (uint32_t)(tl_rand(&rng) % (q.h.map.verts.end ? q.h.map.verts.end : 1));
+    while (v0 > 0 && q.h.map.verts.ins[v0] != 0) v0--;
+    memcpy(x, st_pos(&q.h.map, v0, 0), sizeof x);
+    uint64_t touched_inc = 0;
+    for (int step = 0; step < steps; step++) {
+        /* 1 to 6 % of the box's width along one axis, as a drag moves it */
+        int axis = (int)(tl_rand(&rng) % 3);
+        double frac = 0.01 * (double)(1 + tl_rand(&rng) % 6);
+        x[axis] += (tl_rand(&rng) % 2 ? 1 : -1) * frac * 2 * r * extent;
+        st_adapt_params p = at_box(x[0], x[1], x[2], r * extent, 0, max);
+        CHECK(st_adapt_update(&q.a, &p, &err) == ST_OK);
+        touched_inc += q.a.touched;
+        q.b.has_prev = 0; /* force the full update */
+        CHECK(st_adapt_update(&q.b, &p, &err) == ST_OK);
+        uint32_t nf[2], nv[2];
+        double worst = at_compare(&q.a, &q.b, nf, nv);
+        CHECKF(nf[0] == nf[1] && nv[0] == nv[1] && worst < 1e-12 * fmin(extent, 1),
+               "%s drag step %d: incremental %u faces / %u verts, full %u / %u, max distance %g", c->name, step,
+               nf[0], nv[0], nf[1], nv[1], worst);
+        at_valid(&q.h.map, "incremental update (drag)");
+    }
+    CHECKF(touched_inc > 0, "%s: the drag changed nothing", c->name);
+    at_pair_free(&q);
+}
+
 /* (The emitted stencils agree with the placement, odd triangles and border
  * polygons included.) */
 void at_check_resynth_and_repeat(const at_case *c)

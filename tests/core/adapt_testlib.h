@@ -71,6 +71,10 @@ void at_check_detail_round_trip(const at_case *c);
 /* The incremental update gives the same mesh as a full update, along a
  * random walk of the box (half-size r * extent). */
 void at_check_incremental(const at_case *c, uint64_t seed, int steps, double r);
+/* The same along a drag: small moves (1 to 6 % of the box's width) along
+ * one axis at a time, to max levels, where the incremental update leaves
+ * out the faces remote from where the boxes differ (adapt_update.c). */
+void at_check_drag(const at_case *c, uint64_t seed, int steps, double r, unsigned max);
 /* Resynthesis of an unedited adaptive hierarchy moves nothing; the same
  * criteria again touch nothing; the result equals a fresh full update. */
 void at_check_resynth_and_repeat(const at_case *c);

@@ -148,6 +148,8 @@ int main(void)
         at_check_matches_regular(c, NULL, NULL);
         at_check_detail_round_trip(c);
         at_check_incremental(c, 77 + c->id, 16, 0.3);
+        at_check_drag(c, 91 + c->id, 40, 0.1, c->max + 3);
+        at_check_drag(c, 191 + c->id, 40, 0.25, c->max + 3);
         check_access(c);
         check_synthesize_empty_levels(c);
     }
