@@ -368,10 +368,27 @@ void at_check_detail_round_trip(const at_case *c)
     st_hier_free(&h);
 }
 
+/* p applied to q.a incrementally and to q.b as a full update: the same
+ * mesh (faces, vertices, positions); returns the faces q.a's update
+ * touched. */
+static uint64_t update_both(at_pair *q, const st_adapt_params *p, const at_case *c, const char *what, int step)
+{
+    st_error err;
+    CHECK(st_adapt_update(&q->a, p, &err) == ST_OK);
+    q->b.has_prev = 0; /* force the full update */
+    CHECK(st_adapt_update(&q->b, p, &err) == ST_OK);
+    uint32_t nf[2], nv[2];
+    double worst = at_compare(&q->a, &q->b, nf, nv);
+    CHECKF(nf[0] == nf[1] && nv[0] == nv[1] && worst < 1e-12 * fmin(c->extent, 1),
+           "%s %s %d: incremental %u faces / %u verts, full %u / %u, max distance %g", c->name, what, step, nf[0],
+           nv[0], nf[1], nv[1], worst);
+    at_valid(&q->h.map, "incremental update");
+    return q->a.touched;
+}
+
 void at_check_incremental(const at_case *c, uint64_t seed, int steps, double r)
 {
     at_pair q;
-    st_error err;
     double extent = c->extent;
     at_pair_init(&q, c, 0);
     uint64_t rng = seed;
@@ -381,16 +398,7 @@ void at_check_incremental(const at_case *c, uint64_t seed, int steps, double r)
         for (int k = 0; k < 3; k++) x[k] += 0.15 * extent * at_rand_unit(&rng);
         st_adapt_params p = at_box(x[0], x[1], x[2], r * extent, 0, c->max);
         p.falloff = step % 3 ? 0 : 0.2 * extent;
-        CHECK(st_adapt_update(&q.a, &p, &err) == ST_OK);
-        touched_inc += q.a.touched;
-        q.b.has_prev = 0; /* force the full update */
-        CHECK(st_adapt_update(&q.b, &p, &err) == ST_OK);
-        uint32_t nf[2], nv[2];
-        double worst = at_compare(&q.a, &q.b, nf, nv);
-        CHECKF(nf[0] == nf[1] && nv[0] == nv[1] && worst < 1e-12 * fmin(extent, 1),
-               "%s step %d: incremental %u faces / %u verts, full %u / %u, max distance %g", c->name, step, nf[0],
-               nv[0], nf[1], nv[1], worst);
-        at_valid(&q.h.map, "incremental update");
+        touched_inc += update_both(&q, &p, c, "step", step);
     }
     CHECK(touched_inc > 0);
     at_pair_free(&q);
@@ -399,7 +407,6 @@ void at_check_incremental(const at_case *c, uint64_t seed, int steps, double r)
 void at_check_drag(const at_case *c, uint64_t seed, int steps, double r, unsigned max)
 {
     at_pair q;
-    st_error err;
     double extent = c->extent;
     at_pair_init(&q, c, 0);
     uint64_t rng = seed;
@@ -415,16 +422,7 @@ void at_check_drag(const at_case *c, uint64_t seed, int steps, double r, unsigne
         double frac = 0.01 * (double)(1 + tl_rand(&rng) % 6);
         x[axis] += (tl_rand(&rng) % 2 ? 1 : -1) * frac * 2 * r * extent;
         st_adapt_params p = at_box(x[0], x[1], x[2], r * extent, 0, max);
-        CHECK(st_adapt_update(&q.a, &p, &err) == ST_OK);
-        touched_inc += q.a.touched;
-        q.b.has_prev = 0; /* force the full update */
-        CHECK(st_adapt_update(&q.b, &p, &err) == ST_OK);
-        uint32_t nf[2], nv[2];
-        double worst = at_compare(&q.a, &q.b, nf, nv);
-        CHECKF(nf[0] == nf[1] && nv[0] == nv[1] && worst < 1e-12 * fmin(extent, 1),
-               "%s drag step %d: incremental %u faces / %u verts, full %u / %u, max distance %g", c->name, step,
-               nf[0], nv[0], nf[1], nv[1], worst);
-        at_valid(&q.h.map, "incremental update (drag)");
+        touched_inc += update_both(&q, &p, c, "drag step", step);
     }
     CHECKF(touched_inc > 0, "%s: the drag changed nothing", c->name);
     at_pair_free(&q);
