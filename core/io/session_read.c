@@ -181,13 +181,8 @@ static int r_recipe(load_ctx *c, st_br *r)
     if (pm.top >= ST_MAX_LEVELS) return st_br_fail(r, "%u progressive levels (at most %d)", pm.top + 1, ST_MAX_LEVELS);
     if (st_br_need(r, pm.ndarts0, 13, "level 0's darts")) return -1;
     if (pm.nverts0 > pm.ndarts0) return st_br_fail(r, "level 0: %u vertices for %u darts", pm.nverts0, pm.ndarts0);
-    size_t nd = pm.ndarts0 ? pm.ndarts0 : 1;
-    pm.beta0 = malloc(nd * sizeof *pm.beta0);
-    pm.beta1 = malloc(nd * sizeof *pm.beta1);
-    pm.vert = malloc(nd * sizeof *pm.vert);
-    pm.boundary = malloc(nd);
     int rc = 0;
-    if (!pm.beta0 || !pm.beta1 || !pm.vert || !pm.boundary) { rc = load_fail(c, r, ST_ERR_MEMORY, "out of memory"); goto done; }
+    if (st_pm_recipe_alloc_level0(&pm, pm.ndarts0)) { rc = load_fail(c, r, ST_ERR_MEMORY, "out of memory"); goto done; }
     for (uint32_t d = 0; d < pm.ndarts0; d++) {
         pm.beta0[d] = st_br_u32(r);
         pm.beta1[d] = st_br_u32(r);

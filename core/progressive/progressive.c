@@ -62,12 +62,7 @@ static int level0_recipe(const pm_work *w, uint32_t *vid_of, st_pm_recipe *rc)
     for (uint32_t v = 0; v < w->nv; v++) vid_of[v] = w->vdead[v] ? ST_NIL : nv++;
     for (uint32_t e = 0; dart_of && e < w->nhe; e++) dart_of[e] = (w->hflags[e] & PM_HE_DEAD) ? ST_NIL : nd++;
     rc->nverts0 = nv;
-    rc->ndarts0 = nd;
-    rc->beta0 = malloc((size_t)(nd ? nd : 1) * sizeof *rc->beta0);
-    rc->beta1 = malloc((size_t)(nd ? nd : 1) * sizeof *rc->beta1);
-    rc->vert = malloc((size_t)(nd ? nd : 1) * sizeof *rc->vert);
-    rc->boundary = malloc(nd ? nd : 1);
-    if (!dart_of || !rc->beta0 || !rc->beta1 || !rc->vert || !rc->boundary) {
+    if (!dart_of || st_pm_recipe_alloc_level0(rc, nd)) {
         free(dart_of);
         return -1;
     }

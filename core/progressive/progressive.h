@@ -270,6 +270,10 @@ typedef struct st_pm_recipe {
  * layout) or memory runs out; nothing to free then. */
 int st_progressive_recipe(const st_hier *h, st_pm_recipe *out);
 void st_pm_recipe_free(st_pm_recipe *r);
+/* r's level-0 arrays for ndarts0 darts (r->ndarts0 set, contents left to
+ * the caller); -1 when memory runs out (what was allocated goes with
+ * st_pm_recipe_free). */
+int st_pm_recipe_alloc_level0(st_pm_recipe *r, uint32_t ndarts0);
 /* Splits in all (sum of nsplits). */
 uint64_t st_pm_recipe_splits(const st_pm_recipe *r);
 /* The counts of every level 0..top of a progressive hierarchy as its build

@@ -21,6 +21,17 @@ void st_pm_recipe_free(st_pm_recipe *r)
     memset(r, 0, sizeof *r);
 }
 
+int st_pm_recipe_alloc_level0(st_pm_recipe *r, uint32_t ndarts0)
+{
+    size_t n = ndarts0 ? ndarts0 : 1;
+    r->ndarts0 = ndarts0;
+    r->beta0 = malloc(n * sizeof *r->beta0);
+    r->beta1 = malloc(n * sizeof *r->beta1);
+    r->vert = malloc(n * sizeof *r->vert);
+    r->boundary = malloc(n);
+    return r->beta0 && r->beta1 && r->vert && r->boundary ? 0 : -1;
+}
+
 uint64_t st_pm_recipe_splits(const st_pm_recipe *r)
 {
     uint64_t n = 0;
@@ -195,14 +206,10 @@ int st_progressive_recipe(const st_hier *h, st_pm_recipe *out)
     uint64_t total = 0;
     for (unsigned l = 1; l <= m->top; l++) total += m->verts.live[l];
     out->top = m->top;
-    out->ndarts0 = nd;
     out->nverts0 = nv;
-    out->beta0 = malloc((size_t)(nd ? nd : 1) * sizeof *out->beta0);
-    out->beta1 = malloc((size_t)(nd ? nd : 1) * sizeof *out->beta1);
-    out->vert = malloc((size_t)(nd ? nd : 1) * sizeof *out->vert);
-    out->boundary = malloc(nd ? nd : 1);
+    if (st_pm_recipe_alloc_level0(out, nd)) goto fail;
     out->split = malloc((size_t)(total ? total : 1) * sizeof *out->split);
-    if (!out->beta0 || !out->beta1 || !out->vert || !out->boundary || !out->split) goto fail;
+    if (!out->split) goto fail;
     for (uint32_t d = 0; d < nd; d++) {
         out->beta0[d] = st_beta0(m, d, 0);
         out->beta1[d] = st_beta1(m, d, 0);
