@@ -135,8 +135,10 @@ static int settled(const st_adapt *a, const st_adapt_ops *ops, uint32_t d, unsig
  * `known`), packed in one word so that the face's bounding box is walked
  * once, not up to three times (the wanted level for the refinement, the
  * settled test for its children, the wanted level again for the
- * simplification: a tenth of a box move).  Both depend only on the face's
- * own level-i positions and the boxes, which neither pass changes. */
+ * simplification; the walks were a tenth of a box move's profile, the
+ * saving about 2 % of its time, their cache misses moving elsewhere).
+ * Both depend only on the face's own level-i positions and the boxes,
+ * which neither pass changes. */
 enum { KN_SUB = 1, KN_SETTLED = 2, KN_READ = 4, KN_WANT_SHIFT = 3 };
 
 /* read: the face was listed (listed_face) and its box read; else only
