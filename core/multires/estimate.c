@@ -87,6 +87,10 @@ uint64_t st_level_triangles(const st_map *m, unsigned l)
 size_t st_hier_estimate_subdivide(st_hier *h, unsigned levels, st_level_stats *finest)
 {
     st_map *m = &h->map;
+    /* Nothing to add: no walk of the top level (an interest box's budget
+     * check asks this at every move, with the base at or below the top,
+     * and the walk follows the model's size, not the move's). */
+    if (levels <= m->top && !finest) return 0;
     st_level_stats s;
     st_level_stats_compute(m, m->top, &s);
     uint64_t triangles = h->scheme->id == ST_SCHEME_QUADTRI && levels > m->top ? st_level_triangles(m, m->top) : 0;
