@@ -88,6 +88,17 @@ int st_adapt_restrict(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     return ST_OK;
 }
 
+/* Corner c of a face of level i, before that face is subdivided: another
+ * face around c's vertex is subdivided toward i+1 already, so the vertex
+ * has its level-(i+1) position (the vertex point its stencil gives: no
+ * corner fallback while a face of level i+1 holds it). */
+static int corner_placed(const st_map *m, uint32_t c, unsigned i)
+{
+    for (uint32_t y = st_beta1(m, c, i); y != c; y = st_beta1(m, y, i))
+        if (!st_is_boundary(m, y) && st_adapt_split_toward(m, y, i)) return 1;
+    return 0;
+}
+
 static int split_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, st_error *err)
 {
     st_hier *h = a->h;
@@ -103,8 +114,31 @@ static int split_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, 
     unsigned n = st_face_degree(m, d, i);
     if (n > 255) return st_fail(err, ST_ERR_RANGE, "adapt: face of %u sides", n);
     uint32_t created[256], ncreated = 0;
-    double centre[3] = { 0, 0, 0 };
+    /* Vertices that stand at level L already are not placed again: the
+     * corners another subdivided face holds, and the points of the sides
+     * the face across split (a corner shared by four faces was placed four
+     * times, a side's point twice: emission was about a third of an
+     * interest-box move's instructions).  Their level-L positions are
+     * vertex and edge points over the same level-i neighbourhood, which
+     * the restriction keeps complete; no parked detail waits for them (a
+     * face holding the vertex at level L forbids the simplification that
+     * would park one).  With the update's canonical pass (st_adapt.exact)
+     * positions end as before, bit for bit: it re-emits every vertex of
+     * the faces the update subdivided (adapt_resynth.c, "after an
+     * update").  Without it a shared vertex keeps the stencil of the face
+     * that placed it first instead of the last one's: last bits apart from
+     * a full synthesis either way.  Without the restriction every vertex
+     * is placed. */
+    int keep_placed = restricted;
+    uint32_t skip[2 * 256], nskip = 0, split_before[256], nsplit = 0;
     uint32_t x = d;
+    if (keep_placed)
+        do {
+            if (corner_placed(m, x, i)) skip[nskip++] = st_vert(m, x, i);
+            x = st_phi1(m, x, i);
+        } while (x != d);
+    double centre[3] = { 0, 0, 0 };
+    x = d;
     do {
         const double *p = st_dart_pos(m, x, i);
         for (int k = 0; k < 3; k++) centre[k] += p[k] / n;
@@ -113,6 +147,8 @@ static int split_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, 
             const double *q = st_dart_pos(m, st_beta0(m, x, i), i);
             double mid[3] = { (p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2 };
             created[ncreated++] = st_vert(m, st_split_edge(m, x, L, mid), L);
+        } else if (keep_placed) {
+            split_before[nsplit++] = x;
         }
         decay_sharpness(h, x, L);
         x = next;
@@ -122,8 +158,10 @@ static int split_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, 
         st_split_face_poly(m, d, L, centre);
         created[ncreated++] = st_vert(m, st_phi1(m, st_phi1(m, d, L), L), L);
     }
+    for (uint32_t k = 0; k < nsplit; k++) skip[nskip++] = st_vert(m, st_beta0(m, split_before[k], L), L);
     st_adapt_place_ctx c = { a, L, created, ncreated };
-    st_hier_emit(h, L, &d, 1, st_adapt_place_sink, &c);
+    if (nskip) st_hier_emit_except(h, L, &d, 1, skip, nskip, st_adapt_place_sink, &c);
+    else st_hier_emit(h, L, &d, 1, st_adapt_place_sink, &c);
     st_adapt_canon_record(a, d, i, 0);
     a->touched++;
     return ST_OK;

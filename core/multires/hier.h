@@ -86,6 +86,12 @@ typedef struct st_hier {
 st_subdiv_view st_hier_view(st_hier *h);
 /* h's scheme's emit() (scheme.h) of level L, through st_hier_view. */
 void st_hier_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces, st_stencil_sink sink, void *ctx);
+/* The same, where the scheme may leave out the fine vertices skip[0..nskip)
+ * (vertex ids of level L whose positions the caller keeps: view.h's
+ * emit_skip; Catmull-Clark and the primal emitter of Loop, Butterfly and
+ * quad/triangle read it). */
+void st_hier_emit_except(st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces, const uint32_t *skip,
+                         uint32_t nskip, st_stencil_sink sink, void *ctx);
 
 /* Builds level 0 from a repaired soup: topology, positions, OBJ tags
  * (creases, corners, interpolateboundary unless opts overrides it).

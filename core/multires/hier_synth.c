@@ -178,6 +178,15 @@ void st_hier_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces
     h->scheme->emit(&v, L, faces, nfaces, sink, ctx);
 }
 
+void st_hier_emit_except(st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces, const uint32_t *skip,
+                         uint32_t nskip, st_stencil_sink sink, void *ctx)
+{
+    st_subdiv_view v = st_hier_view(h);
+    v.emit_skip = skip;
+    v.emit_nskip = nskip;
+    h->scheme->emit(&v, L, faces, nfaces, sink, ctx);
+}
+
 void st_hier_synthesize(st_hier *h, unsigned from)
 {
     st_subdiv_view v = st_hier_view(h);

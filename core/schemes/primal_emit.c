@@ -80,17 +80,28 @@ static void emit_all(emitter *e)
     st_marker_release(m, vb, l);
 }
 
+/* v is one of the view's vertices to leave out (view.h: a short list, from
+ * one face's subdivision). */
+static int skipped(const st_subdiv_view *sv, uint32_t v)
+{
+    for (uint32_t k = 0; k < sv->emit_nskip; k++)
+        if (sv->emit_skip[k] == v) return 1;
+    return 0;
+}
+
 /* The fine vertices of the given coarse faces: face point, edge points,
- * corners (a vertex may come several times; the caller dedupes). */
+ * corners (a vertex may come several times; the caller dedupes), less the
+ * view's vertices to leave out. */
 static void emit_faces(emitter *e, const uint32_t *faces, uint32_t n)
 {
-    const st_map *m = e->sv->map;
+    const st_subdiv_view *sv = e->sv;
+    const st_map *m = sv->map;
     for (uint32_t i = 0; i < n; i++) {
         uint32_t c = faces[i], x = c;
         if (has_face_point(e, c)) emit_face(e, c);
         do {
-            emit_edge(e, x);
-            emit_vertex(e, x);
+            if (!sv->emit_nskip || !skipped(sv, st_vert(m, st_beta0(m, x, e->L), e->L))) emit_edge(e, x);
+            if (!sv->emit_nskip || !skipped(sv, st_vert(m, x, e->L - 1))) emit_vertex(e, x);
             x = st_phi1(m, x, e->L - 1);
         } while (x != c);
     }

@@ -274,13 +274,15 @@ static int id_set_add(id_set *s, uint32_t v)
 }
 
 /* Fine vertices of the given faces, each once: centre, edge points,
- * corners (in that order, from the first face that holds them). */
+ * corners (in that order, from the first face that holds them), less
+ * those the view says to leave out (they start in the set). */
 static void emit_faces(const st_subdiv_view *sv, unsigned L, const uint32_t *faces, uint32_t n, emitter *e, st_stencil_sink sink, void *ctx)
 {
     const st_map *m = sv->map;
     uint32_t local[ID_SET_LOCAL];
     id_set done = { 0, 0, 0, local };
-    while (done.mask + 1 < 8 * (uint64_t)n) id_set_grow(&done); /* ~3 fine vertices per quad, half full */
+    while (done.mask + 1 < 8 * (uint64_t)n + 2 * (uint64_t)sv->emit_nskip) id_set_grow(&done); /* ~3 fine vertices per quad, half full */
+    for (uint32_t k = 0; k < sv->emit_nskip; k++) (void)id_set_add(&done, sv->emit_skip[k]);
     for (uint32_t i = 0; i < n; i++) {
         uint32_t c = faces[i], x = c;
         if (id_set_add(&done, st_vert(m, st_phi1(m, st_phi1(m, c, L), L), L))) st_catmark_emit_face(sv, L, c, e, sink, ctx);

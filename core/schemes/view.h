@@ -68,6 +68,12 @@ typedef struct st_subdiv_view {
      * its records per level), kept for the next edit of the same vertices. */
     st_level_cache *local;
     void *owner;
+    /* emit() over a list of faces may leave out the fine vertices listed
+     * here (their level-L positions stand: st_hier_emit_except); a scheme
+     * that does not read the list emits them too, which the contract of
+     * emit() allows.  Empty in every other view. */
+    const uint32_t *emit_skip;
+    uint32_t emit_nskip;
 } st_subdiv_view;
 
 /* Sharpness of the edge of d / of vertex v at level l as stored (0 when
