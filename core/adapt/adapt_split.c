@@ -188,12 +188,14 @@ static int on_outline(const st_map *m, const outline *o, uint32_t x, unsigned i)
 }
 
 /* Sub-faces at level L: one dart each (the corner sub-faces start at the
- * coarse darts; a triangle's central sub-face is across a corner's inner
- * edge).  Returns the count. */
-static uint32_t sub_faces(const st_map *m, const outline *o, unsigned i, uint32_t *out)
+ * coarse darts; a triangle's central sub-face, when the family's split
+ * makes one (central), is across a corner's inner edge).  Returns the
+ * count. */
+static uint32_t sub_faces(const st_map *m, const outline *o, unsigned i, int central, uint32_t *out)
 {
     uint32_t n = 0;
     for (uint32_t k = 0; k < o->n; k++) out[n++] = o->d[k];
+    if (!central) return n;
     uint32_t x = o->d[0];
     do {
         if (!on_outline(m, o, x, i)) {
@@ -241,10 +243,14 @@ static int can_simplify_outline(st_adapt *a, uint32_t d, unsigned i, int restric
     if (!st_adapt_split_toward(m, d, i)) return 0;
     if (!get_outline_max(m, d, i, o)) return 0;
     uint32_t subs[256 + 1];
-    uint32_t n = sub_faces(m, o, i, subs);
+    uint32_t n = sub_faces(m, o, i, st_adapt_ops_of(a)->central_child(o->n), subs);
     for (uint32_t k = 0; k < n; k++)
         if (st_adapt_split_toward(m, subs[k], L)) return 0;
-    if (!restricted) return 1;
+    /* (At the map's top level nothing is finer than L: the test below
+     * would walk every ring of the face's level-L vertices for nothing,
+     * and the faces next to the finest level are most of those an
+     * update simplifies.) */
+    if (!restricted || L >= m->top) return 1;
     /* Once f is back at level i, no face sharing one of its vertices may be
      * finer than level i+1: its corners, and the midpoints of its sides
      * that stay split because the face across is subdivided.  (A face of
