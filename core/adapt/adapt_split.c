@@ -64,8 +64,9 @@ int st_adapt_restrict(st_adapt *a, uint32_t d, unsigned i, st_error *err)
         again = 0;
         uint32_t x = d;
         do {
-            uint32_t y = x;
-            do {
+            /* (around each corner x: the other faces; x's is d, of level i) */
+            uint32_t y = st_beta1(m, x, i);
+            for (; y != x; y = st_beta1(m, y, i)) {
                 if (!st_is_boundary(m, y)) {
                     unsigned j = st_adapt_face_of_level(m, y, i) ? i : st_face_level(m, y, i);
                     if (j < i) {
@@ -78,10 +79,10 @@ int st_adapt_restrict(st_adapt *a, uint32_t d, unsigned i, st_error *err)
                         st_dart_list_push(&a->forced_faces, z);
                         st_dart_list_push(&a->forced_faces, j);
                         again = 1;
+                        break;
                     }
                 }
-                y = st_beta1(m, y, i);
-            } while (y != x && !again);
+            }
             x = st_phi1(m, x, i);
         } while (x != d && !again);
     }
