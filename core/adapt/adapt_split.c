@@ -376,6 +376,16 @@ int st_adapt_remove_centre(st_map *m, uint32_t spoke, unsigned L, st_unsplit_fn 
     return rc;
 }
 
+/* The level-L position of c's vertex becomes its level-i one (and,
+ * through the propagating setter, above L too). */
+static void fall_back(st_map *m, uint32_t c, unsigned i)
+{
+    uint32_t v = st_vert(m, c, i);
+    double p[3];
+    memcpy(p, st_pos(m, v, i), sizeof p);
+    st_set_pos(m, v, i + 1, p);
+}
+
 void st_adapt_corner_fallback(st_adapt *a, uint32_t c, unsigned i)
 {
     st_map *m = &a->h->map;
@@ -386,11 +396,18 @@ void st_adapt_corner_fallback(st_adapt *a, uint32_t c, unsigned i)
         if (!st_is_boundary(m, y) && ops->face_of_level(m, y, L)) return;
         y = st_beta1(m, y, L);
     } while (y != c);
-    /* (and, through the propagating setter, above L too) */
-    uint32_t v = st_vert(m, c, i);
-    double p[3];
-    memcpy(p, st_pos(m, v, i), sizeof p);
-    st_set_pos(m, v, L, p);
+    fall_back(m, c, i);
+}
+
+/* The same for the polygon split family, corner c of the face just
+ * simplified (of level i again): c's vertex, older than L, is on a face of
+ * level L exactly when a face around it at level i is subdivided toward L
+ * (the ancestor of that face: its corner sub-face at c).  Two relations a
+ * face, where the generic test walks each level-L face to its parent. */
+static void split_corner_fallback(st_adapt *a, uint32_t c, unsigned i)
+{
+    st_map *m = &a->h->map;
+    if (!corner_placed(m, c, i) && !st_adapt_split_toward(m, c, i)) fall_back(m, c, i);
 }
 
 static int split_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
@@ -418,7 +435,7 @@ static int split_simplify(st_adapt *a, uint32_t d, unsigned i, st_error *err)
     }
     /* Corners no longer on a face of level L fall back to their level-i
      * position (their level-L detail stays for a later refinement)... */
-    for (uint32_t k = 0; k < o.n; k++) st_adapt_corner_fallback(a, o.d[k], i);
+    for (uint32_t k = 0; k < o.n; k++) split_corner_fallback(a, o.d[k], i);
     st_adapt_canon_record(a, d, i, 1);
     a->touched++;
     return ST_OK;
