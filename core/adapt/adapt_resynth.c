@@ -248,11 +248,13 @@ uint64_t st_hier_resynth_around(st_hier *h, unsigned from, const uint32_t *seeds
 
 /* ---- after an update -------------------------------------------------------------
  * An update (adapt_update.c) places the vertices of each face it subdivides
- * with that face's stencils, in the order it happens to subdivide faces,
- * and re-places the vertices the face shares with older ones: a vertex may
- * end with another face's stencil than its canonical one (last bit), or
- * with a stencil read before a coarser neighbour forced later re-placed a
- * vertex of its support.  So the polygon split family records what an
+ * with that face's stencils, in the order it happens to subdivide faces:
+ * the face's new vertices, and those it shares with older ones that no
+ * other face of the new level held yet (a vertex another subdivided face
+ * holds keeps its position: adapt_split.c, split_subdivide).  So a vertex
+ * may end with another face's stencil than its canonical one (last bit),
+ * or with a stencil read before a coarser neighbour forced later re-placed
+ * a vertex of its support.  So the polygon split family records what an
  * update changes (a->canon: the faces it subdivides or simplifies, the
  * positions its writes replace), and the update ends with a canonical
  * local pass, level by level from the coarsest recorded face, which leaves
