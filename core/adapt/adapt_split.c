@@ -130,10 +130,9 @@ static int split_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, 
      * that placed it first instead of the last one's: last bits apart from
      * a full synthesis either way.  Without the restriction every vertex
      * is placed. */
-    int keep_placed = restricted;
     uint32_t skip[2 * 256], nskip = 0, split_before[256], nsplit = 0;
     uint32_t x = d;
-    if (keep_placed)
+    if (restricted)
         do {
             if (corner_placed(m, x, i)) skip[nskip++] = st_vert(m, x, i);
             x = st_phi1(m, x, i);
@@ -148,7 +147,7 @@ static int split_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, 
             const double *q = st_dart_pos(m, st_beta0(m, x, i), i);
             double mid[3] = { (p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2 };
             created[ncreated++] = st_vert(m, st_split_edge(m, x, L, mid), L);
-        } else if (keep_placed) {
+        } else if (restricted) {
             split_before[nsplit++] = x;
         }
         decay_sharpness(h, x, L);
@@ -161,8 +160,7 @@ static int split_subdivide(st_adapt *a, uint32_t d, unsigned i, int restricted, 
     }
     for (uint32_t k = 0; k < nsplit; k++) skip[nskip++] = st_vert(m, st_beta0(m, split_before[k], L), L);
     st_adapt_place_ctx c = { a, L, created, ncreated };
-    if (nskip) st_hier_emit_except(h, L, &d, 1, skip, nskip, st_adapt_place_sink, &c);
-    else st_hier_emit(h, L, &d, 1, st_adapt_place_sink, &c);
+    st_hier_emit_except(h, L, &d, 1, skip, nskip, st_adapt_place_sink, &c);
     st_adapt_canon_record(a, d, i, 0);
     a->touched++;
     return ST_OK;

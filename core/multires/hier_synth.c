@@ -174,8 +174,7 @@ void st_synth_sink(void *ctx, const st_stencil *s)
 
 void st_hier_emit(st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces, st_stencil_sink sink, void *ctx)
 {
-    st_subdiv_view v = st_hier_view(h);
-    h->scheme->emit(&v, L, faces, nfaces, sink, ctx);
+    st_hier_emit_except(h, L, faces, nfaces, NULL, 0, sink, ctx);
 }
 
 void st_hier_emit_except(st_hier *h, unsigned L, const uint32_t *faces, uint32_t nfaces, const uint32_t *skip,

@@ -236,17 +236,17 @@ static void emit_all(const st_subdiv_view *sv, unsigned L, emitter *e, st_stenci
  * look-up, so each is built once per call. */
 typedef struct id_set { uint32_t *slot, mask, n; uint32_t *local; } id_set;
 
-/* The first table is `local` (ID_SET_LOCAL slots on the caller's stack)
- * when the caller has one: an adaptive subdivision emits one face at a
- * time, and a heap table of 1024 slots, cleared and freed per face, cost
- * 2 % of an interest-box move's instructions. */
+/* The first table is `local`, ID_SET_LOCAL slots on the caller's stack:
+ * an adaptive subdivision emits one face at a time, and a heap table of
+ * 1024 slots, cleared and freed per face, cost 2 % of an interest-box
+ * move's instructions.  Larger tables are on the heap. */
 enum { ID_SET_LOCAL = 64 };
 
 static void id_set_grow(id_set *s)
 {
     uint32_t oldcap = s->slot ? s->mask + 1 : 0, *old = s->slot;
-    uint32_t cap = s->slot ? 2 * (s->mask + 1) : s->local ? ID_SET_LOCAL : 1024;
-    s->slot = !old && s->local ? s->local : malloc((size_t)cap * sizeof *s->slot);
+    uint32_t cap = old ? 2 * oldcap : ID_SET_LOCAL;
+    s->slot = old ? malloc((size_t)cap * sizeof *s->slot) : s->local;
     if (!s->slot) abort(); /* out of memory for a local edit's scratch */
     memset(s->slot, 0xff, (size_t)cap * sizeof *s->slot);
     s->mask = cap - 1;
