@@ -403,6 +403,10 @@ void st_edit_cache_set_pred(st_edit_cache *c, unsigned l, uint32_t v, const doub
 static int predict_vertex(st_hier *h, unsigned l, uint32_t d, uint32_t v, double pred[3], double f[3][3])
 {
     st_map *m = &h->map;
+    if (h->scheme->predict_vertex) {
+        st_subdiv_view sv = st_hier_view(h);
+        if (h->scheme->predict_vertex(&sv, l, v, pred, f)) return 1;
+    }
     uint32_t seed = real_seed(m, coarse_seed(m, d, l), l - 1);
     if (seed == ST_NIL) return 0;
     /* The seed's face first, alone: v is one of its children, and a region

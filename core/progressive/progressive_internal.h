@@ -80,6 +80,11 @@ int st_progressive_stencil(const st_hier *h, unsigned L, uint32_t d, st_stencil_
 struct st_synth_ctx;
 int st_progressive_synth_level(st_hier *h, unsigned L);
 int st_progressive_resynth_around(st_hier *h, unsigned L, const uint32_t *seeds, uint32_t nseeds, struct st_synth_ctx *out);
+/* S(P_{L-1})(v) and v's frame at L-1 from the ring tables of L and L-1
+ * (the scheme's predict_vertex), when both are in the cache for the map as
+ * it is now and regular, and v is a vertex of L; else 0.  Never builds a
+ * table: one edit would pay a whole level for it. */
+int st_progressive_predict_vertex(st_hier *h, unsigned L, uint32_t v, double pred[3], double f[3][3]);
 /* Bytes the ring tables now held in h->cache take (a transient cache: never
  * saved, rebuilt after a topology change). */
 size_t st_progressive_table_bytes(const st_hier *h);

@@ -205,6 +205,11 @@ static int progressive_predict_around(const st_subdiv_view *sv, unsigned L, cons
     return st_progressive_resynth_around(sv->owner, L, seeds, nseeds, out);
 }
 
+static int progressive_predict_vertex(const st_subdiv_view *sv, unsigned L, uint32_t v, double pred[3], double f[3][3])
+{
+    return st_progressive_predict_vertex(sv->owner, L, v, pred, f);
+}
+
 static size_t progressive_synth_estimate(const st_subdiv_view *sv, unsigned from)
 {
     return st_progressive_synth_estimate(sv->owner, from);
@@ -239,4 +244,5 @@ const st_scheme st_scheme_progressive = {
      * the prediction (progressive_synth.c), and what their tables cost. */
     .predict_level = progressive_synth_level, .predict_around = progressive_predict_around,
     .fast_paths_apply_details = 1, .synth_estimate = progressive_synth_estimate,
+    .predict_vertex = progressive_predict_vertex,
 };

@@ -170,17 +170,29 @@ static void table_fill(st_map *m, unsigned l, pm_ring_table *t)
     free(vmin);
 }
 
+/* The ring table of level l in the cache, if it was built from the map as
+ * it is now; else NULL. */
+static pm_ring_table *current_table(st_hier *h, unsigned l)
+{
+    st_map *m = &h->map;
+    st_level_cache *cache = &h->cache[l];
+    pm_ring_table *t = cache->free == table_free ? cache->p : NULL;
+    if (t && t->gen == st_map_generation(m) && t->dend == m->darts.end && t->vend == m->verts.end && t->top == m->top &&
+        t->mu == pm_relax_weight(h, l))
+        return t;
+    return NULL;
+}
+
 /* The ring table of level l, built if the cache holds none for the map as
  * it is now. */
 static const pm_ring_table *ring_table(st_hier *h, unsigned l)
 {
     st_map *m = &h->map;
     st_level_cache *cache = &h->cache[l];
-    pm_ring_table *t = cache->free == table_free ? cache->p : NULL;
+    pm_ring_table *t = current_table(h, l);
+    if (t) return t;
     uint64_t gen = st_map_generation(m);
     double mu = pm_relax_weight(h, l);
-    if (t && t->gen == gen && t->dend == m->darts.end && t->vend == m->verts.end && t->top == m->top && t->mu == mu)
-        return t;
     if (cache->p) cache->free(cache->p);
     cache->p = NULL;
     t = calloc(1, sizeof *t);
@@ -320,6 +332,19 @@ static int level_pair_init(st_hier *h, unsigned L, level_pair *lp)
     return 1;
 }
 
+int st_progressive_predict_vertex(st_hier *h, unsigned L, uint32_t v, double pred[3], double f[3][3])
+{
+    if (L == 0 || L > h->map.top) return 0;
+    const pm_ring_table *fine = current_table(h, L), *coarse = current_table(h, L - 1);
+    if (!fine || !coarse || fine->irregular || coarse->irregular) return 0;
+    if (v >= fine->nidx || fine->off[v] == fine->off[v + 1]) return 0;
+    level_pair lp = { .m = &h->map, .L = L, .fine = fine, .coarse = coarse };
+    st_level_view_init(&h->map, L - 1, &lp.pv);
+    predict(&lp, v, pred);
+    vertex_frame(&lp, h->map.verts.ins[v] == L ? split_frame_vertex(fine, v) : v, f);
+    return 1;
+}
+
 int st_progressive_synth_level(st_hier *h, unsigned L)
 {
     level_pair lp;
@@ -342,10 +367,13 @@ static void vset_add(vset *s, uint32_t v) { s->w[v >> 6] |= 1ull << (v & 63); }
 
 static int vset_has(const vset *s, uint32_t v) { return (s->w[v >> 6] >> (v & 63)) & 1; }
 
+/* (Zero words skipped: a fine level's set is sparse, and without -mpopcnt
+ * each count is a library call.) */
 static uint32_t vset_count(const vset *s, uint32_t words)
 {
     uint32_t n = 0;
-    for (uint32_t k = 0; k < words; k++) n += (uint32_t)__builtin_popcountll(s->w[k]);
+    for (uint32_t k = 0; k < words; k++)
+        if (s->w[k]) n += (uint32_t)__builtin_popcountll(s->w[k]);
     return n;
 }
 

@@ -100,6 +100,12 @@ typedef struct st_scheme {
      * ring tables); NULL: the position columns alone
      * (st_hier_synth_estimate, core/multires/estimate.h). */
     size_t (*synth_estimate)(const st_subdiv_view *sv, unsigned from);
+    /* Optional fast path of an edit's own level (core/multires/
+     * hier_synth.c, refresh_detail): S(P_{L-1})(v) in pred and v's frame
+     * at L-1 in f, to the bits of emit()'s stencil for v (st_stencil_eval)
+     * and st_hier_frame.  Returns 0, having written nothing, when it cannot
+     * answer cheaply; the caller then finds v's stencil through emit(). */
+    int (*predict_vertex)(const st_subdiv_view *sv, unsigned L, uint32_t v, double pred[3], double f[3][3]);
 } st_scheme;
 
 /* Scheme tables, one per file scheme_*.c; the progressive scheme's is

@@ -464,6 +464,52 @@ static void test_tables_match_stencils(const char *name, uint64_t target)
     st_hier_free(&h);
 }
 
+/* An edit's own level takes S(P_{l-1}) and the frame from the ring tables
+ * when they are cached (the scheme's predict_vertex), else from the
+ * stencils: the same edits on two copies, one with every table dropped
+ * before each edit, leave the same details and positions to the bit, at
+ * three levels, on vertices of every kind and on borders. */
+static void test_edit_level_with_and_without_tables(const char *name, uint64_t target)
+{
+    st_hier a, b;
+    if (build(name, &a, target)) return;
+    if (build(name, &b, target)) { st_hier_free(&a); return; }
+    st_map *m = &a.map;
+    st_hier_synthesize(&a, 0); /* (the same positions in both before the edits) */
+    st_hier_synthesize(&b, 0);
+    unsigned levels[3] = { 1, m->top / 2, m->top - 1 };
+    uint64_t edits = 0;
+    for (int i = 0; i < 3; i++) {
+        unsigned l = levels[i];
+        uint32_t n;
+        uint32_t *vd = vertex_darts(m, l, &n);
+        for (uint32_t k = 0; k < n; k += n / 9 + 1) {
+            const double *p = st_dart_pos(m, vd[k], l);
+            double q[1][3] = { { p[0] + 0.01 * (k % 3), p[1] - 0.02, p[2] + 0.005 * (i + 1) } };
+            CHECKF(st_progressive_table_bytes(&a) > 0, "%s: no ring table cached before an edit", name);
+            for (unsigned t = 0; t <= b.map.top; t++) st_progressive_drop_table(&b, t);
+            CHECKF(st_progressive_table_bytes(&b) == 0, "%s: a ring table left after dropping them", name);
+            st_hier_move(&a, l, &vd[k], q, 1);
+            st_hier_move(&b, l, &vd[k], q, 1);
+            uint32_t v = st_vert(m, vd[k], l);
+            CHECKF(!memcmp(st_hier_detail(&a, l, v), st_hier_detail(&b, l, v), 3 * sizeof(double)),
+                   "%s: level %u, vertex %u: the detail differs with and without the tables", name, l, v);
+            edits++;
+        }
+        free(vd);
+    }
+    CHECKF(edits >= 9, "%s: only %llu edits", name, (unsigned long long)edits);
+    tl_posnap pa, pb;
+    tl_snap_pos(&a, &pa);
+    tl_snap_pos(&b, &pb);
+    CHECKF(tl_snap_maxdiff(&pa, &pb) == 0, "%s: positions differ by %g with and without the tables", name,
+           tl_snap_maxdiff(&pa, &pb));
+    free(pa.p);
+    free(pb.p);
+    st_hier_free(&a);
+    st_hier_free(&b);
+}
+
 static void test_session(const char *name)
 {
     st_hier h;
@@ -899,6 +945,9 @@ int main(void)
     test_tables_match_stencils("spot_low_resolution.obj", 30);
     test_tables_match_stencils("blub_open.obj", 30);
     test_tables_match_stencils("plane_holes.obj", 20);
+    test_edit_level_with_and_without_tables("spot_low_resolution.obj", 30);
+    test_edit_level_with_and_without_tables("blub_open.obj", 30);
+    test_edit_level_with_and_without_tables("plane_holes.obj", 20);
     test_session("spot_low_resolution.obj");
     test_session("cube_no_bottom.obj");
     test_session_predictor("spot_low_resolution.obj");
