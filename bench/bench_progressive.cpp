@@ -82,6 +82,7 @@ static Tri run_strata(const st_mesh *m, uint64_t target, st_progressive_report *
     st_progressive_opts o = {};
     o.target_faces = target;
     o.predictor = ST_PM_DEFAULT; /* what new builds use (progressive.h, point 5) */
+    o.fit_coarse = 1;            /* and level 0 placed (point 8), as st_rebuild builds */
     Tri t;
     if (st_progressive_build(m, &o, &h, rep, &err)) {
         fprintf(stderr, "strata: %s\n", err.msg);
@@ -370,6 +371,7 @@ static void edits_and_display(const st_mesh *m, uint64_t target, double diag, in
     st_progressive_opts o = {};
     o.target_faces = target;
     o.predictor = ST_PM_DEFAULT; /* what new builds use (progressive.h, point 5) */
+    o.fit_coarse = 1;            /* and level 0 placed (point 8), as st_rebuild builds */
     if (st_progressive_build(m, &o, &h, nullptr, &err)) { fprintf(stderr, "strata: %s\n", err.msg); return; }
     st_map *mp = &h.map;
     st_hier_synthesize(&h, 0); /* (as after any first edit) */

@@ -75,7 +75,7 @@ int main(int argc, char **argv)
     st_mesh_init(&m);
     const st_scheme *sc = st_scheme_find(progressive ? "progressive" : scheme);
     if (progressive) {
-        st_progressive_opts po = { .predictor = ST_PM_DEFAULT };
+        st_progressive_opts po = { .predictor = ST_PM_DEFAULT, .fit_coarse = 1 };
         if (st_mesh_load(path, &m, &err) || (po.target_faces = m.nfaces / 100, 0) ||
             st_progressive_build(&m, &po, &h, NULL, &err)) {
             fprintf(stderr, "bench_session: %s\n", err.msg);

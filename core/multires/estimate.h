@@ -39,8 +39,8 @@ size_t st_hier_estimate_subdivide(st_hier *h, unsigned levels, st_level_stats *f
  * creates, on the levels that have none yet: a vertex of a coarser level
  * that moves there gets the level a column (map.h, "Storage"), as long as
  * the ids of the levels below.  A progressive hierarchy as rebuilt keeps
- * its vertices' input positions at every level, so has no column to begin
- * with. */
+ * its vertices' input positions at every level but 0, so has no column to
+ * begin with besides level 1's over level 0's ids (progressive.h, point 8). */
 size_t st_estimate_position_columns(const st_map *m, unsigned from);
 
 /* Bytes a synthesis of the levels above `from` (a full one, or a local

@@ -102,6 +102,17 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
     uint32_t *vid_of = malloc((size_t)(w->nv ? w->nv : 1) * sizeof *vid_of);
     st_pm_split *s = malloc((size_t)(most ? most : 1) * sizeof *s);
     int res = !vid_of || !s || level0_recipe(w, vid_of, &rc) ? st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for the map") : ST_OK;
+    /* Level 0's placement (point 8) reads the coarsest working copy and its
+     * quadrics, which go next. */
+    double *fit = NULL;
+    if (!res && o->fit_coarse) {
+        fit = malloc(3 * (size_t)(w->nv ? w->nv : 1) * sizeof *fit);
+        if (!fit) res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for level 0's placement");
+        else {
+            memcpy(fit, w->pos, 3 * (size_t)w->nv * sizeof *fit);
+            (void)pm_work_fit_coarse(w, fit);
+        }
+    }
     /* The splits name vertices only: the working copy's half-edges, its
      * quadrics and its undo log go before the map grows (a lower peak). */
     pm_work_drop_topology(w);
@@ -137,7 +148,16 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
         st_map *m = &h->map;
         for (uint32_t v = 0; v < w->nv; v++)
             if (vid_of[v] != ST_NIL) memcpy(m->pos.base + (size_t)vid_of[v] * m->pos.elem, w->pos + 3 * (size_t)v, 3 * sizeof(double));
+        /* ...but level 0's own, with the placement: level 1 gets a column
+         * holding the input positions of level 0's vertices (the lowest
+         * ids), and their base values (level 0) become the fitted ones. */
+        if (fit && !st_mla_column(&m->pos, &m->verts, 1))
+            res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for level 0's positions");
+        for (uint32_t v = 0; fit && !res && v < w->nv; v++)
+            if (vid_of[v] != ST_NIL && m->verts.ins[vid_of[v]] == 0)
+                memcpy(m->pos.base + (size_t)vid_of[v] * m->pos.elem, fit + 3 * (size_t)v, 3 * sizeof(double));
     }
+    free(fit);
     st_pm_recipe_free(&rc);
     free(vid_of);
     free(s);
@@ -147,7 +167,9 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
 }
 
 /* D = F^T (P_l - S(P_{l-1})) for every vertex whose stencil is not itself
- * (the split vertices and their neighbours; every other detail is zero),
+ * (the split vertices and their neighbours) or whose position changed from
+ * l-1 (level 0's placed vertices at level 1: progressive.h, point 8); every
+ * other detail is zero,
  * corrected until synthesis gives back the input to the bit
  * (pm_detail_correct): the stored positions are then also what a full
  * synthesis writes.  Some bits cannot be reached (a coordinate much smaller
@@ -180,7 +202,11 @@ static void detail_put(void *ctx, uint32_t v, const double pred[3], const double
 static void detail_sink(void *ctx, const st_stencil *s)
 {
     detail_ctx *c = ctx;
-    if (s->n == 1 && s->src[0] == s->fine && s->w[0] == 1.0) return; /* predicted by itself: zero */
+    /* Predicted by itself: zero, unless its position changed from l-1
+     * (progressive.h, point 8). */
+    if (s->n == 1 && s->src[0] == s->fine && s->w[0] == 1.0 &&
+        !memcmp(st_pos(&c->h->map, s->fine, c->l - 1), st_pos(&c->h->map, s->fine, c->l), 3 * sizeof(double)))
+        return;
     double pred[3], f[3][3];
     st_stencil_eval(&c->h->map, c->l, s, pred);
     st_hier_frame(c->h, c->l - 1, s->frame_dart, s->frame_cell, f);

@@ -55,6 +55,15 @@ void pm_work_free(pm_work *w);
  * collapses, their groups and vdead (all a replay of the groups reads);
  * pm_undo cannot run after it. */
 void pm_work_drop_topology(pm_work *w);
+/* Level 0's optimal placement (progressive.h, point 8): for every vertex
+ * alive in the working copy, in id order, the point minimising its
+ * quadric plus a small pull toward pos (a thousandth of the quadric's
+ * mean eigenvalue: an ill-conditioned quadric, a flat or straight
+ * region, stays put along its free directions), written into pos (3 per
+ * vertex, the input positions on entry) unless a face around it would
+ * turn by more than 60 degrees or lose almost all its area.  Returns how
+ * many vertices moved. */
+uint32_t pm_work_fit_coarse(const pm_work *w, double *pos);
 
 /* Simplifies by groups of independent collapses down to target faces or
  * max_groups groups; progress as in st_progressive_opts.  Returns ST_OK

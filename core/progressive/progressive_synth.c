@@ -624,7 +624,11 @@ int st_progressive_predict_range(st_hier *h, unsigned L, uint32_t begin, uint32_
     for (uint32_t v = begin; v < end; v++) {
         if (t->off[v] == t->off[v + 1]) continue;
         int split = ins[v] == L;
-        if (!split && !(t->vk[v] & VERT_NEAR)) continue; /* predicted by itself: st_progressive_stencil's (v, 1) */
+        /* Predicted by itself (st_progressive_stencil's (v, 1)): a zero
+         * detail, unless its position changed from L-1 (level 0's placed
+         * vertices at level 1: progressive.h, point 8). */
+        if (!split && !(t->vk[v] & VERT_NEAR) && !memcmp(st_v_pos(&lp.pv, v), st_pos(lp.m, v, L), 3 * sizeof(double)))
+            continue;
         double pred[3], f[3][3];
         predict(&lp, v, pred);
         vertex_frame(&lp, split ? split_frame_vertex(t, v) : v, f);

@@ -28,6 +28,63 @@ static double quad_eval(const double *q, const double p[3])
 }
 
 
+/* ---- level 0's placement (pm_work_fit_coarse) ---------------------------------- */
+
+/* Whether moving v from pos to x turns a real face around it by more than
+ * 60 degrees or shrinks it to under a thousandth of its area. */
+static int fit_folds(const pm_work *w, uint32_t v, const double *pos, const double x[3])
+{
+    uint32_t e0 = w->vhe[v], e = e0;
+    do {
+        if (!(w->hflags[e] & PM_HE_BOUNDARY)) {
+            const double *pv = pos + 3 * (size_t)v, *pb = pos + 3 * (size_t)pm_dest(w, e),
+                         *pc = pos + 3 * (size_t)pm_dest(w, w->next[e]);
+            double e1[3], e2[3], n0[3], n1[3];
+            st_sub3(pb, pv, e1);
+            st_sub3(pc, pv, e2);
+            st_cross3(e1, e2, n0);
+            st_sub3(pb, x, e1);
+            st_sub3(pc, x, e2);
+            st_cross3(e1, e2, n1);
+            double l0 = sqrt(st_dot3(n0, n0)), l1 = sqrt(st_dot3(n1, n1));
+            if (!(l1 > 1e-3 * l0) || !(st_dot3(n0, n1) >= 0.5 * l0 * l1)) return 1;
+        }
+        e = pm_rot(w, e);
+    } while (e != e0);
+    return 0;
+}
+
+/* argmin of quadric q (10 coefficients, quad_add_plane's order) plus
+ * lam |x - p|^2, by Cramer's rule on the symmetric 3x3 system; 0 when
+ * singular or not finite. */
+static int quad_minimum(const double *q, double lam, const double p[3], double x[3])
+{
+    double a00 = q[0] + lam, a01 = q[1], a02 = q[2], a11 = q[4] + lam, a12 = q[5], a22 = q[7] + lam;
+    double b0 = lam * p[0] - q[3], b1 = lam * p[1] - q[6], b2 = lam * p[2] - q[8];
+    double c00 = a11 * a22 - a12 * a12, c01 = a02 * a12 - a01 * a22, c02 = a01 * a12 - a02 * a11;
+    double c11 = a00 * a22 - a02 * a02, c12 = a01 * a02 - a00 * a12, c22 = a00 * a11 - a01 * a01;
+    double det = a00 * c00 + a01 * c01 + a02 * c02;
+    if (!(fabs(det) > 0)) return 0;
+    x[0] = (c00 * b0 + c01 * b1 + c02 * b2) / det;
+    x[1] = (c01 * b0 + c11 * b1 + c12 * b2) / det;
+    x[2] = (c02 * b0 + c12 * b1 + c22 * b2) / det;
+    return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]);
+}
+
+uint32_t pm_work_fit_coarse(const pm_work *w, double *pos)
+{
+    uint32_t moved = 0;
+    for (uint32_t v = 0; v < w->nv; v++) {
+        if (w->vdead[v]) continue;
+        const double *q = w->quad + 10 * (size_t)v;
+        double tr = q[0] + q[4] + q[7], x[3];
+        if (!(tr > 0) || !quad_minimum(q, 1e-3 * tr / 3, pos + 3 * (size_t)v, x) || fit_folds(w, v, pos, x)) continue;
+        memcpy(pos + 3 * (size_t)v, x, sizeof x);
+        moved++;
+    }
+    return moved;
+}
+
 /* Plane quadrics of the input (Garland-Heckbert 97 §5: weighted by area),
  * and for each boundary edge the plane through it perpendicular to its
  * face, weighted by the squared edge length times a penalty, so that a

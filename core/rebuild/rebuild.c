@@ -58,7 +58,8 @@ static int build_progressive(const char *name, const st_mesh *mesh, const st_reb
     /* about 160 bytes per finest dart at the peak (koala: 47 MiB for 300k darts) */
     if (st_mem_check((size_t)corners * 200u, "the progressive rebuild", err)) return named(err, name, ST_ERR_MEMORY);
     st_progressive_opts po = { .target_faces = o->target_faces, .max_levels = o->max_levels ? o->max_levels + 1 : 0,
-                               .predictor = ST_PM_DEFAULT, .progress = o->progress, .progress_ctx = o->progress_ctx };
+                               .predictor = ST_PM_DEFAULT, .fit_coarse = 1, .progress = o->progress,
+                               .progress_ctx = o->progress_ctx };
     if (!po.target_faces) po.target_faces = mesh->nfaces / 100 > 4 ? mesh->nfaces / 100 : 4;
     st_progressive_report pr;
     int rc = st_progressive_build(mesh, &po, h, &pr, err);
