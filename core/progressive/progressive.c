@@ -110,7 +110,7 @@ static int materialise(pm_work *w, st_hier *h, const st_progressive_opts *o, st_
         if (!fit) res = st_fail(err, ST_ERR_MEMORY, "progressive: out of memory for level 0's placement");
         else {
             memcpy(fit, w->pos, 3 * (size_t)w->nv * sizeof *fit);
-            (void)pm_work_fit_coarse(w, fit);
+            pm_work_fit_coarse(w, fit);
         }
     }
     /* The splits name vertices only: the working copy's half-edges, its

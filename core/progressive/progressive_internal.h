@@ -61,9 +61,8 @@ void pm_work_drop_topology(pm_work *w);
  * mean eigenvalue: an ill-conditioned quadric, a flat or straight
  * region, stays put along its free directions), written into pos (3 per
  * vertex, the input positions on entry) unless a face around it would
- * turn by more than 60 degrees or lose almost all its area.  Returns how
- * many vertices moved. */
-uint32_t pm_work_fit_coarse(const pm_work *w, double *pos);
+ * turn by more than 60 degrees or lose almost all its area. */
+void pm_work_fit_coarse(const pm_work *w, double *pos);
 
 /* Simplifies by groups of independent collapses down to target faces or
  * max_groups groups; progress as in st_progressive_opts.  Returns ST_OK

@@ -627,8 +627,10 @@ int st_progressive_predict_range(st_hier *h, unsigned L, uint32_t begin, uint32_
         /* Predicted by itself (st_progressive_stencil's (v, 1)): a zero
          * detail, unless its position changed from L-1 (level 0's placed
          * vertices at level 1: progressive.h, point 8). */
-        if (!split && !(t->vk[v] & VERT_NEAR) && !memcmp(st_v_pos(&lp.pv, v), st_pos(lp.m, v, L), 3 * sizeof(double)))
-            continue;
+        if (!split && !(t->vk[v] & VERT_NEAR)) {
+            const double *below = st_v_pos(&lp.pv, v), *here = st_pos(lp.m, v, L);
+            if (below == here || !memcmp(below, here, 3 * sizeof(double))) continue; /* (one slot: no read) */
+        }
         double pred[3], f[3][3];
         predict(&lp, v, pred);
         vertex_frame(&lp, split ? split_frame_vertex(t, v) : v, f);

@@ -71,18 +71,15 @@ static int quad_minimum(const double *q, double lam, const double p[3], double x
     return isfinite(x[0]) && isfinite(x[1]) && isfinite(x[2]);
 }
 
-uint32_t pm_work_fit_coarse(const pm_work *w, double *pos)
+void pm_work_fit_coarse(const pm_work *w, double *pos)
 {
-    uint32_t moved = 0;
     for (uint32_t v = 0; v < w->nv; v++) {
         if (w->vdead[v]) continue;
         const double *q = w->quad + 10 * (size_t)v;
         double tr = q[0] + q[4] + q[7], x[3];
         if (!(tr > 0) || !quad_minimum(q, 1e-3 * tr / 3, pos + 3 * (size_t)v, x) || fit_folds(w, v, pos, x)) continue;
         memcpy(pos + 3 * (size_t)v, x, sizeof x);
-        moved++;
     }
-    return moved;
 }
 
 /* Plane quadrics of the input (Garland-Heckbert 97 §5: weighted by area),
