@@ -416,6 +416,15 @@ static void synthesize_by_stencils(st_hier *h)
     }
 }
 
+/* Where the edits of the table tests move the k-th vertex listed at the
+ * i-th of their three levels (from p): varied per vertex and per level. */
+static void spread_edit(const double p[3], uint32_t k, int i, double q[3])
+{
+    q[0] = p[0] + 0.01 * (k % 3);
+    q[1] = p[1] - 0.02;
+    q[2] = p[2] + 0.005 * (i + 1);
+}
+
 /* The ring tables (core/progressive/progressive_synth.c) give the bits of
  * the stencils and st_hier_frame: after edits at three levels, which leave
  * details on vertices predicted by their own position (frames of every
@@ -432,8 +441,8 @@ static void test_tables_match_stencils(const char *name, uint64_t target)
         uint32_t n;
         uint32_t *vd = vertex_darts(m, l, &n);
         for (uint32_t k = 0; k < n; k += n / 7 + 1) {
-            const double *p = st_dart_pos(m, vd[k], l);
-            double q[1][3] = { { p[0] + 0.01 * (k % 3), p[1] - 0.02, p[2] + 0.005 * (i + 1) } };
+            double q[1][3];
+            spread_edit(st_dart_pos(m, vd[k], l), k, i, q[0]);
             st_hier_move(&h, l, &vd[k], q, 1);
         }
         free(vd);
@@ -485,8 +494,8 @@ static void test_edit_level_with_and_without_tables(const char *name, uint64_t t
         uint32_t n;
         uint32_t *vd = vertex_darts(m, l, &n);
         for (uint32_t k = 0; k < n; k += n / 9 + 1) {
-            const double *p = st_dart_pos(m, vd[k], l);
-            double q[1][3] = { { p[0] + 0.01 * (k % 3), p[1] - 0.02, p[2] + 0.005 * (i + 1) } };
+            double q[1][3];
+            spread_edit(st_dart_pos(m, vd[k], l), k, i, q[0]);
             CHECKF(st_progressive_table_bytes(&a) > 0, "%s: no ring table cached before an edit", name);
             for (unsigned t = 0; t <= b.map.top; t++) st_progressive_drop_table(&b, t);
             CHECKF(st_progressive_table_bytes(&b) == 0, "%s: a ring table left after dropping them", name);
