@@ -235,6 +235,15 @@ void st_app_autosave_tick(st_app *a, int force)
     /* A completed step (a stroke, a drag, an undo) is written at once, so
      * that the recovery file holds every step however soon the process
      * ends; other changes (the box, the view) wait for the timer. */
+    if (a->doc.loaded && a->doc.revision != a->recovery_revision && a->doc.revision == a->saved_revision) {
+        /* Undone back to the state last saved or opened: nothing is left
+         * to recover (as after st_app_saved). */
+        char rec[4096];
+        if (!st_session_recovery_path(rec, sizeof rec)) unlink(rec);
+        a->recovery_revision = a->doc.revision;
+        a->autosave_dirty = 0;
+        return;
+    }
     if (a->doc.loaded && a->doc.revision != a->recovery_revision) { a->autosave_dirty = 1; force = 1; }
     if (!a->autosave_dirty || !a->doc.loaded || a->op != ST_OP_NONE || a->doc.active) return;
     double t = glfwGetTime();

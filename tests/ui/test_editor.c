@@ -1415,7 +1415,9 @@ static void test_bench(void)
  * menu shows as a tooltip; for every scheme, the answer agrees with what
  * st_doc_set_scheme then does.  A dense mesh opens at level 0 with the
  * automatic depth, a small cage gets two levels; --levels overrides.  The
- * revision counts completed steps (the window's "unsaved changes?"). */
+ * revision names the state in the undo history (the window's "unsaved
+ * changes?"): undoing back to a state gives its revision again, a new step
+ * a revision never seen before. */
 static void test_first_hour(void)
 {
     static const char *const schemes[] = { "catmull-clark", "loop", "butterfly", "quad-triangle", "sqrt3", "doo-sabin" };
@@ -1442,12 +1444,26 @@ static void test_first_hour(void)
     CHECK(st_doc_open(&d, STRATA_ASSETS "/cube.obj", NULL, ST_DOC_LEVELS_AUTO, &err) == 0);
     CHECKF(d.h.map.top == ST_DOC_DEFAULT_LEVELS, "cube opened with %u levels above it", d.h.map.top);
     uint64_t r0 = d.revision;
-    CHECK(st_doc_add_level(&d, &err) == 0 && d.revision == r0 + 1);
-    CHECK(st_doc_undo(&d, &err) == 0 && d.revision == r0 + 2);
-    CHECK(st_doc_redo(&d, &err) == 0 && d.revision == r0 + 3);
-    CHECK(st_doc_undo(&d, &err) == 0 && d.nundo == 1);
+    CHECK(st_doc_add_level(&d, &err) == 0 && d.revision != r0);
+    uint64_t r1 = d.revision;
+    CHECK(st_doc_undo(&d, &err) == 0 && d.revision == r0);
+    CHECK(st_doc_redo(&d, &err) == 0 && d.revision == r1);
+    CHECK(st_doc_undo(&d, &err) == 0 && d.nundo == 1 && d.revision == r0);
+    /* A different step from the same state: neither r0 nor r1 again. */
+    CHECK(st_doc_add_level(&d, &err) == 0 && d.revision != r0 && d.revision != r1 && d.nundo == 1);
+    uint64_t r2 = d.revision;
     st_doc_forget_history(&d);
-    CHECK(d.nundo == 0 && d.undo_pos == 0 && st_doc_undo(&d, &err) == -1);
+    CHECK(d.nundo == 0 && d.undo_pos == 0 && st_doc_undo(&d, &err) == -1 && d.revision == r2);
+    CHECK(st_doc_add_level(&d, &err) == 0 && d.revision != r2);
+    CHECK(st_doc_undo(&d, &err) == 0 && d.revision == r2);
+    CHECK(st_doc_undo(&d, &err) == -1 && d.revision == r2);
+    /* Steps dropped for the budget: the oldest state kept is the base. */
+    size_t budget = d.undo_budget;
+    d.undo_budget = 1; /* every step is larger: none is kept */
+    CHECK(st_doc_remove_top(&d, &err) == 0 && d.nundo == 0 && d.h.map.top == ST_DOC_DEFAULT_LEVELS);
+    uint64_t r3 = d.revision;
+    CHECK(r3 != r2 && st_doc_undo(&d, &err) == -1 && d.revision == r3);
+    d.undo_budget = budget;
     /* The box's maximum level stops where the memory budget does: the
      * level the slider allows is accepted, the next one refused. */
     st_adapt_params b = d.box;

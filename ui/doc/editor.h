@@ -179,11 +179,17 @@ typedef struct st_doc {
 
     st_undo_step **undo;       /* oldest first */
     uint32_t nundo, capundo, undo_pos;  /* undo_pos steps are done; the rest can be redone */
-    /* Counts the model's completed changes: +1 for every step pushed,
-     * undone or redone (0 after opening).  The window compares it with
-     * the revision it last saved ("unsaved changes?") and last wrote to
-     * the recovery file (a step ended: write it now). */
+    /* Names the model's state in the undo history: a new serial for every
+     * step pushed, and after an undo or a redo the serial of the state it
+     * returns to (base_revision at the history's start), so that undoing
+     * back to the saved state is clean again, as Qt's QUndoStack clean
+     * index is (0 after opening).  The window compares it with the
+     * revision it last saved ("unsaved changes?") and last wrote to the
+     * recovery file (a step ended: write it now); caches of what a state
+     * gives (the normal map, the scheme menu's refusals) key on it. */
     uint64_t revision;
+    uint64_t base_revision;    /* the state before undo[0] (older steps dropped, or the history forgotten) */
+    uint64_t last_serial;      /* the last serial given: serials never repeat */
     size_t undo_bytes, undo_budget;     /* oldest steps dropped beyond the budget */
 
     size_t mem_budget;         /* refuse operations that would need more (bytes) */

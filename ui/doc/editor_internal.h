@@ -27,6 +27,7 @@ struct st_undo_step {
     int hd;                    /* ED_STEP_EDIT of an HD level: the keys are the box display's (editor_hd.c) */
     const char *name;          /* what the step was, for menus: "move", "brush stroke", ... (static) */
     size_t bytes;
+    uint64_t serial;           /* the st_doc.revision of the state this step leads to (ed_push_step) */
     /* ED_STEP_EDIT: values before and after, keyed by (level, kind, vid)
      * as core's footprints (core/map/footprint.h: st_fp_key): positions
      * of every vertex st_hier_edit rewrote (every level >= the edit level)

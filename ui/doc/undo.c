@@ -295,6 +295,7 @@ void ed_undo_clear(st_doc *d)
     for (uint32_t i = 0; i < d->nundo; i++) ed_step_free(d->undo[i]);
     d->nundo = d->undo_pos = 0;
     d->undo_bytes = 0;
+    d->base_revision = d->revision; /* the state now is where the history starts */
 }
 
 void st_doc_forget_history(st_doc *d)
@@ -320,12 +321,13 @@ void ed_push_step(st_doc *d, st_undo_step *s)
     }
     d->undo[d->nundo++] = s;
     d->undo_pos = d->nundo;
-    d->revision++;
+    s->serial = d->revision = ++d->last_serial;
     d->undo_bytes += s->bytes;
     /* Bounded memory: the oldest steps go first. */
     uint32_t drop = 0;
     while (drop < d->nundo && d->undo_bytes > d->undo_budget) {
         d->undo_bytes -= d->undo[drop]->bytes;
+        d->base_revision = d->undo[drop]->serial;
         ed_step_free(d->undo[drop]);
         drop++;
     }
@@ -492,7 +494,7 @@ int st_doc_undo(st_doc *d, st_error *err)
     int rc = apply_step(d, s, 0, err);
     if (rc) return rc;
     d->undo_pos--;
-    d->revision++;
+    d->revision = d->undo_pos ? d->undo[d->undo_pos - 1]->serial : d->base_revision;
     return 0;
 }
 
@@ -504,6 +506,6 @@ int st_doc_redo(st_doc *d, st_error *err)
     int rc = apply_step(d, s, 1, err);
     if (rc) return rc;
     d->undo_pos++;
-    d->revision++;
+    d->revision = s->serial;
     return 0;
 }
