@@ -23,58 +23,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Level l's faces: the corners' darts face after face (hole faces
- * included, as in the soup), face f spanning off[f]..off[f+1]. */
-typedef struct level_faces {
-    uint32_t *dart, *off;
-    uint32_t ncorners, nfaces;
-} level_faces;
-
-static void faces_free(level_faces *lf)
-{
-    free(lf->dart);
-    free(lf->off);
-}
-
 /* Words of a bitset with one bit per dart id. */
 static size_t seen_words(const st_map *m) { return (size_t)m->darts.end / 64 + 1; }
-
-/* The darts are scanned block by block (st_fvar_scan: st_dart_first/next's
- * order without a call per dart) and faces marked seen in a bit per dart
- * id, which needs no pass to release. */
-static int faces_walk(st_map *m, unsigned l, level_faces *lf)
-{
-    st_fvar_scan it;
-    uint32_t nc = 0;
-    st_fvar_scan_init(&it, m, 0, l);
-    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) nc += !st_is_boundary(m, d);
-    lf->dart = st_malloc_huge(((size_t)nc + 1) * sizeof *lf->dart);
-    lf->off = st_malloc_huge(((size_t)nc + 2) * sizeof *lf->off);
-    uint64_t *seen = calloc(seen_words(m), sizeof *seen);
-    if (!lf->dart || !lf->off || !seen) {
-        free(seen);
-        return -1;
-    }
-    st_level_view lv;
-    st_level_view_init(m, l, &lv);
-    uint32_t k = 0, nf = 0;
-    lf->off[0] = 0;
-    st_fvar_scan_init(&it, m, 0, l);
-    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
-        if (st_is_boundary(m, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
-        uint32_t x = d;
-        do {
-            seen[x >> 6] |= 1ull << (x & 63);
-            lf->dart[k++] = x;
-            x = st_v_phi1(&lv, x);
-        } while (x != d);
-        lf->off[++nf] = k;
-    }
-    free(seen);
-    lf->ncorners = k;
-    lf->nfaces = nf;
-    return 0;
-}
 
 /* ---- lookups of the plain writer's walks -------------------------------------------
  *
@@ -220,76 +170,123 @@ static void out_u8(ply_out *o, unsigned v)
 
 /* ---- UV groups: one PLY vertex per (vertex, value label) ------------------------- */
 
+/* The groups are found around each vertex (its β1 ring at level l: the
+ * corners of real and hole faces, as the soup has them), not by sorting
+ * every corner: the writer then holds a few words per vertex and group
+ * instead of four per corner (spot's level 4 with UVs: 44 MiB less at the
+ * writer's peak).  A vertex's groups are its distinct labels in ascending
+ * order, and PLY vertices follow the vertices' order, as in the soup.  A
+ * group's UV is the soup's: that of its first corner in the faces' order
+ * (the counting walk finds it), since corners of one label may differ in
+ * the last bit (each takes the value as its own face's rule sums it). */
 typedef struct uv_groups {
-    uint32_t *corner_t;   /* per corner: its PLY vertex */
-    uint32_t *first;      /* per PLY vertex: the dart of its first corner */
+    uint32_t *gfirst;     /* per PLY position of a vertex (vindex order): its first group; nverts + 1 */
+    uint32_t *first;      /* per group (PLY vertex): the dart of its first corner in the faces' order */
+    uint32_t *label;      /* per group: its value label */
     uint32_t n;
 } uv_groups;
 
-/* Sorts one vertex's corners (ascending ids) by label, ties kept in id
- * order: insertion for the usual few, qsort of (label, id) keys past 32. */
-static int cmp_u64(const void *a, const void *b)
+static void groups_free(uv_groups *g)
 {
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return (x > y) - (x < y);
+    free(g->gfirst);
+    free(g->first);
+    free(g->label);
 }
 
-static void sort_by_label(uint32_t *c, uint32_t k, const uint32_t *dart, const uint32_t *val, uint64_t *scratch)
+/* A growable list of labels: one vertex's corners. */
+typedef struct ring_buf {
+    uint32_t *a;
+    uint32_t n, cap;
+} ring_buf;
+
+/* The labels of v's corners (d one of them), ascending; -1 when out of
+ * memory. */
+static int ring_corners(const st_map *m, const st_level_view *lv, uint32_t d, const uint32_t *val, ring_buf *r)
 {
-    if (k > 32) {
-        for (uint32_t i = 0; i < k; i++) scratch[i] = (uint64_t)val[dart[c[i]]] << 32 | c[i];
-        qsort(scratch, k, sizeof *scratch, cmp_u64);
-        for (uint32_t i = 0; i < k; i++) c[i] = (uint32_t)scratch[i];
-        return;
+    r->n = 0;
+    uint32_t y = d;
+    do {
+        if (!st_is_boundary(m, y)) {
+            if (r->n == r->cap) {
+                uint32_t c = r->cap ? 2 * r->cap : 16;
+                uint32_t *p = realloc(r->a, (size_t)c * sizeof *p);
+                if (!p) return -1;
+                r->a = p;
+                r->cap = c;
+            }
+            r->a[r->n++] = val[y];
+        }
+        y = st_v_beta1(lv, y);
+    } while (y != d);
+    for (uint32_t i = 1; i < r->n; i++) { /* (rings are short: insertion) */
+        uint32_t x = r->a[i];
+        uint32_t j = i;
+        for (; j > 0 && r->a[j - 1] > x; j--) r->a[j] = r->a[j - 1];
+        r->a[j] = x;
     }
-    for (uint32_t i = 1; i < k; i++) {
-        uint32_t x = c[i], lx = val[dart[x]], j = i;
-        for (; j > 0 && val[dart[c[j - 1]]] > lx; j--) c[j] = c[j - 1];
-        c[j] = x;
-    }
+    return 0;
 }
 
-static int uv_group(const level_faces *lf, const uint32_t *vindex, uint32_t nverts, const st_map *m, unsigned l,
-                    const uint32_t *val, uv_groups *g)
+/* One scan of the darts finds a corner of each vertex; then each vertex's
+ * ring, in PLY order, gives its groups' labels (their first corners:
+ * count_faces_walk). */
+static int uv_group(const uint32_t *vindex, uint32_t nverts, const st_map *m, unsigned l, const uint32_t *val,
+                    uv_groups *g)
 {
-    uint32_t nc = lf->ncorners;
-    uint32_t *start = st_calloc_huge((size_t)nverts + 1, sizeof *start);
-    uint32_t *bucket = st_malloc_huge(((size_t)nc + 1) * sizeof *bucket);
-    g->corner_t = st_malloc_huge(((size_t)nc + 1) * sizeof *g->corner_t);
-    g->first = st_malloc_huge(((size_t)nc + 1) * sizeof *g->first);
-    uint64_t *scratch = NULL;
-    int rc = -1;
-    if (!start || !bucket || !g->corner_t || !g->first) goto done;
-    /* Counting sort of the corners by vertex (corner_t holds the vertex for now). */
-    uint32_t kmax = 0;
     st_level_view lv;
     st_level_view_init(m, l, &lv);
-    for (uint32_t c = 0; c < nc; c++) start[(g->corner_t[c] = vindex[st_v_vert(&lv, lf->dart[c])]) + 1]++;
-    /* start[v + 1]: the beginning of v's bucket, then its end once filled
-     * (start[v] being its beginning). */
-    for (uint32_t v = 0, s = 0; v < nverts; v++) {
-        uint32_t k = start[v + 1];
-        start[v + 1] = s;
-        s += k;
-        if (k > kmax) kmax = k;
-    }
-    for (uint32_t c = 0; c < nc; c++) bucket[start[g->corner_t[c] + 1]++] = c;
-    if (kmax > 32 && !(scratch = malloc((size_t)kmax * sizeof *scratch))) goto done;
+    uint32_t *vdart = st_malloc_huge(((size_t)nverts + 1) * sizeof *vdart), cap = nverts + nverts / 4 + 16;
+    ring_buf r = { 0 };
+    g->gfirst = st_malloc_huge(((size_t)nverts + 1) * sizeof *g->gfirst);
+    g->label = st_malloc_huge((size_t)cap * sizeof *g->label);
     g->n = 0;
-    for (uint32_t v = 0; v < nverts; v++) {
-        uint32_t *c = bucket + start[v], k = start[v + 1] - start[v];
-        sort_by_label(c, k, lf->dart, val, scratch);
-        for (uint32_t i = 0; i < k; i++) {
-            if (i == 0 || val[lf->dart[c[i]]] != val[lf->dart[c[i - 1]]]) g->first[g->n++] = lf->dart[c[i]];
-            g->corner_t[c[i]] = g->n - 1;
+    int rc = -1;
+    if (!vdart || !g->gfirst || !g->label) goto done;
+    memset(vdart, 0xff, ((size_t)nverts + 1) * sizeof *vdart); /* ST_NIL */
+    st_fvar_scan it;
+    st_fvar_scan_init(&it, m, 0, l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+        if (st_is_boundary(m, d)) continue;
+        uint32_t vi = vindex[st_v_vert(&lv, d)];
+        if (vdart[vi] == ST_NIL) vdart[vi] = d;
+    }
+    for (uint32_t vi = 0; vi < nverts; vi++) {
+        g->gfirst[vi] = g->n;
+        if (vdart[vi] == ST_NIL) continue; /* (on no face) */
+        if (ring_corners(m, &lv, vdart[vi], val, &r)) goto done;
+        for (uint32_t i = 0; i < r.n; i++) {
+            if (i > 0 && r.a[i] == r.a[i - 1]) continue;
+            if (g->n == cap) {
+                uint32_t c = cap + cap / 2;
+                uint32_t *q = st_realloc_huge(g->label, (size_t)cap * sizeof *q, (size_t)c * sizeof *q);
+                if (!q) goto done;
+                g->label = q;
+                cap = c;
+            }
+            g->label[g->n++] = r.a[i];
         }
     }
+    g->gfirst[nverts] = g->n;
+    g->first = st_malloc_huge(((size_t)g->n + 1) * sizeof *g->first);
+    if (!g->first) goto done;
+    memset(g->first, 0xff, ((size_t)g->n + 1) * sizeof *g->first); /* ST_NIL */
     rc = 0;
 done:
-    free(start);
-    free(bucket);
-    free(scratch);
+    free(vdart);
+    free(r.a);
+    if (rc) {
+        groups_free(g);
+        memset(g, 0, sizeof *g);
+    }
     return rc;
+}
+
+/* The PLY vertex of the corner x of the vertex at PLY position vi. */
+static inline uint32_t group_of(const uv_groups *g, uint32_t vi, const uint32_t *val, uint32_t x)
+{
+    uint32_t t = g->gfirst[vi], end = g->gfirst[vi + 1], lab = val[x];
+    while (t + 1 < end && g->label[t] != lab) t++;
+    return t;
 }
 
 /* ---- the writer ------------------------------------------------------------------- */
@@ -316,7 +313,7 @@ static void count_face(face_counts *fc, uint32_t k, int hole)
  * already walked (no marker to reserve and release).  `fast`: a constant,
  * one copy per lookup path (ply_view). */
 static inline void count_faces_walk_kind(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen,
-                                         int fast)
+                                         const uint32_t *val, uv_groups *g, int fast)
 {
     memset(seen, 0, seen_words(m) * sizeof *seen);
     st_fvar_scan it;
@@ -326,6 +323,10 @@ static inline void count_faces_walk_kind(st_map *m, unsigned l, const ply_view *
         uint32_t k = 0, x = d;
         do {
             seen[x >> 6] |= 1ull << (x & 63);
+            if (g) {
+                uint32_t t = group_of(g, pv_index(pv, x, fast), val, x);
+                if (g->first[t] == ST_NIL) g->first[t] = x;
+            }
             k++;
             x = pv_phi1(pv, x, fast);
         } while (x != d);
@@ -333,10 +334,12 @@ static inline void count_faces_walk_kind(st_map *m, unsigned l, const ply_view *
     }
 }
 
-static void count_faces_walk(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen)
+/* With g (and the labels val): each group's first corner too. */
+static void count_faces_walk(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen,
+                             const uint32_t *val, uv_groups *g)
 {
-    if (pv->fast) count_faces_walk_kind(m, l, pv, fc, seen, 1);
-    else count_faces_walk_kind(m, l, pv, fc, seen, 0);
+    if (pv->fast) count_faces_walk_kind(m, l, pv, fc, seen, val, g, 1);
+    else count_faces_walk_kind(m, l, pv, fc, seen, val, g, 0);
 }
 
 /* The checks of mesh_write.c's check_writable, in its order, with its
@@ -358,6 +361,8 @@ static int check_level(const char *path, st_map *m, unsigned l, const face_count
         return st_fail(err, ST_ERR_INVALID, "%s: face %u has fewer than 3 vertices", path, fc->first_short);
     for (uint32_t t = 0; g && t < g->n; t++) {
         uint32_t x = g->first[t];
+        if (x == ST_NIL) /* (every ring corner lies on a walked face: not met on a valid map) */
+            return st_fail(err, ST_ERR_INVALID, "%s: texture coordinate %zu has no corner", path, (size_t)t);
         for (int k = 0; x < fl->cap && k < 2; k++)
             if (!isfinite(fl->uv[2 * (size_t)x + (size_t)k]))
                 return st_fail(err, ST_ERR_GEOMETRY, "%s: texture coordinate %zu is not finite", path, (size_t)t);
@@ -478,8 +483,31 @@ static void write_plain(FILE *f, st_map *m, unsigned l, const ply_view *pv, uint
     fwrite(o->b, 1, o->n, f);
 }
 
-/* With UVs: one vertex per group, faces from the corner array. */
-static void write_uv(FILE *f, const st_map *m, unsigned l, const level_faces *lf, const face_counts *fc,
+/* With UVs: one vertex per group; the faces walked again as the plain
+ * writer walks them, each corner's vertex by its group. */
+static inline void write_uv_faces(ply_out *o, st_map *m, unsigned l, const ply_view *pv, const face_counts *fc,
+                                  uint64_t *seen, const uint32_t *val, const uv_groups *g, int fast)
+{
+    st_fvar_scan it;
+    st_fvar_scan_init(&it, m, 0, l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+        if (st_is_boundary(m, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
+        int real = !st_is_hole(m, d);
+        uint32_t k = 0, x = d;
+        do {
+            k++;
+            x = pv_phi1(pv, x, fast);
+        } while (x != d);
+        if (real) write_face_size(o, fc, k);
+        do {
+            seen[x >> 6] |= 1ull << (x & 63);
+            if (real) out_u32(o, group_of(g, pv_index(pv, x, fast), val, x));
+            x = pv_phi1(pv, x, fast);
+        } while (x != d);
+    }
+}
+
+static void write_uv(FILE *f, st_map *m, unsigned l, const ply_view *pv, const face_counts *fc, uint64_t *seen,
                      const st_fvar_level *fl, const uv_groups *g)
 {
     write_header(f, g->n, 1, fc);
@@ -495,12 +523,9 @@ static void write_uv(FILE *f, const st_map *m, unsigned l, const level_faces *lf
         out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x] : 0);
         out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x + 1] : 0);
     }
-    for (uint32_t fi = 0; fi < lf->nfaces; fi++) {
-        uint32_t a = lf->off[fi], b = lf->off[fi + 1];
-        if (st_is_hole(m, lf->dart[a])) continue;
-        write_face_size(o, fc, b - a);
-        for (uint32_t c = a; c < b; c++) out_u32(o, g->corner_t[c]);
-    }
+    memset(seen, 0, seen_words(m) * sizeof *seen);
+    if (pv->fast) write_uv_faces(o, m, l, pv, fc, seen, fl->val, g, 1);
+    else write_uv_faces(o, m, l, pv, fc, seen, fl->val, g, 0);
     fwrite(o->b, 1, o->n, f);
 }
 
@@ -520,11 +545,10 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     if (m->face_embedded) return st_hier_level_save_ply_soup(h, l, path, err);
     const double *uv = st_hier_uv(h, l);
     const st_fvar_level *fl = uv ? &h->fvar->lv[l] : NULL;
-    level_faces lf = { 0 };
     uv_groups groups = { 0 };
     uv_groups *g = uv ? &groups : NULL;
     face_counts fc = { 0, 0, UINT32_MAX, 0 };
-    uint64_t *seen = NULL; /* without UVs: the faces-walked bits of the walks */
+    uint64_t *seen = NULL; /* the faces-walked bits of the walks */
     unsigned char *recs = NULL; /* without UVs: the face records, when one walk made them */
     size_t len = 0;
     ply_view pv;
@@ -542,37 +566,35 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
         for (uint32_t v = st_fvar_scan_next(&it); v != ST_NIL; v = st_fvar_scan_next(&it), nverts++)
             if (vindex) vindex[v] = nverts;
     }
-    if (!rc && g) {
-        rc = faces_walk(m, l, &lf);
-        if (!rc) rc = uv_group(&lf, vindex, nverts, m, l, fl->val, g);
-        for (uint32_t fi = 0; !rc && fi < lf.nfaces; fi++)
-            count_face(&fc, lf.off[fi + 1] - lf.off[fi], st_is_hole(m, lf.dart[lf.off[fi]]));
-    } else if (!rc) {
+    if (!rc) {
         seen = malloc(seen_words(m) * sizeof *seen);
         if (!seen) rc = -1;
+    }
+    if (!rc && g) {
+        rc = uv_group(vindex, nverts, m, l, fl->val, g);
+        if (!rc) count_faces_walk(m, l, &pv, &fc, seen, fl->val, g);
+    } else if (!rc) {
         /* One walk into memory; else (no memory for the records, or a face
          * over 255 corners) one walk that counts and one that writes. */
         uint64_t bound = 5 * darts_up_to(m, l);
-        if (!rc && bound <= SIZE_MAX) recs = st_malloc_huge((size_t)bound);
+        if (bound <= SIZE_MAX) recs = st_malloc_huge((size_t)bound);
         if (recs && faces_to_memory(m, l, &pv, &fc, seen, recs, &len)) {
             free(recs);
             recs = NULL;
             fc = (face_counts){ 0, 0, UINT32_MAX, 0 };
         }
-        if (!rc && !recs) count_faces_walk(m, l, &pv, &fc, seen);
+        if (!recs) count_faces_walk(m, l, &pv, &fc, seen, NULL, NULL);
     }
     if (rc) rc = st_fail(err, ST_ERR_MEMORY, "%s: out of memory writing level %u", path, l);
     if (!rc) rc = check_level(path, m, l, &fc, fl, g, err);
     st_afile af;
     if (!rc) rc = st_afile_open(&af, path, err);
     if (!rc) {
-        if (g) write_uv(af.f, m, l, &lf, &fc, fl, g);
+        if (g) write_uv(af.f, m, l, &pv, &fc, seen, fl, g);
         else write_plain(af.f, m, l, &pv, nverts, &fc, seen, recs, len);
         rc = st_afile_commit(&af, err);
     }
-    faces_free(&lf);
-    free(groups.corner_t);
-    free(groups.first);
+    groups_free(&groups);
     free(vindex);
     free(seen);
     free(recs);
