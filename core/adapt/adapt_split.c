@@ -241,15 +241,16 @@ static int can_simplify_outline(st_adapt *a, uint32_t d, unsigned i, int restric
     unsigned L = i + 1;
     if (!st_adapt_split_toward(m, d, i)) return 0;
     if (!get_outline_max(m, d, i, o)) return 0;
+    /* (At the map's top level nothing is finer than L: no sub-face is
+     * subdivided, and the ring test below would walk every ring of the
+     * face's level-L vertices for nothing; the faces next to the finest
+     * level are most of those an update simplifies.) */
+    if (L >= m->top) return 1;
     uint32_t subs[256 + 1];
     uint32_t n = sub_faces(m, o, i, st_adapt_ops_of(a)->central_child(o->n), subs);
     for (uint32_t k = 0; k < n; k++)
         if (st_adapt_split_toward(m, subs[k], L)) return 0;
-    /* (At the map's top level nothing is finer than L: the test below
-     * would walk every ring of the face's level-L vertices for nothing,
-     * and the faces next to the finest level are most of those an
-     * update simplifies.) */
-    if (!restricted || L >= m->top) return 1;
+    if (!restricted) return 1;
     /* Once f is back at level i, no face sharing one of its vertices may be
      * finer than level i+1: its corners, and the midpoints of its sides
      * that stay split because the face across is subdivided.  (A face of
