@@ -267,14 +267,14 @@ static int ranges_out(u32_list *pairs, st_range_list *out)
     return 0;
 }
 
-/* Dirty slots -> ranges; the bounding box grows to the refreshed vertices. */
+/* Dirty slots -> ranges; the bounding box grows to the refreshed vertices
+ * (st_rgeom_refresh's reread: the drawn ones among p->refresh, each once,
+ * where this loop tested each of the list's repeats again). */
 static int finish(patch *p, st_rgeom_dirty *dirty)
 {
     st_rgeom *g = p->g;
-    for (size_t i = 0; i < p->refresh.n; i++) {
-        uint32_t v = p->refresh.d[i];
-        if (v >= g->nvids || g->slot[v] == ST_NIL || !st_rgeom_vertex_drawn(g, p->m, g->slot[v])) continue;
-        const float *q = g->vdata + ST_RGEOM_VSTRIDE * (size_t)g->slot[v];
+    for (uint32_t i = 0; i < g->nreread; i++) {
+        const float *q = g->vdata + ST_RGEOM_VSTRIDE * (size_t)g->reread[i];
         for (int k = 0; k < 3; k++) {
             if (q[k] < g->bbox[k]) g->bbox[k] = q[k];
             if (q[k] > g->bbox[3 + k]) g->bbox[3 + k] = q[k];
@@ -327,10 +327,7 @@ int st_rgeom_patch(st_rgeom *g, const st_map *m, const st_map_log *log, st_rgeom
     int rc = p.oom ? -1 : 0;
     if (!rc && 2 * g->ndead > g->nfaces) rc = 1;
     if (!rc) {
-        /* The stamp tables were sized for the old counts. */
-        free(g->vstamp);
-        free(g->fstamp);
-        g->vstamp = g->fstamp = NULL;
+        /* (st_rgeom_refresh grows the vertex and face marks to the new counts) */
         rc = st_rgeom_refresh(g, m, p.refresh.d, (uint32_t)p.refresh.n, dirty ? &dirty->verts : NULL,
                               dirty ? &dirty->faces : NULL);
         if (!rc) rc = finish(&p, dirty) ? -1 : 0;

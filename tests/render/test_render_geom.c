@@ -369,6 +369,13 @@ static void compare_patched(const st_rgeom *pg, const st_rgeom *g, const char *w
             worst = fmax(worst, fabs((double)pg->vdata[ST_RGEOM_VSTRIDE * (size_t)t + k] - g->vdata[ST_RGEOM_VSTRIDE * (size_t)s + k]));
     }
     CHECKF(missing == 0 && worst < 1e-5, "%s: patched vertices: %u missing, position/normal differs by %g", what, missing, worst);
+    /* The patched bounding box only grows (geom_patch.c): it holds the
+     * built one, which is that of the drawn vertices. */
+    int holds = 1;
+    for (int k = 0; k < 3; k++) holds &= pg->bbox[k] <= g->bbox[k] && pg->bbox[3 + k] >= g->bbox[3 + k];
+    CHECKF(holds, "%s: patched bounding box (%g %g %g .. %g %g %g) misses the built one (%g %g %g .. %g %g %g)", what,
+           pg->bbox[0], pg->bbox[1], pg->bbox[2], pg->bbox[3], pg->bbox[4], pg->bbox[5], g->bbox[0], g->bbox[1],
+           g->bbox[2], g->bbox[3], g->bbox[4], g->bbox[5]);
 }
 
 static void test_no_cracks_adaptive(void)
