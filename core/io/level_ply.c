@@ -18,6 +18,7 @@
 #include "core/io/atomic_file.h"
 #include "core/base/hugepage.h"
 #include "core/fvar/fvar_internal.h"
+#include "core/map/dart_list.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -173,8 +174,8 @@ static void out_u8(ply_out *o, unsigned v)
 /* The groups are found around each vertex (its β1 ring at level l: the
  * corners of real and hole faces, as the soup has them), not by sorting
  * every corner: the writer then holds a few words per vertex and group
- * instead of four per corner (spot's level 4 with UVs: 44 MiB less at the
- * writer's peak).  A vertex's groups are its distinct labels in ascending
+ * instead of four per corner (spot's level 4 with UVs: 34 MiB less at the
+ * process's peak).  A vertex's groups are its distinct labels in ascending
  * order, and PLY vertices follow the vertices' order, as in the soup.  A
  * group's UV is the soup's: that of its first corner in the faces' order
  * (the counting walk finds it), since corners of one label may differ in
@@ -193,38 +194,21 @@ static void groups_free(uv_groups *g)
     free(g->label);
 }
 
-/* A growable list of labels: one vertex's corners. */
-typedef struct ring_buf {
-    uint32_t *a;
-    uint32_t n, cap;
-} ring_buf;
-
-/* The labels of v's corners (d one of them), ascending; -1 when out of
- * memory. */
-static int ring_corners(const st_map *m, const st_level_view *lv, uint32_t d, const uint32_t *val, ring_buf *r)
+/* The labels of v's corners (d one of them) into r, ascending. */
+static void ring_labels(const st_map *m, const st_level_view *lv, uint32_t d, const uint32_t *val, st_dart_list *r)
 {
     r->n = 0;
     uint32_t y = d;
     do {
-        if (!st_is_boundary(m, y)) {
-            if (r->n == r->cap) {
-                uint32_t c = r->cap ? 2 * r->cap : 16;
-                uint32_t *p = realloc(r->a, (size_t)c * sizeof *p);
-                if (!p) return -1;
-                r->a = p;
-                r->cap = c;
-            }
-            r->a[r->n++] = val[y];
-        }
+        if (!st_is_boundary(m, y)) st_dart_list_push(r, val[y]);
         y = st_v_beta1(lv, y);
     } while (y != d);
     for (uint32_t i = 1; i < r->n; i++) { /* (rings are short: insertion) */
-        uint32_t x = r->a[i];
+        uint32_t x = r->d[i];
         uint32_t j = i;
-        for (; j > 0 && r->a[j - 1] > x; j--) r->a[j] = r->a[j - 1];
-        r->a[j] = x;
+        for (; j > 0 && r->d[j - 1] > x; j--) r->d[j] = r->d[j - 1];
+        r->d[j] = x;
     }
-    return 0;
 }
 
 /* One scan of the darts finds a corner of each vertex; then each vertex's
@@ -236,7 +220,7 @@ static int uv_group(const uint32_t *vindex, uint32_t nverts, const st_map *m, un
     st_level_view lv;
     st_level_view_init(m, l, &lv);
     uint32_t *vdart = st_malloc_huge(((size_t)nverts + 1) * sizeof *vdart), cap = nverts + nverts / 4 + 16;
-    ring_buf r = { 0 };
+    st_dart_list r = { 0 };
     g->gfirst = st_malloc_huge(((size_t)nverts + 1) * sizeof *g->gfirst);
     g->label = st_malloc_huge((size_t)cap * sizeof *g->label);
     g->n = 0;
@@ -253,9 +237,9 @@ static int uv_group(const uint32_t *vindex, uint32_t nverts, const st_map *m, un
     for (uint32_t vi = 0; vi < nverts; vi++) {
         g->gfirst[vi] = g->n;
         if (vdart[vi] == ST_NIL) continue; /* (on no face) */
-        if (ring_corners(m, &lv, vdart[vi], val, &r)) goto done;
+        ring_labels(m, &lv, vdart[vi], val, &r);
         for (uint32_t i = 0; i < r.n; i++) {
-            if (i > 0 && r.a[i] == r.a[i - 1]) continue;
+            if (i > 0 && r.d[i] == r.d[i - 1]) continue;
             if (g->n == cap) {
                 uint32_t c = cap + cap / 2;
                 uint32_t *q = st_realloc_huge(g->label, (size_t)cap * sizeof *q, (size_t)c * sizeof *q);
@@ -263,7 +247,7 @@ static int uv_group(const uint32_t *vindex, uint32_t nverts, const st_map *m, un
                 g->label = q;
                 cap = c;
             }
-            g->label[g->n++] = r.a[i];
+            g->label[g->n++] = r.d[i];
         }
     }
     g->gfirst[nverts] = g->n;
@@ -273,7 +257,7 @@ static int uv_group(const uint32_t *vindex, uint32_t nverts, const st_map *m, un
     rc = 0;
 done:
     free(vdart);
-    free(r.a);
+    st_dart_list_free(&r);
     if (rc) {
         groups_free(g);
         memset(g, 0, sizeof *g);
@@ -385,9 +369,10 @@ static void write_face_size(ply_out *o, const face_counts *fc, uint32_t k)
     else out_u8(o, k);
 }
 
-/* Without UVs: the level's real faces walked again. */
-static inline void write_plain_faces(ply_out *o, st_map *m, unsigned l, const ply_view *pv, const face_counts *fc,
-                                     uint64_t *seen, int fast)
+/* The level's real faces walked again; with g (the UV writer) each
+ * corner's PLY vertex is its group (val: the labels). */
+static inline void write_faces_kind(ply_out *o, st_map *m, unsigned l, const ply_view *pv, const face_counts *fc,
+                                    uint64_t *seen, const uint32_t *val, const uv_groups *g, int fast)
 {
     st_fvar_scan it;
     st_fvar_scan_init(&it, m, 0, l);
@@ -402,14 +387,25 @@ static inline void write_plain_faces(ply_out *o, st_map *m, unsigned l, const pl
         if (real) write_face_size(o, fc, k);
         do {
             seen[x >> 6] |= 1ull << (x & 63);
-            if (real) out_u32(o, pv_index(pv, x, fast));
+            if (real) {
+                uint32_t vi = pv_index(pv, x, fast);
+                out_u32(o, g ? group_of(g, vi, val, x) : vi);
+            }
             x = pv_phi1(pv, x, fast);
         } while (x != d);
     }
 }
 
+static void write_faces(ply_out *o, st_map *m, unsigned l, const ply_view *pv, const face_counts *fc, uint64_t *seen,
+                        const uint32_t *val, const uv_groups *g)
+{
+    memset(seen, 0, seen_words(m) * sizeof *seen);
+    if (pv->fast) write_faces_kind(o, m, l, pv, fc, seen, val, g, 1);
+    else write_faces_kind(o, m, l, pv, fc, seen, val, g, 0);
+}
+
 /* Without UVs, in one walk: the face records of the real faces (a uchar
- * size and the indices, as write_plain_faces writes them) into buf, which
+ * size and the indices, as write_faces writes them) into buf, which
  * holds 5 bytes per dart of levels 0..l (the most a face record takes per
  * corner), the counts into fc.  -1 (fc then partial) when a face has more
  * than 255 corners: the records would need a uint size, known only after
@@ -477,36 +473,11 @@ static void write_plain(FILE *f, st_map *m, unsigned l, const ply_view *pv, uint
         fwrite(recs, 1, len, f);
         return;
     }
-    memset(seen, 0, seen_words(m) * sizeof *seen);
-    if (pv->fast) write_plain_faces(o, m, l, pv, fc, seen, 1);
-    else write_plain_faces(o, m, l, pv, fc, seen, 0);
+    write_faces(o, m, l, pv, fc, seen, NULL, NULL);
     fwrite(o->b, 1, o->n, f);
 }
 
-/* With UVs: one vertex per group; the faces walked again as the plain
- * writer walks them, each corner's vertex by its group. */
-static inline void write_uv_faces(ply_out *o, st_map *m, unsigned l, const ply_view *pv, const face_counts *fc,
-                                  uint64_t *seen, const uint32_t *val, const uv_groups *g, int fast)
-{
-    st_fvar_scan it;
-    st_fvar_scan_init(&it, m, 0, l);
-    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
-        if (st_is_boundary(m, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
-        int real = !st_is_hole(m, d);
-        uint32_t k = 0, x = d;
-        do {
-            k++;
-            x = pv_phi1(pv, x, fast);
-        } while (x != d);
-        if (real) write_face_size(o, fc, k);
-        do {
-            seen[x >> 6] |= 1ull << (x & 63);
-            if (real) out_u32(o, group_of(g, pv_index(pv, x, fast), val, x));
-            x = pv_phi1(pv, x, fast);
-        } while (x != d);
-    }
-}
-
+/* With UVs: one vertex per group, then the faces (write_faces). */
 static void write_uv(FILE *f, st_map *m, unsigned l, const ply_view *pv, const face_counts *fc, uint64_t *seen,
                      const st_fvar_level *fl, const uv_groups *g)
 {
@@ -523,9 +494,7 @@ static void write_uv(FILE *f, st_map *m, unsigned l, const ply_view *pv, const f
         out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x] : 0);
         out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x + 1] : 0);
     }
-    memset(seen, 0, seen_words(m) * sizeof *seen);
-    if (pv->fast) write_uv_faces(o, m, l, pv, fc, seen, fl->val, g, 1);
-    else write_uv_faces(o, m, l, pv, fc, seen, fl->val, g, 0);
+    write_faces(o, m, l, pv, fc, seen, fl->val, g);
     fwrite(o->b, 1, o->n, f);
 }
 
