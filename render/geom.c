@@ -430,19 +430,15 @@ void st_rgeom_refresh_all(st_rgeom *g, const st_map *m)
 
 /* ---- incremental ------------------------------------------------------------ */
 
-/* Makes *a hold at least n marks: grown by half again, the new tail
- * cleared (a mark of an older generation never equals a later one). */
-static int grow_marks(uint32_t **a, uint32_t *cap, uint32_t n)
+/* Makes *a hold at least n marks (GROW), the new tail cleared: a mark of
+ * an older generation never equals a later one. */
+static int grow_marks(uint32_t **a, size_t *cap, size_t n)
 {
-    if (n <= *cap) return 0;
-    uint64_t c = (uint64_t)*cap + *cap / 2;
-    if (c < n) c = n;
-    if (c > UINT32_MAX) c = UINT32_MAX;
-    uint32_t *p = realloc(*a, (size_t)c * sizeof *p);
-    if (!p) return -1;
-    memset(p + *cap, 0, (size_t)(c - *cap) * sizeof *p);
-    *a = p;
-    *cap = (uint32_t)c;
+    size_t old = *cap;
+    int oom = 0;
+    GROW(*a, *cap, n, oom);
+    if (oom) return -1;
+    if (*cap > old) memset(*a + old, 0, (*cap - old) * sizeof **a);
     return 0;
 }
 
@@ -471,8 +467,8 @@ int st_rg_ensure_stamps(st_rgeom *g, const st_map *m)
 uint32_t st_rg_next_gen(st_rgeom *g)
 {
     if (++g->gen == 0) {
-        memset(g->vstamp, 0, (size_t)g->vstamp_cap * sizeof *g->vstamp);
-        memset(g->fstamp, 0, (size_t)g->fstamp_cap * sizeof *g->fstamp);
+        memset(g->vstamp, 0, g->vstamp_cap * sizeof *g->vstamp);
+        memset(g->fstamp, 0, g->fstamp_cap * sizeof *g->fstamp);
         memset(g->dstamp_v, 0, (size_t)g->dstamp_cap * sizeof *g->dstamp_v);
         memset(g->dstamp_f, 0, (size_t)g->dstamp_cap * sizeof *g->dstamp_f);
         g->gen = 1;

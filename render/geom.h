@@ -96,7 +96,7 @@ typedef struct st_rgeom {
     uint32_t dstamp_cap;              /* entries in dstamp_v and dstamp_f */
     uint32_t *vstamp;                 /* per vertex index: generation mark */
     uint32_t *fstamp;                 /* per face: generation mark */
-    uint32_t vstamp_cap, fstamp_cap;  /* entries in vstamp and fstamp (grown as patches append) */
+    size_t vstamp_cap, fstamp_cap;    /* entries in vstamp and fstamp (grown as patches append) */
     uint32_t gen;
     uint32_t *reread;                 /* vertex indices the last st_rgeom_refresh re-read */
     uint32_t nreread;

@@ -119,14 +119,19 @@ int st_app_save(st_app *a)
     return 0;
 }
 
+static void remove_recovery(void)
+{
+    char rec[4096];
+    if (!st_session_recovery_path(rec, sizeof rec)) unlink(rec);
+}
+
 /* The document was saved where the user asked: nothing is unsaved, and the
  * recovery file, older than the save, goes. */
 void st_app_saved(st_app *a)
 {
     a->autosave_dirty = 0;
     a->saved_revision = a->recovery_revision = a->doc.revision;
-    char rec[4096];
-    if (!st_session_recovery_path(rec, sizeof rec)) unlink(rec);
+    remove_recovery();
 }
 
 int st_app_unsaved(const st_app *a)
@@ -238,8 +243,7 @@ void st_app_autosave_tick(st_app *a, int force)
     if (a->doc.loaded && a->doc.revision != a->recovery_revision && a->doc.revision == a->saved_revision) {
         /* Undone back to the state last saved or opened: nothing is left
          * to recover (as after st_app_saved). */
-        char rec[4096];
-        if (!st_session_recovery_path(rec, sizeof rec)) unlink(rec);
+        remove_recovery();
         a->recovery_revision = a->doc.revision;
         a->autosave_dirty = 0;
         return;
