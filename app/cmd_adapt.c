@@ -63,7 +63,7 @@ static int parse_adapt(int argc, char **argv, st_adapt_params *p, int *tri, int 
 
 /* The renderer's corner UVs (single precision, as it draws them) of the
  * triangles, one texture coordinate per corner. */
-static int triangle_uvs(const st_rgeom *g, const st_map *m, const double *uv, st_mesh *r)
+static int triangle_uvs(const st_rgeom *g, const st_map *m, const st_uv_map *uv, st_mesh *r)
 {
     size_t nc = 3 * (size_t)g->ntris;
     float *f = malloc((2 * nc + 1) * sizeof *f);
@@ -97,7 +97,8 @@ static int triangulated(const st_map *m, unsigned level, const double *uv, st_me
     for (uint32_t v = 0; v < g.nverts; v++) memcpy(r.pos + 3 * (size_t)v, st_pos(m, g.vid[v], level), 3 * sizeof(double));
     for (uint32_t t = 0; t <= g.ntris; t++) r.face_off[t] = 3 * t;
     memcpy(r.face_idx, g.tris, (size_t)g.ntris * 3 * sizeof *r.face_idx);
-    if (uv && triangle_uvs(&g, m, uv, &r)) { st_mesh_free(&r); st_rgeom_free(&g); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
+    st_uv_map um = { uv, NULL, m->darts.end };
+    if (uv && triangle_uvs(&g, m, &um, &r)) { st_mesh_free(&r); st_rgeom_free(&g); return st_fail(err, ST_ERR_MEMORY, "out of memory"); }
     st_rgeom_free(&g);
     st_mesh_move(out, &r);
     return ST_OK;
@@ -158,7 +159,7 @@ int st_cmd_adapt(int argc, char **argv)
         if (!rc) rc = tri ? triangulated(sm, shown, u.uv, &out, &err) : st_adapt_mesh(&a, &out, &err);
         st_adapt_uv_free(&u);
     }
-    if (!rc && st_hier_uv(&h, 0) && !out.face_uv) {
+    if (!rc && st_hier_has_uv(&h, 0) && !out.face_uv) {
         const char *why = access ? "a level of the regular hierarchy has none" : st_adapt_uv_absent(&a);
         fprintf(stderr, "strata adapt: note: %s has UVs; %s: %s is written without\n", o.in, why ? why : "?", o.out);
     }

@@ -212,7 +212,7 @@ static int save_mapped(st_hier *h, unsigned l, const st_mesh *m, const conv_opts
     int w = 0, hh = 0;
     unsigned char *px = NULL;
     st_error ignored;
-    if ((!o->auto_uv && st_hier_uv(h, l)) || strstr(o->normal_map, "<UDIM>") || st_png_read(o->normal_map, &w, &hh, &px, &ignored))
+    if ((!o->auto_uv && st_hier_has_uv(h, l)) || strstr(o->normal_map, "<UDIM>") || st_png_read(o->normal_map, &w, &hh, &px, &ignored))
         w = 0;
     free(px);
     return st_gltf_save_level_mapped(o->out, h, l, m, o->auto_uv, w > 0 ? (uint32_t)w : 2048, ST_BAKE_AUTO_PADDING, o->normal_map, err);

@@ -282,9 +282,9 @@ int st_cmd_render(int argc, char **argv)
             st_bake_layout_free(&lay);
         }
         if (arc) { fprintf(stderr, "strata render: %s: %s\n", o.in, e.msg); st_hier_free(&h); return 1; }
-        r.spec.uv = auto_uv;
-    } else if (r.spec.mode == ST_MODE_UV && !r.adaptive && !(r.spec.uv = st_hier_uv(&h, level))) {
-        if (level && st_hier_uv(&h, 0))
+        r.spec.uv = (st_uv_map){ auto_uv, NULL, h.map.darts.end };
+    } else if (r.spec.mode == ST_MODE_UV && !r.adaptive && !(r.spec.uv = st_hier_uv(&h, level)).uv) {
+        if (level && st_hier_has_uv(&h, 0))
             fprintf(stderr, "strata render: %s: level %u has no UVs for --mode uv (this scheme keeps those of level 0 only: try --level 0)\n",
                     o.in, level);
         else
@@ -317,7 +317,7 @@ int st_cmd_render(int argc, char **argv)
             st_hier_free(&h);
             return 1;
         }
-        r.spec.uv = auv.uv ? auv.uv : r.spec.uv;
+        if (auv.uv) r.spec.uv = (st_uv_map){ auv.uv, NULL, auv.cap };
         if (shown == &h.map) st_adapt_free(&a);
     }
     st_offscreen off;

@@ -26,7 +26,7 @@ int st_render_normal_mapped(st_offscreen *off, st_hier *h, const st_render_spec 
     st_bake_layout lay;
     st_nmap_mesh mesh = { 0 };
     st_nmap nm = { 0 };
-    rc = !auto_uv && st_hier_uv(h, spec->level) ? st_bake_level_uvs(h, spec->level, &lay, err)
+    rc = !auto_uv && st_hier_has_uv(h, spec->level) ? st_bake_level_uvs(h, spec->level, &lay, err)
                                     : st_bake_chart_uvs(h, spec->level, tw > 0 ? (uint32_t)tw : 2048, ST_BAKE_AUTO_PADDING, &lay, NULL, err);
     if (rc) { free(tex); return rc; }
     st_bake_uvs uvs = st_bake_layout_uvs(&lay);

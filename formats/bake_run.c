@@ -176,7 +176,7 @@ int st_bake_run(st_hier *h, const st_bake_request *b, st_bake_result *res, st_er
         goto done;
     }
     if ((rc = st_bake_check_scheme(h, err))) goto done;
-    if (!b->auto_uv && !st_hier_uv(h, b->base)) {
+    if (!b->auto_uv && !st_hier_has_uv(h, b->base)) {
         rc = st_fail(err, ST_ERR_INVALID, "level %u has no UVs (the mesh it was made from had none); "
                                           "--auto-uv lays out an atlas of charts", b->base);
         goto done;

@@ -1401,7 +1401,7 @@ int st_gltf_save_level_mapped(const char *path, st_hier *h, unsigned l, const st
                               uint32_t atlas_padding, const char *normal_map, st_error *err)
 {
     st_bake_layout lay;
-    int rc = !auto_uv && st_hier_uv(h, l) ? st_bake_level_uvs(h, l, &lay, err)
+    int rc = !auto_uv && st_hier_has_uv(h, l) ? st_bake_level_uvs(h, l, &lay, err)
                                           : st_bake_chart_uvs(h, l, atlas_size, atlas_padding, &lay, NULL, err);
     if (rc) return rc;
     size_t nc = lay.corner_off[lay.nfaces];

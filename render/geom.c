@@ -356,7 +356,7 @@ static uint32_t face_corner_dart(const st_rgeom *g, const st_level_view *V, uint
     return ST_NIL;
 }
 
-void st_rgeom_corner_uvs(const st_rgeom *g, const st_map *m, const double *uv, float *out)
+void st_rgeom_corner_uvs(const st_rgeom *g, const st_map *m, const st_uv_map *uv, float *out)
 {
     st_level_view V;
     st_level_view_init(m, g->level, &V);
@@ -366,8 +366,9 @@ void st_rgeom_corner_uvs(const st_rgeom *g, const st_map *m, const double *uv, f
         for (int j = 0; j < 3; j++) {
             uint32_t d = live ? face_corner_dart(g, &V, f, g->tris[3 * (size_t)t + j]) : ST_NIL;
             float *o = out + 6 * (size_t)t + 2 * j;
-            o[0] = d != ST_NIL ? (float)uv[2 * (size_t)d] : 0.0f;
-            o[1] = d != ST_NIL ? (float)uv[2 * (size_t)d + 1] : 0.0f;
+            const double *p = d != ST_NIL ? st_uv_map_at(uv, d) : NULL;
+            o[0] = p ? (float)p[0] : 0.0f;
+            o[1] = p ? (float)p[1] : 0.0f;
         }
     }
 }

@@ -40,6 +40,7 @@
 #include "core/map/map.h"
 #include "core/map/footprint.h"
 #include "core/base/st_error.h"
+#include "core/fvar/fvar.h"
 
 #define ST_RGEOM_VSTRIDE 6            /* floats per vertex: position, normal */
 
@@ -159,7 +160,7 @@ void st_rgeom_refresh_all(st_rgeom *g, const st_map *m);
  * doubles per dart id of g's map level, core/fvar/fvar.h: st_hier_uv) at
  * the dart of that corner's face.  Per corner, not per vertex: a vertex on
  * a UV seam has one UV in each face.  Removed faces get (0, 0). */
-void st_rgeom_corner_uvs(const st_rgeom *g, const st_map *m, const double *uv, float *out);
+void st_rgeom_corner_uvs(const st_rgeom *g, const st_map *m, const st_uv_map *uv, float *out);
 
 void st_range_list_free(st_range_list *l);
 

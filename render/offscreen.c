@@ -46,8 +46,8 @@ int st_offscreen_prepare(st_offscreen *o, const st_map *m, const st_render_spec 
     int rc = st_renderer_set_level(&o->r, m, s->level, err);
     if (rc) return rc;
     if (s->mode == ST_MODE_UV) {
-        if (!s->uv) return st_fail(err, ST_ERR_INVALID, "render: level %u has no UVs to draw the checker with", s->level);
-        rc = st_renderer_set_uvs(&o->r, m, s->uv, err);
+        if (!s->uv.uv) return st_fail(err, ST_ERR_INVALID, "render: level %u has no UVs to draw the checker with", s->level);
+        rc = st_renderer_set_uvs(&o->r, m, &s->uv, err);
         if (rc) return rc;
     }
     if (s->mode == ST_MODE_CAGE) {

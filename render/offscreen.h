@@ -23,7 +23,7 @@ typedef struct st_render_spec {
     int view;                 /* enum st_view_preset, or -1: the orbit below */
     float az, el, dist;       /* orbit (degrees, degrees, model units; dist <= 0: fit) */
     int has_box;              /* draw the interest box box[0..2] - box[3..5] */
-    const double *uv;         /* ST_MODE_UV: the displayed level's UVs (core/fvar/fvar.h: st_hier_uv) */
+    st_uv_map uv;             /* ST_MODE_UV: the displayed level's UVs (core/fvar/fvar.h; st_hier_uv); uv.uv NULL: none */
     float box[6];
 } st_render_spec;
 

@@ -218,11 +218,11 @@ int st_renderer_set_level(st_renderer *r, const st_map *m, unsigned l, st_error 
 
 /* ---- UV checker ------------------------------------------------------------------- */
 
-int st_renderer_set_uvs(st_renderer *r, const st_map *m, const double *uv, st_error *err)
+int st_renderer_set_uvs(st_renderer *r, const st_map *m, const st_uv_map *uv, st_error *err)
 {
     const st_gl *gl = r->gl;
     r->has_uv = 0;
-    if (!uv || !r->has_surf) return ST_OK;
+    if (!uv || !uv->uv || !r->has_surf) return ST_OK;
     const st_rgeom *g = &r->surf;
     size_t n = 6 * (size_t)(g->ntris ? g->ntris : 1);
     float *t = malloc(n * sizeof *t);

@@ -140,11 +140,11 @@ void st_renderer_free(st_renderer *r);
 /* Builds and uploads level l of m as the displayed surface. */
 int st_renderer_set_level(st_renderer *r, const st_map *m, unsigned l, st_error *err);
 /* Uploads the texture coordinates of the displayed surface for the UV
- * checker: uv holds 2 doubles per dart id of the surface's map level
- * (core/fvar/fvar.h: st_hier_uv); NULL drops them.  Set them again after
- * st_renderer_set_level or st_renderer_patch (both drop them: the
- * triangles change); position refreshes keep them. */
-int st_renderer_set_uvs(st_renderer *r, const st_map *m, const double *uv, st_error *err);
+ * checker: uv gives one per dart id of the surface's map level
+ * (core/fvar/fvar.h: st_uv_map, st_hier_uv); NULL or uv->uv NULL drops
+ * them.  Set them again after st_renderer_set_level or st_renderer_patch
+ * (both drop them: the triangles change); position refreshes keep them. */
+int st_renderer_set_uvs(st_renderer *r, const st_map *m, const st_uv_map *uv, st_error *err);
 
 /* Builds and uploads level l of m as the control-mesh overlay; clears the
  * selection and the hover. */

@@ -170,7 +170,7 @@ static int uv_keys_free(const st_app *a)
 {
     const st_doc *d = &a->doc;
     int has = d->box_on ? d->display.built && !st_adapt_uv_absent(&d->display.adapt)
-                        : st_hier_uv(&d->h, st_doc_display_map_level(d)) != NULL;
+                        : st_hier_has_uv(&d->h, st_doc_display_map_level(d));
     return model_keys_free(a) && (a->checker || has);
 }
 

@@ -25,7 +25,7 @@ void st_app_bake_defaults(st_app *a)
     if (b->level < 0 || (unsigned)b->level > top) b->level = (int)top;
     if (b->level < b->base) b->level = b->base;
     /* A level without UVs bakes onto an atlas of charts. */
-    if (a->doc.loaded && !st_hier_uv(&a->doc.h, (unsigned)b->base)) b->auto_uv = 1;
+    if (a->doc.loaded && !st_hier_has_uv(&a->doc.h, (unsigned)b->base)) b->auto_uv = 1;
     if (!b->normal[0] || !b->disp[0]) {
         /* STEM_normal.png and STEM_disp.exr beside the document. */
         const char *doc = a->doc.loaded && !a->showing_default ? a->doc.path : "";
@@ -58,7 +58,7 @@ static int build_view(st_app *a, st_error *err)
     st_app_bake *b = &a->bake;
     st_hier *h = &a->doc.h;
     st_bake_layout lay;
-    int rc = !b->have_auto_uv && st_hier_uv(h, b->have_base) ? st_bake_level_uvs(h, b->have_base, &lay, err)
+    int rc = !b->have_auto_uv && st_hier_has_uv(h, b->have_base) ? st_bake_level_uvs(h, b->have_base, &lay, err)
                                                               : st_bake_chart_uvs(h, b->have_base, b->have_size, b->have_padding,
                                                                                   &lay, NULL, err);
     if (rc) return rc;

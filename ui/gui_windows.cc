@@ -183,7 +183,7 @@ void bake_window(st_app *a)
     probe_item("bake:udim");
     ImGui::SetNextItemWidth(w);
     ImGui::SliderInt("Padding (texels)", &b->padding, 0, 64);
-    bool has_uv = st_hier_uv(&a->doc.h, (unsigned)b->base) != nullptr;
+    bool has_uv = st_hier_has_uv(&a->doc.h, (unsigned)b->base) != 0;
     on = b->auto_uv != 0 || !has_uv;
     if (!has_uv) ImGui::BeginDisabled();
     if (ImGui::Checkbox("Auto UVs (an atlas of charts)", &on)) b->auto_uv = on;

@@ -147,12 +147,12 @@ int st_app_sync(st_app *a)
         /* with the interest box: the adaptive mesh's own UVs, computed
          * again after each box move (core/adapt/adapt.h) */
         st_adapt_uv auv = { 0 };
-        const double *uv = NULL;
+        st_uv_map uv = { NULL, NULL, 0 };
         if (checker && dh == &d->h) uv = st_hier_uv(&d->h, disp);
         else if (checker && d->display.built && !st_adapt_uv_absent(&d->display.adapt) &&
                  st_adapt_uv_build(&d->display.adapt, &auv, &err) == ST_OK)
-            uv = auv.uv;
-        if (st_renderer_set_uvs(&a->r, &dh->map, uv, &err)) st_app_message(a, 1, "cannot draw the UV checker: %s", err.msg);
+            uv = (st_uv_map){ auv.uv, NULL, auv.cap };
+        if (st_renderer_set_uvs(&a->r, &dh->map, &uv, &err)) st_app_message(a, 1, "cannot draw the UV checker: %s", err.msg);
         st_adapt_uv_free(&auv);
         a->shown_checker = checker;
         touched = 1;

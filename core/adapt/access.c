@@ -199,19 +199,19 @@ static int cmp_uv_key(const void *pa, const void *pb)
 static int soup_uvs(const st_hier *h, const soup *s, const uint8_t *lev, st_mesh *r)
 {
     for (unsigned l = 0; l <= h->map.top; l++)
-        if (!st_hier_uv(h, l)) return 0;
+        if (!st_hier_has_uv(h, l)) return 0;
     uv_key *k = malloc(((size_t)s->nc + 1) * sizeof *k);
     r->uv = malloc(2 * ((size_t)s->nc + 1) * sizeof *r->uv);
     r->face_uv = malloc(((size_t)s->nc + 1) * sizeof *r->face_uv);
     if (!k || !r->uv || !r->face_uv) { free(k); return -1; }
     for (uint32_t c = 0; c < s->nc; c++)
-        k[c] = (uv_key){ r->face_idx[c], h->fvar->lv[lev[s->idx[c]]].val[s->dart[c]], c };
+        k[c] = (uv_key){ r->face_idx[c], st_fvar_label_at(&h->fvar->lv[lev[s->idx[c]]], s->dart[c]), c };
     qsort(k, s->nc, sizeof *k, cmp_uv_key);
     uint32_t n = 0;
     for (uint32_t i = 0; i < s->nc; i++) {
         if (i == 0 || k[i].vert != k[i - 1].vert || k[i].label != k[i - 1].label) {
             uint32_t c = k[i].corner;
-            const double *uv = st_hier_uv(h, lev[s->idx[c]]) + 2 * (size_t)s->dart[c];
+            const double *uv = st_fvar_uv_at(&h->fvar->lv[lev[s->idx[c]]], s->dart[c]);
             r->uv[2 * (size_t)n] = uv[0];
             r->uv[2 * (size_t)n + 1] = uv[1];
             n++;

@@ -57,7 +57,7 @@ static int rules_of(const st_hier *h) { return st_fvar_rules_of(h->scheme); }
 const char *st_adapt_uv_absent(const st_adapt *a)
 {
     const st_hier *h = a->h;
-    if (!st_hier_uv(h, 0)) return "the mesh has no texture coordinates";
+    if (!st_hier_has_uv(h, 0)) return "the mesh has no texture coordinates";
     if (st_adapt_is_progressive(a)) return "a progressive hierarchy's adaptive mesh carries no UVs";
     if (rules_of(h) < 0 && h->map.top > 0)
         return "this scheme keeps the UVs of level 0 only, and adaptive meshes above level 0 carry none";
@@ -230,9 +230,10 @@ int st_adapt_uv_build(st_adapt *a, st_adapt_uv *u, st_error *err)
         st_dart_iter it;
         for (uint32_t d = st_dart_first(m, 0, &it); d != ST_NIL; d = st_dart_next(m, 0, &it)) {
             if (d >= n0) continue;
-            u->uv[2 * (size_t)d] = f->lv[0].uv[2 * (size_t)d];
-            u->uv[2 * (size_t)d + 1] = f->lv[0].uv[2 * (size_t)d + 1];
-            u->val[d] = f->lv[0].val[d];
+            const double *p = st_fvar_uv_at(&f->lv[0], d);
+            u->uv[2 * (size_t)d] = p[0];
+            u->uv[2 * (size_t)d + 1] = p[1];
+            u->val[d] = st_fvar_label_at(&f->lv[0], d);
         }
         u->cap = cap;
     }
@@ -310,6 +311,7 @@ int st_adapt_uv_mesh(st_adapt *a, const st_adapt_uv *u, st_mesh *out, st_error *
      * and corners holding one value share one coordinate - that of the
      * face a regular level's walk meets first, as st_hier_level_mesh takes
      * it (the two sides of a smooth edge may differ in the last bit). */
-    st_fvar_soup_install(&so, out, st_fvar_soup_uvs(k, c, darts, u->uv, u->cap, so.face_uv, so.uv));
+    st_uv_map um = { u->uv, NULL, u->cap };
+    st_fvar_soup_install(&so, out, st_fvar_soup_uvs(k, c, darts, &um, so.face_uv, so.uv));
     return ST_OK;
 }

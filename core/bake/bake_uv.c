@@ -184,8 +184,8 @@ int st_bake_level_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err
     memset(out, 0, sizeof *out);
     st_map *m = &h->map;
     if (l > m->top) return st_fail(err, ST_ERR_RANGE, "level %u does not exist (top level %u)", l, m->top);
-    const double *uv = st_hier_uv(h, l);
-    if (!uv) return st_fail(err, ST_ERR_INVALID, "level %u has no UVs", l);
+    st_uv_map uv = st_hier_uv(h, l);
+    if (!uv.uv) return st_fail(err, ST_ERR_INVALID, "level %u has no UVs", l);
     uint32_t *darts, nf;
     int rc = st_bake_level_faces(m, l, &darts, &nf, err);
     if (rc) return rc;
@@ -200,8 +200,9 @@ int st_bake_level_uvs(st_hier *h, unsigned l, st_bake_layout *out, st_error *err
     for (uint32_t f = 0; f < nf; f++) {
         uint32_t d = darts[f], k = out->corner_off[f];
         do {
-            out->uv[2 * (size_t)k] = uv[2 * (size_t)d];
-            out->uv[2 * (size_t)k + 1] = uv[2 * (size_t)d + 1];
+            const double *p = st_uv_map_at(&uv, d);
+            out->uv[2 * (size_t)k] = p[0];
+            out->uv[2 * (size_t)k + 1] = p[1];
             k++;
             d = st_face_step(m, d, l);
         } while (d != darts[f]);

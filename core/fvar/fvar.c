@@ -65,11 +65,14 @@ static void level_free(st_fvar_level *lv)
 {
     free(lv->uv);
     free(lv->val);
+    free(lv->idx);
     memset(lv, 0, sizeof *lv);
 }
 
+/* A dense level of cap dart ids, zeroed. */
 static int level_alloc(st_fvar_level *lv, uint32_t cap)
 {
+    memset(lv, 0, sizeof *lv);
     lv->cap = cap;
     lv->uv = calloc(2 * (size_t)cap + 2, sizeof *lv->uv);
     lv->val = calloc((size_t)cap + 1, sizeof *lv->val);
@@ -109,8 +112,7 @@ int st_fvar_init(st_fvar **out, const st_map *m, const st_mesh *mesh, int interp
     st_fvar *f = calloc(1, sizeof *f);
     uint32_t *vdart = malloc((size_t)(m->verts.end ? m->verts.end : 1) * sizeof *vdart);
     if (!f || !vdart || level_alloc(&f->lv[0], m->darts.end)) {
-        free(f ? f->lv[0].uv : NULL);
-        free(f ? f->lv[0].val : NULL);
+        if (f) level_free(&f->lv[0]);
         free(f);
         free(vdart);
         return st_fail(err, ST_ERR_MEMORY, "out of memory for texture coordinates");
@@ -136,6 +138,8 @@ int st_fvar_init(st_fvar **out, const st_map *m, const st_mesh *mesh, int interp
     }
     free(vdart);
     f->levels = 1;
+    if (!rc && st_fvar_level_compact(&f->lv[0], m, 0))
+        rc = st_fail(err, ST_ERR_MEMORY, "out of memory for texture coordinates");
     if (rc) st_fvar_free(f);
     else *out = f;
     return rc;
@@ -187,7 +191,7 @@ static int refine_level(st_fvar *f, const st_subdiv_view *sv, const st_scheme *s
     int rules = st_fvar_rules_of(scheme);
     if (level_alloc(&f->lv[L], level_darts(m, L))) return refine_failed(err, L);
     if (rules == ST_FVAR_STENCIL) {
-        if (st_fvar_refine_stencil(sv, scheme, &f->lv[L - 1], &f->lv[L])) {
+        if (st_fvar_refine_stencil(sv, scheme, &f->lv[L - 1], &f->lv[L]) || st_fvar_level_compact(&f->lv[L], m, L)) {
             level_free(&f->lv[L]);
             return refine_failed(err, L);
         }
@@ -197,6 +201,7 @@ static int refine_level(st_fvar *f, const st_subdiv_view *sv, const st_scheme *s
     st_fvar_step w = { .sv = *sv, .m = m, .l = L - 1, .L = L, .interp = f->interp, .rules = rules };
     w.uv = f->lv[L - 1].uv;
     w.val = f->lv[L - 1].val;
+    w.idx = f->lv[L - 1].idx;
     w.out_uv = f->lv[L].uv;
     w.out_val = f->lv[L].val;
     int rc = st_fvar_face_children(&w);
@@ -204,6 +209,7 @@ static int refine_level(st_fvar *f, const st_subdiv_view *sv, const st_scheme *s
     if (!rc) rc = st_fvar_vertex_children(&w);
     if (!rc) st_fvar_inner_triangles(&w);
     st_fvar_step_free(&w);
+    if (!rc) rc = st_fvar_level_compact(&f->lv[L], m, L);
     if (rc) {
         level_free(&f->lv[L]);
         return refine_failed(err, L);
@@ -259,6 +265,21 @@ void st_fvar_remove_bottom(st_fvar **fp, unsigned top)
     }
 }
 
+static int level_copy(st_fvar_level *dst, const st_fvar_level *src)
+{
+    size_t n = src->idx ? src->nvals : src->cap;
+    *dst = (st_fvar_level){ src->cap, src->nvals, malloc(2 * n * sizeof *dst->uv + 1), malloc(n * sizeof *dst->val + 1),
+                            src->idx ? malloc((size_t)src->cap * sizeof *dst->idx + 1) : NULL };
+    if (!dst->uv || !dst->val || (src->idx && !dst->idx)) {
+        level_free(dst);
+        return -1;
+    }
+    memcpy(dst->uv, src->uv, 2 * n * sizeof *dst->uv);
+    memcpy(dst->val, src->val, n * sizeof *dst->val);
+    if (src->idx) memcpy(dst->idx, src->idx, (size_t)src->cap * sizeof *dst->idx);
+    return 0;
+}
+
 int st_fvar_copy(st_fvar **dst, const st_fvar *f)
 {
     *dst = NULL;
@@ -267,11 +288,8 @@ int st_fvar_copy(st_fvar **dst, const st_fvar *f)
     if (!g) return -1;
     g->interp = f->interp;
     g->levels = f->levels;
-    for (unsigned l = 0; l < f->levels; l++) {
-        if (level_alloc(&g->lv[l], f->lv[l].cap)) { st_fvar_free(g); return -1; }
-        memcpy(g->lv[l].uv, f->lv[l].uv, 2 * (size_t)f->lv[l].cap * sizeof *g->lv[l].uv);
-        memcpy(g->lv[l].val, f->lv[l].val, (size_t)f->lv[l].cap * sizeof *g->lv[l].val);
-    }
+    for (unsigned l = 0; l < f->levels; l++)
+        if (level_copy(&g->lv[l], &f->lv[l])) { st_fvar_free(g); return -1; }
     *dst = g;
     return 0;
 }
@@ -286,7 +304,7 @@ static int cmp_corner_key(const void *pa, const void *pb)
     return (a->corner > b->corner) - (a->corner < b->corner);
 }
 
-uint32_t st_fvar_soup_uvs(st_fvar_corner_key *k, uint32_t c, const uint32_t *darts, const double *uv, uint32_t cap,
+uint32_t st_fvar_soup_uvs(st_fvar_corner_key *k, uint32_t c, const uint32_t *darts, const st_uv_map *uv,
                           uint32_t *face_uv, double *out_uv)
 {
     /* One texture coordinate per (vertex, level, value): seams stay seams. */
@@ -295,8 +313,9 @@ uint32_t st_fvar_soup_uvs(st_fvar_corner_key *k, uint32_t c, const uint32_t *dar
     for (uint32_t i = 0; i < c; i++) {
         if (i == 0 || k[i].vert != k[i - 1].vert || k[i].level != k[i - 1].level || k[i].label != k[i - 1].label) {
             uint32_t x = darts[k[i].corner];
-            out_uv[2 * (size_t)nuv] = x < cap ? uv[2 * (size_t)x] : 0;
-            out_uv[2 * (size_t)nuv + 1] = x < cap ? uv[2 * (size_t)x + 1] : 0;
+            const double *p = x < uv->cap ? st_uv_map_at(uv, x) : NULL;
+            out_uv[2 * (size_t)nuv] = p ? p[0] : 0;
+            out_uv[2 * (size_t)nuv + 1] = p ? p[1] : 0;
             nuv++;
         }
         face_uv[k[i].corner] = nuv - 1;
@@ -358,14 +377,17 @@ void st_fvar_soup_install(st_fvar_soup *s, st_mesh *out, uint32_t nuvs)
 int st_fvar_level_mesh(const st_fvar *f, st_map *m, unsigned l, st_mesh *out, st_error *err)
 {
     if (!f || l >= f->levels) return ST_OK;
-    const double *uv = f->lv[l].uv;
-    const uint32_t *val = f->lv[l].val;
+    const st_fvar_level *lv = &f->lv[l];
+    st_uv_map uv = st_fvar_uv_map(lv);
     uint32_t nc = out->nfaces ? out->face_off[out->nfaces] : 0;
     st_fvar_soup s;
     if (st_fvar_soup_alloc(&s, nc))
         return st_fail(err, ST_ERR_MEMORY, "out of memory extracting the texture coordinates of level %u", l);
     uint32_t c = level_corners(m, l, s.darts, nc);
-    for (uint32_t i = 0; i < c; i++) s.k[i] = (st_fvar_corner_key){ out->face_idx[i], 0, val[s.darts[i]], i, 0 };
-    st_fvar_soup_install(&s, out, st_fvar_soup_uvs(s.k, c, s.darts, uv, f->lv[l].cap, s.face_uv, s.uv));
+    for (uint32_t i = 0; i < c; i++) {
+        uint32_t d = s.darts[i];
+        s.k[i] = (st_fvar_corner_key){ out->face_idx[i], 0, d < lv->cap ? st_fvar_label_at(lv, d) : 0, i, 0 };
+    }
+    st_fvar_soup_install(&s, out, st_fvar_soup_uvs(s.k, c, s.darts, &uv, s.face_uv, s.uv));
     return ST_OK;
 }

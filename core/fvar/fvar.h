@@ -31,6 +31,21 @@ enum st_uv_interp {
     ST_UV_INTERP_COUNT
 };
 
+/* A level's texture coordinates, read per dart: dart d's (u, v) is at
+ * uv + 2 * idx[d], or at uv + 2 * d when idx is NULL (per-dart arrays, an
+ * adaptive map's), for d < cap.  A hierarchy keeps one value per vertex
+ * and seam and the index per dart (core/fvar/fvar_internal.h). */
+typedef struct st_uv_map {
+    const double *uv;
+    const uint32_t *idx;
+    uint32_t cap;
+} st_uv_map;
+
+static inline const double *st_uv_map_at(const st_uv_map *u, uint32_t d)
+{
+    return u->uv + 2 * (size_t)(u->idx ? u->idx[d] : d);
+}
+
 /* CLI names: "none", "corners-only", "corners-plus1", "corners-plus2",
  * "boundaries", "all"; -1 when unknown. */
 int st_uv_interp_find(const char *name);

@@ -15,15 +15,46 @@
 #include "core/map/map.h"
 #include "core/schemes/scheme.h"
 
-/* One level: per dart id below cap, the corner's UV and a value label.
- * Labels say which corners of one vertex share a face-varying value
- * (OpenSubdiv's "siblings"); they compare only between corners of the
- * same vertex.  At level 0 they are the file's UV indices. */
+/* One level.  Labels say which corners of one vertex share a
+ * face-varying value (OpenSubdiv's "siblings"); they compare only between
+ * corners of the same vertex.  At level 0 they are the file's UV indices.
+ *
+ * While a level is computed it is dense: per dart id below cap, the
+ * corner's UV (uv, 2 * cap) and label (val, cap), idx NULL; the rules write
+ * each corner (fvar_rules.c).  Done, it is compact (st_fvar_level_compact):
+ * one value per distinct (label, UV bits) among the corners of a vertex,
+ * uv (2 * nvals) and val (nvals) per value, idx per dart id below cap.
+ * Corners of one label can differ in the last bit (each is computed from
+ * its own side), so the bits are part of the key: every dart reads back
+ * exactly what it was given.  A value per vertex and seam instead of per
+ * corner: a quad level's UVs take 4 + 20 * nvals / cap bytes per dart
+ * instead of 20. */
 typedef struct st_fvar_level {
     uint32_t cap;
-    double *uv;       /* 2 * cap */
-    uint32_t *val;    /* cap */
+    uint32_t nvals;   /* compact: the values */
+    double *uv;       /* compact: 2 * nvals; dense: 2 * cap */
+    uint32_t *val;    /* compact: nvals; dense: cap */
+    uint32_t *idx;    /* compact: cap; dense: NULL */
 } st_fvar_level;
+
+/* Dart d's UV and label (d < cap), the level compact or dense. */
+static inline const double *st_fvar_uv_at(const st_fvar_level *lv, uint32_t d)
+{
+    return lv->uv + 2 * (size_t)(lv->idx ? lv->idx[d] : d);
+}
+static inline uint32_t st_fvar_label_at(const st_fvar_level *lv, uint32_t d)
+{
+    return lv->val[lv->idx ? lv->idx[d] : d];
+}
+/* The level as core/fvar/fvar.h's st_uv_map (per-dart reads). */
+static inline st_uv_map st_fvar_uv_map(const st_fvar_level *lv)
+{
+    return (st_uv_map){ lv->uv, lv->idx, lv->cap };
+}
+/* Makes a dense level of the map's level L compact, in place (the UVs
+ * moved down, the labels' array becoming the index); -1 when out of
+ * memory, the level left dense (still valid). */
+int st_fvar_level_compact(st_fvar_level *lv, const st_map *m, unsigned L);
 
 typedef struct st_fvar {
     int interp;                       /* enum st_uv_interp */
@@ -76,9 +107,13 @@ int st_fvar_stencil_step(const st_subdiv_view *sv, const st_scheme *scheme, unsi
                          const uint32_t *val, const uint32_t *faces, uint32_t n, const uint32_t *rank, double *out_uv,
                          uint32_t *out_val, uint8_t *out_level);
 /* Whether the next level of a map at top will get UVs (the estimate of its
- * memory counts ST_FVAR_BYTES_PER_DART per dart of that level then). */
+ * memory counts ST_FVAR_BYTES_PER_DART per dart of the levels added then:
+ * a compact level's 4 bytes of index per dart and 20 per value, about one
+ * value per 2.7 darts on quad levels and fewer on triangle levels, and the
+ * dense form of the level being computed, 20 per dart, gone before the
+ * next one's positions). */
 int st_fvar_continues(const st_fvar *f, unsigned top, const st_scheme *scheme);
-#define ST_FVAR_BYTES_PER_DART 20.0
+#define ST_FVAR_BYTES_PER_DART 12.0
 /* Level bookkeeping mirroring st_hier_remove_top / st_hier_remove_bottom
  * of a map at top (before the removal); the last level gone, *f is freed
  * and NULL. */
@@ -93,9 +128,9 @@ int st_fvar_level_mesh(const st_fvar *f, st_map *m, unsigned l, st_mesh *out, st
 typedef struct st_fvar_corner_key { uint32_t vert, level, label, corner; uint64_t face; } st_fvar_corner_key;
 /* A soup's texture coordinates: one per (vertex, level, label), the value
  * of the corner met first in (face, corner) order (darts[corner] its dart,
- * uv per dart, 0 past cap); sorts k[0..c), fills face_uv per corner and
- * out_uv, and returns their count. */
-uint32_t st_fvar_soup_uvs(st_fvar_corner_key *k, uint32_t c, const uint32_t *darts, const double *uv, uint32_t cap,
+ * its UV read from uv, 0 past its cap); sorts k[0..c), fills face_uv per
+ * corner and out_uv, and returns their count. */
+uint32_t st_fvar_soup_uvs(st_fvar_corner_key *k, uint32_t c, const uint32_t *darts, const st_uv_map *uv,
                           uint32_t *face_uv, double *out_uv);
 /* The arrays a soup's texture coordinates are made in, for nc corners:
  * keys and darts (scratch), and the result, face_uv per corner and uv.
@@ -138,8 +173,9 @@ typedef struct st_fvar_step {
     unsigned l, L;
     int interp;                  /* enum st_uv_interp */
     int rules;                   /* enum st_fvar_rules */
-    const double *uv;            /* level l's values, per dart */
-    const uint32_t *val;         /* level l's value labels, per dart */
+    const double *uv;            /* level l's values: per dart, or per value through idx */
+    const uint32_t *val;         /* level l's value labels: the same */
+    const uint32_t *idx;         /* level l compact (st_fvar_level): per dart its value; NULL: dense */
     double *out_uv;              /* the children's values, per dart */
     uint32_t *out_val;
     uint8_t *out_level;          /* when not NULL: L at every corner written */

@@ -76,6 +76,16 @@ static float sharp_of_vertex(const st_fvar_step *w, uint32_t v)
     return w->has_sharpness ? view_float(&w->vsharp, w->vl.vins, v) : 0;
 }
 
+/* Level l's UV and label at dart d, per value or per dart (st_fvar_step.idx). */
+static inline const double *in_uv(const st_fvar_step *w, uint32_t d)
+{
+    return w->uv + 2 * (size_t)(w->idx ? w->idx[d] : d);
+}
+static inline uint32_t in_val(const st_fvar_step *w, uint32_t d)
+{
+    return w->val[w->idx ? w->idx[d] : d];
+}
+
 static void put_child(const st_fvar_step *w, uint32_t x, const double p[2], uint32_t label)
 {
     put2(w->out_uv, x, p[0], p[1]);
@@ -108,7 +118,7 @@ static float decay(float s) { return s >= SHARP_INF ? SHARP_INF : (s > 1.0f ? s 
 static int discontinuous(const st_fvar_step *w, uint32_t d)
 {
     uint32_t t = b0l(w, d);
-    return w->val[d] != w->val[b1l(w, d)] || w->val[b1l(w, t)] != w->val[t];
+    return in_val(w, d) != in_val(w, b1l(w, d)) || in_val(w, b1l(w, t)) != in_val(w, t);
 }
 
 /* x comes before y in the scan of a regular level (st_dart_first/next:
@@ -156,8 +166,9 @@ static void face_child_of(st_fvar_step *w, uint32_t f)
     unsigned n = 0;
     uint32_t x = d;
     do {
-        s[0] += w->uv[2 * (size_t)x];
-        s[1] += w->uv[2 * (size_t)x + 1];
+        const double *q = in_uv(w, x);
+        s[0] += q[0];
+        s[1] += q[1];
         n++;
         x = phi1l(w, x);
     } while (x != d);
@@ -189,8 +200,9 @@ static void regular_face_child(st_fvar_step *w, uint32_t f, uint64_t *seen)
     do {
         seen[x >> 6] |= 1ull << (x & 63);
         if (n < 16) cs[n] = x;
-        s[0] += w->uv[2 * (size_t)x];
-        s[1] += w->uv[2 * (size_t)x + 1];
+        const double *q = in_uv(w, x);
+        s[0] += q[0];
+        s[1] += q[1];
         n++;
         x = phi1l(w, x);
     } while (x != f);
@@ -259,10 +271,10 @@ static inline __attribute__((always_inline)) int edge_child(const st_fvar_step *
 {
     st_map *m = w->m;
     uint32_t t = b0l(w, d), n = b1l(w, t);
-    const double *a = at2(w->uv, d), *b = at2(w->uv, n);
+    const double *a = in_uv(w, d), *b = in_uv(w, n);
     double mid[2] = { (a[0] + b[0]) / 2, (a[1] + b[1]) / 2 }, p[2];
     int hole = st_is_boundary(m, t);
-    int disc = !hole && (w->val[d] != w->val[b1l(w, d)] || w->val[n] != w->val[t]);  /* discontinuous(w, d) */
+    int disc = !hole && (in_val(w, d) != in_val(w, b1l(w, d)) || in_val(w, n) != in_val(w, t));  /* discontinuous(w, d) */
     uint32_t label = disc ? d : (hole || d < t ? d : t);
     float s = hole ? SHARP_INF : sharp_of_edge(w, d);
     if (w->rules == ST_FVAR_LINEAR || w->interp == ST_UV_ALL || hole || disc || s >= 1.0f) {
@@ -273,7 +285,7 @@ static inline __attribute__((always_inline)) int edge_child(const st_fvar_step *
             const double *f0 = face_child(w, d), *f1 = face_child(w, t);
             for (int k = 0; k < 2; k++) p[k] = (a[k] + b[k] + f0[k] + f1[k]) / 4;
         } else {
-            const double *o0 = at2(w->uv, phi1l(w, n)), *o1 = at2(w->uv, phi1l(w, b1l(w, d)));
+            const double *o0 = in_uv(w, phi1l(w, n)), *o1 = in_uv(w, phi1l(w, b1l(w, d)));
             for (int k = 0; k < 2; k++) p[k] = 0.375 * (a[k] + b[k]) + 0.125 * (o0[k] + o1[k]);
         }
         /* A semi-sharp edge below 1 blends the crease and smooth masks by
@@ -388,7 +400,7 @@ static uint32_t prev_corner(const st_fvar_step *w, const vert *v, uint32_t j)
  * darts keep their vertex) and keep their labels. */
 static void put_vertex(st_fvar_step *w, uint32_t d, const double p[2])
 {
-    put_child(w, d, p, w->val[d]);
+    put_child(w, d, p, in_val(w, d));
 }
 
 static void set_all(st_fvar_step *w, const vert *v, const double p[2])
@@ -398,7 +410,7 @@ static void set_all(st_fvar_step *w, const vert *v, const double p[2])
 
 static void keep_all(st_fvar_step *w, const vert *v)
 {
-    for (uint32_t j = 0; j < v->n; j++) put_vertex(w, v->c[j], at2(w->uv, v->c[j]));
+    for (uint32_t j = 0; j < v->n; j++) put_vertex(w, v->c[j], in_uv(w, v->c[j]));
 }
 
 enum vrule { RULE_SMOOTH, RULE_CREASE, RULE_CORNER };
@@ -414,7 +426,7 @@ static enum vrule rule_of(const st_fvar_step *w, const vert *v, float vs, int ch
         float s = j < v->n ? w->sharp[j] : SHARP_INF;
         if (child) s = decay(s);
         if (s <= 0) continue;
-        if (nsharp < 2) ends[nsharp] = j < v->n ? at2(w->uv, phi1l(w, v->c[j])) : at2(w->uv, prev_corner(w, v, 0));
+        if (nsharp < 2) ends[nsharp] = j < v->n ? in_uv(w, phi1l(w, v->c[j])) : in_uv(w, prev_corner(w, v, 0));
         nsharp++;
     }
     if (child) vs = decay(vs);
@@ -424,10 +436,10 @@ static enum vrule rule_of(const st_fvar_step *w, const vert *v, float vs, int ch
 
 static void smooth_mask(const st_fvar_step *w, const vert *v, double out[2])
 {
-    const double *p = at2(w->uv, v->c[0]);
+    const double *p = in_uv(w, v->c[0]);
     double n = v->n, se[2] = {0, 0}, sf[2] = {0, 0};
     for (uint32_t j = 0; j < v->n; j++) {
-        const double *e = at2(w->uv, phi1l(w, v->c[j]));
+        const double *e = in_uv(w, phi1l(w, v->c[j]));
         const double *f = w->rules == ST_FVAR_CATMARK ? face_child(w, v->c[j]) : e;
         for (int k = 0; k < 2; k++) { se[k] += e[k]; sf[k] += f[k]; }
     }
@@ -441,7 +453,7 @@ static void smooth_mask(const st_fvar_step *w, const vert *v, double out[2])
 
 static void rule_mask(const st_fvar_step *w, const vert *v, enum vrule r, const double **ends, double out[2])
 {
-    const double *p = at2(w->uv, v->c[0]);
+    const double *p = in_uv(w, v->c[0]);
     if (r == RULE_CORNER) { out[0] = p[0]; out[1] = p[1]; return; }
     if (r == RULE_CREASE) {
         for (int k = 0; k < 2; k++) out[k] = 0.75 * p[k] + 0.125 * (ends[0][k] + ends[1][k]);
@@ -510,9 +522,9 @@ static int interior_edge_breaks(const st_fvar_step *w, const vert *v, uint32_t j
 
 static void crease_value(st_fvar_step *w, const vert *v, const span *s)
 {
-    const double *p = at2(w->uv, v->c[s->first]);
-    const double *e0 = at2(w->uv, prev_corner(w, v, s->first));
-    const double *e1 = at2(w->uv, phi1l(w, v->c[s->last]));
+    const double *p = in_uv(w, v->c[s->first]);
+    const double *e0 = in_uv(w, prev_corner(w, v, s->first));
+    const double *e1 = in_uv(w, phi1l(w, v->c[s->last]));
     double out[2];
     for (int k = 0; k < 2; k++) out[k] = 0.75 * p[k] + 0.125 * (e0[k] + e1[k]);
     uint32_t j = s->first;
@@ -531,11 +543,11 @@ static uint32_t gather_spans(const st_fvar_step *w, const vert *v, span *sp, uin
     uint32_t n = v->n, start = 0, ns = 0;
     int boundary = v->hole != ST_NIL;
     if (!boundary)
-        while (start < n && w->val[v->c[start]] == w->val[v->c[(start + n - 1) % n]]) start++;
+        while (start < n && in_val(w, v->c[start]) == in_val(w, v->c[(start + n - 1) % n])) start++;
     for (uint32_t i = 0; i < n; i++) {
         uint32_t j = (start + i) % n;
-        uint32_t lab = w->val[v->c[j]];
-        int cont = i > 0 && lab == w->val[v->c[(j + n - 1) % n]];
+        uint32_t lab = in_val(w, v->c[j]);
+        int cont = i > 0 && lab == in_val(w, v->c[(j + n - 1) % n]);
         uint32_t s = 0;
         while (s < ns && sp[s].label != lab) s++;
         if (s == ns) {
@@ -580,8 +592,8 @@ static void mismatched_vertex(st_fvar_step *w, const vert *v, uint32_t nvalues, 
     for (uint32_t s = 0; s < ns; s++) {
         if (sp[s].disjoint || (sp[s].size == 1 && fvar_corners_sharp)) {
             for (uint32_t j = 0; j < v->n; j++)
-                if (w->val[v->c[j]] == sp[s].label) {
-                    put_vertex(w, v->c[j], at2(w->uv, v->c[j]));
+                if (in_val(w, v->c[j]) == sp[s].label) {
+                    put_vertex(w, v->c[j], in_uv(w, v->c[j]));
                 }
         } else {
             crease_value(w, v, &sp[s]);
@@ -609,7 +621,7 @@ static void vertex_child(st_fvar_step *w, const vert *v)
     uint32_t nvalues = 0;
     for (uint32_t j = 0; j < v->n; j++) {
         uint32_t i = 0;
-        while (i < j && w->val[v->c[i]] != w->val[v->c[j]]) i++;
+        while (i < j && in_val(w, v->c[i]) != in_val(w, v->c[j])) i++;
         nvalues += i == j;
     }
     int dependent = w->interp == ST_UV_CORNERS_PLUS1 || w->interp == ST_UV_CORNERS_PLUS2;

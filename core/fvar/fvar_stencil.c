@@ -38,8 +38,9 @@ enum { VALUE_NONE = 0, VALUE_ONE, VALUE_MANY };
 typedef struct stencil_uv {
     st_map *m;
     unsigned l, L;
-    const double *uv;          /* level l, per dart */
+    const double *uv;          /* level l: per dart, or per value through idx */
     const uint32_t *val;
+    const uint32_t *idx;       /* level l compact (st_fvar_level): per dart its value; NULL: dense */
     double *out;               /* level L, per dart */
     /* level l, per vertex id: whether its corners share one value, and it */
     uint8_t *values;
@@ -66,6 +67,16 @@ typedef struct stencil_uv {
     const uint32_t *rank;
     int failed;
 } stencil_uv;
+
+/* Level l's UV and label at dart d. */
+static inline const double *in_uv(const stencil_uv *s, uint32_t d)
+{
+    return s->uv + 2 * (size_t)(s->idx ? s->idx[d] : d);
+}
+static inline uint32_t in_val(const stencil_uv *s, uint32_t d)
+{
+    return s->val[s->idx ? s->idx[d] : d];
+}
 
 /* The corner of face f (a dart of level l) at vertex v, or ST_NIL. */
 static uint32_t corner_at(const stencil_uv *s, uint32_t f, uint32_t v)
@@ -190,8 +201,8 @@ static int restricted(stencil_uv *s, uint32_t v, uint32_t f, double out[2])
         uint32_t c = corner_at(s, f, s->src[s->off[v] + i]);
         if (c == ST_NIL) continue;
         s->t[3 * n] = s->w[s->off[v] + i];
-        s->t[3 * n + 1] = s->uv[2 * (size_t)c];
-        s->t[3 * n + 2] = s->uv[2 * (size_t)c + 1];
+        s->t[3 * n + 1] = in_uv(s, c)[0];
+        s->t[3 * n + 2] = in_uv(s, c)[1];
         n++;
     }
     double sum = sorted_sum(s, n, acc);
@@ -209,7 +220,7 @@ static int continuous(const stencil_uv *s, uint32_t a, uint32_t b)
     do {
         uint32_t y = corner_at(s, b, st_vert(s->m, x, s->l));
         if (y != ST_NIL) {
-            if (s->val[x] != s->val[y]) return 0;
+            if (in_val(s, x) != in_val(s, y)) return 0;
             shared++;
         }
         x = st_face_step(s->m, x, s->l);
@@ -225,7 +236,7 @@ static void corner_uv(stencil_uv *s, uint32_t x, uint32_t home, double out[2])
         p = s->suv + 2 * (size_t)v;
     } else if (s->kind[v] == V_KEPT) {
         uint32_t c = home != ST_NIL ? corner_at(s, home, v) : ST_NIL;
-        p = s->uv + 2 * (size_t)(c != ST_NIL ? c : s->vdart[v]);
+        p = in_uv(s, c != ST_NIL ? c : s->vdart[v]);
     } else {
         uint32_t S = s->src_face[v];
         if (home == ST_NIL || S == home || continuous(s, S, home) || !restricted(s, v, home, out))
@@ -246,9 +257,9 @@ static void border_corner(stencil_uv *s, uint32_t x, uint32_t home)
     uint32_t c = home != ST_NIL ? corner_at(s, home, v) : ST_NIL;
     if (c == ST_NIL) c = s->values[v] != VALUE_NONE ? s->vdart[v] : ST_NIL;
     if (c == ST_NIL) return;
-    s->out[2 * (size_t)x] = s->uv[2 * (size_t)c];
-    s->out[2 * (size_t)x + 1] = s->uv[2 * (size_t)c + 1];
-    s->out_val[x] = s->val[c];
+    s->out[2 * (size_t)x] = in_uv(s, c)[0];
+    s->out[2 * (size_t)x + 1] = in_uv(s, c)[1];
+    s->out_val[x] = in_val(s, c);
     if (s->out_level) s->out_level[x] = s->out_level[c];
 }
 
@@ -322,9 +333,9 @@ static void classify_level(stencil_uv *s)
         if (s->values[v] == VALUE_NONE) {
             s->values[v] = VALUE_ONE;
             s->vdart[v] = d;
-            s->vuv[2 * (size_t)v] = s->uv[2 * (size_t)d];
-            s->vuv[2 * (size_t)v + 1] = s->uv[2 * (size_t)d + 1];
-        } else if (s->val[s->vdart[v]] != s->val[d]) {
+            s->vuv[2 * (size_t)v] = in_uv(s, d)[0];
+            s->vuv[2 * (size_t)v + 1] = in_uv(s, d)[1];
+        } else if (in_val(s, s->vdart[v]) != in_val(s, d)) {
             s->values[v] = VALUE_MANY;
         }
     }
@@ -362,12 +373,12 @@ static void stencil_free(stencil_uv *s)
  * is NULL (a regular level), else the n faces of level l that an adaptive
  * map subdivides toward L. */
 static int run(const st_subdiv_view *sv, const st_scheme *scheme, unsigned l, const double *uv, const uint32_t *val,
-               const uint32_t *faces, uint32_t n, const uint32_t *rank, double *out_uv, uint32_t *out_val,
+               const uint32_t *idx, const uint32_t *faces, uint32_t n, const uint32_t *rank, double *out_uv, uint32_t *out_val,
                uint8_t *out_level)
 {
     st_map *m = sv->map;
     size_t nv = (size_t)m->verts.end + 1, nd = (size_t)m->darts.end + 1;
-    stencil_uv s = { .m = m, .L = l + 1, .l = l, .uv = uv, .val = val, .out = out_uv, .adaptive = faces != NULL,
+    stencil_uv s = { .m = m, .L = l + 1, .l = l, .uv = uv, .val = val, .idx = idx, .out = out_uv, .adaptive = faces != NULL,
                      .out_level = out_level, .out_val = out_val, .rank = rank };
     s.values = calloc(nv, 1);
     s.vuv = calloc(2 * nv, sizeof *s.vuv);
@@ -400,12 +411,12 @@ static int run(const st_subdiv_view *sv, const st_scheme *scheme, unsigned l, co
 int st_fvar_refine_stencil(const st_subdiv_view *sv, const st_scheme *scheme, const st_fvar_level *coarse,
                            st_fvar_level *fine)
 {
-    return run(sv, scheme, sv->map->top - 1, coarse->uv, coarse->val, NULL, 0, NULL, fine->uv, fine->val, NULL);
+    return run(sv, scheme, sv->map->top - 1, coarse->uv, coarse->val, coarse->idx, NULL, 0, NULL, fine->uv, fine->val, NULL);
 }
 
 int st_fvar_stencil_step(const st_subdiv_view *sv, const st_scheme *scheme, unsigned l, const double *uv,
                          const uint32_t *val, const uint32_t *faces, uint32_t n, const uint32_t *rank, double *out_uv,
                          uint32_t *out_val, uint8_t *out_level)
 {
-    return run(sv, scheme, l, uv, val, faces, n, rank, out_uv, out_val, out_level);
+    return run(sv, scheme, l, uv, val, NULL, faces, n, rank, out_uv, out_val, out_level);
 }

@@ -195,12 +195,12 @@ static void groups_free(uv_groups *g)
 }
 
 /* The labels of v's corners (d one of them) into r, ascending. */
-static void ring_labels(const st_map *m, const st_level_view *lv, uint32_t d, const uint32_t *val, st_dart_list *r)
+static void ring_labels(const st_map *m, const st_level_view *lv, uint32_t d, const st_fvar_level *fl, st_dart_list *r)
 {
     r->n = 0;
     uint32_t y = d;
     do {
-        if (!st_is_boundary(m, y)) st_dart_list_push(r, val[y]);
+        if (!st_is_boundary(m, y)) st_dart_list_push(r, st_fvar_label_at(fl, y));
         y = st_v_beta1(lv, y);
     } while (y != d);
     for (uint32_t i = 1; i < r->n; i++) { /* (rings are short: insertion) */
@@ -214,7 +214,7 @@ static void ring_labels(const st_map *m, const st_level_view *lv, uint32_t d, co
 /* One scan of the darts finds a corner of each vertex; then each vertex's
  * ring, in PLY order, gives its groups' labels (their first corners:
  * count_faces_walk). */
-static int uv_group(const uint32_t *vindex, uint32_t nverts, const st_map *m, unsigned l, const uint32_t *val,
+static int uv_group(const uint32_t *vindex, uint32_t nverts, const st_map *m, unsigned l, const st_fvar_level *fl,
                     uv_groups *g)
 {
     st_level_view lv;
@@ -237,7 +237,7 @@ static int uv_group(const uint32_t *vindex, uint32_t nverts, const st_map *m, un
     for (uint32_t vi = 0; vi < nverts; vi++) {
         g->gfirst[vi] = g->n;
         if (vdart[vi] == ST_NIL) continue; /* (on no face) */
-        ring_labels(m, &lv, vdart[vi], val, &r);
+        ring_labels(m, &lv, vdart[vi], fl, &r);
         for (uint32_t i = 0; i < r.n; i++) {
             if (i > 0 && r.d[i] == r.d[i - 1]) continue;
             if (g->n == cap) {
@@ -266,9 +266,9 @@ done:
 }
 
 /* The PLY vertex of the corner x of the vertex at PLY position vi. */
-static inline uint32_t group_of(const uv_groups *g, uint32_t vi, const uint32_t *val, uint32_t x)
+static inline uint32_t group_of(const uv_groups *g, uint32_t vi, const st_fvar_level *fl, uint32_t x)
 {
-    uint32_t t = g->gfirst[vi], end = g->gfirst[vi + 1], lab = val[x];
+    uint32_t t = g->gfirst[vi], end = g->gfirst[vi + 1], lab = st_fvar_label_at(fl, x);
     while (t + 1 < end && g->label[t] != lab) t++;
     return t;
 }
@@ -297,7 +297,7 @@ static void count_face(face_counts *fc, uint32_t k, int hole)
  * already walked (no marker to reserve and release).  `fast`: a constant,
  * one copy per lookup path (ply_view). */
 static inline void count_faces_walk_kind(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen,
-                                         const uint32_t *val, uv_groups *g, int fast)
+                                         const st_fvar_level *fl, uv_groups *g, int fast)
 {
     memset(seen, 0, seen_words(m) * sizeof *seen);
     st_fvar_scan it;
@@ -308,7 +308,7 @@ static inline void count_faces_walk_kind(st_map *m, unsigned l, const ply_view *
         do {
             seen[x >> 6] |= 1ull << (x & 63);
             if (g) {
-                uint32_t t = group_of(g, pv_index(pv, x, fast), val, x);
+                uint32_t t = group_of(g, pv_index(pv, x, fast), fl, x);
                 if (g->first[t] == ST_NIL) g->first[t] = x;
             }
             k++;
@@ -320,10 +320,10 @@ static inline void count_faces_walk_kind(st_map *m, unsigned l, const ply_view *
 
 /* With g (and the labels val): each group's first corner too. */
 static void count_faces_walk(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen,
-                             const uint32_t *val, uv_groups *g)
+                             const st_fvar_level *fl, uv_groups *g)
 {
-    if (pv->fast) count_faces_walk_kind(m, l, pv, fc, seen, val, g, 1);
-    else count_faces_walk_kind(m, l, pv, fc, seen, val, g, 0);
+    if (pv->fast) count_faces_walk_kind(m, l, pv, fc, seen, fl, g, 1);
+    else count_faces_walk_kind(m, l, pv, fc, seen, fl, g, 0);
 }
 
 /* The checks of mesh_write.c's check_writable, in its order, with its
@@ -348,7 +348,7 @@ static int check_level(const char *path, st_map *m, unsigned l, const face_count
         if (x == ST_NIL) /* (every ring corner lies on a walked face: not met on a valid map) */
             return st_fail(err, ST_ERR_INVALID, "%s: texture coordinate %zu has no corner", path, (size_t)t);
         for (int k = 0; x < fl->cap && k < 2; k++)
-            if (!isfinite(fl->uv[2 * (size_t)x + (size_t)k]))
+            if (!isfinite(st_fvar_uv_at(fl, x)[k]))
                 return st_fail(err, ST_ERR_GEOMETRY, "%s: texture coordinate %zu is not finite", path, (size_t)t);
     }
     return 0;
@@ -372,7 +372,7 @@ static void write_face_size(ply_out *o, const face_counts *fc, uint32_t k)
 /* The level's real faces walked again; with g (the UV writer) each
  * corner's PLY vertex is its group (val: the labels). */
 static inline void write_faces_kind(ply_out *o, st_map *m, unsigned l, const ply_view *pv, const face_counts *fc,
-                                    uint64_t *seen, const uint32_t *val, const uv_groups *g, int fast)
+                                    uint64_t *seen, const st_fvar_level *fl, const uv_groups *g, int fast)
 {
     st_fvar_scan it;
     st_fvar_scan_init(&it, m, 0, l);
@@ -389,7 +389,7 @@ static inline void write_faces_kind(ply_out *o, st_map *m, unsigned l, const ply
             seen[x >> 6] |= 1ull << (x & 63);
             if (real) {
                 uint32_t vi = pv_index(pv, x, fast);
-                out_u32(o, g ? group_of(g, vi, val, x) : vi);
+                out_u32(o, g ? group_of(g, vi, fl, x) : vi);
             }
             x = pv_phi1(pv, x, fast);
         } while (x != d);
@@ -397,11 +397,11 @@ static inline void write_faces_kind(ply_out *o, st_map *m, unsigned l, const ply
 }
 
 static void write_faces(ply_out *o, st_map *m, unsigned l, const ply_view *pv, const face_counts *fc, uint64_t *seen,
-                        const uint32_t *val, const uv_groups *g)
+                        const st_fvar_level *fl, const uv_groups *g)
 {
     memset(seen, 0, seen_words(m) * sizeof *seen);
-    if (pv->fast) write_faces_kind(o, m, l, pv, fc, seen, val, g, 1);
-    else write_faces_kind(o, m, l, pv, fc, seen, val, g, 0);
+    if (pv->fast) write_faces_kind(o, m, l, pv, fc, seen, fl, g, 1);
+    else write_faces_kind(o, m, l, pv, fc, seen, fl, g, 0);
 }
 
 /* Without UVs, in one walk: the face records of the real faces (a uchar
@@ -491,10 +491,11 @@ static void write_uv(FILE *f, st_map *m, unsigned l, const ply_view *pv, const f
         uint32_t x = g->first[i];
         const double *p = st_v_pos(&lv, st_v_vert(&lv, x));
         for (int k = 0; k < 3; k++) out_f64(o, p[k]);
-        out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x] : 0);
-        out_f64(o, x < fl->cap ? fl->uv[2 * (size_t)x + 1] : 0);
+        const double *t = x < fl->cap ? st_fvar_uv_at(fl, x) : NULL;
+        out_f64(o, t ? t[0] : 0);
+        out_f64(o, t ? t[1] : 0);
     }
-    write_faces(o, m, l, pv, fc, seen, fl->val, g);
+    write_faces(o, m, l, pv, fc, seen, fl, g);
     fwrite(o->b, 1, o->n, f);
 }
 
@@ -512,7 +513,7 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
 {
     st_map *m = &h->map;
     if (m->face_embedded) return st_hier_level_save_ply_soup(h, l, path, err);
-    const double *uv = st_hier_uv(h, l);
+    int uv = st_hier_has_uv(h, l);
     const st_fvar_level *fl = uv ? &h->fvar->lv[l] : NULL;
     uv_groups groups = { 0 };
     uv_groups *g = uv ? &groups : NULL;
@@ -540,8 +541,8 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
         if (!seen) rc = -1;
     }
     if (!rc && g) {
-        rc = uv_group(vindex, nverts, m, l, fl->val, g);
-        if (!rc) count_faces_walk(m, l, &pv, &fc, seen, fl->val, g);
+        rc = uv_group(vindex, nverts, m, l, fl, g);
+        if (!rc) count_faces_walk(m, l, &pv, &fc, seen, fl, g);
     } else if (!rc) {
         /* One walk into memory; else (no memory for the records, or a face
          * over 255 corners) one walk that counts and one that writes. */

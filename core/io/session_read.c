@@ -745,7 +745,7 @@ static int r_fvar(load_ctx *c, st_br *r)
     h->fvar = f;
     f->interp = (int)interp;
     for (unsigned l = 0; l < levels; l++) {
-        st_fvar_level *lv = &f->lv[l];
+        st_fvar_level *lv = &f->lv[l];   /* dense while read, compact after */
         lv->cap = h->map.darts.end;
         lv->uv = calloc(2 * (size_t)lv->cap + 2, sizeof *lv->uv);
         lv->val = calloc((size_t)lv->cap + 1, sizeof *lv->val);
@@ -763,6 +763,7 @@ static int r_fvar(load_ctx *c, st_br *r)
             if (!isfinite(lv->uv[2 * (size_t)d]) || !isfinite(lv->uv[2 * (size_t)d + 1]))
                 return st_br_fail(r, "UVs: a texture coordinate of level %u is not finite", l);
         }
+        if (!r->failed && st_fvar_level_compact(lv, &h->map, l)) goto oom;
     }
     if (r->failed) return -1;
     if (early) {

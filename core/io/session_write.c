@@ -412,9 +412,10 @@ static void w_fvar(st_bw *w, const wsrc *src)
             uint32_t d = src->ids ? src->ids->darts.old_of[j] : j;
             if (st_is_boundary(&h->map, d)) continue;
             int in = d < f->lv[l].cap;
-            st_bw_f64(w, in ? f->lv[l].uv[2 * (size_t)d] : 0);
-            st_bw_f64(w, in ? f->lv[l].uv[2 * (size_t)d + 1] : 0);
-            st_bw_u32(w, in ? f->lv[l].val[d] : 0);
+            const double *uv = in ? st_fvar_uv_at(&f->lv[l], d) : NULL;
+            st_bw_f64(w, in ? uv[0] : 0);
+            st_bw_f64(w, in ? uv[1] : 0);
+            st_bw_u32(w, in ? st_fvar_label_at(&f->lv[l], d) : 0);
         }
     }
 }

@@ -176,14 +176,15 @@ int st_hier_level_mesh(st_hier *h, unsigned l, st_mesh *out, st_error *err);
 
 /* ---- face-varying UVs (core/fvar/fvar.h; hier_fvar.c) ---- */
 
-/* The UVs of level l: 2 doubles per dart id, uv[2 d], uv[2 d + 1] being the
- * texture coordinate of the face corner of dart d (the real face on d's
- * left, at d's vertex), for every dart of a real face of level l.  Walking
- * a level's faces as st_hier_level_mesh does (darts in st_dart_first/next
- * order, each unvisited real face along φ1) and reading uv at each dart
- * gives the corners in the order of that mesh's face_idx.  NULL when the
- * hierarchy has no UVs at level l. */
-const double *st_hier_uv(const st_hier *h, unsigned l);
+/* The UVs of level l: st_uv_map_at(&u, d) is the texture coordinate of
+ * the face corner of dart d (the real face on d's left, at d's vertex), for
+ * every dart of a real face of level l (all below u.cap).  Walking a
+ * level's faces as st_hier_level_mesh does (darts in st_dart_first/next
+ * order, each unvisited real face along φ1) and reading the UV at each dart
+ * gives the corners in the order of that mesh's face_idx.  u.uv NULL when
+ * the hierarchy has no UVs at level l; st_hier_has_uv says which. */
+st_uv_map st_hier_uv(const st_hier *h, unsigned l);
+int st_hier_has_uv(const st_hier *h, unsigned l);
 
 /* For code that copies an st_hier field by field (the editor's undo
  * snapshots): dst->fvar becomes a deep copy of src's UVs (NULL when none),

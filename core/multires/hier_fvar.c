@@ -4,17 +4,25 @@
 #include "core/fvar/fvar_internal.h"
 #include "core/multires/hier_internal.h"
 
-const double *st_hier_uv(const st_hier *h, unsigned l)
+st_uv_map st_hier_uv(const st_hier *h, unsigned l)
 {
     const st_fvar *f = h->fvar;
-    if (!f || l >= f->levels || l > h->map.top) return NULL;
-    return f->lv[l].uv;
+    if (!f || l >= f->levels || l > h->map.top) return (st_uv_map){ NULL, NULL, 0 };
+    return st_fvar_uv_map(&f->lv[l]);
+}
+
+int st_hier_has_uv(const st_hier *h, unsigned l)
+{
+    return st_hier_uv(h, l).uv != NULL;
 }
 
 int st_hier_uv_copy(st_hier *dst, const st_hier *src, size_t *bytes)
 {
     if (st_fvar_copy(&dst->fvar, src->fvar)) return -1;
-    for (unsigned l = 0; bytes && dst->fvar && l < dst->fvar->levels; l++) *bytes += 20 * (size_t)dst->fvar->lv[l].cap;
+    for (unsigned l = 0; bytes && dst->fvar && l < dst->fvar->levels; l++) {
+        const st_fvar_level *lv = &dst->fvar->lv[l];
+        *bytes += lv->idx ? 4 * (size_t)lv->cap + 20 * (size_t)lv->nvals : 20 * (size_t)lv->cap;
+    }
     return 0;
 }
 

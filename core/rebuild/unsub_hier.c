@@ -537,9 +537,9 @@ double st_unsub_uv_residual_corners(const st_hier *h, const st_mesh *in, const u
 {
     const st_map *m = &h->map;
     unsigned k = m->top;
-    const double *uv = st_hier_uv(h, k);
+    st_uv_map u = st_hier_uv(h, k);
     if (!in->face_uv) return 0;
-    if (!uv || !corner_of) return INFINITY;
+    if (!u.uv || !corner_of) return INFINITY;
     double worst = 0;
     pool_walk it;
     for (uint32_t d = dart_first(m, k, &it); d != ST_NIL; d = walk_next(&it)) {
@@ -547,7 +547,8 @@ double st_unsub_uv_residual_corners(const st_hier *h, const st_mesh *in, const u
         uint32_t c = corner_of[d];
         if (c == ST_NIL) return INFINITY;
         const double *w = in->uv + 2 * (size_t)in->face_uv[c];
-        double e = fmax(fabs(uv[2 * (size_t)d] - w[0]), fabs(uv[2 * (size_t)d + 1] - w[1]));
+        const double *uv = st_uv_map_at(&u, d);
+        double e = fmax(fabs(uv[0] - w[0]), fabs(uv[1] - w[1]));
         if (e > worst) worst = e;
     }
     return worst;
@@ -557,9 +558,9 @@ double st_unsub_uv_residual(const st_hier *h, const st_mesh *in, const uint32_t 
 {
     const st_map *m = &h->map;
     unsigned k = m->top;
-    const double *uv = st_hier_uv(h, k);
+    st_uv_map u = st_hier_uv(h, k);
     if (!in->face_uv) return 0;
-    if (!uv || !fine_of) return INFINITY;
+    if (!u.uv || !fine_of) return INFINITY;
     st_unsub_topo t;
     if (st_unsub_topo_build(&t, in)) return INFINITY;
     double worst = 0;
@@ -569,7 +570,8 @@ double st_unsub_uv_residual(const st_hier *h, const st_mesh *in, const uint32_t 
         uint32_t c = st_unsub_find(&t, fine_of[st_vert(m, d, k)], fine_of[st_vert(m, st_phi1(m, d, k), k)]);
         if (c == ST_NIL) { worst = INFINITY; break; }
         const double *w = in->uv + 2 * (size_t)in->face_uv[c];
-        double e = fmax(fabs(uv[2 * (size_t)d] - w[0]), fabs(uv[2 * (size_t)d + 1] - w[1]));
+        const double *uv = st_uv_map_at(&u, d);
+        double e = fmax(fabs(uv[0] - w[0]), fabs(uv[1] - w[1]));
         if (e > worst) worst = e;
     }
     st_unsub_topo_free(&t);

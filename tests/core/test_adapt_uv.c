@@ -327,11 +327,15 @@ static void check_unrestricted(const uv_case *c)
     st_adapt a;
     st_mesh out;
     if (load_hier(&h, c->file, c->id, c->interp, 0)) return;
-    const double *uv0 = st_hier_uv(&h, 0);
+    st_uv_map uv0 = st_hier_uv(&h, 0);
     double lo = INFINITY, hi = -INFINITY;
     st_dart_iter it;
     for (uint32_t d = st_dart_first(&h.map, 0, &it); d != ST_NIL; d = st_dart_next(&h.map, 0, &it))
-        if (!st_is_boundary(&h.map, d)) { lo = fmin(lo, fmin(uv0[2 * d], uv0[2 * d + 1])); hi = fmax(hi, fmax(uv0[2 * d], uv0[2 * d + 1])); }
+        if (!st_is_boundary(&h.map, d)) {
+            const double *t = st_uv_map_at(&uv0, d);
+            lo = fmin(lo, fmin(t[0], t[1]));
+            hi = fmax(hi, fmax(t[0], t[1]));
+        }
     st_adapt_params p = { .base_level = 0, .max_level = c->max, .has_box = 1, .no_restriction = 1,
                           .box_lo = { -1e9, -1e9, -1e9 }, .box_hi = { 0, 1e9, 1e9 } };
     adapt_mesh(&h, &p, &out, &a);
@@ -368,13 +372,13 @@ static void check_partial_stencil(const uv_case *c)
     st_mesh shown;
     st_error err = { 0 };
     if (load_hier(&h, c->file, c->id, c->interp, 0) || load_hier(&r, c->file, c->id, c->interp, c->max)) return;
-    const double *uv0 = st_hier_uv(&h, 0);
+    st_uv_map uv0 = st_hier_uv(&h, 0);
     double lo_uv = INFINITY, hi_uv = -INFINITY;
     double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
     st_dart_iter it;
     for (uint32_t d = st_dart_first(&h.map, 0, &it); d != ST_NIL; d = st_dart_next(&h.map, 0, &it))
         if (!st_is_boundary(&h.map, d))
-            for (int k = 0; k < 2; k++) { lo_uv = fmin(lo_uv, uv0[2 * d + k]); hi_uv = fmax(hi_uv, uv0[2 * d + k]); }
+            for (int k = 0; k < 2; k++) { lo_uv = fmin(lo_uv, st_uv_map_at(&uv0, d)[k]); hi_uv = fmax(hi_uv, st_uv_map_at(&uv0, d)[k]); }
     uint32_t v0 = st_vertex_first(&h.map, 0, &it);
     for (uint32_t v = v0; v != ST_NIL; v = st_vertex_next(&h.map, 0, &it))
         for (int k = 0; k < 3; k++) { lo[k] = fmin(lo[k], st_pos(&h.map, v, 0)[k]); hi[k] = fmax(hi[k], st_pos(&h.map, v, 0)[k]); }

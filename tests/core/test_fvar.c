@@ -12,6 +12,7 @@
 #include "core/multires/hier_internal.h"
 #include "core/schemes/scheme.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -86,8 +87,8 @@ static uint32_t same_level(const st_hier *a, const st_hier *b, unsigned l, const
     for (uint32_t d = st_dart_first(&a->map, l, &it); d != ST_NIL; d = st_dart_next(&a->map, l, &it)) {
         if (st_is_boundary(&a->map, d)) continue;
         n++;
-        if (d >= x->cap || d >= y->cap || memcmp(x->uv + 2 * (size_t)d, y->uv + 2 * (size_t)d, 2 * sizeof *x->uv) ||
-            x->val[d] != y->val[d])
+        if (d >= x->cap || d >= y->cap || memcmp(st_fvar_uv_at(x, d), st_fvar_uv_at(y, d), 2 * sizeof *x->uv) ||
+            st_fvar_label_at(x, d) != st_fvar_label_at(y, d))
             bad++;
     }
     CHECKF(bad == 0 && n > 0, "%s level %u: %u of %u corners differ", what, l, bad, n);
@@ -106,7 +107,7 @@ static uint32_t new_values(const st_hier *h, unsigned l)
         int seen = 0;
         st_dart_iter jt;
         for (uint32_t e = st_dart_first(&h->map, 0, &jt); e != ST_NIL && !seen; e = st_dart_next(&h->map, 0, &jt))
-            seen = !st_is_boundary(&h->map, e) && !memcmp(z->uv + 2 * (size_t)e, x->uv + 2 * (size_t)d, 2 * sizeof *x->uv);
+            seen = !st_is_boundary(&h->map, e) && !memcmp(st_fvar_uv_at(z, e), st_fvar_uv_at(x, d), 2 * sizeof *x->uv);
         n += !seen;
     }
     return n;
@@ -213,10 +214,83 @@ static void test_stencil_schemes(void)
     st_mesh_free(&m);
 }
 
+/* The compact form (st_fvar_level_compact) reads back every dart's UV
+ * bits and label exactly: a level made dense again, with corners changed
+ * to hold the same label with other bits and the same bits with another
+ * label (both kept apart), and ids outside the level left zero or given a
+ * value of their own.  Untouched, a level keeps well under a value per
+ * dart. */
+static void check_compact(const st_hier *h, unsigned l, const char *what)
+{
+    const st_fvar_level *src = &h->fvar->lv[l];
+    uint32_t cap = src->cap, n = 0;
+    CHECKF(src->idx && src->nvals > 0 && 2 * (uint64_t)src->nvals < cap, "%s level %u: %u values for %u ids", what, l,
+           src->nvals, cap);
+    for (int changed = 0; changed < 2; changed++) {
+        st_fvar_level lv = { cap, 0, calloc(2 * (size_t)cap + 2, sizeof(double)), calloc((size_t)cap + 1, 4), NULL };
+        double *want_uv = malloc(2 * (size_t)cap * sizeof *want_uv + 1);
+        uint32_t *want_val = malloc((size_t)cap * sizeof *want_val + 1);
+        CHECK(lv.uv && lv.val && want_uv && want_val);
+        for (uint32_t d = 0; d < cap; d++) {
+            int in = h->map.darts.ins[d] <= l;
+            const double *p = st_fvar_uv_at(src, d);
+            lv.uv[2 * (size_t)d] = p[0];
+            lv.uv[2 * (size_t)d + 1] = p[1];
+            lv.val[d] = st_fvar_label_at(src, d);
+            if (changed && in && d % 7 == 3) lv.uv[2 * (size_t)d] = nextafter(p[0], INFINITY);
+            if (changed && in && d % 11 == 5) lv.val[d] += 1000;
+            if (changed && !in && d % 5 == 1) lv.uv[2 * (size_t)d + 1] = 0.25 + d;
+            want_uv[2 * (size_t)d] = lv.uv[2 * (size_t)d];
+            want_uv[2 * (size_t)d + 1] = lv.uv[2 * (size_t)d + 1];
+            want_val[d] = lv.val[d];
+        }
+        CHECK(st_fvar_level_compact(&lv, &h->map, l) == 0 && lv.idx && lv.nvals <= cap + 1);
+        uint32_t bad = 0;
+        for (uint32_t d = 0; d < cap; d++, n++)
+            bad += lv.idx[d] >= lv.nvals || memcmp(st_fvar_uv_at(&lv, d), want_uv + 2 * (size_t)d, 2 * sizeof *want_uv) ||
+                   st_fvar_label_at(&lv, d) != want_val[d];
+        CHECKF(bad == 0, "%s level %u%s: %u of %u ids read back otherwise", what, l, changed ? " changed" : "", bad, cap);
+        if (!changed)
+            CHECKF(lv.nvals == src->nvals, "%s level %u: compacted again, %u values for %u", what, l, lv.nvals,
+                   src->nvals);
+        free(lv.uv);
+        free(lv.val);
+        free(lv.idx);
+        free(want_uv);
+        free(want_val);
+    }
+    CHECK(n > 0);
+}
+
+static void test_compact(void)
+{
+    st_mesh m;
+    crease_grid(&m, 0, 1);
+    const st_scheme *schemes[] = { &st_scheme_catmark, &st_scheme_loop, &st_scheme_doosabin };
+    for (int i = 0; i < 3; i++) {
+        st_mesh t;
+        st_mesh_init(&t);
+        const st_mesh *in = &m;
+        if (schemes[i] == &st_scheme_loop) {
+            crease_grid(&t, 2, 1);
+            in = &t;
+        }
+        st_hier h;
+        st_error err = {0};
+        CHECKF(st_hier_init(&h, in, schemes[i], NULL, &err) == 0 && st_hier_subdivide_to(&h, 2, &err) == 0, "%s: %s",
+               schemes[i]->name, err.msg);
+        for (unsigned l = 1; l <= 2; l++) check_compact(&h, l, schemes[i]->name);
+        st_hier_free(&h);
+        st_mesh_free(&t);
+    }
+    st_mesh_free(&m);
+}
+
 int main(void)
 {
     test_builtin();
     test_shared();
     test_stencil_schemes();
+    test_compact();
     return TEST_END();
 }

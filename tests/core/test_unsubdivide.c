@@ -707,8 +707,9 @@ static void check_tags(const char *rel, st_scheme_id id, unsigned k)
             sworst = fmaxf(sworst, fabsf(st_hier_vertex_sharpness(&h1, st_vert(b, d, 0), 0) - st_hier_vertex_sharpness(&h0, va, 0)));
             sharp += st_hier_edge_sharpness(&h1, d, 0) > 0;
             holes += st_is_hole(b, d) != st_is_hole(a, e);
-            const double *ua = st_hier_uv(&h0, 0), *ub = st_hier_uv(&h1, 0);
-            uvw = fmax(uvw, fmax(fabs(ua[2 * e] - ub[2 * d]), fabs(ua[2 * e + 1] - ub[2 * d + 1])));
+            st_uv_map ma = st_hier_uv(&h0, 0), mb = st_hier_uv(&h1, 0);
+            const double *ua = st_uv_map_at(&ma, e), *ub = st_uv_map_at(&mb, d);
+            uvw = fmax(uvw, fmax(fabs(ua[0] - ub[0]), fabs(ua[1] - ub[1])));
         }
         CHECKF(!missing && worst <= 1e-9 * diag, "%s x%u tagged: cage off by %.3g, %u edges missing", rel, k, worst, missing);
         CHECKF(sworst <= 1e-5f && sharp == 6, "%s x%u tagged: cage sharpness off by %g, %u sharp darts (6 expected)", rel, k, (double)sworst, sharp);

@@ -148,14 +148,14 @@ static void seam_grid(st_mesh *m)
 /* The UVs of level l at the real darts, in dart order (n pairs). */
 static double *snap_uv(const st_hier *h, unsigned l, uint32_t *n)
 {
-    const double *uv = st_hier_uv(h, l);
+    st_uv_map uv = st_hier_uv(h, l);
     double *out = malloc(2 * ((size_t)h->map.darts.end + 1) * sizeof *out);
     *n = 0;
     st_dart_iter it;
-    for (uint32_t d = st_dart_first(&h->map, l, &it); uv && d != ST_NIL; d = st_dart_next(&h->map, l, &it)) {
+    for (uint32_t d = st_dart_first(&h->map, l, &it); uv.uv && d != ST_NIL; d = st_dart_next(&h->map, l, &it)) {
         if (st_is_boundary(&h->map, d)) continue;
-        out[2 * *n] = uv[2 * (size_t)d];
-        out[2 * *n + 1] = uv[2 * (size_t)d + 1];
+        out[2 * *n] = st_uv_map_at(&uv, d)[0];
+        out[2 * *n + 1] = st_uv_map_at(&uv, d)[1];
         (*n)++;
     }
     return out;
@@ -169,8 +169,8 @@ static void test_hier_levels(void)
     st_error err = {0};
     CHECKF(st_hier_init(&h, &m, &st_scheme_catmark, NULL, &err) == 0, "%s", err.msg);
     CHECK(st_hier_subdivide_to(&h, 3, &err) == 0);
-    for (unsigned l = 0; l <= 3; l++) CHECKF(st_hier_uv(&h, l) != NULL, "level %u", l);
-    CHECK(st_hier_uv(&h, 4) == NULL);
+    for (unsigned l = 0; l <= 3; l++) CHECKF(st_hier_has_uv(&h, l), "level %u", l);
+    CHECK(!st_hier_has_uv(&h, 4));
     uint32_t n2, n3, n;
     double *l2 = snap_uv(&h, 2, &n2), *l3 = snap_uv(&h, 3, &n3);
     CHECK(n2 == 16 * 16 * 4 && n3 == 4 * n2);
@@ -190,7 +190,7 @@ static void test_hier_levels(void)
     free(e3);
     /* Deleting the finest level and adding it again gives the same bits. */
     st_hier_remove_top(&h);
-    CHECK(st_hier_uv(&h, 3) == NULL && st_hier_uv(&h, 2) != NULL);
+    CHECK(!st_hier_has_uv(&h, 3) && st_hier_has_uv(&h, 2));
     CHECK(st_hier_subdivide_to(&h, 3, &err) == 0);
     e3 = snap_uv(&h, 3, &n);
     CHECK(n == n3 && memcmp(e3, l3, 2 * n * sizeof *e3) == 0);
@@ -202,7 +202,7 @@ static void test_hier_levels(void)
     free(b1);
     st_hier_remove_bottom(&h);
     st_hier_remove_bottom(&h);
-    CHECK(h.map.top == 0 && st_hier_uv(&h, 0) != NULL);
+    CHECK(h.map.top == 0 && st_hier_has_uv(&h, 0));
     free(l2);
     free(l3);
     st_hier_free(&h);
@@ -249,16 +249,16 @@ static void test_other_schemes(void)
     CHECK(parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n"
                 "f 1/1 3/3 2/2\nf 1/1 2/2 4/4\nf 2/2 3/3 4/4\nf 3/3 1/1 4/4\n", &m, &err) == 0);
     CHECK(st_hier_init(&a, &m, &st_scheme_sqrt3, NULL, &err) == 0 && st_hier_subdivide_to(&a, 2, &err) == 0);
-    CHECK(st_hier_uv(&a, 0) != NULL && st_hier_uv(&a, 1) != NULL && st_hier_uv(&a, 2) != NULL);
+    CHECK(st_hier_has_uv(&a, 0) && st_hier_has_uv(&a, 1) && st_hier_has_uv(&a, 2));
     st_hier_free(&a);
     CHECK(st_hier_init(&a, &m, &st_scheme_doosabin, NULL, &err) == 0 && st_hier_subdivide_to(&a, 2, &err) == 0);
-    CHECK(st_hier_uv(&a, 0) != NULL && st_hier_uv(&a, 1) != NULL && st_hier_uv(&a, 2) != NULL);
+    CHECK(st_hier_has_uv(&a, 0) && st_hier_has_uv(&a, 1) && st_hier_has_uv(&a, 2));
     st_hier_free(&a);
     st_mesh_free(&m);
     /* No UVs: no channel. */
     tl_mesh_cube(&m);
     CHECK(st_hier_init(&a, &m, &st_scheme_catmark, NULL, &err) == 0 && st_hier_subdivide_to(&a, 1, &err) == 0);
-    CHECK(a.fvar == NULL && st_hier_uv(&a, 0) == NULL);
+    CHECK(a.fvar == NULL && !st_hier_has_uv(&a, 0));
     st_hier_free(&a);
     st_mesh_free(&m);
 }
@@ -311,16 +311,16 @@ static void check_affine(const st_scheme *scheme, st_mesh *m, unsigned levels, c
     st_error err = {0};
     CHECKF(st_hier_init(&h, m, scheme, NULL, &err) == 0 && st_hier_subdivide_to(&h, levels, &err) == 0, "%s: %s", what, err.msg);
     for (unsigned l = 0; l <= levels; l++) {
-        const double *uv = st_hier_uv(&h, l);
-        CHECKF(uv != NULL, "%s: level %u has no UVs", what, l);
+        st_uv_map uv = st_hier_uv(&h, l);
+        CHECKF(uv.uv != NULL, "%s: level %u has no UVs", what, l);
         double worst = 0;
         uint32_t n = 0;
         st_dart_iter it;
-        for (uint32_t d = st_dart_first(&h.map, l, &it); uv && d != ST_NIL; d = st_dart_next(&h.map, l, &it)) {
+        for (uint32_t d = st_dart_first(&h.map, l, &it); uv.uv && d != ST_NIL; d = st_dart_next(&h.map, l, &it)) {
             if (st_is_boundary(&h.map, d)) continue;
             double e[2];
             affine_uv(st_dart_pos(&h.map, d, l), e);
-            for (int c = 0; c < 2; c++) worst = fmax(worst, fabs(uv[2 * (size_t)d + c] - e[c]));
+            for (int c = 0; c < 2; c++) worst = fmax(worst, fabs(st_uv_map_at(&uv, d)[c] - e[c]));
             n++;
         }
         CHECKF(n > 0 && worst < 1e-12, "%s level %u: %u corners, UV off the affine map by %g", what, l, n, worst);

@@ -592,14 +592,14 @@ static void test_corner_uvs(void)
     st_hier h;
     CHECKF(st_hier_init(&h, &mesh, &st_scheme_catmark, NULL, &err) == 0, "%s", err.msg);
     st_mesh_free(&mesh);
-    const double *uv = st_hier_uv(&h, 0);
-    CHECK(uv != NULL);
+    st_uv_map uv = st_hier_uv(&h, 0);
+    CHECK(uv.uv != NULL);
     st_rgeom g;
     st_rgeom_init(&g);
     CHECK(st_rgeom_build(&g, &h.map, 0, &err) == 0);
     CHECK(g.ntris == 4);
     float *t = malloc(6 * (size_t)g.ntris * sizeof *t);
-    st_rgeom_corner_uvs(&g, &h.map, uv, t);
+    st_rgeom_corner_uvs(&g, &h.map, &uv, t);
     int seam_left = 0, seam_right = 0;
     for (uint32_t i = 0; i < g.ntris; i++) {
         /* The face is on the right when its centroid is. */
