@@ -374,20 +374,100 @@ void st_fvar_soup_install(st_fvar_soup *s, st_mesh *out, uint32_t nuvs)
     *s = (st_fvar_soup){ 0 };
 }
 
+/* The corners of one vertex (perm[0..n), in corner order) by label, then
+ * corner: insertion sort, the rings being short; a long one (a pole) by
+ * qsort on (label, corner) keys. */
+typedef struct label_corner { uint32_t label, corner; } label_corner;
+
+static int cmp_label_corner(const void *pa, const void *pb)
+{
+    const label_corner *a = pa, *b = pb;
+    if (a->label != b->label) return a->label < b->label ? -1 : 1;
+    return (a->corner > b->corner) - (a->corner < b->corner);
+}
+
+static int sort_ring(uint32_t *perm, uint32_t n, const uint32_t *label)
+{
+    if (n <= 32) {
+        for (uint32_t i = 1; i < n; i++) {
+            uint32_t c = perm[i], j = i;
+            for (; j > 0 && label[perm[j - 1]] > label[c]; j--) perm[j] = perm[j - 1];
+            perm[j] = c;
+        }
+        return 0;
+    }
+    label_corner *k = malloc((size_t)n * sizeof *k);
+    if (!k) return -1;
+    for (uint32_t i = 0; i < n; i++) k[i] = (label_corner){ label[perm[i]], perm[i] };
+    qsort(k, n, sizeof *k, cmp_label_corner);
+    for (uint32_t i = 0; i < n; i++) perm[i] = k[i].corner;
+    free(k);
+    return 0;
+}
+
+/* The same texture coordinates as st_fvar_soup_uvs gives for keys
+ * (vertex, 0, label, corner, 0), without sorting every corner: the
+ * corners bucketed by vertex (a counting sort, corner order kept), each
+ * bucket by label.  One coordinate per (vertex, label), the value of its
+ * first corner; labels[] (per corner, then reused) and the buckets take
+ * 8 bytes per corner where the sort took 64. */
+static int level_soup_uvs(const st_fvar_level *lv, const st_mesh *out, const uint32_t *darts, uint32_t c,
+                          uint32_t *face_uv, double *out_uv, uint32_t *nuvs)
+{
+    uint32_t nv = out->nverts;
+    uint32_t *off = calloc((size_t)nv + 2, sizeof *off), *perm = malloc(((size_t)c + 1) * sizeof *perm);
+    uint32_t *label = malloc(((size_t)c + 1) * sizeof *label);
+    int rc = off && perm && label ? 0 : -1;
+    for (uint32_t i = 0; !rc && i < c; i++) {
+        uint32_t d = darts[i];
+        label[i] = d < lv->cap ? st_fvar_label_at(lv, d) : 0;
+        off[out->face_idx[i] + 2]++;
+    }
+    for (uint32_t v = 0; !rc && v < nv; v++) off[v + 2] += off[v + 1];
+    for (uint32_t i = 0; !rc && i < c; i++) perm[off[out->face_idx[i] + 1]++] = i;
+    uint32_t n = 0;
+    for (uint32_t v = 0; !rc && v < nv; v++) {
+        uint32_t a = off[v], b = off[v + 1];
+        rc = sort_ring(perm + a, b - a, label);
+        for (uint32_t j = a; !rc && j < b; j++) {
+            uint32_t k = perm[j];
+            if (j == a || label[k] != label[perm[j - 1]]) {
+                uint32_t d = darts[k];
+                const double *p = d < lv->cap ? st_fvar_uv_at(lv, d) : NULL;
+                out_uv[2 * (size_t)n] = p ? p[0] : 0;
+                out_uv[2 * (size_t)n + 1] = p ? p[1] : 0;
+                n++;
+            }
+            face_uv[k] = n - 1;
+        }
+    }
+    free(off);
+    free(perm);
+    free(label);
+    *nuvs = n;
+    return rc;
+}
+
 int st_fvar_level_mesh(const st_fvar *f, st_map *m, unsigned l, st_mesh *out, st_error *err)
 {
     if (!f || l >= f->levels) return ST_OK;
     const st_fvar_level *lv = &f->lv[l];
-    st_uv_map uv = st_fvar_uv_map(lv);
-    uint32_t nc = out->nfaces ? out->face_off[out->nfaces] : 0;
-    st_fvar_soup s;
-    if (st_fvar_soup_alloc(&s, nc))
+    uint32_t nc = out->nfaces ? out->face_off[out->nfaces] : 0, nuvs = 0;
+    uint32_t *darts = malloc(((size_t)nc + 1) * sizeof *darts), *face_uv = malloc(((size_t)nc + 1) * sizeof *face_uv);
+    double *uv = malloc(2 * ((size_t)nc + 1) * sizeof *uv);
+    int rc = darts && face_uv && uv ? 0 : -1;
+    if (!rc) rc = level_soup_uvs(lv, out, darts, level_corners(m, l, darts, nc), face_uv, uv, &nuvs);
+    free(darts);
+    if (rc) {
+        free(face_uv);
+        free(uv);
         return st_fail(err, ST_ERR_MEMORY, "out of memory extracting the texture coordinates of level %u", l);
-    uint32_t c = level_corners(m, l, s.darts, nc);
-    for (uint32_t i = 0; i < c; i++) {
-        uint32_t d = s.darts[i];
-        s.k[i] = (st_fvar_corner_key){ out->face_idx[i], 0, d < lv->cap ? st_fvar_label_at(lv, d) : 0, i, 0 };
     }
-    st_fvar_soup_install(&s, out, st_fvar_soup_uvs(s.k, c, s.darts, &uv, s.face_uv, s.uv));
+    double *shrunk = realloc(uv, 2 * ((size_t)nuvs + 1) * sizeof *uv);
+    free(out->face_uv);
+    free(out->uv);
+    out->face_uv = face_uv;
+    out->uv = shrunk ? shrunk : uv;
+    out->nuvs = nuvs;
     return ST_OK;
 }

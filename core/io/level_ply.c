@@ -318,7 +318,7 @@ static inline void count_faces_walk_kind(st_map *m, unsigned l, const ply_view *
     }
 }
 
-/* With g (and the labels val): each group's first corner too. */
+/* With g (and the level's labels fl): each group's first corner too. */
 static void count_faces_walk(st_map *m, unsigned l, const ply_view *pv, face_counts *fc, uint64_t *seen,
                              const st_fvar_level *fl, uv_groups *g)
 {
@@ -370,7 +370,7 @@ static void write_face_size(ply_out *o, const face_counts *fc, uint32_t k)
 }
 
 /* The level's real faces walked again; with g (the UV writer) each
- * corner's PLY vertex is its group (val: the labels). */
+ * corner's PLY vertex is its group (fl: the labels). */
 static inline void write_faces_kind(ply_out *o, st_map *m, unsigned l, const ply_view *pv, const face_counts *fc,
                                     uint64_t *seen, const st_fvar_level *fl, const uv_groups *g, int fast)
 {

@@ -592,8 +592,54 @@ static void test_ply_write_split(void)
     st_mesh_free(&m);
 }
 
+/* A level's soup keeps one texture coordinate per (vertex, value), the
+ * file's own at level 0, also around a vertex of 40 corners (the level
+ * mesh sorts a long ring's values apart from a short one's): a fan of 40
+ * triangles whose centre corners each name their own coordinate and whose
+ * rim vertices show two (one per side), 40 + 2 x 40 in all. */
+static void test_level_mesh_pole(void)
+{
+    enum { N = 40 };
+    static char text[16384];
+    size_t k = (size_t)snprintf(text, sizeof text, "v 0 0 0\n");
+    for (int i = 0; i < N; i++)
+        k += (size_t)snprintf(text + k, sizeof text - k, "v %.17g %.17g 0\n", cos(2 * M_PI * i / N), sin(2 * M_PI * i / N));
+    for (int i = 0; i < N; i++)
+        k += (size_t)snprintf(text + k, sizeof text - k, "vt %g 0.5\nvt %g 0.1\nvt %g 0.9\n", 0.01 * i, 0.01 * i + 0.001,
+                              0.01 * i + 0.002);
+    for (int i = 0; i < N; i++)
+        k += (size_t)snprintf(text + k, sizeof text - k, "f 1/%d %d/%d %d/%d\n", 3 * i + 1, i + 2, 3 * i + 2,
+                              (i + 1) % N + 2, 3 * i + 3);
+    st_mesh m, out;
+    st_error err = {0};
+    CHECKF(parse(text, &m, &err) == 0, "%s", err.msg);
+    st_hier h;
+    CHECKF(st_hier_init(&h, &m, &st_scheme_loop, NULL, &err) == 0, "%s", err.msg);
+    st_mesh_init(&out);
+    CHECKF(st_hier_level_mesh(&h, 0, &out, &err) == 0 && out.face_uv, "%s", err.msg);
+    CHECKF(out.nuvs == 3 * N, "%u texture coordinates, %d expected", out.nuvs, 3 * N);
+    uint32_t bad = 0;
+    for (uint32_t f = 0; f < out.nfaces; f++) {
+        /* The face's first corner in the file: the one at the centre. */
+        uint32_t a = out.face_off[f], c = a;
+        while (c < out.face_off[f + 1] && out.face_idx[c] != 0) c++;
+        CHECK(c < out.face_off[f + 1]);
+        double u = out.uv[2 * (size_t)out.face_uv[c]];
+        int i = (int)lround(u / 0.01);
+        for (uint32_t j = a; j < out.face_off[f + 1]; j++) {
+            uint32_t v = out.face_idx[j], t = v == 0 ? 3 * i : v == (uint32_t)i + 1 ? 3 * i + 1 : 3 * i + 2;
+            bad += memcmp(out.uv + 2 * (size_t)out.face_uv[j], m.uv + 2 * (size_t)t, 2 * sizeof *m.uv) != 0;
+        }
+    }
+    CHECKF(bad == 0, "%u corners with another coordinate than the file's", bad);
+    st_mesh_free(&out);
+    st_hier_free(&h);
+    st_mesh_free(&m);
+}
+
 int main(void)
 {
+    test_level_mesh_pole();
     test_ply_write_split();
     test_hier_levels();
     test_other_schemes();
