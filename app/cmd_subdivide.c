@@ -38,6 +38,8 @@ int st_cmd_subdivide(int argc, char **argv)
     if (st_path_has_ext(o.out, ".ply")) {
         /* Straight from the map: no copy of the level (core/io/level_ply.h). */
         rc = st_hier_level_save_ply(&h, level, o.out, &err);
+    } else if (st_path_has_ext(o.out, ".obj")) {
+        rc = st_hier_level_save_obj(&h, level, o.out, &err);
     } else {
         st_mesh out;
         st_mesh_init(&out);

@@ -1,4 +1,5 @@
-/* A level written as binary PLY straight from the map (level_ply.h).
+/* A level written as binary PLY or as OBJ straight from the map
+ * (level_ply.h).
  *
  * The soup path (st_map_to_mesh, st_fvar_level_mesh, then the PLY writer's
  * split along UV seams) copies the level three times and sorts its corners
@@ -499,6 +500,69 @@ static void write_uv(FILE *f, st_map *m, unsigned l, const ply_view *pv, const f
     fwrite(o->b, 1, o->n, f);
 }
 
+/* ---- OBJ: the text of st_mesh_save_obj (core/io/mesh_write.c) ------------------- */
+
+static void out_text(ply_out *o, const char *t, int n)
+{
+    if (n <= 0) return;
+    out_room(o, (size_t)n);
+    memcpy(o->b + o->n, t, (size_t)n);
+    o->n += (size_t)n;
+}
+
+/* The real faces as `f` lines: a corner's vertex, and its texture
+ * coordinate (its group) with g. */
+static inline void obj_faces_kind(ply_out *o, st_map *m, unsigned l, const ply_view *pv, uint64_t *seen,
+                                  const st_fvar_level *fl, const uv_groups *g, int fast)
+{
+    memset(seen, 0, seen_words(m) * sizeof *seen);
+    char t[32];
+    st_fvar_scan it;
+    st_fvar_scan_init(&it, m, 0, l);
+    for (uint32_t d = st_fvar_scan_next(&it); d != ST_NIL; d = st_fvar_scan_next(&it)) {
+        if (st_is_boundary(m, d) || ((seen[d >> 6] >> (d & 63)) & 1)) continue;
+        int real = !st_is_hole(m, d);
+        if (real) out_text(o, "f", 1);
+        uint32_t x = d;
+        do {
+            seen[x >> 6] |= 1ull << (x & 63);
+            if (real) {
+                uint32_t vi = pv_index(pv, x, fast);
+                if (g) out_text(o, t, snprintf(t, sizeof t, " %u/%u", vi + 1, group_of(g, vi, fl, x) + 1));
+                else out_text(o, t, snprintf(t, sizeof t, " %u", vi + 1));
+            }
+            x = pv_phi1(pv, x, fast);
+        } while (x != d);
+        if (real) out_text(o, "\n", 1);
+    }
+}
+
+/* The header, the vertices, with g one `vt` per group (the UV of its first
+ * corner), then the faces. */
+static void write_obj(FILE *f, st_map *m, unsigned l, const ply_view *pv, uint32_t nverts, const face_counts *fc,
+                      uint64_t *seen, const st_fvar_level *fl, const uv_groups *g)
+{
+    fprintf(f, "# Strata mesh: %u vertices, %u faces\n", nverts, fc->nreal);
+    ply_out buf, *o = &buf;
+    o->f = f;
+    o->n = 0;
+    char t[96];
+    st_fvar_scan vs;
+    st_fvar_scan_vertices(&vs, m, l);
+    for (uint32_t v = st_fvar_scan_next(&vs); v != ST_NIL; v = st_fvar_scan_next(&vs)) {
+        const double *p = st_v_pos(&pv->lv, v);
+        out_text(o, t, snprintf(t, sizeof t, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]));
+    }
+    for (uint32_t i = 0; g && i < g->n; i++) {
+        uint32_t x = g->first[i];
+        const double *p = x < fl->cap ? st_fvar_uv_at(fl, x) : NULL;
+        out_text(o, t, snprintf(t, sizeof t, "vt %.17g %.17g\n", p ? p[0] : 0, p ? p[1] : 0));
+    }
+    if (pv->fast) obj_faces_kind(o, m, l, pv, seen, fl, g, 1);
+    else obj_faces_kind(o, m, l, pv, seen, fl, g, 0);
+    fwrite(o->b, 1, o->n, f);
+}
+
 int st_hier_level_save_ply_soup(st_hier *h, unsigned l, const char *path, st_error *err)
 {
     st_mesh out;
@@ -509,10 +573,21 @@ int st_hier_level_save_ply_soup(st_hier *h, unsigned l, const char *path, st_err
     return rc;
 }
 
-int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *err)
+int st_hier_level_save_obj_soup(st_hier *h, unsigned l, const char *path, st_error *err)
+{
+    st_mesh out;
+    st_mesh_init(&out);
+    int rc = st_hier_level_mesh(h, l, &out, err);
+    if (!rc) rc = st_mesh_save_obj(path, &out, err);
+    st_mesh_free(&out);
+    return rc;
+}
+
+/* PLY, or OBJ when obj. */
+static int save_level(st_hier *h, unsigned l, const char *path, int obj, st_error *err)
 {
     st_map *m = &h->map;
-    if (m->face_embedded) return st_hier_level_save_ply_soup(h, l, path, err);
+    if (m->face_embedded) return obj ? st_hier_level_save_obj_soup(h, l, path, err) : st_hier_level_save_ply_soup(h, l, path, err);
     int uv = st_hier_has_uv(h, l);
     const st_fvar_level *fl = uv ? &h->fvar->lv[l] : NULL;
     uv_groups groups = { 0 };
@@ -543,6 +618,8 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     if (!rc && g) {
         rc = uv_group(vindex, nverts, m, l, fl, g);
         if (!rc) count_faces_walk(m, l, &pv, &fc, seen, fl, g);
+    } else if (!rc && obj) {
+        count_faces_walk(m, l, &pv, &fc, seen, NULL, NULL);
     } else if (!rc) {
         /* One walk into memory; else (no memory for the records, or a face
          * over 255 corners) one walk that counts and one that writes. */
@@ -560,7 +637,8 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     st_afile af;
     if (!rc) rc = st_afile_open(&af, path, err);
     if (!rc) {
-        if (g) write_uv(af.f, m, l, &pv, &fc, seen, fl, g);
+        if (obj) write_obj(af.f, m, l, &pv, nverts, &fc, seen, fl, g);
+        else if (g) write_uv(af.f, m, l, &pv, &fc, seen, fl, g);
         else write_plain(af.f, m, l, &pv, nverts, &fc, seen, recs, len);
         rc = st_afile_commit(&af, err);
     }
@@ -570,4 +648,14 @@ int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *e
     free(recs);
     ply_view_free(&pv);
     return rc;
+}
+
+int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *err)
+{
+    return save_level(h, l, path, 0, err);
+}
+
+int st_hier_level_save_obj(st_hier *h, unsigned l, const char *path, st_error *err)
+{
+    return save_level(h, l, path, 1, err);
 }

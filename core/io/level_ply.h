@@ -13,10 +13,14 @@
 #include "core/multires/hier.h"
 
 int st_hier_level_save_ply(st_hier *h, unsigned l, const char *path, st_error *err);
+/* The same as OBJ text: the bytes of st_hier_level_mesh followed by
+ * st_mesh_save_obj (vertices, one `vt` per vertex and value, `f` lines). */
+int st_hier_level_save_obj(st_hier *h, unsigned l, const char *path, st_error *err);
 
 /* The same file through the soup (st_hier_level_mesh, st_mesh_save_ply): the
  * dual maps' path, and the reference tests/core/test_level_ply.c compares the
  * direct path with. */
 int st_hier_level_save_ply_soup(st_hier *h, unsigned l, const char *path, st_error *err);
+int st_hier_level_save_obj_soup(st_hier *h, unsigned l, const char *path, st_error *err);
 
 #endif

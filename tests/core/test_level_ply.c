@@ -1,5 +1,6 @@
-/* st_hier_level_save_ply (core/io/level_ply.h) writes the bytes of the soup
- * path, st_hier_level_mesh + st_mesh_save_ply: with and without UVs, with
+/* st_hier_level_save_ply and st_hier_level_save_obj (core/io/level_ply.h)
+ * write the bytes of the soup path, st_hier_level_mesh + st_mesh_save_ply
+ * or st_mesh_save_obj: with and without UVs, with
  * hole faces, on boundaries, at every level, for primal and dual schemes,
  * with a face of more than 255 corners, on progressive hierarchies (whose
  * relations the writer reads through the general lookup path); and refuses
@@ -19,7 +20,7 @@
 
 #define MESHES STRATA_SHARED_DATA "/"
 
-static char direct_path[256], soup_path[256];
+static char direct_path[256], soup_path[256], direct_obj[256], soup_obj[256];
 
 static int same_files(const char *a, const char *b)
 {
@@ -39,6 +40,9 @@ static void check_levels(st_hier *h, const char *name, const char *scheme)
         CHECKF(!st_hier_level_save_ply(h, l, direct_path, &err), "%s level %u: %s", name, l, err.msg);
         CHECKF(!st_hier_level_save_ply_soup(h, l, soup_path, &err), "%s level %u: %s", name, l, err.msg);
         CHECKF(same_files(direct_path, soup_path), "%s %s level %u: the two writers differ", name, scheme, l);
+        CHECKF(!st_hier_level_save_obj(h, l, direct_obj, &err), "%s level %u: %s", name, l, err.msg);
+        CHECKF(!st_hier_level_save_obj_soup(h, l, soup_obj, &err), "%s level %u: %s", name, l, err.msg);
+        CHECKF(same_files(direct_obj, soup_obj), "%s %s level %u: the two OBJ writers differ", name, scheme, l);
     }
 }
 
@@ -136,6 +140,12 @@ static void check_not_finite(void)
     CHECKF(!strcmp(e1.msg, e2.msg) || (strstr(e1.msg, "vertex 1 is not finite") && strstr(e2.msg, "vertex 1 is not finite")),
            "messages '%s' and '%s'", e1.msg, e2.msg);
     CHECK(access(direct_path, F_OK) != 0);
+    remove(direct_obj);
+    CHECK(st_hier_level_save_obj(&h, 1, direct_obj, &e1) != 0);
+    CHECK(st_hier_level_save_obj_soup(&h, 1, soup_obj, &e2) != 0);
+    CHECKF(e1.code == e2.code && strstr(e1.msg, "vertex 1 is not finite") && strstr(e2.msg, "vertex 1 is not finite"),
+           "OBJ messages '%s' and '%s'", e1.msg, e2.msg);
+    CHECK(access(direct_obj, F_OK) != 0);
     st_hier_free(&h);
 }
 
@@ -143,6 +153,8 @@ int main(void)
 {
     snprintf(direct_path, sizeof direct_path, "/tmp/test_level_ply_%d_direct.ply", (int)getpid());
     snprintf(soup_path, sizeof soup_path, "/tmp/test_level_ply_%d_soup.ply", (int)getpid());
+    snprintf(direct_obj, sizeof direct_obj, "/tmp/test_level_ply_%d_direct.obj", (int)getpid());
+    snprintf(soup_obj, sizeof soup_obj, "/tmp/test_level_ply_%d_soup.obj", (int)getpid());
     check_mesh("spot (UVs)", MESHES "catmull_clark/spot_quadrangulated.obj", "catmull-clark", 2);
     const char *holes = with_holes(MESHES "catmull_clark/spot_quadrangulated.obj");
     check_mesh("spot with holes (UVs)", holes, "catmull-clark", 2);
@@ -164,5 +176,7 @@ int main(void)
     remove(holes);
     remove(direct_path);
     remove(soup_path);
+    remove(direct_obj);
+    remove(soup_obj);
     return TEST_END();
 }
