@@ -10,8 +10,11 @@
 //       the mesh has texture coordinates (one PLY vertex per distinct pair of
 //       vertex and UV value, in the order of the pairs), then a face list
 //       counted by uchar (uint when a face has more than 255 corners)
+//   osd_program obj  MESH.obj catmark|loop DEPTH OUT.obj
+//       the finest level as OBJ text, as Strata's writer writes it: `v`,
+//       `vt` (one per face-varying value) and `f v/vt` lines, %.17g
 //
-// Both read the OBJ themselves with a plain reader (the whole file in one
+// All read the OBJ themselves with a plain reader (the whole file in one
 // buffer; `v`, `vt` and `f` lines with v, v/t, v//n and v/t/n corners,
 // negative indices allowed; every other line ignored: no repairs, no tags),
 // build Far::TopologyRefinerFactory<TopologyDescriptor> with Strata's
@@ -244,14 +247,53 @@ bool write_ply(const char *path, const Far::TopologyRefiner &r, const std::vecto
     return fclose(f) == 0;
 }
 
+// The finest level as OBJ text, as `strata subdivide -o X.obj` writes it:
+// a comment, `v` lines, with UVs one `vt` per face-varying value and
+// `f v/vt` lines, numbers as %.17g.  (OpenSubdiv's own value order: the
+// same lines as Strata's up to the order of the `vt` lines.)
+bool write_obj(const char *path, const Far::TopologyRefiner &r, const std::vector<Vec3> &pos, const std::vector<Vec2> &uv,
+               bool has_uv)
+{
+    int L = r.GetMaxLevel();
+    const Far::TopologyLevel &lv = r.GetLevel(L);
+    size_t vbase = (size_t)r.GetNumVerticesTotal() - (size_t)lv.GetNumVertices();
+    size_t ubase = has_uv ? (size_t)r.GetNumFVarValuesTotal(0) - (size_t)lv.GetNumFVarValues(0) : 0;
+    int nf = lv.GetNumFaces(), nv = lv.GetNumVertices();
+    FILE *f = fopen(path, "wb");
+    if (!f) { perror(path); return false; }
+    fprintf(f, "# Strata mesh: %d vertices, %d faces\n", nv, nf);
+    Out o{ f, {} };
+    char t[96];
+    for (int v = 0; v < nv; v++) {
+        const Vec3 &p = pos[vbase + (size_t)v];
+        o.bytes(t, (size_t)snprintf(t, sizeof t, "v %.17g %.17g %.17g\n", p.p[0], p.p[1], p.p[2]));
+    }
+    for (int i = 0; has_uv && i < lv.GetNumFVarValues(0); i++) {
+        const Vec2 &u = uv[ubase + (size_t)i];
+        o.bytes(t, (size_t)snprintf(t, sizeof t, "vt %.17g %.17g\n", u.p[0], u.p[1]));
+    }
+    for (int fi = 0; fi < nf; fi++) {
+        Far::ConstIndexArray fv = lv.GetFaceVertices(fi);
+        o.bytes("f", 1);
+        for (int k = 0; k < fv.size(); k++) {
+            int n = has_uv ? snprintf(t, sizeof t, " %d/%d", fv[k] + 1, lv.GetFaceFVarValues(fi, 0)[k] + 1)
+                           : snprintf(t, sizeof t, " %d", fv[k] + 1);
+            o.bytes(t, (size_t)n);
+        }
+        o.bytes("\n", 1);
+    }
+    o.flush();
+    return fclose(f) == 0;
+}
+
 }  // namespace
 
 int main(int argc, char **argv)
 {
-    bool ply = argc == 6 && !strcmp(argv[1], "ply");
-    if (!(argc == 5 && !strcmp(argv[1], "info")) && !ply) {
+    bool ply = argc == 6 && !strcmp(argv[1], "ply"), obj = argc == 6 && !strcmp(argv[1], "obj");
+    if (!(argc == 5 && !strcmp(argv[1], "info")) && !ply && !obj) {
         fprintf(stderr, "usage: osd_program info MESH.obj catmark|loop DEPTH\n"
-                        "       osd_program ply MESH.obj catmark|loop DEPTH OUT.ply\n");
+                        "       osd_program ply|obj MESH.obj catmark|loop DEPTH OUT\n");
         return 2;
     }
     Sdc::SchemeType type = !strcmp(argv[3], "loop") ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK;
@@ -266,6 +308,8 @@ int main(int argc, char **argv)
     int rc = 0;
     if (ply) {
         rc = write_ply(argv[5], *r, pos, uv, o.all_uv) ? 0 : 1;
+    } else if (obj) {
+        rc = write_obj(argv[5], *r, pos, uv, o.all_uv) ? 0 : 1;
     } else {
         printf("%s: %s, %d levels\n%5s %10s %10s %10s %6s\n", argv[2], type == Sdc::SCHEME_LOOP ? "loop" : "catmark",
                r->GetMaxLevel(), "level", "vertices", "edges", "faces", "euler");
