@@ -13,10 +13,12 @@
  *     copy: its label's slot gets that smaller dart.  The others are
  *     representatives (marked in rep) and keep their label.  The smaller
  *     dart is looked for first at the vertex's first dart (head, per
- *     vertex id: every corner of a vertex off the seams), then around the
- *     vertex.  Any partition into darts of equal (label, bits) reads back
- *     the same, so the search need not be exhaustive to be exact; it is,
- *     around primal vertices.
+ *     vertex id: every corner of a vertex off the seams), then among the
+ *     next AROUND_MAX corners around the vertex.  Any partition into darts
+ *     of equal (label, bits) reads back the same, so the search need not
+ *     be exhaustive to be exact; it is around vertices of up to 64
+ *     corners.  The map must be valid (a damaged one still ends each walk
+ *     at AROUND_MAX).
  *  2. The representatives in ascending id get the value indices 0, 1, ...:
  *     the j-th of them is dart id j or above, so moving its UV down to
  *     slot j overwrites only UVs already moved or never read again.  A
@@ -52,19 +54,26 @@ static inline int same_key(value_key a, value_key b) { return a.u == b.u && a.v 
  * (its label's slot holds its smaller dart until a representative). */
 static inline uint32_t rep_of(const st_fvar_level *lv, const uint64_t *rep, uint32_t y)
 {
-    while (!bit_get(rep, y)) y = lv->val[y];
+    while (!bit_get(rep, y))
+        if ((y = lv->val[y]) >= lv->cap) return ST_NIL; /* (a zero id outside the level, met on a damaged map) */
     return y;
 }
 
-/* A dart below d around d's vertex holding d's key k (a representative),
- * or ST_NIL. */
+/* How far around a vertex a copy's smaller dart is looked for: a pole's
+ * corners past it become representatives (more values, the same reads)
+ * rather than make the pass quadratic in the valence. */
+enum { AROUND_MAX = 64 };
+
+/* A representative below d, within AROUND_MAX corners around d's vertex,
+ * holding d's key k; or ST_NIL. */
 static inline uint32_t earlier_around(const st_fvar_level *lv, const uint64_t *rep, const st_level_view *v, int dual,
                                       uint32_t d, value_key k, int sparse)
 {
-    for (uint32_t y = st_v_vertex_step_kind(v, dual, d, sparse); y != d; y = st_v_vertex_step_kind(v, dual, y, sparse)) {
+    uint32_t y = st_v_vertex_step_kind(v, dual, d, sparse);
+    for (int n = 0; y != d && y < lv->cap && n < AROUND_MAX; n++, y = st_v_vertex_step_kind(v, dual, y, sparse)) {
         if (y > d) continue;
         uint32_t r = rep_of(lv, rep, y);
-        if (same_key(key_of(lv, r), k)) return r;
+        if (r != ST_NIL && same_key(key_of(lv, r), k)) return r;
     }
     return ST_NIL;
 }
@@ -87,11 +96,15 @@ static inline uint32_t mark_copies_kind(st_fvar_level *lv, const st_map *m, unsi
             }
             continue;
         }
-        uint32_t *h = head + st_view_get_kind(&v->vert, v->ins, d, sparse), r = *h;
-        if (r == ST_NIL) {
-            *h = d;
+        /* The vertex's first corner is a representative; a later one
+         * copies the first, or another corner around (an id past the
+         * vertex pool, on a damaged map: around only). */
+        uint32_t vid = st_view_get_kind(&v->vert, v->ins, d, sparse), r = ST_NIL;
+        if (vid < m->verts.end && head[vid] == ST_NIL) {
+            head[vid] = d;
         } else {
-            if (!same_key(key_of(lv, r), k)) r = earlier_around(lv, rep, v, dual, d, k, sparse);
+            if (vid < m->verts.end) r = head[vid];
+            if (r == ST_NIL || !same_key(key_of(lv, r), k)) r = earlier_around(lv, rep, v, dual, d, k, sparse);
             if (r != ST_NIL) {
                 lv->val[d] = r;
                 continue;

@@ -730,6 +730,16 @@ static int regenerate_uvs(load_ctx *c, st_br *r)
     return 0;
 }
 
+/* The levels read whole (r_fvar) made compact once the map is checked: the
+ * compaction walks each vertex's corners. */
+static int compact_uvs(st_hier *h)
+{
+    st_fvar *f = h->fvar;
+    for (unsigned l = 0; f && l < f->levels; l++)
+        if (st_fvar_level_compact(&f->lv[l], &h->map, l)) return -1;
+    return 0;
+}
+
 static int r_fvar(load_ctx *c, st_br *r)
 {
     st_hier *h = &c->s->h;
@@ -763,7 +773,9 @@ static int r_fvar(load_ctx *c, st_br *r)
             if (!isfinite(lv->uv[2 * (size_t)d]) || !isfinite(lv->uv[2 * (size_t)d + 1]))
                 return st_br_fail(r, "UVs: a texture coordinate of level %u is not finite", l);
         }
-        if (!r->failed && st_fvar_level_compact(lv, &h->map, l)) goto oom;
+        /* Compact once the map is checked: here when level 0 was (LVL0),
+         * else after the whole map's check (compact_uvs). */
+        if (!r->failed && early && st_fvar_level_compact(lv, &h->map, l)) goto oom;
     }
     if (r->failed) return -1;
     if (early) {
@@ -899,6 +911,7 @@ static int finish(load_ctx *c)
     /* Regenerated levels are the refinement of a level 0 checked before
      * it ran (regenerate()); a map read whole is checked here. */
     if (check_map(c, !(c->seen & SEEN_LVL0), &e2)) return st_fail(c->err, ST_ERR_INVALID, "%s: %s", name, e2.msg);
+    if (compact_uvs(h)) return st_fail(c->err, ST_ERR_MEMORY, "%s: out of memory", name);
     if (s->has_adapt) {
         /* The scheme must have adaptive refinement in this build. */
         st_adapt probe;
