@@ -563,24 +563,26 @@ static void write_obj(FILE *f, st_map *m, unsigned l, const ply_view *pv, uint32
     fwrite(o->b, 1, o->n, f);
 }
 
-int st_hier_level_save_ply_soup(st_hier *h, unsigned l, const char *path, st_error *err)
+/* Level l as a soup (st_hier_level_mesh), written by save. */
+static int save_soup(st_hier *h, unsigned l, const char *path,
+                     int (*save)(const char *path, const st_mesh *m, st_error *err), st_error *err)
 {
     st_mesh out;
     st_mesh_init(&out);
     int rc = st_hier_level_mesh(h, l, &out, err);
-    if (!rc) rc = st_mesh_save_ply(path, &out, err);
+    if (!rc) rc = save(path, &out, err);
     st_mesh_free(&out);
     return rc;
 }
 
+int st_hier_level_save_ply_soup(st_hier *h, unsigned l, const char *path, st_error *err)
+{
+    return save_soup(h, l, path, st_mesh_save_ply, err);
+}
+
 int st_hier_level_save_obj_soup(st_hier *h, unsigned l, const char *path, st_error *err)
 {
-    st_mesh out;
-    st_mesh_init(&out);
-    int rc = st_hier_level_mesh(h, l, &out, err);
-    if (!rc) rc = st_mesh_save_obj(path, &out, err);
-    st_mesh_free(&out);
-    return rc;
+    return save_soup(h, l, path, st_mesh_save_obj, err);
 }
 
 /* PLY, or OBJ when obj. */
