@@ -181,14 +181,28 @@ struct Out {
     void flush() { fwrite(b.data(), 1, b.size(), f); b.clear(); }
 };
 
+// The finest level of r and where its vertices and face-varying values
+// start in the buffers of every level.
+struct Finest {
+    const Far::TopologyLevel &lv;
+    size_t vbase, ubase;
+    int nf, nv;
+    Finest(const Far::TopologyRefiner &r, bool has_uv)
+        : lv(r.GetLevel(r.GetMaxLevel())),
+          vbase((size_t)r.GetNumVerticesTotal() - (size_t)lv.GetNumVertices()),
+          ubase(has_uv ? (size_t)r.GetNumFVarValuesTotal(0) - (size_t)lv.GetNumFVarValues(0) : 0),
+          nf(lv.GetNumFaces()), nv(lv.GetNumVertices())
+    {
+    }
+};
+
 bool write_ply(const char *path, const Far::TopologyRefiner &r, const std::vector<Vec3> &pos, const std::vector<Vec2> &uv,
                bool has_uv)
 {
-    int L = r.GetMaxLevel();
-    const Far::TopologyLevel &lv = r.GetLevel(L);
-    size_t vbase = (size_t)r.GetNumVerticesTotal() - (size_t)lv.GetNumVertices();
-    size_t ubase = has_uv ? (size_t)r.GetNumFVarValuesTotal(0) - (size_t)lv.GetNumFVarValues(0) : 0;
-    int nf = lv.GetNumFaces(), nv = lv.GetNumVertices();
+    Finest fl(r, has_uv);
+    const Far::TopologyLevel &lv = fl.lv;
+    size_t vbase = fl.vbase, ubase = fl.ubase;
+    int nf = fl.nf, nv = fl.nv;
     bool wide = false;
     size_t nc = 0;
     for (int f = 0; f < nf; f++) {
@@ -254,11 +268,10 @@ bool write_ply(const char *path, const Far::TopologyRefiner &r, const std::vecto
 bool write_obj(const char *path, const Far::TopologyRefiner &r, const std::vector<Vec3> &pos, const std::vector<Vec2> &uv,
                bool has_uv)
 {
-    int L = r.GetMaxLevel();
-    const Far::TopologyLevel &lv = r.GetLevel(L);
-    size_t vbase = (size_t)r.GetNumVerticesTotal() - (size_t)lv.GetNumVertices();
-    size_t ubase = has_uv ? (size_t)r.GetNumFVarValuesTotal(0) - (size_t)lv.GetNumFVarValues(0) : 0;
-    int nf = lv.GetNumFaces(), nv = lv.GetNumVertices();
+    Finest fl(r, has_uv);
+    const Far::TopologyLevel &lv = fl.lv;
+    size_t vbase = fl.vbase, ubase = fl.ubase;
+    int nf = fl.nf, nv = fl.nv;
     FILE *f = fopen(path, "wb");
     if (!f) { perror(path); return false; }
     fprintf(f, "# Strata mesh: %d vertices, %d faces\n", nv, nf);
