@@ -46,6 +46,11 @@ static inline uint32_t st_fvar_label_at(const st_fvar_level *lv, uint32_t d)
 {
     return lv->val[lv->idx ? lv->idx[d] : d];
 }
+/* The bytes its arrays hold. */
+static inline size_t st_fvar_level_bytes(const st_fvar_level *lv)
+{
+    return lv->idx ? 4 * (size_t)lv->cap + 20 * (size_t)lv->nvals : 20 * (size_t)lv->cap;
+}
 /* The level as core/fvar/fvar.h's st_uv_map (per-dart reads). */
 static inline st_uv_map st_fvar_uv_map(const st_fvar_level *lv)
 {

@@ -19,10 +19,7 @@ int st_hier_has_uv(const st_hier *h, unsigned l)
 int st_hier_uv_copy(st_hier *dst, const st_hier *src, size_t *bytes)
 {
     if (st_fvar_copy(&dst->fvar, src->fvar)) return -1;
-    for (unsigned l = 0; bytes && dst->fvar && l < dst->fvar->levels; l++) {
-        const st_fvar_level *lv = &dst->fvar->lv[l];
-        *bytes += lv->idx ? 4 * (size_t)lv->cap + 20 * (size_t)lv->nvals : 20 * (size_t)lv->cap;
-    }
+    for (unsigned l = 0; bytes && dst->fvar && l < dst->fvar->levels; l++) *bytes += st_fvar_level_bytes(&dst->fvar->lv[l]);
     return 0;
 }
 
